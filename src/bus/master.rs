@@ -1,0 +1,217 @@
+//! CANopen client logic over a raw frame link: drives the SDO state machines, sends NMT,
+//! and notes the heartbeats that pass by.
+
+use super::{Bus, FrameLink, SdoOptions};
+use crate::canopen::nmt::{self, Command, ErrorControl};
+use crate::canopen::sdo::{self, SdoClient, SdoError};
+use crate::canopen::{abort, ObjAddr};
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
+use std::time::{Duration, Instant};
+
+pub struct Master<L: FrameLink> {
+    link: L,
+    describe: String,
+    trace: bool,
+    heartbeats: BTreeMap<u8, nmt::State>,
+    /// Nodes that refused block transfer in this session: not asked again.
+    no_block: BTreeSet<u8>,
+}
+
+/// One SDO transfer in flight.
+struct Active {
+    slot: usize,
+    client: SdoClient,
+    deadline: Instant,
+    /// Whether the server has answered at all: a node that never did gets no abort frame.
+    heard: bool,
+}
+
+impl<L: FrameLink> Master<L> {
+    pub fn new(link: L, describe: String, trace: bool) -> Master<L> {
+        Master { link, describe, trace, heartbeats: BTreeMap::new(), no_block: BTreeSet::new() }
+    }
+
+    pub fn link_mut(&mut self) -> &mut L {
+        &mut self.link
+    }
+
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        if self.trace {
+            eprintln!("{}", frame.candump_line(&self.link.name()));
+        }
+        self.link.send(frame)
+    }
+
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        let f = self.link.recv(deadline)?;
+        if let Some(f) = &f {
+            if self.trace {
+                eprintln!("{}", f.candump_line(&self.link.name()));
+            }
+            if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(f) {
+                self.heartbeats.insert(node, state);
+            }
+        }
+        Ok(f)
+    }
+
+    /// Run SDO transfers: one per node at a time, all nodes at once.
+    fn run(&mut self, jobs: Vec<(u8, SdoClient)>, timeout: Duration, progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+        let mut results: Vec<Option<Result<Vec<u8>>>> = (0..jobs.len()).map(|_| None).collect();
+        let mut queues: BTreeMap<u8, VecDeque<(usize, SdoClient)>> = BTreeMap::new();
+        for (slot, (node, client)) in jobs.into_iter().enumerate() {
+            queues.entry(node).or_default().push_back((slot, client));
+        }
+        let mut active: BTreeMap<u8, Active> = BTreeMap::new();
+        let mut finished = 0;
+        let nodes: Vec<u8> = queues.keys().copied().collect();
+        for node in nodes {
+            self.start_next(node, &mut queues, &mut active, timeout)?;
+        }
+        while !active.is_empty() {
+            let deadline = active.values().map(|a| a.deadline).min().expect("non-empty");
+            if let Some(f) = self.recv(deadline)? {
+                let node = f.id().wrapping_sub(0x580);
+                if f.is_remote() || !(1..=127).contains(&node) {
+                    continue;
+                }
+                let node = node as u8;
+                let Some(a) = active.get_mut(&node) else { continue };
+                a.heard = true;
+                a.deadline = Instant::now() + timeout;
+                let outcome = a.client.on_response(f.data());
+                let addr = a.client.addr();
+                match outcome {
+                    Ok(step) => {
+                        for p in &step.send {
+                            self.send(&Frame::new(sdo::request_cob(node), p))?;
+                        }
+                        let Some(data) = step.done else { continue };
+                        let a = active.remove(&node).expect("active");
+                        if a.client.fell_back() {
+                            self.no_block.insert(node);
+                        }
+                        results[a.slot] = Some(Ok(data));
+                    }
+                    Err(e) => {
+                        let a = active.remove(&node).expect("active");
+                        results[a.slot] = Some(Err(self.sdo_error(node, addr, e)?));
+                    }
+                }
+                finished += 1;
+                progress(finished);
+                self.start_next(node, &mut queues, &mut active, timeout)?;
+            } else {
+                let now = Instant::now();
+                let expired: Vec<u8> = active.iter().filter(|(_, a)| a.deadline <= now).map(|(n, _)| *n).collect();
+                for node in expired {
+                    let a = active.remove(&node).expect("active");
+                    let addr = a.client.addr();
+                    if a.heard {
+                        self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
+                    }
+                    let what = if a.heard { "stopped answering during" } else { "did not answer" };
+                    results[a.slot] = Some(Err(Error::Timeout(format!(
+                        "node {node}: {what} the SDO transfer of {addr} (waited {} ms)",
+                        timeout.as_millis()
+                    ))));
+                    finished += 1;
+                    progress(finished);
+                    self.start_next(node, &mut queues, &mut active, timeout)?;
+                }
+            }
+        }
+        Ok(results.into_iter().map(|r| r.expect("every job ends")).collect())
+    }
+
+    fn start_next(
+        &mut self,
+        node: u8,
+        queues: &mut BTreeMap<u8, VecDeque<(usize, SdoClient)>>,
+        active: &mut BTreeMap<u8, Active>,
+        timeout: Duration,
+    ) -> Result<()> {
+        let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else { return Ok(()) };
+        let first = client.start();
+        self.send(&Frame::new(sdo::request_cob(node), &first))?;
+        active.insert(node, Active { slot, client, deadline: Instant::now() + timeout, heard: false });
+        Ok(())
+    }
+
+    fn sdo_error(&mut self, node: u8, addr: ObjAddr, e: SdoError) -> Result<Error> {
+        Ok(match e {
+            SdoError::ServerAbort(code) => Error::SdoAbort { node, obj: addr, code },
+            SdoError::ClientAbort { code, reason } => {
+                self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, code)))?;
+                Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason} (aborted with 0x{code:08X})"))
+            }
+            SdoError::Inconsistent(reason) => Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason}")),
+        })
+    }
+
+    fn one(&mut self, node: u8, client: SdoClient, timeout: Duration) -> Result<Vec<u8>> {
+        check_node(node)?;
+        self.run(vec![(node, client)], timeout, &mut |_| {})?.pop().expect("one result")
+    }
+
+    fn block_allowed(&self, node: u8, wanted: bool) -> bool {
+        wanted && !self.no_block.contains(&node)
+    }
+}
+
+fn check_node(node: u8) -> Result<()> {
+    if (1..=127).contains(&node) {
+        Ok(())
+    } else {
+        Err(Error::Usage(format!("node-id {node} is out of range (1..=127)")))
+    }
+}
+
+impl<L: FrameLink> Bus for Master<L> {
+    fn describe(&self) -> String {
+        self.describe.clone()
+    }
+
+    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+        let client = SdoClient::upload(addr, self.block_allowed(node, opts.block_upload));
+        self.one(node, client, opts.timeout)
+    }
+
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+        let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
+        self.one(node, client, opts.timeout).map(|_| ())
+    }
+
+    fn sdo_upload_many(&mut self, requests: &[(u8, ObjAddr)], opts: &SdoOptions, progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+        for (node, _) in requests {
+            check_node(*node)?;
+        }
+        let jobs = requests.iter().map(|(node, addr)| (*node, SdoClient::upload(*addr, self.block_allowed(*node, opts.block_upload)))).collect();
+        self.run(jobs, opts.timeout, progress)
+    }
+
+    fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
+        if node != super::ALL_NODES {
+            check_node(node)?;
+        }
+        self.send(&cmd.frame(node))
+    }
+
+    fn send_frame(&mut self, frame: &Frame) -> Result<()> {
+        self.send(frame)
+    }
+
+    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        self.recv(deadline)
+    }
+
+    fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {
+        self.heartbeats.clone()
+    }
+
+    fn close(&mut self) -> Result<()> {
+        self.link.close()
+    }
+}

@@ -1,0 +1,93 @@
+//! The service-level API every command is written against, and the backends behind it.
+
+pub mod master;
+pub mod uri;
+
+use crate::canopen::nmt::{self, Command};
+use crate::canopen::ObjAddr;
+use crate::error::Result;
+use crate::frame::Frame;
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+pub use master::Master;
+pub use uri::BusUri;
+
+/// A raw frame link: what SocketCAN and the simulator provide.
+pub trait FrameLink {
+    fn send(&mut self, frame: &Frame) -> Result<()>;
+    /// The next frame, or `None` once `deadline` passes without one.
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>>;
+    /// Interface name for traces (`can0`, `sim`).
+    fn name(&self) -> String;
+    /// Finish cleanly (the simulator saves its state here).
+    fn close(&mut self) -> Result<()> {
+        Ok(())
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct SdoOptions {
+    /// How long to wait for each answer.
+    pub timeout: Duration,
+    /// Ask for block upload (worth it for strings and domains).
+    pub block_upload: bool,
+    /// Allow block download for large values.
+    pub block_download: bool,
+}
+
+impl SdoOptions {
+    pub fn new(timeout: Duration) -> SdoOptions {
+        SdoOptions { timeout, block_upload: false, block_download: true }
+    }
+}
+
+/// Node 0 in an NMT command addresses every node.
+pub const ALL_NODES: u8 = 0;
+
+/// The services commands use; one implementation per kind of link.
+pub trait Bus {
+    /// What this bus is, for messages: `sim`, `socketcan:can0`.
+    fn describe(&self) -> String;
+
+    /// Read an object.
+    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>>;
+
+    /// Write an object.
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()>;
+
+    /// Read many objects; a backend that can keeps one transfer per node in flight at once.
+    /// `progress` is called with the number finished so far. The outer error is a link
+    /// failure; the inner ones belong to each request.
+    fn sdo_upload_many(
+        &mut self,
+        requests: &[(u8, ObjAddr)],
+        opts: &SdoOptions,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Vec<Result<Vec<u8>>>> {
+        let mut out = Vec::with_capacity(requests.len());
+        for (i, (node, addr)) in requests.iter().enumerate() {
+            let r = self.sdo_upload(*node, *addr, opts);
+            if let Err(e @ crate::Error::Link(_)) = r {
+                return Err(e);
+            }
+            out.push(r);
+            progress(i + 1);
+        }
+        Ok(out)
+    }
+
+    /// Send an NMT command to one node, or to all with `ALL_NODES`.
+    fn nmt(&mut self, cmd: Command, node: u8) -> Result<()>;
+
+    fn send_frame(&mut self, frame: &Frame) -> Result<()>;
+
+    /// The next frame seen on the bus, or `None` at the deadline.
+    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>>;
+
+    /// NMT states reported by heartbeats seen so far in this session.
+    fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State>;
+
+    /// Finish cleanly; dropping without it may lose state (the simulator's).
+    fn close(&mut self) -> Result<()>;
+}

@@ -1,0 +1,11 @@
+//! Pure CANopen protocol code: no I/O, no clocks.
+
+pub mod abort;
+pub mod emcy;
+pub mod nmt;
+pub mod objaddr;
+pub mod sdo;
+pub mod types;
+
+pub use objaddr::ObjAddr;
+pub use types::DataType;

@@ -1,0 +1,105 @@
+//! Object addresses (`index:sub`) as users write them.
+
+use std::fmt;
+
+/// An object dictionary address.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
+pub struct ObjAddr {
+    pub index: u16,
+    pub sub: u8,
+}
+
+impl ObjAddr {
+    pub const fn new(index: u16, sub: u8) -> ObjAddr {
+        ObjAddr { index, sub }
+    }
+
+    /// Index and subindex as they travel in SDO frames (bytes 1..4, index little-endian).
+    pub fn to_mux(self) -> [u8; 3] {
+        let [lo, hi] = self.index.to_le_bytes();
+        [lo, hi, self.sub]
+    }
+
+    pub fn from_mux(b: &[u8]) -> ObjAddr {
+        ObjAddr::new(u16::from_le_bytes([b[0], b[1]]), b[2])
+    }
+}
+
+/// `0x1018:1` — the canonical spelling used in all output.
+impl fmt::Display for ObjAddr {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "0x{:04X}:{}", self.index, self.sub)
+    }
+}
+
+/// Accepts `0x1018:1`, `1018:1`, `1018sub1`, `1018` (sub 0), `1018:0x01`.
+/// The index is always hex; the subindex is decimal unless written with `0x`.
+impl std::str::FromStr for ObjAddr {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<ObjAddr, String> {
+        let s = text.trim();
+        let lower = s.to_ascii_lowercase();
+        let (index, sub) = match lower.split_once(':') {
+            Some((i, s)) => (i, Some(s)),
+            None => match lower.split_once("sub") {
+                Some((i, s)) => (i, Some(s)),
+                None => (lower.as_str(), None),
+            },
+        };
+        let digits = index.strip_prefix("0x").unwrap_or(index);
+        if digits.is_empty() || digits.len() > 4 || !digits.chars().all(|c| c.is_ascii_hexdigit()) {
+            return Err(format!(
+                "'{text}' is not an object address: the index is 1 to 4 hex digits, as in 0x1018:1, 1018:1 or 1018sub1"
+            ));
+        }
+        let index = u16::from_str_radix(digits, 16).expect("checked hex digits");
+        let sub = match sub {
+            None => 0,
+            Some(sub) => parse_sub(sub).ok_or_else(|| {
+                format!("'{text}': subindex '{sub}' must be 0..255 (decimal, or hex with 0x, as in 1018:0x01)")
+            })?,
+        };
+        Ok(ObjAddr::new(index, sub))
+    }
+}
+
+fn parse_sub(s: &str) -> Option<u8> {
+    match s.strip_prefix("0x") {
+        Some(hex) => u8::from_str_radix(hex, 16).ok(),
+        None => s.parse().ok(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spellings() {
+        let want = ObjAddr::new(0x1018, 1);
+        for s in ["0x1018:1", "1018:1", "1018sub1", "0X1018SUB1", "1018:0x01", " 1018:01 "] {
+            assert_eq!(s.parse::<ObjAddr>().unwrap(), want, "{s}");
+        }
+        assert_eq!("1000".parse::<ObjAddr>().unwrap(), ObjAddr::new(0x1000, 0));
+        assert_eq!("1a00:10".parse::<ObjAddr>().unwrap(), ObjAddr::new(0x1A00, 10));
+        assert_eq!(ObjAddr::new(0x1A00, 10).to_string(), "0x1A00:10");
+    }
+
+    #[test]
+    fn pointed_errors() {
+        assert!("10180:1".parse::<ObjAddr>().unwrap_err().contains("1 to 4 hex digits"));
+        assert!("zz:1".parse::<ObjAddr>().is_err());
+        assert!(":1".parse::<ObjAddr>().is_err());
+        assert!("1018:256".parse::<ObjAddr>().unwrap_err().contains("0..255"));
+        assert!("1018:x".parse::<ObjAddr>().is_err());
+        assert!("1018:".parse::<ObjAddr>().is_err());
+    }
+
+    #[test]
+    fn mux_is_little_endian() {
+        let a = ObjAddr::new(0x1018, 2);
+        assert_eq!(a.to_mux(), [0x18, 0x10, 0x02]);
+        assert_eq!(ObjAddr::from_mux(&a.to_mux()), a);
+    }
+}

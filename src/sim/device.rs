@@ -1,0 +1,289 @@
+//! One simulated CANopen device: its object dictionary values, SDO server, NMT state
+//! machine, heartbeat producer and node-guarding responder.
+
+use super::profiles::Model;
+use crate::canopen::nmt::{self, Command, ErrorControl};
+use crate::canopen::sdo::{self, ObjectAccess, SdoServer};
+use crate::canopen::{abort, ObjAddr};
+use crate::frame::Frame;
+use crate::od::{Dictionary, ParamClass};
+use std::collections::BTreeMap;
+
+const SAVE: &[u8] = b"save";
+const LOAD: &[u8] = b"load";
+
+/// The values of a device's dictionary, with the CiA 301 store/restore behaviour.
+pub struct ObjectStore {
+    dict: Dictionary,
+    node_id: u8,
+    values: BTreeMap<ObjAddr, Vec<u8>>,
+    /// What 0x1010 saved: survives resets (and, through the state file, invocations).
+    stored: BTreeMap<ObjAddr, Vec<u8>>,
+    dirty: bool,
+}
+
+impl ObjectStore {
+    fn default_of(&self, addr: ObjAddr) -> Vec<u8> {
+        self.dict.get(addr).map(|e| e.default.resolve(self.node_id)).unwrap_or_default()
+    }
+
+    /// Reload the values of the given classes from stored values, else defaults.
+    fn reload(&mut self, class: Option<ParamClass>) {
+        let addrs: Vec<ObjAddr> = self.dict.entries().map(|e| e.addr).collect();
+        for addr in addrs {
+            if class.is_none() || ParamClass::of(addr.index) == class {
+                let v = self.stored.get(&addr).cloned().unwrap_or_else(|| self.default_of(addr));
+                self.values.insert(addr, v);
+            }
+        }
+        self.dirty = true;
+    }
+
+    fn entry(&self, addr: ObjAddr) -> Result<&crate::od::Entry, u32> {
+        self.dict.get(addr).ok_or(if self.dict.has_index(addr.index) { abort::NO_SUBINDEX } else { abort::NO_OBJECT })
+    }
+
+    fn classes_for(sub: u8) -> Vec<ParamClass> {
+        match sub {
+            1 => vec![ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer],
+            s => [ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer]
+                .into_iter()
+                .filter(|c| c.subindex() == s)
+                .collect(),
+        }
+    }
+
+    fn store(&mut self, sub: u8) {
+        let classes = Self::classes_for(sub);
+        for e in self.dict.entries().filter(|e| e.access.writable()) {
+            if ParamClass::of(e.addr.index).is_some_and(|c| classes.contains(&c)) {
+                self.stored.insert(e.addr, self.values[&e.addr].clone());
+            }
+        }
+        self.dirty = true;
+    }
+
+    /// CiA 301: after 'load' the defaults apply from the next reset on.
+    fn restore(&mut self, sub: u8) {
+        let classes = Self::classes_for(sub);
+        self.stored.retain(|a, _| !ParamClass::of(a.index).is_some_and(|c| classes.contains(&c)));
+        self.dirty = true;
+    }
+
+    pub fn value(&self, addr: ObjAddr) -> Option<&[u8]> {
+        self.values.get(&addr).map(|v| v.as_slice())
+    }
+
+    pub fn u16_value(&self, addr: ObjAddr) -> Option<u16> {
+        self.value(addr).filter(|v| v.len() == 2).map(|v| u16::from_le_bytes([v[0], v[1]]))
+    }
+}
+
+impl ObjectAccess for ObjectStore {
+    fn read(&mut self, addr: ObjAddr) -> Result<Vec<u8>, u32> {
+        if !self.entry(addr)?.access.readable() {
+            return Err(abort::WRITE_ONLY);
+        }
+        Ok(self.values[&addr].clone())
+    }
+
+    fn check_write(&self, addr: ObjAddr, size: Option<usize>) -> Result<(), u32> {
+        let e = self.entry(addr)?;
+        if !e.access.writable() {
+            return Err(abort::READ_ONLY);
+        }
+        match (e.dtype.size(), size) {
+            (Some(want), Some(got)) if got > want => Err(abort::LENGTH_TOO_HIGH),
+            (Some(want), Some(got)) if got < want => Err(abort::LENGTH_TOO_LOW),
+            _ => Ok(()),
+        }
+    }
+
+    fn write(&mut self, addr: ObjAddr, data: &[u8]) -> Result<(), u32> {
+        self.check_write(addr, Some(data.len()))?;
+        let e = self.entry(addr)?;
+        let (range, dtype) = (e.range, e.dtype);
+        match addr.index {
+            0x1010 if addr.sub >= 1 => {
+                return if data == SAVE { Ok(self.store(addr.sub)) } else { Err(abort::CANNOT_STORE) };
+            }
+            0x1011 if addr.sub >= 1 => {
+                return if data == LOAD { Ok(self.restore(addr.sub)) } else { Err(abort::CANNOT_STORE) };
+            }
+            // Writing 0 to the error history's sub 0 clears it; nothing else is allowed.
+            0x1003 if addr.sub == 0 => {
+                if data != [0] {
+                    return Err(abort::INVALID_VALUE);
+                }
+                let subs: Vec<ObjAddr> = self.values.keys().filter(|a| a.index == 0x1003 && a.sub > 0).copied().collect();
+                for a in subs {
+                    self.values.insert(a, vec![0; 4]);
+                }
+            }
+            _ => {}
+        }
+        if let (Some((lo, hi)), Some(v)) = (range, dtype.decode(data)) {
+            let n = match v {
+                crate::canopen::types::Value::Uint(u) => u as i128,
+                crate::canopen::types::Value::Int(i) => i as i128,
+                _ => lo,
+            };
+            if n < lo {
+                return Err(abort::VALUE_TOO_LOW);
+            }
+            if n > hi {
+                return Err(abort::VALUE_TOO_HIGH);
+            }
+        }
+        self.values.insert(addr, data.to_vec());
+        self.dirty = true;
+        Ok(())
+    }
+}
+
+/// The persistent part of a device, as the state file holds it: only what differs from
+/// the model's defaults, so a fresh model version still applies its own defaults.
+#[derive(serde::Serialize, serde::Deserialize, Default, Clone, Debug, PartialEq)]
+pub struct DeviceState {
+    pub node_id: Option<u8>,
+    pub nmt: Option<nmt::State>,
+    #[serde(default)]
+    pub values: BTreeMap<String, String>,
+    #[serde(default)]
+    pub stored: BTreeMap<String, String>,
+}
+
+pub struct Device {
+    pub model: &'static str,
+    node_id: Option<u8>,
+    nmt: nmt::State,
+    od: ObjectStore,
+    sdo: SdoServer,
+    block_transfer: bool,
+    guarding: bool,
+    guard_toggle: bool,
+}
+
+impl Device {
+    pub fn new(model: Model, node_id: Option<u8>) -> Device {
+        let mut od = ObjectStore { dict: model.dict, node_id: node_id.unwrap_or(0), values: BTreeMap::new(), stored: BTreeMap::new(), dirty: false };
+        od.reload(None);
+        od.dirty = false;
+        Device {
+            model: model.key,
+            node_id,
+            nmt: nmt::State::PreOperational,
+            od,
+            sdo: SdoServer::new(model.block_transfer),
+            block_transfer: model.block_transfer,
+            guarding: model.guarding,
+            guard_toggle: false,
+        }
+    }
+
+    pub fn node_id(&self) -> Option<u8> {
+        self.node_id
+    }
+
+    pub fn nmt_state(&self) -> nmt::State {
+        self.nmt
+    }
+
+    pub fn objects(&self) -> &ObjectStore {
+        &self.od
+    }
+
+    /// True once since the last call if anything persistent changed.
+    pub fn take_dirty(&mut self) -> bool {
+        std::mem::take(&mut self.od.dirty)
+    }
+
+    /// React to one frame on the bus; returns the frames this device sends in answer.
+    pub fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
+        let Some(id) = self.node_id else { return vec![] };
+        if let Some((cmd, target)) = Command::parse(f) {
+            return if target == 0 || target == id { self.nmt_command(cmd, id) } else { vec![] };
+        }
+        if f.id() == sdo::request_cob(id) && !f.is_remote() {
+            // CiA 301: no SDO in Stopped.
+            if self.nmt == nmt::State::Stopped || f.len() != 8 {
+                return vec![];
+            }
+            let answers = self.sdo.handle(f.data(), &mut self.od);
+            return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+        }
+        if f.is_remote() && f.id() == nmt::error_control_cob(id) && self.answers_guarding() {
+            let answer = ErrorControl::State { state: self.nmt, toggle: self.guard_toggle };
+            self.guard_toggle = !self.guard_toggle;
+            return vec![answer.frame(id)];
+        }
+        vec![]
+    }
+
+    fn nmt_command(&mut self, cmd: Command, id: u8) -> Vec<Frame> {
+        let before = self.nmt;
+        self.nmt = self.nmt.after(cmd);
+        match cmd {
+            Command::ResetNode | Command::ResetCommunication => {
+                self.od.reload(if cmd == Command::ResetNode { None } else { Some(ParamClass::Communication) });
+                self.sdo = SdoServer::new(self.block_transfer);
+                self.guard_toggle = false;
+                vec![ErrorControl::BootUp.frame(id)]
+            }
+            _ => {
+                if before != self.nmt {
+                    self.od.dirty = true;
+                }
+                vec![]
+            }
+        }
+    }
+
+    /// CiA 301: a node that produces heartbeats does not take part in node guarding.
+    fn answers_guarding(&self) -> bool {
+        self.guarding && self.heartbeat_ms().is_none()
+    }
+
+    pub fn heartbeat_ms(&self) -> Option<u64> {
+        self.node_id?;
+        self.od.u16_value(ObjAddr::new(0x1017, 0)).filter(|t| *t > 0).map(u64::from)
+    }
+
+    pub fn heartbeat_frame(&self) -> Option<Frame> {
+        let id = self.node_id?;
+        Some(ErrorControl::State { state: self.nmt, toggle: false }.frame(id))
+    }
+
+    pub fn snapshot(&self) -> DeviceState {
+        // A reset would bring back the stored value, else the default: save what differs.
+        let baseline = |a: &ObjAddr| self.od.stored.get(a).cloned().unwrap_or_else(|| self.od.default_of(*a));
+        let hex_map = |m: &BTreeMap<ObjAddr, Vec<u8>>, only_changed: bool| {
+            m.iter()
+                .filter(|(a, v)| !only_changed || **v != baseline(a))
+                .map(|(a, v)| (format!("{:04X}:{}", a.index, a.sub), crate::canopen::types::hex(v)))
+                .collect()
+        };
+        DeviceState { node_id: self.node_id, nmt: Some(self.nmt), values: hex_map(&self.od.values, true), stored: hex_map(&self.od.stored, false) }
+    }
+
+    /// Apply a saved state; entries that no longer fit the model are dropped.
+    pub fn restore(&mut self, s: &DeviceState) {
+        if s.node_id != self.node_id {
+            self.node_id = s.node_id;
+            self.od.node_id = s.node_id.unwrap_or(0);
+            self.od.reload(None);
+        }
+        self.nmt = s.nmt.unwrap_or(nmt::State::PreOperational);
+        let parse = |m: &BTreeMap<String, String>| -> BTreeMap<ObjAddr, Vec<u8>> {
+            m.iter()
+                .filter_map(|(k, v)| Some((k.parse::<ObjAddr>().ok()?, crate::canopen::types::parse_hex(v).ok()?)))
+                .filter(|(a, _)| self.od.dict.get(*a).is_some())
+                .collect()
+        };
+        self.od.stored = parse(&s.stored);
+        let values = parse(&s.values);
+        self.od.reload(None);
+        self.od.values.extend(values);
+        self.od.dirty = false;
+    }
+}

@@ -1,0 +1,174 @@
+//! The simulated bus: the demo network's devices behind a `FrameLink`, so every command
+//! runs through the same client code as on hardware.
+
+pub mod device;
+pub mod profiles;
+pub mod state;
+
+use crate::bus::FrameLink;
+use crate::error::Result;
+use crate::frame::Frame;
+use device::Device;
+use std::collections::{BTreeMap, VecDeque};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+/// The devices on one simulated bus.
+pub struct Network {
+    devices: Vec<Device>,
+}
+
+impl Network {
+    pub fn demo() -> Network {
+        Network { devices: profiles::demo_network().into_iter().map(|(m, id)| Device::new(m, id)).collect() }
+    }
+
+    pub fn devices(&self) -> &[Device] {
+        &self.devices
+    }
+
+    /// Put `frame` on the bus; returns what the devices send in answer, in order.
+    pub fn deliver(&mut self, frame: &Frame) -> Vec<Frame> {
+        self.devices.iter_mut().flat_map(|d| d.on_frame(frame)).collect()
+    }
+
+    /// Heartbeats due in `(after, upto]` (ms of wall-clock time), at most one per device.
+    /// Phases follow the wall clock, so the network seems to run between invocations.
+    pub fn heartbeats(&self, after: u64, upto: u64) -> Vec<Frame> {
+        self.devices
+            .iter()
+            .filter_map(|d| {
+                let period = d.heartbeat_ms()?;
+                let last = last_beat(period, d.node_id()? as u64, upto);
+                (last > after).then(|| d.heartbeat_frame()).flatten()
+            })
+            .collect()
+    }
+
+    /// When the next heartbeat after `now` (ms) is due.
+    pub fn next_heartbeat(&self, now: u64) -> Option<u64> {
+        self.devices
+            .iter()
+            .filter_map(|d| {
+                let period = d.heartbeat_ms()?;
+                Some(last_beat(period, d.node_id()? as u64, now) + period)
+            })
+            .min()
+    }
+
+    pub fn snapshot(&self) -> state::NetworkState {
+        state::NetworkState { version: state::VERSION, devices: self.devices.iter().map(|d| (d.model.to_string(), d.snapshot())).collect() }
+    }
+
+    pub fn restore(&mut self, s: &state::NetworkState) {
+        for d in &mut self.devices {
+            if let Some(ds) = s.devices.get(d.model) {
+                d.restore(ds);
+            }
+        }
+    }
+
+    /// Whether anything persistent changed since the last call.
+    pub fn take_dirty(&mut self) -> bool {
+        self.devices.iter_mut().fold(false, |acc, d| d.take_dirty() | acc)
+    }
+}
+
+/// The latest beat time at or before `now` for a producer with this period; beats are
+/// offset by the node-id so that devices do not all beat in the same millisecond.
+fn last_beat(period: u64, node: u64, now: u64) -> u64 {
+    let offset = node % period;
+    if now < offset {
+        return 0;
+    }
+    now - (now - offset) % period
+}
+
+pub fn wall_ms() -> u64 {
+    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_millis() as u64).unwrap_or(0)
+}
+
+/// The simulated network as a frame link, with its state kept in a locked file.
+pub struct SimLink {
+    net: Network,
+    rx: VecDeque<Frame>,
+    /// Wall-clock ms up to which heartbeats have been produced.
+    beats_upto: u64,
+    file: Option<state::StateFile>,
+}
+
+impl SimLink {
+    /// A network with no state file: fresh demo devices, nothing kept.
+    pub fn ephemeral() -> SimLink {
+        SimLink { net: Network::demo(), rx: VecDeque::new(), beats_upto: wall_ms(), file: None }
+    }
+
+    /// The network as the state file left it.
+    pub fn open(file: state::StateFile) -> Result<SimLink> {
+        let mut net = Network::demo();
+        if let Some(s) = file.load()? {
+            net.restore(&s);
+        }
+        Ok(SimLink { net, rx: VecDeque::new(), beats_upto: wall_ms(), file: Some(file) })
+    }
+
+    pub fn network(&self) -> &Network {
+        &self.net
+    }
+
+    fn produce_heartbeats(&mut self) {
+        let now = wall_ms();
+        if now > self.beats_upto {
+            let beats = self.net.heartbeats(self.beats_upto, now);
+            self.rx.extend(beats);
+            self.beats_upto = now;
+        }
+    }
+}
+
+impl FrameLink for SimLink {
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        self.produce_heartbeats();
+        let answers = self.net.deliver(frame);
+        self.rx.extend(answers);
+        Ok(())
+    }
+
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        loop {
+            if let Some(f) = self.rx.pop_front() {
+                return Ok(Some(f));
+            }
+            self.produce_heartbeats();
+            if !self.rx.is_empty() {
+                continue;
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return Ok(None);
+            }
+            let mut wake = deadline;
+            if let Some(next) = self.net.next_heartbeat(self.beats_upto) {
+                wake = wake.min(now + Duration::from_millis(next.saturating_sub(wall_ms())));
+            }
+            std::thread::sleep(wake.saturating_duration_since(now).max(Duration::from_micros(100)));
+        }
+    }
+
+    fn name(&self) -> String {
+        "sim".into()
+    }
+
+    fn close(&mut self) -> Result<()> {
+        if self.net.take_dirty() {
+            if let Some(file) = &self.file {
+                file.save(&self.net.snapshot())?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Node-ids on the demo network, for documentation and tests.
+pub fn demo_node_ids() -> BTreeMap<u8, &'static str> {
+    Network::demo().devices.iter().filter_map(|d| Some((d.node_id()?, d.model))).collect()
+}

@@ -1,0 +1,273 @@
+//! The device models of the demo network, after the devices in `seeds/`. Where a seed says
+//! something the model follows it; elsewhere it follows CiA 301 and the device profile.
+
+use crate::canopen::DataType::{self, *};
+use crate::od::Access::*;
+use crate::od::{le, text, Access, Dictionary, Init};
+
+pub struct Model {
+    /// Stable name used in the state file.
+    pub key: &'static str,
+    pub dict: Dictionary,
+    pub block_transfer: bool,
+    pub guarding: bool,
+}
+
+/// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
+pub fn demo_network() -> Vec<(Model, Option<u8>)> {
+    vec![(drive(), Some(1)), (position_sensor(), Some(5)), (io_module(), Some(10)), (stepper(), Some(32)), (unconfigured(), None)]
+}
+
+pub const DOMAIN_SIZE: usize = 64 * 1024;
+
+fn u(v: u64, t: DataType) -> Init {
+    le(v, t)
+}
+
+/// What every device here has: CiA 301 mandatory and common communication objects.
+struct Common {
+    device_type: u32,
+    name: &'static str,
+    hardware: &'static str,
+    software: &'static str,
+    /// Vendor-ID, product code, revision, serial; `None` for a device without them.
+    identity: Option<[u32; 4]>,
+    heartbeat_ms: Option<u16>,
+    guarding: bool,
+    /// Highest 0x1010/0x1011 subindex: 1 (all) or 4 (all, comm, app, manufacturer).
+    store_subs: u8,
+}
+
+fn common(c: Common) -> Dictionary {
+    let mut d = Dictionary::default();
+    d.var(0x1000, "Device type", U32, Ro, u(c.device_type as u64, U32));
+    d.var(0x1001, "Error register", U8, Ro, u(0, U8));
+    d.var(0x1005, "COB-ID SYNC", U32, Rw, u(0x80, U32));
+    d.var(0x1008, "Manufacturer device name", Vs, Const, text(c.name));
+    d.var(0x1009, "Manufacturer hardware version", Vs, Const, text(c.hardware));
+    d.var(0x100A, "Manufacturer software version", Vs, Const, text(c.software));
+    if c.guarding {
+        d.var(0x100C, "Guard time", U16, Rw, u(0, U16));
+        d.var(0x100D, "Life time factor", U8, Rw, u(0, U8));
+    }
+    // Reading a sub gives 1: the device saves (restores) on command (CiA 301 7.5.2.13).
+    let subs = || -> Vec<(u8, &'static str, DataType, Access, Init)> {
+        let names = ["all parameters", "communication parameters", "application parameters", "manufacturer parameters"];
+        (1..=c.store_subs).map(|s| (s, names[s as usize - 1], U32, Rw, u(1, U32))).collect()
+    };
+    d.record(0x1010, "Store parameters", subs());
+    d.record(0x1011, "Restore default parameters", subs());
+    d.var(0x1014, "COB-ID EMCY", U32, Rw, Init::NodeIdPlus(0x80));
+    if let Some(ms) = c.heartbeat_ms {
+        d.var(0x1017, "Producer heartbeat time", U16, Rw, u(ms as u64, U16));
+    }
+    let id = c.identity.map(|i| i.to_vec()).unwrap_or_default();
+    let names = ["Vendor-ID", "Product code", "Revision number", "Serial number"];
+    d.record(0x1018, "Identity object", id.iter().zip(names).enumerate().map(|(i, (v, n))| (i as u8 + 1, n, U32, Ro, u(*v as u64, U32))).collect());
+    d.record(
+        0x1200,
+        "SDO server parameter",
+        vec![(1, "COB-ID client to server", U32, Ro, Init::NodeIdPlus(0x600)), (2, "COB-ID server to client", U32, Ro, Init::NodeIdPlus(0x580))],
+    );
+    d
+}
+
+/// Node 1: after the maxon EPOS2 (seeds 000, 002). Device type 0x00020192 is the value
+/// the gateway note reads from node 2; vendor 0xFB is maxon's CiA vendor-ID.
+pub fn drive() -> Model {
+    let mut d = common(Common {
+        device_type: 0x0002_0192,
+        name: "EPOS2 24/5",
+        hardware: "6220h",
+        software: "2126h",
+        identity: Some([0x0000_00FB, 0x0000_6220, 0x2126_0000, 0x0001_3F2A]),
+        heartbeat_ms: Some(0),
+        guarding: true,
+        store_subs: 4,
+    });
+    // EPOS2 firmware specification: 0x2000 Node ID, 0x2001 CAN bit rate (0 = 1 Mbit/s ...).
+    d.var(0x2000, "Node ID", U8, Rw, u(1, U8));
+    d.limit(crate::canopen::ObjAddr::new(0x2000, 0), 1, 127);
+    d.var(0x2001, "CAN bit rate", U16, Rw, u(0, U16));
+    d.limit(crate::canopen::ObjAddr::new(0x2001, 0), 0, 9);
+    // Seed 000's examples: "Software Version" 0x2003:1 reads 0x2010; "Home Offset" 0x2081.
+    d.record(0x2003, "Version", vec![(1, "Software version", U16, Ro, u(0x2010, U16)), (2, "Hardware version", U16, Ro, u(0x6220, U16))]);
+    d.var(0x2081, "Home offset", I32, Rw, u(0, I32));
+    d.var(0x6040, "Controlword", U16, Rw, u(0, U16));
+    d.var(0x6041, "Statusword", U16, Ro, u(0x0540, U16));
+    d.var(0x6060, "Modes of operation", I8, Rw, u(1, I8));
+    d.limit(crate::canopen::ObjAddr::new(0x6060, 0), -6, 7);
+    d.var(0x6061, "Modes of operation display", I8, Ro, u(1, I8));
+    d.var(0x6064, "Position actual value", I32, Ro, u(0, I32));
+    d.var(0x606C, "Velocity actual value", I32, Ro, u(0, I32));
+    d.var(0x607A, "Target position", I32, Rw, u(0, I32));
+    d.var(0x6081, "Profile velocity", U32, Rw, u(1000, U32));
+    // CiA 302 program download: a DOMAIN large enough to make block transfer matter.
+    d.record(0x1F50, "Program data", vec![(1, "Program 1", D, Rw, Init::Bytes(domain_pattern(DOMAIN_SIZE)))]);
+    // The EPOS2 has no such object; the simulated drive carries one entry per CiA 309-3
+    // type so that every type can be exercised end to end.
+    d.record(
+        0x5FF0,
+        "Simulator data types",
+        vec![
+            (1, "boolean", Bool, Rw, u(1, Bool)),
+            (2, "unsigned8", U8, Rw, u(0x12, U8)),
+            (3, "unsigned16", U16, Rw, u(0x1234, U16)),
+            (4, "unsigned32", U32, Rw, u(0x1234_5678, U32)),
+            (5, "unsigned64", U64, Rw, u(0x0123_4567_89AB_CDEF, U64)),
+            (6, "integer8", I8, Rw, u((-5i8) as u8 as u64, I8)),
+            (7, "integer16", I16, Rw, u((-300i16) as u16 as u64, I16)),
+            (8, "integer32", I32, Rw, u((-70000i32) as u32 as u64, I32)),
+            (9, "integer64", I64, Rw, u((-5_000_000_000i64) as u64, I64)),
+            (10, "real32", R32, Rw, u(1.5f32.to_bits() as u64, R32)),
+            (11, "real64", R64, Rw, u((-2.25f64).to_bits(), R64)),
+            (12, "visible string", Vs, Rw, text("canctl")),
+            (13, "octet string", Os, Rw, Init::Bytes(vec![0xDE, 0xAD, 0xBE, 0xEF])),
+            (14, "domain", D, Rw, Init::Bytes(vec![1, 2, 3, 4, 5, 6, 7, 8, 9])),
+            (15, "write-only command", U16, Wo, u(0, U16)),
+        ],
+    );
+    Model { key: "drive", dict: d, block_transfer: true, guarding: true }
+}
+
+/// Node 5: after the Temposonics MH CANopen sensor (seed 001, table 5 and §10.3).
+pub fn position_sensor() -> Model {
+    let mut d = common(Common {
+        device_type: 0x000A_0196,
+        name: "C01",
+        hardware: "1.00",
+        software: "1.00",
+        identity: Some([0x0000_0040, 0x4378_7800, 0x0001_0000, 0x0012_D687]),
+        // The seed's default is 0; the demo sensor beats every 40 ms so that a scan (50 ms
+        // quiet window) always sees its state.
+        heartbeat_ms: Some(40),
+        guarding: false,
+        store_subs: 1,
+    });
+    d.var(0x1002, "Manufacturer status register", U8, Ro, u(1, U8));
+    d.var(0x100B, "Node-ID", U32, Ro, Init::NodeIdPlus(0));
+    d.var(0x100E, "COB-ID error control", U32, Rw, Init::NodeIdPlus(0x700));
+    d.record(
+        0x1800,
+        "TPDO1 communication parameter",
+        vec![
+            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
+            (2, "Transmission type", U8, Rw, u(254, U8)),
+            (5, "Event timer", U16, Rw, u(1, U16)),
+        ],
+    );
+    d.record(
+        0x1A00,
+        "TPDO1 mapping parameter",
+        vec![(1, "Mapped object 1", U32, Const, u(0x6020_0120, U32)), (2, "Mapped object 2", U32, Const, u(0x6030_0110, U32))],
+    );
+    d.var(0x6000, "Operating parameters", U16, Rw, u(0, U16));
+    d.record(0x6005, "Linear encoder", vec![(1, "Measuring step", U32, Ro, u(100_000, U32)), (2, "Speed measuring step", U32, Ro, u(100, U32))]);
+    d.record(0x6010, "Preset value", vec![(1, "Channel 1", I32, Rw, u(0, I32))]);
+    d.record(0x6020, "Position value", vec![(1, "Channel 1", I32, Ro, u(125_000, I32))]);
+    d.record(0x6030, "Speed value", vec![(1, "Channel 1", I16, Ro, u(0, I16))]);
+    d.var(0x6200, "Cyclic timer", U16, Rw, u(1, U16));
+    d.var(0x6500, "Operating status", U16, Ro, u(0, U16));
+    d.var(0x6501, "Measuring step", U32, Ro, u(100_000, U32));
+    Model { key: "sensor", dict: d, block_transfer: false, guarding: false }
+}
+
+/// Node 10: after an ICP DAS CAN-2000C module, the CAN-2057C 16-channel DO (seed 004).
+pub fn io_module() -> Model {
+    let mut d = common(Common {
+        // DS401 (0x191) with digital outputs (bit 17) and inputs (bit 16).
+        device_type: 0x0003_0191,
+        name: "CAN-2057C",
+        hardware: "1.00",
+        software: "1.00",
+        // The seed does not give ICP DAS's vendor-ID; this one is the simulator's.
+        identity: Some([0x0000_0444, 0x0000_2057, 0x0001_0000, 0x0000_1F4A]),
+        heartbeat_ms: Some(0),
+        guarding: true,
+        store_subs: 1,
+    });
+    // EMCY history, newest first (seed 004 §5.3: five records). Two from the seed's table:
+    // CAN controller overrun (8110, vendor 06) and EEPROM access error (5000, vendor 02).
+    d.record(
+        0x1003,
+        "Pre-defined error field",
+        (1..=5).map(|s| (s, "Standard error field", U32, Ro, u([0x0006_8110, 0x0002_5000, 0, 0, 0][s as usize - 1], U32))).collect(),
+    );
+    d.insert(crate::od::Entry {
+        addr: crate::canopen::ObjAddr::new(0x1003, 0),
+        name: "Pre-defined error field: number of errors".into(),
+        dtype: U8,
+        access: Rw,
+        default: u(2, U8),
+        range: None,
+    });
+    d.record(
+        0x1800,
+        "TPDO1 communication parameter",
+        vec![
+            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
+            (2, "Transmission type", U8, Rw, u(255, U8)),
+            (3, "Inhibit time", U16, Rw, u(0, U16)),
+            (5, "Event timer", U16, Rw, u(0, U16)),
+        ],
+    );
+    d.record(0x1A00, "TPDO1 mapping parameter", vec![(1, "Mapped object 1", U32, Rw, u(0x6000_0108, U32))]);
+    d.record(0x6000, "Read input 8-bit", vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))]);
+    d.record(0x6200, "Write output 8-bit", vec![(1, "Outputs 1-8", U8, Rw, u(0, U8)), (2, "Outputs 9-16", U8, Rw, u(0, U8))]);
+    Model { key: "io", dict: d, block_transfer: false, guarding: true }
+}
+
+/// Node 32: after the Stögra SERS stepper (seed 003): DS402 subset, node guarding only, an
+/// identity object without vendor, product or serial.
+pub fn stepper() -> Model {
+    let mut d = common(Common {
+        device_type: 0x0004_0192,
+        name: "SERS-CAN",
+        hardware: "1.0",
+        software: "2001-01",
+        identity: None,
+        heartbeat_ms: None,
+        guarding: true,
+        store_subs: 1,
+    });
+    d.var(0x1002, "Manufacturer status register", U32, Ro, u(0, U32));
+    d.var(0x6040, "Controlword", U16, Rw, u(0, U16));
+    d.var(0x6041, "Statusword", U16, Ro, u(0x0250, U16));
+    // "the drive supports 1 Profile Position Mode and 6 Homing Mode"
+    d.var(0x6060, "Modes of operation", I8, Rw, u(1, I8));
+    d.limit(crate::canopen::ObjAddr::new(0x6060, 0), 1, 6);
+    // "position_actual_value (6064) can not be written"
+    d.var(0x6064, "Position actual value", I32, Ro, u(0, I32));
+    d.var(0x607A, "Target position", I32, Rw, u(0, I32));
+    d.var(0x6081, "Profile velocity", U32, Rw, u(500, U32));
+    d.var(0x6083, "Profile acceleration", U32, Rw, u(1000, U32));
+    Model { key: "stepper", dict: d, block_transfer: false, guarding: true }
+}
+
+/// A device waiting for a node-id over LSS: silent to everything else.
+pub fn unconfigured() -> Model {
+    let d = common(Common {
+        device_type: 0x000A_0196,
+        name: "C01",
+        hardware: "1.00",
+        software: "1.00",
+        identity: Some([0x0000_0040, 0x4378_7800, 0x0001_0000, 0x0012_D6A0]),
+        heartbeat_ms: Some(0),
+        guarding: false,
+        store_subs: 1,
+    });
+    Model { key: "lss-unconfigured", dict: d, block_transfer: false, guarding: false }
+}
+
+/// Reproducible, incompressible-looking content (xorshift32).
+pub fn domain_pattern(len: usize) -> Vec<u8> {
+    let mut x: u32 = 0x2545_F491;
+    (0..len)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x as u8
+        })
+        .collect()
+}
