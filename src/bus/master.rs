@@ -30,7 +30,13 @@ struct Active {
 
 impl<L: FrameLink> Master<L> {
     pub fn new(link: L, describe: String, trace: bool) -> Master<L> {
-        Master { link, describe, trace, heartbeats: BTreeMap::new(), no_block: BTreeSet::new() }
+        Master {
+            link,
+            describe,
+            trace,
+            heartbeats: BTreeMap::new(),
+            no_block: BTreeSet::new(),
+        }
     }
 
     pub fn link_mut(&mut self) -> &mut L {
@@ -58,7 +64,12 @@ impl<L: FrameLink> Master<L> {
     }
 
     /// Run SDO transfers: one per node at a time, all nodes at once.
-    fn run(&mut self, jobs: Vec<(u8, SdoClient)>, timeout: Duration, progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+    fn run(
+        &mut self,
+        jobs: Vec<(u8, SdoClient)>,
+        timeout: Duration,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Vec<Result<Vec<u8>>>> {
         let mut results: Vec<Option<Result<Vec<u8>>>> = (0..jobs.len()).map(|_| None).collect();
         let mut queues: BTreeMap<u8, VecDeque<(usize, SdoClient)>> = BTreeMap::new();
         for (slot, (node, client)) in jobs.into_iter().enumerate() {
@@ -71,14 +82,20 @@ impl<L: FrameLink> Master<L> {
             self.start_next(node, &mut queues, &mut active, timeout)?;
         }
         while !active.is_empty() {
-            let deadline = active.values().map(|a| a.deadline).min().expect("non-empty");
+            let deadline = active
+                .values()
+                .map(|a| a.deadline)
+                .min()
+                .expect("non-empty");
             if let Some(f) = self.recv(deadline)? {
                 let node = f.id().wrapping_sub(0x580);
                 if f.is_remote() || !(1..=127).contains(&node) {
                     continue;
                 }
                 let node = node as u8;
-                let Some(a) = active.get_mut(&node) else { continue };
+                let Some(a) = active.get_mut(&node) else {
+                    continue;
+                };
                 a.heard = true;
                 a.deadline = Instant::now() + timeout;
                 let outcome = a.client.on_response(f.data());
@@ -105,14 +122,25 @@ impl<L: FrameLink> Master<L> {
                 self.start_next(node, &mut queues, &mut active, timeout)?;
             } else {
                 let now = Instant::now();
-                let expired: Vec<u8> = active.iter().filter(|(_, a)| a.deadline <= now).map(|(n, _)| *n).collect();
+                let expired: Vec<u8> = active
+                    .iter()
+                    .filter(|(_, a)| a.deadline <= now)
+                    .map(|(n, _)| *n)
+                    .collect();
                 for node in expired {
                     let a = active.remove(&node).expect("active");
                     let addr = a.client.addr();
                     if a.heard {
-                        self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
+                        self.send(&Frame::new(
+                            sdo::request_cob(node),
+                            &sdo::abort_frame(addr, abort::TIMED_OUT),
+                        ))?;
                     }
-                    let what = if a.heard { "stopped answering during" } else { "did not answer" };
+                    let what = if a.heard {
+                        "stopped answering during"
+                    } else {
+                        "did not answer"
+                    };
                     results[a.slot] = Some(Err(Error::Timeout(format!(
                         "node {node}: {what} the SDO transfer of {addr} (waited {} ms)",
                         timeout.as_millis()
@@ -123,7 +151,10 @@ impl<L: FrameLink> Master<L> {
                 }
             }
         }
-        Ok(results.into_iter().map(|r| r.expect("every job ends")).collect())
+        Ok(results
+            .into_iter()
+            .map(|r| r.expect("every job ends"))
+            .collect())
     }
 
     fn start_next(
@@ -133,27 +164,48 @@ impl<L: FrameLink> Master<L> {
         active: &mut BTreeMap<u8, Active>,
         timeout: Duration,
     ) -> Result<()> {
-        let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else { return Ok(()) };
+        let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else {
+            return Ok(());
+        };
         let first = client.start();
         self.send(&Frame::new(sdo::request_cob(node), &first))?;
-        active.insert(node, Active { slot, client, deadline: Instant::now() + timeout, heard: false });
+        active.insert(
+            node,
+            Active {
+                slot,
+                client,
+                deadline: Instant::now() + timeout,
+                heard: false,
+            },
+        );
         Ok(())
     }
 
     fn sdo_error(&mut self, node: u8, addr: ObjAddr, e: SdoError) -> Result<Error> {
         Ok(match e {
-            SdoError::ServerAbort(code) => Error::SdoAbort { node, obj: addr, code },
+            SdoError::ServerAbort(code) => Error::SdoAbort {
+                node,
+                obj: addr,
+                code,
+            },
             SdoError::ClientAbort { code, reason } => {
-                self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, code)))?;
+                self.send(&Frame::new(
+                    sdo::request_cob(node),
+                    &sdo::abort_frame(addr, code),
+                ))?;
                 Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason} (aborted with 0x{code:08X})"))
             }
-            SdoError::Inconsistent(reason) => Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason}")),
+            SdoError::Inconsistent(reason) => Error::Link(format!(
+                "node {node}: SDO transfer of {addr} failed: {reason}"
+            )),
         })
     }
 
     fn one(&mut self, node: u8, client: SdoClient, timeout: Duration) -> Result<Vec<u8>> {
         check_node(node)?;
-        self.run(vec![(node, client)], timeout, &mut |_| {})?.pop().expect("one result")
+        self.run(vec![(node, client)], timeout, &mut |_| {})?
+            .pop()
+            .expect("one result")
     }
 
     fn block_allowed(&self, node: u8, wanted: bool) -> bool {
@@ -165,7 +217,9 @@ fn check_node(node: u8) -> Result<()> {
     if (1..=127).contains(&node) {
         Ok(())
     } else {
-        Err(Error::Usage(format!("node-id {node} is out of range (1..=127)")))
+        Err(Error::Usage(format!(
+            "node-id {node} is out of range (1..=127)"
+        )))
     }
 }
 
@@ -179,16 +233,39 @@ impl<L: FrameLink> Bus for Master<L> {
         self.one(node, client, opts.timeout)
     }
 
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
+    fn sdo_download(
+        &mut self,
+        node: u8,
+        addr: ObjAddr,
+        data: &[u8],
+        opts: &SdoOptions,
+    ) -> Result<()> {
+        let client = SdoClient::download(
+            addr,
+            data.to_vec(),
+            self.block_allowed(node, opts.block_download),
+        );
         self.one(node, client, opts.timeout).map(|_| ())
     }
 
-    fn sdo_upload_many(&mut self, requests: &[(u8, ObjAddr)], opts: &SdoOptions, progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+    fn sdo_upload_many(
+        &mut self,
+        requests: &[(u8, ObjAddr)],
+        opts: &SdoOptions,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Vec<Result<Vec<u8>>>> {
         for (node, _) in requests {
             check_node(*node)?;
         }
-        let jobs = requests.iter().map(|(node, addr)| (*node, SdoClient::upload(*addr, self.block_allowed(*node, opts.block_upload)))).collect();
+        let jobs = requests
+            .iter()
+            .map(|(node, addr)| {
+                (
+                    *node,
+                    SdoClient::upload(*addr, self.block_allowed(*node, opts.block_upload)),
+                )
+            })
+            .collect();
         self.run(jobs, opts.timeout, progress)
     }
 

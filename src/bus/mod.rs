@@ -38,7 +38,11 @@ pub struct SdoOptions {
 
 impl SdoOptions {
     pub fn new(timeout: Duration) -> SdoOptions {
-        SdoOptions { timeout, block_upload: false, block_download: true }
+        SdoOptions {
+            timeout,
+            block_upload: false,
+            block_download: true,
+        }
     }
 }
 
@@ -54,7 +58,13 @@ pub trait Bus {
     fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>>;
 
     /// Write an object.
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()>;
+    fn sdo_download(
+        &mut self,
+        node: u8,
+        addr: ObjAddr,
+        data: &[u8],
+        opts: &SdoOptions,
+    ) -> Result<()>;
 
     /// Read many objects; a backend that can keeps one transfer per node in flight at once.
     /// `progress` is called with the number finished so far. The outer error is a link

@@ -7,10 +7,20 @@ use std::path::PathBuf;
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum BusUri {
     /// The simulated demo network; `state` overrides the default state file.
-    Sim { state: Option<PathBuf> },
-    SocketCan { iface: String },
-    Epos2Rs232 { port: String, baud: u32 },
-    Epos2Usb { port: String, baud: u32 },
+    Sim {
+        state: Option<PathBuf>,
+    },
+    SocketCan {
+        iface: String,
+    },
+    Epos2Rs232 {
+        port: String,
+        baud: u32,
+    },
+    Epos2Usb {
+        port: String,
+        baud: u32,
+    },
 }
 
 pub const RS232_DEFAULT_BAUD: u32 = 115_200;
@@ -65,7 +75,9 @@ impl std::str::FromStr for BusUri {
 /// Linux interface names: 1 to 15 bytes, no '/', no whitespace.
 fn check_iface(iface: &str) -> std::result::Result<String, String> {
     if iface.is_empty() || iface.len() > 15 || iface.contains(['/', ' ', '\t', ':']) {
-        return Err(format!("'{iface}' is not a network interface name (like can0 or vcan0)"));
+        return Err(format!(
+            "'{iface}' is not a network interface name (like can0 or vcan0)"
+        ));
     }
     Ok(iface.to_string())
 }
@@ -85,7 +97,11 @@ pub fn can_interfaces() -> Vec<String> {
 
 /// Serial ports present.
 pub fn serial_ports() -> Vec<String> {
-    let mut out: Vec<String> = serialport::available_ports().unwrap_or_default().into_iter().map(|p| p.port_name).collect();
+    let mut out: Vec<String> = serialport::available_ports()
+        .unwrap_or_default()
+        .into_iter()
+        .map(|p| p.port_name)
+        .collect();
     out.sort();
     out
 }
@@ -96,17 +112,43 @@ mod tests {
 
     #[test]
     fn parses_every_form() {
-        assert_eq!("sim".parse::<BusUri>().unwrap(), BusUri::Sim { state: None });
-        assert_eq!("sim:/tmp/s.json".parse::<BusUri>().unwrap(), BusUri::Sim { state: Some("/tmp/s.json".into()) });
-        assert_eq!("can0".parse::<BusUri>().unwrap(), BusUri::SocketCan { iface: "can0".into() });
-        assert_eq!("socketcan:vcan0".parse::<BusUri>().unwrap(), BusUri::SocketCan { iface: "vcan0".into() });
         assert_eq!(
-            "epos2-rs232:/dev/ttyS0?baud=38400".parse::<BusUri>().unwrap(),
-            BusUri::Epos2Rs232 { port: "/dev/ttyS0".into(), baud: 38400 }
+            "sim".parse::<BusUri>().unwrap(),
+            BusUri::Sim { state: None }
+        );
+        assert_eq!(
+            "sim:/tmp/s.json".parse::<BusUri>().unwrap(),
+            BusUri::Sim {
+                state: Some("/tmp/s.json".into())
+            }
+        );
+        assert_eq!(
+            "can0".parse::<BusUri>().unwrap(),
+            BusUri::SocketCan {
+                iface: "can0".into()
+            }
+        );
+        assert_eq!(
+            "socketcan:vcan0".parse::<BusUri>().unwrap(),
+            BusUri::SocketCan {
+                iface: "vcan0".into()
+            }
+        );
+        assert_eq!(
+            "epos2-rs232:/dev/ttyS0?baud=38400"
+                .parse::<BusUri>()
+                .unwrap(),
+            BusUri::Epos2Rs232 {
+                port: "/dev/ttyS0".into(),
+                baud: 38400
+            }
         );
         assert_eq!(
             "epos2-usb:/dev/ttyUSB0".parse::<BusUri>().unwrap(),
-            BusUri::Epos2Usb { port: "/dev/ttyUSB0".into(), baud: USB_DEFAULT_BAUD }
+            BusUri::Epos2Usb {
+                port: "/dev/ttyUSB0".into(),
+                baud: USB_DEFAULT_BAUD
+            }
         );
     }
 

@@ -1,0 +1,242 @@
+//! The command line: one clap definition from which help, man pages and completions are
+//! all generated, and one module per command.
+
+mod docs;
+mod nmt;
+mod scan;
+mod sdo;
+mod sim;
+
+use crate::bus::{Bus, BusUri, Master};
+use crate::error::Error;
+use crate::output::{Format, Output};
+use clap::{Args, Parser, Subcommand};
+use std::time::Duration;
+
+pub use docs::{completion_scripts, man_pages, write_completions};
+
+const EXIT_CODES: &str = "\
+Exit codes:
+  0    ok
+  2    usage: bad arguments, malformed object or value, no bus given
+  3    no response or timeout
+  4    refused by the device (SDO abort, LSS or EPOS2 error; the code and its meaning are printed)
+  5    link failure (cannot open, CRC/framing failure, device gone)
+  6    verification failed
+  130  interrupted";
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "canctl",
+    version,
+    about = "Commission CANopen drives and sensors",
+    long_about = "Commission CANopen drives and sensors: find every node, read and write objects, \
+drive NMT — over SocketCAN, a maxon EPOS2 on RS232 or USB, or the built-in simulated bus.\n\n\
+Try it without hardware: canctl --bus sim scan",
+    after_help = EXIT_CODES,
+    propagate_version = true
+)]
+pub struct Cli {
+    #[command(flatten)]
+    pub global: GlobalArgs,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Args, Debug)]
+pub struct GlobalArgs {
+    /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0
+    #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI")]
+    pub bus: Option<String>,
+    /// How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)
+    #[arg(long, global = true, value_name = "DUR", default_value = "500ms", value_parser = parse_duration)]
+    pub timeout: Duration,
+    /// Output format
+    #[arg(long, global = true, value_enum, default_value = "human")]
+    pub format: Format,
+    /// Trace every frame on stderr in candump notation
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    pub verbose: u8,
+    /// No diagnostics or progress on stderr (errors still print)
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    Scan(scan::ScanArgs),
+    /// Read and write objects (SDO)
+    #[command(subcommand)]
+    Sdo(sdo::SdoCommand),
+    /// Start, stop and reset nodes, or ask their NMT state
+    #[command(subcommand)]
+    Nmt(nmt::NmtCommand),
+    /// Manage the simulated demo network
+    #[command(subcommand)]
+    Sim(sim::SimCommand),
+    Completions(docs::CompletionsArgs),
+    Man(docs::ManArgs),
+}
+
+/// What every command gets: the output policy and the global settings.
+pub struct Ctx {
+    pub out: Output,
+    pub timeout: Duration,
+}
+
+/// Parse `500ms`, `2s`, `1.5s`, `1m`, or a bare number of milliseconds.
+pub fn parse_duration(text: &str) -> Result<Duration, String> {
+    let t = text.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (num, unit) = t.split_at(split);
+    let n: f64 = num
+        .parse()
+        .map_err(|_| format!("'{text}' is not a duration: use 500ms, 2s, 1.5s or 1m"))?;
+    let secs = match unit.trim() {
+        "" | "ms" => n / 1000.0,
+        "s" => n,
+        "m" | "min" => n * 60.0,
+        "us" | "µs" => n / 1e6,
+        u => return Err(format!("'{u}' is not a time unit: use ms, s or m")),
+    };
+    if !secs.is_finite() || !(0.0..=86_400.0).contains(&secs) {
+        return Err(format!("'{text}' is out of range (0 to 24 h)"));
+    }
+    Ok(Duration::from_secs_f64(secs))
+}
+
+/// Parse a node-id: 1..127, decimal or 0x hex.
+pub fn parse_node(text: &str) -> Result<u8, String> {
+    let t = text.trim();
+    let n = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        Some(h) => u32::from_str_radix(h, 16).ok(),
+        None => t.parse::<u32>().ok(),
+    };
+    n.filter(|n| (1..=127).contains(n))
+        .map(|n| n as u8)
+        .ok_or_else(|| format!("'{text}' is not a node-id: use 1..127"))
+}
+
+/// Open the bus the user named, or explain how to name one.
+fn open_bus(global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
+    let Some(text) = global.bus.as_deref().filter(|b| !b.is_empty()) else {
+        return Err(no_bus_error().into());
+    };
+    let uri: BusUri = text.parse()?;
+    let trace = global.verbose > 0;
+    match uri {
+        BusUri::Sim { state } => {
+            let path = state.unwrap_or_else(crate::sim::state::default_path);
+            let file = crate::sim::state::StateFile::lock(&path)?;
+            let link = crate::sim::SimLink::open(file)?;
+            Ok(Box::new(Master::new(link, "sim".into(), trace)))
+        }
+        BusUri::SocketCan { iface } => {
+            Err(Error::Link(format!("cannot open socketcan:{iface}: this build has no SocketCAN backend yet; use --bus sim")).into())
+        }
+        BusUri::Epos2Rs232 { port, .. } => {
+            Err(Error::Link(format!("cannot open epos2-rs232:{port}: this build has no EPOS2 RS232 backend yet; use --bus sim")).into())
+        }
+        BusUri::Epos2Usb { port, .. } => {
+            Err(Error::Link(format!("cannot open epos2-usb:{port}: this build has no EPOS2 USB backend yet; use --bus sim")).into())
+        }
+    }
+}
+
+fn no_bus_error() -> Error {
+    let list = |v: Vec<String>| {
+        if v.is_empty() {
+            "none found".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    Error::Usage(format!(
+        "no bus given: pass --bus URI or set CANCTL_BUS\n  \
+         CAN interfaces here: {}\n  \
+         serial ports here:   {}\n  \
+         forms: socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0\n  \
+         no hardware? try the demo network: canctl --bus sim scan",
+        list(crate::bus::uri::can_interfaces()),
+        list(crate::bus::uri::serial_ports())
+    ))
+}
+
+/// Run a command that talks to the bus; the bus is closed (and the simulator's state saved)
+/// whatever the command's outcome.
+fn with_bus(
+    global: &GlobalArgs,
+    f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let mut bus = open_bus(global)?;
+    let result = f(bus.as_mut());
+    let closed = bus.close();
+    result?;
+    closed?;
+    Ok(())
+}
+
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    let ctx = Ctx {
+        out: Output::new(cli.global.format, cli.global.quiet),
+        timeout: cli.global.timeout,
+    };
+    let g = &cli.global;
+    match &cli.command {
+        Command::Scan(args) => with_bus(g, |bus| scan::run(&ctx, bus, args)),
+        Command::Sdo(cmd) => with_bus(g, |bus| sdo::run(&ctx, bus, cmd)),
+        Command::Nmt(cmd) => with_bus(g, |bus| nmt::run(&ctx, bus, cmd)),
+        Command::Sim(cmd) => sim::run(&ctx, g, cmd),
+        Command::Completions(args) => docs::completions(args),
+        Command::Man(args) => docs::man(&ctx, args),
+    }
+}
+
+/// The process exit code for an error from `run`, and whether to print it.
+pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
+    for cause in err.chain() {
+        if let Some(e) = cause.downcast_ref::<Error>() {
+            return (e.exit_code(), true);
+        }
+        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
+            if io.kind() == std::io::ErrorKind::BrokenPipe {
+                // The reader went away (`canctl scan | head -1`): nothing left to say.
+                return (0, false);
+            }
+        }
+    }
+    (1, true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations() {
+        assert_eq!(parse_duration("500ms").unwrap(), Duration::from_millis(500));
+        assert_eq!(parse_duration("2s").unwrap(), Duration::from_secs(2));
+        assert_eq!(parse_duration("1.5s").unwrap(), Duration::from_millis(1500));
+        assert_eq!(parse_duration("250").unwrap(), Duration::from_millis(250));
+        assert!(parse_duration("fast").is_err());
+        assert!(parse_duration("5h").is_err());
+        assert!(parse_duration("-1s").is_err());
+    }
+
+    #[test]
+    fn nodes() {
+        assert_eq!(parse_node("5"), Ok(5));
+        assert_eq!(parse_node("0x7F"), Ok(127));
+        assert!(parse_node("0").is_err());
+        assert!(parse_node("128").is_err());
+        assert!(parse_node("all").is_err());
+    }
+
+    #[test]
+    fn clap_definition_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

@@ -19,12 +19,16 @@ pub struct ObjectStore {
     values: BTreeMap<ObjAddr, Vec<u8>>,
     /// What 0x1010 saved: survives resets (and, through the state file, invocations).
     stored: BTreeMap<ObjAddr, Vec<u8>>,
+    ignored_writes: Vec<ObjAddr>,
     dirty: bool,
 }
 
 impl ObjectStore {
     fn default_of(&self, addr: ObjAddr) -> Vec<u8> {
-        self.dict.get(addr).map(|e| e.default.resolve(self.node_id)).unwrap_or_default()
+        self.dict
+            .get(addr)
+            .map(|e| e.default.resolve(self.node_id))
+            .unwrap_or_default()
     }
 
     /// Reload the values of the given classes from stored values, else defaults.
@@ -32,7 +36,11 @@ impl ObjectStore {
         let addrs: Vec<ObjAddr> = self.dict.entries().map(|e| e.addr).collect();
         for addr in addrs {
             if class.is_none() || ParamClass::of(addr.index) == class {
-                let v = self.stored.get(&addr).cloned().unwrap_or_else(|| self.default_of(addr));
+                let v = self
+                    .stored
+                    .get(&addr)
+                    .cloned()
+                    .unwrap_or_else(|| self.default_of(addr));
                 self.values.insert(addr, v);
             }
         }
@@ -40,16 +48,30 @@ impl ObjectStore {
     }
 
     fn entry(&self, addr: ObjAddr) -> Result<&crate::od::Entry, u32> {
-        self.dict.get(addr).ok_or(if self.dict.has_index(addr.index) { abort::NO_SUBINDEX } else { abort::NO_OBJECT })
+        self.dict
+            .get(addr)
+            .ok_or(if self.dict.has_index(addr.index) {
+                abort::NO_SUBINDEX
+            } else {
+                abort::NO_OBJECT
+            })
     }
 
     fn classes_for(sub: u8) -> Vec<ParamClass> {
         match sub {
-            1 => vec![ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer],
-            s => [ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer]
-                .into_iter()
-                .filter(|c| c.subindex() == s)
-                .collect(),
+            1 => vec![
+                ParamClass::Communication,
+                ParamClass::Application,
+                ParamClass::Manufacturer,
+            ],
+            s => [
+                ParamClass::Communication,
+                ParamClass::Application,
+                ParamClass::Manufacturer,
+            ]
+            .into_iter()
+            .filter(|c| c.subindex() == s)
+            .collect(),
         }
     }
 
@@ -66,7 +88,8 @@ impl ObjectStore {
     /// CiA 301: after 'load' the defaults apply from the next reset on.
     fn restore(&mut self, sub: u8) {
         let classes = Self::classes_for(sub);
-        self.stored.retain(|a, _| !ParamClass::of(a.index).is_some_and(|c| classes.contains(&c)));
+        self.stored
+            .retain(|a, _| !ParamClass::of(a.index).is_some_and(|c| classes.contains(&c)));
         self.dirty = true;
     }
 
@@ -75,7 +98,9 @@ impl ObjectStore {
     }
 
     pub fn u16_value(&self, addr: ObjAddr) -> Option<u16> {
-        self.value(addr).filter(|v| v.len() == 2).map(|v| u16::from_le_bytes([v[0], v[1]]))
+        self.value(addr)
+            .filter(|v| v.len() == 2)
+            .map(|v| u16::from_le_bytes([v[0], v[1]]))
     }
 }
 
@@ -103,19 +128,36 @@ impl ObjectAccess for ObjectStore {
         self.check_write(addr, Some(data.len()))?;
         let e = self.entry(addr)?;
         let (range, dtype) = (e.range, e.dtype);
+        if self.ignored_writes.contains(&addr) {
+            return Ok(());
+        }
         match addr.index {
+            // The signatures trigger the action; the entry itself keeps reading its capability.
             0x1010 if addr.sub >= 1 => {
-                return if data == SAVE { Ok(self.store(addr.sub)) } else { Err(abort::CANNOT_STORE) };
+                if data != SAVE {
+                    return Err(abort::CANNOT_STORE);
+                }
+                self.store(addr.sub);
+                return Ok(());
             }
             0x1011 if addr.sub >= 1 => {
-                return if data == LOAD { Ok(self.restore(addr.sub)) } else { Err(abort::CANNOT_STORE) };
+                if data != LOAD {
+                    return Err(abort::CANNOT_STORE);
+                }
+                self.restore(addr.sub);
+                return Ok(());
             }
             // Writing 0 to the error history's sub 0 clears it; nothing else is allowed.
             0x1003 if addr.sub == 0 => {
                 if data != [0] {
                     return Err(abort::INVALID_VALUE);
                 }
-                let subs: Vec<ObjAddr> = self.values.keys().filter(|a| a.index == 0x1003 && a.sub > 0).copied().collect();
+                let subs: Vec<ObjAddr> = self
+                    .values
+                    .keys()
+                    .filter(|a| a.index == 0x1003 && a.sub > 0)
+                    .copied()
+                    .collect();
                 for a in subs {
                     self.values.insert(a, vec![0; 4]);
                 }
@@ -166,7 +208,14 @@ pub struct Device {
 
 impl Device {
     pub fn new(model: Model, node_id: Option<u8>) -> Device {
-        let mut od = ObjectStore { dict: model.dict, node_id: node_id.unwrap_or(0), values: BTreeMap::new(), stored: BTreeMap::new(), dirty: false };
+        let mut od = ObjectStore {
+            dict: model.dict,
+            node_id: node_id.unwrap_or(0),
+            values: BTreeMap::new(),
+            stored: BTreeMap::new(),
+            ignored_writes: model.ignored_writes,
+            dirty: false,
+        };
         od.reload(None);
         od.dirty = false;
         Device {
@@ -200,9 +249,15 @@ impl Device {
 
     /// React to one frame on the bus; returns the frames this device sends in answer.
     pub fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
-        let Some(id) = self.node_id else { return vec![] };
+        let Some(id) = self.node_id else {
+            return vec![];
+        };
         if let Some((cmd, target)) = Command::parse(f) {
-            return if target == 0 || target == id { self.nmt_command(cmd, id) } else { vec![] };
+            return if target == 0 || target == id {
+                self.nmt_command(cmd, id)
+            } else {
+                vec![]
+            };
         }
         if f.id() == sdo::request_cob(id) && !f.is_remote() {
             // CiA 301: no SDO in Stopped.
@@ -210,10 +265,16 @@ impl Device {
                 return vec![];
             }
             let answers = self.sdo.handle(f.data(), &mut self.od);
-            return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+            return answers
+                .iter()
+                .map(|p| Frame::new(sdo::response_cob(id), p))
+                .collect();
         }
         if f.is_remote() && f.id() == nmt::error_control_cob(id) && self.answers_guarding() {
-            let answer = ErrorControl::State { state: self.nmt, toggle: self.guard_toggle };
+            let answer = ErrorControl::State {
+                state: self.nmt,
+                toggle: self.guard_toggle,
+            };
             self.guard_toggle = !self.guard_toggle;
             return vec![answer.frame(id)];
         }
@@ -225,7 +286,11 @@ impl Device {
         self.nmt = self.nmt.after(cmd);
         match cmd {
             Command::ResetNode | Command::ResetCommunication => {
-                self.od.reload(if cmd == Command::ResetNode { None } else { Some(ParamClass::Communication) });
+                self.od.reload(if cmd == Command::ResetNode {
+                    None
+                } else {
+                    Some(ParamClass::Communication)
+                });
                 self.sdo = SdoServer::new(self.block_transfer);
                 self.guard_toggle = false;
                 vec![ErrorControl::BootUp.frame(id)]
@@ -246,24 +311,49 @@ impl Device {
 
     pub fn heartbeat_ms(&self) -> Option<u64> {
         self.node_id?;
-        self.od.u16_value(ObjAddr::new(0x1017, 0)).filter(|t| *t > 0).map(u64::from)
+        self.od
+            .u16_value(ObjAddr::new(0x1017, 0))
+            .filter(|t| *t > 0)
+            .map(u64::from)
     }
 
     pub fn heartbeat_frame(&self) -> Option<Frame> {
         let id = self.node_id?;
-        Some(ErrorControl::State { state: self.nmt, toggle: false }.frame(id))
+        Some(
+            ErrorControl::State {
+                state: self.nmt,
+                toggle: false,
+            }
+            .frame(id),
+        )
     }
 
     pub fn snapshot(&self) -> DeviceState {
         // A reset would bring back the stored value, else the default: save what differs.
-        let baseline = |a: &ObjAddr| self.od.stored.get(a).cloned().unwrap_or_else(|| self.od.default_of(*a));
+        let baseline = |a: &ObjAddr| {
+            self.od
+                .stored
+                .get(a)
+                .cloned()
+                .unwrap_or_else(|| self.od.default_of(*a))
+        };
         let hex_map = |m: &BTreeMap<ObjAddr, Vec<u8>>, only_changed: bool| {
             m.iter()
                 .filter(|(a, v)| !only_changed || **v != baseline(a))
-                .map(|(a, v)| (format!("{:04X}:{}", a.index, a.sub), crate::canopen::types::hex(v)))
+                .map(|(a, v)| {
+                    (
+                        format!("{:04X}:{}", a.index, a.sub),
+                        crate::canopen::types::hex(v),
+                    )
+                })
                 .collect()
         };
-        DeviceState { node_id: self.node_id, nmt: Some(self.nmt), values: hex_map(&self.od.values, true), stored: hex_map(&self.od.stored, false) }
+        DeviceState {
+            node_id: self.node_id,
+            nmt: Some(self.nmt),
+            values: hex_map(&self.od.values, true),
+            stored: hex_map(&self.od.stored, false),
+        }
     }
 
     /// Apply a saved state; entries that no longer fit the model are dropped.
@@ -276,7 +366,12 @@ impl Device {
         self.nmt = s.nmt.unwrap_or(nmt::State::PreOperational);
         let parse = |m: &BTreeMap<String, String>| -> BTreeMap<ObjAddr, Vec<u8>> {
             m.iter()
-                .filter_map(|(k, v)| Some((k.parse::<ObjAddr>().ok()?, crate::canopen::types::parse_hex(v).ok()?)))
+                .filter_map(|(k, v)| {
+                    Some((
+                        k.parse::<ObjAddr>().ok()?,
+                        crate::canopen::types::parse_hex(v).ok()?,
+                    ))
+                })
                 .filter(|(a, _)| self.od.dict.get(*a).is_some())
                 .collect()
         };

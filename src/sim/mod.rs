@@ -19,7 +19,12 @@ pub struct Network {
 
 impl Network {
     pub fn demo() -> Network {
-        Network { devices: profiles::demo_network().into_iter().map(|(m, id)| Device::new(m, id)).collect() }
+        Network {
+            devices: profiles::demo_network()
+                .into_iter()
+                .map(|(m, id)| Device::new(m, id))
+                .collect(),
+        }
     }
 
     pub fn devices(&self) -> &[Device] {
@@ -28,7 +33,10 @@ impl Network {
 
     /// Put `frame` on the bus; returns what the devices send in answer, in order.
     pub fn deliver(&mut self, frame: &Frame) -> Vec<Frame> {
-        self.devices.iter_mut().flat_map(|d| d.on_frame(frame)).collect()
+        self.devices
+            .iter_mut()
+            .flat_map(|d| d.on_frame(frame))
+            .collect()
     }
 
     /// Heartbeats due in `(after, upto]` (ms of wall-clock time), at most one per device.
@@ -56,7 +64,14 @@ impl Network {
     }
 
     pub fn snapshot(&self) -> state::NetworkState {
-        state::NetworkState { version: state::VERSION, devices: self.devices.iter().map(|d| (d.model.to_string(), d.snapshot())).collect() }
+        state::NetworkState {
+            version: state::VERSION,
+            devices: self
+                .devices
+                .iter()
+                .map(|d| (d.model.to_string(), d.snapshot()))
+                .collect(),
+        }
     }
 
     pub fn restore(&mut self, s: &state::NetworkState) {
@@ -69,7 +84,9 @@ impl Network {
 
     /// Whether anything persistent changed since the last call.
     pub fn take_dirty(&mut self) -> bool {
-        self.devices.iter_mut().fold(false, |acc, d| d.take_dirty() | acc)
+        self.devices
+            .iter_mut()
+            .fold(false, |acc, d| d.take_dirty() | acc)
     }
 }
 
@@ -84,7 +101,10 @@ fn last_beat(period: u64, node: u64, now: u64) -> u64 {
 }
 
 pub fn wall_ms() -> u64 {
-    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_millis() as u64).unwrap_or(0)
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map(|d| d.as_millis() as u64)
+        .unwrap_or(0)
 }
 
 /// The simulated network as a frame link, with its state kept in a locked file.
@@ -99,7 +119,12 @@ pub struct SimLink {
 impl SimLink {
     /// A network with no state file: fresh demo devices, nothing kept.
     pub fn ephemeral() -> SimLink {
-        SimLink { net: Network::demo(), rx: VecDeque::new(), beats_upto: wall_ms(), file: None }
+        SimLink {
+            net: Network::demo(),
+            rx: VecDeque::new(),
+            beats_upto: wall_ms(),
+            file: None,
+        }
     }
 
     /// The network as the state file left it.
@@ -108,7 +133,12 @@ impl SimLink {
         if let Some(s) = file.load()? {
             net.restore(&s);
         }
-        Ok(SimLink { net, rx: VecDeque::new(), beats_upto: wall_ms(), file: Some(file) })
+        Ok(SimLink {
+            net,
+            rx: VecDeque::new(),
+            beats_upto: wall_ms(),
+            file: Some(file),
+        })
     }
 
     pub fn network(&self) -> &Network {
@@ -150,7 +180,10 @@ impl FrameLink for SimLink {
             if let Some(next) = self.net.next_heartbeat(self.beats_upto) {
                 wake = wake.min(now + Duration::from_millis(next.saturating_sub(wall_ms())));
             }
-            std::thread::sleep(wake.saturating_duration_since(now).max(Duration::from_micros(100)));
+            std::thread::sleep(
+                wake.saturating_duration_since(now)
+                    .max(Duration::from_micros(100)),
+            );
         }
     }
 
@@ -170,5 +203,9 @@ impl FrameLink for SimLink {
 
 /// Node-ids on the demo network, for documentation and tests.
 pub fn demo_node_ids() -> BTreeMap<u8, &'static str> {
-    Network::demo().devices.iter().filter_map(|d| Some((d.node_id()?, d.model))).collect()
+    Network::demo()
+        .devices
+        .iter()
+        .filter_map(|d| Some((d.node_id()?, d.model)))
+        .collect()
 }

@@ -2,6 +2,7 @@
 //! something the model follows it; elsewhere it follows CiA 301 and the device profile.
 
 use crate::canopen::DataType::{self, *};
+use crate::canopen::ObjAddr;
 use crate::od::Access::*;
 use crate::od::{le, text, Access, Dictionary, Init};
 
@@ -11,11 +12,19 @@ pub struct Model {
     pub dict: Dictionary,
     pub block_transfer: bool,
     pub guarding: bool,
+    /// Objects that accept any write and keep their value (a firmware quirk some seeds describe).
+    pub ignored_writes: Vec<ObjAddr>,
 }
 
 /// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
 pub fn demo_network() -> Vec<(Model, Option<u8>)> {
-    vec![(drive(), Some(1)), (position_sensor(), Some(5)), (io_module(), Some(10)), (stepper(), Some(32)), (unconfigured(), None)]
+    vec![
+        (drive(), Some(1)),
+        (position_sensor(), Some(5)),
+        (io_module(), Some(10)),
+        (stepper(), Some(32)),
+        (unconfigured(), None),
+    ]
 }
 
 pub const DOMAIN_SIZE: usize = 64 * 1024;
@@ -44,30 +53,83 @@ fn common(c: Common) -> Dictionary {
     d.var(0x1001, "Error register", U8, Ro, u(0, U8));
     d.var(0x1005, "COB-ID SYNC", U32, Rw, u(0x80, U32));
     d.var(0x1008, "Manufacturer device name", Vs, Const, text(c.name));
-    d.var(0x1009, "Manufacturer hardware version", Vs, Const, text(c.hardware));
-    d.var(0x100A, "Manufacturer software version", Vs, Const, text(c.software));
+    d.var(
+        0x1009,
+        "Manufacturer hardware version",
+        Vs,
+        Const,
+        text(c.hardware),
+    );
+    d.var(
+        0x100A,
+        "Manufacturer software version",
+        Vs,
+        Const,
+        text(c.software),
+    );
     if c.guarding {
         d.var(0x100C, "Guard time", U16, Rw, u(0, U16));
         d.var(0x100D, "Life time factor", U8, Rw, u(0, U8));
     }
     // Reading a sub gives 1: the device saves (restores) on command (CiA 301 7.5.2.13).
     let subs = || -> Vec<(u8, &'static str, DataType, Access, Init)> {
-        let names = ["all parameters", "communication parameters", "application parameters", "manufacturer parameters"];
-        (1..=c.store_subs).map(|s| (s, names[s as usize - 1], U32, Rw, u(1, U32))).collect()
+        let names = [
+            "all parameters",
+            "communication parameters",
+            "application parameters",
+            "manufacturer parameters",
+        ];
+        (1..=c.store_subs)
+            .map(|s| (s, names[s as usize - 1], U32, Rw, u(1, U32)))
+            .collect()
     };
     d.record(0x1010, "Store parameters", subs());
     d.record(0x1011, "Restore default parameters", subs());
     d.var(0x1014, "COB-ID EMCY", U32, Rw, Init::NodeIdPlus(0x80));
     if let Some(ms) = c.heartbeat_ms {
-        d.var(0x1017, "Producer heartbeat time", U16, Rw, u(ms as u64, U16));
+        d.var(
+            0x1017,
+            "Producer heartbeat time",
+            U16,
+            Rw,
+            u(ms as u64, U16),
+        );
     }
     let id = c.identity.map(|i| i.to_vec()).unwrap_or_default();
-    let names = ["Vendor-ID", "Product code", "Revision number", "Serial number"];
-    d.record(0x1018, "Identity object", id.iter().zip(names).enumerate().map(|(i, (v, n))| (i as u8 + 1, n, U32, Ro, u(*v as u64, U32))).collect());
+    let names = [
+        "Vendor-ID",
+        "Product code",
+        "Revision number",
+        "Serial number",
+    ];
+    d.record(
+        0x1018,
+        "Identity object",
+        id.iter()
+            .zip(names)
+            .enumerate()
+            .map(|(i, (v, n))| (i as u8 + 1, n, U32, Ro, u(*v as u64, U32)))
+            .collect(),
+    );
     d.record(
         0x1200,
         "SDO server parameter",
-        vec![(1, "COB-ID client to server", U32, Ro, Init::NodeIdPlus(0x600)), (2, "COB-ID server to client", U32, Ro, Init::NodeIdPlus(0x580))],
+        vec![
+            (
+                1,
+                "COB-ID client to server",
+                U32,
+                Ro,
+                Init::NodeIdPlus(0x600),
+            ),
+            (
+                2,
+                "COB-ID server to client",
+                U32,
+                Ro,
+                Init::NodeIdPlus(0x580),
+            ),
+        ],
     );
     d
 }
@@ -87,23 +149,40 @@ pub fn drive() -> Model {
     });
     // EPOS2 firmware specification: 0x2000 Node ID, 0x2001 CAN bit rate (0 = 1 Mbit/s ...).
     d.var(0x2000, "Node ID", U8, Rw, u(1, U8));
-    d.limit(crate::canopen::ObjAddr::new(0x2000, 0), 1, 127);
+    d.limit(ObjAddr::new(0x2000, 0), 1, 127);
     d.var(0x2001, "CAN bit rate", U16, Rw, u(0, U16));
-    d.limit(crate::canopen::ObjAddr::new(0x2001, 0), 0, 9);
+    d.limit(ObjAddr::new(0x2001, 0), 0, 9);
     // Seed 000's examples: "Software Version" 0x2003:1 reads 0x2010; "Home Offset" 0x2081.
-    d.record(0x2003, "Version", vec![(1, "Software version", U16, Ro, u(0x2010, U16)), (2, "Hardware version", U16, Ro, u(0x6220, U16))]);
+    d.record(
+        0x2003,
+        "Version",
+        vec![
+            (1, "Software version", U16, Ro, u(0x2010, U16)),
+            (2, "Hardware version", U16, Ro, u(0x6220, U16)),
+        ],
+    );
     d.var(0x2081, "Home offset", I32, Rw, u(0, I32));
     d.var(0x6040, "Controlword", U16, Rw, u(0, U16));
     d.var(0x6041, "Statusword", U16, Ro, u(0x0540, U16));
     d.var(0x6060, "Modes of operation", I8, Rw, u(1, I8));
-    d.limit(crate::canopen::ObjAddr::new(0x6060, 0), -6, 7);
+    d.limit(ObjAddr::new(0x6060, 0), -6, 7);
     d.var(0x6061, "Modes of operation display", I8, Ro, u(1, I8));
     d.var(0x6064, "Position actual value", I32, Ro, u(0, I32));
     d.var(0x606C, "Velocity actual value", I32, Ro, u(0, I32));
     d.var(0x607A, "Target position", I32, Rw, u(0, I32));
     d.var(0x6081, "Profile velocity", U32, Rw, u(1000, U32));
     // CiA 302 program download: a DOMAIN large enough to make block transfer matter.
-    d.record(0x1F50, "Program data", vec![(1, "Program 1", D, Rw, Init::Bytes(domain_pattern(DOMAIN_SIZE)))]);
+    d.record(
+        0x1F50,
+        "Program data",
+        vec![(
+            1,
+            "Program 1",
+            D,
+            Rw,
+            Init::Bytes(domain_pattern(DOMAIN_SIZE)),
+        )],
+    );
     // The EPOS2 has no such object; the simulated drive carries one entry per CiA 309-3
     // type so that every type can be exercised end to end.
     d.record(
@@ -122,12 +201,30 @@ pub fn drive() -> Model {
             (10, "real32", R32, Rw, u(1.5f32.to_bits() as u64, R32)),
             (11, "real64", R64, Rw, u((-2.25f64).to_bits(), R64)),
             (12, "visible string", Vs, Rw, text("canctl")),
-            (13, "octet string", Os, Rw, Init::Bytes(vec![0xDE, 0xAD, 0xBE, 0xEF])),
-            (14, "domain", D, Rw, Init::Bytes(vec![1, 2, 3, 4, 5, 6, 7, 8, 9])),
+            (
+                13,
+                "octet string",
+                Os,
+                Rw,
+                Init::Bytes(vec![0xDE, 0xAD, 0xBE, 0xEF]),
+            ),
+            (
+                14,
+                "domain",
+                D,
+                Rw,
+                Init::Bytes(vec![1, 2, 3, 4, 5, 6, 7, 8, 9]),
+            ),
             (15, "write-only command", U16, Wo, u(0, U16)),
         ],
     );
-    Model { key: "drive", dict: d, block_transfer: true, guarding: true }
+    Model {
+        key: "drive",
+        dict: d,
+        block_transfer: true,
+        guarding: true,
+        ignored_writes: vec![],
+    }
 }
 
 /// Node 5: after the Temposonics MH CANopen sensor (seed 001, table 5 and §10.3).
@@ -146,7 +243,13 @@ pub fn position_sensor() -> Model {
     });
     d.var(0x1002, "Manufacturer status register", U8, Ro, u(1, U8));
     d.var(0x100B, "Node-ID", U32, Ro, Init::NodeIdPlus(0));
-    d.var(0x100E, "COB-ID error control", U32, Rw, Init::NodeIdPlus(0x700));
+    d.var(
+        0x100E,
+        "COB-ID error control",
+        U32,
+        Rw,
+        Init::NodeIdPlus(0x700),
+    );
     d.record(
         0x1800,
         "TPDO1 communication parameter",
@@ -159,17 +262,45 @@ pub fn position_sensor() -> Model {
     d.record(
         0x1A00,
         "TPDO1 mapping parameter",
-        vec![(1, "Mapped object 1", U32, Const, u(0x6020_0120, U32)), (2, "Mapped object 2", U32, Const, u(0x6030_0110, U32))],
+        vec![
+            (1, "Mapped object 1", U32, Const, u(0x6020_0120, U32)),
+            (2, "Mapped object 2", U32, Const, u(0x6030_0110, U32)),
+        ],
     );
     d.var(0x6000, "Operating parameters", U16, Rw, u(0, U16));
-    d.record(0x6005, "Linear encoder", vec![(1, "Measuring step", U32, Ro, u(100_000, U32)), (2, "Speed measuring step", U32, Ro, u(100, U32))]);
-    d.record(0x6010, "Preset value", vec![(1, "Channel 1", I32, Rw, u(0, I32))]);
-    d.record(0x6020, "Position value", vec![(1, "Channel 1", I32, Ro, u(125_000, I32))]);
-    d.record(0x6030, "Speed value", vec![(1, "Channel 1", I16, Ro, u(0, I16))]);
+    d.record(
+        0x6005,
+        "Linear encoder",
+        vec![
+            (1, "Measuring step", U32, Ro, u(100_000, U32)),
+            (2, "Speed measuring step", U32, Ro, u(100, U32)),
+        ],
+    );
+    d.record(
+        0x6010,
+        "Preset value",
+        vec![(1, "Channel 1", I32, Rw, u(0, I32))],
+    );
+    d.record(
+        0x6020,
+        "Position value",
+        vec![(1, "Channel 1", I32, Ro, u(125_000, I32))],
+    );
+    d.record(
+        0x6030,
+        "Speed value",
+        vec![(1, "Channel 1", I16, Ro, u(0, I16))],
+    );
     d.var(0x6200, "Cyclic timer", U16, Rw, u(1, U16));
     d.var(0x6500, "Operating status", U16, Ro, u(0, U16));
     d.var(0x6501, "Measuring step", U32, Ro, u(100_000, U32));
-    Model { key: "sensor", dict: d, block_transfer: false, guarding: false }
+    Model {
+        key: "sensor",
+        dict: d,
+        block_transfer: false,
+        guarding: false,
+        ignored_writes: vec![],
+    }
 }
 
 /// Node 10: after an ICP DAS CAN-2000C module, the CAN-2057C 16-channel DO (seed 004).
@@ -191,10 +322,20 @@ pub fn io_module() -> Model {
     d.record(
         0x1003,
         "Pre-defined error field",
-        (1..=5).map(|s| (s, "Standard error field", U32, Ro, u([0x0006_8110, 0x0002_5000, 0, 0, 0][s as usize - 1], U32))).collect(),
+        (1..=5)
+            .map(|s| {
+                (
+                    s,
+                    "Standard error field",
+                    U32,
+                    Ro,
+                    u([0x0006_8110, 0x0002_5000, 0, 0, 0][s as usize - 1], U32),
+                )
+            })
+            .collect(),
     );
     d.insert(crate::od::Entry {
-        addr: crate::canopen::ObjAddr::new(0x1003, 0),
+        addr: ObjAddr::new(0x1003, 0),
         name: "Pre-defined error field: number of errors".into(),
         dtype: U8,
         access: Rw,
@@ -211,10 +352,31 @@ pub fn io_module() -> Model {
             (5, "Event timer", U16, Rw, u(0, U16)),
         ],
     );
-    d.record(0x1A00, "TPDO1 mapping parameter", vec![(1, "Mapped object 1", U32, Rw, u(0x6000_0108, U32))]);
-    d.record(0x6000, "Read input 8-bit", vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))]);
-    d.record(0x6200, "Write output 8-bit", vec![(1, "Outputs 1-8", U8, Rw, u(0, U8)), (2, "Outputs 9-16", U8, Rw, u(0, U8))]);
-    Model { key: "io", dict: d, block_transfer: false, guarding: true }
+    d.record(
+        0x1A00,
+        "TPDO1 mapping parameter",
+        vec![(1, "Mapped object 1", U32, Rw, u(0x6000_0108, U32))],
+    );
+    d.record(
+        0x6000,
+        "Read input 8-bit",
+        vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))],
+    );
+    d.record(
+        0x6200,
+        "Write output 8-bit",
+        vec![
+            (1, "Outputs 1-8", U8, Rw, u(0, U8)),
+            (2, "Outputs 9-16", U8, Rw, u(0, U8)),
+        ],
+    );
+    Model {
+        key: "io",
+        dict: d,
+        block_transfer: false,
+        guarding: true,
+        ignored_writes: vec![],
+    }
 }
 
 /// Node 32: after the Stögra SERS stepper (seed 003): DS402 subset, node guarding only, an
@@ -231,17 +393,25 @@ pub fn stepper() -> Model {
         store_subs: 1,
     });
     d.var(0x1002, "Manufacturer status register", U32, Ro, u(0, U32));
+    // "all values are accepted as comm cycle period (1006), but ... the value read is always 2000"
+    d.var(0x1006, "Communication cycle period", U32, Rw, u(2000, U32));
     d.var(0x6040, "Controlword", U16, Rw, u(0, U16));
     d.var(0x6041, "Statusword", U16, Ro, u(0x0250, U16));
     // "the drive supports 1 Profile Position Mode and 6 Homing Mode"
     d.var(0x6060, "Modes of operation", I8, Rw, u(1, I8));
-    d.limit(crate::canopen::ObjAddr::new(0x6060, 0), 1, 6);
+    d.limit(ObjAddr::new(0x6060, 0), 1, 6);
     // "position_actual_value (6064) can not be written"
     d.var(0x6064, "Position actual value", I32, Ro, u(0, I32));
     d.var(0x607A, "Target position", I32, Rw, u(0, I32));
     d.var(0x6081, "Profile velocity", U32, Rw, u(500, U32));
     d.var(0x6083, "Profile acceleration", U32, Rw, u(1000, U32));
-    Model { key: "stepper", dict: d, block_transfer: false, guarding: true }
+    Model {
+        key: "stepper",
+        dict: d,
+        block_transfer: false,
+        guarding: true,
+        ignored_writes: vec![ObjAddr::new(0x1006, 0)],
+    }
 }
 
 /// A device waiting for a node-id over LSS: silent to everything else.
@@ -256,7 +426,13 @@ pub fn unconfigured() -> Model {
         guarding: false,
         store_subs: 1,
     });
-    Model { key: "lss-unconfigured", dict: d, block_transfer: false, guarding: false }
+    Model {
+        key: "lss-unconfigured",
+        dict: d,
+        block_transfer: false,
+        guarding: false,
+        ignored_writes: vec![],
+    }
 }
 
 /// Reproducible, incompressible-looking content (xorshift32).

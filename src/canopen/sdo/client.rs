@@ -33,13 +33,22 @@ pub struct Step {
 
 impl Step {
     fn send(frames: Vec<[u8; 8]>) -> Step {
-        Step { send: frames, done: None }
+        Step {
+            send: frames,
+            done: None,
+        }
     }
     fn wait() -> Step {
-        Step { send: Vec::new(), done: None }
+        Step {
+            send: Vec::new(),
+            done: None,
+        }
     }
     fn done(send: Vec<[u8; 8]>, data: Vec<u8>) -> Step {
-        Step { send, done: Some(data) }
+        Step {
+            send,
+            done: Some(data),
+        }
     }
 }
 
@@ -92,14 +101,22 @@ impl SdoClient {
 
     /// An upload; `block` asks for block transfer (servers without it are handled).
     pub fn upload(addr: ObjAddr, block: bool) -> SdoClient {
-        let state = if block { State::BlockUploadInit } else { State::UploadInit };
+        let state = if block {
+            State::BlockUploadInit
+        } else {
+            State::UploadInit
+        };
         SdoClient::new(addr, state, Vec::new())
     }
 
     /// A download; the protocol follows from the size: expedited up to 4 bytes, block from
     /// `BLOCK_DOWNLOAD_MIN` when `block` allows it, segmented otherwise.
     pub fn download(addr: ObjAddr, data: Vec<u8>, block: bool) -> SdoClient {
-        let state = if block && data.len() >= BLOCK_DOWNLOAD_MIN { State::BlockDownloadInit } else { State::DownloadInit };
+        let state = if block && data.len() >= BLOCK_DOWNLOAD_MIN {
+            State::BlockDownloadInit
+        } else {
+            State::DownloadInit
+        };
         SdoClient::new(addr, state, data)
     }
 
@@ -121,9 +138,11 @@ impl SdoClient {
     /// Bytes moved so far, and the total when known.
     pub fn progress(&self) -> (usize, Option<usize>) {
         match self.state {
-            State::UploadInit | State::UploadSegment | State::BlockUploadInit | State::BlockUploadData { .. } | State::BlockUploadEnd => {
-                (self.buf.len(), self.size)
-            }
+            State::UploadInit
+            | State::UploadSegment
+            | State::BlockUploadInit
+            | State::BlockUploadData { .. }
+            | State::BlockUploadEnd => (self.buf.len(), self.size),
             _ => (self.pos, Some(self.buf.len())),
         }
     }
@@ -133,7 +152,9 @@ impl SdoClient {
         let a = self.addr;
         match self.state {
             State::UploadInit => frame(0x40, a, &[]),
-            State::BlockUploadInit => frame(0xA4, a, &[UPLOAD_BLOCK_SIZE, PROTOCOL_SWITCH_THRESHOLD]),
+            State::BlockUploadInit => {
+                frame(0xA4, a, &[UPLOAD_BLOCK_SIZE, PROTOCOL_SWITCH_THRESHOLD])
+            }
             State::BlockDownloadInit => frame(0xC6, a, &(self.buf.len() as u32).to_le_bytes()),
             State::DownloadInit => self.initiate_download(),
             s => panic!("start() called in state {s:?}"),
@@ -151,7 +172,10 @@ impl SdoClient {
     }
 
     fn local_abort(&self, code: u32, reason: impl Into<String>) -> SdoError {
-        SdoError::ClientAbort { code, reason: reason.into() }
+        SdoError::ClientAbort {
+            code,
+            reason: reason.into(),
+        }
     }
 
     /// Feed one payload that arrived on the response COB-ID.
@@ -207,20 +231,32 @@ impl SdoClient {
 
     fn check_mux(&self, p: &[u8; 8]) -> Result<(), SdoError> {
         if mux(p) != self.addr {
-            return Err(self.local_abort(abort::GENERAL_ERROR, format!("the answer names object {}, not {}", mux(p), self.addr)));
+            return Err(self.local_abort(
+                abort::GENERAL_ERROR,
+                format!("the answer names object {}, not {}", mux(p), self.addr),
+            ));
         }
         Ok(())
     }
 
     fn unexpected(&mut self, p: &[u8; 8]) -> SdoError {
         self.state = State::Finished;
-        self.local_abort(abort::UNKNOWN_COMMAND, format!("unexpected command byte 0x{:02X} from the server", p[0]))
+        self.local_abort(
+            abort::UNKNOWN_COMMAND,
+            format!("unexpected command byte 0x{:02X} from the server", p[0]),
+        )
     }
 
     fn check_size(&mut self, size: usize) -> Result<(), SdoError> {
         if size > self.max_upload {
             self.state = State::Finished;
-            return Err(self.local_abort(abort::OUT_OF_MEMORY, format!("the object is {size} bytes, over the {} byte limit", self.max_upload)));
+            return Err(self.local_abort(
+                abort::OUT_OF_MEMORY,
+                format!(
+                    "the object is {size} bytes, over the {} byte limit",
+                    self.max_upload
+                ),
+            ));
         }
         Ok(())
     }
@@ -233,7 +269,11 @@ impl SdoClient {
         let expedited = p[0] & 0x02 != 0;
         let sized = p[0] & 0x01 != 0;
         if expedited {
-            let len = if sized { 4 - ((p[0] >> 2) & 3) as usize } else { 4 };
+            let len = if sized {
+                4 - ((p[0] >> 2) & 3) as usize
+            } else {
+                4
+            };
             self.state = State::Finished;
             return Ok(Step::done(vec![], p[4..4 + len].to_vec()));
         }
@@ -264,13 +304,19 @@ impl SdoClient {
             return self.finish_upload(vec![]);
         }
         self.toggle = !self.toggle;
-        Ok(Step::send(vec![segment(0x60 | (self.toggle as u8) << 4, &[])]))
+        Ok(Step::send(vec![segment(
+            0x60 | (self.toggle as u8) << 4,
+            &[],
+        )]))
     }
 
     fn finish_upload(&mut self, send: Vec<[u8; 8]>) -> Result<Step, SdoError> {
         if let Some(size) = self.size {
             if size != self.buf.len() {
-                return Err(SdoError::Inconsistent(format!("the server announced {size} bytes and sent {}", self.buf.len())));
+                return Err(SdoError::Inconsistent(format!(
+                    "the server announced {size} bytes and sent {}",
+                    self.buf.len()
+                )));
             }
         }
         Ok(Step::done(send, std::mem::take(&mut self.buf)))
@@ -314,7 +360,11 @@ impl SdoClient {
         let in_order_last = last && seq + 1 == expected;
         if seq == self.blksize || last {
             let ack = segment(0xA2, &[expected - 1, self.blksize]);
-            self.state = if in_order_last { State::BlockUploadEnd } else { State::BlockUploadData { expected: 1 } };
+            self.state = if in_order_last {
+                State::BlockUploadEnd
+            } else {
+                State::BlockUploadData { expected: 1 }
+            };
             return Ok(Step::send(vec![ack]));
         }
         self.state = State::BlockUploadData { expected };
@@ -328,14 +378,20 @@ impl SdoClient {
         self.state = State::Finished;
         let n = ((p[0] >> 2) & 7) as usize;
         if n > self.buf.len() {
-            return Err(self.local_abort(abort::GENERAL_ERROR, "block end claims more unused bytes than were sent"));
+            return Err(self.local_abort(
+                abort::GENERAL_ERROR,
+                "block end claims more unused bytes than were sent",
+            ));
         }
         self.buf.truncate(self.buf.len() - n);
         if self.crc {
             let got = u16::from_le_bytes([p[1], p[2]]);
             let want = block_crc(&self.buf);
             if got != want {
-                return Err(self.local_abort(abort::CRC_ERROR, format!("block CRC 0x{got:04X} does not match the data (0x{want:04X})")));
+                return Err(self.local_abort(
+                    abort::CRC_ERROR,
+                    format!("block CRC 0x{got:04X} does not match the data (0x{want:04X})"),
+                ));
             }
         }
         self.finish_upload(vec![segment(0xA1, &[])])
@@ -411,7 +467,10 @@ impl SdoClient {
         self.blksize = p[4];
         if !(1..=MAX_BLOCK_SIZE).contains(&self.blksize) {
             self.state = State::Finished;
-            return Err(self.local_abort(abort::INVALID_BLOCK_SIZE, format!("the server asked for block size {}", p[4])));
+            return Err(self.local_abort(
+                abort::INVALID_BLOCK_SIZE,
+                format!("the server asked for block size {}", p[4]),
+            ));
         }
         Ok(self.send_block())
     }
@@ -423,13 +482,19 @@ impl SdoClient {
         let acked = p[1] as usize;
         if acked > in_block {
             self.state = State::Finished;
-            return Err(self.local_abort(abort::INVALID_SEQUENCE, format!("acknowledged segment {acked} of a {in_block}-segment block")));
+            return Err(self.local_abort(
+                abort::INVALID_SEQUENCE,
+                format!("acknowledged segment {acked} of a {in_block}-segment block"),
+            ));
         }
         self.pos = ((self.pos / SEGMENT_DATA + acked) * SEGMENT_DATA).min(self.buf.len());
         self.blksize = p[2];
         if !(1..=MAX_BLOCK_SIZE).contains(&self.blksize) {
             self.state = State::Finished;
-            return Err(self.local_abort(abort::INVALID_BLOCK_SIZE, format!("the server asked for block size {}", p[2])));
+            return Err(self.local_abort(
+                abort::INVALID_BLOCK_SIZE,
+                format!("the server asked for block size {}", p[2]),
+            ));
         }
         if self.pos < self.buf.len() {
             return Ok(self.send_block());

@@ -1,0 +1,228 @@
+# Print an optspec for argparse to handle cmd's options that are independent of any subcommand.
+function __fish_canctl_global_optspecs
+    string join \n bus= timeout= format= v/verbose q/quiet h/help V/version
+end
+
+function __fish_canctl_needs_command
+    # Figure out if the current invocation already has a command.
+    set -l cmd (commandline -opc)
+    set -e cmd[1]
+    argparse -s (__fish_canctl_global_optspecs) -- $cmd 2>/dev/null
+    or return
+    if set -q argv[1]
+        # Also print the command, so this can be used to figure out what it is.
+        echo $argv[1]
+        return 1
+    end
+    return 0
+end
+
+function __fish_canctl_using_subcommand
+    set -l cmd (__fish_canctl_needs_command)
+    test -z "$cmd"
+    and return 1
+    contains -- $cmd[1] $argv
+end
+
+complete -c canctl -n "__fish_canctl_needs_command" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_needs_command" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_needs_command" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_needs_command" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_needs_command" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_needs_command" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_needs_command" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "scan" -d 'Find every node on the bus'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "sdo" -d 'Read and write objects (SDO)'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "sim" -d 'Manage the simulated demo network'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "completions" -d 'Print a shell completion script'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "man" -d 'Print the man page, or write every page to a directory'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -l window -d 'How long to wait for answers to the probes' -r
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -f -a "read" -d 'Read an object (SDO upload)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -f -a "write" -d 'Write an object (SDO download)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s t -l type -d 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l out -d 'Write the raw bytes to this file instead of printing them' -r -F
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l no-block -d 'Never use block transfer (segmented instead)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -s t -l type -d 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l verify -d 'Read the object back and compare (exit 6 when it differs)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l no-block -d 'Never use block transfer (segmented instead)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from help" -f -a "read" -d 'Read an object (SDO upload)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from help" -f -a "write" -d 'Write an object (SDO download)'
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -f -a "start" -d 'Put a node (or all) in Operational'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -f -a "stop" -d 'Put a node (or all) in Stopped'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -f -a "preop" -d 'Put a node (or all) in Pre-operational'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -f -a "reset" -d 'Reset a node\'s application (or all nodes\') and wait for the boot-up'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -f -a "reset-comm" -d 'Reset a node\'s communication (or all nodes\') and wait for the boot-up'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -f -a "state" -d 'Report a node\'s NMT state, from its heartbeat or by node guarding'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -l wait -d 'How long to wait for boot-up messages' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -l wait -d 'How long to wait for boot-up messages' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -l listen -d 'How long to listen for a heartbeat before asking by node guarding' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "start" -d 'Put a node (or all) in Operational'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "stop" -d 'Put a node (or all) in Stopped'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "preop" -d 'Put a node (or all) in Pre-operational'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "reset" -d 'Reset a node\'s application (or all nodes\') and wait for the boot-up'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "reset-comm" -d 'Reset a node\'s communication (or all nodes\') and wait for the boot-up'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "state" -d 'Report a node\'s NMT state, from its heartbeat or by node guarding'
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -f -a "reset" -d 'Forget the simulated network\'s saved state: devices start as built'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from help" -f -a "reset" -d 'Forget the simulated network\'s saved state: devices start as built'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand completions" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand completions" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand completions" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand completions" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand completions" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand completions" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand man" -l out -d 'Write canctl.1 and one page per subcommand into this directory' -r -F
+complete -c canctl -n "__fish_canctl_using_subcommand man" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand man" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand man" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand man" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand man" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand man" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand man" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "scan" -d 'Find every node on the bus'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sim" -d 'Manage the simulated demo network'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "completions" -d 'Print a shell completion script'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sdo" -f -a "read" -d 'Read an object (SDO upload)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sdo" -f -a "write" -d 'Write an object (SDO download)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "start" -d 'Put a node (or all) in Operational'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "stop" -d 'Put a node (or all) in Stopped'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "preop" -d 'Put a node (or all) in Pre-operational'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "reset" -d 'Reset a node\'s application (or all nodes\') and wait for the boot-up'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "reset-comm" -d 'Reset a node\'s communication (or all nodes\') and wait for the boot-up'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "state" -d 'Report a node\'s NMT state, from its heartbeat or by node guarding'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sim" -f -a "reset" -d 'Forget the simulated network\'s saved state: devices start as built'

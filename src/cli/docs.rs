@@ -1,0 +1,111 @@
+//! Shell completions and man pages, generated from the clap definition.
+
+use super::{Cli, Ctx};
+use clap::{Args, CommandFactory};
+use clap_complete::Shell;
+use std::path::{Path, PathBuf};
+
+/// Print a shell completion script
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  source <(canctl completions bash)
+  canctl completions zsh > ~/.zfunc/_canctl
+  canctl completions fish > ~/.config/fish/completions/canctl.fish")]
+pub struct CompletionsArgs {
+    /// bash, zsh, fish, elvish or powershell
+    pub shell: Shell,
+}
+
+/// Print the man page, or write every page to a directory
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl man | man -l -
+  canctl man --out /usr/local/share/man/man1")]
+pub struct ManArgs {
+    /// Write canctl.1 and one page per subcommand into this directory
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+pub fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
+    let mut out = Vec::new();
+    clap_complete::generate(args.shell, &mut Cli::command(), "canctl", &mut out);
+    super::Output::new(crate::output::Format::Human, true).print(&String::from_utf8(out)?)?;
+    Ok(())
+}
+
+/// Every completion script: (file name, contents).
+pub fn completion_scripts() -> Vec<(String, Vec<u8>)> {
+    [
+        Shell::Bash,
+        Shell::Zsh,
+        Shell::Fish,
+        Shell::Elvish,
+        Shell::PowerShell,
+    ]
+    .into_iter()
+    .map(|shell| {
+        let mut out = Vec::new();
+        clap_complete::generate(shell, &mut Cli::command(), "canctl", &mut out);
+        let name = match shell {
+            Shell::Bash => "canctl.bash".to_string(),
+            Shell::Zsh => "_canctl".to_string(),
+            Shell::Fish => "canctl.fish".to_string(),
+            Shell::Elvish => "canctl.elv".to_string(),
+            _ => "_canctl.ps1".to_string(),
+        };
+        (name, out)
+    })
+    .collect()
+}
+
+pub fn write_completions(dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    for (name, data) in completion_scripts() {
+        std::fs::write(dir.join(name), data)?;
+    }
+    Ok(())
+}
+
+/// Every man page: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
+pub fn man_pages() -> Vec<(String, Vec<u8>)> {
+    let mut cmd = Cli::command();
+    cmd.build();
+    let mut pages = Vec::new();
+    collect(&cmd, "canctl", &mut pages);
+    pages
+}
+
+fn collect(cmd: &clap::Command, name: &str, pages: &mut Vec<(String, Vec<u8>)>) {
+    let mut out = Vec::new();
+    let named = cmd
+        .clone()
+        .name(name.to_string())
+        .bin_name(name.replace('-', " "));
+    clap_mangen::Man::new(named)
+        .render(&mut out)
+        .expect("render to memory");
+    pages.push((format!("{name}.1"), out));
+    for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
+        collect(sub, &format!("{name}-{}", sub.get_name()), pages);
+    }
+}
+
+pub fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
+    let pages = man_pages();
+    match &args.out {
+        Some(dir) => {
+            std::fs::create_dir_all(dir)?;
+            for (name, data) in &pages {
+                std::fs::write(dir.join(name), data)?;
+            }
+            ctx.out.note(&format!(
+                "{} man pages written to {}",
+                pages.len(),
+                dir.display()
+            ));
+        }
+        None => ctx.out.print(&String::from_utf8_lossy(&pages[0].1))?,
+    }
+    Ok(())
+}
