@@ -269,11 +269,7 @@ impl SdoClient {
         let expedited = p[0] & 0x02 != 0;
         let sized = p[0] & 0x01 != 0;
         if expedited {
-            let len = if sized {
-                4 - ((p[0] >> 2) & 3) as usize
-            } else {
-                4
-            };
+            let len = expedited_len(p[0]);
             self.state = State::Finished;
             return Ok(Step::done(vec![], p[4..4 + len].to_vec()));
         }
@@ -437,25 +433,12 @@ impl SdoClient {
         Ok(Step::send(vec![self.next_segment()]))
     }
 
-    fn total_segments(&self) -> usize {
-        self.buf.len().div_ceil(SEGMENT_DATA).max(1)
-    }
-
     /// Send the next sub-block, starting at the first unconfirmed segment.
     fn send_block(&mut self) -> Step {
         let first = self.pos / SEGMENT_DATA;
-        let count = (self.total_segments() - first).min(self.blksize as usize);
-        let frames = (0..count)
-            .map(|i| {
-                let seg = first + i;
-                let start = seg * SEGMENT_DATA;
-                let chunk = &self.buf[start..(start + SEGMENT_DATA).min(self.buf.len())];
-                let last = seg + 1 == self.total_segments();
-                segment((last as u8) << 7 | (i + 1) as u8, chunk)
-            })
-            .collect();
+        let count = (block_segment_count(self.buf.len()) - first).min(self.blksize as usize);
         self.state = State::BlockDownloadData { in_block: count };
-        Step::send(frames)
+        Step::send(block_segments(&self.buf, first, count))
     }
 
     fn block_download_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
@@ -499,8 +482,7 @@ impl SdoClient {
         if self.pos < self.buf.len() {
             return Ok(self.send_block());
         }
-        let used = self.buf.len() - (self.total_segments() - 1) * SEGMENT_DATA;
-        let n = (SEGMENT_DATA - used) as u8;
+        let n = block_unused_in_last(self.buf.len());
         let crc = if self.crc { block_crc(&self.buf) } else { 0 };
         self.state = State::BlockDownloadEnd;
         let [lo, hi] = crc.to_le_bytes();

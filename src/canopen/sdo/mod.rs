@@ -67,6 +67,38 @@ pub fn pad(data: &[u8]) -> [u8; 8] {
     f
 }
 
+/// Data bytes in an expedited transfer: `4 - n` when the size is indicated, else all four.
+fn expedited_len(cmd: u8) -> usize {
+    if cmd & 0x01 != 0 {
+        4 - ((cmd >> 2) & 3) as usize
+    } else {
+        4
+    }
+}
+
+/// Segments needed for `len` bytes in block transfer (at least one, even for no data).
+fn block_segment_count(len: usize) -> usize {
+    len.div_ceil(SEGMENT_DATA).max(1)
+}
+
+/// The `n` of a block end frame: bytes of the last segment that carry no data.
+fn block_unused_in_last(len: usize) -> u8 {
+    (SEGMENT_DATA * block_segment_count(len) - len) as u8
+}
+
+/// One sub-block: `count` segments starting at segment index `first`, numbered from 1,
+/// the overall last one flagged with bit 7.
+fn block_segments(data: &[u8], first: usize, count: usize) -> Vec<[u8; 8]> {
+    let total = block_segment_count(data.len());
+    (0..count)
+        .map(|i| {
+            let start = ((first + i) * SEGMENT_DATA).min(data.len());
+            let chunk = &data[start..(start + SEGMENT_DATA).min(data.len())];
+            segment(((first + i + 1 == total) as u8) << 7 | (i + 1) as u8, chunk)
+        })
+        .collect()
+}
+
 fn mux(p: &[u8; 8]) -> ObjAddr {
     ObjAddr::from_mux(&p[1..4])
 }

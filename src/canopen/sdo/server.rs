@@ -183,11 +183,7 @@ impl SdoServer {
         let expedited = p[0] & 0x02 != 0;
         let sized = p[0] & 0x01 != 0;
         if expedited {
-            let len = if sized {
-                4 - ((p[0] >> 2) & 3) as usize
-            } else {
-                4
-            };
+            let len = expedited_len(p[0]);
             return match od.write(addr, &p[4..4 + len]) {
                 Ok(()) => vec![frame(0x60, addr, &[])],
                 Err(code) => vec![abort_frame(addr, code)],
@@ -407,12 +403,10 @@ impl SdoServer {
                     return vec![abort_frame(addr, abort::INVALID_BLOCK_SIZE)];
                 }
                 let acked = acked + got;
-                let total = data.len().div_ceil(SEGMENT_DATA).max(1);
-                if acked < total {
+                if acked < block_segment_count(data.len()) {
                     return self.send_upload_block(addr, data, acked, blksize, crc);
                 }
-                let used = data.len() - (total - 1) * SEGMENT_DATA;
-                let n = (SEGMENT_DATA - used) as u8;
+                let n = block_unused_in_last(data.len());
                 let sum = if crc { block_crc(&data) } else { 0 };
                 self.state = State::BlockUploadEnd;
                 vec![segment(0xC1 | n << 2, &sum.to_le_bytes())]
@@ -430,16 +424,8 @@ impl SdoServer {
         blksize: u8,
         crc: bool,
     ) -> Vec<[u8; 8]> {
-        let total = data.len().div_ceil(SEGMENT_DATA).max(1);
-        let count = (total - acked).min(blksize as usize);
-        let frames = (0..count)
-            .map(|i| {
-                let seg = acked + i;
-                let start = seg * SEGMENT_DATA;
-                let chunk = &data[start.min(data.len())..(start + SEGMENT_DATA).min(data.len())];
-                segment(((seg + 1 == total) as u8) << 7 | (i + 1) as u8, chunk)
-            })
-            .collect();
+        let count = (block_segment_count(data.len()) - acked).min(blksize as usize);
+        let frames = block_segments(&data, acked, count);
         self.state = State::BlockUpload {
             addr,
             data,
