@@ -21,9 +21,7 @@ fn end_to_end(c: &mut Criterion) {
         let mut bus = Master::new(SimLink::ephemeral(), "sim".into(), false);
         let mut opts = SdoOptions::new(Duration::from_secs(1));
         opts.block_upload = block;
-        g.bench_function(name, |b| {
-            b.iter(|| assert_eq!(bus.sdo_upload(1, DOMAIN, &opts).unwrap().len(), DOMAIN_SIZE))
-        });
+        g.bench_function(name, |b| b.iter(|| assert_eq!(bus.sdo_upload(1, DOMAIN, &opts).unwrap().len(), DOMAIN_SIZE)));
     }
     g.finish();
 }
@@ -51,10 +49,7 @@ fn record(block: bool) -> Vec<[u8; 8]> {
     let mut to_server = vec![client.start()];
     let mut recorded = Vec::new();
     loop {
-        let answers: Vec<[u8; 8]> = to_server
-            .drain(..)
-            .flat_map(|r| server.handle(&r, &mut od))
-            .collect();
+        let answers: Vec<[u8; 8]> = to_server.drain(..).flat_map(|r| server.handle(&r, &mut od)).collect();
         for a in answers {
             recorded.push(a);
             let step = client.on_response(&a).unwrap();

@@ -35,7 +35,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('scan', 'scan', [CompletionResultType]::ParameterValue, 'Find every node on the bus')
             [CompletionResult]::new('sdo', 'sdo', [CompletionResultType]::ParameterValue, 'Read and write objects (SDO)')
             [CompletionResult]::new('nmt', 'nmt', [CompletionResultType]::ParameterValue, 'Start, stop and reset nodes, or ask their NMT state')
-            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Manage the simulated demo network')
+            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
@@ -264,9 +264,14 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;sim' {
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Pace bytes as a serial line at this bit rate would (10 bits a byte)')
+            [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)')
+            [CompletionResult]::new('--can-timeout', '--can-timeout', [CompletionResultType]::ParameterName, 'How long the EPOS2 waits for an SDO answer on the CAN bus')
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--epos2-rs232', '--epos2-rs232', [CompletionResultType]::ParameterName, 'Serve an EPOS2 speaking the RS232 protocol (with the ''O''/''F'' handshake)')
+            [CompletionResult]::new('--epos2-usb', '--epos2-usb', [CompletionResultType]::ParameterName, 'Serve an EPOS2 speaking the USB protocol (DLE/STX framing)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -337,7 +342,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('scan', 'scan', [CompletionResultType]::ParameterValue, 'Find every node on the bus')
             [CompletionResult]::new('sdo', 'sdo', [CompletionResultType]::ParameterValue, 'Read and write objects (SDO)')
             [CompletionResult]::new('nmt', 'nmt', [CompletionResultType]::ParameterValue, 'Start, stop and reset nodes, or ask their NMT state')
-            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Manage the simulated demo network')
+            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')

@@ -32,7 +32,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand scan 'Find every node on the bus'
             cand sdo 'Read and write objects (SDO)'
             cand nmt 'Start, stop and reset nodes, or ask their NMT state'
-            cand sim 'Manage the simulated demo network'
+            cand sim 'Run the simulated network behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
             cand help 'Print this message or the help of the given subcommand(s)'
@@ -237,9 +237,14 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;nmt;help;help'= {
         }
         &'canctl;sim'= {
+            cand --baud 'Pace bytes as a serial line at this bit rate would (10 bits a byte)'
+            cand --fault 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)'
+            cand --can-timeout 'How long the EPOS2 waits for an SDO answer on the CAN bus'
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --epos2-rs232 'Serve an EPOS2 speaking the RS232 protocol (with the ''O''/''F'' handshake)'
+            cand --epos2-usb 'Serve an EPOS2 speaking the USB protocol (DLE/STX framing)'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -303,7 +308,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand scan 'Find every node on the bus'
             cand sdo 'Read and write objects (SDO)'
             cand nmt 'Start, stop and reset nodes, or ask their NMT state'
-            cand sim 'Manage the simulated demo network'
+            cand sim 'Run the simulated network behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
             cand help 'Print this message or the help of the given subcommand(s)'

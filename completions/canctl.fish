@@ -36,7 +36,7 @@ complete -c canctl -n "__fish_canctl_needs_command" -s V -l version -d 'Print ve
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "scan" -d 'Find every node on the bus'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "sdo" -d 'Read and write objects (SDO)'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
-complete -c canctl -n "__fish_canctl_needs_command" -f -a "sim" -d 'Manage the simulated demo network'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "sim" -d 'Run the simulated network behind a serial link, or manage its state'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "completions" -d 'Print a shell completion script'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "man" -d 'Print the man page, or write every page to a directory'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
@@ -169,11 +169,16 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "reset-comm" -d 'Reset a node\'s communication (or all nodes\') and wait for the boot-up'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "state" -d 'Report a node\'s NMT state, from its heartbeat or by node guarding'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l baud -d 'Pace bytes as a serial line at this bit rate would (10 bits a byte)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l fault -d 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l can-timeout -d 'How long the EPOS2 waits for an SDO answer on the CAN bus' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l epos2-rs232 -d 'Serve an EPOS2 speaking the RS232 protocol (with the \'O\'/\'F\' handshake)'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l epos2-usb -d 'Serve an EPOS2 speaking the USB protocol (DLE/STX framing)'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -213,7 +218,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand man" -s V -l version -d 'P
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "scan" -d 'Find every node on the bus'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sim" -d 'Manage the simulated demo network'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sim" -d 'Run the simulated network behind a serial link, or manage its state'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "completions" -d 'Print a shell completion script'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'

@@ -19,23 +19,13 @@ impl Frame {
         assert!(data.len() <= 8, "CAN payload of {} bytes", data.len());
         let mut buf = [0u8; 8];
         buf[..data.len()].copy_from_slice(data);
-        Frame {
-            id,
-            rtr: false,
-            len: data.len() as u8,
-            data: buf,
-        }
+        Frame { id, rtr: false, len: data.len() as u8, data: buf }
     }
 
     /// A remote (RTR) frame asking for `len` bytes.
     pub fn remote(id: u16, len: u8) -> Frame {
         assert!(id <= 0x7FF && len <= 8);
-        Frame {
-            id,
-            rtr: true,
-            len,
-            data: [0; 8],
-        }
+        Frame { id, rtr: true, len, data: [0; 8] }
     }
 
     pub fn id(&self) -> u16 {
@@ -101,9 +91,9 @@ impl std::str::FromStr for Frame {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Frame, String> {
-        let (id, rest) = s.split_once('#').ok_or_else(|| {
-            format!("'{s}' is not a frame: expected ID#DATA, e.g. 605#4000100000000000")
-        })?;
+        let (id, rest) = s
+            .split_once('#')
+            .ok_or_else(|| format!("'{s}' is not a frame: expected ID#DATA, e.g. 605#4000100000000000"))?;
         let id = u16::from_str_radix(id, 16)
             .ok()
             .filter(|id| *id <= 0x7FF)
@@ -120,13 +110,9 @@ impl std::str::FromStr for Frame {
             return Ok(Frame::remote(id, len));
         }
         let hex: String = rest.chars().filter(|c| *c != '.').collect();
-        let data =
-            crate::canopen::types::parse_hex(&hex).map_err(|e| format!("frame data: {e}"))?;
+        let data = crate::canopen::types::parse_hex(&hex).map_err(|e| format!("frame data: {e}"))?;
         if data.len() > 8 {
-            return Err(format!(
-                "frame data has {} bytes; classic CAN carries at most 8",
-                data.len()
-            ));
+            return Err(format!("frame data has {} bytes; classic CAN carries at most 8", data.len()));
         }
         Ok(Frame::new(id, &data))
     }
@@ -138,13 +124,7 @@ mod tests {
 
     #[test]
     fn compact_notation_round_trips() {
-        for text in [
-            "605#4000100000000000",
-            "000#0105",
-            "705#R",
-            "185#R8",
-            "080#",
-        ] {
+        for text in ["605#4000100000000000", "000#0105", "705#R", "185#R8", "080#"] {
             let f: Frame = text.parse().unwrap();
             assert_eq!(f.to_string(), text);
         }
@@ -159,13 +139,7 @@ mod tests {
     #[test]
     fn candump_line_matches_can_utils() {
         let f = Frame::new(0x605, &[0x40, 0x00, 0x10, 0, 0, 0, 0, 0]);
-        assert_eq!(
-            f.candump_line("vcan0"),
-            "  vcan0  605   [8]  40 00 10 00 00 00 00 00"
-        );
-        assert_eq!(
-            Frame::remote(0x705, 1).candump_line("can0"),
-            "  can0  705   [1]  remote request"
-        );
+        assert_eq!(f.candump_line("vcan0"), "  vcan0  605   [8]  40 00 10 00 00 00 00 00");
+        assert_eq!(Frame::remote(0x705, 1).candump_line("can0"), "  can0  705   [1]  remote request");
     }
 }

@@ -11,3 +11,4 @@ pub mod output;
 pub mod sim;
 
 pub use error::{Error, Result};
+pub mod epos2;

@@ -24,11 +24,7 @@ pub struct Output {
 
 impl Output {
     pub fn new(format: Format, quiet: bool) -> Output {
-        Output {
-            format,
-            progress: !quiet && std::io::stderr().is_terminal(),
-            quiet,
-        }
+        Output { format, progress: !quiet && std::io::stderr().is_terminal(), quiet }
     }
 
     /// Write text to stdout. A closed pipe surfaces as `BrokenPipe` for main to end quietly.
@@ -60,11 +56,7 @@ impl Output {
         for r in rows {
             t.add_row(r.clone());
         }
-        let text: String = t
-            .to_string()
-            .lines()
-            .map(|l| l.trim_end().to_string() + "\n")
-            .collect();
+        let text: String = t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect();
         self.print(&text)
     }
 
@@ -82,9 +74,7 @@ impl Output {
         }
         let bar = ProgressBar::new(len);
         bar.set_style(
-            ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}")
-                .expect("valid template")
-                .progress_chars("=> "),
+            ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").expect("valid template").progress_chars("=> "),
         );
         bar.set_message(message.to_string());
         bar
@@ -100,12 +90,7 @@ pub fn csv(headers: &[&str], rows: &[Vec<String>]) -> String {
             f.to_string()
         }
     };
-    let mut s = headers
-        .iter()
-        .map(|h| field(h))
-        .collect::<Vec<_>>()
-        .join(",")
-        + "\n";
+    let mut s = headers.iter().map(|h| field(h)).collect::<Vec<_>>().join(",") + "\n";
     for r in rows {
         s += &(r.iter().map(|f| field(f)).collect::<Vec<_>>().join(",") + "\n");
     }
@@ -116,14 +101,7 @@ pub fn csv(headers: &[&str], rows: &[Vec<String>]) -> String {
 mod tests {
     #[test]
     fn csv_quotes_what_needs_it() {
-        let rows = vec![vec![
-            "1".to_string(),
-            "a,b".to_string(),
-            "say \"hi\"".to_string(),
-        ]];
-        assert_eq!(
-            super::csv(&["n", "x", "y"], &rows),
-            "n,x,y\n1,\"a,b\",\"say \"\"hi\"\"\"\n"
-        );
+        let rows = vec![vec!["1".to_string(), "a,b".to_string(), "say \"hi\"".to_string()]];
+        assert_eq!(super::csv(&["n", "x", "y"], &rows), "n,x,y\n1,\"a,b\",\"say \"\"hi\"\"\"\n");
     }
 }

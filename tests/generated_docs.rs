@@ -20,11 +20,7 @@ fn check(dir: &str, files: Vec<(String, Vec<u8>)>) {
         }
     }
     let mut committed: Vec<String> = std::fs::read_dir(&dir)
-        .map(|rd| {
-            rd.flatten()
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .collect()
-        })
+        .map(|rd| rd.flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect())
         .unwrap_or_default();
     committed.retain(|c| !files.iter().any(|(n, _)| n == c));
     assert!(
@@ -55,22 +51,14 @@ fn man_pages_are_fresh() {
         assert!(names.contains(&page), "{page} not generated: {names:?}");
     }
     let top = String::from_utf8_lossy(&pages[0].1);
-    assert!(
-        top.contains("verification failed"),
-        "exit codes missing from the man page"
-    );
+    assert!(top.contains("verification failed"), "exit codes missing from the man page");
     check("man", pages);
 }
 
 #[test]
 fn the_binary_prints_the_same_completions() {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_canctl"))
-        .args(["completions", "bash"])
-        .output()
-        .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_canctl")).args(["completions", "bash"]).output().unwrap();
     assert!(out.status.success());
-    let committed =
-        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("completions/canctl.bash"))
-            .unwrap();
+    let committed = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("completions/canctl.bash")).unwrap();
     assert_eq!(out.stdout, committed);
 }

@@ -30,13 +30,7 @@ struct Active {
 
 impl<L: FrameLink> Master<L> {
     pub fn new(link: L, describe: String, trace: bool) -> Master<L> {
-        Master {
-            link,
-            describe,
-            trace,
-            heartbeats: BTreeMap::new(),
-            no_block: BTreeSet::new(),
-        }
+        Master { link, describe, trace, heartbeats: BTreeMap::new(), no_block: BTreeSet::new() }
     }
 
     pub fn link_mut(&mut self) -> &mut L {
@@ -82,11 +76,7 @@ impl<L: FrameLink> Master<L> {
             self.start_next(node, &mut queues, &mut active, timeout)?;
         }
         while !active.is_empty() {
-            let deadline = active
-                .values()
-                .map(|a| a.deadline)
-                .min()
-                .expect("non-empty");
+            let deadline = active.values().map(|a| a.deadline).min().expect("non-empty");
             if let Some(f) = self.recv(deadline)? {
                 let node = f.id().wrapping_sub(0x580);
                 if f.is_remote() || !(1..=127).contains(&node) {
@@ -122,25 +112,14 @@ impl<L: FrameLink> Master<L> {
                 self.start_next(node, &mut queues, &mut active, timeout)?;
             } else {
                 let now = Instant::now();
-                let expired: Vec<u8> = active
-                    .iter()
-                    .filter(|(_, a)| a.deadline <= now)
-                    .map(|(n, _)| *n)
-                    .collect();
+                let expired: Vec<u8> = active.iter().filter(|(_, a)| a.deadline <= now).map(|(n, _)| *n).collect();
                 for node in expired {
                     let a = active.remove(&node).expect("active");
                     let addr = a.client.addr();
                     if a.heard {
-                        self.send(&Frame::new(
-                            sdo::request_cob(node),
-                            &sdo::abort_frame(addr, abort::TIMED_OUT),
-                        ))?;
+                        self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
                     }
-                    let what = if a.heard {
-                        "stopped answering during"
-                    } else {
-                        "did not answer"
-                    };
+                    let what = if a.heard { "stopped answering during" } else { "did not answer" };
                     results[a.slot] = Some(Err(Error::Timeout(format!(
                         "node {node}: {what} the SDO transfer of {addr} (waited {} ms)",
                         timeout.as_millis()
@@ -151,10 +130,7 @@ impl<L: FrameLink> Master<L> {
                 }
             }
         }
-        Ok(results
-            .into_iter()
-            .map(|r| r.expect("every job ends"))
-            .collect())
+        Ok(results.into_iter().map(|r| r.expect("every job ends")).collect())
     }
 
     fn start_next(
@@ -169,43 +145,26 @@ impl<L: FrameLink> Master<L> {
         };
         let first = client.start();
         self.send(&Frame::new(sdo::request_cob(node), &first))?;
-        active.insert(
-            node,
-            Active {
-                slot,
-                client,
-                deadline: Instant::now() + timeout,
-                heard: false,
-            },
-        );
+        active.insert(node, Active { slot, client, deadline: Instant::now() + timeout, heard: false });
         Ok(())
     }
 
     fn sdo_error(&mut self, node: u8, addr: ObjAddr, e: SdoError) -> Result<Error> {
         Ok(match e {
-            SdoError::ServerAbort(code) => Error::SdoAbort {
-                node,
-                obj: addr,
-                code,
-            },
+            SdoError::ServerAbort(code) => Error::SdoAbort { node, obj: addr, code },
             SdoError::ClientAbort { code, reason } => {
-                self.send(&Frame::new(
-                    sdo::request_cob(node),
-                    &sdo::abort_frame(addr, code),
-                ))?;
+                self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, code)))?;
                 Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason} (aborted with 0x{code:08X})"))
             }
-            SdoError::Inconsistent(reason) => Error::Link(format!(
-                "node {node}: SDO transfer of {addr} failed: {reason}"
-            )),
+            SdoError::Inconsistent(reason) => {
+                Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason}"))
+            }
         })
     }
 
     fn one(&mut self, node: u8, client: SdoClient, timeout: Duration) -> Result<Vec<u8>> {
         check_node(node)?;
-        self.run(vec![(node, client)], timeout, &mut |_| {})?
-            .pop()
-            .expect("one result")
+        self.run(vec![(node, client)], timeout, &mut |_| {})?.pop().expect("one result")
     }
 
     fn block_allowed(&self, node: u8, wanted: bool) -> bool {
@@ -218,7 +177,7 @@ fn check_node(node: u8) -> Result<()> {
         Ok(())
     } else {
         Err(Error::Usage(format!(
-            "node-id {node} is out of range (1..=127)"
+            "node-id {node} is out of range (1..=127; 0 is only for an EPOS2 on epos2-rs232/epos2-usb)"
         )))
     }
 }
@@ -233,18 +192,8 @@ impl<L: FrameLink> Bus for Master<L> {
         self.one(node, client, opts.timeout)
     }
 
-    fn sdo_download(
-        &mut self,
-        node: u8,
-        addr: ObjAddr,
-        data: &[u8],
-        opts: &SdoOptions,
-    ) -> Result<()> {
-        let client = SdoClient::download(
-            addr,
-            data.to_vec(),
-            self.block_allowed(node, opts.block_download),
-        );
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+        let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
         self.one(node, client, opts.timeout).map(|_| ())
     }
 
@@ -259,12 +208,7 @@ impl<L: FrameLink> Bus for Master<L> {
         }
         let jobs = requests
             .iter()
-            .map(|(node, addr)| {
-                (
-                    *node,
-                    SdoClient::upload(*addr, self.block_allowed(*node, opts.block_upload)),
-                )
-            })
+            .map(|(node, addr)| (*node, SdoClient::upload(*addr, self.block_allowed(*node, opts.block_upload))))
             .collect();
         self.run(jobs, opts.timeout, progress)
     }
@@ -280,8 +224,23 @@ impl<L: FrameLink> Bus for Master<L> {
         self.send(frame)
     }
 
+    fn sees_traffic(&self) -> bool {
+        true
+    }
+
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         self.recv(deadline)
+    }
+
+    fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
+        self.send(&Frame::remote(id, len))?;
+        let deadline = Instant::now() + timeout;
+        while let Some(f) = self.recv(deadline)? {
+            if f.id() == id && !f.is_remote() {
+                return Ok(f);
+            }
+        }
+        Err(Error::Timeout(format!("no answer to the remote request for 0x{id:03X} within {} ms", timeout.as_millis())))
     }
 
     fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {

@@ -34,15 +34,14 @@ pub struct SdoOptions {
     pub block_upload: bool,
     /// Allow block download for large values.
     pub block_download: bool,
+    /// The size the caller expects, when it knows the type: links whose short read
+    /// returns a fixed four bytes (EPOS2 ReadObject) cut the answer to it.
+    pub size_hint: Option<usize>,
 }
 
 impl SdoOptions {
     pub fn new(timeout: Duration) -> SdoOptions {
-        SdoOptions {
-            timeout,
-            block_upload: false,
-            block_download: true,
-        }
+        SdoOptions { timeout, block_upload: false, block_download: true, size_hint: None }
     }
 }
 
@@ -58,13 +57,7 @@ pub trait Bus {
     fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>>;
 
     /// Write an object.
-    fn sdo_download(
-        &mut self,
-        node: u8,
-        addr: ObjAddr,
-        data: &[u8],
-        opts: &SdoOptions,
-    ) -> Result<()>;
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()>;
 
     /// Read many objects; a backend that can keeps one transfer per node in flight at once.
     /// `progress` is called with the number finished so far. The outer error is a link
@@ -92,8 +85,15 @@ pub trait Bus {
 
     fn send_frame(&mut self, frame: &Frame) -> Result<()>;
 
+    /// Whether this link shows the bus's own traffic (heartbeats, boot-ups, PDOs). An EPOS2
+    /// answers commands only, so frames must be asked for with `request_frame`.
+    fn sees_traffic(&self) -> bool;
+
     /// The next frame seen on the bus, or `None` at the deadline.
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>>;
+
+    /// Send a remote request for `id` and return the first data frame with that id.
+    fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame>;
 
     /// NMT states reported by heartbeats seen so far in this session.
     fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State>;

@@ -53,7 +53,11 @@ impl std::str::FromStr for BusUri {
                 for pair in query.into_iter().flat_map(|q| q.split('&')) {
                     match pair.split_once('=') {
                         Some(("baud", v)) => {
-                            baud = v.parse().ok().filter(|b| *b > 0).ok_or_else(|| usage(format!("baud '{v}' is not a positive number")))?;
+                            baud = v
+                                .parse()
+                                .ok()
+                                .filter(|b| *b > 0)
+                                .ok_or_else(|| usage(format!("baud '{v}' is not a positive number")))?;
                         }
                         _ => return Err(usage(format!("unknown option '{pair}' (the only one is baud=N)"))),
                     }
@@ -61,9 +65,9 @@ impl std::str::FromStr for BusUri {
                 let port = port.to_string();
                 Ok(if rs232 { BusUri::Epos2Rs232 { port, baud } } else { BusUri::Epos2Usb { port, baud } })
             }
-            (iface, None) if iface.starts_with('/') => Err(usage(format!(
-                "a serial port needs its protocol: epos2-rs232:{iface} or epos2-usb:{iface}"
-            ))),
+            (iface, None) if iface.starts_with('/') => {
+                Err(usage(format!("a serial port needs its protocol: epos2-rs232:{iface} or epos2-usb:{iface}")))
+            }
             (iface, None) => Ok(BusUri::SocketCan { iface: check_iface(iface).map_err(usage)? }),
             (other, Some(_)) => Err(usage(format!(
                 "unknown kind of bus '{other}'; use sim, socketcan:IFACE, epos2-rs232:PORT or epos2-usb:PORT"
@@ -75,9 +79,7 @@ impl std::str::FromStr for BusUri {
 /// Linux interface names: 1 to 15 bytes, no '/', no whitespace.
 fn check_iface(iface: &str) -> std::result::Result<String, String> {
     if iface.is_empty() || iface.len() > 15 || iface.contains(['/', ' ', '\t', ':']) {
-        return Err(format!(
-            "'{iface}' is not a network interface name (like can0 or vcan0)"
-        ));
+        return Err(format!("'{iface}' is not a network interface name (like can0 or vcan0)"));
     }
     Ok(iface.to_string())
 }
@@ -97,11 +99,8 @@ pub fn can_interfaces() -> Vec<String> {
 
 /// Serial ports present.
 pub fn serial_ports() -> Vec<String> {
-    let mut out: Vec<String> = serialport::available_ports()
-        .unwrap_or_default()
-        .into_iter()
-        .map(|p| p.port_name)
-        .collect();
+    let mut out: Vec<String> =
+        serialport::available_ports().unwrap_or_default().into_iter().map(|p| p.port_name).collect();
     out.sort();
     out
 }
@@ -112,43 +111,17 @@ mod tests {
 
     #[test]
     fn parses_every_form() {
+        assert_eq!("sim".parse::<BusUri>().unwrap(), BusUri::Sim { state: None });
+        assert_eq!("sim:/tmp/s.json".parse::<BusUri>().unwrap(), BusUri::Sim { state: Some("/tmp/s.json".into()) });
+        assert_eq!("can0".parse::<BusUri>().unwrap(), BusUri::SocketCan { iface: "can0".into() });
+        assert_eq!("socketcan:vcan0".parse::<BusUri>().unwrap(), BusUri::SocketCan { iface: "vcan0".into() });
         assert_eq!(
-            "sim".parse::<BusUri>().unwrap(),
-            BusUri::Sim { state: None }
-        );
-        assert_eq!(
-            "sim:/tmp/s.json".parse::<BusUri>().unwrap(),
-            BusUri::Sim {
-                state: Some("/tmp/s.json".into())
-            }
-        );
-        assert_eq!(
-            "can0".parse::<BusUri>().unwrap(),
-            BusUri::SocketCan {
-                iface: "can0".into()
-            }
-        );
-        assert_eq!(
-            "socketcan:vcan0".parse::<BusUri>().unwrap(),
-            BusUri::SocketCan {
-                iface: "vcan0".into()
-            }
-        );
-        assert_eq!(
-            "epos2-rs232:/dev/ttyS0?baud=38400"
-                .parse::<BusUri>()
-                .unwrap(),
-            BusUri::Epos2Rs232 {
-                port: "/dev/ttyS0".into(),
-                baud: 38400
-            }
+            "epos2-rs232:/dev/ttyS0?baud=38400".parse::<BusUri>().unwrap(),
+            BusUri::Epos2Rs232 { port: "/dev/ttyS0".into(), baud: 38400 }
         );
         assert_eq!(
             "epos2-usb:/dev/ttyUSB0".parse::<BusUri>().unwrap(),
-            BusUri::Epos2Usb {
-                port: "/dev/ttyUSB0".into(),
-                baud: USB_DEFAULT_BAUD
-            }
+            BusUri::Epos2Usb { port: "/dev/ttyUSB0".into(), baud: USB_DEFAULT_BAUD }
         );
     }
 

@@ -71,16 +71,9 @@ mod tests {
 
     #[test]
     fn seed_001_table_7_codes_are_known() {
-        for code in [
-            0x0609_0011,
-            0x0609_0030,
-            0x0602_0000,
-            0x0601_0001,
-            0x0601_0002,
-            0x0800_0020,
-            0x0800_0000,
-            0x0800_0022,
-        ] {
+        for code in
+            [0x0609_0011, 0x0609_0030, 0x0602_0000, 0x0601_0001, 0x0601_0002, 0x0800_0020, 0x0800_0000, 0x0800_0022]
+        {
             assert!(!meaning(code).starts_with("not a CiA"), "{code:08X}");
         }
         assert_eq!(meaning(READ_ONLY), "Attempt to write a read only object");

@@ -18,24 +18,14 @@ impl Emergency {
     /// Node and message, if `frame` is an EMCY on the default COB-IDs. A zero-length frame
     /// on 0x80+node is the old "EMCY at power on" some drives send (seed 003): no EMCY.
     pub fn parse(frame: &Frame) -> Option<(u8, Emergency)> {
-        let node = frame
-            .id()
-            .checked_sub(0x080)
-            .filter(|n| (1..=127).contains(n))? as u8;
+        let node = frame.id().checked_sub(0x080).filter(|n| (1..=127).contains(n))? as u8;
         let d = frame.data();
         if frame.is_remote() || d.len() != 8 {
             return None;
         }
         let mut vendor = [0u8; 5];
         vendor.copy_from_slice(&d[3..8]);
-        Some((
-            node,
-            Emergency {
-                code: u16::from_le_bytes([d[0], d[1]]),
-                register: d[2],
-                vendor,
-            },
-        ))
+        Some((node, Emergency { code: u16::from_le_bytes([d[0], d[1]]), register: d[2], vendor }))
     }
 
     pub fn frame(&self, node: u8) -> Frame {
@@ -94,20 +84,9 @@ pub fn code_meaning(code: u16) -> &'static str {
 
 /// Names of the error register (0x1001) bits that are set.
 pub fn register_bits(register: u8) -> Vec<&'static str> {
-    const BITS: [&str; 8] = [
-        "generic",
-        "current",
-        "voltage",
-        "temperature",
-        "communication",
-        "device profile",
-        "reserved",
-        "manufacturer",
-    ];
-    (0..8)
-        .filter(|b| register & (1 << b) != 0)
-        .map(|b| BITS[b])
-        .collect()
+    const BITS: [&str; 8] =
+        ["generic", "current", "voltage", "temperature", "communication", "device profile", "reserved", "manufacturer"];
+    (0..8).filter(|b| register & (1 << b) != 0).map(|b| BITS[b]).collect()
 }
 
 #[cfg(test)]

@@ -110,9 +110,7 @@ impl State {
         match cmd {
             Command::Start => State::Operational,
             Command::Stop => State::Stopped,
-            Command::PreOperational | Command::ResetNode | Command::ResetCommunication => {
-                State::PreOperational
-            }
+            Command::PreOperational | Command::ResetNode | Command::ResetCommunication => State::PreOperational,
         }
     }
 }
@@ -139,10 +137,7 @@ pub enum ErrorControl {
 impl ErrorControl {
     /// The node and what it said, if `frame` is an error-control data frame.
     pub fn parse(frame: &Frame) -> Option<(u8, ErrorControl)> {
-        let node = frame
-            .id()
-            .checked_sub(0x700)
-            .filter(|n| (1..=127).contains(n))? as u8;
+        let node = frame.id().checked_sub(0x700).filter(|n| (1..=127).contains(n))? as u8;
         if frame.is_remote() || frame.len() != 1 {
             return None;
         }
@@ -179,10 +174,7 @@ mod tests {
     fn command_frames() {
         assert_eq!(Command::Stop.frame(5).to_string(), "000#0205");
         assert_eq!(Command::ResetNode.frame(0).to_string(), "000#8100");
-        assert_eq!(
-            Command::parse(&"000#8205".parse().unwrap()),
-            Some((Command::ResetCommunication, 5))
-        );
+        assert_eq!(Command::parse(&"000#8205".parse().unwrap()), Some((Command::ResetCommunication, 5)));
         assert_eq!(Command::parse(&"000#0305".parse().unwrap()), None);
     }
 
@@ -190,43 +182,14 @@ mod tests {
     fn heartbeat_and_guarding() {
         // Seed 004: heartbeat 0x701 with 7F = pre-operational.
         let (node, ec) = ErrorControl::parse(&"701#7F".parse().unwrap()).unwrap();
-        assert_eq!(
-            (node, ec),
-            (
-                1,
-                ErrorControl::State {
-                    state: State::PreOperational,
-                    toggle: false
-                }
-            )
-        );
+        assert_eq!((node, ec), (1, ErrorControl::State { state: State::PreOperational, toggle: false }));
         // Seed 003: SERS guarding answer with the toggle bit set, operational.
         let (_, ec) = ErrorControl::parse(&"720#85".parse().unwrap()).unwrap();
-        assert_eq!(
-            ec,
-            ErrorControl::State {
-                state: State::Operational,
-                toggle: true
-            }
-        );
-        assert_eq!(
-            ErrorControl::parse(&"705#00".parse().unwrap()),
-            Some((5, ErrorControl::BootUp))
-        );
+        assert_eq!(ec, ErrorControl::State { state: State::Operational, toggle: true });
+        assert_eq!(ErrorControl::parse(&"705#00".parse().unwrap()), Some((5, ErrorControl::BootUp)));
         assert_eq!(ErrorControl::parse(&"705#R1".parse().unwrap()), None);
         assert_eq!(ErrorControl::parse(&"700#00".parse().unwrap()), None);
-        assert_eq!(
-            ErrorControl::parse(&"705#33".parse().unwrap()),
-            Some((5, ErrorControl::Unknown(0x33)))
-        );
-        assert_eq!(
-            ErrorControl::State {
-                state: State::Stopped,
-                toggle: true
-            }
-            .frame(32)
-            .to_string(),
-            "720#84"
-        );
+        assert_eq!(ErrorControl::parse(&"705#33".parse().unwrap()), Some((5, ErrorControl::Unknown(0x33))));
+        assert_eq!(ErrorControl::State { state: State::Stopped, toggle: true }.frame(32).to_string(), "720#84");
     }
 }

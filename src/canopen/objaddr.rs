@@ -78,36 +78,20 @@ mod tests {
     #[test]
     fn spellings() {
         let want = ObjAddr::new(0x1018, 1);
-        for s in [
-            "0x1018:1",
-            "1018:1",
-            "1018sub1",
-            "0X1018SUB1",
-            "1018:0x01",
-            " 1018:01 ",
-        ] {
+        for s in ["0x1018:1", "1018:1", "1018sub1", "0X1018SUB1", "1018:0x01", " 1018:01 "] {
             assert_eq!(s.parse::<ObjAddr>().unwrap(), want, "{s}");
         }
         assert_eq!("1000".parse::<ObjAddr>().unwrap(), ObjAddr::new(0x1000, 0));
-        assert_eq!(
-            "1a00:10".parse::<ObjAddr>().unwrap(),
-            ObjAddr::new(0x1A00, 10)
-        );
+        assert_eq!("1a00:10".parse::<ObjAddr>().unwrap(), ObjAddr::new(0x1A00, 10));
         assert_eq!(ObjAddr::new(0x1A00, 10).to_string(), "0x1A00:10");
     }
 
     #[test]
     fn pointed_errors() {
-        assert!("10180:1"
-            .parse::<ObjAddr>()
-            .unwrap_err()
-            .contains("1 to 4 hex digits"));
+        assert!("10180:1".parse::<ObjAddr>().unwrap_err().contains("1 to 4 hex digits"));
         assert!("zz:1".parse::<ObjAddr>().is_err());
         assert!(":1".parse::<ObjAddr>().is_err());
-        assert!("1018:256"
-            .parse::<ObjAddr>()
-            .unwrap_err()
-            .contains("0..255"));
+        assert!("1018:256".parse::<ObjAddr>().unwrap_err().contains("0..255"));
         assert!("1018:x".parse::<ObjAddr>().is_err());
         assert!("1018:".parse::<ObjAddr>().is_err());
     }

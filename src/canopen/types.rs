@@ -104,22 +104,14 @@ impl DataType {
     }
 
     pub fn is_signed(self) -> bool {
-        matches!(
-            self,
-            DataType::I8 | DataType::I16 | DataType::I32 | DataType::I64
-        )
+        matches!(self, DataType::I8 | DataType::I16 | DataType::I32 | DataType::I64)
     }
 
     /// Inclusive range of an integer type.
     pub fn int_range(self) -> Option<(i128, i128)> {
         let bits = match self {
             DataType::Bool => return Some((0, 1)),
-            t if t.is_signed()
-                || matches!(
-                    t,
-                    DataType::U8 | DataType::U16 | DataType::U32 | DataType::U64
-                ) =>
-            {
+            t if t.is_signed() || matches!(t, DataType::U8 | DataType::U16 | DataType::U32 | DataType::U64) => {
                 8 * t.size().unwrap() as u32
             }
             _ => return None,
@@ -140,39 +132,28 @@ impl DataType {
             DataType::Bool => match t.to_ascii_lowercase().as_str() {
                 "1" | "true" | "on" | "yes" => Ok(vec![1]),
                 "0" | "false" | "off" | "no" => Ok(vec![0]),
-                _ => Err(ValueError(format!(
-                    "'{text}' is not a boolean: use true/false or 1/0"
-                ))),
+                _ => Err(ValueError(format!("'{text}' is not a boolean: use true/false or 1/0"))),
             },
             DataType::R32 => {
-                let v: f32 = t
-                    .parse()
-                    .map_err(|_| self.not_a(text, "a number like 1.5 or -2e3"))?;
+                let v: f32 = t.parse().map_err(|_| self.not_a(text, "a number like 1.5 or -2e3"))?;
                 if v.is_infinite() && !t.to_ascii_lowercase().contains("inf") {
-                    return Err(ValueError(format!(
-                        "'{text}' is out of range for r32 (about ±3.4e38)"
-                    )));
+                    return Err(ValueError(format!("'{text}' is out of range for r32 (about ±3.4e38)")));
                 }
                 Ok(v.to_le_bytes().to_vec())
             }
             DataType::R64 => {
-                let v: f64 = t
-                    .parse()
-                    .map_err(|_| self.not_a(text, "a number like 1.5 or -2e3"))?;
+                let v: f64 = t.parse().map_err(|_| self.not_a(text, "a number like 1.5 or -2e3"))?;
                 Ok(v.to_le_bytes().to_vec())
             }
             DataType::Vs => Ok(text.as_bytes().to_vec()),
-            DataType::Os | DataType::D => parse_hex(t)
-                .map_err(|e| ValueError(format!("{e} (or @FILE to read the bytes from a file)"))),
+            DataType::Os | DataType::D => {
+                parse_hex(t).map_err(|e| ValueError(format!("{e} (or @FILE to read the bytes from a file)")))
+            }
             _ => {
-                let v = parse_int(t)
-                    .ok_or_else(|| self.not_a(text, "an integer (decimal, or hex with 0x)"))?;
+                let v = parse_int(t).ok_or_else(|| self.not_a(text, "an integer (decimal, or hex with 0x)"))?;
                 let (lo, hi) = self.int_range().expect("integer type");
                 if v < lo || v > hi {
-                    return Err(ValueError(format!(
-                        "{text} is out of range for {} ({lo}..={hi})",
-                        self.name()
-                    )));
+                    return Err(ValueError(format!("{text} is out of range for {} ({lo}..={hi})", self.name())));
                 }
                 let size = self.size().unwrap();
                 Ok(v.to_le_bytes()[..size].to_vec())
@@ -181,10 +162,7 @@ impl DataType {
     }
 
     fn not_a(self, text: &str, what: &str) -> ValueError {
-        ValueError(format!(
-            "'{text}' is not a valid {} value: expected {what}",
-            self.name()
-        ))
+        ValueError(format!("'{text}' is not a valid {} value: expected {what}", self.name()))
     }
 
     /// Bytes to a typed value. `None` when the length does not fit the type.
@@ -204,9 +182,7 @@ impl DataType {
         let int = i128::from_le_bytes(wide);
         Some(match self {
             DataType::Bool => Value::Bool(int != 0),
-            DataType::R32 => {
-                Value::Real(f32::from_le_bytes(bytes.try_into().unwrap()) as f64, self)
-            }
+            DataType::R32 => Value::Real(f32::from_le_bytes(bytes.try_into().unwrap()) as f64, self),
             DataType::R64 => Value::Real(f64::from_le_bytes(bytes.try_into().unwrap()), self),
             DataType::Vs => Value::Text(visible_string(bytes)),
             DataType::Os | DataType::D => Value::Bytes(bytes.to_vec()),
@@ -266,9 +242,9 @@ impl Value {
             Value::Bool(b) => J::Bool(*b),
             Value::Uint(u) => J::from(*u),
             Value::Int(i) => J::from(*i),
-            Value::Real(r, _) => serde_json::Number::from_f64(*r)
-                .map(J::Number)
-                .unwrap_or_else(|| J::String(self.to_string())),
+            Value::Real(r, _) => {
+                serde_json::Number::from_f64(*r).map(J::Number).unwrap_or_else(|| J::String(self.to_string()))
+            }
             Value::Text(s) => J::String(s.clone()),
             Value::Bytes(b) => J::String(hex(b)),
         }
@@ -306,10 +282,7 @@ fn parse_int(t: &str) -> Option<i128> {
     let magnitude = match body.strip_prefix("0x").or_else(|| body.strip_prefix("0X")) {
         Some(hex) if !hex.is_empty() && hex.len() <= 30 => i128::from_str_radix(hex, 16).ok()?,
         Some(_) => return None,
-        None if !body.is_empty()
-            && body.len() <= 38
-            && body.chars().all(|c| c.is_ascii_digit()) =>
-        {
+        None if !body.is_empty() && body.len() <= 38 && body.chars().all(|c| c.is_ascii_digit()) => {
             body.parse().ok()?
         }
         None => return None,
@@ -320,29 +293,15 @@ fn parse_int(t: &str) -> Option<i128> {
 /// Hex text to bytes: `DEADBEEF`, `de ad be ef`, `0xdeadbeef`.
 pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
     let t = text.trim();
-    let t = t
-        .strip_prefix("0x")
-        .or_else(|| t.strip_prefix("0X"))
-        .unwrap_or(t);
-    let digits: Vec<u8> = t
-        .bytes()
-        .filter(|b| !b.is_ascii_whitespace() && *b != b'.')
-        .collect();
+    let t = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")).unwrap_or(t);
+    let digits: Vec<u8> = t.bytes().filter(|b| !b.is_ascii_whitespace() && *b != b'.').collect();
     if let Some(bad) = digits.iter().find(|b| !b.is_ascii_hexdigit()) {
-        return Err(format!(
-            "'{text}' is not hex bytes: '{}' is not a hex digit",
-            *bad as char
-        ));
+        return Err(format!("'{text}' is not hex bytes: '{}' is not a hex digit", *bad as char));
     }
     if !digits.len().is_multiple_of(2) {
-        return Err(format!(
-            "'{text}' is not hex bytes: odd number of hex digits"
-        ));
+        return Err(format!("'{text}' is not hex bytes: odd number of hex digits"));
     }
-    Ok(digits
-        .chunks(2)
-        .map(|p| u8::from_str_radix(std::str::from_utf8(p).unwrap(), 16).unwrap())
-        .collect())
+    Ok(digits.chunks(2).map(|p| u8::from_str_radix(std::str::from_utf8(p).unwrap(), 16).unwrap()).collect())
 }
 
 /// Bytes to contiguous upper-case hex, as can-utils writes payloads.
@@ -402,24 +361,15 @@ mod tests {
 
     #[test]
     fn range_errors_name_the_range() {
-        assert_eq!(
-            U8.parse("256").unwrap_err().0,
-            "256 is out of range for u8 (0..=255)"
-        );
+        assert_eq!(U8.parse("256").unwrap_err().0, "256 is out of range for u8 (0..=255)");
         assert!(I8.parse("-129").unwrap_err().0.contains("-128..=127"));
         assert!(U16.parse("-1").unwrap_err().0.contains("0..=65535"));
-        assert!(U32
-            .parse("12abc")
-            .unwrap_err()
-            .0
-            .contains("not a valid u32"));
+        assert!(U32.parse("12abc").unwrap_err().0.contains("not a valid u32"));
         assert!(R32.parse("1e39").unwrap_err().0.contains("out of range"));
         assert!(Os.parse("abc").unwrap_err().0.contains("odd number"));
         assert!(Bool.parse("maybe").is_err());
         assert!(U64.parse("0x").is_err());
-        assert!(U64
-            .parse("99999999999999999999999999999999999999999")
-            .is_err());
+        assert!(U64.parse("99999999999999999999999999999999999999999").is_err());
     }
 
     #[test]
@@ -427,14 +377,8 @@ mod tests {
         assert_eq!(I16.decode(&[0xFE, 0xFF]), Some(Value::Int(-2)));
         assert_eq!(U16.decode(&[0xFE, 0xFF]), Some(Value::Uint(65534)));
         assert_eq!(U32.decode(&[1, 2]), None);
-        assert_eq!(
-            Vs.decode(b"CAN-2057C\0\0"),
-            Some(Value::Text("CAN-2057C".into()))
-        );
-        assert_eq!(
-            obvious_unsigned(&[0x92, 0x01, 0x02, 0x00]),
-            Some(0x0002_0192)
-        );
+        assert_eq!(Vs.decode(b"CAN-2057C\0\0"), Some(Value::Text("CAN-2057C".into())));
+        assert_eq!(obvious_unsigned(&[0x92, 0x01, 0x02, 0x00]), Some(0x0002_0192));
         assert_eq!(obvious_unsigned(&[1, 2, 3]), None);
     }
 

@@ -36,27 +36,21 @@ pub fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
 
 /// Every completion script: (file name, contents).
 pub fn completion_scripts() -> Vec<(String, Vec<u8>)> {
-    [
-        Shell::Bash,
-        Shell::Zsh,
-        Shell::Fish,
-        Shell::Elvish,
-        Shell::PowerShell,
-    ]
-    .into_iter()
-    .map(|shell| {
-        let mut out = Vec::new();
-        clap_complete::generate(shell, &mut Cli::command(), "canctl", &mut out);
-        let name = match shell {
-            Shell::Bash => "canctl.bash".to_string(),
-            Shell::Zsh => "_canctl".to_string(),
-            Shell::Fish => "canctl.fish".to_string(),
-            Shell::Elvish => "canctl.elv".to_string(),
-            _ => "_canctl.ps1".to_string(),
-        };
-        (name, out)
-    })
-    .collect()
+    [Shell::Bash, Shell::Zsh, Shell::Fish, Shell::Elvish, Shell::PowerShell]
+        .into_iter()
+        .map(|shell| {
+            let mut out = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "canctl", &mut out);
+            let name = match shell {
+                Shell::Bash => "canctl.bash".to_string(),
+                Shell::Zsh => "_canctl".to_string(),
+                Shell::Fish => "canctl.fish".to_string(),
+                Shell::Elvish => "canctl.elv".to_string(),
+                _ => "_canctl.ps1".to_string(),
+            };
+            (name, out)
+        })
+        .collect()
 }
 
 pub fn write_completions(dir: &Path) -> std::io::Result<()> {
@@ -78,13 +72,8 @@ pub fn man_pages() -> Vec<(String, Vec<u8>)> {
 
 fn collect(cmd: &clap::Command, name: &str, pages: &mut Vec<(String, Vec<u8>)>) {
     let mut out = Vec::new();
-    let named = cmd
-        .clone()
-        .name(name.to_string())
-        .bin_name(name.replace('-', " "));
-    clap_mangen::Man::new(named)
-        .render(&mut out)
-        .expect("render to memory");
+    let named = cmd.clone().name(name.to_string()).bin_name(name.replace('-', " "));
+    clap_mangen::Man::new(named).render(&mut out).expect("render to memory");
     pages.push((format!("{name}.1"), out));
     for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
         collect(sub, &format!("{name}-{}", sub.get_name()), pages);
@@ -99,11 +88,7 @@ pub fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
             for (name, data) in &pages {
                 std::fs::write(dir.join(name), data)?;
             }
-            ctx.out.note(&format!(
-                "{} man pages written to {}",
-                pages.len(),
-                dir.display()
-            ));
+            ctx.out.note(&format!("{} man pages written to {}", pages.len(), dir.display()));
         }
         None => ctx.out.print(&String::from_utf8_lossy(&pages[0].1))?,
     }

@@ -8,6 +8,8 @@ mod sdo;
 mod sim;
 
 use crate::bus::{Bus, BusUri, Master};
+use crate::epos2::gateway::Epos2Gateway;
+use crate::epos2::transport::{Rs232, Usb};
 use crate::error::Error;
 use crate::output::{Format, Output};
 use clap::{Args, Parser, Subcommand};
@@ -71,9 +73,7 @@ pub enum Command {
     /// Start, stop and reset nodes, or ask their NMT state
     #[command(subcommand)]
     Nmt(nmt::NmtCommand),
-    /// Manage the simulated demo network
-    #[command(subcommand)]
-    Sim(sim::SimCommand),
+    Sim(sim::SimArgs),
     Completions(docs::CompletionsArgs),
     Man(docs::ManArgs),
 }
@@ -87,13 +87,9 @@ pub struct Ctx {
 /// Parse `500ms`, `2s`, `1.5s`, `1m`, or a bare number of milliseconds.
 pub fn parse_duration(text: &str) -> Result<Duration, String> {
     let t = text.trim();
-    let split = t
-        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
-        .unwrap_or(t.len());
+    let split = t.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(t.len());
     let (num, unit) = t.split_at(split);
-    let n: f64 = num
-        .parse()
-        .map_err(|_| format!("'{text}' is not a duration: use 500ms, 2s, 1.5s or 1m"))?;
+    let n: f64 = num.parse().map_err(|_| format!("'{text}' is not a duration: use 500ms, 2s, 1.5s or 1m"))?;
     let secs = match unit.trim() {
         "" | "ms" => n / 1000.0,
         "s" => n,
@@ -107,6 +103,14 @@ pub fn parse_duration(text: &str) -> Result<Duration, String> {
     Ok(Duration::from_secs_f64(secs))
 }
 
+/// Parse a node-id for an SDO command: 1..127, or 0 for an EPOS2 reached directly.
+pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
+    if text.trim() == "0" {
+        return Ok(0);
+    }
+    parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on the serial port)"))
+}
+
 /// Parse a node-id: 1..127, decimal or 0x hex.
 pub fn parse_node(text: &str) -> Result<u8, String> {
     let t = text.trim();
@@ -114,9 +118,7 @@ pub fn parse_node(text: &str) -> Result<u8, String> {
         Some(h) => u32::from_str_radix(h, 16).ok(),
         None => t.parse::<u32>().ok(),
     };
-    n.filter(|n| (1..=127).contains(n))
-        .map(|n| n as u8)
-        .ok_or_else(|| format!("'{text}' is not a node-id: use 1..127"))
+    n.filter(|n| (1..=127).contains(n)).map(|n| n as u8).ok_or_else(|| format!("'{text}' is not a node-id: use 1..127"))
 }
 
 /// Open the bus the user named, or explain how to name one.
@@ -133,16 +135,39 @@ fn open_bus(global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
             let link = crate::sim::SimLink::open(file)?;
             Ok(Box::new(Master::new(link, "sim".into(), trace)))
         }
-        BusUri::SocketCan { iface } => {
-            Err(Error::Link(format!("cannot open socketcan:{iface}: this build has no SocketCAN backend yet; use --bus sim")).into())
+        BusUri::SocketCan { iface } => Err(Error::Link(format!(
+            "cannot open socketcan:{iface}: this build has no SocketCAN backend yet; use --bus sim"
+        ))
+        .into()),
+        BusUri::Epos2Rs232 { port, baud } => {
+            let io = open_serial(&port, baud, global.timeout)?;
+            let link = Rs232::new(io, format!("epos2-rs232:{port}"), global.timeout, trace);
+            Ok(Box::new(Epos2Gateway::new(link)))
         }
-        BusUri::Epos2Rs232 { port, .. } => {
-            Err(Error::Link(format!("cannot open epos2-rs232:{port}: this build has no EPOS2 RS232 backend yet; use --bus sim")).into())
-        }
-        BusUri::Epos2Usb { port, .. } => {
-            Err(Error::Link(format!("cannot open epos2-usb:{port}: this build has no EPOS2 USB backend yet; use --bus sim")).into())
+        BusUri::Epos2Usb { port, baud } => {
+            let io = open_serial(&port, baud, global.timeout)?;
+            let link = Usb::new(io, format!("epos2-usb:{port}"), global.timeout, trace);
+            Ok(Box::new(Epos2Gateway::new(link)))
         }
     }
+}
+
+/// 8N1 at `baud`, no flow control (seed 000 §5.1.5).
+fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<serialport::TTYPort, Error> {
+    let mut io = serialport::new(port, baud)
+        .data_bits(serialport::DataBits::Eight)
+        .parity(serialport::Parity::None)
+        .stop_bits(serialport::StopBits::One)
+        .flow_control(serialport::FlowControl::None)
+        .timeout(timeout)
+        .open_native()
+        .map_err(|e| Error::Link(format!("cannot open {port}: {e}")))?;
+    // A pseudo-terminal (the simulator's device side) is opened again by every command;
+    // the exclusive flag would outlive this process and lock the next one out.
+    if port.starts_with("/dev/pts/") {
+        io.set_exclusive(false).map_err(|e| Error::Link(format!("{port}: {e}")))?;
+    }
+    Ok(io)
 }
 
 fn no_bus_error() -> Error {
@@ -166,10 +191,7 @@ fn no_bus_error() -> Error {
 
 /// Run a command that talks to the bus; the bus is closed (and the simulator's state saved)
 /// whatever the command's outcome.
-fn with_bus(
-    global: &GlobalArgs,
-    f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>,
-) -> anyhow::Result<()> {
+fn with_bus(global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
     let mut bus = open_bus(global)?;
     let result = f(bus.as_mut());
     let closed = bus.close();
@@ -179,16 +201,13 @@ fn with_bus(
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
-    let ctx = Ctx {
-        out: Output::new(cli.global.format, cli.global.quiet),
-        timeout: cli.global.timeout,
-    };
+    let ctx = Ctx { out: Output::new(cli.global.format, cli.global.quiet), timeout: cli.global.timeout };
     let g = &cli.global;
     match &cli.command {
         Command::Scan(args) => with_bus(g, |bus| scan::run(&ctx, bus, args)),
         Command::Sdo(cmd) => with_bus(g, |bus| sdo::run(&ctx, bus, cmd)),
         Command::Nmt(cmd) => with_bus(g, |bus| nmt::run(&ctx, bus, cmd)),
-        Command::Sim(cmd) => sim::run(&ctx, g, cmd),
+        Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),
     }

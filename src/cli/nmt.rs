@@ -13,39 +13,27 @@ use std::time::{Duration, Instant};
 #[derive(Subcommand, Debug)]
 pub enum NmtCommand {
     /// Put a node (or all) in Operational
-    #[command(
-        after_help = "Examples:\n  canctl --bus sim nmt start 5\n  canctl --bus sim nmt start all"
-    )]
+    #[command(after_help = "Examples:\n  canctl --bus sim nmt start 5\n  canctl --bus sim nmt start all")]
     Start(Target),
     /// Put a node (or all) in Stopped
-    #[command(
-        after_help = "Examples:\n  canctl --bus sim nmt stop 5\n  canctl --bus sim nmt stop all"
-    )]
+    #[command(after_help = "Examples:\n  canctl --bus sim nmt stop 5\n  canctl --bus sim nmt stop all")]
     Stop(Target),
     /// Put a node (or all) in Pre-operational
-    #[command(
-        after_help = "Examples:\n  canctl --bus sim nmt preop 5\n  canctl --bus sim nmt preop all"
-    )]
+    #[command(after_help = "Examples:\n  canctl --bus sim nmt preop 5\n  canctl --bus sim nmt preop all")]
     Preop(Target),
     /// Reset a node's application (or all nodes') and wait for the boot-up
-    #[command(
-        after_help = "Examples:\n  canctl --bus sim nmt reset 5\n  canctl --bus sim nmt reset all --wait 5s"
-    )]
+    #[command(after_help = "Examples:\n  canctl --bus sim nmt reset 5\n  canctl --bus sim nmt reset all --wait 5s")]
     Reset(ResetArgs),
     /// Reset a node's communication (or all nodes') and wait for the boot-up
-    #[command(
-        after_help = "Examples:\n  canctl --bus sim nmt reset-comm 10\n  canctl --bus sim nmt reset-comm all"
-    )]
+    #[command(after_help = "Examples:\n  canctl --bus sim nmt reset-comm 10\n  canctl --bus sim nmt reset-comm all")]
     ResetComm(ResetArgs),
     /// Report a node's NMT state, from its heartbeat or by node guarding
-    #[command(
-        after_help = "Listens for the node's heartbeat first; a node that sends none is asked with one
+    #[command(after_help = "Listens for the node's heartbeat first; a node that sends none is asked with one
 node-guarding request (RTR on 0x700+node), which toggles its guarding bit.
 
 Examples:
   canctl --bus sim nmt state 5
-  canctl --bus sim nmt state 32 --format json"
-    )]
+  canctl --bus sim nmt state 32 --format json")]
     State(StateArgs),
 }
 
@@ -113,22 +101,12 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()>
 fn send(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, target: u8) -> anyhow::Result<()> {
     bus.nmt(cmd, target)?;
     match ctx.out.format {
-        Format::Json => ctx
-            .out
-            .json(&json!({ "command": cmd.name(), "target": target_json(target), "sent": true }))?,
+        Format::Json => ctx.out.json(&json!({ "command": cmd.name(), "target": target_json(target), "sent": true }))?,
         Format::Csv => ctx.out.table(
             &["command", "target", "sent"],
-            &[vec![
-                cmd.name().into(),
-                target_json(target).to_string(),
-                "true".into(),
-            ]],
+            &[vec![cmd.name().into(), target_json(target).to_string(), "true".into()]],
         )?,
-        Format::Human => ctx.out.print(&format!(
-            "NMT {} sent to {}",
-            cmd.name(),
-            target_text(target)
-        ))?,
+        Format::Human => ctx.out.print(&format!("NMT {} sent to {}", cmd.name(), target_text(target)))?,
     }
     Ok(())
 }
@@ -136,10 +114,51 @@ fn send(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, target: u8) -> anyhow::Resul
 fn reset(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, a: &ResetArgs) -> anyhow::Result<()> {
     let target = a.target.target;
     bus.nmt(cmd, target)?;
-    let deadline = Instant::now() + a.wait;
+    let (nodes, how) = if bus.sees_traffic() {
+        (listen_for_boot_ups(ctx, bus, target, a.wait)?, "boot-up message")
+    } else if target == ALL_NODES {
+        // Without the bus's traffic there is no telling which nodes exist and rebooted.
+        let msg = format!(
+            "NMT {} sent to all nodes; {} shows no boot-up messages, so check the nodes with `canctl scan`",
+            cmd.name(),
+            bus.describe()
+        );
+        return match ctx.out.format {
+            Format::Json => {
+                Ok(ctx.out.json(&json!({ "command": cmd.name(), "target": "all", "sent": true, "booted": null }))?)
+            }
+            _ => Ok(ctx.out.print(&msg)?),
+        };
+    } else {
+        poll_until_answering(ctx, bus, target, a.wait)?;
+        (vec![target], "answer to a remote request")
+    };
+    let state = nmt::State::PreOperational;
+    match ctx.out.format {
+        Format::Json => ctx.out.json(&json!({
+            "command": cmd.name(), "target": target_json(target), "booted": nodes, "state": state.name(), "seen_by": how
+        }))?,
+        Format::Csv => ctx.out.table(
+            &["node", "state"],
+            &nodes.iter().map(|n| vec![n.to_string(), state.name().into()]).collect::<Vec<_>>(),
+        )?,
+        Format::Human => {
+            let list: Vec<String> = nodes.iter().map(|n| n.to_string()).collect();
+            ctx.out.print(&format!(
+                "booted after NMT {}: node {} (now {state}; seen by {how})",
+                cmd.name(),
+                list.join(", ")
+            ))?
+        }
+    }
+    Ok(())
+}
+
+/// Boot-up messages after a reset. One node: done at its boot-up. All: boot-ups may come
+/// from any node at any time, so listen until a --timeout passes with no new one.
+fn listen_for_boot_ups(ctx: &Ctx, bus: &mut dyn Bus, target: u8, wait: Duration) -> anyhow::Result<Vec<u8>> {
+    let deadline = Instant::now() + wait;
     let mut booted = BTreeSet::new();
-    // One node: done at its boot-up. All: boot-ups may come from any node at any time, so
-    // listen until a --timeout passes with no new one (or --wait runs out).
     let mut quiet_until = deadline;
     while let Some(f) = bus.recv_frame(quiet_until.min(deadline))? {
         if let Some((node, ErrorControl::BootUp)) = ErrorControl::parse(&f) {
@@ -153,70 +172,81 @@ fn reset(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, a: &ResetArgs) -> anyhow::R
         }
     }
     if booted.is_empty() {
-        return Err(Error::Timeout(format!(
-            "{}: no boot-up within {} ms after NMT {}",
-            target_text(target),
-            a.wait.as_millis(),
-            cmd.name()
-        ))
-        .into());
+        return Err(
+            Error::Timeout(format!("{}: no boot-up within {} ms", target_text(target), wait.as_millis())).into()
+        );
     }
-    let nodes: Vec<u8> = booted.into_iter().collect();
-    let state = nmt::State::PreOperational;
-    match ctx.out.format {
-        Format::Json => ctx.out.json(&json!({ "command": cmd.name(), "target": target_json(target), "booted": nodes, "state": state.name() }))?,
-        Format::Csv => ctx.out.table(&["node", "state"], &nodes.iter().map(|n| vec![n.to_string(), state.name().into()]).collect::<Vec<_>>())?,
-        Format::Human => {
-            let list: Vec<String> = nodes.iter().map(|n| n.to_string()).collect();
-            ctx.out.print(&format!("booted after NMT {}: node {} (now {state})", cmd.name(), list.join(", ")))?
+    Ok(booted.into_iter().collect())
+}
+
+/// Through a link that shows no traffic, a reset node is back when it answers the
+/// error-control remote request again.
+fn poll_until_answering(ctx: &Ctx, bus: &mut dyn Bus, node: u8, wait: Duration) -> anyhow::Result<()> {
+    let deadline = Instant::now() + wait;
+    loop {
+        match bus.request_frame(nmt::error_control_cob(node), 1, ctx.timeout) {
+            Ok(f) if ErrorControl::parse(&f).is_some() => return Ok(()),
+            Ok(_) | Err(Error::Timeout(_)) if Instant::now() < deadline => {
+                std::thread::sleep(Duration::from_millis(20))
+            }
+            Ok(_) | Err(Error::Timeout(_)) => {
+                return Err(Error::Timeout(format!(
+                    "node {node}: no answer within {} ms after the reset",
+                    wait.as_millis()
+                ))
+                .into())
+            }
+            Err(e) => return Err(e.into()),
         }
     }
-    Ok(())
 }
 
 fn state(ctx: &Ctx, bus: &mut dyn Bus, a: &StateArgs) -> anyhow::Result<()> {
     let node = a.node;
-    let listen_end = Instant::now() + a.listen;
     let mut found = None;
-    while let Some(f) = bus.recv_frame(listen_end)? {
-        if let Some((n, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
-            if n == node {
-                found = Some((state, "heartbeat"));
-                break;
-            }
-        }
-    }
-    if found.is_none() {
-        bus.send_frame(&nmt::guard_request(node))?;
-        let end = Instant::now() + ctx.timeout;
-        while let Some(f) = bus.recv_frame(end)? {
+    if bus.sees_traffic() {
+        let listen_end = Instant::now() + a.listen;
+        while let Some(f) = bus.recv_frame(listen_end)? {
             if let Some((n, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
                 if n == node {
-                    found = Some((state, "node guarding"));
+                    found = Some((state, "heartbeat"));
                     break;
                 }
             }
         }
     }
+    if found.is_none() {
+        // Node guarding; through an EPOS2 this is RequestCANFrame, whose answer may also be
+        // the node's next heartbeat (same COB-ID).
+        let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
+        let answer = match bus.request_frame(nmt::error_control_cob(node), 1, ctx.timeout) {
+            Err(Error::Timeout(_)) => None,
+            other => Some(other?),
+        };
+        found = match answer.as_ref().and_then(ErrorControl::parse) {
+            Some((_, ErrorControl::State { state, .. })) => Some((state, source)),
+            Some((_, ErrorControl::BootUp)) => Some((nmt::State::PreOperational, source)),
+            _ => None,
+        };
+    }
     let Some((state, source)) = found else {
+        let listened = if bus.sees_traffic() {
+            format!("no heartbeat within {} ms and ", a.listen.as_millis())
+        } else {
+            String::new()
+        };
         return Err(Error::Timeout(format!(
-            "node {node}: no heartbeat within {} ms and no answer to node guarding within {} ms",
-            a.listen.as_millis(),
+            "node {node}: {listened}no answer to node guarding within {} ms",
             ctx.timeout.as_millis()
         ))
         .into());
     };
     match ctx.out.format {
-        Format::Json => ctx
+        Format::Json => ctx.out.json(&json!({ "node": node, "state": state.name(), "source": source }))?,
+        Format::Csv => ctx
             .out
-            .json(&json!({ "node": node, "state": state.name(), "source": source }))?,
-        Format::Csv => ctx.out.table(
-            &["node", "state", "source"],
-            &[vec![node.to_string(), state.name().into(), source.into()]],
-        )?,
-        Format::Human => ctx
-            .out
-            .print(&format!("node {node}: {state} (from {source})"))?,
+            .table(&["node", "state", "source"], &[vec![node.to_string(), state.name().into(), source.into()]])?,
+        Format::Human => ctx.out.print(&format!("node {node}: {state} (from {source})"))?,
     }
     Ok(())
 }

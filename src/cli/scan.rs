@@ -49,9 +49,7 @@ fn as_u32(bytes: &[u8]) -> Option<u32> {
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
     let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, ObjAddr::new(0x1000, 0))).collect();
     let bar = ctx.out.bar(probes.len() as u64, "probing");
-    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(args.window), &mut |n| {
-        bar.set_position(n as u64)
-    })?;
+    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(args.window), &mut |n| bar.set_position(n as u64))?;
     bar.finish_and_clear();
     // An abort is an answer too: the node is there, it just has no (readable) 0x1000.
     let mut found: Vec<Found> = Vec::new();
@@ -65,43 +63,20 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
                 continue;
             }
         };
-        found.push(Found {
-            node: *node,
-            device_type,
-            identity: [None; 4],
-            name: None,
-            state: None,
-        });
+        found.push(Found { node: *node, device_type, identity: [None; 4], name: None, state: None });
     }
 
-    let reads: Vec<(u8, ObjAddr)> = found
-        .iter()
-        .flat_map(|f| {
-            IDENTITY
-                .iter()
-                .map(|(_, a)| (f.node, *a))
-                .chain([(f.node, NAME)])
-        })
-        .collect();
+    let reads: Vec<(u8, ObjAddr)> =
+        found.iter().flat_map(|f| IDENTITY.iter().map(|(_, a)| (f.node, *a)).chain([(f.node, NAME)])).collect();
     let bar = ctx.out.bar(reads.len() as u64, "identity");
-    let values = bus.sdo_upload_many(&reads, &SdoOptions::new(ctx.timeout), &mut |n| {
-        bar.set_position(n as u64)
-    })?;
+    let values = bus.sdo_upload_many(&reads, &SdoOptions::new(ctx.timeout), &mut |n| bar.set_position(n as u64))?;
     bar.finish_and_clear();
     for ((node, addr), value) in reads.iter().zip(values) {
-        let f = found
-            .iter_mut()
-            .find(|f| f.node == *node)
-            .expect("read for a found node");
+        let f = found.iter_mut().find(|f| f.node == *node).expect("read for a found node");
         match value {
-            Ok(bytes) if *addr == NAME => {
-                f.name = DataType::Vs.decode(&bytes).map(|v| v.to_string())
-            }
+            Ok(bytes) if *addr == NAME => f.name = DataType::Vs.decode(&bytes).map(|v| v.to_string()),
             Ok(bytes) => {
-                let i = IDENTITY
-                    .iter()
-                    .position(|(_, a)| a == addr)
-                    .expect("identity entry");
+                let i = IDENTITY.iter().position(|(_, a)| a == addr).expect("identity entry");
                 f.identity[i] = as_u32(&bytes);
             }
             Err(Error::SdoAbort { .. }) => {}
@@ -134,20 +109,10 @@ fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found]) -> anyhow::Result<()> {
                     })
                 })
                 .collect();
-            ctx.out
-                .json(&json!({ "bus": bus.describe(), "nodes": nodes }))?;
+            ctx.out.json(&json!({ "bus": bus.describe(), "nodes": nodes }))?;
         }
         Format::Human | Format::Csv => {
-            let headers = [
-                "node",
-                "device_type",
-                "vendor_id",
-                "product_code",
-                "revision",
-                "serial",
-                "name",
-                "state",
-            ];
+            let headers = ["node", "device_type", "vendor_id", "product_code", "revision", "serial", "name", "state"];
             let rows: Vec<Vec<String>> = found
                 .iter()
                 .map(|f| {
@@ -159,8 +124,7 @@ fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found]) -> anyhow::Result<()> {
                 })
                 .collect();
             if ctx.out.format == Format::Human {
-                ctx.out
-                    .note(&format!("{} node(s) on {}", found.len(), bus.describe()));
+                ctx.out.note(&format!("{} node(s) on {}", found.len(), bus.describe()));
             }
             ctx.out.table(&headers, &rows)?;
         }

@@ -1,6 +1,6 @@
 //! `canctl sdo read|write`: one object, any size, any type.
 
-use super::{parse_node, Ctx};
+use super::{parse_sdo_node, Ctx};
 use crate::bus::{Bus, SdoOptions};
 use crate::canopen::types::{hex, obvious_unsigned, Value};
 use crate::canopen::{DataType, ObjAddr};
@@ -28,8 +28,8 @@ pub enum SdoCommand {
   canctl --bus sim sdo read 10 1008 --type vs
   canctl --bus sim sdo read 1 1F50:1 --type d --out program.bin")]
 pub struct ReadArgs {
-    /// Node-id, 1..127
-    #[arg(value_parser = parse_node)]
+    /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    #[arg(value_parser = parse_sdo_node)]
     pub node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x)
     #[arg(value_parser = parse_obj)]
@@ -57,8 +57,8 @@ pub struct ReadArgs {
   canctl --bus sim sdo write 1 0x607A:0 -2000 --type i32
   canctl --bus sim sdo write 1 1F50:1 @program.bin --type d")]
 pub struct WriteArgs {
-    /// Node-id, 1..127
-    #[arg(value_parser = parse_node)]
+    /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    #[arg(value_parser = parse_sdo_node)]
     pub node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x)
     #[arg(value_parser = parse_obj)]
@@ -100,6 +100,7 @@ fn options(ctx: &Ctx, dtype: Option<DataType>, no_block: bool) -> SdoOptions {
     let mut o = SdoOptions::new(ctx.timeout);
     o.block_upload = !no_block && is_large(dtype);
     o.block_download = !no_block;
+    o.size_hint = dtype.and_then(DataType::size);
     o
 }
 
@@ -119,19 +120,22 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
         None => None,
     };
     if let Some(path) = &a.out {
-        std::fs::write(path, &bytes)
-            .map_err(|e| Error::Usage(format!("cannot write {}: {e}", path.display())))?;
+        std::fs::write(path, &bytes).map_err(|e| Error::Usage(format!("cannot write {}: {e}", path.display())))?;
         return match ctx.out.format {
             Format::Json => Ok(ctx.out.json(&json!({
                 "node": a.node, "object": a.object.to_string(), "size": bytes.len(), "file": path.display().to_string()
             }))?),
-            Format::Csv => Ok(ctx.out.table(&["node", "object", "size", "file"], &[vec![
-                a.node.to_string(),
-                a.object.to_string(),
-                bytes.len().to_string(),
-                path.display().to_string(),
-            ]])?),
-            Format::Human => Ok(ctx.out.print(&format!("{} bytes from node {} {} written to {}", bytes.len(), a.node, a.object, path.display()))?),
+            Format::Csv => Ok(ctx.out.table(
+                &["node", "object", "size", "file"],
+                &[vec![a.node.to_string(), a.object.to_string(), bytes.len().to_string(), path.display().to_string()]],
+            )?),
+            Format::Human => Ok(ctx.out.print(&format!(
+                "{} bytes from node {} {} written to {}",
+                bytes.len(),
+                a.node,
+                a.object,
+                path.display()
+            ))?),
         };
     }
     let plain = obvious_unsigned(&bytes);
@@ -211,14 +215,17 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
             "node": a.node, "object": a.object.to_string(), "type": dtype.name(), "size": bytes.len(),
             "value": dtype.decode(&bytes).map(|v| v.to_json()), "verified": a.verify,
         }))?,
-        Format::Csv => ctx.out.table(&["node", "object", "type", "size", "value", "verified"], &[vec![
-            a.node.to_string(),
-            a.object.to_string(),
-            dtype.name().to_string(),
-            bytes.len().to_string(),
-            value,
-            a.verify.to_string(),
-        ]])?,
+        Format::Csv => ctx.out.table(
+            &["node", "object", "type", "size", "value", "verified"],
+            &[vec![
+                a.node.to_string(),
+                a.object.to_string(),
+                dtype.name().to_string(),
+                bytes.len().to_string(),
+                value,
+                a.verify.to_string(),
+            ]],
+        )?,
         Format::Human => {
             let what = if a.verify { "written and verified" } else { "written" };
             let shown = if bytes.len() > 32 { format!("{} bytes", bytes.len()) } else { value };
@@ -229,9 +236,7 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
 }
 
 fn shown(dtype: DataType, bytes: &[u8]) -> String {
-    dtype
-        .decode(bytes)
-        .map_or_else(|| hex(bytes), |v: Value| v.to_string())
+    dtype.decode(bytes).map_or_else(|| hex(bytes), |v: Value| v.to_string())
 }
 
 /// The bytes VALUE stands for: `@FILE` (`@-` for stdin) or text parsed by type.
@@ -246,10 +251,7 @@ fn value_bytes(dtype: DataType, value: &str) -> Result<Vec<u8>, Error> {
         .map_err(|e| Error::Usage(format!("cannot read {path}: {e}")))?;
         if let Some(size) = dtype.size() {
             if data.len() != size {
-                return Err(Error::Usage(format!(
-                    "{path} holds {} bytes; a {dtype} is {size}",
-                    data.len()
-                )));
+                return Err(Error::Usage(format!("{path} holds {} bytes; a {dtype} is {size}", data.len())));
             }
         }
         return Ok(data);

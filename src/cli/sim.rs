@@ -1,12 +1,53 @@
-//! `canctl sim`: manage the simulated demo network.
+//! `canctl sim`: run the simulated network's devices behind a real interface, or manage
+//! its saved state.
 
 use super::{Ctx, GlobalArgs};
 use crate::bus::BusUri;
 use crate::error::Error;
 use crate::output::Format;
+use crate::sim::epos2_device::Epos2Device;
+use crate::sim::epos2_serve::{self, Fault, Framing, ServeOptions};
 use crate::sim::state::{default_path, StateFile};
-use clap::Subcommand;
+use crate::sim::SimLink;
+use clap::{Args, Subcommand};
 use serde_json::json;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Run the simulated network behind a serial link, or manage its state
+///
+/// With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
+/// and serves it as a maxon EPOS2 (node 1 of the sim network) until stopped: commands for
+/// node 0 or 1 run on the EPOS2's own dictionary, the others go on to the simulated CAN bus
+/// as SDO, NMT and LSS frames. The network's state is saved after every command.
+#[derive(Args, Debug)]
+#[command(
+    args_conflicts_with_subcommands = true,
+    after_help = "Examples:
+  canctl sim --epos2-rs232 &               # prints /dev/pts/N
+  canctl --bus epos2-rs232:/dev/pts/N scan
+  canctl sim --epos2-usb --baud 1000000 --fault crc@2
+  canctl sim reset"
+)]
+pub struct SimArgs {
+    #[command(subcommand)]
+    pub command: Option<SimCommand>,
+    /// Serve an EPOS2 speaking the RS232 protocol (with the 'O'/'F' handshake)
+    #[arg(long, conflicts_with = "epos2_usb")]
+    pub epos2_rs232: bool,
+    /// Serve an EPOS2 speaking the USB protocol (DLE/STX framing)
+    #[arg(long)]
+    pub epos2_usb: bool,
+    /// Pace bytes as a serial line at this bit rate would (10 bits a byte)
+    #[arg(long, value_name = "BITS/S", value_parser = clap::value_parser!(u32).range(300..=10_000_000))]
+    pub baud: Option<u32>,
+    /// Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)
+    #[arg(long, value_name = "KIND@N")]
+    pub fault: Vec<Fault>,
+    /// How long the EPOS2 waits for an SDO answer on the CAN bus
+    #[arg(long, value_name = "DUR", default_value = "25ms", value_parser = super::parse_duration)]
+    pub can_timeout: Duration,
+}
 
 #[derive(Subcommand, Debug)]
 pub enum SimCommand {
@@ -15,41 +56,52 @@ pub enum SimCommand {
     /// The sim network keeps node-ids, written and stored values and NMT states between
     /// invocations in a state file ($XDG_STATE_HOME/canctl/sim.json, or the path in
     /// --bus sim:PATH). This removes it.
-    #[command(
-        after_help = "Examples:\n  canctl sim reset\n  canctl --bus sim:/tmp/bench.json sim reset"
-    )]
+    #[command(after_help = "Examples:\n  canctl sim reset\n  canctl --bus sim:/tmp/bench.json sim reset")]
     Reset,
 }
 
-pub fn run(ctx: &Ctx, global: &GlobalArgs, cmd: &SimCommand) -> anyhow::Result<()> {
-    let path = match global
-        .bus
-        .as_deref()
-        .filter(|b| !b.is_empty())
-        .map(str::parse::<BusUri>)
-        .transpose()?
-    {
+/// The state file of the sim bus named by --bus (or the default one).
+fn state_path(global: &GlobalArgs) -> anyhow::Result<PathBuf> {
+    Ok(match global.bus.as_deref().filter(|b| !b.is_empty()).map(str::parse::<BusUri>).transpose()? {
         None | Some(BusUri::Sim { state: None }) => default_path(),
         Some(BusUri::Sim { state: Some(p) }) => p,
-        Some(other) => {
-            return Err(Error::Usage(format!(
-                "`sim` works on the simulated bus, not {other:?}; use --bus sim or sim:PATH"
-            ))
+        Some(_) => {
+            return Err(Error::Usage(
+                "`canctl sim` runs the simulated network: use --bus sim or sim:PATH (or no --bus)".into(),
+            )
             .into())
         }
-    };
-    match cmd {
-        SimCommand::Reset => {
-            StateFile::lock(&path)?.reset()?;
-            match ctx.out.format {
-                Format::Json => ctx
-                    .out
-                    .json(&json!({ "reset": true, "state_file": path.display().to_string() }))?,
-                _ => ctx
-                    .out
-                    .print(&format!("sim network reset ({})", path.display()))?,
-            }
-        }
+    })
+}
+
+pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
+    let path = state_path(global)?;
+    if let Some(SimCommand::Reset) = args.command {
+        StateFile::lock(&path)?.reset()?;
+        return match ctx.out.format {
+            Format::Json => Ok(ctx.out.json(&json!({ "reset": true, "state_file": path.display().to_string() }))?),
+            _ => Ok(ctx.out.print(&format!("sim network reset ({})", path.display()))?),
+        };
     }
+    let framing = match (args.epos2_rs232, args.epos2_usb) {
+        (true, _) => Framing::Rs232,
+        (_, true) => Framing::Usb,
+        _ => {
+            return Err(
+                Error::Usage("say what to serve: --epos2-rs232 or --epos2-usb (or `canctl sim reset`)".into()).into()
+            )
+        }
+    };
+    let link = SimLink::open(StateFile::lock(&path)?)?;
+    let device = Epos2Device::new(link, args.can_timeout, global.verbose > 0);
+    let opts = ServeOptions { framing, baud: args.baud, faults: args.fault.clone() };
+    epos2_serve::serve(device, &opts, |pty| {
+        ctx.out.print(pty).map_err(|e| Error::Link(format!("cannot print the pty path: {e}")))?;
+        let kind = if framing == Framing::Rs232 { "epos2-rs232" } else { "epos2-usb" };
+        ctx.out.note(&format!(
+            "serving the sim network's EPOS2 (node 1) on {pty}: use --bus {kind}:{pty}; stop with Ctrl-C"
+        ));
+        Ok(())
+    })?;
     Ok(())
 }

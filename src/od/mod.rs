@@ -95,10 +95,7 @@ impl Dictionary {
     }
 
     pub fn has_index(&self, index: u16) -> bool {
-        self.entries
-            .range(ObjAddr::new(index, 0)..=ObjAddr::new(index, 255))
-            .next()
-            .is_some()
+        self.entries.range(ObjAddr::new(index, 0)..=ObjAddr::new(index, 255)).next().is_some()
     }
 
     pub fn entries(&self) -> impl Iterator<Item = &Entry> {
@@ -110,60 +107,25 @@ impl Dictionary {
     }
 
     /// A single-value object at subindex 0.
-    pub fn var(
-        &mut self,
-        index: u16,
-        name: &str,
-        dtype: DataType,
-        access: Access,
-        default: Init,
-    ) -> &mut Entry {
+    pub fn var(&mut self, index: u16, name: &str, dtype: DataType, access: Access, default: Init) -> &mut Entry {
         let addr = ObjAddr::new(index, 0);
-        self.insert(Entry {
-            addr,
-            name: name.to_string(),
-            dtype,
-            access,
-            default,
-            range: None,
-        });
+        self.insert(Entry { addr, name: name.to_string(), dtype, access, default, range: None });
         self.entries.get_mut(&addr).unwrap()
     }
 
     /// A record or array: sub 0 (highest subindex, u8 ro) is added from the members.
-    pub fn record(
-        &mut self,
-        index: u16,
-        name: &str,
-        members: Vec<(u8, &str, DataType, Access, Init)>,
-    ) {
+    pub fn record(&mut self, index: u16, name: &str, members: Vec<(u8, &str, DataType, Access, Init)>) {
         let highest = members.iter().map(|m| m.0).max().unwrap_or(0);
-        self.var(
-            index,
-            name,
-            DataType::U8,
-            Access::Ro,
-            Init::Bytes(vec![highest]),
-        );
+        self.var(index, name, DataType::U8, Access::Ro, Init::Bytes(vec![highest]));
         for (sub, member, dtype, access, default) in members {
             let addr = ObjAddr::new(index, sub);
-            self.insert(Entry {
-                addr,
-                name: format!("{name}: {member}"),
-                dtype,
-                access,
-                default,
-                range: None,
-            });
+            self.insert(Entry { addr, name: format!("{name}: {member}"), dtype, access, default, range: None });
         }
     }
 
     /// Limit an entry's values (abort 0x06090031/32 beyond them).
     pub fn limit(&mut self, addr: ObjAddr, lo: i128, hi: i128) {
-        self.entries
-            .get_mut(&addr)
-            .expect("limit on a missing entry")
-            .range = Some((lo, hi));
+        self.entries.get_mut(&addr).expect("limit on a missing entry").range = Some((lo, hi));
     }
 }
 

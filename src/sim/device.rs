@@ -25,10 +25,7 @@ pub struct ObjectStore {
 
 impl ObjectStore {
     fn default_of(&self, addr: ObjAddr) -> Vec<u8> {
-        self.dict
-            .get(addr)
-            .map(|e| e.default.resolve(self.node_id))
-            .unwrap_or_default()
+        self.dict.get(addr).map(|e| e.default.resolve(self.node_id)).unwrap_or_default()
     }
 
     /// Reload the values of the given classes from stored values, else defaults.
@@ -36,11 +33,7 @@ impl ObjectStore {
         let addrs: Vec<ObjAddr> = self.dict.entries().map(|e| e.addr).collect();
         for addr in addrs {
             if class.is_none() || ParamClass::of(addr.index) == class {
-                let v = self
-                    .stored
-                    .get(&addr)
-                    .cloned()
-                    .unwrap_or_else(|| self.default_of(addr));
+                let v = self.stored.get(&addr).cloned().unwrap_or_else(|| self.default_of(addr));
                 self.values.insert(addr, v);
             }
         }
@@ -48,30 +41,16 @@ impl ObjectStore {
     }
 
     fn entry(&self, addr: ObjAddr) -> Result<&crate::od::Entry, u32> {
-        self.dict
-            .get(addr)
-            .ok_or(if self.dict.has_index(addr.index) {
-                abort::NO_SUBINDEX
-            } else {
-                abort::NO_OBJECT
-            })
+        self.dict.get(addr).ok_or(if self.dict.has_index(addr.index) { abort::NO_SUBINDEX } else { abort::NO_OBJECT })
     }
 
     fn classes_for(sub: u8) -> Vec<ParamClass> {
         match sub {
-            1 => vec![
-                ParamClass::Communication,
-                ParamClass::Application,
-                ParamClass::Manufacturer,
-            ],
-            s => [
-                ParamClass::Communication,
-                ParamClass::Application,
-                ParamClass::Manufacturer,
-            ]
-            .into_iter()
-            .filter(|c| c.subindex() == s)
-            .collect(),
+            1 => vec![ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer],
+            s => [ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer]
+                .into_iter()
+                .filter(|c| c.subindex() == s)
+                .collect(),
         }
     }
 
@@ -88,8 +67,7 @@ impl ObjectStore {
     /// CiA 301: after 'load' the defaults apply from the next reset on.
     fn restore(&mut self, sub: u8) {
         let classes = Self::classes_for(sub);
-        self.stored
-            .retain(|a, _| !ParamClass::of(a.index).is_some_and(|c| classes.contains(&c)));
+        self.stored.retain(|a, _| !ParamClass::of(a.index).is_some_and(|c| classes.contains(&c)));
         self.dirty = true;
     }
 
@@ -98,9 +76,7 @@ impl ObjectStore {
     }
 
     pub fn u16_value(&self, addr: ObjAddr) -> Option<u16> {
-        self.value(addr)
-            .filter(|v| v.len() == 2)
-            .map(|v| u16::from_le_bytes([v[0], v[1]]))
+        self.value(addr).filter(|v| v.len() == 2).map(|v| u16::from_le_bytes([v[0], v[1]]))
     }
 }
 
@@ -122,6 +98,10 @@ impl ObjectAccess for ObjectStore {
             (Some(want), Some(got)) if got < want => Err(abort::LENGTH_TOO_LOW),
             _ => Ok(()),
         }
+    }
+
+    fn fixed_size(&self, addr: ObjAddr) -> Option<usize> {
+        self.dict.get(addr)?.dtype.size()
     }
 
     fn write(&mut self, addr: ObjAddr, data: &[u8]) -> Result<(), u32> {
@@ -152,12 +132,8 @@ impl ObjectAccess for ObjectStore {
                 if data != [0] {
                     return Err(abort::INVALID_VALUE);
                 }
-                let subs: Vec<ObjAddr> = self
-                    .values
-                    .keys()
-                    .filter(|a| a.index == 0x1003 && a.sub > 0)
-                    .copied()
-                    .collect();
+                let subs: Vec<ObjAddr> =
+                    self.values.keys().filter(|a| a.index == 0x1003 && a.sub > 0).copied().collect();
                 for a in subs {
                     self.values.insert(a, vec![0; 4]);
                 }
@@ -242,6 +218,11 @@ impl Device {
         &self.od
     }
 
+    /// Direct access to the dictionary, as the device's own firmware has it.
+    pub fn objects_mut(&mut self) -> &mut ObjectStore {
+        &mut self.od
+    }
+
     /// True once since the last call if anything persistent changed.
     pub fn take_dirty(&mut self) -> bool {
         std::mem::take(&mut self.od.dirty)
@@ -253,11 +234,7 @@ impl Device {
             return vec![];
         };
         if let Some((cmd, target)) = Command::parse(f) {
-            return if target == 0 || target == id {
-                self.nmt_command(cmd, id)
-            } else {
-                vec![]
-            };
+            return if target == 0 || target == id { self.nmt_command(cmd, id) } else { vec![] };
         }
         if f.id() == sdo::request_cob(id) && !f.is_remote() {
             // CiA 301: no SDO in Stopped.
@@ -265,16 +242,10 @@ impl Device {
                 return vec![];
             }
             let answers = self.sdo.handle(f.data(), &mut self.od);
-            return answers
-                .iter()
-                .map(|p| Frame::new(sdo::response_cob(id), p))
-                .collect();
+            return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
         }
         if f.is_remote() && f.id() == nmt::error_control_cob(id) && self.answers_guarding() {
-            let answer = ErrorControl::State {
-                state: self.nmt,
-                toggle: self.guard_toggle,
-            };
+            let answer = ErrorControl::State { state: self.nmt, toggle: self.guard_toggle };
             self.guard_toggle = !self.guard_toggle;
             return vec![answer.frame(id)];
         }
@@ -286,11 +257,7 @@ impl Device {
         self.nmt = self.nmt.after(cmd);
         match cmd {
             Command::ResetNode | Command::ResetCommunication => {
-                self.od.reload(if cmd == Command::ResetNode {
-                    None
-                } else {
-                    Some(ParamClass::Communication)
-                });
+                self.od.reload(if cmd == Command::ResetNode { None } else { Some(ParamClass::Communication) });
                 self.sdo = SdoServer::new(self.block_transfer);
                 self.guard_toggle = false;
                 vec![ErrorControl::BootUp.frame(id)]
@@ -311,41 +278,21 @@ impl Device {
 
     pub fn heartbeat_ms(&self) -> Option<u64> {
         self.node_id?;
-        self.od
-            .u16_value(ObjAddr::new(0x1017, 0))
-            .filter(|t| *t > 0)
-            .map(u64::from)
+        self.od.u16_value(ObjAddr::new(0x1017, 0)).filter(|t| *t > 0).map(u64::from)
     }
 
     pub fn heartbeat_frame(&self) -> Option<Frame> {
         let id = self.node_id?;
-        Some(
-            ErrorControl::State {
-                state: self.nmt,
-                toggle: false,
-            }
-            .frame(id),
-        )
+        Some(ErrorControl::State { state: self.nmt, toggle: false }.frame(id))
     }
 
     pub fn snapshot(&self) -> DeviceState {
         // A reset would bring back the stored value, else the default: save what differs.
-        let baseline = |a: &ObjAddr| {
-            self.od
-                .stored
-                .get(a)
-                .cloned()
-                .unwrap_or_else(|| self.od.default_of(*a))
-        };
+        let baseline = |a: &ObjAddr| self.od.stored.get(a).cloned().unwrap_or_else(|| self.od.default_of(*a));
         let hex_map = |m: &BTreeMap<ObjAddr, Vec<u8>>, only_changed: bool| {
             m.iter()
                 .filter(|(a, v)| !only_changed || **v != baseline(a))
-                .map(|(a, v)| {
-                    (
-                        format!("{:04X}:{}", a.index, a.sub),
-                        crate::canopen::types::hex(v),
-                    )
-                })
+                .map(|(a, v)| (format!("{:04X}:{}", a.index, a.sub), crate::canopen::types::hex(v)))
                 .collect()
         };
         DeviceState {
@@ -366,12 +313,7 @@ impl Device {
         self.nmt = s.nmt.unwrap_or(nmt::State::PreOperational);
         let parse = |m: &BTreeMap<String, String>| -> BTreeMap<ObjAddr, Vec<u8>> {
             m.iter()
-                .filter_map(|(k, v)| {
-                    Some((
-                        k.parse::<ObjAddr>().ok()?,
-                        crate::canopen::types::parse_hex(v).ok()?,
-                    ))
-                })
+                .filter_map(|(k, v)| Some((k.parse::<ObjAddr>().ok()?, crate::canopen::types::parse_hex(v).ok()?)))
                 .filter(|(a, _)| self.od.dict.get(*a).is_some())
                 .collect()
         };

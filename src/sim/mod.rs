@@ -2,6 +2,8 @@
 //! runs through the same client code as on hardware.
 
 pub mod device;
+pub mod epos2_device;
+pub mod epos2_serve;
 pub mod profiles;
 pub mod state;
 
@@ -19,24 +21,21 @@ pub struct Network {
 
 impl Network {
     pub fn demo() -> Network {
-        Network {
-            devices: profiles::demo_network()
-                .into_iter()
-                .map(|(m, id)| Device::new(m, id))
-                .collect(),
-        }
+        Network { devices: profiles::demo_network().into_iter().map(|(m, id)| Device::new(m, id)).collect() }
     }
 
     pub fn devices(&self) -> &[Device] {
         &self.devices
     }
 
+    /// The device built from the model with this key (`drive`, `sensor`, ...).
+    pub fn device_mut(&mut self, model: &str) -> Option<&mut Device> {
+        self.devices.iter_mut().find(|d| d.model == model)
+    }
+
     /// Put `frame` on the bus; returns what the devices send in answer, in order.
     pub fn deliver(&mut self, frame: &Frame) -> Vec<Frame> {
-        self.devices
-            .iter_mut()
-            .flat_map(|d| d.on_frame(frame))
-            .collect()
+        self.devices.iter_mut().flat_map(|d| d.on_frame(frame)).collect()
     }
 
     /// Heartbeats due in `(after, upto]` (ms of wall-clock time), at most one per device.
@@ -66,11 +65,7 @@ impl Network {
     pub fn snapshot(&self) -> state::NetworkState {
         state::NetworkState {
             version: state::VERSION,
-            devices: self
-                .devices
-                .iter()
-                .map(|d| (d.model.to_string(), d.snapshot()))
-                .collect(),
+            devices: self.devices.iter().map(|d| (d.model.to_string(), d.snapshot())).collect(),
         }
     }
 
@@ -84,9 +79,7 @@ impl Network {
 
     /// Whether anything persistent changed since the last call.
     pub fn take_dirty(&mut self) -> bool {
-        self.devices
-            .iter_mut()
-            .fold(false, |acc, d| d.take_dirty() | acc)
+        self.devices.iter_mut().fold(false, |acc, d| d.take_dirty() | acc)
     }
 }
 
@@ -101,10 +94,7 @@ fn last_beat(period: u64, node: u64, now: u64) -> u64 {
 }
 
 pub fn wall_ms() -> u64 {
-    SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map(|d| d.as_millis() as u64)
-        .unwrap_or(0)
+    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_millis() as u64).unwrap_or(0)
 }
 
 /// The simulated network as a frame link, with its state kept in a locked file.
@@ -119,12 +109,7 @@ pub struct SimLink {
 impl SimLink {
     /// A network with no state file: fresh demo devices, nothing kept.
     pub fn ephemeral() -> SimLink {
-        SimLink {
-            net: Network::demo(),
-            rx: VecDeque::new(),
-            beats_upto: wall_ms(),
-            file: None,
-        }
+        SimLink { net: Network::demo(), rx: VecDeque::new(), beats_upto: wall_ms(), file: None }
     }
 
     /// The network as the state file left it.
@@ -133,16 +118,20 @@ impl SimLink {
         if let Some(s) = file.load()? {
             net.restore(&s);
         }
-        Ok(SimLink {
-            net,
-            rx: VecDeque::new(),
-            beats_upto: wall_ms(),
-            file: Some(file),
-        })
+        Ok(SimLink { net, rx: VecDeque::new(), beats_upto: wall_ms(), file: Some(file) })
     }
 
     pub fn network(&self) -> &Network {
         &self.net
+    }
+
+    pub fn network_mut(&mut self) -> &mut Network {
+        &mut self.net
+    }
+
+    /// Save the state now if anything changed (a long-running server saves as it goes).
+    pub fn save_if_changed(&mut self) -> Result<()> {
+        self.close()
     }
 
     fn produce_heartbeats(&mut self) {
@@ -180,10 +169,7 @@ impl FrameLink for SimLink {
             if let Some(next) = self.net.next_heartbeat(self.beats_upto) {
                 wake = wake.min(now + Duration::from_millis(next.saturating_sub(wall_ms())));
             }
-            std::thread::sleep(
-                wake.saturating_duration_since(now)
-                    .max(Duration::from_micros(100)),
-            );
+            std::thread::sleep(wake.saturating_duration_since(now).max(Duration::from_micros(100)));
         }
     }
 
@@ -203,9 +189,5 @@ impl FrameLink for SimLink {
 
 /// Node-ids on the demo network, for documentation and tests.
 pub fn demo_node_ids() -> BTreeMap<u8, &'static str> {
-    Network::demo()
-        .devices
-        .iter()
-        .filter_map(|d| Some((d.node_id()?, d.model)))
-        .collect()
+    Network::demo().devices.iter().filter_map(|d| Some((d.node_id()?, d.model))).collect()
 }

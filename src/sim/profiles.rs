@@ -53,82 +53,36 @@ fn common(c: Common) -> Dictionary {
     d.var(0x1001, "Error register", U8, Ro, u(0, U8));
     d.var(0x1005, "COB-ID SYNC", U32, Rw, u(0x80, U32));
     d.var(0x1008, "Manufacturer device name", Vs, Const, text(c.name));
-    d.var(
-        0x1009,
-        "Manufacturer hardware version",
-        Vs,
-        Const,
-        text(c.hardware),
-    );
-    d.var(
-        0x100A,
-        "Manufacturer software version",
-        Vs,
-        Const,
-        text(c.software),
-    );
+    d.var(0x1009, "Manufacturer hardware version", Vs, Const, text(c.hardware));
+    d.var(0x100A, "Manufacturer software version", Vs, Const, text(c.software));
     if c.guarding {
         d.var(0x100C, "Guard time", U16, Rw, u(0, U16));
         d.var(0x100D, "Life time factor", U8, Rw, u(0, U8));
     }
     // Reading a sub gives 1: the device saves (restores) on command (CiA 301 7.5.2.13).
     let subs = || -> Vec<(u8, &'static str, DataType, Access, Init)> {
-        let names = [
-            "all parameters",
-            "communication parameters",
-            "application parameters",
-            "manufacturer parameters",
-        ];
-        (1..=c.store_subs)
-            .map(|s| (s, names[s as usize - 1], U32, Rw, u(1, U32)))
-            .collect()
+        let names = ["all parameters", "communication parameters", "application parameters", "manufacturer parameters"];
+        (1..=c.store_subs).map(|s| (s, names[s as usize - 1], U32, Rw, u(1, U32))).collect()
     };
     d.record(0x1010, "Store parameters", subs());
     d.record(0x1011, "Restore default parameters", subs());
     d.var(0x1014, "COB-ID EMCY", U32, Rw, Init::NodeIdPlus(0x80));
     if let Some(ms) = c.heartbeat_ms {
-        d.var(
-            0x1017,
-            "Producer heartbeat time",
-            U16,
-            Rw,
-            u(ms as u64, U16),
-        );
+        d.var(0x1017, "Producer heartbeat time", U16, Rw, u(ms as u64, U16));
     }
     let id = c.identity.map(|i| i.to_vec()).unwrap_or_default();
-    let names = [
-        "Vendor-ID",
-        "Product code",
-        "Revision number",
-        "Serial number",
-    ];
+    let names = ["Vendor-ID", "Product code", "Revision number", "Serial number"];
     d.record(
         0x1018,
         "Identity object",
-        id.iter()
-            .zip(names)
-            .enumerate()
-            .map(|(i, (v, n))| (i as u8 + 1, n, U32, Ro, u(*v as u64, U32)))
-            .collect(),
+        id.iter().zip(names).enumerate().map(|(i, (v, n))| (i as u8 + 1, n, U32, Ro, u(*v as u64, U32))).collect(),
     );
     d.record(
         0x1200,
         "SDO server parameter",
         vec![
-            (
-                1,
-                "COB-ID client to server",
-                U32,
-                Ro,
-                Init::NodeIdPlus(0x600),
-            ),
-            (
-                2,
-                "COB-ID server to client",
-                U32,
-                Ro,
-                Init::NodeIdPlus(0x580),
-            ),
+            (1, "COB-ID client to server", U32, Ro, Init::NodeIdPlus(0x600)),
+            (2, "COB-ID server to client", U32, Ro, Init::NodeIdPlus(0x580)),
         ],
     );
     d
@@ -156,10 +110,7 @@ pub fn drive() -> Model {
     d.record(
         0x2003,
         "Version",
-        vec![
-            (1, "Software version", U16, Ro, u(0x2010, U16)),
-            (2, "Hardware version", U16, Ro, u(0x6220, U16)),
-        ],
+        vec![(1, "Software version", U16, Ro, u(0x2010, U16)), (2, "Hardware version", U16, Ro, u(0x6220, U16))],
     );
     d.var(0x2081, "Home offset", I32, Rw, u(0, I32));
     d.var(0x6040, "Controlword", U16, Rw, u(0, U16));
@@ -172,19 +123,15 @@ pub fn drive() -> Model {
     d.var(0x607A, "Target position", I32, Rw, u(0, I32));
     d.var(0x6081, "Profile velocity", U32, Rw, u(1000, U32));
     // CiA 302 program download: a DOMAIN large enough to make block transfer matter.
-    d.record(
-        0x1F50,
-        "Program data",
-        vec![(
-            1,
-            "Program 1",
-            D,
-            Rw,
-            Init::Bytes(domain_pattern(DOMAIN_SIZE)),
-        )],
-    );
-    // The EPOS2 has no such object; the simulated drive carries one entry per CiA 309-3
-    // type so that every type can be exercised end to end.
+    d.record(0x1F50, "Program data", vec![(1, "Program 1", D, Rw, Init::Bytes(domain_pattern(DOMAIN_SIZE)))]);
+    data_type_record(&mut d);
+    Model { key: "drive", dict: d, block_transfer: true, guarding: true, ignored_writes: vec![] }
+}
+
+/// Not in any seed device: the simulated drive (node 1, reached directly through an EPOS2)
+/// and I/O module (node 10, reached through the gateway) carry one entry per CiA 309-3
+/// type so that every type can be exercised end to end.
+fn data_type_record(d: &mut Dictionary) {
     d.record(
         0x5FF0,
         "Simulator data types",
@@ -201,30 +148,11 @@ pub fn drive() -> Model {
             (10, "real32", R32, Rw, u(1.5f32.to_bits() as u64, R32)),
             (11, "real64", R64, Rw, u((-2.25f64).to_bits(), R64)),
             (12, "visible string", Vs, Rw, text("canctl")),
-            (
-                13,
-                "octet string",
-                Os,
-                Rw,
-                Init::Bytes(vec![0xDE, 0xAD, 0xBE, 0xEF]),
-            ),
-            (
-                14,
-                "domain",
-                D,
-                Rw,
-                Init::Bytes(vec![1, 2, 3, 4, 5, 6, 7, 8, 9]),
-            ),
+            (13, "octet string", Os, Rw, Init::Bytes(vec![0xDE, 0xAD, 0xBE, 0xEF])),
+            (14, "domain", D, Rw, Init::Bytes(vec![1, 2, 3, 4, 5, 6, 7, 8, 9])),
             (15, "write-only command", U16, Wo, u(0, U16)),
         ],
     );
-    Model {
-        key: "drive",
-        dict: d,
-        block_transfer: true,
-        guarding: true,
-        ignored_writes: vec![],
-    }
 }
 
 /// Node 5: after the Temposonics MH CANopen sensor (seed 001, table 5 and §10.3).
@@ -243,13 +171,7 @@ pub fn position_sensor() -> Model {
     });
     d.var(0x1002, "Manufacturer status register", U8, Ro, u(1, U8));
     d.var(0x100B, "Node-ID", U32, Ro, Init::NodeIdPlus(0));
-    d.var(
-        0x100E,
-        "COB-ID error control",
-        U32,
-        Rw,
-        Init::NodeIdPlus(0x700),
-    );
+    d.var(0x100E, "COB-ID error control", U32, Rw, Init::NodeIdPlus(0x700));
     d.record(
         0x1800,
         "TPDO1 communication parameter",
@@ -271,36 +193,15 @@ pub fn position_sensor() -> Model {
     d.record(
         0x6005,
         "Linear encoder",
-        vec![
-            (1, "Measuring step", U32, Ro, u(100_000, U32)),
-            (2, "Speed measuring step", U32, Ro, u(100, U32)),
-        ],
+        vec![(1, "Measuring step", U32, Ro, u(100_000, U32)), (2, "Speed measuring step", U32, Ro, u(100, U32))],
     );
-    d.record(
-        0x6010,
-        "Preset value",
-        vec![(1, "Channel 1", I32, Rw, u(0, I32))],
-    );
-    d.record(
-        0x6020,
-        "Position value",
-        vec![(1, "Channel 1", I32, Ro, u(125_000, I32))],
-    );
-    d.record(
-        0x6030,
-        "Speed value",
-        vec![(1, "Channel 1", I16, Ro, u(0, I16))],
-    );
+    d.record(0x6010, "Preset value", vec![(1, "Channel 1", I32, Rw, u(0, I32))]);
+    d.record(0x6020, "Position value", vec![(1, "Channel 1", I32, Ro, u(125_000, I32))]);
+    d.record(0x6030, "Speed value", vec![(1, "Channel 1", I16, Ro, u(0, I16))]);
     d.var(0x6200, "Cyclic timer", U16, Rw, u(1, U16));
     d.var(0x6500, "Operating status", U16, Ro, u(0, U16));
     d.var(0x6501, "Measuring step", U32, Ro, u(100_000, U32));
-    Model {
-        key: "sensor",
-        dict: d,
-        block_transfer: false,
-        guarding: false,
-        ignored_writes: vec![],
-    }
+    Model { key: "sensor", dict: d, block_transfer: false, guarding: false, ignored_writes: vec![] }
 }
 
 /// Node 10: after an ICP DAS CAN-2000C module, the CAN-2057C 16-channel DO (seed 004).
@@ -323,15 +224,7 @@ pub fn io_module() -> Model {
         0x1003,
         "Pre-defined error field",
         (1..=5)
-            .map(|s| {
-                (
-                    s,
-                    "Standard error field",
-                    U32,
-                    Ro,
-                    u([0x0006_8110, 0x0002_5000, 0, 0, 0][s as usize - 1], U32),
-                )
-            })
+            .map(|s| (s, "Standard error field", U32, Ro, u([0x0006_8110, 0x0002_5000, 0, 0, 0][s as usize - 1], U32)))
             .collect(),
     );
     d.insert(crate::od::Entry {
@@ -352,31 +245,15 @@ pub fn io_module() -> Model {
             (5, "Event timer", U16, Rw, u(0, U16)),
         ],
     );
-    d.record(
-        0x1A00,
-        "TPDO1 mapping parameter",
-        vec![(1, "Mapped object 1", U32, Rw, u(0x6000_0108, U32))],
-    );
-    d.record(
-        0x6000,
-        "Read input 8-bit",
-        vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))],
-    );
+    d.record(0x1A00, "TPDO1 mapping parameter", vec![(1, "Mapped object 1", U32, Rw, u(0x6000_0108, U32))]);
+    d.record(0x6000, "Read input 8-bit", vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))]);
     d.record(
         0x6200,
         "Write output 8-bit",
-        vec![
-            (1, "Outputs 1-8", U8, Rw, u(0, U8)),
-            (2, "Outputs 9-16", U8, Rw, u(0, U8)),
-        ],
+        vec![(1, "Outputs 1-8", U8, Rw, u(0, U8)), (2, "Outputs 9-16", U8, Rw, u(0, U8))],
     );
-    Model {
-        key: "io",
-        dict: d,
-        block_transfer: false,
-        guarding: true,
-        ignored_writes: vec![],
-    }
+    data_type_record(&mut d);
+    Model { key: "io", dict: d, block_transfer: false, guarding: true, ignored_writes: vec![] }
 }
 
 /// Node 32: after the Stögra SERS stepper (seed 003): DS402 subset, node guarding only, an
@@ -426,13 +303,7 @@ pub fn unconfigured() -> Model {
         guarding: false,
         store_subs: 1,
     });
-    Model {
-        key: "lss-unconfigured",
-        dict: d,
-        block_transfer: false,
-        guarding: false,
-        ignored_writes: vec![],
-    }
+    Model { key: "lss-unconfigured", dict: d, block_transfer: false, guarding: false, ignored_writes: vec![] }
 }
 
 /// Reproducible, incompressible-looking content (xorshift32).

@@ -39,8 +39,7 @@ impl StateFile {
     /// Lock the state at `path` (waiting for another canctl using it to finish).
     pub fn lock(path: &Path) -> Result<StateFile> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| link_err(path, "cannot create its directory", e))?;
+            std::fs::create_dir_all(dir).map_err(|e| link_err(path, "cannot create its directory", e))?;
         }
         let lock_path = path.with_extension("lock");
         let lock = OpenOptions::new()
@@ -50,17 +49,10 @@ impl StateFile {
             .open(&lock_path)
             .map_err(|e| link_err(&lock_path, "cannot open", e))?;
         if lock.try_lock().is_err() {
-            eprintln!(
-                "canctl: waiting for another canctl using the sim network ({})",
-                path.display()
-            );
-            lock.lock()
-                .map_err(|e| link_err(&lock_path, "cannot lock", e))?;
+            eprintln!("canctl: waiting for another canctl using the sim network ({})", path.display());
+            lock.lock().map_err(|e| link_err(&lock_path, "cannot lock", e))?;
         }
-        Ok(StateFile {
-            path: path.to_path_buf(),
-            _lock: lock,
-        })
+        Ok(StateFile { path: path.to_path_buf(), _lock: lock })
     }
 
     pub fn path(&self) -> &Path {
@@ -73,13 +65,8 @@ impl StateFile {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
             Err(e) => return Err(link_err(&self.path, "cannot read", e)),
         };
-        let state: NetworkState = serde_json::from_str(&text).map_err(|e| {
-            link_err(
-                &self.path,
-                "is not a sim state (`canctl sim reset` starts afresh)",
-                e,
-            )
-        })?;
+        let state: NetworkState = serde_json::from_str(&text)
+            .map_err(|e| link_err(&self.path, "is not a sim state (`canctl sim reset` starts afresh)", e))?;
         if state.version != VERSION {
             return Err(link_err(
                 &self.path,

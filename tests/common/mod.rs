@@ -17,16 +17,11 @@ pub struct Run {
 
 impl Run {
     pub fn ok(self) -> Run {
-        assert_eq!(
-            self.code, 0,
-            "expected success\nstdout: {}\nstderr: {}",
-            self.stdout, self.stderr
-        );
+        assert_eq!(self.code, 0, "expected success\nstdout: {}\nstderr: {}", self.stdout, self.stderr);
         self
     }
     pub fn json(&self) -> serde_json::Value {
-        serde_json::from_str(&self.stdout)
-            .unwrap_or_else(|e| panic!("not JSON ({e}): {}", self.stdout))
+        serde_json::from_str(&self.stdout).unwrap_or_else(|e| panic!("not JSON ({e}): {}", self.stdout))
     }
 }
 
@@ -38,9 +33,7 @@ impl Default for Sim {
 
 impl Sim {
     pub fn new() -> Sim {
-        Sim {
-            dir: tempfile::tempdir().unwrap(),
-        }
+        Sim { dir: tempfile::tempdir().unwrap() }
     }
 
     pub fn path(&self, name: &str) -> PathBuf {
@@ -53,10 +46,7 @@ impl Sim {
 
     pub fn command(&self, args: &[&str]) -> Command {
         let mut c = Command::new(env!("CARGO_BIN_EXE_canctl"));
-        c.env_remove("CANCTL_BUS")
-            .arg("--bus")
-            .arg(self.bus())
-            .args(args);
+        c.env_remove("CANCTL_BUS").arg("--bus").arg(self.bus()).args(args);
         c.stdin(Stdio::null());
         c
     }
@@ -72,11 +62,7 @@ pub fn finish(out: Output) -> Run {
         stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
         stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
     };
-    assert!(
-        !run.stderr.contains("panicked"),
-        "canctl panicked: {}",
-        run.stderr
-    );
+    assert!(!run.stderr.contains("panicked"), "canctl panicked: {}", run.stderr);
     run
 }
 
@@ -85,4 +71,52 @@ pub fn bare(args: &[&str]) -> Run {
     let mut c = Command::new(env!("CARGO_BIN_EXE_canctl"));
     c.env_remove("CANCTL_BUS").args(args).stdin(Stdio::null());
     finish(c.output().unwrap())
+}
+
+/// `canctl sim --epos2-rs232|--epos2-usb` on a sim network, killed when dropped.
+pub struct DeviceSide {
+    child: std::process::Child,
+    pub pty: String,
+    pub uri: String,
+    _stdout: std::io::BufReader<std::process::ChildStdout>,
+}
+
+impl DeviceSide {
+    pub fn start(sim: &Sim, framing: &str, extra: &[&str]) -> DeviceSide {
+        use std::io::BufRead;
+        let mut args = vec!["sim", framing];
+        args.extend_from_slice(extra);
+        let mut child = sim.command(&args).stdout(Stdio::piped()).stderr(Stdio::null()).spawn().unwrap();
+        let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+        let mut pty = String::new();
+        stdout.read_line(&mut pty).unwrap();
+        let pty = pty.trim().to_string();
+        assert!(pty.starts_with("/dev/"), "no pty path printed: '{pty}'");
+        let scheme = framing.trim_start_matches("--");
+        DeviceSide { child, uri: format!("{scheme}:{pty}"), pty, _stdout: stdout }
+    }
+
+    /// canctl on this device side's serial link.
+    pub fn run(&self, args: &[&str]) -> Run {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_canctl"));
+        c.env_remove("CANCTL_BUS").arg("--bus").arg(&self.uri).args(args).stdin(Stdio::null());
+        finish(c.output().unwrap())
+    }
+
+    pub fn command(&self, args: &[&str]) -> Command {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_canctl"));
+        c.env_remove("CANCTL_BUS").arg("--bus").arg(&self.uri).args(args).stdin(Stdio::null());
+        c
+    }
+
+    pub fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for DeviceSide {
+    fn drop(&mut self) {
+        self.kill();
+    }
 }

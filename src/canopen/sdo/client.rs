@@ -33,22 +33,13 @@ pub struct Step {
 
 impl Step {
     fn send(frames: Vec<[u8; 8]>) -> Step {
-        Step {
-            send: frames,
-            done: None,
-        }
+        Step { send: frames, done: None }
     }
     fn wait() -> Step {
-        Step {
-            send: Vec::new(),
-            done: None,
-        }
+        Step { send: Vec::new(), done: None }
     }
     fn done(send: Vec<[u8; 8]>, data: Vec<u8>) -> Step {
-        Step {
-            send,
-            done: Some(data),
-        }
+        Step { send, done: Some(data) }
     }
 }
 
@@ -101,22 +92,15 @@ impl SdoClient {
 
     /// An upload; `block` asks for block transfer (servers without it are handled).
     pub fn upload(addr: ObjAddr, block: bool) -> SdoClient {
-        let state = if block {
-            State::BlockUploadInit
-        } else {
-            State::UploadInit
-        };
+        let state = if block { State::BlockUploadInit } else { State::UploadInit };
         SdoClient::new(addr, state, Vec::new())
     }
 
     /// A download; the protocol follows from the size: expedited up to 4 bytes, block from
     /// `BLOCK_DOWNLOAD_MIN` when `block` allows it, segmented otherwise.
     pub fn download(addr: ObjAddr, data: Vec<u8>, block: bool) -> SdoClient {
-        let state = if block && data.len() >= BLOCK_DOWNLOAD_MIN {
-            State::BlockDownloadInit
-        } else {
-            State::DownloadInit
-        };
+        let state =
+            if block && data.len() >= BLOCK_DOWNLOAD_MIN { State::BlockDownloadInit } else { State::DownloadInit };
         SdoClient::new(addr, state, data)
     }
 
@@ -152,9 +136,7 @@ impl SdoClient {
         let a = self.addr;
         match self.state {
             State::UploadInit => frame(0x40, a, &[]),
-            State::BlockUploadInit => {
-                frame(0xA4, a, &[UPLOAD_BLOCK_SIZE, PROTOCOL_SWITCH_THRESHOLD])
-            }
+            State::BlockUploadInit => frame(0xA4, a, &[UPLOAD_BLOCK_SIZE, PROTOCOL_SWITCH_THRESHOLD]),
             State::BlockDownloadInit => frame(0xC6, a, &(self.buf.len() as u32).to_le_bytes()),
             State::DownloadInit => self.initiate_download(),
             s => panic!("start() called in state {s:?}"),
@@ -172,10 +154,7 @@ impl SdoClient {
     }
 
     fn local_abort(&self, code: u32, reason: impl Into<String>) -> SdoError {
-        SdoError::ClientAbort {
-            code,
-            reason: reason.into(),
-        }
+        SdoError::ClientAbort { code, reason: reason.into() }
     }
 
     /// Feed one payload that arrived on the response COB-ID.
@@ -231,20 +210,15 @@ impl SdoClient {
 
     fn check_mux(&self, p: &[u8; 8]) -> Result<(), SdoError> {
         if mux(p) != self.addr {
-            return Err(self.local_abort(
-                abort::GENERAL_ERROR,
-                format!("the answer names object {}, not {}", mux(p), self.addr),
-            ));
+            return Err(self
+                .local_abort(abort::GENERAL_ERROR, format!("the answer names object {}, not {}", mux(p), self.addr)));
         }
         Ok(())
     }
 
     fn unexpected(&mut self, p: &[u8; 8]) -> SdoError {
         self.state = State::Finished;
-        self.local_abort(
-            abort::UNKNOWN_COMMAND,
-            format!("unexpected command byte 0x{:02X} from the server", p[0]),
-        )
+        self.local_abort(abort::UNKNOWN_COMMAND, format!("unexpected command byte 0x{:02X} from the server", p[0]))
     }
 
     fn check_size(&mut self, size: usize) -> Result<(), SdoError> {
@@ -252,10 +226,7 @@ impl SdoClient {
             self.state = State::Finished;
             return Err(self.local_abort(
                 abort::OUT_OF_MEMORY,
-                format!(
-                    "the object is {size} bytes, over the {} byte limit",
-                    self.max_upload
-                ),
+                format!("the object is {size} bytes, over the {} byte limit", self.max_upload),
             ));
         }
         Ok(())
@@ -300,10 +271,7 @@ impl SdoClient {
             return self.finish_upload(vec![]);
         }
         self.toggle = !self.toggle;
-        Ok(Step::send(vec![segment(
-            0x60 | (self.toggle as u8) << 4,
-            &[],
-        )]))
+        Ok(Step::send(vec![segment(0x60 | (self.toggle as u8) << 4, &[])]))
     }
 
     fn finish_upload(&mut self, send: Vec<[u8; 8]>) -> Result<Step, SdoError> {
@@ -356,11 +324,7 @@ impl SdoClient {
         let in_order_last = last && seq + 1 == expected;
         if seq == self.blksize || last {
             let ack = segment(0xA2, &[expected - 1, self.blksize]);
-            self.state = if in_order_last {
-                State::BlockUploadEnd
-            } else {
-                State::BlockUploadData { expected: 1 }
-            };
+            self.state = if in_order_last { State::BlockUploadEnd } else { State::BlockUploadData { expected: 1 } };
             return Ok(Step::send(vec![ack]));
         }
         self.state = State::BlockUploadData { expected };
@@ -374,10 +338,7 @@ impl SdoClient {
         self.state = State::Finished;
         let n = ((p[0] >> 2) & 7) as usize;
         if n > self.buf.len() {
-            return Err(self.local_abort(
-                abort::GENERAL_ERROR,
-                "block end claims more unused bytes than were sent",
-            ));
+            return Err(self.local_abort(abort::GENERAL_ERROR, "block end claims more unused bytes than were sent"));
         }
         self.buf.truncate(self.buf.len() - n);
         if self.crc {
@@ -450,10 +411,9 @@ impl SdoClient {
         self.blksize = p[4];
         if !(1..=MAX_BLOCK_SIZE).contains(&self.blksize) {
             self.state = State::Finished;
-            return Err(self.local_abort(
-                abort::INVALID_BLOCK_SIZE,
-                format!("the server asked for block size {}", p[4]),
-            ));
+            return Err(
+                self.local_abort(abort::INVALID_BLOCK_SIZE, format!("the server asked for block size {}", p[4]))
+            );
         }
         Ok(self.send_block())
     }
@@ -474,10 +434,9 @@ impl SdoClient {
         self.blksize = p[2];
         if !(1..=MAX_BLOCK_SIZE).contains(&self.blksize) {
             self.state = State::Finished;
-            return Err(self.local_abort(
-                abort::INVALID_BLOCK_SIZE,
-                format!("the server asked for block size {}", p[2]),
-            ));
+            return Err(
+                self.local_abort(abort::INVALID_BLOCK_SIZE, format!("the server asked for block size {}", p[2]))
+            );
         }
         if self.pos < self.buf.len() {
             return Ok(self.send_block());

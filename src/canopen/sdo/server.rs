@@ -10,6 +10,11 @@ pub trait ObjectAccess {
     /// Checked when a segmented or block download starts, so that a write that cannot
     /// succeed is refused before its data crosses the bus.
     fn check_write(&self, addr: ObjAddr, size: Option<usize>) -> Result<(), u32>;
+    /// The object's size when its type fixes it: an expedited download that does not
+    /// indicate its size writes that many bytes (CiA 301: e=1, s=0).
+    fn fixed_size(&self, _addr: ObjAddr) -> Option<usize> {
+        None
+    }
 }
 
 #[derive(Debug, Default)]
@@ -68,12 +73,7 @@ pub struct SdoServer {
 impl SdoServer {
     /// `block`: whether this device implements block transfer.
     pub fn new(block: bool) -> SdoServer {
-        SdoServer {
-            state: State::Idle,
-            block,
-            block_size: MAX_BLOCK_SIZE,
-            max_download: 1 << 20,
-        }
+        SdoServer { state: State::Idle, block, block_size: MAX_BLOCK_SIZE, max_download: 1 << 20 }
     }
 
     /// Handle one request payload; returns the payloads to send back (possibly none).
@@ -81,14 +81,7 @@ impl SdoServer {
         let p = pad(raw);
         let state = std::mem::take(&mut self.state);
         // In a block download sub-block every frame is a segment, whatever its first byte.
-        if let State::BlockDownload {
-            addr,
-            data,
-            size,
-            expected,
-            crc,
-        } = state
-        {
+        if let State::BlockDownload { addr, data, size, expected, crc } = state {
             if p[0] == 0x80 {
                 return vec![];
             }
@@ -99,25 +92,11 @@ impl SdoServer {
         }
         match (p[0] >> 5, state) {
             (2, _) => self.initiate_upload(&p, od),
-            (
-                3,
-                State::Upload {
-                    addr,
-                    data,
-                    pos,
-                    toggle,
-                },
-            ) => self.upload_segment(&p, addr, data, pos, toggle),
+            (3, State::Upload { addr, data, pos, toggle }) => self.upload_segment(&p, addr, data, pos, toggle),
             (1, _) => self.initiate_download(&p, od),
-            (
-                0,
-                State::Download {
-                    addr,
-                    data,
-                    size,
-                    toggle,
-                },
-            ) => self.download_segment(&p, addr, data, size, toggle, od),
+            (0, State::Download { addr, data, size, toggle }) => {
+                self.download_segment(&p, addr, data, size, toggle, od)
+            }
             (6, state) if self.block => self.block_download_command(&p, state, od),
             (5, state) if self.block => self.block_upload_command(&p, state, od),
             (_, state) => {
@@ -143,23 +122,11 @@ impl SdoServer {
             return vec![frame(0x43 | ((4 - data.len()) as u8) << 2, addr, &data)];
         }
         let answer = frame(0x41, addr, &(data.len() as u32).to_le_bytes());
-        self.state = State::Upload {
-            addr,
-            data,
-            pos: 0,
-            toggle: false,
-        };
+        self.state = State::Upload { addr, data, pos: 0, toggle: false };
         vec![answer]
     }
 
-    fn upload_segment(
-        &mut self,
-        p: &[u8; 8],
-        addr: ObjAddr,
-        data: Vec<u8>,
-        pos: usize,
-        toggle: bool,
-    ) -> Vec<[u8; 8]> {
+    fn upload_segment(&mut self, p: &[u8; 8], addr: ObjAddr, data: Vec<u8>, pos: usize, toggle: bool) -> Vec<[u8; 8]> {
         if (p[0] & 0x10 != 0) != toggle {
             return vec![abort_frame(addr, abort::TOGGLE_BIT)];
         }
@@ -168,12 +135,7 @@ impl SdoServer {
         let last = end == data.len();
         let seg = segment((toggle as u8) << 4 | n << 1 | last as u8, &data[pos..end]);
         if !last {
-            self.state = State::Upload {
-                addr,
-                data,
-                pos: end,
-                toggle: !toggle,
-            };
+            self.state = State::Upload { addr, data, pos: end, toggle: !toggle };
         }
         vec![seg]
     }
@@ -183,7 +145,7 @@ impl SdoServer {
         let expedited = p[0] & 0x02 != 0;
         let sized = p[0] & 0x01 != 0;
         if expedited {
-            let len = expedited_len(p[0]);
+            let len = if sized { expedited_len(p[0]) } else { od.fixed_size(addr).filter(|n| *n <= 4).unwrap_or(4) };
             return match od.write(addr, &p[4..4 + len]) {
                 Ok(()) => vec![frame(0x60, addr, &[])],
                 Err(code) => vec![abort_frame(addr, code)],
@@ -193,21 +155,11 @@ impl SdoServer {
         if let Err(code) = self.check_download(addr, size, od) {
             return vec![abort_frame(addr, code)];
         }
-        self.state = State::Download {
-            addr,
-            data: Vec::new(),
-            size,
-            toggle: false,
-        };
+        self.state = State::Download { addr, data: Vec::new(), size, toggle: false };
         vec![frame(0x60, addr, &[])]
     }
 
-    fn check_download(
-        &self,
-        addr: ObjAddr,
-        size: Option<usize>,
-        od: &dyn ObjectAccess,
-    ) -> Result<(), u32> {
+    fn check_download(&self, addr: ObjAddr, size: Option<usize>, od: &dyn ObjectAccess) -> Result<(), u32> {
         if size.is_some_and(|s| s > self.max_download) {
             return Err(abort::OUT_OF_MEMORY);
         }
@@ -233,12 +185,7 @@ impl SdoServer {
         }
         let ack = segment(0x20 | (toggle as u8) << 4, &[]);
         if p[0] & 0x01 == 0 {
-            self.state = State::Download {
-                addr,
-                data,
-                size,
-                toggle: !toggle,
-            };
+            self.state = State::Download { addr, data, size, toggle: !toggle };
             return vec![ack];
         }
         match finish_download(addr, &data, size, od) {
@@ -247,12 +194,7 @@ impl SdoServer {
         }
     }
 
-    fn block_download_command(
-        &mut self,
-        p: &[u8; 8],
-        state: State,
-        od: &mut dyn ObjectAccess,
-    ) -> Vec<[u8; 8]> {
+    fn block_download_command(&mut self, p: &[u8; 8], state: State, od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
         match (p[0] & 0x01, state) {
             (0, _) => {
                 let addr = mux(p);
@@ -261,24 +203,10 @@ impl SdoServer {
                     return vec![abort_frame(addr, code)];
                 }
                 let crc = p[0] & 0x04 != 0;
-                self.state = State::BlockDownload {
-                    addr,
-                    data: Vec::new(),
-                    size,
-                    expected: 1,
-                    crc,
-                };
+                self.state = State::BlockDownload { addr, data: Vec::new(), size, expected: 1, crc };
                 vec![frame(0xA4, addr, &[self.block_size])]
             }
-            (
-                1,
-                State::BlockDownloadEnd {
-                    addr,
-                    mut data,
-                    size,
-                    crc,
-                },
-            ) => {
+            (1, State::BlockDownloadEnd { addr, mut data, size, crc }) => {
                 let n = ((p[0] >> 2) & 7) as usize;
                 if n > data.len() {
                     return vec![abort_frame(addr, abort::GENERAL_ERROR)];
@@ -317,39 +245,17 @@ impl SdoServer {
         if seq == self.block_size || last {
             let ack = segment(0xA2, &[expected - 1, self.block_size]);
             self.state = if last && seq + 1 == expected {
-                State::BlockDownloadEnd {
-                    addr,
-                    data,
-                    size,
-                    crc,
-                }
+                State::BlockDownloadEnd { addr, data, size, crc }
             } else {
-                State::BlockDownload {
-                    addr,
-                    data,
-                    size,
-                    expected: 1,
-                    crc,
-                }
+                State::BlockDownload { addr, data, size, expected: 1, crc }
             };
             return vec![ack];
         }
-        self.state = State::BlockDownload {
-            addr,
-            data,
-            size,
-            expected,
-            crc,
-        };
+        self.state = State::BlockDownload { addr, data, size, expected, crc };
         vec![]
     }
 
-    fn block_upload_command(
-        &mut self,
-        p: &[u8; 8],
-        state: State,
-        od: &mut dyn ObjectAccess,
-    ) -> Vec<[u8; 8]> {
+    fn block_upload_command(&mut self, p: &[u8; 8], state: State, od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
         match (p[0] & 0x03, state) {
             (0, _) => {
                 let addr = mux(p);
@@ -366,34 +272,13 @@ impl SdoServer {
                 }
                 let crc = p[0] & 0x04 != 0;
                 let answer = frame(0xC6, addr, &(data.len() as u32).to_le_bytes());
-                self.state = State::BlockUploadStart {
-                    addr,
-                    data,
-                    blksize,
-                    crc,
-                };
+                self.state = State::BlockUploadStart { addr, data, blksize, crc };
                 vec![answer]
             }
-            (
-                3,
-                State::BlockUploadStart {
-                    addr,
-                    data,
-                    blksize,
-                    crc,
-                },
-            ) => self.send_upload_block(addr, data, 0, blksize, crc),
-            (
-                2,
-                State::BlockUpload {
-                    addr,
-                    data,
-                    acked,
-                    in_block,
-                    crc,
-                    ..
-                },
-            ) => {
+            (3, State::BlockUploadStart { addr, data, blksize, crc }) => {
+                self.send_upload_block(addr, data, 0, blksize, crc)
+            }
+            (2, State::BlockUpload { addr, data, acked, in_block, crc, .. }) => {
                 let got = p[1] as usize;
                 let blksize = p[2];
                 if got > in_block {
@@ -426,23 +311,12 @@ impl SdoServer {
     ) -> Vec<[u8; 8]> {
         let count = (block_segment_count(data.len()) - acked).min(blksize as usize);
         let frames = block_segments(&data, acked, count);
-        self.state = State::BlockUpload {
-            addr,
-            data,
-            acked,
-            in_block: count,
-            crc,
-        };
+        self.state = State::BlockUpload { addr, data, acked, in_block: count, crc };
         frames
     }
 }
 
-fn finish_download(
-    addr: ObjAddr,
-    data: &[u8],
-    size: Option<usize>,
-    od: &mut dyn ObjectAccess,
-) -> Result<(), u32> {
+fn finish_download(addr: ObjAddr, data: &[u8], size: Option<usize>, od: &mut dyn ObjectAccess) -> Result<(), u32> {
     match size {
         Some(s) if s < data.len() => Err(abort::LENGTH_TOO_HIGH),
         Some(s) if s > data.len() => Err(abort::LENGTH_TOO_LOW),

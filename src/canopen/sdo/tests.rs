@@ -15,10 +15,7 @@ impl Od {
 
 impl ObjectAccess for Od {
     fn read(&mut self, addr: ObjAddr) -> Result<Vec<u8>, u32> {
-        self.0
-            .get(&addr)
-            .map(|(d, _)| d.clone())
-            .ok_or(abort::NO_OBJECT)
+        self.0.get(&addr).map(|(d, _)| d.clone()).ok_or(abort::NO_OBJECT)
     }
     fn write(&mut self, addr: ObjAddr, data: &[u8]) -> Result<(), u32> {
         self.check_write(addr, Some(data.len()))?;
@@ -83,9 +80,7 @@ fn seed_002_expedited_upload_of_device_type() {
     assert_eq!(c.start(), [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
     assert_eq!(request_cob(2), 0x602);
     assert_eq!(response_cob(2), 0x582);
-    let step = c
-        .on_response(&[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00])
-        .unwrap();
+    let step = c.on_response(&[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]).unwrap();
     assert_eq!(step.done.unwrap(), vec![0x92, 0x01, 0x02, 0x00]);
 }
 
@@ -95,28 +90,17 @@ fn seed_001_figures_16_to_18() {
     let addr = ObjAddr::new(0x1017, 0);
     let mut c = SdoClient::download(addr, vec![0xE8, 0x03], false);
     assert_eq!(c.start(), [0x2B, 0x17, 0x10, 0x00, 0xE8, 0x03, 0, 0]);
-    assert_eq!(
-        c.on_response(&[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0])
-            .unwrap()
-            .done,
-        Some(vec![])
-    );
+    assert_eq!(c.on_response(&[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]).unwrap().done, Some(vec![]));
     // Figure 17: upload 0x40, answered 0x42 (expedited, size not indicated: four bytes).
     let addr = ObjAddr::new(0x1018, 2);
     let mut c = SdoClient::upload(addr, false);
     assert_eq!(c.start(), [0x40, 0x18, 0x10, 0x02, 0, 0, 0, 0]);
-    let done = c
-        .on_response(&[0x42, 0x18, 0x10, 0x02, 0x00, 0x78, 0x78, 0x43])
-        .unwrap()
-        .done
-        .unwrap();
+    let done = c.on_response(&[0x42, 0x18, 0x10, 0x02, 0x00, 0x78, 0x78, 0x43]).unwrap().done.unwrap();
     assert_eq!(u32::from_le_bytes(done.try_into().unwrap()), 0x4378_7800);
     // Figure 18: abort 0x80, index, subindex, code.
     let mut c = SdoClient::upload(ObjAddr::new(0x1008, 1), false);
     c.start();
-    let err = c
-        .on_response(&[0x80, 0x08, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06])
-        .unwrap_err();
+    let err = c.on_response(&[0x80, 0x08, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06]).unwrap_err();
     assert_eq!(err, SdoError::ServerAbort(abort::NO_SUBINDEX));
     assert_eq!(
         abort_frame(ObjAddr::new(0x1008, 1), abort::NO_SUBINDEX),
@@ -128,13 +112,9 @@ fn seed_001_figures_16_to_18() {
 fn seed_004_segmented_upload_and_short_dlc() {
     let mut c = SdoClient::upload(ObjAddr::new(0x1008, 0), false);
     assert_eq!(c.start(), [0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0]);
-    let s = c
-        .on_response(&[0x41, 0x08, 0x10, 0x00, 0x09, 0x00, 0x00, 0x00])
-        .unwrap();
+    let s = c.on_response(&[0x41, 0x08, 0x10, 0x00, 0x09, 0x00, 0x00, 0x00]).unwrap();
     assert_eq!(s.send, vec![[0x60, 0, 0, 0, 0, 0, 0, 0]]);
-    let s = c
-        .on_response(&[0x00, 0x43, 0x41, 0x4E, 0x2D, 0x32, 0x30, 0x38])
-        .unwrap();
+    let s = c.on_response(&[0x00, 0x43, 0x41, 0x4E, 0x2D, 0x32, 0x30, 0x38]).unwrap();
     assert_eq!(s.send, vec![[0x70, 0, 0, 0, 0, 0, 0, 0]]);
     // t=1, n=5, c=1: two bytes end the nine.
     let s = c.on_response(&[0x1B, 0x37, 0x43, 0, 0, 0, 0, 0]).unwrap();
@@ -142,64 +122,33 @@ fn seed_004_segmented_upload_and_short_dlc() {
     // The 5-byte expedited answer of seed 004: 4F 00 14 00 02 (n=3, one byte).
     let mut c = SdoClient::upload(ObjAddr::new(0x1400, 0), false);
     c.start();
-    assert_eq!(
-        c.on_response(&[0x4F, 0x00, 0x14, 0x00, 0x02])
-            .unwrap()
-            .done
-            .unwrap(),
-        vec![0x02]
-    );
+    assert_eq!(c.on_response(&[0x4F, 0x00, 0x14, 0x00, 0x02]).unwrap().done.unwrap(), vec![0x02]);
 }
 
 #[test]
 fn toggle_and_mux_errors_abort() {
     let mut c = SdoClient::upload(ObjAddr::new(0x1008, 0), false);
     c.start();
-    c.on_response(&[0x41, 0x08, 0x10, 0x00, 0x20, 0, 0, 0])
-        .unwrap();
+    c.on_response(&[0x41, 0x08, 0x10, 0x00, 0x20, 0, 0, 0]).unwrap();
     let err = c.on_response(&[0x10, 1, 2, 3, 4, 5, 6, 7]).unwrap_err();
-    assert!(matches!(
-        err,
-        SdoError::ClientAbort {
-            code: abort::TOGGLE_BIT,
-            ..
-        }
-    ));
+    assert!(matches!(err, SdoError::ClientAbort { code: abort::TOGGLE_BIT, .. }));
     let mut c = SdoClient::upload(ObjAddr::new(0x1008, 0), false);
     c.start();
-    let err = c
-        .on_response(&[0x43, 0x09, 0x10, 0x00, 1, 2, 3, 4])
-        .unwrap_err();
-    assert!(matches!(
-        err,
-        SdoError::ClientAbort {
-            code: abort::GENERAL_ERROR,
-            ..
-        }
-    ));
+    let err = c.on_response(&[0x43, 0x09, 0x10, 0x00, 1, 2, 3, 4]).unwrap_err();
+    assert!(matches!(err, SdoError::ClientAbort { code: abort::GENERAL_ERROR, .. }));
 }
 
 #[test]
 fn oversized_announcement_is_refused() {
     let mut c = SdoClient::upload(A, false).with_max_upload(1000);
     c.start();
-    let err = c
-        .on_response(&[0x41, 0x00, 0x20, 0x01, 0xFF, 0xFF, 0xFF, 0xFF])
-        .unwrap_err();
-    assert!(matches!(
-        err,
-        SdoError::ClientAbort {
-            code: abort::OUT_OF_MEMORY,
-            ..
-        }
-    ));
+    let err = c.on_response(&[0x41, 0x00, 0x20, 0x01, 0xFF, 0xFF, 0xFF, 0xFF]).unwrap_err();
+    assert!(matches!(err, SdoError::ClientAbort { code: abort::OUT_OF_MEMORY, .. }));
 }
 
 #[test]
 fn every_size_round_trips_by_every_protocol() {
-    for size in [
-        0, 1, 3, 4, 5, 7, 8, 13, 14, 21, 22, 63, 64, 100, 889, 890, 1000, 4096,
-    ] {
+    for size in [0, 1, 3, 4, 5, 7, 8, 13, 14, 21, 22, 63, 64, 100, 889, 890, 1000, 4096] {
         for block in [false, true] {
             let data = pattern(size);
             let mut od = Od::default().with(A, &[], true);
@@ -208,11 +157,7 @@ fn every_size_round_trips_by_every_protocol() {
             run(&mut c, &mut server, &mut od, |_| false).unwrap();
             assert_eq!(od.0[&A].0, data, "download {size} block={block}");
             let mut c = SdoClient::upload(A, block);
-            assert_eq!(
-                run(&mut c, &mut server, &mut od, |_| false).unwrap(),
-                data,
-                "upload {size} block={block}"
-            );
+            assert_eq!(run(&mut c, &mut server, &mut od, |_| false).unwrap(), data, "upload {size} block={block}");
         }
     }
 }
@@ -237,10 +182,7 @@ fn block_upload_repeats_lost_segments() {
     let mut server = SdoServer::new(true);
     // Lose a few server frames mid-block (never the very first answer).
     let mut c = SdoClient::upload(A, true);
-    let got = run(&mut c, &mut server, &mut od, |n| {
-        n == 5 || n == 90 || n == 300
-    })
-    .unwrap();
+    let got = run(&mut c, &mut server, &mut od, |n| n == 5 || n == 90 || n == 300).unwrap();
     assert_eq!(got, data);
 }
 
@@ -276,20 +218,11 @@ fn server_refusals_reach_the_client() {
     let mut od = Od::default().with(A, &[1, 2, 3, 4], false);
     let mut server = SdoServer::new(true);
     let mut c = SdoClient::download(A, vec![1, 2], false);
-    assert_eq!(
-        run(&mut c, &mut server, &mut od, |_| false),
-        Err(SdoError::ServerAbort(abort::READ_ONLY))
-    );
+    assert_eq!(run(&mut c, &mut server, &mut od, |_| false), Err(SdoError::ServerAbort(abort::READ_ONLY)));
     let mut c = SdoClient::download(A, pattern(100), true);
-    assert_eq!(
-        run(&mut c, &mut server, &mut od, |_| false),
-        Err(SdoError::ServerAbort(abort::READ_ONLY))
-    );
+    assert_eq!(run(&mut c, &mut server, &mut od, |_| false), Err(SdoError::ServerAbort(abort::READ_ONLY)));
     let mut c = SdoClient::upload(ObjAddr::new(0x3000, 0), false);
-    assert_eq!(
-        run(&mut c, &mut server, &mut od, |_| false),
-        Err(SdoError::ServerAbort(abort::NO_OBJECT))
-    );
+    assert_eq!(run(&mut c, &mut server, &mut od, |_| false), Err(SdoError::ServerAbort(abort::NO_OBJECT)));
 }
 
 #[test]

@@ -1,0 +1,231 @@
+//! The EPOS2 command set (seed 000 chapter 3) as typed values, to and from frame payloads.
+
+use super::frame::Frame;
+use crate::canopen::{abort, ObjAddr};
+
+pub const ANSWER: u8 = 0x00;
+pub const SEND_NMT: u8 = 0x0E;
+pub const READ_OBJECT: u8 = 0x10;
+pub const WRITE_OBJECT: u8 = 0x11;
+pub const INITIATE_SEGMENTED_READ: u8 = 0x12;
+pub const INITIATE_SEGMENTED_WRITE: u8 = 0x13;
+pub const SEGMENT_READ: u8 = 0x14;
+pub const SEGMENT_WRITE: u8 = 0x15;
+pub const SEND_CAN_FRAME: u8 = 0x20;
+pub const REQUEST_CAN_FRAME: u8 = 0x21;
+pub const SEND_LSS_FRAME: u8 = 0x30;
+pub const READ_LSS_FRAME: u8 = 0x31;
+
+/// Most data bytes in one SegmentRead/SegmentWrite (the control byte's six length bits).
+pub const MAX_SEGMENT: usize = 63;
+/// Through the gateway, a segment is one CANopen SDO segment.
+pub const GATEWAY_SEGMENT: usize = 7;
+
+pub const TOGGLE: u8 = 0x40;
+pub const MORE: u8 = 0x80;
+pub const LENGTH: u8 = 0x3F;
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Command {
+    ReadObject { node: u8, addr: ObjAddr },
+    WriteObject { node: u8, addr: ObjAddr, data: [u8; 4] },
+    InitiateSegmentedRead { node: u8, addr: ObjAddr },
+    InitiateSegmentedWrite { node: u8, addr: ObjAddr, length: u32 },
+    SegmentRead { toggle: bool },
+    SegmentWrite { toggle: bool, data: Vec<u8> },
+    SendNmtService { node: u8, specifier: u8 },
+    SendCanFrame { id: u16, len: u8, data: [u8; 8] },
+    RequestCanFrame { id: u16, len: u8 },
+    SendLssFrame { data: [u8; 8] },
+    ReadLssFrame { timeout_ms: u16 },
+}
+
+fn object(addr: ObjAddr, node: u8) -> Vec<u8> {
+    let [lo, hi] = addr.index.to_le_bytes();
+    vec![lo, hi, addr.sub, node]
+}
+
+impl Command {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::ReadObject { .. } => "ReadObject",
+            Command::WriteObject { .. } => "WriteObject",
+            Command::InitiateSegmentedRead { .. } => "InitiateSegmentedRead",
+            Command::InitiateSegmentedWrite { .. } => "InitiateSegmentedWrite",
+            Command::SegmentRead { .. } => "SegmentRead",
+            Command::SegmentWrite { .. } => "SegmentWrite",
+            Command::SendNmtService { .. } => "SendNMTService",
+            Command::SendCanFrame { .. } => "SendCANFrame",
+            Command::RequestCanFrame { .. } => "RequestCANFrame",
+            Command::SendLssFrame { .. } => "SendLSSFrame",
+            Command::ReadLssFrame { .. } => "ReadLSSFrame",
+        }
+    }
+
+    /// RS232 has no answer frame for the commands that only put a frame on the CAN bus
+    /// (seed 000 chapter 3, remark "no response with RS232"); USB answers everything.
+    pub fn answered_on_rs232(&self) -> bool {
+        !matches!(self, Command::SendNmtService { .. } | Command::SendCanFrame { .. } | Command::SendLssFrame { .. })
+    }
+
+    pub fn to_frame(&self) -> Frame {
+        match self {
+            Command::ReadObject { node, addr } => Frame::new(READ_OBJECT, object(*addr, *node)),
+            Command::WriteObject { node, addr, data } => {
+                let mut d = object(*addr, *node);
+                d.extend_from_slice(data);
+                Frame::new(WRITE_OBJECT, d)
+            }
+            Command::InitiateSegmentedRead { node, addr } => Frame::new(INITIATE_SEGMENTED_READ, object(*addr, *node)),
+            Command::InitiateSegmentedWrite { node, addr, length } => {
+                let mut d = object(*addr, *node);
+                d.extend_from_slice(&length.to_le_bytes());
+                Frame::new(INITIATE_SEGMENTED_WRITE, d)
+            }
+            Command::SegmentRead { toggle } => Frame::new(SEGMENT_READ, vec![if *toggle { TOGGLE } else { 0 }, 0]),
+            Command::SegmentWrite { toggle, data } => {
+                let mut d = vec![data.len() as u8 | if *toggle { TOGGLE } else { 0 }];
+                d.extend_from_slice(data);
+                Frame::new(SEGMENT_WRITE, d)
+            }
+            Command::SendNmtService { node, specifier } => Frame::new(SEND_NMT, vec![*node, 0, *specifier, 0]),
+            Command::SendCanFrame { id, len, data } => {
+                let mut d = id.to_le_bytes().to_vec();
+                d.extend_from_slice(&(*len as u16).to_le_bytes());
+                d.extend_from_slice(data);
+                Frame::new(SEND_CAN_FRAME, d)
+            }
+            Command::RequestCanFrame { id, len } => {
+                let mut d = id.to_le_bytes().to_vec();
+                d.extend_from_slice(&(*len as u16).to_le_bytes());
+                Frame::new(REQUEST_CAN_FRAME, d)
+            }
+            Command::SendLssFrame { data } => Frame::new(SEND_LSS_FRAME, data.to_vec()),
+            Command::ReadLssFrame { timeout_ms } => Frame::new(READ_LSS_FRAME, timeout_ms.to_le_bytes().to_vec()),
+        }
+    }
+
+    /// The command in a frame from a master; `None` for an unknown opcode or a payload of
+    /// the wrong size.
+    pub fn from_frame(f: &Frame) -> Option<Command> {
+        let d = &f.data;
+        let obj = || (d.len() >= 4).then(|| (d[3], ObjAddr::new(u16::from_le_bytes([d[0], d[1]]), d[2])));
+        let word = |i: usize| u16::from_le_bytes([d[i], d[i + 1]]);
+        Some(match (f.opcode, d.len()) {
+            (READ_OBJECT, 4) => {
+                let (node, addr) = obj()?;
+                Command::ReadObject { node, addr }
+            }
+            (WRITE_OBJECT, 8) => {
+                let (node, addr) = obj()?;
+                Command::WriteObject { node, addr, data: d[4..8].try_into().ok()? }
+            }
+            (INITIATE_SEGMENTED_READ, 4) => {
+                let (node, addr) = obj()?;
+                Command::InitiateSegmentedRead { node, addr }
+            }
+            (INITIATE_SEGMENTED_WRITE, 8) => {
+                let (node, addr) = obj()?;
+                Command::InitiateSegmentedWrite { node, addr, length: u32::from_le_bytes(d[4..8].try_into().ok()?) }
+            }
+            (SEGMENT_READ, 2) => Command::SegmentRead { toggle: d[0] & TOGGLE != 0 },
+            (SEGMENT_WRITE, n) if n >= 2 => {
+                let len = (d[0] & LENGTH) as usize;
+                if 1 + len > n {
+                    return None;
+                }
+                Command::SegmentWrite { toggle: d[0] & TOGGLE != 0, data: d[1..1 + len].to_vec() }
+            }
+            (SEND_NMT, 4) => Command::SendNmtService { node: word(0) as u8, specifier: word(2) as u8 },
+            (SEND_CAN_FRAME, 12) => {
+                Command::SendCanFrame { id: word(0), len: word(2).min(8) as u8, data: d[4..12].try_into().ok()? }
+            }
+            (REQUEST_CAN_FRAME, 4) => Command::RequestCanFrame { id: word(0), len: word(2).min(8) as u8 },
+            (SEND_LSS_FRAME, 8) => Command::SendLssFrame { data: d[..8].try_into().ok()? },
+            (READ_LSS_FRAME, 2) => Command::ReadLssFrame { timeout_ms: word(0) },
+            _ => return None,
+        })
+    }
+}
+
+/// An answer frame: the 32-bit error code, then the data.
+pub fn answer(error: u32, data: &[u8]) -> Frame {
+    let mut d = error.to_le_bytes().to_vec();
+    d.extend_from_slice(data);
+    Frame::new(ANSWER, d)
+}
+
+/// Error code and data of an answer frame.
+pub fn parse_answer(f: &Frame) -> Option<(u32, &[u8])> {
+    if f.opcode != ANSWER || f.data.len() < 4 {
+        return None;
+    }
+    Some((u32::from_le_bytes(f.data[..4].try_into().unwrap()), &f.data[4..]))
+}
+
+pub const WRONG_NMT_STATE: u32 = 0x0F00_FFC0;
+pub const ILLEGAL_COMMAND: u32 = 0x0F00_FFBF;
+pub const PASSWORD: u32 = 0x0F00_FFBE;
+pub const SERVICE_MODE: u32 = 0x0F00_FFBC;
+pub const CAN_ID: u32 = 0x0F00_FFB9;
+
+/// The maxon-specific error codes (seed 000 §8.2).
+const MAXON: &[(u32, &str)] = &[
+    (WRONG_NMT_STATE, "Device is in wrong NMT state"),
+    (ILLEGAL_COMMAND, "RS232 command is illegal (does not exist)"),
+    (PASSWORD, "Password is incorrect"),
+    (SERVICE_MODE, "Device is not in service mode"),
+    (CAN_ID, "Wrong CAN ID"),
+];
+
+/// Whether `code` is one of the maxon-specific codes of seed 000 §8.2.
+pub fn is_maxon_code(code: u32) -> bool {
+    MAXON.iter().any(|(c, _)| *c == code)
+}
+
+/// The meaning of an EPOS2 error code: the CANopen codes of §8.1 are the CiA 301 abort
+/// codes, the rest are maxon's own.
+pub fn error_meaning(code: u32) -> &'static str {
+    MAXON.iter().find(|(c, _)| *c == code).map(|(_, m)| *m).unwrap_or_else(|| abort::meaning(code))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commands_round_trip_through_frames() {
+        let a = ObjAddr::new(0x2003, 1);
+        let all = vec![
+            Command::ReadObject { node: 2, addr: a },
+            Command::WriteObject { node: 0, addr: a, data: [1, 2, 3, 4] },
+            Command::InitiateSegmentedRead { node: 5, addr: a },
+            Command::InitiateSegmentedWrite { node: 5, addr: a, length: 70_000 },
+            Command::SegmentRead { toggle: true },
+            Command::SegmentWrite { toggle: false, data: vec![9; 63] },
+            Command::SegmentWrite { toggle: true, data: vec![1, 2, 3] },
+            Command::SendNmtService { node: 0, specifier: 0x81 },
+            Command::SendCanFrame { id: 0x605, len: 8, data: [0x40, 0, 0x10, 0, 0, 0, 0, 0] },
+            Command::RequestCanFrame { id: 0x705, len: 1 },
+            Command::SendLssFrame { data: [0x04, 1, 0, 0, 0, 0, 0, 0] },
+            Command::ReadLssFrame { timeout_ms: 100 },
+        ];
+        for c in all {
+            assert_eq!(Command::from_frame(&c.to_frame()), Some(c.clone()), "{c:?}");
+        }
+        // Seed 000 §5.1.8: ReadObject 0x2003:1 of node 2 is the words 0x2003, 0x0201.
+        assert_eq!(Command::ReadObject { node: 2, addr: a }.to_frame().data, [0x03, 0x20, 0x01, 0x02]);
+        assert_eq!(Command::from_frame(&Frame::new(0x77, vec![0, 0])), None);
+        assert_eq!(Command::from_frame(&Frame::new(SEGMENT_WRITE, vec![10, 1])), None);
+    }
+
+    #[test]
+    fn error_codes_have_meanings() {
+        assert_eq!(error_meaning(0x0F00_FFBF), "RS232 command is illegal (does not exist)");
+        assert_eq!(error_meaning(0x0601_0002), "Attempt to write a read only object");
+        assert!(is_maxon_code(CAN_ID));
+        let refused = answer(0x0602_0000, &[]);
+        let (code, data) = parse_answer(&refused).unwrap();
+        assert_eq!((code, data.len()), (0x0602_0000, 0));
+    }
+}

@@ -1,0 +1,226 @@
+//! The `Bus` services through an EPOS2: node 0 (or the EPOS2's own node-id) is the EPOS2
+//! itself, every other node is reached through it as a gateway to its CAN bus.
+
+use super::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
+use super::transport::Transport;
+use crate::bus::{Bus, SdoOptions, ALL_NODES};
+use crate::canopen::nmt::{self, Command as NmtCommand};
+use crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD;
+use crate::canopen::{abort, ObjAddr};
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+/// EPOS2 firmware specification: object 0x2000 holds the node-id set by DIP switch or SDO.
+const OWN_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
+
+pub struct Epos2Gateway<T: Transport> {
+    link: T,
+    /// The EPOS2's own node-id, read once when first needed; `None` until then.
+    own_id: Option<u8>,
+}
+
+impl<T: Transport> Epos2Gateway<T> {
+    pub fn new(link: T) -> Epos2Gateway<T> {
+        Epos2Gateway { link, own_id: None }
+    }
+
+    /// One command; its error code and data, or `None` where RS232 has no answer.
+    fn call(&mut self, cmd: &Command) -> Result<Option<(u32, Vec<u8>)>> {
+        let answered = !self.link.is_rs232() || cmd.answered_on_rs232();
+        let Some(answer) = self.link.transact(&cmd.to_frame(), answered)? else { return Ok(None) };
+        let (code, data) = command::parse_answer(&answer).ok_or_else(|| {
+            Error::Link(format!("{}: the answer to {} is too short", self.link.describe(), cmd.name()))
+        })?;
+        Ok(Some((code, data.to_vec())))
+    }
+
+    /// A command that must be answered; its data when the error code is 0.
+    fn call_ok(&mut self, cmd: &Command, node: u8, addr: Option<ObjAddr>) -> Result<Vec<u8>> {
+        let (code, data) = self.call(cmd)?.expect("answered command");
+        self.check(code, node, addr, cmd.name())?;
+        Ok(data)
+    }
+
+    fn check(&self, code: u32, node: u8, addr: Option<ObjAddr>, what: &str) -> Result<()> {
+        let place = match addr {
+            Some(a) => format!("node {node}: {what} of {a}"),
+            None => format!("node {node}: {what}"),
+        };
+        match code {
+            0 => Ok(()),
+            abort::TIMED_OUT => Err(Error::Timeout(format!(
+                "{place}: no answer on the CAN bus (the EPOS2 reports SDO timeout 0x05040000)"
+            ))),
+            c if command::is_maxon_code(c) => {
+                Err(Error::Refused(format!("{place}: EPOS2 error 0x{c:08X}: {}", command::error_meaning(c))))
+            }
+            c => match addr {
+                Some(obj) => Err(Error::SdoAbort { node, obj, code: c }),
+                None => Err(Error::Refused(format!("{place}: error 0x{c:08X}: {}", command::error_meaning(c)))),
+            },
+        }
+    }
+
+    /// Segment size: 63 bytes to the EPOS2 itself, one CAN SDO segment through it.
+    fn segment_size(&mut self, node: u8) -> usize {
+        if node == 0 {
+            return MAX_SEGMENT;
+        }
+        if self.own_id.is_none() {
+            self.own_id =
+                Some(self.read_object(0, OWN_NODE_ID, Some(1)).ok().and_then(|d| d.first().copied()).unwrap_or(0));
+        }
+        if Some(node) == self.own_id {
+            MAX_SEGMENT
+        } else {
+            GATEWAY_SEGMENT
+        }
+    }
+
+    fn read_object(&mut self, node: u8, addr: ObjAddr, size: Option<usize>) -> Result<Vec<u8>> {
+        let mut data = self.call_ok(&Command::ReadObject { node, addr }, node, Some(addr))?;
+        // ReadObject always carries four bytes; beyond the object's size they mean nothing.
+        data.truncate(size.unwrap_or(4).min(4));
+        Ok(data)
+    }
+
+    fn segmented_read(&mut self, node: u8, addr: ObjAddr) -> Result<Vec<u8>> {
+        self.call_ok(&Command::InitiateSegmentedRead { node, addr }, node, Some(addr))?;
+        let mut out = Vec::new();
+        let mut toggle = false;
+        loop {
+            let data = self.call_ok(&Command::SegmentRead { toggle }, node, Some(addr))?;
+            let ctrl = *data
+                .first()
+                .ok_or_else(|| Error::Link(format!("{}: empty SegmentRead answer", self.link.describe())))?;
+            if (ctrl & TOGGLE != 0) != toggle {
+                return Err(Error::Link(format!("node {node}: segmented read of {addr}: toggle bit not alternated")));
+            }
+            let len = (ctrl & LENGTH) as usize;
+            let chunk = data
+                .get(1..1 + len)
+                .ok_or_else(|| Error::Link(format!("node {node}: segment claims {len} bytes but carries fewer")))?;
+            out.extend_from_slice(chunk);
+            if out.len() > DEFAULT_MAX_UPLOAD {
+                return Err(Error::Link(format!("node {node}: {addr} is larger than {DEFAULT_MAX_UPLOAD} bytes")));
+            }
+            if ctrl & MORE == 0 {
+                return Ok(out);
+            }
+            toggle = !toggle;
+        }
+    }
+
+    fn segmented_write(&mut self, node: u8, addr: ObjAddr, data: &[u8]) -> Result<()> {
+        let size = self.segment_size(node);
+        self.call_ok(&Command::InitiateSegmentedWrite { node, addr, length: data.len() as u32 }, node, Some(addr))?;
+        let mut toggle = false;
+        for chunk in data.chunks(size) {
+            let answer = self.call_ok(&Command::SegmentWrite { toggle, data: chunk.to_vec() }, node, Some(addr))?;
+            let ctrl = answer.first().copied().unwrap_or(0);
+            if (ctrl & TOGGLE != 0) != toggle || (ctrl & LENGTH) as usize != chunk.len() {
+                return Err(Error::Link(format!(
+                    "node {node}: segmented write of {addr}: the EPOS2 confirmed another segment"
+                )));
+            }
+            toggle = !toggle;
+        }
+        Ok(())
+    }
+}
+
+fn check_node(node: u8) -> Result<()> {
+    if node <= 127 {
+        Ok(())
+    } else {
+        Err(Error::Usage(format!("node-id {node} is out of range (0 = the EPOS2 itself, 1..=127)")))
+    }
+}
+
+impl<T: Transport> Bus for Epos2Gateway<T> {
+    fn describe(&self) -> String {
+        self.link.describe()
+    }
+
+    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+        check_node(node)?;
+        let small = !opts.block_upload && opts.size_hint.is_none_or(|s| s <= 4);
+        if small {
+            match self.read_object(node, addr, opts.size_hint) {
+                // Too big for ReadObject, and the caller did not know: read it in segments.
+                Err(Error::SdoAbort { code: abort::LENGTH_TOO_HIGH, .. }) if opts.size_hint.is_none() => {}
+                other => return other,
+            }
+        }
+        self.segmented_read(node, addr)
+    }
+
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+        check_node(node)?;
+        // WriteObject carries four bytes and no length: the device takes as many as its
+        // object holds. Only a value of a fixed-size type that fits says its size that way.
+        if opts.size_hint == Some(data.len()) && data.len() <= 4 {
+            let mut four = [0u8; 4];
+            four[..data.len()].copy_from_slice(data);
+            self.call_ok(&Command::WriteObject { node, addr, data: four }, node, Some(addr))?;
+            return Ok(());
+        }
+        self.segmented_write(node, addr, data)
+    }
+
+    fn nmt(&mut self, cmd: NmtCommand, node: u8) -> Result<()> {
+        check_node(node)?;
+        let c = Command::SendNmtService { node, specifier: cmd.specifier() };
+        if let Some((code, _)) = self.call(&c)? {
+            self.check(code, node, None, c.name())?;
+        }
+        Ok(())
+    }
+
+    fn send_frame(&mut self, frame: &Frame) -> Result<()> {
+        if frame.is_remote() {
+            return Err(Error::Usage(format!(
+                "{}: remote frames go through RequestCANFrame; use a request",
+                self.link.describe()
+            )));
+        }
+        let mut data = [0u8; 8];
+        data[..frame.len()].copy_from_slice(frame.data());
+        let c = Command::SendCanFrame { id: frame.id(), len: frame.len() as u8, data };
+        if let Some((code, _)) = self.call(&c)? {
+            self.check(code, 0, None, c.name())?;
+        }
+        Ok(())
+    }
+
+    fn sees_traffic(&self) -> bool {
+        false
+    }
+
+    fn recv_frame(&mut self, _deadline: Instant) -> Result<Option<Frame>> {
+        Err(Error::Usage(format!(
+            "{}: an EPOS2 passes on no CAN traffic of its own accord (only answers to commands)",
+            self.link.describe()
+        )))
+    }
+
+    fn request_frame(&mut self, id: u16, len: u8, _timeout: Duration) -> Result<Frame> {
+        let c = Command::RequestCanFrame { id, len };
+        let data = self.call_ok(&c, (id & 0x7F) as u8, None)?;
+        let n = (len as usize).min(8).min(data.len());
+        Ok(Frame::new(id, &data[..n]))
+    }
+
+    fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {
+        BTreeMap::new()
+    }
+
+    fn close(&mut self) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// `ALL_NODES` is node-id 0 in SendNMTService as in the CAN NMT frame.
+const _: () = assert!(ALL_NODES == 0);

@@ -1,0 +1,361 @@
+//! The EPOS2 as a device: executes the serial command set for itself (node 0 or its own
+//! node-id, on its own dictionary) and, as a gateway, turns the rest into CANopen frames on
+//! the simulated bus — one SDO exchange per command, nothing buffered (seed 002).
+
+use super::SimLink;
+use crate::bus::FrameLink;
+use crate::canopen::nmt::Command as NmtCommand;
+use crate::canopen::sdo::{self, ObjectAccess};
+use crate::canopen::{abort, ObjAddr};
+use crate::epos2::command::{self, answer, Command, GATEWAY_SEGMENT, MAX_SEGMENT, MORE, TOGGLE};
+use crate::epos2::frame::Frame as SerialFrame;
+use crate::error::Result;
+use crate::frame::Frame;
+use std::time::{Duration, Instant};
+
+/// The model key of the device this EPOS2 is on the sim network.
+const SELF_MODEL: &str = "drive";
+/// RequestCANFrame waits at least this long, so that a heartbeat producer's next beat (the
+/// same COB-ID as a guarding answer) arrives as the answer, as on a real bus.
+const REMOTE_REQUEST_WAIT: Duration = Duration::from_millis(150);
+
+/// A segmented transfer in progress.
+enum Segmented {
+    None,
+    LocalRead {
+        data: Vec<u8>,
+        pos: usize,
+    },
+    LocalWrite {
+        addr: ObjAddr,
+        data: Vec<u8>,
+        length: usize,
+    },
+    /// The SDO server answered expedited: its bytes go out with the first SegmentRead.
+    ForwardedShortRead {
+        data: Vec<u8>,
+    },
+    ForwardedRead {
+        node: u8,
+        addr: ObjAddr,
+    },
+    ForwardedWrite {
+        node: u8,
+        addr: ObjAddr,
+        left: usize,
+    },
+}
+
+pub struct Epos2Device {
+    link: SimLink,
+    can_timeout: Duration,
+    trace: bool,
+    segmented: Segmented,
+    /// The last segment command and its answer: a master that lost an answer repeats the
+    /// command with the same toggle bit, and gets the same answer without a second effect.
+    last_segment: Option<(Command, SerialFrame)>,
+}
+
+impl Epos2Device {
+    pub fn new(link: SimLink, can_timeout: Duration, trace: bool) -> Epos2Device {
+        Epos2Device { link, can_timeout, trace, segmented: Segmented::None, last_segment: None }
+    }
+
+    pub fn link_mut(&mut self) -> &mut SimLink {
+        &mut self.link
+    }
+
+    fn own_id(&mut self) -> Option<u8> {
+        self.link.network_mut().device_mut(SELF_MODEL).and_then(|d| d.node_id())
+    }
+
+    fn is_local(&mut self, node: u8) -> bool {
+        node == 0 || Some(node) == self.own_id()
+    }
+
+    fn objects(&mut self) -> &mut super::device::ObjectStore {
+        self.link.network_mut().device_mut(SELF_MODEL).expect("the EPOS2 is on the sim network").objects_mut()
+    }
+
+    /// The answer to one command frame from the master.
+    pub fn execute(&mut self, request: &SerialFrame) -> Result<SerialFrame> {
+        let Some(cmd) = Command::from_frame(request) else { return Ok(answer(command::ILLEGAL_COMMAND, &[])) };
+        if let Some((last, ans)) = &self.last_segment {
+            if *last == cmd {
+                return Ok(ans.clone());
+            }
+        }
+        let ans = self.run(&cmd)?;
+        self.last_segment =
+            matches!(cmd, Command::SegmentRead { .. } | Command::SegmentWrite { .. }).then(|| (cmd, ans.clone()));
+        Ok(ans)
+    }
+
+    fn run(&mut self, cmd: &Command) -> Result<SerialFrame> {
+        Ok(match cmd.clone() {
+            Command::ReadObject { node, addr } if self.is_local(node) => match self.objects().read(addr) {
+                Ok(d) if d.len() <= 4 => answer(0, &pad4(&d)),
+                Ok(_) => answer(abort::LENGTH_TOO_HIGH, &[0; 4]),
+                Err(code) => answer(code, &[0; 4]),
+            },
+            Command::WriteObject { node, addr, data } if self.is_local(node) => {
+                let od = self.objects();
+                let n = od.fixed_size(addr).unwrap_or(4).min(4);
+                answer(od.write(addr, &data[..n]).err().unwrap_or(0), &[])
+            }
+            Command::InitiateSegmentedRead { node, addr } if self.is_local(node) => match self.objects().read(addr) {
+                Ok(data) => {
+                    self.segmented = Segmented::LocalRead { data, pos: 0 };
+                    answer(0, &[])
+                }
+                Err(code) => answer(code, &[]),
+            },
+            Command::InitiateSegmentedWrite { node, addr, length } if self.is_local(node) => {
+                let length = length as usize;
+                match self.objects().check_write(addr, Some(length)) {
+                    Ok(()) => {
+                        self.segmented = Segmented::LocalWrite { addr, data: Vec::new(), length };
+                        answer(0, &[])
+                    }
+                    Err(code) => answer(code, &[]),
+                }
+            }
+            Command::ReadObject { node, addr } => self.forward_read_object(node, addr)?,
+            Command::WriteObject { node, addr, data } => {
+                // Expedited, size not indicated: the server writes as many bytes as its object holds.
+                let mut p = [0u8; 8];
+                p[0] = 0x22;
+                p[1..4].copy_from_slice(&addr.to_mux());
+                p[4..].copy_from_slice(&data);
+                match self.sdo(node, &p)? {
+                    Err(code) => answer(code, &[]),
+                    Ok(r) if r[0] & 0xE0 == 0x60 => answer(0, &[]),
+                    Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+                }
+            }
+            Command::InitiateSegmentedRead { node, addr } => {
+                let mut p = [0u8; 8];
+                p[0] = 0x40;
+                p[1..4].copy_from_slice(&addr.to_mux());
+                match self.sdo(node, &p)? {
+                    Err(code) => answer(code, &[]),
+                    Ok(r) if r[0] & 0xE2 == 0x42 => {
+                        let n = if r[0] & 1 != 0 { 4 - ((r[0] >> 2) & 3) as usize } else { 4 };
+                        self.segmented = Segmented::ForwardedShortRead { data: r[4..4 + n].to_vec() };
+                        answer(0, &[])
+                    }
+                    Ok(r) if r[0] & 0xE2 == 0x40 => {
+                        self.segmented = Segmented::ForwardedRead { node, addr };
+                        answer(0, &[])
+                    }
+                    Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+                }
+            }
+            Command::InitiateSegmentedWrite { node, addr, length } => {
+                let mut p = [0u8; 8];
+                p[0] = 0x21;
+                p[1..4].copy_from_slice(&addr.to_mux());
+                p[4..].copy_from_slice(&length.to_le_bytes());
+                match self.sdo(node, &p)? {
+                    Err(code) => answer(code, &[]),
+                    Ok(r) if r[0] & 0xE0 == 0x60 => {
+                        self.segmented = Segmented::ForwardedWrite { node, addr, left: length as usize };
+                        answer(0, &[])
+                    }
+                    Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+                }
+            }
+            Command::SegmentRead { toggle } => self.segment_read(toggle)?,
+            Command::SegmentWrite { toggle, data } => self.segment_write(toggle, data)?,
+            Command::SendNmtService { node, specifier } => match NmtCommand::from_specifier(specifier) {
+                Some(c) => {
+                    self.send(&c.frame(node))?;
+                    answer(0, &[])
+                }
+                None => answer(abort::INVALID_VALUE, &[]),
+            },
+            Command::SendCanFrame { id, len, data } if id <= 0x7FF => {
+                self.send(&Frame::new(id, &data[..len as usize]))?;
+                answer(0, &[])
+            }
+            Command::SendCanFrame { .. } => answer(command::CAN_ID, &[]),
+            Command::RequestCanFrame { id, len } if id <= 0x7FF => {
+                self.send(&Frame::remote(id, len))?;
+                match self.wait_for(|f| f.id() == id && !f.is_remote(), self.can_timeout.max(REMOTE_REQUEST_WAIT))? {
+                    Some(f) => answer(0, &pad8(f.data())),
+                    None => answer(abort::TIMED_OUT, &[0; 8]),
+                }
+            }
+            Command::RequestCanFrame { .. } => answer(command::CAN_ID, &[0; 8]),
+            Command::SendLssFrame { data } => {
+                self.send(&Frame::new(0x7E5, &data))?;
+                answer(0, &[])
+            }
+            Command::ReadLssFrame { timeout_ms } => {
+                match self.wait_for(|f| f.id() == 0x7E4 && !f.is_remote(), Duration::from_millis(timeout_ms as u64))? {
+                    Some(f) => answer(0, &pad8(f.data())),
+                    None => answer(abort::TIMED_OUT, &[0; 8]),
+                }
+            }
+        })
+    }
+
+    fn forward_read_object(&mut self, node: u8, addr: ObjAddr) -> Result<SerialFrame> {
+        let mut p = [0u8; 8];
+        p[0] = 0x40;
+        p[1..4].copy_from_slice(&addr.to_mux());
+        Ok(match self.sdo(node, &p)? {
+            Err(code) => answer(code, &[0; 4]),
+            Ok(r) if r[0] & 0xE2 == 0x42 => {
+                let n = if r[0] & 1 != 0 { 4 - ((r[0] >> 2) & 3) as usize } else { 4 };
+                answer(0, &pad4(&r[4..4 + n]))
+            }
+            // A segmented answer: too long for ReadObject. End the SDO transfer properly.
+            Ok(r) if r[0] & 0xE0 == 0x40 => {
+                self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::LENGTH_TOO_HIGH)))?;
+                answer(abort::LENGTH_TOO_HIGH, &[0; 4])
+            }
+            Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+        })
+    }
+
+    fn segment_read(&mut self, toggle: bool) -> Result<SerialFrame> {
+        let t = if toggle { TOGGLE } else { 0 };
+        Ok(match std::mem::replace(&mut self.segmented, Segmented::None) {
+            Segmented::LocalRead { data, pos } => {
+                let end = (pos + MAX_SEGMENT).min(data.len());
+                let more = end < data.len();
+                let mut d = vec![(end - pos) as u8 | t | if more { MORE } else { 0 }];
+                d.extend_from_slice(&data[pos..end]);
+                if more {
+                    self.segmented = Segmented::LocalRead { data, pos: end };
+                }
+                answer(0, &d)
+            }
+            Segmented::ForwardedShortRead { data } => {
+                let mut d = vec![data.len() as u8 | t];
+                d.extend_from_slice(&data);
+                answer(0, &d)
+            }
+            Segmented::ForwardedRead { node, addr } => {
+                let mut p = [0u8; 8];
+                p[0] = 0x60 | t >> 2;
+                match self.sdo(node, &p)? {
+                    Err(code) => answer(code, &[0]),
+                    Ok(r) if r[0] & 0xE0 == 0x00 => {
+                        let n = ((r[0] >> 1) & 7) as usize;
+                        let last = r[0] & 1 != 0;
+                        let mut d = vec![(7 - n) as u8 | t | if last { 0 } else { MORE }];
+                        d.extend_from_slice(&r[1..8 - n]);
+                        if !last {
+                            self.segmented = Segmented::ForwardedRead { node, addr };
+                        }
+                        answer(0, &d)
+                    }
+                    Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+                }
+            }
+            _ => answer(abort::UNKNOWN_COMMAND, &[0]),
+        })
+    }
+
+    fn segment_write(&mut self, toggle: bool, chunk: Vec<u8>) -> Result<SerialFrame> {
+        let t = if toggle { TOGGLE } else { 0 };
+        let confirm = [chunk.len() as u8 | t, 0];
+        Ok(match std::mem::replace(&mut self.segmented, Segmented::None) {
+            Segmented::LocalWrite { addr, mut data, length } => {
+                data.extend_from_slice(&chunk);
+                if data.len() < length {
+                    self.segmented = Segmented::LocalWrite { addr, data, length };
+                    answer(0, &confirm)
+                } else if data.len() > length {
+                    answer(abort::LENGTH_TOO_HIGH, &confirm)
+                } else {
+                    answer(self.objects().write(addr, &data).err().unwrap_or(0), &confirm)
+                }
+            }
+            Segmented::ForwardedWrite { node, addr, left } => {
+                if chunk.len() > GATEWAY_SEGMENT || chunk.len() > left {
+                    return self.sdo_abort(node, addr, abort::LENGTH_TOO_HIGH);
+                }
+                let left = left - chunk.len();
+                let mut p = [0u8; 8];
+                p[0] = t >> 2 | ((7 - chunk.len()) as u8) << 1 | (left == 0) as u8;
+                p[1..1 + chunk.len()].copy_from_slice(&chunk);
+                match self.sdo(node, &p)? {
+                    Err(code) => answer(code, &confirm),
+                    Ok(r) if r[0] & 0xE0 == 0x20 => {
+                        if left > 0 {
+                            self.segmented = Segmented::ForwardedWrite { node, addr, left };
+                        }
+                        answer(0, &confirm)
+                    }
+                    Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+                }
+            }
+            _ => answer(abort::UNKNOWN_COMMAND, &confirm),
+        })
+    }
+
+    /// Abort the SDO transfer on the bus and report the code.
+    fn sdo_abort(&mut self, node: u8, addr: ObjAddr, code: u32) -> Result<SerialFrame> {
+        self.segmented = Segmented::None;
+        self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, code)))?;
+        Ok(answer(code, &[0; 4]))
+    }
+
+    fn send(&mut self, f: &Frame) -> Result<()> {
+        if self.trace {
+            eprintln!("{}", f.candump_line("sim"));
+        }
+        self.link.send(f)
+    }
+
+    /// One SDO request and its answer: the server's payload, its abort code, or the
+    /// SDO-timeout code when nothing came.
+    fn sdo(&mut self, node: u8, request: &[u8; 8]) -> Result<std::result::Result<[u8; 8], u32>> {
+        if !(1..=127).contains(&node) {
+            return Ok(Err(command::CAN_ID));
+        }
+        self.send(&Frame::new(sdo::request_cob(node), request))?;
+        let answer = self.wait_for(|f| f.id() == sdo::response_cob(node) && !f.is_remote(), self.can_timeout)?;
+        Ok(match answer {
+            None => Err(abort::TIMED_OUT),
+            Some(f) => {
+                let p = sdo::pad(f.data());
+                match sdo::abort_code(&p) {
+                    Some(code) => {
+                        self.segmented = Segmented::None;
+                        Err(code)
+                    }
+                    None => Ok(p),
+                }
+            }
+        })
+    }
+
+    fn wait_for(&mut self, want: impl Fn(&Frame) -> bool, timeout: Duration) -> Result<Option<Frame>> {
+        let deadline = Instant::now() + timeout;
+        while let Some(f) = self.link.recv(deadline)? {
+            if self.trace {
+                eprintln!("{}", f.candump_line("sim"));
+            }
+            if want(&f) {
+                return Ok(Some(f));
+            }
+        }
+        Ok(None)
+    }
+}
+
+fn pad4(d: &[u8]) -> [u8; 4] {
+    let mut out = [0u8; 4];
+    out[..d.len().min(4)].copy_from_slice(&d[..d.len().min(4)]);
+    out
+}
+
+fn pad8(d: &[u8]) -> [u8; 8] {
+    let mut out = [0u8; 8];
+    out[..d.len().min(8)].copy_from_slice(&d[..d.len().min(8)]);
+    out
+}

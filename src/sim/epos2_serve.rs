@@ -1,0 +1,292 @@
+//! Serve the simulated EPOS2 on a pseudo-terminal, speaking RS232 (with the 'O'/'F'
+//! handshake) or USB framing, optionally at the pace of a real baud rate and with faults
+//! injected for tests.
+
+use super::epos2_device::Epos2Device;
+use crate::epos2::command::{self, Command};
+use crate::epos2::frame::{self, Frame as SerialFrame, UsbDecoder};
+use crate::error::{Error, Result};
+use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
+use std::io::Write;
+use std::os::fd::{AsFd, OwnedFd};
+use std::str::FromStr;
+use std::time::{Duration, Instant};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Framing {
+    Rs232,
+    Usb,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaultKind {
+    /// RS232: answer 'F' to the frame. USB: answer with error 0x05040004 (CRC error).
+    Nack,
+    /// Corrupt the answer's CRC.
+    Crc,
+    /// Send junk bytes before the answer.
+    Garbage,
+    /// Leave the last byte of the answer out.
+    Drop,
+    /// Do not answer at all.
+    Mute,
+}
+
+/// A fault on the n-th command frame (counting from 1), or on every one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fault {
+    pub kind: FaultKind,
+    pub nth: Option<u64>,
+}
+
+impl FromStr for Fault {
+    type Err = String;
+
+    /// `crc@3` (the third frame), `nack@*` (every frame), `mute` (the first frame).
+    fn from_str(s: &str) -> std::result::Result<Fault, String> {
+        let (kind, at) = s.split_once('@').unwrap_or((s, "1"));
+        let kind = match kind {
+            "nack" => FaultKind::Nack,
+            "crc" => FaultKind::Crc,
+            "garbage" => FaultKind::Garbage,
+            "drop" => FaultKind::Drop,
+            "mute" => FaultKind::Mute,
+            k => return Err(format!("'{k}' is not a fault: use nack, crc, garbage, drop or mute")),
+        };
+        let nth = match at {
+            "*" => None,
+            n => Some(
+                n.parse::<u64>()
+                    .ok()
+                    .filter(|n| *n > 0)
+                    .ok_or_else(|| format!("'{n}' is not a frame number (1, 2, ... or *)"))?,
+            ),
+        };
+        Ok(Fault { kind, nth })
+    }
+}
+
+pub struct ServeOptions {
+    pub framing: Framing,
+    /// Pace bytes as a line at this many bit/s would (10 bits a byte); `None`: as fast as the pty goes.
+    pub baud: Option<u32>,
+    pub faults: Vec<Fault>,
+}
+
+/// The master side of the pty, with optional wire-speed pacing.
+struct Wire {
+    master: std::fs::File,
+    byte_time: Option<Duration>,
+    /// When the line is next free: received and sent bytes each take one byte time.
+    clock: Instant,
+    inbox: Vec<u8>,
+    pos: usize,
+}
+
+impl Wire {
+    /// Let `bytes` byte times pass on the line. A line that has stayed busy keeps its
+    /// schedule, so that the lateness of each sleep does not add up over a frame.
+    fn pace(&mut self, bytes: usize) {
+        const SLACK: Duration = Duration::from_micros(300);
+        let Some(t) = self.byte_time else { return };
+        let now = Instant::now();
+        if now > self.clock + SLACK {
+            self.clock = now;
+        }
+        self.clock += t * bytes as u32;
+        if self.clock > now {
+            std::thread::sleep(self.clock - now);
+        }
+    }
+
+    /// The next byte from the master, or `None` after `timeout` (forever when `None`).
+    fn byte(&mut self, timeout: Option<Duration>) -> Result<Option<u8>> {
+        if self.pos == self.inbox.len() {
+            let ms = timeout.map_or(PollTimeout::NONE, |t| {
+                PollTimeout::try_from(t.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX)
+            });
+            let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
+            let ready = poll(&mut fds, ms).map_err(|e| Error::Link(format!("pty poll: {e}")))?;
+            if ready == 0 {
+                return Ok(None);
+            }
+            let mut buf = [0u8; 512];
+            let n =
+                std::io::Read::read(&mut self.master, &mut buf).map_err(|e| Error::Link(format!("pty read: {e}")))?;
+            if n == 0 {
+                return Ok(None);
+            }
+            self.inbox = buf[..n].to_vec();
+            self.pos = 0;
+            self.pace(n);
+        }
+        self.pos += 1;
+        Ok(Some(self.inbox[self.pos - 1]))
+    }
+
+    fn send(&mut self, bytes: &[u8]) -> Result<()> {
+        // The bytes leave once the line would have carried them.
+        self.pace(bytes.len());
+        self.master.write_all(bytes).map_err(|e| Error::Link(format!("pty write: {e}")))
+    }
+
+    fn unread(&mut self) {
+        self.pos -= 1;
+    }
+
+    fn discard(&mut self) {
+        self.pos = self.inbox.len();
+    }
+}
+
+/// Create the pty; returns the master and the slave's path. The slave stays open here so
+/// that the pty lives on between clients.
+fn open_pty() -> Result<(OwnedFd, OwnedFd, String)> {
+    use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
+    let pty =
+        nix::pty::openpty(None, None).map_err(|e| Error::Link(format!("cannot create a pseudo-terminal: {e}")))?;
+    let mut t = tcgetattr(&pty.slave).map_err(|e| Error::Link(format!("pty termios: {e}")))?;
+    cfmakeraw(&mut t);
+    tcsetattr(&pty.slave, SetArg::TCSANOW, &t).map_err(|e| Error::Link(format!("pty termios: {e}")))?;
+    let path = nix::unistd::ttyname(&pty.slave).map_err(|e| Error::Link(format!("pty name: {e}")))?;
+    Ok((pty.master, pty.slave, path.display().to_string()))
+}
+
+/// Serve until killed. `ready` receives the pty path once clients can open it.
+pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&str) -> Result<()>) -> Result<()> {
+    let (master, _slave, path) = open_pty()?;
+    let byte_time = opts.baud.map(|b| Duration::from_secs_f64(10.0 / b as f64));
+    let mut wire =
+        Wire { master: std::fs::File::from(master), byte_time, clock: Instant::now(), inbox: Vec::new(), pos: 0 };
+    ready(&path)?;
+    let mut count = 0u64;
+    let mut usb = UsbDecoder::new();
+    loop {
+        let request = match opts.framing {
+            Framing::Rs232 => rs232_receive(&mut wire, opts, &mut count)?,
+            Framing::Usb => usb_receive(&mut wire, &mut usb, &mut count)?,
+        };
+        let Some(request) = request else { continue };
+        let fault = opts.faults.iter().find(|f| f.nth.is_none_or(|n| n == count)).map(|f| f.kind);
+        if fault == Some(FaultKind::Nack) && opts.framing == Framing::Usb {
+            wire.send(&frame::usb_encode(&command::answer(crate::canopen::abort::CRC_ERROR, &[])))?;
+            continue;
+        }
+        let answer = device.execute(&request)?;
+        device.link_mut().save_if_changed()?;
+        let answered =
+            opts.framing == Framing::Usb || Command::from_frame(&request).is_none_or(|c| c.answered_on_rs232());
+        if !answered || fault == Some(FaultKind::Mute) {
+            continue;
+        }
+        let mut bytes = match opts.framing {
+            Framing::Rs232 => frame::rs232_encode(&answer),
+            Framing::Usb => frame::usb_encode(&answer),
+        };
+        match fault {
+            Some(FaultKind::Crc) => {
+                let n = bytes.len();
+                bytes[n - 2] ^= 0x5A;
+                if opts.framing == Framing::Usb && bytes[n - 2] == frame::DLE {
+                    bytes[n - 2] ^= 0x01;
+                }
+            }
+            Some(FaultKind::Drop) => {
+                bytes.pop();
+            }
+            Some(FaultKind::Garbage) => {
+                let mut junk = vec![0x55, frame::DLE, 0x13, 0xAA];
+                junk.extend(bytes);
+                bytes = junk;
+            }
+            _ => {}
+        }
+        match opts.framing {
+            Framing::Rs232 => rs232_answer(&mut wire, &bytes)?,
+            Framing::Usb => wire.send(&bytes)?,
+        }
+    }
+}
+
+/// Seed 000 §5.1.1: take a frame with the handshake; `None` when it failed part-way.
+fn rs232_receive(wire: &mut Wire, opts: &ServeOptions, count: &mut u64) -> Result<Option<SerialFrame>> {
+    const FRAME_TIMEOUT: Option<Duration> = Some(Duration::from_millis(500));
+    let Some(op) = wire.byte(None)? else { return Ok(None) };
+    wire.send(b"O")?;
+    let Some(lm1) = wire.byte(FRAME_TIMEOUT)? else { return Ok(None) };
+    let mut raw = vec![op, lm1];
+    for _ in 0..frame::rs232_body_len(lm1) {
+        match wire.byte(FRAME_TIMEOUT)? {
+            Some(b) => raw.push(b),
+            None => return Ok(None),
+        }
+    }
+    *count += 1;
+    let nack = opts.faults.iter().any(|f| f.kind == FaultKind::Nack && f.nth.is_none_or(|n| n == *count));
+    match frame::rs232_decode(&raw) {
+        Ok(f) if !nack => {
+            wire.send(b"O")?;
+            Ok(Some(f))
+        }
+        _ => {
+            wire.send(b"F")?;
+            wire.discard();
+            Ok(None)
+        }
+    }
+}
+
+/// Send an answer with the handshake: OpCode, the master's 'O', the rest, its end ack.
+fn rs232_answer(wire: &mut Wire, bytes: &[u8]) -> Result<()> {
+    let timeout = Some(Duration::from_millis(500));
+    wire.send(&bytes[..1])?;
+    match wire.byte(timeout)? {
+        Some(b'O') => {}
+        // The master gave up on this answer and starts anew: that byte opens its next frame.
+        Some(_) => {
+            wire.unread();
+            return Ok(());
+        }
+        None => return Ok(()),
+    }
+    wire.send(&bytes[1..])?;
+    // The end acknowledge: 'F' means the master saw a bad CRC and will ask again; anything
+    // else is the master starting over after losing part of the answer.
+    if let Some(b) = wire.byte(timeout)? {
+        if b != b'O' && b != b'F' {
+            wire.unread();
+        }
+    }
+    Ok(())
+}
+
+fn usb_receive(wire: &mut Wire, decoder: &mut UsbDecoder, count: &mut u64) -> Result<Option<SerialFrame>> {
+    let Some(b) = wire.byte(None)? else { return Ok(None) };
+    match decoder.push(b) {
+        None => Ok(None),
+        Some(Ok(f)) => {
+            *count += 1;
+            Ok(Some(f))
+        }
+        // Seed 000 §4.1.3.1: a bad frame is answered with the error code.
+        Some(Err(_)) => {
+            *count += 1;
+            wire.send(&frame::usb_encode(&command::answer(crate::canopen::abort::CRC_ERROR, &[])))?;
+            Ok(None)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fault_syntax() {
+        assert_eq!("crc@3".parse::<Fault>().unwrap(), Fault { kind: FaultKind::Crc, nth: Some(3) });
+        assert_eq!("nack@*".parse::<Fault>().unwrap(), Fault { kind: FaultKind::Nack, nth: None });
+        assert_eq!("mute".parse::<Fault>().unwrap(), Fault { kind: FaultKind::Mute, nth: Some(1) });
+        assert!("melt@1".parse::<Fault>().is_err());
+        assert!("crc@0".parse::<Fault>().is_err());
+    }
+}
