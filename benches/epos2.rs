@@ -8,9 +8,10 @@
 use canctl::bus::{Bus, SdoOptions};
 use canctl::canopen::ObjAddr;
 use canctl::epos2::gateway::Epos2Gateway;
-use canctl::epos2::transport::{Rs232, Usb};
+use canctl::epos2::transport::SerialTransport;
+use canctl::epos2::Framing;
 use canctl::sim::epos2_device::Epos2Device;
-use canctl::sim::epos2_serve::{serve, Framing, ServeOptions};
+use canctl::sim::epos2_serve::{serve, ServeOptions};
 use canctl::sim::SimLink;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::time::Duration;
@@ -42,7 +43,8 @@ fn read_object(c: &mut Criterion) {
     let device_type = ObjAddr::new(0x1000, 0);
     let mut g = c.benchmark_group("ReadObject round trip");
     let path = device_side(Framing::Rs232, None);
-    let mut rs232 = Epos2Gateway::new(Rs232::new(open(&path, 115_200), "rs232".into(), timeout, false));
+    let mut rs232 =
+        Epos2Gateway::new(SerialTransport::new(open(&path, 115_200), Framing::Rs232, "rs232".into(), timeout, false));
     g.bench_function("rs232, unpaced, the EPOS2 itself", |b| {
         b.iter(|| rs232.sdo_upload(0, device_type, &opts).unwrap())
     });
@@ -50,10 +52,12 @@ fn read_object(c: &mut Criterion) {
         b.iter(|| rs232.sdo_upload(5, device_type, &opts).unwrap())
     });
     let path = device_side(Framing::Usb, None);
-    let mut usb = Epos2Gateway::new(Usb::new(open(&path, 1_000_000), "usb".into(), timeout, false));
+    let mut usb =
+        Epos2Gateway::new(SerialTransport::new(open(&path, 1_000_000), Framing::Usb, "usb".into(), timeout, false));
     g.bench_function("usb, unpaced, the EPOS2 itself", |b| b.iter(|| usb.sdo_upload(0, device_type, &opts).unwrap()));
     let path = device_side(Framing::Rs232, Some(115_200));
-    let mut paced = Epos2Gateway::new(Rs232::new(open(&path, 115_200), "rs232".into(), timeout, false));
+    let mut paced =
+        Epos2Gateway::new(SerialTransport::new(open(&path, 115_200), Framing::Rs232, "rs232".into(), timeout, false));
     g.sample_size(50);
     g.bench_function("rs232 at 115200 bit/s, the EPOS2 itself", |b| {
         b.iter(|| paced.sdo_upload(0, device_type, &opts).unwrap())

@@ -1,6 +1,7 @@
 //! Bus URIs: `sim`, `sim:PATH`, `socketcan:can0` (or bare `can0`),
 //! `epos2-rs232:/dev/ttyS0?baud=115200`, `epos2-usb:/dev/ttyUSB0`.
 
+use crate::epos2::Framing;
 use crate::error::{Error, Result};
 use std::path::PathBuf;
 
@@ -13,11 +14,9 @@ pub enum BusUri {
     SocketCan {
         iface: String,
     },
-    Epos2Rs232 {
-        port: String,
-        baud: u32,
-    },
-    Epos2Usb {
+    /// A maxon EPOS2 on a serial port.
+    Epos2 {
+        framing: Framing,
         port: String,
         baud: u32,
     },
@@ -62,8 +61,8 @@ impl std::str::FromStr for BusUri {
                         _ => return Err(usage(format!("unknown option '{pair}' (the only one is baud=N)"))),
                     }
                 }
-                let port = port.to_string();
-                Ok(if rs232 { BusUri::Epos2Rs232 { port, baud } } else { BusUri::Epos2Usb { port, baud } })
+                let framing = if rs232 { Framing::Rs232 } else { Framing::Usb };
+                Ok(BusUri::Epos2 { framing, port: port.to_string(), baud })
             }
             (iface, None) if iface.starts_with('/') => {
                 Err(usage(format!("a serial port needs its protocol: epos2-rs232:{iface} or epos2-usb:{iface}")))
@@ -117,11 +116,11 @@ mod tests {
         assert_eq!("socketcan:vcan0".parse::<BusUri>().unwrap(), BusUri::SocketCan { iface: "vcan0".into() });
         assert_eq!(
             "epos2-rs232:/dev/ttyS0?baud=38400".parse::<BusUri>().unwrap(),
-            BusUri::Epos2Rs232 { port: "/dev/ttyS0".into(), baud: 38400 }
+            BusUri::Epos2 { framing: Framing::Rs232, port: "/dev/ttyS0".into(), baud: 38400 }
         );
         assert_eq!(
             "epos2-usb:/dev/ttyUSB0".parse::<BusUri>().unwrap(),
-            BusUri::Epos2Usb { port: "/dev/ttyUSB0".into(), baud: USB_DEFAULT_BAUD }
+            BusUri::Epos2 { framing: Framing::Usb, port: "/dev/ttyUSB0".into(), baud: USB_DEFAULT_BAUD }
         );
     }
 

@@ -9,7 +9,7 @@ mod sim;
 
 use crate::bus::{Bus, BusUri, Master};
 use crate::epos2::gateway::Epos2Gateway;
-use crate::epos2::transport::{Rs232, Usb};
+use crate::epos2::transport::SerialTransport;
 use crate::error::Error;
 use crate::output::{Format, Output};
 use clap::{Args, Parser, Subcommand};
@@ -139,15 +139,10 @@ fn open_bus(global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
             "cannot open socketcan:{iface}: this build has no SocketCAN backend yet; use --bus sim"
         ))
         .into()),
-        BusUri::Epos2Rs232 { port, baud } => {
+        BusUri::Epos2 { framing, port, baud } => {
             let io = open_serial(&port, baud, global.timeout)?;
-            let link = Rs232::new(io, format!("epos2-rs232:{port}"), global.timeout, trace);
-            Ok(Box::new(Epos2Gateway::new(link)))
-        }
-        BusUri::Epos2Usb { port, baud } => {
-            let io = open_serial(&port, baud, global.timeout)?;
-            let link = Usb::new(io, format!("epos2-usb:{port}"), global.timeout, trace);
-            Ok(Box::new(Epos2Gateway::new(link)))
+            let describe = format!("{}:{port}", framing.scheme());
+            Ok(Box::new(Epos2Gateway::new(SerialTransport::new(io, framing, describe, global.timeout, trace))))
         }
     }
 }

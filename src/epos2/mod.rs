@@ -5,3 +5,22 @@ pub mod command;
 pub mod frame;
 pub mod gateway;
 pub mod transport;
+
+/// The two ways an EPOS2 frames its serial protocol.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Framing {
+    /// RS232: OpCode, Len-1, words, CRC, with the 'O'/'F' handshake (seed 000 §5).
+    Rs232,
+    /// USB: DLE STX, OpCode, Len, words, CRC, DLE-stuffed, no handshake (seed 000 §4).
+    Usb,
+}
+
+impl Framing {
+    /// The bus URI scheme.
+    pub fn scheme(self) -> &'static str {
+        match self {
+            Framing::Rs232 => "epos2-rs232",
+            Framing::Usb => "epos2-usb",
+        }
+    }
+}

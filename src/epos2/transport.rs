@@ -3,6 +3,7 @@
 //! with a link error that says what happened.
 
 use super::frame::{self, Frame, FrameError, UsbDecoder};
+use super::Framing;
 use crate::error::{Error, Result};
 use std::io;
 use std::time::{Duration, Instant};
@@ -165,22 +166,27 @@ fn with_retry<S: SerialIo>(
     }
 }
 
-pub struct Rs232<S> {
+/// An EPOS2 on a serial port, with either framing.
+pub struct SerialTransport<S> {
     port: Port<S>,
+    framing: Framing,
     describe: String,
     trace: bool,
 }
 
-impl<S: SerialIo> Rs232<S> {
-    pub fn new(io: S, describe: String, timeout: Duration, trace: bool) -> Rs232<S> {
-        Rs232 { port: Port::new(io, timeout), describe, trace }
+impl<S: SerialIo> SerialTransport<S> {
+    pub fn new(io: S, framing: Framing, describe: String, timeout: Duration, trace: bool) -> SerialTransport<S> {
+        SerialTransport { port: Port::new(io, timeout), framing, describe, trace }
     }
 }
 
-impl<S: SerialIo> Transport for Rs232<S> {
+impl<S: SerialIo> Transport for SerialTransport<S> {
     fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>> {
-        let (describe, trace) = (&self.describe, self.trace);
-        with_retry(&mut self.port, describe, command, |port| rs232_attempt(port, describe, trace, command, answered))
+        let (describe, trace, framing) = (&self.describe, self.trace, self.framing);
+        with_retry(&mut self.port, describe, command, |port| match framing {
+            Framing::Rs232 => rs232_attempt(port, describe, trace, command, answered),
+            Framing::Usb => usb_attempt(port, describe, trace, command),
+        })
     }
 
     fn describe(&self) -> String {
@@ -188,7 +194,7 @@ impl<S: SerialIo> Transport for Rs232<S> {
     }
 
     fn is_rs232(&self) -> bool {
-        true
+        self.framing == Framing::Rs232
     }
 }
 
@@ -239,33 +245,6 @@ fn rs232_attempt<S: SerialIo>(
             port.send(&[FAILED])?;
             Err(Failure::Frame(e))
         }
-    }
-}
-
-pub struct Usb<S> {
-    port: Port<S>,
-    describe: String,
-    trace: bool,
-}
-
-impl<S: SerialIo> Usb<S> {
-    pub fn new(io: S, describe: String, timeout: Duration, trace: bool) -> Usb<S> {
-        Usb { port: Port::new(io, timeout), describe, trace }
-    }
-}
-
-impl<S: SerialIo> Transport for Usb<S> {
-    fn transact(&mut self, command: &Frame, _answered: bool) -> Result<Option<Frame>> {
-        let (describe, trace) = (&self.describe, self.trace);
-        with_retry(&mut self.port, describe, command, |port| usb_attempt(port, describe, trace, command))
-    }
-
-    fn describe(&self) -> String {
-        self.describe.clone()
-    }
-
-    fn is_rs232(&self) -> bool {
-        false
     }
 }
 

@@ -123,40 +123,27 @@ impl Epos2Device {
             Command::ReadObject { node, addr } => self.forward_read_object(node, addr)?,
             Command::WriteObject { node, addr, data } => {
                 // Expedited, size not indicated: the server writes as many bytes as its object holds.
-                let mut p = [0u8; 8];
-                p[0] = 0x22;
-                p[1..4].copy_from_slice(&addr.to_mux());
-                p[4..].copy_from_slice(&data);
-                match self.sdo(node, &p)? {
+                match self.sdo(node, &sdo::frame(0x22, addr, &data))? {
                     Err(code) => answer(code, &[]),
                     Ok(r) if r[0] & 0xE0 == 0x60 => answer(0, &[]),
                     Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
                 }
             }
-            Command::InitiateSegmentedRead { node, addr } => {
-                let mut p = [0u8; 8];
-                p[0] = 0x40;
-                p[1..4].copy_from_slice(&addr.to_mux());
-                match self.sdo(node, &p)? {
-                    Err(code) => answer(code, &[]),
-                    Ok(r) if r[0] & 0xE2 == 0x42 => {
-                        let n = if r[0] & 1 != 0 { 4 - ((r[0] >> 2) & 3) as usize } else { 4 };
-                        self.segmented = Segmented::ForwardedShortRead { data: r[4..4 + n].to_vec() };
-                        answer(0, &[])
-                    }
-                    Ok(r) if r[0] & 0xE2 == 0x40 => {
-                        self.segmented = Segmented::ForwardedRead { node, addr };
-                        answer(0, &[])
-                    }
-                    Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+            Command::InitiateSegmentedRead { node, addr } => match self.sdo(node, &sdo::frame(0x40, addr, &[]))? {
+                Err(code) => answer(code, &[]),
+                Ok(r) if r[0] & 0xE2 == 0x42 => {
+                    let n = sdo::expedited_len(r[0]);
+                    self.segmented = Segmented::ForwardedShortRead { data: r[4..4 + n].to_vec() };
+                    answer(0, &[])
                 }
-            }
+                Ok(r) if r[0] & 0xE2 == 0x40 => {
+                    self.segmented = Segmented::ForwardedRead { node, addr };
+                    answer(0, &[])
+                }
+                Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+            },
             Command::InitiateSegmentedWrite { node, addr, length } => {
-                let mut p = [0u8; 8];
-                p[0] = 0x21;
-                p[1..4].copy_from_slice(&addr.to_mux());
-                p[4..].copy_from_slice(&length.to_le_bytes());
-                match self.sdo(node, &p)? {
+                match self.sdo(node, &sdo::frame(0x21, addr, &length.to_le_bytes()))? {
                     Err(code) => answer(code, &[]),
                     Ok(r) if r[0] & 0xE0 == 0x60 => {
                         self.segmented = Segmented::ForwardedWrite { node, addr, left: length as usize };
@@ -201,13 +188,10 @@ impl Epos2Device {
     }
 
     fn forward_read_object(&mut self, node: u8, addr: ObjAddr) -> Result<SerialFrame> {
-        let mut p = [0u8; 8];
-        p[0] = 0x40;
-        p[1..4].copy_from_slice(&addr.to_mux());
-        Ok(match self.sdo(node, &p)? {
+        Ok(match self.sdo(node, &sdo::frame(0x40, addr, &[]))? {
             Err(code) => answer(code, &[0; 4]),
             Ok(r) if r[0] & 0xE2 == 0x42 => {
-                let n = if r[0] & 1 != 0 { 4 - ((r[0] >> 2) & 3) as usize } else { 4 };
+                let n = sdo::expedited_len(r[0]);
                 answer(0, &pad4(&r[4..4 + n]))
             }
             // A segmented answer: too long for ReadObject. End the SDO transfer properly.
@@ -237,24 +221,20 @@ impl Epos2Device {
                 d.extend_from_slice(&data);
                 answer(0, &d)
             }
-            Segmented::ForwardedRead { node, addr } => {
-                let mut p = [0u8; 8];
-                p[0] = 0x60 | t >> 2;
-                match self.sdo(node, &p)? {
-                    Err(code) => answer(code, &[0]),
-                    Ok(r) if r[0] & 0xE0 == 0x00 => {
-                        let n = ((r[0] >> 1) & 7) as usize;
-                        let last = r[0] & 1 != 0;
-                        let mut d = vec![(7 - n) as u8 | t | if last { 0 } else { MORE }];
-                        d.extend_from_slice(&r[1..8 - n]);
-                        if !last {
-                            self.segmented = Segmented::ForwardedRead { node, addr };
-                        }
-                        answer(0, &d)
+            Segmented::ForwardedRead { node, addr } => match self.sdo(node, &sdo::segment(0x60 | t >> 2, &[]))? {
+                Err(code) => answer(code, &[0]),
+                Ok(r) if r[0] & 0xE0 == 0x00 => {
+                    let n = ((r[0] >> 1) & 7) as usize;
+                    let last = r[0] & 1 != 0;
+                    let mut d = vec![(7 - n) as u8 | t | if last { 0 } else { MORE }];
+                    d.extend_from_slice(&r[1..8 - n]);
+                    if !last {
+                        self.segmented = Segmented::ForwardedRead { node, addr };
                     }
-                    Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+                    answer(0, &d)
                 }
-            }
+                Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
+            },
             _ => answer(abort::UNKNOWN_COMMAND, &[0]),
         })
     }
@@ -279,10 +259,8 @@ impl Epos2Device {
                     return self.sdo_abort(node, addr, abort::LENGTH_TOO_HIGH);
                 }
                 let left = left - chunk.len();
-                let mut p = [0u8; 8];
-                p[0] = t >> 2 | ((7 - chunk.len()) as u8) << 1 | (left == 0) as u8;
-                p[1..1 + chunk.len()].copy_from_slice(&chunk);
-                match self.sdo(node, &p)? {
+                let cmd = t >> 2 | ((7 - chunk.len()) as u8) << 1 | (left == 0) as u8;
+                match self.sdo(node, &sdo::segment(cmd, &chunk))? {
                     Err(code) => answer(code, &confirm),
                     Ok(r) if r[0] & 0xE0 == 0x20 => {
                         if left > 0 {

@@ -5,18 +5,13 @@
 use super::epos2_device::Epos2Device;
 use crate::epos2::command::{self, Command};
 use crate::epos2::frame::{self, Frame as SerialFrame, UsbDecoder};
+pub use crate::epos2::Framing;
 use crate::error::{Error, Result};
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::io::Write;
 use std::os::fd::{AsFd, OwnedFd};
 use std::str::FromStr;
 use std::time::{Duration, Instant};
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Framing {
-    Rs232,
-    Usb,
-}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FaultKind {

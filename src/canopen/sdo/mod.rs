@@ -42,7 +42,7 @@ pub fn abort_code(p: &[u8; 8]) -> Option<u32> {
 }
 
 /// A payload with command byte, multiplexer and up to four data bytes.
-fn frame(cmd: u8, addr: ObjAddr, data: &[u8]) -> [u8; 8] {
+pub fn frame(cmd: u8, addr: ObjAddr, data: &[u8]) -> [u8; 8] {
     let mut f = [0u8; 8];
     f[0] = cmd;
     f[1..4].copy_from_slice(&addr.to_mux());
@@ -51,7 +51,7 @@ fn frame(cmd: u8, addr: ObjAddr, data: &[u8]) -> [u8; 8] {
 }
 
 /// A segment: command byte then up to seven bytes of data.
-fn segment(cmd: u8, data: &[u8]) -> [u8; 8] {
+pub fn segment(cmd: u8, data: &[u8]) -> [u8; 8] {
     let mut f = [0u8; 8];
     f[0] = cmd;
     f[1..1 + data.len()].copy_from_slice(data);
@@ -68,7 +68,7 @@ pub fn pad(data: &[u8]) -> [u8; 8] {
 }
 
 /// Data bytes in an expedited transfer: `4 - n` when the size is indicated, else all four.
-fn expedited_len(cmd: u8) -> usize {
+pub fn expedited_len(cmd: u8) -> usize {
     if cmd & 0x01 != 0 {
         4 - ((cmd >> 2) & 3) as usize
     } else {
