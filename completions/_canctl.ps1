@@ -35,7 +35,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('scan', 'scan', [CompletionResultType]::ParameterValue, 'Find every node on the bus')
             [CompletionResult]::new('sdo', 'sdo', [CompletionResultType]::ParameterValue, 'Read and write objects (SDO)')
             [CompletionResult]::new('nmt', 'nmt', [CompletionResultType]::ParameterValue, 'Start, stop and reset nodes, or ask their NMT state')
-            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network behind a serial link, or manage its state')
+            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
@@ -264,6 +264,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;sim' {
+            [CompletionResult]::new('--socketcan', '--socketcan', [CompletionResultType]::ParameterName, 'Put the devices on this CAN interface (vcan0, can0) and answer there')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Pace bytes as a serial line at this bit rate would (10 bits a byte)')
             [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)')
             [CompletionResult]::new('--can-timeout', '--can-timeout', [CompletionResultType]::ParameterName, 'How long the EPOS2 waits for an SDO answer on the CAN bus')
@@ -342,7 +343,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('scan', 'scan', [CompletionResultType]::ParameterValue, 'Find every node on the bus')
             [CompletionResult]::new('sdo', 'sdo', [CompletionResultType]::ParameterValue, 'Read and write objects (SDO)')
             [CompletionResult]::new('nmt', 'nmt', [CompletionResultType]::ParameterValue, 'Start, stop and reset nodes, or ask their NMT state')
-            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network behind a serial link, or manage its state')
+            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')

@@ -974,12 +974,16 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__sim)
-            opts="-v -q -h -V --epos2-rs232 --epos2-usb --baud --fault --can-timeout --bus --timeout --format --verbose --quiet --help --version reset help"
+            opts="-v -q -h -V --socketcan --epos2-rs232 --epos2-usb --baud --fault --can-timeout --bus --timeout --format --verbose --quiet --help --version reset help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
             case "${prev}" in
+                --socketcan)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --baud)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0

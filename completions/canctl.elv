@@ -32,7 +32,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand scan 'Find every node on the bus'
             cand sdo 'Read and write objects (SDO)'
             cand nmt 'Start, stop and reset nodes, or ask their NMT state'
-            cand sim 'Run the simulated network behind a serial link, or manage its state'
+            cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
             cand help 'Print this message or the help of the given subcommand(s)'
@@ -237,6 +237,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;nmt;help;help'= {
         }
         &'canctl;sim'= {
+            cand --socketcan 'Put the devices on this CAN interface (vcan0, can0) and answer there'
             cand --baud 'Pace bytes as a serial line at this bit rate would (10 bits a byte)'
             cand --fault 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)'
             cand --can-timeout 'How long the EPOS2 waits for an SDO answer on the CAN bus'
@@ -308,7 +309,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand scan 'Find every node on the bus'
             cand sdo 'Read and write objects (SDO)'
             cand nmt 'Start, stop and reset nodes, or ask their NMT state'
-            cand sim 'Run the simulated network behind a serial link, or manage its state'
+            cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
             cand help 'Print this message or the help of the given subcommand(s)'

@@ -36,7 +36,7 @@ complete -c canctl -n "__fish_canctl_needs_command" -s V -l version -d 'Print ve
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "scan" -d 'Find every node on the bus'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "sdo" -d 'Read and write objects (SDO)'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
-complete -c canctl -n "__fish_canctl_needs_command" -f -a "sim" -d 'Run the simulated network behind a serial link, or manage its state'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "completions" -d 'Print a shell completion script'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "man" -d 'Print the man page, or write every page to a directory'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
@@ -169,6 +169,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "reset-comm" -d 'Reset a node\'s communication (or all nodes\') and wait for the boot-up'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "state" -d 'Report a node\'s NMT state, from its heartbeat or by node guarding'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l socketcan -d 'Put the devices on this CAN interface (vcan0, can0) and answer there' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l baud -d 'Pace bytes as a serial line at this bit rate would (10 bits a byte)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l fault -d 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l can-timeout -d 'How long the EPOS2 waits for an SDO answer on the CAN bus' -r
@@ -218,7 +219,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand man" -s V -l version -d 'P
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "scan" -d 'Find every node on the bus'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sim" -d 'Run the simulated network behind a serial link, or manage its state'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "completions" -d 'Print a shell completion script'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'

@@ -69,6 +69,7 @@ impl<L: FrameLink> Master<L> {
         for (slot, (node, client)) in jobs.into_iter().enumerate() {
             queues.entry(node).or_default().push_back((slot, client));
         }
+        self.link.set_filters(&sdo_filters(queues.keys().copied()))?;
         let mut active: BTreeMap<u8, Active> = BTreeMap::new();
         let mut finished = 0;
         let nodes: Vec<u8> = queues.keys().copied().collect();
@@ -172,6 +173,18 @@ impl<L: FrameLink> Master<L> {
     }
 }
 
+/// Receive filters for SDO transfers with these nodes: their answers, and heartbeats
+/// (which report NMT states on the way). Many nodes: the whole SDO answer range.
+fn sdo_filters(nodes: impl ExactSizeIterator<Item = u8>) -> Vec<(u16, u16)> {
+    const HEARTBEATS: (u16, u16) = (0x700, 0x780);
+    if nodes.len() > 8 {
+        return vec![(0x580, 0x780), HEARTBEATS];
+    }
+    nodes.map(|n| (sdo::response_cob(n), 0x7FF)).chain([HEARTBEATS]).collect()
+}
+
+const EVERYTHING: [(u16, u16); 1] = [(0, 0)];
+
 fn check_node(node: u8) -> Result<()> {
     if (1..=127).contains(&node) {
         Ok(())
@@ -229,10 +242,12 @@ impl<L: FrameLink> Bus for Master<L> {
     }
 
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        self.link.set_filters(&EVERYTHING)?;
         self.recv(deadline)
     }
 
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
+        self.link.set_filters(&[(id, 0x7FF)])?;
         self.send(&Frame::remote(id, len))?;
         let deadline = Instant::now() + timeout;
         while let Some(f) = self.recv(deadline)? {

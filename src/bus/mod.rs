@@ -1,6 +1,7 @@
 //! The service-level API every command is written against, and the backends behind it.
 
 pub mod master;
+pub mod socketcan;
 pub mod uri;
 
 use crate::canopen::nmt::{self, Command};
@@ -20,6 +21,11 @@ pub trait FrameLink {
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>>;
     /// Interface name for traces (`can0`, `sim`).
     fn name(&self) -> String;
+    /// Receive only frames whose id matches one of these (id, mask) pairs; `[(0, 0)]`
+    /// is everything. Links without hardware filtering ignore it.
+    fn set_filters(&mut self, _filters: &[(u16, u16)]) -> Result<()> {
+        Ok(())
+    }
     /// Finish cleanly (the simulator saves its state here).
     fn close(&mut self) -> Result<()> {
         Ok(())

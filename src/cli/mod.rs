@@ -135,10 +135,10 @@ fn open_bus(global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
             let link = crate::sim::SimLink::open(file)?;
             Ok(Box::new(Master::new(link, "sim".into(), trace)))
         }
-        BusUri::SocketCan { iface } => Err(Error::Link(format!(
-            "cannot open socketcan:{iface}: this build has no SocketCAN backend yet; use --bus sim"
-        ))
-        .into()),
+        BusUri::SocketCan { iface } => {
+            let link = crate::bus::socketcan::SocketCanLink::open(&iface)?;
+            Ok(Box::new(Master::new(link, format!("socketcan:{iface}"), trace)))
+        }
         BusUri::Epos2 { framing, port, baud } => {
             let io = open_serial(&port, baud, global.timeout)?;
             let describe = format!("{}:{port}", framing.scheme());

@@ -14,9 +14,10 @@ use serde_json::json;
 use std::path::PathBuf;
 use std::time::Duration;
 
-/// Run the simulated network behind a serial link, or manage its state
+/// Run the simulated network on a CAN interface or behind a serial link, or manage its state
 ///
-/// With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
+/// With --socketcan IFACE, the devices answer on that interface (a vcan interface makes a
+/// test bus for provisioning scripts). With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
 /// and serves it as a maxon EPOS2 (node 1 of the sim network) until stopped: commands for
 /// node 0 or 1 run on the EPOS2's own dictionary, the others go on to the simulated CAN bus
 /// as SDO, NMT and LSS frames. The network's state is saved after every command.
@@ -24,6 +25,7 @@ use std::time::Duration;
 #[command(
     args_conflicts_with_subcommands = true,
     after_help = "Examples:
+  canctl sim --socketcan vcan0 &
   canctl sim --epos2-rs232 &               # prints /dev/pts/N
   canctl --bus epos2-rs232:/dev/pts/N scan
   canctl sim --epos2-usb --baud 1000000 --fault crc@2
@@ -32,6 +34,9 @@ use std::time::Duration;
 pub struct SimArgs {
     #[command(subcommand)]
     pub command: Option<SimCommand>,
+    /// Put the devices on this CAN interface (vcan0, can0) and answer there
+    #[arg(long, value_name = "IFACE", conflicts_with_all = ["epos2_rs232", "epos2_usb"])]
+    pub socketcan: Option<String>,
     /// Serve an EPOS2 speaking the RS232 protocol (with the 'O'/'F' handshake)
     #[arg(long, conflicts_with = "epos2_usb")]
     pub epos2_rs232: bool,
@@ -83,13 +88,19 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
             _ => Ok(ctx.out.print(&format!("sim network reset ({})", path.display()))?),
         };
     }
+    if let Some(iface) = &args.socketcan {
+        let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
+        let sim = SimLink::open(StateFile::lock(&path)?)?;
+        ctx.out.note(&format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C"));
+        crate::sim::bridge::run(sim, &mut can, global.verbose > 0)?;
+        return Ok(());
+    }
     let framing = match (args.epos2_rs232, args.epos2_usb) {
         (true, _) => Framing::Rs232,
         (_, true) => Framing::Usb,
         _ => {
-            return Err(
-                Error::Usage("say what to serve: --epos2-rs232 or --epos2-usb (or `canctl sim reset`)".into()).into()
-            )
+            let msg = "say what to serve: --socketcan IFACE, --epos2-rs232 or --epos2-usb (or `canctl sim reset`)";
+            return Err(Error::Usage(msg.into()).into());
         }
     };
     let link = SimLink::open(StateFile::lock(&path)?)?;

@@ -1,6 +1,7 @@
 //! The simulated bus: the demo network's devices behind a `FrameLink`, so every command
 //! runs through the same client code as on hardware.
 
+pub mod bridge;
 pub mod device;
 pub mod epos2_device;
 pub mod epos2_serve;
@@ -127,6 +128,13 @@ impl SimLink {
 
     pub fn network_mut(&mut self) -> &mut Network {
         &mut self.net
+    }
+
+    /// When the next heartbeat is due, if any device produces one.
+    pub fn next_heartbeat(&self) -> Option<Instant> {
+        let now = wall_ms();
+        let next = self.net.next_heartbeat(self.beats_upto.max(now))?;
+        Some(Instant::now() + Duration::from_millis(next.saturating_sub(now)))
     }
 
     /// Save the state now if anything changed (a long-running server saves as it goes).

@@ -45,7 +45,7 @@ impl Sim {
     }
 
     pub fn command(&self, args: &[&str]) -> Command {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_canctl"));
+        let mut c = Command::new(canctl_bin());
         c.env_remove("CANCTL_BUS").arg("--bus").arg(self.bus()).args(args);
         c.stdin(Stdio::null());
         c
@@ -68,7 +68,7 @@ pub fn finish(out: Output) -> Run {
 
 /// canctl without any bus.
 pub fn bare(args: &[&str]) -> Run {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_canctl"));
+    let mut c = Command::new(canctl_bin());
     c.env_remove("CANCTL_BUS").args(args).stdin(Stdio::null());
     finish(c.output().unwrap())
 }
@@ -98,13 +98,13 @@ impl DeviceSide {
 
     /// canctl on this device side's serial link.
     pub fn run(&self, args: &[&str]) -> Run {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_canctl"));
+        let mut c = Command::new(canctl_bin());
         c.env_remove("CANCTL_BUS").arg("--bus").arg(&self.uri).args(args).stdin(Stdio::null());
         finish(c.output().unwrap())
     }
 
     pub fn command(&self, args: &[&str]) -> Command {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_canctl"));
+        let mut c = Command::new(canctl_bin());
         c.env_remove("CANCTL_BUS").arg("--bus").arg(&self.uri).args(args).stdin(Stdio::null());
         c
     }
@@ -119,4 +119,35 @@ impl Drop for DeviceSide {
     fn drop(&mut self) {
         self.kill();
     }
+}
+pub mod scenarios;
+
+/// Whether this kernel has the interface; if not, says that the kernel tests are skipped.
+pub fn has_interface(iface: &str) -> bool {
+    use std::io::Write;
+    if std::path::Path::new("/sys/class/net").join(iface).exists() {
+        return true;
+    }
+    // Straight to the file descriptor: the test harness captures eprintln!.
+    let _ =
+        writeln!(std::io::stderr(), "skipped: no {iface} here; scripts/kernel-tests.sh runs the kernel tests in a VM");
+    false
+}
+
+/// `canctl sim --socketcan IFACE` on this sim's state, started and bound.
+pub fn sim_on_interface(sim: &Sim, iface: &str) -> std::process::Child {
+    use std::io::BufRead;
+    let mut devices =
+        sim.command(&["sim", "--socketcan", iface]).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+    // The device side says where it is once its socket is bound.
+    let mut line = String::new();
+    std::io::BufReader::new(devices.stderr.take().unwrap()).read_line(&mut line).unwrap();
+    assert!(line.contains(iface), "device side did not start: {line}");
+    devices
+}
+
+/// The canctl binary under test: `CANCTL_BIN` when set (the kernel-test VM runs a copy
+/// from its own memory, as reading it over 9p costs a second per start), else cargo's.
+pub fn canctl_bin() -> PathBuf {
+    std::env::var_os("CANCTL_BIN").map(PathBuf::from).unwrap_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_canctl")))
 }

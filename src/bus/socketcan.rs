@@ -1,0 +1,151 @@
+//! SocketCAN as a frame link: the kernel's CAN stack, any interface with a driver (can0,
+//! vcan0, slcan0). Receive filters keep a busy bus cheap; error frames are reported.
+
+use super::FrameLink;
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use socketcan::{
+    CanError, CanFilter, CanFrame, CanSocket, EmbeddedFrame, ErrorCause, Id, Socket, SocketOptions, StandardId,
+};
+use std::io;
+use std::time::{Duration, Instant};
+
+/// How long a send may wait for room in a full transmit queue before it is a link failure.
+const TX_QUEUE_PATIENCE: Duration = Duration::from_secs(2);
+
+pub struct SocketCanLink {
+    sock: CanSocket,
+    iface: String,
+    filters: Vec<(u16, u16)>,
+    /// Error kinds already reported, so that a storm of them is one warning each.
+    warned: Vec<String>,
+}
+
+/// Why `iface` cannot carry CAN frames, if it cannot; read from sysfs before opening.
+fn check_interface(iface: &str) -> Result<()> {
+    let dir = std::path::Path::new("/sys/class/net").join(iface);
+    let present = super::uri::can_interfaces();
+    if !dir.exists() {
+        let list = if present.is_empty() { "none".to_string() } else { present.join(", ") };
+        return Err(Error::Link(format!("there is no network interface '{iface}' (CAN interfaces here: {list})")));
+    }
+    if !present.iter().any(|p| p == iface) {
+        return Err(Error::Link(format!("'{iface}' is not a CAN interface")));
+    }
+    let flags = std::fs::read_to_string(dir.join("flags")).unwrap_or_default();
+    let flags = u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16).unwrap_or(1);
+    if flags & 1 == 0 {
+        return Err(Error::Link(format!(
+            "{iface} is down: bring it up first (e.g. sudo ip link set {iface} up type can bitrate 500000)"
+        )));
+    }
+    Ok(())
+}
+
+impl SocketCanLink {
+    pub fn open(iface: &str) -> Result<SocketCanLink> {
+        check_interface(iface)?;
+        let sock = CanSocket::open(iface).map_err(|e| Error::Link(format!("cannot open {iface}: {e}")))?;
+        // Every error class: bus-off must end a command, the others are worth a warning.
+        sock.set_error_filter_accept_all().map_err(|e| Error::Link(format!("{iface}: error filter: {e}")))?;
+        sock.set_nonblocking(true).map_err(|e| Error::Link(format!("{iface}: {e}")))?;
+        Ok(SocketCanLink { sock, iface: iface.to_string(), filters: vec![(0, 0)], warned: Vec::new() })
+    }
+
+    fn error_frame(&mut self, err: CanError) -> Result<()> {
+        if err.causes().any(|c| matches!(c, ErrorCause::BusOff)) {
+            return Err(Error::Link(format!("{}: the controller went bus-off ({err})", self.iface)));
+        }
+        let text = err.to_string();
+        if !self.warned.contains(&text) {
+            eprintln!("canctl: warning: {}: {text}", self.iface);
+            self.warned.push(text);
+        }
+        Ok(())
+    }
+}
+
+fn to_socketcan(f: &Frame) -> CanFrame {
+    let id = StandardId::new(f.id()).expect("11-bit id");
+    if f.is_remote() {
+        CanFrame::new_remote(id, f.len()).expect("dlc within 8")
+    } else {
+        CanFrame::new(id, f.data()).expect("at most 8 bytes")
+    }
+}
+
+impl FrameLink for SocketCanLink {
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        let f = to_socketcan(frame);
+        let give_up = Instant::now() + TX_QUEUE_PATIENCE;
+        loop {
+            match self.sock.write_frame(&f) {
+                Ok(()) => return Ok(()),
+                // A full transmit queue (a burst of probes on a small txqueuelen): wait for
+                // room; dropping the frame would lose a probe without a word.
+                Err(e) if e.raw_os_error() == Some(nix::libc::ENOBUFS) || e.kind() == io::ErrorKind::WouldBlock => {
+                    if Instant::now() > give_up {
+                        return Err(Error::Link(format!(
+                            "{}: the transmit queue stayed full for {} s (no other node acknowledging? bus-off?)",
+                            self.iface,
+                            TX_QUEUE_PATIENCE.as_secs()
+                        )));
+                    }
+                    std::thread::sleep(Duration::from_micros(200));
+                }
+                Err(e) => return Err(Error::Link(format!("{}: send failed: {e}", self.iface))),
+            }
+        }
+    }
+
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        loop {
+            // Frames already queued are taken without a clock read or a poll: in a block
+            // transfer nearly all of them are.
+            let f = match self.sock.read_frame() {
+                Ok(f) => f,
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
+                    let left = deadline.saturating_duration_since(Instant::now());
+                    if left.is_zero() {
+                        return Ok(None);
+                    }
+                    match self.sock.read_frame_timeout(left) {
+                        Ok(f) => f,
+                        Err(e) if matches!(e.kind(), io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock) => continue,
+                        Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                        Err(e) => return Err(Error::Link(format!("{}: receive failed: {e}", self.iface))),
+                    }
+                }
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(Error::Link(format!("{}: receive failed: {e}", self.iface))),
+            };
+            match f {
+                CanFrame::Error(e) => self.error_frame(e.into_error())?,
+                CanFrame::Data(d) => {
+                    if let Id::Standard(id) = d.id() {
+                        return Ok(Some(Frame::new(id.as_raw(), d.data())));
+                    }
+                }
+                CanFrame::Remote(r) => {
+                    if let Id::Standard(id) = r.id() {
+                        return Ok(Some(Frame::remote(id.as_raw(), r.dlc() as u8)));
+                    }
+                }
+            }
+        }
+    }
+
+    fn set_filters(&mut self, filters: &[(u16, u16)]) -> Result<()> {
+        if self.filters == filters {
+            return Ok(());
+        }
+        let list: Vec<CanFilter> = filters.iter().map(|(id, mask)| CanFilter::new(*id as u32, *mask as u32)).collect();
+        self.sock.set_filters(&list).map_err(|e| Error::Link(format!("{}: receive filter: {e}", self.iface)))?;
+        self.filters = filters.to_vec();
+        Ok(())
+    }
+
+    fn name(&self) -> String {
+        self.iface.clone()
+    }
+}

@@ -1,0 +1,248 @@
+//! What every bus that reaches the demo network's devices must show, whatever carries the
+//! frames: the built-in sim bus, or the kernel's vcan with `canctl sim --socketcan`.
+
+use super::{Run, Sim};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// A bus under test: runs canctl on it, names it in traces, gives scratch files.
+pub trait Under {
+    fn run(&self, args: &[&str]) -> Run;
+    /// The interface name in `-v` traces.
+    fn iface(&self) -> &str;
+    fn path(&self, name: &str) -> PathBuf;
+}
+
+impl Under for Sim {
+    fn run(&self, args: &[&str]) -> Run {
+        Sim::run(self, args)
+    }
+    fn iface(&self) -> &str {
+        "sim"
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        Sim::path(self, name)
+    }
+}
+
+/// A `-v` trace line for a frame on this bus, as candump prints it.
+fn trace_has(bus: &dyn Under, stderr: &str, rest: &str) -> bool {
+    let prefix = format!("{}  {rest}", bus.iface());
+    stderr.lines().any(|l| l.trim_start().starts_with(&prefix))
+}
+
+pub fn scan_lists_the_demo_nodes_with_their_identities(bus: &dyn Under) {
+    let json = bus.run(&["scan", "--format", "json"]).ok().json();
+    let nodes = json["nodes"].as_array().unwrap();
+    let ids: Vec<u64> = nodes.iter().map(|n| n["node"].as_u64().unwrap()).collect();
+    assert_eq!(ids, [1, 5, 10, 32]);
+    let n1 = &nodes[0];
+    assert_eq!(n1["device_type"], 0x0002_0192);
+    assert_eq!(n1["vendor_id"], 0xFB);
+    assert_eq!(n1["name"], "EPOS2 24/5");
+    let n5 = &nodes[1];
+    assert_eq!(n5["vendor_id"], 0x40);
+    assert_eq!(n5["product_code"], 0x4378_7800);
+    assert_eq!(n5["device_type"], 0x000A_0196);
+    assert_eq!(n5["name"], "C01");
+    // The sensor's heartbeat shows its state; the others send none.
+    assert_eq!(n5["state"], "pre-operational");
+    assert_eq!(nodes[2]["state"], serde_json::Value::Null);
+    assert_eq!(nodes[2]["name"], "CAN-2057C");
+    // The SERS stepper has an identity object without entries (seed 003).
+    assert_eq!(nodes[3]["device_type"], 0x0004_0192);
+    assert_eq!(nodes[3]["vendor_id"], serde_json::Value::Null);
+
+    // The same in the human table and in CSV.
+    let human = bus.run(&["scan"]).ok().stdout;
+    for needle in ["0x000000FB", "0x43787800", "CAN-2057C", "SERS-CAN", "pre-operational"] {
+        assert!(human.contains(needle), "{needle} missing from\n{human}");
+    }
+    let csv = bus.run(&["scan", "--format", "csv"]).ok().stdout;
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], "node,device_type,vendor_id,product_code,revision,serial,name,state");
+    assert_eq!(lines.len(), 5);
+    assert!(lines[1].starts_with("1,0x00020192,0x000000FB,"));
+}
+
+pub fn every_data_type_round_trips(bus: &dyn Under) {
+    let cases = [
+        ("1", "b", "false"),
+        ("2", "u8", "200"),
+        ("3", "u16", "65535"),
+        ("4", "u32", "0xDEADBEEF"),
+        ("5", "u64", "18446744073709551615"),
+        ("6", "i8", "-128"),
+        ("7", "i16", "-32768"),
+        ("8", "i32", "-2147483648"),
+        ("9", "i64", "-9223372036854775808"),
+        ("10", "r32", "-3.25"),
+        ("11", "r64", "6.02214076e23"),
+        ("12", "vs", "a visible string longer than four bytes"),
+        ("13", "os", "0102030405060708090A"),
+        ("14", "d", "FFEEDDCCBBAA"),
+    ];
+    for (sub, t, value) in cases {
+        let obj = format!("5FF0:{sub}");
+        bus.run(&["sdo", "write", "1", &obj, value, "--type", t]).ok();
+        let got = bus.run(&["sdo", "read", "1", &obj, "--type", t, "--format", "json"]).ok().json();
+        let want =
+            bus.run(&["sdo", "write", "1", &obj, value, "--type", t, "--verify", "--format", "json"]).ok().json();
+        assert_eq!(got["value"], want["value"], "{t}");
+        assert_eq!(want["verified"], true);
+    }
+    assert_eq!(bus.run(&["sdo", "read", "1", "5FF0:4", "--type", "u32"]).ok().stdout.trim(), "3735928559");
+    assert_eq!(bus.run(&["sdo", "read", "1", "5FF0:10", "--type", "r32"]).ok().stdout.trim(), "-3.25");
+    assert_eq!(bus.run(&["sdo", "read", "1", "5FF0:6", "--type", "i8"]).ok().stdout.trim(), "-128");
+}
+
+pub fn untyped_reads_show_bytes_and_the_plain_reading(bus: &dyn Under) {
+    let out = bus.run(&["sdo", "read", "1", "0x1000:0"]).ok().stdout;
+    assert_eq!(out.trim(), "92 01 02 00  (u32 131474 = 0x00020192)");
+    let json = bus.run(&["sdo", "read", "1", "1000", "--format", "json"]).ok().json();
+    assert_eq!(json["raw"], "92010200");
+    assert_eq!(json["value"], 131474);
+}
+
+pub fn a_long_name_comes_back_whole_by_segmented_transfer(bus: &dyn Under) {
+    let out = bus.run(&["-v", "sdo", "read", "10", "1008", "--type", "vs"]).ok();
+    assert_eq!(out.stdout.trim(), "CAN-2057C");
+    // 0x41: initiate answer of a segmented upload, size indicated.
+    assert!(out.stderr.contains("58A   [8]  41 08 10 00 09 00 00 00"), "{}", out.stderr);
+}
+
+pub fn the_64k_domain_moves_byte_exact_by_block_and_by_segmented(bus: &dyn Under) {
+    let original = bus.path("original.bin");
+    let out = bus.run(&["-v", "sdo", "read", "1", "1F50:1", "--type", "d", "--out", original.to_str().unwrap()]).ok();
+    let data = std::fs::read(&original).unwrap();
+    assert_eq!(data.len(), 65536);
+    // Block upload initiate (0xA4) and the server's block answer (0xC6).
+    assert!(trace_has(bus, &out.stderr, "601   [8]  A4 50 1F 01"), "no block upload");
+    assert!(trace_has(bus, &out.stderr, "581   [8]  C6 50 1F 01 00 00 01 00"));
+
+    // Write a different 64 KiB image by block, read it back by segmented.
+    let image: Vec<u8> = (0..65536u32).map(|i| (i.wrapping_mul(2654435761) >> 13) as u8).collect();
+    let image_file = bus.path("image.bin");
+    std::fs::write(&image_file, &image).unwrap();
+    let at = format!("@{}", image_file.display());
+    let out = bus.run(&["-v", "sdo", "write", "1", "1F50:1", &at, "--type", "d", "--verify"]).ok();
+    assert!(trace_has(bus, &out.stderr, "601   [8]  C6 50 1F 01 00 00 01 00"), "no block download");
+    let back = bus.path("back.bin");
+    let out = bus
+        .run(&["-v", "sdo", "read", "1", "1F50:1", "--type", "d", "--no-block", "--out", back.to_str().unwrap()])
+        .ok();
+    assert!(!trace_has(bus, &out.stderr, "601   [8]  A4"), "--no-block used block transfer");
+    assert!(trace_has(bus, &out.stderr, "581   [8]  41 50 1F 01 00 00 01 00"));
+    assert_eq!(std::fs::read(&back).unwrap(), image);
+
+    // And the original back by segmented download, read by block.
+    let at = format!("@{}", original.display());
+    let out = bus.run(&["-v", "sdo", "write", "1", "1F50:1", &at, "--type", "d", "--no-block"]).ok();
+    assert!(trace_has(bus, &out.stderr, "601   [8]  21 50 1F 01 00 00 01 00"));
+    bus.run(&["sdo", "read", "1", "1F50:1", "--type", "d", "--out", back.to_str().unwrap()]).ok();
+    assert_eq!(std::fs::read(&back).unwrap(), data);
+}
+
+pub fn a_device_without_block_transfer_is_read_all_the_same(bus: &dyn Under) {
+    let out = bus.run(&["-v", "sdo", "read", "5", "1008", "--type", "vs"]).ok();
+    assert_eq!(out.stdout.trim(), "C01");
+    // Asked for block, refused with 0x05040001, then read plainly.
+    assert!(trace_has(bus, &out.stderr, "585   [8]  80 08 10 00 01 00 04 05"), "{}", out.stderr);
+}
+
+pub fn refusals_carry_the_abort_code_and_its_meaning(bus: &dyn Under) {
+    let r = bus.run(&["sdo", "write", "1", "1000", "5", "--type", "u32"]);
+    assert_eq!(r.code, 4);
+    assert!(
+        r.stderr.contains("0x06010002") && r.stderr.contains("Attempt to write a read only object"),
+        "{}",
+        r.stderr
+    );
+    assert!(r.stderr.contains("node 1") && r.stderr.contains("0x1000:0"));
+    let r = bus.run(&["sdo", "read", "1", "2222"]);
+    assert_eq!(r.code, 4);
+    assert!(r.stderr.contains("0x06020000"), "{}", r.stderr);
+    let r = bus.run(&["sdo", "read", "1", "1018:9"]);
+    assert_eq!(r.code, 4);
+    assert!(r.stderr.contains("0x06090011") && r.stderr.contains("Sub-index does not exist"));
+    let r = bus.run(&["sdo", "read", "1", "5FF0:15"]);
+    assert_eq!(r.code, 4);
+    assert!(r.stderr.contains("Attempt to read a write only object"));
+    let r = bus.run(&["sdo", "write", "1", "6060", "9", "--type", "i8"]);
+    assert_eq!(r.code, 4);
+    assert!(r.stderr.contains("0x06090031"), "{}", r.stderr);
+    let r = bus.run(&["sdo", "write", "1", "6060", "1", "--type", "u16"]);
+    assert_eq!(r.code, 4);
+    assert!(r.stderr.contains("0x06070012"), "{}", r.stderr);
+}
+
+pub fn an_absent_node_times_out_with_exit_3(bus: &dyn Under) {
+    let start = Instant::now();
+    let r = bus.run(&["--timeout", "200ms", "sdo", "read", "77", "1000"]);
+    assert_eq!(r.code, 3);
+    assert!(r.stderr.contains("node 77") && r.stderr.contains("did not answer"), "{}", r.stderr);
+    // It gives up after the timeout, not after some fixed long wait.
+    assert!(start.elapsed() < Duration::from_secs(5));
+}
+
+pub fn verify_catches_a_device_that_ignores_the_write(bus: &dyn Under) {
+    // Seed 003: the SERS accepts any 0x1006 value but always reads 2000.
+    let r = bus.run(&["sdo", "write", "32", "1006", "1000", "--type", "u32", "--verify"]);
+    assert_eq!(r.code, 6, "{}", r.stderr);
+    assert!(r.stderr.contains("reads back 2000 after writing 1000"));
+}
+
+pub fn nmt_stop_state_and_reset(bus: &dyn Under) {
+    assert_eq!(bus.run(&["nmt", "stop", "5"]).ok().stdout.trim(), "NMT stop sent to node 5");
+    let state = bus.run(&["nmt", "state", "5", "--format", "json"]).ok().json();
+    assert_eq!(state["state"], "stopped");
+    assert_eq!(state["source"], "heartbeat");
+    // Stopped nodes do not serve SDO.
+    assert_eq!(bus.run(&["--timeout", "100ms", "sdo", "read", "5", "1000"]).code, 3);
+    let reset = bus.run(&["-v", "nmt", "reset", "5", "--format", "json"]).ok();
+    assert!(trace_has(bus, &reset.stderr, "000   [2]  81 05"));
+    assert!(trace_has(bus, &reset.stderr, "705   [1]  00"), "no boot-up seen: {}", reset.stderr);
+    assert_eq!(reset.json()["booted"], serde_json::json!([5]));
+    assert!(bus.run(&["nmt", "state", "5"]).ok().stdout.contains("pre-operational"));
+    bus.run(&["nmt", "start", "5"]).ok();
+    assert!(bus.run(&["nmt", "state", "5"]).ok().stdout.contains("operational"));
+}
+
+pub fn nmt_state_falls_back_to_node_guarding_with_toggle(bus: &dyn Under) {
+    bus.run(&["nmt", "stop", "32"]).ok();
+    let r = bus.run(&["-v", "nmt", "state", "32", "--listen", "50ms"]).ok();
+    assert_eq!(r.stdout.trim(), "node 32: stopped (from node guarding)");
+    assert!(trace_has(bus, &r.stderr, "720   [1]  remote request"));
+    assert!(trace_has(bus, &r.stderr, "720   [1]  04"));
+}
+
+pub fn nmt_all_is_the_only_broadcast(bus: &dyn Under) {
+    let r = bus.run(&["-v", "nmt", "reset-comm", "all", "--format", "json"]).ok();
+    assert!(trace_has(bus, &r.stderr, "000   [2]  82 00"));
+    assert_eq!(r.json()["booted"], serde_json::json!([1, 5, 10, 32]));
+    let r = bus.run(&["-v", "nmt", "stop", "10"]).ok();
+    assert!(trace_has(bus, &r.stderr, "000   [2]  02 0A"));
+    let r = bus.run(&["nmt", "stop"]);
+    assert_eq!(r.code, 2);
+}
+
+pub fn store_and_restore_survive_resets_as_on_hardware(bus: &dyn Under) {
+    let hb = |bus: &dyn Under| bus.run(&["sdo", "read", "5", "1017", "--type", "u16"]).ok().stdout.trim().to_string();
+    bus.run(&["sdo", "write", "5", "1017", "30", "--type", "u16"]).ok();
+    bus.run(&["nmt", "reset", "5"]).ok();
+    assert_eq!(hb(bus), "40", "an unsaved value is lost on reset");
+    bus.run(&["sdo", "write", "5", "1017", "30", "--type", "u16"]).ok();
+    // 'save' = 0x65766173 to 0x1010:1
+    bus.run(&["sdo", "write", "5", "1010:1", "0x65766173", "--type", "u32"]).ok();
+    bus.run(&["nmt", "reset", "5"]).ok();
+    assert_eq!(hb(bus), "30", "a stored value survives reset");
+    // A wrong signature is refused.
+    let r = bus.run(&["sdo", "write", "5", "1010:1", "1", "--type", "u32"]);
+    assert_eq!(r.code, 4);
+    assert!(r.stderr.contains("0x08000020"));
+    // 'load' = 0x64616F6C to 0x1011:1: defaults after the next reset, not before.
+    bus.run(&["sdo", "write", "5", "1011:1", "0x64616F6C", "--type", "u32"]).ok();
+    assert_eq!(hb(bus), "30");
+    bus.run(&["nmt", "reset", "5"]).ok();
+    assert_eq!(hb(bus), "40");
+}

@@ -1,0 +1,123 @@
+//! Kernel tests: the same scenarios as on the sim bus, through the Linux CAN stack on
+//! vcan0, with `canctl sim --socketcan vcan0` as the devices. They need a kernel with vcan
+//! and vcan0 up; `scripts/kernel-tests.sh` runs them in a small VM. Without vcan0 each test
+//! says it is skipped and passes.
+
+mod common;
+
+use common::scenarios::{self, Under};
+use common::{Run, Sim};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::{Mutex, MutexGuard};
+
+const IFACE: &str = "vcan0";
+
+/// One set of devices on vcan0 at a time: two would answer for the same node-ids.
+static BUS: Mutex<()> = Mutex::new(());
+
+/// The demo devices on vcan0, and canctl pointed at vcan0.
+struct OnVcan {
+    sim: Sim,
+    devices: Child,
+    _lock: MutexGuard<'static, ()>,
+}
+
+impl OnVcan {
+    /// `None` (after saying so) when this kernel has no vcan0.
+    fn start() -> Option<OnVcan> {
+        if !common::has_interface(IFACE) {
+            return None;
+        }
+        let lock = BUS.lock().unwrap_or_else(|e| e.into_inner());
+        let sim = Sim::new();
+        let devices = common::sim_on_interface(&sim, IFACE);
+        Some(OnVcan { sim, devices, _lock: lock })
+    }
+}
+
+impl Drop for OnVcan {
+    fn drop(&mut self) {
+        let _ = self.devices.kill();
+        let _ = self.devices.wait();
+    }
+}
+
+impl Under for OnVcan {
+    fn run(&self, args: &[&str]) -> Run {
+        let mut c = Command::new(common::canctl_bin());
+        c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
+        common::finish(c.output().unwrap())
+    }
+    fn iface(&self) -> &str {
+        IFACE
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.sim.path(name)
+    }
+}
+
+macro_rules! on_vcan {
+    ($($name:ident),* $(,)?) => {$(
+        #[test]
+        fn $name() {
+            if let Some(bus) = OnVcan::start() {
+                scenarios::$name(&bus);
+            }
+        }
+    )*};
+}
+
+on_vcan!(
+    scan_lists_the_demo_nodes_with_their_identities,
+    every_data_type_round_trips,
+    untyped_reads_show_bytes_and_the_plain_reading,
+    a_long_name_comes_back_whole_by_segmented_transfer,
+    the_64k_domain_moves_byte_exact_by_block_and_by_segmented,
+    a_device_without_block_transfer_is_read_all_the_same,
+    refusals_carry_the_abort_code_and_its_meaning,
+    an_absent_node_times_out_with_exit_3,
+    verify_catches_a_device_that_ignores_the_write,
+    nmt_stop_state_and_reset,
+    nmt_state_falls_back_to_node_guarding_with_toggle,
+    nmt_all_is_the_only_broadcast,
+    store_and_restore_survive_resets_as_on_hardware,
+);
+
+#[test]
+fn a_missing_or_down_interface_is_a_link_failure() {
+    let Some(bus) = OnVcan::start() else { return };
+    let r = common::bare(&["--bus", "vcan7", "scan"]);
+    assert_eq!(r.code, 5);
+    assert!(r.stderr.contains("no network interface 'vcan7'"), "{}", r.stderr);
+    drop(bus);
+    // A second vcan that is down.
+    let ip = |args: &[&str]| Command::new("ip").args(args).status().unwrap().success();
+    assert!(ip(&["link", "add", "dev", "vcan8", "type", "vcan"]));
+    let r = common::bare(&["--bus", "socketcan:vcan8", "scan"]);
+    ip(&["link", "del", "vcan8"]);
+    assert_eq!(r.code, 5);
+    assert!(r.stderr.contains("vcan8 is down"), "{}", r.stderr);
+}
+
+#[test]
+fn bus_off_during_a_command_is_exit_5() {
+    use socketcan::{CanErrorFrame, CanFrame, CanSocket, Socket};
+    let Some(bus) = OnVcan::start() else { return };
+    // A long segmented read keeps canctl busy; the controller then reports bus-off.
+    let out = bus.path("d.bin");
+    let child = Command::new(common::canctl_bin())
+        .args(["--bus", IFACE, "sdo", "read", "1", "1F50:1", "--type", "d", "--no-block", "--out"])
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let sock = CanSocket::open(IFACE).unwrap();
+    let bus_off = CanErrorFrame::new_error(nix::libc::CAN_ERR_BUSOFF, &[0; 8]).unwrap();
+    sock.write_frame(&CanFrame::Error(bus_off)).unwrap();
+    let r = common::finish(child.wait_with_output().unwrap());
+    assert_eq!(r.code, 5, "{}", r.stderr);
+    assert!(r.stderr.contains("bus-off"), "{}", r.stderr);
+}
