@@ -128,9 +128,12 @@ pub fn has_interface(iface: &str) -> bool {
     if std::path::Path::new("/sys/class/net").join(iface).exists() {
         return true;
     }
-    // Straight to the file descriptor: the test harness captures eprintln!.
-    let _ =
-        writeln!(std::io::stderr(), "skipped: no {iface} here; scripts/kernel-tests.sh runs the kernel tests in a VM");
+    // Once per test binary, straight to the file descriptor: the harness captures eprintln!.
+    static SAID: std::sync::Once = std::sync::Once::new();
+    SAID.call_once(|| {
+        let msg = format!("skipped: the kernel tests here (no {iface}); scripts/kernel-tests.sh runs them in a VM");
+        let _ = writeln!(std::io::stderr(), "{msg}");
+    });
     false
 }
 
