@@ -35,6 +35,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('scan', 'scan', [CompletionResultType]::ParameterValue, 'Find every node on the bus')
             [CompletionResult]::new('sdo', 'sdo', [CompletionResultType]::ParameterValue, 'Read and write objects (SDO)')
             [CompletionResult]::new('nmt', 'nmt', [CompletionResultType]::ParameterValue, 'Start, stop and reset nodes, or ask their NMT state')
+            [CompletionResult]::new('lss', 'lss', [CompletionResultType]::ParameterValue, 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
@@ -263,6 +264,183 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;nmt;help;help' {
             break
         }
+        'canctl;lss' {
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('inquire', 'inquire', [CompletionResultType]::ParameterValue, 'Read a device''s identity and node-id')
+            [CompletionResult]::new('set-id', 'set-id', [CompletionResultType]::ParameterValue, 'Give a device a node-id (1..127; 255 takes it away)')
+            [CompletionResult]::new('set-baud', 'set-baud', [CompletionResultType]::ParameterValue, 'Configure a device''s bit rate (takes effect at `lss activate`, or stored and reset)')
+            [CompletionResult]::new('activate', 'activate', [CompletionResultType]::ParameterValue, 'Switch configured bit rates on (every device in configuration state at once)')
+            [CompletionResult]::new('store', 'store', [CompletionResultType]::ParameterValue, 'Make a device keep its LSS node-id and bit rate across power cycles')
+            [CompletionResult]::new('fastscan', 'fastscan', [CompletionResultType]::ParameterValue, 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)')
+            [CompletionResult]::new('assign', 'assign', [CompletionResultType]::ParameterValue, 'Give every device without a node-id the next free one, and store it')
+            [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
+            break
+        }
+        'canctl;lss;inquire' {
+            [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
+            [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;lss;set-id' {
+            [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
+            [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;lss;set-baud' {
+            [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
+            [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;lss;activate' {
+            [CompletionResult]::new('--delay', '--delay', [CompletionResultType]::ParameterName, 'Switch delay in ms: the devices wait this long, switch, and wait as long again')
+            [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
+            [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;lss;store' {
+            [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
+            [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;lss;fastscan' {
+            [CompletionResult]::new('--step', '--step', [CompletionResultType]::ParameterName, 'How long each fastscan step waits for an answer')
+            [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, 'Refused: an EPOS2 reached directly (node 0) has no LSS')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;lss;assign' {
+            [CompletionResult]::new('--start', '--start', [CompletionResultType]::ParameterName, 'The first node-id to give')
+            [CompletionResult]::new('--step', '--step', [CompletionResultType]::ParameterName, 'How long each fastscan step waits for an answer')
+            [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, 'Refused: an EPOS2 reached directly (node 0) has no LSS')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--no-store', '--no-store', [CompletionResultType]::ParameterName, 'Do not store the node-ids (they are lost at power-off)')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;lss;help' {
+            [CompletionResult]::new('inquire', 'inquire', [CompletionResultType]::ParameterValue, 'Read a device''s identity and node-id')
+            [CompletionResult]::new('set-id', 'set-id', [CompletionResultType]::ParameterValue, 'Give a device a node-id (1..127; 255 takes it away)')
+            [CompletionResult]::new('set-baud', 'set-baud', [CompletionResultType]::ParameterValue, 'Configure a device''s bit rate (takes effect at `lss activate`, or stored and reset)')
+            [CompletionResult]::new('activate', 'activate', [CompletionResultType]::ParameterValue, 'Switch configured bit rates on (every device in configuration state at once)')
+            [CompletionResult]::new('store', 'store', [CompletionResultType]::ParameterValue, 'Make a device keep its LSS node-id and bit rate across power cycles')
+            [CompletionResult]::new('fastscan', 'fastscan', [CompletionResultType]::ParameterValue, 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)')
+            [CompletionResult]::new('assign', 'assign', [CompletionResultType]::ParameterValue, 'Give every device without a node-id the next free one, and store it')
+            [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
+            break
+        }
+        'canctl;lss;help;inquire' {
+            break
+        }
+        'canctl;lss;help;set-id' {
+            break
+        }
+        'canctl;lss;help;set-baud' {
+            break
+        }
+        'canctl;lss;help;activate' {
+            break
+        }
+        'canctl;lss;help;store' {
+            break
+        }
+        'canctl;lss;help;fastscan' {
+            break
+        }
+        'canctl;lss;help;assign' {
+            break
+        }
+        'canctl;lss;help;help' {
+            break
+        }
         'canctl;sim' {
             [CompletionResult]::new('--socketcan', '--socketcan', [CompletionResultType]::ParameterName, 'Put the devices on this CAN interface (vcan0, can0) and answer there')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Pace bytes as a serial line at this bit rate would (10 bits a byte)')
@@ -343,6 +521,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('scan', 'scan', [CompletionResultType]::ParameterValue, 'Find every node on the bus')
             [CompletionResult]::new('sdo', 'sdo', [CompletionResultType]::ParameterValue, 'Read and write objects (SDO)')
             [CompletionResult]::new('nmt', 'nmt', [CompletionResultType]::ParameterValue, 'Start, stop and reset nodes, or ask their NMT state')
+            [CompletionResult]::new('lss', 'lss', [CompletionResultType]::ParameterValue, 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
@@ -388,6 +567,37 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;help;nmt;state' {
+            break
+        }
+        'canctl;help;lss' {
+            [CompletionResult]::new('inquire', 'inquire', [CompletionResultType]::ParameterValue, 'Read a device''s identity and node-id')
+            [CompletionResult]::new('set-id', 'set-id', [CompletionResultType]::ParameterValue, 'Give a device a node-id (1..127; 255 takes it away)')
+            [CompletionResult]::new('set-baud', 'set-baud', [CompletionResultType]::ParameterValue, 'Configure a device''s bit rate (takes effect at `lss activate`, or stored and reset)')
+            [CompletionResult]::new('activate', 'activate', [CompletionResultType]::ParameterValue, 'Switch configured bit rates on (every device in configuration state at once)')
+            [CompletionResult]::new('store', 'store', [CompletionResultType]::ParameterValue, 'Make a device keep its LSS node-id and bit rate across power cycles')
+            [CompletionResult]::new('fastscan', 'fastscan', [CompletionResultType]::ParameterValue, 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)')
+            [CompletionResult]::new('assign', 'assign', [CompletionResultType]::ParameterValue, 'Give every device without a node-id the next free one, and store it')
+            break
+        }
+        'canctl;help;lss;inquire' {
+            break
+        }
+        'canctl;help;lss;set-id' {
+            break
+        }
+        'canctl;help;lss;set-baud' {
+            break
+        }
+        'canctl;help;lss;activate' {
+            break
+        }
+        'canctl;help;lss;store' {
+            break
+        }
+        'canctl;help;lss;fastscan' {
+            break
+        }
+        'canctl;help;lss;assign' {
             break
         }
         'canctl;help;sim' {

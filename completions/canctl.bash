@@ -22,6 +22,9 @@ _canctl() {
             canctl,help)
                 cmd="canctl__subcmd__help"
                 ;;
+            canctl,lss)
+                cmd="canctl__subcmd__lss"
+                ;;
             canctl,man)
                 cmd="canctl__subcmd__man"
                 ;;
@@ -43,6 +46,9 @@ _canctl() {
             canctl__subcmd__help,help)
                 cmd="canctl__subcmd__help__subcmd__help"
                 ;;
+            canctl__subcmd__help,lss)
+                cmd="canctl__subcmd__help__subcmd__lss"
+                ;;
             canctl__subcmd__help,man)
                 cmd="canctl__subcmd__help__subcmd__man"
                 ;;
@@ -57,6 +63,27 @@ _canctl() {
                 ;;
             canctl__subcmd__help,sim)
                 cmd="canctl__subcmd__help__subcmd__sim"
+                ;;
+            canctl__subcmd__help__subcmd__lss,activate)
+                cmd="canctl__subcmd__help__subcmd__lss__subcmd__activate"
+                ;;
+            canctl__subcmd__help__subcmd__lss,assign)
+                cmd="canctl__subcmd__help__subcmd__lss__subcmd__assign"
+                ;;
+            canctl__subcmd__help__subcmd__lss,fastscan)
+                cmd="canctl__subcmd__help__subcmd__lss__subcmd__fastscan"
+                ;;
+            canctl__subcmd__help__subcmd__lss,inquire)
+                cmd="canctl__subcmd__help__subcmd__lss__subcmd__inquire"
+                ;;
+            canctl__subcmd__help__subcmd__lss,set-baud)
+                cmd="canctl__subcmd__help__subcmd__lss__subcmd__set__subcmd__baud"
+                ;;
+            canctl__subcmd__help__subcmd__lss,set-id)
+                cmd="canctl__subcmd__help__subcmd__lss__subcmd__set__subcmd__id"
+                ;;
+            canctl__subcmd__help__subcmd__lss,store)
+                cmd="canctl__subcmd__help__subcmd__lss__subcmd__store"
                 ;;
             canctl__subcmd__help__subcmd__nmt,preop)
                 cmd="canctl__subcmd__help__subcmd__nmt__subcmd__preop"
@@ -84,6 +111,54 @@ _canctl() {
                 ;;
             canctl__subcmd__help__subcmd__sim,reset)
                 cmd="canctl__subcmd__help__subcmd__sim__subcmd__reset"
+                ;;
+            canctl__subcmd__lss,activate)
+                cmd="canctl__subcmd__lss__subcmd__activate"
+                ;;
+            canctl__subcmd__lss,assign)
+                cmd="canctl__subcmd__lss__subcmd__assign"
+                ;;
+            canctl__subcmd__lss,fastscan)
+                cmd="canctl__subcmd__lss__subcmd__fastscan"
+                ;;
+            canctl__subcmd__lss,help)
+                cmd="canctl__subcmd__lss__subcmd__help"
+                ;;
+            canctl__subcmd__lss,inquire)
+                cmd="canctl__subcmd__lss__subcmd__inquire"
+                ;;
+            canctl__subcmd__lss,set-baud)
+                cmd="canctl__subcmd__lss__subcmd__set__subcmd__baud"
+                ;;
+            canctl__subcmd__lss,set-id)
+                cmd="canctl__subcmd__lss__subcmd__set__subcmd__id"
+                ;;
+            canctl__subcmd__lss,store)
+                cmd="canctl__subcmd__lss__subcmd__store"
+                ;;
+            canctl__subcmd__lss__subcmd__help,activate)
+                cmd="canctl__subcmd__lss__subcmd__help__subcmd__activate"
+                ;;
+            canctl__subcmd__lss__subcmd__help,assign)
+                cmd="canctl__subcmd__lss__subcmd__help__subcmd__assign"
+                ;;
+            canctl__subcmd__lss__subcmd__help,fastscan)
+                cmd="canctl__subcmd__lss__subcmd__help__subcmd__fastscan"
+                ;;
+            canctl__subcmd__lss__subcmd__help,help)
+                cmd="canctl__subcmd__lss__subcmd__help__subcmd__help"
+                ;;
+            canctl__subcmd__lss__subcmd__help,inquire)
+                cmd="canctl__subcmd__lss__subcmd__help__subcmd__inquire"
+                ;;
+            canctl__subcmd__lss__subcmd__help,set-baud)
+                cmd="canctl__subcmd__lss__subcmd__help__subcmd__set__subcmd__baud"
+                ;;
+            canctl__subcmd__lss__subcmd__help,set-id)
+                cmd="canctl__subcmd__lss__subcmd__help__subcmd__set__subcmd__id"
+                ;;
+            canctl__subcmd__lss__subcmd__help,store)
+                cmd="canctl__subcmd__lss__subcmd__help__subcmd__store"
                 ;;
             canctl__subcmd__nmt,help)
                 cmd="canctl__subcmd__nmt__subcmd__help"
@@ -164,7 +239,7 @@ _canctl() {
 
     case "${cmd}" in
         canctl)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version scan sdo nmt sim completions man help"
+            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version scan sdo nmt lss sim completions man help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -216,7 +291,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__help)
-            opts="scan sdo nmt sim completions man help"
+            opts="scan sdo nmt lss sim completions man help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -246,6 +321,118 @@ _canctl() {
         canctl__subcmd__help__subcmd__help)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__lss)
+            opts="inquire set-id set-baud activate store fastscan assign"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__lss__subcmd__activate)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__lss__subcmd__assign)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__lss__subcmd__fastscan)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__lss__subcmd__inquire)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__lss__subcmd__set__subcmd__baud)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__lss__subcmd__set__subcmd__id)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__lss__subcmd__store)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
@@ -446,6 +633,404 @@ _canctl() {
                 return 0
             fi
             case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss)
+            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version inquire set-id set-baud activate store fastscan assign help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__activate)
+            opts="-v -q -h -V --delay --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --delay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --identity)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --node)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__assign)
+            opts="-v -q -h -V --start --step --no-store --node --bus --timeout --format --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --start)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --step)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --node)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__fastscan)
+            opts="-v -q -h -V --step --node --bus --timeout --format --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --step)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --node)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help)
+            opts="inquire set-id set-baud activate store fastscan assign help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help__subcmd__activate)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help__subcmd__assign)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help__subcmd__fastscan)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help__subcmd__help)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help__subcmd__inquire)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help__subcmd__set__subcmd__baud)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help__subcmd__set__subcmd__id)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__help__subcmd__store)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__inquire)
+            opts="-v -q -h -V --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --identity)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --node)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__set__subcmd__baud)
+            opts="-v -q -h -V --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --identity)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --node)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__set__subcmd__id)
+            opts="-v -q -h -V --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --identity)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --node)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__lss__subcmd__store)
+            opts="-v -q -h -V --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --identity)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --node)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;

@@ -32,6 +32,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand scan 'Find every node on the bus'
             cand sdo 'Read and write objects (SDO)'
             cand nmt 'Start, stop and reset nodes, or ask their NMT state'
+            cand lss 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
             cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
@@ -236,6 +237,166 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;nmt;help;help'= {
         }
+        &'canctl;lss'= {
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+            cand inquire 'Read a device''s identity and node-id'
+            cand set-id 'Give a device a node-id (1..127; 255 takes it away)'
+            cand set-baud 'Configure a device''s bit rate (takes effect at `lss activate`, or stored and reset)'
+            cand activate 'Switch configured bit rates on (every device in configuration state at once)'
+            cand store 'Make a device keep its LSS node-id and bit rate across power cycles'
+            cand fastscan 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)'
+            cand assign 'Give every device without a node-id the next free one, and store it'
+            cand help 'Print this message or the help of the given subcommand(s)'
+        }
+        &'canctl;lss;inquire'= {
+            cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
+            cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --global 'Every LSS device on the bus at once (a broadcast)'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;lss;set-id'= {
+            cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
+            cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --global 'Every LSS device on the bus at once (a broadcast)'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;lss;set-baud'= {
+            cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
+            cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --global 'Every LSS device on the bus at once (a broadcast)'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;lss;activate'= {
+            cand --delay 'Switch delay in ms: the devices wait this long, switch, and wait as long again'
+            cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
+            cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --global 'Every LSS device on the bus at once (a broadcast)'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;lss;store'= {
+            cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
+            cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --global 'Every LSS device on the bus at once (a broadcast)'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;lss;fastscan'= {
+            cand --step 'How long each fastscan step waits for an answer'
+            cand --node 'Refused: an EPOS2 reached directly (node 0) has no LSS'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;lss;assign'= {
+            cand --start 'The first node-id to give'
+            cand --step 'How long each fastscan step waits for an answer'
+            cand --node 'Refused: an EPOS2 reached directly (node 0) has no LSS'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --no-store 'Do not store the node-ids (they are lost at power-off)'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;lss;help'= {
+            cand inquire 'Read a device''s identity and node-id'
+            cand set-id 'Give a device a node-id (1..127; 255 takes it away)'
+            cand set-baud 'Configure a device''s bit rate (takes effect at `lss activate`, or stored and reset)'
+            cand activate 'Switch configured bit rates on (every device in configuration state at once)'
+            cand store 'Make a device keep its LSS node-id and bit rate across power cycles'
+            cand fastscan 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)'
+            cand assign 'Give every device without a node-id the next free one, and store it'
+            cand help 'Print this message or the help of the given subcommand(s)'
+        }
+        &'canctl;lss;help;inquire'= {
+        }
+        &'canctl;lss;help;set-id'= {
+        }
+        &'canctl;lss;help;set-baud'= {
+        }
+        &'canctl;lss;help;activate'= {
+        }
+        &'canctl;lss;help;store'= {
+        }
+        &'canctl;lss;help;fastscan'= {
+        }
+        &'canctl;lss;help;assign'= {
+        }
+        &'canctl;lss;help;help'= {
+        }
         &'canctl;sim'= {
             cand --socketcan 'Put the devices on this CAN interface (vcan0, can0) and answer there'
             cand --baud 'Pace bytes as a serial line at this bit rate would (10 bits a byte)'
@@ -309,6 +470,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand scan 'Find every node on the bus'
             cand sdo 'Read and write objects (SDO)'
             cand nmt 'Start, stop and reset nodes, or ask their NMT state'
+            cand lss 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
             cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
@@ -343,6 +505,29 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;help;nmt;reset-comm'= {
         }
         &'canctl;help;nmt;state'= {
+        }
+        &'canctl;help;lss'= {
+            cand inquire 'Read a device''s identity and node-id'
+            cand set-id 'Give a device a node-id (1..127; 255 takes it away)'
+            cand set-baud 'Configure a device''s bit rate (takes effect at `lss activate`, or stored and reset)'
+            cand activate 'Switch configured bit rates on (every device in configuration state at once)'
+            cand store 'Make a device keep its LSS node-id and bit rate across power cycles'
+            cand fastscan 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)'
+            cand assign 'Give every device without a node-id the next free one, and store it'
+        }
+        &'canctl;help;lss;inquire'= {
+        }
+        &'canctl;help;lss;set-id'= {
+        }
+        &'canctl;help;lss;set-baud'= {
+        }
+        &'canctl;help;lss;activate'= {
+        }
+        &'canctl;help;lss;store'= {
+        }
+        &'canctl;help;lss;fastscan'= {
+        }
+        &'canctl;help;lss;assign'= {
         }
         &'canctl;help;sim'= {
             cand reset 'Forget the simulated network''s saved state: devices start as built'

@@ -36,6 +36,7 @@ complete -c canctl -n "__fish_canctl_needs_command" -s V -l version -d 'Print ve
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "scan" -d 'Find every node on the bus'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "sdo" -d 'Read and write objects (SDO)'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "lss" -d 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "completions" -d 'Print a shell completion script'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "man" -d 'Print the man page, or write every page to a directory'
@@ -169,6 +170,116 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "reset-comm" -d 'Reset a node\'s communication (or all nodes\') and wait for the boot-up'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "state" -d 'Report a node\'s NMT state, from its heartbeat or by node guarding'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -f -a "inquire" -d 'Read a device\'s identity and node-id'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -f -a "set-id" -d 'Give a device a node-id (1..127; 255 takes it away)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -f -a "set-baud" -d 'Configure a device\'s bit rate (takes effect at `lss activate`, or stored and reset)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -f -a "activate" -d 'Switch configured bit rates on (every device in configuration state at once)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -f -a "store" -d 'Make a device keep its LSS node-id and bit rate across power cycles'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -f -a "fastscan" -d 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -f -a "assign" -d 'Give every device without a node-id the next free one, and store it'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l identity -d 'The device\'s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l node -d '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l global -d 'Every LSS device on the bus at once (a broadcast)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l identity -d 'The device\'s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l node -d '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l global -d 'Every LSS device on the bus at once (a broadcast)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l identity -d 'The device\'s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l node -d '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l global -d 'Every LSS device on the bus at once (a broadcast)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l delay -d 'Switch delay in ms: the devices wait this long, switch, and wait as long again' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l identity -d 'The device\'s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l node -d '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l global -d 'Every LSS device on the bus at once (a broadcast)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l identity -d 'The device\'s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l node -d '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l global -d 'Every LSS device on the bus at once (a broadcast)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -l step -d 'How long each fastscan step waits for an answer' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -l node -d 'Refused: an EPOS2 reached directly (node 0) has no LSS' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l start -d 'The first node-id to give' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l step -d 'How long each fastscan step waits for an answer' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l node -d 'Refused: an EPOS2 reached directly (node 0) has no LSS' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l no-store -d 'Do not store the node-ids (they are lost at power-off)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "inquire" -d 'Read a device\'s identity and node-id'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "set-id" -d 'Give a device a node-id (1..127; 255 takes it away)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "set-baud" -d 'Configure a device\'s bit rate (takes effect at `lss activate`, or stored and reset)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "activate" -d 'Switch configured bit rates on (every device in configuration state at once)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "store" -d 'Make a device keep its LSS node-id and bit rate across power cycles'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "fastscan" -d 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "assign" -d 'Give every device without a node-id the next free one, and store it'
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l socketcan -d 'Put the devices on this CAN interface (vcan0, can0) and answer there' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l baud -d 'Pace bytes as a serial line at this bit rate would (10 bits a byte)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l fault -d 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)' -r
@@ -216,13 +327,14 @@ complete -c canctl -n "__fish_canctl_using_subcommand man" -s v -l verbose -d 'T
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s V -l version -d 'Print version'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "scan" -d 'Find every node on the bus'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "completions" -d 'Print a shell completion script'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "scan" -d 'Find every node on the bus'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "lss" -d 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "completions" -d 'Print a shell completion script'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sdo" -f -a "read" -d 'Read an object (SDO upload)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sdo" -f -a "write" -d 'Write an object (SDO download)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "start" -d 'Put a node (or all) in Operational'
@@ -231,4 +343,11 @@ complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subc
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "reset" -d 'Reset a node\'s application (or all nodes\') and wait for the boot-up'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "reset-comm" -d 'Reset a node\'s communication (or all nodes\') and wait for the boot-up'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "state" -d 'Report a node\'s NMT state, from its heartbeat or by node guarding'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "inquire" -d 'Read a device\'s identity and node-id'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "set-id" -d 'Give a device a node-id (1..127; 255 takes it away)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "set-baud" -d 'Configure a device\'s bit rate (takes effect at `lss activate`, or stored and reset)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "activate" -d 'Switch configured bit rates on (every device in configuration state at once)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "store" -d 'Make a device keep its LSS node-id and bit rate across power cycles'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "fastscan" -d 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "assign" -d 'Give every device without a node-id the next free one, and store it'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sim" -f -a "reset" -d 'Forget the simulated network\'s saved state: devices start as built'

@@ -189,3 +189,49 @@ fn a_vanishing_port_ends_with_exit_5() {
         assert!(!out.exists(), "a partial upload must not be written");
     }
 }
+
+#[test]
+fn lss_through_the_gateway() {
+    for framing in FRAMINGS {
+        let sim = Sim::new();
+        let dev = DeviceSide::start(&sim, framing, &[]);
+        let found = dev.run(&["lss", "fastscan", "--format", "json"]).ok().json();
+        assert_eq!(found["identity"], "0x00000040:0x43787800:0x312E3031:0x09501301", "{framing}");
+        let assigned = dev.run(&["lss", "assign", "--start", "20", "--format", "json"]).ok().json();
+        let nodes: Vec<u64> =
+            assigned["assigned"].as_array().unwrap().iter().map(|r| r["node"].as_u64().unwrap()).collect();
+        assert_eq!(nodes, [20, 21, 22], "{framing}");
+        let scan = dev.run(&["scan", "--format", "json"]).ok().json();
+        let ids: Vec<u64> = scan["nodes"].as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect();
+        assert_eq!(ids, [1, 5, 10, 20, 21, 22, 32], "{framing}");
+        assert_eq!(scan["lss_unconfigured"], 0);
+        let r = dev.run(&["lss", "set-baud", "250k", "--identity", "0:0:0:0"]);
+        assert_eq!(r.code, 4);
+        assert!(r.stderr.contains("bit timing not supported"));
+        assert_eq!(dev.run(&["lss", "fastscan"]).code, 3);
+    }
+}
+
+#[test]
+fn lss_verbs_on_the_epos2_itself_use_its_objects() {
+    let sim = Sim::new();
+    let dev = DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    dev.run(&["lss", "set-id", "3", "--node", "0"]).ok();
+    assert_eq!(dev.run(&["sdo", "read", "0", "2000", "--type", "u8"]).ok().stdout.trim(), "3");
+    dev.run(&["lss", "set-baud", "250k", "--node", "0"]).ok();
+    assert_eq!(dev.run(&["sdo", "read", "0", "2001", "--type", "u16"]).ok().stdout.trim(), "3", "EPOS2 code for 250k");
+    dev.run(&["lss", "set-baud", "20k", "--node", "0"]).ok();
+    assert_eq!(dev.run(&["sdo", "read", "0", "2001", "--type", "u16"]).ok().stdout.trim(), "6", "EPOS2 code for 20k");
+    let r = dev.run(&["lss", "set-baud", "10k", "--node", "0"]);
+    assert_eq!(r.code, 2);
+    assert!(r.stderr.contains("no 10k setting"));
+    assert!(dev.run(&["lss", "store", "--node", "0"]).ok().stdout.contains("0x1010:1"));
+    for verb in [vec!["inquire"], vec!["fastscan"], vec!["assign", "--start", "20"]] {
+        let mut args = vec!["lss"];
+        args.extend(verb.iter());
+        args.extend(["--node", "0"]);
+        let r = dev.run(&args);
+        assert_eq!(r.code, 2, "{verb:?}");
+        assert!(r.stderr.contains("has no LSS"), "{verb:?}: {}", r.stderr);
+    }
+}

@@ -47,6 +47,35 @@ fn an_absent_node_times_out_with_exit_3() {
 }
 
 #[test]
+fn lss_fastscan_and_assign_number_a_fresh_bus() {
+    scenarios::lss_fastscan_and_assign_number_a_fresh_bus(&Sim::new());
+}
+
+#[test]
+fn lss_selective_services() {
+    scenarios::lss_selective_services(&Sim::new());
+}
+
+#[test]
+fn lss_refusals() {
+    scenarios::lss_refusals(&Sim::new());
+}
+
+#[test]
+fn lss_activate_switches_the_bit_rate() {
+    let sim = Sim::new();
+    let io = "0x444:0x2057:0x10000:0x1F4A";
+    sim.run(&["lss", "set-baud", "250k", "--identity", io]).ok();
+    // Configured, not yet active: everything still answers.
+    assert_eq!(sim.run(&["scan", "--format", "json"]).ok().json()["nodes"].as_array().unwrap().len(), 4);
+    let r = sim.run(&["lss", "activate", "--identity", io, "--delay", "5"]).ok();
+    assert!(r.stdout.contains("must now run at the new rate too"), "{}", r.stdout);
+    // The bus (and this master) followed the I/O module to 250k: the others are left behind.
+    let nodes = sim.run(&["scan", "--format", "json"]).ok().json()["nodes"].clone();
+    assert_eq!(nodes.as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect::<Vec<_>>(), [10]);
+}
+
+#[test]
 fn malformed_input_is_a_usage_error_with_a_pointed_message() {
     let sim = Sim::new();
     let cases: &[(&[&str], &str)] = &[

@@ -55,6 +55,10 @@ impl Under for OnVcan {
     fn path(&self, name: &str) -> PathBuf {
         self.sim.path(name)
     }
+    /// The kernel tests run in an emulated CPU (TCG), many times slower than hardware.
+    fn lss_step(&self) -> &'static str {
+        "40ms"
+    }
 }
 
 macro_rules! on_vcan {
@@ -82,6 +86,9 @@ on_vcan!(
     nmt_state_falls_back_to_node_guarding_with_toggle,
     nmt_all_is_the_only_broadcast,
     store_and_restore_survive_resets_as_on_hardware,
+    lss_fastscan_and_assign_number_a_fresh_bus,
+    lss_selective_services,
+    lss_refusals,
 );
 
 #[test]

@@ -1,7 +1,8 @@
 //! CANopen client logic over a raw frame link: drives the SDO state machines, sends NMT,
 //! and notes the heartbeats that pass by.
 
-use super::{Bus, FrameLink, SdoOptions};
+use super::{Bus, FrameLink, LssWait, SdoOptions};
+use crate::canopen::lss;
 use crate::canopen::nmt::{self, Command, ErrorControl};
 use crate::canopen::sdo::{self, SdoClient, SdoError};
 use crate::canopen::{abort, ObjAddr};
@@ -256,6 +257,29 @@ impl<L: FrameLink> Bus for Master<L> {
             }
         }
         Err(Error::Timeout(format!("no answer to the remote request for 0x{id:03X} within {} ms", timeout.as_millis())))
+    }
+
+    fn lss_exchange(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>> {
+        self.link.set_filters(&[(lss::SLAVE_COB, 0x7FF)])?;
+        // A slow slave's answer to the previous request must not count for this one.
+        while self.recv(Instant::now())?.is_some() {}
+        self.send(&Frame::new(lss::MASTER_COB, request))?;
+        let mut answers = Vec::new();
+        if collect == LssWait::Nothing {
+            return Ok(answers);
+        }
+        let mut deadline = Instant::now() + wait;
+        while let Some(f) = self.recv(deadline)? {
+            if f.id() == lss::SLAVE_COB && f.len() == 8 {
+                answers.push(sdo::pad(f.data()));
+                match collect {
+                    LssWait::First => break,
+                    LssWait::Settle(quiet) => deadline = Instant::now() + quiet,
+                    _ => {}
+                }
+            }
+        }
+        Ok(answers)
     }
 
     fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {

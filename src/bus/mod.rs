@@ -1,5 +1,6 @@
 //! The service-level API every command is written against, and the backends behind it.
 
+pub mod lss;
 pub mod master;
 pub mod socketcan;
 pub mod uri;
@@ -51,6 +52,20 @@ impl SdoOptions {
     }
 }
 
+/// How many LSS answers to wait for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LssWait {
+    /// An unconfirmed service: send and go on.
+    Nothing,
+    /// Done at the first answer (or when the wait is over).
+    First,
+    /// Every answer within the wait.
+    All,
+    /// The first answer, then any others until none has come for this long: several
+    /// slaves may answer one request, and a straggler must not count for the next.
+    Settle(Duration),
+}
+
 /// Node 0 in an NMT command addresses every node.
 pub const ALL_NODES: u8 = 0;
 
@@ -100,6 +115,10 @@ pub trait Bus {
 
     /// Send a remote request for `id` and return the first data frame with that id.
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame>;
+
+    /// Send one LSS master request (0x7E5) and collect the slaves' answers (0x7E4) that
+    /// arrive within `wait`. Answers left over from earlier requests are dropped first.
+    fn lss_exchange(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>>;
 
     /// NMT states reported by heartbeats seen so far in this session.
     fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State>;

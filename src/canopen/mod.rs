@@ -2,6 +2,7 @@
 
 pub mod abort;
 pub mod emcy;
+pub mod lss;
 pub mod nmt;
 pub mod objaddr;
 pub mod sdo;

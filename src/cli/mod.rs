@@ -2,12 +2,13 @@
 //! all generated, and one module per command.
 
 mod docs;
+mod lss;
 mod nmt;
 mod scan;
 mod sdo;
 mod sim;
 
-use crate::bus::{Bus, BusUri, Master};
+use crate::bus::{Bus, BusUri, Master, SdoOptions};
 use crate::epos2::gateway::Epos2Gateway;
 use crate::epos2::transport::SerialTransport;
 use crate::error::Error;
@@ -73,6 +74,9 @@ pub enum Command {
     /// Start, stop and reset nodes, or ask their NMT state
     #[command(subcommand)]
     Nmt(nmt::NmtCommand),
+    /// Node-ids and bit rates over LSS (CiA 305): find, set, store, assign
+    #[command(subcommand)]
+    Lss(lss::LssCommand),
     Sim(sim::SimArgs),
     Completions(docs::CompletionsArgs),
     Man(docs::ManArgs),
@@ -202,6 +206,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Scan(args) => with_bus(g, |bus| scan::run(&ctx, bus, args)),
         Command::Sdo(cmd) => with_bus(g, |bus| sdo::run(&ctx, bus, cmd)),
         Command::Nmt(cmd) => with_bus(g, |bus| nmt::run(&ctx, bus, cmd)),
+        Command::Lss(cmd) => with_bus(g, |bus| lss::run(&ctx, bus, cmd)),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),

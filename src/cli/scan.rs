@@ -15,6 +15,8 @@ use std::time::Duration;
 /// quiet window for answers; then reads identity (0x1018:1..4) and name (0x1008) from each
 /// node that answered, all nodes in parallel. The NMT state comes from heartbeats seen
 /// meanwhile; a node without heartbeat shows none (scan never sends node-guarding requests).
+/// Last, it counts the devices without a node-id that answer LSS "identify non-configured
+/// remote slave".
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim scan
@@ -46,25 +48,30 @@ fn as_u32(bytes: &[u8]) -> Option<u32> {
     bytes.try_into().ok().map(u32::from_le_bytes)
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
+/// Every node that answers an SDO read of 0x1000 within `window`, with its device type
+/// (`None` when it answered with an abort: the node is there all the same).
+pub fn probe(ctx: &Ctx, bus: &mut dyn Bus, window: Duration) -> anyhow::Result<Vec<(u8, Option<u32>)>> {
     let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, ObjAddr::new(0x1000, 0))).collect();
     let bar = ctx.out.bar(probes.len() as u64, "probing");
-    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(args.window), &mut |n| bar.set_position(n as u64))?;
+    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(window), &mut |n| bar.set_position(n as u64))?;
     bar.finish_and_clear();
-    // An abort is an answer too: the node is there, it just has no (readable) 0x1000.
-    let mut found: Vec<Found> = Vec::new();
+    let mut found = Vec::new();
     for ((node, _), answer) in probes.iter().zip(answers) {
-        let device_type = match answer {
-            Ok(bytes) => as_u32(&bytes),
-            Err(Error::SdoAbort { .. }) => None,
-            Err(Error::Timeout(_)) => continue,
-            Err(e) => {
-                ctx.out.note(&format!("warning: node {node}: {e}"));
-                continue;
-            }
-        };
-        found.push(Found { node: *node, device_type, identity: [None; 4], name: None, state: None });
+        match answer {
+            Ok(bytes) => found.push((*node, as_u32(&bytes))),
+            Err(Error::SdoAbort { .. }) => found.push((*node, None)),
+            Err(Error::Timeout(_)) => {}
+            Err(e) => ctx.out.note(&format!("warning: node {node}: {e}")),
+        }
     }
+    Ok(found)
+}
+
+pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
+    let mut found: Vec<Found> = probe(ctx, bus, args.window)?
+        .into_iter()
+        .map(|(node, device_type)| Found { node, device_type, identity: [None; 4], name: None, state: None })
+        .collect();
 
     let reads: Vec<(u8, ObjAddr)> =
         found.iter().flat_map(|f| IDENTITY.iter().map(|(_, a)| (f.node, *a)).chain([(f.node, NAME)])).collect();
@@ -87,10 +94,11 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
     for f in &mut found {
         f.state = states.get(&f.node).copied();
     }
-    report(ctx, bus, &found)
+    let unconfigured = crate::bus::lss::count_unconfigured(bus, args.window)?;
+    report(ctx, bus, &found, unconfigured)
 }
 
-fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found]) -> anyhow::Result<()> {
+fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found], unconfigured: usize) -> anyhow::Result<()> {
     let hex = |v: Option<u32>| v.map_or("-".to_string(), |v| format!("0x{v:08X}"));
     match ctx.out.format {
         Format::Json => {
@@ -109,7 +117,7 @@ fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found]) -> anyhow::Result<()> {
                     })
                 })
                 .collect();
-            ctx.out.json(&json!({ "bus": bus.describe(), "nodes": nodes }))?;
+            ctx.out.json(&json!({ "bus": bus.describe(), "nodes": nodes, "lss_unconfigured": unconfigured }))?;
         }
         Format::Human | Format::Csv => {
             let headers = ["node", "device_type", "vendor_id", "product_code", "revision", "serial", "name", "state"];
@@ -127,6 +135,11 @@ fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found]) -> anyhow::Result<()> {
                 ctx.out.note(&format!("{} node(s) on {}", found.len(), bus.describe()));
             }
             ctx.out.table(&headers, &rows)?;
+            if ctx.out.format == Format::Human && unconfigured > 0 {
+                ctx.out.print(&format!(
+                    "{unconfigured} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)"
+                ))?;
+            }
         }
     }
     Ok(())

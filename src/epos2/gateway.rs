@@ -3,7 +3,7 @@
 
 use super::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
 use super::transport::Transport;
-use crate::bus::{Bus, SdoOptions, ALL_NODES};
+use crate::bus::{Bus, LssWait, SdoOptions, ALL_NODES};
 use crate::canopen::nmt::{self, Command as NmtCommand};
 use crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD;
 use crate::canopen::{abort, ObjAddr};
@@ -211,6 +211,38 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         let data = self.call_ok(&c, (id & 0x7F) as u8, None)?;
         let n = (len as usize).min(8).min(data.len());
         Ok(Frame::new(id, &data[..n]))
+    }
+
+    fn lss_exchange(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>> {
+        let send = Command::SendLssFrame { data: *request };
+        if let Some((code, _)) = self.call(&send)? {
+            self.check(code, 0, None, send.name())?;
+        }
+        let mut answers = Vec::new();
+        if collect == LssWait::Nothing {
+            return Ok(answers);
+        }
+        // ReadLSSFrame hands over one slave message per call, waiting up to its timeout.
+        let deadline = Instant::now() + wait;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            let timeout_ms = left.as_millis().clamp(1, u16::MAX as u128) as u16;
+            let read = Command::ReadLssFrame { timeout_ms };
+            let (code, data) = self.call(&read)?.expect("ReadLSSFrame is answered");
+            match code {
+                abort::TIMED_OUT => break,
+                0 => {
+                    answers.push(data.get(..8).and_then(|d| d.try_into().ok()).unwrap_or([0; 8]));
+                    // Settle: the EPOS2 device drops stale slave messages at the next
+                    // SendLSSFrame, so the first answer is enough.
+                    if matches!(collect, LssWait::First | LssWait::Settle(_)) || left.is_zero() {
+                        break;
+                    }
+                }
+                c => self.check(c, 0, None, read.name())?,
+            }
+        }
+        Ok(answers)
     }
 
     fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {

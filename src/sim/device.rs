@@ -2,6 +2,7 @@
 //! machine, heartbeat producer and node-guarding responder.
 
 use super::profiles::Model;
+use crate::canopen::lss::{self, SlaveEvent, UNCONFIGURED};
 use crate::canopen::nmt::{self, Command, ErrorControl};
 use crate::canopen::sdo::{self, ObjectAccess, SdoServer};
 use crate::canopen::{abort, ObjAddr};
@@ -73,6 +74,28 @@ impl ObjectStore {
 
     pub fn value(&self, addr: ObjAddr) -> Option<&[u8]> {
         self.values.get(&addr).map(|v| v.as_slice())
+    }
+
+    /// CiA 305: a new node-id takes effect at once for the COB-IDs of the predefined
+    /// connection set; values still at their node-id-based default follow it.
+    fn renumber(&mut self, new_id: u8) {
+        let old_id = self.node_id;
+        for e in self.dict.entries() {
+            if let crate::od::Init::NodeIdPlus(_) = e.default {
+                let (old, new) = (e.default.resolve(old_id), e.default.resolve(new_id));
+                for map in [&mut self.values, &mut self.stored] {
+                    if map.get(&e.addr) == Some(&old) {
+                        map.insert(e.addr, new.clone());
+                    }
+                }
+            }
+        }
+        self.node_id = new_id;
+        self.dirty = true;
+    }
+
+    fn u32_value(&self, addr: ObjAddr) -> Option<u32> {
+        self.value(addr).and_then(|v| v.try_into().ok()).map(u32::from_le_bytes)
     }
 
     pub fn u16_value(&self, addr: ObjAddr) -> Option<u16> {
@@ -169,10 +192,21 @@ pub struct DeviceState {
     pub values: BTreeMap<String, String>,
     #[serde(default)]
     pub stored: BTreeMap<String, String>,
+    #[serde(default)]
+    pub bit_rate: Option<BitRates>,
+}
+
+/// CiA 305 bit timing table indices: in use, configured and waiting for activation, and
+/// stored by "store configuration".
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BitRates {
+    pub active: u8,
+    pub pending: Option<u8>,
+    pub stored: u8,
 }
 
 pub struct Device {
-    pub model: &'static str,
+    pub model: String,
     node_id: Option<u8>,
     nmt: nmt::State,
     od: ObjectStore,
@@ -180,10 +214,14 @@ pub struct Device {
     block_transfer: bool,
     guarding: bool,
     guard_toggle: bool,
+    lss: lss::Slave,
+    /// Given a node-id by LSS while it had none: boots once it leaves configuration state.
+    boot_pending: bool,
+    bit_rate: BitRates,
 }
 
 impl Device {
-    pub fn new(model: Model, node_id: Option<u8>) -> Device {
+    pub fn new(model: Model, node_id: Option<u8>, bit_rate: u8) -> Device {
         let mut od = ObjectStore {
             dict: model.dict,
             node_id: node_id.unwrap_or(0),
@@ -194,7 +232,12 @@ impl Device {
         };
         od.reload(None);
         od.dirty = false;
+        let part = |sub| od.u32_value(ObjAddr::new(0x1018, sub)).unwrap_or(0);
+        let identity = lss::Identity { vendor: part(1), product: part(2), revision: part(3), serial: part(4) };
         Device {
+            lss: lss::Slave::new(identity, model.lss),
+            boot_pending: false,
+            bit_rate: BitRates { active: bit_rate, pending: None, stored: bit_rate },
             model: model.key,
             node_id,
             nmt: nmt::State::PreOperational,
@@ -228,8 +271,20 @@ impl Device {
         std::mem::take(&mut self.od.dirty)
     }
 
+    pub fn identity(&self) -> lss::Identity {
+        self.lss.identity
+    }
+
+    /// The bit rate (CiA 305 table index) the device's controller runs at.
+    pub fn bit_rate(&self) -> u8 {
+        self.bit_rate.active
+    }
+
     /// React to one frame on the bus; returns the frames this device sends in answer.
     pub fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
+        if f.id() == lss::MASTER_COB && !f.is_remote() {
+            return self.lss_frame(f);
+        }
         let Some(id) = self.node_id else {
             return vec![];
         };
@@ -250,6 +305,44 @@ impl Device {
             return vec![answer.frame(id)];
         }
         vec![]
+    }
+
+    fn lss_frame(&mut self, f: &Frame) -> Vec<Frame> {
+        let Some(req) = lss::Request::decode(f.data()) else { return vec![] };
+        let (answer, event) = self.lss.handle(req, self.node_id.unwrap_or(UNCONFIGURED));
+        let mut out: Vec<Frame> = answer.iter().map(|a| Frame::new(lss::SLAVE_COB, &a.encode())).collect();
+        match event {
+            Some(SlaveEvent::NodeId(id)) => {
+                let new = (id != UNCONFIGURED).then_some(id);
+                self.boot_pending |= self.node_id.is_none() && new.is_some();
+                self.node_id = new;
+                self.od.renumber(new.unwrap_or(0));
+            }
+            Some(SlaveEvent::BitTiming(index)) => {
+                self.bit_rate.pending = Some(index);
+                self.od.dirty = true;
+            }
+            // The switch delay is not simulated: the new rate holds from the next frame on.
+            Some(SlaveEvent::Activate { .. }) => {
+                if let Some(p) = self.bit_rate.pending.take() {
+                    self.bit_rate.active = p;
+                    self.od.dirty = true;
+                }
+            }
+            Some(SlaveEvent::Store) => {
+                self.bit_rate.stored = self.bit_rate.pending.unwrap_or(self.bit_rate.active);
+                self.od.dirty = true;
+            }
+            Some(SlaveEvent::BackToWaiting) => {
+                if let (true, Some(id)) = (self.boot_pending, self.node_id) {
+                    self.boot_pending = false;
+                    self.nmt = nmt::State::PreOperational;
+                    out.push(ErrorControl::BootUp.frame(id));
+                }
+            }
+            None => {}
+        }
+        out
     }
 
     fn nmt_command(&mut self, cmd: Command, id: u8) -> Vec<Frame> {
@@ -300,6 +393,7 @@ impl Device {
             nmt: Some(self.nmt),
             values: hex_map(&self.od.values, true),
             stored: hex_map(&self.od.stored, false),
+            bit_rate: Some(self.bit_rate),
         }
     }
 
@@ -311,6 +405,9 @@ impl Device {
             self.od.reload(None);
         }
         self.nmt = s.nmt.unwrap_or(nmt::State::PreOperational);
+        if let Some(b) = s.bit_rate {
+            self.bit_rate = b;
+        }
         let parse = |m: &BTreeMap<String, String>| -> BTreeMap<ObjAddr, Vec<u8>> {
             m.iter()
                 .filter_map(|(k, v)| Some((k.parse::<ObjAddr>().ok()?, crate::canopen::types::parse_hex(v).ok()?)))

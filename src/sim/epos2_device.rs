@@ -4,6 +4,7 @@
 
 use super::SimLink;
 use crate::bus::FrameLink;
+use crate::canopen::lss;
 use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::sdo::{self, ObjectAccess};
 use crate::canopen::{abort, ObjAddr};
@@ -175,11 +176,17 @@ impl Epos2Device {
             }
             Command::RequestCanFrame { .. } => answer(command::CAN_ID, &[0; 8]),
             Command::SendLssFrame { data } => {
-                self.send(&Frame::new(0x7E5, &data))?;
+                // A new request starts afresh: slave messages still queued from an earlier
+                // one are dropped, so that ReadLSSFrame hands over answers to this one.
+                while self.link.recv(Instant::now())?.is_some() {}
+                self.send(&Frame::new(lss::MASTER_COB, &data))?;
                 answer(0, &[])
             }
             Command::ReadLssFrame { timeout_ms } => {
-                match self.wait_for(|f| f.id() == 0x7E4 && !f.is_remote(), Duration::from_millis(timeout_ms as u64))? {
+                match self.wait_for(
+                    |f| f.id() == lss::SLAVE_COB && !f.is_remote(),
+                    Duration::from_millis(timeout_ms as u64),
+                )? {
                     Some(f) => answer(0, &pad8(f.data())),
                     None => answer(abort::TIMED_OUT, &[0; 8]),
                 }

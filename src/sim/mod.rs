@@ -9,20 +9,37 @@ pub mod profiles;
 pub mod state;
 
 use crate::bus::FrameLink;
+use crate::canopen::lss;
 use crate::error::Result;
 use crate::frame::Frame;
 use device::Device;
 use std::collections::{BTreeMap, VecDeque};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
+/// The bit rate of the demo bus: 500 kbit/s (CiA 305 table index 2).
+pub const DEFAULT_BIT_RATE: u8 = 2;
+
 /// The devices on one simulated bus.
 pub struct Network {
     devices: Vec<Device>,
+    /// The bus's bit rate (CiA 305 table index): devices running at another rate neither
+    /// hear nor are heard.
+    bit_rate: u8,
 }
 
 impl Network {
     pub fn demo() -> Network {
-        Network { devices: profiles::demo_network().into_iter().map(|(m, id)| Device::new(m, id)).collect() }
+        Network::of(profiles::demo_network())
+    }
+
+    /// A network of these devices at the default bit rate.
+    pub fn of(devices: Vec<(profiles::Model, Option<u8>)>) -> Network {
+        let devices = devices.into_iter().map(|(m, id)| Device::new(m, id, DEFAULT_BIT_RATE)).collect();
+        Network { devices, bit_rate: DEFAULT_BIT_RATE }
+    }
+
+    pub fn bit_rate(&self) -> u8 {
+        self.bit_rate
     }
 
     pub fn devices(&self) -> &[Device] {
@@ -34,9 +51,23 @@ impl Network {
         self.devices.iter_mut().find(|d| d.model == model)
     }
 
+    /// The bus's bit rate was changed by a master that knows better (`sim` knobs, tests).
+    pub fn set_bit_rate(&mut self, rate: u8) {
+        self.bit_rate = rate;
+    }
+
     /// Put `frame` on the bus; returns what the devices send in answer, in order.
     pub fn deliver(&mut self, frame: &Frame) -> Vec<Frame> {
-        self.devices.iter_mut().flat_map(|d| d.on_frame(frame)).collect()
+        let rate = self.bit_rate;
+        let out = self.devices.iter_mut().filter(|d| d.bit_rate() == rate).flat_map(|d| d.on_frame(frame)).collect();
+        // CiA 305 "activate bit timing": the devices that switched, and the master with
+        // them, run at the new rate; a device left at the old rate drops off the bus.
+        if let Some(new) = self.devices.iter().map(|d| d.bit_rate()).find(|r| *r != rate) {
+            if lss::Request::decode(frame.data()).is_some_and(|r| matches!(r, lss::Request::ActivateBitTiming { .. })) {
+                self.bit_rate = new;
+            }
+        }
+        out
     }
 
     /// Heartbeats due in `(after, upto]` (ms of wall-clock time), at most one per device.
@@ -45,6 +76,9 @@ impl Network {
         self.devices
             .iter()
             .filter_map(|d| {
+                if d.bit_rate() != self.bit_rate {
+                    return None;
+                }
                 let period = d.heartbeat_ms()?;
                 let last = last_beat(period, d.node_id()? as u64, upto);
                 (last > after).then(|| d.heartbeat_frame()).flatten()
@@ -66,13 +100,15 @@ impl Network {
     pub fn snapshot(&self) -> state::NetworkState {
         state::NetworkState {
             version: state::VERSION,
-            devices: self.devices.iter().map(|d| (d.model.to_string(), d.snapshot())).collect(),
+            bit_rate: Some(self.bit_rate),
+            devices: self.devices.iter().map(|d| (d.model.clone(), d.snapshot())).collect(),
         }
     }
 
     pub fn restore(&mut self, s: &state::NetworkState) {
+        self.bit_rate = s.bit_rate.unwrap_or(DEFAULT_BIT_RATE);
         for d in &mut self.devices {
-            if let Some(ds) = s.devices.get(d.model) {
+            if let Some(ds) = s.devices.get(&d.model) {
                 d.restore(ds);
             }
         }
@@ -110,7 +146,12 @@ pub struct SimLink {
 impl SimLink {
     /// A network with no state file: fresh demo devices, nothing kept.
     pub fn ephemeral() -> SimLink {
-        SimLink { net: Network::demo(), rx: VecDeque::new(), beats_upto: wall_ms(), file: None }
+        SimLink::of(Network::demo())
+    }
+
+    /// These devices, with no state file.
+    pub fn of(net: Network) -> SimLink {
+        SimLink { net, rx: VecDeque::new(), beats_upto: wall_ms(), file: None }
     }
 
     /// The network as the state file left it.
@@ -196,6 +237,6 @@ impl FrameLink for SimLink {
 }
 
 /// Node-ids on the demo network, for documentation and tests.
-pub fn demo_node_ids() -> BTreeMap<u8, &'static str> {
-    Network::demo().devices.iter().filter_map(|d| Some((d.node_id()?, d.model))).collect()
+pub fn demo_node_ids() -> BTreeMap<u8, String> {
+    Network::demo().devices.iter().filter_map(|d| Some((d.node_id()?, d.model.clone()))).collect()
 }

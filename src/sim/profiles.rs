@@ -1,6 +1,7 @@
 //! The device models of the demo network, after the devices in `seeds/`. Where a seed says
 //! something the model follows it; elsewhere it follows CiA 301 and the device profile.
 
+use crate::canopen::lss::SlaveCaps;
 use crate::canopen::DataType::{self, *};
 use crate::canopen::ObjAddr;
 use crate::od::Access::*;
@@ -8,23 +9,28 @@ use crate::od::{le, text, Access, Dictionary, Init};
 
 pub struct Model {
     /// Stable name used in the state file.
-    pub key: &'static str,
+    pub key: String,
     pub dict: Dictionary,
     pub block_transfer: bool,
     pub guarding: bool,
     /// Objects that accept any write and keep their value (a firmware quirk some seeds describe).
     pub ignored_writes: Vec<ObjAddr>,
+    /// What its LSS slave supports (CiA 305 store and bit timing are optional).
+    pub lss: SlaveCaps,
 }
+
+const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true };
 
 /// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
 pub fn demo_network() -> Vec<(Model, Option<u8>)> {
-    vec![
+    let mut devices = vec![
         (drive(), Some(1)),
-        (position_sensor(), Some(5)),
+        (position_sensor(SENSOR_SERIAL), Some(5)),
         (io_module(), Some(10)),
         (stepper(), Some(32)),
-        (unconfigured(), None),
-    ]
+    ];
+    devices.extend(UNCONFIGURED_SERIALS.map(|serial| (position_sensor(serial), None)));
+    devices
 }
 
 pub const DOMAIN_SIZE: usize = 64 * 1024;
@@ -125,7 +131,7 @@ pub fn drive() -> Model {
     // CiA 302 program download: a DOMAIN large enough to make block transfer matter.
     d.record(0x1F50, "Program data", vec![(1, "Program 1", D, Rw, Init::Bytes(domain_pattern(DOMAIN_SIZE)))]);
     data_type_record(&mut d);
-    Model { key: "drive", dict: d, block_transfer: true, guarding: true, ignored_writes: vec![] }
+    Model { key: "drive".into(), dict: d, block_transfer: true, guarding: true, ignored_writes: vec![], lss: FULL_LSS }
 }
 
 /// Not in any seed device: the simulated drive (node 1, reached directly through an EPOS2)
@@ -155,14 +161,22 @@ fn data_type_record(d: &mut Dictionary) {
     );
 }
 
-/// Node 5: after the Temposonics MH CANopen sensor (seed 001, table 5 and §10.3).
-pub fn position_sensor() -> Model {
+/// Serial of the demo sensor at node 5: the example in seed 001 figure 10.
+pub const SENSOR_SERIAL: u32 = 0x0950_1234;
+/// Serials of the demo sensors that wait for a node-id over LSS.
+pub const UNCONFIGURED_SERIALS: [u32; 3] = [0x0950_1301, 0x0950_1302, 0x0950_1303];
+
+/// After the Temposonics MH CANopen sensor (seed 001, table 5 and §10.3): node 5 of the demo
+/// network, and the devices that wait for a node-id.
+pub fn position_sensor(serial: u32) -> Model {
+    let key = if serial == SENSOR_SERIAL { "sensor".to_string() } else { format!("sensor-{serial:08X}") };
     let mut d = common(Common {
         device_type: 0x000A_0196,
         name: "C01",
         hardware: "1.00",
         software: "1.00",
-        identity: Some([0x0000_0040, 0x4378_7800, 0x0001_0000, 0x0012_D687]),
+        // Seed 001 table 5: vendor 0x40, product 0x43787800, revision 0x312E3031 ("1.01").
+        identity: Some([0x0000_0040, 0x4378_7800, 0x312E_3031, serial]),
         // The seed's default is 0; the demo sensor beats every 40 ms so that a scan (50 ms
         // quiet window) always sees its state.
         heartbeat_ms: Some(40),
@@ -201,7 +215,7 @@ pub fn position_sensor() -> Model {
     d.var(0x6200, "Cyclic timer", U16, Rw, u(1, U16));
     d.var(0x6500, "Operating status", U16, Ro, u(0, U16));
     d.var(0x6501, "Measuring step", U32, Ro, u(100_000, U32));
-    Model { key: "sensor", dict: d, block_transfer: false, guarding: false, ignored_writes: vec![] }
+    Model { key, dict: d, block_transfer: false, guarding: false, ignored_writes: vec![], lss: FULL_LSS }
 }
 
 /// Node 10: after an ICP DAS CAN-2000C module, the CAN-2057C 16-channel DO (seed 004).
@@ -253,7 +267,7 @@ pub fn io_module() -> Model {
         vec![(1, "Outputs 1-8", U8, Rw, u(0, U8)), (2, "Outputs 9-16", U8, Rw, u(0, U8))],
     );
     data_type_record(&mut d);
-    Model { key: "io", dict: d, block_transfer: false, guarding: true, ignored_writes: vec![] }
+    Model { key: "io".into(), dict: d, block_transfer: false, guarding: true, ignored_writes: vec![], lss: FULL_LSS }
 }
 
 /// Node 32: after the Stögra SERS stepper (seed 003): DS402 subset, node guarding only, an
@@ -283,27 +297,14 @@ pub fn stepper() -> Model {
     d.var(0x6081, "Profile velocity", U32, Rw, u(500, U32));
     d.var(0x6083, "Profile acceleration", U32, Rw, u(1000, U32));
     Model {
-        key: "stepper",
+        key: "stepper".into(),
         dict: d,
         block_transfer: false,
         guarding: true,
         ignored_writes: vec![ObjAddr::new(0x1006, 0)],
+        // Seed 003: the bit rate comes from DIP switches, and nothing about storing.
+        lss: SlaveCaps { store: false, bit_timing: false },
     }
-}
-
-/// A device waiting for a node-id over LSS: silent to everything else.
-pub fn unconfigured() -> Model {
-    let d = common(Common {
-        device_type: 0x000A_0196,
-        name: "C01",
-        hardware: "1.00",
-        software: "1.00",
-        identity: Some([0x0000_0040, 0x4378_7800, 0x0001_0000, 0x0012_D6A0]),
-        heartbeat_ms: Some(0),
-        guarding: false,
-        store_subs: 1,
-    });
-    Model { key: "lss-unconfigured", dict: d, block_transfer: false, guarding: false, ignored_writes: vec![] }
 }
 
 /// Reproducible, incompressible-looking content (xorshift32).

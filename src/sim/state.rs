@@ -12,6 +12,9 @@ pub const VERSION: u32 = 1;
 #[derive(serde::Serialize, serde::Deserialize, Default, Debug)]
 pub struct NetworkState {
     pub version: u32,
+    /// The bus's bit rate (CiA 305 table index).
+    #[serde(default)]
+    pub bit_rate: Option<u8>,
     pub devices: BTreeMap<String, DeviceState>,
 }
 

@@ -11,6 +11,10 @@ pub trait Under {
     /// The interface name in `-v` traces.
     fn iface(&self) -> &str;
     fn path(&self, name: &str) -> PathBuf;
+    /// The fastscan step for this bus.
+    fn lss_step(&self) -> &'static str {
+        "10ms"
+    }
 }
 
 impl Under for Sim {
@@ -245,4 +249,95 @@ pub fn store_and_restore_survive_resets_as_on_hardware(bus: &dyn Under) {
     assert_eq!(hb(bus), "30");
     bus.run(&["nmt", "reset", "5"]).ok();
     assert_eq!(hb(bus), "40");
+}
+
+const SENSOR: &str = "0x40:0x43787800:0x312E3031:0x09501234";
+const WAITING: [&str; 3] = ["0x09501301", "0x09501302", "0x09501303"];
+
+pub fn lss_fastscan_and_assign_number_a_fresh_bus(bus: &dyn Under) {
+    let scan = bus.run(&["scan", "--format", "json"]).ok().json();
+    assert_eq!(scan["lss_unconfigured"], 3);
+    let step = bus.lss_step();
+    let found = bus.run(&["lss", "fastscan", "--step", step, "--format", "json"]).ok().json();
+    assert_eq!(found["identity"], format!("0x00000040:0x43787800:0x312E3031:{}", WAITING[0]));
+    assert_eq!(found["steps"], 133);
+    let assigned = bus.run(&["lss", "assign", "--start", "20", "--step", step, "--format", "json"]).ok().json();
+    let rows = assigned["assigned"].as_array().unwrap();
+    let got: Vec<(u64, String)> = rows
+        .iter()
+        .map(|r| (r["node"].as_u64().unwrap(), format!("0x{:08X}", r["lss"]["serial"].as_u64().unwrap())))
+        .collect();
+    let want: Vec<(u64, String)> = WAITING.iter().enumerate().map(|(i, s)| (20 + i as u64, s.to_string())).collect();
+    assert_eq!(got, want);
+    assert!(rows.iter().all(|r| r["stored"] == true));
+    // They boot with their new node-ids and answer SDO with the right identity.
+    let scan = bus.run(&["scan", "--format", "json"]).ok().json();
+    assert_eq!(scan["lss_unconfigured"], 0);
+    let nodes = scan["nodes"].as_array().unwrap();
+    let ids: Vec<u64> = nodes.iter().map(|n| n["node"].as_u64().unwrap()).collect();
+    assert_eq!(ids, [1, 5, 10, 20, 21, 22, 32]);
+    for (i, serial) in WAITING.iter().enumerate() {
+        let n = nodes.iter().find(|n| n["node"] == 20 + i as u64).unwrap();
+        assert_eq!(format!("0x{:08X}", n["serial"].as_u64().unwrap()), *serial);
+        assert_eq!(n["product_code"], 0x4378_7800);
+    }
+    // Nothing left to find: exit 3.
+    let r = bus.run(&["lss", "fastscan"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    let r = bus.run(&["lss", "assign", "--start", "20"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+}
+
+pub fn lss_selective_services(bus: &dyn Under) {
+    // Seed 001 figure 10 on the wire: the four switch requests and the 0x44 answer.
+    let r = bus.run(&["-v", "lss", "inquire", "--identity", SENSOR]).ok();
+    assert_eq!(r.stdout.trim(), format!("0x00000040:0x43787800:0x312E3031:0x09501234  node-id 5"));
+    for frame in [
+        "7E5   [8]  40 40 00 00 00 00 00 00",
+        "7E5   [8]  41 00 78 78 43 00 00 00",
+        "7E5   [8]  42 31 30 2E 31 00 00 00",
+        "7E5   [8]  43 34 12 50 09 00 00 00",
+        "7E4   [8]  44 00 00 00 00 00 00 00",
+    ] {
+        assert!(trace_has(bus, &r.stderr, frame), "{frame} missing:\n{}", r.stderr);
+    }
+    // A new node-id takes effect at once: SDO and heartbeat follow it.
+    bus.run(&["lss", "set-id", "6", "--identity", SENSOR]).ok();
+    assert_eq!(bus.run(&["sdo", "read", "6", "1018:4", "--type", "u32"]).ok().stdout.trim(), "156242484");
+    assert!(bus.run(&["nmt", "state", "6"]).ok().stdout.contains("pre-operational (from heartbeat)"));
+    assert_eq!(
+        bus.run(&["sdo", "read", "6", "1800:1", "--type", "u32"]).ok().stdout.trim(),
+        "390",
+        "TPDO1 COB-ID 0x186"
+    );
+    bus.run(&["lss", "set-id", "5", "--identity", SENSOR]).ok();
+    bus.run(&["lss", "store", "--identity", SENSOR]).ok();
+    assert_eq!(bus.run(&["sdo", "read", "5", "100B", "--type", "u32"]).ok().stdout.trim(), "5");
+}
+
+pub fn lss_refusals(bus: &dyn Under) {
+    let no_target = bus.run(&["lss", "set-id", "7"]);
+    assert_eq!(no_target.code, 2);
+    assert!(no_target.stderr.contains("--global"), "{}", no_target.stderr);
+    for bad in ["0", "128", "254"] {
+        let r = bus.run(&["lss", "set-id", bad, "--identity", SENSOR]);
+        assert_eq!(r.code, 2, "set-id {bad}");
+        assert!(r.stderr.contains("1..127, or 255"), "{}", r.stderr);
+    }
+    assert_eq!(bus.run(&["lss", "set-baud", "100k", "--global"]).code, 2);
+    // The SERS stepper's bit rate comes from DIP switches; it cannot store either.
+    let r = bus.run(&["lss", "set-baud", "250k", "--identity", "0:0:0:0"]);
+    assert_eq!(r.code, 4, "{}", r.stderr);
+    assert!(r.stderr.contains("bit timing not supported"), "{}", r.stderr);
+    let r = bus.run(&["lss", "store", "--identity", "0:0:0:0"]);
+    assert_eq!(r.code, 4);
+    assert!(r.stderr.contains("store configuration not supported"));
+    // Nobody with that identity.
+    let r = bus.run(&["lss", "inquire", "--identity", "1:2:3:4"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("no LSS device with identity"), "{}", r.stderr);
+    // A global inquiry only makes sense with one device.
+    let r = bus.run(&["lss", "inquire", "--global"]);
+    assert_eq!(r.code, 2);
+    assert!(r.stderr.contains("address one with --identity"));
 }
