@@ -24,6 +24,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -36,6 +37,9 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('sdo', 'sdo', [CompletionResultType]::ParameterValue, 'Read and write objects (SDO)')
             [CompletionResult]::new('nmt', 'nmt', [CompletionResultType]::ParameterValue, 'Start, stop and reset nodes, or ask their NMT state')
             [CompletionResult]::new('lss', 'lss', [CompletionResultType]::ParameterValue, 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign')
+            [CompletionResult]::new('store', 'store', [CompletionResultType]::ParameterValue, 'Save parameters to non-volatile memory (writes ''save'' to 0x1010)')
+            [CompletionResult]::new('restore', 'restore', [CompletionResultType]::ParameterValue, 'Bring back default parameters (writes ''load'' to 0x1011)')
+            [CompletionResult]::new('config', 'config', [CompletionResultType]::ParameterValue, 'Configuration files: dump a node to a DCF, compare, apply')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
@@ -47,6 +51,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -61,6 +66,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -75,12 +81,13 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;sdo;read' {
-            [CompletionResult]::new('-t', '-t', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d')
-            [CompletionResult]::new('--type', '--type', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d')
+            [CompletionResult]::new('-t', '-t', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)')
+            [CompletionResult]::new('--type', '--type', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)')
             [CompletionResult]::new('--out', '--out', [CompletionResultType]::ParameterName, 'Write the raw bytes to this file instead of printing them')
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--no-block', '--no-block', [CompletionResultType]::ParameterName, 'Never use block transfer (segmented instead)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -93,11 +100,12 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;sdo;write' {
-            [CompletionResult]::new('-t', '-t', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d')
-            [CompletionResult]::new('--type', '--type', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d')
+            [CompletionResult]::new('-t', '-t', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)')
+            [CompletionResult]::new('--type', '--type', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)')
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--verify', '--verify', [CompletionResultType]::ParameterName, 'Read the object back and compare (exit 6 when it differs)')
             [CompletionResult]::new('--no-block', '--no-block', [CompletionResultType]::ParameterName, 'Never use block transfer (segmented instead)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -129,6 +137,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -150,6 +159,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -164,6 +174,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -178,6 +189,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -193,6 +205,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -208,6 +221,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -223,6 +237,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -268,6 +283,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -292,6 +308,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -309,6 +326,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -326,6 +344,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -344,6 +363,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -361,6 +381,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -378,6 +399,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -395,6 +417,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--no-store', '--no-store', [CompletionResultType]::ParameterName, 'Do not store the node-ids (they are lost at power-off)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -441,6 +464,128 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;lss;help;help' {
             break
         }
+        'canctl;store' {
+            [CompletionResult]::new('--store-timeout', '--store-timeout', [CompletionResultType]::ParameterName, 'How long the device may take to store (flash writes take a while)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;restore' {
+            [CompletionResult]::new('--store-timeout', '--store-timeout', [CompletionResultType]::ParameterName, 'How long the device may take to restore')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('--reset', '--reset', [CompletionResultType]::ParameterName, 'Reset the node afterwards and wait for it to boot with the defaults')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;config' {
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('dump', 'dump', [CompletionResultType]::ParameterValue, 'Read every readable object of a node into a DCF')
+            [CompletionResult]::new('diff', 'diff', [CompletionResultType]::ParameterValue, 'Show where a node differs from a DCF''s ParameterValues')
+            [CompletionResult]::new('apply', 'apply', [CompletionResultType]::ParameterValue, 'Make a node match a DCF: write only what differs, safely, and prove it')
+            [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
+            break
+        }
+        'canctl;config;dump' {
+            [CompletionResult]::new('--out', '--out', [CompletionResultType]::ParameterName, 'Write the DCF here instead of standard output')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;config;diff' {
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('--check', '--check', [CompletionResultType]::ParameterName, 'Exit 6 when anything differs')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;config;apply' {
+            [CompletionResult]::new('--store-timeout', '--store-timeout', [CompletionResultType]::ParameterName, 'How long the device may take to store')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('--dry-run', '--dry-run', [CompletionResultType]::ParameterName, 'Show what would be written, write nothing')
+            [CompletionResult]::new('--store', '--store', [CompletionResultType]::ParameterName, 'Store the parameters (0x1010:1) when everything is written')
+            [CompletionResult]::new('--verify', '--verify', [CompletionResultType]::ParameterName, 'Read every written object back (exit 6 when one differs)')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;config;help' {
+            [CompletionResult]::new('dump', 'dump', [CompletionResultType]::ParameterValue, 'Read every readable object of a node into a DCF')
+            [CompletionResult]::new('diff', 'diff', [CompletionResultType]::ParameterValue, 'Show where a node differs from a DCF''s ParameterValues')
+            [CompletionResult]::new('apply', 'apply', [CompletionResultType]::ParameterValue, 'Make a node match a DCF: write only what differs, safely, and prove it')
+            [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
+            break
+        }
+        'canctl;config;help;dump' {
+            break
+        }
+        'canctl;config;help;diff' {
+            break
+        }
+        'canctl;config;help;apply' {
+            break
+        }
+        'canctl;config;help;help' {
+            break
+        }
         'canctl;sim' {
             [CompletionResult]::new('--socketcan', '--socketcan', [CompletionResultType]::ParameterName, 'Put the devices on this CAN interface (vcan0, can0) and answer there')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Pace bytes as a serial line at this bit rate would (10 bits a byte)')
@@ -449,6 +594,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--epos2-rs232', '--epos2-rs232', [CompletionResultType]::ParameterName, 'Serve an EPOS2 speaking the RS232 protocol (with the ''O''/''F'' handshake)')
             [CompletionResult]::new('--epos2-usb', '--epos2-usb', [CompletionResultType]::ParameterName, 'Serve an EPOS2 speaking the USB protocol (DLE/STX framing)')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -467,6 +613,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -492,6 +639,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -507,6 +655,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
             [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
@@ -522,6 +671,9 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('sdo', 'sdo', [CompletionResultType]::ParameterValue, 'Read and write objects (SDO)')
             [CompletionResult]::new('nmt', 'nmt', [CompletionResultType]::ParameterValue, 'Start, stop and reset nodes, or ask their NMT state')
             [CompletionResult]::new('lss', 'lss', [CompletionResultType]::ParameterValue, 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign')
+            [CompletionResult]::new('store', 'store', [CompletionResultType]::ParameterValue, 'Save parameters to non-volatile memory (writes ''save'' to 0x1010)')
+            [CompletionResult]::new('restore', 'restore', [CompletionResultType]::ParameterValue, 'Bring back default parameters (writes ''load'' to 0x1011)')
+            [CompletionResult]::new('config', 'config', [CompletionResultType]::ParameterValue, 'Configuration files: dump a node to a DCF, compare, apply')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
@@ -598,6 +750,27 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;help;lss;assign' {
+            break
+        }
+        'canctl;help;store' {
+            break
+        }
+        'canctl;help;restore' {
+            break
+        }
+        'canctl;help;config' {
+            [CompletionResult]::new('dump', 'dump', [CompletionResultType]::ParameterValue, 'Read every readable object of a node into a DCF')
+            [CompletionResult]::new('diff', 'diff', [CompletionResultType]::ParameterValue, 'Show where a node differs from a DCF''s ParameterValues')
+            [CompletionResult]::new('apply', 'apply', [CompletionResultType]::ParameterValue, 'Make a node match a DCF: write only what differs, safely, and prove it')
+            break
+        }
+        'canctl;help;config;dump' {
+            break
+        }
+        'canctl;help;config;diff' {
+            break
+        }
+        'canctl;help;config;apply' {
             break
         }
         'canctl;help;sim' {

@@ -19,6 +19,9 @@ _canctl() {
             canctl,completions)
                 cmd="canctl__subcmd__completions"
                 ;;
+            canctl,config)
+                cmd="canctl__subcmd__config"
+                ;;
             canctl,help)
                 cmd="canctl__subcmd__help"
                 ;;
@@ -31,6 +34,9 @@ _canctl() {
             canctl,nmt)
                 cmd="canctl__subcmd__nmt"
                 ;;
+            canctl,restore)
+                cmd="canctl__subcmd__restore"
+                ;;
             canctl,scan)
                 cmd="canctl__subcmd__scan"
                 ;;
@@ -40,8 +46,38 @@ _canctl() {
             canctl,sim)
                 cmd="canctl__subcmd__sim"
                 ;;
+            canctl,store)
+                cmd="canctl__subcmd__store"
+                ;;
+            canctl__subcmd__config,apply)
+                cmd="canctl__subcmd__config__subcmd__apply"
+                ;;
+            canctl__subcmd__config,diff)
+                cmd="canctl__subcmd__config__subcmd__diff"
+                ;;
+            canctl__subcmd__config,dump)
+                cmd="canctl__subcmd__config__subcmd__dump"
+                ;;
+            canctl__subcmd__config,help)
+                cmd="canctl__subcmd__config__subcmd__help"
+                ;;
+            canctl__subcmd__config__subcmd__help,apply)
+                cmd="canctl__subcmd__config__subcmd__help__subcmd__apply"
+                ;;
+            canctl__subcmd__config__subcmd__help,diff)
+                cmd="canctl__subcmd__config__subcmd__help__subcmd__diff"
+                ;;
+            canctl__subcmd__config__subcmd__help,dump)
+                cmd="canctl__subcmd__config__subcmd__help__subcmd__dump"
+                ;;
+            canctl__subcmd__config__subcmd__help,help)
+                cmd="canctl__subcmd__config__subcmd__help__subcmd__help"
+                ;;
             canctl__subcmd__help,completions)
                 cmd="canctl__subcmd__help__subcmd__completions"
+                ;;
+            canctl__subcmd__help,config)
+                cmd="canctl__subcmd__help__subcmd__config"
                 ;;
             canctl__subcmd__help,help)
                 cmd="canctl__subcmd__help__subcmd__help"
@@ -55,6 +91,9 @@ _canctl() {
             canctl__subcmd__help,nmt)
                 cmd="canctl__subcmd__help__subcmd__nmt"
                 ;;
+            canctl__subcmd__help,restore)
+                cmd="canctl__subcmd__help__subcmd__restore"
+                ;;
             canctl__subcmd__help,scan)
                 cmd="canctl__subcmd__help__subcmd__scan"
                 ;;
@@ -63,6 +102,18 @@ _canctl() {
                 ;;
             canctl__subcmd__help,sim)
                 cmd="canctl__subcmd__help__subcmd__sim"
+                ;;
+            canctl__subcmd__help,store)
+                cmd="canctl__subcmd__help__subcmd__store"
+                ;;
+            canctl__subcmd__help__subcmd__config,apply)
+                cmd="canctl__subcmd__help__subcmd__config__subcmd__apply"
+                ;;
+            canctl__subcmd__help__subcmd__config,diff)
+                cmd="canctl__subcmd__help__subcmd__config__subcmd__diff"
+                ;;
+            canctl__subcmd__help__subcmd__config,dump)
+                cmd="canctl__subcmd__help__subcmd__config__subcmd__dump"
                 ;;
             canctl__subcmd__help__subcmd__lss,activate)
                 cmd="canctl__subcmd__help__subcmd__lss__subcmd__activate"
@@ -239,7 +290,7 @@ _canctl() {
 
     case "${cmd}" in
         canctl)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version scan sdo nmt lss sim completions man help"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version scan sdo nmt lss store restore config sim completions man help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -257,6 +308,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -265,7 +320,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__completions)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version bash elvish fish powershell zsh"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version bash elvish fish powershell zsh"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -283,6 +338,208 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config)
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version dump diff apply help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config__subcmd__apply)
+            opts="-v -q -h -V --dry-run --store --verify --store-timeout --bus --timeout --format --eds --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --store-timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config__subcmd__diff)
+            opts="-v -q -h -V --check --bus --timeout --format --eds --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config__subcmd__dump)
+            opts="-v -q -h -V --out --bus --timeout --format --eds --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --out)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config__subcmd__help)
+            opts="dump diff apply help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config__subcmd__help__subcmd__apply)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config__subcmd__help__subcmd__diff)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config__subcmd__help__subcmd__dump)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__config__subcmd__help__subcmd__help)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
                 *)
                     COMPREPLY=()
                     ;;
@@ -291,7 +548,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__help)
-            opts="scan sdo nmt lss sim completions man help"
+            opts="scan sdo nmt lss store restore config sim completions man help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -307,6 +564,62 @@ _canctl() {
         canctl__subcmd__help__subcmd__completions)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__config)
+            opts="dump diff apply"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__config__subcmd__apply)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__config__subcmd__diff)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__config__subcmd__dump)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
@@ -556,6 +869,20 @@ _canctl() {
             COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
             return 0
             ;;
+        canctl__subcmd__help__subcmd__restore)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
         canctl__subcmd__help__subcmd__scan)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
@@ -640,8 +967,22 @@ _canctl() {
             COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
             return 0
             ;;
+        canctl__subcmd__help__subcmd__store)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
         canctl__subcmd__lss)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version inquire set-id set-baud activate store fastscan assign help"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version inquire set-id set-baud activate store fastscan assign help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -659,6 +1000,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -667,7 +1012,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__lss__subcmd__activate)
-            opts="-v -q -h -V --delay --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --delay --identity --global --node --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -697,6 +1042,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -705,7 +1054,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__lss__subcmd__assign)
-            opts="-v -q -h -V --start --step --no-store --node --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --start --step --no-store --node --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -735,6 +1084,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -743,7 +1096,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__lss__subcmd__fastscan)
-            opts="-v -q -h -V --step --node --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --step --node --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -767,6 +1120,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -903,7 +1260,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__lss__subcmd__inquire)
-            opts="-v -q -h -V --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --identity --global --node --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -927,6 +1284,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -937,7 +1298,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__lss__subcmd__set__subcmd__baud)
-            opts="-v -q -h -V --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --identity --global --node --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -961,6 +1322,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -971,7 +1336,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__lss__subcmd__set__subcmd__id)
-            opts="-v -q -h -V --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --identity --global --node --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -995,6 +1360,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -1005,7 +1374,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__lss__subcmd__store)
-            opts="-v -q -h -V --identity --global --node --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --identity --global --node --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1031,6 +1400,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1039,7 +1412,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__man)
-            opts="-v -q -h -V --out --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --out --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1061,6 +1434,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1069,7 +1446,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__nmt)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version start stop preop reset reset-comm state help"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version start stop preop reset reset-comm state help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1085,6 +1462,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -1207,7 +1588,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__nmt__subcmd__preop)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1223,6 +1604,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -1233,7 +1618,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__nmt__subcmd__reset)
-            opts="-v -q -h -V --wait --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --wait --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1253,6 +1638,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -1263,7 +1652,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__nmt__subcmd__reset__subcmd__comm)
-            opts="-v -q -h -V --wait --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --wait --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1285,6 +1674,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1293,7 +1686,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__nmt__subcmd__start)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1311,6 +1704,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1319,7 +1716,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__nmt__subcmd__state)
-            opts="-v -q -h -V --listen --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --listen --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1341,6 +1738,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1349,7 +1750,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__nmt__subcmd__stop)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1367,6 +1768,44 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__restore)
+            opts="-v -q -h -V --reset --store-timeout --bus --timeout --format --eds --verbose --quiet --help --version all comm app mfr"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --store-timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1375,7 +1814,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__scan)
-            opts="-v -q -h -V --window --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --window --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1397,6 +1836,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1405,7 +1848,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__sdo)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version read write help"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version read write help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1421,6 +1864,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -1487,7 +1934,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__sdo__subcmd__read)
-            opts="-t -v -q -h -V --type --out --no-block --bus --timeout --format --verbose --quiet --help --version"
+            opts="-t -v -q -h -V --type --out --no-block --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1517,6 +1964,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1525,7 +1976,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__sdo__subcmd__write)
-            opts="-t -v -q -h -V --type --verify --no-block --bus --timeout --format --verbose --quiet --help --version"
+            opts="-t -v -q -h -V --type --verify --no-block --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1551,6 +2002,10 @@ _canctl() {
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
                     return 0
                     ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 *)
                     COMPREPLY=()
                     ;;
@@ -1559,7 +2014,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__sim)
-            opts="-v -q -h -V --socketcan --epos2-rs232 --epos2-usb --baud --fault --can-timeout --bus --timeout --format --verbose --quiet --help --version reset help"
+            opts="-v -q -h -V --socketcan --epos2-rs232 --epos2-usb --baud --fault --can-timeout --bus --timeout --format --eds --verbose --quiet --help --version reset help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1591,6 +2046,10 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)
@@ -1643,7 +2102,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__sim__subcmd__reset)
-            opts="-v -q -h -V --bus --timeout --format --verbose --quiet --help --version"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1659,6 +2118,44 @@ _canctl() {
                     ;;
                 --format)
                     COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__store)
+            opts="-v -q -h -V --store-timeout --bus --timeout --format --eds --verbose --quiet --help --version all comm app mfr"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --store-timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 *)

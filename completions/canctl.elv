@@ -21,6 +21,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -33,6 +34,9 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand sdo 'Read and write objects (SDO)'
             cand nmt 'Start, stop and reset nodes, or ask their NMT state'
             cand lss 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
+            cand store 'Save parameters to non-volatile memory (writes ''save'' to 0x1010)'
+            cand restore 'Bring back default parameters (writes ''load'' to 0x1011)'
+            cand config 'Configuration files: dump a node to a DCF, compare, apply'
             cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
@@ -43,6 +47,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -56,6 +61,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -69,12 +75,13 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'canctl;sdo;read'= {
-            cand -t 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d'
-            cand --type 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d'
+            cand -t 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)'
+            cand --type 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)'
             cand --out 'Write the raw bytes to this file instead of printing them'
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --no-block 'Never use block transfer (segmented instead)'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
@@ -86,11 +93,12 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --version 'Print version'
         }
         &'canctl;sdo;write'= {
-            cand -t 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d'
-            cand --type 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d'
+            cand -t 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)'
+            cand --type 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)'
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --verify 'Read the object back and compare (exit 6 when it differs)'
             cand --no-block 'Never use block transfer (segmented instead)'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -117,6 +125,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -137,6 +146,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -150,6 +160,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -163,6 +174,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -177,6 +189,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -191,6 +204,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -205,6 +219,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -241,6 +256,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -264,6 +280,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
@@ -280,6 +297,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
@@ -296,6 +314,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
@@ -313,6 +332,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
@@ -329,6 +349,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
@@ -345,6 +366,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -361,6 +383,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --no-store 'Do not store the node-ids (they are lost at power-off)'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
@@ -397,6 +420,117 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;lss;help;help'= {
         }
+        &'canctl;store'= {
+            cand --store-timeout 'How long the device may take to store (flash writes take a while)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;restore'= {
+            cand --store-timeout 'How long the device may take to restore'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand --reset 'Reset the node afterwards and wait for it to boot with the defaults'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;config'= {
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+            cand dump 'Read every readable object of a node into a DCF'
+            cand diff 'Show where a node differs from a DCF''s ParameterValues'
+            cand apply 'Make a node match a DCF: write only what differs, safely, and prove it'
+            cand help 'Print this message or the help of the given subcommand(s)'
+        }
+        &'canctl;config;dump'= {
+            cand --out 'Write the DCF here instead of standard output'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;config;diff'= {
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand --check 'Exit 6 when anything differs'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;config;apply'= {
+            cand --store-timeout 'How long the device may take to store'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand --dry-run 'Show what would be written, write nothing'
+            cand --store 'Store the parameters (0x1010:1) when everything is written'
+            cand --verify 'Read every written object back (exit 6 when one differs)'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;config;help'= {
+            cand dump 'Read every readable object of a node into a DCF'
+            cand diff 'Show where a node differs from a DCF''s ParameterValues'
+            cand apply 'Make a node match a DCF: write only what differs, safely, and prove it'
+            cand help 'Print this message or the help of the given subcommand(s)'
+        }
+        &'canctl;config;help;dump'= {
+        }
+        &'canctl;config;help;diff'= {
+        }
+        &'canctl;config;help;apply'= {
+        }
+        &'canctl;config;help;help'= {
+        }
         &'canctl;sim'= {
             cand --socketcan 'Put the devices on this CAN interface (vcan0, can0) and answer there'
             cand --baud 'Pace bytes as a serial line at this bit rate would (10 bits a byte)'
@@ -405,6 +539,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --epos2-rs232 'Serve an EPOS2 speaking the RS232 protocol (with the ''O''/''F'' handshake)'
             cand --epos2-usb 'Serve an EPOS2 speaking the USB protocol (DLE/STX framing)'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -422,6 +557,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -443,6 +579,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -457,6 +594,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
             cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
             cand --verbose 'Trace every frame on stderr in candump notation'
             cand -q 'No diagnostics or progress on stderr (errors still print)'
@@ -471,6 +609,9 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand sdo 'Read and write objects (SDO)'
             cand nmt 'Start, stop and reset nodes, or ask their NMT state'
             cand lss 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
+            cand store 'Save parameters to non-volatile memory (writes ''save'' to 0x1010)'
+            cand restore 'Bring back default parameters (writes ''load'' to 0x1011)'
+            cand config 'Configuration files: dump a node to a DCF, compare, apply'
             cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
@@ -528,6 +669,21 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;help;lss;fastscan'= {
         }
         &'canctl;help;lss;assign'= {
+        }
+        &'canctl;help;store'= {
+        }
+        &'canctl;help;restore'= {
+        }
+        &'canctl;help;config'= {
+            cand dump 'Read every readable object of a node into a DCF'
+            cand diff 'Show where a node differs from a DCF''s ParameterValues'
+            cand apply 'Make a node match a DCF: write only what differs, safely, and prove it'
+        }
+        &'canctl;help;config;dump'= {
+        }
+        &'canctl;help;config;diff'= {
+        }
+        &'canctl;help;config;apply'= {
         }
         &'canctl;help;sim'= {
             cand reset 'Forget the simulated network''s saved state: devices start as built'

@@ -1,6 +1,6 @@
 # Print an optspec for argparse to handle cmd's options that are independent of any subcommand.
 function __fish_canctl_global_optspecs
-    string join \n bus= timeout= format= v/verbose q/quiet h/help V/version
+    string join \n bus= timeout= format= eds= v/verbose q/quiet h/help V/version
 end
 
 function __fish_canctl_needs_command
@@ -29,6 +29,7 @@ complete -c canctl -n "__fish_canctl_needs_command" -l timeout -d 'How long to w
 complete -c canctl -n "__fish_canctl_needs_command" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_needs_command" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_needs_command" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_needs_command" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_needs_command" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -37,6 +38,9 @@ complete -c canctl -n "__fish_canctl_needs_command" -f -a "scan" -d 'Find every 
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "sdo" -d 'Read and write objects (SDO)'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "lss" -d 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "store" -d 'Save parameters to non-volatile memory (writes \'save\' to 0x1010)'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "restore" -d 'Bring back default parameters (writes \'load\' to 0x1011)'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "config" -d 'Configuration files: dump a node to a DCF, compare, apply'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "completions" -d 'Print a shell completion script'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "man" -d 'Print the man page, or write every page to a directory'
@@ -47,6 +51,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand scan" -l timeout -d 'How l
 complete -c canctl -n "__fish_canctl_using_subcommand scan" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand scan" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand scan" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand scan" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand scan" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -56,6 +61,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_s
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -63,24 +69,26 @@ complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_s
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -f -a "read" -d 'Read an object (SDO upload)'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -f -a "write" -d 'Write an object (SDO download)'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and not __fish_seen_subcommand_from read write help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
-complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s t -l type -d 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s t -l type -d 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary\'s)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l out -d 'Write the raw bytes to this file instead of printing them' -r -F
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -l no-block -d 'Never use block transfer (segmented instead)'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from read" -s V -l version -d 'Print version'
-complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -s t -l type -d 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d' -r
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -s t -l type -d 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary\'s)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l verify -d 'Read the object back and compare (exit 6 when it differs)'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -l no-block -d 'Never use block transfer (segmented instead)'
 complete -c canctl -n "__fish_canctl_using_subcommand sdo; and __fish_seen_subcommand_from write" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
@@ -95,6 +103,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_s
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and not __fish_seen_subcommand_from start stop preop reset reset-comm state help" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -111,6 +120,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from start" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -120,6 +130,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from stop" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -129,6 +140,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from preop" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -139,6 +151,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -149,6 +162,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from reset-comm" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -159,6 +173,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand nmt; and __fish_seen_subcommand_from state" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -175,6 +190,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_s
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and not __fish_seen_subcommand_from inquire set-id set-baud activate store fastscan assign help" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -194,6 +210,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -l global -d 'Every LSS device on the bus at once (a broadcast)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from inquire" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
@@ -206,6 +223,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -l global -d 'Every LSS device on the bus at once (a broadcast)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-id" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
@@ -218,6 +236,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -l global -d 'Every LSS device on the bus at once (a broadcast)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from set-baud" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
@@ -231,6 +250,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -l global -d 'Every LSS device on the bus at once (a broadcast)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from activate" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
@@ -243,6 +263,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -l global -d 'Every LSS device on the bus at once (a broadcast)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from store" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
@@ -255,6 +276,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from fastscan" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -267,6 +289,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -l no-store -d 'Do not store the node-ids (they are lost at power-off)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from assign" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
@@ -280,6 +303,83 @@ complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "fastscan" -d 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "assign" -d 'Give every device without a node-id the next free one, and store it'
 complete -c canctl -n "__fish_canctl_using_subcommand lss; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand store" -l store-timeout -d 'How long the device may take to store (flash writes take a while)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand store" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand store" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand store" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand store" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
+complete -c canctl -n "__fish_canctl_using_subcommand store" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand store" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand store" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand store" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -l store-timeout -d 'How long the device may take to restore' -r
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -l reset -d 'Reset the node afterwards and wait for it to boot with the defaults'
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand restore" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -f -a "dump" -d 'Read every readable object of a node into a DCF'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -f -a "diff" -d 'Show where a node differs from a DCF\'s ParameterValues'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -f -a "apply" -d 'Make a node match a DCF: write only what differs, safely, and prove it'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -l out -d 'Write the DCF here instead of standard output' -r -F
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from dump" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -l check -d 'Exit 6 when anything differs'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from diff" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -l store-timeout -d 'How long the device may take to store' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -l dry-run -d 'Show what would be written, write nothing'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -l store -d 'Store the parameters (0x1010:1) when everything is written'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -l verify -d 'Read every written object back (exit 6 when one differs)'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from apply" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "dump" -d 'Read every readable object of a node into a DCF'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "diff" -d 'Show where a node differs from a DCF\'s ParameterValues'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "apply" -d 'Make a node match a DCF: write only what differs, safely, and prove it'
+complete -c canctl -n "__fish_canctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l socketcan -d 'Put the devices on this CAN interface (vcan0, can0) and answer there' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l baud -d 'Pace bytes as a serial line at this bit rate would (10 bits a byte)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l fault -d 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)' -r
@@ -289,6 +389,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_s
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l epos2-rs232 -d 'Serve an EPOS2 speaking the RS232 protocol (with the \'O\'/\'F\' handshake)'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -l epos2-usb -d 'Serve an EPOS2 speaking the USB protocol (DLE/STX framing)'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and not __fish_seen_subcommand_from reset help" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
@@ -302,6 +403,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subco
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand sim; and __fish_seen_subcommand_from reset" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -313,6 +415,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand completions" -l timeout -d
 complete -c canctl -n "__fish_canctl_using_subcommand completions" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand completions" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand completions" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand completions" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -323,18 +426,22 @@ complete -c canctl -n "__fish_canctl_using_subcommand man" -l timeout -d 'How lo
 complete -c canctl -n "__fish_canctl_using_subcommand man" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
 json\t'One JSON document per command (JSON lines for streams)'
 csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand man" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s V -l version -d 'Print version'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "scan" -d 'Find every node on the bus'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "lss" -d 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "completions" -d 'Print a shell completion script'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "scan" -d 'Find every node on the bus'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "lss" -d 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "store" -d 'Save parameters to non-volatile memory (writes \'save\' to 0x1010)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "restore" -d 'Bring back default parameters (writes \'load\' to 0x1011)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "config" -d 'Configuration files: dump a node to a DCF, compare, apply'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "completions" -d 'Print a shell completion script'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sdo" -f -a "read" -d 'Read an object (SDO upload)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sdo" -f -a "write" -d 'Write an object (SDO download)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "start" -d 'Put a node (or all) in Operational'
@@ -350,4 +457,7 @@ complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subc
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "store" -d 'Make a device keep its LSS node-id and bit rate across power cycles'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "fastscan" -d 'Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from lss" -f -a "assign" -d 'Give every device without a node-id the next free one, and store it'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from config" -f -a "dump" -d 'Read every readable object of a node into a DCF'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from config" -f -a "diff" -d 'Show where a node differs from a DCF\'s ParameterValues'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from config" -f -a "apply" -d 'Make a node match a DCF: write only what differs, safely, and prove it'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sim" -f -a "reset" -d 'Forget the simulated network\'s saved state: devices start as built'

@@ -37,6 +37,13 @@ impl Output {
         out.flush()
     }
 
+    /// Bytes as they are (a Latin-1 file's content, say).
+    pub fn write_bytes(&self, bytes: &[u8]) -> std::io::Result<()> {
+        let mut out = std::io::stdout().lock();
+        out.write_all(bytes)?;
+        out.flush()
+    }
+
     pub fn json(&self, value: &serde_json::Value) -> std::io::Result<()> {
         self.print(&serde_json::to_string_pretty(value).expect("JSON serialises"))
     }

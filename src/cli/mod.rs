@@ -1,12 +1,15 @@
 //! The command line: one clap definition from which help, man pages and completions are
 //! all generated, and one module per command.
 
+mod config;
 mod docs;
 mod lss;
 mod nmt;
+mod objects;
 mod scan;
 mod sdo;
 mod sim;
+mod store;
 
 use crate::bus::{Bus, BusUri, Master, SdoOptions};
 use crate::epos2::gateway::Epos2Gateway;
@@ -57,6 +60,10 @@ pub struct GlobalArgs {
     /// Output format
     #[arg(long, global = true, value_enum, default_value = "human")]
     pub format: Format,
+    /// An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object
+    /// names, types and ranges come from it
+    #[arg(long, global = true, value_name = "[NODE=]FILE", value_parser = objects::parse_eds_arg)]
+    pub eds: Vec<objects::EdsArg>,
     /// Trace every frame on stderr in candump notation
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     pub verbose: u8,
@@ -77,15 +84,21 @@ pub enum Command {
     /// Node-ids and bit rates over LSS (CiA 305): find, set, store, assign
     #[command(subcommand)]
     Lss(lss::LssCommand),
+    Store(store::StoreArgs),
+    Restore(store::RestoreArgs),
+    /// Configuration files: dump a node to a DCF, compare, apply
+    #[command(subcommand)]
+    Config(config::ConfigCommand),
     Sim(sim::SimArgs),
     Completions(docs::CompletionsArgs),
     Man(docs::ManArgs),
 }
 
-/// What every command gets: the output policy and the global settings.
+/// What every command gets: the output policy, the global settings, the dictionaries.
 pub struct Ctx {
     pub out: Output,
     pub timeout: Duration,
+    pub dicts: objects::Dictionaries,
 }
 
 /// Parse `500ms`, `2s`, `1.5s`, `1m`, or a bare number of milliseconds.
@@ -200,13 +213,17 @@ fn with_bus(global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
-    let ctx = Ctx { out: Output::new(cli.global.format, cli.global.quiet), timeout: cli.global.timeout };
+    let dicts = objects::Dictionaries::load(&cli.global.eds)?;
+    let ctx = Ctx { out: Output::new(cli.global.format, cli.global.quiet), timeout: cli.global.timeout, dicts };
     let g = &cli.global;
     match &cli.command {
         Command::Scan(args) => with_bus(g, |bus| scan::run(&ctx, bus, args)),
         Command::Sdo(cmd) => with_bus(g, |bus| sdo::run(&ctx, bus, cmd)),
         Command::Nmt(cmd) => with_bus(g, |bus| nmt::run(&ctx, bus, cmd)),
         Command::Lss(cmd) => with_bus(g, |bus| lss::run(&ctx, bus, cmd)),
+        Command::Store(a) => with_bus(g, |bus| store::store(&ctx, bus, a)),
+        Command::Restore(a) => with_bus(g, |bus| store::restore(&ctx, bus, a)),
+        Command::Config(cmd) => with_bus(g, |bus| config::run(&ctx, bus, cmd)),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),

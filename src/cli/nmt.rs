@@ -113,10 +113,7 @@ fn send(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, target: u8) -> anyhow::Resul
 
 fn reset(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, a: &ResetArgs) -> anyhow::Result<()> {
     let target = a.target.target;
-    bus.nmt(cmd, target)?;
-    let (nodes, how) = if bus.sees_traffic() {
-        (listen_for_boot_ups(ctx, bus, target, a.wait)?, "boot-up message")
-    } else if target == ALL_NODES {
+    let Some((nodes, how)) = reset_and_wait(ctx, bus, cmd, target, a.wait)? else {
         // Without the bus's traffic there is no telling which nodes exist and rebooted.
         let msg = format!(
             "NMT {} sent to all nodes; {} shows no boot-up messages, so check the nodes with `canctl scan`",
@@ -129,9 +126,6 @@ fn reset(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, a: &ResetArgs) -> anyhow::R
             }
             _ => Ok(ctx.out.print(&msg)?),
         };
-    } else {
-        poll_until_answering(ctx, bus, target, a.wait)?;
-        (vec![target], "answer to a remote request")
     };
     let state = nmt::State::PreOperational;
     match ctx.out.format {
@@ -152,6 +146,26 @@ fn reset(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, a: &ResetArgs) -> anyhow::R
         }
     }
     Ok(())
+}
+
+/// Send a reset and wait until the target is back: the nodes that booted, and how that was
+/// seen; `None` for all nodes on a link that shows no traffic (nothing to wait for).
+pub(super) fn reset_and_wait(
+    ctx: &Ctx,
+    bus: &mut dyn Bus,
+    cmd: Command,
+    target: u8,
+    wait: Duration,
+) -> anyhow::Result<Option<(Vec<u8>, &'static str)>> {
+    bus.nmt(cmd, target)?;
+    Ok(if bus.sees_traffic() {
+        Some((listen_for_boot_ups(ctx, bus, target, wait)?, "boot-up message"))
+    } else if target == ALL_NODES {
+        None
+    } else {
+        poll_until_answering(ctx, bus, target, wait)?;
+        Some((vec![target], "answer to a remote request"))
+    })
 }
 
 /// Boot-up messages after a reset. One node: done at its boot-up. All: boot-ups may come

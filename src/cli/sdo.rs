@@ -31,10 +31,10 @@ pub struct ReadArgs {
     /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node)]
     pub node: u8,
-    /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x)
-    #[arg(value_parser = parse_obj)]
-    pub object: ObjAddr,
-    /// Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d
+    /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
+    /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
+    pub object: String,
+    /// Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary's)
     #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type)]
     pub dtype: Option<DataType>,
     /// Write the raw bytes to this file instead of printing them
@@ -60,13 +60,13 @@ pub struct WriteArgs {
     /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node)]
     pub node: u8,
-    /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x)
-    #[arg(value_parser = parse_obj)]
-    pub object: ObjAddr,
+    /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
+    /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
+    pub object: String,
     /// The value, or @FILE for its raw bytes
     #[arg(allow_hyphen_values = true)]
     pub value: String,
-    /// Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d
+    /// Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary's)
     #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type)]
     pub dtype: Option<DataType>,
     /// Read the object back and compare (exit 6 when it differs)
@@ -75,10 +75,6 @@ pub struct WriteArgs {
     /// Never use block transfer (segmented instead)
     #[arg(long)]
     pub no_block: bool,
-}
-
-fn parse_obj(s: &str) -> Result<ObjAddr, String> {
-    s.parse()
 }
 
 fn parse_type(s: &str) -> Result<DataType, String> {
@@ -104,7 +100,21 @@ fn options(ctx: &Ctx, dtype: Option<DataType>, no_block: bool) -> SdoOptions {
     o
 }
 
+/// The object, its type (given, else the dictionary's) and its name, if known.
+fn target(
+    ctx: &Ctx,
+    node: u8,
+    text: &str,
+    given: Option<DataType>,
+) -> Result<(ObjAddr, Option<DataType>, Option<String>), Error> {
+    let (addr, entry) = ctx.dicts.resolve(node, text)?;
+    let name = entry.and_then(|_| ctx.dicts.for_node(node).display_name(addr));
+    Ok((addr, given.or(entry.map(|e| e.dtype)), name))
+}
+
 fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
+    let (object, dtype, name) = target(ctx, a.node, &a.object, a.dtype)?;
+    let a = &Resolved { node: a.node, object, dtype, name, out: a.out.clone(), no_block: a.no_block };
     let bytes = bus.sdo_upload(a.node, a.object, &options(ctx, a.dtype, a.no_block))?;
     let value = match a.dtype {
         Some(t) => Some(t.decode(&bytes).ok_or_else(|| {
@@ -143,6 +153,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
         Format::Json => ctx.out.json(&json!({
             "node": a.node,
             "object": a.object.to_string(),
+            "name": a.name,
             "type": a.dtype.map(|t| t.name()),
             "size": bytes.len(),
             "raw": hex(&bytes),
@@ -185,16 +196,22 @@ fn untyped(bytes: &[u8]) -> String {
     s
 }
 
-fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
-    let Some(dtype) = a.dtype else {
+fn write(ctx: &Ctx, bus: &mut dyn Bus, args: &WriteArgs) -> anyhow::Result<()> {
+    let (object, dtype, _) = target(ctx, args.node, &args.object, args.dtype)?;
+    let Some(dtype) = dtype else {
         return Err(Error::Usage(format!(
-            "--type is needed to encode '{}' for {}: one of b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d",
-            a.value, a.object
+            "--type is needed to encode '{}' for {object} (no dictionary entry; --eds gives one): \
+             one of b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d",
+            args.value
         ))
         .into());
     };
-    let bytes = value_bytes(dtype, &a.value)?;
-    let opts = options(ctx, Some(dtype), a.no_block);
+    let a = &WriteTarget { node: args.node, object, verify: args.verify };
+    let bytes = value_bytes(dtype, &args.value)?;
+    if let Some(entry) = ctx.dicts.for_node(a.node).get(object).filter(|e| e.dtype == dtype) {
+        check_range(entry, &bytes)?;
+    }
+    let opts = options(ctx, Some(dtype), args.no_block);
     bus.sdo_download(a.node, a.object, &bytes, &opts)?;
     if a.verify {
         let back = bus.sdo_upload(a.node, a.object, &opts)?;
@@ -231,6 +248,38 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
             let shown = if bytes.len() > 32 { format!("{} bytes", bytes.len()) } else { value };
             ctx.out.print(&format!("node {} {} = {shown} ({dtype}): {what}", a.node, a.object))?
         }
+    }
+    Ok(())
+}
+
+struct Resolved {
+    node: u8,
+    object: ObjAddr,
+    dtype: Option<DataType>,
+    name: Option<String>,
+    out: Option<PathBuf>,
+    no_block: bool,
+}
+
+struct WriteTarget {
+    node: u8,
+    object: ObjAddr,
+    verify: bool,
+}
+
+/// A value beyond the dictionary's limits is refused before it is sent.
+pub fn check_range(entry: &crate::od::Entry, bytes: &[u8]) -> Result<(), Error> {
+    let Some((lo, hi)) = entry.range else { return Ok(()) };
+    let v = match entry.dtype.decode(bytes) {
+        Some(Value::Uint(u)) => u as i128,
+        Some(Value::Int(i)) => i as i128,
+        _ => return Ok(()),
+    };
+    if v < lo || v > hi {
+        return Err(Error::Usage(format!(
+            "{v} is outside the range of {} ({lo}..={hi}, from the dictionary)",
+            entry.addr
+        )));
     }
     Ok(())
 }

@@ -1,5 +1,10 @@
 //! The object dictionary model: what a device holds, by address, with type, access and
-//! default. The simulator's devices are built from it; EDS files will read into it.
+//! default. The simulator's devices are built from it, EDS and DCF files read into it and
+//! are written from it, and object names resolve through it.
+
+pub mod builtin;
+pub mod eds;
+pub mod names;
 
 use crate::canopen::{DataType, ObjAddr};
 use std::collections::BTreeMap;
@@ -29,6 +34,24 @@ impl Access {
     }
 }
 
+/// CiA 306 object types.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ObjectKind {
+    Var,
+    Array,
+    Record,
+}
+
+impl ObjectKind {
+    pub fn code(self) -> u8 {
+        match self {
+            ObjectKind::Var => 7,
+            ObjectKind::Array => 8,
+            ObjectKind::Record => 9,
+        }
+    }
+}
+
 /// A default value; COB-IDs and the like depend on the node-id (EDS `$NODEID+0x180`).
 #[derive(Clone, PartialEq, Debug)]
 pub enum Init {
@@ -37,6 +60,7 @@ pub enum Init {
 }
 
 impl Init {
+    /// Bytes of the default; node-id-relative ones as a u32 (cut to size by the entry).
     pub fn resolve(&self, node_id: u8) -> Vec<u8> {
         match self {
             Init::Bytes(b) => b.clone(),
@@ -54,6 +78,17 @@ pub struct Entry {
     pub default: Init,
     /// Inclusive limits for integer values, beyond the type's own.
     pub range: Option<(i128, i128)>,
+}
+
+impl Entry {
+    /// The default for a device with this node-id, in the entry's own size.
+    pub fn default_for(&self, node_id: u8) -> Vec<u8> {
+        let mut v = self.default.resolve(node_id);
+        if let Some(size) = self.dtype.size() {
+            v.resize(size, 0);
+        }
+        v
+    }
 }
 
 /// Which `store`/`restore` class an object belongs to (CiA 301 0x1010 sub 2..4).
@@ -87,6 +122,7 @@ impl ParamClass {
 #[derive(Clone, Debug, Default)]
 pub struct Dictionary {
     entries: BTreeMap<ObjAddr, Entry>,
+    objects: BTreeMap<u16, (String, ObjectKind)>,
 }
 
 impl Dictionary {
@@ -102,25 +138,76 @@ impl Dictionary {
         self.entries.values()
     }
 
+    /// Add an entry; its object must have been declared (`object`), except for a VAR.
     pub fn insert(&mut self, entry: Entry) {
+        self.objects.entry(entry.addr.index).or_insert_with(|| (entry.name.clone(), ObjectKind::Var));
         self.entries.insert(entry.addr, entry);
+    }
+
+    /// Declare an object's name and kind.
+    pub fn object(&mut self, index: u16, name: &str, kind: ObjectKind) {
+        self.objects.insert(index, (name.to_string(), kind));
+    }
+
+    /// Name and kind of the object at `index`.
+    pub fn object_info(&self, index: u16) -> Option<(&str, ObjectKind)> {
+        self.objects.get(&index).map(|(n, k)| (n.as_str(), *k))
+    }
+
+    pub fn objects(&self) -> impl Iterator<Item = (u16, &str, ObjectKind)> {
+        self.objects.iter().map(|(i, (n, k))| (*i, n.as_str(), *k))
+    }
+
+    /// The entries of one object, in subindex order.
+    pub fn object_entries(&self, index: u16) -> impl Iterator<Item = &Entry> {
+        self.entries.range(ObjAddr::new(index, 0)..=ObjAddr::new(index, 255)).map(|(_, e)| e)
+    }
+
+    /// `Producer heartbeat time`, or `Identity object: Vendor-ID` for a sub-entry.
+    pub fn display_name(&self, addr: ObjAddr) -> Option<String> {
+        let e = self.get(addr)?;
+        Some(match self.object_info(addr.index) {
+            Some((object, ObjectKind::Array | ObjectKind::Record)) => format!("{object}: {}", e.name),
+            _ => e.name.clone(),
+        })
     }
 
     /// A single-value object at subindex 0.
     pub fn var(&mut self, index: u16, name: &str, dtype: DataType, access: Access, default: Init) -> &mut Entry {
         let addr = ObjAddr::new(index, 0);
+        self.object(index, name, ObjectKind::Var);
         self.insert(Entry { addr, name: name.to_string(), dtype, access, default, range: None });
         self.entries.get_mut(&addr).unwrap()
     }
 
-    /// A record or array: sub 0 (highest subindex, u8 ro) is added from the members.
+    /// A record: sub 0 (highest subindex, u8 ro) is added from the members.
     pub fn record(&mut self, index: u16, name: &str, members: Vec<(u8, &str, DataType, Access, Init)>) {
         let highest = members.iter().map(|m| m.0).max().unwrap_or(0);
-        self.var(index, name, DataType::U8, Access::Ro, Init::Bytes(vec![highest]));
+        self.object(index, name, ObjectKind::Record);
+        let sub0 = Entry {
+            addr: ObjAddr::new(index, 0),
+            name: "Highest sub-index supported".into(),
+            dtype: DataType::U8,
+            access: Access::Ro,
+            default: Init::Bytes(vec![highest]),
+            range: None,
+        };
+        self.insert(sub0);
         for (sub, member, dtype, access, default) in members {
             let addr = ObjAddr::new(index, sub);
-            self.insert(Entry { addr, name: format!("{name}: {member}"), dtype, access, default, range: None });
+            self.insert(Entry { addr, name: member.to_string(), dtype, access, default, range: None });
         }
+    }
+
+    /// An array: a record whose members share one type (CiA 306 object type 0x8).
+    pub fn array(&mut self, index: u16, name: &str, members: Vec<(u8, &str, DataType, Access, Init)>) {
+        self.record(index, name, members);
+        self.object(index, name, ObjectKind::Array);
+    }
+
+    /// Make an entry writable (records are built read-only at sub 0).
+    pub fn set_access(&mut self, addr: ObjAddr, access: Access) {
+        self.entries.get_mut(&addr).expect("set_access on a missing entry").access = access;
     }
 
     /// Limit an entry's values (abort 0x06090031/32 beyond them).

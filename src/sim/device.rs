@@ -26,7 +26,7 @@ pub struct ObjectStore {
 
 impl ObjectStore {
     fn default_of(&self, addr: ObjAddr) -> Vec<u8> {
-        self.dict.get(addr).map(|e| e.default.resolve(self.node_id)).unwrap_or_default()
+        self.dict.get(addr).map(|e| e.default_for(self.node_id)).unwrap_or_default()
     }
 
     /// Reload the values of the given classes from stored values, else defaults.
@@ -82,7 +82,7 @@ impl ObjectStore {
         let old_id = self.node_id;
         for e in self.dict.entries() {
             if let crate::od::Init::NodeIdPlus(_) = e.default {
-                let (old, new) = (e.default.resolve(old_id), e.default.resolve(new_id));
+                let (old, new) = (e.default_for(old_id), e.default_for(new_id));
                 for map in [&mut self.values, &mut self.stored] {
                     if map.get(&e.addr) == Some(&old) {
                         map.insert(e.addr, new.clone());
@@ -149,6 +149,23 @@ impl ObjectAccess for ObjectStore {
                 }
                 self.restore(addr.sub);
                 return Ok(());
+            }
+            // CiA 301 dynamic PDO mapping: the mapping of a valid PDO stays as it is, and
+            // its entries change only while the count in sub 0 is 0.
+            0x1600..=0x17FF | 0x1A00..=0x1BFF => {
+                let valid = self.u32_value(ObjAddr::new(addr.index - 0x200, 1)).is_some_and(|c| c & 0x8000_0000 == 0);
+                let count = self.value(ObjAddr::new(addr.index, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+                if valid || (addr.sub > 0 && count != 0) {
+                    return Err(abort::WRONG_STATE);
+                }
+            }
+            // A valid PDO keeps its COB-ID: it is made invalid (bit 31) before it changes.
+            0x1400..=0x15FF | 0x1800..=0x19FF if addr.sub == 1 => {
+                let old = self.u32_value(addr).unwrap_or(0);
+                let new = u32::from_le_bytes(data.try_into().unwrap_or([0; 4]));
+                if old & 0x8000_0000 == 0 && new & 0x8000_0000 == 0 && old != new {
+                    return Err(abort::INVALID_VALUE);
+                }
             }
             // Writing 0 to the error history's sub 0 clears it; nothing else is allowed.
             0x1003 if addr.sub == 0 => {

@@ -176,9 +176,8 @@ impl Epos2Device {
             }
             Command::RequestCanFrame { .. } => answer(command::CAN_ID, &[0; 8]),
             Command::SendLssFrame { data } => {
-                // A new request starts afresh: slave messages still queued from an earlier
-                // one are dropped, so that ReadLSSFrame hands over answers to this one.
-                while self.link.recv(Instant::now())?.is_some() {}
+                // Slave messages still queued from an earlier request are dropped by
+                // `send`, so that ReadLSSFrame hands over answers to this one.
                 self.send(&Frame::new(lss::MASTER_COB, &data))?;
                 answer(0, &[])
             }
@@ -289,7 +288,10 @@ impl Epos2Device {
         Ok(answer(code, &[0; 4]))
     }
 
+    /// Put a frame on the bus. Frames that came in before it are no answer to it: the
+    /// gateway waits only for answers to what it sends, so they are dropped first.
     fn send(&mut self, f: &Frame) -> Result<()> {
+        while self.link.recv(Instant::now())?.is_some() {}
         if self.trace {
             eprintln!("{}", f.candump_line("sim"));
         }

@@ -234,7 +234,7 @@ pub fn io_module() -> Model {
     });
     // EMCY history, newest first (seed 004 §5.3: five records). Two from the seed's table:
     // CAN controller overrun (8110, vendor 06) and EEPROM access error (5000, vendor 02).
-    d.record(
+    d.array(
         0x1003,
         "Pre-defined error field",
         (1..=5)
@@ -243,7 +243,7 @@ pub fn io_module() -> Model {
     );
     d.insert(crate::od::Entry {
         addr: ObjAddr::new(0x1003, 0),
-        name: "Pre-defined error field: number of errors".into(),
+        name: "Number of errors".into(),
         dtype: U8,
         access: Rw,
         default: u(2, U8),
@@ -259,7 +259,30 @@ pub fn io_module() -> Model {
             (5, "Event timer", U16, Rw, u(0, U16)),
         ],
     );
-    d.record(0x1A00, "TPDO1 mapping parameter", vec![(1, "Mapped object 1", U32, Rw, u(0x6000_0108, U32))]);
+    // Dynamic mapping (seed 004): eight entries, the count in sub 0 writable.
+    let names = [
+        "Mapped object 1",
+        "Mapped object 2",
+        "Mapped object 3",
+        "Mapped object 4",
+        "Mapped object 5",
+        "Mapped object 6",
+        "Mapped object 7",
+        "Mapped object 8",
+    ];
+    d.record(
+        0x1A00,
+        "TPDO1 mapping parameter",
+        (1..=8u8).map(|s| (s, names[s as usize - 1], U32, Rw, u(if s == 1 { 0x6000_0108 } else { 0 }, U32))).collect(),
+    );
+    d.insert(crate::od::Entry {
+        addr: ObjAddr::new(0x1A00, 0),
+        name: "Number of mapped objects".into(),
+        dtype: U8,
+        access: Rw,
+        default: u(1, U8),
+        range: Some((0, 8)),
+    });
     d.record(0x6000, "Read input 8-bit", vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))]);
     d.record(
         0x6200,
@@ -316,6 +339,41 @@ pub fn domain_pattern(len: usize) -> Vec<u8> {
             x ^= x >> 17;
             x ^= x << 5;
             x as u8
+        })
+        .collect()
+}
+
+/// The EDS of each device model of the demo network: (file name, text). Generated from
+/// the models, committed under `eds/`, and tested to agree with them.
+pub fn eds_files() -> Vec<(String, String)> {
+    let models = [
+        (drive(), "maxon motor ag (simulated)", "EPOS2 24/5 (simulated)"),
+        (position_sensor(SENSOR_SERIAL), "MTS Sensors (simulated)", "Temposonics MH CANopen (simulated)"),
+        (io_module(), "ICP DAS (simulated)", "CAN-2057C (simulated)"),
+        (stepper(), "Stögra (simulated)", "SERS stepper drive (simulated)"),
+    ];
+    models
+        .into_iter()
+        .map(|(m, vendor, product)| {
+            let part = |sub| {
+                m.dict
+                    .get(ObjAddr::new(0x1018, sub))
+                    .map(|e| e.default_for(0))
+                    .and_then(|v| v.try_into().ok())
+                    .map_or(0, u32::from_le_bytes)
+            };
+            let file_name = format!("canctl-sim-{}.eds", m.key);
+            let header = crate::od::eds::Header {
+                file_name: file_name.clone(),
+                description: format!("{product}: a device model of canctl's simulated network"),
+                vendor_name: vendor.into(),
+                vendor_number: part(1),
+                product_name: product.into(),
+                product_number: part(2),
+                revision: part(3),
+                node_id: None,
+            };
+            (file_name, crate::od::eds::write(&m.dict, None, &header))
         })
         .collect()
 }

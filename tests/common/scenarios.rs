@@ -101,10 +101,16 @@ pub fn every_data_type_round_trips(bus: &dyn Under) {
 }
 
 pub fn untyped_reads_show_bytes_and_the_plain_reading(bus: &dyn Under) {
-    let out = bus.run(&["sdo", "read", "1", "0x1000:0"]).ok().stdout;
-    assert_eq!(out.trim(), "92 01 02 00  (u32 131474 = 0x00020192)");
+    // 0x5FF0:4 is in no dictionary: raw bytes and the plain unsigned reading.
+    let out = bus.run(&["sdo", "read", "1", "0x5FF0:4"]).ok().stdout;
+    assert_eq!(out.trim(), "78 56 34 12  (u32 305419896 = 0x12345678)");
+    let json = bus.run(&["sdo", "read", "1", "5FF0:4", "--format", "json"]).ok().json();
+    assert_eq!(json["raw"], "78563412");
+    assert_eq!(json["value"], 0x1234_5678);
+    assert_eq!(json["type"], serde_json::Value::Null);
+    // 0x1000 is in the built-in dictionary: its type comes from there.
     let json = bus.run(&["sdo", "read", "1", "1000", "--format", "json"]).ok().json();
-    assert_eq!(json["raw"], "92010200");
+    assert_eq!((json["type"].as_str(), json["name"].as_str()), (Some("u32"), Some("Device type")));
     assert_eq!(json["value"], 131474);
 }
 

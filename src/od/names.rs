@@ -1,0 +1,89 @@
+//! Objects by name: `ProducerHeartbeatTime`, `producer heartbeat time`,
+//! `Identity object: Vendor-ID` and `Vendor-ID` all find their entry.
+
+use super::Dictionary;
+use crate::canopen::ObjAddr;
+
+/// Letters and digits only, lower case: spelling differences in spaces, case and
+/// punctuation do not matter.
+pub fn normalize(s: &str) -> String {
+    s.chars().filter(|c| c.is_alphanumeric()).flat_map(|c| c.to_lowercase()).collect()
+}
+
+/// The entry a name stands for, or why there is none (with the closest names).
+pub fn find(dict: &Dictionary, name: &str) -> Result<ObjAddr, String> {
+    let want = normalize(name);
+    let full: Vec<ObjAddr> = dict
+        .entries()
+        .filter(|e| dict.display_name(e.addr).is_some_and(|n| normalize(&n) == want))
+        .map(|e| e.addr)
+        .collect();
+    if let [one] = full.as_slice() {
+        return Ok(*one);
+    }
+    let short: Vec<ObjAddr> = dict.entries().filter(|e| normalize(&e.name) == want).map(|e| e.addr).collect();
+    match (full.as_slice(), short.as_slice()) {
+        ([], [one]) => Ok(*one),
+        ([], []) => {
+            let close = closest(dict, &want);
+            let hint = if close.is_empty() { String::new() } else { format!("; did you mean {}?", close.join(", ")) };
+            Err(format!("no object named '{name}'{hint}"))
+        }
+        _ => {
+            let many = if full.is_empty() { &short } else { &full };
+            let list: Vec<String> =
+                many.iter().take(5).map(|a| format!("{a} ({})", dict.display_name(*a).unwrap_or_default())).collect();
+            Err(format!("'{name}' names several objects: {}; give the address", list.join(", ")))
+        }
+    }
+}
+
+/// Up to three names nearest to `want` (normalized), by edit distance.
+fn closest(dict: &Dictionary, want: &str) -> Vec<String> {
+    let mut scored: Vec<(usize, String)> = dict
+        .entries()
+        .filter_map(|e| {
+            dict.display_name(e.addr).map(|n| (distance(&normalize(&n), want), format!("'{n}' ({})", e.addr)))
+        })
+        .filter(|(d, _)| *d <= want.len() / 3 + 1)
+        .collect();
+    scored.sort();
+    scored.dedup();
+    scored.into_iter().take(3).map(|(_, n)| n).collect()
+}
+
+fn distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + (ca != *cb) as usize).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::od::builtin::dictionary;
+
+    #[test]
+    fn spellings_find_their_entry() {
+        let d = dictionary(None);
+        for n in ["ProducerHeartbeatTime", "producer heartbeat time", "PRODUCER_HEARTBEAT_TIME"] {
+            assert_eq!(find(d, n), Ok(ObjAddr::new(0x1017, 0)), "{n}");
+        }
+        assert_eq!(find(d, "Identity object: Vendor-ID"), Ok(ObjAddr::new(0x1018, 1)));
+        assert_eq!(find(d, "VendorID"), Ok(ObjAddr::new(0x1018, 1)));
+        assert_eq!(find(d, "Controlword"), Ok(ObjAddr::new(0x6040, 0)));
+        let e = find(d, "ProducerHeartbeatTim").unwrap_err();
+        assert!(e.contains("did you mean 'Producer heartbeat time' (0x1017:0)"), "{e}");
+        assert!(find(d, "COB-ID").unwrap_err().contains("several objects"));
+        assert!(find(d, "zzzzzzzz").unwrap_err().starts_with("no object named"));
+    }
+}

@@ -1,0 +1,161 @@
+//! store/restore, object names from EDS files, and configuration files, with the real
+//! binary on the simulated network.
+
+mod common;
+
+use common::Sim;
+
+/// `ParameterValue` of `[section]` in a DCF set to `value`.
+fn set_parameter(dcf: &str, section: &str, value: &str) -> String {
+    let start = dcf.find(&format!("[{section}]\n")).unwrap_or_else(|| panic!("no [{section}]"));
+    let key = start + dcf[start..].find("ParameterValue=").expect("a ParameterValue");
+    let end = key + dcf[key..].find('\n').unwrap();
+    format!("{}ParameterValue={value}{}", &dcf[..key], &dcf[end..])
+}
+
+fn read(sim: &Sim, node: &str, obj: &str) -> String {
+    sim.run(&["sdo", "read", node, obj]).ok().stdout.trim().to_string()
+}
+
+#[test]
+fn dump_change_apply_diff_store_reset_restore() {
+    let sim = Sim::new();
+    let original = sim.path("io.dcf");
+    sim.run(&["config", "dump", "10", "--out", original.to_str().unwrap()]).ok();
+    let text = std::fs::read_to_string(&original).unwrap();
+    assert!(text.contains("[DeviceComissioning]\nNodeID=10"));
+    // Three values: heartbeat, an output, and a second TPDO1 mapping entry.
+    let mut changed = set_parameter(&text, "1017", "100");
+    changed = set_parameter(&changed, "6200sub1", "0x0F");
+    changed = set_parameter(&changed, "1A00sub0", "2");
+    changed = set_parameter(&changed, "1A00sub2", "0x62000108");
+    let file = sim.path("io-changed.dcf");
+    std::fs::write(&file, &changed).unwrap();
+    let f = file.to_str().unwrap();
+
+    let diff = sim.run(&["config", "diff", "10", f, "--format", "json"]).ok().json();
+    assert_eq!(diff["differences"].as_array().unwrap().len(), 4);
+    assert_eq!(sim.run(&["config", "diff", "10", f, "--check"]).code, 6);
+
+    // A dry run writes nothing: the device still holds the old values.
+    let dry = sim.run(&["config", "apply", "10", f, "--dry-run", "--format", "json"]).ok().json();
+    assert!(dry["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|o| o["result"].as_str().unwrap().starts_with("would write")));
+    assert_eq!(read(&sim, "10", "1017"), "0");
+    assert_eq!(read(&sim, "10", "1A00:0"), "1");
+
+    let applied = sim.run(&["config", "apply", "10", f, "--verify", "--format", "json"]).ok().json();
+    let objects = applied["objects"].as_array().unwrap();
+    let order: Vec<(&str, &str)> =
+        objects.iter().map(|o| (o["object"].as_str().unwrap(), o["new"].as_str().unwrap())).collect();
+    // The safe order: plain objects; COB-ID invalid; count 0; entry; count; COB-ID valid.
+    assert_eq!(
+        order,
+        [
+            ("0x1017:0", "0x64"),
+            ("0x6200:1", "0xF"),
+            ("0x1800:1", "0x8000018A"),
+            ("0x1A00:0", "0x0"),
+            ("0x1A00:2", "0x62000108"),
+            ("0x1A00:0", "0x2"),
+            ("0x1800:1", "0x18A"),
+        ]
+    );
+    assert!(objects.iter().filter(|o| o["object"] == "0x1A00:2").all(|o| o["result"] == "written, verified"));
+    assert_eq!(
+        sim.run(&["config", "diff", "10", f, "--format", "json"]).ok().json()["differences"],
+        serde_json::json!([])
+    );
+    // Applied again: nothing to write.
+    let again = sim.run(&["config", "apply", "10", f, "--format", "json"]).ok().json();
+    assert_eq!(again["objects"], serde_json::json!([]));
+
+    sim.run(&["store", "10"]).ok();
+    sim.run(&["nmt", "reset", "10"]).ok();
+    sim.run(&["config", "diff", "10", f, "--check"]).ok();
+
+    let r = sim.run(&["restore", "10"]).ok();
+    assert!(r.stdout.contains("after the next reset"), "{}", r.stdout);
+    sim.run(&["config", "diff", "10", f, "--check"]).ok();
+    sim.run(&["restore", "10", "--reset"]).ok();
+    sim.run(&["config", "diff", "10", original.to_str().unwrap(), "--check"]).ok();
+}
+
+#[test]
+fn a_failure_part_way_says_what_was_written() {
+    let sim = Sim::new();
+    let dcf = sim.run(&["config", "dump", "32"]).ok().stdout;
+    let mut changed = set_parameter(&dcf, "6040", "0x6");
+    changed = set_parameter(&changed, "6060", "9");
+    changed = set_parameter(&changed, "607A", "1000");
+    let file = sim.path("stepper.dcf");
+    std::fs::write(&file, changed).unwrap();
+    let r = sim.run(&["config", "apply", "32", file.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(r.code, 4, "{}", r.stderr);
+    let objects = r.json()["objects"].as_array().unwrap().clone();
+    let results: Vec<(&str, &str)> =
+        objects.iter().map(|o| (o["object"].as_str().unwrap(), o["result"].as_str().unwrap())).collect();
+    assert_eq!(results[0], ("0x6040:0", "written"));
+    assert!(results[1].1.starts_with("failed: node 32: SDO abort 0x06090031"), "{results:?}");
+    assert_eq!(results[2], ("0x607A:0", "not written"));
+    assert!(r.stderr.contains("written before the failure: 0x6040:0"), "{}", r.stderr);
+    assert_eq!(read(&sim, "32", "607A"), "0");
+}
+
+#[test]
+fn values_outside_the_eds_range_are_refused_before_any_write() {
+    let sim = Sim::new();
+    let eds = format!("1={}/eds/canctl-sim-drive.eds", env!("CARGO_MANIFEST_DIR"));
+    let dcf = sim.run(&["--eds", &eds, "config", "dump", "1"]).ok().stdout;
+    assert!(dcf.contains("LowLimit=-6"), "the range comes from the EDS");
+    let mut changed = set_parameter(&dcf, "607A", "5000");
+    changed = set_parameter(&changed, "6060", "20");
+    let file = sim.path("drive.dcf");
+    std::fs::write(&file, changed).unwrap();
+    let r = sim.run(&["config", "apply", "1", file.to_str().unwrap()]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("outside the range of 0x6060:0 (-6..=7"), "{}", r.stderr);
+    assert_eq!(read(&sim, "1", "607A"), "0", "nothing was written");
+}
+
+#[test]
+fn store_and_restore_check_what_the_device_supports() {
+    let sim = Sim::new();
+    assert_eq!(
+        sim.run(&["store", "1", "comm"]).ok().stdout.trim(),
+        "node 1: communication parameters stored (0x1010:2)"
+    );
+    let r = sim.run(&["store", "5", "app"]);
+    assert_eq!(r.code, 4);
+    assert!(
+        r.stderr.contains("cannot store application parameters (0x1010:0 = 1; it offers: all parameters)"),
+        "{}",
+        r.stderr
+    );
+    let r = sim.run(&["restore", "5", "--reset", "--format", "json"]).ok().json();
+    assert_eq!(r["reset"], true);
+    assert_eq!(sim.run(&["store", "77"]).code, 3);
+}
+
+#[test]
+fn object_names_from_an_eds_or_the_built_in_dictionary() {
+    let sim = Sim::new();
+    assert_eq!(sim.run(&["sdo", "read", "5", "ProducerHeartbeatTime"]).ok().stdout.trim(), "40");
+    sim.run(&["sdo", "write", "5", "producer heartbeat time", "60", "--verify"]).ok();
+    let eds = format!("1={}/eds/canctl-sim-drive.eds", env!("CARGO_MANIFEST_DIR"));
+    let r = sim
+        .run(&["--eds", &eds, "sdo", "read", "1", "Simulator data types: unsigned16", "--format", "json"])
+        .ok()
+        .json();
+    assert_eq!((r["object"].as_str(), r["value"].as_u64()), (Some("0x5FF0:3"), Some(0x1234)));
+    let r = sim.run(&["sdo", "read", "5", "ProducerHeartbeatTme"]);
+    assert_eq!(r.code, 2);
+    assert!(r.stderr.contains("did you mean 'Producer heartbeat time' (0x1017:0)?"), "{}", r.stderr);
+    let broken = format!("{}/tests/fixtures/eds/broken-access.eds", env!("CARGO_MANIFEST_DIR"));
+    let r = sim.run(&["--eds", &broken, "sdo", "read", "1", "1000"]);
+    assert_eq!(r.code, 2);
+    assert!(r.stderr.contains("broken-access.eds:4: AccessType 'readwrite'"), "{}", r.stderr);
+}
