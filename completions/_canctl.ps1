@@ -39,6 +39,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('lss', 'lss', [CompletionResultType]::ParameterValue, 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign')
             [CompletionResult]::new('store', 'store', [CompletionResultType]::ParameterValue, 'Save parameters to non-volatile memory (writes ''save'' to 0x1010)')
             [CompletionResult]::new('restore', 'restore', [CompletionResultType]::ParameterValue, 'Bring back default parameters (writes ''load'' to 0x1011)')
+            [CompletionResult]::new('stream-pdo', 'stream-pdo', [CompletionResultType]::ParameterValue, 'Stream a node''s transmit PDOs, decoded')
+            [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the bus: every frame decoded, as it happens')
             [CompletionResult]::new('config', 'config', [CompletionResultType]::ParameterValue, 'Configuration files: dump a node to a DCF, compare, apply')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
@@ -497,6 +499,48 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
             break
         }
+        'canctl;stream-pdo' {
+            [CompletionResult]::new('--tpdo', '--tpdo', [CompletionResultType]::ParameterName, 'Which TPDOs (default: every valid one of 1..4)')
+            [CompletionResult]::new('--count', '--count', [CompletionResultType]::ParameterName, 'Stop after this many records')
+            [CompletionResult]::new('--duration', '--duration', [CompletionResultType]::ParameterName, 'Stop after this long')
+            [CompletionResult]::new('--sync', '--sync', [CompletionResultType]::ParameterName, 'Send SYNC at this period (for synchronous PDOs, transmission types 0..240)')
+            [CompletionResult]::new('--map', '--map', [CompletionResultType]::ParameterName, 'Map these objects into the (first) TPDO for this session: 6064:0,606C:0')
+            [CompletionResult]::new('--event', '--event', [CompletionResultType]::ParameterName, 'With --map: event timer in ms')
+            [CompletionResult]::new('--type', '--type', [CompletionResultType]::ParameterName, 'With --map: transmission type (1..240 on SYNC, 254/255 by event)')
+            [CompletionResult]::new('--interval', '--interval', [CompletionResultType]::ParameterName, 'Through an EPOS2: how often to poll each PDO')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('--start', '--start', [CompletionResultType]::ParameterName, 'Put the node in Operational, and back in its former state at the end')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'canctl;monitor' {
+            [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, 'Only frames of this node (repeatable); NMT, SYNC and LSS are always shown')
+            [CompletionResult]::new('--duration', '--duration', [CompletionResultType]::ParameterName, 'Stop after this long')
+            [CompletionResult]::new('--count', '--count', [CompletionResultType]::ParameterName, 'Stop after this many frames')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
         'canctl;config' {
             [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
@@ -673,6 +717,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('lss', 'lss', [CompletionResultType]::ParameterValue, 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign')
             [CompletionResult]::new('store', 'store', [CompletionResultType]::ParameterValue, 'Save parameters to non-volatile memory (writes ''save'' to 0x1010)')
             [CompletionResult]::new('restore', 'restore', [CompletionResultType]::ParameterValue, 'Bring back default parameters (writes ''load'' to 0x1011)')
+            [CompletionResult]::new('stream-pdo', 'stream-pdo', [CompletionResultType]::ParameterValue, 'Stream a node''s transmit PDOs, decoded')
+            [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the bus: every frame decoded, as it happens')
             [CompletionResult]::new('config', 'config', [CompletionResultType]::ParameterValue, 'Configuration files: dump a node to a DCF, compare, apply')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
@@ -756,6 +802,12 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;help;restore' {
+            break
+        }
+        'canctl;help;stream-pdo' {
+            break
+        }
+        'canctl;help;monitor' {
             break
         }
         'canctl;help;config' {

@@ -31,6 +31,9 @@ _canctl() {
             canctl,man)
                 cmd="canctl__subcmd__man"
                 ;;
+            canctl,monitor)
+                cmd="canctl__subcmd__monitor"
+                ;;
             canctl,nmt)
                 cmd="canctl__subcmd__nmt"
                 ;;
@@ -48,6 +51,9 @@ _canctl() {
                 ;;
             canctl,store)
                 cmd="canctl__subcmd__store"
+                ;;
+            canctl,stream-pdo)
+                cmd="canctl__subcmd__stream__subcmd__pdo"
                 ;;
             canctl__subcmd__config,apply)
                 cmd="canctl__subcmd__config__subcmd__apply"
@@ -88,6 +94,9 @@ _canctl() {
             canctl__subcmd__help,man)
                 cmd="canctl__subcmd__help__subcmd__man"
                 ;;
+            canctl__subcmd__help,monitor)
+                cmd="canctl__subcmd__help__subcmd__monitor"
+                ;;
             canctl__subcmd__help,nmt)
                 cmd="canctl__subcmd__help__subcmd__nmt"
                 ;;
@@ -105,6 +114,9 @@ _canctl() {
                 ;;
             canctl__subcmd__help,store)
                 cmd="canctl__subcmd__help__subcmd__store"
+                ;;
+            canctl__subcmd__help,stream-pdo)
+                cmd="canctl__subcmd__help__subcmd__stream__subcmd__pdo"
                 ;;
             canctl__subcmd__help__subcmd__config,apply)
                 cmd="canctl__subcmd__help__subcmd__config__subcmd__apply"
@@ -290,7 +302,7 @@ _canctl() {
 
     case "${cmd}" in
         canctl)
-            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version scan sdo nmt lss store restore config sim completions man help"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version scan sdo nmt lss store restore stream-pdo monitor config sim completions man help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -548,7 +560,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__help)
-            opts="scan sdo nmt lss store restore config sim completions man help"
+            opts="scan sdo nmt lss store restore stream-pdo monitor config sim completions man help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -771,6 +783,20 @@ _canctl() {
             COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
             return 0
             ;;
+        canctl__subcmd__help__subcmd__monitor)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
         canctl__subcmd__help__subcmd__nmt)
             opts="start stop preop reset reset-comm state"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
@@ -968,6 +994,20 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__help__subcmd__store)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__stream__subcmd__pdo)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
@@ -1419,6 +1459,48 @@ _canctl() {
             fi
             case "${prev}" in
                 --out)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__monitor)
+            opts="-v -q -h -V --node --duration --count --bus --timeout --format --eds --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --node)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --duration)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --count)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -2139,6 +2221,68 @@ _canctl() {
             fi
             case "${prev}" in
                 --store-timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__stream__subcmd__pdo)
+            opts="-v -q -h -V --tpdo --count --duration --sync --start --map --event --type --interval --bus --timeout --format --eds --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --tpdo)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --count)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --duration)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --sync)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --map)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --event)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --type)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --interval)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

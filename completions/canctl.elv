@@ -36,6 +36,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand lss 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
             cand store 'Save parameters to non-volatile memory (writes ''save'' to 0x1010)'
             cand restore 'Bring back default parameters (writes ''load'' to 0x1011)'
+            cand stream-pdo 'Stream a node''s transmit PDOs, decoded'
+            cand monitor 'Watch the bus: every frame decoded, as it happens'
             cand config 'Configuration files: dump a node to a DCF, compare, apply'
             cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
@@ -451,6 +453,46 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand -V 'Print version'
             cand --version 'Print version'
         }
+        &'canctl;stream-pdo'= {
+            cand --tpdo 'Which TPDOs (default: every valid one of 1..4)'
+            cand --count 'Stop after this many records'
+            cand --duration 'Stop after this long'
+            cand --sync 'Send SYNC at this period (for synchronous PDOs, transmission types 0..240)'
+            cand --map 'Map these objects into the (first) TPDO for this session: 6064:0,606C:0'
+            cand --event 'With --map: event timer in ms'
+            cand --type 'With --map: transmission type (1..240 on SYNC, 254/255 by event)'
+            cand --interval 'Through an EPOS2: how often to poll each PDO'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand --start 'Put the node in Operational, and back in its former state at the end'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'canctl;monitor'= {
+            cand --node 'Only frames of this node (repeatable); NMT, SYNC and LSS are always shown'
+            cand --duration 'Stop after this long'
+            cand --count 'Stop after this many frames'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
         &'canctl;config'= {
             cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
             cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
@@ -611,6 +653,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand lss 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
             cand store 'Save parameters to non-volatile memory (writes ''save'' to 0x1010)'
             cand restore 'Bring back default parameters (writes ''load'' to 0x1011)'
+            cand stream-pdo 'Stream a node''s transmit PDOs, decoded'
+            cand monitor 'Watch the bus: every frame decoded, as it happens'
             cand config 'Configuration files: dump a node to a DCF, compare, apply'
             cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
             cand completions 'Print a shell completion script'
@@ -673,6 +717,10 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;help;store'= {
         }
         &'canctl;help;restore'= {
+        }
+        &'canctl;help;stream-pdo'= {
+        }
+        &'canctl;help;monitor'= {
         }
         &'canctl;help;config'= {
             cand dump 'Read every readable object of a node into a DCF'

@@ -40,6 +40,8 @@ complete -c canctl -n "__fish_canctl_needs_command" -f -a "nmt" -d 'Start, stop 
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "lss" -d 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "store" -d 'Save parameters to non-volatile memory (writes \'save\' to 0x1010)'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "restore" -d 'Bring back default parameters (writes \'load\' to 0x1011)'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "stream-pdo" -d 'Stream a node\'s transmit PDOs, decoded'
+complete -c canctl -n "__fish_canctl_needs_command" -f -a "monitor" -d 'Watch the bus: every frame decoded, as it happens'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "config" -d 'Configuration files: dump a node to a DCF, compare, apply'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
 complete -c canctl -n "__fish_canctl_needs_command" -f -a "completions" -d 'Print a shell completion script'
@@ -326,6 +328,38 @@ complete -c canctl -n "__fish_canctl_using_subcommand restore" -s v -l verbose -
 complete -c canctl -n "__fish_canctl_using_subcommand restore" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand restore" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c canctl -n "__fish_canctl_using_subcommand restore" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l tpdo -d 'Which TPDOs (default: every valid one of 1..4)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l count -d 'Stop after this many records' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l duration -d 'Stop after this long' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l sync -d 'Send SYNC at this period (for synchronous PDOs, transmission types 0..240)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l map -d 'Map these objects into the (first) TPDO for this session: 6064:0,606C:0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l event -d 'With --map: event timer in ms' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l type -d 'With --map: transmission type (1..240 on SYNC, 254/255 by event)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l interval -d 'Through an EPOS2: how often to poll each PDO' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -l start -d 'Put the node in Operational, and back in its former state at the end'
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand stream-pdo" -s V -l version -d 'Print version'
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -l node -d 'Only frames of this node (repeatable); NMT, SYNC and LSS are always shown' -r
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -l duration -d 'Stop after this long' -r
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -l count -d 'Stop after this many frames' -r
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
+json\t'One JSON document per command (JSON lines for streams)'
+csv\t'A header row and one row per record'"
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -l eds -d 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it' -r
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -s v -l verbose -d 'Trace every frame on stderr in candump notation'
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c canctl -n "__fish_canctl_using_subcommand monitor" -s V -l version -d 'Print version'
 complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -l bus -d 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0' -r
 complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -l timeout -d 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)' -r
 complete -c canctl -n "__fish_canctl_using_subcommand config; and not __fish_seen_subcommand_from dump diff apply help" -l format -d 'Output format' -r -f -a "human\t'Tables and sentences for people'
@@ -431,17 +465,19 @@ complete -c canctl -n "__fish_canctl_using_subcommand man" -s v -l verbose -d 'T
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s q -l quiet -d 'No diagnostics or progress on stderr (errors still print)'
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c canctl -n "__fish_canctl_using_subcommand man" -s V -l version -d 'Print version'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "scan" -d 'Find every node on the bus'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "lss" -d 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "store" -d 'Save parameters to non-volatile memory (writes \'save\' to 0x1010)'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "restore" -d 'Bring back default parameters (writes \'load\' to 0x1011)'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "config" -d 'Configuration files: dump a node to a DCF, compare, apply'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "completions" -d 'Print a shell completion script'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
-complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore config sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "scan" -d 'Find every node on the bus'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "sdo" -d 'Read and write objects (SDO)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "nmt" -d 'Start, stop and reset nodes, or ask their NMT state'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "lss" -d 'Node-ids and bit rates over LSS (CiA 305): find, set, store, assign'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "store" -d 'Save parameters to non-volatile memory (writes \'save\' to 0x1010)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "restore" -d 'Bring back default parameters (writes \'load\' to 0x1011)'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "stream-pdo" -d 'Stream a node\'s transmit PDOs, decoded'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "monitor" -d 'Watch the bus: every frame decoded, as it happens'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "config" -d 'Configuration files: dump a node to a DCF, compare, apply'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "sim" -d 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "completions" -d 'Print a shell completion script'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "man" -d 'Print the man page, or write every page to a directory'
+complete -c canctl -n "__fish_canctl_using_subcommand help; and not __fish_seen_subcommand_from scan sdo nmt lss store restore stream-pdo monitor config sim completions man help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sdo" -f -a "read" -d 'Read an object (SDO upload)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from sdo" -f -a "write" -d 'Write an object (SDO download)'
 complete -c canctl -n "__fish_canctl_using_subcommand help; and __fish_seen_subcommand_from nmt" -f -a "start" -d 'Put a node (or all) in Operational'

@@ -237,3 +237,21 @@ fn lss_verbs_on_the_epos2_itself_use_its_objects() {
         assert!(r.stderr.contains("has no LSS"), "{verb:?}: {}", r.stderr);
     }
 }
+
+#[test]
+fn stream_pdo_by_polling_through_the_gateway() {
+    for framing in FRAMINGS {
+        let sim = Sim::new();
+        let dev = DeviceSide::start(&sim, framing, &[]);
+        let r = dev.run(&["stream-pdo", "5", "--start", "--count", "20", "--interval", "5ms", "--format", "csv"]).ok();
+        assert!(r.stderr.contains("polled by remote frame"), "{}", r.stderr);
+        let rows: Vec<&str> = r.stdout.lines().skip(1).collect();
+        assert_eq!(rows.len(), 20, "{framing}");
+        for row in rows {
+            let cols: Vec<&str> = row.split(',').collect();
+            let speed: i64 = cols[3].parse().unwrap();
+            assert_eq!(speed.abs(), 2000, "{row}");
+        }
+        assert!(dev.run(&["nmt", "state", "5"]).ok().stdout.contains("pre-operational"), "{framing}");
+    }
+}

@@ -89,6 +89,7 @@ on_vcan!(
     lss_fastscan_and_assign_number_a_fresh_bus,
     lss_selective_services,
     lss_refusals,
+    stream_pdo_yields_the_sensors_values,
 );
 
 #[test]

@@ -5,6 +5,7 @@ pub mod emcy;
 pub mod lss;
 pub mod nmt;
 pub mod objaddr;
+pub mod pdo;
 pub mod sdo;
 pub mod types;
 

@@ -253,11 +253,11 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
 }
 
 /// One write of the plan.
-struct Step {
-    addr: ObjAddr,
-    value: Vec<u8>,
+pub(super) struct Step {
+    pub(super) addr: ObjAddr,
+    pub(super) value: Vec<u8>,
     /// An intermediate write of the PDO sequence, not a value of the file.
-    interim: &'static str,
+    pub(super) interim: &'static str,
 }
 
 fn pdo_indices(index: u16) -> Option<(u16, u16)> {
@@ -270,7 +270,7 @@ fn pdo_indices(index: u16) -> Option<(u16, u16)> {
 
 /// Writes in a safe order: plain objects first; then per PDO whose COB-ID or mapping
 /// changes: COB-ID invalid, mapping count 0, entries, count, other parameters, COB-ID.
-fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAddr) -> Option<Vec<u8>>) -> Vec<Step> {
+pub(super) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAddr) -> Option<Vec<u8>>) -> Vec<Step> {
     let mut steps: Vec<Step> = Vec::new();
     let mut pdos: BTreeSet<(u16, u16)> = BTreeSet::new();
     for (addr, value) in changes {

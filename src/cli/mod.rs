@@ -4,12 +4,14 @@
 mod config;
 mod docs;
 mod lss;
+mod monitor;
 mod nmt;
 mod objects;
 mod scan;
 mod sdo;
 mod sim;
 mod store;
+mod stream;
 
 use crate::bus::{Bus, BusUri, Master, SdoOptions};
 use crate::epos2::gateway::Epos2Gateway;
@@ -86,6 +88,8 @@ pub enum Command {
     Lss(lss::LssCommand),
     Store(store::StoreArgs),
     Restore(store::RestoreArgs),
+    StreamPdo(stream::StreamArgs),
+    Monitor(monitor::MonitorArgs),
     /// Configuration files: dump a node to a DCF, compare, apply
     #[command(subcommand)]
     Config(config::ConfigCommand),
@@ -224,6 +228,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Store(a) => with_bus(g, |bus| store::store(&ctx, bus, a)),
         Command::Restore(a) => with_bus(g, |bus| store::restore(&ctx, bus, a)),
         Command::Config(cmd) => with_bus(g, |bus| config::run(&ctx, bus, cmd)),
+        Command::StreamPdo(a) => with_bus(g, |bus| stream::run(&ctx, bus, a)),
+        Command::Monitor(a) => with_bus(g, |bus| monitor::run(&ctx, bus, a)),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),

@@ -215,46 +215,50 @@ fn poll_until_answering(ctx: &Ctx, bus: &mut dyn Bus, node: u8, wait: Duration) 
     }
 }
 
-fn state(ctx: &Ctx, bus: &mut dyn Bus, a: &StateArgs) -> anyhow::Result<()> {
-    let node = a.node;
-    let mut found = None;
+/// A node's NMT state: from its heartbeat (listened for `listen`), else by node guarding.
+pub(super) fn query_state(
+    ctx: &Ctx,
+    bus: &mut dyn Bus,
+    node: u8,
+    listen: Duration,
+) -> crate::Result<(nmt::State, &'static str)> {
     if bus.sees_traffic() {
-        let listen_end = Instant::now() + a.listen;
+        let listen_end = Instant::now() + listen;
         while let Some(f) = bus.recv_frame(listen_end)? {
             if let Some((n, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
                 if n == node {
-                    found = Some((state, "heartbeat"));
-                    break;
+                    return Ok((state, "heartbeat"));
                 }
             }
         }
     }
-    if found.is_none() {
-        // Node guarding; through an EPOS2 this is RequestCANFrame, whose answer may also be
-        // the node's next heartbeat (same COB-ID).
-        let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
-        let answer = match bus.request_frame(nmt::error_control_cob(node), 1, ctx.timeout) {
-            Err(Error::Timeout(_)) => None,
-            other => Some(other?),
-        };
-        found = match answer.as_ref().and_then(ErrorControl::parse) {
-            Some((_, ErrorControl::State { state, .. })) => Some((state, source)),
-            Some((_, ErrorControl::BootUp)) => Some((nmt::State::PreOperational, source)),
-            _ => None,
-        };
-    }
-    let Some((state, source)) = found else {
-        let listened = if bus.sees_traffic() {
-            format!("no heartbeat within {} ms and ", a.listen.as_millis())
-        } else {
-            String::new()
-        };
-        return Err(Error::Timeout(format!(
-            "node {node}: {listened}no answer to node guarding within {} ms",
-            ctx.timeout.as_millis()
-        ))
-        .into());
+    // Node guarding; through an EPOS2 this is RequestCANFrame, whose answer may also be
+    // the node's next heartbeat (same COB-ID).
+    let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
+    let answer = match bus.request_frame(nmt::error_control_cob(node), 1, ctx.timeout) {
+        Err(Error::Timeout(_)) => None,
+        other => Some(other?),
     };
+    match answer.as_ref().and_then(ErrorControl::parse) {
+        Some((_, ErrorControl::State { state, .. })) => Ok((state, source)),
+        Some((_, ErrorControl::BootUp)) => Ok((nmt::State::PreOperational, source)),
+        _ => {
+            let listened = if bus.sees_traffic() {
+                format!("no heartbeat within {} ms and ", listen.as_millis())
+            } else {
+                String::new()
+            };
+            Err(Error::Timeout(format!(
+                "node {node}: {listened}no answer to node guarding within {} ms",
+                ctx.timeout.as_millis()
+            )))
+        }
+    }
+}
+
+fn state(ctx: &Ctx, bus: &mut dyn Bus, a: &StateArgs) -> anyhow::Result<()> {
+    let node = a.node;
+    let (state, source) = query_state(ctx, bus, node, a.listen)?;
     match ctx.out.format {
         Format::Json => ctx.out.json(&json!({ "node": node, "state": state.name(), "source": source }))?,
         Format::Csv => ctx

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 pub fn run(mut sim: SimLink, can: &mut dyn FrameLink, trace: bool) -> Result<()> {
     let iface = can.name();
     loop {
-        let wake = sim.next_heartbeat().unwrap_or_else(|| Instant::now() + Duration::from_secs(1));
+        let wake = sim.next_event().unwrap_or_else(|| Instant::now() + Duration::from_secs(1));
         if let Some(f) = can.recv(wake)? {
             if trace {
                 eprintln!("{}", f.candump_line(&iface));

@@ -211,6 +211,8 @@ pub struct DeviceState {
     pub stored: BTreeMap<String, String>,
     #[serde(default)]
     pub bit_rate: Option<BitRates>,
+    #[serde(default)]
+    pub fault: Fault,
 }
 
 /// CiA 305 bit timing table indices: in use, configured and waiting for activation, and
@@ -235,6 +237,34 @@ pub struct Device {
     /// Given a node-id by LSS while it had none: boots once it leaves configuration state.
     boot_pending: bool,
     bit_rate: BitRates,
+    /// A linear position sensor whose position and speed move with time.
+    moving: bool,
+    pad_pdos: bool,
+    /// SYNCs counted per TPDO, for transmission types 1..240.
+    sync_counts: [u8; 4],
+    fault: Fault,
+}
+
+/// A simulated device fault (the sensor's magnet lost), armed by writing the time to it.
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Fault {
+    /// Wall-clock ms at which it strikes.
+    pub at: Option<u64>,
+    pub active: bool,
+}
+
+/// The simulator's own object: "simulated fault in N ms" (0 clears an active one).
+pub const FAULT_OBJECT: ObjAddr = ObjAddr::new(0x5FFE, 0);
+
+/// One TPDO as its communication and mapping parameters describe it.
+struct Tpdo {
+    n: usize,
+    cob: u16,
+    valid: bool,
+    rtr: bool,
+    transmission: u8,
+    event_ms: u16,
+    map: Vec<(ObjAddr, u8)>,
 }
 
 impl Device {
@@ -255,6 +285,10 @@ impl Device {
             lss: lss::Slave::new(identity, model.lss),
             boot_pending: false,
             bit_rate: BitRates { active: bit_rate, pending: None, stored: bit_rate },
+            moving: model.moving,
+            pad_pdos: model.pad_pdos,
+            sync_counts: [0; 4],
+            fault: Fault::default(),
             model: model.key,
             node_id,
             nmt: nmt::State::PreOperational,
@@ -313,8 +347,25 @@ impl Device {
             if self.nmt == nmt::State::Stopped || f.len() != 8 {
                 return vec![];
             }
+            let fault_before = self.od.value(FAULT_OBJECT).map(|v| v.to_vec());
             let answers = self.sdo.handle(f.data(), &mut self.od);
-            return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+            let mut out: Vec<Frame> = answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+            if self.od.value(FAULT_OBJECT).map(|v| v.to_vec()) != fault_before {
+                out.extend(self.arm_fault());
+            }
+            return out;
+        }
+        let operational = self.nmt == nmt::State::Operational;
+        if operational
+            && !f.is_remote()
+            && Some(f.id() as u32) == self.od.u32_value(ObjAddr::new(0x1005, 0)).map(|c| c & 0x7FF)
+        {
+            return self.on_sync();
+        }
+        if operational && f.is_remote() {
+            if let Some(t) = self.tpdos().into_iter().find(|t| t.valid && t.rtr && t.cob == f.id()) {
+                return vec![self.tpdo_frame(&t)];
+            }
         }
         if f.is_remote() && f.id() == nmt::error_control_cob(id) && self.answers_guarding() {
             let answer = ErrorControl::State { state: self.nmt, toggle: self.guard_toggle };
@@ -381,6 +432,149 @@ impl Device {
         }
     }
 
+    fn tpdos(&self) -> Vec<Tpdo> {
+        (0..4u16)
+            .filter_map(|n| {
+                let cob = self.od.u32_value(ObjAddr::new(0x1800 + n, 1))?;
+                let count = self.od.value(ObjAddr::new(0x1A00 + n, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+                let map = (1..=count)
+                    .filter_map(|s| self.od.u32_value(ObjAddr::new(0x1A00 + n, s)))
+                    .map(crate::canopen::pdo::mapping_entry)
+                    .collect();
+                Some(Tpdo {
+                    n: n as usize,
+                    cob: (cob & 0x7FF) as u16,
+                    valid: cob & 0x8000_0000 == 0,
+                    rtr: cob & 0x4000_0000 == 0,
+                    transmission: self
+                        .od
+                        .value(ObjAddr::new(0x1800 + n, 2))
+                        .and_then(|v| v.first().copied())
+                        .unwrap_or(255),
+                    event_ms: self.od.u16_value(ObjAddr::new(0x1800 + n, 5)).unwrap_or(0),
+                    map,
+                })
+            })
+            .collect()
+    }
+
+    /// The sensor's measurements at this moment (zero while its magnet is lost).
+    fn update_process(&mut self) {
+        if !self.moving {
+            return;
+        }
+        let (position, speed) =
+            if self.fault.active { (0, 0) } else { super::profiles::sensor_motion(super::wall_ms()) };
+        self.od.values.insert(ObjAddr::new(0x6020, 1), position.to_le_bytes().to_vec());
+        self.od.values.insert(ObjAddr::new(0x6030, 1), speed.to_le_bytes().to_vec());
+    }
+
+    fn tpdo_frame(&mut self, t: &Tpdo) -> Frame {
+        self.update_process();
+        let fields: Vec<(u8, Vec<u8>)> = t
+            .map
+            .iter()
+            .map(|(addr, bits)| (*bits, self.od.value(*addr).map(|v| v.to_vec()).unwrap_or_default()))
+            .collect();
+        let mut payload = crate::canopen::pdo::encode(&fields);
+        if self.pad_pdos {
+            payload.resize(8, 0);
+        }
+        Frame::new(t.cob, &payload)
+    }
+
+    /// Transmission types 0..240: the PDO goes out at every n-th SYNC (0 counts as 1).
+    fn on_sync(&mut self) -> Vec<Frame> {
+        let mut out = Vec::new();
+        for t in self.tpdos().into_iter().filter(|t| t.valid && t.transmission <= 240) {
+            self.sync_counts[t.n] += 1;
+            if self.sync_counts[t.n] >= t.transmission.max(1) {
+                self.sync_counts[t.n] = 0;
+                out.push(self.tpdo_frame(&t));
+            }
+        }
+        out
+    }
+
+    fn emcy(&self, code: u16, register: u8) -> Option<Frame> {
+        let cob = self.od.u32_value(ObjAddr::new(0x1014, 0))?;
+        let e = crate::canopen::emcy::Emergency { code, register, vendor: [0; 5] };
+        let mut f = e.frame(0);
+        if cob & 0x8000_0000 == 0 {
+            f = Frame::new((cob & 0x7FF) as u16, f.data());
+        }
+        Some(f)
+    }
+
+    /// The fault object was written: arm the fault, or clear an active one.
+    fn arm_fault(&mut self) -> Vec<Frame> {
+        let ms = self.od.u16_value(FAULT_OBJECT).unwrap_or(0);
+        self.od.dirty = true;
+        if ms > 0 {
+            self.fault.at = Some(super::wall_ms() + ms as u64);
+            return vec![];
+        }
+        self.fault.at = None;
+        if !self.fault.active {
+            return vec![];
+        }
+        // Seed 001 §8: repaired errors are reported with "error reset".
+        self.fault.active = false;
+        self.od.values.insert(ObjAddr::new(0x1001, 0), vec![0]);
+        self.emcy(0x0000, 0).into_iter().collect()
+    }
+
+    /// The fault strikes: seed 001 §8 "Device Hardware" EMCY 0x5000 with register 0x81;
+    /// the device leaves Operational for Pre-operational (CiA 301 error behaviour).
+    fn strike(&mut self) -> Vec<Frame> {
+        self.fault = Fault { at: None, active: true };
+        self.od.values.insert(ObjAddr::new(0x1001, 0), vec![0x81]);
+        self.od.dirty = true;
+        if self.nmt == nmt::State::Operational {
+            self.nmt = nmt::State::PreOperational;
+        }
+        self.emcy(0x5000, 0x81).into_iter().collect()
+    }
+
+    /// The next time this device sends something by itself, after `now` (wall-clock ms).
+    pub fn next_event(&self, now: u64) -> Option<u64> {
+        let id = self.node_id? as u64;
+        let mut next: Vec<u64> = Vec::new();
+        if let Some(p) = self.heartbeat_ms() {
+            next.push(super::last_beat(p, id, now) + p);
+        }
+        if self.nmt == nmt::State::Operational {
+            for t in self.tpdos().iter().filter(|t| t.valid && t.transmission >= 254 && t.event_ms > 0) {
+                let p = t.event_ms as u64;
+                next.push(super::last_beat(p, id, now) + p);
+            }
+        }
+        next.extend(self.fault.at);
+        next.into_iter().min()
+    }
+
+    /// What this device sends by itself in `(after, upto]`: at most one of each kind.
+    pub fn events(&mut self, after: u64, upto: u64) -> Vec<Frame> {
+        let Some(id) = self.node_id else { return vec![] };
+        let mut out = Vec::new();
+        if self.fault.at.is_some_and(|t| t > after && t <= upto) {
+            out.extend(self.strike());
+        }
+        if let Some(p) = self.heartbeat_ms() {
+            if super::last_beat(p, id as u64, upto) > after {
+                out.extend(self.heartbeat_frame());
+            }
+        }
+        if self.nmt == nmt::State::Operational {
+            for t in self.tpdos().into_iter().filter(|t| t.valid && t.transmission >= 254 && t.event_ms > 0) {
+                if super::last_beat(t.event_ms as u64, id as u64, upto) > after {
+                    out.push(self.tpdo_frame(&t));
+                }
+            }
+        }
+        out
+    }
+
     /// CiA 301: a node that produces heartbeats does not take part in node guarding.
     fn answers_guarding(&self) -> bool {
         self.guarding && self.heartbeat_ms().is_none()
@@ -411,6 +605,7 @@ impl Device {
             values: hex_map(&self.od.values, true),
             stored: hex_map(&self.od.stored, false),
             bit_rate: Some(self.bit_rate),
+            fault: self.fault,
         }
     }
 
@@ -425,6 +620,7 @@ impl Device {
         if let Some(b) = s.bit_rate {
             self.bit_rate = b;
         }
+        self.fault = s.fault;
         let parse = |m: &BTreeMap<String, String>| -> BTreeMap<ObjAddr, Vec<u8>> {
             m.iter()
                 .filter_map(|(k, v)| Some((k.parse::<ObjAddr>().ok()?, crate::canopen::types::parse_hex(v).ok()?)))

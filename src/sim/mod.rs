@@ -70,31 +70,17 @@ impl Network {
         out
     }
 
-    /// Heartbeats due in `(after, upto]` (ms of wall-clock time), at most one per device.
-    /// Phases follow the wall clock, so the network seems to run between invocations.
-    pub fn heartbeats(&self, after: u64, upto: u64) -> Vec<Frame> {
-        self.devices
-            .iter()
-            .filter_map(|d| {
-                if d.bit_rate() != self.bit_rate {
-                    return None;
-                }
-                let period = d.heartbeat_ms()?;
-                let last = last_beat(period, d.node_id()? as u64, upto);
-                (last > after).then(|| d.heartbeat_frame()).flatten()
-            })
-            .collect()
+    /// What the devices send by themselves in `(after, upto]` (ms of wall-clock time):
+    /// heartbeats, timed PDOs, faults. Phases follow the wall clock, so the network seems
+    /// to run between invocations.
+    pub fn events(&mut self, after: u64, upto: u64) -> Vec<Frame> {
+        let rate = self.bit_rate;
+        self.devices.iter_mut().filter(|d| d.bit_rate() == rate).flat_map(|d| d.events(after, upto)).collect()
     }
 
-    /// When the next heartbeat after `now` (ms) is due.
-    pub fn next_heartbeat(&self, now: u64) -> Option<u64> {
-        self.devices
-            .iter()
-            .filter_map(|d| {
-                let period = d.heartbeat_ms()?;
-                Some(last_beat(period, d.node_id()? as u64, now) + period)
-            })
-            .min()
+    /// When the next of those is due after `now` (ms).
+    pub fn next_event(&self, now: u64) -> Option<u64> {
+        self.devices.iter().filter(|d| d.bit_rate() == self.bit_rate).filter_map(|d| d.next_event(now)).min()
     }
 
     pub fn snapshot(&self) -> state::NetworkState {
@@ -122,7 +108,7 @@ impl Network {
 
 /// The latest beat time at or before `now` for a producer with this period; beats are
 /// offset by the node-id so that devices do not all beat in the same millisecond.
-fn last_beat(period: u64, node: u64, now: u64) -> u64 {
+pub(crate) fn last_beat(period: u64, node: u64, now: u64) -> u64 {
     let offset = node % period;
     if now < offset {
         return 0;
@@ -138,7 +124,7 @@ pub fn wall_ms() -> u64 {
 pub struct SimLink {
     net: Network,
     rx: VecDeque<Frame>,
-    /// Wall-clock ms up to which heartbeats have been produced.
+    /// Wall-clock ms up to which the devices' own frames have been produced.
     beats_upto: u64,
     file: Option<state::StateFile>,
 }
@@ -171,10 +157,10 @@ impl SimLink {
         &mut self.net
     }
 
-    /// When the next heartbeat is due, if any device produces one.
-    pub fn next_heartbeat(&self) -> Option<Instant> {
+    /// When a device next sends something by itself, if any will.
+    pub fn next_event(&self) -> Option<Instant> {
         let now = wall_ms();
-        let next = self.net.next_heartbeat(self.beats_upto.max(now))?;
+        let next = self.net.next_event(self.beats_upto.max(now))?;
         Some(Instant::now() + Duration::from_millis(next.saturating_sub(now)))
     }
 
@@ -183,10 +169,10 @@ impl SimLink {
         self.close()
     }
 
-    fn produce_heartbeats(&mut self) {
+    fn produce_events(&mut self) {
         let now = wall_ms();
         if now > self.beats_upto {
-            let beats = self.net.heartbeats(self.beats_upto, now);
+            let beats = self.net.events(self.beats_upto, now);
             self.rx.extend(beats);
             self.beats_upto = now;
         }
@@ -195,7 +181,7 @@ impl SimLink {
 
 impl FrameLink for SimLink {
     fn send(&mut self, frame: &Frame) -> Result<()> {
-        self.produce_heartbeats();
+        self.produce_events();
         let answers = self.net.deliver(frame);
         self.rx.extend(answers);
         Ok(())
@@ -206,7 +192,7 @@ impl FrameLink for SimLink {
             if let Some(f) = self.rx.pop_front() {
                 return Ok(Some(f));
             }
-            self.produce_heartbeats();
+            self.produce_events();
             if !self.rx.is_empty() {
                 continue;
             }
@@ -215,7 +201,7 @@ impl FrameLink for SimLink {
                 return Ok(None);
             }
             let mut wake = deadline;
-            if let Some(next) = self.net.next_heartbeat(self.beats_upto) {
+            if let Some(next) = self.net.next_event(self.beats_upto) {
                 wake = wake.min(now + Duration::from_millis(next.saturating_sub(wall_ms())));
             }
             std::thread::sleep(wake.saturating_duration_since(now).max(Duration::from_micros(100)));

@@ -17,6 +17,21 @@ pub struct Model {
     pub ignored_writes: Vec<ObjAddr>,
     /// What its LSS slave supports (CiA 305 store and bit timing are optional).
     pub lss: SlaveCaps,
+    /// A linear position sensor: position and speed move with time.
+    pub moving: bool,
+    /// Sends every PDO with 8 data bytes, whatever its mapping (seed 004's frames).
+    pub pad_pdos: bool,
+}
+
+/// The demo sensor's motion: a triangle between 100000 and 300000 steps, 20 steps a ms,
+/// forward for 10 s and back for 10 s. Speed is reported as ±2000 (steps per 100 ms).
+pub fn sensor_motion(now_ms: u64) -> (i32, i16) {
+    let t = (now_ms % 20_000) as i32;
+    if t < 10_000 {
+        (100_000 + 20 * t, 2000)
+    } else {
+        (300_000 - 20 * (t - 10_000), -2000)
+    }
 }
 
 const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true };
@@ -131,7 +146,42 @@ pub fn drive() -> Model {
     // CiA 302 program download: a DOMAIN large enough to make block transfer matter.
     d.record(0x1F50, "Program data", vec![(1, "Program 1", D, Rw, Init::Bytes(domain_pattern(DOMAIN_SIZE)))]);
     data_type_record(&mut d);
-    Model { key: "drive".into(), dict: d, block_transfer: true, guarding: true, ignored_writes: vec![], lss: FULL_LSS }
+    // TPDO1 with dynamic mapping (the EPOS2 has four): statusword by default.
+    d.record(
+        0x1800,
+        "TPDO1 communication parameter",
+        vec![
+            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
+            (2, "Transmission type", U8, Rw, u(255, U8)),
+            (3, "Inhibit time", U16, Rw, u(0, U16)),
+            (5, "Event timer", U16, Rw, u(0, U16)),
+        ],
+    );
+    let names = ["Mapped object 1", "Mapped object 2", "Mapped object 3", "Mapped object 4"];
+    d.record(
+        0x1A00,
+        "TPDO1 mapping parameter",
+        (1..=4u8).map(|s| (s, names[s as usize - 1], U32, Rw, u(if s == 1 { 0x6041_0010 } else { 0 }, U32))).collect(),
+    );
+    d.set_access(ObjAddr::new(0x1A00, 0), Rw);
+    d.insert(crate::od::Entry {
+        addr: ObjAddr::new(0x1A00, 0),
+        name: "Number of mapped objects".into(),
+        dtype: U8,
+        access: Rw,
+        default: u(1, U8),
+        range: Some((0, 4)),
+    });
+    Model {
+        key: "drive".into(),
+        dict: d,
+        block_transfer: true,
+        guarding: true,
+        ignored_writes: vec![],
+        lss: FULL_LSS,
+        moving: false,
+        pad_pdos: false,
+    }
 }
 
 /// Not in any seed device: the simulated drive (node 1, reached directly through an EPOS2)
@@ -215,7 +265,18 @@ pub fn position_sensor(serial: u32) -> Model {
     d.var(0x6200, "Cyclic timer", U16, Rw, u(1, U16));
     d.var(0x6500, "Operating status", U16, Ro, u(0, U16));
     d.var(0x6501, "Measuring step", U32, Ro, u(100_000, U32));
-    Model { key, dict: d, block_transfer: false, guarding: false, ignored_writes: vec![], lss: FULL_LSS }
+    // Not the MH's: the simulator's handle to make its magnet go missing (seed 001 §8).
+    d.var(0x5FFE, "Simulated fault in ms (0 clears it)", U16, Rw, u(0, U16));
+    Model {
+        key,
+        dict: d,
+        block_transfer: false,
+        guarding: false,
+        ignored_writes: vec![],
+        lss: FULL_LSS,
+        moving: true,
+        pad_pdos: false,
+    }
 }
 
 /// Node 10: after an ICP DAS CAN-2000C module, the CAN-2057C 16-channel DO (seed 004).
@@ -290,7 +351,16 @@ pub fn io_module() -> Model {
         vec![(1, "Outputs 1-8", U8, Rw, u(0, U8)), (2, "Outputs 9-16", U8, Rw, u(0, U8))],
     );
     data_type_record(&mut d);
-    Model { key: "io".into(), dict: d, block_transfer: false, guarding: true, ignored_writes: vec![], lss: FULL_LSS }
+    Model {
+        key: "io".into(),
+        dict: d,
+        block_transfer: false,
+        guarding: true,
+        ignored_writes: vec![],
+        lss: FULL_LSS,
+        moving: false,
+        pad_pdos: true,
+    }
 }
 
 /// Node 32: after the Stögra SERS stepper (seed 003): DS402 subset, node guarding only, an
@@ -327,6 +397,8 @@ pub fn stepper() -> Model {
         ignored_writes: vec![ObjAddr::new(0x1006, 0)],
         // Seed 003: the bit rate comes from DIP switches, and nothing about storing.
         lss: SlaveCaps { store: false, bit_timing: false },
+        moving: false,
+        pad_pdos: false,
     }
 }
 

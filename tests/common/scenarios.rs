@@ -347,3 +347,24 @@ pub fn lss_refusals(bus: &dyn Under) {
     assert_eq!(r.code, 2);
     assert!(r.stderr.contains("address one with --identity"));
 }
+
+/// `stream-pdo 5` gives the sensor's position and speed as the simulator moves them.
+pub fn stream_pdo_yields_the_sensors_values(bus: &dyn Under) {
+    let r = bus.run(&["stream-pdo", "5", "--start", "--count", "100", "--format", "csv"]).ok();
+    let lines: Vec<&str> = r.stdout.lines().collect();
+    assert_eq!(lines.len(), 101, "a header and 100 rows");
+    assert_eq!(lines[0], "time,pdo,Position value (linear): Channel 1,Speed value: Channel 1");
+    for row in &lines[1..] {
+        let cols: Vec<&str> = row.split(',').collect();
+        let time_ms = (cols[0].parse::<f64>().unwrap() * 1000.0).round() as u64;
+        let (position, speed) = (cols[2].parse::<i64>().unwrap(), cols[3].parse::<i64>().unwrap());
+        // The sample is taken a little before it is received and stamped.
+        let close = (0..60).any(|back| {
+            let (p, s) = canctl::sim::profiles::sensor_motion(time_ms - back);
+            p as i64 == position && s as i64 == speed
+        });
+        assert!(close, "{row}: not the simulator's value at that time");
+    }
+    // --start put the node back as it was.
+    assert!(bus.run(&["nmt", "state", "5"]).ok().stdout.contains("pre-operational"));
+}

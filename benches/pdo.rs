@@ -1,0 +1,46 @@
+//! Decoding and formatting PDOs: the sensor's 6-byte position+speed PDO (seed 001 figure
+//! 24) into CSV rows and JSON lines, per frame. `cargo bench --bench pdo`.
+
+use canctl::canopen::pdo::{mapping_entry, Field, Layout, RecordWriter};
+use canctl::canopen::DataType;
+use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+
+fn layout() -> Layout {
+    let field = |raw: u32, dtype, name: &str| {
+        let (addr, bits) = mapping_entry(raw);
+        Field { addr, bits, dtype, name: name.into() }
+    };
+    Layout {
+        cob_id: 0x185,
+        fields: vec![field(0x6020_0120, DataType::I32, "position"), field(0x6030_0110, DataType::I16, "speed")],
+    }
+}
+
+fn decode_and_format(c: &mut Criterion) {
+    let l = layout();
+    let w = RecordWriter::new(&l);
+    let frame = [0x48, 0xE8, 0x01, 0x00, 0x9C, 0xFF];
+    let mut g = c.benchmark_group("6-byte PDO, decode + format");
+    g.throughput(Throughput::Elements(1));
+    let mut out = String::with_capacity(256);
+    g.bench_function("csv", |b| {
+        b.iter(|| {
+            out.clear();
+            let v = l.decode(black_box(&frame)).unwrap();
+            w.csv(&mut out, black_box(1_795_318_672_209), 1, &v);
+            out.len()
+        })
+    });
+    g.bench_function("json", |b| {
+        b.iter(|| {
+            out.clear();
+            let v = l.decode(black_box(&frame)).unwrap();
+            w.json(&mut out, black_box(1_795_318_672_209), 5, 1, &v);
+            out.len()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, decode_and_format);
+criterion_main!(benches);
