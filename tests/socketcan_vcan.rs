@@ -45,15 +45,18 @@ impl Drop for OnVcan {
 
 impl Under for OnVcan {
     fn run(&self, args: &[&str]) -> Run {
-        let mut c = Command::new(common::canctl_bin());
-        c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
-        common::finish(c.output().unwrap())
+        common::finish(self.command(args).output().unwrap())
     }
     fn iface(&self) -> &str {
         IFACE
     }
     fn path(&self, name: &str) -> PathBuf {
         self.sim.path(name)
+    }
+    fn command(&self, args: &[&str]) -> Command {
+        let mut c = Command::new(common::canctl_bin());
+        c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
+        c
     }
     /// The kernel tests run in an emulated CPU (TCG), many times slower than hardware.
     fn lss_step(&self) -> &'static str {
@@ -90,6 +93,9 @@ on_vcan!(
     lss_selective_services,
     lss_refusals,
     stream_pdo_yields_the_sensors_values,
+    one_pdo_per_sync_with_transmission_type_1,
+    map_reconfigures_for_the_session_and_restores,
+    ctrl_c_restores_and_exits_130,
 );
 
 #[test]

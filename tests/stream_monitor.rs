@@ -3,87 +3,25 @@
 mod common;
 
 use common::{scenarios, Sim};
-use std::time::Duration;
 
 #[test]
 fn stream_pdo_yields_the_sensors_values() {
     scenarios::stream_pdo_yields_the_sensors_values(&Sim::new());
 }
 
-fn trace_count(stderr: &str, rest: &str) -> usize {
-    stderr.lines().filter(|l| l.trim_start().starts_with(&format!("sim  {rest}"))).count()
-}
-
 #[test]
 fn one_pdo_per_sync_with_transmission_type_1() {
-    let sim = Sim::new();
-    sim.run(&["sdo", "write", "5", "1800:2", "1"]).ok();
-    let r = sim
-        .run(&["-v", "stream-pdo", "5", "--start", "--sync", "10ms", "--duration", "205ms", "--format", "json"])
-        .ok();
-    let syncs = trace_count(&r.stderr, "080");
-    let records = r.stdout.lines().count();
-    assert!(syncs >= 15, "{syncs} SYNCs");
-    assert_eq!(records, syncs, "one PDO per SYNC");
-    for line in r.stdout.lines() {
-        let j: serde_json::Value = serde_json::from_str(line).unwrap();
-        assert_eq!((j["node"].as_u64(), j["pdo"].as_u64()), (Some(5), Some(1)));
-    }
-}
-
-fn mapping(sim: &Sim) -> Vec<String> {
-    ["1A00:0", "1A00:1", "1A00:2", "1800:1", "1800:2", "1800:5"]
-        .iter()
-        .map(|o| sim.run(&["sdo", "read", "1", o]).ok().stdout.trim().to_string())
-        .collect()
+    scenarios::one_pdo_per_sync_with_transmission_type_1(&Sim::new());
 }
 
 #[test]
 fn map_reconfigures_for_the_session_and_restores() {
-    let sim = Sim::new();
-    let before = mapping(&sim);
-    let r = sim
-        .run(&[
-            "stream-pdo",
-            "1",
-            "--start",
-            "--map",
-            "6064:0,606C:0",
-            "--event",
-            "5",
-            "--count",
-            "5",
-            "--format",
-            "json",
-        ])
-        .ok();
-    let first: serde_json::Value = serde_json::from_str(r.stdout.lines().next().unwrap()).unwrap();
-    assert_eq!(first["Position actual value"], 0);
-    assert_eq!(first["Velocity actual value"], 0);
-    assert_eq!(r.stdout.lines().count(), 5);
-    assert_eq!(mapping(&sim), before, "mapping and communication parameters put back");
-    assert!(sim.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
+    scenarios::map_reconfigures_for_the_session_and_restores(&Sim::new());
 }
 
 #[test]
 fn ctrl_c_restores_and_exits_130() {
-    use nix::sys::signal::{kill, Signal};
-    use nix::unistd::Pid;
-    let sim = Sim::new();
-    let before = mapping(&sim);
-    let child = sim
-        .command(&["stream-pdo", "1", "--start", "--map", "6064:0", "--event", "10", "--format", "csv"])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_millis(500));
-    kill(Pid::from_raw(child.id() as i32), Signal::SIGINT).unwrap();
-    let r = common::finish(child.wait_with_output().unwrap());
-    assert_eq!(r.code, 130, "{}", r.stderr);
-    assert!(r.stdout.lines().count() > 5, "it streamed before the interrupt");
-    assert_eq!(mapping(&sim), before);
-    assert!(sim.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
+    scenarios::ctrl_c_restores_and_exits_130(&Sim::new());
 }
 
 #[test]

@@ -11,6 +11,8 @@ pub trait Under {
     /// The interface name in `-v` traces.
     fn iface(&self) -> &str;
     fn path(&self, name: &str) -> PathBuf;
+    /// canctl on this bus, to spawn.
+    fn command(&self, args: &[&str]) -> std::process::Command;
     /// The fastscan step for this bus.
     fn lss_step(&self) -> &'static str {
         "10ms"
@@ -26,6 +28,9 @@ impl Under for Sim {
     }
     fn path(&self, name: &str) -> PathBuf {
         Sim::path(self, name)
+    }
+    fn command(&self, args: &[&str]) -> std::process::Command {
+        Sim::command(self, args)
     }
 }
 
@@ -367,4 +372,76 @@ pub fn stream_pdo_yields_the_sensors_values(bus: &dyn Under) {
     }
     // --start put the node back as it was.
     assert!(bus.run(&["nmt", "state", "5"]).ok().stdout.contains("pre-operational"));
+}
+
+/// How many trace lines show a frame with this id.
+fn trace_count(bus: &dyn Under, stderr: &str, id: &str) -> usize {
+    let prefix = format!("{}  {id}", bus.iface());
+    stderr.lines().filter(|l| l.trim_start().starts_with(&prefix)).count()
+}
+
+fn mapping(bus: &dyn Under) -> Vec<String> {
+    ["1A00:0", "1A00:1", "1A00:2", "1800:1", "1800:2", "1800:5"]
+        .iter()
+        .map(|o| bus.run(&["sdo", "read", "1", o]).ok().stdout.trim().to_string())
+        .collect()
+}
+
+pub fn one_pdo_per_sync_with_transmission_type_1(bus: &dyn Under) {
+    bus.run(&["sdo", "write", "5", "1800:2", "1"]).ok();
+    let r = bus
+        .run(&["-v", "stream-pdo", "5", "--start", "--sync", "10ms", "--duration", "205ms", "--format", "json"])
+        .ok();
+    let syncs = trace_count(bus, &r.stderr, "080");
+    let records = r.stdout.lines().count();
+    assert!(syncs >= 15, "{syncs} SYNCs");
+    assert_eq!(records, syncs, "one PDO per SYNC");
+    for line in r.stdout.lines() {
+        let j: serde_json::Value = serde_json::from_str(line).unwrap();
+        assert_eq!((j["node"].as_u64(), j["pdo"].as_u64()), (Some(5), Some(1)));
+    }
+}
+
+pub fn map_reconfigures_for_the_session_and_restores(bus: &dyn Under) {
+    let before = mapping(bus);
+    let r = bus
+        .run(&[
+            "stream-pdo",
+            "1",
+            "--start",
+            "--map",
+            "6064:0,606C:0",
+            "--event",
+            "5",
+            "--count",
+            "5",
+            "--format",
+            "json",
+        ])
+        .ok();
+    let first: serde_json::Value = serde_json::from_str(r.stdout.lines().next().unwrap()).unwrap();
+    assert_eq!(first["Position actual value"], 0);
+    assert_eq!(first["Velocity actual value"], 0);
+    assert_eq!(r.stdout.lines().count(), 5);
+    assert_eq!(mapping(bus), before, "mapping and communication parameters put back");
+    assert!(bus.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
+}
+
+pub fn ctrl_c_restores_and_exits_130(bus: &dyn Under) {
+    use nix::sys::signal::{kill, Signal};
+    use nix::unistd::Pid;
+    let before = mapping(bus);
+    let child = bus
+        .command(&["stream-pdo", "1", "--start", "--map", "6064:0", "--event", "10", "--format", "csv"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    kill(Pid::from_raw(child.id() as i32), Signal::SIGINT).unwrap();
+    let r = super::finish(child.wait_with_output().unwrap());
+    assert_eq!(r.code, 130, "{}", r.stderr);
+    assert!(r.stdout.lines().count() > 5, "it streamed before the interrupt");
+    assert_eq!(mapping(bus), before);
+    assert!(bus.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
 }
