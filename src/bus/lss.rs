@@ -116,7 +116,12 @@ impl<'a> LssMaster<'a> {
 /// How many devices without a node-id answer "identify non-configured remote slave".
 pub fn count_unconfigured(bus: &mut dyn Bus, wait: Duration) -> Result<usize> {
     let answers = bus.lss_exchange(&Request::IdentifyNonConfigured.encode(), wait, LssWait::All)?;
-    Ok(answers.iter().filter(|a| Response::decode(*a) == Some(Response::IdentifyNonConfiguredSlave)).count())
+    Ok(count_non_configured(&answers))
+}
+
+/// Answers "I have no node-id" among these.
+pub fn count_non_configured(answers: &[[u8; 8]]) -> usize {
+    answers.iter().filter(|a| Response::decode(*a) == Some(Response::IdentifyNonConfiguredSlave)).count()
 }
 
 impl LssMaster<'_> {

@@ -18,6 +18,9 @@ pub struct Master<L: FrameLink> {
     heartbeats: BTreeMap<u8, nmt::State>,
     /// Nodes that refused block transfer in this session: not asked again.
     no_block: BTreeSet<u8>,
+    /// LSS answers that arrived outside `lss_exchange`.
+    lss_seen: Vec<[u8; 8]>,
+    in_lss_exchange: bool,
 }
 
 /// One SDO transfer in flight.
@@ -31,7 +34,15 @@ struct Active {
 
 impl<L: FrameLink> Master<L> {
     pub fn new(link: L, describe: String, trace: bool) -> Master<L> {
-        Master { link, describe, trace, heartbeats: BTreeMap::new(), no_block: BTreeSet::new() }
+        Master {
+            link,
+            describe,
+            trace,
+            heartbeats: BTreeMap::new(),
+            no_block: BTreeSet::new(),
+            lss_seen: Vec::new(),
+            in_lss_exchange: false,
+        }
     }
 
     pub fn link_mut(&mut self) -> &mut L {
@@ -53,6 +64,9 @@ impl<L: FrameLink> Master<L> {
             }
             if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(f) {
                 self.heartbeats.insert(node, state);
+            }
+            if f.id() == lss::SLAVE_COB && !self.in_lss_exchange && self.lss_seen.len() < 1024 {
+                self.lss_seen.push(sdo::pad(f.data()));
             }
         }
         Ok(f)
@@ -174,14 +188,16 @@ impl<L: FrameLink> Master<L> {
     }
 }
 
-/// Receive filters for SDO transfers with these nodes: their answers, and heartbeats
-/// (which report NMT states on the way). Many nodes: the whole SDO answer range.
+/// Receive filters for SDO transfers with these nodes: their answers, heartbeats (which
+/// report NMT states on the way) and LSS answers (to a request sent along with a scan).
+/// Many nodes: the whole SDO answer range.
 fn sdo_filters(nodes: impl ExactSizeIterator<Item = u8>) -> Vec<(u16, u16)> {
     const HEARTBEATS: (u16, u16) = (0x700, 0x780);
+    const LSS_ANSWERS: (u16, u16) = (lss::SLAVE_COB, 0x7FF);
     if nodes.len() > 8 {
-        return vec![(0x580, 0x780), HEARTBEATS];
+        return vec![(0x580, 0x780), HEARTBEATS, LSS_ANSWERS];
     }
-    nodes.map(|n| (sdo::response_cob(n), 0x7FF)).chain([HEARTBEATS]).collect()
+    nodes.map(|n| (sdo::response_cob(n), 0x7FF)).chain([HEARTBEATS, LSS_ANSWERS]).collect()
 }
 
 const EVERYTHING: [(u16, u16); 1] = [(0, 0)];
@@ -261,6 +277,27 @@ impl<L: FrameLink> Bus for Master<L> {
 
     fn lss_exchange(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>> {
         self.link.set_filters(&[(lss::SLAVE_COB, 0x7FF)])?;
+        self.in_lss_exchange = true;
+        let answers = self.exchange_lss(request, wait, collect);
+        self.in_lss_exchange = false;
+        answers
+    }
+
+    fn lss_answers_seen(&mut self) -> Vec<[u8; 8]> {
+        std::mem::take(&mut self.lss_seen)
+    }
+
+    fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {
+        self.heartbeats.clone()
+    }
+
+    fn close(&mut self) -> Result<()> {
+        self.link.close()
+    }
+}
+
+impl<L: FrameLink> Master<L> {
+    fn exchange_lss(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>> {
         // A slow slave's answer to the previous request must not count for this one.
         while self.recv(Instant::now())?.is_some() {}
         self.send(&Frame::new(lss::MASTER_COB, request))?;
@@ -280,13 +317,5 @@ impl<L: FrameLink> Bus for Master<L> {
             }
         }
         Ok(answers)
-    }
-
-    fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {
-        self.heartbeats.clone()
-    }
-
-    fn close(&mut self) -> Result<()> {
-        self.link.close()
     }
 }

@@ -120,6 +120,13 @@ pub trait Bus {
     /// arrive within `wait`. Answers left over from earlier requests are dropped first.
     fn lss_exchange(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>>;
 
+    /// LSS slave answers (0x7E4) that came in outside `lss_exchange`, since the last call:
+    /// answers to a request whose wait overlapped other work. Links that see no traffic
+    /// have none.
+    fn lss_answers_seen(&mut self) -> Vec<[u8; 8]> {
+        Vec::new()
+    }
+
     /// NMT states reported by heartbeats seen so far in this session.
     fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State>;
 

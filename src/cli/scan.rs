@@ -68,6 +68,13 @@ pub fn probe(ctx: &Ctx, bus: &mut dyn Bus, window: Duration) -> anyhow::Result<V
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
+    // Where the bus's traffic is seen, the LSS question goes out with the probes and its
+    // answers come in during the same window.
+    let lss_alongside = bus.sees_traffic();
+    if lss_alongside {
+        let ask = crate::canopen::lss::Request::IdentifyNonConfigured.encode();
+        bus.lss_exchange(&ask, Duration::ZERO, crate::bus::LssWait::Nothing)?;
+    }
     let mut found: Vec<Found> = probe(ctx, bus, args.window)?
         .into_iter()
         .map(|(node, device_type)| Found { node, device_type, identity: [None; 4], name: None, state: None })
@@ -94,7 +101,11 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
     for f in &mut found {
         f.state = states.get(&f.node).copied();
     }
-    let unconfigured = crate::bus::lss::count_unconfigured(bus, args.window)?;
+    let unconfigured = if lss_alongside {
+        crate::bus::lss::count_non_configured(&bus.lss_answers_seen())
+    } else {
+        crate::bus::lss::count_unconfigured(bus, args.window)?
+    };
     report(ctx, bus, &found, unconfigured)
 }
 

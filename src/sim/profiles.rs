@@ -157,21 +157,7 @@ pub fn drive() -> Model {
             (5, "Event timer", U16, Rw, u(0, U16)),
         ],
     );
-    let names = ["Mapped object 1", "Mapped object 2", "Mapped object 3", "Mapped object 4"];
-    d.record(
-        0x1A00,
-        "TPDO1 mapping parameter",
-        (1..=4u8).map(|s| (s, names[s as usize - 1], U32, Rw, u(if s == 1 { 0x6041_0010 } else { 0 }, U32))).collect(),
-    );
-    d.set_access(ObjAddr::new(0x1A00, 0), Rw);
-    d.insert(crate::od::Entry {
-        addr: ObjAddr::new(0x1A00, 0),
-        name: "Number of mapped objects".into(),
-        dtype: U8,
-        access: Rw,
-        default: u(1, U8),
-        range: Some((0, 4)),
-    });
+    dynamic_tpdo_mapping(&mut d, 4, 0x6041_0010);
     Model {
         key: "drive".into(),
         dict: d,
@@ -320,30 +306,8 @@ pub fn io_module() -> Model {
             (5, "Event timer", U16, Rw, u(0, U16)),
         ],
     );
-    // Dynamic mapping (seed 004): eight entries, the count in sub 0 writable.
-    let names = [
-        "Mapped object 1",
-        "Mapped object 2",
-        "Mapped object 3",
-        "Mapped object 4",
-        "Mapped object 5",
-        "Mapped object 6",
-        "Mapped object 7",
-        "Mapped object 8",
-    ];
-    d.record(
-        0x1A00,
-        "TPDO1 mapping parameter",
-        (1..=8u8).map(|s| (s, names[s as usize - 1], U32, Rw, u(if s == 1 { 0x6000_0108 } else { 0 }, U32))).collect(),
-    );
-    d.insert(crate::od::Entry {
-        addr: ObjAddr::new(0x1A00, 0),
-        name: "Number of mapped objects".into(),
-        dtype: U8,
-        access: Rw,
-        default: u(1, U8),
-        range: Some((0, 8)),
-    });
+    // Dynamic mapping (seed 004).
+    dynamic_tpdo_mapping(&mut d, 8, 0x6000_0108);
     d.record(0x6000, "Read input 8-bit", vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))]);
     d.record(
         0x6200,
@@ -448,4 +412,22 @@ pub fn eds_files() -> Vec<(String, String)> {
             (file_name, crate::od::eds::write(&m.dict, None, &header))
         })
         .collect()
+}
+
+/// TPDO1 mapping with `entries` writable entries, `first` mapped, the count in sub 0
+/// writable (CiA 301 dynamic mapping).
+fn dynamic_tpdo_mapping(d: &mut Dictionary, entries: u8, first: u32) {
+    let names: Vec<String> = (1..=entries).map(|s| format!("Mapped object {s}")).collect();
+    let members = (1..=entries)
+        .map(|s| (s, names[s as usize - 1].as_str(), U32, Rw, u(if s == 1 { first as u64 } else { 0 }, U32)))
+        .collect();
+    d.record(0x1A00, "TPDO1 mapping parameter", members);
+    d.insert(crate::od::Entry {
+        addr: ObjAddr::new(0x1A00, 0),
+        name: "Number of mapped objects".into(),
+        dtype: U8,
+        access: Rw,
+        default: u(1, U8),
+        range: Some((0, entries as i128)),
+    });
 }
