@@ -76,3 +76,30 @@ fn monitor_through_an_epos2_says_why_not() {
     assert_eq!(r.code, 2);
     assert!(r.stderr.contains("shows no bus traffic"), "{}", r.stderr);
 }
+
+#[test]
+fn the_io_modules_fault_is_an_emcy_recorded_in_its_history() {
+    let sim = Sim::new();
+    let older = sim.run(&["sdo", "read", "10", "1003:2", "--type", "u32"]).ok().stdout;
+    sim.run(&["sdo", "write", "10", "5FFE", "150", "--type", "u16"]).ok();
+    let r = sim.run(&["monitor", "--node", "10", "--duration", "400ms", "--format", "json"]).ok();
+    let emcy: serde_json::Value = r
+        .stdout
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
+        .find(|e| e["kind"] == "emcy")
+        .expect("an EMCY");
+    // Seed 004: "81 10 11 06 .. CAN Controller Overrun".
+    assert_eq!(
+        (emcy["code"].as_str(), emcy["register"].as_u64(), emcy["vendor"].as_str()),
+        (Some("0x8110"), Some(0x11), Some("0600000000"))
+    );
+    assert_eq!(emcy["register_bits"], serde_json::json!(["generic", "communication"]));
+    assert_eq!(sim.run(&["sdo", "read", "10", "1003:0"]).ok().stdout.trim(), "3");
+    assert_eq!(
+        sim.run(&["sdo", "read", "10", "1003:1", "--type", "u32"]).ok().stdout.trim(),
+        (0x0006_8110u32).to_string()
+    );
+    assert_eq!(sim.run(&["sdo", "read", "10", "1003:3", "--type", "u32"]).ok().stdout, older, "the history moved down");
+    assert_eq!(sim.run(&["sdo", "read", "10", "1001"]).ok().stdout.trim(), "17");
+}

@@ -240,6 +240,7 @@ pub struct Device {
     /// A linear position sensor whose position and speed move with time.
     moving: bool,
     pad_pdos: bool,
+    fault_spec: Option<super::profiles::FaultSpec>,
     /// SYNCs counted per TPDO, for transmission types 1..240.
     sync_counts: [u8; 4],
     fault: Fault,
@@ -287,6 +288,7 @@ impl Device {
             bit_rate: BitRates { active: bit_rate, pending: None, stored: bit_rate },
             moving: model.moving,
             pad_pdos: model.pad_pdos,
+            fault_spec: model.fault,
             sync_counts: [0; 4],
             fault: Fault::default(),
             model: model.key,
@@ -496,14 +498,13 @@ impl Device {
         out
     }
 
-    fn emcy(&self, code: u16, register: u8) -> Option<Frame> {
+    fn emcy(&self, code: u16, register: u8, vendor: [u8; 5]) -> Option<Frame> {
         let cob = self.od.u32_value(ObjAddr::new(0x1014, 0))?;
-        let e = crate::canopen::emcy::Emergency { code, register, vendor: [0; 5] };
-        let mut f = e.frame(0);
-        if cob & 0x8000_0000 == 0 {
-            f = Frame::new((cob & 0x7FF) as u16, f.data());
+        if cob & 0x8000_0000 != 0 {
+            return None;
         }
-        Some(f)
+        let e = crate::canopen::emcy::Emergency { code, register, vendor };
+        Some(Frame::new((cob & 0x7FF) as u16, e.frame(0).data()))
     }
 
     /// The fault object was written: arm the fault, or clear an active one.
@@ -521,19 +522,32 @@ impl Device {
         // Seed 001 §8: repaired errors are reported with "error reset".
         self.fault.active = false;
         self.od.values.insert(ObjAddr::new(0x1001, 0), vec![0]);
-        self.emcy(0x0000, 0).into_iter().collect()
+        self.emcy(0x0000, 0, [0; 5]).into_iter().collect()
     }
 
-    /// The fault strikes: seed 001 §8 "Device Hardware" EMCY 0x5000 with register 0x81;
-    /// the device leaves Operational for Pre-operational (CiA 301 error behaviour).
+    /// The fault strikes: the model's EMCY, recorded in the error register and (where the
+    /// device keeps one) the 0x1003 history, newest first; some devices then leave
+    /// Operational for Pre-operational (CiA 301 error behaviour).
     fn strike(&mut self) -> Vec<Frame> {
         self.fault = Fault { at: None, active: true };
-        self.od.values.insert(ObjAddr::new(0x1001, 0), vec![0x81]);
+        let Some(spec) = self.fault_spec else { return vec![] };
+        self.od.values.insert(ObjAddr::new(0x1001, 0), vec![spec.register]);
+        let e = crate::canopen::emcy::Emergency { code: spec.code, register: spec.register, vendor: spec.vendor };
+        let slots = self.od.dict.object_entries(0x1003).filter(|e| e.addr.sub > 0).count() as u8;
+        if slots > 0 {
+            for sub in (2..=slots).rev() {
+                let older = self.od.values[&ObjAddr::new(0x1003, sub - 1)].clone();
+                self.od.values.insert(ObjAddr::new(0x1003, sub), older);
+            }
+            self.od.values.insert(ObjAddr::new(0x1003, 1), e.history_entry().to_le_bytes().to_vec());
+            let count = self.od.value(ObjAddr::new(0x1003, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+            self.od.values.insert(ObjAddr::new(0x1003, 0), vec![(count + 1).min(slots)]);
+        }
         self.od.dirty = true;
-        if self.nmt == nmt::State::Operational {
+        if spec.to_pre_operational && self.nmt == nmt::State::Operational {
             self.nmt = nmt::State::PreOperational;
         }
-        self.emcy(0x5000, 0x81).into_iter().collect()
+        self.emcy(spec.code, spec.register, spec.vendor).into_iter().collect()
     }
 
     /// The next time this device sends something by itself, after `now` (wall-clock ms).

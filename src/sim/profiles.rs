@@ -21,6 +21,22 @@ pub struct Model {
     pub moving: bool,
     /// Sends every PDO with 8 data bytes, whatever its mapping (seed 004's frames).
     pub pad_pdos: bool,
+    /// What a simulated fault (object 0x5FFE) does to this device.
+    pub fault: Option<FaultSpec>,
+}
+
+/// A simulated fault: the EMCY it raises, and whether the device leaves Operational.
+#[derive(Clone, Copy, Debug)]
+pub struct FaultSpec {
+    pub code: u16,
+    pub register: u8,
+    pub vendor: [u8; 5],
+    pub to_pre_operational: bool,
+}
+
+/// The simulator's handle on a device: writing N to 0x5FFE makes the fault strike N ms later.
+fn fault_object(d: &mut Dictionary) {
+    d.var(0x5FFE, "Simulated fault in ms (0 clears it)", U16, Rw, u(0, U16));
 }
 
 /// The demo sensor's motion: a triangle between 100000 and 300000 steps, 20 steps a ms,
@@ -167,6 +183,7 @@ pub fn drive() -> Model {
         lss: FULL_LSS,
         moving: false,
         pad_pdos: false,
+        fault: None,
     }
 }
 
@@ -251,8 +268,9 @@ pub fn position_sensor(serial: u32) -> Model {
     d.var(0x6200, "Cyclic timer", U16, Rw, u(1, U16));
     d.var(0x6500, "Operating status", U16, Ro, u(0, U16));
     d.var(0x6501, "Measuring step", U32, Ro, u(100_000, U32));
-    // Not the MH's: the simulator's handle to make its magnet go missing (seed 001 §8).
-    d.var(0x5FFE, "Simulated fault in ms (0 clears it)", U16, Rw, u(0, U16));
+    fault_object(&mut d);
+    // Seed 001 §8: the magnet lost is a "Device Hardware" error, 0x5000 with register 0x81.
+    let fault = FaultSpec { code: 0x5000, register: 0x81, vendor: [0; 5], to_pre_operational: true };
     Model {
         key,
         dict: d,
@@ -262,6 +280,7 @@ pub fn position_sensor(serial: u32) -> Model {
         lss: FULL_LSS,
         moving: true,
         pad_pdos: false,
+        fault: Some(fault),
     }
 }
 
@@ -315,6 +334,9 @@ pub fn io_module() -> Model {
         vec![(1, "Outputs 1-8", U8, Rw, u(0, U8)), (2, "Outputs 9-16", U8, Rw, u(0, U8))],
     );
     data_type_record(&mut d);
+    fault_object(&mut d);
+    // Seed 004's EMCY table: "81 10 | 11 | 06 .." CAN controller overrun.
+    let fault = FaultSpec { code: 0x8110, register: 0x11, vendor: [0x06, 0, 0, 0, 0], to_pre_operational: false };
     Model {
         key: "io".into(),
         dict: d,
@@ -324,6 +346,7 @@ pub fn io_module() -> Model {
         lss: FULL_LSS,
         moving: false,
         pad_pdos: true,
+        fault: Some(fault),
     }
 }
 
@@ -363,6 +386,7 @@ pub fn stepper() -> Model {
         lss: SlaveCaps { store: false, bit_timing: false },
         moving: false,
         pad_pdos: false,
+        fault: None,
     }
 }
 
