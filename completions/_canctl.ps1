@@ -21,8 +21,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
 
     $completions = @(switch ($command) {
         'canctl' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -43,6 +43,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the bus: every frame decoded, as it happens')
             [CompletionResult]::new('config', 'config', [CompletionResultType]::ParameterValue, 'Configuration files: dump a node to a DCF, compare, apply')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
+            [CompletionResult]::new('settings', 'settings', [CompletionResultType]::ParameterValue, 'Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
@@ -50,8 +51,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;scan' {
             [CompletionResult]::new('--window', '--window', [CompletionResultType]::ParameterName, 'How long to wait for answers to the probes')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -65,8 +66,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;sdo' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -86,8 +87,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('-t', '-t', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)')
             [CompletionResult]::new('--type', '--type', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)')
             [CompletionResult]::new('--out', '--out', [CompletionResultType]::ParameterName, 'Write the raw bytes to this file instead of printing them')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--no-block', '--no-block', [CompletionResultType]::ParameterName, 'Never use block transfer (segmented instead)')
@@ -104,8 +105,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;sdo;write' {
             [CompletionResult]::new('-t', '-t', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)')
             [CompletionResult]::new('--type', '--type', [CompletionResultType]::ParameterName, 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--verify', '--verify', [CompletionResultType]::ParameterName, 'Read the object back and compare (exit 6 when it differs)')
@@ -136,8 +137,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;nmt' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -158,8 +159,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;nmt;start' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -173,8 +174,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;nmt;stop' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -188,8 +189,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;nmt;preop' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -204,8 +205,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;nmt;reset' {
             [CompletionResult]::new('--wait', '--wait', [CompletionResultType]::ParameterName, 'How long to wait for boot-up messages')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -220,8 +221,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;nmt;reset-comm' {
             [CompletionResult]::new('--wait', '--wait', [CompletionResultType]::ParameterName, 'How long to wait for boot-up messages')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -236,8 +237,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;nmt;state' {
             [CompletionResult]::new('--listen', '--listen', [CompletionResultType]::ParameterName, 'How long to listen for a heartbeat before asking by node guarding')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -282,8 +283,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;lss' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -307,8 +308,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;lss;inquire' {
             [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
             [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
@@ -325,8 +326,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;lss;set-id' {
             [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
             [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
@@ -343,8 +344,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;lss;set-baud' {
             [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
             [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
@@ -362,8 +363,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--delay', '--delay', [CompletionResultType]::ParameterName, 'Switch delay in ms: the devices wait this long, switch, and wait as long again')
             [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
             [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
@@ -380,8 +381,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;lss;store' {
             [CompletionResult]::new('--identity', '--identity', [CompletionResultType]::ParameterName, 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)')
             [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--global', '--global', [CompletionResultType]::ParameterName, 'Every LSS device on the bus at once (a broadcast)')
@@ -398,8 +399,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;lss;fastscan' {
             [CompletionResult]::new('--step', '--step', [CompletionResultType]::ParameterName, 'How long each fastscan step waits for an answer')
             [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, 'Refused: an EPOS2 reached directly (node 0) has no LSS')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -416,8 +417,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--start', '--start', [CompletionResultType]::ParameterName, 'The first node-id to give')
             [CompletionResult]::new('--step', '--step', [CompletionResultType]::ParameterName, 'How long each fastscan step waits for an answer')
             [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, 'Refused: an EPOS2 reached directly (node 0) has no LSS')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--no-store', '--no-store', [CompletionResultType]::ParameterName, 'Do not store the node-ids (they are lost at power-off)')
@@ -468,8 +469,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;store' {
             [CompletionResult]::new('--store-timeout', '--store-timeout', [CompletionResultType]::ParameterName, 'How long the device may take to store (flash writes take a while)')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -484,8 +485,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;restore' {
             [CompletionResult]::new('--store-timeout', '--store-timeout', [CompletionResultType]::ParameterName, 'How long the device may take to restore')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--reset', '--reset', [CompletionResultType]::ParameterName, 'Reset the node afterwards and wait for it to boot with the defaults')
@@ -508,8 +509,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--event', '--event', [CompletionResultType]::ParameterName, 'With --map: event timer in ms')
             [CompletionResult]::new('--type', '--type', [CompletionResultType]::ParameterName, 'With --map: transmission type (1..240 on SYNC, 254/255 by event)')
             [CompletionResult]::new('--interval', '--interval', [CompletionResultType]::ParameterName, 'Through an EPOS2: how often to poll each PDO')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--start', '--start', [CompletionResultType]::ParameterName, 'Put the node in Operational, and back in its former state at the end')
@@ -527,8 +528,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--node', '--node', [CompletionResultType]::ParameterName, 'Only frames of this node (repeatable); NMT, SYNC and LSS are always shown')
             [CompletionResult]::new('--duration', '--duration', [CompletionResultType]::ParameterName, 'Stop after this long')
             [CompletionResult]::new('--count', '--count', [CompletionResultType]::ParameterName, 'Stop after this many frames')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -542,8 +543,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;config' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -562,8 +563,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;config;dump' {
             [CompletionResult]::new('--out', '--out', [CompletionResultType]::ParameterName, 'Write the DCF here instead of standard output')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -577,8 +578,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;config;diff' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--check', '--check', [CompletionResultType]::ParameterName, 'Exit 6 when anything differs')
@@ -594,8 +595,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;config;apply' {
             [CompletionResult]::new('--store-timeout', '--store-timeout', [CompletionResultType]::ParameterName, 'How long the device may take to store')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--dry-run', '--dry-run', [CompletionResultType]::ParameterName, 'Show what would be written, write nothing')
@@ -635,8 +636,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Pace bytes as a serial line at this bit rate would (10 bits a byte)')
             [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)')
             [CompletionResult]::new('--can-timeout', '--can-timeout', [CompletionResultType]::ParameterName, 'How long the EPOS2 waits for an SDO answer on the CAN bus')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('--epos2-rs232', '--epos2-rs232', [CompletionResultType]::ParameterName, 'Serve an EPOS2 speaking the RS232 protocol (with the ''O''/''F'' handshake)')
@@ -654,8 +655,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;sim;reset' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -679,9 +680,24 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         'canctl;sim;help;help' {
             break
         }
+        'canctl;settings' {
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
+            [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('--verbose', '--verbose', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
+            [CompletionResult]::new('-q', '-q', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('--quiet', '--quiet', [CompletionResultType]::ParameterName, 'No diagnostics or progress on stderr (errors still print)')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
         'canctl;completions' {
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -696,8 +712,8 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
         }
         'canctl;man' {
             [CompletionResult]::new('--out', '--out', [CompletionResultType]::ParameterName, 'Write canctl.1 and one page per subcommand into this directory')
-            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0')
-            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)')
+            [CompletionResult]::new('--bus', '--bus', [CompletionResultType]::ParameterName, 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--eds', '--eds', [CompletionResultType]::ParameterName, 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it')
             [CompletionResult]::new('-v', '-v', [CompletionResultType]::ParameterName, 'Trace every frame on stderr in candump notation')
@@ -721,6 +737,7 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the bus: every frame decoded, as it happens')
             [CompletionResult]::new('config', 'config', [CompletionResultType]::ParameterValue, 'Configuration files: dump a node to a DCF, compare, apply')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run the simulated network on a CAN interface or behind a serial link, or manage its state')
+            [CompletionResult]::new('settings', 'settings', [CompletionResultType]::ParameterValue, 'Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script')
             [CompletionResult]::new('man', 'man', [CompletionResultType]::ParameterValue, 'Print the man page, or write every page to a directory')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
@@ -830,6 +847,9 @@ Register-ArgumentCompleter -Native -CommandName 'canctl' -ScriptBlock {
             break
         }
         'canctl;help;sim;reset' {
+            break
+        }
+        'canctl;help;settings' {
             break
         }
         'canctl;help;completions' {

@@ -46,6 +46,9 @@ _canctl() {
             canctl,sdo)
                 cmd="canctl__subcmd__sdo"
                 ;;
+            canctl,settings)
+                cmd="canctl__subcmd__settings"
+                ;;
             canctl,sim)
                 cmd="canctl__subcmd__sim"
                 ;;
@@ -108,6 +111,9 @@ _canctl() {
                 ;;
             canctl__subcmd__help,sdo)
                 cmd="canctl__subcmd__help__subcmd__sdo"
+                ;;
+            canctl__subcmd__help,settings)
+                cmd="canctl__subcmd__help__subcmd__settings"
                 ;;
             canctl__subcmd__help,sim)
                 cmd="canctl__subcmd__help__subcmd__sim"
@@ -302,7 +308,7 @@ _canctl() {
 
     case "${cmd}" in
         canctl)
-            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version scan sdo nmt lss store restore stream-pdo monitor config sim completions man help"
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version scan sdo nmt lss store restore stream-pdo monitor config sim settings completions man help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -560,7 +566,7 @@ _canctl() {
             return 0
             ;;
         canctl__subcmd__help)
-            opts="scan sdo nmt lss store restore stream-pdo monitor config sim completions man help"
+            opts="scan sdo nmt lss store restore stream-pdo monitor config sim settings completions man help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -954,6 +960,20 @@ _canctl() {
         canctl__subcmd__help__subcmd__sdo__subcmd__write)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__help__subcmd__settings)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
@@ -2072,6 +2092,36 @@ _canctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --bus)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timeout)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "human json csv" -- "${cur}"))
+                    return 0
+                    ;;
+                --eds)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        canctl__subcmd__settings)
+            opts="-v -q -h -V --bus --timeout --format --eds --verbose --quiet --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
                 --bus)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0

@@ -18,8 +18,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
     }
     var completions = [
         &'canctl'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -40,14 +40,15 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand monitor 'Watch the bus: every frame decoded, as it happens'
             cand config 'Configuration files: dump a node to a DCF, compare, apply'
             cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
+            cand settings 'Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'canctl;scan'= {
             cand --window 'How long to wait for answers to the probes'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -60,8 +61,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --version 'Print version'
         }
         &'canctl;sdo'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -80,8 +81,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand -t 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)'
             cand --type 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)'
             cand --out 'Write the raw bytes to this file instead of printing them'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --no-block 'Never use block transfer (segmented instead)'
@@ -97,8 +98,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;sdo;write'= {
             cand -t 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)'
             cand --type 'Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary''s)'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --verify 'Read the object back and compare (exit 6 when it differs)'
@@ -124,8 +125,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;sdo;help;help'= {
         }
         &'canctl;nmt'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -145,8 +146,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'canctl;nmt;start'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -159,8 +160,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --version 'Print version'
         }
         &'canctl;nmt;stop'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -173,8 +174,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --version 'Print version'
         }
         &'canctl;nmt;preop'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -188,8 +189,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;nmt;reset'= {
             cand --wait 'How long to wait for boot-up messages'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -203,8 +204,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;nmt;reset-comm'= {
             cand --wait 'How long to wait for boot-up messages'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -218,8 +219,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;nmt;state'= {
             cand --listen 'How long to listen for a heartbeat before asking by node guarding'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -255,8 +256,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;nmt;help;help'= {
         }
         &'canctl;lss'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -279,8 +280,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;lss;inquire'= {
             cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
             cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
@@ -296,8 +297,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;lss;set-id'= {
             cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
             cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
@@ -313,8 +314,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;lss;set-baud'= {
             cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
             cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
@@ -331,8 +332,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --delay 'Switch delay in ms: the devices wait this long, switch, and wait as long again'
             cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
             cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
@@ -348,8 +349,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;lss;store'= {
             cand --identity 'The device''s LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)'
             cand --node '0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --global 'Every LSS device on the bus at once (a broadcast)'
@@ -365,8 +366,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         &'canctl;lss;fastscan'= {
             cand --step 'How long each fastscan step waits for an answer'
             cand --node 'Refused: an EPOS2 reached directly (node 0) has no LSS'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -382,8 +383,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --start 'The first node-id to give'
             cand --step 'How long each fastscan step waits for an answer'
             cand --node 'Refused: an EPOS2 reached directly (node 0) has no LSS'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --no-store 'Do not store the node-ids (they are lost at power-off)'
@@ -424,8 +425,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;store'= {
             cand --store-timeout 'How long the device may take to store (flash writes take a while)'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -439,8 +440,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;restore'= {
             cand --store-timeout 'How long the device may take to restore'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --reset 'Reset the node afterwards and wait for it to boot with the defaults'
@@ -462,8 +463,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --event 'With --map: event timer in ms'
             cand --type 'With --map: transmission type (1..240 on SYNC, 254/255 by event)'
             cand --interval 'Through an EPOS2: how often to poll each PDO'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --start 'Put the node in Operational, and back in its former state at the end'
@@ -480,8 +481,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --node 'Only frames of this node (repeatable); NMT, SYNC and LSS are always shown'
             cand --duration 'Stop after this long'
             cand --count 'Stop after this many frames'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -494,8 +495,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --version 'Print version'
         }
         &'canctl;config'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -513,8 +514,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;config;dump'= {
             cand --out 'Write the DCF here instead of standard output'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -527,8 +528,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --version 'Print version'
         }
         &'canctl;config;diff'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --check 'Exit 6 when anything differs'
@@ -543,8 +544,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;config;apply'= {
             cand --store-timeout 'How long the device may take to store'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --dry-run 'Show what would be written, write nothing'
@@ -578,8 +579,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand --baud 'Pace bytes as a serial line at this bit rate would (10 bits a byte)'
             cand --fault 'Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)'
             cand --can-timeout 'How long the EPOS2 waits for an SDO answer on the CAN bus'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand --epos2-rs232 'Serve an EPOS2 speaking the RS232 protocol (with the ''O''/''F'' handshake)'
@@ -596,8 +597,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'canctl;sim;reset'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -617,9 +618,23 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;sim;help;help'= {
         }
+        &'canctl;settings'= {
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
+            cand --format 'Output format'
+            cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
+            cand -v 'Trace every frame on stderr in candump notation'
+            cand --verbose 'Trace every frame on stderr in candump notation'
+            cand -q 'No diagnostics or progress on stderr (errors still print)'
+            cand --quiet 'No diagnostics or progress on stderr (errors still print)'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
         &'canctl;completions'= {
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -633,8 +648,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
         }
         &'canctl;man'= {
             cand --out 'Write canctl.1 and one page per subcommand into this directory'
-            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0'
-            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)'
+            cand --bus 'The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file''s)'
+            cand --timeout 'How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds); default 500ms, or the settings file''s'
             cand --format 'Output format'
             cand --eds 'An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object names, types and ranges come from it'
             cand -v 'Trace every frame on stderr in candump notation'
@@ -657,6 +672,7 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand monitor 'Watch the bus: every frame decoded, as it happens'
             cand config 'Configuration files: dump a node to a DCF, compare, apply'
             cand sim 'Run the simulated network on a CAN interface or behind a serial link, or manage its state'
+            cand settings 'Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)'
             cand completions 'Print a shell completion script'
             cand man 'Print the man page, or write every page to a directory'
             cand help 'Print this message or the help of the given subcommand(s)'
@@ -737,6 +753,8 @@ set edit:completion:arg-completer[canctl] = {|@words|
             cand reset 'Forget the simulated network''s saved state: devices start as built'
         }
         &'canctl;help;sim;reset'= {
+        }
+        &'canctl;help;settings'= {
         }
         &'canctl;help;completions'= {
         }

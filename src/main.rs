@@ -1,8 +1,10 @@
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 fn main() {
-    let cli = canctl::cli::Cli::parse();
-    if let Err(err) = canctl::cli::run(cli) {
+    let matches = canctl::cli::Cli::command().get_matches();
+    let bus_from_env = matches.value_source("bus") == Some(clap::parser::ValueSource::EnvVariable);
+    let cli = canctl::cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if let Err(err) = canctl::cli::run(cli, bus_from_env) {
         let (code, print) = canctl::cli::exit_code(&err);
         if print {
             eprintln!("canctl: {err:#}");

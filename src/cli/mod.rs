@@ -9,6 +9,7 @@ mod nmt;
 mod objects;
 mod scan;
 mod sdo;
+mod settings;
 mod sim;
 mod store;
 mod stream;
@@ -53,12 +54,14 @@ pub struct Cli {
 
 #[derive(Args, Debug)]
 pub struct GlobalArgs {
-    /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0
+    /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200,
+    /// epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file's)
     #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI")]
     pub bus: Option<String>,
-    /// How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds)
-    #[arg(long, global = true, value_name = "DUR", default_value = "500ms", value_parser = parse_duration)]
-    pub timeout: Duration,
+    /// How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds);
+    /// default 500ms, or the settings file's
+    #[arg(long, global = true, value_name = "DUR", value_parser = parse_duration)]
+    pub timeout: Option<Duration>,
     /// Output format
     #[arg(long, global = true, value_enum, default_value = "human")]
     pub format: Format,
@@ -94,15 +97,23 @@ pub enum Command {
     #[command(subcommand)]
     Config(config::ConfigCommand),
     Sim(sim::SimArgs),
+    /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
+    #[command(after_help = "Examples:\n  canctl settings\n  canctl --bus sim settings --format json")]
+    Settings,
     Completions(docs::CompletionsArgs),
     Man(docs::ManArgs),
 }
+
+/// The answer timeout when neither a flag nor a settings file gives one.
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(500);
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
 pub struct Ctx {
     pub out: Output,
     pub timeout: Duration,
     pub dicts: objects::Dictionaries,
+    /// The bus URI in force (flag, CANCTL_BUS or settings file).
+    pub bus: Option<String>,
 }
 
 /// Parse `500ms`, `2s`, `1.5s`, `1m`, or a bare number of milliseconds.
@@ -143,8 +154,8 @@ pub fn parse_node(text: &str) -> Result<u8, String> {
 }
 
 /// Open the bus the user named, or explain how to name one.
-fn open_bus(global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
-    let Some(text) = global.bus.as_deref().filter(|b| !b.is_empty()) else {
+fn open_bus(ctx: &Ctx, global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
+    let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
         return Err(no_bus_error().into());
     };
     let uri: BusUri = text.parse()?;
@@ -161,9 +172,9 @@ fn open_bus(global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
             Ok(Box::new(Master::new(link, format!("socketcan:{iface}"), trace)))
         }
         BusUri::Epos2 { framing, port, baud } => {
-            let io = open_serial(&port, baud, global.timeout)?;
+            let io = open_serial(&port, baud, ctx.timeout)?;
             let describe = format!("{}:{port}", framing.scheme());
-            Ok(Box::new(Epos2Gateway::new(SerialTransport::new(io, framing, describe, global.timeout, trace))))
+            Ok(Box::new(Epos2Gateway::new(SerialTransport::new(io, framing, describe, ctx.timeout, trace))))
         }
     }
 }
@@ -195,7 +206,7 @@ fn no_bus_error() -> Error {
         }
     };
     Error::Usage(format!(
-        "no bus given: pass --bus URI or set CANCTL_BUS\n  \
+        "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
          CAN interfaces here: {}\n  \
          serial ports here:   {}\n  \
          forms: socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0\n  \
@@ -207,8 +218,8 @@ fn no_bus_error() -> Error {
 
 /// Run a command that talks to the bus; the bus is closed (and the simulator's state saved)
 /// whatever the command's outcome.
-fn with_bus(global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
-    let mut bus = open_bus(global)?;
+fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
+    let mut bus = open_bus(ctx, global)?;
     let result = f(bus.as_mut());
     let closed = bus.close();
     result?;
@@ -216,21 +227,35 @@ fn with_bus(global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<
     Ok(())
 }
 
-pub fn run(cli: Cli) -> anyhow::Result<()> {
-    let dicts = objects::Dictionaries::load(&cli.global.eds)?;
-    let ctx = Ctx { out: Output::new(cli.global.format, cli.global.quiet), timeout: cli.global.timeout, dicts };
+/// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS.
+pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let g = &cli.global;
+    let bus = g
+        .bus
+        .clone()
+        .filter(|b| !b.is_empty())
+        .map(|b| (b, if bus_from_env { settings::Source::Env } else { settings::Source::Flag }));
+    let resolved = settings::resolve(bus, g.timeout, &g.eds, settings::load()?);
+    let eds: Vec<objects::EdsArg> = resolved.eds.iter().map(|(e, _)| e.clone()).collect();
+    let dicts = objects::Dictionaries::load(&eds)?;
+    let ctx = Ctx {
+        out: Output::new(g.format, g.quiet),
+        timeout: resolved.timeout.0,
+        dicts,
+        bus: resolved.bus.as_ref().map(|(b, _)| b.clone()),
+    };
     match &cli.command {
-        Command::Scan(args) => with_bus(g, |bus| scan::run(&ctx, bus, args)),
-        Command::Sdo(cmd) => with_bus(g, |bus| sdo::run(&ctx, bus, cmd)),
-        Command::Nmt(cmd) => with_bus(g, |bus| nmt::run(&ctx, bus, cmd)),
-        Command::Lss(cmd) => with_bus(g, |bus| lss::run(&ctx, bus, cmd)),
-        Command::Store(a) => with_bus(g, |bus| store::store(&ctx, bus, a)),
-        Command::Restore(a) => with_bus(g, |bus| store::restore(&ctx, bus, a)),
-        Command::Config(cmd) => with_bus(g, |bus| config::run(&ctx, bus, cmd)),
-        Command::StreamPdo(a) => with_bus(g, |bus| stream::run(&ctx, bus, a)),
-        Command::Monitor(a) => with_bus(g, |bus| monitor::run(&ctx, bus, a)),
+        Command::Scan(args) => with_bus(&ctx, g, |bus| scan::run(&ctx, bus, args)),
+        Command::Sdo(cmd) => with_bus(&ctx, g, |bus| sdo::run(&ctx, bus, cmd)),
+        Command::Nmt(cmd) => with_bus(&ctx, g, |bus| nmt::run(&ctx, bus, cmd)),
+        Command::Lss(cmd) => with_bus(&ctx, g, |bus| lss::run(&ctx, bus, cmd)),
+        Command::Store(a) => with_bus(&ctx, g, |bus| store::store(&ctx, bus, a)),
+        Command::Restore(a) => with_bus(&ctx, g, |bus| store::restore(&ctx, bus, a)),
+        Command::Config(cmd) => with_bus(&ctx, g, |bus| config::run(&ctx, bus, cmd)),
+        Command::StreamPdo(a) => with_bus(&ctx, g, |bus| stream::run(&ctx, bus, a)),
+        Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),
         Command::Sim(args) => sim::run(&ctx, g, args),
+        Command::Settings => settings::show(&ctx, &resolved),
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),
     }

@@ -66,8 +66,8 @@ pub enum SimCommand {
 }
 
 /// The state file of the sim bus named by --bus (or the default one).
-fn state_path(global: &GlobalArgs) -> anyhow::Result<PathBuf> {
-    Ok(match global.bus.as_deref().filter(|b| !b.is_empty()).map(str::parse::<BusUri>).transpose()? {
+fn state_path(ctx: &Ctx) -> anyhow::Result<PathBuf> {
+    Ok(match ctx.bus.as_deref().filter(|b| !b.is_empty()).map(str::parse::<BusUri>).transpose()? {
         None | Some(BusUri::Sim { state: None }) => default_path(),
         Some(BusUri::Sim { state: Some(p) }) => p,
         Some(_) => {
@@ -80,7 +80,7 @@ fn state_path(global: &GlobalArgs) -> anyhow::Result<PathBuf> {
 }
 
 pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
-    let path = state_path(global)?;
+    let path = state_path(ctx)?;
     if let Some(SimCommand::Reset) = args.command {
         StateFile::lock(&path)?.reset()?;
         return match ctx.out.format {

@@ -291,6 +291,7 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, layouts: &[(u16, Layout)
     let mut next_poll = Instant::now();
     let mut records = 0u64;
     let mut warned = BTreeSet::new();
+    let mut last_flush = Instant::now();
     while !INTERRUPTED.load(Ordering::SeqCst)
         && a.count.is_none_or(|c| records < c)
         && end.is_none_or(|e| Instant::now() < e)
@@ -343,8 +344,10 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, layouts: &[(u16, Layout)
                 Format::Human => human(&mut line, t, *n, l, &values, records == 0),
             }
             out.write_all(line.as_bytes())?;
-            if live {
+            // A reader at the other end of a pipe gets the stream as it goes, in batches.
+            if live || last_flush.elapsed() >= Duration::from_millis(100) {
                 out.flush()?;
+                last_flush = Instant::now();
             }
             records += 1;
             if a.count.is_some_and(|c| records >= c) {

@@ -46,7 +46,8 @@ impl Sim {
 
     pub fn command(&self, args: &[&str]) -> Command {
         let mut c = Command::new(canctl_bin());
-        c.env_remove("CANCTL_BUS").arg("--bus").arg(self.bus()).args(args);
+        // No settings file of the developer's may change what the tests see.
+        c.env("XDG_CONFIG_HOME", self.dir.path()).env_remove("CANCTL_BUS").arg("--bus").arg(self.bus()).args(args);
         c.stdin(Stdio::null());
         c
     }
@@ -69,7 +70,10 @@ pub fn finish(out: Output) -> Run {
 /// canctl without any bus.
 pub fn bare(args: &[&str]) -> Run {
     let mut c = Command::new(canctl_bin());
-    c.env_remove("CANCTL_BUS").args(args).stdin(Stdio::null());
+    c.env("XDG_CONFIG_HOME", std::env::temp_dir().join("canctl-tests-no-config"))
+        .env_remove("CANCTL_BUS")
+        .args(args)
+        .stdin(Stdio::null());
     finish(c.output().unwrap())
 }
 
