@@ -180,3 +180,20 @@ fn a_closed_pipe_ends_quietly() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(out.status.code(), Some(0), "{stderr}");
 }
+
+#[test]
+fn a_silent_node_gets_the_nodes_of_the_last_scan_as_a_hint() {
+    let sim = Sim::new();
+    let r = sim.run(&["--timeout", "100ms", "sdo", "read", "7", "1000"]);
+    assert_eq!(r.code, 3);
+    assert!(r.stderr.contains("`canctl scan` lists the nodes on"), "{}", r.stderr);
+    sim.run(&["scan"]).ok();
+    let r = sim.run(&["--timeout", "100ms", "sdo", "read", "7", "1000"]);
+    assert_eq!(r.code, 3);
+    assert!(
+        r.stderr.contains("node 7: did not answer") && r.stderr.contains("nodes seen on the last scan of sim:"),
+        "{}",
+        r.stderr
+    );
+    assert!(r.stderr.trim_end().ends_with(": 1, 5, 10, 32"), "{}", r.stderr);
+}

@@ -55,6 +55,7 @@ impl Under for OnVcan {
     }
     fn command(&self, args: &[&str]) -> Command {
         let mut c = Command::new(common::canctl_bin());
+        common::isolate(&mut c);
         c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
         c
     }

@@ -1,6 +1,7 @@
 //! The command line: one clap definition from which help, man pages and completions are
 //! all generated, and one module per command.
 
+mod cache;
 mod config;
 mod docs;
 mod lss;
@@ -222,9 +223,19 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     let mut bus = open_bus(ctx, global)?;
     let result = f(bus.as_mut());
     let closed = bus.close();
-    result?;
+    result.map_err(|e| with_hint(ctx, e))?;
     closed?;
     Ok(())
+}
+
+/// A node that did not answer: say which nodes the last scan of this bus saw.
+fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
+    match (e.downcast_ref::<Error>(), &ctx.bus) {
+        (Some(Error::Timeout(msg)), Some(bus)) if msg.starts_with("node ") && msg.contains("did not answer") => {
+            Error::Timeout(format!("{msg}{}", cache::hint(bus))).into()
+        }
+        _ => e,
+    }
 }
 
 /// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS.

@@ -106,6 +106,13 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
     } else {
         crate::bus::lss::count_unconfigured(bus, args.window)?
     };
+    if let Some(uri) = &ctx.bus {
+        let seen: Vec<super::cache::SeenNode> = found
+            .iter()
+            .map(|f| super::cache::SeenNode { node: f.node, name: f.name.clone(), vendor_id: f.identity[0] })
+            .collect();
+        super::cache::save(uri, &seen);
+    }
     report(ctx, bus, &found, unconfigured)
 }
 

@@ -47,7 +47,8 @@ impl Sim {
     pub fn command(&self, args: &[&str]) -> Command {
         let mut c = Command::new(canctl_bin());
         // No settings file of the developer's may change what the tests see.
-        c.env("XDG_CONFIG_HOME", self.dir.path()).env_remove("CANCTL_BUS").arg("--bus").arg(self.bus()).args(args);
+        c.env("XDG_CONFIG_HOME", self.dir.path()).env("XDG_CACHE_HOME", self.dir.path()).env_remove("CANCTL_BUS");
+        c.arg("--bus").arg(self.bus()).args(args);
         c.stdin(Stdio::null());
         c
     }
@@ -157,4 +158,11 @@ pub fn sim_on_interface(sim: &Sim, iface: &str) -> std::process::Child {
 /// from its own memory, as reading it over 9p costs a second per start), else cargo's.
 pub fn canctl_bin() -> PathBuf {
     std::env::var_os("CANCTL_BIN").map(PathBuf::from).unwrap_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_canctl")))
+}
+
+/// No settings file or scan cache of the developer's may change what a test sees, and no
+/// test writes into theirs.
+pub fn isolate(c: &mut Command) {
+    let dir = std::env::temp_dir().join(format!("canctl-tests-{}", std::process::id()));
+    c.env("XDG_CONFIG_HOME", &dir).env("XDG_CACHE_HOME", &dir);
 }
