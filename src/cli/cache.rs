@@ -20,10 +20,23 @@ fn dir() -> Option<PathBuf> {
     Some(base.join("canctl"))
 }
 
-/// One file per bus URI, named after it.
+/// The network a bus URI reaches, so `can0` and `socketcan:can0` share what was seen, and
+/// a different baud rate to the same EPOS2 does not lose it.
+fn network(bus: &str) -> String {
+    use crate::bus::uri::BusUri;
+    match bus.parse::<BusUri>() {
+        Ok(BusUri::Sim { state: None }) => "sim".into(),
+        Ok(BusUri::Sim { state: Some(path) }) => format!("sim:{}", path.display()),
+        Ok(BusUri::SocketCan { iface }) => format!("socketcan:{iface}"),
+        Ok(BusUri::Epos2 { framing, port, .. }) => format!("{framing:?}:{port}"),
+        Err(_) => bus.to_string(),
+    }
+}
+
+/// One file per network, named after it.
 fn file(bus: &str) -> Option<PathBuf> {
     let name: String =
-        bus.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect();
+        network(bus).chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect();
     Some(dir()?.join(format!("scan-{name}.json")))
 }
 
@@ -46,4 +59,18 @@ pub fn hint(bus: &str) -> String {
     }
     let list: Vec<String> = seen.iter().map(|n| n.node.to_string()).collect();
     format!("; nodes seen on the last scan of {bus}: {}", list.join(", "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::network;
+
+    #[test]
+    fn spellings_of_one_network_share_a_cache() {
+        assert_eq!(network("can0"), network("socketcan:can0"));
+        assert_eq!(network("epos2-rs232:/dev/ttyS0"), network("epos2-rs232:/dev/ttyS0?baud=38400"));
+        assert_ne!(network("epos2-rs232:/dev/ttyS0"), network("epos2-usb:/dev/ttyS0"));
+        assert_ne!(network("sim"), network("sim:/tmp/a.json"));
+        assert_eq!(network("not a bus:"), "not a bus:");
+    }
 }

@@ -9,6 +9,7 @@ use crate::od::eds::{self, Eds, Header};
 use crate::od::{builtin, Dictionary, Entry, Init};
 use crate::output::Format;
 use clap::{Args, Subcommand};
+use clap_complete::engine::ArgValueCandidates;
 use serde_json::json;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -31,7 +32,7 @@ pub enum ConfigCommand {
   canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf")]
 pub struct DumpArgs {
     /// Node-id, 1..127
-    #[arg(value_parser = parse_node)]
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Write the DCF here instead of standard output
     #[arg(long, value_name = "FILE")]
@@ -45,7 +46,7 @@ pub struct DumpArgs {
   canctl --bus can0 config diff 10 io.dcf --check --format json   # exit 6 when they differ")]
 pub struct DiffArgs {
     /// Node-id, 1..127
-    #[arg(value_parser = parse_node)]
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// The DCF
     pub file: PathBuf,
@@ -66,7 +67,7 @@ pub struct DiffArgs {
   canctl --bus can0 config apply 10 io.dcf --verify --store --format json")]
 pub struct ApplyArgs {
     /// Node-id, 1..127
-    #[arg(value_parser = parse_node)]
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// The DCF
     pub file: PathBuf,

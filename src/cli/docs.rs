@@ -6,9 +6,13 @@ use clap_complete::Shell;
 use std::path::{Path, PathBuf};
 
 /// Print a shell completion script
+///
+/// The script asks canctl for candidates as you type: bus URIs present here, node-ids from
+/// the last scan of the bus, objects from the node's EDS or the built-in dictionary, and
+/// the fixed sets (types, bit rates, formats). It reads files only, never the bus.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
-  source <(canctl completions bash)
+  source <(COMPLETE=bash canctl)           # or: source <(canctl completions bash)
   canctl completions zsh > ~/.zfunc/_canctl
   canctl completions fish > ~/.config/fish/completions/canctl.fish")]
 pub struct CompletionsArgs {
@@ -28,10 +32,19 @@ pub struct ManArgs {
 }
 
 pub fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
-    let mut out = Vec::new();
-    clap_complete::generate(args.shell, &mut Cli::command(), "canctl", &mut out);
-    super::Output::new(crate::output::Format::Human, true).print(&String::from_utf8(out)?)?;
+    let script = registration(args.shell);
+    super::Output::new(crate::output::Format::Human, true).print(&String::from_utf8(script)?)?;
     Ok(())
+}
+
+/// The shell code that asks canctl for candidates as you type (clap_complete's dynamic
+/// completion): the same as `COMPLETE=SHELL canctl` prints.
+fn registration(shell: Shell) -> Vec<u8> {
+    let shells = clap_complete::env::Shells::builtins();
+    let completer = shells.completer(&shell.to_string()).expect("clap_complete knows every Shell");
+    let mut out = Vec::new();
+    completer.write_registration("COMPLETE", "canctl", "canctl", "canctl", &mut out).expect("write to memory");
+    out
 }
 
 /// Every completion script: (file name, contents).
@@ -39,8 +52,6 @@ pub fn completion_scripts() -> Vec<(String, Vec<u8>)> {
     [Shell::Bash, Shell::Zsh, Shell::Fish, Shell::Elvish, Shell::PowerShell]
         .into_iter()
         .map(|shell| {
-            let mut out = Vec::new();
-            clap_complete::generate(shell, &mut Cli::command(), "canctl", &mut out);
             let name = match shell {
                 Shell::Bash => "canctl.bash".to_string(),
                 Shell::Zsh => "_canctl".to_string(),
@@ -48,7 +59,7 @@ pub fn completion_scripts() -> Vec<(String, Vec<u8>)> {
                 Shell::Elvish => "canctl.elv".to_string(),
                 _ => "_canctl.ps1".to_string(),
             };
-            (name, out)
+            (name, registration(shell))
         })
         .collect()
 }

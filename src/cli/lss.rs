@@ -8,6 +8,7 @@ use crate::canopen::ObjAddr;
 use crate::error::Error;
 use crate::output::Format;
 use clap::{Args, Subcommand};
+use clap_complete::engine::ArgValueCandidates;
 use serde_json::json;
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
@@ -83,7 +84,7 @@ pub struct SetIdArgs {
 #[derive(Args, Debug)]
 pub struct SetBaudArgs {
     /// 1M 800k 500k 250k 125k 50k 20k 10k, or auto
-    #[arg(value_name = "RATE", value_parser = lss::parse_bit_rate)]
+    #[arg(value_name = "RATE", value_parser = lss::parse_bit_rate, add = ArgValueCandidates::new(super::complete::bit_rates))]
     pub rate: u8,
     #[command(flatten)]
     pub target: Target,

@@ -2,6 +2,7 @@
 //! all generated, and one module per command.
 
 mod cache;
+mod complete;
 mod config;
 mod docs;
 mod lss;
@@ -21,6 +22,7 @@ use crate::epos2::transport::SerialTransport;
 use crate::error::Error;
 use crate::output::{Format, Output};
 use clap::{Args, Parser, Subcommand};
+use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 pub use docs::{completion_scripts, man_pages, write_completions};
@@ -57,7 +59,7 @@ pub struct Cli {
 pub struct GlobalArgs {
     /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200,
     /// epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file's)
-    #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI")]
+    #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", add = ArgValueCandidates::new(complete::buses))]
     pub bus: Option<String>,
     /// How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds);
     /// default 500ms, or the settings file's

@@ -11,6 +11,7 @@ use crate::error::Error;
 use crate::frame::Frame;
 use crate::output::Format;
 use clap::Args;
+use clap_complete::engine::ArgValueCandidates;
 use serde_json::{json, Value as J};
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::Write;
@@ -29,7 +30,7 @@ use std::time::{Duration, Instant};
   canctl --bus vcan0 --eds 5=mh.dcf monitor --node 5")]
 pub struct MonitorArgs {
     /// Only frames of this node (repeatable); NMT, SYNC and LSS are always shown
-    #[arg(long, value_parser = parse_node)]
+    #[arg(long, value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: Vec<u8>,
     /// Stop after this long
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]

@@ -6,6 +6,7 @@ use crate::canopen::nmt::{self, Command, ErrorControl};
 use crate::error::Error;
 use crate::output::Format;
 use clap::{Args, Subcommand};
+use clap_complete::engine::ArgValueCandidates;
 use serde_json::json;
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
@@ -40,7 +41,7 @@ Examples:
 #[derive(Args, Debug)]
 pub struct Target {
     /// Node-id 1..127, or `all` to broadcast to every node
-    #[arg(value_parser = parse_target, value_name = "NODE|all")]
+    #[arg(value_parser = parse_target, value_name = "NODE|all", add = ArgValueCandidates::new(super::complete::nodes_or_all))]
     pub target: u8,
 }
 
@@ -56,7 +57,7 @@ pub struct ResetArgs {
 #[derive(Args, Debug)]
 pub struct StateArgs {
     /// Node-id, 1..127
-    #[arg(value_parser = parse_node)]
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// How long to listen for a heartbeat before asking by node guarding
     #[arg(long, value_name = "DUR", default_value = "300ms", value_parser = super::parse_duration)]

@@ -7,6 +7,7 @@ use crate::canopen::{DataType, ObjAddr};
 use crate::error::Error;
 use crate::output::Format;
 use clap::{Args, Subcommand};
+use clap_complete::engine::ArgValueCandidates;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -29,13 +30,14 @@ pub enum SdoCommand {
   canctl --bus sim sdo read 1 1F50:1 --type d --out program.bin")]
 pub struct ReadArgs {
     /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
-    #[arg(value_parser = parse_sdo_node)]
+    #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
+    #[arg(add = ArgValueCandidates::new(super::complete::objects))]
     pub object: String,
     /// Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary's)
-    #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type)]
+    #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
     pub dtype: Option<DataType>,
     /// Write the raw bytes to this file instead of printing them
     #[arg(long, value_name = "FILE")]
@@ -58,16 +60,17 @@ pub struct ReadArgs {
   canctl --bus sim sdo write 1 1F50:1 @program.bin --type d")]
 pub struct WriteArgs {
     /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
-    #[arg(value_parser = parse_sdo_node)]
+    #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
+    #[arg(add = ArgValueCandidates::new(super::complete::objects))]
     pub object: String,
     /// The value, or @FILE for its raw bytes
     #[arg(allow_hyphen_values = true)]
     pub value: String,
     /// Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary's)
-    #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type)]
+    #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
     pub dtype: Option<DataType>,
     /// Read the object back and compare (exit 6 when it differs)
     #[arg(long)]

@@ -7,6 +7,7 @@ use crate::canopen::ObjAddr;
 use crate::error::Error;
 use crate::output::Format;
 use clap::{Args, ValueEnum};
+use clap_complete::engine::ArgValueCandidates;
 use serde_json::json;
 use std::time::Duration;
 
@@ -43,7 +44,7 @@ impl Class {
   canctl --bus can0 store 10 comm --store-timeout 10s")]
 pub struct StoreArgs {
     /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
-    #[arg(value_parser = super::parse_sdo_node)]
+    #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     #[arg(value_enum, default_value = "all")]
     pub class: Class,
@@ -62,7 +63,7 @@ pub struct StoreArgs {
   canctl --bus can0 restore 10 app")]
 pub struct RestoreArgs {
     /// Node-id, 1..127
-    #[arg(value_parser = parse_node)]
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     #[arg(value_enum, default_value = "all")]
     pub class: Class,

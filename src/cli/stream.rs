@@ -10,6 +10,7 @@ use crate::error::Error;
 use crate::frame::Frame;
 use crate::output::Format;
 use clap::Args;
+use clap_complete::engine::ArgValueCandidates;
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -29,7 +30,7 @@ use std::time::{Duration, Instant};
   canctl --bus sim stream-pdo 1 --start --map 6064:0,606C:0 --event 20")]
 pub struct StreamArgs {
     /// Node-id, 1..127
-    #[arg(value_parser = parse_node)]
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Which TPDOs (default: every valid one of 1..4)
     #[arg(long, value_delimiter = ',', value_name = "N,...", value_parser = clap::value_parser!(u16).range(1..=512))]

@@ -1,0 +1,140 @@
+//! Shell completion at run time (clap_complete's dynamic engine): bus URIs that exist here,
+//! node-ids from the last scan of the bus, objects from the node's dictionary, and the
+//! fixed sets. It reads files only — never the bus — and must answer in milliseconds.
+
+use super::cache;
+use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
+use crate::canopen::types::ALL_TYPES;
+use clap_complete::engine::CompletionCandidate;
+
+/// The words of the partial command line, as the shell passed them after `--`.
+fn words() -> Vec<String> {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter().position(|a| a == "--").map(|i| args[i + 1..].to_vec()).unwrap_or_default()
+}
+
+/// Every value given to `--name` (as `--name V` or `--name=V`).
+fn flag_values(words: &[String], name: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (i, w) in words.iter().enumerate() {
+        if let Some(v) = w.strip_prefix(&format!("{name}=")) {
+            out.push(v.to_string());
+        } else if w == name {
+            out.extend(words.get(i + 1).cloned());
+        }
+    }
+    out
+}
+
+fn settings() -> super::settings::FileSettings {
+    super::settings::load().unwrap_or_default()
+}
+
+/// The bus the command line would use.
+fn bus(words: &[String]) -> Option<String> {
+    flag_values(words, "--bus")
+        .pop()
+        .or_else(|| std::env::var("CANCTL_BUS").ok().filter(|b| !b.is_empty()))
+        .or_else(|| settings().bus.map(|(b, _)| b))
+}
+
+pub fn buses() -> Vec<CompletionCandidate> {
+    let mut out = vec![CompletionCandidate::new("sim").help(Some("the simulated demo network".into()))];
+    for iface in crate::bus::uri::can_interfaces() {
+        out.push(CompletionCandidate::new(format!("socketcan:{iface}")).help(Some("CAN interface".into())));
+    }
+    for port in crate::bus::uri::serial_ports() {
+        out.push(CompletionCandidate::new(format!("epos2-rs232:{port}")).help(Some("maxon EPOS2 on RS232".into())));
+        out.push(CompletionCandidate::new(format!("epos2-usb:{port}")).help(Some("maxon EPOS2 on USB".into())));
+    }
+    out
+}
+
+/// Node-ids of the last scan of the bus, with what they are.
+pub fn nodes() -> Vec<CompletionCandidate> {
+    let Some(bus) = bus(&words()) else { return vec![] };
+    cache::load(&bus)
+        .into_iter()
+        .map(|n| {
+            let what = match (n.name, n.vendor_id) {
+                (Some(name), Some(v)) => format!("{name} (vendor 0x{v:08X})"),
+                (Some(name), None) => name,
+                (None, Some(v)) => format!("vendor 0x{v:08X}"),
+                (None, None) => "seen on the last scan".into(),
+            };
+            CompletionCandidate::new(n.node.to_string()).help(Some(what.into()))
+        })
+        .collect()
+}
+
+pub fn nodes_or_all() -> Vec<CompletionCandidate> {
+    let mut out = nodes();
+    out.push(CompletionCandidate::new("all").help(Some("every node (a broadcast)".into())));
+    out
+}
+
+/// Objects of the node named before the object on the command line (`sdo read NODE OBJ`).
+pub fn objects() -> Vec<CompletionCandidate> {
+    let w = words();
+    let node = w
+        .iter()
+        .position(|a| a == "read" || a == "write")
+        .and_then(|i| positionals(&w[i + 1..]).first().and_then(|n| super::parse_sdo_node(n).ok()))
+        .unwrap_or(0);
+    let mut eds: Vec<EdsArg> = flag_values(&w, "--eds").iter().filter_map(|e| parse_eds_arg(e).ok()).collect();
+    for (n, (path, _)) in settings().eds {
+        if !eds.iter().any(|e| e.node == Some(n)) {
+            eds.push(EdsArg { node: Some(n), path });
+        }
+    }
+    let dicts = Dictionaries::load(&eds).unwrap_or_default();
+    let dict = dicts.for_node(node);
+    dict.entries()
+        .map(|e| {
+            let name = dict.display_name(e.addr).unwrap_or_default();
+            CompletionCandidate::new(e.addr.to_string())
+                .help(Some(format!("{name} ({} {})", e.dtype, e.access.name()).into()))
+        })
+        .collect()
+}
+
+/// The positional words among `words`: flags and the values they take left out.
+fn positionals(words: &[String]) -> Vec<&String> {
+    let cli = <super::Cli as clap::CommandFactory>::command();
+    let mut out = Vec::new();
+    let mut iter = words.iter();
+    while let Some(w) = iter.next() {
+        if w.starts_with('-') && w.len() > 1 {
+            if !w.contains('=') && takes_value(&cli, w) {
+                iter.next();
+            }
+        } else {
+            out.push(w);
+        }
+    }
+    out
+}
+
+/// Whether the flag `--name` or `-n` takes a value anywhere in the command tree.
+fn takes_value(cmd: &clap::Command, flag: &str) -> bool {
+    let matches = |a: &clap::Arg| match flag.strip_prefix("--") {
+        Some(long) => a.get_long() == Some(long),
+        None => flag.chars().nth(1).is_some_and(|c| a.get_short() == Some(c)),
+    };
+    cmd.get_arguments().any(|a| matches(a) && a.get_action().takes_values())
+        || cmd.get_subcommands().any(|s| takes_value(s, flag))
+}
+
+pub fn types() -> Vec<CompletionCandidate> {
+    ALL_TYPES
+        .iter()
+        .map(|t| CompletionCandidate::new(t.name()).help(Some(format!("CiA 301 type 0x{:04X}", t.code()).into())))
+        .collect()
+}
+
+pub fn bit_rates() -> Vec<CompletionCandidate> {
+    ["1M", "800k", "500k", "250k", "125k", "50k", "20k", "10k", "auto"]
+        .into_iter()
+        .map(CompletionCandidate::new)
+        .collect()
+}
