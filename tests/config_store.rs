@@ -84,6 +84,25 @@ fn dump_change_apply_diff_store_reset_restore() {
     sim.run(&["config", "diff", "10", original.to_str().unwrap(), "--check"]).ok();
 }
 
+/// Commissioning by example: one sensor's setup, dumped, is applied to a new one. The new
+/// sensor keeps its own COB-IDs, and a node matches its own dump.
+#[test]
+fn a_dump_applied_to_another_node_keeps_that_nodes_cob_ids() {
+    let sim = Sim::new();
+    let dcf = sim.path("sensor.dcf");
+    let f = dcf.to_str().unwrap();
+    sim.run(&["sdo", "write", "5", "1017", "250", "--type", "u16"]).ok();
+    sim.run(&["config", "dump", "5", "--out", f]).ok();
+    assert_eq!(sim.run(&["config", "diff", "5", f, "--check"]).code, 0, "a node matches its own dump");
+    assert!(std::fs::read_to_string(&dcf).unwrap().contains("ParameterValue=$NODEID+0x180"));
+
+    sim.run(&["lss", "assign", "--start", "20", "--no-store"]).ok();
+    sim.run(&["config", "apply", "20", f, "--verify"]).ok();
+    assert_eq!(read(&sim, "20", "1017"), read(&sim, "5", "1017"));
+    let cob = sim.run(&["sdo", "read", "20", "1800:1", "--type", "u32", "--format", "json"]).ok().json();
+    assert_eq!(cob["value"], 0x194, "{cob}");
+}
+
 #[test]
 fn a_failure_part_way_says_what_was_written() {
     let sim = Sim::new();

@@ -100,9 +100,14 @@ fn opts(ctx: &Ctx, dtype: DataType) -> SdoOptions {
 }
 
 /// Bytes as the entry holds them: an EPOS2's ReadObject answers four bytes for any short
-/// object, the rest meaningless.
+/// object, the rest meaningless; and a device may keep an integer in fewer bytes than the
+/// dictionary says (the MH sensor's 0x1002 is UNSIGNED8), which is the same number.
 fn fit(entry: &Entry, mut bytes: Vec<u8>) -> Vec<u8> {
     if let Some(size) = entry.dtype.size() {
+        if let (Some((lo, _)), Some(&last)) = (entry.dtype.int_range(), bytes.last()) {
+            let fill = if lo < 0 && last & 0x80 != 0 { 0xFF } else { 0 };
+            bytes.resize(bytes.len().max(size), fill);
+        }
         bytes.truncate(size);
     }
     bytes

@@ -7,7 +7,6 @@
 use super::{Access, Dictionary, Entry, Init, ObjectKind};
 use crate::canopen::{DataType, ObjAddr};
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{path}:{line}: {msg}")]
@@ -364,7 +363,7 @@ pub fn write(dict: &Dictionary, values: Option<&BTreeMap<ObjAddr, Vec<u8>>>, h: 
         line(format!("ParameterName={name}"));
         line(format!("ObjectType=0x{}", kind.code()));
         if kind == ObjectKind::Var {
-            entry_keys(&mut line, entries[0], values);
+            entry_keys(&mut line, entries[0], values, h.node_id);
             line(String::new());
             continue;
         }
@@ -374,14 +373,39 @@ pub fn write(dict: &Dictionary, values: Option<&BTreeMap<ObjAddr, Vec<u8>>>, h: 
             line(format!("[{index:04X}sub{:X}]", e.addr.sub));
             line(format!("ParameterName={}", e.name));
             line("ObjectType=0x7".into());
-            entry_keys(&mut line, e, values);
+            entry_keys(&mut line, e, values, h.node_id);
             line(String::new());
         }
     }
     out
 }
 
-fn entry_keys(line: &mut impl FnMut(String), e: &Entry, values: Option<&BTreeMap<ObjAddr, Vec<u8>>>) {
+/// The node-id-relative COB-IDs of the predefined connection set (CiA 301): their base.
+fn predefined_cob_id_base(addr: ObjAddr) -> Option<u32> {
+    match (addr.index, addr.sub) {
+        (0x1014, 0) => Some(0x80),
+        (0x1200, 1) => Some(0x600),
+        (0x1200, 2) => Some(0x580),
+        (0x1400..=0x1403, 1) => Some(0x200 + 0x100 * u32::from(addr.index - 0x1400)),
+        (0x1800..=0x1803, 1) => Some(0x180 + 0x100 * u32::from(addr.index - 0x1800)),
+        _ => None,
+    }
+}
+
+/// A DCF value as written: a COB-ID that follows the predefined connection set for the
+/// node it was read from becomes `$NODEID+base`, so applying the file to another node gives
+/// that node its own COB-IDs rather than copies of the first one's.
+fn parameter_value(e: &Entry, bytes: &[u8], node: Option<u8>) -> String {
+    if let (Some(node), Some(base), Ok(raw)) = (node, predefined_cob_id_base(e.addr), <[u8; 4]>::try_from(bytes)) {
+        let value = u32::from_le_bytes(raw);
+        if value & 0x7FF == base + u32::from(node) {
+            return format_value(&Init::NodeIdPlus(value - u32::from(node)), e.dtype);
+        }
+    }
+    format_value(&Init::Bytes(bytes.to_vec()), e.dtype)
+}
+
+fn entry_keys(line: &mut impl FnMut(String), e: &Entry, values: Option<&BTreeMap<ObjAddr, Vec<u8>>>, node: Option<u8>) {
     line(format!("DataType=0x{:04X}", e.dtype.code()));
     line(format!("AccessType={}", e.access.name()));
     // A DOMAIN's default is its content: it has no place in a text file.
@@ -394,9 +418,7 @@ fn entry_keys(line: &mut impl FnMut(String), e: &Entry, values: Option<&BTreeMap
     }
     line("PDOMapping=0".into());
     if let Some(v) = values.and_then(|v| v.get(&e.addr)) {
-        let mut text = String::new();
-        let _ = write!(text, "{}", format_value(&Init::Bytes(v.clone()), e.dtype));
-        line(format!("ParameterValue={text}"));
+        line(format!("ParameterValue={}", parameter_value(e, v, node)));
     }
 }
 

@@ -105,6 +105,23 @@ fn written_files_read_back_the_same() {
 }
 
 #[test]
+fn predefined_cob_ids_are_written_relative_to_the_node() {
+    let dict = crate::od::builtin::dictionary(None);
+    let at = |index, sub| ObjAddr::new(index, sub);
+    let mut values = BTreeMap::new();
+    values.insert(at(0x1800, 1), 0x8000_0194u32.to_le_bytes().to_vec()); // invalid, node 20's
+    values.insert(at(0x1014, 0), 0x94u32.to_le_bytes().to_vec());
+    values.insert(at(0x1200, 1), 0x1A5u32.to_le_bytes().to_vec()); // chosen by hand: kept as it is
+    let header = Header { node_id: Some(20), ..Header::default() };
+    let text = write(dict, Some(&values), &header);
+    assert!(text.contains("[1800sub1]") && text.contains("ParameterValue=$NODEID+0x80000180"), "{text}");
+    assert!(text.contains("ParameterValue=$NODEID+0x80\n"), "{text}");
+    assert!(text.contains("ParameterValue=0x1A5\n"), "{text}");
+    let back = parse(text.as_bytes(), "x.dcf").unwrap();
+    assert_eq!(back.values[&at(0x1800, 1)].resolve(7), 0x8000_0187u32.to_le_bytes().to_vec());
+}
+
+#[test]
 fn random_bytes_never_panic() {
     let (base, _) = fixture("mh-sensor.eds");
     let mut x: u64 = 0x1234_5678_9ABC_DEF1;
