@@ -54,6 +54,8 @@ fn objects_come_from_the_nodes_dictionary() {
     let entry = got.iter().find(|(v, _)| v == "0x1017:0").expect("producer heartbeat time offered");
     assert!(entry.1.contains("heartbeat") || entry.1.contains("Heartbeat"), "{entry:?}");
     assert!(got.iter().all(|(v, _)| v.starts_with("0x10")), "only what matches the prefix: {got:?}");
+    let by_name = complete(&sim, &["--bus", &bus, "sdo", "write", "5", "ProducerHeart"]);
+    assert_eq!(by_name, [("ProducerHeartbeatTime".to_string(), "0x1017:0 (u16 rw)".to_string())]);
 
     // With the device's EDS, its own objects are offered, under its names; the node is
     // found past the flag and its value.
@@ -62,6 +64,9 @@ fn objects_come_from_the_nodes_dictionary() {
     let with_eds = complete(&sim, &["--bus", &bus, "sdo", "read", "--eds", &eds, "5", "0x6005"]);
     let step = with_eds.iter().find(|(v, _)| v == "0x6005:1").expect("the EDS's own object");
     assert!(step.1.contains("Measuring step"), "{step:?}");
+    let by_name = complete(&sim, &["--bus", &bus, "sdo", "read", "--eds", &eds, "5", "LinearEnc"]);
+    let name = by_name.iter().find(|(v, _)| v == "LinearEncoderMeasuringStep").expect("offered by name");
+    assert!(name.1.starts_with("0x6005:1 "), "{name:?}");
     let without = complete(&sim, &["--bus", &bus, "sdo", "read", "5", "0x6005"]);
     assert!(without.iter().all(|(v, _)| v != "0x6005:1"), "{without:?}");
 }
@@ -77,31 +82,62 @@ fn fixed_sets_and_buses() {
     assert!(values(&buses).contains(&"sim"), "{buses:?}");
 }
 
-/// bash itself: source the script we ship, then call its completion function as readline would.
-#[test]
-fn bash_completes_through_the_shipped_script() {
+/// What a real shell offers for `canctl --bus SIM nmt state <Tab>` after sourcing the script
+/// we ship (flags left out), or None when that shell is not installed and CI did not ask for
+/// every shell (`CANCTL_TEST_SHELLS=1`).
+fn in_shell(shell: &str, script: &str, sim: &Sim) -> Option<Vec<String>> {
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("completions").join(script);
+    let bus = sim.bus();
+    let (args, line) = match shell {
+        // bash: call the completion function as readline would.
+        "bash" => (
+            vec!["--norc", "-c"],
+            format!(
+                "source '{}'; COMP_WORDS=(canctl --bus '{bus}' nmt state ''); COMP_CWORD=5; COMP_TYPE=9; \
+                 _clap_complete_canctl canctl '' state; printf '%s\\n' \"${{COMPREPLY[@]}}\"",
+                script.display()
+            ),
+        ),
+        // fish: ask it what it would complete.
+        _ => (
+            vec!["--no-config", "-c"],
+            format!("source '{}'; complete -C 'canctl --bus {bus} nmt state '", script.display()),
+        ),
+    };
+    let path = format!("{}:{}", canctl_bin().parent().unwrap().display(), std::env::var("PATH").unwrap_or_default());
+    let mut c = Command::new(shell);
+    c.args(args).arg(line).env("PATH", path).env_remove("CANCTL_BUS");
+    c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path(""));
+    let out = match c.output() {
+        Ok(out) => out,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound && std::env::var_os("CANCTL_TEST_SHELLS").is_none() => {
+            eprintln!("skipped: {shell} is not installed (CI installs it and sets CANCTL_TEST_SHELLS=1)");
+            return None;
+        }
+        Err(e) => panic!("cannot run {shell}: {e}"),
+    };
+    let run = finish(out).ok();
+    assert!(run.stderr.is_empty(), "{shell}: {}", run.stderr);
+    Some(
+        run.stdout.lines().map(|l| l.split('\t').next().unwrap().to_string()).filter(|w| !w.starts_with('-')).collect(),
+    )
+}
+
+/// The node-ids the last scan found, offered by the shell itself.
+fn shell_offers_the_scanned_nodes(shell: &str, script: &str) {
     let sim = Sim::new();
     sim.run(&["scan"]).ok();
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("completions/canctl.bash");
-    let bin_dir = canctl_bin().parent().unwrap().to_path_buf();
-    let path = format!("{}:{}", bin_dir.display(), std::env::var("PATH").unwrap_or_default());
-    let line = format!(
-        "source '{}'; COMP_WORDS=(canctl --bus '{}' nmt state ''); COMP_CWORD=5; COMP_TYPE=9; \
-         _clap_complete_canctl canctl '' state; printf '%s\\n' \"${{COMPREPLY[@]}}\"",
-        script.display(),
-        sim.bus()
-    );
-    let out = Command::new("bash")
-        .arg("--norc")
-        .arg("-c")
-        .arg(line)
-        .env("PATH", path)
-        .env("XDG_CONFIG_HOME", sim.path(""))
-        .env("XDG_CACHE_HOME", sim.path(""))
-        .env_remove("CANCTL_BUS")
-        .output()
-        .unwrap();
-    let run = finish(out).ok();
-    let got: Vec<&str> = run.stdout.lines().filter(|w| !w.starts_with('-')).collect();
-    assert_eq!(got, ["1", "5", "10", "32"], "stderr: {}", run.stderr);
+    if let Some(got) = in_shell(shell, script, &sim) {
+        assert_eq!(got, ["1", "5", "10", "32"], "{shell}");
+    }
+}
+
+#[test]
+fn bash_completes_through_the_shipped_script() {
+    shell_offers_the_scanned_nodes("bash", "canctl.bash");
+}
+
+#[test]
+fn fish_completes_through_the_shipped_script() {
+    shell_offers_the_scanned_nodes("fish", "canctl.fish");
 }

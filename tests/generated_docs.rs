@@ -62,3 +62,23 @@ fn the_binary_prints_the_same_completions() {
     let committed = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("completions/canctl.bash")).unwrap();
     assert_eq!(out.stdout, committed);
 }
+
+/// Every command's help ends with real examples, and each example names the command it
+/// is the help of.
+#[test]
+fn every_command_has_examples() {
+    fn walk(cmd: &clap::Command, path: &str, missing: &mut Vec<String>) {
+        let path = if path.is_empty() { cmd.get_name().to_string() } else { format!("{path} {}", cmd.get_name()) };
+        let help = cmd.get_after_help().map(|h| h.to_string()).unwrap_or_default();
+        let command = path.trim_start_matches("canctl ");
+        if path != "canctl" && (!help.contains("Examples:\n") || !help.contains(&format!(" {command}"))) {
+            missing.push(path.clone());
+        }
+        for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
+            walk(sub, &path, missing);
+        }
+    }
+    let mut missing = Vec::new();
+    walk(&<canctl::cli::Cli as clap::CommandFactory>::command(), "", &mut missing);
+    assert!(missing.is_empty(), "no examples in the help of: {missing:?}");
+}

@@ -197,3 +197,14 @@ fn a_silent_node_gets_the_nodes_of_the_last_scan_as_a_hint() {
     );
     assert!(r.stderr.trim_end().ends_with(": 1, 5, 10, 32"), "{}", r.stderr);
 }
+
+#[test]
+fn an_object_the_node_lacks_gets_the_nearest_ones_suggested() {
+    let sim = Sim::new();
+    let run = sim.run(&["sdo", "read", "1", "0x1081:1"]);
+    assert_eq!(run.code, 4);
+    assert!(run.stderr.contains("Object does not exist") && run.stderr.contains("did you mean"), "{}", run.stderr);
+    assert!(run.stderr.contains("0x1018:1 (Identity object: Vendor-ID)"), "{}", run.stderr);
+    let run = sim.run(&["sdo", "read", "1", "0x1018:9"]);
+    assert!(run.stderr.contains("did you mean 0x1018:0"), "{}", run.stderr);
+}

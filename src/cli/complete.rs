@@ -5,7 +5,9 @@
 use super::cache;
 use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
 use crate::canopen::types::ALL_TYPES;
+use crate::od::names;
 use clap_complete::engine::CompletionCandidate;
+use std::collections::HashMap;
 
 /// The words of the partial command line, as the shell passed them after `--`.
 fn words() -> Vec<String> {
@@ -89,13 +91,26 @@ pub fn objects() -> Vec<CompletionCandidate> {
     }
     let dicts = Dictionaries::load(&eds).unwrap_or_default();
     let dict = dicts.for_node(node);
-    dict.entries()
-        .map(|e| {
-            let name = dict.display_name(e.addr).unwrap_or_default();
-            CompletionCandidate::new(e.addr.to_string())
-                .help(Some(format!("{name} ({} {})", e.dtype, e.access.name()).into()))
-        })
-        .collect()
+    let named: Vec<(&crate::od::Entry, String)> =
+        dict.entries().map(|e| (e, dict.display_name(e.addr).unwrap_or_default())).collect();
+    // A name is offered only where it stands for one object (array subs share theirs).
+    let mut uses: HashMap<String, usize> = HashMap::new();
+    for (_, name) in &named {
+        *uses.entry(names::normalize(name)).or_default() += 1;
+    }
+    let mut out = Vec::new();
+    let mut by_name = Vec::new();
+    for (e, name) in &named {
+        let kind = format!("{} {}", e.dtype, e.access.name());
+        out.push(CompletionCandidate::new(e.addr.to_string()).help(Some(format!("{name} ({kind})").into())));
+        if !name.is_empty() && uses[&names::normalize(name)] == 1 {
+            by_name.push(
+                CompletionCandidate::new(names::identifier(name)).help(Some(format!("{} ({kind})", e.addr).into())),
+            );
+        }
+    }
+    out.extend(by_name);
+    out
 }
 
 /// The positional words among `words`: flags and the values they take left out.

@@ -84,20 +84,44 @@ pub struct GlobalArgs {
 pub enum Command {
     Scan(scan::ScanArgs),
     /// Read and write objects (SDO)
-    #[command(subcommand)]
+    #[command(
+        subcommand,
+        after_help = "Examples:
+  canctl --bus sim sdo read 1 0x1018:1
+  canctl --bus sim sdo read 5 ProducerHeartbeatTime
+  canctl --bus sim sdo write 5 1017 100 --type u16 --verify"
+    )]
     Sdo(sdo::SdoCommand),
     /// Start, stop and reset nodes, or ask their NMT state
-    #[command(subcommand)]
+    #[command(
+        subcommand,
+        after_help = "Examples:
+  canctl --bus sim nmt state 5
+  canctl --bus sim nmt reset 5
+  canctl --bus sim nmt start all"
+    )]
     Nmt(nmt::NmtCommand),
     /// Node-ids and bit rates over LSS (CiA 305): find, set, store, assign
-    #[command(subcommand)]
+    #[command(
+        subcommand,
+        after_help = "Examples:
+  canctl --bus sim lss fastscan
+  canctl --bus sim lss assign --start 20
+  canctl --bus sim lss set-id 7 --identity 0x40:0x43787800:0x312E3031:0x09501234"
+    )]
     Lss(lss::LssCommand),
     Store(store::StoreArgs),
     Restore(store::RestoreArgs),
     StreamPdo(stream::StreamArgs),
     Monitor(monitor::MonitorArgs),
     /// Configuration files: dump a node to a DCF, compare, apply
-    #[command(subcommand)]
+    #[command(
+        subcommand,
+        after_help = "Examples:
+  canctl --bus sim config dump 5 --out sensor.dcf
+  canctl --bus sim config diff 20 sensor.dcf
+  canctl --bus sim config apply 20 sensor.dcf --verify --store"
+    )]
     Config(config::ConfigCommand),
     Sim(sim::SimArgs),
     /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
@@ -230,11 +254,19 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     Ok(())
 }
 
-/// A node that did not answer: say which nodes the last scan of this bus saw.
+/// A node that did not answer: say which nodes the last scan of this bus saw. An object
+/// the node does not have: name the dictionary's objects nearest to it.
 fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
     match (e.downcast_ref::<Error>(), &ctx.bus) {
         (Some(Error::Timeout(msg)), Some(bus)) if msg.starts_with("node ") && msg.contains("did not answer") => {
             Error::Timeout(format!("{msg}{}", cache::hint(bus))).into()
+        }
+        (Some(abort @ Error::SdoAbort { node, obj, code: 0x0602_0000 | 0x0609_0011 }), _) => {
+            let near = ctx.dicts.near(*node, *obj);
+            if near.is_empty() {
+                return e;
+            }
+            Error::Refused(format!("{abort}; did you mean {}?", near.join(", "))).into()
         }
         _ => e,
     }

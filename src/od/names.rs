@@ -10,6 +10,17 @@ pub fn normalize(s: &str) -> String {
     s.chars().filter(|c| c.is_alphanumeric()).flat_map(|c| c.to_lowercase()).collect()
 }
 
+/// A name as one shell word that `find` accepts: `Identity object: Vendor-ID` becomes
+/// `IdentityObjectVendorID`.
+pub fn identifier(name: &str) -> String {
+    name.split(|c: char| !c.is_alphanumeric())
+        .flat_map(|word| {
+            let mut chars = word.chars();
+            chars.next().into_iter().flat_map(|c| c.to_uppercase()).chain(chars)
+        })
+        .collect()
+}
+
 /// The entry a name stands for, or why there is none (with the closest names).
 pub fn find(dict: &Dictionary, name: &str) -> Result<ObjAddr, String> {
     let want = normalize(name);
@@ -71,6 +82,24 @@ fn distance(a: &str, b: &str) -> usize {
 mod tests {
     use super::*;
     use crate::od::builtin::dictionary;
+
+    #[test]
+    fn identifiers_are_one_word_that_finds_the_entry() {
+        assert_eq!(identifier("Identity object: Vendor-ID"), "IdentityObjectVendorID");
+        let d = dictionary(None);
+        let mut checked = 0;
+        for e in d.entries() {
+            let name = d.display_name(e.addr).unwrap();
+            let unique =
+                d.entries().filter(|o| d.display_name(o.addr).map(|n| normalize(&n)) == Some(normalize(&name))).count()
+                    == 1;
+            if unique {
+                assert_eq!(find(d, &identifier(&name)), Ok(e.addr), "{name}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 50, "{checked}");
+    }
 
     #[test]
     fn spellings_find_their_entry() {
