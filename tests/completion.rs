@@ -91,16 +91,24 @@ fn in_shell(shell: &str, script: &str, sim: &Sim) -> Option<Vec<String>> {
     let (args, line) = match shell {
         // bash: call the completion function as readline would.
         "bash" => (
-            vec!["--norc", "-c"],
+            vec!["--norc".to_string(), "-c".to_string()],
             format!(
                 "source '{}'; COMP_WORDS=(canctl --bus '{bus}' nmt state ''); COMP_CWORD=5; COMP_TYPE=9; \
                  _clap_complete_canctl canctl '' state; printf '%s\\n' \"${{COMPREPLY[@]}}\"",
                 script.display()
             ),
         ),
+        // zsh: <Tab> in an interactive zsh on a pseudo-terminal, the script installed in $fpath.
+        "zsh" => {
+            let driver = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shells/zsh-complete.zsh");
+            let dir = script.parent().unwrap().display().to_string();
+            let out = sim.path("zsh-offered").display().to_string();
+            let line = format!("canctl --bus {bus} nmt state ");
+            (vec!["-f".to_string(), driver.display().to_string(), dir, out], line)
+        }
         // fish: ask it what it would complete.
         _ => (
-            vec!["--no-config", "-c"],
+            vec!["--no-config".to_string(), "-c".to_string()],
             format!("source '{}'; complete -C 'canctl --bus {bus} nmt state '", script.display()),
         ),
     };
@@ -118,9 +126,18 @@ fn in_shell(shell: &str, script: &str, sim: &Sim) -> Option<Vec<String>> {
     };
     let run = finish(out).ok();
     assert!(run.stderr.is_empty(), "{shell}: {}", run.stderr);
-    Some(
-        run.stdout.lines().map(|l| l.split('\t').next().unwrap().to_string()).filter(|w| !w.starts_with('-')).collect(),
-    )
+    let offered = match shell {
+        "zsh" => std::fs::read_to_string(sim.path("zsh-offered")).unwrap_or_default(),
+        _ => run.stdout,
+    };
+    let mut got: Vec<String> = Vec::new();
+    for word in offered.lines().map(|l| l.split('\t').next().unwrap()).filter(|w| !w.starts_with('-')) {
+        // zsh's _describe hands the same candidates to compadd more than once.
+        if !got.iter().any(|g| g == word) {
+            got.push(word.to_string());
+        }
+    }
+    Some(got)
 }
 
 /// The node-ids the last scan found, offered by the shell itself.
@@ -140,4 +157,21 @@ fn bash_completes_through_the_shipped_script() {
 #[test]
 fn fish_completes_through_the_shipped_script() {
     shell_offers_the_scanned_nodes("fish", "canctl.fish");
+}
+
+#[test]
+fn zsh_completes_through_the_shipped_script() {
+    shell_offers_the_scanned_nodes("zsh", "_canctl");
+}
+
+/// zsh takes `value:description`, so the colons of `0x1018:1` must reach it escaped.
+#[test]
+fn zsh_gets_colons_escaped() {
+    let sim = Sim::new();
+    let mut c = Command::new(canctl_bin());
+    c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path("")).env_remove("CANCTL_BUS");
+    c.env("COMPLETE", "zsh").env("_CLAP_COMPLETE_INDEX", "4").env("_CLAP_IFS", "\n");
+    c.args(["--", "canctl", "sdo", "read", "1", "0x1018"]);
+    let run = finish(c.output().unwrap()).ok();
+    assert!(run.stdout.lines().any(|l| l == "0x1018\\:1:Identity object: Vendor-ID (u32 ro)"), "{}", run.stdout);
 }

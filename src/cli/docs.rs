@@ -44,6 +44,13 @@ fn registration(shell: Shell) -> Vec<u8> {
     let completer = shells.completer(&shell.to_string()).expect("clap_complete knows every Shell");
     let mut out = Vec::new();
     completer.write_registration("COMPLETE", "canctl", "canctl", "canctl", &mut out).expect("write to memory");
+    if shell == Shell::Zsh {
+        // Installed as `_canctl` in $fpath, zsh runs this file on the first <Tab>: complete
+        // then too, not only from the second <Tab> on.
+        out.extend_from_slice(
+            b"if [[ ${zsh_eval_context[-1]} == loadautofunc ]]; then\n    _clap_dynamic_completer_canctl \"$@\"\nfi\n",
+        );
+    }
     out
 }
 
