@@ -89,7 +89,7 @@ pub fn objects() -> Vec<CompletionCandidate> {
             eds.push(EdsArg { node: Some(n), path });
         }
     }
-    let dicts = Dictionaries::load(&eds).unwrap_or_default();
+    let dicts = Dictionaries::load_quietly(&eds).unwrap_or_default();
     let dict = dicts.for_node(node);
     let named: Vec<(&crate::od::Entry, String)> =
         dict.entries().map(|e| (e, dict.display_name(e.addr).unwrap_or_default())).collect();
@@ -147,9 +147,12 @@ pub fn types() -> Vec<CompletionCandidate> {
         .collect()
 }
 
+/// The CiA 305 bit timing table, reserved entries left out.
 pub fn bit_rates() -> Vec<CompletionCandidate> {
-    ["1M", "800k", "500k", "250k", "125k", "50k", "20k", "10k", "auto"]
-        .into_iter()
-        .map(CompletionCandidate::new)
+    use crate::canopen::lss::{bit_rate_name, AUTO_BIT_RATE, BIT_TIMINGS};
+    BIT_TIMINGS
+        .iter()
+        .filter(|(i, kbit)| kbit.is_some() || *i == AUTO_BIT_RATE)
+        .map(|(i, _)| CompletionCandidate::new(bit_rate_name(*i)).help(Some(format!("CiA 305 table index {i}").into())))
         .collect()
 }

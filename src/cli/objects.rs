@@ -32,12 +32,19 @@ pub struct Dictionaries {
 impl Dictionaries {
     /// Read every `--eds` file; an unreadable one is a usage error citing file:line.
     pub fn load(args: &[EdsArg]) -> Result<Dictionaries, Error> {
+        let dicts = Dictionaries::load_quietly(args)?;
+        for w in dicts.files.iter().flat_map(|(_, eds)| &eds.warnings) {
+            eprintln!("canctl: warning: {w}");
+        }
+        Ok(dicts)
+    }
+
+    /// As `load`, keeping the files' warnings to themselves (shell completion has no
+    /// place to show them).
+    pub fn load_quietly(args: &[EdsArg]) -> Result<Dictionaries, Error> {
         let mut files = Vec::new();
         for a in args {
             let eds = eds::read_file(&a.path).map_err(|e| Error::Usage(format!("cannot use EDS {e}")))?;
-            for w in &eds.warnings {
-                eprintln!("canctl: warning: {w}");
-            }
             files.push((a.node, eds));
         }
         Ok(Dictionaries { files })
