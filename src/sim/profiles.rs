@@ -163,17 +163,7 @@ pub fn drive() -> Model {
     d.record(0x1F50, "Program data", vec![(1, "Program 1", D, Rw, Init::Bytes(domain_pattern(DOMAIN_SIZE)))]);
     data_type_record(&mut d);
     // TPDO1 with dynamic mapping (the EPOS2 has four): statusword by default.
-    d.record(
-        0x1800,
-        "TPDO1 communication parameter",
-        vec![
-            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
-            (2, "Transmission type", U8, Rw, u(255, U8)),
-            (3, "Inhibit time", U16, Rw, u(0, U16)),
-            (5, "Event timer", U16, Rw, u(0, U16)),
-        ],
-    );
-    dynamic_tpdo_mapping(&mut d, 4, 0x6041_0010);
+    event_driven_tpdo1(&mut d, 4, 0x6041_0010);
     Model {
         key: "drive".into(),
         dict: d,
@@ -315,18 +305,8 @@ pub fn io_module() -> Model {
         default: u(2, U8),
         range: None,
     });
-    d.record(
-        0x1800,
-        "TPDO1 communication parameter",
-        vec![
-            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
-            (2, "Transmission type", U8, Rw, u(255, U8)),
-            (3, "Inhibit time", U16, Rw, u(0, U16)),
-            (5, "Event timer", U16, Rw, u(0, U16)),
-        ],
-    );
     // Dynamic mapping (seed 004).
-    dynamic_tpdo_mapping(&mut d, 8, 0x6000_0108);
+    event_driven_tpdo1(&mut d, 8, 0x6000_0108);
     d.record(0x6000, "Read input 8-bit", vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))]);
     d.record(
         0x6200,
@@ -438,9 +418,19 @@ pub fn eds_files() -> Vec<(String, String)> {
         .collect()
 }
 
-/// TPDO1 mapping with `entries` writable entries, `first` mapped, the count in sub 0
-/// writable (CiA 301 dynamic mapping).
-fn dynamic_tpdo_mapping(d: &mut Dictionary, entries: u8, first: u32) {
+/// TPDO1, event-driven and off until an event timer is set, with a mapping of `entries`
+/// writable entries, `first` mapped, the count in sub 0 writable (CiA 301 dynamic mapping).
+fn event_driven_tpdo1(d: &mut Dictionary, entries: u8, first: u32) {
+    d.record(
+        0x1800,
+        "TPDO1 communication parameter",
+        vec![
+            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
+            (2, "Transmission type", U8, Rw, u(255, U8)),
+            (3, "Inhibit time", U16, Rw, u(0, U16)),
+            (5, "Event timer", U16, Rw, u(0, U16)),
+        ],
+    );
     let names: Vec<String> = (1..=entries).map(|s| format!("Mapped object {s}")).collect();
     let members = (1..=entries)
         .map(|s| (s, names[s as usize - 1].as_str(), U32, Rw, u(if s == 1 { first as u64 } else { 0 }, U32)))
