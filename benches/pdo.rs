@@ -1,18 +1,17 @@
 //! Decoding and formatting PDOs: the sensor's 6-byte position+speed PDO (seed 001 figure
 //! 24) into CSV rows and JSON lines, per frame. `cargo bench --bench pdo`.
 
-use canctl::canopen::pdo::{mapping_entry, Field, Layout, RecordWriter};
+use canctl::canopen::pdo::{Field, Layout, RecordWriter};
 use canctl::canopen::DataType;
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 
 fn layout() -> Layout {
-    let field = |raw: u32, dtype, name: &str| {
-        let (addr, bits) = mapping_entry(raw);
-        Field { addr, bits, dtype, name: name.into() }
-    };
     Layout {
         cob_id: 0x185,
-        fields: vec![field(0x6020_0120, DataType::I32, "position"), field(0x6030_0110, DataType::I16, "speed")],
+        fields: vec![
+            Field::mapped(0x6020_0120, DataType::I32, "position"),
+            Field::mapped(0x6030_0110, DataType::I16, "speed"),
+        ],
     }
 }
 

@@ -14,6 +14,14 @@ pub struct Field {
     pub name: String,
 }
 
+impl Field {
+    /// The field a raw mapping entry (0x60200120) describes, read as `dtype`.
+    pub fn mapped(raw: u32, dtype: DataType, name: &str) -> Field {
+        let (addr, bits) = mapping_entry(raw);
+        Field { addr, bits, dtype, name: name.into() }
+    }
+}
+
 pub fn mapping_entry(raw: u32) -> (ObjAddr, u8) {
     (ObjAddr::new((raw >> 16) as u16, (raw >> 8) as u8), raw as u8)
 }
@@ -166,13 +174,12 @@ mod tests {
 
     fn mh_tpdo1() -> Layout {
         // Seed 001 0x1A00: 0x60200120 (position, 32 bits), 0x60300110 (speed, 16 bits).
-        let field = |raw: u32, dtype, name: &str| {
-            let (addr, bits) = mapping_entry(raw);
-            Field { addr, bits, dtype, name: name.into() }
-        };
         Layout {
             cob_id: 0x185,
-            fields: vec![field(0x6020_0120, DataType::I32, "position"), field(0x6030_0110, DataType::I16, "speed")],
+            fields: vec![
+                Field::mapped(0x6020_0120, DataType::I32, "position"),
+                Field::mapped(0x6030_0110, DataType::I16, "speed"),
+            ],
         }
     }
 

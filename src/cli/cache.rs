@@ -13,11 +13,7 @@ pub struct SeenNode {
 }
 
 fn dir() -> Option<PathBuf> {
-    let base = std::env::var_os("XDG_CACHE_HOME")
-        .filter(|v| !v.is_empty())
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
-    Some(base.join("canctl"))
+    crate::xdg::canctl_dir("XDG_CACHE_HOME", ".cache")
 }
 
 /// The network a bus URI reaches, so `can0` and `socketcan:can0` share what was seen, and

@@ -66,11 +66,7 @@ pub struct FileSettings {
 }
 
 fn user_file() -> Option<PathBuf> {
-    let base = std::env::var_os("XDG_CONFIG_HOME")
-        .filter(|v| !v.is_empty())
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))?;
-    Some(base.join("canctl").join("config.toml"))
+    Some(crate::xdg::canctl_dir("XDG_CONFIG_HOME", ".config")?.join("config.toml"))
 }
 
 fn project_file() -> Option<PathBuf> {

@@ -26,12 +26,9 @@ pub struct StateFile {
 
 /// `$XDG_STATE_HOME/canctl/sim.json`, else `~/.local/state/canctl/sim.json`.
 pub fn default_path() -> PathBuf {
-    let base = std::env::var_os("XDG_STATE_HOME")
-        .filter(|v| !v.is_empty())
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".local/state")))
-        .unwrap_or_else(std::env::temp_dir);
-    base.join("canctl").join("sim.json")
+    crate::xdg::canctl_dir("XDG_STATE_HOME", ".local/state")
+        .unwrap_or_else(|| std::env::temp_dir().join("canctl"))
+        .join("sim.json")
 }
 
 fn link_err(path: &Path, what: &str, e: impl std::fmt::Display) -> Error {
