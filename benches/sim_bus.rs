@@ -1,5 +1,5 @@
 //! SDO block transfer and scan on the timing-emulated sim bus (`typical` profile: devices
-//! answer 0.5–5 ms late, frames take their time at the bit rate).
+//! answer 0.5–3 ms late, frames take their time at the bit rate).
 //!
 //! `cargo bench --bench sim_bus` (SIM_BUS_RUNS=N for more runs than 3). A transfer of 100 kB
 //! takes about 1.5 s at 1 Mbit/s and 13 s at 125 kbit/s, so this is a plain harness that

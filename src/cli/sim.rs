@@ -50,8 +50,9 @@ pub struct SimArgs {
     /// Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)
     #[arg(long, value_name = "KIND@N")]
     pub fault: Vec<Fault>,
-    /// How long the EPOS2 waits for an SDO answer on the CAN bus
-    #[arg(long, value_name = "DUR", default_value = "25ms", value_parser = super::parse_duration)]
+    /// How long the EPOS2 waits for an SDO answer on the CAN bus (the slow profile's
+    /// devices answer up to 80 ms late)
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub can_timeout: Duration,
 }
 
@@ -66,7 +67,7 @@ pub enum SimCommand {
     /// invocation sees the same network).
     ///
     /// Profiles: instant (answers at once, frames take no time: for unit tests), typical
-    /// (devices answer 0.5-5 ms late, frames take their time at the bit rate: the default),
+    /// (devices answer 0.5-3 ms late, frames take their time at the bit rate: the default),
     /// slow (answers 5-80 ms late, as slow real slaves do).
     #[command(after_help = "Examples:
   canctl sim reset
