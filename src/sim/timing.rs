@@ -237,8 +237,8 @@ pub struct BusStats {
 }
 
 /// The bus as one transmitter at a time: frames wait until they are ready and the bus is
-/// free; of the frames waiting when it frees, the lowest id wins arbitration (equal ids in
-/// the order they were queued, as one controller's queue sends them).
+/// free; each sender's frames leave in the order it queued them, and of the senders'
+/// first frames waiting when the bus frees, the lowest id wins arbitration.
 #[derive(Debug, Default)]
 pub struct BusQueue {
     /// `None`: frames take no time.
@@ -302,12 +302,22 @@ impl BusQueue {
     fn next(&self) -> Option<(Next, Nanos, Nanos)> {
         let first_ready = self.queued.iter().map(|q| q.ready).chain(self.babblers.iter().map(|b| b.next)).min()?;
         let start = self.free_at.max(first_ready);
-        let queued = self
-            .queued
-            .iter()
-            .enumerate()
-            .filter(|(_, q)| q.ready <= start)
-            .map(|(i, q)| ((q.frame.id(), 0, q.seq), Next::Queued(i), q.frame));
+        // Each sender's frames leave in the order it queued them (a FIFO per controller,
+        // as SocketCAN's queue discipline gives the master); the senders' first frames
+        // compete in arbitration.
+        // A frame enters its controller's queue when it is ready.
+        let mut heads: Vec<(Origin, usize)> = Vec::new();
+        for (i, q) in self.queued.iter().enumerate().filter(|(_, q)| q.ready <= start) {
+            match heads.iter_mut().find(|(o, _)| *o == q.origin) {
+                Some((_, h)) if (q.ready, q.seq) < (self.queued[*h].ready, self.queued[*h].seq) => *h = i,
+                Some(_) => {}
+                None => heads.push((q.origin, i)),
+            }
+        }
+        let queued = heads.into_iter().map(|(_, i)| {
+            let q = &self.queued[i];
+            ((q.frame.id(), 0, q.seq), Next::Queued(i), q.frame)
+        });
         let babbling = self
             .babblers
             .iter()
@@ -427,6 +437,17 @@ mod tests {
         assert_eq!(f2.id(), 0x080);
         assert_eq!(end2, end1 + frame_time(&f2, 1_000_000), "back to back");
         assert_eq!(bus.pop_done(u64::MAX).unwrap().2.id(), 0x601);
+    }
+
+    #[test]
+    fn one_senders_frames_leave_in_its_order_and_others_win_arbitration_between_them() {
+        let mut bus = BusQueue::new(Some(125_000));
+        bus.queue(0, Origin::Master, Frame::new(0x67F, &[0x40; 8]));
+        bus.queue(0, Origin::Master, Frame::new(0x000, &[0x02, 0x00]));
+        bus.queue(0, Origin::Device(3), Frame::new(0x7E4, &[0x50; 8]));
+        bus.queue(0, Origin::Device(2), Frame::new(0x182, &[1]));
+        let order: Vec<u16> = std::iter::from_fn(|| bus.pop_done(u64::MAX)).map(|(_, _, f)| f.id()).collect();
+        assert_eq!(order, [0x182, 0x67F, 0x000, 0x7E4]);
     }
 
     #[test]
