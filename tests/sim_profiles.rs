@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Run, Sim};
+use common::{DeviceSide, Run, Sim};
 
 fn reset(sim: &Sim, args: &[&str]) -> Run {
     let mut all = vec!["sim", "reset"];
@@ -129,4 +129,22 @@ fn mapping_more_than_64_bits_is_refused_by_the_device() {
         sim.run(&["sdo", "read", "1", "1A00:1", "--type", "u32"]).ok().stdout.trim(),
         0x6041_0010u32.to_string()
     );
+}
+
+#[test]
+fn the_epos2_device_side_reaches_slow_devices_behind_it() {
+    let sim = Sim::new();
+    reset(&sim, &["--profile", "slow"]);
+    let dev = DeviceSide::start(&sim, "--epos2-usb", &[]);
+    assert_eq!(dev.run(&["sdo", "read", "5", "1008"]).ok().stdout.trim(), "C01");
+    assert_eq!(dev.run(&["sdo", "read", "10", "1008"]).ok().stdout.trim(), "CAN-2057C");
+}
+
+#[test]
+fn a_fault_applies_behind_the_epos2_too() {
+    let sim = Sim::new();
+    reset(&sim, &["--fault", "10:abort=0x06010000"]);
+    let dev = DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let r = dev.run(&["sdo", "read", "10", "1000"]);
+    assert_eq!(r.code, 4, "{}", r.stderr);
 }

@@ -386,7 +386,12 @@ impl SimLink {
 
     /// Save the state now if anything changed (a long-running server saves as it goes).
     pub fn save_if_changed(&mut self) -> Result<()> {
-        self.close()
+        if self.net.take_dirty() {
+            if let Some(file) = &self.file {
+                file.save(&self.net.snapshot())?;
+            }
+        }
+        Ok(())
     }
 
     /// Run the bus up to now: the devices' own frames queue, frames that have left are
@@ -471,12 +476,7 @@ impl FrameLink for SimLink {
 
     fn close(&mut self) -> Result<()> {
         self.flush();
-        if self.net.take_dirty() {
-            if let Some(file) = &self.file {
-                file.save(&self.net.snapshot())?;
-            }
-        }
-        Ok(())
+        self.save_if_changed()
     }
 }
 
