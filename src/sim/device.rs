@@ -333,6 +333,16 @@ impl Device {
         self.bit_rate.active
     }
 
+    /// Forget any SDO transfer in progress (an injected abort ended it).
+    pub fn reset_sdo(&mut self) {
+        self.sdo = SdoServer::new(self.block_transfer);
+    }
+
+    /// Put the controller on another rate, as commissioning for another bus would.
+    pub fn set_bit_rate(&mut self, rate: u8) {
+        self.bit_rate = BitRates { active: rate, pending: None, stored: rate };
+    }
+
     /// React to one frame on the bus; returns the frames this device sends in answer.
     pub fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
         if f.id() == lss::MASTER_COB && !f.is_remote() {
