@@ -1,10 +1,14 @@
 //! SDO transfers against misbehaving devices (issue 12): every hang ends, every false answer
 //! is refused, each with its documented exit code.
 //!
-//! The master runs over a scripted link that plays one device on a virtual clock: answers
+//! First through the binary against the simulator's injected faults; then, for devices the
+//! simulator cannot play (endless objects, block transfers that never get in sequence), the
+//! master runs over a scripted link that plays one device on a virtual clock: answers
 //! come after virtual delays and frames can come by themselves, so nothing here waits in
 //! real time and nothing asserts a timing. A transfer the master does not bound makes the
 //! link give up with a panic instead of hanging the test run.
+
+mod common;
 
 use canctl::bus::{Bus, FrameLink, Master, SdoOptions};
 use canctl::canopen::abort;
@@ -12,7 +16,80 @@ use canctl::canopen::sdo::client::{DEFAULT_MAX_UPLOAD, MAX_BLOCK_RETRANSMISSIONS
 use canctl::canopen::ObjAddr;
 use canctl::frame::Frame;
 use canctl::Error;
+use common::Sim;
 use std::time::{Duration, Instant};
+
+/// A fresh sim network with these faults.
+fn faulty(faults: &[&str]) -> Sim {
+    let sim = Sim::new();
+    let mut args = vec!["sim", "reset"];
+    for f in faults {
+        args.extend(["--fault", f]);
+    }
+    sim.run(&args).ok();
+    sim
+}
+
+#[test]
+fn sim_duplicated_answers_are_set_aside() {
+    // Every answer of node 10 sent twice, as CAN double reception does.
+    let clean = Sim::new().run(&["sdo", "read", "10", "1008", "--type", "vs", "--no-block"]).ok().stdout;
+    let sim = faulty(&["10:duplicate"]);
+    assert_eq!(sim.run(&["sdo", "read", "10", "1008", "--type", "vs", "--no-block"]).ok().stdout, clean);
+    assert_eq!(sim.run(&["sdo", "read", "10", "1008", "--type", "vs"]).ok().stdout, clean);
+    // The second copy of the write's answer reaches the read-back of --verify.
+    sim.run(&["sdo", "write", "10", "1017", "100", "--type", "u16", "--verify"]).ok();
+}
+
+#[test]
+fn sim_short_dlc_answer_is_exit_5_and_no_value() {
+    let sim = faulty(&["10:short-dlc=4@1"]);
+    let r = sim.run(&["sdo", "read", "10", "1001", "--type", "u8"]);
+    assert_eq!(r.code, 5, "{}", r.stderr);
+    assert!(r.stdout.is_empty(), "printed data the device did not send: {}", r.stdout);
+    assert!(r.stderr.contains("in a 4-byte frame") && r.stderr.contains("needs 5 bytes"), "{}", r.stderr);
+    // Five bytes carry all of a one-byte expedited answer (seed 004): legal.
+    let clean = Sim::new().run(&["sdo", "read", "10", "1001", "--type", "u8"]).ok().stdout;
+    let sim = faulty(&["10:short-dlc=5@1"]);
+    assert_eq!(sim.run(&["sdo", "read", "10", "1001", "--type", "u8"]).ok().stdout, clean);
+}
+
+#[test]
+fn sim_flooded_bus_ends_with_exit_3() {
+    // The drive floods its EMCY id, which wins arbitration over every SDO answer.
+    let sim = faulty(&["drive:babble"]);
+    let r = sim.run(&["--timeout", "200ms", "sdo", "read", "10", "1008", "--type", "vs"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("node 10: did not answer"), "{}", r.stderr);
+}
+
+#[test]
+fn sim_device_falling_silent_mid_transfer_ends_with_exit_3() {
+    // Node 10 answers the upload and its first segment, then nothing.
+    let sim = faulty(&["10:mute@3+"]);
+    let r = sim.run(&["--timeout", "200ms", "sdo", "read", "10", "1008", "--type", "vs", "--no-block"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("stopped answering") && r.stderr.contains("7 of 9 bytes moved"), "{}", r.stderr);
+    assert!(r.stdout.is_empty());
+}
+
+#[test]
+fn sim_corrupted_segment_is_exit_5() {
+    let sim = faulty(&["10:corrupt@2"]);
+    let r = sim.run(&["sdo", "read", "10", "1008", "--type", "vs", "--no-block"]);
+    assert_eq!(r.code, 5, "{}", r.stderr);
+    assert!(r.stdout.is_empty());
+}
+
+#[test]
+fn sim_upload_over_max_size_is_refused_with_the_limit_named() {
+    let sim = Sim::new();
+    let r = sim.run(&["sdo", "read", "10", "1008", "--type", "vs", "--max-size", "8"]);
+    assert_eq!(r.code, 5, "{}", r.stderr);
+    assert!(r.stderr.contains("upload limit of 8 bytes") && r.stderr.contains("--max-size"), "{}", r.stderr);
+    assert!(r.stderr.contains("0x05040005"), "{}", r.stderr);
+    sim.run(&["sdo", "read", "10", "1008", "--type", "vs", "--max-size", "1k"]).ok();
+}
 
 const NODE: u8 = 5;
 const OBJ: ObjAddr = ObjAddr::new(0x2000, 1);

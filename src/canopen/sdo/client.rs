@@ -320,6 +320,18 @@ impl SdoClient {
         (named != self.addr).then(|| self.ignore(format!("an answer for object {named}, not {}", self.addr)))
     }
 
+    /// Before the server's first answer, a well-formed answer of another kind (a download
+    /// answer while we upload, a segment) answers an earlier transfer with this node: a
+    /// second copy of its last answer, or a late one. It is set aside; only a command
+    /// specifier CiA 301 does not define (scs 7) is an error here.
+    fn not_for_this_transfer(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
+        if p[0] >> 5 == 7 {
+            return Err(self.unexpected(p));
+        }
+        let (_, len) = self.last.unwrap_or_default();
+        Ok(self.ignore(format!("an answer that fits no request of this transfer ({})", spaced(&p[..len]))))
+    }
+
     fn unexpected(&mut self, p: &[u8; 8]) -> SdoError {
         self.fail(abort::UNKNOWN_COMMAND, format!("unexpected command byte 0x{:02X} from the server", p[0]))
     }
@@ -366,7 +378,7 @@ impl SdoClient {
 
     fn upload_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
         if p[0] & 0xE0 != 0x40 {
-            return Err(self.unexpected(p));
+            return self.not_for_this_transfer(p);
         }
         self.require(4, "an upload answer")?;
         if let Some(step) = self.other_object(p) {
@@ -451,7 +463,7 @@ impl SdoClient {
                 self.state = State::BlockUploadData { expected: 1 };
                 Ok(Step::send(vec![segment(0xA3, &[])]))
             }
-            _ => Err(self.unexpected(p)),
+            _ => self.not_for_this_transfer(p),
         }
     }
 
@@ -539,7 +551,7 @@ impl SdoClient {
 
     fn download_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
         if p[0] & 0xE0 != 0x60 {
-            return Err(self.unexpected(p));
+            return self.not_for_this_transfer(p);
         }
         self.require(4, "a download answer")?;
         if let Some(step) = self.other_object(p) {
@@ -597,7 +609,7 @@ impl SdoClient {
 
     fn block_download_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
         if p[0] & 0xE3 != 0xA0 {
-            return Err(self.unexpected(p));
+            return self.not_for_this_transfer(p);
         }
         self.require(5, "a block download answer with its block size")?;
         if let Some(step) = self.other_object(p) {

@@ -632,3 +632,24 @@ fn time_budget_follows_the_size() {
     c.on_response(&answer(0x41, &[14, 0, 0, 0])).unwrap();
     assert_eq!(c.time_budget(t), t * 4 + t);
 }
+
+#[test]
+fn leftover_answer_of_the_previous_transfer_is_set_aside() {
+    // A write's answer (0x60) arrived twice; the second copy reaches the read-back.
+    let mut c = SdoClient::upload(A, false);
+    c.start();
+    let s = c.on_response(&answer(0x60, &[0, 0, 0, 0])).unwrap();
+    assert!(!s.progress && s.send.is_empty() && s.done.is_none());
+    assert!(c.ignored().unwrap().1.contains("fits no request of this transfer"));
+    assert_eq!(c.on_response(&answer(0x4F, &[7])).unwrap().done, Some(vec![7]));
+    // The last segment of an earlier upload, before a download's answer.
+    let mut c = SdoClient::download(A, vec![1, 2], false);
+    c.start();
+    assert!(!c.on_response(&[0x0B, 1, 2, 0, 0, 0, 0, 0]).unwrap().progress);
+    assert_eq!(c.on_response(&answer(0x60, &[0, 0, 0, 0])).unwrap().done, Some(vec![]));
+    // A command specifier CiA 301 does not define is still an error.
+    let mut c = SdoClient::upload(A, false);
+    c.start();
+    let (code, _) = client_abort(c.on_response(&answer(0xE0, &[0; 4])));
+    assert_eq!(code, abort::UNKNOWN_COMMAND);
+}
