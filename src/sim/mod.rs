@@ -39,9 +39,16 @@ pub struct SimConfig {
     pub seed: u64,
     /// Position sensors waiting for an LSS node-id.
     pub unconfigured: u8,
+    /// The bit rate the bus and every device start at (CiA 305 table index).
+    #[serde(default = "default_bit_rate")]
+    pub bit_rate: u8,
     /// Faults injected into devices' answers (see `faults`).
     #[serde(default)]
     pub faults: Vec<FaultSpec>,
+}
+
+fn default_bit_rate() -> u8 {
+    DEFAULT_BIT_RATE
 }
 
 impl Default for SimConfig {
@@ -50,6 +57,7 @@ impl Default for SimConfig {
             profile: Profile::default(),
             seed: DEFAULT_SEED,
             unconfigured: DEFAULT_UNCONFIGURED,
+            bit_rate: DEFAULT_BIT_RATE,
             faults: vec![],
         }
     }
@@ -68,6 +76,13 @@ impl SimConfig {
 
     pub fn unconfigured(mut self, n: u8) -> SimConfig {
         self.unconfigured = n;
+        self
+    }
+
+    /// The bus and every device at this bit rate (CiA 305 table index: 0 = 1 Mbit/s,
+    /// 4 = 125 kbit/s).
+    pub fn bit_rate(mut self, index: u8) -> SimConfig {
+        self.bit_rate = index;
         self
     }
 
@@ -242,7 +257,7 @@ impl Network {
     }
 
     pub fn restore(&mut self, s: &state::NetworkState) {
-        self.bit_rate = s.bit_rate.unwrap_or(DEFAULT_BIT_RATE);
+        self.bit_rate = s.bit_rate.unwrap_or(self.config.bit_rate);
         for d in &mut self.devices {
             if let Some(ds) = s.devices.get(&d.model) {
                 d.restore(ds);
@@ -403,6 +418,18 @@ impl SimLink {
         self.pop_done(now);
     }
 
+    /// Frames the master queued leave even if it goes away now (as the kernel still
+    /// sends what a closed socket queued): the devices hear them before their state is
+    /// saved. Bounded, for a bus a babbling device keeps busy.
+    fn flush(&mut self) {
+        let mut left = 100_000;
+        while self.bus.waiting_from(Origin::Master) > 0 && left > 0 {
+            let Some(next) = self.bus.next_done() else { break };
+            self.pop_done(next);
+            left -= 1;
+        }
+    }
+
     fn pop_done(&mut self, now: Nanos) {
         while let Some((end, origin, frame)) = self.bus.pop_done(now) {
             match origin {
@@ -451,6 +478,7 @@ impl FrameLink for SimLink {
     }
 
     fn close(&mut self) -> Result<()> {
+        self.flush();
         if self.net.take_dirty() {
             if let Some(file) = &self.file {
                 file.save(&self.net.snapshot())?;
