@@ -18,6 +18,8 @@ pub struct Master<L: FrameLink> {
     heartbeats: BTreeMap<u8, nmt::State>,
     /// Nodes that refused block transfer in this session: not asked again.
     no_block: BTreeSet<u8>,
+    /// Each node's last SDO answer, which may come a second time into its next transfer.
+    last_sdo_answer: BTreeMap<u8, Vec<u8>>,
     /// LSS answers that arrived outside `lss_exchange`.
     lss_seen: Vec<[u8; 8]>,
     in_lss_exchange: bool,
@@ -50,6 +52,7 @@ impl<L: FrameLink> Master<L> {
             trace,
             heartbeats: BTreeMap::new(),
             no_block: BTreeSet::new(),
+            last_sdo_answer: BTreeMap::new(),
             lss_seen: Vec::new(),
             in_lss_exchange: false,
         }
@@ -132,6 +135,7 @@ impl<L: FrameLink> Master<L> {
             a.heard = true;
             let outcome = a.client.on_response(f.data());
             let addr = a.client.addr();
+            self.last_sdo_answer.insert(node, f.data().to_vec());
             match outcome {
                 Ok(step) => {
                     if step.progress {
@@ -172,6 +176,9 @@ impl<L: FrameLink> Master<L> {
         let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else {
             return Ok(());
         };
+        if let Some(previous) = self.last_sdo_answer.get(&node) {
+            client.set_previous_answer(previous);
+        }
         let first = client.start();
         self.send(&Frame::new(sdo::request_cob(node), &first))?;
         let now = self.link.now();

@@ -99,6 +99,9 @@ pub struct SdoClient {
     fruitless: u32,
     /// Block upload: bytes of the final segment that its frame did not carry.
     tail_missing: usize,
+    /// The last answer of the previous transfer with this server, which may come a second
+    /// time (CAN double reception) before the first answer of this one.
+    previous: Option<([u8; 8], usize)>,
     /// Answers set aside without effect, and what the last one was.
     ignored: usize,
     last_ignored: Option<String>,
@@ -122,6 +125,7 @@ impl SdoClient {
             last: None,
             fruitless: 0,
             tail_missing: 0,
+            previous: None,
             ignored: 0,
             last_ignored: None,
         }
@@ -153,6 +157,12 @@ impl SdoClient {
     pub fn with_size_hint(mut self, size: Option<usize>) -> SdoClient {
         self.size_hint = size;
         self
+    }
+
+    /// The last answer of the previous transfer with the same server: a second copy of it
+    /// arriving before this transfer's first answer is set aside, not taken for an error.
+    pub fn set_previous_answer(&mut self, raw: &[u8]) {
+        self.previous = Some((pad(raw), raw.len().min(8)));
     }
 
     pub fn addr(&self) -> ObjAddr {
@@ -320,16 +330,17 @@ impl SdoClient {
         (named != self.addr).then(|| self.ignore(format!("an answer for object {named}, not {}", self.addr)))
     }
 
-    /// Before the server's first answer, a well-formed answer of another kind (a download
-    /// answer while we upload, a segment) answers an earlier transfer with this node: a
-    /// second copy of its last answer, or a late one. It is set aside; only a command
-    /// specifier CiA 301 does not define (scs 7) is an error here.
+    /// Before the server's first answer, an answer of another kind is an error, unless it
+    /// is a second copy of the previous transfer's last answer (the write's 0x60 reaching
+    /// the read-back of --verify): that one is set aside.
     fn not_for_this_transfer(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        if p[0] >> 5 == 7 {
-            return Err(self.unexpected(p));
+        if self.last.is_some() && self.last == self.previous {
+            let (_, len) = self.last.unwrap_or_default();
+            return Ok(
+                self.ignore(format!("a second copy of the previous transfer's last answer ({})", spaced(&p[..len])))
+            );
         }
-        let (_, len) = self.last.unwrap_or_default();
-        Ok(self.ignore(format!("an answer that fits no request of this transfer ({})", spaced(&p[..len]))))
+        Err(self.unexpected(p))
     }
 
     fn unexpected(&mut self, p: &[u8; 8]) -> SdoError {

@@ -634,22 +634,31 @@ fn time_budget_follows_the_size() {
 }
 
 #[test]
-fn leftover_answer_of_the_previous_transfer_is_set_aside() {
+fn second_copy_of_the_previous_transfers_answer_is_set_aside() {
     // A write's answer (0x60) arrived twice; the second copy reaches the read-back.
+    let written = answer(0x60, &[0, 0, 0, 0]);
     let mut c = SdoClient::upload(A, false);
+    c.set_previous_answer(&written);
     c.start();
-    let s = c.on_response(&answer(0x60, &[0, 0, 0, 0])).unwrap();
+    let s = c.on_response(&written).unwrap();
     assert!(!s.progress && s.send.is_empty() && s.done.is_none());
-    assert!(c.ignored().unwrap().1.contains("fits no request of this transfer"));
+    assert!(c.ignored().unwrap().1.contains("previous transfer's last answer"));
     assert_eq!(c.on_response(&answer(0x4F, &[7])).unwrap().done, Some(vec![7]));
     // The last segment of an earlier upload, before a download's answer.
     let mut c = SdoClient::download(A, vec![1, 2], false);
+    c.set_previous_answer(&[0x0B, 1, 2]);
     c.start();
-    assert!(!c.on_response(&[0x0B, 1, 2, 0, 0, 0, 0, 0]).unwrap().progress);
+    assert!(!c.on_response(&[0x0B, 1, 2]).unwrap().progress);
     assert_eq!(c.on_response(&answer(0x60, &[0, 0, 0, 0])).unwrap().done, Some(vec![]));
-    // A command specifier CiA 301 does not define is still an error.
+    // Any other answer of the wrong kind is an error (a corrupted command byte).
     let mut c = SdoClient::upload(A, false);
+    c.set_previous_answer(&written);
     c.start();
-    let (code, _) = client_abort(c.on_response(&answer(0xE0, &[0; 4])));
+    let (code, _) = client_abort(c.on_response(&answer(0xBC, &[1, 2, 3, 4])));
     assert_eq!(code, abort::UNKNOWN_COMMAND);
+    // An identical answer that is right for this transfer is taken (polling one object).
+    let mut c = SdoClient::upload(A, false);
+    c.set_previous_answer(&answer(0x4F, &[7]));
+    c.start();
+    assert_eq!(c.on_response(&answer(0x4F, &[7])).unwrap().done, Some(vec![7]));
 }
