@@ -18,11 +18,11 @@ pub struct Master<L: FrameLink> {
     heartbeats: BTreeMap<u8, nmt::State>,
     /// Nodes that refused block transfer in this session: not asked again.
     no_block: BTreeSet<u8>,
-    /// Each node's last SDO answer, which may come a second time into its next transfer.
-    last_sdo_answer: BTreeMap<u8, Vec<u8>>,
     /// LSS answers that arrived outside `lss_exchange`.
     lss_seen: Vec<[u8; 8]>,
     in_lss_exchange: bool,
+    /// Each node's last SDO answer, which may come a second time into its next transfer.
+    last_sdo_answer: BTreeMap<u8, Vec<u8>>,
 }
 
 /// One SDO transfer in flight.
@@ -52,9 +52,9 @@ impl<L: FrameLink> Master<L> {
             trace,
             heartbeats: BTreeMap::new(),
             no_block: BTreeSet::new(),
-            last_sdo_answer: BTreeMap::new(),
             lss_seen: Vec::new(),
             in_lss_exchange: false,
+            last_sdo_answer: BTreeMap::new(),
         }
     }
 
