@@ -125,8 +125,5 @@ fn mapping_more_than_64_bits_is_refused_by_the_device() {
     assert!(r.stderr.contains("0x06040042"), "{}", r.stderr);
     // The mapping as it was: the statusword alone.
     assert_eq!(sim.run(&["sdo", "read", "1", "1A00:0"]).ok().stdout.trim(), "1");
-    assert_eq!(
-        sim.run(&["sdo", "read", "1", "1A00:1", "--type", "u32"]).ok().stdout.trim(),
-        0x6041_0010u32.to_string()
-    );
+    assert_eq!(sim.run(&["sdo", "read", "1", "1A00:1", "--type", "u32"]).ok().stdout.trim(), 0x6041_0010u32.to_string());
 }
