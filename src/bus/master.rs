@@ -21,15 +21,27 @@ pub struct Master<L: FrameLink> {
     /// LSS answers that arrived outside `lss_exchange`.
     lss_seen: Vec<[u8; 8]>,
     in_lss_exchange: bool,
+    /// Each node's last SDO answer, which may come a second time into its next transfer.
+    last_sdo_answer: BTreeMap<u8, Vec<u8>>,
 }
 
 /// One SDO transfer in flight.
 struct Active {
     slot: usize,
     client: SdoClient,
-    deadline: Instant,
+    started: Instant,
+    /// No progress by then ends the transfer; only answers that advance it move this on.
+    idle_deadline: Instant,
+    /// The transfer ends by then however busy the device keeps it (`SdoClient::time_budget`).
+    total_deadline: Instant,
     /// Whether the server has answered at all: a node that never did gets no abort frame.
     heard: bool,
+}
+
+impl Active {
+    fn deadline(&self) -> Instant {
+        self.idle_deadline.min(self.total_deadline)
+    }
 }
 
 impl<L: FrameLink> Master<L> {
@@ -42,6 +54,7 @@ impl<L: FrameLink> Master<L> {
             no_block: BTreeSet::new(),
             lss_seen: Vec::new(),
             in_lss_exchange: false,
+            last_sdo_answer: BTreeMap::new(),
         }
     }
 
@@ -72,7 +85,9 @@ impl<L: FrameLink> Master<L> {
         Ok(f)
     }
 
-    /// Run SDO transfers: one per node at a time, all nodes at once.
+    /// Run SDO transfers: one per node at a time, all nodes at once. Each ends with its
+    /// answer or an error: after `timeout` without progress, at its total deadline, at a
+    /// protocol error, or at the device's abort.
     fn run(
         &mut self,
         jobs: Vec<(u8, SdoClient)>,
@@ -92,59 +107,61 @@ impl<L: FrameLink> Master<L> {
             self.start_next(node, &mut queues, &mut active, timeout)?;
         }
         while !active.is_empty() {
-            let deadline = active.values().map(|a| a.deadline).min().expect("non-empty");
-            if let Some(f) = self.recv(deadline)? {
-                let node = f.id().wrapping_sub(0x580);
-                if f.is_remote() || !(1..=127).contains(&node) {
-                    continue;
-                }
-                let node = node as u8;
-                let Some(a) = active.get_mut(&node) else {
-                    continue;
-                };
-                a.heard = true;
-                a.deadline = Instant::now() + timeout;
-                let outcome = a.client.on_response(f.data());
+            // Checked on every turn, not only when the link is quiet: on a busy bus frames
+            // keep coming and a transfer must still end on time.
+            let now = self.link.now();
+            let expired: Vec<u8> = active.iter().filter(|(_, a)| a.deadline() <= now).map(|(n, _)| *n).collect();
+            for node in expired {
+                let a = active.remove(&node).expect("active");
                 let addr = a.client.addr();
-                match outcome {
-                    Ok(step) => {
-                        for p in &step.send {
-                            self.send(&Frame::new(sdo::request_cob(node), p))?;
-                        }
-                        let Some(data) = step.done else { continue };
-                        let a = active.remove(&node).expect("active");
-                        if a.client.fell_back() {
-                            self.no_block.insert(node);
-                        }
-                        results[a.slot] = Some(Ok(data));
-                    }
-                    Err(e) => {
-                        let a = active.remove(&node).expect("active");
-                        results[a.slot] = Some(Err(self.sdo_error(node, addr, e)?));
-                    }
+                if a.heard {
+                    self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
                 }
+                results[a.slot] = Some(Err(Error::Timeout(expiry_message(node, &a, now, timeout))));
                 finished += 1;
                 progress(finished);
                 self.start_next(node, &mut queues, &mut active, timeout)?;
-            } else {
-                let now = Instant::now();
-                let expired: Vec<u8> = active.iter().filter(|(_, a)| a.deadline <= now).map(|(n, _)| *n).collect();
-                for node in expired {
-                    let a = active.remove(&node).expect("active");
-                    let addr = a.client.addr();
-                    if a.heard {
-                        self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
+            }
+            let Some(deadline) = active.values().map(Active::deadline).min() else { break };
+            let Some(f) = self.recv(deadline)? else { continue };
+            let node = f.id().wrapping_sub(0x580);
+            if f.is_remote() || !(1..=127).contains(&node) {
+                continue;
+            }
+            let node = node as u8;
+            let Some(a) = active.get_mut(&node) else {
+                continue;
+            };
+            a.heard = true;
+            let outcome = a.client.on_response(f.data());
+            let addr = a.client.addr();
+            self.last_sdo_answer.insert(node, f.data().to_vec());
+            match outcome {
+                Ok(step) => {
+                    if step.progress {
+                        let now = self.link.now();
+                        a.idle_deadline = now + timeout;
+                        // The size may have become known: the budget follows it.
+                        a.total_deadline = a.started + a.client.time_budget(timeout);
                     }
-                    let what = if a.heard { "stopped answering during" } else { "did not answer" };
-                    results[a.slot] = Some(Err(Error::Timeout(format!(
-                        "node {node}: {what} the SDO transfer of {addr} (waited {} ms)",
-                        timeout.as_millis()
-                    ))));
-                    finished += 1;
-                    progress(finished);
-                    self.start_next(node, &mut queues, &mut active, timeout)?;
+                    for p in &step.send {
+                        self.send(&Frame::new(sdo::request_cob(node), p))?;
+                    }
+                    let Some(data) = step.done else { continue };
+                    let a = active.remove(&node).expect("active");
+                    if a.client.fell_back() {
+                        self.no_block.insert(node);
+                    }
+                    results[a.slot] = Some(Ok(data));
+                }
+                Err(e) => {
+                    let a = active.remove(&node).expect("active");
+                    results[a.slot] = Some(Err(self.sdo_error(node, addr, e)?));
                 }
             }
+            finished += 1;
+            progress(finished);
+            self.start_next(node, &mut queues, &mut active, timeout)?;
         }
         Ok(results.into_iter().map(|r| r.expect("every job ends")).collect())
     }
@@ -159,9 +176,17 @@ impl<L: FrameLink> Master<L> {
         let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else {
             return Ok(());
         };
+        if let Some(previous) = self.last_sdo_answer.get(&node) {
+            client.set_previous_answer(previous);
+        }
         let first = client.start();
         self.send(&Frame::new(sdo::request_cob(node), &first))?;
-        active.insert(node, Active { slot, client, deadline: Instant::now() + timeout, heard: false });
+        let now = self.link.now();
+        let total_deadline = now + client.time_budget(timeout);
+        active.insert(
+            node,
+            Active { slot, client, started: now, idle_deadline: now + timeout, total_deadline, heard: false },
+        );
         Ok(())
     }
 
@@ -186,11 +211,48 @@ impl<L: FrameLink> Master<L> {
     fn block_allowed(&self, node: u8, wanted: bool) -> bool {
         wanted && !self.no_block.contains(&node)
     }
+
+    fn upload_client(&self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> SdoClient {
+        SdoClient::upload(addr, self.block_allowed(node, opts.block_upload))
+            .with_max_upload(opts.max_upload)
+            .with_size_hint(opts.size_hint)
+    }
 }
 
 /// Receive filters for SDO transfers with these nodes: their answers, heartbeats (which
 /// report NMT states on the way) and LSS answers (to a request sent along with a scan).
 /// Many nodes: the whole SDO answer range.
+/// Why a transfer ran out of time, in the words a user can act on.
+fn expiry_message(node: u8, a: &Active, now: Instant, timeout: Duration) -> String {
+    let addr = a.client.addr();
+    let ms = timeout.as_millis();
+    if !a.heard {
+        return format!("node {node}: did not answer the SDO transfer of {addr} (waited {ms} ms)");
+    }
+    let (moved, total) = a.client.progress();
+    let moved = match total {
+        Some(total) => format!("{moved} of {total} bytes"),
+        None => format!("{moved} bytes"),
+    };
+    if a.idle_deadline > now {
+        let budget = a.total_deadline.saturating_duration_since(a.started);
+        return format!(
+            "node {node}: the SDO transfer of {addr} did not finish within its deadline of {:.1} s \
+             ({moved} moved; the deadline follows from the size and --timeout {ms} ms)",
+            budget.as_secs_f64()
+        );
+    }
+    match a.client.ignored() {
+        Some((count, last)) => format!(
+            "node {node}: the SDO transfer of {addr} made no progress for {ms} ms ({moved} moved): \
+             the device sent {count} frame(s) that did not advance it (the last: {last})"
+        ),
+        None => {
+            format!("node {node}: stopped answering during the SDO transfer of {addr} (waited {ms} ms, {moved} moved)")
+        }
+    }
+}
+
 fn sdo_filters(nodes: impl ExactSizeIterator<Item = u8>) -> Vec<(u16, u16)> {
     const HEARTBEATS: (u16, u16) = (0x700, 0x780);
     const LSS_ANSWERS: (u16, u16) = (lss::SLAVE_COB, 0x7FF);
@@ -218,11 +280,18 @@ impl<L: FrameLink> Bus for Master<L> {
     }
 
     fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        let client = SdoClient::upload(addr, self.block_allowed(node, opts.block_upload));
+        let client = self.upload_client(node, addr, opts);
         self.one(node, client, opts.timeout)
     }
 
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+        if u32::try_from(data.len()).is_err() {
+            return Err(Error::Usage(format!(
+                "{} bytes cannot be written by SDO: CiA 301 sizes are 32-bit (at most {} bytes)",
+                data.len(),
+                u32::MAX
+            )));
+        }
         let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
         self.one(node, client, opts.timeout).map(|_| ())
     }
@@ -236,10 +305,7 @@ impl<L: FrameLink> Bus for Master<L> {
         for (node, _) in requests {
             check_node(*node)?;
         }
-        let jobs = requests
-            .iter()
-            .map(|(node, addr)| (*node, SdoClient::upload(*addr, self.block_allowed(*node, opts.block_upload))))
-            .collect();
+        let jobs = requests.iter().map(|(node, addr)| (*node, self.upload_client(*node, *addr, opts))).collect();
         self.run(jobs, opts.timeout, progress)
     }
 

@@ -22,6 +22,11 @@ pub trait FrameLink {
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>>;
     /// Interface name for traces (`can0`, `sim`).
     fn name(&self) -> String;
+    /// The clock `recv` deadlines are measured on. Real links keep the default; a test link
+    /// that plays a device with virtual delays returns its own time.
+    fn now(&self) -> Instant {
+        Instant::now()
+    }
     /// Receive only frames whose id matches one of these (id, mask) pairs; `[(0, 0)]`
     /// is everything. Links without hardware filtering ignore it.
     fn set_filters(&mut self, _filters: &[(u16, u16)]) -> Result<()> {
@@ -35,7 +40,9 @@ pub trait FrameLink {
 
 #[derive(Clone, Debug)]
 pub struct SdoOptions {
-    /// How long to wait for each answer.
+    /// How long to wait for each answer: a transfer that makes no progress for this long
+    /// ends (frames that do not advance it do not count). The whole transfer has a deadline
+    /// that follows from it and the size (`SdoClient::time_budget`).
     pub timeout: Duration,
     /// Ask for block upload (worth it for strings and domains).
     pub block_upload: bool,
@@ -44,11 +51,19 @@ pub struct SdoOptions {
     /// The size the caller expects, when it knows the type: links whose short read
     /// returns a fixed four bytes (EPOS2 ReadObject) cut the answer to it.
     pub size_hint: Option<usize>,
+    /// Uploads stop (and announced sizes are refused) beyond this many bytes.
+    pub max_upload: usize,
 }
 
 impl SdoOptions {
     pub fn new(timeout: Duration) -> SdoOptions {
-        SdoOptions { timeout, block_upload: false, block_download: true, size_hint: None }
+        SdoOptions {
+            timeout,
+            block_upload: false,
+            block_download: true,
+            size_hint: None,
+            max_upload: crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD,
+        }
     }
 }
 

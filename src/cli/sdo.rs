@@ -45,6 +45,10 @@ pub struct ReadArgs {
     /// Never use block transfer (segmented instead)
     #[arg(long)]
     pub no_block: bool,
+    /// Largest value to accept: an upload that grows past it is aborted, and one announced
+    /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³)
+    #[arg(long, value_name = "SIZE", default_value = "1M", value_parser = parse_size)]
+    pub max_size: usize,
 }
 
 /// Write an object (SDO download)
@@ -84,6 +88,27 @@ fn parse_type(s: &str) -> Result<DataType, String> {
     s.parse()
 }
 
+/// A byte count: `4096`, `64k`, `16M`, `1G` (binary multiples; `KiB`, `MB` and the like
+/// read the same). At most 4 GiB - 1: CiA 301 sizes are 32-bit.
+fn parse_size(s: &str) -> Result<usize, String> {
+    let t = s.trim();
+    let digits = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
+    let (number, unit) = t.split_at(digits);
+    let number: u64 =
+        number.parse().map_err(|_| format!("'{s}' is not a size: a number of bytes, e.g. 4096, 64k, 16M"))?;
+    let shift = match unit.trim().to_ascii_lowercase().trim_end_matches('b').trim_end_matches('i') {
+        "" => 0,
+        "k" => 10,
+        "m" => 20,
+        "g" => 30,
+        _ => return Err(format!("'{s}': unknown unit '{unit}' (k, M or G)")),
+    };
+    let bytes = number.checked_shl(shift).filter(|b| *b <= u64::from(u32::MAX) && b >> shift == number);
+    bytes
+        .and_then(|b| usize::try_from(b).ok())
+        .ok_or_else(|| format!("'{s}' is over 4G - 1 bytes, the largest size CiA 301 can carry"))
+}
+
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
     match cmd {
         SdoCommand::Read(a) => read(ctx, bus, a),
@@ -117,8 +142,10 @@ fn target(
 
 fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     let (object, dtype, name) = target(ctx, a.node, &a.object, a.dtype)?;
-    let a = &Resolved { node: a.node, object, dtype, name, out: a.out.clone(), no_block: a.no_block };
-    let bytes = bus.sdo_upload(a.node, a.object, &options(ctx, a.dtype, a.no_block))?;
+    let mut opts = options(ctx, dtype, a.no_block);
+    opts.max_upload = a.max_size;
+    let a = &Resolved { node: a.node, object, dtype, name, out: a.out.clone() };
+    let bytes = bus.sdo_upload(a.node, a.object, &opts)?;
     let value = match a.dtype {
         Some(t) => Some(t.decode(&bytes).ok_or_else(|| {
             Error::Usage(format!(
@@ -214,7 +241,9 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, args: &WriteArgs) -> anyhow::Result<()> {
     if let Some(entry) = ctx.dicts.for_node(a.node).get(object).filter(|e| e.dtype == dtype) {
         check_range(entry, &bytes)?;
     }
-    let opts = options(ctx, Some(dtype), args.no_block);
+    let mut opts = options(ctx, Some(dtype), args.no_block);
+    // The read-back of --verify takes back as much as was written.
+    opts.max_upload = opts.max_upload.max(bytes.len());
     bus.sdo_download(a.node, a.object, &bytes, &opts)?;
     if a.verify {
         let back = bus.sdo_upload(a.node, a.object, &opts)?;
@@ -261,7 +290,6 @@ struct Resolved {
     dtype: Option<DataType>,
     name: Option<String>,
     out: Option<PathBuf>,
-    no_block: bool,
 }
 
 struct WriteTarget {
@@ -309,4 +337,23 @@ fn value_bytes(dtype: DataType, value: &str) -> Result<Vec<u8>, Error> {
         return Ok(data);
     }
     dtype.parse(value).map_err(|e| Error::Usage(e.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_size;
+
+    #[test]
+    fn sizes_parse_in_binary_multiples_up_to_32_bits() {
+        assert_eq!(parse_size("4096"), Ok(4096));
+        assert_eq!(parse_size("64k"), Ok(64 << 10));
+        assert_eq!(parse_size("16M"), Ok(16 << 20));
+        assert_eq!(parse_size("16MiB"), Ok(16 << 20));
+        assert_eq!(parse_size("1G"), Ok(1 << 30));
+        assert_eq!(parse_size("4294967295"), Ok(u32::MAX as usize));
+        assert!(parse_size("4G").unwrap_err().contains("over 4G - 1"));
+        assert!(parse_size("2x").unwrap_err().contains("unknown unit"));
+        assert!(parse_size("M").is_err());
+        assert!(parse_size("99999999999999999999999").is_err());
+    }
 }

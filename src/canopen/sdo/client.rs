@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::canopen::abort;
+use std::time::Duration;
 
 /// Downloads of at least this many bytes use block transfer when allowed: below it the
 /// four extra frames of block set-up cost more than block saves.
@@ -10,8 +11,14 @@ pub const BLOCK_DOWNLOAD_MIN: usize = 64;
 const UPLOAD_BLOCK_SIZE: u8 = MAX_BLOCK_SIZE;
 /// On block upload, a server may switch to plain upload for objects this small (CiA 301 "pst").
 const PROTOCOL_SWITCH_THRESHOLD: u8 = 21;
-/// Refuse uploads larger than this rather than grow without bound on a device's word.
-pub const DEFAULT_MAX_UPLOAD: usize = 64 << 20;
+/// Uploads stop at this size unless the caller allows more: a device that never ends an
+/// upload must not fill memory (or the terminal) first. Objects read in the field are far
+/// smaller; firmware read-back raises it (`sdo read --max-size`).
+pub const DEFAULT_MAX_UPLOAD: usize = 1 << 20;
+/// Sub-blocks in a row that move no data before the client gives up on a block transfer:
+/// a device that never acknowledges in sequence (or never sends in sequence) would
+/// otherwise be answered with the same sub-block forever.
+pub const MAX_BLOCK_RETRANSMISSIONS: u32 = 4;
 
 #[derive(Debug, PartialEq, Eq)]
 pub enum SdoError {
@@ -29,17 +36,25 @@ pub struct Step {
     pub send: Vec<[u8; 8]>,
     /// The uploaded bytes (empty for a download) once the transfer is complete.
     pub done: Option<Vec<u8>>,
+    /// Whether this answer advanced the transfer. Duplicates, late answers for another
+    /// object and retransmission requests do not: the caller's no-progress timer keeps
+    /// running through them.
+    pub progress: bool,
 }
 
 impl Step {
     fn send(frames: Vec<[u8; 8]>) -> Step {
-        Step { send: frames, done: None }
+        Step { send: frames, done: None, progress: true }
     }
     fn wait() -> Step {
-        Step { send: Vec::new(), done: None }
+        Step { send: Vec::new(), done: None, progress: true }
     }
     fn done(send: Vec<[u8; 8]>, data: Vec<u8>) -> Step {
-        Step { send, done: Some(data) }
+        Step { send, done: Some(data), progress: true }
+    }
+    /// Something to send that moves nothing forward (a retransmission request).
+    fn retry(frames: Vec<[u8; 8]>) -> Step {
+        Step { send: frames, done: None, progress: false }
     }
 }
 
@@ -62,16 +77,34 @@ enum State {
 pub struct SdoClient {
     addr: ObjAddr,
     state: State,
+    upload: bool,
     /// Upload: bytes received. Download: bytes to send.
     buf: Vec<u8>,
     /// Download: bytes confirmed by the server.
     pos: usize,
     toggle: bool,
+    /// Upload: the size the server announced.
     size: Option<usize>,
     crc: bool,
     blksize: u8,
     max_upload: usize,
+    /// Upload: the size of the type the caller asked for, for an expedited answer that
+    /// does not indicate its size.
+    size_hint: Option<usize>,
     fell_back: bool,
+    /// The answer being handled and its length (a frame may be shorter than 8 bytes); kept
+    /// to recognise the next answer as a repeat of it.
+    last: Option<([u8; 8], usize)>,
+    /// Sub-blocks in a row that moved no data.
+    fruitless: u32,
+    /// Block upload: bytes of the final segment that its frame did not carry.
+    tail_missing: usize,
+    /// The last answer of the previous transfer with this server, which may come a second
+    /// time (CAN double reception) before the first answer of this one.
+    previous: Option<([u8; 8], usize)>,
+    /// Answers set aside without effect, and what the last one was.
+    ignored: usize,
+    last_ignored: Option<String>,
 }
 
 impl SdoClient {
@@ -79,6 +112,7 @@ impl SdoClient {
         SdoClient {
             addr,
             state,
+            upload: matches!(state, State::UploadInit | State::BlockUploadInit),
             buf,
             pos: 0,
             toggle: false,
@@ -86,7 +120,14 @@ impl SdoClient {
             crc: false,
             blksize: 0,
             max_upload: DEFAULT_MAX_UPLOAD,
+            size_hint: None,
             fell_back: false,
+            last: None,
+            fruitless: 0,
+            tail_missing: 0,
+            previous: None,
+            ignored: 0,
+            last_ignored: None,
         }
     }
 
@@ -97,16 +138,31 @@ impl SdoClient {
     }
 
     /// A download; the protocol follows from the size: expedited up to 4 bytes, block from
-    /// `BLOCK_DOWNLOAD_MIN` when `block` allows it, segmented otherwise.
+    /// `BLOCK_DOWNLOAD_MIN` when `block` allows it, segmented otherwise. Sizes travel as
+    /// 32-bit values: callers refuse data over `u32::MAX` bytes before this.
     pub fn download(addr: ObjAddr, data: Vec<u8>, block: bool) -> SdoClient {
         let state =
             if block && data.len() >= BLOCK_DOWNLOAD_MIN { State::BlockDownloadInit } else { State::DownloadInit };
         SdoClient::new(addr, state, data)
     }
 
+    /// Stop an upload that grows past `max` bytes, and refuse one announced larger.
     pub fn with_max_upload(mut self, max: usize) -> SdoClient {
         self.max_upload = max;
         self
+    }
+
+    /// The size of the type the caller expects: an expedited answer without its size
+    /// indicated carries that many bytes (all four when unknown).
+    pub fn with_size_hint(mut self, size: Option<usize>) -> SdoClient {
+        self.size_hint = size;
+        self
+    }
+
+    /// The last answer of the previous transfer with the same server: a second copy of it
+    /// arriving before this transfer's first answer is set aside, not taken for an error.
+    pub fn set_previous_answer(&mut self, raw: &[u8]) {
+        self.previous = Some((pad(raw), raw.len().min(8)));
     }
 
     pub fn addr(&self) -> ObjAddr {
@@ -121,14 +177,30 @@ impl SdoClient {
 
     /// Bytes moved so far, and the total when known.
     pub fn progress(&self) -> (usize, Option<usize>) {
-        match self.state {
-            State::UploadInit
-            | State::UploadSegment
-            | State::BlockUploadInit
-            | State::BlockUploadData { .. }
-            | State::BlockUploadEnd => (self.buf.len(), self.size),
-            _ => (self.pos, Some(self.buf.len())),
+        if self.upload {
+            (self.buf.len(), self.size)
+        } else {
+            (self.pos, Some(self.buf.len()))
         }
+    }
+
+    /// How many answers were set aside without effect (repeats, late answers for another
+    /// object, segments out of sequence), and what the last of them was.
+    pub fn ignored(&self) -> Option<(usize, &str)> {
+        self.last_ignored.as_deref().map(|what| (self.ignored, what))
+    }
+
+    /// The longest the whole transfer may take when each answer may take `per_answer`:
+    /// four answers' time to set up and finish, then half of one per segment of the size
+    /// (the size when known, else the upload limit). A device that answers in time now
+    /// and then, but keeps the transfer going far slower than that, ends here.
+    pub fn time_budget(&self, per_answer: Duration) -> Duration {
+        let size = match self.progress() {
+            (_, Some(total)) => total,
+            (_, None) => self.max_upload,
+        };
+        let segments = u32::try_from(size.div_ceil(SEGMENT_DATA)).unwrap_or(u32::MAX);
+        per_answer.saturating_mul(4).saturating_add((per_answer / 2).saturating_mul(segments))
     }
 
     /// The first request.
@@ -153,22 +225,44 @@ impl SdoClient {
         }
     }
 
-    fn local_abort(&self, code: u32, reason: impl Into<String>) -> SdoError {
+    /// End the transfer from our side: send `abort_frame(addr, code)` and report `reason`.
+    fn fail(&mut self, code: u32, reason: impl Into<String>) -> SdoError {
+        self.state = State::Finished;
         SdoError::ClientAbort { code, reason: reason.into() }
+    }
+
+    /// Set an answer aside: it changes nothing and is no progress.
+    fn ignore(&mut self, what: String) -> Step {
+        self.ignored += 1;
+        self.last_ignored = Some(what);
+        Step { send: Vec::new(), done: None, progress: false }
     }
 
     /// Feed one payload that arrived on the response COB-ID.
     pub fn on_response(&mut self, raw: &[u8]) -> Result<Step, SdoError> {
+        if self.state == State::Finished {
+            return Ok(self.ignore(format!("an answer after the transfer had ended ({})", spaced(raw))));
+        }
+        if raw.is_empty() {
+            return Err(self.fail(abort::GENERAL_ERROR, "the device sent an empty frame (DLC 0) on the SDO channel"));
+        }
         let p = pad(raw);
+        let len = raw.len().min(8);
+        if self.is_repeat(&p, len) {
+            return Ok(self.ignore(format!("a repeat of its previous answer ({})", spaced(raw))));
+        }
+        self.last = Some((p, len));
         if let State::BlockUploadData { expected } = self.state {
             // Inside a sub-block every frame is a segment; 0x80 (sequence 0) is an abort.
             if let Some(code) = abort_code(&p) {
+                self.require(8, "an abort (0x80) with its code")?;
                 self.state = State::Finished;
                 return Err(SdoError::ServerAbort(code));
             }
             return self.block_upload_segment(&p, expected);
         }
         if let Some(code) = abort_code(&p) {
+            self.require(8, "an abort (0x80) with its code")?;
             return self.on_abort(code);
         }
         match self.state {
@@ -181,9 +275,30 @@ impl SdoClient {
             State::BlockDownloadInit => self.block_download_initiated(&p),
             State::BlockDownloadData { in_block } => self.block_download_acked(&p, in_block),
             State::BlockDownloadEnd => self.block_download_end(&p),
-            State::BlockUploadData { .. } => unreachable!(),
-            State::Finished => Ok(Step::wait()),
+            State::BlockUploadData { .. } | State::Finished => unreachable!("handled above"),
         }
+    }
+
+    /// The same frame twice in a row is one answer received twice (CAN double reception,
+    /// a device that resends): consecutive answers of one transfer always differ (toggle
+    /// bit, sequence number, command), except block acknowledgements, where two identical
+    /// ones confirm two whole sub-blocks.
+    fn is_repeat(&self, p: &[u8; 8], len: usize) -> bool {
+        let block_ack = matches!(self.state, State::BlockDownloadData { .. }) && p[0] & 0xE3 == 0xA2;
+        self.last == Some((*p, len)) && !block_ack
+    }
+
+    /// The answer must carry the `n` bytes its command specifier makes meaningful: missing
+    /// bytes are never read as zero.
+    fn require(&mut self, n: usize, what: &str) -> Result<(), SdoError> {
+        let (p, len) = self.last.unwrap_or_default();
+        if len >= n {
+            return Ok(());
+        }
+        Err(self.fail(
+            abort::GENERAL_ERROR,
+            format!("the device sent {what} in a {len}-byte frame ({}), which needs {n} bytes", spaced(&p[..len])),
+        ))
     }
 
     fn on_abort(&mut self, code: u32) -> Result<Step, SdoError> {
@@ -208,25 +323,65 @@ impl SdoClient {
         Err(SdoError::ServerAbort(code))
     }
 
-    fn check_mux(&self, p: &[u8; 8]) -> Result<(), SdoError> {
-        if mux(p) != self.addr {
-            return Err(self
-                .local_abort(abort::GENERAL_ERROR, format!("the answer names object {}, not {}", mux(p), self.addr)));
+    /// An initiate answer naming another object answers an earlier request (one that timed
+    /// out, or another client's): not ours, so it is set aside.
+    fn other_object(&mut self, p: &[u8; 8]) -> Option<Step> {
+        let named = mux(p);
+        (named != self.addr).then(|| self.ignore(format!("an answer for object {named}, not {}", self.addr)))
+    }
+
+    /// Before the server's first answer, an answer of another kind is an error, unless it
+    /// is a second copy of the previous transfer's last answer (the write's 0x60 reaching
+    /// the read-back of --verify): that one is set aside.
+    fn not_for_this_transfer(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
+        if self.last.is_some() && self.last == self.previous {
+            let (_, len) = self.last.unwrap_or_default();
+            return Ok(
+                self.ignore(format!("a second copy of the previous transfer's last answer ({})", spaced(&p[..len])))
+            );
         }
-        Ok(())
+        Err(self.unexpected(p))
     }
 
     fn unexpected(&mut self, p: &[u8; 8]) -> SdoError {
-        self.state = State::Finished;
-        self.local_abort(abort::UNKNOWN_COMMAND, format!("unexpected command byte 0x{:02X} from the server", p[0]))
+        self.fail(abort::UNKNOWN_COMMAND, format!("unexpected command byte 0x{:02X} from the server", p[0]))
     }
 
-    fn check_size(&mut self, size: usize) -> Result<(), SdoError> {
+    /// The size a server announced, as CiA 301 carries it: 32 bits, unsigned.
+    fn announce(&mut self, size: u32) -> Result<(), SdoError> {
+        let size = usize::try_from(size).unwrap_or(usize::MAX);
         if size > self.max_upload {
-            self.state = State::Finished;
-            return Err(self.local_abort(
+            return Err(self.fail(
                 abort::OUT_OF_MEMORY,
-                format!("the object is {size} bytes, over the {} byte limit", self.max_upload),
+                format!(
+                    "the device announces {size} bytes, more than the upload limit of {} bytes \
+                     (sdo read --max-size raises the limit)",
+                    self.max_upload
+                ),
+            ));
+        }
+        self.size = Some(size);
+        self.buf.reserve(size);
+        Ok(())
+    }
+
+    /// After data arrived: at least `received` bytes so far, which must be neither more
+    /// than the server announced nor more than the limit.
+    fn check_received(&mut self, received: usize) -> Result<(), SdoError> {
+        if let Some(size) = self.size.filter(|s| received > *s) {
+            return Err(self.fail(
+                abort::GENERAL_ERROR,
+                format!("the device announced {size} bytes and sent more ({received} so far)"),
+            ));
+        }
+        if received > self.max_upload {
+            return Err(self.fail(
+                abort::OUT_OF_MEMORY,
+                format!(
+                    "the upload did not end within the limit of {} bytes: stopped after {received} \
+                     (sdo read --max-size raises the limit)",
+                    self.max_upload
+                ),
             ));
         }
         Ok(())
@@ -234,21 +389,26 @@ impl SdoClient {
 
     fn upload_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
         if p[0] & 0xE0 != 0x40 {
-            return Err(self.unexpected(p));
+            return self.not_for_this_transfer(p);
         }
-        self.check_mux(p)?;
+        self.require(4, "an upload answer")?;
+        if let Some(step) = self.other_object(p) {
+            return Ok(step);
+        }
         let expedited = p[0] & 0x02 != 0;
         let sized = p[0] & 0x01 != 0;
         if expedited {
-            let len = expedited_len(p[0]);
+            // Without the size indicated (e=1, s=0, which CiA 301 allows) the data is as
+            // long as the type asked for, else all four bytes.
+            let len =
+                if sized { expedited_len(p[0]) } else { self.size_hint.filter(|h| (1..=4).contains(h)).unwrap_or(4) };
+            self.require(4 + len, &format!("an expedited answer of {len} byte(s)"))?;
             self.state = State::Finished;
             return Ok(Step::done(vec![], p[4..4 + len].to_vec()));
         }
         if sized {
-            let size = le_u32(&p[4..]) as usize;
-            self.check_size(size)?;
-            self.size = Some(size);
-            self.buf.reserve(size);
+            self.require(8, "a segmented upload answer with its size")?;
+            self.announce(le_u32(&p[4..]))?;
         }
         self.state = State::UploadSegment;
         self.toggle = false;
@@ -260,18 +420,21 @@ impl SdoClient {
             return Err(self.unexpected(p));
         }
         if (p[0] & 0x10 != 0) != self.toggle {
-            self.state = State::Finished;
-            return Err(self.local_abort(abort::TOGGLE_BIT, "toggle bit not alternated"));
+            return Err(self.fail(abort::TOGGLE_BIT, "toggle bit not alternated"));
         }
         let n = ((p[0] >> 1) & 7) as usize;
+        self.require(8 - n, &format!("a segment of {} byte(s)", SEGMENT_DATA - n))?;
         self.buf.extend_from_slice(&p[1..8 - n]);
-        self.check_size(self.buf.len())?;
+        self.check_received(self.buf.len())?;
         if p[0] & 0x01 != 0 {
             self.state = State::Finished;
             return self.finish_upload(vec![]);
         }
         self.toggle = !self.toggle;
-        Ok(Step::send(vec![segment(0x60 | (self.toggle as u8) << 4, &[])]))
+        let next = segment(0x60 | (self.toggle as u8) << 4, &[]);
+        // A segment that carries nothing and is not the last moves nothing: an endless
+        // stream of them is no progress.
+        Ok(if n < SEGMENT_DATA { Step::send(vec![next]) } else { Step::retry(vec![next]) })
     }
 
     fn finish_upload(&mut self, send: Vec<[u8; 8]>) -> Result<Step, SdoError> {
@@ -290,65 +453,108 @@ impl SdoClient {
         match p[0] & 0xE0 {
             // The server used the protocol switch threshold: plain upload from here.
             0x40 => {
+                self.require(4, "an upload answer")?;
+                if let Some(step) = self.other_object(p) {
+                    return Ok(step);
+                }
                 self.state = State::UploadInit;
                 self.upload_initiated(p)
             }
             0xC0 if p[0] & 0x01 == 0 => {
-                self.check_mux(p)?;
+                self.require(4, "a block upload answer")?;
+                if let Some(step) = self.other_object(p) {
+                    return Ok(step);
+                }
                 self.crc = p[0] & 0x04 != 0;
                 if p[0] & 0x02 != 0 {
-                    let size = le_u32(&p[4..]) as usize;
-                    self.check_size(size)?;
-                    self.size = Some(size);
-                    self.buf.reserve(size);
+                    self.require(8, "a block upload answer with its size")?;
+                    self.announce(le_u32(&p[4..]))?;
                 }
                 self.blksize = UPLOAD_BLOCK_SIZE;
                 self.state = State::BlockUploadData { expected: 1 };
                 Ok(Step::send(vec![segment(0xA3, &[])]))
             }
-            _ => Err(self.unexpected(p)),
+            _ => self.not_for_this_transfer(p),
         }
     }
 
     fn block_upload_segment(&mut self, p: &[u8; 8], expected: u8) -> Result<Step, SdoError> {
         let seq = p[0] & 0x7F;
         let last = p[0] & 0x80 != 0;
+        // Only the final segment may come short: how much of it is data, the end frame says.
+        if !last {
+            self.require(8, &format!("block segment {seq}"))?;
+        }
+        let in_order = seq == expected;
         let mut expected = expected;
-        if seq == expected {
-            self.buf.extend_from_slice(&p[1..8]);
-            self.check_size(self.buf.len().saturating_sub(7))?;
+        if in_order {
+            let len = self.last.map_or(8, |(_, len)| len);
+            self.buf.extend_from_slice(&p[1..len]);
+            if last {
+                self.tail_missing = 8 - len;
+            } else {
+                self.check_received(self.buf.len())?;
+            }
             expected += 1;
         }
-        // Lost or repeated segments are not stored; the acknowledgement below tells the
-        // server the last one received in order, and it repeats from there.
-        let in_order_last = last && seq + 1 == expected;
-        if seq == self.blksize || last {
-            let ack = segment(0xA2, &[expected - 1, self.blksize]);
-            self.state = if in_order_last { State::BlockUploadEnd } else { State::BlockUploadData { expected: 1 } };
-            return Ok(Step::send(vec![ack]));
+        if seq != self.blksize && !last {
+            self.state = State::BlockUploadData { expected };
+            if in_order {
+                return Ok(Step::wait());
+            }
+            return Ok(self.ignore(format!("block segment {seq} where segment {expected} was due")));
         }
-        self.state = State::BlockUploadData { expected };
-        Ok(Step::wait())
+        // End of a sub-block. Lost or repeated segments were not stored; the acknowledgement
+        // tells the server the last one received in order, and it repeats from there.
+        let received = expected - 1;
+        if received == 0 {
+            self.fruitless += 1;
+            if self.fruitless > MAX_BLOCK_RETRANSMISSIONS {
+                return Err(self.fail(
+                    abort::INVALID_SEQUENCE,
+                    format!(
+                        "the device sent {} sub-blocks in a row without segment 1 in sequence \
+                         (the last one ended with segment {seq})",
+                        self.fruitless
+                    ),
+                ));
+            }
+        } else {
+            self.fruitless = 0;
+        }
+        let ack = segment(0xA2, &[received, self.blksize]);
+        self.state = if last && in_order { State::BlockUploadEnd } else { State::BlockUploadData { expected: 1 } };
+        Ok(if received == 0 { Step::retry(vec![ack]) } else { Step::send(vec![ack]) })
     }
 
     fn block_upload_end(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
         if p[0] & 0xE3 != 0xC1 {
             return Err(self.unexpected(p));
         }
+        self.require(if self.crc { 3 } else { 1 }, "the block upload end")?;
         self.state = State::Finished;
         let n = ((p[0] >> 2) & 7) as usize;
-        if n > self.buf.len() {
-            return Err(self.local_abort(abort::GENERAL_ERROR, "block end claims more unused bytes than were sent"));
+        if n < self.tail_missing {
+            return Err(self.fail(
+                abort::GENERAL_ERROR,
+                format!(
+                    "the last block segment came {} byte(s) short of the data the end frame counts",
+                    self.tail_missing - n
+                ),
+            ));
         }
-        self.buf.truncate(self.buf.len() - n);
+        let unused = n - self.tail_missing;
+        if unused > self.buf.len() {
+            return Err(self.fail(abort::GENERAL_ERROR, "block end claims more unused bytes than were sent"));
+        }
+        self.buf.truncate(self.buf.len() - unused);
+        self.check_received(self.buf.len())?;
         if self.crc {
             let got = u16::from_le_bytes([p[1], p[2]]);
             let want = block_crc(&self.buf);
             if got != want {
-                return Err(self.local_abort(
-                    abort::CRC_ERROR,
-                    format!("block CRC 0x{got:04X} does not match the data (0x{want:04X})"),
-                ));
+                return Err(self
+                    .fail(abort::CRC_ERROR, format!("block CRC 0x{got:04X} does not match the data (0x{want:04X})")));
             }
         }
         self.finish_upload(vec![segment(0xA1, &[])])
@@ -356,9 +562,12 @@ impl SdoClient {
 
     fn download_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
         if p[0] & 0xE0 != 0x60 {
-            return Err(self.unexpected(p));
+            return self.not_for_this_transfer(p);
         }
-        self.check_mux(p)?;
+        self.require(4, "a download answer")?;
+        if let Some(step) = self.other_object(p) {
+            return Ok(step);
+        }
         if (1..=4).contains(&self.buf.len()) {
             self.pos = self.buf.len();
             self.state = State::Finished;
@@ -382,8 +591,7 @@ impl SdoClient {
             return Err(self.unexpected(p));
         }
         if (p[0] & 0x10 != 0) != self.toggle {
-            self.state = State::Finished;
-            return Err(self.local_abort(abort::TOGGLE_BIT, "toggle bit not alternated"));
+            return Err(self.fail(abort::TOGGLE_BIT, "toggle bit not alternated"));
         }
         self.pos = (self.pos + SEGMENT_DATA).min(self.buf.len());
         if self.pos == self.buf.len() {
@@ -395,51 +603,63 @@ impl SdoClient {
     }
 
     /// Send the next sub-block, starting at the first unconfirmed segment.
-    fn send_block(&mut self) -> Step {
+    fn send_block(&mut self) -> Vec<[u8; 8]> {
         let first = self.pos / SEGMENT_DATA;
         let count = (block_segment_count(self.buf.len()) - first).min(self.blksize as usize);
         self.state = State::BlockDownloadData { in_block: count };
-        Step::send(block_segments(&self.buf, first, count))
+        block_segments(&self.buf, first, count)
+    }
+
+    fn check_block_size(&mut self, blksize: u8) -> Result<(), SdoError> {
+        self.blksize = blksize;
+        if !(1..=MAX_BLOCK_SIZE).contains(&blksize) {
+            return Err(self.fail(abort::INVALID_BLOCK_SIZE, format!("the server asked for block size {blksize}")));
+        }
+        Ok(())
     }
 
     fn block_download_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
         if p[0] & 0xE3 != 0xA0 {
-            return Err(self.unexpected(p));
+            return self.not_for_this_transfer(p);
         }
-        self.check_mux(p)?;
+        self.require(5, "a block download answer with its block size")?;
+        if let Some(step) = self.other_object(p) {
+            return Ok(step);
+        }
         self.crc = p[0] & 0x04 != 0;
-        self.blksize = p[4];
-        if !(1..=MAX_BLOCK_SIZE).contains(&self.blksize) {
-            self.state = State::Finished;
-            return Err(
-                self.local_abort(abort::INVALID_BLOCK_SIZE, format!("the server asked for block size {}", p[4]))
-            );
-        }
-        Ok(self.send_block())
+        self.check_block_size(p[4])?;
+        Ok(Step::send(self.send_block()))
     }
 
     fn block_download_acked(&mut self, p: &[u8; 8], in_block: usize) -> Result<Step, SdoError> {
         if p[0] & 0xE3 != 0xA2 {
             return Err(self.unexpected(p));
         }
+        self.require(3, "a block acknowledgement")?;
         let acked = p[1] as usize;
         if acked > in_block {
-            self.state = State::Finished;
-            return Err(self.local_abort(
-                abort::INVALID_SEQUENCE,
-                format!("acknowledged segment {acked} of a {in_block}-segment block"),
-            ));
+            return Err(self
+                .fail(abort::INVALID_SEQUENCE, format!("acknowledged segment {acked} of a {in_block}-segment block")));
+        }
+        if acked == 0 {
+            self.fruitless += 1;
+            if self.fruitless > MAX_BLOCK_RETRANSMISSIONS {
+                return Err(self.fail(
+                    abort::INVALID_SEQUENCE,
+                    format!(
+                        "the device acknowledged none of the segments of {} sub-blocks in a row (ackseq 0)",
+                        self.fruitless
+                    ),
+                ));
+            }
+        } else {
+            self.fruitless = 0;
         }
         self.pos = ((self.pos / SEGMENT_DATA + acked) * SEGMENT_DATA).min(self.buf.len());
-        self.blksize = p[2];
-        if !(1..=MAX_BLOCK_SIZE).contains(&self.blksize) {
-            self.state = State::Finished;
-            return Err(
-                self.local_abort(abort::INVALID_BLOCK_SIZE, format!("the server asked for block size {}", p[2]))
-            );
-        }
+        self.check_block_size(p[2])?;
         if self.pos < self.buf.len() {
-            return Ok(self.send_block());
+            let block = self.send_block();
+            return Ok(if acked == 0 { Step::retry(block) } else { Step::send(block) });
         }
         let n = block_unused_in_last(self.buf.len());
         let crc = if self.crc { block_crc(&self.buf) } else { 0 };
@@ -455,4 +675,9 @@ impl SdoClient {
         self.state = State::Finished;
         Ok(Step::done(vec![], vec![]))
     }
+}
+
+/// Bytes as candump shows them, for messages.
+fn spaced(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" ")
 }

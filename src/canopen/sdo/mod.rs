@@ -58,8 +58,10 @@ pub fn segment(cmd: u8, data: &[u8]) -> [u8; 8] {
     f
 }
 
-/// Devices may send SDO frames with a DLC under 8 (seed 004 shows a 5-byte expedited
-/// answer); the missing bytes carry nothing, so they read as zero.
+/// A payload of up to 8 bytes in an 8-byte array, the missing bytes as zero. Devices may
+/// send frames with a DLC under 8 (seed 004 shows a 5-byte expedited answer); whoever reads
+/// the padded array must know how many bytes were really there: the SDO client checks that
+/// every byte the command specifier makes meaningful arrived, and never takes padding as data.
 pub fn pad(data: &[u8]) -> [u8; 8] {
     let mut f = [0u8; 8];
     let n = data.len().min(8);
