@@ -337,6 +337,11 @@ impl Device {
         self.bit_rate.active
     }
 
+    /// Put the controller on another rate, as commissioning for another bus would.
+    pub fn set_bit_rate(&mut self, rate: u8) {
+        self.bit_rate = BitRates { active: rate, pending: None, stored: rate };
+    }
+
     /// React to one frame on the bus; returns the frames this device sends in answer.
     pub fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
         if f.id() == lss::MASTER_COB && !f.is_remote() {
