@@ -378,7 +378,8 @@ impl Pace {
         }
     }
 
-    /// The step the user chose (`--step`): used as it is, never lengthened.
+    /// The step the user chose (`--step`): used instead of one learned from the answer
+    /// times, and lengthened only when answers come later than it.
     pub fn fixed(step: Duration, probe_window: Duration) -> Pace {
         Pace { fixed: Some(step), ..Pace::measured(probe_window) }
     }
@@ -397,23 +398,25 @@ impl Pace {
     /// How long one fastscan step waits for an answer: half as long again as the slowest
     /// answer seen plus a margin, doubled for each escalation.
     pub fn step(&self) -> Duration {
-        if let Some(step) = self.fixed {
-            return step;
-        }
-        let slowest = self.slowest.unwrap_or(self.probe_window);
-        let base = (slowest * 3 / 2 + Duration::from_millis(5)).clamp(STEP_FLOOR, STEP_CEILING);
-        (base * (1 << self.escalations.min(8))).min(STEP_CEILING)
+        let base = match self.fixed {
+            Some(step) => step,
+            None => {
+                let slowest = self.slowest.unwrap_or(self.probe_window);
+                (slowest * 3 / 2 + Duration::from_millis(5)).clamp(STEP_FLOOR, STEP_CEILING)
+            }
+        };
+        (base * (1 << self.escalations.min(8))).min(STEP_CEILING.max(base))
     }
 
     /// After the first answer to a request, how much longer the others may come: the
-    /// spread of the answer times seen, so that a straggler does not count for the next
-    /// request.
+    /// spread of the answer times seen and a quarter step more, so that a straggler does
+    /// not count for the next request.
     pub fn settle(&self) -> Duration {
         let spread = match (self.slowest, self.fastest) {
             (Some(s), Some(f)) => s - f,
             _ => Duration::ZERO,
         };
-        (spread + Duration::from_millis(2)).min(self.step())
+        (spread + (self.step() / 4).max(Duration::from_millis(2))).min(self.step())
     }
 
     pub fn probe_window(&self) -> Duration {
@@ -429,7 +432,7 @@ impl Pace {
 
     /// Answers came later than the step allowed: lengthen it. False when no more.
     pub fn escalate(&mut self) -> bool {
-        if self.escalations >= MAX_ESCALATIONS || (self.fixed.is_none() && self.step() >= STEP_CEILING) {
+        if self.escalations >= MAX_ESCALATIONS || self.step() >= STEP_CEILING {
             return false;
         }
         self.escalations += 1;
@@ -1105,14 +1108,20 @@ mod tests {
         assert_eq!(scan.pace().longest_step(), MS * 95);
     }
 
-    /// The old fixed 10 ms step against 60 ms slaves: every answer comes in the next
-    /// window, so the search gives up in a bounded number of requests with an error.
+    /// `--step 10ms` (the old default) against 60 ms slaves: every answer comes in the
+    /// next window, parts are not confirmed, and the step doubles until answers fit.
+    /// Slaves slower than the step can ever become: a bounded failure.
     #[test]
-    fn a_fixed_step_too_short_fails_bounded() {
+    fn a_fixed_step_too_short_is_lengthened_or_fails_bounded() {
         let mut bus = VirtualBus::new(&three(), fixed_latency(60));
+        let mut scan = Fastscan::new(Pace::fixed(MS * 10, MS * 500), [None; 4]);
+        assert_eq!(bus.run(&mut scan), Ok(three()[1]));
+        assert_eq!(scan.pace().longest_step(), MS * 80);
+        let mut bus = VirtualBus::new(&three(), fixed_latency(300));
         let mut scan = Fastscan::new(Pace::fixed(MS * 10, MS * 500), [None; 4]);
         let r = bus.run(&mut scan);
         assert!(matches!(r, Err(FastscanError::Unconfirmed(_) | FastscanError::Lost)), "{r:?}");
+        assert_eq!(scan.pace().escalations(), MAX_ESCALATIONS);
         assert!(bus.sent < 1000);
     }
 

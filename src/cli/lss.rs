@@ -109,7 +109,8 @@ pub struct ActivateArgs {
 /// How fastscan paces itself, and what it already knows.
 #[derive(Args, Debug)]
 pub struct FastscanOptions {
-    /// Wait this long for each fastscan answer, instead of learning it from the devices
+    /// Wait this long for each fastscan answer instead of learning it from the devices
+    /// (lengthened only if answers come later still)
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
     pub step: Option<Duration>,
     /// The vendor-id of the device(s) sought, if known: not searched (0x1018:1)

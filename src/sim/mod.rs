@@ -255,6 +255,9 @@ pub struct SimLink {
     epoch: Instant,
     /// A bridge to a real bus: frames take no time here.
     bus_timing_off: bool,
+    /// The master's frames queued that have not left yet: `close` lets them go, as a
+    /// frame written to a real interface goes out after the program ends.
+    master_queued: usize,
     file: Option<state::StateFile>,
 }
 
@@ -279,6 +282,7 @@ impl SimLink {
             beats_upto: wall_ms(),
             epoch: Instant::now(),
             bus_timing_off: false,
+            master_queued: 0,
             file: None,
         }
     }
@@ -358,6 +362,7 @@ impl SimLink {
         while let Some((end, origin, frame)) = self.bus.pop_done(now) {
             match origin {
                 Origin::Master => {
+                    self.master_queued = self.master_queued.saturating_sub(1);
                     for (ready, i, f) in self.net.deliver(&frame, end) {
                         self.bus.queue(ready, Origin::Device(i), f);
                     }
@@ -376,6 +381,7 @@ impl FrameLink for SimLink {
         self.advance();
         let now = self.now();
         self.bus.queue(now, Origin::Master, *frame);
+        self.master_queued += 1;
         Ok(())
     }
 
@@ -402,6 +408,13 @@ impl FrameLink for SimLink {
     }
 
     fn close(&mut self) -> Result<()> {
+        // The last frames sent (an LSS "switch to waiting" before exit) reach the devices.
+        let limit = Instant::now() + Duration::from_secs(1);
+        while self.master_queued > 0 && Instant::now() < limit {
+            let Some(t) = self.bus.next_done() else { break };
+            std::thread::sleep(self.at(t).saturating_duration_since(Instant::now()));
+            self.advance();
+        }
         if self.net.take_dirty() {
             if let Some(file) = &self.file {
                 file.save(&self.net.snapshot())?;
