@@ -8,7 +8,7 @@ use crate::output::Format;
 use crate::sim::epos2_device::Epos2Device;
 use crate::sim::epos2_serve::{self, Fault, Framing, ServeOptions};
 use crate::sim::state::{default_path, StateFile};
-use crate::sim::{Profile, SimConfig, SimLink, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
+use crate::sim::{FaultSpec, Profile, SimConfig, SimLink, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
 use clap::builder::TypedValueParser;
 use clap::{Args, Subcommand};
 use serde_json::json;
@@ -71,6 +71,7 @@ pub enum SimCommand {
     #[command(after_help = "Examples:
   canctl sim reset
   canctl sim reset --profile slow --unconfigured 8
+  canctl sim reset --fault 5:drop@2 --fault drive:abort=0x06010000
   canctl --bus sim:/tmp/bench.json sim reset --profile instant --seed 7")]
     Reset(ResetArgs),
 }
@@ -86,6 +87,16 @@ pub struct ResetArgs {
     /// Seed of the devices' latency jitter and random faults: the same seed replays a run
     #[arg(long, value_name = "N", default_value_t = DEFAULT_SEED)]
     pub seed: u64,
+    /// Make a device misbehave: TARGET:KIND[=ARG][@WHEN], e.g. 5:drop@3, drive:delay=40, 10:abort@2+
+    ///
+    /// TARGET is a node-id or a model key (drive, sensor, io, stepper, sensor-09501301).
+    /// KIND: drop, delay=MS, duplicate, short-dlc[=N], corrupt (first data byte inverted),
+    /// babble[=ID] (floods frames), abort[=CODE] (SDO answers refused), mute (falls silent),
+    /// wrong-cob[=ID] (answers on another id). WHEN counts the device's answers from 1: N
+    /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
+    /// the default).
+    #[arg(long, value_name = "SPEC")]
+    pub fault: Vec<FaultSpec>,
 }
 
 /// The state file of the sim bus named by --bus (or the default one).
@@ -105,7 +116,8 @@ fn state_path(ctx: &Ctx) -> anyhow::Result<PathBuf> {
 pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
     let path = state_path(ctx)?;
     if let Some(SimCommand::Reset(reset)) = &args.command {
-        let config = SimConfig::default().profile(reset.profile).seed(reset.seed).unconfigured(reset.unconfigured);
+        let mut config = SimConfig::default().profile(reset.profile).seed(reset.seed).unconfigured(reset.unconfigured);
+        config.faults = reset.fault.clone();
         StateFile::lock(&path)?.start_fresh(&config)?;
         return match ctx.out.format {
             Format::Json => Ok(ctx.out.json(&json!({
@@ -114,14 +126,19 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
                 "profile": config.profile.to_string(),
                 "seed": config.seed,
                 "unconfigured": config.unconfigured,
+                "faults": config.faults.iter().map(|f| f.to_string()).collect::<Vec<_>>(),
             }))?),
-            _ => Ok(ctx.out.print(&format!(
-                "sim network reset ({}): profile {}, {} device(s) without a node-id, seed {}",
-                path.display(),
-                config.profile,
-                config.unconfigured,
-                config.seed
-            ))?),
+            _ => {
+                let faults: Vec<String> = config.faults.iter().map(|f| f.to_string()).collect();
+                let faults = if faults.is_empty() { String::new() } else { format!(", faults {}", faults.join(" ")) };
+                Ok(ctx.out.print(&format!(
+                    "sim network reset ({}): profile {}, {} device(s) without a node-id, seed {}{faults}",
+                    path.display(),
+                    config.profile,
+                    config.unconfigured,
+                    config.seed
+                ))?)
+            }
         };
     }
     if let Some(iface) = &args.socketcan {

@@ -337,6 +337,11 @@ impl Device {
         self.bit_rate.active
     }
 
+    /// Forget any SDO transfer in progress (an injected abort ended it).
+    pub fn reset_sdo(&mut self) {
+        self.sdo = SdoServer::new(self.block_transfer);
+    }
+
     /// Put the controller on another rate, as commissioning for another bus would.
     pub fn set_bit_rate(&mut self, rate: u8) {
         self.bit_rate = BitRates { active: rate, pending: None, stored: rate };

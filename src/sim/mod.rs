@@ -5,6 +5,7 @@ pub mod bridge;
 pub mod device;
 pub mod epos2_device;
 pub mod epos2_serve;
+pub mod faults;
 pub mod profiles;
 pub mod state;
 pub mod timing;
@@ -14,6 +15,8 @@ use crate::canopen::lss;
 use crate::error::Result;
 use crate::frame::Frame;
 use device::Device;
+use faults::Conduct;
+pub use faults::FaultSpec;
 use std::collections::{BTreeMap, VecDeque};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 use timing::{BusQueue, Latency, Nanos, Origin, Rng};
@@ -36,11 +39,19 @@ pub struct SimConfig {
     pub seed: u64,
     /// Position sensors waiting for an LSS node-id.
     pub unconfigured: u8,
+    /// Faults injected into devices' answers (see `faults`).
+    #[serde(default)]
+    pub faults: Vec<FaultSpec>,
 }
 
 impl Default for SimConfig {
     fn default() -> SimConfig {
-        SimConfig { profile: Profile::default(), seed: DEFAULT_SEED, unconfigured: DEFAULT_UNCONFIGURED }
+        SimConfig {
+            profile: Profile::default(),
+            seed: DEFAULT_SEED,
+            unconfigured: DEFAULT_UNCONFIGURED,
+            faults: vec![],
+        }
     }
 }
 
@@ -57,6 +68,11 @@ impl SimConfig {
 
     pub fn unconfigured(mut self, n: u8) -> SimConfig {
         self.unconfigured = n;
+        self
+    }
+
+    pub fn fault(mut self, fault: FaultSpec) -> SimConfig {
+        self.faults.push(fault);
         self
     }
 
@@ -93,6 +109,7 @@ impl Pace {
 pub struct Network {
     devices: Vec<Device>,
     paces: Vec<Pace>,
+    conducts: Vec<Conduct>,
     config: SimConfig,
     /// The bus's bit rate (CiA 305 table index): devices running at another rate neither
     /// hear nor are heard.
@@ -119,7 +136,8 @@ impl Network {
     pub fn of_with(devices: Vec<(profiles::Model, Option<u8>)>, config: SimConfig) -> Network {
         let devices: Vec<Device> = devices.into_iter().map(|(m, id)| Device::new(m, id, DEFAULT_BIT_RATE)).collect();
         let paces = devices.iter().map(|d| Pace::new(&config, &d.model)).collect();
-        Network { devices, paces, config, bit_rate: DEFAULT_BIT_RATE }
+        let conducts = devices.iter().map(|d| Conduct::new(&config.faults, &d.model)).collect();
+        Network { devices, paces, conducts, config, bit_rate: DEFAULT_BIT_RATE }
     }
 
     pub fn config(&self) -> &SimConfig {
@@ -159,13 +177,22 @@ impl Network {
         let rate = self.bit_rate;
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
+            let conduct = &mut self.conducts[i];
+            conduct.heard(frame, d.node_id());
             let answers = d.on_frame(frame);
             if answers.is_empty() {
                 continue;
             }
             // One answer time for all of them: a device streams what it has to say.
-            let ready = self.paces[i].answer_at(heard);
-            out.extend(answers.into_iter().map(|f| (ready, i, f)));
+            let pace = &mut self.paces[i];
+            let ready = pace.answer_at(heard);
+            for f in answers {
+                let (go, sdo_reset) = conduct.answer(f, &d.model, d.node_id(), &mut pace.rng);
+                if sdo_reset {
+                    d.reset_sdo();
+                }
+                out.extend(go.into_iter().map(|(later, f)| (ready + later, i, f)));
+            }
         }
         // CiA 305 "activate bit timing": the devices that switched, and the master with
         // them, run at the new rate; a device left at the old rate drops off the bus.
@@ -184,7 +211,18 @@ impl Network {
         let rate = self.bit_rate;
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
-            out.extend(d.events(after, upto).into_iter().map(|f| (i, f)));
+            let conduct = &self.conducts[i];
+            out.extend(d.events(after, upto).into_iter().filter_map(|f| conduct.own(f)).map(|f| (i, f)));
+        }
+        out
+    }
+
+    /// The devices flooding the bus, and the id each floods it with.
+    pub fn babblers(&mut self) -> Vec<(usize, u16)> {
+        let mut out = Vec::new();
+        for (i, c) in self.conducts.iter_mut().enumerate() {
+            let d = &self.devices[i];
+            out.extend(c.babbling(&d.model, d.node_id()).map(|id| (i, id)));
         }
         out
     }
@@ -352,6 +390,8 @@ impl SimLink {
     /// heard by the devices (master's) or received (devices').
     fn advance(&mut self) {
         let now = self.now();
+        // What left the bus before now was decided without the frames queued now.
+        self.pop_done(now);
         let ms = wall_ms();
         if ms > self.beats_upto {
             for (i, f) in self.net.events(self.beats_upto, ms) {
@@ -359,6 +399,15 @@ impl SimLink {
             }
             self.beats_upto = ms;
         }
+        let babblers = self.net.babblers();
+        self.bus.keep_babblers(&babblers.iter().map(|(i, _)| *i).collect::<Vec<_>>());
+        for (i, id) in babblers {
+            self.bus.babble(i, id, now);
+        }
+        self.pop_done(now);
+    }
+
+    fn pop_done(&mut self, now: Nanos) {
         while let Some((end, origin, frame)) = self.bus.pop_done(now) {
             match origin {
                 Origin::Master => {

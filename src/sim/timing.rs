@@ -201,6 +201,12 @@ pub enum Origin {
     Device(usize),
 }
 
+#[derive(Clone, Copy, Debug)]
+enum Next {
+    Queued(usize),
+    Babble(usize),
+}
+
 #[derive(Debug)]
 struct Queued {
     ready: Nanos,
@@ -208,6 +214,18 @@ struct Queued {
     origin: Origin,
     frame: Frame,
 }
+
+/// A device that floods the bus: it always has a frame on this id ready, from `next` on.
+#[derive(Debug)]
+struct Babbler {
+    device: usize,
+    id: u16,
+    next: Nanos,
+    count: u64,
+}
+
+/// A babbling device sends at most one frame per this long even where frames take no time.
+const BABBLE_GAP: Nanos = 62_500;
 
 /// Frames that have left the bus, and how long it was busy.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -225,6 +243,7 @@ pub struct BusQueue {
     bps: Option<u64>,
     free_at: Nanos,
     queued: Vec<Queued>,
+    babblers: Vec<Babbler>,
     seq: u64,
     stats: BusStats,
 }
@@ -261,19 +280,42 @@ impl BusQueue {
         self.queued.push(Queued { ready, seq: self.seq, origin, frame });
     }
 
-    /// The next frame to go, as things stand: (its index, start, end).
-    fn next(&self) -> Option<(usize, Nanos, Nanos)> {
-        let first_ready = self.queued.iter().map(|q| q.ready).min()?;
+    /// This device floods the bus with frames on `id` from `since` on (once told).
+    pub fn babble(&mut self, device: usize, id: u16, since: Nanos) {
+        if !self.babblers.iter().any(|b| b.device == device) {
+            self.babblers.push(Babbler { device, id, next: since, count: 0 });
+        }
+    }
+
+    /// Only these devices babble any more (the others fell silent).
+    pub fn keep_babblers(&mut self, devices: &[usize]) {
+        self.babblers.retain(|b| devices.contains(&b.device));
+    }
+
+    fn babble_frame(b: &Babbler) -> Frame {
+        Frame::new(b.id, &b.count.to_le_bytes())
+    }
+
+    /// The next frame to go, as things stand: (queued index or babbler, start, end).
+    fn next(&self) -> Option<(Next, Nanos, Nanos)> {
+        let first_ready = self.queued.iter().map(|q| q.ready).chain(self.babblers.iter().map(|b| b.next)).min()?;
         let start = self.free_at.max(first_ready);
-        let (i, q) = self
+        let queued = self
             .queued
             .iter()
             .enumerate()
             .filter(|(_, q)| q.ready <= start)
-            .min_by_key(|(_, q)| (q.frame.id(), q.seq))
-            .expect("the first ready frame is a candidate");
-        let end = start + self.bps.map_or(0, |bps| frame_time(&q.frame, bps));
-        Some((i, start, end))
+            .map(|(i, q)| ((q.frame.id(), 0, q.seq), Next::Queued(i), q.frame));
+        let babbling = self
+            .babblers
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.next <= start)
+            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), Self::babble_frame(b)));
+        let (_, next, frame) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
+        let time = self.bps.map_or(0, |bps| frame_time(&frame, bps));
+        let end = start + time;
+        Some((next, start, end))
     }
 
     /// When the next frame will have left the bus, if any is queued.
@@ -283,15 +325,26 @@ impl BusQueue {
 
     /// The next frame that has completely left the bus by `now`, with the time it did.
     pub fn pop_done(&mut self, now: Nanos) -> Option<(Nanos, Origin, Frame)> {
-        let (i, start, end) = self.next()?;
+        let (next, start, end) = self.next()?;
         if end > now {
             return None;
         }
-        let q = self.queued.swap_remove(i);
         self.free_at = end;
         self.stats.frames += 1;
         self.stats.busy += end - start;
-        Some((end, q.origin, q.frame))
+        match next {
+            Next::Queued(i) => {
+                let q = self.queued.swap_remove(i);
+                Some((end, q.origin, q.frame))
+            }
+            Next::Babble(i) => {
+                let b = &mut self.babblers[i];
+                let frame = Self::babble_frame(b);
+                b.count += 1;
+                b.next = b.next.max(start + BABBLE_GAP);
+                Some((end, Origin::Device(b.device), frame))
+            }
+        }
     }
 }
 
@@ -385,6 +438,27 @@ mod tests {
         let firsts: Vec<u8> = std::iter::from_fn(|| bus.pop_done(u64::MAX)).map(|(_, _, f)| f.data()[0]).collect();
         assert_eq!(firsts, [0, 1, 2]);
         assert!(bus.stats().busy >= 3 * 111 * 8 * US);
+    }
+
+    #[test]
+    fn a_babbler_with_a_low_id_starves_higher_ids_and_one_with_a_high_id_yields() {
+        let mut bus = BusQueue::new(Some(1_000_000));
+        bus.babble(0, 0x001, 0);
+        bus.queue(0, Origin::Master, Frame::new(0x605, &[0x40; 8]));
+        for _ in 0..100 {
+            assert_eq!(bus.pop_done(u64::MAX).unwrap().2.id(), 0x001);
+        }
+        let mut bus = BusQueue::new(Some(1_000_000));
+        bus.babble(0, 0x700, 0);
+        bus.queue(10 * MS, Origin::Master, Frame::new(0x605, &[0x40; 8]));
+        let ids: Vec<u16> = (0..200).map(|_| bus.pop_done(u64::MAX).unwrap().2.id()).collect();
+        assert_eq!(ids.iter().filter(|id| **id == 0x605).count(), 1);
+        // The bus never idles: frames back to back.
+        assert!(bus.stats().busy > 200 * 100 * US);
+        // Untimed, a babbler still sends one frame per gap, not infinitely many.
+        let mut untimed = BusQueue::new(None);
+        untimed.babble(0, 0x080, 0);
+        assert_eq!(std::iter::from_fn(|| untimed.pop_done(MS)).count(), 17);
     }
 
     #[test]
