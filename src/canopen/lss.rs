@@ -337,6 +337,14 @@ impl Request {
     }
 }
 
+/// Whether `data` (a frame on 0x7E4) is a well-formed slave answer with command specifier
+/// `expect`: 8 bytes, that specifier, and for the answers that carry nothing but it
+/// (0x44, 0x4F, 0x50) the reserved bytes 0, so that a babbling device's counter on 0x7E4
+/// does not pass for a device.
+pub fn is_answer(data: &[u8], expect: u8) -> bool {
+    data.len() == 8 && data[0] == expect && (!matches!(expect, 0x44 | 0x4F | 0x50) || data[1..] == [0; 7])
+}
+
 /// The four selective-switch requests for one device; the answer is 0x44 from it alone.
 pub fn switch_selective(id: &Identity) -> [Request; 4] {
     [0, 1, 2, 3].map(|part| Request::SwitchSelective { part, value: id.part(part) })
@@ -611,7 +619,7 @@ impl Fastscan {
     /// after the window are late: they lengthen the step and the request is asked again.
     pub fn on_answers(&mut self, answers: &[(Duration, [u8; 8])]) {
         let FastscanNext::Send(ask) = self.next() else { return };
-        let valid: Vec<Duration> = answers.iter().filter(|(_, d)| d[0] == ask.expect).map(|(t, _)| *t).collect();
+        let valid: Vec<Duration> = answers.iter().filter(|(_, d)| is_answer(d, ask.expect)).map(|(t, _)| *t).collect();
         for t in &valid {
             self.pace.observe(*t);
         }
@@ -1225,6 +1233,17 @@ mod tests {
         assert!(r.is_err());
         assert!(scan.pace().longest_step() <= STEP_CEILING);
         assert!(bus.sent < 500);
+    }
+
+    #[test]
+    fn only_well_formed_answers_count() {
+        assert!(is_answer(&[0x4F, 0, 0, 0, 0, 0, 0, 0], 0x4F));
+        assert!(!is_answer(&[0x4F, 0, 0, 0, 0, 0, 0], 0x4F), "7 bytes");
+        assert!(!is_answer(&[0x4F, 1, 1, 0, 0, 0, 0, 0], 0x4F), "a babbler's counter");
+        assert!(!is_answer(&[0x50, 0, 0, 0, 0, 0, 0, 0], 0x4F), "another service's answer");
+        assert!(!is_answer(&[0x7F], 0x4F), "a heartbeat-like frame");
+        assert!(is_answer(&[0x5A, 0x40, 0, 0, 0, 0, 0, 0], 0x5A), "inquiry answers carry a value");
+        assert!(is_answer(&[0x11, 1, 0, 0, 0, 0, 0, 0], 0x11), "results carry an error code");
     }
 
     #[test]

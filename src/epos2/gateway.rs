@@ -243,7 +243,7 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
                     // Only a whole answer with the expected command specifier counts; others
                     // do not make the wait longer.
                     let data = data.get(..8).and_then(|d| <[u8; 8]>::try_from(d).ok());
-                    let Some(data) = data.filter(|d| d[0] == expect) else {
+                    let Some(data) = data.filter(|d| crate::canopen::lss::is_answer(d, expect)) else {
                         if left.is_zero() {
                             break;
                         }
