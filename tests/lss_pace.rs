@@ -121,6 +121,7 @@ fn a_stopped_nodes_id_is_not_handed_out() {
     let r = sim.run(&["lss", "assign", "--start", "5", "--format", "json"]).ok().json();
     let nodes: Vec<u64> = r["assigned"].as_array().unwrap().iter().map(|d| d["node"].as_u64().unwrap()).collect();
     assert_eq!(nodes, [6, 7, 8], "{r}");
+    assert_eq!(r["in_use_before"], serde_json::json!([1, 5, 10, 32]));
 }
 
 /// A device flooding 0x7E4 with its counter: never taken for an LSS slave, and the

@@ -513,6 +513,7 @@ fn assign(ctx: &Ctx, m: &mut LssMaster, a: &AssignArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     // Node-ids already in use: new ones must not collide.
     let used = ids_in_use(ctx, m.bus(), a.listen)?;
+    let in_use: Vec<u8> = used.iter().copied().collect();
     let outcome = m.assign(
         a.start,
         used,
@@ -545,6 +546,7 @@ fn assign(ctx: &Ctx, m: &mut LssMaster, a: &AssignArgs) -> anyhow::Result<()> {
                 "stored": d.stored.is_ok(),
                 "store_error": d.stored.as_ref().err(),
             })).collect::<Vec<_>>(),
+            "in_use_before": in_use,
             "fastscan_steps": steps,
             "step_ms": outcome.pace.longest_step().as_millis() as u64,
             "pace": pace_json(&outcome.pace),
