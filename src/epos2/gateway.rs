@@ -5,7 +5,6 @@ use super::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, 
 use super::transport::Transport;
 use crate::bus::{Bus, LssWait, SdoOptions, ALL_NODES};
 use crate::canopen::nmt::{self, Command as NmtCommand};
-use crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD;
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
@@ -14,6 +13,13 @@ use std::time::{Duration, Instant};
 
 /// EPOS2 firmware specification: object 0x2000 holds the node-id set by DIP switch or SDO.
 const OWN_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
+/// Segments in a row that carry no data yet say more follow: the transfer makes no
+/// progress, so after these it is a protocol error, not a loop.
+const MAX_EMPTY_SEGMENTS: usize = 8;
+/// The largest value read in segments through an EPOS2. Its answers do not say how long a
+/// value is, so a device that keeps saying "more" is stopped here: a 1 MiB upload at 63
+/// bytes a round trip is already minutes on a serial line.
+pub const MAX_SEGMENTED_UPLOAD: usize = 1 << 20;
 
 pub struct Epos2Gateway<T: Transport> {
     link: T,
@@ -90,6 +96,7 @@ impl<T: Transport> Epos2Gateway<T> {
         self.call_ok(&Command::InitiateSegmentedRead { node, addr }, node, Some(addr))?;
         let mut out = Vec::new();
         let mut toggle = false;
+        let mut empty_in_a_row = 0;
         loop {
             let data = self.call_ok(&Command::SegmentRead { toggle }, node, Some(addr))?;
             let ctrl = *data
@@ -103,11 +110,25 @@ impl<T: Transport> Epos2Gateway<T> {
                 .get(1..1 + len)
                 .ok_or_else(|| Error::Link(format!("node {node}: segment claims {len} bytes but carries fewer")))?;
             out.extend_from_slice(chunk);
-            if out.len() > DEFAULT_MAX_UPLOAD {
-                return Err(Error::Link(format!("node {node}: {addr} is larger than {DEFAULT_MAX_UPLOAD} bytes")));
-            }
             if ctrl & MORE == 0 {
                 return Ok(out);
+            }
+            empty_in_a_row = if chunk.is_empty() { empty_in_a_row + 1 } else { 0 };
+            if empty_in_a_row == MAX_EMPTY_SEGMENTS {
+                return Err(Error::Link(format!(
+                    "node {node}: segmented read of {addr}: {MAX_EMPTY_SEGMENTS} segments in a row without data \
+                     that say more follow; stopped. The device's SDO server is stuck: reset the node \
+                     (`canctl nmt reset {node}`) and read again"
+                )));
+            }
+            if out.len() >= MAX_SEGMENTED_UPLOAD {
+                return Err(Error::Link(format!(
+                    "node {node}: segmented read of {addr}: {} bytes and the device still says more follow; \
+                     stopped at the limit of {} KiB for reads through an EPOS2. A value this large is \
+                     read over SocketCAN (block transfer); otherwise the device is faulty: reset it",
+                    out.len(),
+                    MAX_SEGMENTED_UPLOAD >> 10
+                )));
             }
             toggle = !toggle;
         }
@@ -117,7 +138,10 @@ impl<T: Transport> Epos2Gateway<T> {
         let size = self.segment_size(node);
         self.call_ok(&Command::InitiateSegmentedWrite { node, addr, length: data.len() as u32 }, node, Some(addr))?;
         let mut toggle = false;
-        for chunk in data.chunks(size) {
+        // An empty value is one segment with no data (CiA 301 lets a segment carry none);
+        // without it the device would wait for the value and never write it.
+        let chunks: Vec<&[u8]> = if data.is_empty() { vec![&[]] } else { data.chunks(size).collect() };
+        for chunk in chunks {
             let answer = self.call_ok(&Command::SegmentWrite { toggle, data: chunk.to_vec() }, node, Some(addr))?;
             let ctrl = answer.first().copied().unwrap_or(0);
             if (ctrl & TOGGLE != 0) != toggle || (ctrl & LENGTH) as usize != chunk.len() {

@@ -1,7 +1,16 @@
-//! The two EPOS2 links: RS232 with its 'O'/'F' handshake, USB with DLE/STX framing. Both
-//! retry a command once after a failed handshake, a bad CRC or a timeout, then give up
-//! with a link error that says what happened.
+//! The two EPOS2 links: RS232 with its 'O'/'F' handshake, USB with DLE/STX framing.
+//!
+//! Answers carry no reference to their command, so the link keeps itself in step: after
+//! opening the port and after every failure it clears the input and sends a synchronisation
+//! probe (an opcode that does not exist), discarding every answer before the probe's own —
+//! answers still owed to an earlier client or to a command that timed out. Every answer is
+//! then checked against its command (opcode, length, CRC); one that does not fit is
+//! discarded, a few at most. Both links retry a command once after a failed handshake, a bad
+//! CRC, a timeout or a misfit, then give up with a link error that says what happened.
+//! Every wait is bounded: per frame by the timeout, in number by the discard limit, and the
+//! wait for a quiet line by a total limit.
 
+use super::command::{self, Command};
 use super::frame::{self, Frame, FrameError, UsbDecoder};
 use super::Framing;
 use crate::error::{Error, Result};
@@ -28,9 +37,6 @@ impl SerialIo for serialport::TTYPort {
 
     fn read_some(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
         let left = deadline.saturating_duration_since(Instant::now());
-        if left.is_zero() {
-            return Ok(0);
-        }
         serialport::SerialPort::set_timeout(self, left)?;
         match io::Read::read(self, buf) {
             Ok(0) => Err(io::Error::new(io::ErrorKind::UnexpectedEof, "the port closed")),
@@ -54,6 +60,12 @@ pub trait Transport {
     fn is_rs232(&self) -> bool;
 }
 
+/// Answers that fit none of our commands, discarded in one exchange before giving up.
+const MAX_DISCARDED: usize = 4;
+/// The synchronisation probe waits at least this long for each answer: it may be queued
+/// behind a command of an earlier client that the EPOS2 is still forwarding to a slow node.
+const PROBE_WAIT: Duration = Duration::from_secs(1);
+
 /// Why one attempt failed.
 #[derive(Debug)]
 enum Failure {
@@ -61,12 +73,31 @@ enum Failure {
     Timeout(&'static str),
     Frame(FrameError),
     Unexpected(u8, &'static str),
+    /// Only answers that belong to no command of ours came.
+    Misfit(usize),
+    /// The line never fell quiet: bytes, milliseconds.
+    Babble(usize, u128),
     Io(io::Error),
 }
 
 impl Failure {
     fn retryable(&self) -> bool {
-        !matches!(self, Failure::Io(_))
+        !matches!(self, Failure::Io(_) | Failure::Babble(..))
+    }
+
+    /// What the user can do about it.
+    fn advice(&self) -> &'static str {
+        match self {
+            Failure::Io(_) => "check that the device is connected and powered, then run the command again",
+            Failure::Babble(..) => {
+                "check the bit rate (?baud=), that no other program uses the port, and the cable; \
+                 then run the command again"
+            }
+            _ => {
+                "check the cable, the bit rate (?baud=) and that no other program uses the port; a \
+                  slow device may need a longer --timeout"
+            }
+        }
     }
 }
 
@@ -77,6 +108,10 @@ impl std::fmt::Display for Failure {
             Failure::Timeout(stage) => write!(f, "no answer {stage}"),
             Failure::Frame(e) => write!(f, "bad answer frame: {e}"),
             Failure::Unexpected(b, stage) => write!(f, "unexpected byte 0x{b:02X} {stage}"),
+            Failure::Misfit(n) => write!(f, "{n} answers in a row that do not answer this command (discarded)"),
+            Failure::Babble(bytes, ms) => {
+                write!(f, "the line does not fall quiet: {bytes} bytes in {ms} ms without a pause")
+            }
             Failure::Io(e) => write!(f, "the port failed: {e}"),
         }
     }
@@ -122,20 +157,37 @@ impl<S: SerialIo> Port<S> {
         self.io.write_all(bytes).map_err(Failure::Io)
     }
 
-    /// Drop whatever is in flight: wait for the line to fall quiet, then clear it.
-    fn resync(&mut self) {
+    /// Drop what has arrived and not been read.
+    fn clear(&mut self) -> Result<(), Failure> {
         self.buf.clear();
         self.pos = 0;
-        let quiet = (self.timeout / 4).min(Duration::from_millis(50));
+        self.io.discard_input().map_err(Failure::Io)
+    }
+
+    /// Drop whatever is in flight: wait for the line to fall quiet, then clear it. A line
+    /// that keeps talking is given a few timeouts, not forever.
+    fn resync(&mut self) -> Result<(), Failure> {
+        let quiet = (self.timeout / 4).clamp(Duration::from_millis(5), Duration::from_millis(50));
+        let start = Instant::now();
+        let limit = start + (self.timeout * 4).max(Duration::from_millis(500));
         let mut scratch = [0u8; 256];
-        let mut until = Instant::now() + quiet;
-        while let Ok(n) = self.io.read_some(&mut scratch, until) {
-            if n == 0 {
+        let mut until = start + quiet;
+        let mut bytes = self.buf.len() - self.pos;
+        loop {
+            let now = Instant::now();
+            if now >= until {
                 break;
             }
-            until = Instant::now() + quiet;
+            if now >= limit {
+                return Err(Failure::Babble(bytes, start.elapsed().as_millis()));
+            }
+            let n = self.io.read_some(&mut scratch, until.min(limit)).map_err(Failure::Io)?;
+            if n > 0 {
+                bytes += n;
+                until = Instant::now() + quiet;
+            }
         }
-        let _ = self.io.discard_input();
+        self.clear()
     }
 }
 
@@ -146,47 +198,117 @@ fn trace(enabled: bool, name: &str, dir: &str, bytes: &[u8]) {
     }
 }
 
-/// Run `attempt` and, if it fails in a way a resync can cure, once more.
-fn with_retry<S: SerialIo>(
-    port: &mut Port<S>,
-    describe: &str,
-    command: &Frame,
-    mut attempt: impl FnMut(&mut Port<S>) -> Result<Option<Frame>, Failure>,
-) -> Result<Option<Frame>> {
-    let what = super::command::Command::from_frame(command).map_or("command", |c| c.name());
-    match attempt(port) {
-        Ok(a) => Ok(a),
-        Err(first) if first.retryable() => {
-            port.resync();
-            attempt(port).map_err(|second| {
-                Error::Link(format!("{describe}: {what} failed: {first}; after a resync and retry: {second}"))
-            })
-        }
-        Err(e) => Err(Error::Link(format!("{describe}: {what} failed: {e}"))),
-    }
-}
-
 /// An EPOS2 on a serial port, with either framing.
 pub struct SerialTransport<S> {
     port: Port<S>,
     framing: Framing,
     describe: String,
     trace: bool,
+    /// Whether every answer still owed to someone else has been received and discarded.
+    in_step: bool,
 }
 
 impl<S: SerialIo> SerialTransport<S> {
     pub fn new(io: S, framing: Framing, describe: String, timeout: Duration, trace: bool) -> SerialTransport<S> {
-        SerialTransport { port: Port::new(io, timeout), framing, describe, trace }
+        SerialTransport { port: Port::new(io, timeout), framing, describe, trace, in_step: false }
+    }
+
+    /// Clear the input and send the probe; every answer before the probe's is discarded.
+    fn synchronise(&mut self) -> Result<(), Failure> {
+        self.port.clear()?;
+        let probe = command::sync_probe();
+        let wait = (self.port.timeout * 2).max(PROBE_WAIT);
+        let mut discarded = 0;
+        let mut answer = self.send_and_receive(&probe, wait)?;
+        loop {
+            match answer {
+                Ok(f) if command::is_probe_answer(&f) => break,
+                // An answer someone else was owed, or the remains of one cut by the clear.
+                _ if discarded < MAX_DISCARDED => discarded += 1,
+                _ => return Err(Failure::Misfit(discarded)),
+            }
+            answer = self.receive(wait)?;
+        }
+        self.in_step = true;
+        Ok(())
+    }
+
+    /// Send a frame and receive the first answer frame, or a frame error.
+    fn send_and_receive(&mut self, f: &Frame, wait: Duration) -> Result<Result<Frame, FrameError>, Failure> {
+        match self.framing {
+            Framing::Rs232 => {
+                rs232_send(&mut self.port, &self.describe, self.trace, f, wait)?;
+            }
+            Framing::Usb => {
+                let bytes = frame::usb_encode(f);
+                trace(self.trace, &self.describe, "<", &bytes);
+                self.port.send(&bytes)?;
+            }
+        }
+        self.receive(wait)
+    }
+
+    fn receive(&mut self, wait: Duration) -> Result<Result<Frame, FrameError>, Failure> {
+        let until = Instant::now() + wait;
+        match self.framing {
+            Framing::Rs232 => rs232_receive(&mut self.port, &self.describe, self.trace, until),
+            Framing::Usb => usb_receive(&mut self.port, &self.describe, self.trace, until),
+        }
+    }
+
+    /// One try: in step first, then the command and its answer.
+    fn attempt(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>, Failure> {
+        if !self.in_step {
+            self.synchronise()?;
+        }
+        let cmd = Command::from_frame(command);
+        let timeout = self.port.timeout;
+        if !answered {
+            rs232_send(&mut self.port, &self.describe, self.trace, command, timeout)?;
+            return Ok(None);
+        }
+        let mut answer = self.send_and_receive(command, timeout)?;
+        let mut discarded = 0;
+        loop {
+            let f = answer.map_err(Failure::Frame)?;
+            // Seed 000 §4.1.3.1: a frame the EPOS2 could not read comes back as an answer
+            // carrying the CRC error code: USB's counterpart of RS232's 'F'.
+            if command::parse_answer(&f).is_some_and(|(code, _)| code == crate::canopen::abort::CRC_ERROR) {
+                return Err(Failure::Nack("with error 0x05040004: it saw a bad CRC"));
+            }
+            if cmd.as_ref().is_none_or(|c| c.answer_fits(&f)) {
+                return Ok(Some(f));
+            }
+            if discarded == MAX_DISCARDED {
+                return Err(Failure::Misfit(discarded + 1));
+            }
+            discarded += 1;
+            answer = self.receive(timeout)?;
+        }
     }
 }
 
 impl<S: SerialIo> Transport for SerialTransport<S> {
     fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>> {
-        let (describe, trace, framing) = (&self.describe, self.trace, self.framing);
-        with_retry(&mut self.port, describe, command, |port| match framing {
-            Framing::Rs232 => rs232_attempt(port, describe, trace, command, answered),
-            Framing::Usb => usb_attempt(port, describe, trace, command),
-        })
+        let what = Command::from_frame(command).map_or("command", |c| c.name());
+        let result = match self.attempt(command, answered) {
+            Ok(a) => return Ok(a),
+            Err(first) if first.retryable() => {
+                self.in_step = false;
+                match self.port.resync().and_then(|()| self.attempt(command, answered)) {
+                    Ok(a) => return Ok(a),
+                    Err(second) => Err(format!(
+                        "{}: {what} failed: {first}; after a resync and retry: {second}; {}",
+                        self.describe,
+                        second.advice()
+                    )),
+                }
+            }
+            Err(e) => Err(format!("{}: {what} failed: {e}; {}", self.describe, e.advice())),
+        };
+        // Whatever is still on its way belongs to nobody now.
+        self.in_step = false;
+        result.map_err(Error::Link)
     }
 
     fn describe(&self) -> String {
@@ -198,34 +320,47 @@ impl<S: SerialIo> Transport for SerialTransport<S> {
     }
 }
 
-fn rs232_attempt<S: SerialIo>(
+/// Seed 000 §5.1.1.2: OpCode, wait (up to `ready_wait`) for the ready ack, the rest, wait
+/// for the end ack.
+fn rs232_send<S: SerialIo>(
     port: &mut Port<S>,
     name: &str,
     tracing: bool,
     command: &Frame,
-    answered: bool,
-) -> Result<Option<Frame>, Failure> {
+    ready_wait: Duration,
+) -> Result<(), Failure> {
     let bytes = frame::rs232_encode(command);
     trace(tracing, name, "<", &bytes);
-    // Seed 000 §5.1.1.2: OpCode, wait for the ready ack, the rest, wait for the end ack.
     port.send(&bytes[..1])?;
-    match port.expect_byte(port.deadline(), "to the opcode (ready acknowledge)")? {
-        OKAY => {}
-        FAILED => return Err(Failure::Nack("'F' to the opcode (not ready)")),
-        b => return Err(Failure::Unexpected(b, "instead of the ready acknowledge")),
+    let until = Instant::now() + ready_wait;
+    let mut skipped = 0;
+    loop {
+        match port.expect_byte(until, "to the opcode (ready acknowledge)")? {
+            OKAY => break,
+            FAILED => return Err(Failure::Nack("'F' to the opcode (not ready)")),
+            // The start of an answer still owed to an earlier command, which the EPOS2
+            // abandons when it gets our opcode instead of its ready acknowledge.
+            command::ANSWER if skipped < MAX_DISCARDED => skipped += 1,
+            b => return Err(Failure::Unexpected(b, "instead of the ready acknowledge")),
+        }
     }
     port.send(&bytes[1..])?;
     match port.expect_byte(port.deadline(), "to the frame (end acknowledge)")? {
-        OKAY => {}
-        FAILED => return Err(Failure::Nack("'F' to the frame (CRC or length refused)")),
-        b => return Err(Failure::Unexpected(b, "instead of the end acknowledge")),
+        OKAY => Ok(()),
+        FAILED => Err(Failure::Nack("'F' to the frame (CRC or length refused)")),
+        b => Err(Failure::Unexpected(b, "instead of the end acknowledge")),
     }
-    if !answered {
-        return Ok(None);
-    }
-    // §5.1.1.3: the answer's OpCode 0x00, our ready ack, the rest, our end ack.
-    let op = port.expect_byte(port.deadline(), "with the answer")?;
-    if op != super::command::ANSWER {
+}
+
+/// §5.1.1.3: the answer's OpCode 0x00, our ready ack, the rest, our end ack.
+fn rs232_receive<S: SerialIo>(
+    port: &mut Port<S>,
+    name: &str,
+    tracing: bool,
+    until: Instant,
+) -> Result<Result<Frame, FrameError>, Failure> {
+    let op = port.expect_byte(until, "with the answer")?;
+    if op != command::ANSWER {
         return Err(Failure::Unexpected(op, "instead of the answer opcode 0x00"));
     }
     port.send(&[OKAY])?;
@@ -236,52 +371,27 @@ fn rs232_attempt<S: SerialIo>(
         raw.push(port.expect_byte(until, "in the middle of the answer")?);
     }
     trace(tracing, name, ">", &raw);
-    match frame::rs232_decode(&raw) {
-        Ok(f) => {
-            port.send(&[OKAY])?;
-            Ok(Some(f))
-        }
-        Err(e) => {
-            port.send(&[FAILED])?;
-            Err(Failure::Frame(e))
-        }
-    }
+    let decoded = frame::rs232_decode(&raw);
+    port.send(&[if decoded.is_ok() { OKAY } else { FAILED }])?;
+    Ok(decoded)
 }
 
-fn usb_attempt<S: SerialIo>(
+/// The next USB frame (anything before DLE STX is skipped), or a frame error.
+fn usb_receive<S: SerialIo>(
     port: &mut Port<S>,
     name: &str,
     tracing: bool,
-    command: &Frame,
-) -> Result<Option<Frame>, Failure> {
-    let bytes = frame::usb_encode(command);
-    trace(tracing, name, "<", &bytes);
-    port.send(&bytes)?;
-    let until = port.deadline();
+    until: Instant,
+) -> Result<Result<Frame, FrameError>, Failure> {
     let mut decoder = UsbDecoder::new();
     let mut raw = Vec::new();
     loop {
         let stage = if decoder.in_frame() { "in the middle of the answer" } else { "with the answer" };
         let b = port.expect_byte(until, stage)?;
         raw.push(b);
-        match decoder.push(b) {
-            None => {}
-            Some(Ok(f)) => {
-                trace(tracing, name, ">", &raw);
-                if f.opcode != super::command::ANSWER {
-                    return Err(Failure::Unexpected(f.opcode, "as the answer's opcode"));
-                }
-                // Seed 000 §4.1.3.1: a frame the EPOS2 could not read comes back as an
-                // answer carrying the CRC error code: USB's counterpart of RS232's 'F'.
-                if super::command::parse_answer(&f).is_some_and(|(code, _)| code == crate::canopen::abort::CRC_ERROR) {
-                    return Err(Failure::Nack("with error 0x05040004: it saw a bad CRC"));
-                }
-                return Ok(Some(f));
-            }
-            Some(Err(e)) => {
-                trace(tracing, name, ">", &raw);
-                return Err(Failure::Frame(e));
-            }
+        if let Some(r) = decoder.push(b) {
+            trace(tracing, name, ">", &raw);
+            return Ok(r);
         }
     }
 }
