@@ -84,6 +84,11 @@ fn a_client_killed_mid_transaction_leaves_nothing_for_the_next() {
                 break;
             }
         }
+        // The trace line comes just before the bytes are written, and the device side
+        // answers LATE (800 ms) after it gets them: a kill 300 ms after the trace line
+        // lands while the device works on the command. (Positions the kill; waits for
+        // nothing.)
+        std::thread::sleep(Duration::from_millis(300));
         let _ = first.kill();
         let _ = first.wait();
         let second = run_bounded(&dev, &["--timeout", "3s", "sdo", "read", "5", "1018:1", "--type", "u32"]);
