@@ -135,7 +135,12 @@ impl<S: SerialIo> Port<S> {
         Instant::now() + self.timeout
     }
 
+    /// The next byte, or `None` once `deadline` has passed — also on a line that never
+    /// stops sending.
     fn byte(&mut self, deadline: Instant) -> Result<Option<u8>, Failure> {
+        if Instant::now() >= deadline {
+            return Ok(None);
+        }
         if self.pos == self.buf.len() {
             self.buf.resize(256, 0);
             let n = self.io.read_some(&mut self.buf, deadline).map_err(Failure::Io)?;
@@ -174,17 +179,17 @@ impl<S: SerialIo> Port<S> {
         let mut until = start + quiet;
         let mut bytes = self.buf.len() - self.pos;
         loop {
-            let now = Instant::now();
-            if now >= until {
-                break;
-            }
-            if now >= limit {
+            if Instant::now() >= limit {
                 return Err(Failure::Babble(bytes, start.elapsed().as_millis()));
             }
+            // Quiet means a read that waited until `until` got nothing: a reader that was
+            // merely slow finds the bytes waiting.
             let n = self.io.read_some(&mut scratch, until.min(limit)).map_err(Failure::Io)?;
             if n > 0 {
                 bytes += n;
                 until = Instant::now() + quiet;
+            } else if Instant::now() >= until {
+                break;
             }
         }
         self.clear()
@@ -393,5 +398,134 @@ fn usb_receive<S: SerialIo>(
             trace(tracing, name, ">", &raw);
             return Ok(r);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canopen::ObjAddr;
+    use std::collections::VecDeque;
+
+    /// A serial port whose device answers each write with the next scripted bytes.
+    struct Scripted {
+        /// Bytes that have arrived and not been read.
+        input: VecDeque<u8>,
+        /// What arrives after each write, in order.
+        replies: VecDeque<Vec<u8>>,
+        /// Bytes that keep arriving whatever is written (a babbling line).
+        babble: bool,
+        written: Vec<Vec<u8>>,
+    }
+
+    impl Scripted {
+        fn new(already: &[u8], replies: Vec<Vec<u8>>) -> Scripted {
+            Scripted {
+                input: already.iter().copied().collect(),
+                replies: replies.into(),
+                babble: false,
+                written: vec![],
+            }
+        }
+    }
+
+    impl SerialIo for Scripted {
+        fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+            self.written.push(bytes.to_vec());
+            if let Some(r) = self.replies.pop_front() {
+                self.input.extend(r);
+            }
+            Ok(())
+        }
+
+        fn read_some(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
+            if self.babble {
+                buf.fill(0x55);
+                return Ok(buf.len());
+            }
+            if self.input.is_empty() {
+                std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
+                return Ok(0);
+            }
+            let n = buf.len().min(self.input.len());
+            for b in buf.iter_mut().take(n) {
+                *b = self.input.pop_front().unwrap();
+            }
+            Ok(n)
+        }
+
+        fn discard_input(&mut self) -> io::Result<()> {
+            self.input.clear();
+            Ok(())
+        }
+    }
+
+    fn usb(f: &Frame) -> Vec<u8> {
+        frame::usb_encode(f)
+    }
+
+    fn transport(io: Scripted) -> SerialTransport<Scripted> {
+        SerialTransport::new(io, Framing::Usb, "test".into(), Duration::from_millis(30), false)
+    }
+
+    fn read_object() -> Frame {
+        Command::ReadObject { node: 5, addr: ObjAddr::new(0x1018, 1) }.to_frame()
+    }
+
+    #[test]
+    fn answers_owed_to_others_are_discarded_before_ours() {
+        let stale = usb(&command::answer(0, &[0x92, 0x01, 0x02, 0x00]));
+        let probe = usb(&command::answer(command::ILLEGAL_COMMAND, &[]));
+        let ours = usb(&command::answer(0, &[0x40, 0, 0, 0]));
+        // One answer already in the line (cleared on open), one still on its way when the
+        // probe goes out, then the probe's answer; then ours.
+        let mut late_then_probe = stale.clone();
+        late_then_probe.extend(&probe);
+        let io = Scripted::new(&stale, vec![late_then_probe, ours]);
+        let mut t = transport(io);
+        let got = t.transact(&read_object(), true).unwrap().unwrap();
+        assert_eq!(command::parse_answer(&got).unwrap().1, [0x40, 0, 0, 0]);
+        assert_eq!(t.port.io.written[0], usb(&command::sync_probe()), "the probe goes first");
+        // In step now: the next command is sent without a probe.
+        t.port.io.replies.push_back(usb(&command::answer(0, &[7, 0, 0, 0])));
+        let got = t.transact(&read_object(), true).unwrap().unwrap();
+        assert_eq!(command::parse_answer(&got).unwrap().1, [7, 0, 0, 0]);
+        assert_eq!(t.port.io.written.len(), 3);
+    }
+
+    #[test]
+    fn an_answer_that_does_not_fit_the_command_is_discarded() {
+        let probe = usb(&command::answer(command::ILLEGAL_COMMAND, &[]));
+        // A WriteObject answer (no data) cannot answer ReadObject; a second probe answer
+        // neither.
+        let mut misfits = usb(&command::answer(0, &[]));
+        misfits.extend(&probe);
+        misfits.extend(usb(&command::answer(0, &[0x40, 0, 0, 0])));
+        let mut t = transport(Scripted::new(&[], vec![probe.clone(), misfits]));
+        let got = t.transact(&read_object(), true).unwrap().unwrap();
+        assert_eq!(command::parse_answer(&got).unwrap().1, [0x40, 0, 0, 0]);
+    }
+
+    #[test]
+    fn only_misfits_are_a_link_error() {
+        let probe = usb(&command::answer(command::ILLEGAL_COMMAND, &[]));
+        let misfits: Vec<u8> = (0..=MAX_DISCARDED).flat_map(|_| usb(&command::answer(0, &[]))).collect();
+        let replies = vec![probe.clone(), misfits.clone(), probe, misfits];
+        let mut t = transport(Scripted::new(&[], replies));
+        let e = t.transact(&read_object(), true).unwrap_err();
+        assert_eq!(e.exit_code(), 5);
+        assert!(e.to_string().contains("do not answer this command"), "{e}");
+    }
+
+    #[test]
+    fn a_babbling_line_is_given_up_on() {
+        let mut io = Scripted::new(&[], vec![]);
+        io.babble = true;
+        let mut t = transport(io);
+        let start = Instant::now();
+        let e = t.transact(&read_object(), true).unwrap_err();
+        assert_eq!(e.exit_code(), 5);
+        assert!(e.to_string().contains("does not fall quiet"), "{e}");
+        assert!(start.elapsed() < Duration::from_secs(30), "bounded");
     }
 }
