@@ -280,3 +280,105 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
 
 /// `ALL_NODES` is node-id 0 in SendNMTService as in the CAN NMT frame.
 const _: () = assert!(ALL_NODES == 0);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::epos2::frame::Frame as SerialFrame;
+
+    /// A link whose EPOS2 answers each command with `answer(command)`; records the commands.
+    struct Scripted<F: FnMut(&Command) -> SerialFrame> {
+        answer: F,
+        sent: Vec<Command>,
+    }
+
+    impl<F: FnMut(&Command) -> SerialFrame> Transport for Scripted<F> {
+        fn transact(&mut self, frame: &SerialFrame, _answered: bool) -> Result<Option<SerialFrame>> {
+            let cmd = Command::from_frame(frame).expect("a command");
+            let a = (self.answer)(&cmd);
+            self.sent.push(cmd);
+            Ok(Some(a))
+        }
+        fn describe(&self) -> String {
+            "scripted".into()
+        }
+        fn is_rs232(&self) -> bool {
+            false
+        }
+    }
+
+    fn gateway<F: FnMut(&Command) -> SerialFrame>(answer: F) -> Epos2Gateway<Scripted<F>> {
+        Epos2Gateway::new(Scripted { answer, sent: vec![] })
+    }
+
+    fn segment(toggle: bool, more: bool, data: &[u8]) -> SerialFrame {
+        let mut d = vec![data.len() as u8 | if toggle { TOGGLE } else { 0 } | if more { MORE } else { 0 }];
+        d.extend_from_slice(data);
+        command::answer(0, &d)
+    }
+
+    const OBJ: ObjAddr = ObjAddr::new(0x1008, 0);
+
+    fn block() -> SdoOptions {
+        SdoOptions { block_upload: true, ..SdoOptions::new(Duration::from_millis(100)) }
+    }
+
+    #[test]
+    fn segments_without_data_are_a_protocol_error() {
+        let mut g = gateway(|c| match c {
+            Command::SegmentRead { toggle } => segment(*toggle, true, &[]),
+            _ => command::answer(0, &[]),
+        });
+        let e = g.sdo_upload(10, OBJ, &block()).unwrap_err();
+        assert_eq!(e.exit_code(), 5, "{e}");
+        assert!(e.to_string().contains("without data"), "{e}");
+        assert_eq!(g.link.sent.len(), 1 + MAX_EMPTY_SEGMENTS);
+    }
+
+    #[test]
+    fn a_few_empty_segments_between_data_are_read_through() {
+        let mut n = 0;
+        let mut g = gateway(move |c| match c {
+            Command::SegmentRead { toggle } => {
+                n += 1;
+                match n {
+                    1 | 3 => segment(*toggle, true, &[]),
+                    2 => segment(*toggle, true, b"CAN-"),
+                    _ => segment(*toggle, false, b"2057C"),
+                }
+            }
+            _ => command::answer(0, &[]),
+        });
+        assert_eq!(g.sdo_upload(10, OBJ, &block()).unwrap(), b"CAN-2057C");
+    }
+
+    #[test]
+    fn endless_segments_stop_at_the_limit() {
+        let mut g = gateway(|c| match c {
+            Command::SegmentRead { toggle } => segment(*toggle, true, &[0xEE; MAX_SEGMENT]),
+            _ => command::answer(0, &[]),
+        });
+        let e = g.sdo_upload(0, OBJ, &block()).unwrap_err();
+        assert_eq!(e.exit_code(), 5, "{e}");
+        assert!(e.to_string().contains("still says more follow"), "{e}");
+        assert_eq!(g.link.sent.len(), 1 + MAX_SEGMENTED_UPLOAD.div_ceil(MAX_SEGMENT));
+    }
+
+    #[test]
+    fn an_empty_value_is_one_segment_without_data() {
+        let mut g = gateway(|c| match c {
+            Command::SegmentWrite { toggle, data } => {
+                command::answer(0, &[data.len() as u8 | if *toggle { TOGGLE } else { 0 }, 0])
+            }
+            _ => command::answer(0, &[]),
+        });
+        g.sdo_download(0, ObjAddr::new(0x5FF0, 12), &[], &SdoOptions::new(Duration::from_millis(100))).unwrap();
+        assert_eq!(
+            g.link.sent,
+            [
+                Command::InitiateSegmentedWrite { node: 0, addr: ObjAddr::new(0x5FF0, 12), length: 0 },
+                Command::SegmentWrite { toggle: false, data: vec![] },
+            ]
+        );
+    }
+}
