@@ -211,3 +211,20 @@ fn nmt_reset_through_the_gateway_says_what_was_confirmed() {
         assert!(r.stderr.contains("not confirmed"), "{framing}: {}", r.stderr);
     }
 }
+
+/// Frame 1 is the synchronisation probe; a fault on the command after it is retried too,
+/// and the retry's answer is the command's own.
+#[test]
+fn a_fault_on_the_command_after_the_probe_is_retried() {
+    for framing in FRAMINGS {
+        for fault in ["nack@2", "crc@2", "garbage@2", "drop@2", "mute@2", "late@2"] {
+            let sim = Sim::new();
+            let product = sim.run(&["sdo", "read", "5", "1018:2", "--type", "u32"]).ok().stdout;
+            let dev = DeviceSide::start(&sim, framing, &["--fault", fault]);
+            let r = run_bounded(&dev, &["--timeout", "200ms", "sdo", "read", "5", "1018:1", "--type", "u32"]);
+            assert_eq!((r.code, r.stdout.trim()), (0, "64"), "{framing} {fault}: {}", r.stderr);
+            let r = run_bounded(&dev, &["--timeout", "200ms", "sdo", "read", "5", "1018:2", "--type", "u32"]).ok();
+            assert_eq!(r.stdout, product, "{framing} {fault}: the next client gets its own answer");
+        }
+    }
+}
