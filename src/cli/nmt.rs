@@ -114,24 +114,24 @@ fn send(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, target: u8) -> anyhow::Resul
 
 fn reset(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, a: &ResetArgs) -> anyhow::Result<()> {
     let target = a.target.target;
-    let Some((nodes, how)) = reset_and_wait(ctx, bus, cmd, target, a.wait)? else {
-        // Without the bus's traffic there is no telling which nodes exist and rebooted.
-        let msg = format!(
-            "NMT {} sent to all nodes; {} shows no boot-up messages, so check the nodes with `canctl scan`",
-            cmd.name(),
-            bus.describe()
-        );
-        return match ctx.out.format {
-            Format::Json => {
-                Ok(ctx.out.json(&json!({ "command": cmd.name(), "target": "all", "sent": true, "booted": null }))?)
-            }
-            _ => Ok(ctx.out.print(&msg)?),
-        };
+    let (nodes, how) = match reset_and_wait(ctx, bus, cmd, target, a.wait)? {
+        Reset::Confirmed(nodes, how) => (nodes, how),
+        Reset::Unconfirmed(why) => {
+            let msg = format!("NMT {} sent to {}; not confirmed: {why}", cmd.name(), target_text(target));
+            return match ctx.out.format {
+                Format::Json => Ok(ctx.out.json(&json!({
+                    "command": cmd.name(), "target": target_json(target), "sent": true, "confirmed": false,
+                    "booted": null, "why": why
+                }))?),
+                _ => Ok(ctx.out.print(&msg)?),
+            };
+        }
     };
     let state = nmt::State::PreOperational;
     match ctx.out.format {
         Format::Json => ctx.out.json(&json!({
-            "command": cmd.name(), "target": target_json(target), "booted": nodes, "state": state.name(), "seen_by": how
+            "command": cmd.name(), "target": target_json(target), "sent": true, "confirmed": true, "booted": nodes,
+            "state": state.name(), "seen_by": how
         }))?,
         Format::Csv => ctx.out.table(
             &["node", "state"],
@@ -149,24 +149,66 @@ fn reset(ctx: &Ctx, bus: &mut dyn Bus, cmd: Command, a: &ResetArgs) -> anyhow::R
     Ok(())
 }
 
-/// Send a reset and wait until the target is back: the nodes that booted, and how that was
-/// seen; `None` for all nodes on a link that shows no traffic (nothing to wait for).
+/// What is known after a reset was sent.
+pub(super) enum Reset {
+    /// These nodes are back, and how that was seen.
+    Confirmed(Vec<u8>, String),
+    /// The reset went out but nothing showed that it took effect; why not.
+    Unconfirmed(String),
+}
+
+/// Send a reset and wait until the target is back. A link that shows the bus's traffic
+/// sees boot-up messages; through an EPOS2 only the node's answers to remote requests
+/// show anything, and only a boot-up answer or a change of state proves a reset.
 pub(super) fn reset_and_wait(
     ctx: &Ctx,
     bus: &mut dyn Bus,
     cmd: Command,
     target: u8,
     wait: Duration,
-) -> anyhow::Result<Option<(Vec<u8>, &'static str)>> {
+) -> anyhow::Result<Reset> {
+    if bus.sees_traffic() {
+        bus.nmt(cmd, target)?;
+        let nodes = listen_for_boot_ups(ctx, bus, target, wait)?;
+        return Ok(Reset::Confirmed(nodes, "boot-up message".into()));
+    }
+    let no_traffic = format!("{} passes on no boot-up messages", bus.describe());
+    if target == ALL_NODES {
+        bus.nmt(cmd, target)?;
+        return Ok(Reset::Unconfirmed(format!("{no_traffic}; check the nodes with `canctl scan`")));
+    }
+    let before = match remote_state(ctx, bus, target) {
+        Ok(answer) => answer,
+        Err(Error::Timeout(_)) => None,
+        Err(e) => return Err(e.into()),
+    };
     bus.nmt(cmd, target)?;
-    Ok(if bus.sees_traffic() {
-        Some((listen_for_boot_ups(ctx, bus, target, wait)?, "boot-up message"))
-    } else if target == ALL_NODES {
-        None
-    } else {
-        poll_until_answering(ctx, bus, target, wait)?;
-        Some((vec![target], "answer to a remote request"))
+    let after = poll_until_answering(ctx, bus, target, wait)?;
+    Ok(match (before, after) {
+        (_, ErrorControl::BootUp) => {
+            Reset::Confirmed(vec![target], "its boot-up, as the answer to a remote request".into())
+        }
+        (
+            Some(ErrorControl::State { state: was, .. }),
+            ErrorControl::State { state: nmt::State::PreOperational, .. },
+        ) if was != nmt::State::PreOperational => {
+            Reset::Confirmed(vec![target], format!("its state: {was} before, pre-operational after (remote requests)"))
+        }
+        (_, ErrorControl::State { state, .. }) => Reset::Unconfirmed(format!(
+            "node {target} answers and is {state}, as before; {no_traffic}, so a reset cannot be told from none. \
+             To see one, put the node in another state first (`canctl nmt stop {target}`)"
+        )),
+        (_, ErrorControl::Unknown(code)) => Reset::Unconfirmed(format!(
+            "node {target} answers with state code 0x{code:02X}, which CiA 301 does not define; {no_traffic}"
+        )),
     })
+}
+
+/// The node's answer to one error-control remote request; `None` for an answer that is
+/// no error-control message.
+fn remote_state(ctx: &Ctx, bus: &mut dyn Bus, node: u8) -> crate::Result<Option<ErrorControl>> {
+    let f = bus.request_frame(nmt::error_control_cob(node), 1, ctx.timeout)?;
+    Ok(ErrorControl::parse(&f).map(|(_, ec)| ec))
 }
 
 /// Boot-up messages after a reset. One node: done at its boot-up. All: boot-ups may come
@@ -195,18 +237,19 @@ fn listen_for_boot_ups(ctx: &Ctx, bus: &mut dyn Bus, target: u8, wait: Duration)
 }
 
 /// Through a link that shows no traffic, a reset node is back when it answers the
-/// error-control remote request again.
-fn poll_until_answering(ctx: &Ctx, bus: &mut dyn Bus, node: u8, wait: Duration) -> anyhow::Result<()> {
+/// error-control remote request again; its answer.
+fn poll_until_answering(ctx: &Ctx, bus: &mut dyn Bus, node: u8, wait: Duration) -> anyhow::Result<ErrorControl> {
     let deadline = Instant::now() + wait;
     loop {
-        match bus.request_frame(nmt::error_control_cob(node), 1, ctx.timeout) {
-            Ok(f) if ErrorControl::parse(&f).is_some() => return Ok(()),
-            Ok(_) | Err(Error::Timeout(_)) if Instant::now() < deadline => {
+        match remote_state(ctx, bus, node) {
+            Ok(Some(answer)) => return Ok(answer),
+            Ok(None) | Err(Error::Timeout(_)) if Instant::now() < deadline => {
                 std::thread::sleep(Duration::from_millis(20))
             }
-            Ok(_) | Err(Error::Timeout(_)) => {
+            Ok(None) | Err(Error::Timeout(_)) => {
                 return Err(Error::Timeout(format!(
-                    "node {node}: no answer within {} ms after the reset",
+                    "node {node}: NMT reset sent, but no answer to remote requests within {} ms after it; \
+                     not confirmed. Check the node with `canctl scan`, or wait longer (--wait)",
                     wait.as_millis()
                 ))
                 .into())

@@ -47,7 +47,8 @@ pub struct SimArgs {
     /// Pace bytes as a serial line at this bit rate would (10 bits a byte)
     #[arg(long, value_name = "BITS/S", value_parser = clap::value_parser!(u32).range(300..=10_000_000))]
     pub baud: Option<u32>,
-    /// Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)
+    /// Inject a fault: nack, crc, garbage, drop, mute, stale, late, babble, empty-segments,
+    /// endless-segments or wrong-object, on frame N (KIND@N) or every frame (KIND@*)
     #[arg(long, value_name = "KIND@N")]
     pub fault: Vec<Fault>,
     /// How long the EPOS2 waits for an SDO answer on the CAN bus (the slow profile's

@@ -143,13 +143,21 @@ pub fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> 
 
 pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<()> {
     let addr = signature(ctx, bus, a.node, true, a.class, a.store_timeout)?;
+    let mut unconfirmed = None;
     let rebooted = if a.reset {
-        super::nmt::reset_and_wait(ctx, bus, Command::ResetNode, a.node, a.store_timeout.max(Duration::from_secs(2)))?;
+        let wait = a.store_timeout.max(Duration::from_secs(2));
+        if let super::nmt::Reset::Unconfirmed(why) =
+            super::nmt::reset_and_wait(ctx, bus, Command::ResetNode, a.node, wait)?
+        {
+            unconfirmed = Some(why);
+        }
         true
     } else {
         false
     };
-    let text = if rebooted {
+    let text = if let Some(why) = &unconfirmed {
+        format!("node {}: {} back to defaults ({addr}); NMT reset sent, not confirmed: {why}", a.node, a.class.text())
+    } else if rebooted {
         format!(
             "node {}: {} back to defaults ({addr}); the node was reset and booted with them",
             a.node,
@@ -164,7 +172,8 @@ pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<
     };
     match ctx.out.format {
         Format::Json => ctx.out.json(
-            &json!({ "node": a.node, "restored": a.class.text(), "object": addr.to_string(), "reset": rebooted }),
+            &json!({ "node": a.node, "restored": a.class.text(), "object": addr.to_string(), "reset": rebooted,
+                    "reset_confirmed": rebooted && unconfirmed.is_none() }),
         )?,
         _ => ctx.out.print(&text)?,
     }

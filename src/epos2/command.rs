@@ -15,6 +15,10 @@ pub const SEND_CAN_FRAME: u8 = 0x20;
 pub const REQUEST_CAN_FRAME: u8 = 0x21;
 pub const SEND_LSS_FRAME: u8 = 0x30;
 pub const READ_LSS_FRAME: u8 = 0x31;
+/// No command has this opcode. The EPOS2 answers a bad opcode with the error code
+/// 0x0F00FFBF (seed 000 §4.1.3.1), an answer no real command of ours ever gets: sent after
+/// opening the port or after a failure, it marks the point from which answers are ours.
+pub const SYNC_PROBE: u8 = 0xFE;
 
 /// Most data bytes in one SegmentRead/SegmentWrite (the control byte's six length bits).
 pub const MAX_SEGMENT: usize = 63;
@@ -66,6 +70,29 @@ impl Command {
     /// (seed 000 chapter 3, remark "no response with RS232"); USB answers everything.
     pub fn answered_on_rs232(&self) -> bool {
         !matches!(self, Command::SendNmtService { .. } | Command::SendCanFrame { .. } | Command::SendLssFrame { .. })
+    }
+
+    /// Whether `f` can be the answer to this command (seed 000 chapter 3): the answer
+    /// opcode and, with error code 0, exactly the length of this command's answer; with an
+    /// error code, at least the code and at most that length. An "illegal command" answer
+    /// is never one to a command canctl sends: it answers a synchronisation probe.
+    pub fn answer_fits(&self, f: &Frame) -> bool {
+        let Some((code, _)) = parse_answer(f) else { return false };
+        let (min, max) = self.answer_len();
+        let len = f.data.len();
+        code != ILLEGAL_COMMAND && len <= max && (len >= min || code != 0)
+    }
+
+    /// The shortest and longest answer to this command in bytes, error code included,
+    /// when it succeeds (seed 000 chapter 3).
+    pub fn answer_len(&self) -> (usize, usize) {
+        match self {
+            Command::ReadObject { .. } => (8, 8),
+            Command::SegmentRead { .. } => (6, 4 + (1 + MAX_SEGMENT).next_multiple_of(2)),
+            Command::SegmentWrite { .. } => (6, 6),
+            Command::RequestCanFrame { .. } | Command::ReadLssFrame { .. } => (12, 12),
+            _ => (4, 4),
+        }
     }
 
     pub fn to_frame(&self) -> Frame {
@@ -155,6 +182,16 @@ pub fn answer(error: u32, data: &[u8]) -> Frame {
     Frame::new(ANSWER, d)
 }
 
+/// The synchronisation probe: an opcode that does not exist, one zero word.
+pub fn sync_probe() -> Frame {
+    Frame::new(SYNC_PROBE, vec![0, 0])
+}
+
+/// Whether `f` is the EPOS2's answer to the synchronisation probe.
+pub fn is_probe_answer(f: &Frame) -> bool {
+    parse_answer(f).is_some_and(|(code, _)| code == ILLEGAL_COMMAND)
+}
+
 /// Error code and data of an answer frame.
 pub fn parse_answer(f: &Frame) -> Option<(u32, &[u8])> {
     if f.opcode != ANSWER || f.data.len() < 4 {
@@ -217,6 +254,31 @@ mod tests {
         assert_eq!(Command::ReadObject { node: 2, addr: a }.to_frame().data, [0x03, 0x20, 0x01, 0x02]);
         assert_eq!(Command::from_frame(&Frame::new(0x77, vec![0, 0])), None);
         assert_eq!(Command::from_frame(&Frame::new(SEGMENT_WRITE, vec![10, 1])), None);
+    }
+
+    #[test]
+    fn answers_are_checked_against_their_command() {
+        let a = ObjAddr::new(0x1018, 1);
+        let read = Command::ReadObject { node: 5, addr: a };
+        let write = Command::WriteObject { node: 5, addr: a, data: [0; 4] };
+        let segment = Command::SegmentRead { toggle: false };
+        // Seed 002: the answer to ReadObject 0x1000 of node 2 is four words.
+        assert!(read.answer_fits(&answer(0, &[0x92, 0x01, 0x02, 0x00])));
+        assert!(read.answer_fits(&answer(abort::TIMED_OUT, &[0; 4])));
+        assert!(read.answer_fits(&answer(abort::TIMED_OUT, &[])), "an error may come without data");
+        assert!(!read.answer_fits(&answer(0, &[])), "a WriteObject answer is no ReadObject answer");
+        assert!(!read.answer_fits(&answer(0, &[0; 8])), "a RequestCANFrame answer is no ReadObject answer");
+        assert!(write.answer_fits(&answer(0, &[])));
+        assert!(!write.answer_fits(&answer(0, &[1, 2, 3, 4])), "a ReadObject answer is no WriteObject answer");
+        assert!(!write.answer_fits(&answer(ILLEGAL_COMMAND, &[])), "the probe's answer");
+        assert!(!write.answer_fits(&Frame::new(READ_OBJECT, vec![0; 4])), "not an answer opcode");
+        assert!(!write.answer_fits(&Frame::new(ANSWER, vec![0, 0])), "too short for an error code");
+        assert!(segment.answer_fits(&answer(0, &[0x43, 1, 2, 3])));
+        assert!(segment.answer_fits(&answer(0, &[0x3F; 64])));
+        assert!(!segment.answer_fits(&answer(0, &[0x3F; 66])));
+        assert!(!segment.answer_fits(&answer(0, &[])));
+        assert!(is_probe_answer(&answer(ILLEGAL_COMMAND, &[])));
+        assert_eq!(Command::from_frame(&sync_probe()), None, "the probe is no command");
     }
 
     #[test]

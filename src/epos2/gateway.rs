@@ -5,7 +5,6 @@ use super::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, 
 use super::transport::Transport;
 use crate::bus::{Bus, LssAnswer, LssWait, Observed, SdoOptions, ALL_NODES};
 use crate::canopen::nmt::Command as NmtCommand;
-use crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD;
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
@@ -16,6 +15,13 @@ const READ_LSS_SLICE_MS: u128 = 100;
 
 /// EPOS2 firmware specification: object 0x2000 holds the node-id set by DIP switch or SDO.
 const OWN_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
+/// Segments in a row that carry no data yet say more follow: the transfer makes no
+/// progress, so after these it is a protocol error, not a loop.
+const MAX_EMPTY_SEGMENTS: usize = 8;
+/// The largest value read in segments through an EPOS2. Its answers do not say how long a
+/// value is, so a device that keeps saying "more" is stopped here: a 1 MiB upload at 63
+/// bytes a round trip is already minutes on a serial line.
+pub const MAX_SEGMENTED_UPLOAD: usize = 1 << 20;
 
 pub struct Epos2Gateway<T: Transport> {
     link: T,
@@ -94,6 +100,7 @@ impl<T: Transport> Epos2Gateway<T> {
         self.call_ok(&Command::InitiateSegmentedRead { node, addr }, node, Some(addr))?;
         let mut out = Vec::new();
         let mut toggle = false;
+        let mut empty_in_a_row = 0;
         loop {
             let data = self.call_ok(&Command::SegmentRead { toggle }, node, Some(addr))?;
             let ctrl = *data
@@ -107,11 +114,25 @@ impl<T: Transport> Epos2Gateway<T> {
                 .get(1..1 + len)
                 .ok_or_else(|| Error::Link(format!("node {node}: segment claims {len} bytes but carries fewer")))?;
             out.extend_from_slice(chunk);
-            if out.len() > DEFAULT_MAX_UPLOAD {
-                return Err(Error::Link(format!("node {node}: {addr} is larger than {DEFAULT_MAX_UPLOAD} bytes")));
-            }
             if ctrl & MORE == 0 {
                 return Ok(out);
+            }
+            empty_in_a_row = if chunk.is_empty() { empty_in_a_row + 1 } else { 0 };
+            if empty_in_a_row == MAX_EMPTY_SEGMENTS {
+                return Err(Error::Link(format!(
+                    "node {node}: segmented read of {addr}: {MAX_EMPTY_SEGMENTS} segments in a row without data \
+                     that say more follow; stopped. The device's SDO server is stuck: reset the node \
+                     (`canctl nmt reset {node}`) and read again"
+                )));
+            }
+            if out.len() >= MAX_SEGMENTED_UPLOAD {
+                return Err(Error::Link(format!(
+                    "node {node}: segmented read of {addr}: {} bytes and the device still says more follow; \
+                     stopped at the limit of {} KiB for reads through an EPOS2. A value this large is \
+                     read over SocketCAN (block transfer); otherwise the device is faulty: reset it",
+                    out.len(),
+                    MAX_SEGMENTED_UPLOAD >> 10
+                )));
             }
             toggle = !toggle;
         }
@@ -121,7 +142,10 @@ impl<T: Transport> Epos2Gateway<T> {
         let size = self.segment_size(node);
         self.call_ok(&Command::InitiateSegmentedWrite { node, addr, length: data.len() as u32 }, node, Some(addr))?;
         let mut toggle = false;
-        for chunk in data.chunks(size) {
+        // An empty value is one segment with no data (CiA 301 lets a segment carry none);
+        // without it the device would wait for the value and never write it.
+        let chunks: Vec<&[u8]> = if data.is_empty() { vec![&[]] } else { data.chunks(size).collect() };
+        for chunk in chunks {
             let answer = self.call_ok(&Command::SegmentWrite { toggle, data: chunk.to_vec() }, node, Some(addr))?;
             let ctrl = answer.first().copied().unwrap_or(0);
             if (ctrl & TOGGLE != 0) != toggle || (ctrl & LENGTH) as usize != chunk.len() {
@@ -284,3 +308,105 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
 
 /// `ALL_NODES` is node-id 0 in SendNMTService as in the CAN NMT frame.
 const _: () = assert!(ALL_NODES == 0);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::epos2::frame::Frame as SerialFrame;
+
+    /// A link whose EPOS2 answers each command with `answer(command)`; records the commands.
+    struct Scripted<F: FnMut(&Command) -> SerialFrame> {
+        answer: F,
+        sent: Vec<Command>,
+    }
+
+    impl<F: FnMut(&Command) -> SerialFrame> Transport for Scripted<F> {
+        fn transact(&mut self, frame: &SerialFrame, _answered: bool) -> Result<Option<SerialFrame>> {
+            let cmd = Command::from_frame(frame).expect("a command");
+            let a = (self.answer)(&cmd);
+            self.sent.push(cmd);
+            Ok(Some(a))
+        }
+        fn describe(&self) -> String {
+            "scripted".into()
+        }
+        fn is_rs232(&self) -> bool {
+            false
+        }
+    }
+
+    fn gateway<F: FnMut(&Command) -> SerialFrame>(answer: F) -> Epos2Gateway<Scripted<F>> {
+        Epos2Gateway::new(Scripted { answer, sent: vec![] })
+    }
+
+    fn segment(toggle: bool, more: bool, data: &[u8]) -> SerialFrame {
+        let mut d = vec![data.len() as u8 | if toggle { TOGGLE } else { 0 } | if more { MORE } else { 0 }];
+        d.extend_from_slice(data);
+        command::answer(0, &d)
+    }
+
+    const OBJ: ObjAddr = ObjAddr::new(0x1008, 0);
+
+    fn block() -> SdoOptions {
+        SdoOptions { block_upload: true, ..SdoOptions::new(Duration::from_millis(100)) }
+    }
+
+    #[test]
+    fn segments_without_data_are_a_protocol_error() {
+        let mut g = gateway(|c| match c {
+            Command::SegmentRead { toggle } => segment(*toggle, true, &[]),
+            _ => command::answer(0, &[]),
+        });
+        let e = g.sdo_upload(10, OBJ, &block()).unwrap_err();
+        assert_eq!(e.exit_code(), 5, "{e}");
+        assert!(e.to_string().contains("without data"), "{e}");
+        assert_eq!(g.link.sent.len(), 1 + MAX_EMPTY_SEGMENTS);
+    }
+
+    #[test]
+    fn a_few_empty_segments_between_data_are_read_through() {
+        let mut n = 0;
+        let mut g = gateway(move |c| match c {
+            Command::SegmentRead { toggle } => {
+                n += 1;
+                match n {
+                    1 | 3 => segment(*toggle, true, &[]),
+                    2 => segment(*toggle, true, b"CAN-"),
+                    _ => segment(*toggle, false, b"2057C"),
+                }
+            }
+            _ => command::answer(0, &[]),
+        });
+        assert_eq!(g.sdo_upload(10, OBJ, &block()).unwrap(), b"CAN-2057C");
+    }
+
+    #[test]
+    fn endless_segments_stop_at_the_limit() {
+        let mut g = gateway(|c| match c {
+            Command::SegmentRead { toggle } => segment(*toggle, true, &[0xEE; MAX_SEGMENT]),
+            _ => command::answer(0, &[]),
+        });
+        let e = g.sdo_upload(0, OBJ, &block()).unwrap_err();
+        assert_eq!(e.exit_code(), 5, "{e}");
+        assert!(e.to_string().contains("still says more follow"), "{e}");
+        assert_eq!(g.link.sent.len(), 1 + MAX_SEGMENTED_UPLOAD.div_ceil(MAX_SEGMENT));
+    }
+
+    #[test]
+    fn an_empty_value_is_one_segment_without_data() {
+        let mut g = gateway(|c| match c {
+            Command::SegmentWrite { toggle, data } => {
+                command::answer(0, &[data.len() as u8 | if *toggle { TOGGLE } else { 0 }, 0])
+            }
+            _ => command::answer(0, &[]),
+        });
+        g.sdo_download(0, ObjAddr::new(0x5FF0, 12), &[], &SdoOptions::new(Duration::from_millis(100))).unwrap();
+        assert_eq!(
+            g.link.sent,
+            [
+                Command::InitiateSegmentedWrite { node: 0, addr: ObjAddr::new(0x5FF0, 12), length: 0 },
+                Command::SegmentWrite { toggle: false, data: vec![] },
+            ]
+        );
+    }
+}

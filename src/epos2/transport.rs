@@ -1,7 +1,16 @@
-//! The two EPOS2 links: RS232 with its 'O'/'F' handshake, USB with DLE/STX framing. Both
-//! retry a command once after a failed handshake, a bad CRC or a timeout, then give up
-//! with a link error that says what happened.
+//! The two EPOS2 links: RS232 with its 'O'/'F' handshake, USB with DLE/STX framing.
+//!
+//! Answers carry no reference to their command, so the link keeps itself in step: after
+//! opening the port and after every failure it clears the input and sends a synchronisation
+//! probe (an opcode that does not exist), discarding every answer before the probe's own —
+//! answers still owed to an earlier client or to a command that timed out. Every answer is
+//! then checked against its command (opcode, length, CRC); one that does not fit is
+//! discarded, a few at most. Both links retry a command once after a failed handshake, a bad
+//! CRC, a timeout or a misfit, then give up with a link error that says what happened.
+//! Every wait is bounded: per frame by the timeout, in number by the discard limit, and the
+//! wait for a quiet line by a total limit.
 
+use super::command::{self, Command};
 use super::frame::{self, Frame, FrameError, UsbDecoder};
 use super::Framing;
 use crate::error::{Error, Result};
@@ -28,9 +37,6 @@ impl SerialIo for serialport::TTYPort {
 
     fn read_some(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
         let left = deadline.saturating_duration_since(Instant::now());
-        if left.is_zero() {
-            return Ok(0);
-        }
         serialport::SerialPort::set_timeout(self, left)?;
         match io::Read::read(self, buf) {
             Ok(0) => Err(io::Error::new(io::ErrorKind::UnexpectedEof, "the port closed")),
@@ -54,6 +60,12 @@ pub trait Transport {
     fn is_rs232(&self) -> bool;
 }
 
+/// Answers that fit none of our commands, discarded in one exchange before giving up.
+const MAX_DISCARDED: usize = 4;
+/// The synchronisation probe waits at least this long for each answer: it may be queued
+/// behind a command of an earlier client that the EPOS2 is still forwarding to a slow node.
+const PROBE_WAIT: Duration = Duration::from_secs(1);
+
 /// Why one attempt failed.
 #[derive(Debug)]
 enum Failure {
@@ -61,12 +73,31 @@ enum Failure {
     Timeout(&'static str),
     Frame(FrameError),
     Unexpected(u8, &'static str),
+    /// Only answers that belong to no command of ours came.
+    Misfit(usize),
+    /// The line never fell quiet: bytes, milliseconds.
+    Babble(usize, u128),
     Io(io::Error),
 }
 
 impl Failure {
     fn retryable(&self) -> bool {
-        !matches!(self, Failure::Io(_))
+        !matches!(self, Failure::Io(_) | Failure::Babble(..))
+    }
+
+    /// What the user can do about it.
+    fn advice(&self) -> &'static str {
+        match self {
+            Failure::Io(_) => "check that the device is connected and powered, then run the command again",
+            Failure::Babble(..) => {
+                "check the bit rate (?baud=), that no other program uses the port, and the cable; \
+                 then run the command again"
+            }
+            _ => {
+                "check the cable, the bit rate (?baud=) and that no other program uses the port; a \
+                  slow device may need a longer --timeout"
+            }
+        }
     }
 }
 
@@ -77,6 +108,10 @@ impl std::fmt::Display for Failure {
             Failure::Timeout(stage) => write!(f, "no answer {stage}"),
             Failure::Frame(e) => write!(f, "bad answer frame: {e}"),
             Failure::Unexpected(b, stage) => write!(f, "unexpected byte 0x{b:02X} {stage}"),
+            Failure::Misfit(n) => write!(f, "{n} answers in a row that do not answer this command (discarded)"),
+            Failure::Babble(bytes, ms) => {
+                write!(f, "the line does not fall quiet: {bytes} bytes in {ms} ms without a pause")
+            }
             Failure::Io(e) => write!(f, "the port failed: {e}"),
         }
     }
@@ -100,7 +135,12 @@ impl<S: SerialIo> Port<S> {
         Instant::now() + self.timeout
     }
 
+    /// The next byte, or `None` once `deadline` has passed — also on a line that never
+    /// stops sending.
     fn byte(&mut self, deadline: Instant) -> Result<Option<u8>, Failure> {
+        if Instant::now() >= deadline {
+            return Ok(None);
+        }
         if self.pos == self.buf.len() {
             self.buf.resize(256, 0);
             let n = self.io.read_some(&mut self.buf, deadline).map_err(Failure::Io)?;
@@ -122,20 +162,37 @@ impl<S: SerialIo> Port<S> {
         self.io.write_all(bytes).map_err(Failure::Io)
     }
 
-    /// Drop whatever is in flight: wait for the line to fall quiet, then clear it.
-    fn resync(&mut self) {
+    /// Drop what has arrived and not been read.
+    fn clear(&mut self) -> Result<(), Failure> {
         self.buf.clear();
         self.pos = 0;
-        let quiet = (self.timeout / 4).min(Duration::from_millis(50));
+        self.io.discard_input().map_err(Failure::Io)
+    }
+
+    /// Drop whatever is in flight: wait for the line to fall quiet, then clear it. A line
+    /// that keeps talking is given a few timeouts, not forever.
+    fn resync(&mut self) -> Result<(), Failure> {
+        let quiet = (self.timeout / 4).clamp(Duration::from_millis(5), Duration::from_millis(50));
+        let start = Instant::now();
+        let limit = start + (self.timeout * 4).max(Duration::from_millis(500));
         let mut scratch = [0u8; 256];
-        let mut until = Instant::now() + quiet;
-        while let Ok(n) = self.io.read_some(&mut scratch, until) {
-            if n == 0 {
+        let mut until = start + quiet;
+        let mut bytes = self.buf.len() - self.pos;
+        loop {
+            if Instant::now() >= limit {
+                return Err(Failure::Babble(bytes, start.elapsed().as_millis()));
+            }
+            // Quiet means a read that waited until `until` got nothing: a reader that was
+            // merely slow finds the bytes waiting.
+            let n = self.io.read_some(&mut scratch, until.min(limit)).map_err(Failure::Io)?;
+            if n > 0 {
+                bytes += n;
+                until = Instant::now() + quiet;
+            } else if Instant::now() >= until {
                 break;
             }
-            until = Instant::now() + quiet;
         }
-        let _ = self.io.discard_input();
+        self.clear()
     }
 }
 
@@ -146,47 +203,117 @@ fn trace(enabled: bool, name: &str, dir: &str, bytes: &[u8]) {
     }
 }
 
-/// Run `attempt` and, if it fails in a way a resync can cure, once more.
-fn with_retry<S: SerialIo>(
-    port: &mut Port<S>,
-    describe: &str,
-    command: &Frame,
-    mut attempt: impl FnMut(&mut Port<S>) -> Result<Option<Frame>, Failure>,
-) -> Result<Option<Frame>> {
-    let what = super::command::Command::from_frame(command).map_or("command", |c| c.name());
-    match attempt(port) {
-        Ok(a) => Ok(a),
-        Err(first) if first.retryable() => {
-            port.resync();
-            attempt(port).map_err(|second| {
-                Error::Link(format!("{describe}: {what} failed: {first}; after a resync and retry: {second}"))
-            })
-        }
-        Err(e) => Err(Error::Link(format!("{describe}: {what} failed: {e}"))),
-    }
-}
-
 /// An EPOS2 on a serial port, with either framing.
 pub struct SerialTransport<S> {
     port: Port<S>,
     framing: Framing,
     describe: String,
     trace: bool,
+    /// Whether every answer still owed to someone else has been received and discarded.
+    in_step: bool,
 }
 
 impl<S: SerialIo> SerialTransport<S> {
     pub fn new(io: S, framing: Framing, describe: String, timeout: Duration, trace: bool) -> SerialTransport<S> {
-        SerialTransport { port: Port::new(io, timeout), framing, describe, trace }
+        SerialTransport { port: Port::new(io, timeout), framing, describe, trace, in_step: false }
+    }
+
+    /// Clear the input and send the probe; every answer before the probe's is discarded.
+    fn synchronise(&mut self) -> Result<(), Failure> {
+        self.port.clear()?;
+        let probe = command::sync_probe();
+        let wait = (self.port.timeout * 2).max(PROBE_WAIT);
+        let mut discarded = 0;
+        let mut answer = self.send_and_receive(&probe, wait)?;
+        loop {
+            match answer {
+                Ok(f) if command::is_probe_answer(&f) => break,
+                // An answer someone else was owed, or the remains of one cut by the clear.
+                _ if discarded < MAX_DISCARDED => discarded += 1,
+                _ => return Err(Failure::Misfit(discarded)),
+            }
+            answer = self.receive(wait)?;
+        }
+        self.in_step = true;
+        Ok(())
+    }
+
+    /// Send a frame and receive the first answer frame, or a frame error.
+    fn send_and_receive(&mut self, f: &Frame, wait: Duration) -> Result<Result<Frame, FrameError>, Failure> {
+        match self.framing {
+            Framing::Rs232 => {
+                rs232_send(&mut self.port, &self.describe, self.trace, f, wait)?;
+            }
+            Framing::Usb => {
+                let bytes = frame::usb_encode(f);
+                trace(self.trace, &self.describe, "<", &bytes);
+                self.port.send(&bytes)?;
+            }
+        }
+        self.receive(wait)
+    }
+
+    fn receive(&mut self, wait: Duration) -> Result<Result<Frame, FrameError>, Failure> {
+        let until = Instant::now() + wait;
+        match self.framing {
+            Framing::Rs232 => rs232_receive(&mut self.port, &self.describe, self.trace, until),
+            Framing::Usb => usb_receive(&mut self.port, &self.describe, self.trace, until),
+        }
+    }
+
+    /// One try: in step first, then the command and its answer.
+    fn attempt(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>, Failure> {
+        if !self.in_step {
+            self.synchronise()?;
+        }
+        let cmd = Command::from_frame(command);
+        let timeout = self.port.timeout;
+        if !answered {
+            rs232_send(&mut self.port, &self.describe, self.trace, command, timeout)?;
+            return Ok(None);
+        }
+        let mut answer = self.send_and_receive(command, timeout)?;
+        let mut discarded = 0;
+        loop {
+            let f = answer.map_err(Failure::Frame)?;
+            // Seed 000 §4.1.3.1: a frame the EPOS2 could not read comes back as an answer
+            // carrying the CRC error code: USB's counterpart of RS232's 'F'.
+            if command::parse_answer(&f).is_some_and(|(code, _)| code == crate::canopen::abort::CRC_ERROR) {
+                return Err(Failure::Nack("with error 0x05040004: it saw a bad CRC"));
+            }
+            if cmd.as_ref().is_none_or(|c| c.answer_fits(&f)) {
+                return Ok(Some(f));
+            }
+            if discarded == MAX_DISCARDED {
+                return Err(Failure::Misfit(discarded + 1));
+            }
+            discarded += 1;
+            answer = self.receive(timeout)?;
+        }
     }
 }
 
 impl<S: SerialIo> Transport for SerialTransport<S> {
     fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>> {
-        let (describe, trace, framing) = (&self.describe, self.trace, self.framing);
-        with_retry(&mut self.port, describe, command, |port| match framing {
-            Framing::Rs232 => rs232_attempt(port, describe, trace, command, answered),
-            Framing::Usb => usb_attempt(port, describe, trace, command),
-        })
+        let what = Command::from_frame(command).map_or("command", |c| c.name());
+        let result = match self.attempt(command, answered) {
+            Ok(a) => return Ok(a),
+            Err(first) if first.retryable() => {
+                self.in_step = false;
+                match self.port.resync().and_then(|()| self.attempt(command, answered)) {
+                    Ok(a) => return Ok(a),
+                    Err(second) => Err(format!(
+                        "{}: {what} failed: {first}; after a resync and retry: {second}; {}",
+                        self.describe,
+                        second.advice()
+                    )),
+                }
+            }
+            Err(e) => Err(format!("{}: {what} failed: {e}; {}", self.describe, e.advice())),
+        };
+        // Whatever is still on its way belongs to nobody now.
+        self.in_step = false;
+        result.map_err(Error::Link)
     }
 
     fn describe(&self) -> String {
@@ -198,34 +325,47 @@ impl<S: SerialIo> Transport for SerialTransport<S> {
     }
 }
 
-fn rs232_attempt<S: SerialIo>(
+/// Seed 000 §5.1.1.2: OpCode, wait (up to `ready_wait`) for the ready ack, the rest, wait
+/// for the end ack.
+fn rs232_send<S: SerialIo>(
     port: &mut Port<S>,
     name: &str,
     tracing: bool,
     command: &Frame,
-    answered: bool,
-) -> Result<Option<Frame>, Failure> {
+    ready_wait: Duration,
+) -> Result<(), Failure> {
     let bytes = frame::rs232_encode(command);
     trace(tracing, name, "<", &bytes);
-    // Seed 000 §5.1.1.2: OpCode, wait for the ready ack, the rest, wait for the end ack.
     port.send(&bytes[..1])?;
-    match port.expect_byte(port.deadline(), "to the opcode (ready acknowledge)")? {
-        OKAY => {}
-        FAILED => return Err(Failure::Nack("'F' to the opcode (not ready)")),
-        b => return Err(Failure::Unexpected(b, "instead of the ready acknowledge")),
+    let until = Instant::now() + ready_wait;
+    let mut skipped = 0;
+    loop {
+        match port.expect_byte(until, "to the opcode (ready acknowledge)")? {
+            OKAY => break,
+            FAILED => return Err(Failure::Nack("'F' to the opcode (not ready)")),
+            // The start of an answer still owed to an earlier command, which the EPOS2
+            // abandons when it gets our opcode instead of its ready acknowledge.
+            command::ANSWER if skipped < MAX_DISCARDED => skipped += 1,
+            b => return Err(Failure::Unexpected(b, "instead of the ready acknowledge")),
+        }
     }
     port.send(&bytes[1..])?;
     match port.expect_byte(port.deadline(), "to the frame (end acknowledge)")? {
-        OKAY => {}
-        FAILED => return Err(Failure::Nack("'F' to the frame (CRC or length refused)")),
-        b => return Err(Failure::Unexpected(b, "instead of the end acknowledge")),
+        OKAY => Ok(()),
+        FAILED => Err(Failure::Nack("'F' to the frame (CRC or length refused)")),
+        b => Err(Failure::Unexpected(b, "instead of the end acknowledge")),
     }
-    if !answered {
-        return Ok(None);
-    }
-    // §5.1.1.3: the answer's OpCode 0x00, our ready ack, the rest, our end ack.
-    let op = port.expect_byte(port.deadline(), "with the answer")?;
-    if op != super::command::ANSWER {
+}
+
+/// §5.1.1.3: the answer's OpCode 0x00, our ready ack, the rest, our end ack.
+fn rs232_receive<S: SerialIo>(
+    port: &mut Port<S>,
+    name: &str,
+    tracing: bool,
+    until: Instant,
+) -> Result<Result<Frame, FrameError>, Failure> {
+    let op = port.expect_byte(until, "with the answer")?;
+    if op != command::ANSWER {
         return Err(Failure::Unexpected(op, "instead of the answer opcode 0x00"));
     }
     port.send(&[OKAY])?;
@@ -236,52 +376,156 @@ fn rs232_attempt<S: SerialIo>(
         raw.push(port.expect_byte(until, "in the middle of the answer")?);
     }
     trace(tracing, name, ">", &raw);
-    match frame::rs232_decode(&raw) {
-        Ok(f) => {
-            port.send(&[OKAY])?;
-            Ok(Some(f))
-        }
-        Err(e) => {
-            port.send(&[FAILED])?;
-            Err(Failure::Frame(e))
-        }
-    }
+    let decoded = frame::rs232_decode(&raw);
+    port.send(&[if decoded.is_ok() { OKAY } else { FAILED }])?;
+    Ok(decoded)
 }
 
-fn usb_attempt<S: SerialIo>(
+/// The next USB frame (anything before DLE STX is skipped), or a frame error.
+fn usb_receive<S: SerialIo>(
     port: &mut Port<S>,
     name: &str,
     tracing: bool,
-    command: &Frame,
-) -> Result<Option<Frame>, Failure> {
-    let bytes = frame::usb_encode(command);
-    trace(tracing, name, "<", &bytes);
-    port.send(&bytes)?;
-    let until = port.deadline();
+    until: Instant,
+) -> Result<Result<Frame, FrameError>, Failure> {
     let mut decoder = UsbDecoder::new();
     let mut raw = Vec::new();
     loop {
         let stage = if decoder.in_frame() { "in the middle of the answer" } else { "with the answer" };
         let b = port.expect_byte(until, stage)?;
         raw.push(b);
-        match decoder.push(b) {
-            None => {}
-            Some(Ok(f)) => {
-                trace(tracing, name, ">", &raw);
-                if f.opcode != super::command::ANSWER {
-                    return Err(Failure::Unexpected(f.opcode, "as the answer's opcode"));
-                }
-                // Seed 000 §4.1.3.1: a frame the EPOS2 could not read comes back as an
-                // answer carrying the CRC error code: USB's counterpart of RS232's 'F'.
-                if super::command::parse_answer(&f).is_some_and(|(code, _)| code == crate::canopen::abort::CRC_ERROR) {
-                    return Err(Failure::Nack("with error 0x05040004: it saw a bad CRC"));
-                }
-                return Ok(Some(f));
-            }
-            Some(Err(e)) => {
-                trace(tracing, name, ">", &raw);
-                return Err(Failure::Frame(e));
+        if let Some(r) = decoder.push(b) {
+            trace(tracing, name, ">", &raw);
+            return Ok(r);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canopen::ObjAddr;
+    use std::collections::VecDeque;
+
+    /// A serial port whose device answers each write with the next scripted bytes.
+    struct Scripted {
+        /// Bytes that have arrived and not been read.
+        input: VecDeque<u8>,
+        /// What arrives after each write, in order.
+        replies: VecDeque<Vec<u8>>,
+        /// Bytes that keep arriving whatever is written (a babbling line).
+        babble: bool,
+        written: Vec<Vec<u8>>,
+    }
+
+    impl Scripted {
+        fn new(already: &[u8], replies: Vec<Vec<u8>>) -> Scripted {
+            Scripted {
+                input: already.iter().copied().collect(),
+                replies: replies.into(),
+                babble: false,
+                written: vec![],
             }
         }
+    }
+
+    impl SerialIo for Scripted {
+        fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+            self.written.push(bytes.to_vec());
+            if let Some(r) = self.replies.pop_front() {
+                self.input.extend(r);
+            }
+            Ok(())
+        }
+
+        fn read_some(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
+            if self.babble {
+                buf.fill(0x55);
+                return Ok(buf.len());
+            }
+            if self.input.is_empty() {
+                std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
+                return Ok(0);
+            }
+            let n = buf.len().min(self.input.len());
+            for b in buf.iter_mut().take(n) {
+                *b = self.input.pop_front().unwrap();
+            }
+            Ok(n)
+        }
+
+        fn discard_input(&mut self) -> io::Result<()> {
+            self.input.clear();
+            Ok(())
+        }
+    }
+
+    fn usb(f: &Frame) -> Vec<u8> {
+        frame::usb_encode(f)
+    }
+
+    fn transport(io: Scripted) -> SerialTransport<Scripted> {
+        SerialTransport::new(io, Framing::Usb, "test".into(), Duration::from_millis(30), false)
+    }
+
+    fn read_object() -> Frame {
+        Command::ReadObject { node: 5, addr: ObjAddr::new(0x1018, 1) }.to_frame()
+    }
+
+    #[test]
+    fn answers_owed_to_others_are_discarded_before_ours() {
+        let stale = usb(&command::answer(0, &[0x92, 0x01, 0x02, 0x00]));
+        let probe = usb(&command::answer(command::ILLEGAL_COMMAND, &[]));
+        let ours = usb(&command::answer(0, &[0x40, 0, 0, 0]));
+        // One answer already in the line (cleared on open), one still on its way when the
+        // probe goes out, then the probe's answer; then ours.
+        let mut late_then_probe = stale.clone();
+        late_then_probe.extend(&probe);
+        let io = Scripted::new(&stale, vec![late_then_probe, ours]);
+        let mut t = transport(io);
+        let got = t.transact(&read_object(), true).unwrap().unwrap();
+        assert_eq!(command::parse_answer(&got).unwrap().1, [0x40, 0, 0, 0]);
+        assert_eq!(t.port.io.written[0], usb(&command::sync_probe()), "the probe goes first");
+        // In step now: the next command is sent without a probe.
+        t.port.io.replies.push_back(usb(&command::answer(0, &[7, 0, 0, 0])));
+        let got = t.transact(&read_object(), true).unwrap().unwrap();
+        assert_eq!(command::parse_answer(&got).unwrap().1, [7, 0, 0, 0]);
+        assert_eq!(t.port.io.written.len(), 3);
+    }
+
+    #[test]
+    fn an_answer_that_does_not_fit_the_command_is_discarded() {
+        let probe = usb(&command::answer(command::ILLEGAL_COMMAND, &[]));
+        // A WriteObject answer (no data) cannot answer ReadObject; a second probe answer
+        // neither.
+        let mut misfits = usb(&command::answer(0, &[]));
+        misfits.extend(&probe);
+        misfits.extend(usb(&command::answer(0, &[0x40, 0, 0, 0])));
+        let mut t = transport(Scripted::new(&[], vec![probe.clone(), misfits]));
+        let got = t.transact(&read_object(), true).unwrap().unwrap();
+        assert_eq!(command::parse_answer(&got).unwrap().1, [0x40, 0, 0, 0]);
+    }
+
+    #[test]
+    fn only_misfits_are_a_link_error() {
+        let probe = usb(&command::answer(command::ILLEGAL_COMMAND, &[]));
+        let misfits: Vec<u8> = (0..=MAX_DISCARDED).flat_map(|_| usb(&command::answer(0, &[]))).collect();
+        let replies = vec![probe.clone(), misfits.clone(), probe, misfits];
+        let mut t = transport(Scripted::new(&[], replies));
+        let e = t.transact(&read_object(), true).unwrap_err();
+        assert_eq!(e.exit_code(), 5);
+        assert!(e.to_string().contains("do not answer this command"), "{e}");
+    }
+
+    #[test]
+    fn a_babbling_line_is_given_up_on() {
+        let mut io = Scripted::new(&[], vec![]);
+        io.babble = true;
+        let mut t = transport(io);
+        let start = Instant::now();
+        let e = t.transact(&read_object(), true).unwrap_err();
+        assert_eq!(e.exit_code(), 5);
+        assert!(e.to_string().contains("does not fall quiet"), "{e}");
+        assert!(start.elapsed() < Duration::from_secs(30), "bounded");
     }
 }

@@ -55,11 +55,29 @@ pub struct Epos2Device {
     /// The last segment command and its answer: a master that lost an answer repeats the
     /// command with the same toggle bit, and gets the same answer without a second effect.
     last_segment: Option<(Command, SerialFrame)>,
+    /// Fault injection: answer the next forwarded SDO request first for another object and
+    /// from another node, as frames left on a real bus by earlier transfers do.
+    wrong_answers: bool,
+    /// Frames that arrive before anything the link delivers (the injected wrong answers).
+    arrived: std::collections::VecDeque<Frame>,
 }
 
 impl Epos2Device {
     pub fn new(link: SimLink, can_timeout: Duration, trace: bool) -> Epos2Device {
-        Epos2Device { link, can_timeout, trace, segmented: Segmented::None, last_segment: None }
+        Epos2Device {
+            link,
+            can_timeout,
+            trace,
+            segmented: Segmented::None,
+            last_segment: None,
+            wrong_answers: false,
+            arrived: Default::default(),
+        }
+    }
+
+    /// Whether forwarded SDO requests are first answered wrongly (a fault for tests).
+    pub fn inject_wrong_answers(&mut self, on: bool) {
+        self.wrong_answers = on;
     }
 
     pub fn link_mut(&mut self) -> &mut SimLink {
@@ -86,7 +104,9 @@ impl Epos2Device {
                 return Ok(ans.clone());
             }
         }
-        let ans = self.run(&cmd)?;
+        let mut ans = self.run(&cmd)?;
+        // An error answer is never longer than the command's answer (seed 000 chapter 3).
+        ans.data.truncate(cmd.answer_len().1);
         self.last_segment =
             matches!(cmd, Command::SegmentRead { .. } | Command::SegmentWrite { .. }).then(|| (cmd, ans.clone()));
         Ok(ans)
@@ -305,7 +325,23 @@ impl Epos2Device {
             return Ok(Err(command::CAN_ID));
         }
         self.send(&Frame::new(sdo::request_cob(node), request))?;
-        let answer = self.wait_for(|f| f.id() == sdo::response_cob(node) && !f.is_remote(), self.can_timeout)?;
+        // An initiate (or abort) answer names its object: one that names another answers
+        // some other request, from an earlier transfer, and is not ours.
+        let initiate = matches!(request[0] >> 5, 1 | 2);
+        if self.wrong_answers && initiate {
+            let other = ObjAddr::new(u16::from_le_bytes([request[1], request[2]]) ^ 1, request[3]);
+            let cs = if request[0] >> 5 == 2 { 0x43 } else { 0x60 };
+            let own = ObjAddr::new(u16::from_le_bytes([request[1], request[2]]), request[3]);
+            let stray = [0xEF, 0xBE, 0xAD, 0xDE];
+            self.arrived.push_back(Frame::new(sdo::response_cob(node), &sdo::frame(cs, other, &stray)));
+            self.arrived.push_back(Frame::new(sdo::response_cob(node % 127 + 1), &sdo::frame(cs, own, &stray)));
+        }
+        let answers_request = |f: &Frame| {
+            f.id() == sdo::response_cob(node)
+                && !f.is_remote()
+                && (!initiate || f.data().get(1..4) == Some(&request[1..4]))
+        };
+        let answer = self.wait_for(answers_request, self.can_timeout)?;
         Ok(match answer {
             None => Err(abort::TIMED_OUT),
             Some(f) => {
@@ -323,7 +359,7 @@ impl Epos2Device {
 
     fn wait_for(&mut self, want: impl Fn(&Frame) -> bool, timeout: Duration) -> Result<Option<Frame>> {
         let deadline = Instant::now() + timeout;
-        while let Some(f) = self.link.recv(deadline)? {
+        while let Some(f) = self.arrived.pop_front().map_or_else(|| self.link.recv(deadline), |f| Ok(Some(f)))? {
             if self.trace {
                 eprintln!("{}", f.candump_line("sim"));
             }

@@ -25,7 +25,26 @@ pub enum FaultKind {
     Drop,
     /// Do not answer at all.
     Mute,
+    /// Before the answer, one left over in the line from an earlier client (the answer to
+    /// its ReadObject of 0x1000:0, a client killed before it read it).
+    Stale,
+    /// Answer late, as a gateway does that waits on a slow node (`LATE`).
+    Late,
+    /// Instead of the answer, bytes without pause and without a frame (`BABBLE_TIME`).
+    Babble,
+    /// Answer SegmentRead with a segment of no data that says more follow.
+    EmptySegments,
+    /// Answer SegmentRead with a full segment that says more follow, whatever the object.
+    EndlessSegments,
+    /// A forwarded SDO request is first answered on the CAN bus for another object and by
+    /// another node; the gateway must wait for the answer to its own request.
+    WrongObject,
 }
+
+/// How late a `late` answer comes: longer than canctl's default timeout.
+pub const LATE: Duration = Duration::from_millis(800);
+/// How long a `babble` fault talks.
+const BABBLE_TIME: Duration = Duration::from_secs(30);
 
 /// A fault on the n-th command frame (counting from 1), or on every one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,7 +65,18 @@ impl FromStr for Fault {
             "garbage" => FaultKind::Garbage,
             "drop" => FaultKind::Drop,
             "mute" => FaultKind::Mute,
-            k => return Err(format!("'{k}' is not a fault: use nack, crc, garbage, drop or mute")),
+            "stale" => FaultKind::Stale,
+            "late" => FaultKind::Late,
+            "babble" => FaultKind::Babble,
+            "empty-segments" => FaultKind::EmptySegments,
+            "endless-segments" => FaultKind::EndlessSegments,
+            "wrong-object" => FaultKind::WrongObject,
+            k => {
+                return Err(format!(
+                    "'{k}' is not a fault: use nack, crc, garbage, drop, mute, stale, late, babble, \
+                     empty-segments, endless-segments or wrong-object"
+                ))
+            }
         };
         let nth = match at {
             "*" => None,
@@ -167,12 +197,36 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
             wire.send(&frame::usb_encode(&command::answer(crate::canopen::abort::CRC_ERROR, &[])))?;
             continue;
         }
-        let answer = device.execute(&request)?;
+        if fault == Some(FaultKind::Stale) {
+            let leftover = Command::ReadObject { node: 0, addr: crate::canopen::ObjAddr::new(0x1000, 0) };
+            let leftover = device.execute(&leftover.to_frame())?;
+            send_answer(&mut wire, opts.framing, &leftover)?;
+        }
+        device.inject_wrong_answers(fault == Some(FaultKind::WrongObject));
+        let cmd = Command::from_frame(&request);
+        let answer = match (fault, &cmd) {
+            (Some(FaultKind::EmptySegments), Some(Command::SegmentRead { toggle })) => {
+                command::answer(0, &[segment_control(*toggle) | command::MORE])
+            }
+            (Some(FaultKind::EndlessSegments), Some(Command::SegmentRead { toggle })) => {
+                let mut d = vec![command::MAX_SEGMENT as u8 | segment_control(*toggle) | command::MORE];
+                d.extend([0xEE; command::MAX_SEGMENT]);
+                command::answer(0, &d)
+            }
+            _ => device.execute(&request)?,
+        };
         device.link_mut().save_if_changed()?;
-        let answered =
-            opts.framing == Framing::Usb || Command::from_frame(&request).is_none_or(|c| c.answered_on_rs232());
+        let answered = opts.framing == Framing::Usb || cmd.is_none_or(|c| c.answered_on_rs232());
         if !answered || fault == Some(FaultKind::Mute) {
             continue;
+        }
+        match fault {
+            Some(FaultKind::Late) => std::thread::sleep(LATE),
+            Some(FaultKind::Babble) => {
+                babble(&mut wire)?;
+                continue;
+            }
+            _ => {}
         }
         let mut bytes = match opts.framing {
             Framing::Rs232 => frame::rs232_encode(&answer),
@@ -201,6 +255,41 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
             Framing::Usb => wire.send(&bytes)?,
         }
     }
+}
+
+fn segment_control(toggle: bool) -> u8 {
+    if toggle {
+        command::TOGGLE
+    } else {
+        0
+    }
+}
+
+fn send_answer(wire: &mut Wire, framing: Framing, answer: &SerialFrame) -> Result<()> {
+    match framing {
+        Framing::Rs232 => rs232_answer(wire, &frame::rs232_encode(answer)),
+        Framing::Usb => wire.send(&frame::usb_encode(answer)),
+    }
+}
+
+/// Bytes without pause and without a frame start, as from a wrong bit rate or a broken
+/// device; the pty blocks them once the client stops reading.
+fn babble(wire: &mut Wire) -> Result<()> {
+    let start = Instant::now();
+    let mut x: u32 = 0x2545_F491;
+    while start.elapsed() < BABBLE_TIME {
+        let chunk: Vec<u8> = (0..64)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                // No DLE: nothing that could start a USB frame.
+                (x as u8).clamp(0x03, 0x8F)
+            })
+            .collect();
+        wire.send(&chunk)?;
+    }
+    Ok(())
 }
 
 /// Seed 000 §5.1.1: take a frame with the handshake; `None` when it failed part-way.
@@ -283,5 +372,10 @@ mod tests {
         assert_eq!("mute".parse::<Fault>().unwrap(), Fault { kind: FaultKind::Mute, nth: Some(1) });
         assert!("melt@1".parse::<Fault>().is_err());
         assert!("crc@0".parse::<Fault>().is_err());
+        assert_eq!("stale@1".parse::<Fault>().unwrap(), Fault { kind: FaultKind::Stale, nth: Some(1) });
+        assert_eq!(
+            "endless-segments@*".parse::<Fault>().unwrap(),
+            Fault { kind: FaultKind::EndlessSegments, nth: None }
+        );
     }
 }
