@@ -3,10 +3,13 @@
 
 pub mod bus;
 pub mod canopen;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod error;
 pub mod frame;
 pub mod od;
+pub mod ops;
+#[cfg(feature = "cli")]
 pub mod output;
 pub mod sim;
 pub mod xdg;
