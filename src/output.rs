@@ -300,15 +300,10 @@ mod tests {
     use crate::canopen::pdo::Field;
     use crate::canopen::DataType;
 
+    /// Seed 001's TPDO1: position (0x6020:1, 32 bits) and speed (0x6030:1, 16 bits).
     fn mh_tpdo1() -> Layout {
-        // Seed 001 0x1A00: 0x60200120 (position, 32 bits), 0x60300110 (speed, 16 bits).
-        Layout {
-            cob_id: 0x185,
-            fields: vec![
-                Field::mapped(0x6020_0120, DataType::I32, "position"),
-                Field::mapped(0x6030_0110, DataType::I16, "speed"),
-            ],
-        }
+        let mapping = [(0x6020_0120, DataType::I32, "position"), (0x6030_0110, DataType::I16, "speed")];
+        Layout { cob_id: 0x185, fields: mapping.iter().map(|(raw, t, name)| Field::mapped(*raw, *t, name)).collect() }
     }
 
     #[test]
