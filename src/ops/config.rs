@@ -227,7 +227,7 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
 }
 
 /// One write of the plan.
-pub struct Step {
+pub(crate) struct Step {
     pub addr: ObjAddr,
     pub value: Vec<u8>,
     /// An intermediate write of the PDO sequence, not a value of the file.
@@ -245,7 +245,7 @@ fn pdo_indices(index: u16) -> Option<(u16, u16)> {
 
 /// Writes in a safe order: plain objects first; then per PDO whose COB-ID or mapping
 /// changes: COB-ID invalid, mapping count 0, entries, count, other parameters, COB-ID.
-pub fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAddr) -> Option<Vec<u8>>) -> Vec<Step> {
+pub(crate) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAddr) -> Option<Vec<u8>>) -> Vec<Step> {
     let mut steps: Vec<Step> = Vec::new();
     let mut pdos: BTreeSet<(u16, u16)> = BTreeSet::new();
     for (addr, value) in changes {
@@ -490,4 +490,46 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         written,
         mismatch,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pdo_mapping_is_changed_the_cia_301_way() {
+        let (cob, count, entry1, event) =
+            (ObjAddr::new(0x1800, 1), ObjAddr::new(0x1A00, 0), ObjAddr::new(0x1A00, 1), ObjAddr::new(0x1800, 5));
+        let mut changes = BTreeMap::new();
+        changes.insert(entry1, 0x6064_0020u32.to_le_bytes().to_vec());
+        changes.insert(event, 20u16.to_le_bytes().to_vec());
+        let current = |a: ObjAddr| match (a.index, a.sub) {
+            (0x1800, 1) => Some(0x185u32.to_le_bytes().to_vec()),
+            (0x1A00, 0) => Some(vec![2]),
+            _ => None,
+        };
+        let steps: Vec<(ObjAddr, Vec<u8>, &str)> =
+            plan(&changes, &current).into_iter().map(|s| (s.addr, s.value, s.interim)).collect();
+        assert_eq!(
+            steps,
+            [
+                (event, vec![20, 0], ""),
+                (cob, 0x8000_0185u32.to_le_bytes().to_vec(), "PDO made invalid"),
+                (count, vec![0], "mapping count 0"),
+                (entry1, 0x6064_0020u32.to_le_bytes().to_vec(), ""),
+                (count, vec![2], "mapping count back"),
+                (cob, 0x185u32.to_le_bytes().to_vec(), "PDO valid again"),
+            ]
+        );
+    }
+
+    #[test]
+    fn answers_are_fitted_to_the_entrys_type() {
+        let entry = |dtype| Entry { dtype, ..builtin::dictionary(None).get(ObjAddr::new(0x1017, 0)).unwrap().clone() };
+        // An EPOS2's ReadObject: four bytes for a UNSIGNED16.
+        assert_eq!(fit(&entry(DataType::U16), vec![0x64, 0, 0xAA, 0xBB]), [0x64, 0]);
+        // A device keeping an INTEGER32 in one byte: the same number, sign-extended.
+        assert_eq!(fit(&entry(DataType::I32), vec![0xFE]), [0xFE, 0xFF, 0xFF, 0xFF]);
+        assert_eq!(fit(&entry(DataType::U32), vec![0x05]), [5, 0, 0, 0]);
+    }
 }
