@@ -197,12 +197,7 @@ pub fn dcf_layouts(eds: &Eds, node: u8) -> BTreeMap<u16, Layout> {
             .filter_map(|s| u32_at(ObjAddr::new(map, s)))
             .map(|raw| {
                 let (addr, bits) = pdo::mapping_entry(raw);
-                let dtype = eds
-                    .dict
-                    .get(addr)
-                    .map(|e| e.dtype)
-                    .filter(|t| t.size() == Some(bits as usize / 8))
-                    .unwrap_or_else(|| pdo::default_type(bits));
+                let dtype = field_type(eds.dict.get(addr), bits);
                 Field { addr, bits, dtype, name: eds.dict.display_name(addr).unwrap_or_else(|| addr.to_string()) }
             })
             .collect();
