@@ -8,11 +8,12 @@
 //! | layer | what | may depend on |
 //! |---|---|---|
 //! | `cli`, `output` (feature `cli`) | clap definitions, one file per command: parse the arguments, call one operation, render its report; `output` is the one renderer (table, JSON, CSV, JSON lines) and turns [`ops::Progress`] into progress bars | everything below; clap, indicatif, comfy-table, anyhow |
-//! | [`ops`] | the procedures (config dump/diff/apply, store/restore, PDO remap and stream, monitor): functions over `&mut dyn Bus` returning serialisable reports; no printing, no clap | `bus`, `canopen`, `od`, `error` |
-//! | [`bus`] | the [`bus::Bus`] service API, [`bus::BusAddr`] (`FromStr` + `Display`) and the one factory [`bus::open`]; `Master` (CANopen client over a `FrameLink`: SocketCAN, sim) | `canopen`, `epos2`, `sim`, `frame` |
-//! | [`epos2`] | pure framing and CRC, the two serial transports, the gateway that serves `Bus` | `canopen`, `frame` |
-//! | [`sim`] | the device side: virtual CANopen nodes, the demo network, the EPOS2 serial device | `canopen`, `od`, `epos2` |
-//! | [`canopen`], [`od`] | pure protocol (SDO state machines, LSS, NMT, PDO mapping, EMCY, types) and object dictionaries (EDS/DCF) — no I/O | `frame`, `error` |
+//! | [`ops`] | the procedures (config dump/diff/apply, store/restore, PDO remap and stream, monitor): functions over `&mut dyn Bus` returning serialisable reports; no printing, no clap | `bus`, `canopen`, `od`, `frame`, `error` |
+//! | [`bus`] | the [`bus::Bus`] service API and the `FrameLink` trait; [`bus::BusAddr`] (`FromStr` + `Display`); `Master` (CANopen client over a `FrameLink`); the one factory [`bus::open`], the only place that names the backends | `canopen`, `frame`, `error`; `open` also `sim` and `epos2` |
+//! | [`epos2`] | pure framing and CRC, the two serial transports, the gateway that implements `Bus` | `bus` (the trait), `canopen`, `frame`, `error` |
+//! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 serial device | `bus` (the trait), `canopen`, `od`, `epos2`, `frame` |
+//! | [`od`] | object dictionaries, EDS/DCF read and write, object names | `canopen` |
+//! | [`canopen`] | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O | `frame`, `error` |
 //!
 //! # Where things go
 //!
