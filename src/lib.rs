@@ -7,7 +7,7 @@
 //!
 //! | layer | what | may depend on |
 //! |---|---|---|
-//! | `cli`, `output` (feature `cli`) | clap definitions, one file per command: parse the arguments, call one operation, render its report; `output` is the one renderer (table, JSON, CSV, JSON lines) and turns [`ops::Progress`] into progress bars | everything below; clap, indicatif, comfy-table, anyhow |
+//! | `cli`, `output` (feature `cli`) | clap definitions, one file per command: parse the arguments, call one operation, render its report; `output` is the one renderer (table, JSON, CSV, JSON lines) and turns [`ops::Progress`] into progress bars | everything below; clap, indicatif, comfy-table, anyhow, toml (settings files) |
 //! | [`ops`] | the procedures (config dump/diff/apply, store/restore, PDO remap and stream, monitor): functions over `&mut dyn Bus` returning serialisable reports; no printing, no clap | `bus`, `canopen`, `od`, `frame`, `error` |
 //! | [`bus`] | the [`bus::Bus`] service API and the `FrameLink` trait; [`bus::BusAddr`] (`FromStr` + `Display`); `Master` (CANopen client over a `FrameLink`); the one factory [`bus::open`], the only place that names the backends | `canopen`, `frame`, `error`; `open` also `sim` and `epos2` |
 //! | [`epos2`] | pure framing and CRC, the two serial transports, the gateway that implements `Bus` | `bus` (the trait), `canopen`, `frame`, `error` |
