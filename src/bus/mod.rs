@@ -13,7 +13,8 @@ use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 pub use master::Master;
-pub use uri::{open, BusAddr, BusUri, OpenOptions};
+pub use uri::BusUri;
+pub use uri::{open, BusAddr, OpenOptions};
 
 /// A raw frame link: what SocketCAN and the simulator provide.
 pub trait FrameLink {
