@@ -6,6 +6,7 @@ pub mod canopen;
 pub mod cli;
 pub mod error;
 pub mod frame;
+pub mod input;
 pub mod od;
 pub mod output;
 pub mod sim;

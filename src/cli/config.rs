@@ -175,7 +175,15 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         revision: u32_of(3),
         node_id: Some(node),
     };
-    let text = eds::to_latin1(&eds::write(&present, Some(&values), &header));
+    // A value no DCF can carry exactly is left out, and said so: never written changed.
+    values.retain(|addr, v| match present.get(*addr).map(|e| eds::parameter_text(e, v, Some(node))) {
+        Some(Err(why)) => {
+            ctx.out.note(&format!("note: {addr} left out of the DCF: {why}"));
+            false
+        }
+        _ => true,
+    });
+    let text = eds::write_bytes(&present, Some(&values), &header).map_err(|e| Error::Usage(e.to_string()))?;
     match &a.out {
         Some(path) => {
             std::fs::write(path, text).map_err(|e| Error::Usage(format!("cannot write {}: {e}", path.display())))?;

@@ -1,0 +1,120 @@
+//! DCF files written by `config dump` read back to the same bytes on the device, and input
+//! files are bounded: the real binary on the simulated network.
+
+mod common;
+
+use common::Sim;
+use std::time::{Duration, Instant};
+
+/// `sdo write` of raw bytes through a value file.
+fn write_bytes(sim: &Sim, obj: &str, dtype: &str, bytes: &[u8]) {
+    let file = sim.path("value.bin");
+    std::fs::write(&file, bytes).unwrap();
+    let at = format!("@{}", file.display());
+    sim.run(&["sdo", "write", "10", obj, &at, "--type", dtype]).ok();
+}
+
+fn dump(sim: &Sim, name: &str) -> (Vec<u8>, String) {
+    let path = sim.path(name);
+    // The simulator's EDS has the entry of every type (0x5FF0).
+    let eds = format!("10={}/eds/canctl-sim-io.eds", env!("CARGO_MANIFEST_DIR"));
+    let run = sim.run(&["--eds", &eds, "config", "dump", "10", "--out", path.to_str().unwrap()]).ok();
+    (std::fs::read(&path).unwrap(), run.stderr)
+}
+
+#[test]
+fn dump_apply_dump_gives_the_same_file() {
+    let sim = Sim::new();
+    // Strings in Latin-1 and UTF-8 with `$NODEID` as text, raw octets, reals at their edges.
+    write_bytes(&sim, "5FF0:12", "vs", b"Gr\xF6\xDFe / Gr\xC3\xB6\xC3\x9Fe \xE2\x82\xAC $NODEID+1 ; [x]=y");
+    write_bytes(&sim, "5FF0:13", "os", b"\n\0\r[1000]\nDataType=0x0009\n");
+    write_bytes(&sim, "5FF0:10", "r32", &0x7FC0_0001u32.to_le_bytes());
+    write_bytes(&sim, "5FF0:11", "r64", &f64::NEG_INFINITY.to_le_bytes());
+    write_bytes(&sim, "5FF0:9", "i64", &i64::MIN.to_le_bytes());
+    let (first, notes) = dump(&sim, "first.dcf");
+    assert!(!notes.contains("left out"), "{notes}");
+    let own = b"ParameterValue=Gr\xF6\xDFe / Gr\xC3\xB6";
+    assert!(first.windows(own.len()).any(|w| w == own), "the string's own bytes are in the file");
+
+    // Change the device, then make it match the file again.
+    sim.run(&["sdo", "write", "10", "5FF0:12", "other", "--type", "vs"]).ok();
+    sim.run(&["sdo", "write", "10", "5FF0:13", "00", "--type", "os"]).ok();
+    sim.run(&["sdo", "write", "10", "5FF0:10", "0", "--type", "r32"]).ok();
+    sim.run(&["sdo", "write", "10", "5FF0:11", "1", "--type", "r64"]).ok();
+    sim.run(&["sdo", "write", "10", "5FF0:9", "0", "--type", "i64"]).ok();
+    let file = sim.path("first.dcf");
+    let f = file.to_str().unwrap();
+    assert_eq!(sim.run(&["config", "diff", "10", f, "--check"]).code, 6);
+    sim.run(&["config", "apply", "10", f, "--verify"]).ok();
+    sim.run(&["config", "diff", "10", f, "--check"]).ok();
+    let (second, _) = dump(&sim, "first.dcf");
+    assert!(first == second, "dump → apply → dump changed the file");
+}
+
+#[test]
+fn a_value_no_dcf_can_carry_is_left_out_and_said_so() {
+    let sim = Sim::new();
+    write_bytes(&sim, "5FF0:12", "vs", b"two\nDataType=0x0007");
+    let (file, notes) = dump(&sim, "io.dcf");
+    assert!(
+        notes.contains("note: 0x5FF0:12 left out of the DCF: it holds a line feed (0x0A), and a VISIBLE_STRING"),
+        "{notes}"
+    );
+    assert!(!file.windows(3).any(|w| w == b"two"), "nothing of the value is written");
+}
+
+/// Runs canctl and waits for it under a generous bound: a hang fails the test.
+fn run_bounded(sim: &Sim, args: &[&str]) -> common::Run {
+    let mut child =
+        sim.command(args).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::piped()).spawn().unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(60) {
+            child.kill().unwrap();
+            panic!("canctl {args:?} still running after 60 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    common::finish(child.wait_with_output().unwrap())
+}
+
+#[test]
+fn a_fifo_or_device_as_a_dcf_or_eds_is_refused_at_once() {
+    let sim = Sim::new();
+    let fifo = sim.path("config.fifo");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let f = fifo.to_str().unwrap();
+    let run = run_bounded(&sim, &["config", "diff", "10", f]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(
+        run.stderr.contains(&format!("{f} is a FIFO, not a regular file: an EDS or DCF file must be a file")),
+        "{}",
+        run.stderr
+    );
+    let run = run_bounded(&sim, &["config", "apply", "10", "/dev/zero"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("/dev/zero is a character device, not a regular file"), "{}", run.stderr);
+    let eds = format!("10={f}");
+    let run = run_bounded(&sim, &["--eds", &eds, "sdo", "read", "10", "1017"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("is a FIFO"), "{}", run.stderr);
+}
+
+#[test]
+fn an_oversized_dcf_is_refused_naming_the_limit() {
+    let sim = Sim::new();
+    let big = sim.path("big.dcf");
+    // Sparse: the size is what counts, not the bytes on disk.
+    std::fs::File::create(&big).unwrap().set_len(canctl::input::MAX_EDS_BYTES + 1).unwrap();
+    let run = run_bounded(&sim, &["config", "diff", "10", big.to_str().unwrap()]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("big.dcf is larger than 16 MiB, the limit for an EDS or DCF file"), "{}", run.stderr);
+}
+
+#[test]
+fn an_endless_value_file_stops_at_the_limit() {
+    let sim = Sim::new();
+    let run = run_bounded(&sim, &["sdo", "write", "10", "5FF0:14", "@/dev/zero", "--type", "d"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("/dev/zero is larger than 64 MiB, the limit for a value file"), "{}", run.stderr);
+}
