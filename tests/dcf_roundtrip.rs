@@ -118,3 +118,100 @@ fn an_endless_value_file_stops_at_the_limit() {
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(run.stderr.contains("/dev/zero is larger than 64 MiB, the limit for a value file"), "{}", run.stderr);
 }
+
+mod properties {
+    use canctl::canopen::types::ALL_TYPES;
+    use canctl::canopen::{DataType, ObjAddr};
+    use canctl::od::eds::{self, Header};
+    use canctl::od::{Access, Dictionary, Entry, Init};
+    use proptest::prelude::*;
+    use std::collections::BTreeMap;
+
+    /// Cases per property; `PROPTEST_CASES` overrides.
+    const CASES: u32 = 4096;
+
+    fn value_of(dtype: DataType) -> BoxedStrategy<Vec<u8>> {
+        match dtype.size() {
+            Some(n) => proptest::collection::vec(any::<u8>(), n).boxed(),
+            // Strings of arbitrary bytes, with the awkward ones often.
+            None => proptest::collection::vec(
+                prop_oneof![any::<u8>(), Just(b'\n'), Just(b' '), Just(0), Just(b'$'), 0x80u8..=0xFF],
+                0..64,
+            )
+            .boxed(),
+        }
+    }
+
+    fn type_and_value() -> impl Strategy<Value = (DataType, Vec<u8>)> {
+        proptest::sample::select(ALL_TYPES.to_vec()).prop_flat_map(|t| (Just(t), value_of(t)))
+    }
+
+    /// What the writer may refuse, and nothing else: strings that are not one line of
+    /// visible characters without blanks at the ends, and booleans other than 0 or 1.
+    fn refusable(dtype: DataType, bytes: &[u8]) -> bool {
+        match dtype {
+            DataType::Vs => {
+                bytes.iter().any(|b| *b < 0x20 || *b == 0x7F)
+                    || bytes.first() == Some(&b' ')
+                    || bytes.last() == Some(&b' ')
+            }
+            DataType::Bool => bytes[0] > 1,
+            _ => false,
+        }
+    }
+
+    fn dcf(dict: &Dictionary, values: &BTreeMap<ObjAddr, Vec<u8>>, node: u8) -> Result<Vec<u8>, eds::WriteError> {
+        eds::write_bytes(
+            dict,
+            Some(values),
+            &Header { file_name: "p.dcf".into(), node_id: Some(node), ..Header::default() },
+        )
+    }
+
+    /// The device's bytes the file stands for, when applied to `node`.
+    fn applied(back: &eds::Eds, addr: ObjAddr, node: u8) -> Vec<u8> {
+        let entry = back.dict.get(addr).expect("entry read back");
+        Entry { default: back.values[&addr].clone(), ..entry.clone() }.default_for(node)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: CASES, ..ProptestConfig::default() })]
+
+        /// dump → apply → dump: the value reads back as the same bytes and the second file
+        /// is the first, byte for byte; or the writer refuses, for a stated reason.
+        #[test]
+        fn every_type_round_trips((dtype, bytes) in type_and_value(), node in 1u8..=127) {
+            let addr = ObjAddr::new(0x2000, 0);
+            let mut dict = Dictionary::default();
+            dict.var(0x2000, "Value", dtype, Access::Rw, Init::Bytes(dtype.size().map_or(Vec::new(), |n| vec![0; n])));
+            let values = BTreeMap::from([(addr, bytes.clone())]);
+            match dcf(&dict, &values, node) {
+                Err(e) => prop_assert!(refusable(dtype, &bytes), "refused without cause: {e}"),
+                Ok(first) => {
+                    prop_assert!(!refusable(dtype, &bytes), "written although it cannot read back");
+                    let back = eds::parse(&first, "p.dcf").map_err(|e| TestCaseError::fail(e.to_string()))?;
+                    prop_assert_eq!(applied(&back, addr, node), bytes.clone());
+                    let again = BTreeMap::from([(addr, applied(&back, addr, node))]);
+                    let second = dcf(&back.dict, &again, node).map_err(|e| TestCaseError::fail(e.to_string()))?;
+                    prop_assert_eq!(first, second);
+                }
+            }
+        }
+
+        /// A COB-ID of the predefined connection set is written `$NODEID+base` and gives
+        /// the node it is applied to its own COB-ID, every other one exactly as read.
+        #[test]
+        fn cob_ids_round_trip(cob in any::<u32>(), node in 1u8..=127) {
+            let addr = ObjAddr::new(0x1800, 1);
+            let mut dict = Dictionary::default();
+            dict.record(0x1800, "TPDO1 communication parameter", vec![(1, "COB-ID", DataType::U32, Access::Rw, Init::NodeIdPlus(0x180))]);
+            let dict = &dict;
+            let values = BTreeMap::from([(addr, cob.to_le_bytes().to_vec())]);
+            let first = dcf(dict, &values, node).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            let back = eds::parse(&first, "p.dcf").map_err(|e| TestCaseError::fail(e.to_string()))?;
+            prop_assert_eq!(applied(&back, addr, node), cob.to_le_bytes().to_vec());
+            let again = BTreeMap::from([(addr, applied(&back, addr, node))]);
+            prop_assert_eq!(dcf(&back.dict, &again, node).map_err(|e| TestCaseError::fail(e.to_string()))?, first);
+        }
+    }
+}
