@@ -44,15 +44,27 @@ pub struct Eds {
 /// CiA 306 keeps a line to 255 characters; longer ones are read, with a warning.
 pub const MAX_LINE_CHARS: usize = 255;
 
+/// The warnings kept: a file with thousands of repeated keys gives a list, not a flood.
+pub const MAX_WARNINGS: usize = 100;
+
+fn warn(warnings: &mut Vec<String>, msg: String) {
+    match warnings.len() {
+        n if n < MAX_WARNINGS => warnings.push(msg),
+        MAX_WARNINGS => warnings.push(format!("further warnings left out (the first {MAX_WARNINGS} are listed)")),
+        _ => {}
+    }
+}
+
 struct Section {
     name: String,
     line: usize,
-    keys: Vec<(String, String, usize)>,
+    /// Lower-cased key → value and line; a repeated key keeps its last value.
+    keys: std::collections::HashMap<String, (String, usize)>,
 }
 
 impl Section {
     fn get(&self, key: &str) -> Option<(&str, usize)> {
-        self.keys.iter().rev().find(|(k, _, _)| k == key).map(|(_, v, l)| (v.as_str(), *l))
+        self.keys.get(key).map(|(v, l)| (v.as_str(), *l))
     }
 }
 
@@ -73,10 +85,13 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<String>) -> Result<Vec
         let no = i + 1;
         let raw = raw.strip_suffix('\r').unwrap_or(raw);
         if raw.chars().count() > MAX_LINE_CHARS {
-            warnings.push(format!(
-                "{path}:{no}: line of {} characters, more than the {MAX_LINE_CHARS} CiA 306 allows (read in full)",
-                raw.chars().count()
-            ));
+            warn(
+                warnings,
+                format!(
+                    "{path}:{no}: line of {} characters, more than the {MAX_LINE_CHARS} CiA 306 allows (read in full)",
+                    raw.chars().count()
+                ),
+            );
         }
         let line = trim_blanks(raw);
         if line.is_empty() || line.starts_with(';') || line.starts_with('#') {
@@ -87,24 +102,29 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<String>) -> Result<Vec
                 rest.strip_suffix(']').ok_or_else(|| err(no, format!("section header '{line}' has no closing ]")))?;
             let name = trim_blanks(name).to_ascii_lowercase();
             if let Some(first) = seen_sections.insert(name.clone(), no) {
-                warnings
-                    .push(format!("{path}:{no}: section {line} again (first at line {first}): this one replaces it"));
+                warn(
+                    warnings,
+                    format!("{path}:{no}: section {line} again (before at line {first}): this one replaces it"),
+                );
             }
-            sections.push(Section { name, line: no, keys: Vec::new() });
+            sections.push(Section { name, line: no, keys: Default::default() });
             continue;
         }
         let (key, value) =
             line.split_once('=').ok_or_else(|| err(no, format!("expected KEY=VALUE or [SECTION], found '{line}'")))?;
         let section = sections.last_mut().ok_or_else(|| err(no, format!("'{line}' comes before any [SECTION]")))?;
         let key_lower = trim_blanks(key).to_ascii_lowercase();
-        if let Some(first) = section.get(&key_lower).map(|(_, l)| l) {
-            warnings.push(format!(
-                "{path}:{no}: {} repeated in [{}] (first at line {first}): the value of line {no} is used",
-                trim_blanks(key),
-                section.name
-            ));
+        let value = (trim_blanks(value).to_string(), no);
+        if let Some((_, first)) = section.keys.insert(key_lower, value) {
+            warn(
+                warnings,
+                format!(
+                    "{path}:{no}: {} repeated in [{}] (before at line {first}): the value of line {no} is used",
+                    trim_blanks(key),
+                    section.name
+                ),
+            );
         }
-        section.keys.push((key_lower, trim_blanks(value).to_string(), no));
     }
     Ok(sections)
 }
@@ -292,7 +312,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
         sections.iter().filter_map(|s| object_section(&s.name).map(|k| (k, s))).collect();
     for s in &sections {
         match s.name.as_str() {
-            "deviceinfo" => eds.info = s.keys.iter().map(|(k, v, _)| (k.clone(), encoding.decode(v))).collect(),
+            "deviceinfo" => eds.info = s.keys.iter().map(|(k, (v, _))| (k.clone(), encoding.decode(v))).collect(),
             "devicecomissioning" | "devicecommissioning" => {
                 if let Some((v, line)) = s.get("nodeid") {
                     let id = parse_int(v)
@@ -358,9 +378,12 @@ fn read_entry(eds: &mut Eds, s: &Section, addr: ObjAddr, name: &str, path: &str)
     let (dt, dt_line) = s.get("datatype").ok_or_else(|| err(s.line, format!("{addr} ({name}) has no DataType")))?;
     let code = parse_int(dt).ok_or_else(|| err(dt_line, format!("DataType '{dt}' is not a number")))?;
     let Some(dtype) = data_type_from_code(code).map_err(|m| err(dt_line, format!("{addr} ({name}): {m}")))? else {
-        eds.warnings.push(format!(
+        warn(
+            &mut eds.warnings,
+            format!(
             "{path}:{dt_line}: {addr} ({name}) has data type 0x{code:04X}, which canctl does not handle; passed over"
-        ));
+        ),
+        );
         return Ok(());
     };
     let access = match s.get("accesstype") {

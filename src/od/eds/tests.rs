@@ -301,8 +301,8 @@ fn bom_crlf_repeats_and_long_lines() {
     assert_eq!(
         eds.warnings,
         [
-            "t.eds:6: defaultvalue repeated in [2000] (first at line 5): the value of line 6 is used",
-            "t.eds:7: section [2000] again (first at line 1): this one replaces it",
+            "t.eds:6: defaultvalue repeated in [2000] (before at line 5): the value of line 6 is used",
+            "t.eds:7: section [2000] again (before at line 1): this one replaces it",
             "t.eds:11: line of 313 characters, more than the 255 CiA 306 allows (read in full)",
         ]
     );
@@ -320,4 +320,19 @@ fn names_beyond_latin1_are_written_as_utf8() {
     let back = parse(&file, "x.eds").unwrap();
     let e = back.dict.get(ObjAddr::new(0x2000, 0)).unwrap();
     assert_eq!((e.name.as_str(), &e.default), ("Drehmoment in N·m ≤ 5 €", &Init::Bytes(b"\xFF raw".to_vec())));
+}
+
+#[test]
+fn a_flood_of_repeated_keys_gives_a_bounded_list() {
+    let mut file = b"[DeviceInfo]\n".to_vec();
+    for _ in 0..10_000 {
+        file.extend_from_slice(b"VendorName=x\n");
+    }
+    let eds = parse(&file, "t.eds").unwrap();
+    assert_eq!(eds.warnings.len(), MAX_WARNINGS + 1);
+    assert_eq!(
+        eds.warnings[0],
+        "t.eds:3: VendorName repeated in [deviceinfo] (before at line 2): the value of line 3 is used"
+    );
+    assert_eq!(eds.warnings[MAX_WARNINGS], "further warnings left out (the first 100 are listed)");
 }
