@@ -215,3 +215,31 @@ mod properties {
         }
     }
 }
+
+#[test]
+fn standard_input_as_a_value_is_bounded_too() {
+    use std::io::Write;
+    let sim = Sim::new();
+    let run_with_stdin = |bytes: Vec<u8>| {
+        let mut child = sim
+            .command(&["sdo", "write", "10", "5FF0:13", "@-", "--type", "os"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut stdin = child.stdin.take().unwrap();
+        // canctl stops reading at the limit: a broken pipe here is the expected end.
+        let writer = std::thread::spawn(move || {
+            let _ = stdin.write_all(&bytes);
+        });
+        let run = common::finish(child.wait_with_output().unwrap());
+        writer.join().unwrap();
+        run
+    };
+    run_with_stdin(b"\x01\x02\x03".to_vec()).ok();
+    assert_eq!(sim.run(&["sdo", "read", "10", "5FF0:13", "--type", "os"]).ok().stdout.trim(), "010203");
+    let run = run_with_stdin(vec![0; canctl::input::MAX_VALUE_BYTES as usize + 1]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("standard input is larger than 64 MiB, the limit for a value file"), "{}", run.stderr);
+}
