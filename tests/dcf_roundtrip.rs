@@ -127,8 +127,10 @@ mod properties {
     use proptest::prelude::*;
     use std::collections::BTreeMap;
 
-    /// Cases per property; `PROPTEST_CASES` overrides.
-    const CASES: u32 = 4096;
+    /// Cases per property: 4096, or `PROPTEST_CASES`.
+    fn cases() -> u32 {
+        std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(4096)
+    }
 
     fn value_of(dtype: DataType) -> BoxedStrategy<Vec<u8>> {
         match dtype.size() {
@@ -175,7 +177,7 @@ mod properties {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: CASES, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig { cases: cases(), ..ProptestConfig::default() })]
 
         /// dump → apply → dump: the value reads back as the same bytes and the second file
         /// is the first, byte for byte; or the writer refuses, for a stated reason.
@@ -242,4 +244,26 @@ fn standard_input_as_a_value_is_bounded_too() {
     let run = run_with_stdin(vec![0; canctl::input::MAX_VALUE_BYTES as usize + 1]);
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(run.stderr.contains("standard input is larger than 64 MiB, the limit for a value file"), "{}", run.stderr);
+}
+
+#[test]
+fn a_broken_dcf_is_a_usage_error_with_file_and_line() {
+    let sim = Sim::new();
+    let cases = [
+        (
+            "[1017]\nParameterName=Producer heartbeat time\nDataType=0x10006\nAccessType=rw\nParameterValue=100\n",
+            "bad.dcf:3: 0x1017:0 (Producer heartbeat time): DataType 0x10006 is not a CiA 301 data type",
+        ),
+        (
+            "[1014]\nParameterName=COB-ID EMCY\nDataType=0x0006\nAccessType=rw\nParameterValue=$NODEID+0xFFC0\n",
+            "bad.dcf:5: ParameterValue of 0x1014:0: '$NODEID+0xFFC0' exceeds u16 (at most 65535)",
+        ),
+    ];
+    for (text, want) in cases {
+        let file = sim.path("bad.dcf");
+        std::fs::write(&file, text).unwrap();
+        let run = sim.run(&["config", "apply", "10", file.to_str().unwrap()]);
+        assert_eq!(run.code, 2, "{}", run.stderr);
+        assert!(run.stderr.contains(want), "{}", run.stderr);
+    }
 }
