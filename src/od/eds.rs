@@ -206,6 +206,14 @@ fn parse_real(t: &str, dtype: DataType) -> Result<Vec<u8>, String> {
     dtype.parse(if t.is_empty() { "0" } else { t }).map_err(|e| e.0)
 }
 
+/// Signed values written in hex are two's complement (`0xFFFF` is -1 for an INTEGER16).
+fn signed_from_hex(v: i128, text: &str, dtype: DataType) -> i128 {
+    match dtype.int_range() {
+        Some((lo, hi)) if dtype.is_signed() && v > hi && text.to_ascii_lowercase().contains("0x") => v - (hi - lo + 1),
+        _ => v,
+    }
+}
+
 /// A value as the file writes it, for an entry of type `dtype`.
 fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
     let t = trim_blanks(text);
@@ -236,12 +244,7 @@ fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
         _ => {
             let v = if t.is_empty() { 0 } else { parse_int(t).ok_or_else(|| format!("'{t}' is not an integer"))? };
             let (lo, hi) = dtype.int_range().expect("integer type");
-            // Signed values written in hex (0xFFFF for -1) are common.
-            let v = if v > hi && dtype.is_signed() && t.to_ascii_lowercase().contains("0x") {
-                v - (hi - lo + 1)
-            } else {
-                v
-            };
+            let v = signed_from_hex(v, t, dtype);
             if v < lo || v > hi {
                 return Err(format!("{t} is out of range for {dtype} ({lo}..={hi})"));
             }
@@ -400,7 +403,8 @@ fn read_entry(eds: &mut Eds, s: &Section, addr: ObjAddr, name: &str, path: &str)
     let limit = |key: &str| -> Result<Option<i128>, EdsError> {
         match s.get(key) {
             Some((v, line)) if !v.is_empty() && dtype.int_range().is_some() => {
-                parse_int(v).map(Some).ok_or_else(|| err(line, format!("{key} '{v}' of {addr} is not an integer")))
+                let n = parse_int(v).ok_or_else(|| err(line, format!("{key} '{v}' of {addr} is not an integer")))?;
+                Ok(Some(signed_from_hex(n, v, dtype)))
             }
             _ => Ok(None),
         }

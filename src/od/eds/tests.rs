@@ -336,3 +336,13 @@ fn a_flood_of_repeated_keys_gives_a_bounded_list() {
     );
     assert_eq!(eds.warnings[MAX_WARNINGS], "further warnings left out (the first 100 are listed)");
 }
+
+#[test]
+fn signed_limits_in_hex_are_twos_complement() {
+    let file = b"[2000]\nParameterName=x\nDataType=0x0003\nAccessType=rw\nLowLimit=0x8000\nHighLimit=0x7FFF\nDefaultValue=0xFFFF\n";
+    let e = parse(file, "t.eds").unwrap().dict.get(ObjAddr::new(0x2000, 0)).unwrap().clone();
+    assert_eq!((e.range, e.default), (Some((-32768, 32767)), Init::Bytes(vec![0xFF, 0xFF])));
+    // In decimal, 65535 is 65535: out of range for an INTEGER16, not silently -1.
+    let file = b"[2000]\nParameterName=x\nDataType=0x0003\nAccessType=rw\nDefaultValue=65535\n";
+    assert!(parse(file, "t.eds").unwrap_err().to_string().contains("65535 is out of range for i16"));
+}
