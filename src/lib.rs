@@ -35,6 +35,7 @@ pub mod canopen;
 pub mod cli;
 pub mod error;
 pub mod frame;
+pub mod input;
 pub mod od;
 pub mod ops;
 #[cfg(feature = "cli")]

@@ -322,13 +322,7 @@ fn shown(dtype: DataType, bytes: &[u8]) -> String {
 /// The bytes VALUE stands for: `@FILE` (`@-` for stdin) or text parsed by type.
 fn value_bytes(dtype: DataType, value: &str) -> Result<Vec<u8>, Error> {
     if let Some(path) = value.strip_prefix('@') {
-        let data = if path == "-" {
-            let mut buf = Vec::new();
-            std::io::Read::read_to_end(&mut std::io::stdin(), &mut buf).map(|_| buf)
-        } else {
-            std::fs::read(path)
-        }
-        .map_err(|e| Error::Usage(format!("cannot read {path}: {e}")))?;
+        let data = crate::input::read_value_file(path, crate::input::VALUE, crate::input::VALUE_IDLE_LIMIT)?;
         if let Some(size) = dtype.size() {
             if data.len() != size {
                 return Err(Error::Usage(format!("{path} holds {} bytes; a {dtype} is {size}", data.len())));

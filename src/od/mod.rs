@@ -56,15 +56,16 @@ impl ObjectKind {
 #[derive(Clone, PartialEq, Debug)]
 pub enum Init {
     Bytes(Vec<u8>),
-    NodeIdPlus(u32),
+    NodeIdPlus(u64),
 }
 
 impl Init {
-    /// Bytes of the default; node-id-relative ones as a u32 (cut to size by the entry).
+    /// Bytes of the default; node-id-relative ones as a u64, cut to size by the entry (the
+    /// EDS reader refuses offsets that would not fit the entry's type for node-id 127).
     pub fn resolve(&self, node_id: u8) -> Vec<u8> {
         match self {
             Init::Bytes(b) => b.clone(),
-            Init::NodeIdPlus(base) => (base + node_id as u32).to_le_bytes().to_vec(),
+            Init::NodeIdPlus(base) => base.saturating_add(u64::from(node_id)).to_le_bytes().to_vec(),
         }
     }
 }

@@ -162,7 +162,15 @@ pub fn dump(
         revision: identity(3),
         node_id: Some(node),
     };
-    let dcf = eds::to_latin1(&eds::write(&present, Some(&values), &header));
+    // A value no DCF can hold (a newline in a string, say) is left out, and said so.
+    values.retain(|addr, v| match present.get(*addr).map(|e| eds::parameter_text(e, v, Some(node))) {
+        Some(Err(why)) => {
+            progress.note(&format!("note: {addr} left out of the DCF: {why}"));
+            false
+        }
+        _ => true,
+    });
+    let dcf = eds::write_bytes(&present, Some(&values), &header).map_err(|e| Error::Usage(e.to_string()))?;
     Ok(Dump { node, objects: values.len(), source, dcf })
 }
 

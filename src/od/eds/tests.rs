@@ -79,7 +79,8 @@ fn integers_follow_cia_306() {
     assert_eq!(parse_int("0"), Some(0));
     assert_eq!(parse_value("0xFFFF", DataType::I16), Ok(Init::Bytes(vec![0xFF, 0xFF])));
     assert_eq!(parse_value("$NODEID", DataType::U8), Ok(Init::NodeIdPlus(0)));
-    assert!(parse_value("$NODEID+0x180", DataType::Vs).is_err());
+    // In a VISIBLE_STRING `$NODEID` is text: node-id arithmetic is for numbers.
+    assert_eq!(parse_value("$NODEID+0x180", DataType::Vs), Ok(Init::Bytes(b"$NODEID+0x180".to_vec())));
 }
 
 #[test]
@@ -118,7 +119,8 @@ fn predefined_cob_ids_are_written_relative_to_the_node() {
     assert!(text.contains("ParameterValue=$NODEID+0x80\n"), "{text}");
     assert!(text.contains("ParameterValue=0x1A5\n"), "{text}");
     let back = parse(text.as_bytes(), "x.dcf").unwrap();
-    assert_eq!(back.values[&at(0x1800, 1)].resolve(7), 0x8000_0187u32.to_le_bytes().to_vec());
+    let cob = Entry { default: back.values[&at(0x1800, 1)].clone(), ..back.dict.get(at(0x1800, 1)).unwrap().clone() };
+    assert_eq!(cob.default_for(7), 0x8000_0187u32.to_le_bytes().to_vec());
 }
 
 #[test]
@@ -146,4 +148,201 @@ fn latin1_survives_writing_and_reading() {
     let back = parse(&to_latin1(&text), "x.eds").unwrap();
     assert_eq!(back.dict.get(ObjAddr::new(0x2000, 0)).unwrap().name, "Geräteschlüssel");
     assert_eq!(to_latin1("ä€"), vec![0xE4, b'?']);
+}
+
+/// A DCF of one writable entry per value, written and read back.
+fn one_value_dcf(dtype: DataType, bytes: &[u8]) -> Result<(Vec<u8>, Eds), WriteError> {
+    let mut d = Dictionary::default();
+    d.var(0x2000, "Value", dtype, Access::Rw, Init::Bytes(dtype.size().map_or(Vec::new(), |n| vec![0; n])));
+    let values = BTreeMap::from([(ObjAddr::new(0x2000, 0), bytes.to_vec())]);
+    let file = write_bytes(&d, Some(&values), &Header { node_id: Some(5), ..Header::default() })?;
+    let back = parse(&file, "x.dcf").unwrap_or_else(|e| panic!("{e}\n{}", String::from_utf8_lossy(&file)));
+    Ok((file, back))
+}
+
+fn value_back(back: &Eds) -> Vec<u8> {
+    match &back.values[&ObjAddr::new(0x2000, 0)] {
+        Init::Bytes(b) => b.clone(),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn strings_read_back_byte_for_byte() {
+    let cases: [&[u8]; 6] = [
+        b"plain text",
+        b"G\xF6\xDFe in Latin-1",
+        "Größe € in UTF-8".as_bytes(),
+        b"$NODEID is text here",
+        b"; not a comment = not a key [1000]",
+        b"",
+    ];
+    for bytes in cases {
+        let (_, back) = one_value_dcf(DataType::Vs, bytes).unwrap();
+        assert_eq!(value_back(&back), bytes, "{}", String::from_utf8_lossy(bytes));
+    }
+    // Latin-1 bytes that Rust would call white space (NBSP, NEL) are part of the value.
+    let (_, back) = one_value_dcf(DataType::Vs, b"\xA0x\x85").unwrap();
+    assert_eq!(value_back(&back), b"\xA0x\x85");
+}
+
+#[test]
+fn strings_a_file_cannot_carry_are_refused_naming_object_and_reason() {
+    let cases: [(&[u8], &str); 5] = [
+        (b"two\nlines", "a line feed (0x0A)"),
+        (b"EPOS2\0\0\0", "a NUL byte (0x00)"),
+        (b"a\x1B[2Jb", "the control character 0x1B"),
+        (b" padded", "begins or ends with a space"),
+        (b"padded ", "begins or ends with a space"),
+    ];
+    for (bytes, why) in cases {
+        let e = one_value_dcf(DataType::Vs, bytes).unwrap_err();
+        assert!(e.to_string().starts_with("cannot write 0x2000:0 (Value) ParameterValue to an EDS/DCF: "), "{e}");
+        assert!(e.why.contains(why), "{e}");
+    }
+    let e = one_value_dcf(DataType::Bool, &[2]).unwrap_err();
+    assert!(e.why.contains("a BOOLEAN is 0 or 1"), "{e}");
+    let e = one_value_dcf(DataType::U32, &[1, 2, 3]).unwrap_err();
+    assert_eq!(e.why, "it holds 3 bytes; a u32 is 4");
+}
+
+#[test]
+fn a_newline_in_a_name_does_not_inject_keys() {
+    let mut d = Dictionary::default();
+    d.var(0x2000, "x\nDataType=0x0009", DataType::U8, Access::Rw, Init::Bytes(vec![0]));
+    let e = write_bytes(&d, None, &Header::default()).unwrap_err();
+    assert!(e.to_string().contains("[2000] ParameterName 'x\\nDataType=0x0009'"), "{e}");
+    let h = Header { product_name: "EPOS2\r\n[1000]".into(), ..Header::default() };
+    assert!(write_bytes(&Dictionary::default(), None, &h).unwrap_err().to_string().contains("ProductName"));
+}
+
+#[test]
+fn reals_keep_their_bits_infinities_and_nans_included() {
+    let r32 = [0.0f32, -0.0, 1.5, f32::MIN_POSITIVE, 1e-45, f32::MAX, f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
+    for v in r32.iter().map(|v| v.to_bits()).chain([0x7FC0_0001, 0xFFC0_0000, 0x7F80_0001]) {
+        let (_, back) = one_value_dcf(DataType::R32, &v.to_le_bytes()).unwrap();
+        assert_eq!(value_back(&back), v.to_le_bytes(), "0x{v:08X}");
+    }
+    for v in
+        [0.1f64, -2e300, 5e-324, f64::INFINITY, f64::NAN].iter().map(|v| v.to_bits()).chain([0x7FF0_0000_0000_0001])
+    {
+        let (_, back) = one_value_dcf(DataType::R64, &v.to_le_bytes()).unwrap();
+        assert_eq!(value_back(&back), v.to_le_bytes(), "0x{v:016X}");
+    }
+    assert_eq!(value_text(&Init::Bytes(f32::NEG_INFINITY.to_le_bytes().to_vec()), DataType::R32).unwrap(), "-inf");
+    assert_eq!(value_text(&Init::Bytes(f32::NAN.to_le_bytes().to_vec()), DataType::R32).unwrap(), "nan");
+    assert_eq!(value_text(&Init::Bytes(5e-324f64.to_le_bytes().to_vec()), DataType::R64).unwrap(), "5e-324");
+    // Files by other tools: any case, a sign.
+    for (text, want) in [("inf", f32::INFINITY), ("-Infinity", f32::NEG_INFINITY), ("NaN", f32::NAN)] {
+        assert_eq!(parse_value(text, DataType::R32), Ok(Init::Bytes(want.to_le_bytes().to_vec())), "{text}");
+    }
+    assert!(parse_value("0x7FC0", DataType::R32).unwrap_err().contains("0x and 8 digits"));
+}
+
+#[test]
+fn node_id_arithmetic_is_checked_against_the_type() {
+    assert_eq!(parse_value("$NODEID+0x80", DataType::U8), Ok(Init::NodeIdPlus(0x80)));
+    assert_eq!(parse_value("0x180 + $nodeid", DataType::U32), Ok(Init::NodeIdPlus(0x180)));
+    assert_eq!(parse_value("$NODEID+0x80000180", DataType::U32), Ok(Init::NodeIdPlus(0x8000_0180)));
+    assert_eq!(parse_value("$NODEID+0x100000000", DataType::U64), Ok(Init::NodeIdPlus(0x1_0000_0000)));
+    // 0x180 + node-id in a u8 used to be cut to its low byte without a word.
+    assert_eq!(
+        parse_value("$NODEID+0x180", DataType::U8).unwrap_err(),
+        "'$NODEID+0x180' exceeds u8 (at most 255): node-id 127 would give 511; only offsets up to 128 fit every node-id"
+    );
+    assert!(parse_value("$NODEID+0xFFFFFFFF", DataType::U32).unwrap_err().contains("exceeds u32"));
+    assert!(parse_value("$NODEID+0x7F", DataType::I8).unwrap_err().contains("exceeds i8"));
+    for bad in ["$NODEID-1", "$NODEID+", "$NODEID+0x180+1", "2*$NODEID", "$NODEID0x180"] {
+        assert!(parse_value(bad, DataType::U32).unwrap_err().contains("is not $NODEID"), "{bad}");
+    }
+    for t in [DataType::Bool, DataType::R32, DataType::Os] {
+        assert!(parse_value("$NODEID", t).unwrap_err().contains("needs an integer type"), "{t}");
+    }
+    // The sum for the highest node-id fits the entry: no silent cut.
+    let e = Entry {
+        addr: ObjAddr::new(0x2000, 0),
+        name: "x".into(),
+        dtype: DataType::U8,
+        access: Access::Rw,
+        default: parse_value("$NODEID+0x80", DataType::U8).unwrap(),
+        range: None,
+    };
+    assert_eq!(e.default_for(127), vec![0xFF]);
+}
+
+#[test]
+fn an_unknown_data_type_is_an_error_with_its_line() {
+    let file = b"[2000]\nParameterName=x\nObjectType=7\nDataType=0x10007\nAccessType=rw\n";
+    assert_eq!(
+        parse(file, "t.eds").unwrap_err().to_string(),
+        "t.eds:4: 0x2000:0 (x): DataType 0x10007 is not a CiA 301 data type (0x0001..0x025F; 0x0007 is UNSIGNED32)"
+    );
+    for code in ["0", "0x0260", "-7"] {
+        let file = format!("[2000]\nParameterName=x\nDataType={code}\nAccessType=rw\n");
+        assert!(parse(file.as_bytes(), "t.eds").unwrap_err().to_string().starts_with("t.eds:3: "), "{code}");
+    }
+    // A CiA 301 type canctl does not handle (UNICODE_STRING) is passed over, said so.
+    let eds = parse(b"[2000]\nParameterName=x\nDataType=0x000B\nAccessType=rw\n", "t.eds").unwrap();
+    assert_eq!(eds.warnings, ["t.eds:3: 0x2000:0 (x) has data type 0x000B, which canctl does not handle; passed over"]);
+}
+
+#[test]
+fn bom_crlf_repeats_and_long_lines() {
+    let mut file =
+        b"\xEF\xBB\xBF[2000]\r\nParameterName=Gr\xC3\xB6\xC3\x9Fe\r\nDataType=0x0006\r\nAccessType=rw\r\n".to_vec();
+    file.extend_from_slice(
+        b"DefaultValue=1\r\ndefaultvalue = 2\r\n[2000]\r\nParameterName=again\r\nDataType=0x0009\r\n",
+    );
+    file.extend_from_slice(format!("AccessType=rw\r\nDefaultValue={}\r\n", "x".repeat(300)).as_bytes());
+    let eds = parse(&file, "t.eds").unwrap();
+    // The repeated section replaces the first one; both repeats are named with both lines.
+    let e = eds.dict.get(ObjAddr::new(0x2000, 0)).unwrap();
+    assert_eq!((e.name.as_str(), e.dtype, e.default.clone()), ("again", DataType::Vs, Init::Bytes(vec![b'x'; 300])));
+    assert_eq!(
+        eds.warnings,
+        [
+            "t.eds:6: defaultvalue repeated in [2000] (before at line 5): the value of line 6 is used",
+            "t.eds:7: section [2000] again (before at line 1): this one replaces it",
+            "t.eds:11: line of 313 characters, more than the 255 CiA 306 allows (read in full)",
+        ]
+    );
+    // A BOM says UTF-8: names are decoded so.
+    let bom = b"\xEF\xBB\xBF[2000]\r\nParameterName=Gr\xC3\xB6\xC3\x9Fe\r\nDataType=0x0006\r\nAccessType=rw\r\n";
+    assert_eq!(parse(bom, "t.eds").unwrap().dict.get(ObjAddr::new(0x2000, 0)).unwrap().name, "Größe");
+}
+
+#[test]
+fn names_beyond_latin1_are_written_as_utf8() {
+    let mut d = Dictionary::default();
+    d.var(0x2000, "Drehmoment in N·m ≤ 5 €", DataType::Vs, Access::Rw, Init::Bytes(b"\xFF raw".to_vec()));
+    let file = write_bytes(&d, None, &Header::default()).unwrap();
+    assert!(file.starts_with(BOM), "a value's raw bytes would make the file read as Latin-1");
+    let back = parse(&file, "x.eds").unwrap();
+    let e = back.dict.get(ObjAddr::new(0x2000, 0)).unwrap();
+    assert_eq!((e.name.as_str(), &e.default), ("Drehmoment in N·m ≤ 5 €", &Init::Bytes(b"\xFF raw".to_vec())));
+}
+
+#[test]
+fn a_flood_of_repeated_keys_gives_a_bounded_list() {
+    let mut file = b"[DeviceInfo]\n".to_vec();
+    for _ in 0..10_000 {
+        file.extend_from_slice(b"VendorName=x\n");
+    }
+    let eds = parse(&file, "t.eds").unwrap();
+    assert_eq!(eds.warnings.len(), MAX_WARNINGS + 1);
+    assert_eq!(
+        eds.warnings[0],
+        "t.eds:3: VendorName repeated in [deviceinfo] (before at line 2): the value of line 3 is used"
+    );
+    assert_eq!(eds.warnings[MAX_WARNINGS], "further warnings left out (the first 100 are listed)");
+}
+
+#[test]
+fn signed_limits_in_hex_are_twos_complement() {
+    let file = b"[2000]\nParameterName=x\nDataType=0x0003\nAccessType=rw\nLowLimit=0x8000\nHighLimit=0x7FFF\nDefaultValue=0xFFFF\n";
+    let e = parse(file, "t.eds").unwrap().dict.get(ObjAddr::new(0x2000, 0)).unwrap().clone();
+    assert_eq!((e.range, e.default), (Some((-32768, 32767)), Init::Bytes(vec![0xFF, 0xFF])));
+    // In decimal, 65535 is 65535: out of range for an INTEGER16, not silently -1.
+    let file = b"[2000]\nParameterName=x\nDataType=0x0003\nAccessType=rw\nDefaultValue=65535\n";
+    assert!(parse(file, "t.eds").unwrap_err().to_string().contains("65535 is out of range for i16"));
 }
