@@ -1,6 +1,7 @@
 //! Interoperability with a CANopen stack we did not write: the `canopen` Python package
 //! (versions pinned in tests/interop/requirements.txt) on vcan0, both ways round. Kernel
-//! tests: without vcan0 they say they are skipped and pass (scripts/kernel-tests.sh).
+//! tests (scripts/kernel-tests.sh): without vcan0 they print `SKIPPED` and pass, or fail
+//! where `CANCTL_REQUIRE_KERNEL` is set.
 
 mod common;
 
