@@ -32,7 +32,7 @@ fn ref_crc(words: &[u16]) -> u16 {
 
 /// Data bytes as the seed's words: low byte first.
 fn words(data: &[u8]) -> Vec<u16> {
-    assert!(data.len() % 2 == 0, "whole words");
+    assert!(data.len().is_multiple_of(2), "whole words");
     data.chunks(2).map(|w| u16::from_le_bytes([w[0], w[1]])).collect()
 }
 
