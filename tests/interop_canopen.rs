@@ -28,6 +28,7 @@ impl Drop for Killed {
 
 fn canctl(args: &[&str]) -> Run {
     let mut c = Command::new(common::canctl_bin());
+    common::isolate(&mut c);
     c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
     common::finish(c.output().unwrap())
 }
