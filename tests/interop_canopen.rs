@@ -123,7 +123,7 @@ fn canctl_commissions_a_canopen_local_node() {
     // NMT commands change its state; its heartbeat says so.
     for (verb, state) in [("start", "operational"), ("stop", "stopped"), ("preop", "pre-operational")] {
         canctl(&["nmt", verb, "20"]).ok();
-        let s = canctl(&["nmt", "state", "20", "--format", "json"]).ok().json();
+        let s = canctl(&["nmt", "state", "20", "--listen", "5s", "--format", "json"]).ok().json();
         assert_eq!((s["state"].as_str(), s["source"].as_str()), (Some(state), Some("heartbeat")), "after nmt {verb}");
     }
 }

@@ -209,7 +209,7 @@ pub fn verify_catches_a_device_that_ignores_the_write(bus: &dyn Under) {
 
 pub fn nmt_stop_state_and_reset(bus: &dyn Under) {
     assert_eq!(bus.run(&["nmt", "stop", "5"]).ok().stdout.trim(), "NMT stop sent to node 5");
-    let state = bus.run(&["nmt", "state", "5", "--format", "json"]).ok().json();
+    let state = bus.run(&["nmt", "state", "5", "--listen", "5s", "--format", "json"]).ok().json();
     assert_eq!(state["state"], "stopped");
     assert_eq!(state["source"], "heartbeat");
     // Stopped nodes do not serve SDO.
@@ -317,7 +317,7 @@ pub fn lss_selective_services(bus: &dyn Under) {
     // A new node-id takes effect at once: SDO and heartbeat follow it.
     bus.run(&["lss", "set-id", "6", "--identity", SENSOR]).ok();
     assert_eq!(bus.run(&["sdo", "read", "6", "1018:4", "--type", "u32"]).ok().stdout.trim(), "156242484");
-    assert!(bus.run(&["nmt", "state", "6"]).ok().stdout.contains("pre-operational (from heartbeat)"));
+    assert!(bus.run(&["nmt", "state", "6", "--listen", "5s"]).ok().stdout.contains("pre-operational (from heartbeat)"));
     assert_eq!(
         bus.run(&["sdo", "read", "6", "1800:1", "--type", "u32"]).ok().stdout.trim(),
         "390",
