@@ -79,11 +79,11 @@ fn monitor_until(sim: &Sim, args: &[&str], done: impl Fn(&[String]) -> bool) -> 
 }
 
 /// Arms the sensor's simulated fault. The sim network is one process at a time (a locked
-/// state file), so the fault is armed before `monitor` starts, far enough ahead (1 s)
+/// state file), so the fault is armed before `monitor` starts, far enough ahead (3 s)
 /// that the monitor is listening when it strikes.
 fn arm_the_sensors_fault(sim: &Sim) {
     sim.run(&["nmt", "start", "5"]).ok();
-    sim.run(&["sdo", "write", "5", "5FFE", "1000", "--type", "u16"]).ok();
+    sim.run(&["sdo", "write", "5", "5FFE", "3000", "--type", "u16"]).ok();
 }
 
 #[test]
@@ -162,10 +162,10 @@ fn monitor_through_an_epos2_says_why_not() {
 fn the_io_modules_fault_is_an_emcy_recorded_in_its_history() {
     let sim = Sim::new();
     let older = sim.run(&["sdo", "read", "10", "1003:2", "--type", "u32"]).ok().stdout;
-    // Armed 1 s ahead, so that the monitor is listening when it strikes. In pre-operational
+    // Armed 3 s ahead, so that the monitor is listening when it strikes. In pre-operational
     // the module sends nothing else, so its first frame is the EMCY; the monitor ends
     // there (and the sim keeps what happened), or after a generous bound.
-    sim.run(&["sdo", "write", "10", "5FFE", "1000", "--type", "u16"]).ok();
+    sim.run(&["sdo", "write", "10", "5FFE", "3000", "--type", "u16"]).ok();
     let r = sim.run(&["monitor", "--node", "10", "--count", "1", "--duration", "60s", "--format", "json"]).ok();
     let emcy: serde_json::Value = r
         .stdout
