@@ -47,9 +47,10 @@ fn a_pdo_of_the_wrong_length_is_warned_about_once() {
     assert_eq!(r.stdout.lines().count(), 1, "only the header: nothing decoded as garbage");
 }
 
-/// `canctl monitor` on the sim, streaming until `done` says it has seen enough (or a
-/// generous bound passes), then stopped. Waits for the events, not for a time window.
-fn monitor_until(sim: &Sim, args: &[&str], done: impl Fn(&[String]) -> bool) -> Vec<String> {
+/// `canctl monitor` on the sim, streaming until `done`, shown each line as it comes, says
+/// it has seen enough (or a generous bound passes), then stopped. Waits for the events,
+/// not for a time window.
+fn monitor_until(sim: &Sim, args: &[&str], mut done: impl FnMut(&str) -> bool) -> Vec<String> {
     use std::io::BufRead;
     let mut child = sim.command(args).stdout(Stdio::piped()).stderr(Stdio::null()).spawn().unwrap();
     let (tx, rx) = std::sync::mpsc::channel();
@@ -62,11 +63,17 @@ fn monitor_until(sim: &Sim, args: &[&str], done: impl Fn(&[String]) -> bool) -> 
         }
     });
     let give_up = Instant::now() + Duration::from_secs(60);
-    let mut lines = Vec::new();
-    while !done(&lines) {
+    let mut lines: Vec<String> = Vec::new();
+    loop {
         let left = give_up.saturating_duration_since(Instant::now());
         match rx.recv_timeout(left) {
-            Ok(line) => lines.push(line),
+            Ok(line) => {
+                let enough = done(&line);
+                lines.push(line);
+                if enough {
+                    break;
+                }
+            }
             Err(_) => {
                 let _ = child.kill();
                 panic!("monitor ended or stalled before the events came:\n{}", lines.join("\n"));
@@ -94,10 +101,11 @@ fn monitor_decodes_an_emcy_and_a_heartbeat_state_change() {
         lines.iter().map(|l| serde_json::from_str(l).unwrap()).collect()
     };
     // Until the EMCY and a pre-operational heartbeat after it.
-    let lines = monitor_until(&sim, &["monitor", "--node", "5", "--format", "json"], |lines| {
-        let events = parse(lines);
-        let emcy = events.iter().position(|e| e["kind"] == "emcy");
-        emcy.is_some_and(|i| events[i..].iter().any(|e| e["kind"] == "heartbeat" && e["state"] == "pre-operational"))
+    let mut emcy_seen = false;
+    let lines = monitor_until(&sim, &["monitor", "--node", "5", "--format", "json"], |line| {
+        let e: serde_json::Value = serde_json::from_str(line).unwrap();
+        emcy_seen |= e["kind"] == "emcy";
+        emcy_seen && e["kind"] == "heartbeat" && e["state"] == "pre-operational"
     });
     let events = parse(&lines);
     let states: Vec<&str> =
@@ -116,9 +124,10 @@ fn monitor_decodes_an_emcy_and_a_heartbeat_state_change() {
     // The same in human form.
     let sim2 = Sim::new();
     arm_the_sensors_fault(&sim2);
-    let lines = monitor_until(&sim2, &["monitor", "--node", "5"], |lines| {
-        let emcy = lines.iter().position(|l| l.contains("emcy"));
-        emcy.is_some_and(|i| lines[i..].iter().any(|l| l.contains("heartbeat     pre-operational")))
+    let mut emcy_seen = false;
+    let lines = monitor_until(&sim2, &["monitor", "--node", "5"], |line| {
+        emcy_seen |= line.contains("emcy");
+        emcy_seen && line.contains("heartbeat     pre-operational")
     });
     assert!(
         lines
