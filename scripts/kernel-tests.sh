@@ -17,7 +17,8 @@ for line in sys.stdin:
 [ -n "$bins" ] || { echo "kernel-tests: no test binaries built" >&2; exit 1; }
 # One test process at a time, one test at a time: all of them share vcan0. The VM reads
 # the host's files over 9p without a page cache; canctl runs from a copy in VM memory.
-cmd="cp target/debug/canctl /tmp/canctl && export CANCTL_BIN=/tmp/canctl; "
+# In the VM a missing vcan0 is a failure, not a skip.
+cmd="cp target/debug/canctl /tmp/canctl && export CANCTL_BIN=/tmp/canctl CANCTL_REQUIRE_KERNEL=1; "
 for b in $bins; do
   cmd+="echo \"== $(basename "$b")\"; $b --test-threads=1 $filter || exit \$?; "
 done

@@ -119,7 +119,7 @@ fn in_shell(shell: &str, script: &str, sim: &Sim) -> Option<Vec<String>> {
     let out = match c.output() {
         Ok(out) => out,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound && std::env::var_os("CANCTL_TEST_SHELLS").is_none() => {
-            eprintln!("skipped: {shell} is not installed (CI installs it and sets CANCTL_TEST_SHELLS=1)");
+            common::skipped(&format!("{shell} is not installed (CI installs it and sets CANCTL_TEST_SHELLS=1)"));
             return None;
         }
         Err(e) => panic!("cannot run {shell}: {e}"),

@@ -147,7 +147,9 @@ fn a_single_fault_is_retried() {
         for fault in ["nack@1", "crc@1", "garbage@1", "drop@1", "mute@1"] {
             let sim = Sim::new();
             let dev = DeviceSide::start(&sim, framing, &["--fault", fault]);
-            let r = dev.run(&["--timeout", "200ms", "-v", "sdo", "read", "5", "1018:1", "--type", "u32"]);
+            // A timeout generous enough that only the injected fault costs a retry, however
+            // slow this machine is (the fault is what the test is about, not the clock).
+            let r = dev.run(&["--timeout", "2s", "-v", "sdo", "read", "5", "1018:1", "--type", "u32"]);
             assert_eq!(r.code, 0, "{framing} {fault}: {}", r.stderr);
             assert_eq!(r.stdout.trim(), "64");
         }
@@ -176,16 +178,30 @@ fn a_vanishing_port_ends_with_exit_5() {
         // At 9600 bit/s the 64 KiB read takes minutes; the device side goes away meanwhile.
         let mut dev = DeviceSide::start(&sim, framing, &["--baud", "9600"]);
         let out = sim.path("partial.bin");
-        let child = dev
-            .command(&["sdo", "read", "1", "1F50:1", "--type", "d", "--out", out.to_str().unwrap()])
+        let mut child = dev
+            .command(&["-v", "sdo", "read", "1", "1F50:1", "--type", "d", "--out", out.to_str().unwrap()])
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::piped())
             .spawn()
             .unwrap();
-        std::thread::sleep(Duration::from_millis(400));
+        // The port goes away once the transfer is under way: the device side has answered
+        // (a `>` trace line), however long that took to start.
+        let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+        let mut seen = String::new();
+        loop {
+            let mut line = String::new();
+            let n = std::io::BufRead::read_line(&mut stderr, &mut line).unwrap();
+            assert!(n > 0, "{framing}: canctl ended before the device side answered: {seen}");
+            seen += &line;
+            if line.contains(&format!("{} > ", dev.uri)) {
+                break;
+            }
+        }
         dev.kill();
         let start = Instant::now();
-        let r = common::finish(child.wait_with_output().unwrap());
+        std::io::Read::read_to_string(&mut stderr, &mut seen).unwrap();
+        let mut r = common::finish(child.wait_with_output().unwrap());
+        r.stderr = seen;
         assert_eq!(r.code, 5, "{framing}: {}", r.stderr);
         assert!(start.elapsed() < Duration::from_secs(5), "hung for {:?}", start.elapsed());
         assert!(!out.exists(), "a partial upload must not be written");

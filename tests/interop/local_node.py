@@ -1,6 +1,10 @@
 """A CANopen device built with the `canopen` package, for canctl to scan, read, write and
-command: python local_node.py IFACE NODE. Prints READY once it listens; runs until killed."""
+command: python local_node.py IFACE NODE. Prints READY once it listens, then one JSON line
+per SDO write with the value python-canopen decodes from the written bytes (its own codec,
+by the object's data type); runs until killed. 0x2001 holds values python-canopen encoded."""
 
+import json
+import math
 import sys
 import time
 
@@ -52,10 +56,46 @@ od.add_object(record(0x2000, "Data types", [
     ("domain", dt.DOMAIN, b"", "rw"),
 ]))
 
+# The same types, with values python-canopen encodes itself, for canctl to read.
+od.add_object(record(0x2001, "Values set by python-canopen", [
+    ("boolean", dt.BOOLEAN, True, "ro"),
+    ("unsigned8", dt.UNSIGNED8, 255, "ro"),
+    ("unsigned16", dt.UNSIGNED16, 0xBEEF, "ro"),
+    ("unsigned32", dt.UNSIGNED32, 0xFFFFFFFF, "ro"),
+    ("unsigned64", dt.UNSIGNED64, 2**64 - 1, "ro"),
+    ("integer8", dt.INTEGER8, -128, "ro"),
+    ("integer16", dt.INTEGER16, -12345, "ro"),
+    ("integer32", dt.INTEGER32, -(2**31), "ro"),
+    ("integer64", dt.INTEGER64, -(2**63), "ro"),
+    ("real32", dt.REAL32, -1.25, "ro"),
+    ("real64", dt.REAL64, math.pi, "ro"),
+    ("visible string", dt.VISIBLE_STRING, "set by python-canopen", "ro"),
+    ("octet string", dt.OCTET_STRING, bytes([0x00, 0x7F, 0x80, 0xFF]), "ro"),
+    ("domain", dt.DOMAIN, bytes(range(20)), "ro"),
+]))
+
+
+def tagged(value):
+    if isinstance(value, bool):
+        return {"bool": value}
+    if isinstance(value, int):
+        return {"int": str(value)}
+    if isinstance(value, float):
+        return {"float": repr(value)}
+    if isinstance(value, str):
+        return {"str": value}
+    return {"bytes": bytes(value).hex().upper()}
+
+
+def on_write(index, subindex, od, data):
+    print(json.dumps({"index": index, "sub": subindex, "value": tagged(od.decode_raw(data))}), flush=True)
+
+
 network = canopen.Network()
 network.connect(interface="socketcan", channel=iface)
 node = canopen.LocalNode(node_id, od)
 network.add_node(node)
+node.add_write_callback(on_write)
 # Initialising -> pre-operational starts the heartbeat from 0x1017.
 node.nmt.state = "PRE-OPERATIONAL"
 print("READY", flush=True)
