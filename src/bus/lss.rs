@@ -2,7 +2,7 @@
 //! `lss` commands are made of, with the waiting each step needs.
 
 use super::{Bus, LssWait};
-use crate::canopen::lss::{self, Fastscan, FastscanError, Identity, Request, Response};
+use crate::canopen::lss::{self, Fastscan, FastscanError, FastscanNext, Identity, Pace, Request, Response};
 use crate::error::{Error, Result};
 use std::collections::BTreeSet;
 use std::time::Duration;
@@ -25,6 +25,18 @@ pub struct AssignOutcome {
     pub assigned: Vec<Assigned>,
     pub steps: u32,
     pub failure: Option<AssignFailure>,
+    /// The pace learned: the step the fastscans used.
+    pub pace: Pace,
+    /// Stopped early because `keep_going` said so (an interruption).
+    pub interrupted: bool,
+}
+
+/// A fastscan's result: the identity found (that device is in configuration state now)
+/// or why none, the fastscan requests it took, and the pace it learned.
+pub struct FastscanOutcome {
+    pub found: std::result::Result<Identity, FastscanError>,
+    pub steps: u32,
+    pub pace: Pace,
 }
 
 /// LSS through a bus: each confirmed step waits for the first answer, at most the timeout.
@@ -43,12 +55,14 @@ impl<'a> LssMaster<'a> {
     }
 
     pub fn send(&mut self, req: Request) -> Result<()> {
-        self.bus.lss_exchange(&req.encode(), Duration::ZERO, LssWait::Nothing).map(|_| ())
+        self.bus.lss_exchange(&req.encode(), 0, Duration::ZERO, LssWait::Nothing).map(|_| ())
     }
 
+    /// A request and the answers with the command specifier it expects.
     pub fn ask(&mut self, req: Request, collect: LssWait) -> Result<Vec<Response>> {
-        let answers = self.bus.lss_exchange(&req.encode(), self.timeout, collect)?;
-        Ok(answers.iter().filter_map(|a| Response::decode(a)).collect())
+        let expect = req.expected_answer().expect("a confirmed LSS service");
+        let answers = self.bus.lss_exchange(&req.encode(), expect, self.timeout, collect)?;
+        Ok(answers.iter().filter_map(|a| Response::decode(&a.data)).collect())
     }
 
     /// Put one device (by identity) or every device (`None`) into configuration state.
@@ -101,22 +115,41 @@ impl<'a> LssMaster<'a> {
         Ok(results.len())
     }
 
-    pub fn fastscan(&mut self, step: Duration) -> Result<Result<(Identity, u32), FastscanError>> {
-        let mut scan = Fastscan::new();
-        while let Some(req) = scan.request() {
-            let answered = !self.bus.lss_exchange(&req.encode(), step, LssWait::Settle(step / 5))?.is_empty();
-            if let Err(e) = scan.answered(answered) {
-                return Ok(Err(e));
-            }
+    /// Find one device without a node-id, at `pace` (learned as it goes), skipping the
+    /// identity parts in `given`. `keep_going` is asked before each request: when it says
+    /// no, the search ends with `None`.
+    pub fn fastscan(
+        &mut self,
+        pace: Pace,
+        given: [Option<u32>; 4],
+        keep_going: &mut dyn FnMut() -> bool,
+    ) -> Result<Option<FastscanOutcome>> {
+        let mut scan = Fastscan::new(pace, given);
+        loop {
+            let found = match scan.next() {
+                FastscanNext::Send(ask) => {
+                    if !keep_going() {
+                        return Ok(None);
+                    }
+                    let collect = ask.settle.map_or(LssWait::All, LssWait::Settle);
+                    let answers = self.bus.lss_exchange(&ask.request.encode(), ask.expect, ask.window, collect)?;
+                    let answers: Vec<(Duration, [u8; 8])> = answers.iter().map(|a| (a.after, a.data)).collect();
+                    scan.on_answers(&answers);
+                    continue;
+                }
+                FastscanNext::Found(id) => Ok(id),
+                FastscanNext::Failed(e) => Err(e),
+            };
+            let steps = scan.steps();
+            return Ok(Some(FastscanOutcome { found, steps, pace: scan.into_pace() }));
         }
-        Ok(Ok((scan.found().expect("search over"), scan.steps())))
     }
 }
 
 /// How many devices without a node-id answer "identify non-configured remote slave".
 pub fn count_unconfigured(bus: &mut dyn Bus, wait: Duration) -> Result<usize> {
-    let answers = bus.lss_exchange(&Request::IdentifyNonConfigured.encode(), wait, LssWait::All)?;
-    Ok(count_non_configured(&answers))
+    let answers = bus.lss_exchange(&Request::IdentifyNonConfigured.encode(), 0x50, wait, LssWait::All)?;
+    Ok(answers.len())
 }
 
 /// Answers "I have no node-id" among these.
@@ -128,35 +161,65 @@ impl LssMaster<'_> {
     /// Give every device without a node-id the next node-id from `start` on that is not in
     /// `used`: fastscan finds one (leaving it in configuration state), it gets its node-id
     /// and, with `store`, keeps it; back in waiting state it boots and leaves the search.
+    /// Whatever ends it, every device is sent back to waiting state.
+    #[allow(clippy::too_many_arguments)]
     pub fn assign(
         &mut self,
         start: u8,
-        mut used: BTreeSet<u8>,
-        step: Duration,
+        used: BTreeSet<u8>,
+        pace: Pace,
+        given: [Option<u32>; 4],
         store: bool,
+        keep_going: &mut dyn FnMut() -> bool,
         each: &mut dyn FnMut(&Assigned),
     ) -> Result<AssignOutcome> {
-        let mut out = AssignOutcome { assigned: Vec::new(), steps: 0, failure: None };
+        let mut out =
+            AssignOutcome { assigned: Vec::new(), steps: 0, failure: None, pace: pace.clone(), interrupted: false };
+        let result = self.assign_each(start, used, given, store, keep_going, each, &mut out);
+        // A failure, a lost link or an interruption must not leave a device in
+        // configuration state, where it would answer the next master's services.
+        let left = self.leave();
+        result?;
+        left?;
+        Ok(out)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn assign_each(
+        &mut self,
+        start: u8,
+        mut used: BTreeSet<u8>,
+        given: [Option<u32>; 4],
+        store: bool,
+        keep_going: &mut dyn FnMut() -> bool,
+        each: &mut dyn FnMut(&Assigned),
+        out: &mut AssignOutcome,
+    ) -> Result<()> {
         loop {
-            let (identity, n) = match self.fastscan(step)? {
+            let Some(scan) = self.fastscan(out.pace.clone(), given, keep_going)? else {
+                out.interrupted = true;
+                return Ok(());
+            };
+            out.steps += scan.steps;
+            out.pace = scan.pace;
+            let identity = match scan.found {
                 Ok(found) => found,
-                Err(FastscanError::NoDevice) => break,
+                Err(FastscanError::NoDevice) => return Ok(()),
                 Err(e) => {
                     out.failure = Some(AssignFailure::Fastscan(e));
-                    break;
+                    return Ok(());
                 }
             };
-            out.steps += n;
+            // Ids seen meanwhile (a heartbeat, a boot-up) are taken too.
+            used.extend(self.bus.observed().node_ids());
             let Some(node) = (start..=127).find(|n| !used.contains(n)) else {
-                self.leave()?;
                 let e = Error::Refused(format!("no free node-id left from {start} to 127 for {identity}"));
                 out.failure = Some(AssignFailure::Refused(e));
-                break;
+                return Ok(());
             };
             if let Err(e) = self.configure(Request::ConfigureNodeId(node), "set-id", false) {
-                self.leave()?;
                 out.failure = Some(AssignFailure::Refused(e));
-                break;
+                return Ok(());
             }
             let stored = if store {
                 self.configure(Request::StoreConfiguration, "store", false).map(|_| ()).map_err(|e| e.to_string())
@@ -169,6 +232,5 @@ impl LssMaster<'_> {
             each(&done);
             out.assigned.push(done);
         }
-        Ok(out)
     }
 }

@@ -1,9 +1,9 @@
 //! CANopen client logic over a raw frame link: drives the SDO state machines, sends NMT,
 //! and notes the heartbeats that pass by.
 
-use super::{Bus, FrameLink, LssWait, SdoOptions};
+use super::{Bus, FrameLink, LssAnswer, LssWait, Observed, SdoOptions};
 use crate::canopen::lss;
-use crate::canopen::nmt::{self, Command, ErrorControl};
+use crate::canopen::nmt::Command;
 use crate::canopen::sdo::{self, SdoClient, SdoError};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result};
@@ -15,11 +15,12 @@ pub struct Master<L: FrameLink> {
     link: L,
     describe: String,
     trace: bool,
-    heartbeats: BTreeMap<u8, nmt::State>,
+    /// Everything the received frames showed.
+    observed: Observed,
+    /// The error-control id a remote request waits on: its answer is node guarding.
+    guarding: Option<u16>,
     /// Nodes that refused block transfer in this session: not asked again.
     no_block: BTreeSet<u8>,
-    /// LSS answers that arrived outside `lss_exchange`.
-    lss_seen: Vec<[u8; 8]>,
     in_lss_exchange: bool,
 }
 
@@ -38,9 +39,9 @@ impl<L: FrameLink> Master<L> {
             link,
             describe,
             trace,
-            heartbeats: BTreeMap::new(),
+            observed: Observed::default(),
+            guarding: None,
             no_block: BTreeSet::new(),
-            lss_seen: Vec::new(),
             in_lss_exchange: false,
         }
     }
@@ -62,12 +63,7 @@ impl<L: FrameLink> Master<L> {
             if self.trace {
                 eprintln!("{}", f.candump_line(&self.link.name()));
             }
-            if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(f) {
-                self.heartbeats.insert(node, state);
-            }
-            if f.id() == lss::SLAVE_COB && !self.in_lss_exchange && self.lss_seen.len() < 1024 {
-                self.lss_seen.push(sdo::pad(f.data()));
-            }
+            self.observed.on_frame(f, self.guarding, self.in_lss_exchange);
         }
         Ok(f)
     }
@@ -267,28 +263,30 @@ impl<L: FrameLink> Bus for Master<L> {
         self.link.set_filters(&[(id, 0x7FF)])?;
         self.send(&Frame::remote(id, len))?;
         let deadline = Instant::now() + timeout;
-        while let Some(f) = self.recv(deadline)? {
-            if f.id() == id && !f.is_remote() {
-                return Ok(f);
-            }
+        self.guarding = Some(id);
+        let answer = self.wait_for(id, deadline);
+        self.guarding = None;
+        if let Some(f) = answer? {
+            return Ok(f);
         }
         Err(Error::Timeout(format!("no answer to the remote request for 0x{id:03X} within {} ms", timeout.as_millis())))
     }
 
-    fn lss_exchange(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>> {
+    fn lss_exchange(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>> {
         self.link.set_filters(&[(lss::SLAVE_COB, 0x7FF)])?;
-        self.in_lss_exchange = true;
-        let answers = self.exchange_lss(request, wait, collect);
+        let answers = self.exchange_lss(request, expect, wait, collect);
         self.in_lss_exchange = false;
         answers
     }
 
-    fn lss_answers_seen(&mut self) -> Vec<[u8; 8]> {
-        std::mem::take(&mut self.lss_seen)
-    }
-
-    fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {
-        self.heartbeats.clone()
+    fn observed(&mut self) -> &mut Observed {
+        &mut self.observed
     }
 
     fn close(&mut self) -> Result<()> {
@@ -297,23 +295,46 @@ impl<L: FrameLink> Bus for Master<L> {
 }
 
 impl<L: FrameLink> Master<L> {
-    fn exchange_lss(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>> {
-        // A slow slave's answer to the previous request must not count for this one.
+    /// The first data frame with this id before the deadline.
+    fn wait_for(&mut self, id: u16, deadline: Instant) -> Result<Option<Frame>> {
+        while let Some(f) = self.recv(deadline)? {
+            if f.id() == id && !f.is_remote() {
+                return Ok(Some(f));
+            }
+        }
+        Ok(None)
+    }
+
+    fn exchange_lss(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>> {
+        // A slow slave's answer to the previous request must not count for this one (the
+        // observer keeps it as a stray).
         while self.recv(Instant::now())?.is_some() {}
         self.send(&Frame::new(lss::MASTER_COB, request))?;
         let mut answers = Vec::new();
         if collect == LssWait::Nothing {
             return Ok(answers);
         }
-        let mut deadline = Instant::now() + wait;
+        self.in_lss_exchange = true;
+        let sent = Instant::now();
+        // Only a well-formed answer with the expected command specifier counts, and none
+        // moves the deadline later: a flood on 0x7E4 cannot keep this waiting.
+        let mut deadline = sent + wait;
         while let Some(f) = self.recv(deadline)? {
-            if f.id() == lss::SLAVE_COB && f.len() == 8 {
-                answers.push(sdo::pad(f.data()));
-                match collect {
-                    LssWait::First => break,
-                    LssWait::Settle(quiet) => deadline = Instant::now() + quiet,
-                    _ => {}
-                }
+            if f.id() != lss::SLAVE_COB || f.is_remote() || f.len() != 8 || f.data()[0] != expect {
+                continue;
+            }
+            let data: [u8; 8] = f.data().try_into().expect("8 bytes");
+            answers.push(LssAnswer { data, after: sent.elapsed() });
+            match collect {
+                LssWait::First => break,
+                LssWait::Settle(more) if answers.len() == 1 => deadline = deadline.min(Instant::now() + more),
+                _ => {}
             }
         }
         Ok(answers)

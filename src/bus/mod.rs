@@ -2,17 +2,18 @@
 
 pub mod lss;
 pub mod master;
+pub mod observer;
 pub mod socketcan;
 pub mod uri;
 
-use crate::canopen::nmt::{self, Command};
+use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::frame::Frame;
-use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 pub use master::Master;
+pub use observer::{Observed, SeenBy};
 pub use uri::BusUri;
 
 /// A raw frame link: what SocketCAN and the simulator provide.
@@ -61,9 +62,17 @@ pub enum LssWait {
     First,
     /// Every answer within the wait.
     All,
-    /// The first answer, then any others until none has come for this long: several
-    /// slaves may answer one request, and a straggler must not count for the next.
+    /// The first answer, then any others that come within this much more (never past the
+    /// wait): several slaves may answer one request, and a straggler must not count for
+    /// the next.
     Settle(Duration),
+}
+
+/// One LSS slave answer and when it came, timed from the request.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct LssAnswer {
+    pub data: [u8; 8],
+    pub after: Duration,
 }
 
 /// Node 0 in an NMT command addresses every node.
@@ -116,19 +125,22 @@ pub trait Bus {
     /// Send a remote request for `id` and return the first data frame with that id.
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame>;
 
-    /// Send one LSS master request (0x7E5) and collect the slaves' answers (0x7E4) that
-    /// arrive within `wait`. Answers left over from earlier requests are dropped first.
-    fn lss_exchange(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>>;
+    /// Send one LSS master request (0x7E5) and collect the slaves' answers (0x7E4, 8 bytes,
+    /// command specifier `expect`) that arrive within `wait`; other frames never count, and
+    /// do not make the wait longer. Answers left over from earlier requests are dropped
+    /// first.
+    fn lss_exchange(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>>;
 
-    /// LSS slave answers (0x7E4) that came in outside `lss_exchange`, since the last call:
-    /// answers to a request whose wait overlapped other work. Links that see no traffic
-    /// have none.
-    fn lss_answers_seen(&mut self) -> Vec<[u8; 8]> {
-        Vec::new()
-    }
-
-    /// NMT states reported by heartbeats seen so far in this session.
-    fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State>;
+    /// What the bus showed by itself so far in this session (node-ids in use, NMT states,
+    /// boot-ups, stray LSS answers). A link that sees no traffic knows only its own
+    /// answers.
+    fn observed(&mut self) -> &mut Observed;
 
     /// Finish cleanly; dropping without it may lose state (the simulator's).
     fn close(&mut self) -> Result<()>;

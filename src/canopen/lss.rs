@@ -3,6 +3,7 @@
 //! Pure encoding, the fastscan search, and the slave's state machine (for the simulator).
 
 use std::fmt;
+use std::time::Duration;
 
 pub const MASTER_COB: u16 = 0x7E5;
 pub const SLAVE_COB: u16 = 0x7E4;
@@ -318,113 +319,393 @@ pub fn error_meaning(cs: u8, error: u8) -> &'static str {
     }
 }
 
+impl Request {
+    /// The command specifier of the slave answer this request expects, if it has one:
+    /// only a frame with it counts as an answer (a heartbeat or a stray frame on 0x7E4
+    /// does not).
+    pub fn expected_answer(&self) -> Option<u8> {
+        match *self {
+            Request::SwitchSelective { part: 3, .. } => Some(0x44),
+            Request::ConfigureNodeId(_) => Some(0x11),
+            Request::ConfigureBitTiming { .. } => Some(0x13),
+            Request::StoreConfiguration => Some(0x17),
+            Request::Inquire(q) => Some(q.cs()),
+            Request::IdentifyRemote { field: 0x4B, .. } | Request::Fastscan { .. } => Some(0x4F),
+            Request::IdentifyNonConfigured => Some(0x50),
+            _ => None,
+        }
+    }
+}
+
 /// The four selective-switch requests for one device; the answer is 0x44 from it alone.
 pub fn switch_selective(id: &Identity) -> [Request; 4] {
     [0, 1, 2, 3].map(|part| Request::SwitchSelective { part, value: id.part(part) })
 }
 
-/// Fastscan (CiA 305 §8.4.3), the master side: finds the complete identity of one
-/// non-configured device in waiting state, bit by bit, 133 steps for the whole of it.
-/// Feed it whether anyone answered each request.
+/// The shortest fastscan step: enough for slaves on the same machine or a quiet bus.
+pub const STEP_FLOOR: Duration = Duration::from_millis(10);
+/// The longest: a slave slower than this is broken, not slow.
+pub const STEP_CEILING: Duration = Duration::from_secs(2);
+/// How many times a search may lengthen its step (or, at a fixed step, retry) before it
+/// gives up.
+pub const MAX_ESCALATIONS: u32 = 4;
+
+/// How long fastscan waits for answers: learned from the slaves' own answer times (or
+/// fixed by the user), lengthened when answers turn out to come later than that.
 #[derive(Clone, Debug)]
-pub struct Fastscan {
-    id: Identity,
-    sub: u8,
-    /// 0x80 before the reset step; 31..0 while searching bits; `None` while confirming.
-    bit: Option<u8>,
-    done: bool,
-    steps: u32,
-    /// Searches started; one whose confirmation fails (an answer came too late, so a bit
-    /// was taken for 1) starts over, up to `ATTEMPTS` in all.
-    attempts: u32,
+pub struct Pace {
+    fixed: Option<Duration>,
+    /// The slowest and fastest answer seen so far, timed from its request.
+    slowest: Option<Duration>,
+    fastest: Option<Duration>,
+    escalations: u32,
+    /// The window of the first probe, before anything is known.
+    probe_window: Duration,
+    /// The longest step used so far.
+    longest_used: Duration,
 }
 
-const ATTEMPTS: u32 = 3;
+impl Pace {
+    /// A pace still to be measured; the first probe waits `probe_window`.
+    pub fn measured(probe_window: Duration) -> Pace {
+        Pace {
+            fixed: None,
+            slowest: None,
+            fastest: None,
+            escalations: 0,
+            probe_window: probe_window.clamp(STEP_FLOOR, STEP_CEILING),
+            longest_used: Duration::ZERO,
+        }
+    }
+
+    /// The step the user chose (`--step`): used instead of one learned from the answer
+    /// times, and lengthened only when answers come later than it.
+    pub fn fixed(step: Duration, probe_window: Duration) -> Pace {
+        Pace { fixed: Some(step), ..Pace::measured(probe_window) }
+    }
+
+    /// Whether a step can be derived yet.
+    pub fn known(&self) -> bool {
+        self.fixed.is_some() || self.slowest.is_some()
+    }
+
+    /// A slave answered `after` its request was sent.
+    pub fn observe(&mut self, after: Duration) {
+        self.slowest = Some(self.slowest.map_or(after, |s| s.max(after)));
+        self.fastest = Some(self.fastest.map_or(after, |s| s.min(after)));
+    }
+
+    /// How long one fastscan step waits for an answer: half as long again as the slowest
+    /// answer seen plus a margin, doubled for each escalation.
+    pub fn step(&self) -> Duration {
+        let base = match self.fixed {
+            Some(step) => step,
+            None => {
+                let slowest = self.slowest.unwrap_or(self.probe_window);
+                (slowest * 3 / 2 + Duration::from_millis(5)).clamp(STEP_FLOOR, STEP_CEILING)
+            }
+        };
+        (base * (1 << self.escalations.min(8))).min(STEP_CEILING.max(base))
+    }
+
+    /// After the first answer to a request, how much longer the others may come: the
+    /// spread of the answer times seen and a quarter step more, so that a straggler does
+    /// not count for the next request.
+    pub fn settle(&self) -> Duration {
+        let spread = match (self.slowest, self.fastest) {
+            (Some(s), Some(f)) => s - f,
+            _ => Duration::ZERO,
+        };
+        (spread + (self.step() / 4).max(Duration::from_millis(2))).min(self.step())
+    }
+
+    pub fn probe_window(&self) -> Duration {
+        self.probe_window
+    }
+
+    /// The window of the "is anybody still there?" probe before fastscan says nobody is:
+    /// several times the slowest answer seen.
+    pub fn final_window(&self) -> Duration {
+        let several = self.slowest.map_or(self.probe_window, |s| s * 4);
+        several.max(self.step() * 2).clamp(STEP_FLOOR, STEP_CEILING)
+    }
+
+    /// Answers came later than the step allowed: lengthen it. False when no more.
+    pub fn escalate(&mut self) -> bool {
+        if self.escalations >= MAX_ESCALATIONS || self.step() >= STEP_CEILING {
+            return false;
+        }
+        self.escalations += 1;
+        true
+    }
+
+    pub fn escalations(&self) -> u32 {
+        self.escalations
+    }
+
+    /// The slowest answer seen so far.
+    pub fn slowest(&self) -> Option<Duration> {
+        self.slowest
+    }
+
+    /// The longest step a fastscan waited.
+    pub fn longest_step(&self) -> Duration {
+        self.longest_used
+    }
+}
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum FastscanError {
-    /// Nobody answered the reset: no non-configured device in waiting state.
+    /// Nobody answered: no non-configured device in waiting state.
     NoDevice,
-    /// A part that every bit matched was not confirmed: devices changed meanwhile, or
-    /// frames were lost.
+    /// A part that every bit matched was not confirmed, even with the longest step:
+    /// devices changed meanwhile, or frames were lost.
     Unconfirmed(u8),
+    /// No device without a node-id has this part (given by the user) of its identity.
+    NoMatch { part: u8, value: u32 },
+    /// A device answered once, then no more, even with the longest step.
+    Lost,
 }
 
-impl Default for Fastscan {
-    fn default() -> Self {
-        Fastscan::new()
-    }
+/// What the fastscan driver wants done next.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum FastscanNext {
+    Send(Ask),
+    /// The device found; it is in configuration state now.
+    Found(Identity),
+    Failed(FastscanError),
+}
+
+/// One request and how to wait for its answers.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Ask {
+    pub request: Request,
+    /// The command specifier an answer must carry.
+    pub expect: u8,
+    /// How long after sending answers count.
+    pub window: Duration,
+    /// After the first answer, wait this much longer for others (capped by the window);
+    /// `None`: collect every answer within the window.
+    pub settle: Option<Duration>,
+}
+
+/// One identity part, as far as the search knows it.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Part {
+    Unknown,
+    /// Given by the user: confirmed in one step, never searched.
+    Given(u32),
+    /// Found bit by bit and confirmed.
+    Found(u32),
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Phase {
+    /// "Identify non-configured remote slave" with a generous window: is anybody there,
+    /// and how late do they answer?
+    Probe,
+    /// Fastscan reset: every non-configured device takes part again from part 0.
+    Reset,
+    /// Asking whether bit `n` of the current part is 0 (the bits above as found).
+    Bit(u8),
+    /// The current part's whole value, bit-checked 0: the matching devices move on.
+    Confirm,
+    /// Nobody answered the reset at the learned pace: ask once more with a long window
+    /// before saying nobody is there.
+    FinalProbe,
+    Over,
+}
+
+/// Fastscan (CiA 305 §8.4.3), the master side, sans I/O: says which request to send and
+/// how long to wait; the caller reports the answers with their times. Finds the whole
+/// identity of one non-configured device in waiting state (133 fastscan requests when
+/// nothing is known), skipping the parts the user gives. When answers come late (a part
+/// found bit by bit is not confirmed), it lengthens the step and searches that part again,
+/// keeping the parts found.
+#[derive(Clone, Debug)]
+pub struct Fastscan {
+    pace: Pace,
+    parts: [Part; 4],
+    sub: u8,
+    /// The value of the current part as far as searched.
+    value: u32,
+    phase: Phase,
+    outcome: Option<Result<Identity, FastscanError>>,
+    /// Fastscan requests sent.
+    steps: u32,
+    /// Whether any device answered so far: silence afterwards is lateness or loss.
+    seen: bool,
 }
 
 impl Fastscan {
-    pub fn new() -> Fastscan {
-        Fastscan { id: Identity::default(), sub: 0, bit: Some(FASTSCAN_RESET), done: false, steps: 0, attempts: 1 }
+    /// `given`: identity parts (vendor, product, revision, serial) already known.
+    pub fn new(pace: Pace, given: [Option<u32>; 4]) -> Fastscan {
+        let phase = if pace.known() { Phase::Reset } else { Phase::Probe };
+        Fastscan {
+            pace,
+            parts: given.map(|g| g.map_or(Part::Unknown, Part::Given)),
+            sub: 0,
+            value: 0,
+            phase,
+            outcome: None,
+            steps: 0,
+            seen: false,
+        }
     }
 
+    /// Fastscan requests sent so far.
     pub fn steps(&self) -> u32 {
         self.steps
     }
 
-    /// The identity found, once the search is over.
-    pub fn found(&self) -> Option<Identity> {
-        self.done.then_some(self.id)
+    pub fn pace(&self) -> &Pace {
+        &self.pace
     }
 
-    /// The next request to send, or `None` when the search is over.
-    pub fn request(&self) -> Option<Request> {
-        if self.done {
-            return None;
+    /// The pace learned, for the next search on the same bus.
+    pub fn into_pace(self) -> Pace {
+        self.pace
+    }
+
+    pub fn next(&self) -> FastscanNext {
+        if let Some(outcome) = self.outcome {
+            return match outcome {
+                Ok(id) => FastscanNext::Found(id),
+                Err(e) => FastscanNext::Failed(e),
+            };
         }
+        let fastscan = |request: Request| Ask {
+            request,
+            expect: 0x4F,
+            window: self.pace.step(),
+            settle: Some(self.pace.settle()),
+        };
         let sub = self.sub;
-        Some(match self.bit {
-            Some(FASTSCAN_RESET) => Request::Fastscan { id: 0, bit_checked: FASTSCAN_RESET, sub: 0, next: 0 },
-            Some(bit) => Request::Fastscan { id: self.id.part(sub), bit_checked: bit, sub, next: sub },
-            None => Request::Fastscan { id: self.id.part(sub), bit_checked: 0, sub, next: (sub + 1) % 4 },
+        FastscanNext::Send(match self.phase {
+            Phase::Probe => Ask {
+                request: Request::IdentifyNonConfigured,
+                expect: 0x50,
+                window: self.pace.probe_window(),
+                settle: None,
+            },
+            Phase::FinalProbe => Ask {
+                request: Request::IdentifyNonConfigured,
+                expect: 0x50,
+                window: self.pace.final_window(),
+                settle: None,
+            },
+            Phase::Reset if !self.pace.known() => Ask {
+                window: self.pace.probe_window(),
+                ..fastscan(Request::Fastscan { id: 0, bit_checked: FASTSCAN_RESET, sub: 0, next: 0 })
+            },
+            Phase::Reset => fastscan(Request::Fastscan { id: 0, bit_checked: FASTSCAN_RESET, sub: 0, next: 0 }),
+            Phase::Bit(bit) => fastscan(Request::Fastscan { id: self.value, bit_checked: bit, sub, next: sub }),
+            Phase::Confirm | Phase::Over => {
+                fastscan(Request::Fastscan { id: self.value, bit_checked: 0, sub, next: (sub + 1) % 4 })
+            }
         })
     }
 
-    /// Whether any slave answered the last request.
-    pub fn answered(&mut self, answered: bool) -> Result<(), FastscanError> {
-        self.steps += 1;
-        match self.bit {
-            Some(FASTSCAN_RESET) => {
-                if !answered {
-                    self.done = true;
-                    return Err(FastscanError::NoDevice);
-                }
-                self.bit = Some(31);
+    /// The answers to the request `next` asked for: each with the time it came after the
+    /// request was sent. Frames with another command specifier are not answers; answers
+    /// after the window are late: they lengthen the step and the request is asked again.
+    pub fn on_answers(&mut self, answers: &[(Duration, [u8; 8])]) {
+        let FastscanNext::Send(ask) = self.next() else { return };
+        let valid: Vec<Duration> = answers.iter().filter(|(_, d)| d[0] == ask.expect).map(|(t, _)| *t).collect();
+        for t in &valid {
+            self.pace.observe(*t);
+        }
+        if matches!(ask.request, Request::Fastscan { .. }) {
+            self.steps += 1;
+            self.pace.longest_used = self.pace.longest_used.max(ask.window);
+        }
+        let in_time = valid.iter().any(|t| *t <= ask.window);
+        if !in_time && !valid.is_empty() {
+            // Only late answers: what silence would mean is not true. Ask again, slower.
+            if !self.pace.escalate() {
+                self.fail(FastscanError::Lost);
             }
-            Some(bit) => {
-                // Asked "does bit `bit` being 0 (and the bits above as found) match?": no
-                // answer means every remaining device has a 1 there.
-                if !answered {
-                    let v = self.id.part(self.sub) | 1 << bit;
-                    self.id.set_part(self.sub, v);
-                }
-                self.bit = if bit == 0 { None } else { Some(bit - 1) };
+            return;
+        }
+        self.seen |= in_time;
+        match self.phase {
+            Phase::Probe => self.phase = Phase::Reset,
+            Phase::FinalProbe if in_time => self.lengthen_or(FastscanError::Lost),
+            Phase::FinalProbe => self.fail(FastscanError::NoDevice),
+            Phase::Reset if in_time => {
+                self.sub = 0;
+                self.start_part();
             }
-            None => {
-                if !answered {
-                    if self.attempts == ATTEMPTS {
-                        self.done = true;
-                        return Err(FastscanError::Unconfirmed(self.sub));
-                    }
-                    self.attempts += 1;
-                    self.id = Identity::default();
-                    self.sub = 0;
-                    self.bit = Some(FASTSCAN_RESET);
-                    return Ok(());
+            Phase::Reset if !self.seen && !self.pace.known() => self.fail(FastscanError::NoDevice),
+            Phase::Reset if !self.seen => self.phase = Phase::FinalProbe,
+            Phase::Reset => self.lengthen_or(FastscanError::Lost),
+            Phase::Bit(bit) => {
+                // No answer to "is bit `bit` 0?": every device still in the search has a 1.
+                if !in_time {
+                    self.value |= 1 << bit;
+                }
+                self.phase = if bit == 0 { Phase::Confirm } else { Phase::Bit(bit - 1) };
+            }
+            Phase::Confirm if in_time => {
+                if self.parts[self.sub as usize] == Part::Unknown {
+                    self.parts[self.sub as usize] = Part::Found(self.value);
                 }
                 if self.sub == 3 {
-                    // The device that matched the serial is now in configuration state.
-                    self.done = true;
+                    // The device that matched the serial is in configuration state now.
+                    let v = |p: Part| match p {
+                        Part::Given(v) | Part::Found(v) => v,
+                        Part::Unknown => unreachable!("every part confirmed"),
+                    };
+                    let [vendor, product, revision, serial] = self.parts.map(v);
+                    self.outcome = Some(Ok(Identity { vendor, product, revision, serial }));
+                    self.phase = Phase::Over;
                 } else {
                     self.sub += 1;
-                    self.bit = Some(31);
+                    self.start_part();
                 }
             }
+            Phase::Confirm => {
+                // A late answer made a bit look like 1 (or a device left): search this
+                // part again with a longer step, from a reset, keeping the parts before it.
+                let sub = self.sub;
+                let error = match self.parts[sub as usize] {
+                    Part::Given(value) => FastscanError::NoMatch { part: sub, value },
+                    _ => FastscanError::Unconfirmed(sub),
+                };
+                if let Part::Found(_) = self.parts[sub as usize] {
+                    self.parts[sub as usize] = Part::Unknown;
+                }
+                self.lengthen_or(error);
+            }
+            Phase::Over => {}
         }
-        Ok(())
+    }
+
+    fn start_part(&mut self) {
+        match self.parts[self.sub as usize] {
+            Part::Given(v) | Part::Found(v) => {
+                self.value = v;
+                self.phase = Phase::Confirm;
+            }
+            Part::Unknown => {
+                self.value = 0;
+                self.phase = Phase::Bit(31);
+            }
+        }
+    }
+
+    /// Start over from a reset with a longer step, or fail with `error`.
+    fn lengthen_or(&mut self, error: FastscanError) {
+        if self.pace.escalate() {
+            self.phase = Phase::Reset;
+        } else {
+            self.fail(error);
+        }
+    }
+
+    fn fail(&mut self, error: FastscanError) {
+        self.outcome = Some(Err(error));
+        self.phase = Phase::Over;
     }
 }
 
@@ -679,55 +960,280 @@ mod tests {
         assert!("1:2:3:x".parse::<Identity>().is_err());
     }
 
-    /// Fastscan against several slaves at once: the master finds the lowest identity.
-    #[test]
-    fn fastscan_finds_a_whole_identity_in_133_steps() {
-        let ids = [
+    const MS: Duration = Duration::from_millis(1);
+    const CAPS: SlaveCaps = SlaveCaps { store: true, bit_timing: true };
+
+    fn three() -> [Identity; 3] {
+        [
             Identity { vendor: 0x40, product: 0x4378_7800, revision: 0x312E_3031, serial: 0x0950_1302 },
             Identity { vendor: 0x40, product: 0x4378_7800, revision: 0x312E_3031, serial: 0x0950_1301 },
             Identity { vendor: 0x444, product: 0x2057, revision: 1, serial: 7 },
-        ];
-        let mut slaves: Vec<Slave> =
-            ids.iter().map(|i| Slave::new(*i, SlaveCaps { store: true, bit_timing: true })).collect();
-        let mut found = vec![];
-        for _ in 0..ids.len() {
-            let mut scan = Fastscan::new();
-            while let Some(req) = scan.request() {
-                let answered =
-                    slaves.iter_mut().map(|s| s.handle(req, UNCONFIGURED).0.is_some()).fold(false, |a, b| a | b);
-                scan.answered(answered).unwrap();
-            }
-            let id = scan.found().unwrap();
-            assert_eq!(scan.steps(), 133);
-            // The device found is in configuration state; once it has a node-id it no
-            // longer takes part, and the next search finds another.
-            let s = slaves.iter().find(|s| s.identity == id).unwrap();
-            assert_eq!(s.state, SlaveState::Configuration);
-            assert!(slaves.iter().filter(|s| s.identity != id).all(|s| s.state == SlaveState::Waiting));
-            found.push(id);
-            slaves.retain(|s| s.identity != id);
-        }
-        let mut want = ids.to_vec();
-        want.sort();
-        assert_eq!(found, want);
-        let mut scan = Fastscan::new();
-        assert_eq!(scan.answered(false), Err(FastscanError::NoDevice));
+        ]
     }
 
-    /// An answer that comes too late makes a bit look like 1; the confirmation then fails
-    /// and the search starts over instead of giving up.
-    #[test]
-    fn fastscan_survives_a_late_answer() {
-        let id = Identity { vendor: 0x40, product: 0x4378_7800, revision: 0x312E_3031, serial: 0x0950_1301 };
-        let mut slave = Slave::new(id, SlaveCaps { store: true, bit_timing: true });
-        let mut scan = Fastscan::new();
-        let mut n = 0;
-        while let Some(req) = scan.request() {
-            n += 1;
-            let answered = slave.handle(req, UNCONFIGURED).0.is_some() && n != 40;
-            scan.answered(answered).unwrap();
+    type Latency = Box<dyn FnMut(usize, u32) -> Option<Duration>>;
+    type Extra = Box<dyn FnMut(u32) -> Vec<(Duration, [u8; 8])>>;
+
+    /// A bus in virtual time, as a real one behaves: slaves take each request at once and
+    /// answer `latency` later (`None`: the answer is lost); an answer counts for whichever
+    /// request's window it arrives in, and one that arrives between windows is drained.
+    struct VirtualBus {
+        slaves: Vec<Slave>,
+        now: Duration,
+        in_flight: Vec<(Duration, [u8; 8])>,
+        /// (slave, request number) → answer latency.
+        latency: Latency,
+        /// Other frames on 0x7E4 after request number n, timed from it.
+        extra: Extra,
+        sent: u32,
+    }
+
+    impl VirtualBus {
+        fn new(ids: &[Identity], latency: Latency) -> VirtualBus {
+            VirtualBus {
+                slaves: ids.iter().map(|i| Slave::new(*i, CAPS)).collect(),
+                now: Duration::ZERO,
+                in_flight: vec![],
+                latency,
+                extra: Box::new(|_| vec![]),
+                sent: 0,
+            }
         }
-        assert_eq!(scan.found(), Some(id));
+
+        fn exchange(&mut self, ask: &Ask) -> Vec<(Duration, [u8; 8])> {
+            let t0 = self.now;
+            self.in_flight.retain(|(t, _)| *t >= t0);
+            self.sent += 1;
+            for i in 0..self.slaves.len() {
+                if let (Some(a), _) = self.slaves[i].handle(ask.request, UNCONFIGURED) {
+                    if let Some(lat) = (self.latency)(i, self.sent) {
+                        self.in_flight.push((t0 + lat, a.encode()));
+                    }
+                }
+            }
+            for (t, f) in (self.extra)(self.sent) {
+                self.in_flight.push((t0 + t, f));
+            }
+            self.in_flight.sort_by_key(|(t, _)| *t);
+            let mut end = t0 + ask.window;
+            let mut got = vec![];
+            let mut answered = false;
+            for (t, f) in &self.in_flight {
+                if *t > end {
+                    break;
+                }
+                got.push((*t - t0, *f));
+                if f[0] == ask.expect && !answered {
+                    answered = true;
+                    if let Some(settle) = ask.settle {
+                        end = end.min(*t + settle);
+                    }
+                }
+            }
+            self.now = end;
+            self.in_flight.retain(|(t, _)| *t > end);
+            got
+        }
+
+        fn run(&mut self, scan: &mut Fastscan) -> Result<Identity, FastscanError> {
+            for _ in 0..5000 {
+                match scan.next() {
+                    FastscanNext::Send(ask) => {
+                        let answers = self.exchange(&ask);
+                        scan.on_answers(&answers);
+                    }
+                    FastscanNext::Found(id) => return Ok(id),
+                    FastscanNext::Failed(e) => return Err(e),
+                }
+            }
+            panic!("fastscan did not end");
+        }
+    }
+
+    fn fixed_latency(ms: u64) -> Latency {
+        Box::new(move |_, _| Some(MS * ms as u32))
+    }
+
+    fn fresh() -> Fastscan {
+        Fastscan::new(Pace::measured(MS * 500), [None; 4])
+    }
+
+    /// Against several slaves at once the master finds the lowest identity, 133 fastscan
+    /// requests for a whole one; the found device is in configuration state and the next
+    /// search (with the pace already learned) finds the next.
+    #[test]
+    fn fastscan_finds_every_identity_in_133_steps() {
+        let mut bus = VirtualBus::new(&three(), fixed_latency(0));
+        let mut pace = Pace::measured(MS * 500);
+        let mut found = vec![];
+        for _ in 0..3 {
+            let mut scan = Fastscan::new(pace, [None; 4]);
+            let id = bus.run(&mut scan).unwrap();
+            assert_eq!(scan.steps(), 133);
+            let s = bus.slaves.iter().find(|s| s.identity == id).unwrap();
+            assert_eq!(s.state, SlaveState::Configuration);
+            found.push(id);
+            pace = scan.into_pace();
+            assert_eq!(pace.step(), STEP_FLOOR);
+        }
+        let mut want = three().to_vec();
+        want.sort();
+        assert_eq!(found, want);
+        // Every device is configured: the reset is silent, and so is the last probe.
+        let mut scan = Fastscan::new(pace, [None; 4]);
+        assert_eq!(bus.run(&mut scan), Err(FastscanError::NoDevice));
+        assert!(matches!(scan.next(), FastscanNext::Failed(FastscanError::NoDevice)));
+    }
+
+    #[test]
+    fn nobody_there_is_no_device_after_two_generous_probes() {
+        let mut bus = VirtualBus::new(&[], fixed_latency(0));
+        let mut scan = fresh();
+        assert_eq!(bus.run(&mut scan), Err(FastscanError::NoDevice));
+        assert_eq!(bus.sent, 2, "the probe and one reset");
+        assert_eq!(bus.now, MS * 1000);
+    }
+
+    /// Slaves that answer 60 ms late (as real ones do): the probe measures it and every
+    /// step waits long enough, with no escalation.
+    #[test]
+    fn the_pace_is_learned_from_the_first_probe() {
+        let mut bus = VirtualBus::new(&three(), fixed_latency(60));
+        let mut scan = fresh();
+        let id = bus.run(&mut scan).unwrap();
+        assert_eq!(id, three()[1]);
+        assert_eq!(scan.steps(), 133);
+        assert_eq!(scan.pace().escalations(), 0);
+        assert_eq!(scan.pace().step(), MS * 95);
+        assert_eq!(scan.pace().longest_step(), MS * 95);
+    }
+
+    /// `--step 10ms` (the old default) against 60 ms slaves: every answer comes in the
+    /// next window, parts are not confirmed, and the step doubles until answers fit.
+    /// Slaves slower than the step can ever become: a bounded failure.
+    #[test]
+    fn a_fixed_step_too_short_is_lengthened_or_fails_bounded() {
+        let mut bus = VirtualBus::new(&three(), fixed_latency(60));
+        let mut scan = Fastscan::new(Pace::fixed(MS * 10, MS * 500), [None; 4]);
+        assert_eq!(bus.run(&mut scan), Ok(three()[1]));
+        assert_eq!(scan.pace().longest_step(), MS * 80);
+        let mut bus = VirtualBus::new(&three(), fixed_latency(300));
+        let mut scan = Fastscan::new(Pace::fixed(MS * 10, MS * 500), [None; 4]);
+        let r = bus.run(&mut scan);
+        assert!(matches!(r, Err(FastscanError::Unconfirmed(_) | FastscanError::Lost)), "{r:?}");
+        assert_eq!(scan.pace().escalations(), MAX_ESCALATIONS);
+        assert!(bus.sent < 1000);
+    }
+
+    /// One answer far later than the probe showed: the bit looks like 1, the part is not
+    /// confirmed, and the search goes again over that part only, with a longer step.
+    #[test]
+    fn a_late_answer_lengthens_the_step_and_that_part_is_searched_again() {
+        let id = three()[1];
+        let latency: Latency = Box::new(|_, n| Some(if n == 60 { MS * 45 } else { MS * 5 }));
+        let mut bus = VirtualBus::new(&[id], latency);
+        let mut scan = fresh();
+        assert_eq!(bus.run(&mut scan), Ok(id));
+        assert_eq!(scan.pace().escalations(), 1);
+        // Request 60 is in part 1 (the product): after a reset, part 0 is confirmed in one
+        // step and part 1 searched again (33 steps); parts 2 and 3 as before.
+        assert_eq!(scan.steps(), 133 + 1 + 1 + 33);
+        assert!(scan.pace().longest_step() > MS * 12);
+    }
+
+    /// A lost answer makes a bit 1 as well: the same recovery.
+    #[test]
+    fn a_lost_answer_is_recovered() {
+        let id = three()[0];
+        let latency: Latency = Box::new(|_, n| (n != 110).then_some(MS * 3));
+        let mut bus = VirtualBus::new(&[id], latency);
+        let mut scan = fresh();
+        assert_eq!(bus.run(&mut scan), Ok(id));
         assert!(scan.steps() > 133);
+        assert_eq!(scan.pace().escalations(), 1);
+    }
+
+    /// Every answer twice (a device, or a gateway, repeating itself): still one answer.
+    #[test]
+    fn duplicated_answers_count_once() {
+        let mut dup_bus = VirtualBus::new(&three(), Box::new(|_, _| Some(MS * 2)));
+        let mut scan = fresh();
+        let mut sent = 0;
+        let id = loop {
+            match scan.next() {
+                FastscanNext::Send(ask) => {
+                    sent += 1;
+                    let mut answers = dup_bus.exchange(&ask);
+                    let copies = answers.clone();
+                    answers.extend(copies.iter().map(|(t, f)| (*t + MS, *f)));
+                    scan.on_answers(&answers);
+                }
+                FastscanNext::Found(id) => break id,
+                FastscanNext::Failed(e) => panic!("{e:?}"),
+            }
+        };
+        assert!(sent < 200);
+        assert_eq!(id, three()[1]);
+        assert_eq!(scan.steps(), 133);
+    }
+
+    /// Frames on 0x7E4 that are not fastscan answers (another command specifier: a
+    /// heartbeat-like byte, a stray "non-configured" answer, garbage) never count, however
+    /// many: with nobody there it is still "no device", in bounded time.
+    #[test]
+    fn bogus_frames_on_the_slave_id_never_count() {
+        let flood = |_: u32| -> Vec<(Duration, [u8; 8])> {
+            (0..200)
+                .map(|i| (MS * (i % 10) / 2, [[0x7F, 0x05, 0x50, 0x44][i as usize % 4], 0, 0, 0, 0, 0, 0, 0]))
+                .collect()
+        };
+        let mut bus = VirtualBus::new(&[], fixed_latency(0));
+        bus.extra = Box::new(flood);
+        let mut scan = fresh();
+        // 0x50 is the answer the probe expects: the flood includes it, so the probe
+        // "sees" devices, yet no fastscan reset is ever answered.
+        let r = bus.run(&mut scan);
+        assert!(matches!(r, Err(FastscanError::NoDevice | FastscanError::Lost)), "{r:?}");
+        assert!(bus.sent < 20, "bounded: {} requests", bus.sent);
+        // With real devices among the flood, the right one is found in 133 steps.
+        let mut bus = VirtualBus::new(&three(), fixed_latency(1));
+        bus.extra = Box::new(|_| (0..50).map(|i| (MS * i / 10, [0x7F, 5, 0, 0, 0, 0, 0, 0])).collect());
+        let mut scan = fresh();
+        assert_eq!(bus.run(&mut scan), Ok(three()[1]));
+        assert_eq!(scan.steps(), 133);
+    }
+
+    /// Known vendor and product: those parts are confirmed in one step each.
+    #[test]
+    fn given_parts_are_confirmed_not_searched() {
+        let mut bus = VirtualBus::new(&three(), fixed_latency(1));
+        let mut scan = Fastscan::new(Pace::measured(MS * 500), [Some(0x444), Some(0x2057), None, None]);
+        assert_eq!(bus.run(&mut scan), Ok(three()[2]));
+        assert_eq!(scan.steps(), 1 + 1 + 1 + 33 + 33);
+        // A vendor nobody has: refused after the bounded escalations, by name.
+        let mut bus = VirtualBus::new(&three(), fixed_latency(1));
+        let mut scan = Fastscan::new(Pace::measured(MS * 500), [Some(0x99), None, None, None]);
+        assert_eq!(bus.run(&mut scan), Err(FastscanError::NoMatch { part: 0, value: 0x99 }));
+        assert_eq!(scan.pace().escalations(), MAX_ESCALATIONS);
+    }
+
+    #[test]
+    fn every_answer_late_by_a_lot_stops_at_the_ceiling() {
+        let mut bus = VirtualBus::new(&three(), Box::new(|_, n| Some(if n < 3 { MS } else { MS * 3000 })));
+        let mut scan = fresh();
+        let r = bus.run(&mut scan);
+        assert!(r.is_err());
+        assert!(scan.pace().longest_step() <= STEP_CEILING);
+        assert!(bus.sent < 500);
+    }
+
+    #[test]
+    fn expected_answers() {
+        assert_eq!(Request::Fastscan { id: 0, bit_checked: 0x80, sub: 0, next: 0 }.expected_answer(), Some(0x4F));
+        assert_eq!(Request::IdentifyNonConfigured.expected_answer(), Some(0x50));
+        assert_eq!(Request::SwitchSelective { part: 3, value: 1 }.expected_answer(), Some(0x44));
+        assert_eq!(Request::SwitchSelective { part: 2, value: 1 }.expected_answer(), None);
+        assert_eq!(Request::Inquire(Inquiry::NodeId).expected_answer(), Some(0x5E));
+        assert_eq!(Request::SwitchGlobal { configuration: false }.expected_answer(), None);
     }
 }

@@ -1,9 +1,10 @@
 //! `canctl lss`: node-ids and bit rates for devices that have none or share one (CiA 305).
 
+use super::interrupt;
 use super::{Ctx, SdoOptions};
 use crate::bus::lss::{AssignFailure, LssMaster};
 use crate::bus::{Bus, LssWait};
-use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Request, Response, UNCONFIGURED};
+use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};
 use crate::canopen::ObjAddr;
 use crate::error::Error;
 use crate::output::Format;
@@ -45,12 +46,18 @@ Examples:
     /// Find the identity of a device that has no node-id, bit by bit (CiA 305 fastscan)
     #[command(after_help = "Examples:
   canctl --bus sim lss fastscan
-  canctl --bus can0 lss fastscan --step 20ms --format json")]
+  canctl --bus can0 lss fastscan --vendor 0x40 --product 0x43787800
+  canctl --bus can0 lss fastscan --step 60ms --format json")]
     Fastscan(FastscanArgs),
     /// Give every device without a node-id the next free one, and store it
     #[command(after_help = "Finds each device without a node-id by fastscan, gives it the next node-id from
 --start on that no node on the bus uses, stores it (unless --no-store) and lets it boot.
-The JSON output is a record for provisioning logs.
+Node-ids in use are learned from SDO answers, heartbeats, boot-ups, node guarding and LSS
+(it listens for heartbeats first, see --listen), so a Stopped node keeps its id to itself.
+The fastscan step is learned from how late the devices answer, and lengthened when answers
+come later still; --step fixes it. Ctrl-C sends every device back to LSS waiting state,
+reports what was assigned so far and exits 130. The JSON output is a record for
+provisioning logs.
 
 Examples:
   canctl --bus sim lss assign --start 20
@@ -99,11 +106,42 @@ pub struct ActivateArgs {
     pub target: Target,
 }
 
+/// How fastscan paces itself, and what it already knows.
+#[derive(Args, Debug)]
+pub struct FastscanOptions {
+    /// Wait this long for each fastscan answer instead of learning it from the devices
+    /// (lengthened only if answers come later still)
+    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    pub step: Option<Duration>,
+    /// The vendor-id of the device(s) sought, if known: not searched (0x1018:1)
+    #[arg(long, value_name = "ID", value_parser = parse_u32)]
+    pub vendor: Option<u32>,
+    /// The product code, if known: not searched (0x1018:2)
+    #[arg(long, value_name = "CODE", value_parser = parse_u32)]
+    pub product: Option<u32>,
+    /// The revision number, if known: not searched (0x1018:3)
+    #[arg(long, value_name = "REV", value_parser = parse_u32)]
+    pub revision: Option<u32>,
+}
+
+impl FastscanOptions {
+    fn given(&self) -> [Option<u32>; 4] {
+        [self.vendor, self.product, self.revision, None]
+    }
+
+    /// The step given, or one to learn with a first probe as long as the answer timeout.
+    fn pace(&self, timeout: Duration) -> Pace {
+        match self.step {
+            Some(step) => Pace::fixed(step, timeout),
+            None => Pace::measured(timeout),
+        }
+    }
+}
+
 #[derive(Args, Debug)]
 pub struct FastscanArgs {
-    /// How long each fastscan step waits for an answer
-    #[arg(long, value_name = "DUR", default_value = "10ms", value_parser = super::parse_duration)]
-    pub step: Duration,
+    #[command(flatten)]
+    pub pace: FastscanOptions,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
     #[arg(long, value_name = "0", value_parser = clap::value_parser!(u8).range(0..=0))]
     pub node: Option<u8>,
@@ -114,15 +152,26 @@ pub struct AssignArgs {
     /// The first node-id to give
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=127))]
     pub start: u8,
-    /// How long each fastscan step waits for an answer
-    #[arg(long, value_name = "DUR", default_value = "10ms", value_parser = super::parse_duration)]
-    pub step: Duration,
+    #[command(flatten)]
+    pub pace: FastscanOptions,
+    /// How long to listen for heartbeats before assigning [default: 1s, or longer for the
+    /// longest heartbeat period the nodes report]
+    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    pub listen: Option<Duration>,
     /// Do not store the node-ids (they are lost at power-off)
     #[arg(long)]
     pub no_store: bool,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
     #[arg(long, value_name = "0", value_parser = clap::value_parser!(u8).range(0..=0))]
     pub node: Option<u8>,
+}
+
+fn parse_u32(s: &str) -> Result<u32, String> {
+    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
+        Some(h) => u32::from_str_radix(h, 16),
+        None => s.parse(),
+    }
+    .map_err(|_| format!("'{s}' is not a 32-bit number (decimal, or hex with 0x)"))
 }
 
 fn parse_identity(s: &str) -> Result<Identity, String> {
@@ -146,11 +195,14 @@ fn require_target(t: &Target, verb: &str) -> crate::Result<()> {
     Ok(())
 }
 
-fn identity_json(id: &Identity) -> serde_json::Value {
+pub(super) fn identity_json(id: &Identity) -> serde_json::Value {
     json!({ "vendor_id": id.vendor, "product_code": id.product, "revision": id.revision, "serial": id.serial })
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()> {
+    // An interruption is noted and acted on between steps, so that no device is left in
+    // configuration state.
+    interrupt::catch();
     let mut m = LssMaster::new(bus, ctx.timeout);
     match cmd {
         LssCommand::Inquire(t) => inquire(ctx, &mut m, t),
@@ -271,10 +323,12 @@ fn configure(ctx: &Ctx, m: &mut LssMaster, t: &Target, verb: &str, req: Request,
     let (what, devices) = if t.node.is_some() {
         (configure_direct_epos2(ctx, m.bus(), verb, value)?, 1)
     } else {
-        m.enter(t.identity.as_ref())?;
-        let result = m.configure(req, verb, t.global);
+        let result = m.enter(t.identity.as_ref()).and_then(|_| m.configure(req, verb, t.global));
         m.leave()?;
         let n = result?;
+        if interrupt::requested() {
+            return Err(Error::Interrupted.into());
+        }
         let what = match req {
             Request::ConfigureNodeId(UNCONFIGURED) => "node-id removed (255)".to_string(),
             Request::ConfigureNodeId(id) => format!("node-id {id}"),
@@ -332,13 +386,39 @@ fn no_device_error() -> Error {
     Error::Timeout("no device without a node-id answered the fastscan".into())
 }
 
-fn fastscan_error(e: FastscanError) -> Error {
+fn fastscan_error(e: FastscanError, pace: &Pace) -> Error {
+    let step = pace.longest_step().as_millis();
     match e {
         FastscanError::NoDevice => no_device_error(),
         FastscanError::Unconfirmed(part) => Error::Link(format!(
-            "fastscan: identity part {part} was found but not confirmed (a device changed state, or frames were lost); try again or a longer --step"
+            "fastscan: identity part {part} was found but not confirmed, even with a {step} ms step (a device \
+             changed state, or frames were lost); try again, or a longer --step"
+        )),
+        FastscanError::NoMatch { part, value } => Error::Timeout(format!(
+            "no device without a node-id has {} 0x{value:08X} (waited up to {step} ms a step)",
+            ["vendor-id", "product code", "revision", "serial"][part as usize]
+        )),
+        FastscanError::Lost => Error::Timeout(format!(
+            "fastscan: a device without a node-id answered, then stopped answering, even with a {step} ms step"
         )),
     }
+}
+
+/// The step used and what it was learned from, for humans.
+fn pace_text(pace: &Pace) -> String {
+    let step = pace.longest_step().as_millis();
+    match pace.slowest() {
+        Some(s) => format!("step {step} ms (slowest answer {:.1} ms)", s.as_secs_f64() * 1e3),
+        None => format!("step {step} ms"),
+    }
+}
+
+fn pace_json(pace: &Pace) -> serde_json::Value {
+    json!({
+        "step_ms": pace.longest_step().as_millis() as u64,
+        "slowest_answer_ms": pace.slowest().map(|s| s.as_secs_f64() * 1e3),
+        "escalations": pace.escalations(),
+    })
 }
 
 fn fastscan(ctx: &Ctx, m: &mut LssMaster, a: &FastscanArgs) -> anyhow::Result<()> {
@@ -346,23 +426,72 @@ fn fastscan(ctx: &Ctx, m: &mut LssMaster, a: &FastscanArgs) -> anyhow::Result<()
         return Err(no_lss_on_direct_epos2("fastscan").into());
     }
     let start = Instant::now();
-    let (id, steps) = m.fastscan(a.step)?.map_err(fastscan_error)?;
-    // The device found is in configuration state; it goes back to waiting unchanged.
-    m.leave()?;
+    let result = m.fastscan(a.pace.pace(ctx.timeout), a.pace.given(), &mut || !interrupt::requested());
+    // The device found is in configuration state: whatever happened, every device goes
+    // back to waiting, unchanged.
+    let left = m.leave();
+    let Some(outcome) = result? else {
+        left?;
+        return Err(Error::Interrupted.into());
+    };
+    left?;
+    let id = outcome.found.map_err(|e| fastscan_error(e, &outcome.pace))?;
+    let steps = outcome.steps;
     let ms = start.elapsed().as_millis();
+    let step_ms = outcome.pace.longest_step().as_millis() as u64;
     match ctx.out.format {
-        Format::Json => ctx.out.json(
-            &json!({ "identity": id.to_string(), "lss": identity_json(&id), "steps": steps, "elapsed_ms": ms }),
+        Format::Json => ctx.out.json(&json!({
+            "identity": id.to_string(),
+            "lss": identity_json(&id),
+            "steps": steps,
+            "step_ms": step_ms,
+            "pace": pace_json(&outcome.pace),
+            "elapsed_ms": ms,
+        }))?,
+        Format::Csv => ctx.out.table(
+            &["identity", "steps", "step_ms", "elapsed_ms"],
+            &[vec![id.to_string(), steps.to_string(), step_ms.to_string(), ms.to_string()]],
         )?,
-        Format::Csv => ctx
-            .out
-            .table(&["identity", "steps", "elapsed_ms"], &[vec![id.to_string(), steps.to_string(), ms.to_string()]])?,
         Format::Human => {
             ctx.out.print(&id.to_string())?;
-            ctx.out.note(&format!("found in {steps} steps, {ms} ms"));
+            ctx.out.note(&format!("found in {steps} steps, {ms} ms; {}", pace_text(&outcome.pace)));
         }
     }
     Ok(())
+}
+
+/// Default time to listen for heartbeats before assigning: long enough for the common
+/// periods (100 ms .. 1 s); longer when a node reports a longer one.
+const LISTEN: Duration = Duration::from_secs(1);
+const LISTEN_CEILING: Duration = Duration::from_secs(10);
+const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
+
+/// Node-ids in use: the SDO probe, then heartbeats, boot-ups and everything else the bus
+/// shows while listening. A node in Stopped answers no SDO but still beats.
+fn ids_in_use(ctx: &Ctx, bus: &mut dyn Bus, listen: Option<Duration>) -> anyhow::Result<BTreeSet<u8>> {
+    let found = super::scan::probe(ctx, bus, ctx.timeout.min(Duration::from_millis(100)))?;
+    let mut used: BTreeSet<u8> = found.iter().map(|(n, _)| *n).collect();
+    if bus.sees_traffic() {
+        let listen = match listen {
+            Some(l) => l,
+            None => {
+                let reads: Vec<(u8, ObjAddr)> = found.iter().map(|(n, _)| (*n, HEARTBEAT_TIME)).collect();
+                let mut opts = SdoOptions::new(ctx.timeout);
+                opts.size_hint = Some(2);
+                let periods = bus.sdo_upload_many(&reads, &opts, &mut |_| {})?;
+                let longest = periods
+                    .iter()
+                    .filter_map(|r| r.as_ref().ok()?.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]])))
+                    .max()
+                    .unwrap_or(0);
+                (Duration::from_millis(longest as u64) * 3 / 2).clamp(LISTEN, LISTEN_CEILING)
+            }
+        };
+        let end = Instant::now() + listen;
+        while bus.recv_frame(end)?.is_some() && !interrupt::requested() {}
+    }
+    used.extend(bus.observed().node_ids());
+    Ok(used)
 }
 
 fn assign(ctx: &Ctx, m: &mut LssMaster, a: &AssignArgs) -> anyhow::Result<()> {
@@ -370,19 +499,26 @@ fn assign(ctx: &Ctx, m: &mut LssMaster, a: &AssignArgs) -> anyhow::Result<()> {
         return Err(no_lss_on_direct_epos2("assign").into());
     }
     let start = Instant::now();
-    // Node-ids already in use, by SDO probe: new ones must not collide.
-    let used: BTreeSet<u8> = super::scan::probe(ctx, m.bus(), ctx.timeout.min(Duration::from_millis(100)))?
-        .into_iter()
-        .map(|(n, _)| n)
-        .collect();
-    let outcome = m.assign(a.start, used, a.step, !a.no_store, &mut |d| {
-        ctx.out.note(&format!("{} -> node {}", d.identity, d.node))
-    })?;
+    // Node-ids already in use: new ones must not collide.
+    let used = ids_in_use(ctx, m.bus(), a.listen)?;
+    let outcome = m.assign(
+        a.start,
+        used,
+        a.pace.pace(ctx.timeout),
+        a.pace.given(),
+        !a.no_store,
+        &mut || !interrupt::requested(),
+        &mut |d| ctx.out.note(&format!("{} -> node {}", d.identity, d.node)),
+    )?;
     let (done, steps) = (&outcome.assigned, outcome.steps);
-    let failure = outcome.failure.map(|e| match e {
-        AssignFailure::Fastscan(f) => fastscan_error(f),
-        AssignFailure::Refused(e) => e,
-    });
+    let failure = if outcome.interrupted || interrupt::requested() {
+        Some(Error::Interrupted)
+    } else {
+        outcome.failure.map(|e| match e {
+            AssignFailure::Fastscan(f) => fastscan_error(f, &outcome.pace),
+            AssignFailure::Refused(e) => e,
+        })
+    };
     let ms = start.elapsed().as_millis();
     let stored_text = |r: &Result<(), String>| match r {
         Ok(()) => "yes".to_string(),
@@ -398,14 +534,24 @@ fn assign(ctx: &Ctx, m: &mut LssMaster, a: &AssignArgs) -> anyhow::Result<()> {
                 "store_error": d.stored.as_ref().err(),
             })).collect::<Vec<_>>(),
             "fastscan_steps": steps,
+            "step_ms": outcome.pace.longest_step().as_millis() as u64,
+            "pace": pace_json(&outcome.pace),
             "elapsed_ms": ms,
+            "interrupted": outcome.interrupted,
             "error": failure.as_ref().map(|e| e.to_string()),
         }))?,
         _ => {
             let rows: Vec<Vec<String>> =
                 done.iter().map(|d| vec![d.identity.to_string(), d.node.to_string(), stored_text(&d.stored)]).collect();
             ctx.out.table(&["identity", "node", "stored"], &rows)?;
-            ctx.out.note(&format!("{} device(s) given a node-id in {ms} ms ({steps} fastscan steps)", done.len()));
+            ctx.out.note(&format!(
+                "{} device(s) given a node-id in {ms} ms ({steps} fastscan steps, {})",
+                done.len(),
+                pace_text(&outcome.pace)
+            ));
+            if outcome.interrupted {
+                ctx.out.note("interrupted: every LSS device was sent back to waiting state");
+            }
         }
     }
     if let Some(e) = failure {

@@ -5,6 +5,7 @@ mod cache;
 mod complete;
 mod config;
 mod docs;
+mod interrupt;
 mod lss;
 mod monitor;
 mod nmt;

@@ -1,7 +1,8 @@
 //! `canctl scan`: every node 1..127, with identity, name and NMT state.
 
 use super::Ctx;
-use crate::bus::{Bus, SdoOptions};
+use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::canopen::lss::{Identity, Inquiry, Request, Response, UNCONFIGURED};
 use crate::canopen::{DataType, ObjAddr};
 use crate::error::Error;
 use crate::output::Format;
@@ -16,7 +17,8 @@ use std::time::Duration;
 /// node that answered, all nodes in parallel. The NMT state comes from heartbeats seen
 /// meanwhile; a node without heartbeat shows none (scan never sends node-guarding requests).
 /// Last, it counts the devices without a node-id that answer LSS "identify non-configured
-/// remote slave".
+/// remote slave", and lists devices left in LSS configuration state (they answer the LSS
+/// inquiry services, and without a node-id no SDO).
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim scan
@@ -67,13 +69,57 @@ pub fn probe(ctx: &Ctx, bus: &mut dyn Bus, window: Duration) -> anyhow::Result<V
     Ok(found)
 }
 
+/// The LSS questions scan asks: "any device without a node-id?", then the inquiries only
+/// devices in configuration state answer.
+const LSS_QUESTIONS: [Request; 6] = [
+    Request::IdentifyNonConfigured,
+    Request::Inquire(Inquiry::Vendor),
+    Request::Inquire(Inquiry::Product),
+    Request::Inquire(Inquiry::Revision),
+    Request::Inquire(Inquiry::Serial),
+    Request::Inquire(Inquiry::NodeId),
+];
+
+/// Devices in LSS configuration state, from their answers to the inquiries.
+#[derive(Debug, Default, PartialEq)]
+struct Configuring {
+    /// How many answered (the most answers to any one inquiry).
+    count: usize,
+    /// The identity and node-id, when exactly one device answered each inquiry.
+    one: Option<(Identity, Option<u8>)>,
+}
+
+fn configuring(answers: &[[u8; 8]]) -> Configuring {
+    let values = |q: Inquiry| -> Vec<u32> {
+        answers
+            .iter()
+            .filter_map(|a| match Response::decode(a) {
+                Some(Response::InquiredValue { inquiry, value }) if inquiry == q => Some(value),
+                _ => None,
+            })
+            .collect()
+    };
+    let all = [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId].map(values);
+    let count = all.iter().map(Vec::len).max().unwrap_or(0);
+    let one = match all.each_ref().map(|v| v.as_slice()) {
+        [[vendor], [product], [revision], [serial], [node]] => Some((
+            Identity { vendor: *vendor, product: *product, revision: *revision, serial: *serial },
+            (*node as u8 != UNCONFIGURED).then_some(*node as u8),
+        )),
+        _ => None,
+    };
+    Configuring { count, one }
+}
+
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
-    // Where the bus's traffic is seen, the LSS question goes out with the probes and its
+    // Where the bus's traffic is seen, the LSS questions go out with the probes and their
     // answers come in during the same window.
     let lss_alongside = bus.sees_traffic();
     if lss_alongside {
-        let ask = crate::canopen::lss::Request::IdentifyNonConfigured.encode();
-        bus.lss_exchange(&ask, Duration::ZERO, crate::bus::LssWait::Nothing)?;
+        bus.observed().take_lss_answers();
+        for q in LSS_QUESTIONS {
+            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+        }
     }
     let mut found: Vec<Found> = probe(ctx, bus, args.window)?
         .into_iter()
@@ -97,15 +143,22 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
             Err(e) => ctx.out.note(&format!("warning: {e}")),
         }
     }
-    let states = bus.heartbeats_seen();
+    let states = bus.observed().states.clone();
     for f in &mut found {
         f.state = states.get(&f.node).copied();
     }
-    let unconfigured = if lss_alongside {
-        crate::bus::lss::count_non_configured(&bus.lss_answers_seen())
+    let answers = if lss_alongside {
+        bus.observed().take_lss_answers()
     } else {
-        crate::bus::lss::count_unconfigured(bus, args.window)?
+        let mut answers = Vec::new();
+        for q in LSS_QUESTIONS {
+            let expect = q.expected_answer().expect("answered");
+            answers.extend(bus.lss_exchange(&q.encode(), expect, args.window, LssWait::All)?.iter().map(|a| a.data));
+        }
+        answers
     };
+    let unconfigured = crate::bus::lss::count_non_configured(&answers);
+    let configuring = configuring(&answers);
     if let Some(uri) = &ctx.bus {
         let seen: Vec<super::cache::SeenNode> = found
             .iter()
@@ -113,10 +166,16 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
             .collect();
         super::cache::save(uri, &seen);
     }
-    report(ctx, bus, &found, unconfigured)
+    report(ctx, bus, &found, unconfigured, &configuring)
 }
 
-fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found], unconfigured: usize) -> anyhow::Result<()> {
+fn report(
+    ctx: &Ctx,
+    bus: &dyn Bus,
+    found: &[Found],
+    unconfigured: usize,
+    configuring: &Configuring,
+) -> anyhow::Result<()> {
     let hex = |v: Option<u32>| v.map_or("-".to_string(), |v| format!("0x{v:08X}"));
     match ctx.out.format {
         Format::Json => {
@@ -135,7 +194,15 @@ fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found], unconfigured: usize) -> any
                     })
                 })
                 .collect();
-            ctx.out.json(&json!({ "bus": bus.describe(), "nodes": nodes, "lss_unconfigured": unconfigured }))?;
+            let one = configuring.one.map(
+                |(id, node)| json!({ "identity": id.to_string(), "lss": super::lss::identity_json(&id), "node": node }),
+            );
+            ctx.out.json(&json!({
+                "bus": bus.describe(),
+                "nodes": nodes,
+                "lss_unconfigured": unconfigured,
+                "lss_configuration": { "count": configuring.count, "devices": one.into_iter().collect::<Vec<_>>() },
+            }))?;
         }
         Format::Human | Format::Csv => {
             let headers = ["node", "device_type", "vendor_id", "product_code", "revision", "serial", "name", "state"];
@@ -158,7 +225,44 @@ fn report(ctx: &Ctx, bus: &dyn Bus, found: &[Found], unconfigured: usize) -> any
                     "{unconfigured} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)"
                 ))?;
             }
+            if ctx.out.format == Format::Human && configuring.count > 0 {
+                let which = match configuring.one {
+                    Some((id, None)) => format!(": {id}, no node-id"),
+                    Some((id, Some(n))) => format!(": {id}, node-id {n}"),
+                    None => " (several answered at once, so their identities cannot be told apart)".to_string(),
+                };
+                ctx.out.print(&format!(
+                    "{} device(s) waiting in LSS configuration state{which} (canctl lss set-id gives a node-id; \
+                     `canctl lss set-id 255 --global` or any LSS command sends them back to waiting)",
+                    configuring.count
+                ))?;
+            }
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inquired(q: Inquiry, value: u32) -> [u8; 8] {
+        Response::InquiredValue { inquiry: q, value }.encode()
+    }
+
+    #[test]
+    fn one_device_in_configuration_state_is_named() {
+        let mut answers = vec![Response::IdentifyNonConfiguredSlave.encode(), [0x7F, 0, 0, 0, 0, 0, 0, 0]];
+        for (q, v) in [(Inquiry::Vendor, 0x40), (Inquiry::Product, 2), (Inquiry::Revision, 3), (Inquiry::Serial, 4)] {
+            answers.push(inquired(q, v));
+        }
+        answers.push(inquired(Inquiry::NodeId, 0xFF));
+        let c = configuring(&answers);
+        assert_eq!(c.count, 1);
+        assert_eq!(c.one, Some((Identity { vendor: 0x40, product: 2, revision: 3, serial: 4 }, None)));
+        // Two at once: counted, not paired up.
+        answers.push(inquired(Inquiry::Serial, 5));
+        assert_eq!(configuring(&answers), Configuring { count: 2, one: None });
+        assert_eq!(configuring(&[Response::IdentifyNonConfiguredSlave.encode()]), Configuring::default());
+    }
 }

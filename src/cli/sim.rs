@@ -8,7 +8,8 @@ use crate::output::Format;
 use crate::sim::epos2_device::Epos2Device;
 use crate::sim::epos2_serve::{self, Fault, Framing, ServeOptions};
 use crate::sim::state::{default_path, StateFile};
-use crate::sim::SimLink;
+use crate::sim::{FaultSpec, Profile, SimConfig, SimLink, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
+use clap::builder::TypedValueParser;
 use clap::{Args, Subcommand};
 use serde_json::json;
 use std::path::PathBuf;
@@ -60,9 +61,42 @@ pub enum SimCommand {
     ///
     /// The sim network keeps node-ids, written and stored values and NMT states between
     /// invocations in a state file ($XDG_STATE_HOME/canctl/sim.json, or the path in
-    /// --bus sim:PATH). This removes it.
-    #[command(after_help = "Examples:\n  canctl sim reset\n  canctl --bus sim:/tmp/bench.json sim reset")]
-    Reset,
+    /// --bus sim:PATH). This starts it afresh, with the profile, seed and number of devices
+    /// without a node-id given here (kept in the state file, so that every later
+    /// invocation sees the same network).
+    ///
+    /// Profiles: instant (answers at once, frames take no time: for unit tests), typical
+    /// (devices answer 0.5-5 ms late, frames take their time at the bit rate: the default),
+    /// slow (answers 5-80 ms late, as slow real slaves do).
+    #[command(after_help = "Examples:
+  canctl sim reset
+  canctl sim reset --profile slow --unconfigured 8
+  canctl sim reset --fault 5:drop@2 --fault drive:abort=0x06010000
+  canctl --bus sim:/tmp/bench.json sim reset --profile instant --seed 7")]
+    Reset(ResetArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ResetArgs {
+    /// How late devices answer and whether frames take time on the bus
+    #[arg(long, value_name = "PROFILE", default_value = "typical", value_parser = clap::builder::PossibleValuesParser::new(Profile::NAMES).map(|s| s.parse::<Profile>().expect("listed")))]
+    pub profile: Profile,
+    /// Devices waiting for a node-id over LSS
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_UNCONFIGURED, value_parser = clap::value_parser!(u8).range(0..=MAX_UNCONFIGURED as i64))]
+    pub unconfigured: u8,
+    /// Seed of the devices' latency jitter and random faults: the same seed replays a run
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+    /// Make a device misbehave: TARGET:KIND[=ARG][@WHEN], e.g. 5:drop@3, drive:delay=40, 10:abort@2+
+    ///
+    /// TARGET is a node-id or a model key (drive, sensor, io, stepper, sensor-09501301).
+    /// KIND: drop, delay=MS, duplicate, short-dlc[=N], corrupt (first data byte inverted),
+    /// babble[=ID] (floods frames), abort[=CODE] (SDO answers refused), mute (falls silent),
+    /// wrong-cob[=ID] (answers on another id). WHEN counts the device's answers from 1: N
+    /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
+    /// the default).
+    #[arg(long, value_name = "SPEC")]
+    pub fault: Vec<FaultSpec>,
 }
 
 /// The state file of the sim bus named by --bus (or the default one).
@@ -81,16 +115,36 @@ fn state_path(ctx: &Ctx) -> anyhow::Result<PathBuf> {
 
 pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
     let path = state_path(ctx)?;
-    if let Some(SimCommand::Reset) = args.command {
-        StateFile::lock(&path)?.reset()?;
+    if let Some(SimCommand::Reset(reset)) = &args.command {
+        let mut config = SimConfig::default().profile(reset.profile).seed(reset.seed).unconfigured(reset.unconfigured);
+        config.faults = reset.fault.clone();
+        StateFile::lock(&path)?.start_fresh(&config)?;
         return match ctx.out.format {
-            Format::Json => Ok(ctx.out.json(&json!({ "reset": true, "state_file": path.display().to_string() }))?),
-            _ => Ok(ctx.out.print(&format!("sim network reset ({})", path.display()))?),
+            Format::Json => Ok(ctx.out.json(&json!({
+                "reset": true,
+                "state_file": path.display().to_string(),
+                "profile": config.profile.to_string(),
+                "seed": config.seed,
+                "unconfigured": config.unconfigured,
+                "faults": config.faults.iter().map(|f| f.to_string()).collect::<Vec<_>>(),
+            }))?),
+            _ => {
+                let faults: Vec<String> = config.faults.iter().map(|f| f.to_string()).collect();
+                let faults = if faults.is_empty() { String::new() } else { format!(", faults {}", faults.join(" ")) };
+                Ok(ctx.out.print(&format!(
+                    "sim network reset ({}): profile {}, {} device(s) without a node-id, seed {}{faults}",
+                    path.display(),
+                    config.profile,
+                    config.unconfigured,
+                    config.seed
+                ))?)
+            }
         };
     }
     if let Some(iface) = &args.socketcan {
         let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
-        let sim = SimLink::open(StateFile::lock(&path)?)?;
+        // The interface is a bus with its own timing: the devices only answer late.
+        let sim = SimLink::open(StateFile::lock(&path)?)?.without_bus_timing();
         ctx.out.note(&format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C"));
         crate::sim::bridge::run(sim, &mut can, global.verbose > 0)?;
         return Ok(());

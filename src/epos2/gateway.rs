@@ -3,13 +3,12 @@
 
 use super::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
 use super::transport::Transport;
-use crate::bus::{Bus, LssWait, SdoOptions, ALL_NODES};
-use crate::canopen::nmt::{self, Command as NmtCommand};
+use crate::bus::{Bus, LssAnswer, LssWait, Observed, SdoOptions, ALL_NODES};
+use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD;
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
-use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 /// EPOS2 firmware specification: object 0x2000 holds the node-id set by DIP switch or SDO.
@@ -19,11 +18,13 @@ pub struct Epos2Gateway<T: Transport> {
     link: T,
     /// The EPOS2's own node-id, read once when first needed; `None` until then.
     own_id: Option<u8>,
+    /// Only what its own answers show: an EPOS2 passes on no traffic by itself.
+    observed: Observed,
 }
 
 impl<T: Transport> Epos2Gateway<T> {
     pub fn new(link: T) -> Epos2Gateway<T> {
-        Epos2Gateway { link, own_id: None }
+        Epos2Gateway { link, own_id: None, observed: Observed::default() }
     }
 
     /// One command; its error code and data, or `None` where RS232 has no answer.
@@ -213,7 +214,13 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         Ok(Frame::new(id, &data[..n]))
     }
 
-    fn lss_exchange(&mut self, request: &[u8; 8], wait: Duration, collect: LssWait) -> Result<Vec<[u8; 8]>> {
+    fn lss_exchange(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>> {
         let send = Command::SendLssFrame { data: *request };
         if let Some((code, _)) = self.call(&send)? {
             self.check(code, 0, None, send.name())?;
@@ -223,7 +230,8 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
             return Ok(answers);
         }
         // ReadLSSFrame hands over one slave message per call, waiting up to its timeout.
-        let deadline = Instant::now() + wait;
+        let sent = Instant::now();
+        let deadline = sent + wait;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
             let timeout_ms = left.as_millis().clamp(1, u16::MAX as u128) as u16;
@@ -232,7 +240,16 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
             match code {
                 abort::TIMED_OUT => break,
                 0 => {
-                    answers.push(data.get(..8).and_then(|d| d.try_into().ok()).unwrap_or([0; 8]));
+                    // Only a whole answer with the expected command specifier counts; others
+                    // do not make the wait longer.
+                    let data = data.get(..8).and_then(|d| <[u8; 8]>::try_from(d).ok());
+                    let Some(data) = data.filter(|d| d[0] == expect) else {
+                        if left.is_zero() {
+                            break;
+                        }
+                        continue;
+                    };
+                    answers.push(LssAnswer { data, after: sent.elapsed() });
                     // Settle: the EPOS2 device drops stale slave messages at the next
                     // SendLSSFrame, so the first answer is enough.
                     if matches!(collect, LssWait::First | LssWait::Settle(_)) || left.is_zero() {
@@ -245,8 +262,8 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         Ok(answers)
     }
 
-    fn heartbeats_seen(&self) -> BTreeMap<u8, nmt::State> {
-        BTreeMap::new()
+    fn observed(&mut self) -> &mut Observed {
+        &mut self.observed
     }
 
     fn close(&mut self) -> Result<()> {

@@ -213,6 +213,10 @@ pub struct DeviceState {
     pub bit_rate: Option<BitRates>,
     #[serde(default)]
     pub fault: Fault,
+    /// Left in LSS configuration state (by a master that went away without switching it
+    /// back): it stays there, as hardware does until reset.
+    #[serde(default)]
+    pub lss_configuration: bool,
 }
 
 /// CiA 305 bit timing table indices: in use, configured and waiting for activation, and
@@ -333,6 +337,16 @@ impl Device {
         self.bit_rate.active
     }
 
+    /// Forget any SDO transfer in progress (an injected abort ended it).
+    pub fn reset_sdo(&mut self) {
+        self.sdo = SdoServer::new(self.block_transfer);
+    }
+
+    /// Put the controller on another rate, as commissioning for another bus would.
+    pub fn set_bit_rate(&mut self, rate: u8) {
+        self.bit_rate = BitRates { active: rate, pending: None, stored: rate };
+    }
+
     /// React to one frame on the bus; returns the frames this device sends in answer.
     pub fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
         if f.id() == lss::MASTER_COB && !f.is_remote() {
@@ -379,7 +393,9 @@ impl Device {
 
     fn lss_frame(&mut self, f: &Frame) -> Vec<Frame> {
         let Some(req) = lss::Request::decode(f.data()) else { return vec![] };
+        let before = self.lss.state;
         let (answer, event) = self.lss.handle(req, self.node_id.unwrap_or(UNCONFIGURED));
+        self.od.dirty |= self.lss.state != before;
         let mut out: Vec<Frame> = answer.iter().map(|a| Frame::new(lss::SLAVE_COB, &a.encode())).collect();
         match event {
             Some(SlaveEvent::NodeId(id)) => {
@@ -620,6 +636,7 @@ impl Device {
             stored: hex_map(&self.od.stored, false),
             bit_rate: Some(self.bit_rate),
             fault: self.fault,
+            lss_configuration: self.lss.state == lss::SlaveState::Configuration,
         }
     }
 
@@ -635,6 +652,9 @@ impl Device {
             self.bit_rate = b;
         }
         self.fault = s.fault;
+        if s.lss_configuration {
+            self.lss.state = lss::SlaveState::Configuration;
+        }
         let parse = |m: &BTreeMap<String, String>| -> BTreeMap<ObjAddr, Vec<u8>> {
             m.iter()
                 .filter_map(|(k, v)| Some((k.parse::<ObjAddr>().ok()?, crate::canopen::types::parse_hex(v).ok()?)))

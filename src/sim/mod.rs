@@ -5,37 +5,143 @@ pub mod bridge;
 pub mod device;
 pub mod epos2_device;
 pub mod epos2_serve;
+pub mod faults;
 pub mod profiles;
 pub mod state;
+pub mod timing;
 
 use crate::bus::FrameLink;
 use crate::canopen::lss;
 use crate::error::Result;
 use crate::frame::Frame;
 use device::Device;
+use faults::Conduct;
+pub use faults::FaultSpec;
 use std::collections::{BTreeMap, VecDeque};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use timing::{BusQueue, Latency, Nanos, Origin, Rng};
+pub use timing::{BusStats, Profile};
 
 /// The bit rate of the demo bus: 500 kbit/s (CiA 305 table index 2).
 pub const DEFAULT_BIT_RATE: u8 = 2;
+/// Devices without a node-id on the demo network unless told otherwise.
+pub const DEFAULT_UNCONFIGURED: u8 = 3;
+/// The most devices without a node-id `sim reset --unconfigured` builds.
+pub const MAX_UNCONFIGURED: u8 = 64;
+pub const DEFAULT_SEED: u64 = 1;
+
+/// How the simulated network behaves: chosen by `sim reset` (kept in the state file) or
+/// by a test.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SimConfig {
+    pub profile: Profile,
+    /// Seeds every device's latency and fault draws: the same seed replays the same run.
+    pub seed: u64,
+    /// Position sensors waiting for an LSS node-id.
+    pub unconfigured: u8,
+    /// Faults injected into devices' answers (see `faults`).
+    #[serde(default)]
+    pub faults: Vec<FaultSpec>,
+}
+
+impl Default for SimConfig {
+    fn default() -> SimConfig {
+        SimConfig {
+            profile: Profile::default(),
+            seed: DEFAULT_SEED,
+            unconfigured: DEFAULT_UNCONFIGURED,
+            faults: vec![],
+        }
+    }
+}
+
+impl SimConfig {
+    pub fn profile(mut self, profile: Profile) -> SimConfig {
+        self.profile = profile;
+        self
+    }
+
+    pub fn seed(mut self, seed: u64) -> SimConfig {
+        self.seed = seed;
+        self
+    }
+
+    pub fn unconfigured(mut self, n: u8) -> SimConfig {
+        self.unconfigured = n;
+        self
+    }
+
+    pub fn fault(mut self, fault: FaultSpec) -> SimConfig {
+        self.faults.push(fault);
+        self
+    }
+
+    /// The same network as a function call: for unit tests of protocol logic.
+    pub fn instant() -> SimConfig {
+        SimConfig::default().profile(Profile::Instant)
+    }
+}
+
+/// How one device's answers are timed: its latency and its own random draws.
+struct Pace {
+    latency: Latency,
+    rng: Rng,
+    /// When its last answer is ready: a device answers its requests in order.
+    last_ready: Nanos,
+}
+
+impl Pace {
+    fn new(config: &SimConfig, key: &str) -> Pace {
+        let mut rng = Rng::for_device(config.seed, key);
+        let latency = config.profile.device_latency(&mut rng);
+        Pace { latency, rng, last_ready: 0 }
+    }
+
+    /// When an answer to a request heard at `heard` is ready to go.
+    fn answer_at(&mut self, heard: Nanos) -> Nanos {
+        let ready = (heard + self.latency.draw(&mut self.rng)).max(self.last_ready);
+        self.last_ready = ready;
+        ready
+    }
+}
 
 /// The devices on one simulated bus.
 pub struct Network {
     devices: Vec<Device>,
+    paces: Vec<Pace>,
+    conducts: Vec<Conduct>,
+    config: SimConfig,
     /// The bus's bit rate (CiA 305 table index): devices running at another rate neither
     /// hear nor are heard.
     bit_rate: u8,
 }
 
 impl Network {
+    /// The demo network with the default configuration (the `typical` profile).
     pub fn demo() -> Network {
-        Network::of(profiles::demo_network())
+        Network::demo_with(SimConfig::default())
     }
 
-    /// A network of these devices at the default bit rate.
+    /// The demo network as `config` describes it.
+    pub fn demo_with(config: SimConfig) -> Network {
+        Network::of_with(profiles::demo_network_with(config.unconfigured), config)
+    }
+
+    /// A network of these devices at the default bit rate and configuration.
     pub fn of(devices: Vec<(profiles::Model, Option<u8>)>) -> Network {
-        let devices = devices.into_iter().map(|(m, id)| Device::new(m, id, DEFAULT_BIT_RATE)).collect();
-        Network { devices, bit_rate: DEFAULT_BIT_RATE }
+        Network::of_with(devices, SimConfig::default())
+    }
+
+    /// A network of these devices, timed as `config` says (its device count is not used).
+    pub fn of_with(devices: Vec<(profiles::Model, Option<u8>)>, config: SimConfig) -> Network {
+        let devices: Vec<Device> = devices.into_iter().map(|(m, id)| Device::new(m, id, DEFAULT_BIT_RATE)).collect();
+        let paces = devices.iter().map(|d| Pace::new(&config, &d.model)).collect();
+        let conducts = devices.iter().map(|d| Conduct::new(&config.faults, &d.model)).collect();
+        Network { devices, paces, conducts, config, bit_rate: DEFAULT_BIT_RATE }
+    }
+
+    pub fn config(&self) -> &SimConfig {
+        &self.config
     }
 
     pub fn bit_rate(&self) -> u8 {
@@ -56,10 +162,38 @@ impl Network {
         self.bit_rate = rate;
     }
 
-    /// Put `frame` on the bus; returns what the devices send in answer, in order.
-    pub fn deliver(&mut self, frame: &Frame) -> Vec<Frame> {
+    /// Every device, and the bus, at this bit rate (CiA 305 table index): a network
+    /// commissioned for another rate.
+    pub fn set_all_bit_rates(&mut self, rate: u8) {
+        self.bit_rate = rate;
+        for d in &mut self.devices {
+            d.set_bit_rate(rate);
+        }
+    }
+
+    /// `frame` has left the bus at `heard`: what the devices send in answer, each with
+    /// the time it is ready to go and who sends it.
+    pub fn deliver(&mut self, frame: &Frame, heard: Nanos) -> Vec<(Nanos, usize, Frame)> {
         let rate = self.bit_rate;
-        let out = self.devices.iter_mut().filter(|d| d.bit_rate() == rate).flat_map(|d| d.on_frame(frame)).collect();
+        let mut out = Vec::new();
+        for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
+            let conduct = &mut self.conducts[i];
+            conduct.heard(frame, d.node_id());
+            let answers = d.on_frame(frame);
+            if answers.is_empty() {
+                continue;
+            }
+            // One answer time for all of them: a device streams what it has to say.
+            let pace = &mut self.paces[i];
+            let ready = pace.answer_at(heard);
+            for f in answers {
+                let (go, sdo_reset) = conduct.answer(f, &d.model, d.node_id(), &mut pace.rng);
+                if sdo_reset {
+                    d.reset_sdo();
+                }
+                out.extend(go.into_iter().map(|(later, f)| (ready + later, i, f)));
+            }
+        }
         // CiA 305 "activate bit timing": the devices that switched, and the master with
         // them, run at the new rate; a device left at the old rate drops off the bus.
         if let Some(new) = self.devices.iter().map(|d| d.bit_rate()).find(|r| *r != rate) {
@@ -73,9 +207,24 @@ impl Network {
     /// What the devices send by themselves in `(after, upto]` (ms of wall-clock time):
     /// heartbeats, timed PDOs, faults. Phases follow the wall clock, so the network seems
     /// to run between invocations.
-    pub fn events(&mut self, after: u64, upto: u64) -> Vec<Frame> {
+    pub fn events(&mut self, after: u64, upto: u64) -> Vec<(usize, Frame)> {
         let rate = self.bit_rate;
-        self.devices.iter_mut().filter(|d| d.bit_rate() == rate).flat_map(|d| d.events(after, upto)).collect()
+        let mut out = Vec::new();
+        for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
+            let conduct = &self.conducts[i];
+            out.extend(d.events(after, upto).into_iter().filter_map(|f| conduct.own(f)).map(|f| (i, f)));
+        }
+        out
+    }
+
+    /// The devices flooding the bus, and the id each floods it with.
+    pub fn babblers(&mut self) -> Vec<(usize, u16)> {
+        let mut out = Vec::new();
+        for (i, c) in self.conducts.iter_mut().enumerate() {
+            let d = &self.devices[i];
+            out.extend(c.babbling(&d.model, d.node_id()).map(|id| (i, id)));
+        }
+        out
     }
 
     /// When the next of those is due after `now` (ms).
@@ -87,6 +236,7 @@ impl Network {
         state::NetworkState {
             version: state::VERSION,
             bit_rate: Some(self.bit_rate),
+            config: Some(self.config.clone()),
             devices: self.devices.iter().map(|d| (d.model.clone(), d.snapshot())).collect(),
         }
     }
@@ -98,6 +248,13 @@ impl Network {
                 d.restore(ds);
             }
         }
+    }
+
+    /// The network a state file describes: its configuration, then its devices' state.
+    pub fn from_state(s: &state::NetworkState) -> Network {
+        let mut net = Network::demo_with(s.config.clone().unwrap_or_default());
+        net.restore(s);
+        net
     }
 
     /// Whether anything persistent changed since the last call.
@@ -121,32 +278,66 @@ pub fn wall_ms() -> u64 {
 }
 
 /// The simulated network as a frame link, with its state kept in a locked file.
+///
+/// Frames go through a model of the bus (`timing::BusQueue`) whose clock is the wall
+/// clock since the link was made: a frame sent by the master queues and leaves when the
+/// bus is free (as SocketCAN's `send` queues it); devices hear it when it has left, answer
+/// after their latency, and their answers are received when they have left the bus.
 pub struct SimLink {
     net: Network,
+    bus: BusQueue,
     rx: VecDeque<Frame>,
     /// Wall-clock ms up to which the devices' own frames have been produced.
     beats_upto: u64,
+    /// The bus clock's zero.
+    epoch: Instant,
+    /// A bridge to a real bus: frames take no time here.
+    bus_timing_off: bool,
+    /// The master's frames queued that have not left yet: `close` lets them go, as a
+    /// frame written to a real interface goes out after the program ends.
+    master_queued: usize,
     file: Option<state::StateFile>,
 }
 
 impl SimLink {
-    /// A network with no state file: fresh demo devices, nothing kept.
+    /// A network with no state file: fresh demo devices, default configuration, nothing kept.
     pub fn ephemeral() -> SimLink {
         SimLink::of(Network::demo())
     }
 
-    /// These devices, with no state file.
-    pub fn of(net: Network) -> SimLink {
-        SimLink { net, rx: VecDeque::new(), beats_upto: wall_ms(), file: None }
+    /// The demo network as `config` describes it, with no state file.
+    pub fn with_config(config: SimConfig) -> SimLink {
+        SimLink::of(Network::demo_with(config))
     }
 
-    /// The network as the state file left it.
-    pub fn open(file: state::StateFile) -> Result<SimLink> {
-        let mut net = Network::demo();
-        if let Some(s) = file.load()? {
-            net.restore(&s);
+    /// These devices, with no state file.
+    pub fn of(net: Network) -> SimLink {
+        let bus = BusQueue::new(Self::bps_of(&net));
+        SimLink {
+            net,
+            bus,
+            rx: VecDeque::new(),
+            beats_upto: wall_ms(),
+            epoch: Instant::now(),
+            bus_timing_off: false,
+            master_queued: 0,
+            file: None,
         }
-        Ok(SimLink { net, rx: VecDeque::new(), beats_upto: wall_ms(), file: Some(file) })
+    }
+
+    /// The network as the state file left it (the default configuration without one).
+    pub fn open(file: state::StateFile) -> Result<SimLink> {
+        let net = match file.load()? {
+            Some(s) => Network::from_state(&s),
+            None => Network::demo(),
+        };
+        Ok(SimLink { file: Some(file), ..SimLink::of(net) })
+    }
+
+    fn bps_of(net: &Network) -> Option<u64> {
+        // An automatic or reserved rate is timed as the default one.
+        let bps = timing::bits_per_second(net.bit_rate).or(timing::bits_per_second(DEFAULT_BIT_RATE));
+        bps.filter(|_| net.config.profile.bus_timing())
     }
 
     pub fn network(&self) -> &Network {
@@ -157,11 +348,37 @@ impl SimLink {
         &mut self.net
     }
 
-    /// When a device next sends something by itself, if any will.
+    /// Frames that have left the bus so far and how long it was busy with them.
+    pub fn bus_stats(&self) -> BusStats {
+        self.bus.stats()
+    }
+
+    /// Frames take no time on this bus (the devices still answer late): for a bridge to
+    /// a real bus, which has its own timing.
+    pub fn without_bus_timing(mut self) -> SimLink {
+        self.bus_timing_off = true;
+        self.bus.set_bps(None);
+        self
+    }
+
+    fn now(&self) -> Nanos {
+        self.epoch.elapsed().as_nanos() as Nanos
+    }
+
+    fn at(&self, t: Nanos) -> Instant {
+        self.epoch + Duration::from_nanos(t)
+    }
+
+    /// When something next happens on the bus by itself: a frame leaves, or a device
+    /// sends on its own.
     pub fn next_event(&self) -> Option<Instant> {
         let now = wall_ms();
-        let next = self.net.next_event(self.beats_upto.max(now))?;
-        Some(Instant::now() + Duration::from_millis(next.saturating_sub(now)))
+        let own = self
+            .net
+            .next_event(self.beats_upto.max(now))
+            .map(|next| Instant::now() + Duration::from_millis(next.saturating_sub(now)));
+        let bus = self.bus.next_done().map(|t| self.at(t));
+        own.into_iter().chain(bus).min()
     }
 
     /// Save the state now if anything changed (a long-running server saves as it goes).
@@ -169,21 +386,51 @@ impl SimLink {
         self.close()
     }
 
-    fn produce_events(&mut self) {
-        let now = wall_ms();
-        if now > self.beats_upto {
-            let beats = self.net.events(self.beats_upto, now);
-            self.rx.extend(beats);
-            self.beats_upto = now;
+    /// Run the bus up to now: the devices' own frames queue, frames that have left are
+    /// heard by the devices (master's) or received (devices').
+    fn advance(&mut self) {
+        let now = self.now();
+        // What left the bus before now was decided without the frames queued now.
+        self.pop_done(now);
+        let ms = wall_ms();
+        if ms > self.beats_upto {
+            for (i, f) in self.net.events(self.beats_upto, ms) {
+                self.bus.queue(now, Origin::Device(i), f);
+            }
+            self.beats_upto = ms;
+        }
+        let babblers = self.net.babblers();
+        self.bus.keep_babblers(&babblers.iter().map(|(i, _)| *i).collect::<Vec<_>>());
+        for (i, id) in babblers {
+            self.bus.babble(i, id, now);
+        }
+        self.pop_done(now);
+    }
+
+    fn pop_done(&mut self, now: Nanos) {
+        while let Some((end, origin, frame)) = self.bus.pop_done(now) {
+            match origin {
+                Origin::Master => {
+                    self.master_queued = self.master_queued.saturating_sub(1);
+                    for (ready, i, f) in self.net.deliver(&frame, end) {
+                        self.bus.queue(ready, Origin::Device(i), f);
+                    }
+                    if !self.bus_timing_off {
+                        self.bus.set_bps(Self::bps_of(&self.net));
+                    }
+                }
+                Origin::Device(_) => self.rx.push_back(frame),
+            }
         }
     }
 }
 
 impl FrameLink for SimLink {
     fn send(&mut self, frame: &Frame) -> Result<()> {
-        self.produce_events();
-        let answers = self.net.deliver(frame);
-        self.rx.extend(answers);
+        self.advance();
+        let now = self.now();
+        self.bus.queue(now, Origin::Master, *frame);
+        self.master_queued += 1;
         Ok(())
     }
 
@@ -192,7 +439,7 @@ impl FrameLink for SimLink {
             if let Some(f) = self.rx.pop_front() {
                 return Ok(Some(f));
             }
-            self.produce_events();
+            self.advance();
             if !self.rx.is_empty() {
                 continue;
             }
@@ -200,11 +447,8 @@ impl FrameLink for SimLink {
             if now >= deadline {
                 return Ok(None);
             }
-            let mut wake = deadline;
-            if let Some(next) = self.net.next_event(self.beats_upto) {
-                wake = wake.min(now + Duration::from_millis(next.saturating_sub(wall_ms())));
-            }
-            std::thread::sleep(wake.saturating_duration_since(now).max(Duration::from_micros(100)));
+            let wake = self.next_event().map_or(deadline, |t| t.min(deadline));
+            std::thread::sleep(wake.saturating_duration_since(now).max(Duration::from_micros(20)));
         }
     }
 
@@ -213,6 +457,13 @@ impl FrameLink for SimLink {
     }
 
     fn close(&mut self) -> Result<()> {
+        // The last frames sent (an LSS "switch to waiting" before exit) reach the devices.
+        let limit = Instant::now() + Duration::from_secs(1);
+        while self.master_queued > 0 && Instant::now() < limit {
+            let Some(t) = self.bus.next_done() else { break };
+            std::thread::sleep(self.at(t).saturating_duration_since(Instant::now()));
+            self.advance();
+        }
         if self.net.take_dirty() {
             if let Some(file) = &self.file {
                 file.save(&self.net.snapshot())?;

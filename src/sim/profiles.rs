@@ -54,13 +54,23 @@ const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true };
 
 /// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
 pub fn demo_network() -> Vec<(Model, Option<u8>)> {
+    demo_network_with(UNCONFIGURED_SERIALS.len() as u8)
+}
+
+/// The serial of the `i`-th (from 0) demo sensor waiting for a node-id.
+pub fn unconfigured_serial(i: u8) -> u32 {
+    UNCONFIGURED_SERIALS[0] + i as u32
+}
+
+/// The demo network with `unconfigured` sensors waiting for a node-id.
+pub fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
     let mut devices = vec![
         (drive(), Some(1)),
         (position_sensor(SENSOR_SERIAL), Some(5)),
         (io_module(), Some(10)),
         (stepper(), Some(32)),
     ];
-    devices.extend(UNCONFIGURED_SERIALS.map(|serial| (position_sensor(serial), None)));
+    devices.extend((0..unconfigured).map(|i| (position_sensor(unconfigured_serial(i)), None)));
     devices
 }
 
@@ -206,7 +216,8 @@ fn data_type_record(d: &mut Dictionary) {
 
 /// Serial of the demo sensor at node 5: the example in seed 001 figure 10.
 pub const SENSOR_SERIAL: u32 = 0x0950_1234;
-/// Serials of the demo sensors that wait for a node-id over LSS.
+/// Serials of the first demo sensors that wait for a node-id over LSS (the default three;
+/// more follow on, see `unconfigured_serial`).
 pub const UNCONFIGURED_SERIALS: [u32; 3] = [0x0950_1301, 0x0950_1302, 0x0950_1303];
 
 /// After the Temposonics MH CANopen sensor (seed 001, table 5 and §10.3): node 5 of the demo

@@ -15,6 +15,9 @@ pub struct NetworkState {
     /// The bus's bit rate (CiA 305 table index).
     #[serde(default)]
     pub bit_rate: Option<u8>,
+    /// Profile, seed, devices and faults chosen by `sim reset`; absent: the defaults.
+    #[serde(default)]
+    pub config: Option<super::SimConfig>,
     pub devices: BTreeMap<String, DeviceState>,
 }
 
@@ -82,6 +85,18 @@ impl StateFile {
         let text = serde_json::to_string_pretty(state).expect("state serialises");
         std::fs::write(&tmp, text).map_err(|e| link_err(&tmp, "cannot write", e))?;
         std::fs::rename(&tmp, &self.path).map_err(|e| link_err(&self.path, "cannot replace", e))
+    }
+
+    /// Start afresh with this configuration: devices as built, nothing else kept.
+    pub fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
+        let state =
+            NetworkState { version: VERSION, bit_rate: None, config: Some(config.clone()), devices: BTreeMap::new() };
+        self.save(&state)
+    }
+
+    /// The configuration the saved state was made with (the default one without a state).
+    pub fn config(&self) -> Result<super::SimConfig> {
+        Ok(self.load()?.and_then(|s| s.config).unwrap_or_default())
     }
 
     /// Forget the saved state: the next use starts with the demo network as built.

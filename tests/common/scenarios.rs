@@ -271,7 +271,9 @@ pub fn lss_fastscan_and_assign_number_a_fresh_bus(bus: &dyn Under) {
     let step = bus.lss_step();
     let found = bus.run(&["lss", "fastscan", "--step", step, "--format", "json"]).ok().json();
     assert_eq!(found["identity"], format!("0x00000040:0x43787800:0x312E3031:{}", WAITING[0]));
-    assert_eq!(found["steps"], 133);
+    // 133 fastscan requests for a whole identity; more when late answers made it search a
+    // part again with a longer step.
+    assert!(found["steps"].as_u64().unwrap() >= 133, "{found}");
     let assigned = bus.run(&["lss", "assign", "--start", "20", "--step", step, "--format", "json"]).ok().json();
     let rows = assigned["assigned"].as_array().unwrap();
     let got: Vec<(u64, String)> = rows

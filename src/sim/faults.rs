@@ -1,0 +1,430 @@
+//! Faults injected into a simulated device's answers: what a misbehaving real device does
+//! on the bus (answers lost, late, twice, cut short, garbled, on the wrong id, refused,
+//! stopping mid-transfer, flooding the bus).
+//!
+//! A fault is written `TARGET:KIND[=ARG][@WHEN]`:
+//! - TARGET: a node-id (`5`; whichever device has it at the time) or a model key (`drive`,
+//!   `sensor-09501301`);
+//! - KIND: `drop`, `delay=MS`, `duplicate`, `short-dlc[=N]` (N data bytes, 4 unless
+//!   given), `corrupt` (the first data byte, the command specifier, inverted), `babble[=ID]`
+//!   (floods frames on ID, its EMCY id unless given), `abort[=CODE]` (SDO answers become
+//!   an abort, 0x08000000 unless given), `mute` (stops sending anything, its own frames too),
+//!   `wrong-cob[=ID]` (answers on ID, its own id + 1 unless given);
+//! - WHEN: `*` every answer (the default), `N` the N-th answer only, `N+` the N-th and
+//!   every later one, `P%` each answer with probability P (drawn from the seed).
+//!
+//! Answers are counted per device from 1, one per frame it sends in answer to a request
+//! (each segment of a block upload counts), afresh in each invocation.
+
+use super::timing::{Nanos, Rng, MS};
+use crate::canopen::sdo;
+use crate::frame::Frame;
+use std::fmt;
+use std::str::FromStr;
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Target {
+    Node(u8),
+    Model(String),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kind {
+    Drop,
+    Delay(u32),
+    Duplicate,
+    ShortDlc(u8),
+    Corrupt,
+    Babble(Option<u16>),
+    Abort(u32),
+    Mute,
+    WrongCob(Option<u16>),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum When {
+    Always,
+    Nth(u32),
+    From(u32),
+    Chance(f64),
+}
+
+/// One fault on one device, as `--fault` gives it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct FaultSpec {
+    pub target: Target,
+    pub kind: Kind,
+    pub when: When,
+}
+
+/// SDO abort "general error", when `abort` names no code.
+pub const DEFAULT_ABORT: u32 = 0x0800_0000;
+const DEFAULT_SHORT_DLC: u8 = 4;
+
+fn parse_u32(s: &str) -> Option<u32> {
+    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => s.parse().ok(),
+    }
+}
+
+fn parse_cob(s: &str) -> Result<u16, String> {
+    parse_u32(s).filter(|v| *v <= 0x7FF).map(|v| v as u16).ok_or_else(|| format!("'{s}' is not an 11-bit CAN id"))
+}
+
+impl FromStr for FaultSpec {
+    type Err = String;
+    fn from_str(text: &str) -> Result<FaultSpec, String> {
+        let usage = "write TARGET:KIND[=ARG][@WHEN], e.g. 5:drop@3, drive:delay=40, 10:abort=0x06020000@2+, 5:mute@4+";
+        let (target, rest) = text.split_once(':').ok_or_else(|| format!("'{text}' is not a fault: {usage}"))?;
+        let target = match target.parse::<u8>() {
+            Ok(n) if (1..=127).contains(&n) => Target::Node(n),
+            Ok(_) => return Err(format!("'{target}' is not a node-id: use 1..127 or a model key")),
+            Err(_) if !target.is_empty() => Target::Model(target.to_string()),
+            Err(_) => return Err(format!("'{text}' names no device: {usage}")),
+        };
+        let (kind, when) = rest.split_once('@').map_or((rest, None), |(k, w)| (k, Some(w)));
+        let (name, arg) = kind.split_once('=').map_or((kind, None), |(n, a)| (n, Some(a)));
+        let need = |what: &str| arg.ok_or_else(|| format!("'{name}' needs {what}: {name}=..."));
+        let bad = |a: &str| format!("'{a}' is not a valid argument for {name}");
+        let kind = match name {
+            "drop" => Kind::Drop,
+            "delay" => Kind::Delay(need("a delay in ms").and_then(|a| a.parse().map_err(|_| bad(a)))?),
+            "duplicate" => Kind::Duplicate,
+            "short-dlc" => Kind::ShortDlc(match arg {
+                None => DEFAULT_SHORT_DLC,
+                Some(a) => a.parse().ok().filter(|n| *n < 8).ok_or_else(|| bad(a))?,
+            }),
+            "corrupt" => Kind::Corrupt,
+            "babble" => Kind::Babble(arg.map(parse_cob).transpose()?),
+            "abort" => Kind::Abort(arg.map_or(Some(DEFAULT_ABORT), parse_u32).ok_or_else(|| bad(arg.unwrap_or("")))?),
+            "mute" => Kind::Mute,
+            "wrong-cob" => Kind::WrongCob(arg.map(parse_cob).transpose()?),
+            _ => {
+                return Err(format!(
+                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute or wrong-cob[=ID]"
+                ))
+            }
+        };
+        if arg.is_some() && matches!(kind, Kind::Drop | Kind::Duplicate | Kind::Corrupt | Kind::Mute) {
+            return Err(format!("'{name}' takes no argument"));
+        }
+        let when = match when {
+            None | Some("*") => When::Always,
+            Some(w) => {
+                let bad = || format!("'@{w}' is not a time for a fault: use @N, @N+, @P% or @*");
+                if let Some(p) = w.strip_suffix('%') {
+                    When::Chance(p.parse::<f64>().ok().filter(|p| (0.0..=100.0).contains(p)).ok_or_else(bad)? / 100.0)
+                } else if let Some(n) = w.strip_suffix('+') {
+                    When::From(n.parse().ok().filter(|n| *n >= 1).ok_or_else(bad)?)
+                } else {
+                    When::Nth(w.parse().ok().filter(|n| *n >= 1).ok_or_else(bad)?)
+                }
+            }
+        };
+        Ok(FaultSpec { target, kind, when })
+    }
+}
+
+impl fmt::Display for FaultSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.target {
+            Target::Node(n) => write!(f, "{n}:")?,
+            Target::Model(m) => write!(f, "{m}:")?,
+        }
+        match self.kind {
+            Kind::Drop => write!(f, "drop")?,
+            Kind::Delay(ms) => write!(f, "delay={ms}")?,
+            Kind::Duplicate => write!(f, "duplicate")?,
+            Kind::ShortDlc(n) => write!(f, "short-dlc={n}")?,
+            Kind::Corrupt => write!(f, "corrupt")?,
+            Kind::Babble(None) => write!(f, "babble")?,
+            Kind::Babble(Some(id)) => write!(f, "babble=0x{id:03X}")?,
+            Kind::Abort(code) => write!(f, "abort=0x{code:08X}")?,
+            Kind::Mute => write!(f, "mute")?,
+            Kind::WrongCob(None) => write!(f, "wrong-cob")?,
+            Kind::WrongCob(Some(id)) => write!(f, "wrong-cob=0x{id:03X}")?,
+        }
+        match self.when {
+            When::Always => Ok(()),
+            When::Nth(n) => write!(f, "@{n}"),
+            When::From(n) => write!(f, "@{n}+"),
+            When::Chance(p) => write!(f, "@{}%", p * 100.0),
+        }
+    }
+}
+
+impl TryFrom<String> for FaultSpec {
+    type Error = String;
+    fn try_from(s: String) -> Result<FaultSpec, String> {
+        s.parse()
+    }
+}
+
+impl From<FaultSpec> for String {
+    fn from(f: FaultSpec) -> String {
+        f.to_string()
+    }
+}
+
+impl FaultSpec {
+    fn applies_to(&self, model: &str, node: Option<u8>) -> bool {
+        match &self.target {
+            Target::Node(n) => node == Some(*n),
+            Target::Model(m) => m == model,
+        }
+    }
+
+    fn fires(&self, answer: u32, rng: &mut Rng) -> bool {
+        match self.when {
+            When::Always => true,
+            When::Nth(n) => answer == n,
+            When::From(n) => answer >= n,
+            When::Chance(p) => rng.chance(p),
+        }
+    }
+}
+
+/// The faults of one device and what they have done so far.
+#[derive(Debug, Default)]
+pub struct Conduct {
+    faults: Vec<FaultSpec>,
+    answers: u32,
+    muted: bool,
+    /// Floods this id once a babble fault has fired.
+    babbling: Option<u16>,
+    /// The multiplexer of the last SDO request heard, for an injected abort.
+    last_mux: [u8; 3],
+}
+
+impl Conduct {
+    /// The faults among `all` that can concern this device (by model key or any node-id).
+    pub fn new(all: &[FaultSpec], model: &str) -> Conduct {
+        let faults = all.iter().filter(|f| !matches!(&f.target, Target::Model(m) if m != model)).cloned().collect();
+        Conduct { faults, ..Conduct::default() }
+    }
+
+    pub fn is_muted(&self) -> bool {
+        self.muted
+    }
+
+    /// A request reached the device (before it answers): remember what an abort names.
+    pub fn heard(&mut self, request: &Frame, node: Option<u8>) {
+        let p = request.data();
+        if node.is_some_and(|n| request.id() == sdo::request_cob(n))
+            && p.len() == 8
+            && matches!(p[0] >> 5, 1 | 2 | 5 | 6)
+        {
+            self.last_mux = [p[1], p[2], p[3]];
+        }
+    }
+
+    /// One answer as the faults let it go: the frames that go out, each with how much
+    /// later than planned; and whether the SDO server must forget its transfer (an
+    /// injected abort ended it).
+    pub fn answer(
+        &mut self,
+        mut f: Frame,
+        model: &str,
+        node: Option<u8>,
+        rng: &mut Rng,
+    ) -> (Vec<(Nanos, Frame)>, bool) {
+        self.answers += 1;
+        let n = self.answers;
+        let mut delay = 0;
+        let mut copies = 1;
+        let mut sdo_reset = false;
+        for spec in self.faults.iter().filter(|s| s.applies_to(model, node)) {
+            if !spec.fires(n, rng) {
+                continue;
+            }
+            match spec.kind {
+                Kind::Drop => copies = 0,
+                Kind::Mute => self.muted = true,
+                Kind::Delay(ms) => delay += ms as Nanos * MS,
+                Kind::Duplicate => copies *= 2,
+                Kind::ShortDlc(len) => f = Frame::new(f.id(), &f.data()[..f.len().min(len as usize)]),
+                Kind::Corrupt => {
+                    let mut data = f.data().to_vec();
+                    if let Some(first) = data.first_mut() {
+                        *first = !*first;
+                    }
+                    f = Frame::new(f.id(), &data);
+                }
+                Kind::Babble(id) => {
+                    let own_emcy = 0x80 + node.unwrap_or(0) as u16;
+                    self.babbling.get_or_insert(id.unwrap_or(own_emcy));
+                }
+                Kind::Abort(code) => {
+                    if node.is_some_and(|n| f.id() == sdo::response_cob(n)) {
+                        let [a, b, c] = self.last_mux;
+                        let [d0, d1, d2, d3] = code.to_le_bytes();
+                        f = Frame::new(f.id(), &[0x80, a, b, c, d0, d1, d2, d3]);
+                        sdo_reset = true;
+                    }
+                }
+                Kind::WrongCob(id) => f = Frame::new(id.unwrap_or((f.id() + 1) & 0x7FF), f.data()),
+            }
+        }
+        if self.muted {
+            return (vec![], sdo_reset);
+        }
+        (vec![(delay, f); copies], sdo_reset)
+    }
+
+    /// One frame the device sends by itself (heartbeat, timed PDO, EMCY): none once muted.
+    pub fn own(&self, f: Frame) -> Option<Frame> {
+        (!self.muted).then_some(f)
+    }
+
+    /// The id a babbling device floods the bus with, if it does: a babble fault without
+    /// WHEN floods from the start, one with WHEN from that answer on.
+    pub fn babbling(&mut self, model: &str, node: Option<u8>) -> Option<u16> {
+        if self.babbling.is_none() {
+            let from_start = self.faults.iter().filter(|s| s.when == When::Always && s.applies_to(model, node));
+            self.babbling = from_start
+                .filter_map(|s| match s.kind {
+                    Kind::Babble(id) => Some(id.unwrap_or(0x80 + node.unwrap_or(0) as u16)),
+                    _ => None,
+                })
+                .next();
+        }
+        self.babbling.filter(|_| !self.muted)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn conduct(spec: &str) -> Conduct {
+        Conduct::new(&[spec.parse().unwrap()], "sensor")
+    }
+
+    fn answer(c: &mut Conduct, f: Frame) -> Vec<(Nanos, Frame)> {
+        c.answer(f, "sensor", Some(5), &mut Rng::new(1)).0
+    }
+
+    const UPLOAD_ANSWER: [u8; 8] = [0x43, 0x00, 0x10, 0x00, 0x96, 0x01, 0x0A, 0x00];
+
+    fn sdo_answer() -> Frame {
+        Frame::new(0x585, &UPLOAD_ANSWER)
+    }
+
+    #[test]
+    fn specs_parse_and_print_back() {
+        for text in [
+            "5:drop",
+            "5:drop@3",
+            "drive:delay=40@2+",
+            "10:duplicate",
+            "5:short-dlc=3",
+            "5:corrupt@50%",
+            "5:babble=0x7E4",
+            "5:babble",
+            "10:abort=0x06020000@2+",
+            "sensor-09501301:mute@4+",
+            "5:wrong-cob=0x586",
+            "5:wrong-cob",
+        ] {
+            let spec: FaultSpec = text.parse().unwrap_or_else(|e| panic!("{text}: {e}"));
+            assert_eq!(spec.to_string(), text);
+        }
+        assert_eq!("5:short-dlc".parse::<FaultSpec>().unwrap().kind, Kind::ShortDlc(4));
+        assert_eq!("5:abort".parse::<FaultSpec>().unwrap().kind, Kind::Abort(DEFAULT_ABORT));
+        for bad in
+            ["drop", "0:drop", "5:explode", "5:delay", "5:drop=3", "5:drop@0", "5:drop@x", "5:babble=0x800", ":drop"]
+        {
+            assert!(bad.parse::<FaultSpec>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn drop_on_the_nth_answer_only() {
+        let mut c = conduct("5:drop@2");
+        assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
+        assert!(answer(&mut c, sdo_answer()).is_empty());
+        assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
+    }
+
+    #[test]
+    fn a_fault_for_another_node_does_nothing() {
+        let mut c = conduct("6:drop");
+        assert_eq!(answer(&mut c, sdo_answer()), vec![(0, sdo_answer())]);
+    }
+
+    #[test]
+    fn delay_and_duplicate() {
+        assert_eq!(answer(&mut conduct("5:delay=40"), sdo_answer()), vec![(40 * MS, sdo_answer())]);
+        assert_eq!(answer(&mut conduct("5:duplicate"), sdo_answer()), vec![(0, sdo_answer()); 2]);
+    }
+
+    #[test]
+    fn short_dlc_cuts_the_data() {
+        let out = answer(&mut conduct("5:short-dlc=3"), sdo_answer());
+        assert_eq!(out[0].1.data(), &UPLOAD_ANSWER[..3]);
+    }
+
+    #[test]
+    fn corrupt_inverts_the_command_specifier() {
+        let out = answer(&mut conduct("5:corrupt"), sdo_answer());
+        assert_eq!(out[0].1.data()[0], !0x43);
+        assert_eq!(out[0].1.data()[1..], UPLOAD_ANSWER[1..]);
+    }
+
+    #[test]
+    fn abort_names_the_requested_object_and_resets_the_server() {
+        let mut c = conduct("5:abort=0x06020000");
+        c.heard(&Frame::new(0x605, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]), Some(5));
+        let (out, reset) = c.answer(sdo_answer(), "sensor", Some(5), &mut Rng::new(1));
+        assert_eq!(out[0].1.data(), &[0x80, 0x18, 0x10, 0x01, 0x00, 0x00, 0x02, 0x06]);
+        assert!(reset);
+        // Not an SDO answer: left alone.
+        let lss = Frame::new(0x7E4, &[0x4F, 0, 0, 0, 0, 0, 0, 0]);
+        assert_eq!(answer(&mut c, lss), vec![(0, lss)]);
+    }
+
+    #[test]
+    fn mute_from_the_nth_answer_silences_everything_after() {
+        let mut c = conduct("5:mute@3+");
+        assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
+        assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
+        assert!(answer(&mut c, sdo_answer()).is_empty());
+        assert!(c.own(Frame::new(0x705, &[0x7F])).is_none());
+        assert!(answer(&mut c, sdo_answer()).is_empty());
+    }
+
+    #[test]
+    fn wrong_cob_moves_the_answer() {
+        assert_eq!(answer(&mut conduct("5:wrong-cob"), sdo_answer())[0].1.id(), 0x586);
+        assert_eq!(answer(&mut conduct("5:wrong-cob=0x123"), sdo_answer())[0].1.id(), 0x123);
+    }
+
+    #[test]
+    fn babble_starts_when_it_fires() {
+        let mut c = conduct("5:babble=0x7E4@2");
+        assert_eq!(c.babbling("sensor", Some(5)), None);
+        answer(&mut c, sdo_answer());
+        assert_eq!(c.babbling("sensor", Some(5)), None);
+        answer(&mut c, sdo_answer());
+        assert_eq!(c.babbling("sensor", Some(5)), Some(0x7E4));
+        // Without WHEN: from the start, on its EMCY id; its answers still go.
+        let mut c = conduct("5:babble");
+        assert_eq!(c.babbling("sensor", Some(5)), Some(0x85));
+        assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
+    }
+
+    #[test]
+    fn chance_replays_from_the_seed() {
+        let draws = |seed| {
+            let mut c = conduct("5:drop@50%");
+            let mut rng = Rng::new(seed);
+            (0..64).map(|_| c.answer(sdo_answer(), "sensor", Some(5), &mut rng).0.is_empty()).collect::<Vec<_>>()
+        };
+        let a = draws(9);
+        assert_eq!(a, draws(9));
+        let dropped = a.iter().filter(|d| **d).count();
+        assert!((16..=48).contains(&dropped), "{dropped} of 64");
+    }
+}

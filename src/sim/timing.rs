@@ -1,0 +1,497 @@
+//! Time on the simulated bus: how late devices answer (profiles, seeded jitter), how long
+//! each frame occupies the bus at its bit rate, and the order frames leave in.
+//!
+//! Pure: times are nanoseconds on a bus clock the caller keeps (`SimLink` anchors it to
+//! the wall clock), so every rule here is a unit test without sleeping.
+
+use crate::frame::Frame;
+use std::fmt;
+use std::str::FromStr;
+
+/// Nanoseconds on the bus clock.
+pub type Nanos = u64;
+
+pub const US: Nanos = 1_000;
+pub const MS: Nanos = 1_000_000;
+
+/// A small, seeded pseudo-random generator (SplitMix64): the same seed gives the same
+/// latencies and faults, so a failing run can be replayed.
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed)
+    }
+
+    /// A generator for one device: the network's seed mixed with the device's stable key,
+    /// so adding a device does not change the others' draws.
+    pub fn for_device(seed: u64, key: &str) -> Rng {
+        // FNV-1a over the key.
+        let h = key.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3));
+        Rng::new(seed ^ h)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `lo..=hi`.
+    pub fn between(&mut self, lo: u64, hi: u64) -> u64 {
+        if hi <= lo {
+            return lo;
+        }
+        lo + self.next_u64() % (hi - lo + 1)
+    }
+
+    /// True with this probability (0.0..=1.0).
+    pub fn chance(&mut self, p: f64) -> bool {
+        ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) < p
+    }
+}
+
+/// How late the devices answer, and whether frames take time on the bus.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Profile {
+    /// Answers at once and frames take no time: a function call, for unit tests of
+    /// protocol logic only.
+    Instant,
+    /// Small, realistic: each device answers 0.5–5 ms after a request; bus timing on.
+    #[default]
+    Typical,
+    /// Slow slaves, as real ones can be: answers 5–80 ms late; bus timing on.
+    Slow,
+}
+
+impl Profile {
+    pub const NAMES: [&'static str; 3] = ["instant", "typical", "slow"];
+
+    /// The range a device's own base latency is drawn from, and the jitter added to each
+    /// answer (both in ns).
+    fn latency(self) -> ((Nanos, Nanos), Nanos) {
+        match self {
+            Profile::Instant => ((0, 0), 0),
+            Profile::Typical => ((500 * US, 3 * MS), 2 * MS),
+            Profile::Slow => ((5 * MS, 60 * MS), 20 * MS),
+        }
+    }
+
+    /// Whether each frame occupies the bus for its frame time at the bit rate.
+    pub fn bus_timing(self) -> bool {
+        self != Profile::Instant
+    }
+
+    /// The answer time of one device: drawn once per device, from its own generator.
+    pub fn device_latency(self, rng: &mut Rng) -> Latency {
+        let ((lo, hi), jitter) = self.latency();
+        Latency { base: rng.between(lo, hi), jitter }
+    }
+}
+
+impl fmt::Display for Profile {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(Profile::NAMES[*self as usize])
+    }
+}
+
+impl FromStr for Profile {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Profile, String> {
+        match s {
+            "instant" => Ok(Profile::Instant),
+            "typical" => Ok(Profile::Typical),
+            "slow" => Ok(Profile::Slow),
+            _ => Err(format!("'{s}' is not a sim profile: use instant, typical or slow")),
+        }
+    }
+}
+
+/// One device's answer time: its base latency plus up to `jitter` on each answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Latency {
+    pub base: Nanos,
+    pub jitter: Nanos,
+}
+
+impl Latency {
+    pub fn draw(&self, rng: &mut Rng) -> Nanos {
+        self.base + rng.between(0, self.jitter)
+    }
+}
+
+/// Bits per second of a CiA 305 bit timing table index; `None` for reserved or automatic.
+pub fn bits_per_second(index: u8) -> Option<u64> {
+    crate::canopen::lss::BIT_TIMINGS.get(index as usize).and_then(|(_, k)| k.map(|k| k as u64 * 1000))
+}
+
+/// CRC-15/CAN (polynomial 0x4599) over the bits from SOF to the end of the data field.
+fn crc15(bits: &[bool]) -> u16 {
+    let mut crc: u16 = 0;
+    for &b in bits {
+        let next = b ^ (crc >> 14 & 1 == 1);
+        crc = (crc << 1) & 0x7FFF;
+        if next {
+            crc ^= 0x4599;
+        }
+    }
+    crc
+}
+
+/// Stuff bits the transmitter inserts: after five equal bits, one of the other value,
+/// which itself starts the next run.
+fn stuff_bits(bits: &[bool]) -> u32 {
+    let mut count = 0;
+    let (mut last, mut run) = (None, 0);
+    for &b in bits {
+        if Some(b) == last {
+            run += 1;
+        } else {
+            last = Some(b);
+            run = 1;
+        }
+        if run == 5 {
+            count += 1;
+            last = Some(!b);
+            run = 1;
+        }
+    }
+    count
+}
+
+/// The bits a CAN 2.0A (11-bit id) frame occupies on the bus, stuff bits counted exactly:
+/// SOF, id, RTR, IDE, r0, DLC, data and CRC are stuffed; CRC delimiter, ACK slot and
+/// delimiter, EOF (7) and the 3-bit intermission are not.
+pub fn frame_bits(f: &Frame) -> u32 {
+    let mut bits = Vec::with_capacity(100);
+    bits.push(false); // SOF
+    bits.extend((0..11).rev().map(|i| f.id() >> i & 1 == 1));
+    bits.push(f.is_remote());
+    bits.extend([false, false]); // IDE, r0
+    let dlc = f.len() as u8;
+    bits.extend((0..4).rev().map(|i| dlc >> i & 1 == 1));
+    if !f.is_remote() {
+        bits.extend(f.data().iter().flat_map(|b| (0..8).rev().map(move |i| b >> i & 1 == 1)));
+    }
+    let crc = crc15(&bits);
+    bits.extend((0..15).rev().map(|i| crc >> i & 1 == 1));
+    bits.len() as u32 + stuff_bits(&bits) + 1 + 2 + 7 + 3
+}
+
+/// The standard worst case for a CAN 2.0A frame with `n` data bytes:
+/// 47 + 8n + ⌊(34 + 8n − 1) / 4⌋ bits.
+pub fn worst_case_bits(n: usize) -> u32 {
+    let n = n as u32;
+    47 + 8 * n + (34 + 8 * n - 1) / 4
+}
+
+/// How long `f` occupies the bus at `bps` bits per second.
+pub fn frame_time(f: &Frame, bps: u64) -> Nanos {
+    frame_bits(f) as u64 * 1_000_000_000 / bps
+}
+
+/// Who put a frame on the bus.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    Master,
+    Device(usize),
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Next {
+    Queued(usize),
+    Babble(usize),
+}
+
+#[derive(Debug)]
+struct Queued {
+    ready: Nanos,
+    seq: u64,
+    origin: Origin,
+    frame: Frame,
+}
+
+/// A device that floods the bus: it always has a frame on this id ready, from `next` on.
+#[derive(Debug)]
+struct Babbler {
+    device: usize,
+    id: u16,
+    next: Nanos,
+    count: u64,
+}
+
+/// A babbling device sends at most one frame per this long even where frames take no time.
+const BABBLE_GAP: Nanos = 62_500;
+
+/// Frames that have left the bus, and how long it was busy.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BusStats {
+    pub frames: u64,
+    pub busy: Nanos,
+}
+
+/// The bus as one transmitter at a time: frames wait until they are ready and the bus is
+/// free; of the frames waiting when it frees, the lowest id wins arbitration (equal ids in
+/// the order they were queued, as one controller's queue sends them).
+#[derive(Debug, Default)]
+pub struct BusQueue {
+    /// `None`: frames take no time.
+    bps: Option<u64>,
+    free_at: Nanos,
+    queued: Vec<Queued>,
+    babblers: Vec<Babbler>,
+    seq: u64,
+    stats: BusStats,
+}
+
+impl BusQueue {
+    pub fn new(bps: Option<u64>) -> BusQueue {
+        BusQueue { bps, ..BusQueue::default() }
+    }
+
+    pub fn set_bps(&mut self, bps: Option<u64>) {
+        self.bps = bps;
+    }
+
+    pub fn stats(&self) -> BusStats {
+        self.stats
+    }
+
+    pub fn len(&self) -> usize {
+        self.queued.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.queued.is_empty()
+    }
+
+    /// How many frames from this origin are waiting.
+    pub fn waiting_from(&self, origin: Origin) -> usize {
+        self.queued.iter().filter(|q| q.origin == origin).count()
+    }
+
+    /// A frame ready to go at `ready`.
+    pub fn queue(&mut self, ready: Nanos, origin: Origin, frame: Frame) {
+        self.seq += 1;
+        self.queued.push(Queued { ready, seq: self.seq, origin, frame });
+    }
+
+    /// This device floods the bus with frames on `id` from `since` on (once told).
+    pub fn babble(&mut self, device: usize, id: u16, since: Nanos) {
+        if !self.babblers.iter().any(|b| b.device == device) {
+            self.babblers.push(Babbler { device, id, next: since, count: 0 });
+        }
+    }
+
+    /// Only these devices babble any more (the others fell silent).
+    pub fn keep_babblers(&mut self, devices: &[usize]) {
+        self.babblers.retain(|b| devices.contains(&b.device));
+    }
+
+    fn babble_frame(b: &Babbler) -> Frame {
+        Frame::new(b.id, &b.count.to_le_bytes())
+    }
+
+    /// The next frame to go, as things stand: (queued index or babbler, start, end).
+    fn next(&self) -> Option<(Next, Nanos, Nanos)> {
+        let first_ready = self.queued.iter().map(|q| q.ready).chain(self.babblers.iter().map(|b| b.next)).min()?;
+        let start = self.free_at.max(first_ready);
+        let queued = self
+            .queued
+            .iter()
+            .enumerate()
+            .filter(|(_, q)| q.ready <= start)
+            .map(|(i, q)| ((q.frame.id(), 0, q.seq), Next::Queued(i), q.frame));
+        let babbling = self
+            .babblers
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.next <= start)
+            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), Self::babble_frame(b)));
+        let (_, next, frame) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
+        let time = self.bps.map_or(0, |bps| frame_time(&frame, bps));
+        let end = start + time;
+        Some((next, start, end))
+    }
+
+    /// When the next frame will have left the bus, if any is queued.
+    pub fn next_done(&self) -> Option<Nanos> {
+        self.next().map(|(_, _, end)| end)
+    }
+
+    /// The next frame that has completely left the bus by `now`, with the time it did.
+    pub fn pop_done(&mut self, now: Nanos) -> Option<(Nanos, Origin, Frame)> {
+        let (next, start, end) = self.next()?;
+        if end > now {
+            return None;
+        }
+        self.free_at = end;
+        self.stats.frames += 1;
+        self.stats.busy += end - start;
+        match next {
+            Next::Queued(i) => {
+                let q = self.queued.swap_remove(i);
+                Some((end, q.origin, q.frame))
+            }
+            Next::Babble(i) => {
+                let b = &mut self.babblers[i];
+                let frame = Self::babble_frame(b);
+                b.count += 1;
+                b.next = b.next.max(start + BABBLE_GAP);
+                Some((end, Origin::Device(b.device), frame))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crc15_of_a_single_one_bit_is_the_polynomial() {
+        assert_eq!(crc15(&[true]), 0x4599);
+        assert_eq!(crc15(&[false; 20]), 0);
+    }
+
+    #[test]
+    fn stuffing_counts_runs_of_five_including_the_stuffed_bit() {
+        assert_eq!(stuff_bits(&[false; 4]), 0);
+        assert_eq!(stuff_bits(&[false; 5]), 1);
+        // 00000 [1] 0000: the stuffed 1 ends the zeros; four more zeros make no run of five.
+        assert_eq!(stuff_bits(&[false; 9]), 1);
+        assert_eq!(stuff_bits(&[false; 10]), 2);
+        // 11111 [0] 0000 → the stuffed 0 and four zeros are five equal bits: stuffed again.
+        let mut bits = vec![true; 5];
+        bits.extend([false; 4]);
+        assert_eq!(stuff_bits(&bits), 2);
+    }
+
+    #[test]
+    fn all_zero_frame_time() {
+        // 34 stuffed-region bits, all zero (the CRC of zeros is zero): 6 stuff bits, plus
+        // 13 fixed-form bits.
+        assert_eq!(frame_bits(&Frame::new(0, &[])), 34 + 6 + 13);
+        // 1 µs a bit at 1 Mbit/s.
+        assert_eq!(frame_time(&Frame::new(0, &[]), 1_000_000), 53 * US);
+    }
+
+    #[test]
+    fn frame_bits_lie_between_unstuffed_and_the_worst_case() {
+        let mut rng = Rng::new(7);
+        for n in 0..=8 {
+            for _ in 0..200 {
+                let data: Vec<u8> = (0..n).map(|_| rng.next_u64() as u8).collect();
+                let f = Frame::new((rng.next_u64() & 0x7FF) as u16, &data);
+                let bits = frame_bits(&f);
+                assert!(bits >= 47 + 8 * n as u32, "{f:?}: {bits}");
+                assert!(bits <= worst_case_bits(n), "{f:?}: {bits}");
+            }
+        }
+        assert_eq!(worst_case_bits(8), 135);
+        assert_eq!(worst_case_bits(0), 55);
+    }
+
+    #[test]
+    fn a_remote_frame_carries_no_data_bits() {
+        let remote = frame_bits(&Frame::remote(0x701, 1));
+        assert!((47..=worst_case_bits(0)).contains(&remote), "{remote}");
+    }
+
+    #[test]
+    fn frames_ready_together_leave_lowest_id_first() {
+        let mut bus = BusQueue::new(Some(1_000_000));
+        bus.queue(0, Origin::Master, Frame::new(0x605, &[0x40; 8]));
+        bus.queue(0, Origin::Device(1), Frame::new(0x585, &[0x43; 8]));
+        bus.queue(0, Origin::Device(0), Frame::new(0x181, &[1]));
+        let order: Vec<u16> = std::iter::from_fn(|| bus.pop_done(u64::MAX)).map(|(_, _, f)| f.id()).collect();
+        assert_eq!(order, [0x181, 0x585, 0x605]);
+    }
+
+    #[test]
+    fn a_frame_that_arrives_while_the_bus_is_busy_waits_then_wins_over_higher_ids() {
+        let mut bus = BusQueue::new(Some(1_000_000));
+        bus.queue(0, Origin::Master, Frame::new(0x600, &[0; 8]));
+        bus.queue(0, Origin::Master, Frame::new(0x601, &[0; 8]));
+        // Ready while 0x600 is on the bus: takes part in the next arbitration.
+        bus.queue(10 * US, Origin::Device(0), Frame::new(0x080, &[]));
+        let (end1, _, f1) = bus.pop_done(u64::MAX).unwrap();
+        assert_eq!(f1.id(), 0x600);
+        let (end2, _, f2) = bus.pop_done(u64::MAX).unwrap();
+        assert_eq!(f2.id(), 0x080);
+        assert_eq!(end2, end1 + frame_time(&f2, 1_000_000), "back to back");
+        assert_eq!(bus.pop_done(u64::MAX).unwrap().2.id(), 0x601);
+    }
+
+    #[test]
+    fn equal_ids_keep_queue_order_and_a_frame_is_not_done_before_its_end() {
+        let mut bus = BusQueue::new(Some(125_000));
+        for i in 0..3u8 {
+            bus.queue(0, Origin::Device(0), Frame::new(0x581, &[i; 8]));
+        }
+        let end = bus.next_done().unwrap();
+        assert!(bus.pop_done(end - 1).is_none());
+        let firsts: Vec<u8> = std::iter::from_fn(|| bus.pop_done(u64::MAX)).map(|(_, _, f)| f.data()[0]).collect();
+        assert_eq!(firsts, [0, 1, 2]);
+        assert!(bus.stats().busy >= 3 * 111 * 8 * US);
+    }
+
+    #[test]
+    fn a_babbler_with_a_low_id_starves_higher_ids_and_one_with_a_high_id_yields() {
+        let mut bus = BusQueue::new(Some(1_000_000));
+        bus.babble(0, 0x001, 0);
+        bus.queue(0, Origin::Master, Frame::new(0x605, &[0x40; 8]));
+        for _ in 0..100 {
+            assert_eq!(bus.pop_done(u64::MAX).unwrap().2.id(), 0x001);
+        }
+        let mut bus = BusQueue::new(Some(1_000_000));
+        bus.babble(0, 0x700, 0);
+        bus.queue(10 * MS, Origin::Master, Frame::new(0x605, &[0x40; 8]));
+        let ids: Vec<u16> = (0..200).map(|_| bus.pop_done(u64::MAX).unwrap().2.id()).collect();
+        assert_eq!(ids.iter().filter(|id| **id == 0x605).count(), 1);
+        // The bus never idles: frames back to back.
+        assert!(bus.stats().busy > 200 * 100 * US);
+        // Untimed, a babbler still sends one frame per gap, not infinitely many.
+        let mut untimed = BusQueue::new(None);
+        untimed.babble(0, 0x080, 0);
+        assert_eq!(std::iter::from_fn(|| untimed.pop_done(MS)).count(), 17);
+    }
+
+    #[test]
+    fn an_idle_bus_sends_a_late_frame_when_it_is_ready() {
+        let mut bus = BusQueue::new(Some(1_000_000));
+        bus.queue(5 * MS, Origin::Master, Frame::new(0x000, &[]));
+        assert_eq!(bus.next_done(), Some(5 * MS + 53 * US));
+        let mut untimed = BusQueue::new(None);
+        untimed.queue(5 * MS, Origin::Master, Frame::new(0x000, &[]));
+        assert_eq!(untimed.pop_done(5 * MS).map(|(t, _, _)| t), Some(5 * MS));
+    }
+
+    #[test]
+    fn profile_latencies_stay_in_their_ranges_and_replay_from_the_seed() {
+        for (p, lo, hi) in
+            [(Profile::Instant, 0, 0), (Profile::Typical, 500 * US, 5 * MS), (Profile::Slow, 5 * MS, 80 * MS)]
+        {
+            let mut rng = Rng::for_device(42, "drive");
+            let lat = p.device_latency(&mut rng);
+            let draws: Vec<Nanos> = (0..500).map(|_| lat.draw(&mut rng)).collect();
+            assert!(draws.iter().all(|d| (lo..=hi).contains(d)), "{p}: {draws:?}");
+            let mut again = Rng::for_device(42, "drive");
+            let lat2 = p.device_latency(&mut again);
+            assert_eq!(draws, (0..500).map(|_| lat2.draw(&mut again)).collect::<Vec<_>>());
+        }
+        assert_ne!(Rng::for_device(1, "drive").next_u64(), Rng::for_device(1, "sensor").next_u64());
+    }
+
+    #[test]
+    fn profile_names_round_trip() {
+        for name in Profile::NAMES {
+            assert_eq!(name.parse::<Profile>().unwrap().to_string(), name);
+        }
+        assert!("fast".parse::<Profile>().is_err());
+    }
+}
