@@ -312,18 +312,37 @@ fn runs() -> usize {
     std::env::var("CANCTL_DURAND_RUNS").ok().and_then(|s| s.parse().ok()).unwrap_or(1)
 }
 
-/// Run one procedure `runs()` times and say "N of M runs pass"; the first failure, if any.
-fn count_passes(what: &str, mut run: impl FnMut() -> Result<(), String>) -> Option<String> {
+/// Run one procedure `runs()` times and say how each run went and "N of M runs pass"; the
+/// first failure, if any. A run's `Ok` says what canctl reported (time, step).
+fn count_passes(what: &str, mut run: impl FnMut() -> Result<String, String>) -> Option<String> {
     let total = runs();
-    let failures: Vec<String> = (0..total).filter_map(|_| run().err()).collect();
+    let mut failures = Vec::new();
+    for i in 1..=total {
+        let result = run();
+        let line = match &result {
+            Ok(note) => format!("pass, {note}"),
+            Err(e) => format!(
+                "FAIL, {}",
+                e.lines().find(|l| l.starts_with("canctl:")).unwrap_or(e.lines().next().unwrap_or(""))
+            ),
+        };
+        let _ = writeln!(std::io::stderr(), "  {what}, run {i}: {line}");
+        failures.extend(result.err());
+    }
     let passed = total - failures.len();
     let _ = writeln!(std::io::stderr(), "{what}: {passed} of {total} runs pass");
     failures.into_iter().next().map(|f| format!("{what}: {passed} of {total} runs pass; first failure:\n{f}"))
 }
 
+/// What canctl said about a fastscan or assign it did: its time and step, where reported.
+fn pace_note(json: &serde_json::Value) -> String {
+    let step = json.get("step_ms").or_else(|| json.pointer("/pace/step_ms"));
+    format!("{} ms, step {} ms", json["elapsed_ms"], step.map_or("?".to_string(), |s| s.to_string()))
+}
+
 /// `lss fastscan` at its defaults finds one of the devices without a node-id, the lowest
 /// identity (every bit tested as 0 first), and that device confirms it.
-fn fastscan_once(durand: &mut Durand, devices: usize) -> Result<(), String> {
+fn fastscan_once(durand: &mut Durand, devices: usize) -> Result<String, String> {
     durand.reset();
     let run = canctl(&["lss", "fastscan", "--format", "json"]);
     if run.code != 0 {
@@ -338,13 +357,13 @@ fn fastscan_once(durand: &mut Durand, devices: usize) -> Result<(), String> {
     if ask.code != 0 {
         return Err(format!("the device found does not answer by that identity: {}", ask.stderr));
     }
-    Ok(())
+    Ok(pace_note(&run.json()))
 }
 
 /// `lss assign` at its defaults gives every device without a node-id its own one, not one
 /// in use (node 20 is there), and each device boots with it and answers SDO there with
 /// its serial.
-fn assign_once(durand: &mut Durand, devices: usize) -> Result<(), String> {
+fn assign_once(durand: &mut Durand, devices: usize) -> Result<String, String> {
     durand.reset();
     let run = canctl(&["lss", "assign", "--start", "20", "--format", "json"]);
     let report = format!("exit {}\n{}\n{}", run.code, run.stdout, run.stderr);
@@ -371,7 +390,7 @@ fn assign_once(durand: &mut Durand, devices: usize) -> Result<(), String> {
             return Err(format!("node {node} does not answer with serial {serial}: {}{}", read.stdout, read.stderr));
         }
     }
-    Ok(())
+    Ok(pace_note(&json))
 }
 
 const LSS_DEVICES: usize = 3;
