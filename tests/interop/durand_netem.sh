@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# durand_netem.sh delay MS | plain
+#
+# Real latency on vcan0 for tests/interop_durand.rs: vcan reloaded with echo=1 (without it
+# the CAN core loops frames back before the qdisc and netem has no effect) and a netem
+# qdisc holding every frame MS ms; `plain` gives back an ordinary vcan0. Needs root; in
+# the kernel-test VM modules come from $VMCAN_KROOT.
+set -euo pipefail
+iface=vcan0
+
+load() { modprobe ${VMCAN_KROOT:+-d "$VMCAN_KROOT"} "$@"; }
+
+recreate() {  # module parameters for vcan
+  ip link del "$iface" 2>/dev/null || true
+  rmmod vcan 2>/dev/null || true
+  load vcan "$@"
+  ip link add dev "$iface" type vcan
+  ip link set up "$iface"
+}
+
+case "${1:-}" in
+  delay)
+    recreate echo=1
+    [ "$(cat /sys/module/vcan/parameters/echo)" = Y ] \
+      || { echo "durand_netem: vcan could not be reloaded with echo=1 (another vcan interface in use?)" >&2; exit 1; }
+    load sch_netem
+    tc qdisc add dev "$iface" root netem delay "${2:?delay in ms}ms"
+    ;;
+  plain)
+    recreate
+    ;;
+  *)
+    echo "usage: $0 delay MS | plain" >&2
+    exit 2
+    ;;
+esac
