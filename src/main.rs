@@ -2,7 +2,7 @@ use clap::{CommandFactory, FromArgMatches};
 
 fn main() {
     // COMPLETE=bash|zsh|fish|... : answer the shell's completion request and exit.
-    clap_complete::CompleteEnv::with_factory(canctl::cli::Cli::command).complete();
+    canctl::cli::complete_from_env();
     let matches = canctl::cli::Cli::command().get_matches();
     let bus_from_env = matches.value_source("bus") == Some(clap::parser::ValueSource::EnvVariable);
     let cli = canctl::cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());

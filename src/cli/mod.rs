@@ -25,6 +25,7 @@ use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
+pub use complete::complete_from_env;
 pub use docs::{completion_scripts, man_pages, write_completions};
 
 const EXIT_CODES: &str = "\
