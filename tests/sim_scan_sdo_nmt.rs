@@ -208,3 +208,14 @@ fn an_object_the_node_lacks_gets_the_nearest_ones_suggested() {
     let run = sim.run(&["sdo", "read", "1", "0x1018:9"]);
     assert!(run.stderr.contains("did you mean 0x1018:0"), "{}", run.stderr);
 }
+
+/// The built-in dictionary knows CiA 402's modes: a reserved one is refused before anything
+/// is sent, with no EDS given.
+#[test]
+fn a_reserved_mode_of_operation_is_refused_before_sending() {
+    let sim = Sim::new();
+    let r = sim.run(&["-v", "sdo", "write", "1", "6060", "99"]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("use -128 to 10"), "{}", r.stderr);
+    assert!(!r.stderr.contains(" 601 "), "nothing sent: {}", r.stderr);
+}
