@@ -90,7 +90,7 @@ fn malformed_input_is_a_usage_error_with_a_pointed_message() {
         (&["sdo", "write", "1", "5FF0:3", "12"], "--type is needed"),
         (&["sdo", "write", "1", "5FF0:13", "@/nonexistent/file", "--type", "os"], "cannot read /nonexistent/file"),
         (&["sdo", "read", "1", "1000", "--type", "u16"], "not a u16"),
-        (&["nmt", "stop", "200"], "1..127, or all"),
+        (&["nmt", "stop", "200"], "1 to 127, or all"),
         (&["--timeout", "soon", "scan"], "not a duration"),
     ];
     for (args, needle) in cases {
@@ -218,4 +218,18 @@ fn a_reserved_mode_of_operation_is_refused_before_sending() {
     assert_eq!(r.code, 2, "{}", r.stderr);
     assert!(r.stderr.contains("use -128 to 10"), "{}", r.stderr);
     assert!(!r.stderr.contains(" 601 "), "nothing sent: {}", r.stderr);
+}
+
+/// Node 0 (refused by the bus) and node 128 (refused by the argument parser) are told the
+/// same way, in canctl's voice.
+#[test]
+fn bad_node_ids_are_told_in_one_voice() {
+    let sim = Sim::new();
+    for node in ["0", "128"] {
+        let r = sim.run(&["sdo", "read", node, "1000"]);
+        assert_eq!(r.code, 2, "{}", r.stderr);
+        assert!(r.stderr.starts_with("canctl: "), "{}", r.stderr);
+        assert!(r.stderr.contains(&format!("'{node}' is not a node-id: use 1 to 127")), "{}", r.stderr);
+        assert!(!r.stderr.contains("..="), "{}", r.stderr);
+    }
 }

@@ -168,7 +168,7 @@ pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
     if text.trim() == "0" {
         return Ok(0);
     }
-    parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on the serial port)"))
+    parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on an epos2-rs232/epos2-usb bus)"))
 }
 
 /// Parse a node-id: 1..127, decimal or 0x hex.
@@ -178,7 +178,9 @@ pub fn parse_node(text: &str) -> Result<u8, String> {
         Some(h) => u32::from_str_radix(h, 16).ok(),
         None => t.parse::<u32>().ok(),
     };
-    n.filter(|n| (1..=127).contains(n)).map(|n| n as u8).ok_or_else(|| format!("'{text}' is not a node-id: use 1..127"))
+    n.filter(|n| (1..=127).contains(n))
+        .map(|n| n as u8)
+        .ok_or_else(|| format!("'{text}' is not a node-id: use 1 to 127"))
 }
 
 /// Open the bus the user named, or explain how to name one.
