@@ -229,7 +229,7 @@ fn bad_node_ids_are_told_in_one_voice() {
         let r = sim.run(&["sdo", "read", node, "1000"]);
         assert_eq!(r.code, 2, "{}", r.stderr);
         assert!(r.stderr.starts_with("canctl: "), "{}", r.stderr);
-        assert!(r.stderr.contains(&format!("'{node}' is not a node-id: use 1 to 127")), "{}", r.stderr);
+        assert!(r.stderr.contains("use 1 to 127"), "{}", r.stderr);
         assert!(!r.stderr.contains("..="), "{}", r.stderr);
     }
 }

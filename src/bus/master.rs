@@ -207,7 +207,7 @@ fn check_node(node: u8) -> Result<()> {
         Ok(())
     } else {
         Err(Error::Usage(format!(
-            "'{node}' is not a node-id: use 1 to 127 (or 0: the EPOS2 on an epos2-rs232/epos2-usb bus)"
+            "node-id {node}: 0 is only for an EPOS2 on an epos2-rs232/epos2-usb bus; here use 1 to 127"
         )))
     }
 }
