@@ -203,12 +203,12 @@ fn sdo_filters(nodes: impl ExactSizeIterator<Item = u8>) -> Vec<(u16, u16)> {
 const EVERYTHING: [(u16, u16); 1] = [(0, 0)];
 
 fn check_node(node: u8) -> Result<()> {
-    if (1..=127).contains(&node) {
-        Ok(())
-    } else {
-        Err(Error::Usage(format!(
-            "node-id {node}: 0 is only for an EPOS2 on an epos2-rs232/epos2-usb bus; here use 1 to 127"
-        )))
+    match node {
+        1..=127 => Ok(()),
+        0 => Err(Error::Usage(
+            "node-id 0 is only for an EPOS2 on an epos2-rs232/epos2-usb bus; here use 1 to 127".into(),
+        )),
+        _ => Err(Error::Usage(format!("node-id {node} is out of range: use 1 to 127"))),
     }
 }
 
