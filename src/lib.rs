@@ -9,6 +9,7 @@ pub mod frame;
 pub mod od;
 pub mod output;
 pub mod sim;
+pub mod slcan;
 pub mod xdg;
 
 pub use error::{Error, Result};

@@ -6,6 +6,8 @@ pub mod device;
 pub mod epos2_device;
 pub mod epos2_serve;
 pub mod profiles;
+pub mod pty;
+pub mod slcan_serve;
 pub mod state;
 
 use crate::bus::FrameLink;
