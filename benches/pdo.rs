@@ -1,8 +1,9 @@
 //! Decoding and formatting PDOs: the sensor's 6-byte position+speed PDO (seed 001 figure
 //! 24) into CSV rows and JSON lines, per frame. `cargo bench --bench pdo`.
 
-use canctl::canopen::pdo::{Field, Layout, RecordWriter};
+use canctl::canopen::pdo::{Field, Layout};
 use canctl::canopen::DataType;
+use canctl::output::{Format, RecordWriter};
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 
 fn layout() -> Layout {
@@ -17,7 +18,7 @@ fn layout() -> Layout {
 
 fn decode_and_format(c: &mut Criterion) {
     let l = layout();
-    let w = RecordWriter::new(&l);
+    let (csv, json) = (RecordWriter::new(&l, Format::Csv), RecordWriter::new(&l, Format::Json));
     let frame = [0x48, 0xE8, 0x01, 0x00, 0x9C, 0xFF];
     let mut g = c.benchmark_group("6-byte PDO, decode + format");
     g.throughput(Throughput::Elements(1));
@@ -26,7 +27,7 @@ fn decode_and_format(c: &mut Criterion) {
         b.iter(|| {
             out.clear();
             let v = l.decode(black_box(&frame)).unwrap();
-            w.csv(&mut out, black_box(1_795_318_672_209), 1, &v);
+            csv.csv(&mut out, black_box(1_795_318_672_209), 1, &v);
             out.len()
         })
     });
@@ -34,7 +35,7 @@ fn decode_and_format(c: &mut Criterion) {
         b.iter(|| {
             out.clear();
             let v = l.decode(black_box(&frame)).unwrap();
-            w.json(&mut out, black_box(1_795_318_672_209), 5, 1, &v);
+            json.json(&mut out, black_box(1_795_318_672_209), 5, 1, &v);
             out.len()
         })
     });

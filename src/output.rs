@@ -1,8 +1,12 @@
-//! The one place that decides how results look: human tables, JSON, CSV. Results go to
-//! stdout; progress and diagnostics go to stderr.
+//! The one place that decides how results look: human tables, JSON, CSV, JSON lines.
+//! Results go to stdout; progress and diagnostics go to stderr. A command hands its
+//! operation's report to [`Output::report`]; streams write records with [`RecordWriter`].
 
+use crate::canopen::pdo::Layout;
+use crate::canopen::types::Value;
 use comfy_table::{presets, Table};
 use indicatif::{ProgressBar, ProgressStyle};
+use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -88,6 +92,103 @@ impl Output {
     }
 }
 
+/// How a report looks to people (and in CSV, where it is a table).
+pub enum Human {
+    /// A sentence on stdout.
+    Line(String),
+    /// A table; `when_empty` says whether a table without rows is still shown (its header).
+    Table { headers: Vec<&'static str>, rows: Vec<Vec<String>>, when_empty: bool },
+}
+
+/// A typed report: serialised as it is for JSON, shown as [`Human`] otherwise.
+pub trait Report: serde::Serialize {
+    fn human(&self) -> Human;
+    /// Remarks on stderr after the result (not in JSON, not with --quiet).
+    fn notes(&self) -> Vec<String> {
+        Vec::new()
+    }
+}
+
+impl Output {
+    /// Render a report in the format asked for.
+    pub fn report(&self, report: &impl Report) -> std::io::Result<()> {
+        if self.format == Format::Json {
+            return self.json(&serde_json::to_value(report).expect("reports serialise"));
+        }
+        match report.human() {
+            Human::Line(text) => self.print(&text)?,
+            Human::Table { headers, rows, when_empty } => {
+                if when_empty || self.format == Format::Csv || !rows.is_empty() {
+                    self.table(&headers, &rows)?;
+                }
+            }
+        }
+        for note in report.notes() {
+            self.note(&note);
+        }
+        Ok(())
+    }
+
+    /// Progress of an operation as bars and notes on stderr.
+    pub fn progress(&self) -> Bars<'_> {
+        Bars { out: self, bar: None }
+    }
+}
+
+/// One line of a stream: a JSON line, a CSV row, or text for people.
+pub trait Line {
+    fn json(&self) -> serde_json::Value;
+    fn csv(&self) -> String;
+    fn text(&self) -> String;
+}
+
+impl Output {
+    /// A line of a stream, in the format asked for.
+    pub fn line(&self, w: &mut impl Write, line: &impl Line) -> std::io::Result<()> {
+        match self.format {
+            Format::Json => writeln!(w, "{}", line.json()),
+            Format::Csv => writeln!(w, "{}", line.csv()),
+            Format::Human => writeln!(w, "{}", line.text()),
+        }
+    }
+
+    /// What ends a stream: its last JSON line, else a note on stderr.
+    pub fn summary(&self, w: &mut impl Write, line: &impl Line) -> std::io::Result<()> {
+        if self.format == Format::Json {
+            writeln!(w, "{}", line.json())?;
+        } else {
+            w.flush()?;
+            self.note(&line.text());
+        }
+        w.flush()
+    }
+}
+
+/// [`crate::ops::Progress`] on a terminal: a bar per phase, notes on stderr.
+pub struct Bars<'a> {
+    out: &'a Output,
+    bar: Option<ProgressBar>,
+}
+
+impl crate::ops::Progress for Bars<'_> {
+    fn start(&mut self, what: &str, len: u64) {
+        self.bar = Some(self.out.bar(len, what));
+    }
+    fn advance(&mut self, done: u64) {
+        if let Some(b) = &self.bar {
+            b.set_position(done);
+        }
+    }
+    fn finish(&mut self) {
+        if let Some(b) = self.bar.take() {
+            b.finish_and_clear();
+        }
+    }
+    fn note(&mut self, text: &str) {
+        self.out.note(text);
+    }
+}
+
 /// RFC 4180 CSV.
 pub fn csv(headers: &[&str], rows: &[Vec<String>]) -> String {
     let field = |f: &str| {
@@ -104,8 +205,129 @@ pub fn csv(headers: &[&str], rows: &[Vec<String>]) -> String {
     s
 }
 
+/// A stream's records (decoded PDOs) in the format asked for, into a reused buffer: this
+/// is the hot path of a stream, so no allocation per record.
+pub struct RecordWriter {
+    format: Format,
+    /// Field names as they are (table, CSV header)...
+    fields: Vec<String>,
+    /// ...and as JSON strings.
+    keys: Vec<String>,
+}
+
+impl RecordWriter {
+    pub fn new(layout: &Layout, format: Format) -> RecordWriter {
+        let fields: Vec<String> = layout.fields.iter().map(|f| f.name.clone()).collect();
+        RecordWriter { format, keys: fields.iter().map(|f| json_string(f)).collect(), fields }
+    }
+
+    /// What comes before the first record: the CSV header.
+    pub fn preamble(&self, out: &mut String) {
+        if self.format == Format::Csv {
+            let headers: Vec<&str> =
+                ["time", "pdo"].into_iter().chain(self.fields.iter().map(|f| f.as_str())).collect();
+            out.push_str(&csv(&headers, &[]));
+        }
+    }
+
+    /// One record; `first` puts the table's header above it.
+    pub fn record(&self, out: &mut String, time_ms: u64, node: u8, pdo: u8, values: &[Value], first: bool) {
+        match self.format {
+            Format::Csv => self.csv(out, time_ms, pdo, values),
+            Format::Json => self.json(out, time_ms, node, pdo, values),
+            Format::Human => self.human(out, time_ms, pdo, values, first),
+        }
+    }
+
+    pub fn csv(&self, out: &mut String, time_ms: u64, pdo: u8, values: &[Value]) {
+        let _ = write!(out, "{}.{:03},{pdo}", time_ms / 1000, time_ms % 1000);
+        for v in values {
+            out.push(',');
+            push_value(out, v);
+        }
+        out.push('\n');
+    }
+
+    pub fn json(&self, out: &mut String, time_ms: u64, node: u8, pdo: u8, values: &[Value]) {
+        let _ = write!(out, "{{\"time\":{}.{:03},\"node\":{node},\"pdo\":{pdo}", time_ms / 1000, time_ms % 1000);
+        for (key, v) in self.keys.iter().zip(values) {
+            out.push(',');
+            out.push_str(key);
+            out.push(':');
+            match v {
+                Value::Text(_) | Value::Bytes(_) => out.push_str(&json_string(&v.to_string())),
+                Value::Real(r, _) if !r.is_finite() => out.push_str("null"),
+                _ => push_value(out, v),
+            }
+        }
+        out.push_str("}\n");
+    }
+
+    /// Aligned columns, the time of day (UTC) first.
+    fn human(&self, out: &mut String, time_ms: u64, pdo: u8, values: &[Value], first: bool) {
+        if first {
+            let _ = write!(out, "{:<14}  {:<5}", "time", "pdo");
+            for f in &self.fields {
+                let _ = write!(out, "  {f:>14}");
+            }
+            out.push('\n');
+        }
+        let secs = time_ms / 1000;
+        let (h, m, s, ms) = (secs / 3600 % 24, secs / 60 % 60, secs % 60, time_ms % 1000);
+        let _ = write!(out, "{h:02}:{m:02}:{s:02}.{ms:03}    TPDO{pdo:<1}");
+        for v in values {
+            let _ = write!(out, "  {:>14}", v.to_string());
+        }
+        out.push('\n');
+    }
+}
+
+fn push_value(out: &mut String, v: &Value) {
+    let _ = match v {
+        Value::Uint(u) => write!(out, "{u}"),
+        Value::Int(i) => write!(out, "{i}"),
+        other => write!(out, "{other}"),
+    };
+}
+
+fn json_string(s: &str) -> String {
+    serde_json::to_string(s).expect("string serialises")
+}
+
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use crate::canopen::pdo::Field;
+    use crate::canopen::DataType;
+
+    /// Seed 001's TPDO1: position (0x6020:1, 32 bits) and speed (0x6030:1, 16 bits).
+    fn mh_tpdo1() -> Layout {
+        let mapping = [(0x6020_0120, DataType::I32, "position"), (0x6030_0110, DataType::I16, "speed")];
+        Layout { cob_id: 0x185, fields: mapping.iter().map(|(raw, t, name)| Field::mapped(*raw, *t, name)).collect() }
+    }
+
+    #[test]
+    fn records() {
+        let l = mh_tpdo1();
+        let v = l.decode(&[0x48, 0xE8, 0x01, 0x00, 0x9C, 0xFF]).unwrap();
+        let mut out = String::new();
+        let csv = RecordWriter::new(&l, Format::Csv);
+        csv.preamble(&mut out);
+        csv.record(&mut out, 1_700_000_000_123, 5, 1, &v, true);
+        RecordWriter::new(&l, Format::Json).record(&mut out, 1_700_000_000_123, 5, 1, &v, true);
+        assert_eq!(out, "time,pdo,position,speed\n1700000000.123,1,125000,-100\n{\"time\":1700000000.123,\"node\":5,\"pdo\":1,\"position\":125000,\"speed\":-100}\n");
+        out.clear();
+        let human = RecordWriter::new(&l, Format::Human);
+        human.preamble(&mut out);
+        human.record(&mut out, 1_700_000_000_123, 5, 1, &v, true);
+        human.record(&mut out, 1_700_000_000_123, 5, 1, &v, false);
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.len(), 3, "{out}");
+        assert!(lines[0].starts_with("time") && lines[0].ends_with("speed"), "{out}");
+        assert_eq!(lines[1], lines[2]);
+        assert!(lines[1].starts_with("22:13:20.123    TPDO1") && lines[1].ends_with("-100"), "{out}");
+    }
+
     #[test]
     fn csv_quotes_what_needs_it() {
         let rows = vec![vec!["1".to_string(), "a,b".to_string(), "say \"hi\"".to_string()]];

@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 pub use master::Master;
 pub use uri::BusUri;
+pub use uri::{open, BusAddr, OpenOptions};
 
 /// A raw frame link: what SocketCAN and the simulator provide.
 pub trait FrameLink {

@@ -1,12 +1,18 @@
-//! Bus URIs: `sim`, `sim:PATH`, `socketcan:can0` (or bare `can0`),
-//! `epos2-rs232:/dev/ttyS0?baud=115200`, `epos2-usb:/dev/ttyUSB0`.
+//! Bus addresses: `sim`, `sim:PATH`, `socketcan:can0` (or bare `can0`),
+//! `epos2-rs232:/dev/ttyS0?baud=115200`, `epos2-usb:/dev/ttyUSB0` — parsed with `FromStr`,
+//! written back with `Display`, and opened by the one factory, [`open`].
 
+use super::{Bus, Master};
+use crate::epos2::gateway::Epos2Gateway;
+use crate::epos2::transport::SerialTransport;
 use crate::epos2::Framing;
 use crate::error::{Error, Result};
 use std::path::PathBuf;
+use std::time::Duration;
 
+/// Where the bus is: parsed from a URI, printed back as the same URI.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum BusUri {
+pub enum BusAddr {
     /// The simulated demo network; `state` overrides the default state file.
     Sim {
         state: Option<PathBuf>,
@@ -25,20 +31,23 @@ pub enum BusUri {
 pub const RS232_DEFAULT_BAUD: u32 = 115_200;
 pub const USB_DEFAULT_BAUD: u32 = 1_000_000;
 
-impl std::str::FromStr for BusUri {
+/// The former name, kept so that code written against it still compiles.
+pub type BusUri = BusAddr;
+
+impl std::str::FromStr for BusAddr {
     type Err = Error;
 
-    fn from_str(uri: &str) -> Result<BusUri> {
+    fn from_str(uri: &str) -> Result<BusAddr> {
         let usage = |msg: String| Error::Usage(format!("bus '{uri}': {msg}"));
         let (scheme, rest) = match uri.split_once(':') {
             Some((s, r)) => (s, Some(r)),
             None => (uri, None),
         };
         match (scheme, rest) {
-            ("sim", None) => Ok(BusUri::Sim { state: None }),
+            ("sim", None) => Ok(BusAddr::Sim { state: None }),
             ("sim", Some("")) => Err(usage("sim: needs a state file path after the colon, or use plain sim".into())),
-            ("sim", Some(path)) => Ok(BusUri::Sim { state: Some(PathBuf::from(path)) }),
-            ("socketcan", Some(iface)) => Ok(BusUri::SocketCan { iface: check_iface(iface).map_err(usage)? }),
+            ("sim", Some(path)) => Ok(BusAddr::Sim { state: Some(PathBuf::from(path)) }),
+            ("socketcan", Some(iface)) => Ok(BusAddr::SocketCan { iface: check_iface(iface).map_err(usage)? }),
             ("epos2-rs232" | "epos2-usb", Some(rest)) => {
                 let (port, query) = match rest.split_once('?') {
                     Some((p, q)) => (p, Some(q)),
@@ -62,17 +71,99 @@ impl std::str::FromStr for BusUri {
                     }
                 }
                 let framing = if rs232 { Framing::Rs232 } else { Framing::Usb };
-                Ok(BusUri::Epos2 { framing, port: port.to_string(), baud })
+                Ok(BusAddr::Epos2 { framing, port: port.to_string(), baud })
             }
             (iface, None) if iface.starts_with('/') => {
                 Err(usage(format!("a serial port needs its protocol: epos2-rs232:{iface} or epos2-usb:{iface}")))
             }
-            (iface, None) => Ok(BusUri::SocketCan { iface: check_iface(iface).map_err(usage)? }),
+            (iface, None) => Ok(BusAddr::SocketCan { iface: check_iface(iface).map_err(usage)? }),
             (other, Some(_)) => Err(usage(format!(
                 "unknown kind of bus '{other}'; use sim, socketcan:IFACE, epos2-rs232:PORT or epos2-usb:PORT"
             ))),
         }
     }
+}
+
+/// The canonical URI: `socketcan:` spelled out, the baud only when it is not the default.
+impl std::fmt::Display for BusAddr {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BusAddr::Sim { state: None } => f.write_str("sim"),
+            BusAddr::Sim { state: Some(path) } => write!(f, "sim:{}", path.display()),
+            BusAddr::SocketCan { iface } => write!(f, "socketcan:{iface}"),
+            BusAddr::Epos2 { framing, port, baud } => {
+                write!(f, "{}:{port}", framing.scheme())?;
+                let default = match framing {
+                    Framing::Rs232 => RS232_DEFAULT_BAUD,
+                    Framing::Usb => USB_DEFAULT_BAUD,
+                };
+                if *baud != default {
+                    write!(f, "?baud={baud}")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// How to open a bus: what every backend needs besides its address.
+#[derive(Clone, Debug)]
+pub struct OpenOptions {
+    /// How long a serial link waits for each answer.
+    pub timeout: Duration,
+    /// Trace every frame on stderr in candump notation.
+    pub trace: bool,
+    /// `sim` only: a fresh demo network in memory, no state file read or kept.
+    pub ephemeral: bool,
+}
+
+impl OpenOptions {
+    pub fn new(timeout: Duration) -> OpenOptions {
+        OpenOptions { timeout, trace: false, ephemeral: false }
+    }
+}
+
+/// Open the bus at `addr`: the one place that knows which backend serves which address.
+pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
+    match addr {
+        BusAddr::Sim { state } => {
+            let link = if opts.ephemeral {
+                crate::sim::SimLink::ephemeral()
+            } else {
+                let path = state.clone().unwrap_or_else(crate::sim::state::default_path);
+                crate::sim::SimLink::open(crate::sim::state::StateFile::lock(&path)?)?
+            };
+            // Messages name the demo network, not its state file.
+            Ok(Box::new(Master::new(link, BusAddr::Sim { state: None }.to_string(), opts.trace)))
+        }
+        BusAddr::SocketCan { iface } => {
+            let link = super::socketcan::SocketCanLink::open(iface)?;
+            Ok(Box::new(Master::new(link, addr.to_string(), opts.trace)))
+        }
+        BusAddr::Epos2 { framing, port, baud } => {
+            let io = open_serial(port, *baud, opts.timeout)?;
+            let link = SerialTransport::new(io, *framing, addr.to_string(), opts.timeout, opts.trace);
+            Ok(Box::new(Epos2Gateway::new(link)))
+        }
+    }
+}
+
+/// 8N1 at `baud`, no flow control (seed 000 §5.1.5).
+fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<serialport::TTYPort> {
+    let mut io = serialport::new(port, baud)
+        .data_bits(serialport::DataBits::Eight)
+        .parity(serialport::Parity::None)
+        .stop_bits(serialport::StopBits::One)
+        .flow_control(serialport::FlowControl::None)
+        .timeout(timeout)
+        .open_native()
+        .map_err(|e| Error::Link(format!("cannot open {port}: {e}")))?;
+    // A pseudo-terminal (the simulator's device side) is opened again by every command;
+    // the exclusive flag would outlive this process and lock the next one out.
+    if port.starts_with("/dev/pts/") {
+        io.set_exclusive(false).map_err(|e| Error::Link(format!("{port}: {e}")))?;
+    }
+    Ok(io)
 }
 
 /// Linux interface names: 1 to 15 bytes, no '/', no whitespace.
@@ -122,6 +213,35 @@ mod tests {
             "epos2-usb:/dev/ttyUSB0".parse::<BusUri>().unwrap(),
             BusUri::Epos2 { framing: Framing::Usb, port: "/dev/ttyUSB0".into(), baud: USB_DEFAULT_BAUD }
         );
+    }
+
+    #[test]
+    fn display_round_trips_for_every_backend() {
+        let forms = [
+            ("sim", "sim"),
+            ("sim:/tmp/state.json", "sim:/tmp/state.json"),
+            ("socketcan:vcan0", "socketcan:vcan0"),
+            ("can0", "socketcan:can0"),
+            ("epos2-rs232:/dev/ttyS0?baud=38400", "epos2-rs232:/dev/ttyS0?baud=38400"),
+            ("epos2-rs232:/dev/ttyS0?baud=115200", "epos2-rs232:/dev/ttyS0"),
+            ("epos2-rs232:COM3", "epos2-rs232:COM3"),
+            ("epos2-usb:/dev/ttyUSB0", "epos2-usb:/dev/ttyUSB0"),
+            ("epos2-usb:/dev/ttyUSB0?baud=115200", "epos2-usb:/dev/ttyUSB0?baud=115200"),
+        ];
+        for (text, canonical) in forms {
+            let addr: BusAddr = text.parse().unwrap();
+            assert_eq!(addr.to_string(), canonical, "{text}");
+            assert_eq!(canonical.parse::<BusAddr>().unwrap(), addr, "{canonical}");
+        }
+    }
+
+    #[test]
+    fn the_ephemeral_sim_needs_no_state_file() {
+        let mut opts = OpenOptions::new(Duration::from_millis(500));
+        opts.ephemeral = true;
+        let mut bus = open(&BusAddr::Sim { state: Some("/nonexistent/dir/state.json".into()) }, &opts).unwrap();
+        assert_eq!(bus.describe(), "sim");
+        bus.close().unwrap();
     }
 
     #[test]

@@ -3,7 +3,6 @@
 
 use super::types::{DataType, Value};
 use super::ObjAddr;
-use std::fmt::Write as _;
 
 /// One mapping entry: `index << 16 | sub << 8 | bits`.
 #[derive(Clone, Debug, PartialEq)]
@@ -120,54 +119,6 @@ pub fn encode(fields: &[(u8, Vec<u8>)]) -> Vec<u8> {
     all.to_le_bytes()[..(at as usize).div_ceil(8)].to_vec()
 }
 
-/// Records as CSV rows and JSON lines, into a reused buffer: this is the hot path of a
-/// stream, so no allocation per record.
-pub struct RecordWriter {
-    names: Vec<String>,
-}
-
-impl RecordWriter {
-    pub fn new(layout: &Layout) -> RecordWriter {
-        RecordWriter { names: layout.fields.iter().map(|f| json_string(&f.name)).collect() }
-    }
-
-    pub fn csv(&self, out: &mut String, time_ms: u64, pdo: u8, values: &[Value]) {
-        let _ = write!(out, "{}.{:03},{pdo}", time_ms / 1000, time_ms % 1000);
-        for v in values {
-            out.push(',');
-            push_value(out, v);
-        }
-        out.push('\n');
-    }
-
-    pub fn json(&self, out: &mut String, time_ms: u64, node: u8, pdo: u8, values: &[Value]) {
-        let _ = write!(out, "{{\"time\":{}.{:03},\"node\":{node},\"pdo\":{pdo}", time_ms / 1000, time_ms % 1000);
-        for (name, v) in self.names.iter().zip(values) {
-            out.push(',');
-            out.push_str(name);
-            out.push(':');
-            match v {
-                Value::Text(_) | Value::Bytes(_) => out.push_str(&json_string(&v.to_string())),
-                Value::Real(r, _) if !r.is_finite() => out.push_str("null"),
-                _ => push_value(out, v),
-            }
-        }
-        out.push_str("}\n");
-    }
-}
-
-fn push_value(out: &mut String, v: &Value) {
-    let _ = match v {
-        Value::Uint(u) => write!(out, "{u}"),
-        Value::Int(i) => write!(out, "{i}"),
-        other => write!(out, "{other}"),
-    };
-}
-
-fn json_string(s: &str) -> String {
-    serde_json::to_string(s).expect("string serialises")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -216,16 +167,5 @@ mod tests {
             [Value::Bool(true), Value::Int(-3), Value::Uint(0xA34), Value::Real(1.5, DataType::R32)]
         );
         assert_eq!(mapping_raw(ObjAddr::new(0x6020, 1), 32), 0x6020_0120);
-    }
-
-    #[test]
-    fn records() {
-        let l = mh_tpdo1();
-        let w = RecordWriter::new(&l);
-        let mut out = String::new();
-        let v = l.decode(&[0x48, 0xE8, 0x01, 0x00, 0x9C, 0xFF]).unwrap();
-        w.csv(&mut out, 1_700_000_000_123, 1, &v);
-        w.json(&mut out, 1_700_000_000_123, 5, 1, &v);
-        assert_eq!(out, "1700000000.123,1,125000,-100\n{\"time\":1700000000.123,\"node\":5,\"pdo\":1,\"position\":125000,\"speed\":-100}\n");
     }
 }

@@ -19,12 +19,10 @@ fn dir() -> Option<PathBuf> {
 /// The network a bus URI reaches, so `can0` and `socketcan:can0` share what was seen, and
 /// a different baud rate to the same EPOS2 does not lose it.
 fn network(bus: &str) -> String {
-    use crate::bus::uri::BusUri;
-    match bus.parse::<BusUri>() {
-        Ok(BusUri::Sim { state: None }) => "sim".into(),
-        Ok(BusUri::Sim { state: Some(path) }) => format!("sim:{}", path.display()),
-        Ok(BusUri::SocketCan { iface }) => format!("socketcan:{iface}"),
-        Ok(BusUri::Epos2 { framing, port, .. }) => format!("{framing:?}:{port}"),
+    use crate::bus::BusAddr;
+    match bus.parse::<BusAddr>() {
+        Ok(BusAddr::Epos2 { framing, port, .. }) => format!("{framing:?}:{port}"),
+        Ok(addr) => addr.to_string(),
         Err(_) => bus.to_string(),
     }
 }

@@ -4,7 +4,9 @@
 
 use super::cache;
 use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
+use crate::bus::BusAddr;
 use crate::canopen::types::ALL_TYPES;
+use crate::epos2::Framing;
 use crate::od::names;
 use clap::CommandFactory;
 use clap_complete::engine::CompletionCandidate;
@@ -96,12 +98,19 @@ fn bus(words: &[String]) -> Option<String> {
 
 pub fn buses() -> Vec<CompletionCandidate> {
     let mut out = vec![CompletionCandidate::new("sim").help(Some("the simulated demo network".into()))];
+    let candidate =
+        |addr: BusAddr, help: &'static str| CompletionCandidate::new(addr.to_string()).help(Some(help.into()));
     for iface in crate::bus::uri::can_interfaces() {
-        out.push(CompletionCandidate::new(format!("socketcan:{iface}")).help(Some("CAN interface".into())));
+        out.push(candidate(BusAddr::SocketCan { iface }, "CAN interface"));
     }
     for port in crate::bus::uri::serial_ports() {
-        out.push(CompletionCandidate::new(format!("epos2-rs232:{port}")).help(Some("maxon EPOS2 on RS232".into())));
-        out.push(CompletionCandidate::new(format!("epos2-usb:{port}")).help(Some("maxon EPOS2 on USB".into())));
+        let baud = crate::bus::uri::RS232_DEFAULT_BAUD;
+        out.push(candidate(
+            BusAddr::Epos2 { framing: Framing::Rs232, port: port.clone(), baud },
+            "maxon EPOS2 on RS232",
+        ));
+        let baud = crate::bus::uri::USB_DEFAULT_BAUD;
+        out.push(candidate(BusAddr::Epos2 { framing: Framing::Usb, port, baud }, "maxon EPOS2 on USB"));
     }
     out
 }

@@ -16,9 +16,7 @@ mod sim;
 mod store;
 mod stream;
 
-use crate::bus::{Bus, BusUri, Master, SdoOptions};
-use crate::epos2::gateway::Epos2Gateway;
-use crate::epos2::transport::SerialTransport;
+use crate::bus::{Bus, BusAddr, OpenOptions, SdoOptions};
 use crate::error::Error;
 use crate::output::{Format, Output};
 use clap::{Args, Parser, Subcommand};
@@ -188,43 +186,10 @@ fn open_bus(ctx: &Ctx, global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
         return Err(no_bus_error().into());
     };
-    let uri: BusUri = text.parse()?;
-    let trace = global.verbose > 0;
-    match uri {
-        BusUri::Sim { state } => {
-            let path = state.unwrap_or_else(crate::sim::state::default_path);
-            let file = crate::sim::state::StateFile::lock(&path)?;
-            let link = crate::sim::SimLink::open(file)?;
-            Ok(Box::new(Master::new(link, "sim".into(), trace)))
-        }
-        BusUri::SocketCan { iface } => {
-            let link = crate::bus::socketcan::SocketCanLink::open(&iface)?;
-            Ok(Box::new(Master::new(link, format!("socketcan:{iface}"), trace)))
-        }
-        BusUri::Epos2 { framing, port, baud } => {
-            let io = open_serial(&port, baud, ctx.timeout)?;
-            let describe = format!("{}:{port}", framing.scheme());
-            Ok(Box::new(Epos2Gateway::new(SerialTransport::new(io, framing, describe, ctx.timeout, trace))))
-        }
-    }
-}
-
-/// 8N1 at `baud`, no flow control (seed 000 §5.1.5).
-fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<serialport::TTYPort, Error> {
-    let mut io = serialport::new(port, baud)
-        .data_bits(serialport::DataBits::Eight)
-        .parity(serialport::Parity::None)
-        .stop_bits(serialport::StopBits::One)
-        .flow_control(serialport::FlowControl::None)
-        .timeout(timeout)
-        .open_native()
-        .map_err(|e| Error::Link(format!("cannot open {port}: {e}")))?;
-    // A pseudo-terminal (the simulator's device side) is opened again by every command;
-    // the exclusive flag would outlive this process and lock the next one out.
-    if port.starts_with("/dev/pts/") {
-        io.set_exclusive(false).map_err(|e| Error::Link(format!("{port}: {e}")))?;
-    }
-    Ok(io)
+    let addr: BusAddr = text.parse()?;
+    let mut opts = OpenOptions::new(ctx.timeout);
+    opts.trace = global.verbose > 0;
+    Ok(crate::bus::open(&addr, &opts)?)
 }
 
 fn no_bus_error() -> Error {

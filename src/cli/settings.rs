@@ -13,9 +13,8 @@
 use super::objects::EdsArg;
 use super::Ctx;
 use crate::error::Error;
-use crate::output::Format;
-use serde::Deserialize;
-use serde_json::json;
+use crate::output::{Human, Report};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -151,41 +150,64 @@ pub fn resolve(
 /// `canctl settings`: what is in force and where each value came from.
 pub fn show(ctx: &Ctx, r: &Resolved) -> anyhow::Result<()> {
     let bus = r.bus.as_ref();
-    let eds: Vec<(String, String, String)> = r
-        .eds
-        .iter()
-        .map(|(e, s)| {
-            (e.node.map_or("every node".into(), |n| format!("node {n}")), e.path.display().to_string(), s.to_string())
-        })
-        .collect();
-    match ctx.out.format {
-        Format::Json => ctx.out.json(&json!({
-            "bus": bus.map(|(b, _)| b),
-            "bus_from": bus.map(|(_, s)| s.to_string()),
-            "timeout_ms": r.timeout.0.as_millis() as u64,
-            "timeout_from": r.timeout.1.to_string(),
-            "eds": eds.iter().map(|(n, p, s)| json!({ "for": n, "file": p, "from": s })).collect::<Vec<_>>(),
-            "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
-        }))?,
-        _ => {
-            let mut rows = vec![
-                vec![
-                    "bus".into(),
-                    bus.map_or("(none)".into(), |(b, _)| b.clone()),
-                    bus.map_or("-".into(), |(_, s)| s.to_string()),
-                ],
-                vec!["timeout".into(), format!("{} ms", r.timeout.0.as_millis()), r.timeout.1.to_string()],
-            ];
-            rows.extend(eds.into_iter().map(|(n, p, s)| vec![format!("eds ({n})"), p, s]));
-            ctx.out.table(&["setting", "value", "from"], &rows)?;
-            if r.files.is_empty() {
-                ctx.out.note(
-                    "no settings file: canctl.toml here or in a parent directory, or ~/.config/canctl/config.toml",
-                );
-            }
-        }
+    let report = Shown {
+        bus: bus.map(|(b, _)| b.clone()),
+        bus_from: bus.map(|(_, s)| s.to_string()),
+        timeout_ms: r.timeout.0.as_millis() as u64,
+        timeout_from: r.timeout.1.to_string(),
+        eds: r
+            .eds
+            .iter()
+            .map(|(e, s)| ShownEds {
+                node: e.node.map_or("every node".into(), |n| format!("node {n}")),
+                file: e.path.display().to_string(),
+                from: s.to_string(),
+            })
+            .collect(),
+        files: r.files.iter().map(|f| f.display().to_string()).collect(),
+    };
+    Ok(ctx.out.report(&report)?)
+}
+
+/// The settings in force, as shown.
+#[derive(Serialize)]
+struct Shown {
+    bus: Option<String>,
+    bus_from: Option<String>,
+    timeout_ms: u64,
+    timeout_from: String,
+    eds: Vec<ShownEds>,
+    files: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct ShownEds {
+    #[serde(rename = "for")]
+    node: String,
+    file: String,
+    from: String,
+}
+
+impl Report for Shown {
+    fn human(&self) -> Human {
+        let mut rows = vec![
+            vec![
+                "bus".into(),
+                self.bus.clone().unwrap_or("(none)".into()),
+                self.bus_from.clone().unwrap_or("-".into()),
+            ],
+            vec!["timeout".into(), format!("{} ms", self.timeout_ms), self.timeout_from.clone()],
+        ];
+        rows.extend(self.eds.iter().map(|e| vec![format!("eds ({})", e.node), e.file.clone(), e.from.clone()]));
+        Human::Table { headers: vec!["setting", "value", "from"], rows, when_empty: true }
     }
-    Ok(())
+
+    fn notes(&self) -> Vec<String> {
+        if !self.files.is_empty() {
+            return Vec::new();
+        }
+        vec!["no settings file: canctl.toml here or in a parent directory, or ~/.config/canctl/config.toml".into()]
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,535 @@
+//! A node's configuration as a DCF (CiA 306): read into one ([`dump`]), compared with one
+//! ([`diff`]), and made to match one ([`apply`]) — writing only what differs, in a safe
+//! order, with what happened to each object in the report.
+
+use super::{as_text, le_u32, sized, Progress};
+use crate::bus::{Bus, SdoOptions};
+use crate::canopen::{abort, DataType, ObjAddr};
+use crate::error::{Error, Result};
+use crate::od::eds::{self, Eds, Header};
+use crate::od::{builtin, Dictionary, Entry, Init};
+use serde::Serialize;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+use std::time::Duration;
+
+/// A DCF: the values a device is to hold (its `ParameterValue`s), with their dictionary.
+#[derive(Debug, Clone)]
+pub struct Dcf {
+    pub eds: Eds,
+}
+
+impl Dcf {
+    /// Read a DCF file; an unreadable one is a usage error citing file:line.
+    pub fn read(path: &Path) -> Result<Dcf> {
+        let eds = eds::read_file(path).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        Ok(Dcf { eds })
+    }
+
+    /// A DCF's text; `name` stands for its file in messages.
+    pub fn parse(bytes: &[u8], name: &str) -> Result<Dcf> {
+        let eds = eds::parse(bytes, name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        Ok(Dcf { eds })
+    }
+
+    /// The file's name as given.
+    pub fn path(&self) -> &str {
+        &self.eds.path
+    }
+
+    /// Objects the file describes in a way canctl passes over, with file:line.
+    pub fn warnings(&self) -> &[String] {
+        &self.eds.warnings
+    }
+
+    /// The values for `node`, with their dictionary entries; `$NODEID` means that node.
+    fn values(&self, node: u8) -> Result<Vec<Wanted>> {
+        let mut out = Vec::new();
+        for (addr, init) in &self.eds.values {
+            let Some(entry) = self.eds.dict.get(*addr) else { continue };
+            let value = Entry { default: init.clone(), ..entry.clone() }.default_for(node);
+            out.push((entry.clone(), value));
+        }
+        if out.is_empty() {
+            return Err(Error::Usage(format!(
+                "{} has no ParameterValue: it is an EDS, not a DCF (canctl config dump makes one)",
+                self.path()
+            )));
+        }
+        Ok(out)
+    }
+
+    fn name_of(&self, addr: ObjAddr) -> String {
+        self.eds.dict.display_name(addr).unwrap_or_default()
+    }
+}
+
+/// A DCF value for a node, with its dictionary entry.
+type Wanted = (Entry, Vec<u8>);
+
+/// Bytes as the entry holds them: an EPOS2's ReadObject answers four bytes for any short
+/// object, the rest meaningless; and a device may keep an integer in fewer bytes than the
+/// dictionary says (the MH sensor's 0x1002 is UNSIGNED8), which is the same number.
+fn fit(entry: &Entry, mut bytes: Vec<u8>) -> Vec<u8> {
+    if let Some(size) = entry.dtype.size() {
+        if let (Some((lo, _)), Some(&last)) = (entry.dtype.int_range(), bytes.last()) {
+            let fill = if lo < 0 && last & 0x80 != 0 { 0xFF } else { 0 };
+            bytes.resize(bytes.len().max(size), fill);
+        }
+        bytes.truncate(size);
+    }
+    bytes
+}
+
+fn show(entry: &Entry, bytes: &[u8]) -> String {
+    eds::format_value(&Init::Bytes(bytes.to_vec()), entry.dtype)
+}
+
+fn opts(timeout: Duration, dtype: DataType) -> SdoOptions {
+    sized(timeout, dtype.size())
+}
+
+fn read_one(bus: &mut dyn Bus, node: u8, e: &Entry, timeout: Duration) -> Result<Vec<u8>> {
+    bus.sdo_upload(node, e.addr, &opts(timeout, e.dtype)).map(|b| fit(e, b))
+}
+
+/// A node's objects, read into a DCF.
+#[derive(Debug, Serialize)]
+pub struct Dump {
+    pub node: u8,
+    /// How many objects the node answered.
+    pub objects: usize,
+    /// Where the list of objects came from: an EDS, or the built-in dictionary.
+    pub source: String,
+    /// The DCF, Latin-1 as CiA 306 has it.
+    #[serde(skip)]
+    pub dcf: Vec<u8>,
+}
+
+/// Read every readable object of `node` into a DCF named `file_name`. The objects come from
+/// `dictionary` (with the name of its source), else from the built-in dictionary for the
+/// node's profile (0x1000), probed: what the node does not have is left out. DOMAINs are
+/// not read.
+pub fn dump(
+    bus: &mut dyn Bus,
+    node: u8,
+    dictionary: Option<(&Dictionary, &str)>,
+    file_name: &str,
+    timeout: Duration,
+    progress: &mut dyn Progress,
+) -> Result<Dump> {
+    let (dict, source) = match dictionary {
+        Some((d, source)) => (d.clone(), source.to_string()),
+        None => {
+            // The profile (DS401/402/406) decides what 0x6000 and the like mean.
+            let device_type = builtin::dictionary(None).get(ObjAddr::new(0x1000, 0)).expect("0x1000");
+            let profile = le_u32(&read_one(bus, node, device_type, timeout)?) as u16;
+            (builtin::dictionary(Some(profile)).clone(), format!("the built-in dictionary (profile {profile})"))
+        }
+    };
+    let wanted: Vec<&Entry> = dict.entries().filter(|e| e.access.readable() && e.dtype != DataType::D).collect();
+    progress.start("reading", wanted.len() as u64);
+    let mut present = Dictionary::default();
+    let mut values = BTreeMap::new();
+    for (i, e) in wanted.iter().enumerate() {
+        progress.advance(i as u64);
+        match read_one(bus, node, e, timeout) {
+            Ok(v) => {
+                values.insert(e.addr, v);
+            }
+            // Not on this device: left out of the file.
+            Err(Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => continue,
+            Err(Error::SdoAbort { code, .. }) => progress.note(&format!("note: {}: {}", e.addr, abort::meaning(code))),
+            Err(err) => return Err(err),
+        }
+        let (name, kind) = dict.object_info(e.addr.index).expect("declared object");
+        present.object(e.addr.index, name, kind);
+        present.insert((*e).clone());
+    }
+    progress.finish();
+    let identity = |sub| values.get(&ObjAddr::new(0x1018, sub)).map_or(0, |v: &Vec<u8>| le_u32(v));
+    let name = values
+        .get(&ObjAddr::new(0x1008, 0))
+        .map(|v| String::from_utf8_lossy(v).trim_end_matches('\0').to_string())
+        .unwrap_or_default();
+    let header = Header {
+        file_name: file_name.to_string(),
+        description: format!("node {node} on {}, read by canctl; objects from {source}", bus.describe()),
+        vendor_name: String::new(),
+        vendor_number: identity(1),
+        product_name: name,
+        product_number: identity(2),
+        revision: identity(3),
+        node_id: Some(node),
+    };
+    let dcf = eds::to_latin1(&eds::write(&present, Some(&values), &header));
+    Ok(Dump { node, objects: values.len(), source, dcf })
+}
+
+/// Where a node differs from a DCF.
+#[derive(Debug, Serialize)]
+pub struct Diff {
+    pub node: u8,
+    pub file: String,
+    /// Objects that match.
+    pub same: usize,
+    pub differences: Vec<Difference>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Difference {
+    #[serde(serialize_with = "as_text")]
+    pub object: ObjAddr,
+    pub name: String,
+    /// The device's value, or why it has none.
+    pub device: String,
+    pub file: String,
+}
+
+impl Diff {
+    /// A verification error when anything differs.
+    pub fn check(&self) -> Result<()> {
+        if self.differences.is_empty() {
+            return Ok(());
+        }
+        Err(Error::Verify(format!(
+            "node {} differs from {} in {} object(s)",
+            self.node,
+            self.file,
+            self.differences.len()
+        )))
+    }
+}
+
+/// Compare the node's readable objects with the DCF's values.
+pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Diff> {
+    let values = dcf.values(node)?;
+    let mut differences = Vec::new();
+    let mut same = 0;
+    for (entry, want) in values.iter().filter(|(e, _)| e.access.readable()) {
+        let device = match read_one(bus, node, entry, timeout) {
+            Ok(v) if v == *want => {
+                same += 1;
+                continue;
+            }
+            Ok(v) => show(entry, &v),
+            Err(Error::SdoAbort { code, .. }) => format!("({})", abort::meaning(code)),
+            Err(e) => return Err(e),
+        };
+        differences.push(Difference {
+            object: entry.addr,
+            name: dcf.name_of(entry.addr),
+            device,
+            file: show(entry, want),
+        });
+    }
+    Ok(Diff { node, file: dcf.path().to_string(), same, differences })
+}
+
+/// One write of the plan.
+pub(crate) struct Step {
+    pub addr: ObjAddr,
+    pub value: Vec<u8>,
+    /// An intermediate write of the PDO sequence, not a value of the file.
+    pub interim: &'static str,
+}
+
+/// The communication and mapping parameter indexes of the PDO an index belongs to.
+fn pdo_indices(index: u16) -> Option<(u16, u16)> {
+    match index {
+        0x1400..=0x15FF | 0x1800..=0x19FF => Some((index, index + 0x200)),
+        0x1600..=0x17FF | 0x1A00..=0x1BFF => Some((index - 0x200, index)),
+        _ => None,
+    }
+}
+
+/// Writes in a safe order: plain objects first; then per PDO whose COB-ID or mapping
+/// changes: COB-ID invalid, mapping count 0, entries, count, other parameters, COB-ID.
+pub(crate) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAddr) -> Option<Vec<u8>>) -> Vec<Step> {
+    let mut steps: Vec<Step> = Vec::new();
+    let mut pdos: BTreeSet<(u16, u16)> = BTreeSet::new();
+    for (addr, value) in changes {
+        match pdo_indices(addr.index) {
+            Some((comm, map)) if addr.index == map || addr.sub == 1 => {
+                pdos.insert((comm, map));
+            }
+            _ => steps.push(Step { addr: *addr, value: value.clone(), interim: "" }),
+        }
+    }
+    // Plain objects of a PDO comm record (transmission type, timers) already went above.
+    for (comm, map) in pdos {
+        let cob = ObjAddr::new(comm, 1);
+        let cob_now = current(cob).map(|v| le_u32(&v));
+        if let Some(c) = cob_now.filter(|c| c & 0x8000_0000 == 0) {
+            steps.push(Step {
+                addr: cob,
+                value: (c | 0x8000_0000).to_le_bytes().to_vec(),
+                interim: "PDO made invalid",
+            });
+        }
+        let map_changes: Vec<(&ObjAddr, &Vec<u8>)> = changes.iter().filter(|(a, _)| a.index == map).collect();
+        if !map_changes.is_empty() {
+            let count = ObjAddr::new(map, 0);
+            steps.push(Step { addr: count, value: vec![0], interim: "mapping count 0" });
+            for (a, v) in map_changes.iter().filter(|(a, _)| a.sub > 0) {
+                steps.push(Step { addr: **a, value: (*v).clone(), interim: "" });
+            }
+            let final_count = changes.get(&count).cloned().or_else(|| current(count)).unwrap_or(vec![0]);
+            steps.push(Step {
+                addr: count,
+                value: final_count,
+                interim: if changes.contains_key(&count) { "" } else { "mapping count back" },
+            });
+        }
+        let final_cob = changes.get(&cob).cloned().or_else(|| cob_now.map(|c| c.to_le_bytes().to_vec()));
+        if let Some(v) = final_cob {
+            steps.push(Step {
+                addr: cob,
+                value: v,
+                interim: if changes.contains_key(&cob) { "" } else { "PDO valid again" },
+            });
+        }
+    }
+    steps
+}
+
+/// How to apply a DCF.
+#[derive(Clone, Debug)]
+pub struct ApplyOptions {
+    /// How long to wait for each answer.
+    pub timeout: Duration,
+    /// Plan and report, write nothing.
+    pub dry_run: bool,
+    /// Read every written object back.
+    pub verify: bool,
+    /// Store the parameters (0x1010:1) when everything is written (and verified).
+    pub store: bool,
+    /// How long the device may take to store.
+    pub store_timeout: Duration,
+}
+
+impl ApplyOptions {
+    pub fn new(timeout: Duration) -> ApplyOptions {
+        ApplyOptions { timeout, dry_run: false, verify: false, store: false, store_timeout: Duration::from_secs(5) }
+    }
+}
+
+/// What applying a DCF did, object by object. A failure part-way still gives the report:
+/// [`Applied::outcome`] turns it into the error.
+#[derive(Debug, Serialize)]
+pub struct Applied {
+    pub node: u8,
+    pub file: String,
+    pub dry_run: bool,
+    pub objects: Vec<Change>,
+    /// Whether the parameters were stored (0x1010:1).
+    pub stored: bool,
+    /// The write that failed; nothing after it was written.
+    #[serde(skip)]
+    pub failure: Option<Error>,
+    /// What was written, in order.
+    #[serde(skip)]
+    pub written: Vec<ObjAddr>,
+    /// Objects that read back other values than written.
+    #[serde(skip)]
+    pub mismatch: Vec<ObjAddr>,
+}
+
+/// One object: its value before, the value wanted, and what happened.
+#[derive(Debug, Serialize)]
+pub struct Change {
+    #[serde(serialize_with = "as_text")]
+    pub object: ObjAddr,
+    pub name: String,
+    pub old: String,
+    pub new: String,
+    pub result: String,
+}
+
+impl Change {
+    fn new(dcf: &Dcf, addr: ObjAddr, old: Option<&[u8]>, new: &[u8], result: String) -> Change {
+        let entry = dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
+        let fmt = |b: &[u8]| entry.map_or_else(|| crate::canopen::types::hex(b), |e| show(e, b));
+        let name = dcf
+            .eds
+            .dict
+            .display_name(addr)
+            .or_else(|| builtin::dictionary(None).display_name(addr))
+            .unwrap_or_default();
+        Change { object: addr, name, old: old.map_or("-".to_string(), fmt), new: fmt(new), result }
+    }
+}
+
+impl Applied {
+    /// The error that ended the run, else a verification error when a value did not read
+    /// back as written.
+    pub fn outcome(self) -> Result<()> {
+        if let Some(e) = self.failure {
+            return Err(e);
+        }
+        if !self.mismatch.is_empty() {
+            let list: Vec<String> = self.mismatch.iter().map(|m| m.to_string()).collect();
+            return Err(Error::Verify(format!(
+                "node {}: {} read back other values than written",
+                self.node,
+                list.join(", ")
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Make `node` match the DCF: every value is checked against the file's ranges before
+/// anything is written; only what differs is written, PDOs the CiA 301 way (COB-ID made
+/// invalid, mapping count 0, entries, count, COB-ID back); then optionally read back and
+/// stored.
+pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result<Applied> {
+    let values = dcf.values(node)?;
+    for (entry, value) in &values {
+        super::check_range(entry, value)?;
+    }
+    let mut current: BTreeMap<ObjAddr, Vec<u8>> = BTreeMap::new();
+    let mut changes: BTreeMap<ObjAddr, Vec<u8>> = BTreeMap::new();
+    let mut rows: Vec<Change> = Vec::new();
+    for (entry, want) in &values {
+        let now = if entry.access.readable() {
+            match read_one(bus, node, entry, o.timeout) {
+                Ok(v) => Some(v),
+                Err(Error::SdoAbort { code, .. }) if !entry.access.writable() => {
+                    let result = format!("not on the device ({})", abort::meaning(code));
+                    rows.push(Change::new(dcf, entry.addr, None, want, result));
+                    continue;
+                }
+                Err(Error::SdoAbort { .. }) => None,
+                Err(e) => return Err(e),
+            }
+        } else {
+            None
+        };
+        if let Some(v) = &now {
+            current.insert(entry.addr, v.clone());
+        }
+        if now.as_ref() == Some(want) {
+            continue;
+        }
+        if !entry.access.writable() {
+            let result = format!("{} on the device: not written", entry.access.name());
+            rows.push(Change::new(dcf, entry.addr, now.as_deref(), want, result));
+            continue;
+        }
+        changes.insert(entry.addr, want.clone());
+    }
+    // The PDO sequence needs the COB-IDs and mapping counts of the PDOs it touches.
+    for (comm, map) in changes.keys().filter_map(|a| pdo_indices(a.index)).collect::<BTreeSet<_>>() {
+        for addr in [ObjAddr::new(comm, 1), ObjAddr::new(map, 0)] {
+            if let std::collections::btree_map::Entry::Vacant(slot) = current.entry(addr) {
+                if let Ok(v) = bus.sdo_upload(node, addr, &SdoOptions::new(o.timeout)) {
+                    slot.insert(v);
+                }
+            }
+        }
+    }
+    let steps = plan(&changes, &|addr| current.get(&addr).cloned());
+    let entry_of = |addr: ObjAddr| dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
+    let mut failure: Option<Error> = None;
+    let mut written: Vec<ObjAddr> = Vec::new();
+    for step in &steps {
+        let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
+        let result = if o.dry_run {
+            "would write".to_string()
+        } else if failure.is_some() {
+            "not written".to_string()
+        } else {
+            match bus.sdo_download(node, step.addr, &step.value, &opts(o.timeout, dtype)) {
+                Ok(()) => {
+                    written.push(step.addr);
+                    "written".to_string()
+                }
+                Err(e) => {
+                    let text = format!("failed: {e}");
+                    failure = Some(e);
+                    text
+                }
+            }
+        };
+        let result = if step.interim.is_empty() { result } else { format!("{result} ({})", step.interim) };
+        rows.push(Change::new(dcf, step.addr, current.get(&step.addr).map(|v| v.as_slice()), &step.value, result));
+    }
+    let mut mismatch = Vec::new();
+    if o.verify && failure.is_none() && !o.dry_run {
+        for (addr, want) in &changes {
+            let Some(entry) = entry_of(*addr) else { continue };
+            if !entry.access.readable() {
+                continue;
+            }
+            let got = read_one(bus, node, entry, o.timeout)?;
+            let row =
+                rows.iter_mut().rev().find(|r| r.object == *addr && !r.result.contains('(')).expect("row of a change");
+            if got == *want {
+                row.result.push_str(", verified");
+            } else {
+                row.result.push_str(&format!(", reads back {}", show(entry, &got)));
+                mismatch.push(*addr);
+            }
+        }
+    }
+    let stored = if o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run {
+        let t = super::store::Timeouts { answer: o.timeout, write: o.store_timeout };
+        super::store::store(bus, node, super::store::Class::All, t)?;
+        true
+    } else {
+        false
+    };
+    Ok(Applied {
+        node,
+        file: dcf.path().to_string(),
+        dry_run: o.dry_run,
+        objects: rows,
+        stored,
+        failure,
+        written,
+        mismatch,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pdo_mapping_is_changed_the_cia_301_way() {
+        let (cob, count, entry1, event) =
+            (ObjAddr::new(0x1800, 1), ObjAddr::new(0x1A00, 0), ObjAddr::new(0x1A00, 1), ObjAddr::new(0x1800, 5));
+        let mut changes = BTreeMap::new();
+        changes.insert(entry1, 0x6064_0020u32.to_le_bytes().to_vec());
+        changes.insert(event, 20u16.to_le_bytes().to_vec());
+        let current = |a: ObjAddr| match (a.index, a.sub) {
+            (0x1800, 1) => Some(0x185u32.to_le_bytes().to_vec()),
+            (0x1A00, 0) => Some(vec![2]),
+            _ => None,
+        };
+        let steps: Vec<(ObjAddr, Vec<u8>, &str)> =
+            plan(&changes, &current).into_iter().map(|s| (s.addr, s.value, s.interim)).collect();
+        assert_eq!(
+            steps,
+            [
+                (event, vec![20, 0], ""),
+                (cob, 0x8000_0185u32.to_le_bytes().to_vec(), "PDO made invalid"),
+                (count, vec![0], "mapping count 0"),
+                (entry1, 0x6064_0020u32.to_le_bytes().to_vec(), ""),
+                (count, vec![2], "mapping count back"),
+                (cob, 0x185u32.to_le_bytes().to_vec(), "PDO valid again"),
+            ]
+        );
+    }
+
+    #[test]
+    fn answers_are_fitted_to_the_entrys_type() {
+        let entry = |dtype| Entry { dtype, ..builtin::dictionary(None).get(ObjAddr::new(0x1017, 0)).unwrap().clone() };
+        // An EPOS2's ReadObject: four bytes for a UNSIGNED16.
+        assert_eq!(fit(&entry(DataType::U16), vec![0x64, 0, 0xAA, 0xBB]), [0x64, 0]);
+        // A device keeping an INTEGER32 in one byte: the same number, sign-extended.
+        assert_eq!(fit(&entry(DataType::I32), vec![0xFE]), [0xFE, 0xFF, 0xFF, 0xFF]);
+        assert_eq!(fit(&entry(DataType::U32), vec![0x05]), [5, 0, 0, 0]);
+    }
+}

@@ -1,0 +1,66 @@
+//! The commissioning procedures, as functions over a [`Bus`](crate::bus::Bus): each takes
+//! what the user asked for, talks to the devices, and returns a typed report (serialisable,
+//! so that any front end can render it). Progress and remarks go through [`Progress`]; a
+//! procedure never prints and knows nothing of the command line.
+
+pub mod config;
+pub mod monitor;
+pub mod pdo;
+pub mod store;
+
+use crate::bus::SdoOptions;
+use crate::error::{Error, Result};
+use crate::od::Entry;
+use std::time::Duration;
+
+/// What a long procedure tells its caller while it runs: the CLI shows a progress bar and
+/// diagnostics on stderr, a test records the calls, a program may ignore them ([`Silent`]).
+pub trait Progress {
+    /// A phase of `len` steps begins.
+    fn start(&mut self, _what: &str, _len: u64) {}
+    /// `done` steps of the phase are finished.
+    fn advance(&mut self, _done: u64) {}
+    /// The phase is over.
+    fn finish(&mut self) {}
+    /// A remark worth a person's attention (an object the device refuses to show, say).
+    fn note(&mut self, _text: &str) {}
+}
+
+/// Progress nobody watches.
+pub struct Silent;
+
+impl Progress for Silent {}
+
+/// SDO options for a value of a known size.
+pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {
+    let mut o = SdoOptions::new(timeout);
+    o.size_hint = size;
+    o
+}
+
+/// A little-endian u32 from the first bytes of an answer (0 when it is shorter).
+pub(crate) fn le_u32(bytes: &[u8]) -> u32 {
+    u32::from_le_bytes(bytes.get(..4).and_then(|b| b.try_into().ok()).unwrap_or([0; 4]))
+}
+
+/// A value beyond the dictionary's limits is refused before it is sent.
+pub fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
+    let Some((lo, hi)) = entry.range else { return Ok(()) };
+    let v = match entry.dtype.decode(bytes) {
+        Some(crate::canopen::types::Value::Uint(u)) => u as i128,
+        Some(crate::canopen::types::Value::Int(i)) => i as i128,
+        _ => return Ok(()),
+    };
+    if v < lo || v > hi {
+        return Err(Error::Usage(format!(
+            "{v} is outside the range of {} ({lo}..={hi}, from the dictionary)",
+            entry.addr
+        )));
+    }
+    Ok(())
+}
+
+/// Serialise a value by its `Display` (object addresses as `0x1010:1`).
+pub(crate) fn as_text<T: std::fmt::Display, S: serde::Serializer>(v: &T, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(v)
+}

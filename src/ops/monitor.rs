@@ -1,0 +1,259 @@
+//! Watching the bus: every frame decoded as it happens, and a summary of what was seen.
+
+use crate::bus::Bus;
+use crate::canopen::emcy::{self, Emergency};
+use crate::canopen::lss;
+use crate::canopen::nmt::{Command, ErrorControl};
+use crate::canopen::pdo::Layout;
+use crate::canopen::{abort, ObjAddr};
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use serde_json::{json, Value as J};
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::{Duration, Instant};
+
+/// One decoded frame.
+#[derive(Clone, Debug)]
+pub struct Event {
+    /// Seconds since the monitor started.
+    pub time: f64,
+    pub cob: u16,
+    /// The node it comes from or is meant for, when it names one.
+    pub node: Option<u8>,
+    pub kind: &'static str,
+    /// What it says, for people.
+    pub text: String,
+    /// What it says, as JSON fields.
+    pub fields: J,
+}
+
+fn event(node: Option<u8>, kind: &'static str, text: String, fields: J) -> Event {
+    Event { time: 0.0, cob: 0, node, kind, text, fields }
+}
+
+fn sdo_text(d: &[u8], request: bool) -> (String, J) {
+    let p = crate::canopen::sdo::pad(d);
+    let addr = ObjAddr::from_mux(&p[1..4]);
+    if let Some(code) = crate::canopen::sdo::abort_code(&p) {
+        let m = abort::meaning(code);
+        return (
+            format!("abort {addr}: 0x{code:08X} {m}"),
+            json!({ "sdo": "abort", "object": addr.to_string(), "code": format!("0x{code:08X}"), "meaning": m }),
+        );
+    }
+    let cs = p[0] >> 5;
+    let what = match (request, cs) {
+        (true, 1) if p[0] & 2 != 0 => {
+            format!("download {addr} = {}", hex_spaced(&p[4..4 + crate::canopen::sdo::expedited_len(p[0])]))
+        }
+        (true, 1) => format!("download {addr}, {} bytes in segments", u32::from_le_bytes([p[4], p[5], p[6], p[7]])),
+        (true, 2) => format!("upload {addr}"),
+        (true, 0) => "download segment".to_string(),
+        (true, 3) => "upload segment request".to_string(),
+        (true, 5) => format!("block upload {addr}"),
+        (true, 6) => format!("block download {addr}"),
+        (false, 2) if p[0] & 2 != 0 => {
+            format!("{addr} = {}", hex_spaced(&p[4..4 + crate::canopen::sdo::expedited_len(p[0])]))
+        }
+        (false, 2) => format!("{addr}: {} bytes follow in segments", u32::from_le_bytes([p[4], p[5], p[6], p[7]])),
+        (false, 3) => format!("{addr} written"),
+        (false, 0) => "upload segment".to_string(),
+        (false, 1) => "download segment confirmed".to_string(),
+        _ => format!("block transfer ({:02X})", p[0]),
+    };
+    (what.clone(), json!({ "sdo": what }))
+}
+
+fn hex_spaced(b: &[u8]) -> String {
+    b.iter().map(|x| format!("{x:02X}")).collect::<Vec<_>>().join(" ")
+}
+
+/// What a frame says, in CiA 301/305 terms; PDOs decoded with `layouts` (by COB-ID).
+pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
+    let id = f.id();
+    let node = (id & 0x7F) as u8;
+    if let Some((cmd, target)) = Command::parse(f) {
+        let to = if target == 0 { "all nodes".to_string() } else { format!("node {target}") };
+        return event(
+            (target != 0).then_some(target),
+            "nmt",
+            format!("{} → {to}", cmd.name()),
+            json!({ "command": cmd.name(), "target": target }),
+        );
+    }
+    match id {
+        0x080 => event(None, "sync", "SYNC".into(), json!({})),
+        0x7E5 | 0x7E4 => {
+            let text = if id == 0x7E5 {
+                format!("{:?}", lss::Request::decode(f.data()))
+            } else {
+                format!("{:?}", lss::Response::decode(f.data()))
+            };
+            let text = text.trim_start_matches("Some(").trim_end_matches(')').to_string();
+            event(None, if id == 0x7E5 { "lss request" } else { "lss answer" }, text.clone(), json!({ "lss": text }))
+        }
+        0x081..=0x0FF => match Emergency::parse(f) {
+            Some((n, e)) => {
+                let bits = emcy::register_bits(e.register);
+                let meaning = emcy::code_meaning(e.code);
+                event(
+                    Some(n),
+                    "emcy",
+                    format!(
+                        "0x{:04X} {meaning}; error register 0x{:02X} [{}]; vendor {}",
+                        e.code,
+                        e.register,
+                        bits.join(", "),
+                        hex_spaced(&e.vendor)
+                    ),
+                    json!({ "code": format!("0x{:04X}", e.code), "meaning": meaning, "register": e.register, "register_bits": bits, "vendor": crate::canopen::types::hex(&e.vendor) }),
+                )
+            }
+            None => event(Some(node), "emcy", format!("no data ({} bytes)", f.len()), json!({})),
+        },
+        0x701..=0x77F if f.is_remote() => event(Some(node), "guard request", "node guarding request".into(), json!({})),
+        0x701..=0x77F => match ErrorControl::parse(f) {
+            Some((n, ErrorControl::BootUp)) => {
+                event(Some(n), "boot-up", "boot-up".into(), json!({ "state": "initialising" }))
+            }
+            Some((n, ErrorControl::State { state, toggle })) => event(
+                Some(n),
+                "heartbeat",
+                format!("{state}{}", if toggle { " (toggle 1)" } else { "" }),
+                json!({ "state": state.name(), "toggle": toggle }),
+            ),
+            _ => event(
+                Some(node),
+                "error control",
+                hex_spaced(f.data()),
+                json!({ "data": crate::canopen::types::hex(f.data()) }),
+            ),
+        },
+        0x581..=0x5FF => {
+            let (t, j) = sdo_text(f.data(), false);
+            event(Some(node), "sdo answer", t, j)
+        }
+        0x601..=0x67F => {
+            let (t, j) = sdo_text(f.data(), true);
+            event(Some(node), "sdo request", t, j)
+        }
+        0x181..=0x57F => {
+            let kind = ["tpdo", "rpdo"][((id - 0x180) / 0x80 % 2) as usize];
+            let number = (id - 0x180) / 0x100 + 1;
+            let label = format!("{}{number}", kind.to_uppercase());
+            if f.is_remote() {
+                return event(Some(node), "pdo request", format!("{label} remote request"), json!({ "pdo": label }));
+            }
+            match layouts.get(&id).map(|l| (l, l.decode(f.data()))) {
+                Some((l, Ok(values))) => {
+                    let mut fields = serde_json::Map::new();
+                    let text: Vec<String> = l
+                        .fields
+                        .iter()
+                        .zip(&values)
+                        .map(|(fd, v)| {
+                            fields.insert(fd.name.clone(), v.to_json());
+                            format!("{}={v}", fd.name)
+                        })
+                        .collect();
+                    event(
+                        Some(node),
+                        "pdo",
+                        format!("{label} {}", text.join(" ")),
+                        json!({ "pdo": label, "values": fields }),
+                    )
+                }
+                Some((l, Err(m))) => event(
+                    Some(node),
+                    "pdo",
+                    format!("{label} {} (length {} where the mapping makes {})", hex_spaced(f.data()), m.got, m.want),
+                    json!({ "pdo": label, "data": crate::canopen::types::hex(f.data()), "length_mismatch": l.len() }),
+                ),
+                None => event(
+                    Some(node),
+                    "pdo",
+                    format!("{label} {}", hex_spaced(f.data())),
+                    json!({ "pdo": label, "data": crate::canopen::types::hex(f.data()) }),
+                ),
+            }
+        }
+        _ => event(None, "frame", hex_spaced(f.data()), json!({ "data": crate::canopen::types::hex(f.data()) })),
+    }
+}
+
+/// What a monitor saw.
+#[derive(Clone, Debug, Default)]
+pub struct Summary {
+    pub per_cob_id: BTreeMap<u16, u64>,
+    pub nodes: BTreeSet<u8>,
+    pub emcy: u64,
+    pub elapsed: Duration,
+}
+
+impl Summary {
+    pub fn frames(&self) -> u64 {
+        self.per_cob_id.values().sum()
+    }
+}
+
+/// The bus's frames, decoded, as they come: pull them with [`Monitor::next`].
+pub struct Monitor {
+    layouts: BTreeMap<u16, Layout>,
+    nodes: Vec<u8>,
+    start: Instant,
+    end: Option<Instant>,
+    count: Option<u64>,
+    seen: Summary,
+}
+
+impl Monitor {
+    /// Frames of `nodes` (all when empty; NMT, SYNC and LSS always) until `duration` or
+    /// `count` frames. Needs a link that shows the bus's traffic.
+    pub fn new(
+        bus: &dyn Bus,
+        layouts: BTreeMap<u16, Layout>,
+        nodes: &[u8],
+        duration: Option<Duration>,
+        count: Option<u64>,
+    ) -> Result<Monitor> {
+        if !bus.sees_traffic() {
+            return Err(Error::Usage(format!(
+                "{} shows no bus traffic (an EPOS2 answers commands only): monitor needs SocketCAN or sim",
+                bus.describe()
+            )));
+        }
+        let start = Instant::now();
+        Ok(Monitor {
+            layouts,
+            nodes: nodes.to_vec(),
+            start,
+            end: duration.map(|d| start + d),
+            count,
+            seen: Summary::default(),
+        })
+    }
+
+    /// The next frame, decoded, or `None` when the monitor is over.
+    pub fn next(&mut self, bus: &mut dyn Bus) -> Result<Option<Event>> {
+        while self.end.is_none_or(|e| Instant::now() < e) && self.count.is_none_or(|c| self.seen.frames() < c) {
+            let wake = self.end.unwrap_or_else(|| Instant::now() + Duration::from_millis(200));
+            let Some(f) = bus.recv_frame(wake)? else { continue };
+            let mut ev = decode(&f, &self.layouts);
+            if !self.nodes.is_empty() && ev.node.is_some_and(|n| !self.nodes.contains(&n)) {
+                continue;
+            }
+            *self.seen.per_cob_id.entry(f.id()).or_default() += 1;
+            self.seen.nodes.extend(ev.node);
+            self.seen.emcy += (ev.kind == "emcy") as u64;
+            ev.time = self.start.elapsed().as_secs_f64();
+            ev.cob = f.id();
+            return Ok(Some(ev));
+        }
+        Ok(None)
+    }
+
+    /// What was seen so far.
+    pub fn summary(&self) -> Summary {
+        Summary { elapsed: self.start.elapsed(), ..self.seen.clone() }
+    }
+}

@@ -1,0 +1,357 @@
+//! Transmit PDOs: their layouts read from a node (or a DCF), a mapping changed for a
+//! session and put back at its end, and the stream of decoded records.
+
+use super::{le_u32, sized, Progress};
+use crate::bus::Bus;
+use crate::canopen::nmt::{self, Command};
+use crate::canopen::pdo::{self, Field, Layout};
+use crate::canopen::types::Value;
+use crate::canopen::{abort, DataType, ObjAddr};
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use crate::od::eds::Eds;
+use crate::od::{Dictionary, Entry};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// Object values by address.
+type Values = BTreeMap<ObjAddr, Vec<u8>>;
+
+/// The communication and mapping parameter indexes of TPDO `n` (1-based).
+fn tpdo_indices(n: u16) -> (u16, u16) {
+    (0x1800 + n - 1, 0x1A00 + n - 1)
+}
+
+fn read_u32(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<u32> {
+    Ok(le_u32(&bus.sdo_upload(node, addr, &sized(timeout, Some(4)))?))
+}
+
+fn read_u8(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<u8> {
+    Ok(bus.sdo_upload(node, addr, &sized(timeout, Some(1)))?.first().copied().unwrap_or(0))
+}
+
+/// Writes in the safe PDO order of `config apply`.
+fn write_plan(bus: &mut dyn Bus, node: u8, changes: &Values, current: &Values, timeout: Duration) -> Result<()> {
+    for step in super::config::plan(changes, &|a| current.get(&a).cloned()) {
+        bus.sdo_download(node, step.addr, &step.value, &sized(timeout, Some(step.value.len())))?;
+    }
+    Ok(())
+}
+
+/// The TPDO's parameters that a remapping touches, as they are now.
+fn snapshot(bus: &mut dyn Bus, node: u8, n: u16, timeout: Duration) -> Result<Values> {
+    let (comm, map) = tpdo_indices(n);
+    let mut s = BTreeMap::new();
+    s.insert(ObjAddr::new(comm, 1), read_u32(bus, node, ObjAddr::new(comm, 1), timeout)?.to_le_bytes().to_vec());
+    s.insert(ObjAddr::new(comm, 2), vec![read_u8(bus, node, ObjAddr::new(comm, 2), timeout)?]);
+    if let Ok(v) = bus.sdo_upload(node, ObjAddr::new(comm, 5), &sized(timeout, Some(2))) {
+        s.insert(ObjAddr::new(comm, 5), v);
+    }
+    let count = read_u8(bus, node, ObjAddr::new(map, 0), timeout)?;
+    s.insert(ObjAddr::new(map, 0), vec![count]);
+    for sub in 1..=count {
+        s.insert(ObjAddr::new(map, sub), read_u32(bus, node, ObjAddr::new(map, sub), timeout)?.to_le_bytes().to_vec());
+    }
+    Ok(s)
+}
+
+/// What a streaming session changed on a node, to put back when it ends — whatever ends
+/// it: call [`Session::restore`] on every path.
+#[derive(Default)]
+pub struct Session {
+    /// The TPDO's parameters before and during the session.
+    mapping: Option<(Values, Values)>,
+    /// The NMT state the node was in before the session started it.
+    state: Option<nmt::State>,
+}
+
+/// A new mapping for one TPDO.
+#[derive(Clone, Debug)]
+pub struct Remap {
+    /// The TPDO, 1-based.
+    pub tpdo: u16,
+    /// The objects to map, with their sizes in bits.
+    pub objects: Vec<(ObjAddr, u8)>,
+    /// Event timer in ms.
+    pub event: Option<u16>,
+    /// Transmission type (default 255: by event).
+    pub transmission: Option<u8>,
+}
+
+impl Session {
+    /// Map `r.objects` into the TPDO for the session, in the safe order.
+    pub fn remap(&mut self, bus: &mut dyn Bus, node: u8, r: &Remap, timeout: Duration) -> Result<()> {
+        let (comm, map) = tpdo_indices(r.tpdo);
+        let original = snapshot(bus, node, r.tpdo, timeout)?;
+        let mut wanted = BTreeMap::new();
+        for (i, (addr, bits)) in r.objects.iter().enumerate() {
+            wanted.insert(ObjAddr::new(map, i as u8 + 1), pdo::mapping_raw(*addr, *bits).to_le_bytes().to_vec());
+        }
+        wanted.insert(ObjAddr::new(map, 0), vec![r.objects.len() as u8]);
+        wanted.insert(ObjAddr::new(comm, 2), vec![r.transmission.unwrap_or(255)]);
+        if let Some(ms) = r.event {
+            wanted.insert(ObjAddr::new(comm, 5), ms.to_le_bytes().to_vec());
+        }
+        let changes: Values = wanted.into_iter().filter(|(k, v)| original.get(k) != Some(v)).collect();
+        let mut now = original.clone();
+        now.extend(changes.clone());
+        self.mapping = Some((original.clone(), now));
+        write_plan(bus, node, &changes, &original, timeout)
+    }
+
+    /// Put the node in Operational; `state` is the one it is in now (to go back to).
+    pub fn start(&mut self, bus: &mut dyn Bus, node: u8, state: nmt::State) -> Result<()> {
+        if state != nmt::State::Operational {
+            self.state = Some(state);
+            bus.nmt(Command::Start, node)?;
+        }
+        Ok(())
+    }
+
+    /// Put back what the session changed: the mapping, then the NMT state.
+    pub fn restore(self, bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<()> {
+        if let Some((original, now)) = &self.mapping {
+            // Entries the session added beyond the original count go back to 0 too.
+            let mut back = original.clone();
+            for (a, _) in now.iter().filter(|(a, _)| a.sub > 0 && (0x1A00..=0x1BFF).contains(&a.index)) {
+                back.entry(*a).or_insert(vec![0; 4]);
+            }
+            back.retain(|a, v| now.get(a) != Some(v));
+            write_plan(bus, node, &back, now, timeout)?;
+        }
+        match self.state {
+            Some(nmt::State::Stopped) => bus.nmt(Command::Stop, node)?,
+            Some(nmt::State::PreOperational) => bus.nmt(Command::PreOperational, node)?,
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// The type a mapped object has: the dictionary's when its size matches the mapping,
+/// else unsigned of the mapped width.
+fn field_type(entry: Option<&Entry>, bits: u8) -> DataType {
+    entry
+        .map(|e| e.dtype)
+        .filter(|t| t.size().is_some_and(|s| s * 8 == bits as usize) || *t == DataType::Bool && bits == 1)
+        .unwrap_or_else(|| pdo::default_type(bits))
+}
+
+/// The layouts of a node's TPDOs `tpdos` (1-based), read from the node; names and types
+/// from `dict`. With `skip_missing`, TPDOs the node does not have are passed over; invalid
+/// ones always are, with a note.
+pub fn read_layouts(
+    bus: &mut dyn Bus,
+    node: u8,
+    dict: &Dictionary,
+    tpdos: &[u16],
+    skip_missing: bool,
+    timeout: Duration,
+    progress: &mut dyn Progress,
+) -> Result<Vec<(u16, Layout)>> {
+    let mut out = Vec::new();
+    for &n in tpdos {
+        let (comm, map) = tpdo_indices(n);
+        let cob = match read_u32(bus, node, ObjAddr::new(comm, 1), timeout) {
+            Ok(c) => c,
+            Err(Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) if skip_missing => continue,
+            Err(e) => return Err(e),
+        };
+        if cob & 0x8000_0000 != 0 {
+            progress.note(&format!("TPDO{n} of node {node} is not valid (0x{comm:04X}:1 = 0x{cob:08X}); left out"));
+            continue;
+        }
+        let count = read_u8(bus, node, ObjAddr::new(map, 0), timeout)?;
+        let mut names = BTreeSet::new();
+        let mut fields = Vec::new();
+        for sub in 1..=count {
+            let (addr, bits) = pdo::mapping_entry(read_u32(bus, node, ObjAddr::new(map, sub), timeout)?);
+            let mut name = dict.display_name(addr).unwrap_or_else(|| addr.to_string());
+            if !names.insert(name.clone()) {
+                name = format!("{name} ({addr})");
+            }
+            fields.push(Field { addr, bits, dtype: field_type(dict.get(addr), bits), name });
+        }
+        out.push((n, Layout { cob_id: (cob & 0x7FF) as u16, fields }));
+    }
+    if out.is_empty() {
+        return Err(Error::Usage(format!("node {node} has no valid TPDO to stream (--map makes one for the session)")));
+    }
+    Ok(out)
+}
+
+/// The layouts of the valid PDOs (TPDO and RPDO 1..4) a DCF describes for `node`, by COB-ID.
+pub fn dcf_layouts(eds: &Eds, node: u8) -> BTreeMap<u16, Layout> {
+    let mut out = BTreeMap::new();
+    let value = |addr: ObjAddr| -> Option<Vec<u8>> {
+        let e = eds.dict.get(addr)?;
+        let init = eds.values.get(&addr).cloned().unwrap_or_else(|| e.default.clone());
+        Some(Entry { default: init, ..e.clone() }.default_for(node))
+    };
+    let u32_at = |addr| value(addr).filter(|v| v.len() >= 4).map(|v| le_u32(&v));
+    for (comm, map) in (0..4u16).flat_map(|n| [(0x1400 + n, 0x1600 + n), (0x1800 + n, 0x1A00 + n)]) {
+        let Some(cob) = u32_at(ObjAddr::new(comm, 1)).filter(|c| c & 0x8000_0000 == 0) else { continue };
+        let count = value(ObjAddr::new(map, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+        let fields = (1..=count)
+            .filter_map(|s| u32_at(ObjAddr::new(map, s)))
+            .map(|raw| {
+                let (addr, bits) = pdo::mapping_entry(raw);
+                let dtype = field_type(eds.dict.get(addr), bits);
+                Field { addr, bits, dtype, name: eds.dict.display_name(addr).unwrap_or_else(|| addr.to_string()) }
+            })
+            .collect();
+        out.insert((cob & 0x7FF) as u16, Layout { cob_id: (cob & 0x7FF) as u16, fields });
+    }
+    out
+}
+
+/// When a stream ends, and how it gets its frames.
+#[derive(Clone, Debug)]
+pub struct StreamOptions {
+    /// Stop after this many records.
+    pub count: Option<u64>,
+    /// Stop after this long.
+    pub duration: Option<Duration>,
+    /// Send SYNC at this period.
+    pub sync: Option<Duration>,
+    /// On a link that sees no traffic (an EPOS2): how often to poll each PDO.
+    pub interval: Duration,
+    /// How long to wait for each polled PDO.
+    pub timeout: Duration,
+}
+
+/// One decoded PDO.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// Wall-clock time of reception, ms since the Unix epoch.
+    pub time_ms: u64,
+    /// Which of the stream's layouts it is (an index into them).
+    pub layout: usize,
+    pub values: Vec<Value>,
+}
+
+/// The records of a node's TPDOs as they come: pull them with [`Stream::next`]. Through a
+/// link that sees no traffic the PDOs are polled with remote frames.
+pub struct Stream<'a> {
+    node: u8,
+    layouts: &'a [(u16, Layout)],
+    opts: StreamOptions,
+    polling: bool,
+    end: Option<Instant>,
+    next_sync: Option<Instant>,
+    next_poll: Instant,
+    pending: VecDeque<Record>,
+    records: u64,
+    warned: BTreeSet<u16>,
+    interrupted: &'a AtomicBool,
+}
+
+const SYNC_COB: u16 = 0x080;
+
+fn wall_ms() -> u64 {
+    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_millis() as u64)
+}
+
+impl<'a> Stream<'a> {
+    /// A stream that ends at `opts`' count or duration, or once `interrupted` is set.
+    pub fn new(
+        bus: &dyn Bus,
+        node: u8,
+        layouts: &'a [(u16, Layout)],
+        opts: StreamOptions,
+        interrupted: &'a AtomicBool,
+    ) -> Stream<'a> {
+        let now = Instant::now();
+        Stream {
+            node,
+            layouts,
+            polling: !bus.sees_traffic(),
+            end: opts.duration.map(|d| now + d),
+            next_sync: opts.sync.map(|_| now),
+            next_poll: now,
+            opts,
+            pending: VecDeque::new(),
+            records: 0,
+            warned: BTreeSet::new(),
+            interrupted,
+        }
+    }
+
+    /// Whether the PDOs are polled (the link shows no traffic by itself).
+    pub fn polling(&self) -> bool {
+        self.polling
+    }
+
+    /// Records given so far.
+    pub fn records(&self) -> u64 {
+        self.records
+    }
+
+    fn done(&self) -> bool {
+        self.opts.count.is_some_and(|c| self.records >= c)
+    }
+
+    /// The next record, or `None` when the stream is over. A PDO whose length does not
+    /// match its mapping is not decoded; that is noted once per TPDO.
+    pub fn next(&mut self, bus: &mut dyn Bus, progress: &mut dyn Progress) -> Result<Option<Record>> {
+        loop {
+            if self.done() {
+                return Ok(None);
+            }
+            if let Some(r) = self.pending.pop_front() {
+                self.records += 1;
+                return Ok(Some(r));
+            }
+            if self.interrupted.load(Ordering::SeqCst) || self.end.is_some_and(|e| Instant::now() >= e) {
+                return Ok(None);
+            }
+            self.cycle(bus, progress)?;
+        }
+    }
+
+    /// One round: SYNC when due, then the frames of one wait or one poll.
+    fn cycle(&mut self, bus: &mut dyn Bus, progress: &mut dyn Progress) -> Result<()> {
+        if let (Some(period), Some(due)) = (self.opts.sync, self.next_sync) {
+            if Instant::now() >= due {
+                bus.send_frame(&Frame::new(SYNC_COB, &[]))?;
+                self.next_sync = Some(due + period);
+            }
+        }
+        let mut wake = Instant::now() + Duration::from_millis(100);
+        for t in [self.end, self.next_sync, self.polling.then_some(self.next_poll)].into_iter().flatten() {
+            wake = wake.min(t);
+        }
+        let frames: Vec<Frame> = if self.polling {
+            std::thread::sleep(self.next_poll.saturating_duration_since(Instant::now()));
+            self.next_poll += self.opts.interval;
+            let mut got = Vec::new();
+            for (_, l) in self.layouts {
+                match bus.request_frame(l.cob_id, l.len() as u8, self.opts.timeout) {
+                    Ok(f) => got.push(f),
+                    Err(Error::Timeout(_)) => {}
+                    Err(e) => return Err(e),
+                }
+            }
+            got
+        } else {
+            bus.recv_frame(wake)?.into_iter().filter(|f| !f.is_remote()).collect()
+        };
+        for f in frames {
+            let Some(i) = self.layouts.iter().position(|(_, l)| l.cob_id == f.id()) else { continue };
+            let (n, l) = &self.layouts[i];
+            match l.decode(f.data()) {
+                Ok(values) => self.pending.push_back(Record { time_ms: wall_ms(), layout: i, values }),
+                Err(m) => {
+                    if self.warned.insert(*n) {
+                        progress.note(&format!(
+                            "warning: node {} TPDO{n} (0x{:03X}) came with {} bytes, its mapping makes {}: not decoded (this is said once)",
+                            self.node, l.cob_id, m.got, m.want
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
