@@ -104,6 +104,9 @@ pub fn buses() -> Vec<CompletionCandidate> {
         out.push(candidate(BusAddr::SocketCan { iface }, "CAN interface"));
     }
     for port in crate::bus::uri::serial_ports() {
+        out.push(
+            CompletionCandidate::new(format!("slcan:{port}")).help(Some("slcan CAN adapter (CANable, CANUSB)".into())),
+        );
         let baud = crate::bus::uri::RS232_DEFAULT_BAUD;
         out.push(candidate(
             BusAddr::Epos2 { framing: Framing::Rs232, port: port.clone(), baud },

@@ -56,8 +56,9 @@ pub struct Cli {
 
 #[derive(Args, Debug)]
 pub struct GlobalArgs {
-    /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200,
-    /// epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file's)
+    /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k,
+    /// epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else
+    /// the settings file's)
     #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", add = ArgValueCandidates::new(complete::buses))]
     pub bus: Option<String>,
     /// How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds);
@@ -204,7 +205,8 @@ fn no_bus_error() -> Error {
         "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
          CAN interfaces here: {}\n  \
          serial ports here:   {}\n  \
-         forms: socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0\n  \
+         forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
+         epos2-usb:/dev/ttyUSB0\n  \
          no hardware? try the demo network: canctl --bus sim scan",
         list(crate::bus::uri::can_interfaces()),
         list(crate::bus::uri::serial_ports())
