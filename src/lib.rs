@@ -41,6 +41,7 @@ pub mod ops;
 #[cfg(feature = "cli")]
 pub mod output;
 pub mod sim;
+pub mod slcan;
 pub mod xdg;
 
 pub use error::{Error, Result};

@@ -2,10 +2,10 @@ use clap::{CommandFactory, FromArgMatches};
 
 fn main() {
     // COMPLETE=bash|zsh|fish|... : answer the shell's completion request and exit.
-    clap_complete::CompleteEnv::with_factory(canctl::cli::Cli::command).complete();
-    let matches = canctl::cli::Cli::command().get_matches();
+    canctl::cli::complete_from_env();
+    let matches = canctl::cli::Cli::command().try_get_matches().unwrap_or_else(|e| usage_error(e));
     let bus_from_env = matches.value_source("bus") == Some(clap::parser::ValueSource::EnvVariable);
-    let cli = canctl::cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    let cli = canctl::cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| usage_error(e));
     if let Err(err) = canctl::cli::run(cli, bus_from_env) {
         let (code, print) = canctl::cli::exit_code(&err);
         if print {
@@ -13,4 +13,15 @@ fn main() {
         }
         std::process::exit(code);
     }
+}
+
+/// clap's own errors in canctl's voice (`canctl: ...`, exit 2); help and version as clap
+/// prints them.
+fn usage_error(e: clap::Error) -> ! {
+    if !e.use_stderr() {
+        e.exit()
+    }
+    let text = e.render().to_string();
+    eprint!("canctl: {}", text.strip_prefix("error: ").unwrap_or(&text));
+    std::process::exit(2)
 }

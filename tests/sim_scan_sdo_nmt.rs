@@ -84,13 +84,13 @@ fn malformed_input_is_a_usage_error_with_a_pointed_message() {
         (&["sdo", "read", "0", "1000"], "0 is only for an EPOS2"),
         (&["sdo", "read", "128", "1000"], "not a node-id"),
         (&["sdo", "read", "1", "1000", "--type", "u24"], "not a data type"),
-        (&["sdo", "write", "1", "5FF0:2", "300", "--type", "u8"], "out of range for u8 (0..=255)"),
+        (&["sdo", "write", "1", "5FF0:2", "300", "--type", "u8"], "out of range for u8: use 0 to 255"),
         (&["sdo", "write", "1", "5FF0:3", "12abc", "--type", "u16"], "not a valid u16"),
         (&["sdo", "write", "1", "5FF0:13", "abc", "--type", "os"], "odd number of hex digits"),
         (&["sdo", "write", "1", "5FF0:3", "12"], "--type is needed"),
         (&["sdo", "write", "1", "5FF0:13", "@/nonexistent/file", "--type", "os"], "cannot read /nonexistent/file"),
         (&["sdo", "read", "1", "1000", "--type", "u16"], "not a u16"),
-        (&["nmt", "stop", "200"], "1..127, or all"),
+        (&["nmt", "stop", "200"], "1 to 127, or all"),
         (&["--timeout", "soon", "scan"], "not a duration"),
     ];
     for (args, needle) in cases {
@@ -207,4 +207,29 @@ fn an_object_the_node_lacks_gets_the_nearest_ones_suggested() {
     assert!(run.stderr.contains("0x1018:1 (Identity object: Vendor-ID)"), "{}", run.stderr);
     let run = sim.run(&["sdo", "read", "1", "0x1018:9"]);
     assert!(run.stderr.contains("did you mean 0x1018:0"), "{}", run.stderr);
+}
+
+/// The built-in dictionary knows CiA 402's modes: a reserved one is refused before anything
+/// is sent, with no EDS given.
+#[test]
+fn a_reserved_mode_of_operation_is_refused_before_sending() {
+    let sim = Sim::new();
+    let r = sim.run(&["-v", "sdo", "write", "1", "6060", "99"]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("use -128 to 10"), "{}", r.stderr);
+    assert!(!r.stderr.contains(" 601 "), "nothing sent: {}", r.stderr);
+}
+
+/// Node 0 (refused by the bus) and node 128 (refused by the argument parser) are told the
+/// same way, in canctl's voice.
+#[test]
+fn bad_node_ids_are_told_in_one_voice() {
+    let sim = Sim::new();
+    for node in ["0", "128"] {
+        let r = sim.run(&["sdo", "read", node, "1000"]);
+        assert_eq!(r.code, 2, "{}", r.stderr);
+        assert!(r.stderr.starts_with("canctl: "), "{}", r.stderr);
+        assert!(r.stderr.contains("use 1 to 127"), "{}", r.stderr);
+        assert!(!r.stderr.contains("..="), "{}", r.stderr);
+    }
 }

@@ -264,12 +264,12 @@ const EVERYTHING: [(u16, u16); 1] = [(0, 0)];
 const DRAIN_LIMIT: Duration = Duration::from_millis(20);
 
 fn check_node(node: u8) -> Result<()> {
-    if (1..=127).contains(&node) {
-        Ok(())
-    } else {
-        Err(Error::Usage(format!(
-            "node-id {node} is out of range (1..=127; 0 is only for an EPOS2 on epos2-rs232/epos2-usb)"
-        )))
+    match node {
+        1..=127 => Ok(()),
+        0 => Err(Error::Usage(
+            "node-id 0 is only for an EPOS2 on an epos2-rs232/epos2-usb bus; here use 1 to 127".into(),
+        )),
+        _ => Err(Error::Usage(format!("node-id {node} is out of range: use 1 to 127"))),
     }
 }
 

@@ -27,7 +27,12 @@ fn check_interface(iface: &str) -> Result<()> {
     let present = super::uri::can_interfaces();
     if !dir.exists() {
         let list = if present.is_empty() { "none".to_string() } else { present.join(", ") };
-        return Err(Error::Link(format!("there is no network interface '{iface}' (CAN interfaces here: {list})")));
+        return Err(Error::Link(format!(
+            "there is no network interface '{iface}' (CAN interfaces here: {list}).\n  \
+             A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
+             A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
+             No hardware: try the demo network, --bus sim"
+        )));
     }
     if !present.iter().any(|p| p == iface) {
         return Err(Error::Link(format!("'{iface}' is not a CAN interface")));

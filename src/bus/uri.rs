@@ -26,10 +26,39 @@ pub enum BusAddr {
         port: String,
         baud: u32,
     },
+    /// A serial-line CAN adapter (slcan) at this CAN bit rate.
+    Slcan {
+        port: String,
+        kbit: u32,
+    },
 }
 
 pub const RS232_DEFAULT_BAUD: u32 = 115_200;
 pub const USB_DEFAULT_BAUD: u32 = 1_000_000;
+/// The CAN bit rate of an slcan adapter named without `@RATE`.
+pub const SLCAN_DEFAULT_KBIT: u32 = 500;
+
+/// `500k`, `1M`, `125000` (bit/s) → kbit/s.
+fn parse_kbit(text: &str) -> Option<u32> {
+    let t = text.trim();
+    let (num, scale) = if let Some(n) = t.strip_suffix(['k', 'K']) {
+        (n, 1.0)
+    } else if let Some(n) = t.strip_suffix('M') {
+        (n, 1000.0)
+    } else {
+        (t, 0.001)
+    };
+    let kbit = num.parse::<f64>().ok()? * scale;
+    (kbit >= 1.0 && kbit.fract() == 0.0 && kbit <= 1000.0).then_some(kbit as u32)
+}
+
+fn kbit_text(kbit: u32) -> String {
+    if kbit == 1000 {
+        "1M".into()
+    } else {
+        format!("{kbit}k")
+    }
+}
 
 /// The former name, kept so that code written against it still compiles.
 pub type BusUri = BusAddr;
@@ -73,12 +102,28 @@ impl std::str::FromStr for BusAddr {
                 let framing = if rs232 { Framing::Rs232 } else { Framing::Usb };
                 Ok(BusAddr::Epos2 { framing, port: port.to_string(), baud })
             }
-            (iface, None) if iface.starts_with('/') => {
-                Err(usage(format!("a serial port needs its protocol: epos2-rs232:{iface} or epos2-usb:{iface}")))
+            ("slcan", Some(rest)) => {
+                let (port, rate) = match rest.rsplit_once('@') {
+                    Some((p, r)) => (p, Some(r)),
+                    None => (rest, None),
+                };
+                if port.is_empty() {
+                    return Err(usage("the serial port is missing, as in slcan:/dev/ttyACM0@500k".into()));
+                }
+                let kbit = match rate {
+                    None => SLCAN_DEFAULT_KBIT,
+                    Some(r) => parse_kbit(r).filter(|k| crate::slcan::wire::bit_rate_code(*k).is_some()).ok_or_else(
+                        || usage(format!("'{r}' is not an slcan bit rate: use 10k 20k 50k 100k 125k 250k 500k 800k or 1M")),
+                    )?,
+                };
+                Ok(BusAddr::Slcan { port: port.to_string(), kbit })
             }
+            (iface, None) if iface.starts_with('/') => Err(usage(format!(
+                "a serial port needs its protocol: slcan:{iface}, epos2-rs232:{iface} or epos2-usb:{iface}"
+            ))),
             (iface, None) => Ok(BusAddr::SocketCan { iface: check_iface(iface).map_err(usage)? }),
             (other, Some(_)) => Err(usage(format!(
-                "unknown kind of bus '{other}'; use sim, socketcan:IFACE, epos2-rs232:PORT or epos2-usb:PORT"
+                "unknown kind of bus '{other}'; use sim, socketcan:IFACE, slcan:PORT, epos2-rs232:PORT or epos2-usb:PORT"
             ))),
         }
     }
@@ -102,6 +147,7 @@ impl std::fmt::Display for BusAddr {
                 }
                 Ok(())
             }
+            BusAddr::Slcan { port, kbit } => write!(f, "slcan:{port}@{}", kbit_text(*kbit)),
         }
     }
 }
@@ -144,6 +190,13 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             let io = open_serial(port, *baud, opts.timeout)?;
             let link = SerialTransport::new(io, *framing, addr.to_string(), opts.timeout, opts.trace);
             Ok(Box::new(Epos2Gateway::new(link)))
+        }
+        BusAddr::Slcan { port, kbit } => {
+            // The adapter's own serial speed does not matter on USB; 115200 suits the
+            // adapters that sit behind a real UART.
+            let io = open_serial(port, 115_200, opts.timeout)?;
+            let link = crate::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?;
+            Ok(Box::new(Master::new(link, addr.to_string(), opts.trace)))
         }
     }
 }
@@ -227,6 +280,10 @@ mod tests {
             ("epos2-rs232:COM3", "epos2-rs232:COM3"),
             ("epos2-usb:/dev/ttyUSB0", "epos2-usb:/dev/ttyUSB0"),
             ("epos2-usb:/dev/ttyUSB0?baud=115200", "epos2-usb:/dev/ttyUSB0?baud=115200"),
+            ("slcan:/dev/ttyACM0", "slcan:/dev/ttyACM0@500k"),
+            ("slcan:/dev/ttyACM0@1M", "slcan:/dev/ttyACM0@1M"),
+            ("slcan:COM5@125000", "slcan:COM5@125k"),
+            ("slcan:/dev/tty.usbmodem1101@100k", "slcan:/dev/tty.usbmodem1101@100k"),
         ];
         for (text, canonical) in forms {
             let addr: BusAddr = text.parse().unwrap();
@@ -251,6 +308,8 @@ mod tests {
         assert!(msg("epos2-rs232:/dev/ttyS0?baud=fast").contains("baud"));
         assert!(msg("epos2-rs232:/dev/ttyS0?parity=odd").contains("unknown option"));
         assert!(msg("canbus:can0").contains("unknown kind"));
+        assert!(msg("slcan:/dev/ttyACM0@83k").contains("not an slcan bit rate"));
+        assert!(msg("slcan:@500k").contains("serial port is missing"));
         assert!(msg("socketcan:").contains("interface name"));
         assert!(msg("averyveryverylongname").contains("interface name"));
     }

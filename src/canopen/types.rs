@@ -153,7 +153,7 @@ impl DataType {
                 let v = parse_int(t).ok_or_else(|| self.not_a(text, "an integer (decimal, or hex with 0x)"))?;
                 let (lo, hi) = self.int_range().expect("integer type");
                 if v < lo || v > hi {
-                    return Err(ValueError(format!("{text} is out of range for {} ({lo}..={hi})", self.name())));
+                    return Err(ValueError(format!("{text} is out of range for {}: use {lo} to {hi}", self.name())));
                 }
                 let size = self.size().unwrap();
                 Ok(v.to_le_bytes()[..size].to_vec())
@@ -361,9 +361,9 @@ mod tests {
 
     #[test]
     fn range_errors_name_the_range() {
-        assert_eq!(U8.parse("256").unwrap_err().0, "256 is out of range for u8 (0..=255)");
-        assert!(I8.parse("-129").unwrap_err().0.contains("-128..=127"));
-        assert!(U16.parse("-1").unwrap_err().0.contains("0..=65535"));
+        assert_eq!(U8.parse("256").unwrap_err().0, "256 is out of range for u8: use 0 to 255");
+        assert!(I8.parse("-129").unwrap_err().0.contains("-128 to 127"));
+        assert!(U16.parse("-1").unwrap_err().0.contains("0 to 65535"));
         assert!(U32.parse("12abc").unwrap_err().0.contains("not a valid u32"));
         assert!(R32.parse("1e39").unwrap_err().0.contains("out of range"));
         assert!(Os.parse("abc").unwrap_err().0.contains("odd number"));

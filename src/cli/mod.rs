@@ -24,6 +24,7 @@ use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
+pub use complete::complete_from_env;
 pub use docs::{completion_scripts, man_pages, write_completions};
 
 const EXIT_CODES: &str = "\
@@ -56,8 +57,9 @@ pub struct Cli {
 
 #[derive(Args, Debug)]
 pub struct GlobalArgs {
-    /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200,
-    /// epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else the settings file's)
+    /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k,
+    /// epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else
+    /// the settings file's)
     #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", add = ArgValueCandidates::new(complete::buses))]
     pub bus: Option<String>,
     /// How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds);
@@ -166,7 +168,7 @@ pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
     if text.trim() == "0" {
         return Ok(0);
     }
-    parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on the serial port)"))
+    parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on an epos2-rs232/epos2-usb bus)"))
 }
 
 /// Parse a node-id: 1..127, decimal or 0x hex.
@@ -176,7 +178,9 @@ pub fn parse_node(text: &str) -> Result<u8, String> {
         Some(h) => u32::from_str_radix(h, 16).ok(),
         None => t.parse::<u32>().ok(),
     };
-    n.filter(|n| (1..=127).contains(n)).map(|n| n as u8).ok_or_else(|| format!("'{text}' is not a node-id: use 1..127"))
+    n.filter(|n| (1..=127).contains(n))
+        .map(|n| n as u8)
+        .ok_or_else(|| format!("'{text}' is not a node-id: use 1 to 127"))
 }
 
 /// Open the bus the user named, or explain how to name one.
@@ -202,7 +206,8 @@ fn no_bus_error() -> Error {
         "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
          CAN interfaces here: {}\n  \
          serial ports here:   {}\n  \
-         forms: socketcan:can0 (or can0), epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0\n  \
+         forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
+         epos2-usb:/dev/ttyUSB0\n  \
          no hardware? try the demo network: canctl --bus sim scan",
         list(crate::bus::uri::can_interfaces()),
         list(crate::bus::uri::serial_ports())

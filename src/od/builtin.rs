@@ -95,6 +95,8 @@ fn communication(d: &mut Dictionary) {
             let index = base + 0x200 + n;
             members(d, index, &format!("{dir}{} mapping parameter", n + 1), ObjectKind::Record, &map);
             d.set_access(ObjAddr::new(index, 0), Rw);
+            // CiA 301: a PDO maps at most 64 objects (one bit each).
+            d.limit(ObjAddr::new(index, 0), 0, 64);
         }
     }
 }
@@ -120,6 +122,9 @@ fn ds402(d: &mut Dictionary) {
     ] {
         var(d, index, name, t, a);
     }
+    // CiA 402: 1 to 10 are the standard modes, negative values the manufacturer's, 0 none;
+    // 11 to 127 are reserved, so no drive accepts them.
+    d.limit(ObjAddr::new(0x6060, 0), -128, 10);
 }
 
 fn ds406(d: &mut Dictionary) {
@@ -199,6 +204,8 @@ mod tests {
         assert_eq!(any.get(ObjAddr::new(0x6401, 2)).unwrap().dtype, I16);
         assert_eq!(dictionary(Some(401)).get(ObjAddr::new(0x6000, 1)).unwrap().dtype, U8);
         assert_eq!(dictionary(Some(406)).get(ObjAddr::new(0x6000, 0)).unwrap().dtype, U16);
+        assert_eq!(any.get(ObjAddr::new(0x6060, 0)).unwrap().range, Some((-128, 10)));
+        assert_eq!(dictionary(Some(402)).get(ObjAddr::new(0x1A03, 0)).unwrap().range, Some((0, 64)));
         assert_eq!(
             any.display_name(ObjAddr::new(0x1A01, 0)).unwrap(),
             "TPDO2 mapping parameter: Highest sub-index supported"

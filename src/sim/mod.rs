@@ -7,6 +7,8 @@ pub mod epos2_device;
 pub mod epos2_serve;
 pub mod faults;
 pub mod profiles;
+pub mod pty;
+pub mod slcan_serve;
 pub mod state;
 pub mod timing;
 

@@ -1,0 +1,396 @@
+//! A serial-line CAN adapter as a `FrameLink`: set the bit rate, open the channel, send and
+//! receive frames as slcan text, close the channel however the command ends.
+
+use super::wire::{bit_rate_code, Command, Decoder, Message, Status, BIT_RATES};
+use crate::bus::FrameLink;
+use crate::epos2::transport::SerialIo;
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+/// How long an adapter may take to answer a configuration command. Adapters answer from
+/// their firmware, without the bus, so this does not depend on the devices.
+const COMMAND_WAIT: Duration = Duration::from_millis(500);
+
+/// When reading stops before its deadline.
+#[derive(Clone, Copy)]
+enum Until {
+    Answer,
+    Frame,
+    Deadline,
+}
+
+pub struct SlcanLink<P: SerialIo> {
+    port: P,
+    /// `slcan:/dev/ttyACM0`, for messages and traces.
+    name: String,
+    decoder: Decoder,
+    rx: VecDeque<Frame>,
+    /// Whether the adapter answers `F`; clones that do not get asked once.
+    has_status: bool,
+    open: bool,
+    /// Lines that were not slcan, and 29-bit frames, since the link was opened.
+    pub garbled: u64,
+    pub extended: u64,
+}
+
+impl<P: SerialIo> SlcanLink<P> {
+    /// Set the adapter to `kbit` and open its channel.
+    pub fn open(port: P, name: String, kbit: u32) -> Result<SlcanLink<P>> {
+        let Some(code) = bit_rate_code(kbit) else {
+            let rates: Vec<String> = BIT_RATES.iter().map(|(_, k)| format!("{k}k")).collect();
+            return Err(Error::Usage(format!("{name}: slcan has no {kbit} kbit/s; use one of {}", rates.join(" "))));
+        };
+        let mut link = SlcanLink {
+            port,
+            name,
+            decoder: Decoder::new(),
+            rx: VecDeque::new(),
+            has_status: true,
+            open: false,
+            garbled: 0,
+            extended: 0,
+        };
+        // Empty lines end whatever half-command an earlier program left in the adapter;
+        // what it answers to them, and anything older, is discarded.
+        link.write(b"\r\r\r")?;
+        link.drain_for(Duration::from_millis(20))?;
+        link.port.discard_input().map_err(|e| link.io_error("cannot clear the input", e))?;
+        link.decoder = Decoder::new();
+        // A channel left open by another program must be closed before the rate can change;
+        // closing a closed channel is refused by some adapters, which is fine.
+        link.command(Command::Close).ok();
+        link.command(Command::BitRate(code)).map_err(|e| link.refused("set the bit rate", e))?;
+        link.command(Command::Open).map_err(|e| link.refused("open the channel", e))?;
+        link.open = true;
+        Ok(link)
+    }
+
+    fn io_error(&self, what: &str, e: std::io::Error) -> Error {
+        Error::Link(format!("{}: {what}: {e}", self.name))
+    }
+
+    fn refused(&self, what: &str, e: Error) -> Error {
+        match e {
+            Error::Refused(_) => Error::Link(format!(
+                "{}: the adapter refused to {what}; is it an slcan (Lawicel) adapter, and not in use by another program?",
+                self.name
+            )),
+            other => other,
+        }
+    }
+
+    fn write(&mut self, bytes: &[u8]) -> Result<()> {
+        let name = self.name.clone();
+        self.port.write_all(bytes).map_err(|e| Error::Link(format!("{name}: cannot write: {e}")))
+    }
+
+    /// Read what arrives until `deadline`, or until `stop` holds, queueing frames; the answers
+    /// to commands.
+    fn read_until(&mut self, deadline: Instant, stop: Until) -> Result<Vec<Message>> {
+        let mut answers = Vec::new();
+        let mut buf = [0u8; 256];
+        loop {
+            let n = self.port.read_some(&mut buf, deadline).map_err(|e| self.io_error("the adapter is gone", e))?;
+            if n == 0 {
+                return Ok(answers);
+            }
+            for m in self.decoder.push(&buf[..n]) {
+                match m {
+                    Ok(Message::Frame(f)) => self.rx.push_back(f),
+                    Ok(Message::Extended { .. }) => self.extended += 1,
+                    Ok(other) => answers.push(other),
+                    Err(_) => self.garbled += 1,
+                }
+            }
+            let done = match stop {
+                Until::Answer => !answers.is_empty(),
+                Until::Frame => !self.rx.is_empty() || !answers.is_empty(),
+                Until::Deadline => false,
+            };
+            if done {
+                return Ok(answers);
+            }
+        }
+    }
+
+    fn drain_for(&mut self, wait: Duration) -> Result<()> {
+        self.read_until(Instant::now() + wait, Until::Deadline).map(|_| ())
+    }
+
+    /// Send a configuration command and wait for its answer.
+    fn command(&mut self, cmd: Command) -> Result<Message> {
+        self.write(&cmd.encode())?;
+        let deadline = Instant::now() + COMMAND_WAIT;
+        loop {
+            // Acknowledges of frames sent earlier are not this command's answer.
+            let answers = self.read_until(deadline, Until::Answer)?;
+            let mut answers = answers.into_iter().filter(|m| *m != Message::Sent).peekable();
+            match answers.next() {
+                Some(Message::Refused) => return Err(Error::Refused(format!("{}: refused", self.name))),
+                Some(answer) => return Ok(answer),
+                None if Instant::now() < deadline => continue,
+                None => {
+                    return Err(Error::Timeout(format!(
+                        "{}: the adapter did not answer {:?} within {} ms",
+                        self.name,
+                        String::from_utf8_lossy(&cmd.encode()).trim_end(),
+                        COMMAND_WAIT.as_millis()
+                    )))
+                }
+            }
+        }
+    }
+
+    /// The adapter's status flags, if it reports them.
+    pub fn status(&mut self) -> Result<Option<Status>> {
+        if !self.has_status {
+            return Ok(None);
+        }
+        match self.command(Command::Status) {
+            Ok(Message::Status(s)) => Ok(Some(s)),
+            Ok(_) | Err(Error::Refused(_)) | Err(Error::Timeout(_)) => {
+                self.has_status = false;
+                Ok(None)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// After a wait in which nothing arrived: a bus the adapter cannot use is a link failure
+    /// (exit 5), not a device that does not answer.
+    fn check_bus(&mut self) -> Result<()> {
+        let Some(s) = self.status()? else { return Ok(()) };
+        const BUS_ERROR: u8 = 1 << 7;
+        const ERROR_PASSIVE: u8 = 1 << 5;
+        if s.0 & (BUS_ERROR | ERROR_PASSIVE) != 0 {
+            return Err(Error::Link(format!(
+                "{}: the adapter reports {}: check the wiring, the termination and the bit rate",
+                self.name,
+                s.names().join(", ")
+            )));
+        }
+        Ok(())
+    }
+}
+
+impl<P: SerialIo> FrameLink for SlcanLink<P> {
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        self.write(&Command::Transmit(*frame).encode())?;
+        // A refusal comes at once; frames and acknowledges already here are kept.
+        let answers = self.read_until(Instant::now(), Until::Deadline)?;
+        if answers.contains(&Message::Refused) {
+            let flags = self.status().ok().flatten().map(|s| s.names().join(", ")).unwrap_or_default();
+            return Err(Error::Link(format!(
+                "{}: the adapter refused to send {:03X}{}",
+                self.name,
+                frame.id(),
+                if flags.is_empty() { String::new() } else { format!(" ({flags})") }
+            )));
+        }
+        Ok(())
+    }
+
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        if let Some(f) = self.rx.pop_front() {
+            return Ok(Some(f));
+        }
+        let started = Instant::now();
+        loop {
+            let answers = self.read_until(deadline, Until::Frame).map(|a| a.contains(&Message::Refused));
+            if let Some(f) = self.rx.pop_front() {
+                return Ok(Some(f));
+            }
+            if answers? {
+                return Err(Error::Link(format!("{}: the adapter refused a frame", self.name)));
+            }
+            if Instant::now() >= deadline {
+                // Only after a real wait: a poll (deadline now) asks the adapter nothing.
+                if deadline > started + Duration::from_millis(50) {
+                    self.check_bus()?;
+                }
+                return Ok(self.rx.pop_front());
+            }
+        }
+    }
+
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+
+    fn close(&mut self) -> Result<()> {
+        if std::mem::take(&mut self.open) {
+            self.command(Command::Close)?;
+        }
+        Ok(())
+    }
+}
+
+impl<P: SerialIo> Drop for SlcanLink<P> {
+    /// Whatever ended the command, the channel is closed: an adapter left open keeps
+    /// acknowledging frames on the bus with nobody reading them.
+    fn drop(&mut self) {
+        if self.open {
+            let _ = self.write(&Command::Close.encode());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io;
+
+    /// A serial port that plays an adapter from a script: each write may be answered with
+    /// bytes that become readable at once.
+    type Script = Box<dyn FnMut(&[u8]) -> Vec<u8>>;
+
+    struct Adapter {
+        written: Vec<u8>,
+        readable: VecDeque<u8>,
+        answer: Script,
+    }
+
+    impl Adapter {
+        fn new(answer: impl FnMut(&[u8]) -> Vec<u8> + 'static) -> Adapter {
+            Adapter { written: Vec::new(), readable: VecDeque::new(), answer: Box::new(answer) }
+        }
+    }
+
+    impl SerialIo for Adapter {
+        fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+            self.written.extend_from_slice(bytes);
+            let reply = (self.answer)(bytes);
+            self.readable.extend(reply);
+            Ok(())
+        }
+        fn read_some(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
+            if self.readable.is_empty() {
+                // As a real port: nothing comes, so the wait runs to its deadline.
+                std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
+                return Ok(0);
+            }
+            let n = buf.len().min(self.readable.len());
+            for b in buf.iter_mut().take(n) {
+                *b = self.readable.pop_front().unwrap();
+            }
+            Ok(n)
+        }
+        fn discard_input(&mut self) -> io::Result<()> {
+            self.readable.clear();
+            Ok(())
+        }
+    }
+
+    /// A well-behaved adapter: CR to commands, `z` to frames, one SDO answer to each request.
+    fn good(cmd: &[u8]) -> Vec<u8> {
+        match cmd.first() {
+            Some(b't') if cmd.starts_with(b"t601") => b"z\rt581843001000FB000000\r".to_vec(),
+            Some(b't') => b"z\r".to_vec(),
+            Some(b'F') => b"F00\r".to_vec(),
+            Some(b'\r') => b"\x07\x07\x07".to_vec(),
+            _ => b"\r".to_vec(),
+        }
+    }
+
+    #[test]
+    fn open_sets_the_rate_and_opens_then_frames_flow() {
+        let mut link = SlcanLink::open(Adapter::new(good), "slcan:test".into(), 500).unwrap();
+        assert_eq!(link.port.written, b"\r\r\rC\rS6\rO\r");
+        link.send(&Frame::new(0x601, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0])).unwrap();
+        let got = link.recv(Instant::now() + Duration::from_millis(100)).unwrap().unwrap();
+        assert_eq!(got, Frame::new(0x581, &[0x43, 0x00, 0x10, 0x00, 0xFB, 0, 0, 0]));
+        link.close().unwrap();
+        assert!(link.port.written.ends_with(b"C\r"));
+    }
+
+    #[test]
+    fn dropped_without_close_the_channel_is_closed() {
+        let written = std::rc::Rc::new(std::cell::RefCell::new(Vec::new()));
+        let w = written.clone();
+        let link = SlcanLink::open(
+            Adapter::new(move |c| {
+                w.borrow_mut().extend_from_slice(c);
+                good(c)
+            }),
+            "slcan:test".into(),
+            125,
+        )
+        .unwrap();
+        drop(link);
+        assert!(written.borrow().ends_with(b"O\rC\r"), "{:?}", String::from_utf8_lossy(&written.borrow()));
+    }
+
+    /// An acknowledge of an earlier frame and the command's own answer in one read.
+    #[test]
+    fn an_answer_behind_an_acknowledge_is_not_lost() {
+        let mut link = SlcanLink::open(
+            Adapter::new(|c| if c == b"C\r" { b"z\r\r".to_vec() } else { good(c) }),
+            "slcan:test".into(),
+            500,
+        )
+        .unwrap();
+        link.close().unwrap();
+    }
+
+    #[test]
+    fn a_rate_slcan_lacks_is_a_usage_error() {
+        let e = SlcanLink::open(Adapter::new(good), "slcan:test".into(), 83).err().unwrap();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("10k 20k 50k 100k 125k 250k 500k 800k 1000k"), "{e}");
+    }
+
+    #[test]
+    fn an_adapter_that_refuses_to_open_is_a_link_failure() {
+        let e =
+            SlcanLink::open(Adapter::new(|c| if c == b"O\r" { vec![0x07] } else { good(c) }), "slcan:test".into(), 500)
+                .err()
+                .unwrap();
+        assert_eq!(e.exit_code(), 5, "{e}");
+        assert!(e.to_string().contains("refused to open the channel"), "{e}");
+    }
+
+    #[test]
+    fn a_silent_port_is_a_timeout_not_a_hang() {
+        let e = SlcanLink::open(Adapter::new(|_| Vec::new()), "slcan:test".into(), 500).err().unwrap();
+        assert_eq!(e.exit_code(), 3, "{e}");
+        assert!(e.to_string().contains("did not answer"), "{e}");
+    }
+
+    #[test]
+    fn a_refused_frame_and_a_bus_error_are_link_failures() {
+        let mut link = SlcanLink::open(
+            Adapter::new(|c| match c.first() {
+                Some(b't') => vec![0x07],
+                Some(b'F') => b"F80\r".to_vec(),
+                _ => good(c),
+            }),
+            "slcan:test".into(),
+            500,
+        )
+        .unwrap();
+        let e = link.send(&Frame::new(0x000, &[1, 0])).unwrap_err();
+        assert_eq!(e.exit_code(), 5);
+        assert!(e.to_string().contains("refused to send 000 (bus error)"), "{e}");
+        let e = link.recv(Instant::now() + Duration::from_millis(60)).unwrap_err();
+        assert!(e.to_string().contains("bus error") && e.to_string().contains("termination"), "{e}");
+    }
+
+    #[test]
+    fn garbage_and_extended_frames_are_counted_not_delivered() {
+        let mut link = SlcanLink::open(
+            Adapter::new(|c| match c.first() {
+                Some(b't') => b"z\rT123456780\rgarbage\rt70517F\r".to_vec(),
+                _ => good(c),
+            }),
+            "slcan:test".into(),
+            500,
+        )
+        .unwrap();
+        link.send(&Frame::new(0x000, &[1, 0])).unwrap();
+        let got = link.recv(Instant::now() + Duration::from_millis(10)).unwrap();
+        assert_eq!(got, Some(Frame::new(0x705, &[0x7F])));
+        assert_eq!((link.garbled, link.extended), (1, 1));
+    }
+}
