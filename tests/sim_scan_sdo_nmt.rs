@@ -69,7 +69,7 @@ fn lss_activate_switches_the_bit_rate() {
     // Configured, not yet active: everything still answers.
     assert_eq!(sim.run(&["scan", "--format", "json"]).ok().json()["nodes"].as_array().unwrap().len(), 4);
     let r = sim.run(&["lss", "activate", "--identity", io, "--delay", "5"]).ok();
-    assert!(r.stdout.contains("must now run at the new rate too"), "{}", r.stdout);
+    assert!(r.stdout.contains("sim switched with them, and they are back in LSS waiting state"), "{}", r.stdout);
     // The bus (and this master) followed the I/O module to 250k: the others are left behind.
     let nodes = sim.run(&["scan", "--format", "json"]).ok().json()["nodes"].clone();
     assert_eq!(nodes.as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect::<Vec<_>>(), [10]);

@@ -319,6 +319,10 @@ impl<L: FrameLink> Bus for Master<L> {
         self.send(frame)
     }
 
+    fn follows_bit_rate_switch(&self) -> bool {
+        self.link.follows_bit_rate_switch()
+    }
+
     fn sees_traffic(&self) -> bool {
         true
     }

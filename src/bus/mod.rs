@@ -38,6 +38,11 @@ pub trait FrameLink {
     fn close(&mut self) -> Result<()> {
         Ok(())
     }
+    /// Whether this link switches its own bit rate when the devices do (CiA 305 "activate
+    /// bit timing"): the simulated bus does; a CAN interface must be switched by its owner.
+    fn follows_bit_rate_switch(&self) -> bool {
+        false
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -134,6 +139,11 @@ pub trait Bus {
     /// Whether this link shows the bus's own traffic (heartbeats, boot-ups, PDOs). An EPOS2
     /// answers commands only, so frames must be asked for with `request_frame`.
     fn sees_traffic(&self) -> bool;
+
+    /// Whether the link itself follows an LSS bit-rate switch (see `FrameLink`).
+    fn follows_bit_rate_switch(&self) -> bool {
+        false
+    }
 
     /// The next frame seen on the bus, or `None` at the deadline.
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>>;

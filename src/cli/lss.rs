@@ -382,13 +382,28 @@ fn activate(ctx: &Ctx, m: &mut LssMaster, a: &ActivateArgs) -> anyhow::Result<()
     m.send(Request::ActivateBitTiming { delay_ms: a.delay })?;
     // CiA 305: the devices wait the delay, switch, and wait as long again before talking.
     std::thread::sleep(Duration::from_millis(2 * a.delay as u64));
-    let msg = format!(
-        "configured bit rates activated on {}; {} must now run at the new rate too",
-        a.target.identity.map_or("all devices in configuration".to_string(), |i| i.to_string()),
-        m.bus().describe()
-    );
+    let who = a.target.identity.map_or("all devices in configuration".to_string(), |i| i.to_string());
+    let bus = m.bus().describe();
+    // The devices are still in configuration state; only a link at the new rate can send
+    // them back to waiting.
+    let followed = m.bus().follows_bit_rate_switch();
+    let msg = if followed {
+        m.leave()?;
+        format!(
+            "configured bit rates activated on {who}; {bus} switched with them, and they are back in LSS waiting state"
+        )
+    } else {
+        format!(
+            "configured bit rates activated on {who}. Switch {bus} to the new rate too (e.g. sudo ip link set can0 \
+             down && sudo ip link set can0 up type can bitrate 250000); until an LSS command reaches them at the new \
+             rate the devices stay in LSS configuration state (every `canctl lss` command ends by sending them \
+             back to waiting)"
+        )
+    };
     match ctx.out.format {
-        Format::Json => ctx.out.json(&json!({ "command": "activate", "delay_ms": a.delay }))?,
+        Format::Json => {
+            ctx.out.json(&json!({ "command": "activate", "delay_ms": a.delay, "bus_followed": followed }))?
+        }
         _ => ctx.out.print(&msg)?,
     }
     Ok(())

@@ -298,22 +298,7 @@ struct WriteTarget {
     verify: bool,
 }
 
-/// A value beyond the dictionary's limits is refused before it is sent.
-pub fn check_range(entry: &crate::od::Entry, bytes: &[u8]) -> Result<(), Error> {
-    let Some((lo, hi)) = entry.range else { return Ok(()) };
-    let v = match entry.dtype.decode(bytes) {
-        Some(Value::Uint(u)) => u as i128,
-        Some(Value::Int(i)) => i as i128,
-        _ => return Ok(()),
-    };
-    if v < lo || v > hi {
-        return Err(Error::Usage(format!(
-            "{v} is outside the range of {}: use {lo} to {hi} (from the dictionary)",
-            entry.addr
-        )));
-    }
-    Ok(())
-}
+use crate::ops::check_range;
 
 fn shown(dtype: DataType, bytes: &[u8]) -> String {
     dtype.decode(bytes).map_or_else(|| hex(bytes), |v: Value| v.to_string())

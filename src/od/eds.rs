@@ -246,7 +246,7 @@ fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
             let (lo, hi) = dtype.int_range().expect("integer type");
             let v = signed_from_hex(v, t, dtype);
             if v < lo || v > hi {
-                return Err(format!("{t} is out of range for {dtype} ({lo}..={hi})"));
+                return Err(format!("{t} is out of range for {dtype}: use {lo} to {hi}"));
             }
             v.to_le_bytes()[..dtype.size().unwrap()].to_vec()
         }

@@ -53,7 +53,7 @@ pub fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
     };
     if v < lo || v > hi {
         return Err(Error::Usage(format!(
-            "{v} is outside the range of {} ({lo}..={hi}, from the dictionary)",
+            "{v} is outside the range of {}: use {lo} to {hi} (from the dictionary)",
             entry.addr
         )));
     }

@@ -478,6 +478,10 @@ impl FrameLink for SimLink {
         }
     }
 
+    fn follows_bit_rate_switch(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> String {
         "sim".into()
     }

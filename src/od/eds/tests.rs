@@ -60,7 +60,10 @@ fn broken_files_are_refused_with_file_and_line() {
         ("broken-section.eds", "broken-section.eds:6: section header '[1001' has no closing ]"),
         ("broken-line.eds", "broken-line.eds:3: expected KEY=VALUE or [SECTION], found 'DataType 0x0007'"),
         ("broken-access.eds", "broken-access.eds:4: AccessType 'readwrite' is not ro, wo, rw, rwr, rww or const"),
-        ("broken-default.eds", "broken-default.eds:5: DefaultValue of 0x1001:0: 300 is out of range for u8 (0..=255)"),
+        (
+            "broken-default.eds",
+            "broken-default.eds:5: DefaultValue of 0x1001:0: 300 is out of range for u8: use 0 to 255",
+        ),
         (
             "broken-record.eds",
             "broken-record.eds:1: Identity object (1018) is an array or record without any [1018subN] section",
