@@ -229,7 +229,10 @@ fn report(
                 let which = match configuring.one {
                     Some((id, None)) => format!(": {id}, no node-id"),
                     Some((id, Some(n))) => format!(": {id}, node-id {n}"),
-                    None => " (several answered at once, so their identities cannot be told apart)".to_string(),
+                    None if configuring.count > 1 => {
+                        " (several answered at once, so their identities cannot be told apart)".to_string()
+                    }
+                    None => " (not every identity inquiry was answered, so its identity is incomplete)".to_string(),
                 };
                 ctx.out.print(&format!(
                     "{} device(s) waiting in LSS configuration state{which} (canctl lss set-id gives a node-id; \
