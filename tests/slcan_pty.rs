@@ -1,6 +1,8 @@
 //! The slcan link through a real pseudo-terminal, against the simulator's adapter side with
 //! the demo devices behind it: the library alone, no command line.
 
+mod common;
+
 use canctl::bus::{Bus, Master, SdoOptions};
 use canctl::canopen::ObjAddr;
 use canctl::epos2::transport::SerialIo;
@@ -68,4 +70,33 @@ fn a_host_that_left_the_channel_open_is_set_up_again() {
     let mut bus = master(port(&path), &path, 500);
     let opts = SdoOptions::new(Duration::from_secs(2));
     assert_eq!(bus.sdo_upload(5, ObjAddr::new(0x1018, 1), &opts).unwrap(), 0x40u32.to_le_bytes());
+}
+
+/// The whole command line over `canctl sim --slcan`: every command as over SocketCAN.
+#[test]
+fn commands_over_the_simulated_adapter() {
+    let sim = common::Sim::new();
+    let dev = common::DeviceSide::start(&sim, "--slcan", &[]);
+    assert!(dev.uri.starts_with("slcan:/dev/"), "{}", dev.uri);
+    let scan = dev.run(&["scan", "--format", "json"]).ok().json();
+    let nodes: Vec<u64> = scan["nodes"].as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect();
+    assert_eq!(nodes, [1, 5, 10, 32], "{scan}");
+    assert_eq!(scan["lss_unconfigured"], 3, "{scan}");
+    assert_eq!(dev.run(&["sdo", "read", "10", "1008"]).ok().stdout.trim(), "CAN-2057C");
+    dev.run(&["sdo", "write", "5", "1017", "150", "--verify"]).ok();
+    let assigned = dev.run(&["lss", "assign", "--start", "20", "--format", "json"]).ok().json();
+    assert_eq!(assigned["assigned"].as_array().unwrap().len(), 3, "{assigned}");
+    let nmt = dev.run(&["nmt", "reset", "20"]).ok();
+    assert!(nmt.stdout.contains("node 20"), "{}", nmt.stdout);
+}
+
+/// An adapter set to another rate than the bus hears nothing: exit 3, not a wrong answer.
+#[test]
+fn a_wrong_bit_rate_in_the_address_is_no_answer() {
+    let sim = common::Sim::new();
+    let dev = common::DeviceSide::start(&sim, "--slcan", &[]);
+    let mut c = std::process::Command::new(common::canctl_bin());
+    c.env_remove("CANCTL_BUS").args(["--bus", &format!("{}@125k", dev.uri), "--timeout", "200ms"]);
+    let r = common::finish(c.args(["sdo", "read", "1", "1000"]).output().unwrap());
+    assert_eq!(r.code, 3, "{}", r.stderr);
 }

@@ -18,7 +18,9 @@ use std::time::Duration;
 /// Run the simulated network on a CAN interface or behind a serial link, or manage its state
 ///
 /// With --socketcan IFACE, the devices answer on that interface (a vcan interface makes a
-/// test bus for provisioning scripts). With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
+/// test bus for provisioning scripts). With --slcan, creates a pseudo-terminal, prints its
+/// path and acts there as a serial-line CAN adapter with the devices on its bus (use
+/// --bus slcan:/dev/pts/N, or attach the kernel's slcand to it). With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
 /// and serves it as a maxon EPOS2 (node 1 of the sim network) until stopped: commands for
 /// node 0 or 1 run on the EPOS2's own dictionary, the others go on to the simulated CAN bus
 /// as SDO, NMT and LSS frames. The network's state is saved after every command.
@@ -30,14 +32,18 @@ use std::time::Duration;
   canctl sim --epos2-rs232 &               # prints /dev/pts/N
   canctl --bus epos2-rs232:/dev/pts/N scan
   canctl sim --epos2-usb --baud 1000000 --fault crc@2
+  canctl sim --slcan &                     # prints /dev/pts/N: --bus slcan:/dev/pts/N
   canctl sim reset"
 )]
 pub struct SimArgs {
     #[command(subcommand)]
     pub command: Option<SimCommand>,
     /// Put the devices on this CAN interface (vcan0, can0) and answer there
-    #[arg(long, value_name = "IFACE", conflicts_with_all = ["epos2_rs232", "epos2_usb"])]
+    #[arg(long, value_name = "IFACE", conflicts_with_all = ["epos2_rs232", "epos2_usb", "slcan"])]
     pub socketcan: Option<String>,
+    /// Serve the devices behind a simulated slcan (Lawicel) adapter on a pseudo-terminal
+    #[arg(long, conflicts_with_all = ["epos2_rs232", "epos2_usb"])]
+    pub slcan: bool,
     /// Serve an EPOS2 speaking the RS232 protocol (with the 'O'/'F' handshake)
     #[arg(long, conflicts_with = "epos2_usb")]
     pub epos2_rs232: bool,
@@ -168,11 +174,15 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
         crate::sim::bridge::run(sim, &mut can, global.verbose > 0)?;
         return Ok(());
     }
+    if args.slcan {
+        return serve_slcan(ctx, global, args, &path);
+    }
     let framing = match (args.epos2_rs232, args.epos2_usb) {
         (true, _) => Framing::Rs232,
         (_, true) => Framing::Usb,
         _ => {
-            let msg = "say what to serve: --socketcan IFACE, --epos2-rs232 or --epos2-usb (or `canctl sim reset`)";
+            let msg =
+                "say what to serve: --socketcan IFACE, --slcan, --epos2-rs232 or --epos2-usb (or `canctl sim reset`)";
             return Err(Error::Usage(msg.into()).into());
         }
     };
@@ -187,5 +197,30 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
         ));
         Ok(())
     })?;
+    Ok(())
+}
+
+/// The devices behind a simulated slcan adapter: the adapter is a frame link, bridged to
+/// the sim network as a CAN interface is.
+fn serve_slcan(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs, path: &std::path::Path) -> anyhow::Result<()> {
+    use crate::sim::epos2_serve::FaultKind;
+    let adapter_faults = [FaultKind::Nack, FaultKind::Crc, FaultKind::Garbage, FaultKind::Drop, FaultKind::Mute];
+    if let Some(f) = args.fault.iter().find(|f| !adapter_faults.contains(&f.kind)) {
+        let msg = format!(
+            "the slcan adapter takes the faults nack (a bell), crc, garbage, drop and mute, not {:?}; device faults \
+             go to `canctl sim reset --fault`",
+            f.kind
+        );
+        return Err(Error::Usage(msg).into());
+    }
+    let sim = SimLink::open(StateFile::lock(path)?)?;
+    let rate = sim.network().bit_rate();
+    let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
+    let mut adapter = crate::sim::slcan_serve::SlcanAdapter::create(kbit, args.fault.clone())?;
+    let pty = adapter.path().to_string();
+    ctx.out.print(&pty)?;
+    let rate = crate::canopen::lss::bit_rate_name(rate);
+    ctx.out.note(&format!("the sim network's devices are behind an slcan adapter on {pty} ({rate}): use --bus slcan:{pty}@{rate}; stop with Ctrl-C"));
+    crate::sim::bridge::run(sim, &mut adapter, global.verbose > 0)?;
     Ok(())
 }

@@ -9,7 +9,7 @@ pub use crate::epos2::Framing;
 use crate::error::{Error, Result};
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::io::Write;
-use std::os::fd::{AsFd, OwnedFd};
+use std::os::fd::AsFd;
 use std::str::FromStr;
 use std::time::{Duration, Instant};
 
@@ -164,22 +164,9 @@ impl Wire {
     }
 }
 
-/// Create the pty; returns the master and the slave's path. The slave stays open here so
-/// that the pty lives on between clients.
-fn open_pty() -> Result<(OwnedFd, OwnedFd, String)> {
-    use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
-    let pty =
-        nix::pty::openpty(None, None).map_err(|e| Error::Link(format!("cannot create a pseudo-terminal: {e}")))?;
-    let mut t = tcgetattr(&pty.slave).map_err(|e| Error::Link(format!("pty termios: {e}")))?;
-    cfmakeraw(&mut t);
-    tcsetattr(&pty.slave, SetArg::TCSANOW, &t).map_err(|e| Error::Link(format!("pty termios: {e}")))?;
-    let path = nix::unistd::ttyname(&pty.slave).map_err(|e| Error::Link(format!("pty name: {e}")))?;
-    Ok((pty.master, pty.slave, path.display().to_string()))
-}
-
 /// Serve until killed. `ready` receives the pty path once clients can open it.
 pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&str) -> Result<()>) -> Result<()> {
-    let (master, _slave, path) = open_pty()?;
+    let (master, _slave, path) = super::pty::open_raw()?;
     let byte_time = opts.baud.map(|b| Duration::from_secs_f64(10.0 / b as f64));
     let mut wire =
         Wire { master: std::fs::File::from(master), byte_time, clock: Instant::now(), inbox: Vec::new(), pos: 0 };
