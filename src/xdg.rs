@@ -1,13 +1,25 @@
-//! Where canctl keeps files, by the XDG base directory convention: `$VAR/canctl`, else
-//! `$HOME/<default>/canctl` (`~/.config`, `~/.cache`, `~/.local/state`).
+//! Where canctl keeps its files, by the platform's convention: the XDG base directories on
+//! Linux (`$XDG_CONFIG_HOME/canctl`, else `~/.config/canctl`, and likewise for the cache
+//! and state), the Library folders on macOS, the AppData folders on Windows.
 
 use std::path::PathBuf;
 
-/// `canctl`'s directory under `$var`, else under `$HOME/home_default`; None without either.
-pub fn canctl_dir(var: &str, home_default: &str) -> Option<PathBuf> {
-    let base = std::env::var_os(var)
-        .filter(|v| !v.is_empty())
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(home_default)))?;
-    Some(base.join("canctl"))
+fn project() -> Option<directories::ProjectDirs> {
+    directories::ProjectDirs::from("", "", "canctl")
+}
+
+/// Settings: `config.toml` lives here.
+pub fn config_dir() -> Option<PathBuf> {
+    project().map(|p| p.config_dir().to_path_buf())
+}
+
+/// What may be thrown away: the scan cache.
+pub fn cache_dir() -> Option<PathBuf> {
+    project().map(|p| p.cache_dir().to_path_buf())
+}
+
+/// What must outlive a run but is no setting: the simulated network. XDG has a state
+/// directory; elsewhere it is the local data directory.
+pub fn state_dir() -> Option<PathBuf> {
+    project().map(|p| p.state_dir().unwrap_or_else(|| p.data_local_dir()).to_path_buf())
 }

@@ -102,11 +102,24 @@ impl<L: FrameLink> Master<L> {
         for node in nodes {
             self.start_next(node, &mut queues, &mut active, timeout)?;
         }
+        // A node that has not answered at all is given up only once every node has been
+        // quiet for `timeout`: while others still answer, the bus (or the requests queued on
+        // it) may be what holds its answer back. This is what lets a scan's window count
+        // from the last answer, not from when 127 probes were queued.
+        let mut quiet_from = self.link.now();
+        let deadline_of = |a: &Active, quiet_from: Instant| {
+            if a.heard {
+                a.deadline()
+            } else {
+                a.deadline().max(quiet_from + timeout)
+            }
+        };
         while !active.is_empty() {
             // Checked on every turn, not only when the link is quiet: on a busy bus frames
             // keep coming and a transfer must still end on time.
             let now = self.link.now();
-            let expired: Vec<u8> = active.iter().filter(|(_, a)| a.deadline() <= now).map(|(n, _)| *n).collect();
+            let expired: Vec<u8> =
+                active.iter().filter(|(_, a)| deadline_of(a, quiet_from) <= now).map(|(n, _)| *n).collect();
             for node in expired {
                 let a = active.remove(&node).expect("active");
                 let addr = a.client.addr();
@@ -118,7 +131,7 @@ impl<L: FrameLink> Master<L> {
                 progress(finished);
                 self.start_next(node, &mut queues, &mut active, timeout)?;
             }
-            let Some(deadline) = active.values().map(Active::deadline).min() else { break };
+            let Some(deadline) = active.values().map(|a| deadline_of(a, quiet_from)).min() else { break };
             let Some(f) = self.recv(deadline)? else { continue };
             let node = f.id().wrapping_sub(0x580);
             if f.is_remote() || !(1..=127).contains(&node) {
@@ -136,6 +149,7 @@ impl<L: FrameLink> Master<L> {
                 Ok(step) => {
                     if step.progress {
                         let now = self.link.now();
+                        quiet_from = now;
                         a.idle_deadline = now + timeout;
                         // The size may have become known: the budget follows it.
                         a.total_deadline = a.started + a.client.time_budget(timeout);

@@ -3,6 +3,7 @@
 pub mod lss;
 pub mod master;
 pub mod observer;
+#[cfg(target_os = "linux")]
 pub mod socketcan;
 pub mod uri;
 

@@ -182,10 +182,17 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             // Messages name the demo network, not its state file.
             Ok(Box::new(Master::new(link, BusAddr::Sim { state: None }.to_string(), opts.trace)))
         }
+        #[cfg(target_os = "linux")]
         BusAddr::SocketCan { iface } => {
             let link = super::socketcan::SocketCanLink::open(iface)?;
             Ok(Box::new(Master::new(link, addr.to_string(), opts.trace)))
         }
+        #[cfg(not(target_os = "linux"))]
+        BusAddr::SocketCan { .. } => Err(Error::Usage(format!(
+            "{addr}: SocketCAN is Linux's; on this OS reach the bus through a serial-line adapter \
+             (slcan:PORT, e.g. slcan:COM5 or slcan:/dev/tty.usbmodem1101) or an EPOS2 (epos2-usb:PORT), \
+             or try --bus sim"
+        ))),
         BusAddr::Epos2 { framing, port, baud } => {
             let io = open_serial(port, *baud, opts.timeout)?;
             let link = SerialTransport::new(io, *framing, addr.to_string(), opts.timeout, opts.trace);
@@ -201,8 +208,14 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
     }
 }
 
+#[cfg(unix)]
+type NativePort = serialport::TTYPort;
+#[cfg(windows)]
+type NativePort = serialport::COMPort;
+
 /// 8N1 at `baud`, no flow control (seed 000 §5.1.5).
-fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<serialport::TTYPort> {
+fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<NativePort> {
+    #[allow(unused_mut)]
     let mut io = serialport::new(port, baud)
         .data_bits(serialport::DataBits::Eight)
         .parity(serialport::Parity::None)
@@ -213,6 +226,7 @@ fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<serialport::T
         .map_err(|e| Error::Link(format!("cannot open {port}: {e}")))?;
     // A pseudo-terminal (the simulator's device side) is opened again by every command;
     // the exclusive flag would outlive this process and lock the next one out.
+    #[cfg(unix)]
     if port.starts_with("/dev/pts/") {
         io.set_exclusive(false).map_err(|e| Error::Link(format!("{port}: {e}")))?;
     }

@@ -13,7 +13,7 @@ pub struct SeenNode {
 }
 
 fn dir() -> Option<PathBuf> {
-    crate::xdg::canctl_dir("XDG_CACHE_HOME", ".cache")
+    crate::xdg::cache_dir()
 }
 
 /// The network a bus URI reaches, so `can0` and `socketcan:can0` share what was seen, and

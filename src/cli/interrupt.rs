@@ -1,25 +1,26 @@
-//! SIGINT and SIGTERM as a request to stop: a procedure that must leave the bus tidy
-//! (LSS devices back in waiting state) checks `requested()` between steps, finishes
+//! Ctrl-C and termination (SIGINT and SIGTERM on Unix; Ctrl-C, Ctrl-Break and console close
+//! on Windows) as a request to stop: a procedure that must leave the bus tidy (LSS devices
+//! back in waiting state, a PDO mapping put back) checks the flag between steps, finishes
 //! cleanly and exits 130 after a partial report.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 static REQUESTED: AtomicBool = AtomicBool::new(false);
 
-extern "C" fn on_signal(_: nix::libc::c_int) {
-    REQUESTED.store(true, Ordering::SeqCst);
-}
-
-/// From now on Ctrl-C and SIGTERM set the flag instead of ending the process.
+/// From now on an interruption sets the flag instead of ending the process.
 pub fn catch() {
-    use nix::sys::signal::{sigaction, SaFlags, SigAction, SigHandler, SigSet, Signal};
-    let action = SigAction::new(SigHandler::Handler(on_signal), SaFlags::empty(), SigSet::empty());
-    for signal in [Signal::SIGINT, Signal::SIGTERM] {
-        // SAFETY: the handler only stores to an atomic.
-        let _ = unsafe { sigaction(signal, &action) };
-    }
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // Only fails when a handler is already set, which `ONCE` rules out.
+        let _ = ctrlc::set_handler(|| REQUESTED.store(true, Ordering::SeqCst));
+    });
 }
 
 pub fn requested() -> bool {
     REQUESTED.load(Ordering::SeqCst)
+}
+
+/// The flag itself, for library procedures that poll it.
+pub fn flag() -> &'static AtomicBool {
+    &REQUESTED
 }

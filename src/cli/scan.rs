@@ -12,8 +12,8 @@ use std::time::Duration;
 
 /// Find every node on the bus
 ///
-/// Sends an SDO read of 0x1000 (device type) to all 127 node-ids at once and waits one
-/// quiet window for answers; then reads identity (0x1018:1..4) and name (0x1008) from each
+/// Sends an SDO read of 0x1000 (device type) to all 127 node-ids at once and waits until
+/// no answer has come for one window (slow devices answer up to 80 ms late); then reads identity (0x1018:1..4) and name (0x1008) from each
 /// node that answered, all nodes in parallel. The NMT state comes from heartbeats seen
 /// meanwhile; a node without heartbeat shows none (scan never sends node-guarding requests).
 /// Last, it counts the devices without a node-id that answer LSS "identify non-configured
@@ -25,8 +25,8 @@ use std::time::Duration;
   canctl --bus can0 scan --window 200ms --format json > nodes.json
   canctl --bus sim scan --format csv | cut -d, -f1,7")]
 pub struct ScanArgs {
-    /// How long to wait for answers to the probes
-    #[arg(long, value_name = "DUR", default_value = "50ms", value_parser = super::parse_duration)]
+    /// How long the bus must stay quiet after the last answer to the probes
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
 }
 

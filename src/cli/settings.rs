@@ -65,7 +65,7 @@ pub struct FileSettings {
 }
 
 fn user_file() -> Option<PathBuf> {
-    Some(crate::xdg::canctl_dir("XDG_CONFIG_HOME", ".config")?.join("config.toml"))
+    Some(crate::xdg::config_dir()?.join("config.toml"))
 }
 
 fn project_file() -> Option<PathBuf> {

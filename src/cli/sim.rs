@@ -3,12 +3,12 @@
 
 use super::{Ctx, GlobalArgs};
 use crate::bus::BusUri;
+use crate::epos2::Framing;
 use crate::error::Error;
 use crate::output::Format;
-use crate::sim::epos2_device::Epos2Device;
-use crate::sim::epos2_serve::{self, Fault, Framing, ServeOptions};
+use crate::sim::serial_fault::Fault;
 use crate::sim::state::{default_path, StateFile};
-use crate::sim::{FaultSpec, Profile, SimConfig, SimLink, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
+use crate::sim::{FaultSpec, Profile, SimConfig, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
 use clap::builder::TypedValueParser;
 use clap::{Args, Subcommand};
 use serde_json::json;
@@ -167,12 +167,7 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
         };
     }
     if let Some(iface) = &args.socketcan {
-        let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
-        // The interface is a bus with its own timing: the devices only answer late.
-        let sim = SimLink::open(StateFile::lock(&path)?)?.without_bus_timing();
-        ctx.out.note(&format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C"));
-        crate::sim::bridge::run(sim, &mut can, global.verbose > 0)?;
-        return Ok(());
+        return serve_socketcan(ctx, global, iface, &path);
     }
     if args.slcan {
         return serve_slcan(ctx, global, args, &path);
@@ -186,8 +181,36 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
             return Err(Error::Usage(msg.into()).into());
         }
     };
-    let link = SimLink::open(StateFile::lock(&path)?)?;
-    let device = Epos2Device::new(link, args.can_timeout, global.verbose > 0);
+    serve_epos2(ctx, global, args, framing, &path)
+}
+
+#[cfg(target_os = "linux")]
+fn serve_socketcan(ctx: &Ctx, global: &GlobalArgs, iface: &str, path: &std::path::Path) -> anyhow::Result<()> {
+    let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
+    // The interface is a bus with its own timing: the devices only answer late.
+    let sim = crate::sim::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
+    ctx.out.note(&format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C"));
+    crate::sim::bridge::run(sim, &mut can, global.verbose > 0)?;
+    Ok(())
+}
+
+#[cfg(not(target_os = "linux"))]
+fn serve_socketcan(_: &Ctx, _: &GlobalArgs, _: &str, _: &std::path::Path) -> anyhow::Result<()> {
+    Err(Error::Usage("SocketCAN is Linux's: `sim --socketcan` runs on Linux only; try `sim --slcan`".into()).into())
+}
+
+/// The simulated EPOS2 on a pseudo-terminal.
+#[cfg(unix)]
+fn serve_epos2(
+    ctx: &Ctx,
+    global: &GlobalArgs,
+    args: &SimArgs,
+    framing: Framing,
+    path: &std::path::Path,
+) -> anyhow::Result<()> {
+    use crate::sim::epos2_serve::{self, ServeOptions};
+    let link = crate::sim::SimLink::open(StateFile::lock(path)?)?;
+    let device = crate::sim::epos2_device::Epos2Device::new(link, args.can_timeout, global.verbose > 0);
     let opts = ServeOptions { framing, baud: args.baud, faults: args.fault.clone() };
     epos2_serve::serve(device, &opts, |pty| {
         ctx.out.print(pty).map_err(|e| Error::Link(format!("cannot print the pty path: {e}")))?;
@@ -200,10 +223,30 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
     Ok(())
 }
 
+#[cfg(not(unix))]
+fn serve_epos2(_: &Ctx, _: &GlobalArgs, _: &SimArgs, _: Framing, _: &std::path::Path) -> anyhow::Result<()> {
+    Err(no_pty().into())
+}
+
+#[cfg(not(unix))]
+fn no_pty() -> Error {
+    Error::Usage(
+        "the simulated serial devices (--epos2-rs232, --epos2-usb, --slcan) sit on a pseudo-terminal, which \
+         this OS lacks; use --bus sim directly, or run them on Linux or macOS"
+            .into(),
+    )
+}
+
+#[cfg(not(unix))]
+fn serve_slcan(_: &Ctx, _: &GlobalArgs, _: &SimArgs, _: &std::path::Path) -> anyhow::Result<()> {
+    Err(no_pty().into())
+}
+
 /// The devices behind a simulated slcan adapter: the adapter is a frame link, bridged to
 /// the sim network as a CAN interface is.
+#[cfg(unix)]
 fn serve_slcan(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs, path: &std::path::Path) -> anyhow::Result<()> {
-    use crate::sim::epos2_serve::FaultKind;
+    use crate::sim::serial_fault::FaultKind;
     let adapter_faults = [FaultKind::Nack, FaultKind::Crc, FaultKind::Garbage, FaultKind::Drop, FaultKind::Mute];
     if let Some(f) = args.fault.iter().find(|f| !adapter_faults.contains(&f.kind)) {
         let msg = format!(
@@ -213,7 +256,7 @@ fn serve_slcan(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs, path: &std::path:
         );
         return Err(Error::Usage(msg).into());
     }
-    let sim = SimLink::open(StateFile::lock(path)?)?;
+    let sim = crate::sim::SimLink::open(StateFile::lock(path)?)?;
     let rate = sim.network().bit_rate();
     let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
     let mut adapter = crate::sim::slcan_serve::SlcanAdapter::create(kbit, args.fault.clone())?;

@@ -9,7 +9,6 @@ use crate::output::RecordWriter;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::io::{IsTerminal, Write};
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// Stream a node's transmit PDOs, decoded
@@ -57,20 +56,6 @@ pub struct StreamArgs {
     pub interval: Duration,
 }
 
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
-
-extern "C" fn on_sigint(_: nix::libc::c_int) {
-    INTERRUPTED.store(true, Ordering::SeqCst);
-}
-
-/// Ctrl-C ends the stream (and what it changed is put back) instead of the process.
-fn catch_interrupt() {
-    use nix::sys::signal::{sigaction, SaFlags, SigAction, SigHandler, SigSet, Signal};
-    let action = SigAction::new(SigHandler::Handler(on_sigint), SaFlags::empty(), SigSet::empty());
-    // SAFETY: the handler only stores to an atomic.
-    let _ = unsafe { sigaction(Signal::SIGINT, &action) };
-}
-
 /// `--map`'s objects, by address or name, with their sizes from the dictionary.
 fn remapping(ctx: &Ctx, a: &StreamArgs, tpdo: u16) -> crate::Result<Remap> {
     let mut objects = Vec::new();
@@ -87,12 +72,12 @@ fn remapping(ctx: &Ctx, a: &StreamArgs, tpdo: u16) -> crate::Result<Remap> {
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
-    catch_interrupt();
+    super::interrupt::catch();
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
     let restored = session.restore(bus, a.node, ctx.timeout);
-    let interrupted = INTERRUPTED.load(Ordering::SeqCst);
+    let interrupted = super::interrupt::requested();
     result?;
     restored?;
     if interrupted {
@@ -120,7 +105,7 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
         interval: a.interval,
         timeout: ctx.timeout,
     };
-    let mut stream = Stream::new(bus, a.node, &layouts, opts, &INTERRUPTED);
+    let mut stream = Stream::new(bus, a.node, &layouts, opts, super::interrupt::flag());
     for (n, l) in &layouts {
         let names: Vec<&str> = l.fields.iter().map(|f| f.name.as_str()).collect();
         let how = if stream.polling() {

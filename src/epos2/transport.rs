@@ -29,7 +29,8 @@ pub trait SerialIo {
     fn discard_input(&mut self) -> io::Result<()>;
 }
 
-impl SerialIo for serialport::TTYPort {
+/// Any serial port of the OS: `/dev/tty*` on Unix, `COM*` on Windows.
+impl<P: serialport::SerialPort> SerialIo for P {
     fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
         io::Write::write_all(self, bytes)?;
         io::Write::flush(self)

@@ -4,10 +4,14 @@
 pub mod bridge;
 pub mod device;
 pub mod epos2_device;
+#[cfg(unix)]
 pub mod epos2_serve;
 pub mod faults;
 pub mod profiles;
+#[cfg(unix)]
 pub mod pty;
+pub mod serial_fault;
+#[cfg(unix)]
 pub mod slcan_serve;
 pub mod state;
 pub mod timing;

@@ -2,7 +2,7 @@
 //! CANable or CANUSB would show a host, with the sim devices on its bus. The adapter side
 //! is a `FrameLink`, so `bridge::run` connects it to the devices as it does a CAN interface.
 
-use super::epos2_serve::{Fault, FaultKind};
+use super::serial_fault::{Fault, FaultKind};
 use crate::bus::FrameLink;
 use crate::error::{Error, Result};
 use crate::frame::Frame;

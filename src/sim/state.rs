@@ -29,9 +29,7 @@ pub struct StateFile {
 
 /// `$XDG_STATE_HOME/canctl/sim.json`, else `~/.local/state/canctl/sim.json`.
 pub fn default_path() -> PathBuf {
-    crate::xdg::canctl_dir("XDG_STATE_HOME", ".local/state")
-        .unwrap_or_else(|| std::env::temp_dir().join("canctl"))
-        .join("sim.json")
+    crate::xdg::state_dir().unwrap_or_else(|| std::env::temp_dir().join("canctl")).join("sim.json")
 }
 
 fn link_err(path: &Path, what: &str, e: impl std::fmt::Display) -> Error {
