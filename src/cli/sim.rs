@@ -23,7 +23,9 @@ use std::time::Duration;
 /// --bus slcan:/dev/pts/N, or attach the kernel's slcand to it). With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
 /// and serves it as a maxon EPOS2 (node 1 of the sim network) until stopped: commands for
 /// node 0 or 1 run on the EPOS2's own dictionary, the others go on to the simulated CAN bus
-/// as SDO, NMT and LSS frames. The network's state is saved after every command.
+/// as SDO, NMT and LSS frames. The network's state is saved after every command. The
+/// devices answer as `canctl sim reset` set them up: late by their profile, with their
+/// faults (on a CAN interface, frame timing is the interface's own).
 #[derive(Args, Debug)]
 #[command(
     args_conflicts_with_subcommands = true,
@@ -69,8 +71,8 @@ pub enum SimCommand {
     ///
     /// The sim network keeps node-ids, written and stored values and NMT states between
     /// invocations in a state file ($XDG_STATE_HOME/canctl/sim.json, or the path in
-    /// --bus sim:PATH). This starts it afresh, with the profile, seed and number of devices
-    /// without a node-id given here (kept in the state file, so that every later
+    /// --bus sim:PATH). This starts it afresh, with the profile, bit rate, seed, faults and
+    /// number of devices without a node-id given here (kept in the state file, so that every later
     /// invocation sees the same network).
     ///
     /// Profiles: instant (answers at once, frames take no time: for unit tests), typical
