@@ -112,14 +112,14 @@ fn configuring(answers: &[[u8; 8]]) -> Configuring {
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
-    // Where the bus's traffic is seen, the LSS questions go out with the probes and their
-    // answers come in during the same window.
+    // Where the bus's traffic is seen, "any device without a node-id?" goes out with the
+    // probes and its answers come in during the same window. The inquiries wait until the
+    // probes are answered: a device in configuration state with a node-id would otherwise
+    // queue its SDO answer behind its LSS answers, which lose arbitration to the probes.
     let lss_alongside = bus.sees_traffic();
     if lss_alongside {
         bus.observed().take_lss_answers();
-        for q in LSS_QUESTIONS {
-            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
-        }
+        bus.lss_exchange(&LSS_QUESTIONS[0].encode(), 0, Duration::ZERO, LssWait::Nothing)?;
     }
     let mut found: Vec<Found> = probe(ctx, bus, args.window)?
         .into_iter()
@@ -148,6 +148,11 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
         f.state = states.get(&f.node).copied();
     }
     let answers = if lss_alongside {
+        for q in &LSS_QUESTIONS[1..] {
+            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+        }
+        let end = std::time::Instant::now() + args.window;
+        while bus.recv_frame(end)?.is_some() {}
         bus.observed().take_lss_answers()
     } else {
         let mut answers = Vec::new();

@@ -306,9 +306,6 @@ pub struct SimLink {
     epoch: Instant,
     /// A bridge to a real bus: frames take no time here.
     bus_timing_off: bool,
-    /// The master's frames queued that have not left yet: `close` lets them go, as a
-    /// frame written to a real interface goes out after the program ends.
-    master_queued: usize,
     file: Option<state::StateFile>,
 }
 
@@ -333,7 +330,6 @@ impl SimLink {
             beats_upto: wall_ms(),
             epoch: Instant::now(),
             bus_timing_off: false,
-            master_queued: 0,
             file: None,
         }
     }
@@ -441,7 +437,6 @@ impl SimLink {
         while let Some((end, origin, frame)) = self.bus.pop_done(now) {
             match origin {
                 Origin::Master => {
-                    self.master_queued = self.master_queued.saturating_sub(1);
                     for (ready, i, f) in self.net.deliver(&frame, end) {
                         self.bus.queue(ready, Origin::Device(i), f);
                     }
@@ -460,7 +455,6 @@ impl FrameLink for SimLink {
         self.advance();
         let now = self.now();
         self.bus.queue(now, Origin::Master, *frame);
-        self.master_queued += 1;
         Ok(())
     }
 
