@@ -198,6 +198,9 @@ fn sdo_filters(nodes: impl ExactSizeIterator<Item = u8>) -> Vec<(u16, u16)> {
 
 const EVERYTHING: [(u16, u16); 1] = [(0, 0)];
 
+/// The longest time spent dropping frames left over before an LSS request.
+const DRAIN_LIMIT: Duration = Duration::from_millis(20);
+
 fn check_node(node: u8) -> Result<()> {
     if (1..=127).contains(&node) {
         Ok(())
@@ -313,8 +316,9 @@ impl<L: FrameLink> Master<L> {
         collect: LssWait,
     ) -> Result<Vec<LssAnswer>> {
         // A slow slave's answer to the previous request must not count for this one (the
-        // observer keeps it as a stray).
-        while self.recv(Instant::now())?.is_some() {}
+        // observer keeps it as a stray). Bounded: a babbling device never lets up.
+        let drain_until = Instant::now() + DRAIN_LIMIT;
+        while Instant::now() < drain_until && self.recv(Instant::now())?.is_some() {}
         self.send(&Frame::new(lss::MASTER_COB, request))?;
         let mut answers = Vec::new();
         if collect == LssWait::Nothing {
@@ -326,7 +330,7 @@ impl<L: FrameLink> Master<L> {
         // moves the deadline later: a flood on 0x7E4 cannot keep this waiting.
         let mut deadline = sent + wait;
         while let Some(f) = self.recv(deadline)? {
-            if f.id() != lss::SLAVE_COB || f.is_remote() || f.len() != 8 || f.data()[0] != expect {
+            if f.id() != lss::SLAVE_COB || f.is_remote() || !lss::is_answer(f.data(), expect) {
                 continue;
             }
             let data: [u8; 8] = f.data().try_into().expect("8 bytes");

@@ -2,6 +2,7 @@
 //! share one. Master requests go on 0x7E5, slave answers on 0x7E4; all frames are 8 bytes.
 //! Pure encoding, the fastscan search, and the slave's state machine (for the simulator).
 
+use std::collections::VecDeque;
 use std::fmt;
 use std::time::Duration;
 
@@ -337,6 +338,14 @@ impl Request {
     }
 }
 
+/// Whether `data` (a frame on 0x7E4) is a well-formed slave answer with command specifier
+/// `expect`: 8 bytes, that specifier, and for the answers that carry nothing but it
+/// (0x44, 0x4F, 0x50) the reserved bytes 0, so that a babbling device's counter on 0x7E4
+/// does not pass for a device.
+pub fn is_answer(data: &[u8], expect: u8) -> bool {
+    data.len() == 8 && data[0] == expect && (!matches!(expect, 0x44 | 0x4F | 0x50) || data[1..] == [0; 7])
+}
+
 /// The four selective-switch requests for one device; the answer is 0x44 from it alone.
 pub fn switch_selective(id: &Identity) -> [Request; 4] {
     [0, 1, 2, 3].map(|part| Request::SwitchSelective { part, value: id.part(part) })
@@ -349,15 +358,19 @@ pub const STEP_CEILING: Duration = Duration::from_secs(2);
 /// How many times a search may lengthen its step (or, at a fixed step, retry) before it
 /// gives up.
 pub const MAX_ESCALATIONS: u32 = 4;
+/// How many of the latest answer times the step is learned from.
+const RECENT_ANSWERS: usize = 64;
 
 /// How long fastscan waits for answers: learned from the slaves' own answer times (or
 /// fixed by the user), lengthened when answers turn out to come later than that.
 #[derive(Clone, Debug)]
 pub struct Pace {
     fixed: Option<Duration>,
-    /// The slowest and fastest answer seen so far, timed from its request.
+    /// The slowest answer seen so far, timed from its request.
     slowest: Option<Duration>,
-    fastest: Option<Duration>,
+    /// The latest answer times: the step follows these, so that one answer held up once
+    /// (a busy bus, a busy host) does not slow every later step.
+    recent: VecDeque<Duration>,
     escalations: u32,
     /// The window of the first probe, before anything is known.
     probe_window: Duration,
@@ -371,7 +384,7 @@ impl Pace {
         Pace {
             fixed: None,
             slowest: None,
-            fastest: None,
+            recent: VecDeque::new(),
             escalations: 0,
             probe_window: probe_window.clamp(STEP_FLOOR, STEP_CEILING),
             longest_used: Duration::ZERO,
@@ -392,16 +405,24 @@ impl Pace {
     /// A slave answered `after` its request was sent.
     pub fn observe(&mut self, after: Duration) {
         self.slowest = Some(self.slowest.map_or(after, |s| s.max(after)));
-        self.fastest = Some(self.fastest.map_or(after, |s| s.min(after)));
+        if self.recent.len() == RECENT_ANSWERS {
+            self.recent.pop_front();
+        }
+        self.recent.push_back(after);
+    }
+
+    /// The slowest and fastest of the latest answers.
+    fn recent_range(&self) -> Option<(Duration, Duration)> {
+        Some((*self.recent.iter().max()?, *self.recent.iter().min()?))
     }
 
     /// How long one fastscan step waits for an answer: half as long again as the slowest
-    /// answer seen plus a margin, doubled for each escalation.
+    /// of the latest answers plus a margin, doubled for each escalation.
     pub fn step(&self) -> Duration {
         let base = match self.fixed {
             Some(step) => step,
             None => {
-                let slowest = self.slowest.unwrap_or(self.probe_window);
+                let slowest = self.recent_range().map_or(self.probe_window, |(s, _)| s);
                 (slowest * 3 / 2 + Duration::from_millis(5)).clamp(STEP_FLOOR, STEP_CEILING)
             }
         };
@@ -412,10 +433,7 @@ impl Pace {
     /// spread of the answer times seen and a quarter step more, so that a straggler does
     /// not count for the next request.
     pub fn settle(&self) -> Duration {
-        let spread = match (self.slowest, self.fastest) {
-            (Some(s), Some(f)) => s - f,
-            _ => Duration::ZERO,
-        };
+        let spread = self.recent_range().map_or(Duration::ZERO, |(s, f)| s - f);
         (spread + (self.step() / 4).max(Duration::from_millis(2))).min(self.step())
     }
 
@@ -426,7 +444,7 @@ impl Pace {
     /// The window of the "is anybody still there?" probe before fastscan says nobody is:
     /// several times the slowest answer seen.
     pub fn final_window(&self) -> Duration {
-        let several = self.slowest.map_or(self.probe_window, |s| s * 4);
+        let several = self.recent_range().map_or(self.probe_window, |(s, _)| s * 4);
         several.max(self.step() * 2).clamp(STEP_FLOOR, STEP_CEILING)
     }
 
@@ -611,7 +629,7 @@ impl Fastscan {
     /// after the window are late: they lengthen the step and the request is asked again.
     pub fn on_answers(&mut self, answers: &[(Duration, [u8; 8])]) {
         let FastscanNext::Send(ask) = self.next() else { return };
-        let valid: Vec<Duration> = answers.iter().filter(|(_, d)| d[0] == ask.expect).map(|(t, _)| *t).collect();
+        let valid: Vec<Duration> = answers.iter().filter(|(_, d)| is_answer(d, ask.expect)).map(|(t, _)| *t).collect();
         for t in &valid {
             self.pace.observe(*t);
         }
@@ -1125,6 +1143,19 @@ mod tests {
         assert!(bus.sent < 1000);
     }
 
+    /// One answer held up once (a busy host) lengthens the step for a while, not for ever.
+    #[test]
+    fn the_step_follows_the_latest_answers() {
+        let mut pace = Pace::measured(MS * 500);
+        pace.observe(MS * 170);
+        assert_eq!(pace.step(), MS * 260);
+        for _ in 0..RECENT_ANSWERS {
+            pace.observe(MS * 20);
+        }
+        assert_eq!(pace.step(), MS * 35);
+        assert_eq!(pace.slowest(), Some(MS * 170), "reported as seen");
+    }
+
     /// One answer far later than the probe showed: the bit looks like 1, the part is not
     /// confirmed, and the search goes again over that part only, with a longer step.
     #[test]
@@ -1225,6 +1256,17 @@ mod tests {
         assert!(r.is_err());
         assert!(scan.pace().longest_step() <= STEP_CEILING);
         assert!(bus.sent < 500);
+    }
+
+    #[test]
+    fn only_well_formed_answers_count() {
+        assert!(is_answer(&[0x4F, 0, 0, 0, 0, 0, 0, 0], 0x4F));
+        assert!(!is_answer(&[0x4F, 0, 0, 0, 0, 0, 0], 0x4F), "7 bytes");
+        assert!(!is_answer(&[0x4F, 1, 1, 0, 0, 0, 0, 0], 0x4F), "a babbler's counter");
+        assert!(!is_answer(&[0x50, 0, 0, 0, 0, 0, 0, 0], 0x4F), "another service's answer");
+        assert!(!is_answer(&[0x7F], 0x4F), "a heartbeat-like frame");
+        assert!(is_answer(&[0x5A, 0x40, 0, 0, 0, 0, 0, 0], 0x5A), "inquiry answers carry a value");
+        assert!(is_answer(&[0x11, 1, 0, 0, 0, 0, 0, 0], 0x11), "results carry an error code");
     }
 
     #[test]

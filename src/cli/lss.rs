@@ -204,7 +204,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
     // configuration state.
     interrupt::catch();
     let mut m = LssMaster::new(bus, ctx.timeout);
-    match cmd {
+    let result = match cmd {
         LssCommand::Inquire(t) => inquire(ctx, &mut m, t),
         LssCommand::SetId(a) => configure(ctx, &mut m, &a.target, "set-id", Request::ConfigureNodeId(a.new), a.new),
         LssCommand::SetBaud(a) => configure(
@@ -219,7 +219,12 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
         LssCommand::Activate(a) => activate(ctx, &mut m, a),
         LssCommand::Fastscan(a) => fastscan(ctx, &mut m, a),
         LssCommand::Assign(a) => assign(ctx, &mut m, a),
+    };
+    // A command that finished its last step anyway still says it was interrupted.
+    if result.is_ok() && interrupt::requested() {
+        return Err(Error::Interrupted.into());
     }
+    result
 }
 
 fn no_lss_on_direct_epos2(verb: &str) -> Error {
@@ -235,7 +240,11 @@ fn inquire(ctx: &Ctx, m: &mut LssMaster, t: &Target) -> anyhow::Result<()> {
     if t.node.is_some() {
         return Err(no_lss_on_direct_epos2("inquire").into());
     }
-    m.enter(t.identity.as_ref())?;
+    if let Err(e) = m.enter(t.identity.as_ref()) {
+        // A late acknowledgement may still have put the device in configuration state.
+        m.leave()?;
+        return Err(e.into());
+    }
     let mut values = Vec::new();
     for q in [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId] {
         let answers = m.ask(Request::Inquire(q), if t.global { LssWait::All } else { LssWait::First })?;
@@ -366,7 +375,10 @@ fn activate(ctx: &Ctx, m: &mut LssMaster, a: &ActivateArgs) -> anyhow::Result<()
         )
         .into());
     }
-    m.enter(a.target.identity.as_ref())?;
+    if let Err(e) = m.enter(a.target.identity.as_ref()) {
+        m.leave()?;
+        return Err(e.into());
+    }
     m.send(Request::ActivateBitTiming { delay_ms: a.delay })?;
     // CiA 305: the devices wait the delay, switch, and wait as long again before talking.
     std::thread::sleep(Duration::from_millis(2 * a.delay as u64));
@@ -501,6 +513,7 @@ fn assign(ctx: &Ctx, m: &mut LssMaster, a: &AssignArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     // Node-ids already in use: new ones must not collide.
     let used = ids_in_use(ctx, m.bus(), a.listen)?;
+    let in_use: Vec<u8> = used.iter().copied().collect();
     let outcome = m.assign(
         a.start,
         used,
@@ -533,6 +546,7 @@ fn assign(ctx: &Ctx, m: &mut LssMaster, a: &AssignArgs) -> anyhow::Result<()> {
                 "stored": d.stored.is_ok(),
                 "store_error": d.stored.as_ref().err(),
             })).collect::<Vec<_>>(),
+            "in_use_before": in_use,
             "fastscan_steps": steps,
             "step_ms": outcome.pace.longest_step().as_millis() as u64,
             "pace": pace_json(&outcome.pace),

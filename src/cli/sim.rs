@@ -50,8 +50,9 @@ pub struct SimArgs {
     /// Inject a fault: nack, crc, garbage, drop or mute, on frame N (KIND@N) or every frame (KIND@*)
     #[arg(long, value_name = "KIND@N")]
     pub fault: Vec<Fault>,
-    /// How long the EPOS2 waits for an SDO answer on the CAN bus
-    #[arg(long, value_name = "DUR", default_value = "25ms", value_parser = super::parse_duration)]
+    /// How long the EPOS2 waits for an SDO answer on the CAN bus (the slow profile's
+    /// devices answer up to 80 ms late)
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub can_timeout: Duration,
 }
 
@@ -66,11 +67,12 @@ pub enum SimCommand {
     /// invocation sees the same network).
     ///
     /// Profiles: instant (answers at once, frames take no time: for unit tests), typical
-    /// (devices answer 0.5-5 ms late, frames take their time at the bit rate: the default),
+    /// (devices answer 0.5-3 ms late, frames take their time at the bit rate: the default),
     /// slow (answers 5-80 ms late, as slow real slaves do).
     #[command(after_help = "Examples:
   canctl sim reset
   canctl sim reset --profile slow --unconfigured 8
+  canctl sim reset --bit-rate 1M
   canctl sim reset --fault 5:drop@2 --fault drive:abort=0x06010000
   canctl --bus sim:/tmp/bench.json sim reset --profile instant --seed 7")]
     Reset(ResetArgs),
@@ -84,6 +86,9 @@ pub struct ResetArgs {
     /// Devices waiting for a node-id over LSS
     #[arg(long, value_name = "N", default_value_t = DEFAULT_UNCONFIGURED, value_parser = clap::value_parser!(u8).range(0..=MAX_UNCONFIGURED as i64))]
     pub unconfigured: u8,
+    /// The bit rate the bus and every device start at (1M 800k 500k 250k 125k 50k 20k 10k)
+    #[arg(long, value_name = "RATE", default_value = "500k", value_parser = parse_rate)]
+    pub bit_rate: u8,
     /// Seed of the devices' latency jitter and random faults: the same seed replays a run
     #[arg(long, value_name = "N", default_value_t = DEFAULT_SEED)]
     pub seed: u64,
@@ -97,6 +102,13 @@ pub struct ResetArgs {
     /// the default).
     #[arg(long, value_name = "SPEC")]
     pub fault: Vec<FaultSpec>,
+}
+
+fn parse_rate(text: &str) -> Result<u8, String> {
+    let index = crate::canopen::lss::parse_bit_rate(text)?;
+    crate::sim::timing::bits_per_second(index)
+        .map(|_| index)
+        .ok_or_else(|| format!("the sim bus needs a fixed bit rate, not {text}"))
 }
 
 /// The state file of the sim bus named by --bus (or the default one).
@@ -116,7 +128,11 @@ fn state_path(ctx: &Ctx) -> anyhow::Result<PathBuf> {
 pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
     let path = state_path(ctx)?;
     if let Some(SimCommand::Reset(reset)) = &args.command {
-        let mut config = SimConfig::default().profile(reset.profile).seed(reset.seed).unconfigured(reset.unconfigured);
+        let mut config = SimConfig::default()
+            .profile(reset.profile)
+            .seed(reset.seed)
+            .unconfigured(reset.unconfigured)
+            .bit_rate(reset.bit_rate);
         config.faults = reset.fault.clone();
         StateFile::lock(&path)?.start_fresh(&config)?;
         return match ctx.out.format {
@@ -126,15 +142,17 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
                 "profile": config.profile.to_string(),
                 "seed": config.seed,
                 "unconfigured": config.unconfigured,
+                "bit_rate": crate::canopen::lss::bit_rate_name(config.bit_rate),
                 "faults": config.faults.iter().map(|f| f.to_string()).collect::<Vec<_>>(),
             }))?),
             _ => {
                 let faults: Vec<String> = config.faults.iter().map(|f| f.to_string()).collect();
                 let faults = if faults.is_empty() { String::new() } else { format!(", faults {}", faults.join(" ")) };
                 Ok(ctx.out.print(&format!(
-                    "sim network reset ({}): profile {}, {} device(s) without a node-id, seed {}{faults}",
+                    "sim network reset ({}): profile {}, {}bit/s, {} device(s) without a node-id, seed {}{faults}",
                     path.display(),
                     config.profile,
+                    crate::canopen::lss::bit_rate_name(config.bit_rate),
                     config.unconfigured,
                     config.seed
                 ))?)

@@ -11,6 +11,9 @@ use crate::error::{Error, Result};
 use crate::frame::Frame;
 use std::time::{Duration, Instant};
 
+/// The longest single ReadLSSFrame wait, in ms.
+const READ_LSS_SLICE_MS: u128 = 100;
+
 /// EPOS2 firmware specification: object 0x2000 holds the node-id set by DIP switch or SDO.
 const OWN_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
 
@@ -231,28 +234,36 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         }
         // ReadLSSFrame hands over one slave message per call, waiting up to its timeout.
         let sent = Instant::now();
-        let deadline = sent + wait;
+        let mut deadline = sent + wait;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
-            let timeout_ms = left.as_millis().clamp(1, u16::MAX as u128) as u16;
+            // In slices well inside the link's own answer timeout: a long LSS wait (the
+            // first fastscan probe) must not pass for a silent EPOS2.
+            let timeout_ms = left.as_millis().clamp(1, READ_LSS_SLICE_MS) as u16;
             let read = Command::ReadLssFrame { timeout_ms };
             let (code, data) = self.call(&read)?.expect("ReadLSSFrame is answered");
             match code {
+                abort::TIMED_OUT if Instant::now() < deadline => {}
                 abort::TIMED_OUT => break,
                 0 => {
                     // Only a whole answer with the expected command specifier counts; others
                     // do not make the wait longer.
                     let data = data.get(..8).and_then(|d| <[u8; 8]>::try_from(d).ok());
-                    let Some(data) = data.filter(|d| d[0] == expect) else {
+                    let Some(data) = data.filter(|d| crate::canopen::lss::is_answer(d, expect)) else {
                         if left.is_zero() {
                             break;
                         }
                         continue;
                     };
                     answers.push(LssAnswer { data, after: sent.elapsed() });
-                    // Settle: the EPOS2 device drops stale slave messages at the next
-                    // SendLSSFrame, so the first answer is enough.
-                    if matches!(collect, LssWait::First | LssWait::Settle(_)) || left.is_zero() {
+                    // Other slaves' answers to the same request may still be coming: read
+                    // them here, or they would pass for answers to the next request.
+                    match collect {
+                        LssWait::First => break,
+                        LssWait::Settle(more) if answers.len() == 1 => deadline = deadline.min(Instant::now() + more),
+                        _ => {}
+                    }
+                    if left.is_zero() {
                         break;
                     }
                 }

@@ -10,6 +10,10 @@ use crate::frame::Frame;
 use crate::od::{Dictionary, ParamClass};
 use std::collections::BTreeMap;
 
+/// SDO aborts of CiA 301 dynamic mapping.
+const MAPPING_OBJECT_UNMAPPABLE: u32 = 0x0604_0041;
+const MAPPING_TOO_LONG: u32 = 0x0604_0042;
+
 const SAVE: &[u8] = b"save";
 const LOAD: &[u8] = b"load";
 
@@ -94,6 +98,25 @@ impl ObjectStore {
         self.dirty = true;
     }
 
+    /// CiA 301: a mapping is checked when its count is written: every entry names an
+    /// object the device has, and together they fit the 64 bits of a PDO.
+    fn check_mapping(&self, index: u16, count: u8) -> Result<(), u32> {
+        let mut bits = 0u32;
+        for sub in 1..=count {
+            let raw = self.u32_value(ObjAddr::new(index, sub)).ok_or(abort::NO_SUBINDEX)?;
+            let (mapped, len) = crate::canopen::pdo::mapping_entry(raw);
+            // Indices below 0x1000 are the data type dummies CiA 301 allows in a mapping.
+            if mapped.index >= 0x1000 && self.dict.get(mapped).is_none() {
+                return Err(MAPPING_OBJECT_UNMAPPABLE);
+            }
+            bits += len as u32;
+        }
+        if bits > 64 {
+            return Err(MAPPING_TOO_LONG);
+        }
+        Ok(())
+    }
+
     fn u32_value(&self, addr: ObjAddr) -> Option<u32> {
         self.value(addr).and_then(|v| v.try_into().ok()).map(u32::from_le_bytes)
     }
@@ -157,6 +180,9 @@ impl ObjectAccess for ObjectStore {
                 let count = self.value(ObjAddr::new(addr.index, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
                 if valid || (addr.sub > 0 && count != 0) {
                     return Err(abort::WRONG_STATE);
+                }
+                if addr.sub == 0 {
+                    self.check_mapping(addr.index, data.first().copied().unwrap_or(0))?;
                 }
             }
             // A valid PDO keeps its COB-ID: it is made invalid (bit 31) before it changes.
@@ -340,11 +366,6 @@ impl Device {
     /// Forget any SDO transfer in progress (an injected abort ended it).
     pub fn reset_sdo(&mut self) {
         self.sdo = SdoServer::new(self.block_transfer);
-    }
-
-    /// Put the controller on another rate, as commissioning for another bus would.
-    pub fn set_bit_rate(&mut self, rate: u8) {
-        self.bit_rate = BitRates { active: rate, pending: None, stored: rate };
     }
 
     /// React to one frame on the bus; returns the frames this device sends in answer.
@@ -666,5 +687,40 @@ impl Device {
         self.od.reload(None);
         self.od.values.extend(values);
         self.od.dirty = false;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Expedited SDO download to the drive (node 1); returns the answer's bytes.
+    fn write(d: &mut Device, index: u16, sub: u8, value: &[u8]) -> Vec<u8> {
+        let mut req = [0u8; 8];
+        req[0] = 0x23 | ((4 - value.len() as u8) << 2);
+        req[1..3].copy_from_slice(&index.to_le_bytes());
+        req[3] = sub;
+        req[4..4 + value.len()].copy_from_slice(value);
+        let out = d.on_frame(&Frame::new(0x601, &req));
+        assert_eq!(out.len(), 1);
+        out[0].data().to_vec()
+    }
+
+    #[test]
+    fn a_mapping_longer_than_a_pdo_is_refused_when_its_count_is_written() {
+        let mut d = Device::new(super::super::profiles::drive(), Some(1), 2);
+        assert_eq!(write(&mut d, 0x1800, 1, &0x8000_0181u32.to_le_bytes())[0], 0x60);
+        assert_eq!(write(&mut d, 0x1A00, 0, &[0])[0], 0x60);
+        for (sub, raw) in [(1u8, 0x6064_0020u32), (2, 0x606C_0020), (3, 0x6041_0010)] {
+            assert_eq!(write(&mut d, 0x1A00, sub, &raw.to_le_bytes())[0], 0x60);
+        }
+        // 80 bits: abort 0x06040042 on 0x1A00:0.
+        assert_eq!(write(&mut d, 0x1A00, 0, &[3]), [0x80, 0x00, 0x1A, 0x00, 0x42, 0x00, 0x04, 0x06]);
+        // 64 bits fit.
+        assert_eq!(write(&mut d, 0x1A00, 0, &[2])[0], 0x60);
+        // An object the device does not have: 0x06040041.
+        assert_eq!(write(&mut d, 0x1A00, 0, &[0])[0], 0x60);
+        write(&mut d, 0x1A00, 1, &0x5123_0020u32.to_le_bytes());
+        assert_eq!(write(&mut d, 0x1A00, 0, &[1]), [0x80, 0x00, 0x1A, 0x00, 0x41, 0x00, 0x04, 0x06]);
     }
 }

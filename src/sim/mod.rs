@@ -39,9 +39,16 @@ pub struct SimConfig {
     pub seed: u64,
     /// Position sensors waiting for an LSS node-id.
     pub unconfigured: u8,
+    /// The bit rate the bus and every device start at (CiA 305 table index).
+    #[serde(default = "default_bit_rate")]
+    pub bit_rate: u8,
     /// Faults injected into devices' answers (see `faults`).
     #[serde(default)]
     pub faults: Vec<FaultSpec>,
+}
+
+fn default_bit_rate() -> u8 {
+    DEFAULT_BIT_RATE
 }
 
 impl Default for SimConfig {
@@ -50,6 +57,7 @@ impl Default for SimConfig {
             profile: Profile::default(),
             seed: DEFAULT_SEED,
             unconfigured: DEFAULT_UNCONFIGURED,
+            bit_rate: DEFAULT_BIT_RATE,
             faults: vec![],
         }
     }
@@ -68,6 +76,13 @@ impl SimConfig {
 
     pub fn unconfigured(mut self, n: u8) -> SimConfig {
         self.unconfigured = n;
+        self
+    }
+
+    /// The bus and every device at this bit rate (CiA 305 table index: 0 = 1 Mbit/s,
+    /// 4 = 125 kbit/s).
+    pub fn bit_rate(mut self, index: u8) -> SimConfig {
+        self.bit_rate = index;
         self
     }
 
@@ -134,10 +149,11 @@ impl Network {
 
     /// A network of these devices, timed as `config` says (its device count is not used).
     pub fn of_with(devices: Vec<(profiles::Model, Option<u8>)>, config: SimConfig) -> Network {
-        let devices: Vec<Device> = devices.into_iter().map(|(m, id)| Device::new(m, id, DEFAULT_BIT_RATE)).collect();
+        let devices: Vec<Device> = devices.into_iter().map(|(m, id)| Device::new(m, id, config.bit_rate)).collect();
         let paces = devices.iter().map(|d| Pace::new(&config, &d.model)).collect();
         let conducts = devices.iter().map(|d| Conduct::new(&config.faults, &d.model)).collect();
-        Network { devices, paces, conducts, config, bit_rate: DEFAULT_BIT_RATE }
+        let bit_rate = config.bit_rate;
+        Network { devices, paces, conducts, config, bit_rate }
     }
 
     pub fn config(&self) -> &SimConfig {
@@ -160,15 +176,6 @@ impl Network {
     /// The bus's bit rate was changed by a master that knows better (`sim` knobs, tests).
     pub fn set_bit_rate(&mut self, rate: u8) {
         self.bit_rate = rate;
-    }
-
-    /// Every device, and the bus, at this bit rate (CiA 305 table index): a network
-    /// commissioned for another rate.
-    pub fn set_all_bit_rates(&mut self, rate: u8) {
-        self.bit_rate = rate;
-        for d in &mut self.devices {
-            d.set_bit_rate(rate);
-        }
     }
 
     /// `frame` has left the bus at `heard`: what the devices send in answer, each with
@@ -242,7 +249,7 @@ impl Network {
     }
 
     pub fn restore(&mut self, s: &state::NetworkState) {
-        self.bit_rate = s.bit_rate.unwrap_or(DEFAULT_BIT_RATE);
+        self.bit_rate = s.bit_rate.unwrap_or(self.config.bit_rate);
         for d in &mut self.devices {
             if let Some(ds) = s.devices.get(&d.model) {
                 d.restore(ds);
@@ -293,9 +300,6 @@ pub struct SimLink {
     epoch: Instant,
     /// A bridge to a real bus: frames take no time here.
     bus_timing_off: bool,
-    /// The master's frames queued that have not left yet: `close` lets them go, as a
-    /// frame written to a real interface goes out after the program ends.
-    master_queued: usize,
     file: Option<state::StateFile>,
 }
 
@@ -320,7 +324,6 @@ impl SimLink {
             beats_upto: wall_ms(),
             epoch: Instant::now(),
             bus_timing_off: false,
-            master_queued: 0,
             file: None,
         }
     }
@@ -383,7 +386,12 @@ impl SimLink {
 
     /// Save the state now if anything changed (a long-running server saves as it goes).
     pub fn save_if_changed(&mut self) -> Result<()> {
-        self.close()
+        if self.net.take_dirty() {
+            if let Some(file) = &self.file {
+                file.save(&self.net.snapshot())?;
+            }
+        }
+        Ok(())
     }
 
     /// Run the bus up to now: the devices' own frames queue, frames that have left are
@@ -407,11 +415,22 @@ impl SimLink {
         self.pop_done(now);
     }
 
+    /// Frames the master queued leave even if it goes away now (as the kernel still
+    /// sends what a closed socket queued): the devices hear them before their state is
+    /// saved. Bounded, for a bus a babbling device keeps busy.
+    fn flush(&mut self) {
+        let mut left = 100_000;
+        while self.bus.waiting_from(Origin::Master) > 0 && left > 0 {
+            let Some(next) = self.bus.next_done() else { break };
+            self.pop_done(next);
+            left -= 1;
+        }
+    }
+
     fn pop_done(&mut self, now: Nanos) {
         while let Some((end, origin, frame)) = self.bus.pop_done(now) {
             match origin {
                 Origin::Master => {
-                    self.master_queued = self.master_queued.saturating_sub(1);
                     for (ready, i, f) in self.net.deliver(&frame, end) {
                         self.bus.queue(ready, Origin::Device(i), f);
                     }
@@ -430,7 +449,6 @@ impl FrameLink for SimLink {
         self.advance();
         let now = self.now();
         self.bus.queue(now, Origin::Master, *frame);
-        self.master_queued += 1;
         Ok(())
     }
 
@@ -457,23 +475,94 @@ impl FrameLink for SimLink {
     }
 
     fn close(&mut self) -> Result<()> {
-        // The last frames sent (an LSS "switch to waiting" before exit) reach the devices.
-        let limit = Instant::now() + Duration::from_secs(1);
-        while self.master_queued > 0 && Instant::now() < limit {
-            let Some(t) = self.bus.next_done() else { break };
-            std::thread::sleep(self.at(t).saturating_duration_since(Instant::now()));
-            self.advance();
-        }
-        if self.net.take_dirty() {
-            if let Some(file) = &self.file {
-                file.save(&self.net.snapshot())?;
-            }
-        }
-        Ok(())
+        self.flush();
+        self.save_if_changed()
     }
 }
 
 /// Node-ids on the demo network, for documentation and tests.
 pub fn demo_node_ids() -> BTreeMap<u8, String> {
     Network::demo().devices.iter().filter_map(|d| Some((d.node_id()?, d.model.clone()))).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canopen::nmt;
+    use timing::MS;
+
+    const READ_DEVICE_TYPE: [u8; 8] = [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0];
+
+    #[test]
+    fn a_slow_device_answers_5_to_80_ms_after_it_heard_the_request_and_in_order() {
+        let mut net = Network::demo_with(SimConfig::default().profile(Profile::Slow));
+        let mut last = 0;
+        for i in 0..50u64 {
+            let heard = i * MS;
+            let out = net.deliver(&Frame::new(0x605, &READ_DEVICE_TYPE), heard);
+            assert_eq!(out.len(), 1);
+            let (ready, _, f) = out[0];
+            assert_eq!(f.id(), 0x585);
+            assert!(ready >= heard + 5 * MS && ready <= heard + 80 * MS, "{ready} after {heard}");
+            assert!(ready >= last, "answers keep their order");
+            last = ready;
+        }
+    }
+
+    #[test]
+    fn the_same_seed_gives_the_same_answer_times() {
+        let times = |seed| {
+            let mut net = Network::demo_with(SimConfig::default().seed(seed));
+            (0..20).map(|i| net.deliver(&Frame::new(0x601, &READ_DEVICE_TYPE), i * MS)[0].0).collect::<Vec<_>>()
+        };
+        assert_eq!(times(3), times(3));
+        assert_ne!(times(3), times(4));
+    }
+
+    #[test]
+    fn faults_apply_to_the_device_they_name() {
+        let config = SimConfig::instant().fault("5:drop".parse().unwrap()).fault("10:duplicate".parse().unwrap());
+        let mut net = Network::demo_with(config);
+        assert!(net.deliver(&Frame::new(0x605, &READ_DEVICE_TYPE), 0).is_empty());
+        assert_eq!(net.deliver(&Frame::new(0x60A, &READ_DEVICE_TYPE), 0).len(), 2);
+        assert_eq!(net.deliver(&Frame::new(0x601, &READ_DEVICE_TYPE), 0).len(), 1);
+    }
+
+    #[test]
+    fn the_unconfigured_count_builds_that_many_lss_devices() {
+        let net = Network::demo_with(SimConfig::instant().unconfigured(8));
+        assert_eq!(net.devices().iter().filter(|d| d.node_id().is_none()).count(), 8);
+        let serials: std::collections::BTreeSet<u32> = net.devices().iter().map(|d| d.identity().serial).collect();
+        assert_eq!(serials.len(), net.devices().len(), "distinct serials");
+    }
+
+    #[test]
+    fn a_command_the_master_queued_reaches_the_devices_before_the_link_closes() {
+        let mut link = SimLink::with_config(SimConfig::default().profile(Profile::Slow));
+        link.send(&nmt::Command::Stop.frame(5)).unwrap();
+        link.close().unwrap();
+        let sensor = link.network().devices().iter().find(|d| d.node_id() == Some(5)).unwrap();
+        assert_eq!(sensor.nmt_state(), nmt::State::Stopped);
+    }
+
+    #[test]
+    fn the_configured_bit_rate_times_the_frames() {
+        let link = SimLink::with_config(SimConfig::default().bit_rate(0));
+        assert_eq!(link.network().bit_rate(), 0);
+        assert!(link.network().devices().iter().all(|d| d.bit_rate() == 0));
+        assert_eq!(SimLink::bps_of(link.network()), Some(1_000_000));
+        assert_eq!(SimLink::bps_of(&Network::demo_with(SimConfig::instant().bit_rate(4))), None);
+    }
+
+    #[test]
+    fn answers_arrive_through_the_link_whatever_the_profile() {
+        for profile in [Profile::Instant, Profile::Typical, Profile::Slow] {
+            let mut link = SimLink::with_config(SimConfig::default().profile(profile).bit_rate(4));
+            link.send(&Frame::new(0x601, &READ_DEVICE_TYPE)).unwrap();
+            let deadline = Instant::now() + Duration::from_secs(5);
+            let answer = std::iter::from_fn(|| link.recv(deadline).unwrap()).find(|f| f.id() == 0x581);
+            assert_eq!(answer.map(|f| f.data()[0]), Some(0x43), "{profile}");
+            assert!(link.bus_stats().frames >= 2, "request and answer went over the bus");
+        }
+    }
 }
