@@ -395,30 +395,73 @@ fn assign_once(durand: &mut Durand, devices: usize) -> Result<String, String> {
 
 const LSS_DEVICES: usize = 3;
 
-fn lss_at_defaults(delay: &str) {
+/// The LSS procedures, each against its own set of durand devices (node 20 configured,
+/// `LSS_DEVICES` without a node-id) on vcan0 as it is set up.
+#[derive(Clone, Copy)]
+enum Procedure {
+    Fastscan,
+    Assign,
+}
+
+fn lss_at_defaults(procedure: Procedure, path: &str) {
     let mut durand = Durand::start(&["--node", "20", "--unconfigured", &LSS_DEVICES.to_string()]);
     // The rig itself: frames get through both ways (a long SDO timeout, not LSS).
     canctl(&["--timeout", SDO_TIMEOUT, "sdo", "read", "20", "1018:4", "--type", "u32"]).ok();
-    let failures: Vec<String> = [
-        count_passes(&format!("lss fastscan at defaults, {LSS_DEVICES} durand slaves, {delay}"), || {
-            fastscan_once(&mut durand, LSS_DEVICES)
-        }),
-        count_passes(&format!("lss assign --start 20 at defaults, {LSS_DEVICES} durand slaves, {delay}"), || {
-            assign_once(&mut durand, LSS_DEVICES)
-        }),
-    ]
-    .into_iter()
-    .flatten()
-    .collect();
-    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    let failure = match procedure {
+        Procedure::Fastscan => {
+            count_passes(&format!("lss fastscan at defaults, {LSS_DEVICES} durand slaves, {path}"), || {
+                fastscan_once(&mut durand, LSS_DEVICES)
+            })
+        }
+        Procedure::Assign => {
+            count_passes(&format!("lss assign --start 20 at defaults, {LSS_DEVICES} durand slaves, {path}"), || {
+                assign_once(&mut durand, LSS_DEVICES)
+            })
+        }
+    };
+    assert!(failure.is_none(), "{}", failure.unwrap_or_default());
 }
 
-#[test]
-fn lss_at_defaults_against_durand_slaves() {
+/// On plain vcan0, or behind a netem delay of `delay_ms`.
+fn lss_test(procedure: Procedure, delay_ms: Option<u32>) {
     if !common::has_interface(IFACE) {
         return;
     }
-    lss_at_defaults("plain vcan0");
+    let Some(delay_ms) = delay_ms else {
+        return lss_at_defaults(procedure, "plain vcan0");
+    };
+    let Some(_netem) = Netem::delay(delay_ms) else { return };
+    lss_at_defaults(procedure, &format!("netem delay {delay_ms}ms"));
+}
+
+#[test]
+fn lss_fastscan_at_defaults() {
+    lss_test(Procedure::Fastscan, None);
+}
+
+#[test]
+fn lss_assign_at_defaults() {
+    lss_test(Procedure::Assign, None);
+}
+
+#[test]
+fn lss_fastscan_at_defaults_behind_15ms() {
+    lss_test(Procedure::Fastscan, Some(15));
+}
+
+#[test]
+fn lss_assign_at_defaults_behind_15ms() {
+    lss_test(Procedure::Assign, Some(15));
+}
+
+#[test]
+fn lss_fastscan_at_defaults_behind_60ms() {
+    lss_test(Procedure::Fastscan, Some(60));
+}
+
+#[test]
+fn lss_assign_at_defaults_behind_60ms() {
+    lss_test(Procedure::Assign, Some(60));
 }
 
 /// vcan0 with frames held in the kernel (tests/interop/durand_netem.sh); plain again when
@@ -449,22 +492,4 @@ fn netem(args: &[&str]) {
 
 fn is_root() -> bool {
     Command::new("id").arg("-u").output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-}
-
-#[test]
-fn lss_at_defaults_against_durand_slaves_behind_15ms() {
-    if !common::has_interface(IFACE) {
-        return;
-    }
-    let Some(_netem) = Netem::delay(15) else { return };
-    lss_at_defaults("netem delay 15ms");
-}
-
-#[test]
-fn lss_at_defaults_against_durand_slaves_behind_60ms() {
-    if !common::has_interface(IFACE) {
-        return;
-    }
-    let Some(_netem) = Netem::delay(60) else { return };
-    lss_at_defaults("netem delay 60ms");
 }

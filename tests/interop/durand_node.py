@@ -7,7 +7,7 @@ of python-canopen), for tests/interop_durand.rs.
                  every CiA 301 type (0x2000:1..14), a writable domain (0x2100) and
                  read-only domains of the block/segment boundary sizes (0x2200:1..).
 --unconfigured N N LSS devices without a node-id (node-id 255), distinct identities.
---seconds S      exit after S seconds at the latest (default 600).
+--seconds S      exit after S seconds at the latest (default 7200; end of input ends it too).
 
 Standard output, one line per event, for the test to wait on:
     READY                                   every device is up (again after `reset`)
@@ -129,7 +129,7 @@ def main():
     p.add_argument("iface")
     p.add_argument("--node", type=int, action="append", default=[])
     p.add_argument("--unconfigured", type=int, default=0)
-    p.add_argument("--seconds", type=float, default=600)
+    p.add_argument("--seconds", type=float, default=7200)
     a = p.parse_args()
     if a.unconfigured > len(UNCONFIGURED_SERIALS):
         p.error(f"at most {len(UNCONFIGURED_SERIALS)} unconfigured devices")
