@@ -247,19 +247,4 @@ fn every_data_type_has_python_canopens_wire_bytes() {
     assert_eq!(DataType::Vs.decode(&unhex(NON_ASCII_BYTES)), Some(Value::Text("é".into())), "canctl shows UTF-8");
 }
 
-const ALL: [DataType; 14] = [
-    DataType::Bool,
-    DataType::U8,
-    DataType::U16,
-    DataType::U32,
-    DataType::U64,
-    DataType::I8,
-    DataType::I16,
-    DataType::I32,
-    DataType::I64,
-    DataType::R32,
-    DataType::R64,
-    DataType::Vs,
-    DataType::Os,
-    DataType::D,
-];
+const ALL: [DataType; 14] = canctl::canopen::types::ALL_TYPES;

@@ -75,7 +75,12 @@ fn slcand_on_the_simulated_adapter_carries_canctl_and_python_canopen() {
     // The VM's emulated CPU is slow: a generous answer timeout, and the frames on failure.
     let block = canctl(&["-v", "--timeout", "3s", "sdo", "read", "1", "1F50:1", "--type", "d", "--out", file]);
     let trace: Vec<&str> = block.stderr.lines().collect();
-    assert_eq!(block.code, 0, "block read over slcan0 failed; the last frames:\n{}", trace[trace.len().saturating_sub(40)..].join("\n"));
+    assert_eq!(
+        block.code,
+        0,
+        "block read over slcan0 failed; the last frames:\n{}",
+        trace[trace.len().saturating_sub(40)..].join("\n")
+    );
     assert_eq!(std::fs::metadata(file).unwrap().len(), 65536);
     canctl(&["sdo", "write", "1", "1F50:1", &format!("@{file}"), "--type", "d"]).ok();
     canctl(&["sdo", "write", "5", "1017", "250", "--verify"]).ok();
