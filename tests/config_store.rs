@@ -178,3 +178,17 @@ fn object_names_from_an_eds_or_the_built_in_dictionary() {
     assert_eq!(r.code, 2);
     assert!(r.stderr.contains("broken-access.eds:4: AccessType 'readwrite'"), "{}", r.stderr);
 }
+
+/// A DCF names itself after the file it is written to, and claims no name on stdout.
+#[test]
+fn a_dumped_dcf_names_the_file_it_is_in() {
+    let sim = Sim::new();
+    let stdout = sim.run(&["config", "dump", "10"]).ok().stdout;
+    assert!(!stdout.contains("FileName="), "{stdout}");
+    let out = sim.path("io.dcf");
+    sim.run(&["config", "dump", "10", "--out", out.to_str().unwrap()]).ok();
+    assert!(
+        std::fs::read_to_string(&out).unwrap().contains("\nFileName=io.dcf")
+            || std::fs::read_to_string(&out).unwrap().contains("FileName=io.dcf")
+    );
+}

@@ -90,10 +90,8 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<
 }
 
 fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
-    let file_name = a
-        .out
-        .as_ref()
-        .map_or(format!("node{}.dcf", a.node), |p| p.file_name().unwrap_or_default().to_string_lossy().into_owned());
+    let file_name =
+        a.out.as_ref().map_or(String::new(), |p| p.file_name().unwrap_or_default().to_string_lossy().into_owned());
     let dictionary = ctx.dicts.eds_for(a.node).map(|e| (&e.dict, e.path.as_str()));
     let dump = config::dump(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress())?;
     match &a.out {

@@ -206,7 +206,8 @@ impl Report for Shown {
         if !self.files.is_empty() {
             return Vec::new();
         }
-        vec!["no settings file: canctl.toml here or in a parent directory, or ~/.config/canctl/config.toml".into()]
+        let user = user_file().map_or("(no home directory)".to_string(), |p| p.display().to_string());
+        vec![format!("no settings file: canctl.toml here or in a parent directory, or {user}")]
     }
 }
 

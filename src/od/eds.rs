@@ -578,7 +578,10 @@ pub fn write_bytes(
 ) -> Result<Vec<u8>, WriteError> {
     let mut w = Writer { lines: Vec::new() };
     w.raw("[FileInfo]");
-    w.text("FileInfo", "FileName", &h.file_name)?;
+    // A DCF written to standard output has no name of its own to give.
+    if !h.file_name.is_empty() {
+        w.text("FileInfo", "FileName", &h.file_name)?;
+    }
     w.raw("FileVersion=1");
     w.raw("FileRevision=0");
     w.raw("EDSVersion=4.0");
