@@ -58,6 +58,10 @@ fn slcand_on_the_simulated_adapter_carries_canctl_and_python_canopen() {
         Command::new("slcand").args(["-F", "-o", "-c", "-s6", &pty, IFACE]).spawn().expect("slcand (can-utils)");
     let _slcand = Killed(slcand);
     wait_for("slcand creates slcan0", || Path::new("/sys/class/net").join(IFACE).exists());
+    // slcan's default transmit queue holds 10 frames; python-can's scanner sends 127 at once
+    // and gives up on ENOBUFS (canctl waits for room), so the queue gets room as on a real
+    // commissioning PC.
+    run("ip", &["link", "set", IFACE, "txqueuelen", "1000"]);
     run("ip", &["link", "set", IFACE, "up"]);
 
     let canctl = |args: &[&str]| {
