@@ -233,3 +233,29 @@ fn bad_node_ids_are_told_in_one_voice() {
         assert!(!r.stderr.contains("..="), "{}", r.stderr);
     }
 }
+
+/// The state column shows what each node really shows: a 100 ms heartbeat is waited for
+/// (0x1017 says how long), nodes without one are asked by guarding; run after run, the
+/// same column on an unchanged bus.
+#[test]
+fn the_scan_state_column_does_not_flicker() {
+    let sim = Sim::new();
+    sim.run(&["sdo", "write", "5", "1017", "100"]).ok();
+    sim.run(&["nmt", "start", "10"]).ok();
+    let column = |sim: &Sim| -> Vec<(u64, String, String)> {
+        let scan = sim.run(&["scan", "--format", "json"]).ok().json();
+        scan["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| (n["node"].as_u64().unwrap(), n["state"].to_string(), n["state_from"].to_string()))
+            .collect()
+    };
+    let first = column(&sim);
+    let state = |node: u64| first.iter().find(|(n, _, _)| *n == node).map(|(_, s, f)| (s.clone(), f.clone()));
+    assert_eq!(state(5), Some(("\"pre-operational\"".into(), "\"heartbeat\"".into())), "{first:?}");
+    assert_eq!(state(10), Some(("\"operational\"".into(), "\"node guarding\"".into())), "{first:?}");
+    for _ in 0..5 {
+        assert_eq!(column(&sim), first);
+    }
+}

@@ -8,7 +8,7 @@ use crate::error::Error;
 use crate::output::Format;
 use clap::Args;
 use serde_json::json;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Find every node on the bus
 ///
@@ -37,13 +37,21 @@ const IDENTITY: [(&str, ObjAddr); 4] = [
     ("serial", ObjAddr::new(0x1018, 4)),
 ];
 const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
+/// The longest scan waits for heartbeats: a node that beats more slowly is asked by node
+/// guarding instead.
+const MAX_HEARTBEAT_WAIT: Duration = Duration::from_secs(3);
 
 struct Found {
     node: u8,
     device_type: Option<u32>,
     identity: [Option<u32>; 4],
     name: Option<String>,
+    /// The producer heartbeat time the node reports (0x1017), in ms.
+    heartbeat_ms: Option<u16>,
     state: Option<crate::canopen::nmt::State>,
+    /// How the state was learned, or why it is unknown.
+    state_from: &'static str,
 }
 
 fn as_u32(bytes: &[u8]) -> Option<u32> {
@@ -111,6 +119,52 @@ fn configuring(answers: &[[u8; 8]]) -> Configuring {
     Configuring { count, one }
 }
 
+/// Each node's NMT state as the node really shows it, never a guess that changes from run to
+/// run: a node that produces heartbeats is listened to for as long as its period (read from
+/// 0x1017) needs; the others are asked by node guarding; what neither answers is unknown.
+fn nmt_states(ctx: &Ctx, bus: &mut dyn Bus, found: &mut [Found], window: Duration) -> crate::Result<()> {
+    use crate::canopen::nmt::{self, ErrorControl};
+    let beating = |f: &Found| f.heartbeat_ms.is_some_and(|ms| ms > 0);
+    if bus.sees_traffic() {
+        let longest = found.iter().filter(|f| beating(f)).filter_map(|f| f.heartbeat_ms).max().unwrap_or(0);
+        // Twice the period: one beat may have gone just before the listening began.
+        let end = Instant::now() + (Duration::from_millis(2 * longest as u64) + window).min(MAX_HEARTBEAT_WAIT);
+        let missing = |bus: &mut dyn Bus, found: &[Found]| {
+            found.iter().any(|f| beating(f) && !bus.observed().states.contains_key(&f.node))
+        };
+        while missing(bus, found) && bus.recv_frame(end)?.is_some() {}
+        let states = bus.observed().states.clone();
+        for f in found.iter_mut() {
+            if let Some(s) = states.get(&f.node) {
+                (f.state, f.state_from) = (Some(*s), "heartbeat");
+            }
+        }
+    }
+    // Guarding answers come at once; a node that has none is not waited for long.
+    let guard_wait = (2 * window).max(Duration::from_millis(200)).min(ctx.timeout.max(Duration::from_millis(200)));
+    let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
+    for f in found.iter_mut().filter(|f| f.state.is_none()) {
+        match bus.request_frame(nmt::error_control_cob(f.node), 1, guard_wait) {
+            Ok(frame) => match ErrorControl::parse(&frame) {
+                Some((_, ErrorControl::State { state, .. })) => (f.state, f.state_from) = (Some(state), source),
+                Some((_, ErrorControl::BootUp)) => {
+                    (f.state, f.state_from) = (Some(nmt::State::PreOperational), "boot-up")
+                }
+                _ => f.state_from = "its error-control answer was not a state",
+            },
+            Err(Error::Timeout(_)) => {
+                f.state_from = if beating(f) {
+                    "no heartbeat within the wait, and no answer to node guarding"
+                } else {
+                    "no heartbeat configured, and no answer to node guarding"
+                }
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(())
+}
+
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
     // Where the bus's traffic is seen, "any device without a node-id?" goes out with the
     // probes and its answers come in during the same window. The inquiries wait until the
@@ -123,11 +177,21 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
     }
     let mut found: Vec<Found> = probe(ctx, bus, args.window)?
         .into_iter()
-        .map(|(node, device_type)| Found { node, device_type, identity: [None; 4], name: None, state: None })
+        .map(|(node, device_type)| Found {
+            node,
+            device_type,
+            identity: [None; 4],
+            name: None,
+            heartbeat_ms: None,
+            state: None,
+            state_from: "",
+        })
         .collect();
 
-    let reads: Vec<(u8, ObjAddr)> =
-        found.iter().flat_map(|f| IDENTITY.iter().map(|(_, a)| (f.node, *a)).chain([(f.node, NAME)])).collect();
+    let reads: Vec<(u8, ObjAddr)> = found
+        .iter()
+        .flat_map(|f| IDENTITY.iter().map(|(_, a)| (f.node, *a)).chain([(f.node, NAME), (f.node, HEARTBEAT_TIME)]))
+        .collect();
     let bar = ctx.out.bar(reads.len() as u64, "identity");
     let values = bus.sdo_upload_many(&reads, &SdoOptions::new(ctx.timeout), &mut |n| bar.set_position(n as u64))?;
     bar.finish_and_clear();
@@ -135,6 +199,9 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
         let f = found.iter_mut().find(|f| f.node == *node).expect("read for a found node");
         match value {
             Ok(bytes) if *addr == NAME => f.name = DataType::Vs.decode(&bytes).map(|v| v.to_string()),
+            Ok(bytes) if *addr == HEARTBEAT_TIME => {
+                f.heartbeat_ms = bytes.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]))
+            }
             Ok(bytes) => {
                 let i = IDENTITY.iter().position(|(_, a)| a == addr).expect("identity entry");
                 f.identity[i] = as_u32(&bytes);
@@ -143,10 +210,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
             Err(e) => ctx.out.note(&format!("warning: {e}")),
         }
     }
-    let states = bus.observed().states.clone();
-    for f in &mut found {
-        f.state = states.get(&f.node).copied();
-    }
+    nmt_states(ctx, bus, &mut found, args.window)?;
     let answers = if lss_alongside {
         for q in &LSS_QUESTIONS[1..] {
             bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
@@ -196,6 +260,8 @@ fn report(
                         "serial": f.identity[3],
                         "name": f.name,
                         "state": f.state.map(|s| s.name()),
+                        "state_from": f.state_from,
+                        "heartbeat_ms": f.heartbeat_ms,
                     })
                 })
                 .collect();
@@ -217,7 +283,7 @@ fn report(
                     let mut row = vec![f.node.to_string(), hex(f.device_type)];
                     row.extend(f.identity.iter().map(|v| hex(*v)));
                     row.push(f.name.clone().unwrap_or_else(|| "-".into()));
-                    row.push(f.state.map_or("-".into(), |s| s.name().to_string()));
+                    row.push(f.state.map_or("unknown".into(), |s| s.name().to_string()));
                     row
                 })
                 .collect();
@@ -225,6 +291,11 @@ fn report(
                 ctx.out.note(&format!("{} node(s) on {}", found.len(), bus.describe()));
             }
             ctx.out.table(&headers, &rows)?;
+            if ctx.out.format == Format::Human {
+                for f in found.iter().filter(|f| f.state.is_none()) {
+                    ctx.out.print(&format!("node {}: NMT state unknown: {}", f.node, f.state_from))?;
+                }
+            }
             if ctx.out.format == Format::Human && unconfigured > 0 {
                 ctx.out.print(&format!(
                     "{unconfigured} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)"
