@@ -13,8 +13,9 @@ use std::time::{Duration, Instant};
 /// Find every node on the bus
 ///
 /// Sends an SDO read of 0x1000 (device type) to all 127 node-ids at once and waits until
-/// no answer has come for one window (slow devices answer up to 80 ms late); then reads identity (0x1018:1..4) and name (0x1008) from each
-/// node that answered, all nodes in parallel. The NMT state is what each node shows: its
+/// no answer has come for one window (slow devices answer up to 80 ms late); then reads
+/// identity (0x1018:1..4) and name (0x1008) from each node that answered, all nodes in
+/// parallel. The NMT state is what each node shows: its
 /// heartbeat, waited for as long as its period (0x1017) needs, else its answer to node
 /// guarding, else `unknown` with the reason.
 /// Last, it counts the devices without a node-id that answer LSS "identify non-configured
