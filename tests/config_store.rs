@@ -190,3 +190,20 @@ fn a_dumped_dcf_names_the_file_it_is_in() {
     let dcf = std::fs::read_to_string(&out).unwrap();
     assert!(dcf.contains("FileName=io.dcf"), "{dcf}");
 }
+
+/// A sensor's DCF is not written into the drive: both identities named, nothing written,
+/// exit 6; `--force` is the way to mean it.
+#[test]
+fn a_dcf_for_another_device_is_refused_before_any_write() {
+    let sim = Sim::new();
+    let dcf = sim.path("sensor.dcf");
+    let dcf = dcf.to_str().unwrap();
+    sim.run(&["config", "dump", "5", "--out", dcf]).ok();
+    let r = sim.run(&["-v", "config", "apply", "1", dcf]);
+    assert_eq!(r.code, 6, "{}", r.stderr);
+    assert!(r.stderr.contains("vendor-ID 0x000000FB on node 1, 0x00000040 in the file"), "{}", r.stderr);
+    assert!(r.stderr.contains("--force"), "{}", r.stderr);
+    assert!(!r.stderr.lines().any(|l| l.contains(" 601 ") && l.contains("[8]  2")), "no download: {}", r.stderr);
+    // The same file on a device of its kind goes through the check.
+    sim.run(&["config", "apply", "5", dcf, "--dry-run"]).ok();
+}

@@ -79,6 +79,9 @@ pub struct ApplyArgs {
     /// How long the device may take to store
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
     pub store_timeout: Duration,
+    /// Apply even when the device's vendor-ID or product code differs from the file's
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<()> {
@@ -130,6 +133,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         verify: a.verify,
         store: a.store,
         store_timeout: a.store_timeout,
+        force: a.force,
     };
     let report = config::apply(bus, a.node, &read_dcf(&a.file)?, &options)?;
     ctx.out.report(&report)?;

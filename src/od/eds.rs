@@ -147,7 +147,7 @@ fn object_section(name: &str) -> Option<(u16, Option<u8>)> {
 }
 
 /// CiA 306 integers: `0x` hex, a leading `0` octal, otherwise decimal; a sign allowed.
-fn parse_int(text: &str) -> Option<i128> {
+pub fn parse_int(text: &str) -> Option<i128> {
     let t = trim_blanks(text);
     let (neg, body) = match t.strip_prefix('-') {
         Some(b) => (true, b),

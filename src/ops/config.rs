@@ -20,6 +20,20 @@ pub struct Dcf {
 }
 
 impl Dcf {
+    /// The vendor-ID and product code the file is for: `[DeviceInfo]`, else its 0x1018
+    /// values; 0 where it does not say.
+    pub fn identity(&self) -> (u32, u32) {
+        let part = |key: &str, sub: u8| {
+            let from_info = self.eds.info.get(key).and_then(|v| eds::parse_int(v)).and_then(|v| u32::try_from(v).ok());
+            let from_value = || match self.eds.values.get(&ObjAddr::new(0x1018, sub)) {
+                Some(crate::od::Init::Bytes(b)) => Some(super::le_u32(b)),
+                _ => None,
+            };
+            from_info.filter(|v| *v != 0).or_else(from_value).unwrap_or(0)
+        };
+        (part("vendornumber", 1), part("productnumber", 2))
+    }
+
     /// Read a DCF file; an unreadable one is a usage error citing file:line.
     pub fn read(path: &Path) -> Result<Dcf> {
         let eds = eds::read_file(path).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
@@ -91,6 +105,36 @@ fn opts(timeout: Duration, dtype: DataType) -> SdoOptions {
 
 fn read_one(bus: &mut dyn Bus, node: u8, e: &Entry, timeout: Duration) -> Result<Vec<u8>> {
     bus.sdo_upload(node, e.addr, &opts(timeout, e.dtype)).map(|b| fit(e, b))
+}
+
+/// A DCF made for one kind of device is not written into another: the vendor-ID and
+/// product code the file names must be the device's (exit 6 otherwise, before anything is
+/// written). A file that names neither is applied anywhere.
+fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<()> {
+    let (vendor, product) = dcf.identity();
+    let mut differ = Vec::new();
+    for (what, want, sub) in [("vendor-ID", vendor, 1), ("product code", product, 2)] {
+        if want == 0 {
+            continue;
+        }
+        let addr = ObjAddr::new(0x1018, sub);
+        let got = match bus.sdo_upload(node, addr, &opts(timeout, crate::canopen::DataType::U32)) {
+            Ok(bytes) => format!("0x{:08X}", super::le_u32(&bytes)),
+            Err(Error::SdoAbort { code, .. }) => format!("unreadable ({})", abort::meaning(code)),
+            Err(e) => return Err(e),
+        };
+        if got != format!("0x{want:08X}") {
+            differ.push(format!("{what} {got} on node {node}, 0x{want:08X} in the file"));
+        }
+    }
+    if differ.is_empty() {
+        return Ok(());
+    }
+    Err(Error::Verify(format!(
+        "{} is for another device: {}. Nothing was written; --force applies it anyway",
+        dcf.path(),
+        differ.join(", ")
+    )))
 }
 
 /// A node's objects, read into a DCF.
@@ -314,11 +358,20 @@ pub struct ApplyOptions {
     pub store: bool,
     /// How long the device may take to store.
     pub store_timeout: Duration,
+    /// Apply even when the device's vendor-ID or product code is not the file's.
+    pub force: bool,
 }
 
 impl ApplyOptions {
     pub fn new(timeout: Duration) -> ApplyOptions {
-        ApplyOptions { timeout, dry_run: false, verify: false, store: false, store_timeout: Duration::from_secs(5) }
+        ApplyOptions {
+            timeout,
+            dry_run: false,
+            verify: false,
+            store: false,
+            store_timeout: Duration::from_secs(5),
+            force: false,
+        }
     }
 }
 
@@ -395,6 +448,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     let values = dcf.values(node)?;
     for (entry, value) in &values {
         super::check_range(entry, value)?;
+    }
+    if !o.force {
+        check_identity(bus, node, dcf, o.timeout)?;
     }
     let mut current: BTreeMap<ObjAddr, Vec<u8>> = BTreeMap::new();
     let mut changes: BTreeMap<ObjAddr, Vec<u8>> = BTreeMap::new();
