@@ -54,9 +54,12 @@ pub fn scan_lists_the_demo_nodes_with_their_identities(bus: &dyn Under) {
     assert_eq!(n5["product_code"], 0x4378_7800);
     assert_eq!(n5["device_type"], 0x000A_0196);
     assert_eq!(n5["name"], "C01");
-    // The sensor's heartbeat shows its state; the others send none.
+    // The sensor's heartbeat shows its state; the others send none and are asked by node
+    // guarding.
     assert_eq!(n5["state"], "pre-operational");
-    assert_eq!(nodes[2]["state"], serde_json::Value::Null);
+    assert_eq!(n5["state_from"], "heartbeat");
+    assert_eq!(nodes[2]["state"], "pre-operational");
+    assert_eq!(nodes[2]["state_from"], "node guarding");
     assert_eq!(nodes[2]["name"], "CAN-2057C");
     // The SERS stepper has an identity object without entries (seed 003).
     assert_eq!(nodes[3]["device_type"], 0x0004_0192);
