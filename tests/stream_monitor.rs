@@ -196,3 +196,19 @@ fn the_io_modules_fault_is_an_emcy_recorded_in_its_history() {
     assert_eq!(sim.run(&["sdo", "read", "10", "1003:3", "--type", "u32"]).ok().stdout, older, "the history moved down");
     assert_eq!(sim.run(&["sdo", "read", "10", "1001"]).ok().stdout.trim(), "17");
 }
+
+/// A pre-operational node sends no PDOs: the stream says so, and why, instead of waiting in
+/// silence.
+#[test]
+fn a_silent_stream_says_why() {
+    let sim = Sim::new();
+    let r = sim.run(&["stream-pdo", "5", "--duration", "2s"]).ok();
+    assert!(r.stderr.contains("nothing from node 5 after"), "{}", r.stderr);
+    assert!(r.stderr.contains("node 5 is pre-operational") && r.stderr.contains("--start"), "{}", r.stderr);
+    let sync = sim.run(&["stream-pdo", "10", "--start", "--sync", "10ms", "--duration", "2s"]).ok();
+    assert!(
+        sync.stderr.contains("event-driven") && sync.stderr.contains("--sync does not make it send"),
+        "{}",
+        sync.stderr
+    );
+}

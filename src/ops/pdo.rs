@@ -219,6 +219,8 @@ pub struct StreamOptions {
     pub interval: Duration,
     /// How long to wait for each polled PDO.
     pub timeout: Duration,
+    /// If no PDO has come after this long, say so, with why it may be silent.
+    pub silence: Option<(Duration, String)>,
 }
 
 /// One decoded PDO.
@@ -234,6 +236,8 @@ pub struct Record {
 /// The records of a node's TPDOs as they come: pull them with [`Stream::next`]. Through a
 /// link that sees no traffic the PDOs are polled with remote frames.
 pub struct Stream<'a> {
+    /// When the stream began; the silence note is measured from here.
+    started: Instant,
     node: u8,
     layouts: &'a [(u16, Layout)],
     opts: StreamOptions,
@@ -275,6 +279,7 @@ impl<'a> Stream<'a> {
             records: 0,
             warned: BTreeSet::new(),
             interrupted,
+            started: now,
         }
     }
 
@@ -316,6 +321,15 @@ impl<'a> Stream<'a> {
             if Instant::now() >= due {
                 bus.send_frame(&Frame::new(SYNC_COB, &[]))?;
                 self.next_sync = Some(due + period);
+            }
+        }
+        if self.records == 0 && self.pending.is_empty() {
+            if let Some((after, why)) = self.opts.silence.take_if(|(after, _)| self.started.elapsed() >= *after) {
+                progress.note(&format!(
+                    "nothing from node {} after {} ms; still listening. {why}",
+                    self.node,
+                    after.as_millis()
+                ));
             }
         }
         let mut wake = Instant::now() + Duration::from_millis(100);
