@@ -133,6 +133,7 @@ fn the_sensors_tpdo_streams_and_the_session_is_put_back() {
         sync: None,
         interval: TIMEOUT,
         timeout: TIMEOUT,
+        silence: None,
     };
     let never = AtomicBool::new(false);
     let mut stream = Stream::new(bus.as_ref(), SENSOR, &layouts, opts, &never);
