@@ -207,3 +207,21 @@ fn a_dcf_for_another_device_is_refused_before_any_write() {
     // The same file on a device of its kind goes through the check.
     sim.run(&["config", "apply", "5", dcf, "--dry-run"]).ok();
 }
+
+/// A dry run predicts the real run: a write the device must refuse (an object it does not
+/// have) is shown as refused, with the same exit code, and nothing is written.
+#[test]
+fn a_dry_run_predicts_a_refused_write() {
+    let sim = Sim::new();
+    let dcf = sim.path("io.dcf");
+    sim.run(&["config", "dump", "10", "--out", dcf.to_str().unwrap()]).ok();
+    let mut text = std::fs::read_to_string(&dcf).unwrap();
+    text.push_str("\n[5FFD]\nParameterName=Not on this device\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue=0\nPDOMapping=0\nParameterValue=5\n");
+    std::fs::write(&dcf, text).unwrap();
+    let dry = sim.run(&["config", "apply", "10", dcf.to_str().unwrap(), "--dry-run"]);
+    assert_eq!(dry.code, 4, "{}", dry.stderr);
+    assert!(dry.stdout.contains("would be refused: Object does not exist"), "{}", dry.stdout);
+    assert!(dry.stderr.contains("nothing was written"), "{}", dry.stderr);
+    let real = sim.run(&["config", "apply", "10", dcf.to_str().unwrap()]);
+    assert_eq!(real.code, 4, "{}", real.stderr);
+}

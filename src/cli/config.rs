@@ -137,7 +137,9 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     };
     let report = config::apply(bus, a.node, &read_dcf(&a.file)?, &options)?;
     ctx.out.report(&report)?;
-    if report.failure.is_some() {
+    if report.failure.is_some() && a.dry_run {
+        ctx.out.note("dry run: a real run would stop at the refused write above; nothing was written");
+    } else if report.failure.is_some() {
         // Said in every format: the JSON document lists it too, but a person reads this.
         let done: Vec<String> = report.written.iter().map(|w| w.to_string()).collect();
         ctx.out.note(&format!(

@@ -455,6 +455,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     let mut current: BTreeMap<ObjAddr, Vec<u8>> = BTreeMap::new();
     let mut changes: BTreeMap<ObjAddr, Vec<u8>> = BTreeMap::new();
     let mut rows: Vec<Change> = Vec::new();
+    // Objects the device says it does not have: a write there is refused, and a dry run
+    // says so instead of promising it.
+    let mut absent: BTreeMap<ObjAddr, u32> = BTreeMap::new();
     for (entry, want) in &values {
         let now = if entry.access.readable() {
             match read_one(bus, node, entry, o.timeout) {
@@ -464,7 +467,12 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
                     rows.push(Change::new(dcf, entry.addr, None, want, result));
                     continue;
                 }
-                Err(Error::SdoAbort { .. }) => None,
+                Err(Error::SdoAbort { code, .. }) => {
+                    if matches!(code, abort::NO_OBJECT | abort::NO_SUBINDEX) {
+                        absent.insert(entry.addr, code);
+                    }
+                    None
+                }
                 Err(e) => return Err(e),
             }
         } else {
@@ -499,7 +507,12 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     let mut written: Vec<ObjAddr> = Vec::new();
     for step in &steps {
         let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
-        let result = if o.dry_run {
+        let result = if o.dry_run && failure.is_some() {
+            "would not be written".to_string()
+        } else if let (true, Some(&code)) = (o.dry_run, absent.get(&step.addr)) {
+            failure = Some(Error::SdoAbort { node, obj: step.addr, code });
+            format!("would be refused: {}", abort::meaning(code))
+        } else if o.dry_run {
             "would write".to_string()
         } else if failure.is_some() {
             "not written".to_string()
