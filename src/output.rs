@@ -264,11 +264,26 @@ impl RecordWriter {
     }
 
     /// Aligned columns, the time of day (UTC) first.
+    /// Column titles of the human table: the names where they fit the column, else `#1`,
+    /// `#2`, ... with the names in a legend above the table.
+    fn titles(&self) -> Vec<String> {
+        if self.fields.iter().all(|f| f.chars().count() <= COLUMN) {
+            return self.fields.clone();
+        }
+        (1..=self.fields.len()).map(|i| format!("#{i}")).collect()
+    }
+
     fn human(&self, out: &mut String, time_ms: u64, pdo: u8, values: &[Value], first: bool) {
         if first {
+            let titles = self.titles();
+            if titles != self.fields {
+                for (t, f) in titles.iter().zip(&self.fields) {
+                    let _ = writeln!(out, "{t:>4}  {f}");
+                }
+            }
             let _ = write!(out, "{:<14}  {:<5}", "time", "pdo");
-            for f in &self.fields {
-                let _ = write!(out, "  {f:>14}");
+            for t in &titles {
+                let _ = write!(out, "  {t:>COLUMN$}");
             }
             out.push('\n');
         }
@@ -276,11 +291,14 @@ impl RecordWriter {
         let (h, m, s, ms) = (secs / 3600 % 24, secs / 60 % 60, secs % 60, time_ms % 1000);
         let _ = write!(out, "{h:02}:{m:02}:{s:02}.{ms:03}    TPDO{pdo:<1}");
         for v in values {
-            let _ = write!(out, "  {:>14}", v.to_string());
+            let _ = write!(out, "  {:>COLUMN$}", v.to_string());
         }
         out.push('\n');
     }
 }
+
+/// The width of a value column in the human PDO table.
+const COLUMN: usize = 14;
 
 fn push_value(out: &mut String, v: &Value) {
     let _ = match v {
@@ -326,6 +344,30 @@ mod tests {
         assert!(lines[0].starts_with("time") && lines[0].ends_with("speed"), "{out}");
         assert_eq!(lines[1], lines[2]);
         assert!(lines[1].starts_with("22:13:20.123    TPDO1") && lines[1].ends_with("-100"), "{out}");
+    }
+
+    /// Long names do not push the values out from under their titles: the titles become
+    /// `#1`, `#2`, and the names stand in a legend above the table.
+    #[test]
+    fn long_field_names_go_to_a_legend() {
+        let l = Layout {
+            cob_id: 0x185,
+            fields: vec![
+                Field::mapped(0x6020_0120, DataType::I32, "Position value (linear): Channel 1"),
+                Field::mapped(0x6030_0110, DataType::I16, "Speed value: Channel 1"),
+            ],
+        };
+        let mut out = String::new();
+        let human = RecordWriter::new(&l, Format::Human);
+        human.record(&mut out, 1_700_000_000_123, 5, 1, &[Value::Int(121_820), Value::Int(-2000)], true);
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines[0], "  #1  Position value (linear): Channel 1");
+        assert_eq!(lines[1], "  #2  Speed value: Channel 1");
+        let (header, row) = (lines[2], lines[3]);
+        for (title, value) in [("#1", "121820"), ("#2", "-2000")] {
+            let end = |line: &str, text: &str| line.find(text).map(|at| at + text.len());
+            assert_eq!(end(header, title), end(row, value), "{title} over {value}:\n{out}");
+        }
     }
 
     #[test]
