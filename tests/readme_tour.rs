@@ -10,7 +10,9 @@ use std::process::Command;
 /// What a tour line's comment claims, checked against its run. Every commented line of
 /// the tour must have an entry (keyed by the start of the command), so a new claim in the
 /// README cannot go unchecked.
-fn claims() -> Vec<(&'static str, fn(&Run, &Path))> {
+type Check = fn(&Run, &Path);
+
+fn claims() -> Vec<(&'static str, Check)> {
     vec![
         // Checked at the end: the sim network's state file is where the tour ran.
         ("export CANCTL_BUS=sim", |_, _| {}),
