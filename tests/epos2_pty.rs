@@ -10,7 +10,10 @@ const FRAMINGS: [&str; 2] = ["--epos2-rs232", "--epos2-usb"];
 
 fn without_state(mut scan: serde_json::Value) -> serde_json::Value {
     for n in scan["nodes"].as_array_mut().unwrap() {
+        // How the state was learned differs by link: heartbeat or guarding on a bus that
+        // shows traffic, a remote request through the EPOS2.
         n.as_object_mut().unwrap().remove("state");
+        n.as_object_mut().unwrap().remove("state_from");
     }
     scan.as_object_mut().unwrap().remove("bus");
     scan
