@@ -27,7 +27,7 @@ pub enum ConfigCommand {
   canctl --bus sim config dump 10 > io.dcf
   canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf")]
 pub struct DumpArgs {
-    /// Node-id, 1..127
+    /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Write the DCF here instead of standard output
@@ -41,7 +41,7 @@ pub struct DumpArgs {
   canctl --bus sim config diff 10 io.dcf
   canctl --bus can0 config diff 10 io.dcf --check --format json   # exit 6 when they differ")]
 pub struct DiffArgs {
-    /// Node-id, 1..127
+    /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// The DCF
@@ -62,7 +62,7 @@ pub struct DiffArgs {
   canctl --bus sim config apply 10 io.dcf --dry-run
   canctl --bus can0 config apply 10 io.dcf --verify --store --format json")]
 pub struct ApplyArgs {
-    /// Node-id, 1..127
+    /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// The DCF

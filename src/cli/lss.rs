@@ -21,7 +21,7 @@ pub enum LssCommand {
   canctl --bus sim lss inquire --identity 0x40:0x43787800:0x312E3031:0x09501234
   canctl --bus can0 lss inquire --global      # only when exactly one LSS device is on the bus")]
     Inquire(Target),
-    /// Give a device a node-id (1..127; 255 takes it away)
+    /// Give a device a node-id (1 to 127; 255 takes it away)
     #[command(after_help = "Examples:
   canctl --bus sim lss set-id 7 --identity 0x40:0x43787800:0x312E3031:0x09501301
   canctl --bus epos2-usb:/dev/ttyUSB0 lss set-id 3 --node 0   # the EPOS2 itself (object 0x2000)")]
@@ -81,7 +81,7 @@ pub struct Target {
 
 #[derive(Args, Debug)]
 pub struct SetIdArgs {
-    /// The new node-id: 1..127, or 255 for none
+    /// The new node-id: 1 to 127, or 255 for none
     #[arg(value_name = "NEW", value_parser = parse_new_id)]
     pub new: u8,
     #[command(flatten)]
@@ -150,7 +150,7 @@ pub struct FastscanArgs {
 #[derive(Args, Debug)]
 pub struct AssignArgs {
     /// The first node-id to give
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=127))]
+    #[arg(long, value_name = "N", value_parser = super::parse_node)]
     pub start: u8,
     #[command(flatten)]
     pub pace: FastscanOptions,
@@ -181,7 +181,7 @@ fn parse_identity(s: &str) -> Result<Identity, String> {
 fn parse_new_id(s: &str) -> Result<u8, String> {
     match s.parse::<u16>() {
         Ok(n) if (1..=127).contains(&n) || n == UNCONFIGURED as u16 => Ok(n as u8),
-        _ => Err(format!("'{s}' is not a node-id for LSS: use 1..127, or 255 to leave the device without one")),
+        _ => Err(format!("'{s}' is not a node-id for LSS: use 1 to 127, or 255 to leave the device without one")),
     }
 }
 
@@ -308,7 +308,7 @@ fn configure_direct_epos2(ctx: &Ctx, bus: &mut dyn Bus, verb: &str, value: u8) -
     let opts = SdoOptions::new(ctx.timeout);
     match verb {
         "set-id" if value == UNCONFIGURED => {
-            Err(Error::Usage("an EPOS2 always has a node-id (1..127); 255 is for LSS devices".into()))
+            Err(Error::Usage("an EPOS2 always has a node-id (1 to 127); 255 is for LSS devices".into()))
         }
         "set-id" => {
             bus.sdo_download(0, EPOS2_NODE_ID, &[value], &opts).map(|_| format!("node-id {value} (object 0x2000)"))

@@ -163,7 +163,7 @@ pub fn parse_duration(text: &str) -> Result<Duration, String> {
     Ok(Duration::from_secs_f64(secs))
 }
 
-/// Parse a node-id for an SDO command: 1..127, or 0 for an EPOS2 reached directly.
+/// Parse a node-id for an SDO command: 1 to 127, or 0 for an EPOS2 reached directly.
 pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
     if text.trim() == "0" {
         return Ok(0);
@@ -171,7 +171,7 @@ pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
     parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on an epos2-rs232/epos2-usb bus)"))
 }
 
-/// Parse a node-id: 1..127, decimal or 0x hex.
+/// Parse a node-id: 1 to 127, decimal or 0x hex.
 pub fn parse_node(text: &str) -> Result<u8, String> {
     let t = text.trim();
     let n = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {

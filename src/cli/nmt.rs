@@ -40,7 +40,7 @@ Examples:
 
 #[derive(Args, Debug)]
 pub struct Target {
-    /// Node-id 1..127, or `all` to broadcast to every node
+    /// Node-id 1 to 127, or `all` to broadcast to every node
     #[arg(value_parser = parse_target, value_name = "NODE|all", add = ArgValueCandidates::new(super::complete::nodes_or_all))]
     pub target: u8,
 }
@@ -56,7 +56,7 @@ pub struct ResetArgs {
 
 #[derive(Args, Debug)]
 pub struct StateArgs {
-    /// Node-id, 1..127
+    /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// How long to listen for a heartbeat before asking by node guarding

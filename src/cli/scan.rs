@@ -1,4 +1,4 @@
-//! `canctl scan`: every node 1..127, with identity, name and NMT state.
+//! `canctl scan`: every node 1 to 127, with identity, name and NMT state.
 
 use super::Ctx;
 use crate::bus::{Bus, LssWait, SdoOptions};

@@ -29,7 +29,7 @@ pub enum SdoCommand {
   canctl --bus sim sdo read 10 1008 --type vs
   canctl --bus sim sdo read 1 1F50:1 --type d --out program.bin")]
 pub struct ReadArgs {
-    /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
@@ -63,7 +63,7 @@ pub struct ReadArgs {
   canctl --bus sim sdo write 1 0x607A:0 -2000 --type i32
   canctl --bus sim sdo write 1 1F50:1 @program.bin --type d")]
 pub struct WriteArgs {
-    /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a

@@ -20,7 +20,7 @@ pub use crate::ops::store::Class;
   canctl --bus sim store 5
   canctl --bus can0 store 10 comm --store-timeout 10s")]
 pub struct StoreArgs {
-    /// Node-id, 1..127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     #[arg(value_enum, default_value = "all")]
@@ -39,7 +39,7 @@ pub struct StoreArgs {
   canctl --bus sim restore 5 --reset
   canctl --bus can0 restore 10 app")]
 pub struct RestoreArgs {
-    /// Node-id, 1..127
+    /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     #[arg(value_enum, default_value = "all")]

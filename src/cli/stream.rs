@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
   canctl --bus can0 stream-pdo 5 --start --sync 10ms --duration 5s --format json
   canctl --bus sim stream-pdo 1 --start --map 6064:0,606C:0 --event 20")]
 pub struct StreamArgs {
-    /// Node-id, 1..127
+    /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Which TPDOs (default: every valid one of 1..4)

@@ -163,7 +163,7 @@ fn check_node(node: u8) -> Result<()> {
     if node <= 127 {
         Ok(())
     } else {
-        Err(Error::Usage(format!("node-id {node} is out of range (0 = the EPOS2 itself, 1..=127)")))
+        Err(Error::Usage(format!("node-id {node} is out of range: use 0 (the EPOS2 itself) or 1 to 127")))
     }
 }
 

@@ -320,7 +320,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
                 if let Some((v, line)) = s.get("nodeid") {
                     let id = parse_int(v)
                         .filter(|n| NODE_IDS.contains(n))
-                        .ok_or_else(|| err(line, format!("NodeID {v} is not 1..127")))?;
+                        .ok_or_else(|| err(line, format!("NodeID {v} is not 1 to 127")))?;
                     eds.node_id = Some(id as u8);
                 }
             }

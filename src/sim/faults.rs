@@ -80,7 +80,7 @@ impl FromStr for FaultSpec {
         let (target, rest) = text.split_once(':').ok_or_else(|| format!("'{text}' is not a fault: {usage}"))?;
         let target = match target.parse::<u8>() {
             Ok(n) if (1..=127).contains(&n) => Target::Node(n),
-            Ok(_) => return Err(format!("'{target}' is not a node-id: use 1..127 or a model key")),
+            Ok(_) => return Err(format!("'{target}' is not a node-id: use 1 to 127 or a model key")),
             Err(_) if !target.is_empty() => Target::Model(target.to_string()),
             Err(_) => return Err(format!("'{text}' names no device: {usage}")),
         };

@@ -338,7 +338,7 @@ pub fn lss_refusals(bus: &dyn Under) {
     for bad in ["0", "128", "254"] {
         let r = bus.run(&["lss", "set-id", bad, "--identity", SENSOR]);
         assert_eq!(r.code, 2, "set-id {bad}");
-        assert!(r.stderr.contains("1..127, or 255"), "{}", r.stderr);
+        assert!(r.stderr.contains("1 to 127, or 255"), "{}", r.stderr);
     }
     assert_eq!(bus.run(&["lss", "set-baud", "100k", "--global"]).code, 2);
     // The SERS stepper's bit rate comes from DIP switches; it cannot store either.
