@@ -276,6 +276,22 @@ fn saturated_bus_does_not_keep_a_silent_node_waiting() {
     assert!(aborts_sent(&mut m).is_empty(), "no abort to a node that never answered");
 }
 
+/// Listening for traffic (heartbeats before an LSS assign, a scan's LSS answers) on a bus
+/// that is never quiet: the frames keep coming, the wait still ends at its deadline.
+#[test]
+fn listening_on_a_saturated_bus_ends_at_the_deadline() {
+    let flood = Frame::new(0x7F0, &[0x55; 8]);
+    let link =
+        ScriptedLink::new(|_| vec![]).babbling(Duration::from_micros(130), flood).costing(Duration::from_micros(200));
+    let mut m = master(link);
+    let end = m.link_mut().now() + Duration::from_secs(1);
+    let mut heard = 0;
+    while m.recv_frame(end).unwrap().is_some() {
+        heard += 1;
+    }
+    assert!(heard > 1000, "the flood was heard: {heard} frames");
+}
+
 /// A block download server that acknowledges each sub-block with `ackseq`.
 fn acking_device(ackseq: u8) -> impl FnMut(&[u8]) -> Answers {
     move |req| match req[0] {

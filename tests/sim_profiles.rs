@@ -148,3 +148,18 @@ fn a_fault_applies_behind_the_epos2_too() {
     let r = dev.run(&["sdo", "read", "10", "1000"]);
     assert_eq!(r.code, 4, "{}", r.stderr);
 }
+
+/// A device that fills every idle moment of the bus (at the lowest priority, so the others
+/// still get through) must not keep a listening command past its wait: scan and LSS assign
+/// listen for heartbeats and answers, and end.
+#[test]
+fn a_bus_that_never_falls_quiet_does_not_keep_a_listener() {
+    let sim = Sim::new();
+    reset(&sim, &["--fault", "10:babble=0x7F0"]);
+    let limit = std::time::Duration::from_secs(90);
+    let scan = common::run_within(sim.command(&["scan", "--format", "json"]), limit);
+    assert_eq!(scan.code, 0, "{}", scan.stderr);
+    let assign = common::run_within(sim.command(&["lss", "assign", "--start", "20"]), limit);
+    assert_eq!(assign.code, 0, "{}", assign.stderr);
+    assert!(assign.stderr.contains("3 device(s) given a node-id"), "{}", assign.stderr);
+}

@@ -187,3 +187,18 @@ pub fn isolate(c: &mut Command) {
     generous_timeout(&dir);
     c.env("XDG_CONFIG_HOME", &dir).env("XDG_CACHE_HOME", &dir);
 }
+
+/// Run `c`, and fail the test (killing it) if it is still running after `limit`: for
+/// commands whose bug would be to hang.
+pub fn run_within(mut c: Command, limit: std::time::Duration) -> Run {
+    let mut child = c.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("{c:?} still running after {} s", limit.as_secs());
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    finish(child.wait_with_output().unwrap())
+}
