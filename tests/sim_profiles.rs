@@ -163,3 +163,22 @@ fn a_bus_that_never_falls_quiet_does_not_keep_a_listener() {
     assert_eq!(assign.code, 0, "{}", assign.stderr);
     assert!(assign.stderr.contains("3 device(s) given a node-id"), "{}", assign.stderr);
 }
+
+/// At its defaults, scan finds every node of a slow network (answers up to 80 ms late)
+/// and of a slow bus (at 125 kbit/s the 127 probes alone take 100 ms to leave): its window
+/// counts from the last answer, not from when the probes were queued.
+#[test]
+fn scan_at_defaults_finds_every_node_of_a_slow_network_or_bus() {
+    for setup in
+        [&["--profile", "slow"][..], &["--bit-rate", "125k"][..], &["--profile", "slow", "--bit-rate", "125k"][..]]
+    {
+        let sim = Sim::new();
+        reset(&sim, setup);
+        for _ in 0..3 {
+            let scan = sim.run(&["scan", "--format", "json"]).ok().json();
+            let nodes: Vec<u64> =
+                scan["nodes"].as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect();
+            assert_eq!(nodes, [1, 5, 10, 32], "{setup:?}: {scan}");
+        }
+    }
+}
