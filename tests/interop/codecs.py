@@ -12,6 +12,8 @@ import canopen
 from canopen.objectdictionary import ODVariable
 from canopen.objectdictionary import datatypes as dt
 
+from tagged import tagged
+
 
 def python_value(code, text):
     """The value as a Python program would write it, from the same text."""
@@ -24,18 +26,6 @@ def python_value(code, text):
     if code in (dt.OCTET_STRING, dt.DOMAIN):
         return bytes.fromhex(text)
     return text
-
-
-def tagged(value):
-    if isinstance(value, bool):
-        return {"bool": value}
-    if isinstance(value, int):
-        return {"int": str(value)}
-    if isinstance(value, float):
-        return {"float": repr(value)}
-    if isinstance(value, str):
-        return {"str": value}
-    return {"bytes": bytes(value).hex().upper()}
 
 
 def main():

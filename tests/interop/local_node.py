@@ -12,6 +12,8 @@ import canopen
 from canopen.objectdictionary import ODRecord, ODVariable, ObjectDictionary
 from canopen.objectdictionary import datatypes as dt
 
+from tagged import tagged
+
 iface, node_id = sys.argv[1], int(sys.argv[2])
 
 
@@ -73,18 +75,6 @@ od.add_object(record(0x2001, "Values set by python-canopen", [
     ("octet string", dt.OCTET_STRING, bytes([0x00, 0x7F, 0x80, 0xFF]), "ro"),
     ("domain", dt.DOMAIN, bytes(range(20)), "ro"),
 ]))
-
-
-def tagged(value):
-    if isinstance(value, bool):
-        return {"bool": value}
-    if isinstance(value, int):
-        return {"int": str(value)}
-    if isinstance(value, float):
-        return {"float": repr(value)}
-    if isinstance(value, str):
-        return {"str": value}
-    return {"bytes": bytes(value).hex().upper()}
 
 
 def on_write(index, subindex, od, data):
