@@ -4,7 +4,7 @@
 mod common;
 
 use common::Sim;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// `sdo write` of raw bytes through a value file.
 fn write_bytes(sim: &Sim, obj: &str, dtype: &str, bytes: &[u8]) {
@@ -65,17 +65,7 @@ fn a_value_no_dcf_can_carry_is_left_out_and_said_so() {
 
 /// Runs canctl and waits for it under a generous bound: a hang fails the test.
 fn run_bounded(sim: &Sim, args: &[&str]) -> common::Run {
-    let mut child =
-        sim.command(args).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::piped()).spawn().unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(60) {
-            child.kill().unwrap();
-            panic!("canctl {args:?} still running after 60 s");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    common::finish(child.wait_with_output().unwrap())
+    common::run_within(sim.command(args), Duration::from_secs(60))
 }
 
 #[test]

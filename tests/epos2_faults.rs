@@ -8,7 +8,7 @@ mod common;
 use common::{DeviceSide, Run, Sim};
 use std::io::BufRead;
 use std::process::Stdio;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 const FRAMINGS: [&str; 2] = ["--epos2-rs232", "--epos2-usb"];
 /// Far beyond any bound canctl should need; only reached by a hang.
@@ -16,16 +16,7 @@ const HANG: Duration = Duration::from_secs(90);
 
 /// Run canctl on the device side; a run that outlives `HANG` is killed and fails the test.
 fn run_bounded(dev: &DeviceSide, args: &[&str]) -> Run {
-    let mut child = dev.command(args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > HANG {
-            let _ = child.kill();
-            panic!("{} {args:?} still running after {HANG:?}", dev.uri);
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    common::finish(child.wait_with_output().unwrap())
+    common::run_within(dev.command(args), HANG)
 }
 
 /// Scan's nodes without their NMT state: the EPOS2 shows no heartbeats.
