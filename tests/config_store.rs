@@ -225,3 +225,114 @@ fn a_dry_run_predicts_a_refused_write() {
     let real = sim.run(&["config", "apply", "10", dcf.to_str().unwrap()]);
     assert_eq!(real.code, 4, "{}", real.stderr);
 }
+
+/// The DCF with one section's keys changed: `edit` gets the section's lines (without its
+/// `[header]`) and returns the new ones.
+fn edit_section(dcf: &str, header: &str, edit: impl Fn(Vec<String>) -> Vec<String>) -> String {
+    let mut out = String::new();
+    for (i, section) in dcf.split("\n[").enumerate() {
+        let (head, body) = section.split_once('\n').unwrap_or((section, ""));
+        let lines: Vec<String> = body.lines().map(str::to_string).collect();
+        let lines = if head == format!("{header}]") { edit(lines) } else { lines };
+        if i > 0 {
+            out.push_str("\n[");
+        }
+        out.push_str(head);
+        out.push('\n');
+        out.push_str(&lines.join("\n"));
+    }
+    out
+}
+
+fn set_key(key: &'static str, value: &'static str) -> impl Fn(Vec<String>) -> Vec<String> {
+    move |lines| {
+        lines
+            .into_iter()
+            .map(|l| if l.starts_with(&format!("{key}=")) { format!("{key}={value}") } else { l })
+            .collect()
+    }
+}
+
+/// A hand-edited DCF is judged by the target's own dictionary, as the device will judge it:
+/// a value outside the range the drive's profile gives is refused before anything is
+/// written, in the dry run and in the real run alike.
+#[test]
+fn a_value_out_of_the_targets_range_is_refused_before_any_write() {
+    let sim = Sim::new();
+    let path = sim.path("drive.dcf");
+    sim.run(&["config", "dump", "1", "--out", path.to_str().unwrap()]).ok();
+    let text = std::fs::read_to_string(&path).unwrap();
+    // Limits a file need not carry, and a heartbeat that would be written first.
+    let text = edit_section(&text, "6060", |lines| {
+        let lines = lines.into_iter().filter(|l| !l.contains("Limit=")).collect();
+        set_key("ParameterValue", "99")(lines)
+    });
+    let text = edit_section(&text, "1017", set_key("ParameterValue", "250"));
+    std::fs::write(&path, text).unwrap();
+    let before = sim.run(&["sdo", "read", "1", "1017"]).ok().stdout;
+    for dry in [true, false] {
+        let mut args = vec!["config", "apply", "1", path.to_str().unwrap()];
+        if dry {
+            args.push("--dry-run");
+        }
+        let r = sim.run(&args);
+        assert_eq!(r.code, 2, "dry run {dry}: {}", r.stderr);
+        assert!(
+            r.stderr.contains(
+                "99 is outside the range of 0x6060:0: use -128 to 10 (the built-in dictionary (profile 402))"
+            ),
+            "{}",
+            r.stderr
+        );
+        assert_eq!(sim.run(&["sdo", "read", "1", "1017"]).ok().stdout, before, "nothing written");
+    }
+}
+
+/// An object the target's dictionary has read-only: the dry run shows the write refused,
+/// with the exit code the real run then ends with.
+#[test]
+fn a_dry_run_predicts_a_read_only_object_by_the_targets_dictionary() {
+    let sim = Sim::new();
+    let path = sim.path("drive.dcf");
+    sim.run(&["config", "dump", "1", "--out", path.to_str().unwrap()]).ok();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = edit_section(&text, "1018sub4", |l| set_key("ParameterValue", "0x77")(set_key("AccessType", "rw")(l)));
+    std::fs::write(&path, text).unwrap();
+    let dry = sim.run(&["config", "apply", "1", path.to_str().unwrap(), "--dry-run"]);
+    assert_eq!(dry.code, 4, "{}", dry.stderr);
+    assert!(
+        dry.stdout.contains("would be refused: read only in the built-in dictionary (profile 402)"),
+        "{}",
+        dry.stdout
+    );
+    let real = sim.run(&["config", "apply", "1", path.to_str().unwrap()]);
+    assert_eq!(real.code, 4, "{}", real.stderr);
+    assert!(real.stderr.contains("0x06010002"), "{}", real.stderr);
+}
+
+/// Objects the target lacks are met with suggestions from the target's dictionary (the
+/// drive's profile), not from the file's or every profile's (a sensor's 0x6004 "Position
+/// value" for a drive).
+#[test]
+fn suggestions_come_from_the_targets_dictionary() {
+    let sim = Sim::new();
+    let path = sim.path("sensor.dcf");
+    sim.run(&["config", "dump", "5", "--out", path.to_str().unwrap()]).ok();
+    let drive = canctl::od::builtin::dictionary(Some(402));
+    for dry in [true, false] {
+        let mut args = vec!["config", "apply", "1", path.to_str().unwrap(), "--force"];
+        if dry {
+            args.push("--dry-run");
+        }
+        let r = sim.run(&args);
+        assert_eq!(r.code, 4, "{}", r.stderr);
+        let line = r.stderr.lines().find(|l| l.contains("SDO abort 0x06020000 on 0x6000:0")).expect(&r.stderr);
+        let near = line.split("did you mean ").nth(1).expect(line).trim_end_matches('?');
+        for name in near.split(", ") {
+            let addr: canctl::canopen::ObjAddr = name.split(' ').next().unwrap().parse().unwrap();
+            assert!(drive.get(addr).is_some(), "{name} is not a drive's object: {line}");
+        }
+        let json = sim.run(&[args, vec!["--format", "json"]].concat()).json();
+        assert!(json["did_you_mean"].as_array().is_some_and(|a| !a.is_empty()), "{json}");
+    }
+}

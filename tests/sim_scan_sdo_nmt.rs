@@ -232,6 +232,17 @@ fn bad_node_ids_are_told_in_one_voice() {
         assert!(r.stderr.contains("use 1 to 127"), "{}", r.stderr);
         assert!(!r.stderr.contains("..="), "{}", r.stderr);
     }
+    // Every other bounded number says its range the same way.
+    for (args, words) in [
+        (&["stream-pdo", "5", "--tpdo", "600"][..], "use 1 to 512"),
+        (&["sim", "reset", "--unconfigured", "300"][..], "use 0 to 64"),
+        (&["sim", "--epos2-rs232", "--baud", "5"][..], "use 300 to 10000000"),
+        (&["lss", "store", "--node", "3"][..], "use 0"),
+    ] {
+        let r = sim.run(args);
+        assert_eq!(r.code, 2, "{args:?}: {}", r.stderr);
+        assert!(r.stderr.contains(words) && !r.stderr.contains("..="), "{args:?}: {}", r.stderr);
+    }
 }
 
 /// The state column shows what each node really shows: a 100 ms heartbeat is waited for

@@ -134,6 +134,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         store: a.store,
         store_timeout: a.store_timeout,
         force: a.force,
+        dictionary: ctx.dicts.eds_for(a.node).map(|e| (e.dict.clone(), e.path.clone())),
     };
     let report = config::apply(bus, a.node, &read_dcf(&a.file)?, &options)?;
     ctx.out.report(&report)?;

@@ -75,7 +75,7 @@ pub struct Target {
     #[arg(long, conflicts_with = "node")]
     pub global: bool,
     /// 0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)
-    #[arg(long, value_name = "0", value_parser = clap::value_parser!(u8).range(0..=0))]
+    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 
@@ -143,7 +143,7 @@ pub struct FastscanArgs {
     #[command(flatten)]
     pub pace: FastscanOptions,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
-    #[arg(long, value_name = "0", value_parser = clap::value_parser!(u8).range(0..=0))]
+    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 
@@ -162,7 +162,7 @@ pub struct AssignArgs {
     #[arg(long)]
     pub no_store: bool,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
-    #[arg(long, value_name = "0", value_parser = clap::value_parser!(u8).range(0..=0))]
+    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 

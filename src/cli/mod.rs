@@ -163,6 +163,28 @@ pub fn parse_duration(text: &str) -> Result<Duration, String> {
     Ok(Duration::from_secs_f64(secs))
 }
 
+/// A whole number from `lo` to `hi` (decimal or 0x hex), refused in the words every range
+/// uses ("use 1 to 512"), not clap's `1..=512`.
+pub fn number_in<T>(what: &'static str, lo: u64, hi: u64) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync
+where
+    T: TryFrom<u64>,
+{
+    move |text: &str| {
+        let t = text.trim();
+        let n = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+            Some(h) => u64::from_str_radix(h, 16).ok(),
+            None => t.parse::<u64>().ok(),
+        };
+        n.filter(|n| (lo..=hi).contains(n)).and_then(|n| T::try_from(n).ok()).ok_or_else(|| {
+            if lo == hi {
+                format!("'{text}' is not {what}: use {lo}")
+            } else {
+                format!("'{text}' is not {what}: use {lo} to {hi}")
+            }
+        })
+    }
+}
+
 /// Parse a node-id for an SDO command: 1 to 127, or 0 for an EPOS2 reached directly.
 pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
     if text.trim() == "0" {
@@ -173,14 +195,7 @@ pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
 
 /// Parse a node-id: 1 to 127, decimal or 0x hex.
 pub fn parse_node(text: &str) -> Result<u8, String> {
-    let t = text.trim();
-    let n = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-        Some(h) => u32::from_str_radix(h, 16).ok(),
-        None => t.parse::<u32>().ok(),
-    };
-    n.filter(|n| (1..=127).contains(n))
-        .map(|n| n as u8)
-        .ok_or_else(|| format!("'{text}' is not a node-id: use 1 to 127"))
+    number_in("a node-id", 1, 127)(text)
 }
 
 /// Open the bus the user named, or explain how to name one.
@@ -315,6 +330,10 @@ mod tests {
         assert!(parse_node("0").is_err());
         assert!(parse_node("128").is_err());
         assert!(parse_node("all").is_err());
+        let tpdo = number_in::<u16>("a TPDO number", 1, 512);
+        assert_eq!(tpdo("0x200"), Ok(512));
+        assert_eq!(tpdo("513").unwrap_err(), "'513' is not a TPDO number: use 1 to 512");
+        assert_eq!(number_in::<u8>("the EPOS2", 0, 0)("3").unwrap_err(), "'3' is not the EPOS2: use 0");
     }
 
     #[test]

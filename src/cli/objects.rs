@@ -81,37 +81,9 @@ impl Dictionaries {
         Ok((addr, dict.get(addr)))
     }
 
-    /// Objects of the node's dictionary near one the node says it does not have: the other
-    /// sub-indexes of that object, else objects whose index is one hex digit off or has two
-    /// neighbouring digits swapped (0x1081 for 0x1018). Named, at most five.
+    /// Objects of the node's dictionary near one the node says it does not have.
     pub fn near(&self, node: u8, addr: ObjAddr) -> Vec<String> {
-        let dict = self.for_node(node);
-        let mut near: Vec<ObjAddr> =
-            dict.entries().map(|e| e.addr).filter(|a| a.index == addr.index && *a != addr).collect();
-        if near.is_empty() {
-            let mut indexes: Vec<u16> =
-                dict.entries().map(|e| e.addr.index).filter(|i| one_slip(*i, addr.index)).collect();
-            indexes.dedup();
-            near = indexes
-                .into_iter()
-                .map(|i| ObjAddr::new(i, if dict.get(ObjAddr::new(i, addr.sub)).is_some() { addr.sub } else { 0 }))
-                .collect();
-        }
-        near.into_iter()
-            .take(5)
-            .map(|a| dict.display_name(a).map_or_else(|| a.to_string(), |n| format!("{a} ({n})")))
-            .collect()
-    }
-}
-
-/// Whether two indexes differ by one hex digit, or by two neighbouring digits swapped.
-fn one_slip(a: u16, b: u16) -> bool {
-    let (x, y) = (format!("{a:04X}").into_bytes(), format!("{b:04X}").into_bytes());
-    let differ: Vec<usize> = (0..4).filter(|&i| x[i] != y[i]).collect();
-    match differ.as_slice() {
-        [_] => true,
-        [i, j] => *j == i + 1 && x[*i] == y[*j] && x[*j] == y[*i],
-        _ => false,
+        names::near(self.for_node(node), addr)
     }
 }
 
@@ -142,7 +114,6 @@ mod tests {
         assert_eq!(subs.len(), 5, "{subs:?}");
         assert!(subs[0].starts_with("0x1018:0") && subs[4].starts_with("0x1018:4"), "{subs:?}");
         assert!(d.near(1, ObjAddr::new(0x7777, 0)).is_empty());
-        assert!(one_slip(0x1081, 0x1018) && one_slip(0x1017, 0x1016) && !one_slip(0x1017, 0x1170));
     }
 
     #[test]

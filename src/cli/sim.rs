@@ -53,7 +53,7 @@ pub struct SimArgs {
     #[arg(long)]
     pub epos2_usb: bool,
     /// Pace bytes as a serial line at this bit rate would (10 bits a byte)
-    #[arg(long, value_name = "BITS/S", value_parser = clap::value_parser!(u32).range(300..=10_000_000))]
+    #[arg(long, value_name = "BITS/S", value_parser = super::number_in::<u32>("a serial bit rate", 300, 10_000_000))]
     pub baud: Option<u32>,
     /// Inject a fault: nack, crc, garbage, drop, mute, stale, late, babble, empty-segments,
     /// endless-segments or wrong-object, on frame N (KIND@N) or every frame (KIND@*)
@@ -93,7 +93,7 @@ pub struct ResetArgs {
     #[arg(long, value_name = "PROFILE", default_value = "typical", value_parser = clap::builder::PossibleValuesParser::new(Profile::NAMES).map(|s| s.parse::<Profile>().expect("listed")))]
     pub profile: Profile,
     /// Devices waiting for a node-id over LSS
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_UNCONFIGURED, value_parser = clap::value_parser!(u8).range(0..=MAX_UNCONFIGURED as i64))]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_UNCONFIGURED, value_parser = super::number_in::<u8>("a number of devices", 0, MAX_UNCONFIGURED as u64))]
     pub unconfigured: u8,
     /// The bit rate the bus and every device start at (1M 800k 500k 250k 125k 50k 20k 10k)
     #[arg(long, value_name = "RATE", default_value = "500k", value_parser = parse_rate)]

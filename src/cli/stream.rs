@@ -29,7 +29,7 @@ pub struct StreamArgs {
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
     /// Which TPDOs (default: every valid one of 1..4)
-    #[arg(long, value_delimiter = ',', value_name = "N,...", value_parser = clap::value_parser!(u16).range(1..=512))]
+    #[arg(long, value_delimiter = ',', value_name = "N,...", value_parser = super::number_in::<u16>("a TPDO number", 1, 512))]
     pub tpdo: Vec<u16>,
     /// Stop after this many records
     #[arg(long, value_name = "N", conflicts_with = "duration")]

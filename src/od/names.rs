@@ -78,10 +78,46 @@ fn distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
+/// Objects of `dict` near one a device says it does not have: the other sub-indexes of that
+/// object, else objects whose index is one hex digit off or has two neighbouring digits
+/// swapped (0x1081 for 0x1018). Named, at most five.
+pub fn near(dict: &Dictionary, addr: ObjAddr) -> Vec<String> {
+    let mut near: Vec<ObjAddr> =
+        dict.entries().map(|e| e.addr).filter(|a| a.index == addr.index && *a != addr).collect();
+    if near.is_empty() {
+        let mut indexes: Vec<u16> = dict.entries().map(|e| e.addr.index).filter(|i| one_slip(*i, addr.index)).collect();
+        indexes.dedup();
+        near = indexes
+            .into_iter()
+            .map(|i| ObjAddr::new(i, if dict.get(ObjAddr::new(i, addr.sub)).is_some() { addr.sub } else { 0 }))
+            .collect();
+    }
+    near.into_iter()
+        .take(5)
+        .map(|a| dict.display_name(a).map_or_else(|| a.to_string(), |n| format!("{a} ({n})")))
+        .collect()
+}
+
+/// Whether two indexes differ by one hex digit, or by two neighbouring digits swapped.
+fn one_slip(a: u16, b: u16) -> bool {
+    let (x, y) = (format!("{a:04X}").into_bytes(), format!("{b:04X}").into_bytes());
+    let differ: Vec<usize> = (0..4).filter(|&i| x[i] != y[i]).collect();
+    match differ.as_slice() {
+        [_] => true,
+        [i, j] => *j == i + 1 && x[*i] == y[*j] && x[*j] == y[*i],
+        _ => false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::od::builtin::dictionary;
+
+    #[test]
+    fn slips_of_one_digit_or_a_swap() {
+        assert!(one_slip(0x1081, 0x1018) && one_slip(0x1017, 0x1016) && !one_slip(0x1017, 0x1170));
+    }
 
     #[test]
     fn identifiers_are_one_word_that_finds_the_entry() {

@@ -7,7 +7,7 @@ use crate::bus::{Bus, SdoOptions};
 use crate::canopen::{abort, DataType, ObjAddr};
 use crate::error::{Error, Result};
 use crate::od::eds::{self, Eds, Header};
-use crate::od::{builtin, Dictionary, Entry, Init};
+use crate::od::{builtin, names, Dictionary, Entry, Init};
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -137,6 +137,33 @@ fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> 
     )))
 }
 
+/// A value the target's dictionary does not allow, refused before anything is written.
+fn out_of_range(entry: &Entry, value: &[u8], source: &str) -> Error {
+    let shown = show(entry, value);
+    let (lo, hi) = entry.range.expect("only a ranged entry refuses");
+    Error::Usage(format!(
+        "{shown} is outside the range of {}: use {lo} to {hi} ({source}); nothing was written",
+        entry.addr
+    ))
+}
+
+/// The dictionary a node is judged by, with the name of its source: the one given (an EDS
+/// bound to the node), else the built-in one for the node's profile (0x1000), which decides
+/// what 0x6000 and the like mean (DS401/402/406).
+fn node_dictionary(
+    bus: &mut dyn Bus,
+    node: u8,
+    given: Option<(&Dictionary, &str)>,
+    timeout: Duration,
+) -> Result<(Dictionary, String)> {
+    if let Some((d, source)) = given {
+        return Ok((d.clone(), source.to_string()));
+    }
+    let device_type = builtin::dictionary(None).get(ObjAddr::new(0x1000, 0)).expect("0x1000");
+    let profile = le_u32(&read_one(bus, node, device_type, timeout)?) as u16;
+    Ok((builtin::dictionary(Some(profile)).clone(), format!("the built-in dictionary (profile {profile})")))
+}
+
 /// A node's objects, read into a DCF.
 #[derive(Debug, Serialize)]
 pub struct Dump {
@@ -162,15 +189,7 @@ pub fn dump(
     timeout: Duration,
     progress: &mut dyn Progress,
 ) -> Result<Dump> {
-    let (dict, source) = match dictionary {
-        Some((d, source)) => (d.clone(), source.to_string()),
-        None => {
-            // The profile (DS401/402/406) decides what 0x6000 and the like mean.
-            let device_type = builtin::dictionary(None).get(ObjAddr::new(0x1000, 0)).expect("0x1000");
-            let profile = le_u32(&read_one(bus, node, device_type, timeout)?) as u16;
-            (builtin::dictionary(Some(profile)).clone(), format!("the built-in dictionary (profile {profile})"))
-        }
-    };
+    let (dict, source) = node_dictionary(bus, node, dictionary, timeout)?;
     let wanted: Vec<&Entry> = dict.entries().filter(|e| e.access.readable() && e.dtype != DataType::D).collect();
     progress.start("reading", wanted.len() as u64);
     let mut present = Dictionary::default();
@@ -360,6 +379,10 @@ pub struct ApplyOptions {
     pub store_timeout: Duration,
     /// Apply even when the device's vendor-ID or product code is not the file's.
     pub force: bool,
+    /// The target's dictionary, with the name of its source (an EDS bound to the node); by
+    /// default the built-in one for the node's profile. Writes are judged by it: ranges
+    /// before anything is written, and in a dry run what the device will refuse.
+    pub dictionary: Option<(Dictionary, String)>,
 }
 
 impl ApplyOptions {
@@ -371,6 +394,7 @@ impl ApplyOptions {
             store: false,
             store_timeout: Duration::from_secs(5),
             force: false,
+            dictionary: None,
         }
     }
 }
@@ -388,6 +412,10 @@ pub struct Applied {
     /// The write that failed; nothing after it was written.
     #[serde(skip)]
     pub failure: Option<Error>,
+    /// When the failure is an object the device lacks: the objects of the device's
+    /// dictionary nearest to it.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub did_you_mean: Vec<String>,
     /// What was written, in order.
     #[serde(skip)]
     pub written: Vec<ObjAddr>,
@@ -426,7 +454,10 @@ impl Applied {
     /// back as written.
     pub fn outcome(self) -> Result<()> {
         if let Some(e) = self.failure {
-            return Err(e);
+            if self.did_you_mean.is_empty() {
+                return Err(e);
+            }
+            return Err(Error::Refused(format!("{e}; did you mean {}?", self.did_you_mean.join(", "))));
         }
         if !self.mismatch.is_empty() {
             let list: Vec<String> = self.mismatch.iter().map(|m| m.to_string()).collect();
@@ -452,6 +483,8 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     if !o.force {
         check_identity(bus, node, dcf, o.timeout)?;
     }
+    let given = o.dictionary.as_ref().map(|(d, source)| (d, source.as_str()));
+    let (target, target_source) = node_dictionary(bus, node, given, o.timeout)?;
     let mut current: BTreeMap<ObjAddr, Vec<u8>> = BTreeMap::new();
     let mut changes: BTreeMap<ObjAddr, Vec<u8>> = BTreeMap::new();
     let mut rows: Vec<Change> = Vec::new();
@@ -501,6 +534,12 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             }
         }
     }
+    // The device will refuse a value outside its range: say so before writing anything.
+    for (addr, value) in &changes {
+        if let Some(entry) = target.get(*addr).filter(|e| e.dtype.size() == Some(value.len())) {
+            super::check_range(entry, value).map_err(|_| out_of_range(entry, value, &target_source))?;
+        }
+    }
     let steps = plan(&changes, &|addr| current.get(&addr).cloned());
     let entry_of = |addr: ObjAddr| dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
     let mut failure: Option<Error> = None;
@@ -512,6 +551,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         } else if let (true, Some(&code)) = (o.dry_run, absent.get(&step.addr)) {
             failure = Some(Error::SdoAbort { node, obj: step.addr, code });
             format!("would be refused: {}", abort::meaning(code))
+        } else if o.dry_run && target.get(step.addr).is_some_and(|e| !e.access.writable()) {
+            failure = Some(Error::SdoAbort { node, obj: step.addr, code: abort::READ_ONLY });
+            format!("would be refused: read only in {target_source}")
         } else if o.dry_run {
             "would write".to_string()
         } else if failure.is_some() {
@@ -532,6 +574,12 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         let result = if step.interim.is_empty() { result } else { format!("{result} ({})", step.interim) };
         rows.push(Change::new(dcf, step.addr, current.get(&step.addr).map(|v| v.as_slice()), &step.value, result));
     }
+    // An object the device lacks: the nearest ones it may have meant, from its own
+    // dictionary (not the file's, which may describe another kind of device).
+    let did_you_mean = match &failure {
+        Some(Error::SdoAbort { obj, code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => names::near(&target, *obj),
+        _ => Vec::new(),
+    };
     let mut mismatch = Vec::new();
     if o.verify && failure.is_none() && !o.dry_run {
         for (addr, want) in &changes {
@@ -564,6 +612,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         objects: rows,
         stored,
         failure,
+        did_you_mean,
         written,
         mismatch,
     })
