@@ -96,6 +96,7 @@ fn a_wrong_bit_rate_in_the_address_is_no_answer() {
     let sim = common::Sim::new();
     let dev = common::DeviceSide::start(&sim, "--slcan", &[]);
     let mut c = std::process::Command::new(common::canctl_bin());
+    common::isolate(&mut c);
     c.env_remove("CANCTL_BUS").args(["--bus", &format!("{}@125k", dev.uri), "--timeout", "200ms"]);
     let r = common::finish(c.args(["sdo", "read", "1", "1000"]).output().unwrap());
     assert_eq!(r.code, 3, "{}", r.stderr);
