@@ -205,10 +205,12 @@ impl<L: FrameLink> Master<L> {
             SdoError::ServerAbort(code) => Error::SdoAbort { node, obj: addr, code },
             SdoError::ClientAbort { code, reason } => {
                 self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, code)))?;
-                Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason} (aborted with 0x{code:08X})"))
+                Error::link_other(format!(
+                    "node {node}: SDO transfer of {addr} failed: {reason} (aborted with 0x{code:08X})"
+                ))
             }
             SdoError::Inconsistent(reason) => {
-                Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason}"))
+                Error::link_other(format!("node {node}: SDO transfer of {addr} failed: {reason}"))
             }
         })
     }

@@ -27,7 +27,7 @@ fn check_interface(iface: &str) -> Result<()> {
     let present = super::uri::can_interfaces();
     if !dir.exists() {
         let list = if present.is_empty() { "none".to_string() } else { present.join(", ") };
-        return Err(Error::Link(format!(
+        return Err(Error::link_other(format!(
             "there is no network interface '{iface}' (CAN interfaces here: {list}).\n  \
              A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
              A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
@@ -35,12 +35,12 @@ fn check_interface(iface: &str) -> Result<()> {
         )));
     }
     if !present.iter().any(|p| p == iface) {
-        return Err(Error::Link(format!("'{iface}' is not a CAN interface")));
+        return Err(Error::link_other(format!("'{iface}' is not a CAN interface")));
     }
     let flags = std::fs::read_to_string(dir.join("flags")).unwrap_or_default();
     let flags = u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16).unwrap_or(1);
     if flags & 1 == 0 {
-        return Err(Error::Link(format!(
+        return Err(Error::link_other(format!(
             "{iface} is down: bring it up first (e.g. sudo ip link set {iface} up type can bitrate 500000)"
         )));
     }
@@ -50,16 +50,16 @@ fn check_interface(iface: &str) -> Result<()> {
 impl SocketCanLink {
     pub fn open(iface: &str) -> Result<SocketCanLink> {
         check_interface(iface)?;
-        let sock = CanSocket::open(iface).map_err(|e| Error::Link(format!("cannot open {iface}: {e}")))?;
+        let sock = CanSocket::open(iface).map_err(|e| Error::link_other(format!("cannot open {iface}: {e}")))?;
         // Every error class: bus-off must end a command, the others are worth a warning.
-        sock.set_error_filter_accept_all().map_err(|e| Error::Link(format!("{iface}: error filter: {e}")))?;
-        sock.set_nonblocking(true).map_err(|e| Error::Link(format!("{iface}: {e}")))?;
+        sock.set_error_filter_accept_all().map_err(|e| Error::link_other(format!("{iface}: error filter: {e}")))?;
+        sock.set_nonblocking(true).map_err(|e| Error::link_other(format!("{iface}: {e}")))?;
         Ok(SocketCanLink { sock, iface: iface.to_string(), filters: vec![(0, 0)], warned: Vec::new() })
     }
 
     fn error_frame(&mut self, err: CanError) -> Result<()> {
         if err.causes().any(|c| matches!(c, ErrorCause::BusOff)) {
-            return Err(Error::Link(format!("{}: the controller went bus-off ({err})", self.iface)));
+            return Err(Error::link_other(format!("{}: the controller went bus-off ({err})", self.iface)));
         }
         let text = err.to_string();
         if !self.warned.contains(&text) {
@@ -90,7 +90,7 @@ impl FrameLink for SocketCanLink {
                 // room; dropping the frame would lose a probe without a word.
                 Err(e) if e.raw_os_error() == Some(nix::libc::ENOBUFS) || e.kind() == io::ErrorKind::WouldBlock => {
                     if Instant::now() > give_up {
-                        return Err(Error::Link(format!(
+                        return Err(Error::link_other(format!(
                             "{}: the transmit queue stayed full for {} s (no other node acknowledging? bus-off?)",
                             self.iface,
                             TX_QUEUE_PATIENCE.as_secs()
@@ -98,7 +98,7 @@ impl FrameLink for SocketCanLink {
                     }
                     std::thread::sleep(Duration::from_micros(200));
                 }
-                Err(e) => return Err(Error::Link(format!("{}: send failed: {e}", self.iface))),
+                Err(e) => return Err(Error::link_other(format!("{}: send failed: {e}", self.iface))),
             }
         }
     }
@@ -118,11 +118,11 @@ impl FrameLink for SocketCanLink {
                         Ok(f) => f,
                         Err(e) if matches!(e.kind(), io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock) => continue,
                         Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-                        Err(e) => return Err(Error::Link(format!("{}: receive failed: {e}", self.iface))),
+                        Err(e) => return Err(Error::link_other(format!("{}: receive failed: {e}", self.iface))),
                     }
                 }
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-                Err(e) => return Err(Error::Link(format!("{}: receive failed: {e}", self.iface))),
+                Err(e) => return Err(Error::link_other(format!("{}: receive failed: {e}", self.iface))),
             };
             match f {
                 CanFrame::Error(e) => self.error_frame(e.into_error())?,
@@ -145,7 +145,7 @@ impl FrameLink for SocketCanLink {
             return Ok(());
         }
         let list: Vec<CanFilter> = filters.iter().map(|(id, mask)| CanFilter::new(*id as u32, *mask as u32)).collect();
-        self.sock.set_filters(&list).map_err(|e| Error::Link(format!("{}: receive filter: {e}", self.iface)))?;
+        self.sock.set_filters(&list).map_err(|e| Error::link_other(format!("{}: receive filter: {e}", self.iface)))?;
         self.filters = filters.to_vec();
         Ok(())
     }

@@ -223,12 +223,12 @@ fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<NativePort> {
         .flow_control(serialport::FlowControl::None)
         .timeout(timeout)
         .open_native()
-        .map_err(|e| Error::Link(format!("cannot open {port}: {e}")))?;
+        .map_err(|e| Error::link_other(format!("cannot open {port}: {e}")))?;
     // A pseudo-terminal (the simulator's device side) is opened again by every command;
     // the exclusive flag would outlive this process and lock the next one out.
     #[cfg(unix)]
     if port.starts_with("/dev/pts/") {
-        io.set_exclusive(false).map_err(|e| Error::Link(format!("{port}: {e}")))?;
+        io.set_exclusive(false).map_err(|e| Error::link_other(format!("{port}: {e}")))?;
     }
     Ok(io)
 }

@@ -41,7 +41,7 @@ impl<T: Transport> Epos2Gateway<T> {
         let answered = !self.link.is_rs232() || cmd.answered_on_rs232();
         let Some(answer) = self.link.transact(&cmd.to_frame(), answered)? else { return Ok(None) };
         let (code, data) = command::parse_answer(&answer).ok_or_else(|| {
-            Error::Link(format!("{}: the answer to {} is too short", self.link.describe(), cmd.name()))
+            Error::link_other(format!("{}: the answer to {} is too short", self.link.describe(), cmd.name()))
         })?;
         Ok(Some((code, data.to_vec())))
     }
@@ -105,28 +105,30 @@ impl<T: Transport> Epos2Gateway<T> {
             let data = self.call_ok(&Command::SegmentRead { toggle }, node, Some(addr))?;
             let ctrl = *data
                 .first()
-                .ok_or_else(|| Error::Link(format!("{}: empty SegmentRead answer", self.link.describe())))?;
+                .ok_or_else(|| Error::link_other(format!("{}: empty SegmentRead answer", self.link.describe())))?;
             if (ctrl & TOGGLE != 0) != toggle {
-                return Err(Error::Link(format!("node {node}: segmented read of {addr}: toggle bit not alternated")));
+                return Err(Error::link_other(format!(
+                    "node {node}: segmented read of {addr}: toggle bit not alternated"
+                )));
             }
             let len = (ctrl & LENGTH) as usize;
-            let chunk = data
-                .get(1..1 + len)
-                .ok_or_else(|| Error::Link(format!("node {node}: segment claims {len} bytes but carries fewer")))?;
+            let chunk = data.get(1..1 + len).ok_or_else(|| {
+                Error::link_other(format!("node {node}: segment claims {len} bytes but carries fewer"))
+            })?;
             out.extend_from_slice(chunk);
             if ctrl & MORE == 0 {
                 return Ok(out);
             }
             empty_in_a_row = if chunk.is_empty() { empty_in_a_row + 1 } else { 0 };
             if empty_in_a_row == MAX_EMPTY_SEGMENTS {
-                return Err(Error::Link(format!(
+                return Err(Error::link_other(format!(
                     "node {node}: segmented read of {addr}: {MAX_EMPTY_SEGMENTS} segments in a row without data \
                      that say more follow; stopped. The device's SDO server is stuck: reset the node \
                      (`canctl nmt reset {node}`) and read again"
                 )));
             }
             if out.len() >= MAX_SEGMENTED_UPLOAD {
-                return Err(Error::Link(format!(
+                return Err(Error::link_other(format!(
                     "node {node}: segmented read of {addr}: {} bytes and the device still says more follow; \
                      stopped at the limit of {} KiB for reads through an EPOS2. A value this large is \
                      read over SocketCAN (block transfer); otherwise the device is faulty: reset it",
@@ -149,7 +151,7 @@ impl<T: Transport> Epos2Gateway<T> {
             let answer = self.call_ok(&Command::SegmentWrite { toggle, data: chunk.to_vec() }, node, Some(addr))?;
             let ctrl = answer.first().copied().unwrap_or(0);
             if (ctrl & TOGGLE != 0) != toggle || (ctrl & LENGTH) as usize != chunk.len() {
-                return Err(Error::Link(format!(
+                return Err(Error::link_other(format!(
                     "node {node}: segmented write of {addr}: the EPOS2 confirmed another segment"
                 )));
             }

@@ -69,7 +69,7 @@ const PROBE_WAIT: Duration = Duration::from_secs(1);
 
 /// Why one attempt failed.
 #[derive(Debug)]
-enum Failure {
+pub enum Failure {
     Nack(&'static str),
     Timeout(&'static str),
     Frame(FrameError),
@@ -87,7 +87,7 @@ impl Failure {
     }
 
     /// What the user can do about it.
-    fn advice(&self) -> &'static str {
+    pub fn advice(&self) -> &'static str {
         match self {
             Failure::Io(_) => "check that the device is connected and powered, then run the command again",
             Failure::Babble(..) => {
@@ -314,7 +314,7 @@ impl<S: SerialIo> Transport for SerialTransport<S> {
         };
         // Whatever is still on its way belongs to nobody now.
         self.in_step = false;
-        result.map_err(Error::Link)
+        result.map_err(Error::link_other)
     }
 
     fn describe(&self) -> String {

@@ -54,13 +54,13 @@ impl Wire {
                 PollTimeout::try_from(t.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX)
             });
             let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
-            let ready = poll(&mut fds, ms).map_err(|e| Error::Link(format!("pty poll: {e}")))?;
+            let ready = poll(&mut fds, ms).map_err(|e| Error::link_other(format!("pty poll: {e}")))?;
             if ready == 0 {
                 return Ok(None);
             }
             let mut buf = [0u8; 512];
-            let n =
-                std::io::Read::read(&mut self.master, &mut buf).map_err(|e| Error::Link(format!("pty read: {e}")))?;
+            let n = std::io::Read::read(&mut self.master, &mut buf)
+                .map_err(|e| Error::link_other(format!("pty read: {e}")))?;
             if n == 0 {
                 return Ok(None);
             }
@@ -75,7 +75,7 @@ impl Wire {
     fn send(&mut self, bytes: &[u8]) -> Result<()> {
         // The bytes leave once the line would have carried them.
         self.pace(bytes.len());
-        self.master.write_all(bytes).map_err(|e| Error::Link(format!("pty write: {e}")))
+        self.master.write_all(bytes).map_err(|e| Error::link_other(format!("pty write: {e}")))
     }
 
     fn unread(&mut self) {

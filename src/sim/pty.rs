@@ -7,11 +7,11 @@ use std::os::fd::OwnedFd;
 /// slave open, so that the pty lives on between the programs that open it.
 pub fn open_raw() -> Result<(OwnedFd, OwnedFd, String)> {
     use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
-    let pty =
-        nix::pty::openpty(None, None).map_err(|e| Error::Link(format!("cannot create a pseudo-terminal: {e}")))?;
-    let mut t = tcgetattr(&pty.slave).map_err(|e| Error::Link(format!("pty termios: {e}")))?;
+    let pty = nix::pty::openpty(None, None)
+        .map_err(|e| Error::link_other(format!("cannot create a pseudo-terminal: {e}")))?;
+    let mut t = tcgetattr(&pty.slave).map_err(|e| Error::link_other(format!("pty termios: {e}")))?;
     cfmakeraw(&mut t);
-    tcsetattr(&pty.slave, SetArg::TCSANOW, &t).map_err(|e| Error::Link(format!("pty termios: {e}")))?;
-    let path = nix::unistd::ttyname(&pty.slave).map_err(|e| Error::Link(format!("pty name: {e}")))?;
+    tcsetattr(&pty.slave, SetArg::TCSANOW, &t).map_err(|e| Error::link_other(format!("pty termios: {e}")))?;
+    let path = nix::unistd::ttyname(&pty.slave).map_err(|e| Error::link_other(format!("pty name: {e}")))?;
     Ok((pty.master, pty.slave, path.display().to_string()))
 }

@@ -59,7 +59,7 @@ impl SlcanAdapter {
     }
 
     fn write(&mut self, bytes: &[u8]) -> Result<()> {
-        self.master.write_all(bytes).map_err(|e| Error::Link(format!("pty write: {e}")))
+        self.master.write_all(bytes).map_err(|e| Error::link_other(format!("pty write: {e}")))
     }
 
     /// Frames pass only on an open channel at the bus's rate.
@@ -119,7 +119,7 @@ impl SlcanAdapter {
         let left = deadline.saturating_duration_since(Instant::now());
         let ms = PollTimeout::try_from(left.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX);
         let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
-        if poll(&mut fds, ms).map_err(|e| Error::Link(format!("pty poll: {e}")))? == 0 {
+        if poll(&mut fds, ms).map_err(|e| Error::link_other(format!("pty poll: {e}")))? == 0 {
             return Ok(());
         }
         let mut buf = [0u8; 512];
@@ -130,7 +130,7 @@ impl SlcanAdapter {
                 std::thread::sleep(left.min(std::time::Duration::from_millis(20)));
                 return Ok(());
             }
-            Err(e) => return Err(Error::Link(format!("pty read: {e}"))),
+            Err(e) => return Err(Error::link_other(format!("pty read: {e}"))),
         };
         for &b in &buf[..n] {
             match b {

@@ -33,7 +33,7 @@ pub fn default_path() -> PathBuf {
 }
 
 fn link_err(path: &Path, what: &str, e: impl std::fmt::Display) -> Error {
-    Error::Link(format!("sim state file {}: {what}: {e}", path.display()))
+    Error::link_other(format!("sim state file {}: {what}: {e}", path.display()))
 }
 
 impl StateFile {

@@ -68,12 +68,12 @@ impl<P: SerialIo> SlcanLink<P> {
     }
 
     fn io_error(&self, what: &str, e: std::io::Error) -> Error {
-        Error::Link(format!("{}: {what}: {e}", self.name))
+        Error::link_other(format!("{}: {what}: {e}", self.name))
     }
 
     fn refused(&self, what: &str, e: Error) -> Error {
         match e {
-            Error::Refused(_) => Error::Link(format!(
+            Error::Refused(_) => Error::link_other(format!(
                 "{}: the adapter refused to {what}; is it an slcan (Lawicel) adapter, and not in use by another program?",
                 self.name
             )),
@@ -83,7 +83,7 @@ impl<P: SerialIo> SlcanLink<P> {
 
     fn write(&mut self, bytes: &[u8]) -> Result<()> {
         let name = self.name.clone();
-        self.port.write_all(bytes).map_err(|e| Error::Link(format!("{name}: cannot write: {e}")))
+        self.port.write_all(bytes).map_err(|e| Error::link_other(format!("{name}: cannot write: {e}")))
     }
 
     /// Read what arrives until `deadline`, or until `stop` holds, queueing frames; the answers
@@ -165,7 +165,7 @@ impl<P: SerialIo> SlcanLink<P> {
         const BUS_ERROR: u8 = 1 << 7;
         const ERROR_PASSIVE: u8 = 1 << 5;
         if s.0 & (BUS_ERROR | ERROR_PASSIVE) != 0 {
-            return Err(Error::Link(format!(
+            return Err(Error::link_other(format!(
                 "{}: the adapter reports {}: check the wiring, the termination and the bit rate",
                 self.name,
                 s.names().join(", ")
@@ -182,7 +182,7 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
         let answers = self.read_until(Instant::now(), Until::Deadline)?;
         if answers.contains(&Message::Refused) {
             let flags = self.status().ok().flatten().map(|s| s.names().join(", ")).unwrap_or_default();
-            return Err(Error::Link(format!(
+            return Err(Error::link_other(format!(
                 "{}: the adapter refused to send {:03X}{}",
                 self.name,
                 frame.id(),
@@ -203,7 +203,7 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
                 return Ok(Some(f));
             }
             if answers? {
-                return Err(Error::Link(format!("{}: the adapter refused a frame", self.name)));
+                return Err(Error::link_other(format!("{}: the adapter refused a frame", self.name)));
             }
             if Instant::now() >= deadline {
                 // Only after a real wait: a poll (deadline now) asks the adapter nothing.
