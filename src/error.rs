@@ -199,11 +199,6 @@ impl Error {
         }
     }
 
-    /// Transitional: a link failure in free form ([`LinkError::Other`]).
-    pub fn link_other(text: impl Into<String>) -> Error {
-        Error::Link(LinkError::Other(text.into()))
-    }
-
     /// This error with advice appended to its message.
     pub fn with_hint(self, hint: impl Into<String>) -> Error {
         Error::Hinted { error: Box::new(self), hint: hint.into() }
@@ -230,7 +225,8 @@ pub enum LinkError {
     #[error(
         "there is no network interface '{iface}' (CAN interfaces here: {}).\n  \
          A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
-         A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}",
+         A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
+         No hardware: try the demo network, --bus sim",
         if available.is_empty() { "none".to_string() } else { available.join(", ") }
     )]
     NoInterface { iface: String, available: Vec<String> },
@@ -287,9 +283,6 @@ pub enum LinkError {
     /// A pseudo-terminal (the simulator's serial devices) failed.
     #[error("{op}: {detail}")]
     Pty { op: PtyOp, detail: String },
-    /// Transitional: a link failure said in free form, until every site says it with data.
-    #[error("{0}")]
-    Other(String),
 }
 
 /// What a node was asked and did not answer.
