@@ -41,8 +41,8 @@ pub enum Error {
     /// Nobody answered in time, said in free form.
     #[error("{0}")]
     Timeout(String),
-    /// A node did not answer at all.
-    #[error("node {node}: did not answer {what} (waited {} ms)", waited.as_millis())]
+    /// A node did not answer at all (`node` 0: all nodes, as NMT addresses them).
+    #[error("{}", no_answer_text(*node, what, *waited))]
     NoAnswer { node: u8, what: Service, waited: Duration },
     /// A node answered an SDO transfer, then it did not finish.
     #[error("{}", SdoUnfinishedText { node: *node, obj: *obj, moved: *moved, why })]
@@ -87,6 +87,9 @@ pub enum Error {
     /// LSS assignment found no free node-id for a device.
     #[error("no free node-id left from {start} to 127 for {identity}")]
     NoFreeNodeId { start: u8, identity: Identity },
+    /// A node cannot store or restore (`verb`) parameters on command.
+    #[error("{}", store_refused_text(*node, verb, why))]
+    StoreRefused { node: u8, verb: &'static str, why: StoreRefusal },
 
     // ---- link failure (exit 5) ----
     /// The link to the bus failed, or the device answered with something unintelligible.
@@ -100,9 +103,16 @@ pub enum Error {
     /// An object read back other than what was written.
     #[error("node {node}: {obj} reads back {read} after writing {wrote}")]
     ReadBack { node: u8, obj: ObjAddr, wrote: String, read: String },
+    /// Objects read back other than what was written.
+    #[error("node {node}: {} read back other values than written", join(objects))]
+    ReadBackMany { node: u8, objects: Vec<ObjAddr> },
     /// A node's objects differ from a configuration file.
     #[error("node {node} differs from {file} in {count} object(s)")]
     Differs { node: u8, file: String, count: usize },
+    /// A configuration file names another device (vendor-ID, product code) than the node
+    /// is; each difference said as `"vendor-ID 0x... on node N, 0x... in the file"`.
+    #[error("{file} is for another device: {}. Nothing was written; --force applies it anyway", differences.join(", "))]
+    OtherDevice { file: String, differences: Vec<String> },
 
     // ---- interrupted (exit 130) ----
     /// The user pressed Ctrl-C.
@@ -174,9 +184,14 @@ impl Error {
             | Error::Refused(_)
             | Error::LssRefused { .. }
             | Error::Epos2Refused { .. }
-            | Error::NoFreeNodeId { .. } => C::Refused,
+            | Error::NoFreeNodeId { .. }
+            | Error::StoreRefused { .. } => C::Refused,
             Error::Link(_) => C::Link,
-            Error::Verify(_) | Error::ReadBack { .. } | Error::Differs { .. } => C::Verify,
+            Error::Verify(_)
+            | Error::ReadBack { .. }
+            | Error::ReadBackMany { .. }
+            | Error::Differs { .. }
+            | Error::OtherDevice { .. } => C::Verify,
             Error::Interrupted => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
         }
@@ -290,14 +305,63 @@ pub enum LinkError {
 pub enum Service {
     /// An SDO transfer of this object.
     Sdo(ObjAddr),
+    /// Its NMT state: node guarding, after listening for a heartbeat for `heartbeat` (none
+    /// where the bus shows no traffic).
+    NmtState { heartbeat: Option<Duration> },
+    /// Remote requests after an NMT reset: the reset is not confirmed.
+    AfterReset,
+    /// The boot-up message after an NMT reset.
+    BootUp,
 }
 
-impl fmt::Display for Service {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Service::Sdo(obj) => write!(f, "the SDO transfer of {obj}"),
-        }
+fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
+    let ms = waited.as_millis();
+    match what {
+        Service::Sdo(obj) => format!("node {node}: did not answer the SDO transfer of {obj} (waited {ms} ms)"),
+        Service::NmtState { heartbeat } => format!(
+            "node {node}: {}no answer to node guarding within {ms} ms",
+            heartbeat.map(|l| format!("no heartbeat within {} ms and ", l.as_millis())).unwrap_or_default()
+        ),
+        Service::AfterReset => format!(
+            "node {node}: NMT reset sent, but no answer to remote requests within {ms} ms after it; \
+             not confirmed. Check the node with `canctl scan`, or wait longer (--wait)"
+        ),
+        Service::BootUp if node == 0 => format!("all nodes: no boot-up within {ms} ms"),
+        Service::BootUp => format!("node {node}: no boot-up within {ms} ms"),
     }
+}
+
+/// Why a node cannot store or restore parameters on command (CiA 301 0x1010/0x1011).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum StoreRefusal {
+    /// It has no such object (0x1010 or 0x1011).
+    NoObject { index: u16 },
+    /// Its highest sub-index (`highest`) does not reach this class of parameters; `offered`
+    /// names the classes it has.
+    NotOffered { class: &'static str, index: u16, highest: u8, offered: Vec<&'static str> },
+    /// The sub-index says it does not do this on command (`caps`, its value); for a store,
+    /// `saves_itself` when it says it saves on its own.
+    NotOnCommand { class: &'static str, obj: ObjAddr, caps: u32, saves_itself: bool },
+}
+
+fn store_refused_text(node: u8, verb: &str, why: &StoreRefusal) -> String {
+    match why {
+        StoreRefusal::NoObject { index } => {
+            format!("node {node} has no object 0x{index:04X}: it cannot {verb} parameters")
+        }
+        StoreRefusal::NotOffered { class, index, highest, offered } => format!(
+            "node {node} cannot {verb} {class} (0x{index:04X}:0 = {highest}; it offers: {})",
+            if offered.is_empty() { "nothing".to_string() } else { offered.join(", ") }
+        ),
+        StoreRefusal::NotOnCommand { class, obj, caps, saves_itself } => format!(
+            "node {node} does not {verb} {class} on command ({obj} = 0x{caps:08X}){}",
+            if *saves_itself { ": it saves them by itself" } else { "" }
+        ),
+    }
+}
+
+fn join(objects: &[ObjAddr]) -> String {
+    objects.iter().map(|o| o.to_string()).collect::<Vec<_>>().join(", ")
 }
 
 /// Which node-ids a bus can address.
@@ -564,6 +628,66 @@ mod tests {
                     why: Unfinished::Silent { waited: ms(500) },
                 },
                 "node 7: stopped answering during the SDO transfer of 0x1018:1 (waited 500 ms, 0 bytes moved)",
+            ),
+            (
+                Error::NoAnswer { node: 4, what: Service::NmtState { heartbeat: Some(ms(1500)) }, waited: ms(500) },
+                "node 4: no heartbeat within 1500 ms and no answer to node guarding within 500 ms",
+            ),
+            (
+                Error::NoAnswer { node: 4, what: Service::NmtState { heartbeat: None }, waited: ms(500) },
+                "node 4: no answer to node guarding within 500 ms",
+            ),
+            (
+                Error::NoAnswer { node: 4, what: Service::AfterReset, waited: ms(3000) },
+                "node 4: NMT reset sent, but no answer to remote requests within 3000 ms after it; not confirmed. \
+                 Check the node with `canctl scan`, or wait longer (--wait)",
+            ),
+            (Error::NoAnswer { node: 4, what: Service::BootUp, waited: ms(3000) }, "node 4: no boot-up within 3000 ms"),
+            (
+                Error::NoAnswer { node: 0, what: Service::BootUp, waited: ms(3000) },
+                "all nodes: no boot-up within 3000 ms",
+            ),
+            (
+                Error::StoreRefused { node: 5, verb: "restore", why: StoreRefusal::NoObject { index: 0x1011 } },
+                "node 5 has no object 0x1011: it cannot restore parameters",
+            ),
+            (
+                Error::StoreRefused {
+                    node: 5,
+                    verb: "store",
+                    why: StoreRefusal::NotOffered {
+                        class: "manufacturer parameters",
+                        index: 0x1010,
+                        highest: 1,
+                        offered: vec!["all parameters"],
+                    },
+                },
+                "node 5 cannot store manufacturer parameters (0x1010:0 = 1; it offers: all parameters)",
+            ),
+            (
+                Error::StoreRefused {
+                    node: 5,
+                    verb: "store",
+                    why: StoreRefusal::NotOnCommand {
+                        class: "all parameters",
+                        obj: ObjAddr { index: 0x1010, sub: 1 },
+                        caps: 2,
+                        saves_itself: true,
+                    },
+                },
+                "node 5 does not store all parameters on command (0x1010:1 = 0x00000002): it saves them by itself",
+            ),
+            (
+                Error::ReadBackMany { node: 5, objects: vec![OBJ, ObjAddr { index: 0x2000, sub: 0 }] },
+                "node 5: 0x1018:1, 0x2000:0 read back other values than written",
+            ),
+            (
+                Error::OtherDevice {
+                    file: "a.dcf".into(),
+                    differences: vec!["vendor-ID 0x00000001 on node 5, 0x00000002 in the file".into()],
+                },
+                "a.dcf is for another device: vendor-ID 0x00000001 on node 5, 0x00000002 in the file. Nothing was \
+                 written; --force applies it anyway",
             ),
             (
                 Error::NoRemoteAnswer { cob: 0x705, waited: ms(300) },

@@ -229,8 +229,9 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 /// the node does not have: name the dictionary's objects nearest to it.
 fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
+    use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { .. }), Some(bus)) => cache::hint(bus),
+        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => cache::hint(bus),
         (Some(Error::SdoAbort { node, obj, code: NO_OBJECT | NO_SUBINDEX }), _) => {
             let near = ctx.dicts.near(*node, *obj);
             if near.is_empty() {
