@@ -814,6 +814,131 @@ mod tests {
         }
     }
 
+    /// The link failures, likewise.
+    #[test]
+    fn link_messages_say_what_they_always_said() {
+        use crate::epos2::transport::Failure;
+        let cases: Vec<(LinkError, &str)> = vec![
+            (
+                LinkError::NoInterface { iface: "can9".into(), available: vec![] },
+                "there is no network interface 'can9' (CAN interfaces here: none).\n  \
+                 A CAN adapter: plug it in, then sudo ip link set can9 up type can bitrate 500000\n  \
+                 A virtual bus: sudo ip link add dev can9 type vcan && sudo ip link set up can9\n  \
+                 No hardware: try the demo network, --bus sim",
+            ),
+            (LinkError::NotCan { iface: "eth0".into() }, "'eth0' is not a CAN interface"),
+            (
+                LinkError::Down { iface: "can0".into() },
+                "can0 is down: bring it up first (e.g. sudo ip link set can0 up type can bitrate 500000)",
+            ),
+            (
+                LinkError::BusOff { iface: "can0".into(), detail: "bus off".into() },
+                "can0: the controller went bus-off (bus off)",
+            ),
+            (
+                LinkError::TxQueueFull { iface: "can0".into(), waited: Duration::from_secs(2) },
+                "can0: the transmit queue stayed full for 2 s (no other node acknowledging? bus-off?)",
+            ),
+            (
+                LinkError::AdapterRefused { port: "slcan:x".into(), what: "open the channel" },
+                "slcan:x: the adapter refused to open the channel; is it an slcan (Lawicel) adapter, and not in use \
+                 by another program?",
+            ),
+            (
+                LinkError::AdapterBusError { port: "slcan:x".into(), flags: vec!["bus error", "error passive"] },
+                "slcan:x: the adapter reports bus error, error passive: check the wiring, the termination and the \
+                 bit rate",
+            ),
+            (
+                LinkError::AdapterRefusedFrame { port: "slcan:x".into(), cob: Some(0x601), flags: vec![] },
+                "slcan:x: the adapter refused to send 601",
+            ),
+            (
+                LinkError::Epos2Serial {
+                    bus: "epos2-rs232:/dev/x".into(),
+                    command: "ReadObject",
+                    failure: Failure::Timeout("to the OpCode"),
+                    retry: None,
+                },
+                "epos2-rs232:/dev/x: ReadObject failed: no answer to the OpCode; check the cable, the bit rate \
+                 (?baud=) and that no other program uses the port; a slow device may need a \
+                 longer --timeout",
+            ),
+            (
+                LinkError::Epos2Serial {
+                    bus: "epos2-rs232:/dev/x".into(),
+                    command: "ReadObject",
+                    failure: Failure::Misfit(3),
+                    retry: Some(Failure::Io(std::io::Error::other("gone"))),
+                },
+                "epos2-rs232:/dev/x: ReadObject failed: 3 answers in a row that do not answer this command \
+                 (discarded); after a resync and retry: the port failed: gone; check that the device is connected \
+                 and powered, then run the command again",
+            ),
+            (
+                LinkError::Epos2Answer { bus: "b".into(), problem: Epos2Problem::EmptySegment },
+                "b: empty SegmentRead answer",
+            ),
+            (
+                LinkError::Epos2Answer {
+                    bus: "b".into(),
+                    problem: Epos2Problem::ToggleNotAlternated { node: 2, obj: OBJ },
+                },
+                "node 2: segmented read of 0x1018:1: toggle bit not alternated",
+            ),
+            (
+                LinkError::Epos2Answer { bus: "b".into(), problem: Epos2Problem::ShortSegment { node: 2, claimed: 7 } },
+                "node 2: segment claims 7 bytes but carries fewer",
+            ),
+            (
+                LinkError::Epos2Answer {
+                    bus: "b".into(),
+                    problem: Epos2Problem::EmptySegments { node: 2, obj: OBJ, count: 8 },
+                },
+                "node 2: segmented read of 0x1018:1: 8 segments in a row without data that say more follow; \
+                 stopped. The device's SDO server is stuck: reset the node (`canctl nmt reset 2`) and read again",
+            ),
+            (
+                LinkError::Epos2Answer {
+                    bus: "b".into(),
+                    problem: Epos2Problem::TooLong { node: 2, obj: OBJ, bytes: 1048576, limit_kib: 1024 },
+                },
+                "node 2: segmented read of 0x1018:1: 1048576 bytes and the device still says more follow; stopped \
+                 at the limit of 1024 KiB for reads through an EPOS2. A value this large is read over SocketCAN \
+                 (block transfer); otherwise the device is faulty: reset it",
+            ),
+            (
+                LinkError::Epos2Answer { bus: "b".into(), problem: Epos2Problem::ExtraSegment { node: 2, obj: OBJ } },
+                "node 2: segmented write of 0x1018:1: the EPOS2 confirmed another segment",
+            ),
+            (LinkError::Pty { op: PtyOp::Create, detail: "ENOSPC".into() }, "cannot create a pseudo-terminal: ENOSPC"),
+        ];
+        for (error, text) in cases {
+            assert_eq!(Error::from(error).to_string(), text);
+        }
+        let usage = [
+            (
+                Error::TooLargeForSdo { len: 5_000_000_000 },
+                "5000000000 bytes cannot be written by SDO: CiA 301 sizes are 32-bit (at most 4294967295 bytes)",
+            ),
+            (
+                Error::BadBusAddr { uri: "sim:".into(), reason: "sim: needs a state file path".into() },
+                "bus 'sim:': sim: needs a state file path",
+            ),
+            (
+                Error::NotOnThisBus {
+                    bus: "epos2-usb:/dev/x".into(),
+                    why: "remote frames go through RequestCANFrame; use a request",
+                },
+                "epos2-usb:/dev/x: remote frames go through RequestCANFrame; use a request",
+            ),
+        ];
+        for (error, text) in usage {
+            assert_eq!(error.exit_code(), 2);
+            assert_eq!(error.to_string(), text);
+        }
+    }
+
     #[test]
     fn a_hint_is_appended_and_keeps_the_exit_code() {
         let e = Error::NoAnswer { node: 7, what: Service::Sdo(OBJ), waited: ms(500) }.with_hint("; try scan");
