@@ -457,7 +457,7 @@ impl Applied {
             if self.did_you_mean.is_empty() {
                 return Err(e);
             }
-            return Err(Error::Refused(format!("{e}; did you mean {}?", self.did_you_mean.join(", "))));
+            return Err(e.with_hint(format!("; did you mean {}?", self.did_you_mean.join(", "))));
         }
         if !self.mismatch.is_empty() {
             let list: Vec<String> = self.mismatch.iter().map(|m| m.to_string()).collect();
