@@ -23,6 +23,9 @@ pub enum Error {
     /// A read-back did not match what was written (exit 6).
     #[error("{0}")]
     Verify(String),
+    /// Output could not be written: disk full, no permission, a closed terminal (exit 7).
+    #[error("{0}")]
+    Output(String),
     /// The user pressed Ctrl-C (exit 130).
     #[error("interrupted")]
     Interrupted,
@@ -36,6 +39,7 @@ impl Error {
             Error::SdoAbort { .. } | Error::Refused(_) => 4,
             Error::Link(_) => 5,
             Error::Verify(_) => 6,
+            Error::Output(_) => 7,
             Error::Interrupted => 130,
         }
     }

@@ -3,7 +3,6 @@
 
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
-use crate::error::Error;
 use crate::ops::config::{self, Applied, ApplyOptions, Dcf, Diff};
 use crate::output::{Human, Report};
 use clap::{Args, Subcommand};
@@ -99,8 +98,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let dump = config::dump(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress())?;
     match &a.out {
         Some(path) => {
-            std::fs::write(path, &dump.dcf)
-                .map_err(|e| Error::Usage(format!("cannot write {}: {e}", path.display())))?;
+            crate::output::write_atomic(path, &dump.dcf)?;
             ctx.out.note(&format!("{} objects of node {} written to {}", dump.objects, a.node, path.display()));
         }
         None => ctx.out.write_bytes(&dump.dcf)?,
