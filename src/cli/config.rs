@@ -125,7 +125,10 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
 }
 
 fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
+    super::interrupt::catch();
+    let bus = &mut super::interrupt::with_test_signal(bus);
     let options = ApplyOptions {
+        interrupted: Some(super::interrupt::shared()),
         timeout: ctx.timeout,
         dry_run: a.dry_run,
         verify: a.verify,
@@ -137,7 +140,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     ctx.out.report(&report)?;
     if report.failure.is_some() && a.dry_run {
         ctx.out.note("dry run: a real run would stop at the refused write above; nothing was written");
-    } else if report.failure.is_some() {
+    } else if report.failure.is_some() && !report.interrupted {
         // Said in every format: the JSON document lists it too, but a person reads this.
         let done: Vec<String> = report.written.iter().map(|w| w.to_string()).collect();
         ctx.out.note(&format!(
@@ -185,6 +188,7 @@ impl Report for Applied {
         if self.stored {
             notes.push(format!("node {}: parameters stored (0x1010:1)", self.node));
         }
+        notes.extend(self.summary());
         notes
     }
 }
