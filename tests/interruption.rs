@@ -302,3 +302,86 @@ fn a_rollback_that_fails_names_the_writes_that_would_finish_it() {
     assert!(human.stderr.contains(&said), "missing '{said}' in\n{}", human.stderr);
     assert!(human.stderr.contains("a PDO is left unusable"), "{}", human.stderr);
 }
+
+/// The drive's TPDO1 as `sdo read` shows it.
+fn drive_mapping(sim: &common::Sim) -> Vec<String> {
+    ["1A00:0", "1A00:1", "1A00:2", "1800:1", "1800:2", "1800:5"]
+        .iter()
+        .map(|o| sim.run(&["sdo", "read", "1", o]).ok().stdout.trim().to_string())
+        .collect()
+}
+
+/// `stream-pdo --map` terminated (SIGTERM, as a CI job is cancelled) while it streams:
+/// the original mapping and NMT state are put back, exit 130.
+#[cfg(unix)]
+#[test]
+fn stream_pdo_map_terminated_puts_the_mapping_back() {
+    use nix::sys::signal::{kill, Signal};
+    use nix::unistd::Pid;
+    use std::io::BufRead;
+    let sim = common::Sim::new();
+    let before = drive_mapping(&sim);
+    let mut child = sim
+        .command(&["stream-pdo", "1", "--start", "--map", "6064:0,606C:0", "--event", "10", "--format", "csv"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    // The CSV header and a first record: the new mapping is in use.
+    for _ in 0..2 {
+        assert!(stdout.read_line(&mut line).unwrap() > 0, "no stream");
+    }
+    assert!(line.contains("Position actual value"), "{line}");
+    kill(Pid::from_raw(child.id() as i32), Signal::SIGTERM).unwrap();
+    let _ = std::io::Read::read_to_string(&mut stdout, &mut line);
+    let r = common::finish(child.wait_with_output().unwrap());
+    assert_eq!(r.code, 130, "{}", r.stderr);
+    assert_eq!(drive_mapping(&sim), before);
+    assert!(sim.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
+}
+
+/// Interrupted or terminated in the middle of the remapping itself, after each of its
+/// writes: the remapping is finished, nothing is streamed, and the mapping is put back.
+#[cfg(unix)]
+#[test]
+fn stream_pdo_map_interrupted_while_remapping_puts_the_mapping_back() {
+    let sim = common::Sim::new();
+    let before = drive_mapping(&sim);
+    for k in 1..=4 {
+        for signal in ["INT", "TERM"] {
+            let mut c = sim.command(&["stream-pdo", "1", "--start", "--map", "6064:0,606C:0", "--event", "10"]);
+            c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", format!("{k}:{signal}"));
+            let r = common::finish(c.output().unwrap());
+            assert_eq!(r.code, 130, "k={k} {signal}: {}", r.stderr);
+            assert_eq!(drive_mapping(&sim), before, "k={k} {signal}");
+            assert!(sim.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
+        }
+    }
+}
+
+/// The library's side: `ApplyOptions::interrupted` is looked at before each transfer; set
+/// from the start, nothing is read past it and nothing written.
+#[test]
+fn the_library_stops_at_its_flag() {
+    use canctl::bus::{self, BusAddr, OpenOptions};
+    use canctl::ops::config::{self, ApplyOptions, Dcf};
+    use std::sync::atomic::AtomicBool;
+    use std::sync::Arc;
+    let mut opts = OpenOptions::new(std::time::Duration::from_millis(500));
+    opts.ephemeral = true;
+    let mut bus = bus::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap();
+    let dcf = Dcf::parse(include_bytes!("../examples/sensor.dcf"), "sensor.dcf").unwrap();
+    let mut o = ApplyOptions::new(std::time::Duration::from_millis(500));
+    o.interrupted = Some(Arc::new(AtomicBool::new(true)));
+    let applied = config::apply(bus.as_mut(), 5, &dcf, &o).unwrap();
+    assert!(applied.interrupted && applied.written.is_empty());
+    assert!(applied.state.as_deref().unwrap().contains("nothing was written"), "{:?}", applied.state);
+    assert_eq!(applied.outcome().unwrap_err().exit_code(), 130);
+    // Not set: the same file applies in full.
+    o.interrupted = Some(Arc::new(AtomicBool::new(false)));
+    let applied = config::apply(bus.as_mut(), 5, &dcf, &o).unwrap();
+    assert!(!applied.interrupted && !applied.written.is_empty());
+    applied.outcome().unwrap();
+}
