@@ -242,6 +242,12 @@ fn a_pdo_remap_interrupted_at_every_step_is_rolled_back_or_complete() {
 /// A sim whose node 10 refuses every SDO answer from the 4th write of the remapping on,
 /// with the files: (sim, io.dcf as it is, io-remapped.dcf).
 fn refusing_after_three_writes() -> (common::Sim, std::path::PathBuf, std::path::PathBuf) {
+    refusing("0x08000020", 4, "+")
+}
+
+/// A sim whose node 10 refuses (abort `code`) the remapping's `write`-th write, and every
+/// answer after it with `then` = "+".
+fn refusing(code: &str, write: usize, then: &str) -> (common::Sim, std::path::PathBuf, std::path::PathBuf) {
     let sim = common::Sim::new();
     let old_dcf = sim.path("io.dcf");
     sim.run(&["config", "dump", "10", "--out", old_dcf.to_str().unwrap()]).ok();
@@ -253,7 +259,7 @@ fn refusing_after_three_writes() -> (common::Sim, std::path::PathBuf, std::path:
     // reads, so the real run's 4th write is answer reads + 4.
     let dry = sim.run(&["-v", "config", "apply", "10", new_dcf.to_str().unwrap(), "--dry-run"]).ok();
     let reads = dry.stderr.lines().filter(|l| l.contains(" 58A ")).count();
-    let fault = format!("10:abort=0x08000020@{}+", reads + 4);
+    let fault = format!("10:abort={code}@{}{then}", reads + write);
     sim.run(&["sim", "reset", "--fault", &fault]).ok();
     (sim, old_dcf, new_dcf)
 }
@@ -384,4 +390,18 @@ fn the_library_stops_at_its_flag() {
     let applied = config::apply(bus.as_mut(), 5, &dcf, &o).unwrap();
     assert!(!applied.interrupted && !applied.written.is_empty());
     applied.outcome().unwrap();
+}
+
+/// A write of the remapping refused by the device (an object it cannot map): the PDO is
+/// put back as it was, and the failure is exit 4 with the report of what was undone.
+#[test]
+fn a_refused_mapping_entry_puts_the_pdo_back() {
+    let (sim, old_dcf, new_dcf) = refusing("0x06040041", 3, "");
+    let run = sim.run(&["config", "apply", "10", new_dcf.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(run.code, 4, "{}", run.stderr);
+    let report = run.json();
+    assert_eq!(report["interrupted"], false);
+    assert_eq!(report["rolled_back"], serde_json::json!(["TPDO1 (0x1800, 0x1A00)"]), "{report}");
+    let diff = sim.run(&["config", "diff", "10", old_dcf.to_str().unwrap(), "--check", "--format", "json"]);
+    assert_eq!(diff.code, 0, "the old mapping is not back: {}", diff.stdout);
 }

@@ -156,3 +156,27 @@ fn device_strings_reach_the_terminal_escaped_and_json_exact() {
     let dump = sim.run(&["config", "dump", "10"]);
     assert!(controls(&dump.stderr).is_empty(), "{:?}", dump.stderr);
 }
+
+/// A DCF's strings (a name, a bad value quoted in the error) reach the terminal escaped.
+#[test]
+fn file_strings_reach_the_terminal_escaped() {
+    let sim = common::Sim::new();
+    let dcf = |value: &str| {
+        format!(
+            "[FileInfo]\nFileName=x.dcf\n[1017]\nParameterName=Heart\u{1b}]0;pwned\u{7}beat\nObjectType=0x7\n\
+             DataType=0x0006\nAccessType=rw\nDefaultValue=0\nParameterValue={value}\n"
+        )
+    };
+    let path = sim.path("evil.dcf");
+    std::fs::write(&path, dcf("zz\u{1b}[2J")).unwrap();
+    let run = sim.run(&["config", "diff", "5", path.to_str().unwrap()]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(controls(&run.stderr).is_empty() && run.stderr.contains(r"'zz\x1b[2J'"), "{:?}", run.stderr);
+
+    std::fs::write(&path, dcf("1234")).unwrap();
+    let run = sim.run(&["config", "diff", "5", path.to_str().unwrap()]).ok();
+    assert!(run.stdout.contains(r"Heart\x1b]0;pwned\x07beat"), "{:?}", run.stdout);
+    assert!(controls(&run.stdout).is_empty(), "{:?}", run.stdout);
+    let json = sim.run(&["config", "diff", "5", path.to_str().unwrap(), "--format", "json"]).ok().json();
+    assert_eq!(json["differences"][0]["name"], "Heart\u{1b}]0;pwned\u{7}beat");
+}

@@ -714,6 +714,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
                     "written".to_string()
                 }
                 Err(e) => {
+                    // Refused or unanswered: whether the device took the value is not
+                    // known, so a rollback writes the old one back in any case.
+                    device.remove(&step.addr);
                     let text = format!("failed: {e}");
                     failure = Some(e);
                     text
