@@ -409,3 +409,29 @@ fn a_refused_mapping_entry_puts_the_pdo_back() {
     let diff = sim.run(&["config", "diff", "10", old_dcf.to_str().unwrap(), "--check", "--format", "json"]);
     assert_eq!(diff.code, 0, "the old mapping is not back: {}", diff.stdout);
 }
+
+/// Interrupted while it reads the device, before any write: nothing written, the report
+/// says so, exit 130.
+#[test]
+fn interrupted_while_reading_writes_nothing() {
+    let sim = common::Sim::new();
+    let old_dcf = sim.path("io.dcf");
+    sim.run(&["config", "dump", "10", "--out", old_dcf.to_str().unwrap()]).ok();
+    let text = std::fs::read_to_string(&old_dcf).unwrap();
+    let new_dcf = sim.path("io-remapped.dcf");
+    std::fs::write(&new_dcf, edit_dcf(&text, &[("1A00sub0", "2"), ("1A00sub1", "0x62000108")])).unwrap();
+    for signal in ["INT", "TERM"] {
+        let mut c = sim.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]);
+        c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", format!("r5:{signal}"));
+        let run = common::finish(c.output().unwrap());
+        assert_eq!(run.code, 130, "{}", run.stderr);
+        assert!(
+            run.stderr.contains("node 10 is as it was: interrupted while reading it, nothing was written"),
+            "{}",
+            run.stderr
+        );
+        assert!(!run.stderr.contains("already matches"), "{}", run.stderr);
+        let diff = sim.run(&["config", "diff", "10", old_dcf.to_str().unwrap(), "--check"]);
+        assert_eq!(diff.code, 0, "{}", diff.stdout);
+    }
+}

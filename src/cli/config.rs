@@ -177,12 +177,13 @@ impl Report for Applied {
             .objects
             .iter()
             .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.clone()]);
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty: true }
+        let when_empty = !self.interrupted;
+        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty }
     }
 
     fn notes(&self) -> Vec<String> {
         let mut notes = Vec::new();
-        if self.objects.is_empty() {
+        if self.objects.is_empty() && !self.interrupted {
             notes.push(format!("node {} already matches {}", self.node, self.file));
         }
         if self.stored {

@@ -38,31 +38,37 @@ pub fn shared() -> Arc<AtomicBool> {
 }
 
 /// The environment variable of the kill-at-every-step tests: `K:SIGNAL` (INT, TERM, KILL)
-/// sends that signal to this process right after its K-th SDO write was answered. It makes
-/// the point of interruption exact without timing; nothing else reads it.
+/// sends that signal to this process right after its K-th SDO write was answered (`rK:`:
+/// its K-th SDO read). It makes the point of interruption exact without timing; nothing
+/// else reads it.
 pub const TEST_SIGNAL: &str = "CANCTL_TEST_SIGNAL_AFTER_WRITES";
 
 /// `bus`, with the test signal of [`TEST_SIGNAL`] when that is set; as it is otherwise.
 pub fn with_test_signal(bus: &mut dyn Bus) -> SignalAfterWrites<'_> {
     let plan = std::env::var(TEST_SIGNAL).ok().and_then(|v| {
         let (k, sig) = v.split_once(':')?;
-        Some((k.parse().ok()?, sig.to_string()))
+        let (reads, k) = k.strip_prefix('r').map_or((false, k), |k| (true, k));
+        Some((reads, k.parse().ok()?, sig.to_string()))
     });
-    SignalAfterWrites { bus, plan, writes: 0 }
+    SignalAfterWrites { bus, plan, count: 0 }
 }
 
 /// A bus that signals its own process after a given number of SDO writes (see
 /// [`TEST_SIGNAL`]).
 pub struct SignalAfterWrites<'a> {
     bus: &'a mut dyn Bus,
-    plan: Option<(u32, String)>,
-    writes: u32,
+    /// Whether reads count (else writes), after how many, which signal.
+    plan: Option<(bool, u32, String)>,
+    count: u32,
 }
 
 impl SignalAfterWrites<'_> {
-    fn after_write(&mut self) {
-        self.writes += 1;
-        let Some((_, sig)) = self.plan.take_if(|(k, _)| *k == self.writes) else { return };
+    fn after(&mut self, read: bool) {
+        if self.plan.as_ref().is_none_or(|(reads, _, _)| *reads != read) {
+            return;
+        }
+        self.count += 1;
+        let Some((_, _, sig)) = self.plan.take_if(|(_, k, _)| *k == self.count) else { return };
         raise(&sig);
         // The handler runs on its own thread: the signal counts once it has set the flag.
         let end = Instant::now() + Duration::from_secs(10);
@@ -94,11 +100,13 @@ impl Bus for SignalAfterWrites<'_> {
         self.bus.describe()
     }
     fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        self.bus.sdo_upload(node, addr, opts)
+        let answer = self.bus.sdo_upload(node, addr, opts);
+        self.after(true);
+        answer
     }
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
         self.bus.sdo_download(node, addr, data, opts)?;
-        self.after_write();
+        self.after(false);
         Ok(())
     }
     fn sdo_upload_many(

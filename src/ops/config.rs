@@ -482,7 +482,10 @@ impl Applied {
         }
         let list = |v: Vec<String>| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
         let mut out = Vec::new();
-        if self.interrupted {
+        // Interrupted while reading, the state says it all.
+        let planned =
+            self.objects.iter().any(|r| r.result.starts_with("written") || r.result.starts_with("not written"));
+        if self.interrupted && planned {
             let done: Vec<String> = self.written.iter().map(|w| w.to_string()).collect();
             let not: Vec<String> = self
                 .objects
