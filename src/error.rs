@@ -118,6 +118,12 @@ pub enum Error {
     #[error("{file} is for another device: {}. Nothing was written; --force applies it anyway", differences.join(", "))]
     OtherDevice { file: String, differences: Vec<String> },
 
+    // ---- output (exit 7) ----
+    /// A result could not be written (disk full, no permission, a closed terminal); the
+    /// device side is unaffected.
+    #[error("cannot write {path}: {why}")]
+    Output { path: String, why: String },
+
     // ---- interrupted (exit 130) ----
     /// The user pressed Ctrl-C.
     #[error("interrupted")]
@@ -138,16 +144,18 @@ pub enum ErrorClass {
     Refused,
     Link,
     Verify,
+    Output,
     Interrupted,
 }
 
 impl ErrorClass {
-    pub const ALL: [ErrorClass; 6] = [
+    pub const ALL: [ErrorClass; 7] = [
         ErrorClass::Usage,
         ErrorClass::Timeout,
         ErrorClass::Refused,
         ErrorClass::Link,
         ErrorClass::Verify,
+        ErrorClass::Output,
         ErrorClass::Interrupted,
     ];
 
@@ -159,6 +167,7 @@ impl ErrorClass {
             ErrorClass::Refused => 4,
             ErrorClass::Link => 5,
             ErrorClass::Verify => 6,
+            ErrorClass::Output => 7,
             ErrorClass::Interrupted => 130,
         }
     }
@@ -196,6 +205,7 @@ impl Error {
             | Error::ReadBackMany { .. }
             | Error::Differs { .. }
             | Error::OtherDevice { .. } => C::Verify,
+            Error::Output { .. } => C::Output,
             Error::Interrupted => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
         }
@@ -590,7 +600,8 @@ mod tests {
                 ErrorClass::Refused => 2,
                 ErrorClass::Link => 3,
                 ErrorClass::Verify => 4,
-                ErrorClass::Interrupted => 5,
+                ErrorClass::Output => 5,
+                ErrorClass::Interrupted => 6,
             };
             assert_eq!(ErrorClass::ALL[position], class);
         }

@@ -9,7 +9,8 @@ fn main() {
     if let Err(err) = canctl::cli::run(cli, bus_from_env) {
         let (code, print) = canctl::cli::exit_code(&err);
         if print {
-            eprintln!("canctl: {err:#}");
+            // Messages may quote what a device or a file said: no control characters.
+            eprintln!("canctl: {}", canctl::output::terminal_safe_lines(&format!("{err:#}")));
         }
         std::process::exit(code);
     }

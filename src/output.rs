@@ -31,21 +31,30 @@ impl Output {
         Output { format, progress: !quiet && std::io::stderr().is_terminal(), quiet }
     }
 
-    /// Write text to stdout. A closed pipe surfaces as `BrokenPipe` for main to end quietly.
+    /// Write text to stdout as it is (machine formats, scripts, man pages). A closed pipe
+    /// surfaces as `BrokenPipe` for main to end quietly; any other failure (a full disk) is
+    /// an output error, exit 7.
     pub fn print(&self, text: &str) -> std::io::Result<()> {
         let mut out = std::io::stdout().lock();
-        out.write_all(text.as_bytes())?;
-        if !text.ends_with('\n') {
-            out.write_all(b"\n")?;
-        }
-        out.flush()
+        let mut write = || {
+            out.write_all(text.as_bytes())?;
+            if !text.ends_with('\n') {
+                out.write_all(b"\n")?;
+            }
+            out.flush()
+        };
+        write().map_err(stdout_error)
+    }
+
+    /// A value for people (a string a device sent, say): its control characters escaped.
+    pub fn print_value(&self, text: &str) -> std::io::Result<()> {
+        self.print(&terminal_safe(text))
     }
 
     /// Bytes as they are (a Latin-1 file's content, say).
     pub fn write_bytes(&self, bytes: &[u8]) -> std::io::Result<()> {
         let mut out = std::io::stdout().lock();
-        out.write_all(bytes)?;
-        out.flush()
+        out.write_all(bytes).and_then(|_| out.flush()).map_err(stdout_error)
     }
 
     pub fn json(&self, value: &serde_json::Value) -> std::io::Result<()> {
@@ -65,7 +74,8 @@ impl Output {
         }
         t.set_header(headers.to_vec());
         for r in rows {
-            t.add_row(r.clone());
+            // Cells hold what devices and files say: nothing in them may drive the terminal.
+            t.add_row(r.iter().map(|c| terminal_safe(c).into_owned()).collect::<Vec<_>>());
         }
         let text: String = t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect();
         self.print(&text)
@@ -74,7 +84,7 @@ impl Output {
     /// A diagnostic on stderr, unless --quiet.
     pub fn note(&self, text: &str) {
         if !self.quiet {
-            eprintln!("{text}");
+            eprintln!("{}", terminal_safe_lines(text));
         }
     }
 
@@ -116,7 +126,7 @@ impl Output {
             return self.json(&serde_json::to_value(report).expect("reports serialise"));
         }
         match report.human() {
-            Human::Line(text) => self.print(&text)?,
+            Human::Line(text) => self.print(&terminal_safe_lines(&text))?,
             Human::Table { headers, rows, when_empty } => {
                 if when_empty || self.format == Format::Csv || !rows.is_empty() {
                     self.table(&headers, &rows)?;
@@ -148,7 +158,7 @@ impl Output {
         match self.format {
             Format::Json => writeln!(w, "{}", line.json()),
             Format::Csv => writeln!(w, "{}", line.csv()),
-            Format::Human => writeln!(w, "{}", line.text()),
+            Format::Human => writeln!(w, "{}", terminal_safe(&line.text())),
         }
     }
 
@@ -189,6 +199,129 @@ impl crate::ops::Progress for Bars<'_> {
     }
 }
 
+/// A failure to write standard output, said as such (the kind kept: a closed pipe stays
+/// `BrokenPipe`).
+fn stdout_error(e: std::io::Error) -> std::io::Error {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        return e;
+    }
+    std::io::Error::new(e.kind(), format!("cannot write to standard output: {e}"))
+}
+
+/// Text for a terminal with every control character escaped (`\x1b`, `\n`, `\u{9b}`), and
+/// the bidirectional overrides that reorder what is shown: a string from a device or a file
+/// cannot move the cursor, retitle the window or hide part of a line. JSON and CSV keep
+/// the exact text with their own escaping; this is for human output only.
+pub fn terminal_safe(text: &str) -> std::borrow::Cow<'_, str> {
+    escape(text, false)
+}
+
+/// [`terminal_safe`], line breaks kept: for messages of several lines.
+pub fn terminal_safe_lines(text: &str) -> std::borrow::Cow<'_, str> {
+    escape(text, true)
+}
+
+fn unsafe_char(c: char) -> bool {
+    c.is_control() || matches!(c, '\u{200E}' | '\u{200F}' | '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}')
+}
+
+fn escape(text: &str, keep_newlines: bool) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(|c| unsafe_char(c) && !(keep_newlines && c == '\n')) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        match c {
+            '\n' if keep_newlines => out.push('\n'),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if unsafe_char(c) && (c as u32) < 0x80 => {
+                let _ = write!(out, "\\x{:02x}", c as u32);
+            }
+            c if unsafe_char(c) => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
+/// Write `bytes` to `path` so that the file is either its old self or wholly the new
+/// content, never a mix or a stump: into a temporary file beside it, flushed to the disk,
+/// then renamed over it. On any failure (disk full, no permission) the old file is left as
+/// it was and the temporary file removed: exit 7. A target that is not a regular file (a
+/// terminal, `/dev/stdout`, a FIFO) is written directly, as renaming over it would replace
+/// the device with a file.
+pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
+    use crate::Error;
+    use std::fs;
+    let output = |why: String| Error::Output { path: path.display().to_string(), why };
+    let fail = |what: &str, e: std::io::Error| output(format!("{what}{e}"));
+    // Through a symbolic link, the file it points to is the one replaced.
+    let target = match fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => fs::canonicalize(path).map_err(|e| fail("", e))?,
+        _ => path.to_path_buf(),
+    };
+    let existing = fs::metadata(&target).ok();
+    if existing.as_ref().is_some_and(|m| !m.is_file() && !m.is_dir()) {
+        let mut f = fs::OpenOptions::new().write(true).truncate(true).open(&target).map_err(|e| fail("", e))?;
+        return f.write_all(bytes).and_then(|_| f.flush()).map_err(|e| fail("", e));
+    }
+    if existing.as_ref().is_some_and(|m| m.is_dir()) {
+        return Err(output("it is a directory".into()));
+    }
+    let Some(name) = target.file_name() else {
+        return Err(output("not a file name".into()));
+    };
+    let dir = target.parent().filter(|d| !d.as_os_str().is_empty());
+    let temp = dir.map_or_else(|| temp_name(name).into(), |d| d.join(temp_name(name)));
+    let mut file = match fs::OpenOptions::new().write(true).create_new(true).open(&temp) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+            return Err(output(format!(
+                "{} is in the way (left by an interrupted canctl, or another one is writing the file now); \
+                 {} is unchanged. Remove it and try again",
+                temp.display(),
+                path.display()
+            )))
+        }
+        Err(e) => return Err(fail("", e)),
+    };
+    let written = (|| {
+        file.write_all(bytes)?;
+        if let Some(m) = &existing {
+            // The new file keeps the old one's permissions.
+            file.set_permissions(m.permissions())?;
+        }
+        file.sync_all()?;
+        drop(file);
+        fs::rename(&temp, &target)
+    })();
+    if let Err(e) = written {
+        let _ = fs::remove_file(&temp);
+        return Err(output(format!(
+            "{e}; {}",
+            if existing.is_some() { "the file is unchanged" } else { "nothing was written" }
+        )));
+    }
+    // The rename itself reaches the disk with the directory.
+    #[cfg(unix)]
+    if let Ok(d) = fs::File::open(dir.unwrap_or(std::path::Path::new("."))) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}
+
+/// The temporary file `write_atomic` writes beside `name`: hidden, and named after it.
+pub fn temp_name(name: &std::ffi::OsStr) -> std::ffi::OsString {
+    let mut temp = std::ffi::OsString::from(".");
+    temp.push(name);
+    temp.push(".canctl-tmp");
+    temp
+}
+
 /// RFC 4180 CSV.
 pub fn csv(headers: &[&str], rows: &[Vec<String>]) -> String {
     let field = |f: &str| {
@@ -218,7 +351,13 @@ pub struct RecordWriter {
 impl RecordWriter {
     pub fn new(layout: &Layout, format: Format) -> RecordWriter {
         let fields: Vec<String> = layout.fields.iter().map(|f| f.name.clone()).collect();
-        RecordWriter { format, keys: fields.iter().map(|f| json_string(f)).collect(), fields }
+        let keys = fields.iter().map(|f| json_string(f)).collect();
+        // Names come from EDS files: in a table for people, their control characters escaped.
+        let fields = match format {
+            Format::Human => fields.iter().map(|f| terminal_safe(f).into_owned()).collect(),
+            _ => fields,
+        };
+        RecordWriter { format, keys, fields }
     }
 
     /// What comes before the first record: the CSV header.
@@ -291,7 +430,10 @@ impl RecordWriter {
         let (h, m, s, ms) = (secs / 3600 % 24, secs / 60 % 60, secs % 60, time_ms % 1000);
         let _ = write!(out, "{h:02}:{m:02}:{s:02}.{ms:03}    TPDO{pdo:<1}");
         for v in values {
-            let _ = write!(out, "  {:>COLUMN$}", v.to_string());
+            let _ = match v {
+                Value::Text(t) => write!(out, "  {:>COLUMN$}", terminal_safe(t)),
+                _ => write!(out, "  {:>COLUMN$}", v.to_string()),
+            };
         }
         out.push('\n');
     }
@@ -368,6 +510,17 @@ mod tests {
             let end = |line: &str, text: &str| line.find(text).map(|at| at + text.len());
             assert_eq!(end(header, title), end(row, value), "{title} over {value}:\n{out}");
         }
+    }
+
+    #[test]
+    fn control_characters_are_escaped_for_the_terminal() {
+        assert_eq!(terminal_safe("CAN-2057C"), "CAN-2057C");
+        assert!(matches!(terminal_safe("plain"), std::borrow::Cow::Borrowed(_)));
+        assert_eq!(terminal_safe("\u{1b}]0;pwned\u{7}"), r"\x1b]0;pwned\x07");
+        assert_eq!(terminal_safe("a\nb\r\tc\u{7f}"), r"a\nb\r\tc\x7f");
+        assert_eq!(terminal_safe("\u{9b}2J \u{202e}txt.exe"), r"\u{9b}2J \u{202e}txt.exe");
+        assert_eq!(terminal_safe("Grüße"), "Grüße");
+        assert_eq!(terminal_safe_lines("one\ntwo\u{1b}[2A"), "one\ntwo\\x1b[2A");
     }
 
     #[test]

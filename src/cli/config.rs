@@ -3,7 +3,6 @@
 
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
-use crate::error::Error;
 use crate::ops::config::{self, Applied, ApplyOptions, Dcf, Diff};
 use crate::output::{Human, Report};
 use clap::{Args, Subcommand};
@@ -99,8 +98,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let dump = config::dump(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress())?;
     match &a.out {
         Some(path) => {
-            std::fs::write(path, &dump.dcf)
-                .map_err(|e| Error::Usage(format!("cannot write {}: {e}", path.display())))?;
+            crate::output::write_atomic(path, &dump.dcf)?;
             ctx.out.note(&format!("{} objects of node {} written to {}", dump.objects, a.node, path.display()));
         }
         None => ctx.out.write_bytes(&dump.dcf)?,
@@ -112,7 +110,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
 fn read_dcf(path: &Path) -> crate::Result<Dcf> {
     let dcf = Dcf::read(path)?;
     for w in dcf.warnings() {
-        eprintln!("canctl: warning: {w}");
+        eprintln!("canctl: warning: {}", crate::output::terminal_safe_lines(w));
     }
     Ok(dcf)
 }
@@ -127,7 +125,10 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
 }
 
 fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
+    super::interrupt::catch();
+    let bus = &mut super::interrupt::with_test_signal(bus);
     let options = ApplyOptions {
+        interrupted: Some(super::interrupt::shared()),
         timeout: ctx.timeout,
         dry_run: a.dry_run,
         verify: a.verify,
@@ -140,7 +141,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     ctx.out.report(&report)?;
     if report.failure.is_some() && a.dry_run {
         ctx.out.note("dry run: a real run would stop at the refused write above; nothing was written");
-    } else if report.failure.is_some() {
+    } else if report.failure.is_some() && !report.interrupted {
         // Said in every format: the JSON document lists it too, but a person reads this.
         let done: Vec<String> = report.written.iter().map(|w| w.to_string()).collect();
         ctx.out.note(&format!(
@@ -177,17 +178,19 @@ impl Report for Applied {
             .objects
             .iter()
             .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.clone()]);
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty: true }
+        let when_empty = !self.interrupted;
+        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty }
     }
 
     fn notes(&self) -> Vec<String> {
         let mut notes = Vec::new();
-        if self.objects.is_empty() {
+        if self.objects.is_empty() && !self.interrupted {
             notes.push(format!("node {} already matches {}", self.node, self.file));
         }
         if self.stored {
             notes.push(format!("node {}: parameters stored (0x1010:1)", self.node));
         }
+        notes.extend(self.summary());
         notes
     }
 }

@@ -35,7 +35,8 @@ Exit codes:
   4    refused by the device (SDO abort, LSS or EPOS2 error; the code and its meaning are printed)
   5    link failure (cannot open, CRC/framing failure, device gone)
   6    verification failed
-  130  interrupted";
+  7    output could not be written (disk full, no permission); the old --out file is kept
+  130  interrupted (SIGINT, SIGTERM, Ctrl-C/Ctrl-Break), after a report of what was done";
 
 #[derive(Parser, Debug)]
 #[command(
@@ -307,6 +308,8 @@ pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
                 // The reader went away (`canctl scan | head -1`): nothing left to say.
                 return (0, false);
             }
+            // Input files are read into typed errors: an I/O error left is one of output.
+            return (crate::error::ErrorClass::Output.exit_code(), true);
         }
     }
     (1, true)

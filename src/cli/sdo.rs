@@ -160,7 +160,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
         None => None,
     };
     if let Some(path) = &a.out {
-        std::fs::write(path, &bytes).map_err(|e| Error::Usage(format!("cannot write {}: {e}", path.display())))?;
+        crate::output::write_atomic(path, &bytes)?;
         return match ctx.out.format {
             Format::Json => Ok(ctx.out.json(&json!({
                 "node": a.node, "object": a.object.to_string(), "size": bytes.len(), "file": path.display().to_string()
@@ -203,7 +203,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
                 },
             ]],
         )?,
-        Format::Human => ctx.out.print(&match value {
+        Format::Human => ctx.out.print_value(&match value {
             Some(v) => v.to_string(),
             None => untyped(&bytes),
         })?,

@@ -74,6 +74,7 @@ fn remapping(ctx: &Ctx, a: &StreamArgs, tpdo: u16) -> crate::Result<Remap> {
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
     super::interrupt::catch();
+    let bus = &mut super::interrupt::with_test_signal(bus);
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.

@@ -11,6 +11,8 @@ use crate::od::{builtin, names, Dictionary, Entry, Init};
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 /// A DCF: the values a device is to hold (its `ParameterValue`s), with their dictionary.
@@ -303,6 +305,9 @@ pub(crate) struct Step {
     pub value: Vec<u8>,
     /// An intermediate write of the PDO sequence, not a value of the file.
     pub interim: &'static str,
+    /// The PDO (communication and mapping index) whose change this write is part of: the
+    /// device holds a usable PDO only before the first and after the last of them.
+    pub pdo: Option<(u16, u16)>,
 }
 
 /// The communication and mapping parameter indexes of the PDO an index belongs to.
@@ -324,11 +329,12 @@ pub(crate) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAdd
             Some((comm, map)) if addr.index == map || addr.sub == 1 => {
                 pdos.insert((comm, map));
             }
-            _ => steps.push(Step { addr: *addr, value: value.clone(), interim: "" }),
+            _ => steps.push(Step { addr: *addr, value: value.clone(), interim: "", pdo: None }),
         }
     }
     // Plain objects of a PDO comm record (transmission type, timers) already went above.
     for (comm, map) in pdos {
+        let first = steps.len();
         let cob = ObjAddr::new(comm, 1);
         let cob_now = current(cob).map(|v| le_u32(&v));
         if let Some(c) = cob_now.filter(|c| c & 0x8000_0000 == 0) {
@@ -336,20 +342,22 @@ pub(crate) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAdd
                 addr: cob,
                 value: (c | 0x8000_0000).to_le_bytes().to_vec(),
                 interim: "PDO made invalid",
+                pdo: None,
             });
         }
         let map_changes: Vec<(&ObjAddr, &Vec<u8>)> = changes.iter().filter(|(a, _)| a.index == map).collect();
         if !map_changes.is_empty() {
             let count = ObjAddr::new(map, 0);
-            steps.push(Step { addr: count, value: vec![0], interim: "mapping count 0" });
+            steps.push(Step { addr: count, value: vec![0], interim: "mapping count 0", pdo: None });
             for (a, v) in map_changes.iter().filter(|(a, _)| a.sub > 0) {
-                steps.push(Step { addr: **a, value: (*v).clone(), interim: "" });
+                steps.push(Step { addr: **a, value: (*v).clone(), interim: "", pdo: None });
             }
             let final_count = changes.get(&count).cloned().or_else(|| current(count)).unwrap_or(vec![0]);
             steps.push(Step {
                 addr: count,
                 value: final_count,
                 interim: if changes.contains_key(&count) { "" } else { "mapping count back" },
+                pdo: None,
             });
         }
         let final_cob = changes.get(&cob).cloned().or_else(|| cob_now.map(|c| c.to_le_bytes().to_vec()));
@@ -358,7 +366,11 @@ pub(crate) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAdd
                 addr: cob,
                 value: v,
                 interim: if changes.contains_key(&cob) { "" } else { "PDO valid again" },
+                pdo: None,
             });
+        }
+        for step in &mut steps[first..] {
+            step.pdo = Some((comm, map));
         }
     }
     steps
@@ -383,6 +395,9 @@ pub struct ApplyOptions {
     /// default the built-in one for the node's profile. Writes are judged by it: ranges
     /// before anything is written, and in a dry run what the device will refuse.
     pub dictionary: Option<(Dictionary, String)>,
+    /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): looked at between SDO
+    /// transfers, never in the middle of one. A PDO change under way is then rolled back.
+    pub interrupted: Option<Arc<AtomicBool>>,
 }
 
 impl ApplyOptions {
@@ -395,6 +410,7 @@ impl ApplyOptions {
             store_timeout: Duration::from_secs(5),
             force: false,
             dictionary: None,
+            interrupted: None,
         }
     }
 }
@@ -422,6 +438,25 @@ pub struct Applied {
     /// Objects that read back other values than written.
     #[serde(skip)]
     pub mismatch: Vec<ObjAddr>,
+    /// The run was stopped on request (SIGINT, SIGTERM) at a point between transfers.
+    pub interrupted: bool,
+    /// PDOs whose change was under way when the run stopped, put back as they were
+    /// (their previous mapping and COB-ID): `TPDO1 (0x1800, 0x1A00)`.
+    pub rolled_back: Vec<String>,
+    /// When putting a PDO back failed: the writes that would, in this order.
+    pub to_fix: Vec<Fix>,
+    /// What the device holds now, when the run did not finish: a sentence for people.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state: Option<String>,
+}
+
+/// A write that would bring an object back to its value before the run.
+#[derive(Debug, Serialize)]
+pub struct Fix {
+    #[serde(serialize_with = "as_text")]
+    pub object: ObjAddr,
+    /// The value it had before the run, as a DCF writes it; `None` when unknown.
+    pub value: Option<String>,
 }
 
 /// One object: its value before, the value wanted, and what happened.
@@ -469,6 +504,119 @@ impl Applied {
         }
         Ok(())
     }
+
+    /// For a run that did not finish: what was written, what was not, what was put back,
+    /// and the state the device is left in, as sentences for people.
+    pub fn summary(&self) -> Vec<String> {
+        if !self.interrupted && self.rolled_back.is_empty() && self.to_fix.is_empty() {
+            return Vec::new();
+        }
+        let list = |v: Vec<String>| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
+        let mut out = Vec::new();
+        // Interrupted while reading, the state says it all.
+        let planned =
+            self.objects.iter().any(|r| r.result.starts_with("written") || r.result.starts_with("not written"));
+        if self.interrupted && planned {
+            let done: Vec<String> = self.written.iter().map(|w| w.to_string()).collect();
+            let not: Vec<String> = self
+                .objects
+                .iter()
+                .filter(|r| r.result.starts_with("not written"))
+                .map(|r| r.object.to_string())
+                .collect();
+            out.push(format!(
+                "interrupted after {} write(s): written {}; not written {}",
+                done.len(),
+                list(done),
+                list(not)
+            ));
+        }
+        for pdo in &self.rolled_back {
+            out.push(format!("{pdo}: its change was under way; rolled back to its previous mapping and COB-ID"));
+        }
+        if !self.to_fix.is_empty() {
+            let fixes: Vec<String> = self
+                .to_fix
+                .iter()
+                .map(|f| format!("{} = {}", f.object, f.value.as_deref().unwrap_or("(previous value unknown)")))
+                .collect();
+            out.push(format!(
+                "the rollback did not finish: to put the PDO back, write in this order {} (or run config apply again to finish the change)",
+                fixes.join(", ")
+            ));
+        }
+        if let Some(state) = &self.state {
+            out.push(state.clone());
+        }
+        out
+    }
+}
+
+/// A PDO's name from its communication index: `TPDO1 (0x1800, 0x1A00)`.
+fn pdo_name((comm, map): (u16, u16)) -> String {
+    let (kind, n) = if comm >= 0x1800 { ("TPDO", comm - 0x1800 + 1) } else { ("RPDO", comm - 0x1400 + 1) };
+    format!("{kind}{n} (0x{comm:04X}, 0x{map:04X})")
+}
+
+/// The writes of a PDO change under way, and the values its objects had before them.
+struct Underway {
+    pdo: (u16, u16),
+    /// Each object written (or possibly written) so far, with its value before the run.
+    before: BTreeMap<ObjAddr, Option<Vec<u8>>>,
+}
+
+/// Put a PDO whose change stopped part-way back as it was, in the safe order (it is
+/// invalid already: entries, count, COB-ID last). Returns the rows of the writes, and the
+/// writes still needed when one failed.
+fn roll_back(
+    bus: &mut dyn Bus,
+    node: u8,
+    dcf: &Dcf,
+    underway: &Underway,
+    device: &mut BTreeMap<ObjAddr, Vec<u8>>,
+    timeout: Duration,
+) -> (Vec<Change>, Vec<Fix>) {
+    let mut back = BTreeMap::new();
+    let mut unknown = Vec::new();
+    for (addr, before) in &underway.before {
+        match before {
+            Some(v) if device.get(addr) != Some(v) => {
+                back.insert(*addr, v.clone());
+            }
+            Some(_) => {}
+            None => unknown.push(*addr),
+        }
+    }
+    let snapshot = device.clone();
+    let steps: Vec<Step> = plan(&back, &|a| snapshot.get(&a).cloned())
+        .into_iter()
+        .filter(|s| s.interim.is_empty() || snapshot.get(&s.addr) != Some(&s.value))
+        .collect();
+    let entry_of = |addr: ObjAddr| dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
+    let shown = |addr: ObjAddr, v: &[u8]| entry_of(addr).map_or_else(|| crate::canopen::types::hex(v), |e| show(e, v));
+    let mut rows = Vec::new();
+    let mut to_fix: Vec<Fix> = Vec::new();
+    for step in &steps {
+        if !to_fix.is_empty() {
+            to_fix.push(Fix { object: step.addr, value: Some(shown(step.addr, &step.value)) });
+            continue;
+        }
+        let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
+        let old = device.get(&step.addr).cloned();
+        let result = match bus.sdo_download(node, step.addr, &step.value, &opts(timeout, dtype)) {
+            Ok(()) => {
+                device.insert(step.addr, step.value.clone());
+                "written (rollback)".to_string()
+            }
+            Err(e) => {
+                to_fix.push(Fix { object: step.addr, value: Some(shown(step.addr, &step.value)) });
+                format!("failed: {e} (rollback)")
+            }
+        };
+        rows.push(Change::new(dcf, step.addr, old.as_deref(), &step.value, result));
+    }
+    to_fix.extend(unknown.into_iter().map(|object| Fix { object, value: None }));
+    (rows, to_fix)
 }
 
 /// Make `node` match the DCF: every value is checked against the file's ranges before
@@ -479,6 +627,25 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     let values = dcf.values(node)?;
     for (entry, value) in &values {
         super::check_range(entry, value)?;
+    }
+    let stop = || o.interrupted.as_ref().is_some_and(|f| f.load(Ordering::SeqCst));
+    let unchanged = |rows: Vec<Change>| Applied {
+        node,
+        file: dcf.path().to_string(),
+        dry_run: o.dry_run,
+        objects: rows,
+        stored: false,
+        failure: Some(Error::Interrupted),
+        did_you_mean: Vec::new(),
+        written: Vec::new(),
+        mismatch: Vec::new(),
+        interrupted: true,
+        rolled_back: Vec::new(),
+        to_fix: Vec::new(),
+        state: Some(format!("node {node} is as it was: interrupted while reading it, nothing was written")),
+    };
+    if stop() {
+        return Ok(unchanged(Vec::new()));
     }
     if !o.force {
         check_identity(bus, node, dcf, o.timeout)?;
@@ -492,6 +659,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     // says so instead of promising it.
     let mut absent: BTreeMap<ObjAddr, u32> = BTreeMap::new();
     for (entry, want) in &values {
+        if stop() {
+            return Ok(unchanged(rows));
+        }
         let now = if entry.access.readable() {
             match read_one(bus, node, entry, o.timeout) {
                 Ok(v) => Some(v),
@@ -526,6 +696,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     }
     // The PDO sequence needs the COB-IDs and mapping counts of the PDOs it touches.
     for (comm, map) in changes.keys().filter_map(|a| pdo_indices(a.index)).collect::<BTreeSet<_>>() {
+        if stop() {
+            return Ok(unchanged(rows));
+        }
         for addr in [ObjAddr::new(comm, 1), ObjAddr::new(map, 0)] {
             if let std::collections::btree_map::Entry::Vacant(slot) = current.entry(addr) {
                 if let Ok(v) = bus.sdo_upload(node, addr, &SdoOptions::new(o.timeout)) {
@@ -543,8 +716,19 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     let steps = plan(&changes, &|addr| current.get(&addr).cloned());
     let entry_of = |addr: ObjAddr| dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
     let mut failure: Option<Error> = None;
+    let mut interrupted = false;
     let mut written: Vec<ObjAddr> = Vec::new();
-    for step in &steps {
+    // What the device holds, as far as read and written.
+    let mut device = current.clone();
+    let mut underway: Option<Underway> = None;
+    let mut rollback_rows = Vec::new();
+    let mut rolled_back = Vec::new();
+    let mut to_fix = Vec::new();
+    for (i, step) in steps.iter().enumerate() {
+        if !o.dry_run && failure.is_none() && stop() {
+            interrupted = true;
+            failure = Some(Error::Interrupted);
+        }
         let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
         let result = if o.dry_run && failure.is_some() {
             "would not be written".to_string()
@@ -556,15 +740,29 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             format!("would be refused: read only in {target_source}")
         } else if o.dry_run {
             "would write".to_string()
+        } else if interrupted {
+            "not written (interrupted)".to_string()
         } else if failure.is_some() {
             "not written".to_string()
         } else {
+            // The PDO this write belongs to is unusable from now until its last write.
+            if let Some(pdo) = step.pdo {
+                let u = underway.get_or_insert_with(|| Underway { pdo, before: BTreeMap::new() });
+                u.before.entry(step.addr).or_insert_with(|| current.get(&step.addr).cloned());
+            }
             match bus.sdo_download(node, step.addr, &step.value, &opts(o.timeout, dtype)) {
                 Ok(()) => {
                     written.push(step.addr);
+                    device.insert(step.addr, step.value.clone());
+                    if steps.get(i + 1).is_none_or(|next| next.pdo != step.pdo) {
+                        underway = None;
+                    }
                     "written".to_string()
                 }
                 Err(e) => {
+                    // Refused or unanswered: whether the device took the value is not
+                    // known, so a rollback writes the old one back in any case.
+                    device.remove(&step.addr);
                     let text = format!("failed: {e}");
                     failure = Some(e);
                     text
@@ -573,6 +771,17 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         };
         let result = if step.interim.is_empty() { result } else { format!("{result} ({})", step.interim) };
         rows.push(Change::new(dcf, step.addr, current.get(&step.addr).map(|v| v.as_slice()), &step.value, result));
+        // Stopped inside a PDO change: put the PDO back before anything else.
+        if failure.is_some() && !o.dry_run {
+            if let Some(u) = underway.take() {
+                let (r, fix) = roll_back(bus, node, dcf, &u, &mut device, o.timeout);
+                rollback_rows = r;
+                if fix.is_empty() {
+                    rolled_back.push(pdo_name(u.pdo));
+                }
+                to_fix = fix;
+            }
+        }
     }
     // An object the device lacks: the nearest ones it may have meant, from its own
     // dictionary (not the file's, which may describe another kind of device).
@@ -580,12 +789,18 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         Some(Error::SdoAbort { obj, code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => names::near(&target, *obj),
         _ => Vec::new(),
     };
+    rows.extend(rollback_rows);
     let mut mismatch = Vec::new();
     if o.verify && failure.is_none() && !o.dry_run {
         for (addr, want) in &changes {
             let Some(entry) = entry_of(*addr) else { continue };
             if !entry.access.readable() {
                 continue;
+            }
+            if stop() {
+                interrupted = true;
+                failure = Some(Error::Interrupted);
+                break;
             }
             let got = read_one(bus, node, entry, o.timeout)?;
             let row =
@@ -598,6 +813,10 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             }
         }
     }
+    if o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run && stop() {
+        interrupted = true;
+        failure = Some(Error::Interrupted);
+    }
     let stored = if o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run {
         let t = super::store::Timeouts { answer: o.timeout, write: o.store_timeout };
         super::store::store(bus, node, super::store::Class::All, t)?;
@@ -605,6 +824,8 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     } else {
         false
     };
+    let state = (!o.dry_run && failure.is_some())
+        .then(|| left_in(node, &changes, &device, &current, !rolled_back.is_empty(), !to_fix.is_empty(), o.store));
     Ok(Applied {
         node,
         file: dcf.path().to_string(),
@@ -615,7 +836,49 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         did_you_mean,
         written,
         mismatch,
+        interrupted,
+        rolled_back,
+        to_fix,
+        state,
     })
+}
+
+/// The state a run that did not finish leaves the device in, in a sentence.
+fn left_in(
+    node: u8,
+    changes: &BTreeMap<ObjAddr, Vec<u8>>,
+    device: &BTreeMap<ObjAddr, Vec<u8>>,
+    before: &BTreeMap<ObjAddr, Vec<u8>>,
+    rolled_back: bool,
+    broken: bool,
+    store: bool,
+) -> String {
+    let new: Vec<String> =
+        changes.iter().filter(|(a, v)| device.get(a) == Some(v)).map(|(a, _)| a.to_string()).collect();
+    // An intermediate value left behind (a COB-ID made invalid, a count of 0).
+    let interim = device.iter().any(|(a, v)| before.get(a).is_some_and(|b| b != v) && changes.get(a) != Some(v));
+    let mut s = if new.is_empty() && !interim {
+        format!("node {node} is as it was before the run")
+    } else if new.is_empty() {
+        format!("node {node} holds none of the file's values")
+    } else {
+        format!(
+            "node {node} holds the file's values for {} of {} object(s) ({}), its previous values for the rest",
+            new.len(),
+            changes.len(),
+            new.join(", ")
+        )
+    };
+    if broken || interim {
+        s.push_str("; a PDO is left unusable: see the writes above");
+    } else if rolled_back {
+        s.push_str(" (the PDO that was being changed rolled back)");
+    }
+    if store {
+        s.push_str("; nothing stored: a reset brings back the stored parameters");
+    }
+    s.push_str(". config apply again finishes the change");
+    s
 }
 
 #[cfg(test)]
