@@ -37,13 +37,19 @@ impl<P: serialport::SerialPort> SerialIo for P {
     }
 
     fn read_some(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
-        let left = deadline.saturating_duration_since(Instant::now());
-        serialport::SerialPort::set_timeout(self, left)?;
-        match io::Read::read(self, buf) {
-            Ok(0) => Err(io::Error::new(io::ErrorKind::UnexpectedEof, "the port closed")),
-            Ok(n) => Ok(n),
-            Err(e) if e.kind() == io::ErrorKind::TimedOut || e.kind() == io::ErrorKind::WouldBlock => Ok(0),
-            Err(e) => Err(e),
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            serialport::SerialPort::set_timeout(self, left)?;
+            return match io::Read::read(self, buf) {
+                Ok(0) => Err(io::Error::new(io::ErrorKind::UnexpectedEof, "the port closed")),
+                Ok(n) => Ok(n),
+                Err(e) if e.kind() == io::ErrorKind::TimedOut || e.kind() == io::ErrorKind::WouldBlock => Ok(0),
+                // A signal (Ctrl-C, SIGTERM) cut the wait short: the line is fine. The
+                // procedure looks at the interruption at its next safe point.
+                Err(e) if e.kind() == io::ErrorKind::Interrupted && Instant::now() < deadline => continue,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => Ok(0),
+                Err(e) => Err(e),
+            };
         }
     }
 
