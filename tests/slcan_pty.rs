@@ -22,10 +22,11 @@ fn adapter(bus_kbit: u32) -> String {
     rx.recv().unwrap()
 }
 
+/// The test's end of the pty, shared: while another test thread starts a program, the
+/// child holds a copy of every open descriptor until its exec closes it, and with it the
+/// lock of an exclusive open; a second exclusive open in that moment would fail.
 fn port(path: &str) -> serialport::TTYPort {
-    let mut p = serialport::new(path, 115_200).timeout(Duration::from_millis(100)).open_native().unwrap();
-    p.set_exclusive(false).unwrap();
-    p
+    serialport::new(path, 115_200).timeout(Duration::from_millis(100)).exclusive(false).open_native().unwrap()
 }
 
 fn master<P: SerialIo>(port: P, path: &str, kbit: u32) -> Master<SlcanLink<P>> {

@@ -17,5 +17,12 @@ pub fn open_raw() -> Result<(OwnedFd, OwnedFd, String)> {
     cfmakeraw(&mut t);
     tcsetattr(&pty.slave, SetArg::TCSANOW, &t).map_err(|e| failed(PtyOp::Termios, e))?;
     let path = nix::unistd::ttyname(&pty.slave).map_err(|e| failed(PtyOp::Name, e))?;
+    // openpty(3) leaves both ends inheritable: a program started meanwhile (a test runs
+    // many) would keep this pty alive after its server is gone.
+    for fd in [&pty.master, &pty.slave] {
+        use nix::fcntl::{fcntl, FcntlArg, FdFlag};
+        fcntl(std::os::fd::AsRawFd::as_raw_fd(fd), FcntlArg::F_SETFD(FdFlag::FD_CLOEXEC))
+            .map_err(|e| failed(PtyOp::Create, e))?;
+    }
     Ok((pty.master, pty.slave, path.display().to_string()))
 }
