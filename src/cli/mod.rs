@@ -17,7 +17,7 @@ mod sim;
 mod store;
 mod stream;
 
-use crate::bus::{Bus, BusAddr, OpenOptions, SdoOptions};
+use crate::bus::{Bus, BusAddr, OpenOptions};
 use crate::error::Error;
 use crate::output::{Format, Output};
 use clap::{Args, Parser, Subcommand};
