@@ -112,10 +112,7 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
             [v] => values.push(*v),
             [] => {
                 m.leave()?;
-                return Err(Error::Timeout(format!(
-                    "no LSS device answered the inquiry within {} ms",
-                    timeout.as_millis()
-                )));
+                return Err(Error::NoLssAnswer { request: "the inquiry".into(), identity: None, waited: timeout });
             }
             more => {
                 m.leave()?;
@@ -371,26 +368,8 @@ pub struct Found {
     pub elapsed_ms: u64,
 }
 
-fn no_device_error() -> Error {
-    Error::Timeout("no device without a node-id answered the fastscan".into())
-}
-
-fn fastscan_error(e: FastscanError, pace: &Pace) -> Error {
-    let step = pace.longest_step().as_millis();
-    match e {
-        FastscanError::NoDevice => no_device_error(),
-        FastscanError::Unconfirmed(part) => Error::Link(format!(
-            "fastscan: identity part {part} was found but not confirmed, even with a {step} ms step (a device \
-             changed state, or frames were lost); try again, or a longer --step"
-        )),
-        FastscanError::NoMatch { part, value } => Error::Timeout(format!(
-            "no device without a node-id has {} 0x{value:08X} (waited up to {step} ms a step)",
-            ["vendor-id", "product code", "revision", "serial"][part as usize]
-        )),
-        FastscanError::Lost => Error::Timeout(format!(
-            "fastscan: a device without a node-id answered, then stopped answering, even with a {step} ms step"
-        )),
-    }
+fn fastscan_error(error: FastscanError, pace: &Pace) -> Error {
+    Error::Fastscan { error, step: pace.longest_step() }
 }
 
 /// Find the identity of one device without a node-id, bit by bit. The device found is
@@ -470,7 +449,9 @@ impl Assignment {
     pub fn outcome(self) -> Result<()> {
         match self.failure {
             Some(e) => Err(e),
-            None if self.assigned.is_empty() => Err(no_device_error()),
+            None if self.assigned.is_empty() => {
+                Err(Error::Fastscan { error: FastscanError::NoDevice, step: Duration::from_millis(self.step_ms) })
+            }
             None => Ok(()),
         }
     }
@@ -493,7 +474,7 @@ fn answering(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -
     for ((node, _), answer) in probes.iter().zip(answers?) {
         match answer {
             Ok(_) | Err(Error::SdoAbort { .. }) => found.push(*node),
-            Err(Error::Timeout(_)) => {}
+            Err(e) if e.is_timeout() => {}
             Err(e) => progress.note(&format!("warning: node {node}: {e}")),
         }
     }
