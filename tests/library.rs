@@ -232,3 +232,22 @@ fn settings_come_from_the_command_line_over_the_files_over_the_defaults() {
     let none = Settings::resolve(Given::default(), FileSettings::default());
     assert_eq!((none.bus, none.timeout.value, none.timeout.from), (None, DEFAULT_TIMEOUT, Source::Default));
 }
+
+#[test]
+fn sim_reset_starts_the_saved_network_afresh_as_configured() {
+    use canctl::sim::serve::{reset, state_path};
+    use canctl::sim::{Profile, SimConfig};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sim.json");
+    let uri = format!("sim:{}", path.display());
+    assert_eq!(state_path(Some(&uri)).unwrap(), path);
+    assert_eq!(state_path(Some("can0")).unwrap_err().exit_code(), 2);
+
+    let report = reset(&path, &SimConfig::default().profile(Profile::Instant).unconfigured(1).seed(7)).unwrap();
+    assert_eq!((report.profile.as_str(), report.unconfigured, report.seed), ("instant", 1, 7));
+    assert_eq!(report.bit_rate, "500k");
+    let mut bus = bus::open(&uri.parse::<BusAddr>().unwrap(), &OpenOptions::new(TIMEOUT)).unwrap();
+    let waiting = canctl::bus::lss::count_unconfigured(bus.as_mut(), TIMEOUT).unwrap();
+    assert_eq!(waiting, 1);
+    bus.close().unwrap();
+}

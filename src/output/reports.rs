@@ -25,3 +25,13 @@ impl Report for SettingsReport {
         vec![format!("no settings file: canctl.toml here or in a parent directory, or {user}")]
     }
 }
+
+impl Report for crate::sim::serve::Reset {
+    fn human(&self) -> Human {
+        let faults = if self.faults.is_empty() { String::new() } else { format!(", faults {}", self.faults.join(" ")) };
+        Human::Line(format!(
+            "sim network reset ({}): profile {}, {}bit/s, {} device(s) without a node-id, seed {}{faults}",
+            self.state_file, self.profile, self.bit_rate, self.unconfigured, self.seed
+        ))
+    }
+}
