@@ -7,6 +7,7 @@ pub mod config;
 pub mod lss;
 pub mod monitor;
 pub mod pdo;
+pub mod silence;
 pub mod store;
 
 use crate::bus::SdoOptions;
