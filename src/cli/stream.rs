@@ -6,11 +6,9 @@ use crate::bus::Bus;
 use crate::error::Error;
 use crate::ops::pdo::{self, Remap, Session, Stream, StreamOptions};
 use crate::ops::silence;
-use crate::output::RecordWriter;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
-use std::io::{IsTerminal, Write};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Stream a node's transmit PDOs, decoded
 ///
@@ -124,34 +122,12 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
             names.join(", ")
         ));
     }
-    let writers: Vec<RecordWriter> = layouts.iter().map(|(_, l)| RecordWriter::new(l, ctx.out.format)).collect();
-    let stdout = std::io::stdout();
-    let live = stdout.is_terminal();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    let mut line = String::new();
-    // One header; with several TPDOs the columns are those of the first.
-    writers[0].preamble(&mut line);
-    out.write_all(line.as_bytes())?;
-    let mut last_flush = Instant::now();
+    let mut records = ctx.out.records(a.node, &layouts)?;
     let mut progress = ctx.out.progress();
     while let Some(r) = stream.next(bus, &mut progress)? {
-        line.clear();
-        writers[r.layout].record(
-            &mut line,
-            r.time_ms,
-            a.node,
-            layouts[r.layout].0 as u8,
-            &r.values,
-            stream.records() == 1,
-        );
-        out.write_all(line.as_bytes())?;
-        // A reader at the other end of a pipe gets the stream as it goes, in batches.
-        if live || last_flush.elapsed() >= Duration::from_millis(100) {
-            out.flush()?;
-            last_flush = Instant::now();
-        }
+        records.write(&r, stream.records() == 1)?;
     }
-    out.flush()?;
+    records.finish()?;
     ctx.out.note(&format!("{} record(s)", stream.records()));
     Ok(())
 }
