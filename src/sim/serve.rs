@@ -4,7 +4,7 @@
 
 use super::serial_fault::Fault;
 use super::state::{default_path, StateFile};
-use super::{SimConfig, SimLink};
+use super::SimConfig;
 use crate::bus::BusAddr;
 use crate::canopen::lss::bit_rate_name;
 use crate::epos2::Framing;
@@ -91,7 +91,7 @@ pub fn serve(path: &Path, how: &Serve, trace: bool, ready: impl FnOnce(&Serving)
 fn socketcan(path: &Path, iface: &str, trace: bool, ready: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
     let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
     // The interface is a bus with its own timing: the devices only answer late.
-    let sim = SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
+    let sim = super::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
     let how = format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C");
     ready(&Serving { pty: None, how })?;
     super::bridge::run(sim, &mut can, trace)
@@ -114,7 +114,7 @@ fn epos2(
     ready: impl FnOnce(&Serving) -> Result<()>,
 ) -> Result<()> {
     use super::epos2_serve::{self, ServeOptions};
-    let link = SimLink::open(StateFile::lock(path)?)?;
+    let link = super::SimLink::open(StateFile::lock(path)?)?;
     let device = super::epos2_device::Epos2Device::new(link, can_timeout, trace);
     let opts = ServeOptions { framing, baud, faults: faults.to_vec() };
     epos2_serve::serve(device, &opts, |pty| {
@@ -138,7 +138,7 @@ fn slcan(path: &Path, faults: &[Fault], trace: bool, ready: impl FnOnce(&Serving
             f.kind
         )));
     }
-    let sim = SimLink::open(StateFile::lock(path)?)?;
+    let sim = super::SimLink::open(StateFile::lock(path)?)?;
     let rate = sim.network().bit_rate();
     let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
     let mut adapter = super::slcan_serve::SlcanAdapter::create(kbit, faults.to_vec())?;
