@@ -77,13 +77,27 @@ pub struct Serving {
 
 /// Serve the network saved at `path` until the link fails or the process is stopped.
 /// `ready` hears where once the devices answer; `trace` prints every frame.
+#[cfg_attr(not(unix), allow(unused_variables))]
 pub fn serve(path: &Path, how: &Serve, trace: bool, ready: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
     match how {
+        #[cfg(target_os = "linux")]
         Serve::SocketCan { iface } => socketcan(path, iface, trace, ready),
+        #[cfg(not(target_os = "linux"))]
+        Serve::SocketCan { .. } => {
+            Err(Error::Usage("SocketCAN is Linux's: `sim --socketcan` runs on Linux only; try `sim --slcan`".into()))
+        }
+        #[cfg(unix)]
         Serve::Slcan { faults } => slcan(path, faults, trace, ready),
+        #[cfg(unix)]
         Serve::Epos2 { framing, baud, faults, can_timeout } => {
             epos2(path, *framing, *baud, faults, *can_timeout, trace, ready)
         }
+        #[cfg(not(unix))]
+        Serve::Slcan { .. } | Serve::Epos2 { .. } => Err(Error::Usage(
+            "the simulated serial devices (--epos2-rs232, --epos2-usb, --slcan) sit on a pseudo-terminal, which \
+             this OS lacks; use --bus sim directly, or run them on Linux or macOS"
+                .into(),
+        )),
     }
 }
 
@@ -95,11 +109,6 @@ fn socketcan(path: &Path, iface: &str, trace: bool, ready: impl FnOnce(&Serving)
     let how = format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C");
     ready(&Serving { pty: None, how })?;
     super::bridge::run(sim, &mut can, trace)
-}
-
-#[cfg(not(target_os = "linux"))]
-fn socketcan(_: &Path, _: &str, _: bool, _: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
-    Err(Error::Usage("SocketCAN is Linux's: `sim --socketcan` runs on Linux only; try `sim --slcan`".into()))
 }
 
 /// The simulated EPOS2 on a pseudo-terminal.
@@ -150,31 +159,4 @@ fn slcan(path: &Path, faults: &[Fault], trace: bool, ready: impl FnOnce(&Serving
     );
     ready(&Serving { pty: Some(pty), how })?;
     super::bridge::run(sim, &mut adapter, trace)
-}
-
-#[cfg(not(unix))]
-fn no_pty() -> Error {
-    Error::Usage(
-        "the simulated serial devices (--epos2-rs232, --epos2-usb, --slcan) sit on a pseudo-terminal, which \
-         this OS lacks; use --bus sim directly, or run them on Linux or macOS"
-            .into(),
-    )
-}
-
-#[cfg(not(unix))]
-fn epos2(
-    _: &Path,
-    _: Framing,
-    _: Option<u32>,
-    _: &[Fault],
-    _: Duration,
-    _: bool,
-    _: impl FnOnce(&Serving) -> Result<()>,
-) -> Result<()> {
-    Err(no_pty())
-}
-
-#[cfg(not(unix))]
-fn slcan(_: &Path, _: &[Fault], _: bool, _: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
-    Err(no_pty())
 }
