@@ -1,7 +1,6 @@
 //! The command line: one clap definition from which help, man pages and completions are
 //! all generated, and one module per command.
 
-mod cache;
 mod complete;
 mod config;
 mod docs;
@@ -230,7 +229,7 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
     match (e.downcast_ref::<Error>(), &ctx.bus) {
         (Some(Error::Timeout(msg)), Some(bus)) if msg.starts_with("node ") && msg.contains("did not answer") => {
-            Error::Timeout(format!("{msg}{}", cache::hint(bus))).into()
+            Error::Timeout(format!("{msg}{}", crate::ops::scan_cache::hint(bus))).into()
         }
         (Some(abort @ Error::SdoAbort { node, obj, code: 0x0602_0000 | 0x0609_0011 }), _) => {
             let near = ctx.dicts.near(*node, *obj);
@@ -253,7 +252,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         .map(|b| (b, if bus_from_env { settings::Source::Env } else { settings::Source::Flag }));
     let resolved = settings::resolve(bus, g.timeout, &g.eds, settings::load()?);
     let eds: Vec<objects::EdsArg> = resolved.eds.iter().map(|(e, _)| e.clone()).collect();
-    let dicts = objects::Dictionaries::load(&eds)?;
+    let dicts = objects::load(&eds)?;
     let ctx = Ctx {
         out: Output::new(g.format, g.quiet),
         timeout: resolved.timeout.0,
