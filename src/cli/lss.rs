@@ -417,10 +417,7 @@ fn fastscan_error(e: FastscanError, pace: &Pace) -> Error {
     let step = pace.longest_step().as_millis();
     match e {
         FastscanError::NoDevice => no_device_error(),
-        FastscanError::Unconfirmed(part) => Error::Link(format!(
-            "fastscan: identity part {part} was found but not confirmed, even with a {step} ms step (a device \
-             changed state, or frames were lost); try again, or a longer --step"
-        )),
+        FastscanError::Unconfirmed(_) => Error::Fastscan { error: e, step: pace.longest_step() },
         FastscanError::NoMatch { part, value } => Error::Timeout(format!(
             "no device without a node-id has {} 0x{value:08X} (waited up to {step} ms a step)",
             ["vendor-id", "product code", "revision", "serial"][part as usize]

@@ -227,18 +227,22 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 /// A node that did not answer: say which nodes the last scan of this bus saw. An object
 /// the node does not have: name the dictionary's objects nearest to it.
 fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
-    match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::Timeout(msg)), Some(bus)) if msg.starts_with("node ") && msg.contains("did not answer") => {
-            Error::Timeout(format!("{msg}{}", crate::ops::scan_cache::hint(bus))).into()
-        }
-        (Some(abort @ Error::SdoAbort { node, obj, code: 0x0602_0000 | 0x0609_0011 }), _) => {
+    use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
+    use crate::error::Service;
+    let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
+        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => crate::ops::scan_cache::hint(bus),
+        (Some(Error::SdoAbort { node, obj, code: NO_OBJECT | NO_SUBINDEX }), _) => {
             let near = ctx.dicts.near(*node, *obj);
             if near.is_empty() {
                 return e;
             }
-            Error::Refused(format!("{abort}; did you mean {}?", near.join(", "))).into()
+            format!("; did you mean {}?", near.join(", "))
         }
-        _ => e,
+        _ => return e,
+    };
+    match e.downcast::<Error>() {
+        Ok(error) => error.with_hint(hint).into(),
+        Err(e) => e,
     }
 }
 

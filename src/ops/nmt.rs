@@ -4,7 +4,7 @@
 
 use crate::bus::{Bus, ALL_NODES};
 use crate::canopen::nmt::{self, Command, ErrorControl};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Service};
 use serde::Serialize;
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
@@ -138,7 +138,7 @@ pub fn reset_and_wait(bus: &mut dyn Bus, cmd: Command, target: u8, o: &ResetOpti
     }
     let before = match remote_state(bus, target, o.timeout) {
         Ok(answer) => answer,
-        Err(Error::Timeout(_)) => None,
+        Err(e) if e.is_timeout() => None,
         Err(e) => return Err(e),
     };
     bus.nmt(cmd, target)?;
@@ -189,7 +189,7 @@ fn listen_for_boot_ups(bus: &mut dyn Bus, target: u8, o: &ResetOptions) -> Resul
         }
     }
     if booted.is_empty() {
-        return Err(Error::Timeout(format!("{}: no boot-up within {} ms", target_text(target), o.wait.as_millis())));
+        return Err(Error::NoAnswer { node: target, what: Service::BootUp, waited: o.wait });
     }
     Ok(booted.into_iter().collect())
 }
@@ -201,17 +201,9 @@ fn poll_until_answering(bus: &mut dyn Bus, node: u8, o: &ResetOptions) -> Result
     loop {
         match remote_state(bus, node, o.timeout) {
             Ok(Some(answer)) => return Ok(answer),
-            Ok(None) | Err(Error::Timeout(_)) if Instant::now() < deadline => {
-                std::thread::sleep(Duration::from_millis(20))
-            }
-            Ok(None) | Err(Error::Timeout(_)) => {
-                return Err(Error::Timeout(format!(
-                    "node {node}: NMT reset sent, but no answer to remote requests within {} ms after it; \
-                     not confirmed. Check the node with `canctl scan`, or wait longer (--wait)",
-                    o.wait.as_millis()
-                )))
-            }
-            Err(e) => return Err(e),
+            Err(e) if !e.is_timeout() => return Err(e),
+            Ok(None) | Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+            Ok(None) | Err(_) => return Err(Error::NoAnswer { node, what: Service::AfterReset, waited: o.wait }),
         }
     }
 }
@@ -232,22 +224,15 @@ pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState>
     // the node's next heartbeat (same COB-ID).
     let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
     let answer = match bus.request_frame(nmt::error_control_cob(node), 1, o.timeout) {
-        Err(Error::Timeout(_)) => None,
+        Err(e) if e.is_timeout() => None,
         other => Some(other?),
     };
     match answer.as_ref().and_then(ErrorControl::parse) {
         Some((_, ErrorControl::State { state, .. })) => Ok(NodeState { node, state, source }),
         Some((_, ErrorControl::BootUp)) => Ok(NodeState { node, state: nmt::State::PreOperational, source }),
         _ => {
-            let listened = if bus.sees_traffic() {
-                format!("no heartbeat within {} ms and ", o.listen.as_millis())
-            } else {
-                String::new()
-            };
-            Err(Error::Timeout(format!(
-                "node {node}: {listened}no answer to node guarding within {} ms",
-                o.timeout.as_millis()
-            )))
+            let heartbeat = bus.sees_traffic().then_some(o.listen);
+            Err(Error::NoAnswer { node, what: Service::NmtState { heartbeat }, waited: o.timeout })
         }
     }
 }

@@ -96,7 +96,7 @@ pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -
         match answer {
             Ok(bytes) => found.push((*node, as_u32(&bytes))),
             Err(Error::SdoAbort { .. }) => found.push((*node, None)),
-            Err(Error::Timeout(_)) => {}
+            Err(e) if e.is_timeout() => {}
             Err(e) => progress.note(&format!("warning: node {node}: {e}")),
         }
     }
@@ -222,7 +222,7 @@ fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<
                 }
                 _ => f.state_from = "its error-control answer was not a state",
             },
-            Err(Error::Timeout(_)) => {
+            Err(e) if e.is_timeout() => {
                 f.state_from = if beating(f) {
                     "no heartbeat within the wait, and no answer to node guarding"
                 } else {

@@ -166,11 +166,8 @@ pub fn write(
     if o.verify {
         let back = bus.sdo_upload(node, object, &opts)?;
         if back != bytes {
-            return Err(Error::Verify(format!(
-                "node {node}: {object} reads back {} after writing {}",
-                shown(dtype, &back),
-                shown(dtype, &bytes)
-            )));
+            let (wrote, read) = (shown(dtype, &bytes), shown(dtype, &back));
+            return Err(Error::ReadBack { node, obj: object, wrote, read });
         }
     }
     let value = dtype.decode(&bytes);
