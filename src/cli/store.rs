@@ -3,6 +3,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::canopen::nmt::Command;
+use crate::ops::nmt::{self, Confirmation, ResetOptions};
 use crate::ops::store::{self, Timeouts};
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
@@ -61,9 +62,8 @@ pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<
     if a.reset {
         let wait = a.store_timeout.max(Duration::from_secs(2));
         report.reset = true;
-        if let super::nmt::Reset::Unconfirmed(why) =
-            super::nmt::reset_and_wait(ctx, bus, Command::ResetNode, a.node, wait)?
-        {
+        let o = ResetOptions { wait, timeout: ctx.timeout };
+        if let Confirmation::Unconfirmed(why) = nmt::reset_and_wait(bus, Command::ResetNode, a.node, &o)? {
             report.reset_unconfirmed = Some(why);
         }
     }

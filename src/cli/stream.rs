@@ -4,6 +4,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::error::Error;
+use crate::ops::nmt::{self, StateOptions};
 use crate::ops::pdo::{self, Remap, Session, Stream, StreamOptions};
 use crate::ops::silence;
 use clap::Args;
@@ -86,18 +87,19 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
 }
 
 fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> anyhow::Result<()> {
+    let state_options = StateOptions { listen: Duration::from_millis(300), timeout: ctx.timeout };
     let list: Vec<u16> = if a.tpdo.is_empty() { (1..=4).collect() } else { a.tpdo.clone() };
     if !a.map.is_empty() {
         session.remap(bus, a.node, &remapping(ctx, a, list[0])?, ctx.timeout)?;
     }
     if a.start {
-        let (state, _) = super::nmt::query_state(ctx, bus, a.node, Duration::from_millis(300))?;
+        let state = nmt::state(bus, a.node, &state_options)?.state;
         session.start(bus, a.node, state)?;
     }
     let list = if a.map.is_empty() { &list[..] } else { &list[..1] };
     let dict = ctx.dicts.for_node(a.node);
     let layouts = pdo::read_layouts(bus, a.node, dict, list, a.tpdo.is_empty(), ctx.timeout, &mut ctx.out.progress())?;
-    let state = (!a.start).then(|| super::nmt::query_state(ctx, bus, a.node, Duration::from_millis(300)));
+    let state = (!a.start).then(|| nmt::state(bus, a.node, &state_options));
     let opts = StreamOptions {
         count: a.count,
         duration: a.duration,

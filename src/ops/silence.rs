@@ -6,26 +6,27 @@ use crate::canopen::nmt::State;
 use crate::canopen::pdo::Layout;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
+use crate::ops::nmt::NodeState;
 use std::time::Duration;
 
 /// How long the stream of these TPDOs of `node` may be silent before it is worth saying,
-/// and why it may be. `state` is the node's NMT state and how it was learned, when it was
+/// and why it may be. `state` is the node's NMT state (and how it was learned) when it was
 /// asked (not when the stream puts the node in Operational itself); `sync` the SYNC period
 /// sent, if any.
 pub fn hint(
     bus: &mut dyn Bus,
     node: u8,
     layouts: &[(u16, Layout)],
-    state: Option<Result<(State, &'static str)>>,
+    state: Option<Result<NodeState>>,
     sync: Option<Duration>,
     timeout: Duration,
 ) -> (Duration, String) {
     let mut why = Vec::new();
     let mut after = Duration::from_secs(1);
     match state {
-        None | Some(Ok((State::Operational, _))) => {}
-        Some(Ok((state, from))) => {
-            why.push(format!("node {node} is {state} (by {from}): it sends PDOs only when operational (--start)"))
+        None | Some(Ok(NodeState { state: State::Operational, .. })) => {}
+        Some(Ok(NodeState { state, source, .. })) => {
+            why.push(format!("node {node} is {state} (by {source}): it sends PDOs only when operational (--start)"))
         }
         Some(Err(_)) => why.push(format!("node {node} may not be operational; --start puts it there for the stream")),
     }
