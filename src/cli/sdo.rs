@@ -135,8 +135,9 @@ fn row(headers: Vec<&'static str>, row: Vec<String>) -> Human {
 
 impl Report for Read {
     fn human(&self) -> Human {
+        // What the device sent is one value: a line break in it is shown, not obeyed.
         Human::Line(match (&self.value, self.dtype) {
-            (Some(v), Some(_)) => v.to_string(),
+            (Some(v), Some(_)) => crate::output::terminal_safe(&v.to_string()).into_owned(),
             _ => untyped(&self.bytes),
         })
     }
