@@ -277,6 +277,14 @@ fn random_frames_never_panic() {
 const MUX: [u8; 3] = [0x00, 0x20, 0x01];
 
 /// An answer with A's multiplexer.
+/// A frame as a device writes it: command byte, then the bytes after it.
+fn segment(cmd: u8, data: &[u8]) -> [u8; 8] {
+    let mut f = [0u8; 8];
+    f[0] = cmd;
+    f[1..1 + data.len()].copy_from_slice(data);
+    f
+}
+
 fn answer(cmd: u8, data: &[u8]) -> Vec<u8> {
     let mut f = vec![cmd, MUX[0], MUX[1], MUX[2]];
     f.extend_from_slice(data);
