@@ -46,23 +46,17 @@ fn sdo_text(d: &[u8], request: bool) -> (String, J) {
                 json!({ "sdo": "abort", "object": addr.to_string(), "code": format!("0x{code:08X}"), "meaning": m }),
             );
         }
-        Some(Sdo::Request(Request::InitiateDownload { addr, init })) => match init {
-            Initiate::Expedited { data, len } => format!("download {addr} = {}", hex_spaced(&data[..len as usize])),
-            Initiate::ExpeditedUnsized { data } => format!("download {addr} = {}", hex_spaced(&data)),
-            Initiate::Size(size) => format!("download {addr}, {size} bytes in segments"),
-            Initiate::Unsized => format!("download {addr}, in segments (size not indicated)"),
-        },
+        Some(Sdo::Request(Request::InitiateDownload { addr, init })) => {
+            initiate_text(&format!("download {addr}"), init, ", ", "in segments")
+        }
         Some(Sdo::Request(Request::InitiateUpload { addr })) => format!("upload {addr}"),
         Some(Sdo::Request(Request::DownloadSegment(_))) => "download segment".to_string(),
         Some(Sdo::Request(Request::UploadSegment { .. })) => "upload segment request".to_string(),
         Some(Sdo::Request(Request::BlockUpload { addr, .. })) => format!("block upload {addr}"),
         Some(Sdo::Request(Request::BlockDownload { addr, .. })) => format!("block download {addr}"),
-        Some(Sdo::Response(Response::InitiateUpload { addr, init })) => match init {
-            Initiate::Expedited { data, len } => format!("{addr} = {}", hex_spaced(&data[..len as usize])),
-            Initiate::ExpeditedUnsized { data } => format!("{addr} = {}", hex_spaced(&data)),
-            Initiate::Size(size) => format!("{addr}: {size} bytes follow in segments"),
-            Initiate::Unsized => format!("{addr}: data follow in segments (size not indicated)"),
-        },
+        Some(Sdo::Response(Response::InitiateUpload { addr, init })) => {
+            initiate_text(&addr.to_string(), init, ": ", "follow in segments")
+        }
         Some(Sdo::Response(Response::InitiateDownload { addr })) => format!("{addr} written"),
         Some(Sdo::Response(Response::UploadSegment(_))) => "upload segment".to_string(),
         Some(Sdo::Response(Response::DownloadSegment { .. })) => "download segment confirmed".to_string(),
@@ -71,6 +65,15 @@ fn sdo_text(d: &[u8], request: bool) -> (String, J) {
         _ => format!("block transfer ({:02X})", p[0]),
     };
     (what.clone(), json!({ "sdo": what }))
+}
+
+/// An initiate frame: "`head` = data" when expedited, else what it says of the size.
+fn initiate_text(head: &str, init: Initiate, sep: &str, segmented: &str) -> String {
+    match (init.expedited_data(), init) {
+        (Some(data), _) => format!("{head} = {}", hex_spaced(data)),
+        (None, Initiate::Size(size)) => format!("{head}{sep}{size} bytes {segmented}"),
+        (None, _) => format!("{head}{sep}data of unannounced size {segmented}"),
+    }
 }
 
 /// An SDO frame in either direction.

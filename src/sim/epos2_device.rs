@@ -155,8 +155,8 @@ impl Epos2Device {
             Command::InitiateSegmentedRead { node, addr } => match self.sdo(node, Request::InitiateUpload { addr })? {
                 Err(code) => answer(code, &[]),
                 Ok(Some(Response::InitiateUpload { init, .. })) => {
-                    self.segmented = match expedited(init) {
-                        Some(data) => Segmented::ForwardedShortRead { data },
+                    self.segmented = match init.expedited_data() {
+                        Some(data) => Segmented::ForwardedShortRead { data: data.to_vec() },
                         None => Segmented::ForwardedRead { node, addr },
                     };
                     answer(0, &[])
@@ -216,8 +216,8 @@ impl Epos2Device {
     fn forward_read_object(&mut self, node: u8, addr: ObjAddr) -> Result<SerialFrame> {
         Ok(match self.sdo(node, Request::InitiateUpload { addr })? {
             Err(code) => answer(code, &[0; 4]),
-            Ok(Some(Response::InitiateUpload { init, .. })) => match expedited(init) {
-                Some(data) => answer(0, &pad4(&data)),
+            Ok(Some(Response::InitiateUpload { init, .. })) => match init.expedited_data() {
+                Some(data) => answer(0, &pad4(data)),
                 // A segmented answer: too long for ReadObject. End the SDO transfer properly.
                 None => {
                     self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::LENGTH_TOO_HIGH)))?;
@@ -369,16 +369,6 @@ impl Epos2Device {
             }
         }
         Ok(None)
-    }
-}
-
-/// The data of an expedited initiate upload answer (all four bytes when its size is not
-/// indicated); `None` when the data follows in segments.
-fn expedited(init: Initiate) -> Option<Vec<u8>> {
-    match init {
-        Initiate::Expedited { data, len } => Some(data[..len as usize].to_vec()),
-        Initiate::ExpeditedUnsized { data } => Some(data.to_vec()),
-        Initiate::Size(_) | Initiate::Unsized => None,
     }
 }
 

@@ -521,24 +521,30 @@ impl SdoClient {
         // End of a sub-block. Lost or repeated segments were not stored; the acknowledgement
         // tells the server the last one received in order, and it repeats from there.
         let received = expected - 1;
-        if received == 0 {
-            self.fruitless += 1;
-            if self.fruitless > MAX_BLOCK_RETRANSMISSIONS {
-                return Err(self.fail(
-                    abort::INVALID_SEQUENCE,
-                    format!(
-                        "the device sent {} sub-blocks in a row without segment 1 in sequence \
-                         (the last one ended with segment {seq})",
-                        self.fruitless
-                    ),
-                ));
-            }
-        } else {
-            self.fruitless = 0;
-        }
+        self.count_fruitless(received > 0, |n| {
+            format!(
+                "the device sent {n} sub-blocks in a row without segment 1 in sequence \
+                 (the last one ended with segment {seq})"
+            )
+        })?;
         let ack = Request::BlockUploadAck { ackseq: received, blksize: self.blksize }.emit();
         self.state = if last && in_order { State::BlockUploadEnd } else { State::BlockUploadData { expected: 1 } };
         Ok(if received == 0 { Step::retry(vec![ack]) } else { Step::send(vec![ack]) })
+    }
+
+    /// Count a sub-block that moved no data: past `MAX_BLOCK_RETRANSMISSIONS` in a row the
+    /// transfer ends, for the reason `why` gives for that count.
+    fn count_fruitless(&mut self, moved: bool, why: impl FnOnce(u32) -> String) -> Result<(), SdoError> {
+        if moved {
+            self.fruitless = 0;
+            return Ok(());
+        }
+        self.fruitless += 1;
+        if self.fruitless > MAX_BLOCK_RETRANSMISSIONS {
+            let reason = why(self.fruitless);
+            return Err(self.fail(abort::INVALID_SEQUENCE, reason));
+        }
+        Ok(())
     }
 
     fn block_upload_end(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
@@ -642,20 +648,9 @@ impl SdoClient {
             return Err(self
                 .fail(abort::INVALID_SEQUENCE, format!("acknowledged segment {acked} of a {in_block}-segment block")));
         }
-        if acked == 0 {
-            self.fruitless += 1;
-            if self.fruitless > MAX_BLOCK_RETRANSMISSIONS {
-                return Err(self.fail(
-                    abort::INVALID_SEQUENCE,
-                    format!(
-                        "the device acknowledged none of the segments of {} sub-blocks in a row (ackseq 0)",
-                        self.fruitless
-                    ),
-                ));
-            }
-        } else {
-            self.fruitless = 0;
-        }
+        self.count_fruitless(acked > 0, |n| {
+            format!("the device acknowledged none of the segments of {n} sub-blocks in a row (ackseq 0)")
+        })?;
         self.pos = ((self.pos / SEGMENT_DATA + acked) * SEGMENT_DATA).min(self.buf.len());
         self.check_block_size(blksize)?;
         if self.pos < self.buf.len() {

@@ -99,18 +99,17 @@ impl SdoServer {
             (Some(Request::DownloadSegment(seg)), State::Download { addr, data, size, toggle }) => {
                 self.download_segment(seg, addr, data, size, toggle, od)
             }
-            (Some(r @ (Request::BlockDownload { .. } | Request::BlockDownloadEnd { .. })), state) if self.block => {
-                self.block_download_command(&p, r, state, od)
-            }
             (
                 Some(
-                    r @ (Request::BlockUpload { .. }
+                    r @ (Request::BlockDownload { .. }
+                    | Request::BlockDownloadEnd { .. }
+                    | Request::BlockUpload { .. }
                     | Request::BlockUploadStart
                     | Request::BlockUploadAck { .. }
                     | Request::BlockUploadEnd),
                 ),
                 state,
-            ) if self.block => self.block_upload_command(&p, r, state, od),
+            ) if self.block => self.block_command(&p, r, state, od),
             (_, state) => {
                 let addr = match state {
                     State::Upload { addr, .. } | State::Download { addr, .. } => addr,
@@ -214,7 +213,8 @@ impl SdoServer {
         }
     }
 
-    fn block_download_command(
+    /// Block download and block upload requests outside a sub-block.
+    fn block_command(
         &mut self,
         p: &[u8; 8],
         request: Request,
@@ -244,48 +244,6 @@ impl SdoServer {
                     Err(code) => vec![abort_frame(addr, code)],
                 }
             }
-            _ => vec![abort_frame(ObjAddr::from_mux(&p[1..4]), abort::UNKNOWN_COMMAND)],
-        }
-    }
-
-    fn block_download_segment(
-        &mut self,
-        seg: BlockSegment,
-        addr: ObjAddr,
-        mut data: Vec<u8>,
-        size: Option<usize>,
-        mut expected: u8,
-        crc: bool,
-    ) -> Vec<[u8; 8]> {
-        let BlockSegment { seqno: seq, last, data: chunk } = seg;
-        if seq == expected {
-            data.extend_from_slice(&chunk);
-            if data.len() > self.max_download + SEGMENT_DATA {
-                return vec![abort_frame(addr, abort::OUT_OF_MEMORY)];
-            }
-            expected += 1;
-        }
-        if seq == self.block_size || last {
-            let ack = Response::BlockDownloadAck { ackseq: expected - 1, blksize: self.block_size }.emit();
-            self.state = if last && seq + 1 == expected {
-                State::BlockDownloadEnd { addr, data, size, crc }
-            } else {
-                State::BlockDownload { addr, data, size, expected: 1, crc }
-            };
-            return vec![ack];
-        }
-        self.state = State::BlockDownload { addr, data, size, expected, crc };
-        vec![]
-    }
-
-    fn block_upload_command(
-        &mut self,
-        p: &[u8; 8],
-        request: Request,
-        state: State,
-        od: &mut dyn ObjectAccess,
-    ) -> Vec<[u8; 8]> {
-        match (request, state) {
             (Request::BlockUpload { addr, crc, blksize, pst }, _) => {
                 if !(1..=MAX_BLOCK_SIZE).contains(&blksize) {
                     return vec![abort_frame(addr, abort::INVALID_BLOCK_SIZE)];
@@ -326,8 +284,38 @@ impl SdoServer {
                 vec![Response::BlockUploadEnd { unused, crc: sum }.emit()]
             }
             (Request::BlockUploadEnd, State::BlockUploadEnd) => vec![],
-            (_, _) => vec![abort_frame(ObjAddr::from_mux(&p[1..4]), abort::UNKNOWN_COMMAND)],
+            _ => vec![abort_frame(ObjAddr::from_mux(&p[1..4]), abort::UNKNOWN_COMMAND)],
         }
+    }
+
+    fn block_download_segment(
+        &mut self,
+        seg: BlockSegment,
+        addr: ObjAddr,
+        mut data: Vec<u8>,
+        size: Option<usize>,
+        mut expected: u8,
+        crc: bool,
+    ) -> Vec<[u8; 8]> {
+        let BlockSegment { seqno: seq, last, data: chunk } = seg;
+        if seq == expected {
+            data.extend_from_slice(&chunk);
+            if data.len() > self.max_download + SEGMENT_DATA {
+                return vec![abort_frame(addr, abort::OUT_OF_MEMORY)];
+            }
+            expected += 1;
+        }
+        if seq == self.block_size || last {
+            let ack = Response::BlockDownloadAck { ackseq: expected - 1, blksize: self.block_size }.emit();
+            self.state = if last && seq + 1 == expected {
+                State::BlockDownloadEnd { addr, data, size, crc }
+            } else {
+                State::BlockDownload { addr, data, size, expected: 1, crc }
+            };
+            return vec![ack];
+        }
+        self.state = State::BlockDownload { addr, data, size, expected, crc };
+        vec![]
     }
 
     fn send_upload_block(

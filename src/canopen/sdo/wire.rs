@@ -84,6 +84,16 @@ impl Initiate {
 
     /// The bytes a frame must have for all of this to be there: the command byte, the
     /// multiplexer and the data or size it indicates.
+    /// The data of an expedited transfer (all four bytes when the size is not indicated);
+    /// `None` when the data follows in segments.
+    pub fn expedited_data(&self) -> Option<&[u8]> {
+        match self {
+            Initiate::Expedited { data, len } => Some(&data[..*len as usize]),
+            Initiate::ExpeditedUnsized { data } => Some(data),
+            Initiate::Size(_) | Initiate::Unsized => None,
+        }
+    }
+
     pub fn frame_len(&self) -> usize {
         match self {
             Initiate::Expedited { len, .. } => 4 + *len as usize,
@@ -250,12 +260,25 @@ fn abort(addr: ObjAddr, code: u32) -> [u8; 8] {
     with_mux(ABORT, addr, code.to_le_bytes())
 }
 
-/// The size field of a block initiate, with its s bit.
-fn optional_size(size: Option<u32>) -> (u8, [u8; 4]) {
-    match size {
-        Some(s) => (0x02, s.to_le_bytes()),
-        None => (0, [0; 4]),
-    }
+/// Block download request and block upload response open the same way: the CRC bit
+/// (cc/sc), the object, and the size when s=1.
+fn block_initiate(addr: ObjAddr, crc: bool, size: Option<u32>) -> [u8; 8] {
+    let s = if size.is_some() { 0x02 } else { 0 };
+    with_mux(0xC0 | (crc as u8) << 2 | s, addr, size.unwrap_or(0).to_le_bytes())
+}
+
+fn parse_block_initiate(p: &[u8; 8]) -> (ObjAddr, bool, Option<u32>) {
+    (mux(p), p[0] & 0x04 != 0, (p[0] & 0x02 != 0).then(|| le_u32(p)))
+}
+
+/// The last frame of a block's data, in either direction: `unused` bytes of the last
+/// segment carry no data, and the CRC.
+fn block_end(unused: u8, crc: u16) -> [u8; 8] {
+    short(0xC1 | (unused & 7) << 2, &crc.to_le_bytes())
+}
+
+fn parse_block_end(p: &[u8; 8]) -> (u8, u16) {
+    ((p[0] >> 2) & 7, u16::from_le_bytes([p[1], p[2]]))
 }
 
 impl Request {
@@ -277,9 +300,13 @@ impl Request {
                 _ => Request::BlockUploadStart,
             },
             6 if cmd & 0x01 == 0 => {
-                Request::BlockDownload { addr: mux(p), crc, size: (cmd & 0x02 != 0).then(|| le_u32(p)) }
+                let (addr, crc, size) = parse_block_initiate(p);
+                Request::BlockDownload { addr, crc, size }
             }
-            6 => Request::BlockDownloadEnd { unused: (cmd >> 2) & 7, crc: u16::from_le_bytes([p[1], p[2]]) },
+            6 => {
+                let (unused, crc) = parse_block_end(p);
+                Request::BlockDownloadEnd { unused, crc }
+            }
             _ => return None,
         })
     }
@@ -297,23 +324,8 @@ impl Request {
             Request::BlockUploadEnd => short(0xA1, &[]),
             Request::BlockUploadAck { ackseq, blksize } => short(0xA2, &[ackseq, blksize]),
             Request::BlockUploadStart => short(0xA3, &[]),
-            Request::BlockDownload { addr, crc, size } => {
-                let (s, bytes) = optional_size(size);
-                with_mux(0xC0 | (crc as u8) << 2 | s, addr, bytes)
-            }
-            Request::BlockDownloadEnd { unused, crc } => short(0xC1 | (unused & 7) << 2, &crc.to_le_bytes()),
-        }
-    }
-
-    /// The object an initiate or abort names.
-    pub fn addr(&self) -> Option<ObjAddr> {
-        match *self {
-            Request::InitiateDownload { addr, .. }
-            | Request::InitiateUpload { addr }
-            | Request::BlockDownload { addr, .. }
-            | Request::BlockUpload { addr, .. }
-            | Request::Abort { addr, .. } => Some(addr),
-            _ => None,
+            Request::BlockDownload { addr, crc, size } => block_initiate(addr, crc, size),
+            Request::BlockDownloadEnd { unused, crc } => block_end(unused, crc),
         }
     }
 }
@@ -337,9 +349,13 @@ impl Response {
                 _ => return None,
             },
             6 if cmd & 0x01 == 0 => {
-                Response::BlockUpload { addr: mux(p), crc, size: (cmd & 0x02 != 0).then(|| le_u32(p)) }
+                let (addr, crc, size) = parse_block_initiate(p);
+                Response::BlockUpload { addr, crc, size }
             }
-            6 => Response::BlockUploadEnd { unused: (cmd >> 2) & 7, crc: u16::from_le_bytes([p[1], p[2]]) },
+            6 => {
+                let (unused, crc) = parse_block_end(p);
+                Response::BlockUploadEnd { unused, crc }
+            }
             _ => return None,
         })
     }
@@ -356,23 +372,8 @@ impl Response {
             }
             Response::BlockDownloadEnd => short(0xA1, &[]),
             Response::BlockDownloadAck { ackseq, blksize } => short(0xA2, &[ackseq, blksize]),
-            Response::BlockUpload { addr, crc, size } => {
-                let (s, bytes) = optional_size(size);
-                with_mux(0xC0 | (crc as u8) << 2 | s, addr, bytes)
-            }
-            Response::BlockUploadEnd { unused, crc } => short(0xC1 | (unused & 7) << 2, &crc.to_le_bytes()),
-        }
-    }
-
-    /// The object an initiate or abort names.
-    pub fn addr(&self) -> Option<ObjAddr> {
-        match *self {
-            Response::InitiateUpload { addr, .. }
-            | Response::InitiateDownload { addr }
-            | Response::BlockDownload { addr, .. }
-            | Response::BlockUpload { addr, .. }
-            | Response::Abort { addr, .. } => Some(addr),
-            _ => None,
+            Response::BlockUpload { addr, crc, size } => block_initiate(addr, crc, size),
+            Response::BlockUploadEnd { unused, crc } => block_end(unused, crc),
         }
     }
 }
