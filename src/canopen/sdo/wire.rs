@@ -82,8 +82,6 @@ impl Initiate {
         }
     }
 
-    /// The bytes a frame must have for all of this to be there: the command byte, the
-    /// multiplexer and the data or size it indicates.
     /// The data of an expedited transfer (all four bytes when the size is not indicated);
     /// `None` when the data follows in segments.
     pub fn expedited_data(&self) -> Option<&[u8]> {
@@ -91,14 +89,6 @@ impl Initiate {
             Initiate::Expedited { data, len } => Some(&data[..*len as usize]),
             Initiate::ExpeditedUnsized { data } => Some(data),
             Initiate::Size(_) | Initiate::Unsized => None,
-        }
-    }
-
-    pub fn frame_len(&self) -> usize {
-        match self {
-            Initiate::Expedited { len, .. } => 4 + *len as usize,
-            Initiate::ExpeditedUnsized { .. } | Initiate::Size(_) => 8,
-            Initiate::Unsized => 4,
         }
     }
 }
@@ -555,11 +545,16 @@ mod tests {
     }
 
     #[test]
-    fn frame_lengths_say_which_bytes_must_have_arrived() {
-        assert_eq!(Initiate::expedited(&[1]).frame_len(), 5);
-        assert_eq!(Initiate::expedited(&[1, 2, 3, 4]).frame_len(), 8);
-        assert_eq!(Initiate::Size(3).frame_len(), 8);
-        assert_eq!(Initiate::Unsized.frame_len(), 4);
+    fn expedited_data_is_what_the_size_indicates_or_all_four_bytes() {
+        assert_eq!(Initiate::expedited(&[1, 2]).expedited_data(), Some(&[1, 2][..]));
+        assert_eq!(Initiate::ExpeditedUnsized { data: [1, 2, 3, 4] }.expedited_data(), Some(&[1, 2, 3, 4][..]));
+        assert_eq!(Initiate::Size(2).expedited_data(), None);
+        assert_eq!(Initiate::Unsized.expedited_data(), None);
+    }
+
+    #[test]
+    fn a_segment_says_which_bytes_must_have_arrived() {
+        assert_eq!(Segment::new(true, b"ABCDEFG", false).frame_len(), 8);
         assert_eq!(Segment::new(false, &[], true).frame_len(), 1);
     }
 }
