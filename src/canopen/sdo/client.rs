@@ -297,7 +297,8 @@ impl SdoClient {
     /// bit, sequence number, command), except block acknowledgements, where two identical
     /// ones confirm two whole sub-blocks.
     fn is_repeat(&self, p: &[u8; 8], len: usize) -> bool {
-        let block_ack = matches!(self.state, State::BlockDownloadData { .. }) && p[0] & 0xE3 == 0xA2;
+        let block_ack = matches!(self.state, State::BlockDownloadData { .. })
+            && matches!(Response::parse(p), Some(Response::BlockDownloadAck { .. }));
         self.last == Some((*p, len)) && !block_ack
     }
 
