@@ -88,7 +88,9 @@ impl<T: Transport> Epos2Gateway<T> {
         Ok(data)
     }
 
-    fn segmented_read(&mut self, node: u8, addr: ObjAddr) -> Result<Vec<u8>> {
+    /// A segmented read; more than `max_upload` bytes are refused, as the SDO client does
+    /// (the EPOS2's answers never say the size, so only what arrives can be counted).
+    fn segmented_read(&mut self, node: u8, addr: ObjAddr, max_upload: usize) -> Result<Vec<u8>> {
         self.call_ok(&Command::InitiateSegmentedRead { node, addr }, node, Some(addr))?;
         let mut out = Vec::new();
         let mut toggle = false;
@@ -104,6 +106,13 @@ impl<T: Transport> Epos2Gateway<T> {
                 .get(1..1 + len)
                 .ok_or_else(|| self.bad_answer(Epos2Problem::ShortSegment { node, claimed: len }))?;
             out.extend_from_slice(chunk);
+            if out.len() > max_upload && max_upload < MAX_SEGMENTED_UPLOAD {
+                return Err(Error::Link(format!(
+                    "node {node}: segmented read of {addr}: the upload did not end within the limit of \
+                     {max_upload} bytes: stopped after {} (sdo read --max-size raises the limit)",
+                    out.len()
+                )));
+            }
             if ctrl & MORE == 0 {
                 return Ok(out);
             }
@@ -125,8 +134,17 @@ impl<T: Transport> Epos2Gateway<T> {
     }
 
     fn segmented_write(&mut self, node: u8, addr: ObjAddr, data: &[u8]) -> Result<()> {
+        // ObjectLength is 32-bit, as CiA 301 sizes are: a larger value would be announced
+        // by its low 32 bits.
+        let length = u32::try_from(data.len()).map_err(|_| {
+            Error::Usage(format!(
+                "{} bytes cannot be written by SDO: CiA 301 sizes are 32-bit (at most {} bytes)",
+                data.len(),
+                u32::MAX
+            ))
+        })?;
         let size = self.segment_size(node);
-        self.call_ok(&Command::InitiateSegmentedWrite { node, addr, length: data.len() as u32 }, node, Some(addr))?;
+        self.call_ok(&Command::InitiateSegmentedWrite { node, addr, length }, node, Some(addr))?;
         let mut toggle = false;
         // An empty value is one segment with no data (CiA 301 lets a segment carry none);
         // without it the device would wait for the value and never write it.
@@ -166,7 +184,7 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
                 other => return other,
             }
         }
-        self.segmented_read(node, addr)
+        self.segmented_read(node, addr, opts.max_upload)
     }
 
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
@@ -374,6 +392,36 @@ mod tests {
         assert_eq!(e.exit_code(), 5, "{e}");
         assert!(e.to_string().contains("still says more follow"), "{e}");
         assert_eq!(g.link.sent.len(), 1 + MAX_SEGMENTED_UPLOAD.div_ceil(MAX_SEGMENT));
+    }
+
+    /// Through an EPOS2 as over CAN, a value's size travels in 32 bits
+    /// (InitiateSegmentedWrite's ObjectLength): 4 GiB + 10 bytes must not be announced as 10.
+    /// (The zeroes are never touched: the allocation costs address space, not memory.)
+    #[cfg(all(target_os = "linux", target_pointer_width = "64"))]
+    #[test]
+    fn a_value_over_4_gib_is_refused_before_anything_is_sent() {
+        let mut g = gateway(|c| match c {
+            Command::SegmentWrite { .. } => command::answer(abort::LENGTH_TOO_HIGH, &[0, 0]),
+            _ => command::answer(0, &[]),
+        });
+        let huge = vec![0u8; (1 << 32) + 10];
+        let e = g.sdo_download(5, OBJ, &huge, &SdoOptions::new(Duration::from_millis(100))).unwrap_err();
+        assert_eq!(e.exit_code(), 2, "{e}");
+        assert!(e.to_string().contains("4294967306 bytes") && e.to_string().contains("32-bit"), "{e}");
+        assert_eq!(g.link.sent, []);
+    }
+
+    #[test]
+    fn a_segmented_read_stops_at_the_callers_upload_limit() {
+        let mut g = gateway(|c| match c {
+            Command::SegmentRead { toggle } => segment(*toggle, true, &[0xEE; GATEWAY_SEGMENT]),
+            _ => command::answer(0, &[]),
+        });
+        let opts = SdoOptions { max_upload: 100, ..block() };
+        let e = g.sdo_upload(10, OBJ, &opts).unwrap_err();
+        assert_eq!(e.exit_code(), 5, "{e}");
+        assert!(e.to_string().contains("limit of 100 bytes") && e.to_string().contains("--max-size"), "{e}");
+        assert_eq!(g.link.sent.len(), 1 + 100usize.div_ceil(GATEWAY_SEGMENT), "stopped at the first segment past it");
     }
 
     #[test]

@@ -1,11 +1,15 @@
 //! Watching the bus: every frame decoded as it happens, and a summary of what was seen.
 
 use crate::bus::Bus;
+use crate::canopen::abort;
 use crate::canopen::emcy::{self, Emergency};
 use crate::canopen::lss;
 use crate::canopen::nmt::{Command, ErrorControl};
 use crate::canopen::pdo::Layout;
-use crate::canopen::{abort, ObjAddr};
+use crate::canopen::sdo::{
+    self,
+    wire::{Initiate, Request, Response},
+};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use serde_json::{json, Value as J};
@@ -32,36 +36,50 @@ fn event(node: Option<u8>, kind: &'static str, text: String, fields: J) -> Event
 }
 
 fn sdo_text(d: &[u8], request: bool) -> (String, J) {
-    let p = crate::canopen::sdo::pad(d);
-    let addr = ObjAddr::from_mux(&p[1..4]);
-    if let Some(code) = crate::canopen::sdo::abort_code(&p) {
-        let m = abort::meaning(code);
-        return (
-            format!("abort {addr}: 0x{code:08X} {m}"),
-            json!({ "sdo": "abort", "object": addr.to_string(), "code": format!("0x{code:08X}"), "meaning": m }),
-        );
-    }
-    let cs = p[0] >> 5;
-    let what = match (request, cs) {
-        (true, 1) if p[0] & 2 != 0 => {
-            format!("download {addr} = {}", hex_spaced(&p[4..4 + crate::canopen::sdo::expedited_len(p[0])]))
+    let p = sdo::pad(d);
+    let parsed = if request { Request::parse(&p).map(Sdo::Request) } else { Response::parse(&p).map(Sdo::Response) };
+    let what = match parsed {
+        Some(Sdo::Request(Request::Abort { addr, code }) | Sdo::Response(Response::Abort { addr, code })) => {
+            let m = abort::meaning(code);
+            return (
+                format!("abort {addr}: 0x{code:08X} {m}"),
+                json!({ "sdo": "abort", "object": addr.to_string(), "code": format!("0x{code:08X}"), "meaning": m }),
+            );
         }
-        (true, 1) => format!("download {addr}, {} bytes in segments", u32::from_le_bytes([p[4], p[5], p[6], p[7]])),
-        (true, 2) => format!("upload {addr}"),
-        (true, 0) => "download segment".to_string(),
-        (true, 3) => "upload segment request".to_string(),
-        (true, 5) => format!("block upload {addr}"),
-        (true, 6) => format!("block download {addr}"),
-        (false, 2) if p[0] & 2 != 0 => {
-            format!("{addr} = {}", hex_spaced(&p[4..4 + crate::canopen::sdo::expedited_len(p[0])]))
+        Some(Sdo::Request(Request::InitiateDownload { addr, init })) => {
+            initiate_text(&format!("download {addr}"), init, ", ", "in segments")
         }
-        (false, 2) => format!("{addr}: {} bytes follow in segments", u32::from_le_bytes([p[4], p[5], p[6], p[7]])),
-        (false, 3) => format!("{addr} written"),
-        (false, 0) => "upload segment".to_string(),
-        (false, 1) => "download segment confirmed".to_string(),
+        Some(Sdo::Request(Request::InitiateUpload { addr })) => format!("upload {addr}"),
+        Some(Sdo::Request(Request::DownloadSegment(_))) => "download segment".to_string(),
+        Some(Sdo::Request(Request::UploadSegment { .. })) => "upload segment request".to_string(),
+        Some(Sdo::Request(Request::BlockUpload { addr, .. })) => format!("block upload {addr}"),
+        Some(Sdo::Request(Request::BlockDownload { addr, .. })) => format!("block download {addr}"),
+        Some(Sdo::Response(Response::InitiateUpload { addr, init })) => {
+            initiate_text(&addr.to_string(), init, ": ", "follow in segments")
+        }
+        Some(Sdo::Response(Response::InitiateDownload { addr })) => format!("{addr} written"),
+        Some(Sdo::Response(Response::UploadSegment(_))) => "upload segment".to_string(),
+        Some(Sdo::Response(Response::DownloadSegment { .. })) => "download segment confirmed".to_string(),
+        // The rest of block transfer, and sub-block segments (which only the transfer's
+        // state tells from other frames).
         _ => format!("block transfer ({:02X})", p[0]),
     };
     (what.clone(), json!({ "sdo": what }))
+}
+
+/// An initiate frame: "`head` = data" when expedited, else what it says of the size.
+fn initiate_text(head: &str, init: Initiate, sep: &str, segmented: &str) -> String {
+    match (init.expedited_data(), init) {
+        (Some(data), _) => format!("{head} = {}", hex_spaced(data)),
+        (None, Initiate::Size(size)) => format!("{head}{sep}{size} bytes {segmented}"),
+        (None, _) => format!("{head}{sep}data of unannounced size {segmented}"),
+    }
+}
+
+/// An SDO frame in either direction.
+enum Sdo {
+    Request(Request),
+    Response(Response),
 }
 
 fn hex_spaced(b: &[u8]) -> String {
@@ -255,5 +273,38 @@ impl Monitor {
     /// What was seen so far.
     pub fn summary(&self) -> Summary {
         Summary { elapsed: self.start.elapsed(), ..self.seen.clone() }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn text(request: bool, bytes: &[u8]) -> String {
+        sdo_text(bytes, request).0
+    }
+
+    #[test]
+    fn sdo_frames_read_as_cia_301_says() {
+        // Seed 004: expedited download of 0x1801:5 = 1000, and its confirmation (DLC 4).
+        assert_eq!(text(true, &[0x2B, 0x01, 0x18, 0x05, 0xE8, 0x03, 0, 0]), "download 0x1801:5 = E8 03");
+        assert_eq!(text(false, &[0x60, 0x01, 0x18, 0x05]), "0x1801:5 written");
+        // Seed 004: 0x1400:0 read, answered in a DLC-5 frame; 0x1008 announced as 9 bytes.
+        assert_eq!(text(true, &[0x40, 0x00, 0x14, 0x00, 0, 0, 0, 0]), "upload 0x1400:0");
+        assert_eq!(text(false, &[0x4F, 0x00, 0x14, 0x00, 0x02]), "0x1400:0 = 02");
+        assert_eq!(text(false, &[0x41, 0x08, 0x10, 0x00, 0x09, 0, 0, 0]), "0x1008:0: 9 bytes follow in segments");
+        // The size is 32-bit unsigned.
+        assert_eq!(
+            text(false, &[0x41, 0x08, 0x10, 0x00, 0xFF, 0xFF, 0xFF, 0xFF]),
+            "0x1008:0: 4294967295 bytes follow in segments"
+        );
+        assert_eq!(text(true, &[0x60, 0, 0, 0, 0, 0, 0, 0]), "upload segment request");
+        assert_eq!(text(false, &[0x00, 0x43, 0x41, 0x4E, 0x2D, 0x32, 0x30, 0x38]), "upload segment");
+        assert_eq!(
+            text(false, &[0x80, 0x08, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06]),
+            format!("abort 0x1008:1: 0x06090011 {}", abort::meaning(0x0609_0011))
+        );
+        assert_eq!(text(true, &[0xA4, 0x50, 0x1F, 0x01, 0x7F, 0x15, 0, 0]), "block upload 0x1F50:1");
+        assert_eq!(text(true, &[0xA2, 0x05, 0x7F, 0, 0, 0, 0, 0]), "block transfer (A2)");
     }
 }

@@ -6,6 +6,7 @@ use super::SimLink;
 use crate::bus::FrameLink;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command as NmtCommand;
+use crate::canopen::sdo::wire::{Initiate, Request, Response, Segment};
 use crate::canopen::sdo::{self, ObjectAccess};
 use crate::canopen::{abort, ObjAddr};
 use crate::epos2::command::{self, answer, Command, GATEWAY_SEGMENT, MAX_SEGMENT, MORE, TOGGLE};
@@ -144,29 +145,28 @@ impl Epos2Device {
             Command::ReadObject { node, addr } => self.forward_read_object(node, addr)?,
             Command::WriteObject { node, addr, data } => {
                 // Expedited, size not indicated: the server writes as many bytes as its object holds.
-                match self.sdo(node, &sdo::frame(0x22, addr, &data))? {
+                let init = Initiate::ExpeditedUnsized { data };
+                match self.sdo(node, Request::InitiateDownload { addr, init })? {
                     Err(code) => answer(code, &[]),
-                    Ok(r) if r[0] & 0xE0 == 0x60 => answer(0, &[]),
+                    Ok(Some(Response::InitiateDownload { .. })) => answer(0, &[]),
                     Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
                 }
             }
-            Command::InitiateSegmentedRead { node, addr } => match self.sdo(node, &sdo::frame(0x40, addr, &[]))? {
+            Command::InitiateSegmentedRead { node, addr } => match self.sdo(node, Request::InitiateUpload { addr })? {
                 Err(code) => answer(code, &[]),
-                Ok(r) if r[0] & 0xE2 == 0x42 => {
-                    let n = sdo::expedited_len(r[0]);
-                    self.segmented = Segmented::ForwardedShortRead { data: r[4..4 + n].to_vec() };
-                    answer(0, &[])
-                }
-                Ok(r) if r[0] & 0xE2 == 0x40 => {
-                    self.segmented = Segmented::ForwardedRead { node, addr };
+                Ok(Some(Response::InitiateUpload { init, .. })) => {
+                    self.segmented = match init.expedited_data() {
+                        Some(data) => Segmented::ForwardedShortRead { data: data.to_vec() },
+                        None => Segmented::ForwardedRead { node, addr },
+                    };
                     answer(0, &[])
                 }
                 Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
             },
             Command::InitiateSegmentedWrite { node, addr, length } => {
-                match self.sdo(node, &sdo::frame(0x21, addr, &length.to_le_bytes()))? {
+                match self.sdo(node, Request::InitiateDownload { addr, init: Initiate::Size(length) })? {
                     Err(code) => answer(code, &[]),
-                    Ok(r) if r[0] & 0xE0 == 0x60 => {
+                    Ok(Some(Response::InitiateDownload { .. })) => {
                         self.segmented = Segmented::ForwardedWrite { node, addr, left: length as usize };
                         answer(0, &[])
                     }
@@ -214,17 +214,16 @@ impl Epos2Device {
     }
 
     fn forward_read_object(&mut self, node: u8, addr: ObjAddr) -> Result<SerialFrame> {
-        Ok(match self.sdo(node, &sdo::frame(0x40, addr, &[]))? {
+        Ok(match self.sdo(node, Request::InitiateUpload { addr })? {
             Err(code) => answer(code, &[0; 4]),
-            Ok(r) if r[0] & 0xE2 == 0x42 => {
-                let n = sdo::expedited_len(r[0]);
-                answer(0, &pad4(&r[4..4 + n]))
-            }
-            // A segmented answer: too long for ReadObject. End the SDO transfer properly.
-            Ok(r) if r[0] & 0xE0 == 0x40 => {
-                self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::LENGTH_TOO_HIGH)))?;
-                answer(abort::LENGTH_TOO_HIGH, &[0; 4])
-            }
+            Ok(Some(Response::InitiateUpload { init, .. })) => match init.expedited_data() {
+                Some(data) => answer(0, &pad4(data)),
+                // A segmented answer: too long for ReadObject. End the SDO transfer properly.
+                None => {
+                    self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::LENGTH_TOO_HIGH)))?;
+                    answer(abort::LENGTH_TOO_HIGH, &[0; 4])
+                }
+            },
             Ok(_) => self.sdo_abort(node, addr, abort::UNKNOWN_COMMAND)?,
         })
     }
@@ -247,14 +246,12 @@ impl Epos2Device {
                 d.extend_from_slice(&data);
                 answer(0, &d)
             }
-            Segmented::ForwardedRead { node, addr } => match self.sdo(node, &sdo::segment(0x60 | t >> 2, &[]))? {
+            Segmented::ForwardedRead { node, addr } => match self.sdo(node, Request::UploadSegment { toggle })? {
                 Err(code) => answer(code, &[0]),
-                Ok(r) if r[0] & 0xE0 == 0x00 => {
-                    let n = ((r[0] >> 1) & 7) as usize;
-                    let last = r[0] & 1 != 0;
-                    let mut d = vec![(7 - n) as u8 | t | if last { 0 } else { MORE }];
-                    d.extend_from_slice(&r[1..8 - n]);
-                    if !last {
+                Ok(Some(Response::UploadSegment(seg))) => {
+                    let mut d = vec![seg.data().len() as u8 | t | if seg.last { 0 } else { MORE }];
+                    d.extend_from_slice(seg.data());
+                    if !seg.last {
                         self.segmented = Segmented::ForwardedRead { node, addr };
                     }
                     answer(0, &d)
@@ -285,10 +282,10 @@ impl Epos2Device {
                     return self.sdo_abort(node, addr, abort::LENGTH_TOO_HIGH);
                 }
                 let left = left - chunk.len();
-                let cmd = t >> 2 | ((7 - chunk.len()) as u8) << 1 | (left == 0) as u8;
-                match self.sdo(node, &sdo::segment(cmd, &chunk))? {
+                let segment = Segment::new(toggle, &chunk, left == 0);
+                match self.sdo(node, Request::DownloadSegment(segment))? {
                     Err(code) => answer(code, &confirm),
-                    Ok(r) if r[0] & 0xE0 == 0x20 => {
+                    Ok(Some(Response::DownloadSegment { .. })) => {
                         if left > 0 {
                             self.segmented = Segmented::ForwardedWrite { node, addr, left };
                         }
@@ -318,24 +315,31 @@ impl Epos2Device {
         self.link.send(f)
     }
 
-    /// One SDO request and its answer: the server's payload, its abort code, or the
-    /// SDO-timeout code when nothing came.
-    fn sdo(&mut self, node: u8, request: &[u8; 8]) -> Result<std::result::Result<[u8; 8], u32>> {
+    /// One SDO request and its answer: the server's answer (`None` for a command
+    /// specifier no server sends), its abort code, or the SDO-timeout code when nothing came.
+    fn sdo(&mut self, node: u8, request: Request) -> Result<std::result::Result<Option<Response>, u32>> {
         if !(1..=127).contains(&node) {
             return Ok(Err(command::CAN_ID));
         }
-        self.send(&Frame::new(sdo::request_cob(node), request))?;
+        let request = request.emit();
+        self.send(&Frame::new(sdo::request_cob(node), &request))?;
         // An initiate (or abort) answer names its object: one that names another answers
         // some other request, from an earlier transfer, and is not ours.
-        let initiate = matches!(request[0] >> 5, 1 | 2);
-        if self.wrong_answers && initiate {
-            let other = ObjAddr::new(u16::from_le_bytes([request[1], request[2]]) ^ 1, request[3]);
-            let cs = if request[0] >> 5 == 2 { 0x43 } else { 0x60 };
-            let own = ObjAddr::new(u16::from_le_bytes([request[1], request[2]]), request[3]);
-            let stray = [0xEF, 0xBE, 0xAD, 0xDE];
-            self.arrived.push_back(Frame::new(sdo::response_cob(node), &sdo::frame(cs, other, &stray)));
-            self.arrived.push_back(Frame::new(sdo::response_cob(node % 127 + 1), &sdo::frame(cs, own, &stray)));
+        let initiate = match Request::parse(&request) {
+            Some(Request::InitiateUpload { addr }) => Some((addr, true)),
+            Some(Request::InitiateDownload { addr, .. }) => Some((addr, false)),
+            _ => None,
+        };
+        if let Some((own, upload)) = initiate.filter(|_| self.wrong_answers) {
+            let other = ObjAddr::new(own.index ^ 1, own.sub);
+            let stray = |addr| match upload {
+                true => Response::InitiateUpload { addr, init: Initiate::expedited(&[0xEF, 0xBE, 0xAD, 0xDE]) },
+                false => Response::InitiateDownload { addr },
+            };
+            self.arrived.push_back(Frame::new(sdo::response_cob(node), &stray(other).emit()));
+            self.arrived.push_back(Frame::new(sdo::response_cob(node % 127 + 1), &stray(own).emit()));
         }
+        let initiate = initiate.is_some();
         let answers_request = |f: &Frame| {
             f.id() == sdo::response_cob(node)
                 && !f.is_remote()
@@ -344,16 +348,13 @@ impl Epos2Device {
         let answer = self.wait_for(answers_request, self.can_timeout)?;
         Ok(match answer {
             None => Err(abort::TIMED_OUT),
-            Some(f) => {
-                let p = sdo::pad(f.data());
-                match sdo::abort_code(&p) {
-                    Some(code) => {
-                        self.segmented = Segmented::None;
-                        Err(code)
-                    }
-                    None => Ok(p),
+            Some(f) => match Response::parse(&sdo::pad(f.data())) {
+                Some(Response::Abort { code, .. }) => {
+                    self.segmented = Segmented::None;
+                    Err(code)
                 }
-            }
+                other => Ok(other),
+            },
         })
     }
 

@@ -1,5 +1,6 @@
 //! The SDO client: one transfer per `SdoClient`.
 
+use super::wire::{BlockSegment, Initiate, Request, Response, Segment};
 use super::*;
 use crate::canopen::abort;
 use std::time::Duration;
@@ -205,24 +206,25 @@ impl SdoClient {
 
     /// The first request.
     pub fn start(&mut self) -> [u8; 8] {
-        let a = self.addr;
-        match self.state {
-            State::UploadInit => frame(0x40, a, &[]),
-            State::BlockUploadInit => frame(0xA4, a, &[UPLOAD_BLOCK_SIZE, PROTOCOL_SWITCH_THRESHOLD]),
-            State::BlockDownloadInit => frame(0xC6, a, &(self.buf.len() as u32).to_le_bytes()),
+        let addr = self.addr;
+        let request = match self.state {
+            State::UploadInit => Request::InitiateUpload { addr },
+            State::BlockUploadInit => {
+                Request::BlockUpload { addr, crc: true, blksize: UPLOAD_BLOCK_SIZE, pst: PROTOCOL_SWITCH_THRESHOLD }
+            }
+            State::BlockDownloadInit => {
+                Request::BlockDownload { addr, crc: true, size: u32::try_from(self.buf.len()).ok() }
+            }
             State::DownloadInit => self.initiate_download(),
             s => panic!("start() called in state {s:?}"),
-        }
+        };
+        request.emit()
     }
 
-    fn initiate_download(&mut self) -> [u8; 8] {
+    fn initiate_download(&self) -> Request {
         let len = self.buf.len();
-        if (1..=4).contains(&len) {
-            // e=1, s=1, n = 4 - len
-            frame(0x23 | (((4 - len) as u8) << 2), self.addr, &self.buf)
-        } else {
-            frame(0x21, self.addr, &(len as u32).to_le_bytes())
-        }
+        let init = if (1..=4).contains(&len) { Initiate::expedited(&self.buf) } else { Initiate::segmented(len) };
+        Request::InitiateDownload { addr: self.addr, init }
     }
 
     /// End the transfer from our side: send `abort_frame(addr, code)` and report `reason`.
@@ -252,29 +254,40 @@ impl SdoClient {
             return Ok(self.ignore(format!("a repeat of its previous answer ({})", spaced(raw))));
         }
         self.last = Some((p, len));
+        let response = Response::parse(&p);
         if let State::BlockUploadData { expected } = self.state {
-            // Inside a sub-block every frame is a segment; 0x80 (sequence 0) is an abort.
-            if let Some(code) = abort_code(&p) {
+            // Inside a sub-block every frame is a segment, except the abort (sequence 0).
+            if let Some(Response::Abort { code, .. }) = response {
                 self.require(8, "an abort (0x80) with its code")?;
                 self.state = State::Finished;
                 return Err(SdoError::ServerAbort(code));
             }
-            return self.block_upload_segment(&p, expected);
+            return self.block_upload_segment(BlockSegment::parse(&p), expected);
         }
-        if let Some(code) = abort_code(&p) {
+        let Some(response) = response else {
+            // A command specifier no server sends: before the first answer it may still be
+            // the previous transfer's last answer again, later it is an error.
+            return match self.state {
+                State::UploadInit | State::BlockUploadInit | State::DownloadInit | State::BlockDownloadInit => {
+                    self.not_for_this_transfer(&p)
+                }
+                _ => Err(self.unexpected(&p)),
+            };
+        };
+        if let Response::Abort { code, .. } = response {
             self.require(8, "an abort (0x80) with its code")?;
             return self.on_abort(code);
         }
         match self.state {
-            State::UploadInit => self.upload_initiated(&p),
-            State::UploadSegment => self.upload_segment(&p),
-            State::BlockUploadInit => self.block_upload_initiated(&p),
-            State::BlockUploadEnd => self.block_upload_end(&p),
-            State::DownloadInit => self.download_initiated(&p),
-            State::DownloadSegment => self.download_segment_acked(&p),
-            State::BlockDownloadInit => self.block_download_initiated(&p),
-            State::BlockDownloadData { in_block } => self.block_download_acked(&p, in_block),
-            State::BlockDownloadEnd => self.block_download_end(&p),
+            State::UploadInit => self.upload_initiated(&p, response),
+            State::UploadSegment => self.upload_segment(&p, response),
+            State::BlockUploadInit => self.block_upload_initiated(&p, response),
+            State::BlockUploadEnd => self.block_upload_end(&p, response),
+            State::DownloadInit => self.download_initiated(&p, response),
+            State::DownloadSegment => self.download_segment_acked(&p, response),
+            State::BlockDownloadInit => self.block_download_initiated(&p, response),
+            State::BlockDownloadData { in_block } => self.block_download_acked(&p, response, in_block),
+            State::BlockDownloadEnd => self.block_download_end(&p, response),
             State::BlockUploadData { .. } | State::Finished => unreachable!("handled above"),
         }
     }
@@ -284,7 +297,8 @@ impl SdoClient {
     /// bit, sequence number, command), except block acknowledgements, where two identical
     /// ones confirm two whole sub-blocks.
     fn is_repeat(&self, p: &[u8; 8], len: usize) -> bool {
-        let block_ack = matches!(self.state, State::BlockDownloadData { .. }) && p[0] & 0xE3 == 0xA2;
+        let block_ack = matches!(self.state, State::BlockDownloadData { .. })
+            && matches!(Response::parse(p), Some(Response::BlockDownloadAck { .. }));
         self.last == Some((*p, len)) && !block_ack
     }
 
@@ -325,8 +339,7 @@ impl SdoClient {
 
     /// An initiate answer naming another object answers an earlier request (one that timed
     /// out, or another client's): not ours, so it is set aside.
-    fn other_object(&mut self, p: &[u8; 8]) -> Option<Step> {
-        let named = mux(p);
+    fn other_object(&mut self, named: ObjAddr) -> Option<Step> {
         (named != self.addr).then(|| self.ignore(format!("an answer for object {named}, not {}", self.addr)))
     }
 
@@ -387,54 +400,57 @@ impl SdoClient {
         Ok(())
     }
 
-    fn upload_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        if p[0] & 0xE0 != 0x40 {
-            return self.not_for_this_transfer(p);
-        }
+    fn upload_initiated(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
+        let Response::InitiateUpload { addr, init } = response else { return self.not_for_this_transfer(p) };
         self.require(4, "an upload answer")?;
-        if let Some(step) = self.other_object(p) {
+        if let Some(step) = self.other_object(addr) {
             return Ok(step);
         }
-        let expedited = p[0] & 0x02 != 0;
-        let sized = p[0] & 0x01 != 0;
-        if expedited {
-            // Without the size indicated (e=1, s=0, which CiA 301 allows) the data is as
-            // long as the type asked for, else all four bytes.
-            let len =
-                if sized { expedited_len(p[0]) } else { self.size_hint.filter(|h| (1..=4).contains(h)).unwrap_or(4) };
-            self.require(4 + len, &format!("an expedited answer of {len} byte(s)"))?;
-            self.state = State::Finished;
-            return Ok(Step::done(vec![], p[4..4 + len].to_vec()));
+        match init {
+            Initiate::Expedited { data, len } => self.expedited_upload(&data, len as usize),
+            // Without the size indicated (which CiA 301 allows) the data is as long as the
+            // type asked for, else all four bytes.
+            Initiate::ExpeditedUnsized { data } => {
+                self.expedited_upload(&data, self.size_hint.filter(|h| (1..=4).contains(h)).unwrap_or(4))
+            }
+            Initiate::Size(size) => {
+                self.require(8, "a segmented upload answer with its size")?;
+                self.announce(size)?;
+                Ok(self.request_segments())
+            }
+            Initiate::Unsized => Ok(self.request_segments()),
         }
-        if sized {
-            self.require(8, "a segmented upload answer with its size")?;
-            self.announce(le_u32(&p[4..]))?;
-        }
-        self.state = State::UploadSegment;
-        self.toggle = false;
-        Ok(Step::send(vec![segment(0x60, &[])]))
     }
 
-    fn upload_segment(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        if p[0] & 0xE0 != 0x00 {
-            return Err(self.unexpected(p));
-        }
-        if (p[0] & 0x10 != 0) != self.toggle {
+    fn expedited_upload(&mut self, data: &[u8; 4], len: usize) -> Result<Step, SdoError> {
+        self.require(4 + len, &format!("an expedited answer of {len} byte(s)"))?;
+        self.state = State::Finished;
+        Ok(Step::done(vec![], data[..len].to_vec()))
+    }
+
+    fn request_segments(&mut self) -> Step {
+        self.state = State::UploadSegment;
+        self.toggle = false;
+        Step::send(vec![Request::UploadSegment { toggle: false }.emit()])
+    }
+
+    fn upload_segment(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
+        let Response::UploadSegment(seg) = response else { return Err(self.unexpected(p)) };
+        if seg.toggle != self.toggle {
             return Err(self.fail(abort::TOGGLE_BIT, "toggle bit not alternated"));
         }
-        let n = ((p[0] >> 1) & 7) as usize;
-        self.require(8 - n, &format!("a segment of {} byte(s)", SEGMENT_DATA - n))?;
-        self.buf.extend_from_slice(&p[1..8 - n]);
+        self.require(seg.frame_len(), &format!("a segment of {} byte(s)", seg.data().len()))?;
+        self.buf.extend_from_slice(seg.data());
         self.check_received(self.buf.len())?;
-        if p[0] & 0x01 != 0 {
+        if seg.last {
             self.state = State::Finished;
             return self.finish_upload(vec![]);
         }
         self.toggle = !self.toggle;
-        let next = segment(0x60 | (self.toggle as u8) << 4, &[]);
+        let next = Request::UploadSegment { toggle: self.toggle }.emit();
         // A segment that carries nothing and is not the last moves nothing: an endless
         // stream of them is no progress.
-        Ok(if n < SEGMENT_DATA { Step::send(vec![next]) } else { Step::retry(vec![next]) })
+        Ok(if seg.data().is_empty() { Step::retry(vec![next]) } else { Step::send(vec![next]) })
     }
 
     fn finish_upload(&mut self, send: Vec<[u8; 8]>) -> Result<Step, SdoError> {
@@ -449,38 +465,37 @@ impl SdoClient {
         Ok(Step::done(send, std::mem::take(&mut self.buf)))
     }
 
-    fn block_upload_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        match p[0] & 0xE0 {
+    fn block_upload_initiated(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
+        match response {
             // The server used the protocol switch threshold: plain upload from here.
-            0x40 => {
+            Response::InitiateUpload { addr, .. } => {
                 self.require(4, "an upload answer")?;
-                if let Some(step) = self.other_object(p) {
+                if let Some(step) = self.other_object(addr) {
                     return Ok(step);
                 }
                 self.state = State::UploadInit;
-                self.upload_initiated(p)
+                self.upload_initiated(p, response)
             }
-            0xC0 if p[0] & 0x01 == 0 => {
+            Response::BlockUpload { addr, crc, size } => {
                 self.require(4, "a block upload answer")?;
-                if let Some(step) = self.other_object(p) {
+                if let Some(step) = self.other_object(addr) {
                     return Ok(step);
                 }
-                self.crc = p[0] & 0x04 != 0;
-                if p[0] & 0x02 != 0 {
+                self.crc = crc;
+                if let Some(size) = size {
                     self.require(8, "a block upload answer with its size")?;
-                    self.announce(le_u32(&p[4..]))?;
+                    self.announce(size)?;
                 }
                 self.blksize = UPLOAD_BLOCK_SIZE;
                 self.state = State::BlockUploadData { expected: 1 };
-                Ok(Step::send(vec![segment(0xA3, &[])]))
+                Ok(Step::send(vec![Request::BlockUploadStart.emit()]))
             }
             _ => self.not_for_this_transfer(p),
         }
     }
 
-    fn block_upload_segment(&mut self, p: &[u8; 8], expected: u8) -> Result<Step, SdoError> {
-        let seq = p[0] & 0x7F;
-        let last = p[0] & 0x80 != 0;
+    fn block_upload_segment(&mut self, seg: BlockSegment, expected: u8) -> Result<Step, SdoError> {
+        let BlockSegment { seqno: seq, last, data } = seg;
         // Only the final segment may come short: how much of it is data, the end frame says.
         if !last {
             self.require(8, &format!("block segment {seq}"))?;
@@ -489,7 +504,7 @@ impl SdoClient {
         let mut expected = expected;
         if in_order {
             let len = self.last.map_or(8, |(_, len)| len);
-            self.buf.extend_from_slice(&p[1..len]);
+            self.buf.extend_from_slice(&data[..len - 1]);
             if last {
                 self.tail_missing = 8 - len;
             } else {
@@ -507,33 +522,37 @@ impl SdoClient {
         // End of a sub-block. Lost or repeated segments were not stored; the acknowledgement
         // tells the server the last one received in order, and it repeats from there.
         let received = expected - 1;
-        if received == 0 {
-            self.fruitless += 1;
-            if self.fruitless > MAX_BLOCK_RETRANSMISSIONS {
-                return Err(self.fail(
-                    abort::INVALID_SEQUENCE,
-                    format!(
-                        "the device sent {} sub-blocks in a row without segment 1 in sequence \
-                         (the last one ended with segment {seq})",
-                        self.fruitless
-                    ),
-                ));
-            }
-        } else {
-            self.fruitless = 0;
-        }
-        let ack = segment(0xA2, &[received, self.blksize]);
+        self.count_fruitless(received > 0, |n| {
+            format!(
+                "the device sent {n} sub-blocks in a row without segment 1 in sequence \
+                 (the last one ended with segment {seq})"
+            )
+        })?;
+        let ack = Request::BlockUploadAck { ackseq: received, blksize: self.blksize }.emit();
         self.state = if last && in_order { State::BlockUploadEnd } else { State::BlockUploadData { expected: 1 } };
         Ok(if received == 0 { Step::retry(vec![ack]) } else { Step::send(vec![ack]) })
     }
 
-    fn block_upload_end(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        if p[0] & 0xE3 != 0xC1 {
-            return Err(self.unexpected(p));
+    /// Count a sub-block that moved no data: past `MAX_BLOCK_RETRANSMISSIONS` in a row the
+    /// transfer ends, for the reason `why` gives for that count.
+    fn count_fruitless(&mut self, moved: bool, why: impl FnOnce(u32) -> String) -> Result<(), SdoError> {
+        if moved {
+            self.fruitless = 0;
+            return Ok(());
         }
+        self.fruitless += 1;
+        if self.fruitless > MAX_BLOCK_RETRANSMISSIONS {
+            let reason = why(self.fruitless);
+            return Err(self.fail(abort::INVALID_SEQUENCE, reason));
+        }
+        Ok(())
+    }
+
+    fn block_upload_end(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
+        let Response::BlockUploadEnd { unused: n, crc: got } = response else { return Err(self.unexpected(p)) };
         self.require(if self.crc { 3 } else { 1 }, "the block upload end")?;
         self.state = State::Finished;
-        let n = ((p[0] >> 2) & 7) as usize;
+        let n = n as usize;
         if n < self.tail_missing {
             return Err(self.fail(
                 abort::GENERAL_ERROR,
@@ -550,22 +569,19 @@ impl SdoClient {
         self.buf.truncate(self.buf.len() - unused);
         self.check_received(self.buf.len())?;
         if self.crc {
-            let got = u16::from_le_bytes([p[1], p[2]]);
             let want = block_crc(&self.buf);
             if got != want {
                 return Err(self
                     .fail(abort::CRC_ERROR, format!("block CRC 0x{got:04X} does not match the data (0x{want:04X})")));
             }
         }
-        self.finish_upload(vec![segment(0xA1, &[])])
+        self.finish_upload(vec![Request::BlockUploadEnd.emit()])
     }
 
-    fn download_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        if p[0] & 0xE0 != 0x60 {
-            return self.not_for_this_transfer(p);
-        }
+    fn download_initiated(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
+        let Response::InitiateDownload { addr } = response else { return self.not_for_this_transfer(p) };
         self.require(4, "a download answer")?;
-        if let Some(step) = self.other_object(p) {
+        if let Some(step) = self.other_object(addr) {
             return Ok(step);
         }
         if (1..=4).contains(&self.buf.len()) {
@@ -580,17 +596,13 @@ impl SdoClient {
 
     fn next_segment(&self) -> [u8; 8] {
         let end = (self.pos + SEGMENT_DATA).min(self.buf.len());
-        let chunk = &self.buf[self.pos..end];
-        let n = (SEGMENT_DATA - chunk.len()) as u8;
         let last = end == self.buf.len();
-        segment((self.toggle as u8) << 4 | n << 1 | last as u8, chunk)
+        Request::DownloadSegment(Segment::new(self.toggle, &self.buf[self.pos..end], last)).emit()
     }
 
-    fn download_segment_acked(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        if p[0] & 0xE0 != 0x20 {
-            return Err(self.unexpected(p));
-        }
-        if (p[0] & 0x10 != 0) != self.toggle {
+    fn download_segment_acked(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
+        let Response::DownloadSegment { toggle } = response else { return Err(self.unexpected(p)) };
+        if toggle != self.toggle {
             return Err(self.fail(abort::TOGGLE_BIT, "toggle bit not alternated"));
         }
         self.pos = (self.pos + SEGMENT_DATA).min(self.buf.len());
@@ -618,60 +630,42 @@ impl SdoClient {
         Ok(())
     }
 
-    fn block_download_initiated(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        if p[0] & 0xE3 != 0xA0 {
-            return self.not_for_this_transfer(p);
-        }
+    fn block_download_initiated(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
+        let Response::BlockDownload { addr, crc, blksize } = response else { return self.not_for_this_transfer(p) };
         self.require(5, "a block download answer with its block size")?;
-        if let Some(step) = self.other_object(p) {
+        if let Some(step) = self.other_object(addr) {
             return Ok(step);
         }
-        self.crc = p[0] & 0x04 != 0;
-        self.check_block_size(p[4])?;
+        self.crc = crc;
+        self.check_block_size(blksize)?;
         Ok(Step::send(self.send_block()))
     }
 
-    fn block_download_acked(&mut self, p: &[u8; 8], in_block: usize) -> Result<Step, SdoError> {
-        if p[0] & 0xE3 != 0xA2 {
-            return Err(self.unexpected(p));
-        }
+    fn block_download_acked(&mut self, p: &[u8; 8], response: Response, in_block: usize) -> Result<Step, SdoError> {
+        let Response::BlockDownloadAck { ackseq, blksize } = response else { return Err(self.unexpected(p)) };
         self.require(3, "a block acknowledgement")?;
-        let acked = p[1] as usize;
+        let acked = ackseq as usize;
         if acked > in_block {
             return Err(self
                 .fail(abort::INVALID_SEQUENCE, format!("acknowledged segment {acked} of a {in_block}-segment block")));
         }
-        if acked == 0 {
-            self.fruitless += 1;
-            if self.fruitless > MAX_BLOCK_RETRANSMISSIONS {
-                return Err(self.fail(
-                    abort::INVALID_SEQUENCE,
-                    format!(
-                        "the device acknowledged none of the segments of {} sub-blocks in a row (ackseq 0)",
-                        self.fruitless
-                    ),
-                ));
-            }
-        } else {
-            self.fruitless = 0;
-        }
+        self.count_fruitless(acked > 0, |n| {
+            format!("the device acknowledged none of the segments of {n} sub-blocks in a row (ackseq 0)")
+        })?;
         self.pos = ((self.pos / SEGMENT_DATA + acked) * SEGMENT_DATA).min(self.buf.len());
-        self.check_block_size(p[2])?;
+        self.check_block_size(blksize)?;
         if self.pos < self.buf.len() {
             let block = self.send_block();
             return Ok(if acked == 0 { Step::retry(block) } else { Step::send(block) });
         }
-        let n = block_unused_in_last(self.buf.len());
+        let unused = block_unused_in_last(self.buf.len());
         let crc = if self.crc { block_crc(&self.buf) } else { 0 };
         self.state = State::BlockDownloadEnd;
-        let [lo, hi] = crc.to_le_bytes();
-        Ok(Step::send(vec![segment(0xC1 | n << 2, &[lo, hi])]))
+        Ok(Step::send(vec![Request::BlockDownloadEnd { unused, crc }.emit()]))
     }
 
-    fn block_download_end(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
-        if p[0] & 0xE3 != 0xA1 {
-            return Err(self.unexpected(p));
-        }
+    fn block_download_end(&mut self, p: &[u8; 8], response: Response) -> Result<Step, SdoError> {
+        let Response::BlockDownloadEnd = response else { return Err(self.unexpected(p)) };
         self.state = State::Finished;
         Ok(Step::done(vec![], vec![]))
     }

@@ -1,5 +1,6 @@
 //! The SDO server: the device side, used by the simulator.
 
+use super::wire::{BlockSegment, Initiate, Request, Response, Segment};
 use super::*;
 use crate::canopen::abort;
 
@@ -79,38 +80,47 @@ impl SdoServer {
     /// Handle one request payload; returns the payloads to send back (possibly none).
     pub fn handle(&mut self, raw: &[u8], od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
         let p = pad(raw);
+        let request = Request::parse(&p);
         let state = std::mem::take(&mut self.state);
         // In a block download sub-block every frame is a segment, whatever its first byte.
         if let State::BlockDownload { addr, data, size, expected, crc } = state {
-            if p[0] == 0x80 {
+            if let Some(Request::Abort { .. }) = request {
                 return vec![];
             }
-            return self.block_download_segment(&p, addr, data, size, expected, crc);
+            return self.block_download_segment(BlockSegment::parse(&p), addr, data, size, expected, crc);
         }
-        if abort_code(&p).is_some() {
-            return vec![];
-        }
-        match (p[0] >> 5, state) {
-            (2, _) => self.initiate_upload(&p, od),
-            (3, State::Upload { addr, data, pos, toggle }) => self.upload_segment(&p, addr, data, pos, toggle),
-            (1, _) => self.initiate_download(&p, od),
-            (0, State::Download { addr, data, size, toggle }) => {
-                self.download_segment(&p, addr, data, size, toggle, od)
+        match (request, state) {
+            (Some(Request::Abort { .. }), _) => vec![],
+            (Some(Request::InitiateUpload { addr }), _) => self.initiate_upload(addr, od),
+            (Some(Request::UploadSegment { toggle }), State::Upload { addr, data, pos, toggle: expected }) => {
+                self.upload_segment(toggle, addr, data, pos, expected)
             }
-            (6, state) if self.block => self.block_download_command(&p, state, od),
-            (5, state) if self.block => self.block_upload_command(&p, state, od),
+            (Some(Request::InitiateDownload { addr, init }), _) => self.initiate_download(addr, init, od),
+            (Some(Request::DownloadSegment(seg)), State::Download { addr, data, size, toggle }) => {
+                self.download_segment(seg, addr, data, size, toggle, od)
+            }
+            (
+                Some(
+                    r @ (Request::BlockDownload { .. }
+                    | Request::BlockDownloadEnd { .. }
+                    | Request::BlockUpload { .. }
+                    | Request::BlockUploadStart
+                    | Request::BlockUploadAck { .. }
+                    | Request::BlockUploadEnd),
+                ),
+                state,
+            ) if self.block => self.block_command(&p, r, state, od),
             (_, state) => {
                 let addr = match state {
                     State::Upload { addr, .. } | State::Download { addr, .. } => addr,
-                    _ => mux(&p),
+                    _ => ObjAddr::from_mux(&p[1..4]),
                 };
                 vec![abort_frame(addr, abort::UNKNOWN_COMMAND)]
             }
         }
     }
 
-    fn initiate_upload(&mut self, p: &[u8; 8], od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
-        let addr = mux(p);
+    fn initiate_upload(&mut self, addr: ObjAddr, od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
         match od.read(addr) {
             Err(code) => vec![abort_frame(addr, code)],
             Ok(data) => self.plain_upload(addr, data),
@@ -119,44 +129,54 @@ impl SdoServer {
 
     fn plain_upload(&mut self, addr: ObjAddr, data: Vec<u8>) -> Vec<[u8; 8]> {
         if (1..=4).contains(&data.len()) {
-            return vec![frame(0x43 | ((4 - data.len()) as u8) << 2, addr, &data)];
+            return vec![Response::InitiateUpload { addr, init: Initiate::expedited(&data) }.emit()];
         }
-        let answer = frame(0x41, addr, &(data.len() as u32).to_le_bytes());
+        let answer = Response::InitiateUpload { addr, init: Initiate::segmented(data.len()) }.emit();
         self.state = State::Upload { addr, data, pos: 0, toggle: false };
         vec![answer]
     }
 
-    fn upload_segment(&mut self, p: &[u8; 8], addr: ObjAddr, data: Vec<u8>, pos: usize, toggle: bool) -> Vec<[u8; 8]> {
-        if (p[0] & 0x10 != 0) != toggle {
+    fn upload_segment(
+        &mut self,
+        toggle: bool,
+        addr: ObjAddr,
+        data: Vec<u8>,
+        pos: usize,
+        expected: bool,
+    ) -> Vec<[u8; 8]> {
+        if toggle != expected {
             return vec![abort_frame(addr, abort::TOGGLE_BIT)];
         }
         let end = (pos + SEGMENT_DATA).min(data.len());
-        let n = (SEGMENT_DATA - (end - pos)) as u8;
         let last = end == data.len();
-        let seg = segment((toggle as u8) << 4 | n << 1 | last as u8, &data[pos..end]);
+        let seg = Response::UploadSegment(Segment::new(toggle, &data[pos..end], last)).emit();
         if !last {
             self.state = State::Upload { addr, data, pos: end, toggle: !toggle };
         }
         vec![seg]
     }
 
-    fn initiate_download(&mut self, p: &[u8; 8], od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
-        let addr = mux(p);
-        let expedited = p[0] & 0x02 != 0;
-        let sized = p[0] & 0x01 != 0;
-        if expedited {
-            let len = if sized { expedited_len(p[0]) } else { od.fixed_size(addr).filter(|n| *n <= 4).unwrap_or(4) };
-            return match od.write(addr, &p[4..4 + len]) {
-                Ok(()) => vec![frame(0x60, addr, &[])],
+    fn initiate_download(&mut self, addr: ObjAddr, init: Initiate, od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
+        let expedited = match init {
+            Initiate::Expedited { data, len } => Some((data, len as usize)),
+            Initiate::ExpeditedUnsized { data } => Some((data, od.fixed_size(addr).filter(|n| *n <= 4).unwrap_or(4))),
+            Initiate::Size(_) | Initiate::Unsized => None,
+        };
+        if let Some((data, len)) = expedited {
+            return match od.write(addr, &data[..len]) {
+                Ok(()) => vec![Response::InitiateDownload { addr }.emit()],
                 Err(code) => vec![abort_frame(addr, code)],
             };
         }
-        let size = sized.then(|| le_u32(&p[4..]) as usize);
+        let size = match init {
+            Initiate::Size(s) => Some(announced(s)),
+            _ => None,
+        };
         if let Err(code) = self.check_download(addr, size, od) {
             return vec![abort_frame(addr, code)];
         }
         self.state = State::Download { addr, data: Vec::new(), size, toggle: false };
-        vec![frame(0x60, addr, &[])]
+        vec![Response::InitiateDownload { addr }.emit()]
     }
 
     fn check_download(&self, addr: ObjAddr, size: Option<usize>, od: &dyn ObjectAccess) -> Result<(), u32> {
@@ -168,23 +188,22 @@ impl SdoServer {
 
     fn download_segment(
         &mut self,
-        p: &[u8; 8],
+        seg: Segment,
         addr: ObjAddr,
         mut data: Vec<u8>,
         size: Option<usize>,
         toggle: bool,
         od: &mut dyn ObjectAccess,
     ) -> Vec<[u8; 8]> {
-        if (p[0] & 0x10 != 0) != toggle {
+        if seg.toggle != toggle {
             return vec![abort_frame(addr, abort::TOGGLE_BIT)];
         }
-        let n = ((p[0] >> 1) & 7) as usize;
-        data.extend_from_slice(&p[1..8 - n]);
+        data.extend_from_slice(seg.data());
         if data.len() > self.max_download {
             return vec![abort_frame(addr, abort::OUT_OF_MEMORY)];
         }
-        let ack = segment(0x20 | (toggle as u8) << 4, &[]);
-        if p[0] & 0x01 == 0 {
+        let ack = Response::DownloadSegment { toggle }.emit();
+        if !seg.last {
             self.state = State::Download { addr, data, size, toggle: !toggle };
             return vec![ack];
         }
@@ -194,72 +213,38 @@ impl SdoServer {
         }
     }
 
-    fn block_download_command(&mut self, p: &[u8; 8], state: State, od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
-        match (p[0] & 0x01, state) {
-            (0, _) => {
-                let addr = mux(p);
-                let size = (p[0] & 0x02 != 0).then(|| le_u32(&p[4..]) as usize);
+    /// Block download and block upload requests outside a sub-block.
+    fn block_command(
+        &mut self,
+        p: &[u8; 8],
+        request: Request,
+        state: State,
+        od: &mut dyn ObjectAccess,
+    ) -> Vec<[u8; 8]> {
+        match (request, state) {
+            (Request::BlockDownload { addr, crc, size }, _) => {
+                let size = size.map(announced);
                 if let Err(code) = self.check_download(addr, size, od) {
                     return vec![abort_frame(addr, code)];
                 }
-                let crc = p[0] & 0x04 != 0;
                 self.state = State::BlockDownload { addr, data: Vec::new(), size, expected: 1, crc };
-                vec![frame(0xA4, addr, &[self.block_size])]
+                vec![Response::BlockDownload { addr, crc: true, blksize: self.block_size }.emit()]
             }
-            (1, State::BlockDownloadEnd { addr, mut data, size, crc }) => {
-                let n = ((p[0] >> 2) & 7) as usize;
+            (Request::BlockDownloadEnd { unused, crc: sum }, State::BlockDownloadEnd { addr, mut data, size, crc }) => {
+                let n = unused as usize;
                 if n > data.len() {
                     return vec![abort_frame(addr, abort::GENERAL_ERROR)];
                 }
                 data.truncate(data.len() - n);
-                if crc && u16::from_le_bytes([p[1], p[2]]) != block_crc(&data) {
+                if crc && sum != block_crc(&data) {
                     return vec![abort_frame(addr, abort::CRC_ERROR)];
                 }
                 match finish_download(addr, &data, size, od) {
-                    Ok(()) => vec![segment(0xA1, &[])],
+                    Ok(()) => vec![Response::BlockDownloadEnd.emit()],
                     Err(code) => vec![abort_frame(addr, code)],
                 }
             }
-            _ => vec![abort_frame(mux(p), abort::UNKNOWN_COMMAND)],
-        }
-    }
-
-    fn block_download_segment(
-        &mut self,
-        p: &[u8; 8],
-        addr: ObjAddr,
-        mut data: Vec<u8>,
-        size: Option<usize>,
-        mut expected: u8,
-        crc: bool,
-    ) -> Vec<[u8; 8]> {
-        let seq = p[0] & 0x7F;
-        let last = p[0] & 0x80 != 0;
-        if seq == expected {
-            data.extend_from_slice(&p[1..8]);
-            if data.len() > self.max_download + SEGMENT_DATA {
-                return vec![abort_frame(addr, abort::OUT_OF_MEMORY)];
-            }
-            expected += 1;
-        }
-        if seq == self.block_size || last {
-            let ack = segment(0xA2, &[expected - 1, self.block_size]);
-            self.state = if last && seq + 1 == expected {
-                State::BlockDownloadEnd { addr, data, size, crc }
-            } else {
-                State::BlockDownload { addr, data, size, expected: 1, crc }
-            };
-            return vec![ack];
-        }
-        self.state = State::BlockDownload { addr, data, size, expected, crc };
-        vec![]
-    }
-
-    fn block_upload_command(&mut self, p: &[u8; 8], state: State, od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
-        match (p[0] & 0x03, state) {
-            (0, _) => {
-                let addr = mux(p);
-                let (blksize, pst) = (p[4], p[5]);
+            (Request::BlockUpload { addr, crc, blksize, pst }, _) => {
                 if !(1..=MAX_BLOCK_SIZE).contains(&blksize) {
                     return vec![abort_frame(addr, abort::INVALID_BLOCK_SIZE)];
                 }
@@ -270,17 +255,19 @@ impl SdoServer {
                 if pst > 0 && data.len() <= pst as usize {
                     return self.plain_upload(addr, data);
                 }
-                let crc = p[0] & 0x04 != 0;
-                let answer = frame(0xC6, addr, &(data.len() as u32).to_le_bytes());
+                let size = u32::try_from(data.len()).ok();
+                let answer = Response::BlockUpload { addr, crc: true, size }.emit();
                 self.state = State::BlockUploadStart { addr, data, blksize, crc };
                 vec![answer]
             }
-            (3, State::BlockUploadStart { addr, data, blksize, crc }) => {
+            (Request::BlockUploadStart, State::BlockUploadStart { addr, data, blksize, crc }) => {
                 self.send_upload_block(addr, data, 0, blksize, crc)
             }
-            (2, State::BlockUpload { addr, data, acked, in_block, crc, .. }) => {
-                let got = p[1] as usize;
-                let blksize = p[2];
+            (
+                Request::BlockUploadAck { ackseq, blksize },
+                State::BlockUpload { addr, data, acked, in_block, crc, .. },
+            ) => {
+                let got = ackseq as usize;
                 if got > in_block {
                     return vec![abort_frame(addr, abort::INVALID_SEQUENCE)];
                 }
@@ -291,14 +278,44 @@ impl SdoServer {
                 if acked < block_segment_count(data.len()) {
                     return self.send_upload_block(addr, data, acked, blksize, crc);
                 }
-                let n = block_unused_in_last(data.len());
+                let unused = block_unused_in_last(data.len());
                 let sum = if crc { block_crc(&data) } else { 0 };
                 self.state = State::BlockUploadEnd;
-                vec![segment(0xC1 | n << 2, &sum.to_le_bytes())]
+                vec![Response::BlockUploadEnd { unused, crc: sum }.emit()]
             }
-            (1, State::BlockUploadEnd) => vec![],
-            (_, _) => vec![abort_frame(mux(p), abort::UNKNOWN_COMMAND)],
+            (Request::BlockUploadEnd, State::BlockUploadEnd) => vec![],
+            _ => vec![abort_frame(ObjAddr::from_mux(&p[1..4]), abort::UNKNOWN_COMMAND)],
         }
+    }
+
+    fn block_download_segment(
+        &mut self,
+        seg: BlockSegment,
+        addr: ObjAddr,
+        mut data: Vec<u8>,
+        size: Option<usize>,
+        mut expected: u8,
+        crc: bool,
+    ) -> Vec<[u8; 8]> {
+        let BlockSegment { seqno: seq, last, data: chunk } = seg;
+        if seq == expected {
+            data.extend_from_slice(&chunk);
+            if data.len() > self.max_download + SEGMENT_DATA {
+                return vec![abort_frame(addr, abort::OUT_OF_MEMORY)];
+            }
+            expected += 1;
+        }
+        if seq == self.block_size || last {
+            let ack = Response::BlockDownloadAck { ackseq: expected - 1, blksize: self.block_size }.emit();
+            self.state = if last && seq + 1 == expected {
+                State::BlockDownloadEnd { addr, data, size, crc }
+            } else {
+                State::BlockDownload { addr, data, size, expected: 1, crc }
+            };
+            return vec![ack];
+        }
+        self.state = State::BlockDownload { addr, data, size, expected, crc };
+        vec![]
     }
 
     fn send_upload_block(
@@ -314,6 +331,11 @@ impl SdoServer {
         self.state = State::BlockUpload { addr, data, acked, in_block: count, crc };
         frames
     }
+}
+
+/// A size a client announced, as CiA 301 carries it: 32 bits, unsigned.
+fn announced(size: u32) -> usize {
+    usize::try_from(size).unwrap_or(usize::MAX)
 }
 
 fn finish_download(addr: ObjAddr, data: &[u8], size: Option<usize>, od: &mut dyn ObjectAccess) -> Result<(), u32> {

@@ -277,6 +277,14 @@ fn random_frames_never_panic() {
 const MUX: [u8; 3] = [0x00, 0x20, 0x01];
 
 /// An answer with A's multiplexer.
+/// A frame as a device writes it: command byte, then the bytes after it.
+fn segment(cmd: u8, data: &[u8]) -> [u8; 8] {
+    let mut f = [0u8; 8];
+    f[0] = cmd;
+    f[1..1 + data.len()].copy_from_slice(data);
+    f
+}
+
 fn answer(cmd: u8, data: &[u8]) -> Vec<u8> {
     let mut f = vec![cmd, MUX[0], MUX[1], MUX[2]];
     f.extend_from_slice(data);
@@ -661,4 +669,49 @@ fn second_copy_of_the_previous_transfers_answer_is_set_aside() {
     c.set_previous_answer(&answer(0x4F, &[7]));
     c.start();
     assert_eq!(c.on_response(&answer(0x4F, &[7])).unwrap().done, Some(vec![7]));
+}
+
+/// A device whose object holds 4 GiB + 10 bytes, more than the 32-bit size of CiA 301 can
+/// carry. Its low 32 bits say 10: announcing that would be a lie the client cannot see
+/// through, so the size goes unannounced and the client's limit ends the transfer.
+/// (The zeroes are never touched: the allocation costs address space, not memory.)
+#[cfg(all(target_os = "linux", target_pointer_width = "64"))]
+#[test]
+fn an_object_over_4_gib_is_announced_without_a_size_never_as_its_low_32_bits() {
+    struct Huge;
+    impl ObjectAccess for Huge {
+        fn read(&mut self, _: ObjAddr) -> Result<Vec<u8>, u32> {
+            Ok(vec![0; (1 << 32) + 10])
+        }
+        fn write(&mut self, _: ObjAddr, _: &[u8]) -> Result<(), u32> {
+            Err(abort::READ_ONLY)
+        }
+        fn check_write(&self, _: ObjAddr, _: Option<usize>) -> Result<(), u32> {
+            Err(abort::READ_ONLY)
+        }
+    }
+    for block in [false, true] {
+        let mut server = SdoServer::new(true);
+        let mut c = SdoClient::upload(A, block).with_max_upload(1000);
+        let mut to_client = server.handle(&c.start(), &mut Huge);
+        // Not 41 00 20 01 0A 00 00 00 (or C6 ... 0A 00 00 00).
+        let unsized_answer = if block { 0xC4 } else { 0x40 };
+        assert_eq!(to_client, vec![[unsized_answer, 0x00, 0x20, 0x01, 0, 0, 0, 0]], "block: {block}");
+        let err = 'transfer: loop {
+            let mut to_server = Vec::new();
+            for f in to_client.drain(..) {
+                match c.on_response(&f) {
+                    Ok(step) => to_server.extend(step.send),
+                    Err(e) => break 'transfer e,
+                }
+            }
+            assert!(!to_server.is_empty(), "block: {block}: stalled");
+            for f in to_server {
+                to_client.extend(server.handle(&f, &mut Huge));
+            }
+        };
+        let (code, reason) = client_abort(Err(err));
+        assert_eq!(code, abort::OUT_OF_MEMORY, "block: {block}: {reason}");
+        assert!(reason.contains("limit of 1000 bytes"), "{reason}");
+    }
 }
