@@ -107,11 +107,17 @@ impl<T: Transport> Epos2Gateway<T> {
                 .ok_or_else(|| self.bad_answer(Epos2Problem::ShortSegment { node, claimed: len }))?;
             out.extend_from_slice(chunk);
             if out.len() > max_upload && max_upload < MAX_SEGMENTED_UPLOAD {
-                return Err(Error::Link(format!(
-                    "node {node}: segmented read of {addr}: the upload did not end within the limit of \
-                     {max_upload} bytes: stopped after {} (sdo read --max-size raises the limit)",
-                    out.len()
-                )));
+                return Err(LinkError::SdoProtocol {
+                    node,
+                    obj: addr,
+                    reason: format!(
+                        "the upload did not end within the limit of {max_upload} bytes: stopped after {} \
+                         (sdo read --max-size raises the limit)",
+                        out.len()
+                    ),
+                    aborted: None,
+                }
+                .into());
             }
             if ctrl & MORE == 0 {
                 return Ok(out);
@@ -136,13 +142,7 @@ impl<T: Transport> Epos2Gateway<T> {
     fn segmented_write(&mut self, node: u8, addr: ObjAddr, data: &[u8]) -> Result<()> {
         // ObjectLength is 32-bit, as CiA 301 sizes are: a larger value would be announced
         // by its low 32 bits.
-        let length = u32::try_from(data.len()).map_err(|_| {
-            Error::Usage(format!(
-                "{} bytes cannot be written by SDO: CiA 301 sizes are 32-bit (at most {} bytes)",
-                data.len(),
-                u32::MAX
-            ))
-        })?;
+        let length = u32::try_from(data.len()).map_err(|_| Error::TooLargeForSdo { len: data.len() })?;
         let size = self.segment_size(node);
         self.call_ok(&Command::InitiateSegmentedWrite { node, addr, length }, node, Some(addr))?;
         let mut toggle = false;
