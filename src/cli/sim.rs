@@ -192,7 +192,7 @@ fn serve_socketcan(ctx: &Ctx, global: &GlobalArgs, iface: &str, path: &std::path
     // The interface is a bus with its own timing: the devices only answer late.
     let sim = crate::sim::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
     ctx.out.note(&format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C"));
-    crate::sim::bridge::run(sim, &mut can, global.verbose > 0)?;
+    crate::sim::bridge::run(sim, &mut can, global.frame_log()?)?;
     Ok(())
 }
 
@@ -212,7 +212,7 @@ fn serve_epos2(
 ) -> anyhow::Result<()> {
     use crate::sim::epos2_serve::{self, ServeOptions};
     let link = crate::sim::SimLink::open(StateFile::lock(path)?)?;
-    let device = crate::sim::epos2_device::Epos2Device::new(link, args.can_timeout, global.verbose > 0);
+    let device = crate::sim::epos2_device::Epos2Device::new(link, args.can_timeout).with_frame_log(global.frame_log()?);
     let opts = ServeOptions { framing, baud: args.baud, faults: args.fault.clone() };
     epos2_serve::serve(device, &opts, |pty| {
         ctx.out.print(pty).map_err(|e| Error::Link(format!("cannot print the pty path: {e}")))?;
@@ -266,6 +266,6 @@ fn serve_slcan(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs, path: &std::path:
     ctx.out.print(&pty)?;
     let rate = crate::canopen::lss::bit_rate_name(rate);
     ctx.out.note(&format!("the sim network's devices are behind an slcan adapter on {pty} ({rate}): use --bus slcan:{pty}@{rate}; stop with Ctrl-C"));
-    crate::sim::bridge::run(sim, &mut adapter, global.verbose > 0)?;
+    crate::sim::bridge::run(sim, &mut adapter, global.frame_log()?)?;
     Ok(())
 }

@@ -83,6 +83,7 @@ impl<P: SerialIo> SlcanLink<P> {
 
     fn write(&mut self, bytes: &[u8]) -> Result<()> {
         let name = self.name.clone();
+        tracing::trace!(target: "canctl::slcan", "{name} < {:?}", String::from_utf8_lossy(bytes));
         self.port.write_all(bytes).map_err(|e| Error::Link(format!("{name}: cannot write: {e}")))
     }
 
@@ -96,6 +97,7 @@ impl<P: SerialIo> SlcanLink<P> {
             if n == 0 {
                 return Ok(answers);
             }
+            tracing::trace!(target: "canctl::slcan", "{} > {:?}", self.name, String::from_utf8_lossy(&buf[..n]));
             for m in self.decoder.push(&buf[..n]) {
                 match m {
                     Ok(Message::Frame(f)) => self.rx.push_back(f),
