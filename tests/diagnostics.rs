@@ -1,8 +1,11 @@
-//! What canctl says on stderr (-v, -q), the frame log of --log-frames: the real binary.
+//! What canctl says on stderr (-v, -q), the frame log of --log-frames, and the sim network
+//! held by another process: the real binary, with real second processes.
 
 mod common;
 
 use common::{DeviceSide, Sim};
+use std::io::BufRead;
+use std::process::Stdio;
 
 /// The frames of a candump log file, each as (interface, frame in compact notation); every
 /// line must be `(SECONDS.MICROS) IFACE ID#DATA` exactly.
@@ -110,6 +113,47 @@ fn one_v_is_the_candump_trace_alone() {
     let r = sim.run(&["-vv", "sdo", "read", "1", "1018:1"]).ok();
     assert!(r.stderr.contains("  sim  601   [8]  40 18 10 01 00 00 00 00\n"), "{}", r.stderr);
     assert!(r.stderr.contains("node 1: SDO transfer of 0x1018:1 starts"), "{}", r.stderr);
+}
+
+/// A process serving the sim network's EPOS2 holds its state file for as long as it runs.
+/// Another command waits a bounded time, then says who holds it and what to do (exit 5);
+/// with -q only that error is printed. Once the holder is gone the network is free.
+#[test]
+fn the_sim_network_held_by_another_process_is_waited_for_then_named() {
+    let sim = Sim::new();
+    let mut holder =
+        sim.command(&["sim", "--epos2-rs232"]).stdout(Stdio::piped()).stderr(Stdio::null()).spawn().unwrap();
+    let mut pty = String::new();
+    std::io::BufReader::new(holder.stdout.take().unwrap()).read_line(&mut pty).unwrap();
+    assert!(pty.starts_with("/dev/"), "the holder did not start: '{pty}'");
+    let named = format!("in use by pid {} (canctl --bus {} sim --epos2-rs232)", holder.id(), sim.bus());
+
+    let quiet = std::thread::scope(|s| {
+        let quiet = s.spawn(|| sim.run(&["-q", "sdo", "read", "1", "1018:1"]));
+        let r = sim.run(&["sdo", "read", "1", "1018:1"]);
+        assert_eq!(r.code, 5, "{}", r.stderr);
+        assert!(
+            r.stderr
+                .contains(&format!("canctl: warning: the sim network ({}) is {named}", sim.path("sim.json").display())),
+            "{}",
+            r.stderr
+        );
+        assert!(r.stderr.contains("waiting up to 10 s"), "{}", r.stderr);
+        assert!(
+            r.stderr.contains(&format!("canctl: the sim network is {named}: stop it or use --bus sim:OTHER.state")),
+            "{}",
+            r.stderr
+        );
+        quiet.join().unwrap()
+    });
+    assert_eq!(quiet.code, 5, "{}", quiet.stderr);
+    assert_eq!(quiet.stderr.lines().count(), 1, "the error alone: {}", quiet.stderr);
+    assert!(quiet.stderr.contains(&named), "{}", quiet.stderr);
+
+    // Killed outright: its record stays behind, but the lock went with the process.
+    holder.kill().unwrap();
+    holder.wait().unwrap();
+    assert_eq!(sim.run(&["sdo", "read", "1", "1018:1"]).ok().stdout.trim(), "251");
 }
 
 /// A program using the library captures its diagnostics with a subscriber of its own: the

@@ -163,11 +163,13 @@ pub struct OpenOptions {
     /// the frames the backend itself exchanges: NMT, LSS, RequestCANFrame and SendCANFrame
     /// (an SDO transfer is the EPOS2's own business on its CAN bus).
     pub frame_log: Option<FrameLog>,
+    /// `sim` only: how long to wait for another process using the same sim network.
+    pub lock_wait: Duration,
 }
 
 impl OpenOptions {
     pub fn new(timeout: Duration) -> OpenOptions {
-        OpenOptions { timeout, ephemeral: false, frame_log: None }
+        OpenOptions { timeout, ephemeral: false, frame_log: None, lock_wait: crate::sim::state::DEFAULT_LOCK_WAIT }
     }
 }
 
@@ -179,7 +181,7 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
                 crate::sim::SimLink::ephemeral()
             } else {
                 let path = state.clone().unwrap_or_else(crate::sim::state::default_path);
-                crate::sim::SimLink::open(crate::sim::state::StateFile::lock(&path)?)?
+                crate::sim::SimLink::open(crate::sim::state::StateFile::lock_within(&path, opts.lock_wait)?)?
             };
             // Messages name the demo network, not its state file.
             let describe = BusAddr::Sim { state: None }.to_string();
