@@ -48,12 +48,10 @@ pub struct Holder {
 
 impl Holder {
     fn this_process() -> Holder {
-        let mut args = std::env::args();
-        let program = args
-            .next()
-            .map(|a| Path::new(&a).file_name().map_or(a.clone(), |n| n.to_string_lossy().into_owned()))
-            .unwrap_or_default();
-        let command = std::iter::once(program).chain(args).collect::<Vec<_>>().join(" ");
+        let mut args = std::env::args_os();
+        let program = args.next().map(|a| Path::new(&a).file_name().unwrap_or(&a).to_string_lossy().into_owned());
+        let rest = args.map(|a| a.to_string_lossy().into_owned());
+        let command = program.into_iter().chain(rest).collect::<Vec<_>>().join(" ");
         Holder { pid: std::process::id(), command }
     }
 
@@ -130,9 +128,11 @@ impl StateFile {
             std::thread::sleep(LOCK_RETRY.min(give_up.saturating_duration_since(Instant::now())));
         }
         tracing::trace!(target: "canctl::sim", "locked the sim network ({})", path.display());
-        // Best effort: without it the next process is only told "another process".
+        // Best effort: without it the next process is only told "another process". Renamed
+        // into place, so that it is never read half written.
         let holder = serde_json::to_string(&Holder::this_process()).expect("holder serialises");
-        if let Err(e) = std::fs::write(&owner_path, holder) {
+        let tmp = path.with_extension("owner.tmp");
+        if let Err(e) = std::fs::write(&tmp, holder).and_then(|()| std::fs::rename(&tmp, &owner_path)) {
             tracing::trace!(target: "canctl::sim", "cannot record this process in {}: {e}", owner_path.display());
         }
         Ok(StateFile { path: path.to_path_buf(), owner_path, _lock: lock })
