@@ -197,3 +197,20 @@ fn a_program_embedding_the_library_captures_the_frame_trace() {
     assert!(request.contains("iface=\"sim\"") && request.contains("dir=\"tx\""), "{request}");
     assert!(request.contains("frame=601#4018100100000000"), "{request}");
 }
+
+/// Diagnostics are never worth dying for: a reader of stderr that went away (a device side
+/// started by a script that read its first line only) loses them, and the command goes on.
+#[test]
+fn a_closed_stderr_does_not_end_the_command() {
+    let sim = Sim::new();
+    let mut child = sim
+        .command(&["-v", "sdo", "read", "1", "1018:1"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stderr.take());
+    let r = common::finish(child.wait_with_output().unwrap());
+    assert_eq!(r.code, 0);
+    assert_eq!(r.stdout.trim(), "251");
+}

@@ -38,7 +38,13 @@ fn subscriber<W>(
 where
     W: for<'w> MakeWriter<'w> + Send + Sync + 'static,
 {
-    tracing_subscriber::fmt().with_max_level(level).event_format(CanctlFormat).with_writer(writer)
+    // A stderr nobody reads any more loses the diagnostics; reporting that on stderr would
+    // panic and end a command that was going well.
+    tracing_subscriber::fmt()
+        .with_max_level(level)
+        .log_internal_errors(false)
+        .event_format(CanctlFormat)
+        .with_writer(writer)
 }
 
 /// One line per event: traces as they are, everything else prefixed with `canctl:`.
