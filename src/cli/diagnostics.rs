@@ -68,7 +68,8 @@ where
             Level::INFO => write!(w, "canctl: {}", fields.message)?,
             // Detail for whoever reads -vv: where it came from, and the event's own fields.
             _ => {
-                write!(w, "canctl: {}: {}", meta.target(), fields.message)?;
+                let target = meta.target().strip_prefix("canctl::").unwrap_or(meta.target());
+                write!(w, "canctl: {target}: {}", fields.message)?;
                 for (name, value) in &fields.rest {
                     write!(w, " {name}={value}")?;
                 }
@@ -163,7 +164,7 @@ mod tests {
     #[test]
     fn two_v_add_what_procedures_do_with_their_fields() {
         let text = rendered(2, false);
-        assert!(text.contains("canctl: canctl::sdo: node 5: SDO transfer of 0x1000:0 starts node=5\n"), "{text}");
+        assert!(text.contains("canctl: sdo: node 5: SDO transfer of 0x1000:0 starts node=5\n"), "{text}");
         assert!(text.starts_with("  vcan0  605   [8]  40 00 10 00 00 00 00 00\n"), "{text}");
     }
 }

@@ -77,6 +77,15 @@ fn holder_text(holder: &Option<Holder>) -> String {
     }
 }
 
+/// `10 s`, `1.5 s`, `250 ms`.
+fn duration_text(d: Duration) -> String {
+    if d < Duration::from_secs(1) {
+        format!("{} ms", d.as_millis())
+    } else {
+        format!("{} s", d.as_secs_f64())
+    }
+}
+
 impl StateFile {
     /// Lock the state at `path`, waiting up to [`DEFAULT_LOCK_WAIT`] for another process
     /// using it.
@@ -109,19 +118,19 @@ impl StateFile {
             let holder = Holder::read(&owner_path);
             if Instant::now() >= give_up {
                 return Err(Error::Link(format!(
-                    "the sim network is in use by {}: stop it or use --bus sim:OTHER.state (waited {:.0} s)",
+                    "the sim network is in use by {}: stop it or use --bus sim:OTHER.state (waited {})",
                     holder_text(&holder),
-                    wait.as_secs_f64()
+                    duration_text(wait)
                 )));
             }
             if !told {
                 tracing::warn!(
                     target: "canctl::sim",
                     pid = holder.as_ref().map(|h| h.pid),
-                    "the sim network ({}) is in use by {}: waiting up to {:.0} s",
+                    "the sim network ({}) is in use by {}: waiting up to {}",
                     path.display(),
                     holder_text(&holder),
-                    wait.as_secs_f64()
+                    duration_text(wait)
                 );
                 told = true;
             }
@@ -216,7 +225,7 @@ mod tests {
         assert_eq!(err.exit_code(), 5);
         let msg = err.to_string();
         assert!(msg.contains(&format!("in use by pid {} ({})", recorded.pid, recorded.command)), "{msg}");
-        assert!(msg.contains("--bus sim:OTHER.state"), "{msg}");
+        assert!(msg.contains("--bus sim:OTHER.state (waited 100 ms)"), "{msg}");
         drop(held);
         assert!(!path.with_extension("owner").exists(), "the record goes with the lock");
         StateFile::lock_within(&path, Duration::ZERO).expect("free again");
