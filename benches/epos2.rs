@@ -20,7 +20,7 @@ use std::time::Duration;
 fn device_side(framing: Framing, baud: Option<u32>) -> String {
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
-        let device = Epos2Device::new(SimLink::ephemeral(), Duration::from_millis(25), false);
+        let device = Epos2Device::new(SimLink::ephemeral(), Duration::from_millis(25));
         let opts = ServeOptions { framing, baud, faults: vec![] };
         serve(device, &opts, |p| {
             tx.send(p.to_string()).unwrap();
@@ -44,7 +44,7 @@ fn read_object(c: &mut Criterion) {
     let mut g = c.benchmark_group("ReadObject round trip");
     let path = device_side(Framing::Rs232, None);
     let mut rs232 =
-        Epos2Gateway::new(SerialTransport::new(open(&path, 115_200), Framing::Rs232, "rs232".into(), timeout, false));
+        Epos2Gateway::new(SerialTransport::new(open(&path, 115_200), Framing::Rs232, "rs232".into(), timeout));
     g.bench_function("rs232, unpaced, the EPOS2 itself", |b| {
         b.iter(|| rs232.sdo_upload(0, device_type, &opts).unwrap())
     });
@@ -52,12 +52,11 @@ fn read_object(c: &mut Criterion) {
         b.iter(|| rs232.sdo_upload(5, device_type, &opts).unwrap())
     });
     let path = device_side(Framing::Usb, None);
-    let mut usb =
-        Epos2Gateway::new(SerialTransport::new(open(&path, 1_000_000), Framing::Usb, "usb".into(), timeout, false));
+    let mut usb = Epos2Gateway::new(SerialTransport::new(open(&path, 1_000_000), Framing::Usb, "usb".into(), timeout));
     g.bench_function("usb, unpaced, the EPOS2 itself", |b| b.iter(|| usb.sdo_upload(0, device_type, &opts).unwrap()));
     let path = device_side(Framing::Rs232, Some(115_200));
     let mut paced =
-        Epos2Gateway::new(SerialTransport::new(open(&path, 115_200), Framing::Rs232, "rs232".into(), timeout, false));
+        Epos2Gateway::new(SerialTransport::new(open(&path, 115_200), Framing::Rs232, "rs232".into(), timeout));
     g.sample_size(50);
     g.bench_function("rs232 at 115200 bit/s, the EPOS2 itself", |b| {
         b.iter(|| paced.sdo_upload(0, device_type, &opts).unwrap())

@@ -17,7 +17,7 @@ const PROBE: Duration = Duration::from_millis(500);
 fn unconfigured(n: u32, profile: Profile) -> Master<SimLink> {
     let devices = (0..n).map(|i| (position_sensor(0x0950_2000 + i * 0x1111), None)).collect();
     let net = Network::of_with(devices, SimConfig::default().profile(profile));
-    Master::new(SimLink::of(net), "sim".into(), false)
+    Master::new(SimLink::of(net), "sim".into())
 }
 
 fn main() {

@@ -19,7 +19,7 @@ fn end_to_end(c: &mut Criterion) {
     g.throughput(Throughput::Bytes(DOMAIN_SIZE as u64));
     for (name, block) in [("block", true), ("segmented", false)] {
         // Instant: this measures the host's CPU; benches/sim_bus.rs measures the bus.
-        let mut bus = Master::new(SimLink::with_config(SimConfig::instant()), "sim".into(), false);
+        let mut bus = Master::new(SimLink::with_config(SimConfig::instant()), "sim".into());
         let mut opts = SdoOptions::new(Duration::from_secs(1));
         opts.block_upload = block;
         g.bench_function(name, |b| b.iter(|| assert_eq!(bus.sdo_upload(1, DOMAIN, &opts).unwrap().len(), DOMAIN_SIZE)));

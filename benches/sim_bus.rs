@@ -65,7 +65,7 @@ fn block_transfers(runs: usize) {
     opts.block_upload = true;
     opts.block_download = true;
     for (name, rate) in [("1 Mbit/s", 0u8), ("125 kbit/s", 4)] {
-        let mut bus = Master::new(SimLink::with_config(SimConfig::default().bit_rate(rate)), "sim".into(), false);
+        let mut bus = Master::new(SimLink::with_config(SimConfig::default().bit_rate(rate)), "sim".into());
         let mut down = Vec::new();
         let mut up = Vec::new();
         for _ in 0..runs {
@@ -83,7 +83,7 @@ fn scan_probes(runs: usize) {
     // What `canctl scan` sends first: 0x1000 of every node at once, its default 50 ms window.
     let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, ObjAddr::new(0x1000, 0))).collect();
     let opts = SdoOptions::new(Duration::from_millis(50));
-    let mut bus = Master::new(SimLink::with_config(SimConfig::default().bit_rate(0)), "sim".into(), false);
+    let mut bus = Master::new(SimLink::with_config(SimConfig::default().bit_rate(0)), "sim".into());
     let runs: Vec<Measured> = (0..runs)
         .map(|_| {
             measure(&mut bus, |b| {

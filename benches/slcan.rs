@@ -56,7 +56,7 @@ fn adapter() -> String {
     std::thread::spawn(move || {
         let mut adapter = canctl::sim::slcan_serve::SlcanAdapter::create(500, Vec::new()).unwrap();
         tx.send(adapter.path().to_string()).unwrap();
-        let _ = canctl::sim::bridge::run(SimLink::ephemeral(), &mut adapter, false);
+        let _ = canctl::sim::bridge::run(SimLink::ephemeral(), &mut adapter, None);
     });
     rx.recv().unwrap()
 }
@@ -66,7 +66,7 @@ fn pty_transfers() {
     let mut port = serialport::new(&path, 115_200).timeout(Duration::from_millis(100)).open_native().unwrap();
     port.set_exclusive(false).unwrap();
     let link = SlcanLink::open(port, format!("slcan:{path}"), 500).unwrap();
-    let mut bus = Master::new(link, format!("slcan:{path}"), false);
+    let mut bus = Master::new(link, format!("slcan:{path}"));
     let opts = SdoOptions { block_upload: true, ..SdoOptions::new(Duration::from_secs(2)) };
     let data = domain_pattern(SIZE);
     // 100 kB in 7-byte segments, plus the initiate, the block acknowledgements and the end.

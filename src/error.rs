@@ -309,6 +309,11 @@ pub enum LinkError {
     /// The simulator's state file could not be used.
     #[error("sim state file {}: {what}: {detail}", path.display())]
     StateFile { path: PathBuf, what: &'static str, detail: String },
+    /// Another process holds the simulator's network (its state file's lock); `holder`
+    /// names it (pid and command line) as far as it said.
+    #[error("the sim network is in use by {holder}: stop it or use --bus sim:OTHER.state (waited {})",
+        if *waited < Duration::from_secs(1) { format!("{} ms", waited.as_millis()) } else { format!("{} s", waited.as_secs_f64()) })]
+    SimInUse { holder: String, waited: Duration },
     /// A pseudo-terminal (the simulator's serial devices) failed.
     #[error("{op}: {detail}")]
     Pty { op: PtyOp, detail: String },

@@ -6,6 +6,8 @@ fn main() {
     let matches = canctl::cli::Cli::command().try_get_matches().unwrap_or_else(|e| usage_error(e));
     let bus_from_env = matches.value_source("bus") == Some(clap::parser::ValueSource::EnvVariable);
     let cli = canctl::cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| usage_error(e));
+    // The library reports through `tracing`; -v/-q choose what reaches stderr.
+    canctl::cli::install_diagnostics(cli.global.verbose, cli.global.quiet);
     if let Err(err) = canctl::cli::run(cli, bus_from_env) {
         let (code, print) = canctl::cli::exit_code(&err);
         if print {

@@ -194,7 +194,7 @@ struct Device(Epos2Device);
 
 impl Device {
     fn new() -> Device {
-        Device(Epos2Device::new(SimLink::ephemeral(), Duration::from_secs(2), false))
+        Device(Epos2Device::new(SimLink::ephemeral(), Duration::from_secs(2)))
     }
 
     /// The answer to `cmd` as RS232 bytes (read back with the reference layout).

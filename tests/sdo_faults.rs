@@ -191,7 +191,7 @@ impl FrameLink for ScriptedLink {
 }
 
 fn master(link: ScriptedLink) -> Master<ScriptedLink> {
-    Master::new(link, "scripted".into(), false)
+    Master::new(link, "scripted".into())
 }
 
 fn opts() -> SdoOptions {

@@ -17,7 +17,7 @@ fn adapter(bus_kbit: u32) -> String {
     std::thread::spawn(move || {
         let mut adapter = SlcanAdapter::create(bus_kbit, Vec::new()).unwrap();
         tx.send(adapter.path().to_string()).unwrap();
-        let _ = canctl::sim::bridge::run(SimLink::ephemeral(), &mut adapter, false);
+        let _ = canctl::sim::bridge::run(SimLink::ephemeral(), &mut adapter, None);
     });
     rx.recv().unwrap()
 }
@@ -31,7 +31,7 @@ fn port(path: &str) -> serialport::TTYPort {
 
 fn master<P: SerialIo>(port: P, path: &str, kbit: u32) -> Master<SlcanLink<P>> {
     let link = SlcanLink::open(port, format!("slcan:{path}"), kbit).unwrap();
-    Master::new(link, format!("slcan:{path}"), false)
+    Master::new(link, format!("slcan:{path}"))
 }
 
 #[test]

@@ -152,3 +152,64 @@ fn bus_off_during_a_command_is_exit_5() {
     assert!(r.stderr.contains("bus-off"), "{}", r.stderr);
     assert!(!out.exists(), "a partial upload must not be written");
 }
+
+/// --log-frames on SocketCAN: the request and the answer, named by the interface, in the
+/// candump log format.
+#[test]
+fn log_frames_on_socketcan_names_the_interface() {
+    let Some(bus) = OnVcan::start() else { return };
+    let log = bus.path("frames.log");
+    let r = bus.run(&["--log-frames", log.to_str().unwrap(), "sdo", "read", "1", "1018:1"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert_eq!(r.stdout.trim(), "251");
+    let text = std::fs::read_to_string(&log).unwrap();
+    let frames: Vec<&str> = text
+        .lines()
+        .map(|l| {
+            let (time, rest) = l.split_once(") ").unwrap_or_else(|| panic!("not a candump log line: {l}"));
+            assert!(time.starts_with('(') && time.len() == 1 + 10 + 1 + 6, "{l}");
+            rest
+        })
+        .filter(|f| !f.starts_with("vcan0 7"))
+        .collect();
+    assert_eq!(frames, ["vcan0 601#4018100100000000", "vcan0 581#43181001FB000000"], "{text}");
+}
+
+/// An error frame that is not bus-off is a warning on stderr, once, through the diagnostics
+/// (`-q` silences it), and the command goes on.
+#[test]
+fn an_error_frame_is_one_warning_that_quiet_silences() {
+    use socketcan::{CanErrorFrame, CanFrame, CanSocket, EmbeddedFrame, Frame, Socket};
+    let Some(bus) = OnVcan::start() else { return };
+    let sock = CanSocket::open(IFACE).unwrap();
+    sock.set_read_timeout(std::time::Duration::from_millis(200)).unwrap();
+    for quiet in [false, true] {
+        let out = bus.path("d.bin");
+        let mut args = vec!["sdo", "read", "1", "1F50:1", "--type", "d", "--no-block", "--out"];
+        if quiet {
+            args.insert(0, "-q");
+        }
+        let child = bus.command(&args).arg(&out).stderr(Stdio::piped()).stdout(Stdio::null()).spawn().unwrap();
+        // Mid-transfer (canctl has asked for a segment), the controller reports receive
+        // errors: error passive, twice.
+        let give_up = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        loop {
+            assert!(std::time::Instant::now() < give_up, "canctl never asked for a segment");
+            if let Ok(CanFrame::Data(f)) = sock.read_frame() {
+                if f.raw_id() == 0x601 && matches!(f.data().first(), Some(0x60 | 0x70)) {
+                    break;
+                }
+            }
+        }
+        let passive = [0, nix::libc::CAN_ERR_CRTL_RX_PASSIVE as u8, 0, 0, 0, 0, 0, 0];
+        for _ in 0..2 {
+            let frame = CanErrorFrame::new_error(nix::libc::CAN_ERR_CRTL, &passive).unwrap();
+            sock.write_frame(&CanFrame::Error(frame)).unwrap();
+        }
+        let r = common::finish(child.wait_with_output().unwrap());
+        assert_eq!(r.code, 0, "{}", r.stderr);
+        assert_eq!(std::fs::read(&out).unwrap().len(), 65536);
+        let warnings = r.stderr.lines().filter(|l| l.starts_with("canctl: warning: vcan0: ")).count();
+        assert_eq!(warnings, if quiet { 0 } else { 1 }, "quiet {quiet}: {}", r.stderr);
+    }
+}

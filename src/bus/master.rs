@@ -1,7 +1,8 @@
 //! CANopen client logic over a raw frame link: drives the SDO state machines, sends NMT,
 //! and notes the heartbeats that pass by.
 
-use super::{Bus, FrameLink, LssAnswer, LssWait, Observed, SdoOptions};
+use super::trace::{self, Dir};
+use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoOptions};
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
 use crate::canopen::sdo::{self, SdoClient, SdoError};
@@ -14,7 +15,8 @@ use std::time::{Duration, Instant};
 pub struct Master<L: FrameLink> {
     link: L,
     describe: String,
-    trace: bool,
+    /// Where every frame sent and received is also written (`--log-frames`).
+    frame_log: Option<FrameLog>,
     /// Everything the received frames showed.
     observed: Observed,
     /// The error-control id a remote request waits on: its answer is node guarding.
@@ -46,11 +48,11 @@ impl Active {
 }
 
 impl<L: FrameLink> Master<L> {
-    pub fn new(link: L, describe: String, trace: bool) -> Master<L> {
+    pub fn new(link: L, describe: String) -> Master<L> {
         Master {
             link,
             describe,
-            trace,
+            frame_log: None,
             observed: Observed::default(),
             guarding: None,
             no_block: BTreeSet::new(),
@@ -59,23 +61,37 @@ impl<L: FrameLink> Master<L> {
         }
     }
 
+    /// Also write every frame sent and received to `log`.
+    pub fn with_frame_log(mut self, log: Option<FrameLog>) -> Master<L> {
+        self.frame_log = log;
+        self
+    }
+
     pub fn link_mut(&mut self) -> &mut L {
         &mut self.link
     }
 
-    fn send(&mut self, frame: &Frame) -> Result<()> {
-        if self.trace {
-            eprintln!("{}", frame.candump_line(&self.link.name()));
+    /// A frame went by: to the trace and the frame log.
+    fn seen(&self, dir: Dir, frame: &Frame) {
+        if self.frame_log.is_none() && !trace::frames_enabled() {
+            return;
         }
+        let iface = self.link.name();
+        trace::frame(&iface, dir, frame);
+        if let Some(log) = &self.frame_log {
+            log.record(&iface, frame);
+        }
+    }
+
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        self.seen(Dir::Tx, frame);
         self.link.send(frame)
     }
 
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         let f = self.link.recv(deadline)?;
         if let Some(f) = &f {
-            if self.trace {
-                eprintln!("{}", f.candump_line(&self.link.name()));
-            }
+            self.seen(Dir::Rx, f);
             self.observed.on_frame(f, self.guarding, self.in_lss_exchange);
         }
         Ok(f)
@@ -91,6 +107,8 @@ impl<L: FrameLink> Master<L> {
         progress: &mut dyn FnMut(usize),
     ) -> Result<Vec<Result<Vec<u8>>>> {
         let mut results: Vec<Option<Result<Vec<u8>>>> = (0..jobs.len()).map(|_| None).collect();
+        // Which transfer each result is, for the trace.
+        let jobs_of: Vec<(u8, ObjAddr)> = jobs.iter().map(|(node, client)| (*node, client.addr())).collect();
         let mut queues: BTreeMap<u8, VecDeque<(usize, SdoClient)>> = BTreeMap::new();
         for (slot, (node, client)) in jobs.into_iter().enumerate() {
             queues.entry(node).or_default().push_back((slot, client));
@@ -173,7 +191,16 @@ impl<L: FrameLink> Master<L> {
             progress(finished);
             self.start_next(node, &mut queues, &mut active, timeout)?;
         }
-        Ok(results.into_iter().map(|r| r.expect("every job ends")).collect())
+        let results: Vec<Result<Vec<u8>>> = results.into_iter().map(|r| r.expect("every job ends")).collect();
+        for ((node, addr), r) in jobs_of.iter().zip(&results) {
+            match r {
+                Ok(data) => {
+                    tracing::trace!(target: "canctl::sdo", "node {node}: SDO transfer of {addr}: {} bytes", data.len())
+                }
+                Err(e) => tracing::trace!(target: "canctl::sdo", "node {node}: SDO transfer of {addr}: {e}"),
+            }
+        }
+        Ok(results)
     }
 
     fn start_next(
@@ -190,6 +217,7 @@ impl<L: FrameLink> Master<L> {
             client.set_previous_answer(previous);
         }
         let first = client.start();
+        tracing::trace!(target: "canctl::sdo", "node {node}: SDO transfer of {} starts", client.addr());
         self.send(&Frame::new(sdo::request_cob(node), &first))?;
         let now = self.link.now();
         let total_deadline = now + client.time_budget(timeout);

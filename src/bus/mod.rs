@@ -1,10 +1,12 @@
 //! The service-level API every command is written against, and the backends behind it.
 
+pub mod frame_log;
 pub mod lss;
 pub mod master;
 pub mod observer;
 #[cfg(target_os = "linux")]
 pub mod socketcan;
+pub mod trace;
 pub mod uri;
 
 use crate::canopen::nmt::Command;
@@ -13,6 +15,7 @@ use crate::error::Result;
 use crate::frame::Frame;
 use std::time::{Duration, Instant};
 
+pub use frame_log::FrameLog;
 pub use master::Master;
 pub use observer::{Observed, SeenBy};
 pub use uri::BusUri;

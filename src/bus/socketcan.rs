@@ -60,7 +60,7 @@ impl SocketCanLink {
         }
         let text = err.to_string();
         if !self.warned.contains(&text) {
-            eprintln!("canctl: warning: {}: {text}", self.iface);
+            tracing::warn!(target: "canctl::socketcan", iface = %self.iface, "{}: {text}", self.iface);
             self.warned.push(text);
         }
         Ok(())

@@ -2,7 +2,7 @@
 //! `epos2-rs232:/dev/ttyS0?baud=115200`, `epos2-usb:/dev/ttyUSB0` — parsed with `FromStr`,
 //! written back with `Display`, and opened by the one factory, [`open`].
 
-use super::{Bus, Master};
+use super::{Bus, FrameLog, Master};
 use crate::epos2::gateway::Epos2Gateway;
 use crate::epos2::transport::SerialTransport;
 use crate::epos2::Framing;
@@ -157,15 +157,19 @@ impl std::fmt::Display for BusAddr {
 pub struct OpenOptions {
     /// How long a serial link waits for each answer.
     pub timeout: Duration,
-    /// Trace every frame on stderr in candump notation.
-    pub trace: bool,
     /// `sim` only: a fresh demo network in memory, no state file read or kept.
     pub ephemeral: bool,
+    /// Write every frame sent and received here (candump log format). Through an EPOS2,
+    /// the frames the backend itself exchanges: NMT, LSS, RequestCANFrame and SendCANFrame
+    /// (an SDO transfer is the EPOS2's own business on its CAN bus).
+    pub frame_log: Option<FrameLog>,
+    /// `sim` only: how long to wait for another process using the same sim network.
+    pub lock_wait: Duration,
 }
 
 impl OpenOptions {
     pub fn new(timeout: Duration) -> OpenOptions {
-        OpenOptions { timeout, trace: false, ephemeral: false }
+        OpenOptions { timeout, ephemeral: false, frame_log: None, lock_wait: crate::sim::state::DEFAULT_LOCK_WAIT }
     }
 }
 
@@ -177,15 +181,16 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
                 crate::sim::SimLink::ephemeral()
             } else {
                 let path = state.clone().unwrap_or_else(crate::sim::state::default_path);
-                crate::sim::SimLink::open(crate::sim::state::StateFile::lock(&path)?)?
+                crate::sim::SimLink::open(crate::sim::state::StateFile::lock_within(&path, opts.lock_wait)?)?
             };
             // Messages name the demo network, not its state file.
-            Ok(Box::new(Master::new(link, BusAddr::Sim { state: None }.to_string(), opts.trace)))
+            let describe = BusAddr::Sim { state: None }.to_string();
+            Ok(Box::new(Master::new(link, describe).with_frame_log(opts.frame_log.clone())))
         }
         #[cfg(target_os = "linux")]
         BusAddr::SocketCan { iface } => {
             let link = super::socketcan::SocketCanLink::open(iface)?;
-            Ok(Box::new(Master::new(link, addr.to_string(), opts.trace)))
+            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
         }
         #[cfg(not(target_os = "linux"))]
         BusAddr::SocketCan { .. } => Err(Error::NotOnThisBus {
@@ -196,15 +201,15 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
         }),
         BusAddr::Epos2 { framing, port, baud } => {
             let io = open_serial(port, *baud, opts.timeout)?;
-            let link = SerialTransport::new(io, *framing, addr.to_string(), opts.timeout, opts.trace);
-            Ok(Box::new(Epos2Gateway::new(link)))
+            let link = SerialTransport::new(io, *framing, addr.to_string(), opts.timeout);
+            Ok(Box::new(Epos2Gateway::new(link).with_frame_log(opts.frame_log.clone())))
         }
         BusAddr::Slcan { port, kbit } => {
             // The adapter's own serial speed does not matter on USB; 115200 suits the
             // adapters that sit behind a real UART.
             let io = open_serial(port, 115_200, opts.timeout)?;
             let link = crate::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?;
-            Ok(Box::new(Master::new(link, addr.to_string(), opts.trace)))
+            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
         }
     }
 }

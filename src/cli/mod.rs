@@ -3,6 +3,7 @@
 
 mod complete;
 mod config;
+mod diagnostics;
 mod docs;
 mod interrupt;
 mod lss;
@@ -24,6 +25,7 @@ use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 pub use complete::complete_from_env;
+pub use diagnostics::install as install_diagnostics;
 pub use docs::{completion_scripts, man_pages, write_completions};
 
 const EXIT_CODES: &str = "\
@@ -73,12 +75,23 @@ pub struct GlobalArgs {
     /// names, types and ranges come from it
     #[arg(long, global = true, value_name = "[NODE=]FILE", value_parser = objects::parse_eds_arg)]
     pub eds: Vec<objects::EdsArg>,
-    /// Trace every frame on stderr in candump notation
+    /// Trace every frame on stderr in candump notation; -vv also what each procedure does
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     pub verbose: u8,
-    /// No diagnostics or progress on stderr (errors still print)
-    #[arg(short, long, global = true)]
+    /// No warnings, diagnostics or progress on stderr (errors still print)
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
     pub quiet: bool,
+    /// Write every frame sent and received to FILE, in the candump log format of can-utils
+    /// (`(1700000000.123456) vcan0 605#4000100000000000`), for support cases
+    #[arg(long, global = true, value_name = "FILE")]
+    pub log_frames: Option<std::path::PathBuf>,
+}
+
+impl GlobalArgs {
+    /// The frame log asked for with --log-frames, created (emptied) now.
+    pub fn frame_log(&self) -> crate::error::Result<Option<crate::bus::FrameLog>> {
+        self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose()
+    }
 }
 
 #[derive(Subcommand, Debug)]
@@ -152,13 +165,13 @@ pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
 }
 
 /// Open the bus the user named, or explain how to name one.
-fn open_bus(ctx: &Ctx, global: &GlobalArgs) -> anyhow::Result<Box<dyn Bus>> {
+fn open_bus(ctx: &Ctx, frame_log: Option<crate::bus::FrameLog>) -> anyhow::Result<Box<dyn Bus>> {
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
         return Err(no_bus_error().into());
     };
     let addr: BusAddr = text.parse()?;
     let mut opts = OpenOptions::new(ctx.timeout);
-    opts.trace = global.verbose > 0;
+    opts.frame_log = frame_log;
     Ok(crate::bus::open(&addr, &opts)?)
 }
 
@@ -183,13 +196,18 @@ fn no_bus_error() -> Error {
 }
 
 /// Run a command that talks to the bus; the bus is closed (and the simulator's state saved)
-/// whatever the command's outcome.
+/// whatever the command's outcome. A frame log that could not be written fails the command
+/// once it is done (a warning said so when it happened).
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
-    let mut bus = open_bus(ctx, global)?;
+    let frame_log = global.frame_log()?;
+    let mut bus = open_bus(ctx, frame_log.clone())?;
     let result = f(bus.as_mut());
     let closed = bus.close();
     result.map_err(|e| with_hint(ctx, e))?;
     closed?;
+    if let Some(log) = frame_log {
+        log.finish()?;
+    }
     Ok(())
 }
 

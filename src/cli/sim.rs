@@ -136,7 +136,7 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
             return Err(Error::Usage(msg.into()).into());
         }
     };
-    serve::serve(&path, &how, global.verbose > 0, |serving| {
+    serve::serve(&path, &how, global.frame_log()?, |serving| {
         if let Some(pty) = &serving.pty {
             ctx.out
                 .print(pty)

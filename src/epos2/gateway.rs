@@ -3,7 +3,7 @@
 
 use super::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
 use super::transport::Transport;
-use crate::bus::{Bus, LssAnswer, LssWait, Observed, SdoOptions, ALL_NODES};
+use crate::bus::{Bus, FrameLog, LssAnswer, LssWait, Observed, SdoOptions, ALL_NODES};
 use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Epos2Problem, Error, LinkError, NodeIdRange, Result};
@@ -29,11 +29,26 @@ pub struct Epos2Gateway<T: Transport> {
     own_id: Option<u8>,
     /// Only what its own answers show: an EPOS2 passes on no traffic by itself.
     observed: Observed,
+    /// Where the CAN frames this side puts on the bus or gets from it are logged.
+    frame_log: Option<FrameLog>,
 }
 
 impl<T: Transport> Epos2Gateway<T> {
     pub fn new(link: T) -> Epos2Gateway<T> {
-        Epos2Gateway { link, own_id: None, observed: Observed::default() }
+        Epos2Gateway { link, own_id: None, observed: Observed::default(), frame_log: None }
+    }
+
+    /// Also log the CAN frames this side sees: NMT, LSS, SendCANFrame and RequestCANFrame
+    /// (SDO transfers are the EPOS2's own business on its bus).
+    pub fn with_frame_log(mut self, log: Option<FrameLog>) -> Epos2Gateway<T> {
+        self.frame_log = log;
+        self
+    }
+
+    fn log(&self, frame: &Frame) {
+        if let Some(log) = &self.frame_log {
+            log.record(&self.link.describe(), frame);
+        }
     }
 
     /// One command; its error code and data, or `None` where RS232 has no answer.
@@ -203,6 +218,7 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
     fn nmt(&mut self, cmd: NmtCommand, node: u8) -> Result<()> {
         check_node(node)?;
         let c = Command::SendNmtService { node, specifier: cmd.specifier() };
+        self.log(&cmd.frame(node));
         if let Some((code, _)) = self.call(&c)? {
             self.check(code, node, None, c.name())?;
         }
@@ -219,6 +235,7 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         let mut data = [0u8; 8];
         data[..frame.len()].copy_from_slice(frame.data());
         let c = Command::SendCanFrame { id: frame.id(), len: frame.len() as u8, data };
+        self.log(frame);
         if let Some((code, _)) = self.call(&c)? {
             self.check(code, 0, None, c.name())?;
         }
@@ -238,9 +255,12 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
 
     fn request_frame(&mut self, id: u16, len: u8, _timeout: Duration) -> Result<Frame> {
         let c = Command::RequestCanFrame { id, len };
+        self.log(&Frame::remote(id, len.min(8)));
         let data = self.call_ok(&c, (id & 0x7F) as u8, None)?;
         let n = (len as usize).min(8).min(data.len());
-        Ok(Frame::new(id, &data[..n]))
+        let answer = Frame::new(id, &data[..n]);
+        self.log(&answer);
+        Ok(answer)
     }
 
     fn lss_exchange(
@@ -251,6 +271,7 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         collect: LssWait,
     ) -> Result<Vec<LssAnswer>> {
         let send = Command::SendLssFrame { data: *request };
+        self.log(&Frame::new(crate::canopen::lss::MASTER_COB, request));
         if let Some((code, _)) = self.call(&send)? {
             self.check(code, 0, None, send.name())?;
         }
@@ -275,6 +296,9 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
                     // Only a whole answer with the expected command specifier counts; others
                     // do not make the wait longer.
                     let data = data.get(..8).and_then(|d| <[u8; 8]>::try_from(d).ok());
+                    if let Some(d) = &data {
+                        self.log(&Frame::new(crate::canopen::lss::SLAVE_COB, d));
+                    }
                     let Some(data) = data.filter(|d| crate::canopen::lss::is_answer(d, expect)) else {
                         if left.is_zero() {
                             break;

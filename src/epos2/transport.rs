@@ -13,6 +13,7 @@
 use super::command::{self, Command};
 use super::frame::{self, Frame, FrameError, UsbDecoder};
 use super::Framing;
+use crate::bus::trace;
 use crate::error::{LinkError, Result};
 use std::io;
 use std::time::{Duration, Instant};
@@ -203,26 +204,18 @@ impl<S: SerialIo> Port<S> {
     }
 }
 
-fn trace(enabled: bool, name: &str, dir: &str, bytes: &[u8]) {
-    if enabled {
-        let spaced: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
-        eprintln!("  {name} {dir} {}", spaced.join(" "));
-    }
-}
-
 /// An EPOS2 on a serial port, with either framing.
 pub struct SerialTransport<S> {
     port: Port<S>,
     framing: Framing,
     describe: String,
-    trace: bool,
     /// Whether every answer still owed to someone else has been received and discarded.
     in_step: bool,
 }
 
 impl<S: SerialIo> SerialTransport<S> {
-    pub fn new(io: S, framing: Framing, describe: String, timeout: Duration, trace: bool) -> SerialTransport<S> {
-        SerialTransport { port: Port::new(io, timeout), framing, describe, trace, in_step: false }
+    pub fn new(io: S, framing: Framing, describe: String, timeout: Duration) -> SerialTransport<S> {
+        SerialTransport { port: Port::new(io, timeout), framing, describe, in_step: false }
     }
 
     /// Clear the input and send the probe; every answer before the probe's is discarded.
@@ -249,11 +242,11 @@ impl<S: SerialIo> SerialTransport<S> {
     fn send_and_receive(&mut self, f: &Frame, wait: Duration) -> Result<Result<Frame, FrameError>, Failure> {
         match self.framing {
             Framing::Rs232 => {
-                rs232_send(&mut self.port, &self.describe, self.trace, f, wait)?;
+                rs232_send(&mut self.port, &self.describe, f, wait)?;
             }
             Framing::Usb => {
                 let bytes = frame::usb_encode(f);
-                trace(self.trace, &self.describe, "<", &bytes);
+                trace::bytes(&self.describe, "<", &bytes);
                 self.port.send(&bytes)?;
             }
         }
@@ -263,8 +256,8 @@ impl<S: SerialIo> SerialTransport<S> {
     fn receive(&mut self, wait: Duration) -> Result<Result<Frame, FrameError>, Failure> {
         let until = Instant::now() + wait;
         match self.framing {
-            Framing::Rs232 => rs232_receive(&mut self.port, &self.describe, self.trace, until),
-            Framing::Usb => usb_receive(&mut self.port, &self.describe, self.trace, until),
+            Framing::Rs232 => rs232_receive(&mut self.port, &self.describe, until),
+            Framing::Usb => usb_receive(&mut self.port, &self.describe, until),
         }
     }
 
@@ -276,7 +269,7 @@ impl<S: SerialIo> SerialTransport<S> {
         let cmd = Command::from_frame(command);
         let timeout = self.port.timeout;
         if !answered {
-            rs232_send(&mut self.port, &self.describe, self.trace, command, timeout)?;
+            rs232_send(&mut self.port, &self.describe, command, timeout)?;
             return Ok(None);
         }
         let mut answer = self.send_and_receive(command, timeout)?;
@@ -306,6 +299,7 @@ impl<S: SerialIo> Transport for SerialTransport<S> {
         let (failure, retry) = match self.attempt(command, answered) {
             Ok(a) => return Ok(a),
             Err(first) if first.retryable() => {
+                tracing::trace!(target: "canctl::epos2", "{}: {what} failed: {first}; resync and retry", self.describe);
                 self.in_step = false;
                 match self.port.resync().and_then(|()| self.attempt(command, answered)) {
                     Ok(a) => return Ok(a),
@@ -333,12 +327,11 @@ impl<S: SerialIo> Transport for SerialTransport<S> {
 fn rs232_send<S: SerialIo>(
     port: &mut Port<S>,
     name: &str,
-    tracing: bool,
     command: &Frame,
     ready_wait: Duration,
 ) -> Result<(), Failure> {
     let bytes = frame::rs232_encode(command);
-    trace(tracing, name, "<", &bytes);
+    trace::bytes(name, "<", &bytes);
     port.send(&bytes[..1])?;
     let until = Instant::now() + ready_wait;
     let mut skipped = 0;
@@ -364,7 +357,6 @@ fn rs232_send<S: SerialIo>(
 fn rs232_receive<S: SerialIo>(
     port: &mut Port<S>,
     name: &str,
-    tracing: bool,
     until: Instant,
 ) -> Result<Result<Frame, FrameError>, Failure> {
     let op = port.expect_byte(until, "with the answer")?;
@@ -378,7 +370,7 @@ fn rs232_receive<S: SerialIo>(
     for _ in 0..frame::rs232_body_len(lm1) {
         raw.push(port.expect_byte(until, "in the middle of the answer")?);
     }
-    trace(tracing, name, ">", &raw);
+    trace::bytes(name, ">", &raw);
     let decoded = frame::rs232_decode(&raw);
     port.send(&[if decoded.is_ok() { OKAY } else { FAILED }])?;
     Ok(decoded)
@@ -388,7 +380,6 @@ fn rs232_receive<S: SerialIo>(
 fn usb_receive<S: SerialIo>(
     port: &mut Port<S>,
     name: &str,
-    tracing: bool,
     until: Instant,
 ) -> Result<Result<Frame, FrameError>, Failure> {
     let mut decoder = UsbDecoder::new();
@@ -398,7 +389,7 @@ fn usb_receive<S: SerialIo>(
         let b = port.expect_byte(until, stage)?;
         raw.push(b);
         if let Some(r) = decoder.push(b) {
-            trace(tracing, name, ">", &raw);
+            trace::bytes(name, ">", &raw);
             return Ok(r);
         }
     }
@@ -468,7 +459,7 @@ mod tests {
     }
 
     fn transport(io: Scripted) -> SerialTransport<Scripted> {
-        SerialTransport::new(io, Framing::Usb, "test".into(), Duration::from_millis(30), false)
+        SerialTransport::new(io, Framing::Usb, "test".into(), Duration::from_millis(30))
     }
 
     fn read_object() -> Frame {

@@ -2,26 +2,31 @@
 //! the devices, everything they send goes out on it.
 
 use super::SimLink;
-use crate::bus::FrameLink;
+use crate::bus::trace::{self, Dir};
+use crate::bus::{FrameLink, FrameLog};
 use crate::error::Result;
 use std::time::{Duration, Instant};
 
-/// Serve until the link fails or the process is stopped. `trace` prints each frame.
-pub fn run(mut sim: SimLink, can: &mut dyn FrameLink, trace: bool) -> Result<()> {
+/// Serve until the link fails or the process is stopped. Each frame on the interface goes
+/// to the frame trace and to `log`: what came in is received, what the devices answer is
+/// sent, seen from this side of the interface.
+pub fn run(mut sim: SimLink, can: &mut dyn FrameLink, log: Option<FrameLog>) -> Result<()> {
     let iface = can.name();
+    let seen = |dir: Dir, f: &crate::frame::Frame| {
+        trace::frame(&iface, dir, f);
+        if let Some(log) = &log {
+            log.record(&iface, f);
+        }
+    };
     loop {
         let wake = sim.next_event().unwrap_or_else(|| Instant::now() + Duration::from_secs(1));
         if let Some(f) = can.recv(wake)? {
-            if trace {
-                eprintln!("{}", f.candump_line(&iface));
-            }
+            seen(Dir::Rx, &f);
             sim.send(&f)?;
         }
         // The answers to that frame, and any heartbeats that fell due.
         while let Some(out) = sim.recv(Instant::now())? {
-            if trace {
-                eprintln!("{}", out.candump_line(&iface));
-            }
+            seen(Dir::Tx, &out);
             can.send(&out)?;
         }
         sim.save_if_changed()?;

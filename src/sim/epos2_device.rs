@@ -3,7 +3,8 @@
 //! the simulated bus — one SDO exchange per command, nothing buffered (seed 002).
 
 use super::SimLink;
-use crate::bus::FrameLink;
+use crate::bus::trace::{self as bus_trace, Dir};
+use crate::bus::{FrameLink, FrameLog};
 use crate::canopen::lss;
 use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::sdo::wire::{Initiate, Request, Response, Segment};
@@ -51,7 +52,8 @@ enum Segmented {
 pub struct Epos2Device {
     link: SimLink,
     can_timeout: Duration,
-    trace: bool,
+    /// Where the frames this EPOS2 puts on the sim bus and receives from it are logged.
+    frame_log: Option<FrameLog>,
     segmented: Segmented,
     /// The last segment command and its answer: a master that lost an answer repeats the
     /// command with the same toggle bit, and gets the same answer without a second effect.
@@ -64,15 +66,31 @@ pub struct Epos2Device {
 }
 
 impl Epos2Device {
-    pub fn new(link: SimLink, can_timeout: Duration, trace: bool) -> Epos2Device {
+    pub fn new(link: SimLink, can_timeout: Duration) -> Epos2Device {
         Epos2Device {
             link,
             can_timeout,
-            trace,
+            frame_log: None,
             segmented: Segmented::None,
             last_segment: None,
             wrong_answers: false,
             arrived: Default::default(),
+        }
+    }
+
+    /// Also write the frames on the sim bus to `log`.
+    pub fn with_frame_log(mut self, log: Option<FrameLog>) -> Epos2Device {
+        self.frame_log = log;
+        self
+    }
+
+    /// A frame on the sim bus: to the frame trace (`trace`) and the frame log.
+    fn seen(&self, dir: Dir, f: &Frame, trace: bool) {
+        if trace {
+            bus_trace::frame("sim", dir, f);
+        }
+        if let Some(log) = &self.frame_log {
+            log.record("sim", f);
         }
     }
 
@@ -308,10 +326,11 @@ impl Epos2Device {
     /// Put a frame on the bus. Frames that came in before it are no answer to it: the
     /// gateway waits only for answers to what it sends, so they are dropped first.
     fn send(&mut self, f: &Frame) -> Result<()> {
-        while self.link.recv(Instant::now())?.is_some() {}
-        if self.trace {
-            eprintln!("{}", f.candump_line("sim"));
+        // Dropped unseen by the trace, as ever; the log keeps everything that came.
+        while let Some(stale) = self.link.recv(Instant::now())? {
+            self.seen(Dir::Rx, &stale, false);
         }
+        self.seen(Dir::Tx, f, true);
         self.link.send(f)
     }
 
@@ -361,9 +380,7 @@ impl Epos2Device {
     fn wait_for(&mut self, want: impl Fn(&Frame) -> bool, timeout: Duration) -> Result<Option<Frame>> {
         let deadline = Instant::now() + timeout;
         while let Some(f) = self.arrived.pop_front().map_or_else(|| self.link.recv(deadline), |f| Ok(Some(f)))? {
-            if self.trace {
-                eprintln!("{}", f.candump_line("sim"));
-            }
+            self.seen(Dir::Rx, &f, true);
             if want(&f) {
                 return Ok(Some(f));
             }

@@ -5,7 +5,7 @@
 use super::serial_fault::Fault;
 use super::state::{default_path, StateFile};
 use super::SimConfig;
-use crate::bus::BusAddr;
+use crate::bus::{BusAddr, FrameLog};
 use crate::canopen::lss::bit_rate_name;
 use crate::epos2::Framing;
 use crate::error::{Error, Result};
@@ -76,21 +76,27 @@ pub struct Serving {
 }
 
 /// Serve the network saved at `path` until the link fails or the process is stopped.
-/// `ready` hears where once the devices answer; `trace` prints every frame.
+/// `ready` hears where once the devices answer; `log` records every frame the devices
+/// exchange (the `-v` trace goes through `tracing` regardless).
 #[cfg_attr(not(unix), allow(unused_variables))]
-pub fn serve(path: &Path, how: &Serve, trace: bool, ready: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
+pub fn serve(
+    path: &Path,
+    how: &Serve,
+    log: Option<FrameLog>,
+    ready: impl FnOnce(&Serving) -> Result<()>,
+) -> Result<()> {
     match how {
         #[cfg(target_os = "linux")]
-        Serve::SocketCan { iface } => socketcan(path, iface, trace, ready),
+        Serve::SocketCan { iface } => socketcan(path, iface, log, ready),
         #[cfg(not(target_os = "linux"))]
         Serve::SocketCan { .. } => {
             Err(Error::Usage("SocketCAN is Linux's: `sim --socketcan` runs on Linux only; try `sim --slcan`".into()))
         }
         #[cfg(unix)]
-        Serve::Slcan { faults } => slcan(path, faults, trace, ready),
+        Serve::Slcan { faults } => slcan(path, faults, log, ready),
         #[cfg(unix)]
         Serve::Epos2 { framing, baud, faults, can_timeout } => {
-            epos2(path, *framing, *baud, faults, *can_timeout, trace, ready)
+            epos2(path, *framing, *baud, faults, *can_timeout, log, ready)
         }
         #[cfg(not(unix))]
         Serve::Slcan { .. } | Serve::Epos2 { .. } => Err(Error::Usage(
@@ -102,13 +108,18 @@ pub fn serve(path: &Path, how: &Serve, trace: bool, ready: impl FnOnce(&Serving)
 }
 
 #[cfg(target_os = "linux")]
-fn socketcan(path: &Path, iface: &str, trace: bool, ready: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
+fn socketcan(
+    path: &Path,
+    iface: &str,
+    log: Option<FrameLog>,
+    ready: impl FnOnce(&Serving) -> Result<()>,
+) -> Result<()> {
     let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
     // The interface is a bus with its own timing: the devices only answer late.
     let sim = super::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
     let how = format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C");
     ready(&Serving { pty: None, how })?;
-    super::bridge::run(sim, &mut can, trace)
+    super::bridge::run(sim, &mut can, log)
 }
 
 /// The simulated EPOS2 on a pseudo-terminal.
@@ -119,12 +130,12 @@ fn epos2(
     baud: Option<u32>,
     faults: &[Fault],
     can_timeout: Duration,
-    trace: bool,
+    log: Option<FrameLog>,
     ready: impl FnOnce(&Serving) -> Result<()>,
 ) -> Result<()> {
     use super::epos2_serve::{self, ServeOptions};
     let link = super::SimLink::open(StateFile::lock(path)?)?;
-    let device = super::epos2_device::Epos2Device::new(link, can_timeout, trace);
+    let device = super::epos2_device::Epos2Device::new(link, can_timeout).with_frame_log(log);
     let opts = ServeOptions { framing, baud, faults: faults.to_vec() };
     epos2_serve::serve(device, &opts, |pty| {
         let kind = if framing == Framing::Rs232 { "epos2-rs232" } else { "epos2-usb" };
@@ -137,7 +148,12 @@ fn epos2(
 /// The devices behind a simulated slcan adapter: the adapter is a frame link, bridged to
 /// the sim network as a CAN interface is.
 #[cfg(unix)]
-fn slcan(path: &Path, faults: &[Fault], trace: bool, ready: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
+fn slcan(
+    path: &Path,
+    faults: &[Fault],
+    log: Option<FrameLog>,
+    ready: impl FnOnce(&Serving) -> Result<()>,
+) -> Result<()> {
     use super::serial_fault::FaultKind;
     let adapter_faults = [FaultKind::Nack, FaultKind::Crc, FaultKind::Garbage, FaultKind::Drop, FaultKind::Mute];
     if let Some(f) = faults.iter().find(|f| !adapter_faults.contains(&f.kind)) {
@@ -158,5 +174,5 @@ fn slcan(path: &Path, faults: &[Fault], trace: bool, ready: impl FnOnce(&Serving
          stop with Ctrl-C"
     );
     ready(&Serving { pty: Some(pty), how })?;
-    super::bridge::run(sim, &mut adapter, trace)
+    super::bridge::run(sim, &mut adapter, log)
 }

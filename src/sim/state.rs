@@ -4,8 +4,9 @@
 use super::device::DeviceState;
 use crate::error::{Error, LinkError, Result};
 use std::collections::BTreeMap;
-use std::fs::{File, OpenOptions};
+use std::fs::{File, OpenOptions, TryLockError};
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 pub const VERSION: u32 = 1;
 
@@ -23,8 +24,40 @@ pub struct NetworkState {
 
 pub struct StateFile {
     path: PathBuf,
+    /// Who holds the lock, for the next process that finds it taken.
+    owner_path: PathBuf,
     /// Held for the life of this value: one process drives the sim network at a time.
     _lock: File,
+}
+
+/// How long opening the sim network waits for another process using it: long enough for
+/// a command that is finishing, short of hanging behind a server (`canctl sim --...`) that
+/// runs until stopped.
+pub const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(10);
+
+/// How often a taken lock is tried again.
+const LOCK_RETRY: Duration = Duration::from_millis(50);
+
+/// The process holding the sim network, as it recorded itself beside the lock.
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, PartialEq, Eq)]
+pub struct Holder {
+    pub pid: u32,
+    /// Its command line, program name without its directory: `canctl sim --epos2-rs232`.
+    pub command: String,
+}
+
+impl Holder {
+    fn this_process() -> Holder {
+        let mut args = std::env::args_os();
+        let program = args.next().map(|a| Path::new(&a).file_name().unwrap_or(&a).to_string_lossy().into_owned());
+        let rest = args.map(|a| a.to_string_lossy().into_owned());
+        let command = program.into_iter().chain(rest).collect::<Vec<_>>().join(" ");
+        Holder { pid: std::process::id(), command }
+    }
+
+    fn read(owner_path: &Path) -> Option<Holder> {
+        serde_json::from_str(&std::fs::read_to_string(owner_path).ok()?).ok()
+    }
 }
 
 /// `$XDG_STATE_HOME/canctl/sim.json`, else `~/.local/state/canctl/sim.json`.
@@ -36,24 +69,78 @@ fn link_err(path: &Path, what: &'static str, e: impl std::fmt::Display) -> Error
     LinkError::StateFile { path: path.to_path_buf(), what, detail: e.to_string() }.into()
 }
 
+/// Who is using the sim network, in words.
+fn holder_text(holder: &Option<Holder>) -> String {
+    match holder {
+        Some(h) => format!("pid {} ({})", h.pid, h.command),
+        None => "another process (it did not record which)".into(),
+    }
+}
+
+/// `10 s`, `1.5 s`, `250 ms`.
+fn duration_text(d: Duration) -> String {
+    if d < Duration::from_secs(1) {
+        format!("{} ms", d.as_millis())
+    } else {
+        format!("{} s", d.as_secs_f64())
+    }
+}
+
 impl StateFile {
-    /// Lock the state at `path` (waiting for another canctl using it to finish).
+    /// Lock the state at `path`, waiting up to [`DEFAULT_LOCK_WAIT`] for another process
+    /// using it.
     pub fn lock(path: &Path) -> Result<StateFile> {
+        StateFile::lock_within(path, DEFAULT_LOCK_WAIT)
+    }
+
+    /// Lock the state at `path`, waiting up to `wait` for another process using it; then a
+    /// link error (exit 5) that names that process and how to proceed.
+    pub fn lock_within(path: &Path, wait: Duration) -> Result<StateFile> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| link_err(path, "cannot create its directory", e))?;
         }
         let lock_path = path.with_extension("lock");
+        let owner_path = path.with_extension("owner");
         let lock = OpenOptions::new()
             .create(true)
             .truncate(false)
             .write(true)
             .open(&lock_path)
             .map_err(|e| link_err(&lock_path, "cannot open", e))?;
-        if lock.try_lock().is_err() {
-            eprintln!("canctl: waiting for another canctl using the sim network ({})", path.display());
-            lock.lock().map_err(|e| link_err(&lock_path, "cannot lock", e))?;
+        let give_up = Instant::now() + wait;
+        let mut told = false;
+        loop {
+            match lock.try_lock() {
+                Ok(()) => break,
+                Err(TryLockError::Error(e)) => return Err(link_err(&lock_path, "cannot lock", e)),
+                Err(TryLockError::WouldBlock) => {}
+            }
+            let holder = Holder::read(&owner_path);
+            if Instant::now() >= give_up {
+                return Err(LinkError::SimInUse { holder: holder_text(&holder), waited: wait }.into());
+            }
+            if !told {
+                tracing::warn!(
+                    target: "canctl::sim",
+                    pid = holder.as_ref().map(|h| h.pid),
+                    "the sim network ({}) is in use by {}: waiting up to {}",
+                    path.display(),
+                    holder_text(&holder),
+                    duration_text(wait)
+                );
+                told = true;
+            }
+            std::thread::sleep(LOCK_RETRY.min(give_up.saturating_duration_since(Instant::now())));
         }
-        Ok(StateFile { path: path.to_path_buf(), _lock: lock })
+        tracing::trace!(target: "canctl::sim", "locked the sim network ({})", path.display());
+        // Best effort: without it the next process is only told "another process". Renamed
+        // into place, so that it is never read half written.
+        let holder = serde_json::to_string(&Holder::this_process()).expect("holder serialises");
+        let tmp = path.with_extension("owner.tmp");
+        if let Err(e) = std::fs::write(&tmp, holder).and_then(|()| std::fs::rename(&tmp, &owner_path)) {
+            tracing::trace!(target: "canctl::sim", "cannot record this process in {}: {e}", owner_path.display());
+        }
+        Ok(StateFile { path: path.to_path_buf(), owner_path, _lock: lock })
     }
 
     pub fn path(&self) -> &Path {
@@ -104,5 +191,49 @@ impl StateFile {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
             Err(e) => Err(link_err(&self.path, "cannot remove", e)),
         }
+    }
+}
+
+impl Drop for StateFile {
+    /// The record goes before the lock does (fields drop after this), so that it never
+    /// names a process that no longer holds the lock.
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.owner_path);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A second lock on the same file waits its bounded time and names the holder; once
+    /// the holder is gone the lock is free again.
+    #[test]
+    fn a_taken_lock_is_waited_for_a_bounded_time_and_names_its_holder() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sim.json");
+        let held = StateFile::lock(&path).unwrap();
+        let recorded = Holder::read(&path.with_extension("owner")).expect("the holder is recorded");
+        assert_eq!(recorded.pid, std::process::id());
+        // flock locks belong to each open file: a second open in this process is refused
+        // as another process's would be.
+        let err = StateFile::lock_within(&path, Duration::from_millis(100)).err().expect("the lock is taken");
+        assert_eq!(err.exit_code(), 5);
+        let msg = err.to_string();
+        assert!(msg.contains(&format!("in use by pid {} ({})", recorded.pid, recorded.command)), "{msg}");
+        assert!(msg.contains("--bus sim:OTHER.state (waited 100 ms)"), "{msg}");
+        drop(held);
+        assert!(!path.with_extension("owner").exists(), "the record goes with the lock");
+        StateFile::lock_within(&path, Duration::ZERO).expect("free again");
+    }
+
+    #[test]
+    fn a_holder_that_recorded_nothing_is_still_told() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sim.json");
+        let _held = StateFile::lock(&path).unwrap();
+        std::fs::remove_file(path.with_extension("owner")).unwrap();
+        let msg = StateFile::lock_within(&path, Duration::ZERO).err().unwrap().to_string();
+        assert!(msg.contains("in use by another process"), "{msg}");
     }
 }

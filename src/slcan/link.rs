@@ -72,6 +72,7 @@ impl<P: SerialIo> SlcanLink<P> {
     }
 
     fn write(&mut self, bytes: &[u8]) -> Result<()> {
+        tracing::trace!(target: "canctl::slcan", "{} < {:?}", self.name, String::from_utf8_lossy(bytes));
         let written = self.port.write_all(bytes);
         written.map_err(|e| self.io_error("cannot write", e))
     }
@@ -86,6 +87,7 @@ impl<P: SerialIo> SlcanLink<P> {
             if n == 0 {
                 return Ok(answers);
             }
+            tracing::trace!(target: "canctl::slcan", "{} > {:?}", self.name, String::from_utf8_lossy(&buf[..n]));
             for m in self.decoder.push(&buf[..n]) {
                 match m {
                     Ok(Message::Frame(f)) => self.rx.push_back(f),
