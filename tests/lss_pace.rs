@@ -195,3 +195,28 @@ fn an_interrupted_assign_reports_what_it_did_and_leaves_the_bus_waiting() {
     assert_eq!(rest["assigned"].as_array().unwrap().len(), 8 - done);
     assert!(rest["assigned"].as_array().unwrap().iter().all(|d| d["node"].as_u64().unwrap() >= 20 + done as u64));
 }
+
+/// Ctrl-C (or SIGTERM) while a slow slave takes its new node-id: the one LSS service is done
+/// all the same, and the report says so, with what is left to do (store), before exit 130.
+/// Before, canctl said only "interrupted" and the node-id changed unreported.
+#[test]
+fn an_interrupted_set_id_says_the_node_id_was_taken() {
+    for signal in [nix::sys::signal::Signal::SIGINT, nix::sys::signal::Signal::SIGTERM] {
+        let sim = Sim::new();
+        // The sensor answers two seconds late: the signal comes while canctl waits.
+        reset(&sim, &["--fault", "sensor:delay=2000"]);
+        let r = interrupt_when(
+            &sim,
+            &["-v", "lss", "set-id", "7", "--identity", "0x40:0x43787800:0x312E3031:0x09501234"],
+            |l| l.contains(" 7E5 ") && l.contains("11 07 00"),
+            signal,
+        );
+        assert_eq!(r.code, 130, "{signal}: {}", r.stderr);
+        assert!(r.stdout.contains("node-id 7"), "{signal}: {}", r.stdout);
+        assert!(r.stderr.contains("interrupted after the set-id was confirmed"), "{signal}: {}", r.stderr);
+        assert!(r.stderr.contains("lss store"), "{signal}: {}", r.stderr);
+        // What the report says is what the bus holds: the sensor answers at 7 (still late).
+        let serial = sim.run(&["sdo", "read", "7", "1018:4", "--format", "json"]).ok().json();
+        assert_eq!(serial["value"], 0x09501234, "{serial}");
+    }
+}

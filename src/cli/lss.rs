@@ -198,10 +198,13 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
     // configuration state.
     interrupt::catch();
     let (t, stop) = (ctx.timeout, interrupt::flag());
-    let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| {
-        ctx.out
-            .report(&lss::configure(bus, t, target.get(setting.verb())?, setting, stop)?)
-            .map_err(anyhow::Error::from)
+    let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> anyhow::Result<()> {
+        let done = lss::configure(bus, t, target.get(setting.verb())?, setting, stop)?;
+        ctx.out.report(&done)?;
+        if done.interrupted {
+            return Err(crate::Error::Interrupted.into());
+        }
+        Ok(())
     };
     match cmd {
         LssCommand::Inquire(a) => ctx.out.report(&lss::inquire(bus, t, a.get("inquire")?)?)?,

@@ -169,6 +169,10 @@ pub struct Configured {
     pub result: String,
     /// How many devices confirmed it.
     pub answers: usize,
+    /// The user asked to stop while it was under way: it was done all the same (one LSS
+    /// service cannot be half done), and nothing after it.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub interrupted: bool,
 }
 
 /// Give the target a node-id or a bit rate, or make it store them: over LSS, or through
@@ -180,6 +184,9 @@ pub fn configure(
     setting: Setting,
     interrupted: &AtomicBool,
 ) -> Result<Configured> {
+    if interrupted.load(Ordering::SeqCst) {
+        return Err(Error::Interrupted);
+    }
     let (result, answers) = match target {
         Target::DirectEpos2 => (configure_direct_epos2(bus, timeout, setting)?, 1),
         Target::One(_) | Target::All => {
@@ -193,9 +200,6 @@ pub fn configure(
                 .and_then(|_| m.configure(setting.request(), setting.verb(), identity.is_none()));
             m.leave()?;
             let n = result?;
-            if interrupted.load(Ordering::SeqCst) {
-                return Err(Error::Interrupted);
-            }
             let what = match setting {
                 Setting::NodeId(UNCONFIGURED) => "node-id removed (255)".to_string(),
                 Setting::NodeId(id) => format!("node-id {id}"),
@@ -208,7 +212,8 @@ pub fn configure(
             (what, n)
         }
     };
-    Ok(Configured { command: setting.verb(), target: target.text(), result, answers })
+    let interrupted = interrupted.load(Ordering::SeqCst);
+    Ok(Configured { command: setting.verb(), target: target.text(), result, answers, interrupted })
 }
 
 /// EPOS2 firmware specification, object 0x2001 "CAN Bitrate": 0 = 1 Mbit/s, 1 = 800 k,

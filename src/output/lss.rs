@@ -23,6 +23,16 @@ impl Report for Configured {
     fn human(&self) -> Human {
         Human::Line(format!("{}: {}", self.target, self.result))
     }
+    fn notes(&self) -> Vec<String> {
+        if !self.interrupted {
+            return Vec::new();
+        }
+        let kept = match self.command {
+            "store" => "it is stored",
+            _ => "it holds until a reset or power-off; `canctl lss store` with the same target keeps it",
+        };
+        vec![format!("interrupted after the {} was confirmed: {kept}; nothing else was done", self.command)]
+    }
     fn csv(&self) -> Human {
         table(vec!["command", "target", "result"], vec![self.command.into(), self.target.clone(), self.result.clone()])
     }
