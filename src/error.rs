@@ -40,10 +40,6 @@ pub enum Error {
     NotOnThisBus { bus: String, why: &'static str },
 
     // ---- no response (exit 3) ----
-    /// Nobody answered in time, said in free form. Being replaced by the variants below;
-    /// to ask "did nobody answer?", use [`Error::is_timeout`], never a match on this variant.
-    #[error("{0}")]
-    Timeout(String),
     /// A node did not answer at all (`node` 0: all nodes, as NMT addresses them).
     #[error("{}", no_answer_text(*node, what, *waited))]
     NoAnswer { node: u8, what: Service, waited: Duration },
@@ -74,10 +70,6 @@ pub enum Error {
     /// The device refused an SDO transfer.
     #[error("node {node}: SDO abort 0x{code:08X} on {obj}: {}", abort::meaning(*code))]
     SdoAbort { node: u8, obj: ObjAddr, code: u32 },
-    /// The device refused something else, said in free form (being replaced by the
-    /// variants below).
-    #[error("{0}")]
-    Refused(String),
     /// An LSS device answered a configuration service with an error.
     #[error("LSS {service}: error {error}: {}{}", crate::canopen::lss::error_meaning(*cs, *error),
         if *error == 255 { format!(" (specific code {specific})") } else { String::new() })]
@@ -101,9 +93,6 @@ pub enum Error {
     Link(LinkError),
 
     // ---- verification failed (exit 6) ----
-    /// A check failed, said in free form (being replaced by the variants below).
-    #[error("{0}")]
-    Verify(String),
     /// An object read back other than what was written.
     #[error("node {node}: {obj} reads back {read} after writing {wrote}")]
     ReadBack { node: u8, obj: ObjAddr, wrote: String, read: String },
@@ -184,8 +173,7 @@ impl Error {
             | Error::TooLargeForSdo { .. }
             | Error::SlcanBitRate { .. }
             | Error::NotOnThisBus { .. } => C::Usage,
-            Error::Timeout(_)
-            | Error::NoAnswer { .. }
+            Error::NoAnswer { .. }
             | Error::SdoUnfinished { .. }
             | Error::NoRemoteAnswer { .. }
             | Error::NoLssAnswer { .. }
@@ -194,14 +182,12 @@ impl Error {
             Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } => C::Link,
             Error::Fastscan { .. } => C::Timeout,
             Error::SdoAbort { .. }
-            | Error::Refused(_)
             | Error::LssRefused { .. }
             | Error::Epos2Refused { .. }
             | Error::NoFreeNodeId { .. }
             | Error::StoreRefused { .. } => C::Refused,
             Error::Link(_) => C::Link,
-            Error::Verify(_)
-            | Error::ReadBack { .. }
+            Error::ReadBack { .. }
             | Error::ReadBackMany { .. }
             | Error::Differs { .. }
             | Error::OtherDevice { .. } => C::Verify,

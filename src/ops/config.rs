@@ -132,11 +132,7 @@ fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> 
     if differ.is_empty() {
         return Ok(());
     }
-    Err(Error::Verify(format!(
-        "{} is for another device: {}. Nothing was written; --force applies it anyway",
-        dcf.path(),
-        differ.join(", ")
-    )))
+    Err(Error::OtherDevice { file: dcf.path().to_string(), differences: differ })
 }
 
 /// A value the target's dictionary does not allow, refused before anything is written.
@@ -265,12 +261,7 @@ impl Diff {
         if self.differences.is_empty() {
             return Ok(());
         }
-        Err(Error::Verify(format!(
-            "node {} differs from {} in {} object(s)",
-            self.node,
-            self.file,
-            self.differences.len()
-        )))
+        Err(Error::Differs { node: self.node, file: self.file.clone(), count: self.differences.len() })
     }
 }
 
@@ -495,12 +486,7 @@ impl Applied {
             return Err(e.with_hint(format!("; did you mean {}?", self.did_you_mean.join(", "))));
         }
         if !self.mismatch.is_empty() {
-            let list: Vec<String> = self.mismatch.iter().map(|m| m.to_string()).collect();
-            return Err(Error::Verify(format!(
-                "node {}: {} read back other values than written",
-                self.node,
-                list.join(", ")
-            )));
+            return Err(Error::ReadBackMany { node: self.node, objects: self.mismatch });
         }
         Ok(())
     }

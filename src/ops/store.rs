@@ -3,7 +3,7 @@
 use super::{as_text, le_u32, sized};
 use crate::bus::Bus;
 use crate::canopen::{abort, ObjAddr};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, StoreRefusal};
 use serde::Serialize;
 use std::time::Duration;
 
@@ -97,33 +97,26 @@ fn signature(bus: &mut dyn Bus, node: u8, sig: Signature, class: Class, t: Timeo
     let highest = match bus.sdo_upload(node, ObjAddr::new(index, 0), &sized(t.answer, Some(1))) {
         Ok(v) => v.first().copied().unwrap_or(0),
         Err(Error::SdoAbort { code: abort::NO_OBJECT, .. }) => {
-            return Err(Error::Refused(format!(
-                "node {node} has no object 0x{index:04X}: it cannot {verb} parameters"
-            )));
+            return Err(Error::StoreRefused { node, verb, why: StoreRefusal::NoObject { index } });
         }
         Err(e) => return Err(e),
     };
     let addr = ObjAddr::new(index, class.sub());
     if class.sub() > highest {
-        let offered: Vec<&str> = [Class::All, Class::Comm, Class::App, Class::Mfr]
+        let offered = [Class::All, Class::Comm, Class::App, Class::Mfr]
             .iter()
             .filter(|c| c.sub() <= highest)
             .map(|c| c.text())
             .collect();
-        return Err(Error::Refused(format!(
-            "node {node} cannot {verb} {} (0x{index:04X}:0 = {highest}; it offers: {})",
-            class.text(),
-            if offered.is_empty() { "nothing".to_string() } else { offered.join(", ") }
-        )));
+        let why = StoreRefusal::NotOffered { class: class.text(), index, highest, offered };
+        return Err(Error::StoreRefused { node, verb, why });
     }
     let caps = le_u32(&bus.sdo_upload(node, addr, &sized(t.answer, Some(4)))?);
     // Bit 0: the device does this on command. (For 0x1010 bit 1 means it saves on its own.)
     if caps & 1 == 0 {
-        let own = if sig == Signature::Save && caps & 2 != 0 { ": it saves them by itself" } else { "" };
-        return Err(Error::Refused(format!(
-            "node {node} does not {verb} {} on command ({addr} = 0x{caps:08X}){own}",
-            class.text()
-        )));
+        let saves_itself = sig == Signature::Save && caps & 2 != 0;
+        let why = StoreRefusal::NotOnCommand { class: class.text(), obj: addr, caps, saves_itself };
+        return Err(Error::StoreRefused { node, verb, why });
     }
     bus.sdo_download(node, addr, bytes, &sized(t.write, Some(4)))?;
     Ok(addr)
