@@ -5,6 +5,8 @@
 //! error's text to decide anything.
 //!
 //! The display texts are the messages canctl prints; tests and the README quote them.
+//! To ask what kind of failure an error is, use [`Error::class`] or [`Error::is_timeout`]
+//! (which see through [`Error::Hinted`]), not a match on one variant of the class.
 
 use crate::canopen::lss::{FastscanError, Identity};
 use crate::canopen::{abort, ObjAddr};
@@ -38,7 +40,8 @@ pub enum Error {
     NotOnThisBus { bus: String, why: &'static str },
 
     // ---- no response (exit 3) ----
-    /// Nobody answered in time, said in free form.
+    /// Nobody answered in time, said in free form. Being replaced by the variants below;
+    /// to ask "did nobody answer?", use [`Error::is_timeout`], never a match on this variant.
     #[error("{0}")]
     Timeout(String),
     /// A node did not answer at all (`node` 0: all nodes, as NMT addresses them).
@@ -71,7 +74,8 @@ pub enum Error {
     /// The device refused an SDO transfer.
     #[error("node {node}: SDO abort 0x{code:08X} on {obj}: {}", abort::meaning(*code))]
     SdoAbort { node: u8, obj: ObjAddr, code: u32 },
-    /// The device refused something else, said in free form.
+    /// The device refused something else, said in free form (being replaced by the
+    /// variants below).
     #[error("{0}")]
     Refused(String),
     /// An LSS device answered a configuration service with an error.
@@ -97,7 +101,7 @@ pub enum Error {
     Link(LinkError),
 
     // ---- verification failed (exit 6) ----
-    /// A check failed, said in free form.
+    /// A check failed, said in free form (being replaced by the variants below).
     #[error("{0}")]
     Verify(String),
     /// An object read back other than what was written.

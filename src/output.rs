@@ -9,7 +9,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
+mod lss;
 mod nodes;
+mod records;
+mod reports;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
@@ -109,14 +112,13 @@ pub enum Human {
 /// A typed report: serialised as it is for JSON, shown as [`Human`] otherwise.
 pub trait Report: serde::Serialize {
     fn human(&self) -> Human;
+    /// How the report looks in CSV, when that is not as for people (a row for a sentence).
+    fn csv(&self) -> Human {
+        self.human()
+    }
     /// Remarks on stderr after the result (not in JSON, not with --quiet).
     fn notes(&self) -> Vec<String> {
         Vec::new()
-    }
-    /// The report in CSV when that is not its human form (a sentence for people, a row
-    /// for scripts); the notes, which are for people, are then left out.
-    fn csv(&self) -> Option<Human> {
-        None
     }
 }
 
@@ -126,13 +128,9 @@ impl Output {
         if self.format == Format::Json {
             return self.json(&serde_json::to_value(report).expect("reports serialise"));
         }
-        let csv = if self.format == Format::Csv { report.csv() } else { None };
-        let for_people = csv.is_none();
-        self.human(csv.unwrap_or_else(|| report.human()))?;
-        if for_people {
-            for note in report.notes() {
-                self.note(&note);
-            }
+        self.human(if self.format == Format::Csv { report.csv() } else { report.human() })?;
+        for note in report.notes() {
+            self.note(&note);
         }
         Ok(())
     }

@@ -89,26 +89,3 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()>
     }
     Ok(())
 }
-
-pub(super) use crate::ops::nmt::Confirmation as Reset;
-
-/// Send a reset and wait until the target is back (for `restore --reset`).
-pub(super) fn reset_and_wait(
-    ctx: &Ctx,
-    bus: &mut dyn Bus,
-    cmd: Command,
-    target: u8,
-    wait: Duration,
-) -> crate::Result<Reset> {
-    nmt::reset_and_wait(bus, cmd, target, &ResetOptions { wait, timeout: ctx.timeout })
-}
-
-/// A node's NMT state and how it was learned (for `stream-pdo`).
-pub(super) fn query_state(
-    ctx: &Ctx,
-    bus: &mut dyn Bus,
-    node: u8,
-    listen: Duration,
-) -> crate::Result<(crate::canopen::nmt::State, &'static str)> {
-    nmt::state(bus, node, &StateOptions { listen, timeout: ctx.timeout }).map(|s| (s.state, s.source))
-}

@@ -29,11 +29,6 @@ pub struct ScanArgs {
     pub window: Duration,
 }
 
-/// Every node that answers an SDO read of 0x1000 within `window` (for `lss assign`).
-pub fn probe(ctx: &Ctx, bus: &mut dyn Bus, window: Duration) -> crate::Result<Vec<(u8, Option<u32>)>> {
-    scan::probe(bus, window, &mut ctx.out.progress())
-}
-
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
     let report = scan::scan(bus, &options, &mut ctx.out.progress())?;

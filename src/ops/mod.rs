@@ -5,12 +5,14 @@
 
 pub mod config;
 pub mod dictionaries;
+pub mod lss;
 pub mod monitor;
 pub mod nmt;
 pub mod pdo;
 pub mod scan;
 pub mod scan_cache;
 pub mod sdo;
+pub mod silence;
 pub mod store;
 
 use crate::bus::SdoOptions;

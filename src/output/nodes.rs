@@ -50,14 +50,14 @@ impl Report for Scan {
         Human::Parts(parts)
     }
 
-    fn csv(&self) -> Option<Human> {
-        Some(scan_table(self))
+    fn csv(&self) -> Human {
+        scan_table(self)
     }
 }
 
 /// One row under its headers, for CSV.
-fn row(headers: Vec<&'static str>, row: Vec<String>) -> Option<Human> {
-    Some(Human::Table { headers, rows: vec![row], when_empty: true })
+fn row(headers: Vec<&'static str>, row: Vec<String>) -> Human {
+    Human::Table { headers, rows: vec![row], when_empty: true }
 }
 
 impl Report for Read {
@@ -68,7 +68,7 @@ impl Report for Read {
         })
     }
 
-    fn csv(&self) -> Option<Human> {
+    fn csv(&self) -> Human {
         let (dtype, value) = (self.dtype.map_or("", |t| t.name()), self.value.as_ref().map(|v| v.to_string()));
         let values = [self.node.to_string(), self.object.to_string(), dtype.into(), self.size.to_string()];
         let values = [values.to_vec(), vec![hex(&self.bytes), value.unwrap_or_default()]].concat();
@@ -96,7 +96,7 @@ impl Report for Saved {
         Human::Line(format!("{} bytes from node {} {} written to {}", self.size, self.node, self.object, self.file))
     }
 
-    fn csv(&self) -> Option<Human> {
+    fn csv(&self) -> Human {
         let values = vec![self.node.to_string(), self.object.to_string(), self.size.to_string(), self.file.clone()];
         row(vec!["node", "object", "size", "file"], values)
     }
@@ -109,7 +109,7 @@ impl Report for Written {
         Human::Line(format!("node {} {} = {shown} ({}): {what}", self.node, self.object, self.dtype))
     }
 
-    fn csv(&self) -> Option<Human> {
+    fn csv(&self) -> Human {
         let (node, object, dtype) = (self.node.to_string(), self.object.to_string(), self.dtype.name().to_string());
         let value = sdo::shown(self.dtype, &self.bytes);
         let values = vec![node, object, dtype, self.size.to_string(), value, self.verified.to_string()];
@@ -122,11 +122,11 @@ impl Report for Sent {
         Human::Line(format!("NMT {} sent to {}", self.command.name(), target_text(self.target)))
     }
 
-    fn csv(&self) -> Option<Human> {
+    fn csv(&self) -> Human {
         // The target as in JSON: 5, or "all" with its quotes.
         let target = if self.target == ALL_NODES { "\"all\"".into() } else { self.target.to_string() };
         let rows = vec![vec![self.command.name().into(), target, "true".into()]];
-        Some(Human::Table { headers: vec!["command", "target", "sent"], rows, when_empty: true })
+        Human::Table { headers: vec!["command", "target", "sent"], rows, when_empty: true }
     }
 }
 
@@ -143,11 +143,11 @@ impl Report for Reset {
         })
     }
 
-    fn csv(&self) -> Option<Human> {
-        let nodes = self.booted.as_ref()?;
+    fn csv(&self) -> Human {
+        let Some(nodes) = &self.booted else { return self.human() };
         let state = self.state.map_or("", |s| s.name());
         let rows = nodes.iter().map(|n| vec![n.to_string(), state.into()]).collect();
-        Some(Human::Table { headers: vec!["node", "state"], rows, when_empty: true })
+        Human::Table { headers: vec!["node", "state"], rows, when_empty: true }
     }
 }
 
@@ -156,8 +156,8 @@ impl Report for NodeState {
         Human::Line(format!("node {}: {} (from {})", self.node, self.state, self.source))
     }
 
-    fn csv(&self) -> Option<Human> {
+    fn csv(&self) -> Human {
         let rows = vec![vec![self.node.to_string(), self.state.name().into(), self.source.into()]];
-        Some(Human::Table { headers: vec!["node", "state", "source"], rows, when_empty: true })
+        Human::Table { headers: vec!["node", "state", "source"], rows, when_empty: true }
     }
 }
