@@ -187,10 +187,9 @@ impl Error {
             | Error::NoFreeNodeId { .. }
             | Error::StoreRefused { .. } => C::Refused,
             Error::Link(_) => C::Link,
-            Error::ReadBack { .. }
-            | Error::ReadBackMany { .. }
-            | Error::Differs { .. }
-            | Error::OtherDevice { .. } => C::Verify,
+            Error::ReadBack { .. } | Error::ReadBackMany { .. } | Error::Differs { .. } | Error::OtherDevice { .. } => {
+                C::Verify
+            }
             Error::Output { .. } => C::Output,
             Error::Interrupted => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),

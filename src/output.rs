@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 mod lss;
+mod nodes;
 mod records;
 mod reports;
 

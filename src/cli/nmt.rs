@@ -3,8 +3,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::{Bus, ALL_NODES};
 use crate::canopen::nmt::Command;
-use crate::ops::nmt::{self, target_text, NodeState, ResetOptions, Sent, StateOptions};
-use crate::output::{Human, Report};
+use crate::ops::nmt::{self, ResetOptions, StateOptions};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -89,49 +88,4 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()>
         }
     }
     Ok(())
-}
-
-impl Report for Sent {
-    fn human(&self) -> Human {
-        Human::Line(format!("NMT {} sent to {}", self.command.name(), target_text(self.target)))
-    }
-
-    fn csv(&self) -> Human {
-        // The target as in JSON: 5, or "all" with its quotes.
-        let target = if self.target == ALL_NODES { "\"all\"".into() } else { self.target.to_string() };
-        let rows = vec![vec![self.command.name().into(), target, "true".into()]];
-        Human::Table { headers: vec!["command", "target", "sent"], rows, when_empty: true }
-    }
-}
-
-impl Report for nmt::Reset {
-    fn human(&self) -> Human {
-        let (command, target) = (self.command.name(), target_text(self.target));
-        Human::Line(match (&self.booted, &self.why) {
-            (Some(nodes), _) => {
-                let list: Vec<String> = nodes.iter().map(|n| n.to_string()).collect();
-                let (state, how) = (self.state.map_or("", |s| s.name()), self.seen_by.as_deref().unwrap_or(""));
-                format!("booted after NMT {command}: node {} (now {state}; seen by {how})", list.join(", "))
-            }
-            (None, why) => format!("NMT {command} sent to {target}; not confirmed: {}", why.as_deref().unwrap_or("")),
-        })
-    }
-
-    fn csv(&self) -> Human {
-        let Some(nodes) = &self.booted else { return self.human() };
-        let state = self.state.map_or("", |s| s.name());
-        let rows = nodes.iter().map(|n| vec![n.to_string(), state.into()]).collect();
-        Human::Table { headers: vec!["node", "state"], rows, when_empty: true }
-    }
-}
-
-impl Report for NodeState {
-    fn human(&self) -> Human {
-        Human::Line(format!("node {}: {} (from {})", self.node, self.state, self.source))
-    }
-
-    fn csv(&self) -> Human {
-        let rows = vec![vec![self.node.to_string(), self.state.name().into(), self.source.into()]];
-        Human::Table { headers: vec!["node", "state", "source"], rows, when_empty: true }
-    }
 }

@@ -2,10 +2,8 @@
 
 use super::{parse_sdo_node, Ctx};
 use crate::bus::Bus;
-use crate::canopen::types::{hex, obvious_unsigned};
 use crate::canopen::DataType;
-use crate::ops::sdo::{self, Read, ReadOptions, Saved, WriteOptions, Written};
-use crate::output::{Human, Report};
+use crate::ops::sdo::{self, ReadOptions, WriteOptions};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::path::PathBuf;
@@ -126,69 +124,6 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()>
         }
     }
     Ok(())
-}
-
-/// One row under its headers, for CSV.
-fn row(headers: Vec<&'static str>, row: Vec<String>) -> Human {
-    Human::Table { headers, rows: vec![row], when_empty: true }
-}
-
-impl Report for Read {
-    fn human(&self) -> Human {
-        // What the device sent is one value: a line break in it is shown, not obeyed.
-        Human::Line(match (&self.value, self.dtype) {
-            (Some(v), Some(_)) => crate::output::terminal_safe(&v.to_string()).into_owned(),
-            _ => untyped(&self.bytes),
-        })
-    }
-
-    fn csv(&self) -> Human {
-        let (dtype, value) = (self.dtype.map_or("", |t| t.name()), self.value.as_ref().map(|v| v.to_string()));
-        let values = [self.node.to_string(), self.object.to_string(), dtype.into(), self.size.to_string()];
-        let values = [values.to_vec(), vec![hex(&self.bytes), value.unwrap_or_default()]].concat();
-        row(vec!["node", "object", "type", "size", "raw", "value"], values)
-    }
-}
-
-/// Raw bytes, then what they obviously are: `92 01 02 00  (u32 131474 = 0x00020192)`.
-fn untyped(bytes: &[u8]) -> String {
-    let spaced: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
-    let mut s = spaced.join(" ");
-    if let Some(v) = obvious_unsigned(bytes) {
-        let width = bytes.len() * 2;
-        s += &format!("  (u{} {v} = 0x{v:0width$X})", bytes.len() * 8);
-    } else if !bytes.is_empty() && bytes.iter().all(|b| (0x20..0x7F).contains(b)) {
-        s += &format!("  \"{}\"", String::from_utf8_lossy(bytes));
-    } else if bytes.is_empty() {
-        s = "(empty)".into();
-    }
-    s
-}
-
-impl Report for Saved {
-    fn human(&self) -> Human {
-        Human::Line(format!("{} bytes from node {} {} written to {}", self.size, self.node, self.object, self.file))
-    }
-
-    fn csv(&self) -> Human {
-        let values = vec![self.node.to_string(), self.object.to_string(), self.size.to_string(), self.file.clone()];
-        row(vec!["node", "object", "size", "file"], values)
-    }
-}
-
-impl Report for Written {
-    fn human(&self) -> Human {
-        let what = if self.verified { "written and verified" } else { "written" };
-        let shown = if self.size > 32 { format!("{} bytes", self.size) } else { sdo::shown(self.dtype, &self.bytes) };
-        Human::Line(format!("node {} {} = {shown} ({}): {what}", self.node, self.object, self.dtype))
-    }
-
-    fn csv(&self) -> Human {
-        let (node, object, dtype) = (self.node.to_string(), self.object.to_string(), self.dtype.name().to_string());
-        let value = sdo::shown(self.dtype, &self.bytes);
-        let values = vec![node, object, dtype, self.size.to_string(), value, self.verified.to_string()];
-        row(vec!["node", "object", "type", "size", "value", "verified"], values)
-    }
 }
 
 #[cfg(test)]

@@ -1,4 +1,4 @@
-//! One object read ([`read`]) or written ([`write`]), any size, any type: expedited,
+//! One object read ([`read()`]) or written ([`write()`]), any size, any type: expedited,
 //! segmented or block transfer as the size and the device allow. The node's dictionary
 //! gives the type when none is asked for, the object's name, and the limits a value must
 //! keep to.

@@ -1,0 +1,164 @@
+//! How the reports of scan, sdo and nmt look to people and in CSV.
+
+use super::{Human, Report};
+use crate::bus::ALL_NODES;
+use crate::canopen::types::{hex, obvious_unsigned};
+use crate::ops::nmt::{target_text, NodeState, Reset, Sent};
+use crate::ops::scan::Scan;
+use crate::ops::sdo::{self, Read, Saved, Written};
+
+/// The nodes found, one row each.
+fn scan_table(scan: &Scan) -> Human {
+    let hex = |v: Option<u32>| v.map_or("-".to_string(), |v| format!("0x{v:08X}"));
+    let headers = vec!["node", "device_type", "vendor_id", "product_code", "revision", "serial", "name", "state"];
+    let rows = scan.nodes.iter().map(|f| {
+        let identity = [f.device_type, f.vendor_id, f.product_code, f.revision, f.serial].map(hex);
+        let (name, state) = (f.name.clone().unwrap_or_else(|| "-".into()), f.state.map_or("unknown", |s| s.name()));
+        [vec![f.node.to_string()], identity.to_vec(), vec![name, state.into()]].concat()
+    });
+    Human::Table { headers, rows: rows.collect(), when_empty: true }
+}
+
+impl Report for Scan {
+    fn human(&self) -> Human {
+        let mut parts = vec![Human::Note(format!("{} node(s) on {}", self.nodes.len(), self.bus)), scan_table(self)];
+        for f in self.nodes.iter().filter(|f| f.state.is_none()) {
+            parts.push(Human::Line(format!("node {}: NMT state unknown: {}", f.node, f.state_from)));
+        }
+        if self.lss_unconfigured > 0 {
+            parts.push(Human::Line(format!(
+                "{} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)",
+                self.lss_unconfigured
+            )));
+        }
+        let configuring = &self.lss_configuration;
+        if configuring.count > 0 {
+            let which = match configuring.one {
+                Some((id, None)) => format!(": {id}, no node-id"),
+                Some((id, Some(n))) => format!(": {id}, node-id {n}"),
+                None if configuring.count > 1 => {
+                    " (several answered at once, so their identities cannot be told apart)".to_string()
+                }
+                None => " (not every identity inquiry was answered, so its identity is incomplete)".to_string(),
+            };
+            parts.push(Human::Line(format!(
+                "{} device(s) waiting in LSS configuration state{which} (canctl lss set-id gives a node-id; \
+                 `canctl lss set-id 255 --global` or any LSS command sends them back to waiting)",
+                configuring.count
+            )));
+        }
+        Human::Parts(parts)
+    }
+
+    fn csv(&self) -> Human {
+        scan_table(self)
+    }
+}
+
+/// One row under its headers, for CSV.
+fn row(headers: Vec<&'static str>, row: Vec<String>) -> Human {
+    Human::Table { headers, rows: vec![row], when_empty: true }
+}
+
+impl Report for Read {
+    fn human(&self) -> Human {
+        // What the device sent is one value: a line break in it is shown, not obeyed.
+        Human::Line(match (&self.value, self.dtype) {
+            (Some(v), Some(_)) => super::terminal_safe(&v.to_string()).into_owned(),
+            _ => untyped(&self.bytes),
+        })
+    }
+
+    fn csv(&self) -> Human {
+        let (dtype, value) = (self.dtype.map_or("", |t| t.name()), self.value.as_ref().map(|v| v.to_string()));
+        let values = [self.node.to_string(), self.object.to_string(), dtype.into(), self.size.to_string()];
+        let values = [values.to_vec(), vec![hex(&self.bytes), value.unwrap_or_default()]].concat();
+        row(vec!["node", "object", "type", "size", "raw", "value"], values)
+    }
+}
+
+/// Raw bytes, then what they obviously are: `92 01 02 00  (u32 131474 = 0x00020192)`.
+fn untyped(bytes: &[u8]) -> String {
+    let spaced: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
+    let mut s = spaced.join(" ");
+    if let Some(v) = obvious_unsigned(bytes) {
+        let width = bytes.len() * 2;
+        s += &format!("  (u{} {v} = 0x{v:0width$X})", bytes.len() * 8);
+    } else if !bytes.is_empty() && bytes.iter().all(|b| (0x20..0x7F).contains(b)) {
+        s += &format!("  \"{}\"", String::from_utf8_lossy(bytes));
+    } else if bytes.is_empty() {
+        s = "(empty)".into();
+    }
+    s
+}
+
+impl Report for Saved {
+    fn human(&self) -> Human {
+        Human::Line(format!("{} bytes from node {} {} written to {}", self.size, self.node, self.object, self.file))
+    }
+
+    fn csv(&self) -> Human {
+        let values = vec![self.node.to_string(), self.object.to_string(), self.size.to_string(), self.file.clone()];
+        row(vec!["node", "object", "size", "file"], values)
+    }
+}
+
+impl Report for Written {
+    fn human(&self) -> Human {
+        let what = if self.verified { "written and verified" } else { "written" };
+        let shown = if self.size > 32 { format!("{} bytes", self.size) } else { sdo::shown(self.dtype, &self.bytes) };
+        Human::Line(format!("node {} {} = {shown} ({}): {what}", self.node, self.object, self.dtype))
+    }
+
+    fn csv(&self) -> Human {
+        let (node, object, dtype) = (self.node.to_string(), self.object.to_string(), self.dtype.name().to_string());
+        let value = sdo::shown(self.dtype, &self.bytes);
+        let values = vec![node, object, dtype, self.size.to_string(), value, self.verified.to_string()];
+        row(vec!["node", "object", "type", "size", "value", "verified"], values)
+    }
+}
+
+impl Report for Sent {
+    fn human(&self) -> Human {
+        Human::Line(format!("NMT {} sent to {}", self.command.name(), target_text(self.target)))
+    }
+
+    fn csv(&self) -> Human {
+        // The target as in JSON: 5, or "all" with its quotes.
+        let target = if self.target == ALL_NODES { "\"all\"".into() } else { self.target.to_string() };
+        let rows = vec![vec![self.command.name().into(), target, "true".into()]];
+        Human::Table { headers: vec!["command", "target", "sent"], rows, when_empty: true }
+    }
+}
+
+impl Report for Reset {
+    fn human(&self) -> Human {
+        let (command, target) = (self.command.name(), target_text(self.target));
+        Human::Line(match (&self.booted, &self.why) {
+            (Some(nodes), _) => {
+                let list: Vec<String> = nodes.iter().map(|n| n.to_string()).collect();
+                let (state, how) = (self.state.map_or("", |s| s.name()), self.seen_by.as_deref().unwrap_or(""));
+                format!("booted after NMT {command}: node {} (now {state}; seen by {how})", list.join(", "))
+            }
+            (None, why) => format!("NMT {command} sent to {target}; not confirmed: {}", why.as_deref().unwrap_or("")),
+        })
+    }
+
+    fn csv(&self) -> Human {
+        let Some(nodes) = &self.booted else { return self.human() };
+        let state = self.state.map_or("", |s| s.name());
+        let rows = nodes.iter().map(|n| vec![n.to_string(), state.into()]).collect();
+        Human::Table { headers: vec!["node", "state"], rows, when_empty: true }
+    }
+}
+
+impl Report for NodeState {
+    fn human(&self) -> Human {
+        Human::Line(format!("node {}: {} (from {})", self.node, self.state, self.source))
+    }
+
+    fn csv(&self) -> Human {
+        let rows = vec![vec![self.node.to_string(), self.state.name().into(), self.source.into()]];
+        Human::Table { headers: vec!["node", "state", "source"], rows, when_empty: true }
+    }
+}
