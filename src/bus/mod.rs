@@ -6,6 +6,7 @@ pub mod master;
 pub mod observer;
 #[cfg(target_os = "linux")]
 pub mod socketcan;
+pub mod tap;
 pub mod trace;
 pub mod uri;
 

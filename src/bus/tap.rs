@@ -1,0 +1,113 @@
+//! A bus that tells its caller after each confirmed SDO transfer: the n-th upload or
+//! download, counted per kind. A test harness uses it to act at an exact step of a
+//! procedure (the kill-at-every-step tests send a signal there); it changes nothing on the
+//! bus.
+
+use super::{Bus, LssAnswer, LssWait, Observed, SdoOptions};
+use crate::canopen::nmt::Command;
+use crate::canopen::ObjAddr;
+use crate::frame::Frame;
+use crate::Result;
+use std::time::{Duration, Instant};
+
+/// Which kind of SDO transfer just ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Transfer {
+    /// A read, answered (or aborted: the device did answer).
+    Upload,
+    /// A write the device confirmed.
+    Download,
+}
+
+/// `bus`, calling `after(kind, n)` once the n-th transfer of that kind has ended.
+pub struct AfterSdo<'a, F: FnMut(Transfer, u32)> {
+    bus: &'a mut dyn Bus,
+    after: F,
+    uploads: u32,
+    downloads: u32,
+}
+
+impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
+    pub fn new(bus: &'a mut dyn Bus, after: F) -> Self {
+        AfterSdo { bus, after, uploads: 0, downloads: 0 }
+    }
+}
+
+impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
+    fn describe(&self) -> String {
+        self.bus.describe()
+    }
+    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+        let answer = self.bus.sdo_upload(node, addr, opts);
+        self.uploads += 1;
+        (self.after)(Transfer::Upload, self.uploads);
+        answer
+    }
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+        self.bus.sdo_download(node, addr, data, opts)?;
+        self.downloads += 1;
+        (self.after)(Transfer::Download, self.downloads);
+        Ok(())
+    }
+    fn sdo_upload_many(
+        &mut self,
+        requests: &[(u8, ObjAddr)],
+        opts: &SdoOptions,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Vec<Result<Vec<u8>>>> {
+        self.bus.sdo_upload_many(requests, opts, progress)
+    }
+    fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
+        self.bus.nmt(cmd, node)
+    }
+    fn send_frame(&mut self, frame: &Frame) -> Result<()> {
+        self.bus.send_frame(frame)
+    }
+    fn sees_traffic(&self) -> bool {
+        self.bus.sees_traffic()
+    }
+    fn follows_bit_rate_switch(&self) -> bool {
+        self.bus.follows_bit_rate_switch()
+    }
+    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        self.bus.recv_frame(deadline)
+    }
+    fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
+        self.bus.request_frame(id, len, timeout)
+    }
+    fn lss_exchange(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>> {
+        self.bus.lss_exchange(request, expect, wait, collect)
+    }
+    fn observed(&mut self) -> &mut Observed {
+        self.bus.observed()
+    }
+    fn close(&mut self) -> Result<()> {
+        self.bus.close()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::SimLink;
+
+    #[test]
+    fn each_kind_is_counted_on_its_own_after_the_transfer() {
+        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
+        let mut seen = Vec::new();
+        let mut tapped = AfterSdo::new(&mut bus, |t, n| seen.push((t, n)));
+        let opts = SdoOptions::new(Duration::from_secs(1));
+        tapped.sdo_upload(5, ObjAddr::new(0x1017, 0), &opts).unwrap();
+        tapped.sdo_download(5, ObjAddr::new(0x1017, 0), &[100, 0], &opts).unwrap();
+        tapped.sdo_upload(5, ObjAddr::new(0x1017, 0), &opts).unwrap();
+        // A refused write is not a confirmed one.
+        assert!(tapped.sdo_download(5, ObjAddr::new(0x1018, 1), &[1, 0, 0, 0], &opts).is_err());
+        assert_eq!(seen, [(Transfer::Upload, 1), (Transfer::Download, 1), (Transfer::Upload, 2)]);
+    }
+}
