@@ -8,6 +8,7 @@ mod docs;
 mod interrupt;
 mod lss;
 mod monitor;
+mod network;
 mod nmt;
 mod objects;
 mod scan;
@@ -19,7 +20,7 @@ mod stream;
 
 use crate::bus::{Bus, BusAddr, OpenOptions, SdoOptions};
 use crate::error::Error;
-use crate::output::{Format, Output};
+use crate::output::{FormatArg, Output};
 use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -68,7 +69,7 @@ pub struct GlobalArgs {
     pub timeout: Option<Duration>,
     /// Output format
     #[arg(long, global = true, value_enum, default_value = "human")]
-    pub format: Format,
+    pub format: FormatArg,
     /// An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object
     /// names, types and ranges come from it
     #[arg(long, global = true, value_name = "[NODE=]FILE", value_parser = objects::parse_eds_arg)]
@@ -124,6 +125,15 @@ pub enum Command {
   canctl --bus sim config apply 20 sensor.dcf --verify --store"
     )]
     Config(config::ConfigCommand),
+    /// A whole machine from one CiA 306-3 network project (nodelist.cpj + one DCF per node)
+    #[command(
+        subcommand,
+        after_help = "Examples:
+  canctl --bus sim network dump machine/
+  canctl --bus sim network check machine/ --format junit > check.xml
+  canctl --bus sim network apply machine/ --assign"
+    )]
+    Network(network::NetworkCommand),
     Sim(sim::SimArgs),
     /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
     #[command(after_help = "Examples:\n  canctl settings\n  canctl --bus sim settings --format json")]
@@ -255,11 +265,18 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let eds: Vec<objects::EdsArg> = resolved.eds.iter().map(|(e, _)| e.clone()).collect();
     let dicts = objects::Dictionaries::load(&eds)?;
     let ctx = Ctx {
-        out: Output::new(g.format, g.quiet),
+        out: Output::for_arg(g.format, g.quiet),
         timeout: resolved.timeout.0,
         dicts,
         bus: resolved.bus.as_ref().map(|(b, _)| b.clone()),
     };
+    if g.format == FormatArg::Junit && !matches!(cli.command, Command::Network(network::NetworkCommand::Check(_))) {
+        return Err(Error::Usage(
+            "--format junit is for commands that check things: canctl network check; use human, json or csv here"
+                .into(),
+        )
+        .into());
+    }
     match &cli.command {
         Command::Scan(args) => with_bus(&ctx, g, |bus| scan::run(&ctx, bus, args)),
         Command::Sdo(cmd) => with_bus(&ctx, g, |bus| sdo::run(&ctx, bus, cmd)),
@@ -270,6 +287,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Config(cmd) => with_bus(&ctx, g, |bus| config::run(&ctx, bus, cmd)),
         Command::StreamPdo(a) => with_bus(&ctx, g, |bus| stream::run(&ctx, bus, a)),
         Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),
+        Command::Network(cmd) => with_bus(&ctx, g, |bus| network::run(&ctx, bus, cmd)),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Settings => settings::show(&ctx, &resolved),
         Command::Completions(args) => docs::completions(args),

@@ -5,6 +5,7 @@
 
 pub mod config;
 pub mod monitor;
+pub mod network;
 pub mod pdo;
 pub mod store;
 

@@ -1,0 +1,580 @@
+//! A whole network from one CiA 306-3 project (`nodelist.cpj` plus one DCF per node):
+//! [`dump`] a live bus into one, [`check`] a bus against one, [`apply`] one to a bus.
+
+use super::config::{self, Dcf};
+use super::Progress;
+use crate::bus::lss::LssMaster;
+use crate::bus::{Bus, SdoOptions};
+use crate::canopen::lss::{Identity, Request};
+use crate::canopen::{abort, ObjAddr};
+use crate::error::{Error, Result};
+use crate::od::cpj::{self, Commissioning, Project};
+use crate::od::eds;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// The project file canctl writes and looks for in a folder.
+pub const PROJECT_FILE: &str = "nodelist.cpj";
+
+const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
+const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+
+/// A project with each listed node's DCF read.
+#[derive(Debug)]
+pub struct Loaded {
+    pub file: PathBuf,
+    pub project: Project,
+    pub nodes: Vec<Listed>,
+    /// What the files say that deserves a look, with file:line.
+    pub warnings: Vec<String>,
+}
+
+/// A node the project lists as present.
+#[derive(Debug)]
+pub struct Listed {
+    pub node: u8,
+    /// `NodeXName`, else the DCF's product name, else empty.
+    pub name: String,
+    pub dcf: Option<Dcf>,
+    pub commissioning: Commissioning,
+}
+
+impl Listed {
+    /// The identity an LSS device with this configuration answers to: the DCF's vendor-ID,
+    /// product code and revision, and the commissioning's LSS serial number.
+    pub fn lss_identity(&self) -> Option<Identity> {
+        let dcf = self.dcf.as_ref()?;
+        let (vendor, product) = dcf.identity();
+        let serial = self.commissioning.lss_serial.filter(|s| *s != 0)?;
+        let revision = info_number(dcf, "revisionnumber").unwrap_or(0);
+        (vendor != 0 && product != 0).then_some(Identity { vendor, product, revision, serial })
+    }
+}
+
+fn info_number(dcf: &Dcf, key: &str) -> Option<u32> {
+    dcf.eds.info.get(key).and_then(|v| eds::parse_int(v)).and_then(|v| u32::try_from(v).ok())
+}
+
+/// Read a project and the DCF of every node it lists; any file that cannot be used is a
+/// usage error naming it (file:line where a line is to blame).
+pub fn load(file: &Path) -> Result<Loaded> {
+    let read = cpj::read_file(file).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+    let mut warnings = read.warnings;
+    let project = read.project;
+    let mut nodes = Vec::new();
+    for (node, entry) in project.present() {
+        let (dcf, commissioning) = match project.dcf_path(file, node) {
+            None => (None, Commissioning::default()),
+            Some(path) => {
+                let name = path.display().to_string();
+                let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
+                    .map_err(|e| Error::Usage(format!("cannot use {name} (node {node} in {}): {e}", file.display())))?;
+                let dcf = Dcf::parse(&bytes, &name)?;
+                let c = cpj::read_commissioning(&bytes, &name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+                if let Some(id) = c.node_id.filter(|id| *id != node) {
+                    return Err(Error::Usage(format!(
+                        "{name} is for node-id {id} ([DeviceComissioning] NodeID), but {} lists it for node {node}",
+                        file.display()
+                    )));
+                }
+                warnings.extend(dcf.warnings().iter().cloned());
+                (Some(dcf), c)
+            }
+        };
+        let name = entry.name.clone().or_else(|| dcf.as_ref().and_then(|d| d.eds.info.get("productname").cloned()));
+        nodes.push(Listed { node, name: name.unwrap_or_default(), dcf, commissioning });
+    }
+    Ok(Loaded { file: file.to_path_buf(), project, nodes, warnings })
+}
+
+/// Every node that answers an SDO read of 0x1000 within `window`, with its device type
+/// (`None` when it answered with an abort: it is there all the same).
+pub fn probe(bus: &mut dyn Bus, window: Duration) -> Result<BTreeMap<u8, Option<u32>>> {
+    let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, DEVICE_TYPE)).collect();
+    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(window), &mut |_| {})?;
+    let mut found = BTreeMap::new();
+    for ((node, _), answer) in probes.iter().zip(answers) {
+        match answer {
+            Ok(bytes) => {
+                found.insert(*node, Some(super::le_u32(&bytes)));
+            }
+            Err(Error::SdoAbort { .. }) => {
+                found.insert(*node, None);
+            }
+            Err(Error::Timeout(_)) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(found)
+}
+
+// ---------------------------------------------------------------------------------------
+// dump
+
+/// What `dump` read: the files of a project, to be written into one folder.
+#[derive(Debug, Serialize)]
+pub struct Dumped {
+    pub bus: String,
+    pub nodes: Vec<DumpedNode>,
+    /// Devices that answered LSS without a node-id (not in the project: they have no
+    /// objects to read).
+    pub unconfigured: usize,
+    /// File name and content: `nodelist.cpj` first, then one DCF per node.
+    #[serde(skip)]
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct DumpedNode {
+    pub node: u8,
+    pub name: String,
+    pub file: String,
+    pub objects: usize,
+}
+
+/// How to dump a network.
+#[derive(Clone, Debug)]
+pub struct DumpOptions {
+    pub timeout: Duration,
+    /// How long the probes wait for answers.
+    pub window: Duration,
+    /// `NetName` of the project.
+    pub net_name: String,
+    /// The bus's bit rate in kbit/s, for each DCF's `Baudrate` (left out when unknown).
+    pub baudrate_kbit: Option<u32>,
+}
+
+/// Scan the bus and read every node into a DCF (`nodeN.dcf`, with its
+/// `[DeviceComissioning]`: node-id, name, bit rate, LSS serial number), listed in a
+/// `nodelist.cpj`.
+pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> Result<Dumped> {
+    let found = probe(bus, o.window)?;
+    let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
+    let mut project = Project { net_name: Some(o.net_name.clone()), ..Project::default() };
+    let mut nodes = Vec::new();
+    let mut files = Vec::new();
+    for node in found.keys().copied() {
+        let file = format!("node{node}.dcf");
+        let dumped = config::dump(bus, node, None, &file, o.timeout, progress)?;
+        let parsed = Dcf::parse(&dumped.dcf, &file)?;
+        let serial = parsed.eds.values.get(&ObjAddr::new(0x1018, 4)).and_then(|v| match v {
+            crate::od::Init::Bytes(b) => Some(super::le_u32(b)),
+            _ => None,
+        });
+        let name = match parsed.eds.values.get(&NAME) {
+            Some(crate::od::Init::Bytes(b)) => String::from_utf8_lossy(b).trim_end_matches('\0').to_string(),
+            _ => String::new(),
+        };
+        let commissioning = Commissioning {
+            node_id: Some(node),
+            node_name: (!name.is_empty()).then(|| name.clone()),
+            baudrate_kbit: o.baudrate_kbit,
+            lss_serial: serial,
+            ..Commissioning::default()
+        };
+        let bytes = cpj::with_commissioning(&dumped.dcf, &commissioning).map_err(|e| Error::Usage(e.to_string()))?;
+        project.nodes.insert(
+            node,
+            cpj::Node {
+                present: true,
+                name: (!name.is_empty()).then(|| name.clone()),
+                refd: None,
+                dcf: Some(file.clone()),
+            },
+        );
+        nodes.push(DumpedNode { node, name, file: file.clone(), objects: dumped.objects });
+        files.push((file, bytes));
+    }
+    let cpj = cpj::write(&project).map_err(|e| Error::Usage(e.to_string()))?;
+    files.insert(0, (PROJECT_FILE.to_string(), cpj));
+    Ok(Dumped { bus: bus.describe(), nodes, unconfigured, files })
+}
+
+// ---------------------------------------------------------------------------------------
+// check
+
+/// How to check a network.
+#[derive(Clone, Debug)]
+pub struct CheckOptions {
+    pub timeout: Duration,
+    pub window: Duration,
+}
+
+/// Is the network as the project says?
+#[derive(Debug, Serialize)]
+pub struct Checked {
+    pub project: String,
+    pub net_name: Option<String>,
+    pub bus: String,
+    pub nodes: Vec<NodeCheck>,
+    /// Nodes that answered but the project does not list, with their device type.
+    pub unlisted: Vec<Unlisted>,
+    /// Devices that answered LSS "identify non-configured remote slave".
+    pub unconfigured: usize,
+    /// Whether everything is as the project says.
+    pub ok: bool,
+}
+
+#[derive(Debug, Serialize)]
+pub struct NodeCheck {
+    pub node: u8,
+    pub name: String,
+    pub file: Option<String>,
+    pub checks: Vec<Verdict>,
+}
+
+/// One check of one node: `present`, `identity`, `objects`.
+#[derive(Debug, Serialize)]
+pub struct Verdict {
+    pub check: &'static str,
+    pub ok: bool,
+    /// What was found, in a sentence.
+    pub detail: String,
+    /// For `objects`: each writable object that differs.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub differences: Vec<config::Difference>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Unlisted {
+    pub node: u8,
+    pub device_type: Option<u32>,
+}
+
+impl Checked {
+    /// A verification error (exit 6) when anything differs.
+    pub fn outcome(&self) -> Result<()> {
+        if self.ok {
+            return Ok(());
+        }
+        let failed: usize = self.nodes.iter().map(|n| n.checks.iter().filter(|c| !c.ok).count()).sum();
+        let mut parts = Vec::new();
+        if failed > 0 {
+            parts.push(format!("{failed} node check(s) failed"));
+        }
+        if !self.unlisted.is_empty() {
+            parts.push(format!("{} node(s) not in the project", self.unlisted.len()));
+        }
+        if self.unconfigured > 0 {
+            parts.push(format!("{} device(s) without a node-id", self.unconfigured));
+        }
+        Err(Error::Verify(format!("{} is not as {} says: {}", self.bus, self.project, parts.join(", "))))
+    }
+}
+
+fn hex(v: u32) -> String {
+    format!("0x{v:08X}")
+}
+
+/// The vendor-ID and product code of `node` against the DCF's (parts the DCF leaves at 0
+/// are not compared).
+fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Verdict> {
+    let (vendor, product) = dcf.identity();
+    let mut differ = Vec::new();
+    let mut seen = Vec::new();
+    for (what, want, sub) in [("vendor-ID", vendor, 1), ("product code", product, 2)] {
+        if want == 0 {
+            continue;
+        }
+        let got = match bus.sdo_upload(node, ObjAddr::new(0x1018, sub), &super::sized(timeout, Some(4))) {
+            Ok(b) => hex(super::le_u32(&b)),
+            Err(Error::SdoAbort { code, .. }) => format!("unreadable ({})", abort::meaning(code)),
+            Err(e) => return Err(e),
+        };
+        if got != hex(want) {
+            differ.push(format!("{what} {got}, {} in {}", hex(want), dcf.path()));
+        } else {
+            seen.push(format!("{what} {got}"));
+        }
+    }
+    let (ok, detail) = match (differ.is_empty(), seen.is_empty()) {
+        (false, _) => (false, format!("another device: {}", differ.join(", "))),
+        (true, true) => (true, format!("{} names no vendor-ID or product code: not compared", dcf.path())),
+        (true, false) => (true, seen.join(", ")),
+    };
+    Ok(Verdict { check: "identity", ok, detail, differences: Vec::new() })
+}
+
+/// Every writable object of the DCF against the node (read-only values such as serial
+/// numbers or measurements are the device's, not its configuration).
+fn check_objects(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Verdict> {
+    let diff = config::diff(bus, node, dcf, timeout)?;
+    let writable = |addr: ObjAddr| dcf.eds.dict.get(addr).is_some_and(|e| e.access.writable());
+    let differences: Vec<config::Difference> = diff.differences.into_iter().filter(|d| writable(d.object)).collect();
+    let detail = match differences.len() {
+        0 => format!("every writable object as in {}", dcf.path()),
+        n => {
+            let list: Vec<String> = differences
+                .iter()
+                .map(|d| format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file))
+                .collect();
+            format!("{n} object(s) differ from {}: {}", dcf.path(), list.join("; "))
+        }
+    };
+    Ok(Verdict { check: "objects", ok: differences.is_empty(), detail, differences })
+}
+
+/// Check the bus against the project: each listed node present, with the identity its DCF
+/// names and every writable object as the DCF has it; no node the project does not list;
+/// no device waiting for a node-id.
+pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mut dyn Progress) -> Result<Checked> {
+    let found = probe(bus, o.window)?;
+    let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
+    let mut nodes = Vec::new();
+    progress.start("checking", loaded.nodes.len() as u64);
+    for (i, listed) in loaded.nodes.iter().enumerate() {
+        progress.advance(i as u64);
+        let present = found.contains_key(&listed.node);
+        let mut checks = vec![Verdict {
+            check: "present",
+            ok: present,
+            detail: if present {
+                format!("node {} answered", listed.node)
+            } else {
+                format!("node {} did not answer within {} ms", listed.node, o.window.as_millis())
+            },
+            differences: Vec::new(),
+        }];
+        if let (true, Some(dcf)) = (present, &listed.dcf) {
+            checks.push(check_identity(bus, listed.node, dcf, o.timeout)?);
+            if checks.last().is_some_and(|c| c.ok) {
+                checks.push(check_objects(bus, listed.node, dcf, o.timeout)?);
+            }
+        }
+        nodes.push(NodeCheck {
+            node: listed.node,
+            name: listed.name.clone(),
+            file: listed.dcf.as_ref().map(|d| d.path().to_string()),
+            checks,
+        });
+    }
+    progress.finish();
+    let listed: Vec<u8> = loaded.nodes.iter().map(|l| l.node).collect();
+    let unlisted: Vec<Unlisted> = found
+        .iter()
+        .filter(|(n, _)| !listed.contains(n))
+        .map(|(n, t)| Unlisted { node: *n, device_type: *t })
+        .collect();
+    let ok = nodes.iter().all(|n| n.checks.iter().all(|c| c.ok)) && unlisted.is_empty() && unconfigured == 0;
+    Ok(Checked {
+        project: loaded.file.display().to_string(),
+        net_name: loaded.project.net_name.clone(),
+        bus: bus.describe(),
+        nodes,
+        unlisted,
+        unconfigured,
+        ok,
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// apply
+
+/// How to apply a project.
+#[derive(Clone, Debug)]
+pub struct ApplyOptions {
+    /// Timeouts, dry run, verify, force; `store` is done here, only for nodes written to.
+    pub config: config::ApplyOptions,
+    /// Give node-ids over LSS to listed nodes that do not answer, matched by the LSS
+    /// identity their DCF names.
+    pub assign: bool,
+    /// How long probes wait for answers.
+    pub window: Duration,
+    /// How long a device given a node-id may take to answer with it.
+    pub boot_wait: Duration,
+}
+
+/// What applying a project did, node by node.
+#[derive(Debug, Serialize)]
+pub struct Applied {
+    pub project: String,
+    pub bus: String,
+    pub dry_run: bool,
+    pub nodes: Vec<NodeApplied>,
+    /// Objects written on the whole network.
+    pub written: usize,
+    /// Whether every node was brought to its DCF.
+    pub ok: bool,
+    /// The first failure (its exit code is the command's).
+    #[serde(skip)]
+    pub failure: Option<Error>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct NodeApplied {
+    pub node: u8,
+    pub name: String,
+    pub file: Option<String>,
+    /// `assigned over LSS to IDENTITY` when `--assign` gave the node its id.
+    pub assigned: Option<String>,
+    /// Objects written (PDO sequence steps included).
+    pub written: usize,
+    pub stored: bool,
+    /// What happened, in a sentence.
+    pub result: String,
+    pub ok: bool,
+    /// Each object written or not, as `config apply` reports it.
+    pub objects: Vec<config::Change>,
+}
+
+impl Applied {
+    pub fn outcome(self) -> Result<()> {
+        match self.failure {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Give `node` to the LSS device with `identity`, store it, and wait until the node answers
+/// SDO with it.
+fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) -> Result<()> {
+    let mut m = LssMaster::new(bus, o.config.timeout);
+    let result = m
+        .enter(Some(identity))
+        .and_then(|_| m.configure(Request::ConfigureNodeId(node), "set-id", false))
+        .and_then(|_| m.configure(Request::StoreConfiguration, "store", false));
+    // Back in waiting state the device takes its new node-id and boots.
+    let left = m.leave();
+    result?;
+    left?;
+    let deadline = Instant::now() + o.boot_wait;
+    loop {
+        match bus.sdo_upload(node, DEVICE_TYPE, &SdoOptions::new(o.window)) {
+            Ok(_) | Err(Error::SdoAbort { .. }) => return Ok(()),
+            Err(Error::Timeout(_)) if Instant::now() < deadline => continue,
+            Err(Error::Timeout(_)) => {
+                return Err(Error::Timeout(format!(
+                    "{identity} took node-id {node} over LSS but did not answer with it within {} ms",
+                    o.boot_wait.as_millis()
+                )))
+            }
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// One node: its id over LSS when asked and needed, then `config apply` (only what differs,
+/// in its safe order, verified when asked), then store when anything was written.
+fn apply_node(bus: &mut dyn Bus, listed: &Listed, present: bool, o: &ApplyOptions) -> (NodeApplied, Option<Error>) {
+    let mut row = NodeApplied {
+        node: listed.node,
+        name: listed.name.clone(),
+        file: listed.dcf.as_ref().map(|d| d.path().to_string()),
+        assigned: None,
+        written: 0,
+        stored: false,
+        result: String::new(),
+        ok: false,
+        objects: Vec::new(),
+    };
+    let fail = |mut row: NodeApplied, e: Error| {
+        row.result = format!("failed: {e}");
+        (row, Some(e))
+    };
+    if !present {
+        let identity = listed.lss_identity();
+        match identity {
+            Some(id) if o.assign && o.config.dry_run => {
+                row.assigned = Some(id.to_string());
+                row.result = format!("would be given node-id {} over LSS ({id})", listed.node);
+                row.ok = true;
+                return (row, None);
+            }
+            Some(id) if o.assign => match assign(bus, &id, listed.node, o) {
+                Ok(()) => row.assigned = Some(id.to_string()),
+                Err(e) => return fail(row, e),
+            },
+            Some(id) => {
+                let e = Error::Timeout(format!(
+                    "node {} did not answer; --assign gives it its node-id over LSS ({id})",
+                    listed.node
+                ));
+                return fail(row, e);
+            }
+            None => {
+                let e = Error::Timeout(format!(
+                    "node {} did not answer (its DCF names no LSS serial number, so --assign cannot find it)",
+                    listed.node
+                ));
+                return fail(row, e);
+            }
+        }
+    }
+    let Some(dcf) = &listed.dcf else {
+        row.ok = true;
+        row.result = "present; the project names no DCF for it".to_string();
+        return (row, None);
+    };
+    let mut co = o.config.clone();
+    co.store = false;
+    let mut applied = match config::apply(bus, listed.node, dcf, &co) {
+        Ok(a) => a,
+        Err(e) => return fail(row, e),
+    };
+    row.written = applied.written.len();
+    row.objects = std::mem::take(&mut applied.objects);
+    let would = row.objects.iter().filter(|c| c.result.starts_with("would write")).count();
+    if let Err(e) = applied.outcome() {
+        return fail(row, e);
+    }
+    if o.config.store && row.written > 0 {
+        let t = super::store::Timeouts { answer: o.config.timeout, write: o.config.store_timeout };
+        match super::store::store(bus, listed.node, super::store::Class::All, t) {
+            Ok(_) => row.stored = true,
+            Err(e) => return fail(row, e),
+        }
+    }
+    row.ok = true;
+    row.result = match (o.config.dry_run, row.written) {
+        (true, _) if would == 0 => "up to date: nothing would be written".to_string(),
+        (true, _) => format!("{would} object(s) would be written"),
+        (false, 0) => "up to date: nothing written".to_string(),
+        (false, n) => format!(
+            "{n} object(s) written{}{}",
+            if o.config.verify { ", verified" } else { "" },
+            if row.stored { ", stored" } else { "" }
+        ),
+    };
+    if row.assigned.is_some() {
+        row.result = format!("node-id given over LSS; {}", row.result);
+    }
+    (row, None)
+}
+
+/// Bring every listed node to its DCF, one after the other. A node that fails is reported
+/// and the others still done; the first failure decides the exit code.
+pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mut dyn Progress) -> Result<Applied> {
+    let found = probe(bus, o.window)?;
+    let mut nodes = Vec::new();
+    let mut failure = None;
+    progress.start("applying", loaded.nodes.len() as u64);
+    for (i, listed) in loaded.nodes.iter().enumerate() {
+        progress.advance(i as u64);
+        let (row, error) = apply_node(bus, listed, found.contains_key(&listed.node), o);
+        if let Some(e) = error {
+            // A lost link ends the run: every further node would fail the same way.
+            let link = matches!(e, Error::Link(_));
+            failure.get_or_insert(e);
+            nodes.push(row);
+            if link {
+                break;
+            }
+            continue;
+        }
+        nodes.push(row);
+    }
+    progress.finish();
+    let written = nodes.iter().map(|n| n.written).sum();
+    Ok(Applied {
+        project: loaded.file.display().to_string(),
+        bus: bus.describe(),
+        dry_run: o.config.dry_run,
+        ok: failure.is_none() && nodes.len() == loaded.nodes.len(),
+        nodes,
+        written,
+        failure,
+    })
+}
