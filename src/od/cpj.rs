@@ -273,9 +273,9 @@ pub struct WriteError {
     pub why: String,
 }
 
-/// Lines of text as file bytes: CRLF, Latin-1 unless `utf8`.
-fn encode(lines: &[(String, String)], header: &str, utf8: bool) -> Result<Vec<u8>, WriteError> {
-    let mut text = format!("{header}\r\n");
+/// Lines of text as file bytes, each ended by `eol`, Latin-1 unless `utf8`.
+fn encode(lines: &[(String, String)], header: &str, utf8: bool, eol: &str) -> Result<Vec<u8>, WriteError> {
+    let mut text = format!("{header}{eol}");
     for (key, value) in lines {
         if value.contains(['\r', '\n']) || value.trim_matches([' ', '\t']) != value {
             let why = "a line break, or blanks at either end, would not read back".to_string();
@@ -285,7 +285,7 @@ fn encode(lines: &[(String, String)], header: &str, utf8: bool) -> Result<Vec<u8
             let why = "a character beyond Latin-1 in a Latin-1 file".to_string();
             return Err(WriteError { key: key.clone(), value: value.clone(), why });
         }
-        text.push_str(&format!("{key}={value}\r\n"));
+        text.push_str(&format!("{key}={value}{eol}"));
     }
     Ok(if utf8 { text.into_bytes() } else { text.chars().map(|c| c as u8).collect() })
 }
@@ -310,7 +310,7 @@ pub fn write(project: &Project) -> Result<Vec<u8>, WriteError> {
     }
     put("EDSBaseName".into(), &project.eds_base_name);
     lines.extend(project.other.iter().cloned());
-    encode(&lines, "[Topology]", project.utf8)
+    encode(&lines, "[Topology]", project.utf8, "\r\n")
 }
 
 /// A DCF's `[DeviceComissioning]` section (CiA 306; the standard spells it with one 'm').
@@ -381,10 +381,12 @@ pub fn commissioning_lines(c: &Commissioning) -> Vec<(String, String)> {
 }
 
 /// A DCF's bytes with its `[DeviceComissioning]` section replaced by `c` (or added before
-/// the object lists when it has none). The rest of the file is left byte for byte.
+/// the object lists when it has none), with the file's own line ends. The rest of the file
+/// is left byte for byte.
 pub fn with_commissioning(dcf: &[u8], c: &Commissioning) -> Result<Vec<u8>, WriteError> {
     let utf8 = decode(dcf).1;
-    let section = encode(&commissioning_lines(c), "[DeviceComissioning]", utf8)?;
+    let eol = if dcf.windows(2).any(|w| w == b"\r\n") { "\r\n" } else { "\n" };
+    let section = encode(&commissioning_lines(c), "[DeviceComissioning]", utf8, eol)?;
     // Lines as byte ranges; section headers are ASCII, so bytes can be matched directly.
     let mut starts = vec![0];
     starts.extend(dcf.iter().enumerate().filter(|(_, b)| **b == b'\n').map(|(i, _)| i + 1));
@@ -403,7 +405,7 @@ pub fn with_commissioning(dcf: &[u8], c: &Commissioning) -> Result<Vec<u8>, Writ
             let (from, to) = (headers[i].0, headers.get(i + 1).map_or(dcf.len(), |(s, _)| *s));
             out.extend_from_slice(&dcf[..from]);
             out.extend_from_slice(&section);
-            out.extend_from_slice(b"\r\n");
+            out.extend_from_slice(eol.as_bytes());
             out.extend_from_slice(&dcf[to..]);
         }
         None => {
@@ -413,7 +415,7 @@ pub fn with_commissioning(dcf: &[u8], c: &Commissioning) -> Result<Vec<u8>, Writ
                 .map_or(dcf.len(), |(s, _)| *s);
             out.extend_from_slice(&dcf[..at]);
             out.extend_from_slice(&section);
-            out.extend_from_slice(b"\r\n");
+            out.extend_from_slice(eol.as_bytes());
             out.extend_from_slice(&dcf[at..]);
         }
     }
@@ -544,6 +546,11 @@ LSS_SerialNumber=0x09501234\r\n\r\n[MandatoryObjects]\r\nSupportedObjects=0\r\n"
         let out = with_commissioning(bare, &c).unwrap();
         assert_eq!(read_commissioning(&out, "a.dcf").unwrap(), c);
         assert!(out.ends_with(b"\r\n\r\n[MandatoryObjects]\r\nSupportedObjects=0\r\n"));
+        // A file with LF line ends keeps them.
+        let lf = b"[DeviceComissioning]\nNodeID=5\n\n[MandatoryObjects]\n";
+        let out = with_commissioning(lf, &c).unwrap();
+        assert!(!out.contains(&b'\r'), "{}", String::from_utf8_lossy(&out));
+        assert_eq!(read_commissioning(&out, "a.dcf").unwrap(), c);
         // The other spelling is read too; a bad node-id is named.
         let e = read_commissioning(b"[DeviceCommissioning]\nNodeID=200\n", "b.dcf").unwrap_err();
         assert_eq!(e.to_string(), "b.dcf:2: NodeID=200 is not 1 to 127");
