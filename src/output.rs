@@ -479,6 +479,27 @@ mod tests {
     }
 
     #[test]
+    fn junit_escapes_markup_and_what_xml_cannot_carry() {
+        let suite = TestSuite {
+            name: "a <b> & \"c\"".into(),
+            cases: vec![
+                TestCase { class: "node 5".into(), name: "present".into(), detail: "ok".into(), failure: None },
+                TestCase {
+                    class: "node 6 ('x')".into(),
+                    name: "objects".into(),
+                    detail: "bell \u{7} here".into(),
+                    failure: Some("1 < 2".into()),
+                },
+            ],
+        };
+        let x = junit_xml(&suite);
+        assert!(x.contains("<testsuites name=\"a &lt;b&gt; &amp; &quot;c&quot;\" tests=\"2\" failures=\"1\""), "{x}");
+        assert!(x.contains("<testcase classname=\"node 6 (&apos;x&apos;)\" name=\"objects\">"), "{x}");
+        assert!(x.contains("<failure message=\"1 &lt; 2\" type=\"difference\">bell \\x07 here</failure>"), "{x}");
+        assert!(!x.contains('\u{7}'));
+    }
+
+    #[test]
     fn csv_quotes_what_needs_it() {
         let rows = vec![vec!["1".to_string(), "a,b".to_string(), "say \"hi\"".to_string()]];
         assert_eq!(super::csv(&["n", "x", "y"], &rows), "n,x,y\n1,\"a,b\",\"say \"\"hi\"\"\"\n");
