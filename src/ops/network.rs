@@ -89,6 +89,11 @@ pub fn load(file: &Path) -> Result<Loaded> {
     Ok(Loaded { file: file.to_path_buf(), project, nodes, warnings })
 }
 
+/// Whether an error means nobody answered (exit 3), whichever variant says it.
+fn no_answer(e: &Error) -> bool {
+    e.exit_code() == 3
+}
+
 /// Every node that answers an SDO read of 0x1000 within `window`, with its device type
 /// (`None` when it answered with an abort: it is there all the same).
 pub fn probe(bus: &mut dyn Bus, window: Duration) -> Result<BTreeMap<u8, Option<u32>>> {
@@ -103,7 +108,7 @@ pub fn probe(bus: &mut dyn Bus, window: Duration) -> Result<BTreeMap<u8, Option<
             Err(Error::SdoAbort { .. }) => {
                 found.insert(*node, None);
             }
-            Err(Error::Timeout(_)) => {}
+            Err(e) if no_answer(&e) => {}
             Err(e) => return Err(e),
         }
     }
@@ -444,8 +449,8 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
     loop {
         match bus.sdo_upload(node, DEVICE_TYPE, &SdoOptions::new(o.window)) {
             Ok(_) | Err(Error::SdoAbort { .. }) => return Ok(()),
-            Err(Error::Timeout(_)) if Instant::now() < deadline => continue,
-            Err(Error::Timeout(_)) => {
+            Err(e) if no_answer(&e) && Instant::now() < deadline => continue,
+            Err(e) if no_answer(&e) => {
                 return Err(Error::Timeout(format!(
                     "{identity} took node-id {node} over LSS but did not answer with it within {} ms",
                     o.boot_wait.as_millis()
