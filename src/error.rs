@@ -1,43 +1,502 @@
-//! The library's error type. Every variant maps to one of the documented exit codes, so the
-//! CLI never has to guess how a failure should end the process.
+//! The library's error type: one variant per kind of failure, with what it is about (node,
+//! object, abort code, how long was waited) as fields. Every variant belongs to one
+//! [`ErrorClass`], and the class alone decides the exit code ([`Error::exit_code`]), so the
+//! CLI never has to guess how a failure should end the process, and nothing ever reads an
+//! error's text to decide anything.
+//!
+//! The display texts are the messages canctl prints; tests and the README quote them.
 
+use crate::canopen::lss::{FastscanError, Identity};
 use crate::canopen::{abort, ObjAddr};
+use std::fmt;
+use std::path::PathBuf;
+use std::time::Duration;
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The user asked for something malformed or impossible (exit 2).
+    // ---- usage (exit 2) ----
+    /// The user asked for something malformed or impossible, said in free form.
     #[error("{0}")]
     Usage(String),
-    /// Nobody answered in time (exit 3).
+    /// A file or stream given as input could not be used.
+    #[error("{0}")]
+    Input(crate::input::InputError),
+    /// A bus address that does not parse.
+    #[error("bus '{uri}': {reason}")]
+    BadBusAddr { uri: String, reason: String },
+    /// A node-id outside what this bus can address.
+    #[error("{}", node_id_text(*node, *range))]
+    NodeIdOutOfRange { node: u8, range: NodeIdRange },
+    /// A value too large for an SDO download (CiA 301 sizes are 32-bit).
+    #[error("{len} bytes cannot be written by SDO: CiA 301 sizes are 32-bit (at most {} bytes)", u32::MAX)]
+    TooLargeForSdo { len: usize },
+    /// A CAN bit rate the slcan adapter protocol has no code for.
+    #[error("{port}: slcan has no {kbit} kbit/s; use one of {}", supported.join(" "))]
+    SlcanBitRate { port: String, kbit: u32, supported: Vec<String> },
+    /// Something this kind of bus cannot do (`{bus}: {why}`).
+    #[error("{bus}: {why}")]
+    NotOnThisBus { bus: String, why: &'static str },
+
+    // ---- no response (exit 3) ----
+    /// Nobody answered in time, said in free form.
     #[error("{0}")]
     Timeout(String),
-    /// The device refused an SDO transfer (exit 4).
+    /// A node did not answer at all.
+    #[error("node {node}: did not answer {what} (waited {} ms)", waited.as_millis())]
+    NoAnswer { node: u8, what: Service, waited: Duration },
+    /// A node answered an SDO transfer, then it did not finish.
+    #[error("{}", SdoUnfinishedText { node: *node, obj: *obj, moved: *moved, why })]
+    SdoUnfinished { node: u8, obj: ObjAddr, moved: Moved, why: Unfinished },
+    /// No answer to a remote (RTR) frame.
+    #[error("no answer to the remote request for 0x{cob:03X} within {} ms", waited.as_millis())]
+    NoRemoteAnswer { cob: u16, waited: Duration },
+    /// No LSS device answered a confirmed LSS service; with the identity when one device
+    /// was selected (the selective switch).
+    #[error("{}", match identity {
+        Some(id) => format!("no LSS device with identity {id} answered {request} within {} ms", waited.as_millis()),
+        None => format!("no LSS device answered {request} within {} ms", waited.as_millis()),
+    })]
+    NoLssAnswer { request: String, identity: Option<Identity>, waited: Duration },
+    /// An EPOS2 gateway reports that the node behind it did not answer on the CAN bus.
+    #[error("{}: no answer on the CAN bus (the EPOS2 reports SDO timeout 0x05040000)", Epos2Place { node: *node, command, obj: *obj })]
+    Epos2NoCanAnswer { node: u8, command: &'static str, obj: Option<ObjAddr> },
+    /// A serial CAN adapter did not answer one of its commands.
+    #[error("{port}: the adapter did not answer {command:?} within {} ms", waited.as_millis())]
+    AdapterNoAnswer { port: String, command: String, waited: Duration },
+    /// LSS fastscan did not find a device (exit 3), or found one it could not confirm (exit 5).
+    #[error("{}", fastscan_text(error, *step))]
+    Fastscan { error: FastscanError, step: Duration },
+
+    // ---- refused by the device (exit 4) ----
+    /// The device refused an SDO transfer.
     #[error("node {node}: SDO abort 0x{code:08X} on {obj}: {}", abort::meaning(*code))]
     SdoAbort { node: u8, obj: ObjAddr, code: u32 },
-    /// The device refused something else, e.g. an unsupported service (exit 4).
+    /// The device refused something else, said in free form.
     #[error("{0}")]
     Refused(String),
-    /// The link to the bus failed, or the device answered with something unintelligible (exit 5).
+    /// An LSS device answered a configuration service with an error.
+    #[error("LSS {service}: error {error}: {}{}", crate::canopen::lss::error_meaning(*cs, *error),
+        if *error == 255 { format!(" (specific code {specific})") } else { String::new() })]
+    LssRefused { service: String, cs: u8, error: u8, specific: u8 },
+    /// An EPOS2 answered a command with an error code (a maxon code or, where no object is
+    /// involved, any code).
+    #[error("{}: {}error 0x{code:08X}: {}", Epos2Place { node: *node, command, obj: *obj },
+        if crate::epos2::command::is_maxon_code(*code) { "EPOS2 " } else { "" },
+        crate::epos2::command::error_meaning(*code))]
+    Epos2Refused { node: u8, command: &'static str, obj: Option<ObjAddr>, code: u32 },
+    /// LSS assignment found no free node-id for a device.
+    #[error("no free node-id left from {start} to 127 for {identity}")]
+    NoFreeNodeId { start: u8, identity: Identity },
+
+    // ---- link failure (exit 5) ----
+    /// The link to the bus failed, or the device answered with something unintelligible.
     #[error("{0}")]
-    Link(String),
-    /// A read-back did not match what was written (exit 6).
+    Link(LinkError),
+
+    // ---- verification failed (exit 6) ----
+    /// A check failed, said in free form.
     #[error("{0}")]
     Verify(String),
-    /// The user pressed Ctrl-C (exit 130).
+    /// An object read back other than what was written.
+    #[error("node {node}: {obj} reads back {read} after writing {wrote}")]
+    ReadBack { node: u8, obj: ObjAddr, wrote: String, read: String },
+    /// A node's objects differ from a configuration file.
+    #[error("node {node} differs from {file} in {count} object(s)")]
+    Differs { node: u8, file: String, count: usize },
+
+    // ---- interrupted (exit 130) ----
+    /// The user pressed Ctrl-C.
     #[error("interrupted")]
+    Interrupted,
+
+    /// An error with advice appended (e.g. which nodes the last scan saw); it ends the
+    /// process as the error itself would.
+    #[error("{error}{hint}")]
+    Hinted { error: Box<Error>, hint: String },
+}
+
+/// What a failure means for the user, and so how the process ends. The README's
+/// "Exit codes" table lists these (a test checks that it does).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ErrorClass {
+    Usage,
+    Timeout,
+    Refused,
+    Link,
+    Verify,
     Interrupted,
 }
 
-impl Error {
-    pub fn exit_code(&self) -> i32 {
+impl ErrorClass {
+    pub const ALL: [ErrorClass; 6] = [
+        ErrorClass::Usage,
+        ErrorClass::Timeout,
+        ErrorClass::Refused,
+        ErrorClass::Link,
+        ErrorClass::Verify,
+        ErrorClass::Interrupted,
+    ];
+
+    /// The process exit code: the only place where exit codes are chosen.
+    pub fn exit_code(self) -> i32 {
         match self {
-            Error::Usage(_) => 2,
-            Error::Timeout(_) => 3,
-            Error::SdoAbort { .. } | Error::Refused(_) => 4,
-            Error::Link(_) => 5,
-            Error::Verify(_) => 6,
-            Error::Interrupted => 130,
+            ErrorClass::Usage => 2,
+            ErrorClass::Timeout => 3,
+            ErrorClass::Refused => 4,
+            ErrorClass::Link => 5,
+            ErrorClass::Verify => 6,
+            ErrorClass::Interrupted => 130,
         }
+    }
+}
+
+impl Error {
+    pub fn class(&self) -> ErrorClass {
+        use ErrorClass as C;
+        match self {
+            Error::Usage(_)
+            | Error::Input(_)
+            | Error::BadBusAddr { .. }
+            | Error::NodeIdOutOfRange { .. }
+            | Error::TooLargeForSdo { .. }
+            | Error::SlcanBitRate { .. }
+            | Error::NotOnThisBus { .. } => C::Usage,
+            Error::Timeout(_)
+            | Error::NoAnswer { .. }
+            | Error::SdoUnfinished { .. }
+            | Error::NoRemoteAnswer { .. }
+            | Error::NoLssAnswer { .. }
+            | Error::Epos2NoCanAnswer { .. }
+            | Error::AdapterNoAnswer { .. } => C::Timeout,
+            Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } => C::Link,
+            Error::Fastscan { .. } => C::Timeout,
+            Error::SdoAbort { .. }
+            | Error::Refused(_)
+            | Error::LssRefused { .. }
+            | Error::Epos2Refused { .. }
+            | Error::NoFreeNodeId { .. } => C::Refused,
+            Error::Link(_) => C::Link,
+            Error::Verify(_) | Error::ReadBack { .. } | Error::Differs { .. } => C::Verify,
+            Error::Interrupted => C::Interrupted,
+            Error::Hinted { error, .. } => error.class(),
+        }
+    }
+
+    pub fn exit_code(&self) -> i32 {
+        self.class().exit_code()
+    }
+
+    /// Nobody answered in time (exit 3): what a scan or a poll treats as "not there".
+    pub fn is_timeout(&self) -> bool {
+        self.class() == ErrorClass::Timeout
+    }
+
+    /// The error under any hint.
+    pub fn root(&self) -> &Error {
+        match self {
+            Error::Hinted { error, .. } => error.root(),
+            e => e,
+        }
+    }
+
+    /// This error with advice appended to its message.
+    pub fn with_hint(self, hint: impl Into<String>) -> Error {
+        Error::Hinted { error: Box::new(self), hint: hint.into() }
+    }
+}
+
+impl From<LinkError> for Error {
+    fn from(e: LinkError) -> Error {
+        Error::Link(e)
+    }
+}
+
+/// A link failure: the port, interface or pseudo-terminal, and what went wrong with it.
+#[derive(Debug, thiserror::Error)]
+pub enum LinkError {
+    /// A port or interface that cannot be opened.
+    #[error("cannot open {port}: {error}")]
+    Open { port: String, error: std::io::Error },
+    /// An operation on an open port or interface failed (`{port}: {op}: {source}`; no `op`:
+    /// `{port}: {source}`).
+    #[error("{port}: {}{error}", if op.is_empty() { String::new() } else { format!("{op}: ") })]
+    Io { port: String, op: &'static str, error: std::io::Error },
+    /// No network interface of this name; `available` lists the CAN interfaces there are.
+    #[error(
+        "there is no network interface '{iface}' (CAN interfaces here: {}).\n  \
+         A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
+         A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
+         No hardware: try the demo network, --bus sim",
+        if available.is_empty() { "none".to_string() } else { available.join(", ") }
+    )]
+    NoInterface { iface: String, available: Vec<String> },
+    /// A network interface that is not a CAN interface.
+    #[error("'{iface}' is not a CAN interface")]
+    NotCan { iface: String },
+    /// A CAN interface that is down.
+    #[error("{iface} is down: bring it up first (e.g. sudo ip link set {iface} up type can bitrate 500000)")]
+    Down { iface: String },
+    /// The CAN controller went bus-off.
+    #[error("{iface}: the controller went bus-off ({detail})")]
+    BusOff { iface: String, detail: String },
+    /// Frames could not be queued for this long.
+    #[error(
+        "{iface}: the transmit queue stayed full for {} s (no other node acknowledging? bus-off?)",
+        waited.as_secs()
+    )]
+    TxQueueFull { iface: String, waited: Duration },
+    /// A serial CAN adapter refused a command.
+    #[error(
+        "{port}: the adapter refused to {what}; is it an slcan (Lawicel) adapter, and not in use by another program?"
+    )]
+    AdapterRefused { port: String, what: &'static str },
+    /// A serial CAN adapter reports bus errors (its status flags, by name).
+    #[error("{port}: the adapter reports {}: check the wiring, the termination and the bit rate", flags.join(", "))]
+    AdapterBusError { port: String, flags: Vec<&'static str> },
+    /// A serial CAN adapter refused to send a frame (with its status flags, when it gave them),
+    /// or, with no `cob`, refused a frame while receiving.
+    #[error("{}", match cob {
+        Some(cob) if flags.is_empty() => format!("{port}: the adapter refused to send {cob:03X}"),
+        Some(cob) => format!("{port}: the adapter refused to send {cob:03X} ({})", flags.join(", ")),
+        None => format!("{port}: the adapter refused a frame"),
+    })]
+    AdapterRefusedFrame { port: String, cob: Option<u16>, flags: Vec<&'static str> },
+    /// An SDO transfer broke off on a protocol error; `aborted` is the abort code sent.
+    #[error("node {node}: SDO transfer of {obj} failed: {reason}{}",
+        aborted.map(|c| format!(" (aborted with 0x{c:08X})")).unwrap_or_default())]
+    SdoProtocol { node: u8, obj: ObjAddr, reason: String, aborted: Option<u32> },
+    /// An EPOS2 serial command failed on the line (after a resync and a retry, when the
+    /// first failure allowed one).
+    #[error("{}", epos2_serial_text(bus, command, failure, retry.as_ref()))]
+    Epos2Serial {
+        bus: String,
+        command: &'static str,
+        failure: crate::epos2::transport::Failure,
+        retry: Option<crate::epos2::transport::Failure>,
+    },
+    /// An EPOS2 answer that does not make sense.
+    #[error("{}", epos2_answer_text(bus, problem))]
+    Epos2Answer { bus: String, problem: Epos2Problem },
+    /// The simulator's state file could not be used.
+    #[error("sim state file {}: {what}: {detail}", path.display())]
+    StateFile { path: PathBuf, what: &'static str, detail: String },
+    /// A pseudo-terminal (the simulator's serial devices) failed.
+    #[error("{op}: {detail}")]
+    Pty { op: PtyOp, detail: String },
+}
+
+/// What a node was asked and did not answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Service {
+    /// An SDO transfer of this object.
+    Sdo(ObjAddr),
+}
+
+impl fmt::Display for Service {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Service::Sdo(obj) => write!(f, "the SDO transfer of {obj}"),
+        }
+    }
+}
+
+/// Which node-ids a bus can address.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeIdRange {
+    /// 1 to 127 (a CAN bus).
+    CanOpen,
+    /// 0 (the EPOS2 itself) or 1 to 127 (the nodes behind it).
+    Epos2,
+}
+
+fn node_id_text(node: u8, range: NodeIdRange) -> String {
+    match (range, node) {
+        (NodeIdRange::CanOpen, 0) => {
+            "node-id 0 is only for an EPOS2 on an epos2-rs232/epos2-usb bus; here use 1 to 127".into()
+        }
+        (NodeIdRange::CanOpen, _) => format!("node-id {node} is out of range: use 1 to 127"),
+        (NodeIdRange::Epos2, _) => format!("node-id {node} is out of range: use 0 (the EPOS2 itself) or 1 to 127"),
+    }
+}
+
+/// How much of an SDO transfer had moved: bytes, of the total when the size is known.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Moved {
+    pub bytes: usize,
+    pub total: Option<usize>,
+}
+
+impl fmt::Display for Moved {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.total {
+            Some(total) => write!(f, "{} of {total} bytes", self.bytes),
+            None => write!(f, "{} bytes", self.bytes),
+        }
+    }
+}
+
+/// Why an SDO transfer the node had answered did not finish.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Unfinished {
+    /// Its total deadline (`budget`, from the size and `timeout`) passed.
+    Deadline { budget: Duration, timeout: Duration },
+    /// Nothing moved it on for `waited`, though the device sent `ignored` frames (`last`
+    /// the last of them, in hex).
+    NoProgress { waited: Duration, ignored: usize, last: String },
+    /// The node fell silent for `waited`.
+    Silent { waited: Duration },
+}
+
+struct SdoUnfinishedText<'a> {
+    node: u8,
+    obj: ObjAddr,
+    moved: Moved,
+    why: &'a Unfinished,
+}
+
+impl fmt::Display for SdoUnfinishedText<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let SdoUnfinishedText { node, obj, moved, why } = self;
+        match why {
+            Unfinished::Deadline { budget, timeout } => write!(
+                f,
+                "node {node}: the SDO transfer of {obj} did not finish within its deadline of {:.1} s \
+                 ({moved} moved; the deadline follows from the size and --timeout {} ms)",
+                budget.as_secs_f64(),
+                timeout.as_millis()
+            ),
+            Unfinished::NoProgress { waited, ignored, last } => write!(
+                f,
+                "node {node}: the SDO transfer of {obj} made no progress for {} ms ({moved} moved): \
+                 the device sent {ignored} frame(s) that did not advance it (the last: {last})",
+                waited.as_millis()
+            ),
+            Unfinished::Silent { waited } => write!(
+                f,
+                "node {node}: stopped answering during the SDO transfer of {obj} (waited {} ms, {moved} moved)",
+                waited.as_millis()
+            ),
+        }
+    }
+}
+
+/// `node N: COMMAND[ of OBJECT]`: where an EPOS2 command failed.
+struct Epos2Place<'a> {
+    node: u8,
+    command: &'a str,
+    obj: Option<ObjAddr>,
+}
+
+impl fmt::Display for Epos2Place<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.obj {
+            Some(obj) => write!(f, "node {}: {} of {obj}", self.node, self.command),
+            None => write!(f, "node {}: {}", self.node, self.command),
+        }
+    }
+}
+
+fn fastscan_text(error: &FastscanError, step: Duration) -> String {
+    let step = step.as_millis();
+    match error {
+        FastscanError::NoDevice => "no device without a node-id answered the fastscan".into(),
+        FastscanError::Unconfirmed(part) => format!(
+            "fastscan: identity part {part} was found but not confirmed, even with a {step} ms step (a device \
+             changed state, or frames were lost); try again, or a longer --step"
+        ),
+        FastscanError::NoMatch { part, value } => format!(
+            "no device without a node-id has {} 0x{value:08X} (waited up to {step} ms a step)",
+            ["vendor-id", "product code", "revision", "serial"].get(*part as usize).unwrap_or(&"identity part")
+        ),
+        FastscanError::Lost => {
+            format!("fastscan: a device without a node-id answered, then stopped answering, even with a {step} ms step")
+        }
+    }
+}
+
+fn epos2_serial_text(
+    bus: &str,
+    command: &str,
+    failure: &crate::epos2::transport::Failure,
+    retry: Option<&crate::epos2::transport::Failure>,
+) -> String {
+    match retry {
+        Some(second) => {
+            format!("{bus}: {command} failed: {failure}; after a resync and retry: {second}; {}", second.advice())
+        }
+        None => format!("{bus}: {command} failed: {failure}; {}", failure.advice()),
+    }
+}
+
+/// What was wrong with an EPOS2's answer.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Epos2Problem {
+    /// The answer to this command is shorter than its error code.
+    TooShort { command: &'static str },
+    /// A SegmentRead answer without its control byte.
+    EmptySegment,
+    /// A segmented read whose toggle bit did not alternate.
+    ToggleNotAlternated { node: u8, obj: ObjAddr },
+    /// A segment that claims more bytes than it carries.
+    ShortSegment { node: u8, claimed: usize },
+    /// Segments in a row that carried no data and said more follow.
+    EmptySegments { node: u8, obj: ObjAddr, count: usize },
+    /// A read that went on past the limit for reads through an EPOS2.
+    TooLong { node: u8, obj: ObjAddr, bytes: usize, limit_kib: usize },
+    /// A segmented write the EPOS2 confirmed one segment too many of.
+    ExtraSegment { node: u8, obj: ObjAddr },
+}
+
+fn epos2_answer_text(bus: &str, problem: &Epos2Problem) -> String {
+    match problem {
+        Epos2Problem::TooShort { command } => format!("{bus}: the answer to {command} is too short"),
+        Epos2Problem::EmptySegment => format!("{bus}: empty SegmentRead answer"),
+        Epos2Problem::ToggleNotAlternated { node, obj } => {
+            format!("node {node}: segmented read of {obj}: toggle bit not alternated")
+        }
+        Epos2Problem::ShortSegment { node, claimed } => {
+            format!("node {node}: segment claims {claimed} bytes but carries fewer")
+        }
+        Epos2Problem::EmptySegments { node, obj, count } => format!(
+            "node {node}: segmented read of {obj}: {count} segments in a row without data \
+             that say more follow; stopped. The device's SDO server is stuck: reset the node \
+             (`canctl nmt reset {node}`) and read again"
+        ),
+        Epos2Problem::TooLong { node, obj, bytes, limit_kib } => format!(
+            "node {node}: segmented read of {obj}: {bytes} bytes and the device still says more follow; \
+             stopped at the limit of {limit_kib} KiB for reads through an EPOS2. A value this large is \
+             read over SocketCAN (block transfer); otherwise the device is faulty: reset it"
+        ),
+        Epos2Problem::ExtraSegment { node, obj } => {
+            format!("node {node}: segmented write of {obj}: the EPOS2 confirmed another segment")
+        }
+    }
+}
+
+/// What failed on a pseudo-terminal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PtyOp {
+    Create,
+    Termios,
+    Name,
+    Poll,
+    Read,
+    Write,
+    /// Telling the user its path.
+    PrintPath,
+}
+
+impl fmt::Display for PtyOp {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            PtyOp::Create => "cannot create a pseudo-terminal",
+            PtyOp::Termios => "pty termios",
+            PtyOp::Name => "pty name",
+            PtyOp::Poll => "pty poll",
+            PtyOp::Read => "pty read",
+            PtyOp::Write => "pty write",
+            PtyOp::PrintPath => "cannot print the pty path",
+        })
     }
 }
 

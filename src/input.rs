@@ -34,7 +34,7 @@ pub enum InputError {
 impl From<InputError> for crate::Error {
     /// Every input problem is the user's to fix: a usage error (exit 2).
     fn from(e: InputError) -> crate::Error {
-        crate::Error::Usage(e.to_string())
+        crate::Error::Input(e)
     }
 }
 

@@ -40,6 +40,7 @@ pub mod od;
 pub mod ops;
 #[cfg(feature = "cli")]
 pub mod output;
+pub mod settings;
 pub mod sim;
 pub mod slcan;
 pub mod xdg;

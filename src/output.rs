@@ -9,6 +9,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
+mod lss;
+mod reports;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
     /// Tables and sentences for people.
@@ -140,6 +143,11 @@ pub trait Report: serde::Serialize {
     fn notes(&self) -> Vec<String> {
         Vec::new()
     }
+    /// The report in CSV when that is not its human form (a sentence for people, a row
+    /// for scripts); the notes, which are for people, are then left out.
+    fn csv(&self) -> Option<Human> {
+        None
+    }
     /// The report as test results, for reports of checks.
     fn junit(&self) -> Option<TestSuite> {
         None
@@ -223,7 +231,9 @@ impl Output {
         if self.format == Format::Json {
             return self.json(&serde_json::to_value(report).expect("reports serialise"));
         }
-        match report.human() {
+        let csv = if self.format == Format::Csv { report.csv() } else { None };
+        let for_people = csv.is_none();
+        match csv.unwrap_or_else(|| report.human()) {
             Human::Line(text) => self.print(&text)?,
             Human::Table { headers, rows, when_empty } => {
                 if when_empty || self.format == Format::Csv || !rows.is_empty() {
@@ -231,8 +241,10 @@ impl Output {
                 }
             }
         }
-        for note in report.notes() {
-            self.note(&note);
+        if for_people {
+            for note in report.notes() {
+                self.note(&note);
+            }
         }
         Ok(())
     }

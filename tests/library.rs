@@ -156,3 +156,79 @@ fn the_monitor_sees_the_sensors_heartbeat() {
     assert_eq!(heartbeat.node, Some(SENSOR));
     assert!(monitor.summary().frames() >= 1);
 }
+
+/// The demo network's devices that have a node-id.
+const DEMO_NODES: [u8; 4] = [1, 5, 10, 32];
+
+#[test]
+fn lss_assign_numbers_every_device_without_a_node_id_and_says_so() {
+    use canctl::ops::lss::{self, AssignOptions, FastscanOptions, Target};
+    let mut bus = demo();
+    let never = AtomicBool::new(false);
+    let o = AssignOptions { start: 20, fastscan: FastscanOptions::new(TIMEOUT), listen: None, store: true };
+    let mut progress = Recorder::default();
+    let report = lss::assign(bus.as_mut(), &o, &mut progress, &never).unwrap();
+    let nodes: Vec<u8> = report.assigned.iter().map(|d| d.node).collect();
+    assert_eq!(nodes, [20, 21, 22], "{report:?}");
+    assert!(report.assigned.iter().all(|d| d.stored && d.store_error.is_none()), "{report:?}");
+    assert!(DEMO_NODES.iter().all(|n| report.in_use_before.contains(n)), "{report:?}");
+    assert!(!report.interrupted && report.failure.is_none());
+    assert!(
+        progress.calls.contains(&format!("note {} -> node 20", report.assigned[0].identity.0)),
+        "{:?}",
+        progress.calls
+    );
+    let json = serde_json::to_value(&report).unwrap();
+    assert_eq!(json["assigned"][0]["identity"], report.assigned[0].identity.0.to_string());
+    assert_eq!(json["assigned"][0]["lss"]["serial"], report.assigned[0].identity.0.serial);
+    assert_eq!(json["error"], serde_json::Value::Null);
+    let first = report.assigned[0].identity.0;
+    report.outcome().unwrap();
+
+    // Each device answers with its new node-id; nobody is left to number.
+    let asked = lss::inquire(bus.as_mut(), TIMEOUT, Target::One(first)).unwrap();
+    assert_eq!((asked.identity.0, asked.node), (first, Some(20)));
+    let again = lss::assign(bus.as_mut(), &o, &mut Recorder::default(), &never).unwrap();
+    assert!(again.assigned.is_empty());
+    assert_eq!(again.outcome().unwrap_err().exit_code(), 3);
+}
+
+#[test]
+fn lss_fastscan_finds_a_device_that_set_id_then_numbers() {
+    use canctl::ops::lss::{self, FastscanOptions, Setting, Target};
+    let mut bus = demo();
+    let never = AtomicBool::new(false);
+    let found = lss::fastscan(bus.as_mut(), &FastscanOptions::new(TIMEOUT), &never).unwrap();
+    assert!(found.steps > 0 && found.step_ms > 0, "{found:?}");
+    let before = lss::inquire(bus.as_mut(), TIMEOUT, Target::One(found.identity.0)).unwrap();
+    assert_eq!(before.node, None);
+
+    let target = Target::One(found.identity.0);
+    let set = lss::configure(bus.as_mut(), TIMEOUT, target, Setting::NodeId(40), &never).unwrap();
+    assert_eq!((set.command, set.result.as_str(), set.answers), ("set-id", "node-id 40", 1));
+    assert_eq!(lss::inquire(bus.as_mut(), TIMEOUT, target).unwrap().node, Some(40));
+
+    // An EPOS2 reached directly has no LSS: refused before anything is sent.
+    let refused = lss::inquire(bus.as_mut(), TIMEOUT, Target::DirectEpos2).unwrap_err();
+    assert_eq!(refused.exit_code(), 2, "{refused}");
+}
+
+#[test]
+fn settings_come_from_the_command_line_over_the_files_over_the_defaults() {
+    use canctl::settings::{FileSettings, Given, Settings, Source, DEFAULT_TIMEOUT};
+    let file = std::path::PathBuf::from("/project/canctl.toml");
+    let files = FileSettings {
+        bus: Some(("socketcan:can0".into(), file.clone())),
+        files: vec![file.clone()],
+        ..FileSettings::default()
+    };
+    let s = Settings::resolve(Given { timeout: Some(Duration::from_secs(1)), ..Given::default() }, files);
+    let bus = s.bus.as_ref().unwrap();
+    assert_eq!((bus.value.as_str(), &bus.from), ("socketcan:can0", &Source::File(file)));
+    assert_eq!((s.timeout.value, &s.timeout.from), (Duration::from_secs(1), &Source::Flag));
+    let shown = serde_json::to_value(s.report()).unwrap();
+    assert_eq!(shown["bus_from"], "/project/canctl.toml");
+    assert_eq!(shown["timeout_from"], "command line");
+    let none = Settings::resolve(Given::default(), FileSettings::default());
+    assert_eq!((none.bus, none.timeout.value, none.timeout.from), (None, DEFAULT_TIMEOUT, Source::Default));
+}

@@ -74,10 +74,11 @@ impl<'a> LssMaster<'a> {
                     self.send(r)?;
                 }
                 if !self.ask(d, LssWait::First)?.contains(&Response::SwitchSelectiveAck) {
-                    return Err(Error::Timeout(format!(
-                        "no LSS device with identity {id} answered the selective switch within {} ms",
-                        self.timeout.as_millis()
-                    )));
+                    return Err(Error::NoLssAnswer {
+                        request: "the selective switch".into(),
+                        identity: Some(*id),
+                        waited: self.timeout,
+                    });
                 }
                 Ok(())
             }
@@ -100,17 +101,10 @@ impl<'a> LssMaster<'a> {
             })
             .collect();
         if results.is_empty() {
-            return Err(Error::Timeout(format!(
-                "no LSS device answered {what} within {} ms",
-                self.timeout.as_millis()
-            )));
+            return Err(Error::NoLssAnswer { request: what.into(), identity: None, waited: self.timeout });
         }
         if let Some((cs, error, specific)) = results.iter().find(|(_, e, _)| *e != 0) {
-            let extra = if *error == 255 { format!(" (specific code {specific})") } else { String::new() };
-            return Err(Error::Refused(format!(
-                "LSS {what}: error {error}: {}{extra}",
-                lss::error_meaning(*cs, *error)
-            )));
+            return Err(Error::LssRefused { service: what.into(), cs: *cs, error: *error, specific: *specific });
         }
         Ok(results.len())
     }
@@ -213,7 +207,7 @@ impl LssMaster<'_> {
             // Ids seen meanwhile (a heartbeat, a boot-up) are taken too.
             used.extend(self.bus.observed().node_ids());
             let Some(node) = (start..=127).find(|n| !used.contains(n)) else {
-                let e = Error::Refused(format!("no free node-id left from {start} to 127 for {identity}"));
+                let e = Error::NoFreeNodeId { start, identity };
                 out.failure = Some(AssignFailure::Refused(e));
                 return Ok(());
             };

@@ -6,7 +6,7 @@ use crate::canopen::lss;
 use crate::canopen::nmt::Command;
 use crate::canopen::sdo::{self, SdoClient, SdoError};
 use crate::canopen::{abort, ObjAddr};
-use crate::error::{Error, Result};
+use crate::error::{Error, LinkError, Moved, NodeIdRange, Result, Service, Unfinished};
 use crate::frame::Frame;
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::time::{Duration, Instant};
@@ -126,7 +126,7 @@ impl<L: FrameLink> Master<L> {
                 if a.heard {
                     self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
                 }
-                results[a.slot] = Some(Err(Error::Timeout(expiry_message(node, &a, now, timeout))));
+                results[a.slot] = Some(Err(expiry_error(node, &a, now, timeout)));
                 finished += 1;
                 progress(finished);
                 self.start_next(node, &mut queues, &mut active, timeout)?;
@@ -205,11 +205,9 @@ impl<L: FrameLink> Master<L> {
             SdoError::ServerAbort(code) => Error::SdoAbort { node, obj: addr, code },
             SdoError::ClientAbort { code, reason } => {
                 self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, code)))?;
-                Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason} (aborted with 0x{code:08X})"))
+                LinkError::SdoProtocol { node, obj: addr, reason, aborted: Some(code) }.into()
             }
-            SdoError::Inconsistent(reason) => {
-                Error::Link(format!("node {node}: SDO transfer of {addr} failed: {reason}"))
-            }
+            SdoError::Inconsistent(reason) => LinkError::SdoProtocol { node, obj: addr, reason, aborted: None }.into(),
         })
     }
 
@@ -229,40 +227,28 @@ impl<L: FrameLink> Master<L> {
     }
 }
 
+/// Why a transfer ran out of time, in the words a user can act on.
+fn expiry_error(node: u8, a: &Active, now: Instant, timeout: Duration) -> Error {
+    let obj = a.client.addr();
+    if !a.heard {
+        return Error::NoAnswer { node, what: Service::Sdo(obj), waited: timeout };
+    }
+    let (bytes, total) = a.client.progress();
+    let moved = Moved { bytes, total };
+    let why = if a.idle_deadline > now {
+        Unfinished::Deadline { budget: a.total_deadline.saturating_duration_since(a.started), timeout }
+    } else {
+        match a.client.ignored() {
+            Some((ignored, last)) => Unfinished::NoProgress { waited: timeout, ignored, last: last.to_string() },
+            None => Unfinished::Silent { waited: timeout },
+        }
+    };
+    Error::SdoUnfinished { node, obj, moved, why }
+}
+
 /// Receive filters for SDO transfers with these nodes: their answers, heartbeats (which
 /// report NMT states on the way) and LSS answers (to a request sent along with a scan).
 /// Many nodes: the whole SDO answer range.
-/// Why a transfer ran out of time, in the words a user can act on.
-fn expiry_message(node: u8, a: &Active, now: Instant, timeout: Duration) -> String {
-    let addr = a.client.addr();
-    let ms = timeout.as_millis();
-    if !a.heard {
-        return format!("node {node}: did not answer the SDO transfer of {addr} (waited {ms} ms)");
-    }
-    let (moved, total) = a.client.progress();
-    let moved = match total {
-        Some(total) => format!("{moved} of {total} bytes"),
-        None => format!("{moved} bytes"),
-    };
-    if a.idle_deadline > now {
-        let budget = a.total_deadline.saturating_duration_since(a.started);
-        return format!(
-            "node {node}: the SDO transfer of {addr} did not finish within its deadline of {:.1} s \
-             ({moved} moved; the deadline follows from the size and --timeout {ms} ms)",
-            budget.as_secs_f64()
-        );
-    }
-    match a.client.ignored() {
-        Some((count, last)) => format!(
-            "node {node}: the SDO transfer of {addr} made no progress for {ms} ms ({moved} moved): \
-             the device sent {count} frame(s) that did not advance it (the last: {last})"
-        ),
-        None => {
-            format!("node {node}: stopped answering during the SDO transfer of {addr} (waited {ms} ms, {moved} moved)")
-        }
-    }
-}
-
 fn sdo_filters(nodes: impl ExactSizeIterator<Item = u8>) -> Vec<(u16, u16)> {
     const HEARTBEATS: (u16, u16) = (0x700, 0x780);
     const LSS_ANSWERS: (u16, u16) = (lss::SLAVE_COB, 0x7FF);
@@ -280,10 +266,7 @@ const DRAIN_LIMIT: Duration = Duration::from_millis(20);
 fn check_node(node: u8) -> Result<()> {
     match node {
         1..=127 => Ok(()),
-        0 => Err(Error::Usage(
-            "node-id 0 is only for an EPOS2 on an epos2-rs232/epos2-usb bus; here use 1 to 127".into(),
-        )),
-        _ => Err(Error::Usage(format!("node-id {node} is out of range: use 1 to 127"))),
+        _ => Err(Error::NodeIdOutOfRange { node, range: NodeIdRange::CanOpen }),
     }
 }
 
@@ -299,11 +282,7 @@ impl<L: FrameLink> Bus for Master<L> {
 
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
         if u32::try_from(data.len()).is_err() {
-            return Err(Error::Usage(format!(
-                "{} bytes cannot be written by SDO: CiA 301 sizes are 32-bit (at most {} bytes)",
-                data.len(),
-                u32::MAX
-            )));
+            return Err(Error::TooLargeForSdo { len: data.len() });
         }
         let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
         self.one(node, client, opts.timeout).map(|_| ())
@@ -361,7 +340,7 @@ impl<L: FrameLink> Bus for Master<L> {
         if let Some(f) = answer? {
             return Ok(f);
         }
-        Err(Error::Timeout(format!("no answer to the remote request for 0x{id:03X} within {} ms", timeout.as_millis())))
+        Err(Error::NoRemoteAnswer { cob: id, waited: timeout })
     }
 
     fn lss_exchange(

@@ -2,7 +2,7 @@
 //! vcan0, slcan0). Receive filters keep a busy bus cheap; error frames are reported.
 
 use super::FrameLink;
-use crate::error::{Error, Result};
+use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
 use socketcan::{
     CanError, CanFilter, CanFrame, CanSocket, EmbeddedFrame, ErrorCause, Id, Socket, SocketOptions, StandardId,
@@ -26,23 +26,15 @@ fn check_interface(iface: &str) -> Result<()> {
     let dir = std::path::Path::new("/sys/class/net").join(iface);
     let present = super::uri::can_interfaces();
     if !dir.exists() {
-        let list = if present.is_empty() { "none".to_string() } else { present.join(", ") };
-        return Err(Error::Link(format!(
-            "there is no network interface '{iface}' (CAN interfaces here: {list}).\n  \
-             A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
-             A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
-             No hardware: try the demo network, --bus sim"
-        )));
+        return Err(LinkError::NoInterface { iface: iface.to_string(), available: present }.into());
     }
     if !present.iter().any(|p| p == iface) {
-        return Err(Error::Link(format!("'{iface}' is not a CAN interface")));
+        return Err(LinkError::NotCan { iface: iface.to_string() }.into());
     }
     let flags = std::fs::read_to_string(dir.join("flags")).unwrap_or_default();
     let flags = u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16).unwrap_or(1);
     if flags & 1 == 0 {
-        return Err(Error::Link(format!(
-            "{iface} is down: bring it up first (e.g. sudo ip link set {iface} up type can bitrate 500000)"
-        )));
+        return Err(LinkError::Down { iface: iface.to_string() }.into());
     }
     Ok(())
 }
@@ -50,16 +42,21 @@ fn check_interface(iface: &str) -> Result<()> {
 impl SocketCanLink {
     pub fn open(iface: &str) -> Result<SocketCanLink> {
         check_interface(iface)?;
-        let sock = CanSocket::open(iface).map_err(|e| Error::Link(format!("cannot open {iface}: {e}")))?;
+        let io = |op: &'static str| move |error| LinkError::Io { port: iface.to_string(), op, error };
+        let sock = CanSocket::open(iface).map_err(|error| LinkError::Open { port: iface.to_string(), error })?;
         // Every error class: bus-off must end a command, the others are worth a warning.
-        sock.set_error_filter_accept_all().map_err(|e| Error::Link(format!("{iface}: error filter: {e}")))?;
-        sock.set_nonblocking(true).map_err(|e| Error::Link(format!("{iface}: {e}")))?;
+        sock.set_error_filter_accept_all().map_err(io("error filter"))?;
+        sock.set_nonblocking(true).map_err(io(""))?;
         Ok(SocketCanLink { sock, iface: iface.to_string(), filters: vec![(0, 0)], warned: Vec::new() })
+    }
+
+    fn io_error(&self, op: &'static str, error: io::Error) -> Error {
+        LinkError::Io { port: self.iface.clone(), op, error }.into()
     }
 
     fn error_frame(&mut self, err: CanError) -> Result<()> {
         if err.causes().any(|c| matches!(c, ErrorCause::BusOff)) {
-            return Err(Error::Link(format!("{}: the controller went bus-off ({err})", self.iface)));
+            return Err(LinkError::BusOff { iface: self.iface.clone(), detail: err.to_string() }.into());
         }
         let text = err.to_string();
         if !self.warned.contains(&text) {
@@ -90,15 +87,13 @@ impl FrameLink for SocketCanLink {
                 // room; dropping the frame would lose a probe without a word.
                 Err(e) if e.raw_os_error() == Some(nix::libc::ENOBUFS) || e.kind() == io::ErrorKind::WouldBlock => {
                     if Instant::now() > give_up {
-                        return Err(Error::Link(format!(
-                            "{}: the transmit queue stayed full for {} s (no other node acknowledging? bus-off?)",
-                            self.iface,
-                            TX_QUEUE_PATIENCE.as_secs()
-                        )));
+                        return Err(
+                            LinkError::TxQueueFull { iface: self.iface.clone(), waited: TX_QUEUE_PATIENCE }.into()
+                        );
                     }
                     std::thread::sleep(Duration::from_micros(200));
                 }
-                Err(e) => return Err(Error::Link(format!("{}: send failed: {e}", self.iface))),
+                Err(e) => return Err(self.io_error("send failed", e)),
             }
         }
     }
@@ -118,11 +113,11 @@ impl FrameLink for SocketCanLink {
                         Ok(f) => f,
                         Err(e) if matches!(e.kind(), io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock) => continue,
                         Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-                        Err(e) => return Err(Error::Link(format!("{}: receive failed: {e}", self.iface))),
+                        Err(e) => return Err(self.io_error("receive failed", e)),
                     }
                 }
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-                Err(e) => return Err(Error::Link(format!("{}: receive failed: {e}", self.iface))),
+                Err(e) => return Err(self.io_error("receive failed", e)),
             };
             match f {
                 CanFrame::Error(e) => self.error_frame(e.into_error())?,
@@ -145,7 +140,7 @@ impl FrameLink for SocketCanLink {
             return Ok(());
         }
         let list: Vec<CanFilter> = filters.iter().map(|(id, mask)| CanFilter::new(*id as u32, *mask as u32)).collect();
-        self.sock.set_filters(&list).map_err(|e| Error::Link(format!("{}: receive filter: {e}", self.iface)))?;
+        self.sock.set_filters(&list).map_err(|e| self.io_error("receive filter", e))?;
         self.filters = filters.to_vec();
         Ok(())
     }

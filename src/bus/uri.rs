@@ -6,7 +6,7 @@ use super::{Bus, Master};
 use crate::epos2::gateway::Epos2Gateway;
 use crate::epos2::transport::SerialTransport;
 use crate::epos2::Framing;
-use crate::error::{Error, Result};
+use crate::error::{Error, LinkError, Result};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -67,7 +67,7 @@ impl std::str::FromStr for BusAddr {
     type Err = Error;
 
     fn from_str(uri: &str) -> Result<BusAddr> {
-        let usage = |msg: String| Error::Usage(format!("bus '{uri}': {msg}"));
+        let usage = |reason: String| Error::BadBusAddr { uri: uri.to_string(), reason };
         let (scheme, rest) = match uri.split_once(':') {
             Some((s, r)) => (s, Some(r)),
             None => (uri, None),
@@ -188,11 +188,12 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             Ok(Box::new(Master::new(link, addr.to_string(), opts.trace)))
         }
         #[cfg(not(target_os = "linux"))]
-        BusAddr::SocketCan { .. } => Err(Error::Usage(format!(
-            "{addr}: SocketCAN is Linux's; on this OS reach the bus through a serial-line adapter \
-             (slcan:PORT, e.g. slcan:COM5 or slcan:/dev/tty.usbmodem1101) or an EPOS2 (epos2-usb:PORT), \
-             or try --bus sim"
-        ))),
+        BusAddr::SocketCan { .. } => Err(Error::NotOnThisBus {
+            bus: addr.to_string(),
+            why: "SocketCAN is Linux's; on this OS reach the bus through a serial-line adapter \
+                  (slcan:PORT, e.g. slcan:COM5 or slcan:/dev/tty.usbmodem1101) or an EPOS2 (epos2-usb:PORT), \
+                  or try --bus sim",
+        }),
         BusAddr::Epos2 { framing, port, baud } => {
             let io = open_serial(port, *baud, opts.timeout)?;
             let link = SerialTransport::new(io, *framing, addr.to_string(), opts.timeout, opts.trace);
@@ -223,12 +224,12 @@ fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<NativePort> {
         .flow_control(serialport::FlowControl::None)
         .timeout(timeout)
         .open_native()
-        .map_err(|e| Error::Link(format!("cannot open {port}: {e}")))?;
+        .map_err(|e| LinkError::Open { port: port.to_string(), error: e.into() })?;
     // A pseudo-terminal (the simulator's device side) is opened again by every command;
     // the exclusive flag would outlive this process and lock the next one out.
     #[cfg(unix)]
     if port.starts_with("/dev/pts/") {
-        io.set_exclusive(false).map_err(|e| Error::Link(format!("{port}: {e}")))?;
+        io.set_exclusive(false).map_err(|e| LinkError::Io { port: port.to_string(), op: "", error: e.into() })?;
     }
     Ok(io)
 }

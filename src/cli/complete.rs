@@ -84,8 +84,8 @@ fn flag_values(words: &[String], name: &str) -> Vec<String> {
     out
 }
 
-fn settings() -> super::settings::FileSettings {
-    super::settings::load().unwrap_or_default()
+fn settings() -> crate::settings::FileSettings {
+    crate::settings::load().unwrap_or_default()
 }
 
 /// The bus the command line would use.

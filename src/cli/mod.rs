@@ -13,14 +13,14 @@ mod nmt;
 mod objects;
 mod scan;
 mod sdo;
-mod settings;
 mod sim;
 mod store;
 mod stream;
 
-use crate::bus::{Bus, BusAddr, OpenOptions, SdoOptions};
+use crate::bus::{Bus, BusAddr, OpenOptions};
 use crate::error::Error;
 use crate::output::{FormatArg, Output};
+use crate::settings::{EdsFile, Given, Settings};
 use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -142,8 +142,7 @@ pub enum Command {
     Man(docs::ManArgs),
 }
 
-/// The answer timeout when neither a flag nor a settings file gives one.
-pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(500);
+pub use crate::settings::{parse_duration, parse_node, DEFAULT_TIMEOUT};
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
 pub struct Ctx {
@@ -154,43 +153,12 @@ pub struct Ctx {
     pub bus: Option<String>,
 }
 
-/// Parse `500ms`, `2s`, `1.5s`, `1m`, or a bare number of milliseconds.
-pub fn parse_duration(text: &str) -> Result<Duration, String> {
-    let t = text.trim();
-    let split = t.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(t.len());
-    let (num, unit) = t.split_at(split);
-    let n: f64 = num.parse().map_err(|_| format!("'{text}' is not a duration: use 500ms, 2s, 1.5s or 1m"))?;
-    let secs = match unit.trim() {
-        "" | "ms" => n / 1000.0,
-        "s" => n,
-        "m" | "min" => n * 60.0,
-        "us" | "µs" => n / 1e6,
-        u => return Err(format!("'{u}' is not a time unit: use ms, s or m")),
-    };
-    if !secs.is_finite() || !(0.0..=86_400.0).contains(&secs) {
-        return Err(format!("'{text}' is out of range (0 to 24 h)"));
-    }
-    Ok(Duration::from_secs_f64(secs))
-}
-
 /// Parse a node-id for an SDO command: 1 to 127, or 0 for an EPOS2 reached directly.
 pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
     if text.trim() == "0" {
         return Ok(0);
     }
     parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on an epos2-rs232/epos2-usb bus)"))
-}
-
-/// Parse a node-id: 1 to 127, decimal or 0x hex.
-pub fn parse_node(text: &str) -> Result<u8, String> {
-    let t = text.trim();
-    let n = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-        Some(h) => u32::from_str_radix(h, 16).ok(),
-        None => t.parse::<u32>().ok(),
-    };
-    n.filter(|n| (1..=127).contains(n))
-        .map(|n| n as u8)
-        .ok_or_else(|| format!("'{text}' is not a node-id: use 1 to 127"))
 }
 
 /// Open the bus the user named, or explain how to name one.
@@ -238,37 +206,37 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 /// A node that did not answer: say which nodes the last scan of this bus saw. An object
 /// the node does not have: name the dictionary's objects nearest to it.
 fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
-    match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::Timeout(msg)), Some(bus)) if msg.starts_with("node ") && msg.contains("did not answer") => {
-            Error::Timeout(format!("{msg}{}", cache::hint(bus))).into()
-        }
-        (Some(abort @ Error::SdoAbort { node, obj, code: 0x0602_0000 | 0x0609_0011 }), _) => {
+    use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
+    let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
+        (Some(Error::NoAnswer { .. }), Some(bus)) => cache::hint(bus),
+        (Some(Error::SdoAbort { node, obj, code: NO_OBJECT | NO_SUBINDEX }), _) => {
             let near = ctx.dicts.near(*node, *obj);
             if near.is_empty() {
                 return e;
             }
-            Error::Refused(format!("{abort}; did you mean {}?", near.join(", "))).into()
+            format!("; did you mean {}?", near.join(", "))
         }
-        _ => e,
+        _ => return e,
+    };
+    match e.downcast::<Error>() {
+        Ok(error) => error.with_hint(hint).into(),
+        Err(e) => e,
     }
 }
 
 /// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS.
 pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let g = &cli.global;
-    let bus = g
-        .bus
-        .clone()
-        .filter(|b| !b.is_empty())
-        .map(|b| (b, if bus_from_env { settings::Source::Env } else { settings::Source::Flag }));
-    let resolved = settings::resolve(bus, g.timeout, &g.eds, settings::load()?);
-    let eds: Vec<objects::EdsArg> = resolved.eds.iter().map(|(e, _)| e.clone()).collect();
-    let dicts = objects::Dictionaries::load(&eds)?;
+    let eds = g.eds.iter().map(|e| EdsFile { node: e.node, path: e.path.clone() }).collect();
+    let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds };
+    let settings = Settings::resolve(given, crate::settings::load()?);
+    let eds: Vec<objects::EdsArg> =
+        settings.eds.iter().map(|e| objects::EdsArg { node: e.value.node, path: e.value.path.clone() }).collect();
     let ctx = Ctx {
         out: Output::for_arg(g.format, g.quiet),
-        timeout: resolved.timeout.0,
-        dicts,
-        bus: resolved.bus.as_ref().map(|(b, _)| b.clone()),
+        timeout: settings.timeout.value,
+        dicts: objects::Dictionaries::load(&eds)?,
+        bus: settings.bus.as_ref().map(|b| b.value.clone()),
     };
     if g.format == FormatArg::Junit && !matches!(cli.command, Command::Network(network::NetworkCommand::Check(_))) {
         return Err(Error::Usage(
@@ -289,7 +257,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),
         Command::Network(cmd) => with_bus(&ctx, g, |bus| network::run(&ctx, bus, cmd)),
         Command::Sim(args) => sim::run(&ctx, g, args),
-        Command::Settings => settings::show(&ctx, &resolved),
+        Command::Settings => Ok(ctx.out.report(&settings.report())?),
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),
     }

@@ -179,7 +179,7 @@ pub(super) fn reset_and_wait(
     }
     let before = match remote_state(ctx, bus, target) {
         Ok(answer) => answer,
-        Err(Error::Timeout(_)) => None,
+        Err(e) if e.is_timeout() => None,
         Err(e) => return Err(e.into()),
     };
     bus.nmt(cmd, target)?;
@@ -243,10 +243,9 @@ fn poll_until_answering(ctx: &Ctx, bus: &mut dyn Bus, node: u8, wait: Duration) 
     loop {
         match remote_state(ctx, bus, node) {
             Ok(Some(answer)) => return Ok(answer),
-            Ok(None) | Err(Error::Timeout(_)) if Instant::now() < deadline => {
-                std::thread::sleep(Duration::from_millis(20))
-            }
-            Ok(None) | Err(Error::Timeout(_)) => {
+            Err(e) if !e.is_timeout() => return Err(e.into()),
+            Ok(None) | Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+            Ok(None) | Err(_) => {
                 return Err(Error::Timeout(format!(
                     "node {node}: NMT reset sent, but no answer to remote requests within {} ms after it; \
                      not confirmed. Check the node with `canctl scan`, or wait longer (--wait)",
@@ -254,7 +253,6 @@ fn poll_until_answering(ctx: &Ctx, bus: &mut dyn Bus, node: u8, wait: Duration) 
                 ))
                 .into())
             }
-            Err(e) => return Err(e.into()),
         }
     }
 }
@@ -280,7 +278,7 @@ pub(super) fn query_state(
     // the node's next heartbeat (same COB-ID).
     let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
     let answer = match bus.request_frame(nmt::error_control_cob(node), 1, ctx.timeout) {
-        Err(Error::Timeout(_)) => None,
+        Err(e) if e.is_timeout() => None,
         other => Some(other?),
     };
     match answer.as_ref().and_then(ErrorControl::parse) {

@@ -72,7 +72,7 @@ pub fn probe(ctx: &Ctx, bus: &mut dyn Bus, window: Duration) -> anyhow::Result<V
         match answer {
             Ok(bytes) => found.push((*node, as_u32(&bytes))),
             Err(Error::SdoAbort { .. }) => found.push((*node, None)),
-            Err(Error::Timeout(_)) => {}
+            Err(e) if e.is_timeout() => {}
             Err(e) => ctx.out.note(&format!("warning: node {node}: {e}")),
         }
     }
@@ -154,7 +154,7 @@ fn nmt_states(ctx: &Ctx, bus: &mut dyn Bus, found: &mut [Found], window: Duratio
                 }
                 _ => f.state_from = "its error-control answer was not a state",
             },
-            Err(Error::Timeout(_)) => {
+            Err(e) if e.is_timeout() => {
                 f.state_from = if beating(f) {
                     "no heartbeat within the wait, and no answer to node guarding"
                 } else {

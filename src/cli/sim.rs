@@ -215,7 +215,9 @@ fn serve_epos2(
     let device = crate::sim::epos2_device::Epos2Device::new(link, args.can_timeout, global.verbose > 0);
     let opts = ServeOptions { framing, baud: args.baud, faults: args.fault.clone() };
     epos2_serve::serve(device, &opts, |pty| {
-        ctx.out.print(pty).map_err(|e| Error::Link(format!("cannot print the pty path: {e}")))?;
+        ctx.out.print(pty).map_err(|e| {
+            Error::Link(crate::error::LinkError::Pty { op: crate::error::PtyOp::PrintPath, detail: e.to_string() })
+        })?;
         let kind = if framing == Framing::Rs232 { "epos2-rs232" } else { "epos2-usb" };
         ctx.out.note(&format!(
             "serving the sim network's EPOS2 (node 1) on {pty}: use --bus {kind}:{pty}; stop with Ctrl-C"

@@ -6,7 +6,7 @@ use super::transport::Transport;
 use crate::bus::{Bus, LssAnswer, LssWait, Observed, SdoOptions, ALL_NODES};
 use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::{abort, ObjAddr};
-use crate::error::{Error, Result};
+use crate::error::{Epos2Problem, Error, LinkError, NodeIdRange, Result};
 use crate::frame::Frame;
 use std::time::{Duration, Instant};
 
@@ -40,9 +40,8 @@ impl<T: Transport> Epos2Gateway<T> {
     fn call(&mut self, cmd: &Command) -> Result<Option<(u32, Vec<u8>)>> {
         let answered = !self.link.is_rs232() || cmd.answered_on_rs232();
         let Some(answer) = self.link.transact(&cmd.to_frame(), answered)? else { return Ok(None) };
-        let (code, data) = command::parse_answer(&answer).ok_or_else(|| {
-            Error::Link(format!("{}: the answer to {} is too short", self.link.describe(), cmd.name()))
-        })?;
+        let (code, data) = command::parse_answer(&answer)
+            .ok_or_else(|| self.bad_answer(Epos2Problem::TooShort { command: cmd.name() }))?;
         Ok(Some((code, data.to_vec())))
     }
 
@@ -53,24 +52,17 @@ impl<T: Transport> Epos2Gateway<T> {
         Ok(data)
     }
 
-    fn check(&self, code: u32, node: u8, addr: Option<ObjAddr>, what: &str) -> Result<()> {
-        let place = match addr {
-            Some(a) => format!("node {node}: {what} of {a}"),
-            None => format!("node {node}: {what}"),
-        };
-        match code {
-            0 => Ok(()),
-            abort::TIMED_OUT => Err(Error::Timeout(format!(
-                "{place}: no answer on the CAN bus (the EPOS2 reports SDO timeout 0x05040000)"
-            ))),
-            c if command::is_maxon_code(c) => {
-                Err(Error::Refused(format!("{place}: EPOS2 error 0x{c:08X}: {}", command::error_meaning(c))))
-            }
-            c => match addr {
-                Some(obj) => Err(Error::SdoAbort { node, obj, code: c }),
-                None => Err(Error::Refused(format!("{place}: error 0x{c:08X}: {}", command::error_meaning(c)))),
-            },
+    fn check(&self, code: u32, node: u8, obj: Option<ObjAddr>, command: &'static str) -> Result<()> {
+        match (code, obj) {
+            (0, _) => Ok(()),
+            (abort::TIMED_OUT, _) => Err(Error::Epos2NoCanAnswer { node, command, obj }),
+            (code, Some(obj)) if !command::is_maxon_code(code) => Err(Error::SdoAbort { node, obj, code }),
+            (code, obj) => Err(Error::Epos2Refused { node, command, obj, code }),
         }
+    }
+
+    fn bad_answer(&self, problem: Epos2Problem) -> Error {
+        LinkError::Epos2Answer { bus: self.link.describe(), problem }.into()
     }
 
     /// Segment size: 63 bytes to the EPOS2 itself, one CAN SDO segment through it.
@@ -103,36 +95,30 @@ impl<T: Transport> Epos2Gateway<T> {
         let mut empty_in_a_row = 0;
         loop {
             let data = self.call_ok(&Command::SegmentRead { toggle }, node, Some(addr))?;
-            let ctrl = *data
-                .first()
-                .ok_or_else(|| Error::Link(format!("{}: empty SegmentRead answer", self.link.describe())))?;
+            let ctrl = *data.first().ok_or_else(|| self.bad_answer(Epos2Problem::EmptySegment))?;
             if (ctrl & TOGGLE != 0) != toggle {
-                return Err(Error::Link(format!("node {node}: segmented read of {addr}: toggle bit not alternated")));
+                return Err(self.bad_answer(Epos2Problem::ToggleNotAlternated { node, obj: addr }));
             }
             let len = (ctrl & LENGTH) as usize;
             let chunk = data
                 .get(1..1 + len)
-                .ok_or_else(|| Error::Link(format!("node {node}: segment claims {len} bytes but carries fewer")))?;
+                .ok_or_else(|| self.bad_answer(Epos2Problem::ShortSegment { node, claimed: len }))?;
             out.extend_from_slice(chunk);
             if ctrl & MORE == 0 {
                 return Ok(out);
             }
             empty_in_a_row = if chunk.is_empty() { empty_in_a_row + 1 } else { 0 };
             if empty_in_a_row == MAX_EMPTY_SEGMENTS {
-                return Err(Error::Link(format!(
-                    "node {node}: segmented read of {addr}: {MAX_EMPTY_SEGMENTS} segments in a row without data \
-                     that say more follow; stopped. The device's SDO server is stuck: reset the node \
-                     (`canctl nmt reset {node}`) and read again"
-                )));
+                return Err(self.bad_answer(Epos2Problem::EmptySegments {
+                    node,
+                    obj: addr,
+                    count: MAX_EMPTY_SEGMENTS,
+                }));
             }
             if out.len() >= MAX_SEGMENTED_UPLOAD {
-                return Err(Error::Link(format!(
-                    "node {node}: segmented read of {addr}: {} bytes and the device still says more follow; \
-                     stopped at the limit of {} KiB for reads through an EPOS2. A value this large is \
-                     read over SocketCAN (block transfer); otherwise the device is faulty: reset it",
-                    out.len(),
-                    MAX_SEGMENTED_UPLOAD >> 10
-                )));
+                let problem =
+                    Epos2Problem::TooLong { node, obj: addr, bytes: out.len(), limit_kib: MAX_SEGMENTED_UPLOAD >> 10 };
+                return Err(self.bad_answer(problem));
             }
             toggle = !toggle;
         }
@@ -149,9 +135,7 @@ impl<T: Transport> Epos2Gateway<T> {
             let answer = self.call_ok(&Command::SegmentWrite { toggle, data: chunk.to_vec() }, node, Some(addr))?;
             let ctrl = answer.first().copied().unwrap_or(0);
             if (ctrl & TOGGLE != 0) != toggle || (ctrl & LENGTH) as usize != chunk.len() {
-                return Err(Error::Link(format!(
-                    "node {node}: segmented write of {addr}: the EPOS2 confirmed another segment"
-                )));
+                return Err(self.bad_answer(Epos2Problem::ExtraSegment { node, obj: addr }));
             }
             toggle = !toggle;
         }
@@ -163,7 +147,7 @@ fn check_node(node: u8) -> Result<()> {
     if node <= 127 {
         Ok(())
     } else {
-        Err(Error::Usage(format!("node-id {node} is out of range: use 0 (the EPOS2 itself) or 1 to 127")))
+        Err(Error::NodeIdOutOfRange { node, range: NodeIdRange::Epos2 })
     }
 }
 
@@ -209,10 +193,10 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
 
     fn send_frame(&mut self, frame: &Frame) -> Result<()> {
         if frame.is_remote() {
-            return Err(Error::Usage(format!(
-                "{}: remote frames go through RequestCANFrame; use a request",
-                self.link.describe()
-            )));
+            return Err(Error::NotOnThisBus {
+                bus: self.link.describe(),
+                why: "remote frames go through RequestCANFrame; use a request",
+            });
         }
         let mut data = [0u8; 8];
         data[..frame.len()].copy_from_slice(frame.data());
@@ -228,10 +212,10 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
     }
 
     fn recv_frame(&mut self, _deadline: Instant) -> Result<Option<Frame>> {
-        Err(Error::Usage(format!(
-            "{}: an EPOS2 passes on no CAN traffic of its own accord (only answers to commands)",
-            self.link.describe()
-        )))
+        Err(Error::NotOnThisBus {
+            bus: self.link.describe(),
+            why: "an EPOS2 passes on no CAN traffic of its own accord (only answers to commands)",
+        })
     }
 
     fn request_frame(&mut self, id: u16, len: u8, _timeout: Duration) -> Result<Frame> {

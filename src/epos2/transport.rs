@@ -13,7 +13,7 @@
 use super::command::{self, Command};
 use super::frame::{self, Frame, FrameError, UsbDecoder};
 use super::Framing;
-use crate::error::{Error, Result};
+use crate::error::{LinkError, Result};
 use std::io;
 use std::time::{Duration, Instant};
 
@@ -69,7 +69,7 @@ const PROBE_WAIT: Duration = Duration::from_secs(1);
 
 /// Why one attempt failed.
 #[derive(Debug)]
-enum Failure {
+pub enum Failure {
     Nack(&'static str),
     Timeout(&'static str),
     Frame(FrameError),
@@ -87,7 +87,7 @@ impl Failure {
     }
 
     /// What the user can do about it.
-    fn advice(&self) -> &'static str {
+    pub fn advice(&self) -> &'static str {
         match self {
             Failure::Io(_) => "check that the device is connected and powered, then run the command again",
             Failure::Babble(..) => {
@@ -297,24 +297,20 @@ impl<S: SerialIo> SerialTransport<S> {
 impl<S: SerialIo> Transport for SerialTransport<S> {
     fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>> {
         let what = Command::from_frame(command).map_or("command", |c| c.name());
-        let result = match self.attempt(command, answered) {
+        let (failure, retry) = match self.attempt(command, answered) {
             Ok(a) => return Ok(a),
             Err(first) if first.retryable() => {
                 self.in_step = false;
                 match self.port.resync().and_then(|()| self.attempt(command, answered)) {
                     Ok(a) => return Ok(a),
-                    Err(second) => Err(format!(
-                        "{}: {what} failed: {first}; after a resync and retry: {second}; {}",
-                        self.describe,
-                        second.advice()
-                    )),
+                    Err(second) => (first, Some(second)),
                 }
             }
-            Err(e) => Err(format!("{}: {what} failed: {e}; {}", self.describe, e.advice())),
+            Err(e) => (e, None),
         };
         // Whatever is still on its way belongs to nobody now.
         self.in_step = false;
-        result.map_err(Error::Link)
+        Err(LinkError::Epos2Serial { bus: self.describe.clone(), command: what, failure, retry }.into())
     }
 
     fn describe(&self) -> String {

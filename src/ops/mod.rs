@@ -4,6 +4,7 @@
 //! procedure never prints and knows nothing of the command line.
 
 pub mod config;
+pub mod lss;
 pub mod monitor;
 pub mod network;
 pub mod pdo;

@@ -343,7 +343,7 @@ impl<'a> Stream<'a> {
             for (_, l) in self.layouts {
                 match bus.request_frame(l.cob_id, l.len() as u8, self.opts.timeout) {
                     Ok(f) => got.push(f),
-                    Err(Error::Timeout(_)) => {}
+                    Err(e) if e.is_timeout() => {}
                     Err(e) => return Err(e),
                 }
             }

@@ -3,10 +3,11 @@
 //! injected for tests.
 
 use super::epos2_device::Epos2Device;
+use super::pty::failed;
 use crate::epos2::command::{self, Command};
 use crate::epos2::frame::{self, Frame as SerialFrame, UsbDecoder};
 pub use crate::epos2::Framing;
-use crate::error::{Error, Result};
+use crate::error::{PtyOp, Result};
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::io::Write;
 use std::os::fd::AsFd;
@@ -54,13 +55,12 @@ impl Wire {
                 PollTimeout::try_from(t.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX)
             });
             let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
-            let ready = poll(&mut fds, ms).map_err(|e| Error::Link(format!("pty poll: {e}")))?;
+            let ready = poll(&mut fds, ms).map_err(|e| failed(PtyOp::Poll, e))?;
             if ready == 0 {
                 return Ok(None);
             }
             let mut buf = [0u8; 512];
-            let n =
-                std::io::Read::read(&mut self.master, &mut buf).map_err(|e| Error::Link(format!("pty read: {e}")))?;
+            let n = std::io::Read::read(&mut self.master, &mut buf).map_err(|e| failed(PtyOp::Read, e))?;
             if n == 0 {
                 return Ok(None);
             }
@@ -75,7 +75,7 @@ impl Wire {
     fn send(&mut self, bytes: &[u8]) -> Result<()> {
         // The bytes leave once the line would have carried them.
         self.pace(bytes.len());
-        self.master.write_all(bytes).map_err(|e| Error::Link(format!("pty write: {e}")))
+        self.master.write_all(bytes).map_err(|e| failed(PtyOp::Write, e))
     }
 
     fn unread(&mut self) {

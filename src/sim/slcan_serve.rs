@@ -2,9 +2,10 @@
 //! CANable or CANUSB would show a host, with the sim devices on its bus. The adapter side
 //! is a `FrameLink`, so `bridge::run` connects it to the devices as it does a CAN interface.
 
+use super::pty::failed;
 use super::serial_fault::{Fault, FaultKind};
 use crate::bus::FrameLink;
-use crate::error::{Error, Result};
+use crate::error::{PtyOp, Result};
 use crate::frame::Frame;
 use crate::slcan::wire::{self, decode_command, Command, Message, Status, BELL, CR, MAX_LINE};
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
@@ -59,7 +60,7 @@ impl SlcanAdapter {
     }
 
     fn write(&mut self, bytes: &[u8]) -> Result<()> {
-        self.master.write_all(bytes).map_err(|e| Error::Link(format!("pty write: {e}")))
+        self.master.write_all(bytes).map_err(|e| failed(PtyOp::Write, e))
     }
 
     /// Frames pass only on an open channel at the bus's rate.
@@ -119,7 +120,7 @@ impl SlcanAdapter {
         let left = deadline.saturating_duration_since(Instant::now());
         let ms = PollTimeout::try_from(left.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX);
         let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
-        if poll(&mut fds, ms).map_err(|e| Error::Link(format!("pty poll: {e}")))? == 0 {
+        if poll(&mut fds, ms).map_err(|e| failed(PtyOp::Poll, e))? == 0 {
             return Ok(());
         }
         let mut buf = [0u8; 512];
@@ -130,7 +131,7 @@ impl SlcanAdapter {
                 std::thread::sleep(left.min(std::time::Duration::from_millis(20)));
                 return Ok(());
             }
-            Err(e) => return Err(Error::Link(format!("pty read: {e}"))),
+            Err(e) => return Err(failed(PtyOp::Read, e)),
         };
         for &b in &buf[..n] {
             match b {

@@ -2,7 +2,7 @@
 //! process uses it, replaced atomically when saved.
 
 use super::device::DeviceState;
-use crate::error::{Error, Result};
+use crate::error::{Error, LinkError, Result};
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
 use std::path::{Path, PathBuf};
@@ -32,8 +32,8 @@ pub fn default_path() -> PathBuf {
     crate::xdg::state_dir().unwrap_or_else(|| std::env::temp_dir().join("canctl")).join("sim.json")
 }
 
-fn link_err(path: &Path, what: &str, e: impl std::fmt::Display) -> Error {
-    Error::Link(format!("sim state file {}: {what}: {e}", path.display()))
+fn link_err(path: &Path, what: &'static str, e: impl std::fmt::Display) -> Error {
+    LinkError::StateFile { path: path.to_path_buf(), what, detail: e.to_string() }.into()
 }
 
 impl StateFile {

@@ -4,7 +4,7 @@
 use super::wire::{bit_rate_code, Command, Decoder, Message, Status, BIT_RATES};
 use crate::bus::FrameLink;
 use crate::epos2::transport::SerialIo;
-use crate::error::{Error, Result};
+use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -39,8 +39,8 @@ impl<P: SerialIo> SlcanLink<P> {
     /// Set the adapter to `kbit` and open its channel.
     pub fn open(port: P, name: String, kbit: u32) -> Result<SlcanLink<P>> {
         let Some(code) = bit_rate_code(kbit) else {
-            let rates: Vec<String> = BIT_RATES.iter().map(|(_, k)| format!("{k}k")).collect();
-            return Err(Error::Usage(format!("{name}: slcan has no {kbit} kbit/s; use one of {}", rates.join(" "))));
+            let supported = BIT_RATES.iter().map(|(_, k)| format!("{k}k")).collect();
+            return Err(Error::SlcanBitRate { port: name, kbit, supported });
         };
         let mut link = SlcanLink {
             port,
@@ -60,30 +60,20 @@ impl<P: SerialIo> SlcanLink<P> {
         link.decoder = Decoder::new();
         // A channel left open by another program must be closed before the rate can change;
         // closing a closed channel is refused by some adapters, which is fine.
-        link.command(Command::Close).ok();
-        link.command(Command::BitRate(code)).map_err(|e| link.refused("set the bit rate", e))?;
-        link.command(Command::Open).map_err(|e| link.refused("open the channel", e))?;
+        link.command(Command::Close, "close the channel").ok();
+        link.command(Command::BitRate(code), "set the bit rate")?;
+        link.command(Command::Open, "open the channel")?;
         link.open = true;
         Ok(link)
     }
 
-    fn io_error(&self, what: &str, e: std::io::Error) -> Error {
-        Error::Link(format!("{}: {what}: {e}", self.name))
-    }
-
-    fn refused(&self, what: &str, e: Error) -> Error {
-        match e {
-            Error::Refused(_) => Error::Link(format!(
-                "{}: the adapter refused to {what}; is it an slcan (Lawicel) adapter, and not in use by another program?",
-                self.name
-            )),
-            other => other,
-        }
+    fn io_error(&self, op: &'static str, error: std::io::Error) -> Error {
+        LinkError::Io { port: self.name.clone(), op, error }.into()
     }
 
     fn write(&mut self, bytes: &[u8]) -> Result<()> {
-        let name = self.name.clone();
-        self.port.write_all(bytes).map_err(|e| Error::Link(format!("{name}: cannot write: {e}")))
+        let written = self.port.write_all(bytes);
+        written.map_err(|e| self.io_error("cannot write", e))
     }
 
     /// Read what arrives until `deadline`, or until `stop` holds, queueing frames; the answers
@@ -119,8 +109,8 @@ impl<P: SerialIo> SlcanLink<P> {
         self.read_until(Instant::now() + wait, Until::Deadline).map(|_| ())
     }
 
-    /// Send a configuration command and wait for its answer.
-    fn command(&mut self, cmd: Command) -> Result<Message> {
+    /// Send a configuration command (`what` it does, for a refusal) and wait for its answer.
+    fn command(&mut self, cmd: Command, what: &'static str) -> Result<Message> {
         self.write(&cmd.encode())?;
         let deadline = Instant::now() + COMMAND_WAIT;
         loop {
@@ -128,16 +118,17 @@ impl<P: SerialIo> SlcanLink<P> {
             let answers = self.read_until(deadline, Until::Answer)?;
             let mut answers = answers.into_iter().filter(|m| *m != Message::Sent).peekable();
             match answers.next() {
-                Some(Message::Refused) => return Err(Error::Refused(format!("{}: refused", self.name))),
+                Some(Message::Refused) => {
+                    return Err(LinkError::AdapterRefused { port: self.name.clone(), what }.into())
+                }
                 Some(answer) => return Ok(answer),
                 None if Instant::now() < deadline => continue,
                 None => {
-                    return Err(Error::Timeout(format!(
-                        "{}: the adapter did not answer {:?} within {} ms",
-                        self.name,
-                        String::from_utf8_lossy(&cmd.encode()).trim_end(),
-                        COMMAND_WAIT.as_millis()
-                    )))
+                    return Err(Error::AdapterNoAnswer {
+                        port: self.name.clone(),
+                        command: String::from_utf8_lossy(&cmd.encode()).trim_end().to_string(),
+                        waited: COMMAND_WAIT,
+                    })
                 }
             }
         }
@@ -148,9 +139,9 @@ impl<P: SerialIo> SlcanLink<P> {
         if !self.has_status {
             return Ok(None);
         }
-        match self.command(Command::Status) {
+        match self.command(Command::Status, "report its status") {
             Ok(Message::Status(s)) => Ok(Some(s)),
-            Ok(_) | Err(Error::Refused(_)) | Err(Error::Timeout(_)) => {
+            Ok(_) | Err(Error::Link(LinkError::AdapterRefused { .. })) | Err(Error::AdapterNoAnswer { .. }) => {
                 self.has_status = false;
                 Ok(None)
             }
@@ -165,11 +156,7 @@ impl<P: SerialIo> SlcanLink<P> {
         const BUS_ERROR: u8 = 1 << 7;
         const ERROR_PASSIVE: u8 = 1 << 5;
         if s.0 & (BUS_ERROR | ERROR_PASSIVE) != 0 {
-            return Err(Error::Link(format!(
-                "{}: the adapter reports {}: check the wiring, the termination and the bit rate",
-                self.name,
-                s.names().join(", ")
-            )));
+            return Err(LinkError::AdapterBusError { port: self.name.clone(), flags: s.names() }.into());
         }
         Ok(())
     }
@@ -181,13 +168,8 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
         // A refusal comes at once; frames and acknowledges already here are kept.
         let answers = self.read_until(Instant::now(), Until::Deadline)?;
         if answers.contains(&Message::Refused) {
-            let flags = self.status().ok().flatten().map(|s| s.names().join(", ")).unwrap_or_default();
-            return Err(Error::Link(format!(
-                "{}: the adapter refused to send {:03X}{}",
-                self.name,
-                frame.id(),
-                if flags.is_empty() { String::new() } else { format!(" ({flags})") }
-            )));
+            let flags = self.status().ok().flatten().map(|s| s.names()).unwrap_or_default();
+            return Err(LinkError::AdapterRefusedFrame { port: self.name.clone(), cob: Some(frame.id()), flags }.into());
         }
         Ok(())
     }
@@ -203,7 +185,9 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
                 return Ok(Some(f));
             }
             if answers? {
-                return Err(Error::Link(format!("{}: the adapter refused a frame", self.name)));
+                return Err(
+                    LinkError::AdapterRefusedFrame { port: self.name.clone(), cob: None, flags: Vec::new() }.into()
+                );
             }
             if Instant::now() >= deadline {
                 // Only after a real wait: a poll (deadline now) asks the adapter nothing.
@@ -221,7 +205,7 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
 
     fn close(&mut self) -> Result<()> {
         if std::mem::take(&mut self.open) {
-            self.command(Command::Close)?;
+            self.command(Command::Close, "close the channel")?;
         }
         Ok(())
     }

@@ -1,0 +1,566 @@
+//! Node-ids and bit rates over LSS (CiA 305): ask a device its identity, give it a node-id
+//! or a bit rate, find devices without a node-id (fastscan) and number them all (assign).
+//! Whatever ends a procedure, every device is sent back to LSS waiting state, where it
+//! answers no other master's services by mistake. The request sequences themselves are
+//! [`LssMaster`]'s; an interruption is a flag, checked between steps.
+
+use super::{sized, Progress};
+use crate::bus::lss::{AssignFailure, LssMaster};
+use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use serde::ser::SerializeMap;
+use serde::Serialize;
+use std::collections::BTreeSet;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// Which device a service is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    /// One device, selected by its identity.
+    One(Identity),
+    /// Every LSS device on the bus at once (a broadcast).
+    All,
+    /// The EPOS2 a serial link reaches directly (node 0): no LSS, but its own objects.
+    DirectEpos2,
+}
+
+impl Target {
+    /// How reports name it.
+    pub fn text(&self) -> String {
+        match self {
+            Target::One(id) => id.to_string(),
+            Target::All => "all LSS devices".into(),
+            Target::DirectEpos2 => "the EPOS2 (node 0)".into(),
+        }
+    }
+}
+
+/// An identity in a report: its `V:P:R:S` text (`identity`) and its four numbers (`lss`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Identified(pub Identity);
+
+impl Serialize for Identified {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        let id = &self.0;
+        let mut m = s.serialize_map(Some(2))?;
+        m.serialize_entry("identity", &id.to_string())?;
+        m.serialize_entry("lss", &LssNumbers::from(id))?;
+        m.end()
+    }
+}
+
+/// The four entries of the identity object (0x1018:1..4), named.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct LssNumbers {
+    pub vendor_id: u32,
+    pub product_code: u32,
+    pub revision: u32,
+    pub serial: u32,
+}
+
+impl From<&Identity> for LssNumbers {
+    fn from(id: &Identity) -> LssNumbers {
+        LssNumbers { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial }
+    }
+}
+
+/// What the LSS services are refused with on an EPOS2 reached directly.
+pub fn no_lss_on_direct_epos2(verb: &str) -> Error {
+    Error::Usage(format!(
+        "an EPOS2 reached directly has no LSS, so `lss {verb} --node 0` cannot be done; \
+         set-id, set-baud and store work on it through its own objects, and without --node \
+         LSS goes to the devices on the CAN bus behind it"
+    ))
+}
+
+/// A device's identity and node-id, as it answered the inquiries.
+#[derive(Debug, Serialize)]
+pub struct Inquired {
+    #[serde(flatten)]
+    pub identity: Identified,
+    /// None: the device has no node-id (255).
+    pub node: Option<u8>,
+}
+
+/// Ask one device (or the only one, with [`Target::All`]) its identity and node-id.
+pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<Inquired> {
+    let (identity, global) = match target {
+        Target::One(id) => (Some(id), false),
+        Target::All => (None, true),
+        Target::DirectEpos2 => return Err(no_lss_on_direct_epos2("inquire")),
+    };
+    let mut m = LssMaster::new(bus, timeout);
+    if let Err(e) = m.enter(identity.as_ref()) {
+        // A late acknowledgement may still have put the device in configuration state.
+        m.leave()?;
+        return Err(e);
+    }
+    let mut values = Vec::new();
+    for q in [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId] {
+        let answers = m.ask(Request::Inquire(q), if global { LssWait::All } else { LssWait::First })?;
+        let found: Vec<u32> = answers
+            .iter()
+            .filter_map(|a| match a {
+                Response::InquiredValue { inquiry, value } if *inquiry == q => Some(*value),
+                _ => None,
+            })
+            .collect();
+        match found.as_slice() {
+            [v] => values.push(*v),
+            [] => {
+                m.leave()?;
+                return Err(Error::NoLssAnswer { request: "the inquiry".into(), identity: None, waited: timeout });
+            }
+            more => {
+                m.leave()?;
+                return Err(Error::Usage(format!(
+                    "{} devices answered the global inquiry: address one with --identity (lss fastscan finds them)",
+                    more.len()
+                )));
+            }
+        }
+    }
+    m.leave()?;
+    let id = Identity { vendor: values[0], product: values[1], revision: values[2], serial: values[3] };
+    let node = (values[4] as u8 != UNCONFIGURED).then_some(values[4] as u8);
+    Ok(Inquired { identity: Identified(id), node })
+}
+
+/// A configuration service.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Setting {
+    /// A node-id, 1 to 127, or 255 (none).
+    NodeId(u8),
+    /// A bit rate: its index in the CiA 305 table.
+    BitRate(u8),
+    /// Keep the node-id and bit rate across power cycles.
+    Store,
+}
+
+impl Setting {
+    /// The `lss` verb that asks for it.
+    pub fn verb(self) -> &'static str {
+        match self {
+            Setting::NodeId(_) => "set-id",
+            Setting::BitRate(_) => "set-baud",
+            Setting::Store => "store",
+        }
+    }
+
+    fn request(self) -> Request {
+        match self {
+            Setting::NodeId(id) => Request::ConfigureNodeId(id),
+            Setting::BitRate(index) => Request::ConfigureBitTiming { table: 0, index },
+            Setting::Store => Request::StoreConfiguration,
+        }
+    }
+}
+
+/// A configuration service done and confirmed.
+#[derive(Debug, Serialize)]
+pub struct Configured {
+    /// The verb: set-id, set-baud or store.
+    pub command: &'static str,
+    pub target: String,
+    /// What the devices now have, in words.
+    pub result: String,
+    /// How many devices confirmed it.
+    pub answers: usize,
+}
+
+/// Give the target a node-id or a bit rate, or make it store them: over LSS, or through
+/// the EPOS2's own objects when it is reached directly.
+pub fn configure(
+    bus: &mut dyn Bus,
+    timeout: Duration,
+    target: Target,
+    setting: Setting,
+    interrupted: &AtomicBool,
+) -> Result<Configured> {
+    let (result, answers) = match target {
+        Target::DirectEpos2 => (configure_direct_epos2(bus, timeout, setting)?, 1),
+        Target::One(_) | Target::All => {
+            let identity = match target {
+                Target::One(id) => Some(id),
+                _ => None,
+            };
+            let mut m = LssMaster::new(bus, timeout);
+            let result = m
+                .enter(identity.as_ref())
+                .and_then(|_| m.configure(setting.request(), setting.verb(), identity.is_none()));
+            m.leave()?;
+            let n = result?;
+            if interrupted.load(Ordering::SeqCst) {
+                return Err(Error::Interrupted);
+            }
+            let what = match setting {
+                Setting::NodeId(UNCONFIGURED) => "node-id removed (255)".to_string(),
+                Setting::NodeId(id) => format!("node-id {id}"),
+                Setting::BitRate(index) => format!(
+                    "bit rate {} (active after `lss activate`, or after store and a reset)",
+                    lss::bit_rate_name(index)
+                ),
+                Setting::Store => "LSS configuration stored".to_string(),
+            };
+            (what, n)
+        }
+    };
+    Ok(Configured { command: setting.verb(), target: target.text(), result, answers })
+}
+
+/// EPOS2 firmware specification, object 0x2001 "CAN Bitrate": 0 = 1 Mbit/s, 1 = 800 k,
+/// 2 = 500 k, 3 = 250 k, 4 = 125 k, 5 = 50 k, 6 = 20 k — not the CiA 305 table (there 5 is
+/// reserved, 6 = 50 k, 7 = 20 k).
+fn epos2_bit_rate_code(cia_index: u8) -> Option<u16> {
+    [(0, 0), (1, 1), (2, 2), (3, 3), (4, 4), (6, 5), (7, 6)].iter().find(|(c, _)| *c == cia_index).map(|(_, e)| *e)
+}
+/// EPOS2 firmware specification: 0x2000 "Node ID", 0x2001 "CAN Bitrate".
+const EPOS2_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
+const EPOS2_CAN_BIT_RATE: ObjAddr = ObjAddr::new(0x2001, 0);
+const STORE_ALL: ObjAddr = ObjAddr::new(0x1010, 1);
+
+/// set-id, set-baud and store on an EPOS2 reached directly: its own objects.
+fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting) -> Result<String> {
+    let opts = SdoOptions::new(timeout);
+    match setting {
+        Setting::NodeId(UNCONFIGURED) => {
+            Err(Error::Usage("an EPOS2 always has a node-id (1 to 127); 255 is for LSS devices".into()))
+        }
+        Setting::NodeId(id) => {
+            bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts).map(|_| format!("node-id {id} (object 0x2000)"))
+        }
+        Setting::BitRate(index) => {
+            let code = epos2_bit_rate_code(index).ok_or_else(|| {
+                Error::Usage(format!(
+                    "the EPOS2 has no {} setting: use 1M 800k 500k 250k 125k 50k or 20k",
+                    lss::bit_rate_name(index)
+                ))
+            })?;
+            bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts)
+                .map(|_| format!("CAN bit rate {} (object 0x2001 = {code})", lss::bit_rate_name(index)))
+        }
+        Setting::Store => {
+            bus.sdo_download(0, STORE_ALL, b"save", &opts).map(|_| "parameters stored (0x1010:1)".to_string())
+        }
+    }
+}
+
+/// Configured bit rates switched on.
+#[derive(Debug, Serialize)]
+pub struct Activated {
+    /// Always "activate".
+    pub command: &'static str,
+    pub delay_ms: u16,
+    /// Whether the link switched with the devices (and so could send them back to waiting).
+    pub bus_followed: bool,
+    /// Which devices, in words.
+    #[serde(skip)]
+    pub devices: String,
+    /// The link, as it describes itself.
+    #[serde(skip)]
+    pub bus: String,
+}
+
+/// Switch the configured bit rates on: the devices wait `delay_ms`, switch, and wait as
+/// long again before talking.
+pub fn activate(bus: &mut dyn Bus, timeout: Duration, target: Target, delay_ms: u16) -> Result<Activated> {
+    let identity = match target {
+        Target::One(id) => Some(id),
+        Target::All => None,
+        Target::DirectEpos2 => return Err(Error::Usage(
+            "an EPOS2 reached directly takes its new bit rate when it is stored and reset: use `lss store --node 0`"
+                .into(),
+        )),
+    };
+    let mut m = LssMaster::new(bus, timeout);
+    if let Err(e) = m.enter(identity.as_ref()) {
+        m.leave()?;
+        return Err(e);
+    }
+    m.send(Request::ActivateBitTiming { delay_ms })?;
+    // CiA 305: the devices wait the delay, switch, and wait as long again before talking.
+    std::thread::sleep(Duration::from_millis(2 * delay_ms as u64));
+    let devices = identity.map_or("all devices in configuration".to_string(), |i| i.to_string());
+    let described = m.bus().describe();
+    // The devices are still in configuration state; only a link at the new rate can send
+    // them back to waiting.
+    let bus_followed = m.bus().follows_bit_rate_switch();
+    if bus_followed {
+        m.leave()?;
+    }
+    Ok(Activated { command: "activate", delay_ms, bus_followed, devices, bus: described })
+}
+
+/// How fastscan paces itself, and what it already knows.
+#[derive(Clone, Debug)]
+pub struct FastscanOptions {
+    /// The first probe's window, when no step is given.
+    pub timeout: Duration,
+    /// Wait this long for each answer instead of learning it from the devices (lengthened
+    /// only if answers come later still).
+    pub step: Option<Duration>,
+    /// Identity parts known in advance: not searched.
+    pub vendor: Option<u32>,
+    pub product: Option<u32>,
+    pub revision: Option<u32>,
+}
+
+impl FastscanOptions {
+    pub fn new(timeout: Duration) -> FastscanOptions {
+        FastscanOptions { timeout, step: None, vendor: None, product: None, revision: None }
+    }
+
+    fn given(&self) -> [Option<u32>; 4] {
+        [self.vendor, self.product, self.revision, None]
+    }
+
+    fn pace(&self) -> Pace {
+        match self.step {
+            Some(step) => Pace::fixed(step, self.timeout),
+            None => Pace::measured(self.timeout),
+        }
+    }
+}
+
+/// The pace a fastscan used and what it was learned from.
+#[derive(Clone, Debug, Serialize)]
+pub struct PaceUsed {
+    /// The longest step waited.
+    pub step_ms: u64,
+    /// The slowest answer seen.
+    pub slowest_answer_ms: Option<f64>,
+    /// How often answers came later than the step and it was lengthened.
+    pub escalations: u32,
+}
+
+impl From<&Pace> for PaceUsed {
+    fn from(p: &Pace) -> PaceUsed {
+        PaceUsed {
+            step_ms: p.longest_step().as_millis() as u64,
+            slowest_answer_ms: p.slowest().map(|s| s.as_secs_f64() * 1e3),
+            escalations: p.escalations(),
+        }
+    }
+}
+
+impl PaceUsed {
+    /// For people: the step and the slowest answer.
+    pub fn text(&self) -> String {
+        match self.slowest_answer_ms {
+            Some(s) => format!("step {} ms (slowest answer {s:.1} ms)", self.step_ms),
+            None => format!("step {} ms", self.step_ms),
+        }
+    }
+}
+
+/// A device without a node-id, found by fastscan.
+#[derive(Debug, Serialize)]
+pub struct Found {
+    #[serde(flatten)]
+    pub identity: Identified,
+    /// Fastscan requests sent.
+    pub steps: u32,
+    pub step_ms: u64,
+    pub pace: PaceUsed,
+    pub elapsed_ms: u64,
+}
+
+fn fastscan_error(error: FastscanError, pace: &Pace) -> Error {
+    Error::Fastscan { error, step: pace.longest_step() }
+}
+
+/// Find the identity of one device without a node-id, bit by bit. The device found is
+/// sent back to waiting state, unchanged.
+pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &AtomicBool) -> Result<Found> {
+    let start = Instant::now();
+    let mut m = LssMaster::new(bus, o.timeout);
+    let result = m.fastscan(o.pace(), o.given(), &mut || !interrupted.load(Ordering::SeqCst));
+    // The device found is in configuration state: whatever happened, every device goes
+    // back to waiting, unchanged.
+    let left = m.leave();
+    let Some(outcome) = result? else {
+        left?;
+        return Err(Error::Interrupted);
+    };
+    left?;
+    let id = outcome.found.map_err(|e| fastscan_error(e, &outcome.pace))?;
+    let pace = PaceUsed::from(&outcome.pace);
+    Ok(Found {
+        identity: Identified(id),
+        steps: outcome.steps,
+        step_ms: pace.step_ms,
+        pace,
+        elapsed_ms: start.elapsed().as_millis() as u64,
+    })
+}
+
+/// What `assign` needs to know.
+#[derive(Clone, Debug)]
+pub struct AssignOptions {
+    /// The first node-id to give.
+    pub start: u8,
+    pub fastscan: FastscanOptions,
+    /// How long to listen for heartbeats before assigning; by default 1 s, or longer for
+    /// the longest heartbeat period the nodes report.
+    pub listen: Option<Duration>,
+    /// Make each device keep its node-id across power cycles.
+    pub store: bool,
+}
+
+/// A device given a node-id.
+#[derive(Debug, Serialize)]
+pub struct AssignedNode {
+    #[serde(flatten)]
+    pub identity: Identified,
+    pub node: u8,
+    pub stored: bool,
+    /// Why it was not stored (or "not asked").
+    pub store_error: Option<String>,
+}
+
+/// What `assign` did: every device numbered, or how far it got and why it stopped.
+#[derive(Debug, Serialize)]
+pub struct Assignment {
+    pub assigned: Vec<AssignedNode>,
+    /// The node-ids in use before: the new ones do not collide with them.
+    pub in_use_before: Vec<u8>,
+    pub fastscan_steps: u32,
+    pub step_ms: u64,
+    pub pace: PaceUsed,
+    pub elapsed_ms: u64,
+    pub interrupted: bool,
+    /// Why it stopped before every device had a node-id.
+    #[serde(rename = "error", serialize_with = "error_text")]
+    pub failure: Option<Error>,
+}
+
+fn error_text<S: serde::Serializer>(e: &Option<Error>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    match e {
+        Some(e) => s.collect_str(e),
+        None => s.serialize_none(),
+    }
+}
+
+impl Assignment {
+    /// Done only when every device answered and at least one got a node-id.
+    pub fn outcome(self) -> Result<()> {
+        match self.failure {
+            Some(e) => Err(e),
+            None if self.assigned.is_empty() => {
+                Err(Error::Fastscan { error: FastscanError::NoDevice, step: Duration::from_millis(self.step_ms) })
+            }
+            None => Ok(()),
+        }
+    }
+}
+
+/// Default time to listen for heartbeats before assigning: long enough for the common
+/// periods (100 ms .. 1 s); longer when a node reports a longer one.
+const LISTEN: Duration = Duration::from_secs(1);
+const LISTEN_CEILING: Duration = Duration::from_secs(10);
+const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
+const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
+
+/// Nodes that answer an SDO read of 0x1000 within `window` (an abort is an answer too).
+fn answering(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Vec<u8>> {
+    let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, DEVICE_TYPE)).collect();
+    progress.start("probing", probes.len() as u64);
+    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(window), &mut |n| progress.advance(n as u64));
+    progress.finish();
+    let mut found = Vec::new();
+    for ((node, _), answer) in probes.iter().zip(answers?) {
+        match answer {
+            Ok(_) | Err(Error::SdoAbort { .. }) => found.push(*node),
+            Err(e) if e.is_timeout() => {}
+            Err(e) => progress.note(&format!("warning: node {node}: {e}")),
+        }
+    }
+    Ok(found)
+}
+
+/// Node-ids in use: the SDO probe, then heartbeats, boot-ups and everything else the bus
+/// shows while listening. A node in Stopped answers no SDO but still beats.
+fn ids_in_use(
+    bus: &mut dyn Bus,
+    timeout: Duration,
+    listen: Option<Duration>,
+    progress: &mut dyn Progress,
+    interrupted: &AtomicBool,
+) -> Result<BTreeSet<u8>> {
+    let found = answering(bus, timeout.min(Duration::from_millis(100)), progress)?;
+    let mut used: BTreeSet<u8> = found.iter().copied().collect();
+    if bus.sees_traffic() {
+        let listen = match listen {
+            Some(l) => l,
+            None => {
+                let reads: Vec<(u8, ObjAddr)> = found.iter().map(|n| (*n, HEARTBEAT_TIME)).collect();
+                let periods = bus.sdo_upload_many(&reads, &sized(timeout, Some(2)), &mut |_| {})?;
+                let longest = periods
+                    .iter()
+                    .filter_map(|r| r.as_ref().ok()?.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]])))
+                    .max()
+                    .unwrap_or(0);
+                (Duration::from_millis(longest as u64) * 3 / 2).clamp(LISTEN, LISTEN_CEILING)
+            }
+        };
+        let end = Instant::now() + listen;
+        while bus.recv_frame(end)?.is_some() && !interrupted.load(Ordering::SeqCst) {}
+    }
+    used.extend(bus.observed().node_ids());
+    Ok(used)
+}
+
+/// Give every device without a node-id the next free one from `start` on, and (with
+/// `store`) make it keep it. Each device numbered is a note on `progress`.
+pub fn assign(
+    bus: &mut dyn Bus,
+    o: &AssignOptions,
+    progress: &mut dyn Progress,
+    interrupted: &AtomicBool,
+) -> Result<Assignment> {
+    let start = Instant::now();
+    let timeout = o.fastscan.timeout;
+    // Node-ids already in use: new ones must not collide.
+    let used = ids_in_use(bus, timeout, o.listen, progress, interrupted)?;
+    let in_use_before: Vec<u8> = used.iter().copied().collect();
+    let outcome = LssMaster::new(bus, timeout).assign(
+        o.start,
+        used,
+        o.fastscan.pace(),
+        o.fastscan.given(),
+        o.store,
+        &mut || !interrupted.load(Ordering::SeqCst),
+        &mut |d| progress.note(&format!("{} -> node {}", d.identity, d.node)),
+    )?;
+    let failure = if outcome.interrupted || interrupted.load(Ordering::SeqCst) {
+        Some(Error::Interrupted)
+    } else {
+        outcome.failure.map(|e| match e {
+            AssignFailure::Fastscan(f) => fastscan_error(f, &outcome.pace),
+            AssignFailure::Refused(e) => e,
+        })
+    };
+    let pace = PaceUsed::from(&outcome.pace);
+    Ok(Assignment {
+        assigned: outcome
+            .assigned
+            .into_iter()
+            .map(|d| AssignedNode {
+                identity: Identified(d.identity),
+                node: d.node,
+                stored: d.stored.is_ok(),
+                store_error: d.stored.err(),
+            })
+            .collect(),
+        in_use_before,
+        fastscan_steps: outcome.steps,
+        step_ms: pace.step_ms,
+        pace,
+        elapsed_ms: start.elapsed().as_millis() as u64,
+        interrupted: outcome.interrupted,
+        failure,
+    })
+}

@@ -1,0 +1,89 @@
+//! How the LSS reports look to people and in CSV.
+
+use super::{Human, Report};
+use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired};
+
+fn table(headers: Vec<&'static str>, row: Vec<String>) -> Option<Human> {
+    Some(Human::Table { headers, rows: vec![row], when_empty: true })
+}
+
+impl Report for Inquired {
+    fn human(&self) -> Human {
+        Human::Line(format!("{}  node-id {}", self.identity.0, self.node.map_or("none".to_string(), |n| n.to_string())))
+    }
+    fn csv(&self) -> Option<Human> {
+        table(
+            vec!["identity", "node"],
+            vec![self.identity.0.to_string(), self.node.map_or(String::new(), |n| n.to_string())],
+        )
+    }
+}
+
+impl Report for Configured {
+    fn human(&self) -> Human {
+        Human::Line(format!("{}: {}", self.target, self.result))
+    }
+    fn csv(&self) -> Option<Human> {
+        table(vec!["command", "target", "result"], vec![self.command.into(), self.target.clone(), self.result.clone()])
+    }
+}
+
+impl Report for Activated {
+    fn human(&self) -> Human {
+        let (who, bus) = (&self.devices, &self.bus);
+        Human::Line(if self.bus_followed {
+            format!(
+                "configured bit rates activated on {who}; {bus} switched with them, and they are back in LSS waiting state"
+            )
+        } else {
+            format!(
+                "configured bit rates activated on {who}. Switch {bus} to the new rate too (e.g. sudo ip link set can0 \
+                 down && sudo ip link set can0 up type can bitrate 250000); until an LSS command reaches them at the new \
+                 rate the devices stay in LSS configuration state (every `canctl lss` command ends by sending them \
+                 back to waiting)"
+            )
+        })
+    }
+}
+
+impl Report for Found {
+    fn human(&self) -> Human {
+        Human::Line(self.identity.0.to_string())
+    }
+    fn notes(&self) -> Vec<String> {
+        vec![format!("found in {} steps, {} ms; {}", self.steps, self.elapsed_ms, self.pace.text())]
+    }
+    fn csv(&self) -> Option<Human> {
+        let row = [
+            self.identity.0.to_string(),
+            self.steps.to_string(),
+            self.step_ms.to_string(),
+            self.elapsed_ms.to_string(),
+        ];
+        table(vec!["identity", "steps", "step_ms", "elapsed_ms"], row.into())
+    }
+}
+
+impl Report for Assignment {
+    fn human(&self) -> Human {
+        let stored = |d: &crate::ops::lss::AssignedNode| match (&d.store_error, d.stored) {
+            (_, true) => "yes".to_string(),
+            (e, false) => e.clone().unwrap_or_default(),
+        };
+        let rows = self.assigned.iter().map(|d| vec![d.identity.0.to_string(), d.node.to_string(), stored(d)]);
+        Human::Table { headers: vec!["identity", "node", "stored"], rows: rows.collect(), when_empty: true }
+    }
+    fn notes(&self) -> Vec<String> {
+        let mut notes = vec![format!(
+            "{} device(s) given a node-id in {} ms ({} fastscan steps, {})",
+            self.assigned.len(),
+            self.elapsed_ms,
+            self.fastscan_steps,
+            self.pace.text()
+        )];
+        if self.interrupted {
+            notes.push("interrupted: every LSS device was sent back to waiting state".into());
+        }
+        notes
+    }
+}

@@ -1,0 +1,329 @@
+//! The settings in force, resolved once: flags and `CANCTL_BUS` over settings files over
+//! the defaults, each value with where it came from.
+//!
+//! Settings files let a commissioning folder carry its setup: `canctl.toml` in the current
+//! directory or a parent, and `~/.config/canctl/config.toml` (or
+//! `$XDG_CONFIG_HOME/canctl/config.toml`). The project file wins over the user's.
+//!
+//! ```toml
+//! bus = "socketcan:can0"
+//! timeout = "1s"
+//! [nodes.5]
+//! eds = "sensors/mh.eds"     # relative to this file
+//! ```
+
+use crate::error::Error;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// The answer timeout when neither a flag nor a settings file gives one.
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(500);
+
+/// Parse `500ms`, `2s`, `1.5s`, `1m`, or a bare number of milliseconds.
+pub fn parse_duration(text: &str) -> Result<Duration, String> {
+    let t = text.trim();
+    let split = t.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(t.len());
+    let (num, unit) = t.split_at(split);
+    let n: f64 = num.parse().map_err(|_| format!("'{text}' is not a duration: use 500ms, 2s, 1.5s or 1m"))?;
+    let secs = match unit.trim() {
+        "" | "ms" => n / 1000.0,
+        "s" => n,
+        "m" | "min" => n * 60.0,
+        "us" | "µs" => n / 1e6,
+        u => return Err(format!("'{u}' is not a time unit: use ms, s or m")),
+    };
+    if !secs.is_finite() || !(0.0..=86_400.0).contains(&secs) {
+        return Err(format!("'{text}' is out of range (0 to 24 h)"));
+    }
+    Ok(Duration::from_secs_f64(secs))
+}
+
+/// Parse a node-id: 1 to 127, decimal or 0x hex.
+pub fn parse_node(text: &str) -> Result<u8, String> {
+    let t = text.trim();
+    let n = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        Some(h) => u32::from_str_radix(h, 16).ok(),
+        None => t.parse::<u32>().ok(),
+    };
+    n.filter(|n| (1..=127).contains(n))
+        .map(|n| n as u8)
+        .ok_or_else(|| format!("'{text}' is not a node-id: use 1 to 127"))
+}
+
+/// Where a value came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Source {
+    Flag,
+    Env,
+    File(PathBuf),
+    Default,
+}
+
+impl std::fmt::Display for Source {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Source::Flag => f.write_str("command line"),
+            Source::Env => f.write_str("environment (CANCTL_BUS)"),
+            Source::File(p) => write!(f, "{}", p.display()),
+            Source::Default => f.write_str("default"),
+        }
+    }
+}
+
+/// A value and where it came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Sourced<T> {
+    pub value: T,
+    pub from: Source,
+}
+
+/// An EDS or DCF describing one node, or every node (`node` None).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct EdsFile {
+    pub node: Option<u8>,
+    pub path: PathBuf,
+}
+
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields)]
+struct File {
+    bus: Option<String>,
+    timeout: Option<String>,
+    #[serde(default)]
+    nodes: BTreeMap<String, NodeSettings>,
+}
+
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields)]
+struct NodeSettings {
+    eds: Option<PathBuf>,
+}
+
+/// What the files say, resolved: later files override earlier ones.
+#[derive(Default, Debug)]
+pub struct FileSettings {
+    /// The bus, and the file that names it.
+    pub bus: Option<(String, PathBuf)>,
+    pub timeout: Option<(Duration, PathBuf)>,
+    /// Per node: the EDS (relative paths resolved against its file), and that file.
+    pub eds: BTreeMap<u8, (PathBuf, PathBuf)>,
+    /// The files read, in order.
+    pub files: Vec<PathBuf>,
+}
+
+/// The user's settings file (whether it exists or not).
+pub fn user_file() -> Option<PathBuf> {
+    Some(crate::xdg::config_dir()?.join("config.toml"))
+}
+
+fn project_file() -> Option<PathBuf> {
+    let cwd = std::env::current_dir().ok()?;
+    cwd.ancestors().map(|d| d.join("canctl.toml")).find(|p| p.is_file())
+}
+
+/// The line of a byte offset, for messages.
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].matches('\n').count() + 1
+}
+
+fn read(path: &Path, into: &mut FileSettings) -> Result<(), Error> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Usage(format!("{}: {e}", path.display())))?;
+    let file: File = toml::from_str(&text).map_err(|e| {
+        let line = e.span().map_or(1, |s| line_of(&text, s.start));
+        Error::Usage(format!("{}:{line}: {}", path.display(), e.message()))
+    })?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let line_with = |needle: &str| text.find(needle).map_or(1, |o| line_of(&text, o));
+    if let Some(bus) = file.bus {
+        into.bus = Some((bus, path.to_path_buf()));
+    }
+    if let Some(t) = file.timeout {
+        let d = parse_duration(&t)
+            .map_err(|e| Error::Usage(format!("{}:{}: timeout: {e}", path.display(), line_with("timeout"))))?;
+        into.timeout = Some((d, path.to_path_buf()));
+    }
+    for (node, n) in file.nodes {
+        let id = parse_node(&node).map_err(|e| {
+            Error::Usage(format!("{}:{}: [nodes.{node}]: {e}", path.display(), line_with(&format!("nodes.{node}"))))
+        })?;
+        if let Some(eds) = n.eds {
+            into.eds.insert(id, (dir.join(eds), path.to_path_buf()));
+        }
+    }
+    into.files.push(path.to_path_buf());
+    Ok(())
+}
+
+/// Read the user's file, then the project's.
+pub fn load() -> Result<FileSettings, Error> {
+    let mut s = FileSettings::default();
+    for path in [user_file(), project_file()].into_iter().flatten() {
+        if path.is_file() {
+            read(&path, &mut s)?;
+        }
+    }
+    Ok(s)
+}
+
+/// What the command line gives (nothing where it is silent).
+#[derive(Clone, Debug, Default)]
+pub struct Given {
+    /// The bus URI, from `--bus` or `CANCTL_BUS` (empty counts as none)...
+    pub bus: Option<String>,
+    /// ...and whether it came from `CANCTL_BUS`.
+    pub bus_from_env: bool,
+    pub timeout: Option<Duration>,
+    pub eds: Vec<EdsFile>,
+}
+
+/// The settings in force, each with where it came from.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    pub bus: Option<Sourced<String>>,
+    pub timeout: Sourced<Duration>,
+    /// The command line's files first, then the settings files' for the nodes it leaves.
+    pub eds: Vec<Sourced<EdsFile>>,
+    /// The settings files read.
+    pub files: Vec<PathBuf>,
+}
+
+impl Settings {
+    /// The command line over the files over the defaults.
+    pub fn resolve(given: Given, files: FileSettings) -> Settings {
+        let from_command_line = if given.bus_from_env { Source::Env } else { Source::Flag };
+        let bus = match given.bus.filter(|b| !b.is_empty()) {
+            Some(value) => Some(Sourced { value, from: from_command_line }),
+            None => files.bus.map(|(value, p)| Sourced { value, from: Source::File(p) }),
+        };
+        let timeout = match (given.timeout, files.timeout) {
+            (Some(value), _) => Sourced { value, from: Source::Flag },
+            (None, Some((value, p))) => Sourced { value, from: Source::File(p) },
+            (None, None) => Sourced { value: DEFAULT_TIMEOUT, from: Source::Default },
+        };
+        let mut eds: Vec<Sourced<EdsFile>> =
+            given.eds.iter().map(|e| Sourced { value: e.clone(), from: Source::Flag }).collect();
+        for (node, (path, from)) in files.eds {
+            if !given.eds.iter().any(|e| e.node == Some(node)) {
+                eds.push(Sourced { value: EdsFile { node: Some(node), path }, from: Source::File(from) });
+            }
+        }
+        Settings { bus, timeout, eds, files: files.files }
+    }
+
+    /// The settings as `canctl settings` shows them.
+    pub fn report(&self) -> SettingsReport {
+        SettingsReport {
+            bus: self.bus.as_ref().map(|b| b.value.clone()),
+            bus_from: self.bus.as_ref().map(|b| b.from.to_string()),
+            timeout_ms: self.timeout.value.as_millis() as u64,
+            timeout_from: self.timeout.from.to_string(),
+            eds: self
+                .eds
+                .iter()
+                .map(|e| EdsReport {
+                    node: e.value.node.map_or("every node".into(), |n| format!("node {n}")),
+                    file: e.value.path.display().to_string(),
+                    from: e.from.to_string(),
+                })
+                .collect(),
+            files: self.files.iter().map(|f| f.display().to_string()).collect(),
+        }
+    }
+}
+
+/// The settings in force, as shown.
+#[derive(Debug, Serialize)]
+pub struct SettingsReport {
+    pub bus: Option<String>,
+    pub bus_from: Option<String>,
+    pub timeout_ms: u64,
+    pub timeout_from: String,
+    pub eds: Vec<EdsReport>,
+    pub files: Vec<String>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct EdsReport {
+    /// "node N" or "every node".
+    #[serde(rename = "for")]
+    pub node: String,
+    pub file: String,
+    pub from: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<FileSettings, Error> {
+        let dir = tempfile_dir();
+        let path = dir.join("canctl.toml");
+        std::fs::write(&path, text).unwrap();
+        let mut s = FileSettings::default();
+        read(&path, &mut s).map(|_| s)
+    }
+
+    fn tempfile_dir() -> PathBuf {
+        let d = std::env::temp_dir().join(format!(
+            "canctl-settings-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn a_good_file() {
+        let s = parse("bus = \"sim\"\ntimeout = \"2s\"\n[nodes.5]\neds = \"mh.eds\"\n").unwrap();
+        assert_eq!(s.bus.unwrap().0, "sim");
+        assert_eq!(s.timeout.unwrap().0, Duration::from_secs(2));
+        assert!(s.eds[&5].0.ends_with("mh.eds"));
+    }
+
+    #[test]
+    fn broken_files_cite_their_line() {
+        let e = parse("bus = \"sim\"\n\ntimeout = 5\n").unwrap_err().to_string();
+        assert!(e.contains("canctl.toml:3:"), "{e}");
+        let e = parse("bus = \"sim\"\nspeed = 1\n").unwrap_err().to_string();
+        assert!(e.contains("canctl.toml:2:") && e.contains("speed"), "{e}");
+        let e = parse("timeout = \"soon\"\n").unwrap_err().to_string();
+        assert!(e.contains("canctl.toml:1: timeout:"), "{e}");
+        let e = parse("[nodes.200]\neds = \"x.eds\"\n").unwrap_err().to_string();
+        assert!(e.contains("canctl.toml:1: [nodes.200]"), "{e}");
+        let e = parse("bus = \"sim\n").unwrap_err().to_string();
+        assert!(e.contains("canctl.toml:1:"), "{e}");
+    }
+
+    #[test]
+    fn the_command_line_wins_and_each_value_says_where_it_came_from() {
+        let file = PathBuf::from("/p/canctl.toml");
+        let files = FileSettings {
+            bus: Some(("socketcan:can0".into(), file.clone())),
+            timeout: Some((Duration::from_secs(2), file.clone())),
+            eds: BTreeMap::from([(5, ("/p/mh.eds".into(), file.clone())), (7, ("/p/x.eds".into(), file.clone()))]),
+            files: vec![file.clone()],
+        };
+        let given = Given {
+            bus: Some("sim".into()),
+            bus_from_env: true,
+            timeout: None,
+            eds: vec![EdsFile { node: Some(7), path: "mine.eds".into() }],
+        };
+        let s = Settings::resolve(given, files);
+        assert_eq!(s.bus, Some(Sourced { value: "sim".into(), from: Source::Env }));
+        assert_eq!(s.timeout, Sourced { value: Duration::from_secs(2), from: Source::File(file.clone()) });
+        let eds: Vec<(Option<u8>, &Path, &Source)> =
+            s.eds.iter().map(|e| (e.value.node, e.value.path.as_path(), &e.from)).collect();
+        assert_eq!(
+            eds,
+            [(Some(7), Path::new("mine.eds"), &Source::Flag), (Some(5), Path::new("/p/mh.eds"), &Source::File(file))]
+        );
+        let defaults =
+            Settings::resolve(Given { bus: Some(String::new()), ..Given::default() }, FileSettings::default());
+        assert_eq!(defaults.bus, None);
+        assert_eq!(defaults.timeout, Sourced { value: DEFAULT_TIMEOUT, from: Source::Default });
+    }
+}
