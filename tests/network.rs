@@ -255,3 +255,45 @@ print(json.dumps({"tests": tests, "failures": failures, "failed": failed}))
     }
     Some(serde_json::from_slice(&out.stdout).unwrap())
 }
+
+/// The README's CI job, its `canctl` steps run as written on the sim it names.
+#[test]
+fn the_readme_ci_job_provisions_the_sim_and_its_junit_report_passes() {
+    let readme = include_str!("../README.md");
+    let job = &readme[readme.find("```yaml\njobs:\n  provision:").expect("the CI job in README")..];
+    let steps: Vec<&str> = job
+        .lines()
+        .take_while(|l| *l != "```")
+        .filter_map(|l| l.trim_start().strip_prefix("- run: "))
+        .filter(|cmd| cmd.starts_with("canctl "))
+        .collect();
+    assert_eq!(steps.len(), 2, "{steps:?}");
+    let sim = Sim::new();
+    reset(&sim, "typical", "5");
+    let dir = sim.path("ci");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::os::unix::fs::symlink(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples"), dir.join("examples")).unwrap();
+    let path =
+        format!("{}:{}", common::canctl_bin().parent().unwrap().display(), std::env::var("PATH").unwrap_or_default());
+    for step in &steps {
+        // The sim's own settings (a generous answer timeout) and state file.
+        let out = std::process::Command::new("bash")
+            .arg("-c")
+            .arg(step)
+            .current_dir(&dir)
+            .env("PATH", &path)
+            .env("CANCTL_BUS", sim.bus())
+            .env("XDG_CONFIG_HOME", sim.path(""))
+            .env("XDG_CACHE_HOME", sim.path(""))
+            .stdin(std::process::Stdio::null())
+            .output()
+            .unwrap();
+        let run = common::finish(out);
+        assert_eq!(run.code, 0, "{step}\n{}\n{}", run.stdout, run.stderr);
+    }
+    let xml = std::fs::read_to_string(dir.join("network-check.xml")).unwrap();
+    assert_eq!(junit_counts(&xml), Some((9 * 3 + 2, 0)), "{xml}");
+    if let Some(parsed) = junitparser(&xml) {
+        assert_eq!((parsed["tests"].as_u64(), parsed["failures"].as_u64()), (Some(29), Some(0)), "{parsed}");
+    }
+}
