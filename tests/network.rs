@@ -297,3 +297,48 @@ fn the_readme_ci_job_provisions_the_sim_and_its_junit_report_passes() {
         assert_eq!((parsed["tests"].as_u64(), parsed["failures"].as_u64()), (Some(29), Some(0)), "{parsed}");
     }
 }
+
+/// Node by node or all at once, the same objects are written to the same nodes.
+#[test]
+fn parallel_and_sequential_apply_write_the_same() {
+    let project = example();
+    let project = project.to_str().unwrap();
+    let mut reports = Vec::new();
+    for jobs in ["1", "8"] {
+        let sim = Sim::new();
+        reset(&sim, "typical", "5");
+        let report =
+            sim.run(&["network", "apply", project, "--assign", "--jobs", jobs, "--format", "json"]).ok().json();
+        let rows: Vec<(J, J, J)> = report["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| (n["node"].clone(), n["written"].clone(), n["result"].clone()))
+            .collect();
+        reports.push(rows);
+        assert_eq!(check(&sim, Path::new(project), "json").code, 0, "--jobs {jobs}");
+    }
+    assert_eq!(reports[0], reports[1]);
+    assert_eq!(reports[0].len(), 9);
+}
+
+/// A node that refuses its configuration fails alone: the others are configured, and the
+/// exit code is the refusal's.
+#[test]
+fn one_node_refusing_does_not_stop_the_others() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--profile", "instant", "--unconfigured", "5", "--fault", "10:abort=0x08000020@10+"])
+        .ok();
+    let run = sim.run(&["network", "apply", example().to_str().unwrap(), "--assign", "--format", "json"]);
+    assert_eq!(run.code, 4, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    for n in report["nodes"].as_array().unwrap() {
+        if n["node"] == 10 {
+            assert_eq!(n["ok"], false, "{n}");
+            assert!(n["result"].as_str().unwrap().starts_with("failed: node 10: SDO abort 0x08000020"), "{n}");
+        } else {
+            assert_eq!(n["ok"], true, "{n}");
+        }
+    }
+    assert_eq!(report["ok"], false);
+}

@@ -70,7 +70,8 @@ pub struct CheckArgs {
 /// written to is then stored (0x1010:1). With --assign, a listed node that does not answer
 /// is looked for over LSS by the identity its DCF names (vendor-ID, product code, revision,
 /// and [DeviceComissioning] LSS_SerialNumber) and given its node-id, which it stores. A
-/// second run writes nothing and says so. One node's failure does not stop the others; the
+/// second run writes nothing and says so. Up to --jobs nodes are configured at once (node-ids
+/// over LSS first, one device at a time). One node's failure does not stop the others; the
 /// first failure decides the exit code.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
@@ -95,6 +96,10 @@ pub struct ApplyArgs {
     /// How long a device may take to store
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
     pub store_timeout: Duration,
+    /// How many nodes to configure at once, their SDO transfers in flight together (1: one
+    /// after the other)
+    #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
+    pub jobs: u8,
     /// How long a device given a node-id over LSS may take to answer with it
     #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
     pub boot_wait: Duration,
@@ -184,7 +189,13 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     c.store = !a.no_store;
     c.store_timeout = a.store_timeout;
     c.force = a.force;
-    let options = network::ApplyOptions { config: c, assign: a.assign, window: a.window, boot_wait: a.boot_wait };
+    let options = network::ApplyOptions {
+        config: c,
+        assign: a.assign,
+        window: a.window,
+        boot_wait: a.boot_wait,
+        jobs: a.jobs.into(),
+    };
     let report = network::apply(bus, &loaded, &options, &mut ctx.out.progress())?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)

@@ -389,6 +389,8 @@ pub struct ApplyOptions {
     pub window: Duration,
     /// How long a device given a node-id may take to answer with it.
     pub boot_wait: Duration,
+    /// How many nodes are configured at once (1: one after the other).
+    pub jobs: usize,
 }
 
 /// What applying a project did, node by node.
@@ -461,10 +463,11 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
     }
 }
 
-/// One node: its id over LSS when asked and needed, then `config apply` (only what differs,
-/// in its safe order, verified when asked), then store when anything was written.
-fn apply_node(bus: &mut dyn Bus, listed: &Listed, present: bool, o: &ApplyOptions) -> (NodeApplied, Option<Error>) {
-    let mut row = NodeApplied {
+/// A node's row, and the error that failed it.
+type NodeOutcome = (NodeApplied, Option<Error>);
+
+fn empty_row(listed: &Listed) -> NodeApplied {
+    NodeApplied {
         node: listed.node,
         name: listed.name.clone(),
         file: listed.dcf.as_ref().map(|d| d.path().to_string()),
@@ -474,40 +477,17 @@ fn apply_node(bus: &mut dyn Bus, listed: &Listed, present: bool, o: &ApplyOption
         result: String::new(),
         ok: false,
         objects: Vec::new(),
-    };
+    }
+}
+
+/// One node that answers: `config apply` (only what differs, in its safe order, verified
+/// when asked), then store when anything was written.
+fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
+    let mut row = empty_row(listed);
     let fail = |mut row: NodeApplied, e: Error| {
         row.result = format!("failed: {e}");
         (row, Some(e))
     };
-    if !present {
-        let identity = listed.lss_identity();
-        match identity {
-            Some(id) if o.assign && o.config.dry_run => {
-                row.assigned = Some(id.to_string());
-                row.result = format!("would be given node-id {} over LSS ({id})", listed.node);
-                row.ok = true;
-                return (row, None);
-            }
-            Some(id) if o.assign => match assign(bus, &id, listed.node, o) {
-                Ok(()) => row.assigned = Some(id.to_string()),
-                Err(e) => return fail(row, e),
-            },
-            Some(id) => {
-                let e = Error::Timeout(format!(
-                    "node {} did not answer; --assign gives it its node-id over LSS ({id})",
-                    listed.node
-                ));
-                return fail(row, e);
-            }
-            None => {
-                let e = Error::Timeout(format!(
-                    "node {} did not answer (its DCF names no LSS serial number, so --assign cannot find it)",
-                    listed.node
-                ));
-                return fail(row, e);
-            }
-        }
-    }
     let Some(dcf) = &listed.dcf else {
         row.ok = true;
         row.result = "present; the project names no DCF for it".to_string();
@@ -543,35 +523,63 @@ fn apply_node(bus: &mut dyn Bus, listed: &Listed, present: bool, o: &ApplyOption
             if row.stored { ", stored" } else { "" }
         ),
     };
-    if row.assigned.is_some() {
-        row.result = format!("node-id given over LSS; {}", row.result);
-    }
     (row, None)
 }
 
-/// Bring every listed node to its DCF, one after the other. A node that fails is reported
-/// and the others still done; the first failure decides the exit code.
+/// Bring every listed node to its DCF: first the node-ids over LSS (one device at a time,
+/// as LSS works), then up to `jobs` nodes at once, their SDO transfers in flight together on
+/// the one link. A node that fails is reported and the others still done; the first
+/// failure decides the exit code.
 pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mut dyn Progress) -> Result<Applied> {
     let found = probe(bus, o.window)?;
-    let mut nodes = Vec::new();
-    let mut failure = None;
-    progress.start("applying", loaded.nodes.len() as u64);
-    for (i, listed) in loaded.nodes.iter().enumerate() {
-        progress.advance(i as u64);
-        let (row, error) = apply_node(bus, listed, found.contains_key(&listed.node), o);
-        if let Some(e) = error {
+    let mut rows: Vec<Option<NodeOutcome>> = Vec::new();
+    // Nodes that must answer before they can be configured: given their id, or failed.
+    for listed in &loaded.nodes {
+        let present = found.contains_key(&listed.node);
+        rows.push((!present).then(|| absent_node(bus, listed, o)));
+    }
+    let ready: Vec<usize> = (0..loaded.nodes.len())
+        .filter(|i| match &rows[*i] {
+            None => true,
+            Some((row, None)) => row.assigned.is_some() && !o.config.dry_run,
+            Some(_) => false,
+        })
+        .collect();
+    let assigned: Vec<Option<String>> =
+        rows.iter().map(|r| r.as_ref().and_then(|(row, _)| row.assigned.clone())).collect();
+    progress.start("applying", ready.len() as u64);
+    let done = if o.jobs <= 1 {
+        let mut done = Vec::new();
+        for (k, i) in ready.iter().enumerate() {
+            progress.advance(k as u64);
+            let result = configure_node(bus, &loaded.nodes[*i], o);
+            let link = matches!(result.1, Some(Error::Link(_)));
+            done.push((*i, result));
             // A lost link ends the run: every further node would fail the same way.
-            let link = matches!(e, Error::Link(_));
-            failure.get_or_insert(e);
-            nodes.push(row);
             if link {
                 break;
             }
-            continue;
+        }
+        done
+    } else {
+        parallel::run(bus, loaded, &ready, o, progress)?
+    };
+    progress.finish();
+    for (i, (mut row, error)) in done {
+        if let Some(id) = &assigned[i] {
+            row.assigned = Some(id.clone());
+            row.result = format!("node-id given over LSS; {}", row.result);
+        }
+        rows[i] = Some((row, error));
+    }
+    let mut nodes = Vec::new();
+    let mut failure = None;
+    for (row, error) in rows.into_iter().flatten() {
+        if let Some(e) = error {
+            failure.get_or_insert(e);
         }
         nodes.push(row);
     }
-    progress.finish();
     let written = nodes.iter().map(|n| n.written).sum();
     Ok(Applied {
         project: loaded.file.display().to_string(),
@@ -582,4 +590,204 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         written,
         failure,
     })
+}
+
+/// Many nodes at once over one link: each node's procedure runs on its own thread against a
+/// [`NodeBus`], which hands its SDO transfers to the caller's thread; that thread waits until
+/// every running node has one transfer waiting (or is done), then runs them together
+/// ([`Bus::sdo_many`]: one per node, all in flight at once) and hands back the answers.
+mod parallel {
+    use super::*;
+    use crate::bus::{LssAnswer, LssWait, Observed, SdoJob};
+    use crate::frame::Frame;
+    use std::sync::mpsc::{channel, Receiver, Sender};
+
+    enum Msg {
+        Sdo(SdoJob, Sender<Result<Vec<u8>>>),
+        Done(usize, NodeOutcome),
+    }
+
+    /// The bus as one node's procedure sees it: SDO only, through the coordinating thread.
+    struct NodeBus {
+        describe: String,
+        to_coordinator: Sender<Msg>,
+        observed: Observed,
+    }
+
+    impl NodeBus {
+        fn ask(&mut self, job: SdoJob) -> Result<Vec<u8>> {
+            let (tx, rx) = channel();
+            let gone = || Error::NotOnThisBus { bus: self.describe.clone(), why: "the coordinating thread is gone" };
+            self.to_coordinator.send(Msg::Sdo(job, tx)).map_err(|_| gone())?;
+            rx.recv().map_err(|_| gone())?
+        }
+
+        fn not_here(&self) -> Error {
+            Error::NotOnThisBus {
+                bus: self.describe.clone(),
+                why: "a node configured in parallel has SDO only (NMT, LSS and raw frames are the caller's)",
+            }
+        }
+    }
+
+    impl Bus for NodeBus {
+        fn describe(&self) -> String {
+            self.describe.clone()
+        }
+        fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+            self.ask(SdoJob::Upload { node, addr, opts: opts.clone() })
+        }
+        fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+            self.ask(SdoJob::Download { node, addr, data: data.to_vec(), opts: opts.clone() }).map(|_| ())
+        }
+        fn nmt(&mut self, _: crate::canopen::nmt::Command, _: u8) -> Result<()> {
+            Err(self.not_here())
+        }
+        fn send_frame(&mut self, _: &Frame) -> Result<()> {
+            Err(self.not_here())
+        }
+        fn sees_traffic(&self) -> bool {
+            false
+        }
+        fn recv_frame(&mut self, _: Instant) -> Result<Option<Frame>> {
+            Err(self.not_here())
+        }
+        fn request_frame(&mut self, _: u16, _: u8, _: Duration) -> Result<Frame> {
+            Err(self.not_here())
+        }
+        fn lss_exchange(&mut self, _: &[u8; 8], _: u8, _: Duration, _: LssWait) -> Result<Vec<LssAnswer>> {
+            Err(self.not_here())
+        }
+        fn observed(&mut self) -> &mut Observed {
+            &mut self.observed
+        }
+        fn close(&mut self) -> Result<()> {
+            Ok(())
+        }
+    }
+
+    /// A link failure, said to every node whose transfer it ended.
+    fn link_lost(bus: &str, e: &Error) -> Error {
+        let error = std::io::Error::other(e.to_string());
+        Error::Link(crate::error::LinkError::Io { port: bus.to_string(), op: "", error })
+    }
+
+    pub(super) fn run(
+        bus: &mut dyn Bus,
+        loaded: &Loaded,
+        ready: &[usize],
+        o: &ApplyOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<Vec<(usize, NodeOutcome)>> {
+        let describe = bus.describe();
+        let (tx, rx): (Sender<Msg>, Receiver<Msg>) = channel();
+        let mut done = Vec::new();
+        let mut lost: Option<Error> = None;
+        std::thread::scope(|scope| {
+            let mut queue = ready.iter().copied();
+            let mut running = 0;
+            let start = |i: usize| {
+                let node_bus =
+                    NodeBus { describe: describe.clone(), to_coordinator: tx.clone(), observed: Observed::default() };
+                let listed = &loaded.nodes[i];
+                scope.spawn(move || {
+                    let mut node_bus = node_bus;
+                    // Whatever happens, the coordinator hears that this node is done: it
+                    // waits for every running node.
+                    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        configure_node(&mut node_bus, listed, o)
+                    }))
+                    .unwrap_or_else(|_| {
+                        let mut row = empty_row(listed);
+                        row.result =
+                            "failed: canctl's procedure for this node stopped (a bug: please report it)".into();
+                        (row, Some(link_lost(&node_bus.describe, &Error::Usage("stopped".into()))))
+                    });
+                    let _ = node_bus.to_coordinator.send(Msg::Done(i, result));
+                });
+            };
+            for i in queue.by_ref().take(o.jobs) {
+                start(i);
+                running += 1;
+            }
+            let mut waiting: Vec<(SdoJob, Sender<Result<Vec<u8>>>)> = Vec::new();
+            while running > 0 {
+                // Every running node either waits for a transfer or has finished.
+                while waiting.len() < running {
+                    match rx.recv().expect("a running node sends before it ends") {
+                        Msg::Sdo(job, reply) => waiting.push((job, reply)),
+                        Msg::Done(i, result) => {
+                            done.push((i, result));
+                            progress.advance(done.len() as u64);
+                            running -= 1;
+                            if let Some(next) = queue.next().filter(|_| lost.is_none()) {
+                                start(next);
+                                running += 1;
+                            }
+                        }
+                    }
+                }
+                if waiting.is_empty() {
+                    continue;
+                }
+                let jobs: Vec<SdoJob> = waiting.iter().map(|(job, _)| job.clone()).collect();
+                match bus.sdo_many(&jobs) {
+                    Ok(results) => {
+                        for ((_, reply), result) in waiting.drain(..).zip(results) {
+                            let _ = reply.send(result);
+                        }
+                    }
+                    Err(e) => {
+                        for (_, reply) in waiting.drain(..) {
+                            let _ = reply.send(Err(link_lost(&describe, &e)));
+                        }
+                        lost.get_or_insert(e);
+                    }
+                }
+            }
+        });
+        done.sort_by_key(|(i, _)| *i);
+        // After a link failure the nodes it ended say so; nodes not started yet are left out.
+        Ok(done)
+    }
+}
+
+/// A listed node that did not answer the probe: given its node-id over LSS when asked (and
+/// its DCF names an LSS identity), else failed.
+fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
+    let mut row = empty_row(listed);
+    let fail = |mut row: NodeApplied, e: Error| {
+        row.result = format!("failed: {e}");
+        (row, Some(e))
+    };
+    match listed.lss_identity() {
+        Some(id) if o.assign && o.config.dry_run => {
+            row.assigned = Some(id.to_string());
+            row.result = format!("would be given node-id {} over LSS ({id})", listed.node);
+            row.ok = true;
+            (row, None)
+        }
+        Some(id) if o.assign => match assign(bus, &id, listed.node, o) {
+            Ok(()) => {
+                row.assigned = Some(id.to_string());
+                row.ok = true;
+                (row, None)
+            }
+            Err(e) => fail(row, e),
+        },
+        Some(id) => {
+            let e = Error::Timeout(format!(
+                "node {} did not answer; --assign gives it its node-id over LSS ({id})",
+                listed.node
+            ));
+            fail(row, e)
+        }
+        None => {
+            let e = Error::Timeout(format!(
+                "node {} did not answer (its DCF names no LSS serial number, so --assign cannot find it)",
+                listed.node
+            ));
+            fail(row, e)
+        }
+    }
 }
