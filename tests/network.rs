@@ -342,3 +342,22 @@ fn one_node_refusing_does_not_stop_the_others() {
     }
     assert_eq!(report["ok"], false);
 }
+
+/// Through a maxon EPOS2 as RS232-to-CAN gateway (the sim's device side on a pty): node-ids
+/// over LSS by SendLSSFrame/ReadLSSFrame, objects by ReadObject/WriteObject, and the
+/// network checks clean afterwards.
+#[test]
+fn apply_assign_and_check_through_the_epos2_gateway() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "5");
+    let gateway = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let project = example();
+    let project = project.to_str().unwrap();
+    let applied = gateway.run(&["network", "apply", project, "--assign", "--format", "json"]).ok().json();
+    let assigned = applied["nodes"].as_array().unwrap().iter().filter(|n| !n["assigned"].is_null()).count();
+    assert_eq!(assigned, 5, "{applied}");
+    assert!(applied["written"].as_u64().unwrap() > 0, "{applied}");
+    let run = gateway.run(&["network", "check", project, "--format", "junit"]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert_eq!(junit_counts(&run.stdout), Some((9 * 3 + 2, 0)));
+}
