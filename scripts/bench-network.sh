@@ -28,5 +28,7 @@ for jobs in 1 8; do
   hyperfine --runs "$runs" -n "second run --jobs $jobs (writes nothing)" \
     "$bin --bus $bus -q network apply $project --jobs $jobs"
 done
-hyperfine --runs "$runs" -n "network check" "$bin --bus $bus -q network check $project"
+for jobs in 1 8; do
+  hyperfine --runs "$runs" -n "network check --jobs $jobs" "$bin --bus $bus -q network check $project --jobs $jobs"
+done
 "$bin" --bus "$bus" network apply "$project" --jobs 8 2>&1 | tail -1

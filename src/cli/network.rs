@@ -58,6 +58,10 @@ pub struct DumpArgs {
 pub struct CheckArgs {
     /// The project: a nodelist.cpj, or the folder holding one
     pub project: PathBuf,
+    /// How many nodes to check at once, their SDO transfers in flight together (1: one after
+    /// the other)
+    #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
+    pub jobs: u8,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
@@ -175,7 +179,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
 
 fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
     let loaded = load(ctx, &a.project)?;
-    let options = network::CheckOptions { timeout: ctx.timeout, window: a.window };
+    let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into() };
     let report = network::check(bus, &loaded, &options, &mut ctx.out.progress())?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)

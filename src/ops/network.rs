@@ -205,6 +205,8 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
 pub struct CheckOptions {
     pub timeout: Duration,
     pub window: Duration,
+    /// How many nodes are checked at once (1: one after the other).
+    pub jobs: usize,
 }
 
 /// Is the network as the project says?
@@ -327,10 +329,8 @@ fn check_objects(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> R
 pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mut dyn Progress) -> Result<Checked> {
     let found = probe(bus, o.window)?;
     let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
-    let mut nodes = Vec::new();
-    progress.start("checking", loaded.nodes.len() as u64);
-    for (i, listed) in loaded.nodes.iter().enumerate() {
-        progress.advance(i as u64);
+    let check_node = |bus: &mut dyn Bus, i: usize| -> Result<NodeCheck> {
+        let listed = &loaded.nodes[i];
         let present = found.contains_key(&listed.node);
         let mut checks = vec![Verdict {
             check: "present",
@@ -348,13 +348,27 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
                 checks.push(check_objects(bus, listed.node, dcf, o.timeout)?);
             }
         }
-        nodes.push(NodeCheck {
+        Ok(NodeCheck {
             node: listed.node,
             name: listed.name.clone(),
             file: listed.dcf.as_ref().map(|d| d.path().to_string()),
             checks,
-        });
-    }
+        })
+    };
+    let all: Vec<usize> = (0..loaded.nodes.len()).collect();
+    progress.start("checking", all.len() as u64);
+    let results: Vec<Result<NodeCheck>> = if o.jobs <= 1 {
+        all.iter()
+            .map(|i| {
+                progress.advance(*i as u64);
+                check_node(bus, *i)
+            })
+            .collect()
+    } else {
+        let stopped = |_: usize, e: Error| Err(e);
+        parallel::each(bus, &all, o.jobs, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
+    };
+    let nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
     progress.finish();
     let listed: Vec<u8> = loaded.nodes.iter().map(|l| l.node).collect();
     let unlisted: Vec<Unlisted> = found
@@ -562,7 +576,13 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         }
         done
     } else {
-        parallel::run(bus, loaded, &ready, o, progress)?
+        let work = |bus: &mut dyn Bus, i: usize| configure_node(bus, &loaded.nodes[i], o);
+        let stopped = |i: usize, e: Error| {
+            let mut row = empty_row(&loaded.nodes[i]);
+            row.result = format!("failed: {e}");
+            (row, Some(e))
+        };
+        parallel::each(bus, &ready, o.jobs, &work, &stopped, progress)
     };
     progress.finish();
     for (i, (mut row, error)) in done {
@@ -602,19 +622,19 @@ mod parallel {
     use crate::frame::Frame;
     use std::sync::mpsc::{channel, Receiver, Sender};
 
-    enum Msg {
+    enum Msg<T> {
         Sdo(SdoJob, Sender<Result<Vec<u8>>>),
-        Done(usize, NodeOutcome),
+        Done(usize, T),
     }
 
     /// The bus as one node's procedure sees it: SDO only, through the coordinating thread.
-    struct NodeBus {
+    struct NodeBus<T> {
         describe: String,
-        to_coordinator: Sender<Msg>,
+        to_coordinator: Sender<Msg<T>>,
         observed: Observed,
     }
 
-    impl NodeBus {
+    impl<T> NodeBus<T> {
         fn ask(&mut self, job: SdoJob) -> Result<Vec<u8>> {
             let (tx, rx) = channel();
             let gone = || Error::NotOnThisBus { bus: self.describe.clone(), why: "the coordinating thread is gone" };
@@ -630,7 +650,7 @@ mod parallel {
         }
     }
 
-    impl Bus for NodeBus {
+    impl<T> Bus for NodeBus<T> {
         fn describe(&self) -> String {
             self.describe.clone()
         }
@@ -672,41 +692,43 @@ mod parallel {
         Error::Link(crate::error::LinkError::Io { port: bus.to_string(), op: "", error })
     }
 
-    pub(super) fn run(
+    /// `work` for each of `items` (node indexes), up to `jobs` at once; `stopped` stands
+    /// for a node whose procedure ended without its result (a bug), so that the run still
+    /// ends. Results in the order of `items`; after a link failure, the nodes it ended say
+    /// so in their results and nodes not started yet are left out.
+    pub(super) fn each<T: Send>(
         bus: &mut dyn Bus,
-        loaded: &Loaded,
-        ready: &[usize],
-        o: &ApplyOptions,
+        items: &[usize],
+        jobs: usize,
+        work: &(dyn Fn(&mut dyn Bus, usize) -> T + Sync),
+        stopped: &(dyn Fn(usize, Error) -> T + Sync),
         progress: &mut dyn Progress,
-    ) -> Result<Vec<(usize, NodeOutcome)>> {
+    ) -> Vec<(usize, T)> {
         let describe = bus.describe();
-        let (tx, rx): (Sender<Msg>, Receiver<Msg>) = channel();
+        let (tx, rx): (Sender<Msg<T>>, Receiver<Msg<T>>) = channel();
         let mut done = Vec::new();
         let mut lost: Option<Error> = None;
         std::thread::scope(|scope| {
-            let mut queue = ready.iter().copied();
+            let mut queue = items.iter().copied();
             let mut running = 0;
             let start = |i: usize| {
                 let node_bus =
                     NodeBus { describe: describe.clone(), to_coordinator: tx.clone(), observed: Observed::default() };
-                let listed = &loaded.nodes[i];
                 scope.spawn(move || {
                     let mut node_bus = node_bus;
                     // Whatever happens, the coordinator hears that this node is done: it
                     // waits for every running node.
-                    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                        configure_node(&mut node_bus, listed, o)
-                    }))
-                    .unwrap_or_else(|_| {
-                        let mut row = empty_row(listed);
-                        row.result =
-                            "failed: canctl's procedure for this node stopped (a bug: please report it)".into();
-                        (row, Some(link_lost(&node_bus.describe, &Error::Usage("stopped".into()))))
-                    });
+                    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&mut node_bus, i)))
+                        .unwrap_or_else(|_| {
+                            let why = Error::Usage(
+                                "canctl's procedure for this node stopped (a bug: please report it)".into(),
+                            );
+                            stopped(i, link_lost(&node_bus.describe, &why))
+                        });
                     let _ = node_bus.to_coordinator.send(Msg::Done(i, result));
                 });
             };
-            for i in queue.by_ref().take(o.jobs) {
+            for i in queue.by_ref().take(jobs) {
                 start(i);
                 running += 1;
             }
@@ -746,9 +768,9 @@ mod parallel {
                 }
             }
         });
-        done.sort_by_key(|(i, _)| *i);
-        // After a link failure the nodes it ended say so; nodes not started yet are left out.
-        Ok(done)
+        let order = |i: &usize| items.iter().position(|x| x == i);
+        done.sort_by_key(|(i, _)| order(i));
+        done
     }
 }
 
