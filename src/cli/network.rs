@@ -199,7 +199,11 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         window: a.window,
         boot_wait: a.boot_wait,
         jobs: a.jobs.into(),
+        interrupted: Some(super::interrupt::flag()),
     };
+    // Ctrl-C stops between nodes: the nodes under way finish, and the report says which
+    // were not begun.
+    super::interrupt::catch();
     let report = network::apply(bus, &loaded, &options, &mut ctx.out.progress())?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
@@ -376,6 +380,12 @@ impl Report for Applied {
             notes.push(format!("the network already matches {}: 0 objects written", self.project));
         } else {
             notes.push(format!("{} object(s) {verb} on {} node(s)", self.written, self.nodes.len()));
+        }
+        let not_begun = self.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).count();
+        if not_begun > 0 {
+            notes.push(format!(
+                "interrupted: {not_begun} node(s) not begun; the same command finishes the job (only what differs is written)"
+            ));
         }
         notes
     }

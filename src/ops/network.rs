@@ -13,6 +13,7 @@ use crate::od::eds;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// The project file canctl writes and looks for in a folder.
@@ -366,7 +367,7 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
             .collect()
     } else {
         let stopped = |_: usize, e: Error| Err(e);
-        parallel::each(bus, &all, o.jobs, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
+        parallel::each(bus, &all, o.jobs, None, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
     };
     let nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
     progress.finish();
@@ -405,6 +406,9 @@ pub struct ApplyOptions {
     pub boot_wait: Duration,
     /// How many nodes are configured at once (1: one after the other).
     pub jobs: usize,
+    /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): no node is begun after
+    /// that; the nodes under way finish, and the report says which were not done.
+    pub interrupted: Option<&'static AtomicBool>,
 }
 
 /// What applying a project did, node by node.
@@ -548,13 +552,14 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     let found = probe(bus, o.window)?;
     let mut rows: Vec<Option<NodeOutcome>> = Vec::new();
     // Nodes that must answer before they can be configured: given their id, or failed.
+    let stop = || o.interrupted.is_some_and(|f| f.load(Ordering::SeqCst));
     for listed in &loaded.nodes {
         let present = found.contains_key(&listed.node);
-        rows.push((!present).then(|| absent_node(bus, listed, o)));
+        rows.push((!present && !stop()).then(|| absent_node(bus, listed, o)));
     }
     let ready: Vec<usize> = (0..loaded.nodes.len())
         .filter(|i| match &rows[*i] {
-            None => true,
+            None => found.contains_key(&loaded.nodes[*i].node),
             Some((row, None)) => row.assigned.is_some() && !o.config.dry_run,
             Some(_) => false,
         })
@@ -565,6 +570,9 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     let done = if o.jobs <= 1 {
         let mut done = Vec::new();
         for (k, i) in ready.iter().enumerate() {
+            if stop() {
+                break;
+            }
             progress.advance(k as u64);
             let result = configure_node(bus, &loaded.nodes[*i], o);
             let link = matches!(result.1, Some(Error::Link(_)));
@@ -582,7 +590,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             row.result = format!("failed: {e}");
             (row, Some(e))
         };
-        parallel::each(bus, &ready, o.jobs, &work, &stopped, progress)
+        parallel::each(bus, &ready, o.jobs, o.interrupted, &work, &stopped, progress)
     };
     progress.finish();
     for (i, (mut row, error)) in done {
@@ -592,13 +600,25 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         }
         rows[i] = Some((row, error));
     }
+    let interrupted = stop();
     let mut nodes = Vec::new();
-    let mut failure = None;
-    for (row, error) in rows.into_iter().flatten() {
-        if let Some(e) = error {
-            failure.get_or_insert(e);
+    let mut failure = interrupted.then_some(Error::Interrupted);
+    for (i, outcome) in rows.into_iter().enumerate() {
+        match outcome {
+            Some((row, error)) => {
+                if let Some(e) = error {
+                    failure.get_or_insert(e);
+                }
+                nodes.push(row);
+            }
+            // Not begun: interrupted first, or the link was lost.
+            None if interrupted => {
+                let mut row = empty_row(&loaded.nodes[i]);
+                row.result = "not done: interrupted before this node was begun".into();
+                nodes.push(row);
+            }
+            None => {}
         }
-        nodes.push(row);
     }
     let written = nodes.iter().map(|n| n.written).sum();
     Ok(Applied {
@@ -694,12 +714,13 @@ mod parallel {
 
     /// `work` for each of `items` (node indexes), up to `jobs` at once; `stopped` stands
     /// for a node whose procedure ended without its result (a bug), so that the run still
-    /// ends. Results in the order of `items`; after a link failure, the nodes it ended say
-    /// so in their results and nodes not started yet are left out.
+    /// ends. Results in the order of `items`; after a link failure or once `stop` is set,
+    /// no further node is begun, and those are left out.
     pub(super) fn each<T: Send>(
         bus: &mut dyn Bus,
         items: &[usize],
         jobs: usize,
+        stop: Option<&AtomicBool>,
         work: &(dyn Fn(&mut dyn Bus, usize) -> T + Sync),
         stopped: &(dyn Fn(usize, Error) -> T + Sync),
         progress: &mut dyn Progress,
@@ -742,7 +763,8 @@ mod parallel {
                             done.push((i, result));
                             progress.advance(done.len() as u64);
                             running -= 1;
-                            if let Some(next) = queue.next().filter(|_| lost.is_none()) {
+                            let stopping = stop.is_some_and(|f| f.load(Ordering::SeqCst));
+                            if let Some(next) = queue.next().filter(|_| lost.is_none() && !stopping) {
                                 start(next);
                                 running += 1;
                             }
@@ -810,6 +832,66 @@ fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutc
                 listed.node
             ));
             fail(row, e)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::{BusAddr, OpenOptions};
+
+    fn demo() -> Box<dyn Bus> {
+        let mut opts = OpenOptions::new(Duration::from_millis(500));
+        opts.ephemeral = true;
+        crate::bus::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap()
+    }
+
+    fn example() -> Loaded {
+        load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sim-machine/nodelist.cpj")).unwrap()
+    }
+
+    /// Sets the stop flag once `after` nodes are done (or begun, one after the other).
+    struct StopAfter {
+        flag: &'static AtomicBool,
+        after: u64,
+    }
+
+    impl Progress for StopAfter {
+        fn advance(&mut self, done: u64) {
+            if done >= self.after {
+                self.flag.store(true, Ordering::SeqCst);
+            }
+        }
+    }
+
+    /// An interruption stops between nodes, one after the other or several at once: the
+    /// nodes under way finish, the others are reported as not begun, and the run ends as
+    /// interrupted.
+    #[test]
+    fn an_interruption_stops_between_nodes_and_says_which_were_not_done() {
+        for jobs in [1, 2] {
+            let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+            let loaded = example();
+            let mut o = ApplyOptions {
+                config: config::ApplyOptions::new(Duration::from_millis(500)),
+                assign: false,
+                window: Duration::from_millis(100),
+                boot_wait: Duration::from_secs(1),
+                jobs,
+                interrupted: Some(flag),
+            };
+            o.config.verify = true;
+            let mut bus = demo();
+            let report = apply(bus.as_mut(), &loaded, &o, &mut StopAfter { flag, after: 1 }).unwrap();
+            let done: Vec<u8> = report.nodes.iter().filter(|n| n.ok).map(|n| n.node).collect();
+            let not_begun: Vec<u8> =
+                report.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).map(|n| n.node).collect();
+            // The demo network has nodes 1, 5, 10 and 32; 20 to 24 wait for --assign.
+            assert_eq!(done, [1, 5], "--jobs {jobs}: {:?}", report.nodes.iter().map(|n| &n.result).collect::<Vec<_>>());
+            assert_eq!(not_begun, [10, 32], "--jobs {jobs}");
+            assert!(matches!(report.failure, Some(Error::Interrupted)));
+            assert!(!report.ok);
         }
     }
 }
