@@ -363,3 +363,19 @@ fn apply_assign_and_check_through_the_epos2_gateway() {
     assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
     assert_eq!(junit_counts(&run.stdout), Some((9 * 3 + 2, 0)));
 }
+
+/// With --reset the nodes written to are reset and waited for; what was stored is what
+/// they come back with.
+#[test]
+fn reset_after_apply_keeps_what_was_stored() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "5");
+    let project = example();
+    let project = project.to_str().unwrap();
+    let report = sim.run(&["network", "apply", project, "--assign", "--reset", "--format", "json"]).ok().json();
+    for n in report["nodes"].as_array().unwrap() {
+        assert!(n["result"].as_str().unwrap().ends_with(", stored, reset, booted"), "{n}");
+    }
+    let run = check(&sim, Path::new(project), "human");
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+}

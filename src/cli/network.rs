@@ -100,11 +100,14 @@ pub struct ApplyArgs {
     /// How long a device may take to store
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
     pub store_timeout: Duration,
+    /// Reset the nodes written to (NMT reset node) and wait until each has booted
+    #[arg(long)]
+    pub reset: bool,
     /// How many nodes to configure at once, their SDO transfers in flight together (1: one
     /// after the other)
     #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
     pub jobs: u8,
-    /// How long a device given a node-id over LSS may take to answer with it
+    /// How long a device given a node-id over LSS, or reset, may take to be back
     #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
     pub boot_wait: Duration,
     /// How long the bus must stay quiet after the last answer to the probes
@@ -199,6 +202,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         window: a.window,
         boot_wait: a.boot_wait,
         jobs: a.jobs.into(),
+        reset: a.reset,
         interrupted: Some(super::interrupt::flag()),
     };
     // Ctrl-C stops between nodes: the nodes under way finish, and the report says which

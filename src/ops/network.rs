@@ -406,6 +406,9 @@ pub struct ApplyOptions {
     pub boot_wait: Duration,
     /// How many nodes are configured at once (1: one after the other).
     pub jobs: usize,
+    /// Reset the nodes written to (NMT reset node) and wait, up to `boot_wait`, until each
+    /// is back (its boot-up, or an SDO answer where the link shows no traffic).
+    pub reset: bool,
     /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): no node is begun after
     /// that; the nodes under way finish, and the report says which were not done.
     pub interrupted: Option<&'static AtomicBool>,
@@ -599,6 +602,30 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             row.result = format!("node-id given over LSS; {}", row.result);
         }
         rows[i] = Some((row, error));
+    }
+    if o.reset && !o.config.dry_run && !stop() {
+        let written: Vec<u8> = rows
+            .iter()
+            .flatten()
+            .filter(|(row, error)| error.is_none() && row.written > 0)
+            .map(|(row, _)| row.node)
+            .collect();
+        let back = reset_and_wait(bus, &written, o)?;
+        for (row, error) in rows.iter_mut().flatten() {
+            match back.get(&row.node) {
+                Some(true) => row.result.push_str(", reset, booted"),
+                Some(false) => {
+                    row.result.push_str(", reset, but not back");
+                    row.ok = false;
+                    error.get_or_insert(Error::Timeout(format!(
+                        "node {} was reset and did not boot within {} ms",
+                        row.node,
+                        o.boot_wait.as_millis()
+                    )));
+                }
+                None => {}
+            }
+        }
     }
     let interrupted = stop();
     let mut nodes = Vec::new();
@@ -796,6 +823,42 @@ mod parallel {
     }
 }
 
+/// NMT reset `nodes`, then wait until each is back: its boot-up message where the link shows
+/// the bus's traffic, else an SDO answer. Whether each came back within `boot_wait`.
+fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<BTreeMap<u8, bool>> {
+    let mut back: BTreeMap<u8, bool> = nodes.iter().map(|n| (*n, false)).collect();
+    for n in nodes {
+        bus.observed().boot_ups.remove(n);
+        bus.nmt(crate::canopen::nmt::Command::ResetNode, *n)?;
+    }
+    let deadline = Instant::now() + o.boot_wait;
+    if bus.sees_traffic() {
+        while back.values().any(|b| !b) {
+            let frame = bus.recv_frame(deadline)?;
+            for (n, b) in back.iter_mut() {
+                *b |= bus.observed().boot_ups.contains(n);
+            }
+            if frame.is_none() {
+                break;
+            }
+        }
+    } else {
+        for n in nodes {
+            while Instant::now() < deadline {
+                match bus.sdo_upload(*n, DEVICE_TYPE, &SdoOptions::new(o.window)) {
+                    Ok(_) | Err(Error::SdoAbort { .. }) => {
+                        back.insert(*n, true);
+                        break;
+                    }
+                    Err(e) if no_answer(&e) => continue,
+                    Err(e) => return Err(e),
+                }
+            }
+        }
+    }
+    Ok(back)
+}
+
 /// A listed node that did not answer the probe: given its node-id over LSS when asked (and
 /// its DCF names an LSS identity), else failed.
 fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
@@ -807,7 +870,7 @@ fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutc
     match listed.lss_identity() {
         Some(id) if o.assign && o.config.dry_run => {
             row.assigned = Some(id.to_string());
-            row.result = format!("would be given node-id {} over LSS ({id})", listed.node);
+            row.result = format!("would be looked for over LSS ({id}) and given node-id {}", listed.node);
             row.ok = true;
             (row, None)
         }
@@ -879,6 +942,7 @@ mod tests {
                 window: Duration::from_millis(100),
                 boot_wait: Duration::from_secs(1),
                 jobs,
+                reset: false,
                 interrupted: Some(flag),
             };
             o.config.verify = true;
