@@ -379,3 +379,30 @@ fn reset_after_apply_keeps_what_was_stored() {
     let run = check(&sim, Path::new(project), "human");
     assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
 }
+
+/// --state: every listed node must be in that NMT state, learned from its heartbeat or by
+/// node guarding (the stepper has no heartbeat).
+#[test]
+fn check_state_wants_every_node_in_that_nmt_state() {
+    let sim = Sim::new();
+    let dir = dumped(&sim);
+    let dir = dir.to_str().unwrap();
+    let run = sim.run(&["network", "check", dir, "--state", "operational", "--format", "json"]);
+    assert_eq!(run.code, 6, "{}", run.stdout);
+    let states = |report: &J| -> Vec<(u64, bool)> {
+        report["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| {
+                let c = n["checks"].as_array().unwrap().iter().find(|c| c["check"] == "state").unwrap();
+                (n["node"].as_u64().unwrap(), c["ok"].as_bool().unwrap())
+            })
+            .collect()
+    };
+    assert_eq!(states(&run.json()), [(1, false), (5, false), (10, false), (32, false)]);
+    sim.run(&["nmt", "start", "all"]).ok();
+    let run = sim.run(&["network", "check", dir, "--state", "operational", "--format", "json"]);
+    assert_eq!(run.code, 0, "{}", run.stdout);
+    assert_eq!(states(&run.json()), [(1, true), (5, true), (10, true), (32, true)]);
+}

@@ -3,6 +3,7 @@
 
 use super::Ctx;
 use crate::bus::Bus;
+use crate::canopen::nmt::State;
 use crate::error::Error;
 use crate::ops::config;
 use crate::ops::network::{self, Applied, Checked, Dumped, PROJECT_FILE};
@@ -48,7 +49,8 @@ pub struct DumpArgs {
 /// Check the bus against a network project; exit 6 when anything differs
 ///
 /// For each node the project lists: it answers, its vendor-ID and product code (0x1018)
-/// are the ones its DCF names, and every writable object holds the DCF's value. Then: no
+/// are the ones its DCF names, every writable object holds the DCF's value, and (with
+/// --state) it is in that NMT state. Then: no
 /// node answers that the project does not list, and no device waits for a node-id over LSS.
 /// --format junit writes one JUnit test case per node and check, for CI systems.
 #[derive(Args, Debug)]
@@ -58,6 +60,10 @@ pub struct DumpArgs {
 pub struct CheckArgs {
     /// The project: a nodelist.cpj, or the folder holding one
     pub project: PathBuf,
+    /// Every listed node must also be in this NMT state (from its heartbeat, else node
+    /// guarding): operational, pre-operational or stopped
+    #[arg(long, value_name = "STATE", value_parser = parse_state)]
+    pub state: Option<State>,
     /// How many nodes to check at once, their SDO transfers in flight together (1: one after
     /// the other)
     #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
@@ -113,6 +119,15 @@ pub struct ApplyArgs {
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
+}
+
+fn parse_state(text: &str) -> Result<State, String> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "operational" => Ok(State::Operational),
+        "pre-operational" | "preop" => Ok(State::PreOperational),
+        "stopped" => Ok(State::Stopped),
+        _ => Err(format!("'{text}' is not an NMT state: use operational, pre-operational or stopped")),
+    }
 }
 
 /// `500k`, `1M`, `125000`: a bit rate in kbit/s.
@@ -182,7 +197,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
 
 fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
     let loaded = load(ctx, &a.project)?;
-    let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into() };
+    let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into(), state: a.state };
     let report = network::check(bus, &loaded, &options, &mut ctx.out.progress())?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)

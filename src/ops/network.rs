@@ -208,6 +208,9 @@ pub struct CheckOptions {
     pub window: Duration,
     /// How many nodes are checked at once (1: one after the other).
     pub jobs: usize,
+    /// The NMT state every listed node must be in, when the caller expects one (CiA 306-3
+    /// projects do not say).
+    pub state: Option<crate::canopen::nmt::State>,
 }
 
 /// Is the network as the project says?
@@ -233,7 +236,7 @@ pub struct NodeCheck {
     pub checks: Vec<Verdict>,
 }
 
-/// One check of one node: `present`, `identity`, `objects`.
+/// One check of one node: `present`, `identity`, `objects`, `state`.
 #[derive(Debug, Serialize)]
 pub struct Verdict {
     pub check: &'static str,
@@ -324,6 +327,32 @@ fn check_objects(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> R
     Ok(Verdict { check: "objects", ok: differences.is_empty(), detail, differences })
 }
 
+/// The node's NMT state against `want`: from its heartbeat, when one was seen in this
+/// session, else by node guarding (through an EPOS2: by remote request).
+fn check_state(bus: &mut dyn Bus, node: u8, want: crate::canopen::nmt::State, window: Duration) -> Result<Verdict> {
+    use crate::canopen::nmt::{self, ErrorControl};
+    let seen = match bus.observed().states.get(&node) {
+        Some(s) => Some((*s, "heartbeat")),
+        None => {
+            let wait = (2 * window).max(Duration::from_millis(200));
+            match bus.request_frame(nmt::error_control_cob(node), 1, wait) {
+                Ok(frame) => match ErrorControl::parse(&frame) {
+                    Some((_, ErrorControl::State { state, .. })) => Some((state, "node guarding")),
+                    Some((_, ErrorControl::BootUp)) => Some((nmt::State::PreOperational, "boot-up")),
+                    _ => None,
+                },
+                Err(e) if no_answer(&e) => None,
+                Err(e) => return Err(e),
+            }
+        }
+    };
+    let (ok, detail) = match seen {
+        Some((state, from)) => (state == want, format!("{state} (from its {from}), {want} expected")),
+        None => (false, format!("no heartbeat seen and no answer to node guarding; {want} expected")),
+    };
+    Ok(Verdict { check: "state", ok, detail, differences: Vec::new() })
+}
+
 /// Check the bus against the project: each listed node present, with the identity its DCF
 /// names and every writable object as the DCF has it; no node the project does not list;
 /// no device waiting for a node-id.
@@ -369,7 +398,13 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
         let stopped = |_: usize, e: Error| Err(e);
         parallel::each(bus, &all, o.jobs, None, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
     };
-    let nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
+    let mut nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
+    if let Some(want) = o.state {
+        // Node guarding and heartbeats are the link's, not a node's SDO: asked here.
+        for n in nodes.iter_mut().filter(|n| n.checks[0].ok) {
+            n.checks.push(check_state(bus, n.node, want, o.window)?);
+        }
+    }
     progress.finish();
     let listed: Vec<u8> = loaded.nodes.iter().map(|l| l.node).collect();
     let unlisted: Vec<Unlisted> = found
