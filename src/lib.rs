@@ -7,20 +7,20 @@
 //!
 //! | layer | what | may depend on |
 //! |---|---|---|
-//! | `cli`, `output` (feature `cli`) | clap definitions, one file per command: parse the arguments, call one operation, render its report; `output` is the one renderer (table, JSON, CSV, JSON lines) and turns [`ops::Progress`] into progress bars | everything below; clap, indicatif, comfy-table, anyhow, toml (settings files) |
-//! | [`ops`] | the procedures (config dump/diff/apply, store/restore, PDO remap and stream, monitor): functions over `&mut dyn Bus` returning serialisable reports; no printing, no clap | `bus`, `canopen`, `od`, `frame`, `error` |
+//! | `cli`, `output` (feature `cli`) | clap definitions, one file per command: parse the arguments, call one operation, render its report; `output` is the one renderer (table, JSON, CSV, JSON lines; each report's human form in `output/`) and turns [`ops::Progress`] into progress bars | everything below; clap, indicatif, comfy-table, anyhow |
+//! | [`ops`], [`settings`] | the procedures (LSS, config dump/diff/apply, store/restore, PDO remap and stream, monitor): functions over `&mut dyn Bus` returning serialisable reports; no printing, no clap. `settings` resolves flags, `CANCTL_BUS` and `canctl.toml` once, each value with its source | `bus`, `canopen`, `od`, `frame`, `error`; `settings` also toml |
 //! | [`bus`] | the [`bus::Bus`] service API and the `FrameLink` trait; [`bus::BusAddr`] (`FromStr` + `Display`); `Master` (CANopen client over a `FrameLink`); the one factory [`bus::open`], the only place that names the backends | `canopen`, `frame`, `error`; `open` also `sim` and `epos2` |
 //! | [`epos2`] | pure framing and CRC, the two serial transports, the gateway that implements `Bus` | `bus` (the trait), `canopen`, `frame`, `error` |
-//! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 serial device | `bus` (the trait), `canopen`, `od`, `epos2`, `frame` |
+//! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 serial device; `sim::serve` puts them behind an interface or a pty | `bus` (the trait), `canopen`, `od`, `epos2`, `frame` |
 //! | [`od`] | object dictionaries, EDS/DCF read and write, object names | `canopen` |
 //! | [`canopen`] | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O | `frame`, `error` |
 //!
 //! # Where things go
 //!
 //! - **A new command**: its procedure in `ops/` (a function over a `Bus`, a report struct
-//!   deriving `serde::Serialize`, progress through `ops::Progress`), then `src/cli/<name>.rs`
-//!   with the clap arguments and an `output::Report` impl for the report, and one line in
-//!   `cli::Command` and `cli::run`.
+//!   deriving `serde::Serialize`, progress through `ops::Progress`), its `output::Report`
+//!   impl (the human and CSV forms) in `src/output/`, then `src/cli/<name>.rs` with the clap
+//!   arguments, and one line in `cli::Command` and `cli::run`.
 //! - **A new backend**: a `FrameLink` (raw frames, served by `Master`) or a `Bus` of its
 //!   own (as the EPOS2 gateway), a variant of `BusAddr` with its `FromStr`/`Display` forms
 //!   (round-trip tested), and its arm in `bus::open`. Nothing above `bus` changes.

@@ -23,5 +23,5 @@ fn usage_error(e: clap::Error) -> ! {
     }
     let text = e.render().to_string();
     eprint!("canctl: {}", text.strip_prefix("error: ").unwrap_or(&text));
-    std::process::exit(2)
+    std::process::exit(canctl::error::ErrorClass::Usage.exit_code())
 }

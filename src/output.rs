@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 mod lss;
+mod records;
 mod reports;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -134,19 +135,22 @@ pub enum Human {
     Line(String),
     /// A table; `when_empty` says whether a table without rows is still shown (its header).
     Table { headers: Vec<&'static str>, rows: Vec<Vec<String>>, when_empty: bool },
+    /// A remark on stderr (not with --quiet), in its place among [`Human::Parts`].
+    Note(String),
+    /// Several of the above, in order (a table, then sentences about it).
+    Parts(Vec<Human>),
 }
 
 /// A typed report: serialised as it is for JSON, shown as [`Human`] otherwise.
 pub trait Report: serde::Serialize {
     fn human(&self) -> Human;
+    /// How the report looks in CSV, when that is not as for people (a row for a sentence).
+    fn csv(&self) -> Human {
+        self.human()
+    }
     /// Remarks on stderr after the result (not in JSON, not with --quiet).
     fn notes(&self) -> Vec<String> {
         Vec::new()
-    }
-    /// The report in CSV when that is not its human form (a sentence for people, a row
-    /// for scripts); the notes, which are for people, are then left out.
-    fn csv(&self) -> Option<Human> {
-        None
     }
     /// The report as test results, for reports of checks.
     fn junit(&self) -> Option<TestSuite> {
@@ -231,20 +235,23 @@ impl Output {
         if self.format == Format::Json {
             return self.json(&serde_json::to_value(report).expect("reports serialise"));
         }
-        let csv = if self.format == Format::Csv { report.csv() } else { None };
-        let for_people = csv.is_none();
-        match csv.unwrap_or_else(|| report.human()) {
+        self.human(if self.format == Format::Csv { report.csv() } else { report.human() })?;
+        for note in report.notes() {
+            self.note(&note);
+        }
+        Ok(())
+    }
+
+    fn human(&self, shown: Human) -> std::io::Result<()> {
+        match shown {
             Human::Line(text) => self.print(&text)?,
             Human::Table { headers, rows, when_empty } => {
                 if when_empty || self.format == Format::Csv || !rows.is_empty() {
                     self.table(&headers, &rows)?;
                 }
             }
-        }
-        if for_people {
-            for note in report.notes() {
-                self.note(&note);
-            }
+            Human::Note(text) => self.note(&text),
+            Human::Parts(parts) => parts.into_iter().try_for_each(|part| self.human(part))?,
         }
         Ok(())
     }

@@ -79,12 +79,7 @@ pub struct Sourced<T> {
     pub from: Source,
 }
 
-/// An EDS or DCF describing one node, or every node (`node` None).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct EdsFile {
-    pub node: Option<u8>,
-    pub path: PathBuf,
-}
+pub use crate::ops::dictionaries::EdsFile;
 
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields)]

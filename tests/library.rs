@@ -3,12 +3,20 @@
 
 use canctl::bus::{self, Bus, BusAddr, OpenOptions};
 use canctl::canopen::nmt;
+use canctl::canopen::types::Value;
+use canctl::canopen::DataType;
 use canctl::canopen::ObjAddr;
 use canctl::ops::config::{self, ApplyOptions, Dcf};
+use canctl::ops::dictionaries::{Dictionaries, EdsFile};
 use canctl::ops::monitor::Monitor;
+use canctl::ops::nmt::{self as nmt_ops, Confirmation, ResetOptions, StateOptions};
 use canctl::ops::pdo::{self, Session, Stream, StreamOptions};
+use canctl::ops::scan::{self, ScanOptions};
+use canctl::ops::scan_cache::SeenNode;
+use canctl::ops::sdo::{self, ReadOptions, WriteOptions};
 use canctl::ops::store::{self, Class, Timeouts};
 use canctl::ops::Progress;
+use canctl::Error;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
@@ -157,6 +165,131 @@ fn the_monitor_sees_the_sensors_heartbeat() {
     assert!(monitor.summary().frames() >= 1);
 }
 
+#[test]
+fn a_scan_finds_the_demo_network_with_identities_and_states() {
+    let mut bus = demo();
+    let mut progress = Recorder::default();
+    let o = ScanOptions { window: Duration::from_millis(100), timeout: TIMEOUT };
+    let found = scan::scan(bus.as_mut(), &o, &mut progress).unwrap();
+    let ids: Vec<u8> = found.nodes.iter().map(|n| n.node).collect();
+    assert_eq!(ids, [1, 5, 10, 32], "{found:?}");
+    let sensor = &found.nodes[1];
+    assert_eq!((sensor.vendor_id, sensor.product_code), (Some(0x40), Some(0x4378_7800)));
+    assert_eq!(sensor.name.as_deref(), Some("C01"));
+    assert_eq!(found.nodes[3].vendor_id, None, "node 32 has no 0x1018:1");
+    assert!(found.nodes.iter().all(|n| n.state == Some(nmt::State::PreOperational)), "{found:?}");
+    assert_eq!(found.lss_unconfigured, 3);
+    assert_eq!(found.lss_configuration.count, 0);
+    assert!(progress.calls.contains(&"start probing 127".to_string()), "{:?}", progress.calls);
+    assert!(progress.calls.contains(&format!("start identity {}", 4 * 6)), "{:?}", progress.calls);
+
+    let json = serde_json::to_value(&found).unwrap();
+    assert_eq!(json["bus"], found.bus);
+    assert_eq!(json["nodes"][1]["state"], "pre-operational");
+    assert_eq!(json["lss_configuration"]["devices"], serde_json::json!([]));
+    let seen = SeenNode::from_scan(&found);
+    assert_eq!(seen[1], SeenNode { node: 5, name: Some("C01".into()), vendor_id: Some(0x40) });
+}
+
+#[test]
+fn a_stopped_node_shows_its_state_and_drops_out_of_a_scan() {
+    let mut bus = demo();
+    let sent = nmt_ops::send(bus.as_mut(), nmt::Command::Stop, SENSOR).unwrap();
+    assert_eq!(serde_json::to_value(&sent).unwrap(), serde_json::json!({"command": "stop", "target": 5, "sent": true}));
+    let o = StateOptions { listen: Duration::from_millis(300), timeout: TIMEOUT };
+    let state = nmt_ops::state(bus.as_mut(), SENSOR, &o).unwrap();
+    assert_eq!(state.state, nmt::State::Stopped, "{state:?}");
+    // Stopped, it answers no SDO: a scan does not list it.
+    let o = ScanOptions { window: Duration::from_millis(100), timeout: TIMEOUT };
+    let found = scan::scan(bus.as_mut(), &o, &mut Recorder::default()).unwrap();
+    assert!(found.nodes.iter().all(|n| n.node != SENSOR), "{found:?}");
+}
+
+#[test]
+fn a_reset_is_confirmed_by_the_boot_up_of_each_node() {
+    let mut bus = demo();
+    let o = ResetOptions { wait: Duration::from_secs(5), timeout: TIMEOUT };
+    nmt_ops::send(bus.as_mut(), nmt::Command::Start, SENSOR).unwrap();
+    let one = nmt_ops::reset(bus.as_mut(), nmt::Command::ResetNode, SENSOR, &o).unwrap();
+    assert!(one.confirmed && one.why.is_none(), "{one:?}");
+    assert_eq!(one.booted, Some(vec![SENSOR]));
+    assert_eq!(one.seen_by.as_deref(), Some("boot-up message"));
+    let state =
+        nmt_ops::state(bus.as_mut(), SENSOR, &StateOptions { listen: Duration::from_millis(300), timeout: TIMEOUT });
+    assert_eq!(state.unwrap().state, nmt::State::PreOperational);
+
+    let all = nmt_ops::reset_and_wait(bus.as_mut(), nmt::Command::ResetCommunication, bus::ALL_NODES, &o).unwrap();
+    assert_eq!(all, Confirmation::Confirmed(vec![1, 5, 10, 32], "boot-up message".into()));
+    let json = serde_json::to_value(nmt_ops::reset(bus.as_mut(), nmt::Command::ResetNode, bus::ALL_NODES, &o).unwrap());
+    assert_eq!(json.unwrap()["target"], "all");
+}
+
+#[test]
+fn a_reset_of_a_node_that_is_not_there_times_out() {
+    let mut bus = demo();
+    let o = ResetOptions { wait: Duration::from_millis(300), timeout: TIMEOUT };
+    let err = nmt_ops::reset(bus.as_mut(), nmt::Command::ResetNode, 99, &o).unwrap_err();
+    assert!(matches!(err, Error::NoAnswer { node: 99, .. }), "{err}");
+    assert_eq!(err.exit_code(), 3);
+}
+
+#[test]
+fn an_sdo_write_takes_its_type_from_the_dictionary_and_reads_back() {
+    let mut bus = demo();
+    let dicts = Dictionaries::default();
+    let dict = dicts.for_node(SENSOR);
+    let (object, _) = dicts.resolve(SENSOR, "ProducerHeartbeatTime").unwrap();
+    let w = WriteOptions { timeout: TIMEOUT, dtype: None, block: true, verify: true };
+    let written = sdo::write(bus.as_mut(), dict, SENSOR, object, "250", &w).unwrap();
+    assert_eq!((written.dtype, written.size, written.verified), (DataType::U16, 2, true));
+    assert_eq!(written.value, Some(Value::Uint(250)));
+
+    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: 1 << 20 };
+    let read = sdo::read(bus.as_mut(), dict, SENSOR, object, &r).unwrap();
+    assert_eq!((read.bytes.as_slice(), &read.value), (&[250u8, 0][..], &Some(Value::Uint(250))));
+    assert_eq!(read.name.as_deref(), Some("Producer heartbeat time"));
+    let json = serde_json::to_value(&read).unwrap();
+    assert_eq!(
+        (json["object"].as_str(), json["type"].as_str(), json["raw"].as_str()),
+        (Some("0x1017:0"), Some("u16"), Some("FA00"))
+    );
+}
+
+#[test]
+fn an_sdo_read_without_a_type_shows_the_plain_number_and_a_wrong_type_is_refused() {
+    let mut bus = demo();
+    let empty = canctl::od::Dictionary::default();
+    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: 1 << 20 };
+    let read = sdo::read(bus.as_mut(), &empty, SENSOR, ObjAddr::new(0x1018, 1), &r).unwrap();
+    assert_eq!((read.dtype, read.value, read.name), (None, Some(Value::Uint(0x40)), None));
+    let r = ReadOptions { dtype: Some(DataType::U8), ..r };
+    let err = sdo::read(bus.as_mut(), &empty, SENSOR, ObjAddr::new(0x1018, 1), &r).unwrap_err();
+    assert!(matches!(err, Error::Usage(_)) && err.to_string().contains("not a u8"), "{err}");
+    let missing = sdo::read(bus.as_mut(), &empty, SENSOR, ObjAddr::new(0x1018, 7), &r).unwrap_err();
+    assert!(matches!(missing, Error::SdoAbort { node: SENSOR, .. }), "{missing}");
+}
+
+#[test]
+fn an_sdo_write_outside_the_eds_limits_is_refused_before_it_is_sent() {
+    let mut bus = demo();
+    let eds = EdsFile {
+        node: Some(SENSOR),
+        path: concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/eds/mh-sensor.eds").into(),
+    };
+    let dicts = Dictionaries::load(&[eds]).unwrap();
+    let (object, entry) = dicts.resolve(SENSOR, "1017").unwrap();
+    assert_eq!(entry.unwrap().range, Some((0, 60000)));
+    let w = WriteOptions { timeout: TIMEOUT, dtype: None, block: true, verify: false };
+    let err = sdo::write(bus.as_mut(), dicts.for_node(SENSOR), SENSOR, object, "60001", &w).unwrap_err();
+    assert!(matches!(err, Error::Usage(_)) && err.to_string().contains("use 0 to 60000"), "{err}");
+    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: 1 << 20 };
+    let unchanged = sdo::read(bus.as_mut(), dicts.for_node(SENSOR), SENSOR, object, &r).unwrap();
+    assert_ne!(unchanged.value, Some(Value::Uint(60001)));
+    // Without a type from anywhere, nothing can be encoded.
+    let err = sdo::write(bus.as_mut(), &canctl::od::Dictionary::default(), SENSOR, object, "1", &w).unwrap_err();
+    assert!(err.to_string().starts_with("--type is needed"), "{err}");
+}
+
 /// The demo network's devices that have a node-id.
 const DEMO_NODES: [u8; 4] = [1, 5, 10, 32];
 
@@ -231,4 +364,23 @@ fn settings_come_from_the_command_line_over_the_files_over_the_defaults() {
     assert_eq!(shown["timeout_from"], "command line");
     let none = Settings::resolve(Given::default(), FileSettings::default());
     assert_eq!((none.bus, none.timeout.value, none.timeout.from), (None, DEFAULT_TIMEOUT, Source::Default));
+}
+
+#[test]
+fn sim_reset_starts_the_saved_network_afresh_as_configured() {
+    use canctl::sim::serve::{reset, state_path};
+    use canctl::sim::{Profile, SimConfig};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sim.json");
+    let uri = format!("sim:{}", path.display());
+    assert_eq!(state_path(Some(&uri)).unwrap(), path);
+    assert_eq!(state_path(Some("can0")).unwrap_err().exit_code(), 2);
+
+    let report = reset(&path, &SimConfig::default().profile(Profile::Instant).unconfigured(1).seed(7)).unwrap();
+    assert_eq!((report.profile.as_str(), report.unconfigured, report.seed), ("instant", 1, 7));
+    assert_eq!(report.bit_rate, "500k");
+    let mut bus = bus::open(&uri.parse::<BusAddr>().unwrap(), &OpenOptions::new(TIMEOUT)).unwrap();
+    let waiting = canctl::bus::lss::count_unconfigured(bus.as_mut(), TIMEOUT).unwrap();
+    assert_eq!(waiting, 1);
+    bus.close().unwrap();
 }

@@ -2,12 +2,12 @@
 //! node-ids from the last scan of the bus, objects from the node's dictionary, and the
 //! fixed sets. It reads files only — never the bus — and must answer in milliseconds.
 
-use super::cache;
 use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
 use crate::bus::BusAddr;
 use crate::canopen::types::ALL_TYPES;
 use crate::epos2::Framing;
 use crate::od::names;
+use crate::ops::scan_cache as cache;
 use clap::CommandFactory;
 use clap_complete::engine::CompletionCandidate;
 use std::collections::HashMap;
@@ -155,7 +155,7 @@ pub fn objects() -> Vec<CompletionCandidate> {
             eds.push(EdsArg { node: Some(n), path });
         }
     }
-    let dicts = Dictionaries::load_quietly(&eds).unwrap_or_default();
+    let dicts = Dictionaries::load(&eds).unwrap_or_default();
     let dict = dicts.for_node(node);
     let named: Vec<(&crate::od::Entry, String)> =
         dict.entries().map(|e| (e, dict.display_name(e.addr).unwrap_or_default())).collect();

@@ -4,8 +4,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::error::Error;
-use crate::ops::config::{self, Applied, ApplyOptions, Dcf, Diff};
-use crate::output::{Human, Report};
+use crate::ops::config::{self, ApplyOptions, Dcf};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::path::{Path, PathBuf};
@@ -148,45 +147,4 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         ));
     }
     Ok(report.outcome()?)
-}
-
-impl Report for Diff {
-    fn human(&self) -> Human {
-        let rows = self
-            .differences
-            .iter()
-            .map(|d| vec![d.object.to_string(), d.name.clone(), d.device.clone(), d.file.clone()]);
-        Human::Table { headers: vec!["object", "name", "device", "file"], rows: rows.collect(), when_empty: false }
-    }
-
-    fn notes(&self) -> Vec<String> {
-        vec![format!(
-            "node {}: {} object(s) differ from {}, {} match",
-            self.node,
-            self.differences.len(),
-            self.file,
-            self.same
-        )]
-    }
-}
-
-impl Report for Applied {
-    fn human(&self) -> Human {
-        let rows = self
-            .objects
-            .iter()
-            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.clone()]);
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty: true }
-    }
-
-    fn notes(&self) -> Vec<String> {
-        let mut notes = Vec::new();
-        if self.objects.is_empty() {
-            notes.push(format!("node {} already matches {}", self.node, self.file));
-        }
-        if self.stored {
-            notes.push(format!("node {}: parameters stored (0x1010:1)", self.node));
-        }
-        notes
-    }
 }

@@ -193,10 +193,6 @@ fn no_node(node: Option<u8>, verb: &str) -> crate::Result<()> {
     node.map_or(Ok(()), |_| Err(lss::no_lss_on_direct_epos2(verb)))
 }
 
-pub(super) fn identity_json(id: &Identity) -> serde_json::Value {
-    serde_json::to_value(lss::LssNumbers::from(id)).expect("numbers serialise")
-}
-
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()> {
     // An interruption is noted and acted on between steps, so that no device is left in
     // configuration state.

@@ -1,7 +1,6 @@
 //! The command line: one clap definition from which help, man pages and completions are
 //! all generated, and one module per command.
 
-mod cache;
 mod complete;
 mod config;
 mod docs;
@@ -20,7 +19,7 @@ mod stream;
 use crate::bus::{Bus, BusAddr, OpenOptions};
 use crate::error::Error;
 use crate::output::{FormatArg, Output};
-use crate::settings::{EdsFile, Given, Settings};
+use crate::settings::{Given, Settings};
 use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -207,8 +206,9 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 /// the node does not have: name the dictionary's objects nearest to it.
 fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
+    use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { .. }), Some(bus)) => cache::hint(bus),
+        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => crate::ops::scan_cache::hint(bus),
         (Some(Error::SdoAbort { node, obj, code: NO_OBJECT | NO_SUBINDEX }), _) => {
             let near = ctx.dicts.near(*node, *obj);
             if near.is_empty() {
@@ -227,15 +227,13 @@ fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
 /// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS.
 pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let g = &cli.global;
-    let eds = g.eds.iter().map(|e| EdsFile { node: e.node, path: e.path.clone() }).collect();
-    let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds };
+    let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
-    let eds: Vec<objects::EdsArg> =
-        settings.eds.iter().map(|e| objects::EdsArg { node: e.value.node, path: e.value.path.clone() }).collect();
+    let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
     let ctx = Ctx {
         out: Output::for_arg(g.format, g.quiet),
         timeout: settings.timeout.value,
-        dicts: objects::Dictionaries::load(&eds)?,
+        dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
     };
     if g.format == FormatArg::Junit && !matches!(cli.command, Command::Network(network::NetworkCommand::Check(_))) {

@@ -3,11 +3,9 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::canopen::pdo::Layout;
-use crate::ops::monitor::{Event, Monitor, Summary};
-use crate::output::Line;
+use crate::ops::monitor::Monitor;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
-use serde_json::{json, Value as J};
 use std::collections::BTreeMap;
 use std::time::Duration;
 
@@ -56,49 +54,4 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> 
     }
     ctx.out.summary(&mut out, &monitor.summary())?;
     Ok(())
-}
-
-impl Line for Event {
-    fn json(&self) -> J {
-        let time = (self.time * 1000.0).round() / 1000.0;
-        let mut j = json!({ "time": time, "cob": format!("0x{:03X}", self.cob), "node": self.node, "kind": self.kind });
-        if let (Some(o), J::Object(extra)) = (j.as_object_mut(), &self.fields) {
-            o.extend(extra.clone());
-        }
-        j
-    }
-
-    fn csv(&self) -> String {
-        let node = self.node.map_or(String::new(), |n| n.to_string());
-        format!("{:.3},0x{:03X},{node},{},\"{}\"", self.time, self.cob, self.kind, self.text.replace('"', "\"\""))
-    }
-
-    fn text(&self) -> String {
-        let node = self.node.map_or("       ".to_string(), |n| format!("node {n:<2}"));
-        format!("{:9.3}  {:03X}  {node}  {:<13} {}", self.time, self.cob, self.kind, self.text)
-    }
-}
-
-impl Line for Summary {
-    fn json(&self) -> J {
-        let per_cob: BTreeMap<String, u64> = self.per_cob_id.iter().map(|(c, n)| (format!("0x{c:03X}"), *n)).collect();
-        json!({ "summary": { "frames": self.frames(), "per_cob_id": per_cob, "nodes": self.nodes, "emcy": self.emcy } })
-    }
-
-    fn csv(&self) -> String {
-        self.text()
-    }
-
-    fn text(&self) -> String {
-        let cobs: Vec<String> = self.per_cob_id.iter().map(|(c, n)| format!("{c:03X}×{n}")).collect();
-        let list: Vec<String> = self.nodes.iter().map(|n| n.to_string()).collect();
-        format!(
-            "{} frame(s) in {:.1} s; per COB-ID: {}; nodes seen: {}; EMCYs: {}",
-            self.frames(),
-            self.elapsed.as_secs_f64(),
-            if cobs.is_empty() { "-".into() } else { cobs.join(" ") },
-            if list.is_empty() { "-".into() } else { list.join(", ") },
-            self.emcy
-        )
-    }
 }

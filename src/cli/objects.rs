@@ -1,18 +1,7 @@
-//! Which dictionary describes a node: an EDS given with `--eds`, else the built-in one;
-//! and object arguments by address or by name.
+//! `--eds [NODE=]FILE`: which dictionary describes a node (see [`crate::ops::dictionaries`]).
 
-use crate::canopen::ObjAddr;
-use crate::error::Error;
-use crate::od::eds::{self, Eds};
-use crate::od::{builtin, names, Dictionary, Entry};
+pub use crate::ops::dictionaries::{Dictionaries, EdsFile as EdsArg};
 use std::path::PathBuf;
-
-/// `--eds FILE` (every node) or `--eds NODE=FILE`.
-#[derive(Clone, Debug)]
-pub struct EdsArg {
-    pub node: Option<u8>,
-    pub path: PathBuf,
-}
 
 pub fn parse_eds_arg(s: &str) -> Result<EdsArg, String> {
     match s.split_once('=') {
@@ -24,95 +13,11 @@ pub fn parse_eds_arg(s: &str) -> Result<EdsArg, String> {
     }
 }
 
-#[derive(Default)]
-pub struct Dictionaries {
-    files: Vec<(Option<u8>, Eds)>,
-}
-
-impl Dictionaries {
-    /// Read every `--eds` file; an unreadable one is a usage error citing file:line.
-    pub fn load(args: &[EdsArg]) -> Result<Dictionaries, Error> {
-        let dicts = Dictionaries::load_quietly(args)?;
-        for w in dicts.files.iter().flat_map(|(_, eds)| &eds.warnings) {
-            eprintln!("canctl: warning: {w}");
-        }
-        Ok(dicts)
-    }
-
-    /// As `load`, keeping the files' warnings to themselves (shell completion has no
-    /// place to show them).
-    pub fn load_quietly(args: &[EdsArg]) -> Result<Dictionaries, Error> {
-        let mut files = Vec::new();
-        for a in args {
-            let eds = eds::read_file(&a.path).map_err(|e| Error::Usage(format!("cannot use EDS {e}")))?;
-            files.push((a.node, eds));
-        }
-        Ok(Dictionaries { files })
-    }
-
-    /// The EDS bound to this node, else one given for every node.
-    pub fn eds_for(&self, node: u8) -> Option<&Eds> {
-        self.files
-            .iter()
-            .find(|(n, _)| *n == Some(node))
-            .or_else(|| self.files.iter().find(|(n, _)| n.is_none()))
-            .map(|(_, e)| e)
-    }
-
-    pub fn for_node(&self, node: u8) -> &Dictionary {
-        self.eds_for(node).map_or_else(|| builtin::dictionary(None), |e| &e.dict)
-    }
-
-    /// An object argument: an address (`0x1018:1`, `1018sub1`) or a name from the node's
-    /// dictionary. The dictionary entry comes along when there is one.
-    pub fn resolve(&self, node: u8, text: &str) -> Result<(ObjAddr, Option<&Entry>), Error> {
-        let dict = self.for_node(node);
-        let addr = match text.parse::<ObjAddr>() {
-            Ok(a) => a,
-            Err(addr_err) => {
-                if text.chars().all(|c| c.is_ascii_hexdigit() || ":xXsubSUB".contains(c)) {
-                    return Err(Error::Usage(addr_err));
-                }
-                let source = self.eds_for(node).map_or("the built-in dictionary".to_string(), |e| e.path.clone());
-                names::find(dict, text)
-                    .map_err(|e| Error::Usage(format!("{e} (looked in {source} for node {node})")))?
-            }
-        };
-        Ok((addr, dict.get(addr)))
-    }
-
-    /// Objects of the node's dictionary near one the node says it does not have: the other
-    /// sub-indexes of that object, else objects whose index is one hex digit off or has two
-    /// neighbouring digits swapped (0x1081 for 0x1018). Named, at most five.
-    pub fn near(&self, node: u8, addr: ObjAddr) -> Vec<String> {
-        let dict = self.for_node(node);
-        let mut near: Vec<ObjAddr> =
-            dict.entries().map(|e| e.addr).filter(|a| a.index == addr.index && *a != addr).collect();
-        if near.is_empty() {
-            let mut indexes: Vec<u16> =
-                dict.entries().map(|e| e.addr.index).filter(|i| one_slip(*i, addr.index)).collect();
-            indexes.dedup();
-            near = indexes
-                .into_iter()
-                .map(|i| ObjAddr::new(i, if dict.get(ObjAddr::new(i, addr.sub)).is_some() { addr.sub } else { 0 }))
-                .collect();
-        }
-        near.into_iter()
-            .take(5)
-            .map(|a| dict.display_name(a).map_or_else(|| a.to_string(), |n| format!("{a} ({n})")))
-            .collect()
-    }
-}
-
-/// Whether two indexes differ by one hex digit, or by two neighbouring digits swapped.
-fn one_slip(a: u16, b: u16) -> bool {
-    let (x, y) = (format!("{a:04X}").into_bytes(), format!("{b:04X}").into_bytes());
-    let differ: Vec<usize> = (0..4).filter(|&i| x[i] != y[i]).collect();
-    match differ.as_slice() {
-        [_] => true,
-        [i, j] => *j == i + 1 && x[*i] == y[*j] && x[*j] == y[*i],
-        _ => false,
-    }
+/// Read every `--eds` file, its warnings said on stderr.
+pub fn load(args: &[EdsArg]) -> crate::Result<Dictionaries> {
+    let dicts = Dictionaries::load(args)?;
+    dicts.warnings().for_each(|w| eprintln!("canctl: warning: {w}"));
+    Ok(dicts)
 }
 
 #[cfg(test)]
@@ -126,35 +31,5 @@ mod tests {
         assert_eq!(parse_eds_arg("mh.eds").unwrap().node, None);
         assert_eq!(parse_eds_arg("C:=odd").unwrap().node, None);
         assert!(parse_eds_arg("200=x.eds").is_err());
-    }
-
-    #[test]
-    fn near_misses_are_suggested() {
-        let d = Dictionaries::default();
-        let near = d.near(1, ObjAddr::new(0x1081, 1));
-        assert!(
-            near[0].starts_with("0x1001:0")
-                || near.iter().any(|n| n.starts_with("0x1018:1 (Identity object: Vendor-ID)")),
-            "{near:?}"
-        );
-        assert!(near.iter().any(|n| n.starts_with("0x1018:1")), "{near:?}");
-        let subs = d.near(1, ObjAddr::new(0x1018, 7));
-        assert_eq!(subs.len(), 5, "{subs:?}");
-        assert!(subs[0].starts_with("0x1018:0") && subs[4].starts_with("0x1018:4"), "{subs:?}");
-        assert!(d.near(1, ObjAddr::new(0x7777, 0)).is_empty());
-        assert!(one_slip(0x1081, 0x1018) && one_slip(0x1017, 0x1016) && !one_slip(0x1017, 0x1170));
-    }
-
-    #[test]
-    fn objects_by_address_or_name() {
-        let d = Dictionaries::default();
-        assert_eq!(d.resolve(5, "1017").unwrap().0, ObjAddr::new(0x1017, 0));
-        let (addr, entry) = d.resolve(5, "ProducerHeartbeatTime").unwrap();
-        assert_eq!(addr, ObjAddr::new(0x1017, 0));
-        assert_eq!(entry.unwrap().dtype, crate::canopen::DataType::U16);
-        let e = d.resolve(5, "10180:1").unwrap_err().to_string();
-        assert!(e.contains("1 to 4 hex digits"), "{e}");
-        let e = d.resolve(5, "HeartbeatTme").unwrap_err().to_string();
-        assert!(e.contains("no object named") && e.contains("built-in dictionary"), "{e}");
     }
 }

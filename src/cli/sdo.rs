@@ -1,14 +1,13 @@
 //! `canctl sdo read|write`: one object, any size, any type.
 
 use super::{parse_sdo_node, Ctx};
-use crate::bus::{Bus, SdoOptions};
-use crate::canopen::types::{hex, obvious_unsigned, Value};
-use crate::canopen::{DataType, ObjAddr};
-use crate::error::Error;
-use crate::output::Format;
+use crate::bus::Bus;
+use crate::canopen::types::{hex, obvious_unsigned};
+use crate::canopen::DataType;
+use crate::ops::sdo::{self, Read, ReadOptions, Saved, WriteOptions, Written};
+use crate::output::{Human, Report};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
-use serde_json::json;
 use std::path::PathBuf;
 
 #[derive(Subcommand, Debug)]
@@ -111,104 +110,43 @@ fn parse_size(s: &str) -> Result<usize, String> {
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
     match cmd {
-        SdoCommand::Read(a) => read(ctx, bus, a),
-        SdoCommand::Write(a) => write(ctx, bus, a),
-    }
-}
-
-fn is_large(t: Option<DataType>) -> bool {
-    matches!(t, Some(DataType::Vs | DataType::Os | DataType::D))
-}
-
-fn options(ctx: &Ctx, dtype: Option<DataType>, no_block: bool) -> SdoOptions {
-    let mut o = SdoOptions::new(ctx.timeout);
-    o.block_upload = !no_block && is_large(dtype);
-    o.block_download = !no_block;
-    o.size_hint = dtype.and_then(DataType::size);
-    o
-}
-
-/// The object, its type (given, else the dictionary's) and its name, if known.
-fn target(
-    ctx: &Ctx,
-    node: u8,
-    text: &str,
-    given: Option<DataType>,
-) -> Result<(ObjAddr, Option<DataType>, Option<String>), Error> {
-    let (addr, entry) = ctx.dicts.resolve(node, text)?;
-    let name = entry.and_then(|_| ctx.dicts.for_node(node).display_name(addr));
-    Ok((addr, given.or(entry.map(|e| e.dtype)), name))
-}
-
-fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
-    let (object, dtype, name) = target(ctx, a.node, &a.object, a.dtype)?;
-    let mut opts = options(ctx, dtype, a.no_block);
-    opts.max_upload = a.max_size;
-    let a = &Resolved { node: a.node, object, dtype, name, out: a.out.clone() };
-    let bytes = bus.sdo_upload(a.node, a.object, &opts)?;
-    let value = match a.dtype {
-        Some(t) => Some(t.decode(&bytes).ok_or_else(|| {
-            Error::Usage(format!(
-                "node {}: {} holds {} byte(s) ({}), which is not a {t} ({} bytes); try another --type",
-                a.node,
-                a.object,
-                bytes.len(),
-                hex(&bytes),
-                t.size().unwrap_or(0)
-            ))
-        })?),
-        None => None,
-    };
-    if let Some(path) = &a.out {
-        std::fs::write(path, &bytes).map_err(|e| Error::Usage(format!("cannot write {}: {e}", path.display())))?;
-        return match ctx.out.format {
-            Format::Json => Ok(ctx.out.json(&json!({
-                "node": a.node, "object": a.object.to_string(), "size": bytes.len(), "file": path.display().to_string()
-            }))?),
-            Format::Csv => Ok(ctx.out.table(
-                &["node", "object", "size", "file"],
-                &[vec![a.node.to_string(), a.object.to_string(), bytes.len().to_string(), path.display().to_string()]],
-            )?),
-            Format::Human => Ok(ctx.out.print(&format!(
-                "{} bytes from node {} {} written to {}",
-                bytes.len(),
-                a.node,
-                a.object,
-                path.display()
-            ))?),
-        };
-    }
-    let plain = obvious_unsigned(&bytes);
-    match ctx.out.format {
-        Format::Json => ctx.out.json(&json!({
-            "node": a.node,
-            "object": a.object.to_string(),
-            "name": a.name,
-            "type": a.dtype.map(|t| t.name()),
-            "size": bytes.len(),
-            "raw": hex(&bytes),
-            "value": match &value { Some(v) => v.to_json(), None => json!(plain) },
-        }))?,
-        Format::Csv => ctx.out.table(
-            &["node", "object", "type", "size", "raw", "value"],
-            &[vec![
-                a.node.to_string(),
-                a.object.to_string(),
-                a.dtype.map_or(String::new(), |t| t.name().to_string()),
-                bytes.len().to_string(),
-                hex(&bytes),
-                match &value {
-                    Some(v) => v.to_string(),
-                    None => plain.map_or(String::new(), |p| p.to_string()),
-                },
-            ]],
-        )?,
-        Format::Human => ctx.out.print(&match value {
-            Some(v) => v.to_string(),
-            None => untyped(&bytes),
-        })?,
+        SdoCommand::Read(a) => {
+            let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
+            let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
+            let read = sdo::read(bus, ctx.dicts.for_node(a.node), a.node, object, &o)?;
+            match &a.out {
+                Some(path) => ctx.out.report(&read.save(path)?)?,
+                None => ctx.out.report(&read)?,
+            }
+        }
+        SdoCommand::Write(a) => {
+            let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
+            let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, verify: a.verify };
+            ctx.out.report(&sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o)?)?
+        }
     }
     Ok(())
+}
+
+/// One row under its headers, for CSV.
+fn row(headers: Vec<&'static str>, row: Vec<String>) -> Human {
+    Human::Table { headers, rows: vec![row], when_empty: true }
+}
+
+impl Report for Read {
+    fn human(&self) -> Human {
+        Human::Line(match (&self.value, self.dtype) {
+            (Some(v), Some(_)) => v.to_string(),
+            _ => untyped(&self.bytes),
+        })
+    }
+
+    fn csv(&self) -> Human {
+        let (dtype, value) = (self.dtype.map_or("", |t| t.name()), self.value.as_ref().map(|v| v.to_string()));
+        let values = [self.node.to_string(), self.object.to_string(), dtype.into(), self.size.to_string()];
+        let values = [values.to_vec(), vec![hex(&self.bytes), value.unwrap_or_default()]].concat();
+        row(vec!["node", "object", "type", "size", "raw", "value"], values)
+    }
 }
 
 /// Raw bytes, then what they obviously are: `92 01 02 00  (u32 131474 = 0x00020192)`.
@@ -226,96 +164,30 @@ fn untyped(bytes: &[u8]) -> String {
     s
 }
 
-fn write(ctx: &Ctx, bus: &mut dyn Bus, args: &WriteArgs) -> anyhow::Result<()> {
-    let (object, dtype, _) = target(ctx, args.node, &args.object, args.dtype)?;
-    let Some(dtype) = dtype else {
-        return Err(Error::Usage(format!(
-            "--type is needed to encode '{}' for {object} (no dictionary entry; --eds gives one): \
-             one of b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d",
-            args.value
-        ))
-        .into());
-    };
-    let a = &WriteTarget { node: args.node, object, verify: args.verify };
-    let bytes = value_bytes(dtype, &args.value)?;
-    if let Some(entry) = ctx.dicts.for_node(a.node).get(object).filter(|e| e.dtype == dtype) {
-        check_range(entry, &bytes)?;
+impl Report for Saved {
+    fn human(&self) -> Human {
+        Human::Line(format!("{} bytes from node {} {} written to {}", self.size, self.node, self.object, self.file))
     }
-    let mut opts = options(ctx, Some(dtype), args.no_block);
-    // The read-back of --verify takes back as much as was written.
-    opts.max_upload = opts.max_upload.max(bytes.len());
-    bus.sdo_download(a.node, a.object, &bytes, &opts)?;
-    if a.verify {
-        let back = bus.sdo_upload(a.node, a.object, &opts)?;
-        if back != bytes {
-            return Err(Error::Verify(format!(
-                "node {}: {} reads back {} after writing {}",
-                a.node,
-                a.object,
-                shown(dtype, &back),
-                shown(dtype, &bytes)
-            ))
-            .into());
-        }
+
+    fn csv(&self) -> Human {
+        let values = vec![self.node.to_string(), self.object.to_string(), self.size.to_string(), self.file.clone()];
+        row(vec!["node", "object", "size", "file"], values)
     }
-    let value = shown(dtype, &bytes);
-    match ctx.out.format {
-        Format::Json => ctx.out.json(&json!({
-            "node": a.node, "object": a.object.to_string(), "type": dtype.name(), "size": bytes.len(),
-            "value": dtype.decode(&bytes).map(|v| v.to_json()), "verified": a.verify,
-        }))?,
-        Format::Csv => ctx.out.table(
-            &["node", "object", "type", "size", "value", "verified"],
-            &[vec![
-                a.node.to_string(),
-                a.object.to_string(),
-                dtype.name().to_string(),
-                bytes.len().to_string(),
-                value,
-                a.verify.to_string(),
-            ]],
-        )?,
-        Format::Human => {
-            let what = if a.verify { "written and verified" } else { "written" };
-            let shown = if bytes.len() > 32 { format!("{} bytes", bytes.len()) } else { value };
-            ctx.out.print(&format!("node {} {} = {shown} ({dtype}): {what}", a.node, a.object))?
-        }
-    }
-    Ok(())
 }
 
-struct Resolved {
-    node: u8,
-    object: ObjAddr,
-    dtype: Option<DataType>,
-    name: Option<String>,
-    out: Option<PathBuf>,
-}
-
-struct WriteTarget {
-    node: u8,
-    object: ObjAddr,
-    verify: bool,
-}
-
-use crate::ops::check_range;
-
-fn shown(dtype: DataType, bytes: &[u8]) -> String {
-    dtype.decode(bytes).map_or_else(|| hex(bytes), |v: Value| v.to_string())
-}
-
-/// The bytes VALUE stands for: `@FILE` (`@-` for stdin) or text parsed by type.
-fn value_bytes(dtype: DataType, value: &str) -> Result<Vec<u8>, Error> {
-    if let Some(path) = value.strip_prefix('@') {
-        let data = crate::input::read_value_file(path, crate::input::VALUE, crate::input::VALUE_IDLE_LIMIT)?;
-        if let Some(size) = dtype.size() {
-            if data.len() != size {
-                return Err(Error::Usage(format!("{path} holds {} bytes; a {dtype} is {size}", data.len())));
-            }
-        }
-        return Ok(data);
+impl Report for Written {
+    fn human(&self) -> Human {
+        let what = if self.verified { "written and verified" } else { "written" };
+        let shown = if self.size > 32 { format!("{} bytes", self.size) } else { sdo::shown(self.dtype, &self.bytes) };
+        Human::Line(format!("node {} {} = {shown} ({}): {what}", self.node, self.object, self.dtype))
     }
-    dtype.parse(value).map_err(|e| Error::Usage(e.0))
+
+    fn csv(&self) -> Human {
+        let (node, object, dtype) = (self.node.to_string(), self.object.to_string(), self.dtype.name().to_string());
+        let value = sdo::shown(self.dtype, &self.bytes);
+        let values = vec![node, object, dtype, self.size.to_string(), value, self.verified.to_string()];
+        row(vec!["node", "object", "type", "size", "value", "verified"], values)
+    }
 }
 
 #[cfg(test)]

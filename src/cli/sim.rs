@@ -2,17 +2,13 @@
 //! its saved state.
 
 use super::{Ctx, GlobalArgs};
-use crate::bus::BusUri;
 use crate::epos2::Framing;
-use crate::error::Error;
-use crate::output::Format;
+use crate::error::{Error, LinkError, PtyOp};
 use crate::sim::serial_fault::Fault;
-use crate::sim::state::{default_path, StateFile};
+use crate::sim::serve::{self, Serve};
 use crate::sim::{FaultSpec, Profile, SimConfig, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
 use clap::builder::TypedValueParser;
 use clap::{Args, Subcommand};
-use serde_json::json;
-use std::path::PathBuf;
 use std::time::Duration;
 
 /// Run the simulated network on a CAN interface or behind a serial link, or manage its state
@@ -120,154 +116,34 @@ fn parse_rate(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("the sim bus needs a fixed bit rate, not {text}"))
 }
 
-/// The state file of the sim bus named by --bus (or the default one).
-fn state_path(ctx: &Ctx) -> anyhow::Result<PathBuf> {
-    Ok(match ctx.bus.as_deref().filter(|b| !b.is_empty()).map(str::parse::<BusUri>).transpose()? {
-        None | Some(BusUri::Sim { state: None }) => default_path(),
-        Some(BusUri::Sim { state: Some(p) }) => p,
-        Some(_) => {
-            return Err(Error::Usage(
-                "`canctl sim` runs the simulated network: use --bus sim or sim:PATH (or no --bus)".into(),
-            )
-            .into())
-        }
-    })
-}
-
 pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
-    let path = state_path(ctx)?;
-    if let Some(SimCommand::Reset(reset)) = &args.command {
-        let mut config = SimConfig::default()
-            .profile(reset.profile)
-            .seed(reset.seed)
-            .unconfigured(reset.unconfigured)
-            .bit_rate(reset.bit_rate);
-        config.faults = reset.fault.clone();
-        StateFile::lock(&path)?.start_fresh(&config)?;
-        return match ctx.out.format {
-            Format::Json => Ok(ctx.out.json(&json!({
-                "reset": true,
-                "state_file": path.display().to_string(),
-                "profile": config.profile.to_string(),
-                "seed": config.seed,
-                "unconfigured": config.unconfigured,
-                "bit_rate": crate::canopen::lss::bit_rate_name(config.bit_rate),
-                "faults": config.faults.iter().map(|f| f.to_string()).collect::<Vec<_>>(),
-            }))?),
-            _ => {
-                let faults: Vec<String> = config.faults.iter().map(|f| f.to_string()).collect();
-                let faults = if faults.is_empty() { String::new() } else { format!(", faults {}", faults.join(" ")) };
-                Ok(ctx.out.print(&format!(
-                    "sim network reset ({}): profile {}, {}bit/s, {} device(s) without a node-id, seed {}{faults}",
-                    path.display(),
-                    config.profile,
-                    crate::canopen::lss::bit_rate_name(config.bit_rate),
-                    config.unconfigured,
-                    config.seed
-                ))?)
-            }
-        };
+    let path = serve::state_path(ctx.bus.as_deref())?;
+    if let Some(SimCommand::Reset(r)) = &args.command {
+        let mut config =
+            SimConfig::default().profile(r.profile).seed(r.seed).unconfigured(r.unconfigured).bit_rate(r.bit_rate);
+        config.faults = r.fault.clone();
+        return Ok(ctx.out.report(&serve::reset(&path, &config)?)?);
     }
-    if let Some(iface) = &args.socketcan {
-        return serve_socketcan(ctx, global, iface, &path);
-    }
-    if args.slcan {
-        return serve_slcan(ctx, global, args, &path);
-    }
-    let framing = match (args.epos2_rs232, args.epos2_usb) {
-        (true, _) => Framing::Rs232,
-        (_, true) => Framing::Usb,
+    let (faults, baud, can_timeout) = (args.fault.clone(), args.baud, args.can_timeout);
+    let how = match (&args.socketcan, args.slcan, args.epos2_rs232, args.epos2_usb) {
+        (Some(iface), ..) => Serve::SocketCan { iface: iface.clone() },
+        (_, true, ..) => Serve::Slcan { faults },
+        (_, _, true, _) => Serve::Epos2 { framing: Framing::Rs232, baud, faults, can_timeout },
+        (_, _, _, true) => Serve::Epos2 { framing: Framing::Usb, baud, faults, can_timeout },
         _ => {
             let msg =
                 "say what to serve: --socketcan IFACE, --slcan, --epos2-rs232 or --epos2-usb (or `canctl sim reset`)";
             return Err(Error::Usage(msg.into()).into());
         }
     };
-    serve_epos2(ctx, global, args, framing, &path)
-}
-
-#[cfg(target_os = "linux")]
-fn serve_socketcan(ctx: &Ctx, global: &GlobalArgs, iface: &str, path: &std::path::Path) -> anyhow::Result<()> {
-    let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
-    // The interface is a bus with its own timing: the devices only answer late.
-    let sim = crate::sim::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
-    ctx.out.note(&format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C"));
-    crate::sim::bridge::run(sim, &mut can, global.verbose > 0)?;
-    Ok(())
-}
-
-#[cfg(not(target_os = "linux"))]
-fn serve_socketcan(_: &Ctx, _: &GlobalArgs, _: &str, _: &std::path::Path) -> anyhow::Result<()> {
-    Err(Error::Usage("SocketCAN is Linux's: `sim --socketcan` runs on Linux only; try `sim --slcan`".into()).into())
-}
-
-/// The simulated EPOS2 on a pseudo-terminal.
-#[cfg(unix)]
-fn serve_epos2(
-    ctx: &Ctx,
-    global: &GlobalArgs,
-    args: &SimArgs,
-    framing: Framing,
-    path: &std::path::Path,
-) -> anyhow::Result<()> {
-    use crate::sim::epos2_serve::{self, ServeOptions};
-    let link = crate::sim::SimLink::open(StateFile::lock(path)?)?;
-    let device = crate::sim::epos2_device::Epos2Device::new(link, args.can_timeout, global.verbose > 0);
-    let opts = ServeOptions { framing, baud: args.baud, faults: args.fault.clone() };
-    epos2_serve::serve(device, &opts, |pty| {
-        ctx.out.print(pty).map_err(|e| {
-            Error::Link(crate::error::LinkError::Pty { op: crate::error::PtyOp::PrintPath, detail: e.to_string() })
-        })?;
-        let kind = if framing == Framing::Rs232 { "epos2-rs232" } else { "epos2-usb" };
-        ctx.out.note(&format!(
-            "serving the sim network's EPOS2 (node 1) on {pty}: use --bus {kind}:{pty}; stop with Ctrl-C"
-        ));
+    serve::serve(&path, &how, global.verbose > 0, |serving| {
+        if let Some(pty) = &serving.pty {
+            ctx.out
+                .print(pty)
+                .map_err(|e| Error::Link(LinkError::Pty { op: PtyOp::PrintPath, detail: e.to_string() }))?;
+        }
+        ctx.out.note(&serving.how);
         Ok(())
     })?;
-    Ok(())
-}
-
-#[cfg(not(unix))]
-fn serve_epos2(_: &Ctx, _: &GlobalArgs, _: &SimArgs, _: Framing, _: &std::path::Path) -> anyhow::Result<()> {
-    Err(no_pty().into())
-}
-
-#[cfg(not(unix))]
-fn no_pty() -> Error {
-    Error::Usage(
-        "the simulated serial devices (--epos2-rs232, --epos2-usb, --slcan) sit on a pseudo-terminal, which \
-         this OS lacks; use --bus sim directly, or run them on Linux or macOS"
-            .into(),
-    )
-}
-
-#[cfg(not(unix))]
-fn serve_slcan(_: &Ctx, _: &GlobalArgs, _: &SimArgs, _: &std::path::Path) -> anyhow::Result<()> {
-    Err(no_pty().into())
-}
-
-/// The devices behind a simulated slcan adapter: the adapter is a frame link, bridged to
-/// the sim network as a CAN interface is.
-#[cfg(unix)]
-fn serve_slcan(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs, path: &std::path::Path) -> anyhow::Result<()> {
-    use crate::sim::serial_fault::FaultKind;
-    let adapter_faults = [FaultKind::Nack, FaultKind::Crc, FaultKind::Garbage, FaultKind::Drop, FaultKind::Mute];
-    if let Some(f) = args.fault.iter().find(|f| !adapter_faults.contains(&f.kind)) {
-        let msg = format!(
-            "the slcan adapter takes the faults nack (a bell), crc, garbage, drop and mute, not {:?}; device faults \
-             go to `canctl sim reset --fault`",
-            f.kind
-        );
-        return Err(Error::Usage(msg).into());
-    }
-    let sim = crate::sim::SimLink::open(StateFile::lock(path)?)?;
-    let rate = sim.network().bit_rate();
-    let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
-    let mut adapter = crate::sim::slcan_serve::SlcanAdapter::create(kbit, args.fault.clone())?;
-    let pty = adapter.path().to_string();
-    ctx.out.print(&pty)?;
-    let rate = crate::canopen::lss::bit_rate_name(rate);
-    ctx.out.note(&format!("the sim network's devices are behind an slcan adapter on {pty} ({rate}): use --bus slcan:{pty}@{rate}; stop with Ctrl-C"));
-    crate::sim::bridge::run(sim, &mut adapter, global.verbose > 0)?;
     Ok(())
 }

@@ -3,8 +3,8 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::canopen::nmt::Command;
-use crate::ops::store::{self, Restored, Stored, Timeouts};
-use crate::output::{Human, Report};
+use crate::ops::nmt::{self, Confirmation, ResetOptions};
+use crate::ops::store::{self, Timeouts};
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -62,34 +62,10 @@ pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<
     if a.reset {
         let wait = a.store_timeout.max(Duration::from_secs(2));
         report.reset = true;
-        if let super::nmt::Reset::Unconfirmed(why) =
-            super::nmt::reset_and_wait(ctx, bus, Command::ResetNode, a.node, wait)?
-        {
+        let o = ResetOptions { wait, timeout: ctx.timeout };
+        if let Confirmation::Unconfirmed(why) = nmt::reset_and_wait(bus, Command::ResetNode, a.node, &o)? {
             report.reset_unconfirmed = Some(why);
         }
     }
     Ok(ctx.out.report(&report)?)
-}
-
-impl Report for Stored {
-    fn human(&self) -> Human {
-        Human::Line(format!("node {}: {} stored ({})", self.node, self.class.text(), self.object))
-    }
-}
-
-impl Report for Restored {
-    fn human(&self) -> Human {
-        let (node, class, addr) = (self.node, self.class.text(), self.object);
-        Human::Line(match (&self.reset_unconfirmed, self.reset) {
-            (Some(why), _) => {
-                format!("node {node}: {class} back to defaults ({addr}); NMT reset sent, not confirmed: {why}")
-            }
-            (None, true) => {
-                format!("node {node}: {class} back to defaults ({addr}); the node was reset and booted with them")
-            }
-            (None, false) => {
-                format!("node {node}: {class} will be back to defaults after the next reset ({addr}; --reset does it)")
-            }
-        })
-    }
 }

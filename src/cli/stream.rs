@@ -3,14 +3,13 @@
 
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
-use crate::canopen::ObjAddr;
 use crate::error::Error;
+use crate::ops::nmt::{self, StateOptions};
 use crate::ops::pdo::{self, Remap, Session, Stream, StreamOptions};
-use crate::output::RecordWriter;
+use crate::ops::silence;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
-use std::io::{IsTerminal, Write};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Stream a node's transmit PDOs, decoded
 ///
@@ -88,24 +87,26 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
 }
 
 fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> anyhow::Result<()> {
+    let state_options = StateOptions { listen: Duration::from_millis(300), timeout: ctx.timeout };
     let list: Vec<u16> = if a.tpdo.is_empty() { (1..=4).collect() } else { a.tpdo.clone() };
     if !a.map.is_empty() {
         session.remap(bus, a.node, &remapping(ctx, a, list[0])?, ctx.timeout)?;
     }
     if a.start {
-        let (state, _) = super::nmt::query_state(ctx, bus, a.node, Duration::from_millis(300))?;
+        let state = nmt::state(bus, a.node, &state_options)?.state;
         session.start(bus, a.node, state)?;
     }
     let list = if a.map.is_empty() { &list[..] } else { &list[..1] };
     let dict = ctx.dicts.for_node(a.node);
     let layouts = pdo::read_layouts(bus, a.node, dict, list, a.tpdo.is_empty(), ctx.timeout, &mut ctx.out.progress())?;
+    let state = (!a.start).then(|| nmt::state(bus, a.node, &state_options));
     let opts = StreamOptions {
         count: a.count,
         duration: a.duration,
         sync: a.sync,
         interval: a.interval,
         timeout: ctx.timeout,
-        silence: Some(silence_hint(ctx, bus, a, &layouts)),
+        silence: Some(silence::hint(bus, a.node, &layouts, state, a.sync, ctx.timeout)),
     };
     let mut stream = Stream::new(bus, a.node, &layouts, opts, super::interrupt::flag());
     for (n, l) in &layouts {
@@ -123,86 +124,12 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
             names.join(", ")
         ));
     }
-    let writers: Vec<RecordWriter> = layouts.iter().map(|(_, l)| RecordWriter::new(l, ctx.out.format)).collect();
-    let stdout = std::io::stdout();
-    let live = stdout.is_terminal();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    let mut line = String::new();
-    // One header; with several TPDOs the columns are those of the first.
-    writers[0].preamble(&mut line);
-    out.write_all(line.as_bytes())?;
-    let mut last_flush = Instant::now();
+    let mut records = ctx.out.records(a.node, &layouts)?;
     let mut progress = ctx.out.progress();
     while let Some(r) = stream.next(bus, &mut progress)? {
-        line.clear();
-        writers[r.layout].record(
-            &mut line,
-            r.time_ms,
-            a.node,
-            layouts[r.layout].0 as u8,
-            &r.values,
-            stream.records() == 1,
-        );
-        out.write_all(line.as_bytes())?;
-        // A reader at the other end of a pipe gets the stream as it goes, in batches.
-        if live || last_flush.elapsed() >= Duration::from_millis(100) {
-            out.flush()?;
-            last_flush = Instant::now();
-        }
+        records.write(&r, stream.records() == 1)?;
     }
-    out.flush()?;
+    records.finish()?;
     ctx.out.note(&format!("{} record(s)", stream.records()));
     Ok(())
-}
-
-/// How long a stream may be silent before canctl says so, and why it may be: the node not
-/// operational, a synchronous TPDO without SYNC, an event-driven one that SYNC does not
-/// drive, one sent only on request.
-fn silence_hint(
-    ctx: &Ctx,
-    bus: &mut dyn Bus,
-    a: &StreamArgs,
-    layouts: &[(u16, crate::canopen::pdo::Layout)],
-) -> (Duration, String) {
-    use crate::canopen::nmt::State;
-    let mut why = Vec::new();
-    let mut after = Duration::from_secs(1);
-    if !a.start {
-        match super::nmt::query_state(ctx, bus, a.node, Duration::from_millis(300)) {
-            Ok((State::Operational, _)) => {}
-            Ok((state, from)) => why
-                .push(format!("node {} is {state} (by {from}): it sends PDOs only when operational (--start)", a.node)),
-            Err(_) => why.push(format!("node {} may not be operational; --start puts it there for the stream", a.node)),
-        }
-    }
-    let read =
-        |bus: &mut dyn Bus, addr: ObjAddr| bus.sdo_upload(a.node, addr, &crate::bus::SdoOptions::new(ctx.timeout)).ok();
-    for (n, _) in layouts {
-        let comm = 0x1800 + n - 1;
-        let Some(kind) = read(bus, ObjAddr::new(comm, 2)).and_then(|b| b.first().copied()) else { continue };
-        let timer = read(bus, ObjAddr::new(comm, 5)).and_then(|b| Some(u16::from_le_bytes([*b.first()?, *b.get(1)?])));
-        match (kind, a.sync) {
-            (0..=240, None) => why.push(format!(
-                "TPDO{n} is synchronous (transmission type {kind}): it answers SYNC, which --sync PERIOD sends"
-            )),
-            (0..=240, Some(period)) => after = after.max(period * 3 * u32::from(kind.max(1))),
-            (252 | 253, _) => why.push(format!("TPDO{n} is sent only on request (transmission type {kind})")),
-            (254 | 255, sync) => {
-                if sync.is_some() {
-                    why.push(format!(
-                        "TPDO{n} is event-driven (transmission type {kind}): --sync does not make it send"
-                    ));
-                }
-                match timer {
-                    Some(0) | None => why.push(format!("TPDO{n} has no event timer: it sends when its values change")),
-                    Some(ms) => after = after.max(Duration::from_millis(3 * u64::from(ms))),
-                }
-            }
-            _ => {}
-        }
-    }
-    if why.is_empty() {
-        why.push("the TPDOs are valid and set to send: the node may have nothing to say".into());
-    }
-    (after.min(Duration::from_secs(30)), format!("Why it may be silent: {}.", why.join("; ")))
 }

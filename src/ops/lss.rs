@@ -462,24 +462,6 @@ impl Assignment {
 const LISTEN: Duration = Duration::from_secs(1);
 const LISTEN_CEILING: Duration = Duration::from_secs(10);
 const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
-const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
-
-/// Nodes that answer an SDO read of 0x1000 within `window` (an abort is an answer too).
-fn answering(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Vec<u8>> {
-    let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, DEVICE_TYPE)).collect();
-    progress.start("probing", probes.len() as u64);
-    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(window), &mut |n| progress.advance(n as u64));
-    progress.finish();
-    let mut found = Vec::new();
-    for ((node, _), answer) in probes.iter().zip(answers?) {
-        match answer {
-            Ok(_) | Err(Error::SdoAbort { .. }) => found.push(*node),
-            Err(e) if e.is_timeout() => {}
-            Err(e) => progress.note(&format!("warning: node {node}: {e}")),
-        }
-    }
-    Ok(found)
-}
 
 /// Node-ids in use: the SDO probe, then heartbeats, boot-ups and everything else the bus
 /// shows while listening. A node in Stopped answers no SDO but still beats.
@@ -490,7 +472,8 @@ fn ids_in_use(
     progress: &mut dyn Progress,
     interrupted: &AtomicBool,
 ) -> Result<BTreeSet<u8>> {
-    let found = answering(bus, timeout.min(Duration::from_millis(100)), progress)?;
+    let found: Vec<u8> =
+        super::scan::probe(bus, timeout.min(Duration::from_millis(100)), progress)?.iter().map(|(n, _)| *n).collect();
     let mut used: BTreeSet<u8> = found.iter().copied().collect();
     if bus.sees_traffic() {
         let listen = match listen {

@@ -4,10 +4,16 @@
 //! procedure never prints and knows nothing of the command line.
 
 pub mod config;
+pub mod dictionaries;
 pub mod lss;
 pub mod monitor;
 pub mod network;
+pub mod nmt;
 pub mod pdo;
+pub mod scan;
+pub mod scan_cache;
+pub mod sdo;
+pub mod silence;
 pub mod store;
 
 use crate::bus::SdoOptions;

@@ -95,25 +95,9 @@ fn no_answer(e: &Error) -> bool {
     e.exit_code() == 3
 }
 
-/// Every node that answers an SDO read of 0x1000 within `window`, with its device type
-/// (`None` when it answered with an abort: it is there all the same).
-pub fn probe(bus: &mut dyn Bus, window: Duration) -> Result<BTreeMap<u8, Option<u32>>> {
-    let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, DEVICE_TYPE)).collect();
-    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(window), &mut |_| {})?;
-    let mut found = BTreeMap::new();
-    for ((node, _), answer) in probes.iter().zip(answers) {
-        match answer {
-            Ok(bytes) => {
-                found.insert(*node, Some(super::le_u32(&bytes)));
-            }
-            Err(Error::SdoAbort { .. }) => {
-                found.insert(*node, None);
-            }
-            Err(e) if no_answer(&e) => {}
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(found)
+/// Every node that answers (`ops::scan::probe`), with its device type where it gave one.
+fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<BTreeMap<u8, Option<u32>>> {
+    Ok(super::scan::probe(bus, window, progress)?.into_iter().collect())
 }
 
 // ---------------------------------------------------------------------------------------
@@ -156,7 +140,7 @@ pub struct DumpOptions {
 /// `[DeviceComissioning]`: node-id, name, bit rate, LSS serial number), listed in a
 /// `nodelist.cpj`.
 pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> Result<Dumped> {
-    let found = probe(bus, o.window)?;
+    let found = probe(bus, o.window, progress)?;
     let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
     let mut project = Project { net_name: Some(o.net_name.clone()), ..Project::default() };
     let mut nodes = Vec::new();
@@ -357,7 +341,7 @@ fn check_state(bus: &mut dyn Bus, node: u8, want: crate::canopen::nmt::State, wi
 /// names and every writable object as the DCF has it; no node the project does not list;
 /// no device waiting for a node-id.
 pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mut dyn Progress) -> Result<Checked> {
-    let found = probe(bus, o.window)?;
+    let found = probe(bus, o.window, progress)?;
     let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
     let check_node = |bus: &mut dyn Bus, i: usize| -> Result<NodeCheck> {
         let listed = &loaded.nodes[i];
@@ -587,7 +571,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
 /// the one link. A node that fails is reported and the others still done; the first
 /// failure decides the exit code.
 pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mut dyn Progress) -> Result<Applied> {
-    let found = probe(bus, o.window)?;
+    let found = probe(bus, o.window, progress)?;
     let mut rows: Vec<Option<NodeOutcome>> = Vec::new();
     // Nodes that must answer before they can be configured: given their id, or failed.
     let stop = || o.interrupted.is_some_and(|f| f.load(Ordering::SeqCst));
@@ -949,15 +933,20 @@ mod tests {
         load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sim-machine/nodelist.cpj")).unwrap()
     }
 
-    /// Sets the stop flag once `after` nodes are done (or begun, one after the other).
+    /// Sets the stop flag once `after` nodes are done (or begun, one after the other), in
+    /// the applying phase (the probe before it has its own).
     struct StopAfter {
         flag: &'static AtomicBool,
         after: u64,
+        applying: bool,
     }
 
     impl Progress for StopAfter {
+        fn start(&mut self, what: &str, _: u64) {
+            self.applying = what == "applying";
+        }
         fn advance(&mut self, done: u64) {
-            if done >= self.after {
+            if self.applying && done >= self.after {
                 self.flag.store(true, Ordering::SeqCst);
             }
         }
@@ -982,7 +971,7 @@ mod tests {
             };
             o.config.verify = true;
             let mut bus = demo();
-            let report = apply(bus.as_mut(), &loaded, &o, &mut StopAfter { flag, after: 1 }).unwrap();
+            let report = apply(bus.as_mut(), &loaded, &o, &mut StopAfter { flag, after: 1, applying: false }).unwrap();
             let done: Vec<u8> = report.nodes.iter().filter(|n| n.ok).map(|n| n.node).collect();
             let not_begun: Vec<u8> =
                 report.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).map(|n| n.node).collect();

@@ -3,15 +3,15 @@
 use super::{Human, Report};
 use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired};
 
-fn table(headers: Vec<&'static str>, row: Vec<String>) -> Option<Human> {
-    Some(Human::Table { headers, rows: vec![row], when_empty: true })
+fn table(headers: Vec<&'static str>, row: Vec<String>) -> Human {
+    Human::Table { headers, rows: vec![row], when_empty: true }
 }
 
 impl Report for Inquired {
     fn human(&self) -> Human {
         Human::Line(format!("{}  node-id {}", self.identity.0, self.node.map_or("none".to_string(), |n| n.to_string())))
     }
-    fn csv(&self) -> Option<Human> {
+    fn csv(&self) -> Human {
         table(
             vec!["identity", "node"],
             vec![self.identity.0.to_string(), self.node.map_or(String::new(), |n| n.to_string())],
@@ -23,7 +23,7 @@ impl Report for Configured {
     fn human(&self) -> Human {
         Human::Line(format!("{}: {}", self.target, self.result))
     }
-    fn csv(&self) -> Option<Human> {
+    fn csv(&self) -> Human {
         table(vec!["command", "target", "result"], vec![self.command.into(), self.target.clone(), self.result.clone()])
     }
 }
@@ -48,12 +48,10 @@ impl Report for Activated {
 
 impl Report for Found {
     fn human(&self) -> Human {
-        Human::Line(self.identity.0.to_string())
+        let how = format!("found in {} steps, {} ms; {}", self.steps, self.elapsed_ms, self.pace.text());
+        Human::Parts(vec![Human::Line(self.identity.0.to_string()), Human::Note(how)])
     }
-    fn notes(&self) -> Vec<String> {
-        vec![format!("found in {} steps, {} ms; {}", self.steps, self.elapsed_ms, self.pace.text())]
-    }
-    fn csv(&self) -> Option<Human> {
+    fn csv(&self) -> Human {
         let row = [
             self.identity.0.to_string(),
             self.steps.to_string(),

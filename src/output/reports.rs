@@ -1,7 +1,13 @@
-//! How the reports of settings, store/restore, config and the simulator look to people.
+//! How the reports of settings, store/restore, config, monitor and the simulator look to
+//! people.
 
-use super::{Human, Report};
+use super::{Human, Line, Report};
+use crate::ops::config::{Applied, Diff};
+use crate::ops::monitor::{Event, Summary};
+use crate::ops::store::{Restored, Stored};
 use crate::settings::SettingsReport;
+use serde_json::{json, Value as J};
+use std::collections::BTreeMap;
 
 impl Report for SettingsReport {
     fn human(&self) -> Human {
@@ -23,5 +29,124 @@ impl Report for SettingsReport {
         }
         let user = crate::settings::user_file().map_or("(no home directory)".to_string(), |p| p.display().to_string());
         vec![format!("no settings file: canctl.toml here or in a parent directory, or {user}")]
+    }
+}
+
+impl Report for crate::sim::serve::Reset {
+    fn human(&self) -> Human {
+        let faults = if self.faults.is_empty() { String::new() } else { format!(", faults {}", self.faults.join(" ")) };
+        Human::Line(format!(
+            "sim network reset ({}): profile {}, {}bit/s, {} device(s) without a node-id, seed {}{faults}",
+            self.state_file, self.profile, self.bit_rate, self.unconfigured, self.seed
+        ))
+    }
+}
+
+impl Report for Stored {
+    fn human(&self) -> Human {
+        Human::Line(format!("node {}: {} stored ({})", self.node, self.class.text(), self.object))
+    }
+}
+
+impl Report for Restored {
+    fn human(&self) -> Human {
+        let (node, class, addr) = (self.node, self.class.text(), self.object);
+        Human::Line(match (&self.reset_unconfirmed, self.reset) {
+            (Some(why), _) => {
+                format!("node {node}: {class} back to defaults ({addr}); NMT reset sent, not confirmed: {why}")
+            }
+            (None, true) => {
+                format!("node {node}: {class} back to defaults ({addr}); the node was reset and booted with them")
+            }
+            (None, false) => {
+                format!("node {node}: {class} will be back to defaults after the next reset ({addr}; --reset does it)")
+            }
+        })
+    }
+}
+
+impl Report for Diff {
+    fn human(&self) -> Human {
+        let rows = self
+            .differences
+            .iter()
+            .map(|d| vec![d.object.to_string(), d.name.clone(), d.device.clone(), d.file.clone()]);
+        Human::Table { headers: vec!["object", "name", "device", "file"], rows: rows.collect(), when_empty: false }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        vec![format!(
+            "node {}: {} object(s) differ from {}, {} match",
+            self.node,
+            self.differences.len(),
+            self.file,
+            self.same
+        )]
+    }
+}
+
+impl Report for Applied {
+    fn human(&self) -> Human {
+        let rows = self
+            .objects
+            .iter()
+            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.clone()]);
+        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let mut notes = Vec::new();
+        if self.objects.is_empty() {
+            notes.push(format!("node {} already matches {}", self.node, self.file));
+        }
+        if self.stored {
+            notes.push(format!("node {}: parameters stored (0x1010:1)", self.node));
+        }
+        notes
+    }
+}
+
+impl Line for Event {
+    fn json(&self) -> J {
+        let time = (self.time * 1000.0).round() / 1000.0;
+        let mut j = json!({ "time": time, "cob": format!("0x{:03X}", self.cob), "node": self.node, "kind": self.kind });
+        if let (Some(o), J::Object(extra)) = (j.as_object_mut(), &self.fields) {
+            o.extend(extra.clone());
+        }
+        j
+    }
+
+    fn csv(&self) -> String {
+        let node = self.node.map_or(String::new(), |n| n.to_string());
+        format!("{:.3},0x{:03X},{node},{},\"{}\"", self.time, self.cob, self.kind, self.text.replace('"', "\"\""))
+    }
+
+    fn text(&self) -> String {
+        let node = self.node.map_or("       ".to_string(), |n| format!("node {n:<2}"));
+        format!("{:9.3}  {:03X}  {node}  {:<13} {}", self.time, self.cob, self.kind, self.text)
+    }
+}
+
+impl Line for Summary {
+    fn json(&self) -> J {
+        let per_cob: BTreeMap<String, u64> = self.per_cob_id.iter().map(|(c, n)| (format!("0x{c:03X}"), *n)).collect();
+        json!({ "summary": { "frames": self.frames(), "per_cob_id": per_cob, "nodes": self.nodes, "emcy": self.emcy } })
+    }
+
+    fn csv(&self) -> String {
+        self.text()
+    }
+
+    fn text(&self) -> String {
+        let cobs: Vec<String> = self.per_cob_id.iter().map(|(c, n)| format!("{c:03X}×{n}")).collect();
+        let list: Vec<String> = self.nodes.iter().map(|n| n.to_string()).collect();
+        format!(
+            "{} frame(s) in {:.1} s; per COB-ID: {}; nodes seen: {}; EMCYs: {}",
+            self.frames(),
+            self.elapsed.as_secs_f64(),
+            if cobs.is_empty() { "-".into() } else { cobs.join(" ") },
+            if list.is_empty() { "-".into() } else { list.join(", ") },
+            self.emcy
+        )
     }
 }

@@ -11,6 +11,7 @@ pub mod profiles;
 #[cfg(unix)]
 pub mod pty;
 pub mod serial_fault;
+pub mod serve;
 #[cfg(unix)]
 pub mod slcan_serve;
 pub mod state;

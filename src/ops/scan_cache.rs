@@ -34,6 +34,13 @@ fn file(bus: &str) -> Option<PathBuf> {
     Some(dir()?.join(format!("scan-{name}.json")))
 }
 
+impl SeenNode {
+    /// What completion and hints keep of each node a scan found.
+    pub fn from_scan(scan: &super::scan::Scan) -> Vec<SeenNode> {
+        scan.nodes.iter().map(|n| SeenNode { node: n.node, name: n.name.clone(), vendor_id: n.vendor_id }).collect()
+    }
+}
+
 pub fn save(bus: &str, nodes: &[SeenNode]) {
     if let Some(path) = file(bus) {
         let _ = std::fs::create_dir_all(path.parent().expect("a directory"));

@@ -1,0 +1,137 @@
+//! Which dictionary describes a node: an EDS or DCF given for it (or for every node), else
+//! the built-in one; and objects by address or by name.
+
+use crate::canopen::ObjAddr;
+use crate::error::Error;
+use crate::od::eds::{self, Eds};
+use crate::od::{builtin, names, Dictionary, Entry};
+use std::path::PathBuf;
+
+/// An EDS or DCF file, for one node or (`node: None`) for every node.
+#[derive(Clone, Debug)]
+pub struct EdsFile {
+    pub node: Option<u8>,
+    pub path: PathBuf,
+}
+
+#[derive(Default)]
+pub struct Dictionaries {
+    files: Vec<(Option<u8>, Eds)>,
+}
+
+impl Dictionaries {
+    /// Read every file; an unreadable one is a usage error citing file:line. What the files
+    /// describe in a way canctl passes over is in [`Dictionaries::warnings`].
+    pub fn load(args: &[EdsFile]) -> Result<Dictionaries, Error> {
+        let mut files = Vec::new();
+        for a in args {
+            let eds = eds::read_file(&a.path).map_err(|e| Error::Usage(format!("cannot use EDS {e}")))?;
+            files.push((a.node, eds));
+        }
+        Ok(Dictionaries { files })
+    }
+
+    /// The files' warnings, with file:line.
+    pub fn warnings(&self) -> impl Iterator<Item = &String> {
+        self.files.iter().flat_map(|(_, eds)| &eds.warnings)
+    }
+
+    /// The EDS bound to this node, else one given for every node.
+    pub fn eds_for(&self, node: u8) -> Option<&Eds> {
+        self.files
+            .iter()
+            .find(|(n, _)| *n == Some(node))
+            .or_else(|| self.files.iter().find(|(n, _)| n.is_none()))
+            .map(|(_, e)| e)
+    }
+
+    pub fn for_node(&self, node: u8) -> &Dictionary {
+        self.eds_for(node).map_or_else(|| builtin::dictionary(None), |e| &e.dict)
+    }
+
+    /// An object argument: an address (`0x1018:1`, `1018sub1`) or a name from the node's
+    /// dictionary. The dictionary entry comes along when there is one.
+    pub fn resolve(&self, node: u8, text: &str) -> Result<(ObjAddr, Option<&Entry>), Error> {
+        let dict = self.for_node(node);
+        let addr = match text.parse::<ObjAddr>() {
+            Ok(a) => a,
+            Err(addr_err) => {
+                if text.chars().all(|c| c.is_ascii_hexdigit() || ":xXsubSUB".contains(c)) {
+                    return Err(Error::Usage(addr_err));
+                }
+                let source = self.eds_for(node).map_or("the built-in dictionary".to_string(), |e| e.path.clone());
+                names::find(dict, text)
+                    .map_err(|e| Error::Usage(format!("{e} (looked in {source} for node {node})")))?
+            }
+        };
+        Ok((addr, dict.get(addr)))
+    }
+
+    /// Objects of the node's dictionary near one the node says it does not have: the other
+    /// sub-indexes of that object, else objects whose index is one hex digit off or has two
+    /// neighbouring digits swapped (0x1081 for 0x1018). Named, at most five.
+    pub fn near(&self, node: u8, addr: ObjAddr) -> Vec<String> {
+        let dict = self.for_node(node);
+        let mut near: Vec<ObjAddr> =
+            dict.entries().map(|e| e.addr).filter(|a| a.index == addr.index && *a != addr).collect();
+        if near.is_empty() {
+            let mut indexes: Vec<u16> =
+                dict.entries().map(|e| e.addr.index).filter(|i| one_slip(*i, addr.index)).collect();
+            indexes.dedup();
+            near = indexes
+                .into_iter()
+                .map(|i| ObjAddr::new(i, if dict.get(ObjAddr::new(i, addr.sub)).is_some() { addr.sub } else { 0 }))
+                .collect();
+        }
+        near.into_iter()
+            .take(5)
+            .map(|a| dict.display_name(a).map_or_else(|| a.to_string(), |n| format!("{a} ({n})")))
+            .collect()
+    }
+}
+
+/// Whether two indexes differ by one hex digit, or by two neighbouring digits swapped.
+fn one_slip(a: u16, b: u16) -> bool {
+    let (x, y) = (format!("{a:04X}").into_bytes(), format!("{b:04X}").into_bytes());
+    let differ: Vec<usize> = (0..4).filter(|&i| x[i] != y[i]).collect();
+    match differ.as_slice() {
+        [_] => true,
+        [i, j] => *j == i + 1 && x[*i] == y[*j] && x[*j] == y[*i],
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn near_misses_are_suggested() {
+        let d = Dictionaries::default();
+        let near = d.near(1, ObjAddr::new(0x1081, 1));
+        assert!(
+            near[0].starts_with("0x1001:0")
+                || near.iter().any(|n| n.starts_with("0x1018:1 (Identity object: Vendor-ID)")),
+            "{near:?}"
+        );
+        assert!(near.iter().any(|n| n.starts_with("0x1018:1")), "{near:?}");
+        let subs = d.near(1, ObjAddr::new(0x1018, 7));
+        assert_eq!(subs.len(), 5, "{subs:?}");
+        assert!(subs[0].starts_with("0x1018:0") && subs[4].starts_with("0x1018:4"), "{subs:?}");
+        assert!(d.near(1, ObjAddr::new(0x7777, 0)).is_empty());
+        assert!(one_slip(0x1081, 0x1018) && one_slip(0x1017, 0x1016) && !one_slip(0x1017, 0x1170));
+    }
+
+    #[test]
+    fn objects_by_address_or_name() {
+        let d = Dictionaries::default();
+        assert_eq!(d.resolve(5, "1017").unwrap().0, ObjAddr::new(0x1017, 0));
+        let (addr, entry) = d.resolve(5, "ProducerHeartbeatTime").unwrap();
+        assert_eq!(addr, ObjAddr::new(0x1017, 0));
+        assert_eq!(entry.unwrap().dtype, crate::canopen::DataType::U16);
+        let e = d.resolve(5, "10180:1").unwrap_err().to_string();
+        assert!(e.contains("1 to 4 hex digits"), "{e}");
+        let e = d.resolve(5, "HeartbeatTme").unwrap_err().to_string();
+        assert!(e.contains("no object named") && e.contains("built-in dictionary"), "{e}");
+    }
+}

@@ -1,0 +1,238 @@
+//! Network management: commands to one node or all ([`send`]), resets confirmed by what
+//! the nodes show afterwards ([`reset`]), and a node's NMT state as the node shows it
+//! ([`state`]).
+
+use crate::bus::{Bus, ALL_NODES};
+use crate::canopen::nmt::{self, Command, ErrorControl};
+use crate::error::{Error, Result, Service};
+use serde::Serialize;
+use std::collections::BTreeSet;
+use std::time::{Duration, Instant};
+
+/// An NMT command went out. NMT commands are unconfirmed: this says that it was sent, not
+/// that it took effect.
+#[derive(Debug, Serialize)]
+pub struct Sent {
+    #[serde(serialize_with = "command_name")]
+    pub command: Command,
+    /// A node-id, or [`ALL_NODES`] (serialised as `"all"`).
+    #[serde(serialize_with = "target")]
+    pub target: u8,
+    pub sent: bool,
+}
+
+/// A reset went out; whether the nodes were seen coming back.
+#[derive(Debug, Serialize)]
+pub struct Reset {
+    #[serde(serialize_with = "command_name")]
+    pub command: Command,
+    #[serde(serialize_with = "target")]
+    pub target: u8,
+    pub sent: bool,
+    pub confirmed: bool,
+    /// The nodes seen booting (`None` when unconfirmed).
+    pub booted: Option<Vec<u8>>,
+    /// The state they booted into.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state: Option<nmt::State>,
+    /// How the boot was seen.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seen_by: Option<String>,
+    /// Why the reset could not be confirmed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub why: Option<String>,
+}
+
+/// A node's NMT state, and how it was learned.
+#[derive(Debug, Serialize)]
+pub struct NodeState {
+    pub node: u8,
+    pub state: nmt::State,
+    pub source: &'static str,
+}
+
+/// What is known after a reset was sent.
+#[derive(Debug, PartialEq)]
+pub enum Confirmation {
+    /// These nodes are back, and how that was seen.
+    Confirmed(Vec<u8>, String),
+    /// The reset went out but nothing showed that it took effect; why not.
+    Unconfirmed(String),
+}
+
+/// How long to wait for a reset to show.
+#[derive(Clone, Copy, Debug)]
+pub struct ResetOptions {
+    /// For the boot-up messages (or, through an EPOS2, for the node to answer again).
+    pub wait: Duration,
+    /// For each answer; after a reset of all nodes, the quiet time that ends the listening.
+    pub timeout: Duration,
+}
+
+/// How long to wait for a node's state.
+#[derive(Clone, Copy, Debug)]
+pub struct StateOptions {
+    /// For a heartbeat, before asking by node guarding.
+    pub listen: Duration,
+    /// For the answer to node guarding.
+    pub timeout: Duration,
+}
+
+/// `node N`, or `all nodes`.
+pub fn target_text(t: u8) -> String {
+    if t == ALL_NODES {
+        "all nodes".into()
+    } else {
+        format!("node {t}")
+    }
+}
+
+fn command_name<S: serde::Serializer>(c: &Command, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(c.name())
+}
+
+/// A node-id, or `"all"`.
+pub fn target<S: serde::Serializer>(t: &u8, s: S) -> std::result::Result<S::Ok, S::Error> {
+    if *t == ALL_NODES {
+        s.serialize_str("all")
+    } else {
+        s.serialize_u8(*t)
+    }
+}
+
+/// Send an NMT command to `target` (a node-id, or [`ALL_NODES`]).
+pub fn send(bus: &mut dyn Bus, command: Command, target: u8) -> Result<Sent> {
+    bus.nmt(command, target)?;
+    Ok(Sent { command, target, sent: true })
+}
+
+/// Send a reset and wait until the target is back; the report says whether it was seen.
+pub fn reset(bus: &mut dyn Bus, command: Command, target: u8, o: &ResetOptions) -> Result<Reset> {
+    let report =
+        Reset { command, target, sent: true, confirmed: false, booted: None, state: None, seen_by: None, why: None };
+    Ok(match reset_and_wait(bus, command, target, o)? {
+        Confirmation::Confirmed(nodes, how) => Reset {
+            confirmed: true,
+            booted: Some(nodes),
+            state: Some(nmt::State::PreOperational),
+            seen_by: Some(how),
+            ..report
+        },
+        Confirmation::Unconfirmed(why) => Reset { why: Some(why), ..report },
+    })
+}
+
+/// Send a reset and wait until the target is back. A link that shows the bus's traffic
+/// sees boot-up messages; through an EPOS2 only the node's answers to remote requests
+/// show anything, and only a boot-up answer or a change of state proves a reset.
+pub fn reset_and_wait(bus: &mut dyn Bus, cmd: Command, target: u8, o: &ResetOptions) -> Result<Confirmation> {
+    if bus.sees_traffic() {
+        bus.nmt(cmd, target)?;
+        let nodes = listen_for_boot_ups(bus, target, o)?;
+        return Ok(Confirmation::Confirmed(nodes, "boot-up message".into()));
+    }
+    let no_traffic = format!("{} passes on no boot-up messages", bus.describe());
+    if target == ALL_NODES {
+        bus.nmt(cmd, target)?;
+        return Ok(Confirmation::Unconfirmed(format!("{no_traffic}; check the nodes with `canctl scan`")));
+    }
+    let before = match remote_state(bus, target, o.timeout) {
+        Ok(answer) => answer,
+        Err(e) if e.is_timeout() => None,
+        Err(e) => return Err(e),
+    };
+    bus.nmt(cmd, target)?;
+    let after = poll_until_answering(bus, target, o)?;
+    Ok(match (before, after) {
+        (_, ErrorControl::BootUp) => {
+            Confirmation::Confirmed(vec![target], "its boot-up, as the answer to a remote request".into())
+        }
+        (
+            Some(ErrorControl::State { state: was, .. }),
+            ErrorControl::State { state: nmt::State::PreOperational, .. },
+        ) if was != nmt::State::PreOperational => Confirmation::Confirmed(
+            vec![target],
+            format!("its state: {was} before, pre-operational after (remote requests)"),
+        ),
+        (_, ErrorControl::State { state, .. }) => Confirmation::Unconfirmed(format!(
+            "node {target} answers and is {state}, as before; {no_traffic}, so a reset cannot be told from none. \
+             To see one, put the node in another state first (`canctl nmt stop {target}`)"
+        )),
+        (_, ErrorControl::Unknown(code)) => Confirmation::Unconfirmed(format!(
+            "node {target} answers with state code 0x{code:02X}, which CiA 301 does not define; {no_traffic}"
+        )),
+    })
+}
+
+/// The node's answer to one error-control remote request; `None` for an answer that is
+/// no error-control message.
+fn remote_state(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<ErrorControl>> {
+    let f = bus.request_frame(nmt::error_control_cob(node), 1, timeout)?;
+    Ok(ErrorControl::parse(&f).map(|(_, ec)| ec))
+}
+
+/// Boot-up messages after a reset. One node: done at its boot-up. All: boot-ups may come
+/// from any node at any time, so listen until a timeout passes with no new one.
+fn listen_for_boot_ups(bus: &mut dyn Bus, target: u8, o: &ResetOptions) -> Result<Vec<u8>> {
+    let deadline = Instant::now() + o.wait;
+    let mut booted = BTreeSet::new();
+    let mut quiet_until = deadline;
+    while let Some(f) = bus.recv_frame(quiet_until.min(deadline))? {
+        if let Some((node, ErrorControl::BootUp)) = ErrorControl::parse(&f) {
+            if target == ALL_NODES {
+                booted.insert(node);
+                quiet_until = Instant::now() + o.timeout;
+            } else if node == target {
+                booted.insert(node);
+                break;
+            }
+        }
+    }
+    if booted.is_empty() {
+        return Err(Error::NoAnswer { node: target, what: Service::BootUp, waited: o.wait });
+    }
+    Ok(booted.into_iter().collect())
+}
+
+/// Through a link that shows no traffic, a reset node is back when it answers the
+/// error-control remote request again; its answer.
+fn poll_until_answering(bus: &mut dyn Bus, node: u8, o: &ResetOptions) -> Result<ErrorControl> {
+    let deadline = Instant::now() + o.wait;
+    loop {
+        match remote_state(bus, node, o.timeout) {
+            Ok(Some(answer)) => return Ok(answer),
+            Err(e) if !e.is_timeout() => return Err(e),
+            Ok(None) | Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+            Ok(None) | Err(_) => return Err(Error::NoAnswer { node, what: Service::AfterReset, waited: o.wait }),
+        }
+    }
+}
+
+/// A node's NMT state: from its heartbeat (listened for `listen`), else by node guarding.
+pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState> {
+    if bus.sees_traffic() {
+        let listen_end = Instant::now() + o.listen;
+        while let Some(f) = bus.recv_frame(listen_end)? {
+            if let Some((n, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
+                if n == node {
+                    return Ok(NodeState { node, state, source: "heartbeat" });
+                }
+            }
+        }
+    }
+    // Node guarding; through an EPOS2 this is RequestCANFrame, whose answer may also be
+    // the node's next heartbeat (same COB-ID).
+    let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
+    let answer = match bus.request_frame(nmt::error_control_cob(node), 1, o.timeout) {
+        Err(e) if e.is_timeout() => None,
+        other => Some(other?),
+    };
+    match answer.as_ref().and_then(ErrorControl::parse) {
+        Some((_, ErrorControl::State { state, .. })) => Ok(NodeState { node, state, source }),
+        Some((_, ErrorControl::BootUp)) => Ok(NodeState { node, state: nmt::State::PreOperational, source }),
+        _ => {
+            let heartbeat = bus.sees_traffic().then_some(o.listen);
+            Err(Error::NoAnswer { node, what: Service::NmtState { heartbeat }, waited: o.timeout })
+        }
+    }
+}

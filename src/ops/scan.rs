@@ -1,0 +1,309 @@
+//! Find every node on a bus: an SDO read of 0x1000 to all 127 node-ids at once, then each
+//! answering node's identity (0x1018:1..4), name (0x1008) and NMT state; last, the devices
+//! without a node-id (LSS "identify non-configured remote slave") and those left in LSS
+//! configuration state (they answer the LSS inquiries, and without a node-id no SDO).
+
+use super::Progress;
+use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::canopen::lss::{Identity, Inquiry, Request, Response, UNCONFIGURED};
+use crate::canopen::nmt::{self, ErrorControl};
+use crate::canopen::{DataType, ObjAddr};
+use crate::error::{Error, Result};
+use serde::Serialize;
+use std::time::{Duration, Instant};
+
+/// How long to wait.
+#[derive(Clone, Copy, Debug)]
+pub struct ScanOptions {
+    /// How long the bus must stay quiet after the last answer to the probes (slow devices
+    /// answer up to 80 ms late).
+    pub window: Duration,
+    /// How long to wait for each answer to the identity reads.
+    pub timeout: Duration,
+}
+
+/// What a scan found.
+#[derive(Debug, Serialize)]
+pub struct Scan {
+    /// The bus, as it describes itself.
+    pub bus: String,
+    pub nodes: Vec<Node>,
+    /// How many devices without a node-id answered LSS.
+    pub lss_unconfigured: usize,
+    pub lss_configuration: Configuring,
+}
+
+/// A node that answered the probe, with what it told about itself (`None`: not said).
+#[derive(Debug, Serialize)]
+pub struct Node {
+    pub node: u8,
+    /// 0x1000; `None` when the probe was answered with an abort (the node is there all the same).
+    pub device_type: Option<u32>,
+    pub vendor_id: Option<u32>,
+    pub product_code: Option<u32>,
+    pub revision: Option<u32>,
+    pub serial: Option<u32>,
+    pub name: Option<String>,
+    /// The NMT state the node shows, never a guess.
+    pub state: Option<nmt::State>,
+    /// How the state was learned, or why it is unknown.
+    pub state_from: &'static str,
+    /// The producer heartbeat time the node reports (0x1017), in ms.
+    pub heartbeat_ms: Option<u16>,
+}
+
+/// Devices in LSS configuration state, from their answers to the inquiries.
+#[derive(Debug, Default, PartialEq, Serialize)]
+pub struct Configuring {
+    /// How many answered (the most answers to any one inquiry).
+    pub count: usize,
+    /// The identity and node-id, when exactly one device answered each inquiry.
+    #[serde(rename = "devices", serialize_with = "devices")]
+    pub one: Option<(Identity, Option<u8>)>,
+}
+
+const IDENTITY: ObjAddr = ObjAddr::new(0x1018, 0);
+const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
+/// The longest scan waits for heartbeats: a node that beats more slowly is asked by node
+/// guarding instead.
+const MAX_HEARTBEAT_WAIT: Duration = Duration::from_secs(3);
+
+/// The LSS questions scan asks: "any device without a node-id?", then the inquiries only
+/// devices in configuration state answer.
+const LSS_QUESTIONS: [Request; 6] = [
+    Request::IdentifyNonConfigured,
+    Request::Inquire(Inquiry::Vendor),
+    Request::Inquire(Inquiry::Product),
+    Request::Inquire(Inquiry::Revision),
+    Request::Inquire(Inquiry::Serial),
+    Request::Inquire(Inquiry::NodeId),
+];
+
+fn as_u32(bytes: &[u8]) -> Option<u32> {
+    bytes.try_into().ok().map(u32::from_le_bytes)
+}
+
+/// Every node that answers an SDO read of 0x1000 within `window`, with its device type
+/// (`None` when it answered with an abort: the node is there all the same).
+pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Vec<(u8, Option<u32>)>> {
+    let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, ObjAddr::new(0x1000, 0))).collect();
+    progress.start("probing", probes.len() as u64);
+    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(window), &mut |n| progress.advance(n as u64));
+    progress.finish();
+    let mut found = Vec::new();
+    for ((node, _), answer) in probes.iter().zip(answers?) {
+        match answer {
+            Ok(bytes) => found.push((*node, as_u32(&bytes))),
+            Err(Error::SdoAbort { .. }) => found.push((*node, None)),
+            Err(e) if e.is_timeout() => {}
+            Err(e) => progress.note(&format!("warning: node {node}: {e}")),
+        }
+    }
+    Ok(found)
+}
+
+/// Scan the bus.
+pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> Result<Scan> {
+    // Where the bus's traffic is seen, "any device without a node-id?" goes out with the
+    // probes and its answers come in during the same window. The inquiries wait until the
+    // probes are answered: a device in configuration state with a node-id would otherwise
+    // queue its SDO answer behind its LSS answers, which lose arbitration to the probes.
+    let lss_alongside = bus.sees_traffic();
+    if lss_alongside {
+        bus.observed().take_lss_answers();
+        bus.lss_exchange(&LSS_QUESTIONS[0].encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+    }
+    let mut nodes: Vec<Node> = probe(bus, o.window, progress)?
+        .into_iter()
+        .map(|(node, device_type)| Node {
+            node,
+            device_type,
+            vendor_id: None,
+            product_code: None,
+            revision: None,
+            serial: None,
+            name: None,
+            state: None,
+            state_from: "",
+            heartbeat_ms: None,
+        })
+        .collect();
+    identify(bus, &mut nodes, o.timeout, progress)?;
+    nmt_states(bus, &mut nodes, o)?;
+    let answers = if lss_alongside {
+        for q in &LSS_QUESTIONS[1..] {
+            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+        }
+        let end = Instant::now() + o.window;
+        while bus.recv_frame(end)?.is_some() {}
+        bus.observed().take_lss_answers()
+    } else {
+        let mut answers = Vec::new();
+        for q in LSS_QUESTIONS {
+            let expect = q.expected_answer().expect("answered");
+            answers.extend(bus.lss_exchange(&q.encode(), expect, o.window, LssWait::All)?.iter().map(|a| a.data));
+        }
+        answers
+    };
+    Ok(Scan {
+        bus: bus.describe(),
+        nodes,
+        lss_unconfigured: crate::bus::lss::count_non_configured(&answers),
+        lss_configuration: configuring(&answers),
+    })
+}
+
+/// Identity, name and heartbeat time of every node, all nodes in parallel.
+fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: &mut dyn Progress) -> Result<()> {
+    let reads: Vec<(u8, ObjAddr)> = nodes
+        .iter()
+        .flat_map(|f| {
+            (1..=4)
+                .map(|sub| (f.node, ObjAddr::new(IDENTITY.index, sub)))
+                .chain([(f.node, NAME), (f.node, HEARTBEAT_TIME)])
+        })
+        .collect();
+    progress.start("identity", reads.len() as u64);
+    let values = bus.sdo_upload_many(&reads, &SdoOptions::new(timeout), &mut |n| progress.advance(n as u64));
+    progress.finish();
+    for ((node, addr), value) in reads.iter().zip(values?) {
+        let f = nodes.iter_mut().find(|f| f.node == *node).expect("read for a found node");
+        match value {
+            Ok(bytes) if *addr == NAME => f.name = DataType::Vs.decode(&bytes).map(|v| v.to_string()),
+            Ok(bytes) if *addr == HEARTBEAT_TIME => {
+                f.heartbeat_ms = bytes.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]))
+            }
+            Ok(bytes) => {
+                *match addr.sub {
+                    1 => &mut f.vendor_id,
+                    2 => &mut f.product_code,
+                    3 => &mut f.revision,
+                    _ => &mut f.serial,
+                } = as_u32(&bytes)
+            }
+            Err(Error::SdoAbort { .. }) => {}
+            Err(e) => progress.note(&format!("warning: {e}")),
+        }
+    }
+    Ok(())
+}
+
+/// Each node's NMT state as the node really shows it, never a guess that changes from run to
+/// run: a node that produces heartbeats is listened to for as long as its period (read from
+/// 0x1017) needs; the others are asked by node guarding; what neither answers is unknown.
+fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<()> {
+    let beating = |f: &Node| f.heartbeat_ms.is_some_and(|ms| ms > 0);
+    if bus.sees_traffic() {
+        let longest = found.iter().filter(|f| beating(f)).filter_map(|f| f.heartbeat_ms).max().unwrap_or(0);
+        // Twice the period: one beat may have gone just before the listening began.
+        let end = Instant::now() + (Duration::from_millis(2 * longest as u64) + o.window).min(MAX_HEARTBEAT_WAIT);
+        let missing = |bus: &mut dyn Bus, found: &[Node]| {
+            found.iter().any(|f| beating(f) && !bus.observed().states.contains_key(&f.node))
+        };
+        while missing(bus, found) && bus.recv_frame(end)?.is_some() {}
+        let states = bus.observed().states.clone();
+        for f in found.iter_mut() {
+            if let Some(s) = states.get(&f.node) {
+                (f.state, f.state_from) = (Some(*s), "heartbeat");
+            }
+        }
+    }
+    // Guarding answers come at once; a node that has none is not waited for long.
+    let floor = Duration::from_millis(200);
+    let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
+    let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
+    for f in found.iter_mut().filter(|f| f.state.is_none()) {
+        match bus.request_frame(nmt::error_control_cob(f.node), 1, guard_wait) {
+            Ok(frame) => match ErrorControl::parse(&frame) {
+                Some((_, ErrorControl::State { state, .. })) => (f.state, f.state_from) = (Some(state), source),
+                Some((_, ErrorControl::BootUp)) => {
+                    (f.state, f.state_from) = (Some(nmt::State::PreOperational), "boot-up")
+                }
+                _ => f.state_from = "its error-control answer was not a state",
+            },
+            Err(e) if e.is_timeout() => {
+                f.state_from = if beating(f) {
+                    "no heartbeat within the wait, and no answer to node guarding"
+                } else {
+                    "no heartbeat configured, and no answer to node guarding"
+                }
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(())
+}
+
+fn configuring(answers: &[[u8; 8]]) -> Configuring {
+    let values = |q: Inquiry| -> Vec<u32> {
+        answers
+            .iter()
+            .filter_map(|a| match Response::decode(a) {
+                Some(Response::InquiredValue { inquiry, value }) if inquiry == q => Some(value),
+                _ => None,
+            })
+            .collect()
+    };
+    let all = [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId].map(values);
+    let count = all.iter().map(Vec::len).max().unwrap_or(0);
+    let one = match all.each_ref().map(|v| v.as_slice()) {
+        [[vendor], [product], [revision], [serial], [node]] => Some((
+            Identity { vendor: *vendor, product: *product, revision: *revision, serial: *serial },
+            (*node as u8 != UNCONFIGURED).then_some(*node as u8),
+        )),
+        _ => None,
+    };
+    Configuring { count, one }
+}
+
+/// The device in configuration state as a list of none or one:
+/// `{"identity": "0x...:...", "lss": {"vendor_id": ..}, "node": ..}`.
+fn devices<S: serde::Serializer>(one: &Option<(Identity, Option<u8>)>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    #[derive(Serialize)]
+    struct Parts {
+        vendor_id: u32,
+        product_code: u32,
+        revision: u32,
+        serial: u32,
+    }
+    #[derive(Serialize)]
+    struct Device {
+        identity: String,
+        lss: Parts,
+        node: Option<u8>,
+    }
+    s.collect_seq(one.iter().map(|(id, node)| Device {
+        identity: id.to_string(),
+        lss: Parts { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial },
+        node: *node,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inquired(q: Inquiry, value: u32) -> [u8; 8] {
+        Response::InquiredValue { inquiry: q, value }.encode()
+    }
+
+    #[test]
+    fn one_device_in_configuration_state_is_named() {
+        let mut answers = vec![Response::IdentifyNonConfiguredSlave.encode(), [0x7F, 0, 0, 0, 0, 0, 0, 0]];
+        for (q, v) in [(Inquiry::Vendor, 0x40), (Inquiry::Product, 2), (Inquiry::Revision, 3), (Inquiry::Serial, 4)] {
+            answers.push(inquired(q, v));
+        }
+        answers.push(inquired(Inquiry::NodeId, 0xFF));
+        let c = configuring(&answers);
+        assert_eq!(c.count, 1);
+        assert_eq!(c.one, Some((Identity { vendor: 0x40, product: 2, revision: 3, serial: 4 }, None)));
+        let json = serde_json::to_value(&c).unwrap();
+        assert_eq!(json["devices"][0]["lss"]["vendor_id"], 0x40);
+        assert_eq!(json["devices"][0]["node"], serde_json::Value::Null);
+        // Two at once: counted, not paired up.
+        answers.push(inquired(Inquiry::Serial, 5));
+        assert_eq!(configuring(&answers), Configuring { count: 2, one: None });
+        assert_eq!(configuring(&[Response::IdentifyNonConfiguredSlave.encode()]), Configuring::default());
+    }
+}

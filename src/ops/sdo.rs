@@ -1,0 +1,194 @@
+//! One object read ([`read`]) or written ([`write`]), any size, any type: expedited,
+//! segmented or block transfer as the size and the device allow. The node's dictionary
+//! gives the type when none is asked for, the object's name, and the limits a value must
+//! keep to.
+
+use super::{as_text, check_range};
+use crate::bus::{Bus, SdoOptions};
+use crate::canopen::types::{hex, obvious_unsigned, Value};
+use crate::canopen::{DataType, ObjAddr};
+use crate::error::{Error, Result};
+use crate::od::Dictionary;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Duration;
+
+/// How to read.
+#[derive(Clone, Copy, Debug)]
+pub struct ReadOptions {
+    pub timeout: Duration,
+    /// The type to decode; `None`: the dictionary's, else the raw bytes.
+    pub dtype: Option<DataType>,
+    /// Whether block transfer may be used (for strings and domains, where the device offers it).
+    pub block: bool,
+    /// The largest value to accept: an upload that grows past it is aborted.
+    pub max_size: usize,
+}
+
+/// How to write.
+#[derive(Clone, Copy, Debug)]
+pub struct WriteOptions {
+    pub timeout: Duration,
+    /// The type to encode the value as; `None`: the dictionary's.
+    pub dtype: Option<DataType>,
+    /// Whether block transfer may be used (for 64 bytes and more, where the device offers it).
+    pub block: bool,
+    /// Read the object back and compare.
+    pub verify: bool,
+}
+
+/// An object's value.
+#[derive(Debug, Serialize)]
+pub struct Read {
+    pub node: u8,
+    #[serde(serialize_with = "as_text")]
+    pub object: ObjAddr,
+    /// Its name in the dictionary.
+    pub name: Option<String>,
+    #[serde(rename = "type", serialize_with = "type_name")]
+    pub dtype: Option<DataType>,
+    pub size: usize,
+    #[serde(rename = "raw", serialize_with = "hex_text")]
+    pub bytes: Vec<u8>,
+    /// Decoded by its type; without one, the plain unsigned reading of 1, 2, 4 or 8 bytes.
+    #[serde(serialize_with = "value_json")]
+    pub value: Option<Value>,
+}
+
+/// An object's value, saved to a file.
+#[derive(Debug, Serialize)]
+pub struct Saved {
+    pub node: u8,
+    #[serde(serialize_with = "as_text")]
+    pub object: ObjAddr,
+    pub size: usize,
+    pub file: String,
+}
+
+/// A value written (and read back, when verified).
+#[derive(Debug, Serialize)]
+pub struct Written {
+    pub node: u8,
+    #[serde(serialize_with = "as_text")]
+    pub object: ObjAddr,
+    #[serde(rename = "type", serialize_with = "type_name")]
+    pub dtype: DataType,
+    pub size: usize,
+    #[serde(serialize_with = "value_json")]
+    pub value: Option<Value>,
+    pub verified: bool,
+    #[serde(skip)]
+    pub bytes: Vec<u8>,
+}
+
+fn type_name<S: serde::Serializer, T: Copy + Into<Option<DataType>>>(
+    t: &T,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    (*t).into().map(DataType::name).serialize(s)
+}
+
+fn hex_text<S: serde::Serializer>(bytes: &[u8], s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(&hex(bytes))
+}
+
+fn value_json<S: serde::Serializer>(v: &Option<Value>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    v.as_ref().map(Value::to_json).serialize(s)
+}
+
+fn is_large(t: Option<DataType>) -> bool {
+    matches!(t, Some(DataType::Vs | DataType::Os | DataType::D))
+}
+
+fn sdo_options(timeout: Duration, dtype: Option<DataType>, block: bool) -> SdoOptions {
+    let mut o = SdoOptions::new(timeout);
+    o.block_upload = block && is_large(dtype);
+    o.block_download = block;
+    o.size_hint = dtype.and_then(DataType::size);
+    o
+}
+
+/// Read `object` from `node`, decoded by the type asked for, else the dictionary's.
+pub fn read(bus: &mut dyn Bus, dict: &Dictionary, node: u8, object: ObjAddr, o: &ReadOptions) -> Result<Read> {
+    let entry = dict.get(object);
+    let dtype = o.dtype.or(entry.map(|e| e.dtype));
+    let name = entry.and_then(|_| dict.display_name(object));
+    let mut opts = sdo_options(o.timeout, dtype, o.block);
+    opts.max_upload = o.max_size;
+    let bytes = bus.sdo_upload(node, object, &opts)?;
+    let value = match dtype {
+        Some(t) => Some(t.decode(&bytes).ok_or_else(|| {
+            Error::Usage(format!(
+                "node {node}: {object} holds {} byte(s) ({}), which is not a {t} ({} bytes); try another --type",
+                bytes.len(),
+                hex(&bytes),
+                t.size().unwrap_or(0)
+            ))
+        })?),
+        None => obvious_unsigned(&bytes).map(Value::Uint),
+    };
+    Ok(Read { node, object, name, dtype, size: bytes.len(), bytes, value })
+}
+
+impl Read {
+    /// Write the raw bytes to a file.
+    pub fn save(&self, path: &Path) -> Result<Saved> {
+        std::fs::write(path, &self.bytes).map_err(|e| Error::Usage(format!("cannot write {}: {e}", path.display())))?;
+        Ok(Saved { node: self.node, object: self.object, size: self.size, file: path.display().to_string() })
+    }
+}
+
+/// Write `value` to `object` of `node`: text parsed by the type asked for, else the
+/// dictionary's, and checked against the dictionary's limits; `@FILE` for the raw bytes of
+/// a file (`@-`: standard input).
+pub fn write(
+    bus: &mut dyn Bus,
+    dict: &Dictionary,
+    node: u8,
+    object: ObjAddr,
+    value: &str,
+    o: &WriteOptions,
+) -> Result<Written> {
+    let Some(dtype) = o.dtype.or(dict.get(object).map(|e| e.dtype)) else {
+        return Err(Error::Usage(format!(
+            "--type is needed to encode '{value}' for {object} (no dictionary entry; --eds gives one): \
+             one of b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d"
+        )));
+    };
+    let bytes = value_bytes(dtype, value)?;
+    if let Some(entry) = dict.get(object).filter(|e| e.dtype == dtype) {
+        check_range(entry, &bytes)?;
+    }
+    let mut opts = sdo_options(o.timeout, Some(dtype), o.block);
+    // The read-back of --verify takes back as much as was written.
+    opts.max_upload = opts.max_upload.max(bytes.len());
+    bus.sdo_download(node, object, &bytes, &opts)?;
+    if o.verify {
+        let back = bus.sdo_upload(node, object, &opts)?;
+        if back != bytes {
+            let (wrote, read) = (shown(dtype, &bytes), shown(dtype, &back));
+            return Err(Error::ReadBack { node, obj: object, wrote, read });
+        }
+    }
+    let value = dtype.decode(&bytes);
+    Ok(Written { node, object, dtype, size: bytes.len(), value, verified: o.verify, bytes })
+}
+
+/// A value as text by its type, else as hex bytes.
+pub fn shown(dtype: DataType, bytes: &[u8]) -> String {
+    dtype.decode(bytes).map_or_else(|| hex(bytes), |v: Value| v.to_string())
+}
+
+/// The bytes VALUE stands for: `@FILE` (`@-` for stdin) or text parsed by type.
+fn value_bytes(dtype: DataType, value: &str) -> Result<Vec<u8>> {
+    if let Some(path) = value.strip_prefix('@') {
+        let data = crate::input::read_value_file(path, crate::input::VALUE, crate::input::VALUE_IDLE_LIMIT)?;
+        if let Some(size) = dtype.size() {
+            if data.len() != size {
+                return Err(Error::Usage(format!("{path} holds {} bytes; a {dtype} is {size}", data.len())));
+            }
+        }
+        return Ok(data);
+    }
+    dtype.parse(value).map_err(|e| Error::Usage(e.0))
+}

@@ -1,0 +1,162 @@
+//! The simulated network as a service: start its saved state afresh, or put its devices
+//! behind a real CAN interface, a simulated slcan adapter or a simulated EPOS2 on a
+//! pseudo-terminal, and answer there until the process is stopped.
+
+use super::serial_fault::Fault;
+use super::state::{default_path, StateFile};
+use super::SimConfig;
+use crate::bus::BusAddr;
+use crate::canopen::lss::bit_rate_name;
+use crate::epos2::Framing;
+use crate::error::{Error, Result};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// The state file of the sim bus `bus` names (`sim` or `sim:PATH`), or the default one.
+pub fn state_path(bus: Option<&str>) -> Result<PathBuf> {
+    Ok(match bus.filter(|b| !b.is_empty()).map(str::parse::<BusAddr>).transpose()? {
+        None | Some(BusAddr::Sim { state: None }) => default_path(),
+        Some(BusAddr::Sim { state: Some(p) }) => p,
+        Some(_) => {
+            return Err(Error::Usage(
+                "`canctl sim` runs the simulated network: use --bus sim or sim:PATH (or no --bus)".into(),
+            ))
+        }
+    })
+}
+
+/// A network started afresh.
+#[derive(Debug, Serialize)]
+pub struct Reset {
+    /// Always true.
+    pub reset: bool,
+    pub state_file: String,
+    pub profile: String,
+    pub seed: u64,
+    pub unconfigured: u8,
+    pub bit_rate: String,
+    pub faults: Vec<String>,
+}
+
+/// Forget the saved state at `path`: from now on the devices start as `config` builds them.
+pub fn reset(path: &Path, config: &SimConfig) -> Result<Reset> {
+    StateFile::lock(path)?.start_fresh(config)?;
+    Ok(Reset {
+        reset: true,
+        state_file: path.display().to_string(),
+        profile: config.profile.to_string(),
+        seed: config.seed,
+        unconfigured: config.unconfigured,
+        bit_rate: bit_rate_name(config.bit_rate),
+        faults: config.faults.iter().map(|f| f.to_string()).collect(),
+    })
+}
+
+/// Where to put the devices.
+#[derive(Clone, Debug)]
+pub enum Serve {
+    /// On a CAN interface (vcan0, can0).
+    SocketCan { iface: String },
+    /// Behind a simulated slcan (Lawicel) adapter on a pseudo-terminal; the faults are
+    /// the adapter's.
+    Slcan { faults: Vec<Fault> },
+    /// As the network's EPOS2 (node 1) on a pseudo-terminal, with the devices on the CAN
+    /// bus behind it; `can_timeout` is how long it waits for their SDO answers.
+    Epos2 { framing: Framing, baud: Option<u32>, faults: Vec<Fault>, can_timeout: Duration },
+}
+
+/// Where the devices are now served.
+#[derive(Clone, Debug)]
+pub struct Serving {
+    /// The pseudo-terminal to open, if they sit behind one.
+    pub pty: Option<String>,
+    /// How to reach them, in words.
+    pub how: String,
+}
+
+/// Serve the network saved at `path` until the link fails or the process is stopped.
+/// `ready` hears where once the devices answer; `trace` prints every frame.
+#[cfg_attr(not(unix), allow(unused_variables))]
+pub fn serve(path: &Path, how: &Serve, trace: bool, ready: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
+    match how {
+        #[cfg(target_os = "linux")]
+        Serve::SocketCan { iface } => socketcan(path, iface, trace, ready),
+        #[cfg(not(target_os = "linux"))]
+        Serve::SocketCan { .. } => {
+            Err(Error::Usage("SocketCAN is Linux's: `sim --socketcan` runs on Linux only; try `sim --slcan`".into()))
+        }
+        #[cfg(unix)]
+        Serve::Slcan { faults } => slcan(path, faults, trace, ready),
+        #[cfg(unix)]
+        Serve::Epos2 { framing, baud, faults, can_timeout } => {
+            epos2(path, *framing, *baud, faults, *can_timeout, trace, ready)
+        }
+        #[cfg(not(unix))]
+        Serve::Slcan { .. } | Serve::Epos2 { .. } => Err(Error::Usage(
+            "the simulated serial devices (--epos2-rs232, --epos2-usb, --slcan) sit on a pseudo-terminal, which \
+             this OS lacks; use --bus sim directly, or run them on Linux or macOS"
+                .into(),
+        )),
+    }
+}
+
+#[cfg(target_os = "linux")]
+fn socketcan(path: &Path, iface: &str, trace: bool, ready: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
+    let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
+    // The interface is a bus with its own timing: the devices only answer late.
+    let sim = super::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
+    let how = format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C");
+    ready(&Serving { pty: None, how })?;
+    super::bridge::run(sim, &mut can, trace)
+}
+
+/// The simulated EPOS2 on a pseudo-terminal.
+#[cfg(unix)]
+fn epos2(
+    path: &Path,
+    framing: Framing,
+    baud: Option<u32>,
+    faults: &[Fault],
+    can_timeout: Duration,
+    trace: bool,
+    ready: impl FnOnce(&Serving) -> Result<()>,
+) -> Result<()> {
+    use super::epos2_serve::{self, ServeOptions};
+    let link = super::SimLink::open(StateFile::lock(path)?)?;
+    let device = super::epos2_device::Epos2Device::new(link, can_timeout, trace);
+    let opts = ServeOptions { framing, baud, faults: faults.to_vec() };
+    epos2_serve::serve(device, &opts, |pty| {
+        let kind = if framing == Framing::Rs232 { "epos2-rs232" } else { "epos2-usb" };
+        let how =
+            format!("serving the sim network's EPOS2 (node 1) on {pty}: use --bus {kind}:{pty}; stop with Ctrl-C");
+        ready(&Serving { pty: Some(pty.to_string()), how })
+    })
+}
+
+/// The devices behind a simulated slcan adapter: the adapter is a frame link, bridged to
+/// the sim network as a CAN interface is.
+#[cfg(unix)]
+fn slcan(path: &Path, faults: &[Fault], trace: bool, ready: impl FnOnce(&Serving) -> Result<()>) -> Result<()> {
+    use super::serial_fault::FaultKind;
+    let adapter_faults = [FaultKind::Nack, FaultKind::Crc, FaultKind::Garbage, FaultKind::Drop, FaultKind::Mute];
+    if let Some(f) = faults.iter().find(|f| !adapter_faults.contains(&f.kind)) {
+        return Err(Error::Usage(format!(
+            "the slcan adapter takes the faults nack (a bell), crc, garbage, drop and mute, not {:?}; device faults \
+             go to `canctl sim reset --fault`",
+            f.kind
+        )));
+    }
+    let sim = super::SimLink::open(StateFile::lock(path)?)?;
+    let rate = sim.network().bit_rate();
+    let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
+    let mut adapter = super::slcan_serve::SlcanAdapter::create(kbit, faults.to_vec())?;
+    let pty = adapter.path().to_string();
+    let rate = bit_rate_name(rate);
+    let how = format!(
+        "the sim network's devices are behind an slcan adapter on {pty} ({rate}): use --bus slcan:{pty}@{rate}; \
+         stop with Ctrl-C"
+    );
+    ready(&Serving { pty: Some(pty), how })?;
+    super::bridge::run(sim, &mut adapter, trace)
+}
