@@ -106,6 +106,10 @@ pub enum Error {
     /// is; each difference said as `"vendor-ID 0x... on node N, 0x... in the file"`.
     #[error("{file} is for another device: {}. Nothing was written; --force applies it anyway", differences.join(", "))]
     OtherDevice { file: String, differences: Vec<String> },
+    /// A bus is not as its network project says; `differences` in words ("2 node check(s)
+    /// failed", ...).
+    #[error("{bus} is not as {project} says: {}", differences.join(", "))]
+    NetworkDiffers { bus: String, project: String, differences: Vec<String> },
 
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
@@ -187,9 +191,11 @@ impl Error {
             | Error::NoFreeNodeId { .. }
             | Error::StoreRefused { .. } => C::Refused,
             Error::Link(_) => C::Link,
-            Error::ReadBack { .. } | Error::ReadBackMany { .. } | Error::Differs { .. } | Error::OtherDevice { .. } => {
-                C::Verify
-            }
+            Error::ReadBack { .. }
+            | Error::ReadBackMany { .. }
+            | Error::Differs { .. }
+            | Error::OtherDevice { .. }
+            | Error::NetworkDiffers { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
@@ -316,6 +322,11 @@ pub enum Service {
     AfterReset,
     /// The boot-up message after an NMT reset.
     BootUp,
+    /// Anything, after the device with this LSS identity was given the node-id over LSS.
+    AfterLssAssign { identity: Identity },
+    /// The probe of a node a network project lists; `lss` is the identity its DCF names, by
+    /// which `--assign` could find it.
+    ProjectNode { lss: Option<Identity> },
 }
 
 fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
@@ -332,6 +343,15 @@ fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
         ),
         Service::BootUp if node == 0 => format!("all nodes: no boot-up within {ms} ms"),
         Service::BootUp => format!("node {node}: no boot-up within {ms} ms"),
+        Service::AfterLssAssign { identity } => {
+            format!("{identity} took node-id {node} over LSS but did not answer with it within {ms} ms")
+        }
+        Service::ProjectNode { lss: Some(id) } => {
+            format!("node {node} did not answer; --assign gives it its node-id over LSS ({id})")
+        }
+        Service::ProjectNode { lss: None } => {
+            format!("node {node} did not answer (its DCF names no LSS serial number, so --assign cannot find it)")
+        }
     }
 }
 

@@ -24,8 +24,36 @@ pub enum Format {
     Csv,
 }
 
+/// What `--format` takes: every command's formats, and JUnit XML for the commands that
+/// check things. Kept apart from [`Format`] so that a command rendering its own output
+/// never has to handle JUnit: the command line refuses it for the others.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FormatArg {
+    /// Tables and sentences for people.
+    Human,
+    /// One JSON document per command (JSON lines for streams).
+    Json,
+    /// A header row and one row per record.
+    Csv,
+    /// JUnit XML, one test case per node and check (network check only).
+    Junit,
+}
+
+impl FormatArg {
+    /// The format of everything but the JUnit report itself (notes, refusals).
+    pub fn format(self) -> Format {
+        match self {
+            FormatArg::Human | FormatArg::Junit => Format::Human,
+            FormatArg::Json => Format::Json,
+            FormatArg::Csv => Format::Csv,
+        }
+    }
+}
+
 pub struct Output {
     pub format: Format,
+    /// Reports that have a JUnit form are written as JUnit XML.
+    pub junit: bool,
     /// Show progress bars: only when stderr is a terminal and not --quiet.
     pub progress: bool,
     pub quiet: bool,
@@ -33,7 +61,12 @@ pub struct Output {
 
 impl Output {
     pub fn new(format: Format, quiet: bool) -> Output {
-        Output { format, progress: !quiet && std::io::stderr().is_terminal(), quiet }
+        Output { format, junit: false, progress: !quiet && std::io::stderr().is_terminal(), quiet }
+    }
+
+    /// The output `--format` asks for.
+    pub fn for_arg(format: FormatArg, quiet: bool) -> Output {
+        Output { junit: format == FormatArg::Junit, ..Output::new(format.format(), quiet) }
     }
 
     /// Write text to stdout as it is (machine formats, scripts, man pages). A closed pipe
@@ -130,11 +163,86 @@ pub trait Report: serde::Serialize {
     fn notes(&self) -> Vec<String> {
         Vec::new()
     }
+    /// The report as test results, for reports of checks.
+    fn junit(&self) -> Option<TestSuite> {
+        None
+    }
+}
+
+/// Test results for CI systems: one suite of cases.
+pub struct TestSuite {
+    pub name: String,
+    pub cases: Vec<TestCase>,
+}
+
+pub struct TestCase {
+    /// What is tested (`node 5 (C01)`), shown as the class.
+    pub class: String,
+    /// The check (`identity`).
+    pub name: String,
+    /// What was found, in a sentence.
+    pub detail: String,
+    /// Why the case failed: a one-line message; `None` when it passed.
+    pub failure: Option<String>,
+}
+
+/// Text for an XML attribute or element: markup escaped, and the characters XML 1.0 cannot
+/// carry at all (control characters but tab, LF, CR) shown as `\xNN`.
+fn xml_text(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\t' | '\n' | '\r' => out.push(c),
+            c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => {
+                let _ = write!(out, "\\x{:02X}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// JUnit XML as Jenkins, GitLab and GitHub test reporters read it.
+pub fn junit_xml(suite: &TestSuite) -> String {
+    let failures = suite.cases.iter().filter(|c| c.failure.is_some()).count();
+    let (name, tests) = (xml_text(&suite.name), suite.cases.len());
+    let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let _ = writeln!(x, "<testsuites name=\"{name}\" tests=\"{tests}\" failures=\"{failures}\" errors=\"0\">");
+    let _ = writeln!(
+        x,
+        "  <testsuite name=\"{name}\" tests=\"{tests}\" failures=\"{failures}\" errors=\"0\" skipped=\"0\">"
+    );
+    for c in &suite.cases {
+        let _ = write!(x, "    <testcase classname=\"{}\" name=\"{}\"", xml_text(&c.class), xml_text(&c.name));
+        match &c.failure {
+            None => {
+                let _ = writeln!(x, ">\n      <system-out>{}</system-out>\n    </testcase>", xml_text(&c.detail));
+            }
+            Some(message) => {
+                let _ = writeln!(
+                    x,
+                    ">\n      <failure message=\"{}\" type=\"difference\">{}</failure>\n    </testcase>",
+                    xml_text(message),
+                    xml_text(&c.detail)
+                );
+            }
+        }
+    }
+    x.push_str("  </testsuite>\n</testsuites>\n");
+    x
 }
 
 impl Output {
     /// Render a report in the format asked for.
     pub fn report(&self, report: &impl Report) -> std::io::Result<()> {
+        if let Some(suite) = report.junit().filter(|_| self.junit) {
+            return self.print(&junit_xml(&suite));
+        }
         if self.format == Format::Json {
             return self.json(&serde_json::to_value(report).expect("reports serialise"));
         }
@@ -467,6 +575,27 @@ mod tests {
         assert_eq!(terminal_safe("\u{9b}2J \u{202e}txt.exe"), r"\u{9b}2J \u{202e}txt.exe");
         assert_eq!(terminal_safe("Grüße"), "Grüße");
         assert_eq!(terminal_safe_lines("one\ntwo\u{1b}[2A"), "one\ntwo\\x1b[2A");
+    }
+
+    #[test]
+    fn junit_escapes_markup_and_what_xml_cannot_carry() {
+        let suite = TestSuite {
+            name: "a <b> & \"c\"".into(),
+            cases: vec![
+                TestCase { class: "node 5".into(), name: "present".into(), detail: "ok".into(), failure: None },
+                TestCase {
+                    class: "node 6 ('x')".into(),
+                    name: "objects".into(),
+                    detail: "bell \u{7} here".into(),
+                    failure: Some("1 < 2".into()),
+                },
+            ],
+        };
+        let x = junit_xml(&suite);
+        assert!(x.contains("<testsuites name=\"a &lt;b&gt; &amp; &quot;c&quot;\" tests=\"2\" failures=\"1\""), "{x}");
+        assert!(x.contains("<testcase classname=\"node 6 (&apos;x&apos;)\" name=\"objects\">"), "{x}");
+        assert!(x.contains("<failure message=\"1 &lt; 2\" type=\"difference\">bell \\x07 here</failure>"), "{x}");
+        assert!(!x.contains('\u{7}'));
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! and notes the heartbeats that pass by.
 
 use super::trace::{self, Dir};
-use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoOptions};
+use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoOptions};
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
 use crate::canopen::sdo::{self, SdoClient, SdoError};
@@ -327,6 +327,28 @@ impl<L: FrameLink> Bus for Master<L> {
         }
         let jobs = requests.iter().map(|(node, addr)| (*node, self.upload_client(*node, *addr, opts))).collect();
         self.run(jobs, opts.timeout, progress)
+    }
+
+    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
+        let mut clients = Vec::with_capacity(jobs.len());
+        let mut timeout = Duration::ZERO;
+        for job in jobs {
+            let (node, client, opts) = match job {
+                SdoJob::Upload { node, addr, opts } => (*node, self.upload_client(*node, *addr, opts), opts),
+                SdoJob::Download { node, addr, data, opts } => {
+                    if u32::try_from(data.len()).is_err() {
+                        return Err(Error::TooLargeForSdo { len: data.len() });
+                    }
+                    let block = self.block_allowed(*node, opts.block_download);
+                    (*node, SdoClient::download(*addr, data.clone(), block), opts)
+                }
+            };
+            check_node(node)?;
+            // One wait for the batch: the longest any job asks for.
+            timeout = timeout.max(opts.timeout);
+            clients.push((node, client));
+        }
+        self.run(clients, timeout, &mut |_| {})
     }
 
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {

@@ -79,6 +79,13 @@ impl SdoOptions {
     }
 }
 
+/// One transfer of [`Bus::sdo_many`].
+#[derive(Clone, Debug)]
+pub enum SdoJob {
+    Upload { node: u8, addr: ObjAddr, opts: SdoOptions },
+    Download { node: u8, addr: ObjAddr, data: Vec<u8>, opts: SdoOptions },
+}
+
 /// How many LSS answers to wait for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LssWait {
@@ -132,6 +139,26 @@ pub trait Bus {
             }
             out.push(r);
             progress(i + 1);
+        }
+        Ok(out)
+    }
+
+    /// Run uploads and downloads, at most one per node; a backend that can keeps them all
+    /// in flight at once. A download's answer is empty. The outer error is a link failure;
+    /// the inner ones belong to each job.
+    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
+        let mut out = Vec::with_capacity(jobs.len());
+        for job in jobs {
+            let r = match job {
+                SdoJob::Upload { node, addr, opts } => self.sdo_upload(*node, *addr, opts),
+                SdoJob::Download { node, addr, data, opts } => {
+                    self.sdo_download(*node, *addr, data, opts).map(|_| Vec::new())
+                }
+            };
+            if let Err(e @ crate::Error::Link(_)) = r {
+                return Err(e);
+            }
+            out.push(r);
         }
         Ok(out)
     }

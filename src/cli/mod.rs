@@ -8,6 +8,7 @@ mod docs;
 mod interrupt;
 mod lss;
 mod monitor;
+mod network;
 mod nmt;
 mod objects;
 mod scan;
@@ -18,7 +19,7 @@ mod stream;
 
 use crate::bus::{Bus, BusAddr, OpenOptions};
 use crate::error::Error;
-use crate::output::{Format, Output};
+use crate::output::{FormatArg, Output};
 use crate::settings::{Given, Settings};
 use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
@@ -70,7 +71,7 @@ pub struct GlobalArgs {
     pub timeout: Option<Duration>,
     /// Output format
     #[arg(long, global = true, value_enum, default_value = "human")]
-    pub format: Format,
+    pub format: FormatArg,
     /// An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object
     /// names, types and ranges come from it
     #[arg(long, global = true, value_name = "[NODE=]FILE", value_parser = objects::parse_eds_arg)]
@@ -137,6 +138,15 @@ pub enum Command {
   canctl --bus sim config apply 20 sensor.dcf --verify --store"
     )]
     Config(config::ConfigCommand),
+    /// A whole machine from one CiA 306-3 network project (nodelist.cpj + one DCF per node)
+    #[command(
+        subcommand,
+        after_help = "Examples:
+  canctl --bus sim network dump machine/
+  canctl --bus sim network check machine/ --format junit > check.xml
+  canctl --bus sim network apply machine/ --assign"
+    )]
+    Network(network::NetworkCommand),
     Sim(sim::SimArgs),
     /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
     #[command(after_help = "Examples:\n  canctl settings\n  canctl --bus sim settings --format json")]
@@ -240,11 +250,18 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let settings = Settings::resolve(given, crate::settings::load()?);
     let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
     let ctx = Ctx {
-        out: Output::new(g.format, g.quiet),
+        out: Output::for_arg(g.format, g.quiet),
         timeout: settings.timeout.value,
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
     };
+    if g.format == FormatArg::Junit && !matches!(cli.command, Command::Network(network::NetworkCommand::Check(_))) {
+        return Err(Error::Usage(
+            "--format junit is for commands that check things: canctl network check; use human, json or csv here"
+                .into(),
+        )
+        .into());
+    }
     match &cli.command {
         Command::Scan(args) => with_bus(&ctx, g, |bus| scan::run(&ctx, bus, args)),
         Command::Sdo(cmd) => with_bus(&ctx, g, |bus| sdo::run(&ctx, bus, cmd)),
@@ -255,6 +272,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Config(cmd) => with_bus(&ctx, g, |bus| config::run(&ctx, bus, cmd)),
         Command::StreamPdo(a) => with_bus(&ctx, g, |bus| stream::run(&ctx, bus, a)),
         Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),
+        Command::Network(cmd) => with_bus(&ctx, g, |bus| network::run(&ctx, bus, cmd)),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Settings => Ok(ctx.out.report(&settings.report())?),
         Command::Completions(args) => docs::completions(args),

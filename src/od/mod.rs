@@ -3,6 +3,7 @@
 //! are written from it, and object names resolve through it.
 
 pub mod builtin;
+pub mod cpj;
 pub mod eds;
 pub mod names;
 

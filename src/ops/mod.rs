@@ -7,6 +7,7 @@ pub mod config;
 pub mod dictionaries;
 pub mod lss;
 pub mod monitor;
+pub mod network;
 pub mod nmt;
 pub mod pdo;
 pub mod scan;

@@ -1,0 +1,413 @@
+//! `canctl network dump|check|apply`: a whole machine from one CiA 306-3 network project
+//! (`nodelist.cpj` plus one DCF per node).
+
+use super::Ctx;
+use crate::bus::Bus;
+use crate::canopen::nmt::State;
+use crate::error::Error;
+use crate::ops::config;
+use crate::ops::network::{self, Applied, Checked, Dumped, PROJECT_FILE};
+use crate::output::{Human, Report, TestCase, TestSuite};
+use clap::{Args, Subcommand};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+#[derive(Subcommand, Debug)]
+pub enum NetworkCommand {
+    Dump(DumpArgs),
+    Check(CheckArgs),
+    Apply(ApplyArgs),
+}
+
+/// Read every node of the bus into a network project: nodelist.cpj and one DCF per node
+///
+/// Each node's readable objects go into DIR/nodeN.dcf (as `config dump` reads them), with
+/// its [DeviceComissioning]: node-id, name, bit rate (--bit-rate) and LSS serial number
+/// (0x1018:4). DIR/nodelist.cpj lists them (CiA 306-3 [Topology]). A known-good machine so
+/// becomes the reference the next one is checked against and provisioned from.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl --bus sim network dump machine/
+  canctl --bus can0 network dump machine/ --net-name 'Cabinet A' --bit-rate 500k")]
+pub struct DumpArgs {
+    /// The folder to write into (made if missing)
+    pub dir: PathBuf,
+    /// The network's name in the project (NetName)
+    #[arg(long, value_name = "NAME", default_value = "canctl network")]
+    pub net_name: String,
+    /// The bus's bit rate, written as each DCF's Baudrate (1M 800k 500k 250k 125k 50k 20k 10k)
+    #[arg(long, value_name = "RATE", value_parser = parse_kbit)]
+    pub bit_rate: Option<u32>,
+    /// How long the bus must stay quiet after the last answer to the probes
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    pub window: Duration,
+    /// Replace a project already in DIR
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// Check the bus against a network project; exit 6 when anything differs
+///
+/// For each node the project lists: it answers, its vendor-ID and product code (0x1018)
+/// are the ones its DCF names, every writable object holds the DCF's value, and (with
+/// --state) it is in that NMT state. Then: no
+/// node answers that the project does not list, and no device waits for a node-id over LSS.
+/// --format junit writes one JUnit test case per node and check, for CI systems.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl --bus sim network check machine/nodelist.cpj
+  canctl --bus can0 network check machine/ --format junit > network-check.xml")]
+pub struct CheckArgs {
+    /// The project: a nodelist.cpj, or the folder holding one
+    pub project: PathBuf,
+    /// Every listed node must also be in this NMT state (from its heartbeat, else node
+    /// guarding): operational, pre-operational or stopped
+    #[arg(long, value_name = "STATE", value_parser = parse_state)]
+    pub state: Option<State>,
+    /// How many nodes to check at once, their SDO transfers in flight together (1: one after
+    /// the other)
+    #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
+    pub jobs: u8,
+    /// How long the bus must stay quiet after the last answer to the probes
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    pub window: Duration,
+}
+
+/// Make the bus as a network project says: only what differs is written, verified, stored
+///
+/// Node by node, as `config apply --verify` does it: values checked against the files'
+/// ranges first, a DCF for another device refused, PDOs changed the CiA 301 way. A node
+/// written to is then stored (0x1010:1). With --assign, a listed node that does not answer
+/// is looked for over LSS by the identity its DCF names (vendor-ID, product code, revision,
+/// and [DeviceComissioning] LSS_SerialNumber) and given its node-id, which it stores. A
+/// second run writes nothing and says so. Up to --jobs nodes are configured at once (node-ids
+/// over LSS first, one device at a time). One node's failure does not stop the others; the
+/// first failure decides the exit code.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl --bus sim network apply machine/nodelist.cpj --assign
+  canctl --bus can0 network apply machine/ --dry-run
+  canctl --bus can0 network apply machine/ --assign --format json > applied.json")]
+pub struct ApplyArgs {
+    /// The project: a nodelist.cpj, or the folder holding one
+    pub project: PathBuf,
+    /// Give node-ids over LSS to listed nodes that do not answer, found by their DCF's identity
+    #[arg(long)]
+    pub assign: bool,
+    /// Show what would be written, write nothing
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Do not store the parameters of the nodes written to
+    #[arg(long)]
+    pub no_store: bool,
+    /// Apply DCFs even to devices whose vendor-ID or product code differs from the file's
+    #[arg(long)]
+    pub force: bool,
+    /// How long a device may take to store
+    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
+    pub store_timeout: Duration,
+    /// Reset the nodes written to (NMT reset node) and wait until each has booted
+    #[arg(long)]
+    pub reset: bool,
+    /// How many nodes to configure at once, their SDO transfers in flight together (1: one
+    /// after the other)
+    #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
+    pub jobs: u8,
+    /// How long a device given a node-id over LSS, or reset, may take to be back
+    #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
+    pub boot_wait: Duration,
+    /// How long the bus must stay quiet after the last answer to the probes
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    pub window: Duration,
+}
+
+fn parse_state(text: &str) -> Result<State, String> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "operational" => Ok(State::Operational),
+        "pre-operational" | "preop" => Ok(State::PreOperational),
+        "stopped" => Ok(State::Stopped),
+        _ => Err(format!("'{text}' is not an NMT state: use operational, pre-operational or stopped")),
+    }
+}
+
+/// `500k`, `1M`, `125000`: a bit rate in kbit/s.
+fn parse_kbit(text: &str) -> Result<u32, String> {
+    let t = text.trim().to_ascii_lowercase();
+    let k = if let Some(m) = t.strip_suffix('m') {
+        m.parse::<u32>().ok().map(|m| m * 1000)
+    } else if let Some(k) = t.strip_suffix('k') {
+        k.parse().ok()
+    } else {
+        t.parse::<u32>().ok().map(|b| b / 1000)
+    };
+    k.filter(|k| [10, 20, 50, 125, 250, 500, 800, 1000].contains(k))
+        .ok_or_else(|| format!("'{text}' is not a CAN bit rate: use 1M 800k 500k 250k 125k 50k 20k or 10k"))
+}
+
+pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result<()> {
+    match cmd {
+        NetworkCommand::Dump(a) => dump(ctx, bus, a),
+        NetworkCommand::Check(a) => check(ctx, bus, a),
+        NetworkCommand::Apply(a) => apply(ctx, bus, a),
+    }
+}
+
+/// The project file: PATH itself, or PATH/nodelist.cpj for a folder.
+fn project_file(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        path.join(PROJECT_FILE)
+    } else {
+        path.to_path_buf()
+    }
+}
+
+fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
+    let loaded = network::load(&project_file(path))?;
+    for w in &loaded.warnings {
+        ctx.out.note(&format!("canctl: warning: {w}"));
+    }
+    Ok(loaded)
+}
+
+fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
+    let project = a.dir.join(PROJECT_FILE);
+    if project.exists() && !a.force {
+        return Err(Error::Usage(format!(
+            "{} exists: pick another folder, or --force to replace it",
+            project.display()
+        ))
+        .into());
+    }
+    let options = network::DumpOptions {
+        timeout: ctx.timeout,
+        window: a.window,
+        net_name: a.net_name.clone(),
+        baudrate_kbit: a.bit_rate,
+    };
+    let dumped = network::dump(bus, &options, &mut ctx.out.progress())?;
+    std::fs::create_dir_all(&a.dir).map_err(|e| Error::Output {
+        path: a.dir.display().to_string(),
+        why: format!("cannot make the directory: {e}"),
+    })?;
+    // The DCFs first: a project file is only there once everything it names is.
+    for (name, bytes) in dumped.files.iter().rev() {
+        crate::atomic::write_atomic(&a.dir.join(name), bytes)?;
+    }
+    ctx.out.report(&DumpReport { dumped: &dumped, dir: &a.dir })?;
+    Ok(())
+}
+
+fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
+    let loaded = load(ctx, &a.project)?;
+    let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into(), state: a.state };
+    let report = network::check(bus, &loaded, &options, &mut ctx.out.progress())?;
+    ctx.out.report(&report)?;
+    Ok(report.outcome()?)
+}
+
+fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
+    let loaded = load(ctx, &a.project)?;
+    let mut c = config::ApplyOptions::new(ctx.timeout);
+    c.dry_run = a.dry_run;
+    c.verify = true;
+    c.store = !a.no_store;
+    c.store_timeout = a.store_timeout;
+    c.force = a.force;
+    let options = network::ApplyOptions {
+        config: c,
+        assign: a.assign,
+        window: a.window,
+        boot_wait: a.boot_wait,
+        jobs: a.jobs.into(),
+        reset: a.reset,
+        interrupted: Some(super::interrupt::flag()),
+    };
+    // Ctrl-C stops between nodes: the nodes under way finish, and the report says which
+    // were not begun.
+    super::interrupt::catch();
+    let report = network::apply(bus, &loaded, &options, &mut ctx.out.progress())?;
+    ctx.out.report(&report)?;
+    Ok(report.outcome()?)
+}
+
+struct DumpReport<'a> {
+    dumped: &'a Dumped,
+    dir: &'a Path,
+}
+
+impl serde::Serialize for DumpReport<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        #[derive(serde::Serialize)]
+        struct Json<'a> {
+            dir: String,
+            project: String,
+            #[serde(flatten)]
+            dumped: &'a Dumped,
+        }
+        Json {
+            dir: self.dir.display().to_string(),
+            project: self.dir.join(PROJECT_FILE).display().to_string(),
+            dumped: self.dumped,
+        }
+        .serialize(s)
+    }
+}
+
+impl Report for DumpReport<'_> {
+    fn human(&self) -> Human {
+        let rows = self
+            .dumped
+            .nodes
+            .iter()
+            .map(|n| vec![n.node.to_string(), n.name.clone(), n.file.clone(), n.objects.to_string()]);
+        Human::Table { headers: vec!["node", "name", "file", "objects"], rows: rows.collect(), when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let mut notes = vec![format!(
+            "{} and {} DCF(s) written from {}",
+            self.dir.join(PROJECT_FILE).display(),
+            self.dumped.nodes.len(),
+            self.dumped.bus
+        )];
+        if self.dumped.unconfigured > 0 {
+            notes.push(format!(
+                "{} device(s) without a node-id answered LSS: not in the project (canctl lss assign numbers them)",
+                self.dumped.unconfigured
+            ));
+        }
+        notes
+    }
+}
+
+fn node_label(node: u8, name: &str) -> String {
+    if name.is_empty() {
+        format!("node {node}")
+    } else {
+        format!("node {node} ({name})")
+    }
+}
+
+impl Report for Checked {
+    fn human(&self) -> Human {
+        let mut rows = Vec::new();
+        for n in &self.nodes {
+            for c in &n.checks {
+                let result = if c.ok { "ok" } else { "DIFFERS" };
+                rows.push(vec![
+                    n.node.to_string(),
+                    n.name.clone(),
+                    c.check.to_string(),
+                    result.into(),
+                    c.detail.clone(),
+                ]);
+            }
+        }
+        for u in &self.unlisted {
+            let t = u.device_type.map_or("-".to_string(), |t| format!("device type 0x{t:08X}"));
+            rows.push(vec![
+                u.node.to_string(),
+                "-".into(),
+                "listed".into(),
+                "DIFFERS".into(),
+                format!("answers, but the project does not list it ({t})"),
+            ]);
+        }
+        if self.unconfigured > 0 {
+            rows.push(vec![
+                "-".into(),
+                "-".into(),
+                "lss".into(),
+                "DIFFERS".into(),
+                format!("{} device(s) wait for a node-id (network apply --assign, or lss assign)", self.unconfigured),
+            ]);
+        }
+        Human::Table { headers: vec!["node", "name", "check", "result", "detail"], rows, when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let name = self.net_name.clone().unwrap_or_else(|| self.project.clone());
+        if self.ok {
+            vec![format!("{name}: all {} node(s) as the project says", self.nodes.len())]
+        } else {
+            let failed = self.nodes.iter().filter(|n| n.checks.iter().any(|c| !c.ok)).count();
+            vec![format!(
+                "{name}: {failed} of {} node(s) differ, {} unlisted node(s), {} device(s) without a node-id",
+                self.nodes.len(),
+                self.unlisted.len(),
+                self.unconfigured
+            )]
+        }
+    }
+
+    fn junit(&self) -> Option<TestSuite> {
+        let mut cases = Vec::new();
+        for n in &self.nodes {
+            for c in &n.checks {
+                let failure = (!c.ok).then(|| format!("{}: {}", node_label(n.node, &n.name), c.check));
+                cases.push(TestCase {
+                    class: node_label(n.node, &n.name),
+                    name: c.check.to_string(),
+                    detail: c.detail.clone(),
+                    failure,
+                });
+            }
+        }
+        let unlisted: Vec<String> = self.unlisted.iter().map(|u| u.node.to_string()).collect();
+        cases.push(TestCase {
+            class: "network".into(),
+            name: "no unlisted nodes".into(),
+            detail: if unlisted.is_empty() {
+                "every node that answers is in the project".into()
+            } else {
+                format!("node(s) {} answer but are not in the project", unlisted.join(", "))
+            },
+            failure: (!unlisted.is_empty()).then(|| format!("{} unlisted node(s)", unlisted.len())),
+        });
+        cases.push(TestCase {
+            class: "network".into(),
+            name: "no device without a node-id".into(),
+            detail: format!("{} device(s) answered LSS identify non-configured", self.unconfigured),
+            failure: (self.unconfigured > 0).then(|| format!("{} device(s) wait for a node-id", self.unconfigured)),
+        });
+        let name = self.net_name.clone().unwrap_or_else(|| self.project.clone());
+        Some(TestSuite { name: format!("canctl network check: {name}"), cases })
+    }
+}
+
+impl Report for Applied {
+    fn human(&self) -> Human {
+        let rows = self
+            .nodes
+            .iter()
+            .map(|n| vec![n.node.to_string(), n.name.clone(), n.written.to_string(), n.result.clone()]);
+        Human::Table { headers: vec!["node", "name", "written", "result"], rows: rows.collect(), when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let verb = if self.dry_run { "would be written" } else { "written" };
+        let mut notes = Vec::new();
+        if self.dry_run {
+            let would: usize = self
+                .nodes
+                .iter()
+                .map(|n| n.objects.iter().filter(|c| c.result.starts_with("would write")).count())
+                .sum();
+            notes.push(format!(
+                "dry run: {would} object(s) {verb} on {} node(s); nothing was written",
+                self.nodes.len()
+            ));
+        } else if self.written == 0 && self.ok {
+            notes.push(format!("the network already matches {}: 0 objects written", self.project));
+        } else {
+            notes.push(format!("{} object(s) {verb} on {} node(s)", self.written, self.nodes.len()));
+        }
+        let not_begun = self.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).count();
+        if not_begun > 0 {
+            notes.push(format!(
+                "interrupted: {not_begun} node(s) not begun; the same command finishes the job (only what differs is written)"
+            ));
+        }
+        notes
+    }
+}

@@ -1,0 +1,975 @@
+//! A whole network from one CiA 306-3 project (`nodelist.cpj` plus one DCF per node):
+//! [`dump`] a live bus into one, [`check`] a bus against one, [`apply`] one to a bus.
+
+use super::config::{self, Dcf};
+use super::Progress;
+use crate::bus::lss::LssMaster;
+use crate::bus::{Bus, SdoOptions};
+use crate::canopen::lss::{Identity, Request};
+use crate::canopen::{abort, ObjAddr};
+use crate::error::{Error, Result, Service};
+use crate::od::cpj::{self, Commissioning, Project};
+use crate::od::eds;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// The project file canctl writes and looks for in a folder.
+pub const PROJECT_FILE: &str = "nodelist.cpj";
+
+const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
+const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+
+/// A project with each listed node's DCF read.
+#[derive(Debug)]
+pub struct Loaded {
+    pub file: PathBuf,
+    pub project: Project,
+    pub nodes: Vec<Listed>,
+    /// What the files say that deserves a look, with file:line.
+    pub warnings: Vec<String>,
+}
+
+/// A node the project lists as present.
+#[derive(Debug)]
+pub struct Listed {
+    pub node: u8,
+    /// `NodeXName`, else the DCF's product name, else empty.
+    pub name: String,
+    pub dcf: Option<Dcf>,
+    pub commissioning: Commissioning,
+}
+
+impl Listed {
+    /// The identity an LSS device with this configuration answers to: the DCF's vendor-ID,
+    /// product code and revision, and the commissioning's LSS serial number.
+    pub fn lss_identity(&self) -> Option<Identity> {
+        let dcf = self.dcf.as_ref()?;
+        let (vendor, product) = dcf.identity();
+        let serial = self.commissioning.lss_serial.filter(|s| *s != 0)?;
+        let revision = info_number(dcf, "revisionnumber").unwrap_or(0);
+        (vendor != 0 && product != 0).then_some(Identity { vendor, product, revision, serial })
+    }
+}
+
+fn info_number(dcf: &Dcf, key: &str) -> Option<u32> {
+    dcf.eds.info.get(key).and_then(|v| eds::parse_int(v)).and_then(|v| u32::try_from(v).ok())
+}
+
+/// Read a project and the DCF of every node it lists; any file that cannot be used is a
+/// usage error naming it (file:line where a line is to blame).
+pub fn load(file: &Path) -> Result<Loaded> {
+    let read = cpj::read_file(file).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+    let mut warnings = read.warnings;
+    let project = read.project;
+    let mut nodes = Vec::new();
+    for (node, entry) in project.present() {
+        let (dcf, commissioning) = match project.dcf_path(file, node) {
+            None => (None, Commissioning::default()),
+            Some(path) => {
+                let name = path.display().to_string();
+                let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
+                    .map_err(|e| Error::Usage(format!("cannot use {name} (node {node} in {}): {e}", file.display())))?;
+                let dcf = Dcf::parse(&bytes, &name)?;
+                let c = cpj::read_commissioning(&bytes, &name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+                if let Some(id) = c.node_id.filter(|id| *id != node) {
+                    return Err(Error::Usage(format!(
+                        "{name} is for node-id {id} ([DeviceComissioning] NodeID), but {} lists it for node {node}",
+                        file.display()
+                    )));
+                }
+                warnings.extend(dcf.warnings().iter().cloned());
+                (Some(dcf), c)
+            }
+        };
+        let name = entry.name.clone().or_else(|| dcf.as_ref().and_then(|d| d.eds.info.get("productname").cloned()));
+        nodes.push(Listed { node, name: name.unwrap_or_default(), dcf, commissioning });
+    }
+    Ok(Loaded { file: file.to_path_buf(), project, nodes, warnings })
+}
+
+/// Whether an error means nobody answered (exit 3), whichever variant says it.
+fn no_answer(e: &Error) -> bool {
+    e.exit_code() == 3
+}
+
+/// Every node that answers (`ops::scan::probe`), with its device type where it gave one.
+fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<BTreeMap<u8, Option<u32>>> {
+    Ok(super::scan::probe(bus, window, progress)?.into_iter().collect())
+}
+
+// ---------------------------------------------------------------------------------------
+// dump
+
+/// What `dump` read: the files of a project, to be written into one folder.
+#[derive(Debug, Serialize)]
+pub struct Dumped {
+    pub bus: String,
+    pub nodes: Vec<DumpedNode>,
+    /// Devices that answered LSS without a node-id (not in the project: they have no
+    /// objects to read).
+    pub unconfigured: usize,
+    /// File name and content: `nodelist.cpj` first, then one DCF per node.
+    #[serde(skip)]
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct DumpedNode {
+    pub node: u8,
+    pub name: String,
+    pub file: String,
+    pub objects: usize,
+}
+
+/// How to dump a network.
+#[derive(Clone, Debug)]
+pub struct DumpOptions {
+    pub timeout: Duration,
+    /// How long the probes wait for answers.
+    pub window: Duration,
+    /// `NetName` of the project.
+    pub net_name: String,
+    /// The bus's bit rate in kbit/s, for each DCF's `Baudrate` (left out when unknown).
+    pub baudrate_kbit: Option<u32>,
+}
+
+/// Scan the bus and read every node into a DCF (`nodeN.dcf`, with its
+/// `[DeviceComissioning]`: node-id, name, bit rate, LSS serial number), listed in a
+/// `nodelist.cpj`.
+pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> Result<Dumped> {
+    let found = probe(bus, o.window, progress)?;
+    let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
+    let mut project = Project { net_name: Some(o.net_name.clone()), ..Project::default() };
+    let mut nodes = Vec::new();
+    let mut files = Vec::new();
+    for node in found.keys().copied() {
+        let file = format!("node{node}.dcf");
+        let dumped = config::dump(bus, node, None, &file, o.timeout, progress)?;
+        let parsed = Dcf::parse(&dumped.dcf, &file)?;
+        let serial = parsed.eds.values.get(&ObjAddr::new(0x1018, 4)).and_then(|v| match v {
+            crate::od::Init::Bytes(b) => Some(super::le_u32(b)),
+            _ => None,
+        });
+        let name = match parsed.eds.values.get(&NAME) {
+            Some(crate::od::Init::Bytes(b)) => String::from_utf8_lossy(b).trim_end_matches('\0').to_string(),
+            _ => String::new(),
+        };
+        let commissioning = Commissioning {
+            node_id: Some(node),
+            node_name: (!name.is_empty()).then(|| name.clone()),
+            baudrate_kbit: o.baudrate_kbit,
+            lss_serial: serial,
+            ..Commissioning::default()
+        };
+        let bytes = cpj::with_commissioning(&dumped.dcf, &commissioning).map_err(|e| Error::Usage(e.to_string()))?;
+        project.nodes.insert(
+            node,
+            cpj::Node {
+                present: true,
+                name: (!name.is_empty()).then(|| name.clone()),
+                refd: None,
+                dcf: Some(file.clone()),
+            },
+        );
+        nodes.push(DumpedNode { node, name, file: file.clone(), objects: dumped.objects });
+        files.push((file, bytes));
+    }
+    let cpj = cpj::write(&project).map_err(|e| Error::Usage(e.to_string()))?;
+    files.insert(0, (PROJECT_FILE.to_string(), cpj));
+    Ok(Dumped { bus: bus.describe(), nodes, unconfigured, files })
+}
+
+// ---------------------------------------------------------------------------------------
+// check
+
+/// How to check a network.
+#[derive(Clone, Debug)]
+pub struct CheckOptions {
+    pub timeout: Duration,
+    pub window: Duration,
+    /// How many nodes are checked at once (1: one after the other).
+    pub jobs: usize,
+    /// The NMT state every listed node must be in, when the caller expects one (CiA 306-3
+    /// projects do not say).
+    pub state: Option<crate::canopen::nmt::State>,
+}
+
+/// Is the network as the project says?
+#[derive(Debug, Serialize)]
+pub struct Checked {
+    pub project: String,
+    pub net_name: Option<String>,
+    pub bus: String,
+    pub nodes: Vec<NodeCheck>,
+    /// Nodes that answered but the project does not list, with their device type.
+    pub unlisted: Vec<Unlisted>,
+    /// Devices that answered LSS "identify non-configured remote slave".
+    pub unconfigured: usize,
+    /// Whether everything is as the project says.
+    pub ok: bool,
+}
+
+#[derive(Debug, Serialize)]
+pub struct NodeCheck {
+    pub node: u8,
+    pub name: String,
+    pub file: Option<String>,
+    pub checks: Vec<Verdict>,
+}
+
+/// One check of one node: `present`, `identity`, `objects`, `state`.
+#[derive(Debug, Serialize)]
+pub struct Verdict {
+    pub check: &'static str,
+    pub ok: bool,
+    /// What was found, in a sentence.
+    pub detail: String,
+    /// For `objects`: each writable object that differs.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub differences: Vec<config::Difference>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Unlisted {
+    pub node: u8,
+    pub device_type: Option<u32>,
+}
+
+impl Checked {
+    /// A verification error (exit 6) when anything differs.
+    pub fn outcome(&self) -> Result<()> {
+        if self.ok {
+            return Ok(());
+        }
+        let failed: usize = self.nodes.iter().map(|n| n.checks.iter().filter(|c| !c.ok).count()).sum();
+        let mut parts = Vec::new();
+        if failed > 0 {
+            parts.push(format!("{failed} node check(s) failed"));
+        }
+        if !self.unlisted.is_empty() {
+            parts.push(format!("{} node(s) not in the project", self.unlisted.len()));
+        }
+        if self.unconfigured > 0 {
+            parts.push(format!("{} device(s) without a node-id", self.unconfigured));
+        }
+        Err(Error::NetworkDiffers { bus: self.bus.clone(), project: self.project.clone(), differences: parts })
+    }
+}
+
+fn hex(v: u32) -> String {
+    format!("0x{v:08X}")
+}
+
+/// The vendor-ID and product code of `node` against the DCF's (parts the DCF leaves at 0
+/// are not compared).
+fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Verdict> {
+    let (vendor, product) = dcf.identity();
+    let mut differ = Vec::new();
+    let mut seen = Vec::new();
+    for (what, want, sub) in [("vendor-ID", vendor, 1), ("product code", product, 2)] {
+        if want == 0 {
+            continue;
+        }
+        let got = match bus.sdo_upload(node, ObjAddr::new(0x1018, sub), &super::sized(timeout, Some(4))) {
+            Ok(b) => hex(super::le_u32(&b)),
+            Err(Error::SdoAbort { code, .. }) => format!("unreadable ({})", abort::meaning(code)),
+            Err(e) => return Err(e),
+        };
+        if got != hex(want) {
+            differ.push(format!("{what} {got}, {} in {}", hex(want), dcf.path()));
+        } else {
+            seen.push(format!("{what} {got}"));
+        }
+    }
+    let (ok, detail) = match (differ.is_empty(), seen.is_empty()) {
+        (false, _) => (false, format!("another device: {}", differ.join(", "))),
+        (true, true) => (true, format!("{} names no vendor-ID or product code: not compared", dcf.path())),
+        (true, false) => (true, seen.join(", ")),
+    };
+    Ok(Verdict { check: "identity", ok, detail, differences: Vec::new() })
+}
+
+/// Every writable object of the DCF against the node (read-only values such as serial
+/// numbers or measurements are the device's, not its configuration).
+fn check_objects(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Verdict> {
+    let diff = config::diff(bus, node, dcf, timeout)?;
+    let writable = |addr: ObjAddr| dcf.eds.dict.get(addr).is_some_and(|e| e.access.writable());
+    let differences: Vec<config::Difference> = diff.differences.into_iter().filter(|d| writable(d.object)).collect();
+    let detail = match differences.len() {
+        0 => format!("every writable object as in {}", dcf.path()),
+        n => {
+            let list: Vec<String> = differences
+                .iter()
+                .map(|d| format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file))
+                .collect();
+            format!("{n} object(s) differ from {}: {}", dcf.path(), list.join("; "))
+        }
+    };
+    Ok(Verdict { check: "objects", ok: differences.is_empty(), detail, differences })
+}
+
+/// The node's NMT state against `want`: from its heartbeat, when one was seen in this
+/// session, else by node guarding (through an EPOS2: by remote request).
+fn check_state(bus: &mut dyn Bus, node: u8, want: crate::canopen::nmt::State, window: Duration) -> Result<Verdict> {
+    use crate::canopen::nmt::{self, ErrorControl};
+    let seen = match bus.observed().states.get(&node) {
+        Some(s) => Some((*s, "heartbeat")),
+        None => {
+            let wait = (2 * window).max(Duration::from_millis(200));
+            match bus.request_frame(nmt::error_control_cob(node), 1, wait) {
+                Ok(frame) => match ErrorControl::parse(&frame) {
+                    Some((_, ErrorControl::State { state, .. })) => Some((state, "node guarding")),
+                    Some((_, ErrorControl::BootUp)) => Some((nmt::State::PreOperational, "boot-up")),
+                    _ => None,
+                },
+                Err(e) if no_answer(&e) => None,
+                Err(e) => return Err(e),
+            }
+        }
+    };
+    let (ok, detail) = match seen {
+        Some((state, from)) => (state == want, format!("{state} (from its {from}), {want} expected")),
+        None => (false, format!("no heartbeat seen and no answer to node guarding; {want} expected")),
+    };
+    Ok(Verdict { check: "state", ok, detail, differences: Vec::new() })
+}
+
+/// Check the bus against the project: each listed node present, with the identity its DCF
+/// names and every writable object as the DCF has it; no node the project does not list;
+/// no device waiting for a node-id.
+pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mut dyn Progress) -> Result<Checked> {
+    let found = probe(bus, o.window, progress)?;
+    let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
+    let check_node = |bus: &mut dyn Bus, i: usize| -> Result<NodeCheck> {
+        let listed = &loaded.nodes[i];
+        let present = found.contains_key(&listed.node);
+        let mut checks = vec![Verdict {
+            check: "present",
+            ok: present,
+            detail: if present {
+                format!("node {} answered", listed.node)
+            } else {
+                format!("node {} did not answer within {} ms", listed.node, o.window.as_millis())
+            },
+            differences: Vec::new(),
+        }];
+        if let (true, Some(dcf)) = (present, &listed.dcf) {
+            checks.push(check_identity(bus, listed.node, dcf, o.timeout)?);
+            if checks.last().is_some_and(|c| c.ok) {
+                checks.push(check_objects(bus, listed.node, dcf, o.timeout)?);
+            }
+        }
+        Ok(NodeCheck {
+            node: listed.node,
+            name: listed.name.clone(),
+            file: listed.dcf.as_ref().map(|d| d.path().to_string()),
+            checks,
+        })
+    };
+    let all: Vec<usize> = (0..loaded.nodes.len()).collect();
+    progress.start("checking", all.len() as u64);
+    let results: Vec<Result<NodeCheck>> = if o.jobs <= 1 {
+        all.iter()
+            .map(|i| {
+                progress.advance(*i as u64);
+                check_node(bus, *i)
+            })
+            .collect()
+    } else {
+        let stopped = |_: usize, e: Error| Err(e);
+        parallel::each(bus, &all, o.jobs, None, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
+    };
+    let mut nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
+    if let Some(want) = o.state {
+        // Node guarding and heartbeats are the link's, not a node's SDO: asked here.
+        for n in nodes.iter_mut().filter(|n| n.checks[0].ok) {
+            n.checks.push(check_state(bus, n.node, want, o.window)?);
+        }
+    }
+    progress.finish();
+    let listed: Vec<u8> = loaded.nodes.iter().map(|l| l.node).collect();
+    let unlisted: Vec<Unlisted> = found
+        .iter()
+        .filter(|(n, _)| !listed.contains(n))
+        .map(|(n, t)| Unlisted { node: *n, device_type: *t })
+        .collect();
+    let ok = nodes.iter().all(|n| n.checks.iter().all(|c| c.ok)) && unlisted.is_empty() && unconfigured == 0;
+    Ok(Checked {
+        project: loaded.file.display().to_string(),
+        net_name: loaded.project.net_name.clone(),
+        bus: bus.describe(),
+        nodes,
+        unlisted,
+        unconfigured,
+        ok,
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// apply
+
+/// How to apply a project.
+#[derive(Clone, Debug)]
+pub struct ApplyOptions {
+    /// Timeouts, dry run, verify, force; `store` is done here, only for nodes written to.
+    pub config: config::ApplyOptions,
+    /// Give node-ids over LSS to listed nodes that do not answer, matched by the LSS
+    /// identity their DCF names.
+    pub assign: bool,
+    /// How long probes wait for answers.
+    pub window: Duration,
+    /// How long a device given a node-id may take to answer with it.
+    pub boot_wait: Duration,
+    /// How many nodes are configured at once (1: one after the other).
+    pub jobs: usize,
+    /// Reset the nodes written to (NMT reset node) and wait, up to `boot_wait`, until each
+    /// is back (its boot-up, or an SDO answer where the link shows no traffic).
+    pub reset: bool,
+    /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): no node is begun after
+    /// that; the nodes under way finish, and the report says which were not done.
+    pub interrupted: Option<&'static AtomicBool>,
+}
+
+/// What applying a project did, node by node.
+#[derive(Debug, Serialize)]
+pub struct Applied {
+    pub project: String,
+    pub bus: String,
+    pub dry_run: bool,
+    pub nodes: Vec<NodeApplied>,
+    /// Objects written on the whole network.
+    pub written: usize,
+    /// Whether every node was brought to its DCF.
+    pub ok: bool,
+    /// The first failure (its exit code is the command's).
+    #[serde(skip)]
+    pub failure: Option<Error>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct NodeApplied {
+    pub node: u8,
+    pub name: String,
+    pub file: Option<String>,
+    /// `assigned over LSS to IDENTITY` when `--assign` gave the node its id.
+    pub assigned: Option<String>,
+    /// Objects written (PDO sequence steps included).
+    pub written: usize,
+    pub stored: bool,
+    /// What happened, in a sentence.
+    pub result: String,
+    pub ok: bool,
+    /// Each object written or not, as `config apply` reports it.
+    pub objects: Vec<config::Change>,
+}
+
+impl Applied {
+    pub fn outcome(self) -> Result<()> {
+        match self.failure {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Give `node` to the LSS device with `identity`, store it, and wait until the node answers
+/// SDO with it.
+fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) -> Result<()> {
+    let mut m = LssMaster::new(bus, o.config.timeout);
+    let result = m
+        .enter(Some(identity))
+        .and_then(|_| m.configure(Request::ConfigureNodeId(node), "set-id", false))
+        .and_then(|_| m.configure(Request::StoreConfiguration, "store", false));
+    // Back in waiting state the device takes its new node-id and boots.
+    let left = m.leave();
+    result?;
+    left?;
+    let deadline = Instant::now() + o.boot_wait;
+    loop {
+        match bus.sdo_upload(node, DEVICE_TYPE, &SdoOptions::new(o.window)) {
+            Ok(_) | Err(Error::SdoAbort { .. }) => return Ok(()),
+            Err(e) if no_answer(&e) && Instant::now() < deadline => continue,
+            Err(e) if no_answer(&e) => {
+                let what = Service::AfterLssAssign { identity: *identity };
+                return Err(Error::NoAnswer { node, what, waited: o.boot_wait });
+            }
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// A node's row, and the error that failed it.
+type NodeOutcome = (NodeApplied, Option<Error>);
+
+fn empty_row(listed: &Listed) -> NodeApplied {
+    NodeApplied {
+        node: listed.node,
+        name: listed.name.clone(),
+        file: listed.dcf.as_ref().map(|d| d.path().to_string()),
+        assigned: None,
+        written: 0,
+        stored: false,
+        result: String::new(),
+        ok: false,
+        objects: Vec::new(),
+    }
+}
+
+/// One node that answers: `config apply` (only what differs, in its safe order, verified
+/// when asked), then store when anything was written.
+fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
+    let mut row = empty_row(listed);
+    let fail = |mut row: NodeApplied, e: Error| {
+        row.result = format!("failed: {e}");
+        (row, Some(e))
+    };
+    let Some(dcf) = &listed.dcf else {
+        row.ok = true;
+        row.result = "present; the project names no DCF for it".to_string();
+        return (row, None);
+    };
+    let mut co = o.config.clone();
+    co.store = false;
+    let mut applied = match config::apply(bus, listed.node, dcf, &co) {
+        Ok(a) => a,
+        Err(e) => return fail(row, e),
+    };
+    row.written = applied.written.len();
+    row.objects = std::mem::take(&mut applied.objects);
+    let would = row.objects.iter().filter(|c| c.result.starts_with("would write")).count();
+    if let Err(e) = applied.outcome() {
+        return fail(row, e);
+    }
+    if o.config.store && row.written > 0 {
+        let t = super::store::Timeouts { answer: o.config.timeout, write: o.config.store_timeout };
+        match super::store::store(bus, listed.node, super::store::Class::All, t) {
+            Ok(_) => row.stored = true,
+            Err(e) => return fail(row, e),
+        }
+    }
+    row.ok = true;
+    row.result = match (o.config.dry_run, row.written) {
+        (true, _) if would == 0 => "up to date: nothing would be written".to_string(),
+        (true, _) => format!("{would} object(s) would be written"),
+        (false, 0) => "up to date: nothing written".to_string(),
+        (false, n) => format!(
+            "{n} object(s) written{}{}",
+            if o.config.verify { ", verified" } else { "" },
+            if row.stored { ", stored" } else { "" }
+        ),
+    };
+    (row, None)
+}
+
+/// Bring every listed node to its DCF: first the node-ids over LSS (one device at a time,
+/// as LSS works), then up to `jobs` nodes at once, their SDO transfers in flight together on
+/// the one link. A node that fails is reported and the others still done; the first
+/// failure decides the exit code.
+pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mut dyn Progress) -> Result<Applied> {
+    let found = probe(bus, o.window, progress)?;
+    let mut rows: Vec<Option<NodeOutcome>> = Vec::new();
+    // Nodes that must answer before they can be configured: given their id, or failed.
+    let stop = || o.interrupted.is_some_and(|f| f.load(Ordering::SeqCst));
+    for listed in &loaded.nodes {
+        let present = found.contains_key(&listed.node);
+        rows.push((!present && !stop()).then(|| absent_node(bus, listed, o)));
+    }
+    let ready: Vec<usize> = (0..loaded.nodes.len())
+        .filter(|i| match &rows[*i] {
+            None => found.contains_key(&loaded.nodes[*i].node),
+            Some((row, None)) => row.assigned.is_some() && !o.config.dry_run,
+            Some(_) => false,
+        })
+        .collect();
+    let assigned: Vec<Option<String>> =
+        rows.iter().map(|r| r.as_ref().and_then(|(row, _)| row.assigned.clone())).collect();
+    progress.start("applying", ready.len() as u64);
+    let done = if o.jobs <= 1 {
+        let mut done = Vec::new();
+        for (k, i) in ready.iter().enumerate() {
+            if stop() {
+                break;
+            }
+            progress.advance(k as u64);
+            let result = configure_node(bus, &loaded.nodes[*i], o);
+            let link = matches!(result.1, Some(Error::Link(_)));
+            done.push((*i, result));
+            // A lost link ends the run: every further node would fail the same way.
+            if link {
+                break;
+            }
+        }
+        done
+    } else {
+        let work = |bus: &mut dyn Bus, i: usize| configure_node(bus, &loaded.nodes[i], o);
+        let stopped = |i: usize, e: Error| {
+            let mut row = empty_row(&loaded.nodes[i]);
+            row.result = format!("failed: {e}");
+            (row, Some(e))
+        };
+        parallel::each(bus, &ready, o.jobs, o.interrupted, &work, &stopped, progress)
+    };
+    progress.finish();
+    for (i, (mut row, error)) in done {
+        if let Some(id) = &assigned[i] {
+            row.assigned = Some(id.clone());
+            row.result = format!("node-id given over LSS; {}", row.result);
+        }
+        rows[i] = Some((row, error));
+    }
+    if o.reset && !o.config.dry_run && !stop() {
+        let written: Vec<u8> = rows
+            .iter()
+            .flatten()
+            .filter(|(row, error)| error.is_none() && row.written > 0)
+            .map(|(row, _)| row.node)
+            .collect();
+        let back = reset_and_wait(bus, &written, o)?;
+        for (row, error) in rows.iter_mut().flatten() {
+            match back.get(&row.node) {
+                Some(true) => row.result.push_str(", reset, booted"),
+                Some(false) => {
+                    row.result.push_str(", reset, but not back");
+                    row.ok = false;
+                    error.get_or_insert(Error::NoAnswer { node: row.node, what: Service::BootUp, waited: o.boot_wait });
+                }
+                None => {}
+            }
+        }
+    }
+    let interrupted = stop();
+    let mut nodes = Vec::new();
+    let mut failure = interrupted.then_some(Error::Interrupted);
+    for (i, outcome) in rows.into_iter().enumerate() {
+        match outcome {
+            Some((row, error)) => {
+                if let Some(e) = error {
+                    failure.get_or_insert(e);
+                }
+                nodes.push(row);
+            }
+            // Not begun: interrupted first, or the link was lost.
+            None if interrupted => {
+                let mut row = empty_row(&loaded.nodes[i]);
+                row.result = "not done: interrupted before this node was begun".into();
+                nodes.push(row);
+            }
+            None => {}
+        }
+    }
+    let written = nodes.iter().map(|n| n.written).sum();
+    Ok(Applied {
+        project: loaded.file.display().to_string(),
+        bus: bus.describe(),
+        dry_run: o.config.dry_run,
+        ok: failure.is_none() && nodes.len() == loaded.nodes.len(),
+        nodes,
+        written,
+        failure,
+    })
+}
+
+/// Many nodes at once over one link: each node's procedure runs on its own thread against a
+/// [`NodeBus`], which hands its SDO transfers to the caller's thread; that thread waits until
+/// every running node has one transfer waiting (or is done), then runs them together
+/// ([`Bus::sdo_many`]: one per node, all in flight at once) and hands back the answers.
+mod parallel {
+    use super::*;
+    use crate::bus::{LssAnswer, LssWait, Observed, SdoJob};
+    use crate::frame::Frame;
+    use std::sync::mpsc::{channel, Receiver, Sender};
+
+    enum Msg<T> {
+        Sdo(SdoJob, Sender<Result<Vec<u8>>>),
+        Done(usize, T),
+    }
+
+    /// The bus as one node's procedure sees it: SDO only, through the coordinating thread.
+    struct NodeBus<T> {
+        describe: String,
+        to_coordinator: Sender<Msg<T>>,
+        observed: Observed,
+    }
+
+    impl<T> NodeBus<T> {
+        fn ask(&mut self, job: SdoJob) -> Result<Vec<u8>> {
+            let (tx, rx) = channel();
+            let gone = || Error::NotOnThisBus { bus: self.describe.clone(), why: "the coordinating thread is gone" };
+            self.to_coordinator.send(Msg::Sdo(job, tx)).map_err(|_| gone())?;
+            rx.recv().map_err(|_| gone())?
+        }
+
+        fn not_here(&self) -> Error {
+            Error::NotOnThisBus {
+                bus: self.describe.clone(),
+                why: "a node configured in parallel has SDO only (NMT, LSS and raw frames are the caller's)",
+            }
+        }
+    }
+
+    impl<T> Bus for NodeBus<T> {
+        fn describe(&self) -> String {
+            self.describe.clone()
+        }
+        fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+            self.ask(SdoJob::Upload { node, addr, opts: opts.clone() })
+        }
+        fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+            self.ask(SdoJob::Download { node, addr, data: data.to_vec(), opts: opts.clone() }).map(|_| ())
+        }
+        fn nmt(&mut self, _: crate::canopen::nmt::Command, _: u8) -> Result<()> {
+            Err(self.not_here())
+        }
+        fn send_frame(&mut self, _: &Frame) -> Result<()> {
+            Err(self.not_here())
+        }
+        fn sees_traffic(&self) -> bool {
+            false
+        }
+        fn recv_frame(&mut self, _: Instant) -> Result<Option<Frame>> {
+            Err(self.not_here())
+        }
+        fn request_frame(&mut self, _: u16, _: u8, _: Duration) -> Result<Frame> {
+            Err(self.not_here())
+        }
+        fn lss_exchange(&mut self, _: &[u8; 8], _: u8, _: Duration, _: LssWait) -> Result<Vec<LssAnswer>> {
+            Err(self.not_here())
+        }
+        fn observed(&mut self) -> &mut Observed {
+            &mut self.observed
+        }
+        fn close(&mut self) -> Result<()> {
+            Ok(())
+        }
+    }
+
+    /// A link failure, said to every node whose transfer it ended.
+    fn link_lost(bus: &str, e: &Error) -> Error {
+        let error = std::io::Error::other(e.to_string());
+        Error::Link(crate::error::LinkError::Io { port: bus.to_string(), op: "", error })
+    }
+
+    /// `work` for each of `items` (node indexes), up to `jobs` at once; `stopped` stands
+    /// for a node whose procedure ended without its result (a bug), so that the run still
+    /// ends. Results in the order of `items`; after a link failure or once `stop` is set,
+    /// no further node is begun, and those are left out.
+    pub(super) fn each<T: Send>(
+        bus: &mut dyn Bus,
+        items: &[usize],
+        jobs: usize,
+        stop: Option<&AtomicBool>,
+        work: &(dyn Fn(&mut dyn Bus, usize) -> T + Sync),
+        stopped: &(dyn Fn(usize, Error) -> T + Sync),
+        progress: &mut dyn Progress,
+    ) -> Vec<(usize, T)> {
+        let describe = bus.describe();
+        let (tx, rx): (Sender<Msg<T>>, Receiver<Msg<T>>) = channel();
+        let mut done = Vec::new();
+        let mut lost: Option<Error> = None;
+        std::thread::scope(|scope| {
+            let mut queue = items.iter().copied();
+            let mut running = 0;
+            let start = |i: usize| {
+                let node_bus =
+                    NodeBus { describe: describe.clone(), to_coordinator: tx.clone(), observed: Observed::default() };
+                scope.spawn(move || {
+                    let mut node_bus = node_bus;
+                    // Whatever happens, the coordinator hears that this node is done: it
+                    // waits for every running node.
+                    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&mut node_bus, i)))
+                        .unwrap_or_else(|_| {
+                            let why = Error::Usage(
+                                "canctl's procedure for this node stopped (a bug: please report it)".into(),
+                            );
+                            stopped(i, link_lost(&node_bus.describe, &why))
+                        });
+                    let _ = node_bus.to_coordinator.send(Msg::Done(i, result));
+                });
+            };
+            for i in queue.by_ref().take(jobs) {
+                start(i);
+                running += 1;
+            }
+            let mut waiting: Vec<(SdoJob, Sender<Result<Vec<u8>>>)> = Vec::new();
+            while running > 0 {
+                // Every running node either waits for a transfer or has finished.
+                while waiting.len() < running {
+                    match rx.recv().expect("a running node sends before it ends") {
+                        Msg::Sdo(job, reply) => waiting.push((job, reply)),
+                        Msg::Done(i, result) => {
+                            done.push((i, result));
+                            progress.advance(done.len() as u64);
+                            running -= 1;
+                            let stopping = stop.is_some_and(|f| f.load(Ordering::SeqCst));
+                            if let Some(next) = queue.next().filter(|_| lost.is_none() && !stopping) {
+                                start(next);
+                                running += 1;
+                            }
+                        }
+                    }
+                }
+                if waiting.is_empty() {
+                    continue;
+                }
+                let jobs: Vec<SdoJob> = waiting.iter().map(|(job, _)| job.clone()).collect();
+                match bus.sdo_many(&jobs) {
+                    Ok(results) => {
+                        for ((_, reply), result) in waiting.drain(..).zip(results) {
+                            let _ = reply.send(result);
+                        }
+                    }
+                    Err(e) => {
+                        for (_, reply) in waiting.drain(..) {
+                            let _ = reply.send(Err(link_lost(&describe, &e)));
+                        }
+                        lost.get_or_insert(e);
+                    }
+                }
+            }
+        });
+        let order = |i: &usize| items.iter().position(|x| x == i);
+        done.sort_by_key(|(i, _)| order(i));
+        done
+    }
+}
+
+/// NMT reset `nodes`, then wait until each is back: its boot-up message where the link shows
+/// the bus's traffic, else an SDO answer. Whether each came back within `boot_wait`.
+fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<BTreeMap<u8, bool>> {
+    let mut back: BTreeMap<u8, bool> = nodes.iter().map(|n| (*n, false)).collect();
+    for n in nodes {
+        bus.observed().boot_ups.remove(n);
+        bus.nmt(crate::canopen::nmt::Command::ResetNode, *n)?;
+    }
+    let deadline = Instant::now() + o.boot_wait;
+    if bus.sees_traffic() {
+        while back.values().any(|b| !b) {
+            let frame = bus.recv_frame(deadline)?;
+            for (n, b) in back.iter_mut() {
+                *b |= bus.observed().boot_ups.contains(n);
+            }
+            if frame.is_none() {
+                break;
+            }
+        }
+    } else {
+        for n in nodes {
+            while Instant::now() < deadline {
+                match bus.sdo_upload(*n, DEVICE_TYPE, &SdoOptions::new(o.window)) {
+                    Ok(_) | Err(Error::SdoAbort { .. }) => {
+                        back.insert(*n, true);
+                        break;
+                    }
+                    Err(e) if no_answer(&e) => continue,
+                    Err(e) => return Err(e),
+                }
+            }
+        }
+    }
+    Ok(back)
+}
+
+/// A listed node that did not answer the probe: given its node-id over LSS when asked (and
+/// its DCF names an LSS identity), else failed.
+fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
+    let mut row = empty_row(listed);
+    let fail = |mut row: NodeApplied, e: Error| {
+        row.result = format!("failed: {e}");
+        (row, Some(e))
+    };
+    match listed.lss_identity() {
+        Some(id) if o.assign && o.config.dry_run => {
+            row.assigned = Some(id.to_string());
+            row.result = format!("would be looked for over LSS ({id}) and given node-id {}", listed.node);
+            row.ok = true;
+            (row, None)
+        }
+        Some(id) if o.assign => match assign(bus, &id, listed.node, o) {
+            Ok(()) => {
+                row.assigned = Some(id.to_string());
+                row.ok = true;
+                (row, None)
+            }
+            Err(e) => fail(row, e),
+        },
+        Some(id) => {
+            let what = Service::ProjectNode { lss: Some(id) };
+            let e = Error::NoAnswer { node: listed.node, what, waited: o.window };
+            fail(row, e)
+        }
+        None => {
+            let what = Service::ProjectNode { lss: None };
+            let e = Error::NoAnswer { node: listed.node, what, waited: o.window };
+            fail(row, e)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::{BusAddr, OpenOptions};
+
+    fn demo() -> Box<dyn Bus> {
+        let mut opts = OpenOptions::new(Duration::from_millis(500));
+        opts.ephemeral = true;
+        crate::bus::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap()
+    }
+
+    fn example() -> Loaded {
+        load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sim-machine/nodelist.cpj")).unwrap()
+    }
+
+    /// Sets the stop flag once `after` nodes are done (or begun, one after the other), in
+    /// the applying phase (the probe before it has its own).
+    struct StopAfter {
+        flag: &'static AtomicBool,
+        after: u64,
+        applying: bool,
+    }
+
+    impl Progress for StopAfter {
+        fn start(&mut self, what: &str, _: u64) {
+            self.applying = what == "applying";
+        }
+        fn advance(&mut self, done: u64) {
+            if self.applying && done >= self.after {
+                self.flag.store(true, Ordering::SeqCst);
+            }
+        }
+    }
+
+    /// An interruption stops between nodes, one after the other or several at once: the
+    /// nodes under way finish, the others are reported as not begun, and the run ends as
+    /// interrupted.
+    #[test]
+    fn an_interruption_stops_between_nodes_and_says_which_were_not_done() {
+        for jobs in [1, 2] {
+            let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+            let loaded = example();
+            let mut o = ApplyOptions {
+                config: config::ApplyOptions::new(Duration::from_millis(500)),
+                assign: false,
+                window: Duration::from_millis(100),
+                boot_wait: Duration::from_secs(1),
+                jobs,
+                reset: false,
+                interrupted: Some(flag),
+            };
+            o.config.verify = true;
+            let mut bus = demo();
+            let report = apply(bus.as_mut(), &loaded, &o, &mut StopAfter { flag, after: 1, applying: false }).unwrap();
+            let done: Vec<u8> = report.nodes.iter().filter(|n| n.ok).map(|n| n.node).collect();
+            let not_begun: Vec<u8> =
+                report.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).map(|n| n.node).collect();
+            // The demo network has nodes 1, 5, 10 and 32; 20 to 24 wait for --assign.
+            assert_eq!(done, [1, 5], "--jobs {jobs}: {:?}", report.nodes.iter().map(|n| &n.result).collect::<Vec<_>>());
+            assert_eq!(not_begun, [10, 32], "--jobs {jobs}");
+            assert!(matches!(report.failure, Some(Error::Interrupted)));
+            assert!(!report.ok);
+        }
+    }
+}
