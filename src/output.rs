@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 mod lss;
+pub(crate) mod network;
 mod nodes;
 mod records;
 mod reports;

@@ -1,0 +1,187 @@
+//! How the network project reports look: tables for people, JUnit for CI.
+
+use super::{Human, Report, TestCase, TestSuite};
+use crate::ops::network::{Applied, Checked, Dumped, PROJECT_FILE};
+use std::path::Path;
+
+pub(crate) struct DumpReport<'a> {
+    pub dumped: &'a Dumped,
+    pub dir: &'a Path,
+}
+
+impl serde::Serialize for DumpReport<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        #[derive(serde::Serialize)]
+        struct Json<'a> {
+            dir: String,
+            project: String,
+            #[serde(flatten)]
+            dumped: &'a Dumped,
+        }
+        Json {
+            dir: self.dir.display().to_string(),
+            project: self.dir.join(PROJECT_FILE).display().to_string(),
+            dumped: self.dumped,
+        }
+        .serialize(s)
+    }
+}
+
+impl Report for DumpReport<'_> {
+    fn human(&self) -> Human {
+        let rows = self
+            .dumped
+            .nodes
+            .iter()
+            .map(|n| vec![n.node.to_string(), n.name.clone(), n.file.clone(), n.objects.to_string()]);
+        Human::Table { headers: vec!["node", "name", "file", "objects"], rows: rows.collect(), when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let mut notes = vec![format!(
+            "{} and {} DCF(s) written from {}",
+            self.dir.join(PROJECT_FILE).display(),
+            self.dumped.nodes.len(),
+            self.dumped.bus
+        )];
+        if self.dumped.unconfigured > 0 {
+            notes.push(format!(
+                "{} device(s) without a node-id answered LSS: not in the project (canctl lss assign numbers them)",
+                self.dumped.unconfigured
+            ));
+        }
+        notes
+    }
+}
+
+fn node_label(node: u8, name: &str) -> String {
+    if name.is_empty() {
+        format!("node {node}")
+    } else {
+        format!("node {node} ({name})")
+    }
+}
+
+impl Report for Checked {
+    fn human(&self) -> Human {
+        let mut rows = Vec::new();
+        for n in &self.nodes {
+            for c in &n.checks {
+                let result = if c.ok { "ok" } else { "DIFFERS" };
+                rows.push(vec![
+                    n.node.to_string(),
+                    n.name.clone(),
+                    c.check.to_string(),
+                    result.into(),
+                    c.detail.clone(),
+                ]);
+            }
+        }
+        for u in &self.unlisted {
+            let t = u.device_type.map_or("-".to_string(), |t| format!("device type 0x{t:08X}"));
+            rows.push(vec![
+                u.node.to_string(),
+                "-".into(),
+                "listed".into(),
+                "DIFFERS".into(),
+                format!("answers, but the project does not list it ({t})"),
+            ]);
+        }
+        if self.unconfigured > 0 {
+            rows.push(vec![
+                "-".into(),
+                "-".into(),
+                "lss".into(),
+                "DIFFERS".into(),
+                format!("{} device(s) wait for a node-id (network apply --assign, or lss assign)", self.unconfigured),
+            ]);
+        }
+        Human::Table { headers: vec!["node", "name", "check", "result", "detail"], rows, when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let name = self.net_name.clone().unwrap_or_else(|| self.project.clone());
+        if self.ok {
+            vec![format!("{name}: all {} node(s) as the project says", self.nodes.len())]
+        } else {
+            let failed = self.nodes.iter().filter(|n| n.checks.iter().any(|c| !c.ok)).count();
+            vec![format!(
+                "{name}: {failed} of {} node(s) differ, {} unlisted node(s), {} device(s) without a node-id",
+                self.nodes.len(),
+                self.unlisted.len(),
+                self.unconfigured
+            )]
+        }
+    }
+
+    fn junit(&self) -> Option<TestSuite> {
+        let mut cases = Vec::new();
+        for n in &self.nodes {
+            for c in &n.checks {
+                let failure = (!c.ok).then(|| format!("{}: {}", node_label(n.node, &n.name), c.check));
+                cases.push(TestCase {
+                    class: node_label(n.node, &n.name),
+                    name: c.check.to_string(),
+                    detail: c.detail.clone(),
+                    failure,
+                });
+            }
+        }
+        let unlisted: Vec<String> = self.unlisted.iter().map(|u| u.node.to_string()).collect();
+        cases.push(TestCase {
+            class: "network".into(),
+            name: "no unlisted nodes".into(),
+            detail: if unlisted.is_empty() {
+                "every node that answers is in the project".into()
+            } else {
+                format!("node(s) {} answer but are not in the project", unlisted.join(", "))
+            },
+            failure: (!unlisted.is_empty()).then(|| format!("{} unlisted node(s)", unlisted.len())),
+        });
+        cases.push(TestCase {
+            class: "network".into(),
+            name: "no device without a node-id".into(),
+            detail: format!("{} device(s) answered LSS identify non-configured", self.unconfigured),
+            failure: (self.unconfigured > 0).then(|| format!("{} device(s) wait for a node-id", self.unconfigured)),
+        });
+        let name = self.net_name.clone().unwrap_or_else(|| self.project.clone());
+        Some(TestSuite { name: format!("canctl network check: {name}"), cases })
+    }
+}
+
+impl Report for Applied {
+    fn human(&self) -> Human {
+        let rows = self
+            .nodes
+            .iter()
+            .map(|n| vec![n.node.to_string(), n.name.clone(), n.written.to_string(), n.result.clone()]);
+        Human::Table { headers: vec!["node", "name", "written", "result"], rows: rows.collect(), when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let verb = if self.dry_run { "would be written" } else { "written" };
+        let mut notes = Vec::new();
+        if self.dry_run {
+            let would: usize = self
+                .nodes
+                .iter()
+                .map(|n| n.objects.iter().filter(|c| c.result.starts_with("would write")).count())
+                .sum();
+            notes.push(format!(
+                "dry run: {would} object(s) {verb} on {} node(s); nothing was written",
+                self.nodes.len()
+            ));
+        } else if self.written == 0 && self.ok {
+            notes.push(format!("the network already matches {}: 0 objects written", self.project));
+        } else {
+            notes.push(format!("{} object(s) {verb} on {} node(s)", self.written, self.nodes.len()));
+        }
+        let not_begun = self.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).count();
+        if not_begun > 0 {
+            notes.push(format!(
+                "interrupted: {not_begun} node(s) not begun; the same command finishes the job (only what differs is written)"
+            ));
+        }
+        notes
+    }
+}
