@@ -280,26 +280,12 @@ fn stream_pdo_by_polling_through_the_gateway() {
 /// stops at its safe point, puts node 5 back as it was, and ends with exit 130.
 #[test]
 fn a_signal_during_a_serial_wait_is_an_interruption_not_a_link_failure() {
-    use nix::sys::signal::{kill, Signal};
-    use nix::unistd::Pid;
-    use std::io::BufRead;
+    use nix::sys::signal::Signal;
     for (framing, signal) in [(FRAMINGS[0], Signal::SIGINT), (FRAMINGS[1], Signal::SIGTERM)] {
         let sim = Sim::new();
         let dev = DeviceSide::start(&sim, framing, &[]);
-        let mut child = dev
-            .command(&["stream-pdo", "5", "--start", "--interval", "5ms", "--format", "csv"])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
-        let mut line = String::new();
-        for _ in 0..5 {
-            assert!(stdout.read_line(&mut line).unwrap() > 0, "{framing}: it streamed before the signal");
-        }
-        kill(Pid::from_raw(child.id() as i32), signal).unwrap();
-        std::io::Read::read_to_string(&mut stdout, &mut line).unwrap();
-        let r = common::finish(child.wait_with_output().unwrap());
+        let stream = dev.command(&["stream-pdo", "5", "--start", "--interval", "5ms", "--format", "csv"]);
+        let r = common::signal_after_lines(stream, 5, signal);
         assert_eq!(r.code, 130, "{framing} {signal}: {}", r.stderr);
         assert!(dev.run(&["nmt", "state", "5"]).ok().stdout.contains("pre-operational"), "{framing}");
     }

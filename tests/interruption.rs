@@ -326,27 +326,13 @@ fn drive_mapping(sim: &common::Sim) -> Vec<String> {
 #[cfg(unix)]
 #[test]
 fn stream_pdo_map_terminated_puts_the_mapping_back() {
-    use nix::sys::signal::{kill, Signal};
-    use nix::unistd::Pid;
-    use std::io::BufRead;
     let sim = common::Sim::new();
     let before = drive_mapping(&sim);
-    let mut child = sim
-        .command(&["stream-pdo", "1", "--start", "--map", "6064:0,606C:0", "--event", "10", "--format", "csv"])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
-    let mut line = String::new();
+    let stream =
+        sim.command(&["stream-pdo", "1", "--start", "--map", "6064:0,606C:0", "--event", "10", "--format", "csv"]);
     // The CSV header and a first record: the new mapping is in use.
-    for _ in 0..2 {
-        assert!(stdout.read_line(&mut line).unwrap() > 0, "no stream");
-    }
-    assert!(line.contains("Position actual value"), "{line}");
-    kill(Pid::from_raw(child.id() as i32), Signal::SIGTERM).unwrap();
-    let _ = std::io::Read::read_to_string(&mut stdout, &mut line);
-    let r = common::finish(child.wait_with_output().unwrap());
+    let r = common::signal_after_lines(stream, 2, nix::sys::signal::Signal::SIGTERM);
+    assert!(r.stdout.contains("Position actual value"), "{}", r.stdout);
     assert_eq!(r.code, 130, "{}", r.stderr);
     assert_eq!(drive_mapping(&sim), before);
     assert!(sim.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));

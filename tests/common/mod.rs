@@ -202,3 +202,21 @@ pub fn run_within(mut c: Command, limit: std::time::Duration) -> Run {
     }
     finish(child.wait_with_output().unwrap())
 }
+
+/// Start `c`, wait until it has written `lines` lines on stdout (it is under way), send it
+/// `signal`, and return how it ended with everything it wrote.
+#[cfg(unix)]
+pub fn signal_after_lines(mut c: Command, lines: usize, signal: nix::sys::signal::Signal) -> Run {
+    use std::io::{BufRead, Read};
+    let mut child = c.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+    let mut seen = String::new();
+    for _ in 0..lines {
+        assert!(stdout.read_line(&mut seen).unwrap() > 0, "{c:?} ended before {lines} line(s):\n{seen}");
+    }
+    nix::sys::signal::kill(nix::unistd::Pid::from_raw(child.id() as i32), signal).unwrap();
+    stdout.read_to_string(&mut seen).unwrap();
+    let mut out = child.wait_with_output().unwrap();
+    out.stdout = seen.into_bytes();
+    finish(out)
+}

@@ -449,27 +449,10 @@ pub fn map_reconfigures_for_the_session_and_restores(bus: &dyn Under) {
 }
 
 pub fn ctrl_c_restores_and_exits_130(bus: &dyn Under) {
-    use nix::sys::signal::{kill, Signal};
-    use nix::unistd::Pid;
     let before = mapping(bus);
-    let mut child = bus
-        .command(&["stream-pdo", "1", "--start", "--map", "6064:0", "--event", "10", "--format", "csv"])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    let stream = bus.command(&["stream-pdo", "1", "--start", "--map", "6064:0", "--event", "10", "--format", "csv"]);
     // Interrupt once it is streaming (the header and a few rows are out).
-    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
-    let mut rows = 0;
-    let mut line = String::new();
-    while rows < 5 && std::io::BufRead::read_line(&mut stdout, &mut line).unwrap() > 0 {
-        rows += 1;
-        line.clear();
-    }
-    assert_eq!(rows, 5, "it streamed before the interrupt");
-    kill(Pid::from_raw(child.id() as i32), Signal::SIGINT).unwrap();
-    std::io::Read::read_to_string(&mut stdout, &mut line).unwrap();
-    let r = super::finish(child.wait_with_output().unwrap());
+    let r = super::signal_after_lines(stream, 5, nix::sys::signal::Signal::SIGINT);
     assert_eq!(r.code, 130, "{}", r.stderr);
     assert_eq!(mapping(bus), before);
     assert!(bus.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
