@@ -109,7 +109,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
 fn read_dcf(path: &Path) -> crate::Result<Dcf> {
     let dcf = Dcf::read(path)?;
     for w in dcf.warnings() {
-        eprintln!("canctl: warning: {}", crate::output::terminal_safe_lines(w));
+        tracing::warn!("{w}");
     }
     Ok(dcf)
 }

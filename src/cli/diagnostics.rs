@@ -62,14 +62,16 @@ where
         if meta.target() == FRAMES || meta.target() == BYTES {
             return writeln!(w, "{}", fields.message);
         }
+        // Messages carry what devices and files say: nothing in them may drive the terminal.
+        let message = crate::output::terminal_safe_lines(&fields.message);
         match *meta.level() {
-            Level::ERROR => write!(w, "canctl: error: {}", fields.message)?,
-            Level::WARN => write!(w, "canctl: warning: {}", fields.message)?,
-            Level::INFO => write!(w, "canctl: {}", fields.message)?,
+            Level::ERROR => write!(w, "canctl: error: {message}")?,
+            Level::WARN => write!(w, "canctl: warning: {message}")?,
+            Level::INFO => write!(w, "canctl: {message}")?,
             // Detail for whoever reads -vv: where it came from, and the event's own fields.
             _ => {
                 let target = meta.target().strip_prefix("canctl::").unwrap_or(meta.target());
-                write!(w, "canctl: {target}: {}", fields.message)?;
+                write!(w, "canctl: {target}: {message}")?;
                 for (name, value) in &fields.rest {
                     write!(w, " {name}={value}")?;
                 }

@@ -14,6 +14,21 @@ pub struct EdsFile {
     pub path: PathBuf,
 }
 
+/// `NODE=PATH` (a node's file) or `PATH` (every node's): `--eds` and canctl.toml's `eds`.
+impl std::str::FromStr for EdsFile {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<EdsFile, String> {
+        match s.split_once('=') {
+            Some((node, path)) if !node.is_empty() && node.chars().all(|c| c.is_ascii_digit()) => {
+                let node = crate::settings::parse_node(node)?;
+                Ok(EdsFile { node: Some(node), path: PathBuf::from(path) })
+            }
+            _ => Ok(EdsFile { node: None, path: PathBuf::from(s) }),
+        }
+    }
+}
+
 #[derive(Default)]
 pub struct Dictionaries {
     files: Vec<(Option<u8>, Eds)>,
@@ -76,6 +91,15 @@ impl Dictionaries {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn eds_arguments() {
+        let a: EdsFile = "5=sensors/mh.eds".parse().unwrap();
+        assert_eq!((a.node, a.path), (Some(5), PathBuf::from("sensors/mh.eds")));
+        assert_eq!("mh.eds".parse::<EdsFile>().unwrap().node, None);
+        assert_eq!("C:=odd".parse::<EdsFile>().unwrap().node, None);
+        assert!("200=x.eds".parse::<EdsFile>().is_err());
+    }
 
     #[test]
     fn near_misses_are_suggested() {
