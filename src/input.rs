@@ -23,9 +23,9 @@ pub const VALUE_IDLE_LIMIT: Duration = Duration::from_secs(10);
 pub enum InputError {
     #[error("cannot read {path}: {source}")]
     Io { path: String, source: std::io::Error },
-    #[error("{path} is larger than {}, the limit for {what}", size_text(*.limit))]
+    #[error("{path}: larger than {}, the limit for {what}", size_text(*.limit))]
     TooLarge { path: String, limit: u64, what: &'static str },
-    #[error("{path} is {kind}, not a regular file: {what} must be a file")]
+    #[error("{path}: {kind}, not a regular file ({what} must be a file)")]
     NotRegular { path: String, kind: &'static str, what: &'static str },
     #[error("{path} sent nothing for {} s: given up (a pipe or device needs a writer)", .idle.as_secs_f64())]
     Idle { path: String, idle: Duration },

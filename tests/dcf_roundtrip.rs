@@ -78,17 +78,17 @@ fn a_fifo_or_device_as_a_dcf_or_eds_is_refused_at_once() {
     let run = run_bounded(&sim, &["config", "diff", "10", f]);
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(
-        run.stderr.contains(&format!("{f} is a FIFO, not a regular file: an EDS or DCF file must be a file")),
+        run.stderr.contains(&format!("{f}: a FIFO, not a regular file (an EDS or DCF file must be a file)")),
         "{}",
         run.stderr
     );
     let run = run_bounded(&sim, &["config", "apply", "10", "/dev/zero"]);
     assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("/dev/zero is a character device, not a regular file"), "{}", run.stderr);
+    assert!(run.stderr.contains("/dev/zero: a character device, not a regular file"), "{}", run.stderr);
     let eds = format!("10={f}");
     let run = run_bounded(&sim, &["--eds", &eds, "sdo", "read", "10", "1017"]);
     assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("is a FIFO"), "{}", run.stderr);
+    assert!(run.stderr.contains(": a FIFO, not a regular file"), "{}", run.stderr);
 }
 
 #[test]
@@ -99,7 +99,7 @@ fn an_oversized_dcf_is_refused_naming_the_limit() {
     std::fs::File::create(&big).unwrap().set_len(canctl::input::MAX_EDS_BYTES + 1).unwrap();
     let run = run_bounded(&sim, &["config", "diff", "10", big.to_str().unwrap()]);
     assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("big.dcf is larger than 16 MiB, the limit for an EDS or DCF file"), "{}", run.stderr);
+    assert!(run.stderr.contains("big.dcf: larger than 16 MiB, the limit for an EDS or DCF file"), "{}", run.stderr);
 }
 
 #[test]
@@ -107,7 +107,7 @@ fn an_endless_value_file_stops_at_the_limit() {
     let sim = Sim::new();
     let run = run_bounded(&sim, &["sdo", "write", "10", "5FF0:14", "@/dev/zero", "--type", "d"]);
     assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("/dev/zero is larger than 64 MiB, the limit for a value file"), "{}", run.stderr);
+    assert!(run.stderr.contains("/dev/zero: larger than 64 MiB, the limit for a value file"), "{}", run.stderr);
 }
 
 mod properties {
@@ -234,7 +234,7 @@ fn standard_input_as_a_value_is_bounded_too() {
     assert_eq!(sim.run(&["sdo", "read", "10", "5FF0:13", "--type", "os"]).ok().stdout.trim(), "010203");
     let run = run_with_stdin(vec![0; canctl::input::MAX_VALUE_BYTES as usize + 1]);
     assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("standard input is larger than 64 MiB, the limit for a value file"), "{}", run.stderr);
+    assert!(run.stderr.contains("standard input: larger than 64 MiB, the limit for a value file"), "{}", run.stderr);
 }
 
 #[test]

@@ -16,7 +16,7 @@ fn a_file_over_the_limit_is_refused_naming_the_limit() {
     let mut f = tempfile::NamedTempFile::new().unwrap();
     f.write_all(&[b'x'; 17]).unwrap();
     let path = f.path().display().to_string();
-    let want = format!("{path} is larger than 16 bytes, the limit for a test file");
+    let want = format!("{path}: larger than 16 bytes, the limit for a test file");
     assert_eq!(read_regular_file(f.path(), SMALL).unwrap_err().to_string(), want);
     assert_eq!(read_value_file(&path, SMALL, Duration::from_secs(5)).unwrap_err().to_string(), want);
 }
@@ -38,19 +38,19 @@ fn a_fifo_or_a_device_is_not_a_dictionary_file() {
     let e = read_regular_file(&path, EDS).unwrap_err();
     assert_eq!(
         e.to_string(),
-        format!("{} is a FIFO, not a regular file: an EDS or DCF file must be a file", path.display())
+        format!("{}: a FIFO, not a regular file (an EDS or DCF file must be a file)", path.display())
     );
     let e = read_regular_file(Path::new("/dev/zero"), EDS).unwrap_err();
-    assert!(e.to_string().contains("is a character device, not a regular file"), "{e}");
+    assert!(e.to_string().contains(": a character device, not a regular file"), "{e}");
     let e = read_regular_file(dir.path(), EDS).unwrap_err();
-    assert!(e.to_string().contains("is a directory"), "{e}");
+    assert!(e.to_string().contains(": a directory, not a regular file"), "{e}");
 }
 
 #[cfg(unix)]
 #[test]
 fn an_endless_device_as_a_value_stops_at_the_limit() {
     let e = read_value_file("/dev/zero", SMALL, Duration::from_secs(60)).unwrap_err();
-    assert_eq!(e.to_string(), "/dev/zero is larger than 16 bytes, the limit for a test file");
+    assert_eq!(e.to_string(), "/dev/zero: larger than 16 bytes, the limit for a test file");
 }
 
 #[cfg(unix)]
