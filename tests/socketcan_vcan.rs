@@ -117,7 +117,7 @@ fn a_missing_or_down_interface_is_a_link_failure() {
 
 #[test]
 fn bus_off_during_a_command_is_exit_5() {
-    use socketcan::{CanErrorFrame, CanFrame, CanSocket, EmbeddedFrame, Frame, Socket};
+    use socketcan::{CanErrorFrame, CanFrame, CanSocket, Socket};
     let Some(bus) = OnVcan::start() else { return };
     // The test's own socket sees canctl's requests. It is open before canctl starts, so
     // none is missed.
@@ -136,15 +136,7 @@ fn bus_off_during_a_command_is_exit_5() {
     // is reported only once canctl is mid-transfer, i.e. has asked for a segment
     // (0x60/0x70 on 0x601): a fixed pause was sometimes too short in the emulated VM, and
     // canctl then found no device answering (exit 3).
-    let give_up = std::time::Instant::now() + std::time::Duration::from_secs(60);
-    loop {
-        assert!(std::time::Instant::now() < give_up, "canctl never asked for a segment");
-        if let Ok(CanFrame::Data(f)) = sock.read_frame() {
-            if f.raw_id() == 0x601 && matches!(f.data().first(), Some(0x60 | 0x70)) {
-                break;
-            }
-        }
-    }
+    wait_for_a_segment_request(&sock);
     let bus_off = CanErrorFrame::new_error(nix::libc::CAN_ERR_BUSOFF, &[0; 8]).unwrap();
     sock.write_frame(&CanFrame::Error(bus_off)).unwrap();
     let r = common::finish(child.wait_with_output().unwrap());
@@ -179,7 +171,7 @@ fn log_frames_on_socketcan_names_the_interface() {
 /// (`-q` silences it), and the command goes on.
 #[test]
 fn an_error_frame_is_one_warning_that_quiet_silences() {
-    use socketcan::{CanErrorFrame, CanFrame, CanSocket, EmbeddedFrame, Frame, Socket};
+    use socketcan::{CanErrorFrame, CanFrame, CanSocket, Socket};
     let Some(bus) = OnVcan::start() else { return };
     let sock = CanSocket::open(IFACE).unwrap();
     sock.set_read_timeout(std::time::Duration::from_millis(200)).unwrap();
@@ -192,15 +184,7 @@ fn an_error_frame_is_one_warning_that_quiet_silences() {
         let child = bus.command(&args).arg(&out).stderr(Stdio::piped()).stdout(Stdio::null()).spawn().unwrap();
         // Mid-transfer (canctl has asked for a segment), the controller reports receive
         // errors: error passive, twice.
-        let give_up = std::time::Instant::now() + std::time::Duration::from_secs(60);
-        loop {
-            assert!(std::time::Instant::now() < give_up, "canctl never asked for a segment");
-            if let Ok(CanFrame::Data(f)) = sock.read_frame() {
-                if f.raw_id() == 0x601 && matches!(f.data().first(), Some(0x60 | 0x70)) {
-                    break;
-                }
-            }
-        }
+        wait_for_a_segment_request(&sock);
         let passive = [0, nix::libc::CAN_ERR_CRTL_RX_PASSIVE as u8, 0, 0, 0, 0, 0, 0];
         for _ in 0..2 {
             let frame = CanErrorFrame::new_error(nix::libc::CAN_ERR_CRTL, &passive).unwrap();
@@ -211,5 +195,21 @@ fn an_error_frame_is_one_warning_that_quiet_silences() {
         assert_eq!(std::fs::read(&out).unwrap().len(), 65536);
         let warnings = r.stderr.lines().filter(|l| l.starts_with("canctl: warning: vcan0: ")).count();
         assert_eq!(warnings, if quiet { 0 } else { 1 }, "quiet {quiet}: {}", r.stderr);
+    }
+}
+
+/// Read the test's own socket until canctl asks node 1 for an upload segment (0x60/0x70 on
+/// 0x601): it is then mid-transfer. Bounded by 60 s, which only a canctl that never gets
+/// there reaches.
+fn wait_for_a_segment_request(sock: &socketcan::CanSocket) {
+    use socketcan::{CanFrame, EmbeddedFrame, Frame, Socket};
+    let give_up = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    loop {
+        assert!(std::time::Instant::now() < give_up, "canctl never asked for a segment");
+        if let Ok(CanFrame::Data(f)) = sock.read_frame() {
+            if f.raw_id() == 0x601 && matches!(f.data().first(), Some(0x60 | 0x70)) {
+                return;
+            }
+        }
     }
 }
