@@ -489,7 +489,7 @@ mod tests {
         // Seed 003's TPDO: statusword, position (32), limit switches and inputs (16).
         assert_eq!(bits16(&[0x37, 0x06, 1, 2, 3, 4, 5, 6], 0), 0x0637);
         assert_eq!(bits16(&[1, 2, 3, 4, 0x37, 0x06], 32), 0x0637);
-        assert_eq!(bits16(&[0xF0, 0x73, 0x60], 4), 0x0637);
+        assert_eq!(bits16(&[0x7F, 0x63, 0xF0], 4), 0x0637);
     }
 
     #[test]
