@@ -2,6 +2,7 @@
 //! runs through the same client code as on hardware.
 
 pub mod bridge;
+pub mod cia402_drive;
 pub mod device;
 pub mod epos2_device;
 #[cfg(unix)]
@@ -399,6 +400,12 @@ impl SimLink {
             }
         }
         Ok(())
+    }
+
+    /// Let the devices do what they do by themselves up to now (a fault strikes, a drive's
+    /// fault reaction ends), for a master that reads a device's objects directly.
+    pub fn run_until_now(&mut self) {
+        self.advance();
     }
 
     /// Run the bus up to now: the devices' own frames queue, frames that have left are
