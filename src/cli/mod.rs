@@ -5,6 +5,7 @@ mod complete;
 mod config;
 mod diagnostics;
 mod docs;
+mod errors;
 mod interrupt;
 mod lss;
 mod monitor;
@@ -147,6 +148,7 @@ pub enum Command {
   canctl --bus sim network apply machine/ --assign"
     )]
     Network(network::NetworkCommand),
+    Errors(errors::ErrorsArgs),
     Sim(sim::SimArgs),
     /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
     #[command(after_help = "Examples:\n  canctl settings\n  canctl --bus sim settings --format json")]
@@ -273,6 +275,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::StreamPdo(a) => with_bus(&ctx, g, |bus| stream::run(&ctx, bus, a)),
         Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),
         Command::Network(cmd) => with_bus(&ctx, g, |bus| network::run(&ctx, bus, cmd)),
+        Command::Errors(a) => with_bus(&ctx, g, |bus| errors::run(&ctx, bus, a)),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Settings => Ok(ctx.out.report(&settings.report())?),
         Command::Completions(args) => docs::completions(args),

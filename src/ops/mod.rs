@@ -5,6 +5,7 @@
 
 pub mod config;
 pub mod dictionaries;
+pub mod errors;
 pub mod lss;
 pub mod monitor;
 pub mod network;
