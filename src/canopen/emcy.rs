@@ -86,7 +86,7 @@ enum Manual {
 impl Origin {
     /// Whether the device type names the CiA 402 drive profile.
     pub fn is_drive(&self) -> bool {
-        self.device_type.is_some_and(|t| t & 0xFFFF == 402)
+        self.device_type.is_some_and(crate::canopen::cia402::is_drive)
     }
 
     fn manual(&self) -> Option<Manual> {
