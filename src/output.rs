@@ -37,7 +37,7 @@ pub enum FormatArg {
     Json,
     /// A header row and one row per record.
     Csv,
-    /// JUnit XML, one test case per node and check (network check only).
+    /// JUnit XML, one test case per node and check (network check, health).
     Junit,
 }
 
