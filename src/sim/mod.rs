@@ -2,6 +2,7 @@
 //! runs through the same client code as on hardware.
 
 pub mod bridge;
+pub mod cia402_drive;
 pub mod device;
 pub mod epos2_device;
 #[cfg(unix)]
