@@ -208,6 +208,17 @@ mod tests {
     }
 
     #[test]
+    fn a_device_that_refuses_to_clear_is_reported_with_its_abort() {
+        // The module's 11th answer is the one to the write: six reads (its 9-byte name in
+        // three frames), then the two entries.
+        let refusing = SimConfig::instant().fault("10:abort=0x08000020@11".parse().unwrap());
+        let mut bus = Master::new(SimLink::with_config(refusing), "sim".into());
+        let e = errors(&mut bus, 10, true, T).unwrap_err();
+        assert!(matches!(e, Error::SdoAbort { node: 10, obj: HISTORY_COUNT, code: 0x0800_0020 }), "{e}");
+        assert_eq!(e.exit_code(), 4);
+    }
+
+    #[test]
     fn a_node_that_does_not_answer_is_a_timeout() {
         let mut bus = sim();
         assert!(errors(&mut bus, 77, false, Duration::from_millis(50)).unwrap_err().is_timeout());

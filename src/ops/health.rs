@@ -427,4 +427,70 @@ mod tests {
         assert_eq!(watch_for(std::iter::empty()), MIN_WATCH);
         assert_eq!(watch_for([Duration::from_secs(60)].into_iter()), MAX_WATCH);
     }
+
+    fn sensor() -> scan::Node {
+        scan::Node {
+            node: 5,
+            device_type: Some(0x000A_0196),
+            vendor_id: Some(0x40),
+            product_code: Some(0x4378_7800),
+            revision: None,
+            serial: None,
+            name: Some("C01".into()),
+            state: Some(nmt::State::Operational),
+            state_from: "heartbeat",
+            heartbeat_ms: Some(40),
+        }
+    }
+
+    fn clean() -> Read {
+        Read { register: Ok(vec![0]), history: Ok(vec![0]), statusword: None }
+    }
+
+    fn beating() -> Watched {
+        Watched {
+            arrivals: (0..7).map(|k| (5 + 40 * k) * MS).collect(),
+            state: Some(nmt::State::Operational),
+            emcy: vec![],
+        }
+    }
+
+    fn failed(h: &NodeHealth) -> Vec<&str> {
+        h.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect()
+    }
+
+    #[test]
+    fn an_emcy_with_an_error_during_the_watch_fails_the_node_an_error_reset_does_not() {
+        let h = judge_node(&sensor(), clean(), Some(beating()), 300 * MS, None);
+        assert!(h.ok, "{:?}", h.checks);
+        let mut w = beating();
+        w.emcy.push(Emergency { code: 0x5000, register: 0x81, vendor: [0; 5] });
+        let h = judge_node(&sensor(), clean(), Some(w), 300 * MS, None);
+        assert_eq!(failed(&h), ["emcy"]);
+        // The sensor's manual names its code (seed 001).
+        assert!(h.checks.iter().any(|c| c.detail.contains("0x5000 Device hardware: no stop pulses")), "{:?}", h.checks);
+        let mut w = beating();
+        w.emcy.push(Emergency { code: 0x0000, register: 0, vendor: [0; 5] });
+        assert!(judge_node(&sensor(), clean(), Some(w), 300 * MS, None).ok);
+    }
+
+    #[test]
+    fn a_faulted_drive_and_a_wrong_state_fail_their_checks() {
+        let drive = scan::Node { device_type: Some(0x0002_0192), heartbeat_ms: Some(0), ..sensor() };
+        let read = Read { statusword: Some(Ok(vec![0x08, 0x05])), ..clean() };
+        let h = judge_node(&drive, read, Some(Watched::default()), 300 * MS, Some(nmt::State::PreOperational));
+        assert_eq!(failed(&h), ["nmt", "drive"]);
+        assert_eq!(h.drive_state, Some(cia402::State::Fault));
+        let read = Read { statusword: Some(Ok(vec![0x40, 0x05])), ..clean() };
+        assert!(judge_node(&drive, read, None, 300 * MS, None).ok);
+        // A node without 0x1003 is fine; one whose 0x1001 does not answer is not.
+        let read =
+            Read { history: Err(Error::SdoAbort { node: 5, obj: HISTORY_COUNT, code: abort::NO_OBJECT }), ..clean() };
+        assert!(judge_node(&sensor(), read, Some(beating()), 300 * MS, None).ok);
+        let read = Read {
+            register: Err(Error::SdoAbort { node: 5, obj: ERROR_REGISTER, code: abort::GENERAL_ERROR }),
+            ..clean()
+        };
+        assert_eq!(failed(&judge_node(&sensor(), read, Some(beating()), 300 * MS, None)), ["error register"]);
+    }
 }
