@@ -107,3 +107,25 @@ fn junit_has_a_case_per_node_and_check() {
     assert_eq!(scan.code, 2);
     assert!(scan.stderr.contains("canctl network check, canctl health"), "{}", scan.stderr);
 }
+
+/// Through an EPOS2, which passes on no traffic: the states by remote request, no watch,
+/// and the summary says what was not watched.
+#[test]
+fn through_an_epos2_nothing_is_watched_and_it_says_so() {
+    let sim = Sim::new();
+    let dev = common::DeviceSide::start(&sim, "--epos2-usb", &[]);
+    let run = dev.run(&["health", "--format", "json"]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    assert_eq!(report["watched_ms"], 0);
+    let sensor = node(&report, 5);
+    assert_eq!(sensor["nmt"], "pre-operational");
+    let heartbeat = sensor["checks"].as_array().unwrap().iter().find(|c| c["check"] == "heartbeat").unwrap();
+    assert_eq!(heartbeat["detail"], "every 40 ms (not watched: this link shows no traffic)");
+    let human = dev.run(&["health"]).ok();
+    assert!(
+        human.stderr.contains("all 4 node(s) healthy (no traffic watched: this link shows none)"),
+        "{}",
+        human.stderr
+    );
+}
