@@ -129,3 +129,18 @@ fn through_an_epos2_nothing_is_watched_and_it_says_so() {
         human.stderr
     );
 }
+
+/// An EMCY sent while health watches fails its node, with the code's meaning.
+#[test]
+fn an_emcy_during_the_watch_is_named() {
+    let sim = Sim::new();
+    // The sensor's magnet goes missing 3 s from now: well inside a 10 s watch that begins
+    // once the scan is done.
+    sim.run(&["sdo", "write", "5", "5FFE", "3000", "--type", "u16"]).ok();
+    let run = sim.run(&["health", "--watch", "10s", "--format", "json"]);
+    assert_eq!(run.code, 6, "{}\n{}", run.stdout, run.stderr);
+    let sensor = node(&run.json(), 5).clone();
+    assert!(failed(&sensor).contains(&"emcy"), "{sensor}");
+    assert_eq!(sensor["emcy"][0]["code"], "0x5000");
+    assert!(sensor["emcy"][0]["meaning"].as_str().unwrap().starts_with("Device hardware: no stop pulses"), "{sensor}");
+}

@@ -19,13 +19,20 @@ impl Emergency {
     /// on 0x80+node is the old "EMCY at power on" some drives send (seed 003): no EMCY.
     pub fn parse(frame: &Frame) -> Option<(u8, Emergency)> {
         let node = frame.id().checked_sub(0x080).filter(|n| (1..=127).contains(n))? as u8;
-        let d = frame.data();
-        if frame.is_remote() || d.len() != 8 {
+        if frame.is_remote() {
+            return None;
+        }
+        Some((node, Emergency::decode(frame.data())?))
+    }
+
+    /// The message in an EMCY frame's data, whatever COB-ID carried it (0x1014 may move it).
+    pub fn decode(d: &[u8]) -> Option<Emergency> {
+        if d.len() != 8 {
             return None;
         }
         let mut vendor = [0u8; 5];
         vendor.copy_from_slice(&d[3..8]);
-        Some((node, Emergency { code: u16::from_le_bytes([d[0], d[1]]), register: d[2], vendor }))
+        Some(Emergency { code: u16::from_le_bytes([d[0], d[1]]), register: d[2], vendor })
     }
 
     pub fn frame(&self, node: u8) -> Frame {

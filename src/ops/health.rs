@@ -4,7 +4,7 @@
 //! no node may send an EMCY with an error.
 
 use super::scan::{self, ScanOptions};
-use super::{sized, Progress};
+use super::{le_u32, sized, Progress};
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, Emergency, Origin};
 use crate::canopen::nmt::{self, ErrorControl};
@@ -16,6 +16,7 @@ use std::time::{Duration, Instant};
 
 const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
 const HISTORY_COUNT: ObjAddr = ObjAddr::new(0x1003, 0);
+const EMCY_COB: ObjAddr = ObjAddr::new(0x1014, 0);
 
 /// A heartbeat is late when no beat came for 1.5 periods plus this: what a consumer
 /// usually allows, and room for the master's own scheduling.
@@ -157,8 +158,14 @@ struct Watched {
     emcy: Vec<Emergency>,
 }
 
-/// Heartbeats and EMCYs of these nodes until `watch` has passed.
-fn watch_bus(bus: &mut dyn Bus, nodes: &[u8], watch: Duration) -> Result<BTreeMap<u8, Watched>> {
+/// Heartbeats and EMCYs (on each node's COB-ID, `emcy_cobs`) of these nodes until `watch`
+/// has passed.
+fn watch_bus(
+    bus: &mut dyn Bus,
+    nodes: &[u8],
+    emcy_cobs: &BTreeMap<u16, u8>,
+    watch: Duration,
+) -> Result<BTreeMap<u8, Watched>> {
     let mut seen: BTreeMap<u8, Watched> = nodes.iter().map(|n| (*n, Watched::default())).collect();
     let start = Instant::now();
     let end = start + watch;
@@ -169,8 +176,8 @@ fn watch_bus(bus: &mut dyn Bus, nodes: &[u8], watch: Duration) -> Result<BTreeMa
                 w.arrivals.push(at);
                 w.state = Some(state);
             }
-        } else if let Some((node, e)) = Emergency::parse(&f) {
-            if let Some(w) = seen.get_mut(&node) {
+        } else if let (Some(node), false) = (emcy_cobs.get(&f.id()), f.is_remote()) {
+            if let (Some(w), Some(e)) = (seen.get_mut(node), Emergency::decode(f.data())) {
                 w.emcy.push(e);
             }
         }
@@ -178,11 +185,24 @@ fn watch_bus(bus: &mut dyn Bus, nodes: &[u8], watch: Duration) -> Result<BTreeMa
     Ok(seen)
 }
 
-/// Per node: 0x1001, 0x1003:0 and, for drives, 0x6041, all nodes at once.
+/// Per node: 0x1001, 0x1003:0, 0x1014 and, for drives, 0x6041, all nodes at once.
 struct Read {
     register: Result<Vec<u8>>,
     history: Result<Vec<u8>>,
+    emcy_cob: Result<Vec<u8>>,
     statusword: Option<Result<Vec<u8>>>,
+}
+
+impl Read {
+    /// The COB-ID the node sends its EMCYs on (0x1014, else the default 0x80 + node);
+    /// `None` when it says it sends none (bit 31).
+    fn emcy_cob(&self, node: u8) -> Option<u16> {
+        match self.emcy_cob.as_ref().ok().filter(|b| b.len() >= 4).map(|b| le_u32(b)) {
+            Some(cob) if cob & 0x8000_0000 != 0 => None,
+            Some(cob) => Some((cob & 0x7FF) as u16),
+            None => Some(emcy::cob(node)),
+        }
+    }
 }
 
 fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> Result<Vec<Read>> {
@@ -191,6 +211,7 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
     for n in found {
         requests.push((n.node, ERROR_REGISTER));
         requests.push((n.node, HISTORY_COUNT));
+        requests.push((n.node, EMCY_COB));
         if is_drive(n) {
             requests.push((n.node, cia402::STATUSWORD));
         }
@@ -199,7 +220,7 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
     let mut next = || answers.next().expect("one answer per request");
     Ok(found
         .iter()
-        .map(|n| Read { register: next(), history: next(), statusword: is_drive(n).then(&mut next) })
+        .map(|n| Read { register: next(), history: next(), emcy_cob: next(), statusword: is_drive(n).then(&mut next) })
         .collect())
 }
 
@@ -214,8 +235,10 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
         Duration::ZERO
     };
     let ids: Vec<u8> = found.nodes.iter().map(|n| n.node).collect();
+    let emcy_cobs: BTreeMap<u16, u8> =
+        found.nodes.iter().zip(&reads).filter_map(|(n, r)| Some((r.emcy_cob(n.node)?, n.node))).collect();
     progress.start("watching heartbeats and EMCYs", 1);
-    let mut seen = if watch > Duration::ZERO { watch_bus(bus, &ids, watch)? } else { BTreeMap::new() };
+    let mut seen = if watch > Duration::ZERO { watch_bus(bus, &ids, &emcy_cobs, watch)? } else { BTreeMap::new() };
     progress.finish();
     let nodes: Vec<NodeHealth> = found
         .nodes
@@ -444,7 +467,7 @@ mod tests {
     }
 
     fn clean() -> Read {
-        Read { register: Ok(vec![0]), history: Ok(vec![0]), statusword: None }
+        Read { register: Ok(vec![0]), history: Ok(vec![0]), emcy_cob: Ok(vec![0x85, 0, 0, 0]), statusword: None }
     }
 
     fn beating() -> Watched {
@@ -492,5 +515,15 @@ mod tests {
             ..clean()
         };
         assert_eq!(failed(&judge_node(&sensor(), read, Some(beating()), 300 * MS, None)), ["error register"]);
+    }
+
+    #[test]
+    fn emcys_are_listened_for_where_0x1014_puts_them() {
+        let with = |cob: Result<Vec<u8>>| Read { emcy_cob: cob, ..clean() };
+        assert_eq!(with(Ok(0x0000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x85));
+        assert_eq!(with(Ok(0x0000_0123u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x123));
+        assert_eq!(with(Ok(0x8000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), None);
+        let no_object = Error::SdoAbort { node: 5, obj: EMCY_COB, code: abort::NO_OBJECT };
+        assert_eq!(with(Err(no_object)).emcy_cob(5), Some(0x85));
     }
 }
