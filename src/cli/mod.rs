@@ -5,6 +5,7 @@ mod complete;
 mod config;
 mod diagnostics;
 mod docs;
+mod drive;
 mod errors;
 mod health;
 mod interrupt;
@@ -129,6 +130,15 @@ pub enum Command {
     Lss(lss::LssCommand),
     Store(store::StoreArgs),
     Restore(store::RestoreArgs),
+    /// CiA 402 drives: state and flags, enable, disable, quick stop, fault reset
+    #[command(
+        subcommand,
+        after_help = "Examples:
+  canctl --bus sim drive status 1
+  canctl --bus sim drive enable 1
+  canctl --bus sim drive fault-reset 1"
+    )]
+    Drive(drive::DriveCommand),
     StreamPdo(stream::StreamArgs),
     Monitor(monitor::MonitorArgs),
     /// Configuration files: dump a node to a DCF, compare, apply
@@ -274,6 +284,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Lss(cmd) => with_bus(&ctx, g, |bus| lss::run(&ctx, bus, cmd)),
         Command::Store(a) => with_bus(&ctx, g, |bus| store::store(&ctx, bus, a)),
         Command::Restore(a) => with_bus(&ctx, g, |bus| store::restore(&ctx, bus, a)),
+        Command::Drive(cmd) => with_bus(&ctx, g, |bus| drive::run(&ctx, bus, cmd)),
         Command::Config(cmd) => with_bus(&ctx, g, |bus| config::run(&ctx, bus, cmd)),
         Command::StreamPdo(a) => with_bus(&ctx, g, |bus| stream::run(&ctx, bus, a)),
         Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),

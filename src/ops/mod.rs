@@ -5,6 +5,7 @@
 
 pub mod config;
 pub mod dictionaries;
+pub mod drive;
 pub mod errors;
 pub mod health;
 pub mod lss;

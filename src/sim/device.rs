@@ -426,6 +426,18 @@ impl Device {
         self.bit_rate.active
     }
 
+    /// A write by the device's own serial interface (the EPOS2 gateway), with what a write
+    /// by SDO sets off: a simulated fault armed or repaired. The frames that would follow
+    /// on CAN (EMCY, TPDO) are not sent: the serial master cannot see them.
+    pub fn write_local(&mut self, addr: ObjAddr, data: &[u8]) -> Result<(), u32> {
+        let fault_before = self.od.value(FAULT_OBJECT).map(|v| v.to_vec());
+        self.od.write(addr, data)?;
+        if self.od.value(FAULT_OBJECT).map(|v| v.to_vec()) != fault_before {
+            self.arm_fault();
+        }
+        Ok(())
+    }
+
     /// Forget any SDO transfer in progress (an injected abort ended it).
     pub fn reset_sdo(&mut self) {
         self.sdo = SdoServer::new(self.block_transfer);

@@ -403,6 +403,12 @@ impl SimLink {
         Ok(())
     }
 
+    /// Let the devices do what they do by themselves up to now (a fault strikes, a drive's
+    /// fault reaction ends), for a master that reads a device's objects directly.
+    pub fn run_until_now(&mut self) {
+        self.advance();
+    }
+
     /// Run the bus up to now: the devices' own frames queue, frames that have left are
     /// heard by the devices (master's) or received (devices').
     fn advance(&mut self) {
