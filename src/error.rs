@@ -86,6 +86,9 @@ pub enum Error {
     /// LSS assignment found no free node-id for a device.
     #[error("no free node-id left from {start} to 127 for {identity}")]
     NoFreeNodeId { start: u8, identity: Identity },
+    /// A node keeps no error history (it has no object 0x1003), so there is none to clear.
+    #[error("node {node} keeps no error history (it has no object 0x1003): there is nothing to clear")]
+    NoErrorHistory { node: u8 },
     /// A node cannot store or restore (`verb`) parameters on command.
     #[error("{}", store_refused_text(*node, verb, why))]
     StoreRefused { node: u8, verb: &'static str, why: StoreRefusal },
@@ -117,6 +120,10 @@ pub enum Error {
     /// failed", ...).
     #[error("{bus} is not as {project} says: {}", differences.join(", "))]
     NetworkDiffers { bus: String, project: String, differences: Vec<String> },
+
+    /// Nodes on a bus are not healthy; `nodes` in words ("node 1: error register 0x81").
+    #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(), nodes.join("; "))]
+    Unhealthy { bus: String, total: usize, nodes: Vec<String> },
 
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
@@ -197,7 +204,8 @@ impl Error {
             | Error::LssRefused { .. }
             | Error::Epos2Refused { .. }
             | Error::NoFreeNodeId { .. }
-            | Error::StoreRefused { .. } => C::Refused,
+            | Error::StoreRefused { .. }
+            | Error::NoErrorHistory { .. } => C::Refused,
             Error::DriveStopped { why: DriveStop::NoAnswer, .. } => C::Timeout,
             Error::DriveStopped { .. } => C::Refused,
             Error::Link(_) => C::Link,
@@ -205,7 +213,8 @@ impl Error {
             | Error::ReadBackMany { .. }
             | Error::Differs { .. }
             | Error::OtherDevice { .. }
-            | Error::NetworkDiffers { .. } => C::Verify,
+            | Error::NetworkDiffers { .. }
+            | Error::Unhealthy { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),

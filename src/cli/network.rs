@@ -121,7 +121,7 @@ pub struct ApplyArgs {
     pub window: Duration,
 }
 
-fn parse_state(text: &str) -> Result<State, String> {
+pub(super) fn parse_state(text: &str) -> Result<State, String> {
     match text.trim().to_ascii_lowercase().as_str() {
         "operational" => Ok(State::Operational),
         "pre-operational" | "preop" => Ok(State::PreOperational),

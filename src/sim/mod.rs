@@ -227,7 +227,8 @@ impl Network {
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
             let conduct = &self.conducts[i];
-            out.extend(d.events(after, upto).into_iter().filter_map(|f| conduct.own(f)).map(|f| (i, f)));
+            let own = d.events(after, upto);
+            out.extend(own.into_iter().filter_map(|f| conduct.own(f, &d.model, d.node_id())).map(|f| (i, f)));
         }
         out
     }
