@@ -91,10 +91,22 @@ impl<L: FrameLink> Master<L> {
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         let f = self.link.recv(deadline)?;
         if let Some(f) = &f {
-            self.seen(Dir::Rx, f);
-            self.observed.on_frame(f, self.guarding, self.in_lss_exchange);
+            self.received(f);
         }
         Ok(f)
+    }
+
+    fn recv_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        let f = self.link.recv_stamped(deadline)?;
+        if let Some((f, _)) = &f {
+            self.received(f);
+        }
+        Ok(f)
+    }
+
+    fn received(&mut self, f: &Frame) {
+        self.seen(Dir::Rx, f);
+        self.observed.on_frame(f, self.guarding, self.in_lss_exchange);
     }
 
     /// Run SDO transfers: one per node at a time, all nodes at once. Each ends with its
@@ -378,6 +390,15 @@ impl<L: FrameLink> Bus for Master<L> {
         }
         self.link.set_filters(&EVERYTHING)?;
         self.recv(deadline)
+    }
+
+    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        // As `recv_frame`.
+        if self.link.now() >= deadline {
+            return Ok(None);
+        }
+        self.link.set_filters(&EVERYTHING)?;
+        self.recv_stamped(deadline)
     }
 
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {

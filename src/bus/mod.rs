@@ -27,6 +27,12 @@ pub trait FrameLink {
     fn send(&mut self, frame: &Frame) -> Result<()>;
     /// The next frame, or `None` once `deadline` passes without one.
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>>;
+    /// The next frame with the moment it was on the bus, on the clock of `now`. Judging a
+    /// device's timing from it does not depend on when canctl got round to reading (a
+    /// loaded host delivers frames in bursts). Links that know no better stamp receipt.
+    fn recv_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        Ok(self.recv(deadline)?.map(|f| (f, self.now())))
+    }
     /// Interface name for traces (`can0`, `sim`).
     fn name(&self) -> String;
     /// The clock `recv` deadlines are measured on. Real links keep the default; a test link
@@ -179,6 +185,13 @@ pub trait Bus {
 
     /// The next frame seen on the bus, or `None` at the deadline.
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>>;
+
+    /// The next frame seen on the bus with the moment it was there (see
+    /// [`FrameLink::recv_stamped`]), or `None` at the deadline. Backends that know no
+    /// better stamp the moment of receipt.
+    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        Ok(self.recv_frame(deadline)?.map(|f| (f, Instant::now())))
+    }
 
     /// Send a remote request for `id` and return the first data frame with that id.
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame>;

@@ -72,6 +72,9 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         self.bus.recv_frame(deadline)
     }
+    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        self.bus.recv_frame_stamped(deadline)
+    }
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
         self.bus.request_frame(id, len, timeout)
     }

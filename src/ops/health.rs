@@ -10,6 +10,7 @@ use crate::canopen::emcy::{self, Emergency, Origin};
 use crate::canopen::nmt::{self, ErrorControl};
 use crate::canopen::{abort, cia402, ObjAddr};
 use crate::error::{Error, Result};
+use crate::frame::Frame;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -21,6 +22,9 @@ const EMCY_COB: ObjAddr = ObjAddr::new(0x1014, 0);
 /// A heartbeat is late when no beat came for 1.5 periods plus this: what a consumer
 /// usually allows, and room for the master's own scheduling.
 const HEARTBEAT_SLACK: Duration = Duration::from_millis(50);
+/// How long the end of a watch waits for frames from before the end that canctl has not
+/// read yet.
+const LATE_FRAMES: Duration = Duration::from_millis(20);
 /// The shortest and longest automatic watch.
 const MIN_WATCH: Duration = Duration::from_millis(300);
 const MAX_WATCH: Duration = Duration::from_secs(10);
@@ -159,7 +163,9 @@ struct Watched {
 }
 
 /// Heartbeats and EMCYs (on each node's COB-ID, `emcy_cobs`) of these nodes until `watch`
-/// has passed.
+/// has passed. Each beat counts at the moment the link says it was on the bus, not when
+/// canctl read it: on a loaded host frames wait and come in a burst, and a healthy
+/// producer must not look late for it.
 fn watch_bus(
     bus: &mut dyn Bus,
     nodes: &[u8],
@@ -169,8 +175,8 @@ fn watch_bus(
     let mut seen: BTreeMap<u8, Watched> = nodes.iter().map(|n| (*n, Watched::default())).collect();
     let start = Instant::now();
     let end = start + watch;
-    while let Some(f) = bus.recv_frame(end)? {
-        let at = start.elapsed();
+    let mut take = |f: Frame, at: Instant| {
+        let at = at.saturating_duration_since(start);
         if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
             if let Some(w) = seen.get_mut(&node) {
                 w.arrivals.push(at);
@@ -181,6 +187,20 @@ fn watch_bus(
                 w.emcy.push(e);
             }
         }
+    };
+    while let Some((f, at)) = bus.recv_frame_stamped(end)? {
+        if at > end {
+            return Ok(seen);
+        }
+        take(f, at);
+    }
+    // Frames that were on the bus before the end may still wait to be read (canctl itself
+    // was held up): taken until one from after the end, or the link falls quiet.
+    while let Some((f, at)) = bus.recv_frame_stamped(Instant::now() + LATE_FRAMES)? {
+        if at > end {
+            break;
+        }
+        take(f, at);
     }
     Ok(seen)
 }

@@ -740,28 +740,32 @@ impl Device {
         next.into_iter().min()
     }
 
-    /// What this device sends by itself in `(after, upto]`: at most one of each kind.
-    pub fn events(&mut self, after: u64, upto: u64) -> Vec<Frame> {
+    /// What this device sends by itself in `(after, upto]`, each frame with the ms it was
+    /// due: the device keeps its own clock, so a master that polled late still gets every
+    /// beat at its time (the latest [`MAX_BACKLOG`] of each kind, as a controller's receive
+    /// queue would keep).
+    pub fn events(&mut self, after: u64, upto: u64) -> Vec<(u64, Frame)> {
         let Some(id) = self.node_id else { return vec![] };
         let mut out = Vec::new();
         // A fault due while no invocation ran the network strikes now.
-        if self.fault.at.is_some_and(|t| t <= upto) {
-            out.extend(self.strike());
+        if let Some(at) = self.fault.at.filter(|t| *t <= upto) {
+            let due = at.clamp(after, upto);
+            out.extend(self.strike().into_iter().map(|f| (due, f)));
         }
-        if self.fault.reaction_until.is_some_and(|t| t <= upto) {
+        if let Some(until) = self.fault.reaction_until.filter(|t| *t <= upto) {
             self.fault.reaction_until = None;
             self.od.set_drive_state(DriveState::Fault);
-            out.extend(self.statusword_tpdos());
+            let due = until.clamp(after, upto);
+            out.extend(self.statusword_tpdos().into_iter().map(|f| (due, f)));
         }
         if let Some(p) = self.heartbeat_ms() {
-            if super::last_beat(p, id as u64, upto) > after {
-                out.extend(self.heartbeat_frame());
-            }
+            let beat = self.heartbeat_frame();
+            out.extend(due_times(p, id as u64, after, upto).flat_map(|t| beat.map(|f| (t, f))));
         }
         if self.nmt == nmt::State::Operational {
             for t in self.tpdos().into_iter().filter(|t| t.valid && t.transmission >= 254 && t.event_ms > 0) {
-                if super::last_beat(t.event_ms as u64, id as u64, upto) > after {
-                    out.push(self.tpdo_frame(&t));
+                for due in due_times(t.event_ms as u64, id as u64, after, upto).collect::<Vec<_>>() {
+                    out.push((due, self.tpdo_frame(&t)));
                 }
             }
         }
@@ -833,6 +837,17 @@ impl Device {
     }
 }
 
+/// The most frames of one kind a device has waiting after a master stopped polling.
+pub const MAX_BACKLOG: u64 = 64;
+
+/// The times in `(after, upto]` a producer with this period sends (the latest
+/// [`MAX_BACKLOG`]), oldest first.
+fn due_times(period: u64, node: u64, after: u64, upto: u64) -> impl Iterator<Item = u64> {
+    let last = super::last_beat(period, node, upto);
+    let count = if last > after { ((last - after - 1) / period + 1).min(MAX_BACKLOG) } else { 0 };
+    (0..count).rev().map(move |k| last - k * period)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -900,11 +915,12 @@ mod tests {
         }
         write(&mut d, 0x5FFE, 0, &1u16.to_le_bytes());
         let now = super::super::wall_ms();
-        let out = d.events(now, now + 5);
+        let frames = |out: Vec<(u64, Frame)>| out.into_iter().map(|(_, f)| f).collect::<Vec<_>>();
+        let out = frames(d.events(now, now + 5));
         // EMCY 0x3220, register 0x05, then the statusword in fault reaction.
         assert_eq!(out[0], Frame::new(0x81, &[0x20, 0x32, 0x05, 0, 0, 0, 0, 0]));
         assert_eq!(out[1], Frame::new(0x181, &0x070Fu16.to_le_bytes()));
-        let out = d.events(now + 5, now + 5 + FAULT_REACTION_MS);
+        let out = frames(d.events(now + 5, now + 5 + FAULT_REACTION_MS));
         assert_eq!(out.last(), Some(&Frame::new(0x181, &0x0708u16.to_le_bytes())));
         assert_eq!(d.objects().value(ObjAddr::new(0x1003, 0)), Some(&[1][..]));
         assert_eq!(d.objects().value(ObjAddr::new(0x1003, 1)), Some(&0x3220u32.to_le_bytes()[..]));

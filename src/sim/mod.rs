@@ -220,15 +220,15 @@ impl Network {
     }
 
     /// What the devices send by themselves in `(after, upto]` (ms of wall-clock time):
-    /// heartbeats, timed PDOs, faults. Phases follow the wall clock, so the network seems
-    /// to run between invocations.
-    pub fn events(&mut self, after: u64, upto: u64) -> Vec<(usize, Frame)> {
+    /// heartbeats, timed PDOs, faults, each with the ms it was due and who sends it.
+    /// Phases follow the wall clock, so the network seems to run between invocations.
+    pub fn events(&mut self, after: u64, upto: u64) -> Vec<(u64, usize, Frame)> {
         let rate = self.bit_rate;
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
             let conduct = &self.conducts[i];
             let own = d.events(after, upto);
-            out.extend(own.into_iter().filter_map(|f| conduct.own(f, &d.model, d.node_id())).map(|f| (i, f)));
+            out.extend(own.into_iter().filter_map(|(t, f)| Some((t, i, conduct.own(f, &d.model, d.node_id())?))));
         }
         out
     }
@@ -302,7 +302,8 @@ pub fn wall_ms() -> u64 {
 pub struct SimLink {
     net: Network,
     bus: BusQueue,
-    rx: VecDeque<Frame>,
+    /// Frames from the devices, each with the bus time it left the bus.
+    rx: VecDeque<(Frame, Nanos)>,
     /// Wall-clock ms up to which the devices' own frames have been produced.
     beats_upto: u64,
     /// The bus clock's zero.
@@ -413,15 +414,17 @@ impl SimLink {
     /// heard by the devices (master's) or received (devices').
     fn advance(&mut self) {
         let now = self.now();
-        // What left the bus before now was decided without the frames queued now.
-        self.pop_done(now);
         let ms = wall_ms();
+        // The devices keep their own clock: what they sent by themselves while nobody
+        // polled was ready when it was due, and competes for the bus from then on.
         if ms > self.beats_upto {
-            for (i, f) in self.net.events(self.beats_upto, ms) {
-                self.bus.queue(now, Origin::Device(i), f);
+            for (due, i, f) in self.net.events(self.beats_upto, ms) {
+                let ready = now.saturating_sub((ms - due) * timing::MS);
+                self.bus.queue(ready, Origin::Device(i), f);
             }
             self.beats_upto = ms;
         }
+        self.pop_done(now);
         let babblers = self.net.babblers();
         self.bus.keep_babblers(&babblers.iter().map(|(i, _)| *i).collect::<Vec<_>>());
         for (i, id) in babblers {
@@ -453,7 +456,7 @@ impl SimLink {
                         self.bus.set_bps(Self::bps_of(&self.net));
                     }
                 }
-                Origin::Device(_) => self.rx.push_back(frame),
+                Origin::Device(_) => self.rx.push_back((frame, end)),
             }
         }
     }
@@ -468,9 +471,14 @@ impl FrameLink for SimLink {
     }
 
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        Ok(self.recv_stamped(deadline)?.map(|(f, _)| f))
+    }
+
+    /// Stamped with the time the frame left the simulated bus.
+    fn recv_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         loop {
-            if let Some(f) = self.rx.pop_front() {
-                return Ok(Some(f));
+            if let Some((f, end)) = self.rx.pop_front() {
+                return Ok(Some((f, self.at(end))));
             }
             self.advance();
             if !self.rx.is_empty() {
@@ -582,6 +590,40 @@ mod tests {
             let answer = std::iter::from_fn(|| link.recv(deadline).unwrap()).find(|f| f.id() == 0x581);
             assert_eq!(answer.map(|f| f.data()[0]), Some(0x43), "{profile}");
             assert!(link.bus_stats().frames >= 2, "request and answer went over the bus");
+        }
+    }
+
+    #[test]
+    fn the_devices_own_frames_come_with_the_times_they_were_due() {
+        let mut net = Network::demo_with(SimConfig::instant());
+        let sensor = net.devices().iter().position(|d| d.node_id() == Some(5)).unwrap();
+        let beats: Vec<u64> = net
+            .events(1_000_000, 1_000_300)
+            .into_iter()
+            .filter(|(_, i, f)| *i == sensor && f.id() == 0x705)
+            .map(|(due, _, _)| due)
+            .collect();
+        assert!(beats.len() >= 7, "{beats:?}");
+        assert!(beats.windows(2).all(|w| w[1] - w[0] == 40), "{beats:?}");
+        assert!(beats.iter().all(|t| (1_000_001..=1_000_300).contains(t)), "{beats:?}");
+    }
+
+    #[test]
+    fn a_master_that_polls_late_gets_the_beats_stamped_when_they_were_on_the_bus() {
+        let mut link = SimLink::with_config(SimConfig::default());
+        // The master is held up (a loaded host): nobody polls the link for 300 ms.
+        std::thread::sleep(Duration::from_millis(300));
+        let mut beats = Vec::new();
+        while let Some((f, at)) = link.recv_stamped(Instant::now()).unwrap() {
+            if f.id() == 0x705 {
+                beats.push(at);
+            }
+        }
+        assert!(beats.len() >= 6, "{beats:?}");
+        for w in beats.windows(2) {
+            let gap = w[1] - w[0];
+            // 40 ms apart, give or take the frames of other nodes ahead on the bus.
+            assert!(gap > Duration::from_millis(39) && gap < Duration::from_millis(41), "{gap:?} in {beats:?}");
         }
     }
 }

@@ -517,4 +517,24 @@ mod tests {
         }
         assert!("fast".parse::<Profile>().is_err());
     }
+
+    #[test]
+    fn frames_ready_in_the_past_start_once_the_bus_is_free_in_their_order() {
+        let mut bus = BusQueue::new(Some(1_000_000));
+        bus.queue(10 * MS, Origin::Master, Frame::new(0x605, &[0x40; 8]));
+        let (first_end, _, _) = bus.pop_done(20 * MS).unwrap();
+        // Queued late with earlier ready times: never before the bus was free, each
+        // sender's in its order, and at their own times once the bus is idle.
+        bus.queue(5 * MS, Origin::Device(0), Frame::new(0x705, &[0x7F]));
+        bus.queue(12 * MS, Origin::Device(0), Frame::new(0x705, &[0x7F]));
+        bus.queue(12 * MS, Origin::Device(1), Frame::new(0x701, &[0x7F]));
+        let done: Vec<(Nanos, u16)> =
+            std::iter::from_fn(|| bus.pop_done(20 * MS)).map(|(t, _, f)| (t, f.id())).collect();
+        let beat = frame_time(&Frame::new(0x705, &[0x7F]), 1_000_000);
+        assert_eq!(done[0], (first_end + beat, 0x705), "waited for the bus");
+        assert_eq!(done[1].1, 0x701, "lower id wins when both are ready");
+        assert_eq!(done[1].0, 12 * MS + frame_time(&Frame::new(0x701, &[0x7F]), 1_000_000));
+        assert_eq!(done[2], (done[1].0 + beat, 0x705));
+        assert!(done.windows(2).all(|w| w[0].0 < w[1].0));
+    }
 }
