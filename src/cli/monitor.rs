@@ -44,14 +44,23 @@ fn layouts(ctx: &Ctx, nodes: &[u8]) -> BTreeMap<u16, Layout> {
     out
 }
 
+/// Ctrl-C or SIGTERM ends the monitor as its duration would, with the summary; the exit
+/// code is 130 all the same (as for every command the user stops), 0 only when --duration
+/// or --count ended it.
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
-    let mut monitor = Monitor::new(bus, layouts(ctx, &a.node), &a.node, a.duration, a.count)?;
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    while let Some(ev) = monitor.next(bus)? {
-        ctx.out.line(&mut out, &ev)?;
-        std::io::Write::flush(&mut out)?;
-    }
-    ctx.out.summary(&mut out, &monitor.summary())?;
-    Ok(())
+    super::interrupt::stoppable(bus, |bus| {
+        let mut monitor = Monitor::new(bus, layouts(ctx, &a.node), &a.node, a.duration, a.count)?;
+        let stdout = std::io::stdout();
+        let mut out = std::io::BufWriter::new(stdout.lock());
+        while let Some(ev) = monitor.next(bus)? {
+            ctx.out.line(&mut out, &ev)?;
+            std::io::Write::flush(&mut out)?;
+        }
+        let summary = monitor.summary();
+        ctx.out.summary(&mut out, &summary)?;
+        if summary.interrupted {
+            return Err(crate::Error::Interrupted.into());
+        }
+        Ok(())
+    })
 }

@@ -3,8 +3,9 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::canopen::nmt::Command;
-use crate::ops::nmt::{self, Confirmation, ResetOptions};
+use crate::ops::nmt::{self, ResetOptions};
 use crate::ops::store::{self, Timeouts};
+use crate::ops::Stopped;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -53,19 +54,71 @@ pub struct RestoreArgs {
 }
 
 pub fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {
-    let report = store::store(bus, a.node, a.class, Timeouts { answer: ctx.timeout, write: a.store_timeout })?;
-    Ok(ctx.out.report(&report)?)
+    let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
+    match super::interrupt::stoppable(bus, |bus| store::store(bus, a.node, a.class, t)) {
+        Ok(report) => Ok(ctx.out.report(&report)?),
+        Err(e) if e.is_interrupted() => {
+            let not_done = vec![format!("'save' to 0x1010:{} of node {}", a.class as u8 + 1, a.node)];
+            let state = format!("nothing was stored: node {}'s non-volatile memory is as it was", a.node);
+            stopped(ctx, Stopped::new("store", Vec::new(), not_done, state))
+        }
+        Err(e) => Err(e.into()),
+    }
 }
 
 pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<()> {
-    let mut report = store::restore(bus, a.node, a.class, Timeouts { answer: ctx.timeout, write: a.store_timeout })?;
-    if a.reset {
-        let wait = a.store_timeout.max(Duration::from_secs(2));
-        report.reset = true;
-        let o = ResetOptions { wait, timeout: ctx.timeout };
-        if let Confirmation::Unconfirmed(why) = nmt::reset_and_wait(bus, Command::ResetNode, a.node, &o)? {
-            report.reset_unconfirmed = Some(why);
+    let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
+    super::interrupt::stoppable(bus, |bus| {
+        let node = a.node;
+        let mut report = match store::restore(bus, node, a.class, t) {
+            Ok(report) => report,
+            Err(e) if e.is_interrupted() => {
+                let not_done = vec![format!("'load' to 0x1011:{} of node {node}", a.class as u8 + 1)];
+                let state = format!("nothing was changed: node {node} keeps its parameters");
+                return stopped(ctx, Stopped::new("restore", Vec::new(), not_done, state));
+            }
+            Err(e) => return Err(e.into()),
+        };
+        if a.reset {
+            let wait = a.store_timeout.max(Duration::from_secs(2));
+            report.reset = true;
+            let o = ResetOptions { wait, timeout: ctx.timeout };
+            let done = vec![format!("'load' written to {}", report.object)];
+            match nmt::reset(bus, Command::ResetNode, node, &o) {
+                Ok(r) if r.interrupted => {
+                    let not_done = vec![format!("confirming that node {node} booted")];
+                    let state = format!(
+                        "the defaults are loaded and the reset went out; whether node {node} booted with them is \
+                         not known (canctl nmt state {node} says)"
+                    );
+                    return stopped(
+                        ctx,
+                        Stopped::new(
+                            "restore",
+                            [done, vec![format!("NMT reset of node {node}")]].concat(),
+                            not_done,
+                            state,
+                        ),
+                    );
+                }
+                Ok(r) if !r.confirmed => report.reset_unconfirmed = r.why,
+                Ok(_) => {}
+                Err(e) if e.is_interrupted() => {
+                    let not_done = vec![format!("NMT reset of node {node}")];
+                    let state = format!(
+                        "the defaults are loaded and apply from node {node}'s next reset (canctl nmt reset {node} does it)"
+                    );
+                    return stopped(ctx, Stopped::new("restore", done, not_done, state));
+                }
+                Err(e) => return Err(e.into()),
+            }
         }
-    }
-    Ok(ctx.out.report(&report)?)
+        Ok(ctx.out.report(&report)?)
+    })
+}
+
+/// The report of a command the user stopped, then exit 130.
+fn stopped(ctx: &Ctx, report: Stopped) -> anyhow::Result<()> {
+    ctx.out.report(&report)?;
+    Err(crate::Error::Interrupted.into())
 }
