@@ -146,4 +146,36 @@ mod tests {
         let far = Instant::now() + Duration::from_secs(3600);
         assert!(matches!(s.recv_frame(far), Err(Error::Interrupted)));
     }
+
+    /// Stopped in the middle of a block download: the transfer ends with an abort, the
+    /// error says how far it got, and the device (which would otherwise take the next
+    /// request for a segment of the block) answers the next transfer.
+    #[test]
+    fn a_transfer_under_way_is_aborted_and_the_device_is_ready_for_the_next() {
+        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
+        let stop = Arc::new(AtomicBool::new(false));
+        let domain = ObjAddr::new(0x1F50, 1);
+        let opts = SdoOptions::new(Duration::from_secs(1));
+        let before = bus.sdo_upload(1, domain, &SdoOptions { block_upload: true, ..opts.clone() }).unwrap();
+        let mut s = Stoppable::new(&mut bus, Arc::clone(&stop));
+        let flag = Arc::clone(&stop);
+        let at_second_block: crate::bus::TransferHook = Arc::new(move |moved| {
+            if moved > 7 * 127 {
+                flag.store(true, Ordering::SeqCst)
+            }
+        });
+        let hooked = SdoOptions { on_progress: Some(at_second_block), ..opts.clone() };
+        let err = s.sdo_download(1, domain, &vec![0x55; 5000], &hooked).unwrap_err();
+        match err {
+            Error::SdoInterrupted { node: 1, obj, upload: false, moved, aborted: Some(0x0800_0000) } => {
+                assert_eq!(obj, domain);
+                assert_eq!(moved.total, Some(5000));
+                assert!(moved.bytes > 7 * 127 && moved.bytes < 5000, "{moved:?}");
+            }
+            other => panic!("{other:?}"),
+        }
+        // Over the plain bus (the stop is the command's, not the device's): ready, unchanged.
+        drop(s);
+        assert_eq!(bus.sdo_upload(1, domain, &SdoOptions { block_upload: true, ..opts }).unwrap(), before);
+    }
 }
