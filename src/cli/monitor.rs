@@ -14,7 +14,8 @@ use std::time::Duration;
 /// NMT commands, boot-ups, heartbeats and node guarding with state names, EMCY with the
 /// meaning of the code and the error register bits, SDO requests, answers and aborts, SYNC,
 /// LSS, and PDOs — decoded into fields when an EDS or DCF (--eds) gives their mapping. A
-/// summary ends it: frames per COB-ID, nodes seen, EMCYs.
+/// summary ends it: frames per COB-ID, nodes seen, EMCYs. --duration or --count end it
+/// with exit 0; Ctrl-C or SIGTERM with the summary marked interrupted, and exit 130.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus can0 monitor
