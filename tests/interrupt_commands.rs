@@ -396,3 +396,31 @@ fn config_diff_interrupted_reports_what_it_compared() {
     // Uninterrupted, the same diff is complete and finds nothing.
     sim.run(&["config", "diff", "10", dcf.to_str().unwrap(), "--check"]).ok();
 }
+
+/// Through an EPOS2 (its segmented read, 0x14 per segment) the read stops between two
+/// segments: the EPOS2 protocol has no abort, so nothing more is sent, and the EPOS2
+/// answers the next command.
+#[cfg(unix)]
+#[test]
+fn sdo_read_through_an_epos2_interrupted_stops_between_segments() {
+    let sim = common::Sim::new();
+    let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    for signal in SIGNALS {
+        let run = signalled(dev.command(&["sdo", "read", "10", "1008", "--type", "vs"]), "s1", signal);
+        assert_eq!(run.code, 130, "{}", run.stderr);
+        let said = line(&run.stderr, "sdo read interrupted");
+        assert!(said.starts_with("sdo read interrupted: done 0x1008:0: "), "{said}");
+        let state = line(&run.stderr, "nothing was changed on the device");
+        assert!(state.contains("the EPOS2 protocol has no command to abort a transfer"), "{state}");
+        let next = dev.run(&["sdo", "read", "10", "1008", "--type", "vs"]).ok();
+        assert!(!next.stdout.trim().is_empty());
+        row(
+            "sdo_read_through_an_epos2_interrupted_stops_between_segments",
+            "sdo read 10 1008 via epos2-rs232 (after segment 1)",
+            signal,
+            said.trim_start_matches("sdo read interrupted: "),
+            "no abort possible; next sdo read answered",
+            run.code,
+        );
+    }
+}

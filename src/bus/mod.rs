@@ -79,6 +79,11 @@ pub struct SdoOptions {
     pub on_progress: Option<TransferHook>,
 }
 
+/// Whether the user asked to stop the transfers of `opts`.
+fn stopped(opts: &SdoOptions) -> bool {
+    opts.stop.as_ref().is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst))
+}
+
 /// What [`SdoOptions::on_progress`] calls.
 pub type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
 
@@ -164,7 +169,8 @@ pub trait Bus {
     ) -> Result<Vec<Result<Vec<u8>>>> {
         let mut out = Vec::with_capacity(requests.len());
         for (i, (node, addr)) in requests.iter().enumerate() {
-            let r = self.sdo_upload(*node, *addr, opts);
+            // One after another: a stop is heeded between them.
+            let r = if stopped(opts) { Err(crate::Error::Interrupted) } else { self.sdo_upload(*node, *addr, opts) };
             if let Err(e @ crate::Error::Link(_)) = r {
                 return Err(e);
             }
@@ -181,6 +187,9 @@ pub trait Bus {
         let mut out = Vec::with_capacity(jobs.len());
         for job in jobs {
             let r = match job {
+                SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } if stopped(opts) => {
+                    Err(crate::Error::Interrupted)
+                }
                 SdoJob::Upload { node, addr, opts } => self.sdo_upload(*node, *addr, opts),
                 SdoJob::Download { node, addr, data, opts } => {
                     self.sdo_download(*node, *addr, data, opts).map(|_| Vec::new())

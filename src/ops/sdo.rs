@@ -212,7 +212,9 @@ pub fn stopped(node: u8, object: ObjAddr, write: bool, e: &Error) -> Option<supe
                     "the transfer was aborted (SDO abort 0x{code:08X}), so node {node} is ready for the next one{}",
                     if write { " and takes nothing of an aborted write (CiA 301)" } else { "" }
                 ),
-                None => "the EPOS2 protocol has no abort: the EPOS2 ends the transfer at its own timeout".to_string(),
+                None => "stopped between two segments; the EPOS2 protocol has no command to abort a transfer, \
+                         so nothing more was sent"
+                    .to_string(),
             };
             super::Stopped::new(command, done, vec![format!("the rest of the {verb}")], format!("{unchanged}; {how}"))
         }
