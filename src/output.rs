@@ -15,6 +15,8 @@ mod nodes;
 mod records;
 mod reports;
 
+pub use reports::{sentence, Each};
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
     /// Tables and sentences for people.

@@ -263,7 +263,7 @@ fn store_interrupted_before_save_stores_nothing() {
         assert_eq!(run.code, 130, "{}", run.stderr);
         let said = line(&run.stderr, "store interrupted");
         assert_eq!(said, "store interrupted: done nothing; not done 'save' to 0x1010:1 of node 5");
-        assert!(run.stderr.contains("nothing was stored: node 5's non-volatile memory is as it was"));
+        assert!(run.stderr.contains("nothing was stored on node 5: its non-volatile memory is as it was"));
         sim.run(&["nmt", "reset", "5"]).ok();
         assert_eq!(heartbeat(), stored, "a reset should bring back what was stored before");
         row(
@@ -283,6 +283,48 @@ fn store_interrupted_before_save_stores_nothing() {
     assert_eq!(heartbeat(), "777");
 }
 
+/// `store` on several nodes stopped part-way: the nodes done, the one under way and those
+/// not begun; the first is stored, the others are not (a reset brings their stored values
+/// back).
+#[test]
+fn store_on_several_nodes_interrupted_says_which_were_done() {
+    let sim = common::Sim::new();
+    let heartbeat = |node: &str| sim.run(&["sdo", "read", node, "1017"]).ok().stdout.trim().to_string();
+    for signal in SIGNALS {
+        let stored: Vec<String> = ["1", "5", "10"].iter().map(|n| heartbeat(n)).collect();
+        for node in ["1", "5", "10"] {
+            sim.run(&["sdo", "write", node, "1017", "321", "--type", "u16"]).ok();
+        }
+        // Stopped after node 1's 'save', before node 5's.
+        let run = signalled(sim.command(&["store", "1,5,10", "--format", "json"]), "1", signal);
+        assert_eq!(run.code, 130, "{}", run.stderr);
+        let report = run.json();
+        assert_eq!(report["done"], serde_json::json!(["node 1: all parameters stored (0x1010:1)"]), "{report}");
+        assert_eq!(
+            report["not_done"],
+            serde_json::json!(["'save' to 0x1010:1 of node 5", "store on node 10"]),
+            "{report}"
+        );
+        sim.run(&["nmt", "reset", "all"]).ok();
+        assert_eq!(heartbeat("1"), "321", "node 1 was stored");
+        assert_eq!([heartbeat("5"), heartbeat("10")], [stored[1].clone(), stored[2].clone()], "5 and 10 were not");
+        let said = format!("done: node 1 stored; not done: {}", report["not_done"]);
+        row(
+            "store_on_several_nodes_interrupted_says_which_were_done",
+            "store 1,5,10 (after node 1's 'save')",
+            signal,
+            &said,
+            "node 1 stored; 5 and 10 not (their old stored values after a reset)",
+            run.code,
+        );
+        // Make node 1's stored value the baseline again for the next signal.
+        sim.run(&["store", "1"]).ok();
+    }
+    // Not interrupted: each node's report, in order.
+    let run = sim.run(&["store", "1,5", "--format", "json"]).ok().json();
+    assert_eq!(run.as_array().unwrap().len(), 2, "{run}");
+}
+
 /// `restore --reset` stopped after 'load', before the reset: the defaults are loaded, not
 /// in force; stopped after the reset went out: said so, unconfirmed.
 #[test]
@@ -295,8 +337,8 @@ fn restore_reset_interrupted_says_how_far_it_got() {
         let run = signalled(sim.command(&["restore", "5", "--reset"]), "1", signal);
         assert_eq!(run.code, 130, "{}", run.stderr);
         let said = line(&run.stderr, "restore interrupted");
-        assert_eq!(said, "restore interrupted: done 'load' written to 0x1011:1; not done NMT reset of node 5");
-        assert!(run.stderr.contains("the defaults are loaded and apply from node 5's next reset"), "{}", run.stderr);
+        assert_eq!(said, "restore interrupted: done node 5: 'load' written to 0x1011:1; not done NMT reset of node 5");
+        assert!(run.stderr.contains("node 5: the defaults are loaded and apply from its next reset"), "{}", run.stderr);
         assert_eq!(heartbeat(), "777", "not reset: the value in use is unchanged");
         sim.run(&["nmt", "reset", "5"]).ok();
         assert_eq!(heartbeat(), default, "the next reset brings the defaults");
@@ -313,7 +355,7 @@ fn restore_reset_interrupted_says_how_far_it_got() {
         let run = signalled(sim.command(&["restore", "5", "--reset", "--format", "json"]), "n1", signal);
         assert_eq!(run.code, 130, "{}", run.stderr);
         let report = run.json();
-        assert_eq!(report["done"], serde_json::json!(["'load' written to 0x1011:1", "NMT reset of node 5"]));
+        assert_eq!(report["done"], serde_json::json!(["node 5: 'load' written to 0x1011:1", "NMT reset of node 5"]));
         assert_eq!(report["not_done"], serde_json::json!(["confirming that node 5 booted"]));
         assert_eq!(heartbeat(), default);
         let said = report["done"].to_string();

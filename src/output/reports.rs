@@ -43,6 +43,26 @@ impl Report for crate::sim::serve::Reset {
     }
 }
 
+/// The reports of one command run on several nodes, in order: a JSON array, and each
+/// node's report for people.
+#[derive(serde::Serialize)]
+#[serde(transparent)]
+pub struct Each<R>(pub Vec<R>);
+
+impl<R: Report> Report for Each<R> {
+    fn human(&self) -> Human {
+        Human::Parts(self.0.iter().map(Report::human).collect())
+    }
+}
+
+/// A report that is one sentence, as that sentence.
+pub fn sentence(report: &impl Report) -> Option<String> {
+    match report.human() {
+        Human::Line(text) => Some(text),
+        _ => None,
+    }
+}
+
 impl Report for Stopped {
     /// Nothing on stdout, where the result would have been: the report is said on stderr.
     fn human(&self) -> Human {
