@@ -163,8 +163,7 @@ impl<L: FrameLink> Master<L> {
         };
         loop {
             if watch.stopped() {
-                self.stop_all(&mut active, &mut queues, &mut results)?;
-                break;
+                self.stop(&mut active, &mut queues, &mut results)?;
             }
             if active.is_empty() {
                 break;
@@ -243,16 +242,23 @@ impl<L: FrameLink> Master<L> {
         Ok(results)
     }
 
-    /// The user asked to stop: every transfer under way ends with an abort sent to its
-    /// device (an abort reaching a server with no transfer is ignored, CiA 301), and those
-    /// not begun are not.
-    fn stop_all(
+    /// The user asked to stop: none of the transfers not begun is, and every transfer the
+    /// device has answered and that goes on (segments, blocks) ends with an abort sent to
+    /// the device (CiA 301), so that it is not left waiting for the rest. A transfer whose
+    /// first answer is still awaited is let finish: its one request may already have done
+    /// its work (an expedited write), and an answer that goes on is aborted at the next turn.
+    fn stop(
         &mut self,
         active: &mut BTreeMap<u8, Active>,
         queues: &mut BTreeMap<u8, VecDeque<(usize, SdoClient)>>,
         results: &mut [Option<Result<Vec<u8>>>],
     ) -> Result<()> {
-        for (node, a) in std::mem::take(active) {
+        for (slot, _) in std::mem::take(queues).into_values().flatten() {
+            results[slot] = Some(Err(Error::Interrupted));
+        }
+        let heard: Vec<u8> = active.iter().filter(|(_, a)| a.heard).map(|(n, _)| *n).collect();
+        for node in heard {
+            let a = active.remove(&node).expect("active");
             let obj = a.client.addr();
             self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(obj, abort::GENERAL_ERROR)))?;
             let (bytes, total) = a.client.progress();
@@ -263,9 +269,6 @@ impl<L: FrameLink> Master<L> {
                 moved: Moved { bytes, total },
                 aborted: Some(abort::GENERAL_ERROR),
             }));
-        }
-        for (slot, _) in std::mem::take(queues).into_values().flatten() {
-            results[slot] = Some(Err(Error::Interrupted));
         }
         Ok(())
     }
