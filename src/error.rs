@@ -135,6 +135,12 @@ pub enum Error {
     /// The user pressed Ctrl-C.
     #[error("interrupted")]
     Interrupted,
+    /// The user asked to stop while an SDO transfer was under way: it was ended part-way,
+    /// with an abort sent to the device (`aborted`, its code) where the link allows one.
+    #[error("interrupted: the {} of {obj} {} node {node} stopped after {moved}{}",
+        if *upload { "read" } else { "write" }, if *upload { "from" } else { "to" },
+        match aborted { Some(code) => format!("; the transfer was aborted (SDO abort 0x{code:08X})"), None => String::new() })]
+    SdoInterrupted { node: u8, obj: ObjAddr, upload: bool, moved: Moved, aborted: Option<u32> },
 
     /// An error with advice appended (e.g. which nodes the last scan saw); it ends the
     /// process as the error itself would.
@@ -216,7 +222,7 @@ impl Error {
             | Error::NetworkDiffers { .. }
             | Error::Unhealthy { .. } => C::Verify,
             Error::Output { .. } => C::Output,
-            Error::Interrupted => C::Interrupted,
+            Error::Interrupted | Error::SdoInterrupted { .. } => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
         }
     }
@@ -228,6 +234,11 @@ impl Error {
     /// Nobody answered in time (exit 3): what a scan or a poll treats as "not there".
     pub fn is_timeout(&self) -> bool {
         self.class() == ErrorClass::Timeout
+    }
+
+    /// The user asked to stop (exit 130): a procedure ends with a report of what it did.
+    pub fn is_interrupted(&self) -> bool {
+        self.class() == ErrorClass::Interrupted
     }
 
     /// The error under any hint.

@@ -22,6 +22,7 @@ pub mod store;
 use crate::bus::SdoOptions;
 use crate::error::{Error, Result};
 use crate::od::Entry;
+use serde::Serialize;
 use std::time::Duration;
 
 /// What a long procedure tells its caller while it runs: the CLI shows a progress bar and
@@ -41,6 +42,27 @@ pub trait Progress {
 pub struct Silent;
 
 impl Progress for Silent {}
+
+/// What a procedure the user stopped (SIGINT, SIGTERM, Ctrl-C) had done, for the commands
+/// whose own report has nothing to show for a stop: what was done, what was not, and the
+/// state the device is left in. The command ends with exit 130 after it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Stopped {
+    /// The command, as typed: `sdo read`, `store`.
+    pub command: String,
+    /// Always true: the key every interrupted report has.
+    pub interrupted: bool,
+    pub done: Vec<String>,
+    pub not_done: Vec<String>,
+    /// The state the device is left in, in a sentence.
+    pub state: String,
+}
+
+impl Stopped {
+    pub fn new(command: &str, done: Vec<String>, not_done: Vec<String>, state: String) -> Stopped {
+        Stopped { command: command.to_string(), interrupted: true, done, not_done, state }
+    }
+}
 
 /// SDO options for a value of a known size.
 pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {

@@ -176,6 +176,11 @@ impl SdoClient {
         self.fell_back
     }
 
+    /// Whether this transfer reads from the server.
+    pub fn is_upload(&self) -> bool {
+        self.upload
+    }
+
     /// Bytes moved so far, and the total when known.
     pub fn progress(&self) -> (usize, Option<usize>) {
         if self.upload {
