@@ -482,3 +482,58 @@ fn sdo_read_through_an_epos2_interrupted_stops_between_segments() {
         );
     }
 }
+
+/// `errors --clear` stopped after the clear was written: the history read is shown, the
+/// clear is reported as written but not confirmed, and the device holds it. Stopped just
+/// before the clear: nothing changed, and the device keeps its history.
+#[test]
+fn errors_clear_interrupted_says_whether_the_clear_was_written() {
+    let sim = common::Sim::new();
+    let count = || sim.run(&["sdo", "read", "10", "1003:0", "--type", "u8"]).ok().stdout.trim().to_string();
+    assert_eq!(count(), "2");
+    for signal in SIGNALS {
+        // Reads: six about the node, then its two entries; stopped before the clear.
+        let run = signalled(sim.command(&["errors", "10", "--clear"]), "r8", signal);
+        assert_eq!(run.code, 130, "{}", run.stderr);
+        assert!(run.stdout.contains("2 error(s) logged in 0x1003"), "{}", run.stdout);
+        assert!(run.stderr.contains("interrupted before clearing: nothing was changed"), "{}", run.stderr);
+        assert_eq!(count(), "2");
+        row(
+            "errors_clear_interrupted_says_whether_the_clear_was_written",
+            "errors 10 --clear (before the clear)",
+            signal,
+            "the 2 entries; interrupted before clearing: nothing was changed",
+            "history kept: 0x1003:0 reads 2",
+            run.code,
+        );
+    }
+    let run = signalled(sim.command(&["errors", "10", "--clear"]), "1", "INT");
+    assert_eq!(run.code, 130, "{}", run.stderr);
+    let said = line(&run.stderr, "node 10 (CAN-2057C): interrupted: 0 written to 0x1003:0, not confirmed");
+    assert_eq!(count(), "0");
+    row(
+        "errors_clear_interrupted_says_whether_the_clear_was_written",
+        "errors 10 --clear (after the clear, before its read-back)",
+        "INT",
+        said,
+        "history cleared: 0x1003:0 reads 0",
+        run.code,
+    );
+}
+
+/// `health` and `drive status` only read: stopped, they say so and that nothing changed.
+#[test]
+fn health_and_drive_status_interrupted_say_nothing_was_changed() {
+    let sim = common::Sim::new();
+    for (args, said) in [
+        (&["health"][..], "health interrupted: done nothing; not done scanning and judging the nodes"),
+        (&["drive", "status", "1"][..], "drive status interrupted: done nothing; not done reading node 1's state"),
+    ] {
+        for signal in SIGNALS {
+            let run = signalled(sim.command(args), "r1", signal);
+            assert_eq!(run.code, 130, "{}", run.stderr);
+            assert_eq!(line(&run.stderr, said.split(':').next().unwrap()), said);
+            assert!(run.stderr.contains("nothing was changed on the device"), "{}", run.stderr);
+        }
+    }
+}

@@ -47,6 +47,13 @@ pub fn stoppable<T>(bus: &mut dyn Bus, f: impl FnOnce(&mut dyn Bus) -> T) -> T {
     f(&mut guarded)
 }
 
+/// A read-only command stopped part-way: its report says only that nothing was changed.
+pub fn stopped_reading(ctx: &super::Ctx, command: &str, not_done: String) -> anyhow::Result<()> {
+    let state = "nothing was changed on the device".to_string();
+    ctx.out.report(&crate::ops::Stopped::new(command, Vec::new(), vec![not_done], state))?;
+    Err(crate::Error::Interrupted.into())
+}
+
 /// The environment variable of the kill-at-every-step tests: `K:SIGNAL` (INT, TERM, KILL)
 /// sends that signal to this process right after its K-th SDO write was answered (`rK:`:
 /// its K-th SDO read, those of a batch each as it ends; `nK:` its K-th NMT command; `sK:`
