@@ -110,6 +110,10 @@ pub enum Error {
     /// failed", ...).
     #[error("{bus} is not as {project} says: {}", differences.join(", "))]
     NetworkDiffers { bus: String, project: String, differences: Vec<String> },
+    /// Nodes that answered before a network-wide bit-rate switch do not answer at the new
+    /// rate.
+    #[error("node(s) {} did not follow the switch to {rate}: they do not answer at the new rate", join_ids(nodes))]
+    NotFollowed { rate: String, nodes: Vec<u8> },
 
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
@@ -195,7 +199,8 @@ impl Error {
             | Error::ReadBackMany { .. }
             | Error::Differs { .. }
             | Error::OtherDevice { .. }
-            | Error::NetworkDiffers { .. } => C::Verify,
+            | Error::NetworkDiffers { .. }
+            | Error::NotFollowed { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
@@ -386,6 +391,10 @@ fn store_refused_text(node: u8, verb: &str, why: &StoreRefusal) -> String {
 
 fn join(objects: &[ObjAddr]) -> String {
     objects.iter().map(|o| o.to_string()).collect::<Vec<_>>().join(", ")
+}
+
+fn join_ids(nodes: &[u8]) -> String {
+    nodes.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")
 }
 
 /// Which node-ids a bus can address.

@@ -406,3 +406,103 @@ fn check_state_wants_every_node_in_that_nmt_state() {
     assert_eq!(run.code, 0, "{}", run.stdout);
     assert_eq!(states(&run.json()), [(1, true), (5, true), (10, true), (32, true)]);
 }
+
+// ---------------------------------------------------------------------------------------
+// network set-baud: the sim's bus follows an LSS switch; its stepper (SERS: bit rate from
+// DIP switches) refuses "configure bit timing", the others take it.
+
+fn nodes_of(scan: &Run) -> Vec<u64> {
+    scan.json()["nodes"].as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect()
+}
+
+fn set_baud_rows(run: &Run) -> Vec<(u64, Option<bool>)> {
+    run.json()["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| (n["node"].as_u64().unwrap(), n["after"].as_bool()))
+        .collect()
+}
+
+#[test]
+fn set_baud_is_a_broadcast_only_with_global() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "0");
+    let run = sim.run(&["network", "set-baud", "250k"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("a broadcast): add --global"), "{}", run.stderr);
+    let run = sim.run(&["network", "set-baud", "auto", "--global"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    // Nothing was sent: every node still answers at the old rate.
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10, 32]);
+}
+
+#[test]
+fn set_baud_switches_every_node_and_finds_them_at_the_new_rate() {
+    let sim = Sim::new();
+    // The stepper, which cannot change its rate over LSS, is switched off (mute).
+    sim.run(&["sim", "reset", "--profile", "typical", "--unconfigured", "2", "--fault", "stepper:mute"]).ok();
+    let run = sim.run(&["network", "set-baud", "250k", "--global", "--store", "--format", "json"]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    assert_eq!(report["configured"]["confirmed"], 5, "{report}");
+    assert_eq!(report["stored"]["confirmed"], 5, "{report}");
+    assert_eq!(report["bus_followed"], true);
+    assert_eq!(report["unconfigured_after"], 2, "the devices without a node-id followed too");
+    assert_eq!(set_baud_rows(&run), [(1, Some(true)), (5, Some(true)), (10, Some(true))]);
+    // The sim keeps the new rate: the next invocation finds them there.
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10]);
+    let human = sim.run(&["network", "set-baud", "500k", "--global"]).ok();
+    assert!(human.stdout.contains("configure bit timing 500k: 5 device(s) confirmed\n"), "{}", human.stdout);
+    assert!(human.stdout.contains("sim switched with the devices"), "{}", human.stdout);
+}
+
+#[test]
+fn a_device_refusing_the_rate_stops_the_switch_and_force_leaves_it_behind() {
+    let sim = Sim::new();
+    reset(&sim, "typical", "0");
+    let run = sim.run(&["network", "set-baud", "250k", "--global", "--format", "json"]);
+    assert_eq!(run.code, 4, "{}\n{}", run.stdout, run.stderr);
+    assert!(run.stderr.contains("LSS configure bit timing: error 1: bit timing not supported"), "{}", run.stderr);
+    let report = run.json();
+    assert_eq!(report["activated"], false);
+    assert_eq!(report["configured"]["confirmed"], 3, "{report}");
+    assert_eq!(report["configured"]["refused"].as_array().unwrap().len(), 1, "{report}");
+    // Nothing was activated: all four still answer at the old rate.
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10, 32]);
+
+    let run = sim.run(&["network", "set-baud", "250k", "--global", "--force"]);
+    assert_eq!(run.code, 6, "{}\n{}", run.stdout, run.stderr);
+    let row = run.stdout.lines().find(|l| l.starts_with(" 32 ")).unwrap_or_else(|| panic!("{}", run.stdout));
+    assert!(row.contains("did not follow: answered before the switch, not at 250k"), "{row}");
+    assert!(run.stderr.contains("node(s) 32 did not follow the switch to 250k"), "{}", run.stderr);
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10]);
+}
+
+#[test]
+fn set_baud_with_a_project_expects_its_nodes_and_updates_its_dcfs() {
+    let sim = Sim::new();
+    let dir = dumped(&sim);
+    let before = std::fs::read_to_string(dir.join("node5.dcf")).unwrap();
+    let run = sim.run(&[
+        "network",
+        "set-baud",
+        "125k",
+        dir.to_str().unwrap(),
+        "--global",
+        "--force",
+        "--update-project",
+        "--format",
+        "json",
+    ]);
+    // The project lists the stepper, which stays at 500k.
+    assert_eq!(run.code, 6, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    assert!(report["expected_from"].as_str().unwrap().ends_with("nodelist.cpj"), "{report}");
+    assert_eq!(set_baud_rows(&run), [(1, Some(true)), (5, Some(true)), (10, Some(true)), (32, Some(false))]);
+    assert_eq!(report["updated"].as_array().unwrap().len(), 4, "{report}");
+    let after = std::fs::read_to_string(dir.join("node5.dcf")).unwrap();
+    assert_eq!(after, before.replace("\nBaudrate=500\n", "\nBaudrate=125\n"));
+    // --update-project needs a project.
+    assert_eq!(sim.run(&["network", "set-baud", "125k", "--global", "--update-project"]).code, 2);
+}

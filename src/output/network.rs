@@ -1,8 +1,8 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
 use super::{Human, Report, TestCase, TestSuite};
-use crate::ops::network::{Applied, Checked, Dumped, PROJECT_FILE};
-use std::path::Path;
+use crate::ops::network::{Applied, BaudSwitched, Checked, Dumped, PROJECT_FILE};
+use std::path::{Path, PathBuf};
 
 pub(crate) struct DumpReport<'a> {
     pub dumped: &'a Dumped,
@@ -181,6 +181,92 @@ impl Report for Applied {
             notes.push(format!(
                 "interrupted: {not_begun} node(s) not begun; the same command finishes the job (only what differs is written)"
             ));
+        }
+        notes
+    }
+}
+
+/// `network set-baud`'s report, with the project files it rewrote and what to do with a
+/// link that stayed at the old rate.
+pub(crate) struct SetBaudReport<'a> {
+    pub switched: &'a BaudSwitched,
+    pub updated: &'a [PathBuf],
+    pub hint: String,
+}
+
+impl serde::Serialize for SetBaudReport<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        #[derive(serde::Serialize)]
+        struct Json<'a> {
+            #[serde(flatten)]
+            switched: &'a BaudSwitched,
+            updated: Vec<String>,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            link_to_switch: Option<&'a str>,
+        }
+        Json {
+            switched: self.switched,
+            updated: self.updated.iter().map(|p| p.display().to_string()).collect(),
+            link_to_switch: (self.switched.activated && !self.switched.bus_followed).then_some(self.hint.as_str()),
+        }
+        .serialize(s)
+    }
+}
+
+impl Report for SetBaudReport<'_> {
+    fn human(&self) -> Human {
+        let r = self.switched;
+        let mut parts = vec![Human::Line(format!("configure bit timing {}: {}", r.rate, r.configured.text()))];
+        if let Some(stored) = &r.stored {
+            parts.push(Human::Line(format!("store configuration: {}", stored.text())));
+        }
+        parts.push(Human::Line(match (r.activated, r.bus_followed) {
+            (false, _) => "not activated: every device is back in LSS waiting state at the old rate".to_string(),
+            (true, true) => format!(
+                "activated (switch delay {} ms); {} switched with the devices, which are back in LSS waiting state",
+                r.delay_ms, r.bus
+            ),
+            (true, false) => format!(
+                "activated (switch delay {} ms); {} does not switch by itself, so nothing is checked yet: {}; then \
+                 `canctl lss activate --global` or any `canctl lss` command sends the devices back to LSS waiting \
+                 state, and `canctl scan` shows who followed",
+                r.delay_ms, r.bus, self.hint
+            ),
+        }));
+        let yes_no = |b: bool| if b { "yes" } else { "no" }.to_string();
+        let rows = r
+            .nodes
+            .iter()
+            .map(|n| {
+                vec![
+                    n.node.to_string(),
+                    n.name.clone(),
+                    yes_no(n.before),
+                    n.after.map_or("-".to_string(), yes_no),
+                    n.result.clone(),
+                ]
+            })
+            .collect();
+        parts.push(Human::Table { headers: vec!["node", "name", "before", "after", "result"], rows, when_empty: true });
+        Human::Parts(parts)
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let r = self.switched;
+        let mut notes = vec![format!("expected nodes from {}", r.expected_from)];
+        if !r.unexpected.is_empty() {
+            let list: Vec<String> = r.unexpected.iter().map(|n| n.to_string()).collect();
+            notes.push(format!("node(s) {} answer at {} but were not expected", list.join(", "), r.rate));
+        }
+        match r.unconfigured_after {
+            Some(after) if after != r.unconfigured_before => notes.push(format!(
+                "devices without a node-id: {} before the switch, {after} at {}",
+                r.unconfigured_before, r.rate
+            )),
+            _ => {}
+        }
+        for p in self.updated {
+            notes.push(format!("{}: Baudrate set to {}", p.display(), r.rate));
         }
         notes
     }
