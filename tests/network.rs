@@ -506,3 +506,71 @@ fn set_baud_with_a_project_expects_its_nodes_and_updates_its_dcfs() {
     // --update-project needs a project.
     assert_eq!(sim.run(&["network", "set-baud", "125k", "--global", "--update-project"]).code, 2);
 }
+
+// ---------------------------------------------------------------------------------------
+// network apply interrupted: each node stops at its next safe point (between two SDO
+// transfers; a PDO change under way rolled back), and the report says per node what was
+// done and the state it is left in. CANCTL_TEST_SIGNAL_AFTER_WRITES=K:SIG signals canctl
+// right after its K-th confirmed SDO write: an exact point, no timing.
+
+fn tpdo1_of_the_drive(sim: &Sim) -> Vec<String> {
+    ["0x1800:1", "0x1A00:0", "0x1A00:1", "0x1A00:2"]
+        .iter()
+        .map(|obj| sim.run(&["sdo", "read", "1", obj]).ok().stdout)
+        .collect()
+}
+
+fn interrupted_apply(sim: &Sim, jobs: &str, signal: &str) -> Run {
+    let project = example().join("nodelist.cpj");
+    let mut c = sim.command(&["network", "apply", project.to_str().unwrap(), "--jobs", jobs, "--format", "json"]);
+    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", signal);
+    common::finish(c.output().unwrap())
+}
+
+#[test]
+fn an_interrupted_apply_stops_each_node_at_a_safe_point_and_says_where() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "0");
+    let factory = tpdo1_of_the_drive(&sim);
+    // One node at a time: the drive (node 1) is stopped in the middle of its TPDO1 change.
+    let run = interrupted_apply(&sim, "1", "5:INT");
+    assert_eq!(run.code, 130, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    let rows: Vec<(u64, String)> = report["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| (n["node"].as_u64().unwrap(), n["result"].as_str().unwrap().to_string()))
+        .collect();
+    let result = |node: u64| rows.iter().find(|(n, _)| *n == node).map(|(_, r)| r.as_str()).unwrap();
+    assert!(
+        result(1).starts_with("interrupted: TPDO1 (0x1800, 0x1A00): its change was under way; rolled back"),
+        "{rows:?}"
+    );
+    assert!(result(1).contains("not stored (canctl store 1 keeps what was written)"), "{rows:?}");
+    for node in [5, 10, 32] {
+        assert_eq!(result(node), "not done: interrupted before this node was begun", "{rows:?}");
+    }
+    assert_eq!(tpdo1_of_the_drive(&sim), factory, "the drive's TPDO1 is put back as it was");
+
+    // Several nodes at once: every node under way stops (or had finished), none is begun
+    // after the signal, and the same command then finishes the job.
+    reset(&sim, "instant", "5");
+    let run = interrupted_apply(&sim, "4", "5:TERM");
+    assert_eq!(run.code, 130, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    let stopped = report["nodes"].as_array().unwrap().iter().filter(|n| {
+        let r = n["result"].as_str().unwrap();
+        assert!(
+            r.starts_with("interrupted: ")
+                || r.contains("written, verified, stored")
+                || r.starts_with("failed: node 2"),
+            "{r}"
+        );
+        r.starts_with("interrupted: ")
+    });
+    assert!(stopped.count() >= 1, "{report}");
+    let project = example().join("nodelist.cpj");
+    sim.run(&["network", "apply", project.to_str().unwrap(), "--assign"]).ok();
+    assert_eq!(check(&sim, &project, "human").code, 0);
+}

@@ -272,6 +272,9 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     c.store = !a.no_store;
     c.store_timeout = a.store_timeout;
     c.force = a.force;
+    // Each node stops at its next safe point: between two SDO transfers, a PDO change under
+    // way rolled back.
+    c.interrupted = Some(super::interrupt::shared());
     let options = network::ApplyOptions {
         config: c,
         assign: a.assign,
@@ -281,9 +284,10 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         reset: a.reset,
         interrupted: Some(super::interrupt::flag()),
     };
-    // Ctrl-C stops between nodes: the nodes under way finish, and the report says which
-    // were not begun.
+    // Ctrl-C: no node is begun after it, the nodes under way stop at their next safe point,
+    // and the report says for each what was done and the state it is left in.
     super::interrupt::catch();
+    let bus = &mut super::interrupt::with_test_signal(bus);
     let report = network::apply(bus, &loaded, &options, &mut ctx.out.progress())?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)

@@ -429,7 +429,9 @@ pub struct ApplyOptions {
     /// is back (its boot-up, or an SDO answer where the link shows no traffic).
     pub reset: bool,
     /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): no node is begun after
-    /// that; the nodes under way finish, and the report says which were not done.
+    /// that, and the report says which were not. The nodes under way stop at their next
+    /// safe point when `config.interrupted` is the same flag (between two SDO transfers, a
+    /// PDO change under way rolled back, as `config apply` does), else they finish.
     pub interrupted: Option<&'static AtomicBool>,
 }
 
@@ -540,8 +542,27 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     row.written = applied.written.len();
     row.objects = std::mem::take(&mut applied.objects);
     let would = row.objects.iter().filter(|c| c.result.starts_with("would write")).count();
+    if applied.interrupted {
+        // Stopped between two transfers, a PDO change under way put back: what was done,
+        // what was not, and the state the node is left in, as `config apply` says it.
+        row.result = format!("interrupted: {}", applied.summary().join("; "));
+        if o.config.store && !o.config.dry_run && row.written > 0 {
+            row.result.push_str(&format!("; not stored (canctl store {} keeps what was written)", listed.node));
+        }
+        return (row, Some(Error::Interrupted));
+    }
     if let Err(e) = applied.outcome() {
         return fail(row, e);
+    }
+    let stop = o.config.interrupted.as_ref().is_some_and(|f| f.load(Ordering::SeqCst));
+    if o.config.store && row.written > 0 && stop {
+        row.result = format!(
+            "interrupted: {} object(s) written{}, not stored (canctl store {} keeps them)",
+            row.written,
+            if o.config.verify { ", verified" } else { "" },
+            listed.node
+        );
+        return (row, Some(Error::Interrupted));
     }
     if o.config.store && row.written > 0 {
         let t = super::store::Timeouts { answer: o.config.timeout, write: o.config.store_timeout };

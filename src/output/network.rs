@@ -176,6 +176,13 @@ impl Report for Applied {
         } else {
             notes.push(format!("{} object(s) {verb} on {} node(s)", self.written, self.nodes.len()));
         }
+        let stopped = self.nodes.iter().filter(|n| n.result.starts_with("interrupted:")).count();
+        if stopped > 0 {
+            notes.push(format!(
+                "interrupted: {stopped} node(s) stopped part-way, each at a point between two transfers (see its \
+                 result for what was written and the state it is left in)"
+            ));
+        }
         let not_begun = self.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).count();
         if not_begun > 0 {
             notes.push(format!(
