@@ -574,3 +574,54 @@ fn an_interrupted_apply_stops_each_node_at_a_safe_point_and_says_where() {
     sim.run(&["network", "apply", project.to_str().unwrap(), "--assign"]).ok();
     assert_eq!(check(&sim, &project, "human").code, 0);
 }
+
+// ---------------------------------------------------------------------------------------
+// Progress: one line per node under way when stderr is a terminal; none otherwise.
+
+/// `args` run with stderr on a pseudo-terminal: its exit code and what the terminal showed.
+fn on_a_terminal(sim: &Sim, args: &[&str]) -> (i32, String) {
+    use std::io::Read;
+    let pty = nix::pty::openpty(None, None).unwrap();
+    let mut c = sim.command(args);
+    c.stderr(std::process::Stdio::from(pty.slave));
+    c.stdout(std::process::Stdio::piped());
+    let child = c.spawn().unwrap();
+    // The command holds the terminal's other side too: only canctl must, for EIO at its end.
+    drop(c);
+    let mut master = std::fs::File::from(pty.master);
+    let reader = std::thread::spawn(move || {
+        let mut shown = Vec::new();
+        // Ends with EIO once canctl, the only holder of the terminal's other side, exits.
+        let _ = master.read_to_end(&mut shown);
+        String::from_utf8_lossy(&shown).into_owned()
+    });
+    let out = child.wait_with_output().unwrap();
+    (out.status.code().unwrap_or(-1), reader.join().unwrap())
+}
+
+#[test]
+fn apply_shows_one_progress_line_per_node_on_a_terminal_only() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "0");
+    let project = example().join("nodelist.cpj");
+    let project = project.to_str().unwrap();
+    // Nodes 20 to 24 wait for --assign (not given): their rows fail, exit 3.
+    let (code, shown) = on_a_terminal(&sim, &["network", "apply", project, "--jobs", "4"]);
+    assert_eq!(code, 3, "{shown}");
+    for node in ["node 1 ", "node 5 ", "node 10 ", "node 32 "] {
+        let line = shown
+            .split(['\r', '\n'])
+            .find(|l| l.contains(node) && l.contains("object(s) written, verified, stored"))
+            .unwrap_or_else(|| panic!("no finished line for {node}: {shown:?}"));
+        assert!(!line.is_empty());
+    }
+    assert!(shown.contains(" read(s), "), "{shown:?}");
+
+    reset(&sim, "instant", "0");
+    let run = sim.run(&["network", "apply", project, "--jobs", "4"]);
+    assert_eq!(run.code, 3);
+    assert!(!run.stderr.contains("read(s)") && !run.stderr.contains("applying"), "{}", run.stderr);
+    reset(&sim, "instant", "0");
+    let (_, quiet) = on_a_terminal(&sim, &["-q", "network", "apply", project, "--jobs", "4"]);
+    assert!(!quiet.contains("read(s)") && !quiet.contains("applying"), "{quiet:?}");
+}

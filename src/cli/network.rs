@@ -7,7 +7,7 @@ use crate::canopen::nmt::State;
 use crate::error::Error;
 use crate::ops::config;
 use crate::ops::network::{self, PROJECT_FILE};
-use crate::output::network::{DumpReport, SetBaudReport};
+use crate::output::network::{DumpReport, NodeBars, SetBaudReport};
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -259,7 +259,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
 fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
     let loaded = load(ctx, &a.project)?;
     let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into(), state: a.state };
-    let report = network::check(bus, &loaded, &options, &mut ctx.out.progress())?;
+    let report = network::check(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }
@@ -288,7 +288,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     // and the report says for each what was done and the state it is left in.
     super::interrupt::catch();
     let bus = &mut super::interrupt::with_test_signal(bus);
-    let report = network::apply(bus, &loaded, &options, &mut ctx.out.progress())?;
+    let report = network::apply(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }

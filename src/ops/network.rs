@@ -380,7 +380,8 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
             .collect()
     } else {
         let stopped = |_: usize, e: Error| Err(e);
-        parallel::each(bus, &all, o.jobs, None, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
+        let items: Vec<(usize, u8)> = all.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
+        parallel::each(bus, &items, o.jobs, None, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
     };
     let mut nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
     if let Some(want) = o.state {
@@ -615,7 +616,19 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
                 break;
             }
             progress.advance(k as u64);
-            let result = configure_node(bus, &loaded.nodes[*i], o);
+            let label = node_label(loaded.nodes[*i].node);
+            let (mut reads, mut writes) = (0, 0);
+            let result = {
+                let mut counted = crate::bus::tap::AfterSdo::new(&mut *bus, |t, n| {
+                    match t {
+                        crate::bus::tap::Transfer::Upload => reads = n,
+                        crate::bus::tap::Transfer::Download => writes = n,
+                    }
+                    progress.item(&label, &transfers(reads, writes), false);
+                });
+                configure_node(&mut counted, &loaded.nodes[*i], o)
+            };
+            progress.item(&label, &result.summary(), true);
             let link = matches!(result.1, Some(Error::Link(_)));
             done.push((*i, result));
             // A lost link ends the run: every further node would fail the same way.
@@ -631,7 +644,8 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             row.result = format!("failed: {e}");
             (row, Some(e))
         };
-        parallel::each(bus, &ready, o.jobs, o.interrupted, &work, &stopped, progress)
+        let items: Vec<(usize, u8)> = ready.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
+        parallel::each(bus, &items, o.jobs, o.interrupted, &work, &stopped, progress)
     };
     progress.finish();
     for (i, (mut row, error)) in done {
@@ -691,6 +705,37 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         written,
         failure,
     })
+}
+
+/// A node's result in a few words, for its progress bar.
+trait Summary {
+    fn summary(&self) -> String;
+}
+
+impl Summary for NodeOutcome {
+    fn summary(&self) -> String {
+        self.0.result.clone()
+    }
+}
+
+impl Summary for Result<NodeCheck> {
+    fn summary(&self) -> String {
+        match self {
+            Ok(n) => match n.checks.iter().filter(|c| !c.ok).count() {
+                0 => "as the project says".to_string(),
+                k => format!("{k} check(s) differ"),
+            },
+            Err(e) => format!("failed: {e}"),
+        }
+    }
+}
+
+fn node_label(node: u8) -> String {
+    format!("node {node}")
+}
+
+fn transfers(reads: u32, writes: u32) -> String {
+    format!("{reads} read(s), {writes} write(s)")
 }
 
 /// Many nodes at once over one link: each node's procedure runs on its own thread against a
@@ -777,9 +822,9 @@ mod parallel {
     /// for a node whose procedure ended without its result (a bug), so that the run still
     /// ends. Results in the order of `items`; after a link failure or once `stop` is set,
     /// no further node is begun, and those are left out.
-    pub(super) fn each<T: Send>(
+    pub(super) fn each<T: Send + Summary>(
         bus: &mut dyn Bus,
-        items: &[usize],
+        items: &[(usize, u8)],
         jobs: usize,
         stop: Option<&AtomicBool>,
         work: &(dyn Fn(&mut dyn Bus, usize) -> T + Sync),
@@ -790,8 +835,10 @@ mod parallel {
         let (tx, rx): (Sender<Msg<T>>, Receiver<Msg<T>>) = channel();
         let mut done = Vec::new();
         let mut lost: Option<Error> = None;
+        // Each node's transfers so far, for its progress bar.
+        let mut counts: BTreeMap<u8, (u32, u32)> = BTreeMap::new();
         std::thread::scope(|scope| {
-            let mut queue = items.iter().copied();
+            let mut queue = items.iter().map(|(i, _)| *i);
             let mut running = 0;
             let start = |i: usize| {
                 let node_bus =
@@ -819,8 +866,24 @@ mod parallel {
                 // Every running node either waits for a transfer or has finished.
                 while waiting.len() < running {
                     match rx.recv().expect("a running node sends before it ends") {
-                        Msg::Sdo(job, reply) => waiting.push((job, reply)),
+                        Msg::Sdo(job, reply) => {
+                            let (node, write) = match &job {
+                                SdoJob::Upload { node, .. } => (*node, false),
+                                SdoJob::Download { node, .. } => (*node, true),
+                            };
+                            let count = counts.entry(node).or_default();
+                            if write {
+                                count.1 += 1;
+                            } else {
+                                count.0 += 1;
+                            }
+                            progress.item(&node_label(node), &transfers(count.0, count.1), false);
+                            waiting.push((job, reply));
+                        }
                         Msg::Done(i, result) => {
+                            if let Some((_, node)) = items.iter().find(|(x, _)| *x == i) {
+                                progress.item(&node_label(*node), &result.summary(), true);
+                            }
                             done.push((i, result));
                             progress.advance(done.len() as u64);
                             running -= 1;
@@ -851,7 +914,7 @@ mod parallel {
                 }
             }
         });
-        let order = |i: &usize| items.iter().position(|x| x == i);
+        let order = |i: &usize| items.iter().position(|(x, _)| x == i);
         done.sort_by_key(|(i, _)| order(i));
         done
     }

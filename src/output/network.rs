@@ -1,7 +1,10 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
-use super::{Human, Report, TestCase, TestSuite};
+use super::{Human, Output, Report, TestCase, TestSuite};
 use crate::ops::network::{Applied, BaudSwitched, Checked, Dumped, PROJECT_FILE};
+use crate::ops::Progress;
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub(crate) struct DumpReport<'a> {
@@ -276,5 +279,74 @@ impl Report for SetBaudReport<'_> {
             notes.push(format!("{}: Baudrate set to {}", p.display(), r.rate));
         }
         notes
+    }
+}
+
+/// Progress of a network procedure on a terminal: the phase's bar, and under it one line
+/// per node under way (its transfers so far, then its result), cleared at the end. Nothing
+/// is drawn when stderr is not a terminal or with --quiet.
+pub(crate) struct NodeBars<'a> {
+    out: &'a Output,
+    multi: MultiProgress,
+    phase: Option<ProgressBar>,
+    nodes: BTreeMap<String, ProgressBar>,
+}
+
+impl<'a> NodeBars<'a> {
+    pub fn new(out: &'a Output) -> NodeBars<'a> {
+        let target = if out.progress { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+        NodeBars { out, multi: MultiProgress::with_draw_target(target), phase: None, nodes: BTreeMap::new() }
+    }
+
+    fn clear(&mut self) {
+        for (_, bar) in std::mem::take(&mut self.nodes) {
+            bar.finish_and_clear();
+        }
+        if let Some(bar) = self.phase.take() {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+impl Progress for NodeBars<'_> {
+    fn start(&mut self, what: &str, len: u64) {
+        self.clear();
+        self.phase = Some(self.multi.add(self.out.bar(len, what)));
+    }
+    fn advance(&mut self, done: u64) {
+        if let Some(bar) = &self.phase {
+            bar.set_position(done);
+        }
+    }
+    fn finish(&mut self) {
+        self.clear();
+    }
+    fn note(&mut self, text: &str) {
+        self.multi.suspend(|| self.out.note(text));
+    }
+    fn item(&mut self, item: &str, status: &str, finished: bool) {
+        if !self.out.progress {
+            return;
+        }
+        let multi = &self.multi;
+        let bar = self.nodes.entry(item.to_string()).or_insert_with(|| {
+            let bar = multi.add(ProgressBar::new_spinner());
+            bar.set_style(ProgressStyle::with_template("  {prefix:<9} {spinner} {wide_msg}").expect("valid template"));
+            bar.set_prefix(item.to_string());
+            bar
+        });
+        let status = crate::output::terminal_safe(status).into_owned();
+        if finished {
+            bar.finish_with_message(status);
+        } else {
+            bar.set_message(status);
+            bar.tick();
+        }
+    }
+}
+
+impl Drop for NodeBars<'_> {
+    fn drop(&mut self) {
+        self.clear();
     }
 }
