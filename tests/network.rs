@@ -625,3 +625,22 @@ fn apply_shows_one_progress_line_per_node_on_a_terminal_only() {
     let (_, quiet) = on_a_terminal(&sim, &["-q", "network", "apply", project, "--jobs", "4"]);
     assert!(!quiet.contains("read(s)") && !quiet.contains("applying"), "{quiet:?}");
 }
+
+/// An EPOS2 gateway does not change its own CAN rate with the devices: the switch is sent
+/// and said to be unchecked, with what to do, never reported as followed.
+#[test]
+fn set_baud_through_the_epos2_gateway_says_the_gateway_must_be_switched() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--profile", "instant", "--unconfigured", "0", "--fault", "stepper:mute"]).ok();
+    let gateway = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let run = gateway.run(&["network", "set-baud", "250k", "--global", "--format", "json"]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    assert_eq!(report["activated"], true, "{report}");
+    assert_eq!(report["bus_followed"], false, "{report}");
+    assert!(report["link_to_switch"].as_str().unwrap().contains("lss set-baud 250k --node 0"), "{report}");
+    assert_eq!(report["ok"], false, "{report}");
+    assert!(set_baud_rows(&run).iter().all(|(_, after)| after.is_none()), "{report}");
+    let human = gateway.run(&["network", "set-baud", "500k", "--global"]);
+    assert!(human.stdout.contains("does not switch by itself, so nothing is checked yet"), "{}", human.stdout);
+}
