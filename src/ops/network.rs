@@ -1081,6 +1081,9 @@ pub struct BaudSwitched {
     pub stored: Option<LssTally>,
     /// Whether "activate bit timing" was sent.
     pub activated: bool,
+    /// Why it was not, in words.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_activated: Option<String>,
     pub delay_ms: u16,
     /// Whether the link switched with the devices (the simulated bus does; a CAN interface
     /// or an EPOS2 must be switched by its owner).
@@ -1139,6 +1142,7 @@ pub fn set_baud(
         configured: LssTally::default(),
         stored: None,
         activated: false,
+        not_activated: None,
         delay_ms: o.delay_ms,
         bus_followed: false,
         nodes: expected
@@ -1159,8 +1163,9 @@ pub fn set_baud(
     };
     let not_switched = |report: &mut BaudSwitched, e: Error, why: &str| {
         for n in &mut report.nodes {
-            n.result = format!("not switched: {why}");
+            n.result = "not switched".to_string();
         }
+        report.not_activated = Some(why.to_string());
         report.failure = Some(e);
     };
 
@@ -1187,7 +1192,7 @@ pub fn set_baud(
     if let Some(e) = refused.filter(|_| !o.force) {
         m.leave()?;
         let why = format!(
-            "{} device(s) refused {rate}, so nothing was activated (--force switches the others and leaves them behind)",
+            "{} device(s) refused {rate} (--force switches the others and leaves them behind)",
             report.configured.refused.len()
         );
         not_switched(&mut report, e, &why);

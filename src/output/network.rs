@@ -231,7 +231,10 @@ impl Report for SetBaudReport<'_> {
             parts.push(Human::Line(format!("store configuration: {}", stored.text())));
         }
         parts.push(Human::Line(match (r.activated, r.bus_followed) {
-            (false, _) => "not activated: every device is back in LSS waiting state at the old rate".to_string(),
+            (false, _) => format!(
+                "not activated: {}; every device is back in LSS waiting state at the old rate",
+                r.not_activated.as_deref().unwrap_or("stopped")
+            ),
             (true, true) => format!(
                 "activated (switch delay {} ms); {} switched with the devices, which are back in LSS waiting state",
                 r.delay_ms, r.bus
