@@ -1310,6 +1310,55 @@ mod tests {
         }
     }
 
+    /// Sets the flag once the probe before the switch is over.
+    struct StopAfterProbe(&'static AtomicBool);
+
+    impl Progress for StopAfterProbe {
+        fn finish(&mut self) {
+            self.0.store(true, Ordering::SeqCst);
+        }
+    }
+
+    fn set_baud_options(flag: &'static AtomicBool) -> SetBaudOptions {
+        SetBaudOptions {
+            timeout: Duration::from_millis(200),
+            window: Duration::from_millis(100),
+            index: 3,
+            delay_ms: 5,
+            store: false,
+            force: true,
+            interrupted: Some(flag),
+        }
+    }
+
+    /// Interrupted before the activation, nothing is switched: every device back in waiting
+    /// state at the old rate, the run reported as interrupted.
+    #[test]
+    fn set_baud_interrupted_before_the_activation_switches_nothing() {
+        let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+        let mut bus = demo();
+        let report = set_baud(bus.as_mut(), None, &set_baud_options(flag), &mut StopAfterProbe(flag)).unwrap();
+        assert!(!report.activated);
+        assert!(matches!(report.failure, Some(Error::Interrupted)));
+        assert_eq!(report.configured.confirmed, 6, "the stepper refuses, the others confirm");
+        let still: Vec<u8> =
+            probe(bus.as_mut(), Duration::from_millis(100), &mut super::super::Silent).unwrap().into_keys().collect();
+        assert_eq!(still, [1, 5, 10, 32]);
+    }
+
+    /// Forced past the stepper's refusal: the others switch, the bus with them, and the
+    /// stepper is named as left behind.
+    #[test]
+    fn set_baud_names_the_node_left_behind() {
+        let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+        let mut bus = demo();
+        let report = set_baud(bus.as_mut(), None, &set_baud_options(flag), &mut super::super::Silent).unwrap();
+        assert!(report.activated && report.bus_followed);
+        assert!(matches!(&report.failure, Some(Error::NotFollowed { nodes, .. }) if nodes == &[32]));
+        let after: Vec<(u8, Option<bool>)> = report.nodes.iter().map(|n| (n.node, n.after)).collect();
+        assert_eq!(after, [(1, Some(true)), (5, Some(true)), (10, Some(true)), (32, Some(false))]);
+    }
+
     /// An interruption stops between nodes, one after the other or several at once: the
     /// nodes under way finish, the others are reported as not begun, and the run ends as
     /// interrupted.
