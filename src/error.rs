@@ -38,6 +38,9 @@ pub enum Error {
     /// Something this kind of bus cannot do (`{bus}: {why}`).
     #[error("{bus}: {why}")]
     NotOnThisBus { bus: String, why: &'static str },
+    /// A drive command for a node whose device type (0x1000) names another profile.
+    #[error("node {node} is not a CiA 402 drive: its device type (0x1000) is 0x{device_type:08X}, {}; drive commands are for profile 402", profile_text(*device_type))]
+    NotADrive { node: u8, device_type: u32 },
 
     // ---- no response (exit 3) ----
     /// A node did not answer at all (`node` 0: all nodes, as NMT addresses them).
@@ -83,9 +86,16 @@ pub enum Error {
     /// LSS assignment found no free node-id for a device.
     #[error("no free node-id left from {start} to 127 for {identity}")]
     NoFreeNodeId { start: u8, identity: Identity },
+    /// A node keeps no error history (it has no object 0x1003), so there is none to clear.
+    #[error("node {node} keeps no error history (it has no object 0x1003): there is nothing to clear")]
+    NoErrorHistory { node: u8 },
     /// A node cannot store or restore (`verb`) parameters on command.
     #[error("{}", store_refused_text(*node, verb, why))]
     StoreRefused { node: u8, verb: &'static str, why: StoreRefusal },
+    /// A drive command (`goal`: enable, disable …) stopped short of its goal, in `state`.
+    /// Stopped for want of an answer it is a timeout (exit 3), else a refusal (exit 4).
+    #[error("node {node}: {goal} stopped in {state}: {why}")]
+    DriveStopped { node: u8, goal: &'static str, state: String, why: DriveStop },
 
     // ---- link failure (exit 5) ----
     /// The link to the bus failed, or the device answered with something unintelligible.
@@ -114,6 +124,10 @@ pub enum Error {
     /// rate.
     #[error("node(s) {} did not follow the switch to {rate}: they do not answer at the new rate", join_ids(nodes))]
     NotFollowed { rate: String, nodes: Vec<u8> },
+
+    /// Nodes on a bus are not healthy; `nodes` in words ("node 1: error register 0x81").
+    #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(), nodes.join("; "))]
+    Unhealthy { bus: String, total: usize, nodes: Vec<String> },
 
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
@@ -180,7 +194,8 @@ impl Error {
             | Error::NodeIdOutOfRange { .. }
             | Error::TooLargeForSdo { .. }
             | Error::SlcanBitRate { .. }
-            | Error::NotOnThisBus { .. } => C::Usage,
+            | Error::NotOnThisBus { .. }
+            | Error::NotADrive { .. } => C::Usage,
             Error::NoAnswer { .. }
             | Error::SdoUnfinished { .. }
             | Error::NoRemoteAnswer { .. }
@@ -193,14 +208,18 @@ impl Error {
             | Error::LssRefused { .. }
             | Error::Epos2Refused { .. }
             | Error::NoFreeNodeId { .. }
-            | Error::StoreRefused { .. } => C::Refused,
+            | Error::StoreRefused { .. }
+            | Error::NoErrorHistory { .. } => C::Refused,
+            Error::DriveStopped { why: DriveStop::NoAnswer, .. } => C::Timeout,
+            Error::DriveStopped { .. } => C::Refused,
             Error::Link(_) => C::Link,
             Error::ReadBack { .. }
             | Error::ReadBackMany { .. }
             | Error::Differs { .. }
             | Error::OtherDevice { .. }
             | Error::NetworkDiffers { .. }
-            | Error::NotFollowed { .. } => C::Verify,
+            | Error::NotFollowed { .. }
+            | Error::Unhealthy { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
@@ -228,6 +247,54 @@ impl Error {
     pub fn with_hint(self, hint: impl Into<String>) -> Error {
         Error::Hinted { error: Box::new(self), hint: hint.into() }
     }
+}
+
+/// Why a drive command stopped before its goal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DriveStop {
+    /// The drive is in fault (or went into fault on the way); fault-reset leaves it once
+    /// the cause is gone.
+    FaultPresent,
+    /// A fault reset left the drive in fault: the cause is still there.
+    FaultRemains,
+    /// The drive did not switch on and its statusword shows no voltage (bit 4).
+    VoltageMissing,
+    /// The drive answered but did not take the transition within the wait.
+    TransitionRefused,
+    /// The drive stopped answering SDO.
+    NoAnswer,
+    /// The statusword shows no CiA 402 state.
+    NoState,
+}
+
+impl fmt::Display for DriveStop {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            DriveStop::FaultPresent => "fault present (canctl drive fault-reset NODE clears it once its cause is gone)",
+            DriveStop::FaultRemains => {
+                "the fault remains after the reset: its cause is still there (canctl drive status NODE shows the errors)"
+            }
+            DriveStop::VoltageMissing => "voltage missing (statusword bit 4 clear: check the power supply)",
+            DriveStop::TransitionRefused => "transition refused (the statusword did not follow the controlword)",
+            DriveStop::NoAnswer => "no answer",
+            DriveStop::NoState => "the statusword shows no CiA 402 state",
+        })
+    }
+}
+
+/// The device profile a device type (0x1000) names, in words.
+fn profile_text(device_type: u32) -> String {
+    let profile = device_type & 0xFFFF;
+    let name = match profile {
+        0 => return "no standard device profile".into(),
+        401 => "generic I/O modules",
+        402 => "drives and motion control",
+        404 => "measuring devices and closed-loop controllers",
+        406 => "encoders",
+        _ => return format!("profile {profile}"),
+    };
+    format!("profile {profile} (CiA {profile}, {name})")
 }
 
 impl From<LinkError> for Error {

@@ -9,6 +9,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
+mod drive;
+mod health;
 mod lss;
 pub(crate) mod network;
 mod nodes;
@@ -36,7 +38,7 @@ pub enum FormatArg {
     Json,
     /// A header row and one row per record.
     Csv,
-    /// JUnit XML, one test case per node and check (network check only).
+    /// JUnit XML, one test case per node and check (network check, health).
     Junit,
 }
 

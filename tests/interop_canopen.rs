@@ -143,3 +143,58 @@ fn the_canopen_client_talks_to_canctl_sim() {
     assert!(out.status.success(), "canopen client failed:\n{stdout}\n{stderr}");
     assert!(stdout.contains("all interop checks passed"), "{stdout}");
 }
+
+/// python-canopen's CiA 402 master walks the simulated EPOS2 through its states, by its
+/// TPDO (statusword) and SDO (controlword), and through a simulated fault and its reset.
+#[test]
+fn cia402_python_canopen_base_node_402_drives_the_simulated_epos2() {
+    if !common::has_interface(IFACE) {
+        return;
+    }
+    let sim = Sim::new();
+    let _devices = Killed(common::sim_on_interface(&sim, IFACE));
+    let eds = Path::new(env!("CARGO_MANIFEST_DIR")).join("eds/canctl-sim-drive.eds");
+    let out =
+        Command::new("python3").args([&script("p402.py"), IFACE, eds.to_str().unwrap()]).output().expect("python3");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // The run's record, for the test log.
+    println!("{stdout}");
+    assert!(out.status.success(), "BaseNode402 failed:\n{stdout}\n{stderr}");
+    assert!(stdout.contains("all p402 checks passed"), "{stdout}");
+    let seen: Vec<&str> =
+        stdout.lines().filter_map(|l| l.strip_prefix("seen ")).map(|l| l.split(" (").next().unwrap()).collect();
+    for state in
+        ["SWITCH ON DISABLED", "READY TO SWITCH ON", "SWITCHED ON", "OPERATION ENABLED", "QUICK STOP ACTIVE", "FAULT"]
+    {
+        assert!(seen.contains(&state), "{state} never seen in the TPDO: {seen:?}");
+    }
+}
+
+/// `canctl drive` over SocketCAN against the simulated drive on the same vcan0.
+#[test]
+fn cia402_canctl_drive_over_vcan_against_the_sim() {
+    if !common::has_interface(IFACE) {
+        return;
+    }
+    let sim = Sim::new();
+    let _devices = Killed(common::sim_on_interface(&sim, IFACE));
+    let enable = canctl(&["drive", "enable", "1"]).ok();
+    println!("{}", enable.stdout);
+    assert!(enable.stdout.contains("node 1: Operation enabled"), "{}", enable.stdout);
+    canctl(&["sdo", "write", "1", "5FFE", "1", "--type", "u16"]).ok();
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while canctl(&["drive", "status", "1", "--format", "json"]).ok().json()["state"] != "fault" {
+        assert!(std::time::Instant::now() < end, "the drive never showed its fault");
+    }
+    canctl(&["sdo", "write", "1", "5FFE", "0", "--type", "u16"]).ok();
+    let reset = canctl(&["drive", "fault-reset", "1"]).ok();
+    println!("{}", reset.stdout);
+    assert!(reset.stdout.contains("Fault → Switch on disabled"), "{}", reset.stdout);
+    canctl(&["drive", "enable", "1"]).ok();
+    let disable = canctl(&["drive", "disable", "1"]).ok();
+    println!("{}", disable.stdout);
+    assert!(disable.stdout.contains("Operation enabled → Switch on disabled"), "{}", disable.stdout);
+    let refused = canctl(&["drive", "enable", "10"]);
+    assert_eq!(refused.code, 2, "{}", refused.stderr);
+}

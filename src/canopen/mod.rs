@@ -1,6 +1,7 @@
 //! Pure CANopen protocol code: no I/O, no clocks.
 
 pub mod abort;
+pub mod cia402;
 pub mod emcy;
 pub mod lss;
 pub mod nmt;

@@ -5,6 +5,9 @@ mod complete;
 mod config;
 mod diagnostics;
 mod docs;
+mod drive;
+mod errors;
+mod health;
 mod interrupt;
 mod lss;
 mod monitor;
@@ -127,6 +130,15 @@ pub enum Command {
     Lss(lss::LssCommand),
     Store(store::StoreArgs),
     Restore(store::RestoreArgs),
+    /// CiA 402 drives: state and flags, enable, disable, quick stop, fault reset
+    #[command(
+        subcommand,
+        after_help = "Examples:
+  canctl --bus sim drive status 1
+  canctl --bus sim drive enable 1
+  canctl --bus sim drive fault-reset 1"
+    )]
+    Drive(drive::DriveCommand),
     StreamPdo(stream::StreamArgs),
     Monitor(monitor::MonitorArgs),
     /// Configuration files: dump a node to a DCF, compare, apply
@@ -147,6 +159,8 @@ pub enum Command {
   canctl --bus sim network apply machine/ --assign"
     )]
     Network(network::NetworkCommand),
+    Errors(errors::ErrorsArgs),
+    Health(health::HealthArgs),
     Sim(sim::SimArgs),
     /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
     #[command(after_help = "Examples:\n  canctl settings\n  canctl --bus sim settings --format json")]
@@ -255,9 +269,10 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
     };
-    if g.format == FormatArg::Junit && !matches!(cli.command, Command::Network(network::NetworkCommand::Check(_))) {
+    let checks = matches!(cli.command, Command::Network(network::NetworkCommand::Check(_)) | Command::Health(_));
+    if g.format == FormatArg::Junit && !checks {
         return Err(Error::Usage(
-            "--format junit is for commands that check things: canctl network check; use human, json or csv here"
+            "--format junit is for commands that check things: canctl network check, canctl health; use human, json or csv here"
                 .into(),
         )
         .into());
@@ -269,10 +284,13 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Lss(cmd) => with_bus(&ctx, g, |bus| lss::run(&ctx, bus, cmd)),
         Command::Store(a) => with_bus(&ctx, g, |bus| store::store(&ctx, bus, a)),
         Command::Restore(a) => with_bus(&ctx, g, |bus| store::restore(&ctx, bus, a)),
+        Command::Drive(cmd) => with_bus(&ctx, g, |bus| drive::run(&ctx, bus, cmd)),
         Command::Config(cmd) => with_bus(&ctx, g, |bus| config::run(&ctx, bus, cmd)),
         Command::StreamPdo(a) => with_bus(&ctx, g, |bus| stream::run(&ctx, bus, a)),
         Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),
         Command::Network(cmd) => with_bus(&ctx, g, |bus| network::run(&ctx, bus, cmd)),
+        Command::Errors(a) => with_bus(&ctx, g, |bus| errors::run(&ctx, bus, a)),
+        Command::Health(a) => with_bus(&ctx, g, |bus| health::run(&ctx, bus, a)),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Settings => Ok(ctx.out.report(&settings.report())?),
         Command::Completions(args) => docs::completions(args),

@@ -179,7 +179,7 @@ fn parse_fixed_bit_rate(text: &str) -> Result<u8, String> {
     }
 }
 
-fn parse_state(text: &str) -> Result<State, String> {
+pub(super) fn parse_state(text: &str) -> Result<State, String> {
     match text.trim().to_ascii_lowercase().as_str() {
         "operational" => Ok(State::Operational),
         "pre-operational" | "preop" => Ok(State::PreOperational),

@@ -56,17 +56,13 @@ pub struct StreamArgs {
     pub interval: Duration,
 }
 
-/// `--map`'s objects, by address or name, with their sizes from the dictionary.
-fn remapping(ctx: &Ctx, a: &StreamArgs, tpdo: u16) -> crate::Result<Remap> {
+/// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
+/// read once from the node.
+fn remapping(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, tpdo: u16) -> crate::Result<Remap> {
     let mut objects = Vec::new();
     for text in &a.map {
         let (addr, entry) = ctx.dicts.resolve(a.node, text)?;
-        let size = entry.and_then(|e| e.dtype.size()).ok_or_else(|| {
-            Error::Usage(format!(
-                "--map {text}: its size is unknown (no fixed-size type in the dictionary; --eds gives one)"
-            ))
-        })?;
-        objects.push((addr, (size * 8) as u8));
+        objects.push((addr, pdo::mapped_bits(bus, a.node, addr, entry, ctx.timeout)?));
     }
     Ok(Remap { tpdo, objects, event: a.event, transmission: a.transmission })
 }
@@ -91,7 +87,8 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
     let state_options = StateOptions { listen: Duration::from_millis(300), timeout: ctx.timeout };
     let list: Vec<u16> = if a.tpdo.is_empty() { (1..=4).collect() } else { a.tpdo.clone() };
     if !a.map.is_empty() {
-        session.remap(bus, a.node, &remapping(ctx, a, list[0])?, ctx.timeout)?;
+        let remap = remapping(ctx, bus, a, list[0])?;
+        session.remap(bus, a.node, &remap, ctx.timeout)?;
     }
     if a.start {
         let state = nmt::state(bus, a.node, &state_options)?.state;

@@ -129,6 +129,35 @@ impl Session {
     }
 }
 
+/// A PDO entry is 1 to 8 whole bytes (8 to 64 bits).
+const MAX_ENTRY_BYTES: usize = 8;
+
+/// The size in bits of an object to map into a PDO: its dictionary type's when that has a
+/// fixed size, else learnt by reading the object once (at most 8 bytes are read). An
+/// object that cannot be read, or is empty or longer than 8 bytes, is refused.
+pub fn mapped_bits(bus: &mut dyn Bus, node: u8, addr: ObjAddr, entry: Option<&Entry>, timeout: Duration) -> Result<u8> {
+    if let Some(size) = entry.and_then(|e| e.dtype.size()) {
+        return Ok((size * 8) as u8);
+    }
+    let mut opts = sized(timeout, None);
+    opts.max_upload = MAX_ENTRY_BYTES;
+    let refused = |why: String| Error::Usage(format!("cannot map {addr} into a PDO: {why}"));
+    match bus.sdo_upload(node, addr, &opts) {
+        Ok(v) if (1..=MAX_ENTRY_BYTES).contains(&v.len()) => Ok((v.len() * 8) as u8),
+        Ok(v) => Err(refused(format!(
+            "it reads {} bytes, and a PDO entry is 1 to 8 bytes (8 to 64 bits)",
+            v.len()
+        ))),
+        // The client stopped the upload at the limit.
+        Err(Error::Link(crate::error::LinkError::SdoProtocol { aborted: Some(abort::OUT_OF_MEMORY), .. })) => {
+            Err(refused("it is longer than 8 bytes, and a PDO entry is 1 to 8 bytes (8 to 64 bits)".into()))
+        }
+        Err(e) => Err(e.with_hint(
+            "; --map learns the size of an object the dictionary does not give by reading it once (--eds gives its type)",
+        )),
+    }
+}
+
 /// The type a mapped object has: the dictionary's when its size matches the mapping,
 /// else unsigned of the mapped width.
 fn field_type(entry: Option<&Entry>, bits: u8) -> DataType {
@@ -367,5 +396,47 @@ impl<'a> Stream<'a> {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::Master;
+    use crate::sim::{SimConfig, SimLink};
+
+    const T: Duration = Duration::from_secs(2);
+
+    fn drive() -> Master<SimLink> {
+        Master::new(SimLink::with_config(SimConfig::instant()), "sim".into())
+    }
+
+    #[test]
+    fn an_object_without_a_dictionary_entry_is_sized_by_reading_it_once() {
+        let mut bus = drive();
+        // Home offset (i32) and the simulator's unsigned8: no entry given for either.
+        assert_eq!(mapped_bits(&mut bus, 1, ObjAddr::new(0x2081, 0), None, T).unwrap(), 32);
+        assert_eq!(mapped_bits(&mut bus, 1, ObjAddr::new(0x5FF0, 2), None, T).unwrap(), 8);
+        assert_eq!(mapped_bits(&mut bus, 1, ObjAddr::new(0x5FF0, 5), None, T).unwrap(), 64);
+        // A dictionary's fixed size is used as it is, without asking the node.
+        let entry = crate::od::builtin::dictionary(None).get(ObjAddr::new(0x1017, 0)).cloned();
+        assert_eq!(mapped_bits(&mut bus, 99, ObjAddr::new(0x1017, 0), entry.as_ref(), T).unwrap(), 16);
+    }
+
+    #[test]
+    fn objects_that_do_not_fit_a_pdo_entry_or_cannot_be_read_are_refused() {
+        let mut bus = drive();
+        // A 9-byte domain and a 10-byte name: longer than a PDO entry, stopped at 8 bytes.
+        for addr in [ObjAddr::new(0x5FF0, 14), ObjAddr::new(0x1008, 0)] {
+            let e = mapped_bits(&mut bus, 1, addr, None, T).unwrap_err();
+            assert!(matches!(e, Error::Usage(_)), "{e}");
+            assert!(e.to_string().contains("longer than 8 bytes"), "{e}");
+        }
+        // Write-only, and not there: the device's abort, said as such.
+        let e = mapped_bits(&mut bus, 1, ObjAddr::new(0x5FF0, 15), None, T).unwrap_err();
+        assert!(matches!(e.root(), Error::SdoAbort { code: abort::WRITE_ONLY, .. }), "{e}");
+        assert!(e.to_string().contains("--map learns the size"), "{e}");
+        let e = mapped_bits(&mut bus, 1, ObjAddr::new(0x5123, 0), None, T).unwrap_err();
+        assert!(matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT, .. }), "{e}");
     }
 }

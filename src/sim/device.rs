@@ -1,7 +1,9 @@
 //! One simulated CANopen device: its object dictionary values, SDO server, NMT state
 //! machine, heartbeat producer and node-guarding responder.
 
-use super::profiles::Model;
+use super::cia402_drive::{Drive, FAULT_REACTION_MS};
+use super::profiles::{Model, SUPPLY_OFF_OBJECT};
+use crate::canopen::cia402::{self, State as DriveState};
 use crate::canopen::lss::{self, SlaveEvent, UNCONFIGURED};
 use crate::canopen::nmt::{self, Command, ErrorControl};
 use crate::canopen::sdo::{self, ObjectAccess, SdoServer};
@@ -26,6 +28,8 @@ pub struct ObjectStore {
     stored: BTreeMap<ObjAddr, Vec<u8>>,
     ignored_writes: Vec<ObjAddr>,
     dirty: bool,
+    /// A CiA 402 drive's situation; its state is the statusword's value.
+    drive: Option<Drive>,
 }
 
 impl ObjectStore {
@@ -124,6 +128,45 @@ impl ObjectStore {
     pub fn u16_value(&self, addr: ObjAddr) -> Option<u16> {
         self.value(addr).filter(|v| v.len() == 2).map(|v| u16::from_le_bytes([v[0], v[1]]))
     }
+
+    /// The CiA 402 state a drive's statusword shows (None on a device that is no drive).
+    pub fn drive_state(&self) -> Option<DriveState> {
+        self.drive?;
+        Some(
+            self.u16_value(cia402::STATUSWORD)
+                .and_then(DriveState::from_statusword)
+                .unwrap_or(DriveState::SwitchOnDisabled),
+        )
+    }
+
+    fn set_drive_state(&mut self, state: DriveState) {
+        if let Some(d) = self.drive {
+            self.values.insert(cia402::STATUSWORD, d.statusword(state).to_le_bytes().to_vec());
+            self.dirty = true;
+        }
+    }
+
+    /// Show the drive's state again with the bits its situation gives (remote, voltage).
+    fn refresh_statusword(&mut self) {
+        if let Some(state) = self.drive_state() {
+            self.set_drive_state(state);
+        }
+    }
+
+    /// A controlword arrived (by SDO, or through the EPOS2's serial gateway).
+    fn on_controlword(&mut self, previous: u16, controlword: u16) {
+        let (Some(drive), Some(state)) = (self.drive, self.drive_state()) else { return };
+        let next = drive.on_controlword(state, previous, controlword);
+        if state == DriveState::Fault && next != DriveState::Fault {
+            // The fault is reset: the error register (and the SERS's error class in
+            // 0x1002's low word) clear.
+            self.values.insert(ObjAddr::new(0x1001, 0), vec![0]);
+            if let Some(status) = self.u32_value(ObjAddr::new(0x1002, 0)) {
+                self.values.insert(ObjAddr::new(0x1002, 0), (status & 0xFFFF_0000).to_le_bytes().to_vec());
+            }
+        }
+        self.set_drive_state(next);
+    }
 }
 
 impl ObjectAccess for ObjectStore {
@@ -219,8 +262,23 @@ impl ObjectAccess for ObjectStore {
                 return Err(abort::VALUE_TOO_HIGH);
             }
         }
-        self.values.insert(addr, data.to_vec());
+        let previous = self.values.insert(addr, data.to_vec());
         self.dirty = true;
+        if self.drive.is_some() {
+            let word = |v: &[u8]| u16::from_le_bytes([v.first().copied().unwrap_or(0), v.get(1).copied().unwrap_or(0)]);
+            if addr == cia402::CONTROLWORD {
+                self.on_controlword(previous.as_deref().map_or(0, word), word(data));
+            } else if addr == cia402::MODES_OF_OPERATION && self.dict.get(cia402::MODES_OF_OPERATION_DISPLAY).is_some()
+            {
+                // Nothing moves here: the drive switches mode at once.
+                self.values.insert(cia402::MODES_OF_OPERATION_DISPLAY, data.to_vec());
+            } else if addr == SUPPLY_OFF_OBJECT {
+                if let Some(d) = &mut self.drive {
+                    d.supply_off = data == [1];
+                }
+                self.refresh_statusword();
+            }
+        }
         Ok(())
     }
 }
@@ -282,6 +340,9 @@ pub struct Fault {
     /// Wall-clock ms at which it strikes.
     pub at: Option<u64>,
     pub active: bool,
+    /// A drive's fault reaction ends (fault reaction active → fault) at this wall-clock ms.
+    #[serde(default)]
+    pub reaction_until: Option<u64>,
 }
 
 /// The simulator's own object: "simulated fault in N ms" (0 clears an active one).
@@ -307,8 +368,10 @@ impl Device {
             stored: BTreeMap::new(),
             ignored_writes: model.ignored_writes,
             dirty: false,
+            drive: model.drive.map(Drive::new),
         };
         od.reload(None);
+        od.refresh_statusword();
         od.dirty = false;
         let part = |sub| od.u32_value(ObjAddr::new(0x1018, sub)).unwrap_or(0);
         let identity = lss::Identity { vendor: part(1), product: part(2), revision: part(3), serial: part(4) };
@@ -363,6 +426,18 @@ impl Device {
         self.bit_rate.active
     }
 
+    /// A write by the device's own serial interface (the EPOS2 gateway), with what a write
+    /// by SDO sets off: a simulated fault armed or repaired. The frames that would follow
+    /// on CAN (EMCY, TPDO) are not sent: the serial master cannot see them.
+    pub fn write_local(&mut self, addr: ObjAddr, data: &[u8]) -> Result<(), u32> {
+        let fault_before = self.od.value(FAULT_OBJECT).map(|v| v.to_vec());
+        self.od.write(addr, data)?;
+        if self.od.value(FAULT_OBJECT).map(|v| v.to_vec()) != fault_before {
+            self.arm_fault();
+        }
+        Ok(())
+    }
+
     /// Forget any SDO transfer in progress (an injected abort ended it).
     pub fn reset_sdo(&mut self) {
         self.sdo = SdoServer::new(self.block_transfer);
@@ -385,10 +460,18 @@ impl Device {
                 return vec![];
             }
             let fault_before = self.od.value(FAULT_OBJECT).map(|v| v.to_vec());
+            let (state_before, status_before) = (self.od.drive_state(), self.od.u16_value(cia402::STATUSWORD));
             let answers = self.sdo.handle(f.data(), &mut self.od);
             let mut out: Vec<Frame> = answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
             if self.od.value(FAULT_OBJECT).map(|v| v.to_vec()) != fault_before {
                 out.extend(self.arm_fault());
+            }
+            if state_before == Some(DriveState::Fault) && self.od.drive_state() != state_before {
+                // Seed 003 §2.8: an EMCY also when the drive turns to a status of no error.
+                out.extend(self.emcy(0x0000, 0, [0; 5]));
+            }
+            if self.od.u16_value(cia402::STATUSWORD) != status_before {
+                out.extend(self.statusword_tpdos());
             }
             return out;
         }
@@ -455,9 +538,11 @@ impl Device {
     fn nmt_command(&mut self, cmd: Command, id: u8) -> Vec<Frame> {
         let before = self.nmt;
         self.nmt = self.nmt.after(cmd);
+        self.sync_drive();
         match cmd {
             Command::ResetNode | Command::ResetCommunication => {
                 self.od.reload(if cmd == Command::ResetNode { None } else { Some(ParamClass::Communication) });
+                self.sync_drive();
                 self.sdo = SdoServer::new(self.block_transfer);
                 self.guard_toggle = false;
                 vec![ErrorControl::BootUp.frame(id)]
@@ -469,6 +554,36 @@ impl Device {
                 vec![]
             }
         }
+    }
+
+    /// Tell the drive model what the device around it knows (NMT state, fault cause,
+    /// supply) and show it in the statusword. After a reset a drive whose fault is still
+    /// there comes up in fault.
+    fn sync_drive(&mut self) {
+        let operational = self.nmt == nmt::State::Operational;
+        let (fault, supply_off) = (self.fault.active, self.od.value(SUPPLY_OFF_OBJECT) == Some(&[1]));
+        let Some(d) = &mut self.od.drive else { return };
+        d.operational = operational;
+        d.fault_cause = fault;
+        d.supply_off = supply_off;
+        if fault && self.fault.reaction_until.is_none() && self.od.drive_state() != Some(DriveState::Fault) {
+            self.od.set_drive_state(DriveState::Fault);
+        }
+        self.od.refresh_statusword();
+    }
+
+    /// The event-driven TPDOs (transmission type 254/255) that carry the statusword,
+    /// sent when it changes while operational.
+    fn statusword_tpdos(&mut self) -> Vec<Frame> {
+        if self.nmt != nmt::State::Operational {
+            return vec![];
+        }
+        let carrying: Vec<Tpdo> = self
+            .tpdos()
+            .into_iter()
+            .filter(|t| t.valid && t.transmission >= 254 && t.map.iter().any(|(a, _)| *a == cia402::STATUSWORD))
+            .collect();
+        carrying.iter().map(|t| self.tpdo_frame(t)).collect()
     }
 
     fn tpdos(&self) -> Vec<Tpdo> {
@@ -556,6 +671,12 @@ impl Device {
         if !self.fault.active {
             return vec![];
         }
+        if self.od.drive.is_some() {
+            // A drive's fault stays latched until a fault reset, which reports it.
+            self.fault.active = false;
+            self.sync_drive();
+            return vec![];
+        }
         // Seed 001 §8: repaired errors are reported with "error reset".
         self.fault.active = false;
         self.od.values.insert(ObjAddr::new(0x1001, 0), vec![0]);
@@ -566,9 +687,22 @@ impl Device {
     /// device keeps one) the 0x1003 history, newest first; some devices then leave
     /// Operational for Pre-operational (CiA 301 error behaviour).
     fn strike(&mut self) -> Vec<Frame> {
-        self.fault = Fault { at: None, active: true };
+        self.fault = Fault { at: None, active: true, reaction_until: None };
         let Some(spec) = self.fault_spec else { return vec![] };
         self.od.values.insert(ObjAddr::new(0x1001, 0), vec![spec.register]);
+        let mut out = Vec::new();
+        if self.od.drive.is_some() {
+            // CiA 402 transition 13: from any state into fault reaction active, then fault.
+            self.fault.reaction_until = Some(super::wall_ms() + FAULT_REACTION_MS);
+            self.sync_drive();
+            self.od.set_drive_state(DriveState::FaultReactionActive);
+            if let Some(status) = self.od.u32_value(ObjAddr::new(0x1002, 0)) {
+                // The SERS's error class (P11) in 0x1002's low word: the EMCY's bytes 4-5.
+                let class1 = u16::from_le_bytes([spec.vendor[1], spec.vendor[2]]) as u32;
+                self.od.values.insert(ObjAddr::new(0x1002, 0), (status & 0xFFFF_0000 | class1).to_le_bytes().to_vec());
+            }
+            out.extend(self.statusword_tpdos());
+        }
         let e = crate::canopen::emcy::Emergency { code: spec.code, register: spec.register, vendor: spec.vendor };
         let slots = self.od.dict.object_entries(0x1003).filter(|e| e.addr.sub > 0).count() as u8;
         if slots > 0 {
@@ -584,7 +718,8 @@ impl Device {
         if spec.to_pre_operational && self.nmt == nmt::State::Operational {
             self.nmt = nmt::State::PreOperational;
         }
-        self.emcy(spec.code, spec.register, spec.vendor).into_iter().collect()
+        out.splice(0..0, self.emcy(spec.code, spec.register, spec.vendor));
+        out
     }
 
     /// The next time this device sends something by itself, after `now` (wall-clock ms).
@@ -601,6 +736,7 @@ impl Device {
             }
         }
         next.extend(self.fault.at);
+        next.extend(self.fault.reaction_until);
         next.into_iter().min()
     }
 
@@ -608,8 +744,14 @@ impl Device {
     pub fn events(&mut self, after: u64, upto: u64) -> Vec<Frame> {
         let Some(id) = self.node_id else { return vec![] };
         let mut out = Vec::new();
-        if self.fault.at.is_some_and(|t| t > after && t <= upto) {
+        // A fault due while no invocation ran the network strikes now.
+        if self.fault.at.is_some_and(|t| t <= upto) {
             out.extend(self.strike());
+        }
+        if self.fault.reaction_until.is_some_and(|t| t <= upto) {
+            self.fault.reaction_until = None;
+            self.od.set_drive_state(DriveState::Fault);
+            out.extend(self.statusword_tpdos());
         }
         if let Some(p) = self.heartbeat_ms() {
             if super::last_beat(p, id as u64, upto) > after {
@@ -686,6 +828,7 @@ impl Device {
         let values = parse(&s.values);
         self.od.reload(None);
         self.od.values.extend(values);
+        self.sync_drive();
         self.od.dirty = false;
     }
 }
@@ -722,5 +865,59 @@ mod tests {
         assert_eq!(write(&mut d, 0x1A00, 0, &[0])[0], 0x60);
         write(&mut d, 0x1A00, 1, &0x5123_0020u32.to_le_bytes());
         assert_eq!(write(&mut d, 0x1A00, 0, &[1]), [0x80, 0x00, 0x1A, 0x00, 0x41, 0x00, 0x04, 0x06]);
+    }
+
+    fn statusword(d: &Device) -> u16 {
+        d.objects().u16_value(cia402::STATUSWORD).unwrap()
+    }
+
+    #[test]
+    fn the_drive_walks_the_cia402_state_machine_on_controlword_writes() {
+        let mut d = Device::new(super::super::profiles::drive(), Some(1), 2);
+        assert_eq!(statusword(&d), 0x0540);
+        for (cw, sw) in [(0x06u16, 0x0521u16), (0x07, 0x0523), (0x0F, 0x0537), (0x02, 0x0517), (0x00, 0x0540)] {
+            assert_eq!(write(&mut d, 0x6040, 0, &cw.to_le_bytes())[0], 0x60);
+            assert_eq!(statusword(&d), sw, "after {cw:#06x}");
+        }
+        // Refused: switch on from switch on disabled.
+        write(&mut d, 0x6040, 0, &0x07u16.to_le_bytes());
+        assert_eq!(statusword(&d), 0x0540);
+        // The mode display follows the mode.
+        write(&mut d, 0x6060, 0, &[0x03]);
+        assert_eq!(d.objects().value(cia402::MODES_OF_OPERATION_DISPLAY), Some(&[0x03][..]));
+    }
+
+    #[test]
+    fn a_fault_goes_through_fault_reaction_to_fault_and_resets_once_repaired() {
+        let mut d = Device::new(super::super::profiles::drive(), Some(1), 2);
+        d.on_frame(&Command::Start.frame(1));
+        assert_eq!(statusword(&d), 0x0740, "remote while operational");
+        for cw in [0x06u16, 0x07, 0x0F] {
+            let out = d.on_frame(&Frame::new(0x601, &[0x2B, 0x40, 0x60, 0, cw as u8, 0, 0, 0]));
+            // The SDO answer, then TPDO1 (event-driven, statusword) with the new state.
+            assert_eq!(out.len(), 2, "{out:?}");
+            assert_eq!(out[1], Frame::new(0x181, &statusword(&d).to_le_bytes()));
+        }
+        write(&mut d, 0x5FFE, 0, &1u16.to_le_bytes());
+        let now = super::super::wall_ms();
+        let out = d.events(now, now + 5);
+        // EMCY 0x3220, register 0x05, then the statusword in fault reaction.
+        assert_eq!(out[0], Frame::new(0x81, &[0x20, 0x32, 0x05, 0, 0, 0, 0, 0]));
+        assert_eq!(out[1], Frame::new(0x181, &0x070Fu16.to_le_bytes()));
+        let out = d.events(now + 5, now + 5 + FAULT_REACTION_MS);
+        assert_eq!(out.last(), Some(&Frame::new(0x181, &0x0708u16.to_le_bytes())));
+        assert_eq!(d.objects().value(ObjAddr::new(0x1003, 0)), Some(&[1][..]));
+        assert_eq!(d.objects().value(ObjAddr::new(0x1003, 1)), Some(&0x3220u32.to_le_bytes()[..]));
+        // The cause is still there: no way out.
+        write(&mut d, 0x6040, 0, &0x80u16.to_le_bytes());
+        assert_eq!(statusword(&d), 0x0708);
+        // Repaired: the fault stays latched until a reset edge, which reports "no error".
+        write(&mut d, 0x5FFE, 0, &0u16.to_le_bytes());
+        assert_eq!(statusword(&d), 0x0708);
+        write(&mut d, 0x6040, 0, &0u16.to_le_bytes());
+        let out = d.on_frame(&Frame::new(0x601, &[0x2B, 0x40, 0x60, 0, 0x80, 0, 0, 0]));
+        assert_eq!(statusword(&d), 0x0740);
+        assert!(out.contains(&Frame::new(0x81, &[0; 8])), "{out:?}");
+        assert_eq!(d.objects().value(ObjAddr::new(0x1001, 0)), Some(&[0][..]));
     }
 }

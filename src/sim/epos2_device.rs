@@ -117,6 +117,8 @@ impl Epos2Device {
 
     /// The answer to one command frame from the master.
     pub fn execute(&mut self, request: &SerialFrame) -> Result<SerialFrame> {
+        // The EPOS2's own objects change with time too (a simulated fault, its reaction).
+        self.link.run_until_now();
         let Some(cmd) = Command::from_frame(request) else { return Ok(answer(command::ILLEGAL_COMMAND, &[])) };
         if let Some((last, ans)) = &self.last_segment {
             if *last == cmd {
@@ -139,9 +141,9 @@ impl Epos2Device {
                 Err(code) => answer(code, &[0; 4]),
             },
             Command::WriteObject { node, addr, data } if self.is_local(node) => {
-                let od = self.objects();
-                let n = od.fixed_size(addr).unwrap_or(4).min(4);
-                answer(od.write(addr, &data[..n]).err().unwrap_or(0), &[])
+                let n = self.objects().fixed_size(addr).unwrap_or(4).min(4);
+                let device = self.link.network_mut().device_mut(SELF_MODEL).expect("the EPOS2 is on the sim network");
+                answer(device.write_local(addr, &data[..n]).err().unwrap_or(0), &[])
             }
             Command::InitiateSegmentedRead { node, addr } if self.is_local(node) => match self.objects().read(addr) {
                 Ok(data) => {

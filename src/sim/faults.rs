@@ -9,7 +9,8 @@
 //!   given), `corrupt` (the first data byte, the command specifier, inverted), `babble[=ID]`
 //!   (floods frames on ID, its EMCY id unless given), `abort[=CODE]` (SDO answers become
 //!   an abort, 0x08000000 unless given), `mute` (stops sending anything, its own frames too),
-//!   `wrong-cob[=ID]` (answers on ID, its own id + 1 unless given);
+//!   `wrong-cob[=ID]` (answers on ID, its own id + 1 unless given), `no-heartbeat` (stops
+//!   producing heartbeats, though its 0x1017 still says it does: a hung firmware task);
 //! - WHEN: `*` every answer (the default), `N` the N-th answer only, `N+` the N-th and
 //!   every later one, `P%` each answer with probability P (drawn from the seed).
 //!
@@ -39,6 +40,7 @@ pub enum Kind {
     Abort(u32),
     Mute,
     WrongCob(Option<u16>),
+    NoHeartbeat,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -101,13 +103,16 @@ impl FromStr for FaultSpec {
             "abort" => Kind::Abort(arg.map_or(Some(DEFAULT_ABORT), parse_u32).ok_or_else(|| bad(arg.unwrap_or("")))?),
             "mute" => Kind::Mute,
             "wrong-cob" => Kind::WrongCob(arg.map(parse_cob).transpose()?),
+            "no-heartbeat" => Kind::NoHeartbeat,
             _ => {
                 return Err(format!(
-                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute or wrong-cob[=ID]"
+                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID] or no-heartbeat"
                 ))
             }
         };
-        if arg.is_some() && matches!(kind, Kind::Drop | Kind::Duplicate | Kind::Corrupt | Kind::Mute) {
+        if arg.is_some()
+            && matches!(kind, Kind::Drop | Kind::Duplicate | Kind::Corrupt | Kind::Mute | Kind::NoHeartbeat)
+        {
             return Err(format!("'{name}' takes no argument"));
         }
         let when = match when {
@@ -145,6 +150,7 @@ impl fmt::Display for FaultSpec {
             Kind::Mute => write!(f, "mute")?,
             Kind::WrongCob(None) => write!(f, "wrong-cob")?,
             Kind::WrongCob(Some(id)) => write!(f, "wrong-cob=0x{id:03X}")?,
+            Kind::NoHeartbeat => write!(f, "no-heartbeat")?,
         }
         match self.when {
             When::Always => Ok(()),
@@ -194,6 +200,8 @@ pub struct Conduct {
     muted: bool,
     /// Floods this id once a babble fault has fired.
     babbling: Option<u16>,
+    /// Produces no heartbeat once a no-heartbeat fault has fired.
+    heartbeat_stopped: bool,
     /// The multiplexer of the last SDO request heard, for an injected abort.
     last_mux: [u8; 3],
 }
@@ -265,6 +273,7 @@ impl Conduct {
                     }
                 }
                 Kind::WrongCob(id) => f = Frame::new(id.unwrap_or((f.id() + 1) & 0x7FF), f.data()),
+                Kind::NoHeartbeat => self.heartbeat_stopped = true,
             }
         }
         if self.muted {
@@ -273,9 +282,17 @@ impl Conduct {
         (vec![(delay, f); copies], sdo_reset)
     }
 
-    /// One frame the device sends by itself (heartbeat, timed PDO, EMCY): none once muted.
-    pub fn own(&self, f: Frame) -> Option<Frame> {
-        (!self.muted).then_some(f)
+    /// One frame the device sends by itself (heartbeat, timed PDO, EMCY): none once muted,
+    /// no heartbeat once stopped (a no-heartbeat fault without WHEN: from the start).
+    pub fn own(&self, f: Frame, model: &str, node: Option<u8>) -> Option<Frame> {
+        let heartbeat = node.is_some_and(|n| f.id() == crate::canopen::nmt::error_control_cob(n));
+        let stopped = self.heartbeat_stopped
+            || self
+                .faults
+                .iter()
+                .any(|s| s.kind == Kind::NoHeartbeat && s.when == When::Always && s.applies_to(model, node));
+        let silenced = self.muted || (heartbeat && stopped);
+        (!silenced).then_some(f)
     }
 
     /// The id a babbling device floods the bus with, if it does: a babble fault without
@@ -327,15 +344,26 @@ mod tests {
             "sensor-09501301:mute@4+",
             "5:wrong-cob=0x586",
             "5:wrong-cob",
+            "10:no-heartbeat",
+            "sensor:no-heartbeat@2+",
         ] {
             let spec: FaultSpec = text.parse().unwrap_or_else(|e| panic!("{text}: {e}"));
             assert_eq!(spec.to_string(), text);
         }
         assert_eq!("5:short-dlc".parse::<FaultSpec>().unwrap().kind, Kind::ShortDlc(4));
         assert_eq!("5:abort".parse::<FaultSpec>().unwrap().kind, Kind::Abort(DEFAULT_ABORT));
-        for bad in
-            ["drop", "0:drop", "5:explode", "5:delay", "5:drop=3", "5:drop@0", "5:drop@x", "5:babble=0x800", ":drop"]
-        {
+        for bad in [
+            "drop",
+            "0:drop",
+            "5:explode",
+            "5:delay",
+            "5:drop=3",
+            "5:drop@0",
+            "5:drop@x",
+            "5:babble=0x800",
+            ":drop",
+            "5:no-heartbeat=1",
+        ] {
             assert!(bad.parse::<FaultSpec>().is_err(), "{bad}");
         }
     }
@@ -391,7 +419,7 @@ mod tests {
         assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
         assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
         assert!(answer(&mut c, sdo_answer()).is_empty());
-        assert!(c.own(Frame::new(0x705, &[0x7F])).is_none());
+        assert!(c.own(Frame::new(0x705, &[0x7F]), "sensor", Some(5)).is_none());
         assert!(answer(&mut c, sdo_answer()).is_empty());
     }
 
@@ -426,5 +454,22 @@ mod tests {
         assert_eq!(a, draws(9));
         let dropped = a.iter().filter(|d| **d).count();
         assert!((16..=48).contains(&dropped), "{dropped} of 64");
+    }
+
+    #[test]
+    fn no_heartbeat_silences_only_the_heartbeat() {
+        let beat = Frame::new(0x705, &[0x7F]);
+        let emcy = Frame::new(0x85, &[0, 0x50, 0x81, 0, 0, 0, 0, 0]);
+        let c = conduct("5:no-heartbeat");
+        assert_eq!(c.own(beat, "sensor", Some(5)), None);
+        assert_eq!(c.own(emcy, "sensor", Some(5)), Some(emcy));
+        // Another node's fault: this one keeps beating.
+        assert_eq!(conduct("6:no-heartbeat").own(beat, "sensor", Some(5)), Some(beat));
+        // From the 2nd answer on: beats until then, and its answers still go.
+        let mut c = conduct("5:no-heartbeat@2+");
+        assert_eq!(c.own(beat, "sensor", Some(5)), Some(beat));
+        assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
+        assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
+        assert_eq!(c.own(beat, "sensor", Some(5)), None);
     }
 }

@@ -2,6 +2,7 @@
 //! runs through the same client code as on hardware.
 
 pub mod bridge;
+pub mod cia402_drive;
 pub mod device;
 pub mod epos2_device;
 #[cfg(unix)]
@@ -226,7 +227,8 @@ impl Network {
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
             let conduct = &self.conducts[i];
-            out.extend(d.events(after, upto).into_iter().filter_map(|f| conduct.own(f)).map(|f| (i, f)));
+            let own = d.events(after, upto);
+            out.extend(own.into_iter().filter_map(|f| conduct.own(f, &d.model, d.node_id())).map(|f| (i, f)));
         }
         out
     }
@@ -399,6 +401,12 @@ impl SimLink {
             }
         }
         Ok(())
+    }
+
+    /// Let the devices do what they do by themselves up to now (a fault strikes, a drive's
+    /// fault reaction ends), for a master that reads a device's objects directly.
+    pub fn run_until_now(&mut self) {
+        self.advance();
     }
 
     /// Run the bus up to now: the devices' own frames queue, frames that have left are

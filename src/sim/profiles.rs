@@ -6,6 +6,7 @@ use crate::canopen::DataType::{self, *};
 use crate::canopen::ObjAddr;
 use crate::od::Access::*;
 use crate::od::{le, text, Access, Dictionary, Init};
+use crate::sim::cia402_drive::{DriveProfile, RemoteBit, VoltageBit};
 
 pub struct Model {
     /// Stable name used in the state file.
@@ -23,6 +24,8 @@ pub struct Model {
     pub pad_pdos: bool,
     /// What a simulated fault (object 0x5FFE) does to this device.
     pub fault: Option<FaultSpec>,
+    /// A CiA 402 drive: controlword 0x6040 drives the state its statusword 0x6041 shows.
+    pub drive: Option<DriveProfile>,
 }
 
 /// A simulated fault: the EMCY it raises, and whether the device leaves Operational.
@@ -37,6 +40,32 @@ pub struct FaultSpec {
 /// The simulator's handle on a device: writing N to 0x5FFE makes the fault strike N ms later.
 fn fault_object(d: &mut Dictionary) {
     d.var(0x5FFE, "Simulated fault in ms (0 clears it)", U16, Rw, u(0, U16));
+}
+
+/// The simulator's handle on a drive's power supply: 1 switches it off (the drive then
+/// does not switch on), 0 back on.
+pub const SUPPLY_OFF_OBJECT: ObjAddr = ObjAddr::new(0x5FFD, 0);
+
+fn supply_object(d: &mut Dictionary) {
+    d.var(0x5FFD, "Simulated power supply off (1) or on (0)", U8, Rw, u(0, U8));
+    d.limit(SUPPLY_OFF_OBJECT, 0, 1);
+}
+
+/// The pre-defined error field 0x1003 with `slots` entries, empty.
+fn error_history(d: &mut Dictionary, slots: u8) {
+    d.array(
+        0x1003,
+        "Pre-defined error field",
+        (1..=slots).map(|s| (s, "Standard error field", U32, Ro, u(0, U32))).collect(),
+    );
+    d.insert(crate::od::Entry {
+        addr: ObjAddr::new(0x1003, 0),
+        name: "Number of errors".into(),
+        dtype: U8,
+        access: Rw,
+        default: u(0, U8),
+        range: None,
+    });
 }
 
 /// The demo sensor's motion: a triangle between 100000 and 300000 steps, 20 steps a ms,
@@ -174,6 +203,13 @@ pub fn drive() -> Model {
     data_type_record(&mut d);
     // TPDO1 with dynamic mapping (the EPOS2 has four): statusword by default.
     event_driven_tpdo1(&mut d, 4, 0x6041_0010);
+    // The EPOS2's error history keeps five entries.
+    error_history(&mut d, 5);
+    fault_object(&mut d);
+    supply_object(&mut d);
+    // A CiA 402 undervoltage (0x3220), register bits generic and voltage; the drive stays
+    // in its NMT state and goes to Fault.
+    let fault = FaultSpec { code: 0x3220, register: 0x05, vendor: [0; 5], to_pre_operational: false };
     Model {
         key: "drive".into(),
         dict: d,
@@ -183,7 +219,12 @@ pub fn drive() -> Model {
         lss: FULL_LSS,
         moving: false,
         pad_pdos: false,
-        fault: None,
+        fault: Some(fault),
+        drive: Some(DriveProfile {
+            constant_bits: 0x0500,
+            voltage: VoltageBit::PowerStage,
+            remote: RemoteBit::WhenOperational,
+        }),
     }
 }
 
@@ -282,6 +323,7 @@ pub fn position_sensor(serial: u32) -> Model {
         moving: true,
         pad_pdos: false,
         fault: Some(fault),
+        drive: None,
     }
 }
 
@@ -338,6 +380,7 @@ pub fn io_module() -> Model {
         moving: false,
         pad_pdos: true,
         fault: Some(fault),
+        drive: None,
     }
 }
 
@@ -367,6 +410,33 @@ pub fn stepper() -> Model {
     d.var(0x607A, "Target position", I32, Rw, u(0, I32));
     d.var(0x6081, "Profile velocity", U32, Rw, u(500, U32));
     d.var(0x6083, "Profile acceleration", U32, Rw, u(1000, U32));
+    // Seed 003 §2.4: "The mapping of the PDO is fixed, and can be read only. ... Transmit
+    // PDO: Status word (6041), 16 Bit position_actual_value (6064), 32 Bit
+    // ENDSCHALTER_DIGIN (2420), 16 Bit"; sent on SYNC, by RTR (253), or on change (255).
+    d.var(0x2420, "ENDSCHALTER_DIGIN", U16, Ro, u(0, U16));
+    d.record(
+        0x1800,
+        "TPDO1 communication parameter",
+        vec![
+            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
+            (2, "Transmission type", U8, Rw, u(255, U8)),
+            (3, "Inhibit time", U16, Rw, u(0, U16)),
+        ],
+    );
+    d.record(
+        0x1A00,
+        "TPDO1 mapping parameter",
+        vec![
+            (1, "Mapped object 1", U32, Const, u(0x6041_0010, U32)),
+            (2, "Mapped object 2", U32, Const, u(0x6064_0020, U32)),
+            (3, "Mapped object 3", U32, Const, u(0x2420_0010, U32)),
+        ],
+    );
+    fault_object(&mut d);
+    supply_object(&mut d);
+    // Seed 003 §2.8: "0x3200 Voltage inside the device", register "VOLTAGE 0x04 error under
+    // voltage" with generic; vendor bytes errno, state class 1 (P11), state class 2 (P12).
+    let fault = FaultSpec { code: 0x3200, register: 0x05, vendor: [0, 0x01, 0x00, 0, 0], to_pre_operational: false };
     Model {
         key: "stepper".into(),
         dict: d,
@@ -377,7 +447,9 @@ pub fn stepper() -> Model {
         lss: SlaveCaps { store: false, bit_timing: false },
         moving: false,
         pad_pdos: false,
-        fault: None,
+        fault: Some(fault),
+        // Seed 003: 0x0250 after power on, voltage enabled and remote included.
+        drive: Some(DriveProfile { constant_bits: 0, voltage: VoltageBit::Supply, remote: RemoteBit::Always }),
     }
 }
 

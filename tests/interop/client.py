@@ -13,8 +13,14 @@ network = canopen.Network()
 network.connect(interface="socketcan", channel=iface)
 
 
+# Every wait is for the event itself, under a bound that only a missing answer reaches:
+# python-canopen's own SDO timeout (0.3 s) is shorter than an emulated CPU under load takes.
+PATIENCE = 10.0
+
+
 def remote(node_id):
     node = canopen.RemoteNode(node_id, ObjectDictionary())
+    node.sdo.RESPONSE_TIMEOUT = PATIENCE
     network.add_node(node)
     return node
 
@@ -25,9 +31,11 @@ def check(what, got, want):
     print(f"ok  {what}")
 
 
-# Scanner: SDO uploads of 0x1000 to every node-id, then a wait for the answers.
+# Scanner: SDO uploads of 0x1000 to every node-id, then a wait until all four answered.
 network.scanner.search()
-time.sleep(0.1)
+deadline = time.monotonic() + PATIENCE
+while len(network.scanner.nodes) < 4 and time.monotonic() < deadline:
+    time.sleep(0.01)
 check("scanner finds the demo nodes", sorted(network.scanner.nodes), [1, 5, 10, 32])
 
 drive, sensor, io = remote(1), remote(5), remote(10)
@@ -61,7 +69,7 @@ with drive.sdo.open(0x5FF0, 14, "rb", block_transfer=True) as f:
 def heartbeat_shows(node, want):
     """A beat sent just before the command may still be on its way: wait for a few."""
     for _ in range(5):
-        node.nmt.wait_for_heartbeat(timeout=1)
+        node.nmt.wait_for_heartbeat(timeout=PATIENCE)
         if node.nmt.state == want:
             break
     check(f"heartbeat shows {want}", node.nmt.state, want)

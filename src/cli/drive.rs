@@ -1,0 +1,120 @@
+//! `canctl drive`: CiA 402 drives' state, and their power state changed with the
+//! controlword.
+
+use super::Ctx;
+use crate::bus::Bus;
+use crate::canopen::cia402::Goal;
+use crate::error::Error;
+use crate::ops::drive::{self, Options, Source, Watch};
+use crate::ops::nmt::{self, StateOptions};
+use clap::{Args, Subcommand};
+use clap_complete::engine::ArgValueCandidates;
+use std::time::{Duration, Instant};
+
+#[derive(Subcommand, Debug)]
+pub enum DriveCommand {
+    /// The CiA 402 state, every statusword flag, the mode of operation and the errors
+    #[command(after_help = "Reads 0x1000 (refused unless the device type says profile 402), the statusword
+0x6041, the mode of operation 0x6061, the error register 0x1001 and the error history
+0x1003. --watch then prints each change of the statusword until Ctrl-C (exit 130): from
+the TPDO that carries it when one is mapped and the node is operational, by SDO otherwise.
+
+Examples:
+  canctl --bus sim drive status 1
+  canctl --bus sim drive status 32 --format json
+  canctl --bus can0 drive status 1 --watch")]
+    Status(StatusArgs),
+    /// Walk the drive to Operation enabled (shutdown, switch on, enable operation)
+    #[command(after_help = "Each transition is confirmed in the statusword before the next; the report says
+where the drive stopped and why (fault present, voltage missing, transition refused).
+Power state only: no target is set and nothing is told to move.
+
+Examples:
+  canctl --bus sim drive enable 1
+  canctl --bus can0 drive enable 1 --wait 5s")]
+    Enable(WalkArgs),
+    /// Walk the drive to Switch on disabled (disable voltage): the power stage off
+    #[command(after_help = "Examples:\n  canctl --bus sim drive disable 1")]
+    Disable(WalkArgs),
+    /// Quick stop: from Operation enabled to Quick stop active (elsewhere to Switch on disabled)
+    #[command(after_help = "Examples:\n  canctl --bus sim drive quick-stop 1")]
+    QuickStop(WalkArgs),
+    /// Reset a fault (controlword bit 7 rising edge): Fault to Switch on disabled
+    #[command(after_help = "The drive leaves Fault only once the fault's cause is gone; canctl drive status
+shows the error register and the logged errors.
+
+Examples:
+  canctl --bus sim drive fault-reset 1")]
+    FaultReset(WalkArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct StatusArgs {
+    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: u8,
+    /// Print each change of the statusword until interrupted
+    #[arg(long)]
+    pub watch: bool,
+    /// With --watch by SDO: how often to read the statusword
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    pub interval: Duration,
+}
+
+#[derive(Args, Debug)]
+pub struct WalkArgs {
+    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: u8,
+    /// How long each transition may take to show in the statusword
+    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
+    pub wait: Duration,
+}
+
+pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<()> {
+    let (args, goal) = match cmd {
+        DriveCommand::Status(a) => return status(ctx, bus, a),
+        DriveCommand::Enable(a) => (a, Goal::Enable),
+        DriveCommand::Disable(a) => (a, Goal::Disable),
+        DriveCommand::QuickStop(a) => (a, Goal::QuickStop),
+        DriveCommand::FaultReset(a) => (a, Goal::FaultReset),
+    };
+    super::interrupt::catch();
+    let bus = &mut super::interrupt::with_test_signal(bus);
+    let o = Options { timeout: ctx.timeout, wait: args.wait };
+    let walk = drive::walk(bus, args.node, goal, &o, super::interrupt::flag())?;
+    ctx.out.report(&walk)?;
+    Ok(walk.outcome()?)
+}
+
+fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
+    let report = drive::status(bus, a.node, ctx.timeout)?;
+    ctx.out.report(&report)?;
+    if !a.watch {
+        return Ok(());
+    }
+    super::interrupt::catch();
+    let operational = bus.sees_traffic()
+        && nmt::state(bus, a.node, &StateOptions { listen: Duration::from_millis(300), timeout: ctx.timeout })
+            .is_ok_and(|s| s.state == crate::canopen::nmt::State::Operational);
+    let mut watch = Watch::new(bus, a.node, operational, a.interval, ctx.timeout)?;
+    ctx.out.note(&match watch.source() {
+        Source::Tpdo { cob_id, .. } => format!("node {}: watching the statusword in TPDO 0x{cob_id:03X}", a.node),
+        Source::Sdo(i) => format!("node {}: reading the statusword by SDO every {} ms", a.node, i.as_millis()),
+    });
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let mut last = None;
+    while !super::interrupt::requested() {
+        // Short rounds, so that an interruption is seen within one.
+        if let Some(change) = watch.next(bus, Instant::now() + Duration::from_millis(100))? {
+            ctx.out.line(&mut out, &change)?;
+            std::io::Write::flush(&mut out)?;
+            last = Some(change);
+        }
+    }
+    if let Some(c) = last {
+        ctx.out.note(&format!("node {}: last seen {}", a.node, drive::state_text(c.state, c.statusword)));
+    }
+    Err(Error::Interrupted.into())
+}

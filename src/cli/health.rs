@@ -1,0 +1,42 @@
+//! `canctl health`: every node of the bus, healthy or not, for people and for CI.
+
+use super::Ctx;
+use crate::bus::Bus;
+use crate::canopen::nmt::State;
+use crate::ops::health::{self, HealthOptions};
+use clap::Args;
+use std::time::Duration;
+
+/// Check every node on the bus; exit 6 when any is not healthy
+///
+/// Scans the bus (as `scan` does), then for each node: its NMT state (heartbeat, else node
+/// guarding), its error register 0x1001 (must be 0), how many errors it logged in 0x1003
+/// (shown; `canctl errors NODE` names them), and for CiA 402 drives (0x1000) the state
+/// the statusword 0x6041 codes (must not be Fault). Then it watches the bus: every node
+/// whose 0x1017 says it produces heartbeats must beat on time (no gap longer than 1.5
+/// periods + 50 ms), and no node may send an EMCY with an error. --format junit writes one
+/// JUnit test case per node and check, for CI systems.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl --bus sim health
+  canctl --bus can0 health --state operational --format junit > health.xml
+  canctl --bus can0 health --watch 5s --format json")]
+pub struct HealthArgs {
+    /// Every node must also be in this NMT state: operational, pre-operational or stopped
+    #[arg(long, value_name = "STATE", value_parser = super::network::parse_state)]
+    pub state: Option<State>,
+    /// How long to watch heartbeats and EMCYs (default: two periods of the slowest
+    /// heartbeat, 300ms to 10s)
+    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    pub watch: Option<Duration>,
+    /// How long the bus must stay quiet after the last answer to the scan's probes
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    pub window: Duration,
+}
+
+pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
+    let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state };
+    let report = health::health(bus, &options, &mut ctx.out.progress())?;
+    ctx.out.report(&report)?;
+    Ok(report.outcome()?)
+}

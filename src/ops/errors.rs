@@ -1,0 +1,226 @@
+//! A node's error history: the pre-defined error field 0x1003 (CiA 301), newest first,
+//! each entry with what it means; and clearing it (writing 0 to 0x1003:0).
+
+use super::{le_u32, sized};
+use crate::bus::{Bus, SdoOptions};
+use crate::canopen::emcy::{self, HistoryEntry, Origin, Source};
+use crate::canopen::{abort, DataType, ObjAddr};
+use crate::error::{Error, Result};
+use serde::Serialize;
+use std::time::Duration;
+
+const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
+const HISTORY_COUNT: ObjAddr = ObjAddr::new(0x1003, 0);
+const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
+const VENDOR: ObjAddr = ObjAddr::new(0x1018, 1);
+const PRODUCT: ObjAddr = ObjAddr::new(0x1018, 2);
+const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+
+/// A device name longer than this is not read for the meanings (it only picks a table).
+const MAX_NAME: usize = 64;
+
+/// What `canctl errors` found on a node.
+#[derive(Debug, Serialize)]
+pub struct ErrorHistory {
+    pub node: u8,
+    /// 0x1008, when the node has one.
+    pub name: Option<String>,
+    /// Whether the node keeps an error history at all (has object 0x1003).
+    pub kept: bool,
+    /// 0x1003:0: how many errors the node says it logged.
+    pub count: Option<u8>,
+    /// The entries, newest (0x1003:1) first.
+    pub entries: Vec<LoggedError>,
+    /// Entries the node counts but would not show: (subindex, why).
+    pub unreadable: Vec<Unreadable>,
+    /// 0x1001, when it could be read.
+    pub error_register: Option<u8>,
+    /// Names of the error register's bits that are set.
+    pub error_register_bits: Vec<&'static str>,
+    /// Whether the history was cleared, confirmed by reading 0x1003:0 back as 0.
+    pub cleared: bool,
+}
+
+#[derive(Debug, Serialize)]
+pub struct LoggedError {
+    /// The subindex of 0x1003 it was read from: 1 is the newest.
+    pub sub: u8,
+    /// The entry as the node sent it.
+    pub raw: u32,
+    /// Bits 0..15: the error code.
+    #[serde(serialize_with = "hex16")]
+    pub code: u16,
+    /// Bits 16..31: manufacturer-specific information.
+    #[serde(serialize_with = "hex16")]
+    pub manufacturer: u16,
+    pub meaning: &'static str,
+    /// The table the meaning comes from.
+    pub source: Source,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Unreadable {
+    pub sub: u8,
+    pub error: String,
+}
+
+fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("0x{v:04X}"))
+}
+
+fn u8_of(bytes: &[u8]) -> Option<u8> {
+    bytes.first().copied()
+}
+
+fn u32_of(bytes: &[u8]) -> Option<u32> {
+    (bytes.len() >= 4).then(|| le_u32(bytes))
+}
+
+/// Whether an error says the object (or subindex) is not there.
+fn is_missing(e: &Error) -> bool {
+    matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. })
+}
+
+/// Read the node's error history (and, with `clear`, then clear it and confirm).
+pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Result<ErrorHistory> {
+    let first = [HISTORY_COUNT, ERROR_REGISTER, DEVICE_TYPE, VENDOR, PRODUCT, NAME];
+    let requests: Vec<(u8, ObjAddr)> = first.iter().map(|a| (node, *a)).collect();
+    let mut opts = SdoOptions::new(timeout);
+    opts.max_upload = MAX_NAME;
+    let mut answers = bus.sdo_upload_many(&requests, &opts, &mut |_| {})?.into_iter();
+    let mut next = || answers.next().expect("one answer per request");
+    let count = next();
+    let register = next().ok().and_then(|b| u8_of(&b));
+    let origin = Origin {
+        device_type: next().ok().and_then(|b| u32_of(&b)),
+        vendor: next().ok().and_then(|b| u32_of(&b)),
+        product: next().ok().and_then(|b| u32_of(&b)),
+        name: next().ok().and_then(|b| DataType::Vs.decode(&b)).map(|v| v.to_string()),
+    };
+    let mut report = ErrorHistory {
+        node,
+        name: origin.name.clone(),
+        kept: true,
+        count: None,
+        entries: Vec::new(),
+        unreadable: Vec::new(),
+        error_register: register,
+        error_register_bits: register.map(emcy::register_bits).unwrap_or_default(),
+        cleared: false,
+    };
+    match count {
+        Ok(bytes) => report.count = u8_of(&bytes),
+        Err(e) if is_missing(&e) => report.kept = false,
+        Err(e) => return Err(e),
+    }
+    if !report.kept {
+        if clear {
+            return Err(Error::NoErrorHistory { node });
+        }
+        return Ok(report);
+    }
+    // CiA 301: sub 0 counts the entries (at most 254), sub 1 the newest.
+    let subs: Vec<(u8, ObjAddr)> =
+        (1..=report.count.unwrap_or(0).min(254)).map(|s| (node, ObjAddr::new(0x1003, s))).collect();
+    let values = bus.sdo_upload_many(&subs, &sized(timeout, Some(4)), &mut |_| {})?;
+    for ((_, addr), value) in subs.iter().zip(values) {
+        match value.map(|b| u32_of(&b)) {
+            Ok(Some(raw)) => {
+                let e = HistoryEntry { raw };
+                let m = emcy::meaning(e.code(), e.manufacturer(), &origin);
+                report.entries.push(LoggedError {
+                    sub: addr.sub,
+                    raw,
+                    code: e.code(),
+                    manufacturer: e.manufacturer(),
+                    meaning: m.text,
+                    source: m.source,
+                });
+            }
+            Ok(None) => report.unreadable.push(Unreadable { sub: addr.sub, error: "shorter than 4 bytes".into() }),
+            Err(e) if e.is_timeout() => return Err(e),
+            Err(e) => report.unreadable.push(Unreadable { sub: addr.sub, error: e.to_string() }),
+        }
+    }
+    if clear {
+        // CiA 301: writing 0 to sub 0 deletes the history; any other value is refused.
+        bus.sdo_download(node, HISTORY_COUNT, &[0], &sized(timeout, Some(1)))?;
+        let back = bus.sdo_upload(node, HISTORY_COUNT, &sized(timeout, Some(1)))?;
+        if u8_of(&back) != Some(0) {
+            return Err(Error::ReadBack {
+                node,
+                obj: HISTORY_COUNT,
+                wrote: "0".into(),
+                read: u8_of(&back).map_or("nothing".into(), |v| v.to_string()),
+            });
+        }
+        report.cleared = true;
+    }
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::Master;
+    use crate::sim::{SimConfig, SimLink};
+
+    fn sim() -> Master<SimLink> {
+        Master::new(SimLink::with_config(SimConfig::instant()), "sim".into())
+    }
+
+    const T: Duration = Duration::from_secs(2);
+
+    #[test]
+    fn the_io_modules_history_is_read_newest_first_with_the_manuals_meanings() {
+        let mut bus = sim();
+        let h = errors(&mut bus, 10, false, T).unwrap();
+        assert!(h.kept);
+        assert_eq!(h.count, Some(2));
+        let got: Vec<(u8, u16, u16, &str)> =
+            h.entries.iter().map(|e| (e.sub, e.code, e.manufacturer, e.meaning)).collect();
+        assert_eq!(got, [(1, 0x8110, 0x0006, "CAN controller overrun"), (2, 0x5000, 0x0002, "EEPROM access error")]);
+        assert!(h.entries.iter().all(|e| e.source == Source::Device));
+        assert_eq!(h.error_register, Some(0));
+        let json = serde_json::to_value(&h).unwrap();
+        assert_eq!(json["entries"][0]["raw"], 0x0006_8110);
+        assert_eq!(json["entries"][0]["code"], "0x8110");
+        assert_eq!(json["entries"][0]["source"], "device manual");
+    }
+
+    #[test]
+    fn clearing_writes_zero_and_confirms_it() {
+        let mut bus = sim();
+        let h = errors(&mut bus, 10, true, T).unwrap();
+        assert!(h.cleared);
+        assert_eq!(h.entries.len(), 2, "what was cleared is reported");
+        let after = errors(&mut bus, 10, false, T).unwrap();
+        assert_eq!((after.count, after.entries.len()), (Some(0), 0));
+    }
+
+    #[test]
+    fn a_node_without_a_history_says_so() {
+        let mut bus = sim();
+        let h = errors(&mut bus, 32, false, T).unwrap();
+        assert!(!h.kept);
+        assert_eq!(h.count, None);
+        assert!(matches!(errors(&mut bus, 32, true, T), Err(Error::NoErrorHistory { node: 32 })));
+    }
+
+    #[test]
+    fn a_device_that_refuses_to_clear_is_reported_with_its_abort() {
+        // The module's 11th answer is the one to the write: six reads (its 9-byte name in
+        // three frames), then the two entries.
+        let refusing = SimConfig::instant().fault("10:abort=0x08000020@11".parse().unwrap());
+        let mut bus = Master::new(SimLink::with_config(refusing), "sim".into());
+        let e = errors(&mut bus, 10, true, T).unwrap_err();
+        assert!(matches!(e, Error::SdoAbort { node: 10, obj: HISTORY_COUNT, code: 0x0800_0020 }), "{e}");
+        assert_eq!(e.exit_code(), 4);
+    }
+
+    #[test]
+    fn a_node_that_does_not_answer_is_a_timeout() {
+        let mut bus = sim();
+        assert!(errors(&mut bus, 77, false, Duration::from_millis(50)).unwrap_err().is_timeout());
+    }
+}

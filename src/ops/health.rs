@@ -1,0 +1,529 @@
+//! Is every node on the bus healthy? A scan, then for each node its error register
+//! (0x1001), logged errors (0x1003:0) and, for CiA 402 drives, the statusword (0x6041);
+//! then a short watch of the bus: each heartbeat producer's beats must come on time, and
+//! no node may send an EMCY with an error.
+
+use super::scan::{self, ScanOptions};
+use super::{le_u32, sized, Progress};
+use crate::bus::Bus;
+use crate::canopen::emcy::{self, Emergency, Origin};
+use crate::canopen::nmt::{self, ErrorControl};
+use crate::canopen::{abort, cia402, ObjAddr};
+use crate::error::{Error, Result};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
+const HISTORY_COUNT: ObjAddr = ObjAddr::new(0x1003, 0);
+const EMCY_COB: ObjAddr = ObjAddr::new(0x1014, 0);
+
+/// A heartbeat is late when no beat came for 1.5 periods plus this: what a consumer
+/// usually allows, and room for the master's own scheduling.
+const HEARTBEAT_SLACK: Duration = Duration::from_millis(50);
+/// The shortest and longest automatic watch.
+const MIN_WATCH: Duration = Duration::from_millis(300);
+const MAX_WATCH: Duration = Duration::from_secs(10);
+
+#[derive(Clone, Debug)]
+pub struct HealthOptions {
+    /// The scan's quiet window after the probes.
+    pub window: Duration,
+    /// How long to wait for each answer.
+    pub timeout: Duration,
+    /// How long to watch heartbeats and EMCYs; `None`: long enough for two beats of the
+    /// slowest producer (0.3 s to 10 s).
+    pub watch: Option<Duration>,
+    /// The NMT state every node must be in, when the caller expects one.
+    pub state: Option<nmt::State>,
+}
+
+/// The health of every node found.
+#[derive(Debug, Serialize)]
+pub struct Health {
+    pub bus: String,
+    /// How long the bus was watched for heartbeats and EMCYs (0: a link that shows no
+    /// traffic).
+    pub watched_ms: u64,
+    pub nodes: Vec<NodeHealth>,
+    /// Devices without a node-id that answered LSS (not nodes yet; not judged).
+    pub lss_unconfigured: usize,
+    /// Whether every node is healthy.
+    pub ok: bool,
+}
+
+#[derive(Debug, Serialize)]
+pub struct NodeHealth {
+    pub node: u8,
+    pub name: Option<String>,
+    pub device_type: Option<u32>,
+    /// The NMT state the node showed (heartbeat, else node guarding).
+    pub nmt: Option<nmt::State>,
+    pub nmt_from: String,
+    /// The producer heartbeat time 0x1017 (ms); `None`: the node has none.
+    pub heartbeat_ms: Option<u16>,
+    /// Heartbeats seen during the watch, and the longest time without one (ms).
+    pub heartbeats: usize,
+    pub longest_gap_ms: Option<u64>,
+    /// 0x1001.
+    pub error_register: Option<u8>,
+    /// 0x1003:0; `None`: the node keeps no history (or would not say).
+    pub errors_logged: Option<u8>,
+    /// EMCYs seen during the watch.
+    pub emcy: Vec<SeenEmcy>,
+    /// For CiA 402 drives: 0x6041 and the state it codes.
+    pub statusword: Option<u16>,
+    pub drive_state: Option<cia402::State>,
+    /// Each check: `nmt`, `heartbeat`, `error register`, `emcy`, `drive`.
+    pub checks: Vec<Check>,
+    pub ok: bool,
+}
+
+#[derive(Debug, Serialize)]
+pub struct SeenEmcy {
+    #[serde(serialize_with = "hex16")]
+    pub code: u16,
+    pub register: u8,
+    pub meaning: &'static str,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Check {
+    pub check: &'static str,
+    pub ok: bool,
+    /// What was found, in a sentence.
+    pub detail: String,
+}
+
+fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("0x{v:04X}"))
+}
+
+impl Health {
+    /// A verification error (exit 6) when any node is not healthy.
+    pub fn outcome(&self) -> Result<()> {
+        if self.ok {
+            return Ok(());
+        }
+        let nodes = self
+            .nodes
+            .iter()
+            .filter(|n| !n.ok)
+            .map(|n| {
+                let failed: Vec<&str> = n.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
+                format!("node {}: {}", n.node, failed.join(", "))
+            })
+            .collect();
+        Err(Error::Unhealthy { bus: self.bus.clone(), total: self.nodes.len(), nodes })
+    }
+}
+
+/// How a producer's heartbeats came during a watch: `arrivals` are their times from the
+/// start of the watch, which lasted `watched`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Beats {
+    pub count: usize,
+    /// The longest time without a beat: from the start to the first, between two, from
+    /// the last to the end.
+    pub longest_gap: Duration,
+    pub on_time: bool,
+}
+
+/// The longest a producer of this period may go without a beat.
+pub fn allowed_gap(period: Duration) -> Duration {
+    period * 3 / 2 + HEARTBEAT_SLACK
+}
+
+/// Judge a producer's beats: on time when no gap was longer than [`allowed_gap`].
+pub fn judge_beats(period: Duration, arrivals: &[Duration], watched: Duration) -> Beats {
+    let mut edges = vec![Duration::ZERO];
+    edges.extend(arrivals.iter().copied().filter(|t| *t <= watched));
+    edges.push(watched);
+    let longest_gap = edges.windows(2).map(|w| w[1].saturating_sub(w[0])).max().unwrap_or_default();
+    Beats { count: arrivals.len(), longest_gap, on_time: longest_gap <= allowed_gap(period) }
+}
+
+/// The watch that lets every producer of these periods miss a beat visibly: two periods of
+/// the slowest and the slack, 0.3 s to 10 s.
+pub fn watch_for(periods: impl Iterator<Item = Duration>) -> Duration {
+    let slowest = periods.max().unwrap_or_default();
+    (slowest * 2 + HEARTBEAT_SLACK).clamp(MIN_WATCH, MAX_WATCH)
+}
+
+/// What the watch saw of one node.
+#[derive(Default)]
+struct Watched {
+    arrivals: Vec<Duration>,
+    state: Option<nmt::State>,
+    emcy: Vec<Emergency>,
+}
+
+/// Heartbeats and EMCYs (on each node's COB-ID, `emcy_cobs`) of these nodes until `watch`
+/// has passed.
+fn watch_bus(
+    bus: &mut dyn Bus,
+    nodes: &[u8],
+    emcy_cobs: &BTreeMap<u16, u8>,
+    watch: Duration,
+) -> Result<BTreeMap<u8, Watched>> {
+    let mut seen: BTreeMap<u8, Watched> = nodes.iter().map(|n| (*n, Watched::default())).collect();
+    let start = Instant::now();
+    let end = start + watch;
+    while let Some(f) = bus.recv_frame(end)? {
+        let at = start.elapsed();
+        if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
+            if let Some(w) = seen.get_mut(&node) {
+                w.arrivals.push(at);
+                w.state = Some(state);
+            }
+        } else if let (Some(node), false) = (emcy_cobs.get(&f.id()), f.is_remote()) {
+            if let (Some(w), Some(e)) = (seen.get_mut(node), Emergency::decode(f.data())) {
+                w.emcy.push(e);
+            }
+        }
+    }
+    Ok(seen)
+}
+
+/// Per node: 0x1001, 0x1003:0, 0x1014 and, for drives, 0x6041, all nodes at once.
+struct Read {
+    register: Result<Vec<u8>>,
+    history: Result<Vec<u8>>,
+    emcy_cob: Result<Vec<u8>>,
+    statusword: Option<Result<Vec<u8>>>,
+}
+
+impl Read {
+    /// The COB-ID the node sends its EMCYs on (0x1014, else the default 0x80 + node);
+    /// `None` when it says it sends none (bit 31).
+    fn emcy_cob(&self, node: u8) -> Option<u16> {
+        match self.emcy_cob.as_ref().ok().filter(|b| b.len() >= 4).map(|b| le_u32(b)) {
+            Some(cob) if cob & 0x8000_0000 != 0 => None,
+            Some(cob) => Some((cob & 0x7FF) as u16),
+            None => Some(emcy::cob(node)),
+        }
+    }
+}
+
+fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> Result<Vec<Read>> {
+    let is_drive = |n: &scan::Node| n.device_type.is_some_and(cia402::is_drive);
+    let mut requests = Vec::new();
+    for n in found {
+        requests.push((n.node, ERROR_REGISTER));
+        requests.push((n.node, HISTORY_COUNT));
+        requests.push((n.node, EMCY_COB));
+        if is_drive(n) {
+            requests.push((n.node, cia402::STATUSWORD));
+        }
+    }
+    let mut answers = bus.sdo_upload_many(&requests, &sized(timeout, None), &mut |_| {})?.into_iter();
+    let mut next = || answers.next().expect("one answer per request");
+    Ok(found
+        .iter()
+        .map(|n| Read { register: next(), history: next(), emcy_cob: next(), statusword: is_drive(n).then(&mut next) })
+        .collect())
+}
+
+/// Check every node the scan finds.
+pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress) -> Result<Health> {
+    let found = scan::scan(bus, &ScanOptions { window: o.window, timeout: o.timeout }, progress)?;
+    let reads = read_objects(bus, &found.nodes, o.timeout)?;
+    let period = |n: &scan::Node| n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()));
+    let watch = if bus.sees_traffic() {
+        o.watch.unwrap_or_else(|| watch_for(found.nodes.iter().filter_map(period)))
+    } else {
+        Duration::ZERO
+    };
+    let ids: Vec<u8> = found.nodes.iter().map(|n| n.node).collect();
+    let emcy_cobs: BTreeMap<u16, u8> =
+        found.nodes.iter().zip(&reads).filter_map(|(n, r)| Some((r.emcy_cob(n.node)?, n.node))).collect();
+    progress.start("watching heartbeats and EMCYs", 1);
+    let mut seen = if watch > Duration::ZERO { watch_bus(bus, &ids, &emcy_cobs, watch)? } else { BTreeMap::new() };
+    progress.finish();
+    let nodes: Vec<NodeHealth> = found
+        .nodes
+        .iter()
+        .zip(reads)
+        .map(|(n, read)| judge_node(n, read, seen.remove(&n.node), watch, o.state))
+        .collect();
+    let ok = nodes.iter().all(|n| n.ok);
+    Ok(Health {
+        bus: found.bus,
+        watched_ms: watch.as_millis() as u64,
+        nodes,
+        lss_unconfigured: found.lss_unconfigured,
+        ok,
+    })
+}
+
+fn check(check: &'static str, ok: bool, detail: String) -> Check {
+    Check { check, ok, detail }
+}
+
+fn unread(e: &Error) -> String {
+    format!("could not be read: {e}")
+}
+
+fn judge_node(
+    n: &scan::Node,
+    read: Read,
+    watched: Option<Watched>,
+    watch: Duration,
+    want: Option<nmt::State>,
+) -> NodeHealth {
+    let watched = watched.unwrap_or_default();
+    let origin =
+        Origin { device_type: n.device_type, vendor: n.vendor_id, product: n.product_code, name: n.name.clone() };
+    let mut checks = Vec::new();
+
+    // NMT: the latest state the node showed.
+    let (state, from) = match (watched.state, n.state) {
+        (Some(s), _) => (Some(s), "heartbeat".to_string()),
+        (None, s) => (s, n.state_from.to_string()),
+    };
+    checks.push(match (state, want) {
+        (None, _) => check("nmt", false, format!("state unknown: {from}")),
+        (Some(s), Some(w)) if s != w => check("nmt", false, format!("{} (from {from}), not {}", s.name(), w.name())),
+        (Some(s), _) => check("nmt", true, format!("{} (from {from})", s.name())),
+    });
+
+    // Heartbeat: on time over the watch, when the node produces one.
+    let period = n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()));
+    let beats = period.filter(|_| watch > Duration::ZERO).map(|p| judge_beats(p, &watched.arrivals, watch));
+    checks.push(match (n.heartbeat_ms, period, beats) {
+        (None, _, _) => check("heartbeat", true, "none (no 0x1017)".into()),
+        (Some(_), None, _) => check("heartbeat", true, "not produced (0x1017 = 0)".into()),
+        (Some(ms), Some(_), None) => {
+            check("heartbeat", true, format!("every {ms} ms (not watched: this link shows no traffic)"))
+        }
+        (Some(ms), Some(_), Some(b)) if b.count == 0 => {
+            check("heartbeat", false, format!("0x1017 says every {ms} ms, but none came in {} ms", watch.as_millis()))
+        }
+        (Some(ms), Some(_), Some(b)) if !b.on_time => check(
+            "heartbeat",
+            false,
+            format!(
+                "every {ms} ms, but late: {} ms without one ({} in {} ms)",
+                b.longest_gap.as_millis(),
+                b.count,
+                watch.as_millis()
+            ),
+        ),
+        (Some(ms), Some(_), Some(b)) => {
+            check("heartbeat", true, format!("every {ms} ms, on time ({} in {} ms)", b.count, watch.as_millis()))
+        }
+    });
+
+    // Error register, with the history's count alongside.
+    let register = read.register.as_ref().ok().and_then(|b| b.first().copied());
+    let logged = read.history.as_ref().ok().and_then(|b| b.first().copied());
+    let history = match &read.history {
+        Ok(_) => match logged {
+            Some(0) => "; no errors logged".to_string(),
+            Some(k) => format!("; {k} error(s) logged in 0x1003 (canctl errors {})", n.node),
+            None => String::new(),
+        },
+        Err(e) if matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => {
+            "; no error history (0x1003)".to_string()
+        }
+        Err(e) => format!("; 0x1003:0 {}", unread(e)),
+    };
+    checks.push(match (&read.register, register) {
+        (Err(e), _) => check("error register", false, unread(e)),
+        (Ok(_), None) => check("error register", false, "0x1001 answered with no data".into()),
+        (Ok(_), Some(0)) => check("error register", true, format!("0x00: no error{history}")),
+        (Ok(_), Some(r)) => {
+            check("error register", false, format!("0x{r:02X}: {}{history}", emcy::register_bits(r).join(", ")))
+        }
+    });
+
+    // EMCY during the watch: any error (an "error reset" says things got better).
+    let errors: Vec<&Emergency> = watched.emcy.iter().filter(|e| e.code != 0).collect();
+    let described: Vec<String> = watched
+        .emcy
+        .iter()
+        .map(|e| {
+            let h = emcy::HistoryEntry { raw: e.history_entry() };
+            format!("0x{:04X} {}", e.code, emcy::meaning(h.code(), h.manufacturer(), &origin).text)
+        })
+        .collect();
+    checks.push(if watch == Duration::ZERO {
+        check("emcy", true, "not watched: this link shows no traffic".into())
+    } else if watched.emcy.is_empty() {
+        check("emcy", true, format!("none in {} ms", watch.as_millis()))
+    } else {
+        check("emcy", errors.is_empty(), described.join("; "))
+    });
+
+    // A CiA 402 drive: not in Fault.
+    let statusword = read
+        .statusword
+        .as_ref()
+        .and_then(|r| r.as_ref().ok())
+        .filter(|b| b.len() >= 2)
+        .map(|b| u16::from_le_bytes([b[0], b[1]]));
+    let drive_state = statusword.and_then(cia402::State::from_statusword);
+    if let Some(r) = &read.statusword {
+        checks.push(match (r, statusword, drive_state) {
+            (Err(e), _, _) => check("drive", false, format!("statusword 0x6041 {}", unread(e))),
+            (Ok(_), None, _) => check("drive", false, "statusword 0x6041 answered with too few bytes".into()),
+            (Ok(_), Some(sw), None) => check("drive", false, format!("statusword 0x{sw:04X} codes no CiA 402 state")),
+            (Ok(_), Some(sw), Some(s)) => {
+                let faulted = matches!(s, cia402::State::Fault | cia402::State::FaultReactionActive);
+                let warning = if sw & cia402::sw::WARNING != 0 { ", warning" } else { "" };
+                check("drive", !faulted, format!("{} (statusword 0x{sw:04X}{warning})", s.name()))
+            }
+        });
+    }
+
+    let ok = checks.iter().all(|c| c.ok);
+    NodeHealth {
+        node: n.node,
+        name: n.name.clone(),
+        device_type: n.device_type,
+        nmt: state,
+        nmt_from: from,
+        heartbeat_ms: n.heartbeat_ms,
+        heartbeats: watched.arrivals.len(),
+        longest_gap_ms: beats.map(|b| b.longest_gap.as_millis() as u64),
+        error_register: register,
+        errors_logged: logged,
+        emcy: watched
+            .emcy
+            .iter()
+            .map(|e| {
+                let h = emcy::HistoryEntry { raw: e.history_entry() };
+                SeenEmcy {
+                    code: e.code,
+                    register: e.register,
+                    meaning: emcy::meaning(h.code(), h.manufacturer(), &origin).text,
+                }
+            })
+            .collect(),
+        statusword,
+        drive_state,
+        checks,
+        ok,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MS: Duration = Duration::from_millis(1);
+
+    #[test]
+    fn beats_every_period_are_on_time() {
+        let arrivals: Vec<Duration> = (0..8).map(|k| (10 + 40 * k) * MS).collect();
+        let b = judge_beats(40 * MS, &arrivals, 300 * MS);
+        assert_eq!(b, Beats { count: 8, longest_gap: 40 * MS, on_time: true });
+    }
+
+    #[test]
+    fn one_lost_beat_is_within_the_allowance_two_are_not() {
+        // 100 ms producer: allowed 200 ms without a beat.
+        assert_eq!(allowed_gap(100 * MS), 200 * MS);
+        let one_lost = [50 * MS, 250 * MS, 350 * MS];
+        assert!(judge_beats(100 * MS, &one_lost, 400 * MS).on_time);
+        let two_lost = [50 * MS, 350 * MS];
+        let b = judge_beats(100 * MS, &two_lost, 400 * MS);
+        assert_eq!((b.on_time, b.longest_gap), (false, 300 * MS));
+    }
+
+    #[test]
+    fn silence_at_the_start_or_the_end_counts() {
+        // Stopped beating: nothing after the first beat.
+        let b = judge_beats(100 * MS, &[20 * MS], 400 * MS);
+        assert_eq!((b.on_time, b.longest_gap), (false, 380 * MS));
+        // Started late.
+        assert!(!judge_beats(100 * MS, &[260 * MS, 360 * MS], 400 * MS).on_time);
+        // Never: the whole watch.
+        assert_eq!(judge_beats(100 * MS, &[], 400 * MS).longest_gap, 400 * MS);
+    }
+
+    #[test]
+    fn the_watch_lets_the_slowest_producer_miss_a_beat() {
+        assert_eq!(watch_for([40 * MS, 100 * MS].into_iter()), MIN_WATCH);
+        assert_eq!(watch_for([500 * MS].into_iter()), 1050 * MS);
+        assert!(watch_for([500 * MS].into_iter()) > allowed_gap(500 * MS));
+        assert_eq!(watch_for(std::iter::empty()), MIN_WATCH);
+        assert_eq!(watch_for([Duration::from_secs(60)].into_iter()), MAX_WATCH);
+    }
+
+    fn sensor() -> scan::Node {
+        scan::Node {
+            node: 5,
+            device_type: Some(0x000A_0196),
+            vendor_id: Some(0x40),
+            product_code: Some(0x4378_7800),
+            revision: None,
+            serial: None,
+            name: Some("C01".into()),
+            state: Some(nmt::State::Operational),
+            state_from: "heartbeat",
+            heartbeat_ms: Some(40),
+        }
+    }
+
+    fn clean() -> Read {
+        Read { register: Ok(vec![0]), history: Ok(vec![0]), emcy_cob: Ok(vec![0x85, 0, 0, 0]), statusword: None }
+    }
+
+    fn beating() -> Watched {
+        Watched {
+            arrivals: (0..7).map(|k| (5 + 40 * k) * MS).collect(),
+            state: Some(nmt::State::Operational),
+            emcy: vec![],
+        }
+    }
+
+    fn failed(h: &NodeHealth) -> Vec<&str> {
+        h.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect()
+    }
+
+    #[test]
+    fn an_emcy_with_an_error_during_the_watch_fails_the_node_an_error_reset_does_not() {
+        let h = judge_node(&sensor(), clean(), Some(beating()), 300 * MS, None);
+        assert!(h.ok, "{:?}", h.checks);
+        let mut w = beating();
+        w.emcy.push(Emergency { code: 0x5000, register: 0x81, vendor: [0; 5] });
+        let h = judge_node(&sensor(), clean(), Some(w), 300 * MS, None);
+        assert_eq!(failed(&h), ["emcy"]);
+        // The sensor's manual names its code (seed 001).
+        assert!(h.checks.iter().any(|c| c.detail.contains("0x5000 Device hardware: no stop pulses")), "{:?}", h.checks);
+        let mut w = beating();
+        w.emcy.push(Emergency { code: 0x0000, register: 0, vendor: [0; 5] });
+        assert!(judge_node(&sensor(), clean(), Some(w), 300 * MS, None).ok);
+    }
+
+    #[test]
+    fn a_faulted_drive_and_a_wrong_state_fail_their_checks() {
+        let drive = scan::Node { device_type: Some(0x0002_0192), heartbeat_ms: Some(0), ..sensor() };
+        let read = Read { statusword: Some(Ok(vec![0x08, 0x05])), ..clean() };
+        let h = judge_node(&drive, read, Some(Watched::default()), 300 * MS, Some(nmt::State::PreOperational));
+        assert_eq!(failed(&h), ["nmt", "drive"]);
+        assert_eq!(h.drive_state, Some(cia402::State::Fault));
+        let read = Read { statusword: Some(Ok(vec![0x40, 0x05])), ..clean() };
+        assert!(judge_node(&drive, read, None, 300 * MS, None).ok);
+        // A node without 0x1003 is fine; one whose 0x1001 does not answer is not.
+        let read =
+            Read { history: Err(Error::SdoAbort { node: 5, obj: HISTORY_COUNT, code: abort::NO_OBJECT }), ..clean() };
+        assert!(judge_node(&sensor(), read, Some(beating()), 300 * MS, None).ok);
+        let read = Read {
+            register: Err(Error::SdoAbort { node: 5, obj: ERROR_REGISTER, code: abort::GENERAL_ERROR }),
+            ..clean()
+        };
+        assert_eq!(failed(&judge_node(&sensor(), read, Some(beating()), 300 * MS, None)), ["error register"]);
+    }
+
+    #[test]
+    fn emcys_are_listened_for_where_0x1014_puts_them() {
+        let with = |cob: Result<Vec<u8>>| Read { emcy_cob: cob, ..clean() };
+        assert_eq!(with(Ok(0x0000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x85));
+        assert_eq!(with(Ok(0x0000_0123u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x123));
+        assert_eq!(with(Ok(0x8000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), None);
+        let no_object = Error::SdoAbort { node: 5, obj: EMCY_COB, code: abort::NO_OBJECT };
+        assert_eq!(with(Err(no_object)).emcy_cob(5), Some(0x85));
+    }
+}

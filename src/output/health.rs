@@ -1,0 +1,188 @@
+//! How the error history and the health report look: tables for people, JUnit for CI.
+
+use super::{Human, Report, TestCase, TestSuite};
+use crate::ops::errors::ErrorHistory;
+use crate::ops::health::{Check, Health as HealthReport, NodeHealth};
+
+fn node_label(node: u8, name: Option<&str>) -> String {
+    match name {
+        Some(n) if !n.is_empty() => format!("node {node} ({n})"),
+        _ => format!("node {node}"),
+    }
+}
+
+/// `0x81 (generic, manufacturer)`, `0x00`, or `-` when unread.
+pub(crate) fn register_text(register: Option<u8>) -> String {
+    match register {
+        None => "-".into(),
+        Some(0) => "0x00".into(),
+        Some(r) => format!("0x{r:02X} ({})", crate::canopen::emcy::register_bits(r).join(", ")),
+    }
+}
+
+fn source_text(s: crate::canopen::emcy::Source) -> &'static str {
+    use crate::canopen::emcy::Source;
+    match s {
+        Source::Cia301 => "CiA 301",
+        Source::Cia402 => "CiA 402",
+        Source::Device => "device manual",
+    }
+}
+
+impl Report for ErrorHistory {
+    fn human(&self) -> Human {
+        let who = node_label(self.node, self.name.as_deref());
+        let register = format!("error register {}", register_text(self.error_register));
+        if !self.kept {
+            return Human::Line(format!("{who} keeps no error history (it has no object 0x1003); {register}"));
+        }
+        let mut parts = vec![Human::Line(match self.count {
+            Some(0) | None => format!("{who}: no errors logged in 0x1003; {register}"),
+            Some(n) => format!("{who}: {n} error(s) logged in 0x1003, newest first; {register}"),
+        })];
+        let rows = self
+            .entries
+            .iter()
+            .map(|e| {
+                vec![
+                    e.sub.to_string(),
+                    format!("0x{:04X}", e.code),
+                    format!("0x{:04X}", e.manufacturer),
+                    e.meaning.to_string(),
+                    source_text(e.source).to_string(),
+                ]
+            })
+            .collect();
+        parts.push(Human::Table { headers: vec!["#", "code", "mfr", "meaning", "from"], rows, when_empty: false });
+        parts.extend(
+            self.unreadable.iter().map(|u| Human::Note(format!("0x1003:{} could not be read: {}", u.sub, u.error))),
+        );
+        if self.cleared {
+            parts.push(Human::Line(format!("{who}: error history cleared (0x1003:0 reads back 0)")));
+        }
+        Human::Parts(parts)
+    }
+
+    fn csv(&self) -> Human {
+        let rows = self
+            .entries
+            .iter()
+            .map(|e| {
+                vec![
+                    self.node.to_string(),
+                    e.sub.to_string(),
+                    e.raw.to_string(),
+                    format!("0x{:04X}", e.code),
+                    format!("0x{:04X}", e.manufacturer),
+                    e.meaning.to_string(),
+                    source_text(e.source).to_string(),
+                ]
+            })
+            .collect();
+        Human::Table {
+            headers: vec!["node", "sub", "raw", "code", "manufacturer", "meaning", "source"],
+            rows,
+            when_empty: true,
+        }
+    }
+}
+
+fn cell<'a>(h: &'a NodeHealth, check: &str) -> Option<&'a Check> {
+    h.checks.iter().find(|c| c.check == check)
+}
+
+fn heartbeat_cell(h: &NodeHealth, watched: bool) -> String {
+    match (h.heartbeat_ms, cell(h, "heartbeat")) {
+        (None, _) => "-".into(),
+        (Some(0), _) => "off".into(),
+        (Some(ms), _) if !watched => format!("{ms} ms"),
+        (Some(ms), Some(c)) if c.ok => format!("{ms} ms, on time"),
+        (Some(ms), _) if h.heartbeats == 0 => format!("{ms} ms, NONE"),
+        (Some(ms), _) => format!("{ms} ms, LATE ({} ms gap)", h.longest_gap_ms.unwrap_or(0)),
+    }
+}
+
+fn health_rows(r: &HealthReport) -> Vec<Vec<String>> {
+    r.nodes
+        .iter()
+        .map(|h| {
+            let failed: Vec<&str> = h.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
+            vec![
+                h.node.to_string(),
+                h.name.clone().unwrap_or_default(),
+                h.nmt.map_or("unknown".to_string(), |s| s.name().to_string()),
+                heartbeat_cell(h, r.watched_ms > 0),
+                register_text(h.error_register),
+                h.errors_logged.map_or("-".into(), |n| n.to_string()),
+                match h.emcy.len() {
+                    0 if r.watched_ms == 0 => "-".into(),
+                    0 => "0".into(),
+                    _ => h.emcy.iter().map(|e| format!("0x{:04X}", e.code)).collect::<Vec<_>>().join(" "),
+                },
+                h.drive_state.map_or(
+                    if h.statusword.is_some() || cell(h, "drive").is_some() { "?".into() } else { String::new() },
+                    |s| s.name().to_string(),
+                ),
+                if failed.is_empty() { "ok".into() } else { format!("UNHEALTHY: {}", failed.join(", ")) },
+            ]
+        })
+        .collect()
+}
+
+const HEALTH_HEADERS: [&str; 9] =
+    ["node", "name", "nmt", "heartbeat", "error register", "logged", "emcy", "drive", "health"];
+
+impl Report for HealthReport {
+    fn human(&self) -> Human {
+        let mut parts =
+            vec![Human::Table { headers: HEALTH_HEADERS.to_vec(), rows: health_rows(self), when_empty: true }];
+        for h in &self.nodes {
+            for c in h.checks.iter().filter(|c| !c.ok) {
+                parts.push(Human::Line(format!("node {} {}: {}", h.node, c.check, c.detail)));
+            }
+        }
+        Human::Parts(parts)
+    }
+
+    fn csv(&self) -> Human {
+        Human::Table { headers: HEALTH_HEADERS.to_vec(), rows: health_rows(self), when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let bad = self.nodes.iter().filter(|n| !n.ok).count();
+        let watched = if self.watched_ms > 0 {
+            format!("heartbeats and EMCYs watched for {} ms", self.watched_ms)
+        } else {
+            "no traffic watched: this link shows none".to_string()
+        };
+        let mut notes = vec![if bad == 0 {
+            format!("{}: all {} node(s) healthy ({watched})", self.bus, self.nodes.len())
+        } else {
+            format!("{}: {bad} of {} node(s) not healthy ({watched})", self.bus, self.nodes.len())
+        }];
+        if self.lss_unconfigured > 0 {
+            notes.push(format!(
+                "{} device(s) without a node-id answered LSS (not judged; canctl lss assign numbers them)",
+                self.lss_unconfigured
+            ));
+        }
+        notes
+    }
+
+    fn junit(&self) -> Option<TestSuite> {
+        let cases = self
+            .nodes
+            .iter()
+            .flat_map(|h| {
+                let class = node_label(h.node, h.name.as_deref());
+                h.checks.iter().map(move |c| TestCase {
+                    class: class.clone(),
+                    name: c.check.to_string(),
+                    detail: c.detail.clone(),
+                    failure: (!c.ok).then(|| format!("{class}: {}: {}", c.check, c.detail)),
+                })
+            })
+            .collect();
+        Some(TestSuite { name: format!("canctl health: {}", self.bus), cases })
+    }
+}
