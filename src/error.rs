@@ -120,6 +120,10 @@ pub enum Error {
     /// failed", ...).
     #[error("{bus} is not as {project} says: {}", differences.join(", "))]
     NetworkDiffers { bus: String, project: String, differences: Vec<String> },
+    /// Nodes that answered before a network-wide bit-rate switch do not answer at the new
+    /// rate.
+    #[error("node(s) {} did not follow the switch to {rate}: they do not answer at the new rate", join_ids(nodes))]
+    NotFollowed { rate: String, nodes: Vec<u8> },
 
     /// Nodes on a bus are not healthy; `nodes` in words ("node 1: error register 0x81").
     #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(), nodes.join("; "))]
@@ -220,6 +224,7 @@ impl Error {
             | Error::Differs { .. }
             | Error::OtherDevice { .. }
             | Error::NetworkDiffers { .. }
+            | Error::NotFollowed { .. }
             | Error::Unhealthy { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } => C::Interrupted,
@@ -464,6 +469,10 @@ fn store_refused_text(node: u8, verb: &str, why: &StoreRefusal) -> String {
 
 fn join(objects: &[ObjAddr]) -> String {
     objects.iter().map(|o| o.to_string()).collect::<Vec<_>>().join(", ")
+}
+
+fn join_ids(nodes: &[u8]) -> String {
+    nodes.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")
 }
 
 /// Which node-ids a bus can address.

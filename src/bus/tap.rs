@@ -4,7 +4,7 @@
 //! procedure (the kill-at-every-step tests send a signal there); it changes nothing on the
 //! bus.
 
-use super::{Bus, LssAnswer, LssWait, Observed, SdoOptions, TransferHook};
+use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
 use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::frame::Frame;
@@ -85,6 +85,25 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
             progress(done)
         })
     }
+    /// The transfers run together as the bus runs them; each is counted, in the jobs'
+    /// order, once they have all ended.
+    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
+        let results = self.bus.sdo_many(jobs)?;
+        for (job, result) in jobs.iter().zip(&results) {
+            match job {
+                SdoJob::Upload { .. } => {
+                    self.uploads += 1;
+                    (self.after)(Transfer::Upload, self.uploads);
+                }
+                SdoJob::Download { .. } if result.is_ok() => {
+                    self.downloads += 1;
+                    (self.after)(Transfer::Download, self.downloads);
+                }
+                SdoJob::Download { .. } => {}
+            }
+        }
+        Ok(results)
+    }
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
         self.bus.nmt(cmd, node)?;
         self.commands += 1;
@@ -140,5 +159,22 @@ mod tests {
         // A refused write is not a confirmed one.
         assert!(tapped.sdo_download(5, ObjAddr::new(0x1018, 1), &[1, 0, 0, 0], &opts).is_err());
         assert_eq!(seen, [(Transfer::Upload, 1), (Transfer::Download, 1), (Transfer::Upload, 2)]);
+    }
+
+    #[test]
+    fn transfers_run_together_are_counted_in_the_order_of_the_jobs() {
+        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
+        let mut seen = Vec::new();
+        let mut tapped = AfterSdo::new(&mut bus, |t, n| seen.push((t, n)));
+        let opts = SdoOptions::new(Duration::from_secs(1));
+        let jobs = [
+            SdoJob::Download { node: 5, addr: ObjAddr::new(0x1017, 0), data: vec![100, 0], opts: opts.clone() },
+            SdoJob::Upload { node: 10, addr: ObjAddr::new(0x1017, 0), opts: opts.clone() },
+            // Refused: not a confirmed write.
+            SdoJob::Download { node: 1, addr: ObjAddr::new(0x1018, 1), data: vec![1, 0, 0, 0], opts: opts.clone() },
+        ];
+        let results = tapped.sdo_many(&jobs).unwrap();
+        assert!(results[0].is_ok() && results[1].is_ok() && results[2].is_err());
+        assert_eq!(seen, [(Transfer::Download, 1), (Transfer::Upload, 1)]);
     }
 }

@@ -36,6 +36,9 @@ pub trait Progress {
     fn finish(&mut self) {}
     /// A remark worth a person's attention (an object the device refuses to show, say).
     fn note(&mut self, _text: &str) {}
+    /// One of several items of the phase under way at once (a node configured alongside
+    /// others) moved on: `status` says where it is, or its result once `finished`.
+    fn item(&mut self, _item: &str, _status: &str, _finished: bool) {}
 }
 
 /// Progress nobody watches.
