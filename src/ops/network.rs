@@ -623,6 +623,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
                     match t {
                         crate::bus::tap::Transfer::Upload => reads = n,
                         crate::bus::tap::Transfer::Download => writes = n,
+                        crate::bus::tap::Transfer::Nmt => {}
                     }
                     progress.item(&label, &transfers(reads, writes), false);
                 });
