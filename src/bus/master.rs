@@ -163,7 +163,7 @@ impl<L: FrameLink> Master<L> {
         };
         loop {
             if watch.stopped() {
-                self.stop(&mut active, &mut queues, &mut results)?;
+                self.stop(&mut active, &mut queues, &mut results, timeout)?;
             }
             if active.is_empty() {
                 break;
@@ -247,11 +247,13 @@ impl<L: FrameLink> Master<L> {
     /// the device (CiA 301), so that it is not left waiting for the rest. A transfer whose
     /// first answer is still awaited is let finish: its one request may already have done
     /// its work (an expedited write), and an answer that goes on is aborted at the next turn.
+    /// What an aborted server still sends (the rest of its sub-block) is let arrive first.
     fn stop(
         &mut self,
         active: &mut BTreeMap<u8, Active>,
         queues: &mut BTreeMap<u8, VecDeque<(usize, SdoClient)>>,
         results: &mut [Option<Result<Vec<u8>>>],
+        timeout: Duration,
     ) -> Result<()> {
         for (slot, _) in std::mem::take(queues).into_values().flatten() {
             results[slot] = Some(Err(Error::Interrupted));
@@ -261,6 +263,7 @@ impl<L: FrameLink> Master<L> {
             let a = active.remove(&node).expect("active");
             let obj = a.client.addr();
             self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(obj, abort::GENERAL_ERROR)))?;
+            self.let_answers_land(node, a.client.answers_in_flight(), timeout)?;
             let (bytes, total) = a.client.progress();
             results[a.slot] = Some(Err(Error::SdoInterrupted {
                 node,
@@ -269,6 +272,25 @@ impl<L: FrameLink> Master<L> {
                 moved: Moved { bytes, total },
                 aborted: Some(abort::GENERAL_ERROR),
             }));
+        }
+        Ok(())
+    }
+
+    /// Wait for what `node` still sends for a transfer just aborted, so that the next
+    /// transfer (in this program or the next) does not take it for its answer. A server
+    /// that stopped at the abort sends nothing: the wait ends after `timeout` of silence.
+    fn let_answers_land(&mut self, node: u8, mut expected: usize, timeout: Duration) -> Result<()> {
+        let cob = 0x580 + u16::from(node);
+        while expected > 0 {
+            let Some(f) = self.recv(self.link.now() + timeout)? else { break };
+            if f.id() != cob || f.is_remote() {
+                continue;
+            }
+            // The server's own abort ends what it sends.
+            if f.data().first() == Some(&0x80) && f.len() == 8 {
+                break;
+            }
+            expected -= 1;
         }
         Ok(())
     }
