@@ -5,7 +5,9 @@ use std::io::Write;
 
 /// Write `bytes` to `path` so that the file is either its old self or wholly the new
 /// content, never a mix or a stump: into a temporary file beside it, flushed to the disk,
-/// then renamed over it. On any failure (disk full, no permission) the old file is left as
+/// then renamed over it. The temporary file is named after this process
+/// ([`temp_name`]): one left by a process killed outright is in nobody's way, and is
+/// removed by the next write once its writer is gone. On any failure (disk full, no permission) the old file is left as
 /// it was and the temporary file removed: exit 7. A target that is not a regular file (a
 /// terminal, `/dev/stdout`, a FIFO) is written directly, as renaming over it would replace
 /// the device with a file.
@@ -31,16 +33,19 @@ pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
         return Err(output("not a file name".into()));
     };
     let dir = target.parent().filter(|d| !d.as_os_str().is_empty());
-    let temp = dir.map_or_else(|| temp_name(name).into(), |d| d.join(temp_name(name)));
-    let mut file = match fs::OpenOptions::new().write(true).create_new(true).open(&temp) {
+    remove_stale_temporaries(dir, name);
+    let temp_file = temp_name(name, std::process::id());
+    let temp = dir.map_or_else(|| temp_file.clone().into(), |d| d.join(&temp_file));
+    let create = || fs::OpenOptions::new().write(true).create_new(true).open(&temp);
+    let mut file = match create() {
         Ok(f) => f,
+        // This process's name, yet not this process's file (it writes one file at a time):
+        // left by an earlier process that had the same pid. Replaced once.
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-            return Err(output(format!(
-                "{} is in the way (left by an interrupted canctl, or another one is writing the file now); \
-                 {} is unchanged. Remove it and try again",
-                temp.display(),
-                path.display()
-            )))
+            let _ = fs::remove_file(&temp);
+            create().map_err(|e| {
+                output(format!("{} is in the way ({e}); {} is unchanged", temp.display(), path.display()))
+            })?
         }
         Err(e) => return Err(fail("", e)),
     };
@@ -69,10 +74,92 @@ pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
     Ok(())
 }
 
-/// The temporary file `write_atomic` writes beside `name`: hidden, and named after it.
-pub fn temp_name(name: &std::ffi::OsStr) -> std::ffi::OsString {
+/// The temporary file process `pid` writes beside `name`: hidden, named after it and after
+/// its writer, so that two processes, or one killed half-way and the next, never collide.
+pub fn temp_name(name: &std::ffi::OsStr, pid: u32) -> std::ffi::OsString {
     let mut temp = std::ffi::OsString::from(".");
     temp.push(name);
-    temp.push(".canctl-tmp");
+    temp.push(format!(".{pid}{TEMP_SUFFIX}"));
     temp
+}
+
+const TEMP_SUFFIX: &str = ".canctl-tmp";
+
+/// The writer's pid, when `file` is a temporary file of `name`.
+fn temp_owner(file: &std::ffi::OsStr, name: &std::ffi::OsStr) -> Option<u32> {
+    let rest = file.to_str()?.strip_prefix('.')?.strip_prefix(name.to_str()?)?;
+    rest.strip_prefix('.')?.strip_suffix(TEMP_SUFFIX)?.parse().ok()
+}
+
+/// Remove the temporary files of `name` whose writer is gone (killed outright: SIGKILL, a
+/// power cut). A writer still running keeps its file. Best effort: what cannot be removed
+/// is left, and is in nobody's way.
+fn remove_stale_temporaries(dir: Option<&std::path::Path>, name: &std::ffi::OsStr) {
+    let Ok(entries) = std::fs::read_dir(dir.unwrap_or(std::path::Path::new("."))) else { return };
+    for entry in entries.flatten() {
+        let Some(pid) = temp_owner(&entry.file_name(), name) else { continue };
+        if pid != std::process::id() && !running(pid) && entry.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Whether process `pid` exists (Unix: signal 0 reaches it, or it exists under another
+/// user). Elsewhere it is taken to run: its file stays, which is safe.
+fn running(pid: u32) -> bool {
+    #[cfg(unix)]
+    {
+        use nix::errno::Errno;
+        let Ok(pid) = i32::try_from(pid) else { return false };
+        !matches!(nix::sys::signal::kill(nix::unistd::Pid::from_raw(pid), None), Err(Errno::ESRCH))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = pid;
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::OsStr;
+
+    #[test]
+    fn temporary_names_carry_their_writer() {
+        let name = OsStr::new("sensor.dcf");
+        assert_eq!(temp_name(name, 42), ".sensor.dcf.42.canctl-tmp");
+        assert_eq!(temp_owner(OsStr::new(".sensor.dcf.42.canctl-tmp"), name), Some(42));
+        assert_eq!(temp_owner(OsStr::new(".sensor.dcf.canctl-tmp"), name), None);
+        assert_eq!(temp_owner(OsStr::new(".other.dcf.42.canctl-tmp"), name), None);
+        assert_eq!(temp_owner(OsStr::new(".sensor.dcf.x.canctl-tmp"), name), None);
+        assert_eq!(temp_owner(OsStr::new("sensor.dcf"), name), None);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_temporary_file_of_a_dead_writer_is_removed_and_a_live_ones_kept() {
+        let dir = std::env::temp_dir().join(format!("canctl-atomic-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let target = dir.join("out.bin");
+        std::fs::write(&target, b"old").unwrap();
+        // A writer that is gone: a child that has ended (and been reaped).
+        let mut child = std::process::Command::new(std::env::current_exe().unwrap())
+            .arg("--list")
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let stale = dir.join(temp_name(OsStr::new("out.bin"), dead));
+        std::fs::write(&stale, b"half").unwrap();
+        // Our own parent runs: its file stays.
+        let live = dir.join(temp_name(OsStr::new("out.bin"), std::os::unix::process::parent_id()));
+        std::fs::write(&live, b"busy").unwrap();
+        write_atomic(&target, b"new").unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+        assert!(!stale.exists(), "stale temporary file kept");
+        assert!(live.exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -120,6 +120,10 @@ pub enum Error {
     /// failed", ...).
     #[error("{bus} is not as {project} says: {}", differences.join(", "))]
     NetworkDiffers { bus: String, project: String, differences: Vec<String> },
+    /// Nodes that answered before a network-wide bit-rate switch do not answer at the new
+    /// rate.
+    #[error("node(s) {} did not follow the switch to {rate}: they do not answer at the new rate", join_ids(nodes))]
+    NotFollowed { rate: String, nodes: Vec<u8> },
 
     /// Nodes on a bus are not healthy; `nodes` in words ("node 1: error register 0x81").
     #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(), nodes.join("; "))]
@@ -135,6 +139,12 @@ pub enum Error {
     /// The user pressed Ctrl-C.
     #[error("interrupted")]
     Interrupted,
+    /// The user asked to stop while an SDO transfer was under way: it was ended part-way,
+    /// with an abort sent to the device (`aborted`, its code) where the link allows one.
+    #[error("interrupted: the {} of {obj} {} node {node} stopped after {moved}{}",
+        if *upload { "read" } else { "write" }, if *upload { "from" } else { "to" },
+        match aborted { Some(code) => format!("; the transfer was aborted (SDO abort 0x{code:08X})"), None => String::new() })]
+    SdoInterrupted { node: u8, obj: ObjAddr, upload: bool, moved: Moved, aborted: Option<u32> },
 
     /// An error with advice appended (e.g. which nodes the last scan saw); it ends the
     /// process as the error itself would.
@@ -214,9 +224,10 @@ impl Error {
             | Error::Differs { .. }
             | Error::OtherDevice { .. }
             | Error::NetworkDiffers { .. }
+            | Error::NotFollowed { .. }
             | Error::Unhealthy { .. } => C::Verify,
             Error::Output { .. } => C::Output,
-            Error::Interrupted => C::Interrupted,
+            Error::Interrupted | Error::SdoInterrupted { .. } => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
         }
     }
@@ -228,6 +239,11 @@ impl Error {
     /// Nobody answered in time (exit 3): what a scan or a poll treats as "not there".
     pub fn is_timeout(&self) -> bool {
         self.class() == ErrorClass::Timeout
+    }
+
+    /// The user asked to stop (exit 130): a procedure ends with a report of what it did.
+    pub fn is_interrupted(&self) -> bool {
+        self.class() == ErrorClass::Interrupted
     }
 
     /// The error under any hint.
@@ -453,6 +469,10 @@ fn store_refused_text(node: u8, verb: &str, why: &StoreRefusal) -> String {
 
 fn join(objects: &[ObjAddr]) -> String {
     objects.iter().map(|o| o.to_string()).collect::<Vec<_>>().join(", ")
+}
+
+fn join_ids(nodes: &[u8]) -> String {
+    nodes.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")
 }
 
 /// Which node-ids a bus can address.

@@ -17,6 +17,8 @@ mod nodes;
 mod records;
 mod reports;
 
+pub use reports::{sentence, Each};
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
     /// Tables and sentences for people.

@@ -406,3 +406,241 @@ fn check_state_wants_every_node_in_that_nmt_state() {
     assert_eq!(run.code, 0, "{}", run.stdout);
     assert_eq!(states(&run.json()), [(1, true), (5, true), (10, true), (32, true)]);
 }
+
+// ---------------------------------------------------------------------------------------
+// network set-baud: the sim's bus follows an LSS switch; its stepper (SERS: bit rate from
+// DIP switches) refuses "configure bit timing", the others take it.
+
+fn nodes_of(scan: &Run) -> Vec<u64> {
+    scan.json()["nodes"].as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect()
+}
+
+fn set_baud_rows(run: &Run) -> Vec<(u64, Option<bool>)> {
+    run.json()["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| (n["node"].as_u64().unwrap(), n["after"].as_bool()))
+        .collect()
+}
+
+#[test]
+fn set_baud_is_a_broadcast_only_with_global() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "0");
+    let run = sim.run(&["network", "set-baud", "250k"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("a broadcast): add --global"), "{}", run.stderr);
+    let run = sim.run(&["network", "set-baud", "auto", "--global"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    // Nothing was sent: every node still answers at the old rate.
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10, 32]);
+}
+
+#[test]
+fn set_baud_switches_every_node_and_finds_them_at_the_new_rate() {
+    let sim = Sim::new();
+    // The stepper, which cannot change its rate over LSS, is switched off (mute).
+    sim.run(&["sim", "reset", "--profile", "typical", "--unconfigured", "2", "--fault", "stepper:mute"]).ok();
+    let run = sim.run(&["network", "set-baud", "250k", "--global", "--store", "--format", "json"]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    assert_eq!(report["configured"]["confirmed"], 5, "{report}");
+    assert_eq!(report["stored"]["confirmed"], 5, "{report}");
+    assert_eq!(report["bus_followed"], true);
+    assert_eq!(report["unconfigured_after"], 2, "the devices without a node-id followed too");
+    assert_eq!(set_baud_rows(&run), [(1, Some(true)), (5, Some(true)), (10, Some(true))]);
+    // The sim keeps the new rate: the next invocation finds them there.
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10]);
+    let human = sim.run(&["network", "set-baud", "500k", "--global"]).ok();
+    assert!(human.stdout.contains("configure bit timing 500k: 5 device(s) confirmed\n"), "{}", human.stdout);
+    assert!(human.stdout.contains("sim switched with the devices"), "{}", human.stdout);
+}
+
+#[test]
+fn a_device_refusing_the_rate_stops_the_switch_and_force_leaves_it_behind() {
+    let sim = Sim::new();
+    reset(&sim, "typical", "0");
+    let run = sim.run(&["network", "set-baud", "250k", "--global", "--format", "json"]);
+    assert_eq!(run.code, 4, "{}\n{}", run.stdout, run.stderr);
+    assert!(run.stderr.contains("LSS configure bit timing: error 1: bit timing not supported"), "{}", run.stderr);
+    let report = run.json();
+    assert_eq!(report["activated"], false);
+    assert_eq!(report["configured"]["confirmed"], 3, "{report}");
+    assert_eq!(report["configured"]["refused"].as_array().unwrap().len(), 1, "{report}");
+    // Nothing was activated: all four still answer at the old rate.
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10, 32]);
+
+    let run = sim.run(&["network", "set-baud", "250k", "--global", "--force"]);
+    assert_eq!(run.code, 6, "{}\n{}", run.stdout, run.stderr);
+    let row = run.stdout.lines().find(|l| l.starts_with(" 32 ")).unwrap_or_else(|| panic!("{}", run.stdout));
+    assert!(row.contains("did not follow: answered before the switch, not at 250k"), "{row}");
+    assert!(run.stderr.contains("node(s) 32 did not follow the switch to 250k"), "{}", run.stderr);
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10]);
+}
+
+#[test]
+fn set_baud_with_a_project_expects_its_nodes_and_updates_its_dcfs() {
+    let sim = Sim::new();
+    let dir = dumped(&sim);
+    let before = std::fs::read_to_string(dir.join("node5.dcf")).unwrap();
+    let run = sim.run(&[
+        "network",
+        "set-baud",
+        "125k",
+        dir.to_str().unwrap(),
+        "--global",
+        "--force",
+        "--update-project",
+        "--format",
+        "json",
+    ]);
+    // The project lists the stepper, which stays at 500k.
+    assert_eq!(run.code, 6, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    assert!(report["expected_from"].as_str().unwrap().ends_with("nodelist.cpj"), "{report}");
+    assert_eq!(set_baud_rows(&run), [(1, Some(true)), (5, Some(true)), (10, Some(true)), (32, Some(false))]);
+    assert_eq!(report["updated"].as_array().unwrap().len(), 4, "{report}");
+    let after = std::fs::read_to_string(dir.join("node5.dcf")).unwrap();
+    assert_eq!(after, before.replace("\nBaudrate=500\n", "\nBaudrate=125\n"));
+    // --update-project needs a project.
+    assert_eq!(sim.run(&["network", "set-baud", "125k", "--global", "--update-project"]).code, 2);
+}
+
+// ---------------------------------------------------------------------------------------
+// network apply interrupted: each node stops at its next safe point (between two SDO
+// transfers; a PDO change under way rolled back), and the report says per node what was
+// done and the state it is left in. CANCTL_TEST_SIGNAL_AFTER_WRITES=K:SIG signals canctl
+// right after its K-th confirmed SDO write: an exact point, no timing.
+
+fn tpdo1_of_the_drive(sim: &Sim) -> Vec<String> {
+    ["0x1800:1", "0x1A00:0", "0x1A00:1", "0x1A00:2"]
+        .iter()
+        .map(|obj| sim.run(&["sdo", "read", "1", obj]).ok().stdout)
+        .collect()
+}
+
+fn interrupted_apply(sim: &Sim, jobs: &str, signal: &str) -> Run {
+    let project = example().join("nodelist.cpj");
+    let mut c = sim.command(&["network", "apply", project.to_str().unwrap(), "--jobs", jobs, "--format", "json"]);
+    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", signal);
+    common::finish(c.output().unwrap())
+}
+
+#[test]
+fn an_interrupted_apply_stops_each_node_at_a_safe_point_and_says_where() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "0");
+    let factory = tpdo1_of_the_drive(&sim);
+    // One node at a time: the drive (node 1) is stopped in the middle of its TPDO1 change.
+    let run = interrupted_apply(&sim, "1", "5:INT");
+    assert_eq!(run.code, 130, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    let rows: Vec<(u64, String)> = report["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| (n["node"].as_u64().unwrap(), n["result"].as_str().unwrap().to_string()))
+        .collect();
+    let result = |node: u64| rows.iter().find(|(n, _)| *n == node).map(|(_, r)| r.as_str()).unwrap();
+    assert!(
+        result(1).starts_with("interrupted: TPDO1 (0x1800, 0x1A00): its change was under way; rolled back"),
+        "{rows:?}"
+    );
+    assert!(result(1).contains("not stored (canctl store 1 keeps what was written)"), "{rows:?}");
+    for node in [5, 10, 32] {
+        assert_eq!(result(node), "not done: interrupted before this node was begun", "{rows:?}");
+    }
+    assert_eq!(tpdo1_of_the_drive(&sim), factory, "the drive's TPDO1 is put back as it was");
+
+    // Several nodes at once: every node under way stops (or had finished), none is begun
+    // after the signal, and the same command then finishes the job.
+    reset(&sim, "instant", "5");
+    let run = interrupted_apply(&sim, "4", "5:TERM");
+    assert_eq!(run.code, 130, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    let stopped = report["nodes"].as_array().unwrap().iter().filter(|n| {
+        let r = n["result"].as_str().unwrap();
+        assert!(
+            r.starts_with("interrupted: ")
+                || r.contains("written, verified, stored")
+                || r.starts_with("failed: node 2"),
+            "{r}"
+        );
+        r.starts_with("interrupted: ")
+    });
+    assert!(stopped.count() >= 1, "{report}");
+    let project = example().join("nodelist.cpj");
+    sim.run(&["network", "apply", project.to_str().unwrap(), "--assign"]).ok();
+    assert_eq!(check(&sim, &project, "human").code, 0);
+}
+
+// ---------------------------------------------------------------------------------------
+// Progress: one line per node under way when stderr is a terminal; none otherwise.
+
+/// `args` run with stderr on a pseudo-terminal: its exit code and what the terminal showed.
+fn on_a_terminal(sim: &Sim, args: &[&str]) -> (i32, String) {
+    use std::io::Read;
+    let pty = nix::pty::openpty(None, None).unwrap();
+    let mut c = sim.command(args);
+    c.stderr(std::process::Stdio::from(pty.slave));
+    c.stdout(std::process::Stdio::piped());
+    let child = c.spawn().unwrap();
+    // The command holds the terminal's other side too: only canctl must, for EIO at its end.
+    drop(c);
+    let mut master = std::fs::File::from(pty.master);
+    let reader = std::thread::spawn(move || {
+        let mut shown = Vec::new();
+        // Ends with EIO once canctl, the only holder of the terminal's other side, exits.
+        let _ = master.read_to_end(&mut shown);
+        String::from_utf8_lossy(&shown).into_owned()
+    });
+    let out = child.wait_with_output().unwrap();
+    (out.status.code().unwrap_or(-1), reader.join().unwrap())
+}
+
+#[test]
+fn apply_shows_one_progress_line_per_node_on_a_terminal_only() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "0");
+    let project = example().join("nodelist.cpj");
+    let project = project.to_str().unwrap();
+    // Nodes 20 to 24 wait for --assign (not given): their rows fail, exit 3.
+    let (code, shown) = on_a_terminal(&sim, &["network", "apply", project, "--jobs", "4"]);
+    assert_eq!(code, 3, "{shown}");
+    for node in ["node 1 ", "node 5 ", "node 10 ", "node 32 "] {
+        let line = shown
+            .split(['\r', '\n'])
+            .find(|l| l.contains(node) && l.contains("object(s) written, verified, stored"))
+            .unwrap_or_else(|| panic!("no finished line for {node}: {shown:?}"));
+        assert!(!line.is_empty());
+    }
+    assert!(shown.contains(" read(s), "), "{shown:?}");
+
+    reset(&sim, "instant", "0");
+    let run = sim.run(&["network", "apply", project, "--jobs", "4"]);
+    assert_eq!(run.code, 3);
+    assert!(!run.stderr.contains("read(s)") && !run.stderr.contains("applying"), "{}", run.stderr);
+    reset(&sim, "instant", "0");
+    let (_, quiet) = on_a_terminal(&sim, &["-q", "network", "apply", project, "--jobs", "4"]);
+    assert!(!quiet.contains("read(s)") && !quiet.contains("applying"), "{quiet:?}");
+}
+
+/// An EPOS2 gateway does not change its own CAN rate with the devices: the switch is sent
+/// and said to be unchecked, with what to do, never reported as followed.
+#[test]
+fn set_baud_through_the_epos2_gateway_says_the_gateway_must_be_switched() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--profile", "instant", "--unconfigured", "0", "--fault", "stepper:mute"]).ok();
+    let gateway = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let run = gateway.run(&["network", "set-baud", "250k", "--global", "--format", "json"]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    assert_eq!(report["activated"], true, "{report}");
+    assert_eq!(report["bus_followed"], false, "{report}");
+    assert!(report["link_to_switch"].as_str().unwrap().contains("lss set-baud 250k --node 0"), "{report}");
+    assert_eq!(report["ok"], false, "{report}");
+    assert!(set_baud_rows(&run).iter().all(|(_, after)| after.is_none()), "{report}");
+    let human = gateway.run(&["network", "set-baud", "500k", "--global"]);
+    assert!(human.stdout.contains("does not switch by itself, so nothing is checked yet"), "{}", human.stdout);
+}

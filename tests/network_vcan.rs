@@ -1,7 +1,8 @@
 //! Kernel test: `canctl network` through the Linux CAN stack on vcan0, with `canctl sim
 //! --socketcan vcan0` as the devices (five sensors waiting for a node-id). The example
 //! project is applied with --assign and checks clean; the bus is then dumped into a project
-//! that checks clean against itself. `scripts/kernel-tests.sh network` runs it in a VM;
+//! that checks clean against itself; `network set-baud` says how to switch the interface.
+//! `scripts/kernel-tests.sh network` runs them in a VM;
 //! without vcan0 it prints `SKIPPED` and passes, or fails where `CANCTL_REQUIRE_KERNEL` is set.
 
 mod common;
@@ -51,6 +52,31 @@ fn network_apply_assign_then_dump_and_check_round_trip_on_vcan() {
     assert_eq!(round_trip.code, 0, "{}\n{}", round_trip.stdout, round_trip.stderr);
     assert!(round_trip.stderr.contains("all 9 node(s) as the project says"), "{}", round_trip.stderr);
 
+    let _ = devices.kill();
+    let _ = devices.wait();
+}
+
+/// A CAN interface does not change its bit rate with the devices: `network set-baud` sends
+/// the switch, says it could not check it, and gives the `ip link` command for vcan0.
+#[test]
+fn network_set_baud_on_socketcan_says_how_to_switch_the_interface() {
+    if !common::has_interface(IFACE) {
+        return;
+    }
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--profile", "instant", "--unconfigured", "0", "--fault", "stepper:mute"]).ok();
+    let mut devices = common::sim_on_interface(&sim, IFACE);
+    let run = canctl(&sim, &["network", "set-baud", "250k", "--global", "--format", "json"]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let report = run.json();
+    assert_eq!(report["configured"]["confirmed"], 3, "{report}");
+    assert_eq!(report["activated"], true, "{report}");
+    assert_eq!(report["bus_followed"], false, "{report}");
+    let hint = report["link_to_switch"].as_str().unwrap();
+    assert!(
+        hint.contains("sudo ip link set vcan0 down && sudo ip link set vcan0 up type can bitrate 250000"),
+        "{hint}"
+    );
     let _ = devices.kill();
     let _ = devices.wait();
 }

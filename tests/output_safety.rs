@@ -69,19 +69,48 @@ fn a_full_disk_keeps_the_old_file_and_exits_7() {
     assert!(leftovers(&sim).is_empty(), "temporary file left: {:?}", leftovers(&sim));
 }
 
+/// A temporary file left by a canctl killed outright while it wrote (SIGKILL, a power cut),
+/// and one of the name older versions used, are in nobody's way: the next write succeeds,
+/// and removes the one whose writer is gone. A writer still running keeps its file.
+#[cfg(unix)]
 #[test]
-fn something_in_the_temporary_files_place_stops_before_the_old_file_is_touched() {
+fn a_temporary_file_left_by_a_killed_writer_does_not_block_the_next_write() {
     let sim = common::Sim::new();
     let out = sim.path("sensor.dcf");
     std::fs::write(&out, b"old").unwrap();
-    std::fs::create_dir(sim.path(".sensor.dcf.canctl-tmp")).unwrap();
-    let run = sim.run(&["config", "dump", "5", "--out", out.to_str().unwrap()]);
-    assert_eq!(run.code, 7, "{}", run.stderr);
-    assert!(run.stderr.contains(".sensor.dcf.canctl-tmp is in the way"), "{}", run.stderr);
-    assert_eq!(std::fs::read(&out).unwrap(), b"old");
-    // A directory as the target: refused, left as it was.
+    // A canctl killed with SIGKILL: its pid is free again.
+    let mut killed = sim.command(&["config", "dump", "5", "--out", out.to_str().unwrap()]);
+    killed.stdout(std::process::Stdio::null()).stderr(std::process::Stdio::null());
+    let mut child = killed.spawn().unwrap();
+    let dead = child.id();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    // What it would have left had it died between writing and renaming.
+    let stale = sim.path(&format!(".sensor.dcf.{dead}.canctl-tmp"));
+    std::fs::write(&stale, b"[FileInfo]\nFileName=sens").unwrap();
+    let legacy = sim.path(".sensor.dcf.canctl-tmp");
+    std::fs::write(&legacy, b"half").unwrap();
+    let live = sim.path(&format!(".sensor.dcf.{}.canctl-tmp", std::process::id()));
+    std::fs::write(&live, b"busy").unwrap();
+    let run = sim.run(&["config", "dump", "5", "--out", out.to_str().unwrap()]).ok();
+    assert!(run.stderr.contains("written to"), "{}", run.stderr);
+    assert!(std::fs::read_to_string(&out).unwrap().starts_with("[FileInfo]"));
+    assert!(!stale.exists(), "the dead writer's temporary file is still there");
+    assert!(live.exists(), "a running writer's temporary file was removed");
+    // Only the running writer's file, and the old name's, are left.
+    let mut left = leftovers(&sim);
+    left.sort();
+    let mut want = [".sensor.dcf.canctl-tmp".to_string(), format!(".sensor.dcf.{}.canctl-tmp", std::process::id())];
+    want.sort();
+    assert_eq!(left, want);
+}
+
+#[test]
+fn a_directory_as_the_target_is_refused() {
+    let sim = common::Sim::new();
     let run = sim.run(&["sdo", "read", "1", "1F50:1", "--type", "d", "--out", sim.path("").to_str().unwrap()]);
     assert_eq!(run.code, 7, "{}", run.stderr);
+    assert!(run.stderr.contains("it is a directory"), "{}", run.stderr);
 }
 
 #[cfg(target_os = "linux")]

@@ -6,6 +6,7 @@ mod common;
 use canctl::bus::{Bus, Master, SdoOptions};
 use canctl::canopen::ObjAddr;
 use canctl::epos2::transport::SerialIo;
+use canctl::sim::serial_fault::Fault;
 use canctl::sim::slcan_serve::SlcanAdapter;
 use canctl::sim::SimLink;
 use canctl::slcan::SlcanLink;
@@ -13,9 +14,14 @@ use std::time::Duration;
 
 /// An adapter on a new pty, serving the demo network at `bus_kbit` until the test ends.
 fn adapter(bus_kbit: u32) -> String {
+    adapter_with(bus_kbit, Vec::new())
+}
+
+/// The same, with these faults.
+fn adapter_with(bus_kbit: u32, faults: Vec<Fault>) -> String {
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
-        let mut adapter = SlcanAdapter::create(bus_kbit, Vec::new()).unwrap();
+        let mut adapter = SlcanAdapter::create(bus_kbit, faults).unwrap();
         tx.send(adapter.path().to_string()).unwrap();
         let _ = canctl::sim::bridge::run(SimLink::ephemeral(), &mut adapter, None);
     });
@@ -68,6 +74,17 @@ fn a_host_that_left_the_channel_open_is_set_up_again() {
         let mut p = port(&path);
         SerialIo::write_all(&mut p, b"S6\rO\rt60").unwrap();
     }
+    let mut bus = master(port(&path), &path, 500);
+    let opts = SdoOptions::new(Duration::from_secs(2));
+    assert_eq!(bus.sdo_upload(5, ObjAddr::new(0x1018, 1), &opts).unwrap(), 0x40u32.to_le_bytes());
+}
+
+/// An adapter busy with something else answers the empty lines that reset its line parser
+/// (refusals, on a closed channel) long after the host stopped waiting for them: they must
+/// not be taken for the answers to the set-up commands that follow.
+#[test]
+fn an_adapter_that_answers_the_line_reset_late_is_set_up() {
+    let path = adapter_with(500, vec!["late@1".parse().unwrap()]);
     let mut bus = master(port(&path), &path, 500);
     let opts = SdoOptions::new(Duration::from_secs(2));
     assert_eq!(bus.sdo_upload(5, ObjAddr::new(0x1018, 1), &opts).unwrap(), 0x40u32.to_le_bytes());

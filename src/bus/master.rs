@@ -2,7 +2,7 @@
 //! and notes the heartbeats that pass by.
 
 use super::trace::{self, Dir};
-use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoOptions};
+use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
 use crate::canopen::sdo::{self, SdoClient, SdoError};
@@ -10,7 +10,35 @@ use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, LinkError, Moved, NodeIdRange, Result, Service, Unfinished};
 use crate::frame::Frame;
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+/// How often transfers that may be stopped look at the request to stop while they wait.
+const STOP_POLL: Duration = Duration::from_millis(50);
+
+/// What a batch of transfers heeds besides the bus: a request to stop, and who to tell
+/// when a transfer moves on ([`SdoOptions::stop`], [`SdoOptions::on_progress`]).
+#[derive(Default)]
+struct Watch {
+    stop: Option<Arc<AtomicBool>>,
+    on_progress: Option<TransferHook>,
+}
+
+impl Watch {
+    fn of<'a>(opts: impl IntoIterator<Item = &'a SdoOptions>) -> Watch {
+        let mut w = Watch::default();
+        for o in opts {
+            w.stop = w.stop.or_else(|| o.stop.clone());
+            w.on_progress = w.on_progress.or_else(|| o.on_progress.clone());
+        }
+        w
+    }
+
+    fn stopped(&self) -> bool {
+        self.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst))
+    }
+}
 
 pub struct Master<L: FrameLink> {
     link: L,
@@ -117,6 +145,7 @@ impl<L: FrameLink> Master<L> {
         jobs: Vec<(u8, SdoClient)>,
         timeout: Duration,
         progress: &mut dyn FnMut(usize),
+        watch: &Watch,
     ) -> Result<Vec<Result<Vec<u8>>>> {
         let mut results: Vec<Option<Result<Vec<u8>>>> = (0..jobs.len()).map(|_| None).collect();
         // Which transfer each result is, for the trace.
@@ -129,7 +158,7 @@ impl<L: FrameLink> Master<L> {
         let mut active: BTreeMap<u8, Active> = BTreeMap::new();
         let mut finished = 0;
         let nodes: Vec<u8> = queues.keys().copied().collect();
-        for node in nodes {
+        for node in nodes.into_iter().filter(|_| !watch.stopped()) {
             self.start_next(node, &mut queues, &mut active, timeout)?;
         }
         // A node that has not answered at all is given up only once every node has been
@@ -144,7 +173,13 @@ impl<L: FrameLink> Master<L> {
                 a.deadline().max(quiet_from + timeout)
             }
         };
-        while !active.is_empty() {
+        loop {
+            if watch.stopped() {
+                self.stop(&mut active, &mut queues, &mut results, timeout)?;
+            }
+            if active.is_empty() {
+                break;
+            }
             // Checked on every turn, not only when the link is quiet: on a busy bus frames
             // keep coming and a transfer must still end on time.
             let now = self.link.now();
@@ -161,8 +196,9 @@ impl<L: FrameLink> Master<L> {
                 progress(finished);
                 self.start_next(node, &mut queues, &mut active, timeout)?;
             }
-            let Some(deadline) = active.values().map(|a| deadline_of(a, quiet_from)).min() else { break };
-            let Some(f) = self.recv(deadline)? else { continue };
+            let Some(deadline) = active.values().map(|a| deadline_of(a, quiet_from)).min() else { continue };
+            let wake = if watch.stop.is_some() { deadline.min(self.link.now() + STOP_POLL) } else { deadline };
+            let Some(f) = self.recv(wake)? else { continue };
             let node = f.id().wrapping_sub(0x580);
             if f.is_remote() || !(1..=127).contains(&node) {
                 continue;
@@ -186,6 +222,9 @@ impl<L: FrameLink> Master<L> {
                     }
                     for p in &step.send {
                         self.send(&Frame::new(sdo::request_cob(node), p))?;
+                    }
+                    if let (true, None, Some(hook)) = (step.progress, &step.done, &watch.on_progress) {
+                        hook(a.client.progress().0);
                     }
                     let Some(data) = step.done else { continue };
                     let a = active.remove(&node).expect("active");
@@ -213,6 +252,59 @@ impl<L: FrameLink> Master<L> {
             }
         }
         Ok(results)
+    }
+
+    /// The user asked to stop: none of the transfers not begun is, and every transfer the
+    /// device has answered and that goes on (segments, blocks) ends with an abort sent to
+    /// the device (CiA 301), so that it is not left waiting for the rest. A transfer whose
+    /// first answer is still awaited is let finish: its one request may already have done
+    /// its work (an expedited write), and an answer that goes on is aborted at the next turn.
+    /// What an aborted server still sends (the rest of its sub-block) is let arrive first.
+    fn stop(
+        &mut self,
+        active: &mut BTreeMap<u8, Active>,
+        queues: &mut BTreeMap<u8, VecDeque<(usize, SdoClient)>>,
+        results: &mut [Option<Result<Vec<u8>>>],
+        timeout: Duration,
+    ) -> Result<()> {
+        for (slot, _) in std::mem::take(queues).into_values().flatten() {
+            results[slot] = Some(Err(Error::Interrupted));
+        }
+        let heard: Vec<u8> = active.iter().filter(|(_, a)| a.heard).map(|(n, _)| *n).collect();
+        for node in heard {
+            let a = active.remove(&node).expect("active");
+            let obj = a.client.addr();
+            self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(obj, abort::GENERAL_ERROR)))?;
+            self.let_answers_land(node, a.client.answers_in_flight(), timeout)?;
+            let (bytes, total) = a.client.progress();
+            results[a.slot] = Some(Err(Error::SdoInterrupted {
+                node,
+                obj,
+                upload: a.client.is_upload(),
+                moved: Moved { bytes, total },
+                aborted: Some(abort::GENERAL_ERROR),
+            }));
+        }
+        Ok(())
+    }
+
+    /// Wait for what `node` still sends for a transfer just aborted, so that the next
+    /// transfer (in this program or the next) does not take it for its answer. A server
+    /// that stopped at the abort sends nothing: the wait ends after `timeout` of silence.
+    fn let_answers_land(&mut self, node: u8, mut expected: usize, timeout: Duration) -> Result<()> {
+        let cob = 0x580 + u16::from(node);
+        while expected > 0 {
+            let Some(f) = self.recv(self.link.now() + timeout)? else { break };
+            if f.id() != cob || f.is_remote() {
+                continue;
+            }
+            // The server's own abort ends what it sends.
+            if f.data().first() == Some(&0x80) && f.len() == 8 {
+                break;
+            }
+            expected -= 1;
+        }
+        Ok(())
     }
 
     fn start_next(
@@ -251,9 +343,9 @@ impl<L: FrameLink> Master<L> {
         })
     }
 
-    fn one(&mut self, node: u8, client: SdoClient, timeout: Duration) -> Result<Vec<u8>> {
+    fn one(&mut self, node: u8, client: SdoClient, timeout: Duration, watch: &Watch) -> Result<Vec<u8>> {
         check_node(node)?;
-        self.run(vec![(node, client)], timeout, &mut |_| {})?.pop().expect("one result")
+        self.run(vec![(node, client)], timeout, &mut |_| {}, watch)?.pop().expect("one result")
     }
 
     fn block_allowed(&self, node: u8, wanted: bool) -> bool {
@@ -317,7 +409,7 @@ impl<L: FrameLink> Bus for Master<L> {
 
     fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
         let client = self.upload_client(node, addr, opts);
-        self.one(node, client, opts.timeout)
+        self.one(node, client, opts.timeout, &Watch::of([opts]))
     }
 
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
@@ -325,7 +417,7 @@ impl<L: FrameLink> Bus for Master<L> {
             return Err(Error::TooLargeForSdo { len: data.len() });
         }
         let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
-        self.one(node, client, opts.timeout).map(|_| ())
+        self.one(node, client, opts.timeout, &Watch::of([opts])).map(|_| ())
     }
 
     fn sdo_upload_many(
@@ -338,12 +430,15 @@ impl<L: FrameLink> Bus for Master<L> {
             check_node(*node)?;
         }
         let jobs = requests.iter().map(|(node, addr)| (*node, self.upload_client(*node, *addr, opts))).collect();
-        self.run(jobs, opts.timeout, progress)
+        self.run(jobs, opts.timeout, progress, &Watch::of([opts]))
     }
 
     fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
         let mut clients = Vec::with_capacity(jobs.len());
         let mut timeout = Duration::ZERO;
+        let watch = Watch::of(jobs.iter().map(|j| match j {
+            SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } => opts,
+        }));
         for job in jobs {
             let (node, client, opts) = match job {
                 SdoJob::Upload { node, addr, opts } => (*node, self.upload_client(*node, *addr, opts), opts),
@@ -360,7 +455,7 @@ impl<L: FrameLink> Bus for Master<L> {
             timeout = timeout.max(opts.timeout);
             clients.push((node, client));
         }
-        self.run(clients, timeout, &mut |_| {})
+        self.run(clients, timeout, &mut |_| {}, &watch)
     }
 
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {

@@ -6,6 +6,7 @@ pub mod master;
 pub mod observer;
 #[cfg(target_os = "linux")]
 pub mod socketcan;
+pub mod stoppable;
 pub mod tap;
 pub mod trace;
 pub mod uri;
@@ -14,6 +15,8 @@ use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::frame::Frame;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub use frame_log::FrameLog;
@@ -56,7 +59,7 @@ pub trait FrameLink {
     }
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct SdoOptions {
     /// How long to wait for each answer: a transfer that makes no progress for this long
     /// ends (frames that do not advance it do not count). The whole transfer has a deadline
@@ -71,6 +74,40 @@ pub struct SdoOptions {
     pub size_hint: Option<usize>,
     /// Uploads stop (and announced sizes are refused) beyond this many bytes.
     pub max_upload: usize,
+    /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): looked at between the
+    /// frames of a transfer. A transfer the device has answered and that goes on then ends
+    /// with a CiA 301 abort (0x08000000) sent to the device, so that it is not left waiting
+    /// for the rest until its own timeout, and with
+    /// [`Error::SdoInterrupted`](crate::Error::SdoInterrupted); one still waiting for its
+    /// first answer is let finish (its request may have done its work already); those not
+    /// begun end with [`Error::Interrupted`](crate::Error::Interrupted).
+    pub stop: Option<Arc<AtomicBool>>,
+    /// Called with the bytes moved so far each time an answer moves a transfer on (a
+    /// segment, a sub-block): for progress, and for tests that act at an exact point of a
+    /// transfer.
+    pub on_progress: Option<TransferHook>,
+}
+
+/// Whether the user asked to stop the transfers of `opts`.
+fn stopped(opts: &SdoOptions) -> bool {
+    opts.stop.as_ref().is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst))
+}
+
+/// What [`SdoOptions::on_progress`] calls.
+pub type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
+
+impl std::fmt::Debug for SdoOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SdoOptions")
+            .field("timeout", &self.timeout)
+            .field("block_upload", &self.block_upload)
+            .field("block_download", &self.block_download)
+            .field("size_hint", &self.size_hint)
+            .field("max_upload", &self.max_upload)
+            .field("stop", &self.stop)
+            .field("on_progress", &self.on_progress.as_ref().map(|_| "(hook)"))
+            .finish()
+    }
 }
 
 impl SdoOptions {
@@ -81,6 +118,8 @@ impl SdoOptions {
             block_download: true,
             size_hint: None,
             max_upload: crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD,
+            stop: None,
+            on_progress: None,
         }
     }
 }
@@ -139,7 +178,8 @@ pub trait Bus {
     ) -> Result<Vec<Result<Vec<u8>>>> {
         let mut out = Vec::with_capacity(requests.len());
         for (i, (node, addr)) in requests.iter().enumerate() {
-            let r = self.sdo_upload(*node, *addr, opts);
+            // One after another: a stop is heeded between them.
+            let r = if stopped(opts) { Err(crate::Error::Interrupted) } else { self.sdo_upload(*node, *addr, opts) };
             if let Err(e @ crate::Error::Link(_)) = r {
                 return Err(e);
             }
@@ -156,6 +196,9 @@ pub trait Bus {
         let mut out = Vec::with_capacity(jobs.len());
         for job in jobs {
             let r = match job {
+                SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } if stopped(opts) => {
+                    Err(crate::Error::Interrupted)
+                }
                 SdoJob::Upload { node, addr, opts } => self.sdo_upload(*node, *addr, opts),
                 SdoJob::Download { node, addr, data, opts } => {
                     self.sdo_download(*node, *addr, data, opts).map(|_| Vec::new())

@@ -1,9 +1,10 @@
-//! A bus that tells its caller after each confirmed SDO transfer: the n-th upload or
-//! download, counted per kind. A test harness uses it to act at an exact step of a
+//! A bus that tells its caller after each confirmed SDO transfer and NMT command: the n-th
+//! upload, download or command, counted per kind (the uploads of a batch one by one, as
+//! each ends); and, when asked, after each answer that moves a transfer on. A test harness uses it to act at an exact step of a
 //! procedure (the kill-at-every-step tests send a signal there); it changes nothing on the
 //! bus.
 
-use super::{Bus, LssAnswer, LssWait, Observed, SdoOptions};
+use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
 use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::frame::Frame;
@@ -17,6 +18,8 @@ pub enum Transfer {
     Upload,
     /// A write the device confirmed.
     Download,
+    /// An NMT command sent.
+    Nmt,
 }
 
 /// `bus`, calling `after(kind, n)` once the n-th transfer of that kind has ended.
@@ -25,11 +28,24 @@ pub struct AfterSdo<'a, F: FnMut(Transfer, u32)> {
     after: F,
     uploads: u32,
     downloads: u32,
+    commands: u32,
+    on_progress: Option<TransferHook>,
 }
 
 impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
     pub fn new(bus: &'a mut dyn Bus, after: F) -> Self {
-        AfterSdo { bus, after, uploads: 0, downloads: 0 }
+        AfterSdo { bus, after, uploads: 0, downloads: 0, commands: 0, on_progress: None }
+    }
+
+    /// Also call `hook` after each answer that moves a transfer on (as
+    /// [`SdoOptions::on_progress`], where the caller set none).
+    pub fn with_progress_hook(mut self, hook: Option<TransferHook>) -> Self {
+        self.on_progress = hook;
+        self
+    }
+
+    fn hooked(&self, opts: &SdoOptions) -> SdoOptions {
+        SdoOptions { on_progress: opts.on_progress.clone().or_else(|| self.on_progress.clone()), ..opts.clone() }
     }
 }
 
@@ -38,13 +54,15 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
         self.bus.describe()
     }
     fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        let answer = self.bus.sdo_upload(node, addr, opts);
+        let opts = self.hooked(opts);
+        let answer = self.bus.sdo_upload(node, addr, &opts);
         self.uploads += 1;
         (self.after)(Transfer::Upload, self.uploads);
         answer
     }
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        self.bus.sdo_download(node, addr, data, opts)?;
+        let opts = self.hooked(opts);
+        self.bus.sdo_download(node, addr, data, &opts)?;
         self.downloads += 1;
         (self.after)(Transfer::Download, self.downloads);
         Ok(())
@@ -55,10 +73,42 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
         opts: &SdoOptions,
         progress: &mut dyn FnMut(usize),
     ) -> Result<Vec<Result<Vec<u8>>>> {
-        self.bus.sdo_upload_many(requests, opts, progress)
+        let opts = self.hooked(opts);
+        let AfterSdo { bus, after, uploads, .. } = self;
+        let mut counted = 0;
+        bus.sdo_upload_many(requests, &opts, &mut |done| {
+            for _ in counted..done {
+                *uploads += 1;
+                after(Transfer::Upload, *uploads);
+            }
+            counted = done;
+            progress(done)
+        })
+    }
+    /// The transfers run together as the bus runs them; each is counted, in the jobs'
+    /// order, once they have all ended.
+    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
+        let results = self.bus.sdo_many(jobs)?;
+        for (job, result) in jobs.iter().zip(&results) {
+            match job {
+                SdoJob::Upload { .. } => {
+                    self.uploads += 1;
+                    (self.after)(Transfer::Upload, self.uploads);
+                }
+                SdoJob::Download { .. } if result.is_ok() => {
+                    self.downloads += 1;
+                    (self.after)(Transfer::Download, self.downloads);
+                }
+                SdoJob::Download { .. } => {}
+            }
+        }
+        Ok(results)
     }
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
-        self.bus.nmt(cmd, node)
+        self.bus.nmt(cmd, node)?;
+        self.commands += 1;
+        (self.after)(Transfer::Nmt, self.commands);
+        Ok(())
     }
     fn send_frame(&mut self, frame: &Frame) -> Result<()> {
         self.bus.send_frame(frame)
@@ -112,5 +162,22 @@ mod tests {
         // A refused write is not a confirmed one.
         assert!(tapped.sdo_download(5, ObjAddr::new(0x1018, 1), &[1, 0, 0, 0], &opts).is_err());
         assert_eq!(seen, [(Transfer::Upload, 1), (Transfer::Download, 1), (Transfer::Upload, 2)]);
+    }
+
+    #[test]
+    fn transfers_run_together_are_counted_in_the_order_of_the_jobs() {
+        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
+        let mut seen = Vec::new();
+        let mut tapped = AfterSdo::new(&mut bus, |t, n| seen.push((t, n)));
+        let opts = SdoOptions::new(Duration::from_secs(1));
+        let jobs = [
+            SdoJob::Download { node: 5, addr: ObjAddr::new(0x1017, 0), data: vec![100, 0], opts: opts.clone() },
+            SdoJob::Upload { node: 10, addr: ObjAddr::new(0x1017, 0), opts: opts.clone() },
+            // Refused: not a confirmed write.
+            SdoJob::Download { node: 1, addr: ObjAddr::new(0x1018, 1), data: vec![1, 0, 0, 0], opts: opts.clone() },
+        ];
+        let results = tapped.sdo_many(&jobs).unwrap();
+        assert!(results[0].is_ok() && results[1].is_ok() && results[2].is_err());
+        assert_eq!(seen, [(Transfer::Download, 1), (Transfer::Upload, 1)]);
     }
 }

@@ -94,7 +94,36 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let file_name =
         a.out.as_ref().map_or(String::new(), |p| p.file_name().unwrap_or_default().to_string_lossy().into_owned());
     let dictionary = ctx.dicts.eds_for(a.node).map(|e| (&e.dict, e.path.as_str()));
-    let dump = config::dump(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress())?;
+    let dump = super::interrupt::stoppable(bus, |bus| {
+        config::dump(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress())
+    });
+    let dump = match dump {
+        Err(e) if e.is_interrupted() => config::Dump {
+            node: a.node,
+            objects: 0,
+            interrupted: true,
+            wanted: 0,
+            source: String::new(),
+            dcf: Vec::new(),
+        },
+        other => other?,
+    };
+    if dump.interrupted {
+        let read = match dump.wanted {
+            0 => format!("node {}'s profile not read yet", a.node),
+            wanted => format!("read {} of {wanted} objects of node {}", dump.objects, a.node),
+        };
+        let file = match &a.out {
+            Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
+            Some(path) => format!("writing {} (no file made)", path.display()),
+            None => "the DCF on standard output (none printed: it would be incomplete)".to_string(),
+        };
+        let not_done = vec!["reading the other objects".to_string(), file];
+        let report =
+            crate::ops::Stopped::new("config dump", vec![read], not_done, "nothing was changed on the device".into());
+        ctx.out.report(&report)?;
+        return Err(crate::Error::Interrupted.into());
+    }
     match &a.out {
         Some(path) => {
             crate::atomic::write_atomic(path, &dump.dcf)?;
@@ -115,9 +144,11 @@ fn read_dcf(path: &Path) -> crate::Result<Dcf> {
 }
 
 fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
-    let report = config::diff(bus, a.node, &read_dcf(&a.file)?, ctx.timeout)?;
+    let dcf = read_dcf(&a.file)?;
+    // Interrupted, the report holds what was compared so far.
+    let report = super::interrupt::stoppable(bus, |bus| config::diff(bus, a.node, &dcf, ctx.timeout))?;
     ctx.out.report(&report)?;
-    if a.check {
+    if a.check || report.interrupted {
         report.check()?;
     }
     Ok(())

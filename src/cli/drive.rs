@@ -88,7 +88,12 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<(
 }
 
 fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
-    let report = drive::status(bus, a.node, ctx.timeout)?;
+    let report = match super::interrupt::stoppable(bus, |bus| drive::status(bus, a.node, ctx.timeout)) {
+        Err(e) if e.is_interrupted() => {
+            return super::interrupt::stopped_reading(ctx, "drive status", format!("reading node {}'s state", a.node))
+        }
+        report => report?,
+    };
     ctx.out.report(&report)?;
     if !a.watch {
         return Ok(());

@@ -14,7 +14,8 @@ use std::time::Duration;
 /// NMT commands, boot-ups, heartbeats and node guarding with state names, EMCY with the
 /// meaning of the code and the error register bits, SDO requests, answers and aborts, SYNC,
 /// LSS, and PDOs — decoded into fields when an EDS or DCF (--eds) gives their mapping. A
-/// summary ends it: frames per COB-ID, nodes seen, EMCYs.
+/// summary ends it: frames per COB-ID, nodes seen, EMCYs. --duration or --count end it
+/// with exit 0; Ctrl-C or SIGTERM with the summary marked interrupted, and exit 130.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus can0 monitor
@@ -44,14 +45,23 @@ fn layouts(ctx: &Ctx, nodes: &[u8]) -> BTreeMap<u16, Layout> {
     out
 }
 
+/// Ctrl-C or SIGTERM ends the monitor as its duration would, with the summary; the exit
+/// code is 130 all the same (as for every command the user stops), 0 only when --duration
+/// or --count ended it.
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
-    let mut monitor = Monitor::new(bus, layouts(ctx, &a.node), &a.node, a.duration, a.count)?;
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    while let Some(ev) = monitor.next(bus)? {
-        ctx.out.line(&mut out, &ev)?;
-        std::io::Write::flush(&mut out)?;
-    }
-    ctx.out.summary(&mut out, &monitor.summary())?;
-    Ok(())
+    super::interrupt::stoppable(bus, |bus| {
+        let mut monitor = Monitor::new(bus, layouts(ctx, &a.node), &a.node, a.duration, a.count)?;
+        let stdout = std::io::stdout();
+        let mut out = std::io::BufWriter::new(stdout.lock());
+        while let Some(ev) = monitor.next(bus)? {
+            ctx.out.line(&mut out, &ev)?;
+            std::io::Write::flush(&mut out)?;
+        }
+        let summary = monitor.summary();
+        ctx.out.summary(&mut out, &summary)?;
+        if summary.interrupted {
+            return Err(crate::Error::Interrupted.into());
+        }
+        Ok(())
+    })
 }

@@ -7,7 +7,7 @@ use crate::canopen::nmt::State;
 use crate::error::Error;
 use crate::ops::config;
 use crate::ops::network::{self, PROJECT_FILE};
-use crate::output::network::DumpReport;
+use crate::output::network::{DumpReport, NodeBars, SetBaudReport};
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -17,6 +17,7 @@ pub enum NetworkCommand {
     Dump(DumpArgs),
     Check(CheckArgs),
     Apply(ApplyArgs),
+    SetBaud(SetBaudArgs),
 }
 
 /// Read every node of the bus into a network project: nodelist.cpj and one DCF per node
@@ -121,6 +122,63 @@ pub struct ApplyArgs {
     pub window: Duration,
 }
 
+/// Switch every device on the bus to a new bit rate (LSS global), then look for each node
+///
+/// CiA 305, to every LSS device at once: switch to configuration state, configure bit
+/// timing, store configuration (--store), activate bit timing with the switch delay (the
+/// devices go quiet, switch after the delay and wait as long again before they talk). Then
+/// the bus is probed at the new rate and every node that does not answer is named (exit 6):
+/// the project's nodes when PROJECT is given, else the nodes found before the switch. A
+/// device that refuses the rate stops the switch before anything is activated (exit 4),
+/// unless --force. An LSS answer names no device, so refusals are counted; the probe says
+/// which node was left behind.
+///
+/// A CAN interface or an EPOS2 does not change its own bit rate: canctl says what to switch,
+/// and cannot look for the nodes at the new rate until it is done.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl --bus sim network set-baud 250k --global
+  canctl --bus sim network set-baud 250k machine/ --global --store --update-project
+  canctl --bus can0 network set-baud 1M --global --store --delay 200
+    (then: sudo ip link set can0 down && sudo ip link set can0 up type can bitrate 1000000)")]
+pub struct SetBaudArgs {
+    /// The new bit rate: 1M 800k 500k 250k 125k 50k 20k 10k
+    #[arg(value_name = "RATE", value_parser = parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
+    pub rate: u8,
+    /// The project whose nodes must follow: a nodelist.cpj, or the folder holding one
+    /// (without it: the nodes that answer before the switch)
+    pub project: Option<PathBuf>,
+    /// Required: the switch is an LSS broadcast to every device on the bus
+    #[arg(long)]
+    pub global: bool,
+    /// Make the devices keep the new rate across power cycles (LSS store configuration)
+    #[arg(long)]
+    pub store: bool,
+    /// Switch delay in ms: the devices wait this long, switch, and wait as long again
+    #[arg(long, value_name = "MS", default_value_t = 100)]
+    pub delay: u16,
+    /// Activate even when some device refuses the new rate (it is left at the old one)
+    #[arg(long)]
+    pub force: bool,
+    /// Write the new rate into each DCF of PROJECT ([DeviceComissioning] Baudrate) once the
+    /// devices switched
+    #[arg(long, requires = "project")]
+    pub update_project: bool,
+    /// How long the bus must stay quiet after the last answer to the probes
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    pub window: Duration,
+}
+
+/// A CiA 305 bit rate other than "auto" (a network is switched to one rate).
+fn parse_fixed_bit_rate(text: &str) -> Result<u8, String> {
+    match crate::canopen::lss::parse_bit_rate(text)? {
+        crate::canopen::lss::AUTO_BIT_RATE => {
+            Err("a network is switched to one bit rate: use 1M 800k 500k 250k 125k 50k 20k or 10k".into())
+        }
+        index => Ok(index),
+    }
+}
+
 pub(super) fn parse_state(text: &str) -> Result<State, String> {
     match text.trim().to_ascii_lowercase().as_str() {
         "operational" => Ok(State::Operational),
@@ -149,6 +207,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result
         NetworkCommand::Dump(a) => dump(ctx, bus, a),
         NetworkCommand::Check(a) => check(ctx, bus, a),
         NetworkCommand::Apply(a) => apply(ctx, bus, a),
+        NetworkCommand::SetBaud(a) => set_baud(ctx, bus, a),
     }
 }
 
@@ -200,7 +259,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
 fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
     let loaded = load(ctx, &a.project)?;
     let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into(), state: a.state };
-    let report = network::check(bus, &loaded, &options, &mut ctx.out.progress())?;
+    let report = network::check(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }
@@ -213,6 +272,9 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     c.store = !a.no_store;
     c.store_timeout = a.store_timeout;
     c.force = a.force;
+    // Each node stops at its next safe point: between two SDO transfers, a PDO change under
+    // way rolled back.
+    c.interrupted = Some(super::interrupt::shared());
     let options = network::ApplyOptions {
         config: c,
         assign: a.assign,
@@ -222,10 +284,68 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         reset: a.reset,
         interrupted: Some(super::interrupt::flag()),
     };
-    // Ctrl-C stops between nodes: the nodes under way finish, and the report says which
-    // were not begun.
+    // Ctrl-C: no node is begun after it, the nodes under way stop at their next safe point,
+    // and the report says for each what was done and the state it is left in.
     super::interrupt::catch();
-    let report = network::apply(bus, &loaded, &options, &mut ctx.out.progress())?;
+    let bus = &mut super::interrupt::with_test_signal(bus);
+    let report = network::apply(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
+}
+
+fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()> {
+    if !a.global {
+        return Err(Error::Usage(
+            "`network set-baud` switches every LSS device on the bus at once (a broadcast): add --global when you \
+             mean it"
+                .into(),
+        )
+        .into());
+    }
+    let loaded = a.project.as_deref().map(|p| load(ctx, p)).transpose()?;
+    let options = network::SetBaudOptions {
+        timeout: ctx.timeout,
+        window: a.window,
+        index: a.rate,
+        delay_ms: a.delay,
+        store: a.store,
+        force: a.force,
+        interrupted: Some(super::interrupt::flag()),
+    };
+    // Ctrl-C before the activation: every device back to waiting, nothing switched; after
+    // it, the switch is finished and reported.
+    super::interrupt::catch();
+    let report = network::set_baud(bus, loaded.as_ref(), &options, &mut ctx.out.progress())?;
+    let mut updated = Vec::new();
+    if let (true, true, Some(loaded)) = (a.update_project, report.activated, &loaded) {
+        let kbit = crate::canopen::lss::BIT_TIMINGS[a.rate as usize].1.expect("a fixed rate");
+        // Every file made before any is written: a DCF that cannot be read changes none.
+        for (path, bytes) in network::with_bit_rate(loaded, kbit)? {
+            crate::atomic::write_atomic(&path, &bytes)?;
+            updated.push(path);
+        }
+    }
+    let hint = switch_hint(ctx.bus.as_deref(), a.rate);
+    ctx.out.report(&SetBaudReport { switched: &report, updated: &updated, hint })?;
+    Ok(report.outcome()?)
+}
+
+/// What the user must do to bring a link that does not follow an LSS switch to `index`.
+fn switch_hint(uri: Option<&str>, index: u8) -> String {
+    let name = crate::canopen::lss::bit_rate_name(index);
+    let bps = crate::canopen::lss::BIT_TIMINGS[index as usize].1.unwrap_or(0) * 1000;
+    match uri.and_then(|u| u.parse::<crate::bus::BusAddr>().ok()) {
+        Some(crate::bus::BusAddr::SocketCan { iface }) => format!(
+            "switch {iface} to the new rate: sudo ip link set {iface} down && sudo ip link set {iface} up type can \
+             bitrate {bps}"
+        ),
+        Some(crate::bus::BusAddr::Epos2 { .. }) => format!(
+            "the EPOS2 keeps its own CAN rate: `canctl lss set-baud {name} --node 0`, `canctl lss store --node 0`, then \
+             power it off and on"
+        ),
+        Some(crate::bus::BusAddr::Slcan { port, .. }) => {
+            format!("reopen the adapter at the new rate: --bus slcan:{port}@{name}")
+        }
+        _ => format!("switch the CAN interface to {name}"),
+    }
 }

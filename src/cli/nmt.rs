@@ -3,7 +3,9 @@
 use super::{parse_node, Ctx};
 use crate::bus::{Bus, ALL_NODES};
 use crate::canopen::nmt::Command;
+use crate::error::Error;
 use crate::ops::nmt::{self, ResetOptions, StateOptions};
+use crate::ops::Stopped;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -69,23 +71,63 @@ fn parse_target(s: &str) -> Result<u8, String> {
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
+    super::interrupt::stoppable(bus, |bus| run_stoppable(ctx, bus, cmd))
+}
+
+fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
     let reset = |a: &ResetArgs| (a.target.target, ResetOptions { wait: a.wait, timeout: ctx.timeout });
-    match cmd {
-        NmtCommand::Start(t) => ctx.out.report(&nmt::send(bus, Command::Start, t.target)?)?,
-        NmtCommand::Stop(t) => ctx.out.report(&nmt::send(bus, Command::Stop, t.target)?)?,
-        NmtCommand::Preop(t) => ctx.out.report(&nmt::send(bus, Command::PreOperational, t.target)?)?,
-        NmtCommand::Reset(a) => {
-            let (target, o) = reset(a);
-            ctx.out.report(&nmt::reset(bus, Command::ResetNode, target, &o)?)?
+    let send = |bus: &mut dyn Bus, command: Command, target: u8| -> anyhow::Result<()> {
+        match nmt::send(bus, command, target) {
+            Ok(sent) => Ok(ctx.out.report(&sent)?),
+            Err(e) => not_sent(ctx, command.name(), target, e),
         }
-        NmtCommand::ResetComm(a) => {
+    };
+    match cmd {
+        NmtCommand::Start(t) => send(bus, Command::Start, t.target),
+        NmtCommand::Stop(t) => send(bus, Command::Stop, t.target),
+        NmtCommand::Preop(t) => send(bus, Command::PreOperational, t.target),
+        NmtCommand::Reset(a) | NmtCommand::ResetComm(a) => {
+            let command =
+                if matches!(cmd, NmtCommand::Reset(_)) { Command::ResetNode } else { Command::ResetCommunication };
             let (target, o) = reset(a);
-            ctx.out.report(&nmt::reset(bus, Command::ResetCommunication, target, &o)?)?
+            let report = match nmt::reset(bus, command, target, &o) {
+                Ok(report) => report,
+                Err(e) => return not_sent(ctx, command.name(), target, e),
+            };
+            ctx.out.report(&report)?;
+            if report.interrupted {
+                return Err(Error::Interrupted.into());
+            }
+            Ok(())
         }
         NmtCommand::State(a) => {
             let o = StateOptions { listen: a.listen, timeout: ctx.timeout };
-            ctx.out.report(&nmt::state(bus, a.node, &o)?)?
+            match nmt::state(bus, a.node, &o) {
+                Ok(state) => Ok(ctx.out.report(&state)?),
+                Err(e) if e.is_interrupted() => {
+                    let not_done = vec![format!("learning the NMT state of node {}", a.node)];
+                    let state = "nothing was changed on the device".to_string();
+                    ctx.out.report(&Stopped::new("nmt state", Vec::new(), not_done, state))?;
+                    Err(Error::Interrupted.into())
+                }
+                Err(e) => Err(e.into()),
+            }
         }
     }
-    Ok(())
+}
+
+/// A command stopped by the user before it went out: said so, exit 130.
+fn not_sent(ctx: &Ctx, name: &str, target: u8, e: Error) -> anyhow::Result<()> {
+    if !e.is_interrupted() {
+        return Err(e.into());
+    }
+    let whom = nmt::target_text(target);
+    let report = Stopped::new(
+        &format!("nmt {name}"),
+        Vec::new(),
+        vec![format!("NMT {name} to {whom}")],
+        format!("nothing was sent: {whom} is in the state it was in"),
+    );
+    ctx.out.report(&report)?;
+    Err(Error::Interrupted.into())
 }

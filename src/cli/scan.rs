@@ -31,7 +31,12 @@ pub struct ScanArgs {
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
-    let report = scan::scan(bus, &options, &mut ctx.out.progress())?;
+    let report = super::interrupt::stoppable(bus, |bus| scan::scan(bus, &options, &mut ctx.out.progress()))?;
+    if report.interrupted {
+        // The nodes found so far: reported, not remembered as the bus's.
+        ctx.out.report(&report)?;
+        return Err(crate::Error::Interrupted.into());
+    }
     if let Some(uri) = &ctx.bus {
         scan_cache::save(uri, &SeenNode::from_scan(&report));
     }

@@ -107,23 +107,54 @@ fn parse_size(s: &str) -> Result<usize, String> {
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
-    match cmd {
-        SdoCommand::Read(a) => {
-            let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
-            let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
-            let read = sdo::read(bus, ctx.dicts.for_node(a.node), a.node, object, &o)?;
-            match &a.out {
-                Some(path) => ctx.out.report(&read.save(path)?)?,
-                None => ctx.out.report(&read)?,
-            }
-        }
-        SdoCommand::Write(a) => {
-            let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
-            let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, verify: a.verify };
-            ctx.out.report(&sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o)?)?
-        }
+    super::interrupt::stoppable(bus, |bus| match cmd {
+        SdoCommand::Read(a) => read(ctx, bus, a),
+        SdoCommand::Write(a) => write(ctx, bus, a),
+    })
+}
+
+fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
+    let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
+    let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
+    let read = match sdo::read(bus, ctx.dicts.for_node(a.node), a.node, object, &o) {
+        Err(e) => return stopped(ctx, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e),
+        Ok(read) => read,
+    };
+    match &a.out {
+        Some(path) => ctx.out.report(&read.save(path)?)?,
+        None => ctx.out.report(&read)?,
     }
     Ok(())
+}
+
+fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
+    let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
+    let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, verify: a.verify };
+    let written = match sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o) {
+        Err(e) => return stopped(ctx, sdo::stopped(a.node, object, true, &e), None, e),
+        Ok(written) => written,
+    };
+    ctx.out.report(&written)?;
+    if written.interrupted {
+        return Err(crate::Error::Interrupted.into());
+    }
+    Ok(())
+}
+
+/// A transfer the user stopped: its report, then exit 130; any other error as it is.
+fn stopped(
+    ctx: &Ctx,
+    report: Option<crate::ops::Stopped>,
+    out: Option<&std::path::Path>,
+    e: crate::Error,
+) -> anyhow::Result<()> {
+    let Some(mut report) = report else { return Err(e.into()) };
+    if let Some(path) = out {
+        let old = if path.exists() { "the old file is unchanged" } else { "nothing written" };
+        report.not_done.push(format!("{} ({old})", path.display()));
+    }
+    ctx.out.report(&report)?;
+    Err(crate::Error::Interrupted.into())
 }
 
 #[cfg(test)]

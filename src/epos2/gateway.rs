@@ -105,12 +105,14 @@ impl<T: Transport> Epos2Gateway<T> {
 
     /// A segmented read; more than `max_upload` bytes are refused, as the SDO client does
     /// (the EPOS2's answers never say the size, so only what arrives can be counted).
-    fn segmented_read(&mut self, node: u8, addr: ObjAddr, max_upload: usize) -> Result<Vec<u8>> {
+    fn segmented_read(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+        let max_upload = opts.max_upload;
         self.call_ok(&Command::InitiateSegmentedRead { node, addr }, node, Some(addr))?;
         let mut out = Vec::new();
         let mut toggle = false;
         let mut empty_in_a_row = 0;
         loop {
+            stop_point(opts, node, addr, true, out.len(), None)?;
             let data = self.call_ok(&Command::SegmentRead { toggle }, node, Some(addr))?;
             let ctrl = *data.first().ok_or_else(|| self.bad_answer(Epos2Problem::EmptySegment))?;
             if (ctrl & TOGGLE != 0) != toggle {
@@ -121,6 +123,9 @@ impl<T: Transport> Epos2Gateway<T> {
                 .get(1..1 + len)
                 .ok_or_else(|| self.bad_answer(Epos2Problem::ShortSegment { node, claimed: len }))?;
             out.extend_from_slice(chunk);
+            if let Some(hook) = opts.on_progress.as_ref().filter(|_| ctrl & MORE != 0) {
+                hook(out.len());
+            }
             if out.len() > max_upload && max_upload < MAX_SEGMENTED_UPLOAD {
                 return Err(LinkError::SdoProtocol {
                     node,
@@ -154,7 +159,7 @@ impl<T: Transport> Epos2Gateway<T> {
         }
     }
 
-    fn segmented_write(&mut self, node: u8, addr: ObjAddr, data: &[u8]) -> Result<()> {
+    fn segmented_write(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
         // ObjectLength is 32-bit, as CiA 301 sizes are: a larger value would be announced
         // by its low 32 bits.
         let length = u32::try_from(data.len()).map_err(|_| Error::TooLargeForSdo { len: data.len() })?;
@@ -164,16 +169,39 @@ impl<T: Transport> Epos2Gateway<T> {
         // An empty value is one segment with no data (CiA 301 lets a segment carry none);
         // without it the device would wait for the value and never write it.
         let chunks: Vec<&[u8]> = if data.is_empty() { vec![&[]] } else { data.chunks(size).collect() };
+        let mut sent = 0;
         for chunk in chunks {
+            stop_point(opts, node, addr, false, sent, Some(data.len()))?;
             let answer = self.call_ok(&Command::SegmentWrite { toggle, data: chunk.to_vec() }, node, Some(addr))?;
             let ctrl = answer.first().copied().unwrap_or(0);
             if (ctrl & TOGGLE != 0) != toggle || (ctrl & LENGTH) as usize != chunk.len() {
                 return Err(self.bad_answer(Epos2Problem::ExtraSegment { node, obj: addr }));
             }
+            sent += chunk.len();
+            if let Some(hook) = opts.on_progress.as_ref().filter(|_| sent < data.len()) {
+                hook(sent);
+            }
             toggle = !toggle;
         }
         Ok(())
     }
+}
+
+/// Between two segments: the user asked to stop. The EPOS2 protocol has no command to
+/// abort a segmented transfer, so the EPOS2 ends it at its own timeout.
+fn stop_point(
+    opts: &SdoOptions,
+    node: u8,
+    obj: ObjAddr,
+    upload: bool,
+    bytes: usize,
+    total: Option<usize>,
+) -> Result<()> {
+    if opts.stop.as_ref().is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst)) {
+        let moved = crate::error::Moved { bytes, total };
+        return Err(Error::SdoInterrupted { node, obj, upload, moved, aborted: None });
+    }
+    Ok(())
 }
 
 fn check_node(node: u8) -> Result<()> {
@@ -199,7 +227,7 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
                 other => return other,
             }
         }
-        self.segmented_read(node, addr, opts.max_upload)
+        self.segmented_read(node, addr, opts)
     }
 
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
@@ -212,7 +240,7 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
             self.call_ok(&Command::WriteObject { node, addr, data: four }, node, Some(addr))?;
             return Ok(());
         }
-        self.segmented_write(node, addr, data)
+        self.segmented_write(node, addr, data, opts)
     }
 
     fn nmt(&mut self, cmd: NmtCommand, node: u8) -> Result<()> {

@@ -168,6 +168,12 @@ pub struct Dump {
     pub node: u8,
     /// How many objects the node answered.
     pub objects: usize,
+    /// The user stopped the reading part-way (SIGINT, SIGTERM, over a
+    /// [`Stoppable`](crate::bus::stoppable::Stoppable) bus): `objects` of `wanted` were
+    /// read, and there is no DCF.
+    pub interrupted: bool,
+    /// How many objects the dictionary lists to be read.
+    pub wanted: usize,
     /// Where the list of objects came from: an EDS, or the built-in dictionary.
     pub source: String,
     /// The DCF, Latin-1 as CiA 306 has it.
@@ -197,6 +203,11 @@ pub fn dump(
         match read_one(bus, node, e, timeout) {
             Ok(v) => {
                 values.insert(e.addr, v);
+            }
+            Err(err) if err.is_interrupted() => {
+                progress.finish();
+                let (objects, wanted) = (values.len(), wanted.len());
+                return Ok(Dump { node, objects, interrupted: true, wanted, source, dcf: Vec::new() });
             }
             // Not on this device: left out of the file.
             Err(Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => continue,
@@ -232,7 +243,7 @@ pub fn dump(
         _ => true,
     });
     let dcf = eds::write_bytes(&present, Some(&values), &header).map_err(|e| Error::Usage(e.to_string()))?;
-    Ok(Dump { node, objects: values.len(), source, dcf })
+    Ok(Dump { node, objects: values.len(), interrupted: false, wanted: wanted.len(), source, dcf })
 }
 
 /// Where a node differs from a DCF.
@@ -243,6 +254,17 @@ pub struct Diff {
     /// Objects that match.
     pub same: usize,
     pub differences: Vec<Difference>,
+    /// The user stopped the comparison part-way (SIGINT, SIGTERM, over a
+    /// [`Stoppable`](crate::bus::stoppable::Stoppable) bus): the objects counted are those
+    /// compared so far.
+    pub interrupted: bool,
+    /// Objects of the file not compared, when interrupted.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub not_compared: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 #[derive(Debug, Serialize)]
@@ -256,8 +278,11 @@ pub struct Difference {
 }
 
 impl Diff {
-    /// A verification error when anything differs.
+    /// A verification error when anything differs; interrupted, the interruption.
     pub fn check(&self) -> Result<()> {
+        if self.interrupted {
+            return Err(Error::Interrupted);
+        }
         if self.differences.is_empty() {
             return Ok(());
         }
@@ -270,7 +295,8 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
     let values = dcf.values(node)?;
     let mut differences = Vec::new();
     let mut same = 0;
-    for (entry, want) in values.iter().filter(|(e, _)| e.access.readable()) {
+    let readable: Vec<&Wanted> = values.iter().filter(|(e, _)| e.access.readable()).collect();
+    for (i, (entry, want)) in readable.iter().enumerate() {
         let device = match read_one(bus, node, entry, timeout) {
             Ok(v) if v == *want => {
                 same += 1;
@@ -278,6 +304,10 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             }
             Ok(v) => show(entry, &v),
             Err(Error::SdoAbort { code, .. }) => format!("({})", abort::meaning(code)),
+            Err(e) if e.is_interrupted() => {
+                let (file, not_compared) = (dcf.path().to_string(), readable.len() - i);
+                return Ok(Diff { node, file, same, differences, interrupted: true, not_compared });
+            }
             Err(e) => return Err(e),
         };
         differences.push(Difference {
@@ -287,7 +317,7 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             file: show(entry, want),
         });
     }
-    Ok(Diff { node, file: dcf.path().to_string(), same, differences })
+    Ok(Diff { node, file: dcf.path().to_string(), same, differences, interrupted: false, not_compared: 0 })
 }
 
 /// One write of the plan.

@@ -39,6 +39,9 @@ pub struct ErrorHistory {
     pub error_register_bits: Vec<&'static str>,
     /// Whether the history was cleared, confirmed by reading 0x1003:0 back as 0.
     pub cleared: bool,
+    /// The clear was asked for but interrupted: `Some(true)` when the 0 was written (not
+    /// confirmed), `Some(false)` when nothing was written.
+    pub clear_interrupted: Option<bool>,
 }
 
 #[derive(Debug, Serialize)]
@@ -107,6 +110,7 @@ pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Re
         error_register: register,
         error_register_bits: register.map(emcy::register_bits).unwrap_or_default(),
         cleared: false,
+        clear_interrupted: None,
     };
     match count {
         Ok(bytes) => report.count = u8_of(&bytes),
@@ -144,8 +148,21 @@ pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Re
     }
     if clear {
         // CiA 301: writing 0 to sub 0 deletes the history; any other value is refused.
-        bus.sdo_download(node, HISTORY_COUNT, &[0], &sized(timeout, Some(1)))?;
-        let back = bus.sdo_upload(node, HISTORY_COUNT, &sized(timeout, Some(1)))?;
+        // Interrupted, the report still says what was read and how far the clear got.
+        match bus.sdo_download(node, HISTORY_COUNT, &[0], &sized(timeout, Some(1))) {
+            Err(e) if e.is_interrupted() => {
+                report.clear_interrupted = Some(false);
+                return Ok(report);
+            }
+            written => written?,
+        }
+        let back = match bus.sdo_upload(node, HISTORY_COUNT, &sized(timeout, Some(1))) {
+            Err(e) if e.is_interrupted() => {
+                report.clear_interrupted = Some(true);
+                return Ok(report);
+            }
+            back => back?,
+        };
         if u8_of(&back) != Some(0) {
             return Err(Error::ReadBack {
                 node,

@@ -22,6 +22,7 @@ pub mod store;
 use crate::bus::SdoOptions;
 use crate::error::{Error, Result};
 use crate::od::Entry;
+use serde::Serialize;
 use std::time::Duration;
 
 /// What a long procedure tells its caller while it runs: the CLI shows a progress bar and
@@ -35,12 +36,36 @@ pub trait Progress {
     fn finish(&mut self) {}
     /// A remark worth a person's attention (an object the device refuses to show, say).
     fn note(&mut self, _text: &str) {}
+    /// One of several items of the phase under way at once (a node configured alongside
+    /// others) moved on: `status` says where it is, or its result once `finished`.
+    fn item(&mut self, _item: &str, _status: &str, _finished: bool) {}
 }
 
 /// Progress nobody watches.
 pub struct Silent;
 
 impl Progress for Silent {}
+
+/// What a procedure the user stopped (SIGINT, SIGTERM, Ctrl-C) had done, for the commands
+/// whose own report has nothing to show for a stop: what was done, what was not, and the
+/// state the device is left in. The command ends with exit 130 after it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Stopped {
+    /// The command, as typed: `sdo read`, `store`.
+    pub command: String,
+    /// Always true: the key every interrupted report has.
+    pub interrupted: bool,
+    pub done: Vec<String>,
+    pub not_done: Vec<String>,
+    /// The state the device is left in, in a sentence.
+    pub state: String,
+}
+
+impl Stopped {
+    pub fn new(command: &str, done: Vec<String>, not_done: Vec<String>, state: String) -> Stopped {
+        Stopped { command: command.to_string(), interrupted: true, done, not_done, state }
+    }
+}
 
 /// SDO options for a value of a known size.
 pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {

@@ -206,6 +206,8 @@ pub struct Summary {
     pub nodes: BTreeSet<u8>,
     pub emcy: u64,
     pub elapsed: Duration,
+    /// Ended by the user (SIGINT, SIGTERM, Ctrl-C) rather than by its duration or count.
+    pub interrupted: bool,
 }
 
 impl Summary {
@@ -251,11 +253,20 @@ impl Monitor {
         })
     }
 
-    /// The next frame, decoded, or `None` when the monitor is over.
+    /// The next frame, decoded, or `None` when the monitor is over: its duration or count
+    /// reached, or stopped by the user (over a [`Stoppable`](crate::bus::stoppable::Stoppable)
+    /// bus; the summary says so).
     pub fn next(&mut self, bus: &mut dyn Bus) -> Result<Option<Event>> {
         while self.end.is_none_or(|e| Instant::now() < e) && self.count.is_none_or(|c| self.seen.frames() < c) {
             let wake = self.end.unwrap_or_else(|| Instant::now() + Duration::from_millis(200));
-            let Some(f) = bus.recv_frame(wake)? else { continue };
+            let f = match bus.recv_frame(wake) {
+                Err(e) if e.is_interrupted() => {
+                    self.seen.interrupted = true;
+                    return Ok(None);
+                }
+                other => other?,
+            };
+            let Some(f) = f else { continue };
             let mut ev = decode(&f, &self.layouts);
             if !self.nodes.is_empty() && ev.node.is_some_and(|n| !self.nodes.contains(&n)) {
                 continue;

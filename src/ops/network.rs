@@ -4,8 +4,8 @@
 use super::config::{self, Dcf};
 use super::Progress;
 use crate::bus::lss::LssMaster;
-use crate::bus::{Bus, SdoOptions};
-use crate::canopen::lss::{Identity, Request};
+use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::canopen::lss::{Identity, Request, Response};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result, Service};
 use crate::od::cpj::{self, Commissioning, Project};
@@ -380,7 +380,8 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
             .collect()
     } else {
         let stopped = |_: usize, e: Error| Err(e);
-        parallel::each(bus, &all, o.jobs, None, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
+        let items: Vec<(usize, u8)> = all.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
+        parallel::each(bus, &items, o.jobs, None, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
     };
     let mut nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
     if let Some(want) = o.state {
@@ -429,7 +430,9 @@ pub struct ApplyOptions {
     /// is back (its boot-up, or an SDO answer where the link shows no traffic).
     pub reset: bool,
     /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): no node is begun after
-    /// that; the nodes under way finish, and the report says which were not done.
+    /// that, and the report says which were not. The nodes under way stop at their next
+    /// safe point when `config.interrupted` is the same flag (between two SDO transfers, a
+    /// PDO change under way rolled back, as `config apply` does), else they finish.
     pub interrupted: Option<&'static AtomicBool>,
 }
 
@@ -540,8 +543,27 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     row.written = applied.written.len();
     row.objects = std::mem::take(&mut applied.objects);
     let would = row.objects.iter().filter(|c| c.result.starts_with("would write")).count();
+    if applied.interrupted {
+        // Stopped between two transfers, a PDO change under way put back: what was done,
+        // what was not, and the state the node is left in, as `config apply` says it.
+        row.result = format!("interrupted: {}", applied.summary().join("; "));
+        if o.config.store && !o.config.dry_run && row.written > 0 {
+            row.result.push_str(&format!("; not stored (canctl store {} keeps what was written)", listed.node));
+        }
+        return (row, Some(Error::Interrupted));
+    }
     if let Err(e) = applied.outcome() {
         return fail(row, e);
+    }
+    let stop = o.config.interrupted.as_ref().is_some_and(|f| f.load(Ordering::SeqCst));
+    if o.config.store && row.written > 0 && stop {
+        row.result = format!(
+            "interrupted: {} object(s) written{}, not stored (canctl store {} keeps them)",
+            row.written,
+            if o.config.verify { ", verified" } else { "" },
+            listed.node
+        );
+        return (row, Some(Error::Interrupted));
     }
     if o.config.store && row.written > 0 {
         let t = super::store::Timeouts { answer: o.config.timeout, write: o.config.store_timeout };
@@ -594,7 +616,20 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
                 break;
             }
             progress.advance(k as u64);
-            let result = configure_node(bus, &loaded.nodes[*i], o);
+            let label = node_label(loaded.nodes[*i].node);
+            let (mut reads, mut writes) = (0, 0);
+            let result = {
+                let mut counted = crate::bus::tap::AfterSdo::new(&mut *bus, |t, n| {
+                    match t {
+                        crate::bus::tap::Transfer::Upload => reads = n,
+                        crate::bus::tap::Transfer::Download => writes = n,
+                        crate::bus::tap::Transfer::Nmt => {}
+                    }
+                    progress.item(&label, &transfers(reads, writes), false);
+                });
+                configure_node(&mut counted, &loaded.nodes[*i], o)
+            };
+            progress.item(&label, &result.summary(), true);
             let link = matches!(result.1, Some(Error::Link(_)));
             done.push((*i, result));
             // A lost link ends the run: every further node would fail the same way.
@@ -610,7 +645,8 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             row.result = format!("failed: {e}");
             (row, Some(e))
         };
-        parallel::each(bus, &ready, o.jobs, o.interrupted, &work, &stopped, progress)
+        let items: Vec<(usize, u8)> = ready.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
+        parallel::each(bus, &items, o.jobs, o.interrupted, &work, &stopped, progress)
     };
     progress.finish();
     for (i, (mut row, error)) in done {
@@ -670,6 +706,37 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         written,
         failure,
     })
+}
+
+/// A node's result in a few words, for its progress bar.
+trait Summary {
+    fn summary(&self) -> String;
+}
+
+impl Summary for NodeOutcome {
+    fn summary(&self) -> String {
+        self.0.result.clone()
+    }
+}
+
+impl Summary for Result<NodeCheck> {
+    fn summary(&self) -> String {
+        match self {
+            Ok(n) => match n.checks.iter().filter(|c| !c.ok).count() {
+                0 => "as the project says".to_string(),
+                k => format!("{k} check(s) differ"),
+            },
+            Err(e) => format!("failed: {e}"),
+        }
+    }
+}
+
+fn node_label(node: u8) -> String {
+    format!("node {node}")
+}
+
+fn transfers(reads: u32, writes: u32) -> String {
+    format!("{reads} read(s), {writes} write(s)")
 }
 
 /// Many nodes at once over one link: each node's procedure runs on its own thread against a
@@ -756,9 +823,9 @@ mod parallel {
     /// for a node whose procedure ended without its result (a bug), so that the run still
     /// ends. Results in the order of `items`; after a link failure or once `stop` is set,
     /// no further node is begun, and those are left out.
-    pub(super) fn each<T: Send>(
+    pub(super) fn each<T: Send + Summary>(
         bus: &mut dyn Bus,
-        items: &[usize],
+        items: &[(usize, u8)],
         jobs: usize,
         stop: Option<&AtomicBool>,
         work: &(dyn Fn(&mut dyn Bus, usize) -> T + Sync),
@@ -769,8 +836,10 @@ mod parallel {
         let (tx, rx): (Sender<Msg<T>>, Receiver<Msg<T>>) = channel();
         let mut done = Vec::new();
         let mut lost: Option<Error> = None;
+        // Each node's transfers so far, for its progress bar.
+        let mut counts: BTreeMap<u8, (u32, u32)> = BTreeMap::new();
         std::thread::scope(|scope| {
-            let mut queue = items.iter().copied();
+            let mut queue = items.iter().map(|(i, _)| *i);
             let mut running = 0;
             let start = |i: usize| {
                 let node_bus =
@@ -798,8 +867,24 @@ mod parallel {
                 // Every running node either waits for a transfer or has finished.
                 while waiting.len() < running {
                     match rx.recv().expect("a running node sends before it ends") {
-                        Msg::Sdo(job, reply) => waiting.push((job, reply)),
+                        Msg::Sdo(job, reply) => {
+                            let (node, write) = match &job {
+                                SdoJob::Upload { node, .. } => (*node, false),
+                                SdoJob::Download { node, .. } => (*node, true),
+                            };
+                            let count = counts.entry(node).or_default();
+                            if write {
+                                count.1 += 1;
+                            } else {
+                                count.0 += 1;
+                            }
+                            progress.item(&node_label(node), &transfers(count.0, count.1), false);
+                            waiting.push((job, reply));
+                        }
                         Msg::Done(i, result) => {
+                            if let Some((_, node)) = items.iter().find(|(x, _)| *x == i) {
+                                progress.item(&node_label(*node), &result.summary(), true);
+                            }
                             done.push((i, result));
                             progress.advance(done.len() as u64);
                             running -= 1;
@@ -830,7 +915,7 @@ mod parallel {
                 }
             }
         });
-        let order = |i: &usize| items.iter().position(|x| x == i);
+        let order = |i: &usize| items.iter().position(|(x, _)| x == i);
         done.sort_by_key(|(i, _)| order(i));
         done
     }
@@ -908,6 +993,290 @@ fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutc
     }
 }
 
+// ---------------------------------------------------------------------------------------
+// set-baud
+
+/// How to switch a network's bit rate.
+#[derive(Clone, Debug)]
+pub struct SetBaudOptions {
+    /// How long to collect the devices' LSS answers.
+    pub timeout: Duration,
+    /// How long the probes before and after the switch wait for answers.
+    pub window: Duration,
+    /// The new bit rate: its index in the CiA 305 table.
+    pub index: u8,
+    /// CiA 305 switch delay: the devices wait this long, switch, and wait as long again
+    /// before they transmit.
+    pub delay_ms: u16,
+    /// Make the devices keep the new rate across power cycles ("store configuration").
+    pub store: bool,
+    /// Activate even when some device refused the new rate (it is left behind).
+    pub force: bool,
+    /// Set when the user asks to stop: checked before each LSS step; nothing is switched
+    /// once it is set before the activation.
+    pub interrupted: Option<&'static AtomicBool>,
+}
+
+/// How many devices confirmed an LSS service sent to all of them, and what the others
+/// answered (an LSS answer names no device: only counts can be told).
+#[derive(Debug, Default, Serialize)]
+pub struct LssTally {
+    pub confirmed: usize,
+    /// Each refusal, in words ("LSS configure bit timing: error 1: bit timing not supported").
+    pub refused: Vec<String>,
+    #[serde(skip)]
+    first_refusal: Option<Error>,
+}
+
+impl LssTally {
+    fn of(answers: &[Response], service: &str) -> LssTally {
+        let mut tally = LssTally::default();
+        for a in answers {
+            if let Response::Result { cs, error, specific } = *a {
+                if error == 0 {
+                    tally.confirmed += 1;
+                } else {
+                    let e = Error::LssRefused { service: service.into(), cs, error, specific };
+                    tally.refused.push(e.to_string());
+                    tally.first_refusal.get_or_insert(e);
+                }
+            }
+        }
+        tally
+    }
+
+    /// For people: "3 confirmed, 1 refused (...)".
+    pub fn text(&self) -> String {
+        match self.refused.len() {
+            0 => format!("{} device(s) confirmed", self.confirmed),
+            n => format!("{} device(s) confirmed, {n} refused ({})", self.confirmed, self.refused.join("; ")),
+        }
+    }
+}
+
+/// One node expected to follow the switch.
+#[derive(Debug, Serialize)]
+pub struct NodeFollowed {
+    pub node: u8,
+    pub name: String,
+    /// Whether it answered the probe before the switch.
+    pub before: bool,
+    /// Whether it answers at the new rate; `None` where the link could not look (it stays
+    /// at the old rate).
+    pub after: Option<bool>,
+    /// What happened, in a sentence.
+    pub result: String,
+}
+
+/// What a network-wide bit-rate switch did.
+#[derive(Debug, Serialize)]
+pub struct BaudSwitched {
+    pub bus: String,
+    /// The new rate (`250k`).
+    pub rate: String,
+    /// Where the expected nodes come from: the project file, or the probe before the switch.
+    pub expected_from: String,
+    /// "configure bit timing", sent to every device in configuration state.
+    pub configured: LssTally,
+    /// "store configuration", when asked.
+    pub stored: Option<LssTally>,
+    /// Whether "activate bit timing" was sent.
+    pub activated: bool,
+    /// Why it was not, in words.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_activated: Option<String>,
+    pub delay_ms: u16,
+    /// Whether the link switched with the devices (the simulated bus does; a CAN interface
+    /// or an EPOS2 must be switched by its owner).
+    pub bus_followed: bool,
+    pub nodes: Vec<NodeFollowed>,
+    /// Nodes answering at the new rate that were not expected.
+    pub unexpected: Vec<u8>,
+    /// Devices without a node-id that answered LSS before and after the switch.
+    pub unconfigured_before: usize,
+    pub unconfigured_after: Option<usize>,
+    /// Whether every expected node is confirmed at the new rate.
+    pub ok: bool,
+    /// Why it is not (its exit code is the command's).
+    #[serde(skip)]
+    pub failure: Option<Error>,
+}
+
+impl BaudSwitched {
+    pub fn outcome(self) -> Result<()> {
+        match self.failure {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Switch every device on the bus to a new bit rate (CiA 305, LSS global): all into
+/// configuration state, "configure bit timing", "store configuration" when asked, then
+/// "activate bit timing" with the switch delay; the devices go quiet, switch after the
+/// delay and wait as long again, during which nothing is sent. Where the link switched with
+/// them, the devices are sent back to waiting state and the bus is probed again: every
+/// expected node (the project's, else those found before) that does not answer at the new
+/// rate is reported. A device refusing the rate stops the switch before anything is
+/// activated, unless `force`.
+pub fn set_baud(
+    bus: &mut dyn Bus,
+    project: Option<&Loaded>,
+    o: &SetBaudOptions,
+    progress: &mut dyn Progress,
+) -> Result<BaudSwitched> {
+    let stop = || o.interrupted.is_some_and(|f| f.load(Ordering::SeqCst));
+    if stop() {
+        return Err(Error::Interrupted);
+    }
+    let rate = crate::canopen::lss::bit_rate_name(o.index);
+    let before = probe(bus, o.window, progress)?;
+    let unconfigured_before = crate::bus::lss::count_unconfigured(bus, o.window)?;
+    let (expected, expected_from): (Vec<(u8, String)>, String) = match project {
+        Some(p) => (p.nodes.iter().map(|l| (l.node, l.name.clone())).collect(), p.file.display().to_string()),
+        None => (before.keys().map(|n| (*n, String::new())).collect(), "the probe before the switch".into()),
+    };
+    let mut report = BaudSwitched {
+        bus: bus.describe(),
+        rate: rate.clone(),
+        expected_from,
+        configured: LssTally::default(),
+        stored: None,
+        activated: false,
+        not_activated: None,
+        delay_ms: o.delay_ms,
+        bus_followed: false,
+        nodes: expected
+            .iter()
+            .map(|(node, name)| NodeFollowed {
+                node: *node,
+                name: name.clone(),
+                before: before.contains_key(node),
+                after: None,
+                result: String::new(),
+            })
+            .collect(),
+        unexpected: Vec::new(),
+        unconfigured_before,
+        unconfigured_after: None,
+        ok: false,
+        failure: None,
+    };
+    let not_switched = |report: &mut BaudSwitched, e: Error, why: &str| {
+        for n in &mut report.nodes {
+            n.result = "not switched".to_string();
+        }
+        report.not_activated = Some(why.to_string());
+        report.failure = Some(e);
+    };
+
+    let mut m = LssMaster::new(bus, o.timeout);
+    m.enter(None)?;
+    let answers = match m.ask(Request::ConfigureBitTiming { table: 0, index: o.index }, LssWait::All) {
+        Ok(a) => a,
+        Err(e) => {
+            m.leave()?;
+            return Err(e);
+        }
+    };
+    report.configured = LssTally::of(&answers, "configure bit timing");
+    let refused = report.configured.first_refusal.take();
+    if report.configured.confirmed == 0 {
+        m.leave()?;
+        let e = match refused {
+            Some(e) => e,
+            None => Error::NoLssAnswer { request: "configure bit timing".into(), identity: None, waited: o.timeout },
+        };
+        not_switched(&mut report, e, "no device took the new rate");
+        return Ok(report);
+    }
+    if let Some(e) = refused.filter(|_| !o.force) {
+        m.leave()?;
+        let why = format!(
+            "{} device(s) refused {rate} (--force switches the others and leaves them behind)",
+            report.configured.refused.len()
+        );
+        not_switched(&mut report, e, &why);
+        return Ok(report);
+    }
+    if stop() {
+        m.leave()?;
+        not_switched(&mut report, Error::Interrupted, "interrupted before the activation");
+        return Ok(report);
+    }
+    if o.store {
+        let answers = match m.ask(Request::StoreConfiguration, LssWait::All) {
+            Ok(a) => a,
+            Err(e) => {
+                m.leave()?;
+                return Err(e);
+            }
+        };
+        report.stored = Some(LssTally::of(&answers, "store configuration"));
+        // Those that stored it boot at the new rate from now on: the running bus must
+        // follow them, so an interruption here no longer stops the switch.
+    }
+    m.send(Request::ActivateBitTiming { delay_ms: o.delay_ms })?;
+    report.activated = true;
+    // CiA 305: each device switches after the delay and is silent until the delay has
+    // passed a second time; the master sends nothing in between either.
+    std::thread::sleep(Duration::from_millis(2 * u64::from(o.delay_ms)));
+    report.bus_followed = m.bus().follows_bit_rate_switch();
+    if !report.bus_followed {
+        // Only a link at the new rate reaches the devices again; they stay in
+        // configuration state until an LSS command does.
+        for n in &mut report.nodes {
+            n.result = format!("not checked: {} stays at the old rate", report.bus);
+        }
+        report.ok = false;
+        return Ok(report);
+    }
+    m.leave()?;
+    let after = probe(bus, o.window, progress)?;
+    report.unconfigured_after = Some(crate::bus::lss::count_unconfigured(bus, o.window)?);
+    let mut behind = Vec::new();
+    for n in &mut report.nodes {
+        let here = after.contains_key(&n.node);
+        n.after = Some(here);
+        n.result = match (n.before, here) {
+            (_, true) => format!("answers at {rate}"),
+            (true, false) => {
+                behind.push(n.node);
+                format!("did not follow: answered before the switch, not at {rate}")
+            }
+            (false, false) => {
+                behind.push(n.node);
+                "not found: did not answer before the switch nor after it".to_string()
+            }
+        };
+    }
+    report.unexpected = after.keys().filter(|n| !expected.iter().any(|(e, _)| e == *n)).copied().collect();
+    report.ok = behind.is_empty();
+    if !behind.is_empty() {
+        report.failure = Some(Error::NotFollowed { rate, nodes: behind });
+    } else if stop() {
+        report.failure = Some(Error::Interrupted);
+    }
+    Ok(report)
+}
+
+/// The project's DCFs with `[DeviceComissioning] Baudrate` set to `kbit`: each file's new
+/// bytes, all made before any is written (the caller writes each atomically).
+pub fn with_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<(PathBuf, Vec<u8>)>> {
+    let mut out = Vec::new();
+    for listed in &loaded.nodes {
+        let Some(path) = loaded.project.dcf_path(&loaded.file, listed.node) else { continue };
+        let name = path.display().to_string();
+        let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
+            .map_err(|e| Error::Usage(format!("cannot use {name}: {e}")))?;
+        let mut c = cpj::read_commissioning(&bytes, &name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        c.baudrate_kbit = Some(kbit);
+        let new = cpj::with_commissioning(&bytes, &c).map_err(|e| Error::Usage(e.to_string()))?;
+        out.push((path, new));
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -940,6 +1309,55 @@ mod tests {
                 self.flag.store(true, Ordering::SeqCst);
             }
         }
+    }
+
+    /// Sets the flag once the probe before the switch is over.
+    struct StopAfterProbe(&'static AtomicBool);
+
+    impl Progress for StopAfterProbe {
+        fn finish(&mut self) {
+            self.0.store(true, Ordering::SeqCst);
+        }
+    }
+
+    fn set_baud_options(flag: &'static AtomicBool) -> SetBaudOptions {
+        SetBaudOptions {
+            timeout: Duration::from_millis(200),
+            window: Duration::from_millis(100),
+            index: 3,
+            delay_ms: 5,
+            store: false,
+            force: true,
+            interrupted: Some(flag),
+        }
+    }
+
+    /// Interrupted before the activation, nothing is switched: every device back in waiting
+    /// state at the old rate, the run reported as interrupted.
+    #[test]
+    fn set_baud_interrupted_before_the_activation_switches_nothing() {
+        let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+        let mut bus = demo();
+        let report = set_baud(bus.as_mut(), None, &set_baud_options(flag), &mut StopAfterProbe(flag)).unwrap();
+        assert!(!report.activated);
+        assert!(matches!(report.failure, Some(Error::Interrupted)));
+        assert_eq!(report.configured.confirmed, 6, "the stepper refuses, the others confirm");
+        let still: Vec<u8> =
+            probe(bus.as_mut(), Duration::from_millis(100), &mut super::super::Silent).unwrap().into_keys().collect();
+        assert_eq!(still, [1, 5, 10, 32]);
+    }
+
+    /// Forced past the stepper's refusal: the others switch, the bus with them, and the
+    /// stepper is named as left behind.
+    #[test]
+    fn set_baud_names_the_node_left_behind() {
+        let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+        let mut bus = demo();
+        let report = set_baud(bus.as_mut(), None, &set_baud_options(flag), &mut super::super::Silent).unwrap();
+        assert!(report.activated && report.bus_followed);
+        assert!(matches!(&report.failure, Some(Error::NotFollowed { nodes, .. }) if nodes == &[32]));
+        let after: Vec<(u8, Option<bool>)> = report.nodes.iter().map(|n| (n.node, n.after)).collect();
+        assert_eq!(after, [(1, Some(true)), (5, Some(true)), (10, Some(true)), (32, Some(false))]);
     }
 
     /// An interruption stops between nodes, one after the other or several at once: the

@@ -41,6 +41,9 @@ pub struct Reset {
     /// Why the reset could not be confirmed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub why: Option<String>,
+    /// The user stopped the wait for the boot-up (SIGINT, SIGTERM): the reset went out.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub interrupted: bool,
 }
 
 /// A node's NMT state, and how it was learned.
@@ -107,10 +110,33 @@ pub fn send(bus: &mut dyn Bus, command: Command, target: u8) -> Result<Sent> {
 }
 
 /// Send a reset and wait until the target is back; the report says whether it was seen.
+/// Stopped by the user once the reset went out (over a
+/// [`Stoppable`](crate::bus::stoppable::Stoppable) bus), the report says so, unconfirmed.
 pub fn reset(bus: &mut dyn Bus, command: Command, target: u8, o: &ResetOptions) -> Result<Reset> {
-    let report =
-        Reset { command, target, sent: true, confirmed: false, booted: None, state: None, seen_by: None, why: None };
-    Ok(match reset_and_wait(bus, command, target, o)? {
+    let report = Reset {
+        command,
+        target,
+        sent: true,
+        confirmed: false,
+        booted: None,
+        state: None,
+        seen_by: None,
+        why: None,
+        interrupted: false,
+    };
+    let mut sent = false;
+    let confirmation = match reset_and_wait_noting(bus, command, target, o, &mut sent) {
+        Err(e) if e.is_interrupted() && sent => {
+            let why = format!(
+                "interrupted while waiting for the boot-up: the reset went out, whether {} came back is not known \
+                 (canctl nmt state or scan says)",
+                target_text(target)
+            );
+            return Ok(Reset { why: Some(why), interrupted: true, ..report });
+        }
+        other => other?,
+    };
+    Ok(match confirmation {
         Confirmation::Confirmed(nodes, how) => Reset {
             confirmed: true,
             booted: Some(nodes),
@@ -126,14 +152,27 @@ pub fn reset(bus: &mut dyn Bus, command: Command, target: u8, o: &ResetOptions) 
 /// sees boot-up messages; through an EPOS2 only the node's answers to remote requests
 /// show anything, and only a boot-up answer or a change of state proves a reset.
 pub fn reset_and_wait(bus: &mut dyn Bus, cmd: Command, target: u8, o: &ResetOptions) -> Result<Confirmation> {
+    reset_and_wait_noting(bus, cmd, target, o, &mut false)
+}
+
+/// [`reset_and_wait`], setting `sent` once the reset went out.
+fn reset_and_wait_noting(
+    bus: &mut dyn Bus,
+    cmd: Command,
+    target: u8,
+    o: &ResetOptions,
+    sent: &mut bool,
+) -> Result<Confirmation> {
     if bus.sees_traffic() {
         bus.nmt(cmd, target)?;
+        *sent = true;
         let nodes = listen_for_boot_ups(bus, target, o)?;
         return Ok(Confirmation::Confirmed(nodes, "boot-up message".into()));
     }
     let no_traffic = format!("{} passes on no boot-up messages", bus.describe());
     if target == ALL_NODES {
         bus.nmt(cmd, target)?;
+        *sent = true;
         return Ok(Confirmation::Unconfirmed(format!("{no_traffic}; check the nodes with `canctl scan`")));
     }
     let before = match remote_state(bus, target, o.timeout) {
@@ -142,6 +181,7 @@ pub fn reset_and_wait(bus: &mut dyn Bus, cmd: Command, target: u8, o: &ResetOpti
         Err(e) => return Err(e),
     };
     bus.nmt(cmd, target)?;
+    *sent = true;
     let after = poll_until_answering(bus, target, o)?;
     Ok(match (before, after) {
         (_, ErrorControl::BootUp) => {

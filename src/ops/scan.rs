@@ -31,7 +31,20 @@ pub struct Scan {
     /// How many devices without a node-id answered LSS.
     pub lss_unconfigured: usize,
     pub lss_configuration: Configuring,
+    /// The user stopped the scan (SIGINT, SIGTERM): the nodes are those found so far.
+    pub interrupted: bool,
+    /// When interrupted: the parts of the scan not done, the one it stopped in first.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_done: Vec<String>,
 }
+
+/// The parts of a scan, in order.
+const PHASES: [&str; 4] = [
+    "probing node-ids 1 to 127 (stopped part-way: nodes not listed may be there)",
+    "reading identity, name and heartbeat time",
+    "learning NMT states",
+    "counting devices without a node-id (LSS)",
+];
 
 /// A node that answered the probe, with what it told about itself (`None`: not said).
 #[derive(Debug, Serialize)]
@@ -86,25 +99,67 @@ fn as_u32(bytes: &[u8]) -> Option<u32> {
 
 /// Every node that answers an SDO read of 0x1000 within `window`, with its device type
 /// (`None` when it answered with an abort: the node is there all the same).
-pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Vec<(u8, Option<u32>)>> {
+pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Found> {
+    match probe_until_stopped(bus, window, progress)? {
+        (_, true) => Err(Error::Interrupted),
+        (found, false) => Ok(found),
+    }
+}
+
+/// Nodes that answered a probe, with their device types.
+type Found = Vec<(u8, Option<u32>)>;
+
+/// [`probe`], and whether it was stopped part-way (with the nodes found until then).
+fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<(Found, bool)> {
     let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, ObjAddr::new(0x1000, 0))).collect();
     progress.start("probing", probes.len() as u64);
     let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(window), &mut |n| progress.advance(n as u64));
     progress.finish();
     let mut found = Vec::new();
+    let mut stopped = false;
     for ((node, _), answer) in probes.iter().zip(answers?) {
         match answer {
             Ok(bytes) => found.push((*node, as_u32(&bytes))),
             Err(Error::SdoAbort { .. }) => found.push((*node, None)),
             Err(e) if e.is_timeout() => {}
+            Err(e) if e.is_interrupted() => stopped = true,
             Err(e) => progress.note(&format!("warning: node {node}: {e}")),
         }
     }
-    Ok(found)
+    Ok((found, stopped))
 }
 
-/// Scan the bus.
+/// Scan the bus. Stopped by the user (over a [`Stoppable`](crate::bus::stoppable::Stoppable)
+/// bus), it reports what it found so far, `interrupted`.
 pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> Result<Scan> {
+    let mut report = Scan {
+        bus: bus.describe(),
+        nodes: Vec::new(),
+        lss_unconfigured: 0,
+        lss_configuration: Configuring::default(),
+        interrupted: false,
+        not_done: Vec::new(),
+    };
+    let mut phase = 0;
+    match scan_into(bus, o, progress, &mut report, &mut phase) {
+        Err(e) if e.is_interrupted() => {
+            progress.finish();
+            report.interrupted = true;
+            report.not_done = PHASES[phase..].iter().map(|p| p.to_string()).collect();
+            Ok(report)
+        }
+        other => other.map(|_| report),
+    }
+}
+
+/// The scan, into `report`; `phase` says which of [`PHASES`] it is in.
+fn scan_into(
+    bus: &mut dyn Bus,
+    o: &ScanOptions,
+    progress: &mut dyn Progress,
+    report: &mut Scan,
+    phase: &mut usize,
+) -> Result<()> {
     // Where the bus's traffic is seen, "any device without a node-id?" goes out with the
     // probes and its answers come in during the same window. The inquiries wait until the
     // probes are answered: a device in configuration state with a node-id would otherwise
@@ -114,7 +169,8 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
         bus.observed().take_lss_answers();
         bus.lss_exchange(&LSS_QUESTIONS[0].encode(), 0, Duration::ZERO, LssWait::Nothing)?;
     }
-    let mut nodes: Vec<Node> = probe(bus, o.window, progress)?
+    let (found, stopped) = probe_until_stopped(bus, o.window, progress)?;
+    report.nodes = found
         .into_iter()
         .map(|(node, device_type)| Node {
             node,
@@ -129,8 +185,14 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
             heartbeat_ms: None,
         })
         .collect();
-    identify(bus, &mut nodes, o.timeout, progress)?;
-    nmt_states(bus, &mut nodes, o)?;
+    if stopped {
+        return Err(Error::Interrupted);
+    }
+    *phase = 1;
+    identify(bus, &mut report.nodes, o.timeout, progress)?;
+    *phase = 2;
+    nmt_states(bus, &mut report.nodes, o)?;
+    *phase = 3;
     let answers = if lss_alongside {
         for q in &LSS_QUESTIONS[1..] {
             bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
@@ -146,12 +208,9 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
         }
         answers
     };
-    Ok(Scan {
-        bus: bus.describe(),
-        nodes,
-        lss_unconfigured: crate::bus::lss::count_non_configured(&answers),
-        lss_configuration: configuring(&answers),
-    })
+    report.lss_unconfigured = crate::bus::lss::count_non_configured(&answers);
+    report.lss_configuration = configuring(&answers);
+    Ok(())
 }
 
 /// Identity, name and heartbeat time of every node, all nodes in parallel.
@@ -167,6 +226,7 @@ fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: 
     progress.start("identity", reads.len() as u64);
     let values = bus.sdo_upload_many(&reads, &SdoOptions::new(timeout), &mut |n| progress.advance(n as u64));
     progress.finish();
+    let mut stopped = false;
     for ((node, addr), value) in reads.iter().zip(values?) {
         let f = nodes.iter_mut().find(|f| f.node == *node).expect("read for a found node");
         match value {
@@ -183,8 +243,12 @@ fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: 
                 } = as_u32(&bytes)
             }
             Err(Error::SdoAbort { .. }) => {}
+            Err(e) if e.is_interrupted() => stopped = true,
             Err(e) => progress.note(&format!("warning: {e}")),
         }
+    }
+    if stopped {
+        return Err(Error::Interrupted);
     }
     Ok(())
 }

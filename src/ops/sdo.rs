@@ -77,6 +77,9 @@ pub struct Written {
     #[serde(serialize_with = "value_json")]
     pub value: Option<Value>,
     pub verified: bool,
+    /// The read-back of `verify` was interrupted (SIGINT, SIGTERM): written, not verified.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub interrupted: bool,
     #[serde(skip)]
     pub bytes: Vec<u8>,
 }
@@ -163,15 +166,60 @@ pub fn write(
     // The read-back of --verify takes back as much as was written.
     opts.max_upload = opts.max_upload.max(bytes.len());
     bus.sdo_download(node, object, &bytes, &opts)?;
+    let mut interrupted = false;
     if o.verify {
-        let back = bus.sdo_upload(node, object, &opts)?;
-        if back != bytes {
-            let (wrote, read) = (shown(dtype, &bytes), shown(dtype, &back));
-            return Err(Error::ReadBack { node, obj: object, wrote, read });
+        match bus.sdo_upload(node, object, &opts) {
+            Ok(back) if back != bytes => {
+                let (wrote, read) = (shown(dtype, &bytes), shown(dtype, &back));
+                return Err(Error::ReadBack { node, obj: object, wrote, read });
+            }
+            Ok(_) => {}
+            Err(e) if e.is_interrupted() => interrupted = true,
+            Err(e) => return Err(e),
         }
     }
     let value = dtype.decode(&bytes);
-    Ok(Written { node, object, dtype, size: bytes.len(), value, verified: o.verify, bytes })
+    Ok(Written {
+        node,
+        object,
+        dtype,
+        size: bytes.len(),
+        value,
+        verified: o.verify && !interrupted,
+        interrupted,
+        bytes,
+    })
+}
+
+/// The report of a read (`write` false) or write of `object` that the user stopped, from
+/// the error that ended it; `None` when that error is no interruption.
+pub fn stopped(node: u8, object: ObjAddr, write: bool, e: &Error) -> Option<super::Stopped> {
+    let (command, verb, dir) = if write { ("sdo write", "write", "to") } else { ("sdo read", "read", "from") };
+    let whole = format!("{verb} of {object} {dir} node {node}");
+    let unchanged = if write {
+        format!("node {node} {object} keeps its previous value")
+    } else {
+        "nothing was changed on the device".to_string()
+    };
+    Some(match e.root() {
+        Error::Interrupted => {
+            super::Stopped::new(command, Vec::new(), vec![whole], format!("{unchanged}: the {verb} had not begun"))
+        }
+        Error::SdoInterrupted { moved, aborted, .. } => {
+            let done = vec![format!("{object}: {moved} {}", if write { "sent" } else { "read (not kept)" })];
+            let how = match aborted {
+                Some(code) => format!(
+                    "the transfer was aborted (SDO abort 0x{code:08X}), so node {node} is ready for the next one{}",
+                    if write { " and takes nothing of an aborted write (CiA 301)" } else { "" }
+                ),
+                None => "stopped between two segments; the EPOS2 protocol has no command to abort a transfer, \
+                         so nothing more was sent"
+                    .to_string(),
+            };
+            super::Stopped::new(command, done, vec![format!("the rest of the {verb}")], format!("{unchanged}; {how}"))
+        }
+        _ => return None,
+    })
 }
 
 /// A value as text by its type, else as hex bytes.

@@ -60,6 +60,14 @@ impl Report for ErrorHistory {
         if self.cleared {
             parts.push(Human::Line(format!("{who}: error history cleared (0x1003:0 reads back 0)")));
         }
+        match self.clear_interrupted {
+            Some(true) => parts.push(Human::Note(format!(
+                "{who}: interrupted: 0 written to 0x1003:0, not confirmed (canctl errors {} shows what is left)",
+                self.node
+            ))),
+            Some(false) => parts.push(Human::Note(format!("{who}: interrupted before clearing: nothing was changed"))),
+            None => {}
+        }
         Human::Parts(parts)
     }
 

@@ -1,8 +1,11 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
-use super::{Human, Report, TestCase, TestSuite};
-use crate::ops::network::{Applied, Checked, Dumped, PROJECT_FILE};
-use std::path::Path;
+use super::{Human, Output, Report, TestCase, TestSuite};
+use crate::ops::network::{Applied, BaudSwitched, Checked, Dumped, PROJECT_FILE};
+use crate::ops::Progress;
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
 pub(crate) struct DumpReport<'a> {
     pub dumped: &'a Dumped,
@@ -176,6 +179,13 @@ impl Report for Applied {
         } else {
             notes.push(format!("{} object(s) {verb} on {} node(s)", self.written, self.nodes.len()));
         }
+        let stopped = self.nodes.iter().filter(|n| n.result.starts_with("interrupted:")).count();
+        if stopped > 0 {
+            notes.push(format!(
+                "interrupted: {stopped} node(s) stopped part-way, each at a point between two transfers (see its \
+                 result for what was written and the state it is left in)"
+            ));
+        }
         let not_begun = self.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).count();
         if not_begun > 0 {
             notes.push(format!(
@@ -183,5 +193,163 @@ impl Report for Applied {
             ));
         }
         notes
+    }
+}
+
+/// `network set-baud`'s report, with the project files it rewrote and what to do with a
+/// link that stayed at the old rate.
+pub(crate) struct SetBaudReport<'a> {
+    pub switched: &'a BaudSwitched,
+    pub updated: &'a [PathBuf],
+    pub hint: String,
+}
+
+impl serde::Serialize for SetBaudReport<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        #[derive(serde::Serialize)]
+        struct Json<'a> {
+            #[serde(flatten)]
+            switched: &'a BaudSwitched,
+            updated: Vec<String>,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            link_to_switch: Option<&'a str>,
+        }
+        Json {
+            switched: self.switched,
+            updated: self.updated.iter().map(|p| p.display().to_string()).collect(),
+            link_to_switch: (self.switched.activated && !self.switched.bus_followed).then_some(self.hint.as_str()),
+        }
+        .serialize(s)
+    }
+}
+
+impl Report for SetBaudReport<'_> {
+    fn human(&self) -> Human {
+        let r = self.switched;
+        let mut parts = vec![Human::Line(format!("configure bit timing {}: {}", r.rate, r.configured.text()))];
+        if let Some(stored) = &r.stored {
+            parts.push(Human::Line(format!("store configuration: {}", stored.text())));
+        }
+        parts.push(Human::Line(match (r.activated, r.bus_followed) {
+            (false, _) => format!(
+                "not activated: {}; every device is back in LSS waiting state at the old rate",
+                r.not_activated.as_deref().unwrap_or("stopped")
+            ),
+            (true, true) => format!(
+                "activated (switch delay {} ms); {} switched with the devices, which are back in LSS waiting state",
+                r.delay_ms, r.bus
+            ),
+            (true, false) => format!(
+                "activated (switch delay {} ms); {} does not switch by itself, so nothing is checked yet: {}; then \
+                 `canctl lss activate --global` or any `canctl lss` command sends the devices back to LSS waiting \
+                 state, and `canctl scan` shows who followed",
+                r.delay_ms, r.bus, self.hint
+            ),
+        }));
+        let yes_no = |b: bool| if b { "yes" } else { "no" }.to_string();
+        let rows = r
+            .nodes
+            .iter()
+            .map(|n| {
+                vec![
+                    n.node.to_string(),
+                    n.name.clone(),
+                    yes_no(n.before),
+                    n.after.map_or("-".to_string(), yes_no),
+                    n.result.clone(),
+                ]
+            })
+            .collect();
+        parts.push(Human::Table { headers: vec!["node", "name", "before", "after", "result"], rows, when_empty: true });
+        Human::Parts(parts)
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let r = self.switched;
+        let mut notes = vec![format!("expected nodes from {}", r.expected_from)];
+        if !r.unexpected.is_empty() {
+            let list: Vec<String> = r.unexpected.iter().map(|n| n.to_string()).collect();
+            notes.push(format!("node(s) {} answer at {} but were not expected", list.join(", "), r.rate));
+        }
+        match r.unconfigured_after {
+            Some(after) if after != r.unconfigured_before => notes.push(format!(
+                "devices without a node-id: {} before the switch, {after} at {}",
+                r.unconfigured_before, r.rate
+            )),
+            _ => {}
+        }
+        for p in self.updated {
+            notes.push(format!("{}: Baudrate set to {}", p.display(), r.rate));
+        }
+        notes
+    }
+}
+
+/// Progress of a network procedure on a terminal: the phase's bar, and under it one line
+/// per node under way (its transfers so far, then its result), cleared at the end. Nothing
+/// is drawn when stderr is not a terminal or with --quiet.
+pub(crate) struct NodeBars<'a> {
+    out: &'a Output,
+    multi: MultiProgress,
+    phase: Option<ProgressBar>,
+    nodes: BTreeMap<String, ProgressBar>,
+}
+
+impl<'a> NodeBars<'a> {
+    pub fn new(out: &'a Output) -> NodeBars<'a> {
+        let target = if out.progress { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+        NodeBars { out, multi: MultiProgress::with_draw_target(target), phase: None, nodes: BTreeMap::new() }
+    }
+
+    fn clear(&mut self) {
+        for (_, bar) in std::mem::take(&mut self.nodes) {
+            bar.finish_and_clear();
+        }
+        if let Some(bar) = self.phase.take() {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+impl Progress for NodeBars<'_> {
+    fn start(&mut self, what: &str, len: u64) {
+        self.clear();
+        self.phase = Some(self.multi.add(self.out.bar(len, what)));
+    }
+    fn advance(&mut self, done: u64) {
+        if let Some(bar) = &self.phase {
+            bar.set_position(done);
+        }
+    }
+    fn finish(&mut self) {
+        self.clear();
+    }
+    fn note(&mut self, text: &str) {
+        self.multi.suspend(|| self.out.note(text));
+    }
+    fn item(&mut self, item: &str, status: &str, finished: bool) {
+        if !self.out.progress {
+            return;
+        }
+        let multi = &self.multi;
+        let bar = self.nodes.entry(item.to_string()).or_insert_with(|| {
+            let bar = multi.add(ProgressBar::new_spinner());
+            bar.set_style(ProgressStyle::with_template("  {prefix:<9} {spinner} {wide_msg}").expect("valid template"));
+            bar.set_prefix(item.to_string());
+            bar
+        });
+        let status = crate::output::terminal_safe(status).into_owned();
+        if finished {
+            bar.finish_with_message(status);
+        } else {
+            bar.set_message(status);
+            bar.tick();
+        }
+    }
+}
+
+impl Drop for NodeBars<'_> {
+    fn drop(&mut self) {
+        self.clear();
     }
 }

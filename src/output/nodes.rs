@@ -22,7 +22,8 @@ fn scan_table(scan: &Scan) -> Human {
 impl Report for Scan {
     fn human(&self) -> Human {
         let mut parts = vec![Human::Note(format!("{} node(s) on {}", self.nodes.len(), self.bus)), scan_table(self)];
-        for f in self.nodes.iter().filter(|f| f.state.is_none()) {
+        // Interrupted before the states were learned: the note at the end says so.
+        for f in self.nodes.iter().filter(|f| f.state.is_none() && !f.state_from.is_empty()) {
             parts.push(Human::Line(format!("node {}: NMT state unknown: {}", f.node, f.state_from)));
         }
         if self.lss_unconfigured > 0 {
@@ -45,6 +46,13 @@ impl Report for Scan {
                 "{} device(s) waiting in LSS configuration state{which} (canctl lss set-id gives a node-id; \
                  `canctl lss set-id 255 --global` or any LSS command sends them back to waiting)",
                 configuring.count
+            )));
+        }
+        if self.interrupted {
+            parts.push(Human::Note(format!(
+                "scan interrupted, incomplete: {} node(s) found so far; not done: {}; nothing was changed on the devices",
+                self.nodes.len(),
+                self.not_done.join(", ")
             )));
         }
         Human::Parts(parts)
@@ -105,7 +113,11 @@ impl Report for Saved {
 
 impl Report for Written {
     fn human(&self) -> Human {
-        let what = if self.verified { "written and verified" } else { "written" };
+        let what = match (self.verified, self.interrupted) {
+            (true, _) => "written and verified",
+            (false, true) => "written; not verified: interrupted before the read-back",
+            (false, false) => "written",
+        };
         let shown = if self.size > 32 { format!("{} bytes", self.size) } else { sdo::shown(self.dtype, &self.bytes) };
         Human::Line(format!("node {} {} = {shown} ({}): {what}", self.node, self.object, self.dtype))
     }

@@ -5,6 +5,7 @@ use super::{Human, Line, Report};
 use crate::ops::config::{Applied, Diff};
 use crate::ops::monitor::{Event, Summary};
 use crate::ops::store::{Restored, Stored};
+use crate::ops::Stopped;
 use crate::settings::SettingsReport;
 use serde_json::{json, Value as J};
 use std::collections::BTreeMap;
@@ -42,6 +43,41 @@ impl Report for crate::sim::serve::Reset {
     }
 }
 
+/// The reports of one command run on several nodes, in order: a JSON array, and each
+/// node's report for people.
+#[derive(serde::Serialize)]
+#[serde(transparent)]
+pub struct Each<R>(pub Vec<R>);
+
+impl<R: Report> Report for Each<R> {
+    fn human(&self) -> Human {
+        Human::Parts(self.0.iter().map(Report::human).collect())
+    }
+}
+
+/// A report that is one sentence, as that sentence.
+pub fn sentence(report: &impl Report) -> Option<String> {
+    match report.human() {
+        Human::Line(text) => Some(text),
+        _ => None,
+    }
+}
+
+impl Report for Stopped {
+    /// Nothing on stdout, where the result would have been: the report is said on stderr.
+    fn human(&self) -> Human {
+        Human::Parts(Vec::new())
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let list = |v: &[String]| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
+        vec![
+            format!("{} interrupted: done {}; not done {}", self.command, list(&self.done), list(&self.not_done)),
+            self.state.clone(),
+        ]
+    }
+}
+
 impl Report for Stored {
     fn human(&self) -> Human {
         Human::Line(format!("node {}: {} stored ({})", self.node, self.class.text(), self.object))
@@ -75,13 +111,20 @@ impl Report for Diff {
     }
 
     fn notes(&self) -> Vec<String> {
-        vec![format!(
+        let mut notes = vec![format!(
             "node {}: {} object(s) differ from {}, {} match",
             self.node,
             self.differences.len(),
             self.file,
             self.same
-        )]
+        )];
+        if self.interrupted {
+            notes.push(format!(
+                "diff interrupted, incomplete: {} object(s) not compared; nothing was changed on the device",
+                self.not_compared
+            ));
+        }
+        notes
     }
 }
 
@@ -132,7 +175,12 @@ impl Line for Event {
 impl Line for Summary {
     fn json(&self) -> J {
         let per_cob: BTreeMap<String, u64> = self.per_cob_id.iter().map(|(c, n)| (format!("0x{c:03X}"), *n)).collect();
-        json!({ "summary": { "frames": self.frames(), "per_cob_id": per_cob, "nodes": self.nodes, "emcy": self.emcy } })
+        let mut summary =
+            json!({ "frames": self.frames(), "per_cob_id": per_cob, "nodes": self.nodes, "emcy": self.emcy });
+        if self.interrupted {
+            summary["interrupted"] = J::Bool(true);
+        }
+        json!({ "summary": summary })
     }
 
     fn csv(&self) -> String {
@@ -149,6 +197,6 @@ impl Line for Summary {
             if cobs.is_empty() { "-".into() } else { cobs.join(" ") },
             if list.is_empty() { "-".into() } else { list.join(", ") },
             self.emcy
-        )
+        ) + if self.interrupted { " (interrupted; nothing was sent to the bus)" } else { "" }
     }
 }

@@ -76,6 +76,8 @@ impl SlcanAdapter {
             Some(FaultKind::Mute) => return Ok(()),
             Some(FaultKind::Nack) => return self.write(&[BELL]),
             Some(FaultKind::Garbage) => self.write(b"\x55junk\r")?,
+            // Busy: the line and everything after it are answered late, in order.
+            Some(FaultKind::Late) => std::thread::sleep(super::serial_fault::LATE),
             _ => {}
         }
         let answer = match decode_command(line) {

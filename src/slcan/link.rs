@@ -12,6 +12,8 @@ use std::time::{Duration, Instant};
 /// How long an adapter may take to answer a configuration command. Adapters answer from
 /// their firmware, without the bus, so this does not depend on the devices.
 const COMMAND_WAIT: Duration = Duration::from_millis(500);
+/// How long an adapter may take to answer `V` behind the lines it was still working on.
+const SYNC_WAIT: Duration = Duration::from_secs(2);
 
 /// When reading stops before its deadline.
 #[derive(Clone, Copy)]
@@ -52,12 +54,9 @@ impl<P: SerialIo> SlcanLink<P> {
             garbled: 0,
             extended: 0,
         };
-        // Empty lines end whatever half-command an earlier program left in the adapter;
-        // what it answers to them, and anything older, is discarded.
+        // Empty lines end whatever half-command an earlier program left in the adapter.
         link.write(b"\r\r\r")?;
-        link.drain_for(Duration::from_millis(20))?;
-        link.port.discard_input().map_err(|e| link.io_error("cannot clear the input", e))?;
-        link.decoder = Decoder::new();
+        link.resynchronise()?;
         // A channel left open by another program must be closed before the rate can change;
         // closing a closed channel is refused by some adapters, which is fine.
         link.command(Command::Close, "close the channel").ok();
@@ -109,6 +108,29 @@ impl<P: SerialIo> SlcanLink<P> {
 
     fn drain_for(&mut self, wait: Duration) -> Result<()> {
         self.read_until(Instant::now() + wait, Until::Deadline).map(|_| ())
+    }
+
+    /// Forget what the adapter said before now: the answers to the empty lines just sent,
+    /// and anything an earlier program left unread. A busy adapter may answer those long
+    /// after any fixed pause, so the end of them is marked by asking its version: what
+    /// comes before that answer is old. An adapter that does not answer `V` gets a pause.
+    fn resynchronise(&mut self) -> Result<()> {
+        self.write(&Command::Version.encode())?;
+        let deadline = Instant::now() + SYNC_WAIT;
+        let mut synced = false;
+        while !synced && Instant::now() < deadline {
+            let answers = self.read_until(deadline, Until::Answer)?;
+            synced = answers.iter().any(|m| matches!(m, Message::Version(_)));
+        }
+        if !synced {
+            tracing::debug!(target: "canctl::slcan", "{}: no answer to V in {SYNC_WAIT:?}", self.name);
+            self.drain_for(Duration::from_millis(20))?;
+            self.port.discard_input().map_err(|e| self.io_error("cannot clear the input", e))?;
+            self.decoder = Decoder::new();
+        }
+        // Frames heard before the channel is set up again are not this program's.
+        self.rx.clear();
+        Ok(())
     }
 
     /// Send a configuration command (`what` it does, for a refusal) and wait for its answer.
@@ -275,6 +297,7 @@ mod tests {
             Some(b't') if cmd.starts_with(b"t601") => b"z\rt581843001000FB000000\r".to_vec(),
             Some(b't') => b"z\r".to_vec(),
             Some(b'F') => b"F00\r".to_vec(),
+            Some(b'V') => b"V1013\r".to_vec(),
             Some(b'\r') => b"\x07\x07\x07".to_vec(),
             _ => b"\r".to_vec(),
         }
@@ -283,7 +306,7 @@ mod tests {
     #[test]
     fn open_sets_the_rate_and_opens_then_frames_flow() {
         let mut link = SlcanLink::open(Adapter::new(good), "slcan:test".into(), 500).unwrap();
-        assert_eq!(link.port.written, b"\r\r\rC\rS6\rO\r");
+        assert_eq!(link.port.written, b"\r\r\rV\rC\rS6\rO\r");
         link.send(&Frame::new(0x601, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0])).unwrap();
         let got = link.recv(Instant::now() + Duration::from_millis(100)).unwrap().unwrap();
         assert_eq!(got, Frame::new(0x581, &[0x43, 0x00, 0x10, 0x00, 0xFB, 0, 0, 0]));

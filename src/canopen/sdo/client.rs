@@ -176,6 +176,23 @@ impl SdoClient {
         self.fell_back
     }
 
+    /// Whether this transfer reads from the server.
+    pub fn is_upload(&self) -> bool {
+        self.upload
+    }
+
+    /// How many frames the server will still send for what this client has already sent,
+    /// were it stopped now: the rest of a sub-block it is sending, or the one answer to
+    /// the request it has. After an abort, a server that finishes what it started sends
+    /// them anyway; a program that leaves before they arrive hands them to the next one.
+    pub fn answers_in_flight(&self) -> usize {
+        match self.state {
+            State::BlockUploadData { expected } => usize::from(self.blksize).saturating_sub(usize::from(expected) - 1),
+            State::Finished => 0,
+            _ => 1,
+        }
+    }
+
     /// Bytes moved so far, and the total when known.
     pub fn progress(&self) -> (usize, Option<usize>) {
         if self.upload {

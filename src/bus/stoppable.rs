@@ -1,0 +1,181 @@
+//! A bus that heeds a request to stop (SIGINT, SIGTERM, Ctrl-C): once it is set, every
+//! service ends with [`Error::Interrupted`] before it sends anything, an SDO transfer under
+//! way ends with an abort sent to the device ([`SdoOptions::stop`]), and a wait for frames
+//! ends early. A procedure run over it stops at its next call to the bus and turns the
+//! error into its partial report; one that must still talk to the bus after a stop (to
+//! put a PDO mapping back, say) polls the flag itself over the plain bus instead.
+
+use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions};
+use crate::canopen::nmt::Command;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// How often a wait for frames looks at the request to stop.
+const POLL: Duration = Duration::from_millis(50);
+
+/// `bus`, stopping once `stop` is set.
+pub struct Stoppable<'a> {
+    bus: &'a mut dyn Bus,
+    stop: Arc<AtomicBool>,
+}
+
+impl<'a> Stoppable<'a> {
+    pub fn new(bus: &'a mut dyn Bus, stop: Arc<AtomicBool>) -> Self {
+        Stoppable { bus, stop }
+    }
+
+    fn check(&self) -> Result<()> {
+        if self.stop.load(Ordering::SeqCst) {
+            return Err(Error::Interrupted);
+        }
+        Ok(())
+    }
+
+    fn heeding(&self, opts: &SdoOptions) -> SdoOptions {
+        SdoOptions { stop: Some(Arc::clone(&self.stop)), ..opts.clone() }
+    }
+}
+
+impl Bus for Stoppable<'_> {
+    fn describe(&self) -> String {
+        self.bus.describe()
+    }
+    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+        self.check()?;
+        let opts = self.heeding(opts);
+        self.bus.sdo_upload(node, addr, &opts)
+    }
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+        self.check()?;
+        let opts = self.heeding(opts);
+        self.bus.sdo_download(node, addr, data, &opts)
+    }
+    fn sdo_upload_many(
+        &mut self,
+        requests: &[(u8, ObjAddr)],
+        opts: &SdoOptions,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Vec<Result<Vec<u8>>>> {
+        self.check()?;
+        let opts = self.heeding(opts);
+        self.bus.sdo_upload_many(requests, &opts, progress)
+    }
+    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
+        self.check()?;
+        let jobs: Vec<SdoJob> = jobs
+            .iter()
+            .map(|j| match j {
+                SdoJob::Upload { node, addr, opts } => {
+                    SdoJob::Upload { node: *node, addr: *addr, opts: self.heeding(opts) }
+                }
+                SdoJob::Download { node, addr, data, opts } => {
+                    SdoJob::Download { node: *node, addr: *addr, data: data.clone(), opts: self.heeding(opts) }
+                }
+            })
+            .collect();
+        self.bus.sdo_many(&jobs)
+    }
+    fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
+        self.check()?;
+        self.bus.nmt(cmd, node)
+    }
+    fn send_frame(&mut self, frame: &Frame) -> Result<()> {
+        self.check()?;
+        self.bus.send_frame(frame)
+    }
+    fn sees_traffic(&self) -> bool {
+        self.bus.sees_traffic()
+    }
+    fn follows_bit_rate_switch(&self) -> bool {
+        self.bus.follows_bit_rate_switch()
+    }
+    /// Waits in short slices, so that a stop ends the wait within one of them.
+    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        loop {
+            self.check()?;
+            let slice = deadline.min(Instant::now() + POLL);
+            if let Some(f) = self.bus.recv_frame(slice)? {
+                return Ok(Some(f));
+            }
+            if Instant::now() >= deadline {
+                return Ok(None);
+            }
+        }
+    }
+    fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
+        self.check()?;
+        self.bus.request_frame(id, len, timeout)
+    }
+    fn lss_exchange(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>> {
+        self.check()?;
+        self.bus.lss_exchange(request, expect, wait, collect)
+    }
+    fn observed(&mut self) -> &mut Observed {
+        self.bus.observed()
+    }
+    fn close(&mut self) -> Result<()> {
+        self.bus.close()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::SimLink;
+
+    #[test]
+    fn once_stopped_nothing_more_is_sent() {
+        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
+        let stop = Arc::new(AtomicBool::new(false));
+        let mut s = Stoppable::new(&mut bus, Arc::clone(&stop));
+        let opts = SdoOptions::new(Duration::from_secs(1));
+        s.sdo_upload(5, ObjAddr::new(0x1017, 0), &opts).unwrap();
+        stop.store(true, Ordering::SeqCst);
+        assert!(matches!(s.sdo_upload(5, ObjAddr::new(0x1017, 0), &opts), Err(Error::Interrupted)));
+        assert!(matches!(s.nmt(Command::Start, 5), Err(Error::Interrupted)));
+        let far = Instant::now() + Duration::from_secs(3600);
+        assert!(matches!(s.recv_frame(far), Err(Error::Interrupted)));
+    }
+
+    /// Stopped in the middle of a block download: the transfer ends with an abort, the
+    /// error says how far it got, and the device (which would otherwise take the next
+    /// request for a segment of the block) answers the next transfer.
+    #[test]
+    fn a_transfer_under_way_is_aborted_and_the_device_is_ready_for_the_next() {
+        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
+        let stop = Arc::new(AtomicBool::new(false));
+        let domain = ObjAddr::new(0x1F50, 1);
+        let opts = SdoOptions::new(Duration::from_secs(1));
+        let before = bus.sdo_upload(1, domain, &SdoOptions { block_upload: true, ..opts.clone() }).unwrap();
+        let mut s = Stoppable::new(&mut bus, Arc::clone(&stop));
+        let flag = Arc::clone(&stop);
+        let at_second_block: crate::bus::TransferHook = Arc::new(move |moved| {
+            if moved > 7 * 127 {
+                flag.store(true, Ordering::SeqCst)
+            }
+        });
+        let hooked = SdoOptions { on_progress: Some(at_second_block), ..opts.clone() };
+        let err = s.sdo_download(1, domain, &vec![0x55; 5000], &hooked).unwrap_err();
+        match err {
+            Error::SdoInterrupted { node: 1, obj, upload: false, moved, aborted: Some(0x0800_0000) } => {
+                assert_eq!(obj, domain);
+                assert_eq!(moved.total, Some(5000));
+                assert!(moved.bytes > 7 * 127 && moved.bytes < 5000, "{moved:?}");
+            }
+            other => panic!("{other:?}"),
+        }
+        // Over the plain bus (the stop is the command's, not the device's): ready, unchanged.
+        drop(s);
+        assert_eq!(bus.sdo_upload(1, domain, &SdoOptions { block_upload: true, ..opts }).unwrap(), before);
+    }
+}
