@@ -85,3 +85,47 @@ fn judged_from_the_moment_of_reading_the_same_producer_looks_late() {
     assert!(!on_time);
     assert!(longest_gap.is_some_and(|g| g >= STALL.as_millis() as u64), "{longest_gap:?}");
 }
+
+/// The simulated bus, with a master descheduled for 300 ms, far longer than the
+/// transfers' timeout, right after its `at`-th frame (counting down).
+struct HeldUpOnce {
+    sim: SimLink,
+    at: usize,
+}
+
+impl FrameLink for HeldUpOnce {
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        self.sim.send(frame)?;
+        self.at = self.at.saturating_sub(1);
+        if self.at == 1 {
+            std::thread::sleep(STALL);
+        }
+        Ok(())
+    }
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        self.sim.recv(deadline)
+    }
+    fn recv_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        self.sim.recv_stamped(deadline)
+    }
+    fn name(&self) -> String {
+        self.sim.name()
+    }
+}
+
+/// Answers that came in time, and waited to be read while canctl was held up, are
+/// answers: no node is reported silent because of this program's own scheduling.
+#[test]
+fn sdo_answers_that_waited_while_canctl_was_held_up_count() {
+    use canctl::bus::SdoOptions;
+    use canctl::canopen::ObjAddr;
+    // Four requests, then the I/O module's first answer (its name is segmented) is
+    // answered with a segment request: held up there, with the stepper's answer waiting.
+    let mut bus = Master::new(HeldUpOnce { sim: SimLink::ephemeral(), at: 6 }, "sim".into());
+    let requests = [(1, 0x1000), (5, 0x1000), (10, 0x1008), (32, 0x1000)].map(|(n, i)| (n, ObjAddr::new(i, 0)));
+    let opts = SdoOptions::new(Duration::from_millis(100));
+    let answers = bus.sdo_upload_many(&requests, &opts, &mut |_| {}).unwrap();
+    for ((node, _), a) in requests.iter().zip(answers) {
+        assert!(a.is_ok(), "node {node}: {}", a.unwrap_err());
+    }
+}

@@ -180,25 +180,34 @@ impl<L: FrameLink> Master<L> {
             if active.is_empty() {
                 break;
             }
-            // Checked on every turn, not only when the link is quiet: on a busy bus frames
-            // keep coming and a transfer must still end on time.
+            // A transfer is given up at its deadline in bus time: the frame at hand is
+            // judged by when it was on the bus, so answers that came in time but waited to
+            // be read (this program was not running) still count. Checked on every frame,
+            // not only when the link is quiet: on a busy bus frames keep coming and a
+            // transfer must still end on time.
             let now = self.link.now();
+            let Some(deadline) = active.values().map(|a| deadline_of(a, quiet_from)).min() else { continue };
+            let wake = match deadline {
+                d if d <= now => now,
+                d if watch.stop.is_some() => d.min(now + STOP_POLL),
+                d => d,
+            };
+            let received = self.recv_stamped(wake)?;
+            let at = received.as_ref().map_or_else(|| self.link.now(), |(_, at)| *at);
             let expired: Vec<u8> =
-                active.iter().filter(|(_, a)| deadline_of(a, quiet_from) <= now).map(|(n, _)| *n).collect();
+                active.iter().filter(|(_, a)| deadline_of(a, quiet_from) <= at).map(|(n, _)| *n).collect();
             for node in expired {
                 let a = active.remove(&node).expect("active");
                 let addr = a.client.addr();
                 if a.heard {
                     self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
                 }
-                results[a.slot] = Some(Err(expiry_error(node, &a, now, timeout)));
+                results[a.slot] = Some(Err(expiry_error(node, &a, at, timeout)));
                 finished += 1;
                 progress(finished);
                 self.start_next(node, &mut queues, &mut active, timeout)?;
             }
-            let Some(deadline) = active.values().map(|a| deadline_of(a, quiet_from)).min() else { continue };
-            let wake = if watch.stop.is_some() { deadline.min(self.link.now() + STOP_POLL) } else { deadline };
-            let Some(f) = self.recv(wake)? else { continue };
+            let Some((f, _)) = received else { continue };
             let node = f.id().wrapping_sub(0x580);
             if f.is_remote() || !(1..=127).contains(&node) {
                 continue;
@@ -214,14 +223,18 @@ impl<L: FrameLink> Master<L> {
             match outcome {
                 Ok(step) => {
                     if step.progress {
-                        let now = self.link.now();
-                        quiet_from = now;
-                        a.idle_deadline = now + timeout;
+                        quiet_from = at;
+                        a.idle_deadline = at + timeout;
                         // The size may have become known: the budget follows it.
                         a.total_deadline = a.started + a.client.time_budget(timeout);
                     }
                     for p in &step.send {
                         self.send(&Frame::new(sdo::request_cob(node), p))?;
+                    }
+                    // The server's answer to a request counts from when it was sent, however
+                    // long ago the answer that led to it was on the bus.
+                    if step.progress && !step.send.is_empty() {
+                        a.idle_deadline = a.idle_deadline.max(self.link.now() + timeout);
                     }
                     if let (true, None, Some(hook)) = (step.progress, &step.done, &watch.on_progress) {
                         hook(a.client.progress().0);
