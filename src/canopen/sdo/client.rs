@@ -187,7 +187,9 @@ impl SdoClient {
     /// them anyway; a program that leaves before they arrive hands them to the next one.
     pub fn answers_in_flight(&self) -> usize {
         match self.state {
-            State::BlockUploadData { expected } => usize::from(self.blksize).saturating_sub(usize::from(expected) - 1),
+            State::BlockUploadData { expected } => {
+                usize::from(self.blksize).saturating_sub(usize::from(expected.saturating_sub(1)))
+            }
             State::Finished => 0,
             _ => 1,
         }
