@@ -13,6 +13,7 @@
 //! | [`epos2`] | pure framing and CRC, the two serial transports, the gateway that implements `Bus` | `bus` (the trait), `canopen`, `frame`, `error` |
 //! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 serial device; `sim::serve` puts them behind an interface or a pty | `bus` (the trait), `canopen`, `od`, `epos2`, `frame` |
 //! | [`od`] | object dictionaries, EDS/DCF read and write, object names | `canopen` |
+//! | [`cancel`] | the one request to stop ([`cancel::Cancel`]), taken by every procedure and bus wrapper that heeds it | `error` |
 //! | [`canopen`] | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O | `frame`, `error` |
 //!
 //! # Where things go
@@ -31,6 +32,7 @@
 
 pub mod atomic;
 pub mod bus;
+pub mod cancel;
 pub mod canopen;
 #[cfg(feature = "cli")]
 pub mod cli;

@@ -1,6 +1,8 @@
 use clap::{CommandFactory, FromArgMatches};
 
 fn main() {
+    // Before anything else, so that a SIGTERM at any moment is a request to stop, reported.
+    canctl::cli::install_interrupt();
     // COMPLETE=bash|zsh|fish|... : answer the shell's completion request and exit.
     canctl::cli::complete_from_env();
     let matches = canctl::cli::Cli::command().try_get_matches().unwrap_or_else(|e| usage_error(e));

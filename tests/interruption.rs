@@ -363,20 +363,20 @@ fn stream_pdo_map_interrupted_while_remapping_puts_the_mapping_back() {
 fn the_library_stops_at_its_flag() {
     use canctl::bus::{self, BusAddr, OpenOptions};
     use canctl::ops::config::{self, ApplyOptions, Dcf};
-    use std::sync::atomic::AtomicBool;
-    use std::sync::Arc;
+    use canctl::ops::Cancel;
     let mut opts = OpenOptions::new(std::time::Duration::from_millis(500));
     opts.ephemeral = true;
     let mut bus = bus::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap();
     let dcf = Dcf::parse(include_bytes!("../examples/sensor.dcf"), "sensor.dcf").unwrap();
     let mut o = ApplyOptions::new(std::time::Duration::from_millis(500));
-    o.interrupted = Some(Arc::new(AtomicBool::new(true)));
+    o.interrupted = Cancel::new();
+    o.interrupted.cancel();
     let applied = config::apply(bus.as_mut(), 5, &dcf, &o).unwrap();
     assert!(applied.interrupted && applied.written.is_empty());
     assert!(applied.state.as_deref().unwrap().contains("nothing was written"), "{:?}", applied.state);
     assert_eq!(applied.outcome().unwrap_err().exit_code(), 130);
     // Not set: the same file applies in full.
-    o.interrupted = Some(Arc::new(AtomicBool::new(false)));
+    o.interrupted = Cancel::new();
     let applied = config::apply(bus.as_mut(), 5, &dcf, &o).unwrap();
     assert!(!applied.interrupted && !applied.written.is_empty());
     applied.outcome().unwrap();

@@ -15,9 +15,9 @@ use canctl::ops::scan::{self, ScanOptions};
 use canctl::ops::scan_cache::SeenNode;
 use canctl::ops::sdo::{self, ReadOptions, WriteOptions};
 use canctl::ops::store::{self, Class, Timeouts};
+use canctl::ops::Cancel;
 use canctl::ops::Progress;
 use canctl::Error;
-use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 const TIMEOUT: Duration = Duration::from_millis(500);
@@ -143,7 +143,7 @@ fn the_sensors_tpdo_streams_and_the_session_is_put_back() {
         timeout: TIMEOUT,
         silence: None,
     };
-    let never = AtomicBool::new(false);
+    let never = Cancel::new();
     let mut stream = Stream::new(bus.as_ref(), SENSOR, &layouts, opts, &never);
     let mut records = Vec::new();
     while let Some(r) = stream.next(bus.as_mut(), &mut progress).unwrap() {
@@ -297,7 +297,7 @@ const DEMO_NODES: [u8; 4] = [1, 5, 10, 32];
 fn lss_assign_numbers_every_device_without_a_node_id_and_says_so() {
     use canctl::ops::lss::{self, AssignOptions, FastscanOptions, Target};
     let mut bus = demo();
-    let never = AtomicBool::new(false);
+    let never = Cancel::new();
     let o = AssignOptions { start: 20, fastscan: FastscanOptions::new(TIMEOUT), listen: None, store: true };
     let mut progress = Recorder::default();
     let report = lss::assign(bus.as_mut(), &o, &mut progress, &never).unwrap();
@@ -330,7 +330,7 @@ fn lss_assign_numbers_every_device_without_a_node_id_and_says_so() {
 fn lss_fastscan_finds_a_device_that_set_id_then_numbers() {
     use canctl::ops::lss::{self, FastscanOptions, Setting, Target};
     let mut bus = demo();
-    let never = AtomicBool::new(false);
+    let never = Cancel::new();
     let found = lss::fastscan(bus.as_mut(), &FastscanOptions::new(TIMEOUT), &never).unwrap();
     assert!(found.steps > 0 && found.step_ms > 0, "{found:?}");
     let before = lss::inquire(bus.as_mut(), TIMEOUT, Target::One(found.identity.0)).unwrap();

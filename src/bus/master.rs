@@ -3,6 +3,7 @@
 
 use super::trace::{self, Dir};
 use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
+use crate::cancel::Cancel;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
 use crate::canopen::sdo::{self, SdoClient, SdoError};
@@ -10,8 +11,7 @@ use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, LinkError, Moved, NodeIdRange, Result, Service, Unfinished};
 use crate::frame::Frame;
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+
 use std::time::{Duration, Instant};
 
 /// How often transfers that may be stopped look at the request to stop while they wait.
@@ -21,7 +21,7 @@ const STOP_POLL: Duration = Duration::from_millis(50);
 /// when a transfer moves on ([`SdoOptions::stop`], [`SdoOptions::on_progress`]).
 #[derive(Default)]
 struct Watch {
-    stop: Option<Arc<AtomicBool>>,
+    stop: Option<Cancel>,
     on_progress: Option<TransferHook>,
 }
 
@@ -36,7 +36,7 @@ impl Watch {
     }
 
     fn stopped(&self) -> bool {
-        self.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst))
+        self.stop.as_ref().is_some_and(Cancel::is_cancelled)
     }
 }
 

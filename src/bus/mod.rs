@@ -11,11 +11,11 @@ pub mod tap;
 pub mod trace;
 pub mod uri;
 
+pub use crate::cancel::Cancel;
 use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::frame::Frame;
-use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -81,7 +81,7 @@ pub struct SdoOptions {
     /// [`Error::SdoInterrupted`](crate::Error::SdoInterrupted); one still waiting for its
     /// first answer is let finish (its request may have done its work already); those not
     /// begun end with [`Error::Interrupted`](crate::Error::Interrupted).
-    pub stop: Option<Arc<AtomicBool>>,
+    pub stop: Option<Cancel>,
     /// Called with the bytes moved so far each time an answer moves a transfer on (a
     /// segment, a sub-block): for progress, and for tests that act at an exact point of a
     /// transfer.
@@ -90,7 +90,7 @@ pub struct SdoOptions {
 
 /// Whether the user asked to stop the transfers of `opts`.
 fn stopped(opts: &SdoOptions) -> bool {
-    opts.stop.as_ref().is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst))
+    opts.stop.as_ref().is_some_and(Cancel::is_cancelled)
 }
 
 /// What [`SdoOptions::on_progress`] calls.

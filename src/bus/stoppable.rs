@@ -6,12 +6,11 @@
 //! put a PDO mapping back, say) polls the flag itself over the plain bus instead.
 
 use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions};
+use crate::cancel::Cancel;
 use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::frame::Frame;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// How often a wait for frames looks at the request to stop.
@@ -20,23 +19,20 @@ const POLL: Duration = Duration::from_millis(50);
 /// `bus`, stopping once `stop` is set.
 pub struct Stoppable<'a> {
     bus: &'a mut dyn Bus,
-    stop: Arc<AtomicBool>,
+    stop: Cancel,
 }
 
 impl<'a> Stoppable<'a> {
-    pub fn new(bus: &'a mut dyn Bus, stop: Arc<AtomicBool>) -> Self {
+    pub fn new(bus: &'a mut dyn Bus, stop: Cancel) -> Self {
         Stoppable { bus, stop }
     }
 
     fn check(&self) -> Result<()> {
-        if self.stop.load(Ordering::SeqCst) {
-            return Err(Error::Interrupted);
-        }
-        Ok(())
+        self.stop.check()
     }
 
     fn heeding(&self, opts: &SdoOptions) -> SdoOptions {
-        SdoOptions { stop: Some(Arc::clone(&self.stop)), ..opts.clone() }
+        SdoOptions { stop: Some(self.stop.clone()), ..opts.clone() }
     }
 }
 
@@ -132,15 +128,16 @@ impl Bus for Stoppable<'_> {
 mod tests {
     use super::*;
     use crate::sim::SimLink;
+    use crate::Error;
 
     #[test]
     fn once_stopped_nothing_more_is_sent() {
         let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
-        let stop = Arc::new(AtomicBool::new(false));
-        let mut s = Stoppable::new(&mut bus, Arc::clone(&stop));
+        let stop = Cancel::new();
+        let mut s = Stoppable::new(&mut bus, stop.clone());
         let opts = SdoOptions::new(Duration::from_secs(1));
         s.sdo_upload(5, ObjAddr::new(0x1017, 0), &opts).unwrap();
-        stop.store(true, Ordering::SeqCst);
+        stop.cancel();
         assert!(matches!(s.sdo_upload(5, ObjAddr::new(0x1017, 0), &opts), Err(Error::Interrupted)));
         assert!(matches!(s.nmt(Command::Start, 5), Err(Error::Interrupted)));
         let far = Instant::now() + Duration::from_secs(3600);
@@ -153,15 +150,14 @@ mod tests {
     #[test]
     fn a_transfer_under_way_is_aborted_and_the_device_is_ready_for_the_next() {
         let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
-        let stop = Arc::new(AtomicBool::new(false));
+        let stop = Cancel::new();
         let domain = ObjAddr::new(0x1F50, 1);
         let opts = SdoOptions::new(Duration::from_secs(1));
         let before = bus.sdo_upload(1, domain, &SdoOptions { block_upload: true, ..opts.clone() }).unwrap();
-        let mut s = Stoppable::new(&mut bus, Arc::clone(&stop));
-        let flag = Arc::clone(&stop);
-        let at_second_block: crate::bus::TransferHook = Arc::new(move |moved| {
+        let mut s = Stoppable::new(&mut bus, stop.clone());
+        let at_second_block: crate::bus::TransferHook = std::sync::Arc::new(move |moved| {
             if moved > 7 * 127 {
-                flag.store(true, Ordering::SeqCst)
+                stop.cancel()
             }
         });
         let hooked = SdoOptions { on_progress: Some(at_second_block), ..opts.clone() };

@@ -155,10 +155,9 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
 }
 
 fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
-    super::interrupt::catch();
     let bus = &mut super::interrupt::with_test_signal(bus);
     let options = ApplyOptions {
-        interrupted: Some(super::interrupt::shared()),
+        interrupted: ctx.cancel.clone(),
         timeout: ctx.timeout,
         dry_run: a.dry_run,
         verify: a.verify,

@@ -79,10 +79,9 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<(
         DriveCommand::QuickStop(a) => (a, Goal::QuickStop),
         DriveCommand::FaultReset(a) => (a, Goal::FaultReset),
     };
-    super::interrupt::catch();
     let bus = &mut super::interrupt::with_test_signal(bus);
     let o = Options { timeout: ctx.timeout, wait: args.wait };
-    let walk = drive::walk(bus, args.node, goal, &o, super::interrupt::flag())?;
+    let walk = drive::walk(bus, args.node, goal, &o, &ctx.cancel)?;
     ctx.out.report(&walk)?;
     Ok(walk.outcome()?)
 }
@@ -98,7 +97,6 @@ fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
     if !a.watch {
         return Ok(());
     }
-    super::interrupt::catch();
     let operational = bus.sees_traffic()
         && nmt::state(bus, a.node, &StateOptions { listen: Duration::from_millis(300), timeout: ctx.timeout })
             .is_ok_and(|s| s.state == crate::canopen::nmt::State::Operational);
@@ -110,7 +108,7 @@ fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let mut last = None;
-    while !super::interrupt::requested() {
+    while !ctx.cancel.is_cancelled() {
         // Short rounds, so that an interruption is seen within one.
         if let Some(change) = watch.next(bus, Instant::now() + Duration::from_millis(100))? {
             ctx.out.line(&mut out, &change)?;

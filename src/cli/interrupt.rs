@@ -8,42 +8,44 @@
 use crate::bus::stoppable::Stoppable;
 use crate::bus::tap::{AfterSdo, Transfer};
 use crate::bus::{Bus, TransferHook};
-use std::sync::atomic::AtomicU32;
-use std::sync::atomic::{AtomicBool, Ordering};
+use crate::cancel::Cancel;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, LazyLock};
 use std::time::{Duration, Instant};
 
-static REQUESTED: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
+/// The program's one request to stop, set by the handler [`install`] puts in place.
+static REQUESTED: LazyLock<Cancel> = LazyLock::new(Cancel::new);
 
-/// From now on an interruption sets the flag instead of ending the process.
-pub fn catch() {
+/// Called first thing in `main`, whatever the command: from then on an interruption sets
+/// the program's [`Cancel`] instead of ending the process, so a stop that comes while the
+/// bus opens, or before the command's first step, is still seen and reported (exit 130).
+/// Installed lazily by each command, a supervisor's SIGTERM in that window killed canctl
+/// with no report. A second request ends the process at once: the user asked twice.
+pub fn install() -> Cancel {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         // Only fails when a handler is already set, which `ONCE` rules out.
-        let _ = ctrlc::set_handler(|| REQUESTED.store(true, Ordering::SeqCst));
+        let _ = ctrlc::set_handler(|| {
+            if REQUESTED.is_cancelled() {
+                eprintln!("canctl: interrupted again: stopped at once, what was under way may be half done");
+                std::process::exit(crate::error::ErrorClass::Interrupted.exit_code());
+            }
+            REQUESTED.cancel();
+        });
     });
+    REQUESTED.clone()
 }
 
+/// The program's request to stop (the one [`install`] put in place).
 pub fn requested() -> bool {
-    REQUESTED.load(Ordering::SeqCst)
-}
-
-/// The flag itself, for library procedures that poll it.
-pub fn flag() -> &'static AtomicBool {
-    &REQUESTED
-}
-
-/// The flag, shared, for library options that keep it.
-pub fn shared() -> Arc<AtomicBool> {
-    Arc::clone(&REQUESTED)
+    REQUESTED.is_cancelled()
 }
 
 /// Run `f` over `bus` so that an interruption stops it at its next call to the bus (an SDO
 /// transfer under way aborted), with the test signal of [`TEST_SIGNAL`] when that is set.
 pub fn stoppable<T>(bus: &mut dyn Bus, f: impl FnOnce(&mut dyn Bus) -> T) -> T {
-    catch();
     let mut tapped = with_test_signal(bus);
-    let mut guarded = Stoppable::new(&mut tapped, shared());
+    let mut guarded = Stoppable::new(&mut tapped, REQUESTED.clone());
     f(&mut guarded)
 }
 
@@ -57,7 +59,8 @@ pub fn stopped_reading(ctx: &super::Ctx, command: &str, not_done: String) -> any
 /// The environment variable of the kill-at-every-step tests: `K:SIGNAL` (INT, TERM, KILL)
 /// sends that signal to this process right after its K-th SDO write was answered (`rK:`:
 /// its K-th SDO read, those of a batch each as it ends; `nK:` its K-th NMT command; `sK:`
-/// the K-th answer that moved an SDO transfer on: a segment, a sub-block). It makes the
+/// the K-th answer that moved an SDO transfer on: a segment, a sub-block; `o1:` once the
+/// bus is open, before the command's first step). It makes the
 /// point of interruption exact without timing; nothing else reads it.
 pub const TEST_SIGNAL: &str = "CANCTL_TEST_SIGNAL_AFTER_WRITES";
 
@@ -66,6 +69,7 @@ pub const TEST_SIGNAL: &str = "CANCTL_TEST_SIGNAL_AFTER_WRITES";
 enum Point {
     After(Transfer),
     Segment,
+    Opened,
 }
 
 fn test_plan() -> Option<(Point, u32, String)> {
@@ -76,6 +80,7 @@ fn test_plan() -> Option<(Point, u32, String)> {
         ("r", k) => (Point::After(Transfer::Upload), k),
         ("n", k) => (Point::After(Transfer::Nmt), k),
         ("s", k) => (Point::Segment, k),
+        ("o", k) => (Point::Opened, k),
         _ => return None,
     };
     Some((point, k.parse().ok()?, sig.to_string()))
@@ -103,6 +108,13 @@ pub fn with_test_signal(bus: &mut dyn Bus) -> AfterSdo<'_, impl FnMut(Transfer, 
     .with_progress_hook(segment_hook)
 }
 
+/// The bus is open: the test signal of [`TEST_SIGNAL`] when it asks for this point.
+pub fn opened() {
+    if let Some((Point::Opened, _, sig)) = test_plan() {
+        raise_and_wait(&sig);
+    }
+}
+
 fn raise_and_wait(sig: &str) {
     raise(sig);
     // The handler runs on its own thread: the signal counts once it has set the flag.
@@ -126,5 +138,5 @@ fn raise(sig: &str) {
 
 #[cfg(not(unix))]
 fn raise(_: &str) {
-    REQUESTED.store(true, Ordering::SeqCst);
+    REQUESTED.cancel();
 }

@@ -1,6 +1,6 @@
 //! `canctl lss`: node-ids and bit rates for devices that have none or share one (CiA 305).
 
-use super::{interrupt, Ctx};
+use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::lss::{parse_bit_rate, Identity, UNCONFIGURED};
 use crate::error::Error;
@@ -196,8 +196,7 @@ fn no_node(node: Option<u8>, verb: &str) -> crate::Result<()> {
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()> {
     // An interruption is noted and acted on between steps, so that no device is left in
     // configuration state.
-    interrupt::catch();
-    let (t, stop) = (ctx.timeout, interrupt::flag());
+    let (t, stop) = (ctx.timeout, &ctx.cancel);
     let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> anyhow::Result<()> {
         let done = lss::configure(bus, t, target.get(setting.verb())?, setting, stop)?;
         ctx.out.report(&done)?;
@@ -226,7 +225,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
         }
     }
     // A command that finished its last step anyway still says it was interrupted.
-    if interrupt::requested() {
+    if ctx.cancel.is_cancelled() {
         return Err(Error::Interrupted.into());
     }
     Ok(())

@@ -178,6 +178,14 @@ pub struct Ctx {
     pub dicts: objects::Dictionaries,
     /// The bus URI in force (flag, CANCTL_BUS or settings file).
     pub bus: Option<String>,
+    /// The program's request to stop, caught from the start ([`install_interrupt`]).
+    pub cancel: crate::cancel::Cancel,
+}
+
+/// Catch SIGINT, SIGTERM, Ctrl-C and Ctrl-Break as a request to stop, from now on and for
+/// every command: `main` calls it first, before anything can take long.
+pub fn install_interrupt() -> crate::cancel::Cancel {
+    interrupt::install()
 }
 
 /// Parse a node-id for an SDO command: 1 to 127, or 0 for an EPOS2 reached directly.
@@ -225,6 +233,7 @@ fn no_bus_error() -> Error {
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
     let frame_log = global.frame_log()?;
     let mut bus = open_bus(ctx, frame_log.clone())?;
+    interrupt::opened();
     let result = f(bus.as_mut());
     let closed = bus.close();
     result.map_err(|e| with_hint(ctx, e))?;
@@ -268,6 +277,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         timeout: settings.timeout.value,
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
+        cancel: interrupt::install(),
     };
     let checks = matches!(cli.command, Command::Network(network::NetworkCommand::Check(_)) | Command::Health(_));
     if g.format == FormatArg::Junit && !checks {

@@ -274,7 +274,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     c.force = a.force;
     // Each node stops at its next safe point: between two SDO transfers, a PDO change under
     // way rolled back.
-    c.interrupted = Some(super::interrupt::shared());
+    c.interrupted = ctx.cancel.clone();
     let options = network::ApplyOptions {
         config: c,
         assign: a.assign,
@@ -282,11 +282,10 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         boot_wait: a.boot_wait,
         jobs: a.jobs.into(),
         reset: a.reset,
-        interrupted: Some(super::interrupt::flag()),
+        interrupted: ctx.cancel.clone(),
     };
     // Ctrl-C: no node is begun after it, the nodes under way stop at their next safe point,
     // and the report says for each what was done and the state it is left in.
-    super::interrupt::catch();
     let bus = &mut super::interrupt::with_test_signal(bus);
     let report = network::apply(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
@@ -310,11 +309,10 @@ fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()>
         delay_ms: a.delay,
         store: a.store,
         force: a.force,
-        interrupted: Some(super::interrupt::flag()),
+        interrupted: ctx.cancel.clone(),
     };
     // Ctrl-C before the activation: every device back to waiting, nothing switched; after
     // it, the switch is finished and reported.
-    super::interrupt::catch();
     let report = network::set_baud(bus, loaded.as_ref(), &options, &mut ctx.out.progress())?;
     let mut updated = Vec::new();
     if let (true, true, Some(loaded)) = (a.update_project, report.activated, &loaded) {

@@ -136,6 +136,15 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
             return Err(Error::Usage(msg.into()).into());
         }
     };
+    // Serving has no step to stop at: a request to stop ends it, as the signal itself did
+    // before it was caught for every command, with the exit code of an interruption.
+    let cancel = ctx.cancel.clone();
+    std::thread::spawn(move || {
+        while !cancel.is_cancelled() {
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        std::process::exit(Error::Interrupted.exit_code());
+    });
     serve::serve(&path, &how, global.frame_log()?, |serving| {
         if let Some(pty) = &serving.pty {
             ctx.out

@@ -68,13 +68,12 @@ fn remapping(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, tpdo: u16) -> crate::
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
-    super::interrupt::catch();
     let bus = &mut super::interrupt::with_test_signal(bus);
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
     let restored = session.restore(bus, a.node, ctx.timeout);
-    let interrupted = super::interrupt::requested();
+    let interrupted = ctx.cancel.is_cancelled();
     result?;
     restored?;
     if interrupted {
@@ -106,7 +105,7 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
         timeout: ctx.timeout,
         silence: Some(silence::hint(bus, a.node, &layouts, state, a.sync, ctx.timeout)),
     };
-    let mut stream = Stream::new(bus, a.node, &layouts, opts, super::interrupt::flag());
+    let mut stream = Stream::new(bus, a.node, &layouts, opts, &ctx.cancel);
     for (n, l) in &layouts {
         let names: Vec<&str> = l.fields.iter().map(|f| f.name.as_str()).collect();
         let how = if stream.polling() {

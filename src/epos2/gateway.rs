@@ -197,7 +197,7 @@ fn stop_point(
     bytes: usize,
     total: Option<usize>,
 ) -> Result<()> {
-    if opts.stop.as_ref().is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst)) {
+    if opts.stop.as_ref().is_some_and(crate::cancel::Cancel::is_cancelled) {
         let moved = crate::error::Moved { bytes, total };
         return Err(Error::SdoInterrupted { node, obj, upload, moved, aborted: None });
     }

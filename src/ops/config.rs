@@ -4,6 +4,7 @@
 
 use super::{as_text, le_u32, sized, Progress};
 use crate::bus::{Bus, SdoOptions};
+use crate::cancel::Cancel;
 use crate::canopen::{abort, DataType, ObjAddr};
 use crate::error::{Error, Result};
 use crate::od::eds::{self, Eds, Header};
@@ -11,8 +12,6 @@ use crate::od::{builtin, names, Dictionary, Entry, Init};
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::Duration;
 
 /// A DCF: the values a device is to hold (its `ParameterValue`s), with their dictionary.
@@ -418,7 +417,7 @@ pub struct ApplyOptions {
     pub dictionary: Option<(Dictionary, String)>,
     /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): looked at between SDO
     /// transfers, never in the middle of one. A PDO change under way is then rolled back.
-    pub interrupted: Option<Arc<AtomicBool>>,
+    pub interrupted: Cancel,
 }
 
 impl ApplyOptions {
@@ -431,7 +430,7 @@ impl ApplyOptions {
             store_timeout: Duration::from_secs(5),
             force: false,
             dictionary: None,
-            interrupted: None,
+            interrupted: Cancel::new(),
         }
     }
 }
@@ -644,7 +643,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     for (entry, value) in &values {
         super::check_range(entry, value)?;
     }
-    let stop = || o.interrupted.as_ref().is_some_and(|f| f.load(Ordering::SeqCst));
+    let stop = || o.interrupted.is_cancelled();
     let unchanged = |rows: Vec<Change>| Applied {
         node,
         file: dcf.path().to_string(),

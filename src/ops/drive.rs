@@ -5,11 +5,11 @@
 
 use super::{le_u32, sized};
 use crate::bus::Bus;
+use crate::cancel::Cancel;
 use crate::canopen::cia402::{self, Command, Goal, State, Step};
 use crate::canopen::{abort, emcy, pdo, ObjAddr};
 use crate::error::{DriveStop, Error, Result};
 use serde::Serialize;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
@@ -264,7 +264,7 @@ fn refusal(expected: State, statusword: u16, state: Option<State>) -> DriveStop 
 /// Walk node `node` towards `goal`, one confirmed transition at a time. The report says
 /// where it ended; a drive that stops answering mid-way ends it with [`DriveStop::NoAnswer`]
 /// (a node that does not answer at all is an error, as are non-drives).
-pub fn walk(bus: &mut dyn Bus, node: u8, goal: Goal, o: &Options, interrupt: &AtomicBool) -> Result<Walk> {
+pub fn walk(bus: &mut dyn Bus, node: u8, goal: Goal, o: &Options, interrupt: &Cancel) -> Result<Walk> {
     check_drive(bus, node, o.timeout)?;
     let (word, state) = statusword(bus, node, o.timeout)?;
     let mut w = Walk {
@@ -285,10 +285,10 @@ pub fn walk(bus: &mut dyn Bus, node: u8, goal: Goal, o: &Options, interrupt: &At
     Ok(w)
 }
 
-fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &AtomicBool) -> Result<()> {
+fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) -> Result<()> {
     let node = w.node;
     for _ in 0..MAX_STEPS {
-        if interrupt.load(Ordering::SeqCst) {
+        if interrupt.is_cancelled() {
             w.interrupted = true;
             return Ok(());
         }

@@ -7,13 +7,13 @@
 use super::{sized, Progress};
 use crate::bus::lss::{AssignFailure, LssMaster};
 use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::cancel::Cancel;
 use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};
 use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
 use serde::ser::SerializeMap;
 use serde::Serialize;
 use std::collections::BTreeSet;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// Which device a service is for.
@@ -182,9 +182,9 @@ pub fn configure(
     timeout: Duration,
     target: Target,
     setting: Setting,
-    interrupted: &AtomicBool,
+    interrupted: &Cancel,
 ) -> Result<Configured> {
-    if interrupted.load(Ordering::SeqCst) {
+    if interrupted.is_cancelled() {
         return Err(Error::Interrupted);
     }
     let (result, answers) = match target {
@@ -212,7 +212,7 @@ pub fn configure(
             (what, n)
         }
     };
-    let interrupted = interrupted.load(Ordering::SeqCst);
+    let interrupted = interrupted.is_cancelled();
     Ok(Configured { command: setting.verb(), target: target.text(), result, answers, interrupted })
 }
 
@@ -379,10 +379,10 @@ fn fastscan_error(error: FastscanError, pace: &Pace) -> Error {
 
 /// Find the identity of one device without a node-id, bit by bit. The device found is
 /// sent back to waiting state, unchanged.
-pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &AtomicBool) -> Result<Found> {
+pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &Cancel) -> Result<Found> {
     let start = Instant::now();
     let mut m = LssMaster::new(bus, o.timeout);
-    let result = m.fastscan(o.pace(), o.given(), &mut || !interrupted.load(Ordering::SeqCst));
+    let result = m.fastscan(o.pace(), o.given(), &mut || !interrupted.is_cancelled());
     // The device found is in configuration state: whatever happened, every device goes
     // back to waiting, unchanged.
     let left = m.leave();
@@ -475,7 +475,7 @@ fn ids_in_use(
     timeout: Duration,
     listen: Option<Duration>,
     progress: &mut dyn Progress,
-    interrupted: &AtomicBool,
+    interrupted: &Cancel,
 ) -> Result<BTreeSet<u8>> {
     let found: Vec<u8> =
         super::scan::probe(bus, timeout.min(Duration::from_millis(100)), progress)?.iter().map(|(n, _)| *n).collect();
@@ -495,7 +495,7 @@ fn ids_in_use(
             }
         };
         let end = Instant::now() + listen;
-        while bus.recv_frame(end)?.is_some() && !interrupted.load(Ordering::SeqCst) {}
+        while bus.recv_frame(end)?.is_some() && !interrupted.is_cancelled() {}
     }
     used.extend(bus.observed().node_ids());
     Ok(used)
@@ -507,7 +507,7 @@ pub fn assign(
     bus: &mut dyn Bus,
     o: &AssignOptions,
     progress: &mut dyn Progress,
-    interrupted: &AtomicBool,
+    interrupted: &Cancel,
 ) -> Result<Assignment> {
     let start = Instant::now();
     let timeout = o.fastscan.timeout;
@@ -520,10 +520,10 @@ pub fn assign(
         o.fastscan.pace(),
         o.fastscan.given(),
         o.store,
-        &mut || !interrupted.load(Ordering::SeqCst),
+        &mut || !interrupted.is_cancelled(),
         &mut |d| progress.note(&format!("{} -> node {}", d.identity, d.node)),
     )?;
-    let failure = if outcome.interrupted || interrupted.load(Ordering::SeqCst) {
+    let failure = if outcome.interrupted || interrupted.is_cancelled() {
         Some(Error::Interrupted)
     } else {
         outcome.failure.map(|e| match e {

@@ -3,6 +3,8 @@
 //! so that any front end can render it). Progress and remarks go through [`Progress`]; a
 //! procedure never prints and knows nothing of the command line.
 
+pub use crate::cancel::Cancel;
+
 pub mod config;
 pub mod dictionaries;
 pub mod drive;

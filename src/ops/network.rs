@@ -5,6 +5,7 @@ use super::config::{self, Dcf};
 use super::Progress;
 use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::cancel::Cancel;
 use crate::canopen::lss::{Identity, Request, Response};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result, Service};
@@ -13,7 +14,6 @@ use crate::od::eds;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// The project file canctl writes and looks for in a folder.
@@ -381,7 +381,10 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
     } else {
         let stopped = |_: usize, e: Error| Err(e);
         let items: Vec<(usize, u8)> = all.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
-        parallel::each(bus, &items, o.jobs, None, &check_node, &stopped, progress).into_iter().map(|(_, r)| r).collect()
+        parallel::each(bus, &items, o.jobs, &Cancel::new(), &check_node, &stopped, progress)
+            .into_iter()
+            .map(|(_, r)| r)
+            .collect()
     };
     let mut nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
     if let Some(want) = o.state {
@@ -433,7 +436,7 @@ pub struct ApplyOptions {
     /// that, and the report says which were not. The nodes under way stop at their next
     /// safe point when `config.interrupted` is the same flag (between two SDO transfers, a
     /// PDO change under way rolled back, as `config apply` does), else they finish.
-    pub interrupted: Option<&'static AtomicBool>,
+    pub interrupted: Cancel,
 }
 
 /// What applying a project did, node by node.
@@ -555,7 +558,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     if let Err(e) = applied.outcome() {
         return fail(row, e);
     }
-    let stop = o.config.interrupted.as_ref().is_some_and(|f| f.load(Ordering::SeqCst));
+    let stop = o.config.interrupted.is_cancelled();
     if o.config.store && row.written > 0 && stop {
         row.result = format!(
             "interrupted: {} object(s) written{}, not stored (canctl store {} keeps them)",
@@ -594,7 +597,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     let found = probe(bus, o.window, progress)?;
     let mut rows: Vec<Option<NodeOutcome>> = Vec::new();
     // Nodes that must answer before they can be configured: given their id, or failed.
-    let stop = || o.interrupted.is_some_and(|f| f.load(Ordering::SeqCst));
+    let stop = || o.interrupted.is_cancelled();
     for listed in &loaded.nodes {
         let present = found.contains_key(&listed.node);
         rows.push((!present && !stop()).then(|| absent_node(bus, listed, o)));
@@ -646,7 +649,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             (row, Some(e))
         };
         let items: Vec<(usize, u8)> = ready.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
-        parallel::each(bus, &items, o.jobs, o.interrupted, &work, &stopped, progress)
+        parallel::each(bus, &items, o.jobs, &o.interrupted, &work, &stopped, progress)
     };
     progress.finish();
     for (i, (mut row, error)) in done {
@@ -827,7 +830,7 @@ mod parallel {
         bus: &mut dyn Bus,
         items: &[(usize, u8)],
         jobs: usize,
-        stop: Option<&AtomicBool>,
+        stop: &Cancel,
         work: &(dyn Fn(&mut dyn Bus, usize) -> T + Sync),
         stopped: &(dyn Fn(usize, Error) -> T + Sync),
         progress: &mut dyn Progress,
@@ -888,7 +891,7 @@ mod parallel {
                             done.push((i, result));
                             progress.advance(done.len() as u64);
                             running -= 1;
-                            let stopping = stop.is_some_and(|f| f.load(Ordering::SeqCst));
+                            let stopping = stop.is_cancelled();
                             if let Some(next) = queue.next().filter(|_| lost.is_none() && !stopping) {
                                 start(next);
                                 running += 1;
@@ -1014,7 +1017,7 @@ pub struct SetBaudOptions {
     pub force: bool,
     /// Set when the user asks to stop: checked before each LSS step; nothing is switched
     /// once it is set before the activation.
-    pub interrupted: Option<&'static AtomicBool>,
+    pub interrupted: Cancel,
 }
 
 /// How many devices confirmed an LSS service sent to all of them, and what the others
@@ -1125,7 +1128,7 @@ pub fn set_baud(
     o: &SetBaudOptions,
     progress: &mut dyn Progress,
 ) -> Result<BaudSwitched> {
-    let stop = || o.interrupted.is_some_and(|f| f.load(Ordering::SeqCst));
+    let stop = || o.interrupted.is_cancelled();
     if stop() {
         return Err(Error::Interrupted);
     }
@@ -1295,7 +1298,7 @@ mod tests {
     /// Sets the stop flag once `after` nodes are done (or begun, one after the other), in
     /// the applying phase (the probe before it has its own).
     struct StopAfter {
-        flag: &'static AtomicBool,
+        flag: Cancel,
         after: u64,
         applying: bool,
     }
@@ -1306,21 +1309,21 @@ mod tests {
         }
         fn advance(&mut self, done: u64) {
             if self.applying && done >= self.after {
-                self.flag.store(true, Ordering::SeqCst);
+                self.flag.cancel();
             }
         }
     }
 
     /// Sets the flag once the probe before the switch is over.
-    struct StopAfterProbe(&'static AtomicBool);
+    struct StopAfterProbe(Cancel);
 
     impl Progress for StopAfterProbe {
         fn finish(&mut self) {
-            self.0.store(true, Ordering::SeqCst);
+            self.0.cancel();
         }
     }
 
-    fn set_baud_options(flag: &'static AtomicBool) -> SetBaudOptions {
+    fn set_baud_options(flag: &Cancel) -> SetBaudOptions {
         SetBaudOptions {
             timeout: Duration::from_millis(200),
             window: Duration::from_millis(100),
@@ -1328,7 +1331,7 @@ mod tests {
             delay_ms: 5,
             store: false,
             force: true,
-            interrupted: Some(flag),
+            interrupted: flag.clone(),
         }
     }
 
@@ -1336,9 +1339,9 @@ mod tests {
     /// state at the old rate, the run reported as interrupted.
     #[test]
     fn set_baud_interrupted_before_the_activation_switches_nothing() {
-        let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+        let flag = Cancel::new();
         let mut bus = demo();
-        let report = set_baud(bus.as_mut(), None, &set_baud_options(flag), &mut StopAfterProbe(flag)).unwrap();
+        let report = set_baud(bus.as_mut(), None, &set_baud_options(&flag), &mut StopAfterProbe(flag.clone())).unwrap();
         assert!(!report.activated);
         assert!(matches!(report.failure, Some(Error::Interrupted)));
         assert_eq!(report.configured.confirmed, 6, "the stepper refuses, the others confirm");
@@ -1351,9 +1354,9 @@ mod tests {
     /// stepper is named as left behind.
     #[test]
     fn set_baud_names_the_node_left_behind() {
-        let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+        let flag = Cancel::new();
         let mut bus = demo();
-        let report = set_baud(bus.as_mut(), None, &set_baud_options(flag), &mut super::super::Silent).unwrap();
+        let report = set_baud(bus.as_mut(), None, &set_baud_options(&flag), &mut super::super::Silent).unwrap();
         assert!(report.activated && report.bus_followed);
         assert!(matches!(&report.failure, Some(Error::NotFollowed { nodes, .. }) if nodes == &[32]));
         let after: Vec<(u8, Option<bool>)> = report.nodes.iter().map(|n| (n.node, n.after)).collect();
@@ -1366,7 +1369,7 @@ mod tests {
     #[test]
     fn an_interruption_stops_between_nodes_and_says_which_were_not_done() {
         for jobs in [1, 2] {
-            let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+            let flag = Cancel::new();
             let loaded = example();
             let mut o = ApplyOptions {
                 config: config::ApplyOptions::new(Duration::from_millis(500)),
@@ -1375,7 +1378,7 @@ mod tests {
                 boot_wait: Duration::from_secs(1),
                 jobs,
                 reset: false,
-                interrupted: Some(flag),
+                interrupted: flag.clone(),
             };
             o.config.verify = true;
             let mut bus = demo();

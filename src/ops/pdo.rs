@@ -3,6 +3,7 @@
 
 use super::{le_u32, sized, Progress};
 use crate::bus::Bus;
+use crate::cancel::Cancel;
 use crate::canopen::nmt::{self, Command};
 use crate::canopen::pdo::{self, Field, Layout};
 use crate::canopen::types::Value;
@@ -12,7 +13,6 @@ use crate::frame::Frame;
 use crate::od::eds::Eds;
 use crate::od::{Dictionary, Entry};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// Object values by address.
@@ -277,7 +277,7 @@ pub struct Stream<'a> {
     pending: VecDeque<Record>,
     records: u64,
     warned: BTreeSet<u16>,
-    interrupted: &'a AtomicBool,
+    interrupted: &'a Cancel,
 }
 
 const SYNC_COB: u16 = 0x080;
@@ -293,7 +293,7 @@ impl<'a> Stream<'a> {
         node: u8,
         layouts: &'a [(u16, Layout)],
         opts: StreamOptions,
-        interrupted: &'a AtomicBool,
+        interrupted: &'a Cancel,
     ) -> Stream<'a> {
         let now = Instant::now();
         Stream {
@@ -337,7 +337,7 @@ impl<'a> Stream<'a> {
                 self.records += 1;
                 return Ok(Some(r));
             }
-            if self.interrupted.load(Ordering::SeqCst) || self.end.is_some_and(|e| Instant::now() >= e) {
+            if self.interrupted.is_cancelled() || self.end.is_some_and(|e| Instant::now() >= e) {
                 return Ok(None);
             }
             self.cycle(bus, progress)?;

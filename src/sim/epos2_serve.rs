@@ -55,7 +55,13 @@ impl Wire {
                 PollTimeout::try_from(t.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX)
             });
             let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
-            let ready = poll(&mut fds, ms).map_err(|e| failed(PtyOp::Poll, e))?;
+            // A signal (the request to stop, caught) cuts the wait short: wait again.
+            let ready = loop {
+                match poll(&mut fds, ms) {
+                    Err(nix::errno::Errno::EINTR) => continue,
+                    r => break r.map_err(|e| failed(PtyOp::Poll, e))?,
+                }
+            };
             if ready == 0 {
                 return Ok(None);
             }

@@ -122,9 +122,11 @@ impl SlcanAdapter {
         let left = deadline.saturating_duration_since(Instant::now());
         let ms = PollTimeout::try_from(left.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX);
         let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
-        if poll(&mut fds, ms).map_err(|e| failed(PtyOp::Poll, e))? == 0 {
-            return Ok(());
-        }
+        match poll(&mut fds, ms) {
+            // A signal (the request to stop, caught) cut the wait short: the caller waits again.
+            Ok(0) | Err(nix::errno::Errno::EINTR) => return Ok(()),
+            r => r.map_err(|e| failed(PtyOp::Poll, e))?,
+        };
         let mut buf = [0u8; 512];
         let n = match self.master.read(&mut buf) {
             Ok(n) => n,
