@@ -145,6 +145,25 @@ fn endless_segments_stop_with_exit_5() {
     }
 }
 
+/// A device name that never ends (no size announced, segment after segment) stops at the
+/// limit for strings, 64 KiB, not at the 1 MiB of a domain (minutes at 125 kbit/s); the
+/// type comes from the dictionary, or --type; --max-size raises the limit.
+#[test]
+fn an_endless_device_name_stops_at_the_string_limit() {
+    let sim = Sim::new();
+    let dev = DeviceSide::start(&sim, "--epos2-usb", &["--fault", "endless-segments@*"]);
+    for args in [&["sdo", "read", "10", "1008"][..], &["sdo", "read", "10", "1008", "--type", "os"]] {
+        let r = run_bounded(&dev, args);
+        assert_eq!(r.code, 5, "{args:?}: {}", r.stderr);
+        assert!(r.stdout.is_empty());
+        assert!(r.stderr.contains("did not end within the limit of 65536 bytes"), "{args:?}: {}", r.stderr);
+        assert!(r.stderr.contains("--max-size raises the limit"), "{args:?}: {}", r.stderr);
+    }
+    let r = run_bounded(&dev, &["sdo", "read", "10", "1008", "--max-size", "100k"]);
+    assert_eq!(r.code, 5, "{}", r.stderr);
+    assert!(r.stderr.contains("did not end within the limit of 102400 bytes"), "{}", r.stderr);
+}
+
 #[test]
 fn answers_for_another_object_or_node_are_not_taken() {
     for framing in FRAMINGS {

@@ -244,7 +244,7 @@ fn an_sdo_write_takes_its_type_from_the_dictionary_and_reads_back() {
     assert_eq!((written.dtype, written.size, written.verified), (DataType::U16, 2, true));
     assert_eq!(written.value, Some(Value::Uint(250)));
 
-    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: 1 << 20 };
+    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: None };
     let read = sdo::read(bus.as_mut(), dict, SENSOR, object, &r).unwrap();
     assert_eq!((read.bytes.as_slice(), &read.value), (&[250u8, 0][..], &Some(Value::Uint(250))));
     assert_eq!(read.name.as_deref(), Some("Producer heartbeat time"));
@@ -259,7 +259,7 @@ fn an_sdo_write_takes_its_type_from_the_dictionary_and_reads_back() {
 fn an_sdo_read_without_a_type_shows_the_plain_number_and_a_wrong_type_is_refused() {
     let mut bus = demo();
     let empty = canctl::od::Dictionary::default();
-    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: 1 << 20 };
+    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: None };
     let read = sdo::read(bus.as_mut(), &empty, SENSOR, ObjAddr::new(0x1018, 1), &r).unwrap();
     assert_eq!((read.dtype, read.value, read.name), (None, Some(Value::Uint(0x40)), None));
     let r = ReadOptions { dtype: Some(DataType::U8), ..r };
@@ -282,7 +282,7 @@ fn an_sdo_write_outside_the_eds_limits_is_refused_before_it_is_sent() {
     let w = WriteOptions { timeout: TIMEOUT, dtype: None, block: true, verify: false };
     let err = sdo::write(bus.as_mut(), dicts.for_node(SENSOR), SENSOR, object, "60001", &w).unwrap_err();
     assert!(matches!(err, Error::Usage(_)) && err.to_string().contains("use 0 to 60000"), "{err}");
-    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: 1 << 20 };
+    let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: None };
     let unchanged = sdo::read(bus.as_mut(), dicts.for_node(SENSOR), SENSOR, object, &r).unwrap();
     assert_ne!(unchanged.value, Some(Value::Uint(60001)));
     // Without a type from anywhere, nothing can be encoded.

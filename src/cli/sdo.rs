@@ -43,9 +43,10 @@ pub struct ReadArgs {
     #[arg(long)]
     pub no_block: bool,
     /// Largest value to accept: an upload that grows past it is aborted, and one announced
-    /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³)
-    #[arg(long, value_name = "SIZE", default_value = "1M", value_parser = parse_size)]
-    pub max_size: usize,
+    /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³); by default 64k, for
+    /// a domain (--type d) or a value of unknown type 1M
+    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+    pub max_size: Option<usize>,
 }
 
 /// Write an object (SDO download)

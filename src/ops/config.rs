@@ -101,7 +101,7 @@ fn show(entry: &Entry, bytes: &[u8]) -> String {
 }
 
 fn opts(timeout: Duration, dtype: DataType) -> SdoOptions {
-    sized(timeout, dtype.size())
+    SdoOptions { max_upload: super::upload_limit(Some(dtype)), ..sized(timeout, dtype.size()) }
 }
 
 fn read_one(bus: &mut dyn Bus, node: u8, e: &Entry, timeout: Duration) -> Result<Vec<u8>> {

@@ -22,6 +22,7 @@ pub mod silence;
 pub mod store;
 
 use crate::bus::SdoOptions;
+use crate::canopen::DataType;
 use crate::error::{Error, Result};
 use crate::od::Entry;
 use serde::Serialize;
@@ -74,6 +75,22 @@ pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {
     let mut o = SdoOptions::new(timeout);
     o.size_hint = size;
     o
+}
+
+/// The most an upload of a small value may bring by default: a string or an octet string
+/// (a device name, a version) is a few dozen bytes, so one that runs on without end (no
+/// size announced, segment after segment) is stopped here, seconds into it at 125 kbit/s,
+/// not minutes.
+pub const SMALL_UPLOAD: usize = 64 * 1024;
+
+/// How many bytes an upload of a `dtype` value may bring unless the user says more
+/// (`sdo read --max-size`): a domain, or a value of unknown type (it may be one), up to
+/// the SDO client's 1 MiB; anything else [`SMALL_UPLOAD`].
+pub fn upload_limit(dtype: Option<DataType>) -> usize {
+    match dtype {
+        None | Some(DataType::D) => crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD,
+        Some(_) => SMALL_UPLOAD,
+    }
 }
 
 /// A little-endian u32 from the first bytes of an answer (0 when it is shorter).

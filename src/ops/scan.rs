@@ -224,7 +224,9 @@ fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: 
         })
         .collect();
     progress.start("identity", reads.len() as u64);
-    let values = bus.sdo_upload_many(&reads, &SdoOptions::new(timeout), &mut |n| progress.advance(n as u64));
+    // The name is a string: one that never ends stops at the small limit, not after 1 MiB.
+    let opts = SdoOptions { max_upload: super::upload_limit(Some(DataType::Vs)), ..SdoOptions::new(timeout) };
+    let values = bus.sdo_upload_many(&reads, &opts, &mut |n| progress.advance(n as u64));
     progress.finish();
     let mut stopped = false;
     for ((node, addr), value) in reads.iter().zip(values?) {

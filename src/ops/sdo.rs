@@ -21,8 +21,9 @@ pub struct ReadOptions {
     pub dtype: Option<DataType>,
     /// Whether block transfer may be used (for strings and domains, where the device offers it).
     pub block: bool,
-    /// The largest value to accept: an upload that grows past it is aborted.
-    pub max_size: usize,
+    /// The largest value to accept: an upload that grows past it is aborted. `None`: as
+    /// the type wants ([`upload_limit`](super::upload_limit)): 64 KiB, a domain 1 MiB.
+    pub max_size: Option<usize>,
 }
 
 /// How to write.
@@ -108,6 +109,7 @@ fn sdo_options(timeout: Duration, dtype: Option<DataType>, block: bool) -> SdoOp
     o.block_upload = block && is_large(dtype);
     o.block_download = block;
     o.size_hint = dtype.and_then(DataType::size);
+    o.max_upload = super::upload_limit(dtype);
     o
 }
 
@@ -117,7 +119,7 @@ pub fn read(bus: &mut dyn Bus, dict: &Dictionary, node: u8, object: ObjAddr, o: 
     let dtype = o.dtype.or(entry.map(|e| e.dtype));
     let name = entry.and_then(|_| dict.display_name(object));
     let mut opts = sdo_options(o.timeout, dtype, o.block);
-    opts.max_upload = o.max_size;
+    opts.max_upload = o.max_size.unwrap_or(opts.max_upload);
     let bytes = bus.sdo_upload(node, object, &opts)?;
     let value = match dtype {
         Some(t) => Some(t.decode(&bytes).ok_or_else(|| {
