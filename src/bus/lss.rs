@@ -178,6 +178,18 @@ impl LssMaster<'_> {
         Ok(out)
     }
 
+    /// Give the device in configuration state `node`. Setting a value twice does no harm,
+    /// so an answer lost on the way is asked for again (a bounded number of times).
+    fn set_id(&mut self, node: u8) -> Result<usize> {
+        let mut tries = 0;
+        loop {
+            match self.configure(Request::ConfigureNodeId(node), "set-id", false) {
+                Err(Error::NoLssAnswer { .. }) if tries < lss::REPEATS => tries += 1,
+                done => return done,
+            }
+        }
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn assign_each(
         &mut self,
@@ -211,12 +223,20 @@ impl LssMaster<'_> {
                 out.failure = Some(AssignFailure::Refused(e));
                 return Ok(());
             };
-            if let Err(e) = self.configure(Request::ConfigureNodeId(node), "set-id", false) {
+            if let Err(e) = self.set_id(node) {
                 out.failure = Some(AssignFailure::Refused(e));
                 return Ok(());
             }
+            // An action: never sent twice blindly, and LSS has no way to read it back, so a
+            // lost answer leaves it unknown, and the report says so.
             let stored = if store {
-                self.configure(Request::StoreConfiguration, "store", false).map(|_| ()).map_err(|e| e.to_string())
+                self.configure(Request::StoreConfiguration, "store", false).map(|_| ()).map_err(|e| match e {
+                    Error::NoLssAnswer { .. } => format!(
+                        "no answer to the store: unknown whether node {node} keeps its id across a power cycle \
+                         (canctl lss store --identity {identity} stores it again)"
+                    ),
+                    e => e.to_string(),
+                })
             } else {
                 Err("not asked".to_string())
             };

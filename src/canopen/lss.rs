@@ -358,6 +358,15 @@ pub const STEP_CEILING: Duration = Duration::from_secs(2);
 /// How many times a search may lengthen its step (or, at a fixed step, retry) before it
 /// gives up.
 pub const MAX_ESCALATIONS: u32 = 4;
+/// How many more times a request whose answer is missing where one is due (a confirmation,
+/// a reset, the last "anybody there?") is sent before the silence counts: a frame lost on
+/// the way, to or from the slaves, is not a slow slave, and asking again brings the answer
+/// back where a longer step cannot.
+pub const REPEATS: u32 = 2;
+/// How many times a part that was searched bit by bit and not confirmed (a bit check's
+/// answer lost made a bit look like 1) is searched again at the same step before the step
+/// is lengthened.
+pub const RESEARCHES: u32 = 4;
 /// How many of the latest answer times the step is learned from.
 const RECENT_ANSWERS: usize = 64;
 
@@ -376,6 +385,9 @@ pub struct Pace {
     probe_window: Duration,
     /// The longest step used so far.
     longest_used: Duration,
+    /// Frames were lost on this bus (a request asked again was answered, a part had to be
+    /// searched again): from then on a silent bit check is asked once more too.
+    loss_seen: bool,
 }
 
 impl Pace {
@@ -388,6 +400,7 @@ impl Pace {
             escalations: 0,
             probe_window: probe_window.clamp(STEP_FLOOR, STEP_CEILING),
             longest_used: Duration::ZERO,
+            loss_seen: false,
         }
     }
 
@@ -531,6 +544,11 @@ enum Phase {
     /// Nobody answered the reset at the learned pace: ask once more with a long window
     /// before saying nobody is there.
     FinalProbe,
+    /// The last part's confirmation went unanswered: the device may have taken it (and
+    /// its answer been lost), so it is in configuration state, out of every later search,
+    /// and would take the next device's node-id too. Every device back to waiting state
+    /// (no answer to this) before the search goes again.
+    Waiting,
     Over,
 }
 
@@ -553,6 +571,10 @@ pub struct Fastscan {
     steps: u32,
     /// Whether any device answered so far: silence afterwards is lateness or loss.
     seen: bool,
+    /// How many times the current request was sent again after a silence ([`REPEATS`]).
+    repeats: u32,
+    /// How many times the current part was searched again at the same step ([`RESEARCHES`]).
+    researches: u32,
 }
 
 impl Fastscan {
@@ -568,6 +590,8 @@ impl Fastscan {
             outcome: None,
             steps: 0,
             seen: false,
+            repeats: 0,
+            researches: 0,
         }
     }
 
@@ -618,6 +642,12 @@ impl Fastscan {
             },
             Phase::Reset => fastscan(Request::Fastscan { id: 0, bit_checked: FASTSCAN_RESET, sub: 0, next: 0 }),
             Phase::Bit(bit) => fastscan(Request::Fastscan { id: self.value, bit_checked: bit, sub, next: sub }),
+            Phase::Waiting => Ask {
+                request: Request::SwitchGlobal { configuration: false },
+                expect: 0,
+                window: STEP_FLOOR,
+                settle: None,
+            },
             Phase::Confirm | Phase::Over => {
                 fastscan(Request::Fastscan { id: self.value, bit_checked: 0, sub, next: (sub + 1) % 4 })
             }
@@ -640,14 +670,32 @@ impl Fastscan {
         let in_time = valid.iter().any(|t| *t <= ask.window);
         if !in_time && !valid.is_empty() {
             // Only late answers: what silence would mean is not true. Ask again, slower.
+            self.repeats = 0;
             if !self.pace.escalate() {
                 self.fail(FastscanError::Lost);
             }
             return;
         }
         self.seen |= in_time;
+        // Silence where an answer is due: first ask again, at the same step (a lost frame).
+        // Silence to a bit check means a 1, or, once this bus has lost frames, perhaps a
+        // lost answer: asked once more then.
+        let repeats = match self.phase {
+            Phase::Confirm | Phase::FinalProbe => REPEATS,
+            Phase::Reset if self.seen => REPEATS,
+            Phase::Bit(_) if self.pace.loss_seen => 1,
+            _ => 0,
+        };
+        if !in_time && self.repeats < repeats {
+            self.repeats += 1;
+            return;
+        }
+        if in_time && self.repeats > 0 {
+            self.pace.loss_seen = true;
+        }
+        self.repeats = 0;
         match self.phase {
-            Phase::Probe => self.phase = Phase::Reset,
+            Phase::Probe | Phase::Waiting => self.phase = Phase::Reset,
             Phase::FinalProbe if in_time => self.lengthen_or(FastscanError::Lost),
             Phase::FinalProbe => self.fail(FastscanError::NoDevice),
             Phase::Reset if in_time => {
@@ -665,6 +713,7 @@ impl Fastscan {
                 self.phase = if bit == 0 { Phase::Confirm } else { Phase::Bit(bit - 1) };
             }
             Phase::Confirm if in_time => {
+                self.researches = 0;
                 if self.parts[self.sub as usize] == Part::Unknown {
                     self.parts[self.sub as usize] = Part::Found(self.value);
                 }
@@ -693,7 +742,19 @@ impl Fastscan {
                 if let Part::Found(_) = self.parts[sub as usize] {
                     self.parts[sub as usize] = Part::Unknown;
                 }
-                self.lengthen_or(error);
+                // Confirmations repeated in vain: a bit check's answer was lost (or came
+                // late). Search the part again at the same step a few times, then slower.
+                self.pace.loss_seen = true;
+                if self.researches < RESEARCHES {
+                    self.researches += 1;
+                    self.phase = Phase::Reset;
+                } else {
+                    self.researches = 0;
+                    self.lengthen_or(error);
+                }
+                if sub == 3 && self.phase == Phase::Reset {
+                    self.phase = Phase::Waiting;
+                }
             }
             Phase::Over => {}
         }
@@ -1156,20 +1217,23 @@ mod tests {
         assert_eq!(pace.slowest(), Some(MS * 170), "reported as seen");
     }
 
-    /// One answer far later than the probe showed: the bit looks like 1, the part is not
-    /// confirmed, and the search goes again over that part only, with a longer step.
+    /// One answer far later than the probe showed, once (it is lost to its window, as a
+    /// lost answer is): the bit looks like 1, the part is not confirmed, the confirmation
+    /// is asked twice more, then that part alone is searched again at the same step.
+    /// Lateness that goes on lengthens the step ([`a_fixed_step_too_short_is_lengthened_or_fails_bounded`]).
     #[test]
-    fn a_late_answer_lengthens_the_step_and_that_part_is_searched_again() {
+    fn a_late_answer_once_searches_that_part_again_at_the_same_step() {
         let id = three()[1];
         let latency: Latency = Box::new(|_, n| Some(if n == 60 { MS * 45 } else { MS * 5 }));
         let mut bus = VirtualBus::new(&[id], latency);
         let mut scan = fresh();
         assert_eq!(bus.run(&mut scan), Ok(id));
-        assert_eq!(scan.pace().escalations(), 1);
-        // Request 60 is in part 1 (the product): after a reset, part 0 is confirmed in one
-        // step and part 1 searched again (33 steps); parts 2 and 3 as before.
-        assert_eq!(scan.steps(), 133 + 1 + 1 + 33);
-        assert!(scan.pace().longest_step() > MS * 12);
+        assert_eq!(scan.pace().escalations(), 0);
+        // Request 60 is in part 1 (the product): its confirmation three times, a reset,
+        // part 0 confirmed in one step, part 1 searched again (33 steps, and its silent
+        // bits asked twice now that a loss was seen); parts 2 and 3 likewise.
+        assert!(scan.steps() > 133 + 2 + 1 + 1 + 33, "{}", scan.steps());
+        assert!(scan.steps() < 2 * (133 + 2 + 1 + 1 + 33), "{}", scan.steps());
     }
 
     /// A lost answer makes a bit 1 as well: the same recovery.
@@ -1181,7 +1245,7 @@ mod tests {
         let mut scan = fresh();
         assert_eq!(bus.run(&mut scan), Ok(id));
         assert!(scan.steps() > 133);
-        assert_eq!(scan.pace().escalations(), 1);
+        assert_eq!(scan.pace().escalations(), 0, "a loss is not lateness");
     }
 
     /// Every answer twice (a device, or a gateway, repeating itself): still one answer.
@@ -1256,6 +1320,59 @@ mod tests {
         assert!(r.is_err());
         assert!(scan.pace().longest_step() <= STEP_CEILING);
         assert!(bus.sent < 500);
+    }
+
+    /// Frames lost as an overloaded adapter or gateway loses them: each request (2 %) and
+    /// each answer (2 %) independently, drawn from `seed`; answers 15 ms late with a few
+    /// ms of jitter. Deterministic for a seed.
+    fn lossy(seed: u64) -> Latency {
+        let draw = move |a: u64, b: u64| {
+            // splitmix64 of (seed, a, b): a fixed, well-spread draw per frame.
+            let mut z = seed ^ a.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ b.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        };
+        Box::new(move |slave, n| {
+            let request_lost = draw(n as u64, 1000) % 100 < 2;
+            let answer_lost = draw(n as u64, slave as u64) % 100 < 2;
+            let jitter = draw(n as u64, 2000 + slave as u64) % 4;
+            (!request_lost && !answer_lost).then_some(MS * (15 + jitter as u32))
+        })
+    }
+
+    /// `lss assign`'s search under 2 % frame loss (the field report: three slaves behind a
+    /// 15 ms path, one numbered, then "part 0 found but not confirmed, even with a 1013 ms
+    /// step"): a lost answer is not a late one, so the search repeats what was lost instead
+    /// of lengthening the step, and finds all three devices, then nobody, on every seed.
+    #[test]
+    fn fastscan_finds_every_device_under_two_percent_loss() {
+        let mut failed = vec![];
+        for seed in 0..200u64 {
+            let mut bus = VirtualBus::new(&three(), lossy(seed));
+            let mut pace = Pace::measured(MS * 500);
+            let mut found = vec![];
+            let outcome = loop {
+                let mut scan = Fastscan::new(pace.clone(), [None; 4]);
+                let r = bus.run(&mut scan);
+                pace = scan.into_pace();
+                match r {
+                    // Numbered, as assign does next: no longer one without a node-id.
+                    Ok(id) => {
+                        bus.slaves.retain(|s| s.identity != id);
+                        found.push(id)
+                    }
+                    Err(e) => break e,
+                }
+            };
+            found.sort();
+            let mut want = three().to_vec();
+            want.sort();
+            if outcome != FastscanError::NoDevice || found != want {
+                failed.push((seed, found.len(), outcome, pace.longest_step()));
+            }
+        }
+        assert!(failed.is_empty(), "{} of 200 seeds failed: {failed:?}", failed.len());
     }
 
     #[test]

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# durand_netem.sh delay MS | plain
+# durand_netem.sh delay MS [loss PCT] | plain
 #
 # Real latency on vcan0 for tests/interop_durand.rs: vcan reloaded with echo=1 (without it
 # the CAN core loops frames back before the qdisc and netem has no effect) and a netem
-# qdisc holding every frame MS ms; `plain` gives back an ordinary vcan0. Needs root; in
-# the kernel-test VM modules come from $VMCAN_KROOT.
+# qdisc holding every frame MS ms, and with `loss PCT` dropping that share of the frames
+# (both ways, as an overloaded adapter or gateway does); `plain` gives back an ordinary
+# vcan0. Needs root; in the kernel-test VM modules come from $VMCAN_KROOT.
 set -euo pipefail
 iface=vcan0
 
@@ -24,13 +25,13 @@ case "${1:-}" in
     [ "$(cat /sys/module/vcan/parameters/echo)" = Y ] \
       || { echo "durand_netem: vcan could not be reloaded with echo=1 (another vcan interface in use?)" >&2; exit 1; }
     load sch_netem
-    tc qdisc add dev "$iface" root netem delay "${2:?delay in ms}ms"
+    tc qdisc add dev "$iface" root netem delay "${2:?delay in ms}ms" ${3:+loss "${4:?loss in percent}%"}
     ;;
   plain)
     recreate
     ;;
   *)
-    echo "usage: $0 delay MS | plain" >&2
+    echo "usage: $0 delay MS [loss PCT] | plain" >&2
     exit 2
     ;;
 esac
