@@ -336,3 +336,17 @@ fn suggestions_come_from_the_targets_dictionary() {
         assert!(json["did_you_mean"].as_array().is_some_and(|a| !a.is_empty()), "{json}");
     }
 }
+
+/// The answer to the 'save' write lost (node 5 drops its third answer): the save is an
+/// action, so it is sent once, never again behind the user's back, and the message says
+/// that whether the device stored is unknown, not that nothing happened.
+#[test]
+fn a_lost_answer_to_the_save_is_not_repeated_and_reported_as_unknown() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--fault", "5:drop@3"]).ok();
+    let r = sim.run(&["-v", "--timeout", "300ms", "store", "5"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    let saves = r.stderr.lines().filter(|l| l.contains("605") && l.contains("23 10 10 01 73 61 76 65")).count();
+    assert_eq!(saves, 1, "the save sent once:\n{}", r.stderr);
+    assert!(r.stderr.contains("unknown whether node 5 stored"), "{}", r.stderr);
+}
