@@ -644,3 +644,48 @@ fn set_baud_through_the_epos2_gateway_says_the_gateway_must_be_switched() {
     let human = gateway.run(&["network", "set-baud", "500k", "--global"]);
     assert!(human.stdout.contains("does not switch by itself, so nothing is checked yet"), "{}", human.stdout);
 }
+
+/// The summary under an interrupted apply counts the table's own rows: a node stopped
+/// before anything was written is not "stopped part-way", a node given its id but not
+/// configured says so, and the objects written are counted on the nodes written to.
+#[test]
+fn an_interrupted_apply_summary_agrees_with_its_table() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "5");
+    let project = example().join("nodelist.cpj");
+    let mut c = sim.command(&["network", "apply", project.to_str().unwrap(), "--assign", "--jobs", "4"]);
+    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "5:INT");
+    let run = common::finish(c.output().unwrap());
+    assert_eq!(run.code, 130, "{}\n{}", run.stdout, run.stderr);
+    // node  name  written  result: the columns start where their headings do.
+    let header = run.stdout.lines().next().unwrap();
+    let (w, r) = (header.find("written").unwrap(), header.find("result").unwrap());
+    let rows: Vec<(usize, String)> = run
+        .stdout
+        .lines()
+        .skip(1)
+        .map(|l| (l[w..r].trim().parse().unwrap(), l.get(r..).unwrap_or("").trim().to_string()))
+        .collect();
+    assert_eq!(rows.len(), 9, "{}", run.stdout);
+    assert!(rows.iter().all(|(_, r)| !r.is_empty()), "every node says what happened:\n{}", run.stdout);
+    let count = |f: &dyn Fn(&(usize, String)) -> bool| rows.iter().filter(|r| f(r)).count();
+    let part_way = count(&|(w, r)| r.contains("interrupted") && !r.contains("nothing was written") && *w > 0);
+    let unchanged = count(&|(_, r)| r.contains("interrupted") && r.contains("nothing was written"));
+    let not_begun = count(&|(_, r)| r.contains("not begun"));
+    let written_to = count(&|(w, _)| *w > 0);
+    let written: usize = rows.iter().map(|(w, _)| w).sum();
+    let notes = &run.stderr;
+    let said = |n: usize, what: &str| notes.contains(&format!("{n} node(s) {what}"));
+    assert!(
+        part_way == 0 && !notes.contains("stopped part-way") || said(part_way, "stopped part-way"),
+        "{part_way} part-way:\n{}{notes}",
+        run.stdout
+    );
+    assert!(unchanged == 0 || said(unchanged, "stopped before anything was written"), "{}{notes}", run.stdout);
+    assert!(not_begun == 0 || said(not_begun, "not begun"), "{}{notes}", run.stdout);
+    assert!(
+        notes.contains(&format!("{written} object(s) written on {written_to} of 9 node(s)")),
+        "{}{notes}",
+        run.stdout
+    );
+}

@@ -464,9 +464,27 @@ pub struct NodeApplied {
     pub stored: bool,
     /// What happened, in a sentence.
     pub result: String,
+    /// What happened, in one word: the summary counts these, as the table shows them.
+    pub outcome: Outcome,
     pub ok: bool,
     /// Each object written or not, as `config apply` reports it.
     pub objects: Vec<config::Change>,
+}
+
+/// Where a node's apply ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Outcome {
+    /// Brought to its DCF (or, in a dry run, found what would be written).
+    Done,
+    /// Failed; the result says why.
+    Failed,
+    /// Stopped by the user after something was written (or a PDO change rolled back).
+    StoppedPartWay,
+    /// Stopped by the user before anything was written: the node is as it was.
+    StoppedUnchanged,
+    /// Not begun: the user stopped the run first (its node-id may have been given).
+    NotBegun,
 }
 
 impl Applied {
@@ -516,6 +534,7 @@ fn empty_row(listed: &Listed) -> NodeApplied {
         written: 0,
         stored: false,
         result: String::new(),
+        outcome: Outcome::Failed,
         ok: false,
         objects: Vec::new(),
     }
@@ -531,6 +550,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     };
     let Some(dcf) = &listed.dcf else {
         row.ok = true;
+        row.outcome = Outcome::Done;
         row.result = "present; the project names no DCF for it".to_string();
         return (row, None);
     };
@@ -547,6 +567,8 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
         // Stopped between two transfers, a PDO change under way put back: what was done,
         // what was not, and the state the node is left in, as `config apply` says it.
         row.result = format!("interrupted: {}", applied.summary().join("; "));
+        let changed = row.written > 0 || !applied.rolled_back.is_empty() || !applied.to_fix.is_empty();
+        row.outcome = if changed { Outcome::StoppedPartWay } else { Outcome::StoppedUnchanged };
         if o.config.store && !o.config.dry_run && row.written > 0 {
             row.result.push_str(&format!("; not stored (canctl store {} keeps what was written)", listed.node));
         }
@@ -563,6 +585,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
             if o.config.verify { ", verified" } else { "" },
             listed.node
         );
+        row.outcome = Outcome::StoppedPartWay;
         return (row, Some(Error::Interrupted));
     }
     if o.config.store && row.written > 0 {
@@ -573,6 +596,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
         }
     }
     row.ok = true;
+    row.outcome = Outcome::Done;
     row.result = match (o.config.dry_run, row.written) {
         (true, _) if would == 0 => "up to date: nothing would be written".to_string(),
         (true, _) => format!("{would} object(s) would be written"),
@@ -649,6 +673,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         parallel::each(bus, &items, o.jobs, o.interrupted, &work, &stopped, progress)
     };
     progress.finish();
+    let configured: Vec<usize> = done.iter().map(|(i, _)| *i).collect();
     for (i, (mut row, error)) in done {
         if let Some(id) = &assigned[i] {
             row.assigned = Some(id.clone());
@@ -681,6 +706,19 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     let mut failure = interrupted.then_some(Error::Interrupted);
     for (i, outcome) in rows.into_iter().enumerate() {
         match outcome {
+            // Given its node-id over LSS, then not configured: stopped by the user, or the
+            // link was lost, before this node was begun.
+            Some((mut row, None)) if ready.contains(&i) && !configured.contains(&i) => {
+                let (why, outcome) = if interrupted {
+                    ("interrupted before this node was begun", Outcome::NotBegun)
+                } else {
+                    ("the run ended (link lost) before this node was begun", Outcome::Failed)
+                };
+                row.result = format!("node-id given over LSS; not configured: {why}");
+                row.outcome = outcome;
+                row.ok = false;
+                nodes.push(row);
+            }
             Some((row, error)) => {
                 if let Some(e) = error {
                     failure.get_or_insert(e);
@@ -691,6 +729,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             None if interrupted => {
                 let mut row = empty_row(&loaded.nodes[i]);
                 row.result = "not done: interrupted before this node was begun".into();
+                row.outcome = Outcome::NotBegun;
                 nodes.push(row);
             }
             None => {}
@@ -970,12 +1009,14 @@ fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutc
             row.assigned = Some(id.to_string());
             row.result = format!("would be looked for over LSS ({id}) and given node-id {}", listed.node);
             row.ok = true;
+            row.outcome = Outcome::Done;
             (row, None)
         }
         Some(id) if o.assign => match assign(bus, &id, listed.node, o) {
             Ok(()) => {
                 row.assigned = Some(id.to_string());
                 row.ok = true;
+                row.outcome = Outcome::Done;
                 (row, None)
             }
             Err(e) => fail(row, e),
