@@ -479,6 +479,31 @@ fn a_device_refusing_the_rate_stops_the_switch_and_force_leaves_it_behind() {
     assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10]);
 }
 
+/// A project names files in its own folder: `Node5DCFName=../outside.dcf` is refused
+/// (file:line, exit 2) before anything is sent, and the file beside the project is not
+/// rewritten by --update-project.
+#[test]
+fn a_project_cannot_name_a_dcf_outside_its_folder() {
+    let sim = Sim::new();
+    let dir = dumped(&sim);
+    let cpj = dir.join("nodelist.cpj");
+    let text = std::fs::read_to_string(&cpj).unwrap();
+    std::fs::write(&cpj, text.replace("Node5DCFName=node5.dcf", "Node5DCFName=../outside.dcf")).unwrap();
+    let outside = dir.parent().unwrap().join("outside.dcf");
+    std::fs::copy(dir.join("node5.dcf"), &outside).unwrap();
+    let before = std::fs::read_to_string(&outside).unwrap();
+    let project = dir.to_str().unwrap();
+    let run = sim.run(&["network", "set-baud", "250k", project, "--global", "--force", "--update-project"]);
+    assert_eq!(run.code, 2, "{}\n{}", run.stdout, run.stderr);
+    let line = text.lines().position(|l| l == "Node5DCFName=node5.dcf").unwrap() + 1;
+    assert!(run.stderr.contains(&format!("nodelist.cpj:{line}: Node5DCFName=../outside.dcf: ")), "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(&outside).unwrap(), before);
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10, 32], "nothing was switched");
+    for args in [["network", "check", project], ["network", "apply", project]] {
+        assert_eq!(sim.run(&args).code, 2, "{args:?}");
+    }
+}
+
 #[test]
 fn set_baud_with_a_project_expects_its_nodes_and_updates_its_dcfs() {
     let sim = Sim::new();
