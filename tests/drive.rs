@@ -196,6 +196,27 @@ fn watch_by_sdo_polls_and_ends_with_130_on_interrupt() {
     assert!(r.stderr.contains("last seen Switch on disabled"), "{}", r.stderr);
 }
 
+/// The watch's CSV rows come under their own header row (every CSV has one), their time
+/// Unix time as every stream's.
+#[cfg(unix)]
+#[test]
+fn watch_in_csv_has_a_header_row() {
+    let sim = Sim::new();
+    let report = sim.run(&["drive", "status", "1", "--format", "csv"]).ok().stdout.lines().count();
+    let r = common::signal_after_lines(
+        sim.command(&["drive", "status", "1", "--watch", "--format", "csv"]),
+        report + 1,
+        nix::sys::signal::Signal::SIGINT,
+    );
+    assert_eq!(r.code, 130, "{}", r.stderr);
+    let lines: Vec<&str> = r.stdout.lines().collect();
+    assert_eq!(lines.get(report), Some(&"time,node,statusword,state,source"), "{}", r.stdout);
+    for row in &lines[report + 1..] {
+        let time: f64 = row.split(',').next().unwrap().parse().unwrap();
+        assert!(time > 1.6e9, "Unix time: {row}");
+    }
+}
+
 #[cfg(unix)]
 #[test]
 fn watch_takes_the_statusword_from_its_tpdo_when_operational() {

@@ -168,7 +168,7 @@ fn inside_the_folder(name: &str, folder: bool) -> Result<(), &'static str> {
         return Err("an absolute path: a project names files inside its own folder");
     }
     let parts: Vec<&str> = name.split(['/', '\\']).collect();
-    if parts.iter().any(|p| *p == "..") {
+    if parts.contains(&"..") {
         return Err("'..' leaves the project's folder: a project names files inside its own folder");
     }
     if !folder && (parts.len() > 1 || name == ".") {
