@@ -50,7 +50,9 @@ Examples:
 Node-ids in use are learned from SDO answers, heartbeats, boot-ups, node guarding and LSS
 (it listens for heartbeats first, see --listen), so a Stopped node keeps its id to itself.
 The fastscan step is learned from how late the devices answer, and lengthened when answers
-come later still; --step fixes it. Ctrl-C sends every device back to LSS waiting state,
+come later still; --step fixes it. With no device without a node-id it says so and exits
+0 (a provisioning script can run again); when the node-ids up to 127 run out it names the
+device left without one and exits 2. Ctrl-C sends every device back to LSS waiting state,
 reports what was assigned so far and exits 130. The JSON output is a record for
 provisioning logs.
 

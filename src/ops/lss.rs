@@ -450,15 +450,18 @@ fn error_text<S: serde::Serializer>(e: &Option<Error>, s: S) -> std::result::Res
 }
 
 impl Assignment {
-    /// Done only when every device answered and at least one got a node-id.
+    /// Done when the last "any device without a node-id?" probe went unanswered: every
+    /// device numbered, or none there to number (a provisioning script run again).
     pub fn outcome(self) -> Result<()> {
         match self.failure {
             Some(e) => Err(e),
-            None if self.assigned.is_empty() => {
-                Err(Error::Fastscan { error: FastscanError::NoDevice, step: Duration::from_millis(self.step_ms) })
-            }
             None => Ok(()),
         }
+    }
+
+    /// Nothing to do: no device without a node-id answered, and nothing stopped the search.
+    pub fn nothing_to_assign(&self) -> bool {
+        self.assigned.is_empty() && self.failure.is_none() && !self.interrupted
     }
 }
 
