@@ -4,7 +4,7 @@ use super::{interrupt, Ctx};
 use crate::bus::Bus;
 use crate::canopen::lss::{parse_bit_rate, Identity, UNCONFIGURED};
 use crate::error::Error;
-use crate::ops::lss::{self, AssignOptions, FastscanOptions, Setting};
+use crate::ops::lss::{self, AssignOptions, FastscanOptions, RefusedRate, Setting};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -203,17 +203,31 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
     let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> anyhow::Result<()> {
         let done = lss::configure(bus, t, target.get(setting.verb())?, setting, stop)?;
         ctx.out.report(&done)?;
+        // What `lss activate` must know: whether the last global rate was refused by some.
+        if let (Setting::BitRate(index), Some(uri), Some(_)) = (setting, &ctx.bus, &done.tally) {
+            RefusedRate::remember(uri, RefusedRate::of(&done, index).as_ref());
+        }
         if done.interrupted {
             return Err(crate::Error::Interrupted.into());
         }
-        Ok(())
+        Ok(done.outcome()?)
     };
     match cmd {
         LssCommand::Inquire(a) => ctx.out.report(&lss::inquire(bus, t, a.get("inquire")?)?)?,
         LssCommand::SetId(a) => set(bus, &a.target, Setting::NodeId(a.new))?,
         LssCommand::SetBaud(a) => set(bus, &a.target, Setting::BitRate(a.rate))?,
         LssCommand::Store(a) => set(bus, a, Setting::Store)?,
-        LssCommand::Activate(a) => ctx.out.report(&lss::activate(bus, t, a.target.get("activate")?, a.delay)?)?,
+        LssCommand::Activate(a) => {
+            let target = a.target.get("activate")?;
+            let uri = ctx.bus.as_deref().filter(|_| target == lss::Target::All);
+            if let Some(refused) = uri.and_then(RefusedRate::last) {
+                ctx.out.note(&refused.warning());
+            }
+            ctx.out.report(&lss::activate(bus, t, target, a.delay)?)?;
+            if let Some(uri) = uri {
+                RefusedRate::remember(uri, None);
+            }
+        }
         LssCommand::Fastscan(a) => {
             no_node(a.node, "fastscan")?;
             ctx.out.report(&lss::fastscan(bus, &a.pace.options(t), stop)?)?

@@ -2,10 +2,11 @@
 //! [`dump`] a live bus into one, [`check`] a bus against one, [`apply`] one to a bus.
 
 use super::config::{self, Dcf};
+pub use super::lss::LssTally;
 use super::Progress;
 use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
-use crate::canopen::lss::{Identity, Request, Response};
+use crate::canopen::lss::{Identity, Request};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result, Service};
 use crate::od::cpj::{self, Commissioning, Project};
@@ -1056,43 +1057,6 @@ pub struct SetBaudOptions {
     /// Set when the user asks to stop: checked before each LSS step; nothing is switched
     /// once it is set before the activation.
     pub interrupted: Option<&'static AtomicBool>,
-}
-
-/// How many devices confirmed an LSS service sent to all of them, and what the others
-/// answered (an LSS answer names no device: only counts can be told).
-#[derive(Debug, Default, Serialize)]
-pub struct LssTally {
-    pub confirmed: usize,
-    /// Each refusal, in words ("LSS configure bit timing: error 1: bit timing not supported").
-    pub refused: Vec<String>,
-    #[serde(skip)]
-    first_refusal: Option<Error>,
-}
-
-impl LssTally {
-    fn of(answers: &[Response], service: &str) -> LssTally {
-        let mut tally = LssTally::default();
-        for a in answers {
-            if let Response::Result { cs, error, specific } = *a {
-                if error == 0 {
-                    tally.confirmed += 1;
-                } else {
-                    let e = Error::LssRefused { service: service.into(), cs, error, specific };
-                    tally.refused.push(e.to_string());
-                    tally.first_refusal.get_or_insert(e);
-                }
-            }
-        }
-        tally
-    }
-
-    /// For people: "3 confirmed, 1 refused (...)".
-    pub fn text(&self) -> String {
-        match self.refused.len() {
-            0 => format!("{} device(s) confirmed", self.confirmed),
-            n => format!("{} device(s) confirmed, {n} refused ({})", self.confirmed, self.refused.join("; ")),
-        }
-    }
 }
 
 /// One node expected to follow the switch.

@@ -21,7 +21,16 @@ impl Report for Inquired {
 
 impl Report for Configured {
     fn human(&self) -> Human {
-        Human::Line(format!("{}: {}", self.target, self.result))
+        match &self.tally {
+            Some(t) if !t.refused.is_empty() => Human::Line(format!(
+                "{}: {}: {}; the devices that confirmed have it",
+                self.target,
+                self.result,
+                t.text()
+            )),
+            Some(t) => Human::Line(format!("{}: {} ({})", self.target, self.result, t.text())),
+            None => Human::Line(format!("{}: {}", self.target, self.result)),
+        }
     }
     fn notes(&self) -> Vec<String> {
         if !self.interrupted {
