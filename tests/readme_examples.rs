@@ -145,3 +145,33 @@ fn wildcards_and_times() {
     assert!(!matches("code … found", "code 0x3220 found"), "a code is not a number that varies");
     assert!(!matches("… ms", " ms"), "never empty");
 }
+
+/// README's install recipe for the man pages works for a user who installed canctl as it
+/// says (`cargo install`: the binary in ~/.cargo/bin, on PATH) and set no MANPATH: man-db
+/// derives its search path from PATH (DIR/bin gives DIR/share/man), so the pages must go
+/// where that finds them.
+#[cfg(unix)]
+#[test]
+fn the_man_page_recipe_finds_the_pages() {
+    if Command::new("man").arg("--version").output().is_err() {
+        return common::skipped("no man command");
+    }
+    let readme = include_str!("../README.md");
+    let install = readme.split("\n## Install\n").nth(1).unwrap().split("\n## ").next().unwrap();
+    let recipe = install.lines().find(|l| l.starts_with("canctl man --out")).expect("README installs the man pages");
+    let recipe = recipe.split(" #").next().unwrap().trim();
+    let home = tempfile::tempdir().unwrap();
+    let bin = home.path().join(".cargo/bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    std::os::unix::fs::symlink(canctl_bin(), bin.join("canctl")).unwrap();
+    let path = format!("{}:/usr/bin:/bin", bin.display());
+    let run = |cmd: &str| {
+        let mut c = Command::new("bash");
+        c.arg("-c").arg(cmd).env("HOME", home.path()).env("PATH", &path).env_remove("MANPATH");
+        finish(c.output().unwrap())
+    };
+    assert_eq!(run(recipe).code, 0, "{recipe}");
+    let found = run("man -w canctl-sdo-read");
+    assert_eq!(found.code, 0, "`{recipe}`, then man finds no canctl-sdo-read: {}", found.stderr);
+    assert!(found.stdout.starts_with(home.path().to_str().unwrap()), "{}", found.stdout);
+}
