@@ -136,7 +136,7 @@ fn wildcards_and_times() {
     assert!(!matches("done in … ms", "done in 42 s"));
     assert!(!matches("251", "252"));
     assert!(!matches("a…b…c", "a-c-b"));
-    assert!(matches("sim network reset (…): profile", "sim network reset (/tmp/x y/../sim.json): profile") == false);
+    assert!(!matches("sim network reset (…): profile", "sim network reset (/tmp/x y/../sim.json): profile"));
     assert!(matches("sim network reset (…): profile", "sim network reset (/tmp/.tmpAb/sim.json): profile"));
     assert!(matches("pid …, … ms", "pid 4711, 12.5 ms"));
     // Never a column, a name or a meaning.
