@@ -84,7 +84,7 @@ pub enum Error {
         crate::epos2::command::error_meaning(*code))]
     Epos2Refused { node: u8, command: &'static str, obj: Option<ObjAddr>, code: u32 },
     /// LSS assignment found no free node-id for a device.
-    #[error("no free node-id left from {start} to 127 for {identity}")]
+    #[error("no free node-id left from {start} to 127 for {identity}: give a lower --start")]
     NoFreeNodeId { start: u8, identity: Identity },
     /// A node keeps no error history (it has no object 0x1003), so there is none to clear.
     #[error("node {node} keeps no error history (it has no object 0x1003): there is nothing to clear")]
@@ -201,7 +201,9 @@ impl Error {
             | Error::TooLargeForSdo { .. }
             | Error::SlcanBitRate { .. }
             | Error::NotOnThisBus { .. }
-            | Error::NotADrive { .. } => C::Usage,
+            | Error::NotADrive { .. }
+            // The range the user gave is full: no device refused anything.
+            | Error::NoFreeNodeId { .. } => C::Usage,
             Error::NoAnswer { .. }
             | Error::SdoUnfinished { .. }
             | Error::NoRemoteAnswer { .. }
@@ -213,7 +215,6 @@ impl Error {
             Error::SdoAbort { .. }
             | Error::LssRefused { .. }
             | Error::Epos2Refused { .. }
-            | Error::NoFreeNodeId { .. }
             | Error::StoreRefused { .. }
             | Error::NoErrorHistory { .. } => C::Refused,
             Error::DriveStopped { why: DriveStop::NoAnswer, .. } => C::Timeout,
@@ -876,7 +877,7 @@ mod tests {
                     start: 120,
                     identity: Identity { vendor: 1, product: 2, revision: 3, serial: 4 },
                 },
-                "no free node-id left from 120 to 127 for 0x00000001:0x00000002:0x00000003:0x00000004",
+                "no free node-id left from 120 to 127 for 0x00000001:0x00000002:0x00000003:0x00000004: give a lower --start",
             ),
             (
                 Error::ReadBack { node: 5, obj: OBJ, wrote: "7".into(), read: "8".into() },

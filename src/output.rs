@@ -278,14 +278,27 @@ impl Output {
     }
 }
 
-/// One line of a stream: a JSON line, a CSV row, or text for people.
+/// One line of a stream: a JSON line, a CSV row, or text for people. Every stream's `time`
+/// is Unix time in seconds to the millisecond (JSON, CSV) and the time of day (UTC) for
+/// people, as [`RecordWriter`]'s.
 pub trait Line {
+    /// The CSV header row's column names, in the order of [`Line::csv`]'s fields.
+    const CSV_HEADER: &'static [&'static str];
     fn json(&self) -> serde_json::Value;
     fn csv(&self) -> String;
     fn text(&self) -> String;
 }
 
 impl Output {
+    /// What comes before a stream's first line: in CSV its header row, whether or not any
+    /// line follows.
+    pub fn stream_start<L: Line>(&self, w: &mut impl Write) -> std::io::Result<()> {
+        if self.format == Format::Csv {
+            write!(w, "{}", csv(L::CSV_HEADER, &[]))?;
+        }
+        Ok(())
+    }
+
     /// A line of a stream, in the format asked for.
     pub fn line(&self, w: &mut impl Write, line: &impl Line) -> std::io::Result<()> {
         match self.format {
@@ -397,6 +410,13 @@ pub fn csv(headers: &[&str], rows: &[Vec<String>]) -> String {
     s
 }
 
+/// Unix time in ms as the time of day (UTC) for people: `HH:MM:SS.mmm`.
+pub fn time_of_day(time_ms: u64) -> String {
+    let secs = time_ms / 1000;
+    let (h, m, s, ms) = (secs / 3600 % 24, secs / 60 % 60, secs % 60, time_ms % 1000);
+    format!("{h:02}:{m:02}:{s:02}.{ms:03}")
+}
+
 /// A stream's records (decoded PDOs) in the format asked for, into a reused buffer: this
 /// is the hot path of a stream, so no allocation per record.
 pub struct RecordWriter {
@@ -485,9 +505,7 @@ impl RecordWriter {
             }
             out.push('\n');
         }
-        let secs = time_ms / 1000;
-        let (h, m, s, ms) = (secs / 3600 % 24, secs / 60 % 60, secs % 60, time_ms % 1000);
-        let _ = write!(out, "{h:02}:{m:02}:{s:02}.{ms:03}    TPDO{pdo:<1}");
+        let _ = write!(out, "{}    TPDO{pdo:<1}", time_of_day(time_ms));
         for v in values {
             let _ = match v {
                 Value::Text(t) => write!(out, "  {:>COLUMN$}", terminal_safe(t)),

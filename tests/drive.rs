@@ -99,7 +99,7 @@ fn a_fault_stops_enable_and_fault_reset_clears_it_once_the_cause_is_gone() {
     assert_eq!(faulted["error_register"], 0x05);
     assert_eq!(faulted["error_register_bits"], serde_json::json!(["generic", "voltage"]));
     assert_eq!(faulted["errors"][0]["code"], 0x3220);
-    assert_eq!(faulted["errors"][0]["meaning"], canctl::canopen::emcy::code_meaning(0x3220));
+    assert_eq!(faulted["errors"][0]["meaning"], "DC link under-voltage", "as `errors 1` names it");
 
     let enable = sim.run(&["drive", "enable", "1"]);
     assert_eq!(enable.code, 4, "{}{}", enable.stdout, enable.stderr);
@@ -194,6 +194,27 @@ fn watch_by_sdo_polls_and_ends_with_130_on_interrupt() {
     assert!(r.stdout.contains("node 1: Switch on disabled (statusword 0x0540, by SDO)"), "{}", r.stdout);
     assert!(r.stderr.contains("reading the statusword by SDO"), "{}", r.stderr);
     assert!(r.stderr.contains("last seen Switch on disabled"), "{}", r.stderr);
+}
+
+/// The watch's CSV rows come under their own header row (every CSV has one), their time
+/// Unix time as every stream's.
+#[cfg(unix)]
+#[test]
+fn watch_in_csv_has_a_header_row() {
+    let sim = Sim::new();
+    let report = sim.run(&["drive", "status", "1", "--format", "csv"]).ok().stdout.lines().count();
+    let r = common::signal_after_lines(
+        sim.command(&["drive", "status", "1", "--watch", "--format", "csv"]),
+        report + 1,
+        nix::sys::signal::Signal::SIGINT,
+    );
+    assert_eq!(r.code, 130, "{}", r.stderr);
+    let lines: Vec<&str> = r.stdout.lines().collect();
+    assert_eq!(lines.get(report), Some(&"time,node,statusword,state,source"), "{}", r.stdout);
+    for row in &lines[report + 1..] {
+        let time: f64 = row.split(',').next().unwrap().parse().unwrap();
+        assert!(time > 1.6e9, "Unix time: {row}");
+    }
 }
 
 #[cfg(unix)]

@@ -31,6 +31,23 @@ fn scan_finds_the_same_nodes_as_on_sim() {
     }
 }
 
+/// Through an EPOS2, which passes on no CAN traffic by itself, scan still shows each node's
+/// NMT state (a remote request on 0x700+node), as README says.
+#[test]
+fn scan_through_the_epos2_shows_nmt_states_as_the_readme_says() {
+    let sim = Sim::new();
+    let dev = DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let scan = dev.run(&["scan", "--format", "json"]).ok().json();
+    for n in scan["nodes"].as_array().unwrap() {
+        assert_eq!(n["state"], "pre-operational", "{n}");
+        assert_eq!(n["state_from"], "remote request through the EPOS2", "{n}");
+    }
+    // README's sentences wrap: compare them with single blanks.
+    let readme = include_str!("../README.md").split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(!readme.contains("scan shows no NMT states"), "README says otherwise");
+    assert!(readme.contains("scan asks each node its NMT state by a remote request"), "README says how");
+}
+
 /// Every type written and read back on node `node` gives what the sim bus gives.
 fn every_type(dev: &DeviceSide, sim_ref: &Sim, node: &str) {
     let cases = [

@@ -45,6 +45,21 @@ fn the_faulted_drives_error_is_logged_and_cleared() {
     assert!(after.stdout.starts_with("node 1 (EPOS2 24/5): no errors logged in 0x1003"), "{}", after.stdout);
 }
 
+/// One code, one meaning: `drive status` names each entry of the history as `errors` does
+/// (for the faulted drive, CiA 402's "DC link under-voltage", not CiA 301's class).
+#[test]
+fn drive_status_and_errors_give_a_code_the_same_meaning() {
+    let sim = Sim::new();
+    sim.run(&["sdo", "write", "1", "5FFE", "1", "--type", "u16"]).ok();
+    let errors = sim.run(&["errors", "1", "--format", "json"]).ok().json();
+    let status = sim.run(&["drive", "status", "1", "--format", "json"]).ok().json();
+    let meanings = |entries: &serde_json::Value| -> Vec<String> {
+        entries.as_array().unwrap().iter().map(|e| e["meaning"].as_str().unwrap().to_string()).collect()
+    };
+    assert_eq!(meanings(&status["errors"]), meanings(&errors["entries"]), "{status}\n{errors}");
+    assert_eq!(meanings(&status["errors"]), ["DC link under-voltage"]);
+}
+
 #[test]
 fn a_node_without_a_history_says_so() {
     let sim = Sim::new();

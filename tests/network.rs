@@ -479,6 +479,31 @@ fn a_device_refusing_the_rate_stops_the_switch_and_force_leaves_it_behind() {
     assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10]);
 }
 
+/// A project names files in its own folder: `Node5DCFName=../outside.dcf` is refused
+/// (file:line, exit 2) before anything is sent, and the file beside the project is not
+/// rewritten by --update-project.
+#[test]
+fn a_project_cannot_name_a_dcf_outside_its_folder() {
+    let sim = Sim::new();
+    let dir = dumped(&sim);
+    let cpj = dir.join("nodelist.cpj");
+    let text = std::fs::read_to_string(&cpj).unwrap();
+    std::fs::write(&cpj, text.replace("Node5DCFName=node5.dcf", "Node5DCFName=../outside.dcf")).unwrap();
+    let outside = dir.parent().unwrap().join("outside.dcf");
+    std::fs::copy(dir.join("node5.dcf"), &outside).unwrap();
+    let before = std::fs::read_to_string(&outside).unwrap();
+    let project = dir.to_str().unwrap();
+    let run = sim.run(&["network", "set-baud", "250k", project, "--global", "--force", "--update-project"]);
+    assert_eq!(run.code, 2, "{}\n{}", run.stdout, run.stderr);
+    let line = text.lines().position(|l| l == "Node5DCFName=node5.dcf").unwrap() + 1;
+    assert!(run.stderr.contains(&format!("nodelist.cpj:{line}: Node5DCFName=../outside.dcf: ")), "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(&outside).unwrap(), before);
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10, 32], "nothing was switched");
+    for args in [["network", "check", project], ["network", "apply", project]] {
+        assert_eq!(sim.run(&args).code, 2, "{args:?}");
+    }
+}
+
 #[test]
 fn set_baud_with_a_project_expects_its_nodes_and_updates_its_dcfs() {
     let sim = Sim::new();
@@ -643,4 +668,49 @@ fn set_baud_through_the_epos2_gateway_says_the_gateway_must_be_switched() {
     assert!(set_baud_rows(&run).iter().all(|(_, after)| after.is_none()), "{report}");
     let human = gateway.run(&["network", "set-baud", "500k", "--global"]);
     assert!(human.stdout.contains("does not switch by itself, so nothing is checked yet"), "{}", human.stdout);
+}
+
+/// The summary under an interrupted apply counts the table's own rows: a node stopped
+/// before anything was written is not "stopped part-way", a node given its id but not
+/// configured says so, and the objects written are counted on the nodes written to.
+#[test]
+fn an_interrupted_apply_summary_agrees_with_its_table() {
+    let sim = Sim::new();
+    reset(&sim, "instant", "5");
+    let project = example().join("nodelist.cpj");
+    let mut c = sim.command(&["network", "apply", project.to_str().unwrap(), "--assign", "--jobs", "4"]);
+    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "5:INT");
+    let run = common::finish(c.output().unwrap());
+    assert_eq!(run.code, 130, "{}\n{}", run.stdout, run.stderr);
+    // node  name  written  result: the columns start where their headings do.
+    let header = run.stdout.lines().next().unwrap();
+    let (w, r) = (header.find("written").unwrap(), header.find("result").unwrap());
+    let rows: Vec<(usize, String)> = run
+        .stdout
+        .lines()
+        .skip(1)
+        .map(|l| (l[w..r].trim().parse().unwrap(), l.get(r..).unwrap_or("").trim().to_string()))
+        .collect();
+    assert_eq!(rows.len(), 9, "{}", run.stdout);
+    assert!(rows.iter().all(|(_, r)| !r.is_empty()), "every node says what happened:\n{}", run.stdout);
+    let count = |f: &dyn Fn(&(usize, String)) -> bool| rows.iter().filter(|r| f(r)).count();
+    let part_way = count(&|(w, r)| r.contains("interrupted") && !r.contains("nothing was written") && *w > 0);
+    let unchanged = count(&|(_, r)| r.contains("interrupted") && r.contains("nothing was written"));
+    let not_begun = count(&|(_, r)| r.contains("not begun"));
+    let written_to = count(&|(w, _)| *w > 0);
+    let written: usize = rows.iter().map(|(w, _)| w).sum();
+    let notes = &run.stderr;
+    let said = |n: usize, what: &str| notes.contains(&format!("{n} node(s) {what}"));
+    assert!(
+        part_way == 0 && !notes.contains("stopped part-way") || said(part_way, "stopped part-way"),
+        "{part_way} part-way:\n{}{notes}",
+        run.stdout
+    );
+    assert!(unchanged == 0 || said(unchanged, "stopped before anything was written"), "{}{notes}", run.stdout);
+    assert!(not_begun == 0 || said(not_begun, "not begun"), "{}{notes}", run.stdout);
+    assert!(
+        notes.contains(&format!("{written} object(s) written on {written_to} of 9 node(s)")),
+        "{}{notes}",
+        run.stdout
+    );
 }

@@ -3,7 +3,8 @@
 //! prints (stdout and stderr, as a terminal shows them) must be the lines below it.
 //!
 //! Only what honestly varies is let through: a clock time `hh:mm:ss.mmm`, and `…` in the
-//! README, which stands for any text within that line (a duration, a pty path).
+//! README, which stands for one number (a duration, a pid, a count of ms) or one path (a
+//! pty, a state file), never for a column, a name or a meaning ([`varies`]).
 
 mod common;
 use common::{canctl_bin, finish};
@@ -64,23 +65,34 @@ fn normalize(line: &str) -> String {
     out
 }
 
-/// Whether `actual` is what `shown` shows, `…` standing for any text.
+/// What `…` may stand for: one word that honestly varies from run to run, never a column
+/// or a meaning. A number (a duration's, a pid, a count of ms: digits with at most one
+/// `.`), or a path (no blank, at least one `/`). Nothing else: no blank, no empty text.
+fn varies(text: &str) -> bool {
+    let number = !text.is_empty()
+        && text.chars().all(|c| c.is_ascii_digit() || c == '.')
+        && text.chars().filter(|c| *c == '.').count() <= 1
+        && text.chars().any(|c| c.is_ascii_digit());
+    let path = text.contains('/') && !text.chars().any(char::is_whitespace);
+    number || path
+}
+
+/// Whether `actual` is what `shown` shows, each `…` standing for what [`varies`] allows.
 fn matches(shown: &str, actual: &str) -> bool {
     let (shown, actual) = (normalize(shown.trim_end()), normalize(actual.trim_end()));
-    let mut parts = shown.split('…');
-    let first = parts.next().unwrap_or("");
-    let Some(mut rest) = actual.strip_prefix(first) else { return false };
-    let parts: Vec<&str> = parts.collect();
-    for (k, part) in parts.iter().enumerate() {
-        if k + 1 == parts.len() {
-            return rest.ends_with(part);
-        }
-        match rest.find(part) {
-            Some(at) => rest = &rest[at + part.len()..],
-            None => return false,
-        }
-    }
-    rest.is_empty()
+    let parts: Vec<&str> = shown.split('…').collect();
+    let Some(rest) = actual.strip_prefix(parts[0]) else { return false };
+    fill(&parts[1..], rest)
+}
+
+/// `rest` is a stand-in followed by `parts[0]`, then again for each further part.
+fn fill(parts: &[&str], rest: &str) -> bool {
+    let Some((part, more)) = parts.split_first() else { return rest.is_empty() };
+    // Each place the next literal text could start, the stand-in being one blank-free word.
+    let word = rest.find(char::is_whitespace).unwrap_or(rest.len());
+    (1..=word)
+        .filter(|end| rest.is_char_boundary(*end))
+        .any(|end| varies(&rest[..end]) && rest[end..].strip_prefix(part).is_some_and(|after| fill(more, after)))
 }
 
 #[test]
@@ -124,4 +136,42 @@ fn wildcards_and_times() {
     assert!(!matches("done in … ms", "done in 42 s"));
     assert!(!matches("251", "252"));
     assert!(!matches("a…b…c", "a-c-b"));
+    assert!(!matches("sim network reset (…): profile", "sim network reset (/tmp/x y/../sim.json): profile"));
+    assert!(matches("sim network reset (…): profile", "sim network reset (/tmp/.tmpAb/sim.json): profile"));
+    assert!(matches("pid …, … ms", "pid 4711, 12.5 ms"));
+    // Never a column, a name or a meaning.
+    assert!(!matches(" #  code    meaning…entry", " #  code    meaning                     entry"));
+    assert!(!matches(" 1  0x3220  …0x00003220", " 1  0x3220  DC link under-voltage  0x00003220"));
+    assert!(!matches("code … found", "code 0x3220 found"), "a code is not a number that varies");
+    assert!(!matches("… ms", " ms"), "never empty");
+}
+
+/// README's install recipe for the man pages works for a user who installed canctl as it
+/// says (`cargo install`: the binary in ~/.cargo/bin, on PATH) and set no MANPATH: man-db
+/// derives its search path from PATH (DIR/bin gives DIR/share/man), so the pages must go
+/// where that finds them.
+#[cfg(unix)]
+#[test]
+fn the_man_page_recipe_finds_the_pages() {
+    if Command::new("man").arg("--version").output().is_err() {
+        return common::skipped("no man command");
+    }
+    let readme = include_str!("../README.md");
+    let install = readme.split("\n## Install\n").nth(1).unwrap().split("\n## ").next().unwrap();
+    let recipe = install.lines().find(|l| l.starts_with("canctl man --out")).expect("README installs the man pages");
+    let recipe = recipe.split(" #").next().unwrap().trim();
+    let home = tempfile::tempdir().unwrap();
+    let bin = home.path().join(".cargo/bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    std::os::unix::fs::symlink(canctl_bin(), bin.join("canctl")).unwrap();
+    let path = format!("{}:/usr/bin:/bin", bin.display());
+    let run = |cmd: &str| {
+        let mut c = Command::new("bash");
+        c.arg("-c").arg(cmd).env("HOME", home.path()).env("PATH", &path).env_remove("MANPATH");
+        finish(c.output().unwrap())
+    };
+    assert_eq!(run(recipe).code, 0, "{recipe}");
+    let found = run("man -w canctl-sdo-read");
+    assert_eq!(found.code, 0, "`{recipe}`, then man finds no canctl-sdo-read: {}", found.stderr);
+    assert!(found.stdout.starts_with(home.path().to_str().unwrap()), "{}", found.stdout);
 }

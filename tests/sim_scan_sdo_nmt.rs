@@ -51,6 +51,53 @@ fn lss_fastscan_and_assign_number_a_fresh_bus() {
     scenarios::lss_fastscan_and_assign_number_a_fresh_bus(&Sim::new());
 }
 
+/// Running out of node-ids is not a device refusing (exit 4): it is the range the user
+/// gave (exit 2), with who was numbered and who was not, and what to do.
+#[test]
+fn lss_assign_out_of_node_ids_says_who_was_numbered_and_who_was_not() {
+    let sim = Sim::new();
+    let r = sim.run(&["lss", "assign", "--start", "126", "--format", "json"]);
+    assert_eq!(r.code, 2, "{}\n{}", r.stdout, r.stderr);
+    let report = r.json();
+    let nodes: Vec<u64> = report["assigned"].as_array().unwrap().iter().map(|a| a["node"].as_u64().unwrap()).collect();
+    assert_eq!(nodes, [126, 127], "{report}");
+    let error = report["error"].as_str().unwrap();
+    assert!(error.starts_with("no free node-id left from 126 to 127 for 0x00000040:"), "{error}");
+    assert!(r.stderr.contains("give a lower --start"), "{}", r.stderr);
+    // The one left over still waits for a node-id, and a lower start numbers it.
+    assert_eq!(sim.run(&["scan", "--format", "json"]).ok().json()["lss_unconfigured"], 1);
+    let again = sim.run(&["lss", "assign", "--start", "20", "--format", "json"]).ok().json();
+    assert_eq!(again["assigned"].as_array().unwrap().len(), 1, "{again}");
+}
+
+/// A global set-baud that some devices took and one refused says both (as network set-baud
+/// does), exit 4; the following `lss activate --global` warns that it strands the one that
+/// refused, and a set-baud every device took clears the warning.
+#[test]
+fn lss_set_baud_global_reports_who_accepted_and_activate_warns_of_the_refusal() {
+    let sim = Sim::new();
+    // The stepper cannot change its rate over LSS; the other six devices (three without a
+    // node-id) can.
+    let r = sim.run(&["lss", "set-baud", "125k", "--global"]);
+    assert_eq!(r.code, 4, "{}\n{}", r.stdout, r.stderr);
+    assert!(r.stdout.contains("6 device(s) confirmed, 1 refused"), "{}", r.stdout);
+    assert!(r.stdout.contains("bit timing not supported"), "{}", r.stdout);
+    let json = sim.run(&["lss", "set-baud", "125k", "--global", "--format", "json"]).json();
+    assert_eq!(json["confirmed"], 6, "{json}");
+    assert_eq!(json["refused"].as_array().unwrap().len(), 1, "{json}");
+
+    let r = sim.run(&["lss", "activate", "--global", "--delay", "5"]);
+    assert!(
+        r.stderr.contains("the last `lss set-baud 125k --global` on this bus was refused by 1 device(s)"),
+        "{}",
+        r.stderr
+    );
+    // Back to 500k (the six switched to 125k, the sim with them): every device takes it.
+    sim.run(&["lss", "set-baud", "500k", "--global"]);
+    let r = sim.run(&["lss", "activate", "--global", "--delay", "5"]);
+    assert!(!r.stderr.contains("was refused by"), "{}", r.stderr);
+}
+
 #[test]
 fn lss_selective_services() {
     scenarios::lss_selective_services(&Sim::new());

@@ -158,6 +158,28 @@ fn monitor_ends_with_a_summary() {
     );
 }
 
+/// Every CSV has a header row, and every stream's time column is one convention: Unix
+/// time in seconds, to the millisecond (as stream-pdo's and drive status --watch's).
+#[test]
+fn monitor_csv_has_a_header_and_unix_time_as_stream_pdo() {
+    let sim = Sim::new();
+    let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().as_secs_f64();
+    let r = sim.run(&["monitor", "--node", "5", "--count", "2", "--format", "csv"]).ok();
+    let lines: Vec<&str> = r.stdout.lines().collect();
+    assert_eq!(lines.len(), 3, "{}", r.stdout);
+    assert_eq!(lines[0], "time,cob,node,kind,text");
+    let pdo = sim.run(&["stream-pdo", "5", "--start", "--count", "1", "--format", "csv"]).ok();
+    assert!(pdo.stdout.starts_with("time,pdo,"), "{}", pdo.stdout);
+    for row in [lines[1], lines[2], pdo.stdout.lines().nth(1).unwrap()] {
+        let time: f64 = row.split(',').next().unwrap().parse().unwrap();
+        // Unix time: after this test began, within the hour (not seconds since the start).
+        assert!(time >= now.floor() && time < now + 3600.0, "{row} (now {now})");
+    }
+    let json = sim.run(&["monitor", "--node", "5", "--count", "1", "--format", "json"]).ok();
+    let first: serde_json::Value = serde_json::from_str(json.stdout.lines().next().unwrap()).unwrap();
+    assert!(first["time"].as_f64().unwrap() >= now.floor(), "{first}");
+}
+
 #[test]
 fn monitor_through_an_epos2_says_why_not() {
     let sim = Sim::new();

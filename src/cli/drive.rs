@@ -107,6 +107,7 @@ fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
     });
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
+    ctx.out.stream_start::<drive::Change>(&mut out)?;
     let mut last = None;
     while !ctx.cancel.is_cancelled() {
         // Short rounds, so that an interruption is seen within one.

@@ -4,7 +4,7 @@ use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::lss::{parse_bit_rate, Identity, UNCONFIGURED};
 use crate::error::Error;
-use crate::ops::lss::{self, AssignOptions, FastscanOptions, Setting};
+use crate::ops::lss::{self, AssignOptions, FastscanOptions, RefusedRate, Setting};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -50,7 +50,9 @@ Examples:
 Node-ids in use are learned from SDO answers, heartbeats, boot-ups, node guarding and LSS
 (it listens for heartbeats first, see --listen), so a Stopped node keeps its id to itself.
 The fastscan step is learned from how late the devices answer, and lengthened when answers
-come later still; --step fixes it. Ctrl-C sends every device back to LSS waiting state,
+come later still; --step fixes it. With no device without a node-id it says so and exits
+0 (a provisioning script can run again); when the node-ids up to 127 run out it names the
+device left without one and exits 2. Ctrl-C sends every device back to LSS waiting state,
 reports what was assigned so far and exits 130. The JSON output is a record for
 provisioning logs.
 
@@ -200,17 +202,31 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
     let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> anyhow::Result<()> {
         let done = lss::configure(bus, t, target.get(setting.verb())?, setting, stop)?;
         ctx.out.report(&done)?;
+        // What `lss activate` must know: whether the last global rate was refused by some.
+        if let (Setting::BitRate(index), Some(uri), Some(_)) = (setting, &ctx.bus, &done.tally) {
+            RefusedRate::remember(uri, RefusedRate::of(&done, index).as_ref());
+        }
         if done.interrupted {
             return Err(crate::Error::Interrupted.into());
         }
-        Ok(())
+        Ok(done.outcome()?)
     };
     match cmd {
         LssCommand::Inquire(a) => ctx.out.report(&lss::inquire(bus, t, a.get("inquire")?)?)?,
         LssCommand::SetId(a) => set(bus, &a.target, Setting::NodeId(a.new))?,
         LssCommand::SetBaud(a) => set(bus, &a.target, Setting::BitRate(a.rate))?,
         LssCommand::Store(a) => set(bus, a, Setting::Store)?,
-        LssCommand::Activate(a) => ctx.out.report(&lss::activate(bus, t, a.target.get("activate")?, a.delay)?)?,
+        LssCommand::Activate(a) => {
+            let target = a.target.get("activate")?;
+            let uri = ctx.bus.as_deref().filter(|_| target == lss::Target::All);
+            if let Some(refused) = uri.and_then(RefusedRate::last) {
+                ctx.out.note(&refused.warning());
+            }
+            ctx.out.report(&lss::activate(bus, t, target, a.delay)?)?;
+            if let Some(uri) = uri {
+                RefusedRate::remember(uri, None);
+            }
+        }
         LssCommand::Fastscan(a) => {
             no_node(a.node, "fastscan")?;
             ctx.out.report(&lss::fastscan(bus, &a.pace.options(t), stop)?)?

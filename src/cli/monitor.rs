@@ -53,6 +53,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> 
         let mut monitor = Monitor::new(bus, layouts(ctx, &a.node), &a.node, a.duration, a.count)?;
         let stdout = std::io::stdout();
         let mut out = std::io::BufWriter::new(stdout.lock());
+        ctx.out.stream_start::<crate::ops::monitor::Event>(&mut out)?;
         while let Some(ev) = monitor.next(bus)? {
             ctx.out.line(&mut out, &ev)?;
             std::io::Write::flush(&mut out)?;

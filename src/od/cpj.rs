@@ -5,7 +5,8 @@
 //! A project's `[Topology]` section holds `NetName`, `NetRefd`, `Nodes` (how many nodes are
 //! listed), `NodeXPresent` (0x01 listed, 0x00 not), `NodeXName`, `NodeXRefd`, `NodeXDCFName`
 //! for node-id X (decimal, 1 to 127), and `EDSBaseName`, the folder the DCF names are
-//! relative to. Keys are matched without regard to case. Files are Latin-1 (UTF-8 is read
+//! relative to. Neither may leave the project's folder (no absolute path, no `..`, and a DCF
+//! name is a bare file name). Keys are matched without regard to case. Files are Latin-1 (UTF-8 is read
 //! and written back as UTF-8) with CRLF or LF line ends; canctl writes CRLF. Keys canctl does
 //! not know are kept, in order, and written back. What cannot be read is named with
 //! file:line.
@@ -69,8 +70,8 @@ impl Project {
         self.nodes.iter().filter(|(_, n)| n.present).map(|(id, n)| (*id, n))
     }
 
-    /// The folder DCF names are relative to: `EDSBaseName` (itself relative to the project's
-    /// folder unless absolute), else the project's folder.
+    /// The folder DCF names are relative to: `EDSBaseName` (relative to the project's folder,
+    /// which it cannot leave), else the project's folder.
     pub fn dcf_dir(&self, project_file: &Path) -> PathBuf {
         let here = project_file.parent().map(Path::to_path_buf).unwrap_or_default();
         match self.eds_base_name.as_deref().filter(|b| !b.is_empty()) {
@@ -157,6 +158,25 @@ fn node_key(key: &str) -> Option<(&str, String)> {
     Some((&tail[..digits], tail[digits..].to_ascii_lowercase()))
 }
 
+/// Whether a file name from a project stays in the project's folder, so that a project
+/// from someone else cannot make canctl read or rewrite a file elsewhere (`--update-project`
+/// rewrites the DCFs): a DCF name is a bare file name; `EDSBaseName` (`folder` true) a
+/// relative folder below the project's, without `..`. Both separators count, whatever the OS.
+fn inside_the_folder(name: &str, folder: bool) -> Result<(), &'static str> {
+    let name = name.trim();
+    if name.starts_with(['/', '\\']) || name.as_bytes().get(1) == Some(&b':') {
+        return Err("an absolute path: a project names files inside its own folder");
+    }
+    let parts: Vec<&str> = name.split(['/', '\\']).collect();
+    if parts.contains(&"..") {
+        return Err("'..' leaves the project's folder: a project names files inside its own folder");
+    }
+    if !folder && (parts.len() > 1 || name == ".") {
+        return Err("a DCF name is a file name, without a folder (EDSBaseName names the folder)");
+    }
+    Ok(())
+}
+
 /// Parse a project. `path` names the file in messages.
 pub fn parse(bytes: &[u8], path: &str) -> Result<Read, CpjError> {
     let (lines, utf8) = ini_lines(bytes, path)?;
@@ -193,7 +213,11 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Read, CpjError> {
         match key.as_str() {
             "netname" => project.net_name = value(),
             "netrefd" => project.net_refd = value(),
-            "edsbasename" => project.eds_base_name = value(),
+            "edsbasename" => {
+                inside_the_folder(&l.value, true)
+                    .map_err(|why| err(l.line, format!("{}={}: {why}", l.key, l.value)))?;
+                project.eds_base_name = value();
+            }
             "nodes" => {
                 let n = number(&l.value)
                     .filter(|n| *n <= 127)
@@ -224,7 +248,11 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Read, CpjError> {
                         }
                         "name" => node.name = value(),
                         "refd" => node.refd = value(),
-                        _ => node.dcf = value(),
+                        _ => {
+                            inside_the_folder(&l.value, false)
+                                .map_err(|why| err(l.line, format!("{}={}: {why}", l.key, l.value)))?;
+                            node.dcf = value();
+                        }
                     }
                 }
                 _ => project.other.push((l.key.clone(), l.value.clone())),
@@ -496,6 +524,26 @@ Node9Present=0x00\r\nNode9Name=spare\r\nEDSBaseName=dcf\r\nVendorKey=kept\r\n";
         );
     }
 
+    /// A project from someone else must not make canctl read or write outside its folder.
+    #[test]
+    fn file_names_that_leave_the_project_folder_are_refused() {
+        let cases: [(&[u8], &str); 7] = [
+            (b"[Topology]\nNode5Present=1\nNode5DCFName=../outside.dcf\n", "Node5DCFName=../outside.dcf"),
+            (b"[Topology]\nNode5Present=1\nNode5DCFName=/etc/x.dcf\n", "Node5DCFName=/etc/x.dcf"),
+            (b"[Topology]\nNode5Present=1\nNode5DCFName=sub/x.dcf\n", "Node5DCFName=sub/x.dcf"),
+            (b"[Topology]\nNode5Present=1\nNode5DCFName=sub\\x.dcf\n", "Node5DCFName=sub\\x.dcf"),
+            (b"[Topology]\nNode5Present=1\nNode5DCFName=..\n", "Node5DCFName=.."),
+            (b"[Topology]\nNode5Present=1\nEDSBaseName=../up\n", "EDSBaseName=../up"),
+            (b"[Topology]\nNode5Present=1\nEDSBaseName=/tmp\n", "EDSBaseName=/tmp"),
+        ];
+        for (text, what) in cases {
+            let e = parse(text, "p.cpj").unwrap_err().to_string();
+            assert!(e.starts_with(&format!("p.cpj:3: {what}: ")), "{e}");
+        }
+        let ok = parse(b"[Topology]\nNode5Present=1\nEDSBaseName=dcf/a\nNode5DCFName=n5.dcf\n", "p.cpj").unwrap();
+        assert_eq!(ok.project.dcf_path(Path::new("m/p.cpj"), 5).unwrap(), Path::new("m/dcf/a/n5.dcf"));
+    }
+
     #[test]
     fn a_wrong_count_and_a_node_without_present_are_warned_about() {
         let w = parse(b"[Topology]\nNodes=0x03\nNode1Present=1\nNode2Name=x\n", "p.cpj").unwrap().warnings;
@@ -521,8 +569,6 @@ Node9Present=0x00\r\nNode9Name=spare\r\nEDSBaseName=dcf\r\nVendorKey=kept\r\n";
         let mut p = Project { eds_base_name: Some("dcf".into()), ..Project::default() };
         p.nodes.insert(5, Node { present: true, dcf: Some("node5.dcf".into()), ..Node::default() });
         assert_eq!(p.dcf_path(Path::new("/m/nodelist.cpj"), 5).unwrap(), Path::new("/m/dcf/node5.dcf"));
-        p.eds_base_name = Some("/abs".into());
-        assert_eq!(p.dcf_path(Path::new("/m/nodelist.cpj"), 5).unwrap(), Path::new("/abs/node5.dcf"));
         assert!(p.dcf_path(Path::new("/m/nodelist.cpj"), 6).is_none());
     }
 

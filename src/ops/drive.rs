@@ -131,8 +131,11 @@ fn mode(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<Mode>> 
     Ok(None)
 }
 
-/// The error history, newest first (sub 1 is the newest, CiA 301 §7.5.2.5).
-fn errors(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<Vec<LoggedError>>> {
+/// The error history, newest first (sub 1 is the newest, CiA 301 §7.5.2.5), each code named
+/// as `errors` names it ([`emcy::meaning`]: for a drive, CiA 402 before CiA 301's classes).
+/// The device type is what picks the table for a drive (no device manual lists a drive).
+fn errors(bus: &mut dyn Bus, node: u8, device_type: u32, timeout: Duration) -> Result<Option<Vec<LoggedError>>> {
+    let origin = emcy::Origin { device_type: Some(device_type), vendor: None, product: None, name: None };
     let Some(count) = optional(read_u8(bus, node, ObjAddr::new(ERROR_FIELD, 0), timeout))? else {
         return Ok(None);
     };
@@ -140,7 +143,9 @@ fn errors(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<Vec<L
     for sub in 1..=count {
         let Some(b) = optional(read(bus, node, ObjAddr::new(ERROR_FIELD, sub), 4, timeout))? else { break };
         let raw = le_u32(&b);
-        out.push(LoggedError { raw, code: raw as u16, meaning: emcy::code_meaning(raw as u16) });
+        let entry = emcy::HistoryEntry { raw };
+        let meaning = emcy::meaning(entry.code(), entry.manufacturer(), &origin).text;
+        out.push(LoggedError { raw, code: entry.code(), meaning });
     }
     Ok(Some(out))
 }
@@ -151,7 +156,7 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Status> 
     let (word, state) = statusword(bus, node, timeout)?;
     let mode = mode(bus, node, timeout)?;
     let register = read_u8(bus, node, ERROR_REGISTER, timeout)?;
-    let errors = errors(bus, node, timeout)?;
+    let errors = errors(bus, node, device_type, timeout)?;
     Ok(Status {
         node,
         device_type,

@@ -129,6 +129,43 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
     Ok(Inquired { identity: Identified(id), node })
 }
 
+/// How many devices confirmed an LSS service sent to all of them, and what the others
+/// answered (an LSS answer names no device: only counts can be told).
+#[derive(Debug, Default, Serialize)]
+pub struct LssTally {
+    pub confirmed: usize,
+    /// Each refusal, in words ("LSS configure bit timing: error 1: bit timing not supported").
+    pub refused: Vec<String>,
+    #[serde(skip)]
+    pub(crate) first_refusal: Option<Error>,
+}
+
+impl LssTally {
+    pub(crate) fn of(answers: &[Response], service: &str) -> LssTally {
+        let mut tally = LssTally::default();
+        for a in answers {
+            if let Response::Result { cs, error, specific } = *a {
+                if error == 0 {
+                    tally.confirmed += 1;
+                } else {
+                    let e = Error::LssRefused { service: service.into(), cs, error, specific };
+                    tally.refused.push(e.to_string());
+                    tally.first_refusal.get_or_insert(e);
+                }
+            }
+        }
+        tally
+    }
+
+    /// For people: "3 confirmed, 1 refused (...)".
+    pub fn text(&self) -> String {
+        match self.refused.len() {
+            0 => format!("{} device(s) confirmed", self.confirmed),
+            n => format!("{} device(s) confirmed, {n} refused ({})", self.confirmed, self.refused.join("; ")),
+        }
+    }
+}
+
 /// A configuration service.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Setting {
@@ -169,10 +206,26 @@ pub struct Configured {
     pub result: String,
     /// How many devices confirmed it.
     pub answers: usize,
+    /// Sent to every device (--global): who confirmed and what the others answered, since
+    /// one refusal does not undo the others' acceptance.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub tally: Option<LssTally>,
     /// The user asked to stop while it was under way: it was done all the same (one LSS
     /// service cannot be half done), and nothing after it.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub interrupted: bool,
+    /// A device's refusal, when some refused (its exit code is the command's).
+    #[serde(skip)]
+    pub failure: Option<Error>,
+}
+
+impl Configured {
+    pub fn outcome(self) -> Result<()> {
+        match self.failure {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
 }
 
 /// Give the target a node-id or a bit rate, or make it store them: over LSS, or through
@@ -187,6 +240,7 @@ pub fn configure(
     if interrupted.is_cancelled() {
         return Err(Error::Interrupted);
     }
+    let mut tally = None;
     let (result, answers) = match target {
         Target::DirectEpos2 => (configure_direct_epos2(bus, timeout, setting)?, 1),
         Target::One(_) | Target::All => {
@@ -195,9 +249,21 @@ pub fn configure(
                 _ => None,
             };
             let mut m = LssMaster::new(bus, timeout);
-            let result = m
-                .enter(identity.as_ref())
-                .and_then(|_| m.configure(setting.request(), setting.verb(), identity.is_none()));
+            let result = m.enter(identity.as_ref()).and_then(|_| match identity {
+                Some(_) => m.configure(setting.request(), setting.verb(), false),
+                // Every device answers for itself: count who took it and who refused.
+                None => {
+                    let answers = m.ask(setting.request(), LssWait::All)?;
+                    let t = LssTally::of(&answers, setting.verb());
+                    if t.confirmed + t.refused.len() == 0 {
+                        let request = setting.verb().into();
+                        return Err(Error::NoLssAnswer { request, identity: None, waited: timeout });
+                    }
+                    let n = t.confirmed;
+                    tally = Some(t);
+                    Ok(n)
+                }
+            });
             m.leave()?;
             let n = result?;
             let what = match setting {
@@ -213,7 +279,56 @@ pub fn configure(
         }
     };
     let interrupted = interrupted.is_cancelled();
-    Ok(Configured { command: setting.verb(), target: target.text(), result, answers, interrupted })
+    let failure = tally.as_mut().and_then(|t: &mut LssTally| t.first_refusal.take());
+    Ok(Configured { command: setting.verb(), target: target.text(), result, answers, tally, interrupted, failure })
+}
+
+/// A global "configure bit timing" that some devices refused, remembered per network (in
+/// the cache, as the last scan is) until the next global set-baud or activation, so that
+/// `lss activate` can warn that it would strand them. Like any cache, a failure to read or
+/// write it is never an error.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct RefusedRate {
+    /// The rate asked for (`125k`).
+    pub rate: String,
+    pub confirmed: usize,
+    pub refused: usize,
+}
+
+impl RefusedRate {
+    /// What a global configure leaves to remember: a refusal by some, or nothing.
+    pub fn of(done: &Configured, index: u8) -> Option<RefusedRate> {
+        let t = done.tally.as_ref().filter(|t| !t.refused.is_empty())?;
+        Some(RefusedRate { rate: lss::bit_rate_name(index), confirmed: t.confirmed, refused: t.refused.len() })
+    }
+
+    /// Keep `what` as the last global configure of `bus` (None: every device took it).
+    pub fn remember(bus: &str, what: Option<&RefusedRate>) {
+        let Some(path) = super::scan_cache::network_file("lss-set-baud", bus) else { return };
+        match what {
+            Some(r) => {
+                let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
+                let _ = std::fs::write(&path, serde_json::to_string(r).expect("serialises"));
+            }
+            None => {
+                let _ = std::fs::remove_file(&path);
+            }
+        }
+    }
+
+    pub fn last(bus: &str) -> Option<RefusedRate> {
+        let path = super::scan_cache::network_file("lss-set-baud", bus)?;
+        serde_json::from_slice(&std::fs::read(path).ok()?).ok()
+    }
+
+    /// The warning before an activation.
+    pub fn warning(&self) -> String {
+        format!(
+            "the last `lss set-baud {} --global` on this bus was refused by {} device(s) ({} took it): activating \
+             switches those and leaves the others at the old rate, where they no longer hear the bus",
+            self.rate, self.refused, self.confirmed
+        )
+    }
 }
 
 /// EPOS2 firmware specification, object 0x2001 "CAN Bitrate": 0 = 1 Mbit/s, 1 = 800 k,
@@ -450,15 +565,18 @@ fn error_text<S: serde::Serializer>(e: &Option<Error>, s: S) -> std::result::Res
 }
 
 impl Assignment {
-    /// Done only when every device answered and at least one got a node-id.
+    /// Done when the last "any device without a node-id?" probe went unanswered: every
+    /// device numbered, or none there to number (a provisioning script run again).
     pub fn outcome(self) -> Result<()> {
         match self.failure {
             Some(e) => Err(e),
-            None if self.assigned.is_empty() => {
-                Err(Error::Fastscan { error: FastscanError::NoDevice, step: Duration::from_millis(self.step_ms) })
-            }
             None => Ok(()),
         }
+    }
+
+    /// Nothing to do: no device without a node-id answered, and nothing stopped the search.
+    pub fn nothing_to_assign(&self) -> bool {
+        self.assigned.is_empty() && self.failure.is_none() && !self.interrupted
     }
 }
 

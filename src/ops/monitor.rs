@@ -19,8 +19,8 @@ use std::time::{Duration, Instant};
 /// One decoded frame.
 #[derive(Clone, Debug)]
 pub struct Event {
-    /// Seconds since the monitor started.
-    pub time: f64,
+    /// When it was received: Unix time in ms, the time column of every stream.
+    pub time_ms: u64,
     pub cob: u16,
     /// The node it comes from or is meant for, when it names one.
     pub node: Option<u8>,
@@ -32,7 +32,7 @@ pub struct Event {
 }
 
 fn event(node: Option<u8>, kind: &'static str, text: String, fields: J) -> Event {
-    Event { time: 0.0, cob: 0, node, kind, text, fields }
+    Event { time_ms: 0, cob: 0, node, kind, text, fields }
 }
 
 fn sdo_text(d: &[u8], request: bool) -> (String, J) {
@@ -274,7 +274,7 @@ impl Monitor {
             *self.seen.per_cob_id.entry(f.id()).or_default() += 1;
             self.seen.nodes.extend(ev.node);
             self.seen.emcy += (ev.kind == "emcy") as u64;
-            ev.time = self.start.elapsed().as_secs_f64();
+            ev.time_ms = super::pdo::wall_ms();
             ev.cob = f.id();
             return Ok(Some(ev));
         }

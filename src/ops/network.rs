@@ -2,11 +2,12 @@
 //! [`dump`] a live bus into one, [`check`] a bus against one, [`apply`] one to a bus.
 
 use super::config::{self, Dcf};
+pub use super::lss::LssTally;
 use super::Progress;
 use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::cancel::Cancel;
-use crate::canopen::lss::{Identity, Request, Response};
+use crate::canopen::lss::{Identity, Request};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result, Service};
 use crate::od::cpj::{self, Commissioning, Project};
@@ -467,9 +468,27 @@ pub struct NodeApplied {
     pub stored: bool,
     /// What happened, in a sentence.
     pub result: String,
+    /// What happened, in one word: the summary counts these, as the table shows them.
+    pub outcome: Outcome,
     pub ok: bool,
     /// Each object written or not, as `config apply` reports it.
     pub objects: Vec<config::Change>,
+}
+
+/// Where a node's apply ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Outcome {
+    /// Brought to its DCF (or, in a dry run, found what would be written).
+    Done,
+    /// Failed; the result says why.
+    Failed,
+    /// Stopped by the user after something was written (or a PDO change rolled back).
+    StoppedPartWay,
+    /// Stopped by the user before anything was written: the node is as it was.
+    StoppedUnchanged,
+    /// Not begun: the user stopped the run first (its node-id may have been given).
+    NotBegun,
 }
 
 impl Applied {
@@ -519,6 +538,7 @@ fn empty_row(listed: &Listed) -> NodeApplied {
         written: 0,
         stored: false,
         result: String::new(),
+        outcome: Outcome::Failed,
         ok: false,
         objects: Vec::new(),
     }
@@ -534,6 +554,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     };
     let Some(dcf) = &listed.dcf else {
         row.ok = true;
+        row.outcome = Outcome::Done;
         row.result = "present; the project names no DCF for it".to_string();
         return (row, None);
     };
@@ -550,6 +571,8 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
         // Stopped between two transfers, a PDO change under way put back: what was done,
         // what was not, and the state the node is left in, as `config apply` says it.
         row.result = format!("interrupted: {}", applied.summary().join("; "));
+        let changed = row.written > 0 || !applied.rolled_back.is_empty() || !applied.to_fix.is_empty();
+        row.outcome = if changed { Outcome::StoppedPartWay } else { Outcome::StoppedUnchanged };
         if o.config.store && !o.config.dry_run && row.written > 0 {
             row.result.push_str(&format!("; not stored (canctl store {} keeps what was written)", listed.node));
         }
@@ -566,6 +589,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
             if o.config.verify { ", verified" } else { "" },
             listed.node
         );
+        row.outcome = Outcome::StoppedPartWay;
         return (row, Some(Error::Interrupted));
     }
     if o.config.store && row.written > 0 {
@@ -576,6 +600,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
         }
     }
     row.ok = true;
+    row.outcome = Outcome::Done;
     row.result = match (o.config.dry_run, row.written) {
         (true, _) if would == 0 => "up to date: nothing would be written".to_string(),
         (true, _) => format!("{would} object(s) would be written"),
@@ -652,6 +677,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         parallel::each(bus, &items, o.jobs, &o.interrupted, &work, &stopped, progress)
     };
     progress.finish();
+    let configured: Vec<usize> = done.iter().map(|(i, _)| *i).collect();
     for (i, (mut row, error)) in done {
         if let Some(id) = &assigned[i] {
             row.assigned = Some(id.clone());
@@ -684,6 +710,19 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     let mut failure = interrupted.then_some(Error::Interrupted);
     for (i, outcome) in rows.into_iter().enumerate() {
         match outcome {
+            // Given its node-id over LSS, then not configured: stopped by the user, or the
+            // link was lost, before this node was begun.
+            Some((mut row, None)) if ready.contains(&i) && !configured.contains(&i) => {
+                let (why, outcome) = if interrupted {
+                    ("interrupted before this node was begun", Outcome::NotBegun)
+                } else {
+                    ("the run ended (link lost) before this node was begun", Outcome::Failed)
+                };
+                row.result = format!("node-id given over LSS; not configured: {why}");
+                row.outcome = outcome;
+                row.ok = false;
+                nodes.push(row);
+            }
             Some((row, error)) => {
                 if let Some(e) = error {
                     failure.get_or_insert(e);
@@ -694,6 +733,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             None if interrupted => {
                 let mut row = empty_row(&loaded.nodes[i]);
                 row.result = "not done: interrupted before this node was begun".into();
+                row.outcome = Outcome::NotBegun;
                 nodes.push(row);
             }
             None => {}
@@ -973,12 +1013,14 @@ fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutc
             row.assigned = Some(id.to_string());
             row.result = format!("would be looked for over LSS ({id}) and given node-id {}", listed.node);
             row.ok = true;
+            row.outcome = Outcome::Done;
             (row, None)
         }
         Some(id) if o.assign => match assign(bus, &id, listed.node, o) {
             Ok(()) => {
                 row.assigned = Some(id.to_string());
                 row.ok = true;
+                row.outcome = Outcome::Done;
                 (row, None)
             }
             Err(e) => fail(row, e),
@@ -1018,43 +1060,6 @@ pub struct SetBaudOptions {
     /// Set when the user asks to stop: checked before each LSS step; nothing is switched
     /// once it is set before the activation.
     pub interrupted: Cancel,
-}
-
-/// How many devices confirmed an LSS service sent to all of them, and what the others
-/// answered (an LSS answer names no device: only counts can be told).
-#[derive(Debug, Default, Serialize)]
-pub struct LssTally {
-    pub confirmed: usize,
-    /// Each refusal, in words ("LSS configure bit timing: error 1: bit timing not supported").
-    pub refused: Vec<String>,
-    #[serde(skip)]
-    first_refusal: Option<Error>,
-}
-
-impl LssTally {
-    fn of(answers: &[Response], service: &str) -> LssTally {
-        let mut tally = LssTally::default();
-        for a in answers {
-            if let Response::Result { cs, error, specific } = *a {
-                if error == 0 {
-                    tally.confirmed += 1;
-                } else {
-                    let e = Error::LssRefused { service: service.into(), cs, error, specific };
-                    tally.refused.push(e.to_string());
-                    tally.first_refusal.get_or_insert(e);
-                }
-            }
-        }
-        tally
-    }
-
-    /// For people: "3 confirmed, 1 refused (...)".
-    pub fn text(&self) -> String {
-        match self.refused.len() {
-            0 => format!("{} device(s) confirmed", self.confirmed),
-            n => format!("{} device(s) confirmed, {n} refused ({})", self.confirmed, self.refused.join("; ")),
-        }
-    }
 }
 
 /// One node expected to follow the switch.

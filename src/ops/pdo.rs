@@ -282,7 +282,9 @@ pub struct Stream<'a> {
 
 const SYNC_COB: u16 = 0x080;
 
-fn wall_ms() -> u64 {
+/// Now as Unix time in ms: the time column of streamed records (a label for people and
+/// files, never used to measure a wait).
+pub(crate) fn wall_ms() -> u64 {
     std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_millis() as u64)
 }
 

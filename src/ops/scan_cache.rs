@@ -29,9 +29,14 @@ fn network(bus: &str) -> String {
 
 /// One file per network, named after it.
 fn file(bus: &str) -> Option<PathBuf> {
+    network_file("scan", bus)
+}
+
+/// The cache file `KIND-NETWORK.json` for what is remembered of a network.
+pub(crate) fn network_file(kind: &str, bus: &str) -> Option<PathBuf> {
     let name: String =
         network(bus).chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect();
-    Some(dir()?.join(format!("scan-{name}.json")))
+    Some(dir()?.join(format!("{kind}-{name}.json")))
 }
 
 impl SeenNode {

@@ -115,6 +115,7 @@ impl Report for Walk {
 }
 
 impl Line for Change {
+    const CSV_HEADER: &'static [&'static str] = &["time", "node", "statusword", "state", "source"];
     fn json(&self) -> J {
         json!({
             "time": self.time_ms as f64 / 1000.0,
@@ -137,10 +138,9 @@ impl Line for Change {
     }
 
     fn text(&self) -> String {
-        let secs = self.time_ms / 1000;
-        let (h, m, s, ms) = (secs / 3600 % 24, secs / 60 % 60, secs % 60, self.time_ms % 1000);
         format!(
-            "{h:02}:{m:02}:{s:02}.{ms:03}  node {}: {} (statusword 0x{:04X}, by {})",
+            "{}  node {}: {} (statusword 0x{:04X}, by {})",
+            crate::output::time_of_day(self.time_ms),
             self.node,
             state_text(self.state, self.statusword),
             self.statusword,

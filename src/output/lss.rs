@@ -21,7 +21,16 @@ impl Report for Inquired {
 
 impl Report for Configured {
     fn human(&self) -> Human {
-        Human::Line(format!("{}: {}", self.target, self.result))
+        match &self.tally {
+            Some(t) if !t.refused.is_empty() => Human::Line(format!(
+                "{}: {}: {}; the devices that confirmed have it",
+                self.target,
+                self.result,
+                t.text()
+            )),
+            Some(t) => Human::Line(format!("{}: {} ({})", self.target, self.result, t.text())),
+            None => Human::Line(format!("{}: {}", self.target, self.result)),
+        }
     }
     fn notes(&self) -> Vec<String> {
         if !self.interrupted {
@@ -74,6 +83,12 @@ impl Report for Found {
 
 impl Report for Assignment {
     fn human(&self) -> Human {
+        if self.nothing_to_assign() {
+            return Human::Line("no device without a node-id: nothing to assign".into());
+        }
+        self.csv()
+    }
+    fn csv(&self) -> Human {
         let stored = |d: &crate::ops::lss::AssignedNode| match (&d.store_error, d.stored) {
             (_, true) => "yes".to_string(),
             (e, false) => e.clone().unwrap_or_default(),
@@ -91,6 +106,17 @@ impl Report for Assignment {
         )];
         if self.interrupted {
             notes.push("interrupted: every LSS device was sent back to waiting state".into());
+        }
+        if let Some(crate::Error::NoFreeNodeId { identity, .. }) = &self.failure {
+            let taken = |n: &u8| self.in_use_before.contains(n) || self.assigned.iter().any(|d| d.node == *n);
+            let lower = match (1..=127u8).find(|n| !taken(n)) {
+                Some(n) => format!("node-ids in use are skipped, and {n} is free"),
+                None => "every node-id 1 to 127 is in use".to_string(),
+            };
+            notes.push(format!(
+                "out of node-ids: {identity} (and any device after it) still has none, the devices above keep \
+                 theirs; {lower}"
+            ));
         }
         notes
     }

@@ -1,7 +1,7 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
 use super::{Human, Output, Report, TestCase, TestSuite};
-use crate::ops::network::{Applied, BaudSwitched, Checked, Dumped, PROJECT_FILE};
+use crate::ops::network::{Applied, BaudSwitched, Checked, Dumped, Outcome, PROJECT_FILE};
 use crate::ops::Progress;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::collections::BTreeMap;
@@ -177,16 +177,22 @@ impl Report for Applied {
         } else if self.written == 0 && self.ok {
             notes.push(format!("the network already matches {}: 0 objects written", self.project));
         } else {
-            notes.push(format!("{} object(s) {verb} on {} node(s)", self.written, self.nodes.len()));
+            let written_to = self.nodes.iter().filter(|n| n.written > 0).count();
+            notes.push(format!("{} object(s) {verb} on {written_to} of {} node(s)", self.written, self.nodes.len()));
         }
-        let stopped = self.nodes.iter().filter(|n| n.result.starts_with("interrupted:")).count();
+        let count = |o: Outcome| self.nodes.iter().filter(|n| n.outcome == o).count();
+        let stopped = count(Outcome::StoppedPartWay);
         if stopped > 0 {
             notes.push(format!(
                 "interrupted: {stopped} node(s) stopped part-way, each at a point between two transfers (see its \
                  result for what was written and the state it is left in)"
             ));
         }
-        let not_begun = self.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).count();
+        let unchanged = count(Outcome::StoppedUnchanged);
+        if unchanged > 0 {
+            notes.push(format!("interrupted: {unchanged} node(s) stopped before anything was written, as they were"));
+        }
+        let not_begun = count(Outcome::NotBegun);
         if not_begun > 0 {
             notes.push(format!(
                 "interrupted: {not_begun} node(s) not begun; the same command finishes the job (only what differs is written)"

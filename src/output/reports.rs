@@ -1,7 +1,7 @@
 //! How the reports of settings, store/restore, config, monitor and the simulator look to
 //! people.
 
-use super::{Human, Line, Report};
+use super::{time_of_day, Human, Line, Report};
 use crate::ops::config::{Applied, Diff};
 use crate::ops::monitor::{Event, Summary};
 use crate::ops::store::{Restored, Stored};
@@ -152,8 +152,9 @@ impl Report for Applied {
 }
 
 impl Line for Event {
+    const CSV_HEADER: &'static [&'static str] = &["time", "cob", "node", "kind", "text"];
     fn json(&self) -> J {
-        let time = (self.time * 1000.0).round() / 1000.0;
+        let time = self.time_ms as f64 / 1000.0;
         let mut j = json!({ "time": time, "cob": format!("0x{:03X}", self.cob), "node": self.node, "kind": self.kind });
         if let (Some(o), J::Object(extra)) = (j.as_object_mut(), &self.fields) {
             o.extend(extra.clone());
@@ -163,16 +164,18 @@ impl Line for Event {
 
     fn csv(&self) -> String {
         let node = self.node.map_or(String::new(), |n| n.to_string());
-        format!("{:.3},0x{:03X},{node},{},\"{}\"", self.time, self.cob, self.kind, self.text.replace('"', "\"\""))
+        let time = self.time_ms as f64 / 1000.0;
+        format!("{time:.3},0x{:03X},{node},{},\"{}\"", self.cob, self.kind, self.text.replace('"', "\"\""))
     }
 
     fn text(&self) -> String {
         let node = self.node.map_or("       ".to_string(), |n| format!("node {n:<2}"));
-        format!("{:9.3}  {:03X}  {node}  {:<13} {}", self.time, self.cob, self.kind, self.text)
+        format!("{}  {:03X}  {node}  {:<13} {}", time_of_day(self.time_ms), self.cob, self.kind, self.text)
     }
 }
 
 impl Line for Summary {
+    const CSV_HEADER: &'static [&'static str] = &[];
     fn json(&self) -> J {
         let per_cob: BTreeMap<String, u64> = self.per_cob_id.iter().map(|(c, n)| (format!("0x{c:03X}"), *n)).collect();
         let mut summary =
