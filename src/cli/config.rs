@@ -16,19 +16,21 @@ pub enum ConfigCommand {
     Apply(ApplyArgs),
 }
 
-/// Read every readable object of a node into a DCF
+/// Read every readable object of a node into a DCF (or an XDC)
 ///
 /// The objects come from the node's EDS (--eds), else from the built-in dictionary for its
 /// profile (0x1000), probed: what the node does not have is left out. DOMAINs are not read.
+/// --format xdc, or --out FILE.xdc, writes the CiA 311 XML form (an XDC) instead.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim config dump 10 > io.dcf
-  canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf")]
+  canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf
+  canctl --bus sim config dump 10 --out io.xdc")]
 pub struct DumpArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
-    /// Write the DCF here instead of standard output
+    /// Write the DCF here instead of standard output (an XDC when FILE ends in .xdc)
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
@@ -42,7 +44,7 @@ pub struct DiffArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
-    /// The DCF
+    /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Exit 6 when anything differs
     #[arg(long)]
@@ -63,7 +65,7 @@ pub struct ApplyArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
-    /// The DCF
+    /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Show what would be written, write nothing
     #[arg(long)]
@@ -94,8 +96,10 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let file_name =
         a.out.as_ref().map_or(String::new(), |p| p.file_name().unwrap_or_default().to_string_lossy().into_owned());
     let dictionary = ctx.dicts.eds_for(a.node).map(|e| (&e.dict, e.path.as_str()));
+    let xdc_named = a.out.as_ref().and_then(|p| p.extension()).is_some_and(|x| x.eq_ignore_ascii_case("xdc"));
+    let form = if ctx.out.xdc || xdc_named { config::FileForm::Xdc } else { config::FileForm::Dcf };
     let dump = super::interrupt::stoppable(bus, |bus| {
-        config::dump(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress())
+        config::dump_as(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
     });
     let dump = match dump {
         Err(e) if e.is_interrupted() => config::Dump {
