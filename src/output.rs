@@ -17,7 +17,7 @@ mod nodes;
 mod records;
 mod reports;
 
-pub use reports::{sentence, Each};
+pub use reports::{sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {

@@ -14,6 +14,24 @@ pub enum ConfigCommand {
     Dump(DumpArgs),
     Diff(DiffArgs),
     Apply(ApplyArgs),
+    Eds(EdsArgs),
+}
+
+/// Save the EDS a node stores in itself (0x1021)
+///
+/// Unpacked by the storage format the node names in 0x1022: 0 plain text, 1 a ZIP
+/// archive. The file is then usable with --eds. A node without 0x1021 ends with exit 4.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl --bus sim config eds 1 --out drive.eds
+  canctl --bus can0 config eds 5 > sensor.eds")]
+pub struct EdsArgs {
+    /// Node-id, 1 to 127
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: u8,
+    /// Write the EDS here instead of standard output
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 /// Read every readable object of a node into a DCF (or an XDC)
@@ -89,7 +107,30 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<
         ConfigCommand::Dump(a) => dump(ctx, bus, a),
         ConfigCommand::Diff(a) => diff(ctx, bus, a),
         ConfigCommand::Apply(a) => apply(ctx, bus, a),
+        ConfigCommand::Eds(a) => stored_eds(ctx, bus, a),
     }
+}
+
+fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
+    let limit = crate::input::MAX_EDS_BYTES as usize;
+    let mut eds =
+        super::interrupt::stoppable(bus, |bus| crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit))?;
+    match &a.out {
+        Some(path) => {
+            crate::atomic::write_atomic(path, &eds.file)?;
+            eds.saved_to = Some(path.display().to_string());
+            ctx.out.report(&eds)?;
+        }
+        // The file is the output: what was read is said on stderr.
+        None => {
+            ctx.out.write_bytes(&eds.file)?;
+            ctx.out.note(&crate::output::stored_eds_line(&eds));
+            for note in crate::output::Report::notes(&eds) {
+                ctx.out.note(&note);
+            }
+        }
+    }
+    Ok(())
 }
 
 fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {

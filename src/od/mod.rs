@@ -6,6 +6,7 @@ pub mod builtin;
 pub mod cpj;
 pub mod eds;
 pub mod names;
+pub mod stored;
 pub mod xdd;
 
 use crate::canopen::{DataType, ObjAddr};
