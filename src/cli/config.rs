@@ -113,8 +113,21 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<
 
 fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     let limit = crate::input::MAX_EDS_BYTES as usize;
-    let mut eds =
-        super::interrupt::stoppable(bus, |bus| crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit))?;
+    let read = super::interrupt::stoppable(bus, |bus| crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit));
+    let mut eds = match read {
+        Err(e) if e.is_interrupted() => {
+            let file = match &a.out {
+                Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
+                Some(path) => format!("writing {} (no file made)", path.display()),
+                None => "the EDS on standard output (none printed: it would be incomplete)".to_string(),
+            };
+            let not_done = vec![format!("reading node {}'s EDS (0x1021)", a.node), file];
+            let state = "nothing was changed on the device".to_string();
+            ctx.out.report(&crate::ops::Stopped::new("config eds", vec![], not_done, state))?;
+            return Err(e.into());
+        }
+        other => other?,
+    };
     match &a.out {
         Some(path) => {
             crate::atomic::write_atomic(path, &eds.file)?;
