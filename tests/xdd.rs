@@ -196,5 +196,14 @@ fn a_network_project_may_name_xdcs() {
     std::fs::write(&xdc, text).unwrap();
     let run = sim.run(&["network", "check", dir.to_str().unwrap()]);
     assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("node10.xdc is for node-id 11"), "{}", run.stderr);
+    assert!(run.stderr.contains("node10.xdc is for node-id 11 (DeviceCommissioning nodeID), but"), "{}", run.stderr);
+}
+
+#[test]
+fn config_apply_holds_an_xdc_to_the_identity_it_names() {
+    let sim = Sim::new();
+    // small.xdc names product 0x1234; the drive is 0x6220.
+    let run = sim.run(&["config", "apply", "1", fixture("small.xdc").to_str().unwrap()]);
+    assert_eq!(run.code, 6, "{}{}", run.stdout, run.stderr);
+    assert!(run.stderr.contains("is for another device") && run.stderr.contains("0x00001234"), "{}", run.stderr);
 }
