@@ -99,58 +99,53 @@ fn device<O: ObjectAccess>(objects: O) -> Master<Device<O>> {
     Master::new(link, "device".into())
 }
 
-/// A stored EDS of more than 4 GiB: CiA 301's 32-bit size cannot announce it, so the
-/// device uploads it without a size, and only the client's limit ends the transfer. (The
-/// zeroes are never touched: the allocation costs address space, not memory.)
-struct Endless;
+/// A read-only device whose objects `read` gives.
+struct Objects(fn(ObjAddr) -> Result<Vec<u8>, u32>);
 
-impl ObjectAccess for Endless {
+impl ObjectAccess for Objects {
     fn read(&mut self, addr: ObjAddr) -> Result<Vec<u8>, u32> {
-        match (addr.index, addr.sub) {
-            (0x1021, 0) => Ok(vec![0; (1 << 32) + 10]),
-            (0x1022, 0) => Ok(vec![0]),
-            _ => Err(abort::NO_OBJECT),
-        }
+        (self.0)(addr)
     }
     fn write(&mut self, _: ObjAddr, _: &[u8]) -> Result<(), u32> {
         Err(abort::READ_ONLY)
     }
     fn check_write(&self, _: ObjAddr, _: Option<usize>) -> Result<(), u32> {
         Err(abort::READ_ONLY)
+    }
+}
+
+/// A stored EDS of more than 4 GiB: CiA 301's 32-bit size cannot announce it, so the
+/// device uploads it without a size, and only the client's limit ends the transfer. (The
+/// zeroes are never touched: the allocation costs address space, not memory.)
+fn endless(addr: ObjAddr) -> Result<Vec<u8>, u32> {
+    match (addr.index, addr.sub) {
+        (0x1021, 0) => Ok(vec![0; (1 << 32) + 10]),
+        (0x1022, 0) => Ok(vec![0]),
+        _ => Err(abort::NO_OBJECT),
     }
 }
 
 #[cfg(all(target_os = "linux", target_pointer_width = "64"))]
 #[test]
 fn an_upload_without_a_size_stops_at_the_limit() {
-    let mut bus = device(Endless);
+    let mut bus = device(Objects(endless));
     let err = stored_eds::read(&mut bus, 1, Duration::from_millis(200), 100_000).unwrap_err();
     assert!(err.to_string().contains("100000 bytes"), "{err}");
     assert!(bus.link_mut().frames < 20_000, "read on for {} frames", bus.link_mut().frames);
 }
 
 /// A device whose 0x1022 says ZIP, but whose 0x1021 holds plain text.
-struct Mislabelled;
-
-impl ObjectAccess for Mislabelled {
-    fn read(&mut self, addr: ObjAddr) -> Result<Vec<u8>, u32> {
-        match (addr.index, addr.sub) {
-            (0x1021, 0) => Ok(b"[FileInfo]\nFileName=x.eds\n".repeat(10)),
-            (0x1022, 0) => Ok(vec![1]),
-            _ => Err(abort::NO_OBJECT),
-        }
-    }
-    fn write(&mut self, _: ObjAddr, _: &[u8]) -> Result<(), u32> {
-        Err(abort::READ_ONLY)
-    }
-    fn check_write(&self, _: ObjAddr, _: Option<usize>) -> Result<(), u32> {
-        Err(abort::READ_ONLY)
+fn mislabelled(addr: ObjAddr) -> Result<Vec<u8>, u32> {
+    match (addr.index, addr.sub) {
+        (0x1021, 0) => Ok(b"[FileInfo]\nFileName=x.eds\n".repeat(10)),
+        (0x1022, 0) => Ok(vec![1]),
+        _ => Err(abort::NO_OBJECT),
     }
 }
 
 #[test]
 fn a_stored_eds_that_does_not_unpack_is_a_protocol_failure_saving_nothing() {
-    let err = stored_eds::read(&mut device(Mislabelled), 1, Duration::from_millis(200), 100_000).unwrap_err();
+    let err = stored_eds::read(&mut device(Objects(mislabelled)), 1, Duration::from_millis(200), 100_000).unwrap_err();
     assert_eq!(err.exit_code(), 5, "{err}");
     assert!(
         err.to_string().contains("the ZIP archive is broken") && err.to_string().contains("nothing was saved"),

@@ -116,11 +116,7 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     let read = super::interrupt::stoppable(bus, |bus| crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit));
     let mut eds = match read {
         Err(e) if e.is_interrupted() => {
-            let file = match &a.out {
-                Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
-                Some(path) => format!("writing {} (no file made)", path.display()),
-                None => "the EDS on standard output (none printed: it would be incomplete)".to_string(),
-            };
+            let file = not_written(a.out.as_deref(), "EDS");
             let not_done = vec![format!("reading node {}'s EDS (0x1021)", a.node), file];
             let state = "nothing was changed on the device".to_string();
             ctx.out.report(&crate::ops::Stopped::new("config eds", vec![], not_done, state))?;
@@ -171,11 +167,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
             0 => format!("node {}'s profile not read yet", a.node),
             wanted => format!("read {} of {wanted} objects of node {}", dump.objects, a.node),
         };
-        let file = match &a.out {
-            Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
-            Some(path) => format!("writing {} (no file made)", path.display()),
-            None => "the DCF on standard output (none printed: it would be incomplete)".to_string(),
-        };
+        let file = not_written(a.out.as_deref(), "DCF");
         let not_done = vec!["reading the other objects".to_string(), file];
         let report =
             crate::ops::Stopped::new("config dump", vec![read], not_done, "nothing was changed on the device".into());
@@ -190,6 +182,16 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         None => ctx.out.write_bytes(&dump.dcf)?,
     }
     Ok(())
+}
+
+/// What an interrupted command did not write: `--out FILE` (kept as it was) or the `what`
+/// on standard output.
+fn not_written(out: Option<&Path>, what: &str) -> String {
+    match out {
+        Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
+        Some(path) => format!("writing {} (no file made)", path.display()),
+        None => format!("the {what} on standard output (none printed: it would be incomplete)"),
+    }
 }
 
 /// The DCF, its warnings said on stderr.
