@@ -133,8 +133,9 @@ fn xml_is_told_by_content_not_by_name() {
 fn an_xdd_names_objects_on_the_command_line() {
     let sim = Sim::new();
     let eds = format!("1={}", fixture("small.xdd").display());
-    let json = sim.run(&["--eds", &eds, "--format", "json", "sdo", "read", "1", "Producer heartbeat time"]).ok().json();
-    assert_eq!((json["object"].as_str(), json["type"].as_str()), (Some("0x1017:0"), Some("u16")), "{json}");
+    // A name only the XDD has; read with the XDD's type (the drive's 0x2000 is its node-id).
+    let json = sim.run(&["--eds", &eds, "--format", "json", "sdo", "read", "1", "Firmware image"]).ok().json();
+    assert_eq!((json["object"].as_str(), json["type"].as_str()), (Some("0x2000:0"), Some("d")), "{json}");
 }
 
 #[test]
@@ -206,4 +207,17 @@ fn config_apply_holds_an_xdc_to_the_identity_it_names() {
     let run = sim.run(&["config", "apply", "1", fixture("small.xdc").to_str().unwrap()]);
     assert_eq!(run.code, 6, "{}{}", run.stdout, run.stderr);
     assert!(run.stderr.contains("is for another device") && run.stderr.contains("0x00001234"), "{}", run.stderr);
+}
+
+#[test]
+fn a_settings_files_eds_may_be_an_xdd() {
+    let sim = Sim::new();
+    let project = sim.path("cell");
+    std::fs::create_dir_all(&project).unwrap();
+    let toml = format!("[nodes.1]\neds = \"{}\"\n", fixture("small.xdd").display());
+    std::fs::write(project.join("canctl.toml"), toml).unwrap();
+    // A name only the XDD has (the drive's 0x2000 is its node-id, read as the XDD's DOMAIN).
+    let mut c = sim.command(&["--format", "json", "sdo", "read", "1", "Firmware image"]);
+    let json = common::finish(c.current_dir(&project).output().unwrap()).ok().json();
+    assert_eq!((json["object"].as_str(), json["type"].as_str()), (Some("0x2000:0"), Some("d")), "{json}");
 }
