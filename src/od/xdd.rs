@@ -39,13 +39,36 @@ const BOM: &[u8] = b"\xEF\xBB\xBF";
 /// by content, so that a file named `.eds` that is XML, or an XDC without its extension,
 /// is read as what it is.
 pub fn is_xml(bytes: &[u8]) -> bool {
+    if utf16(bytes).is_some() {
+        return true;
+    }
     let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
     let start = bytes.iter().position(|b| !b.is_ascii_whitespace()).unwrap_or(bytes.len());
     bytes[start..].starts_with(b"<")
 }
 
-/// The text of the file: UTF-8 (XML's default), or Latin-1 where the declaration says so.
+/// A file in UTF-16 with its byte order mark, as some Windows tools write XDDs: its code
+/// units, when it is one.
+fn utf16(bytes: &[u8]) -> Option<Vec<u16>> {
+    let (rest, unit): (&[u8], fn([u8; 2]) -> u16) = match bytes {
+        [0xFF, 0xFE, rest @ ..] => (rest, u16::from_le_bytes),
+        [0xFE, 0xFF, rest @ ..] => (rest, u16::from_be_bytes),
+        _ => return None,
+    };
+    Some(rest.chunks_exact(2).map(|c| unit([c[0], c[1]])).collect())
+}
+
+/// The text of the file: UTF-8 (XML's default), UTF-16 with its byte order mark, or
+/// Latin-1 where the declaration says so.
 fn decode(bytes: &[u8], path: &str) -> Result<String, XmlError> {
+    if let Some(units) = utf16(bytes) {
+        return String::from_utf16(&units).map_err(|_| XmlError {
+            path: path.to_string(),
+            line: 1,
+            column: 1,
+            msg: "begins with a UTF-16 byte order mark but is not UTF-16".into(),
+        });
+    }
     let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
     match std::str::from_utf8(bytes) {
         Ok(s) => Ok(s.to_string()),

@@ -57,3 +57,18 @@ fn an_object_that_cannot_be_understood_is_passed_over_with_a_warning() {
     assert_eq!(e.warnings.len(), 1);
     assert!(e.warnings[0].starts_with("w.xdd:2:1: defaultValue of 0x2000:0 (Odd)"), "{}", e.warnings[0]);
 }
+
+#[test]
+fn a_utf16_xdd_is_xml_and_reads_as_its_utf8_twin() {
+    let xml = "<?xml version=\"1.0\" encoding=\"utf-16\"?>\n<ISO15745ProfileContainer><CANopenObjectList>\n\
+<CANopenObject index=\"1008\" name=\"Gerätename\" objectType=\"7\" dataType=\"0009\" accessType=\"const\" defaultValue=\"Stößel\"/>\n\
+</CANopenObjectList></ISO15745ProfileContainer>";
+    let le: Vec<u8> = [0xFF, 0xFE].into_iter().chain(xml.encode_utf16().flat_map(u16::to_le_bytes)).collect();
+    let be: Vec<u8> = [0xFE, 0xFF].into_iter().chain(xml.encode_utf16().flat_map(u16::to_be_bytes)).collect();
+    for bytes in [le, be] {
+        assert!(is_xml(&bytes));
+        let e = parse(&bytes, "w.xdd").unwrap();
+        assert_eq!(e.dict.object_info(0x1008).unwrap().0, "Gerätename");
+        assert_eq!(e.dict.get(ObjAddr::new(0x1008, 0)).unwrap().default, Init::Bytes("Stößel".as_bytes().to_vec()));
+    }
+}
