@@ -50,12 +50,13 @@ pub fn is_xml(bytes: &[u8]) -> bool {
 /// A file in UTF-16 with its byte order mark, as some Windows tools write XDDs: its code
 /// units, when it is one.
 fn utf16(bytes: &[u8]) -> Option<Vec<u16>> {
-    let (rest, unit): (&[u8], fn([u8; 2]) -> u16) = match bytes {
-        [0xFF, 0xFE, rest @ ..] => (rest, u16::from_le_bytes),
-        [0xFE, 0xFF, rest @ ..] => (rest, u16::from_be_bytes),
+    let (rest, little) = match bytes {
+        [0xFF, 0xFE, rest @ ..] => (rest, true),
+        [0xFE, 0xFF, rest @ ..] => (rest, false),
         _ => return None,
     };
-    Some(rest.chunks_exact(2).map(|c| unit([c[0], c[1]])).collect())
+    let unit = |c: &[u8]| if little { u16::from_le_bytes([c[0], c[1]]) } else { u16::from_be_bytes([c[0], c[1]]) };
+    Some(rest.chunks_exact(2).map(unit).collect())
 }
 
 /// The text of the file: UTF-8 (XML's default), UTF-16 with its byte order mark, or
