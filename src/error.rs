@@ -89,6 +89,11 @@ pub enum Error {
     /// A node keeps no error history (it has no object 0x1003), so there is none to clear.
     #[error("node {node} keeps no error history (it has no object 0x1003): there is nothing to clear")]
     NoErrorHistory { node: u8 },
+    /// A node keeps no description of itself (CiA 301 object 0x1021).
+    #[error(
+        "node {node}: the device does not store its EDS (0x1021); get the EDS from its vendor and give it with --eds"
+    )]
+    NoStoredEds { node: u8 },
     /// A node cannot store or restore (`verb`) parameters on command.
     #[error("{}", store_refused_text(*node, verb, why))]
     StoreRefused { node: u8, verb: &'static str, why: StoreRefusal },
@@ -101,6 +106,9 @@ pub enum Error {
     /// The link to the bus failed, or the device answered with something unintelligible.
     #[error("{0}")]
     Link(LinkError),
+    /// The EDS a node stores (0x1021) does not unpack in the format it names (0x1022).
+    #[error("node {node}: its stored EDS (0x1021) cannot be used: {why}; nothing was saved")]
+    StoredEds { node: u8, why: crate::od::stored::StoredError },
 
     // ---- verification failed (exit 6) ----
     /// An object read back other than what was written.
@@ -216,10 +224,11 @@ impl Error {
             | Error::LssRefused { .. }
             | Error::Epos2Refused { .. }
             | Error::StoreRefused { .. }
-            | Error::NoErrorHistory { .. } => C::Refused,
+            | Error::NoErrorHistory { .. }
+            | Error::NoStoredEds { .. } => C::Refused,
             Error::DriveStopped { why: DriveStop::NoAnswer, .. } => C::Timeout,
             Error::DriveStopped { .. } => C::Refused,
-            Error::Link(_) => C::Link,
+            Error::Link(_) | Error::StoredEds { .. } => C::Link,
             Error::ReadBack { .. }
             | Error::ReadBackMany { .. }
             | Error::Differs { .. }

@@ -17,7 +17,7 @@ mod nodes;
 mod records;
 mod reports;
 
-pub use reports::{sentence, Each};
+pub use reports::{sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
@@ -42,13 +42,15 @@ pub enum FormatArg {
     Csv,
     /// JUnit XML, one test case per node and check (network check, health).
     Junit,
+    /// An XDC (CiA 311 XML) instead of a DCF: config dump.
+    Xdc,
 }
 
 impl FormatArg {
     /// The format of everything but the JUnit report itself (notes, refusals).
     pub fn format(self) -> Format {
         match self {
-            FormatArg::Human | FormatArg::Junit => Format::Human,
+            FormatArg::Human | FormatArg::Junit | FormatArg::Xdc => Format::Human,
             FormatArg::Json => Format::Json,
             FormatArg::Csv => Format::Csv,
         }
@@ -59,6 +61,8 @@ pub struct Output {
     pub format: Format,
     /// Reports that have a JUnit form are written as JUnit XML.
     pub junit: bool,
+    /// Configuration files are written as XDC (CiA 311) rather than DCF.
+    pub xdc: bool,
     /// Show progress bars: only when stderr is a terminal and not --quiet.
     pub progress: bool,
     pub quiet: bool,
@@ -66,12 +70,16 @@ pub struct Output {
 
 impl Output {
     pub fn new(format: Format, quiet: bool) -> Output {
-        Output { format, junit: false, progress: !quiet && std::io::stderr().is_terminal(), quiet }
+        Output { format, junit: false, xdc: false, progress: !quiet && std::io::stderr().is_terminal(), quiet }
     }
 
     /// The output `--format` asks for.
     pub fn for_arg(format: FormatArg, quiet: bool) -> Output {
-        Output { junit: format == FormatArg::Junit, ..Output::new(format.format(), quiet) }
+        Output {
+            junit: format == FormatArg::Junit,
+            xdc: format == FormatArg::Xdc,
+            ..Output::new(format.format(), quiet)
+        }
     }
 
     /// Write text to stdout as it is (machine formats, scripts, man pages). A closed pipe

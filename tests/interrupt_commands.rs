@@ -424,6 +424,33 @@ fn config_dump_interrupted_writes_no_partial_dcf() {
     }
 }
 
+/// `config eds` stopped in the middle of the upload of the stored EDS: the transfer is
+/// aborted, no file written (the old one is kept), and nothing on stdout.
+#[test]
+fn config_eds_interrupted_mid_upload_writes_no_file() {
+    let sim = common::Sim::new();
+    let out = sim.path("drive.eds");
+    std::fs::write(&out, b"old").unwrap();
+    for signal in SIGNALS {
+        let run = signalled(sim.command(&["config", "eds", "1", "--out", out.to_str().unwrap()]), "s5", signal);
+        assert_eq!(run.code, 130, "{}", run.stderr);
+        let said = line(&run.stderr, "config eds interrupted");
+        assert!(said.contains("(the old file is unchanged)"), "{said}");
+        assert!(run.stderr.contains("nothing was changed on the device"), "{}", run.stderr);
+        assert_eq!(std::fs::read(&out).unwrap(), b"old");
+        let stdout = signalled(sim.command(&["config", "eds", "1"]), "s5", signal);
+        assert_eq!((stdout.code, stdout.stdout.as_str()), (130, ""), "a partial EDS was printed");
+        row(
+            "config_eds_interrupted_mid_upload_writes_no_file",
+            "config eds 1 --out FILE (after 5 segments)",
+            signal,
+            said,
+            "unchanged; old FILE kept",
+            run.code,
+        );
+    }
+}
+
 /// `config diff` stopped while it reads: the differences found so far, with how many
 /// objects were not compared; exit 130, also with --check.
 #[test]

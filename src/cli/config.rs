@@ -14,21 +14,41 @@ pub enum ConfigCommand {
     Dump(DumpArgs),
     Diff(DiffArgs),
     Apply(ApplyArgs),
+    Eds(EdsArgs),
 }
 
-/// Read every readable object of a node into a DCF
+/// Save the EDS a node stores in itself (0x1021)
+///
+/// Unpacked by the storage format the node names in 0x1022: 0 plain text, 1 a ZIP
+/// archive. The file is then usable with --eds. A node without 0x1021 ends with exit 4.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl --bus sim config eds 1 --out drive.eds
+  canctl --bus can0 config eds 5 > sensor.eds")]
+pub struct EdsArgs {
+    /// Node-id, 1 to 127
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: u8,
+    /// Write the EDS here instead of standard output
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Read every readable object of a node into a DCF (or an XDC)
 ///
 /// The objects come from the node's EDS (--eds), else from the built-in dictionary for its
 /// profile (0x1000), probed: what the node does not have is left out. DOMAINs are not read.
+/// --format xdc, or --out FILE.xdc, writes the CiA 311 XML form (an XDC) instead.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim config dump 10 > io.dcf
-  canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf")]
+  canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf
+  canctl --bus sim config dump 10 --out io.xdc")]
 pub struct DumpArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
-    /// Write the DCF here instead of standard output
+    /// Write the DCF here instead of standard output (an XDC when FILE ends in .xdc)
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
@@ -42,7 +62,7 @@ pub struct DiffArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
-    /// The DCF
+    /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Exit 6 when anything differs
     #[arg(long)]
@@ -63,7 +83,7 @@ pub struct ApplyArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
-    /// The DCF
+    /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Show what would be written, write nothing
     #[arg(long)]
@@ -87,15 +107,49 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<
         ConfigCommand::Dump(a) => dump(ctx, bus, a),
         ConfigCommand::Diff(a) => diff(ctx, bus, a),
         ConfigCommand::Apply(a) => apply(ctx, bus, a),
+        ConfigCommand::Eds(a) => stored_eds(ctx, bus, a),
     }
+}
+
+fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
+    let limit = crate::input::MAX_EDS_BYTES as usize;
+    let read = super::interrupt::stoppable(bus, |bus| crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit));
+    let mut eds = match read {
+        Err(e) if e.is_interrupted() => {
+            let file = not_written(a.out.as_deref(), "EDS");
+            let not_done = vec![format!("reading node {}'s EDS (0x1021)", a.node), file];
+            let state = "nothing was changed on the device".to_string();
+            ctx.out.report(&crate::ops::Stopped::new("config eds", vec![], not_done, state))?;
+            return Err(e.into());
+        }
+        other => other?,
+    };
+    match &a.out {
+        Some(path) => {
+            crate::atomic::write_atomic(path, &eds.file)?;
+            eds.saved_to = Some(path.display().to_string());
+            ctx.out.report(&eds)?;
+        }
+        // The file is the output: what was read is said on stderr.
+        None => {
+            ctx.out.write_bytes(&eds.file)?;
+            ctx.out.note(&crate::output::stored_eds_line(&eds));
+            for note in crate::output::Report::notes(&eds) {
+                ctx.out.note(&note);
+            }
+        }
+    }
+    Ok(())
 }
 
 fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let file_name =
         a.out.as_ref().map_or(String::new(), |p| p.file_name().unwrap_or_default().to_string_lossy().into_owned());
     let dictionary = ctx.dicts.eds_for(a.node).map(|e| (&e.dict, e.path.as_str()));
+    let xdc_named = a.out.as_ref().and_then(|p| p.extension()).is_some_and(|x| x.eq_ignore_ascii_case("xdc"));
+    let form = if ctx.out.xdc || xdc_named { config::FileForm::Xdc } else { config::FileForm::Dcf };
     let dump = super::interrupt::stoppable(bus, |bus| {
-        config::dump(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress())
+        config::dump_as(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
     });
     let dump = match dump {
         Err(e) if e.is_interrupted() => config::Dump {
@@ -113,11 +167,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
             0 => format!("node {}'s profile not read yet", a.node),
             wanted => format!("read {} of {wanted} objects of node {}", dump.objects, a.node),
         };
-        let file = match &a.out {
-            Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
-            Some(path) => format!("writing {} (no file made)", path.display()),
-            None => "the DCF on standard output (none printed: it would be incomplete)".to_string(),
-        };
+        let file = not_written(a.out.as_deref(), "DCF");
         let not_done = vec!["reading the other objects".to_string(), file];
         let report =
             crate::ops::Stopped::new("config dump", vec![read], not_done, "nothing was changed on the device".into());
@@ -132,6 +182,16 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         None => ctx.out.write_bytes(&dump.dcf)?,
     }
     Ok(())
+}
+
+/// What an interrupted command did not write: `--out FILE` (kept as it was) or the `what`
+/// on standard output.
+fn not_written(out: Option<&Path>, what: &str) -> String {
+    match out {
+        Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
+        Some(path) => format!("writing {} (no file made)", path.display()),
+        None => format!("the {what} on standard output (none printed: it would be incomplete)"),
+    }
 }
 
 /// The DCF, its warnings said on stderr.

@@ -75,8 +75,8 @@ pub struct GlobalArgs {
     /// Output format
     #[arg(long, global = true, value_enum, default_value = "human")]
     pub format: FormatArg,
-    /// An EDS or DCF describing node NODE, or every node without NODE= (repeatable): object
-    /// names, types and ranges come from it
+    /// An EDS or DCF (or XDD or XDC) describing node NODE, or every node without NODE=
+    /// (repeatable): object names, types and ranges come from it
     #[arg(long, global = true, value_name = "[NODE=]FILE", value_parser = objects::parse_eds_arg)]
     pub eds: Vec<objects::EdsArg>,
     /// Trace every frame on stderr in candump notation; -vv also what each procedure does
@@ -283,6 +283,14 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     if g.format == FormatArg::Junit && !checks {
         return Err(Error::Usage(
             "--format junit is for commands that check things: canctl network check, canctl health; use human, json or csv here"
+                .into(),
+        )
+        .into());
+    }
+    let dumps = matches!(cli.command, Command::Config(config::ConfigCommand::Dump(_)));
+    if g.format == FormatArg::Xdc && !dumps {
+        return Err(Error::Usage(
+            "--format xdc is for canctl config dump (an XDC, CiA 311, instead of a DCF); use human, json or csv here"
                 .into(),
         )
         .into());

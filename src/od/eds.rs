@@ -215,7 +215,7 @@ fn signed_from_hex(v: i128, text: &str, dtype: DataType) -> i128 {
 }
 
 /// A value as the file writes it, for an entry of type `dtype`.
-fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
+pub(crate) fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
     let t = trim_blanks(text);
     // A VISIBLE_STRING is its text, `$NODEID` included: it is arithmetic on numbers only.
     if dtype == DataType::Vs {

@@ -6,9 +6,40 @@ pub mod builtin;
 pub mod cpj;
 pub mod eds;
 pub mod names;
+pub mod stored;
+pub mod xdd;
 
 use crate::canopen::{DataType, ObjAddr};
 use std::collections::BTreeMap;
+
+/// A device description that could not be used: an EDS or DCF at file:line, an XDD or XDC
+/// at file:line:column.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ReadError {
+    #[error(transparent)]
+    Ini(#[from] eds::EdsError),
+    #[error(transparent)]
+    Xml(#[from] xdd::XmlError),
+}
+
+/// An EDS, DCF, XDD or XDC, told apart by content (XML or INI), not by the file's name:
+/// vendors ship XDDs named `.eds` and tools write XDCs without an extension.
+pub fn parse_description(bytes: &[u8], path: &str) -> Result<eds::Eds, ReadError> {
+    match xdd::is_xml(bytes) {
+        true => Ok(xdd::parse(bytes, path)?),
+        false => Ok(eds::parse(bytes, path)?),
+    }
+}
+
+/// [`parse_description`] of a file: a regular file within `input::MAX_EDS_BYTES`.
+pub fn read_description(path: &std::path::Path) -> Result<eds::Eds, ReadError> {
+    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|e| eds::EdsError {
+        path: path.display().to_string(),
+        line: 0,
+        msg: e.to_string(),
+    })?;
+    parse_description(&bytes, &path.display().to_string())
+}
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Access {

@@ -8,6 +8,7 @@ use crate::cancel::Cancel;
 use crate::canopen::{abort, DataType, ObjAddr};
 use crate::error::{Error, Result};
 use crate::od::eds::{self, Eds, Header};
+use crate::od::xdd;
 use crate::od::{builtin, names, Dictionary, Entry, Init};
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -37,13 +38,13 @@ impl Dcf {
 
     /// Read a DCF file; an unreadable one is a usage error citing file:line.
     pub fn read(path: &Path) -> Result<Dcf> {
-        let eds = eds::read_file(path).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        let eds = crate::od::read_description(path).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
         Ok(Dcf { eds })
     }
 
     /// A DCF's text; `name` stands for its file in messages.
     pub fn parse(bytes: &[u8], name: &str) -> Result<Dcf> {
-        let eds = eds::parse(bytes, name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        let eds = crate::od::parse_description(bytes, name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
         Ok(Dcf { eds })
     }
 
@@ -175,7 +176,7 @@ pub struct Dump {
     pub wanted: usize,
     /// Where the list of objects came from: an EDS, or the built-in dictionary.
     pub source: String,
-    /// The DCF, Latin-1 as CiA 306 has it.
+    /// The DCF, Latin-1 as CiA 306 has it (or the XDC, UTF-8 XML, from [`dump_as`]).
     #[serde(skip)]
     pub dcf: Vec<u8>,
 }
@@ -191,6 +192,26 @@ pub fn dump(
     file_name: &str,
     timeout: Duration,
     progress: &mut dyn Progress,
+) -> Result<Dump> {
+    dump_as(bus, node, dictionary, file_name, timeout, progress, FileForm::Dcf)
+}
+
+/// The form of a node's configuration file: CiA 306's INI or CiA 311's XML.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileForm {
+    Dcf,
+    Xdc,
+}
+
+/// [`dump`], into a DCF or an XDC.
+pub fn dump_as(
+    bus: &mut dyn Bus,
+    node: u8,
+    dictionary: Option<(&Dictionary, &str)>,
+    file_name: &str,
+    timeout: Duration,
+    progress: &mut dyn Progress,
+    form: FileForm,
 ) -> Result<Dump> {
     let (dict, source) = node_dictionary(bus, node, dictionary, timeout)?;
     let wanted: Vec<&Entry> = dict.entries().filter(|e| e.access.readable() && e.dtype != DataType::D).collect();
@@ -234,14 +255,22 @@ pub fn dump(
         node_id: Some(node),
     };
     // A value no DCF can hold (a newline in a string, say) is left out, and said so.
-    values.retain(|addr, v| match present.get(*addr).map(|e| eds::parameter_text(e, v, Some(node))) {
+    let (text, file) = match form {
+        FileForm::Dcf => (eds::parameter_text as fn(&Entry, &[u8], Option<u8>) -> _, "DCF"),
+        FileForm::Xdc => (xdd::actual_value_text as fn(&Entry, &[u8], Option<u8>) -> _, "XDC"),
+    };
+    values.retain(|addr, v| match present.get(*addr).map(|e| text(e, v, Some(node))) {
         Some(Err(why)) => {
-            progress.note(&format!("note: {addr} left out of the DCF: {why}"));
+            progress.note(&format!("note: {addr} left out of the {file}: {why}"));
             false
         }
         _ => true,
     });
-    let dcf = eds::write_bytes(&present, Some(&values), &header).map_err(|e| Error::Usage(e.to_string()))?;
+    let dcf = match form {
+        FileForm::Dcf => eds::write_bytes(&present, Some(&values), &header),
+        FileForm::Xdc => xdd::write_bytes(&present, Some(&values), &header),
+    }
+    .map_err(|e| Error::Usage(e.to_string()))?;
     Ok(Dump { node, objects: values.len(), interrupted: false, wanted: wanted.len(), source, dcf })
 }
 

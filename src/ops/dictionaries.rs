@@ -3,7 +3,7 @@
 
 use crate::canopen::ObjAddr;
 use crate::error::Error;
-use crate::od::eds::{self, Eds};
+use crate::od::eds::Eds;
 use crate::od::{builtin, names, Dictionary, Entry};
 use std::path::PathBuf;
 
@@ -40,7 +40,7 @@ impl Dictionaries {
     pub fn load(args: &[EdsFile]) -> Result<Dictionaries, Error> {
         let mut files = Vec::new();
         for a in args {
-            let eds = eds::read_file(&a.path).map_err(|e| Error::Usage(format!("cannot use EDS {e}")))?;
+            let eds = crate::od::read_description(&a.path).map_err(|e| Error::Usage(format!("cannot use EDS {e}")))?;
             files.push((a.node, eds));
         }
         Ok(Dictionaries { files })

@@ -20,6 +20,7 @@ pub mod scan_cache;
 pub mod sdo;
 pub mod silence;
 pub mod store;
+pub mod stored_eds;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;

@@ -74,10 +74,16 @@ pub fn load(file: &Path) -> Result<Loaded> {
                 let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
                     .map_err(|e| Error::Usage(format!("cannot use {name} (node {node} in {}): {e}", file.display())))?;
                 let dcf = Dcf::parse(&bytes, &name)?;
-                let c = cpj::read_commissioning(&bytes, &name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+                let xml = crate::od::xdd::is_xml(&bytes);
+                let c = match xml {
+                    true => crate::od::xdd::read_commissioning(&bytes, &name).map_err(|e| e.to_string()),
+                    false => cpj::read_commissioning(&bytes, &name).map_err(|e| e.to_string()),
+                }
+                .map_err(|e| Error::Usage(format!("cannot use {e}")))?;
                 if let Some(id) = c.node_id.filter(|id| *id != node) {
                     return Err(Error::Usage(format!(
-                        "{name} is for node-id {id} ([DeviceComissioning] NodeID), but {} lists it for node {node}",
+                        "{name} is for node-id {id} ({}), but {} lists it for node {node}",
+                        if xml { "DeviceCommissioning nodeID" } else { "[DeviceComissioning] NodeID" },
                         file.display()
                     )));
                 }

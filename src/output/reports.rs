@@ -203,3 +203,29 @@ impl Line for Summary {
         ) + if self.interrupted { " (interrupted; nothing was sent to the bus)" } else { "" }
     }
 }
+
+/// What `config eds` read and where it went, in one sentence.
+pub fn stored_eds_line(e: &crate::ops::stored_eds::StoredEds) -> String {
+    let what = e.objects.map_or_else(|| "which canctl cannot read".to_string(), |n| format!("{n} objects"));
+    let form = match (e.format_given, e.format) {
+        (false, _) => "plain text: the node has no 0x1022".to_string(),
+        (true, crate::od::stored::PLAIN) => "plain text".to_string(),
+        (true, _) => format!("{}, {} bytes stored", e.format_name, e.stored_bytes),
+    };
+    let file = e.saved_to.as_deref().unwrap_or("standard output");
+    let mut line = format!("node {}: its EDS, {} bytes ({form}), {what}, saved to {file}", e.node, e.bytes);
+    if let (Some(path), Some(_)) = (&e.saved_to, e.objects) {
+        line.push_str(&format!("; use it with --eds {}={path}", e.node));
+    }
+    line
+}
+
+impl Report for crate::ops::stored_eds::StoredEds {
+    fn human(&self) -> Human {
+        Human::Line(stored_eds_line(self))
+    }
+
+    fn notes(&self) -> Vec<String> {
+        self.unreadable.iter().map(|why| format!("warning: canctl cannot read it: {why}")).collect()
+    }
+}

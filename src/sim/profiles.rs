@@ -210,7 +210,8 @@ pub fn drive() -> Model {
     // A CiA 402 undervoltage (0x3220), register bits generic and voltage; the drive stays
     // in its NMT state and goes to Fault.
     let fault = FaultSpec { code: 0x3220, register: 0x05, vendor: [0; 5], to_pre_operational: false };
-    Model {
+    stores_its_eds(&mut d, crate::od::stored::PLAIN);
+    let mut m = Model {
         key: "drive".into(),
         dict: d,
         block_transfer: true,
@@ -225,7 +226,9 @@ pub fn drive() -> Model {
             voltage: VoltageBit::PowerStage,
             remote: RemoteBit::WhenOperational,
         }),
-    }
+    };
+    fill_stored_eds(&mut m, DRIVE_NAMES);
+    m
 }
 
 /// Not in any seed device: the simulated drive (node 1, reached directly through an EPOS2)
@@ -370,7 +373,8 @@ pub fn io_module() -> Model {
     fault_object(&mut d);
     // Seed 004's EMCY table: "81 10 | 11 | 06 .." CAN controller overrun.
     let fault = FaultSpec { code: 0x8110, register: 0x11, vendor: [0x06, 0, 0, 0, 0], to_pre_operational: false };
-    Model {
+    stores_its_eds(&mut d, crate::od::stored::ZIP);
+    let mut m = Model {
         key: "io".into(),
         dict: d,
         block_transfer: false,
@@ -381,7 +385,9 @@ pub fn io_module() -> Model {
         pad_pdos: true,
         fault: Some(fault),
         drive: None,
-    }
+    };
+    fill_stored_eds(&mut m, IO_NAMES);
+    m
 }
 
 /// Node 32: after the Stögra SERS stepper (seed 003): DS402 subset, node guarding only, an
@@ -466,39 +472,65 @@ pub fn domain_pattern(len: usize) -> Vec<u8> {
         .collect()
 }
 
+/// Vendor and product names of the models' EDS files.
+const DRIVE_NAMES: (&str, &str) = ("maxon motor ag (simulated)", "EPOS2 24/5 (simulated)");
+const IO_NAMES: (&str, &str) = ("ICP DAS (simulated)", "CAN-2057C (simulated)");
+
 /// The EDS of each device model of the demo network: (file name, text). Generated from
 /// the models, committed under `eds/`, and tested to agree with them.
 pub fn eds_files() -> Vec<(String, String)> {
     let models = [
-        (drive(), "maxon motor ag (simulated)", "EPOS2 24/5 (simulated)"),
-        (position_sensor(SENSOR_SERIAL), "MTS Sensors (simulated)", "Temposonics MH CANopen (simulated)"),
-        (io_module(), "ICP DAS (simulated)", "CAN-2057C (simulated)"),
-        (stepper(), "Stögra (simulated)", "SERS stepper drive (simulated)"),
+        (drive(), DRIVE_NAMES),
+        (position_sensor(SENSOR_SERIAL), ("MTS Sensors (simulated)", "Temposonics MH CANopen (simulated)")),
+        (io_module(), IO_NAMES),
+        (stepper(), ("Stögra (simulated)", "SERS stepper drive (simulated)")),
     ];
-    models
-        .into_iter()
-        .map(|(m, vendor, product)| {
-            let part = |sub| {
-                m.dict
-                    .get(ObjAddr::new(0x1018, sub))
-                    .map(|e| e.default_for(0))
-                    .and_then(|v| v.try_into().ok())
-                    .map_or(0, u32::from_le_bytes)
-            };
-            let file_name = format!("canctl-sim-{}.eds", m.key);
-            let header = crate::od::eds::Header {
-                file_name: file_name.clone(),
-                description: format!("{product}: a device model of canctl's simulated network"),
-                vendor_name: vendor.into(),
-                vendor_number: part(1),
-                product_name: product.into(),
-                product_number: part(2),
-                revision: part(3),
-                node_id: None,
-            };
-            (file_name, crate::od::eds::write(&m.dict, None, &header))
-        })
-        .collect()
+    models.into_iter().map(|(m, names)| eds_file(&m, names)).collect()
+}
+
+/// A model's EDS: (file name, text, each character standing for one byte).
+fn eds_file(m: &Model, (vendor, product): (&str, &str)) -> (String, String) {
+    let part = |sub| {
+        m.dict
+            .get(ObjAddr::new(0x1018, sub))
+            .map(|e| e.default_for(0))
+            .and_then(|v| v.try_into().ok())
+            .map_or(0, u32::from_le_bytes)
+    };
+    let file_name = format!("canctl-sim-{}.eds", m.key);
+    let header = crate::od::eds::Header {
+        file_name: file_name.clone(),
+        description: format!("{product}: a device model of canctl's simulated network"),
+        vendor_name: vendor.into(),
+        vendor_number: part(1),
+        product_name: product.into(),
+        product_number: part(2),
+        revision: part(3),
+        node_id: None,
+    };
+    (file_name, crate::od::eds::write(&m.dict, None, &header))
+}
+
+/// The objects of a device that keeps its own EDS (CiA 301 0x1021, 0x1022 its format);
+/// the content comes with `fill_stored_eds`, once the model is complete.
+fn stores_its_eds(d: &mut Dictionary, format: u8) {
+    d.var(0x1021, "Store EDS", D, Ro, Init::Bytes(Vec::new()));
+    d.var(0x1022, "Storage format", U8, Ro, u(format as u64, U8));
+}
+
+/// 0x1021 holds the model's own EDS (plain or zipped, by 0x1022): the file in eds/, since
+/// a DOMAIN's content is not part of an EDS.
+fn fill_stored_eds(m: &mut Model, names: (&str, &str)) {
+    let (file_name, text) = eds_file(m, names);
+    let bytes = crate::od::eds::to_latin1(&text);
+    let format = m.dict.get(crate::od::stored::STORAGE_FORMAT).map(|e| e.default_for(0)[0]);
+    let stored = match format {
+        Some(crate::od::stored::ZIP) => crate::od::stored::zip(&file_name, &bytes),
+        _ => bytes,
+    };
+    let addr = crate::od::stored::STORE_EDS;
+    let entry = m.dict.get(addr).expect("stores_its_eds declared 0x1021").clone();
+    m.dict.insert(crate::od::Entry { default: Init::Bytes(stored), ..entry });
 }
 
 /// TPDO1, event-driven and off until an event timer is set, with a mapping of `entries`
