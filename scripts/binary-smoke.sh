@@ -31,7 +31,8 @@ check_with() {
   shift 4
   echo "\$ canctl $*$by"
   (cd "$work" && timeout 120 "${run[@]}" "$@") >"$work/out" 2>&1 </dev/null || got=$?
-  sed 's/^/  /' "$work/out"
+  head -n 12 "$work/out" | sed 's/^/  /'
+  [ "$(wc -l <"$work/out")" -le 12 ] || echo "  (… $(($(wc -l <"$work/out") - 12)) more lines)"
   if [ "$got" != "$want" ] || ! grep -qF -- "$needle" "$work/out"; then
     echo "FAIL: exit $got (want $want), want output with '$needle'"
     failed=$((failed + 1))
