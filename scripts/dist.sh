@@ -87,7 +87,9 @@ build() {  # TRIPLE LINKER EXTRA_RUSTFLAGS -> path of the binary
 # it through .gnu_debuglink when both lie in one directory).
 split_debug() {  # OBJCOPY BIN SHIPPED DEBUG
   local objcopy=$1 bin=$2 shipped=$3 debug=$4
-  "$objcopy" --only-keep-debug --compress-debug-sections=zlib "$bin" "$debug"
+  local compress=--compress-debug-sections=zlib
+  [[ $bin == *.exe ]] && compress=   # binutils compresses ELF sections only
+  "$objcopy" --only-keep-debug $compress "$bin" "$debug"
   "$objcopy" --strip-all --add-gnu-debuglink="$debug" "$bin" "$shipped"
   chmod 755 "$shipped"; chmod 644 "$debug"
 }
