@@ -25,14 +25,18 @@ bin() { echo "$u/canctl-$version-$1/canctl"; }
 failed=
 
 # The binaries are in the tarballs: unpack each once, as a user would.
+unpacked=0
 unpack() {
   local t
+  [ $unpacked = 0 ] || return 0
+  unpacked=1
   for t in x86_64-unknown-linux-musl aarch64-unknown-linux-musl armv7-unknown-linux-gnueabihf; do
-    tar -C "$u" -xzf "$d/canctl-$version-$t.tar.gz"
+    tar -C "$u" -xzf "$d/canctl-$version-$t.tar.gz" || return 1
   done
 }
 
 step_sums() {
+  unpack || return 1
   (cd "$d" && sha256sum -c --quiet SHA256SUMS) || return 1
   echo "SHA256SUMS: every file matches"
   local t b
@@ -47,13 +51,14 @@ step_sums() {
   echo "no build-machine path in the binaries"
 }
 
-step_native() { scripts/binary-smoke.sh "$(bin x86_64-unknown-linux-musl)"; }
+step_native() { unpack && scripts/binary-smoke.sh "$(bin x86_64-unknown-linux-musl)"; }
 
 # qemu-user (Debian 12's 7.2) does not translate the TCGETS2 ioctl that opening a serial port
 # takes (serialport sets the bit rate by termios2): "cannot open /dev/pts/N: Function not
 # implemented". So the ARM binary serves the pty device sides (sim --slcan, --epos2-rs232)
 # and the x86_64 one is the client there; on ARM hardware the kernel has TCGETS2.
 step_qemu() {
+  unpack || return 1
   local native; native=$(bin x86_64-unknown-linux-musl)
   local rc=0
   SMOKE_PTY_CLIENT=$native scripts/binary-smoke.sh qemu-aarch64-static "$(bin aarch64-unknown-linux-musl)" || rc=1
@@ -133,7 +138,6 @@ step_repro() {
   return $rc
 }
 
-unpack
 for s in $steps; do
   echo "== dist-check: $s"
   t0=$SECONDS
