@@ -79,6 +79,7 @@ step_windows() {
 # armhf packages install there as foreign architectures (they have no dependencies).
 step_deb() {
   local r; r=$(mktemp -d /tmp/canctl-debroot.XXXXXX)
+  chmod 755 "$r"   # a root only root may enter: man-db's triggers run as user man
   local mirror=${DIST_DEBIAN_MIRROR:-$(grep -hoE '^(URIs:|deb)[[:space:]]+[^[:space:]]+' /etc/apt/sources.list.d/*.sources /etc/apt/sources.list 2>/dev/null \
     | awk '{print $2}' | grep -v security | head -n1)}
   local codename; codename=$(. /etc/os-release && echo "$VERSION_CODENAME")
@@ -100,13 +101,13 @@ step_deb() {
     # Debian's ~/.bashrc turns bash-completion on; it loads a command's completion on the
     # first Tab (_completion_loader), which is what this asks for.
     echo "\$ bash -ic 'complete -p canctl'"
-    chroot "$r" env HOME=/root bash -c 'cp /etc/skel/.bashrc /root/.bashrc; bash -ic "_completion_loader canctl; complete -p canctl"' 2>/dev/null \
+    chroot "$r" env HOME=/tmp/home bash -c 'mkdir -p ~ && cp /etc/skel/.bashrc ~ && bash -ic "_completion_loader canctl; complete -p canctl"' 2>/dev/null \
       | sed 's/^/  /' | tee "$r.complete"
     grep -q "complete .* canctl$" "$r.complete" || { echo "FAIL: no bash completion for canctl"; rc=1; }
     chroot "$r" dpkg -r canctl || rc=1
     (cd "$r" && find . -xdev \( -path ./proc -o -path ./tmp -o -path ./var/lib/dpkg -o -path ./var/log -o -path ./var/cache \) -prune -o -print | sort) >"$r.after"
     if ! diff "$r.before" "$r.after"; then echo "FAIL: dpkg -r left files behind (above)"; rc=1; else echo "dpkg -r: the root holds the same files as before the install"; fi
-    rm -f "$r/tmp/$deb" "$r/root/.bashrc"
+    rm -rf "$r/tmp/$deb" "$r/tmp/home"
   done
   rm -rf "$r" "$r".*
   return $rc
