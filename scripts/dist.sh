@@ -10,11 +10,14 @@
 # Linux targets are static: musl for x86_64 and aarch64; for armv7 hard-float (Raspberry Pi
 # OS 32-bit) glibc linked statically, as this toolchain's rustup has no armv7 musl std.
 # Linkers and objcopy are Debian's cross toolchains (.ci/run installs them; see
-# `need_tools` below for the list); the .deb is made by dpkg-deb.
+# TARGETS below for which); the .deb is made by dpkg-deb.
 #
 # Reproducible: the same commit builds the same bytes. SOURCE_DATE_EPOCH (the commit's
 # time) dates every archive member, build paths are remapped (/canctl, /cargo), archives
 # are sorted and carry no owner. Compare two builds with `sha256sum -c SHA256SUMS`.
+# Not yet the Windows zip: its import table lists the DLLs in an order that changes from
+# build to build (rustc links the windows-sys import libraries it generates from temporary
+# directories with random names); the Linux files are byte-identical (dist-check.sh repro).
 #
 # Environment: DIST_TARGETS (default: all four triples below) builds a subset;
 # CARGO_TARGET_DIR as usual. Refuses a tree with uncommitted changes (the artifacts would
