@@ -2,19 +2,26 @@
 # The Windows build of canctl, run under wine: the simulated bus end to end, completion,
 # and the exit codes of the contract. Needs mingw-w64 and wine64 (Debian packages) and the
 # x86_64-pc-windows-gnu target (rustup); .ci/run installs them.
+#   scripts/windows-smoke.sh              builds canctl.exe (release) and runs it
+#   scripts/windows-smoke.sh CANCTL.EXE   runs that one: the release artifact (dist-check.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-target=x86_64-pc-windows-gnu
-cargo build --locked --release --quiet --target "$target"
-out="target/$target/release"
+if [ $# -ge 1 ]; then
+  out=$(cd "$(dirname "$1")" && pwd)
+  exe="$out/$(basename "$1")"
+else
+  target=x86_64-pc-windows-gnu
+  cargo build --locked --release --quiet --target "$target"
+  out="$PWD/target/$target/release"
+  exe="$out/canctl.exe"
+fi
 # Debian 12's wine lacks ProcessPrng, which Rust's std uses for random numbers on Windows.
 x86_64-w64-mingw32-gcc -shared -O2 -o "$out/bcryptprimitives.dll" \
   scripts/wine/bcryptprimitives.c scripts/wine/bcryptprimitives.def
 
 export WINEDEBUG=-all WINEPREFIX="${WINEPREFIX:-$(mktemp -d)}"
 work=$(mktemp -d)
-exe="$PWD/$out/canctl.exe"
 state='sim:Z:'"$work"'/sim.json'
 failed=0
 

@@ -90,7 +90,8 @@ pub fn man_pages() -> Vec<(String, Vec<u8>)> {
 
 fn collect(cmd: &clap::Command, name: &str, pages: &mut Vec<(String, Vec<u8>)>) {
     let mut out = Vec::new();
-    let named = cmd.clone().name(name.to_string()).bin_name(name.replace('-', " "));
+    // The plain version: the commit and target of `--version` would change every page per build.
+    let named = cmd.clone().name(name.to_string()).bin_name(name.replace('-', " ")).long_version(None);
     clap_mangen::Man::new(named).render(&mut out).expect("render to memory");
     pages.push((format!("{name}.1"), out));
     for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {

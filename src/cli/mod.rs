@@ -32,6 +32,11 @@ pub use complete::complete_from_env;
 pub use diagnostics::install as install_diagnostics;
 pub use docs::{completion_scripts, man_pages, write_completions};
 
+/// `canctl --version`: what a bug report needs to name the binary exactly (build.rs).
+/// `-V` and the man pages keep the plain version, so they do not change with every commit.
+const LONG_VERSION: &str =
+    concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("CANCTL_COMMIT"), ", target ", env!("CANCTL_TARGET"), ")");
+
 const EXIT_CODES: &str = "\
 Exit codes:
   0    ok
@@ -47,6 +52,7 @@ Exit codes:
 #[command(
     name = "canctl",
     version,
+    long_version = LONG_VERSION,
     about = "Commission CANopen drives and sensors",
     long_about = "Commission CANopen drives and sensors: find every node, read and write objects, \
 drive NMT — over SocketCAN, a maxon EPOS2 on RS232 or USB, or the built-in simulated bus.\n\n\

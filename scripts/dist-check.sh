@@ -1,0 +1,149 @@
+#!/usr/bin/env bash
+# dist-check.sh [STEP...]: prove the artifacts in dist/ (built by scripts/dist.sh) work where
+# they are meant to. Steps (default: all, in this order):
+#   sums     sha256sum -c SHA256SUMS; every Linux binary static, stripped, without build paths
+#   native   the x86_64 binary on the sim and through ptys (scripts/binary-smoke.sh)
+#   qemu     the aarch64 and armv7 binaries the same way, under qemu-user
+#   windows  the .exe from the zip under wine (scripts/windows-smoke.sh)
+#   deb      each .deb on a clean Debian root (debootstrap): man canctl, bash completion,
+#            dpkg -r leaves no file behind
+#   crate    cargo publish --dry-run; the library's docs without the cli feature (docs.rs)
+#   repro    a second build of one target (DIST_REPRO_TARGET, default x86_64 musl) from a
+#            clone in another directory, compared byte for byte with dist/
+# Each step prints its time. Needs root for deb (chroot), as .ci/run has.
+# Not here: the ARM binaries on SocketCAN. qemu-user translates no SOL_CAN_RAW socket option
+# ("vcan0: error filter: Protocol not available", tried in the kernel-test VM), so only an
+# ARM kernel (hardware, or a whole emulated ARM machine) can run them on a CAN interface.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+steps=${*:-sums native qemu windows deb crate repro}
+version=$(sed -n 's/^version = "\(.*\)"$/\1/p' Cargo.toml | head -n1)
+d=$PWD/dist
+u=$(mktemp -d)
+trap 'rm -rf "$u"' EXIT
+bin() { echo "$u/canctl-$version-$1/canctl"; }
+failed=
+
+# The binaries are in the tarballs: unpack each once, as a user would.
+unpacked=0
+unpack() {
+  local t
+  [ $unpacked = 0 ] || return 0
+  unpacked=1
+  for t in x86_64-unknown-linux-musl aarch64-unknown-linux-musl armv7-unknown-linux-gnueabihf; do
+    tar -C "$u" -xzf "$d/canctl-$version-$t.tar.gz" || return 1
+  done
+}
+
+step_sums() {
+  unpack || return 1
+  (cd "$d" && sha256sum -c --quiet SHA256SUMS) || return 1
+  echo "SHA256SUMS: every file matches"
+  local t b
+  for t in x86_64-unknown-linux-musl aarch64-unknown-linux-musl armv7-unknown-linux-gnueabihf; do
+    b=$(bin "$t")
+    file -b "$b" | tee /dev/stderr | grep -qE "(statically|static-pie) linked.*, stripped" || { echo "$b: not static and stripped"; return 1; }
+    if grep -aqE "$PWD|$HOME|/root/|/work/|/home/" "$b"; then
+      echo "$b holds a path of the build machine:"; grep -aoE "($PWD|$HOME|/root/|/work/|/home/)[^ ]{0,60}" "$b" | head -5
+      return 1
+    fi
+  done
+  echo "no build-machine path in the binaries"
+}
+
+step_native() { unpack && scripts/binary-smoke.sh "$(bin x86_64-unknown-linux-musl)"; }
+
+# qemu-user (Debian 12's 7.2) does not translate the TCGETS2 ioctl that opening a serial port
+# takes (serialport sets the bit rate by termios2): "cannot open /dev/pts/N: Function not
+# implemented". So the ARM binary serves the pty device sides (sim --slcan, --epos2-rs232)
+# and the x86_64 one is the client there; on ARM hardware the kernel has TCGETS2.
+step_qemu() {
+  unpack || return 1
+  local native; native=$(bin x86_64-unknown-linux-musl)
+  local rc=0
+  SMOKE_PTY_CLIENT=$native scripts/binary-smoke.sh qemu-aarch64-static "$(bin aarch64-unknown-linux-musl)" || rc=1
+  SMOKE_PTY_CLIENT=$native scripts/binary-smoke.sh qemu-arm-static "$(bin armv7-unknown-linux-gnueabihf)" || rc=1
+  return $rc
+}
+
+step_windows() {
+  local w rc=0; w=$(mktemp -d)
+  unzip -q "$d/canctl-$version-x86_64-pc-windows-gnu.zip" -d "$w" || return 1
+  ls "$w"/*/
+  scripts/windows-smoke.sh "$w/canctl-$version-x86_64-pc-windows-gnu/canctl.exe" || rc=1
+  rm -rf "$w"
+  return $rc
+}
+
+# A Debian root of the machine's own release, with man and bash-completion. The arm64 and
+# armhf packages install there as foreign architectures (they have no dependencies).
+step_deb() {
+  local r; r=$(mktemp -d /tmp/canctl-debroot.XXXXXX)
+  chmod 755 "$r"   # a root only root may enter: man-db's triggers run as user man
+  local mirror=${DIST_DEBIAN_MIRROR:-$(grep -hoE '^(URIs:|deb)[[:space:]]+[^[:space:]]+' /etc/apt/sources.list.d/*.sources /etc/apt/sources.list 2>/dev/null \
+    | awk '{print $2}' | grep -v security | head -n1)}
+  local codename; codename=$(. /etc/os-release && echo "$VERSION_CODENAME")
+  debootstrap --variant=minbase --include=man-db,bash-completion "$codename" "$r" "$mirror" >"$r.log" 2>&1 \
+    || { tail -n 20 "$r.log"; return 1; }
+  chroot "$r" dpkg --add-architecture arm64
+  chroot "$r" dpkg --add-architecture armhf
+  local arch deb rc=0
+  for arch in amd64 arm64 armhf; do
+    deb=canctl_${version}_$arch.deb
+    echo "-- $deb"
+    cp "$d/$deb" "$r/tmp/"
+    (cd "$r" && find . -xdev \( -path ./proc -o -path ./tmp -o -path ./var/lib/dpkg -o -path ./var/log -o -path ./var/cache \) -prune -o -print | sort) >"$r.before"
+    chroot "$r" dpkg -i "/tmp/$deb" || { rc=1; continue; }
+    chroot "$r" dpkg -L canctl | sed 's/^/  /'
+    echo "\$ man canctl | head -n 4"
+    chroot "$r" env MANPAGER=cat COLUMNS=80 man canctl 2>&1 | head -n 4 | sed 's/^/  /'
+    chroot "$r" env MANPAGER=cat man canctl-sdo-read | grep -q "Read an object (SDO upload)" || { echo "FAIL: man canctl-sdo-read"; rc=1; }
+    # Debian's ~/.bashrc turns bash-completion on; it loads a command's completion on the
+    # first Tab (_completion_loader), which is what this asks for.
+    echo "\$ bash -ic 'complete -p canctl'"
+    chroot "$r" env HOME=/tmp/home bash -c 'mkdir -p ~ && cp /etc/skel/.bashrc ~ && bash -ic "_completion_loader canctl; complete -p canctl"' 2>/dev/null \
+      | sed 's/^/  /' | tee "$r.complete"
+    grep -q "complete .* canctl$" "$r.complete" || { echo "FAIL: no bash completion for canctl"; rc=1; }
+    chroot "$r" dpkg -r canctl || rc=1
+    (cd "$r" && find . -xdev \( -path ./proc -o -path ./tmp -o -path ./var/lib/dpkg -o -path ./var/log -o -path ./var/cache \) -prune -o -print | sort) >"$r.after"
+    if ! diff "$r.before" "$r.after"; then echo "FAIL: dpkg -r left files behind (above)"; rc=1; else echo "dpkg -r: the root holds the same files as before the install"; fi
+    rm -rf "$r/tmp/$deb" "$r/tmp/home"
+  done
+  rm -rf "$r" "$r".*
+  return $rc
+}
+
+step_crate() {
+  local log; log=$(mktemp)
+  # The package leaves tests and benchmarks out on purpose: cargo's notes about that are noise.
+  cargo publish --locked --dry-run >"$log" 2>&1 || { cat "$log"; echo "FAIL: cargo publish --dry-run"; return 1; }
+  grep -vE "^warning: (ignoring (test|benchmark|example)|manifest has no)|^  (\||= note)" "$log"
+  rm -f "$log"
+  cargo doc --locked --quiet --lib --no-deps --no-default-features
+  echo "the library's docs build without the cli feature (docs.rs)"
+}
+
+# Another directory, another target dir, the same commit: the same bytes.
+step_repro() {
+  local t=${DIST_REPRO_TARGET:-x86_64-unknown-linux-musl} w
+  w=$(mktemp -d /tmp/canctl-repro.XXXXXX)
+  git clone --quiet --no-hardlinks . "$w/src" || return 1
+  (cd "$w/src" && CARGO_TARGET_DIR="$w/target" DIST_TARGETS=$t scripts/dist.sh) || return 1
+  echo "second build in $w/src:"; (cd "$w/src/dist" && ls -l)
+  local f rc=0
+  for f in "$w"/src/dist/*; do
+    [ "$(basename "$f")" = SHA256SUMS ] && continue
+    if cmp "$f" "$d/$(basename "$f")"; then echo "identical: $(basename "$f")"; else rc=1; fi
+  done
+  rm -rf "$w"
+  return $rc
+}
+
+for s in $steps; do
+  echo "== dist-check: $s"
+  t0=$SECONDS
+  if "step_$s"; then echo "== dist-check: $s passed in $((SECONDS - t0)) s"; else
+    echo "== dist-check: $s FAILED after $((SECONDS - t0)) s"; failed+=" $s"; fi
+done
+[ -z "$failed" ] || { echo "dist-check: failed:$failed"; exit 1; }
+echo "dist-check: all passed ($steps)"
