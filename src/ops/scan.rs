@@ -22,6 +22,40 @@ pub struct ScanOptions {
     pub timeout: Duration,
 }
 
+/// The shortest quiet window a scan accepts: no device answers a probe sooner (see
+/// [`crate::settings::MIN_TIMEOUT`]); a shorter one loses nodes and says nothing.
+pub const MIN_WINDOW: Duration = crate::settings::MIN_TIMEOUT;
+
+/// The window that waits for slow devices too (they answer up to 80 ms late): a scan
+/// with a shorter one may have missed some, so it does not stand for the bus.
+pub const FULL_WINDOW: Duration = Duration::from_millis(100);
+
+impl ScanOptions {
+    /// Refuses a window no device can answer within, before anything is sent.
+    pub fn check(&self) -> Result<()> {
+        check_window(self.window)
+    }
+
+    /// Whether slow devices may have been missed: the window is shorter than they answer in.
+    pub fn may_miss_slow_devices(&self) -> bool {
+        self.window < FULL_WINDOW
+    }
+}
+
+/// Refuses a probe window no device can answer within (every command that probes: scan,
+/// health, network).
+fn check_window(window: Duration) -> Result<()> {
+    if window < MIN_WINDOW {
+        return Err(Error::Usage(format!(
+            "a window of {} ms is shorter than devices take to answer a probe (nodes would be lost without a word); use at least {}ms, or the default {}ms that waits for slow devices",
+            window.as_millis(),
+            MIN_WINDOW.as_millis(),
+            FULL_WINDOW.as_millis()
+        )));
+    }
+    Ok(())
+}
+
 /// What a scan found.
 #[derive(Debug, Serialize)]
 pub struct Scan {
@@ -100,6 +134,7 @@ fn as_u32(bytes: &[u8]) -> Option<u32> {
 /// Every node that answers an SDO read of 0x1000 within `window`, with its device type
 /// (`None` when it answered with an abort: the node is there all the same).
 pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Found> {
+    check_window(window)?;
     match probe_until_stopped(bus, window, progress)? {
         (_, true) => Err(Error::Interrupted),
         (found, false) => Ok(found),
@@ -132,6 +167,7 @@ fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn P
 /// Scan the bus. Stopped by the user (over a [`Stoppable`](crate::bus::stoppable::Stoppable)
 /// bus), it reports what it found so far, `interrupted`.
 pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> Result<Scan> {
+    o.check()?;
     let mut report = Scan {
         bus: bus.describe(),
         nodes: Vec::new(),
