@@ -65,6 +65,9 @@ pub struct Scan {
     /// How many devices without a node-id answered LSS.
     pub lss_unconfigured: usize,
     pub lss_configuration: Configuring,
+    /// Node-ids more than one device answers to.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub clashes: Vec<super::clash::Clash>,
     /// The user stopped the scan (SIGINT, SIGTERM): the nodes are those found so far.
     pub interrupted: bool,
     /// When interrupted: the parts of the scan not done, the one it stopped in first.
@@ -173,6 +176,7 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
         nodes: Vec::new(),
         lss_unconfigured: 0,
         lss_configuration: Configuring::default(),
+        clashes: Vec::new(),
         interrupted: false,
         not_done: Vec::new(),
     };
@@ -226,6 +230,8 @@ fn scan_into(
     }
     *phase = 1;
     identify(bus, &mut report.nodes, o.timeout, progress)?;
+    let ids: Vec<u8> = report.nodes.iter().map(|n| n.node).collect();
+    report.clashes = super::clash::find(bus, &ids, o.window, o.timeout)?;
     *phase = 2;
     nmt_states(bus, &mut report.nodes, o)?;
     *phase = 3;
