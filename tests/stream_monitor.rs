@@ -246,3 +246,16 @@ fn sync_for_an_event_driven_tpdo_is_warned_about() {
     let plain = sim.run(&["stream-pdo", "5", "--start", "--count", "3"]).ok();
     assert!(!plain.stderr.contains("--sync"), "{}", plain.stderr);
 }
+
+/// A device that refuses the writes that would put its mapping back: the command says
+/// what was not put back and how to recover, and the NMT state goes back all the same.
+#[test]
+fn a_mapping_that_cannot_be_put_back_is_said_and_the_state_still_goes_back() {
+    let sim = Sim::new();
+    // Node 1's 17th SDO request on is refused: the first write of the putting back.
+    sim.run(&["sim", "reset", "--fault", "1:abort=0x08000020@17+"]).ok();
+    let r = sim.run(&["stream-pdo", "1", "--start", "--map", "6064:0", "--event", "10", "--count", "1"]);
+    assert_eq!(r.code, 4, "{}", r.stderr);
+    assert!(r.stderr.contains("TPDO1 was not put back") && r.stderr.contains("canctl restore 1"), "{}", r.stderr);
+    assert!(sim.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
+}

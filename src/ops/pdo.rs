@@ -114,6 +114,7 @@ impl Session {
     /// included): the parameters the device took, then the NMT state.
     pub fn restore(self, bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Restored> {
         let mut restored = Restored::default();
+        let mut mapping = Ok(());
         if let Some((tpdo, original, mut now)) = self.mapping {
             // Entries the session added beyond the original count go back to 0 too.
             let mut back = original.clone();
@@ -122,20 +123,22 @@ impl Session {
             }
             back.retain(|a, v| now.get(a) != Some(v));
             if !back.is_empty() {
-                write_plan(bus, node, &back, &mut now, timeout).map_err(|e| {
+                mapping = write_plan(bus, node, &back, &mut now, timeout).map_err(|e| {
                     e.with_hint(format!(
                         "; node {node}'s TPDO{tpdo} was not put back as it was (0x{:04X}:1 may leave it switched off): `canctl restore {node}` loads the stored parameters",
                         0x1800 + tpdo - 1
                     ))
-                })?;
-                restored.tpdo = Some(tpdo);
+                });
+                restored.tpdo = mapping.is_ok().then_some(tpdo);
             }
         }
+        // The state goes back even when the mapping could not.
         match self.state {
             Some(nmt::State::Stopped) => bus.nmt(Command::Stop, node)?,
             Some(nmt::State::PreOperational) => bus.nmt(Command::PreOperational, node)?,
             _ => {}
         }
+        mapping?;
         restored.state = self.state;
         Ok(restored)
     }
