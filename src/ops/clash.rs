@@ -12,7 +12,7 @@ use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use serde::Serialize;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::fmt;
 use std::time::{Duration, Instant};
 
@@ -89,19 +89,35 @@ fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Option<u32>> {
     }
 }
 
-/// The nodes of `nodes` that more than one device answers to. Where the link shows the
-/// bus's traffic, one read of 0x1018:4 to each node at once, and every answer and
-/// heartbeat heard for `window`; else (through an EPOS2, which passes on one answer) two
-/// reads of 0x1018:4 each, compared.
-pub fn find(bus: &mut dyn Bus, nodes: &[u8], window: Duration, timeout: Duration) -> Result<Vec<Clash>> {
+/// What the answers heard for one node say: two answers to one read, two states in its
+/// heartbeats, or one answer whose serial is not the one read a moment before (`earlier`;
+/// two devices whose answers merged on the bus, or one of them lost, show this way).
+fn judge(answers: Vec<Option<u32>>, states: Vec<nmt::State>, earlier: Option<u32>) -> Option<Evidence> {
+    match answers[..] {
+        [_, _, ..] => Some(Evidence::SdoAnswers { values: answers }),
+        [Some(now)] if earlier.is_some_and(|e| e != now) => {
+            Some(Evidence::IdentityChanged { values: vec![earlier.unwrap_or_default(), now] })
+        }
+        _ if states.len() > 1 => Some(Evidence::HeartbeatStates { states }),
+        _ => None,
+    }
+}
+
+/// The nodes that more than one device answers to, of `nodes` (each with the serial
+/// number 0x1018:4 read from it before, if any). Where the link shows the bus's traffic,
+/// one read of 0x1018:4 to each node at once, and every answer and heartbeat heard for
+/// `window`; else (through an EPOS2, which passes on one answer) two reads of 0x1018:4
+/// each, compared.
+pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, timeout: Duration) -> Result<Vec<Clash>> {
     if nodes.is_empty() {
         return Ok(Vec::new());
     }
     if !bus.sees_traffic() {
-        return identity_changes(bus, nodes, timeout);
+        let ids: Vec<u8> = nodes.iter().map(|(n, _)| *n).collect();
+        return identity_changes(bus, &ids, timeout);
     }
-    let wanted: BTreeSet<u8> = nodes.iter().copied().collect();
-    for n in &wanted {
+    let wanted: BTreeMap<u8, Option<u32>> = nodes.iter().copied().collect();
+    for n in wanted.keys() {
         bus.send_frame(&Frame::new(0x600 + u16::from(*n), &SdoClient::upload(SERIAL, false).start()))?;
     }
     let mut answers: BTreeMap<u8, Vec<Option<u32>>> = BTreeMap::new();
@@ -109,26 +125,25 @@ pub fn find(bus: &mut dyn Bus, nodes: &[u8], window: Duration, timeout: Duration
     let end = Instant::now() + window;
     while let Some(f) = bus.recv_frame(end)? {
         let id = f.id();
-        if (0x581..=0x5FF).contains(&id) && wanted.contains(&((id - 0x580) as u8)) {
+        if (0x581..=0x5FF).contains(&id) && wanted.contains_key(&((id - 0x580) as u8)) {
             if let Some(v) = upload_answer(f.data(), SERIAL) {
                 answers.entry((id - 0x580) as u8).or_default().push(v);
             }
         } else if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
             let seen = states.entry(node).or_default();
-            if wanted.contains(&node) && !seen.contains(&state) {
+            if wanted.contains_key(&node) && !seen.contains(&state) {
                 seen.push(state);
             }
         }
     }
-    let mut clashes = Vec::new();
-    for n in wanted {
-        if let Some(values) = answers.remove(&n).filter(|v| v.len() > 1) {
-            clashes.push(Clash { node: n, evidence: Evidence::SdoAnswers { values } });
-        } else if let Some(states) = states.remove(&n).filter(|s| s.len() > 1) {
-            clashes.push(Clash { node: n, evidence: Evidence::HeartbeatStates { states } });
-        }
-    }
-    Ok(clashes)
+    Ok(wanted
+        .into_iter()
+        .filter_map(|(node, earlier)| {
+            let evidence =
+                judge(answers.remove(&node).unwrap_or_default(), states.remove(&node).unwrap_or_default(), earlier)?;
+            Some(Clash { node, evidence })
+        })
+        .collect())
 }
 
 /// Two reads of 0x1018:4 of each node, compared: where each answer is the first one to
@@ -230,6 +245,26 @@ mod tests {
         assert_eq!(upload_answer(&[0x43, 0x18, 0x10, 0x03, 1, 0, 0, 0], SERIAL), None);
         assert_eq!(upload_answer(&[0x60, 0x18, 0x10, 0x04, 0, 0, 0, 0], SERIAL), None);
         assert_eq!(upload_answer(&[0x43, 0x18, 0x10], SERIAL), None);
+    }
+
+    #[test]
+    fn contradicting_answers_are_a_clash_and_one_device_is_none() {
+        use nmt::State::{Operational, PreOperational};
+        let (a, b) = (0x0950_1234, 0x0950_1301);
+        assert_eq!(judge(vec![Some(a)], vec![PreOperational], Some(a)), None);
+        assert_eq!(judge(vec![], vec![], Some(a)), None, "no answer this time: not a clash");
+        assert_eq!(judge(vec![Some(a)], vec![], None), None, "nothing read before to compare");
+        assert_eq!(
+            judge(vec![Some(a), Some(b)], vec![], Some(a)),
+            Some(Evidence::SdoAnswers { values: vec![Some(a), Some(b)] })
+        );
+        // Two answers alike (merged on the bus they would be one): still two devices.
+        assert!(matches!(judge(vec![Some(a), None], vec![], None), Some(Evidence::SdoAnswers { .. })));
+        assert_eq!(judge(vec![Some(b)], vec![], Some(a)), Some(Evidence::IdentityChanged { values: vec![a, b] }));
+        assert_eq!(
+            judge(vec![Some(a)], vec![PreOperational, Operational], Some(a)),
+            Some(Evidence::HeartbeatStates { states: vec![PreOperational, Operational] })
+        );
     }
 
     #[test]

@@ -230,8 +230,8 @@ fn scan_into(
     }
     *phase = 1;
     identify(bus, &mut report.nodes, o.timeout, progress)?;
-    let ids: Vec<u8> = report.nodes.iter().map(|n| n.node).collect();
-    report.clashes = super::clash::find(bus, &ids, o.window, o.timeout)?;
+    let serials: Vec<(u8, Option<u32>)> = report.nodes.iter().map(|n| (n.node, n.serial)).collect();
+    report.clashes = super::clash::find(bus, &serials, o.window, o.timeout)?;
     *phase = 2;
     nmt_states(bus, &mut report.nodes, o)?;
     *phase = 3;
