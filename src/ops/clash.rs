@@ -188,8 +188,14 @@ pub fn in_use(
     timeout: Duration,
     listen: Duration,
 ) -> Result<Option<InUse>> {
-    let reads: Vec<(u8, ObjAddr)> = (1..=4).map(|sub| (node, ObjAddr::new(0x1018, sub))).collect();
-    let values = bus.sdo_upload_many(&reads, &SdoOptions::new(timeout), &mut |_| {})?;
+    // One node's transfers go one after the other: the rest only once the first is answered,
+    // so a free id costs one timeout, not four.
+    let opts = SdoOptions::new(timeout);
+    let mut values = vec![bus.sdo_upload(node, ObjAddr::new(0x1018, 1), &opts)];
+    if !values[0].as_ref().is_err_and(|e| e.is_timeout()) {
+        let rest: Vec<(u8, ObjAddr)> = (2..=4).map(|sub| (node, ObjAddr::new(0x1018, sub))).collect();
+        values.extend(bus.sdo_upload_many(&rest, &opts, &mut |_| {})?);
+    }
     let mut parts = Vec::new();
     let mut answered = false;
     for v in values {
