@@ -38,6 +38,10 @@ pub enum Error {
     /// Something this kind of bus cannot do (`{bus}: {why}`).
     #[error("{bus}: {why}")]
     NotOnThisBus { bus: String, why: &'static str },
+    /// LSS was asked to give a node-id that something on the bus already answers to
+    /// (`by`: "an SDO answer", "its heartbeat", ...); nothing was sent.
+    #[error("node-id {node} is in use: {by} came from node {node}{}; a second device on it would make both unreachable. Nothing was sent; choose a free id (canctl scan lists those in use), or --force gives it anyway", identity.map(|i| format!(" (identity {i})")).unwrap_or_default())]
+    NodeIdInUse { node: u8, identity: Option<Identity>, by: &'static str },
     /// A drive command for a node whose device type (0x1000) names another profile.
     #[error("node {node} is not a CiA 402 drive: its device type (0x1000) is 0x{device_type:08X}, {}; drive commands are for profile 402", profile_text(*device_type))]
     NotADrive { node: u8, device_type: u32 },
@@ -210,6 +214,7 @@ impl Error {
             | Error::SlcanBitRate { .. }
             | Error::NotOnThisBus { .. }
             | Error::NotADrive { .. }
+            | Error::NodeIdInUse { .. }
             // The range the user gave is full: no device refused anything.
             | Error::NoFreeNodeId { .. } => C::Usage,
             Error::NoAnswer { .. }

@@ -21,14 +21,21 @@ use std::time::Duration;
 /// The answer timeout when neither a flag nor a settings file gives one.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(500);
 
-/// Parse `500ms`, `2s`, `1.5s`, `1m`, or a bare number of milliseconds.
+/// The shortest answer timeout canctl accepts: an SDO request and its answer are two
+/// frames on the bus (0.5 ms at 500 kbit/s, 27 ms at 10 kbit/s), and a device takes its
+/// own time to answer (1 to 80 ms on real slaves); a shorter wait only ever reports silence.
+pub const MIN_TIMEOUT: Duration = Duration::from_millis(10);
+
+/// Parse `500ms`, `2s`, `1.5s`, `1m` or `200us`. A number without a unit is refused: was
+/// `--timeout 5` meant as 5 ms or 5 s? (it used to be taken as ms, `1.5` as 1 ms).
 pub fn parse_duration(text: &str) -> Result<Duration, String> {
     let t = text.trim();
     let split = t.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(t.len());
     let (num, unit) = t.split_at(split);
     let n: f64 = num.parse().map_err(|_| format!("'{text}' is not a duration: use 500ms, 2s, 1.5s or 1m"))?;
     let secs = match unit.trim() {
-        "" | "ms" => n / 1000.0,
+        "" => return Err(format!("'{text}' has no unit: write {t}ms or {t}s (units: us, ms, s, m)")),
+        "ms" => n / 1000.0,
         "s" => n,
         "m" | "min" => n * 60.0,
         "us" | "µs" => n / 1e6,
@@ -38,6 +45,18 @@ pub fn parse_duration(text: &str) -> Result<Duration, String> {
         return Err(format!("'{text}' is out of range (0 to 24 h)"));
     }
     Ok(Duration::from_secs_f64(secs))
+}
+
+/// An answer timeout: a duration no shorter than [`MIN_TIMEOUT`].
+pub fn parse_timeout(text: &str) -> Result<Duration, String> {
+    let d = parse_duration(text)?;
+    if d < MIN_TIMEOUT {
+        return Err(format!(
+            "'{text}' is shorter than any device can answer in: a request and its answer are two frames on the bus, and devices take 1 to 80 ms to answer; use at least {}ms",
+            MIN_TIMEOUT.as_millis()
+        ));
+    }
+    Ok(d)
 }
 
 /// Parse a node-id: 1 to 127, decimal or 0x hex.
@@ -150,7 +169,7 @@ fn read(path: &Path, into: &mut FileSettings) -> Result<(), Error> {
         into.bus = Some((bus, path.to_path_buf()));
     }
     if let Some(t) = file.timeout {
-        let d = parse_duration(&t)
+        let d = parse_timeout(&t)
             .map_err(|e| Error::Usage(format!("{}:{}: timeout: {e}", path.display(), line_with("timeout"))))?;
         into.timeout = Some((d, path.to_path_buf()));
     }

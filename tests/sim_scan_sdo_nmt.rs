@@ -317,3 +317,62 @@ fn the_scan_state_column_does_not_flicker() {
         assert_eq!(column(&sim), first);
     }
 }
+
+/// `--timeout 0` and `--timeout 1.5` were taken (0 ms and 1 ms): every identity "-" and
+/// exit 0. A number without a unit is refused, naming the units, and a timeout shorter than
+/// a device can answer in is refused with the reason; canctl.toml's timeout the same.
+#[test]
+fn timeouts_without_a_unit_or_too_short_are_refused() {
+    let sim = Sim::new();
+    for (t, words) in [("1.5", "has no unit"), ("5", "has no unit"), ("0ms", "shorter than"), ("2ms", "shorter than")] {
+        let r = sim.run(&["--timeout", t, "scan"]);
+        assert_eq!(r.code, 2, "--timeout {t}: {}", r.stderr);
+        assert!(r.stderr.contains(words), "--timeout {t}: {}", r.stderr);
+        assert!(r.stdout.is_empty(), "--timeout {t}: nothing scanned: {}", r.stdout);
+    }
+    let r = sim.run(&["scan", "--window", "100"]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("has no unit") && r.stderr.contains("ms"), "{}", r.stderr);
+    let ok = sim.run(&["--timeout", "1.5s", "sdo", "read", "5", "1018:4"]);
+    assert_eq!(ok.code, 0, "{}", ok.stderr);
+    std::fs::write(sim.path("canctl.toml"), "timeout = \"0ms\"\n").unwrap();
+    let mut c = sim.command(&["sdo", "read", "5", "1018:4"]);
+    c.current_dir(sim.path(""));
+    let r = common::finish(c.output().unwrap());
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("canctl.toml:1: timeout:") && r.stderr.contains("shorter than"), "{}", r.stderr);
+}
+
+/// `scan --window 0` (or 5ms) lost nodes silently, exit 0, and replaced the scan cache with
+/// what little it found: a window shorter than devices answer in is refused (exit 2, the
+/// reason), and a scan that may have missed slow devices does not replace the cache.
+#[test]
+fn a_scan_window_too_short_to_trust_is_refused_and_never_cached() {
+    let sim = Sim::new();
+    let cache = sim.path("cache");
+    let scan = |window: &str| {
+        let mut c = sim.command(&["scan", "--window", window, "--format", "csv"]);
+        c.env("XDG_CACHE_HOME", &cache);
+        common::finish(c.output().unwrap())
+    };
+    let cached = || -> String {
+        let dir = cache.join("canctl");
+        std::fs::read_dir(&dir)
+            .map(|d| d.map(|e| std::fs::read_to_string(e.unwrap().path()).unwrap()).collect())
+            .unwrap_or_default()
+    };
+    let full = scan("100ms").ok();
+    assert_eq!(full.stdout.lines().count(), 5, "{}", full.stdout);
+    let before = cached();
+    assert!(before.contains("\"node\":32"), "{before}");
+    for w in ["0ms", "5ms"] {
+        let r = scan(w);
+        assert_eq!(r.code, 2, "--window {w}: {}", r.stderr);
+        assert!(r.stderr.contains("shorter than") && r.stderr.contains("use at least"), "{}", r.stderr);
+        assert!(r.stdout.is_empty(), "{}", r.stdout);
+    }
+    // Long enough for these devices, too short for slow ones: reported, said, not cached.
+    let short = scan("20ms").ok();
+    assert!(short.stderr.contains("the scan cache is kept"), "{}", short.stderr);
+    assert_eq!(cached(), before);
+}

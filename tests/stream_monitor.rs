@@ -234,3 +234,50 @@ fn a_silent_stream_says_why() {
         sync.stderr
     );
 }
+
+/// A device whose mapping is read-only refuses `--map` part-way (the sensor's 0x1A00 is
+/// fixed, as on the MH sensor): the TPDO it switched off for the remapping is switched on
+/// again, the transmission type put back, and the command says so.
+#[test]
+fn a_refused_map_puts_the_tpdo_back() {
+    let sim = Sim::new();
+    let read = |o: &str| sim.run(&["sdo", "read", "5", o]).ok().stdout;
+    let before: Vec<String> = ["1800:1", "1800:2", "1A00:0", "1A00:1"].iter().map(|o| read(o)).collect();
+    let r = sim.run(&["stream-pdo", "5", "--map", "6064:0", "--count", "1"]);
+    assert_eq!(r.code, 4, "{}", r.stderr);
+    assert!(r.stderr.contains("0x06010002"), "{}", r.stderr);
+    assert!(r.stderr.contains("put back node 5's TPDO1"), "{}", r.stderr);
+    let after: Vec<String> = ["1800:1", "1800:2", "1A00:0", "1A00:1"].iter().map(|o| read(o)).collect();
+    assert_eq!(after, before);
+    // The TPDO still streams.
+    let again = sim.run(&["stream-pdo", "5", "--start", "--count", "1"]);
+    assert_eq!(again.code, 0, "{}", again.stderr);
+}
+
+/// `--sync` does nothing for an event-driven TPDO: said before the stream, not only when
+/// it is silent.
+#[test]
+fn sync_for_an_event_driven_tpdo_is_warned_about() {
+    let sim = Sim::new();
+    let r = sim.run(&["stream-pdo", "5", "--start", "--sync", "10ms", "--count", "3"]).ok();
+    assert!(
+        r.stderr.contains("warning: --sync does not drive node 5's TPDO1: transmission type 254 (event-driven)"),
+        "{}",
+        r.stderr
+    );
+    let plain = sim.run(&["stream-pdo", "5", "--start", "--count", "3"]).ok();
+    assert!(!plain.stderr.contains("--sync"), "{}", plain.stderr);
+}
+
+/// A device that refuses the writes that would put its mapping back: the command says
+/// what was not put back and how to recover, and the NMT state goes back all the same.
+#[test]
+fn a_mapping_that_cannot_be_put_back_is_said_and_the_state_still_goes_back() {
+    let sim = Sim::new();
+    // Node 1's 17th SDO request on is refused: the first write of the putting back.
+    sim.run(&["sim", "reset", "--fault", "1:abort=0x08000020@17+"]).ok();
+    let r = sim.run(&["stream-pdo", "1", "--start", "--map", "6064:0", "--event", "10", "--count", "1"]);
+    assert_eq!(r.code, 4, "{}", r.stderr);
+    assert!(r.stderr.contains("TPDO1 was not put back") && r.stderr.contains("canctl restore 1"), "{}", r.stderr);
+    assert!(sim.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
+}

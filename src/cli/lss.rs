@@ -17,7 +17,10 @@ pub enum LssCommand {
   canctl --bus can0 lss inquire --global      # only when exactly one LSS device is on the bus")]
     Inquire(Target),
     /// Give a device a node-id (1 to 127; 255 takes it away)
-    #[command(after_help = "Examples:
+    #[command(after_help = "Refuses an id something on the bus already answers to (an SDO answer from another
+device, a heartbeat, boot-up or guarding answer heard within 1 s); --force gives it anyway.
+
+Examples:
   canctl --bus sim lss set-id 7 --identity 0x40:0x43787800:0x312E3031:0x09501301
   canctl --bus epos2-usb:/dev/ttyUSB0 lss set-id 3 --node 0   # the EPOS2 itself (object 0x2000)")]
     SetId(SetIdArgs),
@@ -83,6 +86,10 @@ pub struct SetIdArgs {
     pub new: u8,
     #[command(flatten)]
     pub target: Target,
+    /// Give the id even when something on the bus answers to it already (two devices on
+    /// one node-id make both unreachable)
+    #[arg(long)]
+    pub force: bool,
 }
 
 #[derive(Args, Debug)]
@@ -213,7 +220,13 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
     };
     match cmd {
         LssCommand::Inquire(a) => ctx.out.report(&lss::inquire(bus, t, a.get("inquire")?)?)?,
-        LssCommand::SetId(a) => set(bus, &a.target, Setting::NodeId(a.new))?,
+        LssCommand::SetId(a) => {
+            let done = lss::set_id(bus, t, a.target.get("set-id")?, a.new, a.force, stop)?;
+            ctx.out.report(&done)?;
+            if done.interrupted {
+                return Err(Error::Interrupted.into());
+            }
+        }
         LssCommand::SetBaud(a) => set(bus, &a.target, Setting::BitRate(a.rate))?,
         LssCommand::Store(a) => set(bus, a, Setting::Store)?,
         LssCommand::Activate(a) => {

@@ -74,9 +74,9 @@ pub struct GlobalArgs {
     /// the settings file's)
     #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", add = ArgValueCandidates::new(complete::buses))]
     pub bus: Option<String>,
-    /// How long to wait for each answer: 500ms, 2s, 1.5s (a bare number is milliseconds);
-    /// default 500ms, or the settings file's
-    #[arg(long, global = true, value_name = "DUR", value_parser = parse_duration)]
+    /// How long to wait for each answer: 500ms, 2s, 1.5s (a unit is required: us, ms, s, m;
+    /// at least 10ms); default 500ms, or the settings file's
+    #[arg(long, global = true, value_name = "DUR", value_parser = parse_timeout)]
     pub timeout: Option<Duration>,
     /// Output format
     #[arg(long, global = true, value_enum, default_value = "human")]
@@ -175,7 +175,7 @@ pub enum Command {
     Man(docs::ManArgs),
 }
 
-pub use crate::settings::{number_in, parse_duration, parse_node, DEFAULT_TIMEOUT};
+pub use crate::settings::{number_in, parse_duration, parse_node, parse_timeout, DEFAULT_TIMEOUT};
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
 pub struct Ctx {
@@ -349,7 +349,11 @@ mod tests {
         assert_eq!(parse_duration("500ms").unwrap(), Duration::from_millis(500));
         assert_eq!(parse_duration("2s").unwrap(), Duration::from_secs(2));
         assert_eq!(parse_duration("1.5s").unwrap(), Duration::from_millis(1500));
-        assert_eq!(parse_duration("250").unwrap(), Duration::from_millis(250));
+        // A number without a unit is refused, naming the units, whatever flag it is for.
+        for bare in ["250", "1.5", "0"] {
+            let e = parse_duration(bare).unwrap_err();
+            assert!(e.contains("has no unit") && e.contains("ms, s"), "{e}");
+        }
         assert!(parse_duration("fast").is_err());
         assert!(parse_duration("5h").is_err());
         assert!(parse_duration("-1s").is_err());

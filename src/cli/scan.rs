@@ -24,7 +24,8 @@ use std::time::Duration;
   canctl --bus can0 scan --window 200ms --format json > nodes.json
   canctl --bus sim scan --format csv | cut -d, -f1,7")]
 pub struct ScanArgs {
-    /// How long the bus must stay quiet after the last answer to the probes
+    /// How long the bus must stay quiet after the last answer to the probes: at least
+    /// 10ms; under 100ms slow devices may be missed, and the scan cache is not replaced
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
 }
@@ -37,7 +38,13 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
         ctx.out.report(&report)?;
         return Err(crate::Error::Interrupted.into());
     }
-    if let Some(uri) = &ctx.bus {
+    // Only a scan that waited for every device may stand for the bus in the cache.
+    if options.may_miss_slow_devices() {
+        ctx.out.note(&format!(
+            "a window under {} ms may miss slow devices: the scan cache is kept as it was",
+            scan::FULL_WINDOW.as_millis()
+        ));
+    } else if let Some(uri) = &ctx.bus {
         scan_cache::save(uri, &SeenNode::from_scan(&report));
     }
     Ok(ctx.out.report(&report)?)

@@ -73,6 +73,9 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
     let restored = session.restore(bus, a.node, ctx.timeout);
+    if let Ok(r) = &restored {
+        say_restored(ctx, a.node, r);
+    }
     let interrupted = ctx.cancel.is_cancelled();
     result?;
     restored?;
@@ -80,6 +83,16 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
         return Err(Error::Interrupted.into());
     }
     Ok(())
+}
+
+/// What was put back, said however the stream ended (README promises it).
+fn say_restored(ctx: &Ctx, node: u8, r: &pdo::Restored) {
+    if let Some(n) = r.tpdo {
+        ctx.out.note(&format!("put back node {node}'s TPDO{n} mapping and parameters as they were"));
+    }
+    if let Some(state) = r.state {
+        ctx.out.note(&format!("node {node} back to {state}"));
+    }
 }
 
 fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> anyhow::Result<()> {
@@ -97,13 +110,17 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
     let dict = ctx.dicts.for_node(a.node);
     let layouts = pdo::read_layouts(bus, a.node, dict, list, a.tpdo.is_empty(), ctx.timeout, &mut ctx.out.progress())?;
     let state = (!a.start).then(|| nmt::state(bus, a.node, &state_options));
+    let (silence, warnings) = silence::hint(bus, a.node, &layouts, state, a.sync, ctx.timeout);
+    for w in &warnings {
+        ctx.out.note(w);
+    }
     let opts = StreamOptions {
         count: a.count,
         duration: a.duration,
         sync: a.sync,
         interval: a.interval,
         timeout: ctx.timeout,
-        silence: Some(silence::hint(bus, a.node, &layouts, state, a.sync, ctx.timeout)),
+        silence: Some(silence),
     };
     let mut stream = Stream::new(bus, a.node, &layouts, opts, &ctx.cancel);
     for (n, l) in &layouts {

@@ -260,12 +260,20 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
     progress.start("watching heartbeats and EMCYs", 1);
     let mut seen = if watch > Duration::ZERO { watch_bus(bus, &ids, &emcy_cobs, watch)? } else { BTreeMap::new() };
     progress.finish();
-    let nodes: Vec<NodeHealth> = found
+    let mut nodes: Vec<NodeHealth> = found
         .nodes
         .iter()
         .zip(reads)
         .map(|(n, read)| judge_node(n, read, seen.remove(&n.node), watch, o.state))
         .collect();
+    // Two devices on one node-id: whatever else that node's answers say, they are not one
+    // device's.
+    for c in &found.clashes {
+        if let Some(n) = nodes.iter_mut().find(|n| n.node == c.node) {
+            n.checks.push(check("node-id", false, c.to_string()));
+            n.ok = false;
+        }
+    }
     let ok = nodes.iter().all(|n| n.ok);
     Ok(Health {
         bus: found.bus,

@@ -331,6 +331,29 @@ impl RefusedRate {
     }
 }
 
+/// `lss set-id`: [`configure`] the node-id, after checking nothing on the bus uses it
+/// already (unless `force`): an SDO answer from another device than `target`, or a
+/// heartbeat, boot-up or guarding answer heard while listening as `assign` does.
+pub fn set_id(
+    bus: &mut dyn Bus,
+    timeout: Duration,
+    target: Target,
+    node: u8,
+    force: bool,
+    interrupted: &Cancel,
+) -> Result<Configured> {
+    if !force && node != UNCONFIGURED && !interrupted.is_cancelled() {
+        let identity = match target {
+            Target::One(id) => Some(id),
+            _ => None,
+        };
+        if let Some(u) = super::clash::in_use(bus, node, identity, timeout, LISTEN)? {
+            return Err(Error::NodeIdInUse { node, identity: u.identity, by: u.by });
+        }
+    }
+    configure(bus, timeout, target, Setting::NodeId(node), interrupted)
+}
+
 /// EPOS2 firmware specification, object 0x2001 "CAN Bitrate": 0 = 1 Mbit/s, 1 = 800 k,
 /// 2 = 500 k, 3 = 250 k, 4 = 125 k, 5 = 50 k, 6 = 20 k — not the CiA 305 table (there 5 is
 /// reserved, 6 = 50 k, 7 = 20 k).

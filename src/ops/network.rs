@@ -213,10 +213,28 @@ pub struct Checked {
     pub nodes: Vec<NodeCheck>,
     /// Nodes that answered but the project does not list, with their device type.
     pub unlisted: Vec<Unlisted>,
-    /// Devices that answered LSS "identify non-configured remote slave".
+    /// Devices that answered LSS "identify non-configured remote slave": said, but no
+    /// difference (see [`matches`]).
     pub unconfigured: usize,
-    /// Whether everything is as the project says.
+    /// Whether the network matches the project ([`matches`]).
     pub ok: bool,
+}
+
+/// What "the network matches the project" means, for `check` and `apply` alike: every
+/// listed node is as the project says (`nodes_ok`), and no node the project does not list
+/// answers. Devices waiting for a node-id are no difference: without one they have no
+/// place in a project, and a listed device that lost its id fails its own `present` check.
+fn matches(nodes_ok: bool, unlisted: &[Unlisted]) -> bool {
+    nodes_ok && unlisted.is_empty()
+}
+
+/// The nodes that answered a probe but the project does not list.
+fn unlisted(found: &BTreeMap<u8, Option<u32>>, loaded: &Loaded) -> Vec<Unlisted> {
+    found
+        .iter()
+        .filter(|(n, _)| !loaded.nodes.iter().any(|l| l.node == **n))
+        .map(|(n, t)| Unlisted { node: *n, device_type: *t })
+        .collect()
 }
 
 #[derive(Debug, Serialize)]
@@ -258,9 +276,6 @@ impl Checked {
         }
         if !self.unlisted.is_empty() {
             parts.push(format!("{} node(s) not in the project", self.unlisted.len()));
-        }
-        if self.unconfigured > 0 {
-            parts.push(format!("{} device(s) without a node-id", self.unconfigured));
         }
         Err(Error::NetworkDiffers { bus: self.bus.clone(), project: self.project.clone(), differences: parts })
     }
@@ -401,13 +416,8 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
         }
     }
     progress.finish();
-    let listed: Vec<u8> = loaded.nodes.iter().map(|l| l.node).collect();
-    let unlisted: Vec<Unlisted> = found
-        .iter()
-        .filter(|(n, _)| !listed.contains(n))
-        .map(|(n, t)| Unlisted { node: *n, device_type: *t })
-        .collect();
-    let ok = nodes.iter().all(|n| n.checks.iter().all(|c| c.ok)) && unlisted.is_empty() && unconfigured == 0;
+    let unlisted = unlisted(&found, loaded);
+    let ok = matches(nodes.iter().all(|n| n.checks.iter().all(|c| c.ok)), &unlisted);
     Ok(Checked {
         project: loaded.file.display().to_string(),
         net_name: loaded.project.net_name.clone(),
@@ -455,7 +465,10 @@ pub struct Applied {
     pub nodes: Vec<NodeApplied>,
     /// Objects written on the whole network.
     pub written: usize,
-    /// Whether every node was brought to its DCF.
+    /// Nodes that answered but the project does not list: apply cannot make them match.
+    pub unlisted: Vec<Unlisted>,
+    /// Whether the network now matches the project ([`matches`]): every node brought to
+    /// its DCF, none unlisted.
     pub ok: bool,
     /// The first failure (its exit code is the command's).
     #[serde(skip)]
@@ -746,13 +759,23 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         }
     }
     let written = nodes.iter().map(|n| n.written).sum();
+    let unlisted = unlisted(&found, loaded);
+    if !unlisted.is_empty() {
+        let list: Vec<String> = unlisted.iter().map(|u| u.node.to_string()).collect();
+        failure.get_or_insert(Error::NetworkDiffers {
+            bus: bus.describe(),
+            project: loaded.file.display().to_string(),
+            differences: vec![format!("node(s) {} answer but are not in the project", list.join(", "))],
+        });
+    }
     Ok(Applied {
         project: loaded.file.display().to_string(),
         bus: bus.describe(),
         dry_run: o.config.dry_run,
-        ok: failure.is_none() && nodes.len() == loaded.nodes.len(),
+        ok: matches(failure.is_none() && nodes.len() == loaded.nodes.len(), &unlisted),
         nodes,
         written,
+        unlisted,
         failure,
     })
 }

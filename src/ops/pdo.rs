@@ -31,10 +31,13 @@ fn read_u8(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Res
     Ok(bus.sdo_upload(node, addr, &sized(timeout, Some(1)))?.first().copied().unwrap_or(0))
 }
 
-/// Writes in the safe PDO order of `config apply`.
-fn write_plan(bus: &mut dyn Bus, node: u8, changes: &Values, current: &Values, timeout: Duration) -> Result<()> {
+/// Writes in the safe PDO order of `config apply`, each written value recorded in `state`
+/// as soon as the device took it, so that what a failure leaves behind is known.
+fn write_plan(bus: &mut dyn Bus, node: u8, changes: &Values, state: &mut Values, timeout: Duration) -> Result<()> {
+    let current = state.clone();
     for step in super::config::plan(changes, &|a| current.get(&a).cloned()) {
         bus.sdo_download(node, step.addr, &step.value, &sized(timeout, Some(step.value.len())))?;
+        state.insert(step.addr, step.value);
     }
     Ok(())
 }
@@ -60,8 +63,8 @@ fn snapshot(bus: &mut dyn Bus, node: u8, n: u16, timeout: Duration) -> Result<Va
 /// it: call [`Session::restore`] on every path.
 #[derive(Default)]
 pub struct Session {
-    /// The TPDO's parameters before and during the session.
-    mapping: Option<(Values, Values)>,
+    /// The TPDO, its parameters before the session, and as the device took them since.
+    mapping: Option<(u16, Values, Values)>,
     /// The NMT state the node was in before the session started it.
     state: Option<nmt::State>,
 }
@@ -94,10 +97,8 @@ impl Session {
             wanted.insert(ObjAddr::new(comm, 5), ms.to_le_bytes().to_vec());
         }
         let changes: Values = wanted.into_iter().filter(|(k, v)| original.get(k) != Some(v)).collect();
-        let mut now = original.clone();
-        now.extend(changes.clone());
-        self.mapping = Some((original.clone(), now));
-        write_plan(bus, node, &changes, &original, timeout)
+        let (_, _, now) = self.mapping.insert((r.tpdo, original.clone(), original));
+        write_plan(bus, node, &changes, now, timeout)
     }
 
     /// Put the node in Operational; `state` is the one it is in now (to go back to).
@@ -109,24 +110,47 @@ impl Session {
         Ok(())
     }
 
-    /// Put back what the session changed: the mapping, then the NMT state.
-    pub fn restore(self, bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<()> {
-        if let Some((original, now)) = &self.mapping {
+    /// Put back what the session changed, whatever ended it (a refused write part-way
+    /// included): the parameters the device took, then the NMT state.
+    pub fn restore(self, bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Restored> {
+        let mut restored = Restored::default();
+        let mut mapping = Ok(());
+        if let Some((tpdo, original, mut now)) = self.mapping {
             // Entries the session added beyond the original count go back to 0 too.
             let mut back = original.clone();
             for (a, _) in now.iter().filter(|(a, _)| a.sub > 0 && (0x1A00..=0x1BFF).contains(&a.index)) {
                 back.entry(*a).or_insert(vec![0; 4]);
             }
             back.retain(|a, v| now.get(a) != Some(v));
-            write_plan(bus, node, &back, now, timeout)?;
+            if !back.is_empty() {
+                mapping = write_plan(bus, node, &back, &mut now, timeout).map_err(|e| {
+                    e.with_hint(format!(
+                        "; node {node}'s TPDO{tpdo} was not put back as it was (0x{:04X}:1 may leave it switched off): `canctl restore {node}` loads the stored parameters",
+                        0x1800 + tpdo - 1
+                    ))
+                });
+                restored.tpdo = mapping.is_ok().then_some(tpdo);
+            }
         }
+        // The state goes back even when the mapping could not.
         match self.state {
             Some(nmt::State::Stopped) => bus.nmt(Command::Stop, node)?,
             Some(nmt::State::PreOperational) => bus.nmt(Command::PreOperational, node)?,
             _ => {}
         }
-        Ok(())
+        mapping?;
+        restored.state = self.state;
+        Ok(restored)
     }
+}
+
+/// What [`Session::restore`] put back.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Restored {
+    /// The TPDO whose parameters were written back, if the session had changed any.
+    pub tpdo: Option<u16>,
+    /// The NMT state the node was sent back to, if the session had started it.
+    pub state: Option<nmt::State>,
 }
 
 /// A PDO entry is 1 to 8 whole bytes (8 to 64 bits).

@@ -22,6 +22,40 @@ pub struct ScanOptions {
     pub timeout: Duration,
 }
 
+/// The shortest quiet window a scan accepts: no device answers a probe sooner (see
+/// [`crate::settings::MIN_TIMEOUT`]); a shorter one loses nodes and says nothing.
+pub const MIN_WINDOW: Duration = crate::settings::MIN_TIMEOUT;
+
+/// The window that waits for slow devices too (they answer up to 80 ms late): a scan
+/// with a shorter one may have missed some, so it does not stand for the bus.
+pub const FULL_WINDOW: Duration = Duration::from_millis(100);
+
+impl ScanOptions {
+    /// Refuses a window no device can answer within, before anything is sent.
+    pub fn check(&self) -> Result<()> {
+        check_window(self.window)
+    }
+
+    /// Whether slow devices may have been missed: the window is shorter than they answer in.
+    pub fn may_miss_slow_devices(&self) -> bool {
+        self.window < FULL_WINDOW
+    }
+}
+
+/// Refuses a probe window no device can answer within (every command that probes: scan,
+/// health, network).
+fn check_window(window: Duration) -> Result<()> {
+    if window < MIN_WINDOW {
+        return Err(Error::Usage(format!(
+            "a window of {} ms is shorter than devices take to answer a probe (nodes would be lost without a word); use at least {}ms, or the default {}ms that waits for slow devices",
+            window.as_millis(),
+            MIN_WINDOW.as_millis(),
+            FULL_WINDOW.as_millis()
+        )));
+    }
+    Ok(())
+}
+
 /// What a scan found.
 #[derive(Debug, Serialize)]
 pub struct Scan {
@@ -31,6 +65,9 @@ pub struct Scan {
     /// How many devices without a node-id answered LSS.
     pub lss_unconfigured: usize,
     pub lss_configuration: Configuring,
+    /// Node-ids more than one device answers to.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub clashes: Vec<super::clash::Clash>,
     /// The user stopped the scan (SIGINT, SIGTERM): the nodes are those found so far.
     pub interrupted: bool,
     /// When interrupted: the parts of the scan not done, the one it stopped in first.
@@ -100,6 +137,7 @@ fn as_u32(bytes: &[u8]) -> Option<u32> {
 /// Every node that answers an SDO read of 0x1000 within `window`, with its device type
 /// (`None` when it answered with an abort: the node is there all the same).
 pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Found> {
+    check_window(window)?;
     match probe_until_stopped(bus, window, progress)? {
         (_, true) => Err(Error::Interrupted),
         (found, false) => Ok(found),
@@ -132,11 +170,13 @@ fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn P
 /// Scan the bus. Stopped by the user (over a [`Stoppable`](crate::bus::stoppable::Stoppable)
 /// bus), it reports what it found so far, `interrupted`.
 pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> Result<Scan> {
+    o.check()?;
     let mut report = Scan {
         bus: bus.describe(),
         nodes: Vec::new(),
         lss_unconfigured: 0,
         lss_configuration: Configuring::default(),
+        clashes: Vec::new(),
         interrupted: false,
         not_done: Vec::new(),
     };
@@ -190,6 +230,8 @@ fn scan_into(
     }
     *phase = 1;
     identify(bus, &mut report.nodes, o.timeout, progress)?;
+    let serials: Vec<(u8, Option<u32>)> = report.nodes.iter().map(|n| (n.node, n.serial)).collect();
+    report.clashes = super::clash::find(bus, &serials, o.window, o.timeout)?;
     *phase = 2;
     nmt_states(bus, &mut report.nodes, o)?;
     *phase = 3;

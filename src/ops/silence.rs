@@ -12,7 +12,8 @@ use std::time::Duration;
 /// How long the stream of these TPDOs of `node` may be silent before it is worth saying,
 /// and why it may be. `state` is the node's NMT state (and how it was learned) when it was
 /// asked (not when the stream puts the node in Operational itself); `sync` the SYNC period
-/// sent, if any.
+/// sent, if any. Also the warnings worth saying before the stream starts: `--sync` asked
+/// for TPDOs that SYNC does not drive.
 pub fn hint(
     bus: &mut dyn Bus,
     node: u8,
@@ -20,8 +21,9 @@ pub fn hint(
     state: Option<Result<NodeState>>,
     sync: Option<Duration>,
     timeout: Duration,
-) -> (Duration, String) {
+) -> ((Duration, String), Vec<String>) {
     let mut why = Vec::new();
+    let mut warnings = Vec::new();
     let mut after = Duration::from_secs(1);
     match state {
         None | Some(Ok(NodeState { state: State::Operational, .. })) => {}
@@ -46,6 +48,9 @@ pub fn hint(
                     why.push(format!(
                         "TPDO{n} is event-driven (transmission type {kind}): --sync does not make it send"
                     ));
+                    warnings.push(format!(
+                        "warning: --sync does not drive node {node}'s TPDO{n}: transmission type {kind} (event-driven) sends on its own; 1..240 makes it answer SYNC"
+                    ));
                 }
                 match timer {
                     Some(0) | None => why.push(format!("TPDO{n} has no event timer: it sends when its values change")),
@@ -58,5 +63,5 @@ pub fn hint(
     if why.is_empty() {
         why.push("the TPDOs are valid and set to send: the node may have nothing to say".into());
     }
-    (after.min(Duration::from_secs(30)), format!("Why it may be silent: {}.", why.join("; ")))
+    ((after.min(Duration::from_secs(30)), format!("Why it may be silent: {}.", why.join("; "))), warnings)
 }

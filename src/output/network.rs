@@ -65,6 +65,13 @@ fn node_label(node: u8, name: &str) -> String {
     }
 }
 
+/// Devices waiting for a node-id: said by check, no difference (see `ops::network`).
+fn unconfigured_note(count: usize) -> String {
+    format!(
+        "{count} device(s) without a node-id answered LSS: not in the project, and no difference (lss assign or network apply --assign numbers them)"
+    )
+}
+
 impl Report for Checked {
     fn human(&self) -> Human {
         let mut rows = Vec::new();
@@ -90,31 +97,25 @@ impl Report for Checked {
                 format!("answers, but the project does not list it ({t})"),
             ]);
         }
-        if self.unconfigured > 0 {
-            rows.push(vec![
-                "-".into(),
-                "-".into(),
-                "lss".into(),
-                "DIFFERS".into(),
-                format!("{} device(s) wait for a node-id (network apply --assign, or lss assign)", self.unconfigured),
-            ]);
-        }
         Human::Table { headers: vec!["node", "name", "check", "result", "detail"], rows, when_empty: true }
     }
 
     fn notes(&self) -> Vec<String> {
         let name = self.net_name.clone().unwrap_or_else(|| self.project.clone());
-        if self.ok {
+        let mut notes = if self.ok {
             vec![format!("{name}: all {} node(s) as the project says", self.nodes.len())]
         } else {
             let failed = self.nodes.iter().filter(|n| n.checks.iter().any(|c| !c.ok)).count();
             vec![format!(
-                "{name}: {failed} of {} node(s) differ, {} unlisted node(s), {} device(s) without a node-id",
+                "{name}: {failed} of {} node(s) differ, {} unlisted node(s)",
                 self.nodes.len(),
-                self.unlisted.len(),
-                self.unconfigured
+                self.unlisted.len()
             )]
+        };
+        if self.unconfigured > 0 {
+            notes.push(unconfigured_note(self.unconfigured));
         }
+        notes
     }
 
     fn junit(&self) -> Option<TestSuite> {
@@ -143,9 +144,9 @@ impl Report for Checked {
         });
         cases.push(TestCase {
             class: "network".into(),
-            name: "no device without a node-id".into(),
-            detail: format!("{} device(s) answered LSS identify non-configured", self.unconfigured),
-            failure: (self.unconfigured > 0).then(|| format!("{} device(s) wait for a node-id", self.unconfigured)),
+            name: "devices without a node-id (said, no difference)".into(),
+            detail: unconfigured_note(self.unconfigured),
+            failure: None,
         });
         let name = self.net_name.clone().unwrap_or_else(|| self.project.clone());
         Some(TestSuite { name: format!("canctl network check: {name}"), cases })
@@ -179,6 +180,13 @@ impl Report for Applied {
         } else {
             let written_to = self.nodes.iter().filter(|n| n.written > 0).count();
             notes.push(format!("{} object(s) {verb} on {written_to} of {} node(s)", self.written, self.nodes.len()));
+        }
+        if !self.unlisted.is_empty() {
+            let list: Vec<String> = self.unlisted.iter().map(|u| u.node.to_string()).collect();
+            notes.push(format!(
+                "node(s) {} answer but are not in the project: the network does not match it (add them, or take them off the bus)",
+                list.join(", ")
+            ));
         }
         let count = |o: Outcome| self.nodes.iter().filter(|n| n.outcome == o).count();
         let stopped = count(Outcome::StoppedPartWay);

@@ -61,6 +61,10 @@ impl Report for Scan {
     fn csv(&self) -> Human {
         scan_table(self)
     }
+
+    fn notes(&self) -> Vec<String> {
+        self.clashes.iter().map(|c| format!("warning: {c}")).collect()
+    }
 }
 
 /// One row under its headers, for CSV.

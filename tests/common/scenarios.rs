@@ -462,4 +462,7 @@ pub fn ctrl_c_restores_and_exits_130(bus: &dyn Under) {
     assert_eq!(r.code, 130, "{}", r.stderr);
     assert_eq!(mapping(bus), before);
     assert!(bus.run(&["nmt", "state", "1"]).ok().stdout.contains("pre-operational"));
+    // And it says so, not only does it.
+    assert!(r.stderr.contains("put back node 1's TPDO1 mapping"), "{}", r.stderr);
+    assert!(r.stderr.contains("node 1 back to pre-operational"), "{}", r.stderr);
 }

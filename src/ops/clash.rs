@@ -1,0 +1,286 @@
+//! Two devices on one node-id. CANopen gives no device a way to say so; canctl sees it in
+//! answers that contradict each other: two SDO answers to one request, heartbeats of one
+//! node-id in two states at once, an identity that reads differently from one read to the
+//! next. [`find`] looks for that on nodes a scan found; [`in_use`] checks an id is free
+//! before LSS gives it to a device.
+
+use crate::bus::{Bus, SdoOptions};
+use crate::canopen::lss::Identity;
+use crate::canopen::nmt::{self, ErrorControl};
+use crate::canopen::sdo::SdoClient;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::time::{Duration, Instant};
+
+/// The serial number: the part of an identity two devices of one kind differ in.
+const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
+
+/// What showed that two devices answer to one node-id.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "evidence", rename_all = "snake_case")]
+pub enum Evidence {
+    /// One SDO read of 0x1018:4 got several answers: the values (`None`: an abort).
+    SdoAnswers { values: Vec<Option<u32>> },
+    /// Heartbeats of the node-id showed these different states in one short listen.
+    HeartbeatStates { states: Vec<nmt::State> },
+    /// Reads of 0x1018:4 one after the other gave these different values.
+    IdentityChanged { values: Vec<u32> },
+}
+
+/// A node-id that more than one device answers to: a finding of scan and health (and,
+/// later, of doctor).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Clash {
+    pub node: u8,
+    #[serde(flatten)]
+    pub evidence: Evidence,
+}
+
+fn serial_text(v: &Option<u32>) -> String {
+    v.map_or("an abort".to_string(), |s| format!("0x{s:08X}"))
+}
+
+impl fmt::Display for Clash {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let n = self.node;
+        match &self.evidence {
+            Evidence::SdoAnswers { values } => {
+                let list: Vec<String> = values.iter().map(serial_text).collect();
+                write!(
+                    f,
+                    "node-id {n} is used by {} devices: one read of 0x1018:4 got {} answers ({})",
+                    values.len(),
+                    values.len(),
+                    list.join(", ")
+                )?
+            }
+            Evidence::HeartbeatStates { states } => {
+                let list: Vec<&str> = states.iter().map(|s| s.name()).collect();
+                write!(
+                    f,
+                    "node-id {n} is used by more than one device: its heartbeats say {} at once",
+                    list.join(" and ")
+                )?
+            }
+            Evidence::IdentityChanged { values } => {
+                let list: Vec<String> = values.iter().map(|v| format!("0x{v:08X}")).collect();
+                write!(f, "node-id {n} is used by more than one device: 0x1018:4 reads {} in turn", list.join(", "))?
+            }
+        }
+        write!(f, "; give one of them another id (lss set-id NEW --identity ...)")
+    }
+}
+
+/// Whether `data`, an SDO server's frame, answers an upload of `addr` (its expedited
+/// answer, or its abort), and with what value.
+fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Option<u32>> {
+    let [cs, lo, hi, sub, a, b, c, d] = <[u8; 8]>::try_from(data).ok()?;
+    if u16::from_le_bytes([lo, hi]) != addr.index || sub != addr.sub {
+        return None;
+    }
+    match cs {
+        0x80 => Some(None),
+        cs if cs >> 5 == 2 => Some(Some(u32::from_le_bytes([a, b, c, d]))),
+        _ => None,
+    }
+}
+
+/// What the answers heard for one node say: two answers to one read, two states in its
+/// heartbeats, or one answer whose serial is not the one read a moment before (`earlier`;
+/// two devices whose answers merged on the bus, or one of them lost, show this way).
+fn judge(answers: Vec<Option<u32>>, states: Vec<nmt::State>, earlier: Option<u32>) -> Option<Evidence> {
+    match answers[..] {
+        [_, _, ..] => Some(Evidence::SdoAnswers { values: answers }),
+        [Some(now)] if earlier.is_some_and(|e| e != now) => {
+            Some(Evidence::IdentityChanged { values: vec![earlier.unwrap_or_default(), now] })
+        }
+        _ if states.len() > 1 => Some(Evidence::HeartbeatStates { states }),
+        _ => None,
+    }
+}
+
+/// The nodes that more than one device answers to, of `nodes` (each with the serial
+/// number 0x1018:4 read from it before, if any). Where the link shows the bus's traffic,
+/// one read of 0x1018:4 to each node at once, and every answer and heartbeat heard for
+/// `window`; else (through an EPOS2, which passes on one answer) two reads of 0x1018:4
+/// each, compared.
+pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, timeout: Duration) -> Result<Vec<Clash>> {
+    if nodes.is_empty() {
+        return Ok(Vec::new());
+    }
+    if !bus.sees_traffic() {
+        let ids: Vec<u8> = nodes.iter().map(|(n, _)| *n).collect();
+        return identity_changes(bus, &ids, timeout);
+    }
+    let wanted: BTreeMap<u8, Option<u32>> = nodes.iter().copied().collect();
+    for n in wanted.keys() {
+        bus.send_frame(&Frame::new(0x600 + u16::from(*n), &SdoClient::upload(SERIAL, false).start()))?;
+    }
+    let mut answers: BTreeMap<u8, Vec<Option<u32>>> = BTreeMap::new();
+    let mut states: BTreeMap<u8, Vec<nmt::State>> = BTreeMap::new();
+    let end = Instant::now() + window;
+    while let Some(f) = bus.recv_frame(end)? {
+        let id = f.id();
+        if (0x581..=0x5FF).contains(&id) && wanted.contains_key(&((id - 0x580) as u8)) {
+            if let Some(v) = upload_answer(f.data(), SERIAL) {
+                answers.entry((id - 0x580) as u8).or_default().push(v);
+            }
+        } else if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
+            let seen = states.entry(node).or_default();
+            if wanted.contains_key(&node) && !seen.contains(&state) {
+                seen.push(state);
+            }
+        }
+    }
+    Ok(wanted
+        .into_iter()
+        .filter_map(|(node, earlier)| {
+            let evidence =
+                judge(answers.remove(&node).unwrap_or_default(), states.remove(&node).unwrap_or_default(), earlier)?;
+            Some(Clash { node, evidence })
+        })
+        .collect())
+}
+
+/// Two reads of 0x1018:4 of each node, compared: where each answer is the first one to
+/// come, two devices show as a serial number that changes.
+fn identity_changes(bus: &mut dyn Bus, nodes: &[u8], timeout: Duration) -> Result<Vec<Clash>> {
+    let reads: Vec<(u8, ObjAddr)> = nodes.iter().flat_map(|n| [(*n, SERIAL), (*n, SERIAL)]).collect();
+    let values = bus.sdo_upload_many(&reads, &SdoOptions::new(timeout), &mut |_| {})?;
+    let mut seen: BTreeMap<u8, Vec<u32>> = BTreeMap::new();
+    for ((n, _), v) in reads.iter().zip(values) {
+        if let Some(s) = v.ok().and_then(|b| Some(u32::from_le_bytes(b.get(..4)?.try_into().ok()?))) {
+            let values = seen.entry(*n).or_default();
+            if !values.contains(&s) {
+                values.push(s);
+            }
+        }
+    }
+    Ok(seen
+        .into_iter()
+        .filter(|(_, v)| v.len() > 1)
+        .map(|(node, values)| Clash { node, evidence: Evidence::IdentityChanged { values } })
+        .collect())
+}
+
+/// How a node-id showed it is in use.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InUse {
+    pub node: u8,
+    /// The identity the node answered with, when it gave all of it.
+    pub identity: Option<Identity>,
+    /// What showed it: "an SDO answer", "its heartbeat", ...
+    pub by: &'static str,
+}
+
+/// Whether something on the bus already uses `node`, before a device `target` (if known)
+/// is given it: an SDO answer to the identity reads (from another device than `target`),
+/// else, where the link shows traffic, a heartbeat, boot-up or guarding answer within
+/// `listen` (a Stopped node answers no SDO but still beats).
+pub fn in_use(
+    bus: &mut dyn Bus,
+    node: u8,
+    target: Option<Identity>,
+    timeout: Duration,
+    listen: Duration,
+) -> Result<Option<InUse>> {
+    // One node's transfers go one after the other: the rest only once the first is answered,
+    // so a free id costs one timeout, not four.
+    let opts = SdoOptions::new(timeout);
+    let mut values = vec![bus.sdo_upload(node, ObjAddr::new(0x1018, 1), &opts)];
+    if !values[0].as_ref().is_err_and(|e| e.is_timeout()) {
+        let rest: Vec<(u8, ObjAddr)> = (2..=4).map(|sub| (node, ObjAddr::new(0x1018, sub))).collect();
+        values.extend(bus.sdo_upload_many(&rest, &opts, &mut |_| {})?);
+    }
+    let mut parts = Vec::new();
+    let mut answered = false;
+    for v in values {
+        match v {
+            Ok(b) => {
+                answered = true;
+                parts.push(b.get(..4).and_then(|b| b.try_into().ok()).map(u32::from_le_bytes));
+            }
+            Err(Error::SdoAbort { .. }) => answered = true,
+            Err(e) if e.is_timeout() => {}
+            Err(e) => return Err(e),
+        }
+    }
+    let identity = match parts[..] {
+        [Some(vendor), Some(product), Some(revision), Some(serial)] => {
+            Some(Identity { vendor, product, revision, serial })
+        }
+        _ => None,
+    };
+    if answered {
+        // The device itself, already on that id: nothing changes.
+        if identity.is_some() && identity == target {
+            return Ok(None);
+        }
+        return Ok(Some(InUse { node, identity, by: "an SDO answer" }));
+    }
+    if bus.sees_traffic() {
+        let end = Instant::now() + listen;
+        while !bus.observed().nodes.contains_key(&node) && bus.recv_frame(end)?.is_some() {}
+    }
+    use crate::bus::SeenBy;
+    let by = match bus.observed().nodes.get(&node).and_then(|s| s.iter().next()) {
+        None => return Ok(None),
+        Some(SeenBy::Heartbeat) => "its heartbeat",
+        Some(SeenBy::BootUp) => "its boot-up",
+        Some(SeenBy::Guarding) => "its node-guarding answer",
+        Some(SeenBy::Sdo) => "an SDO answer",
+        Some(SeenBy::LssInquiry) => "an LSS device's answer to 'inquire node-id'",
+    };
+    Ok(Some(InUse { node, identity: None, by }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn upload_answers_are_matched_by_object() {
+        // CiA 301 expedited upload response, 4 bytes: 0x43; abort: 0x80 with the code.
+        assert_eq!(upload_answer(&[0x43, 0x18, 0x10, 0x04, 0x34, 0x12, 0x50, 0x09], SERIAL), Some(Some(0x0950_1234)));
+        assert_eq!(upload_answer(&[0x80, 0x18, 0x10, 0x04, 0x00, 0x00, 0x02, 0x06], SERIAL), Some(None));
+        // Another object, a download answer, a short frame: not an answer to this read.
+        assert_eq!(upload_answer(&[0x43, 0x18, 0x10, 0x03, 1, 0, 0, 0], SERIAL), None);
+        assert_eq!(upload_answer(&[0x60, 0x18, 0x10, 0x04, 0, 0, 0, 0], SERIAL), None);
+        assert_eq!(upload_answer(&[0x43, 0x18, 0x10], SERIAL), None);
+    }
+
+    #[test]
+    fn contradicting_answers_are_a_clash_and_one_device_is_none() {
+        use nmt::State::{Operational, PreOperational};
+        let (a, b) = (0x0950_1234, 0x0950_1301);
+        assert_eq!(judge(vec![Some(a)], vec![PreOperational], Some(a)), None);
+        assert_eq!(judge(vec![], vec![], Some(a)), None, "no answer this time: not a clash");
+        assert_eq!(judge(vec![Some(a)], vec![], None), None, "nothing read before to compare");
+        assert_eq!(
+            judge(vec![Some(a), Some(b)], vec![], Some(a)),
+            Some(Evidence::SdoAnswers { values: vec![Some(a), Some(b)] })
+        );
+        // Two answers alike (merged on the bus they would be one): still two devices.
+        assert!(matches!(judge(vec![Some(a), None], vec![], None), Some(Evidence::SdoAnswers { .. })));
+        assert_eq!(judge(vec![Some(b)], vec![], Some(a)), Some(Evidence::IdentityChanged { values: vec![a, b] }));
+        assert_eq!(
+            judge(vec![Some(a)], vec![PreOperational, Operational], Some(a)),
+            Some(Evidence::HeartbeatStates { states: vec![PreOperational, Operational] })
+        );
+    }
+
+    #[test]
+    fn a_clash_says_what_showed_it() {
+        let c =
+            Clash { node: 5, evidence: Evidence::SdoAnswers { values: vec![Some(0x0950_1234), Some(0x0950_1301)] } };
+        let text = c.to_string();
+        assert!(text.contains("node-id 5 is used by 2 devices") && text.contains("0x09501234, 0x09501301"), "{text}");
+        let json = serde_json::to_value(&c).unwrap();
+        assert_eq!(json["evidence"], "sdo_answers");
+        assert_eq!(json["node"], 5);
+    }
+}
