@@ -23,6 +23,10 @@ pub enum Error {
     /// A file or stream given as input could not be used.
     #[error("{0}")]
     Input(crate::input::InputError),
+    /// An EDS or DCF that cannot be read (the reason names the file) or does not parse
+    /// (`FILE:LINE: why`): said once, without a prefix that repeats it.
+    #[error(transparent)]
+    Eds(#[from] crate::od::eds::EdsError),
     /// A bus address that does not parse.
     #[error("bus '{uri}': {reason}")]
     BadBusAddr { uri: String, reason: String },
@@ -196,6 +200,7 @@ impl Error {
         match self {
             Error::Usage(_)
             | Error::Input(_)
+            | Error::Eds(_)
             | Error::BadBusAddr { .. }
             | Error::NodeIdOutOfRange { .. }
             | Error::TooLargeForSdo { .. }

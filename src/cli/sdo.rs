@@ -115,6 +115,9 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()>
 
 fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
+    if let Some(path) = &a.out {
+        crate::atomic::check_writable(path)?;
+    }
     let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
     let read = match sdo::read(bus, ctx.dicts.for_node(a.node), a.node, object, &o) {
         Err(e) => return stopped(ctx, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e),

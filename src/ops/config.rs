@@ -38,13 +38,13 @@ impl Dcf {
 
     /// Read a DCF file; an unreadable one is a usage error citing file:line.
     pub fn read(path: &Path) -> Result<Dcf> {
-        let eds = eds::read_file(path).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        let eds = eds::read_file(path)?;
         Ok(Dcf { eds })
     }
 
     /// A DCF's text; `name` stands for its file in messages.
     pub fn parse(bytes: &[u8], name: &str) -> Result<Dcf> {
-        let eds = eds::parse(bytes, name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        let eds = eds::parse(bytes, name)?;
         Ok(Dcf { eds })
     }
 

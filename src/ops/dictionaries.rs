@@ -40,7 +40,7 @@ impl Dictionaries {
     pub fn load(args: &[EdsFile]) -> Result<Dictionaries, Error> {
         let mut files = Vec::new();
         for a in args {
-            let eds = eds::read_file(&a.path).map_err(|e| Error::Usage(format!("cannot use EDS {e}")))?;
+            let eds = eds::read_file(&a.path)?;
             files.push((a.node, eds));
         }
         Ok(Dictionaries { files })
