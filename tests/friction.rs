@@ -68,3 +68,36 @@ fn out_paths_are_checked_before_the_work() {
     sim.run(&["config", "dump", "1", "--out", good.to_str().unwrap()]).ok();
     assert!(std::fs::read_to_string(&good).unwrap().contains("[DeviceInfo]"));
 }
+
+/// What `--bus` echoes is cut to a readable length; a name one letter from `sim` gets
+/// "did you mean"; a path that is no serial port is said to be none, not "Not a typewriter".
+#[test]
+fn bus_mistakes_are_explained() {
+    let long = "a".repeat(100_000);
+    let run = common::bare(&["--bus", &long, "scan"]);
+    assert_eq!(run.code, 2, "{}", &run.stderr[..run.stderr.len().min(300)]);
+    assert!(run.stderr.len() < 1000, "{} bytes of message", run.stderr.len());
+    assert!(run.stderr.contains("(100000 characters)"), "{}", run.stderr);
+
+    let run = common::bare(&["--bus", "sims", "scan"]);
+    assert_eq!(run.code, 5, "{}", run.stderr);
+    assert!(run.stderr.contains("did you mean --bus sim?"), "{}", run.stderr);
+
+    let run = common::bare(&["--bus", "epos2-rs232:/dev/null", "scan"]);
+    assert_eq!(run.code, 5, "{}", run.stderr);
+    assert!(run.stderr.starts_with("canctl: /dev/null is not a serial port"), "{}", run.stderr);
+    assert!(!run.stderr.contains("typewriter"), "{}", run.stderr);
+}
+
+/// A fault for a device the sim network does not have is refused, naming the ones it has,
+/// rather than accepted and never fired.
+#[test]
+fn a_fault_for_no_device_is_refused() {
+    let sim = Sim::new();
+    let run = sim.run(&["sim", "reset", "--fault", "99:drop"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("node 99") && run.stderr.contains("1, 5, 10, 32"), "{}", run.stderr);
+    let run = sim.run(&["sim", "reset", "--unconfigured", "0", "--fault", "sensor-09501301:drop"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    sim.run(&["sim", "reset", "--fault", "sensor-09501301:drop", "--fault", "5:drop"]).ok();
+}

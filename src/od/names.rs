@@ -63,7 +63,8 @@ fn closest(dict: &Dictionary, want: &str) -> Vec<String> {
     scored.into_iter().take(3).map(|(_, n)| n).collect()
 }
 
-fn distance(a: &str, b: &str) -> usize {
+/// Edit distance (Levenshtein) between two words.
+pub(crate) fn distance(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
     let mut row: Vec<usize> = (0..=b.len()).collect();
     for (i, ca) in a.chars().enumerate() {
