@@ -62,11 +62,15 @@ pub struct Output {
     /// Show progress bars: only when stderr is a terminal and not --quiet.
     pub progress: bool,
     pub quiet: bool,
+    /// The width tables are fitted to: the terminal's, when stdout is one and `--wide` was
+    /// not given; `None` keeps every column (pipes, files, `--wide`).
+    pub fit: Option<usize>,
 }
 
 impl Output {
     pub fn new(format: Format, quiet: bool) -> Output {
-        Output { format, junit: false, progress: !quiet && std::io::stderr().is_terminal(), quiet }
+        let fit = if std::io::stdout().is_terminal() { terminal_width() } else { None };
+        Output { format, junit: false, progress: !quiet && std::io::stderr().is_terminal(), quiet, fit }
     }
 
     /// The output `--format` asks for.
@@ -105,23 +109,25 @@ impl Output {
     }
 
     /// A table for people (framed on a terminal, plain aligned columns in a pipe), or CSV.
+    /// On a terminal too narrow for it, the plain form without the columns least needed
+    /// (as `ps` and `kubectl` do), a note saying which and that `--wide` shows them.
     pub fn table(&self, headers: &[&str], rows: &[Vec<String>]) -> std::io::Result<()> {
         if self.format == Format::Csv {
             return self.print(&csv(headers, rows));
         }
-        let mut t = Table::new();
-        if std::io::stdout().is_terminal() {
-            t.load_preset(presets::UTF8_FULL_CONDENSED);
-        } else {
-            t.load_preset(presets::NOTHING);
+        let (text, hidden) = match self.fit {
+            Some(width) => fitted(headers, rows, width),
+            None => (render(headers, rows, std::io::stdout().is_terminal()), Vec::new()),
+        };
+        self.print(&text)?;
+        if !hidden.is_empty() {
+            self.note(&format!(
+                "not shown at {} columns: {} (--wide shows every column)",
+                self.fit.unwrap_or_default(),
+                hidden.join(", ")
+            ));
         }
-        t.set_header(headers.to_vec());
-        for r in rows {
-            // Cells hold what devices and files say: nothing in them may drive the terminal.
-            t.add_row(r.iter().map(|c| terminal_safe(c).into_owned()).collect::<Vec<_>>());
-        }
-        let text: String = t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect();
-        self.print(&text)
+        Ok(())
     }
 
     /// A diagnostic on stderr, unless --quiet.
@@ -142,6 +148,76 @@ impl Output {
         );
         bar.set_message(message.to_string());
         bar
+    }
+}
+
+/// The terminal's width in columns: `COLUMNS` when set (as `ls` and `ps` take it), else
+/// what the terminal says.
+fn terminal_width() -> Option<usize> {
+    let from_env = std::env::var("COLUMNS").ok().and_then(|c| c.trim().parse::<usize>().ok()).filter(|c| *c > 0);
+    from_env.or_else(|| Table::new().width().map(usize::from)).filter(|w| *w > 0)
+}
+
+/// Columns given up first when a table is wider than the terminal, least needed first:
+/// identity details that `--wide`, JSON or `sdo read` give, counts that the verdict
+/// column sums up. Columns not named here go only after these, from the right.
+const DROP_FIRST: &[&str] = &[
+    "revision",
+    "serial",
+    "product_code",
+    "vendor_id",
+    "device_type",
+    "error register",
+    "logged",
+    "emcy",
+    "mfr",
+    "from",
+    "source",
+    "raw",
+];
+
+/// A table as text: framed (a terminal) or plain aligned columns.
+fn render(headers: &[&str], rows: &[Vec<String>], framed: bool) -> String {
+    let mut t = Table::new();
+    t.load_preset(if framed { presets::UTF8_FULL_CONDENSED } else { presets::NOTHING });
+    t.set_header(headers.to_vec());
+    for r in rows {
+        // Cells hold what devices and files say: nothing in them may drive the terminal.
+        t.add_row(r.iter().map(|c| terminal_safe(c).into_owned()).collect::<Vec<_>>());
+    }
+    t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect()
+}
+
+/// The table framed if that fits `width`, else plain, with columns dropped (by
+/// [`DROP_FIRST`], then from the right, never the first) until it fits; and the headers
+/// of the columns dropped.
+fn fitted(headers: &[&str], rows: &[Vec<String>], width: usize) -> (String, Vec<String>) {
+    let fits = |text: &str| text.lines().all(|l| l.chars().count() <= width);
+    let framed = render(headers, rows, true);
+    if fits(&framed) {
+        return (framed, Vec::new());
+    }
+    let mut kept: Vec<usize> = (0..headers.len()).collect();
+    loop {
+        let shown: Vec<&str> = kept.iter().map(|&i| headers[i]).collect();
+        let cells: Vec<Vec<String>> =
+            rows.iter().map(|r| kept.iter().map(|&i| r.get(i).cloned().unwrap_or_default()).collect()).collect();
+        let plain = render(&shown, &cells, false);
+        let next = (kept.len() > 1).then(|| {
+            DROP_FIRST
+                .iter()
+                .find_map(|d| kept.iter().position(|&i| i > 0 && headers[i] == *d))
+                .unwrap_or(kept.len() - 1)
+        });
+        match next {
+            Some(at) if !fits(&plain) => {
+                kept.remove(at);
+            }
+            _ => {
+                let hidden = (0..headers.len()).filter(|i| !kept.contains(i)).map(|i| headers[i].to_string());
+                return (plain, hidden.collect());
+            }
+        }
     }
 }
 
@@ -601,6 +677,24 @@ mod tests {
         assert!(x.contains("<testcase classname=\"node 6 (&apos;x&apos;)\" name=\"objects\">"), "{x}");
         assert!(x.contains("<failure message=\"1 &lt; 2\" type=\"difference\">bell \\x07 here</failure>"), "{x}");
         assert!(!x.contains('\u{7}'));
+    }
+
+    /// A scan's table at 80 columns: plain, identity details dropped until it fits; at 200 framed
+    /// and whole; at 10 the first column still stands.
+    #[test]
+    fn tables_are_fitted_to_the_width() {
+        let headers = ["node", "device_type", "vendor_id", "product_code", "revision", "serial", "name", "state"];
+        let row = ["5", "0x000A0196", "0x00000040", "0x43787800", "0x312E3031", "0x09501234", "C01", "pre-operational"];
+        let rows = vec![row.map(String::from).to_vec()];
+        let (text, hidden) = fitted(&headers, &rows, 80);
+        assert_eq!(hidden, ["revision"]);
+        assert!(!text.contains("0x312E3031") && text.lines().all(|l| l.chars().count() <= 80), "{text}");
+        assert!(text.starts_with(" node  device_type") && text.contains("pre-operational"), "{text}");
+        let (text, hidden) = fitted(&headers, &rows, 200);
+        assert!(hidden.is_empty() && text.starts_with('┌') && text.contains("0x09501234"), "{text}");
+        let (text, hidden) = fitted(&headers, &rows, 10);
+        assert_eq!(hidden.len(), 7);
+        assert_eq!(text, " node\n 5\n");
     }
 
     #[test]

@@ -101,3 +101,58 @@ fn a_fault_for_no_device_is_refused() {
     assert_eq!(run.code, 2, "{}", run.stderr);
     sim.run(&["sim", "reset", "--fault", "sensor-09501301:drop", "--fault", "5:drop"]).ok();
 }
+
+/// `args` run with stdout and stderr on a pseudo-terminal `cols` columns wide (no
+/// `COLUMNS`): its exit code and what the terminal showed, line by line.
+fn on_a_terminal(sim: &Sim, cols: u16, args: &[&str]) -> (i32, Vec<String>) {
+    use std::io::Read;
+    let size = nix::pty::Winsize { ws_row: 40, ws_col: cols, ws_xpixel: 0, ws_ypixel: 0 };
+    let pty = nix::pty::openpty(Some(&size), None).unwrap();
+    let mut c = sim.command(args);
+    c.env_remove("COLUMNS");
+    c.stdout(std::process::Stdio::from(pty.slave.try_clone().unwrap()));
+    c.stderr(std::process::Stdio::from(pty.slave));
+    let mut child = c.spawn().unwrap();
+    // Only canctl may hold the terminal's other side, for EIO at its end.
+    drop(c);
+    let mut master = std::fs::File::from(pty.master);
+    let reader = std::thread::spawn(move || {
+        let mut shown = Vec::new();
+        let _ = master.read_to_end(&mut shown);
+        String::from_utf8_lossy(&shown).into_owned()
+    });
+    let code = child.wait().unwrap().code().unwrap_or(-1);
+    let shown = reader.join().unwrap();
+    // A line as it stays on the screen: what follows the last carriage return.
+    let lines = shown.split('\n').map(|l| l.trim_end_matches('\r').rsplit('\r').next().unwrap_or("").to_string());
+    (code, lines.collect())
+}
+
+/// The first screen of the main job fits a terminal of 80 columns: scan and health drop
+/// the columns least needed and say so; `--wide` and a pipe keep every column.
+#[test]
+fn tables_fit_an_80_column_terminal() {
+    let sim = Sim::new();
+    reset(&sim, "instant");
+    for command in ["scan", "health"] {
+        let (code, lines) = on_a_terminal(&sim, 80, &[command]);
+        assert_eq!(code, 0, "{lines:#?}");
+        // The table's lines (sentences wrap between words, as text does).
+        for l in lines.iter().filter(|l| l.starts_with([' ', '│', '┌', '╞', '└'])) {
+            assert!(l.chars().count() <= 80, "{command}: {} columns: {l:?}", l.chars().count());
+        }
+        assert!(lines.iter().any(|l| l.contains("node") && l.contains("name")), "{command}: {lines:#?}");
+        assert!(lines.iter().any(|l| l.contains("--wide shows every column")), "{command}: {lines:#?}");
+    }
+    let (_, lines) = on_a_terminal(&sim, 80, &["scan"]);
+    let header = lines.iter().find(|l| l.contains("node") && l.contains("state")).expect("a header with the state");
+    assert!(!header.contains("serial"), "{header}");
+    assert!(lines.iter().any(|l| l.contains("C01") && l.contains("pre-operational")), "{lines:#?}");
+
+    let (_, wide) = on_a_terminal(&sim, 80, &["--wide", "scan"]);
+    assert!(wide.iter().any(|l| l.contains("serial") && l.contains("revision")), "{wide:#?}");
+    assert!(!wide.iter().any(|l| l.contains("--wide shows")), "{wide:#?}");
+    let piped = sim.run(&["scan"]).ok();
+    assert!(piped.stdout.lines().next().unwrap().contains("serial"), "{}", piped.stdout);
+    assert!(!piped.stderr.contains("--wide"), "{}", piped.stderr);
+}

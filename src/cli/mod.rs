@@ -82,6 +82,10 @@ pub struct GlobalArgs {
     /// Trace every frame on stderr in candump notation; -vv also what each procedure does
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     pub verbose: u8,
+    /// Tables with every column even on a narrow terminal (they are fitted to its width
+    /// otherwise; pipes and files always get every column)
+    #[arg(long, global = true)]
+    pub wide: bool,
     /// No warnings, diagnostics or progress on stderr (errors still print)
     #[arg(short, long, global = true, conflicts_with = "verbose")]
     pub quiet: bool,
@@ -263,8 +267,12 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
     let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
+    let mut out = Output::for_arg(g.format, g.quiet);
+    if g.wide {
+        out.fit = None;
+    }
     let ctx = Ctx {
-        out: Output::for_arg(g.format, g.quiet),
+        out,
         timeout: settings.timeout.value,
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
