@@ -40,7 +40,9 @@ pub enum FormatArg {
     Json,
     /// A header row and one row per record.
     Csv,
-    /// JUnit XML, one test case per node and check (network check, health).
+    /// JUnit XML, one test case per node and check (network check, health): listed in
+    /// their help only ([`crate::cli::CheckFormat`]), refused by the others.
+    #[value(hide = true)]
     Junit,
 }
 

@@ -156,3 +156,39 @@ fn tables_fit_an_80_column_terminal() {
     assert!(piped.stdout.lines().next().unwrap().contains("serial"), "{}", piped.stdout);
     assert!(!piped.stderr.contains("--wide"), "{}", piped.stderr);
 }
+
+/// Candidates fish would be given for `words`.
+fn complete(sim: &Sim, words: &[&str]) -> Vec<String> {
+    let mut c = std::process::Command::new(common::canctl_bin());
+    c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path("")).env_remove("CANCTL_BUS");
+    c.env("COMPLETE", "fish").arg("--").arg("canctl").args(words);
+    let run = common::finish(c.output().unwrap()).ok();
+    run.stdout.lines().map(|l| l.split('\t').next().unwrap_or("").to_string()).collect()
+}
+
+/// `--format junit` is offered (help, completion) by the commands that write it, and only
+/// by them; the others still refuse it with the reason.
+#[test]
+fn junit_is_offered_only_where_it_works() {
+    let sim = Sim::new();
+    for command in [&["health"][..], &["network", "check"]] {
+        let help = sim.run(&[command, &["--help"]].concat()).ok();
+        assert!(help.stdout.contains("junit"), "{command:?}: {}", help.stdout);
+        let offered = complete(&sim, &[command, &["--format", ""]].concat());
+        assert!(offered.contains(&"junit".to_string()), "{command:?}: {offered:?}");
+    }
+    for command in [&["scan"][..], &["sdo", "read"], &["network", "apply"], &["config", "diff"]] {
+        let help = sim.run(&[command, &["--help"]].concat()).ok();
+        assert!(!help.stdout.contains("junit"), "{command:?}: {}", help.stdout);
+        let offered = complete(&sim, &[command, &["--format", ""]].concat());
+        assert_eq!(offered, ["human", "json", "csv"], "{command:?}");
+    }
+    reset(&sim, "instant");
+    let run = sim.run(&["scan", "--format", "junit"]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("--format junit is for commands that check things"), "{}", run.stderr);
+    for args in [&["health", "--format", "junit"][..], &["--format", "junit", "health"]] {
+        let run = sim.run(args).ok();
+        assert!(run.stdout.starts_with("<?xml"), "{args:?}: {}", run.stdout);
+    }
+}

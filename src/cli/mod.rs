@@ -173,6 +173,23 @@ pub enum Command {
     Man(docs::ManArgs),
 }
 
+/// `--format` of the commands that check things, which also write JUnit XML. Their own
+/// argument, so that only their help and completion offer `junit`; the global `--format`
+/// (before the command) takes it too, and the other commands refuse it.
+#[derive(Args, Debug)]
+pub struct CheckFormat {
+    /// Output format: human, json, csv, or junit (one JUnit test case per node and check,
+    /// for CI systems) [default: human]
+    #[arg(long = "format", id = "format", value_name = "FORMAT", value_parser = check_formats())]
+    pub format: Option<FormatArg>,
+}
+
+fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
+    use clap::{builder::TypedValueParser as _, ValueEnum};
+    clap::builder::PossibleValuesParser::new(["human", "json", "csv", "junit"])
+        .map(|s| FormatArg::from_str(&s, false).expect("every listed format is a FormatArg"))
+}
+
 pub use crate::settings::{number_in, parse_duration, parse_node, DEFAULT_TIMEOUT};
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
@@ -267,7 +284,13 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
     let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
-    let mut out = Output::for_arg(g.format, g.quiet);
+    let format = match &cli.command {
+        Command::Network(network::NetworkCommand::Check(a)) => a.checks.format,
+        Command::Health(a) => a.checks.format,
+        _ => None,
+    }
+    .unwrap_or(g.format);
+    let mut out = Output::for_arg(format, g.quiet);
     if g.wide {
         out.fit = None;
     }
@@ -278,7 +301,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
     };
     let checks = matches!(cli.command, Command::Network(network::NetworkCommand::Check(_)) | Command::Health(_));
-    if g.format == FormatArg::Junit && !checks {
+    if format == FormatArg::Junit && !checks {
         return Err(Error::Usage(
             "--format junit is for commands that check things: canctl network check, canctl health; use human, json or csv here"
                 .into(),

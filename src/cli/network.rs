@@ -72,6 +72,8 @@ pub struct CheckArgs {
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
+    #[command(flatten)]
+    pub checks: super::CheckFormat,
 }
 
 /// Make the bus as a network project says: only what differs is written, verified, stored
