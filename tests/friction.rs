@@ -192,3 +192,41 @@ fn junit_is_offered_only_where_it_works() {
         assert!(run.stdout.starts_with("<?xml"), "{args:?}: {}", run.stdout);
     }
 }
+
+/// `config diff` of a DCF made for another device warns as `config apply` refuses; an
+/// apply with nothing to do says so instead of drawing an empty table.
+#[test]
+fn config_diff_warns_of_another_device_and_apply_says_nothing_to_change() {
+    let sim = Sim::new();
+    reset(&sim, "instant");
+    let sensor = sim.path("sensor.dcf");
+    let sensor = sensor.to_str().unwrap();
+    sim.run(&["config", "dump", "5", "--out", sensor]).ok();
+
+    let diff = sim.run(&["config", "diff", "10", sensor]).ok();
+    assert!(
+        diff.stderr.contains("is for another device (vendor-ID 0x00000444 on node 10, 0x00000040 in the file"),
+        "{}",
+        diff.stderr
+    );
+    let json = sim.run(&["config", "diff", "10", sensor, "--format", "json"]).ok().json();
+    assert_eq!(json["other_device"].as_array().map(Vec::len), Some(2), "{json}");
+    let same = sim.run(&["config", "diff", "5", sensor]).ok();
+    assert!(!same.stderr.contains("another device"), "{}", same.stderr);
+
+    let apply = sim.run(&["config", "apply", "5", sensor]).ok();
+    assert_eq!(apply.stdout.trim(), format!("nothing to change: node 5 already matches {sensor}"));
+    let csv = sim.run(&["config", "apply", "5", sensor, "--format", "csv"]).ok();
+    assert_eq!(csv.stdout, "object,name,old,new,result\n");
+}
+
+/// `lss set-id --node 0` on an EPOS2 reached directly writes its object 0x2000 and says
+/// what makes it count: a store and a power cycle.
+#[test]
+fn epos2_set_id_says_a_store_and_a_power_cycle_are_needed() {
+    let sim = Sim::new();
+    reset(&sim, "instant");
+    let epos2 = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let run = epos2.run(&["lss", "set-id", "3", "--node", "0"]).ok();
+    assert!(run.stdout.contains("lss store --node 0") && run.stdout.contains("power cycle"), "{}", run.stdout);
+}

@@ -113,6 +113,15 @@ fn read_one(bus: &mut dyn Bus, node: u8, e: &Entry, timeout: Duration) -> Result
 /// product code the file names must be the device's (exit 6 otherwise, before anything is
 /// written). A file that names neither is applied anywhere.
 fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<()> {
+    let differ = identity_differences(bus, node, dcf, timeout)?;
+    if differ.is_empty() {
+        return Ok(());
+    }
+    Err(Error::OtherDevice { file: dcf.path().to_string(), differences: differ })
+}
+
+/// Where the device's vendor-ID and product code are not the ones the file names, in words.
+fn identity_differences(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Vec<String>> {
     let (vendor, product) = dcf.identity();
     let mut differ = Vec::new();
     for (what, want, sub) in [("vendor-ID", vendor, 1), ("product code", product, 2)] {
@@ -129,10 +138,7 @@ fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> 
             differ.push(format!("{what} {got} on node {node}, 0x{want:08X} in the file"));
         }
     }
-    if differ.is_empty() {
-        return Ok(());
-    }
-    Err(Error::OtherDevice { file: dcf.path().to_string(), differences: differ })
+    Ok(differ)
 }
 
 /// A value the target's dictionary does not allow, refused before anything is written.
@@ -261,6 +267,10 @@ pub struct Diff {
     /// Objects of the file not compared, when interrupted.
     #[serde(skip_serializing_if = "is_zero")]
     pub not_compared: usize,
+    /// The file is for another kind of device: where the device's identity (vendor-ID,
+    /// product code) is not the file's, as `config apply` would refuse it.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub other_device: Vec<String>,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -293,6 +303,22 @@ impl Diff {
 /// Compare the node's readable objects with the DCF's values.
 pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Diff> {
     let values = dcf.values(node)?;
+    let other_device = match identity_differences(bus, node, dcf, timeout) {
+        Err(e) if e.is_interrupted() => {
+            let file = dcf.path().to_string();
+            let not_compared = values.len();
+            return Ok(Diff {
+                node,
+                file,
+                same: 0,
+                differences: Vec::new(),
+                interrupted: true,
+                not_compared,
+                other_device: Vec::new(),
+            });
+        }
+        other => other?,
+    };
     let mut differences = Vec::new();
     let mut same = 0;
     let readable: Vec<&Wanted> = values.iter().filter(|(e, _)| e.access.readable()).collect();
@@ -306,7 +332,7 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             Err(Error::SdoAbort { code, .. }) => format!("({})", abort::meaning(code)),
             Err(e) if e.is_interrupted() => {
                 let (file, not_compared) = (dcf.path().to_string(), readable.len() - i);
-                return Ok(Diff { node, file, same, differences, interrupted: true, not_compared });
+                return Ok(Diff { node, file, same, differences, interrupted: true, not_compared, other_device });
             }
             Err(e) => return Err(e),
         };
@@ -317,7 +343,15 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             file: show(entry, want),
         });
     }
-    Ok(Diff { node, file: dcf.path().to_string(), same, differences, interrupted: false, not_compared: 0 })
+    Ok(Diff {
+        node,
+        file: dcf.path().to_string(),
+        same,
+        differences,
+        interrupted: false,
+        not_compared: 0,
+        other_device,
+    })
 }
 
 /// One write of the plan.

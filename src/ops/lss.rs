@@ -227,6 +227,10 @@ const EPOS2_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
 const EPOS2_CAN_BIT_RATE: ObjAddr = ObjAddr::new(0x2001, 0);
 const STORE_ALL: ObjAddr = ObjAddr::new(0x1010, 1);
 
+/// What makes a node-id or bit rate written to an EPOS2 its own.
+const EPOS2_TAKES_EFFECT: &str =
+    "in force only after `canctl lss store --node 0` and a power cycle of the EPOS2 (until then it keeps the old one)";
+
 /// set-id, set-baud and store on an EPOS2 reached directly: its own objects.
 fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting) -> Result<String> {
     let opts = SdoOptions::new(timeout);
@@ -235,7 +239,10 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
             Err(Error::Usage("an EPOS2 always has a node-id (1 to 127); 255 is for LSS devices".into()))
         }
         Setting::NodeId(id) => {
-            bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts).map(|_| format!("node-id {id} (object 0x2000)"))
+            // The EPOS2 reads 0x2000 and 0x2001 at power-on only: the new value is a
+            // stored parameter, not a change of the running device.
+            bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts)
+                .map(|_| format!("node-id {id} written to object 0x2000; {EPOS2_TAKES_EFFECT}"))
         }
         Setting::BitRate(index) => {
             let code = epos2_bit_rate_code(index).ok_or_else(|| {
@@ -244,8 +251,12 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
                     lss::bit_rate_name(index)
                 ))
             })?;
-            bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts)
-                .map(|_| format!("CAN bit rate {} (object 0x2001 = {code})", lss::bit_rate_name(index)))
+            bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts).map(|_| {
+                format!(
+                    "CAN bit rate {} written to object 0x2001 (= {code}); {EPOS2_TAKES_EFFECT}",
+                    lss::bit_rate_name(index)
+                )
+            })
         }
         Setting::Store => {
             bus.sdo_download(0, STORE_ALL, b"save", &opts).map(|_| "parameters stored (0x1010:1)".to_string())
