@@ -230,3 +230,41 @@ fn epos2_set_id_says_a_store_and_a_power_cycle_are_needed() {
     let run = epos2.run(&["lss", "set-id", "3", "--node", "0"]).ok();
     assert!(run.stdout.contains("lss store --node 0") && run.stdout.contains("power cycle"), "{}", run.stdout);
 }
+
+/// Suggestions come from what the node has: `stream-pdo --tpdo 2` on a node without TPDO2
+/// says so (not "did you mean 0x1801:2"); an object the node lacks is answered with
+/// objects it has; a word of a name finds it; completion offers the node's profile only.
+#[test]
+fn suggestions_come_from_what_the_node_has() {
+    let sim = Sim::new();
+    reset(&sim, "instant");
+    let run = sim.run(&["stream-pdo", "5", "--tpdo", "2", "--count", "1"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("node 5 has no TPDO2"), "{}", run.stderr);
+    assert!(!run.stderr.contains("0x1801:"), "{}", run.stderr);
+
+    // Node 5 has no 0x1801 at all: none of its sub-indexes is offered, and whatever is
+    // offered, node 5 has.
+    let run = sim.run(&["sdo", "read", "5", "1801:1"]);
+    assert_eq!(run.code, 4, "{}", run.stderr);
+    let offered = run.stderr.split("did you mean ").nth(1).unwrap_or_default();
+    assert!(!offered.contains("0x1801:"), "{}", run.stderr);
+    let run = sim.run(&["sdo", "read", "5", "1081:0"]);
+    let offered = run.stderr.split("did you mean ").nth(1).unwrap_or_default();
+    for addr in offered.split(", ").filter_map(|o| o.split(' ').next()) {
+        sim.run(&["sdo", "read", "5", addr]).ok();
+    }
+    assert!(offered.contains("0x1018:0"), "{}", run.stderr);
+
+    let run = sim.run(&["sdo", "read", "5", "heartbeat"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("did you mean 'Producer heartbeat time' (0x1017:0)"), "{}", run.stderr);
+
+    // After a scan, node 5 (a DS406 sensor) is not offered a drive's objects, node 1 is.
+    sim.run(&["scan"]).ok();
+    let bus = sim.bus();
+    let sensor = complete(&sim, &["--bus", &bus, "sdo", "read", "5", "0x60"]);
+    assert!(sensor.contains(&"0x6004:0".to_string()) && !sensor.contains(&"0x6041:0".to_string()), "{sensor:?}");
+    let drive = complete(&sim, &["--bus", &bus, "sdo", "read", "1", "0x60"]);
+    assert!(drive.contains(&"0x6041:0".to_string()) && !drive.contains(&"0x6004:0".to_string()), "{drive:?}");
+}

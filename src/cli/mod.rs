@@ -246,9 +246,9 @@ fn no_bus_error() -> Error {
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
     let frame_log = global.frame_log()?;
     let mut bus = open_bus(ctx, frame_log.clone())?;
-    let result = f(bus.as_mut());
+    let result = f(bus.as_mut()).map_err(|e| with_hint(ctx, bus.as_mut(), e));
     let closed = bus.close();
-    result.map_err(|e| with_hint(ctx, e))?;
+    result?;
     closed?;
     if let Some(log) = frame_log {
         log.finish()?;
@@ -257,14 +257,26 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 }
 
 /// A node that did not answer: say which nodes the last scan of this bus saw. An object
-/// the node does not have: name the dictionary's objects nearest to it.
-fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
+/// the node does not have: name the dictionary's objects nearest to it that the node has
+/// (each asked for once: the dictionary may list objects this node lacks, as a TPDO2).
+fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
         (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => crate::ops::scan_cache::hint(bus),
-        (Some(Error::SdoAbort { node, obj, code: NO_OBJECT | NO_SUBINDEX }), _) => {
-            let near = ctx.dicts.near(*node, *obj);
+        (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
+            // Whether the node has it, not its value: a large one is not read whole.
+            let opts = crate::bus::SdoOptions { max_upload: 64, ..crate::bus::SdoOptions::new(ctx.timeout) };
+            let lacks = |r: crate::Result<Vec<u8>>| {
+                matches!(r, Err(Error::SdoAbort { code: NO_OBJECT | NO_SUBINDEX, .. } | Error::NoAnswer { .. }))
+            };
+            let near: Vec<String> = ctx
+                .dicts
+                .near(*node, *obj, *code == NO_OBJECT)
+                .into_iter()
+                .filter(|a| !lacks(bus.sdo_upload(*node, *a, &opts)))
+                .map(|a| ctx.dicts.label(*node, a))
+                .collect();
             if near.is_empty() {
                 return e;
             }

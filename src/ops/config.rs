@@ -836,7 +836,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     // An object the device lacks: the nearest ones it may have meant, from its own
     // dictionary (not the file's, which may describe another kind of device).
     let did_you_mean = match &failure {
-        Some(Error::SdoAbort { obj, code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => names::near(&target, *obj),
+        Some(Error::SdoAbort { obj, code: code @ (abort::NO_OBJECT | abort::NO_SUBINDEX), .. }) => {
+            names::near(&target, *obj, *code == abort::NO_OBJECT)
+        }
         _ => Vec::new(),
     };
     rows.extend(rollback_rows);
