@@ -144,11 +144,14 @@ impl Output {
         if !self.progress {
             return ProgressBar::hidden();
         }
-        let bar = ProgressBar::new(len);
+        // Made hidden: a message set on a bar that draws would draw it at once, outside
+        // the MultiProgress it is about to join, a line left on the screen for good.
+        let bar = ProgressBar::with_draw_target(Some(len), indicatif::ProgressDrawTarget::hidden());
         bar.set_style(
             ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").expect("valid template").progress_chars("=> "),
         );
         bar.set_message(message.to_string());
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         bar
     }
 }
@@ -190,9 +193,9 @@ fn render(headers: &[&str], rows: &[Vec<String>], framed: bool) -> String {
     t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect()
 }
 
-/// The table framed if that fits `width`, else plain, with columns dropped (by
-/// [`DROP_FIRST`], then from the right, never the first) until it fits; and the headers
-/// of the columns dropped.
+/// The table framed if that fits `width`, else plain, with the columns of [`DROP_FIRST`]
+/// dropped until it fits, and if it still does not, its cells wrapped to the width (a
+/// result in words is not dropped); and the headers of the columns dropped.
 fn fitted(headers: &[&str], rows: &[Vec<String>], width: usize) -> (String, Vec<String>) {
     let fits = |text: &str| text.lines().all(|l| l.chars().count() <= width);
     let framed = render(headers, rows, true);
@@ -204,23 +207,31 @@ fn fitted(headers: &[&str], rows: &[Vec<String>], width: usize) -> (String, Vec<
         let shown: Vec<&str> = kept.iter().map(|&i| headers[i]).collect();
         let cells: Vec<Vec<String>> =
             rows.iter().map(|r| kept.iter().map(|&i| r.get(i).cloned().unwrap_or_default()).collect()).collect();
+        let hidden = || (0..headers.len()).filter(|i| !kept.contains(i)).map(|i| headers[i].to_string()).collect();
         let plain = render(&shown, &cells, false);
-        let next = (kept.len() > 1).then(|| {
-            DROP_FIRST
-                .iter()
-                .find_map(|d| kept.iter().position(|&i| i > 0 && headers[i] == *d))
-                .unwrap_or(kept.len() - 1)
-        });
-        match next {
-            Some(at) if !fits(&plain) => {
+        if fits(&plain) {
+            return (plain, hidden());
+        }
+        match DROP_FIRST.iter().find_map(|d| kept.iter().position(|&i| i > 0 && headers[i] == *d)) {
+            Some(at) => {
                 kept.remove(at);
             }
-            _ => {
-                let hidden = (0..headers.len()).filter(|i| !kept.contains(i)).map(|i| headers[i].to_string());
-                return (plain, hidden.collect());
-            }
+            None => return (wrapped(&shown, &cells, width), hidden()),
         }
     }
+}
+
+/// A plain table whose cells wrap so that its lines fit `width` where they can.
+fn wrapped(headers: &[&str], rows: &[Vec<String>], width: usize) -> String {
+    let mut t = Table::new();
+    t.load_preset(presets::NOTHING);
+    t.set_content_arrangement(comfy_table::ContentArrangement::Dynamic);
+    t.set_width(u16::try_from(width).unwrap_or(u16::MAX));
+    t.set_header(headers.to_vec());
+    for r in rows {
+        t.add_row(r.iter().map(|c| terminal_safe(c).into_owned()).collect::<Vec<_>>());
+    }
+    t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect()
 }
 
 /// How a report looks to people (and in CSV, where it is a table).
@@ -694,9 +705,11 @@ mod tests {
         assert!(text.starts_with(" node  device_type") && text.contains("pre-operational"), "{text}");
         let (text, hidden) = fitted(&headers, &rows, 200);
         assert!(hidden.is_empty() && text.starts_with('┌') && text.contains("0x09501234"), "{text}");
-        let (text, hidden) = fitted(&headers, &rows, 10);
-        assert_eq!(hidden.len(), 7);
-        assert_eq!(text, " node\n 5\n");
+        // Narrower still: the droppable columns go, then the cells wrap; nothing else goes.
+        let (text, hidden) = fitted(&headers, &rows, 24);
+        assert_eq!(hidden, ["device_type", "vendor_id", "product_code", "revision", "serial"]);
+        assert!(text.lines().all(|l| l.chars().count() <= 24), "{text}");
+        assert!(text.contains("C01") && text.contains("pre-"), "{text}");
     }
 
     #[test]

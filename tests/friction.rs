@@ -122,10 +122,80 @@ fn on_a_terminal(sim: &Sim, cols: u16, args: &[&str]) -> (i32, Vec<String>) {
         String::from_utf8_lossy(&shown).into_owned()
     });
     let code = child.wait().unwrap().code().unwrap_or(-1);
-    let shown = reader.join().unwrap();
-    // A line as it stays on the screen: what follows the last carriage return.
-    let lines = shown.split('\n').map(|l| l.trim_end_matches('\r').rsplit('\r').next().unwrap_or("").to_string());
-    (code, lines.collect())
+    (code, screen(&reader.join().unwrap(), cols as usize))
+}
+
+/// What stays on a terminal `width` columns wide after `output`: lines wrap at the width,
+/// and the cursor moves and erasures progress bars use (CR, ESC[nA, ESC[nB, ESC[K, ESC[2K,
+/// ESC[J) are obeyed; other escapes are ignored.
+fn screen(output: &str, width: usize) -> Vec<String> {
+    let mut lines: Vec<Vec<char>> = vec![Vec::new()];
+    let (mut row, mut col) = (0usize, 0usize);
+    let mut chars = output.chars().peekable();
+    while let Some(c) = chars.next() {
+        if lines.len() <= row {
+            lines.resize(row + 1, Vec::new());
+        }
+        match c {
+            '\x1b' if chars.peek() == Some(&'[') => {
+                chars.next();
+                let mut arg = String::new();
+                while let Some(&p) = chars.peek().filter(|p| p.is_ascii_digit() || **p == '?') {
+                    arg.push(p);
+                    chars.next();
+                }
+                let n: usize = arg.trim_start_matches('?').parse().unwrap_or(0);
+                match chars.next() {
+                    Some('A') => row = row.saturating_sub(n.max(1)),
+                    Some('B') => row += n.max(1),
+                    Some('K') if n == 2 => lines[row].clear(),
+                    Some('K') => lines[row].truncate(col),
+                    Some('J') => {
+                        lines[row].truncate(col);
+                        lines.truncate(row + 1);
+                    }
+                    _ => {}
+                }
+            }
+            '\r' => col = 0,
+            '\n' => row += 1,
+            c if c.is_control() => {}
+            c => {
+                if col >= width {
+                    (row, col) = (row + 1, 0);
+                    if lines.len() <= row {
+                        lines.resize(row + 1, Vec::new());
+                    }
+                }
+                let line = &mut lines[row];
+                if line.len() < col {
+                    line.resize(col, ' ');
+                }
+                if col < line.len() {
+                    line[col] = c;
+                } else {
+                    line.push(c);
+                }
+                col += 1;
+            }
+        }
+    }
+    lines.into_iter().map(|l| l.into_iter().collect::<String>().trim_end().to_string()).collect()
+}
+
+/// Progress lines are cleared once the work is done: at 80 columns a bar drawn before it
+/// joined the per-node display stayed on the screen (`probing [ ] 0/127`).
+#[test]
+fn no_progress_line_stays_on_the_screen() {
+    let sim = Sim::new();
+    reset(&sim, "instant");
+    let project = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/sim-machine");
+    let (code, lines) = on_a_terminal(&sim, 80, &["network", "apply", project, "--assign"]);
+    assert_eq!(code, 3, "{lines:#?}");
+    assert!(lines.iter().any(|l| l.contains("object(s) written on")), "{lines:#?}");
+    for l in &lines {
+        assert!(!l.contains("probing") && !l.contains("applying") && !l.contains("read(s)"), "left: {l:?}\n{lines:#?}");
+    }
 }
 
 /// The first screen of the main job fits a terminal of 80 columns: scan and health drop
