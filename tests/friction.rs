@@ -103,8 +103,15 @@ fn a_fault_for_no_device_is_refused() {
 }
 
 /// `args` run with stdout and stderr on a pseudo-terminal `cols` columns wide (no
-/// `COLUMNS`): its exit code and what the terminal showed, line by line.
+/// `COLUMNS`): its exit code and what stays on the screen, line by line.
 fn on_a_terminal(sim: &Sim, cols: u16, args: &[&str]) -> (i32, Vec<String>) {
+    let (code, shown) = on_a_terminal_raw(sim, cols, args);
+    (code, screen(&shown, cols as usize))
+}
+
+/// `args` run on a pseudo-terminal `cols` columns wide: its exit code and every byte it
+/// sent there (progress bars as they were drawn).
+fn on_a_terminal_raw(sim: &Sim, cols: u16, args: &[&str]) -> (i32, String) {
     use std::io::Read;
     let size = nix::pty::Winsize { ws_row: 40, ws_col: cols, ws_xpixel: 0, ws_ypixel: 0 };
     let pty = nix::pty::openpty(Some(&size), None).unwrap();
@@ -122,7 +129,7 @@ fn on_a_terminal(sim: &Sim, cols: u16, args: &[&str]) -> (i32, Vec<String>) {
         String::from_utf8_lossy(&shown).into_owned()
     });
     let code = child.wait().unwrap().code().unwrap_or(-1);
-    (code, screen(&reader.join().unwrap(), cols as usize))
+    (code, reader.join().unwrap())
 }
 
 /// What stays on a terminal `width` columns wide after `output`: lines wrap at the width,
@@ -337,4 +344,27 @@ fn suggestions_come_from_what_the_node_has() {
     assert!(sensor.contains(&"0x6004:0".to_string()) && !sensor.contains(&"0x6041:0".to_string()), "{sensor:?}");
     let drive = complete(&sim, &["--bus", &bus, "sdo", "read", "1", "0x60"]);
     assert!(drive.contains(&"0x6041:0".to_string()) && !drive.contains(&"0x6004:0".to_string()), "{drive:?}");
+}
+
+/// Slow LSS work shows its progress on a terminal (fastscan was blank for 13 s on slow
+/// devices, assign for 12 s), request by request; not with -q, not in a pipe.
+#[test]
+fn lss_work_shows_progress_on_a_terminal_only() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--profile", "instant", "--unconfigured", "1"]).ok();
+    let (code, shown) = on_a_terminal_raw(&sim, 80, &["lss", "fastscan"]);
+    assert_eq!(code, 0, "{shown}");
+    assert!(shown.contains("fastscan [") && shown.contains("/133"), "{shown:?}");
+    let (code, shown) = on_a_terminal_raw(&sim, 80, &["-q", "lss", "fastscan"]);
+    assert_eq!(code, 0, "{shown}");
+    assert!(!shown.contains("fastscan ["), "{shown:?}");
+    let piped = sim.run(&["lss", "fastscan"]).ok();
+    assert!(!piped.stderr.contains("fastscan ["), "{}", piped.stderr);
+
+    let (code, shown) = on_a_terminal_raw(&sim, 80, &["lss", "assign", "--start", "20"]);
+    assert_eq!(code, 0, "{shown}");
+    assert!(shown.contains("fastscan for device 1 ["), "{shown:?}");
+    let left = screen(&shown, 80);
+    assert!(!left.iter().any(|l| l.contains("fastscan for")), "{left:#?}");
+    assert!(left.iter().any(|l| l.contains("-> node 20")), "{left:#?}");
 }

@@ -214,7 +214,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
         LssCommand::Activate(a) => ctx.out.report(&lss::activate(bus, t, a.target.get("activate")?, a.delay)?)?,
         LssCommand::Fastscan(a) => {
             no_node(a.node, "fastscan")?;
-            ctx.out.report(&lss::fastscan(bus, &a.pace.options(t), stop)?)?
+            ctx.out.report(&lss::fastscan_shown(bus, &a.pace.options(t), stop, &mut ctx.out.progress())?)?
         }
         LssCommand::Assign(a) => {
             no_node(a.node, "assign")?;

@@ -388,12 +388,37 @@ fn fastscan_error(error: FastscanError, pace: &Pace) -> Error {
     Error::Fastscan { error, step: pace.longest_step() }
 }
 
+/// Fastscan requests for one identity when all goes well: a reset, then 32 bits and a
+/// confirmation for each part not given, one request for each part given. A bar's length,
+/// not a limit: a search that has to slow down takes more.
+fn fastscan_steps(given: [Option<u32>; 4]) -> u64 {
+    1 + given.iter().map(|g| if g.is_some() { 1 } else { 33 }).sum::<u64>()
+}
+
 /// Find the identity of one device without a node-id, bit by bit. The device found is
 /// sent back to waiting state, unchanged.
 pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &AtomicBool) -> Result<Found> {
+    fastscan_shown(bus, o, interrupted, &mut super::Silent)
+}
+
+/// [`fastscan`], each request a step on `progress` (the search takes 13 s on slow devices).
+pub fn fastscan_shown(
+    bus: &mut dyn Bus,
+    o: &FastscanOptions,
+    interrupted: &AtomicBool,
+    progress: &mut dyn Progress,
+) -> Result<Found> {
     let start = Instant::now();
     let mut m = LssMaster::new(bus, o.timeout);
-    let result = m.fastscan(o.pace(), o.given(), &mut || !interrupted.load(Ordering::SeqCst));
+    let len = fastscan_steps(o.given());
+    progress.start("fastscan", len);
+    let mut sent = 0;
+    let result = m.fastscan(o.pace(), o.given(), &mut || {
+        sent += 1;
+        progress.advance(sent.min(len));
+        !interrupted.load(Ordering::SeqCst)
+    });
+    progress.finish();
     // The device found is in configuration state: whatever happened, every device goes
     // back to waiting, unchanged.
     let left = m.leave();
@@ -505,8 +530,12 @@ fn ids_in_use(
                 (Duration::from_millis(longest as u64) * 3 / 2).clamp(LISTEN, LISTEN_CEILING)
             }
         };
-        let end = Instant::now() + listen;
-        while bus.recv_frame(end)?.is_some() && !interrupted.load(Ordering::SeqCst) {}
+        let (begun, end) = (Instant::now(), Instant::now() + listen);
+        progress.start("listening for node-ids in use", listen.as_millis() as u64);
+        while bus.recv_frame(end)?.is_some() && !interrupted.load(Ordering::SeqCst) {
+            progress.advance(begun.elapsed().as_millis() as u64);
+        }
+        progress.finish();
     }
     used.extend(bus.observed().node_ids());
     Ok(used)
@@ -525,15 +554,33 @@ pub fn assign(
     // Node-ids already in use: new ones must not collide.
     let used = ids_in_use(bus, timeout, o.listen, progress, interrupted)?;
     let in_use_before: Vec<u8> = used.iter().copied().collect();
+    // Each device sought is a bar of fastscan requests (14 s each on slow devices).
+    let len = fastscan_steps(o.fastscan.given());
+    let (shown, sent, found) = (std::cell::RefCell::new(progress), std::cell::Cell::new(0), std::cell::Cell::new(0));
     let outcome = LssMaster::new(bus, timeout).assign(
         o.start,
         used,
         o.fastscan.pace(),
         o.fastscan.given(),
         o.store,
-        &mut || !interrupted.load(Ordering::SeqCst),
-        &mut |d| progress.note(&format!("{} -> node {}", d.identity, d.node)),
-    )?;
+        &mut || {
+            let mut progress = shown.borrow_mut();
+            if sent.get() == 0 {
+                progress.start(&format!("fastscan for device {}", found.get() + 1), len);
+            }
+            sent.set(sent.get() + 1);
+            progress.advance(sent.get().min(len));
+            !interrupted.load(Ordering::SeqCst)
+        },
+        &mut |d| {
+            let mut progress = shown.borrow_mut();
+            progress.finish();
+            (sent.set(0), found.set(found.get() + 1));
+            progress.note(&format!("{} -> node {}", d.identity, d.node));
+        },
+    );
+    shown.borrow_mut().finish();
+    let outcome = outcome?;
     let failure = if outcome.interrupted || interrupted.load(Ordering::SeqCst) {
         Some(Error::Interrupted)
     } else {
