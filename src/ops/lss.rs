@@ -575,7 +575,8 @@ pub fn assign(
         &mut |d| {
             let mut progress = shown.borrow_mut();
             progress.finish();
-            (sent.set(0), found.set(found.get() + 1));
+            sent.set(0);
+            found.set(found.get() + 1);
             progress.note(&format!("{} -> node {}", d.identity, d.node));
         },
     );
