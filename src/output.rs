@@ -234,6 +234,21 @@ fn wrapped(headers: &[&str], rows: &[Vec<String>], width: usize) -> String {
     t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect()
 }
 
+impl Output {
+    /// A count of bytes moved whose total is not known beforehand (an SDO upload), or a
+    /// hidden one when progress is not shown. It appears once the first bytes move.
+    pub fn counter(&self, message: &str) -> ProgressBar {
+        if !self.progress {
+            return ProgressBar::hidden();
+        }
+        let bar = ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::hidden());
+        bar.set_style(ProgressStyle::with_template("{msg}: {bytes} ({bytes_per_sec})").expect("valid template"));
+        bar.set_message(message.to_string());
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        bar
+    }
+}
+
 /// How a report looks to people (and in CSV, where it is a table).
 pub enum Human {
     /// A sentence on stdout.

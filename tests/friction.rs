@@ -368,3 +368,21 @@ fn lss_work_shows_progress_on_a_terminal_only() {
     assert!(!left.iter().any(|l| l.contains("fastscan for")), "{left:#?}");
     assert!(left.iter().any(|l| l.contains("-> node 20")), "{left:#?}");
 }
+
+/// A large SDO upload counts its bytes on a terminal (64 KiB took 2 s with nothing shown),
+/// and the count is gone when the result is printed; not with -q.
+#[test]
+fn a_large_upload_shows_its_bytes_on_a_terminal() {
+    let sim = Sim::new();
+    reset(&sim, "instant");
+    let out = sim.path("program.bin");
+    let args = ["sdo", "read", "1", "1F50:1", "--type", "d", "--out", out.to_str().unwrap()];
+    let (code, shown) = on_a_terminal_raw(&sim, 80, &args);
+    assert_eq!(code, 0, "{shown}");
+    assert!(shown.contains("node 1: reading 0x1F50:1: "), "{shown:?}");
+    let left = screen(&shown, 80);
+    assert!(!left.iter().any(|l| l.contains("reading 0x1F50")), "{left:#?}");
+    assert_eq!(std::fs::metadata(&out).unwrap().len(), 65536);
+    let (_, quiet) = on_a_terminal_raw(&sim, 80, &[&["-q"][..], &args].concat());
+    assert!(!quiet.contains("reading 0x1F50"), "{quiet:?}");
+}
