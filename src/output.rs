@@ -235,6 +235,19 @@ fn wrapped(headers: &[&str], rows: &[Vec<String>], width: usize) -> String {
 }
 
 impl Output {
+    /// A line saying where slow work stands, its message changed as it moves on, or a
+    /// hidden one when progress is not shown.
+    pub fn status(&self, message: &str) -> ProgressBar {
+        if !self.progress {
+            return ProgressBar::hidden();
+        }
+        let bar = ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::hidden());
+        bar.set_style(ProgressStyle::with_template("{msg}").expect("valid template"));
+        bar.set_message(message.to_string());
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        bar
+    }
+
     /// A count of bytes moved whose total is not known beforehand (an SDO upload), or a
     /// hidden one when progress is not shown. It appears once the first bytes move.
     pub fn counter(&self, message: &str) -> ProgressBar {

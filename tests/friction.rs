@@ -386,3 +386,21 @@ fn a_large_upload_shows_its_bytes_on_a_terminal() {
     let (_, quiet) = on_a_terminal_raw(&sim, 80, &[&["-q"][..], &args].concat());
     assert!(!quiet.contains("reading 0x1F50"), "{quiet:?}");
 }
+
+/// `config apply` says where it stands on a terminal as it reads and writes (3.5 s blank
+/// before), and the line is gone when the report is printed.
+#[test]
+fn config_apply_shows_its_transfers_on_a_terminal() {
+    let sim = Sim::new();
+    reset(&sim, "instant");
+    let dcf = sim.path("sensor.dcf");
+    sim.run(&["config", "dump", "5", "--out", dcf.to_str().unwrap()]).ok();
+    let (code, shown) = on_a_terminal_raw(&sim, 80, &["config", "apply", "5", dcf.to_str().unwrap()]);
+    assert_eq!(code, 0, "{shown}");
+    assert!(shown.contains("node 5: applying ") && shown.contains(" read(s), 0 write(s)"), "{shown:?}");
+    let left = screen(&shown, 80);
+    assert!(!left.iter().any(|l| l.contains("applying")), "{left:#?}");
+    assert!(left.iter().any(|l| l.starts_with("nothing to change")), "{left:#?}");
+    let (_, quiet) = on_a_terminal_raw(&sim, 80, &["-q", "config", "apply", "5", dcf.to_str().unwrap()]);
+    assert!(!quiet.contains("applying"), "{quiet:?}");
+}

@@ -303,22 +303,6 @@ impl Diff {
 /// Compare the node's readable objects with the DCF's values.
 pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Diff> {
     let values = dcf.values(node)?;
-    let other_device = match identity_differences(bus, node, dcf, timeout) {
-        Err(e) if e.is_interrupted() => {
-            let file = dcf.path().to_string();
-            let not_compared = values.len();
-            return Ok(Diff {
-                node,
-                file,
-                same: 0,
-                differences: Vec::new(),
-                interrupted: true,
-                not_compared,
-                other_device: Vec::new(),
-            });
-        }
-        other => other?,
-    };
     let mut differences = Vec::new();
     let mut same = 0;
     let readable: Vec<&Wanted> = values.iter().filter(|(e, _)| e.access.readable()).collect();
@@ -332,6 +316,7 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             Err(Error::SdoAbort { code, .. }) => format!("({})", abort::meaning(code)),
             Err(e) if e.is_interrupted() => {
                 let (file, not_compared) = (dcf.path().to_string(), readable.len() - i);
+                let other_device = Vec::new();
                 return Ok(Diff { node, file, same, differences, interrupted: true, not_compared, other_device });
             }
             Err(e) => return Err(e),
@@ -343,15 +328,14 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             file: show(entry, want),
         });
     }
-    Ok(Diff {
-        node,
-        file: dcf.path().to_string(),
-        same,
-        differences,
-        interrupted: false,
-        not_compared: 0,
-        other_device,
-    })
+    // Last, so that a comparison stopped part-way has compared all it could: whether the
+    // file is for this kind of device at all (config apply refuses one that is not).
+    let (file, not_compared) = (dcf.path().to_string(), 0);
+    let (interrupted, other_device) = match identity_differences(bus, node, dcf, timeout) {
+        Err(e) if e.is_interrupted() => (true, Vec::new()),
+        other => (false, other?),
+    };
+    Ok(Diff { node, file, same, differences, interrupted, not_compared, other_device })
 }
 
 /// One write of the plan.
