@@ -122,7 +122,9 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     let bar = ctx.out.counter(&format!("node {}: reading {object}", a.node));
     let shown = bar.clone();
     let watch: crate::bus::TransferHook = std::sync::Arc::new(move |bytes| shown.set_position(bytes as u64));
-    let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, Some(watch));
+    // Only when shown: a hook given here takes the place of one the bus was given.
+    let watch = ctx.out.progress.then_some(watch);
+    let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, watch);
     bar.finish_and_clear();
     let read = match read {
         Err(e) => return stopped(ctx, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e),
