@@ -404,3 +404,23 @@ fn config_apply_shows_its_transfers_on_a_terminal() {
     let (_, quiet) = on_a_terminal_raw(&sim, 80, &["-q", "config", "apply", "5", dcf.to_str().unwrap()]);
     assert!(!quiet.contains("applying"), "{quiet:?}");
 }
+
+/// An slcan adapter at another bit rate than the bus hears nothing: the scan asks the
+/// adapter's status flags (frames nobody acknowledged) and says so, exit 5, instead of
+/// "0 node(s)" and exit 0. At the right rate the same adapter finds the nodes.
+#[cfg(unix)]
+#[test]
+fn an_slcan_adapter_at_the_wrong_bit_rate_is_not_an_empty_bus() {
+    let sim = Sim::new();
+    reset(&sim, "instant");
+    let adapter = common::DeviceSide::start(&sim, "--slcan", &[]);
+    let wrong = format!("slcan:{}@250k", adapter.pty);
+    let mut c = std::process::Command::new(common::canctl_bin());
+    c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path("")).env_remove("CANCTL_BUS");
+    c.args(["--bus", &wrong, "scan"]).stdin(std::process::Stdio::null());
+    let run = common::finish(c.output().unwrap());
+    assert_eq!(run.code, 5, "{}\n{}", run.stdout, run.stderr);
+    assert!(run.stderr.contains("the adapter reports") && run.stderr.contains("bit rate"), "{}", run.stderr);
+    let right = adapter.run(&["scan"]).ok();
+    assert!(right.stderr.contains("4 node(s)"), "{}", right.stderr);
+}
