@@ -58,6 +58,17 @@ fn out_paths_are_checked_before_the_work() {
         let frames = std::fs::read_to_string(log).unwrap();
         assert!(frames.is_empty(), "{args:?} talked to the bus before checking --out:\n{frames}");
     }
+    // network dump into a folder that cannot be made (under a file) fails before the scan;
+    // into one that does not exist yet, it is made.
+    let file = sim.path("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let under_a_file = file.join("machine");
+    let run = sim.run(&["--log-frames", log, "network", "dump", under_a_file.to_str().unwrap()]);
+    assert_eq!(run.code, 7, "{}", run.stderr);
+    assert!(std::fs::read_to_string(log).unwrap().is_empty(), "network dump talked to the bus first");
+    let fresh = sim.path("new/machine");
+    sim.run(&["network", "dump", fresh.to_str().unwrap()]).ok();
+    assert!(fresh.join("nodelist.cpj").exists());
     // A folder given where a file is meant is refused at once too.
     let run = sim.run(&["--log-frames", log, "config", "dump", "1", "--out", sim.path("").to_str().unwrap()]);
     assert_eq!(run.code, 7, "{}", run.stderr);
