@@ -119,7 +119,7 @@ impl Output {
         }
         let (text, hidden) = match self.fit {
             Some(width) => fitted(headers, rows, width),
-            None => (render(headers, rows, std::io::stdout().is_terminal()), Vec::new()),
+            None => (render(headers, rows, std::io::stdout().is_terminal(), None), Vec::new()),
         };
         self.print(&text)?;
         if !hidden.is_empty() {
@@ -141,18 +141,9 @@ impl Output {
 
     /// A progress bar over `len` steps, or a hidden one when progress is not shown.
     pub fn bar(&self, len: u64, message: &str) -> ProgressBar {
-        if !self.progress {
-            return ProgressBar::hidden();
-        }
-        // Made hidden: a message set on a bar that draws would draw it at once, outside
-        // the MultiProgress it is about to join, a line left on the screen for good.
-        let bar = ProgressBar::with_draw_target(Some(len), indicatif::ProgressDrawTarget::hidden());
-        bar.set_style(
-            ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").expect("valid template").progress_chars("=> "),
-        );
-        bar.set_message(message.to_string());
-        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-        bar
+        let style =
+            ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").expect("valid template").progress_chars("=> ");
+        self.drawn(Some(len), style, message)
     }
 }
 
@@ -181,10 +172,15 @@ const DROP_FIRST: &[&str] = &[
     "raw",
 ];
 
-/// A table as text: framed (a terminal) or plain aligned columns.
-fn render(headers: &[&str], rows: &[Vec<String>], framed: bool) -> String {
+/// A table as text: framed (a terminal) or plain aligned columns; with `wrap_to`, plain
+/// with its cells wrapped so that its lines fit that width where they can.
+fn render(headers: &[&str], rows: &[Vec<String>], framed: bool, wrap_to: Option<usize>) -> String {
     let mut t = Table::new();
     t.load_preset(if framed { presets::UTF8_FULL_CONDENSED } else { presets::NOTHING });
+    if let Some(width) = wrap_to {
+        t.set_content_arrangement(comfy_table::ContentArrangement::Dynamic);
+        t.set_width(u16::try_from(width).unwrap_or(u16::MAX));
+    }
     t.set_header(headers.to_vec());
     for r in rows {
         // Cells hold what devices and files say: nothing in them may drive the terminal.
@@ -198,7 +194,7 @@ fn render(headers: &[&str], rows: &[Vec<String>], framed: bool) -> String {
 /// result in words is not dropped); and the headers of the columns dropped.
 fn fitted(headers: &[&str], rows: &[Vec<String>], width: usize) -> (String, Vec<String>) {
     let fits = |text: &str| text.lines().all(|l| l.chars().count() <= width);
-    let framed = render(headers, rows, true);
+    let framed = render(headers, rows, true, None);
     if fits(&framed) {
         return (framed, Vec::new());
     }
@@ -208,7 +204,7 @@ fn fitted(headers: &[&str], rows: &[Vec<String>], width: usize) -> (String, Vec<
         let cells: Vec<Vec<String>> =
             rows.iter().map(|r| kept.iter().map(|&i| r.get(i).cloned().unwrap_or_default()).collect()).collect();
         let hidden = || (0..headers.len()).filter(|i| !kept.contains(i)).map(|i| headers[i].to_string()).collect();
-        let plain = render(&shown, &cells, false);
+        let plain = render(&shown, &cells, false, None);
         if fits(&plain) {
             return (plain, hidden());
         }
@@ -216,46 +212,34 @@ fn fitted(headers: &[&str], rows: &[Vec<String>], width: usize) -> (String, Vec<
             Some(at) => {
                 kept.remove(at);
             }
-            None => return (wrapped(&shown, &cells, width), hidden()),
+            None => return (render(&shown, &cells, false, Some(width)), hidden()),
         }
     }
-}
-
-/// A plain table whose cells wrap so that its lines fit `width` where they can.
-fn wrapped(headers: &[&str], rows: &[Vec<String>], width: usize) -> String {
-    let mut t = Table::new();
-    t.load_preset(presets::NOTHING);
-    t.set_content_arrangement(comfy_table::ContentArrangement::Dynamic);
-    t.set_width(u16::try_from(width).unwrap_or(u16::MAX));
-    t.set_header(headers.to_vec());
-    for r in rows {
-        t.add_row(r.iter().map(|c| terminal_safe(c).into_owned()).collect::<Vec<_>>());
-    }
-    t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect()
 }
 
 impl Output {
     /// A line saying where slow work stands, its message changed as it moves on, or a
     /// hidden one when progress is not shown.
     pub fn status(&self, message: &str) -> ProgressBar {
-        if !self.progress {
-            return ProgressBar::hidden();
-        }
-        let bar = ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::hidden());
-        bar.set_style(ProgressStyle::with_template("{msg}").expect("valid template"));
-        bar.set_message(message.to_string());
-        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-        bar
+        self.drawn(None, ProgressStyle::with_template("{msg}").expect("valid template"), message)
     }
 
     /// A count of bytes moved whose total is not known beforehand (an SDO upload), or a
     /// hidden one when progress is not shown. It appears once the first bytes move.
     pub fn counter(&self, message: &str) -> ProgressBar {
+        let style = ProgressStyle::with_template("{msg}: {bytes} ({bytes_per_sec})").expect("valid template");
+        self.drawn(None, style, message)
+    }
+
+    /// A progress display on stderr, or a hidden one when progress is not shown. Made
+    /// hidden and then pointed at stderr: a message set on a bar that draws would draw it
+    /// at once, outside a MultiProgress it is about to join, a line left on the screen.
+    fn drawn(&self, len: Option<u64>, style: ProgressStyle, message: &str) -> ProgressBar {
         if !self.progress {
             return ProgressBar::hidden();
         }
-        let bar = ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::hidden());
-        bar.set_style(ProgressStyle::with_template("{msg}: {bytes} ({bytes_per_sec})").expect("valid template"));
+        let bar = ProgressBar::with_draw_target(len, indicatif::ProgressDrawTarget::hidden());
+        bar.set_style(style);
         bar.set_message(message.to_string());
         bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         bar
