@@ -16,11 +16,7 @@ pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
     use std::fs;
     let output = |why: String| Error::Output { path: path.display().to_string(), why };
     let fail = |what: &str, e: std::io::Error| output(format!("{what}{e}"));
-    // Through a symbolic link, the file it points to is the one replaced.
-    let target = match fs::symlink_metadata(path) {
-        Ok(m) if m.file_type().is_symlink() => fs::canonicalize(path).map_err(|e| fail("", e))?,
-        _ => path.to_path_buf(),
-    };
+    let target = target(path)?;
     let existing = fs::metadata(&target).ok();
     if existing.as_ref().is_some_and(|m| !m.is_file() && !m.is_dir()) {
         let mut f = fs::OpenOptions::new().write(true).truncate(true).open(&target).map_err(|e| fail("", e))?;
@@ -72,6 +68,47 @@ pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
         let _ = d.sync_all();
     }
     Ok(())
+}
+
+/// The file a write to `path` replaces: through a symbolic link, the file it points to.
+fn target(path: &std::path::Path) -> crate::Result<std::path::PathBuf> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path)
+            .map_err(|e| crate::Error::Output { path: path.display().to_string(), why: e.to_string() }),
+        _ => Ok(path.to_path_buf()),
+    }
+}
+
+/// Whether [`write_atomic`] can write `path`, asked before the work that makes its content
+/// (a dump of 20 s), so that a mistyped folder fails at once rather than after it: the
+/// temporary file is made and removed (the folder exists and takes new files), a device
+/// opened for writing. Nothing is written to `path` itself; a full disk shows only later.
+pub fn check_writable(path: &std::path::Path) -> crate::Result<()> {
+    use std::fs;
+    let output = |why: String| crate::Error::Output { path: path.display().to_string(), why };
+    let target = target(path)?;
+    match fs::metadata(&target) {
+        Ok(m) if m.is_dir() => return Err(output("it is a directory".into())),
+        Ok(m) if !m.is_file() => {
+            return fs::OpenOptions::new().write(true).open(&target).map(drop).map_err(|e| output(e.to_string()))
+        }
+        _ => {}
+    }
+    let Some(name) = target.file_name() else {
+        return Err(output("not a file name".into()));
+    };
+    let temp_file = temp_name(name, std::process::id());
+    let dir = target.parent().filter(|d| !d.as_os_str().is_empty());
+    let temp = dir.map_or_else(|| temp_file.clone().into(), |d| d.join(&temp_file));
+    match fs::OpenOptions::new().write(true).create_new(true).open(&temp) {
+        Ok(_) => fs::remove_file(&temp).map_err(|e| output(e.to_string())),
+        // Ours from an earlier process of the same pid: the folder takes files.
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            Err(output(format!("there is no folder {}", dir.unwrap_or(std::path::Path::new(".")).display())))
+        }
+        Err(e) => Err(output(e.to_string())),
+    }
 }
 
 /// The temporary file process `pid` writes beside `name`: hidden, named after it and after

@@ -23,8 +23,12 @@ pub enum Error {
     /// A file or stream given as input could not be used.
     #[error("{0}")]
     Input(crate::input::InputError),
+    /// An EDS, DCF, XDD or XDC that cannot be read (the reason names the file) or does not
+    /// parse (`FILE:LINE: why`): said once, without a prefix that repeats it.
+    #[error(transparent)]
+    Eds(#[from] crate::od::ReadError),
     /// A bus address that does not parse.
-    #[error("bus '{uri}': {reason}")]
+    #[error("bus '{}': {reason}", clipped(uri))]
     BadBusAddr { uri: String, reason: String },
     /// A node-id outside what this bus can address.
     #[error("{}", node_id_text(*node, *range))]
@@ -202,12 +206,19 @@ impl ErrorClass {
     }
 }
 
+impl From<crate::od::eds::EdsError> for Error {
+    fn from(e: crate::od::eds::EdsError) -> Error {
+        Error::Eds(e.into())
+    }
+}
+
 impl Error {
     pub fn class(&self) -> ErrorClass {
         use ErrorClass as C;
         match self {
             Error::Usage(_)
             | Error::Input(_)
+            | Error::Eds(_)
             | Error::BadBusAddr { .. }
             | Error::NodeIdOutOfRange { .. }
             | Error::TooLargeForSdo { .. }
@@ -329,22 +340,53 @@ impl From<LinkError> for Error {
     }
 }
 
+/// Text the user gave, echoed in a message: a value of 100 KB (a variable expanded by
+/// mistake) shown whole would bury the message, so a long one is cut, its length said.
+pub fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
+    const SHOWN: usize = 60;
+    let count = text.chars().count();
+    if count <= SHOWN + 20 {
+        return text.into();
+    }
+    format!("{}… ({count} characters)", text.chars().take(SHOWN).collect::<String>()).into()
+}
+
+/// `; did you mean --bus sim?` for an interface name one or two letters from `sim` or from
+/// an interface that exists (`sims`, `cna0`), else nothing.
+fn did_you_mean(iface: &str, available: &[String]) -> String {
+    let near = std::iter::once("sim")
+        .chain(available.iter().map(String::as_str))
+        .map(|c| (crate::od::names::distance(iface, c), c))
+        .filter(|(d, c)| *d <= 2 && *d < c.len())
+        .min();
+    near.map_or_else(String::new, |(_, c)| format!("; did you mean --bus {c}?"))
+}
+
 /// A link failure: the port, interface or pseudo-terminal, and what went wrong with it.
 #[derive(Debug, thiserror::Error)]
 pub enum LinkError {
     /// A port or interface that cannot be opened.
-    #[error("cannot open {port}: {error}")]
+    #[error("cannot open {}: {error}", clipped(port))]
     Open { port: String, error: std::io::Error },
+    /// A path given as a serial port that is none (`/dev/null`, a file): the OS's word for
+    /// it, "Not a typewriter", says nothing to most.
+    #[error(
+        "{} is not a serial port; serial ports here: {}",
+        clipped(port),
+        if available.is_empty() { "none found".to_string() } else { available.join(", ") }
+    )]
+    NotSerialPort { port: String, available: Vec<String> },
     /// An operation on an open port or interface failed (`{port}: {op}: {source}`; no `op`:
     /// `{port}: {source}`).
     #[error("{port}: {}{error}", if op.is_empty() { String::new() } else { format!("{op}: ") })]
     Io { port: String, op: &'static str, error: std::io::Error },
     /// No network interface of this name; `available` lists the CAN interfaces there are.
     #[error(
-        "there is no network interface '{iface}' (CAN interfaces here: {}).\n  \
+        "there is no network interface '{iface}'{} (CAN interfaces here: {}).\n  \
          A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
          A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
          No hardware: try the demo network, --bus sim",
+        did_you_mean(iface, available),
         if available.is_empty() { "none".to_string() } else { available.join(", ") }
     )]
     NoInterface { iface: String, available: Vec<String> },

@@ -40,7 +40,9 @@ pub enum FormatArg {
     Json,
     /// A header row and one row per record.
     Csv,
-    /// JUnit XML, one test case per node and check (network check, health).
+    /// JUnit XML, one test case per node and check (network check, health): listed in
+    /// their help only ([`crate::cli::CheckFormat`]), refused by the others.
+    #[value(hide = true)]
     Junit,
     /// An XDC (CiA 311 XML) instead of a DCF: config dump.
     Xdc,
@@ -66,11 +68,15 @@ pub struct Output {
     /// Show progress bars: only when stderr is a terminal and not --quiet.
     pub progress: bool,
     pub quiet: bool,
+    /// The width tables are fitted to: the terminal's, when stdout is one and `--wide` was
+    /// not given; `None` keeps every column (pipes, files, `--wide`).
+    pub fit: Option<usize>,
 }
 
 impl Output {
     pub fn new(format: Format, quiet: bool) -> Output {
-        Output { format, junit: false, xdc: false, progress: !quiet && std::io::stderr().is_terminal(), quiet }
+        let fit = if std::io::stdout().is_terminal() { terminal_width() } else { None };
+        Output { format, junit: false, xdc: false, progress: !quiet && std::io::stderr().is_terminal(), quiet, fit }
     }
 
     /// The output `--format` asks for.
@@ -113,23 +119,25 @@ impl Output {
     }
 
     /// A table for people (framed on a terminal, plain aligned columns in a pipe), or CSV.
+    /// On a terminal too narrow for it, the plain form without the columns least needed
+    /// (as `ps` and `kubectl` do), a note saying which and that `--wide` shows them.
     pub fn table(&self, headers: &[&str], rows: &[Vec<String>]) -> std::io::Result<()> {
         if self.format == Format::Csv {
             return self.print(&csv(headers, rows));
         }
-        let mut t = Table::new();
-        if std::io::stdout().is_terminal() {
-            t.load_preset(presets::UTF8_FULL_CONDENSED);
-        } else {
-            t.load_preset(presets::NOTHING);
+        let (text, hidden) = match self.fit {
+            Some(width) => fitted(headers, rows, width),
+            None => (render(headers, rows, std::io::stdout().is_terminal(), None), Vec::new()),
+        };
+        self.print(&text)?;
+        if !hidden.is_empty() {
+            self.note(&format!(
+                "not shown at {} columns: {} (--wide shows every column)",
+                self.fit.unwrap_or_default(),
+                hidden.join(", ")
+            ));
         }
-        t.set_header(headers.to_vec());
-        for r in rows {
-            // Cells hold what devices and files say: nothing in them may drive the terminal.
-            t.add_row(r.iter().map(|c| terminal_safe(c).into_owned()).collect::<Vec<_>>());
-        }
-        let text: String = t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect();
-        self.print(&text)
+        Ok(())
     }
 
     /// A diagnostic on stderr, unless --quiet.
@@ -141,14 +149,107 @@ impl Output {
 
     /// A progress bar over `len` steps, or a hidden one when progress is not shown.
     pub fn bar(&self, len: u64, message: &str) -> ProgressBar {
+        let style =
+            ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").expect("valid template").progress_chars("=> ");
+        self.drawn(Some(len), style, message)
+    }
+}
+
+/// The terminal's width in columns: `COLUMNS` when set (as `ls` and `ps` take it), else
+/// what the terminal says.
+fn terminal_width() -> Option<usize> {
+    let from_env = std::env::var("COLUMNS").ok().and_then(|c| c.trim().parse::<usize>().ok()).filter(|c| *c > 0);
+    from_env.or_else(|| Table::new().width().map(usize::from)).filter(|w| *w > 0)
+}
+
+/// Columns given up first when a table is wider than the terminal, least needed first:
+/// identity details that `--wide`, JSON or `sdo read` give, counts that the verdict
+/// column sums up. Columns not named here go only after these, from the right.
+const DROP_FIRST: &[&str] = &[
+    "revision",
+    "serial",
+    "product_code",
+    "vendor_id",
+    "device_type",
+    "error register",
+    "logged",
+    "emcy",
+    "mfr",
+    "from",
+    "source",
+    "raw",
+];
+
+/// A table as text: framed (a terminal) or plain aligned columns; with `wrap_to`, plain
+/// with its cells wrapped so that its lines fit that width where they can.
+fn render(headers: &[&str], rows: &[Vec<String>], framed: bool, wrap_to: Option<usize>) -> String {
+    let mut t = Table::new();
+    t.load_preset(if framed { presets::UTF8_FULL_CONDENSED } else { presets::NOTHING });
+    if let Some(width) = wrap_to {
+        t.set_content_arrangement(comfy_table::ContentArrangement::Dynamic);
+        t.set_width(u16::try_from(width).unwrap_or(u16::MAX));
+    }
+    t.set_header(headers.to_vec());
+    for r in rows {
+        // Cells hold what devices and files say: nothing in them may drive the terminal.
+        t.add_row(r.iter().map(|c| terminal_safe(c).into_owned()).collect::<Vec<_>>());
+    }
+    t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect()
+}
+
+/// The table framed if that fits `width`, else plain, with the columns of [`DROP_FIRST`]
+/// dropped until it fits, and if it still does not, its cells wrapped to the width (a
+/// result in words is not dropped); and the headers of the columns dropped.
+fn fitted(headers: &[&str], rows: &[Vec<String>], width: usize) -> (String, Vec<String>) {
+    let fits = |text: &str| text.lines().all(|l| l.chars().count() <= width);
+    let framed = render(headers, rows, true, None);
+    if fits(&framed) {
+        return (framed, Vec::new());
+    }
+    let mut kept: Vec<usize> = (0..headers.len()).collect();
+    loop {
+        let shown: Vec<&str> = kept.iter().map(|&i| headers[i]).collect();
+        let cells: Vec<Vec<String>> =
+            rows.iter().map(|r| kept.iter().map(|&i| r.get(i).cloned().unwrap_or_default()).collect()).collect();
+        let hidden = || (0..headers.len()).filter(|i| !kept.contains(i)).map(|i| headers[i].to_string()).collect();
+        let plain = render(&shown, &cells, false, None);
+        if fits(&plain) {
+            return (plain, hidden());
+        }
+        match DROP_FIRST.iter().find_map(|d| kept.iter().position(|&i| i > 0 && headers[i] == *d)) {
+            Some(at) => {
+                kept.remove(at);
+            }
+            None => return (render(&shown, &cells, false, Some(width)), hidden()),
+        }
+    }
+}
+
+impl Output {
+    /// A line saying where slow work stands, its message changed as it moves on, or a
+    /// hidden one when progress is not shown.
+    pub fn status(&self, message: &str) -> ProgressBar {
+        self.drawn(None, ProgressStyle::with_template("{msg}").expect("valid template"), message)
+    }
+
+    /// A count of bytes moved whose total is not known beforehand (an SDO upload), or a
+    /// hidden one when progress is not shown. It appears once the first bytes move.
+    pub fn counter(&self, message: &str) -> ProgressBar {
+        let style = ProgressStyle::with_template("{msg}: {bytes} ({bytes_per_sec})").expect("valid template");
+        self.drawn(None, style, message)
+    }
+
+    /// A progress display on stderr, or a hidden one when progress is not shown. Made
+    /// hidden and then pointed at stderr: a message set on a bar that draws would draw it
+    /// at once, outside a MultiProgress it is about to join, a line left on the screen.
+    fn drawn(&self, len: Option<u64>, style: ProgressStyle, message: &str) -> ProgressBar {
         if !self.progress {
             return ProgressBar::hidden();
         }
-        let bar = ProgressBar::new(len);
-        bar.set_style(
-            ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").expect("valid template").progress_chars("=> "),
-        );
+        let bar = ProgressBar::with_draw_target(len, indicatif::ProgressDrawTarget::hidden());
+        bar.set_style(style);
         bar.set_message(message.to_string());
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         bar
     }
 }
@@ -627,6 +728,26 @@ mod tests {
         assert!(x.contains("<testcase classname=\"node 6 (&apos;x&apos;)\" name=\"objects\">"), "{x}");
         assert!(x.contains("<failure message=\"1 &lt; 2\" type=\"difference\">bell \\x07 here</failure>"), "{x}");
         assert!(!x.contains('\u{7}'));
+    }
+
+    /// A scan's table at 80 columns: plain, identity details dropped until it fits; at 200 framed
+    /// and whole; at 10 the first column still stands.
+    #[test]
+    fn tables_are_fitted_to_the_width() {
+        let headers = ["node", "device_type", "vendor_id", "product_code", "revision", "serial", "name", "state"];
+        let row = ["5", "0x000A0196", "0x00000040", "0x43787800", "0x312E3031", "0x09501234", "C01", "pre-operational"];
+        let rows = vec![row.map(String::from).to_vec()];
+        let (text, hidden) = fitted(&headers, &rows, 80);
+        assert_eq!(hidden, ["revision"]);
+        assert!(!text.contains("0x312E3031") && text.lines().all(|l| l.chars().count() <= 80), "{text}");
+        assert!(text.starts_with(" node  device_type") && text.contains("pre-operational"), "{text}");
+        let (text, hidden) = fitted(&headers, &rows, 200);
+        assert!(hidden.is_empty() && text.starts_with('┌') && text.contains("0x09501234"), "{text}");
+        // Narrower still: the droppable columns go, then the cells wrap; nothing else goes.
+        let (text, hidden) = fitted(&headers, &rows, 24);
+        assert_eq!(hidden, ["device_type", "vendor_id", "product_code", "revision", "serial"]);
+        assert!(text.lines().all(|l| l.chars().count() <= 24), "{text}");
+        assert!(text.contains("C01") && text.contains("pre-"), "{text}");
     }
 
     #[test]

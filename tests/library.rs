@@ -188,7 +188,10 @@ fn a_scan_finds_the_demo_network_with_identities_and_states() {
     assert_eq!(json["nodes"][1]["state"], "pre-operational");
     assert_eq!(json["lss_configuration"]["devices"], serde_json::json!([]));
     let seen = SeenNode::from_scan(&found);
-    assert_eq!(seen[1], SeenNode { node: 5, name: Some("C01".into()), vendor_id: Some(0x40) });
+    assert_eq!(
+        seen[1],
+        SeenNode { node: 5, name: Some("C01".into()), vendor_id: Some(0x40), device_type: Some(0x000A_0196) }
+    );
 }
 
 #[test]

@@ -489,6 +489,9 @@ impl<L: FrameLink> Bus for Master<L> {
     fn sees_traffic(&self) -> bool {
         true
     }
+    fn check_link(&mut self) -> Result<()> {
+        self.link.check()
+    }
 
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         // A link hands over frames already queued even past the deadline; on a bus that

@@ -52,6 +52,12 @@ pub trait FrameLink {
     fn close(&mut self) -> Result<()> {
         Ok(())
     }
+    /// After a silence (a scan no node answered): an error when the link itself reports
+    /// the bus unusable (an slcan adapter's status flags after frames nobody acknowledged:
+    /// a wrong bit rate, no termination), so that it is not taken for an empty bus.
+    fn check(&mut self) -> Result<()> {
+        Ok(())
+    }
     /// Whether this link switches its own bit rate when the devices do (CiA 305 "activate
     /// bit timing"): the simulated bus does; a CAN interface must be switched by its owner.
     fn follows_bit_rate_switch(&self) -> bool {
@@ -220,6 +226,12 @@ pub trait Bus {
     /// Whether this link shows the bus's own traffic (heartbeats, boot-ups, PDOs). An EPOS2
     /// answers commands only, so frames must be asked for with `request_frame`.
     fn sees_traffic(&self) -> bool;
+
+    /// After a silence: an error when the link reports the bus unusable (see
+    /// [`FrameLink::check`]); links that cannot tell say nothing.
+    fn check_link(&mut self) -> Result<()> {
+        Ok(())
+    }
 
     /// Whether the link itself follows an LSS bit-rate switch (see `FrameLink`).
     fn follows_bit_rate_switch(&self) -> bool {

@@ -86,6 +86,9 @@ impl Bus for Stoppable<'_> {
     fn sees_traffic(&self) -> bool {
         self.bus.sees_traffic()
     }
+    fn check_link(&mut self) -> Result<()> {
+        self.bus.check_link()
+    }
     fn follows_bit_rate_switch(&self) -> bool {
         self.bus.follows_bit_rate_switch()
     }

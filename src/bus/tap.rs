@@ -116,6 +116,9 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     fn sees_traffic(&self) -> bool {
         self.bus.sees_traffic()
     }
+    fn check_link(&mut self) -> Result<()> {
+        self.bus.check_link()
+    }
     fn follows_bit_rate_switch(&self) -> bool {
         self.bus.follows_bit_rate_switch()
     }

@@ -112,9 +112,13 @@ impl std::str::FromStr for BusAddr {
                 }
                 let kbit = match rate {
                     None => SLCAN_DEFAULT_KBIT,
-                    Some(r) => parse_kbit(r).filter(|k| crate::slcan::wire::bit_rate_code(*k).is_some()).ok_or_else(
-                        || usage(format!("'{r}' is not an slcan bit rate: use 10k 20k 50k 100k 125k 250k 500k 800k or 1M")),
-                    )?,
+                    Some(r) => {
+                        parse_kbit(r).filter(|k| crate::slcan::wire::bit_rate_code(*k).is_some()).ok_or_else(|| {
+                            usage(format!(
+                                "'{r}' is not an slcan bit rate: use 10k 20k 50k 100k 125k 250k 500k 800k or 1M"
+                            ))
+                        })?
+                    }
                 };
                 Ok(BusAddr::Slcan { port: port.to_string(), kbit })
             }
@@ -123,7 +127,8 @@ impl std::str::FromStr for BusAddr {
             ))),
             (iface, None) => Ok(BusAddr::SocketCan { iface: check_iface(iface).map_err(usage)? }),
             (other, Some(_)) => Err(usage(format!(
-                "unknown kind of bus '{other}'; use sim, socketcan:IFACE, slcan:PORT, epos2-rs232:PORT or epos2-usb:PORT"
+                "unknown kind of bus '{}'; use sim, socketcan:IFACE, slcan:PORT, epos2-rs232:PORT or epos2-usb:PORT",
+                crate::error::clipped(other)
             ))),
         }
     }
@@ -229,7 +234,7 @@ fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<NativePort> {
         .flow_control(serialport::FlowControl::None)
         .timeout(timeout)
         .open_native()
-        .map_err(|e| LinkError::Open { port: port.to_string(), error: e.into() })?;
+        .map_err(|e| open_error(port, e))?;
     // A pseudo-terminal (the simulator's device side) is opened again by every command;
     // the exclusive flag would outlive this process and lock the next one out.
     #[cfg(unix)]
@@ -239,10 +244,20 @@ fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<NativePort> {
     Ok(io)
 }
 
+/// Why a serial port did not open; a path that is no terminal (ENOTTY: `/dev/null`, a
+/// file) said to be no serial port, with the ones there are.
+fn open_error(port: &str, e: serialport::Error) -> Error {
+    #[cfg(unix)]
+    if e.description == nix::errno::Errno::ENOTTY.desc() {
+        return LinkError::NotSerialPort { port: port.to_string(), available: serial_ports() }.into();
+    }
+    LinkError::Open { port: port.to_string(), error: e.into() }.into()
+}
+
 /// Linux interface names: 1 to 15 bytes, no '/', no whitespace.
 fn check_iface(iface: &str) -> std::result::Result<String, String> {
     if iface.is_empty() || iface.len() > 15 || iface.contains(['/', ' ', '\t', ':']) {
-        return Err(format!("'{iface}' is not a network interface name (like can0 or vcan0)"));
+        return Err(format!("'{}' is not a network interface name (like can0 or vcan0)", crate::error::clipped(iface)));
     }
     Ok(iface.to_string())
 }

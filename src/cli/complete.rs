@@ -156,7 +156,13 @@ pub fn objects() -> Vec<CompletionCandidate> {
         }
     }
     let dicts = Dictionaries::load(&eds).unwrap_or_default();
-    let dict = dicts.for_node(node);
+    // Without an EDS, the built-in dictionary of the node's profile as the last scan saw it.
+    let seen = bus(&w).and_then(|b| cache::load(&b).into_iter().find(|n| n.node == node));
+    let profile = seen.and_then(|n| n.device_type).map(|t| (t & 0xFFFF) as u16);
+    let dict = match dicts.eds_for(node) {
+        Some(eds) => &eds.dict,
+        None => crate::od::builtin::dictionary(profile),
+    };
     let named: Vec<(&crate::od::Entry, String)> =
         dict.entries().map(|e| (e, dict.display_name(e.addr).unwrap_or_default())).collect();
     // A name is offered only where it stands for one object (array subs share theirs).

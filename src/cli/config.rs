@@ -143,6 +143,9 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
 }
 
 fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
+    if let Some(path) = &a.out {
+        crate::atomic::check_writable(path)?;
+    }
     let file_name =
         a.out.as_ref().map_or(String::new(), |p| p.file_name().unwrap_or_default().to_string_lossy().into_owned());
     let dictionary = ctx.dicts.eds_for(a.node).map(|e| (&e.dict, e.path.as_str()));
@@ -226,7 +229,25 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         force: a.force,
         dictionary: ctx.dicts.eds_for(a.node).map(|e| (e.dict.clone(), e.path.clone())),
     };
-    let report = config::apply(bus, a.node, &read_dcf(&a.file)?, &options)?;
+    let dcf = read_dcf(&a.file)?;
+    // Seconds of reads and writes on a slow device: counted on the terminal meanwhile.
+    let status = ctx.out.status(&format!("node {}: applying {}", a.node, a.file.display()));
+    let (mut reads, mut writes) = (0, 0);
+    let mut counted = crate::bus::tap::AfterSdo::new(bus, |kind, n| {
+        match kind {
+            crate::bus::tap::Transfer::Upload => reads = n,
+            crate::bus::tap::Transfer::Download => writes = n,
+            crate::bus::tap::Transfer::Nmt => {}
+        }
+        status.set_message(format!(
+            "node {}: applying {}: {reads} read(s), {writes} write(s)",
+            a.node,
+            a.file.display()
+        ));
+    });
+    let report = config::apply(&mut counted, a.node, &dcf, &options);
+    status.finish_and_clear();
+    let report = report?;
     ctx.out.report(&report)?;
     if report.failure.is_some() && a.dry_run {
         ctx.out.note("dry run: a real run would stop at the refused write above; nothing was written");

@@ -103,9 +103,15 @@ pub fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
     let pages = man_pages();
     match &args.out {
         Some(dir) => {
-            std::fs::create_dir_all(dir)?;
+            // Every failure names the path: "No such file or directory" alone says not which.
+            let output = |path: &Path, e: std::io::Error| crate::Error::Output {
+                path: path.display().to_string(),
+                why: e.to_string(),
+            };
+            std::fs::create_dir_all(dir).map_err(|e| output(dir, e))?;
             for (name, data) in &pages {
-                std::fs::write(dir.join(name), data)?;
+                let page = dir.join(name);
+                std::fs::write(&page, data).map_err(|e| output(&page, e))?;
             }
             ctx.out.note(&format!("{} man pages written to {}", pages.len(), dir.display()));
         }

@@ -32,6 +32,8 @@ pub struct HealthArgs {
     /// How long the bus must stay quiet after the last answer to the scan's probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
+    #[command(flatten)]
+    pub checks: super::CheckFormat,
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {

@@ -242,7 +242,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
         }
         LssCommand::Fastscan(a) => {
             no_node(a.node, "fastscan")?;
-            ctx.out.report(&lss::fastscan(bus, &a.pace.options(t), stop)?)?
+            ctx.out.report(&lss::fastscan_shown(bus, &a.pace.options(t), stop, &mut ctx.out.progress())?)?
         }
         LssCommand::Assign(a) => {
             no_node(a.node, "assign")?;

@@ -88,6 +88,10 @@ pub struct GlobalArgs {
     /// Trace every frame on stderr in candump notation; -vv also what each procedure does
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     pub verbose: u8,
+    /// Tables with every column even on a narrow terminal (they are fitted to its width
+    /// otherwise; pipes and files always get every column)
+    #[arg(long, global = true)]
+    pub wide: bool,
     /// No warnings, diagnostics or progress on stderr (errors still print)
     #[arg(short, long, global = true, conflicts_with = "verbose")]
     pub quiet: bool,
@@ -175,7 +179,25 @@ pub enum Command {
     Man(docs::ManArgs),
 }
 
+/// `--format` of the commands that check things, which also write JUnit XML. Their own
+/// argument, so that only their help and completion offer `junit`; the global `--format`
+/// (before the command) takes it too, and the other commands refuse it.
+#[derive(Args, Debug)]
+pub struct CheckFormat {
+    /// Output format: human, json, csv, or junit (one JUnit test case per node and check,
+    /// for CI systems) [default: human]
+    #[arg(long = "format", id = "format", value_name = "FORMAT", value_parser = check_formats())]
+    pub format: Option<FormatArg>,
+}
+
+fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
+    use clap::{builder::TypedValueParser as _, ValueEnum};
+    clap::builder::PossibleValuesParser::new(["human", "json", "csv", "junit"])
+        .map(|s| FormatArg::from_str(&s, false).expect("every listed format is a FormatArg"))
+}
+
 pub use crate::settings::{number_in, parse_duration, parse_node, parse_timeout, DEFAULT_TIMEOUT};
+
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
 pub struct Ctx {
@@ -240,9 +262,9 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     let frame_log = global.frame_log()?;
     let mut bus = open_bus(ctx, frame_log.clone())?;
     interrupt::opened();
-    let result = f(bus.as_mut());
+    let result = f(bus.as_mut()).map_err(|e| with_hint(ctx, bus.as_mut(), e));
     let closed = bus.close();
-    result.map_err(|e| with_hint(ctx, e))?;
+    result?;
     closed?;
     if let Some(log) = frame_log {
         log.finish()?;
@@ -251,14 +273,26 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 }
 
 /// A node that did not answer: say which nodes the last scan of this bus saw. An object
-/// the node does not have: name the dictionary's objects nearest to it.
-fn with_hint(ctx: &Ctx, e: anyhow::Error) -> anyhow::Error {
+/// the node does not have: name the dictionary's objects nearest to it that the node has
+/// (each asked for once: the dictionary may list objects this node lacks, as a TPDO2).
+fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
         (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => crate::ops::scan_cache::hint(bus),
-        (Some(Error::SdoAbort { node, obj, code: NO_OBJECT | NO_SUBINDEX }), _) => {
-            let near = ctx.dicts.near(*node, *obj);
+        (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
+            // Whether the node has it, not its value: a large one is not read whole.
+            let opts = crate::bus::SdoOptions { max_upload: 64, ..crate::bus::SdoOptions::new(ctx.timeout) };
+            let lacks = |r: crate::Result<Vec<u8>>| {
+                matches!(r, Err(Error::SdoAbort { code: NO_OBJECT | NO_SUBINDEX, .. } | Error::NoAnswer { .. }))
+            };
+            let near: Vec<String> = ctx
+                .dicts
+                .near(*node, *obj, *code == NO_OBJECT)
+                .into_iter()
+                .filter(|a| !lacks(bus.sdo_upload(*node, *a, &opts)))
+                .map(|a| ctx.dicts.label(*node, a))
+                .collect();
             if near.is_empty() {
                 return e;
             }
@@ -278,15 +312,25 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
     let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
+    let format = match &cli.command {
+        Command::Network(network::NetworkCommand::Check(a)) => a.checks.format,
+        Command::Health(a) => a.checks.format,
+        _ => None,
+    }
+    .unwrap_or(g.format);
+    let mut out = Output::for_arg(format, g.quiet);
+    if g.wide {
+        out.fit = None;
+    }
     let ctx = Ctx {
-        out: Output::for_arg(g.format, g.quiet),
+        out,
         timeout: settings.timeout.value,
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
         cancel: interrupt::install(),
     };
     let checks = matches!(cli.command, Command::Network(network::NetworkCommand::Check(_)) | Command::Health(_));
-    if g.format == FormatArg::Junit && !checks {
+    if format == FormatArg::Junit && !checks {
         return Err(Error::Usage(
             "--format junit is for commands that check things: canctl network check, canctl health; use human, json or csv here"
                 .into(),

@@ -72,6 +72,8 @@ pub struct CheckArgs {
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
+    #[command(flatten)]
+    pub checks: super::CheckFormat,
 }
 
 /// Make the bus as a network project says: only what differs is written, verified, stored
@@ -243,6 +245,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         net_name: a.net_name.clone(),
         baudrate_kbit: a.bit_rate,
     };
+    check_folder(&a.dir)?;
     let dumped = network::dump(bus, &options, &mut ctx.out.progress())?;
     std::fs::create_dir_all(&a.dir).map_err(|e| Error::Output {
         path: a.dir.display().to_string(),
@@ -254,6 +257,21 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     }
     ctx.out.report(&DumpReport { dumped: &dumped, dir: &a.dir })?;
     Ok(())
+}
+
+/// Whether the project can be written into `dir`, asked before the bus is read: in `dir`
+/// when it exists, else where its first missing folder would be made.
+fn check_folder(dir: &Path) -> crate::Result<()> {
+    let mut probe = dir.join("nodelist.cpj");
+    let mut at = dir;
+    while !at.exists() {
+        probe = at.to_path_buf();
+        match at.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => at = parent,
+            _ => break,
+        }
+    }
+    crate::atomic::check_writable(&probe)
 }
 
 fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {

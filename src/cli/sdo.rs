@@ -116,8 +116,18 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()>
 
 fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
+    if let Some(path) = &a.out {
+        crate::atomic::check_writable(path)?;
+    }
     let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
-    let read = match sdo::read(bus, ctx.dicts.for_node(a.node), a.node, object, &o) {
+    let bar = ctx.out.counter(&format!("node {}: reading {object}", a.node));
+    let shown = bar.clone();
+    let watch: crate::bus::TransferHook = std::sync::Arc::new(move |bytes| shown.set_position(bytes as u64));
+    // Only when shown: a hook given here takes the place of one the bus was given.
+    let watch = ctx.out.progress.then_some(watch);
+    let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, watch);
+    bar.finish_and_clear();
+    let read = match read {
         Err(e) => return stopped(ctx, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e),
         Ok(read) => read,
     };

@@ -49,21 +49,30 @@ pub fn find(dict: &Dictionary, name: &str) -> Result<ObjAddr, String> {
     }
 }
 
-/// Up to three names nearest to `want` (normalized), by edit distance.
+/// Up to three names nearest to `want` (normalized): the names it is a word of first
+/// (`heartbeat` finds ProducerHeartbeatTime), shortest first, then by edit distance.
 fn closest(dict: &Dictionary, want: &str) -> Vec<String> {
-    let mut scored: Vec<(usize, String)> = dict
+    let mut scored: Vec<(bool, usize, ObjAddr, String)> = dict
         .entries()
         .filter_map(|e| {
-            dict.display_name(e.addr).map(|n| (distance(&normalize(&n), want), format!("'{n}' ({})", e.addr)))
+            let n = dict.display_name(e.addr)?;
+            let norm = normalize(&n);
+            // A part of a name: scored by how much of the name is left unsaid.
+            let (part, score) = match norm.contains(want) && want.len() >= 4 {
+                true => (true, norm.len() - want.len()),
+                false => (false, distance(&norm, want)),
+            };
+            (part || score <= want.len() / 3 + 1).then_some((!part, score, e.addr, n))
         })
-        .filter(|(d, _)| *d <= want.len() / 3 + 1)
         .collect();
     scored.sort();
-    scored.dedup();
-    scored.into_iter().take(3).map(|(_, n)| n).collect()
+    // Sub-indexes that share their object's name (0x1016:1, :2, ...): the first stands for all.
+    scored.dedup_by(|b, a| a.3 == b.3);
+    scored.into_iter().take(3).map(|(_, _, addr, n)| format!("'{n}' ({addr})")).collect()
 }
 
-fn distance(a: &str, b: &str) -> usize {
+/// Edit distance (Levenshtein) between two words.
+pub(crate) fn distance(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
     let mut row: Vec<usize> = (0..=b.len()).collect();
     for (i, ca) in a.chars().enumerate() {
@@ -78,12 +87,24 @@ fn distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
+/// Objects of `dict` near one a device says it does not have, named, at most five: see
+/// [`near_addrs`].
+pub fn near(dict: &Dictionary, addr: ObjAddr, object_missing: bool) -> Vec<String> {
+    near_addrs(dict, addr, object_missing).into_iter().map(|a| label(dict, a)).collect()
+}
+
+/// `0x1017:0 (Producer heartbeat time)`, or the address alone for an object without a name.
+pub fn label(dict: &Dictionary, a: ObjAddr) -> String {
+    dict.display_name(a).map_or_else(|| a.to_string(), |n| format!("{a} ({n})"))
+}
+
 /// Objects of `dict` near one a device says it does not have: the other sub-indexes of that
-/// object, else objects whose index is one hex digit off or has two neighbouring digits
-/// swapped (0x1081 for 0x1018). Named, at most five.
-pub fn near(dict: &Dictionary, addr: ObjAddr) -> Vec<String> {
+/// object (unless the device lacks the whole object, `object_missing`: abort 0x06020000),
+/// else objects whose index is one hex digit off or has two neighbouring digits swapped
+/// (0x1081 for 0x1018). At most five.
+pub fn near_addrs(dict: &Dictionary, addr: ObjAddr, object_missing: bool) -> Vec<ObjAddr> {
     let mut near: Vec<ObjAddr> =
-        dict.entries().map(|e| e.addr).filter(|a| a.index == addr.index && *a != addr).collect();
+        dict.entries().map(|e| e.addr).filter(|a| !object_missing && a.index == addr.index && *a != addr).collect();
     if near.is_empty() {
         let mut indexes: Vec<u16> = dict.entries().map(|e| e.addr.index).filter(|i| one_slip(*i, addr.index)).collect();
         indexes.dedup();
@@ -92,10 +113,8 @@ pub fn near(dict: &Dictionary, addr: ObjAddr) -> Vec<String> {
             .map(|i| ObjAddr::new(i, if dict.get(ObjAddr::new(i, addr.sub)).is_some() { addr.sub } else { 0 }))
             .collect();
     }
-    near.into_iter()
-        .take(5)
-        .map(|a| dict.display_name(a).map_or_else(|| a.to_string(), |n| format!("{a} ({n})")))
-        .collect()
+    near.truncate(5);
+    near
 }
 
 /// Whether two indexes differ by one hex digit, or by two neighbouring digits swapped.

@@ -38,13 +38,13 @@ impl Dcf {
 
     /// Read a DCF file; an unreadable one is a usage error citing file:line.
     pub fn read(path: &Path) -> Result<Dcf> {
-        let eds = crate::od::read_description(path).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        let eds = crate::od::read_description(path)?;
         Ok(Dcf { eds })
     }
 
     /// A DCF's text; `name` stands for its file in messages.
     pub fn parse(bytes: &[u8], name: &str) -> Result<Dcf> {
-        let eds = crate::od::parse_description(bytes, name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        let eds = crate::od::parse_description(bytes, name)?;
         Ok(Dcf { eds })
     }
 
@@ -113,6 +113,15 @@ fn read_one(bus: &mut dyn Bus, node: u8, e: &Entry, timeout: Duration) -> Result
 /// product code the file names must be the device's (exit 6 otherwise, before anything is
 /// written). A file that names neither is applied anywhere.
 fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<()> {
+    let differ = identity_differences(bus, node, dcf, timeout)?;
+    if differ.is_empty() {
+        return Ok(());
+    }
+    Err(Error::OtherDevice { file: dcf.path().to_string(), differences: differ })
+}
+
+/// Where the device's vendor-ID and product code are not the ones the file names, in words.
+fn identity_differences(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Vec<String>> {
     let (vendor, product) = dcf.identity();
     let mut differ = Vec::new();
     for (what, want, sub) in [("vendor-ID", vendor, 1), ("product code", product, 2)] {
@@ -129,10 +138,7 @@ fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> 
             differ.push(format!("{what} {got} on node {node}, 0x{want:08X} in the file"));
         }
     }
-    if differ.is_empty() {
-        return Ok(());
-    }
-    Err(Error::OtherDevice { file: dcf.path().to_string(), differences: differ })
+    Ok(differ)
 }
 
 /// A value the target's dictionary does not allow, refused before anything is written.
@@ -289,6 +295,10 @@ pub struct Diff {
     /// Objects of the file not compared, when interrupted.
     #[serde(skip_serializing_if = "is_zero")]
     pub not_compared: usize,
+    /// The file is for another kind of device: where the device's identity (vendor-ID,
+    /// product code) is not the file's, as `config apply` would refuse it.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub other_device: Vec<String>,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -334,7 +344,8 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             Err(Error::SdoAbort { code, .. }) => format!("({})", abort::meaning(code)),
             Err(e) if e.is_interrupted() => {
                 let (file, not_compared) = (dcf.path().to_string(), readable.len() - i);
-                return Ok(Diff { node, file, same, differences, interrupted: true, not_compared });
+                let other_device = Vec::new();
+                return Ok(Diff { node, file, same, differences, interrupted: true, not_compared, other_device });
             }
             Err(e) => return Err(e),
         };
@@ -345,7 +356,14 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             file: show(entry, want),
         });
     }
-    Ok(Diff { node, file: dcf.path().to_string(), same, differences, interrupted: false, not_compared: 0 })
+    // Last, so that a comparison stopped part-way has compared all it could: whether the
+    // file is for this kind of device at all (config apply refuses one that is not).
+    let (file, not_compared) = (dcf.path().to_string(), 0);
+    let (interrupted, other_device) = match identity_differences(bus, node, dcf, timeout) {
+        Err(e) if e.is_interrupted() => (true, Vec::new()),
+        other => (false, other?),
+    };
+    Ok(Diff { node, file, same, differences, interrupted, not_compared, other_device })
 }
 
 /// One write of the plan.
@@ -830,7 +848,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     // An object the device lacks: the nearest ones it may have meant, from its own
     // dictionary (not the file's, which may describe another kind of device).
     let did_you_mean = match &failure {
-        Some(Error::SdoAbort { obj, code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => names::near(&target, *obj),
+        Some(Error::SdoAbort { obj, code: code @ (abort::NO_OBJECT | abort::NO_SUBINDEX), .. }) => {
+            names::near(&target, *obj, *code == abort::NO_OBJECT)
+        }
         _ => Vec::new(),
     };
     rows.extend(rollback_rows);

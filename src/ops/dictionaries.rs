@@ -40,7 +40,7 @@ impl Dictionaries {
     pub fn load(args: &[EdsFile]) -> Result<Dictionaries, Error> {
         let mut files = Vec::new();
         for a in args {
-            let eds = crate::od::read_description(&a.path).map_err(|e| Error::Usage(format!("cannot use EDS {e}")))?;
+            let eds = crate::od::read_description(&a.path)?;
             files.push((a.node, eds));
         }
         Ok(Dictionaries { files })
@@ -82,9 +82,15 @@ impl Dictionaries {
         Ok((addr, dict.get(addr)))
     }
 
-    /// Objects of the node's dictionary near one the node says it does not have.
-    pub fn near(&self, node: u8, addr: ObjAddr) -> Vec<String> {
-        names::near(self.for_node(node), addr)
+    /// Objects of the node's dictionary near one the node says it does not have
+    /// ([`names::near_addrs`]): candidates, which only the node can confirm.
+    pub fn near(&self, node: u8, addr: ObjAddr, object_missing: bool) -> Vec<ObjAddr> {
+        names::near_addrs(self.for_node(node), addr, object_missing)
+    }
+
+    /// An object's address and name in the node's dictionary.
+    pub fn label(&self, node: u8, addr: ObjAddr) -> String {
+        names::label(self.for_node(node), addr)
     }
 }
 
@@ -104,17 +110,18 @@ mod tests {
     #[test]
     fn near_misses_are_suggested() {
         let d = Dictionaries::default();
-        let near = d.near(1, ObjAddr::new(0x1081, 1));
+        let near: Vec<String> = d.near(1, ObjAddr::new(0x1081, 1), true).into_iter().map(|a| d.label(1, a)).collect();
         assert!(
             near[0].starts_with("0x1001:0")
                 || near.iter().any(|n| n.starts_with("0x1018:1 (Identity object: Vendor-ID)")),
             "{near:?}"
         );
         assert!(near.iter().any(|n| n.starts_with("0x1018:1")), "{near:?}");
-        let subs = d.near(1, ObjAddr::new(0x1018, 7));
-        assert_eq!(subs.len(), 5, "{subs:?}");
-        assert!(subs[0].starts_with("0x1018:0") && subs[4].starts_with("0x1018:4"), "{subs:?}");
-        assert!(d.near(1, ObjAddr::new(0x7777, 0)).is_empty());
+        let subs = d.near(1, ObjAddr::new(0x1018, 7), false);
+        assert_eq!(subs, (0..5).map(|s| ObjAddr::new(0x1018, s)).collect::<Vec<_>>());
+        assert!(d.near(1, ObjAddr::new(0x7777, 0), false).is_empty());
+        // A node without object 0x1801 at all is not offered its other sub-indexes.
+        assert!(d.near(5, ObjAddr::new(0x1801, 1), true).iter().all(|a| a.index != 0x1801));
     }
 
     #[test]

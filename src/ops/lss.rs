@@ -365,6 +365,10 @@ const EPOS2_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
 const EPOS2_CAN_BIT_RATE: ObjAddr = ObjAddr::new(0x2001, 0);
 const STORE_ALL: ObjAddr = ObjAddr::new(0x1010, 1);
 
+/// What makes a node-id or bit rate written to an EPOS2 its own.
+const EPOS2_TAKES_EFFECT: &str =
+    "in force only after `canctl lss store --node 0` and a power cycle of the EPOS2 (until then it keeps the old one)";
+
 /// set-id, set-baud and store on an EPOS2 reached directly: its own objects.
 fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting) -> Result<String> {
     let opts = SdoOptions::new(timeout);
@@ -373,7 +377,10 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
             Err(Error::Usage("an EPOS2 always has a node-id (1 to 127); 255 is for LSS devices".into()))
         }
         Setting::NodeId(id) => {
-            bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts).map(|_| format!("node-id {id} (object 0x2000)"))
+            // The EPOS2 reads 0x2000 and 0x2001 at power-on only: the new value is a
+            // stored parameter, not a change of the running device.
+            bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts)
+                .map(|_| format!("node-id {id} written to object 0x2000; {EPOS2_TAKES_EFFECT}"))
         }
         Setting::BitRate(index) => {
             let code = epos2_bit_rate_code(index).ok_or_else(|| {
@@ -382,8 +389,12 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
                     lss::bit_rate_name(index)
                 ))
             })?;
-            bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts)
-                .map(|_| format!("CAN bit rate {} (object 0x2001 = {code})", lss::bit_rate_name(index)))
+            bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts).map(|_| {
+                format!(
+                    "CAN bit rate {} written to object 0x2001 (= {code}); {EPOS2_TAKES_EFFECT}",
+                    lss::bit_rate_name(index)
+                )
+            })
         }
         Setting::Store => {
             bus.sdo_download(0, STORE_ALL, b"save", &opts).map(|_| "parameters stored (0x1010:1)".to_string())
@@ -515,12 +526,37 @@ fn fastscan_error(error: FastscanError, pace: &Pace) -> Error {
     Error::Fastscan { error, step: pace.longest_step() }
 }
 
+/// Fastscan requests for one identity when all goes well: a reset, then 32 bits and a
+/// confirmation for each part not given, one request for each part given. A bar's length,
+/// not a limit: a search that has to slow down takes more.
+fn fastscan_steps(given: [Option<u32>; 4]) -> u64 {
+    1 + given.iter().map(|g| if g.is_some() { 1 } else { 33 }).sum::<u64>()
+}
+
 /// Find the identity of one device without a node-id, bit by bit. The device found is
 /// sent back to waiting state, unchanged.
 pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &Cancel) -> Result<Found> {
+    fastscan_shown(bus, o, interrupted, &mut super::Silent)
+}
+
+/// [`fastscan`], each request a step on `progress` (the search takes 13 s on slow devices).
+pub fn fastscan_shown(
+    bus: &mut dyn Bus,
+    o: &FastscanOptions,
+    interrupted: &Cancel,
+    progress: &mut dyn Progress,
+) -> Result<Found> {
     let start = Instant::now();
     let mut m = LssMaster::new(bus, o.timeout);
-    let result = m.fastscan(o.pace(), o.given(), &mut || !interrupted.is_cancelled());
+    let len = fastscan_steps(o.given());
+    progress.start("fastscan", len);
+    let mut sent = 0;
+    let result = m.fastscan(o.pace(), o.given(), &mut || {
+        sent += 1;
+        progress.advance(sent.min(len));
+        !interrupted.is_cancelled()
+    });
+    progress.finish();
     // The device found is in configuration state: whatever happened, every device goes
     // back to waiting, unchanged.
     let left = m.leave();
@@ -635,8 +671,12 @@ fn ids_in_use(
                 (Duration::from_millis(longest as u64) * 3 / 2).clamp(LISTEN, LISTEN_CEILING)
             }
         };
-        let end = Instant::now() + listen;
-        while bus.recv_frame(end)?.is_some() && !interrupted.is_cancelled() {}
+        let (begun, end) = (Instant::now(), Instant::now() + listen);
+        progress.start("listening for node-ids in use", listen.as_millis() as u64);
+        while bus.recv_frame(end)?.is_some() && !interrupted.is_cancelled() {
+            progress.advance(begun.elapsed().as_millis() as u64);
+        }
+        progress.finish();
     }
     used.extend(bus.observed().node_ids());
     Ok(used)
@@ -655,15 +695,34 @@ pub fn assign(
     // Node-ids already in use: new ones must not collide.
     let used = ids_in_use(bus, timeout, o.listen, progress, interrupted)?;
     let in_use_before: Vec<u8> = used.iter().copied().collect();
+    // Each device sought is a bar of fastscan requests (14 s each on slow devices).
+    let len = fastscan_steps(o.fastscan.given());
+    let (shown, sent, found) = (std::cell::RefCell::new(progress), std::cell::Cell::new(0), std::cell::Cell::new(0));
     let outcome = LssMaster::new(bus, timeout).assign(
         o.start,
         used,
         o.fastscan.pace(),
         o.fastscan.given(),
         o.store,
-        &mut || !interrupted.is_cancelled(),
-        &mut |d| progress.note(&format!("{} -> node {}", d.identity, d.node)),
-    )?;
+        &mut || {
+            let mut progress = shown.borrow_mut();
+            if sent.get() == 0 {
+                progress.start(&format!("fastscan for device {}", found.get() + 1), len);
+            }
+            sent.set(sent.get() + 1);
+            progress.advance(sent.get().min(len));
+            !interrupted.is_cancelled()
+        },
+        &mut |d| {
+            let mut progress = shown.borrow_mut();
+            progress.finish();
+            sent.set(0);
+            found.set(found.get() + 1);
+            progress.note(&format!("{} -> node {}", d.identity, d.node));
+        },
+    );
+    shown.borrow_mut().finish();
+    let outcome = outcome?;
     let failure = if outcome.interrupted || interrupted.is_cancelled() {
         Some(Error::Interrupted)
     } else {

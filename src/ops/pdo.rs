@@ -209,6 +209,12 @@ pub fn read_layouts(
         let cob = match read_u32(bus, node, ObjAddr::new(comm, 1), timeout) {
             Ok(c) => c,
             Err(Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) if skip_missing => continue,
+            // Said as what it means, not as an abort on an object the user never named.
+            Err(Error::SdoAbort { code: abort::NO_OBJECT, .. }) => {
+                return Err(Error::Usage(format!(
+                    "node {node} has no TPDO{n} (no object 0x{comm:04X}); without --tpdo, every TPDO it has is streamed"
+                )))
+            }
             Err(e) => return Err(e),
         };
         if cob & 0x8000_0000 != 0 {

@@ -164,6 +164,10 @@ fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn P
             Err(e) => progress.note(&format!("warning: node {node}: {e}")),
         }
     }
+    if found.is_empty() && !stopped {
+        // No node at all: an adapter at the wrong bit rate sees exactly that, and may say so.
+        bus.check_link()?;
+    }
     Ok((found, stopped))
 }
 

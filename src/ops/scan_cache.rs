@@ -10,6 +10,10 @@ pub struct SeenNode {
     pub node: u8,
     pub name: Option<String>,
     pub vendor_id: Option<u32>,
+    /// 0x1000: its profile picks the built-in dictionary that completion offers objects
+    /// from (a DS406 sensor is not offered a drive's objects). Absent in older caches.
+    #[serde(default)]
+    pub device_type: Option<u32>,
 }
 
 fn dir() -> Option<PathBuf> {
@@ -42,7 +46,13 @@ pub(crate) fn network_file(kind: &str, bus: &str) -> Option<PathBuf> {
 impl SeenNode {
     /// What completion and hints keep of each node a scan found.
     pub fn from_scan(scan: &super::scan::Scan) -> Vec<SeenNode> {
-        scan.nodes.iter().map(|n| SeenNode { node: n.node, name: n.name.clone(), vendor_id: n.vendor_id }).collect()
+        let seen = |n: &super::scan::Node| SeenNode {
+            node: n.node,
+            name: n.name.clone(),
+            vendor_id: n.vendor_id,
+            device_type: n.device_type,
+        };
+        scan.nodes.iter().map(seen).collect()
     }
 }
 

@@ -115,11 +115,25 @@ fn sdo_options(timeout: Duration, dtype: Option<DataType>, block: bool) -> SdoOp
 
 /// Read `object` from `node`, decoded by the type asked for, else the dictionary's.
 pub fn read(bus: &mut dyn Bus, dict: &Dictionary, node: u8, object: ObjAddr, o: &ReadOptions) -> Result<Read> {
+    read_watched(bus, dict, node, object, o, None)
+}
+
+/// [`read`], `watch` told the bytes received so far as a segmented or block upload moves
+/// on (64 KiB take seconds): for a progress display.
+pub fn read_watched(
+    bus: &mut dyn Bus,
+    dict: &Dictionary,
+    node: u8,
+    object: ObjAddr,
+    o: &ReadOptions,
+    watch: Option<crate::bus::TransferHook>,
+) -> Result<Read> {
     let entry = dict.get(object);
     let dtype = o.dtype.or(entry.map(|e| e.dtype));
     let name = entry.and_then(|_| dict.display_name(object));
     let mut opts = sdo_options(o.timeout, dtype, o.block);
     opts.max_upload = o.max_size.unwrap_or(opts.max_upload);
+    opts.on_progress = watch;
     let bytes = bus.sdo_upload(node, object, &opts)?;
     let value = match dtype {
         Some(t) => Some(t.decode(&bytes).ok_or_else(|| {

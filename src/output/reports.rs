@@ -118,6 +118,13 @@ impl Report for Diff {
             self.file,
             self.same
         )];
+        if !self.other_device.is_empty() {
+            notes.push(format!(
+                "warning: {} is for another device ({}); config apply refuses it without --force",
+                self.file,
+                self.other_device.join(", ")
+            ));
+        }
         if self.interrupted {
             notes.push(format!(
                 "diff interrupted, incomplete: {} object(s) not compared; nothing was changed on the device",
@@ -134,15 +141,27 @@ impl Report for Applied {
             .objects
             .iter()
             .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.clone()]);
-        let when_empty = !self.interrupted;
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty }
+        if self.objects.is_empty() && !self.interrupted {
+            // A header over no rows says nothing: say so in words.
+            return Human::Line(format!("nothing to change: node {} already matches {}", self.node, self.file));
+        }
+        Human::Table {
+            headers: vec!["object", "name", "old", "new", "result"],
+            rows: rows.collect(),
+            when_empty: false,
+        }
+    }
+
+    fn csv(&self) -> Human {
+        let rows = self
+            .objects
+            .iter()
+            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.clone()]);
+        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty: true }
     }
 
     fn notes(&self) -> Vec<String> {
         let mut notes = Vec::new();
-        if self.objects.is_empty() && !self.interrupted {
-            notes.push(format!("node {} already matches {}", self.node, self.file));
-        }
         if self.stored {
             notes.push(format!("node {}: parameters stored (0x1010:1)", self.node));
         }

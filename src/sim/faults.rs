@@ -174,6 +174,23 @@ impl From<FaultSpec> for String {
     }
 }
 
+/// Why a fault concerns none of `devices` (model key, node-id), if one does not: a fault
+/// for node 99 on a network without it would be accepted and never fire.
+pub fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) -> Option<String> {
+    let fault = faults.iter().find(|f| !devices.iter().any(|(key, node)| f.applies_to(key, *node)))?;
+    let nodes: Vec<String> = devices.iter().filter_map(|(_, n)| n.map(|n| n.to_string())).collect();
+    let keys: Vec<&str> = devices.iter().map(|(k, _)| k.as_str()).collect();
+    Some(format!(
+        "--fault {fault}: no device on the sim network is {}; node-ids: {}; model keys: {}",
+        match &fault.target {
+            Target::Node(n) => format!("node {n}"),
+            Target::Model(m) => format!("'{m}'"),
+        },
+        nodes.join(", "),
+        keys.join(", ")
+    ))
+}
+
 impl FaultSpec {
     fn applies_to(&self, model: &str, node: Option<u8>) -> bool {
         match &self.target {

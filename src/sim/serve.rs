@@ -41,6 +41,13 @@ pub struct Reset {
 
 /// Forget the saved state at `path`: from now on the devices start as `config` builds them.
 pub fn reset(path: &Path, config: &SimConfig) -> Result<Reset> {
+    let devices: Vec<(String, Option<u8>)> = super::profiles::demo_network_with(config.unconfigured)
+        .into_iter()
+        .map(|(model, node)| (model.key, node))
+        .collect();
+    if let Some(why) = super::faults::unmatched(&config.faults, &devices) {
+        return Err(Error::Usage(why));
+    }
     StateFile::lock(path)?.start_fresh(config)?;
     Ok(Reset {
         reset: true,

@@ -32,7 +32,15 @@ pub struct SlcanAdapter {
     faults: Vec<Fault>,
     /// Lines from the host so far, for `--fault KIND@N`.
     count: u64,
+    /// Status flags since the host last asked ('F' reads and clears them, as on a Lawicel
+    /// adapter): a frame sent at another rate than the bus's is acknowledged by nobody,
+    /// and the controller counts its way to error passive.
+    flags: u8,
 }
+
+/// What an SJA1000-based adapter reports after sending at the wrong bit rate: error
+/// warning, error passive and bus error (the frame is never acknowledged).
+const WRONG_RATE_FLAGS: u8 = 1 << 2 | 1 << 5 | 1 << 7;
 
 impl SlcanAdapter {
     /// A new pty; `bus_kbit` is the sim network's bit rate.
@@ -51,6 +59,7 @@ impl SlcanAdapter {
             rx: VecDeque::new(),
             faults,
             count: 0,
+            flags: 0,
         })
     }
 
@@ -93,7 +102,7 @@ impl SlcanAdapter {
                 self.open = false;
                 Message::Ok
             }
-            Ok(Some(Command::Status)) => Message::Status(Status(0)),
+            Ok(Some(Command::Status)) => Message::Status(Status(std::mem::take(&mut self.flags))),
             Ok(Some(Command::Version)) => Message::Version("1013".into()),
             Ok(Some(Command::Serial)) => Message::Serial("SIM1".into()),
             Ok(Some(Command::Timestamps(on))) if !self.open => {
@@ -103,6 +112,8 @@ impl SlcanAdapter {
             Ok(Some(Command::Transmit(f))) if self.open => {
                 if self.on_bus() && fault != Some(FaultKind::Drop) {
                     self.rx.push_back(f);
+                } else if !self.on_bus() {
+                    self.flags |= WRONG_RATE_FLAGS;
                 }
                 Message::Sent
             }

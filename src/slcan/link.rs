@@ -227,6 +227,10 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
         self.name.clone()
     }
 
+    fn check(&mut self) -> Result<()> {
+        self.check_bus()
+    }
+
     fn close(&mut self) -> Result<()> {
         if std::mem::take(&mut self.open) {
             self.command(Command::Close, "close the channel")?;
