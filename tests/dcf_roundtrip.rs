@@ -140,13 +140,18 @@ mod properties {
     }
 
     /// What the writer may refuse, and nothing else: strings that are not one line of
-    /// visible characters without blanks at the ends, and booleans other than 0 or 1.
+    /// visible characters without blanks at the ends, UNICODE_STRINGs that are not UTF-16,
+    /// and booleans other than 0 or 1.
     fn refusable(dtype: DataType, bytes: &[u8]) -> bool {
+        let not_one_line = |bytes: &[u8]| {
+            bytes.iter().any(|b| *b < 0x20 || *b == 0x7F) || bytes.first() == Some(&b' ') || bytes.last() == Some(&b' ')
+        };
         match dtype {
-            DataType::Vs => {
-                bytes.iter().any(|b| *b < 0x20 || *b == 0x7F)
-                    || bytes.first() == Some(&b' ')
-                    || bytes.last() == Some(&b' ')
+            DataType::Vs => not_one_line(bytes),
+            DataType::Unicode => {
+                let units: Vec<u16> =
+                    bytes.chunks(2).map(|c| u16::from_le_bytes([c[0], *c.get(1).unwrap_or(&0)])).collect();
+                bytes.len() % 2 == 1 || String::from_utf16(&units).map_or(true, |t| not_one_line(t.as_bytes()))
             }
             DataType::Bool => bytes[0] > 1,
             _ => false,
