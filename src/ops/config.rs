@@ -54,7 +54,7 @@ impl Dcf {
     }
 
     /// Objects the file describes in a way canctl passes over, with file:line.
-    pub fn warnings(&self) -> &[String] {
+    pub fn warnings(&self) -> &[crate::od::lint::Warning] {
         &self.eds.warnings
     }
 

@@ -1,0 +1,118 @@
+//! What a device description file says in a way the standard does not, as typed values any
+//! reader (EDS, DCF, XDD, XDC) can produce: where (file:line), which rule, and what the
+//! reader did with it. `canctl config check` lists them; other commands show them as
+//! warnings. The library never prints them.
+
+use serde::Serialize;
+use std::fmt;
+
+/// How much a deviation matters to someone using the file.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// Read as the file plainly meant it: nothing is lost.
+    Warning,
+    /// Something the file describes is not used (an object left out, a value ignored).
+    Error,
+}
+
+/// The kinds of deviation, each with the rule it breaks and whether anything is lost.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Kind {
+    LongLine,
+    RepeatedKey,
+    RepeatedSection,
+    InlineComment,
+    PlaceholderCommissioning,
+    MissingSubNumber,
+    SubNumberMismatch,
+    BadCompactSection,
+    BadDummyUsage,
+    /// An object (or one of its sub-entries) that could not be understood, left out.
+    ObjectLeftOut,
+    /// A key whose value could not be understood, ignored.
+    ValueIgnored,
+    /// The list was cut short.
+    MoreLeftOut,
+}
+
+impl Kind {
+    pub fn severity(self) -> Severity {
+        match self {
+            Kind::ObjectLeftOut | Kind::ValueIgnored | Kind::BadCompactSection => Severity::Error,
+            _ => Severity::Warning,
+        }
+    }
+
+    /// The rule of the standard the file does not follow, in a few words.
+    pub fn rule(self) -> &'static str {
+        match self {
+            Kind::LongLine => "CiA 306: a line holds at most 255 characters",
+            Kind::RepeatedKey => "CiA 306: a key appears once in its section",
+            Kind::RepeatedSection => "CiA 306: a section appears once in the file",
+            Kind::InlineComment => {
+                "CiA 306: a comment is a line of its own starting with ';'; a value is all text after '='"
+            }
+            Kind::PlaceholderCommissioning => {
+                "CiA 306: [DeviceComissioning] NodeID is 1..127 and BaudRate a CiA 301 bit rate"
+            }
+            Kind::MissingSubNumber => "CiA 306: an ARRAY or RECORD gives its number of sub-indexes in SubNumber",
+            Kind::SubNumberMismatch => "CiA 306: SubNumber is the number of [xxxxsubN] sections",
+            Kind::BadCompactSection => {
+                "CiA 306: [xxxxName]/[xxxxValue] list NrOfEntries entries of a CompactSubObj array"
+            }
+            Kind::BadDummyUsage => "CiA 306: [DummyUsage] holds Dummy0001..Dummy0007 = 0 or 1",
+            Kind::ObjectLeftOut => {
+                "CiA 306: an object has an ObjectType, a CiA 301 DataType, an AccessType and a value of that type"
+            }
+            Kind::ValueIgnored => "CiA 306: a key's value has the form the standard gives it",
+            Kind::MoreLeftOut => "",
+        }
+    }
+}
+
+/// One deviation: `path:line: message`, the rule, and what the reader did.
+#[derive(Clone, PartialEq, Eq, Debug, Serialize)]
+pub struct Warning {
+    pub path: String,
+    /// 0 when it concerns the whole file.
+    pub line: usize,
+    pub kind: Kind,
+    pub severity: Severity,
+    /// What the file says and what the reader does with it.
+    pub message: String,
+    pub rule: &'static str,
+}
+
+impl Warning {
+    pub fn new(path: &str, line: usize, kind: Kind, message: String) -> Warning {
+        Warning { path: path.to_string(), line, kind, severity: kind.severity(), message, rule: kind.rule() }
+    }
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            0 => write!(f, "{}: {}", self.path, self.message),
+            line => write!(f, "{}:{line}: {}", self.path, self.message),
+        }
+    }
+}
+
+/// The deviations kept: a file with thousands of repeated keys gives a list, not a flood.
+pub const MAX_WARNINGS: usize = 200;
+
+/// Add a deviation to a reader's list, up to [`MAX_WARNINGS`] and one that says more were cut.
+pub fn push(list: &mut Vec<Warning>, w: Warning) {
+    match list.len() {
+        n if n < MAX_WARNINGS => list.push(w),
+        MAX_WARNINGS => list.push(Warning::new(
+            &w.path,
+            0,
+            Kind::MoreLeftOut,
+            format!("further deviations left out (the first {MAX_WARNINGS} are listed)"),
+        )),
+        _ => {}
+    }
+}
