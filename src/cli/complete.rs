@@ -155,7 +155,11 @@ pub fn objects() -> Vec<CompletionCandidate> {
             eds.push(EdsArg { node: Some(n), path });
         }
     }
-    let dicts = Dictionaries::load(&eds).unwrap_or_default();
+    // A refused EDS is said (the shell shows stderr), not silently replaced.
+    let dicts = Dictionaries::load(&eds).unwrap_or_else(|e| {
+        eprintln!("\ncanctl: {e}; completing from the built-in dictionary");
+        Dictionaries::default()
+    });
     let dict = dicts.for_node(node);
     let named: Vec<(&crate::od::Entry, String)> =
         dict.entries().map(|e| (e, dict.display_name(e.addr).unwrap_or_default())).collect();
