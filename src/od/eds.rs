@@ -53,6 +53,8 @@ struct Section {
     line: usize,
     /// Lower-cased key → value and line; a repeated key keeps its last value.
     keys: std::collections::HashMap<String, (String, usize)>,
+    /// Lower-cased key → the key as the file spells it, for messages.
+    spelled: std::collections::HashMap<String, String>,
 }
 
 impl Section {
@@ -96,13 +98,14 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Ve
                 let msg = format!("section {line} again (before at line {first}): this one replaces it");
                 lint::push(warnings, Warning::new(path, no, Kind::RepeatedSection, msg));
             }
-            sections.push(Section { name, line: no, keys: Default::default() });
+            sections.push(Section { name, line: no, keys: Default::default(), spelled: Default::default() });
             continue;
         }
         let (key, value) =
             line.split_once('=').ok_or_else(|| err(no, format!("expected KEY=VALUE or [SECTION], found '{line}'")))?;
         let section = sections.last_mut().ok_or_else(|| err(no, format!("'{line}' comes before any [SECTION]")))?;
         let key_lower = trim_blanks(key).to_ascii_lowercase();
+        section.spelled.insert(key_lower.clone(), trim_blanks(key).to_string());
         let value = (trim_blanks(value).to_string(), no);
         if let Some((_, first)) = section.keys.insert(key_lower, value) {
             let msg = format!(
@@ -467,6 +470,7 @@ impl Reader<'_> {
         let (v, line) = s.get(key)?;
         match strip_comment(v) {
             Some(value) => {
+                let key = s.spelled.get(key).map_or(key, String::as_str);
                 self.warn(
                     line,
                     Kind::InlineComment,
@@ -518,11 +522,14 @@ impl Reader<'_> {
                     self.eds.dummy_usage.insert(code);
                 }
                 (Some(_), Some(0)) => {}
-                _ => self.warn(
-                    *line,
-                    Kind::BadDummyUsage,
-                    format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored"),
-                ),
+                _ => {
+                    let key = s.spelled.get(key.as_str()).unwrap_or(key);
+                    self.warn(
+                        *line,
+                        Kind::BadDummyUsage,
+                        format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored"),
+                    )
+                }
             }
         }
     }

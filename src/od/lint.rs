@@ -35,12 +35,14 @@ pub enum Kind {
     ValueIgnored,
     /// The list was cut short.
     MoreLeftOut,
+    /// The file is not read at all: not INI, or not an EDS/DCF.
+    NotAnEds,
 }
 
 impl Kind {
     pub fn severity(self) -> Severity {
         match self {
-            Kind::ObjectLeftOut | Kind::ValueIgnored | Kind::BadCompactSection => Severity::Error,
+            Kind::ObjectLeftOut | Kind::ValueIgnored | Kind::BadCompactSection | Kind::NotAnEds => Severity::Error,
             _ => Severity::Warning,
         }
     }
@@ -68,6 +70,7 @@ impl Kind {
             }
             Kind::ValueIgnored => "CiA 306: a key's value has the form the standard gives it",
             Kind::MoreLeftOut => "",
+            Kind::NotAnEds => "CiA 306: an EDS or DCF is INI text: [SECTION] headers and KEY=VALUE lines",
         }
     }
 }

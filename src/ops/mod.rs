@@ -3,6 +3,7 @@
 //! so that any front end can render it). Progress and remarks go through [`Progress`]; a
 //! procedure never prints and knows nothing of the command line.
 
+pub mod check;
 pub mod config;
 pub mod dictionaries;
 pub mod drive;

@@ -419,7 +419,7 @@ fn compact_sub_objects_with_their_name_and_value_sections() {
     assert!(!eds.values.contains_key(&ObjAddr::new(0x1016, 3)));
     // [DummyUsage]: the types a PDO may map as gaps.
     assert_eq!(eds.dummy_usage, BTreeSet::from([0x0002, 0x0005]));
-    assert_eq!(said(&eds), ["compact.dcf:16: [DummyUsage] dummy0007=yes is not DummyNNNN=0 or 1: ignored"]);
+    assert_eq!(said(&eds), ["compact.dcf:16: [DummyUsage] Dummy0007=yes is not DummyNNNN=0 or 1: ignored"]);
 }
 
 #[test]
@@ -453,7 +453,7 @@ fn deviations_a_reader_can_interpret_are_read_and_said() {
         ]
     );
     let said = said(&eds);
-    assert_eq!(said[2], "deviations.dcf:19: parametervalue=500\t; half a second: the text from ';' on is read as a comment; the value is '500'");
+    assert_eq!(said[2], "deviations.dcf:19: ParameterValue=500\t; half a second: the text from ';' on is read as a comment; the value is '500'");
     assert_eq!(
         said[5],
         "deviations.dcf:49: 2001 (Valve % open) left out: an ARRAY or RECORD without any [2001subN] section or CompactSubObj"
