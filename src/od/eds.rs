@@ -637,12 +637,18 @@ impl Reader<'_> {
     }
 
     fn try_entry(&mut self, s: &Section, addr: ObjAddr, name: &str, domain: bool) -> Result<Entry, (usize, String)> {
+        // A complex, manufacturer or profile type: its bytes, as python-canopen reads it.
+        let mut as_bytes = None;
         let dtype = match self.plain(s, "datatype") {
             Some((dt, line)) => {
                 let code = parse_int(dt).ok_or((line, format!("DataType '{dt}' is not a number")))?;
-                data_type_from_code(code)
-                    .map_err(|m| (line, m))?
-                    .ok_or((line, format!("data type 0x{code:04X} is not a CiA 301 basic type canctl reads")))?
+                match data_type_from_code(code).map_err(|m| (line, m))? {
+                    Some(t) => t,
+                    None => {
+                        as_bytes = Some((line, code));
+                        DataType::D
+                    }
+                }
             }
             // A DOMAIN object needs no DataType: it is one.
             None if domain => DataType::D,
@@ -665,7 +671,25 @@ impl Reader<'_> {
                 r.plain(s, key).map(|(v, l)| (v.to_string(), l))
             }
         };
-        let default = match value_key(self, "defaultvalue") {
+        if let Some((line, code)) = as_bytes {
+            self.warn(
+                line,
+                Kind::TypeAsBytes,
+                format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default"),
+            );
+        }
+        let default = match value_key(self, "defaultvalue").filter(|_| as_bytes.is_none()) {
+            // What DOMAIN defaults often say for "nothing".
+            Some((v, line))
+                if dtype == DataType::D && ["0", "0x0", "null"].contains(&v.to_ascii_lowercase().as_str()) =>
+            {
+                self.warn(
+                    line,
+                    Kind::DomainDefault,
+                    format!("DefaultValue={v} of DOMAIN {addr} ({name}) read as empty"),
+                );
+                Init::Bytes(Vec::new())
+            }
             Some((v, line)) => match parse_value(&v, dtype) {
                 Ok(init) => init,
                 // A DOMAIN's default is often a file name or a note: not its content.

@@ -33,6 +33,10 @@ pub enum Kind {
     ObjectLeftOut,
     /// A key whose value could not be understood, ignored.
     ValueIgnored,
+    /// A complex or manufacturer data type, read as DOMAIN.
+    TypeAsBytes,
+    /// A DOMAIN default that says "nothing" (`0`, `NULL`), read as empty.
+    DomainDefault,
     /// The list was cut short.
     MoreLeftOut,
     /// The file is not read at all: not INI, or not an EDS/DCF.
@@ -69,6 +73,8 @@ impl Kind {
                 "CiA 306: an object has an ObjectType, a CiA 301 DataType, an AccessType and a value of that type"
             }
             Kind::ValueIgnored => "CiA 306: a key's value has the form the standard gives it",
+            Kind::TypeAsBytes => "CiA 306: a DataType beyond the basic types (0x0020..) is defined by DEFSTRUCT/DEFTYPE sections canctl does not read",
+            Kind::DomainDefault => "CiA 306: a DOMAIN's DefaultValue is hex bytes, or empty for none",
             Kind::MoreLeftOut => "",
             Kind::NotAnEds => "CiA 306: an EDS or DCF is INI text: [SECTION] headers and KEY=VALUE lines",
         }

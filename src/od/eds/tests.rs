@@ -311,12 +311,14 @@ fn an_unknown_data_type_leaves_its_object_out_with_its_line() {
         let file = format!("[2000]\nParameterName=x\nDataType={code}\nAccessType=rw\n");
         assert!(said(&parse(file.as_bytes(), "t.eds").unwrap())[0].starts_with("t.eds:3: "), "{code}");
     }
-    // A complex or manufacturer type (PDO_MAPPING, 0x0040) is no basic type: left out, said so.
-    let eds = parse(b"[2000]\nParameterName=x\nDataType=0x0040\nAccessType=rw\n", "t.eds").unwrap();
+    // A complex or manufacturer type (0x0040) is no basic type: its bytes, as python-canopen reads it.
+    let eds = parse(b"[2000]\nParameterName=x\nDataType=0x0040\nAccessType=rw\nDefaultValue=7\n", "t.eds").unwrap();
     assert_eq!(
         said(&eds),
-        ["t.eds:3: 0x2000:0 (x) left out: data type 0x0040 is not a CiA 301 basic type canctl reads"]
+        ["t.eds:3: 0x2000:0 (x) has data type 0x0040, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default"]
     );
+    assert_eq!(eds.dict.get(ObjAddr::new(0x2000, 0)).unwrap().dtype, DataType::D);
+    assert_eq!(eds.warnings[0].severity, lint::Severity::Warning);
 }
 
 #[test]
@@ -395,10 +397,17 @@ fn domain_objects_are_single_values_read_as_d() {
     assert_eq!((at(0x3D04).dtype, at(0x3D04).access), (DataType::D, Access::Rw));
     // A default that is no hex is not the content: read as empty, said so.
     assert_eq!(at(0x3D05).default, Init::Bytes(vec![]));
+    // NULL (or 0) says "nothing": read so, with a warning only.
+    assert_eq!(at(0x3D06).default, Init::Bytes(vec![]));
     assert_eq!(
         said(&eds),
-        ["domain.eds:45: DefaultValue of 0x3D05:0 (Notes): 'see manual' is not hex bytes: 's' is not a hex digit; read as empty"]
+        [
+            "domain.eds:45: DefaultValue of 0x3D05:0 (Notes): 'see manual' is not hex bytes: 's' is not a hex digit; read as empty",
+            "domain.eds:52: DefaultValue=NULL of DOMAIN 0x3D06:0 (Storage EDS) read as empty"
+        ]
     );
+    let severities: Vec<lint::Severity> = eds.warnings.iter().map(|w| w.severity).collect();
+    assert_eq!(severities, [lint::Severity::Error, lint::Severity::Warning]);
 }
 
 #[test]
