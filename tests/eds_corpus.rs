@@ -43,7 +43,10 @@ fn name(p: &Path) -> String {
 
 /// python-canopen's objects for each file (index, sub, data type, name), or its refusal;
 /// `None` (said) without python-canopen.
-fn python_canopen(files: &[PathBuf]) -> Option<BTreeMap<String, Result<Vec<(u16, u8, u16, String)>, String>>> {
+/// python-canopen's view of one file: its objects (index, sub, data type, name) or why it refuses it.
+type Theirs = Result<Vec<(u16, u8, u16, String)>, String>;
+
+fn python_canopen(files: &[PathBuf]) -> Option<BTreeMap<String, Theirs>> {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop/eds_objects.py");
     let required = std::env::var_os("CANCTL_REQUIRE_PEERS").is_some();
     let out = match Command::new("python3").arg(&script).args(files).output() {
