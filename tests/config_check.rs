@@ -70,3 +70,15 @@ fn a_file_that_is_not_an_eds_is_refused_and_a_missing_one_is_a_usage_error() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("/nonexistent/x.eds"), "{stderr}");
 }
+
+/// A DCF with placeholder commissioning values (`NodeID=0`, `BaudRate=0`), as vendors'
+/// tools write them, is used for the node given on the command line.
+#[test]
+fn placeholder_commissioning_values_take_the_node_from_the_command_line() {
+    let sim = common::Sim::new();
+    let run = sim.run(&["config", "diff", "10", &fixture("deviations.dcf")]);
+    assert_ne!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("deviations.dcf:10: NodeID=0 is a placeholder"), "{}", run.stderr);
+    assert!(run.stderr.contains("more deviation(s) from CiA 306; canctl config check"), "{}", run.stderr);
+    assert!(run.stderr.contains("object(s) differ from"), "{}", run.stderr);
+}

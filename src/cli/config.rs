@@ -163,9 +163,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
 /// The DCF, its warnings said on stderr.
 fn read_dcf(path: &Path) -> crate::Result<Dcf> {
     let dcf = Dcf::read(path)?;
-    for w in dcf.warnings() {
-        tracing::warn!("{w}");
-    }
+    super::objects::say_deviations(dcf.warnings().iter());
     Ok(dcf)
 }
 
