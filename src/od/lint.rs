@@ -70,7 +70,7 @@ impl Kind {
             }
             Kind::BadDummyUsage => "CiA 306: [DummyUsage] holds Dummy0001..Dummy0007 = 0 or 1",
             Kind::ObjectLeftOut => {
-                "CiA 306: an object has an ObjectType, a CiA 301 DataType, an AccessType and a value of that type"
+                "CiA 306: an object gives its ObjectType, DataType, AccessType, values of that type and, if an ARRAY or RECORD, its sub-objects"
             }
             Kind::ValueIgnored => "CiA 306: a key's value has the form the standard gives it",
             Kind::TypeAsBytes => "CiA 306: a DataType beyond the basic types (0x0020..) is defined by DEFSTRUCT/DEFTYPE sections canctl does not read",
