@@ -24,7 +24,7 @@ fn warnings_only_is_exit_0_with_each_deviation_and_its_rule() {
     assert_eq!(code, 0, "{stdout}{stderr}");
     assert!(stdout.contains(&format!("{file}:16: warning: [DummyUsage] Dummy0007=yes is not DummyNNNN=0 or 1: ignored\n    CiA 306: [DummyUsage]")), "{stdout}");
     assert!(
-        stdout.contains(&format!("{file}: DCF, 2 objects (259 entries) read; 0 error(s), 1 warning(s)")),
+        stdout.contains(&format!("{file}: DCF, 3 objects (261 entries) read; 0 error(s), 2 warning(s)")),
         "{stdout}"
     );
     // A value left unused is an error: a DOMAIN default that is not hex.

@@ -390,6 +390,16 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             Some((v, line)) => match parse_int(v) {
                 Some(0) => None,
                 Some(n @ 1..=254) if kind == ObjectKind::Array => Some(n as u8),
+                // CiA 306 gives CompactSubObj to ARRAYs; Lely's dcfgen writes it for PDO
+                // mapping RECORDs too, whose members share one type all the same.
+                Some(n @ 1..=254) => {
+                    r.warn(
+                        line,
+                        Kind::CompactRecord,
+                        format!("{index:04X} ({name}) is a RECORD with CompactSubObj={v}: read as an ARRAY of {n} sub-objects of its DataType"),
+                    );
+                    Some(n as u8)
+                }
                 _ => {
                     r.left_out(
                         line,

@@ -28,6 +28,7 @@ pub enum Kind {
     MissingSubNumber,
     SubNumberMismatch,
     BadCompactSection,
+    CompactRecord,
     BadDummyUsage,
     /// An object (or one of its sub-entries) that could not be understood, left out.
     ObjectLeftOut,
@@ -68,6 +69,7 @@ impl Kind {
             Kind::BadCompactSection => {
                 "CiA 306: [xxxxName]/[xxxxValue] list NrOfEntries entries of a CompactSubObj array"
             }
+            Kind::CompactRecord => "CiA 306: CompactSubObj describes the sub-objects of an ARRAY (0x8)",
             Kind::BadDummyUsage => "CiA 306: [DummyUsage] holds Dummy0001..Dummy0007 = 0 or 1",
             Kind::ObjectLeftOut => {
                 "CiA 306: an object gives its ObjectType, DataType, AccessType, values of that type and, if an ARRAY or RECORD, its sub-objects"

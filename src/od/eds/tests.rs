@@ -428,7 +428,17 @@ fn compact_sub_objects_with_their_name_and_value_sections() {
     assert!(!eds.values.contains_key(&ObjAddr::new(0x1016, 3)));
     // [DummyUsage]: the types a PDO may map as gaps.
     assert_eq!(eds.dummy_usage, BTreeSet::from([0x0002, 0x0005]));
-    assert_eq!(said(&eds), ["compact.dcf:16: [DummyUsage] Dummy0007=yes is not DummyNNNN=0 or 1: ignored"]);
+    // A RECORD with CompactSubObj (Lely's dcfgen writes PDO mappings so): read as meant.
+    assert_eq!(d.object_info(0x1A00), Some(("TPDO mapping parameter", ObjectKind::Record)));
+    assert_eq!(eds.values[&ObjAddr::new(0x1A00, 1)], Init::Bytes(0x6064_0020u32.to_le_bytes().to_vec()));
+    assert_eq!(eds.values[&ObjAddr::new(0x1A00, 0)], Init::Bytes(vec![1]));
+    assert_eq!(
+        said(&eds),
+        [
+            "compact.dcf:16: [DummyUsage] Dummy0007=yes is not DummyNNNN=0 or 1: ignored",
+            "compact.dcf:49: 1A00 (TPDO mapping parameter) is a RECORD with CompactSubObj=1: read as an ARRAY of 1 sub-objects of its DataType"
+        ]
+    );
 }
 
 #[test]
