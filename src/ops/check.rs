@@ -37,7 +37,9 @@ impl Checked {
 /// Read `path` as canctl reads it everywhere, and say how it deviates.
 pub fn check(path: &Path) -> Result<Checked> {
     let file = path.display().to_string();
-    let dcf_name = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("dcf"));
+    // The name says which it is; without .eds or .dcf, whether it has values to commission.
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let dcf_name = ext.as_deref() == Some("dcf");
     match eds::read_file(path) {
         Ok(read) => {
             let count = |s| read.warnings.iter().filter(|w| w.severity == s).count();
@@ -47,7 +49,11 @@ pub fn check(path: &Path) -> Result<Checked> {
                 (0, _) => "warnings",
                 _ => "errors",
             };
-            let dcf = dcf_name || !read.values.is_empty() || read.node_id.is_some();
+            let dcf = match ext.as_deref() {
+                Some("eds") => false,
+                Some("dcf") => true,
+                _ => !read.values.is_empty() || read.node_id.is_some(),
+            };
             Ok(Checked {
                 file,
                 format: if dcf { "DCF" } else { "EDS" },
