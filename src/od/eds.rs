@@ -4,7 +4,9 @@
 //! Real files are Latin-1, use CRLF, vary the case of keys and section names and leave out
 //! optional keys; the reader takes all that. What it cannot read it names with file:line.
 
-use super::lint::{self, Kind, Warning};
+/// Re-exported for readers beside this one.
+pub use super::lint::MAX_WARNINGS;
+use super::lint::{self, Kind, Warning, Warnings};
 use super::{Access, Dictionary, Entry, Init, ObjectKind};
 use crate::canopen::{DataType, ObjAddr};
 use std::collections::{BTreeMap, BTreeSet};
@@ -42,7 +44,7 @@ pub struct Eds {
     /// Where the file deviates from CiA 306 (objects left out, repeated keys, over-long
     /// lines, ...), each with file:line and what the reader did. The library never prints:
     /// the caller shows them.
-    pub warnings: Vec<Warning>,
+    pub warnings: Warnings,
 }
 
 /// CiA 306 keeps a line to 255 characters; longer ones are read, with a warning.
@@ -463,7 +465,7 @@ fn strip_comment(v: &str) -> Option<&str> {
 
 impl Reader<'_> {
     fn warn(&mut self, line: usize, kind: Kind, message: String) {
-        lint::push(&mut self.eds.warnings, Warning::new(self.path, line, kind, message));
+        self.eds.warnings.push(Warning::new(self.path, line, kind, message));
     }
 
     fn left_out(&mut self, line: usize, message: String) {

@@ -42,6 +42,8 @@ pub enum Kind {
     MoreLeftOut,
     /// The file is not read at all: not INI, or not an EDS/DCF.
     NotAnEds,
+    /// A deviation a reader gave as a sentence only (`From<String>`).
+    Other,
 }
 
 impl Kind {
@@ -77,7 +79,7 @@ impl Kind {
             Kind::ValueIgnored => "CiA 306: a key's value has the form the standard gives it",
             Kind::TypeAsBytes => "CiA 306: a DataType beyond the basic types (0x0020..) is defined by DEFSTRUCT/DEFTYPE sections canctl does not read",
             Kind::DomainDefault => "CiA 306: a DOMAIN's DefaultValue is hex bytes, or empty for none",
-            Kind::MoreLeftOut => "",
+            Kind::MoreLeftOut | Kind::Other => "",
             Kind::NotAnEds => "CiA 306: an EDS or DCF is INI text: [SECTION] headers and KEY=VALUE lines",
         }
     }
@@ -102,9 +104,17 @@ impl Warning {
     }
 }
 
+/// A deviation given as a sentence that already says where (`file:line: ...`).
+impl From<String> for Warning {
+    fn from(message: String) -> Warning {
+        Warning { path: String::new(), line: 0, kind: Kind::Other, severity: Severity::Warning, message, rule: "" }
+    }
+}
+
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.line {
+            0 if self.path.is_empty() => f.write_str(&self.message),
             0 => write!(f, "{}: {}", self.path, self.message),
             line => write!(f, "{}:{line}: {}", self.path, self.message),
         }
@@ -113,6 +123,43 @@ impl fmt::Display for Warning {
 
 /// The deviations kept: a file with thousands of repeated keys gives a list, not a flood.
 pub const MAX_WARNINGS: usize = 200;
+
+/// A reader's deviations, in the order of the file; at most [`MAX_WARNINGS`] and one that
+/// says more were cut.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(transparent)]
+pub struct Warnings(Vec<Warning>);
+
+impl Warnings {
+    pub fn push(&mut self, w: impl Into<Warning>) {
+        push(&mut self.0, w.into());
+    }
+
+    pub fn into_vec(self) -> Vec<Warning> {
+        self.0
+    }
+}
+
+impl std::ops::Deref for Warnings {
+    type Target = Vec<Warning>;
+    fn deref(&self) -> &Vec<Warning> {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for Warnings {
+    fn deref_mut(&mut self) -> &mut Vec<Warning> {
+        &mut self.0
+    }
+}
+
+impl<'a> IntoIterator for &'a Warnings {
+    type Item = &'a Warning;
+    type IntoIter = std::slice::Iter<'a, Warning>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.0.iter()
+    }
+}
 
 /// Add a deviation to a reader's list, up to [`MAX_WARNINGS`] and one that says more were cut.
 pub fn push(list: &mut Vec<Warning>, w: Warning) {
@@ -125,5 +172,25 @@ pub fn push(list: &mut Vec<Warning>, w: Warning) {
             format!("further deviations left out (the first {MAX_WARNINGS} are listed)"),
         )),
         _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reader_may_give_a_sentence_or_a_typed_deviation() {
+        let mut list = Warnings::default();
+        list.push("x.xdd:3:7: attribute repeated".to_string());
+        list.push(Warning::new("x.eds", 4, Kind::InlineComment, "DefaultValue=1 ; one".into()));
+        let said: Vec<String> = list.iter().map(|w| w.to_string()).collect();
+        assert_eq!(said, ["x.xdd:3:7: attribute repeated", "x.eds:4: DefaultValue=1 ; one"]);
+        assert_eq!((list[0].kind, list[0].severity), (Kind::Other, Severity::Warning));
+        for _ in 0..MAX_WARNINGS + 5 {
+            list.push("again".to_string());
+        }
+        assert_eq!(list.len(), MAX_WARNINGS + 1, "bounded, with one that says more were cut");
+        assert_eq!(list[MAX_WARNINGS].kind, Kind::MoreLeftOut);
     }
 }

@@ -62,7 +62,7 @@ pub fn check(path: &Path) -> Result<Checked> {
                 entries: read.dict.entries().count(),
                 errors,
                 warnings,
-                findings: read.warnings,
+                findings: read.warnings.into_vec(),
             })
         }
         // Not read at all (missing, a directory, too large): nothing to check.
