@@ -63,6 +63,15 @@ impl Section {
     fn get(&self, key: &str) -> Option<(&str, usize)> {
         self.keys.get(key).map(|(v, l)| (v.as_str(), *l))
     }
+
+    /// The section's name as CiA 306 spells it, for messages.
+    fn spelled_name(&self) -> &'static str {
+        match self.name.as_str() {
+            "mandatoryobjects" => "MandatoryObjects",
+            "optionalobjects" => "OptionalObjects",
+            _ => "ManufacturerObjects",
+        }
+    }
 }
 
 /// The blanks an INI line may have around keys and values: ASCII space and tab only, so
@@ -445,6 +454,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             r.eds.dict.insert(e);
         }
     }
+    r.object_lists(&sections, &by_name);
     // In the order of the file; the note that more were cut stays last.
     r.eds.warnings.sort_by_key(|w| if w.kind == Kind::MoreLeftOut { usize::MAX } else { w.line });
     Ok(r.eds)
@@ -542,6 +552,71 @@ impl Reader<'_> {
                         format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored"),
                     )
                 }
+            }
+        }
+    }
+
+    /// `[MandatoryObjects]`, `[OptionalObjects]`, `[ManufacturerObjects]` against the
+    /// object sections there are. The reader goes by the sections; a list that says
+    /// otherwise is said, as is a mandatory object (CiA 301: 0x1000, 0x1001, 0x1018) the
+    /// file lacks. A file without any list (a snippet, a test file) is not held to them.
+    fn object_lists(&mut self, sections: &[Section], by_name: &BTreeMap<(u16, Option<u8>), &Section>) {
+        const LISTS: [&str; 3] = ["mandatoryobjects", "optionalobjects", "manufacturerobjects"];
+        let lists: Vec<&Section> = sections.iter().filter(|s| LISTS.contains(&s.name.as_str())).collect();
+        let Some(first) = lists.first() else { return };
+        let mut listed = BTreeSet::new();
+        for list in &lists {
+            let title = list.spelled_name();
+            let mut entries: Vec<(usize, &str, usize)> = Vec::new();
+            for (key, (v, line)) in &list.keys {
+                if key == "supportedobjects" {
+                    continue;
+                }
+                match (parse_int(key), parse_int(v).and_then(|i| u16::try_from(i).ok())) {
+                    (Some(n), Some(index)) if n >= 1 => {
+                        entries.push((n as usize, v, *line));
+                        if !by_name.contains_key(&(index, None)) {
+                            self.warn(
+                                *line,
+                                Kind::ObjectList,
+                                format!("[{title}] lists 0x{index:04X}, which has no [{index:04X}] section: nothing to read"),
+                            );
+                        }
+                        listed.insert(index);
+                    }
+                    _ => self.warn(*line, Kind::ObjectList, format!("[{title}] {key}={v} is not N=index: ignored")),
+                }
+            }
+            match list.get("supportedobjects") {
+                Some((v, line)) if parse_int(v) != Some(entries.len() as i128) => self.warn(
+                    line,
+                    Kind::ObjectList,
+                    format!("[{title}] SupportedObjects={v} but it lists {}: the sections are read", entries.len()),
+                ),
+                None => self.warn(
+                    list.line,
+                    Kind::ObjectList,
+                    format!("[{title}] has no SupportedObjects: the {} it lists are read", entries.len()),
+                ),
+                _ => {}
+            }
+        }
+        for ((index, _), s) in by_name.range((0x1000, None)..).filter(|((_, sub), _)| sub.is_none()) {
+            if !listed.contains(index) {
+                self.warn(
+                    s.line,
+                    Kind::ObjectList,
+                    format!("[{index:04X}] is in no object list ([MandatoryObjects], [OptionalObjects], [ManufacturerObjects]): read all the same"),
+                );
+            }
+        }
+        for index in [0x1000u16, 0x1001, 0x1018] {
+            if !by_name.contains_key(&(index, None)) {
+                self.warn(
+                    first.line,
+                    Kind::ObjectList,
+                    format!("no [{index:04X}] section: CiA 301 makes 0x{index:04X} mandatory for every device"),
+                );
             }
         }
     }

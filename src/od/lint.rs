@@ -29,6 +29,8 @@ pub enum Kind {
     SubNumberMismatch,
     BadCompactSection,
     CompactRecord,
+    /// The object lists and the object sections disagree, or a mandatory object is missing.
+    ObjectList,
     BadDummyUsage,
     /// An object (or one of its sub-entries) that could not be understood, left out.
     ObjectLeftOut,
@@ -72,6 +74,9 @@ impl Kind {
                 "CiA 306: [xxxxName]/[xxxxValue] list NrOfEntries entries of a CompactSubObj array"
             }
             Kind::CompactRecord => "CiA 306: CompactSubObj describes the sub-objects of an ARRAY (0x8)",
+            Kind::ObjectList => {
+                "CiA 306: [MandatoryObjects], [OptionalObjects] and [ManufacturerObjects] list each object section once, with SupportedObjects their number"
+            }
             Kind::BadDummyUsage => "CiA 306: [DummyUsage] holds Dummy0001..Dummy0007 = 0 or 1",
             Kind::ObjectLeftOut => {
                 "CiA 306: an object gives its ObjectType, DataType, AccessType, values of that type and, if an ARRAY or RECORD, its sub-objects"

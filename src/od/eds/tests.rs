@@ -507,3 +507,19 @@ fn every_cia_301_basic_type_is_read_and_written_back() {
         assert_eq!((b.dtype, b.default_for(5)), (e.dtype, e.default_for(5)), "{}", e.addr);
     }
 }
+
+#[test]
+fn object_lists_that_disagree_with_the_sections_are_said() {
+    let eds = load("object-lists.eds").unwrap();
+    assert_eq!(eds.dict.objects().count(), 3, "the sections are read");
+    assert_eq!(
+        said(&eds),
+        [
+            "object-lists.eds:1: no [1001] section: CiA 301 makes 0x1001 mandatory for every device",
+            "object-lists.eds:2: [MandatoryObjects] SupportedObjects=3 but it lists 2: the sections are read",
+            "object-lists.eds:8: [OptionalObjects] lists 0x1017, which has no [1017] section: nothing to read",
+            "object-lists.eds:20: [2000] is in no object list ([MandatoryObjects], [OptionalObjects], [ManufacturerObjects]): read all the same",
+        ]
+    );
+    assert!(eds.warnings.iter().all(|w| w.kind == lint::Kind::ObjectList && w.severity == lint::Severity::Warning));
+}
