@@ -72,13 +72,18 @@ fn a_file_that_is_not_an_eds_is_refused_and_a_missing_one_is_a_usage_error() {
 }
 
 /// A DCF with placeholder commissioning values (`NodeID=0`, `BaudRate=0`), as vendors'
-/// tools write them, is used for the node given on the command line.
+/// tools write them, is used for the node given on the command line; one with errors
+/// (something left out) is not compared or applied at all.
 #[test]
 fn placeholder_commissioning_values_take_the_node_from_the_command_line() {
     let sim = common::Sim::new();
-    let run = sim.run(&["config", "diff", "10", &fixture("deviations.dcf")]);
-    assert_ne!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("deviations.dcf:10: NodeID=0 is a placeholder"), "{}", run.stderr);
-    assert!(run.stderr.contains("more deviation(s) from CiA 306; canctl config check"), "{}", run.stderr);
+    let run = sim.run(&["config", "diff", "10", &fixture("placeholder.dcf")]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stderr.contains("placeholder.dcf:6: NodeID=0 is a placeholder"), "{}", run.stderr);
     assert!(run.stderr.contains("object(s) differ from"), "{}", run.stderr);
+    let run = sim.run(&["config", "apply", "10", &fixture("deviations.dcf")]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("deviations.dcf:49: 2001 (Valve % open) left out"), "{}", run.stderr);
+    assert!(run.stderr.contains("more deviation(s) from CiA 306; canctl config check"), "{}", run.stderr);
+    assert!(run.stderr.contains("nothing is compared or written"), "{}", run.stderr);
 }
