@@ -1,7 +1,7 @@
 //! Time and peak memory to load device descriptions: the XDD of the shared corpus (the
 //! CANopenDemo device, 150 kB) beside its EDS, and a generated XDC of 8000 values (1.5 MB)
 //! for how it grows. `cargo bench --bench xdd_load` (XDD_LOAD_RUNS=N, default 20;
-//! CANCTL_CORPUS_DIR where the corpus is, default ../shared/eds-corpus).
+//! CANCTL_EDS_CORPUS where the corpus is, default ../shared/eds-corpus).
 //!
 //! Peak memory is the resident high-water mark (VmHWM, Linux) of a child process that
 //! loads the file once, less that of one that loads nothing: what loading costs at most.
@@ -57,7 +57,7 @@ fn main() {
         return child(&path);
     }
     let runs: usize = std::env::var("XDD_LOAD_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(20);
-    let corpus = std::env::var_os("CANCTL_CORPUS_DIR")
+    let corpus = std::env::var_os("CANCTL_EDS_CORPUS")
         .map_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/eds-corpus"), PathBuf::from);
     let dir = std::env::temp_dir().join(format!("canctl-xdd-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -128,6 +128,10 @@ pub enum Error {
     /// A node's objects differ from a configuration file.
     #[error("node {node} differs from {file} in {count} object(s)")]
     Differs { node: u8, file: String, count: usize },
+    /// A device description file deviates from CiA 306 so that something it describes is
+    /// not used (`config check`).
+    #[error("{file}: {errors} error(s) and {warnings} warning(s) against CiA 306 (listed above); correct the file, or ask its vendor for one that follows CiA 306")]
+    FileDeviates { file: String, errors: usize, warnings: usize },
     /// A configuration file names another device (vendor-ID, product code) than the node
     /// is; each difference said as `"vendor-ID 0x... on node N, 0x... in the file"`.
     #[error("{file} is for another device: {}. Nothing was written; --force applies it anyway", differences.join(", "))]
@@ -248,6 +252,7 @@ impl Error {
             Error::ReadBack { .. }
             | Error::ReadBackMany { .. }
             | Error::Differs { .. }
+            | Error::FileDeviates { .. }
             | Error::OtherDevice { .. }
             | Error::NetworkDiffers { .. }
             | Error::NotFollowed { .. }

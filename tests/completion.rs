@@ -72,6 +72,22 @@ fn objects_come_from_the_nodes_dictionary() {
 }
 
 #[test]
+fn a_refused_eds_is_said_not_silently_replaced_by_the_built_in_dictionary() {
+    let sim = Sim::new();
+    let broken = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/eds/broken-line.eds");
+    let mut c = Command::new(canctl_bin());
+    c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path("")).env_remove("CANCTL_BUS");
+    c.env("COMPLETE", "fish").arg("--").arg("canctl");
+    c.args(["--bus", &sim.bus(), "sdo", "read", "--eds", &format!("5={}", broken.display()), "5", "0x1017"]);
+    let out = c.output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("broken-line.eds:3:"), "the refusal, with file:line: {stderr}");
+    assert!(stderr.contains("built-in dictionary"), "what is offered instead: {stderr}");
+    // The built-in objects are still offered.
+    assert!(String::from_utf8_lossy(&out.stdout).contains("0x1017:0"));
+}
+
+#[test]
 fn fixed_sets_and_buses() {
     let sim = Sim::new();
     let types = complete(&sim, &["sdo", "write", "1", "0x1017", "100", "--type", ""]);

@@ -173,10 +173,20 @@ fn object_names_from_an_eds_or_the_built_in_dictionary() {
     let r = sim.run(&["sdo", "read", "5", "ProducerHeartbeatTme"]);
     assert_eq!(r.code, 2);
     assert!(r.stderr.contains("did you mean 'Producer heartbeat time' (0x1017:0)?"), "{}", r.stderr);
+    // An object the EDS describes so that it cannot be understood is left out, said with
+    // file:line; the command goes on. A file that is not an EDS at all is refused.
     let broken = format!("{}/tests/fixtures/eds/broken-access.eds", env!("CARGO_MANIFEST_DIR"));
     let r = sim.run(&["--eds", &broken, "sdo", "read", "1", "1000"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("broken-access.eds:4: 0x1000:0 (Device type) left out: AccessType 'readwrite'"),
+        "{}",
+        r.stderr
+    );
+    let broken = format!("{}/tests/fixtures/eds/broken-line.eds", env!("CARGO_MANIFEST_DIR"));
+    let r = sim.run(&["--eds", &broken, "sdo", "read", "1", "1000"]);
     assert_eq!(r.code, 2);
-    assert!(r.stderr.contains("broken-access.eds:4: AccessType 'readwrite'"), "{}", r.stderr);
+    assert!(r.stderr.contains("broken-line.eds:3: expected KEY=VALUE or [SECTION]"), "{}", r.stderr);
 }
 
 /// A DCF names itself after the file it is written to, and claims no name on stdout.

@@ -1,4 +1,6 @@
-//! Every CiA 301 data type canctl knows (`b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d`)
+//! Every CiA 301 data type canctl knows and python-canopen encodes (`b u8..u64 i8..i64` with
+//! the 24-, 40-, 48- and 56-bit ones, `r32 r64 vs us os d`; not TIME_OF_DAY and
+//! TIME_DIFFERENCE, which python-canopen passes through as bytes: pinned in types.rs)
 //! against an encoder we did not write: python-canopen's object dictionary codecs
 //! (`ODVariable.encode_raw` / `decode_raw`, tests/interop/codecs.py). For each value, the
 //! bytes canctl puts on the wire must be python-canopen's bytes for the same text, and the
@@ -63,6 +65,15 @@ const ENCODE: &[(&str, &[&str])] = &[
     ("vs", &["", "C01", "EPOS2 24/5", " !~", "a visible string longer than one segment of seven bytes"]),
     ("os", &["", "00", "FF", "80 FF 7F 00", "0102030405060708090A"]),
     ("d", &["", "00", "FFEEDDCCBBAA", "90 02 90 90"]),
+    ("u24", &["0", "16777215", "0x123456"]),
+    ("u40", &["0", "1099511627775", "0x0102030405"]),
+    ("u48", &["48", "281474976710655"]),
+    ("u56", &["56", "72057594037927935"]),
+    ("i24", &["-8388608", "8388607", "-1", "0"]),
+    ("i40", &["-40", "549755813887", "-549755813888"]),
+    ("i48", &["-48", "-140737488355328", "140737488355327"]),
+    ("i56", &["-56", "36028797018963967", "-36028797018963968"]),
+    ("us", &["", "abc", "abc✓", "Größe"]),
 ];
 
 /// Values both must refuse: out of range for the type.
@@ -79,6 +90,17 @@ const REFUSE: &[(&str, &str)] = &[
     ("i32", "-2147483649"),
     ("i64", "9223372036854775808"),
     ("r32", "3.5e38"),
+];
+
+/// Out of range for the 24-, 40-, 48- and 56-bit integers: canctl refuses them, while
+/// python-canopen 2.4.1 (`IntegerN`/`UnsignedN`) sends them cut to the type's width, a
+/// value nobody asked for. Asserted as they are, so that a change on either side is seen.
+const WRAPPED_BY_PYTHON: &[(&str, &str)] = &[
+    ("u24", "16777216"),
+    ("i24", "8388608"),
+    ("u40", "1099511627776"),
+    ("i48", "140737488355328"),
+    ("u56", "72057594037927936"),
 ];
 
 /// Bytes to decode, by type: the encodings above plus what devices send that no encoder
@@ -107,12 +129,22 @@ const DECODE: &[(&str, &str)] = &[
     ("os", ""),
     ("os", "00FF80"),
     ("d", "0102"),
+    ("u24", "FFFFFF"),
+    ("i24", "000080"),
+    ("i40", "FEFFFFFFFF"),
+    ("u48", "010203040506"),
+    ("i56", "FFFFFFFFFFFF7F"),
+    ("us", "61006200"),
+    ("us", "6100620000000000"),
+    ("us", "13270000"),
     // Lengths that do not fit the type: refused.
     ("u16", "010203"),
     ("u32", "0102"),
     ("i64", "01"),
     ("r32", "000000"),
     ("r64", "0000000000000000FF"),
+    ("u24", "0102"),
+    ("i40", "010203040506"),
 ];
 
 /// Where canctl and python-canopen differ on purpose; asserted as they are, so that a
@@ -247,4 +279,17 @@ fn every_data_type_has_python_canopens_wire_bytes() {
     assert_eq!(DataType::Vs.decode(&unhex(NON_ASCII_BYTES)), Some(Value::Text("é".into())), "canctl shows UTF-8");
 }
 
-const ALL: [DataType; 14] = canctl::canopen::types::ALL_TYPES;
+#[test]
+fn wide_integers_out_of_range_are_refused_where_python_canopen_cuts_them() {
+    let cases: Vec<J> =
+        WRAPPED_BY_PYTHON.iter().map(|(t, v)| json!({ "code": data_type(t).code(), "value": v })).collect();
+    let Some(theirs) = python_canopen(&cases) else { return };
+    for ((t, v), theirs) in WRAPPED_BY_PYTHON.iter().zip(&theirs) {
+        let e = data_type(t).parse(v).unwrap_err();
+        assert!(e.0.contains("out of range"), "{t} {v}: {e}");
+        let size = data_type(t).size().unwrap();
+        assert_eq!(theirs["encoded"].as_str().map(str::len), Some(2 * size), "{t} {v}: python-canopen gives {theirs}");
+    }
+}
+
+const ALL: [DataType; 25] = canctl::canopen::types::ALL_TYPES;

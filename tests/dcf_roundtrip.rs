@@ -140,13 +140,18 @@ mod properties {
     }
 
     /// What the writer may refuse, and nothing else: strings that are not one line of
-    /// visible characters without blanks at the ends, and booleans other than 0 or 1.
+    /// visible characters without blanks at the ends, UNICODE_STRINGs that are not UTF-16,
+    /// and booleans other than 0 or 1.
     fn refusable(dtype: DataType, bytes: &[u8]) -> bool {
+        let not_one_line = |bytes: &[u8]| {
+            bytes.iter().any(|b| *b < 0x20 || *b == 0x7F) || bytes.first() == Some(&b' ') || bytes.last() == Some(&b' ')
+        };
         match dtype {
-            DataType::Vs => {
-                bytes.iter().any(|b| *b < 0x20 || *b == 0x7F)
-                    || bytes.first() == Some(&b' ')
-                    || bytes.last() == Some(&b' ')
+            DataType::Vs => not_one_line(bytes),
+            DataType::Unicode => {
+                let units: Vec<u16> =
+                    bytes.chunks(2).map(|c| u16::from_le_bytes([c[0], *c.get(1).unwrap_or(&0)])).collect();
+                bytes.len() % 2 == 1 || String::from_utf16(&units).map_or(true, |t| not_one_line(t.as_bytes()))
             }
             DataType::Bool => bytes[0] > 1,
             _ => false,
@@ -243,11 +248,11 @@ fn a_broken_dcf_is_a_usage_error_with_file_and_line() {
     let cases = [
         (
             "[1017]\nParameterName=Producer heartbeat time\nDataType=0x10006\nAccessType=rw\nParameterValue=100\n",
-            "bad.dcf:3: 0x1017:0 (Producer heartbeat time): DataType 0x10006 is not a CiA 301 data type",
+            "bad.dcf:3: 0x1017:0 (Producer heartbeat time) left out: DataType 0x10006 is not a CiA 301 data type",
         ),
         (
-            "[1014]\nParameterName=COB-ID EMCY\nDataType=0x0006\nAccessType=rw\nParameterValue=$NODEID+0xFFC0\n",
-            "bad.dcf:5: ParameterValue of 0x1014:0: '$NODEID+0xFFC0' exceeds u16 (at most 65535)",
+            "[1014]\nParameterName=COB-ID EMCY\nDataType=0x0006\nAccessType=rw\nParameterValue=$NODEID+0xFFC0\n[1017]\nParameterName=Producer heartbeat time\nDataType=0x0006\nAccessType=rw\nParameterValue=100\n",
+            "bad.dcf:5: ParameterValue of 0x1014:0 (COB-ID EMCY): '$NODEID+0xFFC0' exceeds u16 (at most 65535)",
         ),
     ];
     for (text, want) in cases {
@@ -256,5 +261,8 @@ fn a_broken_dcf_is_a_usage_error_with_file_and_line() {
         let run = sim.run(&["config", "apply", "10", file.to_str().unwrap()]);
         assert_eq!(run.code, 2, "{}", run.stderr);
         assert!(run.stderr.contains(want), "{}", run.stderr);
+        // A value the file holds but canctl could not read is not silently skipped.
+        assert!(run.stderr.contains("error(s) against CiA 306, so its values are not all read"), "{}", run.stderr);
+        assert!(!run.stdout.contains("written"), "{}", run.stdout);
     }
 }

@@ -130,7 +130,7 @@ fn malformed_input_is_a_usage_error_with_a_pointed_message() {
         (&["sdo", "read", "1", "1018:300"], "0..255"),
         (&["sdo", "read", "0", "1000"], "0 is only for an EPOS2"),
         (&["sdo", "read", "128", "1000"], "not a node-id"),
-        (&["sdo", "read", "1", "1000", "--type", "u24"], "not a data type"),
+        (&["sdo", "read", "1", "1000", "--type", "u12"], "not a data type"),
         (&["sdo", "write", "1", "5FF0:2", "300", "--type", "u8"], "out of range for u8: use 0 to 255"),
         (&["sdo", "write", "1", "5FF0:3", "12abc", "--type", "u16"], "not a valid u16"),
         (&["sdo", "write", "1", "5FF0:13", "abc", "--type", "os"], "odd number of hex digits"),

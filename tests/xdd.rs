@@ -16,21 +16,11 @@ fn read(name: &str) -> Eds {
     od::read_description(&fixture(name)).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The shared corpus of real files, beside the repository (or where CANCTL_CORPUS_DIR
-/// says, for a checkout elsewhere); None (the test skipped) when it is not there, unless
-/// CANCTL_REQUIRE_CORPUS=1 says it must be.
+/// A file of the shared corpus of real files (see `common::eds_corpus`).
 fn corpus(name: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("CANCTL_CORPUS_DIR")
-        .map_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/eds-corpus"), PathBuf::from);
-    let path = dir.join(name);
-    if path.exists() {
-        return Some(path);
-    }
-    if std::env::var("CANCTL_REQUIRE_CORPUS").is_ok_and(|v| v == "1") {
-        panic!("{} is missing, and CANCTL_REQUIRE_CORPUS=1", path.display());
-    }
-    common::skipped(&format!("{} is not here (../shared/eds-corpus)", path.display()));
-    None
+    let path = common::eds_corpus()?.join(name);
+    assert!(path.exists(), "{} is missing from the corpus", path.display());
+    Some(path)
 }
 
 /// Each entry as (index, sub, type, access, default, name), and each object's name and kind.

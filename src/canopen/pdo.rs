@@ -95,6 +95,9 @@ fn field_value(raw: u64, bits: u32, dtype: DataType) -> Value {
         DataType::Bool => Value::Bool(raw != 0),
         DataType::R32 if bits == 32 => Value::Real(f32::from_bits(raw as u32) as f64, dtype),
         DataType::R64 if bits == 64 => Value::Real(f64::from_bits(raw), dtype),
+        DataType::TimeOfDay | DataType::TimeDifference if bits == 48 => {
+            dtype.decode(&raw.to_le_bytes()[..6]).expect("six bytes")
+        }
         t if t.is_signed() => {
             let shift = 64 - bits;
             Value::Int(((raw << shift) as i64) >> shift)

@@ -22,9 +22,23 @@ pub enum DataType {
     Os,
     /// DOMAIN
     D,
+    U24,
+    U40,
+    U48,
+    U56,
+    I24,
+    I40,
+    I48,
+    I56,
+    /// TIME_OF_DAY: milliseconds after midnight (28 bits) and days since 1984-01-01.
+    TimeOfDay,
+    /// TIME_DIFFERENCE: milliseconds (28 bits) and days.
+    TimeDifference,
+    /// UNICODE_STRING: UTF-16, little-endian code units (as python-canopen reads it).
+    Unicode,
 }
 
-pub const ALL_TYPES: [DataType; 14] = [
+pub const ALL_TYPES: [DataType; 25] = [
     DataType::Bool,
     DataType::U8,
     DataType::U16,
@@ -39,6 +53,17 @@ pub const ALL_TYPES: [DataType; 14] = [
     DataType::Vs,
     DataType::Os,
     DataType::D,
+    DataType::U24,
+    DataType::U40,
+    DataType::U48,
+    DataType::U56,
+    DataType::I24,
+    DataType::I40,
+    DataType::I48,
+    DataType::I56,
+    DataType::TimeOfDay,
+    DataType::TimeDifference,
+    DataType::Unicode,
 ];
 
 /// A failure to turn text into a value; always the user's input, so always a usage error.
@@ -69,6 +94,17 @@ impl DataType {
             DataType::Vs => "vs",
             DataType::Os => "os",
             DataType::D => "d",
+            DataType::U24 => "u24",
+            DataType::U40 => "u40",
+            DataType::U48 => "u48",
+            DataType::U56 => "u56",
+            DataType::I24 => "i24",
+            DataType::I40 => "i40",
+            DataType::I48 => "i48",
+            DataType::I56 => "i56",
+            DataType::TimeOfDay => "t",
+            DataType::TimeDifference => "td",
+            DataType::Unicode => "us",
         }
     }
 
@@ -89,6 +125,17 @@ impl DataType {
             DataType::R64 => 0x11,
             DataType::I64 => 0x15,
             DataType::U64 => 0x1B,
+            DataType::Unicode => 0x0B,
+            DataType::TimeOfDay => 0x0C,
+            DataType::TimeDifference => 0x0D,
+            DataType::I24 => 0x10,
+            DataType::I40 => 0x12,
+            DataType::I48 => 0x13,
+            DataType::I56 => 0x14,
+            DataType::U24 => 0x16,
+            DataType::U40 => 0x18,
+            DataType::U48 => 0x19,
+            DataType::U56 => 0x1A,
         }
     }
 
@@ -97,23 +144,31 @@ impl DataType {
         Some(match self {
             DataType::Bool | DataType::U8 | DataType::I8 => 1,
             DataType::U16 | DataType::I16 => 2,
+            DataType::U24 | DataType::I24 => 3,
             DataType::U32 | DataType::I32 | DataType::R32 => 4,
+            DataType::U40 | DataType::I40 => 5,
+            DataType::U48 | DataType::I48 | DataType::TimeOfDay | DataType::TimeDifference => 6,
+            DataType::U56 | DataType::I56 => 7,
             DataType::U64 | DataType::I64 | DataType::R64 => 8,
-            DataType::Vs | DataType::Os | DataType::D => return None,
+            DataType::Vs | DataType::Os | DataType::D | DataType::Unicode => return None,
         })
     }
 
     pub fn is_signed(self) -> bool {
-        matches!(self, DataType::I8 | DataType::I16 | DataType::I32 | DataType::I64)
+        use DataType::*;
+        matches!(self, I8 | I16 | I24 | I32 | I40 | I48 | I56 | I64)
+    }
+
+    fn is_unsigned(self) -> bool {
+        use DataType::*;
+        matches!(self, U8 | U16 | U24 | U32 | U40 | U48 | U56 | U64)
     }
 
     /// Inclusive range of an integer type.
     pub fn int_range(self) -> Option<(i128, i128)> {
         let bits = match self {
             DataType::Bool => return Some((0, 1)),
-            t if t.is_signed() || matches!(t, DataType::U8 | DataType::U16 | DataType::U32 | DataType::U64) => {
-                8 * t.size().unwrap() as u32
-            }
+            t if t.is_signed() || t.is_unsigned() => 8 * t.size().unwrap() as u32,
             _ => return None,
         };
         Some(if self.is_signed() {
@@ -146,6 +201,13 @@ impl DataType {
                 Ok(v.to_le_bytes().to_vec())
             }
             DataType::Vs => Ok(text.as_bytes().to_vec()),
+            DataType::Unicode => Ok(text.encode_utf16().flat_map(u16::to_le_bytes).collect()),
+            DataType::TimeOfDay | DataType::TimeDifference => {
+                let (days, ms) = time::parse(t, self == DataType::TimeOfDay).map_err(ValueError)?;
+                let mut b = ms.to_le_bytes().to_vec();
+                b.extend_from_slice(&days.to_le_bytes());
+                Ok(b)
+            }
             DataType::Os | DataType::D => {
                 parse_hex(t).map_err(|e| ValueError(format!("{e} (or @FILE to read the bytes from a file)")))
             }
@@ -185,6 +247,13 @@ impl DataType {
             DataType::R32 => Value::Real(f32::from_le_bytes(bytes.try_into().unwrap()) as f64, self),
             DataType::R64 => Value::Real(f64::from_le_bytes(bytes.try_into().unwrap()), self),
             DataType::Vs => Value::Text(visible_string(bytes)),
+            DataType::Unicode => Value::Text(unicode_string(bytes)?),
+            DataType::TimeOfDay | DataType::TimeDifference => {
+                // The 4 bits above the 28 of milliseconds are reserved (CiA 301): not read.
+                let ms = u32::from_le_bytes(bytes[..4].try_into().unwrap()) & 0x0FFF_FFFF;
+                let days = u16::from_le_bytes([bytes[4], bytes[5]]);
+                Value::Text(time::format(days, ms, self == DataType::TimeOfDay))
+            }
             DataType::Os | DataType::D => Value::Bytes(bytes.to_vec()),
             t if t.is_signed() => Value::Int(int as i64),
             _ => Value::Uint(int as u64),
@@ -263,6 +332,103 @@ impl fmt::Display for Value {
             Value::Real(r, _) => write!(f, "{r}"),
             Value::Text(s) => f.write_str(s),
             Value::Bytes(b) => f.write_str(&hex(b)),
+        }
+    }
+}
+
+/// UTF-16LE code units, NUL padding dropped; `None` for an odd length or a lone surrogate.
+fn unicode_string(bytes: &[u8]) -> Option<String> {
+    if !bytes.len().is_multiple_of(2) {
+        return None;
+    }
+    let mut units: Vec<u16> = bytes.chunks(2).map(|c| u16::from_le_bytes([c[0], c[1]])).collect();
+    while units.last() == Some(&0) {
+        units.pop();
+    }
+    String::from_utf16(&units).ok()
+}
+
+/// TIME_OF_DAY as a date and time (`2024-05-01T12:34:56.789`, days counted from
+/// 1984-01-01 as CiA 301 counts them); TIME_DIFFERENCE as days and a time (`3d 01:02:03.004`).
+mod time {
+    const MS_PER_DAY: u32 = 86_400_000;
+    /// Days from 1970-01-01 to 1984-01-01, the CiA 301 epoch.
+    const EPOCH: i64 = 5113;
+
+    /// Civil date of a day number counted from 1970-01-01 (Howard Hinnant's algorithm).
+    fn civil(z: i64) -> (i64, u32, u32) {
+        let z = z + 719_468;
+        let era = z.div_euclid(146_097);
+        let doe = z - era * 146_097;
+        let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+        let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+        let mp = (5 * doy + 2) / 153;
+        let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+        let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+        (yoe + era * 400 + i64::from(m <= 2), m, d)
+    }
+
+    fn days_from_civil(y: i64, m: u32, d: u32) -> i64 {
+        let y = if m <= 2 { y - 1 } else { y };
+        let era = y.div_euclid(400);
+        let yoe = y - era * 400;
+        let mp = i64::from((m + 9) % 12);
+        let doy = (153 * mp + 2) / 5 + i64::from(d) - 1;
+        let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+        era * 146_097 + doe - 719_468
+    }
+
+    fn clock(ms: u32) -> String {
+        let s = ms / 1000;
+        format!("{:02}:{:02}:{:02}.{:03}", s / 3600, s / 60 % 60, s % 60, ms % 1000)
+    }
+
+    pub fn format(days: u16, ms: u32, of_day: bool) -> String {
+        if of_day {
+            let (y, m, d) = civil(EPOCH + i64::from(days));
+            // A device may count past midnight: shown as it is, read back the same.
+            format!("{y:04}-{m:02}-{d:02}T{}", clock(ms))
+        } else {
+            format!("{days}d {}", clock(ms))
+        }
+    }
+
+    /// `HH:MM:SS[.mmm]` → milliseconds (hours beyond 23 allowed, up to 28 bits).
+    fn parse_clock(t: &str) -> Option<u32> {
+        let (hms, frac) = t.split_once('.').unwrap_or((t, ""));
+        let parts: Vec<u64> = hms.split(':').map(|p| p.parse().ok()).collect::<Option<_>>()?;
+        let [h, m, s] = parts[..] else { return None };
+        if m > 59 || s > 59 || frac.len() > 3 || !frac.chars().all(|c| c.is_ascii_digit()) {
+            return None;
+        }
+        let ms = format!("{frac:0<3}").parse::<u64>().ok()?;
+        let total = ((h * 60 + m) * 60 + s) * 1000 + ms;
+        u32::try_from(total).ok().filter(|v| *v <= 0x0FFF_FFFF)
+    }
+
+    pub fn parse(t: &str, of_day: bool) -> Result<(u16, u32), String> {
+        let bad = |want: &str| format!("'{t}' is not a {want}");
+        if of_day {
+            let want = "time of day like 2024-05-01T12:34:56.789 (1984-01-01 to 2163-06-06)";
+            let (date, clock) = t.split_once(['T', ' ']).ok_or_else(|| bad(want))?;
+            let ymd: Vec<&str> = date.split('-').collect();
+            let [y, m, d] = ymd[..] else { return Err(bad(want)) };
+            let (y, m, d) = (y.parse::<i64>(), m.parse::<u32>(), d.parse::<u32>());
+            let (Ok(y), Ok(m @ 1..=12), Ok(d @ 1..=31)) = (y, m, d) else { return Err(bad(want)) };
+            let day = days_from_civil(y, m, d) - EPOCH;
+            let ms = parse_clock(clock).filter(|ms| *ms < MS_PER_DAY).ok_or_else(|| bad(want))?;
+            // 2023-02-30 would slide to March: refuse rather than guess.
+            if civil(day + EPOCH) != (y, m, d) {
+                return Err(bad(want));
+            }
+            Ok((u16::try_from(day).map_err(|_| bad(want))?, ms))
+        } else {
+            let want = "time difference like 3d 01:02:03.004 or 00:00:01.5";
+            let (days, clock) = match t.split_once('d') {
+                Some((d, rest)) => (d.trim().parse::<u16>().map_err(|_| bad(want))?, rest.trim()),
+                None => (0, t),
+            };
+            Ok((days, parse_clock(clock).ok_or_else(|| bad(want))?))
         }
     }
 }
@@ -350,6 +516,20 @@ mod tests {
             (Vs, "C01", b"C01"),
             (Os, "de ad be ef", &[0xDE, 0xAD, 0xBE, 0xEF]),
             (D, "0x0102", &[1, 2]),
+            (U24, "0x123456", &[0x56, 0x34, 0x12]),
+            (I24, "-8388608", &[0, 0, 0x80]),
+            (U40, "1099511627775", &[0xFF; 5]),
+            (I40, "-40", &[0xD8, 0xFF, 0xFF, 0xFF, 0xFF]),
+            (U48, "48", &[0x30, 0, 0, 0, 0, 0]),
+            (I48, "-48", &[0xD0, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]),
+            (U56, "0x01020304050607", &[7, 6, 5, 4, 3, 2, 1]),
+            (I56, "-56", &[0xC8, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]),
+            (TimeOfDay, "1984-01-01T00:00:00.000", &[0; 6]),
+            // 2024-01-01 is day 14610 (0x3912) of the CiA 301 epoch; noon is 43 200 000 ms.
+            (TimeOfDay, "2024-01-01T12:00:00.000", &[0x00, 0x2E, 0x93, 0x02, 0x12, 0x39]),
+            (TimeDifference, "1d 00:00:00.500", &[0xF4, 0x01, 0, 0, 0x01, 0]),
+            (TimeDifference, "0d 01:02:03.004", &[0xFC, 0xCE, 0x38, 0x00, 0, 0]),
+            (Unicode, "abc✓", &[0x61, 0, 0x62, 0, 0x63, 0, 0x13, 0x27]),
         ];
         for (t, text, bytes) in cases {
             let parsed = t.parse(text).unwrap();
@@ -387,6 +567,30 @@ mod tests {
         for t in ALL_TYPES {
             assert_eq!(t.name().parse::<DataType>().unwrap(), t);
         }
-        assert!("u24".parse::<DataType>().unwrap_err().contains("u8 u16"));
+        assert!("u12".parse::<DataType>().unwrap_err().contains("u8 u16"));
+    }
+
+    #[test]
+    fn every_cia_301_basic_type_has_its_code() {
+        let codes: Vec<u16> = ALL_TYPES.iter().map(|t| t.code()).collect();
+        for code in (0x01..=0x1B).filter(|c| ![0x0E, 0x17].contains(c)) {
+            assert!(codes.contains(&code), "CiA 301 basic type 0x{code:04X} has no DataType");
+        }
+    }
+
+    #[test]
+    fn times_and_wide_integers_refuse_what_does_not_fit() {
+        assert!(U24.parse("16777216").unwrap_err().0.contains("0 to 16777215"));
+        assert!(I56.parse("36028797018963968").is_err());
+        assert!(TimeOfDay.parse("2023-02-30T00:00:00").is_err(), "no such day");
+        assert!(TimeOfDay.parse("1983-12-31T00:00:00").is_err(), "before the epoch");
+        assert!(TimeOfDay.parse("2024-01-01T24:00:00").is_err());
+        assert!(TimeDifference.parse("00:61:00").is_err());
+        assert_eq!(TimeDifference.parse("00:00:01.5").unwrap(), [0xDC, 0x05, 0, 0, 0, 0]);
+        // The 4 reserved bits above the milliseconds are not part of the value.
+        assert_eq!(TimeOfDay.decode(&[0, 0, 0, 0xF0, 0, 0]).unwrap().to_string(), "1984-01-01T00:00:00.000");
+        assert_eq!(Unicode.decode(&[0x61, 0, 0, 0]), Some(Value::Text("a".into())), "NUL padding dropped");
+        assert_eq!(Unicode.decode(&[0x61]), None, "odd length");
+        assert_eq!(Unicode.decode(&[0x00, 0xD8]), None, "lone surrogate");
     }
 }

@@ -155,7 +155,11 @@ pub fn objects() -> Vec<CompletionCandidate> {
             eds.push(EdsArg { node: Some(n), path });
         }
     }
-    let dicts = Dictionaries::load(&eds).unwrap_or_default();
+    // A refused EDS is said (the shell shows stderr), not silently replaced.
+    let dicts = Dictionaries::load(&eds).unwrap_or_else(|e| {
+        eprintln!("\ncanctl: {e}; completing from the built-in dictionary");
+        Dictionaries::default()
+    });
     // Without an EDS, the built-in dictionary of the node's profile as the last scan saw it.
     let seen = bus(&w).and_then(|b| cache::load(&b).into_iter().find(|n| n.node == node));
     let profile = seen.and_then(|n| n.device_type).map(|t| (t & 0xFFFF) as u16);

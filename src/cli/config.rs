@@ -1,5 +1,6 @@
 //! `canctl config dump|diff|apply`: a node's configuration as a DCF (CiA 306), compared
-//! with a file, and made to match one — writing only what differs, in a safe order.
+//! with a file, and made to match one — writing only what differs, in a safe order;
+//! `config check`: a file against CiA 306, without a bus.
 
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
@@ -15,6 +16,30 @@ pub enum ConfigCommand {
     Diff(DiffArgs),
     Apply(ApplyArgs),
     Eds(EdsArgs),
+    Check(CheckArgs),
+}
+
+/// Check an EDS or DCF against CiA 306: every deviation, with file:line, the rule, and
+/// what canctl does with it
+///
+/// Warnings are deviations read as the file plainly means them (an inline comment, a
+/// missing SubNumber, NodeID=0 as a placeholder); errors are what is not used (an object
+/// that cannot be understood is left out) or a file that is not an EDS at all. Exit 6 when
+/// there are errors, 0 with warnings only. No bus is needed.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl config check drive.eds
+  canctl config check machine/node5.dcf --format json")]
+pub struct CheckArgs {
+    /// The EDS or DCF
+    pub file: PathBuf,
+}
+
+/// `config check` needs no bus.
+pub fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
+    let report = crate::ops::check::check(&a.file)?;
+    ctx.out.report(&report)?;
+    Ok(report.check()?)
 }
 
 /// Save the EDS a node stores in itself (0x1021)
@@ -108,6 +133,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<
         ConfigCommand::Diff(a) => diff(ctx, bus, a),
         ConfigCommand::Apply(a) => apply(ctx, bus, a),
         ConfigCommand::Eds(a) => stored_eds(ctx, bus, a),
+        ConfigCommand::Check(a) => check(ctx, a),
     }
 }
 
@@ -200,9 +226,7 @@ fn not_written(out: Option<&Path>, what: &str) -> String {
 /// The DCF, its warnings said on stderr.
 fn read_dcf(path: &Path) -> crate::Result<Dcf> {
     let dcf = Dcf::read(path)?;
-    for w in dcf.warnings() {
-        tracing::warn!("{w}");
-    }
+    super::objects::say_deviations(dcf.warnings().iter());
     Ok(dcf)
 }
 

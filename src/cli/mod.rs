@@ -151,13 +151,14 @@ pub enum Command {
     Drive(drive::DriveCommand),
     StreamPdo(stream::StreamArgs),
     Monitor(monitor::MonitorArgs),
-    /// Configuration files: dump a node to a DCF, compare, apply
+    /// Configuration files: dump a node to a DCF, compare, apply; check a file (CiA 306)
     #[command(
         subcommand,
         after_help = "Examples:
   canctl --bus sim config dump 5 --out sensor.dcf
   canctl --bus sim config diff 20 sensor.dcf
-  canctl --bus sim config apply 20 sensor.dcf --verify --store"
+  canctl --bus sim config apply 20 sensor.dcf --verify --store
+  canctl config check sensor.dcf"
     )]
     Config(config::ConfigCommand),
     /// A whole machine from one CiA 306-3 network project (nodelist.cpj + one DCF per node)
@@ -197,7 +198,6 @@ fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
 }
 
 pub use crate::settings::{number_in, parse_duration, parse_node, parse_timeout, DEFAULT_TIMEOUT};
-
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
 pub struct Ctx {
@@ -353,6 +353,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Store(a) => with_bus(&ctx, g, |bus| store::store(&ctx, bus, a)),
         Command::Restore(a) => with_bus(&ctx, g, |bus| store::restore(&ctx, bus, a)),
         Command::Drive(cmd) => with_bus(&ctx, g, |bus| drive::run(&ctx, bus, cmd)),
+        Command::Config(config::ConfigCommand::Check(a)) => config::check(&ctx, a),
         Command::Config(cmd) => with_bus(&ctx, g, |bus| config::run(&ctx, bus, cmd)),
         Command::StreamPdo(a) => with_bus(&ctx, g, |bus| stream::run(&ctx, bus, a)),
         Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),

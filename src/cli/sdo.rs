@@ -33,7 +33,7 @@ pub struct ReadArgs {
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
     pub object: String,
-    /// Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary's)
+    /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
     #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
     pub dtype: Option<DataType>,
     /// Write the raw bytes to this file instead of printing them
@@ -71,7 +71,7 @@ pub struct WriteArgs {
     /// The value, or @FILE for its raw bytes
     #[arg(allow_hyphen_values = true)]
     pub value: String,
-    /// Data type: b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d (default: the dictionary's)
+    /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
     #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
     pub dtype: Option<DataType>,
     /// Read the object back and compare (exit 6 when it differs)

@@ -4,9 +4,12 @@
 //! Real files are Latin-1, use CRLF, vary the case of keys and section names and leave out
 //! optional keys; the reader takes all that. What it cannot read it names with file:line.
 
+/// Re-exported for readers beside this one.
+pub use super::lint::MAX_WARNINGS;
+use super::lint::{self, Kind, Warning, Warnings};
 use super::{Access, Dictionary, Entry, Init, ObjectKind};
 use crate::canopen::{DataType, ObjAddr};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub struct EdsError {
@@ -36,35 +39,38 @@ pub struct Eds {
     pub node_id: Option<u8>,
     /// `[DeviceInfo]` keys, lower-cased, as written.
     pub info: BTreeMap<String, String>,
-    /// What was read but deserves a look (objects passed over, repeated keys, over-long
-    /// lines), each with file:line. The library never prints: the caller shows them.
-    pub warnings: Vec<String>,
+    /// Data types `[DummyUsage]` allows as gaps in a PDO mapping (`Dummy0005=1`: 0x0005).
+    pub dummy_usage: BTreeSet<u16>,
+    /// Where the file deviates from CiA 306 (objects left out, repeated keys, over-long
+    /// lines, ...), each with file:line and what the reader did. The library never prints:
+    /// the caller shows them.
+    pub warnings: Warnings,
 }
 
 /// CiA 306 keeps a line to 255 characters; longer ones are read, with a warning.
 pub const MAX_LINE_CHARS: usize = 255;
-
-/// The warnings kept: a file with thousands of repeated keys gives a list, not a flood.
-pub const MAX_WARNINGS: usize = 100;
-
-fn warn(warnings: &mut Vec<String>, msg: String) {
-    match warnings.len() {
-        n if n < MAX_WARNINGS => warnings.push(msg),
-        MAX_WARNINGS => warnings.push(format!("further warnings left out (the first {MAX_WARNINGS} are listed)")),
-        _ => {}
-    }
-}
 
 struct Section {
     name: String,
     line: usize,
     /// Lower-cased key → value and line; a repeated key keeps its last value.
     keys: std::collections::HashMap<String, (String, usize)>,
+    /// Lower-cased key → the key as the file spells it, for messages.
+    spelled: std::collections::HashMap<String, String>,
 }
 
 impl Section {
     fn get(&self, key: &str) -> Option<(&str, usize)> {
         self.keys.get(key).map(|(v, l)| (v.as_str(), *l))
+    }
+
+    /// The section's name as CiA 306 spells it, for messages.
+    fn spelled_name(&self) -> &'static str {
+        match self.name.as_str() {
+            "mandatoryobjects" => "MandatoryObjects",
+            "optionalobjects" => "OptionalObjects",
+            _ => "ManufacturerObjects",
+        }
     }
 }
 
@@ -76,7 +82,7 @@ fn trim_blanks(s: &str) -> &str {
 
 /// Sections with their lines; keys lower-cased. Each byte becomes the Latin-1 character
 /// of the same number, so a value's text gives back its exact bytes (`to_latin1`).
-fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<String>) -> Result<Vec<Section>, EdsError> {
+fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Vec<Section>, EdsError> {
     let text: String = bytes.iter().map(|b| *b as char).collect();
     let err = |line: usize, msg: String| EdsError { path: path.to_string(), line, msg };
     let mut sections: Vec<Section> = Vec::new();
@@ -85,13 +91,11 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<String>) -> Result<Vec
         let no = i + 1;
         let raw = raw.strip_suffix('\r').unwrap_or(raw);
         if raw.chars().count() > MAX_LINE_CHARS {
-            warn(
-                warnings,
-                format!(
-                    "{path}:{no}: line of {} characters, more than the {MAX_LINE_CHARS} CiA 306 allows (read in full)",
-                    raw.chars().count()
-                ),
+            let msg = format!(
+                "line of {} characters, more than the {MAX_LINE_CHARS} CiA 306 allows (read in full)",
+                raw.chars().count()
             );
+            lint::push(warnings, Warning::new(path, no, Kind::LongLine, msg));
         }
         let line = trim_blanks(raw);
         if line.is_empty() || line.starts_with(';') || line.starts_with('#') {
@@ -102,28 +106,25 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<String>) -> Result<Vec
                 rest.strip_suffix(']').ok_or_else(|| err(no, format!("section header '{line}' has no closing ]")))?;
             let name = trim_blanks(name).to_ascii_lowercase();
             if let Some(first) = seen_sections.insert(name.clone(), no) {
-                warn(
-                    warnings,
-                    format!("{path}:{no}: section {line} again (before at line {first}): this one replaces it"),
-                );
+                let msg = format!("section {line} again (before at line {first}): this one replaces it");
+                lint::push(warnings, Warning::new(path, no, Kind::RepeatedSection, msg));
             }
-            sections.push(Section { name, line: no, keys: Default::default() });
+            sections.push(Section { name, line: no, keys: Default::default(), spelled: Default::default() });
             continue;
         }
         let (key, value) =
             line.split_once('=').ok_or_else(|| err(no, format!("expected KEY=VALUE or [SECTION], found '{line}'")))?;
         let section = sections.last_mut().ok_or_else(|| err(no, format!("'{line}' comes before any [SECTION]")))?;
         let key_lower = trim_blanks(key).to_ascii_lowercase();
+        section.spelled.insert(key_lower.clone(), trim_blanks(key).to_string());
         let value = (trim_blanks(value).to_string(), no);
         if let Some((_, first)) = section.keys.insert(key_lower, value) {
-            warn(
-                warnings,
-                format!(
-                    "{path}:{no}: {} repeated in [{}] (before at line {first}): the value of line {no} is used",
-                    trim_blanks(key),
-                    section.name
-                ),
+            let msg = format!(
+                "{} repeated in [{}] (before at line {first}): the value of line {no} is used",
+                trim_blanks(key),
+                section.name
             );
+            lint::push(warnings, Warning::new(path, no, Kind::RepeatedKey, msg));
         }
     }
     Ok(sections)
@@ -239,6 +240,14 @@ pub(crate) fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
     }
     let bytes = match dtype {
         DataType::Vs => unreachable!("handled above"),
+        // The caller decodes the file's text first (`Reader::try_entry`).
+        DataType::Unicode => t.encode_utf16().flat_map(u16::to_le_bytes).collect(),
+        // A number is the 48 bits as they travel (python-canopen's files write 0).
+        DataType::TimeOfDay | DataType::TimeDifference => match parse_int(t) {
+            Some(v) if (0..1 << 48).contains(&v) => v.to_le_bytes()[..6].to_vec(),
+            _ if t.is_empty() => vec![0; 6],
+            _ => dtype.parse(t).map_err(|e| e.0)?,
+        },
         DataType::Os | DataType::D => crate::canopen::types::parse_hex(t)?,
         DataType::R32 | DataType::R64 => parse_real(t, dtype)?,
         _ => {
@@ -289,20 +298,37 @@ impl TextEncoding {
         TextEncoding { utf8: !bytes.is_ascii() && std::str::from_utf8(bytes).is_ok() }
     }
 
-    /// Text read as Latin-1 (one character per byte), as the file meant it.
+    /// Text read as Latin-1 (one character per byte), as the file meant it: UTF-8, or
+    /// Windows-1252, whose quotes and dashes take Latin-1's unused control codes 0x80..0x9F.
     fn decode(self, latin1: &str) -> String {
         if self.utf8 {
             if let Ok(s) = String::from_utf8(to_latin1(latin1)) {
                 return s;
             }
         }
-        latin1.to_string()
+        latin1.chars().map(cp1252).collect()
+    }
+}
+
+/// Windows-1252's characters for 0x80..0x9F (C1 controls in Latin-1, never text in an EDS).
+fn cp1252(c: char) -> char {
+    const HIGH: [char; 32] = [
+        '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8D}', 'Ž', '\u{8F}', '\u{90}', '‘',
+        '’', '“', '”', '•', '–', '—', '˜', '™', 'š', '›', 'œ', '\u{9D}', 'ž', 'Ÿ',
+    ];
+    match c as u32 {
+        n @ 0x80..=0x9F => HIGH[(n - 0x80) as usize],
+        _ => c,
     }
 }
 
 const BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Parse an EDS or DCF. `path` is only for messages.
+///
+/// Only a file that is not an EDS at all (not INI, or no section an EDS has) is refused;
+/// what a reader can safely interpret is read, and an object that cannot be understood is
+/// left out; both are in [`Eds::warnings`] with file:line and the CiA 306 rule.
 pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
     let (bytes, encoding) = match bytes.strip_prefix(BOM) {
         Some(rest) => (rest, TextEncoding { utf8: true }),
@@ -310,118 +336,494 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
     };
     let mut eds = Eds { path: path.to_string(), ..Eds::default() };
     let sections = parse_ini(bytes, path, &mut eds.warnings)?;
-    let err = |line: usize, msg: String| EdsError { path: path.to_string(), line, msg };
     let by_name: BTreeMap<(u16, Option<u8>), &Section> =
         sections.iter().filter_map(|s| object_section(&s.name).map(|k| (k, s))).collect();
+    let known = |n: &str| matches!(n, "fileinfo" | "deviceinfo" | "devicecomissioning" | "devicecommissioning");
+    if by_name.is_empty() && !sections.iter().any(|s| known(&s.name)) {
+        return Err(EdsError {
+            path: path.to_string(),
+            line: sections.first().map_or(0, |s| s.line),
+            msg: "not an EDS or DCF: it has no [FileInfo], [DeviceInfo] or object section such as [1000]".into(),
+        });
+    }
+    let mut r = Reader { path, encoding, eds };
     for s in &sections {
         match s.name.as_str() {
-            "deviceinfo" => eds.info = s.keys.iter().map(|(k, (v, _))| (k.clone(), encoding.decode(v))).collect(),
-            "devicecomissioning" | "devicecommissioning" => {
-                if let Some((v, line)) = s.get("nodeid") {
-                    let id = parse_int(v)
-                        .filter(|n| NODE_IDS.contains(n))
-                        .ok_or_else(|| err(line, format!("NodeID {v} is not 1 to 127")))?;
-                    eds.node_id = Some(id as u8);
-                }
-            }
+            "deviceinfo" => r.eds.info = s.keys.iter().map(|(k, (v, _))| (k.clone(), encoding.decode(v))).collect(),
+            "devicecomissioning" | "devicecommissioning" => r.commissioning(s),
+            "dummyusage" => r.dummy_usage(s),
             _ => {}
         }
     }
-    let name_of = |s: &Section, fallback: String| s.get("parametername").map_or(fallback, |(v, _)| encoding.decode(v));
+    let compact: BTreeMap<String, &Section> = sections.iter().map(|s| (s.name.clone(), s)).collect();
     for ((index, sub), s) in &by_name {
-        if sub.is_some() {
-            continue;
-        }
         // Data type definitions (0x0001..0x025F) describe types, not objects.
-        if *index < 0x1000 {
+        if sub.is_some() || *index < 0x1000 {
             continue;
         }
-        let kind_code = match s.get("objecttype") {
-            Some((v, line)) => parse_int(v).ok_or_else(|| err(line, format!("ObjectType '{v}' is not a number")))?,
+        let name = r.name_of(s, format!("Object {index:04X}"));
+        let kind_code = match r.plain(s, "objecttype") {
+            Some((v, line)) => match parse_int(v) {
+                Some(code) => code,
+                None => {
+                    r.left_out(line, format!("{index:04X} ({name}) left out: ObjectType '{v}' is not a number"));
+                    continue;
+                }
+            },
             None => 7,
         };
-        let name = name_of(s, format!("Object {index:04X}"));
         let kind = match kind_code {
-            7 => ObjectKind::Var,
+            // A DOMAIN object (0x2) is a single value, as a VAR is.
+            7 | 2 => ObjectKind::Var,
             8 => ObjectKind::Array,
             9 => ObjectKind::Record,
             // DEFTYPE, DEFSTRUCT and NULL objects hold no values.
             0 | 5 | 6 => continue,
             other => {
-                return Err(err(
-                    s.get("objecttype").map_or(s.line, |(_, l)| l),
-                    format!("ObjectType {other} is not VAR (7), ARRAY (8) or RECORD (9)"),
-                ))
+                let line = s.get("objecttype").map_or(s.line, |(_, l)| l);
+                r.left_out(
+                    line,
+                    format!(
+                        "{index:04X} ({name}) left out: ObjectType {other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)"
+                    ),
+                );
+                continue;
             }
         };
         if kind == ObjectKind::Var {
-            // `insert` declares the object, unless its type was passed over.
-            read_entry(&mut eds, s, ObjAddr::new(*index, 0), &name, path)?;
+            let domain = kind_code == 2;
+            if let Some(entry) = r.entry(s, ObjAddr::new(*index, 0), &name, domain) {
+                r.eds.dict.insert(entry);
+            }
             continue;
         }
-        eds.dict.object(*index, &name, kind);
-        let subs: Vec<(&(u16, Option<u8>), &&Section)> =
-            by_name.range((*index, Some(0))..=(*index, Some(255))).collect();
-        if subs.is_empty() {
-            return Err(err(
-                s.line,
-                format!("{name} ({index:04X}) is an array or record without any [{index:04X}subN] section"),
-            ));
+        let compact_count = match r.plain(s, "compactsubobj") {
+            Some((v, line)) => match parse_int(v) {
+                Some(0) => None,
+                Some(n @ 1..=254) if kind == ObjectKind::Array => Some(n as u8),
+                // CiA 306 gives CompactSubObj to ARRAYs; Lely's dcfgen writes it for PDO
+                // mapping RECORDs too, whose members share one type all the same.
+                Some(n @ 1..=254) => {
+                    r.warn(
+                        line,
+                        Kind::CompactRecord,
+                        format!("{index:04X} ({name}) is a RECORD with CompactSubObj={v}: read as an ARRAY of {n} sub-objects of its DataType"),
+                    );
+                    Some(n as u8)
+                }
+                _ => {
+                    r.left_out(
+                        line,
+                        format!("{index:04X} ({name}) left out: CompactSubObj={v} is not 1..254 for an ARRAY (0x8)"),
+                    );
+                    continue;
+                }
+            },
+            None => None,
+        };
+        let entries = match compact_count {
+            Some(n) => r.compact(s, *index, &name, n, &compact),
+            None => {
+                let subs: Vec<(u8, &Section)> = by_name
+                    .range((*index, Some(0))..=(*index, Some(255)))
+                    .map(|((_, sub), ss)| (sub.unwrap(), *ss))
+                    .collect();
+                if subs.is_empty() {
+                    r.left_out(
+                        s.line,
+                        format!(
+                            "{index:04X} ({name}) left out: an ARRAY or RECORD without any [{index:04X}subN] section or CompactSubObj"
+                        ),
+                    );
+                    continue;
+                }
+                r.sub_number(s, *index, &name, subs.len());
+                subs.into_iter()
+                    .filter_map(|(sub, ss)| {
+                        let member = r.name_of(ss, format!("Sub-index {sub}"));
+                        r.entry(ss, ObjAddr::new(*index, sub), &member, false)
+                    })
+                    .collect()
+            }
+        };
+        if entries.is_empty() {
+            continue;
         }
-        for ((_, sub), ss) in subs {
-            let member = name_of(ss, format!("Sub-index {}", sub.unwrap()));
-            read_entry(&mut eds, ss, ObjAddr::new(*index, sub.unwrap()), &member, path)?;
+        r.eds.dict.object(*index, &name, kind);
+        for e in entries {
+            r.eds.dict.insert(e);
         }
     }
-    Ok(eds)
+    r.object_lists(&sections, &by_name);
+    // In the order of the file; the note that more were cut stays last.
+    r.eds.warnings.sort_by_key(|w| if w.kind == Kind::MoreLeftOut { usize::MAX } else { w.line });
+    Ok(r.eds)
 }
 
-fn read_entry(eds: &mut Eds, s: &Section, addr: ObjAddr, name: &str, path: &str) -> Result<(), EdsError> {
-    let err = |line: usize, msg: String| EdsError { path: path.to_string(), line, msg };
-    let (dt, dt_line) = s.get("datatype").ok_or_else(|| err(s.line, format!("{addr} ({name}) has no DataType")))?;
-    let code = parse_int(dt).ok_or_else(|| err(dt_line, format!("DataType '{dt}' is not a number")))?;
-    let Some(dtype) = data_type_from_code(code).map_err(|m| err(dt_line, format!("{addr} ({name}): {m}")))? else {
-        warn(
-            &mut eds.warnings,
-            format!(
-            "{path}:{dt_line}: {addr} ({name}) has data type 0x{code:04X}, which canctl does not handle; passed over"
-        ),
-        );
-        return Ok(());
-    };
-    let access = match s.get("accesstype") {
-        Some((v, line)) => parse_access(v)
-            .ok_or_else(|| err(line, format!("AccessType '{v}' is not ro, wo, rw, rwr, rww or const")))?,
-        None => return Err(err(s.line, format!("{addr} ({name}) has no AccessType"))),
-    };
-    let default = match s.get("defaultvalue") {
-        Some((v, line)) if dtype != DataType::D => {
-            parse_value(v, dtype).map_err(|m| err(line, format!("DefaultValue of {addr}: {m}")))?
-        }
-        _ => Init::Bytes(if let Some(size) = dtype.size() { vec![0; size] } else { Vec::new() }),
-    };
-    let limit = |key: &str| -> Result<Option<i128>, EdsError> {
-        match s.get(key) {
-            Some((v, line)) if !v.is_empty() && dtype.int_range().is_some() => {
-                let n = parse_int(v).ok_or_else(|| err(line, format!("{key} '{v}' of {addr} is not an integer")))?;
-                Ok(Some(signed_from_hex(n, v, dtype)))
-            }
-            _ => Ok(None),
-        }
-    };
-    let range = match (limit("lowlimit")?, limit("highlimit")?) {
-        (None, None) => None,
-        (lo, hi) => {
-            let (tlo, thi) = dtype.int_range().expect("integer");
-            Some((lo.unwrap_or(tlo), hi.unwrap_or(thi)))
-        }
-    };
-    if let Some((v, line)) = s.get("parametervalue") {
-        let value = parse_value(v, dtype).map_err(|m| err(line, format!("ParameterValue of {addr}: {m}")))?;
-        eds.values.insert(addr, value);
+/// The file being read: where its deviations go.
+struct Reader<'p> {
+    path: &'p str,
+    encoding: TextEncoding,
+    eds: Eds,
+}
+
+/// `0x3ED ; prevent homing` → `0x3ED`: the text before a `;` that follows a blank.
+fn strip_comment(v: &str) -> Option<&str> {
+    let at = v.char_indices().find(|(i, c)| *c == ';' && *i > 0 && v[..*i].ends_with([' ', '\t']))?.0;
+    Some(trim_blanks(&v[..at]))
+}
+
+impl Reader<'_> {
+    fn warn(&mut self, line: usize, kind: Kind, message: String) {
+        self.eds.warnings.push(Warning::new(self.path, line, kind, message));
     }
-    eds.dict.insert(Entry { addr, name: name.to_string(), dtype, access, default, range });
-    Ok(())
+
+    fn left_out(&mut self, line: usize, message: String) {
+        self.warn(line, Kind::ObjectLeftOut, message);
+    }
+
+    fn name_of(&self, s: &Section, fallback: String) -> String {
+        s.get("parametername").map_or(fallback, |(v, _)| self.encoding.decode(v))
+    }
+
+    /// A key whose value is a number, a code or a value of a non-string type: an inline
+    /// comment after it is read as python-canopen and Lely's dcfchk read it, and said so.
+    fn plain<'s>(&mut self, s: &'s Section, key: &str) -> Option<(&'s str, usize)> {
+        let (v, line) = s.get(key)?;
+        match strip_comment(v) {
+            Some(value) => {
+                let key = s.spelled.get(key).map_or(key, String::as_str);
+                self.warn(
+                    line,
+                    Kind::InlineComment,
+                    format!("{key}={v}: the text from ';' on is read as a comment; the value is '{value}'"),
+                );
+                Some((value, line))
+            }
+            None => Some((v, line)),
+        }
+    }
+
+    fn commissioning(&mut self, s: &Section) {
+        if let Some((v, line)) = self.plain(s, "nodeid") {
+            match parse_int(v) {
+                Some(id) if NODE_IDS.contains(&id) => self.eds.node_id = Some(id as u8),
+                Some(0) => self.warn(
+                    line,
+                    Kind::PlaceholderCommissioning,
+                    "NodeID=0 is a placeholder, not a node-id: the node given on the command line is used".into(),
+                ),
+                _ => self.warn(line, Kind::ValueIgnored, format!("NodeID {v} is not 1 to 127: ignored")),
+            }
+        }
+        if let Some((v, line)) = self.plain(s, "baudrate") {
+            match parse_int(v) {
+                Some(10 | 20 | 50 | 125 | 250 | 500 | 800 | 1000) => {}
+                Some(0) => self.warn(
+                    line,
+                    Kind::PlaceholderCommissioning,
+                    "BaudRate=0 is a placeholder, not a bit rate: the bus's own bit rate is used".into(),
+                ),
+                _ => self.warn(
+                    line,
+                    Kind::ValueIgnored,
+                    format!("BaudRate {v} is not a CiA 301 bit rate in kbit/s (10 ... 1000): ignored"),
+                ),
+            }
+        }
+    }
+
+    /// `Dummy0002=1`: the data type 0x0002 may be mapped into a PDO as a gap.
+    fn dummy_usage(&mut self, s: &Section) {
+        let mut keys: Vec<(&String, &(String, usize))> = s.keys.iter().collect();
+        keys.sort_by_key(|(_, (_, line))| *line);
+        for (key, (v, line)) in keys {
+            let code = key.strip_prefix("dummy").filter(|c| c.len() == 4).and_then(|c| u16::from_str_radix(c, 16).ok());
+            match (code, parse_int(v)) {
+                (Some(code), Some(1)) => {
+                    self.eds.dummy_usage.insert(code);
+                }
+                (Some(_), Some(0)) => {}
+                _ => {
+                    let key = s.spelled.get(key.as_str()).unwrap_or(key);
+                    self.warn(
+                        *line,
+                        Kind::BadDummyUsage,
+                        format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored"),
+                    )
+                }
+            }
+        }
+    }
+
+    /// `[MandatoryObjects]`, `[OptionalObjects]`, `[ManufacturerObjects]` against the
+    /// object sections there are. The reader goes by the sections; a list that says
+    /// otherwise is said, as is a mandatory object (CiA 301: 0x1000, 0x1001, 0x1018) the
+    /// file lacks. A file without any list (a snippet, a test file) is not held to them.
+    fn object_lists(&mut self, sections: &[Section], by_name: &BTreeMap<(u16, Option<u8>), &Section>) {
+        const LISTS: [&str; 3] = ["mandatoryobjects", "optionalobjects", "manufacturerobjects"];
+        let lists: Vec<&Section> = sections.iter().filter(|s| LISTS.contains(&s.name.as_str())).collect();
+        let Some(first) = lists.first() else { return };
+        let mut listed = BTreeSet::new();
+        for list in &lists {
+            let title = list.spelled_name();
+            let mut entries: Vec<(usize, &str, usize)> = Vec::new();
+            for (key, (v, line)) in &list.keys {
+                if key == "supportedobjects" {
+                    continue;
+                }
+                match (parse_int(key), parse_int(v).and_then(|i| u16::try_from(i).ok())) {
+                    (Some(n), Some(index)) if n >= 1 => {
+                        entries.push((n as usize, v, *line));
+                        if !by_name.contains_key(&(index, None)) {
+                            self.warn(
+                                *line,
+                                Kind::ObjectList,
+                                format!("[{title}] lists 0x{index:04X}, which has no [{index:04X}] section: nothing to read"),
+                            );
+                        }
+                        listed.insert(index);
+                    }
+                    _ => self.warn(*line, Kind::ObjectList, format!("[{title}] {key}={v} is not N=index: ignored")),
+                }
+            }
+            match list.get("supportedobjects") {
+                Some((v, line)) if parse_int(v) != Some(entries.len() as i128) => self.warn(
+                    line,
+                    Kind::ObjectList,
+                    format!("[{title}] SupportedObjects={v} but it lists {}: the sections are read", entries.len()),
+                ),
+                None => self.warn(
+                    list.line,
+                    Kind::ObjectList,
+                    format!("[{title}] has no SupportedObjects: the {} it lists are read", entries.len()),
+                ),
+                _ => {}
+            }
+        }
+        for ((index, _), s) in by_name.range((0x1000, None)..).filter(|((_, sub), _)| sub.is_none()) {
+            if !listed.contains(index) {
+                self.warn(
+                    s.line,
+                    Kind::ObjectList,
+                    format!("[{index:04X}] is in no object list ([MandatoryObjects], [OptionalObjects], [ManufacturerObjects]): read all the same"),
+                );
+            }
+        }
+        for index in [0x1000u16, 0x1001, 0x1018] {
+            if !by_name.contains_key(&(index, None)) {
+                self.warn(
+                    first.line,
+                    Kind::ObjectList,
+                    format!("no [{index:04X}] section: CiA 301 makes 0x{index:04X} mandatory for every device"),
+                );
+            }
+        }
+    }
+
+    /// SubNumber, which the reader does not need (it reads the sections there are).
+    fn sub_number(&mut self, s: &Section, index: u16, name: &str, found: usize) {
+        match self.plain(s, "subnumber") {
+            None => self.warn(
+                s.line,
+                Kind::MissingSubNumber,
+                format!("{index:04X} ({name}) has no SubNumber: its {found} [{index:04X}subN] sections are read"),
+            ),
+            Some((v, line)) => match parse_int(v) {
+                Some(n) if n == found as i128 => {}
+                _ => self.warn(
+                    line,
+                    Kind::SubNumberMismatch,
+                    format!(
+                        "{index:04X} ({name}) has SubNumber={v} but {found} [{index:04X}subN] sections: those are read"
+                    ),
+                ),
+            },
+        }
+    }
+
+    /// A CompactSubObj array: sub 0 holds the count, subs 1..=n share the object's type,
+    /// access and default; `[xxxxName]` names them and a DCF's `[xxxxValue]` gives values.
+    fn compact(
+        &mut self,
+        s: &Section,
+        index: u16,
+        name: &str,
+        n: u8,
+        sections: &BTreeMap<String, &Section>,
+    ) -> Vec<Entry> {
+        let sub0 = Entry {
+            addr: ObjAddr::new(index, 0),
+            name: "NrOfObjects".into(),
+            dtype: DataType::U8,
+            access: Access::Ro,
+            default: Init::Bytes(vec![n]),
+            range: None,
+        };
+        let Some(template) = self.entry(s, ObjAddr::new(index, 1), name, false) else { return Vec::new() };
+        // The object section's own ParameterValue is no member's.
+        self.eds.values.remove(&ObjAddr::new(index, 1));
+        let names = self.compact_list(sections.get(&format!("{index:04x}name")).copied(), index, n);
+        let values = self.compact_list(sections.get(&format!("{index:04x}value")).copied(), index, n);
+        let mut out = Vec::new();
+        for sub in 1..=n {
+            let addr = ObjAddr::new(index, sub);
+            let member = names.get(&sub).map_or_else(|| format!("{name}{sub}"), |(v, _)| self.encoding.decode(v));
+            if let Some((text, line)) = values.get(&sub) {
+                match parse_value(text, template.dtype) {
+                    Ok(v) => {
+                        self.eds.values.insert(addr, v);
+                    }
+                    Err(m) => self.warn(*line, Kind::ValueIgnored, format!("[{index:04X}Value] {sub}: {m}; ignored")),
+                }
+            }
+            out.push(Entry { addr, name: member, ..template.clone() });
+        }
+        if !values.is_empty() {
+            // The count the device is to hold is the number of values given.
+            self.eds.values.insert(sub0.addr, Init::Bytes(vec![values.keys().max().copied().unwrap_or(0)]));
+        }
+        out.insert(0, sub0);
+        out
+    }
+
+    /// The `N=text` lines of a `[xxxxName]` or `[xxxxValue]` section, by subindex.
+    fn compact_list(&mut self, s: Option<&Section>, index: u16, n: u8) -> BTreeMap<u8, (String, usize)> {
+        let Some(s) = s else { return BTreeMap::new() };
+        let mut out = BTreeMap::new();
+        for (key, (v, line)) in &s.keys {
+            if key == "nrofentries" {
+                continue;
+            }
+            match parse_int(key).filter(|k| (1..=i128::from(n)).contains(k)) {
+                Some(sub) => {
+                    out.insert(sub as u8, (v.clone(), *line));
+                }
+                None => self.warn(
+                    *line,
+                    Kind::BadCompactSection,
+                    format!(
+                        "[{}] {key}={v}: {key} is not a sub-index 1..{n} of {index:04X}'s CompactSubObj; ignored",
+                        s.name
+                    ),
+                ),
+            }
+        }
+        out
+    }
+
+    /// One entry; `None` when it cannot be understood (said, with its line).
+    fn entry(&mut self, s: &Section, addr: ObjAddr, name: &str, domain: bool) -> Option<Entry> {
+        match self.try_entry(s, addr, name, domain) {
+            Ok(e) => Some(e),
+            Err((line, why)) => {
+                self.left_out(line, format!("{addr} ({name}) left out: {why}"));
+                None
+            }
+        }
+    }
+
+    fn try_entry(&mut self, s: &Section, addr: ObjAddr, name: &str, domain: bool) -> Result<Entry, (usize, String)> {
+        // A complex, manufacturer or profile type: its bytes, as python-canopen reads it.
+        let mut as_bytes = None;
+        let dtype = match self.plain(s, "datatype") {
+            Some((dt, line)) => {
+                let code = parse_int(dt).ok_or((line, format!("DataType '{dt}' is not a number")))?;
+                match data_type_from_code(code).map_err(|m| (line, m))? {
+                    Some(t) => t,
+                    None => {
+                        as_bytes = Some((line, code));
+                        DataType::D
+                    }
+                }
+            }
+            // A DOMAIN object needs no DataType: it is one.
+            None if domain => DataType::D,
+            None => return Err((s.line, "it has no DataType".into())),
+        };
+        let access = match self.plain(s, "accesstype") {
+            Some((v, line)) => {
+                parse_access(v).ok_or((line, format!("AccessType '{v}' is not ro, wo, rw, rwr, rww or const")))?
+            }
+            // DOMAINs are often described by type alone.
+            None if dtype == DataType::D => Access::Rw,
+            None => return Err((s.line, "it has no AccessType".into())),
+        };
+        let value_key = |r: &mut Self, key: &str| -> Option<(String, usize)> {
+            if dtype == DataType::Unicode {
+                s.get(key).map(|(v, l)| (r.encoding.decode(v), l))
+            } else if dtype == DataType::Vs {
+                s.get(key).map(|(v, l)| (v.to_string(), l))
+            } else {
+                r.plain(s, key).map(|(v, l)| (v.to_string(), l))
+            }
+        };
+        if let Some((line, code)) = as_bytes {
+            self.warn(
+                line,
+                Kind::TypeAsBytes,
+                format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default"),
+            );
+        }
+        let default = match value_key(self, "defaultvalue").filter(|_| as_bytes.is_none()) {
+            // What DOMAIN defaults often say for "nothing".
+            Some((v, line))
+                if dtype == DataType::D && ["0", "0x0", "null"].contains(&v.to_ascii_lowercase().as_str()) =>
+            {
+                self.warn(
+                    line,
+                    Kind::DomainDefault,
+                    format!("DefaultValue={v} of DOMAIN {addr} ({name}) read as empty"),
+                );
+                Init::Bytes(Vec::new())
+            }
+            Some((v, line)) => match parse_value(&v, dtype) {
+                Ok(init) => init,
+                // A DOMAIN's default is often a file name or a note: not its content.
+                Err(m) if dtype == DataType::D => {
+                    self.warn(line, Kind::ValueIgnored, format!("DefaultValue of {addr} ({name}): {m}; read as empty"));
+                    Init::Bytes(Vec::new())
+                }
+                Err(m) => return Err((line, format!("DefaultValue {m}"))),
+            },
+            None => Init::Bytes(if let Some(size) = dtype.size() { vec![0; size] } else { Vec::new() }),
+        };
+        let limit = |r: &mut Self, key: &str| -> Option<i128> {
+            let (v, line) = value_key(r, key)?;
+            if v.is_empty() || dtype.int_range().is_none() {
+                return None;
+            }
+            match parse_int(&v) {
+                Some(n) => Some(signed_from_hex(n, &v, dtype)),
+                None => {
+                    r.warn(
+                        line,
+                        Kind::ValueIgnored,
+                        format!("{key} '{v}' of {addr} ({name}) is not an integer: no limit"),
+                    );
+                    None
+                }
+            }
+        };
+        let range = match (limit(self, "lowlimit"), limit(self, "highlimit")) {
+            (None, None) => None,
+            (lo, hi) => {
+                let (tlo, thi) = dtype.int_range().expect("integer");
+                Some((lo.unwrap_or(tlo), hi.unwrap_or(thi)))
+            }
+        };
+        if let Some((v, line)) = value_key(self, "parametervalue") {
+            match parse_value(&v, dtype) {
+                Ok(value) => {
+                    self.eds.values.insert(addr, value);
+                }
+                Err(m) => {
+                    self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {addr} ({name}): {m}; ignored"))
+                }
+            }
+        }
+        Ok(Entry { addr, name: name.to_string(), dtype, access, default, range })
+    }
 }
 
 /// Read a file from disk: a regular file within `input::MAX_EDS_BYTES`.
@@ -527,6 +929,32 @@ pub fn value_text(init: &Init, dtype: DataType) -> Result<String, String> {
         }
         DataType::Os | DataType::D => crate::canopen::types::hex(bytes),
         DataType::R32 | DataType::R64 => real_text(bytes, dtype),
+        // The UTF-8 bytes, each as the character of its number (`Writer::value` writes them);
+        // every code unit, NULs included, so that it reads back the same or is refused.
+        DataType::Unicode => {
+            let units: Vec<u16> =
+                bytes.chunks(2).map(|c| u16::from_le_bytes([c[0], *c.get(1).unwrap_or(&0)])).collect();
+            let text = match String::from_utf16(&units) {
+                Ok(t) if bytes.len() % 2 == 0 => t,
+                _ => return Err("it is not UTF-16 text (CiA 301 UNICODE_STRING)".into()),
+            };
+            if let Some(why) = unwritable_bytes(text.as_bytes()) {
+                return Err(why);
+            }
+            text.bytes().map(|b| b as char).collect()
+        }
+        // The date and time where it reads back the same; else (reserved bits set, a
+        // time of day past midnight) the raw 48 bits, so the file says exactly what was read.
+        DataType::TimeOfDay | DataType::TimeDifference => {
+            let text = dtype.decode(bytes).expect("size checked").to_string();
+            if dtype.parse(&text).ok().as_deref() == Some(bytes) {
+                text
+            } else {
+                let mut wide = [0u8; 8];
+                wide[..6].copy_from_slice(bytes);
+                format!("0x{:012X}", u64::from_le_bytes(wide))
+            }
+        }
         DataType::Bool if bytes[0] > 1 => {
             return Err(format!("it holds 0x{:02X}, and a BOOLEAN is 0 or 1 (CiA 301)", bytes[0]))
         }

@@ -5,6 +5,7 @@
 pub mod builtin;
 pub mod cpj;
 pub mod eds;
+pub mod lint;
 pub mod names;
 pub mod stored;
 pub mod xdd;

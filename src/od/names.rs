@@ -32,7 +32,25 @@ pub fn find(dict: &Dictionary, name: &str) -> Result<ObjAddr, String> {
     if let [one] = full.as_slice() {
         return Ok(*one);
     }
+    // Spellings alike once punctuation is dropped ("Position Actual Value" 0x6064 and
+    // "Position Actual Value*" 0x6063): the name written exactly as given wins.
+    let exact = |addrs: &[ObjAddr], of: &dyn Fn(ObjAddr) -> Option<String>| -> Option<ObjAddr> {
+        match addrs
+            .iter()
+            .filter(|a| of(**a).is_some_and(|n| n.trim().eq_ignore_ascii_case(name.trim())))
+            .collect::<Vec<_>>()[..]
+        {
+            [one] => Some(*one),
+            _ => None,
+        }
+    };
+    if let Some(one) = exact(&full, &|a| dict.display_name(a)) {
+        return Ok(one);
+    }
     let short: Vec<ObjAddr> = dict.entries().filter(|e| normalize(&e.name) == want).map(|e| e.addr).collect();
+    if let Some(one) = exact(&short, &|a| dict.get(a).map(|e| e.name.clone())) {
+        return Ok(one);
+    }
     match (full.as_slice(), short.as_slice()) {
         ([], [one]) => Ok(*one),
         ([], []) => {
@@ -154,6 +172,21 @@ mod tests {
             }
         }
         assert!(checked > 50, "{checked}");
+    }
+
+    #[test]
+    fn an_exact_name_wins_over_one_that_differs_in_punctuation() {
+        let eds = crate::od::eds::read_file(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fixtures/eds/exact-names.eds"
+        )))
+        .unwrap();
+        let d = &eds.dict;
+        assert_eq!(find(d, "Position Actual Value"), Ok(ObjAddr::new(0x6064, 0)));
+        assert_eq!(find(d, "position actual value*"), Ok(ObjAddr::new(0x6063, 0)));
+        // A spelling that is neither stays ambiguous, naming both.
+        let e = find(d, "PositionActualValue").unwrap_err();
+        assert!(e.contains("0x6063:0") && e.contains("0x6064:0"), "{e}");
     }
 
     #[test]

@@ -54,12 +54,25 @@ impl Dcf {
     }
 
     /// Objects the file describes in a way canctl passes over, with file:line.
-    pub fn warnings(&self) -> &[String] {
+    pub fn warnings(&self) -> &[crate::od::lint::Warning] {
         &self.eds.warnings
     }
 
     /// The values for `node`, with their dictionary entries; `$NODEID` means that node.
     fn values(&self, node: u8) -> Result<Vec<Wanted>> {
+        // An EDS with an object left out still names the rest; a DCF so read would be
+        // applied (or compared) without what it left out: refused, with the first reason.
+        let errors: Vec<&crate::od::lint::Warning> =
+            self.eds.warnings.iter().filter(|w| w.severity == crate::od::lint::Severity::Error).collect();
+        if let Some(first) = errors.first() {
+            return Err(Error::Usage(format!(
+                "{first}; {} has {} error(s) against CiA 306, so its values are not all read: nothing is compared \
+                 or written (canctl config check {} lists them)",
+                self.path(),
+                errors.len(),
+                self.path()
+            )));
+        }
         let mut out = Vec::new();
         for (addr, init) in &self.eds.values {
             let Some(entry) = self.eds.dict.get(*addr) else { continue };

@@ -47,7 +47,7 @@ impl Dictionaries {
     }
 
     /// The files' warnings, with file:line.
-    pub fn warnings(&self) -> impl Iterator<Item = &String> {
+    pub fn warnings(&self) -> impl Iterator<Item = &crate::od::lint::Warning> {
         self.files.iter().flat_map(|(_, eds)| &eds.warnings)
     }
 

@@ -5,6 +5,7 @@
 
 pub use crate::cancel::Cancel;
 
+pub mod check;
 pub mod clash;
 pub mod config;
 pub mod dictionaries;

@@ -87,7 +87,7 @@ pub fn load(file: &Path) -> Result<Loaded> {
                         file.display()
                     )));
                 }
-                warnings.extend(dcf.warnings().iter().cloned());
+                warnings.extend(dcf.warnings().iter().map(|w| w.to_string()));
                 (Some(dcf), c)
             }
         };

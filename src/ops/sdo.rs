@@ -101,7 +101,7 @@ fn value_json<S: serde::Serializer>(v: &Option<Value>, s: S) -> std::result::Res
 }
 
 fn is_large(t: Option<DataType>) -> bool {
-    matches!(t, Some(DataType::Vs | DataType::Os | DataType::D))
+    matches!(t, Some(DataType::Vs | DataType::Os | DataType::D | DataType::Unicode))
 }
 
 fn sdo_options(timeout: Duration, dtype: Option<DataType>, block: bool) -> SdoOptions {
@@ -136,6 +136,13 @@ pub fn read_watched(
     opts.on_progress = watch;
     let bytes = bus.sdo_upload(node, object, &opts)?;
     let value = match dtype {
+        Some(DataType::Unicode) => Some(DataType::Unicode.decode(&bytes).ok_or_else(|| {
+            Error::Usage(format!(
+                "node {node}: {object} holds {} byte(s) ({}), which is not UTF-16 text (us); try another --type",
+                bytes.len(),
+                hex(&bytes)
+            ))
+        })?),
         Some(t) => Some(t.decode(&bytes).ok_or_else(|| {
             Error::Usage(format!(
                 "node {node}: {object} holds {} byte(s) ({}), which is not a {t} ({} bytes); try another --type",
@@ -171,7 +178,7 @@ pub fn write(
     let Some(dtype) = o.dtype.or(dict.get(object).map(|e| e.dtype)) else {
         return Err(Error::Usage(format!(
             "--type is needed to encode '{value}' for {object} (no dictionary entry; --eds gives one): \
-             one of b u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs os d"
+             one of b u8 u16 u24 u32 u40 u48 u56 u64 i8 i16 i24 i32 i40 i48 i56 i64 r32 r64 t td vs us os d"
         )));
     };
     let bytes = value_bytes(dtype, value)?;

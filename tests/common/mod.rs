@@ -220,3 +220,19 @@ pub fn signal_after_lines(mut c: Command, lines: usize, signal: nix::sys::signal
     out.stdout = seen.into_bytes();
     finish(out)
 }
+
+/// Where the shared corpus of real EDS/DCF/XDD files is: `../shared/eds-corpus` beside the
+/// repository, or `CANCTL_EDS_CORPUS` (a checkout elsewhere, a git worktree). `None` (the
+/// test says it is skipped) when it is not there, unless `CANCTL_REQUIRE_CORPUS` is set.
+#[allow(dead_code)]
+pub fn eds_corpus() -> Option<std::path::PathBuf> {
+    let dir = std::env::var_os("CANCTL_EDS_CORPUS")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/eds-corpus"));
+    if dir.is_dir() {
+        return Some(dir);
+    }
+    assert!(std::env::var_os("CANCTL_REQUIRE_CORPUS").is_none(), "no EDS corpus at {}", dir.display());
+    skipped(&format!("no EDS corpus at {} (CANCTL_EDS_CORPUS names another place)", dir.display()));
+    None
+}

@@ -10,6 +10,11 @@ fn load(name: &str) -> Result<Eds, EdsError> {
     parse(&bytes, &path)
 }
 
+/// The warnings as people see them.
+fn said(eds: &Eds) -> Vec<String> {
+    eds.warnings.iter().map(|w| w.to_string()).collect()
+}
+
 #[test]
 fn reads_a_real_world_shaped_eds() {
     let (bytes, _) = fixture("mh-sensor.eds");
@@ -35,11 +40,10 @@ fn reads_a_real_world_shaped_eds() {
     // An array of signed values.
     assert_eq!(d.object_info(0x6020).unwrap().1, ObjectKind::Array);
     assert_eq!(d.get(ObjAddr::new(0x6020, 1)).unwrap().default_for(5), vec![0xFF; 4]);
-    // Latin-1 decoded, a type canctl does not handle passed over with a warning.
+    // Latin-1 decoded; UNSIGNED24 read as itself.
     assert_eq!(eds.info["vendorname"], "MTS Sensor Technologie GmbH & Co. KG");
-    assert_eq!(eds.warnings.len(), 1);
-    assert!(eds.warnings[0].contains("mh-sensor.eds:") && eds.warnings[0].contains("0x0016"), "{:?}", eds.warnings);
-    assert!(d.get(ObjAddr::new(0x6021, 0)).is_none());
+    assert_eq!(said(&eds), Vec::<String>::new());
+    assert_eq!(d.get(ObjAddr::new(0x6021, 0)).unwrap().dtype, DataType::U24);
 }
 
 #[test]
@@ -56,21 +60,44 @@ fn reads_a_dcf_with_parameter_values() {
 #[test]
 fn broken_files_are_refused_with_file_and_line() {
     let cases = [
-        ("broken-datatype.eds", "broken-datatype.eds:3: DataType '0xZZ' is not a number"),
         ("broken-section.eds", "broken-section.eds:6: section header '[1001' has no closing ]"),
         ("broken-line.eds", "broken-line.eds:3: expected KEY=VALUE or [SECTION], found 'DataType 0x0007'"),
-        ("broken-access.eds", "broken-access.eds:4: AccessType 'readwrite' is not ro, wo, rw, rwr, rww or const"),
-        (
-            "broken-default.eds",
-            "broken-default.eds:5: DefaultValue of 0x1001:0: 300 is out of range for u8: use 0 to 255",
-        ),
-        (
-            "broken-record.eds",
-            "broken-record.eds:1: Identity object (1018) is an array or record without any [1018subN] section",
-        ),
     ];
     for (file, want) in cases {
         assert_eq!(load(file).unwrap_err().to_string(), want, "{file}");
+    }
+    // An XML file (XDD) or any other text is not an EDS at all.
+    let e = parse(b"[Settings]\nColour=blue\n", "x.ini").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "x.ini:1: not an EDS or DCF: it has no [FileInfo], [DeviceInfo] or object section such as [1000]"
+    );
+}
+
+#[test]
+fn objects_that_cannot_be_understood_are_left_out_naming_them() {
+    let cases = [
+        ("broken-datatype.eds", "broken-datatype.eds:3: 0x1000:0 (Device type) left out: DataType '0xZZ' is not a number"),
+        (
+            "broken-access.eds",
+            "broken-access.eds:4: 0x1000:0 (Device type) left out: AccessType 'readwrite' is not ro, wo, rw, rwr, rww or const",
+        ),
+        (
+            "broken-default.eds",
+            "broken-default.eds:5: 0x1001:0 (Error register) left out: DefaultValue 300 is out of range for u8: use 0 to 255",
+        ),
+        (
+            "broken-record.eds",
+            "broken-record.eds:1: 1018 (Identity object) left out: an ARRAY or RECORD without any [1018subN] section or CompactSubObj",
+        ),
+    ];
+    for (file, want) in cases {
+        let eds = load(file).unwrap();
+        assert_eq!(said(&eds), [want], "{file}");
+        assert_eq!(eds.warnings[0].kind, lint::Kind::ObjectLeftOut);
+        assert_eq!(eds.warnings[0].severity, lint::Severity::Error);
+        assert_eq!(eds.dict.entries().count(), 0, "{file}");
+        assert_eq!(eds.dict.objects().count(), 0, "{file}: no empty object declared");
     }
 }
 
@@ -274,19 +301,24 @@ fn node_id_arithmetic_is_checked_against_the_type() {
 }
 
 #[test]
-fn an_unknown_data_type_is_an_error_with_its_line() {
+fn an_unknown_data_type_leaves_its_object_out_with_its_line() {
     let file = b"[2000]\nParameterName=x\nObjectType=7\nDataType=0x10007\nAccessType=rw\n";
     assert_eq!(
-        parse(file, "t.eds").unwrap_err().to_string(),
-        "t.eds:4: 0x2000:0 (x): DataType 0x10007 is not a CiA 301 data type (0x0001..0x025F; 0x0007 is UNSIGNED32)"
+        said(&parse(file, "t.eds").unwrap()),
+        ["t.eds:4: 0x2000:0 (x) left out: DataType 0x10007 is not a CiA 301 data type (0x0001..0x025F; 0x0007 is UNSIGNED32)"]
     );
     for code in ["0", "0x0260", "-7"] {
         let file = format!("[2000]\nParameterName=x\nDataType={code}\nAccessType=rw\n");
-        assert!(parse(file.as_bytes(), "t.eds").unwrap_err().to_string().starts_with("t.eds:3: "), "{code}");
+        assert!(said(&parse(file.as_bytes(), "t.eds").unwrap())[0].starts_with("t.eds:3: "), "{code}");
     }
-    // A CiA 301 type canctl does not handle (UNICODE_STRING) is passed over, said so.
-    let eds = parse(b"[2000]\nParameterName=x\nDataType=0x000B\nAccessType=rw\n", "t.eds").unwrap();
-    assert_eq!(eds.warnings, ["t.eds:3: 0x2000:0 (x) has data type 0x000B, which canctl does not handle; passed over"]);
+    // A complex or manufacturer type (0x0040) is no basic type: its bytes, as python-canopen reads it.
+    let eds = parse(b"[2000]\nParameterName=x\nDataType=0x0040\nAccessType=rw\nDefaultValue=7\n", "t.eds").unwrap();
+    assert_eq!(
+        said(&eds),
+        ["t.eds:3: 0x2000:0 (x) has data type 0x0040, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default"]
+    );
+    assert_eq!(eds.dict.get(ObjAddr::new(0x2000, 0)).unwrap().dtype, DataType::D);
+    assert_eq!(eds.warnings[0].severity, lint::Severity::Warning);
 }
 
 #[test]
@@ -302,7 +334,7 @@ fn bom_crlf_repeats_and_long_lines() {
     let e = eds.dict.get(ObjAddr::new(0x2000, 0)).unwrap();
     assert_eq!((e.name.as_str(), e.dtype, e.default.clone()), ("again", DataType::Vs, Init::Bytes(vec![b'x'; 300])));
     assert_eq!(
-        eds.warnings,
+        said(&eds),
         [
             "t.eds:6: defaultvalue repeated in [2000] (before at line 5): the value of line 6 is used",
             "t.eds:7: section [2000] again (before at line 1): this one replaces it",
@@ -332,12 +364,12 @@ fn a_flood_of_repeated_keys_gives_a_bounded_list() {
         file.extend_from_slice(b"VendorName=x\n");
     }
     let eds = parse(&file, "t.eds").unwrap();
-    assert_eq!(eds.warnings.len(), MAX_WARNINGS + 1);
+    assert_eq!(eds.warnings.len(), lint::MAX_WARNINGS + 1);
     assert_eq!(
-        eds.warnings[0],
+        said(&eds)[0],
         "t.eds:3: VendorName repeated in [deviceinfo] (before at line 2): the value of line 3 is used"
     );
-    assert_eq!(eds.warnings[MAX_WARNINGS], "further warnings left out (the first 100 are listed)");
+    assert_eq!(said(&eds)[lint::MAX_WARNINGS], "t.eds: further deviations left out (the first 200 are listed)");
 }
 
 #[test]
@@ -347,5 +379,147 @@ fn signed_limits_in_hex_are_twos_complement() {
     assert_eq!((e.range, e.default), (Some((-32768, 32767)), Init::Bytes(vec![0xFF, 0xFF])));
     // In decimal, 65535 is 65535: out of range for an INTEGER16, not silently -1.
     let file = b"[2000]\nParameterName=x\nDataType=0x0003\nAccessType=rw\nDefaultValue=65535\n";
-    assert!(parse(file, "t.eds").unwrap_err().to_string().contains("65535 is out of range for i16"));
+    assert!(said(&parse(file, "t.eds").unwrap())[0].contains("65535 is out of range for i16"));
+}
+
+#[test]
+fn domain_objects_are_single_values_read_as_d() {
+    let eds = load("domain.eds").unwrap();
+    let d = &eds.dict;
+    let at = |i| d.get(ObjAddr::new(i, 0)).unwrap();
+    assert_eq!(
+        (at(0x1F50).dtype, at(0x1F50).access, at(0x1F50).default.clone()),
+        (DataType::D, Access::Rw, Init::Bytes(vec![]))
+    );
+    assert_eq!(d.object_info(0x3D02), Some(("Error History", ObjectKind::Var)));
+    assert_eq!(at(0x3D03).default, Init::Bytes(vec![0xDE, 0xAD, 0xBE, 0xEF]));
+    // A DOMAIN object needs neither DataType nor AccessType.
+    assert_eq!((at(0x3D04).dtype, at(0x3D04).access), (DataType::D, Access::Rw));
+    // A default that is no hex is not the content: read as empty, said so.
+    assert_eq!(at(0x3D05).default, Init::Bytes(vec![]));
+    // NULL (or 0) says "nothing": read so, with a warning only.
+    assert_eq!(at(0x3D06).default, Init::Bytes(vec![]));
+    assert_eq!(
+        said(&eds),
+        [
+            "domain.eds:45: DefaultValue of 0x3D05:0 (Notes): 'see manual' is not hex bytes: 's' is not a hex digit; read as empty",
+            "domain.eds:52: DefaultValue=NULL of DOMAIN 0x3D06:0 (Storage EDS) read as empty"
+        ]
+    );
+    let severities: Vec<lint::Severity> = eds.warnings.iter().map(|w| w.severity).collect();
+    assert_eq!(severities, [lint::Severity::Error, lint::Severity::Warning]);
+}
+
+#[test]
+fn compact_sub_objects_with_their_name_and_value_sections() {
+    let eds = load("compact.dcf").unwrap();
+    let d = &eds.dict;
+    assert_eq!(d.object_info(0x1003), Some(("Pre-defined error field", ObjectKind::Array)));
+    assert_eq!(d.object_entries(0x1003).count(), 255);
+    let sub0 = d.get(ObjAddr::new(0x1003, 0)).unwrap();
+    assert_eq!((sub0.dtype, sub0.access, sub0.default.clone()), (DataType::U8, Access::Ro, Init::Bytes(vec![254])));
+    let e = d.get(ObjAddr::new(0x1003, 254)).unwrap();
+    assert_eq!((e.name.as_str(), e.dtype, e.access), ("Pre-defined error field254", DataType::U32, Access::Rw));
+    // [1016Name] names the members; [1016Value] gives a DCF's values, and the count.
+    assert_eq!(d.display_name(ObjAddr::new(0x1016, 2)).unwrap(), "Consumer heartbeat time: Heartbeat of the encoder");
+    assert_eq!(d.get(ObjAddr::new(0x1016, 3)).unwrap().name, "Consumer heartbeat time3");
+    assert_eq!(eds.values[&ObjAddr::new(0x1016, 1)], Init::Bytes(0x0002_01F4u32.to_le_bytes().to_vec()));
+    assert_eq!(eds.values[&ObjAddr::new(0x1016, 0)], Init::Bytes(vec![2]));
+    assert!(!eds.values.contains_key(&ObjAddr::new(0x1016, 3)));
+    // [DummyUsage]: the types a PDO may map as gaps.
+    assert_eq!(eds.dummy_usage, BTreeSet::from([0x0002, 0x0005]));
+    // A RECORD with CompactSubObj (Lely's dcfgen writes PDO mappings so): read as meant.
+    assert_eq!(d.object_info(0x1A00), Some(("TPDO mapping parameter", ObjectKind::Record)));
+    assert_eq!(eds.values[&ObjAddr::new(0x1A00, 1)], Init::Bytes(0x6064_0020u32.to_le_bytes().to_vec()));
+    assert_eq!(eds.values[&ObjAddr::new(0x1A00, 0)], Init::Bytes(vec![1]));
+    assert_eq!(
+        said(&eds),
+        [
+            "compact.dcf:16: [DummyUsage] Dummy0007=yes is not DummyNNNN=0 or 1: ignored",
+            "compact.dcf:49: 1A00 (TPDO mapping parameter) is a RECORD with CompactSubObj=1: read as an ARRAY of 1 sub-objects of its DataType"
+        ]
+    );
+}
+
+#[test]
+fn deviations_a_reader_can_interpret_are_read_and_said() {
+    let eds = load("deviations.dcf").unwrap();
+    let d = &eds.dict;
+    // Placeholders in [DeviceCommissioning]: no node-id from the file.
+    assert_eq!(eds.node_id, None);
+    // Inline comments after numbers are comments; in strings and names they are text.
+    assert_eq!(eds.values[&ObjAddr::new(0x1017, 0)], Init::Bytes(vec![0xF4, 0x01]));
+    assert_eq!(d.get(ObjAddr::new(0x6502, 0)).unwrap().default, Init::Bytes(0x3EDu32.to_le_bytes().to_vec()));
+    assert_eq!(d.get(ObjAddr::new(0x2003, 0)).unwrap().name, "Comment ; kept in a name");
+    assert_eq!(d.get(ObjAddr::new(0x2003, 0)).unwrap().default, Init::Bytes(b"a ; b".to_vec()));
+    // A missing SubNumber: the sub sections there are are read.
+    assert_eq!(d.object_entries(0x2000).count(), 3);
+    // An array with no sub-objects at all is left out; the rest of the file is read.
+    assert!(!d.has_index(0x2001) && d.object_info(0x2001).is_none());
+    assert_eq!(d.object_entries(0x2002).count(), 2);
+    let kinds: Vec<(usize, lint::Kind)> = eds.warnings.iter().map(|w| (w.line, w.kind)).collect();
+    use lint::Kind::*;
+    assert_eq!(
+        kinds,
+        [
+            (10, PlaceholderCommissioning),
+            (11, PlaceholderCommissioning),
+            (19, InlineComment),
+            (25, InlineComment),
+            (27, MissingSubNumber),
+            (49, ObjectLeftOut),
+            (59, SubNumberMismatch),
+        ]
+    );
+    let said = said(&eds);
+    assert_eq!(said[2], "deviations.dcf:19: ParameterValue=500\t; half a second: the text from ';' on is read as a comment; the value is '500'");
+    assert_eq!(
+        said[5],
+        "deviations.dcf:49: 2001 (Valve % open) left out: an ARRAY or RECORD without any [2001subN] section or CompactSubObj"
+    );
+    assert!(eds.warnings.iter().all(|w| !w.rule.is_empty() && w.rule.starts_with("CiA 306")));
+}
+
+#[test]
+fn windows_1252_names_read_as_meant() {
+    let eds = load("cp1252.eds").unwrap();
+    assert_eq!(eds.info["vendorname"], "Grüße “quoted” – €");
+    assert_eq!(eds.dict.get(ObjAddr::new(0x2000, 0)).unwrap().name, "Drehzahl “Soll”");
+}
+
+#[test]
+fn every_cia_301_basic_type_is_read_and_written_back() {
+    let eds = load("all-types.eds").unwrap();
+    assert_eq!(said(&eds), Vec::<String>::new());
+    let d = &eds.dict;
+    let default = |i| d.get(ObjAddr::new(i, 0)).unwrap().default_for(5);
+    assert_eq!(default(0x2010), [0xFF; 3]);
+    assert_eq!(default(0x2013), [0, 0, 0, 0, 0, 0x80], "hex is two's complement");
+    assert_eq!(default(0x2016), [0xFF; 3]);
+    assert_eq!(default(0x2019), [0x05, 0x01, 0, 0, 0, 0]);
+    assert_eq!(default(0x200C), [0x00, 0x2E, 0x93, 0x02, 0x12, 0x39]);
+    assert_eq!(default(0x200D), [0; 6]);
+    assert_eq!(default(0x200B), [0x61, 0, 0x62, 0, 0x63, 0, 0x13, 0x27]);
+    let text = write(d, None, &Header::default());
+    let back = parse(&to_latin1(&text), "back.eds").unwrap();
+    for e in d.entries() {
+        let b = back.dict.get(e.addr).unwrap();
+        assert_eq!((b.dtype, b.default_for(5)), (e.dtype, e.default_for(5)), "{}", e.addr);
+    }
+}
+
+#[test]
+fn object_lists_that_disagree_with_the_sections_are_said() {
+    let eds = load("object-lists.eds").unwrap();
+    assert_eq!(eds.dict.objects().count(), 3, "the sections are read");
+    assert_eq!(
+        said(&eds),
+        [
+            "object-lists.eds:1: no [1001] section: CiA 301 makes 0x1001 mandatory for every device",
+            "object-lists.eds:2: [MandatoryObjects] SupportedObjects=3 but it lists 2: the sections are read",
+            "object-lists.eds:8: [OptionalObjects] lists 0x1017, which has no [1017] section: nothing to read",
+            "object-lists.eds:20: [2000] is in no object list ([MandatoryObjects], [OptionalObjects], [ManufacturerObjects]): read all the same",
+        ]
+    );
+    assert!(eds.warnings.iter().all(|w| w.kind == lint::Kind::ObjectList && w.severity == lint::Severity::Warning));
 }

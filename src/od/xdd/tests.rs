@@ -55,7 +55,7 @@ fn an_object_that_cannot_be_understood_is_passed_over_with_a_warning() {
     assert!(e.dict.get(ObjAddr::new(0x2000, 0)).is_none());
     assert!(e.dict.get(ObjAddr::new(0x2001, 0)).is_some());
     assert_eq!(e.warnings.len(), 1);
-    assert!(e.warnings[0].starts_with("w.xdd:2:1: defaultValue of 0x2000:0 (Odd)"), "{}", e.warnings[0]);
+    assert!(e.warnings[0].to_string().starts_with("w.xdd:2:1: defaultValue of 0x2000:0 (Odd)"), "{}", e.warnings[0]);
 }
 
 #[test]
