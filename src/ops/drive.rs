@@ -224,26 +224,26 @@ fn await_state(
     recovering: bool,
     o: &Options,
 ) -> Result<(u16, Option<State>)> {
-    let end = Instant::now() + o.wait;
+    let end = bus.now() + o.wait;
     loop {
         let (word, state) = statusword(bus, node, o.timeout)?;
         let settled = state.is_some_and(|s| s == want || (s == State::Fault && !recovering));
-        if settled || Instant::now() >= end {
+        if settled || bus.now() >= end {
             return Ok((word, state));
         }
-        std::thread::sleep(POLL.min(end.saturating_duration_since(Instant::now())));
+        bus.sleep_until(end.min(bus.now() + POLL))?;
     }
 }
 
 /// Read the statusword until the drive leaves a state it leaves by itself.
 fn await_change(bus: &mut dyn Bus, node: u8, from: State, o: &Options) -> Result<(u16, Option<State>)> {
-    let end = Instant::now() + o.wait;
+    let end = bus.now() + o.wait;
     loop {
         let (word, state) = statusword(bus, node, o.timeout)?;
-        if state != Some(from) || Instant::now() >= end {
+        if state != Some(from) || bus.now() >= end {
             return Ok((word, state));
         }
-        std::thread::sleep(POLL.min(end.saturating_duration_since(Instant::now())));
+        bus.sleep_until(end.min(bus.now() + POLL))?;
     }
 }
 
@@ -407,9 +407,8 @@ impl Watch {
                 Source::Sdo(interval) => {
                     let word = read_u16(bus, self.node, cia402::STATUSWORD, self.timeout)?;
                     if Some(word) == self.last {
-                        let pause = (*interval).min(until.saturating_duration_since(Instant::now()));
-                        std::thread::sleep(pause);
-                        if Instant::now() >= until {
+                        bus.sleep_until(until.min(bus.now() + *interval))?;
+                        if bus.now() >= until {
                             return Ok(None);
                         }
                         continue;

@@ -14,7 +14,7 @@ use serde::ser::SerializeMap;
 use serde::Serialize;
 use std::collections::BTreeSet;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Which device a service is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -287,7 +287,8 @@ pub fn activate(bus: &mut dyn Bus, timeout: Duration, target: Target, delay_ms: 
     }
     m.send(Request::ActivateBitTiming { delay_ms })?;
     // CiA 305: the devices wait the delay, switch, and wait as long again before talking.
-    std::thread::sleep(Duration::from_millis(2 * delay_ms as u64));
+    let link = m.bus();
+    link.sleep_until(link.now() + Duration::from_millis(2 * delay_ms as u64))?;
     let devices = identity.map_or("all devices in configuration".to_string(), |i| i.to_string());
     let described = m.bus().describe();
     // The devices are still in configuration state; only a link at the new rate can send
@@ -380,12 +381,13 @@ fn fastscan_error(error: FastscanError, pace: &Pace) -> Error {
 /// Find the identity of one device without a node-id, bit by bit. The device found is
 /// sent back to waiting state, unchanged.
 pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &AtomicBool) -> Result<Found> {
-    let start = Instant::now();
+    let start = bus.now();
     let mut m = LssMaster::new(bus, o.timeout);
     let result = m.fastscan(o.pace(), o.given(), &mut || !interrupted.load(Ordering::SeqCst));
     // The device found is in configuration state: whatever happened, every device goes
     // back to waiting, unchanged.
     let left = m.leave();
+    let elapsed = m.bus().now().saturating_duration_since(start);
     let Some(outcome) = result? else {
         left?;
         return Err(Error::Interrupted);
@@ -398,7 +400,7 @@ pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &AtomicBool
         steps: outcome.steps,
         step_ms: pace.step_ms,
         pace,
-        elapsed_ms: start.elapsed().as_millis() as u64,
+        elapsed_ms: elapsed.as_millis() as u64,
     })
 }
 
@@ -494,7 +496,7 @@ fn ids_in_use(
                 (Duration::from_millis(longest as u64) * 3 / 2).clamp(LISTEN, LISTEN_CEILING)
             }
         };
-        let end = Instant::now() + listen;
+        let end = bus.now() + listen;
         while bus.recv_frame(end)?.is_some() && !interrupted.load(Ordering::SeqCst) {}
     }
     used.extend(bus.observed().node_ids());
@@ -509,7 +511,7 @@ pub fn assign(
     progress: &mut dyn Progress,
     interrupted: &AtomicBool,
 ) -> Result<Assignment> {
-    let start = Instant::now();
+    let start = bus.now();
     let timeout = o.fastscan.timeout;
     // Node-ids already in use: new ones must not collide.
     let used = ids_in_use(bus, timeout, o.listen, progress, interrupted)?;
@@ -547,7 +549,7 @@ pub fn assign(
         fastscan_steps: outcome.steps,
         step_ms: pace.step_ms,
         pace,
-        elapsed_ms: start.elapsed().as_millis() as u64,
+        elapsed_ms: bus.now().saturating_duration_since(start).as_millis() as u64,
         interrupted: outcome.interrupted,
         failure,
     })
