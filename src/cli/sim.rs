@@ -107,6 +107,13 @@ pub struct ResetArgs {
     /// the default).
     #[arg(long, value_name = "SPEC")]
     pub fault: Vec<FaultSpec>,
+    /// Run commands on virtual time: a wait with nothing due ends at once, so slow devices,
+    /// long delays and long watches take no wall time; every figure stays in bus time
+    ///
+    /// For tests and scripts that nothing else watches: a network served with --socketcan,
+    /// --slcan or --epos2-* (shared with other programs) runs on real time all the same.
+    #[arg(long)]
+    pub virtual_time: bool,
 }
 
 fn parse_rate(text: &str) -> Result<u8, String> {
@@ -122,6 +129,7 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
         let mut config =
             SimConfig::default().profile(r.profile).seed(r.seed).unconfigured(r.unconfigured).bit_rate(r.bit_rate);
         config.faults = r.fault.clone();
+        config.virtual_time = r.virtual_time;
         return Ok(ctx.out.report(&serve::reset(&path, &config)?)?);
     }
     let (faults, baud, can_timeout) = (args.fault.clone(), args.baud, args.can_timeout);
