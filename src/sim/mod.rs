@@ -187,6 +187,11 @@ impl Network {
         &self.devices
     }
 
+    /// The devices, to set a test's starting point (a value already in an object).
+    pub fn devices_mut(&mut self) -> &mut [Device] {
+        &mut self.devices
+    }
+
     /// The device built from the model with this key (`drive`, `sensor`, ...).
     pub fn device_mut(&mut self, model: &str) -> Option<&mut Device> {
         self.devices.iter_mut().find(|d| d.model == model)

@@ -215,6 +215,9 @@ struct Queued {
     seq: u64,
     origin: Origin,
     frame: Frame,
+    /// `frame_bits(frame)`, counted once: the queue is looked at far more often than it
+    /// changes (on virtual time, at every wait).
+    bits: u32,
 }
 
 /// A device that floods the bus: it always has a frame on this id ready, from `next` on.
@@ -279,7 +282,7 @@ impl BusQueue {
     /// A frame ready to go at `ready`.
     pub fn queue(&mut self, ready: Nanos, origin: Origin, frame: Frame) {
         self.seq += 1;
-        self.queued.push(Queued { ready, seq: self.seq, origin, frame });
+        self.queued.push(Queued { ready, seq: self.seq, origin, frame, bits: frame_bits(&frame) });
     }
 
     /// This device floods the bus with frames on `id` from `since` on (once told).
@@ -316,16 +319,21 @@ impl BusQueue {
         }
         let queued = heads.into_iter().map(|(_, i)| {
             let q = &self.queued[i];
-            ((q.frame.id(), 0, q.seq), Next::Queued(i), q.frame)
+            ((q.frame.id(), 0, q.seq), Next::Queued(i), Some(q.bits))
         });
         let babbling = self
             .babblers
             .iter()
             .enumerate()
             .filter(|(_, b)| b.next <= start)
-            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), Self::babble_frame(b)));
-        let (_, next, frame) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
-        let time = self.bps.map_or(0, |bps| frame_time(&frame, bps));
+            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), None));
+        let (_, next, bits) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
+        let bits = || match (bits, next) {
+            (Some(bits), _) => bits,
+            (None, Next::Babble(i)) => frame_bits(&Self::babble_frame(&self.babblers[i])),
+            (None, Next::Queued(i)) => frame_bits(&self.queued[i].frame),
+        };
+        let time = self.bps.map_or(0, |bps| bits() as u64 * 1_000_000_000 / bps);
         let end = start + time;
         Some((next, start, end))
     }
