@@ -228,6 +228,8 @@ struct Outcome {
     broken: Option<String>,
     /// Bus time the procedure took.
     took: Duration,
+    /// How it ended: `ok` or the error.
+    ended: String,
 }
 
 /// The longest any procedure may take in bus time, faults included.
@@ -262,8 +264,14 @@ fn run(s: &Scenario) -> Outcome {
         procedure(&mut bus, s, &stop)
     };
     let took = master.link_mut().now().saturating_duration_since(zero);
+    // What canctl queued reaches the devices (as the kernel sends what a closed socket
+    // queued) before they are looked at.
+    let closed = Bus::close(&mut master);
     let after = Devices::of(&master.link_mut().sim);
     let mut broken = check(s, &result, &before, &after, &master.link_mut().sim).err();
+    if let Err(e) = closed {
+        broken.get_or_insert(format!("closing the link failed: {e}"));
+    }
     if took > BOUND {
         broken.get_or_insert(format!("took {took:?} of bus time (bound {BOUND:?})"));
     }
@@ -272,7 +280,12 @@ fn run(s: &Scenario) -> Outcome {
             broken = Some(format!("a clean run failed: {e}"));
         }
     }
-    Outcome { frames: std::mem::take(&mut master.link_mut().frames), broken, took }
+    let ended = match &result {
+        Ok(Report::Assigned(_, false)) => "ended part-way".to_string(),
+        Ok(_) => "ok".to_string(),
+        Err(e) => format!("{e}").chars().take(60).collect(),
+    };
+    Outcome { frames: std::mem::take(&mut master.link_mut().frames), broken, took, ended }
 }
 
 /// What the procedure reported, reduced to what the devices can be checked against.
@@ -284,7 +297,8 @@ enum Report {
     Scanned(Vec<(u8, Option<u32>)>),
     Found(Identity),
     /// Identities given node-ids (all of them, also when interrupted or failed part-way).
-    Assigned(Vec<(Identity, u8)>),
+    /// And whether it said every device has one now (exit 0).
+    Assigned(Vec<(Identity, u8)>, bool),
     Booted(Vec<u8>),
     /// Objects of the sensor's DCF written (and verified) on `node`.
     Applied(u8, Vec<ObjAddr>),
@@ -338,7 +352,8 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &AtomicBool) -> Result<Repor
             };
             let a = ops::lss::assign(bus, &o, &mut Silent, stop)?;
             // Failed or interrupted part-way: what it says it did must still be so.
-            Ok(Report::Assigned(a.assigned.iter().map(|d| (d.identity.0, d.node)).collect()))
+            let complete = a.failure.is_none() && !a.interrupted;
+            Ok(Report::Assigned(a.assigned.iter().map(|d| (d.identity.0, d.node)).collect(), complete))
         }
         Procedure::Reset => {
             let o = ops::nmt::ResetOptions { wait: Duration::from_secs(2), timeout: TIMEOUT };
@@ -453,6 +468,8 @@ struct DeviceView {
     nmt: nmt::State,
     drive: Option<DriveState>,
     bit_rate: u8,
+    /// Left in LSS configuration state.
+    configuring: bool,
     /// The objects the procedures read and write.
     values: BTreeMap<ObjAddr, Vec<u8>>,
 }
@@ -471,6 +488,7 @@ impl Devices {
                 nmt: d.nmt_state(),
                 drive: d.objects().drive_state(),
                 bit_rate: d.bit_rate(),
+                configuring: d.snapshot().lss_configuration,
                 values: WATCHED.iter().filter_map(|a| Some((*a, d.objects().value(*a)?.to_vec()))).collect(),
             })
             .collect();
@@ -502,6 +520,12 @@ fn check(
                 return Err(format!("node-id {n} held by {other} and {}", d.identity));
             }
         }
+    }
+    // Every LSS procedure sends the devices back to waiting, however it ended; a device
+    // left at another bit rate (set-baud --force) cannot hear it.
+    let rate = sim.network().bit_rate();
+    if let Some(d) = after.all.iter().find(|d| d.configuring && d.bit_rate == rate) {
+        return Err(format!("{} left in LSS configuration state", d.identity));
     }
     let Ok(report) = result else { return Ok(()) };
     match report {
@@ -546,7 +570,11 @@ fn check(
                 return Err(format!("fastscan found {id}, no device without a node-id has it"));
             }
         }
-        Report::Assigned(given) => {
+        Report::Assigned(given, complete) => {
+            let rate = sim.network().bit_rate();
+            if let Some(d) = after.all.iter().find(|d| *complete && d.node.is_none() && d.bit_rate == rate) {
+                return Err(format!("assign ended as complete, {} still has no node-id", d.identity));
+            }
             for (id, node) in given {
                 let holder = after.all.iter().find(|d| d.identity == *id);
                 if holder.and_then(|d| d.node) != Some(*node) {
@@ -750,4 +778,28 @@ fn the_same_seed_gives_the_same_frames_byte_for_byte() {
     }
     // And another seed, another run.
     assert!(run(&Scenario::of(CI_START)).frames != run(&Scenario::of(CI_START + 1)).frames);
+}
+
+/// `lss assign` of three devices whose answers are lost 2 % of the time (a USB adapter or
+/// gateway under load), on virtual time: whatever each run ends with, it never says every
+/// device has a node-id while one still waits (exit 0 is only for a confirmed bus).
+#[test]
+fn lss_assign_under_two_percent_loss_never_calls_a_waiting_device_done() {
+    let mut outcomes = BTreeMap::new();
+    for seed in 1..=24 {
+        let mut config = SimConfig::default().seed(seed).unconfigured(3).virtual_time(true);
+        for i in 1..=3 {
+            config = config.fault(format!("sensor-0950130{i}:drop@2%").parse().unwrap());
+        }
+        let s = Scenario { seed, procedure: Procedure::Assign, config, stop_after: None };
+        let out = run(&s);
+        if out.broken.is_some() && std::env::var("CANCTL_DST_TRACE").is_ok() {
+            for f in out.frames.iter().filter(|f| f.id >= 0x7E4 || f.id == 0) {
+                eprintln!("{:>12.3?} {} {:03X} {:02X?}", f.at, if f.sent { "tx" } else { "rx" }, f.id, f.data);
+            }
+        }
+        assert!(out.broken.is_none(), "seed {seed}: {}", out.broken.unwrap());
+        *outcomes.entry(out.ended).or_insert(0) += 1;
+    }
+    eprintln!("lss assign under 2 % loss, 24 runs: {outcomes:?}");
 }

@@ -119,12 +119,21 @@ impl<'a> LssMaster<'a> {
         keep_going: &mut dyn FnMut() -> bool,
     ) -> Result<Option<FastscanOutcome>> {
         let mut scan = Fastscan::new(pace, given);
+        let mut asked = false;
         loop {
             let found = match scan.next() {
                 FastscanNext::Send(ask) => {
                     if !keep_going() {
                         return Ok(None);
                     }
+                    // The search starts again (a confirmation went unanswered): the device
+                    // it was about may have gone into configuration state all the same, its
+                    // answer lost. Back to waiting with the others, or it would take the
+                    // node-id meant for the next device found.
+                    if asked && matches!(ask.request, Request::Fastscan { bit_checked: lss::FASTSCAN_RESET, .. }) {
+                        self.leave()?;
+                    }
+                    asked = true;
                     let collect = ask.settle.map_or(LssWait::All, LssWait::Settle);
                     let answers = self.bus.lss_exchange(&ask.request.encode(), ask.expect, ask.window, collect)?;
                     let answers: Vec<(Duration, [u8; 8])> = answers.iter().map(|a| (a.after, a.data)).collect();
@@ -139,6 +148,9 @@ impl<'a> LssMaster<'a> {
         }
     }
 }
+
+/// How often "configure node-id" is asked before its missing answer is a failure.
+const SET_ID_TRIES: u32 = 3;
 
 /// How many devices without a node-id answer "identify non-configured remote slave".
 pub fn count_unconfigured(bus: &mut dyn Bus, wait: Duration) -> Result<usize> {
@@ -178,6 +190,20 @@ impl LssMaster<'_> {
         Ok(out)
     }
 
+    /// "Configure node-id" for the one device in configuration state. Its answer may be
+    /// lost (an adapter under load drops frames) and waiting longer cannot bring it back;
+    /// asking again can, and is safe: the same node-id configured twice is configured once.
+    fn set_id(&mut self, node: u8) -> Result<usize> {
+        let mut tries = SET_ID_TRIES;
+        loop {
+            tries -= 1;
+            match self.configure(Request::ConfigureNodeId(node), "set-id", false) {
+                Err(Error::NoLssAnswer { .. }) if tries > 0 => continue,
+                other => return other,
+            }
+        }
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn assign_each(
         &mut self,
@@ -211,7 +237,7 @@ impl LssMaster<'_> {
                 out.failure = Some(AssignFailure::Refused(e));
                 return Ok(());
             };
-            if let Err(e) = self.configure(Request::ConfigureNodeId(node), "set-id", false) {
+            if let Err(e) = self.set_id(node) {
                 out.failure = Some(AssignFailure::Refused(e));
                 return Ok(());
             }
