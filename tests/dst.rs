@@ -652,8 +652,18 @@ fn check(
     Ok(())
 }
 
+/// With `CANCTL_DST_TRACE` set: every frame of a run, as canctl's `-v` trace shows them.
+fn trace(frames: &[Taped]) {
+    if std::env::var("CANCTL_DST_TRACE").is_err() {
+        return;
+    }
+    for f in frames {
+        eprintln!("{:>12.3?} {} {:03X} {:02X?}", f.at, if f.sent { "tx" } else { "rx" }, f.id, f.data);
+    }
+}
+
 fn replay_hint(seed: u64) -> String {
-    format!("CANCTL_DST_SEED={seed:#x} cargo test --test dst")
+    format!("CANCTL_DST_SEED={seed:#x} cargo test --test dst seeded (CANCTL_DST_TRACE=1 for its frames)")
 }
 
 fn env_u64(name: &str) -> Option<u64> {
@@ -702,6 +712,9 @@ fn run_all(seeds: impl Iterator<Item = u64> + Send, budget: Option<Duration>) ->
                 slowest.lock().unwrap().push((wall.elapsed(), seed));
                 match out {
                     Ok(o) => {
+                        if o.broken.is_some() {
+                            trace(&o.frames);
+                        }
                         let mut l = longest.lock().unwrap();
                         *l = (*l).max(o.took);
                         if let Some(why) = o.broken {
@@ -793,10 +806,8 @@ fn lss_assign_under_two_percent_loss_never_calls_a_waiting_device_done() {
         }
         let s = Scenario { seed, procedure: Procedure::Assign, config, stop_after: None };
         let out = run(&s);
-        if out.broken.is_some() && std::env::var("CANCTL_DST_TRACE").is_ok() {
-            for f in out.frames.iter().filter(|f| f.id >= 0x7E4 || f.id == 0) {
-                eprintln!("{:>12.3?} {} {:03X} {:02X?}", f.at, if f.sent { "tx" } else { "rx" }, f.id, f.data);
-            }
+        if out.broken.is_some() {
+            trace(&out.frames);
         }
         assert!(out.broken.is_none(), "seed {seed}: {}", out.broken.unwrap());
         *outcomes.entry(out.ended).or_insert(0) += 1;
