@@ -233,7 +233,7 @@ struct Outcome {
 }
 
 /// The longest any procedure may take in bus time, faults included.
-const BOUND: Duration = Duration::from_secs(20 * 60);
+const BOUND: Duration = Duration::from_secs(5 * 60);
 
 fn run(s: &Scenario) -> Outcome {
     let mut sim = SimLink::with_config(s.config.clone()).on_virtual_time(1_700_000_000_000);
