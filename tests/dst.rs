@@ -571,8 +571,10 @@ fn check(
             }
         }
         Report::Assigned(given, complete) => {
+            // A device muted by its fault cannot be told from one that is not there.
             let rate = sim.network().bit_rate();
-            if let Some(d) = after.all.iter().find(|d| *complete && d.node.is_none() && d.bit_rate == rate) {
+            let seen = |d: &&DeviceView| d.bit_rate == rate && !muted(s, d);
+            if let Some(d) = after.all.iter().filter(seen).find(|d| *complete && d.node.is_none()) {
                 return Err(format!("assign ended as complete, {} still has no node-id", d.identity));
             }
             for (id, node) in given {
@@ -660,6 +662,17 @@ fn trace(frames: &[Taped]) {
     for f in frames {
         eprintln!("{:>12.3?} {} {:03X} {:02X?}", f.at, if f.sent { "tx" } else { "rx" }, f.id, f.data);
     }
+}
+
+/// Whether a fault of the scenario makes this device fall silent for good.
+fn muted(s: &Scenario, d: &DeviceView) -> bool {
+    s.config.faults.iter().any(|f| {
+        let spec = f.to_string();
+        let (target, kind) = spec.split_once(':').unwrap_or_default();
+        let node = target.parse::<u8>().ok();
+        kind.starts_with("mute")
+            && (target == format!("sensor-{:08x}", d.identity.serial) || node.is_some_and(|n| d.node == Some(n)))
+    })
 }
 
 fn replay_hint(seed: u64) -> String {
