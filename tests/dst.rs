@@ -47,7 +47,7 @@ const CI_START: u64 = 0x5EED_0000;
 const CI_SCENARIOS: u64 = 10_000;
 /// `cargo test` stops starting scenarios after this much wall time (a loaded machine runs
 /// fewer; the count run is printed). `CANCTL_DST_BUDGET_S=0`: no limit.
-const CI_BUDGET: Duration = Duration::from_secs(150);
+const CI_BUDGET: Duration = Duration::from_secs(120);
 
 /// What every frame on the tape is: sent by canctl or received, when, and its bytes.
 #[derive(Clone, Debug, PartialEq, Eq)]

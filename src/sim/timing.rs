@@ -227,6 +227,8 @@ struct Babbler {
     id: u16,
     next: Nanos,
     count: u64,
+    /// The bits of its next frame (as `Queued::bits`).
+    bits: u32,
 }
 
 /// A babbling device sends at most one frame per this long even where frames take no time.
@@ -288,7 +290,9 @@ impl BusQueue {
     /// This device floods the bus with frames on `id` from `since` on (once told).
     pub fn babble(&mut self, device: usize, id: u16, since: Nanos) {
         if !self.babblers.iter().any(|b| b.device == device) {
-            self.babblers.push(Babbler { device, id, next: since, count: 0 });
+            let mut b = Babbler { device, id, next: since, count: 0, bits: 0 };
+            b.bits = frame_bits(&Self::babble_frame(&b));
+            self.babblers.push(b);
         }
     }
 
@@ -319,21 +323,16 @@ impl BusQueue {
         }
         let queued = heads.into_iter().map(|(_, i)| {
             let q = &self.queued[i];
-            ((q.frame.id(), 0, q.seq), Next::Queued(i), Some(q.bits))
+            ((q.frame.id(), 0, q.seq), Next::Queued(i), q.bits)
         });
         let babbling = self
             .babblers
             .iter()
             .enumerate()
             .filter(|(_, b)| b.next <= start)
-            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), None));
+            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), b.bits));
         let (_, next, bits) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
-        let bits = || match (bits, next) {
-            (Some(bits), _) => bits,
-            (None, Next::Babble(i)) => frame_bits(&Self::babble_frame(&self.babblers[i])),
-            (None, Next::Queued(i)) => frame_bits(&self.queued[i].frame),
-        };
-        let time = self.bps.map_or(0, |bps| bits() as u64 * 1_000_000_000 / bps);
+        let time = self.bps.map_or(0, |bps| bits as u64 * 1_000_000_000 / bps);
         let end = start + time;
         Some((next, start, end))
     }
@@ -361,6 +360,7 @@ impl BusQueue {
                 let b = &mut self.babblers[i];
                 let frame = Self::babble_frame(b);
                 b.count += 1;
+                b.bits = frame_bits(&Self::babble_frame(b));
                 b.next = b.next.max(start + BABBLE_GAP);
                 Some((end, Origin::Device(b.device), frame))
             }
