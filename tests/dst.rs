@@ -194,6 +194,11 @@ impl Scenario {
             }
         }
         let stop_after = rng.chance(0.15).then(|| rng.between(0, 12) as u32);
+        // Drawn last, so that the seeds found before it was added keep their scenarios.
+        if rng.chance(0.06) {
+            let target = pick(&mut rng, &NODES);
+            config = config.fault(format!("{target}:reboot@{}", rng.between(1, 30)).parse().expect("a fault spec"));
+        }
         Scenario { seed, procedure, config, stop_after }
     }
 

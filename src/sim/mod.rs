@@ -224,6 +224,14 @@ impl Network {
                 }
                 out.extend(go.into_iter().map(|(later, f)| (ready + later, i, f)));
             }
+            // A reboot fault: the device resets instead (what was not stored is gone) and
+            // says so with its boot-up.
+            if conduct.take_reboot() {
+                if let Some(id) = d.node_id() {
+                    let boot = d.on_frame(&crate::canopen::nmt::Command::ResetNode.frame(id));
+                    out.extend(boot.into_iter().map(|f| (ready, i, f)));
+                }
+            }
         }
         // CiA 305 "activate bit timing": the devices that switched, and the master with
         // them, run at the new rate; a device left at the old rate drops off the bus.
@@ -784,4 +792,18 @@ mod tests {
     }
 
     const TEN_MINUTES: Duration = Duration::from_secs(600);
+
+    #[test]
+    fn a_rebooting_device_loses_what_it_did_not_store_and_says_so_with_its_boot_up() {
+        let config = SimConfig::instant().fault("5:reboot@1".parse().unwrap());
+        let mut link = SimLink::with_config(config).on_virtual_time(0);
+        // Heartbeat time 500 ms: the device reboots instead of answering.
+        link.send(&Frame::new(0x605, &[0x2B, 0x17, 0x10, 0, 0xF4, 0x01, 0, 0])).unwrap();
+        let end = link.now() + Duration::from_millis(10);
+        let frames: Vec<Frame> = std::iter::from_fn(|| link.recv(end).unwrap()).collect();
+        assert!(!frames.iter().any(|f| f.id() == 0x585), "no answer: {frames:?}");
+        assert!(frames.contains(&Frame::new(0x705, &[0])), "boot-up: {frames:?}");
+        let sensor = link.network().devices().iter().find(|d| d.node_id() == Some(5)).unwrap();
+        assert_eq!(sensor.heartbeat_ms(), Some(40), "the write was lost with the reboot");
+    }
 }
