@@ -40,6 +40,10 @@ const FIXED: &[u64] = &[
     // before it, which the drive had left (fixed: the walk reads the state back).
     0x5eed_053d,
     0x5eed_0621,
+    // lss assign, one device losing 20 % of its answers: the answer to the search's first
+    // probe was lost, and assign said every device had a node-id (fixed: silence is
+    // believed when three searches in a row find nobody).
+    0x5eed_0af1,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.

@@ -149,6 +149,9 @@ impl<'a> LssMaster<'a> {
     }
 }
 
+/// How many searches in a row must find nobody before `assign` says no device waits.
+const NO_DEVICE_PROBES: u32 = 3;
+
 /// How often "configure node-id" is asked before its missing answer is a failure.
 const SET_ID_TRIES: u32 = 3;
 
@@ -215,6 +218,9 @@ impl LssMaster<'_> {
         each: &mut dyn FnMut(&Assigned),
         out: &mut AssignOutcome,
     ) -> Result<()> {
+        // Searches in a row that found nobody: one lost answer must not be taken for "every
+        // device has a node-id" (exit 0), so silence is believed only when it repeats.
+        let mut silent = 0;
         loop {
             let Some(scan) = self.fastscan(out.pace.clone(), given, keep_going)? else {
                 out.interrupted = true;
@@ -224,12 +230,19 @@ impl LssMaster<'_> {
             out.pace = scan.pace;
             let identity = match scan.found {
                 Ok(found) => found,
-                Err(FastscanError::NoDevice) => return Ok(()),
+                Err(FastscanError::NoDevice) => {
+                    silent += 1;
+                    if silent < NO_DEVICE_PROBES {
+                        continue;
+                    }
+                    return Ok(());
+                }
                 Err(e) => {
                     out.failure = Some(AssignFailure::Fastscan(e));
                     return Ok(());
                 }
             };
+            silent = 0;
             // Ids seen meanwhile (a heartbeat, a boot-up) are taken too.
             used.extend(self.bus.observed().node_ids());
             let Some(node) = (start..=127).find(|n| !used.contains(n)) else {
