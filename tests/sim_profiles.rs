@@ -29,7 +29,7 @@ fn each_profile_serves_sdo_and_scan() {
 #[test]
 fn slow_profile_with_eight_unconfigured_devices_is_seen_by_scan() {
     let sim = Sim::new();
-    reset(&sim, &["--profile", "slow", "--unconfigured", "8"]);
+    reset(&sim, &["--profile", "slow", "--unconfigured", "8", "--virtual-time"]);
     let scan = sim.run(&["scan", "--window", "300ms", "--format", "json"]).ok().json();
     assert_eq!(scan["lss_unconfigured"], 8, "{scan}");
 }

@@ -119,12 +119,21 @@ impl<'a> LssMaster<'a> {
         keep_going: &mut dyn FnMut() -> bool,
     ) -> Result<Option<FastscanOutcome>> {
         let mut scan = Fastscan::new(pace, given);
+        let mut asked = false;
         loop {
             let found = match scan.next() {
                 FastscanNext::Send(ask) => {
                     if !keep_going() {
                         return Ok(None);
                     }
+                    // The search starts again (a confirmation went unanswered): the device
+                    // it was about may have gone into configuration state all the same, its
+                    // answer lost. Back to waiting with the others, or it would take the
+                    // node-id meant for the next device found.
+                    if asked && matches!(ask.request, Request::Fastscan { bit_checked: lss::FASTSCAN_RESET, .. }) {
+                        self.leave()?;
+                    }
+                    asked = true;
                     let collect = ask.settle.map_or(LssWait::All, LssWait::Settle);
                     let answers = self.bus.lss_exchange(&ask.request.encode(), ask.expect, ask.window, collect)?;
                     let answers: Vec<(Duration, [u8; 8])> = answers.iter().map(|a| (a.after, a.data)).collect();
@@ -139,6 +148,9 @@ impl<'a> LssMaster<'a> {
         }
     }
 }
+
+/// How many searches in a row must find nobody before `assign` says no device waits.
+const NO_DEVICE_PROBES: u32 = 3;
 
 /// How many devices without a node-id answer "identify non-configured remote slave".
 pub fn count_unconfigured(bus: &mut dyn Bus, wait: Duration) -> Result<usize> {
@@ -201,6 +213,9 @@ impl LssMaster<'_> {
         each: &mut dyn FnMut(&Assigned),
         out: &mut AssignOutcome,
     ) -> Result<()> {
+        // Searches in a row that found nobody: one lost answer must not be taken for "every
+        // device has a node-id" (exit 0), so silence is believed only when it repeats.
+        let mut silent = 0;
         loop {
             let Some(scan) = self.fastscan(out.pace.clone(), given, keep_going)? else {
                 out.interrupted = true;
@@ -210,12 +225,19 @@ impl LssMaster<'_> {
             out.pace = scan.pace;
             let identity = match scan.found {
                 Ok(found) => found,
-                Err(FastscanError::NoDevice) => return Ok(()),
+                Err(FastscanError::NoDevice) => {
+                    silent += 1;
+                    if silent < NO_DEVICE_PROBES {
+                        continue;
+                    }
+                    return Ok(());
+                }
                 Err(e) => {
                     out.failure = Some(AssignFailure::Fastscan(e));
                     return Ok(());
                 }
             };
+            silent = 0;
             // Ids seen meanwhile (a heartbeat, a boot-up) are taken too.
             used.extend(self.bus.observed().node_ids());
             let Some(node) = (start..=127).find(|n| !used.contains(n)) else {

@@ -482,6 +482,14 @@ impl<L: FrameLink> Bus for Master<L> {
         self.send(frame)
     }
 
+    fn now(&self) -> Instant {
+        self.link.now()
+    }
+
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        self.link.sleep_until(t)
+    }
+
     fn follows_bit_rate_switch(&self) -> bool {
         self.link.follows_bit_rate_switch()
     }
@@ -515,7 +523,7 @@ impl<L: FrameLink> Bus for Master<L> {
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
         self.link.set_filters(&[(id, 0x7FF)])?;
         self.send(&Frame::remote(id, len))?;
-        let deadline = Instant::now() + timeout;
+        let deadline = self.link.now() + timeout;
         self.guarding = Some(id);
         let answer = self.wait_for(id, deadline);
         self.guarding = None;
@@ -567,15 +575,15 @@ impl<L: FrameLink> Master<L> {
     ) -> Result<Vec<LssAnswer>> {
         // A slow slave's answer to the previous request must not count for this one (the
         // observer keeps it as a stray). Bounded: a babbling device never lets up.
-        let drain_until = Instant::now() + DRAIN_LIMIT;
-        while Instant::now() < drain_until && self.recv(Instant::now())?.is_some() {}
+        let drain_until = self.link.now() + DRAIN_LIMIT;
+        while self.link.now() < drain_until && self.recv(self.link.now())?.is_some() {}
         self.send(&Frame::new(lss::MASTER_COB, request))?;
         let mut answers = Vec::new();
         if collect == LssWait::Nothing {
             return Ok(answers);
         }
         self.in_lss_exchange = true;
-        let sent = Instant::now();
+        let sent = self.link.now();
         // Only a well-formed answer with the expected command specifier counts, and none
         // moves the deadline later: a flood on 0x7E4 cannot keep this waiting.
         let mut deadline = sent + wait;
@@ -584,10 +592,10 @@ impl<L: FrameLink> Master<L> {
                 continue;
             }
             let data: [u8; 8] = f.data().try_into().expect("8 bytes");
-            answers.push(LssAnswer { data, after: sent.elapsed() });
+            answers.push(LssAnswer { data, after: self.link.now().saturating_duration_since(sent) });
             match collect {
                 LssWait::First => break,
-                LssWait::Settle(more) if answers.len() == 1 => deadline = deadline.min(Instant::now() + more),
+                LssWait::Settle(more) if answers.len() == 1 => deadline = deadline.min(self.link.now() + more),
                 _ => {}
             }
         }

@@ -1,5 +1,6 @@
 //! The service-level API every command is written against, and the backends behind it.
 
+pub mod clock;
 pub mod frame_log;
 pub mod lss;
 pub mod master;
@@ -38,10 +39,17 @@ pub trait FrameLink {
     }
     /// Interface name for traces (`can0`, `sim`).
     fn name(&self) -> String;
-    /// The clock `recv` deadlines are measured on. Real links keep the default; a test link
-    /// that plays a device with virtual delays returns its own time.
+    /// The clock `recv` deadlines are measured on. Real links keep the default (monotonic);
+    /// the simulator on virtual time, and test links that play a device with virtual delays,
+    /// return their own time.
     fn now(&self) -> Instant {
-        Instant::now()
+        clock::monotonic_now()
+    }
+    /// Let time pass until `t` on this link's clock. Frames that arrive meanwhile wait for
+    /// the next `recv`. A virtual clock just moves on (running its devices up to `t`).
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        clock::sleep_until(t);
+        Ok(())
     }
     /// Receive only frames whose id matches one of these (id, mask) pairs; `[(0, 0)]`
     /// is everything. Links without hardware filtering ignore it.
@@ -245,8 +253,17 @@ pub trait Bus {
     /// [`FrameLink::recv_stamped`]), or `None` at the deadline. Backends that know no
     /// better stamp the moment of receipt.
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
-        Ok(self.recv_frame(deadline)?.map(|f| (f, Instant::now())))
+        Ok(self.recv_frame(deadline)?.map(|f| (f, self.now())))
     }
+
+    /// The bus's clock: every deadline given to this bus and every stamp it returns is on
+    /// it. Monotonic on hardware, virtual in the simulator, where waiting makes time pass.
+    /// Procedures read time here, never from the wall clock.
+    fn now(&self) -> Instant;
+
+    /// Let time pass until `t` on the bus's clock, sending nothing; frames that arrive
+    /// meanwhile wait for the next `recv_frame`.
+    fn sleep_until(&mut self, t: Instant) -> Result<()>;
 
     /// Send a remote request for `id` and return the first data frame with that id.
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame>;

@@ -96,14 +96,21 @@ impl Bus for Stoppable<'_> {
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         loop {
             self.check()?;
-            let slice = deadline.min(Instant::now() + POLL);
+            let slice = deadline.min(self.bus.now() + POLL);
             if let Some(f) = self.bus.recv_frame(slice)? {
                 return Ok(Some(f));
             }
-            if Instant::now() >= deadline {
+            if self.bus.now() >= deadline {
                 return Ok(None);
             }
         }
+    }
+    fn now(&self) -> Instant {
+        self.bus.now()
+    }
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        self.check()?;
+        self.bus.sleep_until(t)
     }
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
         self.check()?;

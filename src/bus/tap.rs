@@ -128,6 +128,12 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         self.bus.recv_frame_stamped(deadline)
     }
+    fn now(&self) -> Instant {
+        self.bus.now()
+    }
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        self.bus.sleep_until(t)
+    }
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
         self.bus.request_frame(id, len, timeout)
     }

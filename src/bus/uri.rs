@@ -188,6 +188,12 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
                 let path = state.clone().unwrap_or_else(crate::sim::state::default_path);
                 crate::sim::SimLink::open(crate::sim::state::StateFile::lock_within(&path, opts.lock_wait)?)?
             };
+            // Nothing else shares this bus: it may run on virtual time, its devices' clock
+            // going on from the wall clock's (their timed state is kept in wall-clock ms).
+            let link = match link.wants_virtual_time() {
+                true => link.on_virtual_time(crate::sim::wall_ms()),
+                false => link,
+            };
             // Messages name the demo network, not its state file.
             let describe = BusAddr::Sim { state: None }.to_string();
             Ok(Box::new(Master::new(link, describe).with_frame_log(opts.frame_log.clone())))

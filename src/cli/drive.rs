@@ -9,7 +9,7 @@ use crate::ops::drive::{self, Options, Source, Watch};
 use crate::ops::nmt::{self, StateOptions};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
 pub enum DriveCommand {
@@ -111,7 +111,8 @@ fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
     let mut last = None;
     while !ctx.cancel.is_cancelled() {
         // Short rounds, so that an interruption is seen within one.
-        if let Some(change) = watch.next(bus, Instant::now() + Duration::from_millis(100))? {
+        let until = bus.now() + Duration::from_millis(100);
+        if let Some(change) = watch.next(bus, until)? {
             ctx.out.line(&mut out, &change)?;
             std::io::Write::flush(&mut out)?;
             last = Some(change);

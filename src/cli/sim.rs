@@ -102,11 +102,19 @@ pub struct ResetArgs {
     /// TARGET is a node-id or a model key (drive, sensor, io, stepper, sensor-09501301).
     /// KIND: drop, delay=MS, duplicate, short-dlc[=N], corrupt (first data byte inverted),
     /// babble[=ID] (floods frames), abort[=CODE] (SDO answers refused), mute (falls silent),
-    /// wrong-cob[=ID] (answers on another id). WHEN counts the device's answers from 1: N
+    /// wrong-cob[=ID] (answers on another id), reboot (resets instead of
+    /// answering: values not stored are lost, a boot-up follows). WHEN counts the device's answers from 1: N
     /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
     /// the default).
     #[arg(long, value_name = "SPEC")]
     pub fault: Vec<FaultSpec>,
+    /// Run commands on virtual time: a wait with nothing due ends at once, so slow devices,
+    /// long delays and long watches take no wall time; every figure stays in bus time
+    ///
+    /// For tests and scripts that nothing else watches: a network served with --socketcan,
+    /// --slcan or --epos2-* (shared with other programs) runs on real time all the same.
+    #[arg(long)]
+    pub virtual_time: bool,
 }
 
 fn parse_rate(text: &str) -> Result<u8, String> {
@@ -122,6 +130,7 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
         let mut config =
             SimConfig::default().profile(r.profile).seed(r.seed).unconfigured(r.unconfigured).bit_rate(r.bit_rate);
         config.faults = r.fault.clone();
+        config.virtual_time = r.virtual_time;
         return Ok(ctx.out.report(&serve::reset(&path, &config)?)?);
     }
     let (faults, baud, can_timeout) = (args.fault.clone(), args.baud, args.can_timeout);

@@ -281,6 +281,14 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         })
     }
 
+    /// A serial link to real hardware: the monotonic clock.
+    fn now(&self) -> Instant {
+        crate::bus::clock::monotonic_now()
+    }
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        crate::bus::clock::sleep_until(t);
+        Ok(())
+    }
     fn request_frame(&mut self, id: u16, len: u8, _timeout: Duration) -> Result<Frame> {
         let c = Command::RequestCanFrame { id, len };
         self.log(&Frame::remote(id, len.min(8)));

@@ -229,26 +229,26 @@ fn await_state(
     recovering: bool,
     o: &Options,
 ) -> Result<(u16, Option<State>)> {
-    let end = Instant::now() + o.wait;
+    let end = bus.now() + o.wait;
     loop {
         let (word, state) = statusword(bus, node, o.timeout)?;
         let settled = state.is_some_and(|s| s == want || (s == State::Fault && !recovering));
-        if settled || Instant::now() >= end {
+        if settled || bus.now() >= end {
             return Ok((word, state));
         }
-        std::thread::sleep(POLL.min(end.saturating_duration_since(Instant::now())));
+        bus.sleep_until(end.min(bus.now() + POLL))?;
     }
 }
 
 /// Read the statusword until the drive leaves a state it leaves by itself.
 fn await_change(bus: &mut dyn Bus, node: u8, from: State, o: &Options) -> Result<(u16, Option<State>)> {
-    let end = Instant::now() + o.wait;
+    let end = bus.now() + o.wait;
     loop {
         let (word, state) = statusword(bus, node, o.timeout)?;
-        if state != Some(from) || Instant::now() >= end {
+        if state != Some(from) || bus.now() >= end {
             return Ok((word, state));
         }
-        std::thread::sleep(POLL.min(end.saturating_duration_since(Instant::now())));
+        bus.sleep_until(end.min(bus.now() + POLL))?;
     }
 }
 
@@ -284,7 +284,16 @@ pub fn walk(bus: &mut dyn Bus, node: u8, goal: Goal, o: &Options, interrupt: &Ca
         interrupted: false,
     };
     match walk_steps(bus, &mut w, o, interrupt) {
-        Err(e) if e.is_timeout() => w.stopped = Some(DriveStop::NoAnswer),
+        Err(e) if e.is_timeout() => {
+            w.stopped = Some(DriveStop::NoAnswer);
+            // The answer lost may be a controlword's that the drive acted on: the state
+            // from before it is no longer known. Read back once, never write again.
+            match statusword(bus, node, o.timeout) {
+                Ok((word, state)) => (w.statusword, w.state) = (word, state),
+                Err(e) if e.is_timeout() => w.state = None,
+                Err(e) => return Err(e),
+            }
+        }
         other => other?,
     }
     Ok(w)
@@ -412,9 +421,8 @@ impl Watch {
                 Source::Sdo(interval) => {
                     let word = read_u16(bus, self.node, cia402::STATUSWORD, self.timeout)?;
                     if Some(word) == self.last {
-                        let pause = (*interval).min(until.saturating_duration_since(Instant::now()));
-                        std::thread::sleep(pause);
-                        if Instant::now() >= until {
+                        bus.sleep_until(until.min(bus.now() + *interval))?;
+                        if bus.now() >= until {
                             return Ok(None);
                         }
                         continue;
@@ -507,5 +515,23 @@ mod tests {
         );
         assert_eq!(refusal(State::SwitchOnDisabled, 0x0208, Some(State::Fault)), DriveStop::FaultPresent);
         assert_eq!(refusal(State::SwitchOnDisabled, 0x0001, None), DriveStop::NoState);
+    }
+
+    /// The drive takes a controlword but its answer is lost (a gateway under load drops
+    /// it): the walk ends with no answer, and the state it reports is the drive's, read
+    /// back, not the one from before the write. (Found by tests/dst.rs, seed 0x5eed053d.)
+    #[test]
+    fn a_lost_answer_to_a_controlword_leaves_no_stale_state_in_the_report() {
+        use crate::sim::{SimConfig, SimLink};
+        // Answers of the drive: 0x1000, statusword, controlword (shutdown), statusword,
+        // controlword (switch on) — the fifth is lost.
+        let config = SimConfig::instant().fault("1:drop@5".parse().unwrap()).virtual_time(true);
+        let mut bus = crate::bus::Master::new(SimLink::with_config(config).on_virtual_time(0), "sim".into());
+        let o = Options { timeout: Duration::from_millis(100), wait: Duration::from_millis(500) };
+        let w = walk(&mut bus, 1, Goal::Enable, &o, &Cancel::new()).unwrap();
+        assert_eq!(w.stopped, Some(DriveStop::NoAnswer), "{w:?}");
+        let drive = bus.link_mut().network().devices().iter().find(|d| d.node_id() == Some(1)).unwrap();
+        assert_eq!(w.state, drive.objects().drive_state(), "{w:?}");
+        assert_eq!(w.state, Some(State::SwitchedOn), "the write took effect");
     }
 }

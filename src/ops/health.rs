@@ -173,7 +173,7 @@ fn watch_bus(
     watch: Duration,
 ) -> Result<BTreeMap<u8, Watched>> {
     let mut seen: BTreeMap<u8, Watched> = nodes.iter().map(|n| (*n, Watched::default())).collect();
-    let start = Instant::now();
+    let start = bus.now();
     let end = start + watch;
     let mut take = |f: Frame, at: Instant| {
         let at = at.saturating_duration_since(start);
@@ -196,7 +196,7 @@ fn watch_bus(
     }
     // Frames that were on the bus before the end may still wait to be read (canctl itself
     // was held up): taken until one from after the end, or the link falls quiet.
-    while let Some((f, at)) = bus.recv_frame_stamped(Instant::now() + LATE_FRAMES)? {
+    while let Some((f, at)) = bus.recv_frame_stamped(bus.now() + LATE_FRAMES)? {
         if at > end {
             break;
         }

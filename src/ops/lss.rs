@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use serde::ser::SerializeMap;
 use serde::Serialize;
 use std::collections::BTreeSet;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Which device a service is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -436,7 +436,8 @@ pub fn activate(bus: &mut dyn Bus, timeout: Duration, target: Target, delay_ms: 
     }
     m.send(Request::ActivateBitTiming { delay_ms })?;
     // CiA 305: the devices wait the delay, switch, and wait as long again before talking.
-    std::thread::sleep(Duration::from_millis(2 * delay_ms as u64));
+    let link = m.bus();
+    link.sleep_until(link.now() + Duration::from_millis(2 * delay_ms as u64))?;
     let devices = identity.map_or("all devices in configuration".to_string(), |i| i.to_string());
     let described = m.bus().describe();
     // The devices are still in configuration state; only a link at the new rate can send
@@ -546,7 +547,7 @@ pub fn fastscan_shown(
     interrupted: &Cancel,
     progress: &mut dyn Progress,
 ) -> Result<Found> {
-    let start = Instant::now();
+    let start = bus.now();
     let mut m = LssMaster::new(bus, o.timeout);
     let len = fastscan_steps(o.given());
     progress.start("fastscan", len);
@@ -560,6 +561,7 @@ pub fn fastscan_shown(
     // The device found is in configuration state: whatever happened, every device goes
     // back to waiting, unchanged.
     let left = m.leave();
+    let elapsed = m.bus().now().saturating_duration_since(start);
     let Some(outcome) = result? else {
         left?;
         return Err(Error::Interrupted);
@@ -572,7 +574,7 @@ pub fn fastscan_shown(
         steps: outcome.steps,
         step_ms: pace.step_ms,
         pace,
-        elapsed_ms: start.elapsed().as_millis() as u64,
+        elapsed_ms: elapsed.as_millis() as u64,
     })
 }
 
@@ -671,10 +673,10 @@ fn ids_in_use(
                 (Duration::from_millis(longest as u64) * 3 / 2).clamp(LISTEN, LISTEN_CEILING)
             }
         };
-        let (begun, end) = (Instant::now(), Instant::now() + listen);
+        let (begun, end) = (bus.now(), bus.now() + listen);
         progress.start("listening for node-ids in use", listen.as_millis() as u64);
         while bus.recv_frame(end)?.is_some() && !interrupted.is_cancelled() {
-            progress.advance(begun.elapsed().as_millis() as u64);
+            progress.advance(bus.now().saturating_duration_since(begun).as_millis() as u64);
         }
         progress.finish();
     }
@@ -690,7 +692,7 @@ pub fn assign(
     progress: &mut dyn Progress,
     interrupted: &Cancel,
 ) -> Result<Assignment> {
-    let start = Instant::now();
+    let start = bus.now();
     let timeout = o.fastscan.timeout;
     // Node-ids already in use: new ones must not collide.
     let used = ids_in_use(bus, timeout, o.listen, progress, interrupted)?;
@@ -747,7 +749,7 @@ pub fn assign(
         fastscan_steps: outcome.steps,
         step_ms: pace.step_ms,
         pace,
-        elapsed_ms: start.elapsed().as_millis() as u64,
+        elapsed_ms: bus.now().saturating_duration_since(start).as_millis() as u64,
         interrupted: outcome.interrupted,
         failure,
     })

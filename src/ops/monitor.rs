@@ -221,6 +221,8 @@ pub struct Monitor {
     layouts: BTreeMap<u16, Layout>,
     nodes: Vec<u8>,
     start: Instant,
+    /// The bus's time when the monitor last looked: what the summary's elapsed time runs to.
+    last: Instant,
     end: Option<Instant>,
     count: Option<u64>,
     seen: Summary,
@@ -242,11 +244,12 @@ impl Monitor {
                 bus.describe()
             )));
         }
-        let start = Instant::now();
+        let start = bus.now();
         Ok(Monitor {
             layouts,
             nodes: nodes.to_vec(),
             start,
+            last: start,
             end: duration.map(|d| start + d),
             count,
             seen: Summary::default(),
@@ -257,8 +260,8 @@ impl Monitor {
     /// reached, or stopped by the user (over a [`Stoppable`](crate::bus::stoppable::Stoppable)
     /// bus; the summary says so).
     pub fn next(&mut self, bus: &mut dyn Bus) -> Result<Option<Event>> {
-        while self.end.is_none_or(|e| Instant::now() < e) && self.count.is_none_or(|c| self.seen.frames() < c) {
-            let wake = self.end.unwrap_or_else(|| Instant::now() + Duration::from_millis(200));
+        while self.end.is_none_or(|e| bus.now() < e) && self.count.is_none_or(|c| self.seen.frames() < c) {
+            let wake = self.end.unwrap_or_else(|| bus.now() + Duration::from_millis(200));
             let f = match bus.recv_frame(wake) {
                 Err(e) if e.is_interrupted() => {
                     self.seen.interrupted = true;
@@ -266,6 +269,7 @@ impl Monitor {
                 }
                 other => other?,
             };
+            self.last = bus.now();
             let Some(f) = f else { continue };
             let mut ev = decode(&f, &self.layouts);
             if !self.nodes.is_empty() && ev.node.is_some_and(|n| !self.nodes.contains(&n)) {
@@ -283,7 +287,7 @@ impl Monitor {
 
     /// What was seen so far.
     pub fn summary(&self) -> Summary {
-        Summary { elapsed: self.start.elapsed(), ..self.seen.clone() }
+        Summary { elapsed: self.last.saturating_duration_since(self.start), ..self.seen.clone() }
     }
 }
 

@@ -531,11 +531,11 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
     let left = m.leave();
     result?;
     left?;
-    let deadline = Instant::now() + o.boot_wait;
+    let deadline = bus.now() + o.boot_wait;
     loop {
         match bus.sdo_upload(node, DEVICE_TYPE, &SdoOptions::new(o.window)) {
             Ok(_) | Err(Error::SdoAbort { .. }) => return Ok(()),
-            Err(e) if no_answer(&e) && Instant::now() < deadline => continue,
+            Err(e) if no_answer(&e) && bus.now() < deadline => continue,
             Err(e) if no_answer(&e) => {
                 let what = Service::AfterLssAssign { identity: *identity };
                 return Err(Error::NoAnswer { node, what, waited: o.boot_wait });
@@ -820,6 +820,7 @@ mod parallel {
     use crate::bus::{LssAnswer, LssWait, Observed, SdoJob};
     use crate::frame::Frame;
     use std::sync::mpsc::{channel, Receiver, Sender};
+    use std::sync::{Arc, Mutex};
 
     enum Msg<T> {
         Sdo(SdoJob, Sender<Result<Vec<u8>>>),
@@ -830,6 +831,8 @@ mod parallel {
     struct NodeBus<T> {
         describe: String,
         to_coordinator: Sender<Msg<T>>,
+        /// The bus's time as of the last batch (set before its answers are handed back).
+        clock: Arc<Mutex<Instant>>,
         observed: Observed,
     }
 
@@ -871,6 +874,13 @@ mod parallel {
         fn recv_frame(&mut self, _: Instant) -> Result<Option<Frame>> {
             Err(self.not_here())
         }
+        /// The coordinator's bus's clock: it moves only while the coordinator runs a batch.
+        fn now(&self) -> Instant {
+            *self.clock.lock().unwrap_or_else(|e| e.into_inner())
+        }
+        fn sleep_until(&mut self, _: Instant) -> Result<()> {
+            Err(self.not_here())
+        }
         fn request_frame(&mut self, _: u16, _: u8, _: Duration) -> Result<Frame> {
             Err(self.not_here())
         }
@@ -910,12 +920,17 @@ mod parallel {
         let mut lost: Option<Error> = None;
         // Each node's transfers so far, for its progress bar.
         let mut counts: BTreeMap<u8, (u32, u32)> = BTreeMap::new();
+        let clock = Arc::new(Mutex::new(bus.now()));
         std::thread::scope(|scope| {
             let mut queue = items.iter().map(|(i, _)| *i);
             let mut running = 0;
             let start = |i: usize| {
-                let node_bus =
-                    NodeBus { describe: describe.clone(), to_coordinator: tx.clone(), observed: Observed::default() };
+                let node_bus = NodeBus {
+                    describe: describe.clone(),
+                    to_coordinator: tx.clone(),
+                    clock: Arc::clone(&clock),
+                    observed: Observed::default(),
+                };
                 scope.spawn(move || {
                     let mut node_bus = node_bus;
                     // Whatever happens, the coordinator hears that this node is done: it
@@ -972,7 +987,9 @@ mod parallel {
                     continue;
                 }
                 let jobs: Vec<SdoJob> = waiting.iter().map(|(job, _)| job.clone()).collect();
-                match bus.sdo_many(&jobs) {
+                let results = bus.sdo_many(&jobs);
+                *clock.lock().unwrap_or_else(|e| e.into_inner()) = bus.now();
+                match results {
                     Ok(results) => {
                         for ((_, reply), result) in waiting.drain(..).zip(results) {
                             let _ = reply.send(result);
@@ -1001,7 +1018,7 @@ fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<B
         bus.observed().boot_ups.remove(n);
         bus.nmt(crate::canopen::nmt::Command::ResetNode, *n)?;
     }
-    let deadline = Instant::now() + o.boot_wait;
+    let deadline = bus.now() + o.boot_wait;
     if bus.sees_traffic() {
         while back.values().any(|b| !b) {
             let frame = bus.recv_frame(deadline)?;
@@ -1014,7 +1031,7 @@ fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<B
         }
     } else {
         for n in nodes {
-            while Instant::now() < deadline {
+            while bus.now() < deadline {
                 match bus.sdo_upload(*n, DEVICE_TYPE, &SdoOptions::new(o.window)) {
                     Ok(_) | Err(Error::SdoAbort { .. }) => {
                         back.insert(*n, true);
@@ -1257,7 +1274,8 @@ pub fn set_baud(
     report.activated = true;
     // CiA 305: each device switches after the delay and is silent until the delay has
     // passed a second time; the master sends nothing in between either.
-    std::thread::sleep(Duration::from_millis(2 * u64::from(o.delay_ms)));
+    let link = m.bus();
+    link.sleep_until(link.now() + Duration::from_millis(2 * u64::from(o.delay_ms)))?;
     report.bus_followed = m.bus().follows_bit_rate_switch();
     if !report.bus_followed {
         // Only a link at the new rate reaches the devices again; they stay in

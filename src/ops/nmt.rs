@@ -7,7 +7,7 @@ use crate::canopen::nmt::{self, Command, ErrorControl};
 use crate::error::{Error, Result, Service};
 use serde::Serialize;
 use std::collections::BTreeSet;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// An NMT command went out. NMT commands are unconfirmed: this says that it was sent, not
 /// that it took effect.
@@ -214,14 +214,14 @@ fn remote_state(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option
 /// Boot-up messages after a reset. One node: done at its boot-up. All: boot-ups may come
 /// from any node at any time, so listen until a timeout passes with no new one.
 fn listen_for_boot_ups(bus: &mut dyn Bus, target: u8, o: &ResetOptions) -> Result<Vec<u8>> {
-    let deadline = Instant::now() + o.wait;
+    let deadline = bus.now() + o.wait;
     let mut booted = BTreeSet::new();
     let mut quiet_until = deadline;
     while let Some(f) = bus.recv_frame(quiet_until.min(deadline))? {
         if let Some((node, ErrorControl::BootUp)) = ErrorControl::parse(&f) {
             if target == ALL_NODES {
                 booted.insert(node);
-                quiet_until = Instant::now() + o.timeout;
+                quiet_until = bus.now() + o.timeout;
             } else if node == target {
                 booted.insert(node);
                 break;
@@ -237,12 +237,12 @@ fn listen_for_boot_ups(bus: &mut dyn Bus, target: u8, o: &ResetOptions) -> Resul
 /// Through a link that shows no traffic, a reset node is back when it answers the
 /// error-control remote request again; its answer.
 fn poll_until_answering(bus: &mut dyn Bus, node: u8, o: &ResetOptions) -> Result<ErrorControl> {
-    let deadline = Instant::now() + o.wait;
+    let deadline = bus.now() + o.wait;
     loop {
         match remote_state(bus, node, o.timeout) {
             Ok(Some(answer)) => return Ok(answer),
             Err(e) if !e.is_timeout() => return Err(e),
-            Ok(None) | Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+            Ok(None) | Err(_) if bus.now() < deadline => bus.sleep_until(bus.now() + Duration::from_millis(20))?,
             Ok(None) | Err(_) => return Err(Error::NoAnswer { node, what: Service::AfterReset, waited: o.wait }),
         }
     }
@@ -251,7 +251,7 @@ fn poll_until_answering(bus: &mut dyn Bus, node: u8, o: &ResetOptions) -> Result
 /// A node's NMT state: from its heartbeat (listened for `listen`), else by node guarding.
 pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState> {
     if bus.sees_traffic() {
-        let listen_end = Instant::now() + o.listen;
+        let listen_end = bus.now() + o.listen;
         while let Some(f) = bus.recv_frame(listen_end)? {
             if let Some((n, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
                 if n == node {

@@ -327,7 +327,7 @@ impl<'a> Stream<'a> {
         opts: StreamOptions,
         interrupted: &'a Cancel,
     ) -> Stream<'a> {
-        let now = Instant::now();
+        let now = bus.now();
         Stream {
             node,
             layouts,
@@ -369,7 +369,7 @@ impl<'a> Stream<'a> {
                 self.records += 1;
                 return Ok(Some(r));
             }
-            if self.interrupted.is_cancelled() || self.end.is_some_and(|e| Instant::now() >= e) {
+            if self.interrupted.is_cancelled() || self.end.is_some_and(|e| bus.now() >= e) {
                 return Ok(None);
             }
             self.cycle(bus, progress)?;
@@ -379,13 +379,15 @@ impl<'a> Stream<'a> {
     /// One round: SYNC when due, then the frames of one wait or one poll.
     fn cycle(&mut self, bus: &mut dyn Bus, progress: &mut dyn Progress) -> Result<()> {
         if let (Some(period), Some(due)) = (self.opts.sync, self.next_sync) {
-            if Instant::now() >= due {
+            if bus.now() >= due {
                 bus.send_frame(&Frame::new(SYNC_COB, &[]))?;
                 self.next_sync = Some(due + period);
             }
         }
         if self.records == 0 && self.pending.is_empty() {
-            if let Some((after, why)) = self.opts.silence.take_if(|(after, _)| self.started.elapsed() >= *after) {
+            if let Some((after, why)) =
+                self.opts.silence.take_if(|(after, _)| bus.now().saturating_duration_since(self.started) >= *after)
+            {
                 progress.note(&format!(
                     "nothing from node {} after {} ms; still listening. {why}",
                     self.node,
@@ -393,12 +395,12 @@ impl<'a> Stream<'a> {
                 ));
             }
         }
-        let mut wake = Instant::now() + Duration::from_millis(100);
+        let mut wake = bus.now() + Duration::from_millis(100);
         for t in [self.end, self.next_sync, self.polling.then_some(self.next_poll)].into_iter().flatten() {
             wake = wake.min(t);
         }
         let frames: Vec<Frame> = if self.polling {
-            std::thread::sleep(self.next_poll.saturating_duration_since(Instant::now()));
+            bus.sleep_until(self.next_poll)?;
             self.next_poll += self.opts.interval;
             let mut got = Vec::new();
             for (_, l) in self.layouts {

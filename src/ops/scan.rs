@@ -10,7 +10,7 @@ use crate::canopen::nmt::{self, ErrorControl};
 use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
 use serde::Serialize;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// How long to wait.
 #[derive(Clone, Copy, Debug)]
@@ -243,7 +243,7 @@ fn scan_into(
         for q in &LSS_QUESTIONS[1..] {
             bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
         }
-        let end = Instant::now() + o.window;
+        let end = bus.now() + o.window;
         while bus.recv_frame(end)?.is_some() {}
         bus.observed().take_lss_answers()
     } else {
@@ -309,7 +309,7 @@ fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<
     if bus.sees_traffic() {
         let longest = found.iter().filter(|f| beating(f)).filter_map(|f| f.heartbeat_ms).max().unwrap_or(0);
         // Twice the period: one beat may have gone just before the listening began.
-        let end = Instant::now() + (Duration::from_millis(2 * longest as u64) + o.window).min(MAX_HEARTBEAT_WAIT);
+        let end = bus.now() + (Duration::from_millis(2 * longest as u64) + o.window).min(MAX_HEARTBEAT_WAIT);
         let missing = |bus: &mut dyn Bus, found: &[Node]| {
             found.iter().any(|f| beating(f) && !bus.observed().states.contains_key(&f.node))
         };

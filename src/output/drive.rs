@@ -84,6 +84,9 @@ impl Report for Walk {
             format!("node {node}: {state} (statusword 0x{:04X})", self.statusword)
         } else if self.interrupted {
             format!("node {node}: interrupted; the drive is left in {state} (statusword 0x{:04X})", self.statusword)
+        } else if self.state.is_none() && self.stopped == Some(crate::error::DriveStop::NoAnswer) {
+            // The last answer and the read back were lost: the statusword held is stale.
+            format!("node {node}: stopped answering; its state is unknown (the last command may have taken effect): see `canctl drive status {node}`")
         } else {
             format!("node {node}: stopped in {state} (statusword 0x{:04X})", self.statusword)
         };

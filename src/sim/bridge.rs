@@ -5,7 +5,7 @@ use super::SimLink;
 use crate::bus::trace::{self, Dir};
 use crate::bus::{FrameLink, FrameLog};
 use crate::error::Result;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Serve until the link fails or the process is stopped. Each frame on the interface goes
 /// to the frame trace and to `log`: what came in is received, what the devices answer is
@@ -19,13 +19,13 @@ pub fn run(mut sim: SimLink, can: &mut dyn FrameLink, log: Option<FrameLog>) -> 
         }
     };
     loop {
-        let wake = sim.next_event().unwrap_or_else(|| Instant::now() + Duration::from_secs(1));
+        let wake = sim.next_event().unwrap_or_else(|| sim.now() + Duration::from_secs(1));
         if let Some(f) = can.recv(wake)? {
             seen(Dir::Rx, &f);
             sim.send(&f)?;
         }
         // The answers to that frame, and any heartbeats that fell due.
-        while let Some(out) = sim.recv(Instant::now())? {
+        while let Some(out) = sim.recv(sim.now())? {
             seen(Dir::Tx, &out);
             can.send(&out)?;
         }

@@ -332,6 +332,10 @@ pub struct Device {
     /// SYNCs counted per TPDO, for transmission types 1..240.
     sync_counts: [u8; 4],
     fault: Fault,
+    /// The bus's time in ms (wall-clock ms when the bus runs on real time), set by the
+    /// network before each frame and each run of the device's own events: the device never
+    /// reads a clock itself, so a virtual clock runs it as well as the real one.
+    clock_ms: u64,
 }
 
 /// A simulated device fault (the sensor's magnet lost), armed by writing the time to it.
@@ -383,6 +387,7 @@ impl Device {
             pad_pdos: model.pad_pdos,
             fault_spec: model.fault,
             sync_counts: [0; 4],
+            clock_ms: 0,
             fault: Fault::default(),
             model: model.key,
             node_id,
@@ -444,6 +449,11 @@ impl Device {
     }
 
     /// React to one frame on the bus; returns the frames this device sends in answer.
+    /// The bus's time now, in ms.
+    pub fn set_clock(&mut self, ms: u64) {
+        self.clock_ms = ms;
+    }
+
     pub fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
         if f.id() == lss::MASTER_COB && !f.is_remote() {
             return self.lss_frame(f);
@@ -617,8 +627,7 @@ impl Device {
         if !self.moving {
             return;
         }
-        let (position, speed) =
-            if self.fault.active { (0, 0) } else { super::profiles::sensor_motion(super::wall_ms()) };
+        let (position, speed) = if self.fault.active { (0, 0) } else { super::profiles::sensor_motion(self.clock_ms) };
         self.od.values.insert(ObjAddr::new(0x6020, 1), position.to_le_bytes().to_vec());
         self.od.values.insert(ObjAddr::new(0x6030, 1), speed.to_le_bytes().to_vec());
     }
@@ -664,7 +673,7 @@ impl Device {
         let ms = self.od.u16_value(FAULT_OBJECT).unwrap_or(0);
         self.od.dirty = true;
         if ms > 0 {
-            self.fault.at = Some(super::wall_ms() + ms as u64);
+            self.fault.at = Some(self.clock_ms + ms as u64);
             return vec![];
         }
         self.fault.at = None;
@@ -693,7 +702,7 @@ impl Device {
         let mut out = Vec::new();
         if self.od.drive.is_some() {
             // CiA 402 transition 13: from any state into fault reaction active, then fault.
-            self.fault.reaction_until = Some(super::wall_ms() + FAULT_REACTION_MS);
+            self.fault.reaction_until = Some(self.clock_ms + FAULT_REACTION_MS);
             self.sync_drive();
             self.od.set_drive_state(DriveState::FaultReactionActive);
             if let Some(status) = self.od.u32_value(ObjAddr::new(0x1002, 0)) {
@@ -913,8 +922,9 @@ mod tests {
             assert_eq!(out.len(), 2, "{out:?}");
             assert_eq!(out[1], Frame::new(0x181, &statusword(&d).to_le_bytes()));
         }
+        let now = 1_000_000;
+        d.set_clock(now);
         write(&mut d, 0x5FFE, 0, &1u16.to_le_bytes());
-        let now = super::super::wall_ms();
         let frames = |out: Vec<(u64, Frame)>| out.into_iter().map(|(_, f)| f).collect::<Vec<_>>();
         let out = frames(d.events(now, now + 5));
         // EMCY 0x3220, register 0x05, then the statusword in fault reaction.

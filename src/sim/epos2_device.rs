@@ -14,7 +14,7 @@ use crate::epos2::command::{self, answer, Command, GATEWAY_SEGMENT, MAX_SEGMENT,
 use crate::epos2::frame::Frame as SerialFrame;
 use crate::error::Result;
 use crate::frame::Frame;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// The model key of the device this EPOS2 is on the sim network.
 const SELF_MODEL: &str = "drive";
@@ -329,7 +329,7 @@ impl Epos2Device {
     /// gateway waits only for answers to what it sends, so they are dropped first.
     fn send(&mut self, f: &Frame) -> Result<()> {
         // Dropped unseen by the trace, as ever; the log keeps everything that came.
-        while let Some(stale) = self.link.recv(Instant::now())? {
+        while let Some(stale) = self.link.recv(self.link.now())? {
             self.seen(Dir::Rx, &stale, false);
         }
         self.seen(Dir::Tx, f, true);
@@ -380,7 +380,7 @@ impl Epos2Device {
     }
 
     fn wait_for(&mut self, want: impl Fn(&Frame) -> bool, timeout: Duration) -> Result<Option<Frame>> {
-        let deadline = Instant::now() + timeout;
+        let deadline = self.link.now() + timeout;
         while let Some(f) = self.arrived.pop_front().map_or_else(|| self.link.recv(deadline), |f| Ok(Some(f)))? {
             self.seen(Dir::Rx, &f, true);
             if want(&f) {

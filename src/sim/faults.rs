@@ -41,6 +41,9 @@ pub enum Kind {
     Mute,
     WrongCob(Option<u16>),
     NoHeartbeat,
+    /// The device reboots instead of answering (a power dip, a watchdog): what it was told
+    /// and not stored is gone, and it sends its boot-up.
+    Reboot,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,14 +107,18 @@ impl FromStr for FaultSpec {
             "mute" => Kind::Mute,
             "wrong-cob" => Kind::WrongCob(arg.map(parse_cob).transpose()?),
             "no-heartbeat" => Kind::NoHeartbeat,
+            "reboot" => Kind::Reboot,
             _ => {
                 return Err(format!(
-                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID] or no-heartbeat"
+                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat or reboot"
                 ))
             }
         };
         if arg.is_some()
-            && matches!(kind, Kind::Drop | Kind::Duplicate | Kind::Corrupt | Kind::Mute | Kind::NoHeartbeat)
+            && matches!(
+                kind,
+                Kind::Drop | Kind::Duplicate | Kind::Corrupt | Kind::Mute | Kind::NoHeartbeat | Kind::Reboot
+            )
         {
             return Err(format!("'{name}' takes no argument"));
         }
@@ -151,6 +158,7 @@ impl fmt::Display for FaultSpec {
             Kind::WrongCob(None) => write!(f, "wrong-cob")?,
             Kind::WrongCob(Some(id)) => write!(f, "wrong-cob=0x{id:03X}")?,
             Kind::NoHeartbeat => write!(f, "no-heartbeat")?,
+            Kind::Reboot => write!(f, "reboot")?,
         }
         match self.when {
             When::Always => Ok(()),
@@ -221,6 +229,8 @@ pub struct Conduct {
     heartbeat_stopped: bool,
     /// The multiplexer of the last SDO request heard, for an injected abort.
     last_mux: [u8; 3],
+    /// A reboot fault fired: the device reboots instead of answering.
+    reboot: bool,
 }
 
 impl Conduct {
@@ -232,6 +242,11 @@ impl Conduct {
 
     pub fn is_muted(&self) -> bool {
         self.muted
+    }
+
+    /// Whether a reboot fault fired since the last call.
+    pub fn take_reboot(&mut self) -> bool {
+        std::mem::take(&mut self.reboot)
     }
 
     /// A request reached the device (before it answers): remember what an abort names.
@@ -291,6 +306,10 @@ impl Conduct {
                 }
                 Kind::WrongCob(id) => f = Frame::new(id.unwrap_or((f.id() + 1) & 0x7FF), f.data()),
                 Kind::NoHeartbeat => self.heartbeat_stopped = true,
+                Kind::Reboot => {
+                    self.reboot = true;
+                    copies = 0;
+                }
             }
         }
         if self.muted {

@@ -53,6 +53,11 @@ pub struct SimConfig {
     /// Faults injected into devices' answers (see `faults`).
     #[serde(default)]
     pub faults: Vec<FaultSpec>,
+    /// Run on virtual time when a command opens the network (`--bus sim`): waits with
+    /// nothing due end at once, figures stay in bus time. A served network (on an interface
+    /// or a pty, shared with other programs) always runs on real time.
+    #[serde(default)]
+    pub virtual_time: bool,
 }
 
 fn default_bit_rate() -> u8 {
@@ -67,6 +72,7 @@ impl Default for SimConfig {
             unconfigured: DEFAULT_UNCONFIGURED,
             bit_rate: DEFAULT_BIT_RATE,
             faults: vec![],
+            virtual_time: false,
         }
     }
 }
@@ -91,6 +97,11 @@ impl SimConfig {
     /// 4 = 125 kbit/s).
     pub fn bit_rate(mut self, index: u8) -> SimConfig {
         self.bit_rate = index;
+        self
+    }
+
+    pub fn virtual_time(mut self, on: bool) -> SimConfig {
+        self.virtual_time = on;
         self
     }
 
@@ -176,6 +187,11 @@ impl Network {
         &self.devices
     }
 
+    /// The devices, to set a test's starting point (a value already in an object).
+    pub fn devices_mut(&mut self) -> &mut [Device] {
+        &mut self.devices
+    }
+
     /// The device built from the model with this key (`drive`, `sensor`, ...).
     pub fn device_mut(&mut self, model: &str) -> Option<&mut Device> {
         self.devices.iter_mut().find(|d| d.model == model)
@@ -208,6 +224,14 @@ impl Network {
                 }
                 out.extend(go.into_iter().map(|(later, f)| (ready + later, i, f)));
             }
+            // A reboot fault: the device resets instead (what was not stored is gone) and
+            // says so with its boot-up.
+            if conduct.take_reboot() {
+                if let Some(id) = d.node_id() {
+                    let boot = d.on_frame(&crate::canopen::nmt::Command::ResetNode.frame(id));
+                    out.extend(boot.into_iter().map(|f| (ready, i, f)));
+                }
+            }
         }
         // CiA 305 "activate bit timing": the devices that switched, and the master with
         // them, run at the new rate; a device left at the old rate drops off the bus.
@@ -231,6 +255,13 @@ impl Network {
             out.extend(own.into_iter().filter_map(|(t, f)| Some((t, i, conduct.own(f, &d.model, d.node_id())?))));
         }
         out
+    }
+
+    /// The bus's time, in ms, for the devices (which never read a clock themselves).
+    pub fn set_clock(&mut self, ms: u64) {
+        for d in &mut self.devices {
+            d.set_clock(ms);
+        }
     }
 
     /// The devices flooding the bus, and the id each floods it with.
@@ -293,21 +324,38 @@ pub fn wall_ms() -> u64 {
     SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_millis() as u64).unwrap_or(0)
 }
 
+/// What the simulated bus's clock is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Clock {
+    /// The monotonic clock since the link was made: for a bus others share (served on an
+    /// interface or a pty) and for a person watching.
+    Real,
+    /// Time passes only when the master waits: a wait with nothing due before its end
+    /// jumps there at once. Whole procedures run in a moment of wall time with the same
+    /// bus-time figures, and the same seed gives the same frames.
+    Virtual { at: Nanos },
+}
+
 /// The simulated network as a frame link, with its state kept in a locked file.
 ///
-/// Frames go through a model of the bus (`timing::BusQueue`) whose clock is the wall
-/// clock since the link was made: a frame sent by the master queues and leaves when the
-/// bus is free (as SocketCAN's `send` queues it); devices hear it when it has left, answer
-/// after their latency, and their answers are received when they have left the bus.
+/// Frames go through a model of the bus (`timing::BusQueue`) whose clock is the link's
+/// own (real or virtual, see [`SimLink::on_virtual_time`]): a frame sent by the master
+/// queues and leaves when the bus is free (as SocketCAN's `send` queues it); devices hear
+/// it when it has left, answer after their latency, and their answers are received when
+/// they have left the bus.
 pub struct SimLink {
     net: Network,
     bus: BusQueue,
     /// Frames from the devices, each with the bus time it left the bus.
     rx: VecDeque<(Frame, Nanos)>,
-    /// Wall-clock ms up to which the devices' own frames have been produced.
+    /// The devices' ms up to which their own frames have been produced.
     beats_upto: u64,
     /// The bus clock's zero.
     epoch: Instant,
+    /// The devices' clock (ms) at the bus clock's zero: wall-clock ms, so that devices'
+    /// timed state (a fault armed to strike later) carries over between invocations.
+    start_ms: u64,
+    clock: Clock,
     /// A bridge to a real bus: frames take no time here.
     bus_timing_off: bool,
     file: Option<state::StateFile>,
@@ -327,12 +375,15 @@ impl SimLink {
     /// These devices, with no state file.
     pub fn of(net: Network) -> SimLink {
         let bus = BusQueue::new(Self::bps_of(&net));
+        let start_ms = wall_ms();
         SimLink {
             net,
             bus,
             rx: VecDeque::new(),
-            beats_upto: wall_ms(),
-            epoch: Instant::now(),
+            beats_upto: start_ms,
+            epoch: crate::bus::clock::monotonic_now(),
+            start_ms,
+            clock: Clock::Real,
             bus_timing_off: false,
             file: None,
         }
@@ -374,8 +425,45 @@ impl SimLink {
         self
     }
 
-    fn now(&self) -> Nanos {
-        self.epoch.elapsed().as_nanos() as Nanos
+    /// Run on virtual time from now on, the devices' clock starting at `start_ms`: a
+    /// test gives a fixed one, so that the same seed gives the same frames byte for byte
+    /// (heartbeat phases follow the devices' clock).
+    pub fn on_virtual_time(mut self, start_ms: u64) -> SimLink {
+        self.clock = Clock::Virtual { at: 0 };
+        self.start_ms = start_ms;
+        self.beats_upto = start_ms;
+        self
+    }
+
+    /// Whether the network was set up to run on virtual time when a command opens it
+    /// (`sim reset --virtual-time`).
+    pub fn wants_virtual_time(&self) -> bool {
+        self.net.config.virtual_time
+    }
+
+    /// Whether the link runs on virtual time.
+    pub fn is_virtual(&self) -> bool {
+        matches!(self.clock, Clock::Virtual { .. })
+    }
+
+    /// The bus clock: ns since its zero.
+    fn bus_time(&self) -> Nanos {
+        match self.clock {
+            Clock::Real => self.epoch.elapsed().as_nanos() as Nanos,
+            Clock::Virtual { at } => at,
+        }
+    }
+
+    /// The devices' clock (ms) at bus time `t`.
+    fn ms_at(&self, t: Nanos) -> u64 {
+        self.start_ms + t / timing::MS
+    }
+
+    /// Let virtual time pass up to `t` (never back); real time passes by itself.
+    fn pass_to(&mut self, t: Nanos) {
+        if let Clock::Virtual { at } = &mut self.clock {
+            *at = (*at).max(t);
+        }
     }
 
     fn at(&self, t: Nanos) -> Instant {
@@ -385,13 +473,17 @@ impl SimLink {
     /// When something next happens on the bus by itself: a frame leaves, or a device
     /// sends on its own.
     pub fn next_event(&self) -> Option<Instant> {
-        let now = wall_ms();
+        self.next_event_at().map(|t| self.at(t))
+    }
+
+    fn next_event_at(&self) -> Option<Nanos> {
+        let now = self.bus_time();
+        let ms = self.ms_at(now);
         let own = self
             .net
-            .next_event(self.beats_upto.max(now))
-            .map(|next| Instant::now() + Duration::from_millis(next.saturating_sub(now)));
-        let bus = self.bus.next_done().map(|t| self.at(t));
-        own.into_iter().chain(bus).min()
+            .next_event(self.beats_upto.max(ms))
+            .map(|next| (next.saturating_sub(self.start_ms) * timing::MS).max(now));
+        own.into_iter().chain(self.bus.next_done()).min()
     }
 
     /// Save the state now if anything changed (a long-running server saves as it goes).
@@ -413,8 +505,9 @@ impl SimLink {
     /// Run the bus up to now: the devices' own frames queue, frames that have left are
     /// heard by the devices (master's) or received (devices').
     fn advance(&mut self) {
-        let now = self.now();
-        let ms = wall_ms();
+        let now = self.bus_time();
+        let ms = self.ms_at(now);
+        self.net.set_clock(ms);
         // The devices keep their own clock: what they sent by themselves while nobody
         // polled was ready when it was due, and competes for the bus from then on.
         if ms > self.beats_upto {
@@ -449,6 +542,7 @@ impl SimLink {
         while let Some((end, origin, frame)) = self.bus.pop_done(now) {
             match origin {
                 Origin::Master => {
+                    self.net.set_clock(self.ms_at(end));
                     for (ready, i, f) in self.net.deliver(&frame, end) {
                         self.bus.queue(ready, Origin::Device(i), f);
                     }
@@ -465,7 +559,7 @@ impl SimLink {
 impl FrameLink for SimLink {
     fn send(&mut self, frame: &Frame) -> Result<()> {
         self.advance();
-        let now = self.now();
+        let now = self.bus_time();
         self.bus.queue(now, Origin::Master, *frame);
         Ok(())
     }
@@ -484,13 +578,33 @@ impl FrameLink for SimLink {
             if !self.rx.is_empty() {
                 continue;
             }
-            let now = Instant::now();
-            if now >= deadline {
+            let now = self.bus_time();
+            let until = deadline.saturating_duration_since(self.epoch).as_nanos() as Nanos;
+            if now >= until {
                 return Ok(None);
             }
-            let wake = self.next_event().map_or(deadline, |t| t.min(deadline));
-            std::thread::sleep(wake.saturating_duration_since(now).max(Duration::from_micros(20)));
+            // Nothing to hand over before the next event on the bus, or the deadline.
+            let wake = self.next_event_at().map_or(until, |t| t.min(until)).max(now + MIN_WAIT);
+            match self.clock {
+                Clock::Virtual { .. } => self.pass_to(wake),
+                Clock::Real => crate::bus::clock::sleep_until(self.at(wake)),
+            }
         }
+    }
+
+    fn now(&self) -> Instant {
+        self.at(self.bus_time())
+    }
+
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        match self.clock {
+            Clock::Virtual { .. } => {
+                self.pass_to(t.saturating_duration_since(self.epoch).as_nanos() as Nanos);
+                self.advance();
+            }
+            Clock::Real => crate::bus::clock::sleep_until(t),
+        }
+        Ok(())
     }
 
     fn follows_bit_rate_switch(&self) -> bool {
@@ -506,6 +620,9 @@ impl FrameLink for SimLink {
         self.save_if_changed()
     }
 }
+
+/// The shortest wait of a receive with nothing due: on real time, what a sleep costs anyway.
+const MIN_WAIT: Nanos = 20_000;
 
 /// Node-ids on the demo network, for documentation and tests.
 pub fn demo_node_ids() -> BTreeMap<u8, String> {
@@ -625,5 +742,68 @@ mod tests {
             // 40 ms apart, give or take the frames of other nodes ahead on the bus.
             assert!(gap > Duration::from_millis(39) && gap < Duration::from_millis(41), "{gap:?} in {beats:?}");
         }
+    }
+
+    /// Every frame a virtual-time link hands over in `span` of bus time after sending
+    /// `request`, with its bus time from the link's zero.
+    fn virtual_run(config: SimConfig, request: Frame, span: Duration) -> Vec<(Frame, Duration)> {
+        let mut link = SimLink::with_config(config).on_virtual_time(1_000_000);
+        let zero = link.now();
+        link.send(&request).unwrap();
+        let end = zero + span;
+        std::iter::from_fn(|| link.recv_stamped(end).unwrap()).map(|(f, at)| (f, at - zero)).collect()
+    }
+
+    #[test]
+    fn on_virtual_time_a_ten_minute_watch_sees_every_beat_at_its_bus_time() {
+        let frames =
+            virtual_run(SimConfig::default().profile(Profile::Slow), Frame::new(0x601, &READ_DEVICE_TYPE), TEN_MINUTES);
+        let beats: Vec<Duration> = frames.iter().filter(|(f, _)| f.id() == 0x705).map(|(_, at)| *at).collect();
+        // The sensor beats every 40 ms: 15,000 beats in ten minutes of bus time.
+        assert!((14_999..=15_001).contains(&beats.len()), "{}", beats.len());
+        for w in beats.windows(2) {
+            let gap = w[1] - w[0];
+            assert!(gap > Duration::from_millis(39) && gap < Duration::from_millis(41), "{gap:?}");
+        }
+        // The slow drive answered 5-80 ms after the request.
+        let (_, answered) = frames.iter().find(|(f, _)| f.id() == 0x581).expect("the drive answers");
+        assert!(*answered >= Duration::from_millis(5) && *answered <= Duration::from_millis(81), "{answered:?}");
+    }
+
+    #[test]
+    fn on_virtual_time_the_same_seed_gives_the_same_frames_at_the_same_times() {
+        let run = |seed| {
+            let config = SimConfig::default().profile(Profile::Slow).seed(seed).fault("5:duplicate".parse().unwrap());
+            virtual_run(config, Frame::new(0x601, &READ_DEVICE_TYPE), Duration::from_secs(2))
+        };
+        assert_eq!(run(9), run(9));
+        assert_ne!(run(9), run(10));
+    }
+
+    #[test]
+    fn a_virtual_sleep_lets_the_devices_run_and_keeps_their_frames() {
+        let mut link = SimLink::with_config(SimConfig::instant()).on_virtual_time(0);
+        let zero = link.now();
+        link.sleep_until(zero + Duration::from_millis(200)).unwrap();
+        assert_eq!(link.now(), zero + Duration::from_millis(200));
+        // Heartbeats that fell due while the master slept wait for it, stamped when due.
+        let (f, at) = link.recv_stamped(link.now()).unwrap().expect("a frame kept");
+        assert!(at <= zero + Duration::from_millis(200), "{f:?} at {:?}", at - zero);
+    }
+
+    const TEN_MINUTES: Duration = Duration::from_secs(600);
+
+    #[test]
+    fn a_rebooting_device_loses_what_it_did_not_store_and_says_so_with_its_boot_up() {
+        let config = SimConfig::instant().fault("5:reboot@1".parse().unwrap());
+        let mut link = SimLink::with_config(config).on_virtual_time(0);
+        // Heartbeat time 500 ms: the device reboots instead of answering.
+        link.send(&Frame::new(0x605, &[0x2B, 0x17, 0x10, 0, 0xF4, 0x01, 0, 0])).unwrap();
+        let end = link.now() + Duration::from_millis(10);
+        let frames: Vec<Frame> = std::iter::from_fn(|| link.recv(end).unwrap()).collect();
+        assert!(!frames.iter().any(|f| f.id() == 0x585), "no answer: {frames:?}");
+        assert!(frames.contains(&Frame::new(0x705, &[0])), "boot-up: {frames:?}");
+        let sensor = link.network().devices().iter().find(|d| d.node_id() == Some(5)).unwrap();
+        assert_eq!(sensor.heartbeat_ms(), Some(40), "the write was lost with the reboot");
     }
 }

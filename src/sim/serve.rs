@@ -37,6 +37,9 @@ pub struct Reset {
     pub unconfigured: u8,
     pub bit_rate: String,
     pub faults: Vec<String>,
+    /// Commands run on virtual time (`--virtual-time`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub virtual_time: bool,
 }
 
 /// Forget the saved state at `path`: from now on the devices start as `config` builds them.
@@ -57,6 +60,7 @@ pub fn reset(path: &Path, config: &SimConfig) -> Result<Reset> {
         unconfigured: config.unconfigured,
         bit_rate: bit_rate_name(config.bit_rate),
         faults: config.faults.iter().map(|f| f.to_string()).collect(),
+        virtual_time: config.virtual_time,
     })
 }
 

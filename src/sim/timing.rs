@@ -215,6 +215,9 @@ struct Queued {
     seq: u64,
     origin: Origin,
     frame: Frame,
+    /// `frame_bits(frame)`, counted once: the queue is looked at far more often than it
+    /// changes (on virtual time, at every wait).
+    bits: u32,
 }
 
 /// A device that floods the bus: it always has a frame on this id ready, from `next` on.
@@ -224,6 +227,8 @@ struct Babbler {
     id: u16,
     next: Nanos,
     count: u64,
+    /// The bits of its next frame (as `Queued::bits`).
+    bits: u32,
 }
 
 /// A babbling device sends at most one frame per this long even where frames take no time.
@@ -279,13 +284,15 @@ impl BusQueue {
     /// A frame ready to go at `ready`.
     pub fn queue(&mut self, ready: Nanos, origin: Origin, frame: Frame) {
         self.seq += 1;
-        self.queued.push(Queued { ready, seq: self.seq, origin, frame });
+        self.queued.push(Queued { ready, seq: self.seq, origin, frame, bits: frame_bits(&frame) });
     }
 
     /// This device floods the bus with frames on `id` from `since` on (once told).
     pub fn babble(&mut self, device: usize, id: u16, since: Nanos) {
         if !self.babblers.iter().any(|b| b.device == device) {
-            self.babblers.push(Babbler { device, id, next: since, count: 0 });
+            let mut b = Babbler { device, id, next: since, count: 0, bits: 0 };
+            b.bits = frame_bits(&Self::babble_frame(&b));
+            self.babblers.push(b);
         }
     }
 
@@ -316,16 +323,16 @@ impl BusQueue {
         }
         let queued = heads.into_iter().map(|(_, i)| {
             let q = &self.queued[i];
-            ((q.frame.id(), 0, q.seq), Next::Queued(i), q.frame)
+            ((q.frame.id(), 0, q.seq), Next::Queued(i), q.bits)
         });
         let babbling = self
             .babblers
             .iter()
             .enumerate()
             .filter(|(_, b)| b.next <= start)
-            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), Self::babble_frame(b)));
-        let (_, next, frame) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
-        let time = self.bps.map_or(0, |bps| frame_time(&frame, bps));
+            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), b.bits));
+        let (_, next, bits) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
+        let time = self.bps.map_or(0, |bps| bits as u64 * 1_000_000_000 / bps);
         let end = start + time;
         Some((next, start, end))
     }
@@ -353,6 +360,7 @@ impl BusQueue {
                 let b = &mut self.babblers[i];
                 let frame = Self::babble_frame(b);
                 b.count += 1;
+                b.bits = frame_bits(&Self::babble_frame(b));
                 b.next = b.next.max(start + BABBLE_GAP);
                 Some((end, Origin::Device(b.device), frame))
             }

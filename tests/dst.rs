@@ -1,0 +1,838 @@
+//! Deterministic simulation testing: every procedure, run through the library against a
+//! seeded random simulated network (device mix, latency profile, bit rate) with a seeded
+//! fault mix (loss, delay, duplicates, short frames, corrupt answers, babble, a device
+//! muted mid-transfer, a reboot, a stop request at a random step), on virtual time. After
+//! each run the devices are compared with the report:
+//!
+//! - the run ended within its bound in bus time;
+//! - a run without faults and without a stop succeeded (exit 0);
+//! - success means the devices hold what the report says (values read are the device's,
+//!   values written are in the device, node-ids given are the devices', states reached are
+//!   the devices');
+//! - no node-id is held by two devices, and no device is left in LSS configuration state;
+//! - a failed or interrupted run's report matches the devices (what it says it did, they
+//!   show).
+//!
+//! The same seed gives the same frames, byte for byte and at the same bus times. A failing
+//! seed prints the command that replays it. `CANCTL_DST_SCENARIOS=N` runs N scenarios
+//! (`scripts/dst.sh N` for a million), `CANCTL_DST_SEED=S` just one.
+
+use canctl::bus::stoppable::Stoppable;
+use canctl::bus::tap::AfterSdo;
+use canctl::bus::{Bus, FrameLink, Master, SdoOptions};
+use canctl::canopen::cia402::{Goal, State as DriveState};
+use canctl::canopen::lss::Identity;
+use canctl::canopen::nmt::{self, Command};
+use canctl::canopen::ObjAddr;
+use canctl::frame::Frame;
+use canctl::ops::Cancel;
+use canctl::ops::{self, Silent};
+use canctl::sim::timing::Rng;
+use canctl::sim::{Profile, SimConfig, SimLink};
+use canctl::{Error, Result};
+use std::collections::BTreeMap;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+/// Seeds that once broke an invariant: each is run on every `cargo test`.
+const FIXED: &[u64] = &[
+    // drive enable: the answer to a controlword was lost; the report kept the state from
+    // before it, which the drive had left (fixed: the walk reads the state back).
+    0x5eed_053d,
+    0x5eed_0621,
+    // lss assign, one device losing 20 % of its answers: the answer to the search's first
+    // probe was lost, and assign said every device had a node-id (fixed: silence is
+    // believed when three searches in a row find nobody).
+    0x5eed_0af1,
+];
+
+/// The first seed of the CI run; any other start runs other scenarios.
+const CI_START: u64 = 0x5EED_0000;
+const CI_SCENARIOS: u64 = 10_000;
+/// `cargo test` stops starting scenarios after this much wall time (a loaded machine runs
+/// fewer; the count run is printed). `CANCTL_DST_BUDGET_S=0`: no limit.
+const CI_BUDGET: Duration = Duration::from_secs(120);
+
+/// What every frame on the tape is: sent by canctl or received, when, and its bytes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Taped {
+    sent: bool,
+    at: Duration,
+    id: u16,
+    data: Vec<u8>,
+}
+
+/// The simulated network behind a recorder of every frame.
+struct Tape {
+    sim: SimLink,
+    zero: Instant,
+    frames: Vec<Taped>,
+}
+
+impl Tape {
+    fn record(&mut self, sent: bool, at: Instant, f: &Frame) {
+        let at = at.saturating_duration_since(self.zero);
+        self.frames.push(Taped { sent, at, id: f.id(), data: f.data().to_vec() });
+    }
+}
+
+impl FrameLink for Tape {
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        let now = self.sim.now();
+        self.record(true, now, frame);
+        self.sim.send(frame)
+    }
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        Ok(self.recv_stamped(deadline)?.map(|(f, _)| f))
+    }
+    fn recv_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        let got = self.sim.recv_stamped(deadline)?;
+        if let Some((f, at)) = &got {
+            self.record(false, *at, f);
+        }
+        Ok(got)
+    }
+    fn name(&self) -> String {
+        "sim".into()
+    }
+    fn now(&self) -> Instant {
+        self.sim.now()
+    }
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        self.sim.sleep_until(t)
+    }
+    fn follows_bit_rate_switch(&self) -> bool {
+        self.sim.follows_bit_rate_switch()
+    }
+    fn close(&mut self) -> Result<()> {
+        self.sim.close()
+    }
+}
+
+/// The procedures the harness runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Procedure {
+    Scan,
+    /// An expedited read (0x1000), a segmented one (0x1008, a name), a block one (the
+    /// drive's 64 KiB domain).
+    Read(ReadKind),
+    /// A plain value write (the sensor's heartbeat time), with a read back.
+    Write,
+    /// A block download of the drive's domain.
+    WriteDomain,
+    Fastscan,
+    Assign,
+    /// NMT reset node with confirmation (the boot-up).
+    Reset,
+    ConfigApply,
+    NetworkApply,
+    SetBaud,
+    DriveEnable,
+    Health,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ReadKind {
+    Expedited,
+    Segmented,
+    Block,
+}
+
+const PROCEDURES: &[Procedure] = &[
+    Procedure::Scan,
+    Procedure::Read(ReadKind::Expedited),
+    Procedure::Read(ReadKind::Segmented),
+    Procedure::Read(ReadKind::Block),
+    Procedure::Write,
+    Procedure::WriteDomain,
+    Procedure::Fastscan,
+    Procedure::Assign,
+    Procedure::Reset,
+    Procedure::ConfigApply,
+    Procedure::NetworkApply,
+    Procedure::SetBaud,
+    Procedure::DriveEnable,
+    Procedure::Health,
+];
+
+/// One scenario, all drawn from its seed.
+#[derive(Clone, Debug)]
+struct Scenario {
+    seed: u64,
+    procedure: Procedure,
+    config: SimConfig,
+    /// Stop requested after this many confirmed SDO transfers or NMT commands.
+    stop_after: Option<u32>,
+}
+
+const NODES: [u8; 4] = [1, 5, 10, 32];
+const TIMEOUT: Duration = Duration::from_millis(200);
+
+fn pick<T: Copy>(rng: &mut Rng, from: &[T]) -> T {
+    from[rng.between(0, from.len() as u64 - 1) as usize]
+}
+
+impl Scenario {
+    fn of(seed: u64) -> Scenario {
+        let mut rng = Rng::new(seed);
+        let procedure = pick(&mut rng, PROCEDURES);
+        let profile = pick(&mut rng, &[Profile::Instant, Profile::Typical, Profile::Typical, Profile::Slow]);
+        // 1M, 500k, 250k, 125k.
+        let bit_rate = pick(&mut rng, &[0, 2, 2, 3, 4]);
+        let unconfigured = match procedure {
+            Procedure::NetworkApply => 5,
+            Procedure::Fastscan | Procedure::Assign => rng.between(1, 4) as u8,
+            _ => rng.between(0, 2) as u8,
+        };
+        let mut config = SimConfig::default()
+            .profile(profile)
+            .seed(rng.next_u64())
+            .unconfigured(unconfigured)
+            .bit_rate(bit_rate)
+            .virtual_time(true);
+        // Half the scenarios are clean: those must succeed.
+        if rng.chance(0.5) {
+            for _ in 0..rng.between(1, 2) {
+                let spec = fault(&mut rng, unconfigured);
+                config = config.fault(spec.parse().expect("a fault spec"));
+            }
+        }
+        let stop_after = rng.chance(0.15).then(|| rng.between(0, 12) as u32);
+        // Drawn last, so that the seeds found before it was added keep their scenarios.
+        if rng.chance(0.06) {
+            let target = pick(&mut rng, &NODES);
+            config = config.fault(format!("{target}:reboot@{}", rng.between(1, 30)).parse().expect("a fault spec"));
+        }
+        Scenario { seed, procedure, config, stop_after }
+    }
+
+    fn clean(&self) -> bool {
+        self.config.faults.is_empty() && self.stop_after.is_none()
+    }
+}
+
+/// A fault drawn for one device of the network.
+fn fault(rng: &mut Rng, unconfigured: u8) -> String {
+    let mut targets: Vec<String> = NODES.iter().map(|n| n.to_string()).collect();
+    targets.extend((1..=unconfigured).map(|i| format!("sensor-095013{i:02}")));
+    let target = targets[rng.between(0, targets.len() as u64 - 1) as usize].clone();
+    let percent = pick(rng, &[1, 2, 2, 5, 20]);
+    let kind = match rng.between(0, 8) {
+        0 => format!("drop@{percent}%"),
+        1 => format!("delay={}@{percent}%", rng.between(1, 150)),
+        2 => format!("duplicate@{percent}%"),
+        3 => format!("short-dlc@{percent}%"),
+        4 => format!("corrupt@{percent}%"),
+        5 => format!("mute@{}+", rng.between(1, 40)),
+        6 => format!("abort@{}", rng.between(1, 10)),
+        7 => "babble=0x7F0".to_string(),
+        _ => format!("drop@{}", rng.between(1, 20)),
+    };
+    format!("{target}:{kind}")
+}
+
+/// What one run gave: every frame, and the invariant it broke, if any.
+struct Outcome {
+    frames: Vec<Taped>,
+    broken: Option<String>,
+    /// Bus time the procedure took.
+    took: Duration,
+    /// How it ended: `ok` or the error.
+    ended: String,
+}
+
+/// The longest any procedure may take in bus time, faults included.
+const BOUND: Duration = Duration::from_secs(5 * 60);
+
+fn run(s: &Scenario) -> Outcome {
+    let mut sim = SimLink::with_config(s.config.clone()).on_virtual_time(1_700_000_000_000);
+    // The drive's domain holds 1 to 4 KiB to start with (its 64 KiB would make the block
+    // read a hundred times the work of any other scenario).
+    let len = 1024 + (s.seed % 3072) as usize;
+    let domain: Vec<u8> = (0..len).map(|i| (i as u64 ^ s.seed) as u8).collect();
+    let drive = sim.network_mut().devices_mut().iter_mut().find(|d| d.node_id() == Some(1)).expect("the drive");
+    drive.write_local(DOMAIN, &domain).expect("the domain takes any length");
+    let zero = sim.now();
+    let mut master = Master::new(Tape { sim, zero, frames: Vec::new() }, "sim".into());
+    let before = Devices::of(&master.link_mut().sim);
+    let stop = Cancel::new();
+    let result = {
+        let flag = stop.clone();
+        let at = s.stop_after;
+        let mut steps = 0;
+        let mut tapped = AfterSdo::new(&mut master, move |_, _| {
+            steps += 1;
+            if at.is_some_and(|n| steps >= n) {
+                flag.cancel();
+            }
+        });
+        if s.stop_after == Some(0) {
+            stop.cancel();
+        }
+        let mut bus = Stoppable::new(&mut tapped, stop.clone());
+        procedure(&mut bus, s, &stop)
+    };
+    let took = master.link_mut().now().saturating_duration_since(zero);
+    // What canctl queued reaches the devices (as the kernel sends what a closed socket
+    // queued) before they are looked at.
+    let closed = Bus::close(&mut master);
+    let after = Devices::of(&master.link_mut().sim);
+    let mut broken = check(s, &result, &before, &after, &master.link_mut().sim).err();
+    if let Err(e) = closed {
+        broken.get_or_insert(format!("closing the link failed: {e}"));
+    }
+    if took > BOUND {
+        broken.get_or_insert(format!("took {took:?} of bus time (bound {BOUND:?})"));
+    }
+    if broken.is_none() && s.clean() && s.procedure != Procedure::SetBaud {
+        if let Err(e) = &result {
+            broken = Some(format!("a clean run failed: {e}"));
+        }
+    }
+    let ended = match &result {
+        Ok(Report::Assigned(_, false)) => "ended part-way".to_string(),
+        Ok(_) => "ok".to_string(),
+        Err(e) => format!("{e}").chars().take(60).collect(),
+    };
+    Outcome { frames: std::mem::take(&mut master.link_mut().frames), broken, took, ended }
+}
+
+/// What the procedure reported, reduced to what the devices can be checked against.
+enum Report {
+    /// Values read from a node's object.
+    Read(u8, ObjAddr, Vec<u8>),
+    Wrote(u8, ObjAddr, Vec<u8>),
+    /// Nodes and identities a scan reported.
+    Scanned(Vec<(u8, Option<u32>)>),
+    Found(Identity),
+    /// Identities given node-ids (all of them, also when interrupted or failed part-way).
+    /// And whether it said every device has one now (exit 0).
+    Assigned(Vec<(Identity, u8)>, bool),
+    Booted(Vec<u8>),
+    /// Objects of the sensor's DCF written (and verified) on `node`.
+    Applied(u8, Vec<ObjAddr>),
+    /// The nodes of the example project and whether each was reported brought to its DCF.
+    Project(Vec<(u8, bool)>),
+    Nodes(Vec<(u8, bool)>),
+    /// Nodes and whether each answered at the new rate (CiA 305 table index) after the switch.
+    Followed(u8, Vec<(u8, Option<bool>)>),
+    DriveState(u8, Option<DriveState>, bool),
+    Nothing,
+}
+
+fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
+    let opts = SdoOptions::new(TIMEOUT);
+    match s.procedure {
+        Procedure::Scan => {
+            let o = ops::scan::ScanOptions { window: Duration::from_millis(300), timeout: TIMEOUT };
+            let scan = ops::scan::scan(bus, &o, &mut Silent)?;
+            Ok(Report::Scanned(scan.nodes.iter().map(|n| (n.node, n.serial)).collect()))
+        }
+        Procedure::Read(kind) => {
+            let (node, addr, opts) = match kind {
+                ReadKind::Expedited => (5, ObjAddr::new(0x1000, 0), opts),
+                ReadKind::Segmented => (10, ObjAddr::new(0x1008, 0), opts),
+                ReadKind::Block => (1, DOMAIN, SdoOptions { block_upload: true, ..opts }),
+            };
+            let data = bus.sdo_upload(node, addr, &opts)?;
+            Ok(Report::Read(node, addr, data))
+        }
+        Procedure::Write => {
+            let addr = ObjAddr::new(0x1017, 0);
+            let value = (100 + (s.seed % 900) as u16).to_le_bytes().to_vec();
+            bus.sdo_download(5, addr, &value, &SdoOptions { size_hint: Some(2), ..opts })?;
+            Ok(Report::Wrote(5, addr, value))
+        }
+        Procedure::WriteDomain => {
+            let data: Vec<u8> = (0..3000u32).map(|i| (i as u64 * 7 + s.seed) as u8).collect();
+            bus.sdo_download(1, DOMAIN, &data, &opts)?;
+            Ok(Report::Wrote(1, DOMAIN, data))
+        }
+        Procedure::Fastscan => {
+            let found = ops::lss::fastscan(bus, &ops::lss::FastscanOptions::new(TIMEOUT), stop)?;
+            Ok(Report::Found(found.identity.0))
+        }
+        Procedure::Assign => {
+            let o = ops::lss::AssignOptions {
+                start: 20,
+                fastscan: ops::lss::FastscanOptions::new(TIMEOUT),
+                listen: None,
+                store: true,
+            };
+            let a = ops::lss::assign(bus, &o, &mut Silent, stop)?;
+            // Failed or interrupted part-way: what it says it did must still be so.
+            let complete = a.failure.is_none() && !a.interrupted;
+            Ok(Report::Assigned(a.assigned.iter().map(|d| (d.identity.0, d.node)).collect(), complete))
+        }
+        Procedure::Reset => {
+            let o = ops::nmt::ResetOptions { wait: Duration::from_secs(2), timeout: TIMEOUT };
+            let r = ops::nmt::reset(bus, Command::ResetNode, 5, &o)?;
+            Ok(match r.confirmed {
+                true => Report::Booted(r.booted.unwrap_or_default()),
+                false => Report::Nothing,
+            })
+        }
+        Procedure::ConfigApply => {
+            let mut o = ops::config::ApplyOptions::new(TIMEOUT);
+            o.verify = true;
+            let applied = ops::config::apply(bus, 5, sensor_dcf(), &o)?;
+            if let Some(e) = applied.failure {
+                return Err(e);
+            }
+            if applied.interrupted {
+                return Err(Error::Interrupted);
+            }
+            Ok(Report::Applied(5, applied.written))
+        }
+        Procedure::NetworkApply => {
+            let loaded = machine();
+            let mut config = ops::config::ApplyOptions::new(TIMEOUT);
+            config.verify = true;
+            let o = ops::network::ApplyOptions {
+                config,
+                assign: true,
+                window: Duration::from_millis(300),
+                boot_wait: Duration::from_secs(2),
+                jobs: 4,
+                reset: false,
+                interrupted: stop.clone(),
+            };
+            let applied = ops::network::apply(bus, loaded, &o, &mut Silent)?;
+            if let Some(e) = applied.failure {
+                return Err(e);
+            }
+            Ok(Report::Project(applied.nodes.iter().map(|n| (n.node, n.ok)).collect()))
+        }
+        Procedure::SetBaud => {
+            let loaded = machine();
+            let o = ops::network::SetBaudOptions {
+                timeout: TIMEOUT,
+                window: Duration::from_millis(300),
+                index: 4,
+                delay_ms: 50,
+                store: false,
+                // The sim's stepper refuses every other rate: it is left behind.
+                force: true,
+                interrupted: stop.clone(),
+            };
+            let r = ops::network::set_baud(bus, Some(loaded), &o, &mut Silent)?;
+            Ok(Report::Followed(4, r.nodes.iter().map(|n| (n.node, n.after)).collect()))
+        }
+        Procedure::DriveEnable => {
+            bus.nmt(Command::Start, 1)?;
+            let o = ops::drive::Options { timeout: TIMEOUT, wait: Duration::from_millis(500) };
+            let w = ops::drive::walk(bus, 1, Goal::Enable, &o, stop)?;
+            Ok(Report::DriveState(1, w.state, w.done))
+        }
+        Procedure::Health => {
+            let o = ops::health::HealthOptions {
+                window: Duration::from_millis(300),
+                timeout: TIMEOUT,
+                watch: None,
+                state: None,
+            };
+            let h = ops::health::health(bus, &o, &mut Silent)?;
+            Ok(Report::Nodes(h.nodes.iter().map(|n| (n.node, n.ok)).collect()))
+        }
+    }
+}
+
+const DOMAIN: ObjAddr = ObjAddr::new(0x1F50, 1);
+
+/// The example project (read once: parsing its DCFs would be most of a short scenario).
+fn machine() -> &'static ops::network::Loaded {
+    static LOADED: std::sync::OnceLock<ops::network::Loaded> = std::sync::OnceLock::new();
+    LOADED.get_or_init(|| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sim-machine/nodelist.cpj");
+        ops::network::load(&path).expect("the example project")
+    })
+}
+
+fn sensor_dcf() -> &'static ops::config::Dcf {
+    static DCF: std::sync::OnceLock<ops::config::Dcf> = std::sync::OnceLock::new();
+    DCF.get_or_init(|| ops::config::Dcf::parse(include_bytes!("../examples/sensor.dcf"), "sensor.dcf").unwrap())
+}
+
+/// The network as the run left it, without its faults and on the instant profile: what
+/// the devices hold, read back by a master nothing disturbs.
+fn clean_copy(sim: &SimLink) -> Master<SimLink> {
+    let mut state = sim.network().snapshot();
+    if let Some(c) = state.config.as_mut() {
+        c.faults.clear();
+        c.profile = Profile::Instant;
+    }
+    let net = canctl::sim::Network::from_state(&state);
+    Master::new(SimLink::of(net).on_virtual_time(1_700_000_000_000), "sim".into())
+}
+
+/// The devices as the network holds them.
+struct Devices {
+    /// By serial: node-id, LSS configuration state, NMT state.
+    all: Vec<DeviceView>,
+}
+
+struct DeviceView {
+    identity: Identity,
+    node: Option<u8>,
+    nmt: nmt::State,
+    drive: Option<DriveState>,
+    bit_rate: u8,
+    /// Left in LSS configuration state.
+    configuring: bool,
+    /// The objects the procedures read and write.
+    values: BTreeMap<ObjAddr, Vec<u8>>,
+}
+
+const WATCHED: [ObjAddr; 4] = [ObjAddr::new(0x1000, 0), ObjAddr::new(0x1008, 0), ObjAddr::new(0x1017, 0), DOMAIN];
+
+impl Devices {
+    fn of(sim: &SimLink) -> Devices {
+        let all = sim
+            .network()
+            .devices()
+            .iter()
+            .map(|d| DeviceView {
+                identity: d.identity(),
+                node: d.node_id(),
+                nmt: d.nmt_state(),
+                drive: d.objects().drive_state(),
+                bit_rate: d.bit_rate(),
+                configuring: d.snapshot().lss_configuration,
+                values: WATCHED.iter().filter_map(|a| Some((*a, d.objects().value(*a)?.to_vec()))).collect(),
+            })
+            .collect();
+        Devices { all }
+    }
+
+    fn node(&self, node: u8) -> Option<&DeviceView> {
+        self.all.iter().find(|d| d.node == Some(node))
+    }
+
+    fn value(&self, node: u8, addr: ObjAddr) -> Option<&[u8]> {
+        self.node(node)?.values.get(&addr).map(|v| v.as_slice())
+    }
+}
+
+/// The invariants, for one run.
+fn check(
+    s: &Scenario,
+    result: &Result<Report>,
+    before: &Devices,
+    after: &Devices,
+    sim: &SimLink,
+) -> std::result::Result<(), String> {
+    // No node-id held twice, whatever happened.
+    let mut held = BTreeMap::new();
+    for d in &after.all {
+        if let Some(n) = d.node {
+            if let Some(other) = held.insert(n, d.identity) {
+                return Err(format!("node-id {n} held by {other} and {}", d.identity));
+            }
+        }
+    }
+    // Every LSS procedure sends the devices back to waiting, however it ended; a device
+    // left at another bit rate (set-baud --force) cannot hear it.
+    let rate = sim.network().bit_rate();
+    if let Some(d) = after.all.iter().find(|d| d.configuring && d.bit_rate == rate) {
+        return Err(format!("{} left in LSS configuration state", d.identity));
+    }
+    let Ok(report) = result else { return Ok(()) };
+    match report {
+        Report::Read(node, addr, data) => {
+            let held = after.value(*node, *addr);
+            if held != Some(data.as_slice()) {
+                return Err(format!(
+                    "read {} bytes from node {node} {addr}, the device holds {:?}",
+                    data.len(),
+                    held.map(|v| v.len())
+                ));
+            }
+        }
+        Report::Wrote(node, addr, data) => {
+            if after.value(*node, *addr) != Some(data.as_slice()) {
+                return Err(format!("wrote node {node} {addr}, the device does not hold it"));
+            }
+        }
+        Report::Scanned(nodes) => {
+            for (node, serial) in nodes {
+                let Some(d) = after.node(*node) else {
+                    return Err(format!("scan reported node {node}, no device has it"));
+                };
+                if serial.is_some_and(|s| s != d.identity.serial) {
+                    return Err(format!(
+                        "scan reported node {node} with serial {serial:?}, the device's is {}",
+                        d.identity.serial
+                    ));
+                }
+            }
+            if s.clean() {
+                let want: Vec<u8> = after.all.iter().filter_map(|d| d.node).collect();
+                let got: Vec<u8> = nodes.iter().map(|(n, _)| *n).collect();
+                if want.iter().any(|n| !got.contains(n)) {
+                    return Err(format!("clean scan found {got:?}, the network has {want:?}"));
+                }
+            }
+        }
+        Report::Found(id) => {
+            let waiting = before.all.iter().any(|d| d.node.is_none() && d.identity == *id);
+            if !waiting {
+                return Err(format!("fastscan found {id}, no device without a node-id has it"));
+            }
+        }
+        Report::Assigned(given, complete) => {
+            // A device muted by its fault cannot be told from one that is not there.
+            let rate = sim.network().bit_rate();
+            let seen = |d: &&DeviceView| d.bit_rate == rate && !muted(s, d);
+            if let Some(d) = after.all.iter().filter(seen).find(|d| *complete && d.node.is_none()) {
+                return Err(format!("assign ended as complete, {} still has no node-id", d.identity));
+            }
+            for (id, node) in given {
+                let holder = after.all.iter().find(|d| d.identity == *id);
+                if holder.and_then(|d| d.node) != Some(*node) {
+                    return Err(format!("reported {id} -> node {node}, the device holds {:?}", holder.map(|d| d.node)));
+                }
+            }
+            // Every device numbered is in the report.
+            for d in &after.all {
+                let was = before.all.iter().find(|b| b.identity == d.identity).and_then(|b| b.node);
+                if was.is_none() && d.node.is_some() && !given.iter().any(|(id, _)| *id == d.identity) {
+                    return Err(format!("{} took node {:?}, the report does not say so", d.identity, d.node));
+                }
+            }
+        }
+        Report::Booted(nodes) => {
+            for n in nodes {
+                if after.node(*n).map(|d| d.nmt) != Some(nmt::State::PreOperational) {
+                    return Err(format!("reset confirmed for node {n}, which is not pre-operational"));
+                }
+            }
+        }
+        Report::Applied(node, written) => {
+            let diff =
+                ops::config::diff(&mut clean_copy(sim), *node, sensor_dcf(), TIMEOUT).map_err(|e| e.to_string())?;
+            if let Some(d) = diff.differences.iter().find(|d| written.contains(&d.object)) {
+                return Err(format!(
+                    "applied {} to node {node}: the device holds {}, the DCF {}",
+                    d.object, d.device, d.file
+                ));
+            }
+        }
+        Report::Project(nodes) => {
+            let loaded = machine();
+            let o = ops::network::CheckOptions {
+                timeout: TIMEOUT,
+                window: Duration::from_millis(300),
+                jobs: 1,
+                state: None,
+            };
+            let checked =
+                ops::network::check(&mut clean_copy(sim), loaded, &o, &mut Silent).map_err(|e| e.to_string())?;
+            for (node, ok) in nodes.iter().filter(|(_, ok)| *ok) {
+                let c = checked.nodes.iter().find(|c| c.node == *node);
+                if !c.is_some_and(|c| c.checks.iter().all(|v| v.ok)) {
+                    return Err(format!("node {node} reported brought to its DCF ({ok}), a check says {c:?}"));
+                }
+            }
+        }
+        Report::Nodes(nodes) => {
+            for (n, _) in nodes {
+                if after.node(*n).is_none() {
+                    return Err(format!("reported node {n}, no device has it"));
+                }
+            }
+        }
+        Report::DriveState(node, state, done) => {
+            let held = after.node(*node).and_then(|d| d.drive);
+            if state.is_some() && *state != held {
+                return Err(format!("reported drive state {state:?}, the drive is in {held:?}"));
+            }
+            if *done && held != Some(DriveState::OperationEnabled) {
+                return Err(format!("reported enabled, the drive is in {held:?}"));
+            }
+        }
+        Report::Followed(rate, nodes) => {
+            for (node, followed) in nodes {
+                let held = after.node(*node).map(|d| d.bit_rate);
+                if *followed == Some(true) && held != Some(*rate) {
+                    return Err(format!("node {node} reported at the new rate, the device is at {held:?}"));
+                }
+            }
+        }
+        Report::Nothing => {}
+    }
+    Ok(())
+}
+
+/// With `CANCTL_DST_TRACE` set: every frame of a run, as canctl's `-v` trace shows them.
+fn trace(frames: &[Taped]) {
+    if std::env::var("CANCTL_DST_TRACE").is_err() {
+        return;
+    }
+    for f in frames {
+        eprintln!("{:>12.3?} {} {:03X} {:02X?}", f.at, if f.sent { "tx" } else { "rx" }, f.id, f.data);
+    }
+}
+
+/// Whether a fault of the scenario makes this device fall silent for good.
+fn muted(s: &Scenario, d: &DeviceView) -> bool {
+    s.config.faults.iter().any(|f| {
+        let spec = f.to_string();
+        let (target, kind) = spec.split_once(':').unwrap_or_default();
+        let node = target.parse::<u8>().ok();
+        kind.starts_with("mute")
+            && (target == format!("sensor-{:08x}", d.identity.serial) || node.is_some_and(|n| d.node == Some(n)))
+    })
+}
+
+fn replay_hint(seed: u64) -> String {
+    format!("CANCTL_DST_SEED={seed:#x} cargo test --test dst seeded (CANCTL_DST_TRACE=1 for its frames)")
+}
+
+fn env_u64(name: &str) -> Option<u64> {
+    let v = std::env::var(name).ok()?;
+    let v = v.trim();
+    match v.strip_prefix("0x") {
+        Some(hex) => u64::from_str_radix(hex, 16).ok(),
+        None => v.parse().ok(),
+    }
+}
+
+/// Run `seeds` on every core; the seeds that broke an invariant, with what broke.
+fn run_all(seeds: impl Iterator<Item = u64> + Send, budget: Option<Duration>) -> (Vec<(u64, String)>, u64) {
+    let started = Instant::now();
+    let ran = std::sync::atomic::AtomicU64::new(0);
+    let seeds = std::sync::Mutex::new(seeds);
+    let failed = std::sync::Mutex::new(Vec::new());
+    let longest = std::sync::Mutex::new(Duration::ZERO);
+    let cost: std::sync::Mutex<BTreeMap<String, (u32, Duration)>> = Default::default();
+    let slowest: std::sync::Mutex<Vec<(Duration, u64)>> = Default::default();
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
+    // `CANCTL_DST_ONLY=Assign`: only the scenarios of that procedure (for a closer look).
+    let only = std::env::var("CANCTL_DST_ONLY").ok();
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| loop {
+                if budget.is_some_and(|b| started.elapsed() > b) {
+                    break;
+                }
+                let Some(seed) = seeds.lock().unwrap().next() else { break };
+                let s = Scenario::of(seed);
+                if only.as_ref().is_some_and(|o| !format!("{:?}", s.procedure).starts_with(o.as_str())) {
+                    continue;
+                }
+                let wall = Instant::now();
+                ran.fetch_add(1, Ordering::Relaxed);
+                let out = std::panic::catch_unwind(|| run(&s)).map_err(|p| {
+                    p.downcast_ref::<String>().cloned().or(p.downcast_ref::<&str>().map(|s| s.to_string()))
+                });
+                let kind = format!("{:?}", s.procedure);
+                let mut c = cost.lock().unwrap();
+                let e = c.entry(kind).or_default();
+                e.0 += 1;
+                e.1 += wall.elapsed();
+                drop(c);
+                slowest.lock().unwrap().push((wall.elapsed(), seed));
+                match out {
+                    Ok(o) => {
+                        if o.broken.is_some() {
+                            trace(&o.frames);
+                        }
+                        let mut l = longest.lock().unwrap();
+                        *l = (*l).max(o.took);
+                        if let Some(why) = o.broken {
+                            failed.lock().unwrap().push((seed, format!("{s:?}: {why}")));
+                        }
+                    }
+                    Err(why) => failed.lock().unwrap().push((seed, format!("{s:?}: panicked: {why:?}"))),
+                }
+            });
+        }
+    });
+    for (kind, (n, wall)) in cost.into_inner().unwrap() {
+        eprintln!("dst: {kind}: {n} run(s), {:?} of wall time each", wall / n.max(1));
+    }
+    let mut slowest = slowest.into_inner().unwrap();
+    slowest.sort();
+    for (wall, seed) in slowest.iter().rev().take(5) {
+        eprintln!("dst: slow: {wall:?}: {:?}", Scenario::of(*seed));
+    }
+    eprintln!("dst: the longest run took {:?} of bus time", longest.into_inner().unwrap());
+    let mut failed = failed.into_inner().unwrap();
+    failed.sort();
+    (failed, ran.into_inner())
+}
+
+fn report(failed: &[(u64, String)]) {
+    for (seed, why) in failed.iter().take(20) {
+        eprintln!("seed {seed:#x}: {why}\n  replay: {}", replay_hint(*seed));
+    }
+    assert!(
+        failed.is_empty(),
+        "{} scenario(s) broke an invariant; replay the first with: {}",
+        failed.len(),
+        replay_hint(failed[0].0)
+    );
+}
+
+#[test]
+fn seeded_scenarios_keep_every_invariant() {
+    let (seeds, label): (Box<dyn Iterator<Item = u64> + Send>, String) = match env_u64("CANCTL_DST_SEED") {
+        Some(seed) => (Box::new(std::iter::once(seed)), format!("seed {seed:#x}")),
+        None => {
+            let start = env_u64("CANCTL_DST_START").unwrap_or(CI_START);
+            let n = env_u64("CANCTL_DST_SCENARIOS").unwrap_or(CI_SCENARIOS);
+            (Box::new(start..start + n), format!("{n} scenarios from {start:#x}"))
+        }
+    };
+    let budget = match env_u64("CANCTL_DST_BUDGET_S") {
+        Some(0) => None,
+        Some(s) => Some(Duration::from_secs(s)),
+        None => Some(CI_BUDGET),
+    };
+    let wall = Instant::now();
+    let (failed, ran) = run_all(seeds, budget);
+    let took = wall.elapsed();
+    let per_minute = ran as f64 * 60.0 / took.as_secs_f64().max(1e-3);
+    eprintln!("dst: {ran} of {label} in {took:.1?} of wall time ({per_minute:.0} a minute)");
+    report(&failed);
+}
+
+#[test]
+fn seeds_that_once_broke_an_invariant_keep_it_now() {
+    let (failed, _) = run_all(FIXED.iter().copied(), None);
+    report(&failed);
+}
+
+#[test]
+fn the_same_seed_gives_the_same_frames_byte_for_byte() {
+    for seed in CI_START..CI_START + 20 {
+        let s = Scenario::of(seed);
+        let (a, b) = (run(&s), run(&s));
+        assert!(!a.frames.is_empty(), "{s:?}");
+        assert!(a.frames == b.frames, "seed {seed:#x}: two runs differ; {}", replay_hint(seed));
+    }
+    // And another seed, another run.
+    assert!(run(&Scenario::of(CI_START)).frames != run(&Scenario::of(CI_START + 1)).frames);
+}
+
+/// `lss assign` of three devices whose answers are lost 2 % of the time (a USB adapter or
+/// gateway under load), on virtual time: whatever each run ends with, it never says every
+/// device has a node-id while one still waits (exit 0 is only for a confirmed bus).
+#[test]
+fn lss_assign_under_two_percent_loss_never_calls_a_waiting_device_done() {
+    let mut outcomes = BTreeMap::new();
+    for seed in 1..=24 {
+        let mut config = SimConfig::default().seed(seed).unconfigured(3).virtual_time(true);
+        for i in 1..=3 {
+            config = config.fault(format!("sensor-0950130{i}:drop@2%").parse().unwrap());
+        }
+        let s = Scenario { seed, procedure: Procedure::Assign, config, stop_after: None };
+        let out = run(&s);
+        if out.broken.is_some() {
+            trace(&out.frames);
+        }
+        assert!(out.broken.is_none(), "seed {seed}: {}", out.broken.unwrap());
+        *outcomes.entry(out.ended).or_insert(0) += 1;
+    }
+    eprintln!("lss assign under 2 % loss, 24 runs: {outcomes:?}");
+}
