@@ -45,7 +45,9 @@ pub enum FormatArg {
     /// their help only ([`crate::cli::CheckFormat`]), refused by the others.
     #[value(hide = true)]
     Junit,
-    /// An XDC (CiA 311 XML) instead of a DCF: config dump.
+    /// An XDC (CiA 311 XML) instead of a DCF: config dump, whose help says so; hidden from
+    /// the other commands' help and completion, which refuse it.
+    #[value(hide = true)]
     Xdc,
 }
 

@@ -246,5 +246,7 @@ fn assign_numbers_every_device_when_answers_are_lost() {
     let mut nodes: Vec<u64> = r["assigned"].as_array().unwrap().iter().map(|d| d["node"].as_u64().unwrap()).collect();
     nodes.sort();
     assert_eq!(nodes, [20, 21, 22], "{r}");
-    assert_eq!(sim.run(&["lss", "assign", "--start", "20"]).code, 3);
+    // Nobody left to number: a rerun of the provisioning script succeeds and says so.
+    let again = sim.run(&["lss", "assign", "--start", "20"]).ok();
+    assert!(again.stdout.contains("nothing to assign"), "{}", again.stdout);
 }
