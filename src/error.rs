@@ -447,7 +447,9 @@ pub enum LinkError {
     StateFile { path: PathBuf, what: &'static str, detail: String },
     /// Another process holds the simulator's network (its state file's lock); `holder`
     /// names it (pid and command line) as far as it said.
-    #[error("the sim network is in use by {holder}: stop it or use --bus sim:OTHER.state (waited {})",
+    #[error("the sim network is in use by {holder} (waited {}): it serves one command at a time; stop that one, \
+             or serve the network where several commands share it as on a real bus (`canctl sim --socketcan vcan0`, \
+             then --bus vcan0); --bus sim:OTHER.state would be another network, not this one",
         if *waited < Duration::from_secs(1) { format!("{} ms", waited.as_millis()) } else { format!("{} s", waited.as_secs_f64()) })]
     SimInUse { holder: String, waited: Duration },
     /// A pseudo-terminal (the simulator's serial devices) failed.

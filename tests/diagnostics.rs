@@ -140,7 +140,9 @@ fn the_sim_network_held_by_another_process_is_waited_for_then_named() {
         );
         assert!(r.stderr.contains("waiting up to 10 s"), "{}", r.stderr);
         assert!(
-            r.stderr.contains(&format!("canctl: the sim network is {named}: stop it or use --bus sim:OTHER.state")),
+            r.stderr.contains(&format!(
+                "canctl: the sim network is {named} (waited 10 s): it serves one command at a time"
+            )),
             "{}",
             r.stderr
         );
