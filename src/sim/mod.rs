@@ -348,7 +348,10 @@ pub struct SimLink {
     bus: BusQueue,
     /// Frames from the devices, each with the bus time it left the bus.
     rx: VecDeque<(Frame, Nanos)>,
-    /// The devices' ms up to which their own frames have been produced.
+    /// The devices' ms up to which their own frames have been produced: at the start the
+    /// one before `start_ms`, so that the first look at the devices runs their start ms
+    /// too, and what fell due while no invocation ran them (a fault armed by the last one)
+    /// happens before the first request is answered, not at the first ms tick after it.
     beats_upto: u64,
     /// The bus clock's zero.
     epoch: Instant,
@@ -380,7 +383,7 @@ impl SimLink {
             net,
             bus,
             rx: VecDeque::new(),
-            beats_upto: start_ms,
+            beats_upto: start_ms.saturating_sub(1),
             epoch: crate::bus::clock::monotonic_now(),
             start_ms,
             clock: Clock::Real,
@@ -431,7 +434,7 @@ impl SimLink {
     pub fn on_virtual_time(mut self, start_ms: u64) -> SimLink {
         self.clock = Clock::Virtual { at: 0 };
         self.start_ms = start_ms;
-        self.beats_upto = start_ms;
+        self.beats_upto = start_ms.saturating_sub(1);
         self
     }
 
@@ -789,6 +792,25 @@ mod tests {
         // Heartbeats that fell due while the master slept wait for it, stamped when due.
         let (f, at) = link.recv_stamped(link.now()).unwrap().expect("a frame kept");
         assert!(at <= zero + Duration::from_millis(200), "{f:?} at {:?}", at - zero);
+    }
+
+    /// `sdo write 1 5FFE 1` in one invocation, `errors 1` in the next (README's errors
+    /// example): the fault fell due between the two, so it has struck before the next
+    /// invocation's first request is answered, however fast that answer comes.
+    #[test]
+    fn a_fault_that_fell_due_between_two_invocations_has_struck_before_the_first_answer() {
+        let mut first = SimLink::with_config(SimConfig::instant()).on_virtual_time(1_000_000);
+        first.send(&Frame::new(0x601, &[0x2B, 0xFE, 0x5F, 0, 1, 0, 0, 0])).unwrap();
+        let end = first.now() + Duration::from_millis(1);
+        assert!(std::iter::from_fn(|| first.recv(end).unwrap())
+            .any(|f| f == Frame::new(0x581, &[0x60, 0xFE, 0x5F, 0, 0, 0, 0, 0])));
+        let state = first.network().snapshot();
+        // The next invocation opens 5 ms later: the fault was due 1 ms after the write.
+        let mut next = SimLink::of(Network::from_state(&state)).on_virtual_time(1_000_005);
+        next.send(&Frame::new(0x601, &[0x40, 0x03, 0x10, 0, 0, 0, 0, 0])).unwrap();
+        let end = next.now() + Duration::from_millis(1);
+        let answer = std::iter::from_fn(|| next.recv(end).unwrap()).find(|f| f.id() == 0x581);
+        assert_eq!(answer.map(|f| f.data()[4]), Some(1), "errors logged in 0x1003:0");
     }
 
     const TEN_MINUTES: Duration = Duration::from_secs(600);
