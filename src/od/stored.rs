@@ -2,10 +2,9 @@
 //! format object 0x1022 names: 0 the file's text as it is, 1 compressed, as a ZIP archive
 //! (CiA 306), 0x80..0xFF the manufacturer's own. Pure: bytes in, the file's bytes out.
 //!
-//! The ZIP reader takes what a device's firmware would hold: one archive, its members
-//! stored or deflated (the methods every ZIP tool writes), found through the central
-//! directory so that sizes in a data descriptor are read too. Each member is checked
-//! against its CRC-32, and inflating stops at a limit, so that a broken or hostile
+//! The ZIP archive is read by the `zip` crate: one archive, its members stored or deflated
+//! (the methods every ZIP tool writes), found through the central directory. Each member is
+//! checked against its CRC-32, and inflating stops at a limit, so that a broken or hostile
 //! archive cannot fill memory.
 
 /// Object 0x1021: the stored EDS.
@@ -51,119 +50,60 @@ pub fn unpack(format: u8, stored: &[u8], limit: usize) -> Result<Vec<u8>, Stored
     }
 }
 
-fn u16_at(b: &[u8], at: usize) -> Option<u16> {
-    b.get(at..at + 2).map(|s| u16::from_le_bytes([s[0], s[1]]))
-}
-
-fn u32_at(b: &[u8], at: usize) -> Option<u32> {
-    b.get(at..at + 4).map(|s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
-}
-
-const LOCAL: u32 = 0x0403_4B50;
-const CENTRAL: u32 = 0x0201_4B50;
-const END: u32 = 0x0605_4B50;
-const CRC32: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC);
-
 /// One member of a ZIP archive: a device description (`.eds`, `.xdd`, `.dcf`, `.xdc`) if
 /// there is one, else the first. Its name and content.
 pub fn unzip(zip: &[u8], limit: usize) -> Result<(String, Vec<u8>), StoredError> {
-    let broken = |why: &str| StoredError::BrokenZip(why.to_string());
-    // The end record is the last 22 bytes, before a comment of up to 64 KiB.
-    let end = (0..=zip.len().saturating_sub(22))
-        .rev()
-        .take(22 + 0xFFFF)
-        .find(|at| u32_at(zip, *at) == Some(END))
-        .ok_or_else(|| broken("no end of central directory record"))?;
-    let count = u16_at(zip, end + 10).ok_or_else(|| broken("short end record"))? as usize;
-    let mut at = u32_at(zip, end + 16).ok_or_else(|| broken("short end record"))? as usize;
-    let mut members = Vec::new();
-    for _ in 0..count {
-        if u32_at(zip, at) != Some(CENTRAL) {
-            return Err(broken("a central directory entry is missing"));
-        }
-        let field = |off: usize| u16_at(zip, at + off).map(usize::from).ok_or_else(|| broken("short central entry"));
-        let (method, name_len, extra_len, comment_len) = (field(10)?, field(28)?, field(30)?, field(32)?);
-        let crc = u32_at(zip, at + 16).ok_or_else(|| broken("short central entry"))?;
-        let packed = u32_at(zip, at + 20).ok_or_else(|| broken("short central entry"))? as usize;
-        let size = u32_at(zip, at + 24).ok_or_else(|| broken("short central entry"))? as usize;
-        let local = u32_at(zip, at + 42).ok_or_else(|| broken("short central entry"))? as usize;
-        let name = zip.get(at + 46..at + 46 + name_len).ok_or_else(|| broken("short central entry"))?;
-        members.push((String::from_utf8_lossy(name).into_owned(), method, crc, packed, size, local));
-        at += 46 + name_len + extra_len + comment_len;
-    }
+    let mut archive = zip::ZipArchive::new(std::io::Cursor::new(zip)).map_err(broken)?;
     let description = |n: &str| {
         let n = n.to_ascii_lowercase();
         [".eds", ".xdd", ".dcf", ".xdc"].iter().any(|x| n.ends_with(x))
     };
-    let (name, method, crc, packed, size, local) = members
+    let names: Vec<String> =
+        archive.file_names().map(|n| n.map(|n| n.into_owned())).collect::<Result<_, _>>().map_err(broken)?;
+    let index = names
         .iter()
-        .find(|m| description(&m.0))
-        .or(members.first())
-        .cloned()
-        .ok_or_else(|| broken("the archive is empty"))?;
-    if size > limit {
+        .position(|n| description(n))
+        .or((!names.is_empty()).then_some(0))
+        .ok_or_else(|| StoredError::BrokenZip("the archive is empty".into()))?;
+    let name = names[index].clone();
+    let mut member = archive.by_index(index).map_err(|e| match e {
+        zip::result::ZipError::CompressionMethodNotSupported(m) => {
+            StoredError::Method(format!("compression method {m}"))
+        }
+        zip::result::ZipError::UnsupportedArchive(what) => StoredError::Method(what.to_string()),
+        e => broken(e),
+    })?;
+    let size = member.size();
+    if size > limit as u64 {
         return Err(StoredError::TooLarge { name, limit });
     }
-    if u32_at(zip, local) != Some(LOCAL) {
-        return Err(broken("the member's local header is missing"));
+    // The declared size is the archive's word only: inflating reads at most one byte past
+    // the limit, so that a member that unpacks to more is stopped there (a zip bomb).
+    let mut content = Vec::with_capacity(size as usize);
+    let read = std::io::Read::read_to_end(&mut std::io::Read::take(&mut member, limit as u64 + 1), &mut content);
+    if content.len() > limit {
+        return Err(StoredError::TooLarge { name, limit });
     }
-    let data_at = local
-        + 30
-        + u16_at(zip, local + 26).map(usize::from).unwrap_or(0)
-        + u16_at(zip, local + 28).map(usize::from).unwrap_or(0);
-    let data = zip.get(data_at..data_at + packed).ok_or_else(|| broken("the member's data is cut short"))?;
-    let content = match method {
-        0 => data.to_vec(),
-        8 => miniz_oxide::inflate::decompress_to_vec_with_limit(data, limit).map_err(|e| match e.status {
-            miniz_oxide::inflate::TINFLStatus::HasMoreOutput => StoredError::TooLarge { name: name.clone(), limit },
-            _ => broken(&format!("{name} does not inflate ({:?})", e.status)),
-        })?,
-        other => return Err(StoredError::Method(format!("compression method {other}"))),
-    };
-    if content.len() != size || CRC32.checksum(&content) != crc {
-        return Err(broken(&format!("{name} does not match its size and CRC-32")));
+    // The CRC-32 is checked as the member's end is read: a mismatch is a read error.
+    if read.is_err() || content.len() as u64 != size {
+        return Err(StoredError::BrokenZip(format!("{name} does not match its size and CRC-32")));
     }
     Ok((name, content))
 }
 
+fn broken(e: zip::result::ZipError) -> StoredError {
+    StoredError::BrokenZip(e.to_string())
+}
+
 /// A ZIP archive of one deflated member, as a device's tools would store it.
 pub fn zip(name: &str, content: &[u8]) -> Vec<u8> {
-    let packed = miniz_oxide::deflate::compress_to_vec(content, 6);
-    let crc = CRC32.checksum(content);
-    // Version 2.0, no flags, deflate, no time stamp: the fields both headers share.
-    let common = |out: &mut Vec<u8>| {
-        out.extend_from_slice(&20u16.to_le_bytes());
-        out.extend_from_slice(&0u16.to_le_bytes());
-        out.extend_from_slice(&8u16.to_le_bytes());
-        out.extend_from_slice(&[0; 4]);
-        out.extend_from_slice(&crc.to_le_bytes());
-        out.extend_from_slice(&(packed.len() as u32).to_le_bytes());
-        out.extend_from_slice(&(content.len() as u32).to_le_bytes());
-        out.extend_from_slice(&(name.len() as u16).to_le_bytes());
-        out.extend_from_slice(&0u16.to_le_bytes());
-    };
-    let mut out = Vec::with_capacity(packed.len() + 2 * name.len() + 100);
-    out.extend_from_slice(&LOCAL.to_le_bytes());
-    common(&mut out);
-    out.extend_from_slice(name.as_bytes());
-    out.extend_from_slice(&packed);
-    let central = out.len();
-    out.extend_from_slice(&CENTRAL.to_le_bytes());
-    out.extend_from_slice(&20u16.to_le_bytes());
-    common(&mut out);
-    // Comment length, disk, internal and external attributes, local header offset.
-    out.extend_from_slice(&[0; 2 + 2 + 2 + 4]);
-    out.extend_from_slice(&0u32.to_le_bytes());
-    out.extend_from_slice(name.as_bytes());
-    let central_len = out.len() - central;
-    out.extend_from_slice(&END.to_le_bytes());
-    out.extend_from_slice(&[0; 4]);
-    out.extend_from_slice(&1u16.to_le_bytes());
-    out.extend_from_slice(&1u16.to_le_bytes());
-    out.extend_from_slice(&(central_len as u32).to_le_bytes());
-    out.extend_from_slice(&(central as u32).to_le_bytes());
-    out.extend_from_slice(&0u16.to_le_bytes());
-    out
+    use std::io::Write;
+    let options = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    let mut w = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    // Writing to memory cannot fail.
+    w.start_file(name, options).expect("a zip member in memory");
+    w.write_all(content).expect("a zip member in memory");
+    w.finish().expect("a zip archive in memory").into_inner()
 }
 
 #[cfg(test)]
@@ -198,6 +138,14 @@ mod tests {
     fn an_archive_that_unpacks_beyond_the_limit_is_stopped() {
         let z = zip("big.eds", &vec![b'x'; 100_000]);
         assert_eq!(unzip(&z, 10_000), Err(StoredError::TooLarge { name: "big.eds".into(), limit: 10_000 }));
+        // A bomb: its headers claim 1000 bytes, its data inflate to 100 000.
+        let mut bomb = z.clone();
+        let central = bomb.windows(4).position(|w| w == b"PK\x01\x02").unwrap();
+        for at in [22, central + 24] {
+            bomb[at..at + 4].copy_from_slice(&1000u32.to_le_bytes());
+        }
+        assert!(unzip(&bomb, 10_000).is_err(), "{:?}", unzip(&bomb, 10_000).map(|(n, c)| (n, c.len())));
+        assert!(matches!(unzip(&bomb, 10_000), Err(StoredError::BrokenZip(why)) if why.contains("CRC-32")));
     }
 
     #[test]

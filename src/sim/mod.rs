@@ -148,6 +148,9 @@ pub struct Network {
     /// The bus's bit rate (CiA 305 table index): devices running at another rate neither
     /// hear nor are heard.
     bit_rate: u8,
+    /// The latest ms the devices were told; saved, so that the next invocation's clock
+    /// starts after it (see [`Network::resumes_at`]).
+    clock_ms: u64,
 }
 
 impl Network {
@@ -172,7 +175,7 @@ impl Network {
         let paces = devices.iter().map(|d| Pace::new(&config, &d.model)).collect();
         let conducts = devices.iter().map(|d| Conduct::new(&config.faults, &d.model)).collect();
         let bit_rate = config.bit_rate;
-        Network { devices, paces, conducts, config, bit_rate }
+        Network { devices, paces, conducts, config, bit_rate, clock_ms: 0 }
     }
 
     pub fn config(&self) -> &SimConfig {
@@ -259,6 +262,7 @@ impl Network {
 
     /// The bus's time, in ms, for the devices (which never read a clock themselves).
     pub fn set_clock(&mut self, ms: u64) {
+        self.clock_ms = self.clock_ms.max(ms);
         for d in &mut self.devices {
             d.set_clock(ms);
         }
@@ -285,11 +289,13 @@ impl Network {
             bit_rate: Some(self.bit_rate),
             config: Some(self.config.clone()),
             devices: self.devices.iter().map(|d| (d.model.clone(), d.snapshot())).collect(),
+            clock_ms: Some(self.clock_ms).filter(|ms| *ms > 0),
         }
     }
 
     pub fn restore(&mut self, s: &state::NetworkState) {
         self.bit_rate = s.bit_rate.unwrap_or(self.config.bit_rate);
+        self.clock_ms = s.clock_ms.unwrap_or(0);
         for d in &mut self.devices {
             if let Some(ds) = s.devices.get(&d.model) {
                 d.restore(ds);
@@ -302,6 +308,18 @@ impl Network {
         let mut net = Network::demo_with(s.config.clone().unwrap_or_default());
         net.restore(s);
         net
+    }
+
+    /// The earliest ms the devices' clock may start at: after the last ms the previous
+    /// invocation ran them, whatever the wall clock says (it may step back, and a virtual
+    /// clock runs ahead of it). Two commands in a row are so at least a ms apart, and a
+    /// fault armed 1 ms ahead has struck when the next one opens the network.
+    pub fn resumes_at(&self) -> u64 {
+        if self.clock_ms == 0 {
+            0
+        } else {
+            self.clock_ms + 1
+        }
     }
 
     /// Whether anything persistent changed since the last call.
@@ -348,7 +366,10 @@ pub struct SimLink {
     bus: BusQueue,
     /// Frames from the devices, each with the bus time it left the bus.
     rx: VecDeque<(Frame, Nanos)>,
-    /// The devices' ms up to which their own frames have been produced.
+    /// The devices' ms up to which their own frames have been produced: at the start the
+    /// one before `start_ms`, so that the first look at the devices runs their start ms
+    /// too, and what fell due while no invocation ran them (a fault armed by the last one)
+    /// happens before the first request is answered, not at the first ms tick after it.
     beats_upto: u64,
     /// The bus clock's zero.
     epoch: Instant,
@@ -375,12 +396,12 @@ impl SimLink {
     /// These devices, with no state file.
     pub fn of(net: Network) -> SimLink {
         let bus = BusQueue::new(Self::bps_of(&net));
-        let start_ms = wall_ms();
+        let start_ms = wall_ms().max(net.resumes_at());
         SimLink {
             net,
             bus,
             rx: VecDeque::new(),
-            beats_upto: start_ms,
+            beats_upto: start_ms.saturating_sub(1),
             epoch: crate::bus::clock::monotonic_now(),
             start_ms,
             clock: Clock::Real,
@@ -430,8 +451,8 @@ impl SimLink {
     /// (heartbeat phases follow the devices' clock).
     pub fn on_virtual_time(mut self, start_ms: u64) -> SimLink {
         self.clock = Clock::Virtual { at: 0 };
-        self.start_ms = start_ms;
-        self.beats_upto = start_ms;
+        self.start_ms = start_ms.max(self.net.resumes_at());
+        self.beats_upto = start_ms.saturating_sub(1);
         self
     }
 
@@ -789,6 +810,26 @@ mod tests {
         // Heartbeats that fell due while the master slept wait for it, stamped when due.
         let (f, at) = link.recv_stamped(link.now()).unwrap().expect("a frame kept");
         assert!(at <= zero + Duration::from_millis(200), "{f:?} at {:?}", at - zero);
+    }
+
+    /// `sdo write 1 5FFE 1` in one invocation, `errors 1` in the next (README's errors
+    /// example): the fault fell due between the two, so it has struck before the next
+    /// invocation's first request is answered, however fast that answer comes.
+    #[test]
+    fn a_fault_that_fell_due_between_two_invocations_has_struck_before_the_first_answer() {
+        let mut first = SimLink::with_config(SimConfig::instant()).on_virtual_time(1_000_000);
+        first.send(&Frame::new(0x601, &[0x2B, 0xFE, 0x5F, 0, 1, 0, 0, 0])).unwrap();
+        let end = first.now() + Duration::from_millis(1);
+        assert!(std::iter::from_fn(|| first.recv(end).unwrap())
+            .any(|f| f == Frame::new(0x581, &[0x60, 0xFE, 0x5F, 0, 0, 0, 0, 0])));
+        let state = first.network().snapshot();
+        // The next invocation opens in the same ms (by a wall clock that stepped back, or
+        // one that reads the same): the fault was due 1 ms after the write.
+        let mut next = SimLink::of(Network::from_state(&state)).on_virtual_time(1_000_000);
+        next.send(&Frame::new(0x601, &[0x40, 0x03, 0x10, 0, 0, 0, 0, 0])).unwrap();
+        let end = next.now() + Duration::from_millis(1);
+        let answer = std::iter::from_fn(|| next.recv(end).unwrap()).find(|f| f.id() == 0x581);
+        assert_eq!(answer.map(|f| f.data()[4]), Some(1), "errors logged in 0x1003:0");
     }
 
     const TEN_MINUTES: Duration = Duration::from_secs(600);

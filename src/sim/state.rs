@@ -20,6 +20,9 @@ pub struct NetworkState {
     #[serde(default)]
     pub config: Option<super::SimConfig>,
     pub devices: BTreeMap<String, DeviceState>,
+    /// The devices' clock (ms) when saved: the next invocation's starts after it.
+    #[serde(default)]
+    pub clock_ms: Option<u64>,
 }
 
 pub struct StateFile {
@@ -174,8 +177,13 @@ impl StateFile {
 
     /// Start afresh with this configuration: devices as built, nothing else kept.
     pub fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
-        let state =
-            NetworkState { version: VERSION, bit_rate: None, config: Some(config.clone()), devices: BTreeMap::new() };
+        let state = NetworkState {
+            version: VERSION,
+            bit_rate: None,
+            config: Some(config.clone()),
+            devices: BTreeMap::new(),
+            clock_ms: None,
+        };
         self.save(&state)
     }
 
