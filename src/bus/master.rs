@@ -6,6 +6,7 @@ use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoO
 use crate::cancel::Cancel;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
+use crate::canopen::sdo::retry::{self, OnTimeout};
 use crate::canopen::sdo::{self, SdoClient, SdoError};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, LinkError, Moved, NodeIdRange, Result, Service, Unfinished};
@@ -67,6 +68,8 @@ struct Active {
     total_deadline: Instant,
     /// Whether the server has answered at all: a node that never did gets no abort frame.
     heard: bool,
+    /// Attempts left after this one (`SdoOptions::retries`).
+    retries_left: u8,
 }
 
 impl Active {
@@ -144,6 +147,7 @@ impl<L: FrameLink> Master<L> {
         &mut self,
         jobs: Vec<(u8, SdoClient)>,
         timeout: Duration,
+        retries: u8,
         progress: &mut dyn FnMut(usize),
         watch: &Watch,
     ) -> Result<Vec<Result<Vec<u8>>>> {
@@ -156,10 +160,12 @@ impl<L: FrameLink> Master<L> {
         }
         self.link.set_filters(&sdo_filters(queues.keys().copied()))?;
         let mut active: BTreeMap<u8, Active> = BTreeMap::new();
+        // Actions whose outcome is unknown, and the read that can tell: (slot, node, (object, value if done)).
+        let mut read_backs: Vec<(usize, u8, (ObjAddr, Vec<u8>))> = Vec::new();
         let mut finished = 0;
         let nodes: Vec<u8> = queues.keys().copied().collect();
         for node in nodes.into_iter().filter(|_| !watch.stopped()) {
-            self.start_next(node, &mut queues, &mut active, timeout)?;
+            self.start_next(node, &mut queues, &mut active, timeout, retries)?;
         }
         // A node that has not answered at all is given up only once every node has been
         // quiet for `timeout`: while others still answer, the bus (or the requests queued on
@@ -197,15 +203,47 @@ impl<L: FrameLink> Master<L> {
             let expired: Vec<u8> =
                 active.iter().filter(|(_, a)| deadline_of(a, quiet_from) <= at).map(|(n, _)| *n).collect();
             for node in expired {
-                let a = active.remove(&node).expect("active");
+                let mut a = active.remove(&node).expect("active");
                 let addr = a.client.addr();
-                if a.heard {
+                let next = retry::on_timeout(&a.client, a.retries_left);
+                // Aborted so that the server forgets it, also when it never answered: its
+                // answer may be what was lost, and it may be waiting for the next segment.
+                if a.heard || next == OnTimeout::Again {
                     self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
                 }
-                results[a.slot] = Some(Err(expiry_error(node, &a, at, timeout)));
+                if next == OnTimeout::Again {
+                    a.retries_left -= 1;
+                    tracing::debug!(
+                        target: "canctl::sdo",
+                        "node {node}: SDO transfer of {addr}: nothing for {} ms, aborted and started again \
+                         ({} more time(s) at most)",
+                        timeout.as_millis(),
+                        a.retries_left
+                    );
+                    let first = a.client.restart();
+                    self.send(&Frame::new(sdo::request_cob(node), &first))?;
+                    let now = self.link.now();
+                    a.started = now;
+                    a.idle_deadline = now + timeout;
+                    a.total_deadline = now + a.client.time_budget(timeout);
+                    a.heard = false;
+                    active.insert(node, a);
+                    continue;
+                }
+                results[a.slot] = Some(Err(match (next, retry::action(addr)) {
+                    (OnTimeout::Unknown, Some(what)) => {
+                        Error::SdoOutcomeUnknown { node, obj: addr, what, waited: timeout }
+                    }
+                    _ => expiry_error(node, &a, at, timeout),
+                }));
+                if next == OnTimeout::Unknown {
+                    if let Some(check) = a.client.written().and_then(|w| retry::read_back(addr, w)) {
+                        read_backs.push((a.slot, node, check));
+                    }
+                }
                 finished += 1;
                 progress(finished);
-                self.start_next(node, &mut queues, &mut active, timeout)?;
+                self.start_next(node, &mut queues, &mut active, timeout, retries)?;
             }
             let Some((f, _)) = received else { continue };
             let node = f.id().wrapping_sub(0x580);
@@ -253,8 +291,9 @@ impl<L: FrameLink> Master<L> {
             }
             finished += 1;
             progress(finished);
-            self.start_next(node, &mut queues, &mut active, timeout)?;
+            self.start_next(node, &mut queues, &mut active, timeout, retries)?;
         }
+        self.read_back(read_backs, &mut results, timeout, retries, watch)?;
         let results: Vec<Result<Vec<u8>>> = results.into_iter().map(|r| r.expect("every job ends")).collect();
         for ((node, addr), r) in jobs_of.iter().zip(&results) {
             match r {
@@ -326,6 +365,7 @@ impl<L: FrameLink> Master<L> {
         queues: &mut BTreeMap<u8, VecDeque<(usize, SdoClient)>>,
         active: &mut BTreeMap<u8, Active>,
         timeout: Duration,
+        retries: u8,
     ) -> Result<()> {
         let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else {
             return Ok(());
@@ -340,8 +380,41 @@ impl<L: FrameLink> Master<L> {
         let total_deadline = now + client.time_budget(timeout);
         active.insert(
             node,
-            Active { slot, client, started: now, idle_deadline: now + timeout, total_deadline, heard: false },
+            Active {
+                slot,
+                client,
+                started: now,
+                idle_deadline: now + timeout,
+                total_deadline,
+                heard: false,
+                retries_left: retries,
+            },
         );
+        Ok(())
+    }
+
+    /// Actions whose answer was lost, where reading an object tells whether they were done
+    /// (`retry::read_back`): the ones it confirms are done; the others stay unknown.
+    fn read_back(
+        &mut self,
+        checks: Vec<(usize, u8, (ObjAddr, Vec<u8>))>,
+        results: &mut [Option<Result<Vec<u8>>>],
+        timeout: Duration,
+        retries: u8,
+        watch: &Watch,
+    ) -> Result<()> {
+        if checks.is_empty() || watch.stopped() {
+            return Ok(());
+        }
+        let reads = checks.iter().map(|(_, node, (addr, _))| (*node, SdoClient::upload(*addr, false))).collect();
+        let got = self.run(reads, timeout, retries, &mut |_| {}, watch)?;
+        for ((slot, node, (addr, done)), read) in checks.into_iter().zip(got) {
+            let confirmed = read.as_ref().is_ok_and(|v| *v == done);
+            tracing::debug!(target: "canctl::sdo", "node {node}: read back {addr} after a lost answer: {read:?}");
+            if confirmed {
+                results[slot] = Some(Ok(Vec::new()));
+            }
+        }
         Ok(())
     }
 
@@ -356,9 +429,10 @@ impl<L: FrameLink> Master<L> {
         })
     }
 
-    fn one(&mut self, node: u8, client: SdoClient, timeout: Duration, watch: &Watch) -> Result<Vec<u8>> {
+    fn one(&mut self, node: u8, client: SdoClient, opts: &SdoOptions) -> Result<Vec<u8>> {
+        let (timeout, retries, watch) = (opts.timeout, opts.retries, &Watch::of([opts]));
         check_node(node)?;
-        self.run(vec![(node, client)], timeout, &mut |_| {}, watch)?.pop().expect("one result")
+        self.run(vec![(node, client)], timeout, retries, &mut |_| {}, watch)?.pop().expect("one result")
     }
 
     fn block_allowed(&self, node: u8, wanted: bool) -> bool {
@@ -422,7 +496,7 @@ impl<L: FrameLink> Bus for Master<L> {
 
     fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
         let client = self.upload_client(node, addr, opts);
-        self.one(node, client, opts.timeout, &Watch::of([opts]))
+        self.one(node, client, opts)
     }
 
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
@@ -430,7 +504,7 @@ impl<L: FrameLink> Bus for Master<L> {
             return Err(Error::TooLargeForSdo { len: data.len() });
         }
         let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
-        self.one(node, client, opts.timeout, &Watch::of([opts])).map(|_| ())
+        self.one(node, client, opts).map(|_| ())
     }
 
     fn sdo_upload_many(
@@ -443,12 +517,13 @@ impl<L: FrameLink> Bus for Master<L> {
             check_node(*node)?;
         }
         let jobs = requests.iter().map(|(node, addr)| (*node, self.upload_client(*node, *addr, opts))).collect();
-        self.run(jobs, opts.timeout, progress, &Watch::of([opts]))
+        self.run(jobs, opts.timeout, opts.retries, progress, &Watch::of([opts]))
     }
 
     fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
         let mut clients = Vec::with_capacity(jobs.len());
         let mut timeout = Duration::ZERO;
+        let mut retries = 0;
         let watch = Watch::of(jobs.iter().map(|j| match j {
             SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } => opts,
         }));
@@ -466,9 +541,10 @@ impl<L: FrameLink> Bus for Master<L> {
             check_node(node)?;
             // One wait for the batch: the longest any job asks for.
             timeout = timeout.max(opts.timeout);
+            retries = retries.max(opts.retries);
             clients.push((node, client));
         }
-        self.run(clients, timeout, &mut |_| {}, &watch)
+        self.run(clients, timeout, retries, &mut |_| {}, &watch)
     }
 
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {

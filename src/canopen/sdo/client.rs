@@ -185,6 +185,11 @@ impl SdoClient {
         self.fell_back
     }
 
+    /// A download's data.
+    pub fn written(&self) -> Option<&[u8]> {
+        (!self.upload).then_some(self.buf.as_slice())
+    }
+
     /// Whether this transfer reads from the server.
     pub fn is_upload(&self) -> bool {
         self.upload
