@@ -70,6 +70,9 @@ struct Active {
     heard: bool,
     /// Attempts left after this one (`SdoOptions::retries`).
     retries_left: u8,
+    /// How the first attempt the device answered ended: said in the end when the later
+    /// attempts got no answer at all, as it tells more (how far the transfer came).
+    answered_attempt: Option<Error>,
 }
 
 impl Active {
@@ -212,6 +215,9 @@ impl<L: FrameLink> Master<L> {
                     self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
                 }
                 if next == OnTimeout::Again {
+                    if a.heard && a.answered_attempt.is_none() {
+                        a.answered_attempt = Some(expiry_error(node, &a, at, timeout));
+                    }
                     a.retries_left -= 1;
                     tracing::debug!(
                         target: "canctl::sdo",
@@ -233,6 +239,9 @@ impl<L: FrameLink> Master<L> {
                 results[a.slot] = Some(Err(match (next, retry::action(addr)) {
                     (OnTimeout::Unknown, Some(what)) => {
                         Error::SdoOutcomeUnknown { node, obj: addr, what, waited: timeout }
+                    }
+                    _ if !a.heard && a.answered_attempt.is_some() => {
+                        a.answered_attempt.take().expect("an answered attempt")
                     }
                     _ => expiry_error(node, &a, at, timeout),
                 }));
@@ -388,6 +397,7 @@ impl<L: FrameLink> Master<L> {
                 total_deadline,
                 heard: false,
                 retries_left: retries,
+                answered_attempt: None,
             },
         );
         Ok(())
