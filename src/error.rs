@@ -54,6 +54,11 @@ pub enum Error {
     /// A node did not answer at all (`node` 0: all nodes, as NMT addresses them).
     #[error("{}", no_answer_text(*node, what, *waited))]
     NoAnswer { node: u8, what: Service, waited: Duration },
+    /// A write that is an action (`what`: store, program control, ...) got no answer to the
+    /// request that completes it: the device may have done it. It is not repeated
+    /// (`canopen::sdo::retry`); a read-back, where one can tell, did not confirm it.
+    #[error("node {node}: outcome unknown: {obj} ({what}) is an action, sent once, and its answer did not come within {} ms: the device may have done it or not. Not repeated behind your back: check the device, then send it again if it was not done", waited.as_millis())]
+    SdoOutcomeUnknown { node: u8, obj: ObjAddr, what: &'static str, waited: Duration },
     /// A node answered an SDO transfer, then it did not finish.
     #[error("{}", SdoUnfinishedText { node: *node, obj: *obj, moved: *moved, why })]
     SdoUnfinished { node: u8, obj: ObjAddr, moved: Moved, why: Unfinished },
@@ -233,6 +238,7 @@ impl Error {
             // The range the user gave is full: no device refused anything.
             | Error::NoFreeNodeId { .. } => C::Usage,
             Error::NoAnswer { .. }
+            | Error::SdoOutcomeUnknown { .. }
             | Error::SdoUnfinished { .. }
             | Error::NoRemoteAnswer { .. }
             | Error::NoLssAnswer { .. }

@@ -6,6 +6,7 @@ use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoO
 use crate::cancel::Cancel;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
+use crate::canopen::sdo::retry::{self, OnTimeout};
 use crate::canopen::sdo::{self, SdoClient, SdoError};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, LinkError, Moved, NodeIdRange, Result, Service, Unfinished};
@@ -67,6 +68,11 @@ struct Active {
     total_deadline: Instant,
     /// Whether the server has answered at all: a node that never did gets no abort frame.
     heard: bool,
+    /// Attempts left after this one (`SdoOptions::retries`).
+    retries_left: u8,
+    /// How the first attempt the device answered ended: said in the end when the later
+    /// attempts got no answer at all, as it tells more (how far the transfer came).
+    answered_attempt: Option<Error>,
 }
 
 impl Active {
@@ -144,6 +150,7 @@ impl<L: FrameLink> Master<L> {
         &mut self,
         jobs: Vec<(u8, SdoClient)>,
         timeout: Duration,
+        retries: u8,
         progress: &mut dyn FnMut(usize),
         watch: &Watch,
     ) -> Result<Vec<Result<Vec<u8>>>> {
@@ -156,10 +163,12 @@ impl<L: FrameLink> Master<L> {
         }
         self.link.set_filters(&sdo_filters(queues.keys().copied()))?;
         let mut active: BTreeMap<u8, Active> = BTreeMap::new();
+        // Actions whose outcome is unknown, and the read that can tell: (slot, node, (object, value if done)).
+        let mut read_backs: Vec<(usize, u8, (ObjAddr, Vec<u8>))> = Vec::new();
         let mut finished = 0;
         let nodes: Vec<u8> = queues.keys().copied().collect();
         for node in nodes.into_iter().filter(|_| !watch.stopped()) {
-            self.start_next(node, &mut queues, &mut active, timeout)?;
+            self.start_next(node, &mut queues, &mut active, timeout, retries)?;
         }
         // A node that has not answered at all is given up only once every node has been
         // quiet for `timeout`: while others still answer, the bus (or the requests queued on
@@ -197,15 +206,53 @@ impl<L: FrameLink> Master<L> {
             let expired: Vec<u8> =
                 active.iter().filter(|(_, a)| deadline_of(a, quiet_from) <= at).map(|(n, _)| *n).collect();
             for node in expired {
-                let a = active.remove(&node).expect("active");
+                let mut a = active.remove(&node).expect("active");
                 let addr = a.client.addr();
-                if a.heard {
+                let next = retry::on_timeout(&a.client, a.retries_left);
+                // Aborted so that the server forgets it, also when it never answered: its
+                // answer may be what was lost, and it may be waiting for the next segment.
+                if a.heard || next == OnTimeout::Again {
                     self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::TIMED_OUT)))?;
                 }
-                results[a.slot] = Some(Err(expiry_error(node, &a, at, timeout)));
+                if next == OnTimeout::Again {
+                    if a.heard && a.answered_attempt.is_none() {
+                        a.answered_attempt = Some(expiry_error(node, &a, at, timeout));
+                    }
+                    a.retries_left -= 1;
+                    tracing::debug!(
+                        target: "canctl::sdo",
+                        "node {node}: SDO transfer of {addr}: nothing for {} ms, aborted and started again \
+                         ({} more time(s) at most)",
+                        timeout.as_millis(),
+                        a.retries_left
+                    );
+                    let first = a.client.restart();
+                    self.send(&Frame::new(sdo::request_cob(node), &first))?;
+                    let now = self.link.now();
+                    a.started = now;
+                    a.idle_deadline = now + timeout;
+                    a.total_deadline = now + a.client.time_budget(timeout);
+                    a.heard = false;
+                    active.insert(node, a);
+                    continue;
+                }
+                results[a.slot] = Some(Err(match (next, retry::action(addr)) {
+                    (OnTimeout::Unknown, Some(what)) => {
+                        Error::SdoOutcomeUnknown { node, obj: addr, what, waited: timeout }
+                    }
+                    _ if !a.heard && a.answered_attempt.is_some() => {
+                        a.answered_attempt.take().expect("an answered attempt")
+                    }
+                    _ => expiry_error(node, &a, at, timeout),
+                }));
+                if next == OnTimeout::Unknown {
+                    if let Some(check) = a.client.written().and_then(|w| retry::read_back(addr, w)) {
+                        read_backs.push((a.slot, node, check));
+                    }
+                }
                 finished += 1;
                 progress(finished);
-                self.start_next(node, &mut queues, &mut active, timeout)?;
+                self.start_next(node, &mut queues, &mut active, timeout, retries)?;
             }
             let Some((f, _)) = received else { continue };
             let node = f.id().wrapping_sub(0x580);
@@ -253,8 +300,9 @@ impl<L: FrameLink> Master<L> {
             }
             finished += 1;
             progress(finished);
-            self.start_next(node, &mut queues, &mut active, timeout)?;
+            self.start_next(node, &mut queues, &mut active, timeout, retries)?;
         }
+        self.read_back(read_backs, &mut results, timeout, retries, watch)?;
         let results: Vec<Result<Vec<u8>>> = results.into_iter().map(|r| r.expect("every job ends")).collect();
         for ((node, addr), r) in jobs_of.iter().zip(&results) {
             match r {
@@ -326,6 +374,7 @@ impl<L: FrameLink> Master<L> {
         queues: &mut BTreeMap<u8, VecDeque<(usize, SdoClient)>>,
         active: &mut BTreeMap<u8, Active>,
         timeout: Duration,
+        retries: u8,
     ) -> Result<()> {
         let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else {
             return Ok(());
@@ -340,8 +389,42 @@ impl<L: FrameLink> Master<L> {
         let total_deadline = now + client.time_budget(timeout);
         active.insert(
             node,
-            Active { slot, client, started: now, idle_deadline: now + timeout, total_deadline, heard: false },
+            Active {
+                slot,
+                client,
+                started: now,
+                idle_deadline: now + timeout,
+                total_deadline,
+                heard: false,
+                retries_left: retries,
+                answered_attempt: None,
+            },
         );
+        Ok(())
+    }
+
+    /// Actions whose answer was lost, where reading an object tells whether they were done
+    /// (`retry::read_back`): the ones it confirms are done; the others stay unknown.
+    fn read_back(
+        &mut self,
+        checks: Vec<(usize, u8, (ObjAddr, Vec<u8>))>,
+        results: &mut [Option<Result<Vec<u8>>>],
+        timeout: Duration,
+        retries: u8,
+        watch: &Watch,
+    ) -> Result<()> {
+        if checks.is_empty() || watch.stopped() {
+            return Ok(());
+        }
+        let reads = checks.iter().map(|(_, node, (addr, _))| (*node, SdoClient::upload(*addr, false))).collect();
+        let got = self.run(reads, timeout, retries, &mut |_| {}, watch)?;
+        for ((slot, node, (addr, done)), read) in checks.into_iter().zip(got) {
+            let confirmed = read.as_ref().is_ok_and(|v| *v == done);
+            tracing::debug!(target: "canctl::sdo", "node {node}: read back {addr} after a lost answer: {read:?}");
+            if confirmed {
+                results[slot] = Some(Ok(Vec::new()));
+            }
+        }
         Ok(())
     }
 
@@ -356,9 +439,10 @@ impl<L: FrameLink> Master<L> {
         })
     }
 
-    fn one(&mut self, node: u8, client: SdoClient, timeout: Duration, watch: &Watch) -> Result<Vec<u8>> {
+    fn one(&mut self, node: u8, client: SdoClient, opts: &SdoOptions) -> Result<Vec<u8>> {
+        let (timeout, retries, watch) = (opts.timeout, opts.retries, &Watch::of([opts]));
         check_node(node)?;
-        self.run(vec![(node, client)], timeout, &mut |_| {}, watch)?.pop().expect("one result")
+        self.run(vec![(node, client)], timeout, retries, &mut |_| {}, watch)?.pop().expect("one result")
     }
 
     fn block_allowed(&self, node: u8, wanted: bool) -> bool {
@@ -422,7 +506,7 @@ impl<L: FrameLink> Bus for Master<L> {
 
     fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
         let client = self.upload_client(node, addr, opts);
-        self.one(node, client, opts.timeout, &Watch::of([opts]))
+        self.one(node, client, opts)
     }
 
     fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
@@ -430,7 +514,7 @@ impl<L: FrameLink> Bus for Master<L> {
             return Err(Error::TooLargeForSdo { len: data.len() });
         }
         let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
-        self.one(node, client, opts.timeout, &Watch::of([opts])).map(|_| ())
+        self.one(node, client, opts).map(|_| ())
     }
 
     fn sdo_upload_many(
@@ -443,12 +527,13 @@ impl<L: FrameLink> Bus for Master<L> {
             check_node(*node)?;
         }
         let jobs = requests.iter().map(|(node, addr)| (*node, self.upload_client(*node, *addr, opts))).collect();
-        self.run(jobs, opts.timeout, progress, &Watch::of([opts]))
+        self.run(jobs, opts.timeout, opts.retries, progress, &Watch::of([opts]))
     }
 
     fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
         let mut clients = Vec::with_capacity(jobs.len());
         let mut timeout = Duration::ZERO;
+        let mut retries = 0;
         let watch = Watch::of(jobs.iter().map(|j| match j {
             SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } => opts,
         }));
@@ -466,9 +551,10 @@ impl<L: FrameLink> Bus for Master<L> {
             check_node(node)?;
             // One wait for the batch: the longest any job asks for.
             timeout = timeout.max(opts.timeout);
+            retries = retries.max(opts.retries);
             clients.push((node, client));
         }
-        self.run(clients, timeout, &mut |_| {}, &watch)
+        self.run(clients, timeout, retries, &mut |_| {}, &watch)
     }
 
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
@@ -600,5 +686,192 @@ impl<L: FrameLink> Master<L> {
             }
         }
         Ok(answers)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! Transfers under loss, on virtual time, against one SDO server whose frames (either
+    //! way) are lost where the test says.
+    use super::*;
+    use crate::canopen::sdo::{ObjectAccess, SdoServer};
+
+    const NODE: u8 = 4;
+    const CONTROL: ObjAddr = ObjAddr::new(0x1F51, 1);
+    const SAVE: ObjAddr = ObjAddr::new(0x1010, 1);
+    const HEARTBEAT: ObjAddr = ObjAddr::new(0x1017, 0);
+
+    #[derive(Default)]
+    struct Objects(BTreeMap<ObjAddr, Vec<u8>>, usize);
+
+    impl ObjectAccess for Objects {
+        fn read(&mut self, addr: ObjAddr) -> std::result::Result<Vec<u8>, u32> {
+            self.0.get(&addr).cloned().ok_or(abort::NO_OBJECT)
+        }
+        fn write(&mut self, addr: ObjAddr, data: &[u8]) -> std::result::Result<(), u32> {
+            self.1 += 1;
+            // Program control's state: what was commanded. A save leaves nothing to read.
+            if addr != SAVE {
+                self.0.insert(addr, data.to_vec());
+            }
+            Ok(())
+        }
+        fn check_write(&self, _addr: ObjAddr, _size: Option<usize>) -> std::result::Result<(), u32> {
+            Ok(())
+        }
+    }
+
+    /// One device; `lose_requests` and `lose_answers` number the frames (from 1) lost on
+    /// the way to it and from it. Answers take 2 ms.
+    struct Device {
+        server: SdoServer,
+        objects: Objects,
+        now: Instant,
+        queue: VecDeque<(Instant, Frame)>,
+        requests: usize,
+        answers: usize,
+        lose_requests: Vec<usize>,
+        lose_answers: Vec<usize>,
+        /// Answers that come 150 ms late, and answers that come twice.
+        late: Vec<usize>,
+        twice: Vec<usize>,
+    }
+
+    impl Device {
+        fn new(lose_requests: &[usize], lose_answers: &[usize]) -> Device {
+            let mut objects = Objects::default();
+            objects.0.insert(CONTROL, vec![0]);
+            objects.0.insert(HEARTBEAT, vec![0xE8, 0x03]);
+            Device {
+                server: SdoServer::new(false),
+                objects,
+                now: crate::bus::clock::monotonic_now(),
+                queue: VecDeque::new(),
+                requests: 0,
+                answers: 0,
+                lose_requests: lose_requests.to_vec(),
+                lose_answers: lose_answers.to_vec(),
+                late: Vec::new(),
+                twice: Vec::new(),
+            }
+        }
+    }
+
+    impl FrameLink for Device {
+        fn send(&mut self, frame: &Frame) -> Result<()> {
+            self.requests += 1;
+            if frame.id() != sdo::request_cob(NODE) || self.lose_requests.contains(&self.requests) {
+                return Ok(());
+            }
+            for answer in self.server.handle(frame.data(), &mut self.objects) {
+                self.answers += 1;
+                if self.lose_answers.contains(&self.answers) {
+                    continue;
+                }
+                let late = if self.late.contains(&self.answers) { 150 } else { 0 };
+                let at = self.now + Duration::from_millis(2 + late);
+                let copies = if self.twice.contains(&self.answers) { 2 } else { 1 };
+                for _ in 0..copies {
+                    self.queue.push_back((at, Frame::new(sdo::response_cob(NODE), &answer)));
+                }
+                self.queue.make_contiguous().sort_by_key(|(at, _)| *at);
+            }
+            Ok(())
+        }
+        fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+            match self.queue.front() {
+                Some((at, _)) if *at <= deadline => {
+                    self.now = self.now.max(*at);
+                    Ok(self.queue.pop_front().map(|(_, f)| f))
+                }
+                _ => {
+                    self.now = self.now.max(deadline);
+                    Ok(None)
+                }
+            }
+        }
+        fn name(&self) -> String {
+            "test".into()
+        }
+        fn now(&self) -> Instant {
+            self.now
+        }
+        fn sleep_until(&mut self, t: Instant) -> Result<()> {
+            self.now = self.now.max(t);
+            Ok(())
+        }
+    }
+
+    fn master(lose_requests: &[usize], lose_answers: &[usize]) -> Master<Device> {
+        Master::new(Device::new(lose_requests, lose_answers), "test".into())
+    }
+
+    fn opts() -> SdoOptions {
+        SdoOptions::new(Duration::from_millis(100))
+    }
+
+    #[test]
+    fn a_lost_request_and_a_lost_answer_are_retried() {
+        let mut m = master(&[1], &[]);
+        assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &opts()).unwrap(), vec![0xE8, 0x03]);
+        let mut m = master(&[], &[1]);
+        m.sdo_download(NODE, HEARTBEAT, &[0xD0, 0x07], &opts()).unwrap();
+        assert_eq!(m.link.objects.0[&HEARTBEAT], vec![0xD0, 0x07]);
+        assert_eq!(m.link.objects.1, 2, "written twice, the same value");
+    }
+
+    #[test]
+    fn retries_are_bounded() {
+        let mut m = master(&[1, 3, 5, 6], &[]);
+        let e = m.sdo_upload(NODE, HEARTBEAT, &opts()).unwrap_err();
+        assert!(matches!(e, Error::NoAnswer { .. }), "{e}");
+        // The first request and two retries, each after an abort: no fourth attempt. Then
+        // without retries, the one request (the sixth frame) lost ends it.
+        assert_eq!(m.link.requests, 5);
+        let e = m.sdo_upload(NODE, HEARTBEAT, &SdoOptions { retries: 0, ..opts() }).unwrap_err();
+        assert!(matches!(e, Error::NoAnswer { .. }), "{e}");
+    }
+
+    #[test]
+    fn a_store_whose_answer_is_lost_is_sent_once_and_its_outcome_unknown() {
+        let mut m = master(&[], &[1]);
+        let e = m.sdo_download(NODE, SAVE, b"save", &opts()).unwrap_err();
+        assert!(matches!(e, Error::SdoOutcomeUnknown { obj: SAVE, .. }), "{e}");
+        assert_eq!(e.exit_code(), 3);
+        assert_eq!(m.link.objects.1, 1, "the save was sent once");
+        // Its request lost instead: the device did nothing, which canctl cannot tell either.
+        let mut m = master(&[1], &[]);
+        let e = m.sdo_download(NODE, SAVE, b"save", &opts()).unwrap_err();
+        assert!(matches!(e, Error::SdoOutcomeUnknown { .. }), "{e}");
+        assert_eq!(m.link.requests, 1, "nothing sent after it");
+    }
+
+    #[test]
+    fn program_control_whose_answer_is_lost_is_read_back_not_repeated() {
+        // Started, its answer lost: the read-back shows it started.
+        let mut m = master(&[], &[1]);
+        m.sdo_download(NODE, CONTROL, &[1], &opts()).unwrap();
+        assert_eq!(m.link.objects.1, 1, "sent once");
+        // The request lost: the read-back shows it did not start, and the outcome stays
+        // unknown (the device may still be on its way); nothing is sent again.
+        let mut m = master(&[1], &[]);
+        let e = m.sdo_download(NODE, CONTROL, &[1], &opts()).unwrap_err();
+        assert!(matches!(e, Error::SdoOutcomeUnknown { obj: CONTROL, .. }), "{e}");
+        assert_eq!(m.link.objects.1, 0);
+    }
+
+    #[test]
+    fn a_segment_late_past_the_timeout_is_not_taken_for_the_retrys_answers() {
+        let name = ObjAddr::new(0x1008, 0);
+        let mut m = master(&[], &[]);
+        m.link.objects.0.insert(name, b"a device name of 24 bytes".to_vec());
+        // The answer with the second segment comes after the timeout, when the read has
+        // started again; the retry's first answer comes twice.
+        m.link.late = vec![3];
+        m.link.twice = vec![4];
+        assert_eq!(m.sdo_upload(NODE, name, &opts()).unwrap(), b"a device name of 24 bytes");
+        // Initiation, two segment requests, the abort, then the whole read again (four
+        // segments of seven bytes): the late segment moved nothing, the repeat neither.
+        assert_eq!(m.link.requests, 3 + 1 + 5);
     }
 }

@@ -100,6 +100,10 @@ pub struct SdoOptions {
     /// segment, a sub-block): for progress, and for tests that act at an exact point of a
     /// transfer.
     pub on_progress: Option<TransferHook>,
+    /// How many times a transfer that got no answer in time is aborted and started again
+    /// (a lost frame is retried, not waited out). Writes that are actions are never
+    /// repeated once sent whole (`canopen::sdo::retry`).
+    pub retries: u8,
 }
 
 /// Whether the user asked to stop the transfers of `opts`.
@@ -120,6 +124,7 @@ impl std::fmt::Debug for SdoOptions {
             .field("max_upload", &self.max_upload)
             .field("stop", &self.stop)
             .field("on_progress", &self.on_progress.as_ref().map(|_| "(hook)"))
+            .field("retries", &self.retries)
             .finish()
     }
 }
@@ -134,6 +139,7 @@ impl SdoOptions {
             max_upload: crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD,
             stop: None,
             on_progress: None,
+            retries: crate::canopen::sdo::retry::DEFAULT_RETRIES,
         }
     }
 }

@@ -524,8 +524,12 @@ mod tests {
     fn a_lost_answer_to_a_controlword_leaves_no_stale_state_in_the_report() {
         use crate::sim::{SimConfig, SimLink};
         // Answers of the drive: 0x1000, statusword, controlword (shutdown), statusword,
-        // controlword (switch on) — the fifth is lost.
-        let config = SimConfig::instant().fault("1:drop@5".parse().unwrap()).virtual_time(true);
+        // controlword (switch on) — the fifth is lost, and so are the answers to the two
+        // retries of that write (a single loss is retried: see the next test).
+        let mut config = SimConfig::instant().virtual_time(true);
+        for n in 5..=7 {
+            config = config.fault(format!("1:drop@{n}").parse().unwrap());
+        }
         let mut bus = crate::bus::Master::new(SimLink::with_config(config).on_virtual_time(0), "sim".into());
         let o = Options { timeout: Duration::from_millis(100), wait: Duration::from_millis(500) };
         let w = walk(&mut bus, 1, Goal::Enable, &o, &Cancel::new()).unwrap();
@@ -533,5 +537,18 @@ mod tests {
         let drive = bus.link_mut().network().devices().iter().find(|d| d.node_id() == Some(1)).unwrap();
         assert_eq!(w.state, drive.objects().drive_state(), "{w:?}");
         assert_eq!(w.state, Some(State::SwitchedOn), "the write took effect");
+    }
+
+    /// One lost answer to a controlword (a plain value: the same word twice is one command)
+    /// is retried, not waited out: the walk goes on to the goal.
+    #[test]
+    fn one_lost_answer_to_a_controlword_is_retried() {
+        use crate::sim::{SimConfig, SimLink};
+        let config = SimConfig::instant().fault("1:drop@5".parse().unwrap()).virtual_time(true);
+        let mut bus = crate::bus::Master::new(SimLink::with_config(config).on_virtual_time(0), "sim".into());
+        let o = Options { timeout: Duration::from_millis(100), wait: Duration::from_millis(500) };
+        let w = walk(&mut bus, 1, Goal::Enable, &o, &Cancel::new()).unwrap();
+        assert_eq!(w.stopped, None, "{w:?}");
+        assert_eq!(w.state, Some(State::OperationEnabled), "{w:?}");
     }
 }

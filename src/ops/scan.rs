@@ -151,7 +151,10 @@ type Found = Vec<(u8, Option<u32>)>;
 fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<(Found, bool)> {
     let probes: Vec<(u8, ObjAddr)> = (1..=127).map(|n| (n, ObjAddr::new(0x1000, 0))).collect();
     progress.start("probing", probes.len() as u64);
-    let answers = bus.sdo_upload_many(&probes, &SdoOptions::new(window), &mut |n| progress.advance(n as u64));
+    // Not retried: most ids have no node behind them, and a retry would be one more window
+    // for each of them.
+    let opts = SdoOptions { retries: 0, ..SdoOptions::new(window) };
+    let answers = bus.sdo_upload_many(&probes, &opts, &mut |n| progress.advance(n as u64));
     progress.finish();
     let mut found = Vec::new();
     let mut stopped = false;

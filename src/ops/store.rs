@@ -120,7 +120,7 @@ fn signature(bus: &mut dyn Bus, node: u8, sig: Signature, class: Class, t: Timeo
     }
     // An action, sent once: with its answer lost, whether it was done is unknown.
     bus.sdo_download(node, addr, bytes, &sized(t.write, Some(4))).map_err(|e| match e {
-        Error::NoAnswer { .. } | Error::SdoUnfinished { .. } => e.with_hint(format!(
+        Error::NoAnswer { .. } | Error::SdoUnfinished { .. } | Error::SdoOutcomeUnknown { .. } => e.with_hint(format!(
             "; the {verb} was sent once and may have been done: unknown whether node {node} {}",
             if sig == Signature::Save { "stored its parameters" } else { "restored its defaults" }
         )),

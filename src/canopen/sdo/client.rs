@@ -106,6 +106,13 @@ pub struct SdoClient {
     /// Answers set aside without effect, and what the last one was.
     ignored: usize,
     last_ignored: Option<String>,
+    /// Whether this is a repeat attempt ([`SdoClient::restart`]): until its first answer,
+    /// what the abandoned attempt still gets (a late segment, an acknowledgement) is set
+    /// aside, not taken for an error or for this attempt's answer.
+    restarted: bool,
+    /// Whether the transfer began as a block transfer (what a restart begins with again,
+    /// unless the server refused it).
+    block: bool,
 }
 
 impl SdoClient {
@@ -129,6 +136,8 @@ impl SdoClient {
             previous: None,
             ignored: 0,
             last_ignored: None,
+            restarted: false,
+            block: matches!(state, State::BlockUploadInit | State::BlockDownloadInit),
         }
     }
 
@@ -174,6 +183,11 @@ impl SdoClient {
     /// went on without it; callers remember this per node.
     pub fn fell_back(&self) -> bool {
         self.fell_back
+    }
+
+    /// A download's data.
+    pub fn written(&self) -> Option<&[u8]> {
+        (!self.upload).then_some(self.buf.as_slice())
     }
 
     /// Whether this transfer reads from the server.
@@ -223,6 +237,46 @@ impl SdoClient {
         per_answer.saturating_mul(4).saturating_add((per_answer / 2).saturating_mul(segments))
     }
 
+    /// Whether the request that completes the transfer at the server has gone out: the
+    /// expedited initiation, the last segment, the block end. Before it, a download has done
+    /// nothing yet, whatever was lost.
+    pub fn completing_request_sent(&self) -> bool {
+        match self.state {
+            State::DownloadInit => (1..=4).contains(&self.buf.len()),
+            State::DownloadSegment => self.pos + SEGMENT_DATA >= self.buf.len(),
+            State::BlockDownloadInit | State::BlockDownloadData { .. } => false,
+            State::BlockDownloadEnd | State::Finished => true,
+            _ => !self.upload,
+        }
+    }
+
+    /// The first request of a new attempt at the same transfer, after the caller aborted
+    /// the one that ran out of time: everything it moved is dropped (an upload starts from
+    /// its first byte, a download from its first segment), and answers the abandoned
+    /// attempt still gets are set aside until this one's first answer.
+    pub fn restart(&mut self) -> [u8; 8] {
+        let block = self.block && !self.fell_back;
+        self.state = match (self.upload, block) {
+            (true, true) => State::BlockUploadInit,
+            (true, false) => State::UploadInit,
+            (false, true) => State::BlockDownloadInit,
+            (false, false) => State::DownloadInit,
+        };
+        if self.upload {
+            self.buf.clear();
+        }
+        self.pos = 0;
+        self.toggle = false;
+        self.size = None;
+        self.crc = false;
+        self.blksize = 0;
+        self.last = None;
+        self.fruitless = 0;
+        self.tail_missing = 0;
+        self.restarted = true;
+        self.start()
+    }
+
     /// The first request.
     pub fn start(&mut self) -> [u8; 8] {
         let addr = self.addr;
@@ -261,6 +315,16 @@ impl SdoClient {
 
     /// Feed one payload that arrived on the response COB-ID.
     pub fn on_response(&mut self, raw: &[u8]) -> Result<Step, SdoError> {
+        let step = self.answer(raw);
+        // This attempt's first answer: from now on nothing of the abandoned one can come
+        // that is not also a repeat or an error of this one.
+        if step.as_ref().is_ok_and(|s| s.progress) {
+            self.restarted = false;
+        }
+        step
+    }
+
+    fn answer(&mut self, raw: &[u8]) -> Result<Step, SdoError> {
         if self.state == State::Finished {
             return Ok(self.ignore(format!("an answer after the transfer had ended ({})", spaced(raw))));
         }
@@ -295,6 +359,11 @@ impl SdoClient {
         };
         if let Response::Abort { code, .. } = response {
             self.require(8, "an abort (0x80) with its code")?;
+            // A server that gave up on the abandoned attempt says so (timed out): that is
+            // not this attempt's answer. Any other refusal may well be.
+            if self.restarted && code == abort::TIMED_OUT {
+                return self.not_for_this_transfer(&p);
+            }
             return self.on_abort(code);
         }
         match self.state {
@@ -366,6 +435,12 @@ impl SdoClient {
     /// is a second copy of the previous transfer's last answer (the write's 0x60 reaching
     /// the read-back of --verify): that one is set aside.
     fn not_for_this_transfer(&mut self, p: &[u8; 8]) -> Result<Step, SdoError> {
+        if self.restarted {
+            // Not this attempt's answer: it is no evidence of what this attempt's is, so
+            // it is not kept to recognise repeats by either.
+            let (_, len) = self.last.take().unwrap_or_default();
+            return Ok(self.ignore(format!("an answer to the attempt abandoned before ({})", spaced(&p[..len]))));
+        }
         if self.last.is_some() && self.last == self.previous {
             let (_, len) = self.last.unwrap_or_default();
             return Ok(

@@ -4,6 +4,7 @@
 //! owns the link, the clock and the timeouts.
 
 pub mod client;
+pub mod retry;
 pub mod server;
 pub mod wire;
 

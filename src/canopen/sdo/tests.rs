@@ -715,3 +715,162 @@ fn an_object_over_4_gib_is_announced_without_a_size_never_as_its_low_32_bits() {
         assert!(reason.contains("limit of 1000 bytes"), "{reason}");
     }
 }
+
+/// A restarted transfer (`SdoClient::restart`, after a timeout): the caller aborted the
+/// first attempt and starts again. What the first attempt still gets must not be taken for
+/// the new attempt's answers.
+mod restart {
+    use super::*;
+
+    const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+
+    fn od() -> Od {
+        Od::default().with(NAME, b"CAN-2000C I/O module", false).with(A, &[0, 0], true)
+    }
+
+    #[test]
+    fn a_lost_request_is_sent_again_and_the_read_finishes() {
+        let (mut server, mut od) = (SdoServer::new(false), od());
+        let mut client = SdoClient::upload(NAME, false);
+        let first = client.start();
+        // Lost on the way: the server never sees it. Timeout, abort, again.
+        assert!(server.handle(&abort_frame(NAME, abort::TIMED_OUT), &mut od).is_empty());
+        let again = client.restart();
+        assert_eq!(again, first);
+        let mut to_server = vec![again];
+        let mut got = None;
+        while let Some(req) = to_server.pop() {
+            for resp in server.handle(&req, &mut od) {
+                let step = client.on_response(&resp).unwrap();
+                to_server.extend(step.send);
+                got = got.or(step.done);
+            }
+        }
+        assert_eq!(got.unwrap(), b"CAN-2000C I/O module");
+    }
+
+    #[test]
+    fn a_late_segment_of_the_abandoned_attempt_is_set_aside_by_its_command_and_toggle() {
+        let (mut server, mut od) = (SdoServer::new(false), od());
+        let mut client = SdoClient::upload(NAME, false);
+        let init = server.handle(&client.start(), &mut od);
+        let seg_request = client.on_response(&init[0]).unwrap().send;
+        // The answer with the first segment (toggle 0) comes late, after the timeout.
+        let late = server.handle(&seg_request[0], &mut od);
+        assert_eq!(late[0][0] & 0xE0, 0x00);
+        assert!(server.handle(&abort_frame(NAME, abort::TIMED_OUT), &mut od).is_empty());
+        let again = client.restart();
+        // The late segment arrives while the new attempt waits for its initiation answer.
+        let step = client.on_response(&late[0]).unwrap();
+        assert!(step.send.is_empty() && step.done.is_none() && !step.progress);
+        assert!(client.ignored().unwrap().1.contains("abandoned"));
+        // Then the new attempt runs to the end; its own first segment, the same bytes as the
+        // late one, is not mistaken for a repeat of it.
+        let mut to_server = vec![again];
+        let mut got = None;
+        while let Some(req) = to_server.pop() {
+            for resp in server.handle(&req, &mut od) {
+                let step = client.on_response(&resp).unwrap();
+                to_server.extend(step.send);
+                got = got.or(step.done);
+            }
+        }
+        assert_eq!(got.unwrap(), b"CAN-2000C I/O module");
+    }
+
+    #[test]
+    fn a_late_answer_to_the_abandoned_initiation_and_its_duplicate_move_the_read_once() {
+        let (mut server, mut od) = (SdoServer::new(false), od());
+        let mut client = SdoClient::upload(NAME, false);
+        let first = client.start();
+        let late = server.handle(&first, &mut od);
+        // Timeout; the abort and the new request reach the server after it answered.
+        assert!(server.handle(&abort_frame(NAME, abort::TIMED_OUT), &mut od).is_empty());
+        let again = client.restart();
+        let answer = server.handle(&again, &mut od);
+        assert_eq!(answer, late, "the same answer to the same request");
+        // The late answer is this object's initiation answer: the read goes on from it ...
+        let step = client.on_response(&late[0]).unwrap();
+        assert!(step.progress);
+        let mut to_server = step.send;
+        // ... and the new attempt's own answer, the same bytes again, is a repeat.
+        let step = client.on_response(&answer[0]).unwrap();
+        assert!(!step.progress && step.send.is_empty());
+        let mut got = None;
+        while let Some(req) = to_server.pop() {
+            for resp in server.handle(&req, &mut od) {
+                let step = client.on_response(&resp).unwrap();
+                to_server.extend(step.send);
+                got = got.or(step.done);
+            }
+        }
+        assert_eq!(got.unwrap(), b"CAN-2000C I/O module");
+    }
+
+    #[test]
+    fn a_lost_answer_to_a_plain_write_writes_the_same_value_again() {
+        let (mut server, mut od) = (SdoServer::new(false), od());
+        let mut client = SdoClient::download(A, vec![0xE8, 0x03], true);
+        let first = client.start();
+        // Done by the server; its answer is lost.
+        assert_eq!(server.handle(&first, &mut od).len(), 1);
+        assert!(server.handle(&abort_frame(A, abort::TIMED_OUT), &mut od).is_empty());
+        let again = client.restart();
+        assert_eq!(again, first);
+        let answer = server.handle(&again, &mut od);
+        assert_eq!(client.on_response(&answer[0]).unwrap().done, Some(vec![]));
+        assert_eq!(od.read(A).unwrap(), vec![0xE8, 0x03]);
+    }
+
+    #[test]
+    fn a_segmented_write_restarts_from_its_first_segment_past_a_late_acknowledgement() {
+        let (mut server, mut od) = (SdoServer::new(false), od());
+        let data: Vec<u8> = (1..=20).collect();
+        let od_addr = A;
+        let mut client = SdoClient::download(od_addr, data.clone(), false);
+        let init = server.handle(&client.start(), &mut od);
+        let seg0 = client.on_response(&init[0]).unwrap().send;
+        // The acknowledgement of segment 0 (toggle 0) comes late.
+        let late = server.handle(&seg0[0], &mut od);
+        assert_eq!(late[0][0], 0x20);
+        assert!(server.handle(&abort_frame(od_addr, abort::TIMED_OUT), &mut od).is_empty());
+        let again = client.restart();
+        assert!(!client.on_response(&late[0]).unwrap().progress);
+        let mut to_server = vec![again];
+        let mut done = false;
+        while let Some(req) = to_server.pop() {
+            for resp in server.handle(&req, &mut od) {
+                let step = client.on_response(&resp).unwrap();
+                to_server.extend(step.send);
+                done |= step.done.is_some();
+            }
+        }
+        assert!(done);
+        assert_eq!(od.read(od_addr).unwrap(), data);
+    }
+
+    #[test]
+    fn the_servers_timeout_of_the_abandoned_attempt_is_not_the_new_attempts_refusal() {
+        let mut client = SdoClient::upload(NAME, false);
+        client.start();
+        client.restart();
+        let step = client.on_response(&abort_frame(NAME, abort::TIMED_OUT)).unwrap();
+        assert!(!step.progress);
+        // A refusal of the new attempt is one.
+        assert_eq!(
+            client.on_response(&abort_frame(NAME, abort::NO_OBJECT)),
+            Err(SdoError::ServerAbort(abort::NO_OBJECT))
+        );
+    }
+
+    #[test]
+    fn a_block_read_restarts_as_a_block_read_unless_the_server_refused_block() {
+        let mut client = SdoClient::upload(NAME, true);
+        let first = client.start();
+        assert_eq!(client.restart(), first);
+        // A server without block transfer: the retry asks for a plain upload.
+        client.on_response(&abort_frame(NAME, abort::UNKNOWN_COMMAND)).unwrap();
+        assert!(client.fell_back());
+        assert_eq!(client.restart()[0], 0x40);
+    }
+}
