@@ -44,6 +44,11 @@ const FIXED: &[u64] = &[
     // probe was lost, and assign said every device had a node-id (fixed: silence is
     // believed when three searches in a row find nobody).
     0x5eed_0af1,
+    // fastscan, a device's answers held up 45 ms one time in five: one answer to a bit
+    // check of the serial arrived in the window of its confirmation, and a serial no
+    // device has was "found" (fixed: the identity found is asked of the device in
+    // configuration state before it is trusted).
+    0x10_9bc6,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.
