@@ -49,6 +49,11 @@ const FIXED: &[u64] = &[
     // device has was "found" (fixed: the identity found is asked of the device in
     // configuration state before it is trusted).
     0x10_9bc6,
+    // lss assign, a device whose answers are short one time in five: set-id went
+    // unanswered three times, the device had taken node 20 all the same, and the error
+    // said only that nobody answered (fixed: it says the device may hold the node-id, and
+    // how to see).
+    0x10_a00f,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.
@@ -295,7 +300,7 @@ fn run(s: &Scenario) -> Outcome {
         }
     }
     let ended = match &result {
-        Ok(Report::Assigned(_, false)) => "ended part-way".to_string(),
+        Ok(Report::Assigned(_, false, _)) => "ended part-way".to_string(),
         Ok(_) => "ok".to_string(),
         Err(e) => format!("{e}").chars().take(60).collect(),
     };
@@ -311,8 +316,9 @@ enum Report {
     Scanned(Vec<(u8, Option<u32>)>),
     Found(Identity),
     /// Identities given node-ids (all of them, also when interrupted or failed part-way).
-    /// And whether it said every device has one now (exit 0).
-    Assigned(Vec<(Identity, u8)>, bool),
+    /// And whether it said every device has one now (exit 0), and the device it said may
+    /// hold a node-id (set-id unanswered).
+    Assigned(Vec<(Identity, u8)>, bool, Option<(Identity, u8)>),
     Booted(Vec<u8>),
     /// Objects of the sensor's DCF written (and verified) on `node`.
     Applied(u8, Vec<ObjAddr>),
@@ -367,7 +373,11 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
             let a = ops::lss::assign(bus, &o, &mut Silent, stop)?;
             // Failed or interrupted part-way: what it says it did must still be so.
             let complete = a.failure.is_none() && !a.interrupted;
-            Ok(Report::Assigned(a.assigned.iter().map(|d| (d.identity.0, d.node)).collect(), complete))
+            let maybe = match a.failure {
+                Some(Error::LssSetIdUnknown { identity, node, .. }) => Some((identity, node)),
+                _ => None,
+            };
+            Ok(Report::Assigned(a.assigned.iter().map(|d| (d.identity.0, d.node)).collect(), complete, maybe))
         }
         Procedure::Reset => {
             let o = ops::nmt::ResetOptions { wait: Duration::from_secs(2), timeout: TIMEOUT };
@@ -584,7 +594,7 @@ fn check(
                 return Err(format!("fastscan found {id}, no device without a node-id has it"));
             }
         }
-        Report::Assigned(given, complete) => {
+        Report::Assigned(given, complete, maybe) => {
             // A device muted by its fault cannot be told from one that is not there.
             let rate = sim.network().bit_rate();
             let seen = |d: &&DeviceView| d.bit_rate == rate && !muted(s, d);
@@ -600,7 +610,8 @@ fn check(
             // Every device numbered is in the report.
             for d in &after.all {
                 let was = before.all.iter().find(|b| b.identity == d.identity).and_then(|b| b.node);
-                if was.is_none() && d.node.is_some() && !given.iter().any(|(id, _)| *id == d.identity) {
+                let said = given.iter().chain(maybe).any(|(id, n)| *id == d.identity && d.node == Some(*n));
+                if was.is_none() && d.node.is_some() && !said {
                     return Err(format!("{} took node {:?}, the report does not say so", d.identity, d.node));
                 }
             }
@@ -840,4 +851,27 @@ fn lss_assign_under_two_percent_loss_never_calls_a_waiting_device_done() {
         *outcomes.entry(out.ended).or_insert(0) += 1;
     }
     eprintln!("lss assign under 2 % loss, 24 runs: {outcomes:?}");
+}
+
+/// Seed 0x10a00f's finding, pinned (a later change to the requests moves a seed's faults
+/// elsewhere): every answer of the device from its first answer to set-id on is cut
+/// short. It took the node-id all the same (the request reached it), and the report must
+/// not leave that out: the device may hold it, and the error says which and how to see.
+#[test]
+fn lss_assign_with_set_id_unanswered_says_the_device_may_hold_the_id() {
+    let config = SimConfig::default().seed(7).unconfigured(1).virtual_time(true);
+    let clean = Scenario { seed: 7, procedure: Procedure::Assign, config: config.clone(), stop_after: None };
+    let out = run(&clean);
+    assert!(out.broken.is_none() && out.ended == "ok", "{:?} {}", out.broken, out.ended);
+    // The device's answers are counted from 1; the one to set-id is the first 0x11.
+    let answers: Vec<&Taped> = out.frames.iter().filter(|f| !f.sent && f.id == 0x7E4).collect();
+    let n = 1 + answers.iter().position(|f| f.data[0] == 0x11).expect("an answer to set-id");
+    let config = config.fault(format!("sensor-09501301:short-dlc@{n}+").parse().unwrap());
+    let s = Scenario { seed: 7, procedure: Procedure::Assign, config, stop_after: None };
+    let out = run(&s);
+    if out.broken.is_some() {
+        trace(&out.frames);
+    }
+    assert!(out.broken.is_none(), "{}", out.broken.unwrap());
+    assert_eq!(out.ended, "ended part-way");
 }
