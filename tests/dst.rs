@@ -24,7 +24,7 @@ use canctl::bus::stoppable::Stoppable;
 use canctl::bus::tap::AfterSdo;
 use canctl::bus::{Bus, FrameLink, Master, SdoOptions};
 use canctl::canopen::cia402::{Goal, State as DriveState};
-use canctl::canopen::lss::Identity;
+use canctl::canopen::lss::{Identity, STEP_CEILING};
 use canctl::canopen::nmt::{self, Command};
 use canctl::canopen::ObjAddr;
 use canctl::frame::Frame;
@@ -57,6 +57,13 @@ const FIXED: &[u64] = &[
     // said only that nobody answered (fixed: it says the device may hold the node-id, and
     // how to see).
     0x10_a00f,
+    // lss assign, one device of four late by 135 ms one time in five, another babbling:
+    // 421 s of bus time, past the 5 minutes then allowed. The search of the serial was
+    // spoiled again and again, and each search confirmed the parts found before, which
+    // reset the count of searches: the step was never lengthened (fixed: only a part
+    // searched bit by bit resets it; the step grows to 0.5 s, and the bound of an LSS
+    // search follows the step ceiling: 580 s for four devices is within it).
+    0xf_ddda,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.
@@ -255,6 +262,19 @@ struct Outcome {
 /// The longest any procedure may take in bus time, faults included.
 const BOUND: Duration = Duration::from_secs(5 * 60);
 
+/// The bound of one scenario. An LSS search is 133 requests, and a step may grow to
+/// [`STEP_CEILING`] when answers come late (a device late by 135 ms one time in five, seed
+/// 0xfddda, makes assign step at 0.5 s: 66 s a device): so one whole search at the longest
+/// step per device without a node-id, and one that finds nobody; five minutes for the rest.
+fn bound(s: &Scenario) -> Duration {
+    match s.procedure {
+        Procedure::Fastscan | Procedure::Assign | Procedure::NetworkApply => {
+            BOUND.max(STEP_CEILING * 133 * (u32::from(s.config.unconfigured) + 1))
+        }
+        _ => BOUND,
+    }
+}
+
 fn run(s: &Scenario) -> Outcome {
     let mut sim = SimLink::with_config(s.config.clone()).on_virtual_time(1_700_000_000_000);
     // The drive's domain holds 1 to 4 KiB to start with (its 64 KiB would make the block
@@ -292,8 +312,8 @@ fn run(s: &Scenario) -> Outcome {
     if let Err(e) = closed {
         broken.get_or_insert(format!("closing the link failed: {e}"));
     }
-    if took > BOUND {
-        broken.get_or_insert(format!("took {took:?} of bus time (bound {BOUND:?})"));
+    if took > bound(s) {
+        broken.get_or_insert(format!("took {took:?} of bus time (bound {:?})", bound(s)));
     }
     if broken.is_none() && s.clean() && s.procedure != Procedure::SetBaud {
         if let Err(e) = &result {
