@@ -58,11 +58,10 @@ const FIXED: &[u64] = &[
     // how to see).
     0x10_a00f,
     // lss assign, one device of four late by 135 ms one time in five, another babbling:
-    // 421 s of bus time, past the 5 minutes then allowed. The search of the serial was
-    // spoiled again and again, and each search confirmed the parts found before, which
-    // reset the count of searches: the step was never lengthened (fixed: only a part
-    // searched bit by bit resets it; the step grows to 0.5 s, and the bound of an LSS
-    // search follows the step ceiling: 580 s for four devices is within it).
+    // 421 s of bus time (450 s now), past the 5 minutes then allowed for every procedure.
+    // The late answers spoil the search of the serial again and again, each search again
+    // at the same step: slow, and within the rules of a search (the bound of an LSS search
+    // follows them now: 133 requests a device at the step ceiling).
     0xf_ddda,
 ];
 
@@ -263,9 +262,8 @@ struct Outcome {
 const BOUND: Duration = Duration::from_secs(5 * 60);
 
 /// The bound of one scenario. An LSS search is 133 requests, and a step may grow to
-/// [`STEP_CEILING`] when answers come late (a device late by 135 ms one time in five, seed
-/// 0xfddda, makes assign step at 0.5 s: 66 s a device): so one whole search at the longest
-/// step per device without a node-id, and one that finds nobody; five minutes for the rest.
+/// [`STEP_CEILING`] when answers come late: so one whole search at the longest step per
+/// device without a node-id, and one that finds nobody; five minutes for the rest.
 fn bound(s: &Scenario) -> Duration {
     match s.procedure {
         Procedure::Fastscan | Procedure::Assign | Procedure::NetworkApply => {
