@@ -72,6 +72,14 @@ pub enum Error {
         None => format!("no LSS device answered {request} within {} ms", waited.as_millis()),
     })]
     NoLssAnswer { request: String, identity: Option<Identity>, waited: Duration },
+    /// `lss assign` gave a device a node-id and heard no answer, however often asked: the
+    /// request may have reached it and only the answers been lost, so it may hold it.
+    #[error(
+        "no answer from {identity} to set-id {node} within {} ms, asked {tries} times: unknown whether it \
+         holds node {node} now (canctl lss inquire --identity {identity} shows its node-id)",
+        waited.as_millis()
+    )]
+    LssSetIdUnknown { identity: Identity, node: u8, tries: u32, waited: Duration },
     /// An EPOS2 gateway reports that the node behind it did not answer on the CAN bus.
     #[error("{}: no answer on the CAN bus (the EPOS2 reports SDO timeout 0x05040000)", Epos2Place { node: *node, command, obj: *obj })]
     Epos2NoCanAnswer { node: u8, command: &'static str, obj: Option<ObjAddr> },
@@ -242,6 +250,7 @@ impl Error {
             | Error::SdoUnfinished { .. }
             | Error::NoRemoteAnswer { .. }
             | Error::NoLssAnswer { .. }
+            | Error::LssSetIdUnknown { .. }
             | Error::Epos2NoCanAnswer { .. }
             | Error::AdapterNoAnswer { .. } => C::Timeout,
             Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } => C::Link,
@@ -887,6 +896,17 @@ mod tests {
                 },
                 "no LSS device with identity 0x00000001:0x00000002:0x00000003:0x00000004 answered the selective \
                  switch within 100 ms",
+            ),
+            (
+                Error::LssSetIdUnknown {
+                    identity: Identity { vendor: 0x40, product: 2, revision: 3, serial: 4 },
+                    node: 20,
+                    tries: 3,
+                    waited: ms(200),
+                },
+                "no answer from 0x00000040:0x00000002:0x00000003:0x00000004 to set-id 20 within 200 ms, asked 3 \
+                 times: unknown whether it holds node 20 now (canctl lss inquire --identity \
+                 0x00000040:0x00000002:0x00000003:0x00000004 shows its node-id)",
             ),
             (
                 Error::LssRefused { service: "store".into(), cs: 0x17, error: 1, specific: 0 },

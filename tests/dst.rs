@@ -14,14 +14,17 @@
 //!   show).
 //!
 //! The same seed gives the same frames, byte for byte and at the same bus times. A failing
-//! seed prints the command that replays it. `CANCTL_DST_SCENARIOS=N` runs N scenarios
-//! (`scripts/dst.sh N` for a million), `CANCTL_DST_SEED=S` just one.
+//! seed prints the command that replays it. `cargo test` runs [`TEST_SCENARIOS`] from
+//! [`CI_START`]; CI runs 10,000 from there on the release build (`scripts/dst.sh 10000
+//! 0x5EED0000`, in .ci/run). `CANCTL_DST_SCENARIOS=N` runs N scenarios
+//! (`scripts/dst.sh N` for a million), `CANCTL_DST_SEED=S` just one. Counts are fixed, never
+//! a wall-time budget: a loaded machine takes longer, it does not test less.
 
 use canctl::bus::stoppable::Stoppable;
 use canctl::bus::tap::AfterSdo;
 use canctl::bus::{Bus, FrameLink, Master, SdoOptions};
 use canctl::canopen::cia402::{Goal, State as DriveState};
-use canctl::canopen::lss::Identity;
+use canctl::canopen::lss::{Identity, STEP_CEILING};
 use canctl::canopen::nmt::{self, Command};
 use canctl::canopen::ObjAddr;
 use canctl::frame::Frame;
@@ -44,14 +47,28 @@ const FIXED: &[u64] = &[
     // probe was lost, and assign said every device had a node-id (fixed: silence is
     // believed when three searches in a row find nobody).
     0x5eed_0af1,
+    // fastscan, a device's answers held up 45 ms one time in five: one answer to a bit
+    // check of the serial arrived in the window of its confirmation, and a serial no
+    // device has was "found" (fixed: the identity found is asked of the device in
+    // configuration state before it is trusted).
+    0x10_9bc6,
+    // lss assign, a device whose answers are short one time in five: set-id went
+    // unanswered three times, the device had taken node 20 all the same, and the error
+    // said only that nobody answered (fixed: it says the device may hold the node-id, and
+    // how to see).
+    0x10_a00f,
+    // lss assign, one device of four late by 135 ms one time in five, another babbling:
+    // 421 s of bus time (450 s now), past the 5 minutes then allowed for every procedure.
+    // The late answers spoil the search of the serial again and again, each search again
+    // at the same step: slow, and within the rules of a search (the bound of an LSS search
+    // follows them now: 133 requests a device at the step ceiling).
+    0xf_ddda,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.
 const CI_START: u64 = 0x5EED_0000;
-const CI_SCENARIOS: u64 = 10_000;
-/// `cargo test` stops starting scenarios after this much wall time (a loaded machine runs
-/// fewer; the count run is printed). `CANCTL_DST_BUDGET_S=0`: no limit.
-const CI_BUDGET: Duration = Duration::from_secs(120);
+/// What `cargo test` runs by default, on the debug build: the first of CI's scenarios.
+const TEST_SCENARIOS: u64 = 500;
 
 /// What every frame on the tape is: sent by canctl or received, when, and its bytes.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -244,6 +261,18 @@ struct Outcome {
 /// The longest any procedure may take in bus time, faults included.
 const BOUND: Duration = Duration::from_secs(5 * 60);
 
+/// The bound of one scenario. An LSS search is 133 requests, and a step may grow to
+/// [`STEP_CEILING`] when answers come late: so one whole search at the longest step per
+/// device without a node-id, and one that finds nobody; five minutes for the rest.
+fn bound(s: &Scenario) -> Duration {
+    match s.procedure {
+        Procedure::Fastscan | Procedure::Assign | Procedure::NetworkApply => {
+            BOUND.max(STEP_CEILING * 133 * (u32::from(s.config.unconfigured) + 1))
+        }
+        _ => BOUND,
+    }
+}
+
 fn run(s: &Scenario) -> Outcome {
     let mut sim = SimLink::with_config(s.config.clone()).on_virtual_time(1_700_000_000_000);
     // The drive's domain holds 1 to 4 KiB to start with (its 64 KiB would make the block
@@ -281,8 +310,8 @@ fn run(s: &Scenario) -> Outcome {
     if let Err(e) = closed {
         broken.get_or_insert(format!("closing the link failed: {e}"));
     }
-    if took > BOUND {
-        broken.get_or_insert(format!("took {took:?} of bus time (bound {BOUND:?})"));
+    if took > bound(s) {
+        broken.get_or_insert(format!("took {took:?} of bus time (bound {:?})", bound(s)));
     }
     if broken.is_none() && s.clean() && s.procedure != Procedure::SetBaud {
         if let Err(e) = &result {
@@ -290,7 +319,7 @@ fn run(s: &Scenario) -> Outcome {
         }
     }
     let ended = match &result {
-        Ok(Report::Assigned(_, false)) => "ended part-way".to_string(),
+        Ok(Report::Assigned(_, false, _)) => "ended part-way".to_string(),
         Ok(_) => "ok".to_string(),
         Err(e) => format!("{e}").chars().take(60).collect(),
     };
@@ -306,8 +335,9 @@ enum Report {
     Scanned(Vec<(u8, Option<u32>)>),
     Found(Identity),
     /// Identities given node-ids (all of them, also when interrupted or failed part-way).
-    /// And whether it said every device has one now (exit 0).
-    Assigned(Vec<(Identity, u8)>, bool),
+    /// And whether it said every device has one now (exit 0), and the device it said may
+    /// hold a node-id (set-id unanswered).
+    Assigned(Vec<(Identity, u8)>, bool, Option<(Identity, u8)>),
     Booted(Vec<u8>),
     /// Objects of the sensor's DCF written (and verified) on `node`.
     Applied(u8, Vec<ObjAddr>),
@@ -362,7 +392,11 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
             let a = ops::lss::assign(bus, &o, &mut Silent, stop)?;
             // Failed or interrupted part-way: what it says it did must still be so.
             let complete = a.failure.is_none() && !a.interrupted;
-            Ok(Report::Assigned(a.assigned.iter().map(|d| (d.identity.0, d.node)).collect(), complete))
+            let maybe = match a.failure {
+                Some(Error::LssSetIdUnknown { identity, node, .. }) => Some((identity, node)),
+                _ => None,
+            };
+            Ok(Report::Assigned(a.assigned.iter().map(|d| (d.identity.0, d.node)).collect(), complete, maybe))
         }
         Procedure::Reset => {
             let o = ops::nmt::ResetOptions { wait: Duration::from_secs(2), timeout: TIMEOUT };
@@ -584,7 +618,7 @@ fn check(
                 return Err(format!("fastscan found {id}, no device without a node-id has it"));
             }
         }
-        Report::Assigned(given, complete) => {
+        Report::Assigned(given, complete, maybe) => {
             // A device muted by its fault cannot be told from one that is not there.
             let rate = sim.network().bit_rate();
             let seen = |d: &&DeviceView| d.bit_rate == rate && !muted(s, d);
@@ -600,7 +634,8 @@ fn check(
             // Every device numbered is in the report.
             for d in &after.all {
                 let was = before.all.iter().find(|b| b.identity == d.identity).and_then(|b| b.node);
-                if was.is_none() && d.node.is_some() && !given.iter().any(|(id, _)| *id == d.identity) {
+                let said = given.iter().chain(maybe).any(|(id, n)| *id == d.identity && d.node == Some(*n));
+                if was.is_none() && d.node.is_some() && !said {
                     return Err(format!("{} took node {:?}, the report does not say so", d.identity, d.node));
                 }
             }
@@ -703,8 +738,7 @@ fn env_u64(name: &str) -> Option<u64> {
 }
 
 /// Run `seeds` on every core; the seeds that broke an invariant, with what broke.
-fn run_all(seeds: impl Iterator<Item = u64> + Send, budget: Option<Duration>) -> (Vec<(u64, String)>, u64) {
-    let started = Instant::now();
+fn run_all(seeds: impl Iterator<Item = u64> + Send) -> (Vec<(u64, String)>, u64) {
     let ran = std::sync::atomic::AtomicU64::new(0);
     let seeds = std::sync::Mutex::new(seeds);
     let failed = std::sync::Mutex::new(Vec::new());
@@ -717,9 +751,6 @@ fn run_all(seeds: impl Iterator<Item = u64> + Send, budget: Option<Duration>) ->
     std::thread::scope(|scope| {
         for _ in 0..threads {
             scope.spawn(|| loop {
-                if budget.is_some_and(|b| started.elapsed() > b) {
-                    break;
-                }
                 let Some(seed) = seeds.lock().unwrap().next() else { break };
                 let s = Scenario::of(seed);
                 if only.as_ref().is_some_and(|o| !format!("{:?}", s.procedure).starts_with(o.as_str())) {
@@ -785,17 +816,12 @@ fn seeded_scenarios_keep_every_invariant() {
         Some(seed) => (Box::new(std::iter::once(seed)), format!("seed {seed:#x}")),
         None => {
             let start = env_u64("CANCTL_DST_START").unwrap_or(CI_START);
-            let n = env_u64("CANCTL_DST_SCENARIOS").unwrap_or(CI_SCENARIOS);
+            let n = env_u64("CANCTL_DST_SCENARIOS").unwrap_or(TEST_SCENARIOS);
             (Box::new(start..start + n), format!("{n} scenarios from {start:#x}"))
         }
     };
-    let budget = match env_u64("CANCTL_DST_BUDGET_S") {
-        Some(0) => None,
-        Some(s) => Some(Duration::from_secs(s)),
-        None => Some(CI_BUDGET),
-    };
     let wall = Instant::now();
-    let (failed, ran) = run_all(seeds, budget);
+    let (failed, ran) = run_all(seeds);
     let took = wall.elapsed();
     let per_minute = ran as f64 * 60.0 / took.as_secs_f64().max(1e-3);
     eprintln!("dst: {ran} of {label} in {took:.1?} of wall time ({per_minute:.0} a minute)");
@@ -804,7 +830,7 @@ fn seeded_scenarios_keep_every_invariant() {
 
 #[test]
 fn seeds_that_once_broke_an_invariant_keep_it_now() {
-    let (failed, _) = run_all(FIXED.iter().copied(), None);
+    let (failed, _) = run_all(FIXED.iter().copied());
     report(&failed);
 }
 
@@ -893,4 +919,27 @@ fn store_under_loss(seed: u64) -> (String, usize) {
         Err(e) => e.to_string(),
     };
     (ended, sent)
+}
+
+/// Seed 0x10a00f's finding, pinned (a later change to the requests moves a seed's faults
+/// elsewhere): every answer of the device from its first answer to set-id on is cut
+/// short. It took the node-id all the same (the request reached it), and the report must
+/// not leave that out: the device may hold it, and the error says which and how to see.
+#[test]
+fn lss_assign_with_set_id_unanswered_says_the_device_may_hold_the_id() {
+    let config = SimConfig::default().seed(7).unconfigured(1).virtual_time(true);
+    let clean = Scenario { seed: 7, procedure: Procedure::Assign, config: config.clone(), stop_after: None };
+    let out = run(&clean);
+    assert!(out.broken.is_none() && out.ended == "ok", "{:?} {}", out.broken, out.ended);
+    // The device's answers are counted from 1; the one to set-id is the first 0x11.
+    let answers: Vec<&Taped> = out.frames.iter().filter(|f| !f.sent && f.id == 0x7E4).collect();
+    let n = 1 + answers.iter().position(|f| f.data[0] == 0x11).expect("an answer to set-id");
+    let config = config.fault(format!("sensor-09501301:short-dlc@{n}+").parse().unwrap());
+    let s = Scenario { seed: 7, procedure: Procedure::Assign, config, stop_after: None };
+    let out = run(&s);
+    if out.broken.is_some() {
+        trace(&out.frames);
+    }
+    assert!(out.broken.is_none(), "{}", out.broken.unwrap());
+    assert_eq!(out.ended, "ended part-way");
 }

@@ -190,13 +190,17 @@ impl LssMaster<'_> {
         Ok(out)
     }
 
-    /// Give the device in configuration state `node`. Setting a value twice does no harm,
-    /// so an answer lost on the way is asked for again (a bounded number of times).
-    fn set_id(&mut self, node: u8) -> Result<usize> {
+    /// Give the device in configuration state (`identity`) `node`. Setting a value twice
+    /// does no harm, so an answer lost on the way is asked for again (a bounded number of
+    /// times). Never answered, the request may still have reached it: it may hold `node`.
+    fn set_id(&mut self, identity: Identity, node: u8) -> Result<usize> {
         let mut tries = 0;
         loop {
             match self.configure(Request::ConfigureNodeId(node), "set-id", false) {
                 Err(Error::NoLssAnswer { .. }) if tries < lss::REPEATS => tries += 1,
+                Err(Error::NoLssAnswer { waited, .. }) => {
+                    return Err(Error::LssSetIdUnknown { identity, node, tries: tries + 1, waited })
+                }
                 done => return done,
             }
         }
@@ -245,7 +249,7 @@ impl LssMaster<'_> {
                 out.failure = Some(AssignFailure::Refused(e));
                 return Ok(());
             };
-            if let Err(e) = self.set_id(node) {
+            if let Err(e) = self.set_id(identity, node) {
                 out.failure = Some(AssignFailure::Refused(e));
                 return Ok(());
             }

@@ -541,6 +541,10 @@ enum Phase {
     Bit(u8),
     /// The current part's whole value, bit-checked 0: the matching devices move on.
     Confirm,
+    /// Part `n` of the identity found, asked of the device in configuration state: a
+    /// fastscan answer says nothing of the request it answers, so one held up into the
+    /// serial's confirmation "confirms" a value nobody has. The device's own answer does.
+    Verify(u8),
     /// Nobody answered the reset at the learned pace: ask once more with a long window
     /// before saying nobody is there.
     FinalProbe,
@@ -648,6 +652,10 @@ impl Fastscan {
                 window: STEP_FLOOR,
                 settle: None,
             },
+            Phase::Verify(part) => {
+                let inquiry = [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial][part as usize];
+                Ask { expect: inquiry.cs(), ..fastscan(Request::Inquire(inquiry)) }
+            }
             Phase::Confirm | Phase::Over => {
                 fastscan(Request::Fastscan { id: self.value, bit_checked: 0, sub, next: (sub + 1) % 4 })
             }
@@ -677,6 +685,34 @@ impl Fastscan {
             return;
         }
         self.seen |= in_time;
+        if let Phase::Verify(part) = self.phase {
+            let found = self.found().part(part);
+            let held: Vec<u32> = answers
+                .iter()
+                .filter(|(t, d)| *t <= ask.window && is_answer(d, ask.expect))
+                .map(|(_, d)| u32::from_le_bytes([d[1], d[2], d[3], d[4]]))
+                .collect();
+            // Devices an earlier search left in configuration state answer too.
+            let verified = held.contains(&found);
+            if !verified && self.repeats < REPEATS {
+                self.repeats += 1;
+                return;
+            }
+            if verified && self.repeats > 0 {
+                self.pace.loss_seen = true;
+            }
+            self.repeats = 0;
+            match verified {
+                true if part == 3 => {
+                    self.outcome = Some(Ok(self.found()));
+                    self.phase = Phase::Over;
+                }
+                true => self.phase = Phase::Verify(part + 1),
+                // Nobody in configuration state has it: the serial was not the device's.
+                false => self.unconfirmed(3),
+            }
+            return;
+        }
         // Silence where an answer is due: first ask again, at the same step (a lost frame).
         // Silence to a bit check means a 1, or, once this bus has lost frames, perhaps a
         // lost answer: asked once more then.
@@ -718,45 +754,51 @@ impl Fastscan {
                     self.parts[self.sub as usize] = Part::Found(self.value);
                 }
                 if self.sub == 3 {
-                    // The device that matched the serial is in configuration state now.
-                    let v = |p: Part| match p {
-                        Part::Given(v) | Part::Found(v) => v,
-                        Part::Unknown => unreachable!("every part confirmed"),
-                    };
-                    let [vendor, product, revision, serial] = self.parts.map(v);
-                    self.outcome = Some(Ok(Identity { vendor, product, revision, serial }));
-                    self.phase = Phase::Over;
+                    // The device that matched the serial is in configuration state now,
+                    // if the answer was to this request.
+                    self.phase = Phase::Verify(0);
                 } else {
                     self.sub += 1;
                     self.start_part();
                 }
             }
-            Phase::Confirm => {
-                // A late answer made a bit look like 1 (or a device left): search this
-                // part again with a longer step, from a reset, keeping the parts before it.
-                let sub = self.sub;
-                let error = match self.parts[sub as usize] {
-                    Part::Given(value) => FastscanError::NoMatch { part: sub, value },
-                    _ => FastscanError::Unconfirmed(sub),
-                };
-                if let Part::Found(_) = self.parts[sub as usize] {
-                    self.parts[sub as usize] = Part::Unknown;
-                }
-                // Confirmations repeated in vain: a bit check's answer was lost (or came
-                // late). Search the part again at the same step a few times, then slower.
-                self.pace.loss_seen = true;
-                if self.researches < RESEARCHES {
-                    self.researches += 1;
-                    self.phase = Phase::Reset;
-                } else {
-                    self.researches = 0;
-                    self.lengthen_or(error);
-                }
-                if sub == 3 && self.phase == Phase::Reset {
-                    self.phase = Phase::Waiting;
-                }
-            }
-            Phase::Over => {}
+            Phase::Confirm => self.unconfirmed(self.sub),
+            Phase::Verify(_) | Phase::Over => {}
+        }
+    }
+
+    /// The identity as searched and confirmed.
+    fn found(&self) -> Identity {
+        let v = |p: Part| match p {
+            Part::Given(v) | Part::Found(v) => v,
+            Part::Unknown => unreachable!("every part confirmed"),
+        };
+        let [vendor, product, revision, serial] = self.parts.map(v);
+        Identity { vendor, product, revision, serial }
+    }
+
+    /// Part `sub` was not confirmed: a late answer made a bit look like 1 (or a device
+    /// left). Search this part again, from a reset, keeping the parts before it.
+    fn unconfirmed(&mut self, sub: u8) {
+        let error = match self.parts[sub as usize] {
+            Part::Given(value) => FastscanError::NoMatch { part: sub, value },
+            _ => FastscanError::Unconfirmed(sub),
+        };
+        if let Part::Found(_) = self.parts[sub as usize] {
+            self.parts[sub as usize] = Part::Unknown;
+        }
+        // Confirmations repeated in vain: a bit check's answer was lost (or came late).
+        // Search the part again at the same step a few times, then slower.
+        self.pace.loss_seen = true;
+        if self.researches < RESEARCHES {
+            self.researches += 1;
+            self.phase = Phase::Reset;
+        } else {
+            self.researches = 0;
+            self.lengthen_or(error);
+        }
+        if sub == 3 && self.phase == Phase::Reset {
+            self.phase = Phase::Waiting;
         }
     }
 
@@ -1234,6 +1276,24 @@ mod tests {
         // bits asked twice now that a loss was seen); parts 2 and 3 likewise.
         assert!(scan.steps() > 133 + 2 + 1 + 1 + 33, "{}", scan.steps());
         assert!(scan.steps() < 2 * (133 + 2 + 1 + 1 + 33), "{}", scan.steps());
+    }
+
+    /// Seed 0x109bc6 of tests/dst.rs: an answer to a bit check of the serial held up
+    /// 45 ms (four short steps) made that bit look like 1, and arrived in the window of
+    /// the serial's confirmation, so a value no device has was "confirmed". Fastscan
+    /// answers carry nothing to tell which request they answer: the identity found is
+    /// asked of the device in configuration state before it is trusted, and searched
+    /// again when no device there has it.
+    #[test]
+    fn an_answer_late_into_a_confirmation_does_not_find_an_identity_nobody_has() {
+        let id = three()[1];
+        // Request 131 is the check of the serial's bit 2 (a 0 in 0x09501301): probe,
+        // reset, three parts of 33, then bits 31 down to 3.
+        let latency: Latency = Box::new(|_, n| Some(if n == 131 { MS * 45 } else { MS * 5 }));
+        let mut bus = VirtualBus::new(&[id], latency);
+        let mut scan = fresh();
+        assert_eq!(bus.run(&mut scan), Ok(id));
+        assert_eq!(bus.slaves[0].state, SlaveState::Configuration);
     }
 
     /// A lost answer makes a bit 1 as well: the same recovery.
