@@ -14,7 +14,7 @@ use crate::frame::Frame;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// The serial number: the part of an identity two devices of one kind differ in.
 const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
@@ -122,7 +122,7 @@ pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, ti
     }
     let mut answers: BTreeMap<u8, Vec<Option<u32>>> = BTreeMap::new();
     let mut states: BTreeMap<u8, Vec<nmt::State>> = BTreeMap::new();
-    let end = Instant::now() + window;
+    let end = bus.now() + window;
     while let Some(f) = bus.recv_frame(end)? {
         let id = f.id();
         if (0x581..=0x5FF).contains(&id) && wanted.contains_key(&((id - 0x580) as u8)) {
@@ -223,7 +223,7 @@ pub fn in_use(
         return Ok(Some(InUse { node, identity, by: "an SDO answer" }));
     }
     if bus.sees_traffic() {
-        let end = Instant::now() + listen;
+        let end = bus.now() + listen;
         while !bus.observed().nodes.contains_key(&node) && bus.recv_frame(end)?.is_some() {}
     }
     use crate::bus::SeenBy;
