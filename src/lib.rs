@@ -30,6 +30,27 @@
 //! `cargo build --lib --no-default-features` builds the library without the command line;
 //! `examples/provision.rs` applies a DCF through it.
 
+/// The layers of the library, top first. A module may use the modules of the layers below its
+/// own, never one above, nor a sibling of its own layer: so there is no cycle. An entry names a
+/// module; a longer entry places a submodule apart from its parent. `tests/layers.rs` reads the
+/// `crate::` paths of every source file and holds the code to this order (test modules are
+/// exempt: they may drive the code under test with a simulator).
+pub const LAYERS: &[&[&str]] = &[
+    &["cli"],
+    &["output"],
+    &["ops"],
+    &["settings"],
+    &["sim"],
+    &["slcan"],
+    &["bus"],
+    &["cancel", "atomic"],
+    &["error"],
+    &["epos2"],
+    &["od"],
+    &["canopen", "input"],
+    &["frame", "xdg"],
+];
+
 pub mod atomic;
 pub mod bus;
 pub mod cancel;
