@@ -20,9 +20,9 @@ pub enum Error {
     /// The user asked for something malformed or impossible, said in free form.
     #[error("{0}")]
     Usage(String),
-    /// A file or stream given as input could not be used.
+    /// A file or stream given as input could not be used: the user's to fix (exit 2).
     #[error("{0}")]
-    Input(crate::input::InputError),
+    Input(#[from] crate::input::InputError),
     /// An EDS, DCF, XDD or XDC that cannot be read (the reason names the file) or does not
     /// parse (`FILE:LINE: why`): said once, without a prefix that repeats it.
     #[error(transparent)]

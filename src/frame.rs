@@ -110,12 +110,26 @@ impl std::str::FromStr for Frame {
             return Ok(Frame::remote(id, len));
         }
         let hex: String = rest.chars().filter(|c| *c != '.').collect();
-        let data = crate::canopen::types::parse_hex(&hex).map_err(|e| format!("frame data: {e}"))?;
+        let data = parse_hex(&hex).map_err(|e| format!("frame data: {e}"))?;
         if data.len() > 8 {
             return Err(format!("frame data has {} bytes; classic CAN carries at most 8", data.len()));
         }
         Ok(Frame::new(id, &data))
     }
+}
+
+/// Hex text to bytes: `DEADBEEF`, `de ad be ef`, `0xdeadbeef`.
+pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
+    let t = text.trim();
+    let t = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")).unwrap_or(t);
+    let digits: Vec<u8> = t.bytes().filter(|b| !b.is_ascii_whitespace() && *b != b'.').collect();
+    if let Some(bad) = digits.iter().find(|b| !b.is_ascii_hexdigit()) {
+        return Err(format!("'{text}' is not hex bytes: '{}' is not a hex digit", *bad as char));
+    }
+    if !digits.len().is_multiple_of(2) {
+        return Err(format!("'{text}' is not hex bytes: odd number of hex digits"));
+    }
+    Ok(digits.chunks(2).map(|p| u8::from_str_radix(std::str::from_utf8(p).unwrap(), 16).unwrap()).collect())
 }
 
 #[cfg(test)]

@@ -31,13 +31,6 @@ pub enum InputError {
     Idle { path: String, idle: Duration },
 }
 
-impl From<InputError> for crate::Error {
-    /// Every input problem is the user's to fix: a usage error (exit 2).
-    fn from(e: InputError) -> crate::Error {
-        crate::Error::Input(e)
-    }
-}
-
 /// `16 MiB` for whole mebibytes, else bytes.
 fn size_text(bytes: u64) -> String {
     if bytes >= 1 << 20 && bytes.is_multiple_of(1 << 20) {

@@ -113,7 +113,30 @@ pub struct Sourced<T> {
     pub from: Source,
 }
 
-pub use crate::ops::dictionaries::EdsFile;
+/// An EDS or DCF file, for one node or (`node: None`) for every node.
+#[derive(Clone, Debug)]
+pub struct EdsFile {
+    /// The node it describes; `None`: every node without a file of its own.
+    pub node: Option<u8>,
+    /// The EDS, DCF, XDD or XDC.
+    pub path: PathBuf,
+}
+
+/// `NODE=PATH` (a node's file) or `PATH` (every node's): `--eds` and canctl.toml's `eds`.
+impl std::str::FromStr for EdsFile {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<EdsFile, String> {
+        match s.split_once('=') {
+            Some((node, path)) if !node.is_empty() && node.chars().all(|c| c.is_ascii_digit()) => {
+                let node = parse_node(node)?;
+                Ok(EdsFile { node: Some(node), path: PathBuf::from(path) })
+            }
+            _ => Ok(EdsFile { node: None, path: PathBuf::from(s) }),
+        }
+    }
+}
+
 
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields)]

@@ -13,9 +13,6 @@ const ALLOWED: &[&str] = &[
     "epos2 -> bus",
     "epos2 -> cancel",
     "epos2 -> error",
-    "frame -> canopen",
-    "input -> error",
-    "settings -> ops",
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {

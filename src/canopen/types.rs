@@ -456,19 +456,8 @@ fn parse_int(t: &str) -> Option<i128> {
     Some(if neg { -magnitude } else { magnitude })
 }
 
-/// Hex text to bytes: `DEADBEEF`, `de ad be ef`, `0xdeadbeef`.
-pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
-    let t = text.trim();
-    let t = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")).unwrap_or(t);
-    let digits: Vec<u8> = t.bytes().filter(|b| !b.is_ascii_whitespace() && *b != b'.').collect();
-    if let Some(bad) = digits.iter().find(|b| !b.is_ascii_hexdigit()) {
-        return Err(format!("'{text}' is not hex bytes: '{}' is not a hex digit", *bad as char));
-    }
-    if !digits.len().is_multiple_of(2) {
-        return Err(format!("'{text}' is not hex bytes: odd number of hex digits"));
-    }
-    Ok(digits.chunks(2).map(|p| u8::from_str_radix(std::str::from_utf8(p).unwrap(), 16).unwrap()).collect())
-}
+// Hex text is frame text too (`candump` lines); it lives with `Frame`, below this layer.
+pub use crate::frame::parse_hex;
 
 /// Bytes to contiguous upper-case hex, as can-utils writes payloads.
 pub fn hex(bytes: &[u8]) -> String {

@@ -5,29 +5,7 @@ use crate::canopen::ObjAddr;
 use crate::error::Error;
 use crate::od::eds::Eds;
 use crate::od::{builtin, names, Dictionary, Entry};
-use std::path::PathBuf;
-
-/// An EDS or DCF file, for one node or (`node: None`) for every node.
-#[derive(Clone, Debug)]
-pub struct EdsFile {
-    pub node: Option<u8>,
-    pub path: PathBuf,
-}
-
-/// `NODE=PATH` (a node's file) or `PATH` (every node's): `--eds` and canctl.toml's `eds`.
-impl std::str::FromStr for EdsFile {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<EdsFile, String> {
-        match s.split_once('=') {
-            Some((node, path)) if !node.is_empty() && node.chars().all(|c| c.is_ascii_digit()) => {
-                let node = crate::settings::parse_node(node)?;
-                Ok(EdsFile { node: Some(node), path: PathBuf::from(path) })
-            }
-            _ => Ok(EdsFile { node: None, path: PathBuf::from(s) }),
-        }
-    }
-}
+pub use crate::settings::EdsFile;
 
 #[derive(Default)]
 pub struct Dictionaries {
@@ -97,6 +75,7 @@ impl Dictionaries {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::PathBuf;
 
     #[test]
     fn eds_arguments() {
