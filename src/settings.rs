@@ -137,7 +137,6 @@ impl std::str::FromStr for EdsFile {
     }
 }
 
-
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields)]
 struct File {
