@@ -5,9 +5,9 @@
 //! round trip (both sides of the pty); with `--baud 115200` pacing it is comparable to the
 //! wire time of seed 002 (24 bytes with acknowledges = 2.08 ms on RS232).
 
+use canctl::backend::epos2::Epos2Gateway;
 use canctl::bus::{Bus, SdoOptions};
 use canctl::canopen::ObjAddr;
-use canctl::epos2::gateway::Epos2Gateway;
 use canctl::epos2::transport::SerialTransport;
 use canctl::epos2::Framing;
 use canctl::sim::epos2_device::Epos2Device;

@@ -6,13 +6,13 @@
 //! their time at 500 kbit/s on the simulated bus, so the figure is what a host gets from a
 //! 500 kbit/s adapter, not a CPU figure.
 
+use canctl::backend::slcan::SlcanLink;
 use canctl::bus::{Bus, Master, SdoOptions};
 use canctl::canopen::ObjAddr;
 use canctl::frame::Frame;
 use canctl::sim::profiles::domain_pattern;
 use canctl::sim::SimLink;
 use canctl::slcan::wire::{Command, Decoder, Message};
-use canctl::slcan::SlcanLink;
 use std::time::{Duration, Instant};
 
 const FRAMES: usize = 100_000;

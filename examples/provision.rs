@@ -6,7 +6,7 @@
 //! memory: no state file is read or kept). Pass a bus address to use another bus:
 //! `cargo run --example provision -- socketcan:can0`.
 
-use canctl::bus::{self, BusAddr, OpenOptions};
+use canctl::connect::{self, BusAddr, OpenOptions};
 use canctl::ops::config::{self, ApplyOptions, Dcf};
 use std::time::Duration;
 
@@ -19,7 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     opts.ephemeral = true;
     let dcf = Dcf::parse(include_bytes!("sensor.dcf"), "examples/sensor.dcf")?;
 
-    let mut bus = bus::open(&addr, &opts)?;
+    let mut bus = connect::open(&addr, &opts)?;
     let mut apply = ApplyOptions::new(opts.timeout);
     apply.verify = true;
     apply.store = true;

@@ -2,8 +2,9 @@
 //! `epos2-rs232:/dev/ttyS0?baud=115200`, `epos2-usb:/dev/ttyUSB0` — parsed with `FromStr`,
 //! written back with `Display`, and opened by the one factory, [`open`].
 
-use super::{Bus, FrameLog, Master};
-use crate::epos2::gateway::Epos2Gateway;
+use crate::backend::epos2::Epos2Gateway;
+pub use crate::backend::{can_interfaces, serial_ports};
+use crate::bus::{Bus, FrameLog, Master};
 use crate::epos2::transport::SerialTransport;
 use crate::epos2::Framing;
 use crate::error::{Error, LinkError, Result};
@@ -200,7 +201,7 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
         }
         #[cfg(target_os = "linux")]
         BusAddr::SocketCan { iface } => {
-            let link = super::socketcan::SocketCanLink::open(iface)?;
+            let link = crate::backend::socketcan::SocketCanLink::open(iface)?;
             Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
         }
         #[cfg(not(target_os = "linux"))]
@@ -219,7 +220,7 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             // The adapter's own serial speed does not matter on USB; 115200 suits the
             // adapters that sit behind a real UART.
             let io = open_serial(port, 115_200, opts.timeout)?;
-            let link = crate::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?;
+            let link = crate::backend::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?;
             Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
         }
     }
@@ -266,27 +267,6 @@ fn check_iface(iface: &str) -> std::result::Result<String, String> {
         return Err(format!("'{}' is not a network interface name (like can0 or vcan0)", crate::error::clipped(iface)));
     }
     Ok(iface.to_string())
-}
-
-/// CAN interfaces present (ARPHRD_CAN = 280 in /sys/class/net/*/type).
-pub fn can_interfaces() -> Vec<String> {
-    let mut out: Vec<String> = std::fs::read_dir("/sys/class/net")
-        .into_iter()
-        .flatten()
-        .flatten()
-        .filter(|e| std::fs::read_to_string(e.path().join("type")).is_ok_and(|t| t.trim() == "280"))
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect();
-    out.sort();
-    out
-}
-
-/// Serial ports present.
-pub fn serial_ports() -> Vec<String> {
-    let mut out: Vec<String> =
-        serialport::available_ports().unwrap_or_default().into_iter().map(|p| p.port_name).collect();
-    out.sort();
-    out
 }
 
 #[cfg(test)]

@@ -162,7 +162,8 @@ fn the_sim_network_held_by_another_process_is_waited_for_then_named() {
 /// frame trace carries the interface, the direction and the frame as fields.
 #[test]
 fn a_program_embedding_the_library_captures_the_frame_trace() {
-    use canctl::bus::{open, BusAddr, OpenOptions, SdoOptions};
+    use canctl::bus::SdoOptions;
+    use canctl::connect::{open, BusAddr, OpenOptions};
     use std::sync::{Arc, Mutex};
     use std::time::Duration;
 

@@ -1,11 +1,12 @@
 //! The crate as a library, without the command line: everything here uses library APIs
 //! only, so it builds and runs with `cargo test --no-default-features --test library`.
 
-use canctl::bus::{self, Bus, BusAddr, OpenOptions};
+use canctl::bus::{self, Bus};
 use canctl::canopen::nmt;
 use canctl::canopen::types::Value;
 use canctl::canopen::DataType;
 use canctl::canopen::ObjAddr;
+use canctl::connect::{self, BusAddr, OpenOptions};
 use canctl::ops::config::{self, ApplyOptions, Dcf};
 use canctl::ops::dictionaries::{Dictionaries, EdsFile};
 use canctl::ops::monitor::Monitor;
@@ -27,7 +28,7 @@ const SENSOR: u8 = 5;
 fn demo() -> Box<dyn Bus> {
     let mut opts = OpenOptions::new(TIMEOUT);
     opts.ephemeral = true;
-    bus::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap()
+    connect::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap()
 }
 
 fn sensor_dcf() -> Dcf {
@@ -382,7 +383,7 @@ fn sim_reset_starts_the_saved_network_afresh_as_configured() {
     let report = reset(&path, &SimConfig::default().profile(Profile::Instant).unconfigured(1).seed(7)).unwrap();
     assert_eq!((report.profile.as_str(), report.unconfigured, report.seed), ("instant", 1, 7));
     assert_eq!(report.bit_rate, "500k");
-    let mut bus = bus::open(&uri.parse::<BusAddr>().unwrap(), &OpenOptions::new(TIMEOUT)).unwrap();
+    let mut bus = connect::open(&uri.parse::<BusAddr>().unwrap(), &OpenOptions::new(TIMEOUT)).unwrap();
     let waiting = canctl::bus::lss::count_unconfigured(bus.as_mut(), TIMEOUT).unwrap();
     assert_eq!(waiting, 1);
     bus.close().unwrap();

@@ -3,13 +3,13 @@
 
 mod common;
 
+use canctl::backend::slcan::SlcanLink;
 use canctl::bus::{Bus, Master, SdoOptions};
 use canctl::canopen::ObjAddr;
 use canctl::epos2::transport::SerialIo;
 use canctl::sim::serial_fault::Fault;
 use canctl::sim::slcan_serve::SlcanAdapter;
 use canctl::sim::SimLink;
-use canctl::slcan::SlcanLink;
 use std::time::Duration;
 
 /// An adapter on a new pty, serving the demo network at `bus_kbit` until the test ends.

@@ -1,11 +1,11 @@
 //! The `Bus` services through an EPOS2: node 0 (or the EPOS2's own node-id) is the EPOS2
 //! itself, every other node is reached through it as a gateway to its CAN bus.
 
-use super::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
-use super::transport::Transport;
 use crate::bus::{Bus, FrameLog, LssAnswer, LssWait, Observed, SdoOptions, ALL_NODES};
 use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::{abort, ObjAddr};
+use crate::epos2::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
+use crate::epos2::transport::Transport;
 use crate::error::{Epos2Problem, Error, LinkError, NodeIdRange, Result};
 use crate::frame::Frame;
 use std::time::{Duration, Instant};

@@ -1,11 +1,11 @@
 //! A serial-line CAN adapter as a `FrameLink`: set the bit rate, open the channel, send and
 //! receive frames as slcan text, close the channel however the command ends.
 
-use super::wire::{bit_rate_code, Command, Decoder, Message, Status, BIT_RATES};
 use crate::bus::FrameLink;
 use crate::epos2::transport::SerialIo;
 use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
+use crate::slcan::wire::{bit_rate_code, Command, Decoder, Message, Status, BIT_RATES};
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 

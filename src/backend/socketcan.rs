@@ -1,7 +1,7 @@
 //! SocketCAN as a frame link: the kernel's CAN stack, any interface with a driver (can0,
 //! vcan0, slcan0). Receive filters keep a busy bus cheap; error frames are reported.
 
-use super::FrameLink;
+use crate::bus::FrameLink;
 use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
 use socketcan::{
@@ -24,7 +24,7 @@ pub struct SocketCanLink {
 /// Why `iface` cannot carry CAN frames, if it cannot; read from sysfs before opening.
 fn check_interface(iface: &str) -> Result<()> {
     let dir = std::path::Path::new("/sys/class/net").join(iface);
-    let present = super::uri::can_interfaces();
+    let present = super::can_interfaces();
     if !dir.exists() {
         return Err(LinkError::NoInterface { iface: iface.to_string(), available: present }.into());
     }

@@ -1,30 +1,28 @@
-//! The service-level API every command is written against, and the backends behind it.
+//! The service-level API every command is written against ([`Bus`]), the raw frame link the
+//! CAN backends provide ([`FrameLink`]), the CANopen client over such a link ([`Master`]), and
+//! the decorators that observe, trace or stop a bus. The backends are in [`crate::backend`];
+//! [`crate::connect`] opens one from a bus address.
 
 pub mod clock;
 pub mod frame_log;
 pub mod lss;
 pub mod master;
 pub mod observer;
-#[cfg(target_os = "linux")]
-pub mod socketcan;
 pub mod stoppable;
 pub mod tap;
-pub mod trace;
-pub mod uri;
 
 pub use crate::cancel::Cancel;
 use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::frame::Frame;
+pub use crate::trace;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub use frame_log::FrameLog;
 pub use master::Master;
 pub use observer::{Observed, SeenBy};
-pub use uri::BusUri;
-pub use uri::{open, BusAddr, OpenOptions};
 
 /// A raw frame link: what SocketCAN and the simulator provide.
 pub trait FrameLink {

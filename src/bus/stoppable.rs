@@ -1,5 +1,5 @@
 //! A bus that heeds a request to stop (SIGINT, SIGTERM, Ctrl-C): once it is set, every
-//! service ends with [`Error::Interrupted`] before it sends anything, an SDO transfer under
+//! service ends with [`Error::Interrupted`](crate::Error::Interrupted) before it sends anything, an SDO transfer under
 //! way ends with an abort sent to the device ([`SdoOptions::stop`]), and a wait for frames
 //! ends early. A procedure run over it stops at its next call to the bus and turns the
 //! error into its partial report; one that must still talk to the bus after a stop (to

@@ -3,8 +3,8 @@
 //! fixed sets. It reads files only — never the bus — and must answer in milliseconds.
 
 use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
-use crate::bus::BusAddr;
 use crate::canopen::types::ALL_TYPES;
+use crate::connect::BusAddr;
 use crate::epos2::Framing;
 use crate::od::names;
 use crate::ops::scan_cache as cache;
@@ -100,19 +100,19 @@ pub fn buses() -> Vec<CompletionCandidate> {
     let mut out = vec![CompletionCandidate::new("sim").help(Some("the simulated demo network".into()))];
     let candidate =
         |addr: BusAddr, help: &'static str| CompletionCandidate::new(addr.to_string()).help(Some(help.into()));
-    for iface in crate::bus::uri::can_interfaces() {
+    for iface in crate::connect::can_interfaces() {
         out.push(candidate(BusAddr::SocketCan { iface }, "CAN interface"));
     }
-    for port in crate::bus::uri::serial_ports() {
+    for port in crate::connect::serial_ports() {
         out.push(
             CompletionCandidate::new(format!("slcan:{port}")).help(Some("slcan CAN adapter (CANable, CANUSB)".into())),
         );
-        let baud = crate::bus::uri::RS232_DEFAULT_BAUD;
+        let baud = crate::connect::RS232_DEFAULT_BAUD;
         out.push(candidate(
             BusAddr::Epos2 { framing: Framing::Rs232, port: port.clone(), baud },
             "maxon EPOS2 on RS232",
         ));
-        let baud = crate::bus::uri::USB_DEFAULT_BAUD;
+        let baud = crate::connect::USB_DEFAULT_BAUD;
         out.push(candidate(BusAddr::Epos2 { framing: Framing::Usb, port, baud }, "maxon EPOS2 on USB"));
     }
     out

@@ -20,7 +20,8 @@ mod sim;
 mod store;
 mod stream;
 
-use crate::bus::{Bus, BusAddr, OpenOptions};
+use crate::bus::Bus;
+use crate::connect::{BusAddr, OpenOptions};
 use crate::error::Error;
 use crate::output::{FormatArg, Output};
 use crate::settings::{Given, Settings};
@@ -232,7 +233,7 @@ fn open_bus(ctx: &Ctx, frame_log: Option<crate::bus::FrameLog>) -> anyhow::Resul
     let addr: BusAddr = text.parse()?;
     let mut opts = OpenOptions::new(ctx.timeout);
     opts.frame_log = frame_log;
-    Ok(crate::bus::open(&addr, &opts)?)
+    Ok(crate::connect::open(&addr, &opts)?)
 }
 
 fn no_bus_error() -> Error {
@@ -250,8 +251,8 @@ fn no_bus_error() -> Error {
          forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
          epos2-usb:/dev/ttyUSB0\n  \
          no hardware? try the demo network: canctl --bus sim scan",
-        list(crate::bus::uri::can_interfaces()),
-        list(crate::bus::uri::serial_ports())
+        list(crate::connect::can_interfaces()),
+        list(crate::connect::serial_ports())
     ))
 }
 

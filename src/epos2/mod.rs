@@ -1,9 +1,8 @@
-//! maxon EPOS2 serial protocol (seeds 000 and 002): frames, commands, transports, and the
-//! gateway that offers the `Bus` services through them.
+//! maxon EPOS2 serial protocol (seeds 000 and 002): frames, commands and transports. The
+//! gateway that offers the `Bus` services through them is [`crate::backend::epos2`].
 
 pub mod command;
 pub mod frame;
-pub mod gateway;
 pub mod transport;
 
 /// The two ways an EPOS2 frames its serial protocol.

@@ -13,8 +13,8 @@
 use super::command::{self, Command};
 use super::frame::{self, Frame, FrameError, UsbDecoder};
 use super::Framing;
-use crate::bus::trace;
 use crate::error::{LinkError, Result};
+use crate::trace;
 use std::io;
 use std::time::{Duration, Instant};
 

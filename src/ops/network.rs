@@ -1335,12 +1335,12 @@ pub fn with_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<(PathBuf, Vec<u8>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bus::{BusAddr, OpenOptions};
+    use crate::connect::{BusAddr, OpenOptions};
 
     fn demo() -> Box<dyn Bus> {
         let mut opts = OpenOptions::new(Duration::from_millis(500));
         opts.ephemeral = true;
-        crate::bus::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap()
+        crate::connect::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap()
     }
 
     fn example() -> Loaded {

@@ -23,7 +23,7 @@ fn dir() -> Option<PathBuf> {
 /// The network a bus URI reaches, so `can0` and `socketcan:can0` share what was seen, and
 /// a different baud rate to the same EPOS2 does not lose it.
 fn network(bus: &str) -> String {
-    use crate::bus::BusAddr;
+    use crate::connect::BusAddr;
     match bus.parse::<BusAddr>() {
         Ok(BusAddr::Epos2 { framing, port, .. }) => format!("{framing:?}:{port}"),
         Ok(addr) => addr.to_string(),

@@ -2,9 +2,9 @@
 //! the devices, everything they send goes out on it.
 
 use super::SimLink;
-use crate::bus::trace::{self, Dir};
 use crate::bus::{FrameLink, FrameLog};
 use crate::error::Result;
+use crate::trace::{self, Dir};
 use std::time::Duration;
 
 /// Serve until the link fails or the process is stopped. Each frame on the interface goes

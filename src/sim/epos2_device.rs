@@ -3,7 +3,6 @@
 //! the simulated bus — one SDO exchange per command, nothing buffered (seed 002).
 
 use super::SimLink;
-use crate::bus::trace::{self as bus_trace, Dir};
 use crate::bus::{FrameLink, FrameLog};
 use crate::canopen::lss;
 use crate::canopen::nmt::Command as NmtCommand;
@@ -14,6 +13,7 @@ use crate::epos2::command::{self, answer, Command, GATEWAY_SEGMENT, MAX_SEGMENT,
 use crate::epos2::frame::Frame as SerialFrame;
 use crate::error::Result;
 use crate::frame::Frame;
+use crate::trace::{self as bus_trace, Dir};
 use std::time::Duration;
 
 /// The model key of the device this EPOS2 is on the sim network.

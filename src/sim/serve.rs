@@ -5,8 +5,9 @@
 use super::serial_fault::Fault;
 use super::state::{default_path, StateFile};
 use super::SimConfig;
-use crate::bus::{BusAddr, FrameLog};
+use crate::bus::FrameLog;
 use crate::canopen::lss::bit_rate_name;
+use crate::connect::BusAddr;
 use crate::epos2::Framing;
 use crate::error::{Error, Result};
 use serde::Serialize;
@@ -125,7 +126,7 @@ fn socketcan(
     log: Option<FrameLog>,
     ready: impl FnOnce(&Serving) -> Result<()>,
 ) -> Result<()> {
-    let mut can = crate::bus::socketcan::SocketCanLink::open(iface)?;
+    let mut can = crate::backend::socketcan::SocketCanLink::open(iface)?;
     // The interface is a bus with its own timing: the devices only answer late.
     let sim = super::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
     let how = format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C");
