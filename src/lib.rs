@@ -20,7 +20,7 @@
 //! | [`epos2`], [`slcan`] | the serial protocols: pure framing, CRC, commands; EPOS2's two transports |
 //! | [`od`] | object dictionaries, EDS/DCF read and write, object names |
 //! | [`canopen`], [`input`], [`trace`] | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
-//! | [`frame`], [`xdg`] | the CAN frame; where state and cache files live |
+//! | [`frame`], [`serial`], [`xdg`] | the CAN frame; the serial port the serial backends use; where state and cache files live |
 //!
 //! # Where things go
 //!
@@ -57,7 +57,7 @@ pub const LAYERS: &[&[&str]] = &[
     &["epos2", "slcan"],
     &["od"],
     &["canopen", "input", "trace"],
-    &["frame", "xdg"],
+    &["frame", "serial", "xdg"],
 ];
 
 pub mod atomic;
@@ -75,6 +75,7 @@ pub mod od;
 pub mod ops;
 #[cfg(feature = "cli")]
 pub mod output;
+pub mod serial;
 pub mod settings;
 pub mod sim;
 pub mod slcan;

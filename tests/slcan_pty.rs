@@ -6,7 +6,7 @@ mod common;
 use canctl::backend::slcan::SlcanLink;
 use canctl::bus::{Bus, Master, SdoOptions};
 use canctl::canopen::ObjAddr;
-use canctl::epos2::transport::SerialIo;
+use canctl::serial::SerialIo;
 use canctl::sim::serial_fault::Fault;
 use canctl::sim::slcan_serve::SlcanAdapter;
 use canctl::sim::SimLink;

@@ -2,9 +2,9 @@
 //! receive frames as slcan text, close the channel however the command ends.
 
 use crate::bus::FrameLink;
-use crate::epos2::transport::SerialIo;
 use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
+use crate::serial::SerialIo;
 use crate::slcan::wire::{bit_rate_code, Command, Decoder, Message, Status, BIT_RATES};
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
