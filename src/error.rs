@@ -354,6 +354,12 @@ fn profile_text(device_type: u32) -> String {
     format!("profile {profile} (CiA {profile}, {name})")
 }
 
+impl From<crate::epos2::Epos2Error> for Error {
+    fn from(e: crate::epos2::Epos2Error) -> Error {
+        Error::Link(LinkError::Epos2(e))
+    }
+}
+
 impl From<LinkError> for Error {
     fn from(e: LinkError) -> Error {
         Error::Link(e)
@@ -445,18 +451,9 @@ pub enum LinkError {
     #[error("node {node}: SDO transfer of {obj} failed: {reason}{}",
         aborted.map(|c| format!(" (aborted with 0x{c:08X})")).unwrap_or_default())]
     SdoProtocol { node: u8, obj: ObjAddr, reason: String, aborted: Option<u32> },
-    /// An EPOS2 serial command failed on the line (after a resync and a retry, when the
-    /// first failure allowed one).
-    #[error("{}", epos2_serial_text(bus, command, failure, retry.as_ref()))]
-    Epos2Serial {
-        bus: String,
-        command: &'static str,
-        failure: crate::epos2::transport::Failure,
-        retry: Option<crate::epos2::transport::Failure>,
-    },
-    /// An EPOS2 answer that does not make sense.
-    #[error("{}", epos2_answer_text(bus, problem))]
-    Epos2Answer { bus: String, problem: Epos2Problem },
+    /// The EPOS2 serial line or an EPOS2's answer failed.
+    #[error(transparent)]
+    Epos2(#[from] crate::epos2::Epos2Error),
     /// The simulator's state file could not be used.
     #[error("sim state file {}: {what}: {detail}", path.display())]
     StateFile { path: PathBuf, what: &'static str, detail: String },
@@ -668,65 +665,6 @@ fn fastscan_text(error: &FastscanError, step: Duration) -> String {
     }
 }
 
-fn epos2_serial_text(
-    bus: &str,
-    command: &str,
-    failure: &crate::epos2::transport::Failure,
-    retry: Option<&crate::epos2::transport::Failure>,
-) -> String {
-    match retry {
-        Some(second) => {
-            format!("{bus}: {command} failed: {failure}; after a resync and retry: {second}; {}", second.advice())
-        }
-        None => format!("{bus}: {command} failed: {failure}; {}", failure.advice()),
-    }
-}
-
-/// What was wrong with an EPOS2's answer.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Epos2Problem {
-    /// The answer to this command is shorter than its error code.
-    TooShort { command: &'static str },
-    /// A SegmentRead answer without its control byte.
-    EmptySegment,
-    /// A segmented read whose toggle bit did not alternate.
-    ToggleNotAlternated { node: u8, obj: ObjAddr },
-    /// A segment that claims more bytes than it carries.
-    ShortSegment { node: u8, claimed: usize },
-    /// Segments in a row that carried no data and said more follow.
-    EmptySegments { node: u8, obj: ObjAddr, count: usize },
-    /// A read that went on past the limit for reads through an EPOS2.
-    TooLong { node: u8, obj: ObjAddr, bytes: usize, limit_kib: usize },
-    /// A segmented write the EPOS2 confirmed one segment too many of.
-    ExtraSegment { node: u8, obj: ObjAddr },
-}
-
-fn epos2_answer_text(bus: &str, problem: &Epos2Problem) -> String {
-    match problem {
-        Epos2Problem::TooShort { command } => format!("{bus}: the answer to {command} is too short"),
-        Epos2Problem::EmptySegment => format!("{bus}: empty SegmentRead answer"),
-        Epos2Problem::ToggleNotAlternated { node, obj } => {
-            format!("node {node}: segmented read of {obj}: toggle bit not alternated")
-        }
-        Epos2Problem::ShortSegment { node, claimed } => {
-            format!("node {node}: segment claims {claimed} bytes but carries fewer")
-        }
-        Epos2Problem::EmptySegments { node, obj, count } => format!(
-            "node {node}: segmented read of {obj}: {count} segments in a row without data \
-             that say more follow; stopped. The device's SDO server is stuck: reset the node \
-             (`canctl nmt reset {node}`) and read again"
-        ),
-        Epos2Problem::TooLong { node, obj, bytes, limit_kib } => format!(
-            "node {node}: segmented read of {obj}: {bytes} bytes and the device still says more follow; \
-             stopped at the limit of {limit_kib} KiB for reads through an EPOS2. A value this large is \
-             read over SocketCAN (block transfer); otherwise the device is faulty: reset it"
-        ),
-        Epos2Problem::ExtraSegment { node, obj } => {
-            format!("node {node}: segmented write of {obj}: the EPOS2 confirmed another segment")
-        }
-    }
-}
-
 /// What failed on a pseudo-terminal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PtyOp {
@@ -759,6 +697,7 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::epos2::{Epos2Error, Epos2Problem};
 
     const OBJ: ObjAddr = ObjAddr { index: 0x1018, sub: 1 };
 
@@ -997,7 +936,7 @@ mod tests {
                 "slcan:x: the adapter refused a frame",
             ),
             (
-                LinkError::Epos2Answer {
+                Epos2Error::Answer {
                     bus: "epos2-usb:/dev/x".into(),
                     problem: Epos2Problem::TooShort { command: "ReadObject" },
                 }
@@ -1056,61 +995,68 @@ mod tests {
                 "slcan:x: the adapter refused to send 601",
             ),
             (
-                LinkError::Epos2Serial {
+                Epos2Error::Serial {
                     bus: "epos2-rs232:/dev/x".into(),
                     command: "ReadObject",
                     failure: Failure::Timeout("to the OpCode"),
                     retry: None,
-                },
+                }
+                .into(),
                 "epos2-rs232:/dev/x: ReadObject failed: no answer to the OpCode; check the cable, the bit rate \
                  (?baud=) and that no other program uses the port; a slow device may need a \
                  longer --timeout",
             ),
             (
-                LinkError::Epos2Serial {
+                Epos2Error::Serial {
                     bus: "epos2-rs232:/dev/x".into(),
                     command: "ReadObject",
                     failure: Failure::Misfit(3),
                     retry: Some(Failure::Io(std::io::Error::other("gone"))),
-                },
+                }
+                .into(),
                 "epos2-rs232:/dev/x: ReadObject failed: 3 answers in a row that do not answer this command \
                  (discarded); after a resync and retry: the port failed: gone; check that the device is connected \
                  and powered, then run the command again",
             ),
             (
-                LinkError::Epos2Answer { bus: "b".into(), problem: Epos2Problem::EmptySegment },
+                Epos2Error::Answer { bus: "b".into(), problem: Epos2Problem::EmptySegment }.into(),
                 "b: empty SegmentRead answer",
             ),
             (
-                LinkError::Epos2Answer {
+                Epos2Error::Answer {
                     bus: "b".into(),
                     problem: Epos2Problem::ToggleNotAlternated { node: 2, obj: OBJ },
-                },
+                }
+                .into(),
                 "node 2: segmented read of 0x1018:1: toggle bit not alternated",
             ),
             (
-                LinkError::Epos2Answer { bus: "b".into(), problem: Epos2Problem::ShortSegment { node: 2, claimed: 7 } },
+                Epos2Error::Answer { bus: "b".into(), problem: Epos2Problem::ShortSegment { node: 2, claimed: 7 } }
+                    .into(),
                 "node 2: segment claims 7 bytes but carries fewer",
             ),
             (
-                LinkError::Epos2Answer {
+                Epos2Error::Answer {
                     bus: "b".into(),
                     problem: Epos2Problem::EmptySegments { node: 2, obj: OBJ, count: 8 },
-                },
+                }
+                .into(),
                 "node 2: segmented read of 0x1018:1: 8 segments in a row without data that say more follow; \
                  stopped. The device's SDO server is stuck: reset the node (`canctl nmt reset 2`) and read again",
             ),
             (
-                LinkError::Epos2Answer {
+                Epos2Error::Answer {
                     bus: "b".into(),
                     problem: Epos2Problem::TooLong { node: 2, obj: OBJ, bytes: 1048576, limit_kib: 1024 },
-                },
+                }
+                .into(),
                 "node 2: segmented read of 0x1018:1: 1048576 bytes and the device still says more follow; stopped \
                  at the limit of 1024 KiB for reads through an EPOS2. A value this large is read over SocketCAN \
                  (block transfer); otherwise the device is faulty: reset it",
             ),
             (
-                LinkError::Epos2Answer { bus: "b".into(), problem: Epos2Problem::ExtraSegment { node: 2, obj: OBJ } },
+                Epos2Error::Answer { bus: "b".into(), problem: Epos2Problem::ExtraSegment { node: 2, obj: OBJ } }
+                    .into(),
                 "node 2: segmented write of 0x1018:1: the EPOS2 confirmed another segment",
             ),
             (LinkError::Pty { op: PtyOp::Create, detail: "ENOSPC".into() }, "cannot create a pseudo-terminal: ENOSPC"),

@@ -6,7 +6,8 @@ use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::{abort, ObjAddr};
 use crate::epos2::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
 use crate::epos2::transport::Transport;
-use crate::error::{Epos2Problem, Error, LinkError, NodeIdRange, Result};
+use crate::epos2::{Epos2Error, Epos2Problem};
+use crate::error::{Error, LinkError, NodeIdRange, Result};
 use crate::frame::Frame;
 use std::time::{Duration, Instant};
 
@@ -77,7 +78,7 @@ impl<T: Transport> Epos2Gateway<T> {
     }
 
     fn bad_answer(&self, problem: Epos2Problem) -> Error {
-        LinkError::Epos2Answer { bus: self.link.describe(), problem }.into()
+        Epos2Error::Answer { bus: self.link.describe(), problem }.into()
     }
 
     /// Segment size: 63 bytes to the EPOS2 itself, one CAN SDO segment through it.
@@ -383,7 +384,7 @@ mod tests {
     }
 
     impl<F: FnMut(&Command) -> SerialFrame> Transport for Scripted<F> {
-        fn transact(&mut self, frame: &SerialFrame, _answered: bool) -> Result<Option<SerialFrame>> {
+        fn transact(&mut self, frame: &SerialFrame, _answered: bool) -> Result<Option<SerialFrame>, Epos2Error> {
             let cmd = Command::from_frame(frame).expect("a command");
             let a = (self.answer)(&cmd);
             self.sent.push(cmd);

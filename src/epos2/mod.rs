@@ -2,8 +2,11 @@
 //! gateway that offers the `Bus` services through them is [`crate::backend::epos2`].
 
 pub mod command;
+pub mod error;
 pub mod frame;
 pub mod transport;
+
+pub use error::{Epos2Error, Epos2Problem};
 
 /// The two ways an EPOS2 frames its serial protocol.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

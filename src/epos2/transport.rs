@@ -11,9 +11,9 @@
 //! wait for a quiet line by a total limit.
 
 use super::command::{self, Command};
+use super::error::Epos2Error;
 use super::frame::{self, Frame, FrameError, UsbDecoder};
 use super::Framing;
-use crate::error::{LinkError, Result};
 use crate::trace;
 use std::io;
 use std::time::{Duration, Instant};
@@ -25,7 +25,7 @@ use crate::serial::SerialIo;
 
 /// Sends one command frame and returns the answer frame, if the command has one here.
 pub trait Transport {
-    fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>>;
+    fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>, Epos2Error>;
     /// `epos2-rs232:/dev/ttyS0`, for messages.
     fn describe(&self) -> String;
     /// RS232 leaves some commands unanswered; USB answers all.
@@ -258,7 +258,7 @@ impl<S: SerialIo> SerialTransport<S> {
 }
 
 impl<S: SerialIo> Transport for SerialTransport<S> {
-    fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>> {
+    fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>, Epos2Error> {
         let what = Command::from_frame(command).map_or("command", |c| c.name());
         let (failure, retry) = match self.attempt(command, answered) {
             Ok(a) => return Ok(a),
@@ -274,7 +274,7 @@ impl<S: SerialIo> Transport for SerialTransport<S> {
         };
         // Whatever is still on its way belongs to nobody now.
         self.in_step = false;
-        Err(LinkError::Epos2Serial { bus: self.describe.clone(), command: what, failure, retry }.into())
+        Err(Epos2Error::Serial { bus: self.describe.clone(), command: what, failure, retry })
     }
 
     fn describe(&self) -> String {
@@ -470,7 +470,7 @@ mod tests {
         let misfits: Vec<u8> = (0..=MAX_DISCARDED).flat_map(|_| usb(&command::answer(0, &[]))).collect();
         let replies = vec![probe.clone(), misfits.clone(), probe, misfits];
         let mut t = transport(Scripted::new(&[], replies));
-        let e = t.transact(&read_object(), true).unwrap_err();
+        let e = crate::Error::from(t.transact(&read_object(), true).unwrap_err());
         assert_eq!(e.exit_code(), 5);
         assert!(e.to_string().contains("do not answer this command"), "{e}");
     }
@@ -481,7 +481,7 @@ mod tests {
         io.babble = true;
         let mut t = transport(io);
         let start = Instant::now();
-        let e = t.transact(&read_object(), true).unwrap_err();
+        let e = crate::Error::from(t.transact(&read_object(), true).unwrap_err());
         assert_eq!(e.exit_code(), 5);
         assert!(e.to_string().contains("does not fall quiet"), "{e}");
         assert!(start.elapsed() < Duration::from_secs(30), "bounded");
