@@ -1,0 +1,410 @@
+use super::*;
+use crate::epos2::{Epos2Error, Epos2Problem};
+
+const OBJ: ObjAddr = ObjAddr { index: 0x1018, sub: 1 };
+
+fn ms(n: u64) -> Duration {
+    Duration::from_millis(n)
+}
+
+/// Every class is in `ALL` (a class added without it fails to compile here).
+#[test]
+fn all_lists_every_class() {
+    for class in ErrorClass::ALL {
+        let position = match class {
+            ErrorClass::Usage => 0,
+            ErrorClass::Timeout => 1,
+            ErrorClass::Refused => 2,
+            ErrorClass::Link => 3,
+            ErrorClass::Verify => 4,
+            ErrorClass::Output => 5,
+            ErrorClass::Interrupted => 6,
+        };
+        assert_eq!(ErrorClass::ALL[position], class);
+    }
+}
+
+/// The texts are the ones canctl printed when these errors were strings.
+#[test]
+fn messages_say_what_they_always_said() {
+    let cases: Vec<(Error, &str)> = vec![
+        (
+            Error::NoAnswer { node: 7, what: Service::Sdo(OBJ), waited: ms(500) },
+            "node 7: did not answer the SDO transfer of 0x1018:1 (waited 500 ms)",
+        ),
+        (
+            Error::SdoUnfinished {
+                node: 7,
+                obj: OBJ,
+                moved: Moved { bytes: 10, total: Some(100) },
+                why: Unfinished::Deadline { budget: ms(2500), timeout: ms(500) },
+            },
+            "node 7: the SDO transfer of 0x1018:1 did not finish within its deadline of 2.5 s (10 of 100 bytes \
+             moved; the deadline follows from the size and --timeout 500 ms)",
+        ),
+        (
+            Error::SdoUnfinished {
+                node: 7,
+                obj: OBJ,
+                moved: Moved { bytes: 10, total: None },
+                why: Unfinished::NoProgress { waited: ms(500), ignored: 3, last: "60 00 00".into() },
+            },
+            "node 7: the SDO transfer of 0x1018:1 made no progress for 500 ms (10 bytes moved): the device \
+             sent 3 frame(s) that did not advance it (the last: 60 00 00)",
+        ),
+        (
+            Error::SdoUnfinished {
+                node: 7,
+                obj: OBJ,
+                moved: Moved { bytes: 0, total: None },
+                why: Unfinished::Silent { waited: ms(500) },
+            },
+            "node 7: stopped answering during the SDO transfer of 0x1018:1 (waited 500 ms, 0 bytes moved)",
+        ),
+        (
+            Error::NoAnswer { node: 4, what: Service::NmtState { heartbeat: Some(ms(1500)) }, waited: ms(500) },
+            "node 4: no heartbeat within 1500 ms and no answer to node guarding within 500 ms",
+        ),
+        (
+            Error::NoAnswer { node: 4, what: Service::NmtState { heartbeat: None }, waited: ms(500) },
+            "node 4: no answer to node guarding within 500 ms",
+        ),
+        (
+            Error::NoAnswer { node: 4, what: Service::AfterReset, waited: ms(3000) },
+            "node 4: NMT reset sent, but no answer to remote requests within 3000 ms after it; not confirmed. \
+             Check the node with `canctl scan`, or wait longer (--wait)",
+        ),
+        (Error::NoAnswer { node: 4, what: Service::BootUp, waited: ms(3000) }, "node 4: no boot-up within 3000 ms"),
+        (
+            Error::NoAnswer { node: 0, what: Service::BootUp, waited: ms(3000) },
+            "all nodes: no boot-up within 3000 ms",
+        ),
+        (
+            Error::StoreRefused { node: 5, verb: "restore", why: StoreRefusal::NoObject { index: 0x1011 } },
+            "node 5 has no object 0x1011: it cannot restore parameters",
+        ),
+        (
+            Error::StoreRefused {
+                node: 5,
+                verb: "store",
+                why: StoreRefusal::NotOffered {
+                    class: "manufacturer parameters",
+                    index: 0x1010,
+                    highest: 1,
+                    offered: vec!["all parameters"],
+                },
+            },
+            "node 5 cannot store manufacturer parameters (0x1010:0 = 1; it offers: all parameters)",
+        ),
+        (
+            Error::StoreRefused {
+                node: 5,
+                verb: "store",
+                why: StoreRefusal::NotOnCommand {
+                    class: "all parameters",
+                    obj: ObjAddr { index: 0x1010, sub: 1 },
+                    caps: 2,
+                    saves_itself: true,
+                },
+            },
+            "node 5 does not store all parameters on command (0x1010:1 = 0x00000002): it saves them by itself",
+        ),
+        (
+            Error::ReadBackMany { node: 5, objects: vec![OBJ, ObjAddr { index: 0x2000, sub: 0 }] },
+            "node 5: 0x1018:1, 0x2000:0 read back other values than written",
+        ),
+        (
+            Error::OtherDevice {
+                file: "a.dcf".into(),
+                differences: vec!["vendor-ID 0x00000001 on node 5, 0x00000002 in the file".into()],
+            },
+            "a.dcf is for another device: vendor-ID 0x00000001 on node 5, 0x00000002 in the file. Nothing was \
+             written; --force applies it anyway",
+        ),
+        (
+            Error::NoRemoteAnswer { cob: 0x705, waited: ms(300) },
+            "no answer to the remote request for 0x705 within 300 ms",
+        ),
+        (
+            Error::NoLssAnswer { request: "set-id".into(), identity: None, waited: ms(100) },
+            "no LSS device answered set-id within 100 ms",
+        ),
+        (
+            Error::NoLssAnswer {
+                request: "the selective switch".into(),
+                identity: Some(Identity { vendor: 1, product: 2, revision: 3, serial: 4 }),
+                waited: ms(100),
+            },
+            "no LSS device with identity 0x00000001:0x00000002:0x00000003:0x00000004 answered the selective \
+             switch within 100 ms",
+        ),
+        (
+            Error::LssSetIdUnknown {
+                identity: Identity { vendor: 0x40, product: 2, revision: 3, serial: 4 },
+                node: 20,
+                tries: 3,
+                waited: ms(200),
+            },
+            "no answer from 0x00000040:0x00000002:0x00000003:0x00000004 to set-id 20 within 200 ms, asked 3 \
+             times: unknown whether it holds node 20 now (canctl lss inquire --identity \
+             0x00000040:0x00000002:0x00000003:0x00000004 shows its node-id)",
+        ),
+        (
+            Error::LssRefused { service: "store".into(), cs: 0x17, error: 1, specific: 0 },
+            "LSS store: error 1: store configuration not supported",
+        ),
+        (
+            Error::LssRefused { service: "set-id".into(), cs: 0x11, error: 255, specific: 9 },
+            "LSS set-id: error 255: implementation-specific error (see the specific code) (specific code 9)",
+        ),
+        (
+            Error::Epos2NoCanAnswer { node: 3, command: "ReadObject", obj: Some(OBJ) },
+            "node 3: ReadObject of 0x1018:1: no answer on the CAN bus (the EPOS2 reports SDO timeout 0x05040000)",
+        ),
+        (
+            Error::Epos2Refused { node: 0, command: "SendNMTService", obj: None, code: 0x0602_0000 },
+            "node 0: SendNMTService: error 0x06020000: Object does not exist in the object dictionary",
+        ),
+        (
+            Error::Epos2Refused {
+                node: 2,
+                command: "WriteObject",
+                obj: Some(OBJ),
+                code: crate::epos2::command::WRONG_NMT_STATE,
+            },
+            "node 2: WriteObject of 0x1018:1: EPOS2 error 0x0F00FFC0: Device is in wrong NMT state",
+        ),
+        (
+            Error::NodeIdOutOfRange { node: 0, range: NodeIdRange::CanOpen },
+            "node-id 0 is only for an EPOS2 on an epos2-rs232/epos2-usb bus; here use 1 to 127",
+        ),
+        (
+            Error::NodeIdOutOfRange { node: 200, range: NodeIdRange::CanOpen },
+            "node-id 200 is out of range: use 1 to 127",
+        ),
+        (
+            Error::NodeIdOutOfRange { node: 200, range: NodeIdRange::Epos2 },
+            "node-id 200 is out of range: use 0 (the EPOS2 itself) or 1 to 127",
+        ),
+        (
+            Error::SlcanBitRate { port: "slcan:x".into(), kbit: 83, supported: vec!["10k".into(), "20k".into()] },
+            "slcan:x: slcan has no 83 kbit/s; use one of 10k 20k",
+        ),
+        (
+            Error::AdapterNoAnswer { port: "slcan:x".into(), command: "S6".into(), waited: ms(200) },
+            "slcan:x: the adapter did not answer \"S6\" within 200 ms",
+        ),
+        (
+            Error::Fastscan { error: FastscanError::NoDevice, step: ms(10) },
+            "no device without a node-id answered the fastscan",
+        ),
+        (
+            Error::Fastscan { error: FastscanError::NoMatch { part: 1, value: 0x1234 }, step: ms(10) },
+            "no device without a node-id has product code 0x00001234 (waited up to 10 ms a step)",
+        ),
+        (
+            Error::NoFreeNodeId {
+                start: 120,
+                identity: Identity { vendor: 1, product: 2, revision: 3, serial: 4 },
+            },
+            "no free node-id left from 120 to 127 for 0x00000001:0x00000002:0x00000003:0x00000004: give a lower --start",
+        ),
+        (
+            Error::ReadBack { node: 5, obj: OBJ, wrote: "7".into(), read: "8".into() },
+            "node 5: 0x1018:1 reads back 8 after writing 7",
+        ),
+        (
+            LinkError::SdoProtocol {
+                node: 5,
+                obj: OBJ,
+                reason: "toggle bit not alternated".into(),
+                aborted: Some(0x0503_0000),
+            }
+            .into(),
+            "node 5: SDO transfer of 0x1018:1 failed: toggle bit not alternated (aborted with 0x05030000)",
+        ),
+        (LinkError::Io { port: "can0".into(), op: "", error: std::io::Error::other("gone") }.into(), "can0: gone"),
+        (
+            LinkError::Io { port: "can0".into(), op: "send failed", error: std::io::Error::other("gone") }.into(),
+            "can0: send failed: gone",
+        ),
+        (
+            LinkError::AdapterRefusedFrame { port: "slcan:x".into(), cob: Some(0), flags: vec!["bus error"] }
+                .into(),
+            "slcan:x: the adapter refused to send 000 (bus error)",
+        ),
+        (
+            LinkError::AdapterRefusedFrame { port: "slcan:x".into(), cob: None, flags: vec![] }.into(),
+            "slcan:x: the adapter refused a frame",
+        ),
+        (
+            Epos2Error::Answer {
+                bus: "epos2-usb:/dev/x".into(),
+                problem: Epos2Problem::TooShort { command: "ReadObject" },
+            }
+            .into(),
+            "epos2-usb:/dev/x: the answer to ReadObject is too short",
+        ),
+        (LinkError::Pty { op: PtyOp::Poll, detail: "EINTR".into() }.into(), "pty poll: EINTR"),
+        (
+            LinkError::StateFile { path: "/tmp/s.json".into(), what: "cannot read", detail: "denied".into() }
+                .into(),
+            "sim state file /tmp/s.json: cannot read: denied",
+        ),
+    ];
+    for (error, text) in cases {
+        assert_eq!(error.to_string(), text);
+    }
+}
+
+/// The link failures, likewise.
+#[test]
+fn link_messages_say_what_they_always_said() {
+    use crate::epos2::transport::Failure;
+    let cases: Vec<(LinkError, &str)> = vec![
+        (
+            LinkError::NoInterface { iface: "can9".into(), available: vec![] },
+            "there is no network interface 'can9' (CAN interfaces here: none).\n  \
+             A CAN adapter: plug it in, then sudo ip link set can9 up type can bitrate 500000\n  \
+             A virtual bus: sudo ip link add dev can9 type vcan && sudo ip link set up can9\n  \
+             No hardware: try the demo network, --bus sim",
+        ),
+        (LinkError::NotCan { iface: "eth0".into() }, "'eth0' is not a CAN interface"),
+        (
+            LinkError::Down { iface: "can0".into() },
+            "can0 is down: bring it up first (e.g. sudo ip link set can0 up type can bitrate 500000)",
+        ),
+        (
+            LinkError::BusOff { iface: "can0".into(), detail: "bus off".into() },
+            "can0: the controller went bus-off (bus off)",
+        ),
+        (
+            LinkError::TxQueueFull { iface: "can0".into(), waited: Duration::from_secs(2) },
+            "can0: the transmit queue stayed full for 2 s (no other node acknowledging? bus-off?)",
+        ),
+        (
+            LinkError::AdapterRefused { port: "slcan:x".into(), what: "open the channel" },
+            "slcan:x: the adapter refused to open the channel; is it an slcan (Lawicel) adapter, and not in use \
+             by another program?",
+        ),
+        (
+            LinkError::AdapterBusError { port: "slcan:x".into(), flags: vec!["bus error", "error passive"] },
+            "slcan:x: the adapter reports bus error, error passive: check the wiring, the termination and the \
+             bit rate",
+        ),
+        (
+            LinkError::AdapterRefusedFrame { port: "slcan:x".into(), cob: Some(0x601), flags: vec![] },
+            "slcan:x: the adapter refused to send 601",
+        ),
+        (
+            Epos2Error::Serial {
+                bus: "epos2-rs232:/dev/x".into(),
+                command: "ReadObject",
+                failure: Failure::Timeout("to the OpCode"),
+                retry: None,
+            }
+            .into(),
+            "epos2-rs232:/dev/x: ReadObject failed: no answer to the OpCode; check the cable, the bit rate \
+             (?baud=) and that no other program uses the port; a slow device may need a \
+             longer --timeout",
+        ),
+        (
+            Epos2Error::Serial {
+                bus: "epos2-rs232:/dev/x".into(),
+                command: "ReadObject",
+                failure: Failure::Misfit(3),
+                retry: Some(Failure::Io(std::io::Error::other("gone"))),
+            }
+            .into(),
+            "epos2-rs232:/dev/x: ReadObject failed: 3 answers in a row that do not answer this command \
+             (discarded); after a resync and retry: the port failed: gone; check that the device is connected \
+             and powered, then run the command again",
+        ),
+        (
+            Epos2Error::Answer { bus: "b".into(), problem: Epos2Problem::EmptySegment }.into(),
+            "b: empty SegmentRead answer",
+        ),
+        (
+            Epos2Error::Answer { bus: "b".into(), problem: Epos2Problem::ToggleNotAlternated { node: 2, obj: OBJ } }
+                .into(),
+            "node 2: segmented read of 0x1018:1: toggle bit not alternated",
+        ),
+        (
+            Epos2Error::Answer { bus: "b".into(), problem: Epos2Problem::ShortSegment { node: 2, claimed: 7 } }.into(),
+            "node 2: segment claims 7 bytes but carries fewer",
+        ),
+        (
+            Epos2Error::Answer {
+                bus: "b".into(),
+                problem: Epos2Problem::EmptySegments { node: 2, obj: OBJ, count: 8 },
+            }
+            .into(),
+            "node 2: segmented read of 0x1018:1: 8 segments in a row without data that say more follow; \
+             stopped. The device's SDO server is stuck: reset the node (`canctl nmt reset 2`) and read again",
+        ),
+        (
+            Epos2Error::Answer {
+                bus: "b".into(),
+                problem: Epos2Problem::TooLong { node: 2, obj: OBJ, bytes: 1048576, limit_kib: 1024 },
+            }
+            .into(),
+            "node 2: segmented read of 0x1018:1: 1048576 bytes and the device still says more follow; stopped \
+             at the limit of 1024 KiB for reads through an EPOS2. A value this large is read over SocketCAN \
+             (block transfer); otherwise the device is faulty: reset it",
+        ),
+        (
+            Epos2Error::Answer { bus: "b".into(), problem: Epos2Problem::ExtraSegment { node: 2, obj: OBJ } }.into(),
+            "node 2: segmented write of 0x1018:1: the EPOS2 confirmed another segment",
+        ),
+        (LinkError::Pty { op: PtyOp::Create, detail: "ENOSPC".into() }, "cannot create a pseudo-terminal: ENOSPC"),
+    ];
+    for (error, text) in cases {
+        assert_eq!(Error::from(error).to_string(), text);
+    }
+    let usage = [
+        (
+            Error::TooLargeForSdo { len: 5_000_000_000 },
+            "5000000000 bytes cannot be written by SDO: CiA 301 sizes are 32-bit (at most 4294967295 bytes)",
+        ),
+        (
+            Error::BadBusAddr { uri: "sim:".into(), reason: "sim: needs a state file path".into() },
+            "bus 'sim:': sim: needs a state file path",
+        ),
+        (
+            Error::NotOnThisBus {
+                bus: "epos2-usb:/dev/x".into(),
+                why: "remote frames go through RequestCANFrame; use a request",
+            },
+            "epos2-usb:/dev/x: remote frames go through RequestCANFrame; use a request",
+        ),
+    ];
+    for (error, text) in usage {
+        assert_eq!(error.exit_code(), 2);
+        assert_eq!(error.to_string(), text);
+    }
+}
+
+#[test]
+fn a_hint_is_appended_and_keeps_the_exit_code() {
+    let e = Error::NoAnswer { node: 7, what: Service::Sdo(OBJ), waited: ms(500) }.with_hint("; try scan");
+    assert_eq!(e.to_string(), "node 7: did not answer the SDO transfer of 0x1018:1 (waited 500 ms); try scan");
+    assert_eq!(e.exit_code(), 3);
+    assert!(matches!(e.root(), Error::NoAnswer { node: 7, .. }));
+}
+
+#[test]
+fn a_fastscan_that_could_not_confirm_is_a_link_failure_the_others_are_timeouts() {
+    let step = ms(10);
+    assert_eq!(Error::Fastscan { error: FastscanError::Unconfirmed(2), step }.exit_code(), 5);
+    assert_eq!(Error::Fastscan { error: FastscanError::Lost, step }.exit_code(), 3);
+    assert_eq!(Error::Fastscan { error: FastscanError::NoDevice, step }.exit_code(), 3);
+}
+
+/// A link failure prints once: its cause is in its text, not repeated as a source.
+#[test]
+fn a_link_error_has_no_source_to_print_twice() {
+    use std::error::Error as _;
+    let e: Error = LinkError::Open { port: "/dev/x".into(), error: std::io::Error::other("gone") }.into();
+    assert!(e.source().is_none());
+    assert_eq!(e.to_string(), "cannot open /dev/x: gone");
+}
