@@ -34,7 +34,9 @@ pub enum BusAddr {
     },
 }
 
+/// The serial bit rate of an `epos2-rs232:` bus without `?baud=` (the EPOS2's default).
 pub const RS232_DEFAULT_BAUD: u32 = 115_200;
+/// The bit rate of an `epos2-usb:` bus without `?baud=`.
 pub const USB_DEFAULT_BAUD: u32 = 1_000_000;
 /// The CAN bit rate of an slcan adapter named without `@RATE`.
 pub const SLCAN_DEFAULT_KBIT: u32 = 500;
@@ -174,6 +176,8 @@ pub struct OpenOptions {
 }
 
 impl OpenOptions {
+    /// Options with this answer timeout: the saved sim network, no frame log, the default
+    /// wait for the sim network's lock.
     pub fn new(timeout: Duration) -> OpenOptions {
         OpenOptions { timeout, ephemeral: false, frame_log: None, lock_wait: crate::sim::state::DEFAULT_LOCK_WAIT }
     }

@@ -28,15 +28,19 @@ impl Frame {
         Frame { id, rtr: true, len, data: [0; 8] }
     }
 
+    /// The 11-bit CAN id.
     pub fn id(&self) -> u16 {
         self.id
     }
+    /// A remote request (RTR)?
     pub fn is_remote(&self) -> bool {
         self.rtr
     }
+    /// The data length code (of a remote request: the length asked for).
     pub fn len(&self) -> usize {
         self.len as usize
     }
+    /// No data bytes?
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }

@@ -109,7 +109,9 @@ impl std::fmt::Display for Source {
 /// A value and where it came from.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Sourced<T> {
+    /// The value.
     pub value: T,
+    /// Where it came from.
     pub from: Source,
 }
 
@@ -157,6 +159,7 @@ struct NodeSettings {
 pub struct FileSettings {
     /// The bus, and the file that names it.
     pub bus: Option<(String, PathBuf)>,
+    /// The answer timeout, and the file that sets it.
     pub timeout: Option<(Duration, PathBuf)>,
     /// Per node: the EDS (relative paths resolved against its file), and that file.
     pub eds: BTreeMap<u8, (PathBuf, PathBuf)>,
@@ -225,14 +228,18 @@ pub struct Given {
     pub bus: Option<String>,
     /// ...and whether it came from `CANCTL_BUS`.
     pub bus_from_env: bool,
+    /// The answer timeout from `--timeout`.
     pub timeout: Option<Duration>,
+    /// The `--eds` files.
     pub eds: Vec<EdsFile>,
 }
 
 /// The settings in force, each with where it came from.
 #[derive(Clone, Debug)]
 pub struct Settings {
+    /// The bus URI, if any source named one.
     pub bus: Option<Sourced<String>>,
+    /// The answer timeout (the default when nothing sets it).
     pub timeout: Sourced<Duration>,
     /// The command line's files first, then the settings files' for the nodes it leaves.
     pub eds: Vec<Sourced<EdsFile>>,
@@ -287,20 +294,29 @@ impl Settings {
 /// The settings in force, as shown.
 #[derive(Debug, Serialize)]
 pub struct SettingsReport {
+    /// The bus URI.
     pub bus: Option<String>,
+    /// Where the bus came from.
     pub bus_from: Option<String>,
+    /// The answer timeout in milliseconds.
     pub timeout_ms: u64,
+    /// Where the timeout came from.
     pub timeout_from: String,
+    /// The EDS files in force.
     pub eds: Vec<EdsReport>,
+    /// The settings files read.
     pub files: Vec<String>,
 }
 
+/// One EDS in force, as shown.
 #[derive(Debug, Serialize)]
 pub struct EdsReport {
     /// "node N" or "every node".
     #[serde(rename = "for")]
     pub node: String,
+    /// The file.
     pub file: String,
+    /// Where it was given.
     pub from: String,
 }
 

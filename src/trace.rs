@@ -23,6 +23,7 @@ pub enum Dir {
 }
 
 impl Dir {
+    /// The `dir` field's value: `tx` or `rx`.
     pub fn as_str(self) -> &'static str {
         match self {
             Dir::Tx => "tx",

@@ -24,6 +24,8 @@ const MAX_EMPTY_SEGMENTS: usize = 8;
 /// bytes a round trip is already minutes on a serial line.
 pub const MAX_SEGMENTED_UPLOAD: usize = 1 << 20;
 
+/// The `Bus` services through an EPOS2 over its serial protocol: its own objects by its
+/// commands, every other node through its CAN bus (the gateway of seed 002).
 pub struct Epos2Gateway<T: Transport> {
     link: T,
     /// The EPOS2's own node-id, read once when first needed; `None` until then.
@@ -35,6 +37,7 @@ pub struct Epos2Gateway<T: Transport> {
 }
 
 impl<T: Transport> Epos2Gateway<T> {
+    /// A gateway over an open transport; it learns its own node-id when first needed.
     pub fn new(link: T) -> Epos2Gateway<T> {
         Epos2Gateway { link, own_id: None, observed: Observed::default(), frame_log: None }
     }

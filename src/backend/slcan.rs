@@ -23,6 +23,7 @@ enum Until {
     Deadline,
 }
 
+/// A serial-line CAN adapter as a [`FrameLink`]: Lawicel ASCII lines to and from frames.
 pub struct SlcanLink<P: SerialIo> {
     port: P,
     /// `slcan:/dev/ttyACM0`, for messages and traces.
@@ -34,6 +35,7 @@ pub struct SlcanLink<P: SerialIo> {
     open: bool,
     /// Lines that were not slcan, and 29-bit frames, since the link was opened.
     pub garbled: u64,
+    /// 29-bit frames received (canctl speaks 11-bit CANopen; they are counted and dropped).
     pub extended: u64,
 }
 

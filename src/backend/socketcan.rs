@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 /// How long a send may wait for room in a full transmit queue before it is a link failure.
 const TX_QUEUE_PATIENCE: Duration = Duration::from_secs(2);
 
+/// A Linux CAN interface (`can0`, `vcan0`) as a [`FrameLink`].
 pub struct SocketCanLink {
     sock: CanSocket,
     iface: String,
@@ -45,6 +46,8 @@ fn no_socket_option(e: &io::Error) -> bool {
 }
 
 impl SocketCanLink {
+    /// Open `iface`, after checking that it exists, is a CAN interface and is up (each
+    /// with its own error and what to do).
     pub fn open(iface: &str) -> Result<SocketCanLink> {
         check_interface(iface)?;
         let io = |op: &'static str| move |error| LinkError::Io { port: iface.to_string(), op, error };

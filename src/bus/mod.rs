@@ -71,6 +71,7 @@ pub trait FrameLink {
     }
 }
 
+/// How one SDO transfer is made: its timeout, transfer kinds, limits, stop and progress.
 #[derive(Clone)]
 pub struct SdoOptions {
     /// How long to wait for each answer: a transfer that makes no progress for this long
@@ -128,6 +129,8 @@ impl std::fmt::Debug for SdoOptions {
 }
 
 impl SdoOptions {
+    /// The defaults with this timeout: block download allowed, no block upload, the
+    /// default upload limit and retries, no stop, no progress.
     pub fn new(timeout: Duration) -> SdoOptions {
         SdoOptions {
             timeout,
@@ -167,7 +170,9 @@ pub enum LssWait {
 /// One LSS slave answer and when it came, timed from the request.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct LssAnswer {
+    /// The answer frame's eight bytes.
     pub data: [u8; 8],
+    /// How long after the request it came.
     pub after: Duration,
 }
 

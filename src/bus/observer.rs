@@ -25,11 +25,14 @@ pub enum SeenBy {
 /// Stray LSS answers kept at most: a babbling device must not fill the memory.
 const MAX_LSS_ANSWERS: usize = 1024;
 
+/// What a bus showed by itself during a session, kept by the bus as frames pass.
 #[derive(Clone, Debug, Default)]
 pub struct Observed {
+    /// The node-ids seen in use, with what showed each one.
     pub nodes: BTreeMap<u8, BTreeSet<SeenBy>>,
     /// The last NMT state each node reported (heartbeat or guarding answer).
     pub states: BTreeMap<u8, nmt::State>,
+    /// The nodes whose boot-up message was seen.
     pub boot_ups: BTreeSet<u8>,
     /// LSS slave answers (0x7E4, 8 bytes) that came outside an exchange waiting for them,
     /// oldest first; `take_lss_answers` empties it.

@@ -23,6 +23,7 @@ pub struct Stoppable<'a> {
 }
 
 impl<'a> Stoppable<'a> {
+    /// `bus`, ending every service with `Error::Interrupted` once `stop` is cancelled.
     pub fn new(bus: &'a mut dyn Bus, stop: Cancel) -> Self {
         Stoppable { bus, stop }
     }

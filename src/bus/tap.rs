@@ -33,6 +33,8 @@ pub struct AfterSdo<'a, F: FnMut(Transfer, u32)> {
 }
 
 impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
+    /// `bus`, calling `after` with the kind and count of each confirmed SDO transfer and NMT
+    /// command as it ends.
     pub fn new(bus: &'a mut dyn Bus, after: F) -> Self {
         AfterSdo { bus, after, uploads: 0, downloads: 0, commands: 0, on_progress: None }
     }

@@ -3,17 +3,29 @@
 use super::frame::Frame;
 use crate::canopen::{abort, ObjAddr};
 
+/// The opcode of every answer frame.
 pub const ANSWER: u8 = 0x00;
+/// SendNMTService.
 pub const SEND_NMT: u8 = 0x0E;
+/// ReadObject: an expedited read (four bytes).
 pub const READ_OBJECT: u8 = 0x10;
+/// WriteObject: an expedited write (four bytes).
 pub const WRITE_OBJECT: u8 = 0x11;
+/// InitiateSegmentedRead.
 pub const INITIATE_SEGMENTED_READ: u8 = 0x12;
+/// InitiateSegmentedWrite.
 pub const INITIATE_SEGMENTED_WRITE: u8 = 0x13;
+/// SegmentRead.
 pub const SEGMENT_READ: u8 = 0x14;
+/// SegmentWrite.
 pub const SEGMENT_WRITE: u8 = 0x15;
+/// SendCANFrame: put a frame on the EPOS2's CAN bus.
 pub const SEND_CAN_FRAME: u8 = 0x20;
+/// RequestCANFrame: a remote request, answered with the data frame.
 pub const REQUEST_CAN_FRAME: u8 = 0x21;
+/// SendLSSFrame.
 pub const SEND_LSS_FRAME: u8 = 0x30;
+/// ReadLSSFrame: the next LSS slave answer.
 pub const READ_LSS_FRAME: u8 = 0x31;
 /// No command has this opcode. The EPOS2 answers a bad opcode with the error code
 /// 0x0F00FFBF (seed 000 §4.1.3.1), an answer no real command of ours ever gets: sent after
@@ -25,10 +37,14 @@ pub const MAX_SEGMENT: usize = 63;
 /// Through the gateway, a segment is one CANopen SDO segment.
 pub const GATEWAY_SEGMENT: usize = 7;
 
+/// A segment control byte's toggle bit.
 pub const TOGGLE: u8 = 0x40;
+/// A segment control byte's "more segments follow" bit.
 pub const MORE: u8 = 0x80;
+/// A segment control byte's length bits.
 pub const LENGTH: u8 = 0x3F;
 
+/// One EPOS2 command with its parameters.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Command {
     ReadObject { node: u8, addr: ObjAddr },
@@ -50,6 +66,7 @@ fn object(addr: ObjAddr, node: u8) -> Vec<u8> {
 }
 
 impl Command {
+    /// Its name in seed 000 (`ReadObject`), for messages.
     pub fn name(&self) -> &'static str {
         match self {
             Command::ReadObject { .. } => "ReadObject",
@@ -95,6 +112,7 @@ impl Command {
         }
     }
 
+    /// The command frame.
     pub fn to_frame(&self) -> Frame {
         match self {
             Command::ReadObject { node, addr } => Frame::new(READ_OBJECT, object(*addr, *node)),
@@ -200,10 +218,15 @@ pub fn parse_answer(f: &Frame) -> Option<(u32, &[u8])> {
     Some((u32::from_le_bytes(f.data[..4].try_into().unwrap()), &f.data[4..]))
 }
 
+/// maxon error: the device is in the wrong NMT state.
 pub const WRONG_NMT_STATE: u32 = 0x0F00_FFC0;
+/// maxon error: no command has this opcode.
 pub const ILLEGAL_COMMAND: u32 = 0x0F00_FFBF;
+/// maxon error: wrong password.
 pub const PASSWORD: u32 = 0x0F00_FFBE;
+/// maxon error: the device is not in service mode.
 pub const SERVICE_MODE: u32 = 0x0F00_FFBC;
+/// maxon error: wrong CAN id.
 pub const CAN_ID: u32 = 0x0F00_FFB9;
 
 /// The maxon-specific error codes (seed 000 §8.2).

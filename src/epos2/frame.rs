@@ -8,7 +8,9 @@
 
 use std::fmt;
 
+/// USB framing's escape byte (seed 000 §4.1).
 pub const DLE: u8 = 0x90;
+/// USB framing's start byte, after a DLE.
 pub const STX: u8 = 0x02;
 /// The USB Len field counts words, 0..=143 (seed 000 §4.1.2).
 pub const USB_MAX_WORDS: usize = 143;
@@ -18,7 +20,9 @@ pub const RS232_MAX_WORDS: usize = 256;
 /// One command or answer: opcode and data bytes (always an even number).
 #[derive(Clone, PartialEq, Eq)]
 pub struct Frame {
+    /// The command's opcode ([`super::command::ANSWER`] in answers).
     pub opcode: u8,
+    /// Parameter bytes, little-endian words.
     pub data: Vec<u8>,
 }
 
@@ -31,6 +35,7 @@ impl Frame {
         Frame { opcode, data }
     }
 
+    /// The data length in 16-bit words, as the Len fields count it.
     pub fn words(&self) -> usize {
         self.data.len() / 2
     }
@@ -42,6 +47,7 @@ impl fmt::Debug for Frame {
     }
 }
 
+/// Why received bytes are not a frame.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum FrameError {
     #[error("CRC mismatch: frame says 0x{got:04X}, data gives 0x{want:04X}")]
@@ -154,6 +160,7 @@ pub struct UsbDecoder {
 }
 
 impl UsbDecoder {
+    /// A decoder waiting for a frame's start.
     pub fn new() -> UsbDecoder {
         UsbDecoder::default()
     }

@@ -178,6 +178,8 @@ pub struct SerialTransport<S> {
 }
 
 impl<S: SerialIo> SerialTransport<S> {
+    /// A transport over `io`; `describe` names the bus in messages, `timeout` bounds each
+    /// frame's answer (seed 000 §5.1.6).
     pub fn new(io: S, framing: Framing, describe: String, timeout: Duration) -> SerialTransport<S> {
         SerialTransport { port: Port::new(io, timeout), framing, describe, in_step: false }
     }

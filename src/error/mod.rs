@@ -14,6 +14,7 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::Duration;
 
+/// Everything that can go wrong in the library, each with its exit code ([`Error::class`]).
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     // ---- usage (exit 2) ----
@@ -199,6 +200,7 @@ pub enum ErrorClass {
 }
 
 impl ErrorClass {
+    /// Every class, in the order of the exit-code table.
     pub const ALL: [ErrorClass; 7] = [
         ErrorClass::Usage,
         ErrorClass::Timeout,
@@ -230,6 +232,7 @@ impl From<crate::od::eds::EdsError> for Error {
 }
 
 impl Error {
+    /// Which kind of failure this is: the one mapping from errors to exit codes.
     pub fn class(&self) -> ErrorClass {
         use ErrorClass as C;
         match self {
@@ -278,6 +281,7 @@ impl Error {
         }
     }
 
+    /// The process exit code for this error.
     pub fn exit_code(&self) -> i32 {
         self.class().exit_code()
     }
@@ -573,7 +577,9 @@ fn node_id_text(node: u8, range: NodeIdRange) -> String {
 /// How much of an SDO transfer had moved: bytes, of the total when the size is known.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Moved {
+    /// Bytes moved.
     pub bytes: usize,
+    /// The transfer's size, when known.
     pub total: Option<usize>,
 }
 
@@ -692,6 +698,7 @@ impl fmt::Display for PtyOp {
     }
 }
 
+/// The library's result.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 #[cfg(test)]

@@ -32,11 +32,17 @@ pub fn state_path(bus: Option<&str>) -> Result<PathBuf> {
 pub struct Reset {
     /// Always true.
     pub reset: bool,
+    /// The state file written.
     pub state_file: String,
+    /// The device profile of the network.
     pub profile: String,
+    /// The random seed the network was made with.
     pub seed: u64,
+    /// Devices without a node-id.
     pub unconfigured: u8,
+    /// The network's bit rate.
     pub bit_rate: String,
+    /// The faults injected.
     pub faults: Vec<String>,
     /// Commands run on virtual time (`--virtual-time`).
     #[serde(skip_serializing_if = "std::ops::Not::not")]

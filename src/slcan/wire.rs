@@ -8,7 +8,9 @@
 
 use crate::frame::Frame;
 
+/// Ends every line, and is the adapter's "OK".
 pub const CR: u8 = b'\r';
+/// The adapter's "refused".
 pub const BELL: u8 = 0x07;
 /// The longest line an adapter sends: `T` + 8 + 1 + 16 data + 4 time stamp digits.
 pub const MAX_LINE: usize = 30;
@@ -44,6 +46,7 @@ pub enum Command {
 }
 
 impl Command {
+    /// The command line, CR included.
     pub fn encode(&self) -> Vec<u8> {
         let mut out = match self {
             Command::BitRate(code) => format!("S{code}"),
@@ -87,6 +90,7 @@ impl Status {
         "bus error",
     ];
 
+    /// The names of the flags set.
     pub fn names(&self) -> Vec<&'static str> {
         (0..8).filter(|b| self.0 & (1 << b) != 0).map(|b| Status::NAMES[b]).collect()
     }
@@ -224,6 +228,7 @@ pub struct Decoder {
 }
 
 impl Decoder {
+    /// A decoder at the start of a line.
     pub fn new() -> Decoder {
         Decoder::default()
     }

@@ -41,6 +41,8 @@ impl Watch {
     }
 }
 
+/// The CANopen client (SDO, NMT, LSS, frames) over a raw [`FrameLink`]: the [`Bus`] of
+/// SocketCAN, slcan and the simulator.
 pub struct Master<L: FrameLink> {
     link: L,
     describe: String,
@@ -82,6 +84,7 @@ impl Active {
 }
 
 impl<L: FrameLink> Master<L> {
+    /// A client over `link`; `describe` is the bus as messages name it (`socketcan:can0`).
     pub fn new(link: L, describe: String) -> Master<L> {
         Master {
             link,
@@ -101,6 +104,7 @@ impl<L: FrameLink> Master<L> {
         self
     }
 
+    /// The link under the client (tests drive the simulator through it).
     pub fn link_mut(&mut self) -> &mut L {
         &mut self.link
     }
