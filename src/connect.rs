@@ -35,11 +35,11 @@ pub enum BusAddr {
 }
 
 /// The serial bit rate of an `epos2-rs232:` bus without `?baud=` (the EPOS2's default).
-pub const RS232_DEFAULT_BAUD: u32 = 115_200;
+pub(crate) const RS232_DEFAULT_BAUD: u32 = 115_200;
 /// The bit rate of an `epos2-usb:` bus without `?baud=`.
-pub const USB_DEFAULT_BAUD: u32 = 1_000_000;
+pub(crate) const USB_DEFAULT_BAUD: u32 = 1_000_000;
 /// The CAN bit rate of an slcan adapter named without `@RATE`.
-pub const SLCAN_DEFAULT_KBIT: u32 = 500;
+pub(crate) const SLCAN_DEFAULT_KBIT: u32 = 500;
 
 /// `500k`, `1M`, `125000` (bit/s) → kbit/s.
 fn parse_kbit(text: &str) -> Option<u32> {

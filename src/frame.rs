@@ -33,7 +33,7 @@ impl Frame {
         self.id
     }
     /// A remote request (RTR)?
-    pub fn is_remote(&self) -> bool {
+    pub(crate) fn is_remote(&self) -> bool {
         self.rtr
     }
     /// The data length code (of a remote request: the length asked for).
@@ -54,7 +54,7 @@ impl Frame {
     }
 
     /// One line as `candump` prints it: `  vcan0  605   [8]  40 00 10 00 00 00 00 00`.
-    pub fn candump_line(&self, iface: &str) -> String {
+    pub(crate) fn candump_line(&self, iface: &str) -> String {
         let mut s = format!("  {iface}  {:03X}   [{}] ", self.id, self.len);
         if self.rtr {
             s.push_str(" remote request");

@@ -13,7 +13,7 @@ use crate::frame::Frame;
 /// The target of the frame trace events.
 pub const FRAMES: &str = "canctl::frames";
 /// The target of the EPOS2 serial byte trace events.
-pub const BYTES: &str = "canctl::bytes";
+pub(crate) const BYTES: &str = "canctl::bytes";
 
 /// Which way a frame went, seen from canctl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,7 +33,7 @@ impl Dir {
 }
 
 /// Whether anyone listens to the frame trace (building a line costs an allocation).
-pub fn frames_enabled() -> bool {
+pub(crate) fn frames_enabled() -> bool {
     tracing::enabled!(target: FRAMES, tracing::Level::DEBUG)
 }
 

@@ -22,7 +22,7 @@ const MAX_EMPTY_SEGMENTS: usize = 8;
 /// The largest value read in segments through an EPOS2. Its answers do not say how long a
 /// value is, so a device that keeps saying "more" is stopped here: a 1 MiB upload at 63
 /// bytes a round trip is already minutes on a serial line.
-pub const MAX_SEGMENTED_UPLOAD: usize = 1 << 20;
+pub(crate) const MAX_SEGMENTED_UPLOAD: usize = 1 << 20;
 
 /// The `Bus` services through an EPOS2 over its serial protocol: its own objects by its
 /// commands, every other node through its CAN bus (the gateway of seed 002).
@@ -44,7 +44,7 @@ impl<T: Transport> Epos2Gateway<T> {
 
     /// Also log the CAN frames this side sees: NMT, LSS, SendCANFrame and RequestCANFrame
     /// (SDO transfers are the EPOS2's own business on its bus).
-    pub fn with_frame_log(mut self, log: Option<FrameLog>) -> Epos2Gateway<T> {
+    pub(crate) fn with_frame_log(mut self, log: Option<FrameLog>) -> Epos2Gateway<T> {
         self.frame_log = log;
         self
     }

@@ -49,7 +49,7 @@ impl FrameLog {
     }
 
     /// A log into any writer (`name` says where it goes, for messages).
-    pub fn to_writer(out: impl Write + Send + 'static, name: String) -> FrameLog {
+    pub(crate) fn to_writer(out: impl Write + Send + 'static, name: String) -> FrameLog {
         FrameLog { inner: Arc::new(Mutex::new(Inner { out: Box::new(out), name, failed: None })) }
     }
 
@@ -91,7 +91,7 @@ impl FrameLog {
 /// One line of a candump log: `(SECONDS.MICROS) IFACE ID#DATA`, the frame in can-utils'
 /// compact notation (`123#R` for a remote request, `123#R4` with a length). Whitespace in
 /// an interface name would split the line's fields: it becomes `_`.
-pub fn candump_log_line(time: SystemTime, iface: &str, frame: &Frame) -> String {
+pub(crate) fn candump_log_line(time: SystemTime, iface: &str, frame: &Frame) -> String {
     let since = time.duration_since(UNIX_EPOCH).unwrap_or_default();
     let iface: String = iface.chars().map(|c| if c.is_whitespace() { '_' } else { c }).collect();
     format!("({:010}.{:06}) {iface} {frame}", since.as_secs(), since.subsec_micros())

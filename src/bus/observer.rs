@@ -42,7 +42,7 @@ pub struct Observed {
 impl Observed {
     /// Note what `f` says. `guarding`: the error-control id a remote request is waiting an
     /// answer on; `in_exchange`: whether an LSS exchange is collecting answers itself.
-    pub fn on_frame(&mut self, f: &Frame, guarding: Option<u16>, in_exchange: bool) {
+    pub(crate) fn on_frame(&mut self, f: &Frame, guarding: Option<u16>, in_exchange: bool) {
         if f.is_remote() {
             return;
         }
@@ -92,12 +92,12 @@ impl Observed {
     }
 
     /// Every node-id seen in use, however.
-    pub fn node_ids(&self) -> BTreeSet<u8> {
+    pub(crate) fn node_ids(&self) -> BTreeSet<u8> {
         self.nodes.keys().copied().collect()
     }
 
     /// The stray LSS answers since the last call.
-    pub fn take_lss_answers(&mut self) -> Vec<[u8; 8]> {
+    pub(crate) fn take_lss_answers(&mut self) -> Vec<[u8; 8]> {
         std::mem::take(&mut self.lss_answers)
     }
 }

@@ -41,7 +41,7 @@ impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
 
     /// Also call `hook` after each answer that moves a transfer on (as
     /// [`SdoOptions::on_progress`], where the caller set none).
-    pub fn with_progress_hook(mut self, hook: Option<TransferHook>) -> Self {
+    pub(crate) fn with_progress_hook(mut self, hook: Option<TransferHook>) -> Self {
         self.on_progress = hook;
         self
     }

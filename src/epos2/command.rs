@@ -4,45 +4,45 @@ use super::frame::Frame;
 use crate::canopen::{abort, ObjAddr};
 
 /// The opcode of every answer frame.
-pub const ANSWER: u8 = 0x00;
+pub(crate) const ANSWER: u8 = 0x00;
 /// SendNMTService.
-pub const SEND_NMT: u8 = 0x0E;
+pub(crate) const SEND_NMT: u8 = 0x0E;
 /// ReadObject: an expedited read (four bytes).
-pub const READ_OBJECT: u8 = 0x10;
+pub(crate) const READ_OBJECT: u8 = 0x10;
 /// WriteObject: an expedited write (four bytes).
-pub const WRITE_OBJECT: u8 = 0x11;
+pub(crate) const WRITE_OBJECT: u8 = 0x11;
 /// InitiateSegmentedRead.
-pub const INITIATE_SEGMENTED_READ: u8 = 0x12;
+pub(crate) const INITIATE_SEGMENTED_READ: u8 = 0x12;
 /// InitiateSegmentedWrite.
-pub const INITIATE_SEGMENTED_WRITE: u8 = 0x13;
+pub(crate) const INITIATE_SEGMENTED_WRITE: u8 = 0x13;
 /// SegmentRead.
-pub const SEGMENT_READ: u8 = 0x14;
+pub(crate) const SEGMENT_READ: u8 = 0x14;
 /// SegmentWrite.
-pub const SEGMENT_WRITE: u8 = 0x15;
+pub(crate) const SEGMENT_WRITE: u8 = 0x15;
 /// SendCANFrame: put a frame on the EPOS2's CAN bus.
-pub const SEND_CAN_FRAME: u8 = 0x20;
+pub(crate) const SEND_CAN_FRAME: u8 = 0x20;
 /// RequestCANFrame: a remote request, answered with the data frame.
-pub const REQUEST_CAN_FRAME: u8 = 0x21;
+pub(crate) const REQUEST_CAN_FRAME: u8 = 0x21;
 /// SendLSSFrame.
-pub const SEND_LSS_FRAME: u8 = 0x30;
+pub(crate) const SEND_LSS_FRAME: u8 = 0x30;
 /// ReadLSSFrame: the next LSS slave answer.
-pub const READ_LSS_FRAME: u8 = 0x31;
+pub(crate) const READ_LSS_FRAME: u8 = 0x31;
 /// No command has this opcode. The EPOS2 answers a bad opcode with the error code
 /// 0x0F00FFBF (seed 000 §4.1.3.1), an answer no real command of ours ever gets: sent after
 /// opening the port or after a failure, it marks the point from which answers are ours.
-pub const SYNC_PROBE: u8 = 0xFE;
+pub(crate) const SYNC_PROBE: u8 = 0xFE;
 
 /// Most data bytes in one SegmentRead/SegmentWrite (the control byte's six length bits).
-pub const MAX_SEGMENT: usize = 63;
+pub(crate) const MAX_SEGMENT: usize = 63;
 /// Through the gateway, a segment is one CANopen SDO segment.
-pub const GATEWAY_SEGMENT: usize = 7;
+pub(crate) const GATEWAY_SEGMENT: usize = 7;
 
 /// A segment control byte's toggle bit.
-pub const TOGGLE: u8 = 0x40;
+pub(crate) const TOGGLE: u8 = 0x40;
 /// A segment control byte's "more segments follow" bit.
-pub const MORE: u8 = 0x80;
+pub(crate) const MORE: u8 = 0x80;
 /// A segment control byte's length bits.
-pub const LENGTH: u8 = 0x3F;
+pub(crate) const LENGTH: u8 = 0x3F;
 
 /// One EPOS2 command with its parameters.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -93,7 +93,7 @@ impl Command {
     /// opcode and, with error code 0, exactly the length of this command's answer; with an
     /// error code, at least the code and at most that length. An "illegal command" answer
     /// is never one to a command canctl sends: it answers a synchronisation probe.
-    pub fn answer_fits(&self, f: &Frame) -> bool {
+    pub(crate) fn answer_fits(&self, f: &Frame) -> bool {
         let Some((code, _)) = parse_answer(f) else { return false };
         let (min, max) = self.answer_len();
         let len = f.data.len();
@@ -102,7 +102,7 @@ impl Command {
 
     /// The shortest and longest answer to this command in bytes, error code included,
     /// when it succeeds (seed 000 chapter 3).
-    pub fn answer_len(&self) -> (usize, usize) {
+    pub(crate) fn answer_len(&self) -> (usize, usize) {
         match self {
             Command::ReadObject { .. } => (8, 8),
             Command::SegmentRead { .. } => (6, 4 + (1 + MAX_SEGMENT).next_multiple_of(2)),
@@ -201,12 +201,12 @@ pub fn answer(error: u32, data: &[u8]) -> Frame {
 }
 
 /// The synchronisation probe: an opcode that does not exist, one zero word.
-pub fn sync_probe() -> Frame {
+pub(crate) fn sync_probe() -> Frame {
     Frame::new(SYNC_PROBE, vec![0, 0])
 }
 
 /// Whether `f` is the EPOS2's answer to the synchronisation probe.
-pub fn is_probe_answer(f: &Frame) -> bool {
+pub(crate) fn is_probe_answer(f: &Frame) -> bool {
     parse_answer(f).is_some_and(|(code, _)| code == ILLEGAL_COMMAND)
 }
 
@@ -219,15 +219,15 @@ pub fn parse_answer(f: &Frame) -> Option<(u32, &[u8])> {
 }
 
 /// maxon error: the device is in the wrong NMT state.
-pub const WRONG_NMT_STATE: u32 = 0x0F00_FFC0;
+pub(crate) const WRONG_NMT_STATE: u32 = 0x0F00_FFC0;
 /// maxon error: no command has this opcode.
-pub const ILLEGAL_COMMAND: u32 = 0x0F00_FFBF;
+pub(crate) const ILLEGAL_COMMAND: u32 = 0x0F00_FFBF;
 /// maxon error: wrong password.
-pub const PASSWORD: u32 = 0x0F00_FFBE;
+pub(crate) const PASSWORD: u32 = 0x0F00_FFBE;
 /// maxon error: the device is not in service mode.
-pub const SERVICE_MODE: u32 = 0x0F00_FFBC;
+pub(crate) const SERVICE_MODE: u32 = 0x0F00_FFBC;
 /// maxon error: wrong CAN id.
-pub const CAN_ID: u32 = 0x0F00_FFB9;
+pub(crate) const CAN_ID: u32 = 0x0F00_FFB9;
 
 /// The maxon-specific error codes (seed 000 §8.2).
 const MAXON: &[(u32, &str)] = &[
@@ -239,13 +239,13 @@ const MAXON: &[(u32, &str)] = &[
 ];
 
 /// Whether `code` is one of the maxon-specific codes of seed 000 §8.2.
-pub fn is_maxon_code(code: u32) -> bool {
+pub(crate) fn is_maxon_code(code: u32) -> bool {
     MAXON.iter().any(|(c, _)| *c == code)
 }
 
 /// The meaning of an EPOS2 error code: the CANopen codes of §8.1 are the CiA 301 abort
 /// codes, the rest are maxon's own.
-pub fn error_meaning(code: u32) -> &'static str {
+pub(crate) fn error_meaning(code: u32) -> &'static str {
     MAXON.iter().find(|(c, _)| *c == code).map(|(_, m)| *m).unwrap_or_else(|| abort::meaning(code))
 }
 

@@ -13,9 +13,9 @@ pub const DLE: u8 = 0x90;
 /// USB framing's start byte, after a DLE.
 pub const STX: u8 = 0x02;
 /// The USB Len field counts words, 0..=143 (seed 000 §4.1.2).
-pub const USB_MAX_WORDS: usize = 143;
+pub(crate) const USB_MAX_WORDS: usize = 143;
 /// RS232 carries 1..=256 words (Len-1 is one byte).
-pub const RS232_MAX_WORDS: usize = 256;
+pub(crate) const RS232_MAX_WORDS: usize = 256;
 
 /// One command or answer: opcode and data bytes (always an even number).
 #[derive(Clone, PartialEq, Eq)]
@@ -96,7 +96,7 @@ pub fn rs232_encode(f: &Frame) -> Vec<u8> {
 }
 
 /// Bytes that follow OpCode and Len-1 on RS232: the data words and the CRC.
-pub fn rs232_body_len(len_minus_1: u8) -> usize {
+pub(crate) fn rs232_body_len(len_minus_1: u8) -> usize {
     (len_minus_1 as usize + 1) * 2 + 2
 }
 
@@ -154,7 +154,7 @@ enum UsbState {
 /// Reassembles USB frames from a byte stream: skips anything before DLE STX, undoes the
 /// stuffing, checks length and CRC. Feed bytes one at a time.
 #[derive(Debug, Default)]
-pub struct UsbDecoder {
+pub(crate) struct UsbDecoder {
     state: UsbState,
     body: Vec<u8>,
 }
@@ -166,7 +166,7 @@ impl UsbDecoder {
     }
 
     /// Whether a frame has started and not yet ended.
-    pub fn in_frame(&self) -> bool {
+    pub(crate) fn in_frame(&self) -> bool {
         matches!(self.state, UsbState::Body | UsbState::BodyDle)
     }
 

@@ -58,7 +58,7 @@ impl Failure {
     }
 
     /// What the user can do about it.
-    pub fn advice(&self) -> &'static str {
+    pub(crate) fn advice(&self) -> &'static str {
         match self {
             Failure::Io(_) => "check that the device is connected and powered, then run the command again",
             Failure::Babble(..) => {

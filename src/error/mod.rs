@@ -287,12 +287,12 @@ impl Error {
     }
 
     /// Nobody answered in time (exit 3): what a scan or a poll treats as "not there".
-    pub fn is_timeout(&self) -> bool {
+    pub(crate) fn is_timeout(&self) -> bool {
         self.class() == ErrorClass::Timeout
     }
 
     /// The user asked to stop (exit 130): a procedure ends with a report of what it did.
-    pub fn is_interrupted(&self) -> bool {
+    pub(crate) fn is_interrupted(&self) -> bool {
         self.class() == ErrorClass::Interrupted
     }
 
@@ -305,7 +305,7 @@ impl Error {
     }
 
     /// This error with advice appended to its message.
-    pub fn with_hint(self, hint: impl Into<String>) -> Error {
+    pub(crate) fn with_hint(self, hint: impl Into<String>) -> Error {
         Error::Hinted { error: Box::new(self), hint: hint.into() }
     }
 }
@@ -372,7 +372,7 @@ impl From<LinkError> for Error {
 
 /// Text the user gave, echoed in a message: a value of 100 KB (a variable expanded by
 /// mistake) shown whole would bury the message, so a long one is cut, its length said.
-pub fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
+pub(crate) fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
     const SHOWN: usize = 60;
     let count = text.chars().count();
     if count <= SHOWN + 20 {

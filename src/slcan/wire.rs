@@ -11,16 +11,16 @@ use crate::frame::Frame;
 /// Ends every line, and is the adapter's "OK".
 pub const CR: u8 = b'\r';
 /// The adapter's "refused".
-pub const BELL: u8 = 0x07;
+pub(crate) const BELL: u8 = 0x07;
 /// The longest line an adapter sends: `T` + 8 + 1 + 16 data + 4 time stamp digits.
-pub const MAX_LINE: usize = 30;
+pub(crate) const MAX_LINE: usize = 30;
 
 /// The `S0`..`S8` bit rates, in kbit/s.
-pub const BIT_RATES: [(u8, u32); 9] =
+pub(crate) const BIT_RATES: [(u8, u32); 9] =
     [(0, 10), (1, 20), (2, 50), (3, 100), (4, 125), (5, 250), (6, 500), (7, 800), (8, 1000)];
 
 /// The `Sn` code for a bit rate in kbit/s, if slcan has one.
-pub fn bit_rate_code(kbit: u32) -> Option<u8> {
+pub(crate) fn bit_rate_code(kbit: u32) -> Option<u8> {
     BIT_RATES.iter().find(|(_, k)| *k == kbit).map(|(c, _)| *c)
 }
 
@@ -151,7 +151,7 @@ impl Message {
 
 /// Decode a command line from the host (without its CR), as an adapter does; `None` for a
 /// 29-bit frame, which an adapter accepts but a CANopen network has no use for.
-pub fn decode_command(line: &[u8]) -> Result<Option<Command>, WireError> {
+pub(crate) fn decode_command(line: &[u8]) -> Result<Option<Command>, WireError> {
     let bad = || WireError::Malformed(String::from_utf8_lossy(line).into_owned());
     Ok(Some(match line {
         [b'S', code @ b'0'..=b'8'] => Command::BitRate(code - b'0'),
@@ -175,7 +175,7 @@ pub fn decode_command(line: &[u8]) -> Result<Option<Command>, WireError> {
 }
 
 /// Decode one line (without its CR).
-pub fn decode_line(line: &[u8]) -> Result<Message, WireError> {
+pub(crate) fn decode_line(line: &[u8]) -> Result<Message, WireError> {
     let bad = || WireError::Malformed(String::from_utf8_lossy(line).into_owned());
     let Some((&kind, rest)) = line.split_first() else { return Ok(Message::Ok) };
     let text = std::str::from_utf8(rest).map_err(|_| bad())?;
