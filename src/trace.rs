@@ -13,7 +13,7 @@ use crate::frame::Frame;
 /// The target of the frame trace events.
 pub const FRAMES: &str = "canctl::frames";
 /// The target of the EPOS2 serial byte trace events.
-pub(crate) const BYTES: &str = "canctl::bytes";
+pub const BYTES: &str = "canctl::bytes";
 
 /// Which way a frame went, seen from canctl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

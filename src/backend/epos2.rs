@@ -44,7 +44,7 @@ impl<T: Transport> Epos2Gateway<T> {
 
     /// Also log the CAN frames this side sees: NMT, LSS, SendCANFrame and RequestCANFrame
     /// (SDO transfers are the EPOS2's own business on its bus).
-    pub(crate) fn with_frame_log(mut self, log: Option<FrameLog>) -> Epos2Gateway<T> {
+    pub fn with_frame_log(mut self, log: Option<FrameLog>) -> Epos2Gateway<T> {
         self.frame_log = log;
         self
     }

@@ -20,7 +20,7 @@ pub(crate) const RS232_MAX_WORDS: usize = 256;
 /// One command or answer: opcode and data bytes (always an even number).
 #[derive(Clone, PartialEq, Eq)]
 pub struct Frame {
-    /// The command's opcode ([`super::command::ANSWER`] in answers).
+    /// The command's opcode (0x00 in answers).
     pub opcode: u8,
     /// Parameter bytes, little-endian words.
     pub data: Vec<u8>,

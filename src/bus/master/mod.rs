@@ -99,7 +99,7 @@ impl<L: FrameLink> Master<L> {
     }
 
     /// Also write every frame sent and received to `log`.
-    pub(crate) fn with_frame_log(mut self, log: Option<FrameLog>) -> Master<L> {
+    pub fn with_frame_log(mut self, log: Option<FrameLog>) -> Master<L> {
         self.frame_log = log;
         self
     }
