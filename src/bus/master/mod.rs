@@ -503,195 +503,191 @@ fn check_node(node: u8) -> Result<()> {
     }
 }
 
-impl<L: FrameLink> Bus for Master<L> {
-    fn describe(&self) -> String {
-        self.describe.clone()
-    }
-
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        let client = self.upload_client(node, addr, opts);
-        self.one(node, client, opts)
-    }
-
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        if u32::try_from(data.len()).is_err() {
-            return Err(Error::TooLargeForSdo { len: data.len() });
-        }
-        let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
-        self.one(node, client, opts).map(|_| ())
-    }
-
-    fn sdo_upload_many(
-        &mut self,
-        requests: &[(u8, ObjAddr)],
-        opts: &SdoOptions,
-        progress: &mut dyn FnMut(usize),
-    ) -> Result<Vec<Result<Vec<u8>>>> {
-        for (node, _) in requests {
-            check_node(*node)?;
-        }
-        let jobs = requests.iter().map(|(node, addr)| (*node, self.upload_client(*node, *addr, opts))).collect();
-        self.run(jobs, opts.timeout, opts.retries, progress, &Watch::of([opts]))
-    }
-
-    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
-        let mut clients = Vec::with_capacity(jobs.len());
-        let mut timeout = Duration::ZERO;
-        let mut retries = 0;
-        let watch = Watch::of(jobs.iter().map(|j| match j {
-            SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } => opts,
-        }));
-        for job in jobs {
-            let (node, client, opts) = match job {
-                SdoJob::Upload { node, addr, opts } => (*node, self.upload_client(*node, *addr, opts), opts),
-                SdoJob::Download { node, addr, data, opts } => {
-                    if u32::try_from(data.len()).is_err() {
-                        return Err(Error::TooLargeForSdo { len: data.len() });
-                    }
-                    let block = self.block_allowed(*node, opts.block_download);
-                    (*node, SdoClient::download(*addr, data.clone(), block), opts)
-                }
-            };
-            check_node(node)?;
-            // One wait for the batch: the longest any job asks for.
-            timeout = timeout.max(opts.timeout);
-            retries = retries.max(opts.retries);
-            clients.push((node, client));
-        }
-        self.run(clients, timeout, retries, &mut |_| {}, &watch)
-    }
-
-    fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
-        if node != super::ALL_NODES {
-            check_node(node)?;
-        }
-        self.send(&cmd.frame(node))
-    }
-
-    fn send_frame(&mut self, frame: &Frame) -> Result<()> {
-        self.send(frame)
-    }
-
-    fn now(&self) -> Instant {
-        self.link.now()
-    }
-
-    fn sleep_until(&mut self, t: Instant) -> Result<()> {
-        self.link.sleep_until(t)
-    }
-
-    fn follows_bit_rate_switch(&self) -> bool {
-        self.link.follows_bit_rate_switch()
-    }
-
-    fn sees_traffic(&self) -> bool {
-        true
-    }
-    fn check_link(&mut self) -> Result<()> {
-        self.link.check()
-    }
-
-    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
-        // A link hands over frames already queued even past the deadline; on a bus that
-        // never falls quiet a listener looping until `None` would never stop.
-        if self.link.now() >= deadline {
-            return Ok(None);
-        }
-        self.link.set_filters(&EVERYTHING)?;
-        self.recv(deadline)
-    }
-
-    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
-        // As `recv_frame`.
-        if self.link.now() >= deadline {
-            return Ok(None);
-        }
-        self.link.set_filters(&EVERYTHING)?;
-        self.recv_stamped(deadline)
-    }
-
-    fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
-        self.link.set_filters(&[(id, 0x7FF)])?;
-        self.send(&Frame::remote(id, len))?;
-        let deadline = self.link.now() + timeout;
-        self.guarding = Some(id);
-        let answer = self.wait_for(id, deadline);
-        self.guarding = None;
-        if let Some(f) = answer? {
-            return Ok(f);
-        }
-        Err(Error::NoRemoteAnswer { cob: id, waited: timeout })
-    }
-
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
-        self.link.set_filters(&[(lss::SLAVE_COB, 0x7FF)])?;
-        let answers = self.exchange_lss(request, expect, wait, collect);
-        self.in_lss_exchange = false;
-        answers
-    }
-
-    fn observed(&mut self) -> &mut Observed {
-        &mut self.observed
-    }
-
-    fn close(&mut self) -> Result<()> {
-        self.link.close()
-    }
-}
-
-impl<L: FrameLink> Master<L> {
-    /// The first data frame with this id before the deadline.
-    fn wait_for(&mut self, id: u16, deadline: Instant) -> Result<Option<Frame>> {
-        while let Some(f) = self.recv(deadline)? {
-            if f.id() == id && !f.is_remote() {
-                return Ok(Some(f));
-            }
-        }
-        Ok(None)
-    }
-
-    fn exchange_lss(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
-        // A slow slave's answer to the previous request must not count for this one (the
-        // observer keeps it as a stray). Bounded: a babbling device never lets up.
-        let drain_until = self.link.now() + DRAIN_LIMIT;
-        while self.link.now() < drain_until && self.recv(self.link.now())?.is_some() {}
-        self.send(&Frame::new(lss::MASTER_COB, request))?;
-        let mut answers = Vec::new();
-        if collect == LssWait::Nothing {
-            return Ok(answers);
-        }
-        self.in_lss_exchange = true;
-        let sent = self.link.now();
-        // Only a well-formed answer with the expected command specifier counts, and none
-        // moves the deadline later: a flood on 0x7E4 cannot keep this waiting.
-        let mut deadline = sent + wait;
-        while let Some(f) = self.recv(deadline)? {
-            if f.id() != lss::SLAVE_COB || f.is_remote() || !lss::is_answer(f.data(), expect) {
-                continue;
-            }
-            let data: [u8; 8] = f.data().try_into().expect("8 bytes");
-            answers.push(LssAnswer { data, after: self.link.now().saturating_duration_since(sent) });
-            match collect {
-                LssWait::First => break,
-                LssWait::Settle(more) if answers.len() == 1 => deadline = deadline.min(self.link.now() + more),
-                _ => {}
-            }
-        }
-        Ok(answers)
-    }
-}
+mod service;
 
 #[cfg(test)]
-mod tests;
+mod tests {
+    //! Transfers under loss, on virtual time, against one SDO server whose frames (either
+    //! way) are lost where the test says.
+    use super::*;
+    use crate::canopen::sdo::{ObjectAccess, SdoServer};
+
+    const NODE: u8 = 4;
+    const CONTROL: ObjAddr = ObjAddr::new(0x1F51, 1);
+    const SAVE: ObjAddr = ObjAddr::new(0x1010, 1);
+    const HEARTBEAT: ObjAddr = ObjAddr::new(0x1017, 0);
+
+    #[derive(Default)]
+    struct Objects(BTreeMap<ObjAddr, Vec<u8>>, usize);
+
+    impl ObjectAccess for Objects {
+        fn read(&mut self, addr: ObjAddr) -> std::result::Result<Vec<u8>, u32> {
+            self.0.get(&addr).cloned().ok_or(abort::NO_OBJECT)
+        }
+        fn write(&mut self, addr: ObjAddr, data: &[u8]) -> std::result::Result<(), u32> {
+            self.1 += 1;
+            // Program control's state: what was commanded. A save leaves nothing to read.
+            if addr != SAVE {
+                self.0.insert(addr, data.to_vec());
+            }
+            Ok(())
+        }
+        fn check_write(&self, _addr: ObjAddr, _size: Option<usize>) -> std::result::Result<(), u32> {
+            Ok(())
+        }
+    }
+
+    /// One device; `lose_requests` and `lose_answers` number the frames (from 1) lost on
+    /// the way to it and from it. Answers take 2 ms.
+    struct Device {
+        server: SdoServer,
+        objects: Objects,
+        now: Instant,
+        queue: VecDeque<(Instant, Frame)>,
+        requests: usize,
+        answers: usize,
+        lose_requests: Vec<usize>,
+        lose_answers: Vec<usize>,
+        /// Answers that come 150 ms late, and answers that come twice.
+        late: Vec<usize>,
+        twice: Vec<usize>,
+    }
+
+    impl Device {
+        fn new(lose_requests: &[usize], lose_answers: &[usize]) -> Device {
+            let mut objects = Objects::default();
+            objects.0.insert(CONTROL, vec![0]);
+            objects.0.insert(HEARTBEAT, vec![0xE8, 0x03]);
+            Device {
+                server: SdoServer::new(false),
+                objects,
+                now: crate::bus::clock::monotonic_now(),
+                queue: VecDeque::new(),
+                requests: 0,
+                answers: 0,
+                lose_requests: lose_requests.to_vec(),
+                lose_answers: lose_answers.to_vec(),
+                late: Vec::new(),
+                twice: Vec::new(),
+            }
+        }
+    }
+
+    impl FrameLink for Device {
+        fn send(&mut self, frame: &Frame) -> Result<()> {
+            self.requests += 1;
+            if frame.id() != sdo::request_cob(NODE) || self.lose_requests.contains(&self.requests) {
+                return Ok(());
+            }
+            for answer in self.server.handle(frame.data(), &mut self.objects) {
+                self.answers += 1;
+                if self.lose_answers.contains(&self.answers) {
+                    continue;
+                }
+                let late = if self.late.contains(&self.answers) { 150 } else { 0 };
+                let at = self.now + Duration::from_millis(2 + late);
+                let copies = if self.twice.contains(&self.answers) { 2 } else { 1 };
+                for _ in 0..copies {
+                    self.queue.push_back((at, Frame::new(sdo::response_cob(NODE), &answer)));
+                }
+                self.queue.make_contiguous().sort_by_key(|(at, _)| *at);
+            }
+            Ok(())
+        }
+        fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+            match self.queue.front() {
+                Some((at, _)) if *at <= deadline => {
+                    self.now = self.now.max(*at);
+                    Ok(self.queue.pop_front().map(|(_, f)| f))
+                }
+                _ => {
+                    self.now = self.now.max(deadline);
+                    Ok(None)
+                }
+            }
+        }
+        fn name(&self) -> String {
+            "test".into()
+        }
+        fn now(&self) -> Instant {
+            self.now
+        }
+        fn sleep_until(&mut self, t: Instant) -> Result<()> {
+            self.now = self.now.max(t);
+            Ok(())
+        }
+    }
+
+    fn master(lose_requests: &[usize], lose_answers: &[usize]) -> Master<Device> {
+        Master::new(Device::new(lose_requests, lose_answers), "test".into())
+    }
+
+    fn opts() -> SdoOptions {
+        SdoOptions::new(Duration::from_millis(100))
+    }
+
+    #[test]
+    fn a_lost_request_and_a_lost_answer_are_retried() {
+        let mut m = master(&[1], &[]);
+        assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &opts()).unwrap(), vec![0xE8, 0x03]);
+        let mut m = master(&[], &[1]);
+        m.sdo_download(NODE, HEARTBEAT, &[0xD0, 0x07], &opts()).unwrap();
+        assert_eq!(m.link.objects.0[&HEARTBEAT], vec![0xD0, 0x07]);
+        assert_eq!(m.link.objects.1, 2, "written twice, the same value");
+    }
+
+    #[test]
+    fn retries_are_bounded() {
+        let mut m = master(&[1, 3, 5, 6], &[]);
+        let e = m.sdo_upload(NODE, HEARTBEAT, &opts()).unwrap_err();
+        assert!(matches!(e, Error::NoAnswer { .. }), "{e}");
+        // The first request and two retries, each after an abort: no fourth attempt. Then
+        // without retries, the one request (the sixth frame) lost ends it.
+        assert_eq!(m.link.requests, 5);
+        let e = m.sdo_upload(NODE, HEARTBEAT, &SdoOptions { retries: 0, ..opts() }).unwrap_err();
+        assert!(matches!(e, Error::NoAnswer { .. }), "{e}");
+    }
+
+    #[test]
+    fn a_store_whose_answer_is_lost_is_sent_once_and_its_outcome_unknown() {
+        let mut m = master(&[], &[1]);
+        let e = m.sdo_download(NODE, SAVE, b"save", &opts()).unwrap_err();
+        assert!(matches!(e, Error::SdoOutcomeUnknown { obj: SAVE, .. }), "{e}");
+        assert_eq!(e.exit_code(), 3);
+        assert_eq!(m.link.objects.1, 1, "the save was sent once");
+        // Its request lost instead: the device did nothing, which canctl cannot tell either.
+        let mut m = master(&[1], &[]);
+        let e = m.sdo_download(NODE, SAVE, b"save", &opts()).unwrap_err();
+        assert!(matches!(e, Error::SdoOutcomeUnknown { .. }), "{e}");
+        assert_eq!(m.link.requests, 1, "nothing sent after it");
+    }
+
+    #[test]
+    fn program_control_whose_answer_is_lost_is_read_back_not_repeated() {
+        // Started, its answer lost: the read-back shows it started.
+        let mut m = master(&[], &[1]);
+        m.sdo_download(NODE, CONTROL, &[1], &opts()).unwrap();
+        assert_eq!(m.link.objects.1, 1, "sent once");
+        // The request lost: the read-back shows it did not start, and the outcome stays
+        // unknown (the device may still be on its way); nothing is sent again.
+        let mut m = master(&[1], &[]);
+        let e = m.sdo_download(NODE, CONTROL, &[1], &opts()).unwrap_err();
+        assert!(matches!(e, Error::SdoOutcomeUnknown { obj: CONTROL, .. }), "{e}");
+        assert_eq!(m.link.objects.1, 0);
+    }
+
+    #[test]
+    fn a_segment_late_past_the_timeout_is_not_taken_for_the_retrys_answers() {
+        let name = ObjAddr::new(0x1008, 0);
+        let mut m = master(&[], &[]);
+        m.link.objects.0.insert(name, b"a device name of 24 bytes".to_vec());
+        // The answer with the second segment comes after the timeout, when the read has
+        // started again; the retry's first answer comes twice.
+        m.link.late = vec![3];
+        m.link.twice = vec![4];
+        assert_eq!(m.sdo_upload(NODE, name, &opts()).unwrap(), b"a device name of 24 bytes");
+        // Initiation, two segment requests, the abort, then the whole read again (four
+        // segments of seven bytes): the late segment moved nothing, the repeat neither.
+        assert_eq!(m.link.requests, 3 + 1 + 5);
+    }
+}

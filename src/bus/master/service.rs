@@ -1,0 +1,193 @@
+//! The [`Bus`] services of [`Master`], and the frame waits under them.
+
+use super::*;
+
+impl<L: FrameLink> Bus for Master<L> {
+    fn describe(&self) -> String {
+        self.describe.clone()
+    }
+
+    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+        let client = self.upload_client(node, addr, opts);
+        self.one(node, client, opts)
+    }
+
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+        if u32::try_from(data.len()).is_err() {
+            return Err(Error::TooLargeForSdo { len: data.len() });
+        }
+        let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
+        self.one(node, client, opts).map(|_| ())
+    }
+
+    fn sdo_upload_many(
+        &mut self,
+        requests: &[(u8, ObjAddr)],
+        opts: &SdoOptions,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Vec<Result<Vec<u8>>>> {
+        for (node, _) in requests {
+            check_node(*node)?;
+        }
+        let jobs = requests.iter().map(|(node, addr)| (*node, self.upload_client(*node, *addr, opts))).collect();
+        self.run(jobs, opts.timeout, opts.retries, progress, &Watch::of([opts]))
+    }
+
+    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
+        let mut clients = Vec::with_capacity(jobs.len());
+        let mut timeout = Duration::ZERO;
+        let mut retries = 0;
+        let watch = Watch::of(jobs.iter().map(|j| match j {
+            SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } => opts,
+        }));
+        for job in jobs {
+            let (node, client, opts) = match job {
+                SdoJob::Upload { node, addr, opts } => (*node, self.upload_client(*node, *addr, opts), opts),
+                SdoJob::Download { node, addr, data, opts } => {
+                    if u32::try_from(data.len()).is_err() {
+                        return Err(Error::TooLargeForSdo { len: data.len() });
+                    }
+                    let block = self.block_allowed(*node, opts.block_download);
+                    (*node, SdoClient::download(*addr, data.clone(), block), opts)
+                }
+            };
+            check_node(node)?;
+            // One wait for the batch: the longest any job asks for.
+            timeout = timeout.max(opts.timeout);
+            retries = retries.max(opts.retries);
+            clients.push((node, client));
+        }
+        self.run(clients, timeout, retries, &mut |_| {}, &watch)
+    }
+
+    fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
+        if node != crate::bus::ALL_NODES {
+            check_node(node)?;
+        }
+        self.send(&cmd.frame(node))
+    }
+
+    fn send_frame(&mut self, frame: &Frame) -> Result<()> {
+        self.send(frame)
+    }
+
+    fn now(&self) -> Instant {
+        self.link.now()
+    }
+
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        self.link.sleep_until(t)
+    }
+
+    fn follows_bit_rate_switch(&self) -> bool {
+        self.link.follows_bit_rate_switch()
+    }
+
+    fn sees_traffic(&self) -> bool {
+        true
+    }
+    fn check_link(&mut self) -> Result<()> {
+        self.link.check()
+    }
+
+    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        // A link hands over frames already queued even past the deadline; on a bus that
+        // never falls quiet a listener looping until `None` would never stop.
+        if self.link.now() >= deadline {
+            return Ok(None);
+        }
+        self.link.set_filters(&EVERYTHING)?;
+        self.recv(deadline)
+    }
+
+    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        // As `recv_frame`.
+        if self.link.now() >= deadline {
+            return Ok(None);
+        }
+        self.link.set_filters(&EVERYTHING)?;
+        self.recv_stamped(deadline)
+    }
+
+    fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
+        self.link.set_filters(&[(id, 0x7FF)])?;
+        self.send(&Frame::remote(id, len))?;
+        let deadline = self.link.now() + timeout;
+        self.guarding = Some(id);
+        let answer = self.wait_for(id, deadline);
+        self.guarding = None;
+        if let Some(f) = answer? {
+            return Ok(f);
+        }
+        Err(Error::NoRemoteAnswer { cob: id, waited: timeout })
+    }
+
+    fn lss_exchange(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>> {
+        self.link.set_filters(&[(lss::SLAVE_COB, 0x7FF)])?;
+        let answers = self.exchange_lss(request, expect, wait, collect);
+        self.in_lss_exchange = false;
+        answers
+    }
+
+    fn observed(&mut self) -> &mut Observed {
+        &mut self.observed
+    }
+
+    fn close(&mut self) -> Result<()> {
+        self.link.close()
+    }
+}
+
+impl<L: FrameLink> Master<L> {
+    /// The first data frame with this id before the deadline.
+    fn wait_for(&mut self, id: u16, deadline: Instant) -> Result<Option<Frame>> {
+        while let Some(f) = self.recv(deadline)? {
+            if f.id() == id && !f.is_remote() {
+                return Ok(Some(f));
+            }
+        }
+        Ok(None)
+    }
+
+    fn exchange_lss(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>> {
+        // A slow slave's answer to the previous request must not count for this one (the
+        // observer keeps it as a stray). Bounded: a babbling device never lets up.
+        let drain_until = self.link.now() + DRAIN_LIMIT;
+        while self.link.now() < drain_until && self.recv(self.link.now())?.is_some() {}
+        self.send(&Frame::new(lss::MASTER_COB, request))?;
+        let mut answers = Vec::new();
+        if collect == LssWait::Nothing {
+            return Ok(answers);
+        }
+        self.in_lss_exchange = true;
+        let sent = self.link.now();
+        // Only a well-formed answer with the expected command specifier counts, and none
+        // moves the deadline later: a flood on 0x7E4 cannot keep this waiting.
+        let mut deadline = sent + wait;
+        while let Some(f) = self.recv(deadline)? {
+            if f.id() != lss::SLAVE_COB || f.is_remote() || !lss::is_answer(f.data(), expect) {
+                continue;
+            }
+            let data: [u8; 8] = f.data().try_into().expect("8 bytes");
+            answers.push(LssAnswer { data, after: self.link.now().saturating_duration_since(sent) });
+            match collect {
+                LssWait::First => break,
+                LssWait::Settle(more) if answers.len() == 1 => deadline = deadline.min(self.link.now() + more),
+                _ => {}
+            }
+        }
+        Ok(answers)
+    }
+}
