@@ -52,7 +52,7 @@ pub const LAYERS: &[&[&str]] = &[
     &["sim"],
     &["backend"],
     &["bus"],
-    &["cancel", "atomic"],
+    &["cancel", "atomic", "hint"],
     &["error"],
     &["epos2", "slcan"],
     &["od"],
