@@ -4,7 +4,8 @@
 //! # Layers
 //!
 //! Each layer may use the ones below it, never one above nor a sibling; the order is
-//! [`LAYERS`], checked by `tests/layers.rs`. Top first:
+//! [`LAYERS`], checked by `tests/layers.rs`. Top first (a row may group layers that
+//! [`LAYERS`] keeps apart: `cli` over `output`, `ops` over `settings`):
 //!
 //! | layer | what |
 //! |---|---|
