@@ -136,22 +136,12 @@ fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> 
 /// Where the device's vendor-ID and product code are not the ones the file names, in words.
 fn identity_differences(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Vec<String>> {
     let (vendor, product) = dcf.identity();
-    let mut differ = Vec::new();
-    for (what, want, sub) in [("vendor-ID", vendor, 1), ("product code", product, 2)] {
-        if want == 0 {
-            continue;
-        }
-        let addr = ObjAddr::new(0x1018, sub);
-        let got = match bus.sdo_upload(node, addr, &opts(timeout, crate::canopen::DataType::U32)) {
-            Ok(bytes) => format!("0x{:08X}", super::le_u32(&bytes)),
-            Err(Error::SdoAbort { code, .. }) => format!("unreadable ({})", abort::meaning(code)),
-            Err(e) => return Err(e),
-        };
-        if got != format!("0x{want:08X}") {
-            differ.push(format!("{what} {got} on node {node}, 0x{want:08X} in the file"));
-        }
-    }
-    Ok(differ)
+    let parts = super::node::Node::new(bus, node, timeout).compare_identity(vendor, product)?;
+    Ok(parts
+        .iter()
+        .filter(|p| !p.matches())
+        .map(|p| format!("{} {} on node {node}, 0x{:08X} in the file", p.what, p.device_text(), p.file))
+        .collect())
 }
 
 /// A value the target's dictionary does not allow, refused before anything is written.
@@ -249,7 +239,7 @@ pub fn dump_as(
                 return Ok(Dump { node, objects, interrupted: true, wanted, source, dcf: Vec::new() });
             }
             // Not on this device: left out of the file.
-            Err(Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => continue,
+            Err(err) if super::node::is_missing(&err) => continue,
             Err(Error::SdoAbort { code, .. }) => progress.note(&format!("note: {}: {}", e.addr, abort::meaning(code))),
             Err(err) => return Err(err),
         }
@@ -745,8 +735,8 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
                     rows.push(Change::new(dcf, entry.addr, None, want, result));
                     continue;
                 }
-                Err(Error::SdoAbort { code, .. }) => {
-                    if matches!(code, abort::NO_OBJECT | abort::NO_SUBINDEX) {
+                Err(e @ Error::SdoAbort { code, .. }) => {
+                    if super::node::is_missing(&e) {
                         absent.insert(entry.addr, code);
                     }
                     None
@@ -861,7 +851,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     // An object the device lacks: the nearest ones it may have meant, from its own
     // dictionary (not the file's, which may describe another kind of device).
     let did_you_mean = match &failure {
-        Some(Error::SdoAbort { obj, code: code @ (abort::NO_OBJECT | abort::NO_SUBINDEX), .. }) => {
+        Some(e @ Error::SdoAbort { obj, code, .. }) if super::node::is_missing(e) => {
             names::near(&target, *obj, *code == abort::NO_OBJECT)
         }
         _ => Vec::new(),

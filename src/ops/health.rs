@@ -8,7 +8,7 @@ use super::{le_u32, sized, Progress};
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, Emergency, Origin};
 use crate::canopen::nmt::{self, ErrorControl};
-use crate::canopen::{abort, cia402, ObjAddr};
+use crate::canopen::{cia402, ObjAddr};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use serde::Serialize;
@@ -351,9 +351,7 @@ fn judge_node(
             Some(k) => format!("; {k} error(s) logged in 0x1003 (canctl errors {})", n.node),
             None => String::new(),
         },
-        Err(e) if matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => {
-            "; no error history (0x1003)".to_string()
-        }
+        Err(e) if super::node::is_missing(e) => "; no error history (0x1003)".to_string(),
         Err(e) => format!("; 0x1003:0 {}", unread(e)),
     };
     checks.push(match (&read.register, register) {
@@ -438,6 +436,7 @@ fn judge_node(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::canopen::abort;
 
     const MS: Duration = Duration::from_millis(1);
 

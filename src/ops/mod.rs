@@ -16,6 +16,7 @@ pub mod lss;
 pub mod monitor;
 pub mod network;
 pub mod nmt;
+pub mod node;
 pub mod pdo;
 pub mod scan;
 pub mod scan_cache;

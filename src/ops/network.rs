@@ -8,7 +8,7 @@ use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::lss::{Identity, Request};
-use crate::canopen::{abort, ObjAddr};
+use crate::canopen::ObjAddr;
 use crate::error::{Error, Result, Service};
 use crate::od::cpj::{self, Commissioning, Project};
 use crate::od::eds;
@@ -291,19 +291,11 @@ fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> 
     let (vendor, product) = dcf.identity();
     let mut differ = Vec::new();
     let mut seen = Vec::new();
-    for (what, want, sub) in [("vendor-ID", vendor, 1), ("product code", product, 2)] {
-        if want == 0 {
-            continue;
-        }
-        let got = match bus.sdo_upload(node, ObjAddr::new(0x1018, sub), &super::sized(timeout, Some(4))) {
-            Ok(b) => hex(super::le_u32(&b)),
-            Err(Error::SdoAbort { code, .. }) => format!("unreadable ({})", abort::meaning(code)),
-            Err(e) => return Err(e),
-        };
-        if got != hex(want) {
-            differ.push(format!("{what} {got}, {} in {}", hex(want), dcf.path()));
+    for p in super::node::Node::new(bus, node, timeout).compare_identity(vendor, product)? {
+        if p.matches() {
+            seen.push(format!("{} {}", p.what, p.device_text()));
         } else {
-            seen.push(format!("{what} {got}"));
+            differ.push(format!("{} {}, {} in {}", p.what, p.device_text(), hex(p.file), dcf.path()));
         }
     }
     let (ok, detail) = match (differ.is_empty(), seen.is_empty()) {
@@ -336,22 +328,8 @@ fn check_objects(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> R
 /// The node's NMT state against `want`: from its heartbeat, when one was seen in this
 /// session, else by node guarding (through an EPOS2: by remote request).
 fn check_state(bus: &mut dyn Bus, node: u8, want: crate::canopen::nmt::State, window: Duration) -> Result<Verdict> {
-    use crate::canopen::nmt::{self, ErrorControl};
-    let seen = match bus.observed().states.get(&node) {
-        Some(s) => Some((*s, "heartbeat")),
-        None => {
-            let wait = (2 * window).max(Duration::from_millis(200));
-            match bus.request_frame(nmt::error_control_cob(node), 1, wait) {
-                Ok(frame) => match ErrorControl::parse(&frame) {
-                    Some((_, ErrorControl::State { state, .. })) => Some((state, "node guarding")),
-                    Some((_, ErrorControl::BootUp)) => Some((nmt::State::PreOperational, "boot-up")),
-                    _ => None,
-                },
-                Err(e) if no_answer(&e) => None,
-                Err(e) => return Err(e),
-            }
-        }
-    };
+    let wait = (2 * window).max(Duration::from_millis(200));
+    let seen = super::node::Node::new(bus, node, wait).nmt_state(wait)?;
     let (ok, detail) = match seen {
         Some((state, from)) => (state == want, format!("{state} (from its {from}), {want} expected")),
         None => (false, format!("no heartbeat seen and no answer to node guarding; {want} expected")),
