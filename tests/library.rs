@@ -387,3 +387,19 @@ fn sim_reset_starts_the_saved_network_afresh_as_configured() {
     assert_eq!(waiting, 1);
     bus.close().unwrap();
 }
+
+/// `examples/identities.rs`, compiled here, so that what it shows stays true.
+#[allow(dead_code)]
+#[path = "../examples/identities.rs"]
+mod identities_example;
+
+#[test]
+fn the_identities_example_reads_every_node_of_the_demo_network() {
+    let mut bus = demo();
+    let found = identities_example::identities(bus.as_mut(), TIMEOUT).unwrap();
+    let nodes: Vec<u8> = found.iter().map(|(n, _)| *n).collect();
+    assert_eq!(nodes, [1, 5, 10, 32]);
+    let sensor = found[1].1.expect("the sensor has 0x1018");
+    assert_eq!((sensor.vendor, sensor.product), (0x40, Some(0x4378_7800)));
+    assert_eq!(found[3].1, None, "node 32 has no 0x1018:1");
+}

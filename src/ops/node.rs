@@ -5,7 +5,7 @@
 use super::sized;
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, HistoryEntry, Origin, Source};
-use crate::canopen::lss::Identity;
+use crate::canopen::lss;
 use crate::canopen::nmt::{self, ErrorControl};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, Result};
@@ -93,11 +93,12 @@ impl<'a> Node<'a> {
         optional(self.read(addr))
     }
 
-    /// The identity object 0x1018, all four entries (CiA 301 makes sub 1 mandatory only:
-    /// an entry the device lacks reads as 0).
-    pub fn identity(&mut self) -> Result<Identity> {
-        let mut part = |sub| self.read_optional::<u32>(ObjAddr::new(0x1018, sub)).map(Option::unwrap_or_default);
-        Ok(Identity { vendor: part(1)?, product: part(2)?, revision: part(3)?, serial: part(4)? })
+    /// The identity object 0x1018; `None` when the device lacks its vendor-ID (0x1018:1,
+    /// which CiA 301 makes mandatory).
+    pub fn identity(&mut self) -> Result<Option<Identity>> {
+        let Some(vendor) = self.read_optional::<u32>(ObjAddr::new(0x1018, 1))? else { return Ok(None) };
+        let mut part = |sub| self.read_optional::<u32>(ObjAddr::new(0x1018, sub));
+        Ok(Some(Identity { vendor, product: part(2)?, revision: part(3)?, serial: part(4)? }))
     }
 
     /// The vendor-ID and product code a file names, against the device's: each one the file
@@ -166,6 +167,32 @@ impl<'a> Node<'a> {
             }
         }
         Ok(field)
+    }
+}
+
+/// A node's identity object 0x1018: the vendor-ID, and the entries CiA 301 leaves optional
+/// (`None` where the device has none).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Identity {
+    /// 0x1018:1.
+    pub vendor: u32,
+    /// 0x1018:2.
+    pub product: Option<u32>,
+    /// 0x1018:3.
+    pub revision: Option<u32>,
+    /// 0x1018:4.
+    pub serial: Option<u32>,
+}
+
+impl Identity {
+    /// The LSS address (CiA 305), when the device has all four entries.
+    pub fn lss(&self) -> Option<lss::Identity> {
+        Some(lss::Identity {
+            vendor: self.vendor,
+            product: self.product?,
+            revision: self.revision?,
+            serial: self.serial?,
+        })
     }
 }
 
@@ -345,11 +372,12 @@ mod tests {
         let mut bus = sim();
         let mut node = Node::new(&mut bus, 10, T);
         assert_eq!(node.read_optional::<u32>(ObjAddr::new(0x1018, 9)).unwrap(), None);
-        let id = node.identity().unwrap();
+        let id = node.identity().unwrap().unwrap();
         assert_ne!(id.vendor, 0);
-        let parts = node.compare_identity(id.vendor, id.product.wrapping_add(1)).unwrap();
+        let parts = node.compare_identity(id.vendor, id.product.unwrap().wrapping_add(1)).unwrap();
         assert_eq!(parts.iter().map(IdentityPart::matches).collect::<Vec<_>>(), [true, false]);
         assert!(node.compare_identity(0, 0).unwrap().is_empty(), "a file that names nothing is not compared");
+        assert_eq!(Node::new(&mut bus, 32, T).identity().unwrap(), None, "node 32 has no 0x1018:1");
     }
 
     #[test]
