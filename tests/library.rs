@@ -76,7 +76,7 @@ fn a_dcf_is_applied_verified_and_stored_then_matches() {
     let applied = config::apply(bus.as_mut(), SENSOR, &dcf, &o).unwrap();
     assert!(applied.stored);
     assert_eq!(applied.written.len(), 3);
-    assert!(applied.objects.iter().all(|c| c.result == "written, verified"), "{applied:?}");
+    assert!(applied.objects.iter().all(|c| c.result.to_string() == "written, verified"), "{applied:?}");
     let json = serde_json::to_value(&applied).unwrap();
     assert_eq!(json["objects"][0]["object"], "0x1017:0");
     applied.outcome().unwrap();
@@ -96,7 +96,7 @@ fn a_dry_run_writes_nothing() {
     let mut o = ApplyOptions::new(TIMEOUT);
     o.dry_run = true;
     let report = config::apply(bus.as_mut(), SENSOR, &sensor_dcf(), &o).unwrap();
-    assert!(report.objects.iter().all(|c| c.result == "would write") && !report.stored);
+    assert!(report.objects.iter().all(|c| c.result.action == config::Action::WouldWrite) && !report.stored);
     assert_eq!(config::diff(bus.as_mut(), SENSOR, &sensor_dcf(), TIMEOUT).unwrap().differences.len(), 3);
 }
 

@@ -537,11 +537,104 @@ pub struct Change {
     pub name: String,
     pub old: String,
     pub new: String,
-    pub result: String,
+    /// What happened to it; serialised as its sentence (`written, verified`).
+    #[serde(serialize_with = "as_text")]
+    pub result: Outcome,
+}
+
+/// What a run did, or would do, with one object.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Action {
+    /// Written.
+    Written,
+    /// The write failed with this error.
+    Failed(String),
+    /// Not written: an earlier write failed.
+    NotWritten,
+    /// Not written: the user stopped the run first.
+    NotWrittenInterrupted,
+    /// A dry run would write it.
+    WouldWrite,
+    /// A dry run would not get this far: an earlier write would fail.
+    WouldNotBeWritten,
+    /// A dry run: the device would refuse it with this abort code.
+    WouldBeRefused(u32),
+    /// A dry run: the object is read-only in the dictionary named.
+    WouldBeRefusedReadOnly(String),
+    /// The device does not have the object (abort code), and it is not writable anyway.
+    NotOnDevice(u32),
+    /// The file's value differs from the device's, but the device's object cannot be
+    /// written (its access type, such as `ro`).
+    ReadOnlyOnDevice(&'static str),
+}
+
+/// The read-back of a written value.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ReadBack {
+    /// It reads back as written.
+    Verified,
+    /// It reads back as this other value.
+    Differs(String),
+}
+
+/// What happened to one object of a run.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Outcome {
+    /// The write.
+    pub action: Action,
+    /// Why this write is a step on the way (a PDO's COB-ID made invalid first); `None` for
+    /// the write of the value the file holds.
+    pub interim: Option<&'static str>,
+    /// A write that puts a PDO back after a change of it failed half-way.
+    pub rollback: bool,
+    /// The read-back, when one was made.
+    pub read_back: Option<ReadBack>,
+}
+
+impl Outcome {
+    fn new(action: Action) -> Outcome {
+        Outcome { action, interim: None, rollback: false, read_back: None }
+    }
+
+    /// The write of the file's own value (not a step on the way, not a rollback), which is
+    /// what a verification reads back.
+    fn is_final(&self) -> bool {
+        !self.rollback
+            && self.interim.is_none()
+            && !matches!(self.action, Action::NotOnDevice(_) | Action::NotWrittenInterrupted)
+    }
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.action {
+            Action::Written => write!(f, "written")?,
+            Action::Failed(e) => write!(f, "failed: {e}")?,
+            Action::NotWritten => write!(f, "not written")?,
+            Action::NotWrittenInterrupted => write!(f, "not written (interrupted)")?,
+            Action::WouldWrite => write!(f, "would write")?,
+            Action::WouldNotBeWritten => write!(f, "would not be written")?,
+            Action::WouldBeRefused(code) => write!(f, "would be refused: {}", abort::meaning(*code))?,
+            Action::WouldBeRefusedReadOnly(source) => write!(f, "would be refused: read only in {source}")?,
+            Action::NotOnDevice(code) => write!(f, "not on the device ({})", abort::meaning(*code))?,
+            Action::ReadOnlyOnDevice(access) => write!(f, "{access} on the device: not written")?,
+        }
+        if self.rollback {
+            write!(f, " (rollback)")?;
+        }
+        if let Some(interim) = &self.interim {
+            write!(f, " ({interim})")?;
+        }
+        match &self.read_back {
+            Some(ReadBack::Verified) => write!(f, ", verified"),
+            Some(ReadBack::Differs(got)) => write!(f, ", reads back {got}"),
+            None => Ok(()),
+        }
+    }
 }
 
 impl Change {
-    fn new(dcf: &Dcf, addr: ObjAddr, old: Option<&[u8]>, new: &[u8], result: String) -> Change {
+    fn new(dcf: &Dcf, addr: ObjAddr, old: Option<&[u8]>, new: &[u8], result: Outcome) -> Change {
         let entry = dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
         let fmt = |b: &[u8]| entry.map_or_else(|| crate::canopen::types::hex(b), |e| show(e, b));
         let name = dcf
@@ -579,16 +672,12 @@ impl Applied {
         let list = |v: Vec<String>| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
         let mut out = Vec::new();
         // Interrupted while reading, the state says it all.
-        let planned =
-            self.objects.iter().any(|r| r.result.starts_with("written") || r.result.starts_with("not written"));
+        let not_written = |r: &Change| matches!(r.result.action, Action::NotWritten | Action::NotWrittenInterrupted);
+        let planned = self.objects.iter().any(|r| r.result.action == Action::Written || not_written(r));
         if self.interrupted && planned {
             let done: Vec<String> = self.written.iter().map(|w| w.to_string()).collect();
-            let not: Vec<String> = self
-                .objects
-                .iter()
-                .filter(|r| r.result.starts_with("not written"))
-                .map(|r| r.object.to_string())
-                .collect();
+            let not: Vec<String> =
+                self.objects.iter().filter(|r| not_written(r)).map(|r| r.object.to_string()).collect();
             out.push(format!(
                 "interrupted after {} write(s): written {}; not written {}",
                 done.len(),
@@ -668,16 +757,17 @@ fn roll_back(
         }
         let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
         let old = device.get(&step.addr).cloned();
-        let result = match bus.sdo_download(node, step.addr, &step.value, &opts(timeout, dtype)) {
+        let action = match bus.sdo_download(node, step.addr, &step.value, &opts(timeout, dtype)) {
             Ok(()) => {
                 device.insert(step.addr, step.value.clone());
-                "written (rollback)".to_string()
+                Action::Written
             }
             Err(e) => {
                 to_fix.push(Fix { object: step.addr, value: Some(shown(step.addr, &step.value)) });
-                format!("failed: {e} (rollback)")
+                Action::Failed(e.to_string())
             }
         };
+        let result = Outcome { rollback: true, ..Outcome::new(action) };
         rows.push(Change::new(dcf, step.addr, old.as_deref(), &step.value, result));
     }
     to_fix.extend(unknown.into_iter().map(|object| Fix { object, value: None }));
@@ -731,8 +821,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             match read_one(bus, node, entry, o.timeout) {
                 Ok(v) => Some(v),
                 Err(Error::SdoAbort { code, .. }) if !entry.access.writable() => {
-                    let result = format!("not on the device ({})", abort::meaning(code));
-                    rows.push(Change::new(dcf, entry.addr, None, want, result));
+                    rows.push(Change::new(dcf, entry.addr, None, want, Outcome::new(Action::NotOnDevice(code))));
                     continue;
                 }
                 Err(e @ Error::SdoAbort { code, .. }) => {
@@ -753,7 +842,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             continue;
         }
         if !entry.access.writable() {
-            let result = format!("{} on the device: not written", entry.access.name());
+            let result = Outcome::new(Action::ReadOnlyOnDevice(entry.access.name()));
             rows.push(Change::new(dcf, entry.addr, now.as_deref(), want, result));
             continue;
         }
@@ -795,20 +884,20 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             failure = Some(Error::Interrupted);
         }
         let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
-        let result = if o.dry_run && failure.is_some() {
-            "would not be written".to_string()
+        let action = if o.dry_run && failure.is_some() {
+            Action::WouldNotBeWritten
         } else if let (true, Some(&code)) = (o.dry_run, absent.get(&step.addr)) {
             failure = Some(Error::SdoAbort { node, obj: step.addr, code });
-            format!("would be refused: {}", abort::meaning(code))
+            Action::WouldBeRefused(code)
         } else if o.dry_run && target.get(step.addr).is_some_and(|e| !e.access.writable()) {
             failure = Some(Error::SdoAbort { node, obj: step.addr, code: abort::READ_ONLY });
-            format!("would be refused: read only in {target_source}")
+            Action::WouldBeRefusedReadOnly(target_source.to_string())
         } else if o.dry_run {
-            "would write".to_string()
+            Action::WouldWrite
         } else if interrupted {
-            "not written (interrupted)".to_string()
+            Action::NotWrittenInterrupted
         } else if failure.is_some() {
-            "not written".to_string()
+            Action::NotWritten
         } else {
             // The PDO this write belongs to is unusable from now until its last write.
             if let Some(pdo) = step.pdo {
@@ -822,19 +911,20 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
                     if steps.get(i + 1).is_none_or(|next| next.pdo != step.pdo) {
                         underway = None;
                     }
-                    "written".to_string()
+                    Action::Written
                 }
                 Err(e) => {
                     // Refused or unanswered: whether the device took the value is not
                     // known, so a rollback writes the old one back in any case.
                     device.remove(&step.addr);
-                    let text = format!("failed: {e}");
+                    let failed = Action::Failed(e.to_string());
                     failure = Some(e);
-                    text
+                    failed
                 }
             }
         };
-        let result = if step.interim.is_empty() { result } else { format!("{result} ({})", step.interim) };
+        let interim = (!step.interim.is_empty()).then_some(step.interim);
+        let result = Outcome { interim, ..Outcome::new(action) };
         rows.push(Change::new(dcf, step.addr, current.get(&step.addr).map(|v| v.as_slice()), &step.value, result));
         // Stopped inside a PDO change: put the PDO back before anything else.
         if failure.is_some() && !o.dry_run {
@@ -871,11 +961,11 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             }
             let got = read_one(bus, node, entry, o.timeout)?;
             let row =
-                rows.iter_mut().rev().find(|r| r.object == *addr && !r.result.contains('(')).expect("row of a change");
+                rows.iter_mut().rev().find(|r| r.object == *addr && r.result.is_final()).expect("row of a change");
             if got == *want {
-                row.result.push_str(", verified");
+                row.result.read_back = Some(ReadBack::Verified);
             } else {
-                row.result.push_str(&format!(", reads back {}", show(entry, &got)));
+                row.result.read_back = Some(ReadBack::Differs(show(entry, &got)));
                 mismatch.push(*addr);
             }
         }

@@ -563,7 +563,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     };
     row.written = applied.written.len();
     row.objects = std::mem::take(&mut applied.objects);
-    let would = row.objects.iter().filter(|c| c.result.starts_with("would write")).count();
+    let would = row.objects.iter().filter(|c| c.result.action == config::Action::WouldWrite).count();
     if applied.interrupted {
         // Stopped between two transfers, a PDO change under way put back: what was done,
         // what was not, and the state the node is left in, as `config apply` says it.

@@ -169,7 +169,7 @@ impl Report for Applied {
             let would: usize = self
                 .nodes
                 .iter()
-                .map(|n| n.objects.iter().filter(|c| c.result.starts_with("would write")).count())
+                .map(|n| n.objects.iter().filter(|c| c.result.action == crate::ops::config::Action::WouldWrite).count())
                 .sum();
             notes.push(format!(
                 "dry run: {would} object(s) {verb} on {} node(s); nothing was written",
