@@ -91,13 +91,8 @@ pub struct SeenEmcy {
     pub meaning: &'static str,
 }
 
-#[derive(Debug, Serialize)]
-pub struct Check {
-    pub check: &'static str,
-    pub ok: bool,
-    /// What was found, in a sentence.
-    pub detail: String,
-}
+/// One check of one node: the verdict `network check` gives too.
+pub use super::verdict::Verdict as Check;
 
 fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_str(&format_args!("0x{v:04X}"))
@@ -285,7 +280,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
 }
 
 fn check(check: &'static str, ok: bool, detail: String) -> Check {
-    Check { check, ok, detail }
+    Check::new(check, ok, detail)
 }
 
 fn unread(e: &Error) -> String {

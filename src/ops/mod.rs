@@ -24,6 +24,7 @@ pub mod sdo;
 pub mod silence;
 pub mod store;
 pub mod stored_eds;
+pub mod verdict;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;

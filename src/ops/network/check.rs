@@ -55,17 +55,7 @@ pub struct NodeCheck {
     pub checks: Vec<Verdict>,
 }
 
-/// One check of one node: `present`, `identity`, `objects`, `state`.
-#[derive(Debug, Serialize)]
-pub struct Verdict {
-    pub check: &'static str,
-    pub ok: bool,
-    /// What was found, in a sentence.
-    pub detail: String,
-    /// For `objects`: each writable object that differs.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub differences: Vec<config::Difference>,
-}
+pub use crate::ops::verdict::Verdict;
 
 #[derive(Debug, Serialize)]
 pub struct Unlisted {
