@@ -30,7 +30,16 @@ pub struct Loaded {
     pub project: Project,
     pub nodes: Vec<Listed>,
     /// What the files say that deserves a look, with file:line.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<LoadWarning>,
+}
+
+/// Something a project's files say that deserves a look (the project is used all the same).
+#[derive(Debug, Clone)]
+pub enum LoadWarning {
+    /// In the project file itself, as its reader words it.
+    Project(String),
+    /// In a node's DCF, with its file, line and rule.
+    Dcf(crate::od::lint::Warning),
 }
 
 /// A node the project lists as present.
@@ -63,7 +72,7 @@ fn info_number(dcf: &Dcf, key: &str) -> Option<u32> {
 /// usage error naming it (file:line where a line is to blame).
 pub fn load(file: &Path) -> Result<Loaded> {
     let read = cpj::read_file(file).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
-    let mut warnings = read.warnings;
+    let mut warnings: Vec<LoadWarning> = read.warnings.into_iter().map(LoadWarning::Project).collect();
     let project = read.project;
     let mut nodes = Vec::new();
     for (node, entry) in project.present() {
@@ -87,7 +96,7 @@ pub fn load(file: &Path) -> Result<Loaded> {
                         file.display()
                     )));
                 }
-                warnings.extend(dcf.warnings().iter().map(|w| w.to_string()));
+                warnings.extend(dcf.warnings().iter().cloned().map(LoadWarning::Dcf));
                 (Some(dcf), c)
             }
         };
