@@ -8,6 +8,7 @@
 
 use canctl::connect::{self, BusAddr, OpenOptions};
 use canctl::ops::config::{self, ApplyOptions, Dcf};
+use canctl::ops::node::Node;
 use std::time::Duration;
 
 /// The demo network's position sensor.
@@ -20,6 +21,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dcf = Dcf::parse(include_bytes!("sensor.dcf"), "examples/sensor.dcf")?;
 
     let mut bus = connect::open(&addr, &opts)?;
+    // The device before anything is written (apply itself refuses a DCF for another kind).
+    match Node::new(bus.as_mut(), NODE, opts.timeout).identity()? {
+        Some(id) => {
+            let product = id.product.map_or("none".to_string(), |p| format!("0x{p:08X}"));
+            println!("node {NODE}: vendor-ID 0x{:08X}, product code {product}", id.vendor)
+        }
+        None => println!("node {NODE}: no identity object (0x1018)"),
+    }
     let mut apply = ApplyOptions::new(opts.timeout);
     apply.verify = true;
     apply.store = true;
@@ -35,7 +44,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             change.name,
             change.old,
             change.new,
-            change.result
+            change.result // a typed Outcome, shown as its sentence
         );
     }
     println!("stored: {}", report.stored);

@@ -77,7 +77,7 @@ fn a_dcf_is_applied_verified_and_stored_then_matches() {
     let applied = config::apply(bus.as_mut(), SENSOR, &dcf, &o).unwrap();
     assert!(applied.stored);
     assert_eq!(applied.written.len(), 3);
-    assert!(applied.objects.iter().all(|c| c.result == "written, verified"), "{applied:?}");
+    assert!(applied.objects.iter().all(|c| c.result.to_string() == "written, verified"), "{applied:?}");
     let json = serde_json::to_value(&applied).unwrap();
     assert_eq!(json["objects"][0]["object"], "0x1017:0");
     applied.outcome().unwrap();
@@ -97,7 +97,7 @@ fn a_dry_run_writes_nothing() {
     let mut o = ApplyOptions::new(TIMEOUT);
     o.dry_run = true;
     let report = config::apply(bus.as_mut(), SENSOR, &sensor_dcf(), &o).unwrap();
-    assert!(report.objects.iter().all(|c| c.result == "would write") && !report.stored);
+    assert!(report.objects.iter().all(|c| c.result.action == config::Action::WouldWrite) && !report.stored);
     assert_eq!(config::diff(bus.as_mut(), SENSOR, &sensor_dcf(), TIMEOUT).unwrap().differences.len(), 3);
 }
 
@@ -387,4 +387,20 @@ fn sim_reset_starts_the_saved_network_afresh_as_configured() {
     let waiting = canctl::bus::lss::count_unconfigured(bus.as_mut(), TIMEOUT).unwrap();
     assert_eq!(waiting, 1);
     bus.close().unwrap();
+}
+
+/// `examples/identities.rs`, compiled here, so that what it shows stays true.
+#[allow(dead_code)]
+#[path = "../examples/identities.rs"]
+mod identities_example;
+
+#[test]
+fn the_identities_example_reads_every_node_of_the_demo_network() {
+    let mut bus = demo();
+    let found = identities_example::identities(bus.as_mut(), TIMEOUT).unwrap();
+    let nodes: Vec<u8> = found.iter().map(|(n, _)| *n).collect();
+    assert_eq!(nodes, [1, 5, 10, 32]);
+    let sensor = found[1].1.expect("the sensor has 0x1018");
+    assert_eq!((sensor.vendor, sensor.product), (0x40, Some(0x4378_7800)));
+    assert_eq!(found[3].1, None, "node 32 has no 0x1018:1");
 }

@@ -1,7 +1,7 @@
 //! Names and types that need no EDS: the CiA 301 communication objects, and the common
 //! objects of the DS401 (I/O), DS402 (drives) and DS406 (encoders) profiles.
 
-use super::{Access, Dictionary, Init, ObjectKind};
+use super::{Access, Dictionary, Entry, Init, ObjectKind};
 use crate::canopen::DataType::{self, *};
 use crate::canopen::ObjAddr;
 use std::sync::OnceLock;
@@ -151,6 +151,33 @@ fn ds401(d: &mut Dictionary) {
         members(d, index, name, ObjectKind::Array, &m);
     }
     var(d, 0x6423, "Analogue input global interrupt enable", Bool, Rw);
+}
+
+/// Object `index` of the CiA 301 table into `d`, named, typed and of the kind the table
+/// gives it, with the members `value` gives a value, each holding it (sub 0 of a record
+/// or an array counts the highest member kept). The simulated devices are built from the
+/// table this way, so that the two cannot disagree.
+pub(crate) fn add(d: &mut Dictionary, index: u16, value: impl Fn(&Entry) -> Option<Init>) {
+    let table = dictionary(None);
+    let (name, kind) = table.object_info(index).expect("an object of the CiA 301 table");
+    if kind == ObjectKind::Var {
+        let e = table.object_entries(index).next().expect("a variable has sub 0");
+        if let Some(v) = value(e) {
+            d.var(index, name, e.dtype, e.access, v);
+        }
+        return;
+    }
+    let members = table
+        .object_entries(index)
+        .filter(|e| e.addr.sub > 0)
+        .filter_map(|e| value(e).map(|v| (e.addr.sub, e.name.as_str(), e.dtype, e.access, v)))
+        .collect();
+    match kind {
+        ObjectKind::Array => d.array(index, name, members),
+        _ => d.record(index, name, members),
+    }
+    let sub0 = ObjAddr::new(index, 0);
+    d.set_access(sub0, table.get(sub0).expect("sub 0 of the table's object").access);
 }
 
 /// The built-in dictionary for a device of this profile (0x1000 bits 0..15: 401, 402, 406),

@@ -3,18 +3,18 @@
 //! confirming each transition in the statusword ([`walk`]). Power state only: nothing here
 //! writes a target or starts a motion.
 
+use super::node::{optional, Node};
 use super::{le_u32, sized};
 use crate::bus::Bus;
 use crate::cancel::Cancel;
 use crate::canopen::cia402::{self, Command, Goal, State, Step};
-use crate::canopen::{abort, emcy, pdo, ObjAddr};
+use crate::canopen::{emcy, pdo, ObjAddr};
 use crate::error::{DriveStop, Error, Result};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
 const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
 const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
-const ERROR_FIELD: u16 = 0x1003;
 /// How often the statusword is read while a transition is awaited (by SDO).
 const POLL: Duration = Duration::from_millis(10);
 /// More steps than any path has: a drive that keeps changing state ends the walk.
@@ -47,14 +47,7 @@ pub struct Mode {
     pub from: ObjAddr,
 }
 
-/// One entry of the pre-defined error field 0x1003.
-#[derive(Debug, Serialize, Clone, PartialEq)]
-pub struct LoggedError {
-    /// The raw 32-bit entry: error code in the low word, manufacturer information above.
-    pub raw: u32,
-    pub code: u16,
-    pub meaning: &'static str,
-}
+pub use super::node::LoggedError;
 
 /// A drive's state as its objects show it.
 #[derive(Debug, Serialize, Clone, PartialEq)]
@@ -70,6 +63,7 @@ pub struct Status {
     pub error_register: u8,
     pub error_register_bits: Vec<&'static str>,
     /// Newest first; None when the drive has no 0x1003.
+    #[serde(serialize_with = "drive_errors")]
     pub errors: Option<Vec<LoggedError>>,
 }
 
@@ -95,15 +89,6 @@ fn read_u16(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Re
 
 fn read_u8(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<u8> {
     Ok(read(bus, node, addr, 1, timeout)?.first().copied().unwrap_or(0))
-}
-
-/// Absent objects read as None; other failures stay failures.
-fn optional<T>(r: Result<T>) -> Result<Option<T>> {
-    match r {
-        Ok(v) => Ok(Some(v)),
-        Err(Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => Ok(None),
-        Err(e) => Err(e),
-    }
 }
 
 /// The node's device type, if it is a CiA 402 drive; [`Error::NotADrive`] otherwise.
@@ -136,18 +121,20 @@ fn mode(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<Mode>> 
 /// The device type is what picks the table for a drive (no device manual lists a drive).
 fn errors(bus: &mut dyn Bus, node: u8, device_type: u32, timeout: Duration) -> Result<Option<Vec<LoggedError>>> {
     let origin = emcy::Origin { device_type: Some(device_type), vendor: None, product: None, name: None };
-    let Some(count) = optional(read_u8(bus, node, ObjAddr::new(ERROR_FIELD, 0), timeout))? else {
-        return Ok(None);
-    };
-    let mut out = Vec::new();
-    for sub in 1..=count {
-        let Some(b) = optional(read(bus, node, ObjAddr::new(ERROR_FIELD, sub), 4, timeout))? else { break };
-        let raw = le_u32(&b);
-        let entry = emcy::HistoryEntry { raw };
-        let meaning = emcy::meaning(entry.code(), entry.manufacturer(), &origin).text;
-        out.push(LoggedError { raw, code: entry.code(), meaning });
+    Ok(Node::new(bus, node, timeout).error_history(&origin)?.map(|field| field.entries))
+}
+
+/// `drive status` shows each entry as its raw value, its code (a number) and meaning.
+fn drive_errors<S: serde::Serializer>(v: &Option<Vec<LoggedError>>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    #[derive(Serialize)]
+    struct Entry {
+        raw: u32,
+        code: u16,
+        meaning: &'static str,
     }
-    Ok(Some(out))
+    let entries: Option<Vec<Entry>> =
+        v.as_ref().map(|v| v.iter().map(|e| Entry { raw: e.raw, code: e.code, meaning: e.meaning }).collect());
+    entries.serialize(s)
 }
 
 /// Everything `drive status` shows.

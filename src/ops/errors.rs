@@ -1,10 +1,11 @@
 //! A node's error history: the pre-defined error field 0x1003 (CiA 301), newest first,
 //! each entry with what it means; and clearing it (writing 0 to 0x1003:0).
 
+use super::node::{self, Node};
 use super::{le_u32, sized};
 use crate::bus::{Bus, SdoOptions};
-use crate::canopen::emcy::{self, HistoryEntry, Origin, Source};
-use crate::canopen::{abort, DataType, ObjAddr};
+use crate::canopen::emcy::{self, Origin};
+use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::time::Duration;
@@ -44,32 +45,7 @@ pub struct ErrorHistory {
     pub clear_interrupted: Option<bool>,
 }
 
-#[derive(Debug, Serialize)]
-pub struct LoggedError {
-    /// The subindex of 0x1003 it was read from: 1 is the newest.
-    pub sub: u8,
-    /// The entry as the node sent it.
-    pub raw: u32,
-    /// Bits 0..15: the error code.
-    #[serde(serialize_with = "hex16")]
-    pub code: u16,
-    /// Bits 16..31: manufacturer-specific information.
-    #[serde(serialize_with = "hex16")]
-    pub manufacturer: u16,
-    pub meaning: &'static str,
-    /// The table the meaning comes from.
-    pub source: Source,
-}
-
-#[derive(Debug, Serialize)]
-pub struct Unreadable {
-    pub sub: u8,
-    pub error: String,
-}
-
-fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_str(&format_args!("0x{v:04X}"))
-}
+pub use super::node::{LoggedError, Unreadable};
 
 fn u8_of(bytes: &[u8]) -> Option<u8> {
     bytes.first().copied()
@@ -77,11 +53,6 @@ fn u8_of(bytes: &[u8]) -> Option<u8> {
 
 fn u32_of(bytes: &[u8]) -> Option<u32> {
     (bytes.len() >= 4).then(|| le_u32(bytes))
-}
-
-/// Whether an error says the object (or subindex) is not there.
-fn is_missing(e: &Error) -> bool {
-    matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. })
 }
 
 /// Read the node's error history (and, with `clear`, then clear it and confirm).
@@ -114,7 +85,7 @@ pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Re
     };
     match count {
         Ok(bytes) => report.count = u8_of(&bytes),
-        Err(e) if is_missing(&e) => report.kept = false,
+        Err(e) if node::is_missing(&e) => report.kept = false,
         Err(e) => return Err(e),
     }
     if !report.kept {
@@ -123,29 +94,8 @@ pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Re
         }
         return Ok(report);
     }
-    // CiA 301: sub 0 counts the entries (at most 254), sub 1 the newest.
-    let subs: Vec<(u8, ObjAddr)> =
-        (1..=report.count.unwrap_or(0).min(254)).map(|s| (node, ObjAddr::new(0x1003, s))).collect();
-    let values = bus.sdo_upload_many(&subs, &sized(timeout, Some(4)), &mut |_| {})?;
-    for ((_, addr), value) in subs.iter().zip(values) {
-        match value.map(|b| u32_of(&b)) {
-            Ok(Some(raw)) => {
-                let e = HistoryEntry { raw };
-                let m = emcy::meaning(e.code(), e.manufacturer(), &origin);
-                report.entries.push(LoggedError {
-                    sub: addr.sub,
-                    raw,
-                    code: e.code(),
-                    manufacturer: e.manufacturer(),
-                    meaning: m.text,
-                    source: m.source,
-                });
-            }
-            Ok(None) => report.unreadable.push(Unreadable { sub: addr.sub, error: "shorter than 4 bytes".into() }),
-            Err(e) if e.is_timeout() => return Err(e),
-            Err(e) => report.unreadable.push(Unreadable { sub: addr.sub, error: e.to_string() }),
-        }
-    }
+    let field = Node::new(bus, node, timeout).error_entries(report.count.unwrap_or(0), &origin)?;
+    (report.entries, report.unreadable) = (field.entries, field.unreadable);
     if clear {
         // CiA 301: writing 0 to sub 0 deletes the history; any other value is refused.
         // Interrupted, the report still says what was read and how far the clear got.
@@ -180,6 +130,7 @@ pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Re
 mod tests {
     use super::*;
     use crate::bus::Master;
+    use crate::canopen::emcy::Source;
     use crate::sim::{SimConfig, SimLink};
 
     fn sim() -> Master<SimLink> {

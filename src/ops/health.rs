@@ -8,7 +8,7 @@ use super::{le_u32, sized, Progress};
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, Emergency, Origin};
 use crate::canopen::nmt::{self, ErrorControl};
-use crate::canopen::{abort, cia402, ObjAddr};
+use crate::canopen::{cia402, ObjAddr};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use serde::Serialize;
@@ -91,13 +91,8 @@ pub struct SeenEmcy {
     pub meaning: &'static str,
 }
 
-#[derive(Debug, Serialize)]
-pub struct Check {
-    pub check: &'static str,
-    pub ok: bool,
-    /// What was found, in a sentence.
-    pub detail: String,
-}
+/// One check of one node: the verdict `network check` gives too.
+pub use super::verdict::Verdict as Check;
 
 fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_str(&format_args!("0x{v:04X}"))
@@ -285,7 +280,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
 }
 
 fn check(check: &'static str, ok: bool, detail: String) -> Check {
-    Check { check, ok, detail }
+    Check::new(check, ok, detail)
 }
 
 fn unread(e: &Error) -> String {
@@ -351,9 +346,7 @@ fn judge_node(
             Some(k) => format!("; {k} error(s) logged in 0x1003 (canctl errors {})", n.node),
             None => String::new(),
         },
-        Err(e) if matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) => {
-            "; no error history (0x1003)".to_string()
-        }
+        Err(e) if super::node::is_missing(e) => "; no error history (0x1003)".to_string(),
         Err(e) => format!("; 0x1003:0 {}", unread(e)),
     };
     checks.push(match (&read.register, register) {
@@ -438,6 +431,7 @@ fn judge_node(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::canopen::abort;
 
     const MS: Duration = Duration::from_millis(1);
 

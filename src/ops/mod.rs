@@ -16,6 +16,7 @@ pub mod lss;
 pub mod monitor;
 pub mod network;
 pub mod nmt;
+pub mod node;
 pub mod pdo;
 pub mod scan;
 pub mod scan_cache;
@@ -23,6 +24,7 @@ pub mod sdo;
 pub mod silence;
 pub mod store;
 pub mod stored_eds;
+pub mod verdict;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;

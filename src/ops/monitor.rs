@@ -102,12 +102,13 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
     match id {
         0x080 => event(None, "sync", "SYNC".into(), json!({})),
         0x7E5 | 0x7E4 => {
-            let text = if id == 0x7E5 {
-                format!("{:?}", lss::Request::decode(f.data()))
+            // The decoded message itself, never the text of an Option around it.
+            let decoded = if id == 0x7E5 {
+                lss::Request::decode(f.data()).map(|r| format!("{r:?}"))
             } else {
-                format!("{:?}", lss::Response::decode(f.data()))
+                lss::Response::decode(f.data()).map(|r| format!("{r:?}"))
             };
-            let text = text.trim_start_matches("Some(").trim_end_matches(')').to_string();
+            let text = decoded.unwrap_or_else(|| format!("not a CiA 305 message ({})", hex_spaced(f.data())));
             event(None, if id == 0x7E5 { "lss request" } else { "lss answer" }, text.clone(), json!({ "lss": text }))
         }
         0x081..=0x0FF => match Emergency::parse(f) {
@@ -297,6 +298,17 @@ mod tests {
 
     fn text(request: bool, bytes: &[u8]) -> String {
         sdo_text(bytes, request).0
+    }
+
+    #[test]
+    fn an_lss_message_reads_whole_and_an_undecodable_one_says_so() {
+        let none = BTreeMap::new();
+        // CiA 305 configure node-id 5, and its answer (error code 0): nested parentheses kept.
+        let request = decode(&Frame::new(0x7E5, &[0x11, 5, 0, 0, 0, 0, 0, 0]), &none);
+        assert_eq!(request.text, format!("{:?}", lss::Request::ConfigureNodeId(5)));
+        assert_eq!(request.fields["lss"], request.text);
+        let unknown = decode(&Frame::new(0x7E4, &[0xEE, 0, 0, 0, 0, 0, 0, 0]), &none);
+        assert_eq!(unknown.text, "not a CiA 305 message (EE 00 00 00 00 00 00 00)");
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //! the nodes show afterwards ([`reset`]), and a node's NMT state as the node shows it
 //! ([`state`]).
 
+use super::node::Node;
 use crate::bus::{Bus, ALL_NODES};
 use crate::canopen::nmt::{self, Command, ErrorControl};
 use crate::error::{Error, Result, Service};
@@ -263,14 +264,9 @@ pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState>
     // Node guarding; through an EPOS2 this is RequestCANFrame, whose answer may also be
     // the node's next heartbeat (same COB-ID).
     let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
-    let answer = match bus.request_frame(nmt::error_control_cob(node), 1, o.timeout) {
-        Err(e) if e.is_timeout() => None,
-        other => Some(other?),
-    };
-    match answer.as_ref().and_then(ErrorControl::parse) {
-        Some((_, ErrorControl::State { state, .. })) => Ok(NodeState { node, state, source }),
-        Some((_, ErrorControl::BootUp)) => Ok(NodeState { node, state: nmt::State::PreOperational, source }),
-        _ => {
+    match Node::new(bus, node, o.timeout).guard(o.timeout)?.and_then(|g| g.state()) {
+        Some(state) => Ok(NodeState { node, state, source }),
+        None => {
             let heartbeat = bus.sees_traffic().then_some(o.listen);
             Err(Error::NoAnswer { node, what: Service::NmtState { heartbeat }, waited: o.timeout })
         }

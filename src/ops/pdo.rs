@@ -208,7 +208,7 @@ pub fn read_layouts(
         let (comm, map) = tpdo_indices(n);
         let cob = match read_u32(bus, node, ObjAddr::new(comm, 1), timeout) {
             Ok(c) => c,
-            Err(Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. }) if skip_missing => continue,
+            Err(e) if skip_missing && super::node::is_missing(&e) => continue,
             // Said as what it means, not as an abort on an object the user never named.
             Err(Error::SdoAbort { code: abort::NO_OBJECT, .. }) => {
                 return Err(Error::Usage(format!(

@@ -3,10 +3,11 @@
 //! without a node-id (LSS "identify non-configured remote slave") and those left in LSS
 //! configuration state (they answer the LSS inquiries, and without a node-id no SDO).
 
+use super::node::Guarded;
 use super::Progress;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::canopen::lss::{Identity, Inquiry, Request, Response, UNCONFIGURED};
-use crate::canopen::nmt::{self, ErrorControl};
+use crate::canopen::nmt;
 use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
 use serde::Serialize;
@@ -329,22 +330,17 @@ fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<
     let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
     let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
     for f in found.iter_mut().filter(|f| f.state.is_none()) {
-        match bus.request_frame(nmt::error_control_cob(f.node), 1, guard_wait) {
-            Ok(frame) => match ErrorControl::parse(&frame) {
-                Some((_, ErrorControl::State { state, .. })) => (f.state, f.state_from) = (Some(state), source),
-                Some((_, ErrorControl::BootUp)) => {
-                    (f.state, f.state_from) = (Some(nmt::State::PreOperational), "boot-up")
-                }
-                _ => f.state_from = "its error-control answer was not a state",
-            },
-            Err(e) if e.is_timeout() => {
+        match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait)? {
+            Some(g @ Guarded::State(_)) => (f.state, f.state_from) = (g.state(), source),
+            Some(g @ Guarded::BootUp) => (f.state, f.state_from) = (g.state(), "boot-up"),
+            Some(Guarded::NotAState) => f.state_from = "its error-control answer was not a state",
+            None => {
                 f.state_from = if beating(f) {
                     "no heartbeat within the wait, and no answer to node guarding"
                 } else {
                     "no heartbeat configured, and no answer to node guarding"
                 }
             }
-            Err(e) => return Err(e),
         }
     }
     Ok(())

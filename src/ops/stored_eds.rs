@@ -3,7 +3,6 @@
 //! gets names, types and ranges.
 
 use crate::bus::{Bus, SdoOptions};
-use crate::canopen::abort;
 use crate::error::{Error, Result};
 use crate::od::stored::{self, STORAGE_FORMAT, STORE_EDS};
 use serde::Serialize;
@@ -36,10 +35,6 @@ pub struct StoredEds {
     pub file: Vec<u8>,
 }
 
-fn absent(e: &Error) -> bool {
-    matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. })
-}
-
 /// Read node `node`'s stored description: at most `limit` bytes from 0x1021 (the SDO
 /// client stops an upload, announced or not, beyond it) and as many unpacked.
 pub fn read(bus: &mut dyn Bus, node: u8, timeout: Duration, limit: usize) -> Result<StoredEds> {
@@ -48,7 +43,7 @@ pub fn read(bus: &mut dyn Bus, node: u8, timeout: Duration, limit: usize) -> Res
     opts.block_upload = true;
     opts.max_upload = limit;
     let raw = match bus.sdo_upload(node, STORE_EDS, &opts) {
-        Err(e) if absent(&e) => return Err(Error::NoStoredEds { node }),
+        Err(e) if super::node::is_missing(&e) => return Err(Error::NoStoredEds { node }),
         other => other?,
     };
     let mut opts = SdoOptions::new(timeout);
@@ -57,7 +52,7 @@ pub fn read(bus: &mut dyn Bus, node: u8, timeout: Duration, limit: usize) -> Res
         Ok(v) if v.len() == 1 => (v[0], true),
         Ok(v) => return Err(Error::StoredEds { node, why: stored::StoredError::FormatSize(v.len()) }),
         // CiA 301 pairs the two objects; a device with 0x1021 alone stores plain text.
-        Err(e) if absent(&e) => (stored::PLAIN, false),
+        Err(e) if super::node::is_missing(&e) => (stored::PLAIN, false),
         Err(e) => return Err(e),
     };
     let file = stored::unpack(format, &raw, limit).map_err(|why| Error::StoredEds { node, why })?;

@@ -1,11 +1,21 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
 use super::{Human, Output, Report, TestCase, TestSuite};
-use crate::ops::network::{Applied, BaudSwitched, Checked, Dumped, Outcome, PROJECT_FILE};
+use crate::ops::network::{Applied, BaudSwitched, Checked, Dumped, LoadWarning, Outcome, PROJECT_FILE};
 use crate::ops::Progress;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+/// A project's warning as `canctl: warning: ...` shows it: file:line and what it says.
+impl std::fmt::Display for LoadWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoadWarning::Project(text) => f.write_str(text),
+            LoadWarning::Dcf(w) => write!(f, "{w}"),
+        }
+    }
+}
 
 pub(crate) struct DumpReport<'a> {
     pub dumped: &'a Dumped,
@@ -169,7 +179,7 @@ impl Report for Applied {
             let would: usize = self
                 .nodes
                 .iter()
-                .map(|n| n.objects.iter().filter(|c| c.result.starts_with("would write")).count())
+                .map(|n| n.objects.iter().filter(|c| c.result.action == crate::ops::config::Action::WouldWrite).count())
                 .sum();
             notes.push(format!(
                 "dry run: {would} object(s) {verb} on {} node(s); nothing was written",
@@ -365,5 +375,19 @@ impl Progress for NodeBars<'_> {
 impl Drop for NodeBars<'_> {
     fn drop(&mut self) {
         self.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::od::lint::{Kind, Warning};
+
+    #[test]
+    fn a_project_warning_shows_its_file_and_line() {
+        let dcf = LoadWarning::Dcf(Warning::new("node5.dcf", 12, Kind::RepeatedKey, "DefaultValue given twice".into()));
+        assert_eq!(dcf.to_string(), "node5.dcf:12: DefaultValue given twice");
+        let project = LoadWarning::Project("nodelist.cpj: no Nodes= key in [Topology]".into());
+        assert_eq!(project.to_string(), "nodelist.cpj: no Nodes= key in [Topology]");
     }
 }

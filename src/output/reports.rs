@@ -141,7 +141,7 @@ impl Report for Applied {
         let rows = self
             .objects
             .iter()
-            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.clone()]);
+            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.to_string()]);
         if self.objects.is_empty() && !self.interrupted {
             // A header over no rows says nothing: say so in words.
             return Human::Line(format!("nothing to change: node {} already matches {}", self.node, self.file));
@@ -157,7 +157,7 @@ impl Report for Applied {
         let rows = self
             .objects
             .iter()
-            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.clone()]);
+            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.to_string()]);
         Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty: true }
     }
 

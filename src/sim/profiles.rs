@@ -5,7 +5,7 @@ use crate::canopen::lss::SlaveCaps;
 use crate::canopen::DataType::{self, *};
 use crate::canopen::ObjAddr;
 use crate::od::Access::*;
-use crate::od::{le, text, Access, Dictionary, Init};
+use crate::od::{builtin, le, text, Dictionary, Init};
 use crate::sim::cia402_drive::{DriveProfile, RemoteBit, VoltageBit};
 
 pub struct Model {
@@ -125,42 +125,28 @@ struct Common {
 
 fn common(c: Common) -> Dictionary {
     let mut d = Dictionary::default();
-    d.var(0x1000, "Device type", U32, Ro, u(c.device_type as u64, U32));
-    d.var(0x1001, "Error register", U8, Ro, u(0, U8));
-    d.var(0x1005, "COB-ID SYNC", U32, Rw, u(0x80, U32));
-    d.var(0x1008, "Manufacturer device name", Vs, Const, text(c.name));
-    d.var(0x1009, "Manufacturer hardware version", Vs, Const, text(c.hardware));
-    d.var(0x100A, "Manufacturer software version", Vs, Const, text(c.software));
+    // Names, types, access and kinds from the CiA 301 table; the values are this device's.
+    let mut add = |index, value: &dyn Fn(u8) -> Option<Init>| builtin::add(&mut d, index, |e| value(e.addr.sub));
+    add(0x1000, &|_| Some(u(c.device_type as u64, U32)));
+    add(0x1001, &|_| Some(u(0, U8)));
+    add(0x1005, &|_| Some(u(0x80, U32)));
+    add(0x1008, &|_| Some(text(c.name)));
+    add(0x1009, &|_| Some(text(c.hardware)));
+    add(0x100A, &|_| Some(text(c.software)));
     if c.guarding {
-        d.var(0x100C, "Guard time", U16, Rw, u(0, U16));
-        d.var(0x100D, "Life time factor", U8, Rw, u(0, U8));
+        add(0x100C, &|_| Some(u(0, U16)));
+        add(0x100D, &|_| Some(u(0, U8)));
     }
     // Reading a sub gives 1: the device saves (restores) on command (CiA 301 7.5.2.13).
-    let subs = || -> Vec<(u8, &'static str, DataType, Access, Init)> {
-        let names = ["all parameters", "communication parameters", "application parameters", "manufacturer parameters"];
-        (1..=c.store_subs).map(|s| (s, names[s as usize - 1], U32, Rw, u(1, U32))).collect()
-    };
-    d.record(0x1010, "Store parameters", subs());
-    d.record(0x1011, "Restore default parameters", subs());
-    d.var(0x1014, "COB-ID EMCY", U32, Rw, Init::NodeIdPlus(0x80));
+    let store = |sub| (sub <= c.store_subs).then(|| u(1, U32));
+    add(0x1010, &store);
+    add(0x1011, &store);
+    add(0x1014, &|_| Some(Init::NodeIdPlus(0x80)));
     if let Some(ms) = c.heartbeat_ms {
-        d.var(0x1017, "Producer heartbeat time", U16, Rw, u(ms as u64, U16));
+        add(0x1017, &|_| Some(u(ms as u64, U16)));
     }
-    let id = c.identity.map(|i| i.to_vec()).unwrap_or_default();
-    let names = ["Vendor-ID", "Product code", "Revision number", "Serial number"];
-    d.record(
-        0x1018,
-        "Identity object",
-        id.iter().zip(names).enumerate().map(|(i, (v, n))| (i as u8 + 1, n, U32, Ro, u(*v as u64, U32))).collect(),
-    );
-    d.record(
-        0x1200,
-        "SDO server parameter",
-        vec![
-            (1, "COB-ID client to server", U32, Ro, Init::NodeIdPlus(0x600)),
-            (2, "COB-ID server to client", U32, Ro, Init::NodeIdPlus(0x580)),
-        ],
-    );
+    add(0x1018, &|sub| c.identity.map(|id| u(id[sub as usize - 1] as u64, U32)));
+    add(0x1200, &|sub| Some(Init::NodeIdPlus(if sub == 1 { 0x600 } else { 0x580 })));
     d
 }
 
@@ -559,4 +545,23 @@ fn event_driven_tpdo1(d: &mut Dictionary, entries: u8, first: u32) {
         default: u(1, U8),
         range: Some((0, entries as i128)),
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// CiA 301's objects are one table: a simulated device has each as the table has it
+    /// (0x1010 and 0x1011 are ARRAYs, CiA 301 §7.5.2.13/14; 0x1018 a RECORD).
+    #[test]
+    fn the_devices_have_the_cia_301_objects_as_the_built_in_table_has_them() {
+        let table = builtin::dictionary(None);
+        for (model, _) in demo_network() {
+            for (index, _, kind) in model.dict.objects().filter(|(i, _, _)| (0x1000..0x2000).contains(i)) {
+                if let Some((_, want)) = table.object_info(index) {
+                    assert_eq!(kind, want, "{}: 0x{index:04X}", model.key);
+                }
+            }
+        }
+    }
 }

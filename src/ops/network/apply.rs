@@ -1,0 +1,456 @@
+//! `network apply`: every listed node brought to its DCF, node-ids over LSS first.
+
+use super::*;
+
+/// How to apply a project.
+#[derive(Clone, Debug)]
+pub struct ApplyOptions {
+    /// Timeouts, dry run, verify, force; `store` is done here, only for nodes written to.
+    pub config: config::ApplyOptions,
+    /// Give node-ids over LSS to listed nodes that do not answer, matched by the LSS
+    /// identity their DCF names.
+    pub assign: bool,
+    /// How long probes wait for answers.
+    pub window: Duration,
+    /// How long a device given a node-id may take to answer with it.
+    pub boot_wait: Duration,
+    /// How many nodes are configured at once (1: one after the other).
+    pub jobs: usize,
+    /// Reset the nodes written to (NMT reset node) and wait, up to `boot_wait`, until each
+    /// is back (its boot-up, or an SDO answer where the link shows no traffic).
+    pub reset: bool,
+    /// Set when the user asks to stop (SIGINT, SIGTERM, Ctrl-C): no node is begun after
+    /// that, and the report says which were not. The nodes under way stop at their next
+    /// safe point when `config.interrupted` is the same flag (between two SDO transfers, a
+    /// PDO change under way rolled back, as `config apply` does), else they finish.
+    pub interrupted: Cancel,
+}
+
+/// What applying a project did, node by node.
+#[derive(Debug, Serialize)]
+pub struct Applied {
+    pub project: String,
+    pub bus: String,
+    pub dry_run: bool,
+    pub nodes: Vec<NodeApplied>,
+    /// Objects written on the whole network.
+    pub written: usize,
+    /// Nodes that answered but the project does not list: apply cannot make them match.
+    pub unlisted: Vec<Unlisted>,
+    /// Whether the network now matches the project ([`matches`]): every node brought to
+    /// its DCF, none unlisted.
+    pub ok: bool,
+    /// The first failure (its exit code is the command's).
+    #[serde(skip)]
+    pub failure: Option<Error>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct NodeApplied {
+    pub node: u8,
+    pub name: String,
+    pub file: Option<String>,
+    /// `assigned over LSS to IDENTITY` when `--assign` gave the node its id.
+    pub assigned: Option<String>,
+    /// Objects written (PDO sequence steps included).
+    pub written: usize,
+    pub stored: bool,
+    /// What happened, in a sentence.
+    pub result: String,
+    /// What happened, in one word: the summary counts these, as the table shows them.
+    pub outcome: Outcome,
+    pub ok: bool,
+    /// Each object written or not, as `config apply` reports it.
+    pub objects: Vec<config::Change>,
+}
+
+/// Where a node's apply ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Outcome {
+    /// Brought to its DCF (or, in a dry run, found what would be written).
+    Done,
+    /// Failed; the result says why.
+    Failed,
+    /// Stopped by the user after something was written (or a PDO change rolled back).
+    StoppedPartWay,
+    /// Stopped by the user before anything was written: the node is as it was.
+    StoppedUnchanged,
+    /// Not begun: the user stopped the run first (its node-id may have been given).
+    NotBegun,
+}
+
+impl Applied {
+    pub fn outcome(self) -> Result<()> {
+        match self.failure {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Give `node` to the LSS device with `identity`, store it, and wait until the node answers
+/// SDO with it.
+fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) -> Result<()> {
+    let mut m = LssMaster::new(bus, o.config.timeout);
+    let result = m
+        .enter(Some(identity))
+        .and_then(|_| m.configure(Request::ConfigureNodeId(node), "set-id", false))
+        .and_then(|_| m.configure(Request::StoreConfiguration, "store", false));
+    // Back in waiting state the device takes its new node-id and boots.
+    let left = m.leave();
+    result?;
+    left?;
+    let deadline = bus.now() + o.boot_wait;
+    loop {
+        match bus.sdo_upload(node, DEVICE_TYPE, &SdoOptions::new(o.window)) {
+            Ok(_) | Err(Error::SdoAbort { .. }) => return Ok(()),
+            Err(e) if no_answer(&e) && bus.now() < deadline => continue,
+            Err(e) if no_answer(&e) => {
+                let what = Service::AfterLssAssign { identity: *identity };
+                return Err(Error::NoAnswer { node, what, waited: o.boot_wait });
+            }
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// A node's row, and the error that failed it.
+type NodeOutcome = (NodeApplied, Option<Error>);
+
+fn empty_row(listed: &Listed) -> NodeApplied {
+    NodeApplied {
+        node: listed.node,
+        name: listed.name.clone(),
+        file: listed.dcf.as_ref().map(|d| d.path().to_string()),
+        assigned: None,
+        written: 0,
+        stored: false,
+        result: String::new(),
+        outcome: Outcome::Failed,
+        ok: false,
+        objects: Vec::new(),
+    }
+}
+
+/// One node that answers: `config apply` (only what differs, in its safe order, verified
+/// when asked), then store when anything was written.
+fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
+    let mut row = empty_row(listed);
+    let fail = |mut row: NodeApplied, e: Error| {
+        row.result = format!("failed: {e}");
+        (row, Some(e))
+    };
+    let Some(dcf) = &listed.dcf else {
+        row.ok = true;
+        row.outcome = Outcome::Done;
+        row.result = "present; the project names no DCF for it".to_string();
+        return (row, None);
+    };
+    let mut co = o.config.clone();
+    co.store = false;
+    let mut applied = match config::apply(bus, listed.node, dcf, &co) {
+        Ok(a) => a,
+        Err(e) => return fail(row, e),
+    };
+    row.written = applied.written.len();
+    row.objects = std::mem::take(&mut applied.objects);
+    let would = row.objects.iter().filter(|c| c.result.action == config::Action::WouldWrite).count();
+    if applied.interrupted {
+        // Stopped between two transfers, a PDO change under way put back: what was done,
+        // what was not, and the state the node is left in, as `config apply` says it.
+        row.result = format!("interrupted: {}", applied.summary().join("; "));
+        let changed = row.written > 0 || !applied.rolled_back.is_empty() || !applied.to_fix.is_empty();
+        row.outcome = if changed { Outcome::StoppedPartWay } else { Outcome::StoppedUnchanged };
+        if o.config.store && !o.config.dry_run && row.written > 0 {
+            row.result.push_str(&format!("; not stored (canctl store {} keeps what was written)", listed.node));
+        }
+        return (row, Some(Error::Interrupted));
+    }
+    if let Err(e) = applied.outcome() {
+        return fail(row, e);
+    }
+    let stop = o.config.interrupted.is_cancelled();
+    if o.config.store && row.written > 0 && stop {
+        row.result = format!(
+            "interrupted: {} object(s) written{}, not stored (canctl store {} keeps them)",
+            row.written,
+            if o.config.verify { ", verified" } else { "" },
+            listed.node
+        );
+        row.outcome = Outcome::StoppedPartWay;
+        return (row, Some(Error::Interrupted));
+    }
+    if o.config.store && row.written > 0 {
+        let t = crate::ops::store::Timeouts { answer: o.config.timeout, write: o.config.store_timeout };
+        match crate::ops::store::store(bus, listed.node, crate::ops::store::Class::All, t) {
+            Ok(_) => row.stored = true,
+            Err(e) => return fail(row, e),
+        }
+    }
+    row.ok = true;
+    row.outcome = Outcome::Done;
+    row.result = match (o.config.dry_run, row.written) {
+        (true, _) if would == 0 => "up to date: nothing would be written".to_string(),
+        (true, _) => format!("{would} object(s) would be written"),
+        (false, 0) => "up to date: nothing written".to_string(),
+        (false, n) => format!(
+            "{n} object(s) written{}{}",
+            if o.config.verify { ", verified" } else { "" },
+            if row.stored { ", stored" } else { "" }
+        ),
+    };
+    (row, None)
+}
+
+/// Bring every listed node to its DCF: first the node-ids over LSS (one device at a time,
+/// as LSS works), then up to `jobs` nodes at once, their SDO transfers in flight together on
+/// the one link. A node that fails is reported and the others still done; the first
+/// failure decides the exit code.
+pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mut dyn Progress) -> Result<Applied> {
+    let found = probe(bus, o.window, progress)?;
+    let mut rows: Vec<Option<NodeOutcome>> = Vec::new();
+    // Nodes that must answer before they can be configured: given their id, or failed.
+    let stop = || o.interrupted.is_cancelled();
+    for listed in &loaded.nodes {
+        let present = found.contains_key(&listed.node);
+        rows.push((!present && !stop()).then(|| absent_node(bus, listed, o)));
+    }
+    let ready: Vec<usize> = (0..loaded.nodes.len())
+        .filter(|i| match &rows[*i] {
+            None => found.contains_key(&loaded.nodes[*i].node),
+            Some((row, None)) => row.assigned.is_some() && !o.config.dry_run,
+            Some(_) => false,
+        })
+        .collect();
+    let assigned: Vec<Option<String>> =
+        rows.iter().map(|r| r.as_ref().and_then(|(row, _)| row.assigned.clone())).collect();
+    progress.start("applying", ready.len() as u64);
+    let done = if o.jobs <= 1 {
+        let mut done = Vec::new();
+        for (k, i) in ready.iter().enumerate() {
+            if stop() {
+                break;
+            }
+            progress.advance(k as u64);
+            let label = node_label(loaded.nodes[*i].node);
+            let (mut reads, mut writes) = (0, 0);
+            let result = {
+                let mut counted = crate::bus::tap::AfterSdo::new(&mut *bus, |t, n| {
+                    match t {
+                        crate::bus::tap::Transfer::Upload => reads = n,
+                        crate::bus::tap::Transfer::Download => writes = n,
+                        crate::bus::tap::Transfer::Nmt => {}
+                    }
+                    progress.item(&label, &transfers(reads, writes), false);
+                });
+                configure_node(&mut counted, &loaded.nodes[*i], o)
+            };
+            progress.item(&label, &result.summary(), true);
+            let link = matches!(result.1, Some(Error::Link(_)));
+            done.push((*i, result));
+            // A lost link ends the run: every further node would fail the same way.
+            if link {
+                break;
+            }
+        }
+        done
+    } else {
+        let work = |bus: &mut dyn Bus, i: usize| configure_node(bus, &loaded.nodes[i], o);
+        let stopped = |i: usize, e: Error| {
+            let mut row = empty_row(&loaded.nodes[i]);
+            row.result = format!("failed: {e}");
+            (row, Some(e))
+        };
+        let items: Vec<(usize, u8)> = ready.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
+        parallel::each(bus, &items, o.jobs, &o.interrupted, &work, &stopped, progress)
+    };
+    progress.finish();
+    let configured: Vec<usize> = done.iter().map(|(i, _)| *i).collect();
+    for (i, (mut row, error)) in done {
+        if let Some(id) = &assigned[i] {
+            row.assigned = Some(id.clone());
+            row.result = format!("node-id given over LSS; {}", row.result);
+        }
+        rows[i] = Some((row, error));
+    }
+    if o.reset && !o.config.dry_run && !stop() {
+        let written: Vec<u8> = rows
+            .iter()
+            .flatten()
+            .filter(|(row, error)| error.is_none() && row.written > 0)
+            .map(|(row, _)| row.node)
+            .collect();
+        let back = reset_and_wait(bus, &written, o)?;
+        for (row, error) in rows.iter_mut().flatten() {
+            match back.get(&row.node) {
+                Some(true) => row.result.push_str(", reset, booted"),
+                Some(false) => {
+                    row.result.push_str(", reset, but not back");
+                    row.ok = false;
+                    error.get_or_insert(Error::NoAnswer { node: row.node, what: Service::BootUp, waited: o.boot_wait });
+                }
+                None => {}
+            }
+        }
+    }
+    let interrupted = stop();
+    let mut nodes = Vec::new();
+    let mut failure = interrupted.then_some(Error::Interrupted);
+    for (i, outcome) in rows.into_iter().enumerate() {
+        match outcome {
+            // Given its node-id over LSS, then not configured: stopped by the user, or the
+            // link was lost, before this node was begun.
+            Some((mut row, None)) if ready.contains(&i) && !configured.contains(&i) => {
+                let (why, outcome) = if interrupted {
+                    ("interrupted before this node was begun", Outcome::NotBegun)
+                } else {
+                    ("the run ended (link lost) before this node was begun", Outcome::Failed)
+                };
+                row.result = format!("node-id given over LSS; not configured: {why}");
+                row.outcome = outcome;
+                row.ok = false;
+                nodes.push(row);
+            }
+            Some((row, error)) => {
+                if let Some(e) = error {
+                    failure.get_or_insert(e);
+                }
+                nodes.push(row);
+            }
+            // Not begun: interrupted first, or the link was lost.
+            None if interrupted => {
+                let mut row = empty_row(&loaded.nodes[i]);
+                row.result = "not done: interrupted before this node was begun".into();
+                row.outcome = Outcome::NotBegun;
+                nodes.push(row);
+            }
+            None => {}
+        }
+    }
+    let written = nodes.iter().map(|n| n.written).sum();
+    let unlisted = unlisted(&found, loaded);
+    if !unlisted.is_empty() {
+        let list: Vec<String> = unlisted.iter().map(|u| u.node.to_string()).collect();
+        failure.get_or_insert(Error::NetworkDiffers {
+            bus: bus.describe(),
+            project: loaded.file.display().to_string(),
+            differences: vec![format!("node(s) {} answer but are not in the project", list.join(", "))],
+        });
+    }
+    Ok(Applied {
+        project: loaded.file.display().to_string(),
+        bus: bus.describe(),
+        dry_run: o.config.dry_run,
+        ok: matches(failure.is_none() && nodes.len() == loaded.nodes.len(), &unlisted),
+        nodes,
+        written,
+        unlisted,
+        failure,
+    })
+}
+
+/// A node's result in a few words, for its progress bar.
+pub(super) trait Summary {
+    fn summary(&self) -> String;
+}
+
+impl Summary for NodeOutcome {
+    fn summary(&self) -> String {
+        self.0.result.clone()
+    }
+}
+
+impl Summary for Result<NodeCheck> {
+    fn summary(&self) -> String {
+        match self {
+            Ok(n) => match n.checks.iter().filter(|c| !c.ok).count() {
+                0 => "as the project says".to_string(),
+                k => format!("{k} check(s) differ"),
+            },
+            Err(e) => format!("failed: {e}"),
+        }
+    }
+}
+
+pub(super) fn node_label(node: u8) -> String {
+    format!("node {node}")
+}
+
+pub(super) fn transfers(reads: u32, writes: u32) -> String {
+    format!("{reads} read(s), {writes} write(s)")
+}
+
+/// NMT reset `nodes`, then wait until each is back: its boot-up message where the link shows
+/// the bus's traffic, else an SDO answer. Whether each came back within `boot_wait`.
+fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<BTreeMap<u8, bool>> {
+    let mut back: BTreeMap<u8, bool> = nodes.iter().map(|n| (*n, false)).collect();
+    for n in nodes {
+        bus.observed().boot_ups.remove(n);
+        bus.nmt(crate::canopen::nmt::Command::ResetNode, *n)?;
+    }
+    let deadline = bus.now() + o.boot_wait;
+    if bus.sees_traffic() {
+        while back.values().any(|b| !b) {
+            let frame = bus.recv_frame(deadline)?;
+            for (n, b) in back.iter_mut() {
+                *b |= bus.observed().boot_ups.contains(n);
+            }
+            if frame.is_none() {
+                break;
+            }
+        }
+    } else {
+        for n in nodes {
+            while bus.now() < deadline {
+                match bus.sdo_upload(*n, DEVICE_TYPE, &SdoOptions::new(o.window)) {
+                    Ok(_) | Err(Error::SdoAbort { .. }) => {
+                        back.insert(*n, true);
+                        break;
+                    }
+                    Err(e) if no_answer(&e) => continue,
+                    Err(e) => return Err(e),
+                }
+            }
+        }
+    }
+    Ok(back)
+}
+
+/// A listed node that did not answer the probe: given its node-id over LSS when asked (and
+/// its DCF names an LSS identity), else failed.
+fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
+    let mut row = empty_row(listed);
+    let fail = |mut row: NodeApplied, e: Error| {
+        row.result = format!("failed: {e}");
+        (row, Some(e))
+    };
+    match listed.lss_identity() {
+        Some(id) if o.assign && o.config.dry_run => {
+            row.assigned = Some(id.to_string());
+            row.result = format!("would be looked for over LSS ({id}) and given node-id {}", listed.node);
+            row.ok = true;
+            row.outcome = Outcome::Done;
+            (row, None)
+        }
+        Some(id) if o.assign => match assign(bus, &id, listed.node, o) {
+            Ok(()) => {
+                row.assigned = Some(id.to_string());
+                row.ok = true;
+                row.outcome = Outcome::Done;
+                (row, None)
+            }
+            Err(e) => fail(row, e),
+        },
+        Some(id) => {
+            let what = Service::ProjectNode { lss: Some(id) };
+            let e = Error::NoAnswer { node: listed.node, what, waited: o.window };
+            fail(row, e)
+        }
+        None => {
+            let what = Service::ProjectNode { lss: None };
+            let e = Error::NoAnswer { node: listed.node, what, waited: o.window };
+            fail(row, e)
+        }
+    }
+}

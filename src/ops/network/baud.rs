@@ -1,0 +1,248 @@
+//! `network set-baud`: the whole bus switched to a new bit rate over LSS.
+
+use super::*;
+
+/// How to switch a network's bit rate.
+#[derive(Clone, Debug)]
+pub struct SetBaudOptions {
+    /// How long to collect the devices' LSS answers.
+    pub timeout: Duration,
+    /// How long the probes before and after the switch wait for answers.
+    pub window: Duration,
+    /// The new bit rate: its index in the CiA 305 table.
+    pub index: u8,
+    /// CiA 305 switch delay: the devices wait this long, switch, and wait as long again
+    /// before they transmit.
+    pub delay_ms: u16,
+    /// Make the devices keep the new rate across power cycles ("store configuration").
+    pub store: bool,
+    /// Activate even when some device refused the new rate (it is left behind).
+    pub force: bool,
+    /// Set when the user asks to stop: checked before each LSS step; nothing is switched
+    /// once it is set before the activation.
+    pub interrupted: Cancel,
+}
+
+/// One node expected to follow the switch.
+#[derive(Debug, Serialize)]
+pub struct NodeFollowed {
+    pub node: u8,
+    pub name: String,
+    /// Whether it answered the probe before the switch.
+    pub before: bool,
+    /// Whether it answers at the new rate; `None` where the link could not look (it stays
+    /// at the old rate).
+    pub after: Option<bool>,
+    /// What happened, in a sentence.
+    pub result: String,
+}
+
+/// What a network-wide bit-rate switch did.
+#[derive(Debug, Serialize)]
+pub struct BaudSwitched {
+    pub bus: String,
+    /// The new rate (`250k`).
+    pub rate: String,
+    /// Where the expected nodes come from: the project file, or the probe before the switch.
+    pub expected_from: String,
+    /// "configure bit timing", sent to every device in configuration state.
+    pub configured: LssTally,
+    /// "store configuration", when asked.
+    pub stored: Option<LssTally>,
+    /// Whether "activate bit timing" was sent.
+    pub activated: bool,
+    /// Why it was not, in words.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_activated: Option<String>,
+    pub delay_ms: u16,
+    /// Whether the link switched with the devices (the simulated bus does; a CAN interface
+    /// or an EPOS2 must be switched by its owner).
+    pub bus_followed: bool,
+    pub nodes: Vec<NodeFollowed>,
+    /// Nodes answering at the new rate that were not expected.
+    pub unexpected: Vec<u8>,
+    /// Devices without a node-id that answered LSS before and after the switch.
+    pub unconfigured_before: usize,
+    pub unconfigured_after: Option<usize>,
+    /// Whether every expected node is confirmed at the new rate.
+    pub ok: bool,
+    /// Why it is not (its exit code is the command's).
+    #[serde(skip)]
+    pub failure: Option<Error>,
+}
+
+impl BaudSwitched {
+    pub fn outcome(self) -> Result<()> {
+        match self.failure {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Switch every device on the bus to a new bit rate (CiA 305, LSS global): all into
+/// configuration state, "configure bit timing", "store configuration" when asked, then
+/// "activate bit timing" with the switch delay; the devices go quiet, switch after the
+/// delay and wait as long again, during which nothing is sent. Where the link switched with
+/// them, the devices are sent back to waiting state and the bus is probed again: every
+/// expected node (the project's, else those found before) that does not answer at the new
+/// rate is reported. A device refusing the rate stops the switch before anything is
+/// activated, unless `force`.
+pub fn set_baud(
+    bus: &mut dyn Bus,
+    project: Option<&Loaded>,
+    o: &SetBaudOptions,
+    progress: &mut dyn Progress,
+) -> Result<BaudSwitched> {
+    let stop = || o.interrupted.is_cancelled();
+    if stop() {
+        return Err(Error::Interrupted);
+    }
+    let rate = crate::canopen::lss::bit_rate_name(o.index);
+    let before = probe(bus, o.window, progress)?;
+    let unconfigured_before = crate::bus::lss::count_unconfigured(bus, o.window)?;
+    let (expected, expected_from): (Vec<(u8, String)>, String) = match project {
+        Some(p) => (p.nodes.iter().map(|l| (l.node, l.name.clone())).collect(), p.file.display().to_string()),
+        None => (before.keys().map(|n| (*n, String::new())).collect(), "the probe before the switch".into()),
+    };
+    let mut report = BaudSwitched {
+        bus: bus.describe(),
+        rate: rate.clone(),
+        expected_from,
+        configured: LssTally::default(),
+        stored: None,
+        activated: false,
+        not_activated: None,
+        delay_ms: o.delay_ms,
+        bus_followed: false,
+        nodes: expected
+            .iter()
+            .map(|(node, name)| NodeFollowed {
+                node: *node,
+                name: name.clone(),
+                before: before.contains_key(node),
+                after: None,
+                result: String::new(),
+            })
+            .collect(),
+        unexpected: Vec::new(),
+        unconfigured_before,
+        unconfigured_after: None,
+        ok: false,
+        failure: None,
+    };
+    let not_switched = |report: &mut BaudSwitched, e: Error, why: &str| {
+        for n in &mut report.nodes {
+            n.result = "not switched".to_string();
+        }
+        report.not_activated = Some(why.to_string());
+        report.failure = Some(e);
+    };
+
+    let mut m = LssMaster::new(bus, o.timeout);
+    m.enter(None)?;
+    let answers = match m.ask(Request::ConfigureBitTiming { table: 0, index: o.index }, LssWait::All) {
+        Ok(a) => a,
+        Err(e) => {
+            m.leave()?;
+            return Err(e);
+        }
+    };
+    report.configured = LssTally::of(&answers, "configure bit timing");
+    let refused = report.configured.first_refusal.take();
+    if report.configured.confirmed == 0 {
+        m.leave()?;
+        let e = match refused {
+            Some(e) => e,
+            None => Error::NoLssAnswer { request: "configure bit timing".into(), identity: None, waited: o.timeout },
+        };
+        not_switched(&mut report, e, "no device took the new rate");
+        return Ok(report);
+    }
+    if let Some(e) = refused.filter(|_| !o.force) {
+        m.leave()?;
+        let why = format!(
+            "{} device(s) refused {rate} (--force switches the others and leaves them behind)",
+            report.configured.refused.len()
+        );
+        not_switched(&mut report, e, &why);
+        return Ok(report);
+    }
+    if stop() {
+        m.leave()?;
+        not_switched(&mut report, Error::Interrupted, "interrupted before the activation");
+        return Ok(report);
+    }
+    if o.store {
+        let answers = match m.ask(Request::StoreConfiguration, LssWait::All) {
+            Ok(a) => a,
+            Err(e) => {
+                m.leave()?;
+                return Err(e);
+            }
+        };
+        report.stored = Some(LssTally::of(&answers, "store configuration"));
+        // Those that stored it boot at the new rate from now on: the running bus must
+        // follow them, so an interruption here no longer stops the switch.
+    }
+    m.send(Request::ActivateBitTiming { delay_ms: o.delay_ms })?;
+    report.activated = true;
+    // CiA 305: each device switches after the delay and is silent until the delay has
+    // passed a second time; the master sends nothing in between either.
+    let link = m.bus();
+    link.sleep_until(link.now() + Duration::from_millis(2 * u64::from(o.delay_ms)))?;
+    report.bus_followed = m.bus().follows_bit_rate_switch();
+    if !report.bus_followed {
+        // Only a link at the new rate reaches the devices again; they stay in
+        // configuration state until an LSS command does.
+        for n in &mut report.nodes {
+            n.result = format!("not checked: {} stays at the old rate", report.bus);
+        }
+        report.ok = false;
+        return Ok(report);
+    }
+    m.leave()?;
+    let after = probe(bus, o.window, progress)?;
+    report.unconfigured_after = Some(crate::bus::lss::count_unconfigured(bus, o.window)?);
+    let mut behind = Vec::new();
+    for n in &mut report.nodes {
+        let here = after.contains_key(&n.node);
+        n.after = Some(here);
+        n.result = match (n.before, here) {
+            (_, true) => format!("answers at {rate}"),
+            (true, false) => {
+                behind.push(n.node);
+                format!("did not follow: answered before the switch, not at {rate}")
+            }
+            (false, false) => {
+                behind.push(n.node);
+                "not found: did not answer before the switch nor after it".to_string()
+            }
+        };
+    }
+    report.unexpected = after.keys().filter(|n| !expected.iter().any(|(e, _)| e == *n)).copied().collect();
+    report.ok = behind.is_empty();
+    if !behind.is_empty() {
+        report.failure = Some(Error::NotFollowed { rate, nodes: behind });
+    } else if stop() {
+        report.failure = Some(Error::Interrupted);
+    }
+    Ok(report)
+}
+
+/// The project's DCFs with `[DeviceComissioning] Baudrate` set to `kbit`: each file's new
+/// bytes, all made before any is written (the caller writes each atomically).
+pub fn with_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<(PathBuf, Vec<u8>)>> {
+    let mut out = Vec::new();
+    for listed in &loaded.nodes {
+        let Some(path) = loaded.project.dcf_path(&loaded.file, listed.node) else { continue };
+        let name = path.display().to_string();
+        let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
+            .map_err(|e| Error::Usage(format!("cannot use {name}: {e}")))?;
+        let mut c = cpj::read_commissioning(&bytes, &name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        c.baudrate_kbit = Some(kbit);
+        let new = cpj::with_commissioning(&bytes, &c).map_err(|e| Error::Usage(e.to_string()))?;
+        out.push((path, new));
+    }
+    Ok(out)
+}

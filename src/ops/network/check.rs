@@ -1,0 +1,208 @@
+//! `network check`: the bus against the project, node by node.
+
+use super::*;
+
+/// How to check a network.
+#[derive(Clone, Debug)]
+pub struct CheckOptions {
+    pub timeout: Duration,
+    pub window: Duration,
+    /// How many nodes are checked at once (1: one after the other).
+    pub jobs: usize,
+    /// The NMT state every listed node must be in, when the caller expects one (CiA 306-3
+    /// projects do not say).
+    pub state: Option<crate::canopen::nmt::State>,
+}
+
+/// Is the network as the project says?
+#[derive(Debug, Serialize)]
+pub struct Checked {
+    pub project: String,
+    pub net_name: Option<String>,
+    pub bus: String,
+    pub nodes: Vec<NodeCheck>,
+    /// Nodes that answered but the project does not list, with their device type.
+    pub unlisted: Vec<Unlisted>,
+    /// Devices that answered LSS "identify non-configured remote slave": said, but no
+    /// difference (see [`matches`]).
+    pub unconfigured: usize,
+    /// Whether the network matches the project ([`matches`]).
+    pub ok: bool,
+}
+
+/// What "the network matches the project" means, for `check` and `apply` alike: every
+/// listed node is as the project says (`nodes_ok`), and no node the project does not list
+/// answers. Devices waiting for a node-id are no difference: without one they have no
+/// place in a project, and a listed device that lost its id fails its own `present` check.
+pub(super) fn matches(nodes_ok: bool, unlisted: &[Unlisted]) -> bool {
+    nodes_ok && unlisted.is_empty()
+}
+
+/// The nodes that answered a probe but the project does not list.
+pub(super) fn unlisted(found: &BTreeMap<u8, Option<u32>>, loaded: &Loaded) -> Vec<Unlisted> {
+    found
+        .iter()
+        .filter(|(n, _)| !loaded.nodes.iter().any(|l| l.node == **n))
+        .map(|(n, t)| Unlisted { node: *n, device_type: *t })
+        .collect()
+}
+
+#[derive(Debug, Serialize)]
+pub struct NodeCheck {
+    pub node: u8,
+    pub name: String,
+    pub file: Option<String>,
+    pub checks: Vec<Verdict>,
+}
+
+pub use crate::ops::verdict::Verdict;
+
+#[derive(Debug, Serialize)]
+pub struct Unlisted {
+    pub node: u8,
+    pub device_type: Option<u32>,
+}
+
+impl Checked {
+    /// A verification error (exit 6) when anything differs.
+    pub fn outcome(&self) -> Result<()> {
+        if self.ok {
+            return Ok(());
+        }
+        let failed: usize = self.nodes.iter().map(|n| n.checks.iter().filter(|c| !c.ok).count()).sum();
+        let mut parts = Vec::new();
+        if failed > 0 {
+            parts.push(format!("{failed} node check(s) failed"));
+        }
+        if !self.unlisted.is_empty() {
+            parts.push(format!("{} node(s) not in the project", self.unlisted.len()));
+        }
+        Err(Error::NetworkDiffers { bus: self.bus.clone(), project: self.project.clone(), differences: parts })
+    }
+}
+
+fn hex(v: u32) -> String {
+    format!("0x{v:08X}")
+}
+
+/// The vendor-ID and product code of `node` against the DCF's (parts the DCF leaves at 0
+/// are not compared).
+fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Verdict> {
+    let (vendor, product) = dcf.identity();
+    let mut differ = Vec::new();
+    let mut seen = Vec::new();
+    for p in crate::ops::node::Node::new(bus, node, timeout).compare_identity(vendor, product)? {
+        if p.matches() {
+            seen.push(format!("{} {}", p.what, p.device_text()));
+        } else {
+            differ.push(format!("{} {}, {} in {}", p.what, p.device_text(), hex(p.file), dcf.path()));
+        }
+    }
+    let (ok, detail) = match (differ.is_empty(), seen.is_empty()) {
+        (false, _) => (false, format!("another device: {}", differ.join(", "))),
+        (true, true) => (true, format!("{} names no vendor-ID or product code: not compared", dcf.path())),
+        (true, false) => (true, seen.join(", ")),
+    };
+    Ok(Verdict { check: "identity", ok, detail, differences: Vec::new() })
+}
+
+/// Every writable object of the DCF against the node (read-only values such as serial
+/// numbers or measurements are the device's, not its configuration).
+fn check_objects(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Verdict> {
+    let diff = config::diff(bus, node, dcf, timeout)?;
+    let writable = |addr: ObjAddr| dcf.eds.dict.get(addr).is_some_and(|e| e.access.writable());
+    let differences: Vec<config::Difference> = diff.differences.into_iter().filter(|d| writable(d.object)).collect();
+    let detail = match differences.len() {
+        0 => format!("every writable object as in {}", dcf.path()),
+        n => {
+            let list: Vec<String> = differences
+                .iter()
+                .map(|d| format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file))
+                .collect();
+            format!("{n} object(s) differ from {}: {}", dcf.path(), list.join("; "))
+        }
+    };
+    Ok(Verdict { check: "objects", ok: differences.is_empty(), detail, differences })
+}
+
+/// The node's NMT state against `want`: from its heartbeat, when one was seen in this
+/// session, else by node guarding (through an EPOS2: by remote request).
+fn check_state(bus: &mut dyn Bus, node: u8, want: crate::canopen::nmt::State, window: Duration) -> Result<Verdict> {
+    let wait = (2 * window).max(Duration::from_millis(200));
+    let seen = crate::ops::node::Node::new(bus, node, wait).nmt_state(wait)?;
+    let (ok, detail) = match seen {
+        Some((state, from)) => (state == want, format!("{state} (from its {from}), {want} expected")),
+        None => (false, format!("no heartbeat seen and no answer to node guarding; {want} expected")),
+    };
+    Ok(Verdict { check: "state", ok, detail, differences: Vec::new() })
+}
+
+/// Check the bus against the project: each listed node present, with the identity its DCF
+/// names and every writable object as the DCF has it; no node the project does not list;
+/// no device waiting for a node-id.
+pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mut dyn Progress) -> Result<Checked> {
+    let found = probe(bus, o.window, progress)?;
+    let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
+    let check_node = |bus: &mut dyn Bus, i: usize| -> Result<NodeCheck> {
+        let listed = &loaded.nodes[i];
+        let present = found.contains_key(&listed.node);
+        let mut checks = vec![Verdict {
+            check: "present",
+            ok: present,
+            detail: if present {
+                format!("node {} answered", listed.node)
+            } else {
+                format!("node {} did not answer within {} ms", listed.node, o.window.as_millis())
+            },
+            differences: Vec::new(),
+        }];
+        if let (true, Some(dcf)) = (present, &listed.dcf) {
+            checks.push(check_identity(bus, listed.node, dcf, o.timeout)?);
+            if checks.last().is_some_and(|c| c.ok) {
+                checks.push(check_objects(bus, listed.node, dcf, o.timeout)?);
+            }
+        }
+        Ok(NodeCheck {
+            node: listed.node,
+            name: listed.name.clone(),
+            file: listed.dcf.as_ref().map(|d| d.path().to_string()),
+            checks,
+        })
+    };
+    let all: Vec<usize> = (0..loaded.nodes.len()).collect();
+    progress.start("checking", all.len() as u64);
+    let results: Vec<Result<NodeCheck>> = if o.jobs <= 1 {
+        all.iter()
+            .map(|i| {
+                progress.advance(*i as u64);
+                check_node(bus, *i)
+            })
+            .collect()
+    } else {
+        let stopped = |_: usize, e: Error| Err(e);
+        let items: Vec<(usize, u8)> = all.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
+        parallel::each(bus, &items, o.jobs, &Cancel::new(), &check_node, &stopped, progress)
+            .into_iter()
+            .map(|(_, r)| r)
+            .collect()
+    };
+    let mut nodes = results.into_iter().collect::<Result<Vec<NodeCheck>>>()?;
+    if let Some(want) = o.state {
+        // Node guarding and heartbeats are the link's, not a node's SDO: asked here.
+        for n in nodes.iter_mut().filter(|n| n.checks[0].ok) {
+            n.checks.push(check_state(bus, n.node, want, o.window)?);
+        }
+    }
+    progress.finish();
+    let unlisted = unlisted(&found, loaded);
+    let ok = matches(nodes.iter().all(|n| n.checks.iter().all(|c| c.ok)), &unlisted);
+    Ok(Checked {
+        project: loaded.file.display().to_string(),
+        net_name: loaded.project.net_name.clone(),
+        bus: bus.describe(),
+        nodes,
+        unlisted,
+        unconfigured,
+        ok,
+    })
+}

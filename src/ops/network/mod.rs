@@ -1,0 +1,243 @@
+//! A whole network from one CiA 306-3 project (`nodelist.cpj` plus one DCF per node):
+//! [`dump`] a live bus into one, [`check`] a bus against one, [`apply`] one to a bus.
+
+use super::config::{self, Dcf};
+pub use super::lss::LssTally;
+use super::Progress;
+use crate::bus::lss::LssMaster;
+use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::cancel::Cancel;
+use crate::canopen::lss::{Identity, Request};
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result, Service};
+use crate::od::cpj::{self, Commissioning, Project};
+use crate::od::eds;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// The project file canctl writes and looks for in a folder.
+pub const PROJECT_FILE: &str = "nodelist.cpj";
+
+const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
+const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+
+/// A project with each listed node's DCF read.
+#[derive(Debug)]
+pub struct Loaded {
+    pub file: PathBuf,
+    pub project: Project,
+    pub nodes: Vec<Listed>,
+    /// What the files say that deserves a look, with file:line.
+    pub warnings: Vec<LoadWarning>,
+}
+
+/// Something a project's files say that deserves a look (the project is used all the same).
+#[derive(Debug, Clone)]
+pub enum LoadWarning {
+    /// In the project file itself, as its reader words it.
+    Project(String),
+    /// In a node's DCF, with its file, line and rule.
+    Dcf(crate::od::lint::Warning),
+}
+
+/// A node the project lists as present.
+#[derive(Debug)]
+pub struct Listed {
+    pub node: u8,
+    /// `NodeXName`, else the DCF's product name, else empty.
+    pub name: String,
+    pub dcf: Option<Dcf>,
+    pub commissioning: Commissioning,
+}
+
+impl Listed {
+    /// The identity an LSS device with this configuration answers to: the DCF's vendor-ID,
+    /// product code and revision, and the commissioning's LSS serial number.
+    pub fn lss_identity(&self) -> Option<Identity> {
+        let dcf = self.dcf.as_ref()?;
+        let (vendor, product) = dcf.identity();
+        let serial = self.commissioning.lss_serial.filter(|s| *s != 0)?;
+        let revision = info_number(dcf, "revisionnumber").unwrap_or(0);
+        (vendor != 0 && product != 0).then_some(Identity { vendor, product, revision, serial })
+    }
+}
+
+fn info_number(dcf: &Dcf, key: &str) -> Option<u32> {
+    dcf.eds.info.get(key).and_then(|v| eds::parse_int(v)).and_then(|v| u32::try_from(v).ok())
+}
+
+/// Read a project and the DCF of every node it lists; any file that cannot be used is a
+/// usage error naming it (file:line where a line is to blame).
+pub fn load(file: &Path) -> Result<Loaded> {
+    let read = cpj::read_file(file).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+    let mut warnings: Vec<LoadWarning> = read.warnings.into_iter().map(LoadWarning::Project).collect();
+    let project = read.project;
+    let mut nodes = Vec::new();
+    for (node, entry) in project.present() {
+        let (dcf, commissioning) = match project.dcf_path(file, node) {
+            None => (None, Commissioning::default()),
+            Some(path) => {
+                let name = path.display().to_string();
+                let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
+                    .map_err(|e| Error::Usage(format!("cannot use {name} (node {node} in {}): {e}", file.display())))?;
+                let dcf = Dcf::parse(&bytes, &name)?;
+                let xml = crate::od::xdd::is_xml(&bytes);
+                let c = match xml {
+                    true => crate::od::xdd::read_commissioning(&bytes, &name).map_err(|e| e.to_string()),
+                    false => cpj::read_commissioning(&bytes, &name).map_err(|e| e.to_string()),
+                }
+                .map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+                if let Some(id) = c.node_id.filter(|id| *id != node) {
+                    return Err(Error::Usage(format!(
+                        "{name} is for node-id {id} ({}), but {} lists it for node {node}",
+                        if xml { "DeviceCommissioning nodeID" } else { "[DeviceComissioning] NodeID" },
+                        file.display()
+                    )));
+                }
+                warnings.extend(dcf.warnings().iter().cloned().map(LoadWarning::Dcf));
+                (Some(dcf), c)
+            }
+        };
+        let name = entry.name.clone().or_else(|| dcf.as_ref().and_then(|d| d.eds.info.get("productname").cloned()));
+        nodes.push(Listed { node, name: name.unwrap_or_default(), dcf, commissioning });
+    }
+    Ok(Loaded { file: file.to_path_buf(), project, nodes, warnings })
+}
+
+/// Whether an error means nobody answered (exit 3), whichever variant says it.
+fn no_answer(e: &Error) -> bool {
+    e.exit_code() == 3
+}
+
+/// Every node that answers (`ops::scan::probe`), with its device type where it gave one.
+fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<BTreeMap<u8, Option<u32>>> {
+    Ok(super::scan::probe(bus, window, progress)?.into_iter().collect())
+}
+
+mod apply;
+mod baud;
+mod check;
+mod dump;
+mod parallel;
+
+pub use apply::*;
+pub use baud::*;
+pub use check::*;
+pub use dump::*;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::connect::{BusAddr, OpenOptions};
+
+    fn demo() -> Box<dyn Bus> {
+        let mut opts = OpenOptions::new(Duration::from_millis(500));
+        opts.ephemeral = true;
+        crate::connect::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap()
+    }
+
+    fn example() -> Loaded {
+        load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sim-machine/nodelist.cpj")).unwrap()
+    }
+
+    /// Sets the stop flag once `after` nodes are done (or begun, one after the other), in
+    /// the applying phase (the probe before it has its own).
+    struct StopAfter {
+        flag: Cancel,
+        after: u64,
+        applying: bool,
+    }
+
+    impl Progress for StopAfter {
+        fn start(&mut self, what: &str, _: u64) {
+            self.applying = what == "applying";
+        }
+        fn advance(&mut self, done: u64) {
+            if self.applying && done >= self.after {
+                self.flag.cancel();
+            }
+        }
+    }
+
+    /// Sets the flag once the probe before the switch is over.
+    struct StopAfterProbe(Cancel);
+
+    impl Progress for StopAfterProbe {
+        fn finish(&mut self) {
+            self.0.cancel();
+        }
+    }
+
+    fn set_baud_options(flag: &Cancel) -> SetBaudOptions {
+        SetBaudOptions {
+            timeout: Duration::from_millis(200),
+            window: Duration::from_millis(100),
+            index: 3,
+            delay_ms: 5,
+            store: false,
+            force: true,
+            interrupted: flag.clone(),
+        }
+    }
+
+    /// Interrupted before the activation, nothing is switched: every device back in waiting
+    /// state at the old rate, the run reported as interrupted.
+    #[test]
+    fn set_baud_interrupted_before_the_activation_switches_nothing() {
+        let flag = Cancel::new();
+        let mut bus = demo();
+        let report = set_baud(bus.as_mut(), None, &set_baud_options(&flag), &mut StopAfterProbe(flag.clone())).unwrap();
+        assert!(!report.activated);
+        assert!(matches!(report.failure, Some(Error::Interrupted)));
+        assert_eq!(report.configured.confirmed, 6, "the stepper refuses, the others confirm");
+        let still: Vec<u8> =
+            probe(bus.as_mut(), Duration::from_millis(100), &mut super::super::Silent).unwrap().into_keys().collect();
+        assert_eq!(still, [1, 5, 10, 32]);
+    }
+
+    /// Forced past the stepper's refusal: the others switch, the bus with them, and the
+    /// stepper is named as left behind.
+    #[test]
+    fn set_baud_names_the_node_left_behind() {
+        let flag = Cancel::new();
+        let mut bus = demo();
+        let report = set_baud(bus.as_mut(), None, &set_baud_options(&flag), &mut super::super::Silent).unwrap();
+        assert!(report.activated && report.bus_followed);
+        assert!(matches!(&report.failure, Some(Error::NotFollowed { nodes, .. }) if nodes == &[32]));
+        let after: Vec<(u8, Option<bool>)> = report.nodes.iter().map(|n| (n.node, n.after)).collect();
+        assert_eq!(after, [(1, Some(true)), (5, Some(true)), (10, Some(true)), (32, Some(false))]);
+    }
+
+    /// An interruption stops between nodes, one after the other or several at once: the
+    /// nodes under way finish, the others are reported as not begun, and the run ends as
+    /// interrupted.
+    #[test]
+    fn an_interruption_stops_between_nodes_and_says_which_were_not_done() {
+        for jobs in [1, 2] {
+            let flag = Cancel::new();
+            let loaded = example();
+            let mut o = ApplyOptions {
+                config: config::ApplyOptions::new(Duration::from_millis(500)),
+                assign: false,
+                window: Duration::from_millis(100),
+                boot_wait: Duration::from_secs(1),
+                jobs,
+                reset: false,
+                interrupted: flag.clone(),
+            };
+            o.config.verify = true;
+            let mut bus = demo();
+            let report = apply(bus.as_mut(), &loaded, &o, &mut StopAfter { flag, after: 1, applying: false }).unwrap();
+            let done: Vec<u8> = report.nodes.iter().filter(|n| n.ok).map(|n| n.node).collect();
+            let not_begun: Vec<u8> =
+                report.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).map(|n| n.node).collect();
+            // The demo network has nodes 1, 5, 10 and 32; 20 to 24 wait for --assign.
+            assert_eq!(done, [1, 5], "--jobs {jobs}: {:?}", report.nodes.iter().map(|n| &n.result).collect::<Vec<_>>());
+            assert_eq!(not_begun, [10, 32], "--jobs {jobs}");
+            assert!(matches!(report.failure, Some(Error::Interrupted)));
+            assert!(!report.ok);
+        }
+    }
+}

@@ -1,0 +1,26 @@
+//! One check's verdict, the same for `health` and `network check`: what was checked,
+//! whether it passed, and what was found.
+
+use super::config;
+use serde::Serialize;
+
+/// One check of one node: `present`, `identity`, `objects`, `state`, `error register`...
+#[derive(Debug, Serialize)]
+pub struct Verdict {
+    /// What was checked.
+    pub check: &'static str,
+    /// Whether it passed.
+    pub ok: bool,
+    /// What was found, in a sentence.
+    pub detail: String,
+    /// For `objects`: each writable object that differs.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub differences: Vec<config::Difference>,
+}
+
+impl Verdict {
+    /// A verdict with no object differences.
+    pub fn new(check: &'static str, ok: bool, detail: String) -> Verdict {
+        Verdict { check, ok, detail, differences: Vec::new() }
+    }
+}
