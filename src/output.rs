@@ -11,6 +11,7 @@ use std::io::{IsTerminal, Write};
 
 mod check;
 mod drive;
+mod events;
 mod health;
 mod lss;
 pub(crate) mod network;
@@ -18,6 +19,7 @@ mod nodes;
 mod records;
 mod reports;
 
+pub use events::event_line;
 pub use reports::{sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -451,6 +453,9 @@ impl crate::ops::Progress for Bars<'_> {
         if let Some(b) = self.bar.take() {
             b.finish_and_clear();
         }
+    }
+    fn event(&mut self, event: crate::ops::Event) {
+        self.out.note(&event_line(&event));
     }
     fn note(&mut self, text: &str) {
         self.out.note(text);
