@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 mod check;
+pub mod diagnostics;
 mod drive;
 mod events;
 mod health;

@@ -3,7 +3,6 @@
 
 mod complete;
 mod config;
-mod diagnostics;
 mod docs;
 mod drive;
 mod errors;
@@ -28,8 +27,8 @@ use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
+pub use crate::output::diagnostics::install as install_diagnostics;
 pub use complete::complete_from_env;
-pub use diagnostics::install as install_diagnostics;
 pub use docs::{completion_scripts, man_pages, write_completions};
 
 /// `canctl --version`: what a bug report needs to name the binary exactly (build.rs).
@@ -261,7 +260,7 @@ fn no_bus_error() -> Error {
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
     let frame_log = global.frame_log()?;
     let mut bus = open_bus(ctx, frame_log.clone())?;
-    interrupt::opened();
+    crate::ops::stop::opened(&ctx.cancel);
     let result = f(bus.as_mut()).map_err(|e| with_hint(ctx, bus.as_mut(), e));
     let closed = bus.close();
     result?;

@@ -129,7 +129,7 @@ fn list(nodes: &[u8]) -> String {
 
 pub fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
-    super::interrupt::stoppable(bus, |bus| {
+    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         each_node(ctx, "store", &a.node.0, |node| match store::store(bus, node, a.class, t) {
             Ok(report) => Ok(report),
             Err(e) if e.is_interrupted() => {
@@ -144,7 +144,7 @@ pub fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> 
 
 pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<()> {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
-    super::interrupt::stoppable(bus, |bus| {
+    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         each_node(ctx, "restore", &a.node.0, |node| restore_one(ctx, bus, a, t, node))
     })
 }

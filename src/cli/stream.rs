@@ -68,7 +68,7 @@ fn remapping(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, tpdo: u16) -> crate::
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
-    let bus = &mut super::interrupt::with_test_signal(bus);
+    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.

@@ -23,6 +23,7 @@ pub mod scan;
 pub mod scan_cache;
 pub mod sdo;
 pub mod silence;
+pub mod stop;
 pub mod store;
 pub mod stored_eds;
 
