@@ -25,6 +25,7 @@ pub mod sdo;
 pub mod silence;
 pub mod stop;
 pub mod store;
+pub mod store_all;
 pub mod stored_eds;
 
 use crate::bus::SdoOptions;
