@@ -38,6 +38,7 @@ pub mod canopen;
 pub mod cli;
 pub mod error;
 pub mod frame;
+pub mod hint;
 pub mod input;
 pub mod od;
 pub mod ops;

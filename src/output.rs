@@ -14,6 +14,7 @@ pub mod diagnostics;
 mod drive;
 mod events;
 mod health;
+mod hints;
 mod lss;
 pub(crate) mod network;
 mod nodes;
@@ -21,6 +22,7 @@ mod records;
 mod reports;
 
 pub use events::event_line;
+pub use hints::{error_text, hint_text};
 pub use reports::{sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
