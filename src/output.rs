@@ -11,6 +11,7 @@ use std::io::{IsTerminal, Write};
 
 mod check;
 pub mod diagnostics;
+pub mod docs;
 mod drive;
 mod events;
 mod health;
@@ -21,8 +22,8 @@ mod nodes;
 mod records;
 mod reports;
 
-pub use events::event_line;
-pub use hints::{error_text, hint_text};
+pub use events::{event_line, say_deviations};
+pub use hints::{error_text, hint_text, no_bus_text, switch_hint};
 pub use reports::{sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

@@ -228,7 +228,7 @@ fn not_written(out: Option<&Path>, what: &str) -> String {
 /// The DCF, its warnings said on stderr.
 fn read_dcf(path: &Path) -> crate::Result<Dcf> {
     let dcf = Dcf::read(path)?;
-    super::objects::say_deviations(dcf.warnings().iter());
+    crate::output::say_deviations(dcf.warnings().iter());
     Ok(dcf)
 }
 

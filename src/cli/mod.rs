@@ -28,8 +28,8 @@ use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 pub use crate::output::diagnostics::install as install_diagnostics;
+pub use crate::output::docs::{completion_scripts, man_pages, write_completions};
 pub use complete::complete_from_env;
-pub use docs::{completion_scripts, man_pages, write_completions};
 
 /// `canctl --version`: what a bug report needs to name the binary exactly (build.rs).
 /// `-V` and the man pages keep the plain version, so they do not change with every commit.
@@ -226,32 +226,12 @@ pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
 /// Open the bus the user named, or explain how to name one.
 fn open_bus(ctx: &Ctx, frame_log: Option<crate::bus::FrameLog>) -> anyhow::Result<Box<dyn Bus>> {
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
-        return Err(no_bus_error().into());
+        return Err(Error::Usage(crate::output::no_bus_text()).into());
     };
     let addr: BusAddr = text.parse()?;
     let mut opts = OpenOptions::new(ctx.timeout);
     opts.frame_log = frame_log;
     Ok(crate::bus::open(&addr, &opts)?)
-}
-
-fn no_bus_error() -> Error {
-    let list = |v: Vec<String>| {
-        if v.is_empty() {
-            "none found".to_string()
-        } else {
-            v.join(", ")
-        }
-    };
-    Error::Usage(format!(
-        "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
-         CAN interfaces here: {}\n  \
-         serial ports here:   {}\n  \
-         forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
-         epos2-usb:/dev/ttyUSB0\n  \
-         no hardware? try the demo network: canctl --bus sim scan",
-        list(crate::bus::uri::can_interfaces()),
-        list(crate::bus::uri::serial_ports())
-    ))
 }
 
 /// Run a command that talks to the bus; the bus is closed (and the simulator's state saved)

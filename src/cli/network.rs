@@ -341,27 +341,7 @@ fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()>
             updated.push(path);
         }
     }
-    let hint = switch_hint(ctx.bus.as_deref(), a.rate);
+    let hint = crate::output::switch_hint(ctx.bus.as_deref(), a.rate);
     ctx.out.report(&SetBaudReport { switched: &report, updated: &updated, hint })?;
     Ok(report.outcome()?)
-}
-
-/// What the user must do to bring a link that does not follow an LSS switch to `index`.
-fn switch_hint(uri: Option<&str>, index: u8) -> String {
-    let name = crate::canopen::lss::bit_rate_name(index);
-    let bps = crate::canopen::lss::BIT_TIMINGS[index as usize].1.unwrap_or(0) * 1000;
-    match uri.and_then(|u| u.parse::<crate::bus::BusAddr>().ok()) {
-        Some(crate::bus::BusAddr::SocketCan { iface }) => format!(
-            "switch {iface} to the new rate: sudo ip link set {iface} down && sudo ip link set {iface} up type can \
-             bitrate {bps}"
-        ),
-        Some(crate::bus::BusAddr::Epos2 { .. }) => format!(
-            "the EPOS2 keeps its own CAN rate: `canctl lss set-baud {name} --node 0`, `canctl lss store --node 0`, then \
-             power it off and on"
-        ),
-        Some(crate::bus::BusAddr::Slcan { port, .. }) => {
-            format!("reopen the adapter at the new rate: --bus slcan:{port}@{name}")
-        }
-        _ => format!("switch the CAN interface to {name}"),
-    }
 }

@@ -18,6 +18,48 @@ pub fn error_text(err: &anyhow::Error) -> String {
     format!("{err:#}{}", hint.map_or("", hint_text))
 }
 
+/// Why a command that needs a bus has none, how to name one, and the interfaces and
+/// serial ports this machine has.
+pub fn no_bus_text() -> String {
+    let list = |v: Vec<String>| {
+        if v.is_empty() {
+            "none found".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    format!(
+        "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
+         CAN interfaces here: {}\n  \
+         serial ports here:   {}\n  \
+         forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
+         epos2-usb:/dev/ttyUSB0\n  \
+         no hardware? try the demo network: canctl --bus sim scan",
+        list(crate::bus::uri::can_interfaces()),
+        list(crate::bus::uri::serial_ports())
+    )
+}
+
+/// What the user must do to bring a link that does not follow an LSS switch to `index`.
+pub fn switch_hint(uri: Option<&str>, index: u8) -> String {
+    let name = crate::canopen::lss::bit_rate_name(index);
+    let bps = crate::canopen::lss::BIT_TIMINGS[index as usize].1.unwrap_or(0) * 1000;
+    match uri.and_then(|u| u.parse::<crate::bus::BusAddr>().ok()) {
+        Some(crate::bus::BusAddr::SocketCan { iface }) => format!(
+            "switch {iface} to the new rate: sudo ip link set {iface} down && sudo ip link set {iface} up type can \
+             bitrate {bps}"
+        ),
+        Some(crate::bus::BusAddr::Epos2 { .. }) => format!(
+            "the EPOS2 keeps its own CAN rate: `canctl lss set-baud {name} --node 0`, `canctl lss store --node 0`, then \
+             power it off and on"
+        ),
+        Some(crate::bus::BusAddr::Slcan { port, .. }) => {
+            format!("reopen the adapter at the new rate: --bus slcan:{port}@{name}")
+        }
+        _ => format!("switch the CAN interface to {name}"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

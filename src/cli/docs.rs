@@ -1,0 +1,61 @@
+//! `canctl completions` and `canctl man`: their arguments; the scripts and pages are
+//! rendered by `output::docs` from the clap definition.
+
+use super::Ctx;
+use crate::output::docs::{man_pages, registration};
+use clap::Args;
+use clap_complete::Shell;
+use std::path::{Path, PathBuf};
+
+/// Print a shell completion script
+///
+/// The script asks canctl for candidates as you type: bus URIs present here, node-ids from
+/// the last scan of the bus, objects from the node's EDS or the built-in dictionary, and
+/// the fixed sets (types, bit rates, formats). It reads files only, never the bus.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  source <(COMPLETE=bash canctl)           # or: source <(canctl completions bash)
+  canctl completions zsh > ~/.zfunc/_canctl
+  canctl completions fish > ~/.config/fish/completions/canctl.fish")]
+pub struct CompletionsArgs {
+    /// bash, zsh, fish, elvish or powershell
+    pub shell: Shell,
+}
+
+/// Print the man page, or write every page to a directory
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl man | man -l -
+  canctl man --out /usr/local/share/man/man1")]
+pub struct ManArgs {
+    /// Write canctl.1 and one page per subcommand into this directory
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+pub fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
+    let script = registration(args.shell);
+    super::Output::new(crate::output::Format::Human, true).print(&String::from_utf8(script)?)?;
+    Ok(())
+}
+
+pub fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
+    let pages = man_pages();
+    match &args.out {
+        Some(dir) => {
+            // Every failure names the path: "No such file or directory" alone says not which.
+            let output = |path: &Path, e: std::io::Error| crate::Error::Output {
+                path: path.display().to_string(),
+                why: e.to_string(),
+            };
+            std::fs::create_dir_all(dir).map_err(|e| output(dir, e))?;
+            for (name, data) in &pages {
+                let page = dir.join(name);
+                std::fs::write(&page, data).map_err(|e| output(&page, e))?;
+            }
+            ctx.out.note(&format!("{} man pages written to {}", pages.len(), dir.display()));
+        }
+        None => ctx.out.print(&String::from_utf8_lossy(&pages[0].1))?,
+    }
+    Ok(())
+}
