@@ -252,26 +252,15 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 }
 
 /// A node that did not answer: say which nodes the last scan of this bus saw. An object
-/// the node does not have: name the dictionary's objects nearest to it that the node has
-/// (each asked for once: the dictionary may list objects this node lacks, as a TPDO2).
+/// the node does not have: name the dictionary's objects nearest to it that the node has.
 fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
         (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => crate::ops::scan_cache::hint(bus),
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
-            // Whether the node has it, not its value: a large one is not read whole.
-            let opts = crate::bus::SdoOptions { max_upload: 64, ..crate::bus::SdoOptions::new(ctx.timeout) };
-            let lacks = |r: crate::Result<Vec<u8>>| {
-                matches!(r, Err(Error::SdoAbort { code: NO_OBJECT | NO_SUBINDEX, .. } | Error::NoAnswer { .. }))
-            };
-            let near: Vec<String> = ctx
-                .dicts
-                .near(*node, *obj, *code == NO_OBJECT)
-                .into_iter()
-                .filter(|a| !lacks(bus.sdo_upload(*node, *a, &opts)))
-                .map(|a| ctx.dicts.label(*node, a))
-                .collect();
+            let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
+            let near: Vec<String> = near.into_iter().map(|a| ctx.dicts.label(*node, a)).collect();
             if near.is_empty() {
                 return e;
             }
