@@ -29,6 +29,7 @@ pub mod stop;
 pub mod store;
 pub mod store_all;
 pub mod stored_eds;
+pub mod stream_setup;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;
