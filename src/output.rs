@@ -23,7 +23,7 @@ mod records;
 mod reports;
 
 pub use events::{event_line, say_deviations};
-pub use hints::{error_text, hint_text, no_bus_text, switch_hint};
+pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};
 pub use reports::{sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

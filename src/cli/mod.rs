@@ -257,7 +257,9 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => crate::ops::scan_cache::hint(bus),
+        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => {
+            crate::output::last_scan_hint(bus, &crate::ops::scan_cache::load(bus))
+        }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
             let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
             let near: Vec<String> = near.into_iter().map(|a| ctx.dicts.label(*node, a)).collect();

@@ -18,6 +18,16 @@ pub fn error_text(err: &anyhow::Error) -> String {
     format!("{err:#}{}", hint.map_or("", hint_text))
 }
 
+/// What to add to a message about a silent node: the nodes the last scan of `bus` saw
+/// (`seen`), or the command that lists them.
+pub fn last_scan_hint(bus: &str, seen: &[crate::ops::scan_cache::SeenNode]) -> String {
+    if seen.is_empty() {
+        return format!("; `canctl scan` lists the nodes on {bus}");
+    }
+    let list: Vec<String> = seen.iter().map(|n| n.node.to_string()).collect();
+    format!("; nodes seen on the last scan of {bus}: {}", list.join(", "))
+}
+
 /// Why a command that needs a bus has none, how to name one, and the interfaces and
 /// serial ports this machine has.
 pub fn no_bus_text() -> String {
