@@ -31,7 +31,7 @@ pub fn stoppable<T>(bus: &mut dyn Bus, cancel: &Cancel, f: impl FnOnce(&mut dyn 
 /// bus is open, before the command's first step). It makes the point of interruption
 /// exact without timing; nothing else reads it. The process must have a handler that
 /// turns the signal into the request to stop (canctl's `main` installs one).
-pub const TEST_SIGNAL: &str = "CANCTL_TEST_SIGNAL_AFTER_WRITES";
+pub(crate) const TEST_SIGNAL: &str = "CANCTL_TEST_SIGNAL_AFTER_WRITES";
 
 /// What [`TEST_SIGNAL`] asks for.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -57,7 +57,7 @@ fn test_plan() -> Option<(Point, u32, String)> {
 
 /// `bus`, with the test signal of [`TEST_SIGNAL`] when that is set; as it is otherwise.
 /// `cancel` is the request to stop the signal's handler makes.
-pub fn with_test_signal<'a>(bus: &'a mut dyn Bus, cancel: &Cancel) -> AfterSdo<'a, impl FnMut(Transfer, u32)> {
+pub(crate) fn with_test_signal<'a>(bus: &'a mut dyn Bus, cancel: &Cancel) -> AfterSdo<'a, impl FnMut(Transfer, u32)> {
     let plan = test_plan();
     let (on_segment, on_transfer) = (cancel.clone(), cancel.clone());
     let segment_hook: Option<TransferHook> = match plan.clone() {
