@@ -5,6 +5,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::ops::config::{self, ApplyOptions, Dcf};
+use crate::ops::Progress as _;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::path::{Path, PathBuf};
@@ -257,22 +258,11 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     };
     let dcf = read_dcf(&a.file)?;
     // Seconds of reads and writes on a slow device: counted on the terminal meanwhile.
-    let status = ctx.out.status(&format!("node {}: applying {}", a.node, a.file.display()));
-    let (mut reads, mut writes) = (0, 0);
-    let mut counted = crate::bus::tap::AfterSdo::new(bus, |kind, n| {
-        match kind {
-            crate::bus::tap::Transfer::Upload => reads = n,
-            crate::bus::tap::Transfer::Download => writes = n,
-            crate::bus::tap::Transfer::Nmt => {}
-        }
-        status.set_message(format!(
-            "node {}: applying {}: {reads} read(s), {writes} write(s)",
-            a.node,
-            a.file.display()
-        ));
-    });
-    let report = config::apply(&mut counted, a.node, &dcf, &options);
-    status.finish_and_clear();
+    let label = format!("node {}: applying {}", a.node, a.file.display());
+    let mut bars = ctx.out.progress();
+    bars.item(&label, "", false);
+    let report = config::apply(&mut crate::ops::counted::counted(bus, &label, &mut bars), a.node, &dcf, &options);
+    bars.finish();
     let report = report?;
     ctx.out.report(&report)?;
     if report.failure.is_some() && a.dry_run {

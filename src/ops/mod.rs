@@ -9,6 +9,7 @@ pub use event::{Event, Notice, Warning};
 pub mod check;
 pub mod clash;
 pub mod config;
+pub mod counted;
 pub mod dictionaries;
 pub mod drive;
 pub mod errors;
