@@ -71,6 +71,7 @@ pub mod cli;
 pub mod connect;
 pub mod error;
 pub mod frame;
+pub mod hint;
 pub mod input;
 pub mod od;
 pub mod ops;

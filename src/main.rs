@@ -14,7 +14,7 @@ fn main() {
         let (code, print) = canctl::cli::exit_code(&err);
         if print {
             // Messages may quote what a device or a file said: no control characters.
-            eprintln!("canctl: {}", canctl::output::terminal_safe_lines(&format!("{err:#}")));
+            eprintln!("canctl: {}", canctl::output::terminal_safe_lines(&canctl::output::error_text(&err)));
         }
         std::process::exit(code);
     }

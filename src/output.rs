@@ -10,14 +10,20 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 mod check;
+pub mod diagnostics;
+pub mod docs;
 mod drive;
+mod events;
 mod health;
+mod hints;
 mod lss;
 pub(crate) mod network;
 mod nodes;
 mod records;
 mod reports;
 
+pub use events::{event_line, say_deviations};
+pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};
 pub use reports::{sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -386,7 +392,7 @@ impl Output {
 
     /// Progress of an operation as bars and notes on stderr.
     pub fn progress(&self) -> Bars<'_> {
-        Bars { out: self, bar: None }
+        Bars { out: self, bar: None, line: None }
     }
 }
 
@@ -436,6 +442,8 @@ impl Output {
 pub struct Bars<'a> {
     out: &'a Output,
     bar: Option<ProgressBar>,
+    /// The line of the item under way, `item: status` (one at a time on this display).
+    line: Option<ProgressBar>,
 }
 
 impl crate::ops::Progress for Bars<'_> {
@@ -448,9 +456,25 @@ impl crate::ops::Progress for Bars<'_> {
         }
     }
     fn finish(&mut self) {
-        if let Some(b) = self.bar.take() {
+        for b in [self.bar.take(), self.line.take()].into_iter().flatten() {
             b.finish_and_clear();
         }
+    }
+    fn item(&mut self, item: &str, status: &str, finished: bool) {
+        // An item with no status yet is shown by its name alone.
+        let text = if status.is_empty() { item.to_string() } else { format!("{item}: {}", terminal_safe(status)) };
+        match (&self.line, finished) {
+            (_, true) => {
+                if let Some(b) = self.line.take() {
+                    b.finish_and_clear();
+                }
+            }
+            (Some(b), false) => b.set_message(text),
+            (None, false) => self.line = Some(self.out.status(&text)),
+        }
+    }
+    fn event(&mut self, event: crate::ops::Event) {
+        self.out.note(&event_line(&event));
     }
     fn note(&mut self, text: &str) {
         self.out.note(text);

@@ -2,7 +2,7 @@
 //! Ctrl-C in a terminal, a CI job cancelled. Each command stops at a safe point, prints
 //! what it did, what it did not and the state the device is left in, and exits 130; the
 //! device is checked afterwards. The point of interruption is exact, without timing:
-//! `CANCTL_TEST_SIGNAL_AFTER_WRITES` (see `src/cli/interrupt.rs`) makes canctl signal
+//! `CANCTL_TEST_SIGNAL_AFTER_WRITES` (see `src/ops/stop.rs`) makes canctl signal
 //! itself after its K-th SDO read (`rK`), write (`K`), NMT command (`nK`), or answer that
 //! moved a transfer on (`sK`: a segment, a sub-block); `monitor` is signalled once it has
 //! printed its first lines.

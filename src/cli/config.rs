@@ -5,6 +5,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::ops::config::{self, ApplyOptions, Dcf};
+use crate::ops::Progress as _;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::path::{Path, PathBuf};
@@ -139,7 +140,9 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<
 
 fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     let limit = crate::input::MAX_EDS_BYTES as usize;
-    let read = super::interrupt::stoppable(bus, |bus| crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit));
+    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+        crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit)
+    });
     let mut eds = match read {
         Err(e) if e.is_interrupted() => {
             let file = not_written(a.out.as_deref(), "EDS");
@@ -177,7 +180,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let dictionary = ctx.dicts.eds_for(a.node).map(|e| (&e.dict, e.path.as_str()));
     let xdc_named = a.out.as_ref().and_then(|p| p.extension()).is_some_and(|x| x.eq_ignore_ascii_case("xdc"));
     let form = if ctx.out.xdc || xdc_named { config::FileForm::Xdc } else { config::FileForm::Dcf };
-    let dump = super::interrupt::stoppable(bus, |bus| {
+    let dump = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         config::dump_as(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
     });
     let dump = match dump {
@@ -226,14 +229,14 @@ fn not_written(out: Option<&Path>, what: &str) -> String {
 /// The DCF, its warnings said on stderr.
 fn read_dcf(path: &Path) -> crate::Result<Dcf> {
     let dcf = Dcf::read(path)?;
-    super::objects::say_deviations(dcf.warnings().iter());
+    crate::output::say_deviations(dcf.warnings().iter());
     Ok(dcf)
 }
 
 fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
     let dcf = read_dcf(&a.file)?;
     // Interrupted, the report holds what was compared so far.
-    let report = super::interrupt::stoppable(bus, |bus| config::diff(bus, a.node, &dcf, ctx.timeout))?;
+    let report = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| config::diff(bus, a.node, &dcf, ctx.timeout))?;
     ctx.out.report(&report)?;
     if a.check || report.interrupted {
         report.check()?;
@@ -242,7 +245,7 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
 }
 
 fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
-    let bus = &mut super::interrupt::with_test_signal(bus);
+    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let options = ApplyOptions {
         interrupted: ctx.cancel.clone(),
         timeout: ctx.timeout,
@@ -255,22 +258,11 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     };
     let dcf = read_dcf(&a.file)?;
     // Seconds of reads and writes on a slow device: counted on the terminal meanwhile.
-    let status = ctx.out.status(&format!("node {}: applying {}", a.node, a.file.display()));
-    let (mut reads, mut writes) = (0, 0);
-    let mut counted = crate::bus::tap::AfterSdo::new(bus, |kind, n| {
-        match kind {
-            crate::bus::tap::Transfer::Upload => reads = n,
-            crate::bus::tap::Transfer::Download => writes = n,
-            crate::bus::tap::Transfer::Nmt => {}
-        }
-        status.set_message(format!(
-            "node {}: applying {}: {reads} read(s), {writes} write(s)",
-            a.node,
-            a.file.display()
-        ));
-    });
-    let report = config::apply(&mut counted, a.node, &dcf, &options);
-    status.finish_and_clear();
+    let label = format!("node {}: applying {}", a.node, a.file.display());
+    let mut bars = ctx.out.progress();
+    bars.item(&label, "", false);
+    let report = config::apply(&mut crate::ops::counted::counted(bus, &label, &mut bars), a.node, &dcf, &options);
+    bars.finish();
     let report = report?;
     ctx.out.report(&report)?;
     if report.failure.is_some() && a.dry_run {

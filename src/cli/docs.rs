@@ -1,7 +1,9 @@
-//! Shell completions and man pages, generated from the clap definition.
+//! `canctl completions` and `canctl man`: their arguments; the scripts and pages are
+//! rendered by `output::docs` from the clap definition.
 
-use super::{Cli, Ctx};
-use clap::{Args, CommandFactory};
+use super::Ctx;
+use crate::output::docs::{man_pages, registration};
+use clap::Args;
 use clap_complete::Shell;
 use std::path::{Path, PathBuf};
 
@@ -35,68 +37,6 @@ pub fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
     let script = registration(args.shell);
     super::Output::new(crate::output::Format::Human, true).print(&String::from_utf8(script)?)?;
     Ok(())
-}
-
-/// The shell code that asks canctl for candidates as you type (clap_complete's dynamic
-/// completion): the same as `COMPLETE=SHELL canctl` prints.
-fn registration(shell: Shell) -> Vec<u8> {
-    let shells = clap_complete::env::Shells::builtins();
-    let completer = shells.completer(&shell.to_string()).expect("clap_complete knows every Shell");
-    let mut out = Vec::new();
-    completer.write_registration("COMPLETE", "canctl", "canctl", "canctl", &mut out).expect("write to memory");
-    if shell == Shell::Zsh {
-        // Installed as `_canctl` in $fpath, zsh runs this file on the first <Tab>: complete
-        // then too, not only from the second <Tab> on.
-        out.extend_from_slice(
-            b"if [[ ${zsh_eval_context[-1]} == loadautofunc ]]; then\n    _clap_dynamic_completer_canctl \"$@\"\nfi\n",
-        );
-    }
-    out
-}
-
-/// Every completion script: (file name, contents).
-pub fn completion_scripts() -> Vec<(String, Vec<u8>)> {
-    [Shell::Bash, Shell::Zsh, Shell::Fish, Shell::Elvish, Shell::PowerShell]
-        .into_iter()
-        .map(|shell| {
-            let name = match shell {
-                Shell::Bash => "canctl.bash".to_string(),
-                Shell::Zsh => "_canctl".to_string(),
-                Shell::Fish => "canctl.fish".to_string(),
-                Shell::Elvish => "canctl.elv".to_string(),
-                _ => "_canctl.ps1".to_string(),
-            };
-            (name, registration(shell))
-        })
-        .collect()
-}
-
-pub fn write_completions(dir: &Path) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    for (name, data) in completion_scripts() {
-        std::fs::write(dir.join(name), data)?;
-    }
-    Ok(())
-}
-
-/// Every man page: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
-pub fn man_pages() -> Vec<(String, Vec<u8>)> {
-    let mut cmd = Cli::command();
-    cmd.build();
-    let mut pages = Vec::new();
-    collect(&cmd, "canctl", &mut pages);
-    pages
-}
-
-fn collect(cmd: &clap::Command, name: &str, pages: &mut Vec<(String, Vec<u8>)>) {
-    let mut out = Vec::new();
-    // The plain version: the commit and target of `--version` would change every page per build.
-    let named = cmd.clone().name(name.to_string()).bin_name(name.replace('-', " ")).long_version(None);
-    clap_mangen::Man::new(named).render(&mut out).expect("render to memory");
-    pages.push((format!("{name}.1"), out));
-    for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
-        collect(sub, &format!("{name}-{}", sub.get_name()), pages);
-    }
 }
 
 pub fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {

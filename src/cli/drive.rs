@@ -79,7 +79,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<(
         DriveCommand::QuickStop(a) => (a, Goal::QuickStop),
         DriveCommand::FaultReset(a) => (a, Goal::FaultReset),
     };
-    let bus = &mut super::interrupt::with_test_signal(bus);
+    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let o = Options { timeout: ctx.timeout, wait: args.wait };
     let walk = drive::walk(bus, args.node, goal, &o, &ctx.cancel)?;
     ctx.out.report(&walk)?;
@@ -87,7 +87,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<(
 }
 
 fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
-    let report = match super::interrupt::stoppable(bus, |bus| drive::status(bus, a.node, ctx.timeout)) {
+    let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node, ctx.timeout)) {
         Err(e) if e.is_interrupted() => {
             return super::interrupt::stopped_reading(ctx, "drive status", format!("reading node {}'s state", a.node))
         }

@@ -29,7 +29,9 @@ pub struct ErrorsArgs {
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
-    let report = match super::interrupt::stoppable(bus, |bus| errors::errors(bus, a.node, a.clear, ctx.timeout)) {
+    let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+        errors::errors(bus, a.node, a.clear, ctx.timeout)
+    }) {
         Err(e) if e.is_interrupted() => {
             return super::interrupt::stopped_reading(ctx, "errors", format!("reading node {}'s error history", a.node))
         }

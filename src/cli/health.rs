@@ -38,7 +38,9 @@ pub struct HealthArgs {
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
     let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state };
-    let report = match super::interrupt::stoppable(bus, |bus| health::health(bus, &options, &mut ctx.out.progress())) {
+    let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+        health::health(bus, &options, &mut ctx.out.progress())
+    }) {
         Err(e) if e.is_interrupted() => {
             return super::interrupt::stopped_reading(ctx, "health", "scanning and judging the nodes".into())
         }

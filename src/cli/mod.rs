@@ -3,7 +3,6 @@
 
 mod complete;
 mod config;
-mod diagnostics;
 mod docs;
 mod drive;
 mod errors;
@@ -29,9 +28,9 @@ use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
+pub use crate::output::diagnostics::install as install_diagnostics;
+pub use crate::output::docs::{completion_scripts, man_pages, write_completions};
 pub use complete::complete_from_env;
-pub use diagnostics::install as install_diagnostics;
-pub use docs::{completion_scripts, man_pages, write_completions};
 
 /// `canctl --version`: what a bug report needs to name the binary exactly (build.rs).
 /// `-V` and the man pages keep the plain version, so they do not change with every commit.
@@ -228,32 +227,12 @@ pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
 /// Open the bus the user named, or explain how to name one.
 fn open_bus(ctx: &Ctx, frame_log: Option<crate::bus::FrameLog>) -> anyhow::Result<Box<dyn Bus>> {
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
-        return Err(no_bus_error().into());
+        return Err(Error::Usage(crate::output::no_bus_text()).into());
     };
     let addr: BusAddr = text.parse()?;
     let mut opts = OpenOptions::new(ctx.timeout);
     opts.frame_log = frame_log;
     Ok(crate::connect::open(&addr, &opts)?)
-}
-
-fn no_bus_error() -> Error {
-    let list = |v: Vec<String>| {
-        if v.is_empty() {
-            "none found".to_string()
-        } else {
-            v.join(", ")
-        }
-    };
-    Error::Usage(format!(
-        "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
-         CAN interfaces here: {}\n  \
-         serial ports here:   {}\n  \
-         forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
-         epos2-usb:/dev/ttyUSB0\n  \
-         no hardware? try the demo network: canctl --bus sim scan",
-        list(crate::connect::can_interfaces()),
-        list(crate::connect::serial_ports())
-    ))
 }
 
 /// Run a command that talks to the bus; the bus is closed (and the simulator's state saved)
@@ -262,7 +241,7 @@ fn no_bus_error() -> Error {
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
     let frame_log = global.frame_log()?;
     let mut bus = open_bus(ctx, frame_log.clone())?;
-    interrupt::opened();
+    crate::ops::stop::opened(&ctx.cancel);
     let result = f(bus.as_mut()).map_err(|e| with_hint(ctx, bus.as_mut(), e));
     let closed = bus.close();
     result?;
@@ -274,26 +253,17 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 }
 
 /// A node that did not answer: say which nodes the last scan of this bus saw. An object
-/// the node does not have: name the dictionary's objects nearest to it that the node has
-/// (each asked for once: the dictionary may list objects this node lacks, as a TPDO2).
+/// the node does not have: name the dictionary's objects nearest to it that the node has.
 fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => crate::ops::scan_cache::hint(bus),
+        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => {
+            crate::output::last_scan_hint(bus, &crate::ops::scan_cache::load(bus))
+        }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
-            // Whether the node has it, not its value: a large one is not read whole.
-            let opts = crate::bus::SdoOptions { max_upload: 64, ..crate::bus::SdoOptions::new(ctx.timeout) };
-            let lacks = |r: crate::Result<Vec<u8>>| {
-                matches!(r, Err(Error::SdoAbort { code: NO_OBJECT | NO_SUBINDEX, .. } | Error::NoAnswer { .. }))
-            };
-            let near: Vec<String> = ctx
-                .dicts
-                .near(*node, *obj, *code == NO_OBJECT)
-                .into_iter()
-                .filter(|a| !lacks(bus.sdo_upload(*node, *a, &opts)))
-                .map(|a| ctx.dicts.label(*node, a))
-                .collect();
+            let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
+            let near: Vec<String> = near.into_iter().map(|a| ctx.dicts.label(*node, a)).collect();
             if near.is_empty() {
                 return e;
             }

@@ -49,7 +49,7 @@ fn layouts(ctx: &Ctx, nodes: &[u8]) -> BTreeMap<u16, Layout> {
 /// code is 130 all the same (as for every command the user stops), 0 only when --duration
 /// or --count ended it.
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
-    super::interrupt::stoppable(bus, |bus| {
+    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         let mut monitor = Monitor::new(bus, layouts(ctx, &a.node), &a.node, a.duration, a.count)?;
         let stdout = std::io::stdout();
         let mut out = std::io::BufWriter::new(stdout.lock());

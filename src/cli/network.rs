@@ -7,6 +7,7 @@ use crate::canopen::nmt::State;
 use crate::error::Error;
 use crate::ops::config;
 use crate::ops::network::{self, PROJECT_FILE};
+use crate::ops::project_files;
 use crate::output::network::{DumpReport, NodeBars, SetBaudReport};
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
@@ -213,17 +214,8 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result
     }
 }
 
-/// The project file: PATH itself, or PATH/nodelist.cpj for a folder.
-fn project_file(path: &Path) -> PathBuf {
-    if path.is_dir() {
-        path.join(PROJECT_FILE)
-    } else {
-        path.to_path_buf()
-    }
-}
-
 fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
-    let loaded = network::load(&project_file(path))?;
+    let loaded = network::load(&project_files::project_file(path))?;
     for w in &loaded.warnings {
         ctx.out.note(&format!("canctl: warning: {w}"));
     }
@@ -245,33 +237,11 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         net_name: a.net_name.clone(),
         baudrate_kbit: a.bit_rate,
     };
-    check_folder(&a.dir)?;
+    project_files::check_folder(&a.dir)?;
     let dumped = network::dump(bus, &options, &mut ctx.out.progress())?;
-    std::fs::create_dir_all(&a.dir).map_err(|e| Error::Output {
-        path: a.dir.display().to_string(),
-        why: format!("cannot make the directory: {e}"),
-    })?;
-    // The DCFs first: a project file is only there once everything it names is.
-    for (name, bytes) in dumped.files.iter().rev() {
-        crate::atomic::write_atomic(&a.dir.join(name), bytes)?;
-    }
+    project_files::write_project(&a.dir, &dumped)?;
     ctx.out.report(&DumpReport { dumped: &dumped, dir: &a.dir })?;
     Ok(())
-}
-
-/// Whether the project can be written into `dir`, asked before the bus is read: in `dir`
-/// when it exists, else where its first missing folder would be made.
-fn check_folder(dir: &Path) -> crate::Result<()> {
-    let mut probe = dir.join("nodelist.cpj");
-    let mut at = dir;
-    while !at.exists() {
-        probe = at.to_path_buf();
-        match at.parent() {
-            Some(parent) if !parent.as_os_str().is_empty() => at = parent,
-            _ => break,
-        }
-    }
-    crate::atomic::check_writable(&probe)
 }
 
 fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
@@ -304,7 +274,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     };
     // Ctrl-C: no node is begun after it, the nodes under way stop at their next safe point,
     // and the report says for each what was done and the state it is left in.
-    let bus = &mut super::interrupt::with_test_signal(bus);
+    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let report = network::apply(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
@@ -332,36 +302,14 @@ fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()>
     // Ctrl-C before the activation: every device back to waiting, nothing switched; after
     // it, the switch is finished and reported.
     let report = network::set_baud(bus, loaded.as_ref(), &options, &mut ctx.out.progress())?;
-    let mut updated = Vec::new();
-    if let (true, true, Some(loaded)) = (a.update_project, report.activated, &loaded) {
-        let kbit = crate::canopen::lss::BIT_TIMINGS[a.rate as usize].1.expect("a fixed rate");
-        // Every file made before any is written: a DCF that cannot be read changes none.
-        for (path, bytes) in network::with_bit_rate(loaded, kbit)? {
-            crate::atomic::write_atomic(&path, &bytes)?;
-            updated.push(path);
+    let updated = match (a.update_project, report.activated, &loaded) {
+        (true, true, Some(loaded)) => {
+            let kbit = crate::canopen::lss::BIT_TIMINGS[a.rate as usize].1.expect("a fixed rate");
+            project_files::update_bit_rate(loaded, kbit)?
         }
-    }
-    let hint = switch_hint(ctx.bus.as_deref(), a.rate);
+        _ => Vec::new(),
+    };
+    let hint = crate::output::switch_hint(ctx.bus.as_deref(), a.rate);
     ctx.out.report(&SetBaudReport { switched: &report, updated: &updated, hint })?;
     Ok(report.outcome()?)
-}
-
-/// What the user must do to bring a link that does not follow an LSS switch to `index`.
-fn switch_hint(uri: Option<&str>, index: u8) -> String {
-    let name = crate::canopen::lss::bit_rate_name(index);
-    let bps = crate::canopen::lss::BIT_TIMINGS[index as usize].1.unwrap_or(0) * 1000;
-    match uri.and_then(|u| u.parse::<crate::connect::BusAddr>().ok()) {
-        Some(crate::connect::BusAddr::SocketCan { iface }) => format!(
-            "switch {iface} to the new rate: sudo ip link set {iface} down && sudo ip link set {iface} up type can \
-             bitrate {bps}"
-        ),
-        Some(crate::connect::BusAddr::Epos2 { .. }) => format!(
-            "the EPOS2 keeps its own CAN rate: `canctl lss set-baud {name} --node 0`, `canctl lss store --node 0`, then \
-             power it off and on"
-        ),
-        Some(crate::connect::BusAddr::Slcan { port, .. }) => {
-            format!("reopen the adapter at the new rate: --bus slcan:{port}@{name}")
-        }
-        _ => format!("switch the CAN interface to {name}"),
-    }
 }

@@ -71,7 +71,7 @@ fn parse_target(s: &str) -> Result<u8, String> {
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
-    super::interrupt::stoppable(bus, |bus| run_stoppable(ctx, bus, cmd))
+    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| run_stoppable(ctx, bus, cmd))
 }
 
 fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {

@@ -32,7 +32,8 @@ pub struct ScanArgs {
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
-    let report = super::interrupt::stoppable(bus, |bus| scan::scan(bus, &options, &mut ctx.out.progress()))?;
+    let report =
+        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| scan::scan(bus, &options, &mut ctx.out.progress()))?;
     if report.interrupted {
         // The nodes found so far: reported, not remembered as the bus's.
         ctx.out.report(&report)?;

@@ -108,7 +108,7 @@ fn parse_size(s: &str) -> Result<usize, String> {
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
-    super::interrupt::stoppable(bus, |bus| match cmd {
+    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| match cmd {
         SdoCommand::Read(a) => read(ctx, bus, a),
         SdoCommand::Write(a) => write(ctx, bus, a),
     })

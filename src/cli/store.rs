@@ -2,10 +2,8 @@
 
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
-use crate::canopen::nmt::Command;
-use crate::ops::nmt::{self, ResetOptions};
-use crate::ops::store::{self, Timeouts};
-use crate::ops::Stopped;
+use crate::ops::store::Timeouts;
+use crate::ops::store_all::{restore_nodes, store_nodes, EachNode, Ended};
 use crate::output::{sentence, Each, Report};
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
@@ -72,120 +70,48 @@ fn node_list(s: &str, one: fn(&str) -> Result<u8, String>) -> Result<Nodes, Stri
     Ok(Nodes(nodes))
 }
 
-/// How one node's turn ended, when not with its report.
-enum Ended {
-    /// The user stopped it: what was done on this node, what was not.
-    Stopped(Stopped),
-    Failed(anyhow::Error),
-}
-
-impl From<crate::Error> for Ended {
-    fn from(e: crate::Error) -> Ended {
-        Ended::Failed(e.into())
-    }
-}
-
-/// Run `one` on each node in turn. One node: its report. Several: their reports together;
+/// Render a run over several nodes. One node: its report. Several: their reports together;
 /// stopped part-way, which nodes were done and which were not; failed, the reports of
 /// those done, then the error.
-fn each_node<R: Report + serde::Serialize>(
+fn render<R: Report + serde::Serialize>(
     ctx: &Ctx,
     command: &str,
     nodes: &[u8],
-    mut one: impl FnMut(u8) -> Result<R, Ended>,
+    run: EachNode<R>,
 ) -> anyhow::Result<()> {
-    let mut done: Vec<R> = Vec::new();
-    for (i, &node) in nodes.iter().enumerate() {
-        match one(node) {
-            Ok(report) => done.push(report),
-            Err(Ended::Stopped(mut report)) => {
-                if nodes.len() > 1 {
-                    let before = done.iter().filter_map(sentence);
-                    report.done = before.chain(report.done).collect();
-                    report.not_done.extend(nodes[i + 1..].iter().map(|n| format!("{command} on node {n}")));
-                }
-                ctx.out.report(&report)?;
-                return Err(crate::Error::Interrupted.into());
+    let EachNode { done, ended } = run;
+    let i = done.len();
+    match ended {
+        Some(Ended::Stopped(mut report)) => {
+            if nodes.len() > 1 {
+                let before = done.iter().filter_map(sentence);
+                report.done = before.chain(report.done).collect();
+                report.not_done.extend(nodes[i + 1..].iter().map(|n| format!("{command} on node {n}")));
             }
-            Err(Ended::Failed(e)) => {
-                if !done.is_empty() {
-                    ctx.out.report(&Each(done))?;
-                    ctx.out.note(&format!("{command} not done on node {}", list(&nodes[i..])));
-                }
-                return Err(e);
-            }
+            ctx.out.report(&report)?;
+            Err(crate::Error::Interrupted.into())
         }
+        Some(Ended::Failed(e)) => {
+            if !done.is_empty() {
+                ctx.out.report(&Each(done))?;
+                let list: Vec<String> = nodes[i..].iter().map(|n| n.to_string()).collect();
+                ctx.out.note(&format!("{command} not done on node {}", list.join(", ")));
+            }
+            Err(e.into())
+        }
+        None if done.len() == 1 => Ok(ctx.out.report(&done[0])?),
+        None => Ok(ctx.out.report(&Each(done))?),
     }
-    match done.len() {
-        1 => ctx.out.report(&done[0])?,
-        _ => ctx.out.report(&Each(done))?,
-    }
-    Ok(())
-}
-
-fn list(nodes: &[u8]) -> String {
-    nodes.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")
 }
 
 pub fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
-    super::interrupt::stoppable(bus, |bus| {
-        each_node(ctx, "store", &a.node.0, |node| match store::store(bus, node, a.class, t) {
-            Ok(report) => Ok(report),
-            Err(e) if e.is_interrupted() => {
-                let not_done = vec![format!("'save' to 0x1010:{} of node {node}", a.class as u8 + 1)];
-                let state = format!("nothing was stored on node {node}: its non-volatile memory is as it was");
-                Err(Ended::Stopped(Stopped::new("store", Vec::new(), not_done, state)))
-            }
-            Err(e) => Err(e.into()),
-        })
-    })
+    let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| store_nodes(bus, &a.node.0, a.class, t));
+    render(ctx, "store", &a.node.0, run)
 }
 
 pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<()> {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
-    super::interrupt::stoppable(bus, |bus| {
-        each_node(ctx, "restore", &a.node.0, |node| restore_one(ctx, bus, a, t, node))
-    })
-}
-
-fn restore_one(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs, t: Timeouts, node: u8) -> Result<store::Restored, Ended> {
-    let stopped = |done: Vec<String>, not_done: Vec<String>, state: String| {
-        Err(Ended::Stopped(Stopped::new("restore", done, not_done, state)))
-    };
-    let mut report = match store::restore(bus, node, a.class, t) {
-        Ok(report) => report,
-        Err(e) if e.is_interrupted() => {
-            let not_done = vec![format!("'load' to 0x1011:{} of node {node}", a.class as u8 + 1)];
-            return stopped(Vec::new(), not_done, format!("nothing was changed: node {node} keeps its parameters"));
-        }
-        Err(e) => return Err(e.into()),
-    };
-    if a.reset {
-        let wait = a.store_timeout.max(Duration::from_secs(2));
-        report.reset = true;
-        let o = ResetOptions { wait, timeout: ctx.timeout };
-        let done = vec![format!("node {node}: 'load' written to {}", report.object)];
-        match nmt::reset(bus, Command::ResetNode, node, &o) {
-            Ok(r) if r.interrupted => {
-                let not_done = vec![format!("confirming that node {node} booted")];
-                let state = format!(
-                    "node {node}: the defaults are loaded and the reset went out; whether it booted with them is \
-                     not known (canctl nmt state {node} says)"
-                );
-                return stopped([done, vec![format!("NMT reset of node {node}")]].concat(), not_done, state);
-            }
-            Ok(r) if !r.confirmed => report.reset_unconfirmed = r.why,
-            Ok(_) => {}
-            Err(e) if e.is_interrupted() => {
-                let not_done = vec![format!("NMT reset of node {node}")];
-                let state = format!(
-                    "node {node}: the defaults are loaded and apply from its next reset (canctl nmt reset {node} does it)"
-                );
-                return stopped(done, not_done, state);
-            }
-            Err(e) => return Err(e.into()),
-        }
-    }
-    Ok(report)
+    let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| restore_nodes(bus, &a.node.0, a.class, t, a.reset));
+    render(ctx, "restore", &a.node.0, run)
 }

@@ -4,9 +4,8 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::error::Error;
-use crate::ops::nmt::{self, StateOptions};
-use crate::ops::pdo::{self, Remap, Session, Stream, StreamOptions};
-use crate::ops::silence;
+use crate::ops::pdo::{self, Session, Stream, StreamOptions};
+use crate::ops::stream_setup::{prepare, Prepared, Setup};
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -58,17 +57,8 @@ pub struct StreamArgs {
 
 /// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
 /// read once from the node.
-fn remapping(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, tpdo: u16) -> crate::Result<Remap> {
-    let mut objects = Vec::new();
-    for text in &a.map {
-        let (addr, entry) = ctx.dicts.resolve(a.node, text)?;
-        objects.push((addr, pdo::mapped_bits(bus, a.node, addr, entry, ctx.timeout)?));
-    }
-    Ok(Remap { tpdo, objects, event: a.event, transmission: a.transmission })
-}
-
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
-    let bus = &mut super::interrupt::with_test_signal(bus);
+    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
@@ -96,21 +86,19 @@ fn say_restored(ctx: &Ctx, node: u8, r: &pdo::Restored) {
 }
 
 fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> anyhow::Result<()> {
-    let state_options = StateOptions { listen: Duration::from_millis(300), timeout: ctx.timeout };
-    let list: Vec<u16> = if a.tpdo.is_empty() { (1..=4).collect() } else { a.tpdo.clone() };
-    if !a.map.is_empty() {
-        let remap = remapping(ctx, bus, a, list[0])?;
-        session.remap(bus, a.node, &remap, ctx.timeout)?;
-    }
-    if a.start {
-        let state = nmt::state(bus, a.node, &state_options)?.state;
-        session.start(bus, a.node, state)?;
-    }
-    let list = if a.map.is_empty() { &list[..] } else { &list[..1] };
+    let map = a.map.iter().map(|text| ctx.dicts.resolve(a.node, text)).collect::<crate::Result<Vec<_>>>()?;
+    let setup = Setup {
+        node: a.node,
+        tpdo: &a.tpdo,
+        map,
+        event: a.event,
+        transmission: a.transmission,
+        start: a.start,
+        sync: a.sync,
+        timeout: ctx.timeout,
+    };
     let dict = ctx.dicts.for_node(a.node);
-    let layouts = pdo::read_layouts(bus, a.node, dict, list, a.tpdo.is_empty(), ctx.timeout, &mut ctx.out.progress())?;
-    let state = (!a.start).then(|| nmt::state(bus, a.node, &state_options));
-    let (silence, warnings) = silence::hint(bus, a.node, &layouts, state, a.sync, ctx.timeout);
+    let Prepared { layouts, silence, warnings } = prepare(bus, dict, &setup, session, &mut ctx.out.progress())?;
     for w in &warnings {
         ctx.out.note(w);
     }

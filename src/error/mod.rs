@@ -45,7 +45,7 @@ pub enum Error {
     NotOnThisBus { bus: String, why: &'static str },
     /// LSS was asked to give a node-id that something on the bus already answers to
     /// (`by`: "an SDO answer", "its heartbeat", ...); nothing was sent.
-    #[error("node-id {node} is in use: {by} came from node {node}{}; a second device on it would make both unreachable. Nothing was sent; choose a free id (canctl scan lists those in use), or --force gives it anyway", identity.map(|i| format!(" (identity {i})")).unwrap_or_default())]
+    #[error("node-id {node} is in use: {by} came from node {node}{}; a second device on it would make both unreachable. Nothing was sent", identity.map(|i| format!(" (identity {i})")).unwrap_or_default())]
     NodeIdInUse { node: u8, identity: Option<Identity>, by: &'static str },
     /// A drive command for a node whose device type (0x1000) names another profile.
     #[error("node {node} is not a CiA 402 drive: its device type (0x1000) is 0x{device_type:08X}, {}; drive commands are for profile 402", profile_text(*device_type))]
@@ -112,9 +112,7 @@ pub enum Error {
     #[error("node {node} keeps no error history (it has no object 0x1003): there is nothing to clear")]
     NoErrorHistory { node: u8 },
     /// A node keeps no description of itself (CiA 301 object 0x1021).
-    #[error(
-        "node {node}: the device does not store its EDS (0x1021); get the EDS from its vendor and give it with --eds"
-    )]
+    #[error("node {node}: the device does not store its EDS (0x1021)")]
     NoStoredEds { node: u8 },
     /// A node cannot store or restore (`verb`) parameters on command.
     #[error("{}", store_refused_text(*node, verb, why))]

@@ -4,27 +4,35 @@
 //! procedure never prints and knows nothing of the command line.
 
 pub use crate::cancel::Cancel;
+pub use event::{Event, Notice, Warning};
 
 pub mod check;
 pub mod clash;
 pub mod config;
+pub mod counted;
 pub mod dictionaries;
 pub mod drive;
 pub mod errors;
+pub mod event;
 pub mod health;
 pub mod lss;
 pub mod monitor;
+pub mod near;
 pub mod network;
 pub mod nmt;
 pub mod node;
 pub mod pdo;
+pub mod project_files;
 pub mod scan;
 pub mod scan_cache;
 pub mod sdo;
 pub mod silence;
+pub mod stop;
 pub mod store;
+pub mod store_all;
 pub mod stored_eds;
 pub mod verdict;
+pub mod stream_setup;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;
@@ -33,8 +41,10 @@ use crate::od::Entry;
 use serde::Serialize;
 use std::time::Duration;
 
-/// What a long procedure tells its caller while it runs: the CLI shows a progress bar and
-/// diagnostics on stderr, a test records the calls, a program may ignore them ([`Silent`]).
+/// What a long procedure tells its caller while it runs, the one observer of a procedure:
+/// phases and steps, items under way at once, and typed [`Event`]s (warnings and notices).
+/// The CLI shows a progress bar and words the events on stderr, a test records the calls,
+/// a program may ignore them ([`Silent`]).
 pub trait Progress {
     /// A phase of `len` steps begins.
     fn start(&mut self, _what: &str, _len: u64) {}
@@ -42,7 +52,10 @@ pub trait Progress {
     fn advance(&mut self, _done: u64) {}
     /// The phase is over.
     fn finish(&mut self) {}
-    /// A remark worth a person's attention (an object the device refuses to show, say).
+    /// A warning or notice, for the caller to word (or record, or ignore).
+    fn event(&mut self, _event: Event) {}
+    /// A remark already worded: kept for the procedures that do not send an [`Event`] yet;
+    /// new code sends one.
     fn note(&mut self, _text: &str) {}
     /// One of several items of the phase under way at once (a node configured alongside
     /// others) moved on: `status` says where it is, or its result once `finished`.

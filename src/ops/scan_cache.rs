@@ -67,16 +67,6 @@ pub fn load(bus: &str) -> Vec<SeenNode> {
     file(bus).and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
 }
 
-/// `; nodes seen on the last scan of sim: 1, 5, 10` for a message about a silent node.
-pub fn hint(bus: &str) -> String {
-    let seen = load(bus);
-    if seen.is_empty() {
-        return format!("; `canctl scan` lists the nodes on {bus}");
-    }
-    let list: Vec<String> = seen.iter().map(|n| n.node.to_string()).collect();
-    format!("; nodes seen on the last scan of {bus}: {}", list.join(", "))
-}
-
 #[cfg(test)]
 mod tests {
     use super::network;

@@ -348,6 +348,9 @@ impl Progress for NodeBars<'_> {
     fn finish(&mut self) {
         self.clear();
     }
+    fn event(&mut self, event: crate::ops::Event) {
+        self.note(&crate::output::event_line(&event));
+    }
     fn note(&mut self, text: &str) {
         self.multi.suspend(|| self.out.note(text));
     }

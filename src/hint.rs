@@ -1,0 +1,45 @@
+//! What the user can do about an error, as a typed remedy: the library says *which*
+//! remedy fits, a front end says it in its own terms (the command line names its flags and
+//! commands, `output/hints.rs`; a program may offer a button). An error's own message says
+//! what happened and names no flag.
+
+use crate::error::Error;
+
+/// A remedy for an error, for the front end to word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Hint {
+    /// A node-id asked for is in use: choose a free one (a scan lists those in use), or
+    /// give it anyway (the command's force option).
+    FreeNodeIdOrForce,
+    /// The node keeps no description of itself: give one from its vendor (an EDS for the
+    /// node).
+    GiveEds,
+}
+
+impl Hint {
+    /// The remedy for `error` (looked for under any hint string it carries), if one fits.
+    pub fn of(error: &Error) -> Option<Hint> {
+        match error {
+            Error::Hinted { error, .. } => Hint::of(error),
+            Error::NodeIdInUse { .. } => Some(Hint::FreeNodeIdOrForce),
+            Error::NoStoredEds { .. } => Some(Hint::GiveEds),
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_remedy_is_found_under_a_hint_string() {
+        let e = Error::NoStoredEds { node: 5 };
+        assert_eq!(Hint::of(&e), Some(Hint::GiveEds));
+        assert_eq!(Hint::of(&e.with_hint("; more")), Some(Hint::GiveEds));
+        assert_eq!(Hint::of(&Error::Interrupted), None);
+        // The message itself names no flag: the front end adds that.
+        assert!(!Error::NoStoredEds { node: 5 }.to_string().contains("--"));
+    }
+}

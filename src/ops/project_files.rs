@@ -1,0 +1,56 @@
+//! A network project on disk (`nodelist.cpj` and one DCF per node): where it is, whether it
+//! can be written, and writing it so that a project file is only there once every file it
+//! names is. The procedures that read and make projects are in [`super::network`].
+
+use super::network::{self, Dumped, Loaded, PROJECT_FILE};
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// The project file: `path` itself, or `path/nodelist.cpj` for a folder.
+pub fn project_file(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        path.join(PROJECT_FILE)
+    } else {
+        path.to_path_buf()
+    }
+}
+
+/// Whether a project can be written into `dir`, asked before the bus is read: in `dir`
+/// when it exists, else where its first missing folder would be made.
+pub fn check_folder(dir: &Path) -> Result<()> {
+    let mut probe = dir.join(PROJECT_FILE);
+    let mut at = dir;
+    while !at.exists() {
+        probe = at.to_path_buf();
+        match at.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => at = parent,
+            _ => break,
+        }
+    }
+    crate::atomic::check_writable(&probe)
+}
+
+/// Write a dumped project into `dir` (made if missing), each file atomically: the DCFs
+/// first, the project file last.
+pub fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::Output {
+        path: dir.display().to_string(),
+        why: format!("cannot make the directory: {e}"),
+    })?;
+    for (name, bytes) in dumped.files.iter().rev() {
+        crate::atomic::write_atomic(&dir.join(name), bytes)?;
+    }
+    Ok(())
+}
+
+/// Set `[DeviceComissioning] Baudrate` to `kbit` in every DCF of the project: every file
+/// made before any is written, so that a DCF that cannot be read changes none. The files
+/// written, in order.
+pub fn update_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<PathBuf>> {
+    let mut updated = Vec::new();
+    for (path, bytes) in network::with_bit_rate(loaded, kbit)? {
+        crate::atomic::write_atomic(&path, &bytes)?;
+        updated.push(path);
+    }
+    Ok(updated)
+}

@@ -1,0 +1,92 @@
+//! The command line's words for the library's [`Hint`]s: the one place remedies name
+//! canctl's flags and commands.
+
+use crate::hint::Hint;
+
+/// The remedy as canctl says it, to follow the error's message.
+pub fn hint_text(hint: Hint) -> &'static str {
+    match hint {
+        Hint::FreeNodeIdOrForce => "; choose a free id (canctl scan lists those in use), or --force gives it anyway",
+        Hint::GiveEds => "; get the EDS from its vendor and give it with --eds",
+    }
+}
+
+/// An error from a command as canctl prints it: its message (with its causes), then the
+/// remedy of the library's error in it, in canctl's terms.
+pub fn error_text(err: &anyhow::Error) -> String {
+    let hint = err.chain().find_map(|c| c.downcast_ref::<crate::Error>()).and_then(Hint::of);
+    format!("{err:#}{}", hint.map_or("", hint_text))
+}
+
+/// What to add to a message about a silent node: the nodes the last scan of `bus` saw
+/// (`seen`), or the command that lists them.
+pub fn last_scan_hint(bus: &str, seen: &[crate::ops::scan_cache::SeenNode]) -> String {
+    if seen.is_empty() {
+        return format!("; `canctl scan` lists the nodes on {bus}");
+    }
+    let list: Vec<String> = seen.iter().map(|n| n.node.to_string()).collect();
+    format!("; nodes seen on the last scan of {bus}: {}", list.join(", "))
+}
+
+/// Why a command that needs a bus has none, how to name one, and the interfaces and
+/// serial ports this machine has.
+pub fn no_bus_text() -> String {
+    let list = |v: Vec<String>| {
+        if v.is_empty() {
+            "none found".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    format!(
+        "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
+         CAN interfaces here: {}\n  \
+         serial ports here:   {}\n  \
+         forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
+         epos2-usb:/dev/ttyUSB0\n  \
+         no hardware? try the demo network: canctl --bus sim scan",
+        list(crate::connect::can_interfaces()),
+        list(crate::connect::serial_ports())
+    )
+}
+
+/// What the user must do to bring a link that does not follow an LSS switch to `index`.
+pub fn switch_hint(uri: Option<&str>, index: u8) -> String {
+    let name = crate::canopen::lss::bit_rate_name(index);
+    let bps = crate::canopen::lss::BIT_TIMINGS[index as usize].1.unwrap_or(0) * 1000;
+    match uri.and_then(|u| u.parse::<crate::connect::BusAddr>().ok()) {
+        Some(crate::connect::BusAddr::SocketCan { iface }) => format!(
+            "switch {iface} to the new rate: sudo ip link set {iface} down && sudo ip link set {iface} up type can \
+             bitrate {bps}"
+        ),
+        Some(crate::connect::BusAddr::Epos2 { .. }) => format!(
+            "the EPOS2 keeps its own CAN rate: `canctl lss set-baud {name} --node 0`, `canctl lss store --node 0`, then \
+             power it off and on"
+        ),
+        Some(crate::connect::BusAddr::Slcan { port, .. }) => {
+            format!("reopen the adapter at the new rate: --bus slcan:{port}@{name}")
+        }
+        _ => format!("switch the CAN interface to {name}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What the user reads is what canctl printed before the remedy was typed.
+    #[test]
+    fn the_remedy_follows_the_message_naming_the_flag() {
+        let e = anyhow::Error::from(crate::Error::NoStoredEds { node: 5 });
+        assert_eq!(
+            error_text(&e),
+            "node 5: the device does not store its EDS (0x1021); get the EDS from its vendor and give it with --eds"
+        );
+        let e = anyhow::Error::from(crate::Error::NodeIdInUse { node: 7, identity: None, by: "its heartbeat" });
+        assert!(error_text(&e).ends_with(
+            "Nothing was sent; choose a free id (canctl scan lists those in use), or --force gives it anyway"
+        ));
+        let e = anyhow::Error::from(crate::Error::Interrupted);
+        assert_eq!(error_text(&e), format!("{e:#}"));
+    }
+}
