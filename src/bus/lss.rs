@@ -119,6 +119,8 @@ impl<'a> LssMaster<'a> {
         keep_going: &mut dyn FnMut() -> bool,
     ) -> Result<Option<FastscanOutcome>> {
         let mut scan = Fastscan::new(pace, given);
+        // Strays from before this search say nothing of its requests.
+        self.bus.observed().take_lss_answers();
         let mut asked = false;
         loop {
             let found = match scan.next() {
@@ -137,6 +139,8 @@ impl<'a> LssMaster<'a> {
                     let collect = ask.settle.map_or(LssWait::All, LssWait::Settle);
                     let answers = self.bus.lss_exchange(&ask.request.encode(), ask.expect, ask.window, collect)?;
                     let answers: Vec<(Duration, [u8; 8])> = answers.iter().map(|a| (a.after, a.data)).collect();
+                    // Drained before this request went out: answers to the one before, late.
+                    scan.on_strays(&self.bus.observed().take_lss_answers());
                     scan.on_answers(&answers);
                     continue;
                 }
