@@ -279,7 +279,9 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => crate::ops::scan_cache::hint(bus),
+        (Some(Error::NoAnswer { what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(bus)) => {
+            crate::ops::scan_cache::hint(bus)
+        }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
             // Whether the node has it, not its value: a large one is not read whole.
             let opts = crate::bus::SdoOptions { max_upload: 64, ..crate::bus::SdoOptions::new(ctx.timeout) };
