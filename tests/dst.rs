@@ -63,6 +63,16 @@ const FIXED: &[u64] = &[
     // at the same step: slow, and within the rules of a search (the bound of an LSS search
     // follows them now: 133 requests a device at the step ceiling).
     0xf_ddda,
+    // lss assign, a device whose answers are corrupt one time in five (slow devices,
+    // 125 kbit/s): 2,272 s of bus time against a bound of 532 s. Parts not confirmed were
+    // taken for lateness and the step doubled four times, which brings no lost answer back
+    // (fixed: the step is lengthened only on evidence of lateness, a part not confirmed
+    // is checked again from the bits a lost or late answer spoiled, and the searches of a
+    // fastscan are bounded; 132 s now).
+    0xf_7686,
+    // fastscan, a device losing 20 % of its answers: 786 s against 532 s, the same way
+    // (38 s now; 0xfddda above 230 s).
+    0xf_b02c,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.

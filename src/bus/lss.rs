@@ -1,8 +1,9 @@
-//! LSS master procedures over any `Bus` (CiA 305): the sequences of requests that the
-//! `lss` commands are made of, with the waiting each step needs.
+//! LSS master procedures over any `Bus` (CiA 305): the I/O driving of the `lss` commands'
+//! sequences, with the waiting each step needs. What the answers mean, and what is done
+//! when they go missing or come late, is `canopen::lss` (its `sequences` and `policy`).
 
 use super::{Bus, LssWait};
-use crate::canopen::lss::{self, Fastscan, FastscanError, FastscanNext, Identity, Pace, Request, Response};
+use crate::canopen::lss::{self, Configured, Fastscan, FastscanError, FastscanNext, Identity, Pace, Request, Response};
 use crate::error::{Error, Result};
 use std::collections::BTreeSet;
 use std::time::Duration;
@@ -93,20 +94,15 @@ impl<'a> LssMaster<'a> {
     /// A confirmed configuration service; every answer must report success.
     pub fn configure(&mut self, req: Request, what: &str, global: bool) -> Result<usize> {
         let answers = self.ask(req, if global { LssWait::All } else { LssWait::First })?;
-        let results: Vec<(u8, u8, u8)> = answers
-            .iter()
-            .filter_map(|a| match a {
-                Response::Result { cs, error, specific } => Some((*cs, *error, *specific)),
-                _ => None,
-            })
-            .collect();
-        if results.is_empty() {
-            return Err(Error::NoLssAnswer { request: what.into(), identity: None, waited: self.timeout });
+        match lss::configured(&answers) {
+            Configured::Done(n) => Ok(n),
+            Configured::Refused { cs, error, specific } => {
+                Err(Error::LssRefused { service: what.into(), cs, error, specific })
+            }
+            Configured::Unanswered => {
+                Err(Error::NoLssAnswer { request: what.into(), identity: None, waited: self.timeout })
+            }
         }
-        if let Some((cs, error, specific)) = results.iter().find(|(_, e, _)| *e != 0) {
-            return Err(Error::LssRefused { service: what.into(), cs: *cs, error: *error, specific: *specific });
-        }
-        Ok(results.len())
     }
 
     /// Find one device without a node-id, at `pace` (learned as it goes), skipping the
@@ -119,6 +115,8 @@ impl<'a> LssMaster<'a> {
         keep_going: &mut dyn FnMut() -> bool,
     ) -> Result<Option<FastscanOutcome>> {
         let mut scan = Fastscan::new(pace, given);
+        // Strays from before this search say nothing of its requests.
+        self.bus.observed().take_lss_answers();
         let mut asked = false;
         loop {
             let found = match scan.next() {
@@ -137,6 +135,8 @@ impl<'a> LssMaster<'a> {
                     let collect = ask.settle.map_or(LssWait::All, LssWait::Settle);
                     let answers = self.bus.lss_exchange(&ask.request.encode(), ask.expect, ask.window, collect)?;
                     let answers: Vec<(Duration, [u8; 8])> = answers.iter().map(|a| (a.after, a.data)).collect();
+                    // Drained before this request went out: answers to the one before, late.
+                    scan.on_strays(&self.bus.observed().take_lss_answers());
                     scan.on_answers(&answers);
                     continue;
                 }
@@ -148,9 +148,6 @@ impl<'a> LssMaster<'a> {
         }
     }
 }
-
-/// How many searches in a row must find nobody before `assign` says no device waits.
-const NO_DEVICE_PROBES: u32 = 3;
 
 /// How many devices without a node-id answer "identify non-configured remote slave".
 pub fn count_unconfigured(bus: &mut dyn Bus, wait: Duration) -> Result<usize> {
@@ -231,7 +228,7 @@ impl LssMaster<'_> {
                 Ok(found) => found,
                 Err(FastscanError::NoDevice) => {
                     silent += 1;
-                    if silent < NO_DEVICE_PROBES {
+                    if silent < lss::NO_DEVICE_PROBES {
                         continue;
                     }
                     return Ok(());

@@ -258,7 +258,7 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { what: Service::Sdo(_), .. }), Some(bus)) => {
+        (Some(Error::NoAnswer { what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(bus)) => {
             crate::output::last_scan_hint(bus, &crate::ops::scan_cache::load(bus))
         }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {

@@ -476,6 +476,9 @@ pub enum LinkError {
 pub enum Service {
     /// An SDO transfer of this object.
     Sdo(ObjAddr),
+    /// An SDO transfer of this object, started `requests` times (the retries of
+    /// `canopen::sdo::retry`), each waited for the time given.
+    SdoRetried { obj: ObjAddr, requests: u8 },
     /// Its NMT state: node guarding, after listening for a heartbeat for `heartbeat` (none
     /// where the bus shows no traffic).
     NmtState { heartbeat: Option<Duration> },
@@ -494,6 +497,14 @@ fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
     let ms = waited.as_millis();
     match what {
         Service::Sdo(obj) => format!("node {node}: did not answer the SDO transfer of {obj} (waited {ms} ms)"),
+        Service::SdoRetried { obj, requests } => format!(
+            "node {node}: did not answer the SDO transfer of {obj}: no answer to {requests} requests, {} in all \
+             ({ms} ms each)",
+            match waited * u32::from(*requests) {
+                all if all < Duration::from_secs(1) => format!("{} ms", all.as_millis()),
+                all => format!("{:.1} s", all.as_secs_f64()),
+            }
+        ),
         Service::NmtState { heartbeat } => format!(
             "node {node}: {}no answer to node guarding within {ms} ms",
             heartbeat.map(|l| format!("no heartbeat within {} ms and ", l.as_millis())).unwrap_or_default()

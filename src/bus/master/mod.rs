@@ -72,6 +72,8 @@ struct Active {
     heard: bool,
     /// Attempts left after this one (`SdoOptions::retries`).
     retries_left: u8,
+    /// Times the transfer was started, this one included: said when none was answered.
+    requests: u8,
     /// How the first attempt the device answered ended: said in the end when the later
     /// attempts got no answer at all, as it tells more (how far the transfer came).
     answered_attempt: Option<Error>,
@@ -223,6 +225,7 @@ impl<L: FrameLink> Master<L> {
                         a.answered_attempt = Some(expiry_error(node, &a, at, timeout));
                     }
                     a.retries_left -= 1;
+                    a.requests += 1;
                     tracing::debug!(
                         target: "canctl::sdo",
                         "node {node}: SDO transfer of {addr}: nothing for {} ms, aborted and started again \
@@ -401,6 +404,7 @@ impl<L: FrameLink> Master<L> {
                 total_deadline,
                 heard: false,
                 retries_left: retries,
+                requests: 1,
                 answered_attempt: None,
             },
         );
@@ -464,7 +468,11 @@ impl<L: FrameLink> Master<L> {
 fn expiry_error(node: u8, a: &Active, now: Instant, timeout: Duration) -> Error {
     let obj = a.client.addr();
     if !a.heard {
-        return Error::NoAnswer { node, what: Service::Sdo(obj), waited: timeout };
+        let what = match a.requests {
+            1 => Service::Sdo(obj),
+            requests => Service::SdoRetried { obj, requests },
+        };
+        return Error::NoAnswer { node, what, waited: timeout };
     }
     let (bytes, total) = a.client.progress();
     let moved = Moved { bytes, total };
@@ -646,6 +654,22 @@ mod tests {
         assert_eq!(m.link.requests, 5);
         let e = m.sdo_upload(NODE, HEARTBEAT, &SdoOptions { retries: 0, ..opts() }).unwrap_err();
         assert!(matches!(e, Error::NoAnswer { .. }), "{e}");
+    }
+
+    /// A node that never answers costs every retry: the message says what was tried, not
+    /// the one timeout of the last request.
+    #[test]
+    fn an_unreachable_node_is_reported_with_every_request_tried() {
+        let mut m = master(&(1..=20).collect::<Vec<_>>(), &[]);
+        let e = m.sdo_upload(NODE, HEARTBEAT, &opts()).unwrap_err();
+        assert_eq!(e.exit_code(), 3);
+        assert_eq!(
+            e.to_string(),
+            "node 4: did not answer the SDO transfer of 0x1017:0: no answer to 3 requests, 300 ms in all \
+             (100 ms each)"
+        );
+        let e = m.sdo_upload(NODE, HEARTBEAT, &SdoOptions { retries: 0, ..opts() }).unwrap_err();
+        assert_eq!(e.to_string(), "node 4: did not answer the SDO transfer of 0x1017:0 (waited 100 ms)");
     }
 
     #[test]

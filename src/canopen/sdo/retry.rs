@@ -8,6 +8,13 @@
 //! request that completes it has gone out: the server may have received it and its answer
 //! been lost. Its outcome is then read back where a read-back can tell, else reported as
 //! unknown.
+//!
+//! A node that never answered anything in this session is retried all the same: each
+//! command is a session of its own, so the first request of a one-shot read has no earlier
+//! answer to go by, and a frame lost on the way (2 % on a loaded adapter) would end it
+//! with exit 3. An unreachable node costs every retry (`DEFAULT_RETRIES` + 1 timeouts),
+//! and its message says so ("no answer to 3 requests, 1.5 s in all"); a scan, which asks
+//! nodes that mostly are not there, asks without retries.
 
 use super::SdoClient;
 use crate::canopen::ObjAddr;
