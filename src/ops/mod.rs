@@ -23,6 +23,7 @@ pub mod sdo;
 pub mod silence;
 pub mod store;
 pub mod stored_eds;
+pub mod unheard;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;
