@@ -264,3 +264,20 @@ fn the_description_a_scan_used_is_remembered_for_completion() {
     assert!(tpdos.iter().any(|o| o == "0x1800:1"), "{tpdos:?}");
     assert!(!tpdos.iter().any(|o| o.starts_with("0x1801")), "{tpdos:?}");
 }
+
+/// The description a node stores in itself (0x1021), once `config eds --out` saved it, is
+/// what completion offers from: node 10's lists TPDO1 and no analogue inputs (0x6401),
+/// which the built-in CiA 401 dictionary would have guessed.
+#[test]
+fn the_description_a_node_stores_is_remembered_once_saved() {
+    let sim = Sim::new();
+    let bus = sim.bus();
+    sim.run(&["scan"]).ok();
+    let guessed = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x64"]);
+    assert!(guessed.iter().any(|o| o.starts_with("0x6401")), "the built-in profile, before: {guessed:?}");
+    let saved = sim.path("node10.eds");
+    sim.run(&["config", "eds", "10", "--out", saved.to_str().unwrap()]).ok();
+    assert_eq!(bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x64"]), Vec::<String>::new());
+    let tpdo = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x180"]);
+    assert!(tpdo.iter().any(|o| o == "0x1800:1"), "{tpdo:?}");
+}

@@ -146,8 +146,9 @@ pub fn nodes_or_all() -> Vec<CompletionCandidate> {
 /// only those the node is known to have.
 ///
 /// - The node's description, if one is known, lists them: an EDS/DCF/XDD given for it on
-///   the line or in canctl.toml, else the one its last scan was given (kept in the scan
-///   cache). Only its objects are offered.
+///   the line or in canctl.toml, else the one its last scan was given or the one it stores
+///   in itself once `config eds --out` saved it (both kept in the scan cache). Only its
+///   objects are offered.
 /// - Without one: the objects CiA 301 makes mandatory (0x1000 device type, 0x1001 error
 ///   register, 0x1018:0 and :1 identity; and 0x1017 producer heartbeat time, mandatory for
 ///   every device without node guarding), the device-profile objects (0x6000-0x9FFF) of the

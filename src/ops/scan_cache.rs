@@ -4,9 +4,10 @@
 //!
 //! Per node it also keeps what is known of the node's object list, for completion to offer
 //! only objects the node has (see `cli::complete::objects`): the EDS/DCF/XDD that described
-//! it when it was scanned, the objects it answered (the scan's reads, `sdo read` and `sdo
-//! write`) and the objects it said it does not have (SDO abort 0x06020000). A new scan keeps
-//! what was learned of a node while the node answers with the same identity.
+//! it when it was scanned or that it stores in itself (once `config eds --out` saved it),
+//! the objects it answered (the scan's reads, `sdo read` and `sdo write`) and the objects it
+//! said it does not have (SDO abort 0x06020000). A new scan keeps what was learned of a node
+//! while the node answers with the same identity.
 
 use crate::canopen::{abort, ObjAddr};
 use crate::error::Error;
@@ -28,7 +29,7 @@ pub struct SeenNode {
     #[serde(default = "scanned")]
     pub scanned: bool,
     /// The EDS/DCF/XDD file that describes the node's object list (an absolute path): the
-    /// one the scan used for it.
+    /// one the scan used for it, or the one it stores in itself, as saved.
     #[serde(default)]
     pub dictionary: Option<PathBuf>,
     /// Objects the node answered, as (index, sub-index).
@@ -151,24 +152,36 @@ pub fn note<T>(bus: &str, node: u8, addr: ObjAddr, outcome: &Result<T, Error>) {
     }
 }
 
+/// Remember `path` as the description of `node`'s object list: a description the node
+/// stores in itself (0x1021), once saved to a file.
+pub fn describe(bus: &str, node: u8, path: &std::path::Path) {
+    let Ok(path) = std::path::absolute(path) else { return };
+    let mut nodes = load_all(bus);
+    let i = entry(&mut nodes, node);
+    nodes[i].dictionary = Some(path);
+    write(bus, &nodes);
+}
+
+/// The index of `node`'s entry in `nodes`, added (as no node the scan saw) when missing.
+fn entry(nodes: &mut Vec<SeenNode>, node: u8) -> usize {
+    nodes.iter().position(|n| n.node == node).unwrap_or_else(|| {
+        nodes.push(SeenNode {
+            node,
+            name: None,
+            vendor_id: None,
+            device_type: None,
+            scanned: false,
+            dictionary: None,
+            answered: BTreeSet::new(),
+            refused: BTreeSet::new(),
+        });
+        nodes.len() - 1
+    })
+}
+
 /// Add to `nodes` that `node` has `addr` (or has nothing at its index); whether that is news.
 fn noted(nodes: &mut Vec<SeenNode>, node: u8, addr: ObjAddr, has: bool) -> bool {
-    let i = match nodes.iter().position(|n| n.node == node) {
-        Some(i) => i,
-        None => {
-            nodes.push(SeenNode {
-                node,
-                name: None,
-                vendor_id: None,
-                device_type: None,
-                scanned: false,
-                dictionary: None,
-                answered: BTreeSet::new(),
-                refused: BTreeSet::new(),
-            });
-            nodes.len() - 1
-        }
-    };
+    let i = entry(nodes, node);
     let n = &mut nodes[i];
     if has {
         n.refused.remove(&addr.index) | n.answered.insert((addr.index, addr.sub))
