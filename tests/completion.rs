@@ -249,7 +249,8 @@ fn objects_are_offered_only_where_the_node_is_known_to_have_them() {
 }
 
 /// A scan given the node's EDS remembers it: later lines without `--eds` are offered the
-/// node's own objects (and only those: its EDS lists TPDO1, not TPDO2), by address and name.
+/// node's own objects (and only those: its EDS lists TPDO1, not TPDO2), by address, named
+/// by it; by name only with `--eds`, where the command finds them by name.
 #[test]
 fn the_description_a_scan_used_is_remembered_for_completion() {
     let sim = Sim::new();
@@ -259,6 +260,9 @@ fn the_description_a_scan_used_is_remembered_for_completion() {
     let own = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x6005"]);
     assert!(own.iter().any(|o| o == "0x6005:1"), "{own:?}");
     let by_name = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "LinearEnc"]);
+    assert!(!by_name.iter().any(|o| o == "LinearEncoderMeasuringStep"), "sdo read would refuse it: {by_name:?}");
+    let with_eds = format!("5={}", eds.display());
+    let by_name = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "--eds", &with_eds, "5", "LinearEnc"]);
     assert!(by_name.iter().any(|o| o == "LinearEncoderMeasuringStep"), "{by_name:?}");
     let tpdos = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x180"]);
     assert!(tpdos.iter().any(|o| o == "0x1800:1"), "{tpdos:?}");
@@ -280,4 +284,20 @@ fn the_description_a_node_stores_is_remembered_once_saved() {
     assert_eq!(bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x64"]), Vec::<String>::new());
     let tpdo = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x180"]);
     assert!(tpdo.iter().any(|o| o == "0x1800:1"), "{tpdo:?}");
+}
+
+/// A name completion offers is one the command accepts: node 5's profile (CiA 406) names
+/// 0x6000 "Operating parameters", but `sdo read` looks names up in the dictionary it uses
+/// for the node, where that name is not; offering it led to "no object named".
+#[test]
+fn every_name_offered_is_one_the_command_accepts() {
+    let sim = Sim::new();
+    let bus = sim.bus();
+    sim.run(&["scan"]).ok();
+    let offered = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "Operat"]);
+    assert!(!offered.is_empty(), "Operating status is known by name");
+    for name in &offered {
+        let run = sim.run(&["sdo", "read", "5", name]);
+        assert_ne!(run.code, 2, "{name} offered, then refused: {}", run.stderr);
+    }
 }

@@ -157,6 +157,8 @@ pub fn nodes_or_all() -> Vec<CompletionCandidate> {
 ///   communication objects (PDOs, SDO channels, ...) are guesses a node may not have, and
 ///   are not offered.
 /// - Never an object whose index the node refused (SDO abort 0x06020000), as remembered.
+/// - By name only where the command finds the object by that name (in the dictionary it
+///   uses: an EDS given now, else the built-in one); otherwise by address, named in the help.
 pub fn objects() -> Vec<CompletionCandidate> {
     let w = words();
     let node = w
@@ -200,12 +202,27 @@ pub fn objects() -> Vec<CompletionCandidate> {
     for (_, name) in &named {
         *uses.entry(names::normalize(name)).or_default() += 1;
     }
+    // Offered by name only where the command finds it by that name: it looks in the
+    // dictionary it uses for the node (an EDS given now, else the built-in one), which may
+    // not be the one that names the objects here. Indexed once: a large EDS has thousands.
+    let command_dict = dicts.for_node(node);
+    let mut command_names: HashMap<String, Vec<ObjAddr>> = HashMap::new();
+    for e in command_dict.entries() {
+        if let Some(name) = command_dict.display_name(e.addr) {
+            command_names.entry(names::normalize(&name)).or_default().push(e.addr);
+        }
+    }
     let mut out = Vec::new();
     let mut by_name = Vec::new();
     for (e, name) in &named {
         let kind = format!("{} {}", e.dtype, e.access.name());
         out.push(CompletionCandidate::new(e.addr.to_string()).help(Some(format!("{name} ({kind})").into())));
-        if !name.is_empty() && uses[&names::normalize(name)] == 1 {
+        let found = |word: &str| match command_names.get(&names::normalize(word)).map(Vec::as_slice) {
+            Some([one]) => *one == e.addr,
+            // Names alike, or not among the full names: as the command decides (rare).
+            _ => names::find(command_dict, word).is_ok_and(|a| a == e.addr),
+        };
+        if !name.is_empty() && uses[&names::normalize(name)] == 1 && found(&names::identifier(name)) {
             by_name.push(
                 CompletionCandidate::new(names::identifier(name)).help(Some(format!("{} ({kind})", e.addr).into())),
             );
