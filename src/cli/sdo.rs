@@ -18,8 +18,8 @@ pub enum SdoCommand {
 ///
 /// Expedited, segmented or block transfer is chosen automatically: strings and domains
 /// (--type vs, os, d) are read by block transfer where the device offers it.
-/// Without --type the raw bytes are shown with the plain unsigned reading for 1, 2, 4 or
-/// 8 bytes.
+/// Without --type the dictionary's type decodes it; an object no dictionary knows is shown
+/// as raw bytes with the plain unsigned reading for 1, 2, 4 or 8 bytes.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim sdo read 1 0x1018:1 --type u32
