@@ -55,7 +55,7 @@ fn parse_kbit(text: &str) -> Option<u32> {
     (kbit >= 1.0 && kbit.fract() == 0.0 && kbit <= 1000.0).then_some(kbit as u32)
 }
 
-fn kbit_text(kbit: u32) -> String {
+pub(crate) fn kbit_text(kbit: u32) -> String {
     if kbit == 1000 {
         "1M".into()
     } else {

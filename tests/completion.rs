@@ -191,3 +191,113 @@ fn zsh_gets_colons_escaped() {
     let run = finish(c.output().unwrap()).ok();
     assert!(run.stdout.lines().any(|l| l == "0x1018\\:1:Identity object: Vendor-ID (u32 ro)"), "{}", run.stdout);
 }
+
+/// What a real bash offers for `canctl WORDS<Tab>` (the last word is the one being typed)
+/// after sourcing the script we ship, flags left out.
+fn bash_offers(sim: &Sim, words: &[&str]) -> Vec<String> {
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("completions/canctl.bash");
+    let quoted: Vec<String> = words.iter().map(|w| format!("'{w}'")).collect();
+    let line = format!(
+        "source '{}'; COMP_WORDS=(canctl {}); COMP_CWORD={}; COMP_TYPE=9; \
+         _clap_complete_canctl canctl '{}' '{}'; printf '%s\\n' \"${{COMPREPLY[@]}}\"",
+        script.display(),
+        quoted.join(" "),
+        words.len(),
+        words[words.len() - 1],
+        words.get(words.len().wrapping_sub(2)).unwrap_or(&"canctl"),
+    );
+    let path = format!("{}:{}", canctl_bin().parent().unwrap().display(), std::env::var("PATH").unwrap_or_default());
+    let mut c = Command::new("bash");
+    c.args(["--norc", "-c", &line]).env("PATH", path).env_remove("CANCTL_BUS");
+    c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path(""));
+    let run = finish(c.output().unwrap()).ok();
+    assert!(run.stderr.is_empty(), "bash: {}", run.stderr);
+    run.stdout.lines().filter(|w| !w.is_empty() && !w.starts_with('-')).map(str::to_string).collect()
+}
+
+/// Objects are offered only where the node is known to have them. After a scan without a
+/// description of node 5: the CiA 301 mandatory objects and its profile's, not the built-in
+/// dictionary's guesses at its communication objects (node 5 has no TPDO2, no 0x1006);
+/// then what it answered is offered too, and what it refused (abort 0x06020000) never again.
+#[test]
+fn objects_are_offered_only_where_the_node_is_known_to_have_them() {
+    let sim = Sim::new();
+    let bus = sim.bus();
+    sim.run(&["scan"]).ok();
+    let comm = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x10"]);
+    for mandatory in ["0x1000:0", "0x1001:0", "0x1017:0", "0x1018:1"] {
+        assert!(comm.iter().any(|o| o == mandatory), "{mandatory}: {comm:?}");
+    }
+    assert!(!comm.iter().any(|o| o.starts_with("0x1006")), "node 5 has no 0x1006: {comm:?}");
+    assert_eq!(bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x18"]), Vec::<String>::new());
+
+    // What it answered is known.
+    sim.run(&["sdo", "read", "5", "0x1800:1"]).ok();
+    assert_eq!(bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x18"]), ["0x1800:1"]);
+
+    // A profile object it refused is not offered again.
+    let profile = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x600"]);
+    assert!(profile.iter().any(|o| o == "0x6004:0") && profile.iter().any(|o| o == "0x6000:0"), "{profile:?}");
+    assert_eq!(sim.run(&["sdo", "read", "5", "0x6004"]).code, 4);
+    let profile = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x600"]);
+    assert!(!profile.iter().any(|o| o.starts_with("0x6004")), "{profile:?}");
+    assert!(profile.iter().any(|o| o == "0x6000:0"), "{profile:?}");
+
+    // Another node's refusals are its own.
+    let other = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x100"]);
+    assert!(other.iter().any(|o| o == "0x1000:0"), "{other:?}");
+}
+
+/// A scan given the node's EDS remembers it: later lines without `--eds` are offered the
+/// node's own objects (and only those: its EDS lists TPDO1, not TPDO2), by address, named
+/// by it; by name only with `--eds`, where the command finds them by name.
+#[test]
+fn the_description_a_scan_used_is_remembered_for_completion() {
+    let sim = Sim::new();
+    let bus = sim.bus();
+    let eds = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("eds/canctl-sim-sensor.eds");
+    sim.run(&["--eds", &format!("5={}", eds.display()), "scan"]).ok();
+    let own = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x6005"]);
+    assert!(own.iter().any(|o| o == "0x6005:1"), "{own:?}");
+    let by_name = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "LinearEnc"]);
+    assert!(!by_name.iter().any(|o| o == "LinearEncoderMeasuringStep"), "sdo read would refuse it: {by_name:?}");
+    let with_eds = format!("5={}", eds.display());
+    let by_name = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "--eds", &with_eds, "5", "LinearEnc"]);
+    assert!(by_name.iter().any(|o| o == "LinearEncoderMeasuringStep"), "{by_name:?}");
+    let tpdos = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "0x180"]);
+    assert!(tpdos.iter().any(|o| o == "0x1800:1"), "{tpdos:?}");
+    assert!(!tpdos.iter().any(|o| o.starts_with("0x1801")), "{tpdos:?}");
+}
+
+/// The description a node stores in itself (0x1021), once `config eds --out` saved it, is
+/// what completion offers from: node 10's lists TPDO1 and no analogue inputs (0x6401),
+/// which the built-in CiA 401 dictionary would have guessed.
+#[test]
+fn the_description_a_node_stores_is_remembered_once_saved() {
+    let sim = Sim::new();
+    let bus = sim.bus();
+    sim.run(&["scan"]).ok();
+    let guessed = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x64"]);
+    assert!(guessed.iter().any(|o| o.starts_with("0x6401")), "the built-in profile, before: {guessed:?}");
+    let saved = sim.path("node10.eds");
+    sim.run(&["config", "eds", "10", "--out", saved.to_str().unwrap()]).ok();
+    assert_eq!(bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x64"]), Vec::<String>::new());
+    let tpdo = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "10", "0x180"]);
+    assert!(tpdo.iter().any(|o| o == "0x1800:1"), "{tpdo:?}");
+}
+
+/// A name completion offers is one the command accepts: node 5's profile (CiA 406) names
+/// 0x6000 "Operating parameters", but `sdo read` looks names up in the dictionary it uses
+/// for the node, where that name is not; offering it led to "no object named".
+#[test]
+fn every_name_offered_is_one_the_command_accepts() {
+    let sim = Sim::new();
+    let bus = sim.bus();
+    sim.run(&["scan"]).ok();
+    let offered = bash_offers(&sim, &["--bus", &bus, "sdo", "read", "5", "Operat"]);
+    assert!(!offered.is_empty(), "Operating status is known by name");
+    for name in &offered {
+        let run = sim.run(&["sdo", "read", "5", name]);
+        assert_ne!(run.code, 2, "{name} offered, then refused: {}", run.stderr);
+    }
+}

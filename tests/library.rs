@@ -188,11 +188,15 @@ fn a_scan_finds_the_demo_network_with_identities_and_states() {
     assert_eq!(json["bus"], found.bus);
     assert_eq!(json["nodes"][1]["state"], "pre-operational");
     assert_eq!(json["lss_configuration"]["devices"], serde_json::json!([]));
-    let seen = SeenNode::from_scan(&found);
+    let seen = SeenNode::from_scan(&found, &canctl::ops::dictionaries::Dictionaries::default());
+    let sensor = &seen[1];
     assert_eq!(
-        seen[1],
-        SeenNode { node: 5, name: Some("C01".into()), vendor_id: Some(0x40), device_type: Some(0x000A_0196) }
+        (sensor.node, sensor.name.as_deref(), sensor.vendor_id, sensor.device_type),
+        (5, Some("C01"), Some(0x40), Some(0x000A_0196))
     );
+    // What the scan read of it is known to be there; no description was given for it.
+    assert!(sensor.answered.contains(&(0x1018, 4)) && sensor.answered.contains(&(0x1000, 0)), "{sensor:?}");
+    assert_eq!(sensor.dictionary, None);
 }
 
 #[test]

@@ -111,14 +111,24 @@ fn commands_over_the_simulated_adapter() {
     assert!(nmt.stdout.contains("node 20"), "{}", nmt.stdout);
 }
 
-/// An adapter set to another rate than the bus hears nothing: exit 3, not a wrong answer.
+/// An adapter set to another rate than the bus hears nothing, and its status flags say why
+/// (frames nobody acknowledged): `sdo read` and `sdo write` end as `scan` does, with a link
+/// failure (exit 5) that names the bit rate and how to give the right one, not "node 1 did
+/// not answer" (exit 3).
 #[test]
-fn a_wrong_bit_rate_in_the_address_is_no_answer() {
+fn a_wrong_bit_rate_in_the_address_is_a_link_failure_naming_it() {
     let sim = common::Sim::new();
     let dev = common::DeviceSide::start(&sim, "--slcan", &[]);
-    let mut c = std::process::Command::new(common::canctl_bin());
-    common::isolate(&mut c);
-    c.env_remove("CANCTL_BUS").args(["--bus", &format!("{}@125k", dev.uri), "--timeout", "200ms"]);
-    let r = common::finish(c.args(["sdo", "read", "1", "1000"]).output().unwrap());
-    assert_eq!(r.code, 3, "{}", r.stderr);
+    let wrong = format!("{}@125k", dev.uri);
+    for args in [&["sdo", "read", "1", "1000"][..], &["sdo", "write", "5", "1017", "150"]] {
+        let mut c = std::process::Command::new(common::canctl_bin());
+        common::isolate(&mut c);
+        c.env_remove("CANCTL_BUS").args(["--bus", &wrong, "--timeout", "200ms"]);
+        let r = common::finish(c.args(args).output().unwrap());
+        assert_eq!(r.code, 5, "{args:?}: {}", r.stderr);
+        assert!(r.stderr.contains("the adapter reports") && r.stderr.contains("bit rate"), "{}", r.stderr);
+        assert!(r.stderr.contains(&format!("{}@RATE", dev.uri)) && r.stderr.contains("canctl.toml"), "{}", r.stderr);
+    }
+    // At the right rate the same adapter answers.
+    assert_eq!(dev.run(&["sdo", "read", "10", "1008"]).ok().stdout.trim(), "CAN-2057C");
 }

@@ -10,8 +10,9 @@ use std::path::{Path, PathBuf};
 /// Print a shell completion script
 ///
 /// The script asks canctl for candidates as you type: bus URIs present here, node-ids from
-/// the last scan of the bus, objects from the node's EDS or the built-in dictionary, and
-/// the fixed sets (types, bit rates, formats). It reads files only, never the bus.
+/// the last scan of the bus, the objects the node is known to have (from its EDS, else
+/// CiA 301's mandatory ones, its profile's and those it answered; never one it refused),
+/// and the fixed sets (types, bit rates, formats). It reads files only, never the bus.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   source <(COMPLETE=bash canctl)           # or: source <(canctl completions bash)

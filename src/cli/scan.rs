@@ -46,7 +46,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> 
             scan::FULL_WINDOW.as_millis()
         ));
     } else if let Some(uri) = &ctx.bus {
-        scan_cache::save(uri, &SeenNode::from_scan(&report));
+        scan_cache::save(uri, &SeenNode::from_scan(&report, &ctx.dicts));
     }
     Ok(ctx.out.report(&report)?)
 }

@@ -18,8 +18,8 @@ pub enum SdoCommand {
 ///
 /// Expedited, segmented or block transfer is chosen automatically: strings and domains
 /// (--type vs, os, d) are read by block transfer where the device offers it.
-/// Without --type the raw bytes are shown with the plain unsigned reading for 1, 2, 4 or
-/// 8 bytes.
+/// Without --type the dictionary's type decodes it; an object no dictionary knows is shown
+/// as raw bytes with the plain unsigned reading for 1, 2, 4 or 8 bytes.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim sdo read 1 0x1018:1 --type u32
@@ -127,6 +127,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     let watch = ctx.out.progress.then_some(watch);
     let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, watch);
     bar.finish_and_clear();
+    remember(ctx, a.node, object, &read);
     let read = match read {
         Err(e) => return stopped(ctx, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e),
         Ok(read) => read,
@@ -141,7 +142,9 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
 fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
     let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
     let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, verify: a.verify };
-    let written = match sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o) {
+    let written = sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o);
+    remember(ctx, a.node, object, &written);
+    let written = match written {
         Err(e) => return stopped(ctx, sdo::stopped(a.node, object, true, &e), None, e),
         Ok(written) => written,
     };
@@ -150,6 +153,13 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
         return Err(crate::Error::Interrupted.into());
     }
     Ok(())
+}
+
+/// What the transfer showed of the node's objects, for completion (see `ops::scan_cache`).
+fn remember<T>(ctx: &Ctx, node: u8, object: crate::canopen::ObjAddr, outcome: &crate::Result<T>) {
+    if let Some(bus) = &ctx.bus {
+        crate::ops::scan_cache::note(bus, node, object, outcome);
+    }
 }
 
 /// A transfer the user stopped: its report, then exit 130; any other error as it is.

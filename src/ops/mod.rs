@@ -33,6 +33,7 @@ pub mod store_all;
 pub mod stored_eds;
 pub mod verdict;
 pub mod stream_setup;
+pub mod unheard;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;

@@ -170,7 +170,7 @@ fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn P
     }
     if found.is_empty() && !stopped {
         // No node at all: an adapter at the wrong bit rate sees exactly that, and may say so.
-        bus.check_link()?;
+        super::unheard::check(bus)?;
     }
     Ok((found, stopped))
 }

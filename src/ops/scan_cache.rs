@@ -1,8 +1,18 @@
 //! What the last scan of each bus found, kept under `$XDG_CACHE_HOME/canctl/` (else
-//! `~/.cache/canctl/`): error hints ("nodes seen on the last scan") and, later, shell
-//! completion of node-ids use it. A cache: a failure to read or write it is never an error.
+//! `~/.cache/canctl/`): error hints ("nodes seen on the last scan") and shell completion of
+//! node-ids and objects use it. A cache: a failure to read or write it is never an error.
+//!
+//! Per node it also keeps what is known of the node's object list, for completion to offer
+//! only objects the node has (see `cli::complete::objects`): the EDS/DCF/XDD that described
+//! it when it was scanned or that it stores in itself (once `config eds --out` saved it),
+//! the objects it answered (the scan's reads, `sdo read` and `sdo write`) and the objects it
+//! said it does not have (SDO abort 0x06020000). A new scan keeps what was learned of a node
+//! while the node answers with the same identity.
 
+use crate::canopen::{abort, ObjAddr};
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeSet;
 use std::path::PathBuf;
 
 #[derive(Serialize, Deserialize, Debug, Clone, PartialEq)]
@@ -14,6 +24,25 @@ pub struct SeenNode {
     /// from (a DS406 sensor is not offered a drive's objects). Absent in older caches.
     #[serde(default)]
     pub device_type: Option<u32>,
+    /// Whether the last scan found it; `false` for a node known only from the objects it
+    /// answered since (it is no node-id "seen on the last scan").
+    #[serde(default = "scanned")]
+    pub scanned: bool,
+    /// The EDS/DCF/XDD file that describes the node's object list (an absolute path): the
+    /// one the scan used for it, or the one it stores in itself, as saved.
+    #[serde(default)]
+    pub dictionary: Option<PathBuf>,
+    /// Objects the node answered, as (index, sub-index).
+    #[serde(default)]
+    pub answered: BTreeSet<(u16, u8)>,
+    /// Indices the node said it does not have (SDO abort 0x06020000).
+    #[serde(default)]
+    pub refused: BTreeSet<u16>,
+}
+
+/// Caches written before `scanned` was kept hold only scanned nodes.
+fn scanned() -> bool {
+    true
 }
 
 fn dir() -> Option<PathBuf> {
@@ -44,32 +73,171 @@ pub(crate) fn network_file(kind: &str, bus: &str) -> Option<PathBuf> {
 }
 
 impl SeenNode {
-    /// What completion and hints keep of each node a scan found.
-    pub fn from_scan(scan: &super::scan::Scan) -> Vec<SeenNode> {
-        let seen = |n: &super::scan::Node| SeenNode {
-            node: n.node,
-            name: n.name.clone(),
-            vendor_id: n.vendor_id,
-            device_type: n.device_type,
+    /// What completion and hints keep of each node a scan found: its identity, the objects
+    /// the scan read from it, and the description `dicts` holds for it (an EDS given for it).
+    pub fn from_scan(scan: &super::scan::Scan, dicts: &super::dictionaries::Dictionaries) -> Vec<SeenNode> {
+        let seen = |n: &super::scan::Node| {
+            let identity = [n.vendor_id, n.product_code, n.revision, n.serial];
+            let read = [(0x1000, 0, n.device_type.is_some()), (0x1008, 0, n.name.is_some())]
+                .into_iter()
+                .chain((1..=4).map(|sub| (0x1018, sub, identity[usize::from(sub) - 1].is_some())))
+                .chain([(0x1017, 0, n.heartbeat_ms.is_some())]);
+            SeenNode {
+                node: n.node,
+                name: n.name.clone(),
+                vendor_id: n.vendor_id,
+                device_type: n.device_type,
+                scanned: true,
+                dictionary: dicts.eds_for(n.node).and_then(|e| std::path::absolute(&e.path).ok()),
+                answered: read.filter(|(_, _, ok)| *ok).map(|(index, sub, _)| (index, sub)).collect(),
+                refused: BTreeSet::new(),
+            }
         };
         scan.nodes.iter().map(seen).collect()
     }
-}
 
-pub fn save(bus: &str, nodes: &[SeenNode]) {
-    if let Some(path) = file(bus) {
-        let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
-        let _ = std::fs::write(&path, serde_json::to_string(nodes).expect("serialises"));
+    fn same_device(&self, other: &SeenNode) -> bool {
+        !other.scanned || (self.vendor_id, self.device_type) == (other.vendor_id, other.device_type)
     }
 }
 
-pub fn load(bus: &str) -> Vec<SeenNode> {
+/// Save what a scan found as the bus's nodes, keeping what was learned before of each
+/// node that answered with the same identity.
+pub fn save(bus: &str, nodes: &[SeenNode]) {
+    write(bus, &merged(load_all(bus), nodes));
+}
+
+/// `nodes`, each with what `old` knew of the same device at its id.
+fn merged(old: Vec<SeenNode>, nodes: &[SeenNode]) -> Vec<SeenNode> {
+    let mut nodes = nodes.to_vec();
+    for n in &mut nodes {
+        if let Some(o) = old.iter().find(|o| o.node == n.node && n.same_device(o)) {
+            n.answered.extend(&o.answered);
+            n.refused.extend(&o.refused);
+            n.dictionary = n.dictionary.take().or_else(|| o.dictionary.clone());
+        }
+    }
+    nodes
+}
+
+fn write(bus: &str, nodes: &[SeenNode]) {
+    if let Some(path) = file(bus) {
+        let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
+        let _ = crate::atomic::write_atomic(&path, serde_json::to_string(nodes).expect("serialises").as_bytes());
+    }
+}
+
+/// Every node of the bus the cache knows of, also those known only from what they answered.
+pub fn load_all(bus: &str) -> Vec<SeenNode> {
     file(bus).and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
+}
+
+/// The nodes the last scan of the bus found.
+pub fn load(bus: &str) -> Vec<SeenNode> {
+    load_all(bus).into_iter().filter(|n| n.scanned).collect()
+}
+
+/// Remember what an SDO transfer of `addr` with `node` showed of its object list: that it
+/// has the object (it answered), or that it has no object at that index (abort
+/// 0x06020000). Any other outcome says nothing of it.
+pub fn note<T>(bus: &str, node: u8, addr: ObjAddr, outcome: &Result<T, Error>) {
+    let has = match outcome {
+        Ok(_) => true,
+        Err(e) if matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT, .. }) => false,
+        Err(_) => return,
+    };
+    let mut nodes = load_all(bus);
+    if noted(&mut nodes, node, addr, has) {
+        write(bus, &nodes);
+    }
+}
+
+/// Remember `path` as the description of `node`'s object list: a description the node
+/// stores in itself (0x1021), once saved to a file.
+pub fn describe(bus: &str, node: u8, path: &std::path::Path) {
+    let Ok(path) = std::path::absolute(path) else { return };
+    let mut nodes = load_all(bus);
+    let i = entry(&mut nodes, node);
+    nodes[i].dictionary = Some(path);
+    write(bus, &nodes);
+}
+
+/// The index of `node`'s entry in `nodes`, added (as no node the scan saw) when missing.
+fn entry(nodes: &mut Vec<SeenNode>, node: u8) -> usize {
+    nodes.iter().position(|n| n.node == node).unwrap_or_else(|| {
+        nodes.push(SeenNode {
+            node,
+            name: None,
+            vendor_id: None,
+            device_type: None,
+            scanned: false,
+            dictionary: None,
+            answered: BTreeSet::new(),
+            refused: BTreeSet::new(),
+        });
+        nodes.len() - 1
+    })
+}
+
+/// Add to `nodes` that `node` has `addr` (or has nothing at its index); whether that is news.
+fn noted(nodes: &mut Vec<SeenNode>, node: u8, addr: ObjAddr, has: bool) -> bool {
+    let i = entry(nodes, node);
+    let n = &mut nodes[i];
+    if has {
+        n.refused.remove(&addr.index) | n.answered.insert((addr.index, addr.sub))
+    } else {
+        n.answered.retain(|(index, _)| *index != addr.index);
+        n.refused.insert(addr.index)
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::network;
+    use super::*;
+
+    fn node(vendor: u32) -> SeenNode {
+        SeenNode {
+            node: 5,
+            name: None,
+            vendor_id: Some(vendor),
+            device_type: Some(0x196),
+            scanned: true,
+            dictionary: None,
+            answered: BTreeSet::new(),
+            refused: BTreeSet::new(),
+        }
+    }
+
+    /// What a node answered and refused outlives a new scan while the same device answers
+    /// at that id; another device there starts with nothing known.
+    #[test]
+    fn a_new_scan_keeps_what_was_learned_of_the_same_device() {
+        let mut nodes = vec![node(0x40)];
+        assert!(noted(&mut nodes, 5, ObjAddr::new(0x1800, 1), true));
+        assert!(!noted(&mut nodes, 5, ObjAddr::new(0x1800, 1), true), "no news");
+        assert!(noted(&mut nodes, 5, ObjAddr::new(0x6004, 0), false));
+        // Another node, never scanned: remembered, but as no node the scan saw.
+        assert!(noted(&mut nodes, 7, ObjAddr::new(0x1000, 0), true));
+        assert!(!nodes[1].scanned);
+
+        let kept = merged(nodes.clone(), &[node(0x40)]);
+        assert_eq!(kept.len(), 1, "a scan says which nodes there are");
+        assert!(kept[0].answered.contains(&(0x1800, 1)) && kept[0].refused.contains(&0x6004), "{kept:?}");
+        let other = merged(nodes, &[node(0x41)]);
+        assert!(other[0].answered.is_empty() && other[0].refused.is_empty(), "{other:?}");
+    }
+
+    /// A node that refused an index and later answered it (its configuration changed)
+    /// has it; one that answered and then refused it has it no more.
+    #[test]
+    fn the_last_word_of_the_node_counts() {
+        let mut nodes = vec![node(0x40)];
+        noted(&mut nodes, 5, ObjAddr::new(0x1801, 1), false);
+        noted(&mut nodes, 5, ObjAddr::new(0x1801, 1), true);
+        assert!(nodes[0].refused.is_empty() && nodes[0].answered.contains(&(0x1801, 1)));
+        noted(&mut nodes, 5, ObjAddr::new(0x1801, 2), false);
+        assert!(nodes[0].answered.is_empty() && nodes[0].refused.contains(&0x1801));
+    }
 
     #[test]
     fn spellings_of_one_network_share_a_cache() {

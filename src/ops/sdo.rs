@@ -134,7 +134,8 @@ pub fn read_watched(
     let mut opts = sdo_options(o.timeout, dtype, o.block);
     opts.max_upload = o.max_size.unwrap_or(opts.max_upload);
     opts.on_progress = watch;
-    let bytes = bus.sdo_upload(node, object, &opts)?;
+    let read = bus.sdo_upload(node, object, &opts);
+    let bytes = super::unheard::sdo(bus, read)?;
     let value = match dtype {
         Some(DataType::Unicode) => Some(DataType::Unicode.decode(&bytes).ok_or_else(|| {
             Error::Usage(format!(
@@ -188,7 +189,8 @@ pub fn write(
     let mut opts = sdo_options(o.timeout, Some(dtype), o.block);
     // The read-back of --verify takes back as much as was written.
     opts.max_upload = opts.max_upload.max(bytes.len());
-    bus.sdo_download(node, object, &bytes, &opts)?;
+    let written = bus.sdo_download(node, object, &bytes, &opts);
+    super::unheard::sdo(bus, written)?;
     let mut interrupted = false;
     if o.verify {
         match bus.sdo_upload(node, object, &opts) {
