@@ -84,6 +84,14 @@ impl ObjectStore {
         self.values.get(&addr).map(|v| v.as_slice())
     }
 
+    /// A value the device's own firmware sets and keeps in flash, so that it survives
+    /// resets (a bootloader's program state, `sim::bootloader`).
+    pub(crate) fn keep(&mut self, addr: ObjAddr, v: Vec<u8>) {
+        self.stored.insert(addr, v.clone());
+        self.values.insert(addr, v);
+        self.dirty = true;
+    }
+
     /// CiA 305: a new node-id takes effect at once for the COB-IDs of the predefined
     /// connection set; values still at their node-id-based default follow it.
     fn renumber(&mut self, new_id: u8) {
@@ -468,6 +476,16 @@ impl Device {
             // CiA 301: no SDO in Stopped.
             if self.nmt == nmt::State::Stopped || f.len() != 8 {
                 return vec![];
+            }
+            if super::bootloader::is_bootloader(&self.od) {
+                let (answers, reboot) =
+                    super::bootloader::on_request(&mut self.sdo, &mut self.od, f.data(), self.nmt, self.clock_ms);
+                if reboot {
+                    self.nmt = nmt::State::PreOperational;
+                    self.sdo = SdoServer::new(self.block_transfer);
+                    return vec![ErrorControl::BootUp.frame(id)];
+                }
+                return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
             }
             let fault_before = self.od.value(FAULT_OBJECT).map(|v| v.to_vec());
             let (state_before, status_before) = (self.od.drive_state(), self.od.u16_value(cia402::STATUSWORD));

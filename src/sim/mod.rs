@@ -1,6 +1,7 @@
 //! The simulated bus: the demo network's devices behind a `FrameLink`, so every command
 //! runs through the same client code as on hardware.
 
+pub mod bootloader;
 pub mod bridge;
 pub mod cia402_drive;
 pub mod device;
