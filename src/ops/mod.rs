@@ -11,6 +11,7 @@ pub mod config;
 pub mod dictionaries;
 pub mod drive;
 pub mod errors;
+pub mod firmware;
 pub mod health;
 pub mod lss;
 pub mod monitor;
