@@ -11,6 +11,7 @@ use std::io::{IsTerminal, Write};
 
 mod check;
 mod drive;
+mod firmware;
 mod health;
 mod lss;
 pub(crate) mod network;

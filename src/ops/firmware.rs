@@ -187,7 +187,7 @@ pub struct DownloadReport {
 pub enum FirmwareError {
     /// The bus or the device failed a step (SDO abort with its object and code, no answer,
     /// link failure, interrupted).
-    #[error("{0}")]
+    #[error(transparent)]
     Bus(#[from] Error),
     #[error("node {node}: flash status (0x1F57:{program}) after {after}: 0x{:08X}, {}", status.raw, status.meaning())]
     Flash { node: u8, program: u8, after: &'static str, status: FlashStatus },
@@ -239,10 +239,10 @@ impl Run<'_> {
         self.bus.now().saturating_duration_since(self.began).as_millis() as u64
     }
 
-    fn done(&mut self, step: Step, progress: &mut dyn Progress) {
+    fn done(&mut self, step: Step) {
         let at_ms = self.ms();
         self.report.steps.push(StepDone { step, at_ms });
-        progress.note(&format!("node {}: {}", self.node, step.describe()));
+        tracing::debug!(target: "canctl::firmware", "node {}: {} at {at_ms} ms", self.node, step.describe());
     }
 
     fn opts(&self) -> SdoOptions {
@@ -379,7 +379,7 @@ pub fn download(
 
     let before = step!(r.read_u32(SOFTWARE_ID), Where::Unchanged);
     r.report.id_before = Some(before);
-    r.done(Step::ReadId, progress);
+    r.done(Step::ReadId);
     if before == image_id && !o.force {
         r.report.skipped = true;
         r.report.id_after = Some(before);
@@ -390,7 +390,7 @@ pub fn download(
     }
     step!(r.check_cancel(), Where::Unchanged);
     step!(r.bus.nmt(nmt::Command::PreOperational, node), Where::Unchanged);
-    r.done(Step::PreOperational, progress);
+    r.done(Step::PreOperational);
 
     // Stop. A device whose bootloader is another image reboots into it instead of
     // answering: its boot-up says the stop was done.
@@ -411,16 +411,16 @@ pub fn download(
         }
         Err(e) => return Err(r.fail(e, Where::Unchanged)),
     };
-    r.done(Step::Stop, progress);
+    r.done(Step::Stop);
     if rebooted {
-        r.done(Step::BootedBootloader, progress);
+        r.done(Step::BootedBootloader);
     }
     step!(r.check_cancel(), Where::BootloaderWithProgram);
 
     // Clear, then wait out the erase.
     step!(r.control(Control::Clear), Where::BootloaderWithProgram);
     let erase_began = r.bus.now();
-    r.done(Step::Clear, progress);
+    r.done(Step::Clear);
     progress.start(&format!("node {node}: erasing"), 0);
     let erased = r.wait_not_busy("clear (0x1F51 = 3)");
     progress.finish();
@@ -430,7 +430,7 @@ pub fn download(
         let e = FirmwareError::Flash { node, program: o.program, after: "clear", status };
         return Err(r.fail(e, Where::BootloaderNoProgram));
     }
-    r.done(Step::Erased, progress);
+    r.done(Step::Erased);
 
     // The program data: block transfer (the bus falls back to segmented when the device
     // refuses it), watched, stopped between frames when asked.
@@ -444,20 +444,20 @@ pub fn download(
     r.report.download_ms = Some(took.as_millis() as u64);
     r.report.bytes_per_second =
         (took.as_micros() > 0).then(|| (image.len() as u128 * 1_000_000 / took.as_micros()) as u64);
-    r.done(Step::Download, progress);
+    r.done(Step::Download);
     let status = step!(r.wait_not_busy("the download"), Where::BootloaderNoProgram);
     if status.is_error() {
         let e = FirmwareError::Flash { node, program: o.program, after: "the download", status };
         return Err(r.fail(e, Where::BootloaderNoProgram));
     }
-    r.done(Step::Written, progress);
+    r.done(Step::Written);
     let after = step!(r.read_u32(SOFTWARE_ID), Where::BootloaderNoProgram);
     r.report.id_after = Some(after);
     if after != image_id {
         let e = FirmwareError::IdMismatch { node, program: o.program, got: after, want: image_id };
         return Err(r.fail(e, Where::BootloaderNoProgram));
     }
-    r.done(Step::IdChecked, progress);
+    r.done(Step::IdChecked);
     step!(r.check_cancel(), Where::BootloaderWithProgram);
 
     // Start: the device may reset before its answer; the bus reads the state back, and
@@ -467,20 +467,20 @@ pub fn download(
         Ok(()) | Err(Error::NoAnswer { .. } | Error::SdoOutcomeUnknown { .. }) => {}
         Err(e) => return Err(r.fail(e, Where::BootloaderWithProgram)),
     }
-    r.done(Step::Start, progress);
+    r.done(Step::Start);
     if !step!(r.wait_boot_up(), Where::Unknown) {
         let e = FirmwareError::NoBootUp { node, after: "start (0x1F51 = 1)", waited: o.boot_wait };
         return Err(r.fail(e, Where::Unknown));
     }
-    r.done(Step::BootUp, progress);
+    r.done(Step::BootUp);
     if step!(r.wait_heartbeat(), Where::Unknown) {
-        r.done(Step::Heartbeat, progress);
+        r.done(Step::Heartbeat);
     }
     let state = Control::from_code(step!(r.read_u32(PROGRAM_CONTROL), Where::Unknown) as u8);
     if state == Control::Confirm && o.confirm {
         step!(r.control(Control::Confirm), Where::Unknown);
         r.report.confirmed = true;
-        r.done(Step::Confirm, progress);
+        r.done(Step::Confirm);
     }
     r.report.id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
     r.report.device = Where::RunsImage;
