@@ -159,3 +159,42 @@ fn interrupted_mid_download_it_says_where_the_device_is_and_the_same_command_fin
     let r = firmware::download(&mut bus, NODE, &img, &DownloadOptions::new(TIMEOUT), &mut Silent).unwrap();
     assert_eq!(r.device, Where::RunsImage);
 }
+
+/// Figures for the closing note: a 256 KiB image on the timing-emulated sim (frames take
+/// their time at the bit rate, devices answer 0.5–3 ms late; virtual time runs it in a
+/// moment) at 1 Mbit/s and 125 kbit/s. The bus limit is what block download could carry at
+/// most: 7 bytes per segment frame, each frame its time with the stuff bits of this image.
+/// `cargo test --test firmware figures -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn figures() {
+    use canctl::frame::Frame;
+    use canctl::sim::timing::{bits_per_second, frame_time};
+    let img = image(256 * 1024);
+    for (index, name) in [(0u8, "1 Mbit/s"), (4, "125 kbit/s")] {
+        let bps = bits_per_second(index).unwrap();
+        let ns: u64 = img
+            .chunks(7)
+            .enumerate()
+            .map(|(i, c)| {
+                let mut seg = vec![(i % 127 + 1) as u8];
+                seg.extend_from_slice(c);
+                seg.resize(8, 0);
+                frame_time(&Frame::new(0x609, &seg), bps)
+            })
+            .sum();
+        let limit = img.len() as f64 / (ns as f64 / 1e9);
+        let mut bus = bus_with(true, SimConfig::default().bit_rate(index));
+        let r = firmware::download(&mut bus, NODE, &img, &DownloadOptions::new(TIMEOUT), &mut Silent).unwrap();
+        let rate = r.bytes_per_second.unwrap() as f64;
+        println!(
+            "{name}: 256 KiB in {:.2} s ({:.0} B/s, {:.1} % of the bus limit {:.0} B/s); erase {:.2} s; whole command {:.2} s",
+            r.download_ms.unwrap() as f64 / 1000.0,
+            rate,
+            100.0 * rate / limit,
+            limit,
+            r.erase_ms.unwrap() as f64 / 1000.0,
+            r.total_ms as f64 / 1000.0
+        );
+    }
+}
