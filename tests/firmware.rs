@@ -198,3 +198,18 @@ fn figures() {
         );
     }
 }
+
+#[test]
+fn several_nodes_each_get_the_image_and_a_silent_one_does_not_stop_the_others() {
+    let devices = vec![(bootloader::model(true), Some(9)), (bootloader::model(false), Some(10))];
+    let net = Network::of_with(devices, SimConfig::default());
+    let mut bus = Master::new(SimLink::of(net).on_virtual_time(1_700_000_000_000), "sim".to_string());
+    let img = image(4000);
+    let (batch, error) =
+        firmware::download_each(&mut bus, &[9, 42, 10], &img, &DownloadOptions::new(TIMEOUT), &mut Silent);
+    let ids: Vec<Option<u32>> = batch.nodes.iter().map(|n| n.report.as_ref().and_then(|r| r.id_after)).collect();
+    assert_eq!(ids, [Some(program::image_id(&img)), None, Some(program::image_id(&img))]);
+    assert_eq!(batch.nodes[1].report.as_ref().unwrap().device, Where::Unchanged);
+    assert!(batch.nodes[1].error.is_some() && !batch.interrupted);
+    assert_eq!(error.unwrap().class(), ErrorClass::Timeout);
+}

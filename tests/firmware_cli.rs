@@ -49,3 +49,15 @@ fn a_flash_write_error_ends_with_exit_4_and_its_meaning() {
     assert!(run.stderr.contains("0x1F57:1") && run.stderr.contains("flash write error"), "{}", run.stderr);
     assert!(run.stdout.contains("failed in"), "{}", run.stdout);
 }
+
+#[test]
+fn several_nodes_give_one_junit_case_each() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
+    let app = image(&sim, 2000);
+    let run = sim.run(&["--timeout", "200ms", "--format", "junit", "firmware", "download", "9,42", &app]);
+    assert_eq!(run.code, 3, "{}{}", run.stdout, run.stderr);
+    assert_eq!(run.stdout.matches("<testcase").count(), 2, "{}", run.stdout);
+    assert_eq!(run.stdout.matches("<failure").count(), 1, "{}", run.stdout);
+    assert!(run.stdout.contains("node 42"), "{}", run.stdout);
+}

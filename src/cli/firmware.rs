@@ -28,7 +28,8 @@ pub enum FirmwareCommand {
     /// failed, the report says where the device is; the same command finishes the job.
     #[command(after_help = "Examples:
   canctl --bus sim firmware download 9 app.bin
-  canctl --bus can0 firmware download 5 app.bin --program 2 --force")]
+  canctl --bus can0 firmware download 5 app.bin --program 2 --force
+  canctl --bus can0 --format junit firmware download 5,6,7 app.bin > firmware.xml")]
     Download(DownloadArgs),
 }
 
@@ -41,9 +42,10 @@ pub struct StatusArgs {
 
 #[derive(Args, Debug)]
 pub struct DownloadArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another,
+    /// with a report (and with --format junit a test case) for each
+    #[arg(value_name = "NODE", value_parser = parse_node, value_delimiter = ',', required = true, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub nodes: Vec<u8>,
     /// The image: the bytes written to 0x1F50 as they are in the file
     #[arg(value_name = "IMAGE")]
     pub image: PathBuf,
@@ -84,7 +86,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Resul
 
 fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()> {
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
-    let bar = ctx.out.bar(image.len() as u64, &format!("node {}: 0x1F50:{}", a.node, a.program));
+    let bar = ctx.out.bar(image.len() as u64, &format!("0x1F50:{}", a.program));
     bar.set_style(
         indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {bytes}/{total_bytes} {bytes_per_sec}, {eta} left")
             .expect("valid template")
@@ -103,13 +105,25 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
         .progress
         .then(|| -> crate::bus::TransferHook { std::sync::Arc::new(move |bytes| shown.set_position(bytes as u64)) });
     let mut steps = ctx.out.progress();
-    let result = super::interrupt::stoppable(bus, |bus| firmware::download(bus, a.node, &image, &o, &mut steps));
-    bar.finish_and_clear();
-    match result {
-        Ok(report) => Ok(ctx.out.report(&report)?),
-        Err(failed) => {
-            ctx.out.report(failed.report.as_ref())?;
-            Err(failed.error.into())
+    if let [node] = a.nodes[..] {
+        if !ctx.out.junit {
+            let result = super::interrupt::stoppable(bus, |bus| firmware::download(bus, node, &image, &o, &mut steps));
+            bar.finish_and_clear();
+            return match result {
+                Ok(report) => Ok(ctx.out.report(&report)?),
+                Err(failed) => {
+                    ctx.out.report(failed.report.as_ref())?;
+                    Err(failed.error.into())
+                }
+            };
         }
+    }
+    let (batch, error) =
+        super::interrupt::stoppable(bus, |bus| firmware::download_each(bus, &a.nodes, &image, &o, &mut steps));
+    bar.finish_and_clear();
+    ctx.out.report(&batch)?;
+    match error {
+        Some(e) => Err(e.into()),
+        None => Ok(()),
     }
 }

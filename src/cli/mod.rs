@@ -336,7 +336,12 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
         cancel: interrupt::install(),
     };
-    let checks = matches!(cli.command, Command::Network(network::NetworkCommand::Check(_)) | Command::Health(_));
+    let checks = matches!(
+        cli.command,
+        Command::Network(network::NetworkCommand::Check(_))
+            | Command::Health(_)
+            | Command::Firmware(firmware::FirmwareCommand::Download(_))
+    );
     if format == FormatArg::Junit && !checks {
         return Err(Error::Usage(
             "--format junit is for commands that check things: canctl network check, canctl health; use human, json or csv here"

@@ -535,3 +535,55 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> crate::Result<S
     }
     Ok(StatusReport { node, programs })
 }
+
+/// One node of a download to several.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct NodeDownload {
+    pub node: u8,
+    /// What was done to it (none when it was not begun: an earlier node was interrupted).
+    pub report: Option<DownloadReport>,
+    /// Why it did not finish, in a sentence.
+    pub error: Option<String>,
+}
+
+/// `firmware download 5,6,7 IMAGE`: each node in turn, the same report for each.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Batch {
+    pub nodes: Vec<NodeDownload>,
+    pub interrupted: bool,
+}
+
+/// Download `image` into each of `nodes` in turn. A node that fails does not stop the
+/// others; an interruption does (the nodes not begun are listed without a report). The
+/// first failure's error comes back beside the batch, for the exit code.
+pub fn download_each(
+    bus: &mut dyn Bus,
+    nodes: &[u8],
+    image: &[u8],
+    o: &DownloadOptions,
+    progress: &mut dyn Progress,
+) -> (Batch, Option<FirmwareError>) {
+    let mut batch = Batch { nodes: Vec::new(), interrupted: false };
+    let mut first = None;
+    for (i, &node) in nodes.iter().enumerate() {
+        if batch.interrupted {
+            batch.nodes.push(NodeDownload { node, report: None, error: Some("not begun: interrupted".into()) });
+            continue;
+        }
+        progress.item(&format!("node {node}"), &format!("{} of {}", i + 1, nodes.len()), false);
+        match download(bus, node, image, o, progress) {
+            Ok(report) => {
+                progress.item(&format!("node {node}"), report.state, true);
+                batch.nodes.push(NodeDownload { node, report: Some(report), error: None });
+            }
+            Err(failed) => {
+                let Failed { error, report } = *failed;
+                progress.item(&format!("node {node}"), report.state, true);
+                batch.interrupted = report.interrupted;
+                batch.nodes.push(NodeDownload { node, report: Some(*report), error: Some(error.to_string()) });
+                first.get_or_insert(error);
+            }
+        }
+    }
+    (batch, first)
+}

@@ -1,7 +1,7 @@
 //! How `firmware status` and `firmware download` look to people.
 
-use super::{Human, Report};
-use crate::ops::firmware::{DownloadReport, StatusReport, Where};
+use super::{Human, Report, TestCase, TestSuite};
+use crate::ops::firmware::{Batch, DownloadReport, StatusReport, Where};
 
 fn id_text(id: Option<u32>) -> String {
     id.map_or("-".into(), |v| format!("0x{v:08X}"))
@@ -73,5 +73,54 @@ impl Report for DownloadReport {
         };
         lines.push(Human::Line(format!("{end} in {:.3} s: {}", self.total_ms as f64 / 1000.0, self.state)));
         Human::Parts(lines)
+    }
+}
+
+impl Report for Batch {
+    fn human(&self) -> Human {
+        let mut parts = Vec::new();
+        for n in &self.nodes {
+            if let Some(r) = &n.report {
+                parts.push(r.human());
+            }
+            if let Some(e) = &n.error {
+                parts.push(Human::Line(format!("node {}: {e}", n.node)));
+            }
+        }
+        let rows = self
+            .nodes
+            .iter()
+            .map(|n| {
+                let state = n.report.as_ref().map_or("not begun", |r| r.state);
+                let result = match (&n.error, &n.report) {
+                    (None, Some(r)) if r.skipped => "skipped",
+                    (None, _) => "done",
+                    (Some(_), Some(r)) if r.interrupted => "interrupted",
+                    (Some(_), None) => "not begun",
+                    _ => "failed",
+                };
+                vec![n.node.to_string(), result.to_string(), state.to_string()]
+            })
+            .collect();
+        parts.push(Human::Table { headers: vec!["node", "result", "the device"], rows, when_empty: false });
+        Human::Parts(parts)
+    }
+
+    fn junit(&self) -> Option<TestSuite> {
+        let cases = self
+            .nodes
+            .iter()
+            .map(|n| {
+                let class = format!("node {}", n.node);
+                let detail = n.report.as_ref().map_or("not begun".to_string(), |r| r.state.to_string());
+                TestCase {
+                    failure: n.error.as_ref().map(|e| format!("{class}: {e}; {detail}")),
+                    class,
+                    name: "firmware download".into(),
+                    detail,
+                }
+            })
+            .collect();
+        Some(TestSuite { name: "canctl firmware download".into(), cases })
     }
 }
