@@ -61,3 +61,19 @@ fn several_nodes_give_one_junit_case_each() {
     assert_eq!(run.stdout.matches("<failure").count(), 1, "{}", run.stdout);
     assert!(run.stdout.contains("node 42"), "{}", run.stdout);
 }
+
+/// Through an EPOS2 gateway no boot-up is seen, and the start that the device resets
+/// before answering comes back as the gateway's SDO timeout: the device answering again
+/// with its program started decides.
+#[test]
+fn through_an_epos2_gateway_the_start_is_confirmed_by_the_device_answering_again() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9"]).ok();
+    let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let app = image(&sim, 700);
+    let done = dev.run(&["firmware", "download", "9", &app, "--format", "json"]).ok().json();
+    assert_eq!(done["device"], "runs_image", "{done}");
+    assert_eq!(done["confirmed"], true, "{done}");
+    let id = canctl::canopen::program::image_id(&canctl::sim::profiles::domain_pattern(700));
+    assert_eq!(done["id_after"], id, "{done}");
+}

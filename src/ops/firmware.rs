@@ -88,6 +88,8 @@ pub enum Step {
     Start,
     /// The boot-up of the new program came.
     BootUp,
+    /// Through a link that shows no boot-up (a gateway): the device answers again.
+    Answers,
     /// A heartbeat of the running program came.
     Heartbeat,
     /// 0x1F51 = 0x80 answered: the new program is kept.
@@ -108,6 +110,7 @@ impl Step {
             Step::IdChecked => "identification checked (0x1F56)",
             Step::Start => "start the program (0x1F51 = 1)",
             Step::BootUp => "boot-up of the new program",
+            Step::Answers => "the device answers again (no boot-up seen through this link)",
             Step::Heartbeat => "heartbeat",
             Step::Confirm => "confirmed (0x1F51 = 0x80)",
         }
@@ -195,7 +198,7 @@ pub enum FirmwareError {
     StillBusy { node: u8, program: u8, after: &'static str, polls: u32, waited: Duration },
     #[error("node {node}: 0x1F56:{program} reads 0x{got:08X} after the download, the image's identification is 0x{want:08X}{}", if *got == 0 { " (0: the device holds no valid program)" } else { "" })]
     IdMismatch { node: u8, program: u8, got: u32, want: u32 },
-    #[error("node {node}: no boot-up within {} ms after {after}", waited.as_millis())]
+    #[error("node {node}: not back (no boot-up, no answer) within {} ms after {after}", waited.as_millis())]
     NoBootUp { node: u8, after: &'static str, waited: Duration },
 }
 
@@ -311,6 +314,33 @@ impl Run<'_> {
         Ok(true)
     }
 
+    /// Where no boot-up can be seen (a gateway passes on only answers), the device's
+    /// answering again says it is back: 0x1F51 asked until it answers (bounded).
+    fn wait_answering(&mut self) -> Result<Option<u32>, Error> {
+        let end = self.bus.now() + self.o.boot_wait;
+        loop {
+            match self.read_u32(PROGRAM_CONTROL) {
+                Ok(v) => return Ok(Some(v)),
+                Err(e) if e.is_timeout() && self.bus.now() < end => {
+                    let now = self.bus.now();
+                    self.bus.sleep_until(end.min(now + POLL))?;
+                }
+                Err(e) if e.is_timeout() => return Ok(None),
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    /// The device is back after a reset it may have done instead of answering: its
+    /// boot-up where the bus shows frames, else its answering again.
+    fn wait_back(&mut self) -> Result<bool, Error> {
+        if self.bus.sees_traffic() {
+            self.wait_boot_up()
+        } else {
+            Ok(self.wait_answering()?.is_some())
+        }
+    }
+
     /// Wait (bounded) for a heartbeat (or a guarding answer) after the boot-up.
     fn wait_heartbeat(&mut self) -> Result<bool, Error> {
         let end = self.bus.now() + self.o.boot_wait;
@@ -398,8 +428,9 @@ pub fn download(
     let stopped = r.control(Control::Stop);
     let rebooted = match stopped {
         Ok(()) => r.bus.observed().boot_ups.contains(&node),
-        Err(Error::NoAnswer { .. } | Error::SdoOutcomeUnknown { .. }) => {
-            step!(r.wait_boot_up(), Where::Unknown)
+        // No answer in time, however the bus puts it (a gateway reports its own timeout).
+        Err(e) if e.is_timeout() => {
+            step!(r.wait_back(), Where::Unknown)
                 || return Err(r.fail(
                     FirmwareError::NoBootUp {
                         node,
@@ -463,17 +494,21 @@ pub fn download(
     // Start: the device may reset before its answer; the bus reads the state back, and
     // the boot-up decides either way.
     r.bus.observed().boot_ups.remove(&node);
-    match r.control(Control::Start) {
-        Ok(()) | Err(Error::NoAnswer { .. } | Error::SdoOutcomeUnknown { .. }) => {}
+    let answered = match r.control(Control::Start) {
+        Ok(()) => true,
+        Err(e) if e.is_timeout() => false,
         Err(e) => return Err(r.fail(e, Where::BootloaderWithProgram)),
-    }
+    };
     r.done(Step::Start);
-    if !step!(r.wait_boot_up(), Where::Unknown) {
+    let sees_traffic = r.bus.sees_traffic();
+    // A gateway shows no boot-up: a start it passed the answer of is done; one without an
+    // answer is done once the device answers again.
+    if (sees_traffic || !answered) && !step!(r.wait_back(), Where::Unknown) {
         let e = FirmwareError::NoBootUp { node, after: "start (0x1F51 = 1)", waited: o.boot_wait };
         return Err(r.fail(e, Where::Unknown));
     }
-    r.done(Step::BootUp);
-    if step!(r.wait_heartbeat(), Where::Unknown) {
+    r.done(if sees_traffic { Step::BootUp } else { Step::Answers });
+    if sees_traffic && step!(r.wait_heartbeat(), Where::Unknown) {
         r.done(Step::Heartbeat);
     }
     let state = Control::from_code(step!(r.read_u32(PROGRAM_CONTROL), Where::Unknown) as u8);
