@@ -213,3 +213,18 @@ fn several_nodes_each_get_the_image_and_a_silent_one_does_not_stop_the_others() 
     assert!(batch.nodes[1].error.is_some() && !batch.interrupted);
     assert_eq!(error.unwrap().class(), ErrorClass::Timeout);
 }
+
+#[test]
+fn an_erase_that_outlasts_the_bound_ends_with_the_polls_stated() {
+    let mut bus = bus();
+    let o = DownloadOptions { busy_wait: Duration::from_millis(1000), ..DownloadOptions::new(TIMEOUT) };
+    let e = firmware::download(&mut bus, NODE, &image(1000), &o, &mut Silent).unwrap_err();
+    let FirmwareError::StillBusy { polls, after, .. } = &e.error else { panic!("{e}") };
+    assert!(*polls >= 5 && after.contains("clear"), "{e}");
+    assert!(e.to_string().contains("polls") && e.to_string().contains("--busy-wait"), "{e}");
+    assert_eq!(e.error.class(), ErrorClass::Timeout);
+    assert_eq!(e.report.device, Where::BootloaderNoProgram);
+    // The erase goes on in the device: given the time, the same command finishes.
+    let r = firmware::download(&mut bus, NODE, &image(1000), &DownloadOptions::new(TIMEOUT), &mut Silent).unwrap();
+    assert_eq!(r.device, Where::RunsImage);
+}

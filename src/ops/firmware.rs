@@ -446,10 +446,16 @@ pub fn download(
     if rebooted {
         r.done(Step::BootedBootloader);
     }
-    step!(r.check_cancel(), Where::BootloaderWithProgram);
+    // Stopped: in its bootloader, with the program it had, if any.
+    let stopped_at = if before == 0 { Where::BootloaderNoProgram } else { Where::BootloaderWithProgram };
+    step!(r.check_cancel(), stopped_at);
+    // A device may still be busy with an erase an earlier run left (it refuses a clear
+    // then): wait that out first. An error code it shows is the earlier run's; the clear
+    // starts afresh.
+    step!(r.wait_not_busy("an earlier erase or write"), stopped_at);
 
     // Clear, then wait out the erase.
-    step!(r.control(Control::Clear), Where::BootloaderWithProgram);
+    step!(r.control(Control::Clear), stopped_at);
     let erase_began = r.bus.now();
     r.done(Step::Clear);
     progress.start(&format!("node {node}: erasing"), 0);
