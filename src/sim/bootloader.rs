@@ -299,3 +299,21 @@ impl ObjectAccess for Flash<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn program_download_initiates_are_told_apart_from_other_requests() {
+        // Segmented initiate with size (0x21), block initiate with CRC and size (0xC6).
+        assert!(starts_program_download(&[0x21, 0x50, 0x1F, 1, 0x00, 0x40, 0, 0]));
+        assert!(starts_program_download(&[0xC6, 0x50, 0x1F, 1, 0x00, 0x00, 0x04, 0]));
+        // Block download end (0xC1 and friends: bit 0 set), another object, another
+        // program, an upload.
+        assert!(!starts_program_download(&[0xC1, 0x50, 0x1F, 1, 0, 0, 0, 0]));
+        assert!(!starts_program_download(&[0x21, 0x51, 0x1F, 1, 1, 0, 0, 0]));
+        assert!(!starts_program_download(&[0x21, 0x50, 0x1F, 2, 0, 0, 0, 0]));
+        assert!(!starts_program_download(&[0x40, 0x50, 0x1F, 1, 0, 0, 0, 0]));
+    }
+}
