@@ -14,6 +14,7 @@ pub mod diagnostics;
 pub mod docs;
 mod drive;
 mod events;
+mod firmware;
 mod health;
 mod hints;
 mod lss;

@@ -7,6 +7,7 @@ pub mod lss;
 pub mod nmt;
 pub mod objaddr;
 pub mod pdo;
+pub mod program;
 pub mod sdo;
 pub mod types;
 

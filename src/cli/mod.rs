@@ -6,6 +6,7 @@ mod config;
 mod docs;
 mod drive;
 mod errors;
+mod firmware;
 mod health;
 mod interrupt;
 mod lss;
@@ -170,6 +171,12 @@ pub enum Command {
   canctl --bus sim network apply machine/ --assign"
     )]
     Network(network::NetworkCommand),
+    /// CiA 302-3 program download: the state of a device's programs, new firmware onto it
+    #[command(
+        subcommand,
+        after_help = "Examples:\n  canctl --bus sim firmware status 9\n  canctl --bus sim firmware download 9 app.bin"
+    )]
+    Firmware(firmware::FirmwareCommand),
     Errors(errors::ErrorsArgs),
     Health(health::HealthArgs),
     Sim(sim::SimArgs),
@@ -300,10 +307,15 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
         cancel: interrupt::install(),
     };
-    let checks = matches!(cli.command, Command::Network(network::NetworkCommand::Check(_)) | Command::Health(_));
+    let checks = matches!(
+        cli.command,
+        Command::Network(network::NetworkCommand::Check(_))
+            | Command::Health(_)
+            | Command::Firmware(firmware::FirmwareCommand::Download(_))
+    );
     if format == FormatArg::Junit && !checks {
         return Err(Error::Usage(
-            "--format junit is for commands that check things: canctl network check, canctl health; use human, json or csv here"
+            "--format junit is for commands that check things: canctl network check, canctl health, canctl firmware download; use human, json or csv here"
                 .into(),
         )
         .into());
@@ -329,6 +341,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::StreamPdo(a) => with_bus(&ctx, g, |bus| stream::run(&ctx, bus, a)),
         Command::Monitor(a) => with_bus(&ctx, g, |bus| monitor::run(&ctx, bus, a)),
         Command::Network(cmd) => with_bus(&ctx, g, |bus| network::run(&ctx, bus, cmd)),
+        Command::Firmware(cmd) => with_bus(&ctx, g, |bus| firmware::run(&ctx, bus, cmd)),
         Command::Errors(a) => with_bus(&ctx, g, |bus| errors::run(&ctx, bus, a)),
         Command::Health(a) => with_bus(&ctx, g, |bus| health::run(&ctx, bus, a)),
         Command::Sim(args) => sim::run(&ctx, g, args),
@@ -341,6 +354,9 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
 /// The process exit code for an error from `run`, and whether to print it.
 pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
     for cause in err.chain() {
+        if let Some(e) = cause.downcast_ref::<crate::ops::firmware::FirmwareError>() {
+            return (e.class().exit_code(), true);
+        }
         if let Some(e) = cause.downcast_ref::<Error>() {
             return (e.exit_code(), true);
         }

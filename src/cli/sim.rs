@@ -115,6 +115,9 @@ pub struct ResetArgs {
     /// --slcan or --epos2-* (shared with other programs) runs on real time all the same.
     #[arg(long)]
     pub virtual_time: bool,
+    /// Add a device with a CiA 302-3 bootloader on this node-id (for canctl firmware)
+    #[arg(long, value_name = "NODE", value_parser = super::parse_node)]
+    pub bootloader: Option<u8>,
 }
 
 fn parse_rate(text: &str) -> Result<u8, String> {
@@ -131,6 +134,7 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
             SimConfig::default().profile(r.profile).seed(r.seed).unconfigured(r.unconfigured).bit_rate(r.bit_rate);
         config.faults = r.fault.clone();
         config.virtual_time = r.virtual_time;
+        config.bootloader = r.bootloader;
         return Ok(ctx.out.report(&serve::reset(&path, &config)?)?);
     }
     let (faults, baud, can_timeout) = (args.fault.clone(), args.baud, args.can_timeout);

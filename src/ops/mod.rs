@@ -14,6 +14,7 @@ pub mod dictionaries;
 pub mod drive;
 pub mod errors;
 pub mod event;
+pub mod firmware;
 pub mod health;
 pub mod lss;
 pub mod monitor;

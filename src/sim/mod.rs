@@ -1,6 +1,7 @@
 //! The simulated bus: the demo network's devices behind a `FrameLink`, so every command
 //! runs through the same client code as on hardware.
 
+pub mod bootloader;
 pub mod bridge;
 pub mod cia402_drive;
 pub mod device;
@@ -58,6 +59,9 @@ pub struct SimConfig {
     /// or a pty, shared with other programs) always runs on real time.
     #[serde(default)]
     pub virtual_time: bool,
+    /// A CiA 302-3 bootloader device on this node-id (`sim::bootloader`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bootloader: Option<u8>,
 }
 
 fn default_bit_rate() -> u8 {
@@ -73,6 +77,7 @@ impl Default for SimConfig {
             bit_rate: DEFAULT_BIT_RATE,
             faults: vec![],
             virtual_time: false,
+            bootloader: None,
         }
     }
 }
@@ -161,7 +166,9 @@ impl Network {
 
     /// The demo network as `config` describes it.
     pub fn demo_with(config: SimConfig) -> Network {
-        Network::of_with(profiles::demo_network_with(config.unconfigured), config)
+        let mut devices = profiles::demo_network_with(config.unconfigured);
+        devices.extend(config.bootloader.map(|node| (bootloader::model(true), Some(node))));
+        Network::of_with(devices, config)
     }
 
     /// A network of these devices at the default bit rate and configuration.

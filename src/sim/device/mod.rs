@@ -201,6 +201,16 @@ impl Device {
             if self.nmt == nmt::State::Stopped || f.len() != 8 {
                 return vec![];
             }
+            if super::bootloader::is_bootloader(&self.od) {
+                let (answers, reboot) =
+                    super::bootloader::on_request(&mut self.sdo, &mut self.od, f.data(), self.nmt, self.clock_ms);
+                if reboot {
+                    self.nmt = nmt::State::PreOperational;
+                    self.sdo = SdoServer::new(self.block_transfer);
+                    return vec![ErrorControl::BootUp.frame(id)];
+                }
+                return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+            }
             let fault_before = self.od.value(FAULT_OBJECT).map(|v| v.to_vec());
             let (state_before, status_before) = (self.od.drive_state(), self.od.u16_value(cia402::STATUSWORD));
             let answers = self.sdo.handle(f.data(), &mut self.od);

@@ -75,6 +75,14 @@ impl ObjectStore {
         self.values.get(&addr).map(|v| v.as_slice())
     }
 
+    /// A value the device's own firmware sets and keeps in flash, so that it survives
+    /// resets (a bootloader's program state, `sim::bootloader`).
+    pub(crate) fn keep(&mut self, addr: ObjAddr, v: Vec<u8>) {
+        self.stored.insert(addr, v.clone());
+        self.values.insert(addr, v);
+        self.dirty = true;
+    }
+
     /// CiA 305: a new node-id takes effect at once for the COB-IDs of the predefined
     /// connection set; values still at their node-id-based default follow it.
     pub(super) fn renumber(&mut self, new_id: u8) {

@@ -1,0 +1,129 @@
+//! `canctl firmware`: CiA 302-3 program download and the state of a device's programs.
+
+use super::{parse_node, Ctx};
+use crate::bus::Bus;
+use crate::ops::firmware::{self, DownloadOptions};
+use clap::{Args, Subcommand};
+use clap_complete::engine::ArgValueCandidates;
+use std::path::PathBuf;
+
+/// The largest image read: far beyond any microcontroller's flash, short of a mistake.
+const IMAGE: crate::input::Limit = crate::input::Limit { bytes: 64 << 20, what: "a firmware image" };
+
+#[derive(Subcommand, Debug)]
+pub enum FirmwareCommand {
+    /// Program control (0x1F51), software identification (0x1F56) and flash status (0x1F57,
+    /// by meaning) for each program the device has
+    #[command(after_help = "Examples:\n  canctl --bus sim firmware status 9")]
+    Status(StatusArgs),
+    /// Download an image into a device's program (CiA 302-3) and start it, each step confirmed
+    ///
+    /// Reads 0x1F56 and stops when the device already runs the image (its CRC-32, or
+    /// --expect-id); else NMT pre-operational, stop (0x1F51 = 0; a device that reboots into
+    /// its bootloader instead is waited for), clear (3) and the flash status (0x1F57) polled
+    /// until the erase is done, the image by SDO block transfer (segmented where the device
+    /// refuses blocks) into 0x1F50, 0x1F57 polled again and read by meaning, 0x1F56 compared
+    /// with the image, start (1; a reset before the answer is expected), the boot-up and a
+    /// heartbeat waited for, and confirm (0x80) when the new program asks for it. Stopped or
+    /// failed, the report says where the device is; the same command finishes the job.
+    #[command(after_help = "Examples:
+  canctl --bus sim firmware download 9 app.bin
+  canctl --bus can0 firmware download 5 app.bin --program 2 --force
+  canctl --bus can0 --format junit firmware download 5,6,7 app.bin > firmware.xml")]
+    Download(DownloadArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct StatusArgs {
+    /// Node-id, 1 to 127
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: u8,
+}
+
+#[derive(Args, Debug)]
+pub struct DownloadArgs {
+    /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another,
+    /// with a report (and with --format junit a test case) for each
+    #[arg(value_name = "NODE", value_parser = parse_node, value_delimiter = ',', required = true, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub nodes: Vec<u8>,
+    /// The image: the bytes written to 0x1F50 as they are in the file
+    #[arg(value_name = "IMAGE")]
+    pub image: PathBuf,
+    /// The program number (sub-index of 0x1F50, 0x1F51, 0x1F56, 0x1F57)
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = super::number_in::<u8>("a program number", 1, 254))]
+    pub program: u8,
+    /// Download even when the device already runs this image
+    #[arg(long)]
+    pub force: bool,
+    /// The identification the device shows in 0x1F56 for this image, when it is not the
+    /// image's CRC-32 (e.g. 0x01020300)
+    #[arg(long, value_name = "ID", value_parser = super::number_in::<u32>("an identification", 0, u32::MAX as u64))]
+    pub expect_id: Option<u32>,
+    /// How long the device may stay busy erasing or writing its flash (0x1F57 bit 0)
+    #[arg(long, value_name = "DUR", default_value = "60s", value_parser = super::parse_duration)]
+    pub busy_wait: std::time::Duration,
+    /// Leave a new program that asks for confirmation (0x1F51 reads 0x80) unconfirmed: its
+    /// bootloader returns to the old one at the next reset
+    #[arg(long)]
+    pub no_confirm: bool,
+}
+
+pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
+    match cmd {
+        FirmwareCommand::Status(a) => {
+            let report = match super::interrupt::stoppable(bus, |bus| firmware::status(bus, a.node, ctx.timeout)) {
+                Err(e) if e.is_interrupted() => {
+                    let what = format!("reading node {}'s program objects", a.node);
+                    return super::interrupt::stopped_reading(ctx, "firmware status", what);
+                }
+                report => report?,
+            };
+            Ok(ctx.out.report(&report)?)
+        }
+        FirmwareCommand::Download(a) => download(ctx, bus, a),
+    }
+}
+
+fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()> {
+    let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
+    let bar = ctx.out.bar(image.len() as u64, &format!("0x1F50:{}", a.program));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {bytes}/{total_bytes} {bytes_per_sec}, {eta} left")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let shown = bar.clone();
+    let mut o = DownloadOptions::new(ctx.timeout);
+    o.program = a.program;
+    o.force = a.force;
+    o.expect_id = a.expect_id;
+    o.busy_wait = a.busy_wait;
+    o.confirm = !a.no_confirm;
+    o.cancel = Some(ctx.cancel.clone());
+    o.watch = ctx
+        .out
+        .progress
+        .then(|| -> crate::bus::TransferHook { std::sync::Arc::new(move |bytes| shown.set_position(bytes as u64)) });
+    let mut steps = ctx.out.progress();
+    if let [node] = a.nodes[..] {
+        if !ctx.out.junit {
+            let result = super::interrupt::stoppable(bus, |bus| firmware::download(bus, node, &image, &o, &mut steps));
+            bar.finish_and_clear();
+            return match result {
+                Ok(report) => Ok(ctx.out.report(&report)?),
+                Err(failed) => {
+                    ctx.out.report(failed.report.as_ref())?;
+                    Err(failed.error.into())
+                }
+            };
+        }
+    }
+    let (batch, error) =
+        super::interrupt::stoppable(bus, |bus| firmware::download_each(bus, &a.nodes, &image, &o, &mut steps));
+    bar.finish_and_clear();
+    ctx.out.report(&batch)?;
+    match error {
+        Some(e) => Err(e.into()),
+        None => Ok(()),
+    }
+}

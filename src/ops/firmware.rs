@@ -1,0 +1,630 @@
+//! CiA 302-3 program download (`canctl firmware`): the sequence field practice calls for,
+//! each step confirmed, and a report that says where the device is when it ends, however
+//! it ends.
+//!
+//! The device is the reference: an erase outlasts any SDO timeout (the flash status is
+//! polled, bounded), a device may reboot into its bootloader when told to stop and resets
+//! before it answers "start" (program control is an action: never repeated blindly, its
+//! outcome read back by the bus, then the boot-up decides), and a new program may ask to be
+//! confirmed (0x1F51 reads 0x80).
+
+use super::Progress;
+use crate::bus::{Bus, SdoOptions, TransferHook};
+use crate::cancel::Cancel;
+use crate::canopen::nmt;
+use crate::canopen::program::{self, Control, FlashStatus, FLASH_STATUS, PROGRAM_CONTROL, PROGRAM_DATA, SOFTWARE_ID};
+use crate::canopen::ObjAddr;
+use crate::error::{Error, ErrorClass};
+use serde::Serialize;
+use std::time::{Duration, Instant};
+
+/// How often the flash status is asked while the device is busy.
+pub const POLL: Duration = Duration::from_millis(100);
+/// The longest an erase or a write may keep the flash busy: real erases of a megabyte of
+/// flash take tens of seconds.
+pub const BUSY_WAIT: Duration = Duration::from_secs(60);
+/// The longest a device may take to boot (into its bootloader or its program).
+pub const BOOT_WAIT: Duration = Duration::from_secs(10);
+
+/// What `firmware download` is asked to do.
+#[derive(Clone)]
+pub struct DownloadOptions {
+    /// The program number (sub-index of 0x1F50..0x1F57), 1 for most devices.
+    pub program: u8,
+    /// Download even when the device already runs this image.
+    pub force: bool,
+    /// The identification the device gives this image, when it is not its CRC-32.
+    pub expect_id: Option<u32>,
+    /// How long to wait for each SDO answer.
+    pub timeout: Duration,
+    pub busy_wait: Duration,
+    pub boot_wait: Duration,
+    /// Confirm a program that asks for it (0x1F51 reads 0x80 after the start).
+    pub confirm: bool,
+    pub cancel: Option<Cancel>,
+    /// Told the bytes moved so far during the download (progress bar, rate, ETA).
+    pub watch: Option<TransferHook>,
+}
+
+impl DownloadOptions {
+    pub fn new(timeout: Duration) -> DownloadOptions {
+        DownloadOptions {
+            program: 1,
+            force: false,
+            expect_id: None,
+            timeout,
+            busy_wait: BUSY_WAIT,
+            boot_wait: BOOT_WAIT,
+            confirm: true,
+            cancel: None,
+            watch: None,
+        }
+    }
+}
+
+/// One step of the sequence.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Step {
+    /// 0x1F56 read: the identification of the program the device has.
+    ReadId,
+    /// NMT pre-operational sent.
+    PreOperational,
+    /// 0x1F51 = 0 answered.
+    Stop,
+    /// The device rebooted into its bootloader (its boot-up came).
+    BootedBootloader,
+    /// 0x1F51 = 3 answered.
+    Clear,
+    /// 0x1F57 no longer busy after the clear.
+    Erased,
+    /// 0x1F50 written whole.
+    Download,
+    /// 0x1F57 no longer busy after the download, and no error.
+    Written,
+    /// 0x1F56 equals the image's identification.
+    IdChecked,
+    /// 0x1F51 = 1 sent (answered, or the device reset before answering).
+    Start,
+    /// The boot-up of the new program came.
+    BootUp,
+    /// Through a link that shows no boot-up (a gateway): the device answers again.
+    Answers,
+    /// A heartbeat of the running program came.
+    Heartbeat,
+    /// 0x1F51 = 0x80 answered: the new program is kept.
+    Confirm,
+}
+
+impl Step {
+    pub fn describe(self) -> &'static str {
+        match self {
+            Step::ReadId => "read the software identification (0x1F56)",
+            Step::PreOperational => "NMT pre-operational",
+            Step::Stop => "stop the program (0x1F51 = 0)",
+            Step::BootedBootloader => "rebooted into its bootloader (boot-up)",
+            Step::Clear => "clear the flash (0x1F51 = 3)",
+            Step::Erased => "erase done (0x1F57 not busy)",
+            Step::Download => "program data written (0x1F50)",
+            Step::Written => "flash written (0x1F57 not busy, no error)",
+            Step::IdChecked => "identification checked (0x1F56)",
+            Step::Start => "start the program (0x1F51 = 1)",
+            Step::BootUp => "boot-up of the new program",
+            Step::Answers => "the device answers again (no boot-up seen through this link)",
+            Step::Heartbeat => "heartbeat",
+            Step::Confirm => "confirmed (0x1F51 = 0x80)",
+        }
+    }
+}
+
+/// A step done, and when (ms since the command began).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct StepDone {
+    pub step: Step,
+    pub at_ms: u64,
+}
+
+/// Where the device is when the procedure ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Where {
+    /// Running the image (downloaded now, or already: skipped).
+    RunsImage,
+    /// Nothing was changed: it runs what it ran.
+    Unchanged,
+    /// Stopped in its bootloader; its program is intact.
+    BootloaderWithProgram,
+    /// In its bootloader with no valid program.
+    BootloaderNoProgram,
+    /// The new program was written and started, but did not show it runs.
+    Unknown,
+}
+
+impl Where {
+    /// The state, in a sentence with what to do.
+    pub fn sentence(self) -> &'static str {
+        match self {
+            Where::RunsImage => "it runs the image",
+            Where::Unchanged => "nothing was changed on the device",
+            Where::BootloaderWithProgram => {
+                "in its bootloader, its program intact; run the same command again, or write 1 to 0x1F51 to start it"
+            }
+            Where::BootloaderNoProgram => "in its bootloader with no valid program; run the same command again",
+            Where::Unknown => {
+                "the new program was started but has not shown that it runs; check it with canctl firmware status"
+            }
+        }
+    }
+}
+
+/// What `firmware download` did to one node.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct DownloadReport {
+    pub node: u8,
+    pub program: u8,
+    pub image_bytes: usize,
+    /// The identification the image must show in 0x1F56 (its CRC-32 unless given).
+    pub image_id: u32,
+    pub id_before: Option<u32>,
+    pub id_after: Option<u32>,
+    /// The device already ran the image: nothing was written.
+    pub skipped: bool,
+    pub steps: Vec<StepDone>,
+    /// The last flash status read, by meaning.
+    pub flash_status: Option<FlashStatus>,
+    /// How many times 0x1F57 was read while busy (erase and write).
+    pub busy_polls: u32,
+    pub erase_ms: Option<u64>,
+    pub download_ms: Option<u64>,
+    /// Program data bytes per second during the download.
+    pub bytes_per_second: Option<u64>,
+    pub total_ms: u64,
+    pub confirmed: bool,
+    pub device: Where,
+    pub state: &'static str,
+    pub interrupted: bool,
+}
+
+/// Why a download did not finish.
+#[derive(Debug, thiserror::Error)]
+pub enum FirmwareError {
+    /// The bus or the device failed a step (SDO abort with its object and code, no answer,
+    /// link failure, interrupted).
+    #[error(transparent)]
+    Bus(#[from] Error),
+    #[error("node {node}: flash status (0x1F57:{program}) after {after}: 0x{:08X}, {}", status.raw, status.meaning())]
+    Flash { node: u8, program: u8, after: &'static str, status: FlashStatus },
+    #[error("node {node}: the flash is still busy (0x1F57:{program}) {} s after {after}, {polls} polls; the device may need longer: give --busy-wait", waited.as_secs())]
+    StillBusy { node: u8, program: u8, after: &'static str, polls: u32, waited: Duration },
+    #[error("node {node}: 0x1F56:{program} reads 0x{got:08X} after the download, the image's identification is 0x{want:08X}{}", if *got == 0 { " (0: the device holds no valid program)" } else { "" })]
+    IdMismatch { node: u8, program: u8, got: u32, want: u32 },
+    #[error("node {node}: not back (no boot-up, no answer) within {} ms after {after}", waited.as_millis())]
+    NoBootUp { node: u8, after: &'static str, waited: Duration },
+}
+
+impl FirmwareError {
+    /// How the process ends for it (DESIGN.md's exit codes).
+    pub fn class(&self) -> ErrorClass {
+        match self {
+            FirmwareError::Bus(e) => e.class(),
+            FirmwareError::Flash { .. } => ErrorClass::Refused,
+            FirmwareError::StillBusy { .. } | FirmwareError::NoBootUp { .. } => ErrorClass::Timeout,
+            FirmwareError::IdMismatch { .. } => ErrorClass::Verify,
+        }
+    }
+}
+
+/// A download that did not finish: the error, and the report of what was done and where
+/// the device is.
+#[derive(Debug, thiserror::Error)]
+#[error("{error}; {}", report.state)]
+pub struct Failed {
+    pub error: FirmwareError,
+    pub report: Box<DownloadReport>,
+}
+
+/// A little-endian value of up to 4 bytes (0x1F51 has one, 0x1F56 and 0x1F57 four).
+fn le(bytes: &[u8]) -> u32 {
+    bytes.iter().take(4).rev().fold(0, |acc, b| acc << 8 | u32::from(*b))
+}
+
+/// The procedure's state: the report as it grows, and the bus's clock at the start.
+struct Run<'a> {
+    bus: &'a mut dyn Bus,
+    o: &'a DownloadOptions,
+    node: u8,
+    began: Instant,
+    report: DownloadReport,
+}
+
+impl Run<'_> {
+    fn ms(&self) -> u64 {
+        self.bus.now().saturating_duration_since(self.began).as_millis() as u64
+    }
+
+    fn done(&mut self, step: Step) {
+        let at_ms = self.ms();
+        self.report.steps.push(StepDone { step, at_ms });
+        tracing::debug!(target: "canctl::firmware", "node {}: {} at {at_ms} ms", self.node, step.describe());
+    }
+
+    fn opts(&self) -> SdoOptions {
+        let mut o = SdoOptions::new(self.o.timeout);
+        o.stop = self.o.cancel.clone();
+        o
+    }
+
+    fn addr(&self, index: u16) -> ObjAddr {
+        program::object(index, self.o.program)
+    }
+
+    fn read_u32(&mut self, index: u16) -> Result<u32, Error> {
+        let mut opts = self.opts();
+        opts.size_hint = Some(4);
+        let v = self.bus.sdo_upload(self.node, self.addr(index), &opts)?;
+        Ok(le(&v))
+    }
+
+    fn control(&mut self, c: Control) -> Result<(), Error> {
+        let opts = self.opts();
+        self.bus.sdo_download(self.node, self.addr(PROGRAM_CONTROL), &[c.code()], &opts)
+    }
+
+    fn check_cancel(&self) -> Result<(), Error> {
+        match &self.o.cancel {
+            Some(c) => c.check(),
+            None => Ok(()),
+        }
+    }
+
+    /// Poll 0x1F57 until it is not busy, bounded; the status it ends with.
+    fn wait_not_busy(&mut self, after: &'static str) -> Result<FlashStatus, FirmwareError> {
+        let end = self.bus.now() + self.o.busy_wait;
+        loop {
+            let status = FlashStatus::decode(self.read_u32(FLASH_STATUS)?);
+            self.report.flash_status = Some(status);
+            if !status.busy {
+                return Ok(status);
+            }
+            self.report.busy_polls += 1;
+            self.check_cancel()?;
+            let now = self.bus.now();
+            if now >= end {
+                return Err(FirmwareError::StillBusy {
+                    node: self.node,
+                    program: self.o.program,
+                    after,
+                    polls: self.report.busy_polls,
+                    waited: self.o.busy_wait,
+                });
+            }
+            self.bus.sleep_until(end.min(now + POLL))?;
+        }
+    }
+
+    /// Wait (bounded) for the node's boot-up, forgotten before the step that causes it.
+    fn wait_boot_up(&mut self) -> Result<bool, Error> {
+        let end = self.bus.now() + self.o.boot_wait;
+        while !self.bus.observed().boot_ups.contains(&self.node) {
+            self.check_cancel()?;
+            if self.bus.recv_frame(end)?.is_none() && self.bus.now() >= end {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// Where no boot-up can be seen (a gateway passes on only answers), the device's
+    /// answering again says it is back: 0x1F51 asked until it answers (bounded).
+    fn wait_answering(&mut self) -> Result<Option<u32>, Error> {
+        let end = self.bus.now() + self.o.boot_wait;
+        loop {
+            match self.read_u32(PROGRAM_CONTROL) {
+                Ok(v) => return Ok(Some(v)),
+                Err(e) if e.is_timeout() && self.bus.now() < end => {
+                    let now = self.bus.now();
+                    self.bus.sleep_until(end.min(now + POLL))?;
+                }
+                Err(e) if e.is_timeout() => return Ok(None),
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    /// The device is back after a reset it may have done instead of answering: its
+    /// boot-up where the bus shows frames, else its answering again.
+    fn wait_back(&mut self) -> Result<bool, Error> {
+        if self.bus.sees_traffic() {
+            self.wait_boot_up()
+        } else {
+            Ok(self.wait_answering()?.is_some())
+        }
+    }
+
+    /// Wait (bounded) for a heartbeat (or a guarding answer) after the boot-up.
+    fn wait_heartbeat(&mut self) -> Result<bool, Error> {
+        let end = self.bus.now() + self.o.boot_wait;
+        while let Some(f) = self.bus.recv_frame(end)? {
+            self.check_cancel()?;
+            if let Some((n, nmt::ErrorControl::State { .. })) = nmt::ErrorControl::parse(&f) {
+                if n == self.node {
+                    return Ok(true);
+                }
+            }
+        }
+        Ok(false)
+    }
+
+    fn fail(mut self, error: impl Into<FirmwareError>, at: Where) -> Box<Failed> {
+        let error = error.into();
+        self.report.total_ms = self.ms();
+        self.report.interrupted = matches!(&error, FirmwareError::Bus(e) if e.is_interrupted());
+        self.report.device = at;
+        self.report.state = at.sentence();
+        Box::new(Failed { error, report: Box::new(self.report) })
+    }
+}
+
+/// Download `image` into program `o.program` of `node` and start it: the CiA 302-3
+/// sequence, each step confirmed. Skipped (and reported so) when the device already runs
+/// it, unless `o.force`.
+pub fn download(
+    bus: &mut dyn Bus,
+    node: u8,
+    image: &[u8],
+    o: &DownloadOptions,
+    progress: &mut dyn Progress,
+) -> Result<DownloadReport, Box<Failed>> {
+    let image_id = o.expect_id.unwrap_or_else(|| program::image_id(image));
+    let began = bus.now();
+    let report = DownloadReport {
+        node,
+        program: o.program,
+        image_bytes: image.len(),
+        image_id,
+        id_before: None,
+        id_after: None,
+        skipped: false,
+        steps: vec![],
+        flash_status: None,
+        busy_polls: 0,
+        erase_ms: None,
+        download_ms: None,
+        bytes_per_second: None,
+        total_ms: 0,
+        confirmed: false,
+        device: Where::Unchanged,
+        state: Where::Unchanged.sentence(),
+        interrupted: false,
+    };
+    let mut r = Run { bus, o, node, began, report };
+    macro_rules! step {
+        ($e:expr, $at:expr) => {
+            match $e {
+                Ok(v) => v,
+                Err(e) => return Err(r.fail(e, $at)),
+            }
+        };
+    }
+
+    let before = step!(r.read_u32(SOFTWARE_ID), Where::Unchanged);
+    r.report.id_before = Some(before);
+    r.done(Step::ReadId);
+    if before == image_id && !o.force {
+        r.report.skipped = true;
+        r.report.id_after = Some(before);
+        r.report.device = Where::RunsImage;
+        r.report.state = "it already runs the image (same identification): nothing written; --force downloads anyway";
+        r.report.total_ms = r.ms();
+        return Ok(r.report);
+    }
+    step!(r.check_cancel(), Where::Unchanged);
+    step!(r.bus.nmt(nmt::Command::PreOperational, node), Where::Unchanged);
+    r.done(Step::PreOperational);
+
+    // Stop. A device whose bootloader is another image reboots into it instead of
+    // answering: its boot-up says the stop was done.
+    r.bus.observed().boot_ups.remove(&node);
+    let stopped = r.control(Control::Stop);
+    let rebooted = match stopped {
+        Ok(()) => r.bus.observed().boot_ups.contains(&node),
+        // No answer in time, however the bus puts it (a gateway reports its own timeout).
+        Err(e) if e.is_timeout() => {
+            step!(r.wait_back(), Where::Unknown)
+                || return Err(r.fail(
+                    FirmwareError::NoBootUp {
+                        node,
+                        after: "stop (0x1F51 = 0), which it did not answer",
+                        waited: o.boot_wait,
+                    },
+                    Where::Unknown,
+                ))
+        }
+        Err(e) => return Err(r.fail(e, Where::Unchanged)),
+    };
+    r.done(Step::Stop);
+    if rebooted {
+        r.done(Step::BootedBootloader);
+    }
+    // Stopped: in its bootloader, with the program it had, if any.
+    let stopped_at = if before == 0 { Where::BootloaderNoProgram } else { Where::BootloaderWithProgram };
+    step!(r.check_cancel(), stopped_at);
+    // A device may still be busy with an erase an earlier run left (it refuses a clear
+    // then): wait that out first. An error code it shows is the earlier run's; the clear
+    // starts afresh.
+    step!(r.wait_not_busy("an earlier erase or write"), stopped_at);
+
+    // Clear, then wait out the erase.
+    step!(r.control(Control::Clear), stopped_at);
+    let erase_began = r.bus.now();
+    r.done(Step::Clear);
+    progress.start(&format!("node {node}: erasing"), 0);
+    let erased = r.wait_not_busy("clear (0x1F51 = 3)");
+    progress.finish();
+    let status = step!(erased, Where::BootloaderNoProgram);
+    r.report.erase_ms = Some(r.bus.now().saturating_duration_since(erase_began).as_millis() as u64);
+    if status.is_error() {
+        let e = FirmwareError::Flash { node, program: o.program, after: "clear", status };
+        return Err(r.fail(e, Where::BootloaderNoProgram));
+    }
+    r.done(Step::Erased);
+
+    // The program data: block transfer (the bus falls back to segmented when the device
+    // refuses it), watched, stopped between frames when asked.
+    let mut opts = r.opts();
+    opts.block_download = true;
+    opts.on_progress = o.watch.clone();
+    let download_began = r.bus.now();
+    let written = r.bus.sdo_download(node, r.addr(PROGRAM_DATA), image, &opts);
+    step!(written, Where::BootloaderNoProgram);
+    let took = r.bus.now().saturating_duration_since(download_began);
+    r.report.download_ms = Some(took.as_millis() as u64);
+    r.report.bytes_per_second =
+        (took.as_micros() > 0).then(|| (image.len() as u128 * 1_000_000 / took.as_micros()) as u64);
+    r.done(Step::Download);
+    let status = step!(r.wait_not_busy("the download"), Where::BootloaderNoProgram);
+    if status.is_error() {
+        let e = FirmwareError::Flash { node, program: o.program, after: "the download", status };
+        return Err(r.fail(e, Where::BootloaderNoProgram));
+    }
+    r.done(Step::Written);
+    let after = step!(r.read_u32(SOFTWARE_ID), Where::BootloaderNoProgram);
+    r.report.id_after = Some(after);
+    if after != image_id {
+        let e = FirmwareError::IdMismatch { node, program: o.program, got: after, want: image_id };
+        return Err(r.fail(e, Where::BootloaderNoProgram));
+    }
+    r.done(Step::IdChecked);
+    step!(r.check_cancel(), Where::BootloaderWithProgram);
+
+    // Start: the device may reset before its answer; the bus reads the state back, and
+    // the boot-up decides either way.
+    r.bus.observed().boot_ups.remove(&node);
+    let answered = match r.control(Control::Start) {
+        Ok(()) => true,
+        Err(e) if e.is_timeout() => false,
+        Err(e) => return Err(r.fail(e, Where::BootloaderWithProgram)),
+    };
+    r.done(Step::Start);
+    let sees_traffic = r.bus.sees_traffic();
+    // A gateway shows no boot-up: a start it passed the answer of is done; one without an
+    // answer is done once the device answers again.
+    if (sees_traffic || !answered) && !step!(r.wait_back(), Where::Unknown) {
+        let e = FirmwareError::NoBootUp { node, after: "start (0x1F51 = 1)", waited: o.boot_wait };
+        return Err(r.fail(e, Where::Unknown));
+    }
+    r.done(if sees_traffic { Step::BootUp } else { Step::Answers });
+    if sees_traffic && step!(r.wait_heartbeat(), Where::Unknown) {
+        r.done(Step::Heartbeat);
+    }
+    let state = Control::from_code(step!(r.read_u32(PROGRAM_CONTROL), Where::Unknown) as u8);
+    if state == Control::Confirm && o.confirm {
+        step!(r.control(Control::Confirm), Where::Unknown);
+        r.report.confirmed = true;
+        r.done(Step::Confirm);
+    }
+    r.report.id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
+    r.report.device = Where::RunsImage;
+    r.report.state = if state == Control::Confirm && !o.confirm {
+        "it runs the image on trial: unconfirmed, its bootloader returns to the old program at the next reset"
+    } else {
+        Where::RunsImage.sentence()
+    };
+    r.report.total_ms = r.ms();
+    Ok(r.report)
+}
+
+/// One program's objects, as `firmware status` shows them.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct ProgramStatus {
+    pub program: u8,
+    pub control: Option<Control>,
+    pub control_meaning: Option<&'static str>,
+    pub software_id: Option<u32>,
+    pub flash_status: Option<FlashStatus>,
+}
+
+/// `firmware status NODE`: per program number the device has.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct StatusReport {
+    pub node: u8,
+    pub programs: Vec<ProgramStatus>,
+}
+
+/// Read 0x1F51, 0x1F56 and 0x1F57 for each program the device has (0x1F51:0 says how
+/// many; a device without it has no program download).
+pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> crate::Result<StatusReport> {
+    let opts = super::sized(timeout, Some(1));
+    let count = bus.sdo_upload(node, ObjAddr::new(PROGRAM_CONTROL, 0), &opts)?.first().copied().unwrap_or(0);
+    let mut programs = Vec::new();
+    for p in 1..=count {
+        let read = |bus: &mut dyn Bus, index: u16, size: usize| -> crate::Result<Option<u32>> {
+            match bus.sdo_upload(node, program::object(index, p), &super::sized(timeout, Some(size))) {
+                Ok(v) => Ok(Some(le(&v))),
+                Err(Error::SdoAbort { .. }) => Ok(None),
+                Err(e) => Err(e),
+            }
+        };
+        let control = read(bus, PROGRAM_CONTROL, 1)?.map(|v| Control::from_code(v as u8));
+        programs.push(ProgramStatus {
+            program: p,
+            control,
+            control_meaning: control.map(Control::state_meaning),
+            software_id: read(bus, SOFTWARE_ID, 4)?,
+            flash_status: read(bus, FLASH_STATUS, 4)?.map(FlashStatus::decode),
+        });
+    }
+    Ok(StatusReport { node, programs })
+}
+
+/// One node of a download to several.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct NodeDownload {
+    pub node: u8,
+    /// What was done to it (none when it was not begun: an earlier node was interrupted).
+    pub report: Option<DownloadReport>,
+    /// Why it did not finish, in a sentence.
+    pub error: Option<String>,
+}
+
+/// `firmware download 5,6,7 IMAGE`: each node in turn, the same report for each.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Batch {
+    pub nodes: Vec<NodeDownload>,
+    pub interrupted: bool,
+}
+
+/// Download `image` into each of `nodes` in turn. A node that fails does not stop the
+/// others; an interruption does (the nodes not begun are listed without a report). The
+/// first failure's error comes back beside the batch, for the exit code.
+pub fn download_each(
+    bus: &mut dyn Bus,
+    nodes: &[u8],
+    image: &[u8],
+    o: &DownloadOptions,
+    progress: &mut dyn Progress,
+) -> (Batch, Option<FirmwareError>) {
+    let mut batch = Batch { nodes: Vec::new(), interrupted: false };
+    let mut first = None;
+    for (i, &node) in nodes.iter().enumerate() {
+        if batch.interrupted {
+            batch.nodes.push(NodeDownload { node, report: None, error: Some("not begun: interrupted".into()) });
+            continue;
+        }
+        progress.item(&format!("node {node}"), &format!("{} of {}", i + 1, nodes.len()), false);
+        match download(bus, node, image, o, progress) {
+            Ok(report) => {
+                progress.item(&format!("node {node}"), report.state, true);
+                batch.nodes.push(NodeDownload { node, report: Some(report), error: None });
+            }
+            Err(failed) => {
+                let Failed { error, report } = *failed;
+                progress.item(&format!("node {node}"), report.state, true);
+                batch.interrupted = report.interrupted;
+                batch.nodes.push(NodeDownload { node, report: Some(*report), error: Some(error.to_string()) });
+                first.get_or_insert(error);
+            }
+        }
+    }
+    (batch, first)
+}

@@ -1,0 +1,79 @@
+//! `canctl firmware` as a user runs it, on the simulated bootloader on virtual time:
+//! interrupted mid-download it says where the device is, and the same command finishes.
+
+mod common;
+
+use common::Sim;
+
+fn image(sim: &Sim, len: usize) -> String {
+    let path = sim.path("app.bin");
+    std::fs::write(&path, canctl::sim::profiles::domain_pattern(len)).unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn interrupted_mid_download_then_the_same_command_finishes() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
+    let app = image(&sim, 60_000);
+    // SIGINT once the 20th sub-block of the image has been acknowledged.
+    let mut c = sim.command(&["firmware", "download", "9", &app]);
+    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "s20:INT");
+    let run = common::finish(c.output().unwrap());
+    assert_eq!(run.code, 130, "{}{}", run.stdout, run.stderr);
+    assert!(run.stdout.contains("interrupted in"), "{}", run.stdout);
+    assert!(
+        run.stdout.contains("in its bootloader with no valid program; run the same command again"),
+        "{}",
+        run.stdout
+    );
+    let status = sim.run(&["firmware", "status", "9", "--format", "json"]).ok().json();
+    assert_eq!(status["programs"][0]["software_id"], 0, "{status}");
+    let done = sim.run(&["firmware", "download", "9", &app, "--format", "json"]).ok().json();
+    assert_eq!(done["device"], "runs_image", "{done}");
+    let id = canctl::canopen::program::image_id(&canctl::sim::profiles::domain_pattern(60_000));
+    assert_eq!(done["id_after"], id, "{done}");
+    let status = sim.run(&["firmware", "status", "9", "--format", "json"]).ok().json();
+    assert_eq!(status["programs"][0]["software_id"], id, "{status}");
+    assert_eq!(status["programs"][0]["control"], "start", "{status}");
+}
+
+#[test]
+fn a_flash_write_error_ends_with_exit_4_and_its_meaning() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
+    sim.run(&["sdo", "write", "9", "0x5F51", "2", "--type", "u8"]).ok();
+    let app = image(&sim, 3000);
+    let run = sim.run(&["firmware", "download", "9", &app]);
+    assert_eq!(run.code, 4, "{}{}", run.stdout, run.stderr);
+    assert!(run.stderr.contains("0x1F57:1") && run.stderr.contains("flash write error"), "{}", run.stderr);
+    assert!(run.stdout.contains("failed in"), "{}", run.stdout);
+}
+
+#[test]
+fn several_nodes_give_one_junit_case_each() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
+    let app = image(&sim, 2000);
+    let run = sim.run(&["--timeout", "200ms", "--format", "junit", "firmware", "download", "9,42", &app]);
+    assert_eq!(run.code, 3, "{}{}", run.stdout, run.stderr);
+    assert_eq!(run.stdout.matches("<testcase").count(), 2, "{}", run.stdout);
+    assert_eq!(run.stdout.matches("<failure").count(), 1, "{}", run.stdout);
+    assert!(run.stdout.contains("node 42"), "{}", run.stdout);
+}
+
+/// Through an EPOS2 gateway no boot-up is seen, and the start that the device resets
+/// before answering comes back as the gateway's SDO timeout: the device answering again
+/// with its program started decides.
+#[test]
+fn through_an_epos2_gateway_the_start_is_confirmed_by_the_device_answering_again() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9"]).ok();
+    let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let app = image(&sim, 700);
+    let done = dev.run(&["firmware", "download", "9", &app, "--format", "json"]).ok().json();
+    assert_eq!(done["device"], "runs_image", "{done}");
+    assert_eq!(done["confirmed"], true, "{done}");
+    let id = canctl::canopen::program::image_id(&canctl::sim::profiles::domain_pattern(700));
+    assert_eq!(done["id_after"], id, "{done}");
+}
