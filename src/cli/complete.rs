@@ -4,8 +4,8 @@
 
 use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
 use crate::canopen::types::ALL_TYPES;
-use crate::connect::BusAddr;
 use crate::canopen::ObjAddr;
+use crate::connect::BusAddr;
 use crate::epos2::Framing;
 use crate::od::names;
 use crate::ops::scan_cache as cache;

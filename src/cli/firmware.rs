@@ -71,13 +71,14 @@ pub struct DownloadArgs {
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
     match cmd {
         FirmwareCommand::Status(a) => {
-            let report = match super::interrupt::stoppable(bus, |bus| firmware::status(bus, a.node, ctx.timeout)) {
-                Err(e) if e.is_interrupted() => {
-                    let what = format!("reading node {}'s program objects", a.node);
-                    return super::interrupt::stopped_reading(ctx, "firmware status", what);
-                }
-                report => report?,
-            };
+            let report =
+                match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout)) {
+                    Err(e) if e.is_interrupted() => {
+                        let what = format!("reading node {}'s program objects", a.node);
+                        return super::interrupt::stopped_reading(ctx, "firmware status", what);
+                    }
+                    report => report?,
+                };
             Ok(ctx.out.report(&report)?)
         }
         FirmwareCommand::Download(a) => download(ctx, bus, a),
@@ -107,7 +108,9 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     let mut steps = ctx.out.progress();
     if let [node] = a.nodes[..] {
         if !ctx.out.junit {
-            let result = super::interrupt::stoppable(bus, |bus| firmware::download(bus, node, &image, &o, &mut steps));
+            let result = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+                firmware::download(bus, node, &image, &o, &mut steps)
+            });
             bar.finish_and_clear();
             return match result {
                 Ok(report) => Ok(ctx.out.report(&report)?),
@@ -118,8 +121,9 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
             };
         }
     }
-    let (batch, error) =
-        super::interrupt::stoppable(bus, |bus| firmware::download_each(bus, &a.nodes, &image, &o, &mut steps));
+    let (batch, error) = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+        firmware::download_each(bus, &a.nodes, &image, &o, &mut steps)
+    });
     bar.finish_and_clear();
     ctx.out.report(&batch)?;
     match error {

@@ -27,8 +27,8 @@ pub fn counted<'a>(
 mod tests {
     use super::*;
     use crate::bus::SdoOptions;
-    use crate::connect::{BusAddr, OpenOptions};
     use crate::canopen::ObjAddr;
+    use crate::connect::{BusAddr, OpenOptions};
     use std::time::Duration;
 
     #[derive(Default)]

@@ -32,9 +32,9 @@ pub mod stop;
 pub mod store;
 pub mod store_all;
 pub mod stored_eds;
-pub mod verdict;
 pub mod stream_setup;
 pub mod unheard;
+pub mod verdict;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;
