@@ -15,9 +15,9 @@
 # Reproducible: the same commit builds the same bytes. SOURCE_DATE_EPOCH (the commit's
 # time) dates every archive member, build paths are remapped (/canctl, /cargo), archives
 # are sorted and carry no owner. Compare two builds with `sha256sum -c SHA256SUMS`.
-# Not yet the Windows zip: its import table lists the DLLs in an order that changes from
-# build to build (rustc links the windows-sys import libraries it generates from temporary
-# directories with random names); the Linux files are byte-identical (dist-check.sh repro).
+# The Windows build takes its import libraries from scripts/dlltool-reproducible: dlltool
+# named their symbols after rustc's random temporary directory, which changed the .exe's
+# import table from build to build (see there). dist-check.sh repro compares every file.
 #
 # Environment: DIST_TARGETS (default: all four triples below) builds a subset;
 # CARGO_TARGET_DIR as usual. Refuses a tree with uncommitted changes (the artifacts would
@@ -78,6 +78,9 @@ build() {  # TRIPLE LINKER EXTRA_RUSTFLAGS -> path of the binary
   env_triple=$(tr 'a-z-' 'A-Z_' <<<"$triple")
   local flags="--remap-path-prefix=$root=/canctl --remap-path-prefix=$cargo_home=/cargo"
   [ "$extra" = - ] || flags+=" $extra"
+  # The Windows import libraries named after rustc's random temporary directory made the
+  # .exe differ between builds: see scripts/dlltool-reproducible.
+  [[ $triple == *windows-gnu ]] && flags+=" -Cdlltool=$root/scripts/dlltool-reproducible"
   # RUSTFLAGS, not target.*.rustflags: the remapping must reach every crate.
   env "CARGO_TARGET_${env_triple}_LINKER=$linker" RUSTFLAGS="$flags" \
     cargo build --locked --quiet --profile dist --target "$triple" --bin canctl >&2
