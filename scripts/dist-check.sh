@@ -56,10 +56,15 @@ step_sums() {
 
 step_native() { unpack && scripts/binary-smoke.sh "$(bin x86_64-unknown-linux-musl)"; }
 
-# qemu-user (Debian 12's 7.2) does not translate the TCGETS2 ioctl that opening a serial port
-# takes (serialport sets the bit rate by termios2): "cannot open /dev/pts/N: Function not
-# implemented". So the ARM binary serves the pty device sides (sim --slcan, --epos2-rs232)
-# and the x86_64 one is the client there; on ARM hardware the kernel has TCGETS2.
+# qemu-user does not translate the TCGETS2 ioctl that opening a serial port takes: serialport
+# (4.10) reads and sets the bit rate only by termios2 on Linux, with no fallback to TCGETS.
+# Debian 12's 7.2 answers ENOSYS ("cannot open /dev/pts/N: Function not implemented"), the
+# backports 10.0.2 that CI installs ENOTTY; a static aarch64/armv7 C probe on a pty under
+# 10.0.2 gets TCGETS answered and TCGETS2 refused. linux-user's termios2 support came after
+# 10.1 (distributions patch 10.1.2 for glibc 2.42, which uses TCGETS2 in isatty); there is
+# no qemu-system-aarch64 here for an ARM kernel. So the ARM binary serves the pty device
+# sides (sim --slcan, --epos2-rs232) and the x86_64 one is the client there; the client's
+# only ARM-specific part left unrun is serialport's termios2 ioctls, which ARM kernels have.
 step_qemu() {
   unpack || return 1
   local native; native=$(bin x86_64-unknown-linux-musl)
