@@ -153,7 +153,8 @@ step_repro() {
   local w
   w=$(mktemp -d /tmp/canctl-repro.XXXXXX)
   git clone --quiet --no-hardlinks . "$w/src" || return 1
-  (cd "$w/src" && CARGO_TARGET_DIR="$w/target" ${DIST_REPRO_TARGETS:+DIST_TARGETS="$DIST_REPRO_TARGETS"} scripts/dist.sh) || return 1
+  (cd "$w/src" && export CARGO_TARGET_DIR="$w/target" && if [ -n "${DIST_REPRO_TARGETS:-}" ]; then
+    export DIST_TARGETS=$DIST_REPRO_TARGETS; fi && scripts/dist.sh) || return 1
   echo "second build in $w/src:"; (cd "$w/src/dist" && ls -l)
   local f rc=0 n=0
   for f in "$w"/src/dist/*; do
