@@ -6,7 +6,6 @@
 
 use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
 use crate::canopen::nmt::Command;
-use crate::canopen::ObjAddr;
 use crate::frame::Frame;
 use crate::Result;
 use std::time::{Duration, Instant};
@@ -55,43 +54,32 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     fn describe(&self) -> String {
         self.bus.describe()
     }
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        let opts = self.hooked(opts);
-        let answer = self.bus.sdo_upload(node, addr, &opts);
-        self.uploads += 1;
-        (self.after)(Transfer::Upload, self.uploads);
-        answer
-    }
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        let opts = self.hooked(opts);
-        self.bus.sdo_download(node, addr, data, &opts)?;
-        self.downloads += 1;
-        (self.after)(Transfer::Download, self.downloads);
-        Ok(())
-    }
-    fn sdo_upload_many(
-        &mut self,
-        requests: &[(u8, ObjAddr)],
-        opts: &SdoOptions,
-        progress: &mut dyn FnMut(usize),
-    ) -> Result<Vec<Result<Vec<u8>>>> {
-        let opts = self.hooked(opts);
+    /// A batch of uploads only is counted as each ends; one with downloads, in the jobs'
+    /// order once they have all ended (a download counts once confirmed).
+    fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+        let jobs: Vec<SdoJob> = jobs
+            .iter()
+            .map(|j| match j {
+                SdoJob::Upload { node, addr, opts } => {
+                    SdoJob::Upload { node: *node, addr: *addr, opts: self.hooked(opts) }
+                }
+                SdoJob::Download { node, addr, data, opts } => {
+                    SdoJob::Download { node: *node, addr: *addr, data: data.clone(), opts: self.hooked(opts) }
+                }
+            })
+            .collect();
+        let uploads_only = jobs.iter().all(|j| matches!(j, SdoJob::Upload { .. }));
         let AfterSdo { bus, after, uploads, .. } = self;
         let mut counted = 0;
-        bus.sdo_upload_many(requests, &opts, &mut |done| {
-            for _ in counted..done {
+        let results = bus.sdo_batch(&jobs, &mut |done| {
+            while uploads_only && counted < done {
+                counted += 1;
                 *uploads += 1;
                 after(Transfer::Upload, *uploads);
             }
-            counted = done;
             progress(done)
-        })
-    }
-    /// The transfers run together as the bus runs them; each is counted, in the jobs'
-    /// order, once they have all ended.
-    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
-        let results = self.bus.sdo_many(jobs)?;
-        for (job, result) in jobs.iter().zip(&results) {
+        })?;
+        for (job, result) in jobs.iter().zip(&results).filter(|_| !uploads_only) {
             match job {
                 SdoJob::Upload { .. } => {
                     self.uploads += 1;
@@ -123,9 +111,6 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     }
     fn follows_bit_rate_switch(&self) -> bool {
         self.bus.follows_bit_rate_switch()
-    }
-    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
-        self.bus.recv_frame(deadline)
     }
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         self.bus.recv_frame_stamped(deadline)
@@ -159,6 +144,7 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::canopen::ObjAddr;
     use crate::sim::SimLink;
 
     #[test]

@@ -447,12 +447,6 @@ impl<L: FrameLink> Master<L> {
         })
     }
 
-    fn one(&mut self, node: u8, client: SdoClient, opts: &SdoOptions) -> Result<Vec<u8>> {
-        let (timeout, retries, watch) = (opts.timeout, opts.retries, &Watch::of([opts]));
-        check_node(node)?;
-        self.run(vec![(node, client)], timeout, retries, &mut |_| {}, watch)?.pop().expect("one result")
-    }
-
     fn block_allowed(&self, node: u8, wanted: bool) -> bool {
         wanted && !self.no_block.contains(&node)
     }

@@ -43,11 +43,9 @@ impl<T> Bus for NodeBus<T> {
     fn describe(&self) -> String {
         self.describe.clone()
     }
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        self.ask(SdoJob::Upload { node, addr, opts: opts.clone() })
-    }
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        self.ask(SdoJob::Download { node, addr, data: data.to_vec(), opts: opts.clone() }).map(|_| ())
+    /// One transfer after another: the coordinator runs one per node at a time.
+    fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+        crate::bus::one_by_one(jobs, progress, |job| self.ask(job.clone()))
     }
     fn nmt(&mut self, _: crate::canopen::nmt::Command, _: u8) -> Result<()> {
         Err(self.not_here())
@@ -58,7 +56,13 @@ impl<T> Bus for NodeBus<T> {
     fn sees_traffic(&self) -> bool {
         false
     }
-    fn recv_frame(&mut self, _: Instant) -> Result<Option<Frame>> {
+    fn follows_bit_rate_switch(&self) -> bool {
+        false
+    }
+    fn check_link(&mut self) -> Result<()> {
+        Ok(())
+    }
+    fn recv_frame_stamped(&mut self, _: Instant) -> Result<Option<(Frame, Instant)>> {
         Err(self.not_here())
     }
     /// The coordinator's bus's clock: it moves only while the coordinator runs a batch.
