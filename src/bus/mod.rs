@@ -24,17 +24,6 @@ pub use frame_log::FrameLog;
 pub use master::Master;
 pub use observer::{Observed, SeenBy};
 
-// The bus addresses and the factory moved to `crate::connect`. Branches written against the
-// old paths are merged alongside this one: these re-exports keep them building, and go once
-// they have moved (the layer test allows this one upward import until then).
-#[doc(hidden)]
-pub use crate::connect::{open, BusAddr, BusUri, OpenOptions};
-/// The old path of [`crate::connect`]; going.
-#[doc(hidden)]
-pub mod uri {
-    pub use crate::connect::*;
-}
-
 /// A raw frame link: what SocketCAN and the simulator provide.
 pub trait FrameLink {
     fn send(&mut self, frame: &Frame) -> Result<()>;
