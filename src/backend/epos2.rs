@@ -1,7 +1,7 @@
 //! The `Bus` services through an EPOS2: node 0 (or the EPOS2's own node-id) is the EPOS2
 //! itself, every other node is reached through it as a gateway to its CAN bus.
 
-use crate::bus::{Bus, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, ALL_NODES};
+use crate::bus::{Bus, FrameLog, LssAnswer, LssExchange, LssWait, Observed, SdoJob, SdoOptions, ALL_NODES};
 use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::{abort, ObjAddr};
 use crate::epos2::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
@@ -290,14 +290,6 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         false
     }
 
-    fn follows_bit_rate_switch(&self) -> bool {
-        false
-    }
-
-    fn check_link(&mut self) -> Result<()> {
-        Ok(())
-    }
-
     fn recv_frame_stamped(&mut self, _deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         Err(Error::NotOnThisBus {
             bus: self.link.describe(),
@@ -323,15 +315,10 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         Ok(answer)
     }
 
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
-        let send = Command::SendLssFrame { data: *request };
-        self.log(&Frame::new(crate::canopen::lss::MASTER_COB, request));
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
+        let LssExchange { request, expect, wait, collect } = *exchange;
+        let send = Command::SendLssFrame { data: request };
+        self.log(&Frame::new(crate::canopen::lss::MASTER_COB, &request));
         if let Some((code, _)) = self.call(&send)? {
             self.check(code, 0, None, send.name())?;
         }

@@ -159,6 +159,16 @@ impl SdoJob {
             SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } => opts,
         }
     }
+
+    /// The same transfer, made with `change(opts)`.
+    pub(crate) fn with_opts(&self, change: impl Fn(&SdoOptions) -> SdoOptions) -> SdoJob {
+        match self {
+            SdoJob::Upload { node, addr, opts } => SdoJob::Upload { node: *node, addr: *addr, opts: change(opts) },
+            SdoJob::Download { node, addr, data, opts } => {
+                SdoJob::Download { node: *node, addr: *addr, data: data.clone(), opts: change(opts) }
+            }
+        }
+    }
 }
 
 /// How many LSS answers to wait for.
@@ -185,16 +195,30 @@ pub struct LssAnswer {
     pub after: Duration,
 }
 
+/// One LSS exchange: a request and the answers to wait for (see [`Bus::lss_exchange`]).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct LssExchange {
+    /// The master's request, eight bytes on 0x7E5.
+    pub request: [u8; 8],
+    /// The command specifier of the answers that count.
+    pub expect: u8,
+    /// How long to wait for them.
+    pub wait: Duration,
+    /// How many to wait for.
+    pub collect: LssWait,
+}
+
 /// Node 0 in an NMT command addresses every node.
 pub const ALL_NODES: u8 = 0;
 
 /// The services commands use; one implementation per kind of link.
 ///
-/// The required methods are the core: what a kind of link does its own way (a backend) or
-/// passes on (a decorator such as [`stoppable::Stoppable`]). The provided ones are built
-/// on the core only and are never overridden, so that a decorator that forwards the core
-/// passes on everything the bus under it does (a [`Master`] runs a batch of transfers
-/// in parallel; single transfers are batches of one).
+/// The methods up to [`Bus::close`] are the core: what a kind of link does its own way (a
+/// backend) or passes on (a decorator such as [`stoppable::Stoppable`], which passes on
+/// the ones it leaves alone with [`pass_on_unchanged`]). The ones after it are built on
+/// the core only and are never overridden, so that a decorator that forwards the core
+/// passes on everything the bus under it does (a [`Master`] runs a batch of transfers in
+/// parallel; single transfers are batches of one).
 pub trait Bus {
     /// What this bus is, for messages: `sim`, `socketcan:can0`.
     fn describe(&self) -> String;
@@ -219,17 +243,8 @@ pub trait Bus {
     /// Send a remote request for `id` and return the first data frame with that id.
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame>;
 
-    /// Send one LSS master request (0x7E5) and collect the slaves' answers (0x7E4, 8 bytes,
-    /// command specifier `expect`) that arrive within `wait`; other frames never count, and
-    /// do not make the wait longer. Answers left over from earlier requests are dropped
-    /// first.
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>>;
+    /// Make one LSS exchange (see [`Bus::lss_exchange`]).
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>>;
 
     /// The bus's clock: every deadline given to this bus and every stamp it returns is on
     /// it. Monotonic on hardware, virtual in the simulator, where waiting makes time pass.
@@ -244,12 +259,18 @@ pub trait Bus {
     /// answers commands only, so frames must be asked for with `request_frame`.
     fn sees_traffic(&self) -> bool;
 
-    /// Whether the link itself follows an LSS bit-rate switch (see `FrameLink`).
-    fn follows_bit_rate_switch(&self) -> bool;
+    /// Whether the link itself follows an LSS bit-rate switch (see `FrameLink`). A
+    /// decorator passes it on ([`pass_on_unchanged`]).
+    fn follows_bit_rate_switch(&self) -> bool {
+        false
+    }
 
     /// After a silence: an error when the link reports the bus unusable (see
-    /// [`FrameLink::check`]); links that cannot tell say nothing.
-    fn check_link(&mut self) -> Result<()>;
+    /// [`FrameLink::check`]); links that cannot tell say nothing. A decorator passes it on
+    /// ([`pass_on_unchanged`]).
+    fn check_link(&mut self) -> Result<()> {
+        Ok(())
+    }
 
     /// What the bus showed by itself so far in this session (node-ids in use, NMT states,
     /// boot-ups, stray LSS answers). A link that sees no traffic knows only its own
@@ -293,7 +314,50 @@ pub trait Bus {
     fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         Ok(self.recv_frame_stamped(deadline)?.map(|(f, _)| f))
     }
+
+    /// Send one LSS master request (0x7E5) and collect the slaves' answers (0x7E4, 8 bytes,
+    /// command specifier `expect`) that arrive within `wait`; other frames never count, and
+    /// do not make the wait longer. Answers left over from earlier requests are dropped
+    /// first.
+    fn lss_exchange(
+        &mut self,
+        request: &[u8; 8],
+        expect: u8,
+        wait: Duration,
+        collect: LssWait,
+    ) -> Result<Vec<LssAnswer>> {
+        self.lss(&LssExchange { request: *request, expect, wait, collect })
+    }
 }
+
+/// Inside `impl Bus for` a decorator: the core methods it passes on unchanged to the bus
+/// in its field `$inner` (what it is, its clock, its traits, what it observed, closing).
+macro_rules! pass_on_unchanged {
+    ($inner:ident) => {
+        fn describe(&self) -> String {
+            self.$inner.describe()
+        }
+        fn now(&self) -> std::time::Instant {
+            self.$inner.now()
+        }
+        fn sees_traffic(&self) -> bool {
+            self.$inner.sees_traffic()
+        }
+        fn follows_bit_rate_switch(&self) -> bool {
+            self.$inner.follows_bit_rate_switch()
+        }
+        fn check_link(&mut self) -> $crate::error::Result<()> {
+            self.$inner.check_link()
+        }
+        fn observed(&mut self) -> &mut $crate::bus::Observed {
+            self.$inner.observed()
+        }
+        fn close(&mut self) -> $crate::error::Result<()> {
+            self.$inner.close()
+        }
+    };
+}
+pub(crate) use pass_on_unchanged;
 
 /// The answer of a batch of one.
 fn only(answers: Result<Vec<Result<Vec<u8>>>>) -> Result<Vec<u8>> {

@@ -5,7 +5,7 @@
 //! error into its partial report; one that must still talk to the bus after a stop (to
 //! put a PDO mapping back, say) polls the flag itself over the plain bus instead.
 
-use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions};
+use super::{Bus, LssAnswer, LssExchange, SdoJob, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::nmt::Command;
 use crate::error::Result;
@@ -37,22 +37,11 @@ impl<'a> Stoppable<'a> {
 }
 
 impl Bus for Stoppable<'_> {
-    fn describe(&self) -> String {
-        self.bus.describe()
-    }
+    super::pass_on_unchanged!(bus);
+
     fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
         self.check()?;
-        let jobs: Vec<SdoJob> = jobs
-            .iter()
-            .map(|j| match j {
-                SdoJob::Upload { node, addr, opts } => {
-                    SdoJob::Upload { node: *node, addr: *addr, opts: self.heeding(opts) }
-                }
-                SdoJob::Download { node, addr, data, opts } => {
-                    SdoJob::Download { node: *node, addr: *addr, data: data.clone(), opts: self.heeding(opts) }
-                }
-            })
-            .collect();
+        let jobs: Vec<SdoJob> = jobs.iter().map(|j| j.with_opts(|o| self.heeding(o))).collect();
         self.bus.sdo_batch(&jobs, progress)
     }
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
@@ -62,15 +51,6 @@ impl Bus for Stoppable<'_> {
     fn send_frame(&mut self, frame: &Frame) -> Result<()> {
         self.check()?;
         self.bus.send_frame(frame)
-    }
-    fn sees_traffic(&self) -> bool {
-        self.bus.sees_traffic()
-    }
-    fn check_link(&mut self) -> Result<()> {
-        self.bus.check_link()
-    }
-    fn follows_bit_rate_switch(&self) -> bool {
-        self.bus.follows_bit_rate_switch()
     }
     /// Waits in short slices, so that a stop ends the wait within one of them.
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
@@ -85,9 +65,6 @@ impl Bus for Stoppable<'_> {
             }
         }
     }
-    fn now(&self) -> Instant {
-        self.bus.now()
-    }
     fn sleep_until(&mut self, t: Instant) -> Result<()> {
         self.check()?;
         self.bus.sleep_until(t)
@@ -96,21 +73,9 @@ impl Bus for Stoppable<'_> {
         self.check()?;
         self.bus.request_frame(id, len, timeout)
     }
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
         self.check()?;
-        self.bus.lss_exchange(request, expect, wait, collect)
-    }
-    fn observed(&mut self) -> &mut Observed {
-        self.bus.observed()
-    }
-    fn close(&mut self) -> Result<()> {
-        self.bus.close()
+        self.bus.lss(exchange)
     }
 }
 

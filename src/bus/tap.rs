@@ -4,7 +4,7 @@
 //! procedure (the kill-at-every-step tests send a signal there); it changes nothing on the
 //! bus.
 
-use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
+use super::{Bus, LssAnswer, LssExchange, SdoJob, SdoOptions, TransferHook};
 use crate::canopen::nmt::Command;
 use crate::frame::Frame;
 use crate::Result;
@@ -51,23 +51,12 @@ impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
 }
 
 impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
-    fn describe(&self) -> String {
-        self.bus.describe()
-    }
+    super::pass_on_unchanged!(bus);
+
     /// A batch of uploads only is counted as each ends; one with downloads, in the jobs'
     /// order once they have all ended (a download counts once confirmed).
     fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
-        let jobs: Vec<SdoJob> = jobs
-            .iter()
-            .map(|j| match j {
-                SdoJob::Upload { node, addr, opts } => {
-                    SdoJob::Upload { node: *node, addr: *addr, opts: self.hooked(opts) }
-                }
-                SdoJob::Download { node, addr, data, opts } => {
-                    SdoJob::Download { node: *node, addr: *addr, data: data.clone(), opts: self.hooked(opts) }
-                }
-            })
-            .collect();
+        let jobs: Vec<SdoJob> = jobs.iter().map(|j| j.with_opts(|o| self.hooked(o))).collect();
         let uploads_only = jobs.iter().all(|j| matches!(j, SdoJob::Upload { .. }));
         let AfterSdo { bus, after, uploads, .. } = self;
         let mut counted = 0;
@@ -103,20 +92,8 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     fn send_frame(&mut self, frame: &Frame) -> Result<()> {
         self.bus.send_frame(frame)
     }
-    fn sees_traffic(&self) -> bool {
-        self.bus.sees_traffic()
-    }
-    fn check_link(&mut self) -> Result<()> {
-        self.bus.check_link()
-    }
-    fn follows_bit_rate_switch(&self) -> bool {
-        self.bus.follows_bit_rate_switch()
-    }
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         self.bus.recv_frame_stamped(deadline)
-    }
-    fn now(&self) -> Instant {
-        self.bus.now()
     }
     fn sleep_until(&mut self, t: Instant) -> Result<()> {
         self.bus.sleep_until(t)
@@ -124,20 +101,8 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
         self.bus.request_frame(id, len, timeout)
     }
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
-        self.bus.lss_exchange(request, expect, wait, collect)
-    }
-    fn observed(&mut self) -> &mut Observed {
-        self.bus.observed()
-    }
-    fn close(&mut self) -> Result<()> {
-        self.bus.close()
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
+        self.bus.lss(exchange)
     }
 }
 

@@ -2,7 +2,7 @@
 //! and notes the heartbeats that pass by.
 
 use super::trace::{self, Dir};
-use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
+use super::{Bus, FrameLink, FrameLog, LssAnswer, LssExchange, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
 use crate::cancel::Cancel;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;

@@ -85,15 +85,9 @@ impl<L: FrameLink> Bus for Master<L> {
         Err(Error::NoRemoteAnswer { cob: id, waited: timeout })
     }
 
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
         self.link.set_filters(&[(lss::SLAVE_COB, 0x7FF)])?;
-        let answers = self.exchange_lss(request, expect, wait, collect);
+        let answers = self.exchange_lss(exchange);
         self.in_lss_exchange = false;
         answers
     }
@@ -118,18 +112,13 @@ impl<L: FrameLink> Master<L> {
         Ok(None)
     }
 
-    fn exchange_lss(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
+    fn exchange_lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
+        let LssExchange { request, expect, wait, collect } = *exchange;
         // A slow slave's answer to the previous request must not count for this one (the
         // observer keeps it as a stray). Bounded: a babbling device never lets up.
         let drain_until = self.link.now() + DRAIN_LIMIT;
         while self.link.now() < drain_until && self.recv(self.link.now())?.is_some() {}
-        self.send(&Frame::new(lss::MASTER_COB, request))?;
+        self.send(&Frame::new(lss::MASTER_COB, &request))?;
         let mut answers = Vec::new();
         if collect == LssWait::Nothing {
             return Ok(answers);

@@ -4,7 +4,7 @@
 //! ([`Bus::sdo_many`]: one per node, all in flight at once) and hands back the answers.
 
 use super::*;
-use crate::bus::{LssAnswer, LssWait, Observed, SdoJob};
+use crate::bus::{LssAnswer, LssExchange, Observed, SdoJob};
 use crate::frame::Frame;
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex};
@@ -56,12 +56,6 @@ impl<T> Bus for NodeBus<T> {
     fn sees_traffic(&self) -> bool {
         false
     }
-    fn follows_bit_rate_switch(&self) -> bool {
-        false
-    }
-    fn check_link(&mut self) -> Result<()> {
-        Ok(())
-    }
     fn recv_frame_stamped(&mut self, _: Instant) -> Result<Option<(Frame, Instant)>> {
         Err(self.not_here())
     }
@@ -75,7 +69,7 @@ impl<T> Bus for NodeBus<T> {
     fn request_frame(&mut self, _: u16, _: u8, _: Duration) -> Result<Frame> {
         Err(self.not_here())
     }
-    fn lss_exchange(&mut self, _: &[u8; 8], _: u8, _: Duration, _: LssWait) -> Result<Vec<LssAnswer>> {
+    fn lss(&mut self, _: &LssExchange) -> Result<Vec<LssAnswer>> {
         Err(self.not_here())
     }
     fn observed(&mut self) -> &mut Observed {
