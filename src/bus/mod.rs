@@ -215,10 +215,10 @@ pub const ALL_NODES: u8 = 0;
 ///
 /// The methods up to [`Bus::close`] are the core: what a kind of link does its own way (a
 /// backend) or passes on (a decorator such as [`stoppable::Stoppable`], which passes on
-/// the ones it leaves alone with [`pass_on_unchanged`]). The ones after it are built on
-/// the core only and are never overridden, so that a decorator that forwards the core
-/// passes on everything the bus under it does (a [`Master`] runs a batch of transfers in
-/// parallel; single transfers are batches of one).
+/// the ones it leaves alone with the crate's `pass_on_unchanged!`). The ones after it are
+/// built on the core only and are never overridden, so that a decorator that forwards the
+/// core passes on everything the bus under it does (a [`Master`] runs a batch of transfers
+/// in parallel; single transfers are batches of one).
 pub trait Bus {
     /// What this bus is, for messages: `sim`, `socketcan:can0`.
     fn describe(&self) -> String;
@@ -260,14 +260,14 @@ pub trait Bus {
     fn sees_traffic(&self) -> bool;
 
     /// Whether the link itself follows an LSS bit-rate switch (see `FrameLink`). A
-    /// decorator passes it on ([`pass_on_unchanged`]).
+    /// decorator passes it on (`pass_on_unchanged!`).
     fn follows_bit_rate_switch(&self) -> bool {
         false
     }
 
     /// After a silence: an error when the link reports the bus unusable (see
     /// [`FrameLink::check`]); links that cannot tell say nothing. A decorator passes it on
-    /// ([`pass_on_unchanged`]).
+    /// (`pass_on_unchanged!`).
     fn check_link(&mut self) -> Result<()> {
         Ok(())
     }
