@@ -63,9 +63,6 @@ pub(crate) fn kbit_text(kbit: u32) -> String {
     }
 }
 
-/// The former name, kept so that code written against it still compiles.
-pub type BusUri = BusAddr;
-
 impl std::str::FromStr for BusAddr {
     type Err = Error;
 
@@ -279,17 +276,17 @@ mod tests {
 
     #[test]
     fn parses_every_form() {
-        assert_eq!("sim".parse::<BusUri>().unwrap(), BusUri::Sim { state: None });
-        assert_eq!("sim:/tmp/s.json".parse::<BusUri>().unwrap(), BusUri::Sim { state: Some("/tmp/s.json".into()) });
-        assert_eq!("can0".parse::<BusUri>().unwrap(), BusUri::SocketCan { iface: "can0".into() });
-        assert_eq!("socketcan:vcan0".parse::<BusUri>().unwrap(), BusUri::SocketCan { iface: "vcan0".into() });
+        assert_eq!("sim".parse::<BusAddr>().unwrap(), BusAddr::Sim { state: None });
+        assert_eq!("sim:/tmp/s.json".parse::<BusAddr>().unwrap(), BusAddr::Sim { state: Some("/tmp/s.json".into()) });
+        assert_eq!("can0".parse::<BusAddr>().unwrap(), BusAddr::SocketCan { iface: "can0".into() });
+        assert_eq!("socketcan:vcan0".parse::<BusAddr>().unwrap(), BusAddr::SocketCan { iface: "vcan0".into() });
         assert_eq!(
-            "epos2-rs232:/dev/ttyS0?baud=38400".parse::<BusUri>().unwrap(),
-            BusUri::Epos2 { framing: Framing::Rs232, port: "/dev/ttyS0".into(), baud: 38400 }
+            "epos2-rs232:/dev/ttyS0?baud=38400".parse::<BusAddr>().unwrap(),
+            BusAddr::Epos2 { framing: Framing::Rs232, port: "/dev/ttyS0".into(), baud: 38400 }
         );
         assert_eq!(
-            "epos2-usb:/dev/ttyUSB0".parse::<BusUri>().unwrap(),
-            BusUri::Epos2 { framing: Framing::Usb, port: "/dev/ttyUSB0".into(), baud: USB_DEFAULT_BAUD }
+            "epos2-usb:/dev/ttyUSB0".parse::<BusAddr>().unwrap(),
+            BusAddr::Epos2 { framing: Framing::Usb, port: "/dev/ttyUSB0".into(), baud: USB_DEFAULT_BAUD }
         );
     }
 
@@ -328,7 +325,7 @@ mod tests {
 
     #[test]
     fn rejects_with_a_hint() {
-        let msg = |s: &str| s.parse::<BusUri>().unwrap_err().to_string();
+        let msg = |s: &str| s.parse::<BusAddr>().unwrap_err().to_string();
         assert!(msg("/dev/ttyUSB0").contains("epos2-rs232:/dev/ttyUSB0"));
         assert!(msg("epos2-rs232:/dev/ttyS0?baud=fast").contains("baud"));
         assert!(msg("epos2-rs232:/dev/ttyS0?parity=odd").contains("unknown option"));

@@ -1,7 +1,7 @@
 //! The `Bus` services through an EPOS2: node 0 (or the EPOS2's own node-id) is the EPOS2
 //! itself, every other node is reached through it as a gateway to its CAN bus.
 
-use crate::bus::{Bus, FrameLog, LssAnswer, LssWait, Observed, SdoOptions, ALL_NODES};
+use crate::bus::{Bus, FrameLog, LssAnswer, LssExchange, LssWait, Observed, SdoJob, SdoOptions, ALL_NODES};
 use crate::canopen::nmt::Command as NmtCommand;
 use crate::canopen::{abort, ObjAddr};
 use crate::epos2::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
@@ -216,12 +216,9 @@ fn check_node(node: u8) -> Result<()> {
     }
 }
 
-impl<T: Transport> Bus for Epos2Gateway<T> {
-    fn describe(&self) -> String {
-        self.link.describe()
-    }
-
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+impl<T: Transport> Epos2Gateway<T> {
+    /// Read an object: ReadObject when it fits, segments otherwise.
+    fn upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
         check_node(node)?;
         let small = !opts.block_upload && opts.size_hint.is_none_or(|s| s <= 4);
         if small {
@@ -234,7 +231,8 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         self.segmented_read(node, addr, opts)
     }
 
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+    /// Write an object: WriteObject when its size is known and fits, segments otherwise.
+    fn download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
         check_node(node)?;
         // WriteObject carries four bytes and no length: the device takes as many as its
         // object holds. Only a value of a fixed-size type that fits says its size that way.
@@ -245,6 +243,20 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
             return Ok(());
         }
         self.segmented_write(node, addr, data, opts)
+    }
+}
+
+impl<T: Transport> Bus for Epos2Gateway<T> {
+    fn describe(&self) -> String {
+        self.link.describe()
+    }
+
+    /// One transfer after another: the gateway makes one at a time.
+    fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+        crate::bus::one_by_one(jobs, progress, |job| match job {
+            SdoJob::Upload { node, addr, opts } => self.upload(*node, *addr, opts),
+            SdoJob::Download { node, addr, data, opts } => self.download(*node, *addr, data, opts).map(|_| Vec::new()),
+        })
     }
 
     fn nmt(&mut self, cmd: NmtCommand, node: u8) -> Result<()> {
@@ -278,7 +290,7 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         false
     }
 
-    fn recv_frame(&mut self, _deadline: Instant) -> Result<Option<Frame>> {
+    fn recv_frame_stamped(&mut self, _deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         Err(Error::NotOnThisBus {
             bus: self.link.describe(),
             why: "an EPOS2 passes on no CAN traffic of its own accord (only answers to commands)",
@@ -303,15 +315,10 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         Ok(answer)
     }
 
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
-        let send = Command::SendLssFrame { data: *request };
-        self.log(&Frame::new(crate::canopen::lss::MASTER_COB, request));
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
+        let LssExchange { request, expect, wait, collect } = *exchange;
+        let send = Command::SendLssFrame { data: request };
+        self.log(&Frame::new(crate::canopen::lss::MASTER_COB, &request));
         if let Some((code, _)) = self.call(&send)? {
             self.check(code, 0, None, send.name())?;
         }

@@ -24,17 +24,6 @@ pub use frame_log::FrameLog;
 pub use master::Master;
 pub use observer::{Observed, SeenBy};
 
-// The bus addresses and the factory moved to `crate::connect`. Branches written against the
-// old paths are merged alongside this one: these re-exports keep them building, and go once
-// they have moved (the layer test allows this one upward import until then).
-#[doc(hidden)]
-pub use crate::connect::{open, BusAddr, BusUri, OpenOptions};
-/// The old path of [`crate::connect`]; going.
-#[doc(hidden)]
-pub mod uri {
-    pub use crate::connect::*;
-}
-
 /// A raw frame link: what SocketCAN and the simulator provide.
 pub trait FrameLink {
     fn send(&mut self, frame: &Frame) -> Result<()>;
@@ -156,11 +145,30 @@ impl SdoOptions {
     }
 }
 
-/// One transfer of [`Bus::sdo_many`].
+/// One transfer of [`Bus::sdo_batch`].
 #[derive(Clone, Debug)]
 pub enum SdoJob {
     Upload { node: u8, addr: ObjAddr, opts: SdoOptions },
     Download { node: u8, addr: ObjAddr, data: Vec<u8>, opts: SdoOptions },
+}
+
+impl SdoJob {
+    /// How this transfer is made.
+    pub fn opts(&self) -> &SdoOptions {
+        match self {
+            SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } => opts,
+        }
+    }
+
+    /// The same transfer, made with `change(opts)`.
+    pub(crate) fn with_opts(&self, change: impl Fn(&SdoOptions) -> SdoOptions) -> SdoJob {
+        match self {
+            SdoJob::Upload { node, addr, opts } => SdoJob::Upload { node: *node, addr: *addr, opts: change(opts) },
+            SdoJob::Download { node, addr, data, opts } => {
+                SdoJob::Download { node: *node, addr: *addr, data: data.clone(), opts: change(opts) }
+            }
+        }
+    }
 }
 
 /// How many LSS answers to wait for.
@@ -187,94 +195,56 @@ pub struct LssAnswer {
     pub after: Duration,
 }
 
+/// One LSS exchange: a request and the answers to wait for (see [`Bus::lss_exchange`]).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct LssExchange {
+    /// The master's request, eight bytes on 0x7E5.
+    pub request: [u8; 8],
+    /// The command specifier of the answers that count.
+    pub expect: u8,
+    /// How long to wait for them.
+    pub wait: Duration,
+    /// How many to wait for.
+    pub collect: LssWait,
+}
+
 /// Node 0 in an NMT command addresses every node.
 pub const ALL_NODES: u8 = 0;
 
 /// The services commands use; one implementation per kind of link.
+///
+/// The methods up to [`Bus::close`] are the core: what a kind of link does its own way (a
+/// backend) or passes on (a decorator such as [`stoppable::Stoppable`], which passes on
+/// the ones it leaves alone with the crate's `pass_on_unchanged!`). The ones after it are
+/// built on the core only and are never overridden, so that a decorator that forwards the
+/// core passes on everything the bus under it does (a [`Master`] runs a batch of transfers
+/// in parallel; single transfers are batches of one).
 pub trait Bus {
     /// What this bus is, for messages: `sim`, `socketcan:can0`.
     fn describe(&self) -> String;
 
-    /// Read an object.
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>>;
-
-    /// Write an object.
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()>;
-
-    /// Read many objects; a backend that can keeps one transfer per node in flight at once.
-    /// `progress` is called with the number finished so far. The outer error is a link
-    /// failure; the inner ones belong to each request.
-    fn sdo_upload_many(
-        &mut self,
-        requests: &[(u8, ObjAddr)],
-        opts: &SdoOptions,
-        progress: &mut dyn FnMut(usize),
-    ) -> Result<Vec<Result<Vec<u8>>>> {
-        let mut out = Vec::with_capacity(requests.len());
-        for (i, (node, addr)) in requests.iter().enumerate() {
-            // One after another: a stop is heeded between them.
-            let r = if stopped(opts) { Err(crate::Error::Interrupted) } else { self.sdo_upload(*node, *addr, opts) };
-            if let Err(e @ crate::Error::Link(_)) = r {
-                return Err(e);
-            }
-            out.push(r);
-            progress(i + 1);
-        }
-        Ok(out)
-    }
-
-    /// Run uploads and downloads, at most one per node; a backend that can keeps them all
-    /// in flight at once. A download's answer is empty. The outer error is a link failure;
-    /// the inner ones belong to each job.
-    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
-        let mut out = Vec::with_capacity(jobs.len());
-        for job in jobs {
-            let r = match job {
-                SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } if stopped(opts) => {
-                    Err(crate::Error::Interrupted)
-                }
-                SdoJob::Upload { node, addr, opts } => self.sdo_upload(*node, *addr, opts),
-                SdoJob::Download { node, addr, data, opts } => {
-                    self.sdo_download(*node, *addr, data, opts).map(|_| Vec::new())
-                }
-            };
-            if let Err(e @ crate::Error::Link(_)) = r {
-                return Err(e);
-            }
-            out.push(r);
-        }
-        Ok(out)
-    }
+    /// Run SDO uploads and downloads, at most one per node at a time; a backend that can
+    /// keeps one per node in flight at once. A download's answer is empty. `progress` is
+    /// called with the number finished so far, as each ends. The outer error is a link
+    /// failure (or a request no transfer could begin with); the inner ones belong to each
+    /// job, one per job, in the jobs' order.
+    fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>>;
 
     /// Send an NMT command to one node, or to all with `ALL_NODES`.
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()>;
 
     fn send_frame(&mut self, frame: &Frame) -> Result<()>;
 
-    /// Whether this link shows the bus's own traffic (heartbeats, boot-ups, PDOs). An EPOS2
-    /// answers commands only, so frames must be asked for with `request_frame`.
-    fn sees_traffic(&self) -> bool;
-
-    /// After a silence: an error when the link reports the bus unusable (see
-    /// [`FrameLink::check`]); links that cannot tell say nothing.
-    fn check_link(&mut self) -> Result<()> {
-        Ok(())
-    }
-
-    /// Whether the link itself follows an LSS bit-rate switch (see `FrameLink`).
-    fn follows_bit_rate_switch(&self) -> bool {
-        false
-    }
-
-    /// The next frame seen on the bus, or `None` at the deadline.
-    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>>;
-
     /// The next frame seen on the bus with the moment it was there (see
     /// [`FrameLink::recv_stamped`]), or `None` at the deadline. Backends that know no
     /// better stamp the moment of receipt.
-    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
-        Ok(self.recv_frame(deadline)?.map(|f| (f, self.now())))
-    }
+    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>>;
+
+    /// Send a remote request for `id` and return the first data frame with that id.
+    fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame>;
+
+    /// Make one LSS exchange (see [`Bus::lss_exchange`]).
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>>;
 
     /// The bus's clock: every deadline given to this bus and every stamp it returns is on
     /// it. Monotonic on hardware, virtual in the simulator, where waiting makes time pass.
@@ -285,8 +255,65 @@ pub trait Bus {
     /// meanwhile wait for the next `recv_frame`.
     fn sleep_until(&mut self, t: Instant) -> Result<()>;
 
-    /// Send a remote request for `id` and return the first data frame with that id.
-    fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame>;
+    /// Whether this link shows the bus's own traffic (heartbeats, boot-ups, PDOs). An EPOS2
+    /// answers commands only, so frames must be asked for with `request_frame`.
+    fn sees_traffic(&self) -> bool;
+
+    /// Whether the link itself follows an LSS bit-rate switch (see `FrameLink`). A
+    /// decorator passes it on (`pass_on_unchanged!`).
+    fn follows_bit_rate_switch(&self) -> bool {
+        false
+    }
+
+    /// After a silence: an error when the link reports the bus unusable (see
+    /// [`FrameLink::check`]); links that cannot tell say nothing. A decorator passes it on
+    /// (`pass_on_unchanged!`).
+    fn check_link(&mut self) -> Result<()> {
+        Ok(())
+    }
+
+    /// What the bus showed by itself so far in this session (node-ids in use, NMT states,
+    /// boot-ups, stray LSS answers). A link that sees no traffic knows only its own
+    /// answers.
+    fn observed(&mut self) -> &mut Observed;
+
+    /// Finish cleanly; dropping without it may lose state (the simulator's).
+    fn close(&mut self) -> Result<()>;
+
+    /// Read an object.
+    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+        only(self.sdo_batch(&[SdoJob::Upload { node, addr, opts: opts.clone() }], &mut |_| {}))
+    }
+
+    /// Write an object.
+    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
+        let job = SdoJob::Download { node, addr, data: data.to_vec(), opts: opts.clone() };
+        only(self.sdo_batch(&[job], &mut |_| {})).map(|_| ())
+    }
+
+    /// Read many objects, as [`Bus::sdo_batch`] runs them.
+    fn sdo_upload_many(
+        &mut self,
+        requests: &[(u8, ObjAddr)],
+        opts: &SdoOptions,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Vec<Result<Vec<u8>>>> {
+        let jobs: Vec<SdoJob> = requests
+            .iter()
+            .map(|(node, addr)| SdoJob::Upload { node: *node, addr: *addr, opts: opts.clone() })
+            .collect();
+        self.sdo_batch(&jobs, progress)
+    }
+
+    /// Run uploads and downloads, as [`Bus::sdo_batch`] runs them.
+    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
+        self.sdo_batch(jobs, &mut |_| {})
+    }
+
+    /// The next frame seen on the bus, or `None` at the deadline.
+    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        Ok(self.recv_frame_stamped(deadline)?.map(|(f, _)| f))
+    }
 
     /// Send one LSS master request (0x7E5) and collect the slaves' answers (0x7E4, 8 bytes,
     /// command specifier `expect`) that arrive within `wait`; other frames never count, and
@@ -298,13 +325,60 @@ pub trait Bus {
         expect: u8,
         wait: Duration,
         collect: LssWait,
-    ) -> Result<Vec<LssAnswer>>;
+    ) -> Result<Vec<LssAnswer>> {
+        self.lss(&LssExchange { request: *request, expect, wait, collect })
+    }
+}
 
-    /// What the bus showed by itself so far in this session (node-ids in use, NMT states,
-    /// boot-ups, stray LSS answers). A link that sees no traffic knows only its own
-    /// answers.
-    fn observed(&mut self) -> &mut Observed;
+/// Inside `impl Bus for` a decorator: the core methods it passes on unchanged to the bus
+/// in its field `$inner` (what it is, its clock, its traits, what it observed, closing).
+macro_rules! pass_on_unchanged {
+    ($inner:ident) => {
+        fn describe(&self) -> String {
+            self.$inner.describe()
+        }
+        fn now(&self) -> std::time::Instant {
+            self.$inner.now()
+        }
+        fn sees_traffic(&self) -> bool {
+            self.$inner.sees_traffic()
+        }
+        fn follows_bit_rate_switch(&self) -> bool {
+            self.$inner.follows_bit_rate_switch()
+        }
+        fn check_link(&mut self) -> $crate::error::Result<()> {
+            self.$inner.check_link()
+        }
+        fn observed(&mut self) -> &mut $crate::bus::Observed {
+            self.$inner.observed()
+        }
+        fn close(&mut self) -> $crate::error::Result<()> {
+            self.$inner.close()
+        }
+    };
+}
+pub(crate) use pass_on_unchanged;
 
-    /// Finish cleanly; dropping without it may lose state (the simulator's).
-    fn close(&mut self) -> Result<()>;
+/// The answer of a batch of one.
+fn only(answers: Result<Vec<Result<Vec<u8>>>>) -> Result<Vec<u8>> {
+    answers?.pop().expect("a batch answers each of its jobs")
+}
+
+/// [`Bus::sdo_batch`] for links that make one transfer at a time: `run` makes each, in
+/// order. A stop is heeded between them, and a link failure ends the batch.
+pub(crate) fn one_by_one(
+    jobs: &[SdoJob],
+    progress: &mut dyn FnMut(usize),
+    mut run: impl FnMut(&SdoJob) -> Result<Vec<u8>>,
+) -> Result<Vec<Result<Vec<u8>>>> {
+    let mut out = Vec::with_capacity(jobs.len());
+    for job in jobs {
+        let r = if stopped(job.opts()) { Err(crate::Error::Interrupted) } else { run(job) };
+        if let Err(e @ crate::Error::Link(_)) = r {
+            return Err(e);
+        }
+        out.push(r);
+        progress(out.len());
+    }
+    Ok(out)
 }

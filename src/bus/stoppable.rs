@@ -5,10 +5,9 @@
 //! error into its partial report; one that must still talk to the bus after a stop (to
 //! put a PDO mapping back, say) polls the flag itself over the plain bus instead.
 
-use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions};
+use super::{Bus, LssAnswer, LssExchange, SdoJob, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::nmt::Command;
-use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::frame::Frame;
 use std::time::{Duration, Instant};
@@ -38,43 +37,12 @@ impl<'a> Stoppable<'a> {
 }
 
 impl Bus for Stoppable<'_> {
-    fn describe(&self) -> String {
-        self.bus.describe()
-    }
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
+    super::pass_on_unchanged!(bus);
+
+    fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
         self.check()?;
-        let opts = self.heeding(opts);
-        self.bus.sdo_upload(node, addr, &opts)
-    }
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        self.check()?;
-        let opts = self.heeding(opts);
-        self.bus.sdo_download(node, addr, data, &opts)
-    }
-    fn sdo_upload_many(
-        &mut self,
-        requests: &[(u8, ObjAddr)],
-        opts: &SdoOptions,
-        progress: &mut dyn FnMut(usize),
-    ) -> Result<Vec<Result<Vec<u8>>>> {
-        self.check()?;
-        let opts = self.heeding(opts);
-        self.bus.sdo_upload_many(requests, &opts, progress)
-    }
-    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
-        self.check()?;
-        let jobs: Vec<SdoJob> = jobs
-            .iter()
-            .map(|j| match j {
-                SdoJob::Upload { node, addr, opts } => {
-                    SdoJob::Upload { node: *node, addr: *addr, opts: self.heeding(opts) }
-                }
-                SdoJob::Download { node, addr, data, opts } => {
-                    SdoJob::Download { node: *node, addr: *addr, data: data.clone(), opts: self.heeding(opts) }
-                }
-            })
-            .collect();
-        self.bus.sdo_many(&jobs)
+        let jobs: Vec<SdoJob> = jobs.iter().map(|j| j.with_opts(|o| self.heeding(o))).collect();
+        self.bus.sdo_batch(&jobs, progress)
     }
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
         self.check()?;
@@ -84,30 +52,18 @@ impl Bus for Stoppable<'_> {
         self.check()?;
         self.bus.send_frame(frame)
     }
-    fn sees_traffic(&self) -> bool {
-        self.bus.sees_traffic()
-    }
-    fn check_link(&mut self) -> Result<()> {
-        self.bus.check_link()
-    }
-    fn follows_bit_rate_switch(&self) -> bool {
-        self.bus.follows_bit_rate_switch()
-    }
     /// Waits in short slices, so that a stop ends the wait within one of them.
-    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         loop {
             self.check()?;
             let slice = deadline.min(self.bus.now() + POLL);
-            if let Some(f) = self.bus.recv_frame(slice)? {
+            if let Some(f) = self.bus.recv_frame_stamped(slice)? {
                 return Ok(Some(f));
             }
             if self.bus.now() >= deadline {
                 return Ok(None);
             }
         }
-    }
-    fn now(&self) -> Instant {
-        self.bus.now()
     }
     fn sleep_until(&mut self, t: Instant) -> Result<()> {
         self.check()?;
@@ -117,27 +73,16 @@ impl Bus for Stoppable<'_> {
         self.check()?;
         self.bus.request_frame(id, len, timeout)
     }
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
         self.check()?;
-        self.bus.lss_exchange(request, expect, wait, collect)
-    }
-    fn observed(&mut self) -> &mut Observed {
-        self.bus.observed()
-    }
-    fn close(&mut self) -> Result<()> {
-        self.bus.close()
+        self.bus.lss(exchange)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::canopen::ObjAddr;
     use crate::sim::SimLink;
     use crate::Error;
 
@@ -153,6 +98,20 @@ mod tests {
         assert!(matches!(s.nmt(Command::Start, 5), Err(Error::Interrupted)));
         let far = Instant::now() + Duration::from_secs(3600);
         assert!(matches!(s.recv_frame(far), Err(Error::Interrupted)));
+    }
+
+    /// Frames that waited to be read keep the moment they were on the bus, as the bus under
+    /// it stamped them: a device's timing is judged from it (heartbeat periods, answer times).
+    #[test]
+    fn frames_keep_the_stamp_of_the_bus_under_it() {
+        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
+        bus.nmt(Command::ResetNode, 5).unwrap();
+        // The boot-up and heartbeats that come meanwhile wait to be read.
+        let later = bus.now() + Duration::from_secs(1);
+        bus.sleep_until(later).unwrap();
+        let mut s = Stoppable::new(&mut bus, Cancel::new());
+        let (_, on_bus) = s.recv_frame_stamped(later + Duration::from_secs(1)).unwrap().expect("a frame");
+        assert!(on_bus < later, "stamped at receipt, not when it was on the bus");
     }
 
     /// Stopped in the middle of a block download: the transfer ends with an abort, the

@@ -4,9 +4,8 @@
 //! procedure (the kill-at-every-step tests send a signal there); it changes nothing on the
 //! bus.
 
-use super::{Bus, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
+use super::{Bus, LssAnswer, LssExchange, SdoJob, SdoOptions, TransferHook};
 use crate::canopen::nmt::Command;
-use crate::canopen::ObjAddr;
 use crate::frame::Frame;
 use crate::Result;
 use std::time::{Duration, Instant};
@@ -52,46 +51,24 @@ impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
 }
 
 impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
-    fn describe(&self) -> String {
-        self.bus.describe()
-    }
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        let opts = self.hooked(opts);
-        let answer = self.bus.sdo_upload(node, addr, &opts);
-        self.uploads += 1;
-        (self.after)(Transfer::Upload, self.uploads);
-        answer
-    }
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        let opts = self.hooked(opts);
-        self.bus.sdo_download(node, addr, data, &opts)?;
-        self.downloads += 1;
-        (self.after)(Transfer::Download, self.downloads);
-        Ok(())
-    }
-    fn sdo_upload_many(
-        &mut self,
-        requests: &[(u8, ObjAddr)],
-        opts: &SdoOptions,
-        progress: &mut dyn FnMut(usize),
-    ) -> Result<Vec<Result<Vec<u8>>>> {
-        let opts = self.hooked(opts);
+    super::pass_on_unchanged!(bus);
+
+    /// A batch of uploads only is counted as each ends; one with downloads, in the jobs'
+    /// order once they have all ended (a download counts once confirmed).
+    fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+        let jobs: Vec<SdoJob> = jobs.iter().map(|j| j.with_opts(|o| self.hooked(o))).collect();
+        let uploads_only = jobs.iter().all(|j| matches!(j, SdoJob::Upload { .. }));
         let AfterSdo { bus, after, uploads, .. } = self;
         let mut counted = 0;
-        bus.sdo_upload_many(requests, &opts, &mut |done| {
-            for _ in counted..done {
+        let results = bus.sdo_batch(&jobs, &mut |done| {
+            while uploads_only && counted < done {
+                counted += 1;
                 *uploads += 1;
                 after(Transfer::Upload, *uploads);
             }
-            counted = done;
             progress(done)
-        })
-    }
-    /// The transfers run together as the bus runs them; each is counted, in the jobs'
-    /// order, once they have all ended.
-    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
-        let results = self.bus.sdo_many(jobs)?;
-        for (job, result) in jobs.iter().zip(&results) {
+        })?;
+        for (job, result) in jobs.iter().zip(&results).filter(|_| !uploads_only) {
             match job {
                 SdoJob::Upload { .. } => {
                     self.uploads += 1;
@@ -115,23 +92,8 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     fn send_frame(&mut self, frame: &Frame) -> Result<()> {
         self.bus.send_frame(frame)
     }
-    fn sees_traffic(&self) -> bool {
-        self.bus.sees_traffic()
-    }
-    fn check_link(&mut self) -> Result<()> {
-        self.bus.check_link()
-    }
-    fn follows_bit_rate_switch(&self) -> bool {
-        self.bus.follows_bit_rate_switch()
-    }
-    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
-        self.bus.recv_frame(deadline)
-    }
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         self.bus.recv_frame_stamped(deadline)
-    }
-    fn now(&self) -> Instant {
-        self.bus.now()
     }
     fn sleep_until(&mut self, t: Instant) -> Result<()> {
         self.bus.sleep_until(t)
@@ -139,26 +101,15 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
         self.bus.request_frame(id, len, timeout)
     }
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
-        self.bus.lss_exchange(request, expect, wait, collect)
-    }
-    fn observed(&mut self) -> &mut Observed {
-        self.bus.observed()
-    }
-    fn close(&mut self) -> Result<()> {
-        self.bus.close()
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
+        self.bus.lss(exchange)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::canopen::ObjAddr;
     use crate::sim::SimLink;
 
     #[test]

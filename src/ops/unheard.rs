@@ -35,8 +35,7 @@ pub fn sdo<T>(bus: &mut dyn Bus, outcome: Result<T>) -> Result<T> {
 fn bit_rate_hint(port: &str) -> String {
     // The address without its rate: `slcan:/dev/ttyACM0@250k` -> `slcan:/dev/ttyACM0`.
     let base = port.split_once('@').map_or(port, |(base, _)| base);
-    let rates: Vec<String> =
-        crate::slcan::wire::BIT_RATES.iter().map(|(_, k)| crate::bus::uri::kbit_text(*k)).collect();
+    let rates: Vec<String> = crate::slcan::wire::BIT_RATES.iter().map(|(_, k)| crate::connect::kbit_text(*k)).collect();
     format!(
         "; frames nobody acknowledges are what an adapter at another bit rate than the bus's sees: give the \
          bus's rate in the address, --bus {base}@RATE (RATE one of {}), or bus = \"{base}@RATE\" in canctl.toml",

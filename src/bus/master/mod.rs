@@ -2,7 +2,7 @@
 //! and notes the heartbeats that pass by.
 
 use super::trace::{self, Dir};
-use super::{Bus, FrameLink, FrameLog, LssAnswer, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
+use super::{Bus, FrameLink, FrameLog, LssAnswer, LssExchange, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
 use crate::cancel::Cancel;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
@@ -445,12 +445,6 @@ impl<L: FrameLink> Master<L> {
             }
             SdoError::Inconsistent(reason) => LinkError::SdoProtocol { node, obj: addr, reason, aborted: None }.into(),
         })
-    }
-
-    fn one(&mut self, node: u8, client: SdoClient, opts: &SdoOptions) -> Result<Vec<u8>> {
-        let (timeout, retries, watch) = (opts.timeout, opts.retries, &Watch::of([opts]));
-        check_node(node)?;
-        self.run(vec![(node, client)], timeout, retries, &mut |_| {}, watch)?.pop().expect("one result")
     }
 
     fn block_allowed(&self, node: u8, wanted: bool) -> bool {

@@ -7,39 +7,11 @@ impl<L: FrameLink> Bus for Master<L> {
         self.describe.clone()
     }
 
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        let client = self.upload_client(node, addr, opts);
-        self.one(node, client, opts)
-    }
-
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        if u32::try_from(data.len()).is_err() {
-            return Err(Error::TooLargeForSdo { len: data.len() });
-        }
-        let client = SdoClient::download(addr, data.to_vec(), self.block_allowed(node, opts.block_download));
-        self.one(node, client, opts).map(|_| ())
-    }
-
-    fn sdo_upload_many(
-        &mut self,
-        requests: &[(u8, ObjAddr)],
-        opts: &SdoOptions,
-        progress: &mut dyn FnMut(usize),
-    ) -> Result<Vec<Result<Vec<u8>>>> {
-        for (node, _) in requests {
-            check_node(*node)?;
-        }
-        let jobs = requests.iter().map(|(node, addr)| (*node, self.upload_client(*node, *addr, opts))).collect();
-        self.run(jobs, opts.timeout, opts.retries, progress, &Watch::of([opts]))
-    }
-
-    fn sdo_many(&mut self, jobs: &[SdoJob]) -> Result<Vec<Result<Vec<u8>>>> {
+    fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
         let mut clients = Vec::with_capacity(jobs.len());
         let mut timeout = Duration::ZERO;
         let mut retries = 0;
-        let watch = Watch::of(jobs.iter().map(|j| match j {
-            SdoJob::Upload { opts, .. } | SdoJob::Download { opts, .. } => opts,
-        }));
+        let watch = Watch::of(jobs.iter().map(SdoJob::opts));
         for job in jobs {
             let (node, client, opts) = match job {
                 SdoJob::Upload { node, addr, opts } => (*node, self.upload_client(*node, *addr, opts), opts),
@@ -57,7 +29,7 @@ impl<L: FrameLink> Bus for Master<L> {
             retries = retries.max(opts.retries);
             clients.push((node, client));
         }
-        self.run(clients, timeout, retries, &mut |_| {}, &watch)
+        self.run(clients, timeout, retries, progress, &watch)
     }
 
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
@@ -90,18 +62,9 @@ impl<L: FrameLink> Bus for Master<L> {
         self.link.check()
     }
 
-    fn recv_frame(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         // A link hands over frames already queued even past the deadline; on a bus that
         // never falls quiet a listener looping until `None` would never stop.
-        if self.link.now() >= deadline {
-            return Ok(None);
-        }
-        self.link.set_filters(&EVERYTHING)?;
-        self.recv(deadline)
-    }
-
-    fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
-        // As `recv_frame`.
         if self.link.now() >= deadline {
             return Ok(None);
         }
@@ -122,15 +85,9 @@ impl<L: FrameLink> Bus for Master<L> {
         Err(Error::NoRemoteAnswer { cob: id, waited: timeout })
     }
 
-    fn lss_exchange(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
+    fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
         self.link.set_filters(&[(lss::SLAVE_COB, 0x7FF)])?;
-        let answers = self.exchange_lss(request, expect, wait, collect);
+        let answers = self.exchange_lss(exchange);
         self.in_lss_exchange = false;
         answers
     }
@@ -155,18 +112,13 @@ impl<L: FrameLink> Master<L> {
         Ok(None)
     }
 
-    fn exchange_lss(
-        &mut self,
-        request: &[u8; 8],
-        expect: u8,
-        wait: Duration,
-        collect: LssWait,
-    ) -> Result<Vec<LssAnswer>> {
+    fn exchange_lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
+        let LssExchange { request, expect, wait, collect } = *exchange;
         // A slow slave's answer to the previous request must not count for this one (the
         // observer keeps it as a stray). Bounded: a babbling device never lets up.
         let drain_until = self.link.now() + DRAIN_LIMIT;
         while self.link.now() < drain_until && self.recv(self.link.now())?.is_some() {}
-        self.send(&Frame::new(lss::MASTER_COB, request))?;
+        self.send(&Frame::new(lss::MASTER_COB, &request))?;
         let mut answers = Vec::new();
         if collect == LssWait::Nothing {
             return Ok(answers);

@@ -340,8 +340,11 @@ impl SdoClient {
         let response = Response::parse(&p);
         if let State::BlockUploadData { expected } = self.state {
             // Inside a sub-block every frame is a segment, except the abort (sequence 0).
-            if let Some(Response::Abort { code, .. }) = response {
+            if let Some(Response::Abort { addr, code }) = response {
                 self.require(8, "an abort (0x80) with its code")?;
+                if let Some(aside) = self.abort_of_another(addr) {
+                    return Ok(aside);
+                }
                 self.state = State::Finished;
                 return Err(SdoError::ServerAbort(code));
             }
@@ -357,8 +360,11 @@ impl SdoClient {
                 _ => Err(self.unexpected(&p)),
             };
         };
-        if let Response::Abort { code, .. } = response {
+        if let Response::Abort { addr, code } = response {
             self.require(8, "an abort (0x80) with its code")?;
+            if let Some(aside) = self.abort_of_another(addr) {
+                return Ok(aside);
+            }
             // A server that gave up on the abandoned attempt says so (timed out): that is
             // not this attempt's answer. Any other refusal may well be.
             if self.restarted && code == abort::TIMED_OUT {
@@ -429,6 +435,17 @@ impl SdoClient {
     /// out, or another client's): not ours, so it is set aside.
     fn other_object(&mut self, named: ObjAddr) -> Option<Step> {
         (named != self.addr).then(|| self.ignore(format!("an answer for object {named}, not {}", self.addr)))
+    }
+
+    /// An abort carries the object it ends (CiA 301): one naming another object ends an
+    /// earlier transfer (a device that rebooted mid sub-block aborts the rest late), not
+    /// this one, and is set aside. One that names no object (0x0000:00, left empty by some
+    /// servers) is taken as this transfer's.
+    fn abort_of_another(&mut self, named: ObjAddr) -> Option<Step> {
+        if named == ObjAddr::new(0, 0) {
+            return None;
+        }
+        self.other_object(named)
     }
 
     /// Before the server's first answer, an answer of another kind is an error, unless it

@@ -874,3 +874,32 @@ mod restart {
         assert_eq!(client.restart()[0], 0x40);
     }
 }
+
+/// A device rebooted in the middle of a block upload of 0x1F50:1 and aborted the rest
+/// (0x05040001) late, into the read of 0x1000:0 that followed: an abort carries the object
+/// it ends (CiA 301), and one for another object is not this transfer's answer.
+#[test]
+fn an_abort_for_another_object_is_not_this_transfers_answer() {
+    let stale = [0x80, 0x50, 0x1F, 0x01, 0x01, 0x00, 0x04, 0x05];
+    let mut c = SdoClient::upload(ObjAddr::new(0x1000, 0), false);
+    c.start();
+    assert!(!c.on_response(&stale).unwrap().progress);
+    assert_eq!(c.ignored(), Some((1, "an answer for object 0x1F50:1, not 0x1000:0")));
+    let s = c.on_response(&[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]).unwrap();
+    assert_eq!(s.done, Some(vec![0x92, 0x01, 0x02, 0x00]));
+    // Inside a sub-block of a block upload of our own, likewise.
+    let mut c = SdoClient::upload(A, true);
+    c.start();
+    assert_eq!(c.on_response(&[0xC6, 0x00, 0x20, 0x01, 10, 0, 0, 0]).unwrap().send.len(), 1);
+    assert!(!c.on_response(&stale).unwrap().progress);
+    // Our own abort, and one that names no object (some servers leave it empty), end it.
+    let mut c = SdoClient::upload(A, false);
+    c.start();
+    assert!(matches!(
+        c.on_response(&[0x80, 0x00, 0x20, 0x01, 0x00, 0x00, 0x02, 0x06]),
+        Err(SdoError::ServerAbort(0x0602_0000))
+    ));
+    let mut c = SdoClient::upload(A, false);
+    c.start();
+    assert!(matches!(c.on_response(&[0x80, 0, 0, 0, 0x00, 0x00, 0x02, 0x06]), Err(SdoError::ServerAbort(0x0602_0000))));
+}

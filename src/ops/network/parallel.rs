@@ -4,7 +4,7 @@
 //! ([`Bus::sdo_many`]: one per node, all in flight at once) and hands back the answers.
 
 use super::*;
-use crate::bus::{LssAnswer, LssWait, Observed, SdoJob};
+use crate::bus::{LssAnswer, LssExchange, Observed, SdoJob};
 use crate::frame::Frame;
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex};
@@ -43,11 +43,9 @@ impl<T> Bus for NodeBus<T> {
     fn describe(&self) -> String {
         self.describe.clone()
     }
-    fn sdo_upload(&mut self, node: u8, addr: ObjAddr, opts: &SdoOptions) -> Result<Vec<u8>> {
-        self.ask(SdoJob::Upload { node, addr, opts: opts.clone() })
-    }
-    fn sdo_download(&mut self, node: u8, addr: ObjAddr, data: &[u8], opts: &SdoOptions) -> Result<()> {
-        self.ask(SdoJob::Download { node, addr, data: data.to_vec(), opts: opts.clone() }).map(|_| ())
+    /// One transfer after another: the coordinator runs one per node at a time.
+    fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
+        crate::bus::one_by_one(jobs, progress, |job| self.ask(job.clone()))
     }
     fn nmt(&mut self, _: crate::canopen::nmt::Command, _: u8) -> Result<()> {
         Err(self.not_here())
@@ -58,7 +56,7 @@ impl<T> Bus for NodeBus<T> {
     fn sees_traffic(&self) -> bool {
         false
     }
-    fn recv_frame(&mut self, _: Instant) -> Result<Option<Frame>> {
+    fn recv_frame_stamped(&mut self, _: Instant) -> Result<Option<(Frame, Instant)>> {
         Err(self.not_here())
     }
     /// The coordinator's bus's clock: it moves only while the coordinator runs a batch.
@@ -71,7 +69,7 @@ impl<T> Bus for NodeBus<T> {
     fn request_frame(&mut self, _: u16, _: u8, _: Duration) -> Result<Frame> {
         Err(self.not_here())
     }
-    fn lss_exchange(&mut self, _: &[u8; 8], _: u8, _: Duration, _: LssWait) -> Result<Vec<LssAnswer>> {
+    fn lss(&mut self, _: &LssExchange) -> Result<Vec<LssAnswer>> {
         Err(self.not_here())
     }
     fn observed(&mut self) -> &mut Observed {
