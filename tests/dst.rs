@@ -953,3 +953,25 @@ fn lss_assign_with_set_id_unanswered_says_the_device_may_hold_the_id() {
     assert!(out.broken.is_none(), "{}", out.broken.unwrap());
     assert_eq!(out.ended, "ended part-way");
 }
+
+/// Found against CANopenNode behind `netem delay 15ms loss 2%` (issue 27's vcan run): a node
+/// with an id already, beating no heartbeat (CANopenNode's default, 0x1017 = 0; the drive
+/// here), whose one answer to the SDO probe of the ids in use is lost. `lss assign` must
+/// not give its node-id to a device without one: two devices would answer to it.
+#[test]
+fn lss_assign_never_gives_the_id_of_a_node_whose_probe_answer_was_lost() {
+    let config = SimConfig::default().seed(1).unconfigured(1).virtual_time(true).fault("1:drop@1".parse().unwrap());
+    let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
+    let mut master = Master::new(sim, "sim".into());
+    let o = ops::lss::AssignOptions {
+        start: 1,
+        fastscan: ops::lss::FastscanOptions::new(TIMEOUT),
+        listen: None,
+        store: true,
+    };
+    let a = ops::lss::assign(&mut master, &o, &mut Silent, &Cancel::new());
+    Bus::close(&mut master).unwrap();
+    let on_1: Vec<Identity> =
+        master.link_mut().network().devices().iter().filter(|d| d.node_id() == Some(1)).map(|d| d.identity()).collect();
+    assert_eq!(on_1.len(), 1, "node-id 1 held by {on_1:?}; assign reported {a:?}");
+}
