@@ -259,14 +259,20 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     Ok(())
 }
 
-/// A node that did not answer: say which nodes the last scan of this bus saw. An object
+/// A node that did not answer: the link's failure when it has one, else which nodes the last
+/// scan of this bus saw. An object
 /// the node does not have: name the dictionary's objects nearest to it that the node has.
 fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(bus)) => {
-            crate::output::last_scan_hint(bus, &crate::ops::scan_cache::load(bus))
+        (Some(Error::NoAnswer { what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(addr)) => {
+            // Nothing answered: the link may know why (an adapter at another bit rate), and
+            // then every command ends as `sdo read` does, not only those that ask it.
+            if let Err(link) = crate::ops::unheard::check(bus) {
+                return link.into();
+            }
+            crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr))
         }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
             let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
