@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 mod check;
+pub(crate) mod completion;
 pub mod diagnostics;
 pub mod docs;
 mod drive;
