@@ -23,6 +23,7 @@ pub(crate) mod network;
 mod nodes;
 mod records;
 mod reports;
+pub(crate) mod stopped;
 
 pub use events::{event_line, say_deviations};
 pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};

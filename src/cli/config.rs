@@ -145,11 +145,7 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     });
     let mut eds = match read {
         Err(e) if e.is_interrupted() => {
-            let file = not_written(a.out.as_deref(), "EDS");
-            let not_done = vec![format!("reading node {}'s EDS (0x1021)", a.node), file];
-            let state = "nothing was changed on the device".to_string();
-            ctx.out.report(&crate::ops::Stopped::new("config eds", vec![], not_done, state))?;
-            return Err(e.into());
+            return crate::output::stopped::config_eds(&ctx.out, a.node, a.out.as_deref(), e)
         }
         other => other?,
     };
@@ -199,16 +195,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         other => other?,
     };
     if dump.interrupted {
-        let read = match dump.wanted {
-            0 => format!("node {}'s profile not read yet", a.node),
-            wanted => format!("read {} of {wanted} objects of node {}", dump.objects, a.node),
-        };
-        let file = not_written(a.out.as_deref(), "DCF");
-        let not_done = vec!["reading the other objects".to_string(), file];
-        let report =
-            crate::ops::Stopped::new("config dump", vec![read], not_done, "nothing was changed on the device".into());
-        ctx.out.report(&report)?;
-        return Err(crate::Error::Interrupted.into());
+        return crate::output::stopped::config_dump(&ctx.out, a.node, dump.objects, dump.wanted, a.out.as_deref());
     }
     match &a.out {
         Some(path) => {
@@ -218,16 +205,6 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         None => ctx.out.write_bytes(&dump.dcf)?,
     }
     Ok(())
-}
-
-/// What an interrupted command did not write: `--out FILE` (kept as it was) or the `what`
-/// on standard output.
-fn not_written(out: Option<&Path>, what: &str) -> String {
-    match out {
-        Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
-        Some(path) => format!("writing {} (no file made)", path.display()),
-        None => format!("the {what} on standard output (none printed: it would be incomplete)"),
-    }
 }
 
 /// The DCF, its warnings said on stderr.

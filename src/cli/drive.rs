@@ -88,7 +88,11 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<(
 fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
     let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node, ctx.timeout)) {
         Err(e) if e.is_interrupted() => {
-            return super::interrupt::stopped_reading(ctx, "drive status", format!("reading node {}'s state", a.node))
+            return crate::output::stopped::reading(
+                &ctx.out,
+                "drive status",
+                format!("reading node {}'s state", a.node),
+            )
         }
         report => report?,
     };

@@ -75,7 +75,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Resul
                 match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout)) {
                     Err(e) if e.is_interrupted() => {
                         let what = format!("reading node {}'s program objects", a.node);
-                        return super::interrupt::stopped_reading(ctx, "firmware status", what);
+                        return crate::output::stopped::reading(&ctx.out, "firmware status", what);
                     }
                     report => report?,
                 };
