@@ -27,7 +27,7 @@ pub(crate) mod stopped;
 
 pub use events::{event_line, say_deviations};
 pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};
-pub use reports::{sentence, stored_eds_line, Each};
+pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {

@@ -246,15 +246,8 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     bars.finish();
     let report = report?;
     ctx.out.report(&report)?;
-    if report.failure.is_some() && a.dry_run {
-        ctx.out.note("dry run: a real run would stop at the refused write above; nothing was written");
-    } else if report.failure.is_some() && !report.interrupted {
-        // Said in every format: the JSON document lists it too, but a person reads this.
-        let done: Vec<String> = report.written.iter().map(|w| w.to_string()).collect();
-        ctx.out.note(&format!(
-            "written before the failure: {}",
-            if done.is_empty() { "nothing".into() } else { done.join(", ") }
-        ));
+    if let Some(note) = crate::output::applied_failure_note(&report) {
+        ctx.out.note(&note);
     }
     Ok(report.outcome()?)
 }
