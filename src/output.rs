@@ -21,7 +21,7 @@ mod hints;
 mod lss;
 pub(crate) mod network;
 mod nodes;
-mod records;
+pub(crate) mod records;
 mod reports;
 pub(crate) mod stopped;
 
