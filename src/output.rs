@@ -251,6 +251,21 @@ impl Output {
         self.drawn(None, style, message)
     }
 
+    /// A bar over the `len` bytes of a download, with its rate and the time left.
+    pub fn bytes_bar(&self, len: u64, message: &str) -> ProgressBar {
+        let template = "{msg} [{bar:30}] {bytes}/{total_bytes} {bytes_per_sec}, {eta} left";
+        let style = ProgressStyle::with_template(template).expect("valid template").progress_chars("=> ");
+        self.drawn(Some(len), style, message)
+    }
+
+    /// A transfer's hook that moves `bar`, only when progress is shown: a hook given to a
+    /// transfer takes the place of the one the bus was given.
+    pub fn transfer_hook(&self, bar: &ProgressBar) -> Option<crate::bus::TransferHook> {
+        let shown = bar.clone();
+        self.progress
+            .then(|| -> crate::bus::TransferHook { std::sync::Arc::new(move |b| shown.set_position(b as u64)) })
+    }
+
     /// A progress display on stderr, or a hidden one when progress is not shown. Made
     /// hidden and then pointed at stderr: a message set on a bar that draws would draw it
     /// at once, outside a MultiProgress it is about to join, a line left on the screen.

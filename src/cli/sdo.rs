@@ -121,10 +121,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     }
     let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
     let bar = ctx.out.counter(&format!("node {}: reading {object}", a.node));
-    let shown = bar.clone();
-    let watch: crate::bus::TransferHook = std::sync::Arc::new(move |bytes| shown.set_position(bytes as u64));
-    // Only when shown: a hook given here takes the place of one the bus was given.
-    let watch = ctx.out.progress.then_some(watch);
+    let watch = ctx.out.transfer_hook(&bar);
     let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, watch);
     bar.finish_and_clear();
     remember(ctx, a.node, object, &read);
