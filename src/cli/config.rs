@@ -151,12 +151,7 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     };
     match &a.out {
         Some(path) => {
-            crate::atomic::write_atomic(path, &eds.file)?;
-            eds.saved_to = Some(path.display().to_string());
-            // The node's own description, for completion to offer its objects.
-            if let (Some(_), Some(bus)) = (eds.objects, &ctx.bus) {
-                crate::ops::scan_cache::describe(bus, a.node, path);
-            }
+            eds.save(a.node, path, ctx.bus.as_deref())?;
             ctx.out.report(&eds)?;
         }
         // The file is the output: what was read is said on stderr.
