@@ -15,9 +15,11 @@
 # Reproducible: the same commit builds the same bytes. SOURCE_DATE_EPOCH (the commit's
 # time) dates every archive member, build paths are remapped (/canctl, /cargo), archives
 # are sorted and carry no owner. Compare two builds with `sha256sum -c SHA256SUMS`.
-# Not yet the Windows zip: its import table lists the DLLs in an order that changes from
-# build to build (rustc links the windows-sys import libraries it generates from temporary
-# directories with random names); the Linux files are byte-identical (dist-check.sh repro).
+# The Windows build makes its import libraries with scripts/dlltool-reproducible and links
+# with scripts/mingw-link-reproducible: the order of the DLLs in the .exe's import table
+# followed the names of rustc's random temporary directories (dlltool named symbols after
+# them) and the path of the target directory (ld orders the import tables by the paths of
+# the input files); see there. dist-check.sh repro compares every file.
 #
 # Environment: DIST_TARGETS (default: all four triples below) builds a subset;
 # CARGO_TARGET_DIR as usual. Refuses a tree with uncommitted changes (the artifacts would
@@ -54,6 +56,7 @@ export TZ=UTC LC_ALL=C
 umask 022
 
 target_dir=${CARGO_TARGET_DIR:-$root/target}
+[[ $target_dir == /* ]] || target_dir=$root/$target_dir
 cargo_home=${CARGO_HOME:-$HOME/.cargo}
 out=$root/dist
 rm -rf "$out"
@@ -78,8 +81,16 @@ build() {  # TRIPLE LINKER EXTRA_RUSTFLAGS -> path of the binary
   env_triple=$(tr 'a-z-' 'A-Z_' <<<"$triple")
   local flags="--remap-path-prefix=$root=/canctl --remap-path-prefix=$cargo_home=/cargo"
   [ "$extra" = - ] || flags+=" $extra"
+  local link=(env "CARGO_TARGET_${env_triple}_LINKER=$linker")
+  # The .exe's import table followed rustc's random temporary directories and the target
+  # directory's path: scripts/dlltool-reproducible and scripts/mingw-link-reproducible say how.
+  if [[ $triple == *windows-gnu ]]; then
+    flags+=" -Cdlltool=$root/scripts/dlltool-reproducible"
+    link=(env "CARGO_TARGET_${env_triple}_LINKER=$root/scripts/mingw-link-reproducible"
+      "CANCTL_LINKER=$linker" "CANCTL_LINK_DIR=$target_dir")
+  fi
   # RUSTFLAGS, not target.*.rustflags: the remapping must reach every crate.
-  env "CARGO_TARGET_${env_triple}_LINKER=$linker" RUSTFLAGS="$flags" \
+  "${link[@]}" RUSTFLAGS="$flags" \
     cargo build --locked --quiet --profile dist --target "$triple" --bin canctl >&2
   local exe=canctl
   [[ $triple == *windows* ]] && exe=canctl.exe

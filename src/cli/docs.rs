@@ -2,7 +2,8 @@
 //! rendered by `output::docs` from the clap definition.
 
 use super::Ctx;
-use crate::output::docs::{man_pages, registration};
+use crate::output::docs::registration;
+use clap::CommandFactory;
 use clap::Args;
 use clap_complete::Shell;
 use std::path::{Path, PathBuf};
@@ -32,6 +33,11 @@ pub struct ManArgs {
     /// Write canctl.1 and one page per subcommand into this directory
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+}
+
+/// Every man page: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
+pub fn man_pages() -> Vec<(String, Vec<u8>)> {
+    crate::output::docs::man_pages(super::Cli::command())
 }
 
 pub fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {

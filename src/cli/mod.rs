@@ -30,7 +30,8 @@ use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 pub use crate::output::diagnostics::install as install_diagnostics;
-pub use crate::output::docs::{completion_scripts, man_pages, write_completions};
+pub use crate::output::docs::{completion_scripts, write_completions};
+pub use docs::man_pages;
 pub use complete::complete_from_env;
 
 /// `canctl --version`: what a bug report needs to name the binary exactly (build.rs).

@@ -1,7 +1,6 @@
-//! Shell completions and man pages, generated from the clap definition of `cli`.
+//! Shell completions and man pages, generated from the clap definition of `cli` (which
+//! `cli` hands in: output sits below it).
 
-use crate::cli::Cli;
-use clap::CommandFactory;
 use clap_complete::Shell;
 use std::path::Path;
 
@@ -47,9 +46,8 @@ pub fn write_completions(dir: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
-/// Every man page: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
-pub fn man_pages() -> Vec<(String, Vec<u8>)> {
-    let mut cmd = Cli::command();
+/// Every man page of `cmd`: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
+pub fn man_pages(mut cmd: clap::Command) -> Vec<(String, Vec<u8>)> {
     cmd.build();
     let mut pages = Vec::new();
     collect(&cmd, "canctl", &mut pages);
