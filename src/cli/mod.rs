@@ -31,8 +31,8 @@ use std::time::Duration;
 
 pub use crate::output::diagnostics::install as install_diagnostics;
 pub use crate::output::docs::{completion_scripts, write_completions};
-pub use docs::man_pages;
 pub use complete::complete_from_env;
+pub use docs::man_pages;
 
 /// `canctl --version`: what a bug report needs to name the binary exactly (build.rs).
 /// `-V` and the man pages keep the plain version, so they do not change with every commit.
