@@ -179,14 +179,10 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         config::dump_as(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
     });
     let dump = match dump {
-        Err(e) if e.is_interrupted() => config::Dump {
-            node: a.node,
-            objects: 0,
-            interrupted: true,
-            wanted: 0,
-            source: String::new(),
-            dcf: Vec::new(),
-        },
+        // A stop the dump could not count objects for: said as one before the profile was read.
+        Err(e) if e.is_interrupted() => {
+            return crate::output::stopped::config_dump(&ctx.out, a.node, 0, 0, a.out.as_deref())
+        }
         other => other?,
     };
     if dump.interrupted {
