@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 mod check;
+pub(crate) mod completion;
 pub mod diagnostics;
 pub mod docs;
 mod drive;
@@ -20,12 +21,13 @@ mod hints;
 mod lss;
 pub(crate) mod network;
 mod nodes;
-mod records;
+pub(crate) mod records;
 mod reports;
+pub(crate) mod stopped;
 
 pub use events::{event_line, say_deviations};
 pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};
-pub use reports::{sentence, stored_eds_line, Each};
+pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
@@ -247,6 +249,21 @@ impl Output {
     pub fn counter(&self, message: &str) -> ProgressBar {
         let style = ProgressStyle::with_template("{msg}: {bytes} ({bytes_per_sec})").expect("valid template");
         self.drawn(None, style, message)
+    }
+
+    /// A bar over the `len` bytes of a download, with its rate and the time left.
+    pub fn bytes_bar(&self, len: u64, message: &str) -> ProgressBar {
+        let template = "{msg} [{bar:30}] {bytes}/{total_bytes} {bytes_per_sec}, {eta} left";
+        let style = ProgressStyle::with_template(template).expect("valid template").progress_chars("=> ");
+        self.drawn(Some(len), style, message)
+    }
+
+    /// A transfer's hook that moves `bar`, only when progress is shown: a hook given to a
+    /// transfer takes the place of the one the bus was given.
+    pub fn transfer_hook(&self, bar: &ProgressBar) -> Option<crate::bus::TransferHook> {
+        let shown = bar.clone();
+        self.progress
+            .then(|| -> crate::bus::TransferHook { std::sync::Arc::new(move |b| shown.set_position(b as u64)) })
     }
 
     /// A progress display on stderr, or a hidden one when progress is not shown. Made

@@ -324,6 +324,34 @@ pub struct EdsReport {
 mod tests {
     use super::*;
 
+    #[test]
+    fn durations() {
+        assert_eq!(parse_duration("500ms").unwrap(), Duration::from_millis(500));
+        assert_eq!(parse_duration("2s").unwrap(), Duration::from_secs(2));
+        assert_eq!(parse_duration("1.5s").unwrap(), Duration::from_millis(1500));
+        // A number without a unit is refused, naming the units, whatever flag it is for.
+        for bare in ["250", "1.5", "0"] {
+            let e = parse_duration(bare).unwrap_err();
+            assert!(e.contains("has no unit") && e.contains("ms, s"), "{e}");
+        }
+        assert!(parse_duration("fast").is_err());
+        assert!(parse_duration("5h").is_err());
+        assert!(parse_duration("-1s").is_err());
+    }
+
+    #[test]
+    fn nodes() {
+        assert_eq!(parse_node("5"), Ok(5));
+        assert_eq!(parse_node("0x7F"), Ok(127));
+        assert!(parse_node("0").is_err());
+        assert!(parse_node("128").is_err());
+        assert!(parse_node("all").is_err());
+        let tpdo = number_in::<u16>("a TPDO number", 1, 512);
+        assert_eq!(tpdo("0x200"), Ok(512));
+        assert_eq!(tpdo("513").unwrap_err(), "'513' is not a TPDO number: use 1 to 512");
+        assert_eq!(number_in::<u8>("the EPOS2", 0, 0)("3").unwrap_err(), "'3' is not the EPOS2: use 0");
+    }
+
     fn parse(text: &str) -> Result<FileSettings, Error> {
         let dir = tempfile_dir();
         let path = dir.join("canctl.toml");

@@ -114,13 +114,20 @@ fn commands_over_the_simulated_adapter() {
 /// An adapter set to another rate than the bus hears nothing, and its status flags say why
 /// (frames nobody acknowledged): `sdo read` and `sdo write` end as `scan` does, with a link
 /// failure (exit 5) that names the bit rate and how to give the right one, not "node 1 did
-/// not answer" (exit 3).
+/// not answer" (exit 3); so do the other commands that read over SDO (`errors`, `config
+/// dump`), which ended with exit 3.
 #[test]
 fn a_wrong_bit_rate_in_the_address_is_a_link_failure_naming_it() {
     let sim = common::Sim::new();
     let dev = common::DeviceSide::start(&sim, "--slcan", &[]);
     let wrong = format!("{}@125k", dev.uri);
-    for args in [&["sdo", "read", "1", "1000"][..], &["sdo", "write", "5", "1017", "150"]] {
+    let commands = [
+        &["sdo", "read", "1", "1000"][..],
+        &["sdo", "write", "5", "1017", "150"],
+        &["errors", "5"],
+        &["config", "dump", "5"],
+    ];
+    for args in commands {
         let mut c = std::process::Command::new(common::canctl_bin());
         common::isolate(&mut c);
         c.env_remove("CANCTL_BUS").args(["--bus", &wrong, "--timeout", "200ms"]);

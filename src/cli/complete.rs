@@ -3,15 +3,9 @@
 //! fixed sets. It reads files only — never the bus — and must answer in milliseconds.
 
 use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
-use crate::canopen::types::ALL_TYPES;
-use crate::canopen::ObjAddr;
-use crate::connect::BusAddr;
-use crate::epos2::Framing;
-use crate::od::names;
 use crate::ops::scan_cache as cache;
 use clap::CommandFactory;
 use clap_complete::engine::CompletionCandidate;
-use std::collections::HashMap;
 
 /// Answer the shell's completion request (`COMPLETE=bash|zsh|fish|...`) and exit; without
 /// one, return.
@@ -98,42 +92,13 @@ fn bus(words: &[String]) -> Option<String> {
 }
 
 pub fn buses() -> Vec<CompletionCandidate> {
-    let mut out = vec![CompletionCandidate::new("sim").help(Some("the simulated demo network".into()))];
-    let candidate =
-        |addr: BusAddr, help: &'static str| CompletionCandidate::new(addr.to_string()).help(Some(help.into()));
-    for iface in crate::connect::can_interfaces() {
-        out.push(candidate(BusAddr::SocketCan { iface }, "CAN interface"));
-    }
-    for port in crate::connect::serial_ports() {
-        out.push(
-            CompletionCandidate::new(format!("slcan:{port}")).help(Some("slcan CAN adapter (CANable, CANUSB)".into())),
-        );
-        let baud = crate::connect::RS232_DEFAULT_BAUD;
-        out.push(candidate(
-            BusAddr::Epos2 { framing: Framing::Rs232, port: port.clone(), baud },
-            "maxon EPOS2 on RS232",
-        ));
-        let baud = crate::connect::USB_DEFAULT_BAUD;
-        out.push(candidate(BusAddr::Epos2 { framing: Framing::Usb, port, baud }, "maxon EPOS2 on USB"));
-    }
-    out
+    crate::output::completion::buses(crate::ops::completion::buses())
 }
 
 /// Node-ids of the last scan of the bus, with what they are.
 pub fn nodes() -> Vec<CompletionCandidate> {
     let Some(bus) = bus(&words()) else { return vec![] };
-    cache::load(&bus)
-        .into_iter()
-        .map(|n| {
-            let what = match (n.name, n.vendor_id) {
-                (Some(name), Some(v)) => format!("{name} (vendor 0x{v:08X})"),
-                (Some(name), None) => name,
-                (None, Some(v)) => format!("vendor 0x{v:08X}"),
-                (None, None) => "seen on the last scan".into(),
-            };
-            CompletionCandidate::new(n.node.to_string()).help(Some(what.into()))
-        })
-        .collect()
+    crate::output::completion::nodes(cache::load(&bus))
 }
 
 pub fn nodes_or_all() -> Vec<CompletionCandidate> {
@@ -142,23 +107,9 @@ pub fn nodes_or_all() -> Vec<CompletionCandidate> {
     out
 }
 
-/// Objects of the node named before the object on the command line (`sdo read NODE OBJ`):
-/// only those the node is known to have.
-///
-/// - The node's description, if one is known, lists them: an EDS/DCF/XDD given for it on
-///   the line or in canctl.toml, else the one its last scan was given or the one it stores
-///   in itself once `config eds --out` saved it (both kept in the scan cache). Only its
-///   objects are offered.
-/// - Without one: the objects CiA 301 makes mandatory (0x1000 device type, 0x1001 error
-///   register, 0x1018:0 and :1 identity; and 0x1017 producer heartbeat time, mandatory for
-///   every device without node guarding), the device-profile objects (0x6000-0x9FFF) of the
-///   built-in dictionary for the device type the scan read, and every object the node
-///   answered (the scan's reads, `sdo read`, `sdo write`). The built-in dictionary's other
-///   communication objects (PDOs, SDO channels, ...) are guesses a node may not have, and
-///   are not offered.
-/// - Never an object whose index the node refused (SDO abort 0x06020000), as remembered.
-/// - By name only where the command finds the object by that name (in the dictionary it
-///   uses: an EDS given now, else the built-in one); otherwise by address, named in the help.
+/// Objects of the node named before the object on the command line (`sdo read NODE OBJ`)
+/// that it is known to have ([`crate::ops::completion::objects`]), with the descriptions
+/// given on the line or in canctl.toml.
 pub fn objects() -> Vec<CompletionCandidate> {
     let w = words();
     let node = w
@@ -178,71 +129,7 @@ pub fn objects() -> Vec<CompletionCandidate> {
         Dictionaries::default()
     });
     let seen = bus(&w).and_then(|b| cache::load_all(&b).into_iter().find(|n| n.node == node));
-    // A description remembered from the scan that has since gone is no longer known.
-    let remembered = match &seen {
-        Some(n) if dicts.eds_for(node).is_none() => {
-            n.dictionary.as_deref().and_then(|p| crate::od::read_description(p).ok())
-        }
-        _ => None,
-    };
-    let described = dicts.eds_for(node).or(remembered.as_ref());
-    // Without a description, the built-in dictionary of the node's profile names them.
-    let profile = seen.as_ref().and_then(|n| n.device_type).map(|t| (t & 0xFFFF) as u16);
-    let dict = described.map_or_else(|| crate::od::builtin::dictionary(profile), |e| &e.dict);
-    let answered = |a: ObjAddr| seen.as_ref().is_some_and(|n| n.answered.contains(&(a.index, a.sub)));
-    let refused = |a: ObjAddr| seen.as_ref().is_some_and(|n| n.refused.contains(&a.index));
-    let known = |a: ObjAddr| described.is_some() || answered(a) || mandatory(a) || (0x6000..=0x9FFF).contains(&a.index);
-    let named: Vec<(&crate::od::Entry, String)> = dict
-        .entries()
-        .filter(|e| known(e.addr) && !refused(e.addr))
-        .map(|e| (e, dict.display_name(e.addr).unwrap_or_default()))
-        .collect();
-    // A name is offered only where it stands for one object (array subs share theirs).
-    let mut uses: HashMap<String, usize> = HashMap::new();
-    for (_, name) in &named {
-        *uses.entry(names::normalize(name)).or_default() += 1;
-    }
-    // Offered by name only where the command finds it by that name: it looks in the
-    // dictionary it uses for the node (an EDS given now, else the built-in one), which may
-    // not be the one that names the objects here. Indexed once: a large EDS has thousands.
-    let command_dict = dicts.for_node(node);
-    let mut command_names: HashMap<String, Vec<ObjAddr>> = HashMap::new();
-    for e in command_dict.entries() {
-        if let Some(name) = command_dict.display_name(e.addr) {
-            command_names.entry(names::normalize(&name)).or_default().push(e.addr);
-        }
-    }
-    let mut out = Vec::new();
-    let mut by_name = Vec::new();
-    for (e, name) in &named {
-        let kind = format!("{} {}", e.dtype, e.access.name());
-        out.push(CompletionCandidate::new(e.addr.to_string()).help(Some(format!("{name} ({kind})").into())));
-        let found = |word: &str| match command_names.get(&names::normalize(word)).map(Vec::as_slice) {
-            Some([one]) => *one == e.addr,
-            // Names alike, or not among the full names: as the command decides (rare).
-            _ => names::find(command_dict, word).is_ok_and(|a| a == e.addr),
-        };
-        if !name.is_empty() && uses[&names::normalize(name)] == 1 && found(&names::identifier(name)) {
-            by_name.push(
-                CompletionCandidate::new(names::identifier(name)).help(Some(format!("{} ({kind})", e.addr).into())),
-            );
-        }
-    }
-    // What the node answered that the dictionary does not describe is offered by address.
-    for (index, sub) in seen.iter().flat_map(|n| &n.answered) {
-        let addr = ObjAddr::new(*index, *sub);
-        if dict.get(addr).is_none() && !refused(addr) {
-            out.push(CompletionCandidate::new(addr.to_string()).help(Some("answered before".into())));
-        }
-    }
-    out.extend(by_name);
-    out
-}
-
-/// The objects CiA 301 requires of every device (0x1017 of every one without node
-/// guarding, which is optional and rare).
-fn mandatory(a: ObjAddr) -> bool {
-    matches!((a.index, a.sub), (0x1000 | 0x1001 | 0x1017, 0) | (0x1018, 0 | 1))
+    crate::output::completion::objects(crate::ops::completion::objects(node, &dicts, seen.as_ref()))
 }
 
 /// The positional words among `words`: flags and the values they take left out.
@@ -273,20 +160,11 @@ fn takes_value(cmd: &clap::Command, flag: &str) -> bool {
 }
 
 pub fn types() -> Vec<CompletionCandidate> {
-    ALL_TYPES
-        .iter()
-        .map(|t| CompletionCandidate::new(t.name()).help(Some(format!("CiA 301 type 0x{:04X}", t.code()).into())))
-        .collect()
+    crate::output::completion::types()
 }
 
-/// The CiA 305 bit timing table, reserved entries left out.
 pub fn bit_rates() -> Vec<CompletionCandidate> {
-    use crate::canopen::lss::{bit_rate_name, AUTO_BIT_RATE, BIT_TIMINGS};
-    BIT_TIMINGS
-        .iter()
-        .filter(|(i, kbit)| kbit.is_some() || *i == AUTO_BIT_RATE)
-        .map(|(i, _)| CompletionCandidate::new(bit_rate_name(*i)).help(Some(format!("CiA 305 table index {i}").into())))
-        .collect()
+    crate::output::completion::bit_rates()
 }
 
 #[cfg(test)]

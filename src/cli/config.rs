@@ -145,22 +145,13 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     });
     let mut eds = match read {
         Err(e) if e.is_interrupted() => {
-            let file = not_written(a.out.as_deref(), "EDS");
-            let not_done = vec![format!("reading node {}'s EDS (0x1021)", a.node), file];
-            let state = "nothing was changed on the device".to_string();
-            ctx.out.report(&crate::ops::Stopped::new("config eds", vec![], not_done, state))?;
-            return Err(e.into());
+            return crate::output::stopped::config_eds(&ctx.out, a.node, a.out.as_deref(), e)
         }
         other => other?,
     };
     match &a.out {
         Some(path) => {
-            crate::atomic::write_atomic(path, &eds.file)?;
-            eds.saved_to = Some(path.display().to_string());
-            // The node's own description, for completion to offer its objects.
-            if let (Some(_), Some(bus)) = (eds.objects, &ctx.bus) {
-                crate::ops::scan_cache::describe(bus, a.node, path);
-            }
+            eds.save(a.node, path, ctx.bus.as_deref())?;
             ctx.out.report(&eds)?;
         }
         // The file is the output: what was read is said on stderr.
@@ -188,27 +179,14 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         config::dump_as(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
     });
     let dump = match dump {
-        Err(e) if e.is_interrupted() => config::Dump {
-            node: a.node,
-            objects: 0,
-            interrupted: true,
-            wanted: 0,
-            source: String::new(),
-            dcf: Vec::new(),
-        },
+        // A stop the dump could not count objects for: said as one before the profile was read.
+        Err(e) if e.is_interrupted() => {
+            return crate::output::stopped::config_dump(&ctx.out, a.node, 0, 0, a.out.as_deref())
+        }
         other => other?,
     };
     if dump.interrupted {
-        let read = match dump.wanted {
-            0 => format!("node {}'s profile not read yet", a.node),
-            wanted => format!("read {} of {wanted} objects of node {}", dump.objects, a.node),
-        };
-        let file = not_written(a.out.as_deref(), "DCF");
-        let not_done = vec!["reading the other objects".to_string(), file];
-        let report =
-            crate::ops::Stopped::new("config dump", vec![read], not_done, "nothing was changed on the device".into());
-        ctx.out.report(&report)?;
-        return Err(crate::Error::Interrupted.into());
+        return crate::output::stopped::config_dump(&ctx.out, a.node, dump.objects, dump.wanted, a.out.as_deref());
     }
     match &a.out {
         Some(path) => {
@@ -218,16 +196,6 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
         None => ctx.out.write_bytes(&dump.dcf)?,
     }
     Ok(())
-}
-
-/// What an interrupted command did not write: `--out FILE` (kept as it was) or the `what`
-/// on standard output.
-fn not_written(out: Option<&Path>, what: &str) -> String {
-    match out {
-        Some(path) if path.exists() => format!("writing {} (the old file is unchanged)", path.display()),
-        Some(path) => format!("writing {} (no file made)", path.display()),
-        None => format!("the {what} on standard output (none printed: it would be incomplete)"),
-    }
 }
 
 /// The DCF, its warnings said on stderr.
@@ -269,15 +237,8 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     bars.finish();
     let report = report?;
     ctx.out.report(&report)?;
-    if report.failure.is_some() && a.dry_run {
-        ctx.out.note("dry run: a real run would stop at the refused write above; nothing was written");
-    } else if report.failure.is_some() && !report.interrupted {
-        // Said in every format: the JSON document lists it too, but a person reads this.
-        let done: Vec<String> = report.written.iter().map(|w| w.to_string()).collect();
-        ctx.out.note(&format!(
-            "written before the failure: {}",
-            if done.is_empty() { "nothing".into() } else { done.join(", ") }
-        ));
+    if let Some(note) = crate::output::applied_failure_note(&report) {
+        ctx.out.note(&note);
     }
     Ok(report.outcome()?)
 }

@@ -3,8 +3,8 @@
 
 use super::Ctx;
 use crate::output::docs::registration;
-use clap::CommandFactory;
 use clap::Args;
+use clap::CommandFactory;
 use clap_complete::Shell;
 use std::path::{Path, PathBuf};
 

@@ -6,7 +6,6 @@ use crate::bus::Bus;
 use crate::canopen::cia402::Goal;
 use crate::error::Error;
 use crate::ops::drive::{self, Options, Source, Watch};
-use crate::ops::nmt::{self, StateOptions};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -89,7 +88,11 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<(
 fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
     let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node, ctx.timeout)) {
         Err(e) if e.is_interrupted() => {
-            return super::interrupt::stopped_reading(ctx, "drive status", format!("reading node {}'s state", a.node))
+            return crate::output::stopped::reading(
+                &ctx.out,
+                "drive status",
+                format!("reading node {}'s state", a.node),
+            )
         }
         report => report?,
     };
@@ -97,10 +100,7 @@ fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
     if !a.watch {
         return Ok(());
     }
-    let operational = bus.sees_traffic()
-        && nmt::state(bus, a.node, &StateOptions { listen: Duration::from_millis(300), timeout: ctx.timeout })
-            .is_ok_and(|s| s.state == crate::canopen::nmt::State::Operational);
-    let mut watch = Watch::new(bus, a.node, operational, a.interval, ctx.timeout)?;
+    let mut watch = Watch::new(bus, a.node, a.interval, ctx.timeout)?;
     ctx.out.note(&match watch.source() {
         Source::Tpdo { cob_id, .. } => format!("node {}: watching the statusword in TPDO 0x{cob_id:03X}", a.node),
         Source::Sdo(i) => format!("node {}: reading the statusword by SDO every {} ms", a.node, i.as_millis()),
@@ -109,14 +109,10 @@ fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
     let mut out = std::io::BufWriter::new(stdout.lock());
     ctx.out.stream_start::<drive::Change>(&mut out)?;
     let mut last = None;
-    while !ctx.cancel.is_cancelled() {
-        // Short rounds, so that an interruption is seen within one.
-        let until = bus.now() + Duration::from_millis(100);
-        if let Some(change) = watch.next(bus, until)? {
-            ctx.out.line(&mut out, &change)?;
-            std::io::Write::flush(&mut out)?;
-            last = Some(change);
-        }
+    while let Some(change) = watch.next_until(bus, &ctx.cancel)? {
+        ctx.out.line(&mut out, &change)?;
+        std::io::Write::flush(&mut out)?;
+        last = Some(change);
     }
     if let Some(c) = last {
         ctx.out.note(&format!("node {}: last seen {}", a.node, drive::state_text(c.state, c.statusword)));

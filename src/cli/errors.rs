@@ -29,14 +29,17 @@ pub struct ErrorsArgs {
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
-    let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        errors::errors(bus, a.node, a.clear, ctx.timeout)
-    }) {
-        Err(e) if e.is_interrupted() => {
-            return super::interrupt::stopped_reading(ctx, "errors", format!("reading node {}'s error history", a.node))
-        }
-        report => report?,
-    };
+    let report =
+        match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node, a.clear, ctx.timeout)) {
+            Err(e) if e.is_interrupted() => {
+                return crate::output::stopped::reading(
+                    &ctx.out,
+                    "errors",
+                    format!("reading node {}'s error history", a.node),
+                )
+            }
+            report => report?,
+        };
     ctx.out.report(&report)?;
     match report.clear_interrupted {
         Some(_) => Err(crate::Error::Interrupted.into()),

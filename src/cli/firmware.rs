@@ -75,7 +75,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Resul
                 match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout)) {
                     Err(e) if e.is_interrupted() => {
                         let what = format!("reading node {}'s program objects", a.node);
-                        return super::interrupt::stopped_reading(ctx, "firmware status", what);
+                        return crate::output::stopped::reading(&ctx.out, "firmware status", what);
                     }
                     report => report?,
                 };
@@ -87,13 +87,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Resul
 
 fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()> {
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
-    let bar = ctx.out.bar(image.len() as u64, &format!("0x1F50:{}", a.program));
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {bytes}/{total_bytes} {bytes_per_sec}, {eta} left")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    let shown = bar.clone();
+    let bar = ctx.out.bytes_bar(image.len() as u64, &format!("0x1F50:{}", a.program));
     let mut o = DownloadOptions::new(ctx.timeout);
     o.program = a.program;
     o.force = a.force;
@@ -101,10 +95,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     o.busy_wait = a.busy_wait;
     o.confirm = !a.no_confirm;
     o.cancel = Some(ctx.cancel.clone());
-    o.watch = ctx
-        .out
-        .progress
-        .then(|| -> crate::bus::TransferHook { std::sync::Arc::new(move |bytes| shown.set_position(bytes as u64)) });
+    o.watch = ctx.out.transfer_hook(&bar);
     let mut steps = ctx.out.progress();
     if let [node] = a.nodes[..] {
         if !ctx.out.junit {

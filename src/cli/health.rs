@@ -42,7 +42,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
         health::health(bus, &options, &mut ctx.out.progress())
     }) {
         Err(e) if e.is_interrupted() => {
-            return super::interrupt::stopped_reading(ctx, "health", "scanning and judging the nodes".into())
+            return crate::output::stopped::reading(&ctx.out, "health", "scanning and judging the nodes".into())
         }
         report => report?,
     };

@@ -27,10 +27,3 @@ pub fn install() -> Cancel {
     });
     REQUESTED.clone()
 }
-
-/// A read-only command stopped part-way: its report says only that nothing was changed.
-pub fn stopped_reading(ctx: &super::Ctx, command: &str, not_done: String) -> anyhow::Result<()> {
-    let state = "nothing was changed on the device".to_string();
-    ctx.out.report(&crate::ops::Stopped::new(command, Vec::new(), vec![not_done], state))?;
-    Err(crate::Error::Interrupted.into())
-}

@@ -4,7 +4,7 @@ use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::lss::{parse_bit_rate, Identity, UNCONFIGURED};
 use crate::error::Error;
-use crate::ops::lss::{self, AssignOptions, FastscanOptions, RefusedRate, Setting};
+use crate::ops::lss::{self, AssignOptions, FastscanOptions, Setting};
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -207,12 +207,12 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
     // configuration state.
     let (t, stop) = (ctx.timeout, &ctx.cancel);
     let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> anyhow::Result<()> {
-        let done = lss::configure(bus, t, target.get(setting.verb())?, setting, stop)?;
+        let target = target.get(setting.verb())?;
+        let done = match setting {
+            Setting::BitRate(index) => lss::set_baud(bus, t, target, index, ctx.bus.as_deref(), stop)?,
+            _ => lss::configure(bus, t, target, setting, stop)?,
+        };
         ctx.out.report(&done)?;
-        // What `lss activate` must know: whether the last global rate was refused by some.
-        if let (Setting::BitRate(index), Some(uri), Some(_)) = (setting, &ctx.bus, &done.tally) {
-            RefusedRate::remember(uri, RefusedRate::of(&done, index).as_ref());
-        }
         if done.interrupted {
             return Err(crate::Error::Interrupted.into());
         }
@@ -231,14 +231,8 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()>
         LssCommand::Store(a) => set(bus, a, Setting::Store)?,
         LssCommand::Activate(a) => {
             let target = a.target.get("activate")?;
-            let uri = ctx.bus.as_deref().filter(|_| target == lss::Target::All);
-            if let Some(refused) = uri.and_then(RefusedRate::last) {
-                ctx.out.note(&refused.warning());
-            }
-            ctx.out.report(&lss::activate(bus, t, target, a.delay)?)?;
-            if let Some(uri) = uri {
-                RefusedRate::remember(uri, None);
-            }
+            let network = ctx.bus.as_deref();
+            ctx.out.report(&lss::activate_on(bus, t, target, a.delay, network, &mut ctx.out.progress())?)?
         }
         LssCommand::Fastscan(a) => {
             no_node(a.node, "fastscan")?;

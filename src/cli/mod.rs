@@ -31,8 +31,8 @@ use std::time::Duration;
 
 pub use crate::output::diagnostics::install as install_diagnostics;
 pub use crate::output::docs::{completion_scripts, write_completions};
-pub use docs::man_pages;
 pub use complete::complete_from_env;
+pub use docs::man_pages;
 
 /// `canctl --version`: what a bug report needs to name the binary exactly (build.rs).
 /// `-V` and the man pages keep the plain version, so they do not change with every commit.
@@ -260,14 +260,20 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     Ok(())
 }
 
-/// A node that did not answer: say which nodes the last scan of this bus saw. An object
+/// A node that did not answer: the link's failure when it has one, else which nodes the last
+/// scan of this bus saw. An object
 /// the node does not have: name the dictionary's objects nearest to it that the node has.
 fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(bus)) => {
-            crate::output::last_scan_hint(bus, &crate::ops::scan_cache::load(bus))
+        (Some(Error::NoAnswer { what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(addr)) => {
+            // Nothing answered: the link may know why (an adapter at another bit rate), and
+            // then every command ends as `sdo read` does, not only those that ask it.
+            if let Err(link) = crate::ops::unheard::check(bus) {
+                return link.into();
+            }
+            crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr))
         }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
             let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
@@ -376,34 +382,6 @@ pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn durations() {
-        assert_eq!(parse_duration("500ms").unwrap(), Duration::from_millis(500));
-        assert_eq!(parse_duration("2s").unwrap(), Duration::from_secs(2));
-        assert_eq!(parse_duration("1.5s").unwrap(), Duration::from_millis(1500));
-        // A number without a unit is refused, naming the units, whatever flag it is for.
-        for bare in ["250", "1.5", "0"] {
-            let e = parse_duration(bare).unwrap_err();
-            assert!(e.contains("has no unit") && e.contains("ms, s"), "{e}");
-        }
-        assert!(parse_duration("fast").is_err());
-        assert!(parse_duration("5h").is_err());
-        assert!(parse_duration("-1s").is_err());
-    }
-
-    #[test]
-    fn nodes() {
-        assert_eq!(parse_node("5"), Ok(5));
-        assert_eq!(parse_node("0x7F"), Ok(127));
-        assert!(parse_node("0").is_err());
-        assert!(parse_node("128").is_err());
-        assert!(parse_node("all").is_err());
-        let tpdo = number_in::<u16>("a TPDO number", 1, 512);
-        assert_eq!(tpdo("0x200"), Ok(512));
-        assert_eq!(tpdo("513").unwrap_err(), "'513' is not a TPDO number: use 1 to 512");
-        assert_eq!(number_in::<u8>("the EPOS2", 0, 0)("3").unwrap_err(), "'3' is not the EPOS2: use 0");
-    }
 
     #[test]
     fn clap_definition_is_consistent() {

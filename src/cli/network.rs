@@ -302,11 +302,8 @@ fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()>
     // Ctrl-C before the activation: every device back to waiting, nothing switched; after
     // it, the switch is finished and reported.
     let report = network::set_baud(bus, loaded.as_ref(), &options, &mut ctx.out.progress())?;
-    let updated = match (a.update_project, report.activated, &loaded) {
-        (true, true, Some(loaded)) => {
-            let kbit = crate::canopen::lss::BIT_TIMINGS[a.rate as usize].1.expect("a fixed rate");
-            project_files::update_bit_rate(loaded, kbit)?
-        }
+    let updated = match (a.update_project, &loaded) {
+        (true, Some(loaded)) => project_files::follow_switch(loaded, report.activated, a.rate)?,
         _ => Vec::new(),
     };
     let hint = crate::output::switch_hint(ctx.bus.as_deref(), a.rate);

@@ -5,7 +5,6 @@ use crate::bus::{Bus, ALL_NODES};
 use crate::canopen::nmt::Command;
 use crate::error::Error;
 use crate::ops::nmt::{self, ResetOptions, StateOptions};
-use crate::ops::Stopped;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -79,7 +78,7 @@ fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Resu
     let send = |bus: &mut dyn Bus, command: Command, target: u8| -> anyhow::Result<()> {
         match nmt::send(bus, command, target) {
             Ok(sent) => Ok(ctx.out.report(&sent)?),
-            Err(e) => not_sent(ctx, command.name(), target, e),
+            Err(e) => crate::output::stopped::nmt_not_sent(&ctx.out, command.name(), target, e),
         }
     };
     match cmd {
@@ -92,7 +91,7 @@ fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Resu
             let (target, o) = reset(a);
             let report = match nmt::reset(bus, command, target, &o) {
                 Ok(report) => report,
-                Err(e) => return not_sent(ctx, command.name(), target, e),
+                Err(e) => return crate::output::stopped::nmt_not_sent(&ctx.out, command.name(), target, e),
             };
             ctx.out.report(&report)?;
             if report.interrupted {
@@ -104,30 +103,13 @@ fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Resu
             let o = StateOptions { listen: a.listen, timeout: ctx.timeout };
             match nmt::state(bus, a.node, &o) {
                 Ok(state) => Ok(ctx.out.report(&state)?),
-                Err(e) if e.is_interrupted() => {
-                    let not_done = vec![format!("learning the NMT state of node {}", a.node)];
-                    let state = "nothing was changed on the device".to_string();
-                    ctx.out.report(&Stopped::new("nmt state", Vec::new(), not_done, state))?;
-                    Err(Error::Interrupted.into())
-                }
+                Err(e) if e.is_interrupted() => crate::output::stopped::reading(
+                    &ctx.out,
+                    "nmt state",
+                    format!("learning the NMT state of node {}", a.node),
+                ),
                 Err(e) => Err(e.into()),
             }
         }
     }
-}
-
-/// A command stopped by the user before it went out: said so, exit 130.
-fn not_sent(ctx: &Ctx, name: &str, target: u8, e: Error) -> anyhow::Result<()> {
-    if !e.is_interrupted() {
-        return Err(e.into());
-    }
-    let whom = nmt::target_text(target);
-    let report = Stopped::new(
-        &format!("nmt {name}"),
-        Vec::new(),
-        vec![format!("NMT {name} to {whom}")],
-        format!("nothing was sent: {whom} is in the state it was in"),
-    );
-    ctx.out.report(&report)?;
-    Err(Error::Interrupted.into())
 }

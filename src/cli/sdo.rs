@@ -121,15 +121,14 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     }
     let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
     let bar = ctx.out.counter(&format!("node {}: reading {object}", a.node));
-    let shown = bar.clone();
-    let watch: crate::bus::TransferHook = std::sync::Arc::new(move |bytes| shown.set_position(bytes as u64));
-    // Only when shown: a hook given here takes the place of one the bus was given.
-    let watch = ctx.out.progress.then_some(watch);
+    let watch = ctx.out.transfer_hook(&bar);
     let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, watch);
     bar.finish_and_clear();
     remember(ctx, a.node, object, &read);
     let read = match read {
-        Err(e) => return stopped(ctx, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e),
+        Err(e) => {
+            return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e)
+        }
         Ok(read) => read,
     };
     match &a.out {
@@ -145,7 +144,7 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
     let written = sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o);
     remember(ctx, a.node, object, &written);
     let written = match written {
-        Err(e) => return stopped(ctx, sdo::stopped(a.node, object, true, &e), None, e),
+        Err(e) => return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node, object, true, &e), None, e),
         Ok(written) => written,
     };
     ctx.out.report(&written)?;
@@ -160,22 +159,6 @@ fn remember<T>(ctx: &Ctx, node: u8, object: crate::canopen::ObjAddr, outcome: &c
     if let Some(bus) = &ctx.bus {
         crate::ops::scan_cache::note(bus, node, object, outcome);
     }
-}
-
-/// A transfer the user stopped: its report, then exit 130; any other error as it is.
-fn stopped(
-    ctx: &Ctx,
-    report: Option<crate::ops::Stopped>,
-    out: Option<&std::path::Path>,
-    e: crate::Error,
-) -> anyhow::Result<()> {
-    let Some(mut report) = report else { return Err(e.into()) };
-    if let Some(path) = out {
-        let old = if path.exists() { "the old file is unchanged" } else { "nothing written" };
-        report.not_done.push(format!("{} ({old})", path.display()));
-    }
-    ctx.out.report(&report)?;
-    Err(crate::Error::Interrupted.into())
 }
 
 #[cfg(test)]

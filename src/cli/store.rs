@@ -3,8 +3,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::ops::store::Timeouts;
-use crate::ops::store_all::{restore_nodes, store_nodes, EachNode, Ended};
-use crate::output::{sentence, Each, Report};
+use crate::ops::store_all::{restore_nodes, store_nodes};
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -70,48 +69,14 @@ fn node_list(s: &str, one: fn(&str) -> Result<u8, String>) -> Result<Nodes, Stri
     Ok(Nodes(nodes))
 }
 
-/// Render a run over several nodes. One node: its report. Several: their reports together;
-/// stopped part-way, which nodes were done and which were not; failed, the reports of
-/// those done, then the error.
-fn render<R: Report + serde::Serialize>(
-    ctx: &Ctx,
-    command: &str,
-    nodes: &[u8],
-    run: EachNode<R>,
-) -> anyhow::Result<()> {
-    let EachNode { done, ended } = run;
-    let i = done.len();
-    match ended {
-        Some(Ended::Stopped(mut report)) => {
-            if nodes.len() > 1 {
-                let before = done.iter().filter_map(sentence);
-                report.done = before.chain(report.done).collect();
-                report.not_done.extend(nodes[i + 1..].iter().map(|n| format!("{command} on node {n}")));
-            }
-            ctx.out.report(&report)?;
-            Err(crate::Error::Interrupted.into())
-        }
-        Some(Ended::Failed(e)) => {
-            if !done.is_empty() {
-                ctx.out.report(&Each(done))?;
-                let list: Vec<String> = nodes[i..].iter().map(|n| n.to_string()).collect();
-                ctx.out.note(&format!("{command} not done on node {}", list.join(", ")));
-            }
-            Err(e.into())
-        }
-        None if done.len() == 1 => Ok(ctx.out.report(&done[0])?),
-        None => Ok(ctx.out.report(&Each(done))?),
-    }
-}
-
 pub fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
     let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| store_nodes(bus, &a.node.0, a.class, t));
-    render(ctx, "store", &a.node.0, run)
+    crate::output::stopped::each_node(&ctx.out, "store", &a.node.0, run)
 }
 
 pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<()> {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
     let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| restore_nodes(bus, &a.node.0, a.class, t, a.reset));
-    render(ctx, "restore", &a.node.0, run)
+    crate::output::stopped::each_node(&ctx.out, "restore", &a.node.0, run)
 }

@@ -4,7 +4,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::error::Error;
-use crate::ops::pdo::{self, Session, Stream, StreamOptions};
+use crate::ops::pdo::{Session, Stream, StreamOptions};
 use crate::ops::stream_setup::{prepare, Prepared, Setup};
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
@@ -63,8 +63,8 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
     let restored = session.restore(bus, a.node, ctx.timeout);
-    if let Ok(r) = &restored {
-        say_restored(ctx, a.node, r);
+    for line in restored.as_ref().map_or(Vec::new(), |r| crate::output::records::restored_lines(a.node, r)) {
+        ctx.out.note(&line);
     }
     let interrupted = ctx.cancel.is_cancelled();
     result?;
@@ -73,16 +73,6 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
         return Err(Error::Interrupted.into());
     }
     Ok(())
-}
-
-/// What was put back, said however the stream ended (README promises it).
-fn say_restored(ctx: &Ctx, node: u8, r: &pdo::Restored) {
-    if let Some(n) = r.tpdo {
-        ctx.out.note(&format!("put back node {node}'s TPDO{n} mapping and parameters as they were"));
-    }
-    if let Some(state) = r.state {
-        ctx.out.note(&format!("node {node} back to {state}"));
-    }
 }
 
 fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> anyhow::Result<()> {
@@ -111,20 +101,9 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
         silence: Some(silence),
     };
     let mut stream = Stream::new(bus, a.node, &layouts, opts, &ctx.cancel);
-    for (n, l) in &layouts {
-        let names: Vec<&str> = l.fields.iter().map(|f| f.name.as_str()).collect();
-        let how = if stream.polling() {
-            format!(", polled by remote frame every {} ms", a.interval.as_millis())
-        } else {
-            String::new()
-        };
-        ctx.out.note(&format!(
-            "node {} TPDO{n} (0x{:03X}, {} bytes{how}): {}",
-            a.node,
-            l.cob_id,
-            l.len(),
-            names.join(", ")
-        ));
+    let polled = stream.polling().then_some(a.interval);
+    for line in crate::output::records::tpdo_lines(a.node, &layouts, polled) {
+        ctx.out.note(&line);
     }
     let mut records = ctx.out.records(a.node, &layouts)?;
     let mut progress = ctx.out.progress();

@@ -373,6 +373,12 @@ pub enum Source {
     Sdo(Duration),
 }
 
+/// Whether the node says it is operational (its heartbeat, else node guarding).
+fn operational(bus: &mut dyn Bus, node: u8, timeout: Duration) -> bool {
+    let o = super::nmt::StateOptions { listen: Duration::from_millis(300), timeout };
+    super::nmt::state(bus, node, &o).is_ok_and(|s| s.state == crate::canopen::nmt::State::Operational)
+}
+
 /// The statusword as it changes, until the caller stops asking.
 pub struct Watch {
     node: u8,
@@ -383,11 +389,11 @@ pub struct Watch {
 
 impl Watch {
     /// Watch by the TPDO that carries the statusword when the bus sees the node's traffic
-    /// and the node is operational (`operational`, which the caller learned); by SDO
-    /// polling every `interval` otherwise.
-    pub fn new(bus: &mut dyn Bus, node: u8, operational: bool, interval: Duration, timeout: Duration) -> Result<Watch> {
+    /// and the node is operational (only then does it send its TPDOs); by SDO polling every
+    /// `interval` otherwise, or when its NMT state cannot be learned.
+    pub fn new(bus: &mut dyn Bus, node: u8, interval: Duration, timeout: Duration) -> Result<Watch> {
         let mut source = Source::Sdo(interval);
-        if bus.sees_traffic() && operational {
+        if bus.sees_traffic() && operational(bus, node, timeout) {
             if let Some((cob_id, layout)) = statusword_tpdo(bus, node, timeout)? {
                 let offset = statusword_offset(&layout).unwrap_or(0);
                 source = Source::Tpdo { cob_id, offset, layout };
@@ -398,6 +404,18 @@ impl Watch {
 
     pub fn source(&self) -> &Source {
         &self.source
+    }
+
+    /// The next change of the statusword; None once `cancel` is set. It waits in short
+    /// rounds, so that an interruption is seen within one.
+    pub fn next_until(&mut self, bus: &mut dyn Bus, cancel: &Cancel) -> Result<Option<Change>> {
+        while !cancel.is_cancelled() {
+            let until = bus.now() + Duration::from_millis(100);
+            if let Some(change) = self.next(bus, until)? {
+                return Ok(Some(change));
+            }
+        }
+        Ok(None)
     }
 
     /// The next change of the statusword; None when `until` passed first (the caller checks
@@ -537,5 +555,21 @@ mod tests {
         let w = walk(&mut bus, 1, Goal::Enable, &o, &Cancel::new()).unwrap();
         assert_eq!(w.stopped, None, "{w:?}");
         assert_eq!(w.state, Some(State::OperationEnabled), "{w:?}");
+    }
+
+    /// The watch decides by the node's NMT state: a pre-operational drive sends no TPDO, so
+    /// it is read by SDO; once started, its statusword comes from the TPDO that maps it.
+    #[test]
+    fn a_watch_takes_the_tpdo_only_of_an_operational_node() {
+        use crate::canopen::nmt::Command as Nmt;
+        use crate::sim::{SimConfig, SimLink};
+        let config = SimConfig::instant().virtual_time(true);
+        let mut bus = crate::bus::Master::new(SimLink::with_config(config).on_virtual_time(0), "sim".into());
+        let (interval, timeout) = (Duration::from_millis(200), Duration::from_millis(100));
+        let watch = Watch::new(&mut bus, 1, interval, timeout).unwrap();
+        assert!(matches!(watch.source(), Source::Sdo(i) if *i == interval), "{:?}", watch.source());
+        bus.nmt(Nmt::Start, 1).unwrap();
+        let watch = Watch::new(&mut bus, 1, interval, timeout).unwrap();
+        assert!(matches!(watch.source(), Source::Tpdo { .. }), "{:?}", watch.source());
     }
 }

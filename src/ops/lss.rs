@@ -283,6 +283,46 @@ pub fn configure(
     Ok(Configured { command: setting.verb(), target: target.text(), result, answers, tally, interrupted, failure })
 }
 
+/// `lss set-baud`: [`configure`] the bit rate `index`. On the network at `network`, a global
+/// one that some devices refused is remembered ([`RefusedRate`]) for [`activate_on`] to warn
+/// of, and one that every device took forgets it.
+pub fn set_baud(
+    bus: &mut dyn Bus,
+    timeout: Duration,
+    target: Target,
+    index: u8,
+    network: Option<&str>,
+    interrupted: &Cancel,
+) -> Result<Configured> {
+    let done = configure(bus, timeout, target, Setting::BitRate(index), interrupted)?;
+    if let (Some(network), Some(_)) = (network, &done.tally) {
+        RefusedRate::remember(network, RefusedRate::of(&done, index).as_ref());
+    }
+    Ok(done)
+}
+
+/// `lss activate` on the network at `network`: a global one first warns (through
+/// `progress`) of the devices the last global set-baud left behind, then, once activated,
+/// forgets them.
+pub fn activate_on(
+    bus: &mut dyn Bus,
+    timeout: Duration,
+    target: Target,
+    delay_ms: u16,
+    network: Option<&str>,
+    progress: &mut dyn Progress,
+) -> Result<Activated> {
+    let network = network.filter(|_| target == Target::All);
+    if let Some(refused) = network.and_then(RefusedRate::last) {
+        progress.note(&refused.warning());
+    }
+    let done = activate(bus, timeout, target, delay_ms)?;
+    if let Some(network) = network {
+        RefusedRate::remember(network, None);
+    }
+    Ok(done)
+}
+
 /// A global "configure bit timing" that some devices refused, remembered per network (in
 /// the cache, as the last scan is) until the next global set-baud or activation, so that
 /// `lss activate` can warn that it would strand them. Like any cache, a failure to read or

@@ -8,6 +8,7 @@ pub use event::{Event, Notice, Warning};
 
 pub mod check;
 pub mod clash;
+pub mod completion;
 pub mod config;
 pub mod counted;
 pub mod dictionaries;

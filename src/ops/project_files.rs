@@ -54,3 +54,13 @@ pub fn update_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<PathBuf>> {
     }
     Ok(updated)
 }
+
+/// After `network set-baud` to the bit rate `index`: when the devices were switched
+/// (`activated`), the project's DCFs follow ([`update_bit_rate`]); otherwise none is
+/// touched. The files written, in order.
+pub fn follow_switch(loaded: &Loaded, activated: bool, index: u8) -> Result<Vec<PathBuf>> {
+    match crate::canopen::lss::BIT_TIMINGS.get(index as usize).and_then(|(_, kbit)| *kbit) {
+        Some(kbit) if activated => update_bit_rate(loaded, kbit),
+        _ => Ok(Vec::new()),
+    }
+}

@@ -8,6 +8,20 @@ use crate::od::stored::{self, STORAGE_FORMAT, STORE_EDS};
 use serde::Serialize;
 use std::time::Duration;
 
+impl StoredEds {
+    /// Write the file to `path` (whole or not at all) and, on the network at `network`,
+    /// remember it as the node's description when it lists objects, so that completion
+    /// offers them.
+    pub fn save(&mut self, node: u8, path: &std::path::Path, network: Option<&str>) -> Result<()> {
+        crate::atomic::write_atomic(path, &self.file)?;
+        self.saved_to = Some(path.display().to_string());
+        if let (Some(_), Some(network)) = (self.objects, network) {
+            super::scan_cache::describe(network, node, path);
+        }
+        Ok(())
+    }
+}
+
 /// The description a node gave.
 #[derive(Debug, Serialize)]
 pub struct StoredEds {

@@ -58,3 +58,28 @@ impl Records {
         self.out.flush()
     }
 }
+
+/// What the stream reads from each TPDO (`polled`: by remote frame at this interval), said
+/// before the first record.
+pub(crate) fn tpdo_lines(node: u8, layouts: &[(u16, Layout)], polled: Option<Duration>) -> Vec<String> {
+    let how = polled.map_or(String::new(), |i| format!(", polled by remote frame every {} ms", i.as_millis()));
+    layouts
+        .iter()
+        .map(|(n, l)| {
+            let names: Vec<&str> = l.fields.iter().map(|f| f.name.as_str()).collect();
+            format!("node {node} TPDO{n} (0x{:03X}, {} bytes{how}): {}", l.cob_id, l.len(), names.join(", "))
+        })
+        .collect()
+}
+
+/// What was put back after a stream, said however the stream ended (README promises it).
+pub(crate) fn restored_lines(node: u8, r: &crate::ops::pdo::Restored) -> Vec<String> {
+    let mut lines = Vec::new();
+    if let Some(n) = r.tpdo {
+        lines.push(format!("put back node {node}'s TPDO{n} mapping and parameters as they were"));
+    }
+    if let Some(state) = r.state {
+        lines.push(format!("node {node} back to {state}"));
+    }
+    lines
+}

@@ -171,6 +171,21 @@ impl Report for Applied {
     }
 }
 
+/// What a person must read after a failed `config apply`, in every format (the JSON
+/// document lists it too): what a dry run would stop at, or what was written before the
+/// failure.
+pub fn applied_failure_note(report: &Applied) -> Option<String> {
+    report.failure.as_ref()?;
+    if report.dry_run {
+        return Some("dry run: a real run would stop at the refused write above; nothing was written".into());
+    }
+    if report.interrupted {
+        return None;
+    }
+    let done: Vec<String> = report.written.iter().map(|w| w.to_string()).collect();
+    Some(format!("written before the failure: {}", if done.is_empty() { "nothing".into() } else { done.join(", ") }))
+}
+
 impl Line for Event {
     const CSV_HEADER: &'static [&'static str] = &["time", "cob", "node", "kind", "text"];
     fn json(&self) -> J {
