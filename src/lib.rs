@@ -61,7 +61,7 @@ pub const LAYERS: &[&[&str]] = &[
     &["frame", "serial", "xdg"],
 ];
 
-pub mod atomic;
+pub(crate) mod atomic;
 pub mod backend;
 pub mod bus;
 pub mod cancel;
@@ -71,7 +71,7 @@ pub mod cli;
 pub mod connect;
 pub mod error;
 pub mod frame;
-pub mod hint;
+pub(crate) mod hint;
 pub mod input;
 pub mod od;
 pub mod ops;
@@ -81,8 +81,8 @@ pub mod serial;
 pub mod settings;
 pub mod sim;
 pub mod slcan;
-pub mod trace;
-pub mod xdg;
+pub(crate) mod trace;
+pub(crate) mod xdg;
 
 pub use error::{Error, Result};
 pub mod epos2;

@@ -10,8 +10,8 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
 mod check;
-pub mod diagnostics;
-pub mod docs;
+pub(crate) mod diagnostics;
+pub(crate) mod docs;
 mod drive;
 mod events;
 mod firmware;

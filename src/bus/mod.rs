@@ -3,11 +3,11 @@
 //! the decorators that observe, trace or stop a bus. The backends are in [`crate::backend`];
 //! [`crate::connect`] opens one from a bus address.
 
-pub mod clock;
-pub mod frame_log;
+pub(crate) mod clock;
+pub(crate) mod frame_log;
 pub mod lss;
-pub mod master;
-pub mod observer;
+pub(crate) mod master;
+pub(crate) mod observer;
 pub mod stoppable;
 pub mod tap;
 
@@ -16,7 +16,7 @@ use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::frame::Frame;
-pub use crate::trace;
+pub(crate) use crate::trace;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 

@@ -3,10 +3,10 @@
 //! are written from it, and object names resolve through it.
 
 pub mod builtin;
-pub mod cpj;
+pub(crate) mod cpj;
 pub mod eds;
 pub mod lint;
-pub mod names;
+pub(crate) mod names;
 pub mod stored;
 pub mod xdd;
 

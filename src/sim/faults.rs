@@ -240,10 +240,6 @@ impl Conduct {
         Conduct { faults, ..Conduct::default() }
     }
 
-    pub fn is_muted(&self) -> bool {
-        self.muted
-    }
-
     /// Whether a reboot fault fired since the last call.
     pub fn take_reboot(&mut self) -> bool {
         std::mem::take(&mut self.reboot)

@@ -3,15 +3,15 @@
 
 pub mod bootloader;
 pub mod bridge;
-pub mod cia402_drive;
-pub mod device;
+pub(crate) mod cia402_drive;
+pub(crate) mod device;
 pub mod epos2_device;
 #[cfg(unix)]
 pub mod epos2_serve;
-pub mod faults;
+pub(crate) mod faults;
 pub mod profiles;
 #[cfg(unix)]
-pub mod pty;
+pub(crate) mod pty;
 pub mod serial_fault;
 pub mod serve;
 #[cfg(unix)]

@@ -4,9 +4,9 @@
 //! owns the link, the clock and the timeouts.
 
 pub mod client;
-pub mod retry;
-pub mod server;
-pub mod wire;
+pub(crate) mod retry;
+pub(crate) mod server;
+pub(crate) mod wire;
 
 pub use client::{SdoClient, SdoError, Step};
 pub use server::{ObjectAccess, SdoServer};
