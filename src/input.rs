@@ -17,7 +17,7 @@ pub const MAX_EDS_BYTES: u64 = 16 << 20;
 pub const MAX_VALUE_BYTES: u64 = 64 << 20;
 
 /// How long a pipe or device may stay silent before a value read from it is given up.
-pub const VALUE_IDLE_LIMIT: Duration = Duration::from_secs(10);
+pub(crate) const VALUE_IDLE_LIMIT: Duration = Duration::from_secs(10);
 
 #[derive(Debug, thiserror::Error)]
 pub enum InputError {
@@ -52,7 +52,7 @@ pub const VALUE: Limit = Limit { bytes: MAX_VALUE_BYTES, what: "a value file" };
 
 /// A regular file, whole, if it is no larger than `limit`. FIFOs, devices and directories
 /// are refused without reading (and without blocking on opening them).
-pub fn read_regular_file(path: &Path, limit: Limit) -> Result<Vec<u8>, InputError> {
+pub(crate) fn read_regular_file(path: &Path, limit: Limit) -> Result<Vec<u8>, InputError> {
     let shown = path.display().to_string();
     let file = open_nonblocking(path).map_err(|source| InputError::Io { path: shown.clone(), source })?;
     let meta = file.metadata().map_err(|source| InputError::Io { path: shown.clone(), source })?;
@@ -67,7 +67,7 @@ pub fn read_regular_file(path: &Path, limit: Limit) -> Result<Vec<u8>, InputErro
 
 /// A value file: a regular file, or a pipe or device read until its end within `limit`
 /// bytes and `idle` silence. `-` is standard input, likewise bounded.
-pub fn read_value_file(path: &str, limit: Limit, idle: Duration) -> Result<Vec<u8>, InputError> {
+pub(crate) fn read_value_file(path: &str, limit: Limit, idle: Duration) -> Result<Vec<u8>, InputError> {
     if path == "-" {
         return read_stream(std::io::stdin(), "standard input", limit, idle);
     }

@@ -38,6 +38,10 @@
 //! `cargo build --lib --no-default-features` builds the library without the command line;
 //! `examples/provision.rs` applies a DCF through it.
 
+// Without the command line (`--no-default-features`), the crate-private helpers that only
+// the commands call have no caller: that is not dead code.
+#![cfg_attr(not(feature = "cli"), allow(dead_code))]
+
 /// The layers of the library, top first. A module may use the modules of the layers below its
 /// own, never one above, nor a sibling of its own layer: so there is no cycle. An entry names a
 /// module; a longer entry places a submodule apart from its parent. `tests/layers.rs` reads the

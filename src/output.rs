@@ -90,7 +90,7 @@ impl Output {
     }
 
     /// The output `--format` asks for.
-    pub fn for_arg(format: FormatArg, quiet: bool) -> Output {
+    pub(crate) fn for_arg(format: FormatArg, quiet: bool) -> Output {
         Output {
             junit: format == FormatArg::Junit,
             xdc: format == FormatArg::Xdc,
@@ -111,11 +111,6 @@ impl Output {
             out.flush()
         };
         write().map_err(stdout_error)
-    }
-
-    /// A value for people (a string a device sent, say): its control characters escaped.
-    pub fn print_value(&self, text: &str) -> std::io::Result<()> {
-        self.print(&terminal_safe(text))
     }
 
     /// Bytes as they are (a Latin-1 file's content, say).
@@ -332,7 +327,7 @@ fn xml_text(s: &str) -> String {
 }
 
 /// JUnit XML as Jenkins, GitLab and GitHub test reporters read it.
-pub fn junit_xml(suite: &TestSuite) -> String {
+pub(crate) fn junit_xml(suite: &TestSuite) -> String {
     let failures = suite.cases.iter().filter(|c| c.failure.is_some()).count();
     let (name, tests) = (xml_text(&suite.name), suite.cases.len());
     let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
@@ -411,7 +406,7 @@ pub trait Line {
 impl Output {
     /// What comes before a stream's first line: in CSV its header row, whether or not any
     /// line follows.
-    pub fn stream_start<L: Line>(&self, w: &mut impl Write) -> std::io::Result<()> {
+    pub(crate) fn stream_start<L: Line>(&self, w: &mut impl Write) -> std::io::Result<()> {
         if self.format == Format::Csv {
             write!(w, "{}", csv(L::CSV_HEADER, &[]))?;
         }
@@ -495,7 +490,7 @@ fn stdout_error(e: std::io::Error) -> std::io::Error {
 /// the bidirectional overrides that reorder what is shown: a string from a device or a file
 /// cannot move the cursor, retitle the window or hide part of a line. JSON and CSV keep
 /// the exact text with their own escaping; this is for human output only.
-pub fn terminal_safe(text: &str) -> std::borrow::Cow<'_, str> {
+pub(crate) fn terminal_safe(text: &str) -> std::borrow::Cow<'_, str> {
     escape(text, false)
 }
 
@@ -548,7 +543,7 @@ pub fn csv(headers: &[&str], rows: &[Vec<String>]) -> String {
 }
 
 /// Unix time in ms as the time of day (UTC) for people: `HH:MM:SS.mmm`.
-pub fn time_of_day(time_ms: u64) -> String {
+pub(crate) fn time_of_day(time_ms: u64) -> String {
     let secs = time_ms / 1000;
     let (h, m, s, ms) = (secs / 3600 % 24, secs / 60 % 60, secs % 60, time_ms % 1000);
     format!("{h:02}:{m:02}:{s:02}.{ms:03}")
@@ -577,7 +572,7 @@ impl RecordWriter {
     }
 
     /// What comes before the first record: the CSV header.
-    pub fn preamble(&self, out: &mut String) {
+    pub(crate) fn preamble(&self, out: &mut String) {
         if self.format == Format::Csv {
             let headers: Vec<&str> =
                 ["time", "pdo"].into_iter().chain(self.fields.iter().map(|f| f.as_str())).collect();

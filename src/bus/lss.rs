@@ -67,7 +67,7 @@ impl<'a> LssMaster<'a> {
     }
 
     /// Put one device (by identity) or every device (`None`) into configuration state.
-    pub fn enter(&mut self, identity: Option<&Identity>) -> Result<()> {
+    pub(crate) fn enter(&mut self, identity: Option<&Identity>) -> Result<()> {
         match identity {
             Some(id) => {
                 let [a, b, c, d] = lss::switch_selective(id);
@@ -156,7 +156,7 @@ pub fn count_unconfigured(bus: &mut dyn Bus, wait: Duration) -> Result<usize> {
 }
 
 /// Answers "I have no node-id" among these.
-pub fn count_non_configured(answers: &[[u8; 8]]) -> usize {
+pub(crate) fn count_non_configured(answers: &[[u8; 8]]) -> usize {
     answers.iter().filter(|a| Response::decode(*a) == Some(Response::IdentifyNonConfiguredSlave)).count()
 }
 

@@ -122,7 +122,7 @@ fn stopped(opts: &SdoOptions) -> bool {
 }
 
 /// What [`SdoOptions::on_progress`] calls.
-pub type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
+pub(crate) type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
 
 impl std::fmt::Debug for SdoOptions {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -84,13 +84,6 @@ impl Observed {
         self.nodes.entry(node).or_default().insert(how);
     }
 
-    /// A node answered an SDO request (links that see no frames report it this way).
-    pub fn sdo_answer(&mut self, node: u8) {
-        if (1..=127).contains(&node) {
-            self.seen(node, SeenBy::Sdo);
-        }
-    }
-
     /// Every node-id seen in use, however.
     pub(crate) fn node_ids(&self) -> BTreeSet<u8> {
         self.nodes.keys().copied().collect()

@@ -6,10 +6,10 @@ use crate::canopen::ObjAddr;
 use serde::Serialize;
 use std::fmt;
 
-pub const CONTROLWORD: ObjAddr = ObjAddr::new(0x6040, 0);
-pub const STATUSWORD: ObjAddr = ObjAddr::new(0x6041, 0);
-pub const MODES_OF_OPERATION: ObjAddr = ObjAddr::new(0x6060, 0);
-pub const MODES_OF_OPERATION_DISPLAY: ObjAddr = ObjAddr::new(0x6061, 0);
+pub(crate) const CONTROLWORD: ObjAddr = ObjAddr::new(0x6040, 0);
+pub(crate) const STATUSWORD: ObjAddr = ObjAddr::new(0x6041, 0);
+pub(crate) const MODES_OF_OPERATION: ObjAddr = ObjAddr::new(0x6060, 0);
+pub(crate) const MODES_OF_OPERATION_DISPLAY: ObjAddr = ObjAddr::new(0x6061, 0);
 
 /// The device profile number 0x1000 (device type) carries in its low 16 bits.
 pub fn profile(device_type: u32) -> u16 {
@@ -17,7 +17,7 @@ pub fn profile(device_type: u32) -> u16 {
 }
 
 /// A CiA 402 drive says so in 0x1000: profile number 402.
-pub fn is_drive(device_type: u32) -> bool {
+pub(crate) fn is_drive(device_type: u32) -> bool {
     profile(device_type) == 402
 }
 
@@ -51,7 +51,7 @@ pub mod cw {
 
 /// Every statusword bit by name; bits 8 and 14–15 are the manufacturer's, 12–13 depend on
 /// the mode of operation.
-pub const STATUSWORD_FLAGS: [(u8, &str); 16] = [
+pub(crate) const STATUSWORD_FLAGS: [(u8, &str); 16] = [
     (0, "ready to switch on"),
     (1, "switched on"),
     (2, "operation enabled"),
@@ -115,13 +115,13 @@ impl State {
 
     /// The state a statusword codes, or None for a bit pattern CiA 402 gives no state
     /// (e.g. ready to switch on with quick stop low).
-    pub fn from_statusword(statusword: u16) -> Option<State> {
+    pub(crate) fn from_statusword(statusword: u16) -> Option<State> {
         STATE_CODING.iter().find(|(mask, value, _)| statusword & mask == *value).map(|c| c.2)
     }
 
     /// The state bits (0–3, 5, 6) a drive in this state shows; the other bits are the
     /// drive's to add (voltage enabled, remote, warning …).
-    pub fn statusword_bits(self) -> u16 {
+    pub(crate) fn statusword_bits(self) -> u16 {
         STATE_CODING.iter().find(|c| c.2 == self).map_or(0, |c| c.1)
     }
 
@@ -139,7 +139,7 @@ impl State {
     }
 
     /// A state the drive leaves on its own (transitions 1 and 14), not by a command.
-    pub fn is_transient(self) -> bool {
+    pub(crate) fn is_transient(self) -> bool {
         matches!(self, State::NotReadyToSwitchOn | State::FaultReactionActive)
     }
 }
@@ -203,7 +203,7 @@ impl fmt::Display for Command {
 }
 
 /// Whether bit 7 rose between two controlwords: a fault reset acts on the edge only.
-pub fn fault_reset_edge(previous: u16, controlword: u16) -> bool {
+pub(crate) fn fault_reset_edge(previous: u16, controlword: u16) -> bool {
     previous & cw::FAULT_RESET == 0 && controlword & cw::FAULT_RESET != 0
 }
 
@@ -211,7 +211,7 @@ pub fn fault_reset_edge(previous: u16, controlword: u16) -> bool {
 /// it; the fault reset edge comes from [`fault_reset_edge`]). Unrecognised commands and
 /// the transient states leave the state; whether a fault's cause is gone is the drive's to
 /// judge before it takes transition 15.
-pub fn on_controlword(state: State, controlword: u16, fault_reset_edge: bool) -> State {
+pub(crate) fn on_controlword(state: State, controlword: u16, fault_reset_edge: bool) -> State {
     use State::*;
     let bits = controlword & 0x000F;
     let disable_voltage = bits & cw::ENABLE_VOLTAGE == 0;
@@ -290,7 +290,7 @@ pub enum Step {
 }
 
 /// One step of the path from `state` towards `goal`.
-pub fn next_step(state: State, goal: Goal) -> Step {
+pub(crate) fn next_step(state: State, goal: Goal) -> Step {
     use Command as C;
     use State::*;
     if state.is_transient() {
@@ -322,7 +322,7 @@ pub fn next_step(state: State, goal: Goal) -> Step {
 
 /// A mode of operation (0x6060/0x6061) by name: CiA 402 values 0–10; negative values are
 /// the manufacturer's.
-pub fn mode_name(mode: i8) -> Option<&'static str> {
+pub(crate) fn mode_name(mode: i8) -> Option<&'static str> {
     Some(match mode {
         0 => "no mode",
         1 => "profile position",

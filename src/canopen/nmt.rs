@@ -4,10 +4,9 @@
 use crate::frame::Frame;
 use std::fmt;
 
-pub const NMT_COB: u16 = 0x000;
-pub const SYNC_COB: u16 = 0x080;
+pub(crate) const NMT_COB: u16 = 0x000;
 
-pub fn error_control_cob(node: u8) -> u16 {
+pub(crate) fn error_control_cob(node: u8) -> u16 {
     0x700 + node as u16
 }
 
@@ -31,7 +30,7 @@ impl Command {
         }
     }
 
-    pub fn from_specifier(cs: u8) -> Option<Command> {
+    pub(crate) fn from_specifier(cs: u8) -> Option<Command> {
         Some(match cs {
             0x01 => Command::Start,
             0x02 => Command::Stop,
@@ -86,7 +85,7 @@ impl State {
         }
     }
 
-    pub fn from_code(code: u8) -> Option<State> {
+    pub(crate) fn from_code(code: u8) -> Option<State> {
         Some(match code {
             0x00 => State::Initialising,
             0x04 => State::Stopped,
@@ -123,7 +122,7 @@ impl fmt::Display for State {
 
 /// One decoded error-control frame (COB-ID 0x700 + node).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum ErrorControl {
+pub(crate) enum ErrorControl {
     BootUp,
     /// A heartbeat, or an answer to a guarding request (then `toggle` is meaningful).
     State {
@@ -159,11 +158,6 @@ impl ErrorControl {
         };
         Frame::new(error_control_cob(node), &[b])
     }
-}
-
-/// The node-guarding request: an RTR frame on 0x700 + node asking for one byte.
-pub fn guard_request(node: u8) -> Frame {
-    Frame::remote(error_control_cob(node), 1)
 }
 
 #[cfg(test)]

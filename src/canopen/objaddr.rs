@@ -15,12 +15,12 @@ impl ObjAddr {
     }
 
     /// Index and subindex as they travel in SDO frames (bytes 1..4, index little-endian).
-    pub fn to_mux(self) -> [u8; 3] {
+    pub(crate) fn to_mux(self) -> [u8; 3] {
         let [lo, hi] = self.index.to_le_bytes();
         [lo, hi, self.sub]
     }
 
-    pub fn from_mux(b: &[u8]) -> ObjAddr {
+    pub(crate) fn from_mux(b: &[u8]) -> ObjAddr {
         ObjAddr::new(u16::from_le_bytes([b[0], b[1]]), b[2])
     }
 }

@@ -21,16 +21,16 @@ impl Field {
     }
 }
 
-pub fn mapping_entry(raw: u32) -> (ObjAddr, u8) {
+pub(crate) fn mapping_entry(raw: u32) -> (ObjAddr, u8) {
     (ObjAddr::new((raw >> 16) as u16, (raw >> 8) as u8), raw as u8)
 }
 
-pub fn mapping_raw(addr: ObjAddr, bits: u8) -> u32 {
+pub(crate) fn mapping_raw(addr: ObjAddr, bits: u8) -> u32 {
     (addr.index as u32) << 16 | (addr.sub as u32) << 8 | bits as u32
 }
 
 /// The type a field of `bits` bits has when no dictionary says: unsigned of that width.
-pub fn default_type(bits: u8) -> DataType {
+pub(crate) fn default_type(bits: u8) -> DataType {
     match bits {
         1 => DataType::Bool,
         2..=8 => DataType::U8,

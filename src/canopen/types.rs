@@ -154,7 +154,7 @@ impl DataType {
         })
     }
 
-    pub fn is_signed(self) -> bool {
+    pub(crate) fn is_signed(self) -> bool {
         use DataType::*;
         matches!(self, I8 | I16 | I24 | I32 | I40 | I48 | I56 | I64)
     }
@@ -165,7 +165,7 @@ impl DataType {
     }
 
     /// Inclusive range of an integer type.
-    pub fn int_range(self) -> Option<(i128, i128)> {
+    pub(crate) fn int_range(self) -> Option<(i128, i128)> {
         let bits = match self {
             DataType::Bool => return Some((0, 1)),
             t if t.is_signed() || t.is_unsigned() => 8 * t.size().unwrap() as u32,
@@ -305,7 +305,7 @@ pub enum Value {
 }
 
 impl Value {
-    pub fn to_json(&self) -> serde_json::Value {
+    pub(crate) fn to_json(&self) -> serde_json::Value {
         use serde_json::Value as J;
         match self {
             Value::Bool(b) => J::Bool(*b),
@@ -472,7 +472,7 @@ pub fn hex(bytes: &[u8]) -> String {
 
 /// The reading of bytes of unknown type that nobody would argue with: the unsigned
 /// little-endian integer for 1, 2, 4 or 8 bytes.
-pub fn obvious_unsigned(bytes: &[u8]) -> Option<u64> {
+pub(crate) fn obvious_unsigned(bytes: &[u8]) -> Option<u64> {
     match bytes.len() {
         1 | 2 | 4 | 8 => {
             let mut wide = [0u8; 8];

@@ -285,12 +285,12 @@ impl Error {
     }
 
     /// Nobody answered in time (exit 3): what a scan or a poll treats as "not there".
-    pub fn is_timeout(&self) -> bool {
+    pub(crate) fn is_timeout(&self) -> bool {
         self.class() == ErrorClass::Timeout
     }
 
     /// The user asked to stop (exit 130): a procedure ends with a report of what it did.
-    pub fn is_interrupted(&self) -> bool {
+    pub(crate) fn is_interrupted(&self) -> bool {
         self.class() == ErrorClass::Interrupted
     }
 
@@ -303,7 +303,7 @@ impl Error {
     }
 
     /// This error with advice appended to its message.
-    pub fn with_hint(self, hint: impl Into<String>) -> Error {
+    pub(crate) fn with_hint(self, hint: impl Into<String>) -> Error {
         Error::Hinted { error: Box::new(self), hint: hint.into() }
     }
 }

@@ -48,7 +48,7 @@ pub struct Eds {
 }
 
 /// CiA 306 keeps a line to 255 characters; longer ones are read, with a warning.
-pub const MAX_LINE_CHARS: usize = 255;
+pub(crate) const MAX_LINE_CHARS: usize = 255;
 
 struct Section {
     name: String,

@@ -145,7 +145,7 @@ impl Warnings {
         push(&mut self.0, w.into());
     }
 
-    pub fn into_vec(self) -> Vec<Warning> {
+    pub(crate) fn into_vec(self) -> Vec<Warning> {
         self.0
     }
 }

@@ -25,7 +25,7 @@ pub enum ReadError {
 
 /// An EDS, DCF, XDD or XDC, told apart by content (XML or INI), not by the file's name:
 /// vendors ship XDDs named `.eds` and tools write XDCs without an extension.
-pub fn parse_description(bytes: &[u8], path: &str) -> Result<eds::Eds, ReadError> {
+pub(crate) fn parse_description(bytes: &[u8], path: &str) -> Result<eds::Eds, ReadError> {
     match xdd::is_xml(bytes) {
         true => Ok(xdd::parse(bytes, path)?),
         false => Ok(eds::parse(bytes, path)?),
@@ -127,7 +127,7 @@ impl Entry {
 
 /// Which `store`/`restore` class an object belongs to (CiA 301 0x1010 sub 2..4).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum ParamClass {
+pub(crate) enum ParamClass {
     Communication,
     Application,
     Manufacturer,
@@ -144,7 +144,7 @@ impl ParamClass {
     }
 
     /// The 0x1010/0x1011 subindex that stores or restores this class.
-    pub fn subindex(self) -> u8 {
+    pub(crate) fn subindex(self) -> u8 {
         match self {
             ParamClass::Communication => 2,
             ParamClass::Application => 3,
@@ -240,7 +240,7 @@ impl Dictionary {
     }
 
     /// Make an entry writable (records are built read-only at sub 0).
-    pub fn set_access(&mut self, addr: ObjAddr, access: Access) {
+    pub(crate) fn set_access(&mut self, addr: ObjAddr, access: Access) {
         self.entries.get_mut(&addr).expect("set_access on a missing entry").access = access;
     }
 
@@ -251,7 +251,7 @@ impl Dictionary {
 }
 
 /// Little-endian bytes of a default value.
-pub fn le(value: u64, dtype: DataType) -> Init {
+pub(crate) fn le(value: u64, dtype: DataType) -> Init {
     let size = dtype.size().expect("fixed-size type");
     Init::Bytes(value.to_le_bytes()[..size].to_vec())
 }

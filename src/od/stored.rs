@@ -8,9 +8,9 @@
 //! archive cannot fill memory.
 
 /// Object 0x1021: the stored EDS.
-pub const STORE_EDS: crate::canopen::ObjAddr = crate::canopen::ObjAddr::new(0x1021, 0);
+pub(crate) const STORE_EDS: crate::canopen::ObjAddr = crate::canopen::ObjAddr::new(0x1021, 0);
 /// Object 0x1022: its storage format.
-pub const STORAGE_FORMAT: crate::canopen::ObjAddr = crate::canopen::ObjAddr::new(0x1022, 0);
+pub(crate) const STORAGE_FORMAT: crate::canopen::ObjAddr = crate::canopen::ObjAddr::new(0x1022, 0);
 
 /// 0x1022 values.
 pub const PLAIN: u8 = 0;
@@ -52,7 +52,7 @@ pub fn unpack(format: u8, stored: &[u8], limit: usize) -> Result<Vec<u8>, Stored
 
 /// One member of a ZIP archive: a device description (`.eds`, `.xdd`, `.dcf`, `.xdc`) if
 /// there is one, else the first. Its name and content.
-pub fn unzip(zip: &[u8], limit: usize) -> Result<(String, Vec<u8>), StoredError> {
+pub(crate) fn unzip(zip: &[u8], limit: usize) -> Result<(String, Vec<u8>), StoredError> {
     let mut archive = zip::ZipArchive::new(std::io::Cursor::new(zip)).map_err(broken)?;
     let description = |n: &str| {
         let n = n.to_ascii_lowercase();

@@ -30,7 +30,7 @@ impl Dictionaries {
     }
 
     /// The EDS bound to this node, else one given for every node.
-    pub fn eds_for(&self, node: u8) -> Option<&Eds> {
+    pub(crate) fn eds_for(&self, node: u8) -> Option<&Eds> {
         self.files
             .iter()
             .find(|(n, _)| *n == Some(node))

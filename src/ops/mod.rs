@@ -101,12 +101,12 @@ pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {
 /// (a device name, a version) is a few dozen bytes, so one that runs on without end (no
 /// size announced, segment after segment) is stopped here, seconds into it at 125 kbit/s,
 /// not minutes.
-pub const SMALL_UPLOAD: usize = 64 * 1024;
+pub(crate) const SMALL_UPLOAD: usize = 64 * 1024;
 
 /// How many bytes an upload of a `dtype` value may bring unless the user says more
 /// (`sdo read --max-size`): a domain, or a value of unknown type (it may be one), up to
 /// the SDO client's 1 MiB; anything else [`SMALL_UPLOAD`].
-pub fn upload_limit(dtype: Option<DataType>) -> usize {
+pub(crate) fn upload_limit(dtype: Option<DataType>) -> usize {
     match dtype {
         None | Some(DataType::D) => crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD,
         Some(_) => SMALL_UPLOAD,
@@ -119,7 +119,7 @@ pub(crate) fn le_u32(bytes: &[u8]) -> u32 {
 }
 
 /// A value beyond the dictionary's limits is refused before it is sent.
-pub fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
+pub(crate) fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
     let Some((lo, hi)) = entry.range else { return Ok(()) };
     let v = match entry.dtype.decode(bytes) {
         Some(crate::canopen::types::Value::Uint(u)) => u as i128,

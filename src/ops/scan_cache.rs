@@ -128,7 +128,7 @@ fn write(bus: &str, nodes: &[SeenNode]) {
 }
 
 /// Every node of the bus the cache knows of, also those known only from what they answered.
-pub fn load_all(bus: &str) -> Vec<SeenNode> {
+pub(crate) fn load_all(bus: &str) -> Vec<SeenNode> {
     file(bus).and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
 }
 

@@ -44,7 +44,7 @@ fn fault_object(d: &mut Dictionary) {
 
 /// The simulator's handle on a drive's power supply: 1 switches it off (the drive then
 /// does not switch on), 0 back on.
-pub const SUPPLY_OFF_OBJECT: ObjAddr = ObjAddr::new(0x5FFD, 0);
+pub(crate) const SUPPLY_OFF_OBJECT: ObjAddr = ObjAddr::new(0x5FFD, 0);
 
 fn supply_object(d: &mut Dictionary) {
     d.var(0x5FFD, "Simulated power supply off (1) or on (0)", U8, Rw, u(0, U8));
@@ -70,7 +70,7 @@ fn error_history(d: &mut Dictionary, slots: u8) {
 
 /// The demo sensor's motion: a triangle between 100000 and 300000 steps, 20 steps a ms,
 /// forward for 10 s and back for 10 s. Speed is reported as ±2000 (steps per 100 ms).
-pub fn sensor_motion(now_ms: u64) -> (i32, i16) {
+pub(crate) fn sensor_motion(now_ms: u64) -> (i32, i16) {
     let t = (now_ms % 20_000) as i32;
     if t < 10_000 {
         (100_000 + 20 * t, 2000)
@@ -82,17 +82,18 @@ pub fn sensor_motion(now_ms: u64) -> (i32, i16) {
 const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true };
 
 /// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
-pub fn demo_network() -> Vec<(Model, Option<u8>)> {
+#[cfg(test)]
+pub(crate) fn demo_network() -> Vec<(Model, Option<u8>)> {
     demo_network_with(UNCONFIGURED_SERIALS.len() as u8)
 }
 
 /// The serial of the `i`-th (from 0) demo sensor waiting for a node-id.
-pub fn unconfigured_serial(i: u8) -> u32 {
+pub(crate) fn unconfigured_serial(i: u8) -> u32 {
     UNCONFIGURED_SERIALS[0] + i as u32
 }
 
 /// The demo network with `unconfigured` sensors waiting for a node-id.
-pub fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
+pub(crate) fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
     let mut devices = vec![
         (drive(), Some(1)),
         (position_sensor(SENSOR_SERIAL), Some(5)),

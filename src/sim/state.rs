@@ -8,7 +8,7 @@ use std::fs::{File, OpenOptions, TryLockError};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-pub const VERSION: u32 = 1;
+pub(crate) const VERSION: u32 = 1;
 
 #[derive(serde::Serialize, serde::Deserialize, Default, Debug)]
 pub struct NetworkState {
@@ -36,14 +36,14 @@ pub struct StateFile {
 /// How long opening the sim network waits for another process using it: long enough for
 /// a command that is finishing, short of hanging behind a server (`canctl sim --...`) that
 /// runs until stopped.
-pub const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(10);
+pub(crate) const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(10);
 
 /// How often a taken lock is tried again.
 const LOCK_RETRY: Duration = Duration::from_millis(50);
 
 /// The process holding the sim network, as it recorded itself beside the lock.
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug, PartialEq, Eq)]
-pub struct Holder {
+pub(crate) struct Holder {
     pub pid: u32,
     /// Its command line, program name without its directory: `canctl sim --epos2-rs232`.
     pub command: String,
@@ -64,7 +64,7 @@ impl Holder {
 }
 
 /// `$XDG_STATE_HOME/canctl/sim.json`, else `~/.local/state/canctl/sim.json`.
-pub fn default_path() -> PathBuf {
+pub(crate) fn default_path() -> PathBuf {
     crate::xdg::state_dir().unwrap_or_else(|| std::env::temp_dir().join("canctl")).join("sim.json")
 }
 
@@ -98,7 +98,7 @@ impl StateFile {
 
     /// Lock the state at `path`, waiting up to `wait` for another process using it; then a
     /// link error (exit 5) that names that process and how to proceed.
-    pub fn lock_within(path: &Path, wait: Duration) -> Result<StateFile> {
+    pub(crate) fn lock_within(path: &Path, wait: Duration) -> Result<StateFile> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| link_err(path, "cannot create its directory", e))?;
         }
@@ -176,7 +176,7 @@ impl StateFile {
     }
 
     /// Start afresh with this configuration: devices as built, nothing else kept.
-    pub fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
+    pub(crate) fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
         let state = NetworkState {
             version: VERSION,
             bit_rate: None,

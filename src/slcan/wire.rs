@@ -96,7 +96,8 @@ impl Status {
     }
 
     /// Whether frames may have been lost or the bus is unusable.
-    pub fn is_trouble(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn is_trouble(&self) -> bool {
         self.0 & !(1 << 4) != 0
     }
 }
@@ -151,6 +152,7 @@ impl Message {
 
 /// Decode a command line from the host (without its CR), as an adapter does; `None` for a
 /// 29-bit frame, which an adapter accepts but a CANopen network has no use for.
+#[cfg_attr(not(unix), allow(dead_code))] // its one caller, the simulated adapter, is served on a pty
 pub(crate) fn decode_command(line: &[u8]) -> Result<Option<Command>, WireError> {
     let bad = || WireError::Malformed(String::from_utf8_lossy(line).into_owned());
     Ok(Some(match line {

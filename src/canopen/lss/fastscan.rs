@@ -145,14 +145,14 @@ impl Fastscan {
     }
 
     /// The pace learned, for the next search on the same bus.
-    pub fn into_pace(self) -> Pace {
+    pub(crate) fn into_pace(self) -> Pace {
         self.pace
     }
 
     /// LSS frames that came between two requests' windows (the driver drains them before
     /// each request): a fastscan answer among them came later than its window allowed,
     /// which is evidence of lateness.
-    pub fn on_strays(&mut self, frames: &[[u8; 8]]) {
+    pub(crate) fn on_strays(&mut self, frames: &[[u8; 8]]) {
         self.late |= frames.iter().any(|f| is_answer(f, 0x4F));
     }
 
@@ -215,7 +215,7 @@ impl Fastscan {
     /// The answers to the request `next` asked for: each with the time it came after the
     /// request was sent. Frames with another command specifier are not answers; answers
     /// after the window are late: they lengthen the step and the request is asked again.
-    pub fn on_answers(&mut self, answers: &[(Duration, [u8; 8])]) {
+    pub(crate) fn on_answers(&mut self, answers: &[(Duration, [u8; 8])]) {
         let FastscanNext::Send(ask) = self.next() else { return };
         let valid: Vec<Duration> = answers.iter().filter(|(_, d)| is_answer(d, ask.expect)).map(|(t, _)| *t).collect();
         for t in &valid {

@@ -5,9 +5,9 @@
 use std::fmt;
 
 pub const MASTER_COB: u16 = 0x7E5;
-pub const SLAVE_COB: u16 = 0x7E4;
+pub(crate) const SLAVE_COB: u16 = 0x7E4;
 /// The node-id of a device that has none ("not configured").
-pub const UNCONFIGURED: u8 = 0xFF;
+pub(crate) const UNCONFIGURED: u8 = 0xFF;
 
 /// The LSS address: the four entries of the identity object 0x1018.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
@@ -68,7 +68,7 @@ impl std::str::FromStr for Identity {
 }
 
 /// CiA 305 table of bit timings (selector 0): index → bit rate in kbit/s.
-pub const BIT_TIMINGS: [(u8, Option<u32>); 10] = [
+pub(crate) const BIT_TIMINGS: [(u8, Option<u32>); 10] = [
     (0, Some(1000)),
     (1, Some(800)),
     (2, Some(500)),
@@ -80,10 +80,10 @@ pub const BIT_TIMINGS: [(u8, Option<u32>); 10] = [
     (8, Some(10)),
     (9, None), // automatic bit rate detection
 ];
-pub const AUTO_BIT_RATE: u8 = 9;
+pub(crate) const AUTO_BIT_RATE: u8 = 9;
 
 /// `500k`, `1M`, `125000`, `auto` → CiA 305 table index.
-pub fn parse_bit_rate(text: &str) -> Result<u8, String> {
+pub(crate) fn parse_bit_rate(text: &str) -> Result<u8, String> {
     let t = text.trim().to_ascii_lowercase();
     if t == "auto" {
         return Ok(AUTO_BIT_RATE);
@@ -104,7 +104,7 @@ pub fn parse_bit_rate(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("{text} is not in the CiA 305 bit timing table: use {valid}"))
 }
 
-pub fn bit_rate_name(index: u8) -> String {
+pub(crate) fn bit_rate_name(index: u8) -> String {
     match BIT_TIMINGS.get(index as usize) {
         Some((_, Some(k))) if *k >= 1000 => format!("{}M", k / 1000),
         Some((_, Some(k))) => format!("{k}k"),
@@ -171,7 +171,7 @@ pub enum Request {
 }
 
 /// Fastscan's "bit checked" value that restarts the search.
-pub const FASTSCAN_RESET: u8 = 0x80;
+pub(crate) const FASTSCAN_RESET: u8 = 0x80;
 
 impl Request {
     pub fn encode(&self) -> [u8; 8] {
@@ -306,7 +306,7 @@ impl Response {
 }
 
 /// The meaning of an error code in the answer to command `cs` (CiA 305; seed 001 §10.1).
-pub fn error_meaning(cs: u8, error: u8) -> &'static str {
+pub(crate) fn error_meaning(cs: u8, error: u8) -> &'static str {
     match (cs, error) {
         (_, 0) => "protocol successfully completed",
         (0x11, 1) => "node-id out of range",
@@ -322,7 +322,7 @@ impl Request {
     /// The command specifier of the slave answer this request expects, if it has one:
     /// only a frame with it counts as an answer (a heartbeat or a stray frame on 0x7E4
     /// does not).
-    pub fn expected_answer(&self) -> Option<u8> {
+    pub(crate) fn expected_answer(&self) -> Option<u8> {
         match *self {
             Request::SwitchSelective { part: 3, .. } => Some(0x44),
             Request::ConfigureNodeId(_) => Some(0x11),
@@ -340,7 +340,7 @@ impl Request {
 /// `expect`: 8 bytes, that specifier, and for the answers that carry nothing but it
 /// (0x44, 0x4F, 0x50) the reserved bytes 0, so that a babbling device's counter on 0x7E4
 /// does not pass for a device.
-pub fn is_answer(data: &[u8], expect: u8) -> bool {
+pub(crate) fn is_answer(data: &[u8], expect: u8) -> bool {
     data.len() == 8 && data[0] == expect && (!matches!(expect, 0x44 | 0x4F | 0x50) || data[1..] == [0; 7])
 }
 
