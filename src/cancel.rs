@@ -13,6 +13,7 @@ use std::sync::Arc;
 pub struct Cancel(Arc<AtomicBool>);
 
 impl Cancel {
+    /// A request not yet made: clone it to everything that is to stop together.
     pub fn new() -> Cancel {
         Cancel::default()
     }

@@ -41,6 +41,9 @@
 // Without the command line (`--no-default-features`), the crate-private helpers that only
 // the commands call have no caller: that is not dead code.
 #![cfg_attr(not(feature = "cli"), allow(dead_code))]
+// Every public item says what it is for. The modules marked `allow(missing_docs)` below are
+// not yet through (issue 28); the rest, and any new module, are held to it.
+#![deny(missing_docs)]
 
 /// The layers of the library, top first. A module may use the modules of the layers below its
 /// own, never one above, nor a sibling of its own layer: so there is no cycle. An entry names a
@@ -69,17 +72,23 @@ pub(crate) mod atomic;
 pub mod backend;
 pub mod bus;
 pub mod cancel;
+#[allow(missing_docs)] // not yet documented throughout
 pub mod canopen;
 #[cfg(feature = "cli")]
+#[allow(missing_docs)] // not yet documented throughout
 pub mod cli;
 pub mod connect;
+#[allow(missing_docs)] // not yet documented throughout
 pub mod error;
 pub mod frame;
 pub(crate) mod hint;
 pub mod input;
+#[allow(missing_docs)] // not yet documented throughout
 pub mod od;
+#[allow(missing_docs)] // not yet documented throughout
 pub mod ops;
 #[cfg(feature = "cli")]
+#[allow(missing_docs)] // not yet documented throughout
 pub mod output;
 pub mod serial;
 pub mod settings;
@@ -89,4 +98,5 @@ pub(crate) mod trace;
 pub(crate) mod xdg;
 
 pub use error::{Error, Result};
+#[allow(missing_docs)] // not yet documented throughout
 pub mod epos2;

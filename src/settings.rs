@@ -89,9 +89,13 @@ where
 /// Where a value came from.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Source {
+    /// A command-line flag.
     Flag,
+    /// An environment variable (`CANCTL_BUS`, ...).
     Env,
+    /// The project file at this path (`canctl.toml`).
     File(PathBuf),
+    /// canctl's own default: nothing chose it.
     Default,
 }
 

@@ -37,6 +37,7 @@ pub mod uri {
 
 /// A raw frame link: what SocketCAN and the simulator provide.
 pub trait FrameLink {
+    /// Sends one frame; an error when the link cannot (bus-off, adapter gone).
     fn send(&mut self, frame: &Frame) -> Result<()>;
     /// The next frame, or `None` once `deadline` passes without one.
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>>;
@@ -159,8 +160,26 @@ impl SdoOptions {
 /// One transfer of [`Bus::sdo_many`].
 #[derive(Clone, Debug)]
 pub enum SdoJob {
-    Upload { node: u8, addr: ObjAddr, opts: SdoOptions },
-    Download { node: u8, addr: ObjAddr, data: Vec<u8>, opts: SdoOptions },
+    /// Read an object (SDO upload).
+    Upload {
+        /// The node to read from.
+        node: u8,
+        /// The object read.
+        addr: ObjAddr,
+        /// Its timeout and transfer kind.
+        opts: SdoOptions,
+    },
+    /// Write an object (SDO download).
+    Download {
+        /// The node to write to.
+        node: u8,
+        /// The object written.
+        addr: ObjAddr,
+        /// The bytes written.
+        data: Vec<u8>,
+        /// Its timeout and transfer kind.
+        opts: SdoOptions,
+    },
 }
 
 /// How many LSS answers to wait for.
@@ -249,6 +268,7 @@ pub trait Bus {
     /// Send an NMT command to one node, or to all with `ALL_NODES`.
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()>;
 
+    /// Sends one raw frame (SYNC, a PDO, LSS): nothing waits for an answer.
     fn send_frame(&mut self, frame: &Frame) -> Result<()>;
 
     /// Whether this link shows the bus's own traffic (heartbeats, boot-ups, PDOs). An EPOS2

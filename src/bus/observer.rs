@@ -14,7 +14,9 @@ use std::collections::{BTreeMap, BTreeSet};
 pub enum SeenBy {
     /// An SDO answer (0x580 + node).
     Sdo,
+    /// A heartbeat (0x700 + node, a state byte).
     Heartbeat,
+    /// A boot-up message (0x700 + node, data 0x00).
     BootUp,
     /// An answer to a node-guarding request (0x700 + node, after a remote request).
     Guarding,

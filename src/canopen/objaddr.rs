@@ -5,11 +5,14 @@ use std::fmt;
 /// An object dictionary address.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 pub struct ObjAddr {
+    /// The object's index, 0x1000 for the device type.
     pub index: u16,
+    /// The sub-index within the object; 0 for a variable.
     pub sub: u8,
 }
 
 impl ObjAddr {
+    /// The address of sub-index `sub` of object `index`; `const` so tables can name objects.
     pub const fn new(index: u16, sub: u8) -> ObjAddr {
         ObjAddr { index, sub }
     }

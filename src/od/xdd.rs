@@ -17,10 +17,13 @@ use std::collections::{BTreeMap, HashMap};
 /// An XML file that cannot be read, or an XDD that is not one, at file:line:column.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub struct XmlError {
+    /// The file, as given.
     pub path: String,
     /// 0 when the file could not be read at all.
     pub line: u32,
+    /// The column on `line`; 0 when not known.
     pub column: u32,
+    /// What is wrong, in words.
     pub msg: String,
 }
 

@@ -78,13 +78,17 @@ pub struct Stopped {
     pub command: String,
     /// Always true: the key every interrupted report has.
     pub interrupted: bool,
+    /// What was finished before the stop, a line each.
     pub done: Vec<String>,
+    /// What was not done because of it, a line each.
     pub not_done: Vec<String>,
     /// The state the device is left in, in a sentence.
     pub state: String,
 }
 
 impl Stopped {
+    /// The report of `command` stopped with `done` finished and `not_done` left, the device in
+    /// `state`.
     pub fn new(command: &str, done: Vec<String>, not_done: Vec<String>, state: String) -> Stopped {
         Stopped { command: command.to_string(), interrupted: true, done, not_done, state }
     }

@@ -295,6 +295,7 @@ pub struct Record {
     pub time_ms: u64,
     /// Which of the stream's layouts it is (an index into them).
     pub layout: usize,
+    /// The mapped values, in the layout's order, decoded by their data types.
     pub values: Vec<Value>,
 }
 

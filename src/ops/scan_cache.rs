@@ -15,10 +15,14 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
+/// A node the last scan found: what completion offers for `--node` and picks dictionaries by.
 #[derive(Serialize, Deserialize, Debug, Clone, PartialEq)]
 pub struct SeenNode {
+    /// Its node-id.
     pub node: u8,
+    /// Its device name (0x1008), when it gave one.
     pub name: Option<String>,
+    /// Its vendor-id (0x1018:1), when it gave one.
     pub vendor_id: Option<u32>,
     /// 0x1000: its profile picks the built-in dictionary that completion offers objects
     /// from (a DS406 sensor is not offered a drive's objects). Absent in older caches.

@@ -34,6 +34,7 @@ pub const FAULT_OBJECT: ObjAddr = ObjAddr::new(0x5F51, 0);
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Fault {
+    /// No fault: downloads and starts go as a real device's do.
     None = 0,
     /// Power is lost halfway through the next download (once): the device comes back in
     /// its bootloader with no valid program.

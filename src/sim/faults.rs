@@ -58,8 +58,11 @@ pub enum When {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(try_from = "String", into = "String")]
 pub struct FaultSpec {
+    /// The device(s) it concerns: by model key, by node-id, or any.
     pub target: Target,
+    /// What goes wrong.
     pub kind: Kind,
+    /// From which request on, or after how long.
     pub when: When,
 }
 

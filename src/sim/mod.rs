@@ -43,6 +43,7 @@ pub(crate) const DEFAULT_SEED: u64 = 1;
 /// by a test.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimConfig {
+    /// How fast and how variably the devices answer.
     pub profile: Profile,
     /// Seeds every device's latency and fault draws: the same seed replays the same run.
     pub seed: u64,
@@ -83,16 +84,19 @@ impl Default for SimConfig {
 }
 
 impl SimConfig {
+    /// With this timing profile.
     pub fn profile(mut self, profile: Profile) -> SimConfig {
         self.profile = profile;
         self
     }
 
+    /// With this seed for every random draw.
     pub fn seed(mut self, seed: u64) -> SimConfig {
         self.seed = seed;
         self
     }
 
+    /// With `n` devices waiting for an LSS node-id.
     pub fn unconfigured(mut self, n: u8) -> SimConfig {
         self.unconfigured = n;
         self
@@ -105,11 +109,13 @@ impl SimConfig {
         self
     }
 
+    /// On virtual time (tests: waits take no real time), or on the wall clock.
     pub fn virtual_time(mut self, on: bool) -> SimConfig {
         self.virtual_time = on;
         self
     }
 
+    /// With this fault injected too.
     pub fn fault(mut self, fault: FaultSpec) -> SimConfig {
         self.faults.push(fault);
         self
@@ -185,14 +191,17 @@ impl Network {
         Network { devices, paces, conducts, config, bit_rate, clock_ms: 0 }
     }
 
+    /// How the network was set up.
     pub fn config(&self) -> &SimConfig {
         &self.config
     }
 
+    /// The bus's bit rate (CiA 305 table index).
     pub fn bit_rate(&self) -> u8 {
         self.bit_rate
     }
 
+    /// The devices on the network, configured or waiting for a node-id.
     pub fn devices(&self) -> &[Device] {
         &self.devices
     }
@@ -285,6 +294,7 @@ impl Network {
         self.devices.iter().filter(|d| d.bit_rate() == self.bit_rate).filter_map(|d| d.next_event(now)).min()
     }
 
+    /// The network's state to save: what the next invocation restores.
     pub fn snapshot(&self) -> state::NetworkState {
         state::NetworkState {
             version: state::VERSION,
@@ -295,6 +305,7 @@ impl Network {
         }
     }
 
+    /// Returns the network to a saved state (devices missing from it keep theirs).
     pub fn restore(&mut self, s: &state::NetworkState) {
         self.bit_rate = s.bit_rate.unwrap_or(self.config.bit_rate);
         self.clock_ms = s.clock_ms.unwrap_or(0);
@@ -340,6 +351,7 @@ pub(crate) fn last_beat(period: u64, node: u64, now: u64) -> u64 {
     now - (now - offset) % period
 }
 
+/// Wall-clock time, ms since the Unix epoch (0 if the clock is before it).
 pub fn wall_ms() -> u64 {
     SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_millis() as u64).unwrap_or(0)
 }
@@ -427,10 +439,12 @@ impl SimLink {
         bps.filter(|_| net.config.profile.bus_timing())
     }
 
+    /// The simulated network this link is attached to.
     pub fn network(&self) -> &Network {
         &self.net
     }
 
+    /// The simulated network, to change (tests inject faults and reboot devices).
     pub fn network_mut(&mut self) -> &mut Network {
         &mut self.net
     }

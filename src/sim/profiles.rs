@@ -8,11 +8,15 @@ use crate::od::Access::*;
 use crate::od::{builtin, le, text, Dictionary, Init};
 use crate::sim::cia402_drive::{DriveProfile, RemoteBit, VoltageBit};
 
+/// A simulated device type: its dictionary and the protocol features and quirks it has.
 pub struct Model {
     /// Stable name used in the state file.
     pub key: String,
+    /// Its object dictionary, with the values it starts with.
     pub dict: Dictionary,
+    /// Whether its SDO server does block transfers.
     pub block_transfer: bool,
+    /// Whether it answers node-guarding requests.
     pub guarding: bool,
     /// Objects that accept any write and keep their value (a firmware quirk some seeds describe).
     pub ignored_writes: Vec<ObjAddr>,
@@ -31,9 +35,13 @@ pub struct Model {
 /// A simulated fault: the EMCY it raises, and whether the device leaves Operational.
 #[derive(Clone, Copy, Debug)]
 pub struct FaultSpec {
+    /// The EMCY error code (CiA 301 table 21).
     pub code: u16,
+    /// The error register (0x1001) while the fault stands.
     pub register: u8,
+    /// The manufacturer-specific bytes of the EMCY.
     pub vendor: [u8; 5],
+    /// Whether the device leaves Operational for Pre-operational.
     pub to_pre_operational: bool,
 }
 
@@ -104,6 +112,7 @@ pub(crate) fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
     devices
 }
 
+/// The size of the demo network's large DOMAIN object, big enough to need several block transfers.
 pub const DOMAIN_SIZE: usize = 64 * 1024;
 
 fn u(v: u64, t: DataType) -> Init {

@@ -10,8 +10,10 @@ use std::time::{Duration, Instant};
 
 pub(crate) const VERSION: u32 = 1;
 
+/// What the state file holds: the simulated network between invocations.
 #[derive(serde::Serialize, serde::Deserialize, Default, Debug)]
 pub struct NetworkState {
+    /// The file format's version; an unknown one is not read.
     pub version: u32,
     /// The bus's bit rate (CiA 305 table index).
     #[serde(default)]
@@ -19,12 +21,14 @@ pub struct NetworkState {
     /// Profile, seed, devices and faults chosen by `sim reset`; absent: the defaults.
     #[serde(default)]
     pub config: Option<super::SimConfig>,
+    /// Each device's state, by model key.
     pub devices: BTreeMap<String, DeviceState>,
     /// The devices' clock (ms) when saved: the next invocation's starts after it.
     #[serde(default)]
     pub clock_ms: Option<u64>,
 }
 
+/// The state file, locked: one process at a time runs the simulated network.
 pub struct StateFile {
     path: PathBuf,
     /// Who holds the lock, for the next process that finds it taken.
@@ -146,10 +150,12 @@ impl StateFile {
         Ok(StateFile { path: path.to_path_buf(), owner_path, _lock: lock })
     }
 
+    /// Where the file is.
     pub fn path(&self) -> &Path {
         &self.path
     }
 
+    /// The saved state; `None` when there is no file yet.
     pub fn load(&self) -> Result<Option<NetworkState>> {
         let text = match std::fs::read_to_string(&self.path) {
             Ok(t) => t,
@@ -168,6 +174,7 @@ impl StateFile {
         Ok(Some(state))
     }
 
+    /// Saves `state`, replacing the file whole (never half-written).
     pub fn save(&self, state: &NetworkState) -> Result<()> {
         let tmp = self.path.with_extension("tmp");
         let text = serde_json::to_string_pretty(state).expect("state serialises");

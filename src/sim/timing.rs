@@ -20,6 +20,7 @@ pub(crate) const MS: Nanos = 1_000_000;
 pub struct Rng(u64);
 
 impl Rng {
+    /// A generator whose draws are fixed by `seed`.
     pub fn new(seed: u64) -> Rng {
         Rng(seed)
     }
@@ -32,6 +33,7 @@ impl Rng {
         Rng::new(seed ^ h)
     }
 
+    /// The next draw (splitmix64).
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
@@ -238,7 +240,9 @@ const BABBLE_GAP: Nanos = 62_500;
 /// Frames that have left the bus, and how long it was busy.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BusStats {
+    /// Frames that completed on the bus.
     pub frames: u64,
+    /// Time the bus was busy sending them (ns), bit stuffing and interframe space included.
     pub busy: Nanos,
 }
 

@@ -108,7 +108,10 @@ pub enum Message {
     /// A received 11-bit frame.
     Frame(Frame),
     /// A received 29-bit frame: CANopen has no use for it, but it is on the bus.
-    Extended { id: u32 },
+    Extended {
+        /// Its 29-bit identifier.
+        id: u32,
+    },
     /// A bare CR: the last command was done.
     Ok,
     /// `z` / `Z`: a frame was queued for sending.
@@ -126,8 +129,10 @@ pub enum Message {
 /// Why a line could not be read.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum WireError {
+    /// No carriage return within this many bytes: the adapter or the line is not speaking slcan.
     #[error("line too long ({0} bytes without a carriage return)")]
     TooLong(usize),
+    /// A line no adapter sends (the line, as far as it is text).
     #[error("malformed line '{0}'")]
     Malformed(String),
 }

@@ -132,6 +132,7 @@ impl Pace {
         true
     }
 
+    /// How many times the pace was slowed since the start: each one a step that went unanswered.
     pub fn escalations(&self) -> u32 {
         self.escalations
     }
