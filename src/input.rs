@@ -22,6 +22,7 @@ pub(crate) const VALUE_IDLE_LIMIT: Duration = Duration::from_secs(10);
 /// Why an input file (EDS, DCF, value file) was not read: the limits keep a wrong path or an
 /// endless pipe from eating memory or hanging.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum InputError {
     /// The file could not be opened or read.
     #[error("cannot read {path}: {source}")]

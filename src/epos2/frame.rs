@@ -49,6 +49,7 @@ impl fmt::Debug for Frame {
 
 /// Why received bytes are not a frame.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FrameError {
     #[error("CRC mismatch: frame says 0x{got:04X}, data gives 0x{want:04X}")]
     Crc { got: u16, want: u16 },

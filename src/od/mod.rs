@@ -16,6 +16,7 @@ use std::collections::BTreeMap;
 /// A device description that could not be used: an EDS or DCF at file:line, an XDD or XDC
 /// at file:line:column.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ReadError {
     #[error(transparent)]
     Ini(#[from] eds::EdsError),

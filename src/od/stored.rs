@@ -18,6 +18,7 @@ pub const ZIP: u8 = 1;
 
 /// Why the stored bytes give no file.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum StoredError {
     #[error("storage format {0} (0x1022) is {kind}: canctl reads 0 (plain) and 1 (ZIP)", kind = format_name(*.0))]
     UnknownFormat(u8),

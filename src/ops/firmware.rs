@@ -187,6 +187,7 @@ pub struct DownloadReport {
 
 /// Why a download did not finish.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FirmwareError {
     /// The bus or the device failed a step (SDO abort with its object and code, no answer,
     /// link failure, interrupted).

@@ -128,6 +128,7 @@ pub enum Message {
 
 /// Why a line could not be read.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum WireError {
     /// No carriage return within this many bytes: the adapter or the line is not speaking slcan.
     #[error("line too long ({0} bytes without a carriage return)")]

@@ -7,6 +7,7 @@ use super::wire::{is_answer, Identity, Inquiry, Request, FASTSCAN_RESET};
 use std::time::Duration;
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[non_exhaustive]
 pub enum FastscanError {
     /// Nobody answered: no non-configured device in waiting state.
     NoDevice,

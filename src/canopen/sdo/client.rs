@@ -22,6 +22,7 @@ pub const DEFAULT_MAX_UPLOAD: usize = 1 << 20;
 pub const MAX_BLOCK_RETRANSMISSIONS: u32 = 4;
 
 #[derive(Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum SdoError {
     /// The server aborted the transfer with this code.
     ServerAbort(u32),
