@@ -98,5 +98,4 @@ pub(crate) mod trace;
 pub(crate) mod xdg;
 
 pub use error::{Error, Result};
-#[allow(missing_docs)] // not yet documented throughout
 pub mod epos2;
