@@ -83,7 +83,6 @@ pub mod error;
 pub mod frame;
 pub(crate) mod hint;
 pub mod input;
-#[allow(missing_docs)] // not yet documented throughout
 pub mod od;
 #[allow(missing_docs)] // not yet documented throughout
 pub mod ops;

@@ -18,8 +18,10 @@ use std::collections::BTreeMap;
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ReadError {
+    /// An EDS or DCF (INI text) that could not be used.
     #[error(transparent)]
     Ini(#[from] eds::EdsError),
+    /// An XDD or XDC (XML) that could not be used.
     #[error(transparent)]
     Xml(#[from] xdd::XmlError),
 }
@@ -43,21 +45,29 @@ pub fn read_description(path: &std::path::Path) -> Result<eds::Eds, ReadError> {
     parse_description(&bytes, &path.display().to_string())
 }
 
+/// Who may read and write an entry over SDO (EDS `AccessType`).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Access {
+    /// Read only: the device may change it (a measured value).
     Ro,
+    /// Write only.
     Wo,
+    /// Read and write.
     Rw,
+    /// Read only, and it never changes.
     Const,
 }
 
 impl Access {
+    /// Whether an SDO upload may read it.
     pub fn readable(self) -> bool {
         self != Access::Wo
     }
+    /// Whether an SDO download may write it.
     pub fn writable(self) -> bool {
         matches!(self, Access::Rw | Access::Wo)
     }
+    /// Its EDS spelling: `ro`, `wo`, `rw`, `const`.
     pub fn name(self) -> &'static str {
         match self {
             Access::Ro => "ro",
@@ -71,12 +81,16 @@ impl Access {
 /// CiA 306 object types.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum ObjectKind {
+    /// A single value (sub-index 0 only).
     Var,
+    /// Sub-entries of one data type, sub-index 0 holding their number.
     Array,
+    /// Sub-entries of different data types.
     Record,
 }
 
 impl ObjectKind {
+    /// Its CiA 306 `ObjectType` code: 7, 8 or 9.
     pub fn code(self) -> u8 {
         match self {
             ObjectKind::Var => 7,
@@ -89,7 +103,9 @@ impl ObjectKind {
 /// A default value; COB-IDs and the like depend on the node-id (EDS `$NODEID+0x180`).
 #[derive(Clone, PartialEq, Debug)]
 pub enum Init {
+    /// The value as the device holds it (numbers little-endian).
     Bytes(Vec<u8>),
+    /// The device's node-id added to this base (COB-IDs).
     NodeIdPlus(u64),
 }
 
@@ -104,12 +120,18 @@ impl Init {
     }
 }
 
+/// One sub-entry of an object dictionary: what it holds and who may access it.
 #[derive(Clone, Debug)]
 pub struct Entry {
+    /// Its index and sub-index.
     pub addr: ObjAddr,
+    /// Its name, as the description gives it (`ParameterName`).
     pub name: String,
+    /// The type of its value.
     pub dtype: DataType,
+    /// Who may read and write it.
     pub access: Access,
+    /// Its default, or a DCF's value.
     pub default: Init,
     /// Inclusive limits for integer values, beyond the type's own.
     pub range: Option<(i128, i128)>,
@@ -154,6 +176,7 @@ impl ParamClass {
     }
 }
 
+/// An object dictionary: the entries a device has, and each object's name and kind.
 #[derive(Clone, Debug, Default)]
 pub struct Dictionary {
     entries: BTreeMap<ObjAddr, Entry>,
@@ -161,14 +184,17 @@ pub struct Dictionary {
 }
 
 impl Dictionary {
+    /// The entry at `addr`, if the dictionary has it.
     pub fn get(&self, addr: ObjAddr) -> Option<&Entry> {
         self.entries.get(&addr)
     }
 
+    /// Whether any sub-entry of object `index` is described.
     pub fn has_index(&self, index: u16) -> bool {
         self.entries.range(ObjAddr::new(index, 0)..=ObjAddr::new(index, 255)).next().is_some()
     }
 
+    /// Every entry, in index and sub-index order.
     pub fn entries(&self) -> impl Iterator<Item = &Entry> {
         self.entries.values()
     }
@@ -189,6 +215,7 @@ impl Dictionary {
         self.objects.get(&index).map(|(n, k)| (n.as_str(), *k))
     }
 
+    /// Every object declared: its index, name and kind, in index order.
     pub fn objects(&self) -> impl Iterator<Item = (u16, &str, ObjectKind)> {
         self.objects.iter().map(|(i, (n, k))| (*i, n.as_str(), *k))
     }
@@ -257,6 +284,7 @@ pub(crate) fn le(value: u64, dtype: DataType) -> Init {
     Init::Bytes(value.to_le_bytes()[..size].to_vec())
 }
 
+/// A VISIBLE_STRING default holding `s`.
 pub fn text(s: &str) -> Init {
     Init::Bytes(s.as_bytes().to_vec())
 }
