@@ -72,7 +72,6 @@ pub(crate) mod atomic;
 pub mod backend;
 pub mod bus;
 pub mod cancel;
-#[allow(missing_docs)] // not yet documented throughout
 pub mod canopen;
 #[cfg(feature = "cli")]
 #[allow(missing_docs)] // not yet documented throughout

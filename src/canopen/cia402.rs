@@ -23,29 +23,43 @@ pub(crate) fn is_drive(device_type: u32) -> bool {
 
 /// Statusword bits (CiA 402 §6.4.3, object 0x6041).
 pub mod sw {
+    /// Bit 0: ready to switch on.
     pub const READY_TO_SWITCH_ON: u16 = 1 << 0;
+    /// Bit 1: switched on.
     pub const SWITCHED_ON: u16 = 1 << 1;
+    /// Bit 2: operation enabled.
     pub const OPERATION_ENABLED: u16 = 1 << 2;
+    /// Bit 3: fault.
     pub const FAULT: u16 = 1 << 3;
+    /// Bit 4: the power stage has voltage.
     pub const VOLTAGE_ENABLED: u16 = 1 << 4;
     /// Active low: 0 while a quick stop is under way.
     pub const QUICK_STOP: u16 = 1 << 5;
+    /// Bit 6: switch on disabled.
     pub const SWITCH_ON_DISABLED: u16 = 1 << 6;
+    /// Bit 7: a warning stands (the drive keeps running).
     pub const WARNING: u16 = 1 << 7;
+    /// Bit 9: the drive follows controlword commands (remote).
     pub const REMOTE: u16 = 1 << 9;
+    /// Bit 10: the target (position, velocity) is reached.
     pub const TARGET_REACHED: u16 = 1 << 10;
+    /// Bit 11: an internal limit is active.
     pub const INTERNAL_LIMIT_ACTIVE: u16 = 1 << 11;
 }
 
 /// Controlword bits (CiA 402 §6.4.2, object 0x6040).
 pub mod cw {
+    /// Bit 0: switch on.
     pub const SWITCH_ON: u16 = 1 << 0;
+    /// Bit 1: enable voltage.
     pub const ENABLE_VOLTAGE: u16 = 1 << 1;
     /// Active low: 0 commands a quick stop.
     pub const QUICK_STOP: u16 = 1 << 2;
+    /// Bit 3: enable operation.
     pub const ENABLE_OPERATION: u16 = 1 << 3;
     /// Acts on its rising edge only.
     pub const FAULT_RESET: u16 = 1 << 7;
+    /// Bit 8: halt (stop moving, stay enabled).
     pub const HALT: u16 = 1 << 8;
 }
 
@@ -79,13 +93,21 @@ pub fn flags(statusword: u16) -> impl Iterator<Item = (u8, &'static str, bool)> 
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum State {
+    /// Initialising: the drive does not accept commands yet.
     NotReadyToSwitchOn,
+    /// Power stage off, waiting for a shutdown command.
     SwitchOnDisabled,
+    /// Ready; the power stage may be off.
     ReadyToSwitchOn,
+    /// Power stage on, not driving.
     SwitchedOn,
+    /// Driving: the drive follows its set points.
     OperationEnabled,
+    /// A quick stop is under way.
     QuickStopActive,
+    /// A fault was detected; the drive is reacting to it.
     FaultReactionActive,
+    /// Stopped on a fault: a fault reset leaves it.
     Fault,
 }
 
@@ -102,6 +124,7 @@ const STATE_CODING: [(u16, u16, State); 8] = [
 ];
 
 impl State {
+    /// Every state, in the order of the state machine.
     pub const ALL: [State; 8] = [
         State::NotReadyToSwitchOn,
         State::SwitchOnDisabled,
@@ -125,6 +148,7 @@ impl State {
         STATE_CODING.iter().find(|c| c.2 == self).map_or(0, |c| c.1)
     }
 
+    /// Its name as the standard writes it ("operation enabled").
     pub fn name(self) -> &'static str {
         match self {
             State::NotReadyToSwitchOn => "Not ready to switch on",
@@ -183,6 +207,7 @@ impl Command {
         }
     }
 
+    /// Its name as the standard writes it ("enable operation").
     pub fn name(self) -> &'static str {
         match self {
             Command::Shutdown => "shutdown",
@@ -259,6 +284,7 @@ pub enum Goal {
 }
 
 impl Goal {
+    /// Its name in `drive` commands and reports.
     pub fn name(self) -> &'static str {
         match self {
             Goal::Enable => "enable",
@@ -286,6 +312,7 @@ pub enum Step {
     Send(Command, State),
     /// The drive leaves this state on its own: read the statusword again.
     Wait,
+    /// The goal cannot be reached from here without the user (why).
     Blocked(Blocker),
 }
 

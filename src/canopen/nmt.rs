@@ -10,16 +10,23 @@ pub(crate) fn error_control_cob(node: u8) -> u16 {
     0x700 + node as u16
 }
 
+/// An NMT command (CiA 301 §7.2.8.3.1).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Command {
+    /// To Operational.
     Start,
+    /// To Stopped.
     Stop,
+    /// To Pre-operational.
     PreOperational,
+    /// Reset the application (and communication).
     ResetNode,
+    /// Reset communication only.
     ResetCommunication,
 }
 
 impl Command {
+    /// Its command specifier, byte 0 of the NMT frame.
     pub fn specifier(self) -> u8 {
         match self {
             Command::Start => 0x01,
@@ -41,6 +48,7 @@ impl Command {
         })
     }
 
+    /// Its name on the command line and in reports.
     pub fn name(self) -> &'static str {
         match self {
             Command::Start => "start",
@@ -65,12 +73,17 @@ impl Command {
     }
 }
 
+/// An NMT state, as a heartbeat or a guarding answer reports it.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum State {
+    /// Booting (a boot-up message is this state).
     Initialising,
+    /// Stopped: only NMT and error control.
     Stopped,
+    /// Operational: PDOs run.
     Operational,
+    /// Pre-operational: SDO but no PDO.
     PreOperational,
 }
 
@@ -95,6 +108,7 @@ impl State {
         })
     }
 
+    /// Its name in reports.
     pub fn name(self) -> &'static str {
         match self {
             State::Initialising => "initialising",

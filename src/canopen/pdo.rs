@@ -7,9 +7,13 @@ use super::ObjAddr;
 /// One mapping entry: `index << 16 | sub << 8 | bits`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Field {
+    /// The mapped object.
     pub addr: ObjAddr,
+    /// Its width in the PDO.
     pub bits: u8,
+    /// How to read its bits.
     pub dtype: DataType,
+    /// Its name, for reports.
     pub name: String,
 }
 
@@ -43,17 +47,23 @@ pub(crate) fn default_type(bits: u8) -> DataType {
 /// A PDO's layout and how to read it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
+    /// The COB-ID the PDO is sent on.
     pub cob_id: u16,
+    /// Its fields, in mapping order.
     pub fields: Vec<Field>,
 }
 
+/// A frame whose length is not the layout's.
 #[derive(Debug, PartialEq, Eq)]
 pub struct LengthMismatch {
+    /// Bytes received.
     pub got: usize,
+    /// Bytes the layout needs.
     pub want: usize,
 }
 
 impl Layout {
+    /// The bits mapped, in all.
     pub fn bits(&self) -> usize {
         self.fields.iter().map(|f| f.bits as usize).sum()
     }
@@ -63,6 +73,7 @@ impl Layout {
         self.bits().div_ceil(8)
     }
 
+    /// Whether nothing is mapped.
     pub fn is_empty(&self) -> bool {
         self.fields.is_empty()
     }

@@ -22,7 +22,9 @@ pub fn object(index: u16, program: u8) -> ObjAddr {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Control {
+    /// Stop the program: the device stays in its bootloader.
     Stop,
+    /// Start the program.
     Start,
     /// Resets the flash status (CiA 302-3 "reset").
     Reset,
@@ -31,10 +33,12 @@ pub enum Control {
     /// Zephyr's extension: a new program that runs on trial asks to be kept; writing it
     /// makes the program permanent (else the bootloader reverts at the next reset).
     Confirm,
+    /// A value CiA 302-3 does not define.
     Other(u8),
 }
 
 impl Control {
+    /// The value written to or read from 0x1F51.
     pub fn code(self) -> u8 {
         match self {
             Control::Stop => 0,
@@ -76,11 +80,14 @@ pub(crate) const BUSY: u32 = 1;
 /// The error codes of bits 1..7 of the flash status (CiA 302-3 table, as Zephyr's
 /// bootloader uses them).
 pub mod code {
+    /// No error.
     pub const OK: u8 = 0;
+    /// No valid program.
     pub const NO_VALID_PROGRAM: u8 = 1;
     pub(crate) const DATA_FORMAT_UNKNOWN: u8 = 2;
     pub(crate) const DATA_FORMAT_ERROR: u8 = 3;
     pub(crate) const FLASH_NOT_CLEARED: u8 = 4;
+    /// Writing the flash failed.
     pub const FLASH_WRITE_ERROR: u8 = 5;
     pub(crate) const GENERAL_ADDRESS_ERROR: u8 = 6;
     pub(crate) const FLASH_SECURED: u8 = 7;
@@ -90,13 +97,16 @@ pub mod code {
 /// A flash status value, decoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct FlashStatus {
+    /// The value as read from 0x1F57.
     pub raw: u32,
+    /// Bit 0: still erasing or writing.
     pub busy: bool,
     /// Bits 1..7.
     pub code: u8,
 }
 
 impl FlashStatus {
+    /// The status in a 0x1F57 value.
     pub fn decode(raw: u32) -> FlashStatus {
         FlashStatus { raw, busy: raw & BUSY != 0, code: ((raw >> 1) & 0x7F) as u8 }
     }

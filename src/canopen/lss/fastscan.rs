@@ -6,6 +6,7 @@ use super::policy::{Pace, BACKTRACKS, MAX_SEARCHES, REPEATS, SEARCH_BUDGET, STEP
 use super::wire::{is_answer, Identity, Inquiry, Request, FASTSCAN_RESET};
 use std::time::Duration;
 
+/// Why a fastscan found no device.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 #[non_exhaustive]
 pub enum FastscanError {
@@ -15,7 +16,12 @@ pub enum FastscanError {
     /// devices changed meanwhile, or frames were lost.
     Unconfirmed(u8),
     /// No device without a node-id has this part (given by the user) of its identity.
-    NoMatch { part: u8, value: u32 },
+    NoMatch {
+        /// The identity part (0 vendor .. 3 serial).
+        part: u8,
+        /// The value asked for.
+        value: u32,
+    },
     /// A device answered once, then no more, even with the longest step.
     Lost,
 }
@@ -23,15 +29,18 @@ pub enum FastscanError {
 /// What the fastscan driver wants done next.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum FastscanNext {
+    /// Send this request and collect its answers.
     Send(Ask),
     /// The device found; it is in configuration state now.
     Found(Identity),
+    /// The search ended without a device.
     Failed(FastscanError),
 }
 
 /// One request and how to wait for its answers.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Ask {
+    /// The request to send.
     pub request: Request,
     /// The command specifier an answer must carry.
     pub expect: u8,
@@ -141,6 +150,7 @@ impl Fastscan {
         self.steps
     }
 
+    /// The pace the search is at: how long it waits for answers.
     pub fn pace(&self) -> &Pace {
         &self.pace
     }
@@ -164,6 +174,7 @@ impl Fastscan {
         self.late || (self.pace.fixed.is_some() && self.pace.slowest.is_some_and(|s| s > self.pace.step()))
     }
 
+    /// What to do next, given the answers fed so far.
     pub fn next(&self) -> FastscanNext {
         if let Some(outcome) = self.outcome {
             return match outcome {

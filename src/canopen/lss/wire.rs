@@ -4,6 +4,7 @@
 
 use std::fmt;
 
+/// The COB-ID of LSS master requests; slaves answer on 0x7E4.
 pub const MASTER_COB: u16 = 0x7E5;
 pub(crate) const SLAVE_COB: u16 = 0x7E4;
 /// The node-id of a device that has none ("not configured").
@@ -12,13 +13,18 @@ pub(crate) const UNCONFIGURED: u8 = 0xFF;
 /// The LSS address: the four entries of the identity object 0x1018.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 pub struct Identity {
+    /// The vendor-id (0x1018:1).
     pub vendor: u32,
+    /// The product code (0x1018:2).
     pub product: u32,
+    /// The revision number (0x1018:3).
     pub revision: u32,
+    /// The serial number (0x1018:4).
     pub serial: u32,
 }
 
 impl Identity {
+    /// Part `i` of the identity: 0 vendor, 1 product, 2 revision, 3 serial.
     pub fn part(&self, i: u8) -> u32 {
         match i {
             0 => self.vendor,
@@ -116,10 +122,15 @@ pub(crate) fn bit_rate_name(index: u8) -> String {
 /// Which identity part an inquiry asks for, or the node-id.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Inquiry {
+    /// The vendor-id.
     Vendor,
+    /// The product code.
     Product,
+    /// The revision number.
     Revision,
+    /// The serial number.
     Serial,
+    /// The active node-id.
     NodeId,
 }
 
@@ -138,34 +149,54 @@ impl Inquiry {
 /// A master request.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Request {
+    /// Switch every device to configuration state, or back to waiting.
     SwitchGlobal {
+        /// True: to configuration state.
         configuration: bool,
     },
     /// Part 0..3 of the identity: vendor, product, revision, serial.
     SwitchSelective {
+        /// Which part.
         part: u8,
+        /// Its value.
         value: u32,
     },
+    /// Give the device in configuration state this node-id.
     ConfigureNodeId(u8),
+    /// Set the bit rate the device takes at the next activation.
     ConfigureBitTiming {
+        /// The bit timing table (0: CiA 301's).
         table: u8,
+        /// The entry in it (0 = 1 Mbit/s .. 8 = 10 kbit/s).
         index: u8,
     },
+    /// Switch every device to the configured bit rate after a delay.
     ActivateBitTiming {
+        /// How long to stay silent before and after the switch.
         delay_ms: u16,
     },
+    /// Store the configured node-id and bit rate in the device.
     StoreConfiguration,
+    /// Ask the device in configuration state for an identity part or its node-id.
     Inquire(Inquiry),
     /// 0x46..0x4B: vendor, product, revision low/high, serial low/high.
     IdentifyRemote {
+        /// Which field (0x46..0x4B).
         field: u8,
+        /// Its value (for revision and serial, a bound of the range).
         value: u32,
     },
+    /// Ask devices without a node-id to say so.
     IdentifyNonConfigured,
+    /// One fastscan request.
     Fastscan {
+        /// The identity bits asked for.
         id: u32,
+        /// The lowest bit compared (31..0), or 0x80 to reset the search.
         bit_checked: u8,
+        /// The identity part being searched.
         sub: u8,
+        /// The part to search after this one.
         next: u8,
     },
 }
@@ -174,6 +205,7 @@ pub enum Request {
 pub(crate) const FASTSCAN_RESET: u8 = 0x80;
 
 impl Request {
+    /// The request's 8 data bytes.
     pub fn encode(&self) -> [u8; 8] {
         let mut f = [0u8; 8];
         let put32 = |f: &mut [u8; 8], v: u32| f[1..5].copy_from_slice(&v.to_le_bytes());
@@ -217,6 +249,7 @@ impl Request {
         f
     }
 
+    /// The request in these data bytes; `None` for one not known.
     pub fn decode(d: &[u8]) -> Option<Request> {
         if d.len() != 8 {
             return None;
@@ -245,23 +278,33 @@ impl Request {
 /// A slave answer.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Response {
+    /// The selected device is now in configuration state.
     SwitchSelectiveAck,
     /// Answer to configure node-id (0x11), configure bit timing (0x13) or store (0x17):
     /// the command, its error code and the implementation-specific code.
     Result {
+        /// The command specifier answered.
         cs: u8,
+        /// 0: done; else refused.
         error: u8,
+        /// The implementation-specific code, when `error` is 255.
         specific: u8,
     },
+    /// An inquiry's answer.
     InquiredValue {
+        /// What was asked.
         inquiry: Inquiry,
+        /// The value.
         value: u32,
     },
+    /// A device inside the range of an identify-remote request (or a fastscan match).
     IdentifySlave,
+    /// A device without a node-id.
     IdentifyNonConfiguredSlave,
 }
 
 impl Response {
+    /// The answer's 8 data bytes.
     pub fn encode(&self) -> [u8; 8] {
         let mut f = [0u8; 8];
         match *self {
@@ -285,6 +328,7 @@ impl Response {
         f
     }
 
+    /// The answer in these data bytes; `None` for one not known.
     pub fn decode(d: &[u8]) -> Option<Response> {
         if d.len() != 8 {
             return None;

@@ -21,13 +21,19 @@ pub const DEFAULT_MAX_UPLOAD: usize = 1 << 20;
 /// otherwise be answered with the same sub-block forever.
 pub const MAX_BLOCK_RETRANSMISSIONS: u32 = 4;
 
+/// Why an SDO transfer failed, as the client state machine sees it.
 #[derive(Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum SdoError {
     /// The server aborted the transfer with this code.
     ServerAbort(u32),
     /// We must abort: send `abort_frame(addr, code)` and report `reason`.
-    ClientAbort { code: u32, reason: String },
+    ClientAbort {
+        /// The abort code to send.
+        code: u32,
+        /// What went wrong, in words.
+        reason: String,
+    },
     /// The transfer finished but what arrived is inconsistent; nothing more to send.
     Inconsistent(String),
 }
@@ -35,6 +41,7 @@ pub enum SdoError {
 /// What to do after feeding a response.
 #[derive(Debug, PartialEq, Eq)]
 pub struct Step {
+    /// Frames to send now, in order.
     pub send: Vec<[u8; 8]>,
     /// The uploaded bytes (empty for a download) once the transfer is complete.
     pub done: Option<Vec<u8>>,
@@ -75,6 +82,8 @@ enum State {
     Finished,
 }
 
+/// The client side of one SDO transfer (expedited, segmented or block), pure: fed the server's
+/// frames, it says what to send next.
 #[derive(Debug)]
 pub struct SdoClient {
     addr: ObjAddr,
@@ -176,6 +185,7 @@ impl SdoClient {
         self.previous = Some((pad(raw), raw.len().min(8)));
     }
 
+    /// The object transferred.
     pub fn addr(&self) -> ObjAddr {
         self.addr
     }
