@@ -166,7 +166,7 @@ enum UsbState {
 /// Reassembles USB frames from a byte stream: skips anything before DLE STX, undoes the
 /// stuffing, checks length and CRC. Feed bytes one at a time.
 #[derive(Debug, Default)]
-pub(crate) struct UsbDecoder {
+pub struct UsbDecoder {
     state: UsbState,
     body: Vec<u8>,
 }
