@@ -86,7 +86,6 @@ pub mod od;
 #[allow(missing_docs)] // not yet documented throughout
 pub mod ops;
 #[cfg(feature = "cli")]
-#[allow(missing_docs)] // not yet documented throughout
 pub mod output;
 pub mod serial;
 pub mod settings;

@@ -27,6 +27,7 @@ pub use events::{event_line, say_deviations};
 pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};
 pub use reports::{sentence, stored_eds_line, Each};
 
+/// The form a report is rendered in (`--format`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
     /// Tables and sentences for people.
@@ -69,7 +70,9 @@ impl FormatArg {
     }
 }
 
+/// The renderer every command writes through: its format and what stdout and stderr are.
 pub struct Output {
+    /// The form reports take.
     pub format: Format,
     /// Reports that have a JUnit form are written as JUnit XML.
     pub junit: bool,
@@ -77,6 +80,7 @@ pub struct Output {
     pub xdc: bool,
     /// Show progress bars: only when stderr is a terminal and not --quiet.
     pub progress: bool,
+    /// `--quiet`: notes and progress left out, only results.
     pub quiet: bool,
     /// The width tables are fitted to: the terminal's, when stdout is one and `--wide` was
     /// not given; `None` keeps every column (pipes, files, `--wide`).
@@ -84,6 +88,7 @@ pub struct Output {
 }
 
 impl Output {
+    /// A renderer for `format`, fitting tables and showing progress bars only on a terminal.
     pub fn new(format: Format, quiet: bool) -> Output {
         let fit = if std::io::stdout().is_terminal() { terminal_width() } else { None };
         Output { format, junit: false, xdc: false, progress: !quiet && std::io::stderr().is_terminal(), quiet, fit }
@@ -119,6 +124,7 @@ impl Output {
         out.write_all(bytes).and_then(|_| out.flush()).map_err(stdout_error)
     }
 
+    /// Prints `value` as pretty JSON on stdout.
     pub fn json(&self, value: &serde_json::Value) -> std::io::Result<()> {
         self.print(&serde_json::to_string_pretty(value).expect("JSON serialises"))
     }
@@ -264,7 +270,14 @@ pub enum Human {
     /// A sentence on stdout.
     Line(String),
     /// A table; `when_empty` says whether a table without rows is still shown (its header).
-    Table { headers: Vec<&'static str>, rows: Vec<Vec<String>>, when_empty: bool },
+    Table {
+        /// The column names.
+        headers: Vec<&'static str>,
+        /// The rows, each a cell per column.
+        rows: Vec<Vec<String>>,
+        /// Whether a table without rows still shows its header.
+        when_empty: bool,
+    },
     /// A remark on stderr (not with --quiet), in its place among [`Human::Parts`].
     Note(String),
     /// Several of the above, in order (a table, then sentences about it).
@@ -273,6 +286,7 @@ pub enum Human {
 
 /// A typed report: serialised as it is for JSON, shown as [`Human`] otherwise.
 pub trait Report: serde::Serialize {
+    /// How the report looks to people.
     fn human(&self) -> Human;
     /// How the report looks in CSV, when that is not as for people (a row for a sentence).
     fn csv(&self) -> Human {
@@ -290,10 +304,13 @@ pub trait Report: serde::Serialize {
 
 /// Test results for CI systems: one suite of cases.
 pub struct TestSuite {
+    /// The suite's name: the command.
     pub name: String,
+    /// One case per check.
     pub cases: Vec<TestCase>,
 }
 
+/// One check's result in a [`TestSuite`].
 pub struct TestCase {
     /// What is tested (`node 5 (C01)`), shown as the class.
     pub class: String,
@@ -398,8 +415,11 @@ impl Output {
 pub trait Line {
     /// The CSV header row's column names, in the order of [`Line::csv`]'s fields.
     const CSV_HEADER: &'static [&'static str];
+    /// The line as a JSON object (one per line in JSON lines).
     fn json(&self) -> serde_json::Value;
+    /// The line as a CSV row, without its newline.
     fn csv(&self) -> String;
+    /// The line for people.
     fn text(&self) -> String;
 }
 
@@ -560,6 +580,8 @@ pub struct RecordWriter {
 }
 
 impl RecordWriter {
+    /// A writer for PDOs of `layout`, in `format`; field names from a file are escaped for a
+    /// terminal.
     pub fn new(layout: &Layout, format: Format) -> RecordWriter {
         let fields: Vec<String> = layout.fields.iter().map(|f| f.name.clone()).collect();
         let keys = fields.iter().map(|f| json_string(f)).collect();
@@ -589,6 +611,7 @@ impl RecordWriter {
         }
     }
 
+    /// Appends one record as a CSV row: time, PDO number, then the values.
     pub fn csv(&self, out: &mut String, time_ms: u64, pdo: u8, values: &[Value]) {
         let _ = write!(out, "{}.{:03},{pdo}", time_ms / 1000, time_ms % 1000);
         for v in values {
@@ -598,6 +621,7 @@ impl RecordWriter {
         out.push('\n');
     }
 
+    /// Appends one record as a JSON line: time, node, PDO number and each field by name.
     pub fn json(&self, out: &mut String, time_ms: u64, node: u8, pdo: u8, values: &[Value]) {
         let _ = write!(out, "{{\"time\":{}.{:03},\"node\":{node},\"pdo\":{pdo}", time_ms / 1000, time_ms % 1000);
         for (key, v) in self.keys.iter().zip(values) {
