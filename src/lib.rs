@@ -16,12 +16,12 @@
 //! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 and slcan serial devices |
 //! | [`backend`] | the links: SocketCAN, slcan (`FrameLink`s served by [`bus::Master`]), the EPOS2 gateway (a `Bus` of its own) |
 //! | [`bus`] | the [`bus::Bus`] service API, the [`bus::FrameLink`] trait, [`bus::Master`] (CANopen client over a `FrameLink`), clock, and the decorators (observer, tap, stop, frame log) |
-//! | [`cancel`], [`atomic`] | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
+//! | [`cancel`], `atomic` | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
 //! | [`error`] | the library's [`Error`], wrapping the lower layers' errors; exit codes |
 //! | [`epos2`], [`slcan`] | the serial protocols: pure framing, CRC, commands; EPOS2's two transports |
 //! | [`od`] | object dictionaries, EDS/DCF read and write, object names |
-//! | [`canopen`], [`input`], [`trace`] | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
-//! | [`frame`], [`serial`], [`xdg`] | the CAN frame; the serial port the serial backends use; where state and cache files live |
+//! | [`canopen`], [`input`], `trace` | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
+//! | [`frame`], [`serial`], `xdg` | the CAN frame; the serial port the serial backends use; where state and cache files live |
 //!
 //! # Where things go
 //!
