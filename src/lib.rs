@@ -42,8 +42,9 @@
 // the commands call have no caller: that is not dead code.
 #![cfg_attr(not(feature = "cli"), allow(dead_code))]
 // Every public item says what it is for. The modules marked `allow(missing_docs)` below are
-// not yet through (issue 28); the rest, and any new module, are held to it.
-#![deny(missing_docs)]
+// not yet through (issue 28); the rest, and any new module, are held to it: a warning, so a
+// merge still builds, and an error in CI (clippy -D warnings).
+#![warn(missing_docs)]
 
 /// The layers of the library, top first. A module may use the modules of the layers below its
 /// own, never one above, nor a sibling of its own layer: so there is no cycle. An entry names a
