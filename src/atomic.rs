@@ -11,7 +11,7 @@ use std::io::Write;
 /// it was and the temporary file removed: exit 7. A target that is not a regular file (a
 /// terminal, `/dev/stdout`, a FIFO) is written directly, as renaming over it would replace
 /// the device with a file.
-pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
+pub(crate) fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
     use crate::Error;
     use std::fs;
     let output = |why: String| Error::Output { path: path.display().to_string(), why };
@@ -83,7 +83,7 @@ fn target(path: &std::path::Path) -> crate::Result<std::path::PathBuf> {
 /// (a dump of 20 s), so that a mistyped folder fails at once rather than after it: the
 /// temporary file is made and removed (the folder exists and takes new files), a device
 /// opened for writing. Nothing is written to `path` itself; a full disk shows only later.
-pub fn check_writable(path: &std::path::Path) -> crate::Result<()> {
+pub(crate) fn check_writable(path: &std::path::Path) -> crate::Result<()> {
     use std::fs;
     let output = |why: String| crate::Error::Output { path: path.display().to_string(), why };
     let target = target(path)?;
@@ -113,7 +113,7 @@ pub fn check_writable(path: &std::path::Path) -> crate::Result<()> {
 
 /// The temporary file process `pid` writes beside `name`: hidden, named after it and after
 /// its writer, so that two processes, or one killed half-way and the next, never collide.
-pub fn temp_name(name: &std::ffi::OsStr, pid: u32) -> std::ffi::OsString {
+pub(crate) fn temp_name(name: &std::ffi::OsStr, pid: u32) -> std::ffi::OsString {
     let mut temp = std::ffi::OsString::from(".");
     temp.push(name);
     temp.push(format!(".{pid}{TEMP_SUFFIX}"));

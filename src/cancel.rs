@@ -13,6 +13,7 @@ use std::sync::Arc;
 pub struct Cancel(Arc<AtomicBool>);
 
 impl Cancel {
+    /// A request not yet made: clone it to everything that is to stop together.
     pub fn new() -> Cancel {
         Cancel::default()
     }
@@ -22,7 +23,7 @@ impl Cancel {
         self.0.store(true, Ordering::SeqCst);
     }
 
-    pub fn is_cancelled(&self) -> bool {
+    pub(crate) fn is_cancelled(&self) -> bool {
         self.0.load(Ordering::SeqCst)
     }
 

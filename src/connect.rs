@@ -16,20 +16,28 @@ use std::time::Duration;
 pub enum BusAddr {
     /// The simulated demo network; `state` overrides the default state file.
     Sim {
+        /// The state file to use instead of the default one.
         state: Option<PathBuf>,
     },
+    /// A SocketCAN interface (Linux).
     SocketCan {
+        /// The interface's name: can0, vcan0.
         iface: String,
     },
     /// A maxon EPOS2 on a serial port.
     Epos2 {
+        /// RS232 or USB framing.
         framing: Framing,
+        /// The serial port: /dev/ttyUSB0, COM3.
         port: String,
+        /// The serial line's baud rate (RS232; USB ignores it).
         baud: u32,
     },
     /// A serial-line CAN adapter (slcan) at this CAN bit rate.
     Slcan {
+        /// The adapter's serial port.
         port: String,
+        /// The CAN bit rate the adapter is to open the bus at, in kbit/s.
         kbit: u32,
     },
 }

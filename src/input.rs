@@ -17,18 +17,49 @@ pub const MAX_EDS_BYTES: u64 = 16 << 20;
 pub const MAX_VALUE_BYTES: u64 = 64 << 20;
 
 /// How long a pipe or device may stay silent before a value read from it is given up.
-pub const VALUE_IDLE_LIMIT: Duration = Duration::from_secs(10);
+pub(crate) const VALUE_IDLE_LIMIT: Duration = Duration::from_secs(10);
 
+/// Why an input file (EDS, DCF, value file) was not read: the limits keep a wrong path or an
+/// endless pipe from eating memory or hanging.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum InputError {
+    /// The file could not be opened or read.
     #[error("cannot read {path}: {source}")]
-    Io { path: String, source: std::io::Error },
+    Io {
+        /// The file, as given.
+        path: String,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The file is larger than its kind may be.
     #[error("{path}: larger than {}, the limit for {what}", size_text(*.limit))]
-    TooLarge { path: String, limit: u64, what: &'static str },
+    TooLarge {
+        /// The file, as given.
+        path: String,
+        /// The limit it passed, in bytes.
+        limit: u64,
+        /// What the file was to be, for the message.
+        what: &'static str,
+    },
+    /// The path is a directory, socket or the like, not a file.
     #[error("{path}: {kind}, not a regular file ({what} must be a file)")]
-    NotRegular { path: String, kind: &'static str, what: &'static str },
+    NotRegular {
+        /// The file, as given.
+        path: String,
+        /// What it is instead: a directory, a socket.
+        kind: &'static str,
+        /// What the file was to be, for the message.
+        what: &'static str,
+    },
+    /// A pipe or device sent nothing for too long.
     #[error("{path} sent nothing for {} s: given up (a pipe or device needs a writer)", .idle.as_secs_f64())]
-    Idle { path: String, idle: Duration },
+    Idle {
+        /// The pipe or device, as given.
+        path: String,
+        /// How long it stayed silent.
+        idle: Duration,
+    },
 }
 
 /// `16 MiB` for whole mebibytes, else bytes.
@@ -43,16 +74,20 @@ fn size_text(bytes: u64) -> String {
 /// What a bounded read is for: its size limit and the name used in messages.
 #[derive(Clone, Copy, Debug)]
 pub struct Limit {
+    /// The most bytes read before giving up.
     pub bytes: u64,
+    /// What the input is, for messages ("an EDS or DCF file").
     pub what: &'static str,
 }
 
+/// The limit for EDS and DCF files.
 pub const EDS: Limit = Limit { bytes: MAX_EDS_BYTES, what: "an EDS or DCF file" };
+/// The limit for a value file (`sdo write --file`).
 pub const VALUE: Limit = Limit { bytes: MAX_VALUE_BYTES, what: "a value file" };
 
 /// A regular file, whole, if it is no larger than `limit`. FIFOs, devices and directories
 /// are refused without reading (and without blocking on opening them).
-pub fn read_regular_file(path: &Path, limit: Limit) -> Result<Vec<u8>, InputError> {
+pub(crate) fn read_regular_file(path: &Path, limit: Limit) -> Result<Vec<u8>, InputError> {
     let shown = path.display().to_string();
     let file = open_nonblocking(path).map_err(|source| InputError::Io { path: shown.clone(), source })?;
     let meta = file.metadata().map_err(|source| InputError::Io { path: shown.clone(), source })?;
@@ -67,7 +102,7 @@ pub fn read_regular_file(path: &Path, limit: Limit) -> Result<Vec<u8>, InputErro
 
 /// A value file: a regular file, or a pipe or device read until its end within `limit`
 /// bytes and `idle` silence. `-` is standard input, likewise bounded.
-pub fn read_value_file(path: &str, limit: Limit, idle: Duration) -> Result<Vec<u8>, InputError> {
+pub(crate) fn read_value_file(path: &str, limit: Limit, idle: Duration) -> Result<Vec<u8>, InputError> {
     if path == "-" {
         return read_stream(std::io::stdin(), "standard input", limit, idle);
     }

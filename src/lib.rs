@@ -16,12 +16,12 @@
 //! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 and slcan serial devices |
 //! | [`backend`] | the links: SocketCAN, slcan (`FrameLink`s served by [`bus::Master`]), the EPOS2 gateway (a `Bus` of its own) |
 //! | [`bus`] | the [`bus::Bus`] service API, the [`bus::FrameLink`] trait, [`bus::Master`] (CANopen client over a `FrameLink`), clock, and the decorators (observer, tap, stop, frame log) |
-//! | [`cancel`], [`atomic`] | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
+//! | [`cancel`], `atomic` | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
 //! | [`error`] | the library's [`Error`], wrapping the lower layers' errors; exit codes |
 //! | [`epos2`], [`slcan`] | the serial protocols: pure framing, CRC, commands; EPOS2's two transports |
 //! | [`od`] | object dictionaries, EDS/DCF read and write, object names |
-//! | [`canopen`], [`input`], [`trace`] | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
-//! | [`frame`], [`serial`], [`xdg`] | the CAN frame; the serial port the serial backends use; where state and cache files live |
+//! | [`canopen`], [`input`], `trace` | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
+//! | [`frame`], [`serial`], `xdg` | the CAN frame; the serial port the serial backends use; where state and cache files live |
 //!
 //! # Where things go
 //!
@@ -37,6 +37,14 @@
 //!
 //! `cargo build --lib --no-default-features` builds the library without the command line;
 //! `examples/provision.rs` applies a DCF through it.
+
+// Without the command line (`--no-default-features`), the crate-private helpers that only
+// the commands call have no caller: that is not dead code.
+#![cfg_attr(not(feature = "cli"), allow(dead_code))]
+// Every public item says what it is for. The modules marked `allow(missing_docs)` below are
+// not yet through (issue 28); the rest, and any new module, are held to it: a warning, so a
+// merge still builds, and an error in CI (clippy -D warnings).
+#![warn(missing_docs)]
 
 /// The layers of the library, top first. A module may use the modules of the layers below its
 /// own, never one above, nor a sibling of its own layer: so there is no cycle. An entry names a
@@ -61,19 +69,22 @@ pub const LAYERS: &[&[&str]] = &[
     &["frame", "serial", "xdg"],
 ];
 
-pub mod atomic;
+pub(crate) mod atomic;
 pub mod backend;
 pub mod bus;
 pub mod cancel;
 pub mod canopen;
 #[cfg(feature = "cli")]
+#[allow(missing_docs)] // not yet documented throughout
 pub mod cli;
 pub mod connect;
+#[allow(missing_docs)] // not yet documented throughout
 pub mod error;
 pub mod frame;
-pub mod hint;
+pub(crate) mod hint;
 pub mod input;
 pub mod od;
+#[allow(missing_docs)] // not yet documented throughout
 pub mod ops;
 #[cfg(feature = "cli")]
 pub mod output;
@@ -81,8 +92,8 @@ pub mod serial;
 pub mod settings;
 pub mod sim;
 pub mod slcan;
-pub mod trace;
-pub mod xdg;
+pub(crate) mod trace;
+pub(crate) mod xdg;
 
 pub use error::{Error, Result};
 pub mod epos2;

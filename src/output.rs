@@ -11,8 +11,8 @@ use std::io::{IsTerminal, Write};
 
 mod check;
 pub(crate) mod completion;
-pub mod diagnostics;
-pub mod docs;
+pub(crate) mod diagnostics;
+pub(crate) mod docs;
 mod drive;
 mod events;
 mod firmware;
@@ -29,6 +29,7 @@ pub use events::{event_line, say_deviations};
 pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};
 pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 
+/// The form a report is rendered in (`--format`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
     /// Tables and sentences for people.
@@ -71,7 +72,9 @@ impl FormatArg {
     }
 }
 
+/// The renderer every command writes through: its format and what stdout and stderr are.
 pub struct Output {
+    /// The form reports take.
     pub format: Format,
     /// Reports that have a JUnit form are written as JUnit XML.
     pub junit: bool,
@@ -79,6 +82,7 @@ pub struct Output {
     pub xdc: bool,
     /// Show progress bars: only when stderr is a terminal and not --quiet.
     pub progress: bool,
+    /// `--quiet`: notes and progress left out, only results.
     pub quiet: bool,
     /// The width tables are fitted to: the terminal's, when stdout is one and `--wide` was
     /// not given; `None` keeps every column (pipes, files, `--wide`).
@@ -86,13 +90,14 @@ pub struct Output {
 }
 
 impl Output {
+    /// A renderer for `format`, fitting tables and showing progress bars only on a terminal.
     pub fn new(format: Format, quiet: bool) -> Output {
         let fit = if std::io::stdout().is_terminal() { terminal_width() } else { None };
         Output { format, junit: false, xdc: false, progress: !quiet && std::io::stderr().is_terminal(), quiet, fit }
     }
 
     /// The output `--format` asks for.
-    pub fn for_arg(format: FormatArg, quiet: bool) -> Output {
+    pub(crate) fn for_arg(format: FormatArg, quiet: bool) -> Output {
         Output {
             junit: format == FormatArg::Junit,
             xdc: format == FormatArg::Xdc,
@@ -115,17 +120,13 @@ impl Output {
         write().map_err(stdout_error)
     }
 
-    /// A value for people (a string a device sent, say): its control characters escaped.
-    pub fn print_value(&self, text: &str) -> std::io::Result<()> {
-        self.print(&terminal_safe(text))
-    }
-
     /// Bytes as they are (a Latin-1 file's content, say).
     pub fn write_bytes(&self, bytes: &[u8]) -> std::io::Result<()> {
         let mut out = std::io::stdout().lock();
         out.write_all(bytes).and_then(|_| out.flush()).map_err(stdout_error)
     }
 
+    /// Prints `value` as pretty JSON on stdout.
     pub fn json(&self, value: &serde_json::Value) -> std::io::Result<()> {
         self.print(&serde_json::to_string_pretty(value).expect("JSON serialises"))
     }
@@ -286,7 +287,14 @@ pub enum Human {
     /// A sentence on stdout.
     Line(String),
     /// A table; `when_empty` says whether a table without rows is still shown (its header).
-    Table { headers: Vec<&'static str>, rows: Vec<Vec<String>>, when_empty: bool },
+    Table {
+        /// The column names.
+        headers: Vec<&'static str>,
+        /// The rows, each a cell per column.
+        rows: Vec<Vec<String>>,
+        /// Whether a table without rows still shows its header.
+        when_empty: bool,
+    },
     /// A remark on stderr (not with --quiet), in its place among [`Human::Parts`].
     Note(String),
     /// Several of the above, in order (a table, then sentences about it).
@@ -295,6 +303,7 @@ pub enum Human {
 
 /// A typed report: serialised as it is for JSON, shown as [`Human`] otherwise.
 pub trait Report: serde::Serialize {
+    /// How the report looks to people.
     fn human(&self) -> Human;
     /// How the report looks in CSV, when that is not as for people (a row for a sentence).
     fn csv(&self) -> Human {
@@ -312,10 +321,13 @@ pub trait Report: serde::Serialize {
 
 /// Test results for CI systems: one suite of cases.
 pub struct TestSuite {
+    /// The suite's name: the command.
     pub name: String,
+    /// One case per check.
     pub cases: Vec<TestCase>,
 }
 
+/// One check's result in a [`TestSuite`].
 pub struct TestCase {
     /// What is tested (`node 5 (C01)`), shown as the class.
     pub class: String,
@@ -349,7 +361,7 @@ fn xml_text(s: &str) -> String {
 }
 
 /// JUnit XML as Jenkins, GitLab and GitHub test reporters read it.
-pub fn junit_xml(suite: &TestSuite) -> String {
+pub(crate) fn junit_xml(suite: &TestSuite) -> String {
     let failures = suite.cases.iter().filter(|c| c.failure.is_some()).count();
     let (name, tests) = (xml_text(&suite.name), suite.cases.len());
     let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
@@ -420,15 +432,18 @@ impl Output {
 pub trait Line {
     /// The CSV header row's column names, in the order of [`Line::csv`]'s fields.
     const CSV_HEADER: &'static [&'static str];
+    /// The line as a JSON object (one per line in JSON lines).
     fn json(&self) -> serde_json::Value;
+    /// The line as a CSV row, without its newline.
     fn csv(&self) -> String;
+    /// The line for people.
     fn text(&self) -> String;
 }
 
 impl Output {
     /// What comes before a stream's first line: in CSV its header row, whether or not any
     /// line follows.
-    pub fn stream_start<L: Line>(&self, w: &mut impl Write) -> std::io::Result<()> {
+    pub(crate) fn stream_start<L: Line>(&self, w: &mut impl Write) -> std::io::Result<()> {
         if self.format == Format::Csv {
             write!(w, "{}", csv(L::CSV_HEADER, &[]))?;
         }
@@ -512,7 +527,7 @@ fn stdout_error(e: std::io::Error) -> std::io::Error {
 /// the bidirectional overrides that reorder what is shown: a string from a device or a file
 /// cannot move the cursor, retitle the window or hide part of a line. JSON and CSV keep
 /// the exact text with their own escaping; this is for human output only.
-pub fn terminal_safe(text: &str) -> std::borrow::Cow<'_, str> {
+pub(crate) fn terminal_safe(text: &str) -> std::borrow::Cow<'_, str> {
     escape(text, false)
 }
 
@@ -565,7 +580,7 @@ pub fn csv(headers: &[&str], rows: &[Vec<String>]) -> String {
 }
 
 /// Unix time in ms as the time of day (UTC) for people: `HH:MM:SS.mmm`.
-pub fn time_of_day(time_ms: u64) -> String {
+pub(crate) fn time_of_day(time_ms: u64) -> String {
     let secs = time_ms / 1000;
     let (h, m, s, ms) = (secs / 3600 % 24, secs / 60 % 60, secs % 60, time_ms % 1000);
     format!("{h:02}:{m:02}:{s:02}.{ms:03}")
@@ -582,6 +597,8 @@ pub struct RecordWriter {
 }
 
 impl RecordWriter {
+    /// A writer for PDOs of `layout`, in `format`; field names from a file are escaped for a
+    /// terminal.
     pub fn new(layout: &Layout, format: Format) -> RecordWriter {
         let fields: Vec<String> = layout.fields.iter().map(|f| f.name.clone()).collect();
         let keys = fields.iter().map(|f| json_string(f)).collect();
@@ -594,7 +611,7 @@ impl RecordWriter {
     }
 
     /// What comes before the first record: the CSV header.
-    pub fn preamble(&self, out: &mut String) {
+    pub(crate) fn preamble(&self, out: &mut String) {
         if self.format == Format::Csv {
             let headers: Vec<&str> =
                 ["time", "pdo"].into_iter().chain(self.fields.iter().map(|f| f.as_str())).collect();
@@ -611,6 +628,7 @@ impl RecordWriter {
         }
     }
 
+    /// Appends one record as a CSV row: time, PDO number, then the values.
     pub fn csv(&self, out: &mut String, time_ms: u64, pdo: u8, values: &[Value]) {
         let _ = write!(out, "{}.{:03},{pdo}", time_ms / 1000, time_ms % 1000);
         for v in values {
@@ -620,6 +638,7 @@ impl RecordWriter {
         out.push('\n');
     }
 
+    /// Appends one record as a JSON line: time, node, PDO number and each field by name.
     pub fn json(&self, out: &mut String, time_ms: u64, node: u8, pdo: u8, values: &[Value]) {
         let _ = write!(out, "{{\"time\":{}.{:03},\"node\":{node},\"pdo\":{pdo}", time_ms / 1000, time_ms % 1000);
         for (key, v) in self.keys.iter().zip(values) {

@@ -24,7 +24,7 @@ pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(500);
 /// The shortest answer timeout canctl accepts: an SDO request and its answer are two
 /// frames on the bus (0.5 ms at 500 kbit/s, 27 ms at 10 kbit/s), and a device takes its
 /// own time to answer (1 to 80 ms on real slaves); a shorter wait only ever reports silence.
-pub const MIN_TIMEOUT: Duration = Duration::from_millis(10);
+pub(crate) const MIN_TIMEOUT: Duration = Duration::from_millis(10);
 
 /// Parse `500ms`, `2s`, `1.5s`, `1m` or `200us`. A number without a unit is refused: was
 /// `--timeout 5` meant as 5 ms or 5 s? (it used to be taken as ms, `1.5` as 1 ms).
@@ -89,9 +89,13 @@ where
 /// Where a value came from.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Source {
+    /// A command-line flag.
     Flag,
+    /// An environment variable (`CANCTL_BUS`, ...).
     Env,
+    /// The project file at this path (`canctl.toml`).
     File(PathBuf),
+    /// canctl's own default: nothing chose it.
     Default,
 }
 

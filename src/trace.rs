@@ -13,11 +13,11 @@ use crate::frame::Frame;
 /// The target of the frame trace events.
 pub const FRAMES: &str = "canctl::frames";
 /// The target of the EPOS2 serial byte trace events.
-pub const BYTES: &str = "canctl::bytes";
+pub(crate) const BYTES: &str = "canctl::bytes";
 
 /// Which way a frame went, seen from canctl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Dir {
+pub(crate) enum Dir {
     Tx,
     Rx,
 }

@@ -9,17 +9,17 @@ fn project() -> Option<directories::ProjectDirs> {
 }
 
 /// Settings: `config.toml` lives here.
-pub fn config_dir() -> Option<PathBuf> {
+pub(crate) fn config_dir() -> Option<PathBuf> {
     project().map(|p| p.config_dir().to_path_buf())
 }
 
 /// What may be thrown away: the scan cache.
-pub fn cache_dir() -> Option<PathBuf> {
+pub(crate) fn cache_dir() -> Option<PathBuf> {
     project().map(|p| p.cache_dir().to_path_buf())
 }
 
 /// What must outlive a run but is no setting: the simulated network. XDG has a state
 /// directory; elsewhere it is the local data directory.
-pub fn state_dir() -> Option<PathBuf> {
+pub(crate) fn state_dir() -> Option<PathBuf> {
     project().map(|p| p.state_dir().unwrap_or_else(|| p.data_local_dir()).to_path_buf())
 }

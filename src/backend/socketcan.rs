@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 const TX_QUEUE_PATIENCE: Duration = Duration::from_secs(2);
 
 /// A Linux CAN interface (`can0`, `vcan0`) as a [`FrameLink`].
-pub struct SocketCanLink {
+pub(crate) struct SocketCanLink {
     sock: CanSocket,
     iface: String,
     filters: Vec<(u16, u16)>,

@@ -10,7 +10,9 @@ use std::time::Duration;
 
 /// A device `assign` gave a node-id.
 pub struct Assigned {
+    /// Its LSS address (vendor, product, revision, serial).
     pub identity: Identity,
+    /// The node-id it was given.
     pub node: u8,
     /// Whether "store configuration" succeeded; the reason when not (or not asked).
     pub stored: std::result::Result<(), String>,
@@ -18,13 +20,20 @@ pub struct Assigned {
 
 /// Why `assign` stopped before every device had a node-id.
 pub enum AssignFailure {
+    /// No device could be found, or a fastscan went wrong.
     Fastscan(FastscanError),
+    /// A device refused the node-id, or the bus failed.
     Refused(Error),
 }
 
+/// What `assign` did: the devices it gave node-ids, the fastscan steps it took, and why it stopped
+/// early, if it did.
 pub struct AssignOutcome {
+    /// The devices given node-ids, in order.
     pub assigned: Vec<Assigned>,
+    /// Fastscan requests sent, in all.
     pub steps: u32,
+    /// Why it stopped before every device had a node-id; `None` when none was left.
     pub failure: Option<AssignFailure>,
     /// The pace learned: the step the fastscans used.
     pub pace: Pace,
@@ -35,8 +44,11 @@ pub struct AssignOutcome {
 /// A fastscan's result: the identity found (that device is in configuration state now)
 /// or why none, the fastscan requests it took, and the pace it learned.
 pub struct FastscanOutcome {
+    /// The device's identity, or why none was found.
     pub found: std::result::Result<Identity, FastscanError>,
+    /// Fastscan requests sent.
     pub steps: u32,
+    /// The pace the fastscan ended at, for the next one to start from.
     pub pace: Pace,
 }
 
@@ -47,14 +59,17 @@ pub struct LssMaster<'a> {
 }
 
 impl<'a> LssMaster<'a> {
+    /// An LSS master on `bus` that waits at most `timeout` for each confirmed step's answer.
     pub fn new(bus: &'a mut dyn Bus, timeout: Duration) -> LssMaster<'a> {
         LssMaster { bus, timeout }
     }
 
+    /// The bus underneath, for the frames LSS does not cover.
     pub fn bus(&mut self) -> &mut dyn Bus {
         self.bus
     }
 
+    /// Sends `req` without waiting for an answer (an unconfirmed service).
     pub fn send(&mut self, req: Request) -> Result<()> {
         self.bus.lss_exchange(&req.encode(), 0, Duration::ZERO, LssWait::Nothing).map(|_| ())
     }
@@ -67,7 +82,7 @@ impl<'a> LssMaster<'a> {
     }
 
     /// Put one device (by identity) or every device (`None`) into configuration state.
-    pub fn enter(&mut self, identity: Option<&Identity>) -> Result<()> {
+    pub(crate) fn enter(&mut self, identity: Option<&Identity>) -> Result<()> {
         match identity {
             Some(id) => {
                 let [a, b, c, d] = lss::switch_selective(id);
@@ -87,6 +102,7 @@ impl<'a> LssMaster<'a> {
         }
     }
 
+    /// Switches every device back to waiting state (unconfirmed: no device answers).
     pub fn leave(&mut self) -> Result<()> {
         self.send(Request::SwitchGlobal { configuration: false })
     }
@@ -156,7 +172,7 @@ pub fn count_unconfigured(bus: &mut dyn Bus, wait: Duration) -> Result<usize> {
 }
 
 /// Answers "I have no node-id" among these.
-pub fn count_non_configured(answers: &[[u8; 8]]) -> usize {
+pub(crate) fn count_non_configured(answers: &[[u8; 8]]) -> usize {
     answers.iter().filter(|a| Response::decode(*a) == Some(Response::IdentifyNonConfiguredSlave)).count()
 }
 

@@ -3,11 +3,11 @@
 //! the decorators that observe, trace or stop a bus. The backends are in [`crate::backend`];
 //! [`crate::connect`] opens one from a bus address.
 
-pub mod clock;
-pub mod frame_log;
+pub(crate) mod clock;
+pub(crate) mod frame_log;
 pub mod lss;
-pub mod master;
-pub mod observer;
+pub(crate) mod master;
+pub(crate) mod observer;
 pub mod stoppable;
 pub mod tap;
 
@@ -16,7 +16,7 @@ use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::frame::Frame;
-pub use crate::trace;
+pub(crate) use crate::trace;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -26,6 +26,7 @@ pub use observer::{Observed, SeenBy};
 
 /// A raw frame link: what SocketCAN and the simulator provide.
 pub trait FrameLink {
+    /// Sends one frame; an error when the link cannot (bus-off, adapter gone).
     fn send(&mut self, frame: &Frame) -> Result<()>;
     /// The next frame, or `None` once `deadline` passes without one.
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>>;
@@ -111,7 +112,7 @@ fn stopped(opts: &SdoOptions) -> bool {
 }
 
 /// What [`SdoOptions::on_progress`] calls.
-pub type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
+pub(crate) type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
 
 impl std::fmt::Debug for SdoOptions {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -148,8 +149,26 @@ impl SdoOptions {
 /// One transfer of [`Bus::sdo_batch`].
 #[derive(Clone, Debug)]
 pub enum SdoJob {
-    Upload { node: u8, addr: ObjAddr, opts: SdoOptions },
-    Download { node: u8, addr: ObjAddr, data: Vec<u8>, opts: SdoOptions },
+    /// Read an object (SDO upload).
+    Upload {
+        /// The node to read from.
+        node: u8,
+        /// The object read.
+        addr: ObjAddr,
+        /// Its timeout and transfer kind.
+        opts: SdoOptions,
+    },
+    /// Write an object (SDO download).
+    Download {
+        /// The node to write to.
+        node: u8,
+        /// The object written.
+        addr: ObjAddr,
+        /// The bytes written.
+        data: Vec<u8>,
+        /// Its timeout and transfer kind.
+        opts: SdoOptions,
+    },
 }
 
 impl SdoJob {
@@ -233,6 +252,7 @@ pub trait Bus {
     /// Send an NMT command to one node, or to all with `ALL_NODES`.
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()>;
 
+    /// Sends one raw frame (SYNC, a PDO, LSS): nothing waits for an answer.
     fn send_frame(&mut self, frame: &Frame) -> Result<()>;
 
     /// The next frame seen on the bus with the moment it was there (see

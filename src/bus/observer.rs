@@ -14,7 +14,9 @@ use std::collections::{BTreeMap, BTreeSet};
 pub enum SeenBy {
     /// An SDO answer (0x580 + node).
     Sdo,
+    /// A heartbeat (0x700 + node, a state byte).
     Heartbeat,
+    /// A boot-up message (0x700 + node, data 0x00).
     BootUp,
     /// An answer to a node-guarding request (0x700 + node, after a remote request).
     Guarding,
@@ -82,13 +84,6 @@ impl Observed {
 
     fn seen(&mut self, node: u8, how: SeenBy) {
         self.nodes.entry(node).or_default().insert(how);
-    }
-
-    /// A node answered an SDO request (links that see no frames report it this way).
-    pub fn sdo_answer(&mut self, node: u8) {
-        if (1..=127).contains(&node) {
-            self.seen(node, SeenBy::Sdo);
-        }
     }
 
     /// Every node-id seen in use, however.

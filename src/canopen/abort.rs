@@ -1,26 +1,31 @@
 //! SDO abort codes (CiA 301 table 22; the same list appears in seeds 000, 001 and 003).
 
-pub const TOGGLE_BIT: u32 = 0x0503_0000;
+pub(crate) const TOGGLE_BIT: u32 = 0x0503_0000;
+/// SDO protocol timed out (the client gave up waiting).
 pub const TIMED_OUT: u32 = 0x0504_0000;
-pub const UNKNOWN_COMMAND: u32 = 0x0504_0001;
-pub const INVALID_BLOCK_SIZE: u32 = 0x0504_0002;
+pub(crate) const UNKNOWN_COMMAND: u32 = 0x0504_0001;
+pub(crate) const INVALID_BLOCK_SIZE: u32 = 0x0504_0002;
+/// Invalid sequence number (block transfer).
 pub const INVALID_SEQUENCE: u32 = 0x0504_0003;
-pub const CRC_ERROR: u32 = 0x0504_0004;
+pub(crate) const CRC_ERROR: u32 = 0x0504_0004;
+/// Out of memory: the server cannot take a transfer that large.
 pub const OUT_OF_MEMORY: u32 = 0x0504_0005;
-pub const UNSUPPORTED_ACCESS: u32 = 0x0601_0000;
-pub const WRITE_ONLY: u32 = 0x0601_0001;
+pub(crate) const UNSUPPORTED_ACCESS: u32 = 0x0601_0000;
+pub(crate) const WRITE_ONLY: u32 = 0x0601_0001;
+/// Attempt to write a read-only object.
 pub const READ_ONLY: u32 = 0x0601_0002;
+/// The object does not exist in the object dictionary.
 pub const NO_OBJECT: u32 = 0x0602_0000;
-pub const LENGTH_MISMATCH: u32 = 0x0607_0010;
-pub const LENGTH_TOO_HIGH: u32 = 0x0607_0012;
-pub const LENGTH_TOO_LOW: u32 = 0x0607_0013;
-pub const NO_SUBINDEX: u32 = 0x0609_0011;
-pub const INVALID_VALUE: u32 = 0x0609_0030;
-pub const VALUE_TOO_HIGH: u32 = 0x0609_0031;
-pub const VALUE_TOO_LOW: u32 = 0x0609_0032;
-pub const GENERAL_ERROR: u32 = 0x0800_0000;
-pub const CANNOT_STORE: u32 = 0x0800_0020;
-pub const WRONG_STATE: u32 = 0x0800_0022;
+pub(crate) const LENGTH_MISMATCH: u32 = 0x0607_0010;
+pub(crate) const LENGTH_TOO_HIGH: u32 = 0x0607_0012;
+pub(crate) const LENGTH_TOO_LOW: u32 = 0x0607_0013;
+pub(crate) const NO_SUBINDEX: u32 = 0x0609_0011;
+pub(crate) const INVALID_VALUE: u32 = 0x0609_0030;
+pub(crate) const VALUE_TOO_HIGH: u32 = 0x0609_0031;
+pub(crate) const VALUE_TOO_LOW: u32 = 0x0609_0032;
+pub(crate) const GENERAL_ERROR: u32 = 0x0800_0000;
+pub(crate) const CANNOT_STORE: u32 = 0x0800_0020;
+pub(crate) const WRONG_STATE: u32 = 0x0800_0022;
 
 const TABLE: &[(u32, &str)] = &[
     (TOGGLE_BIT, "Toggle bit not alternated"),

@@ -6,10 +6,10 @@ use crate::canopen::ObjAddr;
 use serde::Serialize;
 use std::fmt;
 
-pub const CONTROLWORD: ObjAddr = ObjAddr::new(0x6040, 0);
-pub const STATUSWORD: ObjAddr = ObjAddr::new(0x6041, 0);
-pub const MODES_OF_OPERATION: ObjAddr = ObjAddr::new(0x6060, 0);
-pub const MODES_OF_OPERATION_DISPLAY: ObjAddr = ObjAddr::new(0x6061, 0);
+pub(crate) const CONTROLWORD: ObjAddr = ObjAddr::new(0x6040, 0);
+pub(crate) const STATUSWORD: ObjAddr = ObjAddr::new(0x6041, 0);
+pub(crate) const MODES_OF_OPERATION: ObjAddr = ObjAddr::new(0x6060, 0);
+pub(crate) const MODES_OF_OPERATION_DISPLAY: ObjAddr = ObjAddr::new(0x6061, 0);
 
 /// The device profile number 0x1000 (device type) carries in its low 16 bits.
 pub fn profile(device_type: u32) -> u16 {
@@ -17,41 +17,55 @@ pub fn profile(device_type: u32) -> u16 {
 }
 
 /// A CiA 402 drive says so in 0x1000: profile number 402.
-pub fn is_drive(device_type: u32) -> bool {
+pub(crate) fn is_drive(device_type: u32) -> bool {
     profile(device_type) == 402
 }
 
 /// Statusword bits (CiA 402 §6.4.3, object 0x6041).
 pub mod sw {
+    /// Bit 0: ready to switch on.
     pub const READY_TO_SWITCH_ON: u16 = 1 << 0;
+    /// Bit 1: switched on.
     pub const SWITCHED_ON: u16 = 1 << 1;
+    /// Bit 2: operation enabled.
     pub const OPERATION_ENABLED: u16 = 1 << 2;
+    /// Bit 3: fault.
     pub const FAULT: u16 = 1 << 3;
+    /// Bit 4: the power stage has voltage.
     pub const VOLTAGE_ENABLED: u16 = 1 << 4;
     /// Active low: 0 while a quick stop is under way.
     pub const QUICK_STOP: u16 = 1 << 5;
+    /// Bit 6: switch on disabled.
     pub const SWITCH_ON_DISABLED: u16 = 1 << 6;
+    /// Bit 7: a warning stands (the drive keeps running).
     pub const WARNING: u16 = 1 << 7;
+    /// Bit 9: the drive follows controlword commands (remote).
     pub const REMOTE: u16 = 1 << 9;
+    /// Bit 10: the target (position, velocity) is reached.
     pub const TARGET_REACHED: u16 = 1 << 10;
+    /// Bit 11: an internal limit is active.
     pub const INTERNAL_LIMIT_ACTIVE: u16 = 1 << 11;
 }
 
 /// Controlword bits (CiA 402 §6.4.2, object 0x6040).
 pub mod cw {
+    /// Bit 0: switch on.
     pub const SWITCH_ON: u16 = 1 << 0;
+    /// Bit 1: enable voltage.
     pub const ENABLE_VOLTAGE: u16 = 1 << 1;
     /// Active low: 0 commands a quick stop.
     pub const QUICK_STOP: u16 = 1 << 2;
+    /// Bit 3: enable operation.
     pub const ENABLE_OPERATION: u16 = 1 << 3;
     /// Acts on its rising edge only.
     pub const FAULT_RESET: u16 = 1 << 7;
+    /// Bit 8: halt (stop moving, stay enabled).
     pub const HALT: u16 = 1 << 8;
 }
 
 /// Every statusword bit by name; bits 8 and 14–15 are the manufacturer's, 12–13 depend on
 /// the mode of operation.
-pub const STATUSWORD_FLAGS: [(u8, &str); 16] = [
+pub(crate) const STATUSWORD_FLAGS: [(u8, &str); 16] = [
     (0, "ready to switch on"),
     (1, "switched on"),
     (2, "operation enabled"),
@@ -79,13 +93,21 @@ pub fn flags(statusword: u16) -> impl Iterator<Item = (u8, &'static str, bool)> 
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum State {
+    /// Initialising: the drive does not accept commands yet.
     NotReadyToSwitchOn,
+    /// Power stage off, waiting for a shutdown command.
     SwitchOnDisabled,
+    /// Ready; the power stage may be off.
     ReadyToSwitchOn,
+    /// Power stage on, not driving.
     SwitchedOn,
+    /// Driving: the drive follows its set points.
     OperationEnabled,
+    /// A quick stop is under way.
     QuickStopActive,
+    /// A fault was detected; the drive is reacting to it.
     FaultReactionActive,
+    /// Stopped on a fault: a fault reset leaves it.
     Fault,
 }
 
@@ -102,6 +124,7 @@ const STATE_CODING: [(u16, u16, State); 8] = [
 ];
 
 impl State {
+    /// Every state, in the order of the state machine.
     pub const ALL: [State; 8] = [
         State::NotReadyToSwitchOn,
         State::SwitchOnDisabled,
@@ -115,16 +138,17 @@ impl State {
 
     /// The state a statusword codes, or None for a bit pattern CiA 402 gives no state
     /// (e.g. ready to switch on with quick stop low).
-    pub fn from_statusword(statusword: u16) -> Option<State> {
+    pub(crate) fn from_statusword(statusword: u16) -> Option<State> {
         STATE_CODING.iter().find(|(mask, value, _)| statusword & mask == *value).map(|c| c.2)
     }
 
     /// The state bits (0–3, 5, 6) a drive in this state shows; the other bits are the
     /// drive's to add (voltage enabled, remote, warning …).
-    pub fn statusword_bits(self) -> u16 {
+    pub(crate) fn statusword_bits(self) -> u16 {
         STATE_CODING.iter().find(|c| c.2 == self).map_or(0, |c| c.1)
     }
 
+    /// Its name as the standard writes it ("operation enabled").
     pub fn name(self) -> &'static str {
         match self {
             State::NotReadyToSwitchOn => "Not ready to switch on",
@@ -139,7 +163,7 @@ impl State {
     }
 
     /// A state the drive leaves on its own (transitions 1 and 14), not by a command.
-    pub fn is_transient(self) -> bool {
+    pub(crate) fn is_transient(self) -> bool {
         matches!(self, State::NotReadyToSwitchOn | State::FaultReactionActive)
     }
 }
@@ -183,6 +207,7 @@ impl Command {
         }
     }
 
+    /// Its name as the standard writes it ("enable operation").
     pub fn name(self) -> &'static str {
         match self {
             Command::Shutdown => "shutdown",
@@ -203,7 +228,7 @@ impl fmt::Display for Command {
 }
 
 /// Whether bit 7 rose between two controlwords: a fault reset acts on the edge only.
-pub fn fault_reset_edge(previous: u16, controlword: u16) -> bool {
+pub(crate) fn fault_reset_edge(previous: u16, controlword: u16) -> bool {
     previous & cw::FAULT_RESET == 0 && controlword & cw::FAULT_RESET != 0
 }
 
@@ -211,7 +236,7 @@ pub fn fault_reset_edge(previous: u16, controlword: u16) -> bool {
 /// it; the fault reset edge comes from [`fault_reset_edge`]). Unrecognised commands and
 /// the transient states leave the state; whether a fault's cause is gone is the drive's to
 /// judge before it takes transition 15.
-pub fn on_controlword(state: State, controlword: u16, fault_reset_edge: bool) -> State {
+pub(crate) fn on_controlword(state: State, controlword: u16, fault_reset_edge: bool) -> State {
     use State::*;
     let bits = controlword & 0x000F;
     let disable_voltage = bits & cw::ENABLE_VOLTAGE == 0;
@@ -259,6 +284,7 @@ pub enum Goal {
 }
 
 impl Goal {
+    /// Its name in `drive` commands and reports.
     pub fn name(self) -> &'static str {
         match self {
             Goal::Enable => "enable",
@@ -286,11 +312,12 @@ pub enum Step {
     Send(Command, State),
     /// The drive leaves this state on its own: read the statusword again.
     Wait,
+    /// The goal cannot be reached from here without the user (why).
     Blocked(Blocker),
 }
 
 /// One step of the path from `state` towards `goal`.
-pub fn next_step(state: State, goal: Goal) -> Step {
+pub(crate) fn next_step(state: State, goal: Goal) -> Step {
     use Command as C;
     use State::*;
     if state.is_transient() {
@@ -322,7 +349,7 @@ pub fn next_step(state: State, goal: Goal) -> Step {
 
 /// A mode of operation (0x6060/0x6061) by name: CiA 402 values 0–10; negative values are
 /// the manufacturer's.
-pub fn mode_name(mode: i8) -> Option<&'static str> {
+pub(crate) fn mode_name(mode: i8) -> Option<&'static str> {
     Some(match mode {
         0 => "no mode",
         1 => "profile position",

@@ -8,7 +8,7 @@ pub fn cob(node: u8) -> u16 {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub struct Emergency {
+pub(crate) struct Emergency {
     pub code: u16,
     pub register: u8,
     pub vendor: [u8; 5],
@@ -43,7 +43,7 @@ impl Emergency {
     }
 
     /// The 0x1003 history entry: error code in the low word, vendor bytes 0..2 high.
-    pub fn history_entry(&self) -> u32 {
+    pub(crate) fn history_entry(&self) -> u32 {
         self.code as u32 | (u16::from_le_bytes([self.vendor[0], self.vendor[1]]) as u32) << 16
     }
 }
@@ -64,14 +64,14 @@ pub enum Source {
 
 /// What a code means, and from which table.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub struct Meaning {
+pub(crate) struct Meaning {
     pub text: &'static str,
     pub source: Source,
 }
 
 /// What is known of the device that logged a code: which tables apply to it.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Origin {
+pub(crate) struct Origin {
     /// 0x1000: a CiA 402 drive says 402 (0x192) in its low word.
     pub device_type: Option<u32>,
     /// 0x1018:1 and 0x1018:2.
@@ -92,7 +92,7 @@ enum Manual {
 
 impl Origin {
     /// Whether the device type names the CiA 402 drive profile.
-    pub fn is_drive(&self) -> bool {
+    pub(crate) fn is_drive(&self) -> bool {
         self.device_type.is_some_and(crate::canopen::cia402::is_drive)
     }
 
@@ -368,7 +368,7 @@ pub fn meaning(code: u16, manufacturer: u16, origin: &Origin) -> Meaning {
 
 /// The CiA 301 meaning of a code: the exact code where CiA 301 names it, else its class
 /// (`0x2310` is "Current, device output side", `0x42AB` "Device temperature").
-pub fn code_meaning(code: u16) -> &'static str {
+pub(crate) fn code_meaning(code: u16) -> &'static str {
     if let Some(m) = find(CIA301, code) {
         return m;
     }
@@ -382,7 +382,7 @@ pub fn code_meaning(code: u16) -> &'static str {
 /// One entry of the pre-defined error field 0x1003 (CiA 301): the error code in the low
 /// word, manufacturer-specific information in the high word.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub struct HistoryEntry {
+pub(crate) struct HistoryEntry {
     pub raw: u32,
 }
 

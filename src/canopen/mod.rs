@@ -2,10 +2,10 @@
 
 pub mod abort;
 pub mod cia402;
-pub mod emcy;
+pub(crate) mod emcy;
 pub mod lss;
 pub mod nmt;
-pub mod objaddr;
+pub(crate) mod objaddr;
 pub mod pdo;
 pub mod program;
 pub mod sdo;

@@ -4,23 +4,29 @@
 use crate::frame::Frame;
 use std::fmt;
 
-pub const NMT_COB: u16 = 0x000;
-pub const SYNC_COB: u16 = 0x080;
+pub(crate) const NMT_COB: u16 = 0x000;
 
-pub fn error_control_cob(node: u8) -> u16 {
+pub(crate) fn error_control_cob(node: u8) -> u16 {
     0x700 + node as u16
 }
 
+/// An NMT command (CiA 301 §7.2.8.3.1).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Command {
+    /// To Operational.
     Start,
+    /// To Stopped.
     Stop,
+    /// To Pre-operational.
     PreOperational,
+    /// Reset the application (and communication).
     ResetNode,
+    /// Reset communication only.
     ResetCommunication,
 }
 
 impl Command {
+    /// Its command specifier, byte 0 of the NMT frame.
     pub fn specifier(self) -> u8 {
         match self {
             Command::Start => 0x01,
@@ -31,7 +37,7 @@ impl Command {
         }
     }
 
-    pub fn from_specifier(cs: u8) -> Option<Command> {
+    pub(crate) fn from_specifier(cs: u8) -> Option<Command> {
         Some(match cs {
             0x01 => Command::Start,
             0x02 => Command::Stop,
@@ -42,6 +48,7 @@ impl Command {
         })
     }
 
+    /// Its name on the command line and in reports.
     pub fn name(self) -> &'static str {
         match self {
             Command::Start => "start",
@@ -66,12 +73,17 @@ impl Command {
     }
 }
 
+/// An NMT state, as a heartbeat or a guarding answer reports it.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum State {
+    /// Booting (a boot-up message is this state).
     Initialising,
+    /// Stopped: only NMT and error control.
     Stopped,
+    /// Operational: PDOs run.
     Operational,
+    /// Pre-operational: SDO but no PDO.
     PreOperational,
 }
 
@@ -86,7 +98,7 @@ impl State {
         }
     }
 
-    pub fn from_code(code: u8) -> Option<State> {
+    pub(crate) fn from_code(code: u8) -> Option<State> {
         Some(match code {
             0x00 => State::Initialising,
             0x04 => State::Stopped,
@@ -96,6 +108,7 @@ impl State {
         })
     }
 
+    /// Its name in reports.
     pub fn name(self) -> &'static str {
         match self {
             State::Initialising => "initialising",
@@ -123,7 +136,7 @@ impl fmt::Display for State {
 
 /// One decoded error-control frame (COB-ID 0x700 + node).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum ErrorControl {
+pub(crate) enum ErrorControl {
     BootUp,
     /// A heartbeat, or an answer to a guarding request (then `toggle` is meaningful).
     State {
@@ -159,11 +172,6 @@ impl ErrorControl {
         };
         Frame::new(error_control_cob(node), &[b])
     }
-}
-
-/// The node-guarding request: an RTR frame on 0x700 + node asking for one byte.
-pub fn guard_request(node: u8) -> Frame {
-    Frame::remote(error_control_cob(node), 1)
 }
 
 #[cfg(test)]

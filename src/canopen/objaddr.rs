@@ -5,22 +5,25 @@ use std::fmt;
 /// An object dictionary address.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 pub struct ObjAddr {
+    /// The object's index, 0x1000 for the device type.
     pub index: u16,
+    /// The sub-index within the object; 0 for a variable.
     pub sub: u8,
 }
 
 impl ObjAddr {
+    /// The address of sub-index `sub` of object `index`; `const` so tables can name objects.
     pub const fn new(index: u16, sub: u8) -> ObjAddr {
         ObjAddr { index, sub }
     }
 
     /// Index and subindex as they travel in SDO frames (bytes 1..4, index little-endian).
-    pub fn to_mux(self) -> [u8; 3] {
+    pub(crate) fn to_mux(self) -> [u8; 3] {
         let [lo, hi] = self.index.to_le_bytes();
         [lo, hi, self.sub]
     }
 
-    pub fn from_mux(b: &[u8]) -> ObjAddr {
+    pub(crate) fn from_mux(b: &[u8]) -> ObjAddr {
         ObjAddr::new(u16::from_le_bytes([b[0], b[1]]), b[2])
     }
 }

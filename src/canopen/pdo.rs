@@ -7,9 +7,13 @@ use super::ObjAddr;
 /// One mapping entry: `index << 16 | sub << 8 | bits`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Field {
+    /// The mapped object.
     pub addr: ObjAddr,
+    /// Its width in the PDO.
     pub bits: u8,
+    /// How to read its bits.
     pub dtype: DataType,
+    /// Its name, for reports.
     pub name: String,
 }
 
@@ -21,16 +25,16 @@ impl Field {
     }
 }
 
-pub fn mapping_entry(raw: u32) -> (ObjAddr, u8) {
+pub(crate) fn mapping_entry(raw: u32) -> (ObjAddr, u8) {
     (ObjAddr::new((raw >> 16) as u16, (raw >> 8) as u8), raw as u8)
 }
 
-pub fn mapping_raw(addr: ObjAddr, bits: u8) -> u32 {
+pub(crate) fn mapping_raw(addr: ObjAddr, bits: u8) -> u32 {
     (addr.index as u32) << 16 | (addr.sub as u32) << 8 | bits as u32
 }
 
 /// The type a field of `bits` bits has when no dictionary says: unsigned of that width.
-pub fn default_type(bits: u8) -> DataType {
+pub(crate) fn default_type(bits: u8) -> DataType {
     match bits {
         1 => DataType::Bool,
         2..=8 => DataType::U8,
@@ -43,17 +47,23 @@ pub fn default_type(bits: u8) -> DataType {
 /// A PDO's layout and how to read it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
+    /// The COB-ID the PDO is sent on.
     pub cob_id: u16,
+    /// Its fields, in mapping order.
     pub fields: Vec<Field>,
 }
 
+/// A frame whose length is not the layout's.
 #[derive(Debug, PartialEq, Eq)]
 pub struct LengthMismatch {
+    /// Bytes received.
     pub got: usize,
+    /// Bytes the layout needs.
     pub want: usize,
 }
 
 impl Layout {
+    /// The bits mapped, in all.
     pub fn bits(&self) -> usize {
         self.fields.iter().map(|f| f.bits as usize).sum()
     }
@@ -63,6 +73,7 @@ impl Layout {
         self.bits().div_ceil(8)
     }
 
+    /// Whether nothing is mapped.
     pub fn is_empty(&self) -> bool {
         self.fields.is_empty()
     }

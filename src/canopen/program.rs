@@ -5,13 +5,13 @@
 use super::ObjAddr;
 
 /// Program data (domain, write only): the image is written to sub N for program N.
-pub const PROGRAM_DATA: u16 = 0x1F50;
+pub(crate) const PROGRAM_DATA: u16 = 0x1F50;
 /// Program control (u8): a command when written, the program's state when read.
-pub const PROGRAM_CONTROL: u16 = 0x1F51;
+pub(crate) const PROGRAM_CONTROL: u16 = 0x1F51;
 /// Program software identification (u32): the CRC-32 of the program that will run.
-pub const SOFTWARE_ID: u16 = 0x1F56;
+pub(crate) const SOFTWARE_ID: u16 = 0x1F56;
 /// Flash status identification (u32): bit 0 busy, bits 1..7 an error code.
-pub const FLASH_STATUS: u16 = 0x1F57;
+pub(crate) const FLASH_STATUS: u16 = 0x1F57;
 
 /// One of the objects above for program `n`.
 pub fn object(index: u16, program: u8) -> ObjAddr {
@@ -22,7 +22,9 @@ pub fn object(index: u16, program: u8) -> ObjAddr {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Control {
+    /// Stop the program: the device stays in its bootloader.
     Stop,
+    /// Start the program.
     Start,
     /// Resets the flash status (CiA 302-3 "reset").
     Reset,
@@ -31,10 +33,12 @@ pub enum Control {
     /// Zephyr's extension: a new program that runs on trial asks to be kept; writing it
     /// makes the program permanent (else the bootloader reverts at the next reset).
     Confirm,
+    /// A value CiA 302-3 does not define.
     Other(u8),
 }
 
 impl Control {
+    /// The value written to or read from 0x1F51.
     pub fn code(self) -> u8 {
         match self {
             Control::Stop => 0,
@@ -46,7 +50,7 @@ impl Control {
         }
     }
 
-    pub fn from_code(v: u8) -> Control {
+    pub(crate) fn from_code(v: u8) -> Control {
         match v {
             0 => Control::Stop,
             1 => Control::Start,
@@ -58,7 +62,7 @@ impl Control {
     }
 
     /// What reading this state from 0x1F51 says about the program.
-    pub fn state_meaning(self) -> &'static str {
+    pub(crate) fn state_meaning(self) -> &'static str {
         match self {
             Control::Stop => "stopped (in the bootloader)",
             Control::Start => "started (the program runs)",
@@ -71,32 +75,38 @@ impl Control {
 }
 
 /// Bit 0 of the flash status: the device is still erasing or writing.
-pub const BUSY: u32 = 1;
+pub(crate) const BUSY: u32 = 1;
 
 /// The error codes of bits 1..7 of the flash status (CiA 302-3 table, as Zephyr's
 /// bootloader uses them).
 pub mod code {
+    /// No error.
     pub const OK: u8 = 0;
+    /// No valid program.
     pub const NO_VALID_PROGRAM: u8 = 1;
-    pub const DATA_FORMAT_UNKNOWN: u8 = 2;
-    pub const DATA_FORMAT_ERROR: u8 = 3;
-    pub const FLASH_NOT_CLEARED: u8 = 4;
+    pub(crate) const DATA_FORMAT_UNKNOWN: u8 = 2;
+    pub(crate) const DATA_FORMAT_ERROR: u8 = 3;
+    pub(crate) const FLASH_NOT_CLEARED: u8 = 4;
+    /// Writing the flash failed.
     pub const FLASH_WRITE_ERROR: u8 = 5;
-    pub const GENERAL_ADDRESS_ERROR: u8 = 6;
-    pub const FLASH_SECURED: u8 = 7;
-    pub const UNSPECIFIED: u8 = 63;
+    pub(crate) const GENERAL_ADDRESS_ERROR: u8 = 6;
+    pub(crate) const FLASH_SECURED: u8 = 7;
+    pub(crate) const UNSPECIFIED: u8 = 63;
 }
 
 /// A flash status value, decoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct FlashStatus {
+    /// The value as read from 0x1F57.
     pub raw: u32,
+    /// Bit 0: still erasing or writing.
     pub busy: bool,
     /// Bits 1..7.
     pub code: u8,
 }
 
 impl FlashStatus {
+    /// The status in a 0x1F57 value.
     pub fn decode(raw: u32) -> FlashStatus {
         FlashStatus { raw, busy: raw & BUSY != 0, code: ((raw >> 1) & 0x7F) as u8 }
     }
@@ -106,7 +116,7 @@ impl FlashStatus {
         (u32::from(code & 0x7F) << 1) | u32::from(busy)
     }
 
-    pub fn is_error(&self) -> bool {
+    pub(crate) fn is_error(&self) -> bool {
         self.code != code::OK
     }
 

@@ -3,18 +3,30 @@
 
 use std::fmt;
 
+/// A CANopen data type (CiA 301 §7.1), as object dictionaries name them.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Hash)]
 pub enum DataType {
+    /// BOOLEAN.
     Bool,
+    /// UNSIGNED8.
     U8,
+    /// UNSIGNED16.
     U16,
+    /// UNSIGNED32.
     U32,
+    /// UNSIGNED64.
     U64,
+    /// INTEGER8.
     I8,
+    /// INTEGER16.
     I16,
+    /// INTEGER32.
     I32,
+    /// INTEGER64.
     I64,
+    /// REAL32.
     R32,
+    /// REAL64.
     R64,
     /// VISIBLE_STRING
     Vs,
@@ -22,13 +34,21 @@ pub enum DataType {
     Os,
     /// DOMAIN
     D,
+    /// UNSIGNED24.
     U24,
+    /// UNSIGNED40.
     U40,
+    /// UNSIGNED48.
     U48,
+    /// UNSIGNED56.
     U56,
+    /// INTEGER24.
     I24,
+    /// INTEGER40.
     I40,
+    /// INTEGER48.
     I48,
+    /// INTEGER56.
     I56,
     /// TIME_OF_DAY: milliseconds after midnight (28 bits) and days since 1984-01-01.
     TimeOfDay,
@@ -38,6 +58,7 @@ pub enum DataType {
     Unicode,
 }
 
+/// Every data type canctl reads and writes.
 pub const ALL_TYPES: [DataType; 25] = [
     DataType::Bool,
     DataType::U8,
@@ -154,7 +175,7 @@ impl DataType {
         })
     }
 
-    pub fn is_signed(self) -> bool {
+    pub(crate) fn is_signed(self) -> bool {
         use DataType::*;
         matches!(self, I8 | I16 | I24 | I32 | I40 | I48 | I56 | I64)
     }
@@ -165,7 +186,7 @@ impl DataType {
     }
 
     /// Inclusive range of an integer type.
-    pub fn int_range(self) -> Option<(i128, i128)> {
+    pub(crate) fn int_range(self) -> Option<(i128, i128)> {
         let bits = match self {
             DataType::Bool => return Some((0, 1)),
             t if t.is_signed() || t.is_unsigned() => 8 * t.size().unwrap() as u32,
@@ -296,16 +317,22 @@ impl std::str::FromStr for DataType {
 /// A decoded value, ready to print as text or JSON.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Value {
+    /// A BOOLEAN.
     Bool(bool),
+    /// Any unsigned integer.
     Uint(u64),
+    /// Any signed integer.
     Int(i64),
+    /// A REAL32 or REAL64 (which one, for printing it exactly).
     Real(f64, DataType),
+    /// A string (VISIBLE_STRING, UNICODE_STRING), or a time in words.
     Text(String),
+    /// Bytes shown as hex (OCTET_STRING, DOMAIN).
     Bytes(Vec<u8>),
 }
 
 impl Value {
-    pub fn to_json(&self) -> serde_json::Value {
+    pub(crate) fn to_json(&self) -> serde_json::Value {
         use serde_json::Value as J;
         match self {
             Value::Bool(b) => J::Bool(*b),
@@ -472,7 +499,7 @@ pub fn hex(bytes: &[u8]) -> String {
 
 /// The reading of bytes of unknown type that nobody would argue with: the unsigned
 /// little-endian integer for 1, 2, 4 or 8 bytes.
-pub fn obvious_unsigned(bytes: &[u8]) -> Option<u64> {
+pub(crate) fn obvious_unsigned(bytes: &[u8]) -> Option<u64> {
     match bytes.len() {
         1 | 2 | 4 | 8 => {
             let mut wide = [0u8; 8];

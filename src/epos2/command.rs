@@ -47,17 +47,83 @@ pub(crate) const LENGTH: u8 = 0x3F;
 /// One EPOS2 command with its parameters.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Command {
-    ReadObject { node: u8, addr: ObjAddr },
-    WriteObject { node: u8, addr: ObjAddr, data: [u8; 4] },
-    InitiateSegmentedRead { node: u8, addr: ObjAddr },
-    InitiateSegmentedWrite { node: u8, addr: ObjAddr, length: u32 },
-    SegmentRead { toggle: bool },
-    SegmentWrite { toggle: bool, data: Vec<u8> },
-    SendNmtService { node: u8, specifier: u8 },
-    SendCanFrame { id: u16, len: u8, data: [u8; 8] },
-    RequestCanFrame { id: u16, len: u8 },
-    SendLssFrame { data: [u8; 8] },
-    ReadLssFrame { timeout_ms: u16 },
+    /// Read an object of up to 4 bytes (expedited, through the gateway).
+    ReadObject {
+        /// The CAN node the EPOS2 forwards to (0: itself).
+        node: u8,
+        /// The object read.
+        addr: ObjAddr,
+    },
+    /// Write an object of up to 4 bytes.
+    WriteObject {
+        /// The CAN node the EPOS2 forwards to (0: itself).
+        node: u8,
+        /// The object written.
+        addr: ObjAddr,
+        /// The value, little-endian, zero-padded.
+        data: [u8; 4],
+    },
+    /// Start a segmented read of a longer object.
+    InitiateSegmentedRead {
+        /// The CAN node the EPOS2 forwards to (0: itself).
+        node: u8,
+        /// The object read.
+        addr: ObjAddr,
+    },
+    /// Start a segmented write of `length` bytes.
+    InitiateSegmentedWrite {
+        /// The CAN node the EPOS2 forwards to (0: itself).
+        node: u8,
+        /// The object written.
+        addr: ObjAddr,
+        /// The bytes to come, in all.
+        length: u32,
+    },
+    /// Fetch the next segment of a segmented read.
+    SegmentRead {
+        /// The toggle bit, alternating from false.
+        toggle: bool,
+    },
+    /// Send the next segment of a segmented write.
+    SegmentWrite {
+        /// The toggle bit, alternating from false.
+        toggle: bool,
+        /// The segment's bytes (at most 63).
+        data: Vec<u8>,
+    },
+    /// Send an NMT command on the CAN bus.
+    SendNmtService {
+        /// The node it is for (0: all).
+        node: u8,
+        /// The NMT command specifier (1 start, 2 stop, ...).
+        specifier: u8,
+    },
+    /// Send a raw CAN frame on the bus.
+    SendCanFrame {
+        /// Its 11-bit identifier.
+        id: u16,
+        /// How many of `data`'s bytes it carries.
+        len: u8,
+        /// Its data, zero-padded.
+        data: [u8; 8],
+    },
+    /// Send a remote request for a CAN frame and return the answer.
+    RequestCanFrame {
+        /// The identifier requested.
+        id: u16,
+        /// The data length requested.
+        len: u8,
+    },
+    /// Send an LSS request frame (0x7E5).
+    SendLssFrame {
+        /// The request's 8 bytes.
+        data: [u8; 8],
+    },
+    /// Wait for an LSS answer frame (0x7E4).
+    ReadLssFrame {
+        /// How long the EPOS2 is to wait for it.
+        timeout_ms: u16,
+    },
 }
 
 fn object(addr: ObjAddr, node: u8) -> Vec<u8> {

@@ -45,19 +45,53 @@ fn serial_text(bus: &str, command: &str, failure: &Failure, retry: Option<&Failu
 #[non_exhaustive]
 pub enum Epos2Problem {
     /// The answer to this command is shorter than its error code.
-    TooShort { command: &'static str },
+    TooShort {
+        /// The command's name.
+        command: &'static str,
+    },
     /// A SegmentRead answer without its control byte.
     EmptySegment,
     /// A segmented read whose toggle bit did not alternate.
-    ToggleNotAlternated { node: u8, obj: ObjAddr },
+    ToggleNotAlternated {
+        /// The node read from.
+        node: u8,
+        /// The object read.
+        obj: ObjAddr,
+    },
     /// A segment that claims more bytes than it carries.
-    ShortSegment { node: u8, claimed: usize },
+    ShortSegment {
+        /// The node read from.
+        node: u8,
+        /// The bytes the segment claims.
+        claimed: usize,
+    },
     /// Segments in a row that carried no data and said more follow.
-    EmptySegments { node: u8, obj: ObjAddr, count: usize },
+    EmptySegments {
+        /// The node read from.
+        node: u8,
+        /// The object read.
+        obj: ObjAddr,
+        /// How many in a row.
+        count: usize,
+    },
     /// A read that went on past the limit for reads through an EPOS2.
-    TooLong { node: u8, obj: ObjAddr, bytes: usize, limit_kib: usize },
+    TooLong {
+        /// The node read from.
+        node: u8,
+        /// The object read.
+        obj: ObjAddr,
+        /// The bytes read when it was given up.
+        bytes: usize,
+        /// The limit, in KiB.
+        limit_kib: usize,
+    },
     /// A segmented write the EPOS2 confirmed one segment too many of.
-    ExtraSegment { node: u8, obj: ObjAddr },
+    ExtraSegment {
+        /// The node written to.
+        node: u8,
+        /// The object written.
+        obj: ObjAddr,
+    },
 }
 
 fn answer_text(bus: &str, problem: &Epos2Problem) -> String {

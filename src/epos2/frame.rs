@@ -49,17 +49,29 @@ impl fmt::Debug for Frame {
 
 /// Why received bytes are not a frame.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FrameError {
+    /// The CRC the frame carries is not that of its data: a corrupted frame.
     #[error("CRC mismatch: frame says 0x{got:04X}, data gives 0x{want:04X}")]
-    Crc { got: u16, want: u16 },
+    Crc {
+        /// The CRC in the frame.
+        got: u16,
+        /// The CRC of the data received.
+        want: u16,
+    },
+    /// A length word larger than any frame (the words it claims).
     #[error("frame of {0} words is longer than the protocol allows")]
     Oversize(usize),
+    /// The bytes ended inside a frame (after this many).
     #[error("frame ends after {0} bytes")]
     Truncated(usize),
+    /// RS232 byte stuffing broken: this byte followed a DLE.
     #[error("byte 0x{0:02X} after DLE is neither DLE nor STX (stuffing error)")]
     Stuffing(u8),
+    /// A start of frame arrived before the frame under way ended.
     #[error("a new frame started inside a frame")]
     Interrupted,
+    /// A frame with no data word, which no command is.
     #[error("a frame needs at least one data word")]
     Empty,
 }
@@ -154,7 +166,7 @@ enum UsbState {
 /// Reassembles USB frames from a byte stream: skips anything before DLE STX, undoes the
 /// stuffing, checks length and CRC. Feed bytes one at a time.
 #[derive(Debug, Default)]
-pub(crate) struct UsbDecoder {
+pub struct UsbDecoder {
     state: UsbState,
     body: Vec<u8>,
 }

@@ -25,6 +25,8 @@ use crate::serial::SerialIo;
 
 /// Sends one command frame and returns the answer frame, if the command has one here.
 pub trait Transport {
+    /// Sends `command`; waits for its answer when `answered` (RS232 leaves some unanswered) and
+    /// returns it.
     fn transact(&mut self, command: &Frame, answered: bool) -> Result<Option<Frame>, Epos2Error>;
     /// `epos2-rs232:/dev/ttyS0`, for messages.
     fn describe(&self) -> String;
@@ -41,14 +43,19 @@ const PROBE_WAIT: Duration = Duration::from_secs(1);
 /// Why one attempt failed.
 #[derive(Debug)]
 pub enum Failure {
+    /// The EPOS2 refused the frame (RS232 'F'), during this step.
     Nack(&'static str),
+    /// Nothing came in time, during this step.
     Timeout(&'static str),
+    /// What came was not a valid frame.
     Frame(FrameError),
+    /// An unexpected byte instead of an acknowledgement, during this step.
     Unexpected(u8, &'static str),
     /// Only answers that belong to no command of ours came.
     Misfit(usize),
     /// The line never fell quiet: bytes, milliseconds.
     Babble(usize, u128),
+    /// The serial port failed.
     Io(io::Error),
 }
 

@@ -16,6 +16,7 @@ use std::time::Duration;
 
 /// Everything that can go wrong in the library, each with its exit code ([`Error::class`]).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     // ---- usage (exit 2) ----
     /// The user asked for something malformed or impossible, said in free form.
@@ -187,6 +188,7 @@ pub enum Error {
 /// What a failure means for the user, and so how the process ends. The README's
 /// "Exit codes" table lists these (a test checks that it does).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum ErrorClass {
     Usage,
     Timeout,
@@ -285,12 +287,12 @@ impl Error {
     }
 
     /// Nobody answered in time (exit 3): what a scan or a poll treats as "not there".
-    pub fn is_timeout(&self) -> bool {
+    pub(crate) fn is_timeout(&self) -> bool {
         self.class() == ErrorClass::Timeout
     }
 
     /// The user asked to stop (exit 130): a procedure ends with a report of what it did.
-    pub fn is_interrupted(&self) -> bool {
+    pub(crate) fn is_interrupted(&self) -> bool {
         self.class() == ErrorClass::Interrupted
     }
 
@@ -303,7 +305,7 @@ impl Error {
     }
 
     /// This error with advice appended to its message.
-    pub fn with_hint(self, hint: impl Into<String>) -> Error {
+    pub(crate) fn with_hint(self, hint: impl Into<String>) -> Error {
         Error::Hinted { error: Box::new(self), hint: hint.into() }
     }
 }
@@ -392,6 +394,7 @@ fn did_you_mean(iface: &str, available: &[String]) -> String {
 
 /// A link failure: the port, interface or pseudo-terminal, and what went wrong with it.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum LinkError {
     /// A port or interface that cannot be opened.
     #[error("cannot open {}: {error}", clipped(port))]

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 /// A project or DCF that cannot be read, at file:line (line 0: the whole file).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub struct CpjError {
+pub(crate) struct CpjError {
     pub path: String,
     pub line: usize,
     pub msg: String,
@@ -72,7 +72,7 @@ impl Project {
 
     /// The folder DCF names are relative to: `EDSBaseName` (relative to the project's folder,
     /// which it cannot leave), else the project's folder.
-    pub fn dcf_dir(&self, project_file: &Path) -> PathBuf {
+    pub(crate) fn dcf_dir(&self, project_file: &Path) -> PathBuf {
         let here = project_file.parent().map(Path::to_path_buf).unwrap_or_default();
         match self.eds_base_name.as_deref().filter(|b| !b.is_empty()) {
             Some(base) => here.join(base),
@@ -81,7 +81,7 @@ impl Project {
     }
 
     /// Where node `id`'s DCF is, when the project names one.
-    pub fn dcf_path(&self, project_file: &Path, id: u8) -> Option<PathBuf> {
+    pub(crate) fn dcf_path(&self, project_file: &Path, id: u8) -> Option<PathBuf> {
         let name = self.nodes.get(&id)?.dcf.as_deref()?;
         Some(self.dcf_dir(project_file).join(name))
     }
@@ -357,7 +357,7 @@ pub struct Commissioning {
 
 /// The `[DeviceComissioning]` of a DCF (also spelt `DeviceCommissioning`); empty when the
 /// file has none.
-pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, CpjError> {
+pub(crate) fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, CpjError> {
     let (lines, _) = ini_lines(bytes, path)?;
     let err = |line: usize, msg: String| CpjError { path: path.to_string(), line, msg };
     let mut c = Commissioning::default();
@@ -391,7 +391,7 @@ pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, Cpj
 }
 
 /// The section's lines, as canctl writes them.
-pub fn commissioning_lines(c: &Commissioning) -> Vec<(String, String)> {
+pub(crate) fn commissioning_lines(c: &Commissioning) -> Vec<(String, String)> {
     let mut lines = Vec::new();
     let mut put = |key: &str, value: Option<String>| {
         if let Some(v) = value {
@@ -411,7 +411,7 @@ pub fn commissioning_lines(c: &Commissioning) -> Vec<(String, String)> {
 /// A DCF's bytes with its `[DeviceComissioning]` section replaced by `c` (or added before
 /// the object lists when it has none), with the file's own line ends. The rest of the file
 /// is left byte for byte.
-pub fn with_commissioning(dcf: &[u8], c: &Commissioning) -> Result<Vec<u8>, WriteError> {
+pub(crate) fn with_commissioning(dcf: &[u8], c: &Commissioning) -> Result<Vec<u8>, WriteError> {
     let utf8 = decode(dcf).1;
     let eol = if dcf.windows(2).any(|w| w == b"\r\n") { "\r\n" } else { "\n" };
     let section = encode(&commissioning_lines(c), "[DeviceComissioning]", utf8, eol)?;

@@ -11,11 +11,14 @@ use super::{Access, Dictionary, Entry, Init, ObjectKind};
 use crate::canopen::{DataType, ObjAddr};
 use std::collections::{BTreeMap, BTreeSet};
 
+/// An EDS or DCF that cannot be read or parsed, at file:line when a line is to blame.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub struct EdsError {
+    /// The file, as given.
     pub path: String,
     /// 0 when the file could not be read at all.
     pub line: usize,
+    /// What is wrong, in words.
     pub msg: String,
 }
 
@@ -31,7 +34,9 @@ impl std::fmt::Display for EdsError {
 /// A parsed EDS or DCF.
 #[derive(Debug, Clone, Default)]
 pub struct Eds {
+    /// The file it was read from, as given (`-` for standard input).
     pub path: String,
+    /// The objects it describes, with their defaults (or a DCF's values).
     pub dict: Dictionary,
     /// `ParameterValue`s of a DCF: what the device is to hold.
     pub values: BTreeMap<ObjAddr, Init>,
@@ -48,7 +53,7 @@ pub struct Eds {
 }
 
 /// CiA 306 keeps a line to 255 characters; longer ones are read, with a warning.
-pub const MAX_LINE_CHARS: usize = 255;
+pub(crate) const MAX_LINE_CHARS: usize = 255;
 
 struct Section {
     name: String,

@@ -20,17 +20,27 @@ pub enum Severity {
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Kind {
+    /// A line longer than 255 characters.
     LongLine,
+    /// A key given twice in one section.
     RepeatedKey,
+    /// A section given twice.
     RepeatedSection,
+    /// A comment after a value on its line.
     InlineComment,
+    /// A placeholder in `[DeviceComissioning]` (node-id 0, an unknown bit rate).
     PlaceholderCommissioning,
+    /// An ARRAY or RECORD without `SubNumber`.
     MissingSubNumber,
+    /// `SubNumber` differs from the sub-sections given.
     SubNumberMismatch,
+    /// A `CompactSubObj` array whose name or value lists are wrong.
     BadCompactSection,
+    /// `CompactSubObj` on a RECORD, which the standard allows on ARRAYs only.
     CompactRecord,
     /// The object lists and the object sections disagree, or a mandatory object is missing.
     ObjectList,
+    /// A `[DummyUsage]` entry other than `Dummy0001`..`Dummy0007` = 0 or 1.
     BadDummyUsage,
     /// An object (or one of its sub-entries) that could not be understood, left out.
     ObjectLeftOut,
@@ -51,6 +61,7 @@ pub enum Kind {
 }
 
 impl Kind {
+    /// How much the deviation costs: an error loses something, a warning does not.
     pub fn severity(self) -> Severity {
         match self {
             Kind::ObjectLeftOut | Kind::ValueIgnored | Kind::BadCompactSection | Kind::NotAnEds | Kind::NotAnXdd => {
@@ -98,17 +109,22 @@ impl Kind {
 /// One deviation: `path:line: message`, the rule, and what the reader did.
 #[derive(Clone, PartialEq, Eq, Debug, Serialize)]
 pub struct Warning {
+    /// The file it is in, as given.
     pub path: String,
     /// 0 when it concerns the whole file.
     pub line: usize,
+    /// Which deviation.
     pub kind: Kind,
+    /// Whether anything was lost.
     pub severity: Severity,
     /// What the file says and what the reader does with it.
     pub message: String,
+    /// The rule the file breaks, in a few words; empty when none applies.
     pub rule: &'static str,
 }
 
 impl Warning {
+    /// A deviation at `path:line` of this kind, its severity and rule those of the kind.
     pub fn new(path: &str, line: usize, kind: Kind, message: String) -> Warning {
         Warning { path: path.to_string(), line, kind, severity: kind.severity(), message, rule: kind.rule() }
     }
@@ -141,11 +157,12 @@ pub const MAX_WARNINGS: usize = 200;
 pub struct Warnings(Vec<Warning>);
 
 impl Warnings {
+    /// Adds a deviation; past the limit, one line says the rest are left out.
     pub fn push(&mut self, w: impl Into<Warning>) {
         push(&mut self.0, w.into());
     }
 
-    pub fn into_vec(self) -> Vec<Warning> {
+    pub(crate) fn into_vec(self) -> Vec<Warning> {
         self.0
     }
 }

@@ -3,10 +3,10 @@
 //! are written from it, and object names resolve through it.
 
 pub mod builtin;
-pub mod cpj;
+pub(crate) mod cpj;
 pub mod eds;
 pub mod lint;
-pub mod names;
+pub(crate) mod names;
 pub mod stored;
 pub mod xdd;
 
@@ -16,16 +16,19 @@ use std::collections::BTreeMap;
 /// A device description that could not be used: an EDS or DCF at file:line, an XDD or XDC
 /// at file:line:column.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ReadError {
+    /// An EDS or DCF (INI text) that could not be used.
     #[error(transparent)]
     Ini(#[from] eds::EdsError),
+    /// An XDD or XDC (XML) that could not be used.
     #[error(transparent)]
     Xml(#[from] xdd::XmlError),
 }
 
 /// An EDS, DCF, XDD or XDC, told apart by content (XML or INI), not by the file's name:
 /// vendors ship XDDs named `.eds` and tools write XDCs without an extension.
-pub fn parse_description(bytes: &[u8], path: &str) -> Result<eds::Eds, ReadError> {
+pub(crate) fn parse_description(bytes: &[u8], path: &str) -> Result<eds::Eds, ReadError> {
     match xdd::is_xml(bytes) {
         true => Ok(xdd::parse(bytes, path)?),
         false => Ok(eds::parse(bytes, path)?),
@@ -42,21 +45,29 @@ pub fn read_description(path: &std::path::Path) -> Result<eds::Eds, ReadError> {
     parse_description(&bytes, &path.display().to_string())
 }
 
+/// Who may read and write an entry over SDO (EDS `AccessType`).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Access {
+    /// Read only: the device may change it (a measured value).
     Ro,
+    /// Write only.
     Wo,
+    /// Read and write.
     Rw,
+    /// Read only, and it never changes.
     Const,
 }
 
 impl Access {
+    /// Whether an SDO upload may read it.
     pub fn readable(self) -> bool {
         self != Access::Wo
     }
+    /// Whether an SDO download may write it.
     pub fn writable(self) -> bool {
         matches!(self, Access::Rw | Access::Wo)
     }
+    /// Its EDS spelling: `ro`, `wo`, `rw`, `const`.
     pub fn name(self) -> &'static str {
         match self {
             Access::Ro => "ro",
@@ -70,12 +81,16 @@ impl Access {
 /// CiA 306 object types.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum ObjectKind {
+    /// A single value (sub-index 0 only).
     Var,
+    /// Sub-entries of one data type, sub-index 0 holding their number.
     Array,
+    /// Sub-entries of different data types.
     Record,
 }
 
 impl ObjectKind {
+    /// Its CiA 306 `ObjectType` code: 7, 8 or 9.
     pub fn code(self) -> u8 {
         match self {
             ObjectKind::Var => 7,
@@ -88,7 +103,9 @@ impl ObjectKind {
 /// A default value; COB-IDs and the like depend on the node-id (EDS `$NODEID+0x180`).
 #[derive(Clone, PartialEq, Debug)]
 pub enum Init {
+    /// The value as the device holds it (numbers little-endian).
     Bytes(Vec<u8>),
+    /// The device's node-id added to this base (COB-IDs).
     NodeIdPlus(u64),
 }
 
@@ -103,12 +120,18 @@ impl Init {
     }
 }
 
+/// One sub-entry of an object dictionary: what it holds and who may access it.
 #[derive(Clone, Debug)]
 pub struct Entry {
+    /// Its index and sub-index.
     pub addr: ObjAddr,
+    /// Its name, as the description gives it (`ParameterName`).
     pub name: String,
+    /// The type of its value.
     pub dtype: DataType,
+    /// Who may read and write it.
     pub access: Access,
+    /// Its default, or a DCF's value.
     pub default: Init,
     /// Inclusive limits for integer values, beyond the type's own.
     pub range: Option<(i128, i128)>,
@@ -127,7 +150,7 @@ impl Entry {
 
 /// Which `store`/`restore` class an object belongs to (CiA 301 0x1010 sub 2..4).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum ParamClass {
+pub(crate) enum ParamClass {
     Communication,
     Application,
     Manufacturer,
@@ -144,7 +167,7 @@ impl ParamClass {
     }
 
     /// The 0x1010/0x1011 subindex that stores or restores this class.
-    pub fn subindex(self) -> u8 {
+    pub(crate) fn subindex(self) -> u8 {
         match self {
             ParamClass::Communication => 2,
             ParamClass::Application => 3,
@@ -153,6 +176,7 @@ impl ParamClass {
     }
 }
 
+/// An object dictionary: the entries a device has, and each object's name and kind.
 #[derive(Clone, Debug, Default)]
 pub struct Dictionary {
     entries: BTreeMap<ObjAddr, Entry>,
@@ -160,14 +184,17 @@ pub struct Dictionary {
 }
 
 impl Dictionary {
+    /// The entry at `addr`, if the dictionary has it.
     pub fn get(&self, addr: ObjAddr) -> Option<&Entry> {
         self.entries.get(&addr)
     }
 
+    /// Whether any sub-entry of object `index` is described.
     pub fn has_index(&self, index: u16) -> bool {
         self.entries.range(ObjAddr::new(index, 0)..=ObjAddr::new(index, 255)).next().is_some()
     }
 
+    /// Every entry, in index and sub-index order.
     pub fn entries(&self) -> impl Iterator<Item = &Entry> {
         self.entries.values()
     }
@@ -188,6 +215,7 @@ impl Dictionary {
         self.objects.get(&index).map(|(n, k)| (n.as_str(), *k))
     }
 
+    /// Every object declared: its index, name and kind, in index order.
     pub fn objects(&self) -> impl Iterator<Item = (u16, &str, ObjectKind)> {
         self.objects.iter().map(|(i, (n, k))| (*i, n.as_str(), *k))
     }
@@ -240,7 +268,7 @@ impl Dictionary {
     }
 
     /// Make an entry writable (records are built read-only at sub 0).
-    pub fn set_access(&mut self, addr: ObjAddr, access: Access) {
+    pub(crate) fn set_access(&mut self, addr: ObjAddr, access: Access) {
         self.entries.get_mut(&addr).expect("set_access on a missing entry").access = access;
     }
 
@@ -251,11 +279,12 @@ impl Dictionary {
 }
 
 /// Little-endian bytes of a default value.
-pub fn le(value: u64, dtype: DataType) -> Init {
+pub(crate) fn le(value: u64, dtype: DataType) -> Init {
     let size = dtype.size().expect("fixed-size type");
     Init::Bytes(value.to_le_bytes()[..size].to_vec())
 }
 
+/// A VISIBLE_STRING default holding `s`.
 pub fn text(s: &str) -> Init {
     Init::Bytes(s.as_bytes().to_vec())
 }

@@ -12,7 +12,7 @@ pub fn normalize(s: &str) -> String {
 
 /// A name as one shell word that `find` accepts: `Identity object: Vendor-ID` becomes
 /// `IdentityObjectVendorID`.
-pub fn identifier(name: &str) -> String {
+pub(crate) fn identifier(name: &str) -> String {
     name.split(|c: char| !c.is_alphanumeric())
         .flat_map(|word| {
             let mut chars = word.chars();
@@ -120,7 +120,7 @@ pub fn label(dict: &Dictionary, a: ObjAddr) -> String {
 /// object (unless the device lacks the whole object, `object_missing`: abort 0x06020000),
 /// else objects whose index is one hex digit off or has two neighbouring digits swapped
 /// (0x1081 for 0x1018). At most five.
-pub fn near_addrs(dict: &Dictionary, addr: ObjAddr, object_missing: bool) -> Vec<ObjAddr> {
+pub(crate) fn near_addrs(dict: &Dictionary, addr: ObjAddr, object_missing: bool) -> Vec<ObjAddr> {
     let mut near: Vec<ObjAddr> =
         dict.entries().map(|e| e.addr).filter(|a| !object_missing && a.index == addr.index && *a != addr).collect();
     if near.is_empty() {

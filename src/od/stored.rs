@@ -8,27 +8,39 @@
 //! archive cannot fill memory.
 
 /// Object 0x1021: the stored EDS.
-pub const STORE_EDS: crate::canopen::ObjAddr = crate::canopen::ObjAddr::new(0x1021, 0);
+pub(crate) const STORE_EDS: crate::canopen::ObjAddr = crate::canopen::ObjAddr::new(0x1021, 0);
 /// Object 0x1022: its storage format.
-pub const STORAGE_FORMAT: crate::canopen::ObjAddr = crate::canopen::ObjAddr::new(0x1022, 0);
+pub(crate) const STORAGE_FORMAT: crate::canopen::ObjAddr = crate::canopen::ObjAddr::new(0x1022, 0);
 
 /// 0x1022 values.
 pub const PLAIN: u8 = 0;
+/// 0x1022 value: a ZIP archive holding the file.
 pub const ZIP: u8 = 1;
 
 /// Why the stored bytes give no file.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum StoredError {
+    /// 0x1022 holds a format other than plain or ZIP.
     #[error("storage format {0} (0x1022) is {kind}: canctl reads 0 (plain) and 1 (ZIP)", kind = format_name(*.0))]
     UnknownFormat(u8),
+    /// 0x1022 is not one byte long.
     #[error("its storage format (0x1022) holds {0} bytes, not the 1 of an UNSIGNED8")]
     FormatSize(usize),
+    /// The ZIP archive cannot be read (what the unpacker said).
     #[error("the ZIP archive is broken: {0}")]
     BrokenZip(String),
+    /// The archive uses what canctl does not unpack (the compression method, or the feature).
     #[error("the ZIP archive holds {0}, which canctl does not unpack (it reads stored and deflated members)")]
     Method(String),
+    /// The ZIP member would unpack to more than the limit: refused before it fills memory.
     #[error("the ZIP member {name} unpacks to more than {limit} bytes")]
-    TooLarge { name: String, limit: usize },
+    TooLarge {
+        /// The member's name.
+        name: String,
+        /// The limit it passed, in bytes.
+        limit: usize,
+    },
 }
 
 /// What a 0x1022 value means (CiA 301).
@@ -52,7 +64,7 @@ pub fn unpack(format: u8, stored: &[u8], limit: usize) -> Result<Vec<u8>, Stored
 
 /// One member of a ZIP archive: a device description (`.eds`, `.xdd`, `.dcf`, `.xdc`) if
 /// there is one, else the first. Its name and content.
-pub fn unzip(zip: &[u8], limit: usize) -> Result<(String, Vec<u8>), StoredError> {
+pub(crate) fn unzip(zip: &[u8], limit: usize) -> Result<(String, Vec<u8>), StoredError> {
     let mut archive = zip::ZipArchive::new(std::io::Cursor::new(zip)).map_err(broken)?;
     let description = |n: &str| {
         let n = n.to_ascii_lowercase();

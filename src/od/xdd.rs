@@ -17,10 +17,13 @@ use std::collections::{BTreeMap, HashMap};
 /// An XML file that cannot be read, or an XDD that is not one, at file:line:column.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub struct XmlError {
+    /// The file, as given.
     pub path: String,
     /// 0 when the file could not be read at all.
     pub line: u32,
+    /// The column on `line`; 0 when not known.
     pub column: u32,
+    /// What is wrong, in words.
     pub msg: String,
 }
 
@@ -38,7 +41,7 @@ const BOM: &[u8] = b"\xEF\xBB\xBF";
 /// Whether a device description is XML (an XDD or XDC) rather than INI (an EDS or DCF):
 /// by content, so that a file named `.eds` that is XML, or an XDC without its extension,
 /// is read as what it is.
-pub fn is_xml(bytes: &[u8]) -> bool {
+pub(crate) fn is_xml(bytes: &[u8]) -> bool {
     if utf16(bytes).is_some() {
         return true;
     }
@@ -380,7 +383,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, XmlError> {
 
 /// The `DeviceCommissioning` of an XDC (node-id, name, bit rate, network); empty when the
 /// file has none. A nodeID of 0 is "not commissioned yet", as CiA 311 tools leave it.
-pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, XmlError> {
+pub(crate) fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, XmlError> {
     let text = decode(bytes, path)?;
     let opts = roxmltree::ParsingOptions { allow_dtd: false, ..Default::default() };
     let doc = Document::parse_with_options(&text, opts).map_err(|e| xml_error(path, &e))?;
@@ -512,7 +515,7 @@ pub fn write_bytes(
 
 /// The `actualValue` text of `bytes` for entry `e` in an XDC for `node` (escaped for an
 /// attribute), or why an XDC cannot carry it exactly.
-pub fn actual_value_text(e: &Entry, bytes: &[u8], node: Option<u8>) -> Result<String, String> {
+pub(crate) fn actual_value_text(e: &Entry, bytes: &[u8], node: Option<u8>) -> Result<String, String> {
     match e.dtype {
         DataType::Vs => value_text(e, &Init::Bytes(bytes.to_vec())),
         // The same $NODEID form for COB-IDs of the predefined connection set as a DCF.

@@ -169,7 +169,7 @@ fn identity_changes(bus: &mut dyn Bus, nodes: &[u8], timeout: Duration) -> Resul
 
 /// How a node-id showed it is in use.
 #[derive(Clone, Debug, PartialEq)]
-pub struct InUse {
+pub(crate) struct InUse {
     pub node: u8,
     /// The identity the node answered with, when it gave all of it.
     pub identity: Option<Identity>,
@@ -181,7 +181,7 @@ pub struct InUse {
 /// is given it: an SDO answer to the identity reads (from another device than `target`),
 /// else, where the link shows traffic, a heartbeat, boot-up or guarding answer within
 /// `listen` (a Stopped node answers no SDO but still beats).
-pub fn in_use(
+pub(crate) fn in_use(
     bus: &mut dyn Bus,
     node: u8,
     target: Option<Identity>,

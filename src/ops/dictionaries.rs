@@ -7,6 +7,8 @@ use crate::od::eds::Eds;
 use crate::od::{builtin, names, Dictionary, Entry};
 pub use crate::settings::EdsFile;
 
+/// The EDS files given for a command, each for one node or for any: which dictionary names and
+/// types a node's objects.
 #[derive(Default)]
 pub struct Dictionaries {
     files: Vec<(Option<u8>, Eds)>,
@@ -30,7 +32,7 @@ impl Dictionaries {
     }
 
     /// The EDS bound to this node, else one given for every node.
-    pub fn eds_for(&self, node: u8) -> Option<&Eds> {
+    pub(crate) fn eds_for(&self, node: u8) -> Option<&Eds> {
         self.files
             .iter()
             .find(|(n, _)| *n == Some(node))
@@ -38,6 +40,8 @@ impl Dictionaries {
             .map(|(_, e)| e)
     }
 
+    /// The dictionary for `node`: its own EDS, else one given for any node, else the built-in one
+    /// for its profile.
     pub fn for_node(&self, node: u8) -> &Dictionary {
         self.eds_for(node).map_or_else(|| builtin::dictionary(None), |e| &e.dict)
     }

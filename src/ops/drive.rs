@@ -68,13 +68,13 @@ pub struct Status {
 }
 
 impl Status {
-    pub fn state_name(&self) -> String {
+    pub(crate) fn state_name(&self) -> String {
         state_text(self.state, self.statusword)
     }
 }
 
 /// The state's name, or what the statusword says when it codes none.
-pub fn state_text(state: Option<State>, statusword: u16) -> String {
+pub(crate) fn state_text(state: Option<State>, statusword: u16) -> String {
     state.map_or_else(|| format!("no CiA 402 state (statusword 0x{statusword:04X})"), |s| s.name().to_string())
 }
 
@@ -92,7 +92,7 @@ fn read_u8(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Res
 }
 
 /// The node's device type, if it is a CiA 402 drive; [`Error::NotADrive`] otherwise.
-pub fn check_drive(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<u32> {
+pub(crate) fn check_drive(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<u32> {
     let device_type = le_u32(&read(bus, node, DEVICE_TYPE, 4, timeout)?);
     if !cia402::is_drive(device_type) {
         return Err(Error::NotADrive { node, device_type });
@@ -380,7 +380,7 @@ fn operational(bus: &mut dyn Bus, node: u8, timeout: Duration) -> bool {
 }
 
 /// The statusword as it changes, until the caller stops asking.
-pub struct Watch {
+pub(crate) struct Watch {
     node: u8,
     source: Source,
     last: Option<u16>,

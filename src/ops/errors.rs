@@ -22,7 +22,7 @@ const MAX_NAME: usize = 64;
 
 /// What `canctl errors` found on a node.
 #[derive(Debug, Serialize)]
-pub struct ErrorHistory {
+pub(crate) struct ErrorHistory {
     pub node: u8,
     /// 0x1008, when the node has one.
     pub name: Option<String>,

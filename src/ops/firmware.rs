@@ -19,12 +19,12 @@ use serde::Serialize;
 use std::time::{Duration, Instant};
 
 /// How often the flash status is asked while the device is busy.
-pub const POLL: Duration = Duration::from_millis(100);
+pub(crate) const POLL: Duration = Duration::from_millis(100);
 /// The longest an erase or a write may keep the flash busy: real erases of a megabyte of
 /// flash take tens of seconds.
-pub const BUSY_WAIT: Duration = Duration::from_secs(60);
+pub(crate) const BUSY_WAIT: Duration = Duration::from_secs(60);
 /// The longest a device may take to boot (into its bootloader or its program).
-pub const BOOT_WAIT: Duration = Duration::from_secs(10);
+pub(crate) const BOOT_WAIT: Duration = Duration::from_secs(10);
 
 /// What `firmware download` is asked to do.
 #[derive(Clone)]
@@ -187,6 +187,7 @@ pub struct DownloadReport {
 
 /// Why a download did not finish.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FirmwareError {
     /// The bus or the device failed a step (SDO abort with its object and code, no answer,
     /// link failure, interrupted).

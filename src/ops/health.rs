@@ -120,7 +120,7 @@ impl Health {
 /// How a producer's heartbeats came during a watch: `arrivals` are their times from the
 /// start of the watch, which lasted `watched`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Beats {
+pub(crate) struct Beats {
     pub count: usize,
     /// The longest time without a beat: from the start to the first, between two, from
     /// the last to the end.
@@ -129,12 +129,12 @@ pub struct Beats {
 }
 
 /// The longest a producer of this period may go without a beat.
-pub fn allowed_gap(period: Duration) -> Duration {
+pub(crate) fn allowed_gap(period: Duration) -> Duration {
     period * 3 / 2 + HEARTBEAT_SLACK
 }
 
 /// Judge a producer's beats: on time when no gap was longer than [`allowed_gap`].
-pub fn judge_beats(period: Duration, arrivals: &[Duration], watched: Duration) -> Beats {
+pub(crate) fn judge_beats(period: Duration, arrivals: &[Duration], watched: Duration) -> Beats {
     let mut edges = vec![Duration::ZERO];
     edges.extend(arrivals.iter().copied().filter(|t| *t <= watched));
     edges.push(watched);
@@ -144,7 +144,7 @@ pub fn judge_beats(period: Duration, arrivals: &[Duration], watched: Duration) -
 
 /// The watch that lets every producer of these periods miss a beat visibly: two periods of
 /// the slowest and the slack, 0.3 s to 10 s.
-pub fn watch_for(periods: impl Iterator<Item = Duration>) -> Duration {
+pub(crate) fn watch_for(periods: impl Iterator<Item = Duration>) -> Duration {
     let slowest = periods.max().unwrap_or_default();
     (slowest * 2 + HEARTBEAT_SLACK).clamp(MIN_WATCH, MAX_WATCH)
 }

@@ -54,7 +54,7 @@ impl Serialize for Identified {
 
 /// The four entries of the identity object (0x1018:1..4), named.
 #[derive(Clone, Copy, Debug, Serialize)]
-pub struct LssNumbers {
+pub(crate) struct LssNumbers {
     pub vendor_id: u32,
     pub product_code: u32,
     pub revision: u32,
@@ -68,7 +68,7 @@ impl From<&Identity> for LssNumbers {
 }
 
 /// What the LSS services are refused with on an EPOS2 reached directly.
-pub fn no_lss_on_direct_epos2(verb: &str) -> Error {
+pub(crate) fn no_lss_on_direct_epos2(verb: &str) -> Error {
     Error::Usage(format!(
         "an EPOS2 reached directly has no LSS, so `lss {verb} --node 0` cannot be done; \
          set-id, set-baud and store work on it through its own objects, and without --node \
@@ -328,7 +328,7 @@ pub fn activate_on(
 /// `lss activate` can warn that it would strand them. Like any cache, a failure to read or
 /// write it is never an error.
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
-pub struct RefusedRate {
+pub(crate) struct RefusedRate {
     /// The rate asked for (`125k`).
     pub rate: String,
     pub confirmed: usize,
@@ -343,7 +343,7 @@ impl RefusedRate {
     }
 
     /// Keep `what` as the last global configure of `bus` (None: every device took it).
-    pub fn remember(bus: &str, what: Option<&RefusedRate>) {
+    pub(crate) fn remember(bus: &str, what: Option<&RefusedRate>) {
         let Some(path) = super::scan_cache::network_file("lss-set-baud", bus) else { return };
         match what {
             Some(r) => {
@@ -374,7 +374,7 @@ impl RefusedRate {
 /// `lss set-id`: [`configure`] the node-id, after checking nothing on the bus uses it
 /// already (unless `force`): an SDO answer from another device than `target`, or a
 /// heartbeat, boot-up or guarding answer heard while listening as `assign` does.
-pub fn set_id(
+pub(crate) fn set_id(
     bus: &mut dyn Bus,
     timeout: Duration,
     target: Target,
@@ -581,7 +581,7 @@ pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &Cancel) ->
 }
 
 /// [`fastscan`], each request a step on `progress` (the search takes 13 s on slow devices).
-pub fn fastscan_shown(
+pub(crate) fn fastscan_shown(
     bus: &mut dyn Bus,
     o: &FastscanOptions,
     interrupted: &Cancel,

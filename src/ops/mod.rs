@@ -6,36 +6,36 @@
 pub use crate::cancel::Cancel;
 pub use event::{Event, Notice, Warning};
 
-pub mod check;
-pub mod clash;
-pub mod completion;
+pub(crate) mod check;
+pub(crate) mod clash;
+pub(crate) mod completion;
 pub mod config;
-pub mod counted;
+pub(crate) mod counted;
 pub mod dictionaries;
 pub mod drive;
-pub mod errors;
-pub mod event;
+pub(crate) mod errors;
+pub(crate) mod event;
 pub mod firmware;
 pub mod health;
 pub mod lss;
 pub mod monitor;
-pub mod near;
+pub(crate) mod near;
 pub mod network;
 pub mod nmt;
 pub mod node;
 pub mod pdo;
-pub mod project_files;
+pub(crate) mod project_files;
 pub mod scan;
 pub mod scan_cache;
 pub mod sdo;
-pub mod silence;
-pub mod stop;
+pub(crate) mod silence;
+pub(crate) mod stop;
 pub mod store;
-pub mod store_all;
+pub(crate) mod store_all;
 pub mod stored_eds;
-pub mod stream_setup;
-pub mod unheard;
-pub mod verdict;
+pub(crate) mod stream_setup;
+pub(crate) mod unheard;
+pub(crate) mod verdict;
 
 use crate::bus::SdoOptions;
 use crate::canopen::DataType;
@@ -79,13 +79,17 @@ pub struct Stopped {
     pub command: String,
     /// Always true: the key every interrupted report has.
     pub interrupted: bool,
+    /// What was finished before the stop, a line each.
     pub done: Vec<String>,
+    /// What was not done because of it, a line each.
     pub not_done: Vec<String>,
     /// The state the device is left in, in a sentence.
     pub state: String,
 }
 
 impl Stopped {
+    /// The report of `command` stopped with `done` finished and `not_done` left, the device in
+    /// `state`.
     pub fn new(command: &str, done: Vec<String>, not_done: Vec<String>, state: String) -> Stopped {
         Stopped { command: command.to_string(), interrupted: true, done, not_done, state }
     }
@@ -102,12 +106,12 @@ pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {
 /// (a device name, a version) is a few dozen bytes, so one that runs on without end (no
 /// size announced, segment after segment) is stopped here, seconds into it at 125 kbit/s,
 /// not minutes.
-pub const SMALL_UPLOAD: usize = 64 * 1024;
+pub(crate) const SMALL_UPLOAD: usize = 64 * 1024;
 
 /// How many bytes an upload of a `dtype` value may bring unless the user says more
 /// (`sdo read --max-size`): a domain, or a value of unknown type (it may be one), up to
 /// the SDO client's 1 MiB; anything else [`SMALL_UPLOAD`].
-pub fn upload_limit(dtype: Option<DataType>) -> usize {
+pub(crate) fn upload_limit(dtype: Option<DataType>) -> usize {
     match dtype {
         None | Some(DataType::D) => crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD,
         Some(_) => SMALL_UPLOAD,
@@ -120,7 +124,7 @@ pub(crate) fn le_u32(bytes: &[u8]) -> u32 {
 }
 
 /// A value beyond the dictionary's limits is refused before it is sent.
-pub fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
+pub(crate) fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
     let Some((lo, hi)) = entry.range else { return Ok(()) };
     let v = match entry.dtype.decode(bytes) {
         Some(crate::canopen::types::Value::Uint(u)) => u as i128,

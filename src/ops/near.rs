@@ -12,7 +12,7 @@ use std::time::Duration;
 /// when the object itself is missing (`object_missing`), else its other sub-indices. Each
 /// is asked for once, whether the node has it, not its value (a large one is not read
 /// whole), for the dictionary may list objects this node lacks (a TPDO2, say).
-pub fn present_near(
+pub(crate) fn present_near(
     bus: &mut dyn Bus,
     dicts: &Dictionaries,
     node: u8,

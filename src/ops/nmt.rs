@@ -83,7 +83,7 @@ pub struct StateOptions {
 }
 
 /// `node N`, or `all nodes`.
-pub fn target_text(t: u8) -> String {
+pub(crate) fn target_text(t: u8) -> String {
     if t == ALL_NODES {
         "all nodes".into()
     } else {

@@ -17,13 +17,13 @@ const ERROR_FIELD: u16 = 0x1003;
 
 /// Whether an error says the object (or its subindex) is not in the device's dictionary:
 /// abort 0x06020000 or 0x06090011. The one test of "object missing".
-pub fn is_missing(e: &Error) -> bool {
+pub(crate) fn is_missing(e: &Error) -> bool {
     matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. })
 }
 
 /// A read of an object the device may lack: `Ok(None)` when it lacks it ([`is_missing`]),
 /// other failures stay failures.
-pub fn optional<T>(r: Result<T>) -> Result<Option<T>> {
+pub(crate) fn optional<T>(r: Result<T>) -> Result<Option<T>> {
     match r {
         Ok(v) => Ok(Some(v)),
         Err(e) if is_missing(&e) => Ok(None),
@@ -89,7 +89,7 @@ impl<'a> Node<'a> {
     }
 
     /// An unsigned object the device may lack ([`optional`]).
-    pub fn read_optional<T: Unsigned>(&mut self, addr: ObjAddr) -> Result<Option<T>> {
+    pub(crate) fn read_optional<T: Unsigned>(&mut self, addr: ObjAddr) -> Result<Option<T>> {
         optional(self.read(addr))
     }
 
@@ -103,7 +103,7 @@ impl<'a> Node<'a> {
 
     /// The vendor-ID and product code a file names, against the device's: each one the file
     /// names (not 0), read and compared as numbers.
-    pub fn compare_identity(&mut self, vendor: u32, product: u32) -> Result<Vec<IdentityPart>> {
+    pub(crate) fn compare_identity(&mut self, vendor: u32, product: u32) -> Result<Vec<IdentityPart>> {
         let mut parts = Vec::new();
         for (what, want, sub) in [(IdPart::Vendor, vendor, 1), (IdPart::Product, product, 2)] {
             if want == 0 {
@@ -121,7 +121,7 @@ impl<'a> Node<'a> {
 
     /// The node's answer to one error-control remote request (node guarding; through an
     /// EPOS2 a RequestCANFrame), waited for up to `wait`; `None` when none came.
-    pub fn guard(&mut self, wait: Duration) -> Result<Option<Guarded>> {
+    pub(crate) fn guard(&mut self, wait: Duration) -> Result<Option<Guarded>> {
         match self.bus.request_frame(nmt::error_control_cob(self.id), 1, wait) {
             Ok(frame) => Ok(Some(match ErrorControl::parse(&frame) {
                 Some((_, ErrorControl::State { state, .. })) => Guarded::State(state),
@@ -147,13 +147,13 @@ impl<'a> Node<'a> {
 
     /// The error history 0x1003, newest first, each code with its meaning for a device of
     /// `origin`; `None` when the node keeps none (has no 0x1003).
-    pub fn error_history(&mut self, origin: &Origin) -> Result<Option<ErrorField>> {
+    pub(crate) fn error_history(&mut self, origin: &Origin) -> Result<Option<ErrorField>> {
         let Some(count) = self.read_optional::<u8>(ObjAddr::new(ERROR_FIELD, 0))? else { return Ok(None) };
         self.error_entries(count, origin).map(Some)
     }
 
     /// The `count` entries of 0x1003 (0x1003:0 read by the caller), all asked at once.
-    pub fn error_entries(&mut self, count: u8, origin: &Origin) -> Result<ErrorField> {
+    pub(crate) fn error_entries(&mut self, count: u8, origin: &Origin) -> Result<ErrorField> {
         // CiA 301: at most 254 entries.
         let subs: Vec<(u8, ObjAddr)> = (1..=count.min(254)).map(|s| (self.id, ObjAddr::new(ERROR_FIELD, s))).collect();
         let values = self.bus.sdo_upload_many(&subs, &sized(self.timeout, Some(4)), &mut |_| {})?;
@@ -199,7 +199,7 @@ impl Identity {
 /// A part of the identity a file names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum IdPart {
+pub(crate) enum IdPart {
     /// 0x1018:1.
     Vendor,
     /// 0x1018:2.
@@ -217,7 +217,7 @@ impl std::fmt::Display for IdPart {
 
 /// One part of the identity as the file names it and as the device has it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct IdentityPart {
+pub(crate) struct IdentityPart {
     /// Which part.
     pub what: IdPart,
     /// The value the file names.
@@ -233,7 +233,7 @@ impl IdentityPart {
     }
 
     /// The device's value in words: `0x0000001E`, or `unreadable (why)`.
-    pub fn device_text(&self) -> String {
+    pub(crate) fn device_text(&self) -> String {
         match self.device {
             Ok(v) => format!("0x{v:08X}"),
             Err(code) => format!("unreadable ({})", abort::meaning(code)),
@@ -243,7 +243,7 @@ impl IdentityPart {
 
 /// What a node's answer to node guarding says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Guarded {
+pub(crate) enum Guarded {
     /// Its NMT state.
     State(nmt::State),
     /// A boot-up message: the node has just started, so it is pre-operational.
@@ -293,7 +293,7 @@ impl std::fmt::Display for StateFrom {
 
 /// The error field 0x1003 as read.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ErrorField {
+pub(crate) struct ErrorField {
     /// 0x1003:0: how many errors the node says it logged.
     pub count: u8,
     /// The entries, newest (0x1003:1) first.

@@ -71,7 +71,7 @@ pub struct Session {
 
 /// A new mapping for one TPDO.
 #[derive(Clone, Debug)]
-pub struct Remap {
+pub(crate) struct Remap {
     /// The TPDO, 1-based.
     pub tpdo: u16,
     /// The objects to map, with their sizes in bits.
@@ -84,7 +84,7 @@ pub struct Remap {
 
 impl Session {
     /// Map `r.objects` into the TPDO for the session, in the safe order.
-    pub fn remap(&mut self, bus: &mut dyn Bus, node: u8, r: &Remap, timeout: Duration) -> Result<()> {
+    pub(crate) fn remap(&mut self, bus: &mut dyn Bus, node: u8, r: &Remap, timeout: Duration) -> Result<()> {
         let (comm, map) = tpdo_indices(r.tpdo);
         let original = snapshot(bus, node, r.tpdo, timeout)?;
         let mut wanted = BTreeMap::new();
@@ -159,7 +159,13 @@ const MAX_ENTRY_BYTES: usize = 8;
 /// The size in bits of an object to map into a PDO: its dictionary type's when that has a
 /// fixed size, else learnt by reading the object once (at most 8 bytes are read). An
 /// object that cannot be read, or is empty or longer than 8 bytes, is refused.
-pub fn mapped_bits(bus: &mut dyn Bus, node: u8, addr: ObjAddr, entry: Option<&Entry>, timeout: Duration) -> Result<u8> {
+pub(crate) fn mapped_bits(
+    bus: &mut dyn Bus,
+    node: u8,
+    addr: ObjAddr,
+    entry: Option<&Entry>,
+    timeout: Duration,
+) -> Result<u8> {
     if let Some(size) = entry.and_then(|e| e.dtype.size()) {
         return Ok((size * 8) as u8);
     }
@@ -241,7 +247,7 @@ pub fn read_layouts(
 }
 
 /// The layouts of the valid PDOs (TPDO and RPDO 1..4) a DCF describes for `node`, by COB-ID.
-pub fn dcf_layouts(eds: &Eds, node: u8) -> BTreeMap<u16, Layout> {
+pub(crate) fn dcf_layouts(eds: &Eds, node: u8) -> BTreeMap<u16, Layout> {
     let mut out = BTreeMap::new();
     let value = |addr: ObjAddr| -> Option<Vec<u8>> {
         let e = eds.dict.get(addr)?;
@@ -289,6 +295,7 @@ pub struct Record {
     pub time_ms: u64,
     /// Which of the stream's layouts it is (an index into them).
     pub layout: usize,
+    /// The mapped values, in the layout's order, decoded by their data types.
     pub values: Vec<Value>,
 }
 
@@ -345,7 +352,7 @@ impl<'a> Stream<'a> {
     }
 
     /// Whether the PDOs are polled (the link shows no traffic by itself).
-    pub fn polling(&self) -> bool {
+    pub(crate) fn polling(&self) -> bool {
         self.polling
     }
 

@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// The project file: `path` itself, or `path/nodelist.cpj` for a folder.
-pub fn project_file(path: &Path) -> PathBuf {
+pub(crate) fn project_file(path: &Path) -> PathBuf {
     if path.is_dir() {
         path.join(PROJECT_FILE)
     } else {
@@ -17,7 +17,7 @@ pub fn project_file(path: &Path) -> PathBuf {
 
 /// Whether a project can be written into `dir`, asked before the bus is read: in `dir`
 /// when it exists, else where its first missing folder would be made.
-pub fn check_folder(dir: &Path) -> Result<()> {
+pub(crate) fn check_folder(dir: &Path) -> Result<()> {
     let mut probe = dir.join(PROJECT_FILE);
     let mut at = dir;
     while !at.exists() {
@@ -32,7 +32,7 @@ pub fn check_folder(dir: &Path) -> Result<()> {
 
 /// Write a dumped project into `dir` (made if missing), each file atomically: the DCFs
 /// first, the project file last.
-pub fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
+pub(crate) fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::Output {
         path: dir.display().to_string(),
         why: format!("cannot make the directory: {e}"),
@@ -46,7 +46,7 @@ pub fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
 /// Set `[DeviceComissioning] Baudrate` to `kbit` in every DCF of the project: every file
 /// made before any is written, so that a DCF that cannot be read changes none. The files
 /// written, in order.
-pub fn update_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<PathBuf>> {
+pub(crate) fn update_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<PathBuf>> {
     let mut updated = Vec::new();
     for (path, bytes) in network::with_bit_rate(loaded, kbit)? {
         crate::atomic::write_atomic(&path, &bytes)?;

@@ -25,11 +25,11 @@ pub struct ScanOptions {
 
 /// The shortest quiet window a scan accepts: no device answers a probe sooner (see
 /// [`crate::settings::MIN_TIMEOUT`]); a shorter one loses nodes and says nothing.
-pub const MIN_WINDOW: Duration = crate::settings::MIN_TIMEOUT;
+pub(crate) const MIN_WINDOW: Duration = crate::settings::MIN_TIMEOUT;
 
 /// The window that waits for slow devices too (they answer up to 80 ms late): a scan
 /// with a shorter one may have missed some, so it does not stand for the bus.
-pub const FULL_WINDOW: Duration = Duration::from_millis(100);
+pub(crate) const FULL_WINDOW: Duration = Duration::from_millis(100);
 
 impl ScanOptions {
     /// Refuses a window no device can answer within, before anything is sent.
@@ -38,7 +38,7 @@ impl ScanOptions {
     }
 
     /// Whether slow devices may have been missed: the window is shorter than they answer in.
-    pub fn may_miss_slow_devices(&self) -> bool {
+    pub(crate) fn may_miss_slow_devices(&self) -> bool {
         self.window < FULL_WINDOW
     }
 }

@@ -15,10 +15,14 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
+/// A node the last scan found: what completion offers for `--node` and picks dictionaries by.
 #[derive(Serialize, Deserialize, Debug, Clone, PartialEq)]
 pub struct SeenNode {
+    /// Its node-id.
     pub node: u8,
+    /// Its device name (0x1008), when it gave one.
     pub name: Option<String>,
+    /// Its vendor-id (0x1018:1), when it gave one.
     pub vendor_id: Option<u32>,
     /// 0x1000: its profile picks the built-in dictionary that completion offers objects
     /// from (a DS406 sensor is not offered a drive's objects). Absent in older caches.
@@ -128,7 +132,7 @@ fn write(bus: &str, nodes: &[SeenNode]) {
 }
 
 /// Every node of the bus the cache knows of, also those known only from what they answered.
-pub fn load_all(bus: &str) -> Vec<SeenNode> {
+pub(crate) fn load_all(bus: &str) -> Vec<SeenNode> {
     file(bus).and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
 }
 

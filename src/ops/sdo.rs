@@ -120,7 +120,7 @@ pub fn read(bus: &mut dyn Bus, dict: &Dictionary, node: u8, object: ObjAddr, o: 
 
 /// [`read`], `watch` told the bytes received so far as a segmented or block upload moves
 /// on (64 KiB take seconds): for a progress display.
-pub fn read_watched(
+pub(crate) fn read_watched(
     bus: &mut dyn Bus,
     dict: &Dictionary,
     node: u8,

@@ -29,7 +29,7 @@ impl From<Error> for Ended {
 /// What became of a run over several nodes: the reports of the nodes done, in the order
 /// asked; when the run ended early, how, on the node after them (`nodes[done.len()]`).
 #[derive(Debug)]
-pub struct EachNode<R> {
+pub(crate) struct EachNode<R> {
     /// The reports of the nodes done.
     pub done: Vec<R>,
     /// How the run ended on the next node, when it did not get through them all.
@@ -48,7 +48,7 @@ fn each_node<R>(nodes: &[u8], mut one: impl FnMut(u8) -> Result<R, Ended>) -> Ea
 }
 
 /// Store `class` on each of `nodes` in turn (0x1010).
-pub fn store_nodes(bus: &mut dyn Bus, nodes: &[u8], class: Class, t: Timeouts) -> EachNode<Stored> {
+pub(crate) fn store_nodes(bus: &mut dyn Bus, nodes: &[u8], class: Class, t: Timeouts) -> EachNode<Stored> {
     each_node(nodes, |node| match store::store(bus, node, class, t) {
         Ok(report) => Ok(report),
         Err(e) if e.is_interrupted() => {
@@ -62,7 +62,13 @@ pub fn store_nodes(bus: &mut dyn Bus, nodes: &[u8], class: Class, t: Timeouts) -
 
 /// Restore `class` on each of `nodes` in turn (0x1011); with `reset`, reset each node then
 /// and wait (at least 2 s, or the write timeout) for it to boot with the defaults.
-pub fn restore_nodes(bus: &mut dyn Bus, nodes: &[u8], class: Class, t: Timeouts, reset: bool) -> EachNode<Restored> {
+pub(crate) fn restore_nodes(
+    bus: &mut dyn Bus,
+    nodes: &[u8],
+    class: Class,
+    t: Timeouts,
+    reset: bool,
+) -> EachNode<Restored> {
     each_node(nodes, |node| restore_one(bus, node, class, t, reset))
 }
 

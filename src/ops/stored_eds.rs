@@ -25,6 +25,7 @@ impl StoredEds {
 /// The description a node gave.
 #[derive(Debug, Serialize)]
 pub struct StoredEds {
+    /// The node the description was read from.
     pub node: u8,
     /// Its storage format (0x1022): 0 plain, 1 ZIP.
     pub format: u8,
@@ -39,6 +40,7 @@ pub struct StoredEds {
     /// Objects canctl reads in it; none when it cannot read it (`unreadable` says why):
     /// the file is saved either way, as the device holds it.
     pub objects: Option<usize>,
+    /// Why canctl cannot read the file (its parser's message), when it cannot.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unreadable: Option<String>,
     /// Where the command line saved it (the library saves nothing).

@@ -14,7 +14,7 @@ use std::time::Duration;
 
 /// What the stream is of.
 #[derive(Debug)]
-pub struct Setup<'a> {
+pub(crate) struct Setup<'a> {
     /// The node streamed.
     pub node: u8,
     /// The TPDOs asked for; empty: TPDO1 to TPDO4, those the node lacks left out.
@@ -36,7 +36,7 @@ pub struct Setup<'a> {
 
 /// The stream, ready to run.
 #[derive(Debug)]
-pub struct Prepared {
+pub(crate) struct Prepared {
     /// Each TPDO streamed, with its layout.
     pub layouts: Vec<(u16, Layout)>,
     /// How long the stream may be silent before it is worth saying, and why it may be.
@@ -46,7 +46,7 @@ pub struct Prepared {
 }
 
 /// Remap, start and read the layouts as `setup` asks, each change kept in `session`.
-pub fn prepare(
+pub(crate) fn prepare(
     bus: &mut dyn Bus,
     dict: &Dictionary,
     setup: &Setup,

@@ -48,7 +48,7 @@ where
 }
 
 /// One line per event: traces as they are, everything else prefixed with `canctl:`.
-pub struct CanctlFormat;
+pub(crate) struct CanctlFormat;
 
 impl<S, N> FormatEvent<S, N> for CanctlFormat
 where

@@ -38,6 +38,7 @@ pub fn completion_scripts() -> Vec<(String, Vec<u8>)> {
         .collect()
 }
 
+/// Writes every shell's completion script into `dir` (what packaging installs).
 pub fn write_completions(dir: &Path) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     for (name, data) in completion_scripts() {

@@ -23,7 +23,7 @@ pub const KEY: &str = "bootloader";
 /// How long a clear (erase) keeps the flash busy, in ms of bus time.
 pub const ERASE_MS: u64 = 2500;
 /// How long writing the last of the data keeps it busy once the transfer is done.
-pub const WRITE_MS: u64 = 200;
+pub(crate) const WRITE_MS: u64 = 200;
 /// The program the device leaves the factory with.
 pub const FACTORY_IMAGE: &[u8] = b"canctl simulated bootloader: factory program";
 
@@ -34,6 +34,7 @@ pub const FAULT_OBJECT: ObjAddr = ObjAddr::new(0x5F51, 0);
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Fault {
+    /// No fault: downloads and starts go as a real device's do.
     None = 0,
     /// Power is lost halfway through the next download (once): the device comes back in
     /// its bootloader with no valid program.
@@ -106,13 +107,13 @@ pub fn model(block_transfer: bool) -> Model {
 }
 
 /// Whether a device's dictionary makes it a bootloader.
-pub fn is_bootloader(od: &ObjectStore) -> bool {
+pub(crate) fn is_bootloader(od: &ObjectStore) -> bool {
     od.value(CONTROL).is_some() && od.value(BUSY_UNTIL).is_some()
 }
 
 /// One SDO request to a bootloader: the answers, and whether the device rebooted instead
 /// (it then sends its boot-up and nothing else).
-pub fn on_request(
+pub(crate) fn on_request(
     sdo: &mut SdoServer,
     od: &mut ObjectStore,
     raw: &[u8],

@@ -5,7 +5,7 @@
 use crate::canopen::cia402::{self, sw, State};
 
 /// How long a simulated drive stays in "fault reaction active" before "fault".
-pub const FAULT_REACTION_MS: u64 = 20;
+pub(crate) const FAULT_REACTION_MS: u64 = 20;
 
 /// What bit 4 (voltage enabled) shows on this drive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,7 +36,7 @@ pub struct DriveProfile {
 
 /// The drive's situation outside its state machine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Drive {
+pub(crate) struct Drive {
     pub profile: DriveProfile,
     /// The cause of a fault is still there: a fault reset does not clear it.
     pub fault_cause: bool,
@@ -67,7 +67,7 @@ impl Drive {
     }
 
     /// The state after controlword `controlword` (the one before was `previous`) in `state`.
-    pub fn on_controlword(&self, state: State, previous: u16, controlword: u16) -> State {
+    pub(crate) fn on_controlword(&self, state: State, previous: u16, controlword: u16) -> State {
         let edge = cia402::fault_reset_edge(previous, controlword);
         let next = cia402::on_controlword(state, controlword, edge);
         let switching_on = matches!(next, State::SwitchedOn | State::OperationEnabled)

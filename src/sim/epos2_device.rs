@@ -49,6 +49,8 @@ enum Segmented {
     },
 }
 
+/// A simulated EPOS2 on its serial link: answers the serial protocol's commands and passes its CAN
+/// gateway's SDO requests to the simulated network.
 pub struct Epos2Device {
     link: SimLink,
     can_timeout: Duration,
@@ -66,6 +68,8 @@ pub struct Epos2Device {
 }
 
 impl Epos2Device {
+    /// An EPOS2 gateway to the network behind `link`, waiting at most `can_timeout` for a device's
+    /// SDO answer.
     pub fn new(link: SimLink, can_timeout: Duration) -> Epos2Device {
         Epos2Device {
             link,
@@ -99,6 +103,7 @@ impl Epos2Device {
         self.wrong_answers = on;
     }
 
+    /// The simulated CAN network behind the gateway, for tests that change it.
     pub fn link_mut(&mut self) -> &mut SimLink {
         &mut self.link
     }

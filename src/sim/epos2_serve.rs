@@ -15,10 +15,13 @@ use std::time::{Duration, Instant};
 
 pub use super::serial_fault::{Fault, FaultKind, BABBLE_TIME, LATE};
 
+/// How a simulated EPOS2 is served on a pseudo-terminal.
 pub struct ServeOptions {
+    /// RS232 or USB framing, as the client is to speak it.
     pub framing: Framing,
     /// Pace bytes as a line at this many bit/s would (10 bits a byte); `None`: as fast as the pty goes.
     pub baud: Option<u32>,
+    /// The serial faults to inject, each on the n-th command frame or on all.
     pub faults: Vec<Fault>,
 }
 

@@ -58,13 +58,16 @@ pub enum When {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(try_from = "String", into = "String")]
 pub struct FaultSpec {
+    /// The device(s) it concerns: by model key, by node-id, or any.
     pub target: Target,
+    /// What goes wrong.
     pub kind: Kind,
+    /// From which request on, or after how long.
     pub when: When,
 }
 
 /// SDO abort "general error", when `abort` names no code.
-pub const DEFAULT_ABORT: u32 = 0x0800_0000;
+pub(crate) const DEFAULT_ABORT: u32 = 0x0800_0000;
 const DEFAULT_SHORT_DLC: u8 = 4;
 
 fn parse_u32(s: &str) -> Option<u32> {
@@ -184,7 +187,7 @@ impl From<FaultSpec> for String {
 
 /// Why a fault concerns none of `devices` (model key, node-id), if one does not: a fault
 /// for node 99 on a network without it would be accepted and never fire.
-pub fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) -> Option<String> {
+pub(crate) fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) -> Option<String> {
     let fault = faults.iter().find(|f| !devices.iter().any(|(key, node)| f.applies_to(key, *node)))?;
     let nodes: Vec<String> = devices.iter().filter_map(|(_, n)| n.map(|n| n.to_string())).collect();
     let keys: Vec<&str> = devices.iter().map(|(k, _)| k.as_str()).collect();
@@ -219,7 +222,7 @@ impl FaultSpec {
 
 /// The faults of one device and what they have done so far.
 #[derive(Debug, Default)]
-pub struct Conduct {
+pub(crate) struct Conduct {
     faults: Vec<FaultSpec>,
     answers: u32,
     muted: bool,
@@ -240,12 +243,8 @@ impl Conduct {
         Conduct { faults, ..Conduct::default() }
     }
 
-    pub fn is_muted(&self) -> bool {
-        self.muted
-    }
-
     /// Whether a reboot fault fired since the last call.
-    pub fn take_reboot(&mut self) -> bool {
+    pub(crate) fn take_reboot(&mut self) -> bool {
         std::mem::take(&mut self.reboot)
     }
 

@@ -3,15 +3,15 @@
 
 pub mod bootloader;
 pub mod bridge;
-pub mod cia402_drive;
-pub mod device;
+pub(crate) mod cia402_drive;
+pub(crate) mod device;
 pub mod epos2_device;
 #[cfg(unix)]
 pub mod epos2_serve;
-pub mod faults;
+pub(crate) mod faults;
 pub mod profiles;
 #[cfg(unix)]
-pub mod pty;
+pub(crate) mod pty;
 pub mod serial_fault;
 pub mod serve;
 #[cfg(unix)]
@@ -26,23 +26,24 @@ use crate::frame::Frame;
 use device::Device;
 use faults::Conduct;
 pub use faults::FaultSpec;
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::VecDeque;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 use timing::{BusQueue, Latency, Nanos, Origin, Rng};
 pub use timing::{BusStats, Profile};
 
 /// The bit rate of the demo bus: 500 kbit/s (CiA 305 table index 2).
-pub const DEFAULT_BIT_RATE: u8 = 2;
+pub(crate) const DEFAULT_BIT_RATE: u8 = 2;
 /// Devices without a node-id on the demo network unless told otherwise.
-pub const DEFAULT_UNCONFIGURED: u8 = 3;
+pub(crate) const DEFAULT_UNCONFIGURED: u8 = 3;
 /// The most devices without a node-id `sim reset --unconfigured` builds.
-pub const MAX_UNCONFIGURED: u8 = 64;
-pub const DEFAULT_SEED: u64 = 1;
+pub(crate) const MAX_UNCONFIGURED: u8 = 64;
+pub(crate) const DEFAULT_SEED: u64 = 1;
 
 /// How the simulated network behaves: chosen by `sim reset` (kept in the state file) or
 /// by a test.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimConfig {
+    /// How fast and how variably the devices answer.
     pub profile: Profile,
     /// Seeds every device's latency and fault draws: the same seed replays the same run.
     pub seed: u64,
@@ -83,16 +84,19 @@ impl Default for SimConfig {
 }
 
 impl SimConfig {
+    /// With this timing profile.
     pub fn profile(mut self, profile: Profile) -> SimConfig {
         self.profile = profile;
         self
     }
 
+    /// With this seed for every random draw.
     pub fn seed(mut self, seed: u64) -> SimConfig {
         self.seed = seed;
         self
     }
 
+    /// With `n` devices waiting for an LSS node-id.
     pub fn unconfigured(mut self, n: u8) -> SimConfig {
         self.unconfigured = n;
         self
@@ -105,11 +109,13 @@ impl SimConfig {
         self
     }
 
+    /// On virtual time (tests: waits take no real time), or on the wall clock.
     pub fn virtual_time(mut self, on: bool) -> SimConfig {
         self.virtual_time = on;
         self
     }
 
+    /// With this fault injected too.
     pub fn fault(mut self, fault: FaultSpec) -> SimConfig {
         self.faults.push(fault);
         self
@@ -165,7 +171,7 @@ impl Network {
     }
 
     /// The demo network as `config` describes it.
-    pub fn demo_with(config: SimConfig) -> Network {
+    pub(crate) fn demo_with(config: SimConfig) -> Network {
         let mut devices = profiles::demo_network_with(config.unconfigured);
         devices.extend(config.bootloader.map(|node| (bootloader::model(true), Some(node))));
         Network::of_with(devices, config)
@@ -185,14 +191,17 @@ impl Network {
         Network { devices, paces, conducts, config, bit_rate, clock_ms: 0 }
     }
 
+    /// How the network was set up.
     pub fn config(&self) -> &SimConfig {
         &self.config
     }
 
+    /// The bus's bit rate (CiA 305 table index).
     pub fn bit_rate(&self) -> u8 {
         self.bit_rate
     }
 
+    /// The devices on the network, configured or waiting for a node-id.
     pub fn devices(&self) -> &[Device] {
         &self.devices
     }
@@ -203,18 +212,13 @@ impl Network {
     }
 
     /// The device built from the model with this key (`drive`, `sensor`, ...).
-    pub fn device_mut(&mut self, model: &str) -> Option<&mut Device> {
+    pub(crate) fn device_mut(&mut self, model: &str) -> Option<&mut Device> {
         self.devices.iter_mut().find(|d| d.model == model)
-    }
-
-    /// The bus's bit rate was changed by a master that knows better (`sim` knobs, tests).
-    pub fn set_bit_rate(&mut self, rate: u8) {
-        self.bit_rate = rate;
     }
 
     /// `frame` has left the bus at `heard`: what the devices send in answer, each with
     /// the time it is ready to go and who sends it.
-    pub fn deliver(&mut self, frame: &Frame, heard: Nanos) -> Vec<(Nanos, usize, Frame)> {
+    pub(crate) fn deliver(&mut self, frame: &Frame, heard: Nanos) -> Vec<(Nanos, usize, Frame)> {
         let rate = self.bit_rate;
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
@@ -268,7 +272,7 @@ impl Network {
     }
 
     /// The bus's time, in ms, for the devices (which never read a clock themselves).
-    pub fn set_clock(&mut self, ms: u64) {
+    pub(crate) fn set_clock(&mut self, ms: u64) {
         self.clock_ms = self.clock_ms.max(ms);
         for d in &mut self.devices {
             d.set_clock(ms);
@@ -276,7 +280,7 @@ impl Network {
     }
 
     /// The devices flooding the bus, and the id each floods it with.
-    pub fn babblers(&mut self) -> Vec<(usize, u16)> {
+    pub(crate) fn babblers(&mut self) -> Vec<(usize, u16)> {
         let mut out = Vec::new();
         for (i, c) in self.conducts.iter_mut().enumerate() {
             let d = &self.devices[i];
@@ -286,10 +290,11 @@ impl Network {
     }
 
     /// When the next of those is due after `now` (ms).
-    pub fn next_event(&self, now: u64) -> Option<u64> {
+    pub(crate) fn next_event(&self, now: u64) -> Option<u64> {
         self.devices.iter().filter(|d| d.bit_rate() == self.bit_rate).filter_map(|d| d.next_event(now)).min()
     }
 
+    /// The network's state to save: what the next invocation restores.
     pub fn snapshot(&self) -> state::NetworkState {
         state::NetworkState {
             version: state::VERSION,
@@ -300,6 +305,7 @@ impl Network {
         }
     }
 
+    /// Returns the network to a saved state (devices missing from it keep theirs).
     pub fn restore(&mut self, s: &state::NetworkState) {
         self.bit_rate = s.bit_rate.unwrap_or(self.config.bit_rate);
         self.clock_ms = s.clock_ms.unwrap_or(0);
@@ -321,7 +327,7 @@ impl Network {
     /// invocation ran them, whatever the wall clock says (it may step back, and a virtual
     /// clock runs ahead of it). Two commands in a row are so at least a ms apart, and a
     /// fault armed 1 ms ahead has struck when the next one opens the network.
-    pub fn resumes_at(&self) -> u64 {
+    pub(crate) fn resumes_at(&self) -> u64 {
         if self.clock_ms == 0 {
             0
         } else {
@@ -330,7 +336,7 @@ impl Network {
     }
 
     /// Whether anything persistent changed since the last call.
-    pub fn take_dirty(&mut self) -> bool {
+    pub(crate) fn take_dirty(&mut self) -> bool {
         self.devices.iter_mut().fold(false, |acc, d| d.take_dirty() | acc)
     }
 }
@@ -345,6 +351,7 @@ pub(crate) fn last_beat(period: u64, node: u64, now: u64) -> u64 {
     now - (now - offset) % period
 }
 
+/// Wall-clock time, ms since the Unix epoch (0 if the clock is before it).
 pub fn wall_ms() -> u64 {
     SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_millis() as u64).unwrap_or(0)
 }
@@ -432,10 +439,12 @@ impl SimLink {
         bps.filter(|_| net.config.profile.bus_timing())
     }
 
+    /// The simulated network this link is attached to.
     pub fn network(&self) -> &Network {
         &self.net
     }
 
+    /// The simulated network, to change (tests inject faults and reboot devices).
     pub fn network_mut(&mut self) -> &mut Network {
         &mut self.net
     }
@@ -465,13 +474,8 @@ impl SimLink {
 
     /// Whether the network was set up to run on virtual time when a command opens it
     /// (`sim reset --virtual-time`).
-    pub fn wants_virtual_time(&self) -> bool {
+    pub(crate) fn wants_virtual_time(&self) -> bool {
         self.net.config.virtual_time
-    }
-
-    /// Whether the link runs on virtual time.
-    pub fn is_virtual(&self) -> bool {
-        matches!(self.clock, Clock::Virtual { .. })
     }
 
     /// The bus clock: ns since its zero.
@@ -500,7 +504,7 @@ impl SimLink {
 
     /// When something next happens on the bus by itself: a frame leaves, or a device
     /// sends on its own.
-    pub fn next_event(&self) -> Option<Instant> {
+    pub(crate) fn next_event(&self) -> Option<Instant> {
         self.next_event_at().map(|t| self.at(t))
     }
 
@@ -515,7 +519,7 @@ impl SimLink {
     }
 
     /// Save the state now if anything changed (a long-running server saves as it goes).
-    pub fn save_if_changed(&mut self) -> Result<()> {
+    pub(crate) fn save_if_changed(&mut self) -> Result<()> {
         if self.net.take_dirty() {
             if let Some(file) = &self.file {
                 file.save(&self.net.snapshot())?;
@@ -526,7 +530,7 @@ impl SimLink {
 
     /// Let the devices do what they do by themselves up to now (a fault strikes, a drive's
     /// fault reaction ends), for a master that reads a device's objects directly.
-    pub fn run_until_now(&mut self) {
+    pub(crate) fn run_until_now(&mut self) {
         self.advance();
     }
 
@@ -651,11 +655,6 @@ impl FrameLink for SimLink {
 
 /// The shortest wait of a receive with nothing due: on real time, what a sleep costs anyway.
 const MIN_WAIT: Nanos = 20_000;
-
-/// Node-ids on the demo network, for documentation and tests.
-pub fn demo_node_ids() -> BTreeMap<u8, String> {
-    Network::demo().devices.iter().filter_map(|d| Some((d.node_id()?, d.model.clone()))).collect()
-}
 
 #[cfg(test)]
 mod tests {

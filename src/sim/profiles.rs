@@ -8,11 +8,15 @@ use crate::od::Access::*;
 use crate::od::{builtin, le, text, Dictionary, Init};
 use crate::sim::cia402_drive::{DriveProfile, RemoteBit, VoltageBit};
 
+/// A simulated device type: its dictionary and the protocol features and quirks it has.
 pub struct Model {
     /// Stable name used in the state file.
     pub key: String,
+    /// Its object dictionary, with the values it starts with.
     pub dict: Dictionary,
+    /// Whether its SDO server does block transfers.
     pub block_transfer: bool,
+    /// Whether it answers node-guarding requests.
     pub guarding: bool,
     /// Objects that accept any write and keep their value (a firmware quirk some seeds describe).
     pub ignored_writes: Vec<ObjAddr>,
@@ -31,9 +35,13 @@ pub struct Model {
 /// A simulated fault: the EMCY it raises, and whether the device leaves Operational.
 #[derive(Clone, Copy, Debug)]
 pub struct FaultSpec {
+    /// The EMCY error code (CiA 301 table 21).
     pub code: u16,
+    /// The error register (0x1001) while the fault stands.
     pub register: u8,
+    /// The manufacturer-specific bytes of the EMCY.
     pub vendor: [u8; 5],
+    /// Whether the device leaves Operational for Pre-operational.
     pub to_pre_operational: bool,
 }
 
@@ -44,7 +52,7 @@ fn fault_object(d: &mut Dictionary) {
 
 /// The simulator's handle on a drive's power supply: 1 switches it off (the drive then
 /// does not switch on), 0 back on.
-pub const SUPPLY_OFF_OBJECT: ObjAddr = ObjAddr::new(0x5FFD, 0);
+pub(crate) const SUPPLY_OFF_OBJECT: ObjAddr = ObjAddr::new(0x5FFD, 0);
 
 fn supply_object(d: &mut Dictionary) {
     d.var(0x5FFD, "Simulated power supply off (1) or on (0)", U8, Rw, u(0, U8));
@@ -70,7 +78,7 @@ fn error_history(d: &mut Dictionary, slots: u8) {
 
 /// The demo sensor's motion: a triangle between 100000 and 300000 steps, 20 steps a ms,
 /// forward for 10 s and back for 10 s. Speed is reported as ±2000 (steps per 100 ms).
-pub fn sensor_motion(now_ms: u64) -> (i32, i16) {
+pub(crate) fn sensor_motion(now_ms: u64) -> (i32, i16) {
     let t = (now_ms % 20_000) as i32;
     if t < 10_000 {
         (100_000 + 20 * t, 2000)
@@ -82,17 +90,18 @@ pub fn sensor_motion(now_ms: u64) -> (i32, i16) {
 const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true };
 
 /// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
-pub fn demo_network() -> Vec<(Model, Option<u8>)> {
+#[cfg(test)]
+pub(crate) fn demo_network() -> Vec<(Model, Option<u8>)> {
     demo_network_with(UNCONFIGURED_SERIALS.len() as u8)
 }
 
 /// The serial of the `i`-th (from 0) demo sensor waiting for a node-id.
-pub fn unconfigured_serial(i: u8) -> u32 {
+pub(crate) fn unconfigured_serial(i: u8) -> u32 {
     UNCONFIGURED_SERIALS[0] + i as u32
 }
 
 /// The demo network with `unconfigured` sensors waiting for a node-id.
-pub fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
+pub(crate) fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
     let mut devices = vec![
         (drive(), Some(1)),
         (position_sensor(SENSOR_SERIAL), Some(5)),
@@ -103,6 +112,7 @@ pub fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
     devices
 }
 
+/// The size of the demo network's large DOMAIN object, big enough to need several block transfers.
 pub const DOMAIN_SIZE: usize = 64 * 1024;
 
 fn u(v: u64, t: DataType) -> Init {

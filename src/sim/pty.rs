@@ -10,7 +10,7 @@ pub fn failed(op: PtyOp, e: impl std::fmt::Display) -> Error {
 
 /// A raw pty: its master, its slave and the slave's path. Whoever serves on it keeps the
 /// slave open, so that the pty lives on between the programs that open it.
-pub fn open_raw() -> Result<(OwnedFd, OwnedFd, String)> {
+pub(crate) fn open_raw() -> Result<(OwnedFd, OwnedFd, String)> {
     use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
     let pty = nix::pty::openpty(None, None).map_err(|e| failed(PtyOp::Create, e))?;
     let mut t = tcgetattr(&pty.slave).map_err(|e| failed(PtyOp::Termios, e))?;

@@ -4,6 +4,7 @@
 use std::str::FromStr;
 use std::time::Duration;
 
+/// What goes wrong with a command frame of a simulated EPOS2's serial link.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FaultKind {
     /// RS232: answer 'F' to the frame. USB: answer with error 0x05040004 (CRC error).
@@ -40,7 +41,9 @@ pub const BABBLE_TIME: Duration = Duration::from_secs(30);
 /// A fault on the n-th command frame (counting from 1), or on every one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Fault {
+    /// What goes wrong.
     pub kind: FaultKind,
+    /// The frame it hits (counting from 1); `None`: every frame.
     pub nth: Option<u64>,
 }
 

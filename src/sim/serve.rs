@@ -75,13 +75,28 @@ pub fn reset(path: &Path, config: &SimConfig) -> Result<Reset> {
 #[derive(Clone, Debug)]
 pub enum Serve {
     /// On a CAN interface (vcan0, can0).
-    SocketCan { iface: String },
+    SocketCan {
+        /// The interface's name.
+        iface: String,
+    },
     /// Behind a simulated slcan (Lawicel) adapter on a pseudo-terminal; the faults are
     /// the adapter's.
-    Slcan { faults: Vec<Fault> },
+    Slcan {
+        /// The adapter's faults.
+        faults: Vec<Fault>,
+    },
     /// As the network's EPOS2 (node 1) on a pseudo-terminal, with the devices on the CAN
     /// bus behind it; `can_timeout` is how long it waits for their SDO answers.
-    Epos2 { framing: Framing, baud: Option<u32>, faults: Vec<Fault>, can_timeout: Duration },
+    Epos2 {
+        /// RS232 or USB framing.
+        framing: Framing,
+        /// Pace bytes as a line at this baud rate would; `None`: as fast as the pty goes.
+        baud: Option<u32>,
+        /// The serial faults to inject.
+        faults: Vec<Fault>,
+        /// How long the gateway waits for a device's SDO answer.
+        can_timeout: Duration,
+    },
 }
 
 /// Where the devices are now served.

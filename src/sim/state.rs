@@ -8,10 +8,12 @@ use std::fs::{File, OpenOptions, TryLockError};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-pub const VERSION: u32 = 1;
+pub(crate) const VERSION: u32 = 1;
 
+/// What the state file holds: the simulated network between invocations.
 #[derive(serde::Serialize, serde::Deserialize, Default, Debug)]
 pub struct NetworkState {
+    /// The file format's version; an unknown one is not read.
     pub version: u32,
     /// The bus's bit rate (CiA 305 table index).
     #[serde(default)]
@@ -19,12 +21,14 @@ pub struct NetworkState {
     /// Profile, seed, devices and faults chosen by `sim reset`; absent: the defaults.
     #[serde(default)]
     pub config: Option<super::SimConfig>,
+    /// Each device's state, by model key.
     pub devices: BTreeMap<String, DeviceState>,
     /// The devices' clock (ms) when saved: the next invocation's starts after it.
     #[serde(default)]
     pub clock_ms: Option<u64>,
 }
 
+/// The state file, locked: one process at a time runs the simulated network.
 pub struct StateFile {
     path: PathBuf,
     /// Who holds the lock, for the next process that finds it taken.
@@ -36,14 +40,14 @@ pub struct StateFile {
 /// How long opening the sim network waits for another process using it: long enough for
 /// a command that is finishing, short of hanging behind a server (`canctl sim --...`) that
 /// runs until stopped.
-pub const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(10);
+pub(crate) const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(10);
 
 /// How often a taken lock is tried again.
 const LOCK_RETRY: Duration = Duration::from_millis(50);
 
 /// The process holding the sim network, as it recorded itself beside the lock.
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug, PartialEq, Eq)]
-pub struct Holder {
+pub(crate) struct Holder {
     pub pid: u32,
     /// Its command line, program name without its directory: `canctl sim --epos2-rs232`.
     pub command: String,
@@ -64,7 +68,7 @@ impl Holder {
 }
 
 /// `$XDG_STATE_HOME/canctl/sim.json`, else `~/.local/state/canctl/sim.json`.
-pub fn default_path() -> PathBuf {
+pub(crate) fn default_path() -> PathBuf {
     crate::xdg::state_dir().unwrap_or_else(|| std::env::temp_dir().join("canctl")).join("sim.json")
 }
 
@@ -98,7 +102,7 @@ impl StateFile {
 
     /// Lock the state at `path`, waiting up to `wait` for another process using it; then a
     /// link error (exit 5) that names that process and how to proceed.
-    pub fn lock_within(path: &Path, wait: Duration) -> Result<StateFile> {
+    pub(crate) fn lock_within(path: &Path, wait: Duration) -> Result<StateFile> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| link_err(path, "cannot create its directory", e))?;
         }
@@ -146,10 +150,12 @@ impl StateFile {
         Ok(StateFile { path: path.to_path_buf(), owner_path, _lock: lock })
     }
 
+    /// Where the file is.
     pub fn path(&self) -> &Path {
         &self.path
     }
 
+    /// The saved state; `None` when there is no file yet.
     pub fn load(&self) -> Result<Option<NetworkState>> {
         let text = match std::fs::read_to_string(&self.path) {
             Ok(t) => t,
@@ -168,6 +174,7 @@ impl StateFile {
         Ok(Some(state))
     }
 
+    /// Saves `state`, replacing the file whole (never half-written).
     pub fn save(&self, state: &NetworkState) -> Result<()> {
         let tmp = self.path.with_extension("tmp");
         let text = serde_json::to_string_pretty(state).expect("state serialises");
@@ -176,7 +183,7 @@ impl StateFile {
     }
 
     /// Start afresh with this configuration: devices as built, nothing else kept.
-    pub fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
+    pub(crate) fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
         let state = NetworkState {
             version: VERSION,
             bit_rate: None,

@@ -9,10 +9,10 @@ use std::fmt;
 use std::str::FromStr;
 
 /// Nanoseconds on the bus clock.
-pub type Nanos = u64;
+pub(crate) type Nanos = u64;
 
-pub const US: Nanos = 1_000;
-pub const MS: Nanos = 1_000_000;
+pub(crate) const US: Nanos = 1_000;
+pub(crate) const MS: Nanos = 1_000_000;
 
 /// A small, seeded pseudo-random generator (SplitMix64): the same seed gives the same
 /// latencies and faults, so a failing run can be replayed.
@@ -20,18 +20,20 @@ pub const MS: Nanos = 1_000_000;
 pub struct Rng(u64);
 
 impl Rng {
+    /// A generator whose draws are fixed by `seed`.
     pub fn new(seed: u64) -> Rng {
         Rng(seed)
     }
 
     /// A generator for one device: the network's seed mixed with the device's stable key,
     /// so adding a device does not change the others' draws.
-    pub fn for_device(seed: u64, key: &str) -> Rng {
+    pub(crate) fn for_device(seed: u64, key: &str) -> Rng {
         // FNV-1a over the key.
         let h = key.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3));
         Rng::new(seed ^ h)
     }
 
+    /// The next draw (splitmix64).
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
@@ -71,7 +73,7 @@ pub enum Profile {
 }
 
 impl Profile {
-    pub const NAMES: [&'static str; 3] = ["instant", "typical", "slow"];
+    pub(crate) const NAMES: [&'static str; 3] = ["instant", "typical", "slow"];
 
     /// The range a device's own base latency is drawn from, and the jitter added to each
     /// answer (both in ns).
@@ -84,12 +86,12 @@ impl Profile {
     }
 
     /// Whether each frame occupies the bus for its frame time at the bit rate.
-    pub fn bus_timing(self) -> bool {
+    pub(crate) fn bus_timing(self) -> bool {
         self != Profile::Instant
     }
 
     /// The answer time of one device: drawn once per device, from its own generator.
-    pub fn device_latency(self, rng: &mut Rng) -> Latency {
+    pub(crate) fn device_latency(self, rng: &mut Rng) -> Latency {
         let ((lo, hi), jitter) = self.latency();
         Latency { base: rng.between(lo, hi), jitter }
     }
@@ -115,13 +117,13 @@ impl FromStr for Profile {
 
 /// One device's answer time: its base latency plus up to `jitter` on each answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Latency {
+pub(crate) struct Latency {
     pub base: Nanos,
     pub jitter: Nanos,
 }
 
 impl Latency {
-    pub fn draw(&self, rng: &mut Rng) -> Nanos {
+    pub(crate) fn draw(&self, rng: &mut Rng) -> Nanos {
         self.base + rng.between(0, self.jitter)
     }
 }
@@ -168,7 +170,7 @@ fn stuff_bits(bits: &[bool]) -> u32 {
 /// The bits a CAN 2.0A (11-bit id) frame occupies on the bus, stuff bits counted exactly:
 /// SOF, id, RTR, IDE, r0, DLC, data and CRC are stuffed; CRC delimiter, ACK slot and
 /// delimiter, EOF (7) and the 3-bit intermission are not.
-pub fn frame_bits(f: &Frame) -> u32 {
+pub(crate) fn frame_bits(f: &Frame) -> u32 {
     let mut bits = Vec::with_capacity(100);
     bits.push(false); // SOF
     bits.extend((0..11).rev().map(|i| f.id() >> i & 1 == 1));
@@ -186,7 +188,8 @@ pub fn frame_bits(f: &Frame) -> u32 {
 
 /// The standard worst case for a CAN 2.0A frame with `n` data bytes:
 /// 47 + 8n + ⌊(34 + 8n − 1) / 4⌋ bits.
-pub fn worst_case_bits(n: usize) -> u32 {
+#[cfg(test)]
+pub(crate) fn worst_case_bits(n: usize) -> u32 {
     let n = n as u32;
     47 + 8 * n + (34 + 8 * n - 1) / 4
 }
@@ -198,7 +201,7 @@ pub fn frame_time(f: &Frame, bps: u64) -> Nanos {
 
 /// Who put a frame on the bus.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Origin {
+pub(crate) enum Origin {
     Master,
     Device(usize),
 }
@@ -237,7 +240,9 @@ const BABBLE_GAP: Nanos = 62_500;
 /// Frames that have left the bus, and how long it was busy.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BusStats {
+    /// Frames that completed on the bus.
     pub frames: u64,
+    /// Time the bus was busy sending them (ns), bit stuffing and interframe space included.
     pub busy: Nanos,
 }
 
@@ -245,7 +250,7 @@ pub struct BusStats {
 /// free; each sender's frames leave in the order it queued them, and of the senders'
 /// first frames waiting when the bus frees, the lowest id wins arbitration.
 #[derive(Debug, Default)]
-pub struct BusQueue {
+pub(crate) struct BusQueue {
     /// `None`: frames take no time.
     bps: Option<u64>,
     free_at: Nanos,
@@ -260,24 +265,16 @@ impl BusQueue {
         BusQueue { bps, ..BusQueue::default() }
     }
 
-    pub fn set_bps(&mut self, bps: Option<u64>) {
+    pub(crate) fn set_bps(&mut self, bps: Option<u64>) {
         self.bps = bps;
     }
 
-    pub fn stats(&self) -> BusStats {
+    pub(crate) fn stats(&self) -> BusStats {
         self.stats
     }
 
-    pub fn len(&self) -> usize {
-        self.queued.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.queued.is_empty()
-    }
-
     /// How many frames from this origin are waiting.
-    pub fn waiting_from(&self, origin: Origin) -> usize {
+    pub(crate) fn waiting_from(&self, origin: Origin) -> usize {
         self.queued.iter().filter(|q| q.origin == origin).count()
     }
 
@@ -297,7 +294,7 @@ impl BusQueue {
     }
 
     /// Only these devices babble any more (the others fell silent).
-    pub fn keep_babblers(&mut self, devices: &[usize]) {
+    pub(crate) fn keep_babblers(&mut self, devices: &[usize]) {
         self.babblers.retain(|b| devices.contains(&b.device));
     }
 
@@ -338,12 +335,12 @@ impl BusQueue {
     }
 
     /// When the next frame will have left the bus, if any is queued.
-    pub fn next_done(&self) -> Option<Nanos> {
+    pub(crate) fn next_done(&self) -> Option<Nanos> {
         self.next().map(|(_, _, end)| end)
     }
 
     /// The next frame that has completely left the bus by `now`, with the time it did.
-    pub fn pop_done(&mut self, now: Nanos) -> Option<(Nanos, Origin, Frame)> {
+    pub(crate) fn pop_done(&mut self, now: Nanos) -> Option<(Nanos, Origin, Frame)> {
         let (next, start, end) = self.next()?;
         if end > now {
             return None;

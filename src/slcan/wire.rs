@@ -96,7 +96,8 @@ impl Status {
     }
 
     /// Whether frames may have been lost or the bus is unusable.
-    pub fn is_trouble(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn is_trouble(&self) -> bool {
         self.0 & !(1 << 4) != 0
     }
 }
@@ -107,7 +108,10 @@ pub enum Message {
     /// A received 11-bit frame.
     Frame(Frame),
     /// A received 29-bit frame: CANopen has no use for it, but it is on the bus.
-    Extended { id: u32 },
+    Extended {
+        /// Its 29-bit identifier.
+        id: u32,
+    },
     /// A bare CR: the last command was done.
     Ok,
     /// `z` / `Z`: a frame was queued for sending.
@@ -124,9 +128,12 @@ pub enum Message {
 
 /// Why a line could not be read.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum WireError {
+    /// No carriage return within this many bytes: the adapter or the line is not speaking slcan.
     #[error("line too long ({0} bytes without a carriage return)")]
     TooLong(usize),
+    /// A line no adapter sends (the line, as far as it is text).
     #[error("malformed line '{0}'")]
     Malformed(String),
 }
@@ -151,6 +158,7 @@ impl Message {
 
 /// Decode a command line from the host (without its CR), as an adapter does; `None` for a
 /// 29-bit frame, which an adapter accepts but a CANopen network has no use for.
+#[cfg_attr(not(unix), allow(dead_code))] // its one caller, the simulated adapter, is served on a pty
 pub(crate) fn decode_command(line: &[u8]) -> Result<Option<Command>, WireError> {
     let bad = || WireError::Malformed(String::from_utf8_lossy(line).into_owned());
     Ok(Some(match line {

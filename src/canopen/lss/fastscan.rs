@@ -6,7 +6,9 @@ use super::policy::{Pace, BACKTRACKS, MAX_SEARCHES, REPEATS, SEARCH_BUDGET, STEP
 use super::wire::{is_answer, Identity, Inquiry, Request, FASTSCAN_RESET};
 use std::time::Duration;
 
+/// Why a fastscan found no device.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[non_exhaustive]
 pub enum FastscanError {
     /// Nobody answered: no non-configured device in waiting state.
     NoDevice,
@@ -14,7 +16,12 @@ pub enum FastscanError {
     /// devices changed meanwhile, or frames were lost.
     Unconfirmed(u8),
     /// No device without a node-id has this part (given by the user) of its identity.
-    NoMatch { part: u8, value: u32 },
+    NoMatch {
+        /// The identity part (0 vendor .. 3 serial).
+        part: u8,
+        /// The value asked for.
+        value: u32,
+    },
     /// A device answered once, then no more, even with the longest step.
     Lost,
 }
@@ -22,15 +29,18 @@ pub enum FastscanError {
 /// What the fastscan driver wants done next.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum FastscanNext {
+    /// Send this request and collect its answers.
     Send(Ask),
     /// The device found; it is in configuration state now.
     Found(Identity),
+    /// The search ended without a device.
     Failed(FastscanError),
 }
 
 /// One request and how to wait for its answers.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Ask {
+    /// The request to send.
     pub request: Request,
     /// The command specifier an answer must carry.
     pub expect: u8,
@@ -140,19 +150,20 @@ impl Fastscan {
         self.steps
     }
 
+    /// The pace the search is at: how long it waits for answers.
     pub fn pace(&self) -> &Pace {
         &self.pace
     }
 
     /// The pace learned, for the next search on the same bus.
-    pub fn into_pace(self) -> Pace {
+    pub(crate) fn into_pace(self) -> Pace {
         self.pace
     }
 
     /// LSS frames that came between two requests' windows (the driver drains them before
     /// each request): a fastscan answer among them came later than its window allowed,
     /// which is evidence of lateness.
-    pub fn on_strays(&mut self, frames: &[[u8; 8]]) {
+    pub(crate) fn on_strays(&mut self, frames: &[[u8; 8]]) {
         self.late |= frames.iter().any(|f| is_answer(f, 0x4F));
     }
 
@@ -163,6 +174,7 @@ impl Fastscan {
         self.late || (self.pace.fixed.is_some() && self.pace.slowest.is_some_and(|s| s > self.pace.step()))
     }
 
+    /// What to do next, given the answers fed so far.
     pub fn next(&self) -> FastscanNext {
         if let Some(outcome) = self.outcome {
             return match outcome {
@@ -215,7 +227,7 @@ impl Fastscan {
     /// The answers to the request `next` asked for: each with the time it came after the
     /// request was sent. Frames with another command specifier are not answers; answers
     /// after the window are late: they lengthen the step and the request is asked again.
-    pub fn on_answers(&mut self, answers: &[(Duration, [u8; 8])]) {
+    pub(crate) fn on_answers(&mut self, answers: &[(Duration, [u8; 8])]) {
         let FastscanNext::Send(ask) = self.next() else { return };
         let valid: Vec<Duration> = answers.iter().filter(|(_, d)| is_answer(d, ask.expect)).map(|(t, _)| *t).collect();
         for t in &valid {

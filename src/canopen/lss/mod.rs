@@ -13,5 +13,5 @@ mod wire;
 pub use fastscan::*;
 pub use policy::*;
 pub use sequences::*;
-pub use slave::*;
+pub(crate) use slave::*;
 pub use wire::*;

@@ -8,27 +8,27 @@ use std::collections::VecDeque;
 use std::time::Duration;
 
 /// The shortest fastscan step: enough for slaves on the same machine or a quiet bus.
-pub const STEP_FLOOR: Duration = Duration::from_millis(10);
+pub(crate) const STEP_FLOOR: Duration = Duration::from_millis(10);
 /// The longest: a slave slower than this is broken, not slow.
 pub const STEP_CEILING: Duration = Duration::from_secs(2);
 /// How many times a search may lengthen its step (or, at a fixed step, retry) before it
 /// gives up.
-pub const MAX_ESCALATIONS: u32 = 4;
+pub(crate) const MAX_ESCALATIONS: u32 = 4;
 /// How many more times a request whose answer is missing where one is due (a confirmation,
 /// a reset, the last "anybody there?") is sent before the silence counts: a frame lost on
 /// the way, to or from the slaves, is not a slow slave, and asking again brings the answer
 /// back where a longer step cannot.
-pub const REPEATS: u32 = 2;
+pub(crate) const REPEATS: u32 = 2;
 /// How many times one fastscan may search again from a reset (a part not confirmed, a
 /// device that answered the last "anybody there?" but not the reset) before it gives up:
 /// under heavy loss every search has a fair chance, and none is certain.
-pub const MAX_SEARCHES: u32 = 24;
+pub(crate) const MAX_SEARCHES: u32 = 24;
 /// How many times a part whose confirmation went unanswered is searched again from the
 /// bit that was likely lost, before the whole part is searched again from a reset.
-pub const BACKTRACKS: u32 = 4;
+pub(crate) const BACKTRACKS: u32 = 4;
 /// The bus time one fastscan may spend waiting for answers: one whole search at the
 /// longest step. Searches again at a long step run out of this before [`MAX_SEARCHES`].
-pub const SEARCH_BUDGET: Duration = Duration::from_secs(2 * 133);
+pub(crate) const SEARCH_BUDGET: Duration = Duration::from_secs(2 * 133);
 /// How many of the latest answer times the step is learned from.
 const RECENT_ANSWERS: usize = 64;
 
@@ -78,7 +78,7 @@ impl Pace {
     }
 
     /// A slave answered `after` its request was sent.
-    pub fn observe(&mut self, after: Duration) {
+    pub(crate) fn observe(&mut self, after: Duration) {
         self.slowest = Some(self.slowest.map_or(after, |s| s.max(after)));
         if self.recent.len() == RECENT_ANSWERS {
             self.recent.pop_front();
@@ -107,24 +107,24 @@ impl Pace {
     /// After the first answer to a request, how much longer the others may come: the
     /// spread of the answer times seen and a quarter step more, so that a straggler does
     /// not count for the next request.
-    pub fn settle(&self) -> Duration {
+    pub(crate) fn settle(&self) -> Duration {
         let spread = self.recent_range().map_or(Duration::ZERO, |(s, f)| s - f);
         (spread + (self.step() / 4).max(Duration::from_millis(2))).min(self.step())
     }
 
-    pub fn probe_window(&self) -> Duration {
+    pub(crate) fn probe_window(&self) -> Duration {
         self.probe_window
     }
 
     /// The window of the "is anybody still there?" probe before fastscan says nobody is:
     /// several times the slowest answer seen.
-    pub fn final_window(&self) -> Duration {
+    pub(crate) fn final_window(&self) -> Duration {
         let several = self.recent_range().map_or(self.probe_window, |(s, _)| s * 4);
         several.max(self.step() * 2).clamp(STEP_FLOOR, STEP_CEILING)
     }
 
     /// Answers came later than the step allowed: lengthen it. False when no more.
-    pub fn escalate(&mut self) -> bool {
+    pub(crate) fn escalate(&mut self) -> bool {
         if self.escalations >= MAX_ESCALATIONS || self.step() >= STEP_CEILING {
             return false;
         }
@@ -132,6 +132,7 @@ impl Pace {
         true
     }
 
+    /// How many times the pace was slowed since the start: each one a step that went unanswered.
     pub fn escalations(&self) -> u32 {
         self.escalations
     }
@@ -149,7 +150,7 @@ impl Pace {
 
 /// How many searches in a row must find nobody before `assign` says no device waits: one
 /// lost answer must not be taken for "every device has a node-id".
-pub const NO_DEVICE_PROBES: u32 = 3;
+pub(crate) const NO_DEVICE_PROBES: u32 = 3;
 
 #[cfg(test)]
 mod tests {

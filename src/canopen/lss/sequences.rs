@@ -15,7 +15,14 @@ pub enum Configured {
     /// This many devices answered, every one with success.
     Done(usize),
     /// A device refused: the command specifier, error code and manufacturer's code.
-    Refused { cs: u8, error: u8, specific: u8 },
+    Refused {
+        /// The command specifier of the refused request.
+        cs: u8,
+        /// The error code (CiA 305: 1 out of range, 255 manufacturer-specific).
+        error: u8,
+        /// The manufacturer's error code, meaningful when `error` is 255.
+        specific: u8,
+    },
     /// No result among the answers.
     Unanswered,
 }

@@ -5,14 +5,14 @@ use super::wire::{Identity, Inquiry, Request, Response, BIT_TIMINGS, FASTSCAN_RE
 
 /// LSS state of a slave.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, serde::Serialize, serde::Deserialize)]
-pub enum SlaveState {
+pub(crate) enum SlaveState {
     Waiting,
     Configuration,
 }
 
 /// What the device behind a slave must do after a request.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum SlaveEvent {
+pub(crate) enum SlaveEvent {
     NodeId(u8),
     BitTiming(u8),
     Activate {
@@ -32,7 +32,7 @@ pub struct SlaveCaps {
 
 /// The slave side (CiA 305), for the simulated devices.
 #[derive(Clone, Debug)]
-pub struct Slave {
+pub(crate) struct Slave {
     pub identity: Identity,
     pub state: SlaveState,
     caps: SlaveCaps,

@@ -4,21 +4,27 @@
 
 use std::fmt;
 
+/// The COB-ID of LSS master requests; slaves answer on 0x7E4.
 pub const MASTER_COB: u16 = 0x7E5;
-pub const SLAVE_COB: u16 = 0x7E4;
+pub(crate) const SLAVE_COB: u16 = 0x7E4;
 /// The node-id of a device that has none ("not configured").
-pub const UNCONFIGURED: u8 = 0xFF;
+pub(crate) const UNCONFIGURED: u8 = 0xFF;
 
 /// The LSS address: the four entries of the identity object 0x1018.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 pub struct Identity {
+    /// The vendor-id (0x1018:1).
     pub vendor: u32,
+    /// The product code (0x1018:2).
     pub product: u32,
+    /// The revision number (0x1018:3).
     pub revision: u32,
+    /// The serial number (0x1018:4).
     pub serial: u32,
 }
 
 impl Identity {
+    /// Part `i` of the identity: 0 vendor, 1 product, 2 revision, 3 serial.
     pub fn part(&self, i: u8) -> u32 {
         match i {
             0 => self.vendor,
@@ -68,7 +74,7 @@ impl std::str::FromStr for Identity {
 }
 
 /// CiA 305 table of bit timings (selector 0): index → bit rate in kbit/s.
-pub const BIT_TIMINGS: [(u8, Option<u32>); 10] = [
+pub(crate) const BIT_TIMINGS: [(u8, Option<u32>); 10] = [
     (0, Some(1000)),
     (1, Some(800)),
     (2, Some(500)),
@@ -80,10 +86,10 @@ pub const BIT_TIMINGS: [(u8, Option<u32>); 10] = [
     (8, Some(10)),
     (9, None), // automatic bit rate detection
 ];
-pub const AUTO_BIT_RATE: u8 = 9;
+pub(crate) const AUTO_BIT_RATE: u8 = 9;
 
 /// `500k`, `1M`, `125000`, `auto` → CiA 305 table index.
-pub fn parse_bit_rate(text: &str) -> Result<u8, String> {
+pub(crate) fn parse_bit_rate(text: &str) -> Result<u8, String> {
     let t = text.trim().to_ascii_lowercase();
     if t == "auto" {
         return Ok(AUTO_BIT_RATE);
@@ -104,7 +110,7 @@ pub fn parse_bit_rate(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("{text} is not in the CiA 305 bit timing table: use {valid}"))
 }
 
-pub fn bit_rate_name(index: u8) -> String {
+pub(crate) fn bit_rate_name(index: u8) -> String {
     match BIT_TIMINGS.get(index as usize) {
         Some((_, Some(k))) if *k >= 1000 => format!("{}M", k / 1000),
         Some((_, Some(k))) => format!("{k}k"),
@@ -116,10 +122,15 @@ pub fn bit_rate_name(index: u8) -> String {
 /// Which identity part an inquiry asks for, or the node-id.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Inquiry {
+    /// The vendor-id.
     Vendor,
+    /// The product code.
     Product,
+    /// The revision number.
     Revision,
+    /// The serial number.
     Serial,
+    /// The active node-id.
     NodeId,
 }
 
@@ -138,42 +149,63 @@ impl Inquiry {
 /// A master request.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Request {
+    /// Switch every device to configuration state, or back to waiting.
     SwitchGlobal {
+        /// True: to configuration state.
         configuration: bool,
     },
     /// Part 0..3 of the identity: vendor, product, revision, serial.
     SwitchSelective {
+        /// Which part.
         part: u8,
+        /// Its value.
         value: u32,
     },
+    /// Give the device in configuration state this node-id.
     ConfigureNodeId(u8),
+    /// Set the bit rate the device takes at the next activation.
     ConfigureBitTiming {
+        /// The bit timing table (0: CiA 301's).
         table: u8,
+        /// The entry in it (0 = 1 Mbit/s .. 8 = 10 kbit/s).
         index: u8,
     },
+    /// Switch every device to the configured bit rate after a delay.
     ActivateBitTiming {
+        /// How long to stay silent before and after the switch.
         delay_ms: u16,
     },
+    /// Store the configured node-id and bit rate in the device.
     StoreConfiguration,
+    /// Ask the device in configuration state for an identity part or its node-id.
     Inquire(Inquiry),
     /// 0x46..0x4B: vendor, product, revision low/high, serial low/high.
     IdentifyRemote {
+        /// Which field (0x46..0x4B).
         field: u8,
+        /// Its value (for revision and serial, a bound of the range).
         value: u32,
     },
+    /// Ask devices without a node-id to say so.
     IdentifyNonConfigured,
+    /// One fastscan request.
     Fastscan {
+        /// The identity bits asked for.
         id: u32,
+        /// The lowest bit compared (31..0), or 0x80 to reset the search.
         bit_checked: u8,
+        /// The identity part being searched.
         sub: u8,
+        /// The part to search after this one.
         next: u8,
     },
 }
 
 /// Fastscan's "bit checked" value that restarts the search.
-pub const FASTSCAN_RESET: u8 = 0x80;
+pub(crate) const FASTSCAN_RESET: u8 = 0x80;
 
 impl Request {
+    /// The request's 8 data bytes.
     pub fn encode(&self) -> [u8; 8] {
         let mut f = [0u8; 8];
         let put32 = |f: &mut [u8; 8], v: u32| f[1..5].copy_from_slice(&v.to_le_bytes());
@@ -217,6 +249,7 @@ impl Request {
         f
     }
 
+    /// The request in these data bytes; `None` for one not known.
     pub fn decode(d: &[u8]) -> Option<Request> {
         if d.len() != 8 {
             return None;
@@ -245,23 +278,33 @@ impl Request {
 /// A slave answer.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Response {
+    /// The selected device is now in configuration state.
     SwitchSelectiveAck,
     /// Answer to configure node-id (0x11), configure bit timing (0x13) or store (0x17):
     /// the command, its error code and the implementation-specific code.
     Result {
+        /// The command specifier answered.
         cs: u8,
+        /// 0: done; else refused.
         error: u8,
+        /// The implementation-specific code, when `error` is 255.
         specific: u8,
     },
+    /// An inquiry's answer.
     InquiredValue {
+        /// What was asked.
         inquiry: Inquiry,
+        /// The value.
         value: u32,
     },
+    /// A device inside the range of an identify-remote request (or a fastscan match).
     IdentifySlave,
+    /// A device without a node-id.
     IdentifyNonConfiguredSlave,
 }
 
 impl Response {
+    /// The answer's 8 data bytes.
     pub fn encode(&self) -> [u8; 8] {
         let mut f = [0u8; 8];
         match *self {
@@ -285,6 +328,7 @@ impl Response {
         f
     }
 
+    /// The answer in these data bytes; `None` for one not known.
     pub fn decode(d: &[u8]) -> Option<Response> {
         if d.len() != 8 {
             return None;
@@ -306,7 +350,7 @@ impl Response {
 }
 
 /// The meaning of an error code in the answer to command `cs` (CiA 305; seed 001 §10.1).
-pub fn error_meaning(cs: u8, error: u8) -> &'static str {
+pub(crate) fn error_meaning(cs: u8, error: u8) -> &'static str {
     match (cs, error) {
         (_, 0) => "protocol successfully completed",
         (0x11, 1) => "node-id out of range",
@@ -322,7 +366,7 @@ impl Request {
     /// The command specifier of the slave answer this request expects, if it has one:
     /// only a frame with it counts as an answer (a heartbeat or a stray frame on 0x7E4
     /// does not).
-    pub fn expected_answer(&self) -> Option<u8> {
+    pub(crate) fn expected_answer(&self) -> Option<u8> {
         match *self {
             Request::SwitchSelective { part: 3, .. } => Some(0x44),
             Request::ConfigureNodeId(_) => Some(0x11),
@@ -340,7 +384,7 @@ impl Request {
 /// `expect`: 8 bytes, that specifier, and for the answers that carry nothing but it
 /// (0x44, 0x4F, 0x50) the reserved bytes 0, so that a babbling device's counter on 0x7E4
 /// does not pass for a device.
-pub fn is_answer(data: &[u8], expect: u8) -> bool {
+pub(crate) fn is_answer(data: &[u8], expect: u8) -> bool {
     data.len() == 8 && data[0] == expect && (!matches!(expect, 0x44 | 0x4F | 0x50) || data[1..] == [0; 7])
 }
 

@@ -7,7 +7,7 @@ use std::time::Duration;
 
 /// Downloads of at least this many bytes use block transfer when allowed: below it the
 /// four extra frames of block set-up cost more than block saves.
-pub const BLOCK_DOWNLOAD_MIN: usize = 64;
+pub(crate) const BLOCK_DOWNLOAD_MIN: usize = 64;
 /// Segments per block we ask servers for on block upload.
 const UPLOAD_BLOCK_SIZE: u8 = MAX_BLOCK_SIZE;
 /// On block upload, a server may switch to plain upload for objects this small (CiA 301 "pst").
@@ -21,12 +21,19 @@ pub const DEFAULT_MAX_UPLOAD: usize = 1 << 20;
 /// otherwise be answered with the same sub-block forever.
 pub const MAX_BLOCK_RETRANSMISSIONS: u32 = 4;
 
+/// Why an SDO transfer failed, as the client state machine sees it.
 #[derive(Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum SdoError {
     /// The server aborted the transfer with this code.
     ServerAbort(u32),
     /// We must abort: send `abort_frame(addr, code)` and report `reason`.
-    ClientAbort { code: u32, reason: String },
+    ClientAbort {
+        /// The abort code to send.
+        code: u32,
+        /// What went wrong, in words.
+        reason: String,
+    },
     /// The transfer finished but what arrived is inconsistent; nothing more to send.
     Inconsistent(String),
 }
@@ -34,6 +41,7 @@ pub enum SdoError {
 /// What to do after feeding a response.
 #[derive(Debug, PartialEq, Eq)]
 pub struct Step {
+    /// Frames to send now, in order.
     pub send: Vec<[u8; 8]>,
     /// The uploaded bytes (empty for a download) once the transfer is complete.
     pub done: Option<Vec<u8>>,
@@ -74,6 +82,8 @@ enum State {
     Finished,
 }
 
+/// The client side of one SDO transfer (expedited, segmented or block), pure: fed the server's
+/// frames, it says what to send next.
 #[derive(Debug)]
 pub struct SdoClient {
     addr: ObjAddr,
@@ -157,31 +167,32 @@ impl SdoClient {
     }
 
     /// Stop an upload that grows past `max` bytes, and refuse one announced larger.
-    pub fn with_max_upload(mut self, max: usize) -> SdoClient {
+    pub(crate) fn with_max_upload(mut self, max: usize) -> SdoClient {
         self.max_upload = max;
         self
     }
 
     /// The size of the type the caller expects: an expedited answer without its size
     /// indicated carries that many bytes (all four when unknown).
-    pub fn with_size_hint(mut self, size: Option<usize>) -> SdoClient {
+    pub(crate) fn with_size_hint(mut self, size: Option<usize>) -> SdoClient {
         self.size_hint = size;
         self
     }
 
     /// The last answer of the previous transfer with the same server: a second copy of it
     /// arriving before this transfer's first answer is set aside, not taken for an error.
-    pub fn set_previous_answer(&mut self, raw: &[u8]) {
+    pub(crate) fn set_previous_answer(&mut self, raw: &[u8]) {
         self.previous = Some((pad(raw), raw.len().min(8)));
     }
 
+    /// The object transferred.
     pub fn addr(&self) -> ObjAddr {
         self.addr
     }
 
     /// True when block transfer was asked for and the server refused it, so the transfer
     /// went on without it; callers remember this per node.
-    pub fn fell_back(&self) -> bool {
+    pub(crate) fn fell_back(&self) -> bool {
         self.fell_back
     }
 
@@ -191,7 +202,7 @@ impl SdoClient {
     }
 
     /// Whether this transfer reads from the server.
-    pub fn is_upload(&self) -> bool {
+    pub(crate) fn is_upload(&self) -> bool {
         self.upload
     }
 
@@ -199,7 +210,7 @@ impl SdoClient {
     /// were it stopped now: the rest of a sub-block it is sending, or the one answer to
     /// the request it has. After an abort, a server that finishes what it started sends
     /// them anyway; a program that leaves before they arrive hands them to the next one.
-    pub fn answers_in_flight(&self) -> usize {
+    pub(crate) fn answers_in_flight(&self) -> usize {
         match self.state {
             State::BlockUploadData { expected } => {
                 usize::from(self.blksize).saturating_sub(usize::from(expected.saturating_sub(1)))
@@ -228,7 +239,7 @@ impl SdoClient {
     /// four answers' time to set up and finish, then half of one per segment of the size
     /// (the size when known, else the upload limit). A device that answers in time now
     /// and then, but keeps the transfer going far slower than that, ends here.
-    pub fn time_budget(&self, per_answer: Duration) -> Duration {
+    pub(crate) fn time_budget(&self, per_answer: Duration) -> Duration {
         let size = match self.progress() {
             (_, Some(total)) => total,
             (_, None) => self.max_upload,
@@ -240,7 +251,7 @@ impl SdoClient {
     /// Whether the request that completes the transfer at the server has gone out: the
     /// expedited initiation, the last segment, the block end. Before it, a download has done
     /// nothing yet, whatever was lost.
-    pub fn completing_request_sent(&self) -> bool {
+    pub(crate) fn completing_request_sent(&self) -> bool {
         match self.state {
             State::DownloadInit => (1..=4).contains(&self.buf.len()),
             State::DownloadSegment => self.pos + SEGMENT_DATA >= self.buf.len(),

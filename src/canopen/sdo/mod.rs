@@ -4,9 +4,9 @@
 //! owns the link, the clock and the timeouts.
 
 pub mod client;
-pub mod retry;
-pub mod server;
-pub mod wire;
+pub(crate) mod retry;
+pub(crate) mod server;
+pub(crate) mod wire;
 
 pub use client::{SdoClient, SdoError, Step};
 pub use server::{ObjectAccess, SdoServer};
@@ -16,26 +16,26 @@ pub use wire::SEGMENT_DATA;
 use wire::{BlockSegment, Request};
 
 /// Client → server COB-ID of the default SDO channel.
-pub fn request_cob(node: u8) -> u16 {
+pub(crate) fn request_cob(node: u8) -> u16 {
     0x600 + node as u16
 }
 
 /// Server → client COB-ID of the default SDO channel.
-pub fn response_cob(node: u8) -> u16 {
+pub(crate) fn response_cob(node: u8) -> u16 {
     0x580 + node as u16
 }
 
 /// Largest block size CiA 301 allows (segments per block).
-pub const MAX_BLOCK_SIZE: u8 = 127;
+pub(crate) const MAX_BLOCK_SIZE: u8 = 127;
 
 /// The two CRC-16 variants named in CiA 301 for block transfer are the same polynomial
 /// 0x1021 with initial value 0, i.e. CRC-16/XMODEM.
-pub fn block_crc(data: &[u8]) -> u16 {
+pub(crate) fn block_crc(data: &[u8]) -> u16 {
     crc::Crc::<u16>::new(&crc::CRC_16_XMODEM).checksum(data)
 }
 
 /// The abort frame for `addr` with `code` (either side sends the same).
-pub fn abort_frame(addr: ObjAddr, code: u32) -> [u8; 8] {
+pub(crate) fn abort_frame(addr: ObjAddr, code: u32) -> [u8; 8] {
     Request::Abort { addr, code }.emit()
 }
 
@@ -43,7 +43,7 @@ pub fn abort_frame(addr: ObjAddr, code: u32) -> [u8; 8] {
 /// send frames with a DLC under 8 (seed 004 shows a 5-byte expedited answer); whoever reads
 /// the padded array must know how many bytes were really there: the SDO client checks that
 /// every byte the command specifier makes meaningful arrived, and never takes padding as data.
-pub fn pad(data: &[u8]) -> [u8; 8] {
+pub(crate) fn pad(data: &[u8]) -> [u8; 8] {
     let mut f = [0u8; 8];
     let n = data.len().min(8);
     f[..n].copy_from_slice(&data[..n]);

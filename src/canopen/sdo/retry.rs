@@ -20,7 +20,7 @@ use super::SdoClient;
 use crate::canopen::ObjAddr;
 
 /// Retries after the first attempt, per transfer, unless the caller says otherwise.
-pub const DEFAULT_RETRIES: u8 = 2;
+pub(crate) const DEFAULT_RETRIES: u8 = 2;
 
 /// The objects whose write is an action, with what it does: the one list (CiA 301, CiA
 /// 302). Manufacturer-specific actions are for a dictionary to mark (not yet read from
@@ -45,7 +45,7 @@ pub fn action(addr: ObjAddr) -> Option<&'static str> {
 
 /// What to do with a transfer that ran out of time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum OnTimeout {
+pub(crate) enum OnTimeout {
     /// Abort it and start it again.
     Again,
     /// Report that the device did not answer (nothing it may have done is left unsaid).
@@ -56,7 +56,7 @@ pub enum OnTimeout {
 }
 
 /// The decision for `client`, which ran out of time with `retries_left` retries left.
-pub fn on_timeout(client: &SdoClient, retries_left: u8) -> OnTimeout {
+pub(crate) fn on_timeout(client: &SdoClient, retries_left: u8) -> OnTimeout {
     let may_have_acted = !client.is_upload() && action(client.addr()).is_some() && client.completing_request_sent();
     match (may_have_acted, retries_left) {
         (true, _) => OnTimeout::Unknown,
@@ -70,7 +70,7 @@ pub fn on_timeout(client: &SdoClient, retries_left: u8) -> OnTimeout {
 /// (CiA 302-3: stop 0 reads 0 "stopped", start 1 reads 1 "started", clear 3 reads 3 "no
 /// program"); a reset (2) ends started like a program never stopped, and a store or
 /// restore leaves nothing to read.
-pub fn read_back(addr: ObjAddr, written: &[u8]) -> Option<(ObjAddr, Vec<u8>)> {
+pub(crate) fn read_back(addr: ObjAddr, written: &[u8]) -> Option<(ObjAddr, Vec<u8>)> {
     match (addr.index, written) {
         (0x1F51, [v @ (0 | 1 | 3)]) => Some((addr, vec![*v])),
         _ => None,

@@ -6,7 +6,9 @@ use crate::canopen::abort;
 
 /// What an SDO server needs from the object dictionary behind it. Errors are abort codes.
 pub trait ObjectAccess {
+    /// The bytes of the object at `addr`, or the abort code the server answers with.
     fn read(&mut self, addr: ObjAddr) -> Result<Vec<u8>, u32>;
+    /// Stores `data` at `addr`, or returns the abort code the server answers with.
     fn write(&mut self, addr: ObjAddr, data: &[u8]) -> Result<(), u32>;
     /// Checked when a segmented or block download starts, so that a write that cannot
     /// succeed is refused before its data crosses the bus.
@@ -63,6 +65,8 @@ enum State {
     BlockUploadEnd,
 }
 
+/// The server side of SDO transfers (the simulated devices'): fed requests, it answers them from an
+/// [`ObjectAccess`], expedited, segmented or block.
 #[derive(Debug)]
 pub struct SdoServer {
     state: State,

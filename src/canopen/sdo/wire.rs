@@ -25,7 +25,7 @@ const ABORT: u8 = 0x80;
 /// What the e, s and n bits and bytes 4 to 7 of an initiate download request or an
 /// initiate upload response carry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Initiate {
+pub(crate) enum Initiate {
     /// Expedited with the size indicated (e=1, s=1): the first `len` bytes of `data`,
     /// `len` from 1 to 4.
     Expedited { data: [u8; 4], len: u8 },
@@ -84,7 +84,7 @@ impl Initiate {
 
     /// The data of an expedited transfer (all four bytes when the size is not indicated);
     /// `None` when the data follows in segments.
-    pub fn expedited_data(&self) -> Option<&[u8]> {
+    pub(crate) fn expedited_data(&self) -> Option<&[u8]> {
         match self {
             Initiate::Expedited { data, len } => Some(&data[..*len as usize]),
             Initiate::ExpeditedUnsized { data } => Some(data),
@@ -95,7 +95,7 @@ impl Initiate {
 
 /// A segment of a segmented transfer: a download request or an upload response.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Segment {
+pub(crate) struct Segment {
     pub toggle: bool,
     /// No more segments follow (c).
     pub last: bool,
@@ -117,7 +117,7 @@ impl Segment {
     }
 
     /// The bytes a frame must have to carry all of this segment's data.
-    pub fn frame_len(&self) -> usize {
+    pub(crate) fn frame_len(&self) -> usize {
         1 + self.len as usize
     }
 
@@ -142,7 +142,7 @@ impl Segment {
 /// the last of the whole transfer. It always has room for seven bytes; how many of the
 /// last segment's are data, the end frame says.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct BlockSegment {
+pub(crate) struct BlockSegment {
     pub seqno: u8,
     pub last: bool,
     pub data: [u8; SEGMENT_DATA],
@@ -161,7 +161,7 @@ impl BlockSegment {
         BlockSegment { seqno: p[0] & 0x7F, last: p[0] & 0x80 != 0, data }
     }
 
-    pub fn emit(&self) -> [u8; 8] {
+    pub(crate) fn emit(&self) -> [u8; 8] {
         let mut f = [0u8; 8];
         f[0] = (self.last as u8) << 7 | self.seqno & 0x7F;
         f[1..8].copy_from_slice(&self.data);
@@ -301,7 +301,7 @@ impl Request {
         })
     }
 
-    pub fn emit(&self) -> [u8; 8] {
+    pub(crate) fn emit(&self) -> [u8; 8] {
         match *self {
             Request::DownloadSegment(seg) => seg.emit(0),
             Request::InitiateDownload { addr, init } => with_mux(0x20 | init.bits(), addr, init.bytes()),
@@ -350,7 +350,7 @@ impl Response {
         })
     }
 
-    pub fn emit(&self) -> [u8; 8] {
+    pub(crate) fn emit(&self) -> [u8; 8] {
         match *self {
             Response::UploadSegment(seg) => seg.emit(0),
             Response::DownloadSegment { toggle } => short(0x20 | (toggle as u8) << 4, &[]),

@@ -6,12 +6,19 @@ use super::*;
 /// What an EDS says about the file and the device.
 #[derive(Clone, Debug, Default)]
 pub struct Header {
+    /// The file's own name (`FileName`).
     pub file_name: String,
+    /// What the file describes, in words (`Description`).
     pub description: String,
+    /// The vendor's name (`VendorName`).
     pub vendor_name: String,
+    /// The CiA vendor-id (`VendorNumber`, 0x1018:1).
     pub vendor_number: u32,
+    /// The product's name (`ProductName`).
     pub product_name: String,
+    /// The vendor's product code (`ProductNumber`, 0x1018:2).
     pub product_number: u32,
+    /// The revision number (`RevisionNumber`, 0x1018:3).
     pub revision: u32,
     /// For a DCF: the node-id it was read from or is meant for.
     pub node_id: Option<u8>,
@@ -23,6 +30,7 @@ pub struct Header {
 pub struct WriteError {
     /// The object and key, e.g. `0x1008:0 (Manufacturer device name) ParameterValue`.
     pub what: String,
+    /// Why it cannot be written exactly.
     pub why: String,
 }
 

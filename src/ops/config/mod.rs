@@ -207,13 +207,13 @@ pub fn dump(
 
 /// The form of a node's configuration file: CiA 306's INI or CiA 311's XML.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FileForm {
+pub(crate) enum FileForm {
     Dcf,
     Xdc,
 }
 
 /// [`dump`], into a DCF or an XDC.
-pub fn dump_as(
+pub(crate) fn dump_as(
     bus: &mut dyn Bus,
     node: u8,
     dictionary: Option<(&Dictionary, &str)>,

@@ -232,7 +232,7 @@ pub fn set_baud(
 
 /// The project's DCFs with `[DeviceComissioning] Baudrate` set to `kbit`: each file's new
 /// bytes, all made before any is written (the caller writes each atomically).
-pub fn with_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<(PathBuf, Vec<u8>)>> {
+pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<(PathBuf, Vec<u8>)>> {
     let mut out = Vec::new();
     for listed in &loaded.nodes {
         let Some(path) = loaded.project.dcf_path(&loaded.file, listed.node) else { continue };

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// The project file canctl writes and looks for in a folder.
-pub const PROJECT_FILE: &str = "nodelist.cpj";
+pub(crate) const PROJECT_FILE: &str = "nodelist.cpj";
 
 const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
 const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
@@ -55,7 +55,7 @@ pub struct Listed {
 impl Listed {
     /// The identity an LSS device with this configuration answers to: the DCF's vendor-ID,
     /// product code and revision, and the commissioning's LSS serial number.
-    pub fn lss_identity(&self) -> Option<Identity> {
+    pub(crate) fn lss_identity(&self) -> Option<Identity> {
         let dcf = self.dcf.as_ref()?;
         let (vendor, product) = dcf.identity();
         let serial = self.commissioning.lss_serial.filter(|s| *s != 0)?;

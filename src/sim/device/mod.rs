@@ -145,12 +145,12 @@ impl Device {
     }
 
     /// Direct access to the dictionary, as the device's own firmware has it.
-    pub fn objects_mut(&mut self) -> &mut ObjectStore {
+    pub(crate) fn objects_mut(&mut self) -> &mut ObjectStore {
         &mut self.od
     }
 
     /// True once since the last call if anything persistent changed.
-    pub fn take_dirty(&mut self) -> bool {
+    pub(crate) fn take_dirty(&mut self) -> bool {
         std::mem::take(&mut self.od.dirty)
     }
 
@@ -176,17 +176,17 @@ impl Device {
     }
 
     /// Forget any SDO transfer in progress (an injected abort ended it).
-    pub fn reset_sdo(&mut self) {
+    pub(crate) fn reset_sdo(&mut self) {
         self.sdo = SdoServer::new(self.block_transfer);
     }
 
     /// React to one frame on the bus; returns the frames this device sends in answer.
     /// The bus's time now, in ms.
-    pub fn set_clock(&mut self, ms: u64) {
+    pub(crate) fn set_clock(&mut self, ms: u64) {
         self.clock_ms = ms;
     }
 
-    pub fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
+    pub(crate) fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
         if f.id() == lss::MASTER_COB && !f.is_remote() {
             return self.lss_frame(f);
         }
@@ -474,7 +474,7 @@ impl Device {
     }
 
     /// The next time this device sends something by itself, after `now` (wall-clock ms).
-    pub fn next_event(&self, now: u64) -> Option<u64> {
+    pub(crate) fn next_event(&self, now: u64) -> Option<u64> {
         let id = self.node_id? as u64;
         let mut next: Vec<u64> = Vec::new();
         if let Some(p) = self.heartbeat_ms() {
@@ -533,7 +533,7 @@ impl Device {
         self.od.u16_value(ObjAddr::new(0x1017, 0)).filter(|t| *t > 0).map(u64::from)
     }
 
-    pub fn heartbeat_frame(&self) -> Option<Frame> {
+    pub(crate) fn heartbeat_frame(&self) -> Option<Frame> {
         let id = self.node_id?;
         Some(ErrorControl::State { state: self.nmt, toggle: false }.frame(id))
     }
@@ -589,7 +589,7 @@ impl Device {
 }
 
 /// The most frames of one kind a device has waiting after a master stopped polling.
-pub const MAX_BACKLOG: u64 = 64;
+pub(crate) const MAX_BACKLOG: u64 = 64;
 
 /// The times in `(after, upto]` a producer with this period sends (the latest
 /// [`MAX_BACKLOG`]), oldest first.

@@ -124,7 +124,7 @@ impl ObjectStore {
         self.value(addr).and_then(|v| v.try_into().ok()).map(u32::from_le_bytes)
     }
 
-    pub fn u16_value(&self, addr: ObjAddr) -> Option<u16> {
+    pub(crate) fn u16_value(&self, addr: ObjAddr) -> Option<u16> {
         self.value(addr).filter(|v| v.len() == 2).map(|v| u16::from_le_bytes([v[0], v[1]]))
     }
 
