@@ -24,7 +24,7 @@ mod records;
 mod reports;
 
 pub use events::{event_line, say_deviations};
-pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};
+pub use hints::{error_text, hint_text, last_scan_hint, library_error_text, no_bus_text, switch_hint};
 pub use reports::{sentence, stored_eds_line, Each};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -291,6 +291,11 @@ pub trait Report: serde::Serialize {
     fn junit(&self) -> Option<TestSuite> {
         None
     }
+    /// The report as JSON: as it serialises, but for what canctl words itself (an error's
+    /// remedy naming its flags).
+    fn json_value(&self) -> serde_json::Value {
+        serde_json::to_value(self).expect("reports serialise")
+    }
 }
 
 /// Test results for CI systems: one suite of cases.
@@ -368,7 +373,7 @@ impl Output {
             return self.print(&junit_xml(&suite));
         }
         if self.format == Format::Json {
-            return self.json(&serde_json::to_value(report).expect("reports serialise"));
+            return self.json(&report.json_value());
         }
         self.human(if self.format == Format::Csv { report.csv() } else { report.human() })?;
         for note in report.notes() {

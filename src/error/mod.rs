@@ -77,7 +77,7 @@ pub enum Error {
     /// request may have reached it and only the answers been lost, so it may hold it.
     #[error(
         "no answer from {identity} to set-id {node} within {} ms, asked {tries} times: unknown whether it \
-         holds node {node} now (canctl lss inquire --identity {identity} shows its node-id)",
+         holds node {node} now",
         waited.as_millis()
     )]
     LssSetIdUnknown { identity: Identity, node: u8, tries: u32, waited: Duration },
@@ -106,7 +106,7 @@ pub enum Error {
         crate::epos2::command::error_meaning(*code))]
     Epos2Refused { node: u8, command: &'static str, obj: Option<ObjAddr>, code: u32 },
     /// LSS assignment found no free node-id for a device.
-    #[error("no free node-id left from {start} to 127 for {identity}: give a lower --start")]
+    #[error("no free node-id left from {start} to 127 for {identity}")]
     NoFreeNodeId { start: u8, identity: Identity },
     /// A node keeps no error history (it has no object 0x1003), so there is none to clear.
     #[error("node {node} keeps no error history (it has no object 0x1003): there is nothing to clear")]
@@ -146,7 +146,7 @@ pub enum Error {
     FileDeviates { file: String, errors: usize, warnings: usize },
     /// A configuration file names another device (vendor-ID, product code) than the node
     /// is; each difference said as `"vendor-ID 0x... on node N, 0x... in the file"`.
-    #[error("{file} is for another device: {}. Nothing was written; --force applies it anyway", differences.join(", "))]
+    #[error("{file} is for another device: {}. Nothing was written", differences.join(", "))]
     OtherDevice { file: String, differences: Vec<String> },
     /// A bus is not as its network project says; `differences` in words ("2 node check(s)
     /// failed", ...).
@@ -330,10 +330,8 @@ pub enum DriveStop {
 impl fmt::Display for DriveStop {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
-            DriveStop::FaultPresent => "fault present (canctl drive fault-reset NODE clears it once its cause is gone)",
-            DriveStop::FaultRemains => {
-                "the fault remains after the reset: its cause is still there (canctl drive status NODE shows the errors)"
-            }
+            DriveStop::FaultPresent => "fault present",
+            DriveStop::FaultRemains => "the fault remains after the reset: its cause is still there",
             DriveStop::VoltageMissing => "voltage missing (statusword bit 4 clear: check the power supply)",
             DriveStop::TransitionRefused => "transition refused (the statusword did not follow the controlword)",
             DriveStop::NoAnswer => "no answer",
@@ -511,7 +509,7 @@ fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
         ),
         Service::AfterReset => format!(
             "node {node}: NMT reset sent, but no answer to remote requests within {ms} ms after it; \
-             not confirmed. Check the node with `canctl scan`, or wait longer (--wait)"
+             not confirmed"
         ),
         Service::BootUp if node == 0 => format!("all nodes: no boot-up within {ms} ms"),
         Service::BootUp => format!("node {node}: no boot-up within {ms} ms"),
@@ -668,7 +666,7 @@ fn fastscan_text(error: &FastscanError, step: Duration) -> String {
         FastscanError::NoDevice => "no device without a node-id answered the fastscan".into(),
         FastscanError::Unconfirmed(part) => format!(
             "fastscan: identity part {part} was found but not confirmed, even with a {step} ms step (a device \
-             changed state, or frames were lost); try again, or a longer --step"
+             changed state, or frames were lost)"
         ),
         FastscanError::NoMatch { part, value } => format!(
             "no device without a node-id has {} 0x{value:08X} (waited up to {step} ms a step)",

@@ -4,6 +4,7 @@
 
 use crate::canopen::abort;
 use crate::ops::{Event, Notice, Warning};
+use crate::output::library_error_text;
 
 /// The line `canctl` prints for `event`.
 pub fn event_line(event: &Event) -> String {
@@ -15,8 +16,8 @@ pub fn event_line(event: &Event) -> String {
 
 fn warning_line(w: &Warning) -> String {
     match w {
-        Warning::Failed { node: Some(node), error } => format!("warning: node {node}: {error}"),
-        Warning::Failed { node: None, error } => format!("warning: {error}"),
+        Warning::Failed { node: Some(node), error } => format!("warning: node {node}: {}", library_error_text(error)),
+        Warning::Failed { node: None, error } => format!("warning: {}", library_error_text(error)),
         Warning::PdoLength { node, pdo, cob_id, got, want } => format!(
             "warning: node {node} TPDO{pdo} (0x{cob_id:03X}) came with {got} bytes, its mapping makes {want}: not \
              decoded (this is said once)"
