@@ -482,9 +482,6 @@ impl crate::ops::Progress for Bars<'_> {
     fn event(&mut self, event: crate::ops::Event) {
         self.out.note(&event_line(&event));
     }
-    fn note(&mut self, text: &str) {
-        self.out.note(text);
-    }
 }
 
 /// A failure to write standard output, said as such (the kind kept: a closed pipe stays

@@ -11,6 +11,7 @@ use crate::cancel::Cancel;
 use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};
 use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
+use crate::ops::Notice;
 use serde::ser::SerializeMap;
 use serde::Serialize;
 use std::collections::BTreeSet;
@@ -720,7 +721,7 @@ pub fn assign(
             progress.finish();
             sent.set(0);
             found.set(found.get() + 1);
-            progress.note(&format!("{} -> node {}", d.identity, d.node));
+            progress.event(Notice::Assigned { identity: d.identity, node: d.node }.into());
         },
     );
     shown.borrow_mut().finish();
