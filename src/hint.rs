@@ -30,6 +30,8 @@ pub enum Hint {
     DriveErrors,
     /// A fastscan step went unconfirmed: try again, or with a longer step.
     LongerStep,
+    /// What a node holds is not of the data type taken: name another type.
+    OtherType,
 }
 
 impl Hint {
@@ -46,6 +48,7 @@ impl Hint {
             Error::DriveStopped { why: DriveStop::FaultPresent, .. } => Some(Hint::FaultReset),
             Error::DriveStopped { why: DriveStop::FaultRemains, .. } => Some(Hint::DriveErrors),
             Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } => Some(Hint::LongerStep),
+            Error::NotOfType { .. } => Some(Hint::OtherType),
             _ => None,
         }
     }

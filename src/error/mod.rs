@@ -9,7 +9,7 @@
 //! (which see through [`Error::Hinted`]), not a match on one variant of the class.
 
 use crate::canopen::lss::{FastscanError, Identity};
-use crate::canopen::{abort, ObjAddr};
+use crate::canopen::{abort, DataType, ObjAddr};
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -24,6 +24,11 @@ pub enum Error {
     /// A file or stream given as input could not be used: the user's to fix (exit 2).
     #[error("{0}")]
     Input(#[from] crate::input::InputError),
+    /// What a node holds does not decode as the data type asked for (or the dictionary's).
+    #[error("node {node}: {obj} holds {} byte(s) ({}), which is not {}", bytes.len(), crate::canopen::types::hex(bytes),
+        match dtype { DataType::Unicode => "UTF-16 text (us)".to_string(),
+            t => format!("a {t} ({} bytes)", t.size().unwrap_or(0)) })]
+    NotOfType { node: u8, obj: ObjAddr, bytes: Vec<u8>, dtype: DataType },
     /// An EDS, DCF, XDD or XDC that cannot be read (the reason names the file) or does not
     /// parse (`FILE:LINE: why`): said once, without a prefix that repeats it.
     #[error(transparent)]
@@ -235,6 +240,7 @@ impl Error {
         use ErrorClass as C;
         match self {
             Error::Usage(_)
+            | Error::NotOfType { .. }
             | Error::Input(_)
             | Error::Eds(_)
             | Error::BadBusAddr { .. }

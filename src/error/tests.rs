@@ -195,6 +195,14 @@ fn messages_say_what_they_always_said() {
             "slcan:x: the adapter did not answer \"S6\" within 200 ms",
         ),
         (
+            Error::NotOfType { node: 5, obj: OBJ, bytes: vec![1, 2, 3], dtype: crate::canopen::DataType::U32 },
+            "node 5: 0x1018:1 holds 3 byte(s) (010203), which is not a u32 (4 bytes); try another --type",
+        ),
+        (
+            Error::NotOfType { node: 5, obj: OBJ, bytes: vec![0, 0xD8, 0x41], dtype: crate::canopen::DataType::Unicode },
+            "node 5: 0x1018:1 holds 3 byte(s) (00D841), which is not UTF-16 text (us); try another --type",
+        ),
+        (
             Error::Fastscan { error: FastscanError::Unconfirmed(2), step: ms(10) },
             "fastscan: identity part 2 was found but not confirmed, even with a 10 ms step (a device changed \
              state, or frames were lost); try again, or a longer --step",

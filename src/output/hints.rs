@@ -19,6 +19,7 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::FaultReset => " (canctl drive fault-reset NODE clears it once its cause is gone)".into(),
         Hint::DriveErrors => " (canctl drive status NODE shows the errors)".into(),
         Hint::LongerStep => "; try again, or a longer --step".into(),
+        Hint::OtherType => "; try another --type".into(),
     }
 }
 
