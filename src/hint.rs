@@ -32,6 +32,10 @@ pub enum Hint {
     LongerStep,
     /// What a node holds is not of the data type taken: name another type.
     OtherType,
+    /// A TPDO asked for is not there: leave the choice out, and every TPDO there is taken.
+    EveryTpdo,
+    /// No TPDO is valid: map one for the session.
+    MapOne,
 }
 
 impl Hint {
@@ -49,6 +53,8 @@ impl Hint {
             Error::DriveStopped { why: DriveStop::FaultRemains, .. } => Some(Hint::DriveErrors),
             Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } => Some(Hint::LongerStep),
             Error::NotOfType { .. } => Some(Hint::OtherType),
+            Error::NoSuchTpdo { .. } => Some(Hint::EveryTpdo),
+            Error::NoValidTpdo { .. } => Some(Hint::MapOne),
             _ => None,
         }
     }

@@ -270,9 +270,8 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     ("ops/lss.rs", "--identity", "not done yet: Error::Usage text"),
     ("ops/lss.rs", "--node", "not done yet: Error::Usage and report text"),
     ("ops/network/baud.rs", "--force", "not done yet: the refusal's remedy"),
-    ("ops/pdo.rs", "--eds", "not done yet: Error::Usage text"),
-    ("ops/pdo.rs", "--map", "not done yet: Error::Usage text"),
-    ("ops/pdo.rs", "--tpdo", "not done yet: Error::Usage text"),
+    ("ops/pdo.rs", "--eds", "not done yet: a string with_hint on any SDO error of --map"),
+    ("ops/pdo.rs", "--map", "not done yet: a string with_hint on any SDO error of --map"),
     ("ops/sdo.rs", "--eds", "not done yet: Error::Usage text"),
     ("ops/sdo.rs", "--type", "not done yet: Error::Usage text"),
 ];

@@ -29,6 +29,12 @@ pub enum Error {
         match dtype { DataType::Unicode => "UTF-16 text (us)".to_string(),
             t => format!("a {t} ({} bytes)", t.size().unwrap_or(0)) })]
     NotOfType { node: u8, obj: ObjAddr, bytes: Vec<u8>, dtype: DataType },
+    /// A TPDO asked for that the node does not have (no communication object `comm`).
+    #[error("node {node} has no TPDO{pdo} (no object 0x{comm:04X})")]
+    NoSuchTpdo { node: u8, pdo: u16, comm: u16 },
+    /// None of the TPDOs looked at is valid: there is nothing to stream.
+    #[error("node {node} has no valid TPDO to stream")]
+    NoValidTpdo { node: u8 },
     /// An EDS, DCF, XDD or XDC that cannot be read (the reason names the file) or does not
     /// parse (`FILE:LINE: why`): said once, without a prefix that repeats it.
     #[error(transparent)]
@@ -241,6 +247,8 @@ impl Error {
         match self {
             Error::Usage(_)
             | Error::NotOfType { .. }
+            | Error::NoSuchTpdo { .. }
+            | Error::NoValidTpdo { .. }
             | Error::Input(_)
             | Error::Eds(_)
             | Error::BadBusAddr { .. }

@@ -203,6 +203,11 @@ fn messages_say_what_they_always_said() {
             "node 5: 0x1018:1 holds 3 byte(s) (00D841), which is not UTF-16 text (us); try another --type",
         ),
         (
+            Error::NoSuchTpdo { node: 5, pdo: 9, comm: 0x1808 },
+            "node 5 has no TPDO9 (no object 0x1808); without --tpdo, every TPDO it has is streamed",
+        ),
+        (Error::NoValidTpdo { node: 5 }, "node 5 has no valid TPDO to stream (--map makes one for the session)"),
+        (
             Error::Fastscan { error: FastscanError::Unconfirmed(2), step: ms(10) },
             "fastscan: identity part 2 was found but not confirmed, even with a 10 ms step (a device changed \
              state, or frames were lost); try again, or a longer --step",

@@ -212,9 +212,7 @@ pub fn read_layouts(
             Err(e) if skip_missing && super::node::is_missing(&e) => continue,
             // Said as what it means, not as an abort on an object the user never named.
             Err(Error::SdoAbort { code: abort::NO_OBJECT, .. }) => {
-                return Err(Error::Usage(format!(
-                    "node {node} has no TPDO{n} (no object 0x{comm:04X}); without --tpdo, every TPDO it has is streamed"
-                )))
+                return Err(Error::NoSuchTpdo { node, pdo: n, comm })
             }
             Err(e) => return Err(e),
         };
@@ -236,7 +234,7 @@ pub fn read_layouts(
         out.push((n, Layout { cob_id: (cob & 0x7FF) as u16, fields }));
     }
     if out.is_empty() {
-        return Err(Error::Usage(format!("node {node} has no valid TPDO to stream (--map makes one for the session)")));
+        return Err(Error::NoValidTpdo { node });
     }
     Ok(out)
 }

@@ -20,6 +20,8 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::DriveErrors => " (canctl drive status NODE shows the errors)".into(),
         Hint::LongerStep => "; try again, or a longer --step".into(),
         Hint::OtherType => "; try another --type".into(),
+        Hint::EveryTpdo => "; without --tpdo, every TPDO it has is streamed".into(),
+        Hint::MapOne => " (--map makes one for the session)".into(),
     }
 }
 
