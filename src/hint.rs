@@ -36,6 +36,9 @@ pub enum Hint {
     EveryTpdo,
     /// No TPDO is valid: map one for the session.
     MapOne,
+    /// Several LSS devices answered what is for one: address one by its identity (a
+    /// fastscan finds them).
+    AddressOne,
 }
 
 impl Hint {
@@ -55,6 +58,7 @@ impl Hint {
             Error::NotOfType { .. } => Some(Hint::OtherType),
             Error::NoSuchTpdo { .. } => Some(Hint::EveryTpdo),
             Error::NoValidTpdo { .. } => Some(Hint::MapOne),
+            Error::InquiryAnsweredByMany { .. } => Some(Hint::AddressOne),
             _ => None,
         }
     }

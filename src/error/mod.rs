@@ -35,6 +35,9 @@ pub enum Error {
     /// None of the TPDOs looked at is valid: there is nothing to stream.
     #[error("node {node} has no valid TPDO to stream")]
     NoValidTpdo { node: u8 },
+    /// A global LSS inquiry, meant for one device, was answered by `count`.
+    #[error("{count} devices answered the global inquiry")]
+    InquiryAnsweredByMany { count: usize },
     /// An EDS, DCF, XDD or XDC that cannot be read (the reason names the file) or does not
     /// parse (`FILE:LINE: why`): said once, without a prefix that repeats it.
     #[error(transparent)]
@@ -249,6 +252,7 @@ impl Error {
             | Error::NotOfType { .. }
             | Error::NoSuchTpdo { .. }
             | Error::NoValidTpdo { .. }
+            | Error::InquiryAnsweredByMany { .. }
             | Error::Input(_)
             | Error::Eds(_)
             | Error::BadBusAddr { .. }

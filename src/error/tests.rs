@@ -208,6 +208,10 @@ fn messages_say_what_they_always_said() {
         ),
         (Error::NoValidTpdo { node: 5 }, "node 5 has no valid TPDO to stream (--map makes one for the session)"),
         (
+            Error::InquiryAnsweredByMany { count: 3 },
+            "3 devices answered the global inquiry: address one with --identity (lss fastscan finds them)",
+        ),
+        (
             Error::Fastscan { error: FastscanError::Unconfirmed(2), step: ms(10) },
             "fastscan: identity part 2 was found but not confirmed, even with a 10 ms step (a device changed \
              state, or frames were lost); try again, or a longer --step",

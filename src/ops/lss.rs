@@ -117,10 +117,7 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
             }
             more => {
                 m.leave()?;
-                return Err(Error::Usage(format!(
-                    "{} devices answered the global inquiry: address one with --identity (lss fastscan finds them)",
-                    more.len()
-                )));
+                return Err(Error::InquiryAnsweredByMany { count: more.len() });
             }
         }
     }

@@ -22,6 +22,7 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::OtherType => "; try another --type".into(),
         Hint::EveryTpdo => "; without --tpdo, every TPDO it has is streamed".into(),
         Hint::MapOne => " (--map makes one for the session)".into(),
+        Hint::AddressOne => ": address one with --identity (lss fastscan finds them)".into(),
     }
 }
 
