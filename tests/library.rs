@@ -274,7 +274,8 @@ fn an_sdo_read_without_a_type_shows_the_plain_number_and_a_wrong_type_is_refused
     assert_eq!((read.dtype, read.value, read.name), (None, Some(Value::Uint(0x40)), None));
     let r = ReadOptions { dtype: Some(DataType::U8), ..r };
     let err = sdo::read(bus.as_mut(), &empty, SENSOR, ObjAddr::new(0x1018, 1), &r).unwrap_err();
-    assert!(matches!(err, Error::Usage(_)) && err.to_string().contains("not a u8"), "{err}");
+    assert!(matches!(err, Error::NotOfType { .. }) && err.to_string().contains("not a u8"), "{err}");
+    assert_eq!(err.exit_code(), 2, "a usage error, as it was");
     let missing = sdo::read(bus.as_mut(), &empty, SENSOR, ObjAddr::new(0x1018, 7), &r).unwrap_err();
     assert!(matches!(missing, Error::SdoAbort { node: SENSOR, .. }), "{missing}");
 }
