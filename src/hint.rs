@@ -3,7 +3,8 @@
 //! commands, `output/hints.rs`; a program may offer a button). An error's own message says
 //! what happened and names no flag.
 
-use crate::error::Error;
+use crate::canopen::lss::{FastscanError, Identity};
+use crate::error::{DriveStop, Error, Service};
 
 /// A remedy for an error, for the front end to word.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -15,6 +16,29 @@ pub enum Hint {
     /// The node keeps no description of itself: give one from its vendor (an EDS for the
     /// node).
     GiveEds,
+    /// LSS assignment ran out of node-ids from its first one: start lower.
+    LowerStart,
+    /// A configuration file names another device: apply it anyway (the force option).
+    ForceOtherDevice,
+    /// A reset node did not answer after it: check the node (a scan), or wait longer.
+    CheckOrWaitLonger,
+    /// Whether an LSS device took its node-id is unknown: inquire it by its identity.
+    InquireNodeId(Identity),
+    /// A drive is in fault: reset the fault once its cause is gone.
+    FaultReset,
+    /// A fault reset left the drive in fault: read its errors (drive status).
+    DriveErrors,
+    /// A fastscan step went unconfirmed: try again, or with a longer step.
+    LongerStep,
+    /// What a node holds is not of the data type taken: name another type.
+    OtherType,
+    /// A TPDO asked for is not there: leave the choice out, and every TPDO there is taken.
+    EveryTpdo,
+    /// No TPDO is valid: map one for the session.
+    MapOne,
+    /// Several LSS devices answered what is for one: address one by its identity (a
+    /// fastscan finds them).
+    AddressOne,
 }
 
 impl Hint {
@@ -24,6 +48,17 @@ impl Hint {
             Error::Hinted { error, .. } => Hint::of(error),
             Error::NodeIdInUse { .. } => Some(Hint::FreeNodeIdOrForce),
             Error::NoStoredEds { .. } => Some(Hint::GiveEds),
+            Error::NoFreeNodeId { .. } => Some(Hint::LowerStart),
+            Error::OtherDevice { .. } => Some(Hint::ForceOtherDevice),
+            Error::NoAnswer { what: Service::AfterReset, .. } => Some(Hint::CheckOrWaitLonger),
+            Error::LssSetIdUnknown { identity, .. } => Some(Hint::InquireNodeId(*identity)),
+            Error::DriveStopped { why: DriveStop::FaultPresent, .. } => Some(Hint::FaultReset),
+            Error::DriveStopped { why: DriveStop::FaultRemains, .. } => Some(Hint::DriveErrors),
+            Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } => Some(Hint::LongerStep),
+            Error::NotOfType { .. } => Some(Hint::OtherType),
+            Error::NoSuchTpdo { .. } => Some(Hint::EveryTpdo),
+            Error::NoValidTpdo { .. } => Some(Hint::MapOne),
+            Error::InquiryAnsweredByMany { .. } => Some(Hint::AddressOne),
             _ => None,
         }
     }

@@ -26,7 +26,7 @@ mod reports;
 pub(crate) mod stopped;
 
 pub use events::{event_line, say_deviations};
-pub use hints::{error_text, hint_text, last_scan_hint, no_bus_text, switch_hint};
+pub use hints::{error_text, hint_text, last_scan_hint, library_error_text, no_bus_text, switch_hint};
 pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 
 /// The form a report is rendered in (`--format`).
@@ -317,6 +317,11 @@ pub trait Report: serde::Serialize {
     fn junit(&self) -> Option<TestSuite> {
         None
     }
+    /// The report as JSON: as it serialises, but for what canctl words itself (an error's
+    /// remedy naming its flags).
+    fn json_value(&self) -> serde_json::Value {
+        serde_json::to_value(self).expect("reports serialise")
+    }
 }
 
 /// Test results for CI systems: one suite of cases.
@@ -397,7 +402,7 @@ impl Output {
             return self.print(&junit_xml(&suite));
         }
         if self.format == Format::Json {
-            return self.json(&serde_json::to_value(report).expect("reports serialise"));
+            return self.json(&report.json_value());
         }
         self.human(if self.format == Format::Csv { report.csv() } else { report.human() })?;
         for note in report.notes() {
@@ -508,9 +513,6 @@ impl crate::ops::Progress for Bars<'_> {
     }
     fn event(&mut self, event: crate::ops::Event) {
         self.out.note(&event_line(&event));
-    }
-    fn note(&mut self, text: &str) {
-        self.out.note(text);
     }
 }
 

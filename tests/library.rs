@@ -39,6 +39,7 @@ fn sensor_dcf() -> Dcf {
 #[derive(Default)]
 struct Recorder {
     calls: Vec<String>,
+    events: Vec<canctl::ops::Event>,
 }
 
 impl Progress for Recorder {
@@ -51,8 +52,9 @@ impl Progress for Recorder {
     fn finish(&mut self) {
         self.calls.push("finish".into());
     }
-    fn note(&mut self, text: &str) {
-        self.calls.push(format!("note {text}"));
+    fn event(&mut self, event: canctl::ops::Event) {
+        self.calls.push(format!("event {event:?}"));
+        self.events.push(event);
     }
 }
 
@@ -272,7 +274,8 @@ fn an_sdo_read_without_a_type_shows_the_plain_number_and_a_wrong_type_is_refused
     assert_eq!((read.dtype, read.value, read.name), (None, Some(Value::Uint(0x40)), None));
     let r = ReadOptions { dtype: Some(DataType::U8), ..r };
     let err = sdo::read(bus.as_mut(), &empty, SENSOR, ObjAddr::new(0x1018, 1), &r).unwrap_err();
-    assert!(matches!(err, Error::Usage(_)) && err.to_string().contains("not a u8"), "{err}");
+    assert!(matches!(err, Error::NotOfType { .. }) && err.to_string().contains("not a u8"), "{err}");
+    assert_eq!(err.exit_code(), 2, "a usage error, as it was");
     let missing = sdo::read(bus.as_mut(), &empty, SENSOR, ObjAddr::new(0x1018, 7), &r).unwrap_err();
     assert!(matches!(missing, Error::SdoAbort { node: SENSOR, .. }), "{missing}");
 }
@@ -314,8 +317,10 @@ fn lss_assign_numbers_every_device_without_a_node_id_and_says_so() {
     assert!(report.assigned.iter().all(|d| d.stored && d.store_error.is_none()), "{report:?}");
     assert!(DEMO_NODES.iter().all(|n| report.in_use_before.contains(n)), "{report:?}");
     assert!(!report.interrupted && report.failure.is_none());
+    use canctl::ops::{Event, Notice};
     assert!(
-        progress.calls.contains(&format!("note {} -> node 20", report.assigned[0].identity.0)),
+        progress.events.iter().any(|e| matches!(e, Event::Notice(Notice::Assigned { identity, node: 20 })
+            if *identity == report.assigned[0].identity.0)),
         "{:?}",
         progress.calls
     );

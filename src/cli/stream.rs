@@ -88,10 +88,7 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
         timeout: ctx.timeout,
     };
     let dict = ctx.dicts.for_node(a.node);
-    let Prepared { layouts, silence, warnings } = prepare(bus, dict, &setup, session, &mut ctx.out.progress())?;
-    for w in &warnings {
-        ctx.out.note(w);
-    }
+    let Prepared { layouts, silence } = prepare(bus, dict, &setup, session, &mut ctx.out.progress())?;
     let opts = StreamOptions {
         count: a.count,
         duration: a.duration,

@@ -9,7 +9,7 @@
 //! (which see through [`Error::Hinted`]), not a match on one variant of the class.
 
 use crate::canopen::lss::{FastscanError, Identity};
-use crate::canopen::{abort, ObjAddr};
+use crate::canopen::{abort, DataType, ObjAddr};
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -25,6 +25,20 @@ pub enum Error {
     /// A file or stream given as input could not be used: the user's to fix (exit 2).
     #[error("{0}")]
     Input(#[from] crate::input::InputError),
+    /// What a node holds does not decode as the data type asked for (or the dictionary's).
+    #[error("node {node}: {obj} holds {} byte(s) ({}), which is not {}", bytes.len(), crate::canopen::types::hex(bytes),
+        match dtype { DataType::Unicode => "UTF-16 text (us)".to_string(),
+            t => format!("a {t} ({} bytes)", t.size().unwrap_or(0)) })]
+    NotOfType { node: u8, obj: ObjAddr, bytes: Vec<u8>, dtype: DataType },
+    /// A TPDO asked for that the node does not have (no communication object `comm`).
+    #[error("node {node} has no TPDO{pdo} (no object 0x{comm:04X})")]
+    NoSuchTpdo { node: u8, pdo: u16, comm: u16 },
+    /// None of the TPDOs looked at is valid: there is nothing to stream.
+    #[error("node {node} has no valid TPDO to stream")]
+    NoValidTpdo { node: u8 },
+    /// A global LSS inquiry, meant for one device, was answered by `count`.
+    #[error("{count} devices answered the global inquiry")]
+    InquiryAnsweredByMany { count: usize },
     /// An EDS, DCF, XDD or XDC that cannot be read (the reason names the file) or does not
     /// parse (`FILE:LINE: why`): said once, without a prefix that repeats it.
     #[error(transparent)]
@@ -78,7 +92,7 @@ pub enum Error {
     /// request may have reached it and only the answers been lost, so it may hold it.
     #[error(
         "no answer from {identity} to set-id {node} within {} ms, asked {tries} times: unknown whether it \
-         holds node {node} now (canctl lss inquire --identity {identity} shows its node-id)",
+         holds node {node} now",
         waited.as_millis()
     )]
     LssSetIdUnknown { identity: Identity, node: u8, tries: u32, waited: Duration },
@@ -107,7 +121,7 @@ pub enum Error {
         crate::epos2::command::error_meaning(*code))]
     Epos2Refused { node: u8, command: &'static str, obj: Option<ObjAddr>, code: u32 },
     /// LSS assignment found no free node-id for a device.
-    #[error("no free node-id left from {start} to 127 for {identity}: give a lower --start")]
+    #[error("no free node-id left from {start} to 127 for {identity}")]
     NoFreeNodeId { start: u8, identity: Identity },
     /// A node keeps no error history (it has no object 0x1003), so there is none to clear.
     #[error("node {node} keeps no error history (it has no object 0x1003): there is nothing to clear")]
@@ -147,7 +161,7 @@ pub enum Error {
     FileDeviates { file: String, errors: usize, warnings: usize },
     /// A configuration file names another device (vendor-ID, product code) than the node
     /// is; each difference said as `"vendor-ID 0x... on node N, 0x... in the file"`.
-    #[error("{file} is for another device: {}. Nothing was written; --force applies it anyway", differences.join(", "))]
+    #[error("{file} is for another device: {}. Nothing was written", differences.join(", "))]
     OtherDevice { file: String, differences: Vec<String> },
     /// A bus is not as its network project says; `differences` in words ("2 node check(s)
     /// failed", ...).
@@ -237,6 +251,10 @@ impl Error {
         use ErrorClass as C;
         match self {
             Error::Usage(_)
+            | Error::NotOfType { .. }
+            | Error::NoSuchTpdo { .. }
+            | Error::NoValidTpdo { .. }
+            | Error::InquiryAnsweredByMany { .. }
             | Error::Input(_)
             | Error::Eds(_)
             | Error::BadBusAddr { .. }
@@ -332,10 +350,8 @@ pub enum DriveStop {
 impl fmt::Display for DriveStop {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
-            DriveStop::FaultPresent => "fault present (canctl drive fault-reset NODE clears it once its cause is gone)",
-            DriveStop::FaultRemains => {
-                "the fault remains after the reset: its cause is still there (canctl drive status NODE shows the errors)"
-            }
+            DriveStop::FaultPresent => "fault present",
+            DriveStop::FaultRemains => "the fault remains after the reset: its cause is still there",
             DriveStop::VoltageMissing => "voltage missing (statusword bit 4 clear: check the power supply)",
             DriveStop::TransitionRefused => "transition refused (the statusword did not follow the controlword)",
             DriveStop::NoAnswer => "no answer",
@@ -514,7 +530,7 @@ fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
         ),
         Service::AfterReset => format!(
             "node {node}: NMT reset sent, but no answer to remote requests within {ms} ms after it; \
-             not confirmed. Check the node with `canctl scan`, or wait longer (--wait)"
+             not confirmed"
         ),
         Service::BootUp if node == 0 => format!("all nodes: no boot-up within {ms} ms"),
         Service::BootUp => format!("node {node}: no boot-up within {ms} ms"),
@@ -671,7 +687,7 @@ fn fastscan_text(error: &FastscanError, step: Duration) -> String {
         FastscanError::NoDevice => "no device without a node-id answered the fastscan".into(),
         FastscanError::Unconfirmed(part) => format!(
             "fastscan: identity part {part} was found but not confirmed, even with a {step} ms step (a device \
-             changed state, or frames were lost); try again, or a longer --step"
+             changed state, or frames were lost)"
         ),
         FastscanError::NoMatch { part, value } => format!(
             "no device without a node-id has {} 0x{value:08X} (waited up to {step} ms a step)",

@@ -195,6 +195,38 @@ fn messages_say_what_they_always_said() {
             "slcan:x: the adapter did not answer \"S6\" within 200 ms",
         ),
         (
+            Error::NotOfType { node: 5, obj: OBJ, bytes: vec![1, 2, 3], dtype: crate::canopen::DataType::U32 },
+            "node 5: 0x1018:1 holds 3 byte(s) (010203), which is not a u32 (4 bytes); try another --type",
+        ),
+        (
+            Error::NotOfType { node: 5, obj: OBJ, bytes: vec![0, 0xD8, 0x41], dtype: crate::canopen::DataType::Unicode },
+            "node 5: 0x1018:1 holds 3 byte(s) (00D841), which is not UTF-16 text (us); try another --type",
+        ),
+        (
+            Error::NoSuchTpdo { node: 5, pdo: 9, comm: 0x1808 },
+            "node 5 has no TPDO9 (no object 0x1808); without --tpdo, every TPDO it has is streamed",
+        ),
+        (Error::NoValidTpdo { node: 5 }, "node 5 has no valid TPDO to stream (--map makes one for the session)"),
+        (
+            Error::InquiryAnsweredByMany { count: 3 },
+            "3 devices answered the global inquiry: address one with --identity (lss fastscan finds them)",
+        ),
+        (
+            Error::Fastscan { error: FastscanError::Unconfirmed(2), step: ms(10) },
+            "fastscan: identity part 2 was found but not confirmed, even with a 10 ms step (a device changed \
+             state, or frames were lost); try again, or a longer --step",
+        ),
+        (
+            Error::DriveStopped { node: 3, goal: "enable", state: "Fault".into(), why: DriveStop::FaultPresent },
+            "node 3: enable stopped in Fault: fault present (canctl drive fault-reset NODE clears it once its cause \
+             is gone)",
+        ),
+        (
+            Error::DriveStopped { node: 3, goal: "fault-reset", state: "Fault".into(), why: DriveStop::FaultRemains },
+            "node 3: fault-reset stopped in Fault: the fault remains after the reset: its cause is still there \
+             (canctl drive status NODE shows the errors)",
+        ),
+        (
             Error::Fastscan { error: FastscanError::NoDevice, step: ms(10) },
             "no device without a node-id answered the fastscan",
         ),
@@ -253,7 +285,11 @@ fn messages_say_what_they_always_said() {
         ),
     ];
     for (error, text) in cases {
-        assert_eq!(error.to_string(), text);
+        // What canctl prints: the message, then the remedy it words (`output/hints.rs`).
+        assert_eq!(crate::output::library_error_text(&error), text);
+        if crate::hint::Hint::of(&error).is_some() {
+            assert!(!error.to_string().contains("--"), "the remedy is the front end's, not the message's: {error}");
+        }
     }
 }
 

@@ -471,7 +471,7 @@ fn statusword_tpdo(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Opt
         &mut super::Silent,
     ) {
         Ok(l) => l,
-        Err(Error::Usage(_)) => return Ok(None),
+        Err(Error::NoValidTpdo { .. }) => return Ok(None),
         Err(e) => return Err(e),
     };
     Ok(layouts.into_iter().map(|(_, l)| l).find(|l| statusword_offset(l).is_some()).map(|l| (l.cob_id, l)))

@@ -94,7 +94,7 @@ pub enum Notice {
         /// How long it has been silent.
         after: Duration,
         /// Why it may be, as the procedure found it.
-        why: String,
+        why: Vec<super::silence::Silence>,
     },
     /// A device found over LSS was given a node-id.
     Assigned {

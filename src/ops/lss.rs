@@ -11,6 +11,7 @@ use crate::cancel::Cancel;
 use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};
 use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
+use crate::ops::Notice;
 use serde::ser::SerializeMap;
 use serde::Serialize;
 use std::collections::BTreeSet;
@@ -116,10 +117,7 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
             }
             more => {
                 m.leave()?;
-                return Err(Error::Usage(format!(
-                    "{} devices answered the global inquiry: address one with --identity (lss fastscan finds them)",
-                    more.len()
-                )));
+                return Err(Error::InquiryAnsweredByMany { count: more.len() });
             }
         }
     }
@@ -772,7 +770,7 @@ pub fn assign(
             progress.finish();
             sent.set(0);
             found.set(found.get() + 1);
-            progress.note(&format!("{} -> node {}", d.identity, d.node));
+            progress.event(Notice::Assigned { identity: d.identity, node: d.node }.into());
         },
     );
     shown.borrow_mut().finish();

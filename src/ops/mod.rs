@@ -57,9 +57,6 @@ pub trait Progress {
     fn finish(&mut self) {}
     /// A warning or notice, for the caller to word (or record, or ignore).
     fn event(&mut self, _event: Event) {}
-    /// A remark already worded: kept for the procedures that do not send an [`Event`] yet;
-    /// new code sends one.
-    fn note(&mut self, _text: &str) {}
     /// One of several items of the phase under way at once (a node configured alongside
     /// others) moved on: `status` says where it is, or its result once `finished`.
     fn item(&mut self, _item: &str, _status: &str, _finished: bool) {}

@@ -12,6 +12,7 @@ use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::od::eds::Eds;
 use crate::od::{Dictionary, Entry};
+use crate::ops::{Notice, Warning};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::time::{Duration, Instant};
 
@@ -217,14 +218,12 @@ pub fn read_layouts(
             Err(e) if skip_missing && super::node::is_missing(&e) => continue,
             // Said as what it means, not as an abort on an object the user never named.
             Err(Error::SdoAbort { code: abort::NO_OBJECT, .. }) => {
-                return Err(Error::Usage(format!(
-                    "node {node} has no TPDO{n} (no object 0x{comm:04X}); without --tpdo, every TPDO it has is streamed"
-                )))
+                return Err(Error::NoSuchTpdo { node, pdo: n, comm })
             }
             Err(e) => return Err(e),
         };
         if cob & 0x8000_0000 != 0 {
-            progress.note(&format!("TPDO{n} of node {node} is not valid (0x{comm:04X}:1 = 0x{cob:08X}); left out"));
+            progress.event(Notice::PdoInvalid { node, pdo: n, comm, cob }.into());
             continue;
         }
         let count = read_u8(bus, node, ObjAddr::new(map, 0), timeout)?;
@@ -241,7 +240,7 @@ pub fn read_layouts(
         out.push((n, Layout { cob_id: (cob & 0x7FF) as u16, fields }));
     }
     if out.is_empty() {
-        return Err(Error::Usage(format!("node {node} has no valid TPDO to stream (--map makes one for the session)")));
+        return Err(Error::NoValidTpdo { node });
     }
     Ok(out)
 }
@@ -285,7 +284,7 @@ pub struct StreamOptions {
     /// How long to wait for each polled PDO.
     pub timeout: Duration,
     /// If no PDO has come after this long, say so, with why it may be silent.
-    pub silence: Option<(Duration, String)>,
+    pub silence: Option<(Duration, Vec<crate::ops::silence::Silence>)>,
 }
 
 /// One decoded PDO.
@@ -395,11 +394,7 @@ impl<'a> Stream<'a> {
             if let Some((after, why)) =
                 self.opts.silence.take_if(|(after, _)| bus.now().saturating_duration_since(self.started) >= *after)
             {
-                progress.note(&format!(
-                    "nothing from node {} after {} ms; still listening. {why}",
-                    self.node,
-                    after.as_millis()
-                ));
+                progress.event(Notice::Silent { node: self.node, after, why }.into());
             }
         }
         let mut wake = bus.now() + Duration::from_millis(100);
@@ -428,10 +423,8 @@ impl<'a> Stream<'a> {
                 Ok(values) => self.pending.push_back(Record { time_ms: wall_ms(), layout: i, values }),
                 Err(m) => {
                     if self.warned.insert(*n) {
-                        progress.note(&format!(
-                            "warning: node {} TPDO{n} (0x{:03X}) came with {} bytes, its mapping makes {}: not decoded (this is said once)",
-                            self.node, l.cob_id, m.got, m.want
-                        ));
+                        let (node, pdo, cob_id) = (self.node, *n, u32::from(l.cob_id));
+                        progress.event(Warning::PdoLength { node, pdo, cob_id, got: m.got, want: m.want }.into());
                     }
                 }
             }

@@ -10,6 +10,7 @@ use crate::canopen::lss::{Identity, Inquiry, Request, Response, UNCONFIGURED};
 use crate::canopen::nmt;
 use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
+use crate::ops::Warning;
 use serde::Serialize;
 use std::time::Duration;
 
@@ -165,7 +166,7 @@ fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn P
             Err(Error::SdoAbort { .. }) => found.push((*node, None)),
             Err(e) if e.is_timeout() => {}
             Err(e) if e.is_interrupted() => stopped = true,
-            Err(e) => progress.note(&format!("warning: node {node}: {e}")),
+            Err(error) => progress.event(Warning::Failed { node: Some(*node), error }.into()),
         }
     }
     if found.is_empty() && !stopped {
@@ -296,7 +297,7 @@ fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: 
             }
             Err(Error::SdoAbort { .. }) => {}
             Err(e) if e.is_interrupted() => stopped = true,
-            Err(e) => progress.note(&format!("warning: {e}")),
+            Err(error) => progress.event(Warning::Failed { node: None, error }.into()),
         }
     }
     if stopped {

@@ -137,20 +137,11 @@ pub(crate) fn read_watched(
     let read = bus.sdo_upload(node, object, &opts);
     let bytes = super::unheard::sdo(bus, read)?;
     let value = match dtype {
-        Some(DataType::Unicode) => Some(DataType::Unicode.decode(&bytes).ok_or_else(|| {
-            Error::Usage(format!(
-                "node {node}: {object} holds {} byte(s) ({}), which is not UTF-16 text (us); try another --type",
-                bytes.len(),
-                hex(&bytes)
-            ))
-        })?),
-        Some(t) => Some(t.decode(&bytes).ok_or_else(|| {
-            Error::Usage(format!(
-                "node {node}: {object} holds {} byte(s) ({}), which is not a {t} ({} bytes); try another --type",
-                bytes.len(),
-                hex(&bytes),
-                t.size().unwrap_or(0)
-            ))
+        Some(t) => Some(t.decode(&bytes).ok_or_else(|| Error::NotOfType {
+            node,
+            obj: object,
+            bytes: bytes.clone(),
+            dtype: t,
         })?),
         None => obvious_unsigned(&bytes).map(Value::Uint),
     };

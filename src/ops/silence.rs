@@ -7,13 +7,35 @@ use crate::canopen::pdo::Layout;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::ops::nmt::NodeState;
+use crate::ops::Warning;
 use std::time::Duration;
+
+/// Why a stream may hear nothing from its node, for the front end to say.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Silence {
+    /// The node is not operational (`state`, learned by `source`): it sends no PDO; the
+    /// stream can start it.
+    NotOperational { node: u8, state: State, source: &'static str },
+    /// The node's state could not be learned: it may not be operational.
+    StateUnknown { node: u8 },
+    /// A synchronous TPDO (transmission type `kind`) and no SYNC sent: it waits for SYNC.
+    WaitsForSync { pdo: u16, kind: u8 },
+    /// A TPDO sent only on request (RTR, transmission type 252 or 253).
+    OnRequest { pdo: u16, kind: u8 },
+    /// An event-driven TPDO (254 or 255) with SYNC sent: SYNC does not make it send.
+    SyncDoesNotDrive { pdo: u16, kind: u8 },
+    /// An event-driven TPDO without an event timer: it sends when its values change.
+    NoEventTimer { pdo: u16 },
+    /// Nothing found against it: the node may have nothing to say.
+    NothingFound,
+}
 
 /// How long the stream of these TPDOs of `node` may be silent before it is worth saying,
 /// and why it may be. `state` is the node's NMT state (and how it was learned) when it was
 /// asked (not when the stream puts the node in Operational itself); `sync` the SYNC period
-/// sent, if any. Also the warnings worth saying before the stream starts: `--sync` asked
-/// for TPDOs that SYNC does not drive.
+/// sent, if any. Also the warnings worth giving before the stream starts: SYNC asked for
+/// TPDOs that SYNC does not drive.
 pub fn hint(
     bus: &mut dyn Bus,
     node: u8,
@@ -21,39 +43,31 @@ pub fn hint(
     state: Option<Result<NodeState>>,
     sync: Option<Duration>,
     timeout: Duration,
-) -> ((Duration, String), Vec<String>) {
+) -> ((Duration, Vec<Silence>), Vec<Warning>) {
     let mut why = Vec::new();
     let mut warnings = Vec::new();
     let mut after = Duration::from_secs(1);
     match state {
         None | Some(Ok(NodeState { state: State::Operational, .. })) => {}
-        Some(Ok(NodeState { state, source, .. })) => {
-            why.push(format!("node {node} is {state} (by {source}): it sends PDOs only when operational (--start)"))
-        }
-        Some(Err(_)) => why.push(format!("node {node} may not be operational; --start puts it there for the stream")),
+        Some(Ok(NodeState { state, source, .. })) => why.push(Silence::NotOperational { node, state, source }),
+        Some(Err(_)) => why.push(Silence::StateUnknown { node }),
     }
     let read = |bus: &mut dyn Bus, addr: ObjAddr| bus.sdo_upload(node, addr, &SdoOptions::new(timeout)).ok();
     for (n, _) in layouts {
-        let comm = 0x1800 + n - 1;
+        let (pdo, comm) = (*n, 0x1800 + n - 1);
         let Some(kind) = read(bus, ObjAddr::new(comm, 2)).and_then(|b| b.first().copied()) else { continue };
         let timer = read(bus, ObjAddr::new(comm, 5)).and_then(|b| Some(u16::from_le_bytes([*b.first()?, *b.get(1)?])));
         match (kind, sync) {
-            (0..=240, None) => why.push(format!(
-                "TPDO{n} is synchronous (transmission type {kind}): it answers SYNC, which --sync PERIOD sends"
-            )),
+            (0..=240, None) => why.push(Silence::WaitsForSync { pdo, kind }),
             (0..=240, Some(period)) => after = after.max(period * 3 * u32::from(kind.max(1))),
-            (252 | 253, _) => why.push(format!("TPDO{n} is sent only on request (transmission type {kind})")),
+            (252 | 253, _) => why.push(Silence::OnRequest { pdo, kind }),
             (254 | 255, sync) => {
                 if sync.is_some() {
-                    why.push(format!(
-                        "TPDO{n} is event-driven (transmission type {kind}): --sync does not make it send"
-                    ));
-                    warnings.push(format!(
-                        "warning: --sync does not drive node {node}'s TPDO{n}: transmission type {kind} (event-driven) sends on its own; 1..240 makes it answer SYNC"
-                    ));
+                    why.push(Silence::SyncDoesNotDrive { pdo, kind });
+                    warnings.push(Warning::SyncDoesNotDrive { node, pdo, transmission: kind });
                 }
                 match timer {
-                    Some(0) | None => why.push(format!("TPDO{n} has no event timer: it sends when its values change")),
+                    Some(0) | None => why.push(Silence::NoEventTimer { pdo }),
                     Some(ms) => after = after.max(Duration::from_millis(3 * u64::from(ms))),
                 }
             }
@@ -61,7 +75,7 @@ pub fn hint(
         }
     }
     if why.is_empty() {
-        why.push("the TPDOs are valid and set to send: the node may have nothing to say".into());
+        why.push(Silence::NothingFound);
     }
-    ((after.min(Duration::from_secs(30)), format!("Why it may be silent: {}.", why.join("; "))), warnings)
+    ((after.min(Duration::from_secs(30)), why), warnings)
 }

@@ -4,7 +4,8 @@
 
 use super::nmt::{self, StateOptions};
 use super::pdo::{self, Remap, Session};
-use super::{silence, Progress};
+use super::silence::{self, Silence};
+use super::Progress;
 use crate::bus::Bus;
 use crate::canopen::pdo::Layout;
 use crate::canopen::ObjAddr;
@@ -40,9 +41,7 @@ pub(crate) struct Prepared {
     /// Each TPDO streamed, with its layout.
     pub layouts: Vec<(u16, Layout)>,
     /// How long the stream may be silent before it is worth saying, and why it may be.
-    pub silence: (Duration, String),
-    /// Worth saying before the stream starts.
-    pub warnings: Vec<String>,
+    pub silence: (Duration, Vec<Silence>),
 }
 
 /// Remap, start and read the layouts as `setup` asks, each change kept in `session`.
@@ -72,5 +71,8 @@ pub(crate) fn prepare(
     let layouts = pdo::read_layouts(bus, node, dict, list, setup.tpdo.is_empty(), setup.timeout, progress)?;
     let state = (!setup.start).then(|| nmt::state(bus, node, &state_options));
     let (silence, warnings) = silence::hint(bus, node, &layouts, state, setup.sync, setup.timeout);
-    Ok(Prepared { layouts, silence, warnings })
+    for w in warnings {
+        progress.event(w.into());
+    }
+    Ok(Prepared { layouts, silence })
 }

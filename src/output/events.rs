@@ -3,7 +3,9 @@
 //! stderr.
 
 use crate::canopen::abort;
+use crate::ops::silence::Silence;
 use crate::ops::{Event, Notice, Warning};
+use crate::output::library_error_text;
 
 /// The line `canctl` prints for `event`.
 pub fn event_line(event: &Event) -> String {
@@ -15,8 +17,8 @@ pub fn event_line(event: &Event) -> String {
 
 fn warning_line(w: &Warning) -> String {
     match w {
-        Warning::Failed { node: Some(node), error } => format!("warning: node {node}: {error}"),
-        Warning::Failed { node: None, error } => format!("warning: {error}"),
+        Warning::Failed { node: Some(node), error } => format!("warning: node {node}: {}", library_error_text(error)),
+        Warning::Failed { node: None, error } => format!("warning: {}", library_error_text(error)),
         Warning::PdoLength { node, pdo, cob_id, got, want } => format!(
             "warning: node {node} TPDO{pdo} (0x{cob_id:03X}) came with {got} bytes, its mapping makes {want}: not \
              decoded (this is said once)"
@@ -37,9 +39,35 @@ fn notice_line(n: &Notice) -> String {
         Notice::Refused { addr, code } => format!("note: {addr}: {}", abort::meaning(*code)),
         Notice::LeftOut { addr, file, why } => format!("note: {addr} left out of the {file}: {why}"),
         Notice::Silent { node, after, why } => {
-            format!("nothing from node {node} after {} ms; still listening. {why}", after.as_millis())
+            let why: Vec<String> = why.iter().map(silence_text).collect();
+            format!(
+                "nothing from node {node} after {} ms; still listening. Why it may be silent: {}.",
+                after.as_millis(),
+                why.join("; ")
+            )
         }
         Notice::Assigned { identity, node } => format!("{identity} -> node {node}"),
+    }
+}
+
+/// A reason a stream may be silent, naming the flags that remedy it.
+fn silence_text(why: &Silence) -> String {
+    match why {
+        Silence::NotOperational { node, state, source } => {
+            format!("node {node} is {state} (by {source}): it sends PDOs only when operational (--start)")
+        }
+        Silence::StateUnknown { node } => {
+            format!("node {node} may not be operational; --start puts it there for the stream")
+        }
+        Silence::WaitsForSync { pdo, kind } => {
+            format!("TPDO{pdo} is synchronous (transmission type {kind}): it answers SYNC, which --sync PERIOD sends")
+        }
+        Silence::OnRequest { pdo, kind } => format!("TPDO{pdo} is sent only on request (transmission type {kind})"),
+        Silence::SyncDoesNotDrive { pdo, kind } => {
+            format!("TPDO{pdo} is event-driven (transmission type {kind}): --sync does not make it send")
+        }
+        Silence::NoEventTimer { pdo } => format!("TPDO{pdo} has no event timer: it sends when its values change"),
+        Silence::NothingFound => "the TPDOs are valid and set to send: the node may have nothing to say".into(),
     }
 }
 
@@ -101,8 +129,16 @@ mod tests {
         );
         assert!(line(Notice::Refused { addr, code: 0x0601_0000 }.into()).starts_with("note: 0x2000:1: "));
         assert_eq!(
-            line(Notice::Silent { node: 7, after: Duration::from_secs(1), why: "Why.".into() }.into()),
-            "nothing from node 7 after 1000 ms; still listening. Why."
+            line(
+                Notice::Silent {
+                    node: 7,
+                    after: Duration::from_secs(1),
+                    why: vec![Silence::NoEventTimer { pdo: 1 }, Silence::StateUnknown { node: 7 }]
+                }
+                .into()
+            ),
+            "nothing from node 7 after 1000 ms; still listening. Why it may be silent: TPDO1 has no event timer: it \
+             sends when its values change; node 7 may not be operational; --start puts it there for the stream."
         );
     }
 }

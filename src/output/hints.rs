@@ -4,18 +4,47 @@
 use crate::hint::Hint;
 
 /// The remedy as canctl says it, to follow the error's message.
-pub fn hint_text(hint: Hint) -> &'static str {
+pub fn hint_text(hint: Hint) -> String {
     match hint {
-        Hint::FreeNodeIdOrForce => "; choose a free id (canctl scan lists those in use), or --force gives it anyway",
-        Hint::GiveEds => "; get the EDS from its vendor and give it with --eds",
+        Hint::FreeNodeIdOrForce => {
+            "; choose a free id (canctl scan lists those in use), or --force gives it anyway".into()
+        }
+        Hint::GiveEds => "; get the EDS from its vendor and give it with --eds".into(),
+        Hint::LowerStart => ": give a lower --start".into(),
+        Hint::ForceOtherDevice => "; --force applies it anyway".into(),
+        Hint::CheckOrWaitLonger => ". Check the node with `canctl scan`, or wait longer (--wait)".into(),
+        Hint::InquireNodeId(identity) => {
+            format!(" (canctl lss inquire --identity {identity} shows its node-id)")
+        }
+        Hint::FaultReset => " (canctl drive fault-reset NODE clears it once its cause is gone)".into(),
+        Hint::DriveErrors => " (canctl drive status NODE shows the errors)".into(),
+        Hint::LongerStep => "; try again, or a longer --step".into(),
+        Hint::OtherType => "; try another --type".into(),
+        Hint::EveryTpdo => "; without --tpdo, every TPDO it has is streamed".into(),
+        Hint::MapOne => " (--map makes one for the session)".into(),
+        Hint::AddressOne => ": address one with --identity (lss fastscan finds them)".into(),
+    }
+}
+
+/// A library error as canctl says it: its message, then its remedy in canctl's terms.
+pub fn library_error_text(err: &crate::Error) -> String {
+    match err {
+        // The remedy belongs to the error, before the advice added to it.
+        crate::Error::Hinted { error, hint } => format!("{}{hint}", library_error_text(error)),
+        e => format!("{e}{}", Hint::of(e).map(hint_text).unwrap_or_default()),
     }
 }
 
 /// An error from a command as canctl prints it: its message (with its causes), then the
 /// remedy of the library's error in it, in canctl's terms.
 pub fn error_text(err: &anyhow::Error) -> String {
-    let hint = err.chain().find_map(|c| c.downcast_ref::<crate::Error>()).and_then(Hint::of);
-    format!("{err:#}{}", hint.map_or("", hint_text))
+    let full = format!("{err:#}");
+    let Some(e) = err.chain().find_map(|c| c.downcast_ref::<crate::Error>()) else { return full };
+    // The library's error ends the chain (the contexts come before it): word it in place.
+    match full.strip_suffix(&e.to_string()) {
+        Some(contexts) => format!("{contexts}{}", library_error_text(e)),
+        None => format!("{full}{}", Hint::of(e).map(hint_text).unwrap_or_default()),
+    }
 }
 
 /// What to add to a message about a silent node: the nodes the last scan of `bus` saw

@@ -82,6 +82,13 @@ impl Report for Found {
 }
 
 impl Report for Assignment {
+    fn json_value(&self) -> serde_json::Value {
+        let mut value = serde_json::to_value(self).expect("reports serialise");
+        if let Some(e) = &self.failure {
+            value["error"] = crate::output::library_error_text(e).into();
+        }
+        value
+    }
     fn human(&self) -> Human {
         if self.nothing_to_assign() {
             return Human::Line("no device without a node-id: nothing to assign".into());

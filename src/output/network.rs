@@ -349,10 +349,8 @@ impl Progress for NodeBars<'_> {
         self.clear();
     }
     fn event(&mut self, event: crate::ops::Event) {
-        self.note(&crate::output::event_line(&event));
-    }
-    fn note(&mut self, text: &str) {
-        self.multi.suspend(|| self.out.note(text));
+        let line = crate::output::event_line(&event);
+        self.multi.suspend(|| self.out.note(&line));
     }
     fn item(&mut self, item: &str, status: &str, finished: bool) {
         if !self.out.progress {

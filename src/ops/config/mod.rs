@@ -10,6 +10,7 @@ use crate::error::{Error, Result};
 use crate::od::eds::{self, Eds, Header};
 use crate::od::xdd;
 use crate::od::{builtin, names, Dictionary, Entry, Init};
+use crate::ops::Notice;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -240,7 +241,7 @@ pub(crate) fn dump_as(
             }
             // Not on this device: left out of the file.
             Err(err) if super::node::is_missing(&err) => continue,
-            Err(Error::SdoAbort { code, .. }) => progress.note(&format!("note: {}: {}", e.addr, abort::meaning(code))),
+            Err(Error::SdoAbort { code, .. }) => progress.event(Notice::Refused { addr: e.addr, code }.into()),
             Err(err) => return Err(err),
         }
         let (name, kind) = dict.object_info(e.addr.index).expect("declared object");
@@ -265,12 +266,12 @@ pub(crate) fn dump_as(
     };
     // A value no DCF can hold (a newline in a string, say) is left out, and said so.
     let (text, file) = match form {
-        FileForm::Dcf => (eds::parameter_text as fn(&Entry, &[u8], Option<u8>) -> _, "DCF"),
+        FileForm::Dcf => (eds::parameter_text as fn(&Entry, &[u8], Option<u8>) -> Result<String, String>, "DCF"),
         FileForm::Xdc => (xdd::actual_value_text as fn(&Entry, &[u8], Option<u8>) -> _, "XDC"),
     };
     values.retain(|addr, v| match present.get(*addr).map(|e| text(e, v, Some(node))) {
         Some(Err(why)) => {
-            progress.note(&format!("note: {addr} left out of the {file}: {why}"));
+            progress.event(Notice::LeftOut { addr: *addr, file, why }.into());
             false
         }
         _ => true,
