@@ -262,7 +262,6 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     ("ops/clash.rs", "--identity", "not done yet: the clash report's remedy"),
     ("ops/firmware.rs", "--busy-wait", "not done yet: FlashBusy's remedy"),
     ("ops/firmware.rs", "--force", "not done yet: the firmware report's state string"),
-    ("ops/lss.rs", "--global", "not done yet: Error::Usage text"),
     ("ops/lss.rs", "--node", "not done yet: Error::Usage and report text"),
     ("ops/network/baud.rs", "--force", "not done yet: the refusal's remedy"),
     ("ops/pdo.rs", "--eds", "not done yet: a string with_hint on any SDO error of --map"),

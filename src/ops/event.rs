@@ -54,6 +54,16 @@ pub enum Warning {
     },
     /// A deviation from CiA 306/311 in a file that was read (with file:line and the rule).
     File(crate::od::lint::Warning),
+    /// A global bit-rate activation is about to switch the devices that took the last global
+    /// set-baud while those that refused it stay at the old rate.
+    ActivationStrands {
+        /// The rate the last global set-baud asked for (`125k`).
+        rate: String,
+        /// Devices that refused it.
+        refused: usize,
+        /// Devices that took it.
+        confirmed: usize,
+    },
 }
 
 /// Something worth a person's knowing, while all is well.

@@ -312,7 +312,8 @@ pub fn activate_on(
 ) -> Result<Activated> {
     let network = network.filter(|_| target == Target::All);
     if let Some(refused) = network.and_then(RefusedRate::last) {
-        progress.note(&refused.warning());
+        let RefusedRate { rate, refused, confirmed } = refused;
+        progress.event(super::event::Warning::ActivationStrands { rate, refused, confirmed }.into());
     }
     let done = activate(bus, timeout, target, delay_ms)?;
     if let Some(network) = network {
@@ -357,15 +358,6 @@ impl RefusedRate {
     pub fn last(bus: &str) -> Option<RefusedRate> {
         let path = super::scan_cache::network_file("lss-set-baud", bus)?;
         serde_json::from_slice(&std::fs::read(path).ok()?).ok()
-    }
-
-    /// The warning before an activation.
-    pub fn warning(&self) -> String {
-        format!(
-            "the last `lss set-baud {} --global` on this bus was refused by {} device(s) ({} took it): activating \
-             switches those and leaves the others at the old rate, where they no longer hear the bus",
-            self.rate, self.refused, self.confirmed
-        )
     }
 }
 

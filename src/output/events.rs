@@ -28,6 +28,10 @@ fn warning_line(w: &Warning) -> String {
              sends on its own; 1..240 makes it answer SYNC"
         ),
         Warning::File(w) => format!("canctl: warning: {w}"),
+        Warning::ActivationStrands { rate, refused, confirmed } => format!(
+            "the last `lss set-baud {rate} --global` on this bus was refused by {refused} device(s) ({confirmed} took \
+             it): activating switches those and leaves the others at the old rate, where they no longer hear the bus"
+        ),
     }
 }
 
