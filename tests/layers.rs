@@ -283,7 +283,11 @@ fn library_strings_name_no_flag() {
     for file in &files {
         let rel = file.strip_prefix(&src).unwrap().to_str().unwrap().replace('\\', "/");
         let front_end = ["cli/", "output/"].iter().any(|d| rel.starts_with(d));
-        if front_end || ["output.rs", "main.rs"].contains(&rel.as_str()) || rel.ends_with("tests.rs") || rel.contains("/tests/") {
+        if front_end
+            || ["output.rs", "main.rs"].contains(&rel.as_str())
+            || rel.ends_with("tests.rs")
+            || rel.contains("/tests/")
+        {
             continue;
         }
         let text = std::fs::read_to_string(file).unwrap();
