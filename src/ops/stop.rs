@@ -13,7 +13,7 @@ use crate::bus::{Bus, TransferHook};
 use crate::cancel::Cancel;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Run `f` over `bus` so that a request to stop (`cancel`) ends it at its next call to the
 /// bus (an SDO transfer under way aborted), with the test signal of [`TEST_SIGNAL`] when
@@ -88,11 +88,7 @@ pub fn opened(cancel: &Cancel) {
 
 fn raise_and_wait(sig: &str, cancel: &Cancel) {
     raise(sig, cancel);
-    // The handler runs on its own thread: the signal counts once it has set the flag.
-    let end = Instant::now() + Duration::from_secs(10);
-    while !cancel.is_cancelled() && Instant::now() < end {
-        std::thread::yield_now();
-    }
+    cancel.wait_for_handler(Duration::from_secs(10));
 }
 
 #[cfg(unix)]
