@@ -19,8 +19,13 @@ pub fn counted<'a>(
             Transfer::Download => writes = n,
             Transfer::Nmt => {}
         }
-        progress.item(label, &format!("{reads} read(s), {writes} write(s)"), false);
+        progress.item(label, &transfers(reads, writes), false);
     })
+}
+
+/// What a node's work has made so far, as a progress item says it.
+pub(crate) fn transfers(reads: u32, writes: u32) -> String {
+    format!("{reads} read(s), {writes} write(s)")
 }
 
 #[cfg(test)]

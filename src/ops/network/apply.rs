@@ -234,16 +234,8 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             }
             progress.advance(k as u64);
             let label = node_label(loaded.nodes[*i].node);
-            let (mut reads, mut writes) = (0, 0);
             let result = {
-                let mut counted = crate::bus::tap::AfterSdo::new(&mut *bus, |t, n| {
-                    match t {
-                        crate::bus::tap::Transfer::Upload => reads = n,
-                        crate::bus::tap::Transfer::Download => writes = n,
-                        crate::bus::tap::Transfer::Nmt => {}
-                    }
-                    progress.item(&label, &transfers(reads, writes), false);
-                });
+                let mut counted = crate::ops::counted::counted(&mut *bus, &label, progress);
                 configure_node(&mut counted, &loaded.nodes[*i], o)
             };
             progress.item(&label, &result.summary(), true);
@@ -375,10 +367,6 @@ impl Summary for Result<NodeCheck> {
 
 pub(super) fn node_label(node: u8) -> String {
     format!("node {node}")
-}
-
-pub(super) fn transfers(reads: u32, writes: u32) -> String {
-    format!("{reads} read(s), {writes} write(s)")
 }
 
 /// NMT reset `nodes`, then wait until each is back: its boot-up message where the link shows

@@ -6,6 +6,7 @@
 use super::*;
 use crate::bus::{LssAnswer, LssExchange, Observed, SdoJob};
 use crate::frame::Frame;
+use crate::ops::counted::transfers;
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex};
 
