@@ -21,7 +21,8 @@
 # them) and the path of the target directory (ld orders the import tables by the paths of
 # the input files); see there. dist-check.sh repro compares every file.
 #
-# Environment: DIST_TARGETS (default: all four triples below) builds a subset;
+# Environment: DIST_TARGETS (default: all four triples below; separated by spaces or
+# newlines) builds a subset;
 # CARGO_TARGET_DIR as usual. Refuses a tree with uncommitted changes (the artifacts would
 # name a commit they were not built from) unless DIST_ALLOW_DIRTY=1.
 set -euo pipefail
@@ -35,9 +36,14 @@ aarch64-unknown-linux-musl    arm64  aarch64-linux-gnu-gcc   aarch64-linux-gnu-o
 armv7-unknown-linux-gnueabihf armhf  arm-linux-gnueabihf-gcc arm-linux-gnueabihf-objcopy -Ctarget-feature=+crt-static
 x86_64-pc-windows-gnu         -      x86_64-w64-mingw32-gcc  x86_64-w64-mingw32-objcopy  -
 "
-wanted=${DIST_TARGETS:-$(awk 'NF {print $1}' <<<"$TARGETS")}
+known=$(awk 'NF {print $1}' <<<"$TARGETS")
+# One triple a line: the loop below matches whole lines.
+wanted=$(tr -s ' \t' '\n\n' <<<"${DIST_TARGETS:-$known}" | sed '/^$/d')
 
 die() { echo "dist: $*" >&2; exit 1; }
+for t in $wanted; do
+  grep -qxF "$t" <<<"$known" || die "unknown target '$t' in DIST_TARGETS (known: $(echo $known))"
+done
 
 version=$(sed -n 's/^version = "\(.*\)"$/\1/p' Cargo.toml | head -n1)
 [ -n "$version" ] || die "no version in Cargo.toml"
@@ -176,5 +182,6 @@ while read -r triple arch linker objcopy extra; do
   fi
   echo "dist: $triple in $((SECONDS - t0)) s" >&2
 done <<<"$TARGETS"
+[ -n "$(ls "$out")" ] || die "no target built (DIST_TARGETS: '${DIST_TARGETS:-}')"
 (cd "$out" && sha256sum -- * > SHA256SUMS)
 echo "dist: $(ls "$out" | wc -l) files in dist/ in $((SECONDS - start)) s (commit ${commit:-$CANCTL_COMMIT}, SOURCE_DATE_EPOCH=$SOURCE_DATE_EPOCH)" >&2
