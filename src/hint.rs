@@ -4,10 +4,10 @@
 //! what happened and names no flag.
 
 use crate::canopen::lss::{FastscanError, Identity};
-use crate::error::{DriveStop, Error, Service};
+use crate::error::{DriveStop, Error, LinkError, Service};
 
 /// A remedy for an error, for the front end to word.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Hint {
     /// A node-id asked for is in use: choose a free one (a scan lists those in use), or
@@ -39,6 +39,20 @@ pub enum Hint {
     /// Several LSS devices answered what is for one: address one by its identity (a
     /// fastscan finds them).
     AddressOne,
+    /// The simulator's network is held by another process: stop that one, or serve the
+    /// network on a CAN interface, where several commands share it.
+    ShareSimNetwork,
+    /// There is no network interface `iface`: the one of a `near` name (the demo network's or
+    /// one of the `available` CAN interfaces), set one up (an adapter, a virtual bus), or use
+    /// the demo network.
+    SetUpInterface {
+        /// The interface asked for.
+        iface: String,
+        /// A name one or two letters from it (`sim` or an available interface), if any.
+        near: Option<String>,
+        /// The CAN interfaces this machine has.
+        available: Vec<String>,
+    },
 }
 
 impl Hint {
@@ -59,9 +73,26 @@ impl Hint {
             Error::NoSuchTpdo { .. } => Some(Hint::EveryTpdo),
             Error::NoValidTpdo { .. } => Some(Hint::MapOne),
             Error::InquiryAnsweredByMany { .. } => Some(Hint::AddressOne),
+            Error::Link(LinkError::SimInUse { .. }) => Some(Hint::ShareSimNetwork),
+            Error::Link(LinkError::NoInterface { iface, available }) => Some(Hint::SetUpInterface {
+                iface: iface.clone(),
+                near: near_interface(iface, available),
+                available: available.clone(),
+            }),
             _ => None,
         }
     }
+}
+
+/// The name one or two letters from `iface` (`sims`, `cna0`): `sim` or an interface that
+/// exists, the nearest first.
+fn near_interface(iface: &str, available: &[String]) -> Option<String> {
+    std::iter::once("sim")
+        .chain(available.iter().map(String::as_str))
+        .map(|c| (crate::od::names::distance(iface, c), c))
+        .filter(|(d, c)| *d <= 2 && *d < c.len())
+        .min()
+        .map(|(_, c)| c.to_string())
 }
 
 #[cfg(test)]

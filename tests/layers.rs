@@ -246,8 +246,6 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     ("sim/serve.rs", "--slcan", "canctl sim's own messages: move with the sim command to cli/"),
     ("sim/serve.rs", "--socketcan", "canctl sim's own messages: move with the sim command to cli/"),
     ("sim/faults.rs", "--fault", "echoes the --fault value the user gave, parsed in sim"),
-    ("error/mod.rs", "--socketcan", "SimInUse: the remedy sits mid-message; a Hint needs it reworded"),
-    ("error/mod.rs", "--bus", "did you mean --bus X: mid-message, before the interface list; SimInUse likewise"),
     // Errors stored as text in reports (config apply's Action::Failed, node rows, network
     // rows): a typed Hint would be lost there until those reports keep the Error.
     ("canopen/sdo/client.rs", "--max-size", "SDO errors are stored as text in reports"),

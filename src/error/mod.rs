@@ -397,17 +397,6 @@ pub(crate) fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
     format!("{}… ({count} characters)", text.chars().take(SHOWN).collect::<String>()).into()
 }
 
-/// `; did you mean --bus sim?` for an interface name one or two letters from `sim` or from
-/// an interface that exists (`sims`, `cna0`), else nothing.
-fn did_you_mean(iface: &str, available: &[String]) -> String {
-    let near = std::iter::once("sim")
-        .chain(available.iter().map(String::as_str))
-        .map(|c| (crate::od::names::distance(iface, c), c))
-        .filter(|(d, c)| *d <= 2 && *d < c.len())
-        .min();
-    near.map_or_else(String::new, |(_, c)| format!("; did you mean --bus {c}?"))
-}
-
 /// A link failure: the port, interface or pseudo-terminal, and what went wrong with it.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -427,15 +416,9 @@ pub enum LinkError {
     /// `{port}: {source}`).
     #[error("{port}: {}{error}", if op.is_empty() { String::new() } else { format!("{op}: ") })]
     Io { port: String, op: &'static str, error: std::io::Error },
-    /// No network interface of this name; `available` lists the CAN interfaces there are.
-    #[error(
-        "there is no network interface '{iface}'{} (CAN interfaces here: {}).\n  \
-         A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
-         A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
-         No hardware: try the demo network, --bus sim",
-        did_you_mean(iface, available),
-        if available.is_empty() { "none".to_string() } else { available.join(", ") }
-    )]
+    /// No network interface of this name; `available` lists the CAN interfaces there are
+    /// (the remedy, [`crate::hint::Hint::SetUpInterface`], names them and the nearest one).
+    #[error("there is no network interface '{iface}'")]
     NoInterface { iface: String, available: Vec<String> },
     /// A network interface that is not a CAN interface.
     #[error("'{iface}' is not a CAN interface")]
@@ -480,9 +463,7 @@ pub enum LinkError {
     StateFile { path: PathBuf, what: &'static str, detail: String },
     /// Another process holds the simulator's network (its state file's lock); `holder`
     /// names it (pid and command line) as far as it said.
-    #[error("the sim network is in use by {holder} (waited {}): it serves one command at a time; stop that one, \
-             or serve the network where several commands share it as on a real bus (`canctl sim --socketcan vcan0`, \
-             then --bus vcan0); --bus sim:OTHER.state would be another network, not this one",
+    #[error("the sim network is in use by {holder} (waited {}): it serves one command at a time; stop that one",
         if *waited < Duration::from_secs(1) { format!("{} ms", waited.as_millis()) } else { format!("{} s", waited.as_secs_f64()) })]
     SimInUse { holder: String, waited: Duration },
     /// A pseudo-terminal (the simulator's serial devices) failed.

@@ -305,6 +305,20 @@ fn link_messages_say_what_they_always_said() {
              A virtual bus: sudo ip link add dev can9 type vcan && sudo ip link set up can9\n  \
              No hardware: try the demo network, --bus sim",
         ),
+        (
+            LinkError::NoInterface { iface: "cna0".into(), available: vec!["can0".into(), "vcan0".into()] },
+            "there is no network interface 'cna0'; did you mean --bus can0? (CAN interfaces here: can0, vcan0).\n  \
+             A CAN adapter: plug it in, then sudo ip link set cna0 up type can bitrate 500000\n  \
+             A virtual bus: sudo ip link add dev cna0 type vcan && sudo ip link set up cna0\n  \
+             No hardware: try the demo network, --bus sim",
+        ),
+        (
+            LinkError::SimInUse { holder: "pid 7 (canctl sim)".into(), waited: Duration::from_secs(10) },
+            "the sim network is in use by pid 7 (canctl sim) (waited 10 s): it serves one command at a \
+             time; stop that one, or serve the network where several commands share it as on a real bus \
+             (`canctl sim --socketcan vcan0`, then --bus vcan0); --bus sim:OTHER.state would be another network, \
+             not this one",
+        ),
         (LinkError::NotCan { iface: "eth0".into() }, "'eth0' is not a CAN interface"),
         (
             LinkError::Down { iface: "can0".into() },
@@ -395,7 +409,12 @@ fn link_messages_say_what_they_always_said() {
         (LinkError::Pty { op: PtyOp::Create, detail: "ENOSPC".into() }, "cannot create a pseudo-terminal: ENOSPC"),
     ];
     for (error, text) in cases {
-        assert_eq!(Error::from(error).to_string(), text);
+        // What canctl prints: the message, then the remedy it words (`output/hints.rs`).
+        let error = Error::from(error);
+        assert_eq!(crate::output::library_error_text(&error), text);
+        if crate::hint::Hint::of(&error).is_some() {
+            assert!(!error.to_string().contains("--"), "the remedy is the front end's, not the message's: {error}");
+        }
     }
     let usage = [
         (

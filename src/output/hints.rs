@@ -23,6 +23,18 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::EveryTpdo => "; without --tpdo, every TPDO it has is streamed".into(),
         Hint::MapOne => " (--map makes one for the session)".into(),
         Hint::AddressOne => ": address one with --identity (lss fastscan finds them)".into(),
+        Hint::ShareSimNetwork => ", or serve the network where several commands share it as on a real bus \
+                                  (`canctl sim --socketcan vcan0`, then --bus vcan0); --bus sim:OTHER.state would \
+                                  be another network, not this one"
+            .into(),
+        Hint::SetUpInterface { iface, near, available } => format!(
+            "{} (CAN interfaces here: {}).\n  \
+             A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
+             A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
+             No hardware: try the demo network, --bus sim",
+            near.map(|c| format!("; did you mean --bus {c}?")).unwrap_or_default(),
+            if available.is_empty() { "none".to_string() } else { available.join(", ") }
+        ),
     }
 }
 

@@ -237,8 +237,9 @@ mod tests {
         let msg = err.to_string();
         assert!(msg.contains(&format!("in use by pid {} ({})", recorded.pid, recorded.command)), "{msg}");
         assert!(msg.contains("(waited 100 ms): it serves one command at a time"), "{msg}");
-        // The way to share it, not a way to another network taken for this one.
-        assert!(msg.contains("canctl sim --socketcan vcan0") && msg.contains("would be another network"), "{msg}");
+        // The way to share it, not a way to another network taken for this one (worded by the
+        // front end: output/hints.rs).
+        assert_eq!(crate::hint::Hint::of(&err), Some(crate::hint::Hint::ShareSimNetwork));
         drop(held);
         assert!(!path.with_extension("owner").exists(), "the record goes with the lock");
         StateFile::lock_within(&path, Duration::ZERO).expect("free again");
