@@ -78,7 +78,6 @@ pub mod canopen;
 #[allow(missing_docs)] // not yet documented throughout
 pub mod cli;
 pub mod connect;
-#[allow(missing_docs)] // not yet documented throughout
 pub mod error;
 pub mod frame;
 pub(crate) mod hint;

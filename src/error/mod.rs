@@ -29,65 +29,161 @@ pub enum Error {
     #[error("node {node}: {obj} holds {} byte(s) ({}), which is not {}", bytes.len(), crate::canopen::types::hex(bytes),
         match dtype { DataType::Unicode => "UTF-16 text (us)".to_string(),
             t => format!("a {t} ({} bytes)", t.size().unwrap_or(0)) })]
-    NotOfType { node: u8, obj: ObjAddr, bytes: Vec<u8>, dtype: DataType },
+    NotOfType {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The object read.
+        obj: ObjAddr,
+        /// What the node sent, as it sent it.
+        bytes: Vec<u8>,
+        /// The data type the bytes were to decode as.
+        dtype: DataType,
+    },
     /// A TPDO asked for that the node does not have (no communication object `comm`).
     #[error("node {node} has no TPDO{pdo} (no object 0x{comm:04X})")]
-    NoSuchTpdo { node: u8, pdo: u16, comm: u16 },
+    NoSuchTpdo {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The TPDO's number (1 for TPDO1).
+        pdo: u16,
+        /// Its communication parameter object (0x1800 + number - 1).
+        comm: u16,
+    },
     /// None of the TPDOs looked at is valid: there is nothing to stream.
     #[error("node {node} has no valid TPDO to stream")]
-    NoValidTpdo { node: u8 },
+    NoValidTpdo {
+        /// The node-id of the node it is about.
+        node: u8,
+    },
     /// A global LSS inquiry, meant for one device, was answered by `count`.
     #[error("{count} devices answered the global inquiry")]
-    InquiryAnsweredByMany { count: usize },
+    InquiryAnsweredByMany {
+        /// How many devices answered.
+        count: usize,
+    },
     /// An EDS, DCF, XDD or XDC that cannot be read (the reason names the file) or does not
     /// parse (`FILE:LINE: why`): said once, without a prefix that repeats it.
     #[error(transparent)]
     Eds(#[from] crate::od::ReadError),
     /// A bus address that does not parse.
     #[error("bus '{}': {reason}", clipped(uri))]
-    BadBusAddr { uri: String, reason: String },
+    BadBusAddr {
+        /// The address as given.
+        uri: String,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// A node-id outside what this bus can address.
     #[error("{}", node_id_text(*node, *range))]
-    NodeIdOutOfRange { node: u8, range: NodeIdRange },
+    NodeIdOutOfRange {
+        /// The node-id given.
+        node: u8,
+        /// The node-ids this bus can address.
+        range: NodeIdRange,
+    },
     /// A value too large for an SDO download (CiA 301 sizes are 32-bit).
     #[error("{len} bytes cannot be written by SDO: CiA 301 sizes are 32-bit (at most {} bytes)", u32::MAX)]
-    TooLargeForSdo { len: usize },
+    TooLargeForSdo {
+        /// The value's size, in bytes.
+        len: usize,
+    },
     /// A CAN bit rate the slcan adapter protocol has no code for.
     #[error("{port}: slcan has no {kbit} kbit/s; use one of {}", supported.join(" "))]
-    SlcanBitRate { port: String, kbit: u32, supported: Vec<String> },
+    SlcanBitRate {
+        /// The adapter's serial port.
+        port: String,
+        /// The bit rate asked for, in kbit/s.
+        kbit: u32,
+        /// The bit rates the protocol has codes for (`500k`, ...).
+        supported: Vec<String>,
+    },
     /// Something this kind of bus cannot do (`{bus}: {why}`).
     #[error("{bus}: {why}")]
-    NotOnThisBus { bus: String, why: &'static str },
+    NotOnThisBus {
+        /// The bus, as its address reads.
+        bus: String,
+        /// What it cannot do, and what to do instead.
+        why: &'static str,
+    },
     /// LSS was asked to give a node-id that something on the bus already answers to
     /// (`by`: "an SDO answer", "its heartbeat", ...); nothing was sent.
     #[error("node-id {node} is in use: {by} came from node {node}{}; a second device on it would make both unreachable. Nothing was sent", identity.map(|i| format!(" (identity {i})")).unwrap_or_default())]
-    NodeIdInUse { node: u8, identity: Option<Identity>, by: &'static str },
+    NodeIdInUse {
+        /// The node-id asked for.
+        node: u8,
+        /// The LSS identity of the device that answers to it, when it was read.
+        identity: Option<Identity>,
+        /// What showed the node-id in use.
+        by: &'static str,
+    },
     /// A drive command for a node whose device type (0x1000) names another profile.
     #[error("node {node} is not a CiA 402 drive: its device type (0x1000) is 0x{device_type:08X}, {}; drive commands are for profile 402", profile_text(*device_type))]
-    NotADrive { node: u8, device_type: u32 },
+    NotADrive {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// Its device type (0x1000); the profile number is the low 16 bits.
+        device_type: u32,
+    },
 
     // ---- no response (exit 3) ----
     /// A node did not answer at all (`node` 0: all nodes, as NMT addresses them).
     #[error("{}", no_answer_text(*node, what, *waited))]
-    NoAnswer { node: u8, what: Service, waited: Duration },
+    NoAnswer {
+        /// The node-id asked (0: all nodes).
+        node: u8,
+        /// What it was asked.
+        what: Service,
+        /// How long an answer was waited for (for each request, where there were several).
+        waited: Duration,
+    },
     /// A write that is an action (`what`: store, program control, ...) got no answer to the
     /// request that completes it: the device may have done it. It is not repeated
     /// (`canopen::sdo::retry`); a read-back, where one can tell, did not confirm it.
     #[error("node {node}: outcome unknown: {obj} ({what}) is an action, sent once, and its answer did not come within {} ms: the device may have done it or not. Not repeated behind your back: check the device, then send it again if it was not done", waited.as_millis())]
-    SdoOutcomeUnknown { node: u8, obj: ObjAddr, what: &'static str, waited: Duration },
+    SdoOutcomeUnknown {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The object written.
+        obj: ObjAddr,
+        /// The action the write asks for, in words ("store parameters", ...).
+        what: &'static str,
+        /// How long the answer was waited for.
+        waited: Duration,
+    },
     /// A node answered an SDO transfer, then it did not finish.
     #[error("{}", SdoUnfinishedText { node: *node, obj: *obj, moved: *moved, why })]
-    SdoUnfinished { node: u8, obj: ObjAddr, moved: Moved, why: Unfinished },
+    SdoUnfinished {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The object transferred.
+        obj: ObjAddr,
+        /// How much had moved when it stopped.
+        moved: Moved,
+        /// Why it did not finish.
+        why: Unfinished,
+    },
     /// No answer to a remote (RTR) frame.
     #[error("no answer to the remote request for 0x{cob:03X} within {} ms", waited.as_millis())]
-    NoRemoteAnswer { cob: u16, waited: Duration },
+    NoRemoteAnswer {
+        /// The COB-ID requested.
+        cob: u16,
+        /// How long the answer was waited for.
+        waited: Duration,
+    },
     /// No LSS device answered a confirmed LSS service; with the identity when one device
     /// was selected (the selective switch).
     #[error("{}", match identity {
         Some(id) => format!("no LSS device with identity {id} answered {request} within {} ms", waited.as_millis()),
         None => format!("no LSS device answered {request} within {} ms", waited.as_millis()),
     })]
-    NoLssAnswer { request: String, identity: Option<Identity>, waited: Duration },
+    NoLssAnswer {
+        /// The LSS service, in words.
+        request: String,
+        /// The identity of the device selected, if one was.
+        identity: Option<Identity>,
+        /// How long an answer was waited for.
+        waited: Duration,
+    },
     /// `lss assign` gave a device a node-id and heard no answer, however often asked: the
     /// request may have reached it and only the answers been lost, so it may hold it.
     #[error(
@@ -95,47 +191,127 @@ pub enum Error {
          holds node {node} now",
         waited.as_millis()
     )]
-    LssSetIdUnknown { identity: Identity, node: u8, tries: u32, waited: Duration },
+    LssSetIdUnknown {
+        /// The device's LSS identity.
+        identity: Identity,
+        /// The node-id it was given.
+        node: u8,
+        /// How many times it was asked.
+        tries: u32,
+        /// How long each answer was waited for.
+        waited: Duration,
+    },
     /// An EPOS2 gateway reports that the node behind it did not answer on the CAN bus.
     #[error("{}: no answer on the CAN bus (the EPOS2 reports SDO timeout 0x05040000)", Epos2Place { node: *node, command, obj: *obj })]
-    Epos2NoCanAnswer { node: u8, command: &'static str, obj: Option<ObjAddr> },
+    Epos2NoCanAnswer {
+        /// The node-id behind the gateway.
+        node: u8,
+        /// The EPOS2 command sent ("ReadObject", ...).
+        command: &'static str,
+        /// The object it was for; none for a command about no object.
+        obj: Option<ObjAddr>,
+    },
     /// A serial CAN adapter did not answer one of its commands.
     #[error("{port}: the adapter did not answer {command:?} within {} ms", waited.as_millis())]
-    AdapterNoAnswer { port: String, command: String, waited: Duration },
+    AdapterNoAnswer {
+        /// The adapter's serial port.
+        port: String,
+        /// The adapter command sent, as sent.
+        command: String,
+        /// How long the answer was waited for.
+        waited: Duration,
+    },
     /// LSS fastscan did not find a device (exit 3), or found one it could not confirm (exit 5).
     #[error("{}", fastscan_text(error, *step))]
-    Fastscan { error: FastscanError, step: Duration },
+    Fastscan {
+        /// What the fastscan found, or did not.
+        error: FastscanError,
+        /// The longest wait for answers a step used.
+        step: Duration,
+    },
 
     // ---- refused by the device (exit 4) ----
     /// The device refused an SDO transfer.
     #[error("node {node}: SDO abort 0x{code:08X} on {obj}: {}", abort::meaning(*code))]
-    SdoAbort { node: u8, obj: ObjAddr, code: u32 },
+    SdoAbort {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The object transferred.
+        obj: ObjAddr,
+        /// The SDO abort code (CiA 301), as the device sent it.
+        code: u32,
+    },
     /// An LSS device answered a configuration service with an error.
     #[error("LSS {service}: error {error}: {}{}", crate::canopen::lss::error_meaning(*cs, *error),
         if *error == 255 { format!(" (specific code {specific})") } else { String::new() })]
-    LssRefused { service: String, cs: u8, error: u8, specific: u8 },
+    LssRefused {
+        /// The LSS service, in words.
+        service: String,
+        /// The service's command specifier (CiA 305).
+        cs: u8,
+        /// The error code the device answered (255: device-specific, see `specific`).
+        error: u8,
+        /// The device-specific error code (meaningful when `error` is 255).
+        specific: u8,
+    },
     /// An EPOS2 answered a command with an error code (a maxon code or, where no object is
     /// involved, any code).
     #[error("{}: {}error 0x{code:08X}: {}", Epos2Place { node: *node, command, obj: *obj },
         if crate::epos2::command::is_maxon_code(*code) { "EPOS2 " } else { "" },
         crate::epos2::command::error_meaning(*code))]
-    Epos2Refused { node: u8, command: &'static str, obj: Option<ObjAddr>, code: u32 },
+    Epos2Refused {
+        /// The node-id addressed (0: the EPOS2 itself).
+        node: u8,
+        /// The EPOS2 command sent ("ReadObject", ...).
+        command: &'static str,
+        /// The object it was for; none for a command about no object.
+        obj: Option<ObjAddr>,
+        /// The error code the EPOS2 answered.
+        code: u32,
+    },
     /// LSS assignment found no free node-id for a device.
     #[error("no free node-id left from {start} to 127 for {identity}")]
-    NoFreeNodeId { start: u8, identity: Identity },
+    NoFreeNodeId {
+        /// The first node-id that could be given.
+        start: u8,
+        /// The LSS identity of the device left without one.
+        identity: Identity,
+    },
     /// A node keeps no error history (it has no object 0x1003), so there is none to clear.
     #[error("node {node} keeps no error history (it has no object 0x1003): there is nothing to clear")]
-    NoErrorHistory { node: u8 },
+    NoErrorHistory {
+        /// The node-id of the node it is about.
+        node: u8,
+    },
     /// A node keeps no description of itself (CiA 301 object 0x1021).
     #[error("node {node}: the device does not store its EDS (0x1021)")]
-    NoStoredEds { node: u8 },
+    NoStoredEds {
+        /// The node-id of the node it is about.
+        node: u8,
+    },
     /// A node cannot store or restore (`verb`) parameters on command.
     #[error("{}", store_refused_text(*node, verb, why))]
-    StoreRefused { node: u8, verb: &'static str, why: StoreRefusal },
+    StoreRefused {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// `store` or `restore`.
+        verb: &'static str,
+        /// Why the node cannot.
+        why: StoreRefusal,
+    },
     /// A drive command (`goal`: enable, disable …) stopped short of its goal, in `state`.
     /// Stopped for want of an answer it is a timeout (exit 3), else a refusal (exit 4).
     #[error("node {node}: {goal} stopped in {state}: {why}")]
-    DriveStopped { node: u8, goal: &'static str, state: String, why: DriveStop },
+    DriveStopped {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The command's goal, in words.
+        goal: &'static str,
+        /// The CiA 402 state the drive stopped in, in words.
+        state: String,
+        /// Why it stopped.
+        why: DriveStop,
+    },
 
     // ---- link failure (exit 5) ----
     /// The link to the bus failed, or the device answered with something unintelligible.
@@ -143,44 +319,106 @@ pub enum Error {
     Link(LinkError),
     /// The EDS a node stores (0x1021) does not unpack in the format it names (0x1022).
     #[error("node {node}: its stored EDS (0x1021) cannot be used: {why}; nothing was saved")]
-    StoredEds { node: u8, why: crate::od::stored::StoredError },
+    StoredEds {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// Why the stored file cannot be used.
+        why: crate::od::stored::StoredError,
+    },
 
     // ---- verification failed (exit 6) ----
     /// An object read back other than what was written.
     #[error("node {node}: {obj} reads back {read} after writing {wrote}")]
-    ReadBack { node: u8, obj: ObjAddr, wrote: String, read: String },
+    ReadBack {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The object written.
+        obj: ObjAddr,
+        /// The value written, formatted.
+        wrote: String,
+        /// The value read back, formatted.
+        read: String,
+    },
     /// Objects read back other than what was written.
     #[error("node {node}: {} read back other values than written", join(objects))]
-    ReadBackMany { node: u8, objects: Vec<ObjAddr> },
+    ReadBackMany {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The objects that read back other values.
+        objects: Vec<ObjAddr>,
+    },
     /// A node's objects differ from a configuration file.
     #[error("node {node} differs from {file} in {count} object(s)")]
-    Differs { node: u8, file: String, count: usize },
+    Differs {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The configuration file, as named.
+        file: String,
+        /// How many objects differ.
+        count: usize,
+    },
     /// A device description file deviates from CiA 306 so that something it describes is
     /// not used (`config check`).
     #[error("{file}: {errors} error(s) and {warnings} warning(s) against CiA 306 (listed above); correct the file, or ask its vendor for one that follows CiA 306")]
-    FileDeviates { file: String, errors: usize, warnings: usize },
+    FileDeviates {
+        /// The file, as named.
+        file: String,
+        /// How many findings are errors.
+        errors: usize,
+        /// How many findings are warnings.
+        warnings: usize,
+    },
     /// A configuration file names another device (vendor-ID, product code) than the node
     /// is; each difference said as `"vendor-ID 0x... on node N, 0x... in the file"`.
     #[error("{file} is for another device: {}. Nothing was written", differences.join(", "))]
-    OtherDevice { file: String, differences: Vec<String> },
+    OtherDevice {
+        /// The configuration file, as named.
+        file: String,
+        /// Each identity entry that differs, in words.
+        differences: Vec<String>,
+    },
     /// A bus is not as its network project says; `differences` in words ("2 node check(s)
     /// failed", ...).
     #[error("{bus} is not as {project} says: {}", differences.join(", "))]
-    NetworkDiffers { bus: String, project: String, differences: Vec<String> },
+    NetworkDiffers {
+        /// The bus, as its address reads.
+        bus: String,
+        /// The network project file, as named.
+        project: String,
+        /// What differs, in words.
+        differences: Vec<String>,
+    },
     /// Nodes that answered before a network-wide bit-rate switch do not answer at the new
     /// rate.
     #[error("node(s) {} did not follow the switch to {rate}: they do not answer at the new rate", join_ids(nodes))]
-    NotFollowed { rate: String, nodes: Vec<u8> },
+    NotFollowed {
+        /// The new bit rate, by name (`250k`, ...).
+        rate: String,
+        /// The node-ids that do not answer at it.
+        nodes: Vec<u8>,
+    },
 
     /// Nodes on a bus are not healthy; `nodes` in words ("node 1: error register 0x81").
     #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(), nodes.join("; "))]
-    Unhealthy { bus: String, total: usize, nodes: Vec<String> },
+    Unhealthy {
+        /// The bus, as its address reads.
+        bus: String,
+        /// How many nodes were checked.
+        total: usize,
+        /// One entry per node not healthy, in words.
+        nodes: Vec<String>,
+    },
 
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
     /// device side is unaffected.
     #[error("cannot write {path}: {why}")]
-    Output { path: String, why: String },
+    Output {
+        /// Where the result was to go (a path, or the stream it was written to).
+        path: String,
+        /// Why it could not be written.
+        why: String,
+    },
 
     // ---- interrupted (exit 130) ----
     /// The user pressed Ctrl-C.
@@ -191,12 +429,28 @@ pub enum Error {
     #[error("interrupted: the {} of {obj} {} node {node} stopped after {moved}{}",
         if *upload { "read" } else { "write" }, if *upload { "from" } else { "to" },
         match aborted { Some(code) => format!("; the transfer was aborted (SDO abort 0x{code:08X})"), None => String::new() })]
-    SdoInterrupted { node: u8, obj: ObjAddr, upload: bool, moved: Moved, aborted: Option<u32> },
+    SdoInterrupted {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The object transferred.
+        obj: ObjAddr,
+        /// A read (upload from the node); else a write.
+        upload: bool,
+        /// How much had moved when it stopped.
+        moved: Moved,
+        /// The abort code sent to the device; none where the link could not send one.
+        aborted: Option<u32>,
+    },
 
     /// An error with advice appended (e.g. which nodes the last scan saw); it ends the
     /// process as the error itself would.
     #[error("{error}{hint}")]
-    Hinted { error: Box<Error>, hint: String },
+    Hinted {
+        /// The error itself.
+        error: Box<Error>,
+        /// The advice, as it follows the error's message.
+        hint: String,
+    },
 }
 
 /// What a failure means for the user, and so how the process ends. The README's
@@ -204,12 +458,19 @@ pub enum Error {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum ErrorClass {
+    /// The user asked for something malformed or impossible (exit 2).
     Usage,
+    /// Nobody answered in time (exit 3).
     Timeout,
+    /// The device refused (exit 4).
     Refused,
+    /// The link to the bus failed, or an answer was unintelligible (exit 5).
     Link,
+    /// A check found differences, or a read-back did not confirm a write (exit 6).
     Verify,
+    /// A result could not be written (exit 7).
     Output,
+    /// The user asked to stop (exit 130).
     Interrupted,
 }
 
@@ -403,7 +664,12 @@ pub(crate) fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
 pub enum LinkError {
     /// A port or interface that cannot be opened.
     #[error("cannot open {}: {error}", clipped(port))]
-    Open { port: String, error: std::io::Error },
+    Open {
+        /// The port or interface, as named.
+        port: String,
+        /// The OS's error.
+        error: std::io::Error,
+    },
     /// A path given as a serial port that is none (`/dev/null`, a file): the OS's word for
     /// it, "Not a typewriter", says nothing to most.
     #[error(
@@ -411,38 +677,81 @@ pub enum LinkError {
         clipped(port),
         if available.is_empty() { "none found".to_string() } else { available.join(", ") }
     )]
-    NotSerialPort { port: String, available: Vec<String> },
+    NotSerialPort {
+        /// The path, as given.
+        port: String,
+        /// The serial ports this machine has.
+        available: Vec<String>,
+    },
     /// An operation on an open port or interface failed (`{port}: {op}: {source}`; no `op`:
     /// `{port}: {source}`).
     #[error("{port}: {}{error}", if op.is_empty() { String::new() } else { format!("{op}: ") })]
-    Io { port: String, op: &'static str, error: std::io::Error },
+    Io {
+        /// The port or interface, as named.
+        port: String,
+        /// The operation that failed (may be empty).
+        op: &'static str,
+        /// The OS's error.
+        error: std::io::Error,
+    },
     /// No network interface of this name; `available` lists the CAN interfaces there are
     /// (the remedy, [`crate::hint::Hint::SetUpInterface`], names them and the nearest one).
     #[error("there is no network interface '{iface}'")]
-    NoInterface { iface: String, available: Vec<String> },
+    NoInterface {
+        /// The interface asked for.
+        iface: String,
+        /// The CAN interfaces this machine has.
+        available: Vec<String>,
+    },
     /// A network interface that is not a CAN interface.
     #[error("'{iface}' is not a CAN interface")]
-    NotCan { iface: String },
+    NotCan {
+        /// The interface, as named.
+        iface: String,
+    },
     /// A CAN interface that is down.
     #[error("{iface} is down: bring it up first (e.g. sudo ip link set {iface} up type can bitrate 500000)")]
-    Down { iface: String },
+    Down {
+        /// The interface, as named.
+        iface: String,
+    },
     /// The CAN controller went bus-off.
     #[error("{iface}: the controller went bus-off ({detail})")]
-    BusOff { iface: String, detail: String },
+    BusOff {
+        /// The interface, as named.
+        iface: String,
+        /// What the controller reported.
+        detail: String,
+    },
     /// Frames could not be queued for this long.
     #[error(
         "{iface}: the transmit queue stayed full for {} s (no other node acknowledging? bus-off?)",
         waited.as_secs()
     )]
-    TxQueueFull { iface: String, waited: Duration },
+    TxQueueFull {
+        /// The interface, as named.
+        iface: String,
+        /// How long frames could not be queued.
+        waited: Duration,
+    },
     /// A serial CAN adapter refused a command.
     #[error(
         "{port}: the adapter refused to {what}; is it an slcan (Lawicel) adapter, and not in use by another program?"
     )]
-    AdapterRefused { port: String, what: &'static str },
+    AdapterRefused {
+        /// The adapter's serial port.
+        port: String,
+        /// What it was asked to do, in words.
+        what: &'static str,
+    },
     /// A serial CAN adapter reports bus errors (its status flags, by name).
     #[error("{port}: the adapter reports {}: check the wiring, the termination and the bit rate", flags.join(", "))]
-    AdapterBusError { port: String, flags: Vec<&'static str> },
+    AdapterBusError {
+        /// The adapter's serial port.
+        port: String,
+        /// Its status flags that are set, by name.
+        flags: Vec<&'static str>,
+    },
     /// A serial CAN adapter refused to send a frame (with its status flags, when it gave them),
     /// or, with no `cob`, refused a frame while receiving.
     #[error("{}", match cob {
@@ -450,25 +759,58 @@ pub enum LinkError {
         Some(cob) => format!("{port}: the adapter refused to send {cob:03X} ({})", flags.join(", ")),
         None => format!("{port}: the adapter refused a frame"),
     })]
-    AdapterRefusedFrame { port: String, cob: Option<u16>, flags: Vec<&'static str> },
+    AdapterRefusedFrame {
+        /// The adapter's serial port.
+        port: String,
+        /// The COB-ID of the frame it refused to send; none when it refused one while receiving.
+        cob: Option<u16>,
+        /// Its status flags that are set, by name (empty when it gave none).
+        flags: Vec<&'static str>,
+    },
     /// An SDO transfer broke off on a protocol error; `aborted` is the abort code sent.
     #[error("node {node}: SDO transfer of {obj} failed: {reason}{}",
         aborted.map(|c| format!(" (aborted with 0x{c:08X})")).unwrap_or_default())]
-    SdoProtocol { node: u8, obj: ObjAddr, reason: String, aborted: Option<u32> },
+    SdoProtocol {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The object transferred.
+        obj: ObjAddr,
+        /// What was wrong with the answer, in words.
+        reason: String,
+        /// The abort code sent to the device; none when none was sent.
+        aborted: Option<u32>,
+    },
     /// The EPOS2 serial line or an EPOS2's answer failed.
     #[error(transparent)]
     Epos2(#[from] crate::epos2::Epos2Error),
     /// The simulator's state file could not be used.
     #[error("sim state file {}: {what}: {detail}", path.display())]
-    StateFile { path: PathBuf, what: &'static str, detail: String },
+    StateFile {
+        /// The state file.
+        path: PathBuf,
+        /// What could not be done with it.
+        what: &'static str,
+        /// Why, as the OS or the parser said.
+        detail: String,
+    },
     /// Another process holds the simulator's network (its state file's lock); `holder`
     /// names it (pid and command line) as far as it said.
     #[error("the sim network is in use by {holder} (waited {}): it serves one command at a time; stop that one",
         if *waited < Duration::from_secs(1) { format!("{} ms", waited.as_millis()) } else { format!("{} s", waited.as_secs_f64()) })]
-    SimInUse { holder: String, waited: Duration },
+    SimInUse {
+        /// The process that holds it (pid and command line), or "another process".
+        holder: String,
+        /// How long the lock was waited for.
+        waited: Duration,
+    },
     /// A pseudo-terminal (the simulator's serial devices) failed.
     #[error("{op}: {detail}")]
-    Pty { op: PtyOp, detail: String },
+    Pty {
+        /// What failed.
+        op: PtyOp,
+        /// Why, as the OS said.
+        detail: String,
+    },
 }
 
 /// What a node was asked and did not answer.
@@ -478,19 +820,33 @@ pub enum Service {
     Sdo(ObjAddr),
     /// An SDO transfer of this object, started `requests` times (the retries of
     /// `canopen::sdo::retry`), each waited for the time given.
-    SdoRetried { obj: ObjAddr, requests: u8 },
+    SdoRetried {
+        /// The object transferred.
+        obj: ObjAddr,
+        /// How many times the transfer was started.
+        requests: u8,
+    },
     /// Its NMT state: node guarding, after listening for a heartbeat for `heartbeat` (none
     /// where the bus shows no traffic).
-    NmtState { heartbeat: Option<Duration> },
+    NmtState {
+        /// How long a heartbeat was listened for; none where the bus showed no traffic.
+        heartbeat: Option<Duration>,
+    },
     /// Remote requests after an NMT reset: the reset is not confirmed.
     AfterReset,
     /// The boot-up message after an NMT reset.
     BootUp,
     /// Anything, after the device with this LSS identity was given the node-id over LSS.
-    AfterLssAssign { identity: Identity },
+    AfterLssAssign {
+        /// The device's LSS identity.
+        identity: Identity,
+    },
     /// The probe of a node a network project lists; `lss` is the identity its DCF names, by
     /// which `--assign` could find it.
-    ProjectNode { lss: Option<Identity> },
+    ProjectNode {
+        /// The LSS identity its DCF names; none when it names no serial number.
+        lss: Option<Identity>,
+    },
 }
 
 fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
@@ -531,13 +887,34 @@ fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum StoreRefusal {
     /// It has no such object (0x1010 or 0x1011).
-    NoObject { index: u16 },
+    NoObject {
+        /// 0x1010 (store) or 0x1011 (restore).
+        index: u16,
+    },
     /// Its highest sub-index (`highest`) does not reach this class of parameters; `offered`
     /// names the classes it has.
-    NotOffered { class: &'static str, index: u16, highest: u8, offered: Vec<&'static str> },
+    NotOffered {
+        /// The class of parameters asked for (`all`, `comm`, `app`, `mfr`).
+        class: &'static str,
+        /// 0x1010 (store) or 0x1011 (restore).
+        index: u16,
+        /// The object's highest sub-index (its sub-index 0).
+        highest: u8,
+        /// The classes it has, by name.
+        offered: Vec<&'static str>,
+    },
     /// The sub-index says it does not do this on command (`caps`, its value); for a store,
     /// `saves_itself` when it says it saves on its own.
-    NotOnCommand { class: &'static str, obj: ObjAddr, caps: u32, saves_itself: bool },
+    NotOnCommand {
+        /// The class of parameters asked for (`all`, `comm`, `app`, `mfr`).
+        class: &'static str,
+        /// The sub-index of that class.
+        obj: ObjAddr,
+        /// Its value: what the node says it does (CiA 301 bit 0: on command; bit 1: by itself).
+        caps: u32,
+        /// For a store: the node says it saves by itself.
+        saves_itself: bool,
+    },
 }
 
 fn store_refused_text(node: u8, verb: &str, why: &StoreRefusal) -> String {
@@ -605,12 +982,27 @@ impl fmt::Display for Moved {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Unfinished {
     /// Its total deadline (`budget`, from the size and `timeout`) passed.
-    Deadline { budget: Duration, timeout: Duration },
+    Deadline {
+        /// The whole transfer's deadline.
+        budget: Duration,
+        /// The timeout for one answer it follows from.
+        timeout: Duration,
+    },
     /// Nothing moved it on for `waited`, though the device sent `ignored` frames (`last`
     /// the last of them, in hex).
-    NoProgress { waited: Duration, ignored: usize, last: String },
+    NoProgress {
+        /// How long nothing moved it on.
+        waited: Duration,
+        /// How many frames the device sent meanwhile.
+        ignored: usize,
+        /// The last of them, in hex.
+        last: String,
+    },
     /// The node fell silent for `waited`.
-    Silent { waited: Duration },
+    Silent {
+        /// How long the node was silent.
+        waited: Duration,
+    },
 }
 
 struct SdoUnfinishedText<'a> {
@@ -683,11 +1075,17 @@ fn fastscan_text(error: &FastscanError, step: Duration) -> String {
 /// What failed on a pseudo-terminal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PtyOp {
+    /// Creating one.
     Create,
+    /// Setting its terminal attributes (raw mode).
     Termios,
+    /// Finding its path.
     Name,
+    /// Waiting for it to be readable.
     Poll,
+    /// Reading from it.
     Read,
+    /// Writing to it.
     Write,
     /// Telling the user its path.
     PrintPath,
