@@ -5,8 +5,9 @@
 //! error's text to decide anything.
 //!
 //! The display texts are the messages canctl prints; tests and the README quote them.
-//! To ask what kind of failure an error is, use [`Error::class`] or [`Error::is_timeout`]
-//! (which see through [`Error::Hinted`]), not a match on one variant of the class.
+//! To ask what kind of failure an error is, use [`Error::class`] (which sees through
+//! [`Error::Hinted`]; in the crate, `is_timeout` and `is_interrupted` ask it), not a match on
+//! one variant of the class.
 
 use crate::canopen::lss::{FastscanError, Identity};
 use crate::canopen::{abort, DataType, ObjAddr};
@@ -695,7 +696,7 @@ pub enum LinkError {
         error: std::io::Error,
     },
     /// No network interface of this name; `available` lists the CAN interfaces there are
-    /// (the remedy, [`crate::hint::Hint::SetUpInterface`], names them and the nearest one).
+    /// (the remedy, `hint::Hint::SetUpInterface`, names them and the nearest one).
     #[error("there is no network interface '{iface}'")]
     NoInterface {
         /// The interface asked for.

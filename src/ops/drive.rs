@@ -32,15 +32,20 @@ pub struct Options {
 /// One statusword bit.
 #[derive(Debug, Serialize, Clone, PartialEq)]
 pub struct Flag {
+    /// Its bit number in the statusword (0 to 15).
     pub bit: u8,
+    /// What CiA 402 calls it.
     pub name: &'static str,
+    /// Whether the bit is set.
     pub set: bool,
 }
 
 /// The mode of operation the drive shows.
 #[derive(Debug, Serialize, Clone, PartialEq)]
 pub struct Mode {
+    /// The mode's code (CiA 402, 0x6060/0x6061).
     pub value: i8,
+    /// Its name; none for a code CiA 402 does not define (manufacturer modes are negative).
     pub name: Option<&'static str>,
     /// The object it was read from: 0x6061 (display), or 0x6060 on a drive without it.
     #[serde(serialize_with = "super::as_text")]
@@ -52,15 +57,21 @@ pub use super::node::LoggedError;
 /// A drive's state as its objects show it.
 #[derive(Debug, Serialize, Clone, PartialEq)]
 pub struct Status {
+    /// The drive's node-id.
     pub node: u8,
+    /// Its device type (0x1000).
     pub device_type: u32,
+    /// The statusword (0x6041) as read.
     pub statusword: u16,
     /// None when the statusword matches no CiA 402 state.
     pub state: Option<State>,
+    /// Every bit of the statusword, by name.
     pub flags: Vec<Flag>,
     /// None when the drive has neither 0x6061 nor 0x6060.
     pub mode: Option<Mode>,
+    /// The error register (0x1001).
     pub error_register: u8,
+    /// The bits set in the error register, by name.
     pub error_register_bits: Vec<&'static str>,
     /// Newest first; None when the drive has no 0x1003.
     #[serde(serialize_with = "drive_errors")]
@@ -157,31 +168,43 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Status> 
     })
 }
 
-pub fn flags(statusword: u16) -> Vec<Flag> {
+pub(crate) fn flags(statusword: u16) -> Vec<Flag> {
     cia402::flags(statusword).map(|(bit, name, set)| Flag { bit, name, set }).collect()
 }
 
 /// One command of a walk and what the drive showed after it.
 #[derive(Debug, Serialize, Clone, PartialEq)]
 pub struct Transition {
+    /// The controlword command sent.
     pub command: Command,
+    /// The controlword written (0x6040).
     pub controlword: u16,
+    /// The state the drive was in before it.
     pub from: State,
+    /// The state the command leads to.
     pub expected: State,
     /// What the statusword showed last (None: no CiA 402 state).
     pub reached: Option<State>,
+    /// The last statusword read.
     pub statusword: u16,
+    /// The expected state was reached.
     pub confirmed: bool,
 }
 
 /// Where a walk ended and why.
 #[derive(Debug, Serialize, Clone, PartialEq)]
 pub struct Walk {
+    /// The drive's node-id.
     pub node: u8,
+    /// The state asked for.
     pub goal: Goal,
+    /// The state it was in first; none when the statusword showed no CiA 402 state.
     pub start: Option<State>,
+    /// Each command sent, in order.
     pub transitions: Vec<Transition>,
+    /// The state it ended in; none when the statusword shows no CiA 402 state.
     pub state: Option<State>,
+    /// The last statusword read.
     pub statusword: u16,
     /// The goal's state was reached and confirmed.
     pub done: bool,
@@ -355,10 +378,13 @@ fn write_controlword(bus: &mut dyn Bus, node: u8, word: u16, timeout: Duration) 
 /// One change seen by [`Watch`].
 #[derive(Debug, Serialize, Clone, PartialEq)]
 pub struct Change {
+    /// The drive's node-id.
     pub node: u8,
     /// Unix time in ms.
     pub time_ms: u64,
+    /// The statusword (0x6041) as it changed.
     pub statusword: u16,
+    /// The state it codes; none when it codes no CiA 402 state.
     pub state: Option<State>,
     /// `tpdo` or `sdo`.
     pub source: &'static str,
@@ -368,7 +394,14 @@ pub struct Change {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Source {
     /// From this TPDO (COB-ID, and the statusword's bit offset and the PDO's length).
-    Tpdo { cob_id: u16, offset: usize, layout: pdo::Layout },
+    Tpdo {
+        /// The TPDO's COB-ID.
+        cob_id: u16,
+        /// The statusword's bit offset in the PDO.
+        offset: usize,
+        /// The PDO's mapping.
+        layout: pdo::Layout,
+    },
     /// By SDO, at this interval.
     Sdo(Duration),
 }

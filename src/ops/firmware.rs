@@ -37,16 +37,20 @@ pub struct DownloadOptions {
     pub expect_id: Option<u32>,
     /// How long to wait for each SDO answer.
     pub timeout: Duration,
+    /// How long to wait for the flash to finish erasing or writing (0x1F57 busy).
     pub busy_wait: Duration,
+    /// How long to wait for the device to come back after a reset (its boot-up, or an answer).
     pub boot_wait: Duration,
     /// Confirm a program that asks for it (0x1F51 reads 0x80 after the start).
     pub confirm: bool,
+    /// Looked at between steps and transfers: set, the download stops where it is safe to.
     pub cancel: Option<Cancel>,
     /// Told the bytes moved so far during the download (progress bar, rate, ETA).
     pub watch: Option<TransferHook>,
 }
 
 impl DownloadOptions {
+    /// The defaults: program 1, no force, the image's CRC-32 as its identification, a confirmation when asked for; `timeout` for each SDO answer.
     pub fn new(timeout: Duration) -> DownloadOptions {
         DownloadOptions {
             program: 1,
@@ -97,7 +101,7 @@ pub enum Step {
 }
 
 impl Step {
-    pub fn describe(self) -> &'static str {
+    pub(crate) fn describe(self) -> &'static str {
         match self {
             Step::ReadId => "read the software identification (0x1F56)",
             Step::PreOperational => "NMT pre-operational",
@@ -120,7 +124,9 @@ impl Step {
 /// A step done, and when (ms since the command began).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct StepDone {
+    /// The step.
     pub step: Step,
+    /// When it was done, in ms since the command began.
     pub at_ms: u64,
 }
 
@@ -160,28 +166,41 @@ impl Where {
 /// What `firmware download` did to one node.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct DownloadReport {
+    /// The node-id.
     pub node: u8,
+    /// The program number (sub-index of 0x1F50..0x1F57).
     pub program: u8,
+    /// The image's size, in bytes.
     pub image_bytes: usize,
     /// The identification the image must show in 0x1F56 (its CRC-32 unless given).
     pub image_id: u32,
+    /// 0x1F56 before the download; none when it could not be read.
     pub id_before: Option<u32>,
+    /// 0x1F56 after it; none when not read (skipped, or stopped before).
     pub id_after: Option<u32>,
     /// The device already ran the image: nothing was written.
     pub skipped: bool,
+    /// Each step done, in order.
     pub steps: Vec<StepDone>,
     /// The last flash status read, by meaning.
     pub flash_status: Option<FlashStatus>,
     /// How many times 0x1F57 was read while busy (erase and write).
     pub busy_polls: u32,
+    /// How long the erase took, in ms; none when there was none.
     pub erase_ms: Option<u64>,
+    /// How long the program data took to write, in ms; none when none was written.
     pub download_ms: Option<u64>,
     /// Program data bytes per second during the download.
     pub bytes_per_second: Option<u64>,
+    /// How long the whole procedure took, in ms.
     pub total_ms: u64,
+    /// The new program was confirmed (0x1F51 = 0x80) when it asked for it.
     pub confirmed: bool,
+    /// Where the device is now.
     pub device: Where,
+    /// Where the device is now, in a sentence with what to do.
     pub state: &'static str,
+    /// The user asked to stop: the download ended where it was safe to.
     pub interrupted: bool,
 }
 
@@ -193,14 +212,54 @@ pub enum FirmwareError {
     /// link failure, interrupted).
     #[error(transparent)]
     Bus(#[from] Error),
+    /// The flash status (0x1F57) reports an error after a step (`after`).
     #[error("node {node}: flash status (0x1F57:{program}) after {after}: 0x{:08X}, {}", status.raw, status.meaning())]
-    Flash { node: u8, program: u8, after: &'static str, status: FlashStatus },
+    Flash {
+        /// The node-id.
+        node: u8,
+        /// The program number.
+        program: u8,
+        /// The step it followed, in words.
+        after: &'static str,
+        /// The flash status read.
+        status: FlashStatus,
+    },
+    /// The flash stayed busy (0x1F57) past the wait after a step (`after`).
     #[error("node {node}: the flash is still busy (0x1F57:{program}) {} s after {after}, {polls} polls; the device may need longer: give --busy-wait", waited.as_secs())]
-    StillBusy { node: u8, program: u8, after: &'static str, polls: u32, waited: Duration },
+    StillBusy {
+        /// The node-id.
+        node: u8,
+        /// The program number.
+        program: u8,
+        /// The step it followed, in words.
+        after: &'static str,
+        /// How many times 0x1F57 was read.
+        polls: u32,
+        /// How long it was waited for.
+        waited: Duration,
+    },
+    /// After the download, the software identification (0x1F56) is not the image's.
     #[error("node {node}: 0x1F56:{program} reads 0x{got:08X} after the download, the image's identification is 0x{want:08X}{}", if *got == 0 { " (0: the device holds no valid program)" } else { "" })]
-    IdMismatch { node: u8, program: u8, got: u32, want: u32 },
+    IdMismatch {
+        /// The node-id.
+        node: u8,
+        /// The program number.
+        program: u8,
+        /// What 0x1F56 reads (0: no valid program).
+        got: u32,
+        /// The image's identification.
+        want: u32,
+    },
+    /// The device did not come back (no boot-up, no answer) after a reset (`after`).
     #[error("node {node}: not back (no boot-up, no answer) within {} ms after {after}", waited.as_millis())]
-    NoBootUp { node: u8, after: &'static str, waited: Duration },
+    NoBootUp {
+        /// The node-id.
+        node: u8,
+        /// The step it followed, in words.
+        after: &'static str,
+        /// How long it was waited for.
+        waited: Duration,
+    },
 }
 
 impl FirmwareError {
@@ -220,7 +279,9 @@ impl FirmwareError {
 #[derive(Debug, thiserror::Error)]
 #[error("{error}; {}", report.state)]
 pub struct Failed {
+    /// Why it did not finish.
     pub error: FirmwareError,
+    /// What was done, and where the device is.
     pub report: Box<DownloadReport>,
 }
 
@@ -538,17 +599,24 @@ pub fn download(
 /// One program's objects, as `firmware status` shows them.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct ProgramStatus {
+    /// The program number (sub-index).
     pub program: u8,
+    /// Its program control (0x1F51); none when it could not be read.
     pub control: Option<Control>,
+    /// What that control value says of the program, in words.
     pub control_meaning: Option<&'static str>,
+    /// Its software identification (0x1F56); none when it could not be read.
     pub software_id: Option<u32>,
+    /// Its flash status (0x1F57); none when it could not be read.
     pub flash_status: Option<FlashStatus>,
 }
 
 /// `firmware status NODE`: per program number the device has.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct StatusReport {
+    /// The node-id.
     pub node: u8,
+    /// One entry per program the device has (0x1F51:0 of them).
     pub programs: Vec<ProgramStatus>,
 }
 
@@ -581,6 +649,7 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> crate::Result<S
 /// One node of a download to several.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct NodeDownload {
+    /// The node-id.
     pub node: u8,
     /// What was done to it (none when it was not begun: an earlier node was interrupted).
     pub report: Option<DownloadReport>,
@@ -591,7 +660,9 @@ pub struct NodeDownload {
 /// `firmware download 5,6,7 IMAGE`: each node in turn, the same report for each.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct Batch {
+    /// One entry per node, in the order given.
     pub nodes: Vec<NodeDownload>,
+    /// The user asked to stop: the nodes after the one under way were not begun.
     pub interrupted: bool,
 }
 

@@ -29,6 +29,7 @@ const LATE_FRAMES: Duration = Duration::from_millis(20);
 const MIN_WATCH: Duration = Duration::from_millis(300);
 const MAX_WATCH: Duration = Duration::from_secs(10);
 
+/// How to check the health of every node.
 #[derive(Clone, Debug)]
 pub struct HealthOptions {
     /// The scan's quiet window after the probes.
@@ -45,10 +46,12 @@ pub struct HealthOptions {
 /// The health of every node found.
 #[derive(Debug, Serialize)]
 pub struct Health {
+    /// The bus, as it describes itself.
     pub bus: String,
     /// How long the bus was watched for heartbeats and EMCYs (0: a link that shows no
     /// traffic).
     pub watched_ms: u64,
+    /// Each node found, by node-id.
     pub nodes: Vec<NodeHealth>,
     /// Devices without a node-id that answered LSS (not nodes yet; not judged).
     pub lss_unconfigured: usize,
@@ -56,18 +59,24 @@ pub struct Health {
     pub ok: bool,
 }
 
+/// One node's health: what it showed, and each check's verdict.
 #[derive(Debug, Serialize)]
 pub struct NodeHealth {
+    /// The node-id.
     pub node: u8,
+    /// Its name (0x1008); none when it has none.
     pub name: Option<String>,
+    /// Its device type (0x1000); none when it did not say.
     pub device_type: Option<u32>,
     /// The NMT state the node showed (heartbeat, else node guarding).
     pub nmt: Option<nmt::State>,
+    /// How the NMT state was learned (`heartbeat`, `node guarding`, ...), or why it was not.
     pub nmt_from: String,
     /// The producer heartbeat time 0x1017 (ms); `None`: the node has none.
     pub heartbeat_ms: Option<u16>,
     /// Heartbeats seen during the watch, and the longest time without one (ms).
     pub heartbeats: usize,
+    /// The longest time without a heartbeat during the watch (from its start to the first, between two, from the last to its end), in ms; none when the node has no heartbeat time or nothing was watched.
     pub longest_gap_ms: Option<u64>,
     /// 0x1001.
     pub error_register: Option<u8>,
@@ -77,17 +86,23 @@ pub struct NodeHealth {
     pub emcy: Vec<SeenEmcy>,
     /// For CiA 402 drives: 0x6041 and the state it codes.
     pub statusword: Option<u16>,
+    /// The CiA 402 state the statusword codes; none when it codes none, or the node is no drive.
     pub drive_state: Option<cia402::State>,
     /// Each check: `nmt`, `heartbeat`, `error register`, `emcy`, `drive`.
     pub checks: Vec<Check>,
+    /// Every check passed.
     pub ok: bool,
 }
 
+/// One EMCY the node sent during the watch.
 #[derive(Debug, Serialize)]
 pub struct SeenEmcy {
+    /// Its error code (CiA 301).
     #[serde(serialize_with = "hex16")]
     pub code: u16,
+    /// Its error register byte.
     pub register: u8,
+    /// What the error code means, in words.
     pub meaning: &'static str,
 }
 

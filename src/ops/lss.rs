@@ -80,6 +80,7 @@ pub(crate) fn no_lss_on_direct_epos2(verb: &str) -> Error {
 /// A device's identity and node-id, as it answered the inquiries.
 #[derive(Debug, Serialize)]
 pub struct Inquired {
+    /// The device's LSS identity (0x1018's four entries).
     #[serde(flatten)]
     pub identity: Identified,
     /// None: the device has no node-id (255).
@@ -131,6 +132,7 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
 /// answered (an LSS answer names no device: only counts can be told).
 #[derive(Debug, Default, Serialize)]
 pub struct LssTally {
+    /// How many devices confirmed it.
     pub confirmed: usize,
     /// Each refusal, in words ("LSS configure bit timing: error 1: bit timing not supported").
     pub refused: Vec<String>,
@@ -199,6 +201,7 @@ impl Setting {
 pub struct Configured {
     /// The verb: set-id, set-baud or store.
     pub command: &'static str,
+    /// Which devices, in words: the selected identity, or all.
     pub target: String,
     /// What the devices now have, in words.
     pub result: String,
@@ -218,6 +221,7 @@ pub struct Configured {
 }
 
 impl Configured {
+    /// The command's outcome: Ok when no device refused, else the refusal (exit 4).
     pub fn outcome(self) -> Result<()> {
         match self.failure {
             Some(e) => Err(e),
@@ -437,6 +441,7 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
 pub struct Activated {
     /// Always "activate".
     pub command: &'static str,
+    /// How long the devices wait before switching, in ms (the LSS switch delay).
     pub delay_ms: u16,
     /// Whether the link switched with the devices (and so could send them back to waiting).
     pub bus_followed: bool,
@@ -489,11 +494,14 @@ pub struct FastscanOptions {
     pub step: Option<Duration>,
     /// Identity parts known in advance: not searched.
     pub vendor: Option<u32>,
+    /// The product code, when known.
     pub product: Option<u32>,
+    /// The revision number, when known.
     pub revision: Option<u32>,
 }
 
 impl FastscanOptions {
+    /// A search of every identity part, its pace learnt from the devices; `timeout` for the first probe.
     pub fn new(timeout: Duration) -> FastscanOptions {
         FastscanOptions { timeout, step: None, vendor: None, product: None, revision: None }
     }
@@ -544,12 +552,16 @@ impl PaceUsed {
 /// A device without a node-id, found by fastscan.
 #[derive(Debug, Serialize)]
 pub struct Found {
+    /// The device's LSS identity.
     #[serde(flatten)]
     pub identity: Identified,
     /// Fastscan requests sent.
     pub steps: u32,
+    /// The longest step waited, in ms.
     pub step_ms: u64,
+    /// The pace used and what it was learnt from.
     pub pace: PaceUsed,
+    /// How long the search took, in ms.
     pub elapsed_ms: u64,
 }
 
@@ -613,6 +625,7 @@ pub(crate) fn fastscan_shown(
 pub struct AssignOptions {
     /// The first node-id to give.
     pub start: u8,
+    /// How to find each device (its pace, identity parts known in advance).
     pub fastscan: FastscanOptions,
     /// How long to listen for heartbeats before assigning; by default 1 s, or longer for
     /// the longest heartbeat period the nodes report.
@@ -624,9 +637,12 @@ pub struct AssignOptions {
 /// A device given a node-id.
 #[derive(Debug, Serialize)]
 pub struct AssignedNode {
+    /// The device's LSS identity.
     #[serde(flatten)]
     pub identity: Identified,
+    /// The node-id it was given and answered with.
     pub node: u8,
+    /// The node-id was stored in the device (it keeps it across power cycles).
     pub stored: bool,
     /// Why it was not stored (or "not asked").
     pub store_error: Option<String>,
@@ -635,13 +651,19 @@ pub struct AssignedNode {
 /// What `assign` did: every device numbered, or how far it got and why it stopped.
 #[derive(Debug, Serialize)]
 pub struct Assignment {
+    /// Each device given a node-id, in the order found.
     pub assigned: Vec<AssignedNode>,
     /// The node-ids in use before: the new ones do not collide with them.
     pub in_use_before: Vec<u8>,
+    /// Fastscan requests sent, all searches together.
     pub fastscan_steps: u32,
+    /// The longest step waited, in ms.
     pub step_ms: u64,
+    /// The pace used and what it was learnt from.
     pub pace: PaceUsed,
+    /// How long the assignment took, in ms.
     pub elapsed_ms: u64,
+    /// The user asked to stop: the devices not yet given a node-id keep waiting.
     pub interrupted: bool,
     /// Why it stopped before every device had a node-id.
     #[serde(rename = "error", serialize_with = "error_text")]

@@ -21,9 +21,11 @@ use std::time::{Duration, Instant};
 pub struct Event {
     /// When it was received: Unix time in ms, the time column of every stream.
     pub time_ms: u64,
+    /// Its COB-ID.
     pub cob: u16,
     /// The node it comes from or is meant for, when it names one.
     pub node: Option<u8>,
+    /// What kind of frame it is, in words (`sync`, `emcy`, `pdo`, `sdo request`, `lss answer`, ...).
     pub kind: &'static str,
     /// What it says, for people.
     pub text: String,
@@ -203,15 +205,20 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
 /// What a monitor saw.
 #[derive(Clone, Debug, Default)]
 pub struct Summary {
+    /// Frames seen, per COB-ID.
     pub per_cob_id: BTreeMap<u16, u64>,
+    /// The node-ids frames came from or were meant for.
     pub nodes: BTreeSet<u8>,
+    /// EMCY frames seen.
     pub emcy: u64,
+    /// How long the monitor ran.
     pub elapsed: Duration,
     /// Ended by the user (SIGINT, SIGTERM, Ctrl-C) rather than by its duration or count.
     pub interrupted: bool,
 }
 
 impl Summary {
+    /// Frames seen in all.
     pub fn frames(&self) -> u64 {
         self.per_cob_id.values().sum()
     }

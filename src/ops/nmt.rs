@@ -14,22 +14,28 @@ use std::time::Duration;
 /// that it took effect.
 #[derive(Debug, Serialize)]
 pub struct Sent {
+    /// The command sent.
     #[serde(serialize_with = "command_name")]
     pub command: Command,
     /// A node-id, or [`ALL_NODES`] (serialised as `"all"`).
     #[serde(serialize_with = "target")]
     pub target: u8,
+    /// It was sent (NMT has no answer: not that it took effect).
     pub sent: bool,
 }
 
 /// A reset went out; whether the nodes were seen coming back.
 #[derive(Debug, Serialize)]
 pub struct Reset {
+    /// The reset sent (node or communication).
     #[serde(serialize_with = "command_name")]
     pub command: Command,
+    /// A node-id, or [`ALL_NODES`] (serialised as `"all"`).
     #[serde(serialize_with = "target")]
     pub target: u8,
+    /// It was sent.
     pub sent: bool,
+    /// The nodes were seen coming back (a boot-up, or answers).
     pub confirmed: bool,
     /// The nodes seen booting (`None` when unconfirmed).
     pub booted: Option<Vec<u8>>,
@@ -50,8 +56,11 @@ pub struct Reset {
 /// A node's NMT state, and how it was learned.
 #[derive(Debug, Serialize)]
 pub struct NodeState {
+    /// The node-id.
     pub node: u8,
+    /// The state it shows.
     pub state: nmt::State,
+    /// How it was learned: `heartbeat`, `node guarding`, or a remote request through an EPOS2.
     pub source: &'static str,
 }
 

@@ -63,9 +63,11 @@ fn check_window(window: Duration) -> Result<()> {
 pub struct Scan {
     /// The bus, as it describes itself.
     pub bus: String,
+    /// Each node that answered, by node-id.
     pub nodes: Vec<Node>,
     /// How many devices without a node-id answered LSS.
     pub lss_unconfigured: usize,
+    /// Devices in LSS configuration state, from their answers to the inquiries.
     pub lss_configuration: Configuring,
     /// Node-ids more than one device answers to.
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -88,13 +90,19 @@ const PHASES: [&str; 4] = [
 /// A node that answered the probe, with what it told about itself (`None`: not said).
 #[derive(Debug, Serialize)]
 pub struct Node {
+    /// The node-id.
     pub node: u8,
     /// 0x1000; `None` when the probe was answered with an abort (the node is there all the same).
     pub device_type: Option<u32>,
+    /// The vendor-ID (0x1018:1).
     pub vendor_id: Option<u32>,
+    /// The product code (0x1018:2).
     pub product_code: Option<u32>,
+    /// The revision number (0x1018:3).
     pub revision: Option<u32>,
+    /// The serial number (0x1018:4).
     pub serial: Option<u32>,
+    /// The device name (0x1008).
     pub name: Option<String>,
     /// The NMT state the node shows, never a guess.
     pub state: Option<nmt::State>,

@@ -16,6 +16,7 @@ use std::time::Duration;
 /// How to read.
 #[derive(Clone, Copy, Debug)]
 pub struct ReadOptions {
+    /// How long to wait for each answer.
     pub timeout: Duration,
     /// The type to decode; `None`: the dictionary's, else the raw bytes.
     pub dtype: Option<DataType>,
@@ -29,6 +30,7 @@ pub struct ReadOptions {
 /// How to write.
 #[derive(Clone, Copy, Debug)]
 pub struct WriteOptions {
+    /// How long to wait for each answer.
     pub timeout: Duration,
     /// The type to encode the value as; `None`: the dictionary's.
     pub dtype: Option<DataType>,
@@ -41,14 +43,19 @@ pub struct WriteOptions {
 /// An object's value.
 #[derive(Debug, Serialize)]
 pub struct Read {
+    /// The node-id read from.
     pub node: u8,
+    /// The object read.
     #[serde(serialize_with = "as_text")]
     pub object: ObjAddr,
     /// Its name in the dictionary.
     pub name: Option<String>,
+    /// The data type it was decoded as; none: raw bytes.
     #[serde(rename = "type", serialize_with = "type_name")]
     pub dtype: Option<DataType>,
+    /// Its size, in bytes.
     pub size: usize,
+    /// The bytes the node sent.
     #[serde(rename = "raw", serialize_with = "hex_text")]
     pub bytes: Vec<u8>,
     /// Decoded by its type; without one, the plain unsigned reading of 1, 2, 4 or 8 bytes.
@@ -59,28 +66,39 @@ pub struct Read {
 /// An object's value, saved to a file.
 #[derive(Debug, Serialize)]
 pub struct Saved {
+    /// The node-id read from.
     pub node: u8,
+    /// The object read.
     #[serde(serialize_with = "as_text")]
     pub object: ObjAddr,
+    /// Its size, in bytes.
     pub size: usize,
+    /// The file it was saved to.
     pub file: String,
 }
 
 /// A value written (and read back, when verified).
 #[derive(Debug, Serialize)]
 pub struct Written {
+    /// The node-id written to.
     pub node: u8,
+    /// The object written.
     #[serde(serialize_with = "as_text")]
     pub object: ObjAddr,
+    /// The data type the value was encoded as.
     #[serde(rename = "type", serialize_with = "type_name")]
     pub dtype: DataType,
+    /// The value's size, in bytes.
     pub size: usize,
+    /// The value written, decoded by its type; none when the bytes do not decode as it.
     #[serde(serialize_with = "value_json")]
     pub value: Option<Value>,
+    /// It was read back and found equal.
     pub verified: bool,
     /// The read-back of `verify` was interrupted (SIGINT, SIGTERM): written, not verified.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub interrupted: bool,
+    /// The bytes written.
     #[serde(skip)]
     pub bytes: Vec<u8>,
 }

@@ -26,7 +26,8 @@ impl Class {
         self as u8 + 1
     }
 
-    pub fn text(self) -> &'static str {
+    /// The class in words (`all parameters`, ...).
+    pub(crate) fn text(self) -> &'static str {
         ["all parameters", "communication parameters", "application parameters", "manufacturer parameters"]
             [self as usize]
     }
@@ -36,16 +37,21 @@ impl Class {
 /// (flash writes take a while).
 #[derive(Clone, Copy, Debug)]
 pub struct Timeouts {
+    /// For each SDO answer.
     pub answer: Duration,
+    /// For the device to store or restore (it writes its flash meanwhile).
     pub write: Duration,
 }
 
 /// Parameters saved to non-volatile memory.
 #[derive(Debug, Serialize)]
 pub struct Stored {
+    /// The node-id.
     pub node: u8,
+    /// Which parameters.
     #[serde(rename = "stored", serialize_with = "class_text")]
     pub class: Class,
+    /// The sub-index written (0x1010:N).
     #[serde(serialize_with = "as_text")]
     pub object: ObjAddr,
 }
@@ -53,9 +59,12 @@ pub struct Stored {
 /// Defaults brought back; they apply from the next reset on.
 #[derive(Debug, Serialize)]
 pub struct Restored {
+    /// The node-id.
     pub node: u8,
+    /// Which parameters.
     #[serde(rename = "restored", serialize_with = "class_text")]
     pub class: Class,
+    /// The sub-index written (0x1011:N).
     #[serde(serialize_with = "as_text")]
     pub object: ObjAddr,
     /// Whether the node was reset afterwards and booted with them (the caller does it).

@@ -28,6 +28,7 @@ pub struct ApplyOptions {
 }
 
 impl ApplyOptions {
+    /// Options that write and check nothing more than asked: no store, no read-back, no force; `timeout` for each SDO answer.
     pub fn new(timeout: Duration) -> ApplyOptions {
         ApplyOptions {
             timeout,
@@ -46,9 +47,13 @@ impl ApplyOptions {
 /// [`Applied::outcome`] turns it into the error.
 #[derive(Debug, Serialize)]
 pub struct Applied {
+    /// The node-id written to.
     pub node: u8,
+    /// The DCF applied, as named.
     pub file: String,
+    /// Nothing was written: `objects` says what would be.
     pub dry_run: bool,
+    /// Each object of the file, with what happened to it, in the order written.
     pub objects: Vec<Change>,
     /// Whether the parameters were stored (0x1010:1).
     pub stored: bool,
@@ -80,6 +85,7 @@ pub struct Applied {
 /// A write that would bring an object back to its value before the run.
 #[derive(Debug, Serialize)]
 pub struct Fix {
+    /// The object to write.
     #[serde(serialize_with = "as_text")]
     pub object: ObjAddr,
     /// The value it had before the run, as a DCF writes it; `None` when unknown.
@@ -89,10 +95,14 @@ pub struct Fix {
 /// One object: its value before, the value wanted, and what happened.
 #[derive(Debug, Serialize)]
 pub struct Change {
+    /// The object.
     #[serde(serialize_with = "as_text")]
     pub object: ObjAddr,
+    /// Its name in the file.
     pub name: String,
+    /// The device's value before, formatted (or why it has none).
     pub old: String,
+    /// The file's value, formatted.
     pub new: String,
     /// What happened to it; serialised as its sentence (`written, verified`).
     #[serde(serialize_with = "as_text")]

@@ -19,6 +19,7 @@ use std::time::Duration;
 /// A DCF: the values a device is to hold (its `ParameterValue`s), with their dictionary.
 #[derive(Debug, Clone)]
 pub struct Dcf {
+    /// The device description: its objects, each with the value the DCF gives (`ParameterValue`).
     pub eds: Eds,
 }
 
@@ -175,6 +176,7 @@ fn node_dictionary(
 /// A node's objects, read into a DCF.
 #[derive(Debug, Serialize)]
 pub struct Dump {
+    /// The node-id read.
     pub node: u8,
     /// How many objects the node answered.
     pub objects: usize,
@@ -287,10 +289,13 @@ pub(crate) fn dump_as(
 /// Where a node differs from a DCF.
 #[derive(Debug, Serialize)]
 pub struct Diff {
+    /// The node-id compared.
     pub node: u8,
+    /// The DCF compared with, as named.
     pub file: String,
     /// Objects that match.
     pub same: usize,
+    /// Each object whose value differs, in the file's order.
     pub differences: Vec<Difference>,
     /// The user stopped the comparison part-way (SIGINT, SIGTERM, over a
     /// [`Stoppable`](crate::bus::stoppable::Stoppable) bus): the objects counted are those
@@ -309,13 +314,17 @@ fn is_zero(n: &usize) -> bool {
     *n == 0
 }
 
+/// One object whose value on the device is not the file's.
 #[derive(Debug, Serialize)]
 pub struct Difference {
+    /// The object.
     #[serde(serialize_with = "as_text")]
     pub object: ObjAddr,
+    /// Its name in the file.
     pub name: String,
     /// The device's value, or why it has none.
     pub device: String,
+    /// The file's value, as the file writes it.
     pub file: String,
 }
 

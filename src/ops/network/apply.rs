@@ -29,9 +29,13 @@ pub struct ApplyOptions {
 /// What applying a project did, node by node.
 #[derive(Debug, Serialize)]
 pub struct Applied {
+    /// The project file, as named.
     pub project: String,
+    /// The bus, as it describes itself.
     pub bus: String,
+    /// Nothing was written: `nodes` says what would be.
     pub dry_run: bool,
+    /// Each node the project lists, by node-id.
     pub nodes: Vec<NodeApplied>,
     /// Objects written on the whole network.
     pub written: usize,
@@ -45,20 +49,26 @@ pub struct Applied {
     pub failure: Option<Error>,
 }
 
+/// What applying its DCF did to one node.
 #[derive(Debug, Serialize)]
 pub struct NodeApplied {
+    /// The node-id.
     pub node: u8,
+    /// Its name (`NodeXName`, else the DCF's product name, else empty).
     pub name: String,
+    /// Its DCF, as the project names it; none when it names none.
     pub file: Option<String>,
     /// `assigned over LSS to IDENTITY` when `--assign` gave the node its id.
     pub assigned: Option<String>,
     /// Objects written (PDO sequence steps included).
     pub written: usize,
+    /// Its parameters were stored (0x1010:1).
     pub stored: bool,
     /// What happened, in a sentence.
     pub result: String,
     /// What happened, in one word: the summary counts these, as the table shows them.
     pub outcome: Outcome,
+    /// The node now matches its DCF.
     pub ok: bool,
     /// Each object written or not, as `config apply` reports it.
     pub objects: Vec<config::Change>,
@@ -81,6 +91,7 @@ pub enum Outcome {
 }
 
 impl Applied {
+    /// The command's outcome: Ok when the network matches the project, else the first failure, or a verification error (exit 6).
     pub fn outcome(self) -> Result<()> {
         match self.failure {
             Some(e) => Err(e),

@@ -26,7 +26,9 @@ pub struct SetBaudOptions {
 /// One node expected to follow the switch.
 #[derive(Debug, Serialize)]
 pub struct NodeFollowed {
+    /// The node-id.
     pub node: u8,
+    /// Its name in the project; empty when it has none there.
     pub name: String,
     /// Whether it answered the probe before the switch.
     pub before: bool,
@@ -40,6 +42,7 @@ pub struct NodeFollowed {
 /// What a network-wide bit-rate switch did.
 #[derive(Debug, Serialize)]
 pub struct BaudSwitched {
+    /// The bus, as it describes itself.
     pub bus: String,
     /// The new rate (`250k`).
     pub rate: String,
@@ -54,15 +57,18 @@ pub struct BaudSwitched {
     /// Why it was not, in words.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_activated: Option<String>,
+    /// How long the devices wait before switching, in ms (the LSS switch delay).
     pub delay_ms: u16,
     /// Whether the link switched with the devices (the simulated bus does; a CAN interface
     /// or an EPOS2 must be switched by its owner).
     pub bus_followed: bool,
+    /// Each node expected to follow, by node-id.
     pub nodes: Vec<NodeFollowed>,
     /// Nodes answering at the new rate that were not expected.
     pub unexpected: Vec<u8>,
     /// Devices without a node-id that answered LSS before and after the switch.
     pub unconfigured_before: usize,
+    /// After the switch; none where the link could not look.
     pub unconfigured_after: Option<usize>,
     /// Whether every expected node is confirmed at the new rate.
     pub ok: bool,
@@ -72,6 +78,7 @@ pub struct BaudSwitched {
 }
 
 impl BaudSwitched {
+    /// The command's outcome: Ok when every expected node is confirmed at the new rate, else why not.
     pub fn outcome(self) -> Result<()> {
         match self.failure {
             Some(e) => Err(e),

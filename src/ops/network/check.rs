@@ -5,7 +5,9 @@ use super::*;
 /// How to check a network.
 #[derive(Clone, Debug)]
 pub struct CheckOptions {
+    /// How long to wait for each SDO answer.
     pub timeout: Duration,
+    /// How long the probes wait for answers.
     pub window: Duration,
     /// How many nodes are checked at once (1: one after the other).
     pub jobs: usize,
@@ -17,9 +19,13 @@ pub struct CheckOptions {
 /// Is the network as the project says?
 #[derive(Debug, Serialize)]
 pub struct Checked {
+    /// The project file, as named.
     pub project: String,
+    /// The project's `NetName`; none when it gives none.
     pub net_name: Option<String>,
+    /// The bus, as it describes itself.
     pub bus: String,
+    /// Each node the project lists, by node-id.
     pub nodes: Vec<NodeCheck>,
     /// Nodes that answered but the project does not list, with their device type.
     pub unlisted: Vec<Unlisted>,
@@ -47,19 +53,27 @@ pub(super) fn unlisted(found: &BTreeMap<u8, Option<u32>>, loaded: &Loaded) -> Ve
         .collect()
 }
 
+/// One listed node and its checks.
 #[derive(Debug, Serialize)]
 pub struct NodeCheck {
+    /// The node-id.
     pub node: u8,
+    /// Its name (`NodeXName`, else the DCF's product name, else empty).
     pub name: String,
+    /// Its DCF, as the project names it; none when it names none.
     pub file: Option<String>,
+    /// Each check and its verdict.
     pub checks: Vec<Verdict>,
 }
 
 pub use crate::ops::verdict::Verdict;
 
+/// A node that answered but the project does not list.
 #[derive(Debug, Serialize)]
 pub struct Unlisted {
+    /// The node-id.
     pub node: u8,
+    /// Its device type (0x1000); none when it did not say.
     pub device_type: Option<u32>,
 }
 

@@ -5,7 +5,9 @@ use super::*;
 /// What `dump` read: the files of a project, to be written into one folder.
 #[derive(Debug, Serialize)]
 pub struct Dumped {
+    /// The bus, as it describes itself.
     pub bus: String,
+    /// Each node found, by node-id.
     pub nodes: Vec<DumpedNode>,
     /// Devices that answered LSS without a node-id (not in the project: they have no
     /// objects to read).
@@ -15,17 +17,23 @@ pub struct Dumped {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
+/// One node dumped into a DCF.
 #[derive(Debug, Serialize)]
 pub struct DumpedNode {
+    /// The node-id.
     pub node: u8,
+    /// Its name (0x1008, else the dictionary's product name).
     pub name: String,
+    /// Its DCF's file name in the project folder.
     pub file: String,
+    /// How many objects it answered.
     pub objects: usize,
 }
 
 /// How to dump a network.
 #[derive(Clone, Debug)]
 pub struct DumpOptions {
+    /// How long to wait for each SDO answer.
     pub timeout: Duration,
     /// How long the probes wait for answers.
     pub window: Duration,

@@ -26,8 +26,11 @@ const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
 /// A project with each listed node's DCF read.
 #[derive(Debug)]
 pub struct Loaded {
+    /// The project file.
     pub file: PathBuf,
+    /// The project as read.
     pub project: Project,
+    /// The nodes it lists as present, with their DCFs.
     pub nodes: Vec<Listed>,
     /// What the files say that deserves a look, with file:line.
     pub warnings: Vec<LoadWarning>,
@@ -45,10 +48,13 @@ pub enum LoadWarning {
 /// A node the project lists as present.
 #[derive(Debug)]
 pub struct Listed {
+    /// The node-id.
     pub node: u8,
     /// `NodeXName`, else the DCF's product name, else empty.
     pub name: String,
+    /// Its DCF; none when the project names none.
     pub dcf: Option<Dcf>,
+    /// What its DCF's commissioning section says (node-id, name, bit rate, LSS serial); all empty without a DCF.
     pub commissioning: Commissioning,
 }
 
