@@ -593,6 +593,7 @@ impl Error {
 /// Why a drive command stopped before its goal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum DriveStop {
     /// The drive is in fault (or went into fault on the way); fault-reset leaves it once
     /// the cause is gone.
@@ -816,6 +817,7 @@ pub enum LinkError {
 
 /// What a node was asked and did not answer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Service {
     /// An SDO transfer of this object.
     Sdo(ObjAddr),
@@ -886,6 +888,7 @@ fn no_answer_text(node: u8, what: &Service, waited: Duration) -> String {
 
 /// Why a node cannot store or restore parameters on command (CiA 301 0x1010/0x1011).
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum StoreRefusal {
     /// It has no such object (0x1010 or 0x1011).
     NoObject {
@@ -944,6 +947,7 @@ fn join_ids(nodes: &[u8]) -> String {
 
 /// Which node-ids a bus can address.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum NodeIdRange {
     /// 1 to 127 (a CAN bus).
     CanOpen,
@@ -963,6 +967,7 @@ fn node_id_text(node: u8, range: NodeIdRange) -> String {
 
 /// How much of an SDO transfer had moved: bytes, of the total when the size is known.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct Moved {
     /// Bytes moved.
     pub bytes: usize,
@@ -981,6 +986,7 @@ impl fmt::Display for Moved {
 
 /// Why an SDO transfer the node had answered did not finish.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Unfinished {
     /// Its total deadline (`budget`, from the size and `timeout`) passed.
     Deadline {
@@ -1075,6 +1081,7 @@ fn fastscan_text(error: &FastscanError, step: Duration) -> String {
 
 /// What failed on a pseudo-terminal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum PtyOp {
     /// Creating one.
     Create,

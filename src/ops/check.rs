@@ -9,6 +9,7 @@ use std::path::Path;
 
 /// What `config check` found in one file.
 #[derive(Debug, Clone, Serialize)]
+#[non_exhaustive]
 pub struct Checked {
     pub file: String,
     /// `EDS` or `DCF` (a file with values or a node-id to commission).

@@ -22,6 +22,7 @@ const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
 /// What showed that two devices answer to one node-id.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "evidence", rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum Evidence {
     /// One SDO read of 0x1018:4 got several answers: the values (`None`: an abort).
     SdoAnswers { values: Vec<Option<u32>> },
@@ -34,6 +35,7 @@ pub enum Evidence {
 /// A node-id that more than one device answers to: a finding of scan and health (and,
 /// later, of doctor).
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct Clash {
     pub node: u8,
     #[serde(flatten)]

@@ -13,6 +13,7 @@ use std::collections::HashMap;
 
 /// A bus address that exists on this machine, and what kind it is.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum BusCandidate {
     /// The simulated demo network (`sim`).
     Sim,
@@ -41,6 +42,7 @@ pub fn buses() -> Vec<BusCandidate> {
 
 /// An object a node is known to have.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum ObjectCandidate {
     /// Described by the dictionary that names the node's objects; `identifier` is the name
     /// the command finds it by, where it finds it by one.

@@ -31,6 +31,7 @@ pub struct Options {
 
 /// One statusword bit.
 #[derive(Debug, Serialize, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Flag {
     /// Its bit number in the statusword (0 to 15).
     pub bit: u8,
@@ -42,6 +43,7 @@ pub struct Flag {
 
 /// The mode of operation the drive shows.
 #[derive(Debug, Serialize, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Mode {
     /// The mode's code (CiA 402, 0x6060/0x6061).
     pub value: i8,
@@ -56,6 +58,7 @@ pub use super::node::LoggedError;
 
 /// A drive's state as its objects show it.
 #[derive(Debug, Serialize, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Status {
     /// The drive's node-id.
     pub node: u8,
@@ -174,6 +177,7 @@ pub(crate) fn flags(statusword: u16) -> Vec<Flag> {
 
 /// One command of a walk and what the drive showed after it.
 #[derive(Debug, Serialize, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Transition {
     /// The controlword command sent.
     pub command: Command,
@@ -193,6 +197,7 @@ pub struct Transition {
 
 /// Where a walk ended and why.
 #[derive(Debug, Serialize, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Walk {
     /// The drive's node-id.
     pub node: u8,
@@ -377,6 +382,7 @@ fn write_controlword(bus: &mut dyn Bus, node: u8, word: u16, timeout: Duration) 
 
 /// One change seen by [`Watch`].
 #[derive(Debug, Serialize, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Change {
     /// The drive's node-id.
     pub node: u8,
@@ -392,6 +398,7 @@ pub struct Change {
 
 /// Where a watch gets the statusword.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum Source {
     /// From this TPDO (COB-ID, and the statusword's bit offset and the PDO's length).
     Tpdo {

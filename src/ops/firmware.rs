@@ -69,6 +69,7 @@ impl DownloadOptions {
 /// One step of the sequence.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum Step {
     /// 0x1F56 read: the identification of the program the device has.
     ReadId,
@@ -123,6 +124,7 @@ impl Step {
 
 /// A step done, and when (ms since the command began).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub struct StepDone {
     /// The step.
     pub step: Step,
@@ -133,6 +135,7 @@ pub struct StepDone {
 /// Where the device is when the procedure ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum Where {
     /// Running the image (downloaded now, or already: skipped).
     RunsImage,
@@ -165,6 +168,7 @@ impl Where {
 
 /// What `firmware download` did to one node.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub struct DownloadReport {
     /// The node-id.
     pub node: u8,
@@ -278,6 +282,7 @@ impl FirmwareError {
 /// the device is.
 #[derive(Debug, thiserror::Error)]
 #[error("{error}; {}", report.state)]
+#[non_exhaustive]
 pub struct Failed {
     /// Why it did not finish.
     pub error: FirmwareError,
@@ -598,6 +603,7 @@ pub fn download(
 
 /// One program's objects, as `firmware status` shows them.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub struct ProgramStatus {
     /// The program number (sub-index).
     pub program: u8,
@@ -613,6 +619,7 @@ pub struct ProgramStatus {
 
 /// `firmware status NODE`: per program number the device has.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub struct StatusReport {
     /// The node-id.
     pub node: u8,
@@ -648,6 +655,7 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> crate::Result<S
 
 /// One node of a download to several.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub struct NodeDownload {
     /// The node-id.
     pub node: u8,
@@ -659,6 +667,7 @@ pub struct NodeDownload {
 
 /// `firmware download 5,6,7 IMAGE`: each node in turn, the same report for each.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub struct Batch {
     /// One entry per node, in the order given.
     pub nodes: Vec<NodeDownload>,

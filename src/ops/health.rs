@@ -45,6 +45,7 @@ pub struct HealthOptions {
 
 /// The health of every node found.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Health {
     /// The bus, as it describes itself.
     pub bus: String,
@@ -61,6 +62,7 @@ pub struct Health {
 
 /// One node's health: what it showed, and each check's verdict.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct NodeHealth {
     /// The node-id.
     pub node: u8,
@@ -96,6 +98,7 @@ pub struct NodeHealth {
 
 /// One EMCY the node sent during the watch.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct SeenEmcy {
     /// Its error code (CiA 301).
     #[serde(serialize_with = "hex16")]

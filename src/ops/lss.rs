@@ -19,6 +19,7 @@ use std::time::Duration;
 
 /// Which device a service is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Target {
     /// One device, selected by its identity.
     One(Identity),
@@ -79,6 +80,7 @@ pub(crate) fn no_lss_on_direct_epos2(verb: &str) -> Error {
 
 /// A device's identity and node-id, as it answered the inquiries.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Inquired {
     /// The device's LSS identity (0x1018's four entries).
     #[serde(flatten)]
@@ -131,6 +133,7 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
 /// How many devices confirmed an LSS service sent to all of them, and what the others
 /// answered (an LSS answer names no device: only counts can be told).
 #[derive(Debug, Default, Serialize)]
+#[non_exhaustive]
 pub struct LssTally {
     /// How many devices confirmed it.
     pub confirmed: usize,
@@ -168,6 +171,7 @@ impl LssTally {
 
 /// A configuration service.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Setting {
     /// A node-id, 1 to 127, or 255 (none).
     NodeId(u8),
@@ -198,6 +202,7 @@ impl Setting {
 
 /// A configuration service done and confirmed.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Configured {
     /// The verb: set-id, set-baud or store.
     pub command: &'static str,
@@ -438,6 +443,7 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
 
 /// Configured bit rates switched on.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Activated {
     /// Always "activate".
     pub command: &'static str,
@@ -520,6 +526,7 @@ impl FastscanOptions {
 
 /// The pace a fastscan used and what it was learned from.
 #[derive(Clone, Debug, Serialize)]
+#[non_exhaustive]
 pub struct PaceUsed {
     /// The longest step waited.
     pub step_ms: u64,
@@ -551,6 +558,7 @@ impl PaceUsed {
 
 /// A device without a node-id, found by fastscan.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Found {
     /// The device's LSS identity.
     #[serde(flatten)]
@@ -636,6 +644,7 @@ pub struct AssignOptions {
 
 /// A device given a node-id.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct AssignedNode {
     /// The device's LSS identity.
     #[serde(flatten)]
@@ -650,6 +659,7 @@ pub struct AssignedNode {
 
 /// What `assign` did: every device numbered, or how far it got and why it stopped.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Assignment {
     /// Each device given a node-id, in the order found.
     pub assigned: Vec<AssignedNode>,

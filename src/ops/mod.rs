@@ -71,6 +71,7 @@ impl Progress for Silent {}
 /// whose own report has nothing to show for a stop: what was done, what was not, and the
 /// state the device is left in. The command ends with exit 130 after it.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub struct Stopped {
     /// The command, as typed: `sdo read`, `store`.
     pub command: String,

@@ -18,6 +18,7 @@ use std::time::{Duration, Instant};
 
 /// One decoded frame.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Event {
     /// When it was received: Unix time in ms, the time column of every stream.
     pub time_ms: u64,
@@ -204,6 +205,7 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
 
 /// What a monitor saw.
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct Summary {
     /// Frames seen, per COB-ID.
     pub per_cob_id: BTreeMap<u16, u64>,

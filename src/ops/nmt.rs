@@ -13,6 +13,7 @@ use std::time::Duration;
 /// An NMT command went out. NMT commands are unconfirmed: this says that it was sent, not
 /// that it took effect.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Sent {
     /// The command sent.
     #[serde(serialize_with = "command_name")]
@@ -26,6 +27,7 @@ pub struct Sent {
 
 /// A reset went out; whether the nodes were seen coming back.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Reset {
     /// The reset sent (node or communication).
     #[serde(serialize_with = "command_name")]
@@ -55,6 +57,7 @@ pub struct Reset {
 
 /// A node's NMT state, and how it was learned.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct NodeState {
     /// The node-id.
     pub node: u8,
@@ -66,6 +69,7 @@ pub struct NodeState {
 
 /// What is known after a reset was sent.
 #[derive(Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Confirmation {
     /// These nodes are back, and how that was seen.
     Confirmed(Vec<u8>, String),

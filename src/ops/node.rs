@@ -173,6 +173,7 @@ impl<'a> Node<'a> {
 /// A node's identity object 0x1018: the vendor-ID, and the entries CiA 301 leaves optional
 /// (`None` where the device has none).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub struct Identity {
     /// 0x1018:1.
     pub vendor: u32,
@@ -272,6 +273,7 @@ impl Guarded {
 
 /// Where a node's NMT state was learnt.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum StateFrom {
     /// Its heartbeat.
     Heartbeat,
@@ -304,6 +306,7 @@ pub(crate) struct ErrorField {
 
 /// One entry of the pre-defined error field 0x1003.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct LoggedError {
     /// The subindex of 0x1003 it was read from: 1 is the newest.
     pub sub: u8,
@@ -331,6 +334,7 @@ impl LoggedError {
 
 /// An entry the node counts but would not show.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct Unreadable {
     /// Its subindex of 0x1003.
     pub sub: u8,

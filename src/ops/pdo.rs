@@ -147,6 +147,7 @@ impl Session {
 
 /// What [`Session::restore`] put back.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct Restored {
     /// The TPDO whose parameters were written back, if the session had changed any.
     pub tpdo: Option<u16>,
@@ -289,6 +290,7 @@ pub struct StreamOptions {
 
 /// One decoded PDO.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Record {
     /// Wall-clock time of reception, ms since the Unix epoch.
     pub time_ms: u64,

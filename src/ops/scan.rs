@@ -60,6 +60,7 @@ fn check_window(window: Duration) -> Result<()> {
 
 /// What a scan found.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Scan {
     /// The bus, as it describes itself.
     pub bus: String,
@@ -89,6 +90,7 @@ const PHASES: [&str; 4] = [
 
 /// A node that answered the probe, with what it told about itself (`None`: not said).
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Node {
     /// The node-id.
     pub node: u8,
@@ -114,6 +116,7 @@ pub struct Node {
 
 /// Devices in LSS configuration state, from their answers to the inquiries.
 #[derive(Debug, Default, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct Configuring {
     /// How many answered (the most answers to any one inquiry).
     pub count: usize,

@@ -17,6 +17,7 @@ use std::path::PathBuf;
 
 /// A node the last scan found: what completion offers for `--node` and picks dictionaries by.
 #[derive(Serialize, Deserialize, Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct SeenNode {
     /// Its node-id.
     pub node: u8,

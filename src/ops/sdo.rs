@@ -42,6 +42,7 @@ pub struct WriteOptions {
 
 /// An object's value.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Read {
     /// The node-id read from.
     pub node: u8,
@@ -65,6 +66,7 @@ pub struct Read {
 
 /// An object's value, saved to a file.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Saved {
     /// The node-id read from.
     pub node: u8,
@@ -79,6 +81,7 @@ pub struct Saved {
 
 /// A value written (and read back, when verified).
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Written {
     /// The node-id written to.
     pub node: u8,

@@ -10,6 +10,7 @@ use std::time::Duration;
 /// Which parameters (the 0x1010/0x1011 subindex).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[non_exhaustive]
 pub enum Class {
     /// All parameters (sub 1)
     All,
@@ -45,6 +46,7 @@ pub struct Timeouts {
 
 /// Parameters saved to non-volatile memory.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Stored {
     /// The node-id.
     pub node: u8,
@@ -58,6 +60,7 @@ pub struct Stored {
 
 /// Defaults brought back; they apply from the next reset on.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Restored {
     /// The node-id.
     pub node: u8,

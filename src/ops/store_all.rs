@@ -13,6 +13,7 @@ use std::time::Duration;
 
 /// How a node's turn ended, when not with its report.
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum Ended {
     /// The user stopped it: what was done on this node, what was not.
     Stopped(Stopped),

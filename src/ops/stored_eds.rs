@@ -24,6 +24,7 @@ impl StoredEds {
 
 /// The description a node gave.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct StoredEds {
     /// The node the description was read from.
     pub node: u8,

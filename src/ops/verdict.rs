@@ -6,6 +6,7 @@ use serde::Serialize;
 
 /// One check of one node: `present`, `identity`, `objects`, `state`, `error register`...
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Verdict {
     /// What was checked.
     pub check: &'static str,

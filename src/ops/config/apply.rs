@@ -46,6 +46,7 @@ impl ApplyOptions {
 /// What applying a DCF did, object by object. A failure part-way still gives the report:
 /// [`Applied::outcome`] turns it into the error.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Applied {
     /// The node-id written to.
     pub node: u8,
@@ -84,6 +85,7 @@ pub struct Applied {
 
 /// A write that would bring an object back to its value before the run.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Fix {
     /// The object to write.
     #[serde(serialize_with = "as_text")]
@@ -94,6 +96,7 @@ pub struct Fix {
 
 /// One object: its value before, the value wanted, and what happened.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Change {
     /// The object.
     #[serde(serialize_with = "as_text")]
@@ -111,6 +114,7 @@ pub struct Change {
 
 /// What a run did, or would do, with one object.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Action {
     /// Written.
     Written,
@@ -137,6 +141,7 @@ pub enum Action {
 
 /// The read-back of a written value.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum ReadBack {
     /// It reads back as written.
     Verified,
@@ -146,6 +151,7 @@ pub enum ReadBack {
 
 /// What happened to one object of a run.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct Outcome {
     /// The write.
     pub action: Action,

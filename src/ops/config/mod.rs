@@ -175,6 +175,7 @@ fn node_dictionary(
 
 /// A node's objects, read into a DCF.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Dump {
     /// The node-id read.
     pub node: u8,
@@ -288,6 +289,7 @@ pub(crate) fn dump_as(
 
 /// Where a node differs from a DCF.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Diff {
     /// The node-id compared.
     pub node: u8,
@@ -316,6 +318,7 @@ fn is_zero(n: &usize) -> bool {
 
 /// One object whose value on the device is not the file's.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Difference {
     /// The object.
     #[serde(serialize_with = "as_text")]

@@ -28,6 +28,7 @@ pub struct ApplyOptions {
 
 /// What applying a project did, node by node.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Applied {
     /// The project file, as named.
     pub project: String,
@@ -51,6 +52,7 @@ pub struct Applied {
 
 /// What applying its DCF did to one node.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct NodeApplied {
     /// The node-id.
     pub node: u8,
@@ -77,6 +79,7 @@ pub struct NodeApplied {
 /// Where a node's apply ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Outcome {
     /// Brought to its DCF (or, in a dry run, found what would be written).
     Done,

@@ -25,6 +25,7 @@ pub struct SetBaudOptions {
 
 /// One node expected to follow the switch.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct NodeFollowed {
     /// The node-id.
     pub node: u8,
@@ -41,6 +42,7 @@ pub struct NodeFollowed {
 
 /// What a network-wide bit-rate switch did.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct BaudSwitched {
     /// The bus, as it describes itself.
     pub bus: String,

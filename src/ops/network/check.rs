@@ -18,6 +18,7 @@ pub struct CheckOptions {
 
 /// Is the network as the project says?
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Checked {
     /// The project file, as named.
     pub project: String,
@@ -55,6 +56,7 @@ pub(super) fn unlisted(found: &BTreeMap<u8, Option<u32>>, loaded: &Loaded) -> Ve
 
 /// One listed node and its checks.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct NodeCheck {
     /// The node-id.
     pub node: u8,
@@ -70,6 +72,7 @@ pub use crate::ops::verdict::Verdict;
 
 /// A node that answered but the project does not list.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Unlisted {
     /// The node-id.
     pub node: u8,

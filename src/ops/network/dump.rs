@@ -4,6 +4,7 @@ use super::*;
 
 /// What `dump` read: the files of a project, to be written into one folder.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct Dumped {
     /// The bus, as it describes itself.
     pub bus: String,
@@ -19,6 +20,7 @@ pub struct Dumped {
 
 /// One node dumped into a DCF.
 #[derive(Debug, Serialize)]
+#[non_exhaustive]
 pub struct DumpedNode {
     /// The node-id.
     pub node: u8,

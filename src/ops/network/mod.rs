@@ -25,6 +25,7 @@ const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
 
 /// A project with each listed node's DCF read.
 #[derive(Debug)]
+#[non_exhaustive]
 pub struct Loaded {
     /// The project file.
     pub file: PathBuf,
@@ -38,6 +39,7 @@ pub struct Loaded {
 
 /// Something a project's files say that deserves a look (the project is used all the same).
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub enum LoadWarning {
     /// In the project file itself, as its reader words it.
     Project(String),
@@ -47,6 +49,7 @@ pub enum LoadWarning {
 
 /// A node the project lists as present.
 #[derive(Debug)]
+#[non_exhaustive]
 pub struct Listed {
     /// The node-id.
     pub node: u8,
