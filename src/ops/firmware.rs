@@ -178,9 +178,9 @@ pub struct DownloadReport {
     pub image_bytes: usize,
     /// The identification the image must show in 0x1F56 (its CRC-32 unless given).
     pub image_id: u32,
-    /// 0x1F56 before the download; none when it could not be read.
+    /// 0x1F56 before the download; none when the procedure stopped before reading it.
     pub id_before: Option<u32>,
-    /// 0x1F56 after it; none when not read (skipped, or stopped before).
+    /// 0x1F56 after it; none when not read (nothing written, or stopped before).
     pub id_after: Option<u32>,
     /// The device already ran the image: nothing was written.
     pub skipped: bool,
@@ -190,9 +190,10 @@ pub struct DownloadReport {
     pub flash_status: Option<FlashStatus>,
     /// How many times 0x1F57 was read while busy (erase and write).
     pub busy_polls: u32,
-    /// How long the erase took, in ms; none when there was none.
+    /// How long the erase took, in ms; none when there was none (skipped, or stopped before).
     pub erase_ms: Option<u64>,
-    /// How long the program data took to write, in ms; none when none was written.
+    /// How long the program data took to write, in ms; none when none was written (skipped, or
+    /// stopped before).
     pub download_ms: Option<u64>,
     /// Program data bytes per second during the download.
     pub bytes_per_second: Option<u64>,

@@ -206,7 +206,7 @@ impl Setting {
 pub struct Configured {
     /// The verb: set-id, set-baud or store.
     pub command: &'static str,
-    /// Which devices, in words: the selected identity, or all.
+    /// Which devices it was sent to, in words: an identity, all LSS devices, or the EPOS2.
     pub target: String,
     /// What the devices now have, in words.
     pub result: String,

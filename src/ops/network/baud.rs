@@ -29,7 +29,8 @@ pub struct SetBaudOptions {
 pub struct NodeFollowed {
     /// The node-id.
     pub node: u8,
-    /// Its name in the project; empty when it has none there.
+    /// Its name in the project (`NodeXName`, else its DCF's product name); empty without a
+    /// project.
     pub name: String,
     /// Whether it answered the probe before the switch.
     pub before: bool,

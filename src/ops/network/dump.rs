@@ -24,7 +24,7 @@ pub struct Dumped {
 pub struct DumpedNode {
     /// The node-id.
     pub node: u8,
-    /// Its name (0x1008, else the dictionary's product name).
+    /// Its name (0x1008); empty when it has none.
     pub name: String,
     /// Its DCF's file name in the project folder.
     pub file: String,
