@@ -20,7 +20,7 @@ use std::time::Duration;
 #[derive(Debug, Clone)]
 pub struct Dcf {
     /// The device description: its objects, each with the value the DCF gives (`ParameterValue`).
-    pub eds: Eds,
+    pub(crate) eds: Eds,
 }
 
 impl Dcf {

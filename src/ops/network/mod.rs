@@ -28,11 +28,11 @@ const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
 #[non_exhaustive]
 pub struct Loaded {
     /// The project file.
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
     /// The project as read.
-    pub project: Project,
+    pub(crate) project: Project,
     /// The nodes it lists as present, with their DCFs.
-    pub nodes: Vec<Listed>,
+    pub(crate) nodes: Vec<Listed>,
     /// What the files say that deserves a look, with file:line.
     pub warnings: Vec<LoadWarning>,
 }
@@ -52,13 +52,13 @@ pub enum LoadWarning {
 #[non_exhaustive]
 pub struct Listed {
     /// The node-id.
-    pub node: u8,
+    pub(crate) node: u8,
     /// `NodeXName`, else the DCF's product name, else empty.
     pub name: String,
     /// Its DCF; none when the project names none.
-    pub dcf: Option<Dcf>,
+    pub(crate) dcf: Option<Dcf>,
     /// What its DCF's commissioning section says (node-id, name, bit rate, LSS serial); all empty without a DCF.
-    pub commissioning: Commissioning,
+    pub(crate) commissioning: Commissioning,
 }
 
 impl Listed {
