@@ -23,6 +23,7 @@ pub(crate) mod network;
 mod nodes;
 pub(crate) mod records;
 mod reports;
+pub(crate) mod sim;
 pub(crate) mod stopped;
 
 pub use events::{event_line, say_deviations};
