@@ -23,7 +23,7 @@ use std::time::Duration;
   canctl --bus can0 health --watch 5s --format json")]
 pub struct HealthArgs {
     /// Every node must also be in this NMT state: operational, pre-operational or stopped
-    #[arg(long, value_name = "STATE", value_parser = super::network::parse_state)]
+    #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
     pub state: Option<State>,
     /// How long to watch heartbeats and EMCYs (default: two periods of the slowest
     /// heartbeat, 300ms to 10s)

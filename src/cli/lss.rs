@@ -2,7 +2,7 @@
 
 use super::Ctx;
 use crate::bus::Bus;
-use crate::canopen::lss::{parse_bit_rate, Identity, UNCONFIGURED};
+use crate::canopen::lss::{parse_bit_rate, Identity};
 use crate::error::Error;
 use crate::ops::lss::{self, AssignOptions, FastscanOptions, Setting};
 use clap::{Args, Subcommand};
@@ -69,7 +69,7 @@ Examples:
 #[derive(Args, Debug)]
 pub struct Target {
     /// The device's LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)
-    #[arg(long, value_name = "V:P:R:S", value_parser = parse_identity, conflicts_with_all = ["global", "node"])]
+    #[arg(long, value_name = "V:P:R:S", value_parser = |s: &str| s.parse::<Identity>(), conflicts_with_all = ["global", "node"])]
     pub identity: Option<Identity>,
     /// Every LSS device on the bus at once (a broadcast)
     #[arg(long, conflicts_with = "node")]
@@ -82,7 +82,7 @@ pub struct Target {
 #[derive(Args, Debug)]
 pub struct SetIdArgs {
     /// The new node-id: 1 to 127, or 255 for none
-    #[arg(value_name = "NEW", value_parser = parse_new_id)]
+    #[arg(value_name = "NEW", value_parser = super::parse_lss_node_id)]
     pub new: u8,
     #[command(flatten)]
     pub target: Target,
@@ -118,13 +118,13 @@ pub struct FastscanFlags {
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
     pub step: Option<Duration>,
     /// The vendor-id of the device(s) sought, if known: not searched (0x1018:1)
-    #[arg(long, value_name = "ID", value_parser = parse_u32)]
+    #[arg(long, value_name = "ID", value_parser = super::parse_u32)]
     pub vendor: Option<u32>,
     /// The product code, if known: not searched (0x1018:2)
-    #[arg(long, value_name = "CODE", value_parser = parse_u32)]
+    #[arg(long, value_name = "CODE", value_parser = super::parse_u32)]
     pub product: Option<u32>,
     /// The revision number, if known: not searched (0x1018:3)
-    #[arg(long, value_name = "REV", value_parser = parse_u32)]
+    #[arg(long, value_name = "REV", value_parser = super::parse_u32)]
     pub revision: Option<u32>,
 }
 
@@ -161,25 +161,6 @@ pub struct AssignArgs {
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
     #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
-}
-
-fn parse_u32(s: &str) -> Result<u32, String> {
-    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
-        Some(h) => u32::from_str_radix(h, 16),
-        None => s.parse(),
-    }
-    .map_err(|_| format!("'{s}' is not a 32-bit number (decimal, or hex with 0x)"))
-}
-
-fn parse_identity(s: &str) -> Result<Identity, String> {
-    s.parse()
-}
-
-fn parse_new_id(s: &str) -> Result<u8, String> {
-    match s.parse::<u16>() {
-        Ok(n) if (1..=127).contains(&n) || n == UNCONFIGURED as u16 => Ok(n as u8),
-        _ => Err(format!("'{s}' is not a node-id for LSS: use 1 to 127, or 255 to leave the device without one")),
-    }
 }
 
 impl Target {

@@ -205,7 +205,11 @@ fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
         .map(|s| FormatArg::from_str(&s, false).expect("every listed format is a FormatArg"))
 }
 
-pub use crate::settings::{number_in, parse_duration, parse_node, parse_timeout, DEFAULT_TIMEOUT};
+use crate::settings::parse::{
+    parse_fixed_bit_rate, parse_kbit, parse_lss_node_id, parse_nodes, parse_sdo_node, parse_size, parse_state,
+    parse_u32,
+};
+use crate::settings::{number_in, parse_duration, parse_node, parse_timeout};
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
 pub struct Ctx {
@@ -222,14 +226,6 @@ pub struct Ctx {
 /// every command: `main` calls it first, before anything can take long.
 pub fn install_interrupt() -> crate::cancel::Cancel {
     interrupt::install()
-}
-
-/// Parse a node-id for an SDO command: 1 to 127, or 0 for an EPOS2 reached directly.
-pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
-    if text.trim() == "0" {
-        return Ok(0);
-    }
-    parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on an epos2-rs232/epos2-usb bus)"))
 }
 
 /// Open the bus the user named, or explain how to name one.

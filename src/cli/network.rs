@@ -38,7 +38,7 @@ pub struct DumpArgs {
     #[arg(long, value_name = "NAME", default_value = "canctl network")]
     pub net_name: String,
     /// The bus's bit rate, written as each DCF's Baudrate (1M 800k 500k 250k 125k 50k 20k 10k)
-    #[arg(long, value_name = "RATE", value_parser = parse_kbit)]
+    #[arg(long, value_name = "RATE", value_parser = super::parse_kbit)]
     pub bit_rate: Option<u32>,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
@@ -64,7 +64,7 @@ pub struct CheckArgs {
     pub project: PathBuf,
     /// Every listed node must also be in this NMT state (from its heartbeat, else node
     /// guarding): operational, pre-operational or stopped
-    #[arg(long, value_name = "STATE", value_parser = parse_state)]
+    #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
     pub state: Option<State>,
     /// How many nodes to check at once, their SDO transfers in flight together (1: one after
     /// the other)
@@ -146,7 +146,7 @@ pub struct ApplyArgs {
     (then: sudo ip link set can0 down && sudo ip link set can0 up type can bitrate 1000000)")]
 pub struct SetBaudArgs {
     /// The new bit rate: 1M 800k 500k 250k 125k 50k 20k 10k
-    #[arg(value_name = "RATE", value_parser = parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
+    #[arg(value_name = "RATE", value_parser = super::parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
     pub rate: u8,
     /// The project whose nodes must follow: a nodelist.cpj, or the folder holding one
     /// (without it: the nodes that answer before the switch)
@@ -170,39 +170,6 @@ pub struct SetBaudArgs {
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
-}
-
-/// A CiA 305 bit rate other than "auto" (a network is switched to one rate).
-fn parse_fixed_bit_rate(text: &str) -> Result<u8, String> {
-    match crate::canopen::lss::parse_bit_rate(text)? {
-        crate::canopen::lss::AUTO_BIT_RATE => {
-            Err("a network is switched to one bit rate: use 1M 800k 500k 250k 125k 50k 20k or 10k".into())
-        }
-        index => Ok(index),
-    }
-}
-
-pub(super) fn parse_state(text: &str) -> Result<State, String> {
-    match text.trim().to_ascii_lowercase().as_str() {
-        "operational" => Ok(State::Operational),
-        "pre-operational" | "preop" => Ok(State::PreOperational),
-        "stopped" => Ok(State::Stopped),
-        _ => Err(format!("'{text}' is not an NMT state: use operational, pre-operational or stopped")),
-    }
-}
-
-/// `500k`, `1M`, `125000`: a bit rate in kbit/s.
-fn parse_kbit(text: &str) -> Result<u32, String> {
-    let t = text.trim().to_ascii_lowercase();
-    let k = if let Some(m) = t.strip_suffix('m') {
-        m.parse::<u32>().ok().map(|m| m * 1000)
-    } else if let Some(k) = t.strip_suffix('k') {
-        k.parse().ok()
-    } else {
-        t.parse::<u32>().ok().map(|b| b / 1000)
-    };
-    k.filter(|k| [10, 20, 50, 125, 250, 500, 800, 1000].contains(k))
-        .ok_or_else(|| format!("'{text}' is not a CAN bit rate: use 1M 800k 500k 250k 125k 50k 20k or 10k"))
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result<()> {

@@ -45,7 +45,7 @@ pub struct ReadArgs {
     /// Largest value to accept: an upload that grows past it is aborted, and one announced
     /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³); by default 64k, for
     /// a domain (--type d) or a value of unknown type 1M
-    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+    #[arg(long, value_name = "SIZE", value_parser = super::parse_size)]
     pub max_size: Option<usize>,
 }
 
@@ -84,27 +84,6 @@ pub struct WriteArgs {
 
 fn parse_type(s: &str) -> Result<DataType, String> {
     s.parse()
-}
-
-/// A byte count: `4096`, `64k`, `16M`, `1G` (binary multiples; `KiB`, `MB` and the like
-/// read the same). At most 4 GiB - 1: CiA 301 sizes are 32-bit.
-fn parse_size(s: &str) -> Result<usize, String> {
-    let t = s.trim();
-    let digits = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
-    let (number, unit) = t.split_at(digits);
-    let number: u64 =
-        number.parse().map_err(|_| format!("'{s}' is not a size: a number of bytes, e.g. 4096, 64k, 16M"))?;
-    let shift = match unit.trim().to_ascii_lowercase().trim_end_matches('b').trim_end_matches('i') {
-        "" => 0,
-        "k" => 10,
-        "m" => 20,
-        "g" => 30,
-        _ => return Err(format!("'{s}': unknown unit '{unit}' (k, M or G)")),
-    };
-    let bytes = number.checked_shl(shift).filter(|b| *b <= u64::from(u32::MAX) && b >> shift == number);
-    bytes
-        .and_then(|b| usize::try_from(b).ok())
-        .ok_or_else(|| format!("'{s}' is over 4G - 1 bytes, the largest size CiA 301 can carry"))
 }
 
 pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
@@ -158,24 +137,5 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
 fn remember<T>(ctx: &Ctx, node: u8, object: crate::canopen::ObjAddr, outcome: &crate::Result<T>) {
     if let Some(bus) = &ctx.bus {
         crate::ops::scan_cache::note(bus, node, object, outcome);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_size;
-
-    #[test]
-    fn sizes_parse_in_binary_multiples_up_to_32_bits() {
-        assert_eq!(parse_size("4096"), Ok(4096));
-        assert_eq!(parse_size("64k"), Ok(64 << 10));
-        assert_eq!(parse_size("16M"), Ok(16 << 20));
-        assert_eq!(parse_size("16MiB"), Ok(16 << 20));
-        assert_eq!(parse_size("1G"), Ok(1 << 30));
-        assert_eq!(parse_size("4294967295"), Ok(u32::MAX as usize));
-        assert!(parse_size("4G").unwrap_err().contains("over 4G - 1"));
-        assert!(parse_size("2x").unwrap_err().contains("unknown unit"));
-        assert!(parse_size("M").is_err());
-        assert!(parse_size("99999999999999999999999").is_err());
     }
 }

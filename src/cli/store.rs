@@ -22,8 +22,8 @@ pub use crate::ops::store::Class;
   canctl --bus can0 store 10 comm --store-timeout 10s")]
 pub struct StoreArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus), or several: 5,10,20
-    #[arg(value_parser = |s: &str| node_list(s, super::parse_sdo_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: Nodes,
+    #[arg(value_parser = |s: &str| super::parse_nodes(s, super::parse_sdo_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: crate::settings::parse::Nodes,
     #[arg(value_enum, default_value = "all")]
     pub class: Class,
     /// How long the device may take to store (flash writes take a while)
@@ -43,8 +43,8 @@ pub struct StoreArgs {
   canctl --bus can0 restore 10 app")]
 pub struct RestoreArgs {
     /// Node-id, 1 to 127, or several: 5,10,20
-    #[arg(value_parser = |s: &str| node_list(s, parse_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: Nodes,
+    #[arg(value_parser = |s: &str| super::parse_nodes(s, parse_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: crate::settings::parse::Nodes,
     #[arg(value_enum, default_value = "all")]
     pub class: Class,
     /// Reset the node afterwards and wait for it to boot with the defaults
@@ -53,20 +53,6 @@ pub struct RestoreArgs {
     /// How long the device may take to restore
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
     pub store_timeout: Duration,
-}
-
-/// One node-id or several, as one argument: `5` or `5,10,20`.
-#[derive(Clone, Debug)]
-pub struct Nodes(pub Vec<u8>);
-
-fn node_list(s: &str, one: fn(&str) -> Result<u8, String>) -> Result<Nodes, String> {
-    let nodes = s.split(',').map(one).collect::<Result<Vec<u8>, String>>()?;
-    for (i, n) in nodes.iter().enumerate() {
-        if nodes[..i].contains(n) {
-            return Err(format!("node {n} is named twice"));
-        }
-    }
-    Ok(Nodes(nodes))
 }
 
 pub fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {
