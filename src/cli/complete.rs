@@ -91,17 +91,17 @@ fn bus(words: &[String]) -> Option<String> {
         .or_else(|| settings().bus.map(|(b, _)| b))
 }
 
-pub fn buses() -> Vec<CompletionCandidate> {
+pub(crate) fn buses() -> Vec<CompletionCandidate> {
     crate::output::completion::buses(crate::ops::completion::buses())
 }
 
 /// Node-ids of the last scan of the bus, with what they are.
-pub fn nodes() -> Vec<CompletionCandidate> {
+pub(crate) fn nodes() -> Vec<CompletionCandidate> {
     let Some(bus) = bus(&words()) else { return vec![] };
     crate::output::completion::nodes(cache::load(&bus))
 }
 
-pub fn nodes_or_all() -> Vec<CompletionCandidate> {
+pub(crate) fn nodes_or_all() -> Vec<CompletionCandidate> {
     let mut out = nodes();
     out.push(CompletionCandidate::new("all").help(Some("every node (a broadcast)".into())));
     out
@@ -110,7 +110,7 @@ pub fn nodes_or_all() -> Vec<CompletionCandidate> {
 /// Objects of the node named before the object on the command line (`sdo read NODE OBJ`)
 /// that it is known to have ([`crate::ops::completion::objects`]), with the descriptions
 /// given on the line or in canctl.toml.
-pub fn objects() -> Vec<CompletionCandidate> {
+pub(crate) fn objects() -> Vec<CompletionCandidate> {
     let w = words();
     let node = w
         .iter()
@@ -159,11 +159,11 @@ fn takes_value(cmd: &clap::Command, flag: &str) -> bool {
         || cmd.get_subcommands().any(|s| takes_value(s, flag))
 }
 
-pub fn types() -> Vec<CompletionCandidate> {
+pub(crate) fn types() -> Vec<CompletionCandidate> {
     crate::output::completion::types()
 }
 
-pub fn bit_rates() -> Vec<CompletionCandidate> {
+pub(crate) fn bit_rates() -> Vec<CompletionCandidate> {
     crate::output::completion::bit_rates()
 }
 

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum ConfigCommand {
+pub(crate) enum ConfigCommand {
     Dump(DumpArgs),
     Diff(DiffArgs),
     Apply(ApplyArgs),
@@ -31,13 +31,13 @@ pub enum ConfigCommand {
 #[command(after_help = "Examples:
   canctl config check drive.eds
   canctl config check machine/node5.dcf --format json")]
-pub struct CheckArgs {
+pub(crate) struct CheckArgs {
     /// The EDS or DCF
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
 }
 
 /// `config check` needs no bus.
-pub fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
+pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
     let report = crate::ops::check::check(&a.file)?;
     ctx.out.report(&report)?;
     Ok(report.check()?)
@@ -51,13 +51,13 @@ pub fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
 #[command(after_help = "Examples:
   canctl --bus sim config eds 1 --out drive.eds
   canctl --bus can0 config eds 5 > sensor.eds")]
-pub struct EdsArgs {
+pub(crate) struct EdsArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// Write the EDS here instead of standard output
     #[arg(long, value_name = "FILE")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
 }
 
 /// Read every readable object of a node into a DCF (or an XDC)
@@ -70,13 +70,13 @@ pub struct EdsArgs {
   canctl --bus sim config dump 10 > io.dcf
   canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf
   canctl --bus sim config dump 10 --out io.xdc")]
-pub struct DumpArgs {
+pub(crate) struct DumpArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// Write the DCF here instead of standard output (an XDC when FILE ends in .xdc)
     #[arg(long, value_name = "FILE")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
 }
 
 /// Show where a node differs from a DCF's ParameterValues
@@ -84,15 +84,15 @@ pub struct DumpArgs {
 #[command(after_help = "Examples:
   canctl --bus sim config diff 10 io.dcf
   canctl --bus can0 config diff 10 io.dcf --check --format json   # exit 6 when they differ")]
-pub struct DiffArgs {
+pub(crate) struct DiffArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// The DCF (or XDC, CiA 311)
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
     /// Exit 6 when anything differs
     #[arg(long)]
-    pub check: bool,
+    pub(crate) check: bool,
 }
 
 /// Make a node match a DCF: write only what differs, safely, and prove it
@@ -105,30 +105,30 @@ pub struct DiffArgs {
 #[command(after_help = "Examples:
   canctl --bus sim config apply 10 io.dcf --dry-run
   canctl --bus can0 config apply 10 io.dcf --verify --store --format json")]
-pub struct ApplyArgs {
+pub(crate) struct ApplyArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// The DCF (or XDC, CiA 311)
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
     /// Show what would be written, write nothing
     #[arg(long)]
-    pub dry_run: bool,
+    pub(crate) dry_run: bool,
     /// Store the parameters (0x1010:1) when everything is written
     #[arg(long)]
-    pub store: bool,
+    pub(crate) store: bool,
     /// Read every written object back (exit 6 when one differs)
     #[arg(long)]
-    pub verify: bool,
+    pub(crate) verify: bool,
     /// How long the device may take to store
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
-    pub store_timeout: Duration,
+    pub(crate) store_timeout: Duration,
     /// Apply even when the device's vendor-ID or product code differs from the file's
     #[arg(long)]
-    pub force: bool,
+    pub(crate) force: bool,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<()> {
     match cmd {
         ConfigCommand::Dump(a) => dump(ctx, bus, a),
         ConfigCommand::Diff(a) => diff(ctx, bus, a),

@@ -19,9 +19,9 @@ use std::path::{Path, PathBuf};
   source <(COMPLETE=bash canctl)           # or: source <(canctl completions bash)
   canctl completions zsh > ~/.zfunc/_canctl
   canctl completions fish > ~/.config/fish/completions/canctl.fish")]
-pub struct CompletionsArgs {
+pub(crate) struct CompletionsArgs {
     /// bash, zsh, fish, elvish or powershell
-    pub shell: Shell,
+    pub(crate) shell: Shell,
 }
 
 /// Print the man page, or write every page to a directory
@@ -29,10 +29,10 @@ pub struct CompletionsArgs {
 #[command(after_help = "Examples:
   canctl man | man -l -
   canctl man --out /usr/local/share/man/man1")]
-pub struct ManArgs {
+pub(crate) struct ManArgs {
     /// Write canctl.1 and one page per subcommand into this directory
     #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
 }
 
 /// Every man page: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
@@ -40,13 +40,13 @@ pub fn man_pages() -> Vec<(String, Vec<u8>)> {
     crate::output::docs::man_pages(super::Cli::command())
 }
 
-pub fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
+pub(crate) fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
     let script = registration(args.shell);
     super::Output::new(crate::output::Format::Human, true).print(&String::from_utf8(script)?)?;
     Ok(())
 }
 
-pub fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
+pub(crate) fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
     let pages = man_pages();
     match &args.out {
         Some(dir) => {

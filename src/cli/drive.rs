@@ -11,7 +11,7 @@ use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum DriveCommand {
+pub(crate) enum DriveCommand {
     /// The CiA 402 state, every statusword flag, the mode of operation and the errors
     #[command(after_help = "Reads 0x1000 (refused unless the device type says profile 402), the statusword
 0x6041, the mode of operation 0x6061, the error register 0x1001 and the error history
@@ -48,29 +48,29 @@ Examples:
 }
 
 #[derive(Args, Debug)]
-pub struct StatusArgs {
+pub(crate) struct StatusArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// Print each change of the statusword until interrupted
     #[arg(long)]
-    pub watch: bool,
+    pub(crate) watch: bool,
     /// With --watch by SDO: how often to read the statusword
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub interval: Duration,
+    pub(crate) interval: Duration,
 }
 
 #[derive(Args, Debug)]
-pub struct WalkArgs {
+pub(crate) struct WalkArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// How long each transition may take to show in the statusword
     #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
-    pub wait: Duration,
+    pub(crate) wait: Duration,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<()> {
     let (args, goal) = match cmd {
         DriveCommand::Status(a) => return status(ctx, bus, a),
         DriveCommand::Enable(a) => (a, Goal::Enable),

@@ -19,16 +19,16 @@ use clap_complete::engine::ArgValueCandidates;
   canctl --bus sim errors 10
   canctl --bus sim errors 10 --clear
   canctl --bus can0 errors 1 --format json")]
-pub struct ErrorsArgs {
+pub(crate) struct ErrorsArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// Then delete the history (0 to 0x1003:0) and confirm it reads back empty
     #[arg(long)]
-    pub clear: bool,
+    pub(crate) clear: bool,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
     let report =
         match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node, a.clear, ctx.timeout)) {
             Err(e) if e.is_interrupted() => {

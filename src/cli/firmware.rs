@@ -11,7 +11,7 @@ use std::path::PathBuf;
 const IMAGE: crate::input::Limit = crate::input::Limit { bytes: 64 << 20, what: "a firmware image" };
 
 #[derive(Subcommand, Debug)]
-pub enum FirmwareCommand {
+pub(crate) enum FirmwareCommand {
     /// Program control (0x1F51), software identification (0x1F56) and flash status (0x1F57,
     /// by meaning) for each program the device has
     #[command(after_help = "Examples:\n  canctl --bus sim firmware status 9")]
@@ -34,41 +34,41 @@ pub enum FirmwareCommand {
 }
 
 #[derive(Args, Debug)]
-pub struct StatusArgs {
+pub(crate) struct StatusArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
 }
 
 #[derive(Args, Debug)]
-pub struct DownloadArgs {
+pub(crate) struct DownloadArgs {
     /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another,
     /// with a report (and with --format junit a test case) for each
     #[arg(value_name = "NODE", value_parser = parse_node, value_delimiter = ',', required = true, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub nodes: Vec<u8>,
+    pub(crate) nodes: Vec<u8>,
     /// The image: the bytes written to 0x1F50 as they are in the file
     #[arg(value_name = "IMAGE")]
-    pub image: PathBuf,
+    pub(crate) image: PathBuf,
     /// The program number (sub-index of 0x1F50, 0x1F51, 0x1F56, 0x1F57)
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = super::number_in::<u8>("a program number", 1, 254))]
-    pub program: u8,
+    pub(crate) program: u8,
     /// Download even when the device already runs this image
     #[arg(long)]
-    pub force: bool,
+    pub(crate) force: bool,
     /// The identification the device shows in 0x1F56 for this image, when it is not the
     /// image's CRC-32 (e.g. 0x01020300)
     #[arg(long, value_name = "ID", value_parser = super::number_in::<u32>("an identification", 0, u32::MAX as u64))]
-    pub expect_id: Option<u32>,
+    pub(crate) expect_id: Option<u32>,
     /// How long the device may stay busy erasing or writing its flash (0x1F57 bit 0)
     #[arg(long, value_name = "DUR", default_value = "60s", value_parser = super::parse_duration)]
-    pub busy_wait: std::time::Duration,
+    pub(crate) busy_wait: std::time::Duration,
     /// Leave a new program that asks for confirmation (0x1F51 reads 0x80) unconfirmed: its
     /// bootloader returns to the old one at the next reset
     #[arg(long)]
-    pub no_confirm: bool,
+    pub(crate) no_confirm: bool,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
     match cmd {
         FirmwareCommand::Status(a) => {
             let report =

@@ -21,22 +21,22 @@ use std::time::Duration;
   canctl --bus sim health
   canctl --bus can0 health --state operational --format junit > health.xml
   canctl --bus can0 health --watch 5s --format json")]
-pub struct HealthArgs {
+pub(crate) struct HealthArgs {
     /// Every node must also be in this NMT state: operational, pre-operational or stopped
     #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
-    pub state: Option<State>,
+    pub(crate) state: Option<State>,
     /// How long to watch heartbeats and EMCYs (default: two periods of the slowest
     /// heartbeat, 300ms to 10s)
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub watch: Option<Duration>,
+    pub(crate) watch: Option<Duration>,
     /// How long the bus must stay quiet after the last answer to the scan's probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub window: Duration,
+    pub(crate) window: Duration,
     #[command(flatten)]
-    pub checks: super::CheckFormat,
+    pub(crate) checks: super::CheckFormat,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
     let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state };
     let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         health::health(bus, &options, &mut ctx.out.progress())

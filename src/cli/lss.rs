@@ -10,7 +10,7 @@ use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum LssCommand {
+pub(crate) enum LssCommand {
     /// Read a device's identity and node-id
     #[command(after_help = "Examples:
   canctl --bus sim lss inquire --identity 0x40:0x43787800:0x312E3031:0x09501234
@@ -67,65 +67,65 @@ Examples:
 
 /// Which device: one by identity, all (only when asked), or an EPOS2 reached directly.
 #[derive(Args, Debug)]
-pub struct Target {
+pub(crate) struct Target {
     /// The device's LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)
     #[arg(long, value_name = "V:P:R:S", value_parser = |s: &str| s.parse::<Identity>(), conflicts_with_all = ["global", "node"])]
-    pub identity: Option<Identity>,
+    pub(crate) identity: Option<Identity>,
     /// Every LSS device on the bus at once (a broadcast)
     #[arg(long, conflicts_with = "node")]
-    pub global: bool,
+    pub(crate) global: bool,
     /// 0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)
     #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
-    pub node: Option<u8>,
+    pub(crate) node: Option<u8>,
 }
 
 #[derive(Args, Debug)]
-pub struct SetIdArgs {
+pub(crate) struct SetIdArgs {
     /// The new node-id: 1 to 127, or 255 for none
     #[arg(value_name = "NEW", value_parser = super::parse_lss_node_id)]
-    pub new: u8,
+    pub(crate) new: u8,
     #[command(flatten)]
-    pub target: Target,
+    pub(crate) target: Target,
     /// Give the id even when something on the bus answers to it already (two devices on
     /// one node-id make both unreachable)
     #[arg(long)]
-    pub force: bool,
+    pub(crate) force: bool,
 }
 
 #[derive(Args, Debug)]
-pub struct SetBaudArgs {
+pub(crate) struct SetBaudArgs {
     /// 1M 800k 500k 250k 125k 50k 20k 10k, or auto
     #[arg(value_name = "RATE", value_parser = parse_bit_rate, add = ArgValueCandidates::new(super::complete::bit_rates))]
-    pub rate: u8,
+    pub(crate) rate: u8,
     #[command(flatten)]
-    pub target: Target,
+    pub(crate) target: Target,
 }
 
 #[derive(Args, Debug)]
-pub struct ActivateArgs {
+pub(crate) struct ActivateArgs {
     /// Switch delay in ms: the devices wait this long, switch, and wait as long again
     #[arg(long, value_name = "MS", default_value_t = 100)]
-    pub delay: u16,
+    pub(crate) delay: u16,
     #[command(flatten)]
-    pub target: Target,
+    pub(crate) target: Target,
 }
 
 /// How fastscan paces itself, and what it already knows.
 #[derive(Args, Debug)]
-pub struct FastscanFlags {
+pub(crate) struct FastscanFlags {
     /// Wait this long for each fastscan answer instead of learning it from the devices
     /// (lengthened only if answers come later still)
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub step: Option<Duration>,
+    pub(crate) step: Option<Duration>,
     /// The vendor-id of the device(s) sought, if known: not searched (0x1018:1)
     #[arg(long, value_name = "ID", value_parser = super::parse_u32)]
-    pub vendor: Option<u32>,
+    pub(crate) vendor: Option<u32>,
     /// The product code, if known: not searched (0x1018:2)
     #[arg(long, value_name = "CODE", value_parser = super::parse_u32)]
-    pub product: Option<u32>,
+    pub(crate) product: Option<u32>,
     /// The revision number, if known: not searched (0x1018:3)
     #[arg(long, value_name = "REV", value_parser = super::parse_u32)]
-    pub revision: Option<u32>,
+    pub(crate) revision: Option<u32>,
 }
 
 impl FastscanFlags {
@@ -136,31 +136,31 @@ impl FastscanFlags {
 }
 
 #[derive(Args, Debug)]
-pub struct FastscanArgs {
+pub(crate) struct FastscanArgs {
     #[command(flatten)]
-    pub pace: FastscanFlags,
+    pub(crate) pace: FastscanFlags,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
     #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
-    pub node: Option<u8>,
+    pub(crate) node: Option<u8>,
 }
 
 #[derive(Args, Debug)]
-pub struct AssignArgs {
+pub(crate) struct AssignArgs {
     /// The first node-id to give
     #[arg(long, value_name = "N", value_parser = super::parse_node)]
-    pub start: u8,
+    pub(crate) start: u8,
     #[command(flatten)]
-    pub pace: FastscanFlags,
+    pub(crate) pace: FastscanFlags,
     /// How long to listen for heartbeats before assigning [default: 1s, or longer for the
     /// longest heartbeat period the nodes report]
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub listen: Option<Duration>,
+    pub(crate) listen: Option<Duration>,
     /// Do not store the node-ids (they are lost at power-off)
     #[arg(long)]
-    pub no_store: bool,
+    pub(crate) no_store: bool,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
     #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
-    pub node: Option<u8>,
+    pub(crate) node: Option<u8>,
 }
 
 impl Target {
@@ -183,7 +183,7 @@ fn no_node(node: Option<u8>, verb: &str) -> crate::Result<()> {
     node.map_or(Ok(()), |_| Err(lss::no_lss_on_direct_epos2(verb)))
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()> {
     // An interruption is noted and acted on between steps, so that no device is left in
     // configuration state.
     let (t, stop) = (ctx.timeout, &ctx.cancel);

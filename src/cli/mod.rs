@@ -8,7 +8,6 @@ mod drive;
 mod errors;
 mod firmware;
 mod health;
-mod interrupt;
 mod lss;
 mod monitor;
 mod network;
@@ -21,6 +20,7 @@ mod store;
 mod stream;
 
 use crate::bus::Bus;
+use crate::cancel::Cancel;
 use crate::connect::{BusAddr, OpenOptions};
 use crate::error::Error;
 use crate::output::{FormatArg, Output};
@@ -29,8 +29,7 @@ use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
-pub use crate::output::diagnostics::install as install_diagnostics;
-pub use crate::output::docs::{completion_scripts, write_completions};
+pub use crate::output::docs::completion_scripts;
 pub use complete::complete_from_env;
 pub use docs::man_pages;
 
@@ -50,6 +49,8 @@ Exit codes:
   7    output could not be written (disk full, no permission); the old --out file is kept
   130  interrupted (SIGINT, SIGTERM, Ctrl-C/Ctrl-Break), after a report of what was done";
 
+/// canctl's command line, as clap parses it: `main` hands it to [`run`]; its
+/// `clap::CommandFactory` is what help, man pages and completions are made from.
 #[derive(Parser, Debug)]
 #[command(
     name = "canctl",
@@ -64,54 +65,54 @@ Try it without hardware: canctl --bus sim scan",
 )]
 pub struct Cli {
     #[command(flatten)]
-    pub global: GlobalArgs,
+    pub(crate) global: GlobalArgs,
     #[command(subcommand)]
-    pub command: Command,
+    pub(crate) command: Command,
 }
 
 #[derive(Args, Debug)]
-pub struct GlobalArgs {
+pub(crate) struct GlobalArgs {
     /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k,
     /// epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else
     /// the settings file's)
     #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", add = ArgValueCandidates::new(complete::buses))]
-    pub bus: Option<String>,
+    pub(crate) bus: Option<String>,
     /// How long to wait for each answer: 500ms, 2s, 1.5s (a unit is required: us, ms, s, m;
     /// at least 10ms); default 500ms, or the settings file's
     #[arg(long, global = true, value_name = "DUR", value_parser = parse_timeout)]
-    pub timeout: Option<Duration>,
+    pub(crate) timeout: Option<Duration>,
     /// Output format
     #[arg(long, global = true, value_enum, default_value = "human")]
-    pub format: FormatArg,
+    pub(crate) format: FormatArg,
     /// An EDS or DCF (or XDD or XDC) describing node NODE, or every node without NODE=
     /// (repeatable): object names, types and ranges come from it
     #[arg(long, global = true, value_name = "[NODE=]FILE", value_parser = objects::parse_eds_arg)]
-    pub eds: Vec<objects::EdsArg>,
+    pub(crate) eds: Vec<objects::EdsArg>,
     /// Trace every frame on stderr in candump notation; -vv also what each procedure does
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
-    pub verbose: u8,
+    pub(crate) verbose: u8,
     /// Tables with every column even on a narrow terminal (they are fitted to its width
     /// otherwise; pipes and files always get every column)
     #[arg(long, global = true)]
-    pub wide: bool,
+    pub(crate) wide: bool,
     /// No warnings, diagnostics or progress on stderr (errors still print)
     #[arg(short, long, global = true, conflicts_with = "verbose")]
-    pub quiet: bool,
+    pub(crate) quiet: bool,
     /// Write every frame sent and received to FILE, in the candump log format of can-utils
     /// (`(1700000000.123456) vcan0 605#4000100000000000`), for support cases
     #[arg(long, global = true, value_name = "FILE")]
-    pub log_frames: Option<std::path::PathBuf>,
+    pub(crate) log_frames: Option<std::path::PathBuf>,
 }
 
 impl GlobalArgs {
     /// The frame log asked for with --log-frames, created (emptied) now.
-    pub fn frame_log(&self) -> crate::error::Result<Option<crate::bus::FrameLog>> {
+    pub(crate) fn frame_log(&self) -> crate::error::Result<Option<crate::bus::FrameLog>> {
         self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose()
     }
 }
 
 #[derive(Subcommand, Debug)]
-pub enum Command {
+pub(crate) enum Command {
     Scan(scan::ScanArgs),
     /// Read and write objects (SDO)
     #[command(
@@ -192,11 +193,11 @@ pub enum Command {
 /// argument, so that only their help and completion offer `junit`; the global `--format`
 /// (before the command) takes it too, and the other commands refuse it.
 #[derive(Args, Debug)]
-pub struct CheckFormat {
+pub(crate) struct CheckFormat {
     /// Output format: human, json, csv, or junit (one JUnit test case per node and check,
     /// for CI systems) [default: human]
     #[arg(long = "format", id = "format", value_name = "FORMAT", value_parser = check_formats())]
-    pub format: Option<FormatArg>,
+    pub(crate) format: Option<FormatArg>,
 }
 
 fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
@@ -212,20 +213,14 @@ use crate::settings::parse::{
 use crate::settings::{number_in, parse_duration, parse_node, parse_timeout};
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
-pub struct Ctx {
-    pub out: Output,
-    pub timeout: Duration,
-    pub dicts: objects::Dictionaries,
+pub(crate) struct Ctx {
+    pub(crate) out: Output,
+    pub(crate) timeout: Duration,
+    pub(crate) dicts: objects::Dictionaries,
     /// The bus URI in force (flag, CANCTL_BUS or settings file).
-    pub bus: Option<String>,
-    /// The program's request to stop, caught from the start ([`install_interrupt`]).
-    pub cancel: crate::cancel::Cancel,
-}
-
-/// Catch SIGINT, SIGTERM, Ctrl-C and Ctrl-Break as a request to stop, from now on and for
-/// every command: `main` calls it first, before anything can take long.
-pub fn install_interrupt() -> crate::cancel::Cancel {
-    interrupt::install()
+    pub(crate) bus: Option<String>,
+    /// The program's request to stop, caught from the start (`main` installs it).
+    pub(crate) cancel: Cancel,
 }
 
 /// Open the bus the user named, or explain how to name one.
@@ -287,9 +282,12 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     }
 }
 
-/// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS.
-pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
+/// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS,
+/// `cancel` is the program's request to stop (caught from its start).
+pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
     let g = &cli.global;
+    // The library reports through `tracing`; -v/-q choose what reaches stderr.
+    crate::output::diagnostics::install(g.verbose, g.quiet);
     let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
     let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
@@ -308,7 +306,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         timeout: settings.timeout.value,
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
-        cancel: interrupt::install(),
+        cancel,
     };
     let checks = matches!(
         cli.command,
@@ -352,27 +350,6 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),
     }
-}
-
-/// The process exit code for an error from `run`, and whether to print it.
-pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
-    for cause in err.chain() {
-        if let Some(e) = cause.downcast_ref::<crate::ops::firmware::FirmwareError>() {
-            return (e.class().exit_code(), true);
-        }
-        if let Some(e) = cause.downcast_ref::<Error>() {
-            return (e.exit_code(), true);
-        }
-        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
-            if io.kind() == std::io::ErrorKind::BrokenPipe {
-                // The reader went away (`canctl scan | head -1`): nothing left to say.
-                return (0, false);
-            }
-            // Input files are read into typed errors: an I/O error left is one of output.
-            return (crate::error::ErrorClass::Output.exit_code(), true);
-        }
-    }
-    (1, true)
 }
 
 #[cfg(test)]

@@ -21,16 +21,16 @@ use std::time::Duration;
   canctl --bus can0 monitor
   canctl --bus can0 monitor --node 5 --node 10 --duration 10s --format json > bus.jsonl
   canctl --bus vcan0 --eds 5=mh.dcf monitor --node 5")]
-pub struct MonitorArgs {
+pub(crate) struct MonitorArgs {
     /// Only frames of this node (repeatable); NMT, SYNC and LSS are always shown
     #[arg(long, value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: Vec<u8>,
+    pub(crate) node: Vec<u8>,
     /// Stop after this long
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub duration: Option<Duration>,
+    pub(crate) duration: Option<Duration>,
     /// Stop after this many frames
     #[arg(long, value_name = "N")]
-    pub count: Option<u64>,
+    pub(crate) count: Option<u64>,
 }
 
 /// PDO layouts from the EDS/DCF files: their TPDO and RPDO mappings, for their nodes.
@@ -48,7 +48,7 @@ fn layouts(ctx: &Ctx, nodes: &[u8]) -> BTreeMap<u16, Layout> {
 /// Ctrl-C or SIGTERM ends the monitor as its duration would, with the summary; the exit
 /// code is 130 all the same (as for every command the user stops), 0 only when --duration
 /// or --count ended it.
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         let mut monitor = Monitor::new(bus, layouts(ctx, &a.node), &a.node, a.duration, a.count)?;
         let stdout = std::io::stdout();

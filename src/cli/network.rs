@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum NetworkCommand {
+pub(crate) enum NetworkCommand {
     Dump(DumpArgs),
     Check(CheckArgs),
     Apply(ApplyArgs),
@@ -31,21 +31,21 @@ pub enum NetworkCommand {
 #[command(after_help = "Examples:
   canctl --bus sim network dump machine/
   canctl --bus can0 network dump machine/ --net-name 'Cabinet A' --bit-rate 500k")]
-pub struct DumpArgs {
+pub(crate) struct DumpArgs {
     /// The folder to write into (made if missing)
-    pub dir: PathBuf,
+    pub(crate) dir: PathBuf,
     /// The network's name in the project (NetName)
     #[arg(long, value_name = "NAME", default_value = "canctl network")]
-    pub net_name: String,
+    pub(crate) net_name: String,
     /// The bus's bit rate, written as each DCF's Baudrate (1M 800k 500k 250k 125k 50k 20k 10k)
     #[arg(long, value_name = "RATE", value_parser = super::parse_kbit)]
-    pub bit_rate: Option<u32>,
+    pub(crate) bit_rate: Option<u32>,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub window: Duration,
+    pub(crate) window: Duration,
     /// Replace a project already in DIR
     #[arg(long)]
-    pub force: bool,
+    pub(crate) force: bool,
 }
 
 /// Check the bus against a network project; exit 6 when anything differs
@@ -59,22 +59,22 @@ pub struct DumpArgs {
 #[command(after_help = "Examples:
   canctl --bus sim network check machine/nodelist.cpj
   canctl --bus can0 network check machine/ --format junit > network-check.xml")]
-pub struct CheckArgs {
+pub(crate) struct CheckArgs {
     /// The project: a nodelist.cpj, or the folder holding one
-    pub project: PathBuf,
+    pub(crate) project: PathBuf,
     /// Every listed node must also be in this NMT state (from its heartbeat, else node
     /// guarding): operational, pre-operational or stopped
     #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
-    pub state: Option<State>,
+    pub(crate) state: Option<State>,
     /// How many nodes to check at once, their SDO transfers in flight together (1: one after
     /// the other)
     #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
-    pub jobs: u8,
+    pub(crate) jobs: u8,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub window: Duration,
+    pub(crate) window: Duration,
     #[command(flatten)]
-    pub checks: super::CheckFormat,
+    pub(crate) checks: super::CheckFormat,
 }
 
 /// Make the bus as a network project says: only what differs is written, verified, stored
@@ -92,37 +92,37 @@ pub struct CheckArgs {
   canctl --bus sim network apply machine/nodelist.cpj --assign
   canctl --bus can0 network apply machine/ --dry-run
   canctl --bus can0 network apply machine/ --assign --format json > applied.json")]
-pub struct ApplyArgs {
+pub(crate) struct ApplyArgs {
     /// The project: a nodelist.cpj, or the folder holding one
-    pub project: PathBuf,
+    pub(crate) project: PathBuf,
     /// Give node-ids over LSS to listed nodes that do not answer, found by their DCF's identity
     #[arg(long)]
-    pub assign: bool,
+    pub(crate) assign: bool,
     /// Show what would be written, write nothing
     #[arg(long)]
-    pub dry_run: bool,
+    pub(crate) dry_run: bool,
     /// Do not store the parameters of the nodes written to
     #[arg(long)]
-    pub no_store: bool,
+    pub(crate) no_store: bool,
     /// Apply DCFs even to devices whose vendor-ID or product code differs from the file's
     #[arg(long)]
-    pub force: bool,
+    pub(crate) force: bool,
     /// How long a device may take to store
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
-    pub store_timeout: Duration,
+    pub(crate) store_timeout: Duration,
     /// Reset the nodes written to (NMT reset node) and wait until each has booted
     #[arg(long)]
-    pub reset: bool,
+    pub(crate) reset: bool,
     /// How many nodes to configure at once, their SDO transfers in flight together (1: one
     /// after the other)
     #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
-    pub jobs: u8,
+    pub(crate) jobs: u8,
     /// How long a device given a node-id over LSS, or reset, may take to be back
     #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
-    pub boot_wait: Duration,
+    pub(crate) boot_wait: Duration,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub window: Duration,
+    pub(crate) window: Duration,
 }
 
 /// Switch every device on the bus to a new bit rate (LSS global), then look for each node
@@ -144,35 +144,35 @@ pub struct ApplyArgs {
   canctl --bus sim network set-baud 250k machine/ --global --store --update-project
   canctl --bus can0 network set-baud 1M --global --store --delay 200
     (then: sudo ip link set can0 down && sudo ip link set can0 up type can bitrate 1000000)")]
-pub struct SetBaudArgs {
+pub(crate) struct SetBaudArgs {
     /// The new bit rate: 1M 800k 500k 250k 125k 50k 20k 10k
     #[arg(value_name = "RATE", value_parser = super::parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
-    pub rate: u8,
+    pub(crate) rate: u8,
     /// The project whose nodes must follow: a nodelist.cpj, or the folder holding one
     /// (without it: the nodes that answer before the switch)
-    pub project: Option<PathBuf>,
+    pub(crate) project: Option<PathBuf>,
     /// Required: the switch is an LSS broadcast to every device on the bus
     #[arg(long)]
-    pub global: bool,
+    pub(crate) global: bool,
     /// Make the devices keep the new rate across power cycles (LSS store configuration)
     #[arg(long)]
-    pub store: bool,
+    pub(crate) store: bool,
     /// Switch delay in ms: the devices wait this long, switch, and wait as long again
     #[arg(long, value_name = "MS", default_value_t = 100)]
-    pub delay: u16,
+    pub(crate) delay: u16,
     /// Activate even when some device refuses the new rate (it is left at the old one)
     #[arg(long)]
-    pub force: bool,
+    pub(crate) force: bool,
     /// Write the new rate into each DCF of PROJECT ([DeviceComissioning] Baudrate) once the
     /// devices switched
     #[arg(long, requires = "project")]
-    pub update_project: bool,
+    pub(crate) update_project: bool,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub window: Duration,
+    pub(crate) window: Duration,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result<()> {
     match cmd {
         NetworkCommand::Dump(a) => dump(ctx, bus, a),
         NetworkCommand::Check(a) => check(ctx, bus, a),

@@ -10,7 +10,7 @@ use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum NmtCommand {
+pub(crate) enum NmtCommand {
     /// Put a node (or all) in Operational
     #[command(after_help = "Examples:\n  canctl --bus sim nmt start 5\n  canctl --bus sim nmt start all")]
     Start(Target),
@@ -37,29 +37,29 @@ Examples:
 }
 
 #[derive(Args, Debug)]
-pub struct Target {
+pub(crate) struct Target {
     /// Node-id 1 to 127, or `all` to broadcast to every node
     #[arg(value_parser = parse_target, value_name = "NODE|all", add = ArgValueCandidates::new(super::complete::nodes_or_all))]
-    pub target: u8,
+    pub(crate) target: u8,
 }
 
 #[derive(Args, Debug)]
-pub struct ResetArgs {
+pub(crate) struct ResetArgs {
     #[command(flatten)]
-    pub target: Target,
+    pub(crate) target: Target,
     /// How long to wait for boot-up messages
     #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
-    pub wait: Duration,
+    pub(crate) wait: Duration,
 }
 
 #[derive(Args, Debug)]
-pub struct StateArgs {
+pub(crate) struct StateArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// How long to listen for a heartbeat before asking by node guarding
     #[arg(long, value_name = "DUR", default_value = "300ms", value_parser = super::parse_duration)]
-    pub listen: Duration,
+    pub(crate) listen: Duration,
 }
 
 fn parse_target(s: &str) -> Result<u8, String> {
@@ -69,7 +69,7 @@ fn parse_target(s: &str) -> Result<u8, String> {
     parse_node(s).map_err(|e| format!("{e}, or all"))
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| run_stoppable(ctx, bus, cmd))
 }
 

@@ -9,7 +9,7 @@ use clap_complete::engine::ArgValueCandidates;
 use std::path::PathBuf;
 
 #[derive(Subcommand, Debug)]
-pub enum SdoCommand {
+pub(crate) enum SdoCommand {
     Read(ReadArgs),
     Write(WriteArgs),
 }
@@ -25,28 +25,28 @@ pub enum SdoCommand {
   canctl --bus sim sdo read 1 0x1018:1 --type u32
   canctl --bus sim sdo read 10 1008 --type vs
   canctl --bus sim sdo read 1 1F50:1 --type d --out program.bin")]
-pub struct ReadArgs {
+pub(crate) struct ReadArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
-    pub object: String,
+    pub(crate) object: String,
     /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
     #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
-    pub dtype: Option<DataType>,
+    pub(crate) dtype: Option<DataType>,
     /// Write the raw bytes to this file instead of printing them
     #[arg(long, value_name = "FILE")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
     /// Never use block transfer (segmented instead)
     #[arg(long)]
-    pub no_block: bool,
+    pub(crate) no_block: bool,
     /// Largest value to accept: an upload that grows past it is aborted, and one announced
     /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³); by default 64k, for
     /// a domain (--type d) or a value of unknown type 1M
     #[arg(long, value_name = "SIZE", value_parser = super::parse_size)]
-    pub max_size: Option<usize>,
+    pub(crate) max_size: Option<usize>,
 }
 
 /// Write an object (SDO download)
@@ -60,33 +60,33 @@ pub struct ReadArgs {
   canctl --bus sim sdo write 5 1017 100 --type u16 --verify
   canctl --bus sim sdo write 1 0x607A:0 -2000 --type i32
   canctl --bus sim sdo write 1 1F50:1 @program.bin --type d")]
-pub struct WriteArgs {
+pub(crate) struct WriteArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
-    pub object: String,
+    pub(crate) object: String,
     /// The value, or @FILE for its raw bytes
     #[arg(allow_hyphen_values = true)]
-    pub value: String,
+    pub(crate) value: String,
     /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
     #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
-    pub dtype: Option<DataType>,
+    pub(crate) dtype: Option<DataType>,
     /// Read the object back and compare (exit 6 when it differs)
     #[arg(long)]
-    pub verify: bool,
+    pub(crate) verify: bool,
     /// Never use block transfer (segmented instead)
     #[arg(long)]
-    pub no_block: bool,
+    pub(crate) no_block: bool,
 }
 
 fn parse_type(s: &str) -> Result<DataType, String> {
     s.parse()
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| match cmd {
         SdoCommand::Read(a) => read(ctx, bus, a),
         SdoCommand::Write(a) => write(ctx, bus, a),

@@ -34,36 +34,36 @@ use std::time::Duration;
   canctl sim --slcan &                     # prints /dev/pts/N: --bus slcan:/dev/pts/N
   canctl sim reset"
 )]
-pub struct SimArgs {
+pub(crate) struct SimArgs {
     #[command(subcommand)]
-    pub command: Option<SimCommand>,
+    pub(crate) command: Option<SimCommand>,
     /// Put the devices on this CAN interface (vcan0, can0) and answer there
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["epos2_rs232", "epos2_usb", "slcan"])]
-    pub socketcan: Option<String>,
+    pub(crate) socketcan: Option<String>,
     /// Serve the devices behind a simulated slcan (Lawicel) adapter on a pseudo-terminal
     #[arg(long, conflicts_with_all = ["epos2_rs232", "epos2_usb"])]
-    pub slcan: bool,
+    pub(crate) slcan: bool,
     /// Serve an EPOS2 speaking the RS232 protocol (with the 'O'/'F' handshake)
     #[arg(long, conflicts_with = "epos2_usb")]
-    pub epos2_rs232: bool,
+    pub(crate) epos2_rs232: bool,
     /// Serve an EPOS2 speaking the USB protocol (DLE/STX framing)
     #[arg(long)]
-    pub epos2_usb: bool,
+    pub(crate) epos2_usb: bool,
     /// Pace bytes as a serial line at this bit rate would (10 bits a byte)
     #[arg(long, value_name = "BITS/S", value_parser = super::number_in::<u32>("a serial bit rate", 300, 10_000_000))]
-    pub baud: Option<u32>,
+    pub(crate) baud: Option<u32>,
     /// Inject a fault: nack, crc, garbage, drop, mute, stale, late, babble, empty-segments,
     /// endless-segments or wrong-object, on frame N (KIND@N) or every frame (KIND@*)
     #[arg(long, value_name = "KIND@N")]
-    pub fault: Vec<Fault>,
+    pub(crate) fault: Vec<Fault>,
     /// How long the EPOS2 waits for an SDO answer on the CAN bus (the slow profile's
     /// devices answer up to 80 ms late)
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub can_timeout: Duration,
+    pub(crate) can_timeout: Duration,
 }
 
 #[derive(Subcommand, Debug)]
-pub enum SimCommand {
+pub(crate) enum SimCommand {
     /// Forget the simulated network's saved state: devices start as built
     ///
     /// The sim network keeps node-ids, written and stored values and NMT states between
@@ -85,19 +85,19 @@ pub enum SimCommand {
 }
 
 #[derive(Args, Debug)]
-pub struct ResetArgs {
+pub(crate) struct ResetArgs {
     /// How late devices answer and whether frames take time on the bus
     #[arg(long, value_name = "PROFILE", default_value = "typical", value_parser = clap::builder::PossibleValuesParser::new(Profile::NAMES).map(|s| s.parse::<Profile>().expect("listed")))]
-    pub profile: Profile,
+    pub(crate) profile: Profile,
     /// Devices waiting for a node-id over LSS
     #[arg(long, value_name = "N", default_value_t = DEFAULT_UNCONFIGURED, value_parser = super::number_in::<u8>("a number of devices", 0, MAX_UNCONFIGURED as u64))]
-    pub unconfigured: u8,
+    pub(crate) unconfigured: u8,
     /// The bit rate the bus and every device start at (1M 800k 500k 250k 125k 50k 20k 10k)
     #[arg(long, value_name = "RATE", default_value = "500k", value_parser = parse_rate)]
-    pub bit_rate: u8,
+    pub(crate) bit_rate: u8,
     /// Seed of the devices' latency jitter and random faults: the same seed replays a run
     #[arg(long, value_name = "N", default_value_t = DEFAULT_SEED)]
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Make a device misbehave: TARGET:KIND[=ARG][@WHEN], e.g. 5:drop@3, drive:delay=40, 10:abort@2+
     ///
     /// TARGET is a node-id or a model key (drive, sensor, io, stepper, sensor-09501301).
@@ -108,17 +108,17 @@ pub struct ResetArgs {
     /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
     /// the default).
     #[arg(long, value_name = "SPEC")]
-    pub fault: Vec<FaultSpec>,
+    pub(crate) fault: Vec<FaultSpec>,
     /// Run commands on virtual time: a wait with nothing due ends at once, so slow devices,
     /// long delays and long watches take no wall time; every figure stays in bus time
     ///
     /// For tests and scripts that nothing else watches: a network served with --socketcan,
     /// --slcan or --epos2-* (shared with other programs) runs on real time all the same.
     #[arg(long)]
-    pub virtual_time: bool,
+    pub(crate) virtual_time: bool,
     /// Add a device with a CiA 302-3 bootloader on this node-id (for canctl firmware)
     #[arg(long, value_name = "NODE", value_parser = super::parse_node)]
-    pub bootloader: Option<u8>,
+    pub(crate) bootloader: Option<u8>,
 }
 
 fn parse_rate(text: &str) -> Result<u8, String> {
@@ -128,7 +128,7 @@ fn parse_rate(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("the sim bus needs a fixed bit rate, not {text}"))
 }
 
-pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
     let path = serve::state_path(ctx.bus.as_deref())?.ok_or_else(|| Error::Usage(sim::NOT_A_SIM_BUS.into()))?;
     if let Some(SimCommand::Reset(r)) = &args.command {
         let mut config =

@@ -22,42 +22,42 @@ use std::time::Duration;
   canctl --bus sim stream-pdo 5 --start --count 100 --format csv > position.csv
   canctl --bus can0 stream-pdo 5 --start --sync 10ms --duration 5s --format json
   canctl --bus sim stream-pdo 1 --start --map 6064:0,606C:0 --event 20")]
-pub struct StreamArgs {
+pub(crate) struct StreamArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    pub(crate) node: u8,
     /// Which TPDOs (default: every valid one of 1..4)
     #[arg(long, value_delimiter = ',', value_name = "N,...", value_parser = super::number_in::<u16>("a TPDO number", 1, 512))]
-    pub tpdo: Vec<u16>,
+    pub(crate) tpdo: Vec<u16>,
     /// Stop after this many records
     #[arg(long, value_name = "N", conflicts_with = "duration")]
-    pub count: Option<u64>,
+    pub(crate) count: Option<u64>,
     /// Stop after this long
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub duration: Option<Duration>,
+    pub(crate) duration: Option<Duration>,
     /// Send SYNC at this period (for synchronous PDOs, transmission types 0..240)
     #[arg(long, value_name = "PERIOD", value_parser = super::parse_duration)]
-    pub sync: Option<Duration>,
+    pub(crate) sync: Option<Duration>,
     /// Put the node in Operational, and back in its former state at the end
     #[arg(long)]
-    pub start: bool,
+    pub(crate) start: bool,
     /// Map these objects into the (first) TPDO for this session: 6064:0,606C:0
     #[arg(long, value_delimiter = ',', value_name = "OBJ,...")]
-    pub map: Vec<String>,
+    pub(crate) map: Vec<String>,
     /// With --map: event timer in ms
     #[arg(long, value_name = "MS", requires = "map")]
-    pub event: Option<u16>,
+    pub(crate) event: Option<u16>,
     /// With --map: transmission type (1..240 on SYNC, 254/255 by event)
     #[arg(long = "type", value_name = "T", requires = "map")]
-    pub transmission: Option<u8>,
+    pub(crate) transmission: Option<u8>,
     /// Through an EPOS2: how often to poll each PDO
     #[arg(long, value_name = "DUR", default_value = "10ms", value_parser = super::parse_duration)]
-    pub interval: Duration,
+    pub(crate) interval: Duration,
 }
 
 /// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
 /// read once from the node.
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
     let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);

@@ -2,7 +2,6 @@
 //! `cli` hands in: output sits below it).
 
 use clap_complete::Shell;
-use std::path::Path;
 
 /// The shell code that asks canctl for candidates as you type (clap_complete's dynamic
 /// completion): the same as `COMPLETE=SHELL canctl` prints.
@@ -36,15 +35,6 @@ pub fn completion_scripts() -> Vec<(String, Vec<u8>)> {
             (name, registration(shell))
         })
         .collect()
-}
-
-/// Writes every shell's completion script into `dir` (what packaging installs).
-pub fn write_completions(dir: &Path) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    for (name, data) in completion_scripts() {
-        std::fs::write(dir.join(name), data)?;
-    }
-    Ok(())
 }
 
 /// Every man page of `cmd`: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
