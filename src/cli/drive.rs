@@ -6,6 +6,7 @@ use crate::bus::Bus;
 use crate::canopen::cia402::Goal;
 use crate::error::Error;
 use crate::ops::drive::{self, Options, Source, Watch};
+use crate::output::stopped;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -86,16 +87,8 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::R
 }
 
 fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
-    let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node, ctx.timeout)) {
-        Err(e) if e.is_interrupted() => {
-            return crate::output::stopped::reading(
-                &ctx.out,
-                "drive status",
-                format!("reading node {}'s state", a.node),
-            )
-        }
-        report => report?,
-    };
+    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node, ctx.timeout));
+    let report = stopped::read(&ctx.out, "drive status", format!("reading node {}'s state", a.node), read)?;
     ctx.out.report(&report)?;
     if !a.watch {
         return Ok(());

@@ -29,17 +29,9 @@ pub(crate) struct ErrorsArgs {
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
-    let report =
-        match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node, a.clear, ctx.timeout)) {
-            Err(e) if e.is_interrupted() => {
-                return crate::output::stopped::reading(
-                    &ctx.out,
-                    "errors",
-                    format!("reading node {}'s error history", a.node),
-                )
-            }
-            report => report?,
-        };
+    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node, a.clear, ctx.timeout));
+    let what = format!("reading node {}'s error history", a.node);
+    let report = crate::output::stopped::read(&ctx.out, "errors", what, read)?;
     ctx.out.report(&report)?;
     match report.clear_interrupted {
         Some(_) => Err(crate::Error::Interrupted.into()),

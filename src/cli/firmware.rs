@@ -71,15 +71,9 @@ pub(crate) struct DownloadArgs {
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
     match cmd {
         FirmwareCommand::Status(a) => {
-            let report =
-                match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout)) {
-                    Err(e) if e.is_interrupted() => {
-                        let what = format!("reading node {}'s program objects", a.node);
-                        return crate::output::stopped::reading(&ctx.out, "firmware status", what);
-                    }
-                    report => report?,
-                };
-            Ok(ctx.out.report(&report)?)
+            let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout));
+            let what = format!("reading node {}'s program objects", a.node);
+            Ok(ctx.out.report(&crate::output::stopped::read(&ctx.out, "firmware status", what, read)?)?)
         }
         FirmwareCommand::Download(a) => download(ctx, bus, a),
     }

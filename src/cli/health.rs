@@ -38,14 +38,9 @@ pub(crate) struct HealthArgs {
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
     let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state };
-    let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        health::health(bus, &options, &mut ctx.out.progress())
-    }) {
-        Err(e) if e.is_interrupted() => {
-            return crate::output::stopped::reading(&ctx.out, "health", "scanning and judging the nodes".into())
-        }
-        report => report?,
-    };
+    let read =
+        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| health::health(bus, &options, &mut ctx.out.progress()));
+    let report = crate::output::stopped::read(&ctx.out, "health", "scanning and judging the nodes".into(), read)?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }

@@ -101,15 +101,13 @@ fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Resu
         }
         NmtCommand::State(a) => {
             let o = StateOptions { listen: a.listen, timeout: ctx.timeout };
-            match nmt::state(bus, a.node, &o) {
-                Ok(state) => Ok(ctx.out.report(&state)?),
-                Err(e) if e.is_interrupted() => crate::output::stopped::reading(
-                    &ctx.out,
-                    "nmt state",
-                    format!("learning the NMT state of node {}", a.node),
-                ),
-                Err(e) => Err(e.into()),
-            }
+            let what = format!("learning the NMT state of node {}", a.node);
+            Ok(ctx.out.report(&crate::output::stopped::read(
+                &ctx.out,
+                "nmt state",
+                what,
+                nmt::state(bus, a.node, &o),
+            )?)?)
         }
     }
 }
