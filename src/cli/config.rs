@@ -217,7 +217,6 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
 }
 
 fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
-    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let options = ApplyOptions {
         interrupted: ctx.cancel.clone(),
         timeout: ctx.timeout,

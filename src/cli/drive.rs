@@ -79,7 +79,6 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::R
         DriveCommand::QuickStop(a) => (a, Goal::QuickStop),
         DriveCommand::FaultReset(a) => (a, Goal::FaultReset),
     };
-    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let o = Options { timeout: ctx.timeout, wait: args.wait };
     let walk = drive::walk(bus, args.node, goal, &o, &ctx.cancel)?;
     ctx.out.report(&walk)?;

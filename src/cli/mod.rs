@@ -240,8 +240,9 @@ fn open_bus(ctx: &Ctx, frame_log: Option<crate::bus::FrameLog>) -> anyhow::Resul
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
     let frame_log = global.frame_log()?;
     let mut bus = open_bus(ctx, frame_log.clone())?;
-    crate::ops::stop::opened(&ctx.cancel);
-    let result = f(bus.as_mut()).map_err(|e| with_hint(ctx, bus.as_mut(), e));
+    // Every command's test seam (ops::stop's TEST_SIGNAL) is put on here, once.
+    let result =
+        crate::ops::stop::opened_then(bus.as_mut(), &ctx.cancel, f).map_err(|e| with_hint(ctx, bus.as_mut(), e));
     let closed = bus.close();
     result?;
     closed?;

@@ -241,7 +241,6 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     };
     // Ctrl-C: no node is begun after it, the nodes under way stop at their next safe point,
     // and the report says for each what was done and the state it is left in.
-    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let report = network::apply(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)

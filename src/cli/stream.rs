@@ -58,7 +58,6 @@ pub(crate) struct StreamArgs {
 /// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
 /// read once from the node.
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
-    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.

@@ -16,12 +16,16 @@ use std::sync::Arc;
 use std::time::Duration;
 
 /// Run `f` over `bus` so that a request to stop (`cancel`) ends it at its next call to the
-/// bus (an SDO transfer under way aborted), with the test signal of [`TEST_SIGNAL`] when
-/// that is set.
+/// bus (an SDO transfer under way aborted).
 pub fn stoppable<T>(bus: &mut dyn Bus, cancel: &Cancel, f: impl FnOnce(&mut dyn Bus) -> T) -> T {
-    let mut tapped = with_test_signal(bus, cancel);
-    let mut guarded = Stoppable::new(&mut tapped, cancel.clone());
-    f(&mut guarded)
+    f(&mut Stoppable::new(bus, cancel.clone()))
+}
+
+/// Run `f` over the bus just opened, as a command does: with the test signal of
+/// [`TEST_SIGNAL`] when that is set (at the point it names, the opening included).
+pub(crate) fn opened_then<T>(bus: &mut dyn Bus, cancel: &Cancel, f: impl FnOnce(&mut dyn Bus) -> T) -> T {
+    opened(cancel);
+    f(&mut with_test_signal(bus, cancel))
 }
 
 /// The environment variable of the kill-at-every-step tests: `K:SIGNAL` (INT, TERM, KILL)
