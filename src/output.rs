@@ -182,6 +182,11 @@ impl Output {
         }
     }
 
+    /// Several diagnostics on stderr, a line each, unless --quiet.
+    pub(crate) fn notes(&self, lines: impl IntoIterator<Item = String>) {
+        lines.into_iter().for_each(|line| self.note(&line));
+    }
+
     /// A progress bar over `len` steps, or a hidden one when progress is not shown.
     pub fn bar(&self, len: u64, message: &str) -> ProgressBar {
         let style =

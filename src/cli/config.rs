@@ -158,9 +158,7 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
         None => {
             ctx.out.write_bytes(&eds.file)?;
             ctx.out.note(&crate::output::stored_eds_line(&eds));
-            for note in crate::output::Report::notes(&eds) {
-                ctx.out.note(&note);
-            }
+            ctx.out.notes(crate::output::Report::notes(&eds));
         }
     }
     Ok(())

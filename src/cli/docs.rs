@@ -6,7 +6,7 @@ use crate::output::docs::registration;
 use clap::Args;
 use clap::CommandFactory;
 use clap_complete::Shell;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Print a shell completion script
 ///
@@ -50,16 +50,7 @@ pub(crate) fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
     let pages = man_pages();
     match &args.out {
         Some(dir) => {
-            // Every failure names the path: "No such file or directory" alone says not which.
-            let output = |path: &Path, e: std::io::Error| crate::Error::Output {
-                path: path.display().to_string(),
-                why: e.to_string(),
-            };
-            std::fs::create_dir_all(dir).map_err(|e| output(dir, e))?;
-            for (name, data) in &pages {
-                let page = dir.join(name);
-                std::fs::write(&page, data).map_err(|e| output(&page, e))?;
-            }
+            crate::output::docs::write_all(dir, &pages)?;
             ctx.out.note(&format!("{} man pages written to {}", pages.len(), dir.display()));
         }
         None => ctx.out.print(&String::from_utf8_lossy(&pages[0].1))?,

@@ -62,9 +62,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Resul
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
     let restored = session.restore(bus, a.node, ctx.timeout);
-    for line in restored.as_ref().map_or(Vec::new(), |r| crate::output::records::restored_lines(a.node, r)) {
-        ctx.out.note(&line);
-    }
+    ctx.out.notes(restored.as_ref().map_or(Vec::new(), |r| crate::output::records::restored_lines(a.node, r)));
     let interrupted = ctx.cancel.is_cancelled();
     result?;
     restored?;
@@ -98,9 +96,7 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
     };
     let mut stream = Stream::new(bus, a.node, &layouts, opts, &ctx.cancel);
     let polled = stream.polling().then_some(a.interval);
-    for line in crate::output::records::tpdo_lines(a.node, &layouts, polled) {
-        ctx.out.note(&line);
-    }
+    ctx.out.notes(crate::output::records::tpdo_lines(a.node, &layouts, polled));
     let mut records = ctx.out.records(a.node, &layouts)?;
     let mut progress = ctx.out.progress();
     while let Some(r) = stream.next(bus, &mut progress)? {

@@ -55,3 +55,18 @@ fn collect(cmd: &clap::Command, name: &str, pages: &mut Vec<(String, Vec<u8>)>) 
         collect(sub, &format!("{name}-{}", sub.get_name()), pages);
     }
 }
+
+/// Write each `(file name, contents)` into `dir`, made if missing. Every failure names the
+/// path: "No such file or directory" alone says not which.
+pub(crate) fn write_all(dir: &std::path::Path, files: &[(String, Vec<u8>)]) -> crate::Result<()> {
+    let failed = |path: &std::path::Path, e: std::io::Error| crate::Error::Output {
+        path: path.display().to_string(),
+        why: e.to_string(),
+    };
+    std::fs::create_dir_all(dir).map_err(|e| failed(dir, e))?;
+    for (name, data) in files {
+        let file = dir.join(name);
+        std::fs::write(&file, data).map_err(|e| failed(&file, e))?;
+    }
+    Ok(())
+}
