@@ -223,33 +223,16 @@ pub(crate) struct Ctx {
     pub(crate) cancel: Cancel,
 }
 
-/// Open the bus the user named, or explain how to name one.
-fn open_bus(ctx: &Ctx, frame_log: Option<crate::bus::FrameLog>) -> anyhow::Result<Box<dyn Bus>> {
+/// Run a command that talks to the bus the user named (or say how to name one); the bus
+/// is closed whatever the command's outcome, and its error explained ([`with_hint`]).
+fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
+    let mut opts = OpenOptions::new(ctx.timeout);
+    opts.frame_log = global.frame_log()?;
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
         return Err(Error::Usage(crate::output::no_bus_text()).into());
     };
     let addr: BusAddr = text.parse()?;
-    let mut opts = OpenOptions::new(ctx.timeout);
-    opts.frame_log = frame_log;
-    Ok(crate::connect::open(&addr, &opts)?)
-}
-
-/// Run a command that talks to the bus; the bus is closed (and the simulator's state saved)
-/// whatever the command's outcome. A frame log that could not be written fails the command
-/// once it is done (a warning said so when it happened).
-fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
-    let frame_log = global.frame_log()?;
-    let mut bus = open_bus(ctx, frame_log.clone())?;
-    // Every command's test seam (ops::stop's TEST_SIGNAL) is put on here, once.
-    let result =
-        crate::ops::stop::opened_then(bus.as_mut(), &ctx.cancel, f).map_err(|e| with_hint(ctx, bus.as_mut(), e));
-    let closed = bus.close();
-    result?;
-    closed?;
-    if let Some(log) = frame_log {
-        log.finish()?;
-    }
-    Ok(())
+    crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| with_hint(ctx, bus, e))
 }
 
 /// A node that did not answer: the link's failure when it has one, else which nodes the last

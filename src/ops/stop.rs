@@ -11,6 +11,7 @@ use crate::bus::stoppable::Stoppable;
 use crate::bus::tap::{AfterSdo, Transfer};
 use crate::bus::{Bus, TransferHook};
 use crate::cancel::Cancel;
+use crate::connect::{BusAddr, OpenOptions};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
@@ -21,11 +22,29 @@ pub fn stoppable<T>(bus: &mut dyn Bus, cancel: &Cancel, f: impl FnOnce(&mut dyn 
     f(&mut Stoppable::new(bus, cancel.clone()))
 }
 
-/// Run `f` over the bus just opened, as a command does: with the test signal of
-/// [`TEST_SIGNAL`] when that is set (at the point it names, the opening included).
-pub(crate) fn opened_then<T>(bus: &mut dyn Bus, cancel: &Cancel, f: impl FnOnce(&mut dyn Bus) -> T) -> T {
+/// Open `addr` and run `f` on it as a command does: with the test signal of [`TEST_SIGNAL`]
+/// when that is set (at the point it names, the opening included); `explain` sees `f`'s
+/// error while the bus is still open. The bus is closed whatever the outcome (a simulated
+/// bus saves its state then); a frame log that could not be written fails the run once `f`
+/// is done (a warning said so when it happened).
+pub(crate) fn on_bus<E: From<crate::Error>>(
+    addr: &BusAddr,
+    opts: &OpenOptions,
+    cancel: &Cancel,
+    f: impl FnOnce(&mut dyn Bus) -> Result<(), E>,
+    explain: impl FnOnce(&mut dyn Bus, E) -> E,
+) -> Result<(), E> {
+    let mut bus = crate::connect::open(addr, opts)?;
     opened(cancel);
-    f(&mut with_test_signal(bus, cancel))
+    let result = f(&mut with_test_signal(bus.as_mut(), cancel));
+    let result = result.map_err(|e| explain(bus.as_mut(), e));
+    let closed = bus.close();
+    result?;
+    closed?;
+    if let Some(log) = &opts.frame_log {
+        log.finish()?;
+    }
+    Ok(())
 }
 
 /// The environment variable of the kill-at-every-step tests: `K:SIGNAL` (INT, TERM, KILL)
