@@ -103,7 +103,8 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     let watch = ctx.out.transfer_hook(&bar);
     let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, watch);
     bar.finish_and_clear();
-    remember(ctx, a.node, object, &read);
+    // What the transfer showed of the node's objects, for completion.
+    crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node, object, &read);
     let read = match read {
         Err(e) => {
             return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e)
@@ -121,7 +122,7 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
     let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
     let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, verify: a.verify };
     let written = sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o);
-    remember(ctx, a.node, object, &written);
+    crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node, object, &written);
     let written = match written {
         Err(e) => return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node, object, true, &e), None, e),
         Ok(written) => written,
@@ -131,11 +132,4 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
         return Err(crate::Error::Interrupted.into());
     }
     Ok(())
-}
-
-/// What the transfer showed of the node's objects, for completion (see `ops::scan_cache`).
-fn remember<T>(ctx: &Ctx, node: u8, object: crate::canopen::ObjAddr, outcome: &crate::Result<T>) {
-    if let Some(bus) = &ctx.bus {
-        crate::ops::scan_cache::note(bus, node, object, outcome);
-    }
 }
