@@ -24,6 +24,12 @@ use crate::cancel::Cancel;
 use crate::connect::{BusAddr, OpenOptions};
 use crate::error::Error;
 use crate::output::{FormatArg, Output};
+// The value parsers the commands' arguments name (`super::parse_node`).
+use crate::settings::parse::{
+    parse_fixed_bit_rate, parse_kbit, parse_lss_node_id, parse_nodes, parse_sdo_node, parse_size, parse_state,
+    parse_u32,
+};
+use crate::settings::{number_in, parse_duration, parse_node, parse_timeout};
 use crate::settings::{Given, Settings};
 use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
@@ -205,12 +211,6 @@ fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
     clap::builder::PossibleValuesParser::new(["human", "json", "csv", "junit"])
         .map(|s| FormatArg::from_str(&s, false).expect("every listed format is a FormatArg"))
 }
-
-use crate::settings::parse::{
-    parse_fixed_bit_rate, parse_kbit, parse_lss_node_id, parse_nodes, parse_sdo_node, parse_size, parse_state,
-    parse_u32,
-};
-use crate::settings::{number_in, parse_duration, parse_node, parse_timeout};
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
 pub(crate) struct Ctx {

@@ -4,7 +4,8 @@
 //! it ([`stoppable`]), an SDO transfer under way aborted. Either way the caller gets a
 //! partial report.
 //!
-//! Also the test seam of the kill-at-every-step tests ([`TEST_SIGNAL`]): it raises a real
+//! Also where a command's bus is opened and closed ([`on_bus`]), with the test seam of the
+//! kill-at-every-step tests ([`TEST_SIGNAL`]) on it: the seam raises a real
 //! signal at an exact point of a procedure, so that those tests need no timing.
 
 use crate::bus::stoppable::Stoppable;
