@@ -33,7 +33,7 @@ pub(crate) enum ConfigCommand {
   canctl config check machine/node5.dcf --format json")]
 pub(crate) struct CheckArgs {
     /// The EDS or DCF
-    pub(crate) file: PathBuf,
+    pub file: PathBuf,
 }
 
 /// `config check` needs no bus.
@@ -54,10 +54,10 @@ pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
 pub(crate) struct EdsArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// Write the EDS here instead of standard output
     #[arg(long, value_name = "FILE")]
-    pub(crate) out: Option<PathBuf>,
+    pub out: Option<PathBuf>,
 }
 
 /// Read every readable object of a node into a DCF (or an XDC)
@@ -73,10 +73,10 @@ pub(crate) struct EdsArgs {
 pub(crate) struct DumpArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// Write the DCF here instead of standard output (an XDC when FILE ends in .xdc)
     #[arg(long, value_name = "FILE")]
-    pub(crate) out: Option<PathBuf>,
+    pub out: Option<PathBuf>,
 }
 
 /// Show where a node differs from a DCF's ParameterValues
@@ -87,12 +87,12 @@ pub(crate) struct DumpArgs {
 pub(crate) struct DiffArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// The DCF (or XDC, CiA 311)
-    pub(crate) file: PathBuf,
+    pub file: PathBuf,
     /// Exit 6 when anything differs
     #[arg(long)]
-    pub(crate) check: bool,
+    pub check: bool,
 }
 
 /// Make a node match a DCF: write only what differs, safely, and prove it
@@ -108,24 +108,24 @@ pub(crate) struct DiffArgs {
 pub(crate) struct ApplyArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// The DCF (or XDC, CiA 311)
-    pub(crate) file: PathBuf,
+    pub file: PathBuf,
     /// Show what would be written, write nothing
     #[arg(long)]
-    pub(crate) dry_run: bool,
+    pub dry_run: bool,
     /// Store the parameters (0x1010:1) when everything is written
     #[arg(long)]
-    pub(crate) store: bool,
+    pub store: bool,
     /// Read every written object back (exit 6 when one differs)
     #[arg(long)]
-    pub(crate) verify: bool,
+    pub verify: bool,
     /// How long the device may take to store
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
-    pub(crate) store_timeout: Duration,
+    pub store_timeout: Duration,
     /// Apply even when the device's vendor-ID or product code differs from the file's
     #[arg(long)]
-    pub(crate) force: bool,
+    pub force: bool,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<()> {

@@ -21,7 +21,7 @@ use std::path::PathBuf;
   canctl completions fish > ~/.config/fish/completions/canctl.fish")]
 pub(crate) struct CompletionsArgs {
     /// bash, zsh, fish, elvish or powershell
-    pub(crate) shell: Shell,
+    pub shell: Shell,
 }
 
 /// Print the man page, or write every page to a directory
@@ -32,7 +32,7 @@ pub(crate) struct CompletionsArgs {
 pub(crate) struct ManArgs {
     /// Write canctl.1 and one page per subcommand into this directory
     #[arg(long, value_name = "DIR")]
-    pub(crate) out: Option<PathBuf>,
+    pub out: Option<PathBuf>,
 }
 
 /// Every man page: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.

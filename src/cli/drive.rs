@@ -52,23 +52,23 @@ Examples:
 pub(crate) struct StatusArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// Print each change of the statusword until interrupted
     #[arg(long)]
-    pub(crate) watch: bool,
+    pub watch: bool,
     /// With --watch by SDO: how often to read the statusword
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub(crate) interval: Duration,
+    pub interval: Duration,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct WalkArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// How long each transition may take to show in the statusword
     #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
-    pub(crate) wait: Duration,
+    pub wait: Duration,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<()> {

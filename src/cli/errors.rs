@@ -22,10 +22,10 @@ use clap_complete::engine::ArgValueCandidates;
 pub(crate) struct ErrorsArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// Then delete the history (0 to 0x1003:0) and confirm it reads back empty
     #[arg(long)]
-    pub(crate) clear: bool,
+    pub clear: bool,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {

@@ -37,7 +37,7 @@ pub(crate) enum FirmwareCommand {
 pub(crate) struct StatusArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
 }
 
 #[derive(Args, Debug)]
@@ -45,27 +45,27 @@ pub(crate) struct DownloadArgs {
     /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another,
     /// with a report (and with --format junit a test case) for each
     #[arg(value_name = "NODE", value_parser = parse_node, value_delimiter = ',', required = true, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) nodes: Vec<u8>,
+    pub nodes: Vec<u8>,
     /// The image: the bytes written to 0x1F50 as they are in the file
     #[arg(value_name = "IMAGE")]
-    pub(crate) image: PathBuf,
+    pub image: PathBuf,
     /// The program number (sub-index of 0x1F50, 0x1F51, 0x1F56, 0x1F57)
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = super::number_in::<u8>("a program number", 1, 254))]
-    pub(crate) program: u8,
+    pub program: u8,
     /// Download even when the device already runs this image
     #[arg(long)]
-    pub(crate) force: bool,
+    pub force: bool,
     /// The identification the device shows in 0x1F56 for this image, when it is not the
     /// image's CRC-32 (e.g. 0x01020300)
     #[arg(long, value_name = "ID", value_parser = super::number_in::<u32>("an identification", 0, u32::MAX as u64))]
-    pub(crate) expect_id: Option<u32>,
+    pub expect_id: Option<u32>,
     /// How long the device may stay busy erasing or writing its flash (0x1F57 bit 0)
     #[arg(long, value_name = "DUR", default_value = "60s", value_parser = super::parse_duration)]
-    pub(crate) busy_wait: std::time::Duration,
+    pub busy_wait: std::time::Duration,
     /// Leave a new program that asks for confirmation (0x1F51 reads 0x80) unconfirmed: its
     /// bootloader returns to the old one at the next reset
     #[arg(long)]
-    pub(crate) no_confirm: bool,
+    pub no_confirm: bool,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {

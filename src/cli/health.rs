@@ -24,16 +24,16 @@ use std::time::Duration;
 pub(crate) struct HealthArgs {
     /// Every node must also be in this NMT state: operational, pre-operational or stopped
     #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
-    pub(crate) state: Option<State>,
+    pub state: Option<State>,
     /// How long to watch heartbeats and EMCYs (default: two periods of the slowest
     /// heartbeat, 300ms to 10s)
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub(crate) watch: Option<Duration>,
+    pub watch: Option<Duration>,
     /// How long the bus must stay quiet after the last answer to the scan's probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub(crate) window: Duration,
+    pub window: Duration,
     #[command(flatten)]
-    pub(crate) checks: super::CheckFormat,
+    pub checks: super::CheckFormat,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {

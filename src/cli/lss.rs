@@ -70,44 +70,44 @@ Examples:
 pub(crate) struct Target {
     /// The device's LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)
     #[arg(long, value_name = "V:P:R:S", value_parser = |s: &str| s.parse::<Identity>(), conflicts_with_all = ["global", "node"])]
-    pub(crate) identity: Option<Identity>,
+    pub identity: Option<Identity>,
     /// Every LSS device on the bus at once (a broadcast)
     #[arg(long, conflicts_with = "node")]
-    pub(crate) global: bool,
+    pub global: bool,
     /// 0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)
     #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
-    pub(crate) node: Option<u8>,
+    pub node: Option<u8>,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct SetIdArgs {
     /// The new node-id: 1 to 127, or 255 for none
     #[arg(value_name = "NEW", value_parser = super::parse_lss_node_id)]
-    pub(crate) new: u8,
+    pub new: u8,
     #[command(flatten)]
-    pub(crate) target: Target,
+    pub target: Target,
     /// Give the id even when something on the bus answers to it already (two devices on
     /// one node-id make both unreachable)
     #[arg(long)]
-    pub(crate) force: bool,
+    pub force: bool,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct SetBaudArgs {
     /// 1M 800k 500k 250k 125k 50k 20k 10k, or auto
     #[arg(value_name = "RATE", value_parser = parse_bit_rate, add = ArgValueCandidates::new(super::complete::bit_rates))]
-    pub(crate) rate: u8,
+    pub rate: u8,
     #[command(flatten)]
-    pub(crate) target: Target,
+    pub target: Target,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct ActivateArgs {
     /// Switch delay in ms: the devices wait this long, switch, and wait as long again
     #[arg(long, value_name = "MS", default_value_t = 100)]
-    pub(crate) delay: u16,
+    pub delay: u16,
     #[command(flatten)]
-    pub(crate) target: Target,
+    pub target: Target,
 }
 
 /// How fastscan paces itself, and what it already knows.
@@ -116,16 +116,16 @@ pub(crate) struct FastscanFlags {
     /// Wait this long for each fastscan answer instead of learning it from the devices
     /// (lengthened only if answers come later still)
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub(crate) step: Option<Duration>,
+    pub step: Option<Duration>,
     /// The vendor-id of the device(s) sought, if known: not searched (0x1018:1)
     #[arg(long, value_name = "ID", value_parser = super::parse_u32)]
-    pub(crate) vendor: Option<u32>,
+    pub vendor: Option<u32>,
     /// The product code, if known: not searched (0x1018:2)
     #[arg(long, value_name = "CODE", value_parser = super::parse_u32)]
-    pub(crate) product: Option<u32>,
+    pub product: Option<u32>,
     /// The revision number, if known: not searched (0x1018:3)
     #[arg(long, value_name = "REV", value_parser = super::parse_u32)]
-    pub(crate) revision: Option<u32>,
+    pub revision: Option<u32>,
 }
 
 impl FastscanFlags {
@@ -138,29 +138,29 @@ impl FastscanFlags {
 #[derive(Args, Debug)]
 pub(crate) struct FastscanArgs {
     #[command(flatten)]
-    pub(crate) pace: FastscanFlags,
+    pub pace: FastscanFlags,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
     #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
-    pub(crate) node: Option<u8>,
+    pub node: Option<u8>,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct AssignArgs {
     /// The first node-id to give
     #[arg(long, value_name = "N", value_parser = super::parse_node)]
-    pub(crate) start: u8,
+    pub start: u8,
     #[command(flatten)]
-    pub(crate) pace: FastscanFlags,
+    pub pace: FastscanFlags,
     /// How long to listen for heartbeats before assigning [default: 1s, or longer for the
     /// longest heartbeat period the nodes report]
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub(crate) listen: Option<Duration>,
+    pub listen: Option<Duration>,
     /// Do not store the node-ids (they are lost at power-off)
     #[arg(long)]
-    pub(crate) no_store: bool,
+    pub no_store: bool,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
     #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
-    pub(crate) node: Option<u8>,
+    pub node: Option<u8>,
 }
 
 impl Target {

@@ -82,32 +82,32 @@ pub(crate) struct GlobalArgs {
     /// epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else
     /// the settings file's)
     #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", add = ArgValueCandidates::new(complete::buses))]
-    pub(crate) bus: Option<String>,
+    pub bus: Option<String>,
     /// How long to wait for each answer: 500ms, 2s, 1.5s (a unit is required: us, ms, s, m;
     /// at least 10ms); default 500ms, or the settings file's
     #[arg(long, global = true, value_name = "DUR", value_parser = parse_timeout)]
-    pub(crate) timeout: Option<Duration>,
+    pub timeout: Option<Duration>,
     /// Output format
     #[arg(long, global = true, value_enum, default_value = "human")]
-    pub(crate) format: FormatArg,
+    pub format: FormatArg,
     /// An EDS or DCF (or XDD or XDC) describing node NODE, or every node without NODE=
     /// (repeatable): object names, types and ranges come from it
     #[arg(long, global = true, value_name = "[NODE=]FILE", value_parser = objects::parse_eds_arg)]
-    pub(crate) eds: Vec<objects::EdsArg>,
+    pub eds: Vec<objects::EdsArg>,
     /// Trace every frame on stderr in candump notation; -vv also what each procedure does
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
-    pub(crate) verbose: u8,
+    pub verbose: u8,
     /// Tables with every column even on a narrow terminal (they are fitted to its width
     /// otherwise; pipes and files always get every column)
     #[arg(long, global = true)]
-    pub(crate) wide: bool,
+    pub wide: bool,
     /// No warnings, diagnostics or progress on stderr (errors still print)
     #[arg(short, long, global = true, conflicts_with = "verbose")]
-    pub(crate) quiet: bool,
+    pub quiet: bool,
     /// Write every frame sent and received to FILE, in the candump log format of can-utils
     /// (`(1700000000.123456) vcan0 605#4000100000000000`), for support cases
     #[arg(long, global = true, value_name = "FILE")]
-    pub(crate) log_frames: Option<std::path::PathBuf>,
+    pub log_frames: Option<std::path::PathBuf>,
 }
 
 impl GlobalArgs {
@@ -203,7 +203,7 @@ pub(crate) struct CheckFormat {
     /// Output format: human, json, csv, or junit (one JUnit test case per node and check,
     /// for CI systems) [default: human]
     #[arg(long = "format", id = "format", value_name = "FORMAT", value_parser = check_formats())]
-    pub(crate) format: Option<FormatArg>,
+    pub format: Option<FormatArg>,
 }
 
 fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
@@ -214,13 +214,13 @@ fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
 
 /// What every command gets: the output policy, the global settings, the dictionaries.
 pub(crate) struct Ctx {
-    pub(crate) out: Output,
-    pub(crate) timeout: Duration,
-    pub(crate) dicts: objects::Dictionaries,
+    pub out: Output,
+    pub timeout: Duration,
+    pub dicts: objects::Dictionaries,
     /// The bus URI in force (flag, CANCTL_BUS or settings file).
-    pub(crate) bus: Option<String>,
+    pub bus: Option<String>,
     /// The program's request to stop, caught from the start (`main` installs it).
-    pub(crate) cancel: Cancel,
+    pub cancel: Cancel,
 }
 
 /// Run a command that talks to the bus the user named (or say how to name one); the bus

@@ -22,13 +22,13 @@ use std::time::Duration;
 pub(crate) struct MonitorArgs {
     /// Only frames of this node (repeatable); NMT, SYNC and LSS are always shown
     #[arg(long, value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: Vec<u8>,
+    pub node: Vec<u8>,
     /// Stop after this long
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub(crate) duration: Option<Duration>,
+    pub duration: Option<Duration>,
     /// Stop after this many frames
     #[arg(long, value_name = "N")]
-    pub(crate) count: Option<u64>,
+    pub count: Option<u64>,
 }
 
 /// Ctrl-C or SIGTERM ends the monitor as its duration would, with the summary; the exit

@@ -33,19 +33,19 @@ pub(crate) enum NetworkCommand {
   canctl --bus can0 network dump machine/ --net-name 'Cabinet A' --bit-rate 500k")]
 pub(crate) struct DumpArgs {
     /// The folder to write into (made if missing)
-    pub(crate) dir: PathBuf,
+    pub dir: PathBuf,
     /// The network's name in the project (NetName)
     #[arg(long, value_name = "NAME", default_value = "canctl network")]
-    pub(crate) net_name: String,
+    pub net_name: String,
     /// The bus's bit rate, written as each DCF's Baudrate (1M 800k 500k 250k 125k 50k 20k 10k)
     #[arg(long, value_name = "RATE", value_parser = super::parse_kbit)]
-    pub(crate) bit_rate: Option<u32>,
+    pub bit_rate: Option<u32>,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub(crate) window: Duration,
+    pub window: Duration,
     /// Replace a project already in DIR
     #[arg(long)]
-    pub(crate) force: bool,
+    pub force: bool,
 }
 
 /// Check the bus against a network project; exit 6 when anything differs
@@ -61,20 +61,20 @@ pub(crate) struct DumpArgs {
   canctl --bus can0 network check machine/ --format junit > network-check.xml")]
 pub(crate) struct CheckArgs {
     /// The project: a nodelist.cpj, or the folder holding one
-    pub(crate) project: PathBuf,
+    pub project: PathBuf,
     /// Every listed node must also be in this NMT state (from its heartbeat, else node
     /// guarding): operational, pre-operational or stopped
     #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
-    pub(crate) state: Option<State>,
+    pub state: Option<State>,
     /// How many nodes to check at once, their SDO transfers in flight together (1: one after
     /// the other)
     #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
-    pub(crate) jobs: u8,
+    pub jobs: u8,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub(crate) window: Duration,
+    pub window: Duration,
     #[command(flatten)]
-    pub(crate) checks: super::CheckFormat,
+    pub checks: super::CheckFormat,
 }
 
 /// Make the bus as a network project says: only what differs is written, verified, stored
@@ -94,35 +94,35 @@ pub(crate) struct CheckArgs {
   canctl --bus can0 network apply machine/ --assign --format json > applied.json")]
 pub(crate) struct ApplyArgs {
     /// The project: a nodelist.cpj, or the folder holding one
-    pub(crate) project: PathBuf,
+    pub project: PathBuf,
     /// Give node-ids over LSS to listed nodes that do not answer, found by their DCF's identity
     #[arg(long)]
-    pub(crate) assign: bool,
+    pub assign: bool,
     /// Show what would be written, write nothing
     #[arg(long)]
-    pub(crate) dry_run: bool,
+    pub dry_run: bool,
     /// Do not store the parameters of the nodes written to
     #[arg(long)]
-    pub(crate) no_store: bool,
+    pub no_store: bool,
     /// Apply DCFs even to devices whose vendor-ID or product code differs from the file's
     #[arg(long)]
-    pub(crate) force: bool,
+    pub force: bool,
     /// How long a device may take to store
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
-    pub(crate) store_timeout: Duration,
+    pub store_timeout: Duration,
     /// Reset the nodes written to (NMT reset node) and wait until each has booted
     #[arg(long)]
-    pub(crate) reset: bool,
+    pub reset: bool,
     /// How many nodes to configure at once, their SDO transfers in flight together (1: one
     /// after the other)
     #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
-    pub(crate) jobs: u8,
+    pub jobs: u8,
     /// How long a device given a node-id over LSS, or reset, may take to be back
     #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
-    pub(crate) boot_wait: Duration,
+    pub boot_wait: Duration,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub(crate) window: Duration,
+    pub window: Duration,
 }
 
 /// Switch every device on the bus to a new bit rate (LSS global), then look for each node
@@ -147,29 +147,29 @@ pub(crate) struct ApplyArgs {
 pub(crate) struct SetBaudArgs {
     /// The new bit rate: 1M 800k 500k 250k 125k 50k 20k 10k
     #[arg(value_name = "RATE", value_parser = super::parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
-    pub(crate) rate: u8,
+    pub rate: u8,
     /// The project whose nodes must follow: a nodelist.cpj, or the folder holding one
     /// (without it: the nodes that answer before the switch)
-    pub(crate) project: Option<PathBuf>,
+    pub project: Option<PathBuf>,
     /// Required: the switch is an LSS broadcast to every device on the bus
     #[arg(long)]
-    pub(crate) global: bool,
+    pub global: bool,
     /// Make the devices keep the new rate across power cycles (LSS store configuration)
     #[arg(long)]
-    pub(crate) store: bool,
+    pub store: bool,
     /// Switch delay in ms: the devices wait this long, switch, and wait as long again
     #[arg(long, value_name = "MS", default_value_t = 100)]
-    pub(crate) delay: u16,
+    pub delay: u16,
     /// Activate even when some device refuses the new rate (it is left at the old one)
     #[arg(long)]
-    pub(crate) force: bool,
+    pub force: bool,
     /// Write the new rate into each DCF of PROJECT ([DeviceComissioning] Baudrate) once the
     /// devices switched
     #[arg(long, requires = "project")]
-    pub(crate) update_project: bool,
+    pub update_project: bool,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub(crate) window: Duration,
+    pub window: Duration,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result<()> {

@@ -40,26 +40,26 @@ Examples:
 pub(crate) struct Target {
     /// Node-id 1 to 127, or `all` to broadcast to every node
     #[arg(value_parser = parse_target, value_name = "NODE|all", add = ArgValueCandidates::new(super::complete::nodes_or_all))]
-    pub(crate) target: u8,
+    pub target: u8,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct ResetArgs {
     #[command(flatten)]
-    pub(crate) target: Target,
+    pub target: Target,
     /// How long to wait for boot-up messages
     #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
-    pub(crate) wait: Duration,
+    pub wait: Duration,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct StateArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// How long to listen for a heartbeat before asking by node guarding
     #[arg(long, value_name = "DUR", default_value = "300ms", value_parser = super::parse_duration)]
-    pub(crate) listen: Duration,
+    pub listen: Duration,
 }
 
 fn parse_target(s: &str) -> Result<u8, String> {

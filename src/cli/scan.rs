@@ -27,7 +27,7 @@ pub(crate) struct ScanArgs {
     /// How long the bus must stay quiet after the last answer to the probes: at least
     /// 10ms; under 100ms slow devices may be missed, and the scan cache is not replaced
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub(crate) window: Duration,
+    pub window: Duration,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {

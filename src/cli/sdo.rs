@@ -28,25 +28,25 @@ pub(crate) enum SdoCommand {
 pub(crate) struct ReadArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
-    pub(crate) object: String,
+    pub object: String,
     /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
     #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
-    pub(crate) dtype: Option<DataType>,
+    pub dtype: Option<DataType>,
     /// Write the raw bytes to this file instead of printing them
     #[arg(long, value_name = "FILE")]
-    pub(crate) out: Option<PathBuf>,
+    pub out: Option<PathBuf>,
     /// Never use block transfer (segmented instead)
     #[arg(long)]
-    pub(crate) no_block: bool,
+    pub no_block: bool,
     /// Largest value to accept: an upload that grows past it is aborted, and one announced
     /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³); by default 64k, for
     /// a domain (--type d) or a value of unknown type 1M
     #[arg(long, value_name = "SIZE", value_parser = super::parse_size)]
-    pub(crate) max_size: Option<usize>,
+    pub max_size: Option<usize>,
 }
 
 /// Write an object (SDO download)
@@ -63,23 +63,23 @@ pub(crate) struct ReadArgs {
 pub(crate) struct WriteArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
-    pub(crate) object: String,
+    pub object: String,
     /// The value, or @FILE for its raw bytes
     #[arg(allow_hyphen_values = true)]
-    pub(crate) value: String,
+    pub value: String,
     /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
     #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
-    pub(crate) dtype: Option<DataType>,
+    pub dtype: Option<DataType>,
     /// Read the object back and compare (exit 6 when it differs)
     #[arg(long)]
-    pub(crate) verify: bool,
+    pub verify: bool,
     /// Never use block transfer (segmented instead)
     #[arg(long)]
-    pub(crate) no_block: bool,
+    pub no_block: bool,
 }
 
 fn parse_type(s: &str) -> Result<DataType, String> {

@@ -36,30 +36,30 @@ use std::time::Duration;
 )]
 pub(crate) struct SimArgs {
     #[command(subcommand)]
-    pub(crate) command: Option<SimCommand>,
+    pub command: Option<SimCommand>,
     /// Put the devices on this CAN interface (vcan0, can0) and answer there
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["epos2_rs232", "epos2_usb", "slcan"])]
-    pub(crate) socketcan: Option<String>,
+    pub socketcan: Option<String>,
     /// Serve the devices behind a simulated slcan (Lawicel) adapter on a pseudo-terminal
     #[arg(long, conflicts_with_all = ["epos2_rs232", "epos2_usb"])]
-    pub(crate) slcan: bool,
+    pub slcan: bool,
     /// Serve an EPOS2 speaking the RS232 protocol (with the 'O'/'F' handshake)
     #[arg(long, conflicts_with = "epos2_usb")]
-    pub(crate) epos2_rs232: bool,
+    pub epos2_rs232: bool,
     /// Serve an EPOS2 speaking the USB protocol (DLE/STX framing)
     #[arg(long)]
-    pub(crate) epos2_usb: bool,
+    pub epos2_usb: bool,
     /// Pace bytes as a serial line at this bit rate would (10 bits a byte)
     #[arg(long, value_name = "BITS/S", value_parser = super::number_in::<u32>("a serial bit rate", 300, 10_000_000))]
-    pub(crate) baud: Option<u32>,
+    pub baud: Option<u32>,
     /// Inject a fault: nack, crc, garbage, drop, mute, stale, late, babble, empty-segments,
     /// endless-segments or wrong-object, on frame N (KIND@N) or every frame (KIND@*)
     #[arg(long, value_name = "KIND@N")]
-    pub(crate) fault: Vec<Fault>,
+    pub fault: Vec<Fault>,
     /// How long the EPOS2 waits for an SDO answer on the CAN bus (the slow profile's
     /// devices answer up to 80 ms late)
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub(crate) can_timeout: Duration,
+    pub can_timeout: Duration,
 }
 
 #[derive(Subcommand, Debug)]
@@ -88,16 +88,16 @@ pub(crate) enum SimCommand {
 pub(crate) struct ResetArgs {
     /// How late devices answer and whether frames take time on the bus
     #[arg(long, value_name = "PROFILE", default_value = "typical", value_parser = clap::builder::PossibleValuesParser::new(Profile::NAMES).map(|s| s.parse::<Profile>().expect("listed")))]
-    pub(crate) profile: Profile,
+    pub profile: Profile,
     /// Devices waiting for a node-id over LSS
     #[arg(long, value_name = "N", default_value_t = DEFAULT_UNCONFIGURED, value_parser = super::number_in::<u8>("a number of devices", 0, MAX_UNCONFIGURED as u64))]
-    pub(crate) unconfigured: u8,
+    pub unconfigured: u8,
     /// The bit rate the bus and every device start at (1M 800k 500k 250k 125k 50k 20k 10k)
     #[arg(long, value_name = "RATE", default_value = "500k", value_parser = parse_rate)]
-    pub(crate) bit_rate: u8,
+    pub bit_rate: u8,
     /// Seed of the devices' latency jitter and random faults: the same seed replays a run
     #[arg(long, value_name = "N", default_value_t = DEFAULT_SEED)]
-    pub(crate) seed: u64,
+    pub seed: u64,
     /// Make a device misbehave: TARGET:KIND[=ARG][@WHEN], e.g. 5:drop@3, drive:delay=40, 10:abort@2+
     ///
     /// TARGET is a node-id or a model key (drive, sensor, io, stepper, sensor-09501301).
@@ -108,17 +108,17 @@ pub(crate) struct ResetArgs {
     /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
     /// the default).
     #[arg(long, value_name = "SPEC")]
-    pub(crate) fault: Vec<FaultSpec>,
+    pub fault: Vec<FaultSpec>,
     /// Run commands on virtual time: a wait with nothing due ends at once, so slow devices,
     /// long delays and long watches take no wall time; every figure stays in bus time
     ///
     /// For tests and scripts that nothing else watches: a network served with --socketcan,
     /// --slcan or --epos2-* (shared with other programs) runs on real time all the same.
     #[arg(long)]
-    pub(crate) virtual_time: bool,
+    pub virtual_time: bool,
     /// Add a device with a CiA 302-3 bootloader on this node-id (for canctl firmware)
     #[arg(long, value_name = "NODE", value_parser = super::parse_node)]
-    pub(crate) bootloader: Option<u8>,
+    pub bootloader: Option<u8>,
 }
 
 fn parse_rate(text: &str) -> Result<u8, String> {

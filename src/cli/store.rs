@@ -23,12 +23,12 @@ pub(crate) use crate::ops::store::Class;
 pub(crate) struct StoreArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus), or several: 5,10,20
     #[arg(value_parser = |s: &str| super::parse_nodes(s, super::parse_sdo_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: crate::settings::parse::Nodes,
+    pub node: crate::settings::parse::Nodes,
     #[arg(value_enum, default_value = "all")]
-    pub(crate) class: Class,
+    pub class: Class,
     /// How long the device may take to store (flash writes take a while)
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
-    pub(crate) store_timeout: Duration,
+    pub store_timeout: Duration,
 }
 
 /// Bring back default parameters (writes 'load' to 0x1011)
@@ -44,15 +44,15 @@ pub(crate) struct StoreArgs {
 pub(crate) struct RestoreArgs {
     /// Node-id, 1 to 127, or several: 5,10,20
     #[arg(value_parser = |s: &str| super::parse_nodes(s, parse_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: crate::settings::parse::Nodes,
+    pub node: crate::settings::parse::Nodes,
     #[arg(value_enum, default_value = "all")]
-    pub(crate) class: Class,
+    pub class: Class,
     /// Reset the node afterwards and wait for it to boot with the defaults
     #[arg(long)]
-    pub(crate) reset: bool,
+    pub reset: bool,
     /// How long the device may take to restore
     #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
-    pub(crate) store_timeout: Duration,
+    pub store_timeout: Duration,
 }
 
 pub(crate) fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {

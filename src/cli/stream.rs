@@ -25,34 +25,34 @@ use std::time::Duration;
 pub(crate) struct StreamArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub(crate) node: u8,
+    pub node: u8,
     /// Which TPDOs (default: every valid one of 1..4)
     #[arg(long, value_delimiter = ',', value_name = "N,...", value_parser = super::number_in::<u16>("a TPDO number", 1, 512))]
-    pub(crate) tpdo: Vec<u16>,
+    pub tpdo: Vec<u16>,
     /// Stop after this many records
     #[arg(long, value_name = "N", conflicts_with = "duration")]
-    pub(crate) count: Option<u64>,
+    pub count: Option<u64>,
     /// Stop after this long
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
-    pub(crate) duration: Option<Duration>,
+    pub duration: Option<Duration>,
     /// Send SYNC at this period (for synchronous PDOs, transmission types 0..240)
     #[arg(long, value_name = "PERIOD", value_parser = super::parse_duration)]
-    pub(crate) sync: Option<Duration>,
+    pub sync: Option<Duration>,
     /// Put the node in Operational, and back in its former state at the end
     #[arg(long)]
-    pub(crate) start: bool,
+    pub start: bool,
     /// Map these objects into the (first) TPDO for this session: 6064:0,606C:0
     #[arg(long, value_delimiter = ',', value_name = "OBJ,...")]
-    pub(crate) map: Vec<String>,
+    pub map: Vec<String>,
     /// With --map: event timer in ms
     #[arg(long, value_name = "MS", requires = "map")]
-    pub(crate) event: Option<u16>,
+    pub event: Option<u16>,
     /// With --map: transmission type (1..240 on SYNC, 254/255 by event)
     #[arg(long = "type", value_name = "T", requires = "map")]
-    pub(crate) transmission: Option<u8>,
+    pub transmission: Option<u8>,
     /// Through an EPOS2: how often to poll each PDO
     #[arg(long, value_name = "DUR", default_value = "10ms", value_parser = super::parse_duration)]
-    pub(crate) interval: Duration,
+    pub interval: Duration,
 }
 
 /// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
