@@ -74,7 +74,6 @@ pub mod bus;
 pub mod cancel;
 pub mod canopen;
 #[cfg(feature = "cli")]
-#[allow(missing_docs)] // not yet documented throughout
 pub mod cli;
 pub mod connect;
 pub mod error;

@@ -2,16 +2,14 @@ use clap::{CommandFactory, FromArgMatches};
 
 fn main() {
     // Before anything else, so that a SIGTERM at any moment is a request to stop, reported.
-    canctl::cli::install_interrupt();
+    let cancel = interrupt::install();
     // COMPLETE=bash|zsh|fish|... : answer the shell's completion request and exit.
     canctl::cli::complete_from_env();
     let matches = canctl::cli::Cli::command().try_get_matches().unwrap_or_else(|e| usage_error(e));
     let bus_from_env = matches.value_source("bus") == Some(clap::parser::ValueSource::EnvVariable);
     let cli = canctl::cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| usage_error(e));
-    // The library reports through `tracing`; -v/-q choose what reaches stderr.
-    canctl::cli::install_diagnostics(cli.global.verbose, cli.global.quiet);
-    if let Err(err) = canctl::cli::run(cli, bus_from_env) {
-        let (code, print) = canctl::cli::exit_code(&err);
+    if let Err(err) = canctl::cli::run(cli, bus_from_env, cancel) {
+        let (code, print) = canctl::output::exit_code(&err);
         if print {
             // Messages may quote what a device or a file said: no control characters.
             eprintln!("canctl: {}", canctl::output::terminal_safe_lines(&canctl::output::error_text(&err)));
@@ -29,4 +27,31 @@ fn usage_error(e: clap::Error) -> ! {
     let text = e.render().to_string();
     eprint!("canctl: {}", text.strip_prefix("error: ").unwrap_or(&text));
     std::process::exit(canctl::error::ErrorClass::Usage.exit_code())
+}
+
+/// Ctrl-C and termination (SIGINT and SIGTERM on Unix; Ctrl-C, Ctrl-Break and console close
+/// on Windows) as the program's request to stop, for every command. How a procedure heeds
+/// it (between steps, or at its next call to the bus) is the library's: `ops::stop`.
+mod interrupt {
+    use canctl::cancel::Cancel;
+
+    /// Called first thing in `main`, whatever the command: from then on an interruption
+    /// cancels the program's [`Cancel`] instead of ending the process, so a stop that comes
+    /// while the bus opens, or before the command's first step, is still seen and reported
+    /// (exit 130). Installed lazily by each command, a supervisor's SIGTERM in that window
+    /// killed canctl with no report. A second request ends the process at once: the user
+    /// asked twice.
+    pub(crate) fn install() -> Cancel {
+        let requested = Cancel::new();
+        let handler = requested.clone();
+        // Only fails when a handler is already set: this is the one, set once.
+        let _ = ctrlc::set_handler(move || {
+            if handler.check().is_err() {
+                eprintln!("canctl: interrupted again: stopped at once, what was under way may be half done");
+                std::process::exit(canctl::error::ErrorClass::Interrupted.exit_code());
+            }
+            handler.cancel();
+        });
+        requested
+    }
 }

@@ -23,11 +23,33 @@ pub(crate) mod network;
 mod nodes;
 pub(crate) mod records;
 mod reports;
+pub(crate) mod sim;
 pub(crate) mod stopped;
 
 pub use events::{event_line, say_deviations};
 pub use hints::{error_text, hint_text, last_scan_hint, library_error_text, no_bus_text, switch_hint};
 pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
+
+/// The process exit code for an error a command ended with, and whether to print it.
+pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
+    for cause in err.chain() {
+        if let Some(e) = cause.downcast_ref::<crate::ops::firmware::FirmwareError>() {
+            return (e.class().exit_code(), true);
+        }
+        if let Some(e) = cause.downcast_ref::<crate::Error>() {
+            return (e.exit_code(), true);
+        }
+        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
+            if io.kind() == std::io::ErrorKind::BrokenPipe {
+                // The reader went away (`canctl scan | head -1`): nothing left to say.
+                return (0, false);
+            }
+            // Input files are read into typed errors: an I/O error left is one of output.
+            return (crate::error::ErrorClass::Output.exit_code(), true);
+        }
+    }
+    (1, true)
+}
 
 /// The form a report is rendered in (`--format`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -158,6 +180,11 @@ impl Output {
         if !self.quiet {
             eprintln!("{}", terminal_safe_lines(text));
         }
+    }
+
+    /// Several diagnostics on stderr, a line each, unless --quiet.
+    pub(crate) fn notes(&self, lines: impl IntoIterator<Item = String>) {
+        lines.into_iter().for_each(|line| self.note(&line));
     }
 
     /// A progress bar over `len` steps, or a hidden one when progress is not shown.

@@ -12,6 +12,8 @@
 //! eds = "sensors/mh.eds"     # relative to this file
 //! ```
 
+pub(crate) mod parse;
+
 use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

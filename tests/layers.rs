@@ -238,13 +238,6 @@ fn flags_named(text: &str) -> Vec<String> {
 const FLAG_NAMING: &[(&str, &str, &str)] = &[
     // Not a remedy: the option whose file could not be written, as the user gave it.
     ("bus/frame_log.rs", "--log-frames", "names the option whose output failed (Error::Output's what)"),
-    // The simulator's serving is `canctl sim`'s own work; its words go with cli/sim.
-    ("sim/serve.rs", "--bus", "canctl sim's own messages: move with the sim command to cli/"),
-    ("sim/serve.rs", "--epos2-rs232", "canctl sim's own messages: move with the sim command to cli/"),
-    ("sim/serve.rs", "--epos2-usb", "canctl sim's own messages: move with the sim command to cli/"),
-    ("sim/serve.rs", "--fault", "canctl sim's own messages: move with the sim command to cli/"),
-    ("sim/serve.rs", "--slcan", "canctl sim's own messages: move with the sim command to cli/"),
-    ("sim/serve.rs", "--socketcan", "canctl sim's own messages: move with the sim command to cli/"),
     ("sim/faults.rs", "--fault", "echoes the --fault value the user gave, parsed in sim"),
     // Errors stored as text in reports (config apply's Action::Failed, node rows, network
     // rows): a typed Hint would be lost there until those reports keep the Error.

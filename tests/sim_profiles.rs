@@ -182,3 +182,22 @@ fn scan_at_defaults_finds_every_node_of_a_slow_network_or_bus() {
         }
     }
 }
+
+/// `canctl sim` says in its own words what it will not serve (the simulator reports it as a
+/// typed value): a fault the slcan adapter does not take, where device faults go instead;
+/// a bus that is not the sim network, which bus to name. Both are usage errors (exit 2).
+#[cfg(unix)]
+#[test]
+fn sim_refusals_say_what_to_use_instead() {
+    let sim = Sim::new();
+    let run = sim.run(&["sim", "--slcan", "--fault", "stale@1"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("not Stale; device faults go to `canctl sim reset --fault`"), "{}", run.stderr);
+    assert!(run.stdout.is_empty(), "no pty was served: {}", run.stdout);
+
+    let mut c = std::process::Command::new(common::canctl_bin());
+    c.env("XDG_STATE_HOME", sim.path("state")).env_remove("CANCTL_BUS").args(["--bus", "can0", "sim", "reset"]);
+    let run = common::finish(c.output().unwrap());
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("use --bus sim or sim:PATH (or no --bus)"), "{}", run.stderr);
+}

@@ -4,6 +4,7 @@
 
 use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
 use crate::ops::scan_cache as cache;
+use crate::settings::{Given, Settings};
 use clap::CommandFactory;
 use clap_complete::engine::CompletionCandidate;
 
@@ -79,29 +80,24 @@ fn flag_values(words: &[String], name: &str) -> Vec<String> {
     out
 }
 
-fn settings() -> crate::settings::FileSettings {
-    crate::settings::load().unwrap_or_default()
+/// The bus and the EDS files the command line would use, resolved as `run` resolves them.
+fn settings(words: &[String]) -> Settings {
+    let bus = flag_values(words, "--bus").pop().or_else(|| std::env::var("CANCTL_BUS").ok());
+    let eds = flag_values(words, "--eds").iter().filter_map(|e| parse_eds_arg(e).ok()).collect();
+    Settings::resolve(Given { bus, eds, ..Given::default() }, crate::settings::load().unwrap_or_default())
 }
 
-/// The bus the command line would use.
-fn bus(words: &[String]) -> Option<String> {
-    flag_values(words, "--bus")
-        .pop()
-        .or_else(|| std::env::var("CANCTL_BUS").ok().filter(|b| !b.is_empty()))
-        .or_else(|| settings().bus.map(|(b, _)| b))
-}
-
-pub fn buses() -> Vec<CompletionCandidate> {
+pub(crate) fn buses() -> Vec<CompletionCandidate> {
     crate::output::completion::buses(crate::ops::completion::buses())
 }
 
 /// Node-ids of the last scan of the bus, with what they are.
-pub fn nodes() -> Vec<CompletionCandidate> {
-    let Some(bus) = bus(&words()) else { return vec![] };
-    crate::output::completion::nodes(cache::load(&bus))
+pub(crate) fn nodes() -> Vec<CompletionCandidate> {
+    let Some(bus) = settings(&words()).bus else { return vec![] };
+    crate::output::completion::nodes(cache::load(&bus.value))
 }
 
-pub fn nodes_or_all() -> Vec<CompletionCandidate> {
+pub(crate) fn nodes_or_all() -> Vec<CompletionCandidate> {
     let mut out = nodes();
     out.push(CompletionCandidate::new("all").help(Some("every node (a broadcast)".into())));
     out
@@ -110,25 +106,21 @@ pub fn nodes_or_all() -> Vec<CompletionCandidate> {
 /// Objects of the node named before the object on the command line (`sdo read NODE OBJ`)
 /// that it is known to have ([`crate::ops::completion::objects`]), with the descriptions
 /// given on the line or in canctl.toml.
-pub fn objects() -> Vec<CompletionCandidate> {
+pub(crate) fn objects() -> Vec<CompletionCandidate> {
     let w = words();
     let node = w
         .iter()
         .position(|a| a == "read" || a == "write")
         .and_then(|i| positionals(&w[i + 1..]).first().and_then(|n| super::parse_sdo_node(n).ok()))
         .unwrap_or(0);
-    let mut eds: Vec<EdsArg> = flag_values(&w, "--eds").iter().filter_map(|e| parse_eds_arg(e).ok()).collect();
-    for (n, (path, _)) in settings().eds {
-        if !eds.iter().any(|e| e.node == Some(n)) {
-            eds.push(EdsArg { node: Some(n), path });
-        }
-    }
+    let settings = settings(&w);
+    let eds: Vec<EdsArg> = settings.eds.into_iter().map(|e| e.value).collect();
     // A refused EDS is said (the shell shows stderr), not silently replaced.
     let dicts = Dictionaries::load(&eds).unwrap_or_else(|e| {
         eprintln!("\ncanctl: {e}; completing from the built-in dictionary");
         Dictionaries::default()
     });
-    let seen = bus(&w).and_then(|b| cache::load_all(&b).into_iter().find(|n| n.node == node));
+    let seen = settings.bus.and_then(|b| cache::load_all(&b.value).into_iter().find(|n| n.node == node));
     crate::output::completion::objects(crate::ops::completion::objects(node, &dicts, seen.as_ref()))
 }
 
@@ -159,11 +151,11 @@ fn takes_value(cmd: &clap::Command, flag: &str) -> bool {
         || cmd.get_subcommands().any(|s| takes_value(s, flag))
 }
 
-pub fn types() -> Vec<CompletionCandidate> {
+pub(crate) fn types() -> Vec<CompletionCandidate> {
     crate::output::completion::types()
 }
 
-pub fn bit_rates() -> Vec<CompletionCandidate> {
+pub(crate) fn bit_rates() -> Vec<CompletionCandidate> {
     crate::output::completion::bit_rates()
 }
 

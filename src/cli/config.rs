@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum ConfigCommand {
+pub(crate) enum ConfigCommand {
     Dump(DumpArgs),
     Diff(DiffArgs),
     Apply(ApplyArgs),
@@ -31,13 +31,13 @@ pub enum ConfigCommand {
 #[command(after_help = "Examples:
   canctl config check drive.eds
   canctl config check machine/node5.dcf --format json")]
-pub struct CheckArgs {
+pub(crate) struct CheckArgs {
     /// The EDS or DCF
     pub file: PathBuf,
 }
 
 /// `config check` needs no bus.
-pub fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
+pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
     let report = crate::ops::check::check(&a.file)?;
     ctx.out.report(&report)?;
     Ok(report.check()?)
@@ -51,7 +51,7 @@ pub fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
 #[command(after_help = "Examples:
   canctl --bus sim config eds 1 --out drive.eds
   canctl --bus can0 config eds 5 > sensor.eds")]
-pub struct EdsArgs {
+pub(crate) struct EdsArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -70,7 +70,7 @@ pub struct EdsArgs {
   canctl --bus sim config dump 10 > io.dcf
   canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf
   canctl --bus sim config dump 10 --out io.xdc")]
-pub struct DumpArgs {
+pub(crate) struct DumpArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -84,7 +84,7 @@ pub struct DumpArgs {
 #[command(after_help = "Examples:
   canctl --bus sim config diff 10 io.dcf
   canctl --bus can0 config diff 10 io.dcf --check --format json   # exit 6 when they differ")]
-pub struct DiffArgs {
+pub(crate) struct DiffArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -105,7 +105,7 @@ pub struct DiffArgs {
 #[command(after_help = "Examples:
   canctl --bus sim config apply 10 io.dcf --dry-run
   canctl --bus can0 config apply 10 io.dcf --verify --store --format json")]
-pub struct ApplyArgs {
+pub(crate) struct ApplyArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -128,7 +128,7 @@ pub struct ApplyArgs {
     pub force: bool,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<()> {
     match cmd {
         ConfigCommand::Dump(a) => dump(ctx, bus, a),
         ConfigCommand::Diff(a) => diff(ctx, bus, a),
@@ -158,9 +158,7 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
         None => {
             ctx.out.write_bytes(&eds.file)?;
             ctx.out.note(&crate::output::stored_eds_line(&eds));
-            for note in crate::output::Report::notes(&eds) {
-                ctx.out.note(&note);
-            }
+            ctx.out.notes(crate::output::Report::notes(&eds));
         }
     }
     Ok(())
@@ -217,7 +215,6 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
 }
 
 fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
-    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let options = ApplyOptions {
         interrupted: ctx.cancel.clone(),
         timeout: ctx.timeout,

@@ -6,7 +6,7 @@ use crate::output::docs::registration;
 use clap::Args;
 use clap::CommandFactory;
 use clap_complete::Shell;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Print a shell completion script
 ///
@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
   source <(COMPLETE=bash canctl)           # or: source <(canctl completions bash)
   canctl completions zsh > ~/.zfunc/_canctl
   canctl completions fish > ~/.config/fish/completions/canctl.fish")]
-pub struct CompletionsArgs {
+pub(crate) struct CompletionsArgs {
     /// bash, zsh, fish, elvish or powershell
     pub shell: Shell,
 }
@@ -29,7 +29,7 @@ pub struct CompletionsArgs {
 #[command(after_help = "Examples:
   canctl man | man -l -
   canctl man --out /usr/local/share/man/man1")]
-pub struct ManArgs {
+pub(crate) struct ManArgs {
     /// Write canctl.1 and one page per subcommand into this directory
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -40,26 +40,17 @@ pub fn man_pages() -> Vec<(String, Vec<u8>)> {
     crate::output::docs::man_pages(super::Cli::command())
 }
 
-pub fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
+pub(crate) fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
     let script = registration(args.shell);
     super::Output::new(crate::output::Format::Human, true).print(&String::from_utf8(script)?)?;
     Ok(())
 }
 
-pub fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
+pub(crate) fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
     let pages = man_pages();
     match &args.out {
         Some(dir) => {
-            // Every failure names the path: "No such file or directory" alone says not which.
-            let output = |path: &Path, e: std::io::Error| crate::Error::Output {
-                path: path.display().to_string(),
-                why: e.to_string(),
-            };
-            std::fs::create_dir_all(dir).map_err(|e| output(dir, e))?;
-            for (name, data) in &pages {
-                let page = dir.join(name);
-                std::fs::write(&page, data).map_err(|e| output(&page, e))?;
-            }
+            crate::output::docs::write_all(dir, &pages)?;
             ctx.out.note(&format!("{} man pages written to {}", pages.len(), dir.display()));
         }
         None => ctx.out.print(&String::from_utf8_lossy(&pages[0].1))?,

@@ -6,12 +6,13 @@ use crate::bus::Bus;
 use crate::canopen::cia402::Goal;
 use crate::error::Error;
 use crate::ops::drive::{self, Options, Source, Watch};
+use crate::output::stopped;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum DriveCommand {
+pub(crate) enum DriveCommand {
     /// The CiA 402 state, every statusword flag, the mode of operation and the errors
     #[command(after_help = "Reads 0x1000 (refused unless the device type says profile 402), the statusword
 0x6041, the mode of operation 0x6061, the error register 0x1001 and the error history
@@ -48,7 +49,7 @@ Examples:
 }
 
 #[derive(Args, Debug)]
-pub struct StatusArgs {
+pub(crate) struct StatusArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -61,7 +62,7 @@ pub struct StatusArgs {
 }
 
 #[derive(Args, Debug)]
-pub struct WalkArgs {
+pub(crate) struct WalkArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -70,7 +71,7 @@ pub struct WalkArgs {
     pub wait: Duration,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<()> {
     let (args, goal) = match cmd {
         DriveCommand::Status(a) => return status(ctx, bus, a),
         DriveCommand::Enable(a) => (a, Goal::Enable),
@@ -78,7 +79,6 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<(
         DriveCommand::QuickStop(a) => (a, Goal::QuickStop),
         DriveCommand::FaultReset(a) => (a, Goal::FaultReset),
     };
-    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let o = Options { timeout: ctx.timeout, wait: args.wait };
     let walk = drive::walk(bus, args.node, goal, &o, &ctx.cancel)?;
     ctx.out.report(&walk)?;
@@ -86,16 +86,8 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<(
 }
 
 fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
-    let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node, ctx.timeout)) {
-        Err(e) if e.is_interrupted() => {
-            return crate::output::stopped::reading(
-                &ctx.out,
-                "drive status",
-                format!("reading node {}'s state", a.node),
-            )
-        }
-        report => report?,
-    };
+    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node, ctx.timeout));
+    let report = stopped::read(&ctx.out, "drive status", format!("reading node {}'s state", a.node), read)?;
     ctx.out.report(&report)?;
     if !a.watch {
         return Ok(());

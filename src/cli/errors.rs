@@ -19,7 +19,7 @@ use clap_complete::engine::ArgValueCandidates;
   canctl --bus sim errors 10
   canctl --bus sim errors 10 --clear
   canctl --bus can0 errors 1 --format json")]
-pub struct ErrorsArgs {
+pub(crate) struct ErrorsArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -28,18 +28,10 @@ pub struct ErrorsArgs {
     pub clear: bool,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
-    let report =
-        match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node, a.clear, ctx.timeout)) {
-            Err(e) if e.is_interrupted() => {
-                return crate::output::stopped::reading(
-                    &ctx.out,
-                    "errors",
-                    format!("reading node {}'s error history", a.node),
-                )
-            }
-            report => report?,
-        };
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
+    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node, a.clear, ctx.timeout));
+    let what = format!("reading node {}'s error history", a.node);
+    let report = crate::output::stopped::read(&ctx.out, "errors", what, read)?;
     ctx.out.report(&report)?;
     match report.clear_interrupted {
         Some(_) => Err(crate::Error::Interrupted.into()),

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 const IMAGE: crate::input::Limit = crate::input::Limit { bytes: 64 << 20, what: "a firmware image" };
 
 #[derive(Subcommand, Debug)]
-pub enum FirmwareCommand {
+pub(crate) enum FirmwareCommand {
     /// Program control (0x1F51), software identification (0x1F56) and flash status (0x1F57,
     /// by meaning) for each program the device has
     #[command(after_help = "Examples:\n  canctl --bus sim firmware status 9")]
@@ -34,14 +34,14 @@ pub enum FirmwareCommand {
 }
 
 #[derive(Args, Debug)]
-pub struct StatusArgs {
+pub(crate) struct StatusArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
 }
 
 #[derive(Args, Debug)]
-pub struct DownloadArgs {
+pub(crate) struct DownloadArgs {
     /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another,
     /// with a report (and with --format junit a test case) for each
     #[arg(value_name = "NODE", value_parser = parse_node, value_delimiter = ',', required = true, add = ArgValueCandidates::new(super::complete::nodes))]
@@ -68,18 +68,12 @@ pub struct DownloadArgs {
     pub no_confirm: bool,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
     match cmd {
         FirmwareCommand::Status(a) => {
-            let report =
-                match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout)) {
-                    Err(e) if e.is_interrupted() => {
-                        let what = format!("reading node {}'s program objects", a.node);
-                        return crate::output::stopped::reading(&ctx.out, "firmware status", what);
-                    }
-                    report => report?,
-                };
-            Ok(ctx.out.report(&report)?)
+            let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout));
+            let what = format!("reading node {}'s program objects", a.node);
+            Ok(ctx.out.report(&crate::output::stopped::read(&ctx.out, "firmware status", what, read)?)?)
         }
         FirmwareCommand::Download(a) => download(ctx, bus, a),
     }

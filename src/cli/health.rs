@@ -21,9 +21,9 @@ use std::time::Duration;
   canctl --bus sim health
   canctl --bus can0 health --state operational --format junit > health.xml
   canctl --bus can0 health --watch 5s --format json")]
-pub struct HealthArgs {
+pub(crate) struct HealthArgs {
     /// Every node must also be in this NMT state: operational, pre-operational or stopped
-    #[arg(long, value_name = "STATE", value_parser = super::network::parse_state)]
+    #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
     pub state: Option<State>,
     /// How long to watch heartbeats and EMCYs (default: two periods of the slowest
     /// heartbeat, 300ms to 10s)
@@ -36,16 +36,11 @@ pub struct HealthArgs {
     pub checks: super::CheckFormat,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
     let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state };
-    let report = match crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        health::health(bus, &options, &mut ctx.out.progress())
-    }) {
-        Err(e) if e.is_interrupted() => {
-            return crate::output::stopped::reading(&ctx.out, "health", "scanning and judging the nodes".into())
-        }
-        report => report?,
-    };
+    let read =
+        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| health::health(bus, &options, &mut ctx.out.progress()));
+    let report = crate::output::stopped::read(&ctx.out, "health", "scanning and judging the nodes".into(), read)?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }

@@ -2,7 +2,7 @@
 
 use super::Ctx;
 use crate::bus::Bus;
-use crate::canopen::lss::{parse_bit_rate, Identity, UNCONFIGURED};
+use crate::canopen::lss::{parse_bit_rate, Identity};
 use crate::error::Error;
 use crate::ops::lss::{self, AssignOptions, FastscanOptions, Setting};
 use clap::{Args, Subcommand};
@@ -10,7 +10,7 @@ use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum LssCommand {
+pub(crate) enum LssCommand {
     /// Read a device's identity and node-id
     #[command(after_help = "Examples:
   canctl --bus sim lss inquire --identity 0x40:0x43787800:0x312E3031:0x09501234
@@ -67,9 +67,9 @@ Examples:
 
 /// Which device: one by identity, all (only when asked), or an EPOS2 reached directly.
 #[derive(Args, Debug)]
-pub struct Target {
+pub(crate) struct Target {
     /// The device's LSS address: VENDOR:PRODUCT:REVISION:SERIAL (decimal or 0x hex)
-    #[arg(long, value_name = "V:P:R:S", value_parser = parse_identity, conflicts_with_all = ["global", "node"])]
+    #[arg(long, value_name = "V:P:R:S", value_parser = |s: &str| s.parse::<Identity>(), conflicts_with_all = ["global", "node"])]
     pub identity: Option<Identity>,
     /// Every LSS device on the bus at once (a broadcast)
     #[arg(long, conflicts_with = "node")]
@@ -80,9 +80,9 @@ pub struct Target {
 }
 
 #[derive(Args, Debug)]
-pub struct SetIdArgs {
+pub(crate) struct SetIdArgs {
     /// The new node-id: 1 to 127, or 255 for none
-    #[arg(value_name = "NEW", value_parser = parse_new_id)]
+    #[arg(value_name = "NEW", value_parser = super::parse_lss_node_id)]
     pub new: u8,
     #[command(flatten)]
     pub target: Target,
@@ -93,7 +93,7 @@ pub struct SetIdArgs {
 }
 
 #[derive(Args, Debug)]
-pub struct SetBaudArgs {
+pub(crate) struct SetBaudArgs {
     /// 1M 800k 500k 250k 125k 50k 20k 10k, or auto
     #[arg(value_name = "RATE", value_parser = parse_bit_rate, add = ArgValueCandidates::new(super::complete::bit_rates))]
     pub rate: u8,
@@ -102,7 +102,7 @@ pub struct SetBaudArgs {
 }
 
 #[derive(Args, Debug)]
-pub struct ActivateArgs {
+pub(crate) struct ActivateArgs {
     /// Switch delay in ms: the devices wait this long, switch, and wait as long again
     #[arg(long, value_name = "MS", default_value_t = 100)]
     pub delay: u16,
@@ -112,19 +112,19 @@ pub struct ActivateArgs {
 
 /// How fastscan paces itself, and what it already knows.
 #[derive(Args, Debug)]
-pub struct FastscanFlags {
+pub(crate) struct FastscanFlags {
     /// Wait this long for each fastscan answer instead of learning it from the devices
     /// (lengthened only if answers come later still)
     #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
     pub step: Option<Duration>,
     /// The vendor-id of the device(s) sought, if known: not searched (0x1018:1)
-    #[arg(long, value_name = "ID", value_parser = parse_u32)]
+    #[arg(long, value_name = "ID", value_parser = super::parse_u32)]
     pub vendor: Option<u32>,
     /// The product code, if known: not searched (0x1018:2)
-    #[arg(long, value_name = "CODE", value_parser = parse_u32)]
+    #[arg(long, value_name = "CODE", value_parser = super::parse_u32)]
     pub product: Option<u32>,
     /// The revision number, if known: not searched (0x1018:3)
-    #[arg(long, value_name = "REV", value_parser = parse_u32)]
+    #[arg(long, value_name = "REV", value_parser = super::parse_u32)]
     pub revision: Option<u32>,
 }
 
@@ -136,7 +136,7 @@ impl FastscanFlags {
 }
 
 #[derive(Args, Debug)]
-pub struct FastscanArgs {
+pub(crate) struct FastscanArgs {
     #[command(flatten)]
     pub pace: FastscanFlags,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
@@ -145,7 +145,7 @@ pub struct FastscanArgs {
 }
 
 #[derive(Args, Debug)]
-pub struct AssignArgs {
+pub(crate) struct AssignArgs {
     /// The first node-id to give
     #[arg(long, value_name = "N", value_parser = super::parse_node)]
     pub start: u8,
@@ -161,25 +161,6 @@ pub struct AssignArgs {
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
     #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
-}
-
-fn parse_u32(s: &str) -> Result<u32, String> {
-    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
-        Some(h) => u32::from_str_radix(h, 16),
-        None => s.parse(),
-    }
-    .map_err(|_| format!("'{s}' is not a 32-bit number (decimal, or hex with 0x)"))
-}
-
-fn parse_identity(s: &str) -> Result<Identity, String> {
-    s.parse()
-}
-
-fn parse_new_id(s: &str) -> Result<u8, String> {
-    match s.parse::<u16>() {
-        Ok(n) if (1..=127).contains(&n) || n == UNCONFIGURED as u16 => Ok(n as u8),
-        _ => Err(format!("'{s}' is not a node-id for LSS: use 1 to 127, or 255 to leave the device without one")),
-    }
 }
 
 impl Target {
@@ -202,7 +183,7 @@ fn no_node(node: Option<u8>, verb: &str) -> crate::Result<()> {
     node.map_or(Ok(()), |_| Err(lss::no_lss_on_direct_epos2(verb)))
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()> {
     // An interruption is noted and acted on between steps, so that no device is left in
     // configuration state.
     let (t, stop) = (ctx.timeout, &ctx.cancel);

@@ -8,7 +8,6 @@ mod drive;
 mod errors;
 mod firmware;
 mod health;
-mod interrupt;
 mod lss;
 mod monitor;
 mod network;
@@ -21,16 +20,22 @@ mod store;
 mod stream;
 
 use crate::bus::Bus;
+use crate::cancel::Cancel;
 use crate::connect::{BusAddr, OpenOptions};
 use crate::error::Error;
 use crate::output::{FormatArg, Output};
+// The value parsers the commands' arguments name (`super::parse_node`).
+use crate::settings::parse::{
+    parse_fixed_bit_rate, parse_kbit, parse_lss_node_id, parse_nodes, parse_sdo_node, parse_size, parse_state,
+    parse_u32,
+};
+use crate::settings::{number_in, parse_duration, parse_node, parse_timeout};
 use crate::settings::{Given, Settings};
 use clap::{Args, Parser, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
-pub use crate::output::diagnostics::install as install_diagnostics;
-pub use crate::output::docs::{completion_scripts, write_completions};
+pub use crate::output::docs::completion_scripts;
 pub use complete::complete_from_env;
 pub use docs::man_pages;
 
@@ -50,6 +55,8 @@ Exit codes:
   7    output could not be written (disk full, no permission); the old --out file is kept
   130  interrupted (SIGINT, SIGTERM, Ctrl-C/Ctrl-Break), after a report of what was done";
 
+/// canctl's command line, as clap parses it: `main` hands it to [`run`]; its
+/// `clap::CommandFactory` is what help, man pages and completions are made from.
 #[derive(Parser, Debug)]
 #[command(
     name = "canctl",
@@ -64,13 +71,13 @@ Try it without hardware: canctl --bus sim scan",
 )]
 pub struct Cli {
     #[command(flatten)]
-    pub global: GlobalArgs,
+    pub(crate) global: GlobalArgs,
     #[command(subcommand)]
-    pub command: Command,
+    pub(crate) command: Command,
 }
 
 #[derive(Args, Debug)]
-pub struct GlobalArgs {
+pub(crate) struct GlobalArgs {
     /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k,
     /// epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else
     /// the settings file's)
@@ -105,13 +112,13 @@ pub struct GlobalArgs {
 
 impl GlobalArgs {
     /// The frame log asked for with --log-frames, created (emptied) now.
-    pub fn frame_log(&self) -> crate::error::Result<Option<crate::bus::FrameLog>> {
+    pub(crate) fn frame_log(&self) -> crate::error::Result<Option<crate::bus::FrameLog>> {
         self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose()
     }
 }
 
 #[derive(Subcommand, Debug)]
-pub enum Command {
+pub(crate) enum Command {
     Scan(scan::ScanArgs),
     /// Read and write objects (SDO)
     #[command(
@@ -192,7 +199,7 @@ pub enum Command {
 /// argument, so that only their help and completion offer `junit`; the global `--format`
 /// (before the command) takes it too, and the other commands refuse it.
 #[derive(Args, Debug)]
-pub struct CheckFormat {
+pub(crate) struct CheckFormat {
     /// Output format: human, json, csv, or junit (one JUnit test case per node and check,
     /// for CI systems) [default: human]
     #[arg(long = "format", id = "format", value_name = "FORMAT", value_parser = check_formats())]
@@ -205,59 +212,27 @@ fn check_formats() -> impl clap::builder::TypedValueParser<Value = FormatArg> {
         .map(|s| FormatArg::from_str(&s, false).expect("every listed format is a FormatArg"))
 }
 
-pub use crate::settings::{number_in, parse_duration, parse_node, parse_timeout, DEFAULT_TIMEOUT};
-
 /// What every command gets: the output policy, the global settings, the dictionaries.
-pub struct Ctx {
+pub(crate) struct Ctx {
     pub out: Output,
     pub timeout: Duration,
     pub dicts: objects::Dictionaries,
     /// The bus URI in force (flag, CANCTL_BUS or settings file).
     pub bus: Option<String>,
-    /// The program's request to stop, caught from the start ([`install_interrupt`]).
-    pub cancel: crate::cancel::Cancel,
+    /// The program's request to stop, caught from the start (`main` installs it).
+    pub cancel: Cancel,
 }
 
-/// Catch SIGINT, SIGTERM, Ctrl-C and Ctrl-Break as a request to stop, from now on and for
-/// every command: `main` calls it first, before anything can take long.
-pub fn install_interrupt() -> crate::cancel::Cancel {
-    interrupt::install()
-}
-
-/// Parse a node-id for an SDO command: 1 to 127, or 0 for an EPOS2 reached directly.
-pub fn parse_sdo_node(text: &str) -> Result<u8, String> {
-    if text.trim() == "0" {
-        return Ok(0);
-    }
-    parse_node(text).map_err(|e| format!("{e} (or 0: the EPOS2 on an epos2-rs232/epos2-usb bus)"))
-}
-
-/// Open the bus the user named, or explain how to name one.
-fn open_bus(ctx: &Ctx, frame_log: Option<crate::bus::FrameLog>) -> anyhow::Result<Box<dyn Bus>> {
+/// Run a command that talks to the bus the user named (or say how to name one); the bus
+/// is closed whatever the command's outcome, and its error explained ([`with_hint`]).
+fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
+    let mut opts = OpenOptions::new(ctx.timeout);
+    opts.frame_log = global.frame_log()?;
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
         return Err(Error::Usage(crate::output::no_bus_text()).into());
     };
     let addr: BusAddr = text.parse()?;
-    let mut opts = OpenOptions::new(ctx.timeout);
-    opts.frame_log = frame_log;
-    Ok(crate::connect::open(&addr, &opts)?)
-}
-
-/// Run a command that talks to the bus; the bus is closed (and the simulator's state saved)
-/// whatever the command's outcome. A frame log that could not be written fails the command
-/// once it is done (a warning said so when it happened).
-fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
-    let frame_log = global.frame_log()?;
-    let mut bus = open_bus(ctx, frame_log.clone())?;
-    crate::ops::stop::opened(&ctx.cancel);
-    let result = f(bus.as_mut()).map_err(|e| with_hint(ctx, bus.as_mut(), e));
-    let closed = bus.close();
-    result?;
-    closed?;
-    if let Some(log) = frame_log {
-        log.finish()?;
-    }
-    Ok(())
+    crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| with_hint(ctx, bus, e))
 }
 
 /// A node that did not answer: the link's failure when it has one, else which nodes the last
@@ -291,9 +266,12 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     }
 }
 
-/// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS.
-pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
+/// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS,
+/// `cancel` is the program's request to stop (caught from its start).
+pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
     let g = &cli.global;
+    // The library reports through `tracing`; -v/-q choose what reaches stderr.
+    crate::output::diagnostics::install(g.verbose, g.quiet);
     let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
     let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
@@ -312,7 +290,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         timeout: settings.timeout.value,
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
-        cancel: interrupt::install(),
+        cancel,
     };
     let checks = matches!(
         cli.command,
@@ -356,27 +334,6 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),
     }
-}
-
-/// The process exit code for an error from `run`, and whether to print it.
-pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
-    for cause in err.chain() {
-        if let Some(e) = cause.downcast_ref::<crate::ops::firmware::FirmwareError>() {
-            return (e.class().exit_code(), true);
-        }
-        if let Some(e) = cause.downcast_ref::<Error>() {
-            return (e.exit_code(), true);
-        }
-        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
-            if io.kind() == std::io::ErrorKind::BrokenPipe {
-                // The reader went away (`canctl scan | head -1`): nothing left to say.
-                return (0, false);
-            }
-            // Input files are read into typed errors: an I/O error left is one of output.
-            return (crate::error::ErrorClass::Output.exit_code(), true);
-        }
-    }
-    (1, true)
 }
 
 #[cfg(test)]

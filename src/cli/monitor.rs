@@ -2,11 +2,9 @@
 
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
-use crate::canopen::pdo::Layout;
 use crate::ops::monitor::Monitor;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
-use std::collections::BTreeMap;
 use std::time::Duration;
 
 /// Watch the bus: every frame decoded, as it happens
@@ -21,7 +19,7 @@ use std::time::Duration;
   canctl --bus can0 monitor
   canctl --bus can0 monitor --node 5 --node 10 --duration 10s --format json > bus.jsonl
   canctl --bus vcan0 --eds 5=mh.dcf monitor --node 5")]
-pub struct MonitorArgs {
+pub(crate) struct MonitorArgs {
     /// Only frames of this node (repeatable); NMT, SYNC and LSS are always shown
     #[arg(long, value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: Vec<u8>,
@@ -33,24 +31,12 @@ pub struct MonitorArgs {
     pub count: Option<u64>,
 }
 
-/// PDO layouts from the EDS/DCF files: their TPDO and RPDO mappings, for their nodes.
-fn layouts(ctx: &Ctx, nodes: &[u8]) -> BTreeMap<u16, Layout> {
-    let candidates: Vec<u8> = if nodes.is_empty() { (1..=127).collect() } else { nodes.to_vec() };
-    let mut out = BTreeMap::new();
-    for node in candidates {
-        if let Some(eds) = ctx.dicts.eds_for(node) {
-            out.extend(crate::ops::pdo::dcf_layouts(eds, node));
-        }
-    }
-    out
-}
-
 /// Ctrl-C or SIGTERM ends the monitor as its duration would, with the summary; the exit
 /// code is 130 all the same (as for every command the user stops), 0 only when --duration
 /// or --count ended it.
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        let mut monitor = Monitor::new(bus, layouts(ctx, &a.node), &a.node, a.duration, a.count)?;
+        let mut monitor = Monitor::new(bus, ctx.dicts.pdo_layouts(&a.node), &a.node, a.duration, a.count)?;
         let stdout = std::io::stdout();
         let mut out = std::io::BufWriter::new(stdout.lock());
         ctx.out.stream_start::<crate::ops::monitor::Event>(&mut out)?;

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum NetworkCommand {
+pub(crate) enum NetworkCommand {
     Dump(DumpArgs),
     Check(CheckArgs),
     Apply(ApplyArgs),
@@ -31,14 +31,14 @@ pub enum NetworkCommand {
 #[command(after_help = "Examples:
   canctl --bus sim network dump machine/
   canctl --bus can0 network dump machine/ --net-name 'Cabinet A' --bit-rate 500k")]
-pub struct DumpArgs {
+pub(crate) struct DumpArgs {
     /// The folder to write into (made if missing)
     pub dir: PathBuf,
     /// The network's name in the project (NetName)
     #[arg(long, value_name = "NAME", default_value = "canctl network")]
     pub net_name: String,
     /// The bus's bit rate, written as each DCF's Baudrate (1M 800k 500k 250k 125k 50k 20k 10k)
-    #[arg(long, value_name = "RATE", value_parser = parse_kbit)]
+    #[arg(long, value_name = "RATE", value_parser = super::parse_kbit)]
     pub bit_rate: Option<u32>,
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
@@ -59,12 +59,12 @@ pub struct DumpArgs {
 #[command(after_help = "Examples:
   canctl --bus sim network check machine/nodelist.cpj
   canctl --bus can0 network check machine/ --format junit > network-check.xml")]
-pub struct CheckArgs {
+pub(crate) struct CheckArgs {
     /// The project: a nodelist.cpj, or the folder holding one
     pub project: PathBuf,
     /// Every listed node must also be in this NMT state (from its heartbeat, else node
     /// guarding): operational, pre-operational or stopped
-    #[arg(long, value_name = "STATE", value_parser = parse_state)]
+    #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
     pub state: Option<State>,
     /// How many nodes to check at once, their SDO transfers in flight together (1: one after
     /// the other)
@@ -92,7 +92,7 @@ pub struct CheckArgs {
   canctl --bus sim network apply machine/nodelist.cpj --assign
   canctl --bus can0 network apply machine/ --dry-run
   canctl --bus can0 network apply machine/ --assign --format json > applied.json")]
-pub struct ApplyArgs {
+pub(crate) struct ApplyArgs {
     /// The project: a nodelist.cpj, or the folder holding one
     pub project: PathBuf,
     /// Give node-ids over LSS to listed nodes that do not answer, found by their DCF's identity
@@ -144,9 +144,9 @@ pub struct ApplyArgs {
   canctl --bus sim network set-baud 250k machine/ --global --store --update-project
   canctl --bus can0 network set-baud 1M --global --store --delay 200
     (then: sudo ip link set can0 down && sudo ip link set can0 up type can bitrate 1000000)")]
-pub struct SetBaudArgs {
+pub(crate) struct SetBaudArgs {
     /// The new bit rate: 1M 800k 500k 250k 125k 50k 20k 10k
-    #[arg(value_name = "RATE", value_parser = parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
+    #[arg(value_name = "RATE", value_parser = super::parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
     pub rate: u8,
     /// The project whose nodes must follow: a nodelist.cpj, or the folder holding one
     /// (without it: the nodes that answer before the switch)
@@ -172,40 +172,7 @@ pub struct SetBaudArgs {
     pub window: Duration,
 }
 
-/// A CiA 305 bit rate other than "auto" (a network is switched to one rate).
-fn parse_fixed_bit_rate(text: &str) -> Result<u8, String> {
-    match crate::canopen::lss::parse_bit_rate(text)? {
-        crate::canopen::lss::AUTO_BIT_RATE => {
-            Err("a network is switched to one bit rate: use 1M 800k 500k 250k 125k 50k 20k or 10k".into())
-        }
-        index => Ok(index),
-    }
-}
-
-pub(super) fn parse_state(text: &str) -> Result<State, String> {
-    match text.trim().to_ascii_lowercase().as_str() {
-        "operational" => Ok(State::Operational),
-        "pre-operational" | "preop" => Ok(State::PreOperational),
-        "stopped" => Ok(State::Stopped),
-        _ => Err(format!("'{text}' is not an NMT state: use operational, pre-operational or stopped")),
-    }
-}
-
-/// `500k`, `1M`, `125000`: a bit rate in kbit/s.
-fn parse_kbit(text: &str) -> Result<u32, String> {
-    let t = text.trim().to_ascii_lowercase();
-    let k = if let Some(m) = t.strip_suffix('m') {
-        m.parse::<u32>().ok().map(|m| m * 1000)
-    } else if let Some(k) = t.strip_suffix('k') {
-        k.parse().ok()
-    } else {
-        t.parse::<u32>().ok().map(|b| b / 1000)
-    };
-    k.filter(|k| [10, 20, 50, 125, 250, 500, 800, 1000].contains(k))
-        .ok_or_else(|| format!("'{text}' is not a CAN bit rate: use 1M 800k 500k 250k 125k 50k 20k or 10k"))
-}
-
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result<()> {
     match cmd {
         NetworkCommand::Dump(a) => dump(ctx, bus, a),
         NetworkCommand::Check(a) => check(ctx, bus, a),
@@ -216,9 +183,7 @@ pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result
 
 fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
     let loaded = network::load(&project_files::project_file(path))?;
-    for w in &loaded.warnings {
-        ctx.out.note(&format!("canctl: warning: {w}"));
-    }
+    ctx.out.notes(loaded.warnings.iter().map(|w| format!("canctl: warning: {w}")));
     Ok(loaded)
 }
 
@@ -274,7 +239,6 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     };
     // Ctrl-C: no node is begun after it, the nodes under way stop at their next safe point,
     // and the report says for each what was done and the state it is left in.
-    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
     let report = network::apply(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)

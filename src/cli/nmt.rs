@@ -10,7 +10,7 @@ use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
-pub enum NmtCommand {
+pub(crate) enum NmtCommand {
     /// Put a node (or all) in Operational
     #[command(after_help = "Examples:\n  canctl --bus sim nmt start 5\n  canctl --bus sim nmt start all")]
     Start(Target),
@@ -37,14 +37,14 @@ Examples:
 }
 
 #[derive(Args, Debug)]
-pub struct Target {
+pub(crate) struct Target {
     /// Node-id 1 to 127, or `all` to broadcast to every node
     #[arg(value_parser = parse_target, value_name = "NODE|all", add = ArgValueCandidates::new(super::complete::nodes_or_all))]
     pub target: u8,
 }
 
 #[derive(Args, Debug)]
-pub struct ResetArgs {
+pub(crate) struct ResetArgs {
     #[command(flatten)]
     pub target: Target,
     /// How long to wait for boot-up messages
@@ -53,7 +53,7 @@ pub struct ResetArgs {
 }
 
 #[derive(Args, Debug)]
-pub struct StateArgs {
+pub(crate) struct StateArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -69,7 +69,7 @@ fn parse_target(s: &str) -> Result<u8, String> {
     parse_node(s).map_err(|e| format!("{e}, or all"))
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| run_stoppable(ctx, bus, cmd))
 }
 
@@ -101,15 +101,13 @@ fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Resu
         }
         NmtCommand::State(a) => {
             let o = StateOptions { listen: a.listen, timeout: ctx.timeout };
-            match nmt::state(bus, a.node, &o) {
-                Ok(state) => Ok(ctx.out.report(&state)?),
-                Err(e) if e.is_interrupted() => crate::output::stopped::reading(
-                    &ctx.out,
-                    "nmt state",
-                    format!("learning the NMT state of node {}", a.node),
-                ),
-                Err(e) => Err(e.into()),
-            }
+            let what = format!("learning the NMT state of node {}", a.node);
+            Ok(ctx.out.report(&crate::output::stopped::read(
+                &ctx.out,
+                "nmt state",
+                what,
+                nmt::state(bus, a.node, &o),
+            )?)?)
         }
     }
 }

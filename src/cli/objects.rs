@@ -1,13 +1,13 @@
 //! `--eds [NODE=]FILE`: which dictionary describes a node (see [`crate::ops::dictionaries`]).
 
-pub use crate::ops::dictionaries::{Dictionaries, EdsFile as EdsArg};
+pub(crate) use crate::ops::dictionaries::{Dictionaries, EdsFile as EdsArg};
 
-pub fn parse_eds_arg(s: &str) -> Result<EdsArg, String> {
+pub(crate) fn parse_eds_arg(s: &str) -> Result<EdsArg, String> {
     s.parse()
 }
 
 /// Read every `--eds` file, its warnings said on stderr.
-pub fn load(args: &[EdsArg]) -> crate::Result<Dictionaries> {
+pub(crate) fn load(args: &[EdsArg]) -> crate::Result<Dictionaries> {
     let dicts = Dictionaries::load(args)?;
     crate::output::say_deviations(dicts.warnings());
     Ok(dicts)

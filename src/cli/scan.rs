@@ -23,14 +23,14 @@ use std::time::Duration;
   canctl --bus sim scan
   canctl --bus can0 scan --window 200ms --format json > nodes.json
   canctl --bus sim scan --format csv | cut -d, -f1,7")]
-pub struct ScanArgs {
+pub(crate) struct ScanArgs {
     /// How long the bus must stay quiet after the last answer to the probes: at least
     /// 10ms; under 100ms slow devices may be missed, and the scan cache is not replaced
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
 }
 
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
     let report =
         crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| scan::scan(bus, &options, &mut ctx.out.progress()))?;

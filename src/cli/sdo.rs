@@ -9,7 +9,7 @@ use clap_complete::engine::ArgValueCandidates;
 use std::path::PathBuf;
 
 #[derive(Subcommand, Debug)]
-pub enum SdoCommand {
+pub(crate) enum SdoCommand {
     Read(ReadArgs),
     Write(WriteArgs),
 }
@@ -25,7 +25,7 @@ pub enum SdoCommand {
   canctl --bus sim sdo read 1 0x1018:1 --type u32
   canctl --bus sim sdo read 10 1008 --type vs
   canctl --bus sim sdo read 1 1F50:1 --type d --out program.bin")]
-pub struct ReadArgs {
+pub(crate) struct ReadArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -45,7 +45,7 @@ pub struct ReadArgs {
     /// Largest value to accept: an upload that grows past it is aborted, and one announced
     /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³); by default 64k, for
     /// a domain (--type d) or a value of unknown type 1M
-    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+    #[arg(long, value_name = "SIZE", value_parser = super::parse_size)]
     pub max_size: Option<usize>,
 }
 
@@ -60,7 +60,7 @@ pub struct ReadArgs {
   canctl --bus sim sdo write 5 1017 100 --type u16 --verify
   canctl --bus sim sdo write 1 0x607A:0 -2000 --type i32
   canctl --bus sim sdo write 1 1F50:1 @program.bin --type d")]
-pub struct WriteArgs {
+pub(crate) struct WriteArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
     #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -86,28 +86,7 @@ fn parse_type(s: &str) -> Result<DataType, String> {
     s.parse()
 }
 
-/// A byte count: `4096`, `64k`, `16M`, `1G` (binary multiples; `KiB`, `MB` and the like
-/// read the same). At most 4 GiB - 1: CiA 301 sizes are 32-bit.
-fn parse_size(s: &str) -> Result<usize, String> {
-    let t = s.trim();
-    let digits = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
-    let (number, unit) = t.split_at(digits);
-    let number: u64 =
-        number.parse().map_err(|_| format!("'{s}' is not a size: a number of bytes, e.g. 4096, 64k, 16M"))?;
-    let shift = match unit.trim().to_ascii_lowercase().trim_end_matches('b').trim_end_matches('i') {
-        "" => 0,
-        "k" => 10,
-        "m" => 20,
-        "g" => 30,
-        _ => return Err(format!("'{s}': unknown unit '{unit}' (k, M or G)")),
-    };
-    let bytes = number.checked_shl(shift).filter(|b| *b <= u64::from(u32::MAX) && b >> shift == number);
-    bytes
-        .and_then(|b| usize::try_from(b).ok())
-        .ok_or_else(|| format!("'{s}' is over 4G - 1 bytes, the largest size CiA 301 can carry"))
-}
-
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| match cmd {
         SdoCommand::Read(a) => read(ctx, bus, a),
         SdoCommand::Write(a) => write(ctx, bus, a),
@@ -124,7 +103,8 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     let watch = ctx.out.transfer_hook(&bar);
     let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, watch);
     bar.finish_and_clear();
-    remember(ctx, a.node, object, &read);
+    // What the transfer showed of the node's objects, for completion.
+    crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node, object, &read);
     let read = match read {
         Err(e) => {
             return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e)
@@ -142,7 +122,7 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
     let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
     let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, verify: a.verify };
     let written = sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o);
-    remember(ctx, a.node, object, &written);
+    crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node, object, &written);
     let written = match written {
         Err(e) => return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node, object, true, &e), None, e),
         Ok(written) => written,
@@ -152,30 +132,4 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
         return Err(crate::Error::Interrupted.into());
     }
     Ok(())
-}
-
-/// What the transfer showed of the node's objects, for completion (see `ops::scan_cache`).
-fn remember<T>(ctx: &Ctx, node: u8, object: crate::canopen::ObjAddr, outcome: &crate::Result<T>) {
-    if let Some(bus) = &ctx.bus {
-        crate::ops::scan_cache::note(bus, node, object, outcome);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_size;
-
-    #[test]
-    fn sizes_parse_in_binary_multiples_up_to_32_bits() {
-        assert_eq!(parse_size("4096"), Ok(4096));
-        assert_eq!(parse_size("64k"), Ok(64 << 10));
-        assert_eq!(parse_size("16M"), Ok(16 << 20));
-        assert_eq!(parse_size("16MiB"), Ok(16 << 20));
-        assert_eq!(parse_size("1G"), Ok(1 << 30));
-        assert_eq!(parse_size("4294967295"), Ok(u32::MAX as usize));
-        assert!(parse_size("4G").unwrap_err().contains("over 4G - 1"));
-        assert!(parse_size("2x").unwrap_err().contains("unknown unit"));
-        assert!(parse_size("M").is_err());
-        assert!(parse_size("99999999999999999999999").is_err());
-    }
 }

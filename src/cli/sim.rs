@@ -4,8 +4,9 @@
 use super::{Ctx, GlobalArgs};
 use crate::epos2::Framing;
 use crate::error::{Error, LinkError, PtyOp};
+use crate::output::sim;
 use crate::sim::serial_fault::Fault;
-use crate::sim::serve::{self, Serve};
+use crate::sim::serve::{self, Serve, ServeError};
 use crate::sim::{FaultSpec, Profile, SimConfig, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
 use clap::builder::TypedValueParser;
 use clap::{Args, Subcommand};
@@ -33,7 +34,7 @@ use std::time::Duration;
   canctl sim --slcan &                     # prints /dev/pts/N: --bus slcan:/dev/pts/N
   canctl sim reset"
 )]
-pub struct SimArgs {
+pub(crate) struct SimArgs {
     #[command(subcommand)]
     pub command: Option<SimCommand>,
     /// Put the devices on this CAN interface (vcan0, can0) and answer there
@@ -62,7 +63,7 @@ pub struct SimArgs {
 }
 
 #[derive(Subcommand, Debug)]
-pub enum SimCommand {
+pub(crate) enum SimCommand {
     /// Forget the simulated network's saved state: devices start as built
     ///
     /// The sim network keeps node-ids, written and stored values and NMT states between
@@ -84,7 +85,7 @@ pub enum SimCommand {
 }
 
 #[derive(Args, Debug)]
-pub struct ResetArgs {
+pub(crate) struct ResetArgs {
     /// How late devices answer and whether frames take time on the bus
     #[arg(long, value_name = "PROFILE", default_value = "typical", value_parser = clap::builder::PossibleValuesParser::new(Profile::NAMES).map(|s| s.parse::<Profile>().expect("listed")))]
     pub profile: Profile,
@@ -127,8 +128,8 @@ fn parse_rate(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("the sim bus needs a fixed bit rate, not {text}"))
 }
 
-pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
-    let path = serve::state_path(ctx.bus.as_deref())?;
+pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
+    let path = serve::state_path(ctx.bus.as_deref())?.ok_or_else(|| Error::Usage(sim::NOT_A_SIM_BUS.into()))?;
     if let Some(SimCommand::Reset(r)) = &args.command {
         let mut config =
             SimConfig::default().profile(r.profile).seed(r.seed).unconfigured(r.unconfigured).bit_rate(r.bit_rate);
@@ -158,14 +159,18 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
         }
         std::process::exit(Error::Interrupted.exit_code());
     });
-    serve::serve(&path, &how, global.frame_log()?, |serving| {
-        if let Some(pty) = &serving.pty {
+    let served = serve::serve(&path, &how, global.frame_log()?, |serving| {
+        if let Some(pty) = serving.pty() {
             ctx.out
                 .print(pty)
                 .map_err(|e| Error::Link(LinkError::Pty { op: PtyOp::PrintPath, detail: e.to_string() }))?;
         }
-        ctx.out.note(&serving.how);
+        ctx.out.note(&sim::serving(serving));
         Ok(())
-    })?;
-    Ok(())
+    });
+    match served {
+        Err(ServeError::Failed(e)) => Err(e.into()),
+        Err(refused) => Err(Error::Usage(sim::serve_refusal(&refused).unwrap_or_else(|| refused.to_string())).into()),
+        Ok(()) => Ok(()),
+    }
 }

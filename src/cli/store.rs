@@ -8,7 +8,7 @@ use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
-pub use crate::ops::store::Class;
+pub(crate) use crate::ops::store::Class;
 
 /// Save parameters to non-volatile memory (writes 'save' to 0x1010)
 ///
@@ -20,10 +20,10 @@ pub use crate::ops::store::Class;
   canctl --bus sim store 5
   canctl --bus sim store 1,5,10
   canctl --bus can0 store 10 comm --store-timeout 10s")]
-pub struct StoreArgs {
+pub(crate) struct StoreArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus), or several: 5,10,20
-    #[arg(value_parser = |s: &str| node_list(s, super::parse_sdo_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: Nodes,
+    #[arg(value_parser = |s: &str| super::parse_nodes(s, super::parse_sdo_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: crate::settings::parse::Nodes,
     #[arg(value_enum, default_value = "all")]
     pub class: Class,
     /// How long the device may take to store (flash writes take a while)
@@ -41,10 +41,10 @@ pub struct StoreArgs {
   canctl --bus sim restore 5 --reset
   canctl --bus sim restore 5,10 --reset
   canctl --bus can0 restore 10 app")]
-pub struct RestoreArgs {
+pub(crate) struct RestoreArgs {
     /// Node-id, 1 to 127, or several: 5,10,20
-    #[arg(value_parser = |s: &str| node_list(s, parse_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: Nodes,
+    #[arg(value_parser = |s: &str| super::parse_nodes(s, parse_node), value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: crate::settings::parse::Nodes,
     #[arg(value_enum, default_value = "all")]
     pub class: Class,
     /// Reset the node afterwards and wait for it to boot with the defaults
@@ -55,27 +55,13 @@ pub struct RestoreArgs {
     pub store_timeout: Duration,
 }
 
-/// One node-id or several, as one argument: `5` or `5,10,20`.
-#[derive(Clone, Debug)]
-pub struct Nodes(pub Vec<u8>);
-
-fn node_list(s: &str, one: fn(&str) -> Result<u8, String>) -> Result<Nodes, String> {
-    let nodes = s.split(',').map(one).collect::<Result<Vec<u8>, String>>()?;
-    for (i, n) in nodes.iter().enumerate() {
-        if nodes[..i].contains(n) {
-            return Err(format!("node {n} is named twice"));
-        }
-    }
-    Ok(Nodes(nodes))
-}
-
-pub fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {
+pub(crate) fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
     let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| store_nodes(bus, &a.node.0, a.class, t));
     crate::output::stopped::each_node(&ctx.out, "store", &a.node.0, run)
 }
 
-pub fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<()> {
+pub(crate) fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<()> {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
     let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| restore_nodes(bus, &a.node.0, a.class, t, a.reset));
     crate::output::stopped::each_node(&ctx.out, "restore", &a.node.0, run)

@@ -22,7 +22,7 @@ use std::time::Duration;
   canctl --bus sim stream-pdo 5 --start --count 100 --format csv > position.csv
   canctl --bus can0 stream-pdo 5 --start --sync 10ms --duration 5s --format json
   canctl --bus sim stream-pdo 1 --start --map 6064:0,606C:0 --event 20")]
-pub struct StreamArgs {
+pub(crate) struct StreamArgs {
     /// Node-id, 1 to 127
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: u8,
@@ -57,15 +57,12 @@ pub struct StreamArgs {
 
 /// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
 /// read once from the node.
-pub fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
-    let bus = &mut crate::ops::stop::with_test_signal(bus, &ctx.cancel);
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
     let restored = session.restore(bus, a.node, ctx.timeout);
-    for line in restored.as_ref().map_or(Vec::new(), |r| crate::output::records::restored_lines(a.node, r)) {
-        ctx.out.note(&line);
-    }
+    ctx.out.notes(restored.as_ref().map_or(Vec::new(), |r| crate::output::records::restored_lines(a.node, r)));
     let interrupted = ctx.cancel.is_cancelled();
     result?;
     restored?;
@@ -99,9 +96,7 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
     };
     let mut stream = Stream::new(bus, a.node, &layouts, opts, &ctx.cancel);
     let polled = stream.polling().then_some(a.interval);
-    for line in crate::output::records::tpdo_lines(a.node, &layouts, polled) {
-        ctx.out.note(&line);
-    }
+    ctx.out.notes(crate::output::records::tpdo_lines(a.node, &layouts, polled));
     let mut records = ctx.out.records(a.node, &layouts)?;
     let mut progress = ctx.out.progress();
     while let Some(r) = stream.next(bus, &mut progress)? {

@@ -40,6 +40,15 @@ impl Dictionaries {
             .map(|(_, e)| e)
     }
 
+    /// The PDO layouts (TPDO and RPDO mappings) the EDS/DCF files give for `nodes` (every
+    /// node when empty), by COB-ID: what a bus monitor decodes PDOs with.
+    pub(crate) fn pdo_layouts(&self, nodes: &[u8]) -> std::collections::BTreeMap<u16, crate::canopen::pdo::Layout> {
+        let all: Vec<u8> = (1..=127).collect();
+        let nodes = if nodes.is_empty() { &all[..] } else { nodes };
+        let of = |node: &u8| self.eds_for(*node).map(|eds| super::pdo::dcf_layouts(eds, *node));
+        nodes.iter().filter_map(of).flatten().collect()
+    }
+
     /// The dictionary for `node`: its own EDS, else one given for any node, else the built-in one
     /// for its profile.
     pub fn for_node(&self, node: u8) -> &Dictionary {

@@ -144,8 +144,10 @@ pub fn load(bus: &str) -> Vec<SeenNode> {
 
 /// Remember what an SDO transfer of `addr` with `node` showed of its object list: that it
 /// has the object (it answered), or that it has no object at that index (abort
-/// 0x06020000). Any other outcome says nothing of it.
-pub fn note<T>(bus: &str, node: u8, addr: ObjAddr, outcome: &Result<T, Error>) {
+/// 0x06020000). Any other outcome says nothing of it, and nothing is remembered of a bus
+/// without a URI.
+pub fn note<T>(bus: Option<&str>, node: u8, addr: ObjAddr, outcome: &Result<T, Error>) {
+    let Some(bus) = bus else { return };
     let has = match outcome {
         Ok(_) => true,
         Err(e) if matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT, .. }) => false,

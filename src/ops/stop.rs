@@ -4,24 +4,48 @@
 //! it ([`stoppable`]), an SDO transfer under way aborted. Either way the caller gets a
 //! partial report.
 //!
-//! Also the test seam of the kill-at-every-step tests ([`TEST_SIGNAL`]): it raises a real
+//! Also where a command's bus is opened and closed ([`on_bus`]), with the test seam of the
+//! kill-at-every-step tests ([`TEST_SIGNAL`]) on it: the seam raises a real
 //! signal at an exact point of a procedure, so that those tests need no timing.
 
 use crate::bus::stoppable::Stoppable;
 use crate::bus::tap::{AfterSdo, Transfer};
 use crate::bus::{Bus, TransferHook};
 use crate::cancel::Cancel;
+use crate::connect::{BusAddr, OpenOptions};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
 /// Run `f` over `bus` so that a request to stop (`cancel`) ends it at its next call to the
-/// bus (an SDO transfer under way aborted), with the test signal of [`TEST_SIGNAL`] when
-/// that is set.
+/// bus (an SDO transfer under way aborted).
 pub fn stoppable<T>(bus: &mut dyn Bus, cancel: &Cancel, f: impl FnOnce(&mut dyn Bus) -> T) -> T {
-    let mut tapped = with_test_signal(bus, cancel);
-    let mut guarded = Stoppable::new(&mut tapped, cancel.clone());
-    f(&mut guarded)
+    f(&mut Stoppable::new(bus, cancel.clone()))
+}
+
+/// Open `addr` and run `f` on it as a command does: with the test signal of [`TEST_SIGNAL`]
+/// when that is set (at the point it names, the opening included); `explain` sees `f`'s
+/// error while the bus is still open. The bus is closed whatever the outcome (a simulated
+/// bus saves its state then); a frame log that could not be written fails the run once `f`
+/// is done (a warning said so when it happened).
+pub(crate) fn on_bus<E: From<crate::Error>>(
+    addr: &BusAddr,
+    opts: &OpenOptions,
+    cancel: &Cancel,
+    f: impl FnOnce(&mut dyn Bus) -> Result<(), E>,
+    explain: impl FnOnce(&mut dyn Bus, E) -> E,
+) -> Result<(), E> {
+    let mut bus = crate::connect::open(addr, opts)?;
+    opened(cancel);
+    let result = f(&mut with_test_signal(bus.as_mut(), cancel));
+    let result = result.map_err(|e| explain(bus.as_mut(), e));
+    let closed = bus.close();
+    result?;
+    closed?;
+    if let Some(log) = &opts.frame_log {
+        log.finish()?;
+    }
+    Ok(())
 }
 
 /// The environment variable of the kill-at-every-step tests: `K:SIGNAL` (INT, TERM, KILL)

@@ -2,7 +2,6 @@
 //! `cli` hands in: output sits below it).
 
 use clap_complete::Shell;
-use std::path::Path;
 
 /// The shell code that asks canctl for candidates as you type (clap_complete's dynamic
 /// completion): the same as `COMPLETE=SHELL canctl` prints.
@@ -38,15 +37,6 @@ pub fn completion_scripts() -> Vec<(String, Vec<u8>)> {
         .collect()
 }
 
-/// Writes every shell's completion script into `dir` (what packaging installs).
-pub fn write_completions(dir: &Path) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    for (name, data) in completion_scripts() {
-        std::fs::write(dir.join(name), data)?;
-    }
-    Ok(())
-}
-
 /// Every man page of `cmd`: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
 pub fn man_pages(mut cmd: clap::Command) -> Vec<(String, Vec<u8>)> {
     cmd.build();
@@ -64,4 +54,19 @@ fn collect(cmd: &clap::Command, name: &str, pages: &mut Vec<(String, Vec<u8>)>) 
     for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
         collect(sub, &format!("{name}-{}", sub.get_name()), pages);
     }
+}
+
+/// Write each `(file name, contents)` into `dir`, made if missing. Every failure names the
+/// path: "No such file or directory" alone says not which.
+pub(crate) fn write_all(dir: &std::path::Path, files: &[(String, Vec<u8>)]) -> crate::Result<()> {
+    let failed = |path: &std::path::Path, e: std::io::Error| crate::Error::Output {
+        path: path.display().to_string(),
+        why: e.to_string(),
+    };
+    std::fs::create_dir_all(dir).map_err(|e| failed(dir, e))?;
+    for (name, data) in files {
+        let file = dir.join(name);
+        std::fs::write(&file, data).map_err(|e| failed(&file, e))?;
+    }
+    Ok(())
 }

@@ -15,9 +15,16 @@ fn said(out: &Output, report: &Stopped) -> anyhow::Result<()> {
     Err(Error::Interrupted.into())
 }
 
-/// A read-only command stopped part-way: its report says only that nothing was changed.
-pub(crate) fn reading(out: &Output, command: &str, not_done: String) -> anyhow::Result<()> {
-    said(out, &Stopped::new(command, Vec::new(), vec![not_done], NOTHING_CHANGED.into()))
+/// What a read-only command read, or, stopped part-way (`not_done`: what it was reading),
+/// its report saying so and an interruption; any other error as it is.
+pub(crate) fn read<R>(out: &Output, command: &str, not_done: String, read: crate::Result<R>) -> anyhow::Result<R> {
+    match read {
+        Err(e) if e.is_interrupted() => {
+            out.report(&Stopped::new(command, Vec::new(), vec![not_done], NOTHING_CHANGED.into()))?;
+            Err(Error::Interrupted.into())
+        }
+        read => Ok(read?),
+    }
 }
 
 /// What an interrupted command did not write: `--out FILE` (kept as it was) or the `what`

@@ -2,7 +2,7 @@
 //! behind a real CAN interface, a simulated slcan adapter or a simulated EPOS2 on a
 //! pseudo-terminal, and answer there until the process is stopped.
 
-use super::serial_fault::Fault;
+use super::serial_fault::{Fault, FaultKind};
 use super::state::{default_path, StateFile};
 use super::SimConfig;
 use crate::bus::FrameLog;
@@ -14,16 +14,13 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-/// The state file of the sim bus `bus` names (`sim` or `sim:PATH`), or the default one.
-pub fn state_path(bus: Option<&str>) -> Result<PathBuf> {
+/// The state file of the sim bus `bus` names (`sim` or `sim:PATH`), or the default one
+/// when none is named; `None` when `bus` names another kind of bus.
+pub fn state_path(bus: Option<&str>) -> Result<Option<PathBuf>> {
     Ok(match bus.filter(|b| !b.is_empty()).map(str::parse::<BusAddr>).transpose()? {
-        None | Some(BusAddr::Sim { state: None }) => default_path(),
-        Some(BusAddr::Sim { state: Some(p) }) => p,
-        Some(_) => {
-            return Err(Error::Usage(
-                "`canctl sim` runs the simulated network: use --bus sim or sim:PATH (or no --bus)".into(),
-            ))
-        }
+        None | Some(BusAddr::Sim { state: None }) => Some(default_path()),
+        Some(BusAddr::Sim { state: Some(p) }) => Some(p),
+        Some(_) => None,
     })
 }
 
@@ -100,12 +97,57 @@ pub enum Serve {
 }
 
 /// Where the devices are now served.
-#[derive(Clone, Debug)]
-pub struct Serving {
-    /// The pseudo-terminal to open, if they sit behind one.
-    pub pty: Option<String>,
-    /// How to reach them, in words.
-    pub how: String,
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Serving {
+    /// On a CAN interface: nodes 1, 5, 10 and 32 answer there.
+    SocketCan {
+        /// The interface's name.
+        iface: String,
+    },
+    /// As the network's EPOS2 (node 1) on a pseudo-terminal.
+    Epos2 {
+        /// RS232 or USB framing.
+        framing: Framing,
+        /// The pseudo-terminal's path.
+        pty: String,
+    },
+    /// Behind a simulated slcan adapter on a pseudo-terminal.
+    Slcan {
+        /// The pseudo-terminal's path.
+        pty: String,
+        /// The bus's bit rate (a CiA 305 bit timing index).
+        bit_rate: u8,
+    },
+}
+
+impl Serving {
+    /// The pseudo-terminal to open, if the devices sit behind one.
+    pub fn pty(&self) -> Option<&str> {
+        match self {
+            Serving::SocketCan { .. } => None,
+            Serving::Epos2 { pty, .. } | Serving::Slcan { pty, .. } => Some(pty),
+        }
+    }
+}
+
+/// Why [`serve`] did not serve: asked for what cannot be served here, or failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ServeError {
+    /// A CAN interface was asked for where there is no SocketCAN (it is Linux's).
+    #[error("SocketCAN is Linux's: the devices are served on a CAN interface on Linux only")]
+    NoSocketCan,
+    /// A serial device was asked for where there are no pseudo-terminals.
+    #[error("the simulated serial devices sit on a pseudo-terminal, which this OS lacks")]
+    NoPty,
+    /// A fault the slcan adapter does not take (the devices' own faults are the
+    /// network's, set when it is reset).
+    #[error("the slcan adapter takes the faults nack, crc, garbage, drop and mute, not {0:?}")]
+    AdapterFault(FaultKind),
+    /// Serving failed.
+    #[error(transparent)]
+    Failed(#[from] Error),
 }
 
 /// Serve the network saved at `path` until the link fails or the process is stopped.
@@ -117,26 +159,20 @@ pub fn serve(
     how: &Serve,
     log: Option<FrameLog>,
     ready: impl FnOnce(&Serving) -> Result<()>,
-) -> Result<()> {
+) -> std::result::Result<(), ServeError> {
     match how {
         #[cfg(target_os = "linux")]
-        Serve::SocketCan { iface } => socketcan(path, iface, log, ready),
+        Serve::SocketCan { iface } => Ok(socketcan(path, iface, log, ready)?),
         #[cfg(not(target_os = "linux"))]
-        Serve::SocketCan { .. } => {
-            Err(Error::Usage("SocketCAN is Linux's: `sim --socketcan` runs on Linux only; try `sim --slcan`".into()))
-        }
+        Serve::SocketCan { .. } => Err(ServeError::NoSocketCan),
         #[cfg(unix)]
         Serve::Slcan { faults } => slcan(path, faults, log, ready),
         #[cfg(unix)]
         Serve::Epos2 { framing, baud, faults, can_timeout } => {
-            epos2(path, *framing, *baud, faults, *can_timeout, log, ready)
+            Ok(epos2(path, *framing, *baud, faults, *can_timeout, log, ready)?)
         }
         #[cfg(not(unix))]
-        Serve::Slcan { .. } | Serve::Epos2 { .. } => Err(Error::Usage(
-            "the simulated serial devices (--epos2-rs232, --epos2-usb, --slcan) sit on a pseudo-terminal, which \
-             this OS lacks; use --bus sim directly, or run them on Linux or macOS"
-                .into(),
-        )),
+        Serve::Slcan { .. } | Serve::Epos2 { .. } => Err(ServeError::NoPty),
     }
 }
 
@@ -150,8 +186,7 @@ fn socketcan(
     let mut can = crate::backend::socketcan::SocketCanLink::open(iface)?;
     // The interface is a bus with its own timing: the devices only answer late.
     let sim = super::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
-    let how = format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C");
-    ready(&Serving { pty: None, how })?;
+    ready(&Serving::SocketCan { iface: iface.to_string() })?;
     super::bridge::run(sim, &mut can, log)
 }
 
@@ -170,12 +205,7 @@ fn epos2(
     let link = super::SimLink::open(StateFile::lock(path)?)?;
     let device = super::epos2_device::Epos2Device::new(link, can_timeout).with_frame_log(log);
     let opts = ServeOptions { framing, baud, faults: faults.to_vec() };
-    epos2_serve::serve(device, &opts, |pty| {
-        let kind = if framing == Framing::Rs232 { "epos2-rs232" } else { "epos2-usb" };
-        let how =
-            format!("serving the sim network's EPOS2 (node 1) on {pty}: use --bus {kind}:{pty}; stop with Ctrl-C");
-        ready(&Serving { pty: Some(pty.to_string()), how })
-    })
+    epos2_serve::serve(device, &opts, |pty| ready(&Serving::Epos2 { framing, pty: pty.to_string() }))
 }
 
 /// The devices behind a simulated slcan adapter: the adapter is a frame link, bridged to
@@ -186,26 +216,15 @@ fn slcan(
     faults: &[Fault],
     log: Option<FrameLog>,
     ready: impl FnOnce(&Serving) -> Result<()>,
-) -> Result<()> {
-    use super::serial_fault::FaultKind;
+) -> std::result::Result<(), ServeError> {
     let adapter_faults = [FaultKind::Nack, FaultKind::Crc, FaultKind::Garbage, FaultKind::Drop, FaultKind::Mute];
     if let Some(f) = faults.iter().find(|f| !adapter_faults.contains(&f.kind)) {
-        return Err(Error::Usage(format!(
-            "the slcan adapter takes the faults nack (a bell), crc, garbage, drop and mute, not {:?}; device faults \
-             go to `canctl sim reset --fault`",
-            f.kind
-        )));
+        return Err(ServeError::AdapterFault(f.kind));
     }
     let sim = super::SimLink::open(StateFile::lock(path)?)?;
     let rate = sim.network().bit_rate();
     let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
     let mut adapter = super::slcan_serve::SlcanAdapter::create(kbit, faults.to_vec())?;
-    let pty = adapter.path().to_string();
-    let rate = bit_rate_name(rate);
-    let how = format!(
-        "the sim network's devices are behind an slcan adapter on {pty} ({rate}): use --bus slcan:{pty}@{rate}; \
-         stop with Ctrl-C"
-    );
-    ready(&Serving { pty: Some(pty), how })?;
-    super::bridge::run(sim, &mut adapter, log)
+    ready(&Serving::Slcan { pty: adapter.path().to_string(), bit_rate: rate })?;
+    Ok(super::bridge::run(sim, &mut adapter, log)?)
 }
