@@ -1,0 +1,770 @@
+//! Why a node, or the whole bus, is silent: a bounded look at the bus (a listen, the link's
+//! own report, a probe of every node-id) and, given a node, at that node (an SDO read, its
+//! heartbeat or node-guarding answer, the device the last scan saw there, a second device
+//! on its id). The result is a ranked list of findings, each with the frames or errors that
+//! show it and the remedy; and what was checked and found fine.
+//!
+//! Doctor never writes to a device and sends no broadcast: only SDO reads (uploads), node
+//! guarding remote requests, and listening. Every wait is bounded by the listen window or
+//! the per-request timeout ([`DoctorOptions`]).
+
+use super::clash::{self, Clash};
+use super::scan_cache::SeenNode;
+use super::{le_u32, scan, Silent};
+use crate::bus::{Bus, SdoOptions};
+use crate::canopen::nmt::{self, ErrorControl};
+use crate::canopen::sdo::SdoClient;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, LinkError, Result};
+use crate::frame::Frame;
+use serde::Serialize;
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Duration;
+
+/// The vendor-ID: the part of the identity every device has (CiA 301).
+const VENDOR: ObjAddr = ObjAddr::new(0x1018, 1);
+/// The serial number: what tells two devices of one kind apart.
+const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
+/// The device name: with the vendor-ID, what tells a moved device from another one.
+const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+/// How many requests the node's SDO read gets: a lost frame is not taken for a silent node.
+const SDO_REQUESTS: u32 = 2;
+/// At most this many nodes that were not on the last scan are asked whether they are the
+/// one that moved.
+const MAX_CANDIDATES: usize = 8;
+
+/// What doctor looks at, and how long it may wait.
+#[derive(Clone, Debug)]
+pub struct DoctorOptions {
+    /// The node to examine; `None`: the bus only.
+    pub node: Option<u8>,
+    /// How long to listen to the bus's own traffic first (heartbeats, boot-ups, anything).
+    pub listen: Duration,
+    /// How long each request waits for its answer (SDO read, node guarding, the probe).
+    pub timeout: Duration,
+    /// What the last scan of this bus saw (`scan_cache::load`): a node that moved is
+    /// recognised by it.
+    pub last_scan: Vec<SeenNode>,
+}
+
+/// The diagnosis: findings ranked most likely cause first, and what was found fine.
+#[derive(Debug, Serialize)]
+pub struct Diagnosis {
+    /// The bus examined.
+    pub bus: String,
+    /// The node examined, if one was given.
+    pub node: Option<u8>,
+    /// How long the bus was listened to (0: a link that shows no traffic, or none done).
+    pub listened_ms: u64,
+    /// What is wrong, most likely cause first; empty when nothing is.
+    pub findings: Vec<Finding>,
+    /// What was checked and found fine, each with what showed it.
+    pub fine: Vec<Evidence>,
+    /// Whether nothing is wrong.
+    pub ok: bool,
+}
+
+/// One cause found, with what shows it and what to do.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Finding {
+    /// What is wrong.
+    #[serde(flatten)]
+    pub cause: Cause,
+    /// The frames, answers and errors that show it.
+    pub evidence: Vec<Evidence>,
+    /// What to do about it.
+    pub remedy: Remedy,
+}
+
+/// A cause of silence, most specific first in [`Cause::rank`].
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[serde(tag = "cause", rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Cause {
+    /// The host cannot use its link to the bus.
+    Host {
+        /// What the link reported.
+        problem: HostProblem,
+    },
+    /// The CAN controller or adapter reports the bus unusable: frames nobody acknowledges,
+    /// bus errors, bus-off (no other device powered, no termination, another bit rate).
+    Controller {
+        /// What the controller reported.
+        state: ControllerState,
+    },
+    /// Nothing on the bus: no frame heard in the listen, no node answered the probe.
+    BusSilent,
+    /// Two devices answer to one node-id.
+    NodeIdClash {
+        /// The node-id.
+        node: u8,
+    },
+    /// The node is alive but Stopped: it serves no SDO there (CiA 301).
+    Stopped {
+        /// The node.
+        node: u8,
+    },
+    /// The node is alive (heartbeat or guarding) but its SDO server does not answer on the
+    /// default COB-IDs (0x600 + node, 0x580 + node): its 0x1200 was changed, or the server
+    /// is off.
+    SdoSilent {
+        /// The node.
+        node: u8,
+    },
+    /// The device the last scan saw on `node` answers on another node-id now.
+    Moved {
+        /// Where the last scan saw it.
+        node: u8,
+        /// Where it answers now.
+        now: u8,
+    },
+    /// Nothing from the node while other nodes are heard: not powered, not connected, or
+    /// on another node-id.
+    NodeSilent {
+        /// The node.
+        node: u8,
+    },
+}
+
+impl Cause {
+    /// How likely this cause is to explain the rest (lower first): a host that cannot
+    /// send explains a silent bus, a silent bus explains a silent node.
+    fn rank(&self) -> u8 {
+        match self {
+            Cause::Host { .. } => 0,
+            Cause::Controller { .. } => 1,
+            Cause::BusSilent => 2,
+            Cause::NodeIdClash { .. } => 3,
+            Cause::Stopped { .. } => 4,
+            Cause::Moved { .. } => 5,
+            Cause::SdoSilent { .. } => 6,
+            Cause::NodeSilent { .. } => 7,
+        }
+    }
+}
+
+/// What the host's link reported.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum HostProblem {
+    /// The CAN interface is down.
+    InterfaceDown,
+    /// There is no interface of that name.
+    NoInterface,
+    /// The port or interface may not be opened by this user.
+    NoPermission,
+    /// The port or interface cannot be opened for another reason.
+    CannotOpen,
+    /// Frames could not be queued (ENOBUFS: the transmit queue is full).
+    TransmitQueueFull,
+    /// The serial adapter or gateway stopped answering or refused a command.
+    AdapterNotAnswering,
+    /// Another failure of the link (its message says which).
+    LinkFailed,
+}
+
+/// What the controller or adapter reported about the bus.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum ControllerState {
+    /// Bus-off: it stopped taking part after too many errors.
+    BusOff,
+    /// Bus errors or error-passive: frames nobody acknowledged, or a bus at another bit rate.
+    BusErrors,
+}
+
+/// What was seen (or not) that shows a finding, or that something is fine.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Evidence {
+    /// Frames heard in the listen, by COB-ID, with how many of each.
+    Traffic {
+        /// (COB-ID, count), by COB-ID.
+        frames: Vec<(u16, usize)>,
+    },
+    /// Nothing was heard in the listen.
+    NothingHeard {
+        /// How long it listened.
+        listened_ms: u64,
+    },
+    /// The node's heartbeats (or boot-ups) in the listen, and the last state they said.
+    Heartbeats {
+        /// The node.
+        node: u8,
+        /// How many.
+        count: usize,
+        /// The last state they said.
+        state: nmt::State,
+    },
+    /// The node's answer to a node-guarding request.
+    Guarding {
+        /// The node.
+        node: u8,
+        /// The state it said.
+        state: nmt::State,
+    },
+    /// No answer to a node-guarding request.
+    NoGuardingAnswer {
+        /// The node.
+        node: u8,
+        /// How long it waited.
+        waited_ms: u64,
+    },
+    /// The node answered an SDO read.
+    SdoAnswer {
+        /// The node.
+        node: u8,
+        /// The object read.
+        #[serde(serialize_with = "super::as_text")]
+        obj: ObjAddr,
+        /// Its value (a u32, little-endian), or `None` for an abort.
+        value: Option<u32>,
+    },
+    /// No answer on 0x580 + node to an SDO read sent on 0x600 + node.
+    NoSdoAnswer {
+        /// The node.
+        node: u8,
+        /// The object read.
+        #[serde(serialize_with = "super::as_text")]
+        obj: ObjAddr,
+        /// How many requests were sent.
+        requests: u32,
+        /// How long each waited.
+        waited_ms: u64,
+    },
+    /// An answer to the node's SDO read came on another COB-ID than 0x580 + node.
+    SdoAnswerOn {
+        /// The node asked.
+        node: u8,
+        /// The COB-ID the answer came on.
+        cob_id: u16,
+    },
+    /// Answers to a probe of every node-id (an SDO read of 0x1000 each).
+    ProbeAnswers {
+        /// The node-ids that answered.
+        nodes: Vec<u8>,
+        /// How long the probe waited.
+        waited_ms: u64,
+    },
+    /// What the last scan saw on a node-id.
+    LastScan {
+        /// The node-id.
+        node: u8,
+        /// Its vendor-ID then.
+        vendor_id: Option<u32>,
+        /// Its name then.
+        name: Option<String>,
+    },
+    /// What a node answers now.
+    Identity {
+        /// The node-id.
+        node: u8,
+        /// Its vendor-ID.
+        vendor_id: u32,
+        /// Its name.
+        name: Option<String>,
+    },
+    /// Two devices showed on one node-id (see [`clash::Evidence`]).
+    Clash {
+        /// What showed it.
+        shown_by: clash::Evidence,
+    },
+    /// The link reported an error (its message).
+    LinkReported {
+        /// The link's message.
+        message: String,
+    },
+    /// One device answers to the node-id: one answer to a read, its heartbeats in one
+    /// state, its serial number the same in two reads.
+    OneDevice {
+        /// The node-id.
+        node: u8,
+    },
+    /// The link reported no error after the requests.
+    LinkQuiet,
+}
+
+/// What to do about a finding; the front end words it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[serde(tag = "remedy", rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Remedy {
+    /// Do what the link's message says (bring the interface up, a permission, a queue).
+    FixHost {
+        /// What the link reported.
+        problem: HostProblem,
+    },
+    /// Check that another device is powered, the wiring, the termination and the bit rate.
+    CheckBus,
+    /// Put the node in pre-operational (NMT), where it serves SDO.
+    PreOperational {
+        /// The node.
+        node: u8,
+    },
+    /// The SDO server's COB-IDs (0x1200) were changed or it is off: a reset of the node's
+    /// communication brings back the defaults unless they were stored.
+    ResetCommunication {
+        /// The node.
+        node: u8,
+    },
+    /// Use the node-id the device has now, or give it back the old one over LSS.
+    UseNewId {
+        /// Where it was.
+        node: u8,
+        /// Where it is.
+        now: u8,
+    },
+    /// Give one of the devices another node-id over LSS, by its identity.
+    SeparateIds {
+        /// The node-id.
+        node: u8,
+    },
+    /// Check the node is powered, connected and has this node-id (a scan lists those in use).
+    CheckNode {
+        /// The node.
+        node: u8,
+    },
+}
+
+/// What the listen heard.
+#[derive(Default)]
+struct Heard {
+    frames: BTreeMap<u16, usize>,
+    /// Per node: heartbeats and boot-ups counted, the states said (in order, each once),
+    /// the last state.
+    beats: BTreeMap<u8, (usize, Vec<nmt::State>, nmt::State)>,
+}
+
+impl Heard {
+    fn take(&mut self, f: &Frame) {
+        if f.is_remote() {
+            return;
+        }
+        *self.frames.entry(f.id()).or_default() += 1;
+        let state = match ErrorControl::parse(f) {
+            Some((node, ErrorControl::State { state, .. })) => Some((node, state)),
+            Some((node, ErrorControl::BootUp)) => Some((node, nmt::State::PreOperational)),
+            _ => None,
+        };
+        if let Some((node, state)) = state {
+            let e = self.beats.entry(node).or_insert((0, Vec::new(), state));
+            e.0 += 1;
+            if !e.1.contains(&state) {
+                e.1.push(state);
+            }
+            e.2 = state;
+        }
+    }
+
+    fn traffic(&self) -> Evidence {
+        Evidence::Traffic { frames: self.frames.iter().map(|(c, n)| (*c, *n)).collect() }
+    }
+
+    fn heartbeats(&self, node: u8) -> Option<Evidence> {
+        let (count, _, state) = self.beats.get(&node)?;
+        Some(Evidence::Heartbeats { node, count: *count, state: *state })
+    }
+}
+
+/// Examine the bus and, given one, the node; link failures become findings (the host,
+/// the controller), other errors end it (an interruption).
+pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
+    let mut d = Diagnosis {
+        bus: bus.describe(),
+        node: o.node,
+        listened_ms: 0,
+        findings: Vec::new(),
+        fine: Vec::new(),
+        ok: false,
+    };
+    match examine(bus, o, &mut d) {
+        Ok(()) => {}
+        Err(e) => match e.root() {
+            Error::Link(link) => d.findings.push(link_finding(link)),
+            _ => return Err(e),
+        },
+    }
+    d.findings.sort_by_key(|f| f.cause.rank());
+    d.ok = d.findings.is_empty();
+    Ok(d)
+}
+
+/// The diagnosis of a link that could not even be opened.
+pub fn unopened(bus: &str, node: Option<u8>, error: &LinkError) -> Diagnosis {
+    Diagnosis {
+        bus: bus.to_string(),
+        node,
+        listened_ms: 0,
+        findings: vec![link_finding(error)],
+        fine: vec![],
+        ok: false,
+    }
+}
+
+/// The finding a link failure shows: the host's side, or the controller's report of the bus.
+pub(crate) fn link_finding(error: &LinkError) -> Finding {
+    let cause = match error {
+        LinkError::BusOff { .. } => Cause::Controller { state: ControllerState::BusOff },
+        LinkError::AdapterBusError { .. } | LinkError::AdapterRefusedFrame { cob: Some(_), .. } => {
+            Cause::Controller { state: ControllerState::BusErrors }
+        }
+        _ => Cause::Host { problem: host_problem(error) },
+    };
+    let remedy = match &cause {
+        Cause::Host { problem } => Remedy::FixHost { problem: *problem },
+        _ => Remedy::CheckBus,
+    };
+    Finding { cause, evidence: vec![Evidence::LinkReported { message: error.to_string() }], remedy }
+}
+
+fn host_problem(error: &LinkError) -> HostProblem {
+    let io_problem = |e: &std::io::Error| match (e.kind(), e.raw_os_error()) {
+        (std::io::ErrorKind::PermissionDenied, _) => HostProblem::NoPermission,
+        (_, Some(code)) if code == enobufs() => HostProblem::TransmitQueueFull,
+        _ => HostProblem::LinkFailed,
+    };
+    match error {
+        LinkError::Down { .. } => HostProblem::InterfaceDown,
+        LinkError::NoInterface { .. } | LinkError::NotCan { .. } | LinkError::NotSerialPort { .. } => {
+            HostProblem::NoInterface
+        }
+        LinkError::Open { error, .. } => match io_problem(error) {
+            HostProblem::LinkFailed => HostProblem::CannotOpen,
+            p => p,
+        },
+        LinkError::Io { error, .. } => io_problem(error),
+        LinkError::TxQueueFull { .. } => HostProblem::TransmitQueueFull,
+        LinkError::AdapterRefused { .. } | LinkError::AdapterRefusedFrame { .. } | LinkError::Epos2(_) => {
+            HostProblem::AdapterNotAnswering
+        }
+        _ => HostProblem::LinkFailed,
+    }
+}
+
+/// ENOBUFS, the errno of a full transmit queue (Linux 105; the BSDs and macOS 55).
+fn enobufs() -> i32 {
+    if cfg!(any(target_os = "macos", target_os = "freebsd", target_os = "netbsd", target_os = "openbsd")) {
+        55
+    } else {
+        105
+    }
+}
+
+fn ms(d: Duration) -> u64 {
+    d.as_millis() as u64
+}
+
+/// Every check, then the link's own report of the bus after them (an adapter's bus errors
+/// show only once it has sent something).
+fn examine(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Result<()> {
+    examine_all(bus, o, d)?;
+    bus.check_link()?;
+    d.fine.push(Evidence::LinkQuiet);
+    Ok(())
+}
+
+fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Result<()> {
+    let mut heard = Heard::default();
+    if bus.sees_traffic() {
+        let end = bus.now() + o.listen;
+        while let Some(f) = bus.recv_frame(end)? {
+            heard.take(&f);
+        }
+        d.listened_ms = ms(o.listen);
+    }
+    bus.check_link()?;
+    let Some(node) = o.node else { return examine_bus(bus, o, &heard, d) };
+    let (answers, elsewhere) = sdo_probe(bus, node, o.timeout, &mut heard)?;
+    if let Some(first) = answers.first() {
+        d.fine.push(Evidence::SdoAnswer { node, obj: VENDOR, value: *first });
+        if let Some(beats) = heard.heartbeats(node) {
+            d.fine.push(beats);
+        }
+        return look_for_clash(bus, o, node, answers, &heard, d);
+    }
+    let no_answer = Evidence::NoSdoAnswer { node, obj: VENDOR, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) };
+    let mut evidence: Vec<Evidence> = heard.heartbeats(node).into_iter().collect();
+    let state = match heard.beats.get(&node) {
+        Some((_, _, state)) => Some(*state),
+        None => match super::node::Node::new(bus, node, o.timeout).guard(o.timeout)? {
+            Some(g) => {
+                let state = g.state();
+                if let Some(state) = state {
+                    evidence.push(Evidence::Guarding { node, state });
+                }
+                state
+            }
+            None => {
+                evidence.push(Evidence::NoGuardingAnswer { node, waited_ms: ms(o.timeout) });
+                None
+            }
+        },
+    };
+    evidence.push(no_answer);
+    evidence.extend(elsewhere.iter().map(|cob_id| Evidence::SdoAnswerOn { node, cob_id: *cob_id }));
+    match state {
+        Some(nmt::State::Stopped) => d.findings.push(Finding {
+            cause: Cause::Stopped { node },
+            evidence,
+            remedy: Remedy::PreOperational { node },
+        }),
+        Some(_) => d.findings.push(Finding {
+            cause: Cause::SdoSilent { node },
+            evidence,
+            remedy: Remedy::ResetCommunication { node },
+        }),
+        None => return node_absent(bus, o, node, evidence, &heard, d),
+    }
+    Ok(())
+}
+
+/// Nothing at all from the node: has its device moved to another id, is the whole bus
+/// silent, or is only this node missing?
+fn node_absent(
+    bus: &mut dyn Bus,
+    o: &DoctorOptions,
+    node: u8,
+    mut evidence: Vec<Evidence>,
+    heard: &Heard,
+    d: &mut Diagnosis,
+) -> Result<()> {
+    let found = scan::probe(bus, o.timeout, &mut Silent)?;
+    let ids: Vec<u8> = found.iter().map(|(n, _)| *n).collect();
+    let probe = Evidence::ProbeAnswers { nodes: ids.clone(), waited_ms: ms(o.timeout) };
+    if ids.is_empty() && heard.frames.is_empty() {
+        evidence.extend([Evidence::NothingHeard { listened_ms: d.listened_ms }, probe]);
+        d.findings.push(Finding { cause: Cause::BusSilent, evidence, remedy: Remedy::CheckBus });
+        return Ok(());
+    }
+    if let Some(moved) = find_moved(bus, o, node, &ids)? {
+        d.findings.push(moved);
+        return Ok(());
+    }
+    if !heard.frames.is_empty() {
+        evidence.push(heard.traffic());
+    }
+    evidence.push(probe);
+    d.findings.push(Finding { cause: Cause::NodeSilent { node }, evidence, remedy: Remedy::CheckNode { node } });
+    Ok(())
+}
+
+/// The device the last scan saw on `node`, found on another of the ids that answered
+/// (`answering`) that the last scan did not see: the same vendor-ID and name.
+fn find_moved(bus: &mut dyn Bus, o: &DoctorOptions, node: u8, answering: &[u8]) -> Result<Option<Finding>> {
+    let Some(was) = o.last_scan.iter().find(|s| s.node == node && s.scanned) else { return Ok(None) };
+    let Some(vendor) = was.vendor_id else { return Ok(None) };
+    let known: BTreeSet<u8> = o.last_scan.iter().filter(|s| s.scanned).map(|s| s.node).collect();
+    let candidates: Vec<u8> = answering.iter().copied().filter(|n| !known.contains(n)).take(MAX_CANDIDATES).collect();
+    let opts = SdoOptions { retries: 1, ..SdoOptions::new(o.timeout) };
+    for now in candidates {
+        let Ok(v) = bus.sdo_upload(now, VENDOR, &opts) else { continue };
+        let name = bus.sdo_upload(now, NAME, &opts).ok().map(|b| String::from_utf8_lossy(&b).into_owned());
+        if le_u32(&v) == vendor && (was.name.is_none() || was.name == name) {
+            let evidence = vec![
+                Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() },
+                Evidence::Identity { node: now, vendor_id: vendor, name },
+                Evidence::NoSdoAnswer { node, obj: VENDOR, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) },
+            ];
+            return Ok(Some(Finding {
+                cause: Cause::Moved { node, now },
+                evidence,
+                remedy: Remedy::UseNewId { node, now },
+            }));
+        }
+    }
+    Ok(None)
+}
+
+/// The node answered: is it one device? Two answers to the read, heartbeats in two states,
+/// a serial number that changes between reads.
+fn look_for_clash(
+    bus: &mut dyn Bus,
+    o: &DoctorOptions,
+    node: u8,
+    answers: Vec<Option<u32>>,
+    heard: &Heard,
+    d: &mut Diagnosis,
+) -> Result<()> {
+    let mut shown: Vec<clash::Evidence> = Vec::new();
+    if answers.len() > 1 {
+        shown.push(clash::Evidence::SdoAnswers { values: answers });
+    }
+    if let Some((_, states, _)) = heard.beats.get(&node).filter(|(_, s, _)| s.len() > 1) {
+        shown.push(clash::Evidence::HeartbeatStates { states: states.clone() });
+    }
+    if shown.is_empty() {
+        let serial = bus.sdo_upload(node, SERIAL, &SdoOptions::new(o.timeout)).ok().map(|b| le_u32(&b));
+        let found: Vec<Clash> = clash::find(bus, &[(node, serial)], o.timeout, o.timeout)?;
+        shown.extend(found.into_iter().map(|c| c.evidence));
+    }
+    if shown.is_empty() {
+        d.fine.push(Evidence::OneDevice { node });
+        return Ok(());
+    }
+    let evidence = shown.into_iter().map(|shown_by| Evidence::Clash { shown_by }).collect();
+    d.findings.push(Finding { cause: Cause::NodeIdClash { node }, evidence, remedy: Remedy::SeparateIds { node } });
+    Ok(())
+}
+
+/// The bus without a node: heartbeats of one id in two states, and, when the listen heard
+/// nothing, a probe of every node-id.
+fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diagnosis) -> Result<()> {
+    for (node, (_, states, _)) in heard.beats.iter().filter(|(_, (_, s, _))| s.len() > 1) {
+        let shown_by = clash::Evidence::HeartbeatStates { states: states.clone() };
+        d.findings.push(Finding {
+            cause: Cause::NodeIdClash { node: *node },
+            evidence: vec![Evidence::Clash { shown_by }],
+            remedy: Remedy::SeparateIds { node: *node },
+        });
+    }
+    if !heard.frames.is_empty() {
+        d.fine.push(heard.traffic());
+    }
+    let found = scan::probe(bus, o.timeout, &mut Silent)?;
+    let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(o.timeout) };
+    if found.is_empty() && heard.frames.is_empty() {
+        let evidence = vec![Evidence::NothingHeard { listened_ms: d.listened_ms }, probe];
+        d.findings.push(Finding { cause: Cause::BusSilent, evidence, remedy: Remedy::CheckBus });
+    } else {
+        d.fine.push(probe);
+    }
+    Ok(())
+}
+
+/// One SDO read of the node's vendor-ID sent raw, up to [`SDO_REQUESTS`] times while none
+/// is answered, each answer waited for `timeout`: every answer on 0x580 + node (two mean
+/// two devices), and the COB-IDs an answer to it came on instead. Where the link shows no
+/// traffic (an EPOS2 gateway), one read through the bus's own SDO client.
+fn sdo_probe(
+    bus: &mut dyn Bus,
+    node: u8,
+    timeout: Duration,
+    heard: &mut Heard,
+) -> Result<(Vec<Option<u32>>, Vec<u16>)> {
+    if !bus.sees_traffic() {
+        let opts = SdoOptions { retries: (SDO_REQUESTS - 1) as u8, ..SdoOptions::new(timeout) };
+        return match bus.sdo_upload(node, VENDOR, &opts) {
+            Ok(v) => Ok((vec![Some(le_u32(&v))], vec![])),
+            Err(Error::SdoAbort { .. }) => Ok((vec![None], vec![])),
+            Err(e) if e.is_timeout() => Ok((vec![], vec![])),
+            Err(e) => Err(e),
+        };
+    }
+    let own = crate::canopen::sdo::response_cob(node);
+    let mut answers = Vec::new();
+    let mut elsewhere = BTreeSet::new();
+    for _ in 0..SDO_REQUESTS {
+        let request = SdoClient::upload(VENDOR, false).start();
+        bus.send_frame(&Frame::new(crate::canopen::sdo::request_cob(node), &request))?;
+        let end = bus.now() + timeout;
+        while let Some(f) = bus.recv_frame(end)? {
+            match clash::upload_answer(f.data(), VENDOR) {
+                Some(value) if f.id() == own => answers.push(value),
+                // Another node's answer to the same read would need a request of its own:
+                // one on another id now is this node's, moved by its 0x1200.
+                Some(_) if !f.is_remote() => {
+                    elsewhere.insert(f.id());
+                }
+                _ => heard.take(&f),
+            }
+        }
+        if !answers.is_empty() {
+            break;
+        }
+    }
+    Ok((answers, elsewhere.into_iter().collect()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn io(kind: std::io::ErrorKind, raw: Option<i32>) -> std::io::Error {
+        match raw {
+            Some(code) => std::io::Error::from_raw_os_error(code),
+            None => std::io::Error::from(kind),
+        }
+    }
+
+    #[test]
+    fn each_link_failure_names_the_host_or_the_controller() {
+        let cause = |e: LinkError| link_finding(&e).cause;
+        assert_eq!(
+            cause(LinkError::Down { iface: "can0".into() }),
+            Cause::Host { problem: HostProblem::InterfaceDown }
+        );
+        assert_eq!(
+            cause(LinkError::Open { port: "can0".into(), error: io(std::io::ErrorKind::PermissionDenied, None) }),
+            Cause::Host { problem: HostProblem::NoPermission }
+        );
+        assert_eq!(
+            cause(LinkError::Io {
+                port: "can0".into(),
+                op: "send",
+                error: io(std::io::ErrorKind::Other, Some(enobufs()))
+            }),
+            Cause::Host { problem: HostProblem::TransmitQueueFull }
+        );
+        assert_eq!(
+            cause(LinkError::TxQueueFull { iface: "can0".into(), waited: Duration::from_secs(1) }),
+            Cause::Host { problem: HostProblem::TransmitQueueFull }
+        );
+        assert_eq!(
+            cause(LinkError::BusOff { iface: "can0".into(), detail: "bus off".into() }),
+            Cause::Controller { state: ControllerState::BusOff }
+        );
+        let f = link_finding(&LinkError::AdapterBusError { port: "slcan:x".into(), flags: vec!["bus error"] });
+        assert_eq!(f.cause, Cause::Controller { state: ControllerState::BusErrors });
+        assert_eq!(f.remedy, Remedy::CheckBus);
+        // The link's own words are the evidence.
+        assert!(matches!(&f.evidence[..], [Evidence::LinkReported { message }] if message.contains("bus error")));
+    }
+
+    #[test]
+    fn the_listen_counts_frames_and_the_states_heartbeats_say() {
+        let mut h = Heard::default();
+        for f in [
+            Frame::new(0x705, &[0x7F]),
+            Frame::new(0x705, &[0x04]),
+            Frame::new(0x185, &[1, 2]),
+            Frame::remote(0x705, 1),
+        ] {
+            h.take(&f);
+        }
+        assert_eq!(h.frames, BTreeMap::from([(0x185, 1), (0x705, 2)]));
+        assert_eq!(h.beats[&5], (2, vec![nmt::State::PreOperational, nmt::State::Stopped], nmt::State::Stopped));
+        assert_eq!(h.heartbeats(5), Some(Evidence::Heartbeats { node: 5, count: 2, state: nmt::State::Stopped }));
+        assert_eq!(h.heartbeats(6), None);
+    }
+
+    #[test]
+    fn findings_rank_the_host_before_the_node() {
+        let mut causes = [
+            Cause::NodeSilent { node: 5 },
+            Cause::Stopped { node: 5 },
+            Cause::BusSilent,
+            Cause::Host { problem: HostProblem::InterfaceDown },
+        ];
+        causes.sort_by_key(Cause::rank);
+        assert_eq!(causes[0], Cause::Host { problem: HostProblem::InterfaceDown });
+        assert_eq!(causes[3], Cause::NodeSilent { node: 5 });
+    }
+
+    #[test]
+    fn a_finding_serialises_its_cause_evidence_and_remedy() {
+        let f = Finding {
+            cause: Cause::Stopped { node: 5 },
+            evidence: vec![Evidence::Heartbeats { node: 5, count: 3, state: nmt::State::Stopped }],
+            remedy: Remedy::PreOperational { node: 5 },
+        };
+        let json = serde_json::to_value(&f).unwrap();
+        assert_eq!(json["cause"], "stopped");
+        assert_eq!(json["node"], 5);
+        assert_eq!(json["evidence"][0]["kind"], "heartbeats");
+        assert_eq!(json["evidence"][0]["state"], "stopped");
+        assert_eq!(json["remedy"]["remedy"], "pre_operational");
+    }
+}
