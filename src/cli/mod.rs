@@ -4,6 +4,7 @@
 mod complete;
 mod config;
 mod docs;
+mod doctor;
 mod drive;
 mod errors;
 mod firmware;
@@ -180,6 +181,7 @@ pub enum Command {
     Firmware(firmware::FirmwareCommand),
     Errors(errors::ErrorsArgs),
     Health(health::HealthArgs),
+    Doctor(doctor::DoctorArgs),
     Sim(sim::SimArgs),
     /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
     #[command(after_help = "Examples:\n  canctl settings\n  canctl --bus sim settings --format json")]
@@ -300,6 +302,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     let format = match &cli.command {
         Command::Network(network::NetworkCommand::Check(a)) => a.checks.format,
         Command::Health(a) => a.checks.format,
+        Command::Doctor(a) => a.checks.format,
         _ => None,
     }
     .unwrap_or(g.format);
@@ -318,6 +321,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         cli.command,
         Command::Network(network::NetworkCommand::Check(_))
             | Command::Health(_)
+            | Command::Doctor(_)
             | Command::Firmware(firmware::FirmwareCommand::Download(_))
     );
     if format == FormatArg::Junit && !checks {
@@ -351,6 +355,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         Command::Firmware(cmd) => with_bus(&ctx, g, |bus| firmware::run(&ctx, bus, cmd)),
         Command::Errors(a) => with_bus(&ctx, g, |bus| errors::run(&ctx, bus, a)),
         Command::Health(a) => with_bus(&ctx, g, |bus| health::run(&ctx, bus, a)),
+        Command::Doctor(a) => doctor::run(&ctx, g, a),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Settings => Ok(ctx.out.report(&settings.report())?),
         Command::Completions(args) => docs::completions(args),

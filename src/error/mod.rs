@@ -175,6 +175,9 @@ pub enum Error {
     /// Nodes on a bus are not healthy; `nodes` in words ("node 1: error register 0x81").
     #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(), nodes.join("; "))]
     Unhealthy { bus: String, total: usize, nodes: Vec<String> },
+    /// `doctor` found problems on a bus (its report lists them, most likely cause first).
+    #[error("{bus}: {count} problem(s) found, most likely cause first in the report")]
+    Diagnosed { bus: String, count: usize },
 
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
@@ -292,7 +295,8 @@ impl Error {
             | Error::OtherDevice { .. }
             | Error::NetworkDiffers { .. }
             | Error::NotFollowed { .. }
-            | Error::Unhealthy { .. } => C::Verify,
+            | Error::Unhealthy { .. }
+            | Error::Diagnosed { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),

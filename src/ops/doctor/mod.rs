@@ -8,16 +8,19 @@
 //! guarding remote requests, and listening. Every wait is bounded by the listen window or
 //! the per-request timeout ([`DoctorOptions`]).
 
-use super::clash::{self, Clash};
-use super::scan_cache::SeenNode;
-use super::{le_u32, scan, Silent};
+mod report;
+
+pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, HostProblem, Remedy};
+
 use crate::bus::{Bus, SdoOptions};
 use crate::canopen::nmt::{self, ErrorControl};
 use crate::canopen::sdo::SdoClient;
 use crate::canopen::ObjAddr;
 use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
-use serde::Serialize;
+use crate::ops::clash::{self, Clash};
+use crate::ops::scan_cache::SeenNode;
+use crate::ops::{le_u32, scan, Silent};
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
@@ -45,288 +48,6 @@ pub struct DoctorOptions {
     /// What the last scan of this bus saw (`scan_cache::load`): a node that moved is
     /// recognised by it.
     pub last_scan: Vec<SeenNode>,
-}
-
-/// The diagnosis: findings ranked most likely cause first, and what was found fine.
-#[derive(Debug, Serialize)]
-pub struct Diagnosis {
-    /// The bus examined.
-    pub bus: String,
-    /// The node examined, if one was given.
-    pub node: Option<u8>,
-    /// How long the bus was listened to (0: a link that shows no traffic, or none done).
-    pub listened_ms: u64,
-    /// What is wrong, most likely cause first; empty when nothing is.
-    pub findings: Vec<Finding>,
-    /// What was checked and found fine, each with what showed it.
-    pub fine: Vec<Evidence>,
-    /// Whether nothing is wrong.
-    pub ok: bool,
-}
-
-/// One cause found, with what shows it and what to do.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Finding {
-    /// What is wrong.
-    #[serde(flatten)]
-    pub cause: Cause,
-    /// The frames, answers and errors that show it.
-    pub evidence: Vec<Evidence>,
-    /// What to do about it.
-    pub remedy: Remedy,
-}
-
-/// A cause of silence, most specific first in [`Cause::rank`].
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-#[serde(tag = "cause", rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum Cause {
-    /// The host cannot use its link to the bus.
-    Host {
-        /// What the link reported.
-        problem: HostProblem,
-    },
-    /// The CAN controller or adapter reports the bus unusable: frames nobody acknowledges,
-    /// bus errors, bus-off (no other device powered, no termination, another bit rate).
-    Controller {
-        /// What the controller reported.
-        state: ControllerState,
-    },
-    /// Nothing on the bus: no frame heard in the listen, no node answered the probe.
-    BusSilent,
-    /// Two devices answer to one node-id.
-    NodeIdClash {
-        /// The node-id.
-        node: u8,
-    },
-    /// The node is alive but Stopped: it serves no SDO there (CiA 301).
-    Stopped {
-        /// The node.
-        node: u8,
-    },
-    /// The node is alive (heartbeat or guarding) but its SDO server does not answer on the
-    /// default COB-IDs (0x600 + node, 0x580 + node): its 0x1200 was changed, or the server
-    /// is off.
-    SdoSilent {
-        /// The node.
-        node: u8,
-    },
-    /// The device the last scan saw on `node` answers on another node-id now.
-    Moved {
-        /// Where the last scan saw it.
-        node: u8,
-        /// Where it answers now.
-        now: u8,
-    },
-    /// Nothing from the node while other nodes are heard: not powered, not connected, or
-    /// on another node-id.
-    NodeSilent {
-        /// The node.
-        node: u8,
-    },
-}
-
-impl Cause {
-    /// How likely this cause is to explain the rest (lower first): a host that cannot
-    /// send explains a silent bus, a silent bus explains a silent node.
-    fn rank(&self) -> u8 {
-        match self {
-            Cause::Host { .. } => 0,
-            Cause::Controller { .. } => 1,
-            Cause::BusSilent => 2,
-            Cause::NodeIdClash { .. } => 3,
-            Cause::Stopped { .. } => 4,
-            Cause::Moved { .. } => 5,
-            Cause::SdoSilent { .. } => 6,
-            Cause::NodeSilent { .. } => 7,
-        }
-    }
-}
-
-/// What the host's link reported.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum HostProblem {
-    /// The CAN interface is down.
-    InterfaceDown,
-    /// There is no interface of that name.
-    NoInterface,
-    /// The port or interface may not be opened by this user.
-    NoPermission,
-    /// The port or interface cannot be opened for another reason.
-    CannotOpen,
-    /// Frames could not be queued (ENOBUFS: the transmit queue is full).
-    TransmitQueueFull,
-    /// The serial adapter or gateway stopped answering or refused a command.
-    AdapterNotAnswering,
-    /// Another failure of the link (its message says which).
-    LinkFailed,
-}
-
-/// What the controller or adapter reported about the bus.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum ControllerState {
-    /// Bus-off: it stopped taking part after too many errors.
-    BusOff,
-    /// Bus errors or error-passive: frames nobody acknowledged, or a bus at another bit rate.
-    BusErrors,
-}
-
-/// What was seen (or not) that shows a finding, or that something is fine.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum Evidence {
-    /// Frames heard in the listen, by COB-ID, with how many of each.
-    Traffic {
-        /// (COB-ID, count), by COB-ID.
-        frames: Vec<(u16, usize)>,
-    },
-    /// Nothing was heard in the listen.
-    NothingHeard {
-        /// How long it listened.
-        listened_ms: u64,
-    },
-    /// The node's heartbeats (or boot-ups) in the listen, and the last state they said.
-    Heartbeats {
-        /// The node.
-        node: u8,
-        /// How many.
-        count: usize,
-        /// The last state they said.
-        state: nmt::State,
-    },
-    /// The node's answer to a node-guarding request.
-    Guarding {
-        /// The node.
-        node: u8,
-        /// The state it said.
-        state: nmt::State,
-    },
-    /// No answer to a node-guarding request.
-    NoGuardingAnswer {
-        /// The node.
-        node: u8,
-        /// How long it waited.
-        waited_ms: u64,
-    },
-    /// The node answered an SDO read.
-    SdoAnswer {
-        /// The node.
-        node: u8,
-        /// The object read.
-        #[serde(serialize_with = "super::as_text")]
-        obj: ObjAddr,
-        /// Its value (a u32, little-endian), or `None` for an abort.
-        value: Option<u32>,
-    },
-    /// No answer on 0x580 + node to an SDO read sent on 0x600 + node.
-    NoSdoAnswer {
-        /// The node.
-        node: u8,
-        /// The object read.
-        #[serde(serialize_with = "super::as_text")]
-        obj: ObjAddr,
-        /// How many requests were sent.
-        requests: u32,
-        /// How long each waited.
-        waited_ms: u64,
-    },
-    /// An answer to the node's SDO read came on another COB-ID than 0x580 + node.
-    SdoAnswerOn {
-        /// The node asked.
-        node: u8,
-        /// The COB-ID the answer came on.
-        cob_id: u16,
-    },
-    /// Answers to a probe of every node-id (an SDO read of 0x1000 each).
-    ProbeAnswers {
-        /// The node-ids that answered.
-        nodes: Vec<u8>,
-        /// How long the probe waited.
-        waited_ms: u64,
-    },
-    /// What the last scan saw on a node-id.
-    LastScan {
-        /// The node-id.
-        node: u8,
-        /// Its vendor-ID then.
-        vendor_id: Option<u32>,
-        /// Its name then.
-        name: Option<String>,
-    },
-    /// What a node answers now.
-    Identity {
-        /// The node-id.
-        node: u8,
-        /// Its vendor-ID.
-        vendor_id: u32,
-        /// Its name.
-        name: Option<String>,
-    },
-    /// Two devices showed on one node-id (see [`clash::Evidence`]).
-    Clash {
-        /// What showed it.
-        shown_by: clash::Evidence,
-    },
-    /// The link reported an error (its message).
-    LinkReported {
-        /// The link's message.
-        message: String,
-    },
-    /// One device answers to the node-id: one answer to a read, its heartbeats in one
-    /// state, its serial number the same in two reads.
-    OneDevice {
-        /// The node-id.
-        node: u8,
-    },
-    /// The link reported no error after the requests.
-    LinkQuiet,
-}
-
-/// What to do about a finding; the front end words it.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-#[serde(tag = "remedy", rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum Remedy {
-    /// Do what the link's message says (bring the interface up, a permission, a queue).
-    FixHost {
-        /// What the link reported.
-        problem: HostProblem,
-    },
-    /// Check that another device is powered, the wiring, the termination and the bit rate.
-    CheckBus,
-    /// Put the node in pre-operational (NMT), where it serves SDO.
-    PreOperational {
-        /// The node.
-        node: u8,
-    },
-    /// The SDO server's COB-IDs (0x1200) were changed or it is off: a reset of the node's
-    /// communication brings back the defaults unless they were stored.
-    ResetCommunication {
-        /// The node.
-        node: u8,
-    },
-    /// Use the node-id the device has now, or give it back the old one over LSS.
-    UseNewId {
-        /// Where it was.
-        node: u8,
-        /// Where it is.
-        now: u8,
-    },
-    /// Give one of the devices another node-id over LSS, by its identity.
-    SeparateIds {
-        /// The node-id.
-        node: u8,
-    },
-    /// Check the node is powered, connected and has this node-id (a scan lists those in use).
-    CheckNode {
-        /// The node.
-        node: u8,
-    },
 }
 
 /// What the listen heard.
@@ -366,6 +87,16 @@ impl Heard {
     fn heartbeats(&self, node: u8) -> Option<Evidence> {
         let (count, _, state) = self.beats.get(&node)?;
         Some(Evidence::Heartbeats { node, count: *count, state: *state })
+    }
+}
+
+impl Diagnosis {
+    /// A verification error (exit 6) when a problem was found.
+    pub fn outcome(&self) -> Result<()> {
+        match self.findings.len() {
+            0 => Ok(()),
+            count => Err(Error::Diagnosed { bus: self.bus.clone(), count }),
+        }
     }
 }
 
@@ -479,17 +210,17 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     let Some(node) = o.node else { return examine_bus(bus, o, &heard, d) };
     let (answers, elsewhere) = sdo_probe(bus, node, o.timeout, &mut heard)?;
     if let Some(first) = answers.first() {
-        d.fine.push(Evidence::SdoAnswer { node, obj: VENDOR, value: *first });
+        d.fine.push(Evidence::SdoAnswer { node, obj: SERIAL, value: *first });
         if let Some(beats) = heard.heartbeats(node) {
             d.fine.push(beats);
         }
         return look_for_clash(bus, o, node, answers, &heard, d);
     }
-    let no_answer = Evidence::NoSdoAnswer { node, obj: VENDOR, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) };
+    let no_answer = Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) };
     let mut evidence: Vec<Evidence> = heard.heartbeats(node).into_iter().collect();
     let state = match heard.beats.get(&node) {
         Some((_, _, state)) => Some(*state),
-        None => match super::node::Node::new(bus, node, o.timeout).guard(o.timeout)? {
+        None => match crate::ops::node::Node::new(bus, node, o.timeout).guard(o.timeout)? {
             Some(g) => {
                 let state = g.state();
                 if let Some(state) = state {
@@ -566,7 +297,7 @@ fn find_moved(bus: &mut dyn Bus, o: &DoctorOptions, node: u8, answering: &[u8]) 
             let evidence = vec![
                 Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() },
                 Evidence::Identity { node: now, vendor_id: vendor, name },
-                Evidence::NoSdoAnswer { node, obj: VENDOR, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) },
+                Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) },
             ];
             return Ok(Some(Finding {
                 cause: Cause::Moved { node, now },
@@ -590,13 +321,15 @@ fn look_for_clash(
 ) -> Result<()> {
     let mut shown: Vec<clash::Evidence> = Vec::new();
     if answers.len() > 1 {
-        shown.push(clash::Evidence::SdoAnswers { values: answers });
+        shown.push(clash::Evidence::SdoAnswers { values: answers.clone() });
     }
     if let Some((_, states, _)) = heard.beats.get(&node).filter(|(_, s, _)| s.len() > 1) {
         shown.push(clash::Evidence::HeartbeatStates { states: states.clone() });
     }
     if shown.is_empty() {
-        let serial = bus.sdo_upload(node, SERIAL, &SdoOptions::new(o.timeout)).ok().map(|b| le_u32(&b));
+        // The serial just read, against a second read: two devices whose answers merge on
+        // the bus show as a serial that changes.
+        let serial = answers.first().copied().flatten();
         let found: Vec<Clash> = clash::find(bus, &[(node, serial)], o.timeout, o.timeout)?;
         shown.extend(found.into_iter().map(|c| c.evidence));
     }
@@ -625,6 +358,18 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
     }
     let found = scan::probe(bus, o.timeout, &mut Silent)?;
     let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(o.timeout) };
+    // A node that beats but did not answer its read: stopped, or its SDO server elsewhere.
+    let answered: BTreeSet<u8> = found.iter().map(|(n, _)| *n).collect();
+    for (node, (_, _, state)) in heard.beats.iter().filter(|(n, _)| !answered.contains(n)) {
+        let node = *node;
+        let evidence = heard.heartbeats(node).into_iter().chain([probe.clone()]).collect();
+        d.findings.push(match state {
+            nmt::State::Stopped => {
+                Finding { cause: Cause::Stopped { node }, evidence, remedy: Remedy::PreOperational { node } }
+            }
+            _ => Finding { cause: Cause::SdoSilent { node }, evidence, remedy: Remedy::ResetCommunication { node } },
+        });
+    }
     if found.is_empty() && heard.frames.is_empty() {
         let evidence = vec![Evidence::NothingHeard { listened_ms: d.listened_ms }, probe];
         d.findings.push(Finding { cause: Cause::BusSilent, evidence, remedy: Remedy::CheckBus });
@@ -634,7 +379,7 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
     Ok(())
 }
 
-/// One SDO read of the node's vendor-ID sent raw, up to [`SDO_REQUESTS`] times while none
+/// One SDO read of the node's serial number sent raw, up to [`SDO_REQUESTS`] times while none
 /// is answered, each answer waited for `timeout`: every answer on 0x580 + node (two mean
 /// two devices), and the COB-IDs an answer to it came on instead. Where the link shows no
 /// traffic (an EPOS2 gateway), one read through the bus's own SDO client.
@@ -646,7 +391,7 @@ fn sdo_probe(
 ) -> Result<(Vec<Option<u32>>, Vec<u16>)> {
     if !bus.sees_traffic() {
         let opts = SdoOptions { retries: (SDO_REQUESTS - 1) as u8, ..SdoOptions::new(timeout) };
-        return match bus.sdo_upload(node, VENDOR, &opts) {
+        return match bus.sdo_upload(node, SERIAL, &opts) {
             Ok(v) => Ok((vec![Some(le_u32(&v))], vec![])),
             Err(Error::SdoAbort { .. }) => Ok((vec![None], vec![])),
             Err(e) if e.is_timeout() => Ok((vec![], vec![])),
@@ -657,11 +402,11 @@ fn sdo_probe(
     let mut answers = Vec::new();
     let mut elsewhere = BTreeSet::new();
     for _ in 0..SDO_REQUESTS {
-        let request = SdoClient::upload(VENDOR, false).start();
+        let request = SdoClient::upload(SERIAL, false).start();
         bus.send_frame(&Frame::new(crate::canopen::sdo::request_cob(node), &request))?;
         let end = bus.now() + timeout;
         while let Some(f) = bus.recv_frame(end)? {
-            match clash::upload_answer(f.data(), VENDOR) {
+            match clash::upload_answer(f.data(), SERIAL) {
                 Some(value) if f.id() == own => answers.push(value),
                 // Another node's answer to the same read would need a request of its own:
                 // one on another id now is this node's, moved by its 0x1200.
