@@ -86,6 +86,11 @@ fn a_renumbered_node_is_found_on_its_new_id() {
     assert_eq!((f["cause"].as_str(), f["node"].as_u64(), f["now"].as_u64()), (Some("moved"), Some(5), Some(7)), "{f}");
     assert_eq!(evidence(&f, "last_scan")["name"], "C01", "{f}");
     assert_eq!(evidence(&f, "identity")["node"], 7, "{f}");
+    // The fix names the device by its identity; done, node 5 is itself again.
+    let fix = "canctl lss set-id 5 --identity 0x00000040:0x43787800:0x312E3031:0x09501234";
+    assert!(f["fix"].as_str().unwrap().contains(fix), "{f}");
+    sim.run(&["lss", "set-id", "5", "--identity", "0x00000040:0x43787800:0x312E3031:0x09501234"]).ok();
+    doctor(&sim, &["5"]).ok();
     // Without a last scan to compare with, the node is only silent: nothing is made up.
     let fresh = network(&[]);
     fresh.run(&["lss", "set-id", "7", "--identity", "0x40:0x43787800:0x312E3031:0x09501234"]).ok();

@@ -75,9 +75,10 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
             "canctl nmt reset-comm {node} brings back the default SDO COB-IDs unless they were stored; else use the \
              COB-IDs its 0x1200 has (its DCF says them)"
         ),
-        Remedy::UseNewId { node, now } => format!(
-            "address it as node {now} (canctl scan refreshes what the last scan saw), or give it back node-id {node}: \
-             canctl lss set-id {node} --identity VENDOR:PRODUCT:REVISION:SERIAL (canctl scan shows its identity)"
+        Remedy::UseNewId { node, now, identity } => format!(
+            "address it as node {now} (canctl scan refreshes what the last scan saw), or give it back its node-id: \
+             canctl lss set-id {node} --identity {}",
+            identity.lss().map_or("VENDOR:PRODUCT:REVISION:SERIAL".to_string(), |i| i.to_string())
         ),
         Remedy::SeparateIds { node } => format!(
             "give one of the devices on node-id {node} another one: canctl lss set-id NEW --identity \
@@ -146,8 +147,10 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             vendor_id.map_or("-".into(), |v| format!("0x{v:08X}")),
             name.as_ref().map(|n| format!(", \"{n}\"")).unwrap_or_default()
         ),
-        Evidence::Identity { node, vendor_id, name } => format!(
-            "node {node}, not on the last scan, answers vendor-ID 0x{vendor_id:08X}{}",
+        Evidence::Identity { node, identity, name } => format!(
+            "node {node}, not on the last scan, answers vendor-ID 0x{:08X}{}{}",
+            identity.vendor,
+            identity.serial.map(|s| format!(", serial number 0x{s:08X}")).unwrap_or_default(),
             name.as_ref().map(|n| format!(", \"{n}\"")).unwrap_or_default()
         ),
         Evidence::Clash { shown_by } => match shown_by {

@@ -24,8 +24,6 @@ use crate::ops::{le_u32, scan, Silent};
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
-/// The vendor-ID: the part of the identity every device has (CiA 301).
-const VENDOR: ObjAddr = ObjAddr::new(0x1018, 1);
 /// The serial number: what tells two devices of one kind apart.
 const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
 /// The device name: with the vendor-ID, what tells a moved device from another one.
@@ -291,18 +289,23 @@ fn find_moved(bus: &mut dyn Bus, o: &DoctorOptions, node: u8, answering: &[u8]) 
     let candidates: Vec<u8> = answering.iter().copied().filter(|n| !known.contains(n)).take(MAX_CANDIDATES).collect();
     let opts = SdoOptions { retries: 1, ..SdoOptions::new(o.timeout) };
     for now in candidates {
-        let Ok(v) = bus.sdo_upload(now, VENDOR, &opts) else { continue };
+        let identity = match crate::ops::node::Node::new(bus, now, o.timeout).identity() {
+            Ok(Some(identity)) if identity.vendor == vendor => identity,
+            Ok(_) => continue,
+            Err(e) if matches!(e.root(), Error::Link(_)) => return Err(e),
+            Err(_) => continue,
+        };
         let name = bus.sdo_upload(now, NAME, &opts).ok().map(|b| String::from_utf8_lossy(&b).into_owned());
-        if le_u32(&v) == vendor && (was.name.is_none() || was.name == name) {
+        if was.name.is_none() || was.name == name {
             let evidence = vec![
                 Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() },
-                Evidence::Identity { node: now, vendor_id: vendor, name },
+                Evidence::Identity { node: now, identity, name },
                 Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) },
             ];
             return Ok(Some(Finding {
                 cause: Cause::Moved { node, now },
                 evidence,
-                remedy: Remedy::UseNewId { node, now },
+                remedy: Remedy::UseNewId { node, now, identity },
             }));
         }
     }

@@ -4,6 +4,7 @@
 use crate::canopen::nmt;
 use crate::canopen::ObjAddr;
 use crate::ops::clash;
+use crate::ops::node::Identity;
 use serde::Serialize;
 
 /// The diagnosis: findings ranked most likely cause first, and what was found fine.
@@ -221,8 +222,8 @@ pub enum Evidence {
     Identity {
         /// The node-id.
         node: u8,
-        /// Its vendor-ID.
-        vendor_id: u32,
+        /// Its identity object 0x1018.
+        identity: Identity,
         /// Its name.
         name: Option<String>,
     },
@@ -275,6 +276,8 @@ pub enum Remedy {
         node: u8,
         /// Where it is.
         now: u8,
+        /// Its identity, by which LSS addresses it.
+        identity: Identity,
     },
     /// Give one of the devices another node-id over LSS, by its identity.
     SeparateIds {
