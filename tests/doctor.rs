@@ -154,3 +154,21 @@ fn an_adapter_at_another_bit_rate_is_a_finding_about_the_controller() {
     assert_eq!((f["cause"].as_str(), f["state"].as_str()), (Some("controller"), Some("bus_errors")), "{f}");
     assert!(evidence(&f, "link_reported")["message"].as_str().unwrap().contains("error passive"), "{f}");
 }
+
+/// Every "did not answer" diagnoses itself: the quick checks name the cause in one line,
+/// and --no-diagnose leaves them out.
+#[test]
+fn a_node_that_did_not_answer_gets_its_likely_cause() {
+    let sim = network(&[]);
+    sim.run(&["nmt", "stop", "5"]).ok();
+    let r = sim.run(&["--timeout", "200ms", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("likely cause: node 5 is alive but stopped"), "{}", r.stderr);
+    assert!(r.stderr.contains("fix: canctl nmt preop 5"), "{}", r.stderr);
+    let r = sim.run(&["--timeout", "200ms", "--no-diagnose", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(!r.stderr.contains("likely cause"), "{}", r.stderr);
+    // A node-id nobody has, on a bus where others answer: that node alone is silent.
+    let r = sim.run(&["--timeout", "200ms", "sdo", "read", "6", "1018:1"]);
+    assert!(r.stderr.contains("likely cause: node 6 is silent while the bus is not"), "{}", r.stderr);
+}

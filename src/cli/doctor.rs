@@ -1,6 +1,7 @@
 //! `canctl doctor`: why a node, or the bus, is silent.
 
 use super::{parse_node, Ctx, GlobalArgs};
+use crate::bus::Bus;
 use crate::error::Error;
 use crate::ops::doctor::{self, DoctorOptions};
 use clap::Args;
@@ -62,5 +63,20 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
             _ => Err(e),
         },
         result => result,
+    }
+}
+
+/// The longest each wait of the quick checks after a silent node may be: with the read of
+/// every node-id, a second or so in all.
+const QUICK_WAIT: Duration = Duration::from_millis(500);
+
+/// `; likely cause: ...; fix: ...` for a node that did not answer, from the quick checks
+/// ([`doctor::quick`], two waits of at most half a second); empty when they point at nothing
+/// or cannot tell.
+pub(super) fn likely_cause(bus: &mut dyn Bus, node: u8, timeout: Duration) -> String {
+    use crate::output::doctor::{cause_text, remedy_text};
+    match doctor::quick(bus, node, timeout.min(QUICK_WAIT)) {
+        Ok(Some(f)) => format!("; likely cause: {}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy)),
+        _ => String::new(),
     }
 }

@@ -102,6 +102,10 @@ pub struct GlobalArgs {
     /// (`(1700000000.123456) vcan0 605#4000100000000000`), for support cases
     #[arg(long, global = true, value_name = "FILE")]
     pub log_frames: Option<std::path::PathBuf>,
+    /// When a node does not answer, do not look for the likely cause (about a second of
+    /// node guarding and a read of every node-id; see canctl doctor)
+    #[arg(long, global = true)]
+    pub no_diagnose: bool,
 }
 
 impl GlobalArgs {
@@ -218,6 +222,8 @@ pub struct Ctx {
     pub bus: Option<String>,
     /// The program's request to stop, caught from the start ([`install_interrupt`]).
     pub cancel: crate::cancel::Cancel,
+    /// Whether a node that did not answer is diagnosed (not `--no-diagnose`).
+    pub diagnose: bool,
 }
 
 /// Catch SIGINT, SIGTERM, Ctrl-C and Ctrl-Break as a request to stop, from now on and for
@@ -269,13 +275,15 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(addr)) => {
+        (Some(Error::NoAnswer { node, what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(addr)) => {
             // Nothing answered: the link may know why (an adapter at another bit rate), and
             // then every command ends as `sdo read` does, not only those that ask it.
             if let Err(link) = crate::ops::unheard::check(bus) {
                 return link.into();
             }
-            crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr))
+            let node = *node;
+            let likely = if ctx.diagnose { doctor::likely_cause(bus, node, ctx.timeout) } else { String::new() };
+            likely + &crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr))
         }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
             let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
@@ -316,6 +324,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
         cancel: interrupt::install(),
+        diagnose: !g.no_diagnose,
     };
     let checks = matches!(
         cli.command,

@@ -121,6 +121,41 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
     Ok(d)
 }
 
+/// The quick part of the checks, for a node that just did not answer a request: its state
+/// from a heartbeat the bus already showed, else one node-guarding request (waiting up to
+/// `wait`); when neither says it, a read of 0x1000 of every node-id at once (one `wait`):
+/// the node alone is silent, or the whole bus (not where the link shows no traffic: an
+/// EPOS2 reads the ids one by one). At most two waits of `wait`. Reads only.
+pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Finding>> {
+    let beat = bus.observed().states.get(&node).copied();
+    let (state, seen) = match beat {
+        Some(state) => (Some(state), Evidence::Heartbeats { node, count: 1, state }),
+        None => match crate::ops::node::Node::new(bus, node, wait).guard(wait)?.and_then(|g| g.state()) {
+            Some(state) => (Some(state), Evidence::Guarding { node, state }),
+            None => (None, Evidence::NoGuardingAnswer { node, waited_ms: ms(wait) }),
+        },
+    };
+    let finding = |cause, remedy, evidence| Some(Finding { cause, evidence, remedy });
+    Ok(match state {
+        Some(nmt::State::Stopped) => finding(Cause::Stopped { node }, Remedy::PreOperational { node }, vec![seen]),
+        Some(_) => finding(Cause::SdoSilent { node }, Remedy::ResetCommunication { node }, vec![seen]),
+        // Through an EPOS2 the read of every id is one after the other: far from quick.
+        None if !bus.sees_traffic() => None,
+        None => {
+            let found = scan::probe(bus, wait, &mut Silent)?;
+            if found.iter().any(|(n, _)| *n == node) {
+                // It answers now: a late answer, not a cause to name.
+                return Ok(None);
+            }
+            let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(wait) };
+            match found.is_empty() && bus.observed().nodes.is_empty() {
+                true => finding(Cause::BusSilent, Remedy::CheckBus, vec![seen, probe]),
+                false => finding(Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![seen, probe]),
+            }
+        }
+    })
+}
+
 /// The diagnosis of a link that could not even be opened.
 pub fn unopened(bus: &str, node: Option<u8>, error: &LinkError) -> Diagnosis {
     Diagnosis {
