@@ -16,6 +16,8 @@ use std::time::Duration;
 /// is silent, reads 0x1000 of every node-id at once (one --timeout) to find the device the
 /// last scan saw on NODE on another id; when it answers, reads its serial number twice to
 /// tell two devices on one id apart. Without NODE: the listen and the read of every node-id.
+/// Through an EPOS2, which shows no traffic, nothing is listened to and the ids are read
+/// one after the other (up to 127 --timeout).
 /// Failures of the link (interface down, no permission, transmit queue full, bus-off, an
 /// adapter's bus errors) are findings too. Doctor only reads and listens: it writes nothing
 /// to any device and sends no NMT or LSS command. Exit 0 when nothing is wrong, 6 when it
