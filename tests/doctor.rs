@@ -172,3 +172,14 @@ fn a_node_that_did_not_answer_gets_its_likely_cause() {
     let r = sim.run(&["--timeout", "200ms", "sdo", "read", "6", "1018:1"]);
     assert!(r.stderr.contains("likely cause: node 6 is silent while the bus is not"), "{}", r.stderr);
 }
+
+/// A device that floods the bus with its EMCY id (0x08A, node 10): it wins every
+/// arbitration, nothing else gets through; the flood is named, not "nothing answers".
+#[test]
+fn a_device_flooding_the_bus_is_named_by_its_id() {
+    let sim = network(&["--fault", "io:babble"]);
+    let f = first_finding(&doctor(&sim, &["--window", "100ms", "--timeout", "100ms"]));
+    assert_eq!((f["cause"].as_str(), f["cob_id"].as_u64()), (Some("flood"), Some(0x08A)), "{f}");
+    assert_eq!(evidence(&f, "traffic")["frames"][0]["cob_id"], 0x08A, "{f}");
+    assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
+}

@@ -18,6 +18,10 @@ pub(crate) fn cause_text(cause: &Cause) -> String {
                 .into()
         }
         Cause::BusSilent => "nothing on the bus: no frame heard, and no node answered a read".into(),
+        Cause::Flood { cob_id } => format!(
+            "a device floods the bus with 0x{cob_id:03X}: sent without pause, it wins every arbitration and no node \
+             gets a frame through"
+        ),
         Cause::NodeIdClash { node } => format!("node-id {node} is used by more than one device"),
         Cause::Stopped { node } => format!("node {node} is alive but stopped: a stopped node serves no SDO"),
         Cause::SdoSilent { node } => format!(
@@ -68,6 +72,10 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
              about 60 Ω between CAN_H and CAN_L, power off), the wiring (CAN_H, CAN_L, GND) and that every device runs \
              at the bus's bit rate"
             .into(),
+        Remedy::FindFlooder { cob_id } => format!(
+            "find the device sending 0x{cob_id:03X} (canctl monitor shows it; an EMCY id 0x081-0x0FF names its node) \
+             and power it off; then canctl doctor again"
+        ),
         Remedy::PreOperational { node } => {
             format!("canctl nmt preop {node} (SDO works there; canctl nmt start {node} runs it again afterwards)")
         }
@@ -104,8 +112,9 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
     match e {
         Evidence::Traffic { frames } => {
             const SHOWN: usize = 8;
-            let total: usize = frames.iter().map(|(_, n)| n).sum();
-            let mut list: Vec<String> = frames.iter().take(SHOWN).map(|(c, n)| format!("0x{c:03X} ×{n}")).collect();
+            let total: usize = frames.iter().map(|f| f.count).sum();
+            let mut list: Vec<String> =
+                frames.iter().take(SHOWN).map(|f| format!("0x{:03X} ×{}", f.cob_id, f.count)).collect();
             if frames.len() > SHOWN {
                 list.push(format!("{} more id(s)", frames.len() - SHOWN));
             }

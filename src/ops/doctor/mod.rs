@@ -10,7 +10,7 @@
 
 mod report;
 
-pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, HostProblem, Remedy};
+pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
 
 use crate::bus::{Bus, SdoOptions};
 use crate::canopen::nmt::{self, ErrorControl};
@@ -30,6 +30,8 @@ const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
 const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
 /// How many requests the node's SDO read gets: a lost frame is not taken for a silent node.
 const SDO_REQUESTS: u32 = 2;
+/// A COB-ID heard this many times in the listen, nine frames in ten, fills the bus.
+const FLOOD_FRAMES: usize = 100;
 /// At most this many nodes that were not on the last scan are asked whether they are the
 /// one that moved.
 const MAX_CANDIDATES: usize = 8;
@@ -78,8 +80,31 @@ impl Heard {
         }
     }
 
+    /// The COB-ID that fills the bus, if one does: at least [`FLOOD_FRAMES`] frames and
+    /// nine in ten of all heard.
+    fn flood(&self) -> Option<u16> {
+        let total: usize = self.frames.values().sum();
+        let (cob, n) = self.frames.iter().max_by_key(|(_, n)| **n)?;
+        (*n >= FLOOD_FRAMES && *n * 10 >= total * 9).then_some(*cob)
+    }
+
+    /// What the bus as a whole shows when no node answered the probe (`probe`): nothing at
+    /// all, or one id filling it; `None` when neither.
+    fn bus_finding(&self, answered: bool, probe: &Evidence, listened_ms: u64) -> Option<Finding> {
+        if answered {
+            return None;
+        }
+        if self.frames.is_empty() {
+            let evidence = vec![Evidence::NothingHeard { listened_ms }, probe.clone()];
+            return Some(Finding { cause: Cause::BusSilent, evidence, remedy: Remedy::CheckBus });
+        }
+        let cob_id = self.flood()?;
+        let evidence = vec![self.traffic(), probe.clone()];
+        Some(Finding { cause: Cause::Flood { cob_id }, evidence, remedy: Remedy::FindFlooder { cob_id } })
+    }
+
     fn traffic(&self) -> Evidence {
-        Evidence::Traffic { frames: self.frames.iter().map(|(c, n)| (*c, *n)).collect() }
+        Evidence::Traffic { frames: self.frames.iter().map(|(c, n)| FrameCount { cob_id: *c, count: *n }).collect() }
     }
 
     fn heartbeats(&self, node: u8) -> Option<Evidence> {
@@ -234,7 +259,8 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     let mut heard = Heard::default();
     if bus.sees_traffic() {
         let end = bus.now() + o.listen;
-        while let Some(f) = bus.recv_frame(end)? {
+        // Until the end even on a bus that never falls quiet (a babbling device).
+        while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
             heard.take(&f);
         }
         d.listened_ms = ms(o.listen);
@@ -298,9 +324,10 @@ fn node_absent(
     let found = scan::probe(bus, o.timeout, &mut Silent)?;
     let ids: Vec<u8> = found.iter().map(|(n, _)| *n).collect();
     let probe = Evidence::ProbeAnswers { nodes: ids.clone(), waited_ms: ms(o.timeout) };
-    if ids.is_empty() && heard.frames.is_empty() {
-        evidence.extend([Evidence::NothingHeard { listened_ms: d.listened_ms }, probe]);
-        d.findings.push(Finding { cause: Cause::BusSilent, evidence, remedy: Remedy::CheckBus });
+    if let Some(mut bus_wide) = heard.bus_finding(!ids.is_empty(), &probe, d.listened_ms) {
+        evidence.append(&mut bus_wide.evidence);
+        bus_wide.evidence = evidence;
+        d.findings.push(bus_wide);
         return Ok(());
     }
     if let Some(moved) = find_moved(bus, o, node, &ids)? {
@@ -391,10 +418,10 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
             remedy: Remedy::SeparateIds { node: *node },
         });
     }
-    if !heard.frames.is_empty() {
+    let found = scan::probe(bus, o.timeout, &mut Silent)?;
+    if !heard.frames.is_empty() && heard.flood().is_none() {
         d.fine.push(heard.traffic());
     }
-    let found = scan::probe(bus, o.timeout, &mut Silent)?;
     let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(o.timeout) };
     // A node that beats but did not answer its read: stopped, or its SDO server elsewhere.
     let answered: BTreeSet<u8> = found.iter().map(|(n, _)| *n).collect();
@@ -408,11 +435,9 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
             _ => Finding { cause: Cause::SdoSilent { node }, evidence, remedy: Remedy::ResetCommunication { node } },
         });
     }
-    if found.is_empty() && heard.frames.is_empty() {
-        let evidence = vec![Evidence::NothingHeard { listened_ms: d.listened_ms }, probe];
-        d.findings.push(Finding { cause: Cause::BusSilent, evidence, remedy: Remedy::CheckBus });
-    } else {
-        d.fine.push(probe);
+    match heard.bus_finding(!found.is_empty(), &probe, d.listened_ms) {
+        Some(finding) => d.findings.push(finding),
+        None => d.fine.push(probe),
     }
     Ok(())
 }
@@ -443,7 +468,7 @@ fn sdo_probe(
         let request = SdoClient::upload(SERIAL, false).start();
         bus.send_frame(&Frame::new(crate::canopen::sdo::request_cob(node), &request))?;
         let end = bus.now() + timeout;
-        while let Some(f) = bus.recv_frame(end)? {
+        while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
             match clash::upload_answer(f.data(), SERIAL) {
                 Some(value) if f.id() == own => answers.push(value),
                 // Another node's answer to the same read would need a request of its own:

@@ -54,6 +54,12 @@ pub enum Cause {
     },
     /// Nothing on the bus: no frame heard in the listen, no node answered the probe.
     BusSilent,
+    /// One COB-ID fills the bus (a babbling device: a high-priority id sent without pause
+    /// wins every arbitration) and no node answered the probe.
+    Flood {
+        /// The COB-ID.
+        cob_id: u16,
+    },
     /// Two devices answer to one node-id.
     NodeIdClash {
         /// The node-id.
@@ -93,7 +99,7 @@ impl Cause {
         match self {
             Cause::Host { .. } => 0,
             Cause::Controller { .. } => 1,
-            Cause::BusSilent => 2,
+            Cause::BusSilent | Cause::Flood { .. } => 2,
             Cause::NodeIdClash { .. } => 3,
             Cause::Stopped { .. } => 4,
             Cause::Moved { .. } => 5,
@@ -142,8 +148,8 @@ pub enum ControllerState {
 pub enum Evidence {
     /// Frames heard in the listen, by COB-ID, with how many of each.
     Traffic {
-        /// (COB-ID, count), by COB-ID.
-        frames: Vec<(u16, usize)>,
+        /// Each COB-ID heard and how many times, by COB-ID.
+        frames: Vec<FrameCount>,
     },
     /// Nothing was heard in the listen.
     NothingHeard {
@@ -247,6 +253,15 @@ pub enum Evidence {
     LinkQuiet,
 }
 
+/// How many frames of one COB-ID were heard.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct FrameCount {
+    /// The COB-ID.
+    pub cob_id: u16,
+    /// How many.
+    pub count: usize,
+}
+
 /// What to do about a finding; the front end words it.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 #[serde(tag = "remedy", rename_all = "snake_case")]
@@ -259,6 +274,11 @@ pub enum Remedy {
     },
     /// Check that another device is powered, the wiring, the termination and the bit rate.
     CheckBus,
+    /// Find the device that sends this COB-ID without pause and power it off or fix it.
+    FindFlooder {
+        /// The COB-ID.
+        cob_id: u16,
+    },
     /// Put the node in pre-operational (NMT), where it serves SDO.
     PreOperational {
         /// The node.
