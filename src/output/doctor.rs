@@ -18,6 +18,9 @@ pub(crate) fn cause_text(cause: &Cause) -> String {
                 .into()
         }
         Cause::BusSilent => "nothing on the bus: no frame heard, and no node answered a read".into(),
+        Cause::NoAnswers => "frames are heard, but no node answered a read on any node-id: the devices serve no SDO \
+             there (stopped, or on other COB-IDs)"
+            .into(),
         Cause::Flood { cob_id } => format!(
             "a device floods the bus with 0x{cob_id:03X}: sent without pause, it wins every arbitration and no node \
              gets a frame through"
@@ -71,6 +74,9 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
         Remedy::CheckBus => "check that another device is powered, that the bus is terminated (120 Ω at each end: \
              about 60 Ω between CAN_H and CAN_L, power off), the wiring (CAN_H, CAN_L, GND) and that every device runs \
              at the bus's bit rate"
+            .into(),
+        Remedy::WatchBus => "canctl monitor shows who sends what; a stopped node answers again after canctl nmt \
+             preop NODE"
             .into(),
         Remedy::FindFlooder { cob_id } => format!(
             "find the device sending 0x{cob_id:03X} (canctl monitor shows it; an EMCY id 0x081-0x0FF names its node) \

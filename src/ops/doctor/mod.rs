@@ -437,7 +437,13 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
     }
     match heard.bus_finding(!found.is_empty(), &probe, d.listened_ms) {
         Some(finding) => d.findings.push(finding),
-        None => d.fine.push(probe),
+        None if !found.is_empty() => d.fine.push(probe),
+        // Nobody answered though the bus is busy, and no heartbeat said why.
+        None if d.findings.is_empty() => {
+            let evidence = vec![heard.traffic(), probe];
+            d.findings.push(Finding { cause: Cause::NoAnswers, evidence, remedy: Remedy::WatchBus });
+        }
+        None => {}
     }
     Ok(())
 }

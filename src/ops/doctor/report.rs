@@ -54,6 +54,9 @@ pub enum Cause {
     },
     /// Nothing on the bus: no frame heard in the listen, no node answered the probe.
     BusSilent,
+    /// Frames are heard but no node answered the probe on any id, and no node's heartbeat
+    /// explains it: the devices serve no SDO there, or on other COB-IDs.
+    NoAnswers,
     /// One COB-ID fills the bus (a babbling device: a high-priority id sent without pause
     /// wins every arbitration) and no node answered the probe.
     Flood {
@@ -99,7 +102,7 @@ impl Cause {
         match self {
             Cause::Host { .. } => 0,
             Cause::Controller { .. } => 1,
-            Cause::BusSilent | Cause::Flood { .. } => 2,
+            Cause::BusSilent | Cause::Flood { .. } | Cause::NoAnswers => 2,
             Cause::NodeIdClash { .. } => 3,
             Cause::Stopped { .. } => 4,
             Cause::Moved { .. } => 5,
@@ -274,6 +277,8 @@ pub enum Remedy {
     },
     /// Check that another device is powered, the wiring, the termination and the bit rate.
     CheckBus,
+    /// Watch the bus to see who sends what (a stopped node, another master).
+    WatchBus,
     /// Find the device that sends this COB-ID without pause and power it off or fix it.
     FindFlooder {
         /// The COB-ID.
