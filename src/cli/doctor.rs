@@ -38,6 +38,7 @@ pub struct DoctorArgs {
     pub checks: super::CheckFormat,
 }
 
+/// Run `canctl doctor`: the diagnosis rendered, exit 6 when it found a problem.
 pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()> {
     let last_scan = ctx.bus.as_deref().map(crate::ops::scan_cache::load).unwrap_or_default();
     let options = DoctorOptions { node: a.node, listen: a.window, timeout: ctx.timeout, last_scan };

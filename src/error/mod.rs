@@ -177,7 +177,12 @@ pub enum Error {
     Unhealthy { bus: String, total: usize, nodes: Vec<String> },
     /// `doctor` found problems on a bus (its report lists them, most likely cause first).
     #[error("{bus}: {count} problem(s) found, most likely cause first in the report")]
-    Diagnosed { bus: String, count: usize },
+    Diagnosed {
+        /// The bus examined.
+        bus: String,
+        /// How many problems it found.
+        count: usize,
+    },
 
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
