@@ -335,7 +335,7 @@ pub fn run(cli: Cli, bus_from_env: bool) -> anyhow::Result<()> {
     );
     if format == FormatArg::Junit && !checks {
         return Err(Error::Usage(
-            "--format junit is for commands that check things: canctl network check, canctl health, canctl firmware download; use human, json or csv here"
+            "--format junit is for commands that check things: canctl network check, canctl health, canctl doctor, canctl firmware download; use human, json or csv here"
                 .into(),
         )
         .into());
