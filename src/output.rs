@@ -13,6 +13,7 @@ mod check;
 pub(crate) mod completion;
 pub(crate) mod diagnostics;
 pub(crate) mod docs;
+pub(crate) mod doctor;
 mod drive;
 mod events;
 mod firmware;

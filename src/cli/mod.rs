@@ -4,6 +4,7 @@
 mod complete;
 mod config;
 mod docs;
+mod doctor;
 mod drive;
 mod errors;
 mod firmware;
@@ -108,6 +109,10 @@ pub(crate) struct GlobalArgs {
     /// (`(1700000000.123456) vcan0 605#4000100000000000`), for support cases
     #[arg(long, global = true, value_name = "FILE")]
     pub log_frames: Option<std::path::PathBuf>,
+    /// When a node does not answer, do not look for the likely cause (about a second of
+    /// node guarding and a read of every node-id; see canctl doctor)
+    #[arg(long, global = true)]
+    pub no_diagnose: bool,
 }
 
 impl GlobalArgs {
@@ -187,6 +192,7 @@ pub(crate) enum Command {
     Firmware(firmware::FirmwareCommand),
     Errors(errors::ErrorsArgs),
     Health(health::HealthArgs),
+    Doctor(doctor::DoctorArgs),
     Sim(sim::SimArgs),
     /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
     #[command(after_help = "Examples:\n  canctl settings\n  canctl --bus sim settings --format json")]
@@ -221,6 +227,8 @@ pub(crate) struct Ctx {
     pub bus: Option<String>,
     /// The program's request to stop, caught from the start (`main` installs it).
     pub cancel: Cancel,
+    /// Whether a node that did not answer is diagnosed (not `--no-diagnose`).
+    pub diagnose: bool,
 }
 
 /// Run a command that talks to the bus the user named (or say how to name one); the bus
@@ -242,13 +250,15 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
     use crate::error::Service;
     let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(addr)) => {
+        (Some(Error::NoAnswer { node, what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(addr)) => {
             // Nothing answered: the link may know why (an adapter at another bit rate), and
             // then every command ends as `sdo read` does, not only those that ask it.
             if let Err(link) = crate::ops::unheard::check(bus) {
                 return link.into();
             }
-            crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr))
+            let node = *node;
+            let likely = if ctx.diagnose { doctor::likely_cause(bus, node, ctx.timeout) } else { String::new() };
+            likely + &crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr))
         }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
             let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
@@ -278,6 +288,7 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
     let format = match &cli.command {
         Command::Network(network::NetworkCommand::Check(a)) => a.checks.format,
         Command::Health(a) => a.checks.format,
+        Command::Doctor(a) => a.checks.format,
         _ => None,
     }
     .unwrap_or(g.format);
@@ -291,16 +302,18 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
         cancel,
+        diagnose: !g.no_diagnose,
     };
     let checks = matches!(
         cli.command,
         Command::Network(network::NetworkCommand::Check(_))
             | Command::Health(_)
+            | Command::Doctor(_)
             | Command::Firmware(firmware::FirmwareCommand::Download(_))
     );
     if format == FormatArg::Junit && !checks {
         return Err(Error::Usage(
-            "--format junit is for commands that check things: canctl network check, canctl health, canctl firmware download; use human, json or csv here"
+            "--format junit is for commands that check things: canctl network check, canctl health, canctl doctor, canctl firmware download; use human, json or csv here"
                 .into(),
         )
         .into());
@@ -329,6 +342,7 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
         Command::Firmware(cmd) => with_bus(&ctx, g, |bus| firmware::run(&ctx, bus, cmd)),
         Command::Errors(a) => with_bus(&ctx, g, |bus| errors::run(&ctx, bus, a)),
         Command::Health(a) => with_bus(&ctx, g, |bus| health::run(&ctx, bus, a)),
+        Command::Doctor(a) => doctor::run(&ctx, g, a),
         Command::Sim(args) => sim::run(&ctx, g, args),
         Command::Settings => Ok(ctx.out.report(&settings.report())?),
         Command::Completions(args) => docs::completions(args),

@@ -104,7 +104,8 @@ pub(crate) struct ResetArgs {
     /// KIND: drop, delay=MS, duplicate, short-dlc[=N], corrupt (first data byte inverted),
     /// babble[=ID] (floods frames), abort[=CODE] (SDO answers refused), mute (falls silent),
     /// wrong-cob[=ID] (answers on another id), reboot (resets instead of
-    /// answering: values not stored are lost, a boot-up follows). WHEN counts the device's answers from 1: N
+    /// answering: values not stored are lost, a boot-up follows), off (not powered: sends
+    /// nothing from the start). WHEN counts the device's answers from 1: N
     /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
     /// the default).
     #[arg(long, value_name = "SPEC")]

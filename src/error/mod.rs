@@ -409,6 +409,14 @@ pub enum Error {
         /// One entry per node not healthy, in words.
         nodes: Vec<String>,
     },
+    /// `doctor` found problems on a bus (its report lists them, most likely cause first).
+    #[error("{bus}: {count} problem(s) found, most likely cause first in the report")]
+    Diagnosed {
+        /// The bus examined.
+        bus: String,
+        /// How many problems it found.
+        count: usize,
+    },
 
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
@@ -554,7 +562,8 @@ impl Error {
             | Error::OtherDevice { .. }
             | Error::NetworkDiffers { .. }
             | Error::NotFollowed { .. }
-            | Error::Unhealthy { .. } => C::Verify,
+            | Error::Unhealthy { .. }
+            | Error::Diagnosed { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),

@@ -79,7 +79,7 @@ impl fmt::Display for Clash {
 
 /// Whether `data`, an SDO server's frame, answers an upload of `addr` (its expedited
 /// answer, or its abort), and with what value.
-fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Option<u32>> {
+pub(crate) fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Option<u32>> {
     let [cs, lo, hi, sub, a, b, c, d] = <[u8; 8]>::try_from(data).ok()?;
     if u16::from_le_bytes([lo, hi]) != addr.index || sub != addr.sub {
         return None;

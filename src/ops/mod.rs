@@ -12,6 +12,7 @@ pub(crate) mod completion;
 pub mod config;
 pub(crate) mod counted;
 pub mod dictionaries;
+pub mod doctor;
 pub mod drive;
 pub(crate) mod errors;
 pub(crate) mod event;

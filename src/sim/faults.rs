@@ -10,7 +10,8 @@
 //!   (floods frames on ID, its EMCY id unless given), `abort[=CODE]` (SDO answers become
 //!   an abort, 0x08000000 unless given), `mute` (stops sending anything, its own frames too),
 //!   `wrong-cob[=ID]` (answers on ID, its own id + 1 unless given), `no-heartbeat` (stops
-//!   producing heartbeats, though its 0x1017 still says it does: a hung firmware task);
+//!   producing heartbeats, though its 0x1017 still says it does: a hung firmware task),
+//!   `off` (not powered: sends nothing from the start, where `mute` falls silent at an answer);
 //! - WHEN: `*` every answer (the default), `N` the N-th answer only, `N+` the N-th and
 //!   every later one, `P%` each answer with probability P (drawn from the seed).
 //!
@@ -44,6 +45,9 @@ pub enum Kind {
     /// The device reboots instead of answering (a power dip, a watchdog): what it was told
     /// and not stored is gone, and it sends its boot-up.
     Reboot,
+    /// The device is not powered: it sends nothing, from the start (no heartbeat, no
+    /// answer), where `mute` falls silent at an answer.
+    Off,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,16 +115,23 @@ impl FromStr for FaultSpec {
             "wrong-cob" => Kind::WrongCob(arg.map(parse_cob).transpose()?),
             "no-heartbeat" => Kind::NoHeartbeat,
             "reboot" => Kind::Reboot,
+            "off" => Kind::Off,
             _ => {
                 return Err(format!(
-                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat or reboot"
+                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat, reboot or off"
                 ))
             }
         };
         if arg.is_some()
             && matches!(
                 kind,
-                Kind::Drop | Kind::Duplicate | Kind::Corrupt | Kind::Mute | Kind::NoHeartbeat | Kind::Reboot
+                Kind::Drop
+                    | Kind::Duplicate
+                    | Kind::Corrupt
+                    | Kind::Mute
+                    | Kind::NoHeartbeat
+                    | Kind::Reboot
+                    | Kind::Off
             )
         {
             return Err(format!("'{name}' takes no argument"));
@@ -162,6 +173,7 @@ impl fmt::Display for FaultSpec {
             Kind::WrongCob(Some(id)) => write!(f, "wrong-cob=0x{id:03X}")?,
             Kind::NoHeartbeat => write!(f, "no-heartbeat")?,
             Kind::Reboot => write!(f, "reboot")?,
+            Kind::Off => write!(f, "off")?,
         }
         match self.when {
             When::Always => Ok(()),
@@ -280,7 +292,7 @@ impl Conduct {
             }
             match spec.kind {
                 Kind::Drop => copies = 0,
-                Kind::Mute => self.muted = true,
+                Kind::Mute | Kind::Off => self.muted = true,
                 Kind::Delay(ms) => delay += ms as Nanos * MS,
                 Kind::Duplicate => copies *= 2,
                 Kind::ShortDlc(len) => f = Frame::new(f.id(), &f.data()[..f.len().min(len as usize)]),
@@ -326,7 +338,9 @@ impl Conduct {
                 .faults
                 .iter()
                 .any(|s| s.kind == Kind::NoHeartbeat && s.when == When::Always && s.applies_to(model, node));
-        let silenced = self.muted || (heartbeat && stopped);
+        let off =
+            self.faults.iter().any(|s| s.kind == Kind::Off && s.when == When::Always && s.applies_to(model, node));
+        let silenced = self.muted || off || (heartbeat && stopped);
         (!silenced).then_some(f)
     }
 
@@ -506,5 +520,15 @@ mod tests {
         assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
         assert_eq!(answer(&mut c, sdo_answer()).len(), 1);
         assert_eq!(c.own(beat, "sensor", Some(5)), None);
+    }
+
+    #[test]
+    fn a_device_that_is_off_sends_nothing_from_the_start() {
+        let beat = Frame::new(0x705, &[0x7F]);
+        let mut c = conduct("sensor:off");
+        assert_eq!("sensor:off".parse::<FaultSpec>().unwrap().to_string(), "sensor:off");
+        assert_eq!(c.own(beat, "sensor", Some(5)), None, "no heartbeat before any request");
+        assert!(answer(&mut c, sdo_answer()).is_empty());
+        assert_eq!(conduct("drive:off").own(beat, "sensor", Some(5)), Some(beat), "another device is powered");
     }
 }

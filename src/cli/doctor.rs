@@ -1,0 +1,81 @@
+//! `canctl doctor`: why a node, or the bus, is silent.
+
+use super::{parse_node, Ctx, GlobalArgs};
+use crate::bus::Bus;
+use crate::error::Error;
+use crate::ops::doctor::{self, DoctorOptions};
+use clap::Args;
+use clap_complete::engine::ArgValueCandidates;
+use std::time::Duration;
+
+/// Say why a node or the bus is silent: ranked causes, the frames that show each, the fix
+///
+/// Listens to the bus for --window (heartbeats, boot-ups, any traffic); then, given NODE,
+/// reads its vendor-ID 0x1018:1 by SDO (2 requests, each waiting --timeout), asks its state
+/// by node guarding when no heartbeat said it (one remote request, --timeout), and, when it
+/// is silent, reads 0x1000 of every node-id at once (one --timeout) to find the device the
+/// last scan saw on NODE on another id; when it answers, reads its serial number twice to
+/// tell two devices on one id apart. Without NODE: the listen and the read of every node-id.
+/// Through an EPOS2, which shows no traffic, nothing is listened to and the ids are read
+/// one after the other (up to 127 --timeout).
+/// Failures of the link (interface down, no permission, transmit queue full, bus-off, an
+/// adapter's bus errors) are findings too. Doctor only reads and listens: it writes nothing
+/// to any device and sends no NMT or LSS command. Exit 0 when nothing is wrong, 6 when it
+/// found a problem (the findings say which, most likely first).
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  canctl --bus sim doctor 5
+  canctl --bus can0 doctor
+  canctl --bus can0 doctor 7 --window 3s --format json")]
+pub struct DoctorArgs {
+    /// The node to examine, 1 to 127 (without it: the bus only)
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub node: Option<u8>,
+    /// How long to listen to the bus first (a heartbeat slower than this may be missed)
+    #[arg(long, value_name = "DUR", default_value = "1s", value_parser = super::parse_duration)]
+    pub window: Duration,
+    #[command(flatten)]
+    pub checks: super::CheckFormat,
+}
+
+/// Run `canctl doctor`: the diagnosis rendered, exit 6 when it found a problem.
+pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()> {
+    let last_scan = ctx.bus.as_deref().map(crate::ops::scan_cache::load).unwrap_or_default();
+    let options = DoctorOptions { node: a.node, listen: a.window, timeout: ctx.timeout, last_scan };
+    let mut opened = false;
+    let result = super::with_bus(ctx, global, |bus| {
+        opened = true;
+        let diagnosed = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| doctor::doctor(bus, &options));
+        let report = crate::output::stopped::read(&ctx.out, "doctor", "listening and asking".into(), diagnosed)?;
+        ctx.out.report(&report)?;
+        Ok(report.outcome()?)
+    });
+    // A link that cannot be opened is a diagnosis of its own (an interface down, no
+    // permission), not only an error.
+    match result {
+        Err(e) if !opened => match e.downcast_ref::<Error>().map(Error::root) {
+            Some(Error::Link(link)) => {
+                let report = doctor::unopened(ctx.bus.as_deref().unwrap_or_default(), a.node, link);
+                ctx.out.report(&report)?;
+                Ok(report.outcome()?)
+            }
+            _ => Err(e),
+        },
+        result => result,
+    }
+}
+
+/// The longest each wait of the quick checks after a silent node may be: with the read of
+/// every node-id, a second or so in all.
+const QUICK_WAIT: Duration = Duration::from_millis(500);
+
+/// `; likely cause: ...; fix: ...` for a node that did not answer, from the quick checks
+/// ([`doctor::quick`], two waits of at most half a second); empty when they point at nothing
+/// or cannot tell.
+pub(super) fn likely_cause(bus: &mut dyn Bus, node: u8, timeout: Duration) -> String {
+    use crate::output::doctor::{cause_text, remedy_text};
+    match doctor::quick(bus, node, timeout.min(QUICK_WAIT)) {
+        Ok(Some(f)) => format!("; likely cause: {}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy)),
+        _ => String::new(),
+    }
+}

@@ -1,0 +1,584 @@
+//! Why a node, or the whole bus, is silent: a bounded look at the bus (a listen, the link's
+//! own report, a probe of every node-id) and, given a node, at that node (an SDO read, its
+//! heartbeat or node-guarding answer, the device the last scan saw there, a second device
+//! on its id). The result is a ranked list of findings, each with the frames or errors that
+//! show it and the remedy; and what was checked and found fine.
+//!
+//! Doctor never writes to a device and sends no broadcast: only SDO reads (uploads), node
+//! guarding remote requests, and listening. Every wait is bounded by the listen window or
+//! the per-request timeout ([`DoctorOptions`]).
+
+mod report;
+
+pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
+
+use crate::bus::{Bus, SdoOptions};
+use crate::canopen::nmt::{self, ErrorControl};
+use crate::canopen::sdo::SdoClient;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, LinkError, Result};
+use crate::frame::Frame;
+use crate::ops::clash::{self, Clash};
+use crate::ops::scan_cache::SeenNode;
+use crate::ops::{le_u32, scan, Silent};
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Duration;
+
+/// The serial number: what tells two devices of one kind apart.
+const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
+/// The device name: with the vendor-ID, what tells a moved device from another one.
+const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+/// How many requests the node's SDO read gets: a lost frame is not taken for a silent node.
+const SDO_REQUESTS: u32 = 2;
+/// A COB-ID heard this many times in the listen, nine frames in ten, fills the bus.
+const FLOOD_FRAMES: usize = 100;
+/// At most this many nodes that were not on the last scan are asked whether they are the
+/// one that moved.
+const MAX_CANDIDATES: usize = 8;
+
+/// What doctor looks at, and how long it may wait.
+#[derive(Clone, Debug)]
+pub struct DoctorOptions {
+    /// The node to examine; `None`: the bus only.
+    pub node: Option<u8>,
+    /// How long to listen to the bus's own traffic first (heartbeats, boot-ups, anything).
+    pub listen: Duration,
+    /// How long each request waits for its answer (SDO read, node guarding, the probe).
+    pub timeout: Duration,
+    /// What the last scan of this bus saw (`scan_cache::load`): a node that moved is
+    /// recognised by it.
+    pub last_scan: Vec<SeenNode>,
+}
+
+/// What the listen heard.
+#[derive(Default)]
+struct Heard {
+    frames: BTreeMap<u16, usize>,
+    /// Per node: heartbeats and boot-ups counted, the states said (in order, each once),
+    /// the last state.
+    beats: BTreeMap<u8, (usize, Vec<nmt::State>, nmt::State)>,
+}
+
+impl Heard {
+    fn take(&mut self, f: &Frame) {
+        if f.is_remote() {
+            return;
+        }
+        *self.frames.entry(f.id()).or_default() += 1;
+        let state = match ErrorControl::parse(f) {
+            Some((node, ErrorControl::State { state, .. })) => Some((node, state)),
+            Some((node, ErrorControl::BootUp)) => Some((node, nmt::State::PreOperational)),
+            _ => None,
+        };
+        if let Some((node, state)) = state {
+            let e = self.beats.entry(node).or_insert((0, Vec::new(), state));
+            e.0 += 1;
+            if !e.1.contains(&state) {
+                e.1.push(state);
+            }
+            e.2 = state;
+        }
+    }
+
+    /// The COB-ID that fills the bus, if one does: at least [`FLOOD_FRAMES`] frames and
+    /// nine in ten of all heard.
+    fn flood(&self) -> Option<u16> {
+        let total: usize = self.frames.values().sum();
+        let (cob, n) = self.frames.iter().max_by_key(|(_, n)| **n)?;
+        (*n >= FLOOD_FRAMES && *n * 10 >= total * 9).then_some(*cob)
+    }
+
+    /// What the bus as a whole shows when no node answered the probe (`probe`): nothing at
+    /// all, or one id filling it; `None` when neither.
+    fn bus_finding(&self, answered: bool, probe: &Evidence, listened_ms: u64) -> Option<Finding> {
+        if answered {
+            return None;
+        }
+        if self.frames.is_empty() {
+            let evidence = vec![Evidence::NothingHeard { listened_ms }, probe.clone()];
+            return Some(Finding { cause: Cause::BusSilent, evidence, remedy: Remedy::CheckBus });
+        }
+        let cob_id = self.flood()?;
+        let evidence = vec![self.traffic(), probe.clone()];
+        Some(Finding { cause: Cause::Flood { cob_id }, evidence, remedy: Remedy::FindFlooder { cob_id } })
+    }
+
+    fn traffic(&self) -> Evidence {
+        Evidence::Traffic { frames: self.frames.iter().map(|(c, n)| FrameCount { cob_id: *c, count: *n }).collect() }
+    }
+
+    fn heartbeats(&self, node: u8) -> Option<Evidence> {
+        let (count, _, state) = self.beats.get(&node)?;
+        Some(Evidence::Heartbeats { node, count: *count, state: *state })
+    }
+}
+
+impl Diagnosis {
+    /// A verification error (exit 6) when a problem was found.
+    pub fn outcome(&self) -> Result<()> {
+        match self.findings.len() {
+            0 => Ok(()),
+            count => Err(Error::Diagnosed { bus: self.bus.clone(), count }),
+        }
+    }
+}
+
+/// Examine the bus and, given one, the node; link failures become findings (the host,
+/// the controller), other errors end it (an interruption).
+pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
+    let mut d = Diagnosis {
+        bus: bus.describe(),
+        node: o.node,
+        listened_ms: 0,
+        findings: Vec::new(),
+        fine: Vec::new(),
+        ok: false,
+    };
+    match examine(bus, o, &mut d) {
+        Ok(()) => {}
+        Err(e) => match e.root() {
+            Error::Link(link) => d.findings.push(link_finding(link)),
+            _ => return Err(e),
+        },
+    }
+    d.findings.sort_by_key(|f| f.cause.rank());
+    d.ok = d.findings.is_empty();
+    Ok(d)
+}
+
+/// The quick part of the checks, for a node that just did not answer a request: its state
+/// from a heartbeat the bus already showed, else one node-guarding request (waiting up to
+/// `wait`); when neither says it, a read of 0x1000 of every node-id at once (one `wait`):
+/// the node alone is silent, or the whole bus (not where the link shows no traffic: an
+/// EPOS2 reads the ids one by one). At most two waits of `wait`. Reads only.
+pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Finding>> {
+    let beat = bus.observed().states.get(&node).copied();
+    let (state, seen) = match beat {
+        Some(state) => (Some(state), Evidence::Heartbeats { node, count: 1, state }),
+        None => match crate::ops::node::Node::new(bus, node, wait).guard(wait)?.and_then(|g| g.state()) {
+            Some(state) => (Some(state), Evidence::Guarding { node, state }),
+            None => (None, Evidence::NoGuardingAnswer { node, waited_ms: ms(wait) }),
+        },
+    };
+    let finding = |cause, remedy, evidence| Some(Finding { cause, evidence, remedy });
+    Ok(match state {
+        Some(nmt::State::Stopped) => finding(Cause::Stopped { node }, Remedy::PreOperational { node }, vec![seen]),
+        Some(_) => finding(Cause::SdoSilent { node }, Remedy::ResetCommunication { node }, vec![seen]),
+        // Through an EPOS2 the read of every id is one after the other: far from quick.
+        None if !bus.sees_traffic() => None,
+        None => {
+            let found = scan::probe(bus, wait, &mut Silent)?;
+            if found.iter().any(|(n, _)| *n == node) {
+                // It answers now: a late answer, not a cause to name.
+                return Ok(None);
+            }
+            let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(wait) };
+            match found.is_empty() && bus.observed().nodes.is_empty() {
+                true => finding(Cause::BusSilent, Remedy::CheckBus, vec![seen, probe]),
+                false => finding(Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![seen, probe]),
+            }
+        }
+    })
+}
+
+/// The diagnosis of a link that could not even be opened.
+pub fn unopened(bus: &str, node: Option<u8>, error: &LinkError) -> Diagnosis {
+    Diagnosis {
+        bus: bus.to_string(),
+        node,
+        listened_ms: 0,
+        findings: vec![link_finding(error)],
+        fine: vec![],
+        ok: false,
+    }
+}
+
+/// The finding a link failure shows: the host's side, or the controller's report of the bus.
+pub(crate) fn link_finding(error: &LinkError) -> Finding {
+    let cause = match error {
+        LinkError::BusOff { .. } => Cause::Controller { state: ControllerState::BusOff },
+        LinkError::AdapterBusError { .. } | LinkError::AdapterRefusedFrame { cob: Some(_), .. } => {
+            Cause::Controller { state: ControllerState::BusErrors }
+        }
+        _ => Cause::Host { problem: host_problem(error) },
+    };
+    let remedy = match &cause {
+        Cause::Host { problem } => Remedy::FixHost { problem: *problem },
+        _ => Remedy::CheckBus,
+    };
+    Finding { cause, evidence: vec![Evidence::LinkReported { message: error.to_string() }], remedy }
+}
+
+fn host_problem(error: &LinkError) -> HostProblem {
+    let io_problem = |e: &std::io::Error| match (e.kind(), e.raw_os_error()) {
+        (std::io::ErrorKind::PermissionDenied, _) => HostProblem::NoPermission,
+        (_, Some(code)) if code == enobufs() => HostProblem::TransmitQueueFull,
+        _ => HostProblem::LinkFailed,
+    };
+    match error {
+        LinkError::Down { .. } => HostProblem::InterfaceDown,
+        LinkError::NoInterface { .. } | LinkError::NotCan { .. } | LinkError::NotSerialPort { .. } => {
+            HostProblem::NoInterface
+        }
+        LinkError::Open { error, .. } => match io_problem(error) {
+            HostProblem::LinkFailed => HostProblem::CannotOpen,
+            p => p,
+        },
+        LinkError::Io { error, .. } => io_problem(error),
+        LinkError::TxQueueFull { .. } => HostProblem::TransmitQueueFull,
+        LinkError::AdapterRefused { .. } | LinkError::AdapterRefusedFrame { .. } | LinkError::Epos2(_) => {
+            HostProblem::AdapterNotAnswering
+        }
+        _ => HostProblem::LinkFailed,
+    }
+}
+
+/// ENOBUFS, the errno of a full transmit queue (Linux 105; the BSDs and macOS 55).
+fn enobufs() -> i32 {
+    if cfg!(any(target_os = "macos", target_os = "freebsd", target_os = "netbsd", target_os = "openbsd")) {
+        55
+    } else {
+        105
+    }
+}
+
+fn ms(d: Duration) -> u64 {
+    d.as_millis() as u64
+}
+
+/// Every check, then the link's own report of the bus after them (an adapter's bus errors
+/// show only once it has sent something).
+fn examine(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Result<()> {
+    examine_all(bus, o, d)?;
+    bus.check_link()?;
+    d.fine.push(Evidence::LinkQuiet);
+    Ok(())
+}
+
+fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Result<()> {
+    let mut heard = Heard::default();
+    if bus.sees_traffic() {
+        let end = bus.now() + o.listen;
+        // Until the end even on a bus that never falls quiet (a babbling device).
+        while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
+            heard.take(&f);
+        }
+        d.listened_ms = ms(o.listen);
+    }
+    bus.check_link()?;
+    let Some(node) = o.node else { return examine_bus(bus, o, &heard, d) };
+    let (answers, elsewhere) = sdo_probe(bus, node, o.timeout, &mut heard)?;
+    if let Some(first) = answers.first() {
+        d.fine.push(Evidence::SdoAnswer { node, obj: SERIAL, value: *first });
+        if let Some(beats) = heard.heartbeats(node) {
+            d.fine.push(beats);
+        }
+        return look_for_clash(bus, o, node, answers, &heard, d);
+    }
+    let no_answer = Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) };
+    let mut evidence: Vec<Evidence> = heard.heartbeats(node).into_iter().collect();
+    let state = match heard.beats.get(&node) {
+        Some((_, _, state)) => Some(*state),
+        None => match crate::ops::node::Node::new(bus, node, o.timeout).guard(o.timeout)? {
+            Some(g) => {
+                let state = g.state();
+                if let Some(state) = state {
+                    evidence.push(Evidence::Guarding { node, state });
+                }
+                state
+            }
+            None => {
+                evidence.push(Evidence::NoGuardingAnswer { node, waited_ms: ms(o.timeout) });
+                None
+            }
+        },
+    };
+    evidence.push(no_answer);
+    evidence.extend(elsewhere.iter().map(|cob_id| Evidence::SdoAnswerOn { node, cob_id: *cob_id }));
+    match state {
+        Some(nmt::State::Stopped) => d.findings.push(Finding {
+            cause: Cause::Stopped { node },
+            evidence,
+            remedy: Remedy::PreOperational { node },
+        }),
+        Some(_) => d.findings.push(Finding {
+            cause: Cause::SdoSilent { node },
+            evidence,
+            remedy: Remedy::ResetCommunication { node },
+        }),
+        None => return node_absent(bus, o, node, evidence, &heard, d),
+    }
+    Ok(())
+}
+
+/// Nothing at all from the node: has its device moved to another id, is the whole bus
+/// silent, or is only this node missing?
+fn node_absent(
+    bus: &mut dyn Bus,
+    o: &DoctorOptions,
+    node: u8,
+    mut evidence: Vec<Evidence>,
+    heard: &Heard,
+    d: &mut Diagnosis,
+) -> Result<()> {
+    let found = scan::probe(bus, o.timeout, &mut Silent)?;
+    let ids: Vec<u8> = found.iter().map(|(n, _)| *n).collect();
+    let probe = Evidence::ProbeAnswers { nodes: ids.clone(), waited_ms: ms(o.timeout) };
+    if let Some(mut bus_wide) = heard.bus_finding(!ids.is_empty(), &probe, d.listened_ms) {
+        evidence.append(&mut bus_wide.evidence);
+        bus_wide.evidence = evidence;
+        d.findings.push(bus_wide);
+        return Ok(());
+    }
+    if let Some(moved) = find_moved(bus, o, node, &ids)? {
+        d.findings.push(moved);
+        return Ok(());
+    }
+    if !heard.frames.is_empty() {
+        evidence.push(heard.traffic());
+    }
+    evidence.push(probe);
+    d.findings.push(Finding { cause: Cause::NodeSilent { node }, evidence, remedy: Remedy::CheckNode { node } });
+    Ok(())
+}
+
+/// The device the last scan saw on `node`, found on another of the ids that answered
+/// (`answering`) that the last scan did not see: the same vendor-ID and name.
+fn find_moved(bus: &mut dyn Bus, o: &DoctorOptions, node: u8, answering: &[u8]) -> Result<Option<Finding>> {
+    let Some(was) = o.last_scan.iter().find(|s| s.node == node && s.scanned) else { return Ok(None) };
+    let Some(vendor) = was.vendor_id else { return Ok(None) };
+    let known: BTreeSet<u8> = o.last_scan.iter().filter(|s| s.scanned).map(|s| s.node).collect();
+    let candidates: Vec<u8> = answering.iter().copied().filter(|n| !known.contains(n)).take(MAX_CANDIDATES).collect();
+    let opts = SdoOptions { retries: 1, ..SdoOptions::new(o.timeout) };
+    for now in candidates {
+        let identity = match crate::ops::node::Node::new(bus, now, o.timeout).identity() {
+            Ok(Some(identity)) if identity.vendor == vendor => identity,
+            Ok(_) => continue,
+            Err(e) if matches!(e.root(), Error::Link(_)) => return Err(e),
+            Err(_) => continue,
+        };
+        let name = bus.sdo_upload(now, NAME, &opts).ok().map(|b| String::from_utf8_lossy(&b).into_owned());
+        if was.name.is_none() || was.name == name {
+            let evidence = vec![
+                Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() },
+                Evidence::Identity { node: now, identity, name },
+                Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) },
+            ];
+            return Ok(Some(Finding {
+                cause: Cause::Moved { node, now },
+                evidence,
+                remedy: Remedy::UseNewId { node, now, identity },
+            }));
+        }
+    }
+    Ok(None)
+}
+
+/// The node answered: is it one device? Two answers to the read, heartbeats in two states,
+/// a serial number that changes between reads.
+fn look_for_clash(
+    bus: &mut dyn Bus,
+    o: &DoctorOptions,
+    node: u8,
+    answers: Vec<Option<u32>>,
+    heard: &Heard,
+    d: &mut Diagnosis,
+) -> Result<()> {
+    let mut shown: Vec<clash::Evidence> = Vec::new();
+    if answers.len() > 1 {
+        shown.push(clash::Evidence::SdoAnswers { values: answers.clone() });
+    }
+    if let Some((_, states, _)) = heard.beats.get(&node).filter(|(_, s, _)| s.len() > 1) {
+        shown.push(clash::Evidence::HeartbeatStates { states: states.clone() });
+    }
+    if shown.is_empty() {
+        // The serial just read, against a second read: two devices whose answers merge on
+        // the bus show as a serial that changes.
+        let serial = answers.first().copied().flatten();
+        let found: Vec<Clash> = clash::find(bus, &[(node, serial)], o.timeout, o.timeout)?;
+        shown.extend(found.into_iter().map(|c| c.evidence));
+    }
+    if shown.is_empty() {
+        d.fine.push(Evidence::OneDevice { node });
+        return Ok(());
+    }
+    let evidence = shown.into_iter().map(|shown_by| Evidence::Clash { shown_by }).collect();
+    d.findings.push(Finding { cause: Cause::NodeIdClash { node }, evidence, remedy: Remedy::SeparateIds { node } });
+    Ok(())
+}
+
+/// The bus without a node: heartbeats of one id in two states, and, when the listen heard
+/// nothing, a probe of every node-id.
+fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diagnosis) -> Result<()> {
+    for (node, (_, states, _)) in heard.beats.iter().filter(|(_, (_, s, _))| s.len() > 1) {
+        let shown_by = clash::Evidence::HeartbeatStates { states: states.clone() };
+        d.findings.push(Finding {
+            cause: Cause::NodeIdClash { node: *node },
+            evidence: vec![Evidence::Clash { shown_by }],
+            remedy: Remedy::SeparateIds { node: *node },
+        });
+    }
+    let found = scan::probe(bus, o.timeout, &mut Silent)?;
+    if !heard.frames.is_empty() && heard.flood().is_none() {
+        d.fine.push(heard.traffic());
+    }
+    let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(o.timeout) };
+    // A node that beats but did not answer its read: stopped, or its SDO server elsewhere.
+    let answered: BTreeSet<u8> = found.iter().map(|(n, _)| *n).collect();
+    for (node, (_, _, state)) in heard.beats.iter().filter(|(n, _)| !answered.contains(n)) {
+        let node = *node;
+        let evidence = heard.heartbeats(node).into_iter().chain([probe.clone()]).collect();
+        d.findings.push(match state {
+            nmt::State::Stopped => {
+                Finding { cause: Cause::Stopped { node }, evidence, remedy: Remedy::PreOperational { node } }
+            }
+            _ => Finding { cause: Cause::SdoSilent { node }, evidence, remedy: Remedy::ResetCommunication { node } },
+        });
+    }
+    match heard.bus_finding(!found.is_empty(), &probe, d.listened_ms) {
+        Some(finding) => d.findings.push(finding),
+        None if !found.is_empty() => d.fine.push(probe),
+        // Nobody answered though the bus is busy, and no heartbeat said why.
+        None if d.findings.is_empty() => {
+            let evidence = vec![heard.traffic(), probe];
+            d.findings.push(Finding { cause: Cause::NoAnswers, evidence, remedy: Remedy::WatchBus });
+        }
+        None => {}
+    }
+    Ok(())
+}
+
+/// One SDO read of the node's serial number sent raw, up to [`SDO_REQUESTS`] times while none
+/// is answered, each answer waited for `timeout`: every answer on 0x580 + node (two mean
+/// two devices), and the COB-IDs an answer to it came on instead. Where the link shows no
+/// traffic (an EPOS2 gateway), one read through the bus's own SDO client.
+fn sdo_probe(
+    bus: &mut dyn Bus,
+    node: u8,
+    timeout: Duration,
+    heard: &mut Heard,
+) -> Result<(Vec<Option<u32>>, Vec<u16>)> {
+    if !bus.sees_traffic() {
+        let opts = SdoOptions { retries: (SDO_REQUESTS - 1) as u8, ..SdoOptions::new(timeout) };
+        return match bus.sdo_upload(node, SERIAL, &opts) {
+            Ok(v) => Ok((vec![Some(le_u32(&v))], vec![])),
+            Err(Error::SdoAbort { .. }) => Ok((vec![None], vec![])),
+            Err(e) if e.is_timeout() => Ok((vec![], vec![])),
+            Err(e) => Err(e),
+        };
+    }
+    let own = crate::canopen::sdo::response_cob(node);
+    let mut answers = Vec::new();
+    let mut elsewhere = BTreeSet::new();
+    for _ in 0..SDO_REQUESTS {
+        let request = SdoClient::upload(SERIAL, false).start();
+        bus.send_frame(&Frame::new(crate::canopen::sdo::request_cob(node), &request))?;
+        let end = bus.now() + timeout;
+        while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
+            match clash::upload_answer(f.data(), SERIAL) {
+                Some(value) if f.id() == own => answers.push(value),
+                // Another node's answer to the same read would need a request of its own:
+                // one on another id now is this node's, moved by its 0x1200.
+                Some(_) if !f.is_remote() => {
+                    elsewhere.insert(f.id());
+                }
+                _ => heard.take(&f),
+            }
+        }
+        if !answers.is_empty() {
+            break;
+        }
+    }
+    Ok((answers, elsewhere.into_iter().collect()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn io(kind: std::io::ErrorKind, raw: Option<i32>) -> std::io::Error {
+        match raw {
+            Some(code) => std::io::Error::from_raw_os_error(code),
+            None => std::io::Error::from(kind),
+        }
+    }
+
+    #[test]
+    fn each_link_failure_names_the_host_or_the_controller() {
+        let cause = |e: LinkError| link_finding(&e).cause;
+        assert_eq!(
+            cause(LinkError::Down { iface: "can0".into() }),
+            Cause::Host { problem: HostProblem::InterfaceDown }
+        );
+        assert_eq!(
+            cause(LinkError::Open { port: "can0".into(), error: io(std::io::ErrorKind::PermissionDenied, None) }),
+            Cause::Host { problem: HostProblem::NoPermission }
+        );
+        assert_eq!(
+            cause(LinkError::Io {
+                port: "can0".into(),
+                op: "send",
+                error: io(std::io::ErrorKind::Other, Some(enobufs()))
+            }),
+            Cause::Host { problem: HostProblem::TransmitQueueFull }
+        );
+        assert_eq!(
+            cause(LinkError::TxQueueFull { iface: "can0".into(), waited: Duration::from_secs(1) }),
+            Cause::Host { problem: HostProblem::TransmitQueueFull }
+        );
+        assert_eq!(
+            cause(LinkError::BusOff { iface: "can0".into(), detail: "bus off".into() }),
+            Cause::Controller { state: ControllerState::BusOff }
+        );
+        let f = link_finding(&LinkError::AdapterBusError { port: "slcan:x".into(), flags: vec!["bus error"] });
+        assert_eq!(f.cause, Cause::Controller { state: ControllerState::BusErrors });
+        assert_eq!(f.remedy, Remedy::CheckBus);
+        // The link's own words are the evidence.
+        assert!(matches!(&f.evidence[..], [Evidence::LinkReported { message }] if message.contains("bus error")));
+    }
+
+    #[test]
+    fn the_listen_counts_frames_and_the_states_heartbeats_say() {
+        let mut h = Heard::default();
+        for f in [
+            Frame::new(0x705, &[0x7F]),
+            Frame::new(0x705, &[0x04]),
+            Frame::new(0x185, &[1, 2]),
+            Frame::remote(0x705, 1),
+        ] {
+            h.take(&f);
+        }
+        assert_eq!(h.frames, BTreeMap::from([(0x185, 1), (0x705, 2)]));
+        assert_eq!(h.beats[&5], (2, vec![nmt::State::PreOperational, nmt::State::Stopped], nmt::State::Stopped));
+        assert_eq!(h.heartbeats(5), Some(Evidence::Heartbeats { node: 5, count: 2, state: nmt::State::Stopped }));
+        assert_eq!(h.heartbeats(6), None);
+    }
+
+    #[test]
+    fn findings_rank_the_host_before_the_node() {
+        let mut causes = [
+            Cause::NodeSilent { node: 5 },
+            Cause::Stopped { node: 5 },
+            Cause::BusSilent,
+            Cause::Host { problem: HostProblem::InterfaceDown },
+        ];
+        causes.sort_by_key(Cause::rank);
+        assert_eq!(causes[0], Cause::Host { problem: HostProblem::InterfaceDown });
+        assert_eq!(causes[3], Cause::NodeSilent { node: 5 });
+    }
+
+    #[test]
+    fn a_finding_serialises_its_cause_evidence_and_remedy() {
+        let f = Finding {
+            cause: Cause::Stopped { node: 5 },
+            evidence: vec![Evidence::Heartbeats { node: 5, count: 3, state: nmt::State::Stopped }],
+            remedy: Remedy::PreOperational { node: 5 },
+        };
+        let json = serde_json::to_value(&f).unwrap();
+        assert_eq!(json["cause"], "stopped");
+        assert_eq!(json["node"], 5);
+        assert_eq!(json["evidence"][0]["kind"], "heartbeats");
+        assert_eq!(json["evidence"][0]["state"], "stopped");
+        assert_eq!(json["remedy"]["remedy"], "pre_operational");
+    }
+}

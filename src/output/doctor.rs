@@ -1,0 +1,311 @@
+//! How `doctor`'s diagnosis looks: each finding, most likely first, with its evidence and
+//! the fix, in words that name canctl's commands; and what was found fine.
+
+use super::{Human, Report, TestCase, TestSuite};
+use crate::canopen::sdo::{request_cob, response_cob};
+use crate::ops::clash;
+use crate::ops::doctor::{Cause, ControllerState, Diagnosis, Evidence, Finding, HostProblem, Remedy};
+
+/// What is wrong, in a sentence.
+pub(crate) fn cause_text(cause: &Cause) -> String {
+    match cause {
+        Cause::Host { problem } => format!("the host: {}", host_text(*problem)),
+        Cause::Controller { state: ControllerState::BusOff } => {
+            "the CAN controller went bus-off: its frames were not acknowledged or were destroyed on the bus".into()
+        }
+        Cause::Controller { state: ControllerState::BusErrors } => {
+            "the CAN controller reports bus errors: nothing acknowledges its frames, or the bus runs at another bit rate"
+                .into()
+        }
+        Cause::BusSilent => "nothing on the bus: no frame heard, and no node answered a read".into(),
+        Cause::NoAnswers => "frames are heard, but no node answered a read on any node-id: the devices serve no SDO \
+             there (stopped, or on other COB-IDs)"
+            .into(),
+        Cause::Flood { cob_id } => format!(
+            "a device floods the bus with 0x{cob_id:03X}: sent without pause, it wins every arbitration and no node \
+             gets a frame through"
+        ),
+        Cause::NodeIdClash { node } => format!("node-id {node} is used by more than one device"),
+        Cause::Stopped { node } => format!("node {node} is alive but stopped: a stopped node serves no SDO"),
+        Cause::SdoSilent { node } => format!(
+            "node {node} is alive but its SDO server does not answer on 0x{:03X}/0x{:03X} (its 0x1200 changed, or the server is off)",
+            request_cob(*node),
+            response_cob(*node)
+        ),
+        Cause::Moved { node, now } => format!("the device the last scan saw as node {node} answers as node {now} now"),
+        Cause::NodeSilent { node } => {
+            format!("node {node} is silent while the bus is not: not powered, not connected, or on another node-id")
+        }
+    }
+}
+
+fn host_text(problem: HostProblem) -> &'static str {
+    match problem {
+        HostProblem::InterfaceDown => "the CAN interface is down",
+        HostProblem::NoInterface => "there is no such CAN interface or serial port",
+        HostProblem::NoPermission => "this user may not open the link",
+        HostProblem::CannotOpen => "the link cannot be opened",
+        HostProblem::TransmitQueueFull => "the transmit queue is full (ENOBUFS): frames wait and are not sent",
+        HostProblem::AdapterNotAnswering => "the adapter or gateway does not answer as it should",
+        HostProblem::LinkFailed => "the link failed",
+    }
+}
+
+/// What to do, in a sentence naming the commands.
+pub(crate) fn remedy_text(remedy: &Remedy) -> String {
+    match remedy {
+        Remedy::FixHost { problem } => match problem {
+            HostProblem::InterfaceDown => {
+                "bring the interface up at the bus's bit rate: sudo ip link set IFACE up type can bitrate 500000".into()
+            }
+            HostProblem::NoInterface => "check the name: ip link lists the CAN interfaces; --bus sim needs none".into(),
+            HostProblem::NoPermission => {
+                "give this user the rights the link needs (the dialout group for a serial port)".into()
+            }
+            HostProblem::TransmitQueueFull => "frames pile up when no node acknowledges them (see the bus), or the \
+                 queue is too short for a burst: sudo ip link set IFACE txqueuelen 1000"
+                .into(),
+            HostProblem::AdapterNotAnswering => {
+                "check that the adapter is the one named (slcan, EPOS2), that no other program uses it; replug it"
+                    .into()
+            }
+            HostProblem::LinkFailed | HostProblem::CannotOpen => "the link's message above says what failed".into(),
+        },
+        Remedy::CheckBus => "check that another device is powered, that the bus is terminated (120 Ω at each end: \
+             about 60 Ω between CAN_H and CAN_L, power off), the wiring (CAN_H, CAN_L, GND) and that every device runs \
+             at the bus's bit rate"
+            .into(),
+        Remedy::WatchBus => "canctl monitor shows who sends what; a stopped node answers again after canctl nmt \
+             preop NODE"
+            .into(),
+        Remedy::FindFlooder { cob_id } => format!(
+            "find the device sending 0x{cob_id:03X} (canctl monitor shows it; an EMCY id 0x081-0x0FF names its node) \
+             and power it off; then canctl doctor again"
+        ),
+        Remedy::PreOperational { node } => {
+            format!("canctl nmt preop {node} (SDO works there; canctl nmt start {node} runs it again afterwards)")
+        }
+        Remedy::ResetCommunication { node } => format!(
+            "canctl nmt reset-comm {node} brings back the default SDO COB-IDs unless they were stored; else use the \
+             COB-IDs its 0x1200 has (its DCF says them)"
+        ),
+        Remedy::UseNewId { node, now, identity } => format!(
+            "address it as node {now} (canctl scan refreshes what the last scan saw), or give it back its node-id: \
+             canctl lss set-id {node} --identity {}",
+            identity.lss().map_or("VENDOR:PRODUCT:REVISION:SERIAL".to_string(), |i| i.to_string())
+        ),
+        Remedy::SeparateIds { node } => format!(
+            "give one of the devices on node-id {node} another one: canctl lss set-id NEW --identity \
+             VENDOR:PRODUCT:REVISION:SERIAL"
+        ),
+        Remedy::CheckNode { node } => format!(
+            "check that node {node} is powered and connected, and the node-id it has: canctl scan lists the ids that \
+             answer; a device without one waits for canctl lss assign"
+        ),
+    }
+}
+
+fn hex_list(values: &[u32]) -> String {
+    values.iter().map(|v| format!("0x{v:08X}")).collect::<Vec<_>>().join(", ")
+}
+
+fn ids(nodes: &[u8]) -> String {
+    nodes.iter().map(u8::to_string).collect::<Vec<_>>().join(", ")
+}
+
+/// What was seen, in a sentence.
+pub(crate) fn evidence_text(e: &Evidence) -> String {
+    match e {
+        Evidence::Traffic { frames } => {
+            const SHOWN: usize = 8;
+            let total: usize = frames.iter().map(|f| f.count).sum();
+            let mut list: Vec<String> =
+                frames.iter().take(SHOWN).map(|f| format!("0x{:03X} ×{}", f.cob_id, f.count)).collect();
+            if frames.len() > SHOWN {
+                list.push(format!("{} more id(s)", frames.len() - SHOWN));
+            }
+            format!("{total} frame(s) heard: {}", list.join(", "))
+        }
+        Evidence::NothingHeard { listened_ms } => format!("no frame heard in {listened_ms} ms"),
+        Evidence::Heartbeats { node, count, state } => {
+            format!(
+                "{count} heartbeat(s) of node {node} on 0x{:03X}, the last saying {state}",
+                0x700 + u16::from(*node)
+            )
+        }
+        Evidence::Guarding { node, state } => format!("node {node} answered node guarding: {state}"),
+        Evidence::NoGuardingAnswer { node, waited_ms } => {
+            format!("no answer to node guarding of node {node} (0x{:03X}, {waited_ms} ms)", 0x700 + u16::from(*node))
+        }
+        Evidence::SdoAnswer { node, obj, value: Some(v) } => {
+            format!("node {node} answered the SDO read of {obj}: 0x{v:08X}")
+        }
+        Evidence::SdoAnswer { node, obj, value: None } => {
+            format!("node {node} answered the SDO read of {obj} (with an abort)")
+        }
+        Evidence::NoSdoAnswer { node, obj, requests, waited_ms } => format!(
+            "no answer on 0x{:03X} to {requests} SDO read(s) of {obj} sent on 0x{:03X} ({waited_ms} ms each)",
+            response_cob(*node),
+            request_cob(*node)
+        ),
+        Evidence::SdoAnswerOn { node, cob_id } => {
+            format!("an answer to that read came on 0x{cob_id:03X}, not on 0x{:03X}", response_cob(*node))
+        }
+        Evidence::ProbeAnswers { nodes, waited_ms } if nodes.is_empty() => {
+            format!("no node answered a read of 0x1000 sent to every node-id ({waited_ms} ms)")
+        }
+        Evidence::ProbeAnswers { nodes, waited_ms } => {
+            format!("a read of 0x1000 sent to every node-id was answered by node(s) {} ({waited_ms} ms)", ids(nodes))
+        }
+        Evidence::LastScan { node, vendor_id, name } => format!(
+            "the last scan saw node {node}: vendor-ID {}{}",
+            vendor_id.map_or("-".into(), |v| format!("0x{v:08X}")),
+            name.as_ref().map(|n| format!(", \"{n}\"")).unwrap_or_default()
+        ),
+        Evidence::Identity { node, identity, name } => format!(
+            "node {node}, not on the last scan, answers vendor-ID 0x{:08X}{}{}",
+            identity.vendor,
+            identity.serial.map(|s| format!(", serial number 0x{s:08X}")).unwrap_or_default(),
+            name.as_ref().map(|n| format!(", \"{n}\"")).unwrap_or_default()
+        ),
+        Evidence::Clash { shown_by } => match shown_by {
+            clash::Evidence::SdoAnswers { values } => format!(
+                "one read of 0x1018:4 got {} answers ({})",
+                values.len(),
+                values
+                    .iter()
+                    .map(|v| v.map_or("an abort".into(), |s| format!("0x{s:08X}")))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            clash::Evidence::HeartbeatStates { states } => format!(
+                "its heartbeats said {} in one listen",
+                states.iter().map(|s| s.name()).collect::<Vec<_>>().join(" and ")
+            ),
+            clash::Evidence::IdentityChanged { values } => format!("0x1018:4 read {} in turn", hex_list(values)),
+        },
+        Evidence::LinkReported { message } => format!("the link reported: {message}"),
+        Evidence::OneDevice { node } => format!("one device on node-id {node}: no second answer, one serial number"),
+        Evidence::LinkQuiet => "the link reported no bus errors".into(),
+    }
+}
+
+fn heading(d: &Diagnosis) -> String {
+    let what = match d.node {
+        Some(n) => format!("{}, node {n}", d.bus),
+        None => d.bus.clone(),
+    };
+    match d.findings.len() {
+        0 => format!("{what}: nothing wrong found"),
+        n => format!("{what}: {n} problem(s) found, most likely cause first"),
+    }
+}
+
+fn finding_lines(i: usize, f: &Finding) -> Vec<Human> {
+    let mut lines = vec![Human::Line(format!("{}. {}", i + 1, cause_text(&f.cause)))];
+    lines.extend(f.evidence.iter().map(|e| Human::Line(format!("   seen: {}", evidence_text(e)))));
+    lines.push(Human::Line(format!("   fix:  {}", remedy_text(&f.remedy))));
+    lines
+}
+
+impl Report for Diagnosis {
+    fn human(&self) -> Human {
+        let mut parts = vec![Human::Line(heading(self))];
+        for (i, f) in self.findings.iter().enumerate() {
+            parts.extend(finding_lines(i, f));
+        }
+        parts.extend(self.fine.iter().map(|e| Human::Line(format!("fine: {}", evidence_text(e)))));
+        Human::Parts(parts)
+    }
+
+    fn csv(&self) -> Human {
+        let mut rows: Vec<Vec<String>> = Vec::new();
+        for (i, f) in self.findings.iter().enumerate() {
+            for e in &f.evidence {
+                rows.push(vec![(i + 1).to_string(), cause_text(&f.cause), evidence_text(e), remedy_text(&f.remedy)]);
+            }
+        }
+        rows.extend(self.fine.iter().map(|e| vec![String::new(), "fine".into(), evidence_text(e), String::new()]));
+        Human::Table { headers: vec!["rank", "cause", "evidence", "fix"], rows, when_empty: true }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let opened = !matches!(self.findings.first(), Some(Finding { cause: Cause::Host { .. }, .. }));
+        if self.listened_ms == 0 && opened {
+            return vec!["this link shows no traffic: nothing was listened to, only requests answered".into()];
+        }
+        Vec::new()
+    }
+
+    fn junit(&self) -> Option<TestSuite> {
+        let class = match self.node {
+            Some(n) => format!("node {n}"),
+            None => "bus".to_string(),
+        };
+        let mut cases: Vec<TestCase> = self
+            .findings
+            .iter()
+            .map(|f| {
+                let seen: Vec<String> = f.evidence.iter().map(evidence_text).collect();
+                TestCase {
+                    class: class.clone(),
+                    name: cause_text(&f.cause),
+                    detail: seen.join("; "),
+                    failure: Some(format!("{}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy))),
+                }
+            })
+            .collect();
+        cases.extend(self.fine.iter().map(|e| TestCase {
+            class: class.clone(),
+            name: "fine".into(),
+            detail: evidence_text(e),
+            failure: None,
+        }));
+        Some(TestSuite { name: format!("canctl doctor: {}", self.bus), cases })
+    }
+
+    /// As it serialises, each finding with its cause and fix in words too.
+    fn json_value(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("reports serialise");
+        if let Some(findings) = v["findings"].as_array_mut() {
+            for (json, f) in findings.iter_mut().zip(&self.findings) {
+                json["summary"] = cause_text(&f.cause).into();
+                json["fix"] = remedy_text(&f.remedy).into();
+            }
+        }
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canopen::nmt::State;
+
+    #[test]
+    fn a_finding_reads_cause_evidence_and_fix() {
+        let d = Diagnosis {
+            bus: "sim".into(),
+            node: Some(5),
+            listened_ms: 1000,
+            findings: vec![Finding {
+                cause: Cause::Stopped { node: 5 },
+                evidence: vec![Evidence::Heartbeats { node: 5, count: 10, state: State::Stopped }],
+                remedy: Remedy::PreOperational { node: 5 },
+            }],
+            fine: vec![Evidence::LinkQuiet],
+            ok: false,
+        };
+        let Human::Parts(parts) = d.human() else { panic!("parts") };
+        let lines: Vec<String> =
+            parts.iter().filter_map(|p| if let Human::Line(l) = p { Some(l.clone()) } else { None }).collect();
+        assert_eq!(lines[0], "sim, node 5: 1 problem(s) found, most likely cause first");
+        assert!(lines[1].starts_with("1. node 5 is alive but stopped"), "{lines:?}");
+        assert!(lines[2].contains("10 heartbeat(s) of node 5 on 0x705, the last saying stopped"), "{lines:?}");
+        assert!(lines[3].contains("canctl nmt preop 5"), "{lines:?}");
+        let json = d.json_value();
+        assert!(json["findings"][0]["fix"].as_str().unwrap().contains("canctl nmt preop 5"), "{json}");
+        let suite = d.junit().unwrap();
+        assert_eq!(suite.cases.iter().filter(|c| c.failure.is_some()).count(), 1);
+    }
+}

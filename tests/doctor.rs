@@ -1,0 +1,185 @@
+//! `canctl doctor` (issue 30) on the simulator, one cause each, set up the way a real bus
+//! gets there (an NMT stop, an LSS renumbering, a device forced onto a taken id, devices
+//! powered off, an adapter at another bit rate); each diagnosis must name the cause with
+//! the frames that show it, and the fix it gives must clear it.
+
+mod common;
+
+use common::{Run, Sim};
+use serde_json::Value;
+
+/// A sim network on virtual time: the listen and every timeout take no wall time.
+fn network(extra: &[&str]) -> Sim {
+    let sim = Sim::new();
+    let mut args = vec!["sim", "reset", "--virtual-time"];
+    args.extend_from_slice(extra);
+    sim.run(&args).ok();
+    sim
+}
+
+fn doctor(sim: &Sim, args: &[&str]) -> Run {
+    let mut all = vec!["doctor", "--format", "json"];
+    all.extend_from_slice(args);
+    sim.run(&all)
+}
+
+/// The first finding of a diagnosis that found something (exit 6).
+fn first_finding(r: &Run) -> Value {
+    assert_eq!(r.code, 6, "expected a finding\n{}\n{}", r.stdout, r.stderr);
+    let d = r.json();
+    assert_eq!(d["ok"], false, "{d}");
+    d["findings"][0].clone()
+}
+
+fn evidence<'a>(finding: &'a Value, kind: &str) -> &'a Value {
+    let all = finding["evidence"].as_array().unwrap_or_else(|| panic!("{finding}"));
+    all.iter().find(|e| e["kind"] == kind).unwrap_or_else(|| panic!("no {kind} evidence: {finding}"))
+}
+
+#[test]
+fn a_healthy_node_is_fine_and_says_what_showed_it() {
+    let sim = network(&[]);
+    let d = doctor(&sim, &["5"]).ok().json();
+    assert_eq!(d["findings"], serde_json::json!([]), "{d}");
+    let fine = d["fine"].as_array().unwrap();
+    assert!(fine.iter().any(|e| e["kind"] == "sdo_answer" && e["value"] == 0x0950_1234), "{d}");
+    assert!(fine.iter().any(|e| e["kind"] == "one_device"), "{d}");
+}
+
+#[test]
+fn a_stopped_node_is_named_by_its_heartbeat_and_the_fix_clears_it() {
+    let sim = network(&[]);
+    sim.run(&["nmt", "stop", "5"]).ok();
+    let f = first_finding(&doctor(&sim, &["5"]));
+    assert_eq!(f["cause"], "stopped", "{f}");
+    assert_eq!(evidence(&f, "heartbeats")["state"], "stopped", "{f}");
+    assert_eq!(evidence(&f, "no_sdo_answer")["node"], 5, "{f}");
+    assert!(f["fix"].as_str().unwrap().contains("canctl nmt preop 5"), "{f}");
+    // In words too, most likely cause first.
+    let human = sim.run(&["doctor", "5"]);
+    assert_eq!(human.code, 6);
+    assert!(human.stdout.contains("1. node 5 is alive but stopped"), "{}", human.stdout);
+    // The bus alone: node 5 beats but does not answer its read.
+    let bus = first_finding(&doctor(&sim, &[]));
+    assert_eq!((bus["cause"].as_str(), bus["node"].as_u64()), (Some("stopped"), Some(5)), "{bus}");
+    sim.run(&["nmt", "preop", "5"]).ok();
+    doctor(&sim, &["5"]).ok();
+}
+
+#[test]
+fn a_node_that_beats_but_answers_sdo_elsewhere_is_told_apart() {
+    // Its SDO answers leave on 0x586, as with a changed 0x1200 (its server COB-IDs).
+    let sim = network(&["--fault", "5:wrong-cob"]);
+    let f = first_finding(&doctor(&sim, &["5"]));
+    assert_eq!(f["cause"], "sdo_silent", "{f}");
+    assert_eq!(evidence(&f, "heartbeats")["state"], "pre-operational", "{f}");
+    assert_eq!(evidence(&f, "sdo_answer_on")["cob_id"], 0x586, "{f}");
+    assert_eq!(f["remedy"]["remedy"], "reset_communication", "{f}");
+}
+
+#[test]
+fn a_renumbered_node_is_found_on_its_new_id() {
+    let sim = network(&[]);
+    sim.run(&["scan"]).ok();
+    sim.run(&["lss", "set-id", "7", "--identity", "0x40:0x43787800:0x312E3031:0x09501234"]).ok();
+    let f = first_finding(&doctor(&sim, &["5"]));
+    assert_eq!((f["cause"].as_str(), f["node"].as_u64(), f["now"].as_u64()), (Some("moved"), Some(5), Some(7)), "{f}");
+    assert_eq!(evidence(&f, "last_scan")["name"], "C01", "{f}");
+    assert_eq!(evidence(&f, "identity")["node"], 7, "{f}");
+    // The fix names the device by its identity; done, node 5 is itself again.
+    let fix = "canctl lss set-id 5 --identity 0x00000040:0x43787800:0x312E3031:0x09501234";
+    assert!(f["fix"].as_str().unwrap().contains(fix), "{f}");
+    sim.run(&["lss", "set-id", "5", "--identity", "0x00000040:0x43787800:0x312E3031:0x09501234"]).ok();
+    doctor(&sim, &["5"]).ok();
+    // Without a last scan to compare with, the node is only silent: nothing is made up.
+    let fresh = network(&[]);
+    fresh.run(&["lss", "set-id", "7", "--identity", "0x40:0x43787800:0x312E3031:0x09501234"]).ok();
+    let f = first_finding(&doctor(&fresh, &["5"]));
+    assert_eq!(f["cause"], "node_silent", "{f}");
+    let probe = evidence(&f, "probe_answers");
+    assert!(probe["nodes"].as_array().unwrap().contains(&Value::from(7)), "{f}");
+}
+
+#[test]
+fn two_devices_on_one_id_show_in_their_answers() {
+    let sim = network(&[]);
+    sim.run(&["lss", "set-id", "5", "--identity", "0x40:0x43787800:0x312E3031:0x09501301", "--force"]).ok();
+    let f = first_finding(&doctor(&sim, &["5"]));
+    assert_eq!((f["cause"].as_str(), f["node"].as_u64()), (Some("node_id_clash"), Some(5)), "{f}");
+    let clash = evidence(&f, "clash");
+    assert_eq!(clash["shown_by"]["evidence"], "sdo_answers", "{f}");
+    let values = clash["shown_by"]["values"].as_array().unwrap();
+    assert!(values.contains(&Value::from(0x0950_1234)) && values.contains(&Value::from(0x0950_1301)), "{f}");
+}
+
+#[test]
+fn a_bus_with_every_device_off_is_silent_and_a_missing_node_is_not() {
+    let off = ["--unconfigured", "0", "--fault", "drive:off", "--fault", "sensor:off", "--fault", "io:off"];
+    let sim = network(&[&off[..], &["--fault", "stepper:off"]].concat());
+    for args in [&["5"][..], &[]] {
+        let f = first_finding(&doctor(&sim, args));
+        assert_eq!(f["cause"], "bus_silent", "{args:?}: {f}");
+        assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
+        assert_eq!(f["remedy"]["remedy"], "check_bus", "{f}");
+    }
+    // One device off among others: that node is silent, the bus is not.
+    let sim = network(&["--fault", "io:off"]);
+    let f = first_finding(&doctor(&sim, &["10"]));
+    assert_eq!((f["cause"].as_str(), f["node"].as_u64()), (Some("node_silent"), Some(10)), "{f}");
+    assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([1, 5, 32]), "{f}");
+    assert_eq!(evidence(&f, "no_guarding_answer")["node"], 10, "{f}");
+}
+
+#[test]
+fn a_link_that_cannot_be_opened_is_a_finding_about_the_host() {
+    let r = common::bare(&["--bus", "socketcan:vcan9", "doctor", "--format", "json"]);
+    let f = first_finding(&r);
+    assert_eq!((f["cause"].as_str(), f["problem"].as_str()), (Some("host"), Some("no_interface")), "{f}");
+    assert!(evidence(&f, "link_reported")["message"].as_str().unwrap().contains("vcan9"), "{f}");
+}
+
+/// An slcan adapter at another bit rate than the bus: its frames go unacknowledged, and
+/// its status flags say so (bus error, error passive): the controller's finding.
+#[cfg(unix)]
+#[test]
+fn an_adapter_at_another_bit_rate_is_a_finding_about_the_controller() {
+    let sim = Sim::new();
+    let dev = common::DeviceSide::start(&sim, "--slcan", &[]);
+    let wrong = format!("{}@125k", dev.uri);
+    let mut c = std::process::Command::new(common::canctl_bin());
+    common::isolate(&mut c);
+    c.env_remove("CANCTL_BUS").args(["--bus", &wrong, "--timeout", "100ms", "doctor", "5", "--window", "100ms"]);
+    let r = common::finish(c.args(["--format", "json"]).output().unwrap());
+    let f = first_finding(&r);
+    assert_eq!((f["cause"].as_str(), f["state"].as_str()), (Some("controller"), Some("bus_errors")), "{f}");
+    assert!(evidence(&f, "link_reported")["message"].as_str().unwrap().contains("error passive"), "{f}");
+}
+
+/// Every "did not answer" diagnoses itself: the quick checks name the cause in one line,
+/// and --no-diagnose leaves them out.
+#[test]
+fn a_node_that_did_not_answer_gets_its_likely_cause() {
+    let sim = network(&[]);
+    sim.run(&["nmt", "stop", "5"]).ok();
+    let r = sim.run(&["--timeout", "200ms", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("likely cause: node 5 is alive but stopped"), "{}", r.stderr);
+    assert!(r.stderr.contains("fix: canctl nmt preop 5"), "{}", r.stderr);
+    let r = sim.run(&["--timeout", "200ms", "--no-diagnose", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(!r.stderr.contains("likely cause"), "{}", r.stderr);
+    // A node-id nobody has, on a bus where others answer: that node alone is silent.
+    let r = sim.run(&["--timeout", "200ms", "sdo", "read", "6", "1018:1"]);
+    assert!(r.stderr.contains("likely cause: node 6 is silent while the bus is not"), "{}", r.stderr);
+}
+
+/// A device that floods the bus with its EMCY id (0x08A, node 10): it wins every
+/// arbitration, nothing else gets through; the flood is named, not "nothing answers".
+#[test]
+fn a_device_flooding_the_bus_is_named_by_its_id() {
+    let sim = network(&["--fault", "io:babble"]);
+    let f = first_finding(&doctor(&sim, &["--window", "100ms", "--timeout", "100ms"]));
+    assert_eq!((f["cause"].as_str(), f["cob_id"].as_u64()), (Some("flood"), Some(0x08A)), "{f}");
+    assert_eq!(evidence(&f, "traffic")["frames"][0]["cob_id"], 0x08A, "{f}");
+    assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
+}
