@@ -18,7 +18,7 @@
 //! | [`bus`] | the [`bus::Bus`] service API, the [`bus::FrameLink`] trait, [`bus::Master`] (CANopen client over a `FrameLink`), clock, and the decorators (observer, tap, stop, frame log) |
 //! | [`cancel`], `atomic` | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
 //! | [`error`] | the library's [`Error`], wrapping the lower layers' errors; exit codes |
-//! | [`epos2`], [`slcan`] | the serial protocols: pure framing, CRC, commands; EPOS2's two transports |
+//! | [`epos2`], [`slcan`], [`socketcand`] | the serial and network protocols: pure framing, CRC, commands; EPOS2's two transports |
 //! | [`od`] | object dictionaries, EDS/DCF read and write, object names |
 //! | [`canopen`], [`input`], `trace` | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
 //! | [`frame`], [`serial`], `xdg` | the CAN frame; the serial port the serial backends use; where state and cache files live |
@@ -63,7 +63,7 @@ pub const LAYERS: &[&[&str]] = &[
     &["bus"],
     &["cancel", "atomic", "hint"],
     &["error"],
-    &["epos2", "slcan"],
+    &["epos2", "slcan", "socketcand"],
     &["od"],
     &["canopen", "input", "trace"],
     &["frame", "serial", "xdg"],
@@ -92,6 +92,7 @@ pub mod serial;
 pub mod settings;
 pub mod sim;
 pub mod slcan;
+pub mod socketcand;
 pub(crate) mod trace;
 pub(crate) mod xdg;
 

@@ -380,6 +380,12 @@ impl From<crate::epos2::Epos2Error> for Error {
     }
 }
 
+impl From<crate::socketcand::SocketcandError> for Error {
+    fn from(e: crate::socketcand::SocketcandError) -> Error {
+        Error::Link(LinkError::Socketcand(e))
+    }
+}
+
 impl From<LinkError> for Error {
     fn from(e: LinkError) -> Error {
         Error::Link(e)
@@ -475,6 +481,9 @@ pub enum LinkError {
     /// The EPOS2 serial line or an EPOS2's answer failed.
     #[error(transparent)]
     Epos2(#[from] crate::epos2::Epos2Error),
+    /// A socketcand server could not be reached, refused, or went away.
+    #[error(transparent)]
+    Socketcand(#[from] crate::socketcand::SocketcandError),
     /// The simulator's state file could not be used.
     #[error("sim state file {}: {what}: {detail}", path.display())]
     StateFile { path: PathBuf, what: &'static str, detail: String },
