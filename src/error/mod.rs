@@ -58,6 +58,9 @@ pub enum Error {
     /// Something this kind of bus cannot do (`{bus}: {why}`).
     #[error("{bus}: {why}")]
     NotOnThisBus { bus: String, why: &'static str },
+    /// A remote (RTR) frame asked of a link that cannot carry one (`backend` names it).
+    #[error("{bus}: {backend} carries no remote (RTR) frames: node guarding and RTR polling cannot go through it; a node's heartbeat (0x1017) shows its state instead")]
+    NoRemoteFrames { bus: String, backend: &'static str },
     /// LSS was asked to give a node-id that something on the bus already answers to
     /// (`by`: "an SDO answer", "its heartbeat", ...); nothing was sent.
     #[error("node-id {node} is in use: {by} came from node {node}{}; a second device on it would make both unreachable. Nothing was sent", identity.map(|i| format!(" (identity {i})")).unwrap_or_default())]
@@ -262,6 +265,7 @@ impl Error {
             | Error::TooLargeForSdo { .. }
             | Error::SlcanBitRate { .. }
             | Error::NotOnThisBus { .. }
+            | Error::NoRemoteFrames { .. }
             | Error::NotADrive { .. }
             | Error::NodeIdInUse { .. }
             // The range the user gave is full: no device refused anything.
