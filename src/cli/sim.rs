@@ -31,6 +31,7 @@ use std::time::Duration;
   canctl --bus epos2-rs232:/dev/pts/N scan
   canctl sim --epos2-usb --baud 1000000 --fault crc@2
   canctl sim --slcan &                     # prints /dev/pts/N: --bus slcan:/dev/pts/N
+  canctl sim --socketcand 29536 &          # prints socketcand:127.0.0.1/sim
   canctl sim reset"
 )]
 pub struct SimArgs {
@@ -42,6 +43,10 @@ pub struct SimArgs {
     /// Serve the devices behind a simulated slcan (Lawicel) adapter on a pseudo-terminal
     #[arg(long, conflicts_with_all = ["epos2_rs232", "epos2_usb"])]
     pub slcan: bool,
+    /// Serve the devices behind a socketcand server (raw mode) on this TCP port, on
+    /// 127.0.0.1 unless an address is given; prints the --bus value that reaches it
+    #[arg(long, value_name = "[ADDR:]PORT", value_parser = parse_listen, conflicts_with_all = ["socketcan", "slcan", "epos2_rs232", "epos2_usb"])]
+    pub socketcand: Option<std::net::SocketAddr>,
     /// Serve an EPOS2 speaking the RS232 protocol (with the 'O'/'F' handshake)
     #[arg(long, conflicts_with = "epos2_usb")]
     pub epos2_rs232: bool,
@@ -120,6 +125,14 @@ pub struct ResetArgs {
     pub bootloader: Option<u8>,
 }
 
+/// `29536` (on 127.0.0.1), `0.0.0.0:29536`, `[::1]:29536`.
+fn parse_listen(text: &str) -> Result<std::net::SocketAddr, String> {
+    match text.parse::<u16>() {
+        Ok(port) => Ok(std::net::SocketAddr::from(([127, 0, 0, 1], port))),
+        Err(_) => text.parse().map_err(|_| format!("'{text}' is not PORT or ADDR:PORT (0.0.0.0:29536, [::1]:29536)")),
+    }
+}
+
 fn parse_rate(text: &str) -> Result<u8, String> {
     let index = crate::canopen::lss::parse_bit_rate(text)?;
     crate::sim::timing::bits_per_second(index)
@@ -139,13 +152,14 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
     }
     let (faults, baud, can_timeout) = (args.fault.clone(), args.baud, args.can_timeout);
     let how = match (&args.socketcan, args.slcan, args.epos2_rs232, args.epos2_usb) {
+        _ if args.socketcand.is_some() => Serve::Socketcand { addr: args.socketcand.expect("just checked") },
         (Some(iface), ..) => Serve::SocketCan { iface: iface.clone() },
         (_, true, ..) => Serve::Slcan { faults },
         (_, _, true, _) => Serve::Epos2 { framing: Framing::Rs232, baud, faults, can_timeout },
         (_, _, _, true) => Serve::Epos2 { framing: Framing::Usb, baud, faults, can_timeout },
         _ => {
-            let msg =
-                "say what to serve: --socketcan IFACE, --slcan, --epos2-rs232 or --epos2-usb (or `canctl sim reset`)";
+            let msg = "say what to serve: --socketcan IFACE, --slcan, --socketcand PORT, --epos2-rs232 or --epos2-usb \
+                 (or `canctl sim reset`)";
             return Err(Error::Usage(msg.into()).into());
         }
     };
@@ -159,7 +173,7 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()>
         std::process::exit(Error::Interrupted.exit_code());
     });
     serve::serve(&path, &how, global.frame_log()?, |serving| {
-        if let Some(pty) = &serving.pty {
+        if let Some(pty) = serving.pty.as_ref().or(serving.bus.as_ref()) {
             ctx.out
                 .print(pty)
                 .map_err(|e| Error::Link(LinkError::Pty { op: PtyOp::PrintPath, detail: e.to_string() }))?;

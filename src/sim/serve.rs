@@ -1,6 +1,7 @@
 //! The simulated network as a service: start its saved state afresh, or put its devices
 //! behind a real CAN interface, a simulated slcan adapter or a simulated EPOS2 on a
-//! pseudo-terminal, and answer there until the process is stopped.
+//! pseudo-terminal, or a socketcand server on TCP, and answer there until the process is
+//! stopped.
 
 use super::serial_fault::Fault;
 use super::state::{default_path, StateFile};
@@ -97,6 +98,12 @@ pub enum Serve {
         /// How long the gateway waits for a device's SDO answer.
         can_timeout: Duration,
     },
+    /// Behind a socketcand server (raw mode) listening on this address; several clients
+    /// share the bus.
+    Socketcand {
+        /// The address to listen on (port 0: any free one).
+        addr: std::net::SocketAddr,
+    },
 }
 
 /// Where the devices are now served.
@@ -104,6 +111,8 @@ pub enum Serve {
 pub struct Serving {
     /// The pseudo-terminal to open, if they sit behind one.
     pub pty: Option<String>,
+    /// The `--bus` value that reaches them, if it is no pty (a socketcand server).
+    pub bus: Option<String>,
     /// How to reach them, in words.
     pub how: String,
 }
@@ -125,6 +134,7 @@ pub fn serve(
         Serve::SocketCan { .. } => {
             Err(Error::Usage("SocketCAN is Linux's: `sim --socketcan` runs on Linux only; try `sim --slcan`".into()))
         }
+        Serve::Socketcand { addr } => socketcand(path, *addr, log, ready),
         #[cfg(unix)]
         Serve::Slcan { faults } => slcan(path, faults, log, ready),
         #[cfg(unix)]
@@ -151,7 +161,7 @@ fn socketcan(
     // The interface is a bus with its own timing: the devices only answer late.
     let sim = super::SimLink::open(StateFile::lock(path)?)?.without_bus_timing();
     let how = format!("the sim network's devices are on {iface} (nodes 1, 5, 10, 32); stop with Ctrl-C");
-    ready(&Serving { pty: None, how })?;
+    ready(&Serving { pty: None, bus: None, how })?;
     super::bridge::run(sim, &mut can, log)
 }
 
@@ -174,7 +184,7 @@ fn epos2(
         let kind = if framing == Framing::Rs232 { "epos2-rs232" } else { "epos2-usb" };
         let how =
             format!("serving the sim network's EPOS2 (node 1) on {pty}: use --bus {kind}:{pty}; stop with Ctrl-C");
-        ready(&Serving { pty: Some(pty.to_string()), how })
+        ready(&Serving { pty: Some(pty.to_string()), bus: None, how })
     })
 }
 
@@ -206,6 +216,33 @@ fn slcan(
         "the sim network's devices are behind an slcan adapter on {pty} ({rate}): use --bus slcan:{pty}@{rate}; \
          stop with Ctrl-C"
     );
-    ready(&Serving { pty: Some(pty), how })?;
+    ready(&Serving { pty: Some(pty), bus: None, how })?;
     super::bridge::run(sim, &mut adapter, log)
+}
+
+/// The devices behind a socketcand server: the server is a frame link, bridged to the sim
+/// network as a CAN interface is; its clients share the bus.
+fn socketcand(
+    path: &Path,
+    addr: std::net::SocketAddr,
+    log: Option<FrameLog>,
+    ready: impl FnOnce(&Serving) -> Result<()>,
+) -> Result<()> {
+    use super::socketcand_serve::{SocketcandServer, IFACE};
+    let sim = super::SimLink::open(StateFile::lock(path)?)?;
+    let mut server = SocketcandServer::bind(addr)?;
+    let bound = server.local_addr();
+    // Listening on every address: this machine's loopback reaches it too.
+    let host = match bound.ip() {
+        ip if ip.is_unspecified() && ip.is_ipv4() => "127.0.0.1".to_string(),
+        ip if ip.is_unspecified() => "::1".to_string(),
+        ip => ip.to_string(),
+    };
+    let bus = BusAddr::Socketcand { host, port: bound.port(), iface: IFACE.into() }.to_string();
+    let how = format!(
+        "the sim network's devices are behind a socketcand server on {bound} (interface {IFACE}): use --bus {bus}; \
+         several programs may use it at once; stop with Ctrl-C"
+    );
+    ready(&Serving { pty: None, bus: Some(bus), how })?;
+    super::bridge::run(sim, &mut server, log)
 }
