@@ -16,7 +16,9 @@ use std::time::Duration;
 /// With --socketcan IFACE, the devices answer on that interface (a vcan interface makes a
 /// test bus for provisioning scripts). With --slcan, creates a pseudo-terminal, prints its
 /// path and acts there as a serial-line CAN adapter with the devices on its bus (use
-/// --bus slcan:/dev/pts/N, or attach the kernel's slcand to it). With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
+/// --bus slcan:/dev/pts/N, or attach the kernel's slcand to it). With --socketcand, listens
+/// on TCP as a socketcand server (raw mode, interface `sim`) and prints the --bus value that
+/// reaches it; several programs share that bus at once, as a real one. With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
 /// and serves it as a maxon EPOS2 (node 1 of the sim network) until stopped: commands for
 /// node 0 or 1 run on the EPOS2's own dictionary, the others go on to the simulated CAN bus
 /// as SDO, NMT and LSS frames. The network's state is saved after every command. The
