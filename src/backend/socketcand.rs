@@ -82,21 +82,17 @@ impl SocketcandLink {
             self.write(request)?;
         }
         let deadline = Instant::now() + wait;
-        loop {
-            let Some(answer) = self.read_until(deadline, true)? else {
-                return Err(
-                    SocketcandError::NoAnswer { server: self.name.clone(), waiting_for: want, waited: wait }.into()
-                );
-            };
-            let (server, what) = (self.name.clone(), what.to_string());
-            match answer {
-                Unit::Hi if request.is_none() => return Ok(()),
-                Unit::Ok if request.is_some() => return Ok(()),
-                Unit::Refused(answer) => return Err(SocketcandError::Refused { server, what, answer }.into()),
-                other => {
-                    let answer = String::from_utf8_lossy(&other.encode()).into_owned();
-                    return Err(SocketcandError::Unexpected { server, what, answer }.into());
-                }
+        let Some(answer) = self.read_until(deadline, true)? else {
+            return Err(SocketcandError::NoAnswer { server: self.name.clone(), waiting_for: want, waited: wait }.into());
+        };
+        let (server, what) = (self.name.clone(), what.to_string());
+        match answer {
+            Unit::Hi if request.is_none() => Ok(()),
+            Unit::Ok if request.is_some() => Ok(()),
+            Unit::Refused(answer) => Err(SocketcandError::Refused { server, what, answer }.into()),
+            other => {
+                let answer = String::from_utf8_lossy(&other.encode()).into_owned();
+                Err(SocketcandError::Unexpected { server, what, answer }.into())
             }
         }
     }

@@ -304,7 +304,7 @@ mod tests {
     #[test]
     fn frames_in_either_data_notation() {
         let want = frame(0x581, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00], 1_700_000_000_123_456);
-        assert_eq!(units(&[b"< frame 581 1700000000.123456 4300100092010200 >"]), [want.clone()]);
+        assert_eq!(units(&[b"< frame 581 1700000000.123456 4300100092010200 >"]), std::slice::from_ref(&want));
         assert_eq!(units(&[b"< frame 581 1700000000.123456 43 00 10 00 92 01 02 00 >"]), [want]);
         // No data: socketcand leaves two spaces.
         assert_eq!(units(&[b"< frame 705 23.424242  >"]), [frame(0x705, &[], 23_424_242)]);
