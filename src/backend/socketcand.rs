@@ -23,6 +23,10 @@ pub(crate) struct SocketcandLink {
     name: String,
     decoder: Decoder,
     rx: VecDeque<Frame>,
+    /// Answers to the handshake not yet taken.
+    answers: VecDeque<Unit>,
+    /// How long a write may wait for the server to take bytes.
+    write_wait: Duration,
     /// Error classes already reported, so that a storm of them is one warning each.
     warned: Vec<u32>,
     /// Units that did not parse, and 29-bit frames, since the link was opened.
@@ -50,11 +54,21 @@ impl SocketcandLink {
         let stream = stream.ok_or_else(|| connect_error(last))?;
         // Every SDO request waits for its answer: Nagle would hold each one back.
         stream.set_nodelay(true).map_err(|e| LinkError::Io { port: name.clone(), op: "TCP no-delay", error: e })?;
+        // A server that stops reading must not hold a command for ever once the socket's
+        // buffers are full.
+        let write_wait = answer_wait;
+        stream.set_write_timeout(Some(write_wait)).map_err(|e| LinkError::Io {
+            port: name.clone(),
+            op: "TCP",
+            error: e,
+        })?;
         let mut link = SocketcandLink {
             stream,
             name,
             decoder: Decoder::new(),
             rx: VecDeque::new(),
+            answers: VecDeque::new(),
+            write_wait,
             warned: Vec::new(),
             garbled: 0,
             extended: 0,
@@ -72,7 +86,12 @@ impl SocketcandLink {
     fn write(&mut self, unit: &Unit) -> Result<()> {
         let bytes = unit.encode();
         tracing::trace!(target: "canctl::socketcand", "{} < {}", self.name, String::from_utf8_lossy(&bytes));
-        self.stream.write_all(&bytes).map_err(|e| self.lost(Some(e)))
+        self.stream.write_all(&bytes).map_err(|e| match e.kind() {
+            io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut => {
+                SocketcandError::Stalled { server: self.name.clone(), waited: self.write_wait }.into()
+            }
+            _ => self.lost(Some(e)),
+        })
     }
 
     /// Send `request` (if any) and wait for the answer that ends one handshake step
@@ -102,6 +121,9 @@ impl SocketcandLink {
     fn read_until(&mut self, deadline: Instant, answers: bool) -> Result<Option<Unit>> {
         let mut buf = [0u8; 4096];
         loop {
+            if answers && !self.answers.is_empty() {
+                return Ok(self.answers.pop_front());
+            }
             if !answers && !self.rx.is_empty() {
                 return Ok(None);
             }
@@ -126,14 +148,19 @@ impl SocketcandLink {
                 Err(e) => return Err(self.lost(Some(e))),
             };
             tracing::trace!(target: "canctl::socketcand", "{} > {}", self.name, String::from_utf8_lossy(&buf[..n]));
-            let mut answer = None;
             for unit in self.decoder.push(&buf[..n]) {
                 match unit {
                     Ok(Unit::Frame { frame, .. }) => self.rx.push_back(frame),
                     Ok(Unit::Extended { .. }) => self.extended += 1,
                     Ok(Unit::ErrorFrame { class }) => self.error_frame(class)?,
                     Ok(Unit::Echo) => {}
-                    Ok(other) if answer.is_none() => answer = Some(other),
+                    // Kept in order: two answers may come in one read.
+                    Ok(answer) if answers => self.answers.push_back(answer),
+                    // In raw mode the server answers nothing canctl asks; an `< error >` is
+                    // its word about something it could not do.
+                    Ok(Unit::Refused(text)) => {
+                        tracing::warn!(target: "canctl::socketcand", "{}: the server says: {text}", self.name)
+                    }
                     Ok(other) => {
                         tracing::debug!(target: "canctl::socketcand", "{}: {other:?} not asked for", self.name)
                     }
@@ -141,16 +168,6 @@ impl SocketcandLink {
                         self.garbled += 1;
                         tracing::debug!(target: "canctl::socketcand", "{}: not socketcand: {:?}", self.name, bad.0);
                     }
-                }
-            }
-            if let Some(answer) = answer {
-                if answers {
-                    return Ok(Some(answer));
-                }
-                // In raw mode the server answers nothing canctl asks; an `< error >` is
-                // its word about a frame it could not send.
-                if let Unit::Refused(text) = answer {
-                    tracing::warn!(target: "canctl::socketcand", "{}: the server says: {text}", self.name);
                 }
             }
         }
@@ -287,6 +304,25 @@ mod tests {
         let e = open(port, 300).err().unwrap();
         assert_eq!(e.exit_code(), 5, "{e}");
         assert!(e.to_string().contains("to open vcan0, the server answered \"< html >\""), "{e}");
+    }
+
+    #[test]
+    fn a_server_that_stops_reading_is_a_bounded_link_failure() {
+        // The server answers the whole handshake at once (in one segment: the answers must
+        // not be lost), then reads nothing more: once the socket's buffers are full, a send
+        // must end, not block for ever.
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        let port = listener.local_addr().unwrap().port();
+        std::thread::spawn(move || {
+            let (mut s, _) = listener.accept().unwrap();
+            s.write_all(b"< hi >< ok >< ok >").unwrap();
+            std::thread::sleep(Duration::from_secs(20));
+        });
+        let mut link = open(port, 100).unwrap();
+        let frame = Frame::new(0x601, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
+        let e = (0..10_000_000).find_map(|_| link.send(&frame).err()).expect("the sends never stalled");
+        assert_eq!(e.exit_code(), 5, "{e}");
+        assert!(e.to_string().contains("has taken nothing canctl sent for 100 ms"), "{e}");
     }
 
     #[test]

@@ -57,6 +57,14 @@ pub enum SocketcandError {
         /// What came instead.
         answer: String,
     },
+    /// The server took no bytes for this long: it, or the network to it, is stuck.
+    #[error("{server}: the server has taken nothing canctl sent for {} ms: is it overloaded, or the network to it down?", waited.as_millis())]
+    Stalled {
+        /// The bus address.
+        server: String,
+        /// How long a write waited.
+        waited: Duration,
+    },
     /// The connection broke or was closed by the server.
     #[error("{server}: the connection to the server was lost{}: check the server (is socketcand still running?) and the network, then run the command again",
         error.as_ref().map(|e| format!(" ({e})")).unwrap_or_default())]
