@@ -11,10 +11,10 @@
 //! |---|---|
 //! | `cli`, `output` (feature `cli`) | clap definitions, one file per command: parse the arguments, call one operation, render its report; `output` is the one renderer (table, JSON, CSV, JSON lines; each report's human form in `output/`) and turns [`ops::Progress`] into progress bars |
 //! | [`ops`], [`settings`] | the procedures (scan, SDO read/write, NMT with confirmation, LSS, config dump/diff/apply, store/restore, PDO remap and stream, monitor): functions over `&mut dyn Bus` returning serialisable reports; no printing, no clap. `settings` resolves flags, `CANCTL_BUS` and `canctl.toml` once, each value with its source |
-//! | `sim::serve` | the simulated network as a service, behind a CAN interface or a pty |
+//! | `sim::serve` | the simulated network as a service, behind a CAN interface, a pty or a socketcand server |
 //! | [`connect`] | [`connect::BusAddr`] (`FromStr` + `Display`) and [`connect::open`], the only place that names every backend |
 //! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 and slcan serial devices |
-//! | [`backend`] | the links: SocketCAN, slcan (`FrameLink`s served by [`bus::Master`]), the EPOS2 gateway (a `Bus` of its own) |
+//! | [`backend`] | the links: SocketCAN, slcan, socketcand (`FrameLink`s served by [`bus::Master`]), the EPOS2 gateway (a `Bus` of its own) |
 //! | [`bus`] | the [`bus::Bus`] service API, the [`bus::FrameLink`] trait, [`bus::Master`] (CANopen client over a `FrameLink`), clock, and the decorators (observer, tap, stop, frame log) |
 //! | [`cancel`], `atomic` | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
 //! | [`error`] | the library's [`Error`], wrapping the lower layers' errors; exit codes |
