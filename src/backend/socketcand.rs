@@ -16,6 +16,17 @@ use std::time::{Duration, Instant};
 /// How long a TCP connection may take: a few SYN retransmissions across a network.
 pub(crate) const CONNECT_WAIT: Duration = Duration::from_secs(5);
 
+/// When reading stops before its deadline.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Until {
+    /// A handshake answer came.
+    Answer,
+    /// A frame is queued.
+    Frame,
+    /// An `< echo >` came back after this many.
+    Echo(u64),
+}
+
 /// A socketcand server's interface in raw mode as a [`FrameLink`].
 pub(crate) struct SocketcandLink {
     stream: TcpStream,
@@ -25,6 +36,8 @@ pub(crate) struct SocketcandLink {
     rx: VecDeque<Frame>,
     /// Answers to the handshake not yet taken.
     answers: VecDeque<Unit>,
+    /// `< echo >`s the server sent back.
+    echoes: u64,
     /// How long a write may wait for the server to take bytes.
     write_wait: Duration,
     /// Error classes already reported, so that a storm of them is one warning each.
@@ -68,6 +81,7 @@ impl SocketcandLink {
             decoder: Decoder::new(),
             rx: VecDeque::new(),
             answers: VecDeque::new(),
+            echoes: 0,
             write_wait,
             warned: Vec::new(),
             garbled: 0,
@@ -101,7 +115,7 @@ impl SocketcandLink {
             self.write(request)?;
         }
         let deadline = Instant::now() + wait;
-        let Some(answer) = self.read_until(deadline, true)? else {
+        let Some(answer) = self.read_until(deadline, Until::Answer)? else {
             return Err(SocketcandError::NoAnswer { server: self.name.clone(), waiting_for: want, waited: wait }.into());
         };
         let (server, what) = (self.name.clone(), what.to_string());
@@ -116,16 +130,17 @@ impl SocketcandLink {
         }
     }
 
-    /// Read until `deadline`, queueing frames; returns the first unit that is no frame when
-    /// `answers` is asked for, else once a frame is queued. `None` at the deadline.
-    fn read_until(&mut self, deadline: Instant, answers: bool) -> Result<Option<Unit>> {
+    /// Read until `deadline`, queueing frames, or until `until` holds: returns the first
+    /// answer that is no frame for [`Until::Answer`], else `None`.
+    fn read_until(&mut self, deadline: Instant, until: Until) -> Result<Option<Unit>> {
+        let answers = until == Until::Answer;
         let mut buf = [0u8; 4096];
         loop {
-            if answers && !self.answers.is_empty() {
-                return Ok(self.answers.pop_front());
-            }
-            if !answers && !self.rx.is_empty() {
-                return Ok(None);
+            match until {
+                Until::Answer if !self.answers.is_empty() => return Ok(self.answers.pop_front()),
+                Until::Frame if !self.rx.is_empty() => return Ok(None),
+                Until::Echo(before) if self.echoes != before => return Ok(None),
+                _ => {}
             }
             let left = deadline.saturating_duration_since(Instant::now());
             if left.is_zero() {
@@ -153,7 +168,7 @@ impl SocketcandLink {
                     Ok(Unit::Frame { frame, .. }) => self.rx.push_back(frame),
                     Ok(Unit::Extended { .. }) => self.extended += 1,
                     Ok(Unit::ErrorFrame { class }) => self.error_frame(class)?,
-                    Ok(Unit::Echo) => {}
+                    Ok(Unit::Echo) => self.echoes += 1,
                     // Kept in order: two answers may come in one read.
                     Ok(answer) if answers => self.answers.push_back(answer),
                     // In raw mode the server answers nothing canctl asks; an `< error >` is
@@ -200,12 +215,26 @@ impl FrameLink for SocketcandLink {
         if let Some(f) = self.rx.pop_front() {
             return Ok(Some(f));
         }
-        self.read_until(deadline, false)?;
+        self.read_until(deadline, Until::Frame)?;
         Ok(self.rx.pop_front())
     }
 
     fn name(&self) -> String {
         self.name.clone()
+    }
+
+    /// After a silence: the server must still answer `< echo >`, or the silence may be a
+    /// stuck server or a broken network (TCP notices neither by itself), not an empty bus.
+    fn check(&mut self) -> Result<()> {
+        let before = self.echoes;
+        self.write(&Unit::Echo)?;
+        let deadline = Instant::now() + self.write_wait;
+        self.read_until(deadline, Until::Echo(before))?;
+        if self.echoes == before {
+            let (server, waited) = (self.name.clone(), self.write_wait);
+            return Err(SocketcandError::NoAnswer { server, waiting_for: "< echo >", waited }.into());
+        }
+        Ok(())
     }
 
     fn close(&mut self) -> Result<()> {
@@ -323,6 +352,25 @@ mod tests {
         let e = (0..10_000_000).find_map(|_| link.send(&frame).err()).expect("the sends never stalled");
         assert_eq!(e.exit_code(), 5, "{e}");
         assert!(e.to_string().contains("has taken nothing canctl sent for 100 ms"), "{e}");
+    }
+
+    #[test]
+    fn after_a_silence_the_server_must_answer_an_echo() {
+        let mut script = HANDSHAKE.to_vec();
+        script.push((b"< echo >", b"< frame 705 2.0 7F >< echo >"));
+        // The server hears the second one, and says nothing until it gives up on the client.
+        script.push((b"< never >", b""));
+        let (port, _server) = server(script);
+        let mut link = open(port, 300).unwrap();
+        link.check().unwrap();
+        // The frames that came meanwhile are kept.
+        let soon = Instant::now() + Duration::from_secs(1);
+        assert_eq!(link.recv(soon).unwrap(), Some(Frame::new(0x705, &[0x7F])));
+        assert_eq!(link.recv(soon).unwrap(), Some(Frame::new(0x705, &[0x7F])));
+        // The second echo goes unanswered: a stuck server is a link failure.
+        let e = link.check().unwrap_err();
+        assert_eq!(e.exit_code(), 5, "{e}");
+        assert!(e.to_string().contains("no < echo > within 300 ms"), "{e}");
     }
 
     #[test]

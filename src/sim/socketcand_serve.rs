@@ -203,6 +203,8 @@ mod tests {
         assert_eq!(b.recv(soon()).unwrap(), Some(answer));
         // A client does not hear its own frame back.
         assert_eq!(a.recv(Instant::now() + Duration::from_millis(50)).unwrap(), None);
+        // The server answers the echo a silence is checked with.
+        a.check().unwrap();
     }
 
     #[test]

@@ -26,7 +26,7 @@ pub enum SocketcandError {
         error: std::io::Error,
     },
     /// The server said nothing in time while canctl waited for `waiting_for`.
-    #[error("{server}: no {waiting_for} within {} ms: is that port a socketcand server, and not too busy?", waited.as_millis())]
+    #[error("{server}: no {waiting_for} within {} ms: is that port a socketcand server, is it overloaded, is the network to it up?", waited.as_millis())]
     NoAnswer {
         /// The bus address.
         server: String,
