@@ -163,6 +163,19 @@ fn a_server_killed_mid_transfer_ends_with_exit_5() {
 }
 
 #[test]
+fn a_stuck_server_is_a_bounded_link_failure() {
+    use nix::sys::signal::{kill, Signal};
+    let server = Server::start(&[]);
+    let pid = nix::unistd::Pid::from_raw(server.child.id() as i32);
+    // Stopped, the server's kernel still accepts the connection, and nothing answers.
+    kill(pid, Signal::SIGSTOP).unwrap();
+    let stuck = server.run(&["--timeout", "300ms", "scan"]);
+    kill(pid, Signal::SIGCONT).unwrap();
+    assert_eq!(stuck.code, 5, "{}", stuck.stderr);
+    assert!(stuck.stderr.contains("no < hi > within 300 ms"), "{}", stuck.stderr);
+}
+
+#[test]
 fn no_server_and_a_wrong_interface_are_link_failures_saying_what_to_do() {
     let server = Server::start(&[]);
     let (host, port, _) = server.parts();
