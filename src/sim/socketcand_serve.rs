@@ -22,8 +22,23 @@ pub const IFACE: &str = "sim";
 /// lose it: the bus does not wait for one slow reader.
 const WRITE_PATIENCE: Duration = Duration::from_secs(2);
 
-/// The clients in raw mode, by number, each with the half of its connection frames go to.
-type Clients = Arc<Mutex<Vec<(u64, TcpStream)>>>;
+/// How long frames for a client wait after its `< ok >` to raw mode, unless it sends
+/// something first. python-can reads each handshake answer with one `recv` and takes it
+/// whole for the answer: a frame arriving with the `< ok >` would fail its handshake.
+/// Frames are held back, not lost.
+const HANDSHAKE_GRACE: Duration = Duration::from_millis(50);
+
+/// A client in raw mode.
+struct Client {
+    number: u64,
+    /// The half of its connection frames go to.
+    stream: TcpStream,
+    /// Frames held back during [`HANDSHAKE_GRACE`]; `None` once they flow.
+    held: Option<Vec<u8>>,
+}
+
+/// The clients in raw mode.
+type Clients = Arc<Mutex<Vec<Client>>>;
 
 /// The server side: frames from the clients for the devices, frames from the devices to
 /// every client.
@@ -66,14 +81,34 @@ fn micros_now() -> u64 {
 fn broadcast(clients: &Clients, frame: &Frame, except: Option<u64>) {
     let bytes = Unit::Frame { frame: *frame, micros: micros_now() }.encode();
     let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
-    clients.retain_mut(|(number, stream)| {
-        Some(*number) == except || {
-            let ok = stream.write_all(&bytes).is_ok();
-            if !ok {
-                tracing::debug!(target: "canctl::socketcand", "client {number} dropped: it does not take its frames");
-                let _ = stream.shutdown(std::net::Shutdown::Both);
-            }
-            ok
+    clients.retain_mut(|c| match &mut c.held {
+        _ if Some(c.number) == except => true,
+        Some(held) => {
+            held.extend_from_slice(&bytes);
+            true
+        }
+        None => write_or_drop(c, &bytes),
+    });
+}
+
+/// Write to a client; one that cannot take it is let go.
+fn write_or_drop(c: &mut Client, bytes: &[u8]) -> bool {
+    let ok = c.stream.write_all(bytes).is_ok();
+    if !ok {
+        tracing::debug!(target: "canctl::socketcand", "client {} dropped: it does not take its frames", c.number);
+        let _ = c.stream.shutdown(std::net::Shutdown::Both);
+    }
+    ok
+}
+
+/// The end of a client's grace: the frames held back go out, and from now on each at once.
+fn release(clients: &Clients, number: u64) {
+    let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
+    clients.retain_mut(|c| match c.held.take() {
+        Some(held) if c.number == number => write_or_drop(c, &held),
+        held => {
+            c.held = held;
+            true
         }
     });
 }
@@ -99,14 +134,22 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
     if !answer(&Unit::Hi, &mut reply) {
         return;
     }
-    let (mut opened, mut raw) = (false, false);
+    let (mut opened, mut raw, mut held) = (false, false, false);
     let mut decoder = Decoder::new();
     let mut buf = [0u8; 4096];
     'conn: loop {
         let n = match stream.read(&mut buf) {
-            Ok(0) | Err(_) => break,
+            Ok(0) => break,
             Ok(n) => n,
+            Err(e) if held && matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => 0,
+            Err(_) => break,
         };
+        // The grace ends when the client says anything, or when it is over.
+        if held {
+            held = false;
+            release(&clients, number);
+            let _ = stream.set_read_timeout(None);
+        }
         for unit in decoder.push(&buf[..n]) {
             let ok = match unit {
                 Ok(Unit::Open(iface)) if !opened && iface == IFACE => {
@@ -119,12 +162,14 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
                     break 'conn;
                 }
                 // The client hears the bus from its `< ok >` on, as from socketcand's raw
-                // socket bound before it answers: no frame before the answer, none missed.
+                // socket bound before it answers: no frame before the answer, none missed
+                // (those of the grace come just after it).
                 Ok(Unit::RawMode) if opened && !raw => {
-                    raw = true;
+                    (raw, held) = (true, true);
                     let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
                     let ok = reply.write_all(&Unit::Ok.encode()).is_ok();
-                    clients.extend(writer.take().map(|w| (number, w)));
+                    clients.extend(writer.take().map(|stream| Client { number, stream, held: Some(Vec::new()) }));
+                    let _ = stream.set_read_timeout(Some(HANDSHAKE_GRACE));
                     ok
                 }
                 Ok(Unit::Echo) if opened => answer(&Unit::Echo, &mut reply),
@@ -149,7 +194,7 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
             }
         }
     }
-    clients.lock().unwrap_or_else(PoisonError::into_inner).retain(|(n, _)| *n != number);
+    clients.lock().unwrap_or_else(PoisonError::into_inner).retain(|c| c.number != number);
     let _ = stream.shutdown(std::net::Shutdown::Both);
     tracing::debug!(target: "canctl::socketcand", "client {number} left");
 }
@@ -205,6 +250,37 @@ mod tests {
         assert_eq!(a.recv(Instant::now() + Duration::from_millis(50)).unwrap(), None);
         // The server answers the echo a silence is checked with.
         a.check().unwrap();
+    }
+
+    /// python-can takes one read for the `< ok >`: a frame right behind it waits until the
+    /// client has had time to read it alone, and then comes.
+    #[test]
+    fn no_frame_rides_with_the_ok_to_raw_mode() {
+        let mut server = SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+        let mut c = TcpStream::connect(server.local_addr()).unwrap();
+        c.set_read_timeout(Some(Duration::from_secs(2))).unwrap();
+        let mut w = c.try_clone().unwrap();
+        let mut read = || {
+            let mut buf = [0u8; 256];
+            let n = c.read(&mut buf).unwrap();
+            String::from_utf8_lossy(&buf[..n]).into_owned()
+        };
+        assert_eq!(read(), "< hi >");
+        w.write_all(b"< open sim >").unwrap();
+        assert_eq!(read(), "< ok >");
+        w.write_all(b"< rawmode >").unwrap();
+        let joined = Instant::now() + Duration::from_secs(2);
+        while server.clients.lock().unwrap().is_empty() {
+            assert!(Instant::now() < joined, "the client never joined");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        // The ok is written; a device's frame follows before the client has read.
+        let heartbeat = Frame::new(0x705, &[0x7F]);
+        server.send(&heartbeat).unwrap();
+        std::thread::sleep(Duration::from_millis(10));
+        assert_eq!(read(), "< ok >");
+        let rest = read();
+        assert!(rest.starts_with("< frame 705 ") && rest.ends_with(" 7F >"), "{rest}");
     }
 
     #[test]
