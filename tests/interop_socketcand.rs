@@ -195,6 +195,17 @@ fn no_server_and_a_wrong_interface_are_link_failures_saying_what_to_do() {
 }
 
 #[test]
+fn a_port_in_use_says_to_take_another() {
+    let sim = Sim::new();
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    let r = sim.run(&["sim", "--socketcand", &port]);
+    assert_eq!(r.code, 5, "{}", r.stderr);
+    assert!(r.stderr.contains(&format!("cannot open TCP 127.0.0.1:{port}")), "{}", r.stderr);
+    assert!(r.stderr.contains("or 0 for any free one"), "{}", r.stderr);
+}
+
+#[test]
 fn completion_offers_socketcand_addresses() {
     let sim = Sim::new();
     let mut c = Command::new(common::canctl_bin());
