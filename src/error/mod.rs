@@ -494,8 +494,8 @@ pub enum LinkError {
     /// Another process holds the simulator's network (its state file's lock); `holder`
     /// names it (pid and command line) as far as it said.
     #[error("the sim network is in use by {holder} (waited {}): it serves one command at a time; stop that one, \
-             or serve the network where several commands share it as on a real bus (`canctl sim --socketcand 29536`, \
-             then --bus socketcand:127.0.0.1/sim; or `canctl sim --socketcan vcan0`, then --bus vcan0); --bus sim:OTHER.state would be another network, not this one",
+             or serve the network where several commands share it as on a real bus (`canctl sim --socketcan vcan0`, \
+             then --bus vcan0); --bus sim:OTHER.state would be another network, not this one",
         if *waited < Duration::from_secs(1) { format!("{} ms", waited.as_millis()) } else { format!("{} s", waited.as_secs_f64()) })]
     SimInUse { holder: String, waited: Duration },
     /// A pseudo-terminal (the simulator's serial devices) failed.
