@@ -202,7 +202,7 @@ fn a_port_in_use_says_to_take_another() {
     let r = sim.run(&["sim", "--socketcand", &port]);
     assert_eq!(r.code, 5, "{}", r.stderr);
     assert!(r.stderr.contains(&format!("cannot open TCP 127.0.0.1:{port}")), "{}", r.stderr);
-    assert!(r.stderr.contains("or 0 for any free one"), "{}", r.stderr);
+    assert!(r.stderr.contains("serve on another port, or on port 0 for any free one"), "{}", r.stderr);
 }
 
 #[test]
