@@ -1,5 +1,6 @@
 //! Bus addresses: `sim`, `sim:PATH`, `socketcan:can0` (or bare `can0`),
-//! `epos2-rs232:/dev/ttyS0?baud=115200`, `epos2-usb:/dev/ttyUSB0` — parsed with `FromStr`,
+//! `epos2-rs232:/dev/ttyS0?baud=115200`, `epos2-usb:/dev/ttyUSB0`, `slcan:/dev/ttyACM0@500k`,
+//! `socketcand:HOST[:PORT]/IFACE` — parsed with `FromStr`,
 //! written back with `Display`, and opened by the one factory, [`open`].
 
 use crate::backend::epos2::Epos2Gateway;
@@ -39,6 +40,15 @@ pub enum BusAddr {
         port: String,
         /// The CAN bit rate the adapter is to open the bus at, in kbit/s.
         kbit: u32,
+    },
+    /// A CAN interface of another machine, through its socketcand server (raw mode).
+    Socketcand {
+        /// The server's host name or address (an IPv6 address without brackets).
+        host: String,
+        /// The server's TCP port.
+        port: u16,
+        /// The CAN interface on the server's machine: can0, vcan0.
+        iface: String,
     },
 }
 
@@ -130,12 +140,14 @@ impl std::str::FromStr for BusAddr {
                 };
                 Ok(BusAddr::Slcan { port: port.to_string(), kbit })
             }
+            ("socketcand", Some(rest)) => parse_socketcand(rest).map_err(usage),
             (iface, None) if iface.starts_with('/') => Err(usage(format!(
                 "a serial port needs its protocol: slcan:{iface}, epos2-rs232:{iface} or epos2-usb:{iface}"
             ))),
             (iface, None) => Ok(BusAddr::SocketCan { iface: check_iface(iface).map_err(usage)? }),
             (other, Some(_)) => Err(usage(format!(
-                "unknown kind of bus '{}'; use sim, socketcan:IFACE, slcan:PORT, epos2-rs232:PORT or epos2-usb:PORT",
+                "unknown kind of bus '{}'; use sim, socketcan:IFACE, slcan:PORT, epos2-rs232:PORT, epos2-usb:PORT \
+                 or socketcand:HOST[:PORT]/IFACE",
                 crate::error::clipped(other)
             ))),
         }
@@ -161,6 +173,16 @@ impl std::fmt::Display for BusAddr {
                 Ok(())
             }
             BusAddr::Slcan { port, kbit } => write!(f, "slcan:{port}@{}", kbit_text(*kbit)),
+            BusAddr::Socketcand { host, port, iface } => {
+                match host.contains(':') {
+                    true => write!(f, "socketcand:[{host}]")?,
+                    false => write!(f, "socketcand:{host}")?,
+                }
+                if *port != crate::socketcand::DEFAULT_PORT {
+                    write!(f, ":{port}")?;
+                }
+                write!(f, "/{iface}")
+            }
         }
     }
 }
@@ -232,7 +254,39 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             let link = crate::backend::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?;
             Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
         }
+        BusAddr::Socketcand { host, port, iface } => {
+            let link =
+                crate::backend::socketcand::SocketcandLink::open(host, *port, iface, addr.to_string(), opts.timeout)?;
+            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
+        }
     }
+}
+
+/// `HOST[:PORT]/IFACE`, the host an IPv6 address in brackets if it is one.
+fn parse_socketcand(rest: &str) -> std::result::Result<BusAddr, String> {
+    let form = "as in socketcand:bench1/can0 or socketcand:192.168.1.20:29536/can0";
+    let Some((server, iface)) = rest.rsplit_once('/') else {
+        return Err(format!("the CAN interface is missing, {form}"));
+    };
+    let (host, port) = match server.strip_prefix('[') {
+        Some(v6) => match v6.split_once(']') {
+            Some((host, "")) => (host, None),
+            Some((host, port)) => (host, Some(port.strip_prefix(':').ok_or(format!("'{server}' is not HOST:PORT"))?)),
+            None => return Err(format!("'{server}' lacks its closing ']'")),
+        },
+        None => match server.split_once(':') {
+            Some((host, port)) => (host, Some(port)),
+            None => (server, None),
+        },
+    };
+    if host.is_empty() || host.contains(['/', ' ', '[', ']']) || (!server.starts_with('[') && host.contains(':')) {
+        return Err(format!("the server's host is missing or malformed, {form}"));
+    }
+    let port = match port {
+        None => crate::socketcand::DEFAULT_PORT,
+        Some(p) => p.parse().ok().filter(|p| *p > 0).ok_or(format!("port '{p}' is not a TCP port (1-65535)"))?,
+    };
+    Ok(BusAddr::Socketcand { host: host.to_string(), port, iface: check_iface(iface)? })
 }
 
 #[cfg(unix)]
@@ -284,6 +338,14 @@ mod tests {
 
     #[test]
     fn parses_every_form() {
+        assert_eq!(
+            "socketcand:bench1/can0".parse::<BusAddr>().unwrap(),
+            BusAddr::Socketcand { host: "bench1".into(), port: 29536, iface: "can0".into() }
+        );
+        assert_eq!(
+            "socketcand:[::1]:4000/vcan0".parse::<BusAddr>().unwrap(),
+            BusAddr::Socketcand { host: "::1".into(), port: 4000, iface: "vcan0".into() }
+        );
         assert_eq!("sim".parse::<BusAddr>().unwrap(), BusAddr::Sim { state: None });
         assert_eq!("sim:/tmp/s.json".parse::<BusAddr>().unwrap(), BusAddr::Sim { state: Some("/tmp/s.json".into()) });
         assert_eq!("can0".parse::<BusAddr>().unwrap(), BusAddr::SocketCan { iface: "can0".into() });
@@ -314,6 +376,11 @@ mod tests {
             ("slcan:/dev/ttyACM0@1M", "slcan:/dev/ttyACM0@1M"),
             ("slcan:COM5@125000", "slcan:COM5@125k"),
             ("slcan:/dev/tty.usbmodem1101@100k", "slcan:/dev/tty.usbmodem1101@100k"),
+            ("socketcand:bench1/can0", "socketcand:bench1/can0"),
+            ("socketcand:bench1:29536/can0", "socketcand:bench1/can0"),
+            ("socketcand:127.0.0.1:4000/vcan0", "socketcand:127.0.0.1:4000/vcan0"),
+            ("socketcand:[::1]:4000/vcan0", "socketcand:[::1]:4000/vcan0"),
+            ("socketcand:[fe80::1]/can1", "socketcand:[fe80::1]/can1"),
         ];
         for (text, canonical) in forms {
             let addr: BusAddr = text.parse().unwrap();
@@ -342,5 +409,12 @@ mod tests {
         assert!(msg("slcan:@500k").contains("serial port is missing"));
         assert!(msg("socketcan:").contains("interface name"));
         assert!(msg("averyveryverylongname").contains("interface name"));
+        assert!(msg("socketcand:bench1").contains("CAN interface is missing"));
+        assert!(msg("socketcand:/can0").contains("host is missing"));
+        assert!(msg("socketcand:bench1:0/can0").contains("not a TCP port"));
+        assert!(msg("socketcand:bench1:http/can0").contains("not a TCP port"));
+        assert!(msg("socketcand:[::1/can0").contains("closing ']'"));
+        assert!(msg("socketcand:bench1/").contains("interface name"));
+        assert!(msg("socketcand:::1/can0").contains("host is missing"));
     }
 }

@@ -11,14 +11,14 @@
 //! |---|---|
 //! | `cli`, `output` (feature `cli`) | clap definitions, one file per command: parse the arguments, call one operation, render its report; `output` is the one renderer (table, JSON, CSV, JSON lines; each report's human form in `output/`) and turns [`ops::Progress`] into progress bars |
 //! | [`ops`], [`settings`] | the procedures (scan, SDO read/write, NMT with confirmation, LSS, config dump/diff/apply, store/restore, PDO remap and stream, monitor): functions over `&mut dyn Bus` returning serialisable reports; no printing, no clap. `settings` resolves flags, `CANCTL_BUS` and `canctl.toml` once, each value with its source |
-//! | `sim::serve` | the simulated network as a service, behind a CAN interface or a pty |
+//! | `sim::serve` | the simulated network as a service, behind a CAN interface, a pty or a socketcand server |
 //! | [`connect`] | [`connect::BusAddr`] (`FromStr` + `Display`) and [`connect::open`], the only place that names every backend |
 //! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 and slcan serial devices |
-//! | [`backend`] | the links: SocketCAN, slcan (`FrameLink`s served by [`bus::Master`]), the EPOS2 gateway (a `Bus` of its own) |
+//! | [`backend`] | the links: SocketCAN, slcan, socketcand (`FrameLink`s served by [`bus::Master`]), the EPOS2 gateway (a `Bus` of its own) |
 //! | [`bus`] | the [`bus::Bus`] service API, the [`bus::FrameLink`] trait, [`bus::Master`] (CANopen client over a `FrameLink`), clock, and the decorators (observer, tap, stop, frame log) |
 //! | [`cancel`], `atomic` | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
 //! | [`error`] | the library's [`Error`], wrapping the lower layers' errors; exit codes |
-//! | [`epos2`], [`slcan`] | the serial protocols: pure framing, CRC, commands; EPOS2's two transports |
+//! | [`epos2`], [`slcan`], [`socketcand`] | the serial and network protocols: pure framing, CRC, commands; EPOS2's two transports |
 //! | [`od`] | object dictionaries, EDS/DCF read and write, object names |
 //! | [`canopen`], [`input`], `trace` | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
 //! | [`frame`], [`serial`], `xdg` | the CAN frame; the serial port the serial backends use; where state and cache files live |
@@ -62,7 +62,7 @@ pub const LAYERS: &[&[&str]] = &[
     &["bus"],
     &["cancel", "atomic", "hint"],
     &["error"],
-    &["epos2", "slcan"],
+    &["epos2", "slcan", "socketcand"],
     &["od"],
     &["canopen", "input", "trace"],
     &["frame", "serial", "xdg"],
@@ -88,6 +88,7 @@ pub mod serial;
 pub mod settings;
 pub mod sim;
 pub mod slcan;
+pub mod socketcand;
 pub(crate) mod trace;
 pub(crate) mod xdg;
 

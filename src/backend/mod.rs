@@ -7,6 +7,7 @@ pub mod epos2;
 pub mod slcan;
 #[cfg(target_os = "linux")]
 pub(crate) mod socketcan;
+pub(crate) mod socketcand;
 
 /// CAN interfaces present (ARPHRD_CAN = 280 in /sys/class/net/*/type).
 pub fn can_interfaces() -> Vec<String> {

@@ -80,8 +80,8 @@ pub struct Cli {
 #[derive(Args, Debug)]
 pub(crate) struct GlobalArgs {
     /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k,
-    /// epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0 (default: CANCTL_BUS, else
-    /// the settings file's)
+    /// epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0, socketcand:HOST/IFACE or
+    /// socketcand:HOST:PORT/IFACE (default: CANCTL_BUS, else the settings file's)
     #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", add = ArgValueCandidates::new(complete::buses))]
     pub bus: Option<String>,
     /// How long to wait for each answer: 500ms, 2s, 1.5s (a unit is required: us, ms, s, m;

@@ -17,7 +17,9 @@ use std::time::Duration;
 /// With --socketcan IFACE, the devices answer on that interface (a vcan interface makes a
 /// test bus for provisioning scripts). With --slcan, creates a pseudo-terminal, prints its
 /// path and acts there as a serial-line CAN adapter with the devices on its bus (use
-/// --bus slcan:/dev/pts/N, or attach the kernel's slcand to it). With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
+/// --bus slcan:/dev/pts/N, or attach the kernel's slcand to it). With --socketcand, listens
+/// on TCP as a socketcand server (raw mode, interface `sim`) and prints the --bus value that
+/// reaches it; several programs share that bus at once, as a real one. With --epos2-rs232 or --epos2-usb, creates a pseudo-terminal, prints its path on stdout
 /// and serves it as a maxon EPOS2 (node 1 of the sim network) until stopped: commands for
 /// node 0 or 1 run on the EPOS2's own dictionary, the others go on to the simulated CAN bus
 /// as SDO, NMT and LSS frames. The network's state is saved after every command. The
@@ -32,6 +34,7 @@ use std::time::Duration;
   canctl --bus epos2-rs232:/dev/pts/N scan
   canctl sim --epos2-usb --baud 1000000 --fault crc@2
   canctl sim --slcan &                     # prints /dev/pts/N: --bus slcan:/dev/pts/N
+  canctl sim --socketcand 29536 &          # prints socketcand:127.0.0.1/sim
   canctl sim reset"
 )]
 pub(crate) struct SimArgs {
@@ -43,6 +46,10 @@ pub(crate) struct SimArgs {
     /// Serve the devices behind a simulated slcan (Lawicel) adapter on a pseudo-terminal
     #[arg(long, conflicts_with_all = ["epos2_rs232", "epos2_usb"])]
     pub slcan: bool,
+    /// Serve the devices behind a socketcand server (raw mode) on this TCP port, on
+    /// 127.0.0.1 unless an address is given; prints the --bus value that reaches it
+    #[arg(long, value_name = "[ADDR:]PORT", value_parser = parse_listen, conflicts_with_all = ["socketcan", "slcan", "epos2_rs232", "epos2_usb"])]
+    pub socketcand: Option<std::net::SocketAddr>,
     /// Serve an EPOS2 speaking the RS232 protocol (with the 'O'/'F' handshake)
     #[arg(long, conflicts_with = "epos2_usb")]
     pub epos2_rs232: bool,
@@ -122,6 +129,14 @@ pub(crate) struct ResetArgs {
     pub bootloader: Option<u8>,
 }
 
+/// `29536` (on 127.0.0.1), `0.0.0.0:29536`, `[::1]:29536`.
+fn parse_listen(text: &str) -> Result<std::net::SocketAddr, String> {
+    match text.parse::<u16>() {
+        Ok(port) => Ok(std::net::SocketAddr::from(([127, 0, 0, 1], port))),
+        Err(_) => text.parse().map_err(|_| format!("'{text}' is not PORT or ADDR:PORT (0.0.0.0:29536, [::1]:29536)")),
+    }
+}
+
 fn parse_rate(text: &str) -> Result<u8, String> {
     let index = crate::canopen::lss::parse_bit_rate(text)?;
     crate::sim::timing::bits_per_second(index)
@@ -141,13 +156,14 @@ pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Res
     }
     let (faults, baud, can_timeout) = (args.fault.clone(), args.baud, args.can_timeout);
     let how = match (&args.socketcan, args.slcan, args.epos2_rs232, args.epos2_usb) {
+        _ if args.socketcand.is_some() => Serve::Socketcand { addr: args.socketcand.expect("just checked") },
         (Some(iface), ..) => Serve::SocketCan { iface: iface.clone() },
         (_, true, ..) => Serve::Slcan { faults },
         (_, _, true, _) => Serve::Epos2 { framing: Framing::Rs232, baud, faults, can_timeout },
         (_, _, _, true) => Serve::Epos2 { framing: Framing::Usb, baud, faults, can_timeout },
         _ => {
-            let msg =
-                "say what to serve: --socketcan IFACE, --slcan, --epos2-rs232 or --epos2-usb (or `canctl sim reset`)";
+            let msg = "say what to serve: --socketcan IFACE, --slcan, --socketcand PORT, --epos2-rs232 or --epos2-usb \
+                 (or `canctl sim reset`)";
             return Err(Error::Usage(msg.into()).into());
         }
     };
@@ -161,7 +177,7 @@ pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Res
         std::process::exit(Error::Interrupted.exit_code());
     });
     let served = serve::serve(&path, &how, global.frame_log()?, |serving| {
-        if let Some(pty) = serving.pty() {
+        if let Some(pty) = serving.pty().or(serving.bus()) {
             ctx.out
                 .print(pty)
                 .map_err(|e| Error::Link(LinkError::Pty { op: PtyOp::PrintPath, detail: e.to_string() }))?;

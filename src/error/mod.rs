@@ -106,6 +106,14 @@ pub enum Error {
         /// What it cannot do, and what to do instead.
         why: &'static str,
     },
+    /// A remote (RTR) frame asked of a link that cannot carry one (`backend` names it).
+    #[error("{bus}: {backend} carries no remote (RTR) frames: node guarding and RTR polling cannot go through it; a node's heartbeat (0x1017) shows its state instead")]
+    NoRemoteFrames {
+        /// The bus, as its address reads.
+        bus: String,
+        /// The kind of link ("socketcand").
+        backend: &'static str,
+    },
     /// LSS was asked to give a node-id that something on the bus already answers to
     /// (`by`: "an SDO answer", "its heartbeat", ...); nothing was sent.
     #[error("node-id {node} is in use: {by} came from node {node}{}; a second device on it would make both unreachable. Nothing was sent", identity.map(|i| format!(" (identity {i})")).unwrap_or_default())]
@@ -532,6 +540,7 @@ impl Error {
             | Error::TooLargeForSdo { .. }
             | Error::SlcanBitRate { .. }
             | Error::NotOnThisBus { .. }
+            | Error::NoRemoteFrames { .. }
             | Error::NotADrive { .. }
             | Error::NodeIdInUse { .. }
             // The range the user gave is full: no device refused anything.
@@ -649,6 +658,12 @@ fn profile_text(device_type: u32) -> String {
 impl From<crate::epos2::Epos2Error> for Error {
     fn from(e: crate::epos2::Epos2Error) -> Error {
         Error::Link(LinkError::Epos2(e))
+    }
+}
+
+impl From<crate::socketcand::SocketcandError> for Error {
+    fn from(e: crate::socketcand::SocketcandError) -> Error {
+        Error::Link(LinkError::Socketcand(e))
     }
 }
 
@@ -794,6 +809,9 @@ pub enum LinkError {
     /// The EPOS2 serial line or an EPOS2's answer failed.
     #[error(transparent)]
     Epos2(#[from] crate::epos2::Epos2Error),
+    /// A socketcand server could not be reached, refused, or went away.
+    #[error(transparent)]
+    Socketcand(#[from] crate::socketcand::SocketcandError),
     /// The simulator's state file could not be used.
     #[error("sim state file {}: {what}: {detail}", path.display())]
     StateFile {

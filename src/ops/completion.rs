@@ -21,10 +21,13 @@ pub enum BusCandidate {
     Found(BusAddr),
     /// `slcan:PORT`, an slcan adapter on a serial port found here.
     Slcan(String),
+    /// `socketcand:`, the start of a socketcand server's address (HOST[:PORT]/IFACE follows).
+    Socketcand,
 }
 
 /// The buses that could be given to `--bus` here: the simulator, every CAN interface, and
-/// for every serial port an slcan adapter and an EPOS2 on RS232 and on USB.
+/// for every serial port an slcan adapter and an EPOS2 on RS232 and on USB, and the start of
+/// a socketcand server's address.
 pub fn buses() -> Vec<BusCandidate> {
     let mut out = vec![BusCandidate::Sim];
     for iface in crate::connect::can_interfaces() {
@@ -37,6 +40,7 @@ pub fn buses() -> Vec<BusCandidate> {
         let baud = crate::connect::USB_DEFAULT_BAUD;
         out.push(BusCandidate::Found(BusAddr::Epos2 { framing: Framing::Usb, port, baud }));
     }
+    out.push(BusCandidate::Socketcand);
     out
 }
 

@@ -342,7 +342,15 @@ fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<
     let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
     let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
     for f in found.iter_mut().filter(|f| f.state.is_none()) {
-        match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait)? {
+        let guarded = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
+            // A link without remote frames (socketcand): the heartbeat was all there was.
+            Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
+                f.state_from = "no heartbeat heard, and node guarding cannot go through this bus (no RTR frames)";
+                continue;
+            }
+            other => other?,
+        };
+        match guarded {
             Some(g @ Guarded::State(_)) => (f.state, f.state_from) = (g.state(), source),
             Some(g @ Guarded::BootUp) => (f.state, f.state_from) = (g.state(), "boot-up"),
             Some(Guarded::NotAState) => f.state_from = "its error-control answer was not a state",

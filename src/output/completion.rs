@@ -17,6 +17,9 @@ pub(crate) fn buses(buses: Vec<BusCandidate>) -> Vec<CompletionCandidate> {
         .map(|b| match b {
             BusCandidate::Sim => candidate("sim", "the simulated demo network"),
             BusCandidate::Slcan(port) => candidate(format!("slcan:{port}"), "slcan CAN adapter (CANable, CANUSB)"),
+            BusCandidate::Socketcand => {
+                candidate("socketcand:", "socketcand:HOST[:PORT]/IFACE, a CAN interface over TCP")
+            }
             BusCandidate::Found(addr) => {
                 let help = match &addr {
                     BusAddr::SocketCan { .. } => "CAN interface",

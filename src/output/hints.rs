@@ -84,7 +84,7 @@ pub fn no_bus_text() -> String {
          CAN interfaces here: {}\n  \
          serial ports here:   {}\n  \
          forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
-         epos2-usb:/dev/ttyUSB0\n  \
+         epos2-usb:/dev/ttyUSB0, socketcand:HOST[:PORT]/IFACE\n  \
          no hardware? try the demo network: canctl --bus sim scan",
         list(crate::connect::can_interfaces()),
         list(crate::connect::serial_ports())

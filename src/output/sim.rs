@@ -21,6 +21,10 @@ pub(crate) fn serving(s: &Serving) -> String {
                  stop with Ctrl-C"
             )
         }
+        Serving::Socketcand { bound, bus, iface } => format!(
+            "the sim network's devices are behind a socketcand server on {bound} (interface {iface}): use --bus {bus}; \
+             several programs may use it at once; stop with Ctrl-C"
+        ),
     }
 }
 

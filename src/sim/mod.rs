@@ -16,6 +16,7 @@ pub mod serial_fault;
 pub mod serve;
 #[cfg(unix)]
 pub mod slcan_serve;
+pub mod socketcand_serve;
 pub mod state;
 pub mod timing;
 

@@ -1,6 +1,7 @@
 //! The simulated network as a service: start its saved state afresh, or put its devices
 //! behind a real CAN interface, a simulated slcan adapter or a simulated EPOS2 on a
-//! pseudo-terminal, and answer there until the process is stopped.
+//! pseudo-terminal, or a socketcand server on TCP, and answer there until the process is
+//! stopped.
 
 use super::serial_fault::{Fault, FaultKind};
 use super::state::{default_path, StateFile};
@@ -94,6 +95,12 @@ pub enum Serve {
         /// How long the gateway waits for a device's SDO answer.
         can_timeout: Duration,
     },
+    /// Behind a socketcand server (raw mode) listening on this address; several clients
+    /// share the bus.
+    Socketcand {
+        /// The address to listen on (port 0: any free one).
+        addr: std::net::SocketAddr,
+    },
 }
 
 /// Where the devices are now served.
@@ -119,14 +126,31 @@ pub enum Serving {
         /// The bus's bit rate (a CiA 305 bit timing index).
         bit_rate: u8,
     },
+    /// Behind a socketcand server: its clients share the bus.
+    Socketcand {
+        /// The address the server listens on.
+        bound: std::net::SocketAddr,
+        /// The `--bus` value that reaches it from this machine.
+        bus: String,
+        /// The CAN interface it offers.
+        iface: String,
+    },
 }
 
 impl Serving {
     /// The pseudo-terminal to open, if the devices sit behind one.
     pub fn pty(&self) -> Option<&str> {
         match self {
-            Serving::SocketCan { .. } => None,
+            Serving::SocketCan { .. } | Serving::Socketcand { .. } => None,
             Serving::Epos2 { pty, .. } | Serving::Slcan { pty, .. } => Some(pty),
+        }
+    }
+
+    /// The bus address that reaches the devices, if it is no pseudo-terminal (a server).
+    pub fn bus(&self) -> Option<&str> {
+        match self {
+            Serving::Socketcand { bus, .. } => Some(bus),
+            _ => None,
         }
     }
 }
@@ -165,6 +189,7 @@ pub fn serve(
         Serve::SocketCan { iface } => Ok(socketcan(path, iface, log, ready)?),
         #[cfg(not(target_os = "linux"))]
         Serve::SocketCan { .. } => Err(ServeError::NoSocketCan),
+        Serve::Socketcand { addr } => Ok(socketcand(path, *addr, log, ready)?),
         #[cfg(unix)]
         Serve::Slcan { faults } => slcan(path, faults, log, ready),
         #[cfg(unix)]
@@ -227,4 +252,28 @@ fn slcan(
     let mut adapter = super::slcan_serve::SlcanAdapter::create(kbit, faults.to_vec())?;
     ready(&Serving::Slcan { pty: adapter.path().to_string(), bit_rate: rate })?;
     Ok(super::bridge::run(sim, &mut adapter, log)?)
+}
+
+/// The devices behind a socketcand server: the server is a frame link, bridged to the sim
+/// network as a CAN interface is; its clients share the bus.
+fn socketcand(
+    path: &Path,
+    addr: std::net::SocketAddr,
+    log: Option<FrameLog>,
+    ready: impl FnOnce(&Serving) -> Result<()>,
+) -> Result<()> {
+    use super::socketcand_serve::{SocketcandServer, IFACE};
+    let sim = super::SimLink::open(StateFile::lock(path)?)?;
+    let mut server = SocketcandServer::bind(addr)
+        .map_err(|e| e.with_hint("; serve on another port, or on port 0 for any free one"))?;
+    let bound = server.local_addr();
+    // Listening on every address: this machine's loopback reaches it too.
+    let host = match bound.ip() {
+        ip if ip.is_unspecified() && ip.is_ipv4() => "127.0.0.1".to_string(),
+        ip if ip.is_unspecified() => "::1".to_string(),
+        ip => ip.to_string(),
+    };
+    let bus = BusAddr::Socketcand { host, port: bound.port(), iface: IFACE.into() }.to_string();
+    ready(&Serving::Socketcand { bound, bus, iface: IFACE.into() })?;
+    super::bridge::run(sim, &mut server, log)
 }

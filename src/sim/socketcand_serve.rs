@@ -1,0 +1,294 @@
+//! The simulated network behind a socketcand server on TCP: what linux-can/socketcand in
+//! front of a CAN interface shows its clients, in raw mode, with the sim devices on the
+//! bus. Several clients at once share the bus as programs share a real one: each client's
+//! frames reach the devices and every other client (not itself, as a SocketCAN raw socket
+//! does not hear its own frames). The server side is a `FrameLink`, so `bridge::run`
+//! connects it to the devices as it does a CAN interface.
+
+use crate::bus::FrameLink;
+use crate::error::{LinkError, Result};
+use crate::frame::Frame;
+use crate::socketcand::wire::{Decoder, Unit};
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+/// The one interface the server offers: the sim network's bus.
+pub const IFACE: &str = "sim";
+
+/// A client that does not take its frames for this long is dropped, as socketcand would
+/// lose it: the bus does not wait for one slow reader.
+const WRITE_PATIENCE: Duration = Duration::from_secs(2);
+
+/// How long frames for a client wait after its `< ok >` to raw mode, unless it sends
+/// something first. python-can reads each handshake answer with one `recv` and takes it
+/// whole for the answer: a frame arriving with the `< ok >` would fail its handshake.
+/// Frames are held back, not lost.
+const HANDSHAKE_GRACE: Duration = Duration::from_millis(50);
+
+/// A client in raw mode.
+struct Client {
+    number: u64,
+    /// The half of its connection frames go to.
+    stream: TcpStream,
+    /// Frames held back during [`HANDSHAKE_GRACE`]; `None` once they flow.
+    held: Option<Vec<u8>>,
+}
+
+/// The clients in raw mode.
+type Clients = Arc<Mutex<Vec<Client>>>;
+
+/// The server side: frames from the clients for the devices, frames from the devices to
+/// every client.
+pub struct SocketcandServer {
+    addr: SocketAddr,
+    clients: Clients,
+    from_clients: Receiver<Frame>,
+}
+
+impl SocketcandServer {
+    /// Listen on `addr` (port 0: any free one) and take clients from now on.
+    pub fn bind(addr: SocketAddr) -> Result<SocketcandServer> {
+        let listener =
+            TcpListener::bind(addr).map_err(|error| LinkError::Open { port: format!("TCP {addr}"), error })?;
+        let addr = listener.local_addr().map_err(|error| LinkError::Open { port: format!("TCP {addr}"), error })?;
+        let clients: Clients = Arc::default();
+        let (tx, from_clients) = mpsc::channel();
+        let shared = clients.clone();
+        std::thread::spawn(move || {
+            for (stream, number) in listener.incoming().flatten().zip(1u64..) {
+                let (clients, tx) = (shared.clone(), tx.clone());
+                std::thread::spawn(move || serve_client(number, stream, clients, tx));
+            }
+        });
+        Ok(SocketcandServer { addr, clients, from_clients })
+    }
+
+    /// Where the server listens.
+    pub fn local_addr(&self) -> SocketAddr {
+        self.addr
+    }
+}
+
+fn micros_now() -> u64 {
+    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_micros() as u64).unwrap_or(0)
+}
+
+/// Write `frame` to every client in raw mode but `except`; a client that cannot take it
+/// is dropped.
+fn broadcast(clients: &Clients, frame: &Frame, except: Option<u64>) {
+    let bytes = Unit::Frame { frame: *frame, micros: micros_now() }.encode();
+    let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
+    clients.retain_mut(|c| match &mut c.held {
+        _ if Some(c.number) == except => true,
+        Some(held) => {
+            held.extend_from_slice(&bytes);
+            true
+        }
+        None => write_or_drop(c, &bytes),
+    });
+}
+
+/// Write to a client; one that cannot take it is let go.
+fn write_or_drop(c: &mut Client, bytes: &[u8]) -> bool {
+    let ok = c.stream.write_all(bytes).is_ok();
+    if !ok {
+        tracing::debug!(target: "canctl::socketcand", "client {} dropped: it does not take its frames", c.number);
+        let _ = c.stream.shutdown(std::net::Shutdown::Both);
+    }
+    ok
+}
+
+/// The end of a client's grace: the frames held back go out, and from now on each at once.
+fn release(clients: &Clients, number: u64) {
+    let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
+    clients.retain_mut(|c| match c.held.take() {
+        Some(held) if c.number == number => write_or_drop(c, &held),
+        held => {
+            c.held = held;
+            true
+        }
+    });
+}
+
+/// One client's connection, from `< hi >` to its end.
+fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender<Frame>) {
+    let peer = stream.peer_addr().map(|a| a.to_string()).unwrap_or_default();
+    tracing::debug!(target: "canctl::socketcand", "client {number} from {peer}");
+    let _ = stream.set_nodelay(true);
+    let _ = stream.set_write_timeout(Some(WRITE_PATIENCE));
+    let Ok(writer) = stream.try_clone() else { return };
+    let mut writer = Some(writer);
+    // Answers go through the clients' lock once the client is in raw mode, so that they
+    // never land inside a frame another thread is writing.
+    let answer = |unit: &Unit, stream: &mut TcpStream| {
+        let _guard = clients.lock().unwrap_or_else(PoisonError::into_inner);
+        stream.write_all(&unit.encode()).is_ok()
+    };
+    let mut reply = match stream.try_clone() {
+        Ok(s) => s,
+        Err(_) => return,
+    };
+    if !answer(&Unit::Hi, &mut reply) {
+        return;
+    }
+    let (mut opened, mut raw, mut held) = (false, false, false);
+    let mut decoder = Decoder::new();
+    let mut buf = [0u8; 4096];
+    'conn: loop {
+        let n = match stream.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if held && matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => 0,
+            Err(_) => break,
+        };
+        // The grace ends when the client says anything, or when it is over.
+        if held {
+            held = false;
+            release(&clients, number);
+            let _ = stream.set_read_timeout(None);
+        }
+        for unit in decoder.push(&buf[..n]) {
+            let ok = match unit {
+                Ok(Unit::Open(iface)) if !opened && iface == IFACE => {
+                    opened = true;
+                    answer(&Unit::Ok, &mut reply)
+                }
+                // As socketcand: a bus it does not offer ends the connection.
+                Ok(Unit::Open(_)) if !opened => {
+                    answer(&Unit::Refused("could not open bus".into()), &mut reply);
+                    break 'conn;
+                }
+                // The client hears the bus from its `< ok >` on, as from socketcand's raw
+                // socket bound before it answers: no frame before the answer, none missed
+                // (those of the grace come just after it).
+                Ok(Unit::RawMode) if opened && !raw => {
+                    (raw, held) = (true, true);
+                    let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
+                    let ok = reply.write_all(&Unit::Ok.encode()).is_ok();
+                    clients.extend(writer.take().map(|stream| Client { number, stream, held: Some(Vec::new()) }));
+                    let _ = stream.set_read_timeout(Some(HANDSHAKE_GRACE));
+                    ok
+                }
+                Ok(Unit::Echo) if opened => answer(&Unit::Echo, &mut reply),
+                Ok(Unit::Send(frame)) if raw => {
+                    broadcast(&clients, &frame, Some(number));
+                    tx.send(frame).is_ok()
+                }
+                // 29-bit frames: no sim device listens to them.
+                Ok(Unit::Extended { .. }) if raw => true,
+                Ok(other) => {
+                    tracing::debug!(target: "canctl::socketcand", "client {number}: {other:?} out of place");
+                    answer(&Unit::Refused("unknown command".into()), &mut reply)
+                }
+                // socketcand logs a malformed unit and answers nothing.
+                Err(bad) => {
+                    tracing::debug!(target: "canctl::socketcand", "client {number}: malformed {:?}", bad.0);
+                    true
+                }
+            };
+            if !ok {
+                break 'conn;
+            }
+        }
+    }
+    clients.lock().unwrap_or_else(PoisonError::into_inner).retain(|c| c.number != number);
+    let _ = stream.shutdown(std::net::Shutdown::Both);
+    tracing::debug!(target: "canctl::socketcand", "client {number} left");
+}
+
+impl FrameLink for SocketcandServer {
+    /// A frame from the devices, to every client.
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        broadcast(&self.clients, frame, None);
+        Ok(())
+    }
+
+    /// A frame from a client, for the devices.
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        let left = deadline.saturating_duration_since(Instant::now());
+        match self.from_clients.recv_timeout(left) {
+            Ok(f) => Ok(Some(f)),
+            Err(RecvTimeoutError::Timeout) => Ok(None),
+            // The accepting thread holds a sender for as long as the process runs.
+            Err(RecvTimeoutError::Disconnected) => Ok(None),
+        }
+    }
+
+    fn name(&self) -> String {
+        format!("socketcand:{}/{IFACE}", self.addr)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::backend::socketcand::SocketcandLink;
+
+    fn client(server: &SocketcandServer) -> SocketcandLink {
+        let addr = server.local_addr();
+        let name = format!("socketcand:{addr}/{IFACE}");
+        SocketcandLink::open(&addr.ip().to_string(), addr.port(), IFACE, name, Duration::from_secs(2)).unwrap()
+    }
+
+    #[test]
+    fn every_client_sees_the_others_and_the_devices_frames() {
+        let mut server = SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+        let (mut a, mut b) = (client(&server), client(&server));
+        let soon = || Instant::now() + Duration::from_secs(2);
+        let request = Frame::new(0x605, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
+        a.send(&request).unwrap();
+        assert_eq!(server.recv(soon()).unwrap(), Some(request));
+        assert_eq!(b.recv(soon()).unwrap(), Some(request));
+        let answer = Frame::new(0x585, &[0x43, 0x00, 0x10, 0x00, 0x91, 0x01, 0x0F, 0x00]);
+        server.send(&answer).unwrap();
+        assert_eq!(a.recv(soon()).unwrap(), Some(answer));
+        assert_eq!(b.recv(soon()).unwrap(), Some(answer));
+        // A client does not hear its own frame back.
+        assert_eq!(a.recv(Instant::now() + Duration::from_millis(50)).unwrap(), None);
+        // The server answers the echo a silence is checked with.
+        a.check().unwrap();
+    }
+
+    /// python-can takes one read for the `< ok >`: a frame right behind it waits until the
+    /// client has had time to read it alone, and then comes.
+    #[test]
+    fn no_frame_rides_with_the_ok_to_raw_mode() {
+        let mut server = SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+        let mut c = TcpStream::connect(server.local_addr()).unwrap();
+        c.set_read_timeout(Some(Duration::from_secs(2))).unwrap();
+        let mut w = c.try_clone().unwrap();
+        let mut read = || {
+            let mut buf = [0u8; 256];
+            let n = c.read(&mut buf).unwrap();
+            String::from_utf8_lossy(&buf[..n]).into_owned()
+        };
+        assert_eq!(read(), "< hi >");
+        w.write_all(b"< open sim >").unwrap();
+        assert_eq!(read(), "< ok >");
+        w.write_all(b"< rawmode >").unwrap();
+        let joined = Instant::now() + Duration::from_secs(2);
+        while server.clients.lock().unwrap().is_empty() {
+            assert!(Instant::now() < joined, "the client never joined");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        // The ok is written; a device's frame follows before the client has read.
+        let heartbeat = Frame::new(0x705, &[0x7F]);
+        server.send(&heartbeat).unwrap();
+        std::thread::sleep(Duration::from_millis(10));
+        assert_eq!(read(), "< ok >");
+        let rest = read();
+        assert!(rest.starts_with("< frame 705 ") && rest.ends_with(" 7F >"), "{rest}");
+    }
+
+    #[test]
+    fn an_interface_it_does_not_offer_is_refused() {
+        let server = SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+        let addr = server.local_addr();
+        let e =
+            SocketcandLink::open("127.0.0.1", addr.port(), "can0", "x".into(), Duration::from_secs(2)).err().unwrap();
+        assert!(e.to_string().contains("refused to open can0: could not open bus"), "{e}");
+    }
+}
