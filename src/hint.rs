@@ -4,10 +4,10 @@
 //! what happened and names no flag.
 
 use crate::canopen::lss::{FastscanError, Identity};
-use crate::error::{DriveStop, Error, Service};
+use crate::error::{DriveStop, Error, LinkError, Service};
 
 /// A remedy for an error, for the front end to word.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Hint {
     /// A node-id asked for is in use: choose a free one (a scan lists those in use), or
@@ -39,6 +39,26 @@ pub enum Hint {
     /// Several LSS devices answered what is for one: address one by its identity (a
     /// fastscan finds them).
     AddressOne,
+    /// No SocketCAN on this OS: the simulated bus works anywhere.
+    TrySim,
+    /// A serial CAN adapter (`port`, its bus address) sees frames nobody acknowledges: give
+    /// the bus's bit rate in its address.
+    AdapterBitRate {
+        /// The adapter's bus address, as it names itself (`slcan:/dev/ttyACM0@250k`).
+        port: String,
+    },
+    /// The size of an object to map could not be learnt by reading it: a dictionary gives
+    /// its type.
+    MapReadsSize,
+    /// A value has no type to be encoded with: name one, or give a dictionary.
+    NameType,
+    /// LSS on an EPOS2 reached directly: its own objects do set-id, set-baud and store,
+    /// and LSS reaches the devices behind it.
+    Epos2OwnObjects,
+    /// An EPOS2 reached directly takes a new bit rate once stored: store it.
+    StoreEpos2,
+    /// A device's flash stayed busy past the wait: wait longer.
+    LongerBusyWait,
 }
 
 impl Hint {
@@ -59,6 +79,12 @@ impl Hint {
             Error::NoSuchTpdo { .. } => Some(Hint::EveryTpdo),
             Error::NoValidTpdo { .. } => Some(Hint::MapOne),
             Error::InquiryAnsweredByMany { .. } => Some(Hint::AddressOne),
+            Error::NoSocketCan { .. } => Some(Hint::TrySim),
+            Error::Link(LinkError::AdapterBusError { port, .. }) => Some(Hint::AdapterBitRate { port: port.clone() }),
+            Error::MapSizeUnread { .. } => Some(Hint::MapReadsSize),
+            Error::TypeNeeded { .. } => Some(Hint::NameType),
+            Error::NoLssOnDirectEpos2 { .. } => Some(Hint::Epos2OwnObjects),
+            Error::Epos2RateOnStore => Some(Hint::StoreEpos2),
             _ => None,
         }
     }

@@ -32,7 +32,8 @@ pub enum Evidence {
 }
 
 /// A node-id that more than one device answers to: a finding of scan and health (and,
-/// later, of doctor).
+/// later, of doctor). Its text says what showed it; the remedy (give one of the devices
+/// another node-id, by its identity) is the front end's to word.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Clash {
     pub node: u8,
@@ -56,7 +57,7 @@ impl fmt::Display for Clash {
                     values.len(),
                     values.len(),
                     list.join(", ")
-                )?
+                )
             }
             Evidence::HeartbeatStates { states } => {
                 let list: Vec<&str> = states.iter().map(|s| s.name()).collect();
@@ -64,14 +65,13 @@ impl fmt::Display for Clash {
                     f,
                     "node-id {n} is used by more than one device: its heartbeats say {} at once",
                     list.join(" and ")
-                )?
+                )
             }
             Evidence::IdentityChanged { values } => {
                 let list: Vec<String> = values.iter().map(|v| format!("0x{v:08X}")).collect();
-                write!(f, "node-id {n} is used by more than one device: 0x1018:4 reads {} in turn", list.join(", "))?
+                write!(f, "node-id {n} is used by more than one device: 0x1018:4 reads {} in turn", list.join(", "))
             }
         }
-        write!(f, "; give one of them another id (lss set-id NEW --identity ...)")
     }
 }
 

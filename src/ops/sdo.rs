@@ -168,10 +168,7 @@ pub fn write(
     o: &WriteOptions,
 ) -> Result<Written> {
     let Some(dtype) = o.dtype.or(dict.get(object).map(|e| e.dtype)) else {
-        return Err(Error::Usage(format!(
-            "--type is needed to encode '{value}' for {object} (no dictionary entry; --eds gives one): \
-             one of b u8 u16 u24 u32 u40 u48 u56 u64 i8 i16 i24 i32 i40 i48 i56 i64 r32 r64 t td vs us os d"
-        )));
+        return Err(Error::TypeNeeded { value: value.to_string(), object });
     };
     let bytes = value_bytes(dtype, value)?;
     if let Some(entry) = dict.get(object).filter(|e| e.dtype == dtype) {
