@@ -258,7 +258,6 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     // Not done yet: Error::Usage / report strings built in ops need typed variants first.
     ("ops/firmware.rs", "--busy-wait", "not done yet: FlashBusy's remedy"),
     ("ops/firmware.rs", "--force", "not done yet: the firmware report's state string"),
-    ("ops/network/baud.rs", "--force", "not done yet: the refusal's remedy"),
 ];
 
 /// "Sentences are written only in output/; hints naming flags are added by the command
