@@ -255,9 +255,6 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     ("epos2/transport.rs", "--timeout", "SDO errors are stored as text in reports"),
     ("error/mod.rs", "--timeout", "SdoUnfinished: SDO errors are stored as text in reports"),
     ("error/mod.rs", "--assign", "ProjectNode: stored as text in the network report's rows"),
-    // Not done yet: Error::Usage / report strings built in ops need typed variants first.
-    ("ops/firmware.rs", "--busy-wait", "not done yet: FlashBusy's remedy"),
-    ("ops/firmware.rs", "--force", "not done yet: the firmware report's state string"),
 ];
 
 /// "Sentences are written only in output/; hints naming flags are added by the command

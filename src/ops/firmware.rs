@@ -140,21 +140,20 @@ pub enum Where {
     Unknown,
 }
 
-impl Where {
-    /// The state, in a sentence with what to do.
-    pub fn sentence(self) -> &'static str {
-        match self {
-            Where::RunsImage => "it runs the image",
-            Where::Unchanged => "nothing was changed on the device",
-            Where::BootloaderWithProgram => {
-                "in its bootloader, its program intact; run the same command again, or write 1 to 0x1F51 to start it"
-            }
-            Where::BootloaderNoProgram => "in its bootloader with no valid program; run the same command again",
-            Where::Unknown => {
-                "the new program was started but has not shown that it runs; check it with canctl firmware status"
-            }
-        }
-    }
+/// Where the device is when the procedure ends, with what to do next: the report's
+/// `state`, which the front end words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum State {
+    /// It already ran the image (the same identification): nothing was written; a forced
+    /// download writes it all the same.
+    AlreadyRuns,
+    /// It runs the image on trial: unconfirmed, its bootloader returns to the old program
+    /// at the next reset.
+    OnTrial,
+    /// Where [`Where`] says.
+    At(Where),
 }
 
 /// What `firmware download` did to one node.
@@ -181,7 +180,7 @@ pub struct DownloadReport {
     pub total_ms: u64,
     pub confirmed: bool,
     pub device: Where,
-    pub state: &'static str,
+    pub state: State,
     pub interrupted: bool,
 }
 
@@ -195,7 +194,7 @@ pub enum FirmwareError {
     Bus(#[from] Error),
     #[error("node {node}: flash status (0x1F57:{program}) after {after}: 0x{:08X}, {}", status.raw, status.meaning())]
     Flash { node: u8, program: u8, after: &'static str, status: FlashStatus },
-    #[error("node {node}: the flash is still busy (0x1F57:{program}) {} s after {after}, {polls} polls; the device may need longer: give --busy-wait", waited.as_secs())]
+    #[error("node {node}: the flash is still busy (0x1F57:{program}) {} s after {after}, {polls} polls; the device may need longer", waited.as_secs())]
     StillBusy { node: u8, program: u8, after: &'static str, polls: u32, waited: Duration },
     #[error("node {node}: 0x1F56:{program} reads 0x{got:08X} after the download, the image's identification is 0x{want:08X}{}", if *got == 0 { " (0: the device holds no valid program)" } else { "" })]
     IdMismatch { node: u8, program: u8, got: u32, want: u32 },
@@ -213,12 +212,21 @@ impl FirmwareError {
             FirmwareError::IdMismatch { .. } => ErrorClass::Verify,
         }
     }
+
+    /// What the user can do about it, for the front end to word.
+    pub(crate) fn hint(&self) -> Option<crate::hint::Hint> {
+        match self {
+            FirmwareError::Bus(e) => crate::hint::Hint::of(e),
+            FirmwareError::StillBusy { .. } => Some(crate::hint::Hint::LongerBusyWait),
+            _ => None,
+        }
+    }
 }
 
 /// A download that did not finish: the error, and the report of what was done and where
-/// the device is.
+/// the device is (its `device` and `state`).
 #[derive(Debug, thiserror::Error)]
-#[error("{error}; {}", report.state)]
+#[error("{error}")]
 pub struct Failed {
     pub error: FirmwareError,
     pub report: Box<DownloadReport>,
@@ -361,7 +369,7 @@ impl Run<'_> {
         self.report.total_ms = self.ms();
         self.report.interrupted = matches!(&error, FirmwareError::Bus(e) if e.is_interrupted());
         self.report.device = at;
-        self.report.state = at.sentence();
+        self.report.state = State::At(at);
         Box::new(Failed { error, report: Box::new(self.report) })
     }
 }
@@ -395,7 +403,7 @@ pub fn download(
         total_ms: 0,
         confirmed: false,
         device: Where::Unchanged,
-        state: Where::Unchanged.sentence(),
+        state: State::At(Where::Unchanged),
         interrupted: false,
     };
     let mut r = Run { bus, o, node, began, report };
@@ -415,7 +423,7 @@ pub fn download(
         r.report.skipped = true;
         r.report.id_after = Some(before);
         r.report.device = Where::RunsImage;
-        r.report.state = "it already runs the image (same identification): nothing written; --force downloads anyway";
+        r.report.state = State::AlreadyRuns;
         r.report.total_ms = r.ms();
         return Ok(r.report);
     }
@@ -526,11 +534,7 @@ pub fn download(
     }
     r.report.id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
     r.report.device = Where::RunsImage;
-    r.report.state = if state == Control::Confirm && !o.confirm {
-        "it runs the image on trial: unconfirmed, its bootloader returns to the old program at the next reset"
-    } else {
-        Where::RunsImage.sentence()
-    };
+    r.report.state = if state == Control::Confirm && !o.confirm { State::OnTrial } else { State::At(Where::RunsImage) };
     r.report.total_ms = r.ms();
     Ok(r.report)
 }
@@ -579,53 +583,82 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> crate::Result<S
 }
 
 /// One node of a download to several.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Debug, Serialize)]
 pub struct NodeDownload {
     pub node: u8,
     /// What was done to it (none when it was not begun: an earlier node was interrupted).
     pub report: Option<DownloadReport>,
-    /// Why it did not finish, in a sentence.
-    pub error: Option<String>,
+    /// Why it did not finish.
+    #[serde(serialize_with = "unfinished_text")]
+    pub error: Option<Unfinished>,
+}
+
+/// Why one node of a download to several did not finish.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Unfinished {
+    /// An earlier node was interrupted: this one was not begun.
+    #[error("not begun: interrupted")]
+    NotBegun,
+    /// Its download failed.
+    #[error(transparent)]
+    Failed(FirmwareError),
+}
+
+fn unfinished_text<S: serde::Serializer>(e: &Option<Unfinished>, s: S) -> Result<S::Ok, S::Error> {
+    match e {
+        Some(e) => s.collect_str(e),
+        None => s.serialize_none(),
+    }
 }
 
 /// `firmware download 5,6,7 IMAGE`: each node in turn, the same report for each.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Debug, Serialize)]
 pub struct Batch {
     pub nodes: Vec<NodeDownload>,
     pub interrupted: bool,
 }
 
+impl Batch {
+    /// The first node's failure, which decides the exit code.
+    pub fn into_failure(self) -> Option<FirmwareError> {
+        self.nodes.into_iter().find_map(|n| match n.error {
+            Some(Unfinished::Failed(e)) => Some(e),
+            _ => None,
+        })
+    }
+}
+
 /// Download `image` into each of `nodes` in turn. A node that fails does not stop the
 /// others; an interruption does (the nodes not begun are listed without a report). The
-/// first failure's error comes back beside the batch, for the exit code.
+/// first failure ([`Batch::into_failure`]) decides the exit code.
 pub fn download_each(
     bus: &mut dyn Bus,
     nodes: &[u8],
     image: &[u8],
     o: &DownloadOptions,
     progress: &mut dyn Progress,
-) -> (Batch, Option<FirmwareError>) {
+) -> Batch {
     let mut batch = Batch { nodes: Vec::new(), interrupted: false };
-    let mut first = None;
     for (i, &node) in nodes.iter().enumerate() {
         if batch.interrupted {
-            batch.nodes.push(NodeDownload { node, report: None, error: Some("not begun: interrupted".into()) });
+            batch.nodes.push(NodeDownload { node, report: None, error: Some(Unfinished::NotBegun) });
             continue;
         }
         progress.item(&format!("node {node}"), &format!("{} of {}", i + 1, nodes.len()), false);
         match download(bus, node, image, o, progress) {
             Ok(report) => {
-                progress.item(&format!("node {node}"), report.state, true);
+                let result = if report.skipped { "skipped" } else { "done" };
+                progress.item(&format!("node {node}"), result, true);
                 batch.nodes.push(NodeDownload { node, report: Some(report), error: None });
             }
             Err(failed) => {
                 let Failed { error, report } = *failed;
-                progress.item(&format!("node {node}"), report.state, true);
+                progress.item(&format!("node {node}"), if report.interrupted { "interrupted" } else { "failed" }, true);
                 batch.interrupted = report.interrupted;
-                batch.nodes.push(NodeDownload { node, report: Some(*report), error: Some(error.to_string()) });
-                first.get_or_insert(error);
+                batch.nodes.push(NodeDownload { node, report: Some(*report), error: Some(Unfinished::Failed(error)) });
             }
         }
     }
-    (batch, first)
+    batch
 }

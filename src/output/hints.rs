@@ -63,6 +63,12 @@ pub fn library_error_text(err: &crate::Error) -> String {
 /// remedy of the library's error in it, in canctl's terms.
 pub fn error_text(err: &anyhow::Error) -> String {
     let full = format!("{err:#}");
+    // A download's failure carries its own remedy (and wraps the library's error).
+    if let Some(f) = err.chain().find_map(|c| c.downcast_ref::<crate::ops::firmware::FirmwareError>()) {
+        if let Some(contexts) = full.strip_suffix(&f.to_string()) {
+            return format!("{contexts}{}", super::firmware::firmware_error_text(f));
+        }
+    }
     let Some(e) = err.chain().find_map(|c| c.downcast_ref::<crate::Error>()) else { return full };
     // The library's error ends the chain (the contexts come before it): word it in place.
     match full.strip_suffix(&e.to_string()) {
