@@ -97,8 +97,13 @@ impl<'a> Node<'a> {
     /// which CiA 301 makes mandatory).
     pub fn identity(&mut self) -> Result<Option<Identity>> {
         let Some(vendor) = self.read_optional::<u32>(ObjAddr::new(0x1018, 1))? else { return Ok(None) };
+        self.identity_of(vendor).map(Some)
+    }
+
+    /// The rest of the identity object, its vendor-ID (0x1018:1) read already.
+    pub(crate) fn identity_of(&mut self, vendor: u32) -> Result<Identity> {
         let mut part = |sub| self.read_optional::<u32>(ObjAddr::new(0x1018, sub));
-        Ok(Some(Identity { vendor, product: part(2)?, revision: part(3)?, serial: part(4)? }))
+        Ok(Identity { vendor, product: part(2)?, revision: part(3)?, serial: part(4)? })
     }
 
     /// The vendor-ID and product code a file names, against the device's: each one the file
