@@ -184,6 +184,32 @@ pub struct DownloadReport {
     pub interrupted: bool,
 }
 
+impl DownloadReport {
+    /// The report before the first step: nothing done, the device as it was.
+    pub(crate) fn begun(node: u8, program: u8, image_bytes: usize, image_id: u32) -> DownloadReport {
+        DownloadReport {
+            node,
+            program,
+            image_bytes,
+            image_id,
+            id_before: None,
+            id_after: None,
+            skipped: false,
+            steps: vec![],
+            flash_status: None,
+            busy_polls: 0,
+            erase_ms: None,
+            download_ms: None,
+            bytes_per_second: None,
+            total_ms: 0,
+            confirmed: false,
+            device: Where::Unchanged,
+            state: State::At(Where::Unchanged),
+            interrupted: false,
+        }
+    }
+}
+
 /// Why a download did not finish.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -386,26 +412,7 @@ pub fn download(
 ) -> Result<DownloadReport, Box<Failed>> {
     let image_id = o.expect_id.unwrap_or_else(|| program::image_id(image));
     let began = bus.now();
-    let report = DownloadReport {
-        node,
-        program: o.program,
-        image_bytes: image.len(),
-        image_id,
-        id_before: None,
-        id_after: None,
-        skipped: false,
-        steps: vec![],
-        flash_status: None,
-        busy_polls: 0,
-        erase_ms: None,
-        download_ms: None,
-        bytes_per_second: None,
-        total_ms: 0,
-        confirmed: false,
-        device: Where::Unchanged,
-        state: State::At(Where::Unchanged),
-        interrupted: false,
-    };
+    let report = DownloadReport::begun(node, o.program, image.len(), image_id);
     let mut r = Run { bus, o, node, began, report };
     macro_rules! step {
         ($e:expr, $at:expr) => {

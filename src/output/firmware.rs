@@ -192,26 +192,7 @@ mod tests {
     use std::time::Duration;
 
     fn report(node: u8, state: State) -> DownloadReport {
-        DownloadReport {
-            node,
-            program: 1,
-            image_bytes: 10,
-            image_id: 1,
-            id_before: None,
-            id_after: None,
-            skipped: false,
-            steps: vec![],
-            flash_status: None,
-            busy_polls: 0,
-            erase_ms: None,
-            download_ms: None,
-            bytes_per_second: None,
-            total_ms: 0,
-            confirmed: false,
-            device: Where::BootloaderNoProgram,
-            state,
-            interrupted: false,
-        }
+        DownloadReport { device: Where::BootloaderNoProgram, state, ..DownloadReport::begun(node, 1, 10, 1) }
     }
 
     /// A batch says each node's failure with its remedy, and where each device is, in
