@@ -205,21 +205,37 @@ pub enum Error {
         "{bus}: SocketCAN is Linux's; on this OS reach the bus through a serial-line adapter (slcan:PORT, e.g. \
          slcan:COM5 or slcan:/dev/tty.usbmodem1101) or an EPOS2 (epos2-usb:PORT)"
     )]
-    NoSocketCan { bus: String },
+    NoSocketCan {
+        /// The bus address given.
+        bus: String,
+    },
     /// The size of an object to map into a PDO, which the dictionary does not give, could not
     /// be learnt by reading it (`obj`): the read's error, which decides the exit code.
     #[error("{error}")]
-    MapSizeUnread { obj: ObjAddr, error: Box<Error> },
+    MapSizeUnread {
+        /// The object to map.
+        obj: ObjAddr,
+        /// Why it could not be read.
+        error: Box<Error>,
+    },
     /// No data type to encode a value with: none was asked for and the dictionary has no
     /// entry for the object (exit 2).
     #[error(
         "no data type to encode '{value}' for {object} (no dictionary entry): one of b u8 u16 u24 u32 u40 u48 u56 \
          u64 i8 i16 i24 i32 i40 i48 i56 i64 r32 r64 t td vs us os d"
     )]
-    TypeNeeded { value: String, object: ObjAddr },
+    TypeNeeded {
+        /// The value to encode, as given.
+        value: String,
+        /// The object it is for.
+        object: ObjAddr,
+    },
     /// An LSS service (`verb`) asked of an EPOS2 reached directly, which has no LSS (exit 2).
     #[error("an EPOS2 reached directly (node 0) has no LSS, so `lss {verb}` cannot be done on it")]
-    NoLssOnDirectEpos2 { verb: String },
+    NoLssOnDirectEpos2 {
+        /// The LSS command asked for (`inquire`, `fastscan`, `assign`).
+        verb: String,
+    },
     /// `lss activate` asked of an EPOS2 reached directly: it takes a new bit rate only when
     /// it is stored and reset (exit 2).
     #[error("an EPOS2 reached directly takes its new bit rate when it is stored and reset")]

@@ -180,6 +180,7 @@ pub struct DownloadReport {
     pub total_ms: u64,
     pub confirmed: bool,
     pub device: Where,
+    /// Where the device is now, with what to do next (the front end words it).
     pub state: State,
     pub interrupted: bool,
 }
