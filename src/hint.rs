@@ -80,7 +80,12 @@ impl Hint {
             Error::NoValidTpdo { .. } => Some(Hint::MapOne),
             Error::InquiryAnsweredByMany { .. } => Some(Hint::AddressOne),
             Error::NoSocketCan { .. } => Some(Hint::TrySim),
-            Error::Link(LinkError::AdapterBusError { port, .. }) => Some(Hint::AdapterBitRate { port: port.clone() }),
+            Error::NothingAnswered { error } => match error.root() {
+                Error::Link(LinkError::AdapterBusError { port, .. }) => {
+                    Some(Hint::AdapterBitRate { port: port.clone() })
+                }
+                e => Hint::of(e),
+            },
             Error::MapSizeUnread { .. } => Some(Hint::MapReadsSize),
             Error::TypeNeeded { .. } => Some(Hint::NameType),
             Error::NoLssOnDirectEpos2 { .. } => Some(Hint::Epos2OwnObjects),

@@ -240,6 +240,13 @@ pub enum Error {
     /// it is stored and reset (exit 2).
     #[error("an EPOS2 reached directly takes its new bit rate when it is stored and reset")]
     Epos2RateOnStore,
+    /// Nothing answered a wait, and the link says why: its failure (`error`), which decides
+    /// the exit code; an adapter's bus errors then have a remedy (its bit rate).
+    #[error("{error}")]
+    NothingAnswered {
+        /// The link's failure.
+        error: Box<Error>,
+    },
 }
 
 /// What a failure means for the user, and so how the process ends. The README's
@@ -343,7 +350,7 @@ impl Error {
             | Error::TypeNeeded { .. }
             | Error::NoLssOnDirectEpos2 { .. }
             | Error::Epos2RateOnStore => C::Usage,
-            Error::MapSizeUnread { error, .. } => error.class(),
+            Error::MapSizeUnread { error, .. } | Error::NothingAnswered { error } => error.class(),
         }
     }
 
@@ -365,7 +372,9 @@ impl Error {
     /// The error under any hint.
     pub fn root(&self) -> &Error {
         match self {
-            Error::Hinted { error, .. } | Error::MapSizeUnread { error, .. } => error.root(),
+            Error::Hinted { error, .. } | Error::MapSizeUnread { error, .. } | Error::NothingAnswered { error } => {
+                error.root()
+            }
             e => e,
         }
     }

@@ -4,13 +4,13 @@
 //! both ask the link through here, so the two say the same and end the same way (exit 5).
 
 use crate::bus::Bus;
-use crate::error::Result;
+use crate::error::{Error, Result};
 
 /// After a wait that nothing answered: the link's own evidence that nothing could (the
-/// adapter reports bus errors, whose remedy, giving the bus's bit rate, is
-/// `Hint::AdapterBitRate`); `Ok` when the link has none, or cannot tell.
+/// adapter reports bus errors), as [`Error::NothingAnswered`], whose remedy is giving the
+/// bus's bit rate; `Ok` when the link has none, or cannot tell.
 pub fn check(bus: &mut dyn Bus) -> Result<()> {
-    bus.check_link()
+    bus.check_link().map_err(|e| Error::NothingAnswered { error: Box::new(e) })
 }
 
 /// An SDO transfer's outcome; one that nobody answered becomes the link's failure when

@@ -193,12 +193,17 @@ mod tests {
         }
     }
 
+    /// The bit-rate remedy follows the adapter's bus errors where nothing answered a wait
+    /// (`ops::unheard`), not any failure that names them.
     #[test]
     fn the_bit_rate_remedy_gives_the_address_without_its_rate() {
-        let e = crate::Error::from(crate::error::LinkError::AdapterBusError {
+        let bus_error = crate::Error::from(crate::error::LinkError::AdapterBusError {
             port: "slcan:/dev/ttyACM0@250k".into(),
             flags: vec!["bus error"],
         });
+        assert_eq!(library_error_text(&bus_error), bus_error.to_string());
+        let e = crate::Error::NothingAnswered { error: Box::new(bus_error) };
+        assert!(e.root().class() == crate::error::ErrorClass::Link && e.class() == crate::error::ErrorClass::Link);
         let text = library_error_text(&e);
         assert!(text.starts_with(&e.to_string()), "{text}");
         assert!(text.contains("--bus slcan:/dev/ttyACM0@RATE"), "{text}");
