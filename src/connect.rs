@@ -236,12 +236,7 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
         }
         #[cfg(not(target_os = "linux"))]
-        BusAddr::SocketCan { .. } => Err(Error::NotOnThisBus {
-            bus: addr.to_string(),
-            why: "SocketCAN is Linux's; on this OS reach the bus through a serial-line adapter \
-                  (slcan:PORT, e.g. slcan:COM5 or slcan:/dev/tty.usbmodem1101) or an EPOS2 (epos2-usb:PORT), \
-                  or try --bus sim",
-        }),
+        BusAddr::SocketCan { .. } => Err(Error::NoSocketCan { bus: addr.to_string() }),
         BusAddr::Epos2 { framing, port, baud } => {
             let io = open_serial(port, *baud, opts.timeout)?;
             let link = SerialTransport::new(io, *framing, addr.to_string(), opts.timeout);

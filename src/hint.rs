@@ -53,6 +53,26 @@ pub enum Hint {
         /// The CAN interfaces this machine has.
         available: Vec<String>,
     },
+    /// No SocketCAN on this OS: the simulated bus works anywhere.
+    TrySim,
+    /// A serial CAN adapter (`port`, its bus address) sees frames nobody acknowledges: give
+    /// the bus's bit rate in its address.
+    AdapterBitRate {
+        /// The adapter's bus address, as it names itself (`slcan:/dev/ttyACM0@250k`).
+        port: String,
+    },
+    /// The size of an object to map could not be learnt by reading it: a dictionary gives
+    /// its type.
+    MapReadsSize,
+    /// A value has no type to be encoded with: name one, or give a dictionary.
+    NameType,
+    /// LSS on an EPOS2 reached directly: its own objects do set-id, set-baud and store,
+    /// and LSS reaches the devices behind it.
+    Epos2OwnObjects,
+    /// An EPOS2 reached directly takes a new bit rate once stored: store it.
+    StoreEpos2,
+    /// A device's flash stayed busy past the wait: wait longer.
+    LongerBusyWait,
 }
 
 impl Hint {
@@ -79,6 +99,17 @@ impl Hint {
                 near: near_interface(iface, available),
                 available: available.clone(),
             }),
+            Error::NoSocketCan { .. } => Some(Hint::TrySim),
+            Error::NothingAnswered { error } => match error.root() {
+                Error::Link(LinkError::AdapterBusError { port, .. }) => {
+                    Some(Hint::AdapterBitRate { port: port.clone() })
+                }
+                e => Hint::of(e),
+            },
+            Error::MapSizeUnread { .. } => Some(Hint::MapReadsSize),
+            Error::TypeNeeded { .. } => Some(Hint::NameType),
+            Error::NoLssOnDirectEpos2 { .. } => Some(Hint::Epos2OwnObjects),
+            Error::Epos2RateOnStore => Some(Hint::StoreEpos2),
             _ => None,
         }
     }

@@ -516,6 +516,15 @@ impl crate::ops::Progress for Bars<'_> {
     fn start(&mut self, what: &str, len: u64) {
         self.bar = Some(self.out.bar(len, what));
     }
+    fn transfer(&mut self, what: &str, len: Option<u64>) -> Option<crate::bus::TransferHook> {
+        let bar = match len {
+            Some(len) => self.out.bytes_bar(len, what),
+            None => self.out.counter(what),
+        };
+        let hook = self.out.transfer_hook(&bar);
+        self.bar = Some(bar);
+        hook
+    }
     fn advance(&mut self, done: u64) {
         if let Some(b) = &self.bar {
             b.set_position(done);

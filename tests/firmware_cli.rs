@@ -36,6 +36,11 @@ fn interrupted_mid_download_then_the_same_command_finishes() {
     let status = sim.run(&["firmware", "status", "9", "--format", "json"]).ok().json();
     assert_eq!(status["programs"][0]["software_id"], id, "{status}");
     assert_eq!(status["programs"][0]["control"], "start", "{status}");
+    // Again: it runs the image already, and the report says how to download it anyway.
+    let again = sim.run(&["firmware", "download", "9", &app, "--format", "json"]).ok().json();
+    assert_eq!(again["skipped"], true, "{again}");
+    let said = "it already runs the image (same identification): nothing written; --force downloads anyway";
+    assert_eq!(again["state"], said, "{again}");
 }
 
 #[test]

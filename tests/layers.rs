@@ -246,19 +246,6 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     ("epos2/transport.rs", "--timeout", "SDO errors are stored as text in reports"),
     ("error/mod.rs", "--timeout", "SdoUnfinished: SDO errors are stored as text in reports"),
     ("error/mod.rs", "--assign", "ProjectNode: stored as text in the network report's rows"),
-    // Not done yet: Error::Usage / report strings built in ops need typed variants first.
-    ("bus/lss.rs", "--identity", "not done yet: a Hint for LssStoreUnknown"),
-    ("connect.rs", "--bus", "not done yet: the open error's remedy"),
-    ("ops/unheard.rs", "--bus", "not done yet: the unheard-frames remedy"),
-    ("ops/clash.rs", "--identity", "not done yet: the clash report's remedy"),
-    ("ops/firmware.rs", "--busy-wait", "not done yet: FlashBusy's remedy"),
-    ("ops/firmware.rs", "--force", "not done yet: the firmware report's state string"),
-    ("ops/lss.rs", "--node", "not done yet: Error::Usage and report text"),
-    ("ops/network/baud.rs", "--force", "not done yet: the refusal's remedy"),
-    ("ops/pdo.rs", "--eds", "not done yet: a string with_hint on any SDO error of --map"),
-    ("ops/pdo.rs", "--map", "not done yet: a string with_hint on any SDO error of --map"),
-    ("ops/sdo.rs", "--eds", "not done yet: Error::Usage text"),
-    ("ops/sdo.rs", "--type", "not done yet: Error::Usage text"),
 ];
 
 /// "Sentences are written only in output/; hints naming flags are added by the command

@@ -493,6 +493,11 @@ fn a_device_refusing_the_rate_stops_the_switch_and_force_leaves_it_behind() {
     assert!(run.stderr.contains("LSS configure bit timing: error 1: bit timing not supported"), "{}", run.stderr);
     let report = run.json();
     assert_eq!(report["activated"], false);
+    // Why, with the way past it, in canctl's words.
+    assert_eq!(
+        report["not_activated"], "1 device(s) refused 250k (--force switches the others and leaves them behind)",
+        "{report}"
+    );
     assert_eq!(report["configured"]["confirmed"], 3, "{report}");
     assert_eq!(report["configured"]["refused"].as_array().unwrap().len(), 1, "{report}");
     // Nothing was activated: all four still answer at the old rate.

@@ -38,6 +38,12 @@ fn scan_and_health_report_two_devices_on_one_node_id() {
     let human = sim.run(&["scan"]).ok();
     assert!(human.stderr.contains("warning: node-id 5 is used by 2 devices"), "{}", human.stderr);
     assert!(human.stderr.contains("0x09501234") && human.stderr.contains("0x09501301"), "{}", human.stderr);
+    // The remedy, in canctl's words (the library's clash names no flag).
+    let remedy = "give one of them another id (lss set-id NEW --identity ...)";
+    assert!(human.stderr.contains(remedy), "{}", human.stderr);
+    let health_human = sim.run(&["health"]);
+    assert!(health_human.stdout.contains("node 5 node-id: node-id 5 is used by 2 devices"), "{}", health_human.stdout);
+    assert!(health_human.stdout.contains(remedy), "{}", health_human.stdout);
 
     let health = sim.run(&["health", "--format", "json"]);
     assert_eq!(health.code, 6, "{}\n{}", health.stdout, health.stderr);

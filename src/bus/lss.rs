@@ -14,8 +14,39 @@ pub struct Assigned {
     pub identity: Identity,
     /// The node-id it was given.
     pub node: u8,
-    /// Whether "store configuration" succeeded; the reason when not (or not asked).
-    pub stored: std::result::Result<(), String>,
+    /// Whether "store configuration" succeeded; why not when it did not.
+    pub stored: std::result::Result<(), NotStored>,
+}
+
+/// Why a device `assign` numbered does not keep its node-id across a power cycle, or may not.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum NotStored {
+    /// The store was not asked for.
+    NotAsked,
+    /// "store configuration" went unanswered: sent once (an action), and LSS has no way to
+    /// read it back, so whether `node` keeps its id is unknown; storing again by its
+    /// `identity` settles it.
+    NoAnswer {
+        /// The node-id it was given.
+        node: u8,
+        /// The device, to address it again.
+        identity: Identity,
+    },
+    /// The device refused the store, or the bus failed.
+    Failed(Error),
+}
+
+impl std::fmt::Display for NotStored {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NotStored::NotAsked => f.write_str("not asked"),
+            NotStored::NoAnswer { node, .. } => {
+                write!(f, "no answer to the store: unknown whether node {node} keeps its id across a power cycle")
+            }
+            NotStored::Failed(e) => write!(f, "{e}"),
+        }
+    }
 }
 
 /// Why `assign` stopped before every device had a node-id.
@@ -270,14 +301,11 @@ impl LssMaster<'_> {
             // lost answer leaves it unknown, and the report says so.
             let stored = if store {
                 self.configure(Request::StoreConfiguration, "store", false).map(|_| ()).map_err(|e| match e {
-                    Error::NoLssAnswer { .. } => format!(
-                        "no answer to the store: unknown whether node {node} keeps its id across a power cycle \
-                         (canctl lss store --identity {identity} stores it again)"
-                    ),
-                    e => e.to_string(),
+                    Error::NoLssAnswer { .. } => NotStored::NoAnswer { node, identity },
+                    e => NotStored::Failed(e),
                 })
             } else {
-                Err("not asked".to_string())
+                Err(NotStored::NotAsked)
             };
             self.leave()?;
             used.insert(node);

@@ -106,12 +106,12 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
             };
         }
     }
-    let (batch, error) = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+    let batch = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         firmware::download_each(bus, &a.nodes, &image, &o, &mut steps)
     });
     bar.finish_and_clear();
     ctx.out.report(&batch)?;
-    match error {
+    match batch.into_failure() {
         Some(e) => Err(e.into()),
         None => Ok(()),
     }

@@ -99,10 +99,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
         crate::atomic::check_writable(path)?;
     }
     let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
-    let bar = ctx.out.counter(&format!("node {}: reading {object}", a.node));
-    let watch = ctx.out.transfer_hook(&bar);
-    let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, watch);
-    bar.finish_and_clear();
+    let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, &mut ctx.out.progress());
     // What the transfer showed of the node's objects, for completion.
     crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node, object, &read);
     let read = match read {

@@ -468,6 +468,56 @@ pub enum Error {
         /// The advice, as it follows the error's message.
         hint: String,
     },
+
+    // Errors whose remedy names a flag: the message says what happened, the remedy is a
+    // `hint::Hint` the front end words (issue 28).
+    /// This OS has no SocketCAN (`bus`: the address given) (exit 2).
+    #[error(
+        "{bus}: SocketCAN is Linux's; on this OS reach the bus through a serial-line adapter (slcan:PORT, e.g. \
+         slcan:COM5 or slcan:/dev/tty.usbmodem1101) or an EPOS2 (epos2-usb:PORT)"
+    )]
+    NoSocketCan {
+        /// The bus address given.
+        bus: String,
+    },
+    /// The size of an object to map into a PDO, which the dictionary does not give, could not
+    /// be learnt by reading it (`obj`): the read's error, which decides the exit code.
+    #[error("{error}")]
+    MapSizeUnread {
+        /// The object to map.
+        obj: ObjAddr,
+        /// Why it could not be read.
+        error: Box<Error>,
+    },
+    /// No data type to encode a value with: none was asked for and the dictionary has no
+    /// entry for the object (exit 2).
+    #[error(
+        "no data type to encode '{value}' for {object} (no dictionary entry): one of b u8 u16 u24 u32 u40 u48 u56 \
+         u64 i8 i16 i24 i32 i40 i48 i56 i64 r32 r64 t td vs us os d"
+    )]
+    TypeNeeded {
+        /// The value to encode, as given.
+        value: String,
+        /// The object it is for.
+        object: ObjAddr,
+    },
+    /// An LSS service (`verb`) asked of an EPOS2 reached directly, which has no LSS (exit 2).
+    #[error("an EPOS2 reached directly (node 0) has no LSS, so `lss {verb}` cannot be done on it")]
+    NoLssOnDirectEpos2 {
+        /// The LSS command asked for (`inquire`, `fastscan`, `assign`).
+        verb: String,
+    },
+    /// `lss activate` asked of an EPOS2 reached directly: it takes a new bit rate only when
+    /// it is stored and reset (exit 2).
+    #[error("an EPOS2 reached directly takes its new bit rate when it is stored and reset")]
+    Epos2RateOnStore,
+    /// Nothing answered a wait, and the link says why: its failure (`error`), which decides
+    /// the exit code; an adapter's bus errors then have a remedy (its bit rate).
+    #[error("{error}")]
+    NothingAnswered {
+        /// The link's failure.
+        error: Box<Error>,
+    },
 }
 
 /// What a failure means for the user, and so how the process ends. The README's
@@ -576,6 +626,11 @@ impl Error {
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
+            Error::NoSocketCan { .. }
+            | Error::TypeNeeded { .. }
+            | Error::NoLssOnDirectEpos2 { .. }
+            | Error::Epos2RateOnStore => C::Usage,
+            Error::MapSizeUnread { error, .. } | Error::NothingAnswered { error } => error.class(),
         }
     }
 
@@ -597,7 +652,9 @@ impl Error {
     /// The error under any hint.
     pub fn root(&self) -> &Error {
         match self {
-            Error::Hinted { error, .. } => error.root(),
+            Error::Hinted { error, .. } | Error::MapSizeUnread { error, .. } | Error::NothingAnswered { error } => {
+                error.root()
+            }
             e => e,
         }
     }

@@ -33,7 +33,8 @@ pub enum Evidence {
 }
 
 /// A node-id that more than one device answers to: a finding of scan and health (and,
-/// later, of doctor).
+/// later, of doctor). Its text says what showed it; the remedy (give one of the devices
+/// another node-id, by its identity) is the front end's to word.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[non_exhaustive]
 pub struct Clash {
@@ -58,7 +59,7 @@ impl fmt::Display for Clash {
                     values.len(),
                     values.len(),
                     list.join(", ")
-                )?
+                )
             }
             Evidence::HeartbeatStates { states } => {
                 let list: Vec<&str> = states.iter().map(|s| s.name()).collect();
@@ -66,14 +67,13 @@ impl fmt::Display for Clash {
                     f,
                     "node-id {n} is used by more than one device: its heartbeats say {} at once",
                     list.join(" and ")
-                )?
+                )
             }
             Evidence::IdentityChanged { values } => {
                 let list: Vec<String> = values.iter().map(|v| format!("0x{v:08X}")).collect();
-                write!(f, "node-id {n} is used by more than one device: 0x1018:4 reads {} in turn", list.join(", "))?
+                write!(f, "node-id {n} is used by more than one device: 0x1018:4 reads {} in turn", list.join(", "))
             }
         }
-        write!(f, "; give one of them another id (lss set-id NEW --identity ...)")
     }
 }
 
@@ -190,32 +190,20 @@ pub(crate) fn in_use(
     timeout: Duration,
     listen: Duration,
 ) -> Result<Option<InUse>> {
-    // One node's transfers go one after the other: the rest only once the first is answered,
-    // so a free id costs one timeout, not four.
-    let opts = SdoOptions::new(timeout);
-    let mut values = vec![bus.sdo_upload(node, ObjAddr::new(0x1018, 1), &opts)];
-    if !values[0].as_ref().is_err_and(|e| e.is_timeout()) {
-        let rest: Vec<(u8, ObjAddr)> = (2..=4).map(|sub| (node, ObjAddr::new(0x1018, sub))).collect();
-        values.extend(bus.sdo_upload_many(&rest, &opts, &mut |_| {})?);
-    }
-    let mut parts = Vec::new();
-    let mut answered = false;
-    for v in values {
-        match v {
-            Ok(b) => {
-                answered = true;
-                parts.push(b.get(..4).and_then(|b| b.try_into().ok()).map(u32::from_le_bytes));
-            }
-            Err(Error::SdoAbort { .. }) => answered = true,
-            Err(e) if e.is_timeout() => {}
+    // The identity is the node's 0x1018 (the LSS address is that object, CiA 305), read as
+    // every command reads it (`Node::identity`), but its vendor-ID first on its own: any
+    // answer to it, an abort too, says the id is in use, and a free id costs one timeout.
+    let mut n = super::node::Node::new(bus, node, timeout);
+    let (answered, identity) = match n.read::<u32>(ObjAddr::new(0x1018, 1)) {
+        Ok(vendor) => match n.identity_of(vendor) {
+            Ok(identity) => (true, identity.lss()),
+            // It answered: whatever else it refuses or leaves unanswered, the id is in use.
+            Err(e) if e.is_timeout() || matches!(e, Error::SdoAbort { .. }) => (true, None),
             Err(e) => return Err(e),
-        }
-    }
-    let identity = match parts[..] {
-        [Some(vendor), Some(product), Some(revision), Some(serial)] => {
-            Some(Identity { vendor, product, revision, serial })
-        }
-        _ => None,
+        },
+        Err(Error::SdoAbort { .. }) => (true, None),
+        Err(e) if e.is_timeout() => (false, None),
+        Err(e) => return Err(e),
     };
     if answered {
         // The device itself, already on that id: nothing changes.

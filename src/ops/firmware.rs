@@ -149,21 +149,20 @@ pub enum Where {
     Unknown,
 }
 
-impl Where {
-    /// The state, in a sentence with what to do.
-    pub fn sentence(self) -> &'static str {
-        match self {
-            Where::RunsImage => "it runs the image",
-            Where::Unchanged => "nothing was changed on the device",
-            Where::BootloaderWithProgram => {
-                "in its bootloader, its program intact; run the same command again, or write 1 to 0x1F51 to start it"
-            }
-            Where::BootloaderNoProgram => "in its bootloader with no valid program; run the same command again",
-            Where::Unknown => {
-                "the new program was started but has not shown that it runs; check it with canctl firmware status"
-            }
-        }
-    }
+/// Where the device is when the procedure ends, with what to do next: the report's
+/// `state`, which the front end words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum State {
+    /// It already ran the image (the same identification): nothing was written; a forced
+    /// download writes it all the same.
+    AlreadyRuns,
+    /// It runs the image on trial: unconfirmed, its bootloader returns to the old program
+    /// at the next reset.
+    OnTrial,
+    /// Where [`Where`] says.
+    At(Where),
 }
 
 /// What `firmware download` did to one node.
@@ -203,10 +202,36 @@ pub struct DownloadReport {
     pub confirmed: bool,
     /// Where the device is now.
     pub device: Where,
-    /// Where the device is now, in a sentence with what to do.
-    pub state: &'static str,
+    /// Where the device is now, with what to do next (the front end words it).
+    pub state: State,
     /// The user asked to stop: the download ended where it was safe to.
     pub interrupted: bool,
+}
+
+impl DownloadReport {
+    /// The report before the first step: nothing done, the device as it was.
+    pub(crate) fn begun(node: u8, program: u8, image_bytes: usize, image_id: u32) -> DownloadReport {
+        DownloadReport {
+            node,
+            program,
+            image_bytes,
+            image_id,
+            id_before: None,
+            id_after: None,
+            skipped: false,
+            steps: vec![],
+            flash_status: None,
+            busy_polls: 0,
+            erase_ms: None,
+            download_ms: None,
+            bytes_per_second: None,
+            total_ms: 0,
+            confirmed: false,
+            device: Where::Unchanged,
+            state: State::At(Where::Unchanged),
+            interrupted: false,
+        }
+    }
 }
 
 /// Why a download did not finish.
@@ -230,7 +255,7 @@ pub enum FirmwareError {
         status: FlashStatus,
     },
     /// The flash stayed busy (0x1F57) past the wait after a step (`after`).
-    #[error("node {node}: the flash is still busy (0x1F57:{program}) {} s after {after}, {polls} polls; the device may need longer: give --busy-wait", waited.as_secs())]
+    #[error("node {node}: the flash is still busy (0x1F57:{program}) {} s after {after}, {polls} polls; the device may need longer", waited.as_secs())]
     StillBusy {
         /// The node-id.
         node: u8,
@@ -277,12 +302,21 @@ impl FirmwareError {
             FirmwareError::IdMismatch { .. } => ErrorClass::Verify,
         }
     }
+
+    /// What the user can do about it, for the front end to word.
+    pub(crate) fn hint(&self) -> Option<crate::hint::Hint> {
+        match self {
+            FirmwareError::Bus(e) => crate::hint::Hint::of(e),
+            FirmwareError::StillBusy { .. } => Some(crate::hint::Hint::LongerBusyWait),
+            _ => None,
+        }
+    }
 }
 
 /// A download that did not finish: the error, and the report of what was done and where
-/// the device is.
+/// the device is (its `device` and `state`).
 #[derive(Debug, thiserror::Error)]
-#[error("{error}; {}", report.state)]
+#[error("{error}")]
 #[non_exhaustive]
 pub struct Failed {
     /// Why it did not finish.
@@ -428,7 +462,7 @@ impl Run<'_> {
         self.report.total_ms = self.ms();
         self.report.interrupted = matches!(&error, FirmwareError::Bus(e) if e.is_interrupted());
         self.report.device = at;
-        self.report.state = at.sentence();
+        self.report.state = State::At(at);
         Box::new(Failed { error, report: Box::new(self.report) })
     }
 }
@@ -445,26 +479,7 @@ pub fn download(
 ) -> Result<DownloadReport, Box<Failed>> {
     let image_id = o.expect_id.unwrap_or_else(|| program::image_id(image));
     let began = bus.now();
-    let report = DownloadReport {
-        node,
-        program: o.program,
-        image_bytes: image.len(),
-        image_id,
-        id_before: None,
-        id_after: None,
-        skipped: false,
-        steps: vec![],
-        flash_status: None,
-        busy_polls: 0,
-        erase_ms: None,
-        download_ms: None,
-        bytes_per_second: None,
-        total_ms: 0,
-        confirmed: false,
-        device: Where::Unchanged,
-        state: Where::Unchanged.sentence(),
-        interrupted: false,
-    };
+    let report = DownloadReport::begun(node, o.program, image.len(), image_id);
     let mut r = Run { bus, o, node, began, report };
     macro_rules! step {
         ($e:expr, $at:expr) => {
@@ -482,7 +497,7 @@ pub fn download(
         r.report.skipped = true;
         r.report.id_after = Some(before);
         r.report.device = Where::RunsImage;
-        r.report.state = "it already runs the image (same identification): nothing written; --force downloads anyway";
+        r.report.state = State::AlreadyRuns;
         r.report.total_ms = r.ms();
         return Ok(r.report);
     }
@@ -593,11 +608,7 @@ pub fn download(
     }
     r.report.id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
     r.report.device = Where::RunsImage;
-    r.report.state = if state == Control::Confirm && !o.confirm {
-        "it runs the image on trial: unconfirmed, its bootloader returns to the old program at the next reset"
-    } else {
-        Where::RunsImage.sentence()
-    };
+    r.report.state = if state == Control::Confirm && !o.confirm { State::OnTrial } else { State::At(Where::RunsImage) };
     r.report.total_ms = r.ms();
     Ok(r.report)
 }
@@ -655,19 +666,39 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> crate::Result<S
 }
 
 /// One node of a download to several.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Debug, Serialize)]
 #[non_exhaustive]
 pub struct NodeDownload {
     /// The node-id.
     pub node: u8,
     /// What was done to it (none when it was not begun: an earlier node was interrupted).
     pub report: Option<DownloadReport>,
-    /// Why it did not finish, in a sentence.
-    pub error: Option<String>,
+    /// Why it did not finish.
+    #[serde(serialize_with = "unfinished_text")]
+    pub error: Option<Unfinished>,
+}
+
+/// Why one node of a download to several did not finish.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Unfinished {
+    /// An earlier node was interrupted: this one was not begun.
+    #[error("not begun: interrupted")]
+    NotBegun,
+    /// Its download failed.
+    #[error(transparent)]
+    Failed(FirmwareError),
+}
+
+fn unfinished_text<S: serde::Serializer>(e: &Option<Unfinished>, s: S) -> Result<S::Ok, S::Error> {
+    match e {
+        Some(e) => s.collect_str(e),
+        None => s.serialize_none(),
+    }
 }
 
 /// `firmware download 5,6,7 IMAGE`: each node in turn, the same report for each.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Debug, Serialize)]
 #[non_exhaustive]
 pub struct Batch {
     /// One entry per node, in the order given.
@@ -676,37 +707,46 @@ pub struct Batch {
     pub interrupted: bool,
 }
 
+impl Batch {
+    /// The first node's failure, which decides the exit code.
+    pub fn into_failure(self) -> Option<FirmwareError> {
+        self.nodes.into_iter().find_map(|n| match n.error {
+            Some(Unfinished::Failed(e)) => Some(e),
+            _ => None,
+        })
+    }
+}
+
 /// Download `image` into each of `nodes` in turn. A node that fails does not stop the
 /// others; an interruption does (the nodes not begun are listed without a report). The
-/// first failure's error comes back beside the batch, for the exit code.
+/// first failure ([`Batch::into_failure`]) decides the exit code.
 pub fn download_each(
     bus: &mut dyn Bus,
     nodes: &[u8],
     image: &[u8],
     o: &DownloadOptions,
     progress: &mut dyn Progress,
-) -> (Batch, Option<FirmwareError>) {
+) -> Batch {
     let mut batch = Batch { nodes: Vec::new(), interrupted: false };
-    let mut first = None;
     for (i, &node) in nodes.iter().enumerate() {
         if batch.interrupted {
-            batch.nodes.push(NodeDownload { node, report: None, error: Some("not begun: interrupted".into()) });
+            batch.nodes.push(NodeDownload { node, report: None, error: Some(Unfinished::NotBegun) });
             continue;
         }
         progress.item(&format!("node {node}"), &format!("{} of {}", i + 1, nodes.len()), false);
         match download(bus, node, image, o, progress) {
             Ok(report) => {
-                progress.item(&format!("node {node}"), report.state, true);
+                let result = if report.skipped { "skipped" } else { "done" };
+                progress.item(&format!("node {node}"), result, true);
                 batch.nodes.push(NodeDownload { node, report: Some(report), error: None });
             }
             Err(failed) => {
                 let Failed { error, report } = *failed;
-                progress.item(&format!("node {node}"), report.state, true);
+                progress.item(&format!("node {node}"), if report.interrupted { "interrupted" } else { "failed" }, true);
                 batch.interrupted = report.interrupted;
-                batch.nodes.push(NodeDownload { node, report: Some(*report), error: Some(error.to_string()) });
-                first.get_or_insert(error);
+                batch.nodes.push(NodeDownload { node, report: Some(*report), error: Some(Unfinished::Failed(error)) });
             }
         }
     }
-    (batch, first)
+    batch
 }

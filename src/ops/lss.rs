@@ -5,7 +5,7 @@
 //! [`LssMaster`]'s; an interruption is a flag, checked between steps.
 
 use super::{sized, Progress};
-use crate::bus::lss::{AssignFailure, LssMaster};
+use crate::bus::lss::{AssignFailure, LssMaster, NotStored};
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};
@@ -71,11 +71,7 @@ impl From<&Identity> for LssNumbers {
 
 /// What the LSS services are refused with on an EPOS2 reached directly.
 pub(crate) fn no_lss_on_direct_epos2(verb: &str) -> Error {
-    Error::Usage(format!(
-        "an EPOS2 reached directly has no LSS, so `lss {verb} --node 0` cannot be done; \
-         set-id, set-baud and store work on it through its own objects, and without --node \
-         LSS goes to the devices on the CAN bus behind it"
-    ))
+    Error::NoLssOnDirectEpos2 { verb: verb.to_string() }
 }
 
 /// A device's identity and node-id, as it answered the inquiries.
@@ -200,6 +196,36 @@ impl Setting {
     }
 }
 
+/// What a configuration service gave the devices (the front end words it, with what makes
+/// it take effect).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Took {
+    /// A node-id, over LSS.
+    NodeId(u8),
+    /// No node-id (255), over LSS.
+    NoNodeId,
+    /// A bit rate (its CiA 305 index), over LSS: active after an activation, or after a
+    /// store and a reset.
+    BitRate(u8),
+    /// The LSS configuration stored.
+    Stored,
+    /// A node-id written to an EPOS2's object 0x2000: in force only once stored and the
+    /// EPOS2 powered off and on.
+    Epos2NodeId(u8),
+    /// A bit rate (its CiA 305 index) written to an EPOS2's object 0x2001 as its own
+    /// `code`: in force only once stored and the EPOS2 powered off and on.
+    Epos2BitRate {
+        /// The CiA 305 index.
+        index: u8,
+        /// The EPOS2's code for it.
+        code: u16,
+    },
+    /// An EPOS2's parameters stored (0x1010:1).
+    Epos2Stored,
+}
+
 /// A configuration service done and confirmed.
 #[derive(Debug, Serialize)]
 #[non_exhaustive]
@@ -208,8 +234,8 @@ pub struct Configured {
     pub command: &'static str,
     /// Which devices it was sent to, in words: an identity, all LSS devices, or the EPOS2.
     pub target: String,
-    /// What the devices now have, in words.
-    pub result: String,
+    /// What the devices now have.
+    pub result: Took,
     /// How many devices confirmed it.
     pub answers: usize,
     /// Sent to every device (--global): who confirmed and what the others answered, since
@@ -274,13 +300,10 @@ pub fn configure(
             m.leave()?;
             let n = result?;
             let what = match setting {
-                Setting::NodeId(UNCONFIGURED) => "node-id removed (255)".to_string(),
-                Setting::NodeId(id) => format!("node-id {id}"),
-                Setting::BitRate(index) => format!(
-                    "bit rate {} (active after `lss activate`, or after store and a reset)",
-                    lss::bit_rate_name(index)
-                ),
-                Setting::Store => "LSS configuration stored".to_string(),
+                Setting::NodeId(UNCONFIGURED) => Took::NoNodeId,
+                Setting::NodeId(id) => Took::NodeId(id),
+                Setting::BitRate(index) => Took::BitRate(index),
+                Setting::Store => Took::Stored,
             };
             (what, n)
         }
@@ -404,12 +427,8 @@ const EPOS2_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
 const EPOS2_CAN_BIT_RATE: ObjAddr = ObjAddr::new(0x2001, 0);
 const STORE_ALL: ObjAddr = ObjAddr::new(0x1010, 1);
 
-/// What makes a node-id or bit rate written to an EPOS2 its own.
-const EPOS2_TAKES_EFFECT: &str =
-    "in force only after `canctl lss store --node 0` and a power cycle of the EPOS2 (until then it keeps the old one)";
-
 /// set-id, set-baud and store on an EPOS2 reached directly: its own objects.
-fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting) -> Result<String> {
+fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting) -> Result<Took> {
     let opts = SdoOptions::new(timeout);
     match setting {
         Setting::NodeId(UNCONFIGURED) => {
@@ -418,8 +437,7 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
         Setting::NodeId(id) => {
             // The EPOS2 reads 0x2000 and 0x2001 at power-on only: the new value is a
             // stored parameter, not a change of the running device.
-            bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts)
-                .map(|_| format!("node-id {id} written to object 0x2000; {EPOS2_TAKES_EFFECT}"))
+            bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts).map(|_| Took::Epos2NodeId(id))
         }
         Setting::BitRate(index) => {
             let code = epos2_bit_rate_code(index).ok_or_else(|| {
@@ -428,16 +446,10 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
                     lss::bit_rate_name(index)
                 ))
             })?;
-            bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts).map(|_| {
-                format!(
-                    "CAN bit rate {} written to object 0x2001 (= {code}); {EPOS2_TAKES_EFFECT}",
-                    lss::bit_rate_name(index)
-                )
-            })
+            bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts)
+                .map(|_| Took::Epos2BitRate { index, code })
         }
-        Setting::Store => {
-            bus.sdo_download(0, STORE_ALL, b"save", &opts).map(|_| "parameters stored (0x1010:1)".to_string())
-        }
+        Setting::Store => bus.sdo_download(0, STORE_ALL, b"save", &opts).map(|_| Took::Epos2Stored),
     }
 }
 
@@ -465,10 +477,7 @@ pub fn activate(bus: &mut dyn Bus, timeout: Duration, target: Target, delay_ms: 
     let identity = match target {
         Target::One(id) => Some(id),
         Target::All => None,
-        Target::DirectEpos2 => return Err(Error::Usage(
-            "an EPOS2 reached directly takes its new bit rate when it is stored and reset: use `lss store --node 0`"
-                .into(),
-        )),
+        Target::DirectEpos2 => return Err(Error::Epos2RateOnStore),
     };
     let mut m = LssMaster::new(bus, timeout);
     if let Err(e) = m.enter(identity.as_ref()) {
@@ -653,8 +662,9 @@ pub struct AssignedNode {
     pub node: u8,
     /// The node-id was stored in the device (it keeps it across power cycles).
     pub stored: bool,
-    /// Why it was not stored (or "not asked").
-    pub store_error: Option<String>,
+    /// Why it was not stored (or not asked to be).
+    #[serde(serialize_with = "error_text")]
+    pub store_error: Option<NotStored>,
 }
 
 /// What `assign` did: every device numbered, or how far it got and why it stopped.
@@ -680,7 +690,7 @@ pub struct Assignment {
     pub failure: Option<Error>,
 }
 
-fn error_text<S: serde::Serializer>(e: &Option<Error>, s: S) -> std::result::Result<S::Ok, S::Error> {
+fn error_text<S: serde::Serializer, E: std::fmt::Display>(e: &Option<E>, s: S) -> std::result::Result<S::Ok, S::Error> {
     match e {
         Some(e) => s.collect_str(e),
         None => s.serialize_none(),

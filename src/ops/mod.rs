@@ -61,6 +61,12 @@ pub trait Progress {
     /// One of several items of the phase under way at once (a node configured alongside
     /// others) moved on: `status` says where it is, or its result once `finished`.
     fn item(&mut self, _item: &str, _status: &str, _finished: bool) {}
+    /// A phase that is one transfer begins, of `len` bytes when known: the hook the SDO
+    /// client tells the bytes moved so far as segments and blocks come, when anyone watches
+    /// (`None`: nobody does). The phase ends with [`finish`](Progress::finish).
+    fn transfer(&mut self, _what: &str, _len: Option<u64>) -> Option<crate::bus::TransferHook> {
+        None
+    }
 }
 
 /// Progress nobody watches.

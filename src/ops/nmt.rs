@@ -189,11 +189,7 @@ fn reset_and_wait_noting(
         *sent = true;
         return Ok(Confirmation::Unconfirmed(format!("{no_traffic}; check the nodes with `canctl scan`")));
     }
-    let before = match remote_state(bus, target, o.timeout) {
-        Ok(answer) => answer,
-        Err(e) if e.is_timeout() => None,
-        Err(e) => return Err(e),
-    };
+    let before = Node::new(bus, target, o.timeout).error_control(o.timeout)?.flatten();
     bus.nmt(cmd, target)?;
     *sent = true;
     let after = poll_until_answering(bus, target, o)?;
@@ -216,13 +212,6 @@ fn reset_and_wait_noting(
             "node {target} answers with state code 0x{code:02X}, which CiA 301 does not define; {no_traffic}"
         )),
     })
-}
-
-/// The node's answer to one error-control remote request; `None` for an answer that is
-/// no error-control message.
-fn remote_state(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<ErrorControl>> {
-    let f = bus.request_frame(nmt::error_control_cob(node), 1, timeout)?;
-    Ok(ErrorControl::parse(&f).map(|(_, ec)| ec))
 }
 
 /// Boot-up messages after a reset. One node: done at its boot-up. All: boot-ups may come
@@ -253,12 +242,14 @@ fn listen_for_boot_ups(bus: &mut dyn Bus, target: u8, o: &ResetOptions) -> Resul
 fn poll_until_answering(bus: &mut dyn Bus, node: u8, o: &ResetOptions) -> Result<ErrorControl> {
     let deadline = bus.now() + o.wait;
     loop {
-        match remote_state(bus, node, o.timeout) {
-            Ok(Some(answer)) => return Ok(answer),
-            Err(e) if !e.is_timeout() => return Err(e),
-            Ok(None) | Err(_) if bus.now() < deadline => bus.sleep_until(bus.now() + Duration::from_millis(20))?,
-            Ok(None) | Err(_) => return Err(Error::NoAnswer { node, what: Service::AfterReset, waited: o.wait }),
+        // Nothing, or what is no error-control message: not back yet.
+        if let Some(Some(answer)) = Node::new(bus, node, o.timeout).error_control(o.timeout)? {
+            return Ok(answer);
         }
+        if bus.now() >= deadline {
+            return Err(Error::NoAnswer { node, what: Service::AfterReset, waited: o.wait });
+        }
+        bus.sleep_until(bus.now() + Duration::from_millis(20))?;
     }
 }
 

@@ -97,8 +97,13 @@ impl<'a> Node<'a> {
     /// which CiA 301 makes mandatory).
     pub fn identity(&mut self) -> Result<Option<Identity>> {
         let Some(vendor) = self.read_optional::<u32>(ObjAddr::new(0x1018, 1))? else { return Ok(None) };
+        self.identity_of(vendor).map(Some)
+    }
+
+    /// The rest of the identity object, its vendor-ID (0x1018:1) read already.
+    pub(crate) fn identity_of(&mut self, vendor: u32) -> Result<Identity> {
         let mut part = |sub| self.read_optional::<u32>(ObjAddr::new(0x1018, sub));
-        Ok(Some(Identity { vendor, product: part(2)?, revision: part(3)?, serial: part(4)? }))
+        Ok(Identity { vendor, product: part(2)?, revision: part(3)?, serial: part(4)? })
     }
 
     /// The vendor-ID and product code a file names, against the device's: each one the file
@@ -122,12 +127,19 @@ impl<'a> Node<'a> {
     /// The node's answer to one error-control remote request (node guarding; through an
     /// EPOS2 a RequestCANFrame), waited for up to `wait`; `None` when none came.
     pub(crate) fn guard(&mut self, wait: Duration) -> Result<Option<Guarded>> {
+        Ok(self.error_control(wait)?.map(|answer| match answer {
+            Some(ErrorControl::State { state, .. }) => Guarded::State(state),
+            Some(ErrorControl::BootUp) => Guarded::BootUp,
+            Some(ErrorControl::Unknown(_)) | None => Guarded::NotAState,
+        }))
+    }
+
+    /// [`guard`](Node::guard)'s answer as it came, for what tells a state code CiA 301 does
+    /// not define (`Some(Some(Unknown(code)))`) from an answer that is no error-control
+    /// message at all (`Some(None)`); `None` when none came within `wait`.
+    pub(crate) fn error_control(&mut self, wait: Duration) -> Result<Option<Option<ErrorControl>>> {
         match self.bus.request_frame(nmt::error_control_cob(self.id), 1, wait) {
-            Ok(frame) => Ok(Some(match ErrorControl::parse(&frame) {
-                Some((_, ErrorControl::State { state, .. })) => Guarded::State(state),
-                Some((_, ErrorControl::BootUp)) => Guarded::BootUp,
-                Some((_, ErrorControl::Unknown(_))) | None => Guarded::NotAState,
-            })),
+            Ok(frame) => Ok(Some(ErrorControl::parse(&frame).map(|(_, ec)| ec))),
             Err(e) if e.is_timeout() => Ok(None),
             Err(e) => Err(e),
         }

@@ -176,17 +176,13 @@ pub(crate) fn mapped_bits(
     let refused = |why: String| Error::Usage(format!("cannot map {addr} into a PDO: {why}"));
     match bus.sdo_upload(node, addr, &opts) {
         Ok(v) if (1..=MAX_ENTRY_BYTES).contains(&v.len()) => Ok((v.len() * 8) as u8),
-        Ok(v) => Err(refused(format!(
-            "it reads {} bytes, and a PDO entry is 1 to 8 bytes (8 to 64 bits)",
-            v.len()
-        ))),
+        Ok(v) => Err(refused(format!("it reads {} bytes, and a PDO entry is 1 to 8 bytes (8 to 64 bits)", v.len()))),
         // The client stopped the upload at the limit.
         Err(Error::Link(crate::error::LinkError::SdoProtocol { aborted: Some(abort::OUT_OF_MEMORY), .. })) => {
             Err(refused("it is longer than 8 bytes, and a PDO entry is 1 to 8 bytes (8 to 64 bits)".into()))
         }
-        Err(e) => Err(e.with_hint(
-            "; --map learns the size of an object the dictionary does not give by reading it once (--eds gives its type)",
-        )),
+        // Its remedy (a dictionary gives the type) is `Hint::MapReadsSize`.
+        Err(e) => Err(Error::MapSizeUnread { obj: addr, error: Box::new(e) }),
     }
 }
 
@@ -471,7 +467,8 @@ mod tests {
         // Write-only, and not there: the device's abort, said as such.
         let e = mapped_bits(&mut bus, 1, ObjAddr::new(0x5FF0, 15), None, T).unwrap_err();
         assert!(matches!(e.root(), Error::SdoAbort { code: abort::WRITE_ONLY, .. }), "{e}");
-        assert!(e.to_string().contains("--map learns the size"), "{e}");
+        assert_eq!(crate::hint::Hint::of(&e), Some(crate::hint::Hint::MapReadsSize), "{e}");
+        assert!(crate::output::library_error_text(&e).contains("--map learns the size"), "{e}");
         let e = mapped_bits(&mut bus, 1, ObjAddr::new(0x5123, 0), None, T).unwrap_err();
         assert!(matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT, .. }), "{e}");
     }

@@ -3,7 +3,7 @@
 //! gives the type when none is asked for, the object's name, and the limits a value must
 //! keep to.
 
-use super::{as_text, check_range};
+use super::{as_text, check_range, Progress};
 use crate::bus::{Bus, SdoOptions};
 use crate::canopen::types::{hex, obvious_unsigned, Value};
 use crate::canopen::{DataType, ObjAddr};
@@ -136,26 +136,27 @@ fn sdo_options(timeout: Duration, dtype: Option<DataType>, block: bool) -> SdoOp
 
 /// Read `object` from `node`, decoded by the type asked for, else the dictionary's.
 pub fn read(bus: &mut dyn Bus, dict: &Dictionary, node: u8, object: ObjAddr, o: &ReadOptions) -> Result<Read> {
-    read_watched(bus, dict, node, object, o, None)
+    read_watched(bus, dict, node, object, o, &mut super::Silent)
 }
 
-/// [`read`], `watch` told the bytes received so far as a segmented or block upload moves
-/// on (64 KiB take seconds): for a progress display.
+/// [`read`], `progress` told the bytes received so far as a segmented or block upload
+/// moves on (64 KiB take seconds), through [`Progress::transfer`].
 pub(crate) fn read_watched(
     bus: &mut dyn Bus,
     dict: &Dictionary,
     node: u8,
     object: ObjAddr,
     o: &ReadOptions,
-    watch: Option<crate::bus::TransferHook>,
+    progress: &mut dyn Progress,
 ) -> Result<Read> {
     let entry = dict.get(object);
     let dtype = o.dtype.or(entry.map(|e| e.dtype));
     let name = entry.and_then(|_| dict.display_name(object));
     let mut opts = sdo_options(o.timeout, dtype, o.block);
     opts.max_upload = o.max_size.unwrap_or(opts.max_upload);
-    opts.on_progress = watch;
+    opts.on_progress = progress.transfer(&format!("node {node}: reading {object}"), None);
     let read = bus.sdo_upload(node, object, &opts);
+    progress.finish();
     let bytes = super::unheard::sdo(bus, read)?;
     let value = match dtype {
         Some(t) => Some(t.decode(&bytes).ok_or_else(|| Error::NotOfType {
@@ -189,10 +190,7 @@ pub fn write(
     o: &WriteOptions,
 ) -> Result<Written> {
     let Some(dtype) = o.dtype.or(dict.get(object).map(|e| e.dtype)) else {
-        return Err(Error::Usage(format!(
-            "--type is needed to encode '{value}' for {object} (no dictionary entry; --eds gives one): \
-             one of b u8 u16 u24 u32 u40 u48 u56 u64 i8 i16 i24 i32 i40 i48 i56 i64 r32 r64 t td vs us os d"
-        )));
+        return Err(Error::TypeNeeded { value: value.to_string(), object });
     };
     let bytes = value_bytes(dtype, value)?;
     if let Some(entry) = dict.get(object).filter(|e| e.dtype == dtype) {
@@ -276,4 +274,50 @@ fn value_bytes(dtype: DataType, value: &str) -> Result<Vec<u8>> {
         return Ok(data);
     }
     dtype.parse(value).map_err(|e| Error::Usage(e.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::Master;
+    use crate::sim::{SimConfig, SimLink};
+    use std::sync::{Arc, Mutex};
+
+    /// The bytes a transfer told its watcher, and the phases begun and ended.
+    #[derive(Default)]
+    struct Watcher {
+        moved: Arc<Mutex<Vec<usize>>>,
+        phases: Vec<String>,
+        finished: usize,
+    }
+
+    impl Progress for Watcher {
+        fn transfer(&mut self, what: &str, _len: Option<u64>) -> Option<crate::bus::TransferHook> {
+            self.phases.push(what.to_string());
+            let moved = self.moved.clone();
+            Some(Arc::new(move |n| moved.lock().unwrap().push(n)))
+        }
+        fn finish(&mut self) {
+            self.finished += 1;
+        }
+    }
+
+    /// A segmented read tells the procedure's observer its bytes as they come, the one
+    /// way every procedure reports progress.
+    #[test]
+    fn a_segmented_read_tells_its_progress_the_bytes_as_they_come() {
+        let mut bus = Master::new(SimLink::with_config(SimConfig::instant()), "sim".into());
+        let o = ReadOptions { timeout: Duration::from_secs(2), dtype: None, block: false, max_size: None };
+        let mut watcher = Watcher::default();
+        // The device name (0x1008), longer than 4 bytes: a segmented upload.
+        let read =
+            read_watched(&mut bus, &Dictionary::default(), 1, ObjAddr::new(0x1008, 0), &o, &mut watcher).unwrap();
+        assert!(read.size > 7, "{read:?}");
+        let moved = watcher.moved.lock().unwrap().clone();
+        // Told as it moves on (the last segment ends the transfer, and the display with it).
+        assert!(moved.iter().any(|n| (1..=read.size).contains(n)), "{moved:?}");
+        assert!(moved.windows(2).all(|w| w[0] <= w[1]) && moved.iter().all(|n| *n <= read.size), "{moved:?}");
+        assert_eq!(watcher.phases, ["node 1: reading 0x1008:0"]);
+        assert_eq!(watcher.finished, 1);
+    }
 }

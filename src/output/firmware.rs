@@ -1,7 +1,50 @@
 //! How `firmware status` and `firmware download` look to people.
 
 use super::{Human, Report, TestCase, TestSuite};
-use crate::ops::firmware::{Batch, DownloadReport, StatusReport, Where};
+use crate::ops::firmware::{Batch, DownloadReport, FirmwareError, State, StatusReport, Unfinished, Where};
+
+/// Where the device is, and what to do next, as canctl says it.
+fn state_text(state: State) -> &'static str {
+    match state {
+        State::AlreadyRuns => {
+            "it already runs the image (same identification): nothing written; --force downloads anyway"
+        }
+        State::OnTrial => {
+            "it runs the image on trial: unconfirmed, its bootloader returns to the old program at the next reset"
+        }
+        State::At(Where::RunsImage) => "it runs the image",
+        State::At(Where::Unchanged) => "nothing was changed on the device",
+        State::At(Where::BootloaderWithProgram) => {
+            "in its bootloader, its program intact; run the same command again, or write 1 to 0x1F51 to start it"
+        }
+        State::At(Where::BootloaderNoProgram) => "in its bootloader with no valid program; run the same command again",
+        State::At(Where::Unknown) => {
+            "the new program was started but has not shown that it runs; check it with canctl firmware status"
+        }
+    }
+}
+
+/// A download's failure as canctl says it: its message, then its remedy in canctl's terms.
+pub(crate) fn firmware_error_text(e: &FirmwareError) -> String {
+    match e {
+        FirmwareError::Bus(e) => super::library_error_text(e),
+        e => format!("{e}{}", e.hint().map(super::hint_text).unwrap_or_default()),
+    }
+}
+
+fn unfinished_text(u: &Unfinished) -> String {
+    match u {
+        Unfinished::Failed(e) => firmware_error_text(e),
+        u => u.to_string(),
+    }
+}
+
+/// The report as JSON, the state worded.
+fn report_json(r: &DownloadReport) -> serde_json::Value {
+    let mut value = serde_json::to_value(r).expect("reports serialise");
+    value["state"] = state_text(r.state).into();
+    value
+}
 
 fn id_text(id: Option<u32>) -> String {
     id.map_or("-".into(), |v| format!("0x{v:08X}"))
@@ -71,8 +114,12 @@ impl Report for DownloadReport {
             (.., Where::RunsImage) => "done",
             _ => "failed",
         };
-        lines.push(Human::Line(format!("{end} in {:.3} s: {}", self.total_ms as f64 / 1000.0, self.state)));
+        lines.push(Human::Line(format!("{end} in {:.3} s: {}", self.total_ms as f64 / 1000.0, state_text(self.state))));
         Human::Parts(lines)
+    }
+
+    fn json_value(&self) -> serde_json::Value {
+        report_json(self)
     }
 }
 
@@ -84,14 +131,14 @@ impl Report for Batch {
                 parts.push(r.human());
             }
             if let Some(e) = &n.error {
-                parts.push(Human::Line(format!("node {}: {e}", n.node)));
+                parts.push(Human::Line(format!("node {}: {}", n.node, unfinished_text(e))));
             }
         }
         let rows = self
             .nodes
             .iter()
             .map(|n| {
-                let state = n.report.as_ref().map_or("not begun", |r| r.state);
+                let state = n.report.as_ref().map_or("not begun", |r| state_text(r.state));
                 let result = match (&n.error, &n.report) {
                     (None, Some(r)) if r.skipped => "skipped",
                     (None, _) => "done",
@@ -112,9 +159,9 @@ impl Report for Batch {
             .iter()
             .map(|n| {
                 let class = format!("node {}", n.node);
-                let detail = n.report.as_ref().map_or("not begun".to_string(), |r| r.state.to_string());
+                let detail = n.report.as_ref().map_or("not begun", |r| state_text(r.state)).to_string();
                 TestCase {
-                    failure: n.error.as_ref().map(|e| format!("{class}: {e}; {detail}")),
+                    failure: n.error.as_ref().map(|e| format!("{class}: {}; {detail}", unfinished_text(e))),
                     class,
                     name: "firmware download".into(),
                     detail,
@@ -122,5 +169,66 @@ impl Report for Batch {
             })
             .collect();
         Some(TestSuite { name: "canctl firmware download".into(), cases })
+    }
+
+    fn json_value(&self) -> serde_json::Value {
+        let mut value = serde_json::to_value(self).expect("reports serialise");
+        for (k, n) in self.nodes.iter().enumerate() {
+            if let Some(r) = &n.report {
+                value["nodes"][k]["report"] = report_json(r);
+            }
+            if let Some(e) = &n.error {
+                value["nodes"][k]["error"] = unfinished_text(e).into();
+            }
+        }
+        value
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ops::firmware::NodeDownload;
+    use std::time::Duration;
+
+    fn report(node: u8, state: State) -> DownloadReport {
+        DownloadReport { device: Where::BootloaderNoProgram, state, ..DownloadReport::begun(node, 1, 10, 1) }
+    }
+
+    /// A batch says each node's failure with its remedy, and where each device is, in
+    /// canctl's words, as it did when the library stored them as text.
+    #[test]
+    fn a_batch_says_each_failure_with_its_remedy() {
+        let busy = FirmwareError::StillBusy {
+            node: 5,
+            program: 1,
+            after: "the clear",
+            polls: 9,
+            waited: Duration::from_secs(1),
+        };
+        let batch = Batch {
+            nodes: vec![
+                NodeDownload {
+                    node: 5,
+                    report: Some(report(5, State::At(Where::BootloaderNoProgram))),
+                    error: Some(Unfinished::Failed(busy)),
+                },
+                NodeDownload { node: 6, report: None, error: Some(Unfinished::NotBegun) },
+            ],
+            interrupted: true,
+        };
+        let json = batch.json_value();
+        assert_eq!(
+            json["nodes"][0]["error"],
+            "node 5: the flash is still busy (0x1F57:1) 1 s after the clear, 9 polls; the device may need longer: give \
+             --busy-wait"
+        );
+        assert_eq!(
+            json["nodes"][0]["report"]["state"],
+            "in its bootloader with no valid program; run the same command again"
+        );
+        assert_eq!(json["nodes"][1]["error"], "not begun: interrupted");
+        let Human::Parts(parts) = batch.human() else { panic!("parts") };
+        assert!(matches!(&parts[1], Human::Line(l) if l.ends_with("give --busy-wait")));
     }
 }

@@ -146,7 +146,9 @@ impl Report for HealthReport {
             vec![Human::Table { headers: HEALTH_HEADERS.to_vec(), rows: health_rows(self), when_empty: true }];
         for h in &self.nodes {
             for c in h.checks.iter().filter(|c| !c.ok) {
-                parts.push(Human::Line(format!("node {} {}: {}", h.node, c.check, c.detail)));
+                // The node-id check fails on two devices on one id (its detail, the clash).
+                let remedy = if c.check == "node-id" { super::nodes::CLASH_REMEDY } else { "" };
+                parts.push(Human::Line(format!("node {} {}: {}{remedy}", h.node, c.check, c.detail)));
             }
         }
         Human::Parts(parts)

@@ -35,7 +35,31 @@ pub fn hint_text(hint: Hint) -> String {
             near.map(|c| format!("; did you mean --bus {c}?")).unwrap_or_default(),
             if available.is_empty() { "none".to_string() } else { available.join(", ") }
         ),
+        Hint::TrySim => ", or try --bus sim".into(),
+        Hint::AdapterBitRate { port } => adapter_bit_rate_hint(&port),
+        Hint::MapReadsSize => {
+            "; --map learns the size of an object the dictionary does not give by reading it once (--eds gives its type)"
+                .into()
+        }
+        Hint::NameType => "; --type is needed (or --eds, a dictionary with an entry for it)".into(),
+        Hint::Epos2OwnObjects => "; set-id, set-baud and store work on it through its own objects, and without --node \
+                                  LSS goes to the devices on the CAN bus behind it"
+            .into(),
+        Hint::StoreEpos2 => ": use `lss store --node 0`".into(),
+        Hint::LongerBusyWait => ": give --busy-wait".into(),
     }
+}
+
+/// `; an adapter at another bit rate than the bus's ...`, with the address to give.
+fn adapter_bit_rate_hint(port: &str) -> String {
+    // The address without its rate: `slcan:/dev/ttyACM0@250k` -> `slcan:/dev/ttyACM0`.
+    let base = port.split_once('@').map_or(port, |(base, _)| base);
+    let rates: Vec<String> = crate::slcan::wire::BIT_RATES.iter().map(|(_, k)| crate::connect::kbit_text(*k)).collect();
+    format!(
+        "; frames nobody acknowledges are what an adapter at another bit rate than the bus's sees: give the \
+         bus's rate in the address, --bus {base}@RATE (RATE one of {}), or bus = \"{base}@RATE\" in canctl.toml",
+        rates.join(" ")
+    )
 }
 
 /// A library error as canctl says it: its message, then its remedy in canctl's terms.
@@ -51,6 +75,12 @@ pub fn library_error_text(err: &crate::Error) -> String {
 /// remedy of the library's error in it, in canctl's terms.
 pub fn error_text(err: &anyhow::Error) -> String {
     let full = format!("{err:#}");
+    // A download's failure carries its own remedy (and wraps the library's error).
+    if let Some(f) = err.chain().find_map(|c| c.downcast_ref::<crate::ops::firmware::FirmwareError>()) {
+        if let Some(contexts) = full.strip_suffix(&f.to_string()) {
+            return format!("{contexts}{}", super::firmware::firmware_error_text(f));
+        }
+    }
     let Some(e) = err.chain().find_map(|c| c.downcast_ref::<crate::Error>()) else { return full };
     // The library's error ends the chain (the contexts come before it): word it in place.
     match full.strip_suffix(&e.to_string()) {
@@ -129,5 +159,67 @@ mod tests {
         ));
         let e = anyhow::Error::from(crate::Error::Interrupted);
         assert_eq!(error_text(&e), format!("{e:#}"));
+    }
+
+    /// The errors whose remedy became a `Hint` read as they did when the library named the
+    /// flag itself (the type's and the EPOS2's reworded only to keep the flag out of the
+    /// message: the same facts, the same remedy).
+    #[test]
+    fn remedies_made_typed_read_as_before() {
+        use crate::canopen::ObjAddr;
+        let cases: Vec<(crate::Error, &str)> = vec![
+            (
+                crate::Error::NoSocketCan { bus: "socketcan:can0".into() },
+                "socketcan:can0: SocketCAN is Linux's; on this OS reach the bus through a serial-line adapter \
+                 (slcan:PORT, e.g. slcan:COM5 or slcan:/dev/tty.usbmodem1101) or an EPOS2 (epos2-usb:PORT), or try \
+                 --bus sim",
+            ),
+            (
+                crate::Error::MapSizeUnread {
+                    obj: ObjAddr::new(0x5FF0, 15),
+                    error: Box::new(crate::Error::SdoAbort { node: 1, obj: ObjAddr::new(0x5FF0, 15), code: 0x0601_0001 }),
+                },
+                "node 1: SDO abort 0x06010001 on 0x5FF0:15: Attempt to read a write only object; --map learns the \
+                 size of an object the dictionary does not give by reading it once (--eds gives its type)",
+            ),
+            (
+                crate::Error::TypeNeeded { value: "12".into(), object: ObjAddr::new(0x5FF0, 3) },
+                "no data type to encode '12' for 0x5FF0:3 (no dictionary entry): one of b u8 u16 u24 u32 u40 u48 \
+                 u56 u64 i8 i16 i24 i32 i40 i48 i56 i64 r32 r64 t td vs us os d; --type is needed (or --eds, a \
+                 dictionary with an entry for it)",
+            ),
+            (
+                crate::Error::NoLssOnDirectEpos2 { verb: "inquire".into() },
+                "an EPOS2 reached directly (node 0) has no LSS, so `lss inquire` cannot be done on it; set-id, \
+                 set-baud and store work on it through its own objects, and without --node LSS goes to the devices \
+                 on the CAN bus behind it",
+            ),
+            (
+                crate::Error::Epos2RateOnStore,
+                "an EPOS2 reached directly takes its new bit rate when it is stored and reset: use `lss store --node 0`",
+            ),
+        ];
+        for (error, text) in cases {
+            assert_eq!(library_error_text(&error), text);
+            assert!(!error.to_string().contains("--"), "the remedy is canctl's to word: {error}");
+        }
+    }
+
+    /// The bit-rate remedy follows the adapter's bus errors where nothing answered a wait
+    /// (`ops::unheard`), not any failure that names them.
+    #[test]
+    fn the_bit_rate_remedy_gives_the_address_without_its_rate() {
+        let bus_error = crate::Error::from(crate::error::LinkError::AdapterBusError {
+            port: "slcan:/dev/ttyACM0@250k".into(),
+            flags: vec!["bus error"],
+        });
+        assert_eq!(library_error_text(&bus_error), bus_error.to_string());
+        let e = crate::Error::NothingAnswered { error: Box::new(bus_error) };
+        assert!(e.root().class() == crate::error::ErrorClass::Link && e.class() == crate::error::ErrorClass::Link);
+        let text = library_error_text(&e);
+        assert!(text.starts_with(&e.to_string()), "{text}");
+        assert!(text.contains("--bus slcan:/dev/ttyACM0@RATE"), "{text}");
+        assert!(text.contains("bus = \"slcan:/dev/ttyACM0@RATE\" in canctl.toml"), "{text}");
+        assert!(text.contains(" 500k ") && text.contains(" 1M"), "{text}");
     }
 }

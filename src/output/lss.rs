@@ -1,7 +1,8 @@
 //! How the LSS reports look to people and in CSV.
 
 use super::{Human, Report};
-use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired};
+use crate::bus::lss::NotStored;
+use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired, Took};
 
 fn table(headers: Vec<&'static str>, row: Vec<String>) -> Human {
     Human::Table { headers, rows: vec![row], when_empty: true }
@@ -19,18 +20,41 @@ impl Report for Inquired {
     }
 }
 
+/// What a configuration service gave, and what makes it take effect, as canctl says it.
+fn took_text(took: Took) -> String {
+    use crate::canopen::lss::bit_rate_name;
+    const EPOS2_TAKES_EFFECT: &str = "in force only after `canctl lss store --node 0` and a power cycle of the EPOS2 \
+                                      (until then it keeps the old one)";
+    match took {
+        Took::NodeId(id) => format!("node-id {id}"),
+        Took::NoNodeId => "node-id removed (255)".into(),
+        Took::BitRate(index) => {
+            format!("bit rate {} (active after `lss activate`, or after store and a reset)", bit_rate_name(index))
+        }
+        Took::Stored => "LSS configuration stored".into(),
+        Took::Epos2NodeId(id) => format!("node-id {id} written to object 0x2000; {EPOS2_TAKES_EFFECT}"),
+        Took::Epos2BitRate { index, code } => {
+            format!("CAN bit rate {} written to object 0x2001 (= {code}); {EPOS2_TAKES_EFFECT}", bit_rate_name(index))
+        }
+        Took::Epos2Stored => "parameters stored (0x1010:1)".into(),
+    }
+}
+
 impl Report for Configured {
     fn human(&self) -> Human {
+        let result = took_text(self.result);
         match &self.tally {
-            Some(t) if !t.refused.is_empty() => Human::Line(format!(
-                "{}: {}: {}; the devices that confirmed have it",
-                self.target,
-                self.result,
-                t.text()
-            )),
-            Some(t) => Human::Line(format!("{}: {} ({})", self.target, self.result, t.text())),
-            None => Human::Line(format!("{}: {}", self.target, self.result)),
+            Some(t) if !t.refused.is_empty() => {
+                Human::Line(format!("{}: {result}: {}; the devices that confirmed have it", self.target, t.text()))
+            }
+            Some(t) => Human::Line(format!("{}: {result} ({})", self.target, t.text())),
+            None => Human::Line(format!("{}: {result}", self.target)),
         }
+    }
+    fn json_value(&self) -> serde_json::Value {
+        let mut value = serde_json::to_value(self).expect("reports serialise");
+        value["result"] = took_text(self.result).into();
+        value
     }
     fn notes(&self) -> Vec<String> {
         if !self.interrupted {
@@ -43,7 +67,10 @@ impl Report for Configured {
         vec![format!("interrupted after the {} was confirmed: {kept}; nothing else was done", self.command)]
     }
     fn csv(&self) -> Human {
-        table(vec!["command", "target", "result"], vec![self.command.into(), self.target.clone(), self.result.clone()])
+        table(
+            vec!["command", "target", "result"],
+            vec![self.command.into(), self.target.clone(), took_text(self.result)],
+        )
     }
 }
 
@@ -81,11 +108,27 @@ impl Report for Found {
     }
 }
 
+/// Why a device `assign` numbered may not keep its node-id, with what settles it.
+fn not_stored_text(why: &NotStored) -> String {
+    match why {
+        NotStored::NoAnswer { identity, .. } => {
+            format!("{why} (canctl lss store --identity {identity} stores it again)")
+        }
+        NotStored::Failed(e) => crate::output::library_error_text(e),
+        _ => why.to_string(),
+    }
+}
+
 impl Report for Assignment {
     fn json_value(&self) -> serde_json::Value {
         let mut value = serde_json::to_value(self).expect("reports serialise");
         if let Some(e) = &self.failure {
             value["error"] = crate::output::library_error_text(e).into();
+        }
+        for (k, d) in self.assigned.iter().enumerate() {
+            if let Some(e) = &d.store_error {
+                value["assigned"][k]["store_error"] = not_stored_text(e).into();
+            }
         }
         value
     }
@@ -98,7 +141,7 @@ impl Report for Assignment {
     fn csv(&self) -> Human {
         let stored = |d: &crate::ops::lss::AssignedNode| match (&d.store_error, d.stored) {
             (_, true) => "yes".to_string(),
-            (e, false) => e.clone().unwrap_or_default(),
+            (e, false) => e.as_ref().map(not_stored_text).unwrap_or_default(),
         };
         let rows = self.assigned.iter().map(|d| vec![d.identity.0.to_string(), d.node.to_string(), stored(d)]);
         Human::Table { headers: vec!["identity", "node", "stored"], rows: rows.collect(), when_empty: true }
@@ -126,5 +169,60 @@ impl Report for Assignment {
             ));
         }
         notes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canopen::lss::Identity;
+    use crate::ops::lss::{AssignedNode, Identified, PaceUsed};
+
+    fn assigned(node: u8, store_error: Option<NotStored>) -> AssignedNode {
+        let identity = Identity { vendor: 1, product: 2, revision: 3, serial: u32::from(node) };
+        AssignedNode { identity: Identified(identity), node, stored: store_error.is_none(), store_error }
+    }
+
+    /// A store that went unanswered says how to settle it, in the table and in JSON, as
+    /// it did when the library wrote the sentence.
+    #[test]
+    fn an_unanswered_store_says_how_to_store_again() {
+        let identity = Identity { vendor: 1, product: 2, revision: 3, serial: 6 };
+        let report = Assignment {
+            assigned: vec![
+                assigned(5, None),
+                assigned(6, Some(NotStored::NoAnswer { node: 6, identity })),
+                assigned(7, Some(NotStored::NotAsked)),
+            ],
+            in_use_before: vec![],
+            fastscan_steps: 0,
+            step_ms: 0,
+            pace: PaceUsed { step_ms: 0, slowest_answer_ms: None, escalations: 0 },
+            elapsed_ms: 0,
+            interrupted: false,
+            failure: None,
+        };
+        let said = "no answer to the store: unknown whether node 6 keeps its id across a power cycle \
+                    (canctl lss store --identity 0x00000001:0x00000002:0x00000003:0x00000006 stores it again)";
+        let Human::Table { rows, .. } = report.csv() else { panic!("a table") };
+        let stored: Vec<&str> = rows.iter().map(|r| r[2].as_str()).collect();
+        assert_eq!(stored, ["yes", said, "not asked"]);
+        let json = report.json_value();
+        assert_eq!(json["assigned"][0]["store_error"], serde_json::Value::Null);
+        assert_eq!(json["assigned"][1]["store_error"], said);
+        assert_eq!(json["assigned"][2]["store_error"], "not asked");
+        // The library's own words name no flag.
+        assert!(!NotStored::NoAnswer { node: 6, identity }.to_string().contains("--"));
+    }
+
+    #[test]
+    fn what_a_configuration_gave_says_what_makes_it_count() {
+        assert_eq!(took_text(Took::NodeId(40)), "node-id 40");
+        let epos2 = took_text(Took::Epos2BitRate { index: 4, code: 4 });
+        assert_eq!(
+            epos2,
+            "CAN bit rate 125k written to object 0x2001 (= 4); in force only after `canctl lss store --node 0` and a \
+             power cycle of the EPOS2 (until then it keeps the old one)"
+        );
     }
 }

@@ -220,6 +220,18 @@ impl Report for Applied {
     }
 }
 
+/// Why a network-wide switch to `rate` was not activated, as canctl says it.
+fn not_activated_text(why: crate::ops::network::NotActivated, rate: &str) -> String {
+    use crate::ops::network::NotActivated;
+    match why {
+        NotActivated::NoneTook => "no device took the new rate".into(),
+        NotActivated::Refused { count } => {
+            format!("{count} device(s) refused {rate} (--force switches the others and leaves them behind)")
+        }
+        NotActivated::Interrupted => "interrupted before the activation".into(),
+    }
+}
+
 /// `network set-baud`'s report, with the project files it rewrote and what to do with a
 /// link that stayed at the old rate.
 pub(crate) struct SetBaudReport<'a> {
@@ -238,12 +250,17 @@ impl serde::Serialize for SetBaudReport<'_> {
             #[serde(skip_serializing_if = "Option::is_none")]
             link_to_switch: Option<&'a str>,
         }
-        Json {
+        let json = Json {
             switched: self.switched,
             updated: self.updated.iter().map(|p| p.display().to_string()).collect(),
             link_to_switch: (self.switched.activated && !self.switched.bus_followed).then_some(self.hint.as_str()),
+        };
+        let mut value = serde_json::to_value(json).map_err(serde::ser::Error::custom)?;
+        // Why it was not activated, in canctl's words, where the report has it.
+        if let Some(why) = self.switched.not_activated {
+            value["not_activated"] = not_activated_text(why, &self.switched.rate).into();
         }
-        .serialize(s)
+        value.serialize(s)
     }
 }
 
@@ -257,7 +274,7 @@ impl Report for SetBaudReport<'_> {
         parts.push(Human::Line(match (r.activated, r.bus_followed) {
             (false, _) => format!(
                 "not activated: {}; every device is back in LSS waiting state at the old rate",
-                r.not_activated.as_deref().unwrap_or("stopped")
+                r.not_activated.map_or("stopped".into(), |why| not_activated_text(why, &r.rate))
             ),
             (true, true) => format!(
                 "activated (switch delay {} ms); {} switched with the devices, which are back in LSS waiting state",

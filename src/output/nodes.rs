@@ -63,9 +63,12 @@ impl Report for Scan {
     }
 
     fn notes(&self) -> Vec<String> {
-        self.clashes.iter().map(|c| format!("warning: {c}")).collect()
+        self.clashes.iter().map(|c| format!("warning: {c}{CLASH_REMEDY}")).collect()
     }
 }
+
+/// What to do about two devices on one node-id (`ops::clash::Clash`), as canctl says it.
+pub(crate) const CLASH_REMEDY: &str = "; give one of them another id (lss set-id NEW --identity ...)";
 
 /// One row under its headers, for CSV.
 fn row(headers: Vec<&'static str>, row: Vec<String>) -> Human {

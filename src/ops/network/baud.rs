@@ -41,6 +41,24 @@ pub struct NodeFollowed {
     pub result: String,
 }
 
+/// Why a network-wide bit-rate switch stopped before "activate bit timing" (every device is
+/// then back in LSS waiting state at the old rate).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum NotActivated {
+    /// No device took the new rate.
+    NoneTook,
+    /// `count` devices refused the new rate, and the switch was not forced (a forced one
+    /// leaves them behind at the old rate).
+    Refused {
+        /// How many refused.
+        count: usize,
+    },
+    /// The user asked to stop before the activation.
+    Interrupted,
+}
+
 /// What a network-wide bit-rate switch did.
 #[derive(Debug, Serialize)]
 #[non_exhaustive]
@@ -57,9 +75,9 @@ pub struct BaudSwitched {
     pub stored: Option<LssTally>,
     /// Whether "activate bit timing" was sent.
     pub activated: bool,
-    /// Why it was not, in words.
+    /// Why it was not.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub not_activated: Option<String>,
+    pub not_activated: Option<NotActivated>,
     /// How long the devices wait before switching, in ms (the LSS switch delay).
     pub delay_ms: u16,
     /// Whether the link switched with the devices (the simulated bus does; a CAN interface
@@ -141,11 +159,11 @@ pub fn set_baud(
         ok: false,
         failure: None,
     };
-    let not_switched = |report: &mut BaudSwitched, e: Error, why: &str| {
+    let not_switched = |report: &mut BaudSwitched, e: Error, why: NotActivated| {
         for n in &mut report.nodes {
             n.result = "not switched".to_string();
         }
-        report.not_activated = Some(why.to_string());
+        report.not_activated = Some(why);
         report.failure = Some(e);
     };
 
@@ -166,21 +184,18 @@ pub fn set_baud(
             Some(e) => e,
             None => Error::NoLssAnswer { request: "configure bit timing".into(), identity: None, waited: o.timeout },
         };
-        not_switched(&mut report, e, "no device took the new rate");
+        not_switched(&mut report, e, NotActivated::NoneTook);
         return Ok(report);
     }
     if let Some(e) = refused.filter(|_| !o.force) {
         m.leave()?;
-        let why = format!(
-            "{} device(s) refused {rate} (--force switches the others and leaves them behind)",
-            report.configured.refused.len()
-        );
-        not_switched(&mut report, e, &why);
+        let why = NotActivated::Refused { count: report.configured.refused.len() };
+        not_switched(&mut report, e, why);
         return Ok(report);
     }
     if stop() {
         m.leave()?;
-        not_switched(&mut report, Error::Interrupted, "interrupted before the activation");
+        not_switched(&mut report, Error::Interrupted, NotActivated::Interrupted);
         return Ok(report);
     }
     if o.store {
