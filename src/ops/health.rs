@@ -485,6 +485,7 @@ mod tests {
             state: Some(nmt::State::Operational),
             state_from: "heartbeat",
             heartbeat_ms: Some(40),
+            answers_sdo: true,
         }
     }
 

@@ -26,6 +26,29 @@ impl Report for Scan {
         for f in self.nodes.iter().filter(|f| f.state.is_none() && !f.state_from.is_empty()) {
             parts.push(Human::Line(format!("node {}: NMT state unknown: {}", f.node, f.state_from)));
         }
+        // The probe asks again the ids that did not answer: a node that answered only then
+        // is the technician's sign that frames are being lost.
+        for r in &self.answered_on_repeat {
+            // There are three rounds at most.
+            let nth = match r.probe {
+                2 => "2nd".to_string(),
+                3 => "3rd".to_string(),
+                n => format!("{n}th"),
+            };
+            parts.push(Human::Line(format!(
+                "node {} answered only on the {nth} probe: frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
+                r.node
+            )));
+        }
+        // Without a state the line above says why it is listed.
+        for f in self.nodes.iter().filter(|f| !f.answers_sdo) {
+            if let Some(state) = f.state {
+                parts.push(Human::Line(format!(
+                    "node {}: seen by its {} ({}), but it answered none of the {} SDO probes (a Stopped node answers no SDO: canctl nmt preop {})",
+                    f.node, f.state_from, state.name(), self.probe_rounds, f.node
+                )));
+            }
+        }
         if self.lss_unconfigured > 0 {
             parts.push(Human::Line(format!(
                 "{} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)",
