@@ -10,6 +10,8 @@
 //!   values written are in the device, node-ids given are the devices', states reached are
 //!   the devices');
 //! - no node-id is held by two devices, and no device is left in LSS configuration state;
+//! - a scan that ends ok lists every node that is there, unless nothing of it reached canctl
+//!   after it was asked in each round of the probe (loss, damaged answers included);
 //! - a failed or interrupted run's report matches the devices (what it says it did, they
 //!   show).
 //!
@@ -193,6 +195,9 @@ struct Scenario {
 }
 
 const NODES: [u8; 4] = [1, 5, 10, 32];
+/// How many times scan asks a node-id that does not answer, on a bus that shows its
+/// traffic (ops::scan's rounds of the probe).
+const SCAN_PROBE_ROUNDS: usize = 3;
 const TIMEOUT: Duration = Duration::from_millis(200);
 
 fn pick<T: Copy>(rng: &mut Rng, from: &[T]) -> T {
@@ -316,7 +321,8 @@ fn run(s: &Scenario) -> Outcome {
     // queued) before they are looked at.
     let closed = Bus::close(&mut master);
     let after = Devices::of(&master.link_mut().sim);
-    let mut broken = check(s, &result, &before, &after, &master.link_mut().sim).err();
+    let tape = master.link_mut();
+    let mut broken = check(s, &result, &before, &after, &tape.sim, &tape.frames).err();
     if let Err(e) = closed {
         broken.get_or_insert(format!("closing the link failed: {e}"));
     }
@@ -341,8 +347,8 @@ enum Report {
     /// Values read from a node's object.
     Read(u8, ObjAddr, Vec<u8>),
     Wrote(u8, ObjAddr, Vec<u8>),
-    /// Nodes and identities a scan reported.
-    Scanned(Vec<(u8, Option<u32>)>),
+    /// Nodes and identities a scan reported, and whether it was stopped part-way.
+    Scanned(Vec<(u8, Option<u32>)>, bool),
     Found(Identity),
     /// Identities given node-ids (all of them, also when interrupted or failed part-way).
     /// And whether it said every device has one now (exit 0), and the device it said may
@@ -366,7 +372,7 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
         Procedure::Scan => {
             let o = ops::scan::ScanOptions { window: Duration::from_millis(300), timeout: TIMEOUT };
             let scan = ops::scan::scan(bus, &o, &mut Silent)?;
-            Ok(Report::Scanned(scan.nodes.iter().map(|n| (n.node, n.serial)).collect()))
+            Ok(Report::Scanned(scan.nodes.iter().map(|n| (n.node, n.serial)).collect(), scan.interrupted))
         }
         Procedure::Read(kind) => {
             let (node, addr, opts) = match kind {
@@ -569,6 +575,7 @@ fn check(
     before: &Devices,
     after: &Devices,
     sim: &SimLink,
+    frames: &[Taped],
 ) -> std::result::Result<(), String> {
     // No node-id held twice, whatever happened.
     let mut held = BTreeMap::new();
@@ -602,7 +609,7 @@ fn check(
                 return Err(format!("wrote node {node} {addr}, the device does not hold it"));
             }
         }
-        Report::Scanned(nodes) => {
+        Report::Scanned(nodes, interrupted) => {
             for (node, serial) in nodes {
                 let Some(d) = after.node(*node) else {
                     return Err(format!("scan reported node {node}, no device has it"));
@@ -614,11 +621,27 @@ fn check(
                     ));
                 }
             }
-            if s.clean() {
-                let want: Vec<u8> = after.all.iter().filter_map(|d| d.node).collect();
+            // Under loss, delay, damaged answers too: a scan that ends (exit 0) lists every
+            // node that is there, unless canctl never heard of it: asked in each of the
+            // probe's rounds, nothing of it came back (no answer, no heartbeat).
+            if !interrupted {
                 let got: Vec<u8> = nodes.iter().map(|(n, _)| *n).collect();
-                if want.iter().any(|n| !got.contains(n)) {
-                    return Err(format!("clean scan found {got:?}, the network has {want:?}"));
+                for n in after.all.iter().filter_map(|d| d.node).filter(|n| !got.contains(n)) {
+                    let probe = [0x40, 0x00, 0x10, 0x00];
+                    let asked = frames
+                        .iter()
+                        .filter(|f| f.sent && f.id == 0x600 + u16::from(n) && f.data[..4] == probe)
+                        .count();
+                    let heard = frames.iter().any(|f| {
+                        !f.sent
+                            && ((f.id == 0x580 + u16::from(n) && f.data.len() == 8)
+                                || (f.id == 0x700 + u16::from(n) && f.data.len() == 1))
+                    });
+                    if heard || asked < SCAN_PROBE_ROUNDS {
+                        return Err(format!(
+                            "scan found {got:?} and ended ok without node {n}, which is there (asked {asked} time(s), heard: {heard})"
+                        ));
+                    }
                 }
             }
         }
