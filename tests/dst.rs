@@ -1049,6 +1049,7 @@ fn health_checks_a_node_whose_probe_answer_was_lost() {
     let h = ops::health::health(&mut master, &o, &mut Silent).unwrap();
     let nodes: Vec<u8> = h.nodes.iter().map(|n| n.node).collect();
     assert_eq!(nodes, [1, 5, 10, 32], "{h:?}");
+    assert_eq!(h.answered_on_repeat, [ops::scan::Repeat { node: 1, probe: 2 }]);
 }
 
 /// `network check` probes once too: a listed node whose one answer was lost failed its
@@ -1076,4 +1077,45 @@ fn scan_lists_a_stopped_node_seen_only_by_its_heartbeat() {
     let sensor = &scan.nodes[1];
     assert_eq!((sensor.state, sensor.answers_sdo), (Some(nmt::State::Stopped), false), "{sensor:?}");
     assert!(scan.answered_on_repeat.is_empty(), "{scan:?}");
+}
+
+/// A listed node in Stopped answers no probe, but beats: `network check` fails its
+/// `present` check all the same (nothing of it can be compared), saying it is there and
+/// why it cannot be checked, not that it did not answer.
+#[test]
+fn network_check_says_a_stopped_listed_node_is_there() {
+    let sim = SimLink::with_config(SimConfig::default().seed(1).virtual_time(true)).on_virtual_time(1_700_000_000_000);
+    let mut master = Master::new(sim, "sim".into());
+    master.nmt(Command::Stop, 5).unwrap();
+    let o = ops::network::CheckOptions { timeout: TIMEOUT, window: Duration::from_millis(100), jobs: 1, state: None };
+    let checked = ops::network::check(&mut master, machine(), &o, &mut Silent).unwrap();
+    let sensor = checked.nodes.iter().find(|n| n.node == 5).expect("the project lists node 5");
+    assert!(
+        !sensor.checks[0].ok && sensor.checks[0].detail.contains("stopped, by its heartbeat"),
+        "{:?}",
+        sensor.checks
+    );
+    assert!(!checked.ok);
+}
+
+/// A node the project does not list, in Stopped: it answers no probe but beats. `network
+/// check` must not pass the network as the project's (a silent pass): it is unlisted.
+#[test]
+fn network_check_counts_a_stopped_node_the_project_does_not_list() {
+    let sim = SimLink::with_config(SimConfig::default().seed(1).unconfigured(1).virtual_time(true))
+        .on_virtual_time(1_700_000_000_000);
+    let mut master = Master::new(sim, "sim".into());
+    let o = ops::lss::AssignOptions {
+        start: 40,
+        fastscan: ops::lss::FastscanOptions::new(TIMEOUT),
+        listen: None,
+        store: false,
+    };
+    let a = ops::lss::assign(&mut master, &o, &mut Silent, &Cancel::new()).unwrap();
+    assert_eq!(a.assigned.iter().map(|d| d.node).collect::<Vec<u8>>(), [40]);
+    master.nmt(Command::Stop, 40).unwrap();
+    let o = ops::network::CheckOptions { timeout: TIMEOUT, window: Duration::from_millis(100), jobs: 1, state: None };
+    let checked = ops::network::check(&mut master, machine(), &o, &mut Silent).unwrap();
+    assert_eq!(checked.unlisted.iter().map(|u| u.node).collect::<Vec<u8>>(), [40], "{checked:?}");
+    assert!(!checked.ok);
 }

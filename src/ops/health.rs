@@ -52,6 +52,9 @@ pub struct Health {
     pub nodes: Vec<NodeHealth>,
     /// Devices without a node-id that answered LSS (not nodes yet; not judged).
     pub lss_unconfigured: usize,
+    /// The nodes that answered the scan's probe only when asked again: the bus is losing
+    /// frames (not judged: each node's checks say how it is).
+    pub answered_on_repeat: Vec<scan::Repeat>,
     /// Whether every node is healthy.
     pub ok: bool,
 }
@@ -275,6 +278,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
         watched_ms: watch.as_millis() as u64,
         nodes,
         lss_unconfigured: found.lss_unconfigured,
+        answered_on_repeat: found.answered_on_repeat,
         ok,
     })
 }

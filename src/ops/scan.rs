@@ -157,7 +157,7 @@ fn as_u32(bytes: &[u8]) -> Option<u32> {
 pub(crate) const PROBE_ROUNDS: usize = 3;
 
 /// How many rounds of the probe this bus gets ([`PROBE_ROUNDS`]).
-fn probe_rounds(bus: &dyn Bus) -> usize {
+pub(crate) fn probe_rounds(bus: &dyn Bus) -> usize {
     if bus.sees_traffic() {
         PROBE_ROUNDS
     } else {
