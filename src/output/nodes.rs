@@ -201,3 +201,61 @@ impl Report for NodeState {
         Human::Table { headers: vec!["node", "state", "source"], rows, when_empty: true }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canopen::nmt;
+    use crate::ops::scan::{Configuring, Node, Repeat};
+
+    fn lines(h: Human) -> Vec<String> {
+        match h {
+            Human::Parts(parts) => parts.into_iter().flat_map(lines).collect(),
+            Human::Line(l) => vec![l],
+            _ => vec![],
+        }
+    }
+
+    /// The technician must learn that the bus loses frames, and why a listed node has no
+    /// identity: one line under the table each.
+    #[test]
+    fn a_node_found_on_a_repeat_and_one_seen_only_by_its_heartbeat_get_a_line_each() {
+        let node = |node, answers_sdo, state| Node {
+            node,
+            device_type: None,
+            vendor_id: None,
+            product_code: None,
+            revision: None,
+            serial: None,
+            name: None,
+            state,
+            state_from: "heartbeat",
+            heartbeat_ms: None,
+            answers_sdo,
+        };
+        let scan = Scan {
+            bus: "can0".into(),
+            nodes: vec![node(5, false, Some(nmt::State::Stopped)), node(21, true, Some(nmt::State::Operational))],
+            lss_unconfigured: 0,
+            lss_configuration: Configuring::default(),
+            clashes: vec![],
+            probe_rounds: 3,
+            answered_on_repeat: vec![Repeat { node: 21, probe: 2 }],
+            interrupted: false,
+            not_done: vec![],
+        };
+        let lines = lines(scan.human());
+        assert!(
+            lines.iter().any(|l| l.starts_with("node 21 answered only on the 2nd probe: frames are being lost")),
+            "{lines:?}"
+        );
+        assert!(
+            lines
+                .iter()
+                .any(|l| l
+                    .starts_with("node 5: seen by its heartbeat (stopped), but it answered none of the 3 SDO probes")),
+            "{lines:?}"
+        );
+        assert_eq!(lines.len(), 2, "{lines:?}");
+    }
+}
