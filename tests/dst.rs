@@ -1119,3 +1119,19 @@ fn network_check_counts_a_stopped_node_the_project_does_not_list() {
     assert_eq!(checked.unlisted.iter().map(|u| u.node).collect::<Vec<u8>>(), [40], "{checked:?}");
     assert!(!checked.ok);
 }
+
+/// A node in Stopped answers no SDO but beats: `health` passed the bus without it (a silent
+/// pass). It is listed, not healthy, with the reason and what to do.
+#[test]
+fn health_does_not_pass_a_bus_with_a_node_that_answers_no_sdo() {
+    let sim = SimLink::with_config(SimConfig::default().seed(1).virtual_time(true)).on_virtual_time(1_700_000_000_000);
+    let mut master = Master::new(sim, "sim".into());
+    master.nmt(Command::Stop, 5).unwrap();
+    let o =
+        ops::health::HealthOptions { window: Duration::from_millis(100), timeout: TIMEOUT, watch: None, state: None };
+    let h = ops::health::health(&mut master, &o, &mut Silent).unwrap();
+    let sensor = h.nodes.iter().find(|n| n.node == 5).expect("the stopped sensor checked");
+    let sdo = sensor.checks.iter().find(|c| c.check == "sdo").expect("an sdo check");
+    assert!(!sdo.ok && sdo.detail.contains("canctl nmt preop 5"), "{sdo:?}");
+    assert!(!h.ok && h.outcome().is_err());
+}

@@ -303,6 +303,18 @@ fn judge_node(
         Origin { device_type: n.device_type, vendor: n.vendor_id, product: n.product_code, name: n.name.clone() };
     let mut checks = Vec::new();
 
+    // Seen on the bus but silent to SDO: nothing below can be read from it.
+    if !n.answers_sdo {
+        checks.push(check(
+            "sdo",
+            false,
+            format!(
+                "answered none of the scan's probes in time, though the bus shows it is there ({}): a Stopped node answers no SDO (canctl nmt preop {})",
+                n.state_from, n.node
+            ),
+        ));
+    }
+
     // NMT: the latest state the node showed.
     let (state, from) = match (watched.state, n.state) {
         (Some(s), _) => (Some(s), "heartbeat".to_string()),
