@@ -168,8 +168,8 @@ pub(crate) fn probe_rounds(bus: &dyn Bus) -> usize {
 const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
 
 /// Every node that answers an SDO read of 0x1000 within `window`, in up to
-/// [`PROBE_ROUNDS`] rounds, with its device type (`None` when it answered with an abort: the node is there
-/// all the same).
+/// [`PROBE_ROUNDS`] rounds, with its device type (`None` when it answered with an abort:
+/// the node is there all the same).
 pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Found> {
     check_window(window)?;
     match probe_until_stopped(bus, window, progress)? {
@@ -185,6 +185,7 @@ type Found = Vec<(u8, Option<u32>)>;
 /// adapter or gateway, a bus with errors), and a single probe would have missed it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Repeat {
+    /// The node-id.
     pub node: u8,
     /// The probe it answered (2: the first repeat).
     pub probe: usize,
@@ -197,12 +198,14 @@ pub(crate) struct Probed {
     pub found: Found,
     /// How many rounds ran.
     pub rounds: usize,
+    /// The nodes that answered only in a later round.
     pub repeats: Vec<Repeat>,
     /// Stopped part-way (with the nodes found until then).
     pub stopped: bool,
 }
 
-/// [`probe`], and whether it was stopped part-way (with the nodes found until then).
+/// [`probe`], with how many rounds ran, who answered only on a repeat, and whether it was
+/// stopped part-way (with the nodes found until then).
 pub(crate) fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Probed> {
     // Not retried one by one: most ids have no node behind them, and a retry would be one
     // more window for each of them; the next round asks all the silent ones at once.
@@ -219,8 +222,16 @@ pub(crate) fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress:
         progress.start(if p.rounds == 1 { "probing" } else { "probing again" }, probes.len() as u64);
         let answers = bus.sdo_upload_many(&probes, &opts, &mut |n| progress.advance(n as u64));
         progress.finish();
+        // Stopped before a repeat went out: what the rounds before found stands.
+        let answers = match answers {
+            Err(e) if e.is_interrupted() => {
+                p.stopped = true;
+                break;
+            }
+            answers => answers?,
+        };
         ids.clear();
-        for ((node, _), answer) in probes.iter().zip(answers?) {
+        for ((node, _), answer) in probes.iter().zip(answers) {
             let device_type = match answer {
                 Ok(bytes) => as_u32(&bytes),
                 Err(Error::SdoAbort { .. }) => None,
