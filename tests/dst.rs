@@ -999,14 +999,18 @@ fn lss_assign_never_gives_the_id_of_a_node_whose_probe_answer_was_lost() {
     assert_eq!(on_1.len(), 1, "node-id 1 held by {on_1:?}; assign reported {a:?}");
 }
 
+/// A master over `config`'s network on virtual time.
+fn virtual_master(config: SimConfig) -> Master<SimLink> {
+    Master::new(SimLink::with_config(config).on_virtual_time(1_700_000_000_000), "sim".into())
+}
+
 /// A scan of `config`'s network on virtual time, through the library (a 100 ms window, as
 /// the command's default): its report, and the master with the network as it left it.
 fn scan_run(
     config: SimConfig,
     before: impl FnOnce(&mut Master<SimLink>),
 ) -> (Result<ops::scan::Scan>, Master<SimLink>) {
-    let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
-    let mut master = Master::new(sim, "sim".into());
+    let mut master = virtual_master(config);
     before(&mut master);
     let o = ops::scan::ScanOptions { window: Duration::from_millis(100), timeout: TIMEOUT };
     let scan = ops::scan::scan(&mut master, &o, &mut Silent);
@@ -1042,8 +1046,7 @@ fn scan_lists_a_node_without_heartbeat_whose_probe_answer_was_lost() {
 /// not be left out of the checks (a silent pass).
 #[test]
 fn health_checks_a_node_whose_probe_answer_was_lost() {
-    let sim = SimLink::with_config(first_probe_answer_of_node_1_lost()).on_virtual_time(1_700_000_000_000);
-    let mut master = Master::new(sim, "sim".into());
+    let mut master = virtual_master(first_probe_answer_of_node_1_lost());
     let o =
         ops::health::HealthOptions { window: Duration::from_millis(100), timeout: TIMEOUT, watch: None, state: None };
     let h = ops::health::health(&mut master, &o, &mut Silent).unwrap();
@@ -1056,8 +1059,7 @@ fn health_checks_a_node_whose_probe_answer_was_lost() {
 /// `present` check (exit 6, "did not answer") without being asked again.
 #[test]
 fn network_check_finds_a_listed_node_whose_probe_answer_was_lost() {
-    let sim = SimLink::with_config(first_probe_answer_of_node_1_lost()).on_virtual_time(1_700_000_000_000);
-    let mut master = Master::new(sim, "sim".into());
+    let mut master = virtual_master(first_probe_answer_of_node_1_lost());
     let o = ops::network::CheckOptions { timeout: TIMEOUT, window: Duration::from_millis(100), jobs: 1, state: None };
     let checked = ops::network::check(&mut master, machine(), &o, &mut Silent).unwrap();
     let node_1 = checked.nodes.iter().find(|n| n.node == 1).expect("the project lists node 1");
@@ -1084,8 +1086,7 @@ fn scan_lists_a_stopped_node_seen_only_by_its_heartbeat() {
 /// why it cannot be checked, not that it did not answer.
 #[test]
 fn network_check_says_a_stopped_listed_node_is_there() {
-    let sim = SimLink::with_config(SimConfig::default().seed(1).virtual_time(true)).on_virtual_time(1_700_000_000_000);
-    let mut master = Master::new(sim, "sim".into());
+    let mut master = virtual_master(SimConfig::default().seed(1).virtual_time(true));
     master.nmt(Command::Stop, 5).unwrap();
     let o = ops::network::CheckOptions { timeout: TIMEOUT, window: Duration::from_millis(100), jobs: 1, state: None };
     let checked = ops::network::check(&mut master, machine(), &o, &mut Silent).unwrap();
@@ -1102,9 +1103,7 @@ fn network_check_says_a_stopped_listed_node_is_there() {
 /// check` must not pass the network as the project's (a silent pass): it is unlisted.
 #[test]
 fn network_check_counts_a_stopped_node_the_project_does_not_list() {
-    let sim = SimLink::with_config(SimConfig::default().seed(1).unconfigured(1).virtual_time(true))
-        .on_virtual_time(1_700_000_000_000);
-    let mut master = Master::new(sim, "sim".into());
+    let mut master = virtual_master(SimConfig::default().seed(1).unconfigured(1).virtual_time(true));
     let o = ops::lss::AssignOptions {
         start: 40,
         fastscan: ops::lss::FastscanOptions::new(TIMEOUT),
@@ -1124,8 +1123,7 @@ fn network_check_counts_a_stopped_node_the_project_does_not_list() {
 /// pass). It is listed, not healthy, with the reason and what to do.
 #[test]
 fn health_does_not_pass_a_bus_with_a_node_that_answers_no_sdo() {
-    let sim = SimLink::with_config(SimConfig::default().seed(1).virtual_time(true)).on_virtual_time(1_700_000_000_000);
-    let mut master = Master::new(sim, "sim".into());
+    let mut master = virtual_master(SimConfig::default().seed(1).virtual_time(true));
     master.nmt(Command::Stop, 5).unwrap();
     let o =
         ops::health::HealthOptions { window: Duration::from_millis(100), timeout: TIMEOUT, watch: None, state: None };
