@@ -16,6 +16,11 @@ fn without_state(mut scan: serde_json::Value) -> serde_json::Value {
         n.as_object_mut().unwrap().remove("state_from");
     }
     scan.as_object_mut().unwrap().remove("bus");
+    // So does how often a silent id is asked: the EPOS2 sends a command again itself.
+    assert_eq!(
+        scan.as_object_mut().unwrap().remove("probe_rounds").and_then(|r| r.as_u64()).map(|r| r >= 1),
+        Some(true)
+    );
     scan
 }
 

@@ -202,17 +202,22 @@ fn a_scan_finds_the_demo_network_with_identities_and_states() {
 }
 
 #[test]
-fn a_stopped_node_shows_its_state_and_drops_out_of_a_scan() {
+fn a_stopped_node_shows_its_state_and_a_scan_lists_it_as_not_answering_sdo() {
     let mut bus = demo();
     let sent = nmt_ops::send(bus.as_mut(), nmt::Command::Stop, SENSOR).unwrap();
     assert_eq!(serde_json::to_value(&sent).unwrap(), serde_json::json!({"command": "stop", "target": 5, "sent": true}));
     let o = StateOptions { listen: Duration::from_millis(300), timeout: TIMEOUT };
     let state = nmt_ops::state(bus.as_mut(), SENSOR, &o).unwrap();
     assert_eq!(state.state, nmt::State::Stopped, "{state:?}");
-    // Stopped, it answers no SDO: a scan does not list it.
+    // Stopped, it answers no SDO, but its heartbeat shows it is there: a scan lists it so.
     let o = ScanOptions { window: Duration::from_millis(100), timeout: TIMEOUT };
     let found = scan::scan(bus.as_mut(), &o, &mut Recorder::default()).unwrap();
-    assert!(found.nodes.iter().all(|n| n.node != SENSOR), "{found:?}");
+    let sensor = found.nodes.iter().find(|n| n.node == SENSOR).expect("the stopped sensor listed");
+    assert_eq!(
+        (sensor.answers_sdo, sensor.state, sensor.vendor_id),
+        (false, Some(nmt::State::Stopped), None),
+        "{found:?}"
+    );
 }
 
 #[test]

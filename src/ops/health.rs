@@ -56,6 +56,9 @@ pub struct Health {
     pub nodes: Vec<NodeHealth>,
     /// Devices without a node-id that answered LSS (not nodes yet; not judged).
     pub lss_unconfigured: usize,
+    /// The nodes that answered the scan's probe only when asked again: the bus is losing
+    /// frames (not judged: each node's checks say how it is).
+    pub answered_on_repeat: Vec<scan::Repeat>,
     /// Whether every node is healthy.
     pub ok: bool,
 }
@@ -293,6 +296,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
         watched_ms: watch.as_millis() as u64,
         nodes,
         lss_unconfigured: found.lss_unconfigured,
+        answered_on_repeat: found.answered_on_repeat,
         ok,
     })
 }
@@ -316,6 +320,18 @@ fn judge_node(
     let origin =
         Origin { device_type: n.device_type, vendor: n.vendor_id, product: n.product_code, name: n.name.clone() };
     let mut checks = Vec::new();
+
+    // Seen on the bus but silent to SDO: nothing below can be read from it.
+    if !n.answers_sdo {
+        checks.push(check(
+            "sdo",
+            false,
+            format!(
+                "answered none of the scan's probes in time, though the bus shows it is there ({}): a Stopped node answers no SDO (canctl nmt preop {})",
+                n.state_from, n.node
+            ),
+        ));
+    }
 
     // NMT: the latest state the node showed.
     let (state, from) = match (watched.state, n.state) {
@@ -503,6 +519,7 @@ mod tests {
             state: Some(nmt::State::Operational),
             state_from: "heartbeat",
             heartbeat_ms: Some(40),
+            answers_sdo: true,
         }
     }
 

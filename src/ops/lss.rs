@@ -719,12 +719,6 @@ const LISTEN: Duration = Duration::from_secs(1);
 const LISTEN_CEILING: Duration = Duration::from_secs(10);
 const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
 
-/// Rounds of the SDO probe of the ids in use. A node that beats no heartbeat (CANopenNode's
-/// default) shows itself only by its answer, and a lost request or answer (2 % of the
-/// frames on a loaded adapter) would make its id look free, and give it to a second device:
-/// one round misses such a node about one time in 25 then, three about one in 16,000.
-const PROBE_ROUNDS: usize = 3;
-
 /// Node-ids in use: the SDO probe, then heartbeats, boot-ups and everything else the bus
 /// shows while listening. A node in Stopped answers no SDO but still beats.
 fn ids_in_use(
@@ -734,15 +728,13 @@ fn ids_in_use(
     progress: &mut dyn Progress,
     interrupted: &Cancel,
 ) -> Result<BTreeSet<u8>> {
-    let mut used = BTreeSet::new();
-    let mut found: Vec<u8> = Vec::new();
-    for _ in 0..PROBE_ROUNDS {
-        for (n, _) in super::scan::probe(bus, timeout.min(Duration::from_millis(100)), progress)? {
-            if used.insert(n) {
-                found.push(n);
-            }
-        }
-    }
+    // The probe asks again the ids that do not answer at once: a node beating no heartbeat
+    // whose answer is lost would otherwise look free, and its id be given a second time.
+    let found: Vec<u8> = super::scan::probe(bus, timeout.min(Duration::from_millis(100)), progress)?
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect();
+    let mut used: BTreeSet<u8> = found.iter().copied().collect();
     if bus.sees_traffic() {
         let listen = match listen {
             Some(l) => l,

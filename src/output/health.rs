@@ -176,6 +176,12 @@ impl Report for HealthReport {
                 self.lss_unconfigured
             ));
         }
+        for r in &self.answered_on_repeat {
+            notes.push(format!(
+                "node {} answered only when asked again (probe {}): frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
+                r.node, r.probe
+            ));
+        }
         notes
     }
 

@@ -26,6 +26,29 @@ impl Report for Scan {
         for f in self.nodes.iter().filter(|f| f.state.is_none() && !f.state_from.is_empty()) {
             parts.push(Human::Line(format!("node {}: NMT state unknown: {}", f.node, f.state_from)));
         }
+        // The probe asks again the ids that did not answer: a node that answered only then
+        // is the technician's sign that frames are being lost.
+        for r in &self.answered_on_repeat {
+            // There are three rounds at most.
+            let nth = match r.probe {
+                2 => "2nd".to_string(),
+                3 => "3rd".to_string(),
+                n => format!("{n}th"),
+            };
+            parts.push(Human::Line(format!(
+                "node {} answered only on the {nth} probe: frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
+                r.node
+            )));
+        }
+        // Without a state the line above says why it is listed.
+        for f in self.nodes.iter().filter(|f| !f.answers_sdo) {
+            if let Some(state) = f.state {
+                parts.push(Human::Line(format!(
+                    "node {}: seen by its {} ({}), but it answered none of the {} SDO probes (a Stopped node answers no SDO: canctl nmt preop {})",
+                    f.node, f.state_from, state.name(), self.probe_rounds, f.node
+                )));
+            }
+        }
         if self.lss_unconfigured > 0 {
             parts.push(Human::Line(format!(
                 "{} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)",
@@ -179,5 +202,63 @@ impl Report for NodeState {
     fn csv(&self) -> Human {
         let rows = vec![vec![self.node.to_string(), self.state.name().into(), self.source.into()]];
         Human::Table { headers: vec!["node", "state", "source"], rows, when_empty: true }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canopen::nmt;
+    use crate::ops::scan::{Configuring, Node, Repeat};
+
+    fn lines(h: Human) -> Vec<String> {
+        match h {
+            Human::Parts(parts) => parts.into_iter().flat_map(lines).collect(),
+            Human::Line(l) => vec![l],
+            _ => vec![],
+        }
+    }
+
+    /// The technician must learn that the bus loses frames, and why a listed node has no
+    /// identity: one line under the table each.
+    #[test]
+    fn a_node_found_on_a_repeat_and_one_seen_only_by_its_heartbeat_get_a_line_each() {
+        let node = |node, answers_sdo, state| Node {
+            node,
+            device_type: None,
+            vendor_id: None,
+            product_code: None,
+            revision: None,
+            serial: None,
+            name: None,
+            state,
+            state_from: "heartbeat",
+            heartbeat_ms: None,
+            answers_sdo,
+        };
+        let scan = Scan {
+            bus: "can0".into(),
+            nodes: vec![node(5, false, Some(nmt::State::Stopped)), node(21, true, Some(nmt::State::Operational))],
+            lss_unconfigured: 0,
+            lss_configuration: Configuring::default(),
+            clashes: vec![],
+            probe_rounds: 3,
+            answered_on_repeat: vec![Repeat { node: 21, probe: 2 }],
+            interrupted: false,
+            not_done: vec![],
+        };
+        let lines = lines(scan.human());
+        assert!(
+            lines.iter().any(|l| l.starts_with("node 21 answered only on the 2nd probe: frames are being lost")),
+            "{lines:?}"
+        );
+        assert!(
+            lines
+                .iter()
+                .any(|l| l
+                    .starts_with("node 5: seen by its heartbeat (stopped), but it answered none of the 3 SDO probes")),
+            "{lines:?}"
+        );
+        assert_eq!(lines.len(), 2, "{lines:?}");
     }
 }

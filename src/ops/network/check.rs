@@ -160,16 +160,28 @@ fn check_state(bus: &mut dyn Bus, node: u8, want: crate::canopen::nmt::State, wi
 pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mut dyn Progress) -> Result<Checked> {
     let found = probe(bus, o.window, progress)?;
     let unconfigured = crate::bus::lss::count_unconfigured(bus, o.window)?;
+    // A node that answers no SDO may still show its state (a Stopped one beats on).
+    let states = bus.observed().states.clone();
+    let rounds = crate::ops::scan::probe_rounds(bus);
     let check_node = |bus: &mut dyn Bus, i: usize| -> Result<NodeCheck> {
         let listed = &loaded.nodes[i];
         let present = found.contains_key(&listed.node);
         let mut checks = vec![Verdict {
             check: "present",
             ok: present,
-            detail: if present {
-                format!("node {} answered", listed.node)
-            } else {
-                format!("node {} did not answer within {} ms", listed.node, o.window.as_millis())
+            detail: match (present, states.get(&listed.node)) {
+                (true, _) => format!("node {} answered", listed.node),
+                (false, Some(state)) => format!(
+                    "node {} is there ({state}, by its heartbeat) but answered none of {rounds} SDO probes of {} ms: nothing of it can be checked (a Stopped node answers no SDO: canctl nmt preop {})",
+                    listed.node,
+                    o.window.as_millis(),
+                    listed.node
+                ),
+                (false, None) => format!(
+                    "node {} did not answer any of {rounds} probes of {} ms",
+                    listed.node,
+                    o.window.as_millis()
+                ),
             },
             differences: Vec::new(),
         }];
@@ -211,7 +223,12 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
         }
     }
     progress.finish();
-    let unlisted = unlisted(&found, loaded);
+    // A node that answered no probe but beats (a Stopped one) is on the bus all the same.
+    let mut on_bus = found;
+    for node in states.keys() {
+        on_bus.entry(*node).or_insert(None);
+    }
+    let unlisted = unlisted(&on_bus, loaded);
     let ok = matches(nodes.iter().all(|n| n.checks.iter().all(|c| c.ok)), &unlisted);
     Ok(Checked {
         project: loaded.file.display().to_string(),
