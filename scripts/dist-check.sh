@@ -42,10 +42,13 @@ step_sums() {
   unpack || return 1
   (cd "$d" && sha256sum -c --quiet SHA256SUMS) || return 1
   echo "SHA256SUMS: every file matches"
-  local t b
+  local t b kind
   for t in x86_64-unknown-linux-musl aarch64-unknown-linux-musl armv7-unknown-linux-gnueabihf; do
     b=$(bin "$t")
-    file -b "$b" | tee /dev/stderr | grep -qE "(statically|static-pie) linked.*, stripped" || { echo "$b: not static and stripped"; return 1; }
+    # Not `tee /dev/stderr`: reopened, a log file given as stderr is written from its start.
+    kind=$(file -b "$b")
+    echo "$kind"
+    grep -qE "(statically|static-pie) linked.*, stripped" <<<"$kind" || { echo "$b: not static and stripped"; return 1; }
     if grep -aqE "$PWD|$HOME|/root/|/work/|/home/" "$b"; then
       echo "$b holds a path of the build machine:"; grep -aoE "($PWD|$HOME|/root/|/work/|/home/)[^ ]{0,60}" "$b" | head -5
       return 1
