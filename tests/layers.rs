@@ -244,8 +244,8 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     ("canopen/sdo/client.rs", "--max-size", "SDO errors are stored as text in reports"),
     ("backend/epos2.rs", "--max-size", "SDO errors are stored as text in reports"),
     ("epos2/transport.rs", "--timeout", "SDO errors are stored as text in reports"),
-    ("error/mod.rs", "--timeout", "SdoUnfinished: SDO errors are stored as text in reports"),
-    ("error/mod.rs", "--assign", "ProjectNode: stored as text in the network report's rows"),
+    ("error/detail.rs", "--timeout", "SdoUnfinished: SDO errors are stored as text in reports"),
+    ("error/detail.rs", "--assign", "ProjectNode: stored as text in the network report's rows"),
 ];
 
 /// "Sentences are written only in output/; hints naming flags are added by the command
