@@ -3,6 +3,7 @@
 //! failures of a link over it ([`SocketcandError`]). The link that speaks it is
 //! `backend::socketcand`; `canctl sim --socketcand` serves the simulated network with it.
 
+pub mod beacon;
 pub mod wire;
 
 use std::time::Duration;
