@@ -6,7 +6,8 @@ use crate::epos2::Framing;
 use crate::error::{Error, LinkError, PtyOp};
 use crate::output::sim;
 use crate::sim::serial_fault::Fault;
-use crate::sim::serve::{self, Serve, ServeError};
+use crate::sim::serve::{self, Serve, ServeError, Serving};
+use crate::sim::socketcand_serve;
 use crate::sim::{FaultSpec, Profile, SimConfig, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
 use clap::builder::TypedValueParser;
 use clap::{Args, Subcommand};
@@ -50,6 +51,11 @@ pub(crate) struct SimArgs {
     /// 127.0.0.1 unless an address is given; prints the --bus value that reaches it
     #[arg(long, value_name = "[ADDR:]PORT", value_parser = parse_listen, conflicts_with_all = ["socketcan", "slcan", "epos2_rs232", "epos2_usb"])]
     pub socketcand: Option<std::net::SocketAddr>,
+    /// With --socketcand: send no discovery beacon. Without this, the server announces
+    /// itself every 2.5 s as socketcand does (UDP port 42000): to 127.0.0.1 when bound to
+    /// loopback, else to the broadcast address; `canctl buses` lists it
+    #[arg(long, requires = "socketcand")]
+    pub no_beacon: bool,
     /// Serve an EPOS2 speaking the RS232 protocol (with the 'O'/'F' handshake)
     #[arg(long, conflicts_with = "epos2_usb")]
     pub epos2_rs232: bool,
@@ -183,6 +189,10 @@ pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Res
                 .map_err(|e| Error::Link(LinkError::Pty { op: PtyOp::PrintPath, detail: e.to_string() }))?;
         }
         ctx.out.note(&sim::serving(serving));
+        if let (Serving::Socketcand { bound, .. }, false) = (serving, args.no_beacon) {
+            let target = socketcand_serve::beacon_target(*bound, socketcand_serve::beacon_port());
+            socketcand_serve::start_beacon(*bound, target)?;
+        }
         Ok(())
     });
     match served {

@@ -8,9 +8,10 @@
 use crate::bus::FrameLink;
 use crate::error::{LinkError, Result};
 use crate::frame::Frame;
+use crate::socketcand::beacon;
 use crate::socketcand::wire::{Decoder, Unit};
 use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::net::{SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -222,6 +223,63 @@ impl FrameLink for SocketcandServer {
     }
 }
 
+/// How often the beacon goes out: socketcand sends one every 3 s, and listeners wait about
+/// that long, so a little more often never lets one miss it.
+pub const BEACON_EVERY: Duration = Duration::from_millis(2500);
+
+/// The environment variable that moves the beacon's UDP port (both the sender here and the
+/// listener of `canctl buses`), so that tests running at once do not hear each other.
+/// Not for users: socketcand and its clients use [`beacon::PORT`].
+pub const BEACON_PORT_ENV: &str = "CANCTL_BEACON_PORT";
+
+/// The UDP port beacons go to and are listened for on.
+pub fn beacon_port() -> u16 {
+    std::env::var(BEACON_PORT_ENV).ok().and_then(|p| p.parse().ok()).unwrap_or(beacon::PORT)
+}
+
+/// Where the beacon of a server bound to `bound` goes: on loopback to 127.0.0.1 only (a
+/// test, a tunnel: nothing goes onto a network), otherwise to the broadcast address, as
+/// socketcand sends it.
+pub fn beacon_target(bound: SocketAddr, port: u16) -> SocketAddr {
+    match bound.ip() {
+        ip if ip.is_loopback() => SocketAddr::new(ip, port),
+        _ => SocketAddr::from((std::net::Ipv4Addr::BROADCAST, port)),
+    }
+}
+
+/// Announce the server at `bound` offering [`IFACE`] to `target` every [`BEACON_EVERY`],
+/// from a thread of its own, for as long as the process runs. A beacon that cannot be sent
+/// (no network, broadcasts refused) is skipped: serving goes on without it.
+pub fn start_beacon(bound: SocketAddr, target: SocketAddr) -> Result<()> {
+    let open = |error| LinkError::Open { port: format!("UDP beacon to {target}"), error };
+    let local: SocketAddr = match target {
+        SocketAddr::V4(_) => (std::net::Ipv4Addr::UNSPECIFIED, 0).into(),
+        SocketAddr::V6(_) => (std::net::Ipv6Addr::UNSPECIFIED, 0).into(),
+    };
+    let socket = UdpSocket::bind(local).map_err(open)?;
+    socket.set_broadcast(!target.ip().is_loopback()).map_err(open)?;
+    // Bound to every address, the URL names the one the beacon leaves from, which is the
+    // one its listeners can reach.
+    let url = match bound.ip().is_unspecified() {
+        true => {
+            let _ = socket.connect(target);
+            socket.local_addr().ok().filter(|a| !a.ip().is_unspecified()).map(|a| SocketAddr::new(a.ip(), bound.port()))
+        }
+        false => None,
+    }
+    .unwrap_or(bound);
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string());
+    let name = host.ok().filter(|h| !h.is_empty()).unwrap_or_else(|| "canctl".into());
+    let bytes = beacon::encode(&name, "canctl sim", url, &[IFACE]);
+    std::thread::spawn(move || loop {
+        if let Err(e) = socket.send_to(&bytes, target) {
+            tracing::debug!(target: "canctl::socketcand", "beacon to {target} not sent: {e}");
+        }
+        std::thread::sleep(BEACON_EVERY);
+    });
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -281,6 +339,22 @@ mod tests {
         assert_eq!(read(), "< ok >");
         let rest = read();
         assert!(rest.starts_with("< frame 705 ") && rest.ends_with(" 7F >"), "{rest}");
+    }
+
+    #[test]
+    fn the_beacon_names_the_server_and_stays_on_loopback() {
+        let port = 42000;
+        let lo: SocketAddr = "127.0.0.1:4000".parse().unwrap();
+        assert_eq!(beacon_target(lo, port), "127.0.0.1:42000".parse().unwrap());
+        let lan: SocketAddr = "192.168.1.20:4000".parse().unwrap();
+        assert_eq!(beacon_target(lan, port), "255.255.255.255:42000".parse().unwrap());
+        let listener = UdpSocket::bind("127.0.0.1:0").unwrap();
+        listener.set_read_timeout(Some(Duration::from_secs(2))).unwrap();
+        start_beacon(lo, listener.local_addr().unwrap()).unwrap();
+        let mut buf = [0u8; 1024];
+        let n = listener.recv(&mut buf).unwrap();
+        let b = beacon::parse(&buf[..n]).unwrap();
+        assert_eq!((b.host.as_str(), b.port, b.buses.clone()), ("127.0.0.1", 4000, vec![IFACE.to_string()]));
     }
 
     #[test]
