@@ -6,6 +6,7 @@
 pub use crate::cancel::Cancel;
 pub use event::{Event, Notice, Warning};
 
+pub mod buses;
 pub(crate) mod check;
 pub(crate) mod clash;
 pub(crate) mod completion;
