@@ -9,6 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
+mod buses;
 mod check;
 pub(crate) mod completion;
 pub(crate) mod diagnostics;

@@ -1,6 +1,7 @@
 //! The command line: one clap definition from which help, man pages and completions are
 //! all generated, and one module per command.
 
+mod buses;
 mod complete;
 mod config;
 mod docs;
@@ -194,6 +195,7 @@ pub(crate) enum Command {
     Health(health::HealthArgs),
     Doctor(doctor::DoctorArgs),
     Sim(sim::SimArgs),
+    Buses(buses::BusesArgs),
     /// Show the settings in force and where each comes from (flags, CANCTL_BUS, canctl.toml)
     #[command(after_help = "Examples:\n  canctl settings\n  canctl --bus sim settings --format json")]
     Settings,
@@ -344,6 +346,7 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
         Command::Health(a) => with_bus(&ctx, g, |bus| health::run(&ctx, bus, a)),
         Command::Doctor(a) => doctor::run(&ctx, g, a),
         Command::Sim(args) => sim::run(&ctx, g, args),
+        Command::Buses(a) => buses::run(&ctx, a),
         Command::Settings => Ok(ctx.out.report(&settings.report())?),
         Command::Completions(args) => docs::completions(args),
         Command::Man(args) => docs::man(&ctx, args),
