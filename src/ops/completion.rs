@@ -23,11 +23,15 @@ pub enum BusCandidate {
     Slcan(String),
     /// `socketcand:`, the start of a socketcand server's address (HOST[:PORT]/IFACE follows).
     Socketcand,
+    /// A socketcand server's bus whose beacon the last `canctl buses` heard, and what the
+    /// server called itself.
+    Heard(BusAddr, String),
 }
 
 /// The buses that could be given to `--bus` here: the simulator, every CAN interface, and
 /// for every serial port an slcan adapter and an EPOS2 on RS232 and on USB, and the start of
-/// a socketcand server's address.
+/// a socketcand server's address, after the socketcand buses the last `canctl buses` heard
+/// (remembered: completion never waits for a beacon).
 pub fn buses() -> Vec<BusCandidate> {
     let mut out = vec![BusCandidate::Sim];
     for iface in crate::connect::can_interfaces() {
@@ -39,6 +43,9 @@ pub fn buses() -> Vec<BusCandidate> {
         out.push(BusCandidate::Found(BusAddr::Epos2 { framing: Framing::Rs232, port: port.clone(), baud }));
         let baud = crate::connect::USB_DEFAULT_BAUD;
         out.push(BusCandidate::Found(BusAddr::Epos2 { framing: Framing::Usb, port, baud }));
+    }
+    for heard in crate::ops::buses::last_heard() {
+        out.extend(heard.bus.parse().ok().map(|addr| BusCandidate::Heard(addr, heard.what)));
     }
     out.push(BusCandidate::Socketcand);
     out

@@ -20,6 +20,7 @@ pub(crate) fn buses(buses: Vec<BusCandidate>) -> Vec<CompletionCandidate> {
             BusCandidate::Socketcand => {
                 candidate("socketcand:", "socketcand:HOST[:PORT]/IFACE, a CAN interface over TCP")
             }
+            BusCandidate::Heard(addr, what) => candidate(addr.to_string(), what),
             BusCandidate::Found(addr) => {
                 let help = match &addr {
                     BusAddr::SocketCan { .. } => "CAN interface",
