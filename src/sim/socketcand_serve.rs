@@ -242,7 +242,8 @@ pub fn beacon_port() -> u16 {
 /// socketcand sends it.
 pub fn beacon_target(bound: SocketAddr, port: u16) -> SocketAddr {
     match bound.ip() {
-        ip if ip.is_loopback() => SocketAddr::new(ip, port),
+        // The listener of `canctl buses` is IPv4: a server on ::1 is announced there too.
+        ip if ip.is_loopback() => SocketAddr::from((std::net::Ipv4Addr::LOCALHOST, port)),
         _ => SocketAddr::from((std::net::Ipv4Addr::BROADCAST, port)),
     }
 }
@@ -346,6 +347,7 @@ mod tests {
         let port = 42000;
         let lo: SocketAddr = "127.0.0.1:4000".parse().unwrap();
         assert_eq!(beacon_target(lo, port), "127.0.0.1:42000".parse().unwrap());
+        assert_eq!(beacon_target("[::1]:4000".parse().unwrap(), port), "127.0.0.1:42000".parse().unwrap());
         let lan: SocketAddr = "192.168.1.20:4000".parse().unwrap();
         assert_eq!(beacon_target(lan, port), "255.255.255.255:42000".parse().unwrap());
         let listener = UdpSocket::bind("127.0.0.1:0").unwrap();
