@@ -52,11 +52,17 @@ fn buses_hears_the_sim_server_and_its_bus_value_scans() {
         scan.json()["nodes"].as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect();
     assert_eq!(nodes, [1, 5, 10, 32]);
     // Completion offers what was heard, without listening again.
-    let mut c = Command::new(canctl_bin());
-    c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path("")).env_remove("CANCTL_BUS");
-    c.env("COMPLETE", "fish").args(["--", "canctl", "--bus", "socketcand:"]);
-    let offered = finish(c.output().unwrap()).ok().stdout;
-    assert!(offered.lines().any(|l| l.starts_with(&format!("{bus}\tsocketcand on "))), "{offered}");
+    let offered = || {
+        let mut c = Command::new(canctl_bin());
+        c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path("")).env_remove("CANCTL_BUS");
+        c.env("COMPLETE", "fish").args(["--", "canctl", "--bus", "socketcand:"]);
+        let offered = finish(c.output().unwrap()).ok().stdout;
+        assert!(offered.lines().any(|l| l.starts_with(&format!("{bus}\tsocketcand on "))), "{offered}");
+    };
+    offered();
+    // A run that did not listen does not forget what the last one heard.
+    canctl(&sim, port, &["buses", "--wait", "0s"]).ok();
+    offered();
     let _ = (server.kill(), silent.kill(), server.wait(), silent.wait());
 }
 

@@ -145,7 +145,8 @@ pub fn find(wait: Duration, beacon_port: u16, cancel: &Cancel) -> Buses {
         Err(e) => (Vec::new(), Some(e.to_string())),
     };
     let interrupted = cancel.is_cancelled();
-    if not_listened.is_none() && !interrupted {
+    // A run that did not listen (or not to its end) has not heard the servers go away.
+    if not_listened.is_none() && !interrupted && !wait.is_zero() {
         save_heard(&heard);
     }
     buses.extend(heard);
