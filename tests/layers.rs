@@ -245,7 +245,6 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     ("backend/epos2.rs", "--max-size", "SDO errors are stored as text in reports"),
     ("epos2/transport.rs", "--timeout", "SDO errors are stored as text in reports"),
     ("error/detail.rs", "--timeout", "SdoUnfinished: SDO errors are stored as text in reports"),
-    ("error/detail.rs", "--assign", "ProjectNode: stored as text in the network report's rows"),
 ];
 
 /// "Sentences are written only in output/; hints naming flags are added by the command
