@@ -79,6 +79,9 @@ pub enum Hint {
     /// A node of a network project did not answer, and its DCF names no LSS serial number:
     /// assigning its node-id over LSS cannot find it.
     NoIdentityToAssign,
+    /// An EPOS2 serial command got no fitting answer in time: a slow device may need a
+    /// longer timeout.
+    SlowDevice,
 }
 
 impl Hint {
@@ -118,6 +121,11 @@ impl Hint {
             Error::Epos2RateOnStore => Some(Hint::StoreEpos2),
             Error::NoAnswer { what: Service::ProjectNode { lss: Some(id) }, .. } => Some(Hint::AssignOverLss(*id)),
             Error::NoAnswer { what: Service::ProjectNode { lss: None }, .. } => Some(Hint::NoIdentityToAssign),
+            Error::Link(LinkError::Epos2(crate::epos2::Epos2Error::Serial { failure, retry, .. }))
+                if retry.as_ref().unwrap_or(failure).may_be_slow() =>
+            {
+                Some(Hint::SlowDevice)
+            }
             _ => None,
         }
     }

@@ -49,6 +49,7 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::LongerBusyWait => ": give --busy-wait".into(),
         Hint::AssignOverLss(id) => format!("; --assign gives it its node-id over LSS ({id})"),
         Hint::NoIdentityToAssign => " (its DCF names no LSS serial number, so --assign cannot find it)".into(),
+        Hint::SlowDevice => "; a slow device may need a longer --timeout".into(),
     }
 }
 
