@@ -82,6 +82,9 @@ pub enum Hint {
     /// An EPOS2 serial command got no fitting answer in time: a slow device may need a
     /// longer timeout.
     SlowDevice,
+    /// An SDO transfer did not finish within its deadline, which follows from its size and
+    /// this timeout (per request): a longer timeout gives it more.
+    DeadlineFromTimeout(std::time::Duration),
 }
 
 impl Hint {
@@ -125,6 +128,9 @@ impl Hint {
                 if retry.as_ref().unwrap_or(failure).may_be_slow() =>
             {
                 Some(Hint::SlowDevice)
+            }
+            Error::SdoUnfinished { why: crate::error::Unfinished::Deadline { timeout, .. }, .. } => {
+                Some(Hint::DeadlineFromTimeout(*timeout))
             }
             _ => None,
         }

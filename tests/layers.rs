@@ -243,7 +243,6 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     // rows): a typed Hint would be lost there until those reports keep the Error.
     ("canopen/sdo/client.rs", "--max-size", "SDO errors are stored as text in reports"),
     ("backend/epos2.rs", "--max-size", "SDO errors are stored as text in reports"),
-    ("error/detail.rs", "--timeout", "SdoUnfinished: SDO errors are stored as text in reports"),
 ];
 
 /// "Sentences are written only in output/; hints naming flags are added by the command

@@ -254,12 +254,11 @@ impl fmt::Display for SdoUnfinishedText<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let SdoUnfinishedText { node, obj, moved, why } = self;
         match why {
-            Unfinished::Deadline { budget, timeout } => write!(
+            // The timeout it follows from is `hint::Hint::DeadlineFromTimeout`, the front end's to word.
+            Unfinished::Deadline { budget, .. } => write!(
                 f,
-                "node {node}: the SDO transfer of {obj} did not finish within its deadline of {:.1} s \
-                 ({moved} moved; the deadline follows from the size and --timeout {} ms)",
+                "node {node}: the SDO transfer of {obj} did not finish within its deadline of {:.1} s ({moved} moved)",
                 budget.as_secs_f64(),
-                timeout.as_millis()
             ),
             Unfinished::NoProgress { waited, ignored, last } => write!(
                 f,

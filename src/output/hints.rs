@@ -50,6 +50,9 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::AssignOverLss(id) => format!("; --assign gives it its node-id over LSS ({id})"),
         Hint::NoIdentityToAssign => " (its DCF names no LSS serial number, so --assign cannot find it)".into(),
         Hint::SlowDevice => "; a slow device may need a longer --timeout".into(),
+        Hint::DeadlineFromTimeout(timeout) => {
+            format!("; the deadline follows from the size and --timeout {} ms", timeout.as_millis())
+        }
     }
 }
 
