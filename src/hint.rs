@@ -85,6 +85,8 @@ pub enum Hint {
     /// An SDO transfer did not finish within its deadline, which follows from its size and
     /// this timeout (per request): a longer timeout gives it more.
     DeadlineFromTimeout(std::time::Duration),
+    /// An upload was stopped at the limit of bytes taken from a device: raise the limit.
+    RaiseUploadLimit,
 }
 
 impl Hint {
@@ -132,6 +134,9 @@ impl Hint {
             Error::SdoUnfinished { why: crate::error::Unfinished::Deadline { timeout, .. }, .. } => {
                 Some(Hint::DeadlineFromTimeout(*timeout))
             }
+            // The SDO client aborts with "out of memory" only at the upload limit.
+            Error::Link(LinkError::SdoProtocol { aborted: Some(crate::canopen::abort::OUT_OF_MEMORY), .. })
+            | Error::Link(LinkError::UploadOverLimit { .. }) => Some(Hint::RaiseUploadLimit),
             _ => None,
         }
     }

@@ -53,6 +53,7 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::DeadlineFromTimeout(timeout) => {
             format!("; the deadline follows from the size and --timeout {} ms", timeout.as_millis())
         }
+        Hint::RaiseUploadLimit => " (sdo read --max-size raises the limit)".into(),
     }
 }
 
