@@ -73,6 +73,20 @@ pub enum Hint {
     StoreEpos2,
     /// A device's flash stayed busy past the wait: wait longer.
     LongerBusyWait,
+    /// A node of a network project did not answer, and its DCF names this LSS identity:
+    /// give it its node-id over LSS (the project apply's assign option).
+    AssignOverLss(Identity),
+    /// A node of a network project did not answer, and its DCF names no LSS serial number:
+    /// assigning its node-id over LSS cannot find it.
+    NoIdentityToAssign,
+    /// An EPOS2 serial command got no fitting answer in time: a slow device may need a
+    /// longer timeout.
+    SlowDevice,
+    /// An SDO transfer did not finish within its deadline, which follows from its size and
+    /// this timeout (per request): a longer timeout gives it more.
+    DeadlineFromTimeout(std::time::Duration),
+    /// An upload was stopped at the limit of bytes taken from a device: raise the limit.
+    RaiseUploadLimit,
 }
 
 impl Hint {
@@ -110,8 +124,55 @@ impl Hint {
             Error::TypeNeeded { .. } => Some(Hint::NameType),
             Error::NoLssOnDirectEpos2 { .. } => Some(Hint::Epos2OwnObjects),
             Error::Epos2RateOnStore => Some(Hint::StoreEpos2),
+            Error::NoAnswer { what: Service::ProjectNode { lss: Some(id) }, .. } => Some(Hint::AssignOverLss(*id)),
+            Error::NoAnswer { what: Service::ProjectNode { lss: None }, .. } => Some(Hint::NoIdentityToAssign),
+            Error::Link(LinkError::Epos2(crate::epos2::Epos2Error::Serial { failure, retry, .. }))
+                if retry.as_ref().unwrap_or(failure).may_be_slow() =>
+            {
+                Some(Hint::SlowDevice)
+            }
+            Error::SdoUnfinished { why: crate::error::Unfinished::Deadline { timeout, .. }, .. } => {
+                Some(Hint::DeadlineFromTimeout(*timeout))
+            }
+            // The SDO client aborts with "out of memory" only at the upload limit.
+            Error::Link(LinkError::SdoProtocol { aborted: Some(crate::canopen::abort::OUT_OF_MEMORY), .. })
+            | Error::Link(LinkError::UploadOverLimit { .. }) => Some(Hint::RaiseUploadLimit),
             _ => None,
         }
+    }
+}
+
+/// An error kept in a report row (a write that failed, a node that did not answer): its
+/// message and its remedy, typed, for the front end to word after the message.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct Failure {
+    /// The error's message, without the advice added to it.
+    pub message: String,
+    /// Its remedy, if one fits.
+    pub hint: Option<Hint>,
+    /// Advice the library added to the error, which follows the remedy (`; did you mean ...`).
+    pub then: String,
+}
+
+impl From<&Error> for Failure {
+    fn from(error: &Error) -> Failure {
+        match error {
+            // As `output::library_error_text` words it: the remedy before the advice.
+            Error::Hinted { error, hint } => {
+                let mut f = Failure::from(&**error);
+                f.then.push_str(hint);
+                f
+            }
+            e => Failure { message: e.to_string(), hint: Hint::of(e), then: String::new() },
+        }
+    }
+}
+
+/// The error's own message (as it displays), without the remedy.
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}{}", self.message, self.then)
     }
 }
 

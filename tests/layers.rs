@@ -239,13 +239,6 @@ const FLAG_NAMING: &[(&str, &str, &str)] = &[
     // Not a remedy: the option whose file could not be written, as the user gave it.
     ("bus/frame_log.rs", "--log-frames", "names the option whose output failed (Error::Output's what)"),
     ("sim/faults.rs", "--fault", "echoes the --fault value the user gave, parsed in sim"),
-    // Errors stored as text in reports (config apply's Action::Failed, node rows, network
-    // rows): a typed Hint would be lost there until those reports keep the Error.
-    ("canopen/sdo/client.rs", "--max-size", "SDO errors are stored as text in reports"),
-    ("backend/epos2.rs", "--max-size", "SDO errors are stored as text in reports"),
-    ("epos2/transport.rs", "--timeout", "SDO errors are stored as text in reports"),
-    ("error/detail.rs", "--timeout", "SdoUnfinished: SDO errors are stored as text in reports"),
-    ("error/detail.rs", "--assign", "ProjectNode: stored as text in the network report's rows"),
 ];
 
 /// "Sentences are written only in output/; hints naming flags are added by the command

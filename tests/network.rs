@@ -162,6 +162,12 @@ fn the_example_project_provisions_the_sim_and_a_second_run_writes_nothing() {
     let refused = sim.run(&["network", "apply", project]);
     assert_eq!(refused.code, 3, "{}\n{}", refused.stdout, refused.stderr);
     assert!(refused.stderr.contains("--assign"), "{}", refused.stderr);
+    // Each absent node's row says how to give it its node-id, in the table and in JSON.
+    let remedy = "did not answer; --assign gives it its node-id over LSS (";
+    assert_eq!(refused.stdout.lines().filter(|l| l.contains(remedy)).count(), 5, "{}", refused.stdout);
+    let rows = sim.run(&["network", "apply", project, "--format", "json"]).json();
+    let results: Vec<&str> = rows["nodes"].as_array().unwrap().iter().filter_map(|n| n["result"].as_str()).collect();
+    assert_eq!(results.iter().filter(|r| r.contains(remedy)).count(), 5, "{rows}");
 
     let first = sim.run(&["network", "apply", project, "--assign", "--format", "json"]).ok().json();
     let assigned: Vec<u64> = first["nodes"]

@@ -223,7 +223,8 @@ fn aborts_sent(m: &mut Master<ScriptedLink>) -> Vec<u32> {
 
 fn exit_code(r: Result<impl std::fmt::Debug, Error>) -> (i32, String) {
     let e = r.expect_err("the transfer must fail");
-    (e.exit_code(), e.to_string())
+    // What canctl prints: the message, then the remedy it words.
+    (e.exit_code(), canctl::output::library_error_text(&e))
 }
 
 #[test]

@@ -131,17 +131,9 @@ impl<T: Transport> Epos2Gateway<T> {
                 hook(out.len());
             }
             if out.len() > max_upload && max_upload < MAX_SEGMENTED_UPLOAD {
-                return Err(LinkError::SdoProtocol {
-                    node,
-                    obj: addr,
-                    reason: format!(
-                        "the upload did not end within the limit of {max_upload} bytes: stopped after {} \
-                         (sdo read --max-size raises the limit)",
-                        out.len()
-                    ),
-                    aborted: None,
-                }
-                .into());
+                return Err(
+                    LinkError::UploadOverLimit { node, obj: addr, limit: max_upload, received: out.len() }.into()
+                );
             }
             if ctrl & MORE == 0 {
                 return Ok(out);
@@ -491,7 +483,9 @@ mod tests {
         let opts = SdoOptions { max_upload: 100, ..block() };
         let e = g.sdo_upload(10, OBJ, &opts).unwrap_err();
         assert_eq!(e.exit_code(), 5, "{e}");
-        assert!(e.to_string().contains("limit of 100 bytes") && e.to_string().contains("--max-size"), "{e}");
+        let text = crate::output::library_error_text(&e);
+        assert!(text.contains("limit of 100 bytes") && text.contains("--max-size raises the limit"), "{text}");
+        assert!(!e.to_string().contains("--"), "the remedy is the front end's: {e}");
         assert_eq!(g.link.sent.len(), 1 + 100usize.div_ceil(GATEWAY_SEGMENT), "stopped at the first segment past it");
     }
 

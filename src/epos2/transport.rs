@@ -72,11 +72,15 @@ impl Failure {
                 "check the bit rate (?baud=), that no other program uses the port, and the cable; \
                  then run the command again"
             }
-            _ => {
-                "check the cable, the bit rate (?baud=) and that no other program uses the port; a \
-                  slow device may need a longer --timeout"
-            }
+            // A slow device is the other cause: `hint::Hint::SlowDevice`, worded by the front end.
+            _ => "check the cable, the bit rate (?baud=) and that no other program uses the port",
         }
+    }
+
+    /// Whether a slow device, given more time, could have answered: not when the port
+    /// failed or the line never fell quiet.
+    pub(crate) fn may_be_slow(&self) -> bool {
+        self.retryable()
     }
 }
 

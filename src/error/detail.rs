@@ -80,7 +80,7 @@ pub enum Service {
         identity: Identity,
     },
     /// The probe of a node a network project lists; `lss` is the identity its DCF names, by
-    /// which `--assign` could find it.
+    /// which an LSS assignment could find it.
     ProjectNode {
         /// The LSS identity its DCF names; none when it names no serial number.
         lss: Option<Identity>,
@@ -112,12 +112,8 @@ pub(super) fn no_answer_text(node: u8, what: &Service, waited: Duration) -> Stri
         Service::AfterLssAssign { identity } => {
             format!("{identity} took node-id {node} over LSS but did not answer with it within {ms} ms")
         }
-        Service::ProjectNode { lss: Some(id) } => {
-            format!("node {node} did not answer; --assign gives it its node-id over LSS ({id})")
-        }
-        Service::ProjectNode { lss: None } => {
-            format!("node {node} did not answer (its DCF names no LSS serial number, so --assign cannot find it)")
-        }
+        // What to do about it (the LSS identity it names) is a `Hint`, worded by the front end.
+        Service::ProjectNode { .. } => format!("node {node} did not answer"),
     }
 }
 
@@ -258,12 +254,11 @@ impl fmt::Display for SdoUnfinishedText<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let SdoUnfinishedText { node, obj, moved, why } = self;
         match why {
-            Unfinished::Deadline { budget, timeout } => write!(
+            // The timeout it follows from is `hint::Hint::DeadlineFromTimeout`, the front end's to word.
+            Unfinished::Deadline { budget, .. } => write!(
                 f,
-                "node {node}: the SDO transfer of {obj} did not finish within its deadline of {:.1} s \
-                 ({moved} moved; the deadline follows from the size and --timeout {} ms)",
+                "node {node}: the SDO transfer of {obj} did not finish within its deadline of {:.1} s ({moved} moved)",
                 budget.as_secs_f64(),
-                timeout.as_millis()
             ),
             Unfinished::NoProgress { waited, ignored, last } => write!(
                 f,

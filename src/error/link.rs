@@ -124,6 +124,22 @@ pub enum LinkError {
         /// The abort code sent to the device; none when none was sent.
         aborted: Option<u32>,
     },
+    /// An upload did not end within the limit of bytes asked for, and was stopped (the
+    /// answers never said the size, as an EPOS2's do not, so only what arrived was counted).
+    #[error(
+        "node {node}: SDO transfer of {obj} failed: the upload did not end within the limit of {limit} bytes: \
+             stopped after {received}"
+    )]
+    UploadOverLimit {
+        /// The node-id of the node it is about.
+        node: u8,
+        /// The object read.
+        obj: ObjAddr,
+        /// The limit, in bytes.
+        limit: usize,
+        /// The bytes that had arrived when it was stopped.
+        received: usize,
+    },
     /// The EPOS2 serial line or an EPOS2's answer failed.
     #[error(transparent)]
     Epos2(#[from] crate::epos2::Epos2Error),

@@ -40,7 +40,7 @@ fn messages_say_what_they_always_said() {
                 why: Unfinished::Deadline { budget: ms(2500), timeout: ms(500) },
             },
             "node 7: the SDO transfer of 0x1018:1 did not finish within its deadline of 2.5 s (10 of 100 bytes \
-             moved; the deadline follows from the size and --timeout 500 ms)",
+             moved); the deadline follows from the size and --timeout 500 ms",
         ),
         (
             Error::SdoUnfinished {

@@ -47,6 +47,13 @@ pub fn hint_text(hint: Hint) -> String {
             .into(),
         Hint::StoreEpos2 => ": use `lss store --node 0`".into(),
         Hint::LongerBusyWait => ": give --busy-wait".into(),
+        Hint::AssignOverLss(id) => format!("; --assign gives it its node-id over LSS ({id})"),
+        Hint::NoIdentityToAssign => " (its DCF names no LSS serial number, so --assign cannot find it)".into(),
+        Hint::SlowDevice => "; a slow device may need a longer --timeout".into(),
+        Hint::DeadlineFromTimeout(timeout) => {
+            format!("; the deadline follows from the size and --timeout {} ms", timeout.as_millis())
+        }
+        Hint::RaiseUploadLimit => " (sdo read --max-size raises the limit)".into(),
     }
 }
 
@@ -141,6 +148,33 @@ pub fn switch_hint(uri: Option<&str>, index: u8) -> String {
     }
 }
 
+/// `text`, which tells `failure` (a report row's), with the failure's remedy in canctl's
+/// terms after its message, where the error's message would have carried it.
+pub(crate) fn with_remedy(text: &str, failure: &crate::hint::Failure) -> String {
+    match &failure.hint {
+        Some(hint) => text.replacen(&failure.message, &format!("{}{}", failure.message, hint_text(hint.clone())), 1),
+        None => text.to_string(),
+    }
+}
+
+/// What happened to one object of a `config apply`, as canctl says it: a failed write
+/// with its remedy.
+pub(crate) fn change_result_text(outcome: &crate::ops::config::Outcome) -> String {
+    match &outcome.action {
+        crate::ops::config::Action::Failed(f) => with_remedy(&outcome.to_string(), f),
+        _ => outcome.to_string(),
+    }
+}
+
+/// A report's JSON `changes`, each `result` as canctl says it ([`change_result_text`]).
+pub(crate) fn word_change_results(value: &mut serde_json::Value, changes: &[crate::ops::config::Change]) {
+    for (k, c) in changes.iter().enumerate() {
+        if matches!(c.result.action, crate::ops::config::Action::Failed(_)) {
+            value[k]["result"] = change_result_text(&c.result).into();
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -221,5 +255,37 @@ mod tests {
         assert!(text.contains("--bus slcan:/dev/ttyACM0@RATE"), "{text}");
         assert!(text.contains("bus = \"slcan:/dev/ttyACM0@RATE\" in canctl.toml"), "{text}");
         assert!(text.contains(" 500k ") && text.contains(" 1M"), "{text}");
+    }
+
+    /// A failure kept in a report row (`network apply`'s node, `config apply`'s object)
+    /// reads as the error itself does, remedy and added advice in their places.
+    #[test]
+    fn a_failure_kept_in_a_row_reads_as_the_error() {
+        use crate::canopen::lss::Identity;
+        use crate::error::Service;
+        use crate::hint::Failure;
+        use crate::ops::config::{Action, Outcome};
+        let id = Identity { vendor: 1, product: 2, revision: 3, serial: 4 };
+        let absent = |lss| crate::Error::NoAnswer {
+            node: 5,
+            what: Service::ProjectNode { lss },
+            waited: std::time::Duration::from_millis(100),
+        };
+        assert_eq!(
+            library_error_text(&absent(Some(id))),
+            format!("node 5 did not answer; --assign gives it its node-id over LSS ({id})")
+        );
+        assert_eq!(
+            library_error_text(&absent(None)),
+            "node 5 did not answer (its DCF names no LSS serial number, so --assign cannot find it)"
+        );
+        for e in [absent(Some(id)), absent(None).with_hint("; more"), crate::Error::Interrupted] {
+            let f = Failure::from(&e);
+            assert_eq!(f.to_string(), e.to_string());
+            let row = format!("node-id given over LSS; failed: {e}");
+            assert_eq!(with_remedy(&row, &f), format!("node-id given over LSS; failed: {}", library_error_text(&e)));
+            let outcome = Outcome { action: Action::Failed(f), interim: None, rollback: true, read_back: None };
+            assert_eq!(change_result_text(&outcome), format!("failed: {} (rollback)", library_error_text(&e)));
+        }
     }
 }

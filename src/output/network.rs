@@ -168,8 +168,17 @@ impl Report for Applied {
         let rows = self
             .nodes
             .iter()
-            .map(|n| vec![n.node.to_string(), n.name.clone(), n.written.to_string(), n.result.clone()]);
+            .map(|n| vec![n.node.to_string(), n.name.clone(), n.written.to_string(), row_result_text(n)]);
         Human::Table { headers: vec!["node", "name", "written", "result"], rows: rows.collect(), when_empty: true }
+    }
+
+    fn json_value(&self) -> serde_json::Value {
+        let mut value = serde_json::to_value(self).expect("reports serialise");
+        for (k, n) in self.nodes.iter().enumerate() {
+            value["nodes"][k]["result"] = row_result_text(n).into();
+            super::hints::word_change_results(&mut value["nodes"][k]["objects"], &n.objects);
+        }
+        value
     }
 
     fn notes(&self) -> Vec<String> {
@@ -218,6 +227,11 @@ impl Report for Applied {
         }
         notes
     }
+}
+
+/// A node's result as canctl says it: a failure with its remedy.
+fn row_result_text(n: &crate::ops::network::NodeApplied) -> String {
+    n.failure.as_ref().map_or_else(|| n.result.clone(), |f| super::hints::with_remedy(&n.result, f))
 }
 
 /// Why a network-wide switch to `rate` was not activated, as canctl says it.

@@ -138,10 +138,15 @@ impl Report for Diff {
 
 impl Report for Applied {
     fn human(&self) -> Human {
-        let rows = self
-            .objects
-            .iter()
-            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.to_string()]);
+        let rows = self.objects.iter().map(|r| {
+            vec![
+                r.object.to_string(),
+                r.name.clone(),
+                r.old.clone(),
+                r.new.clone(),
+                super::hints::change_result_text(&r.result),
+            ]
+        });
         if self.objects.is_empty() && !self.interrupted {
             // A header over no rows says nothing: say so in words.
             return Human::Line(format!("nothing to change: node {} already matches {}", self.node, self.file));
@@ -154,11 +159,22 @@ impl Report for Applied {
     }
 
     fn csv(&self) -> Human {
-        let rows = self
-            .objects
-            .iter()
-            .map(|r| vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), r.result.to_string()]);
+        let rows = self.objects.iter().map(|r| {
+            vec![
+                r.object.to_string(),
+                r.name.clone(),
+                r.old.clone(),
+                r.new.clone(),
+                super::hints::change_result_text(&r.result),
+            ]
+        });
         Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty: true }
+    }
+
+    fn json_value(&self) -> serde_json::Value {
+        let mut value = serde_json::to_value(self).expect("reports serialise");
+        super::hints::word_change_results(&mut value["objects"], &self.objects);
+        value
     }
 
     fn notes(&self) -> Vec<String> {

@@ -488,11 +488,7 @@ impl SdoClient {
         if size > self.max_upload {
             return Err(self.fail(
                 abort::OUT_OF_MEMORY,
-                format!(
-                    "the device announces {size} bytes, more than the upload limit of {} bytes \
-                     (sdo read --max-size raises the limit)",
-                    self.max_upload
-                ),
+                format!("the device announces {size} bytes, more than the upload limit of {} bytes", self.max_upload),
             ));
         }
         self.size = Some(size);
@@ -513,8 +509,7 @@ impl SdoClient {
             return Err(self.fail(
                 abort::OUT_OF_MEMORY,
                 format!(
-                    "the upload did not end within the limit of {} bytes: stopped after {received} \
-                     (sdo read --max-size raises the limit)",
+                    "the upload did not end within the limit of {} bytes: stopped after {received}",
                     self.max_upload
                 ),
             ));

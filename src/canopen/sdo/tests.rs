@@ -146,10 +146,7 @@ fn oversized_announcement_is_refused() {
     c.start();
     let err = c.on_response(&[0xC2, 0x00, 0x20, 0x01, 0xFF, 0xFF, 0xFF, 0xFF]).unwrap_err();
     let SdoError::ClientAbort { code: abort::OUT_OF_MEMORY, reason } = err else { panic!("{err:?}") };
-    assert!(
-        reason.contains("4294967295 bytes") && reason.contains("1048576") && reason.contains("--max-size"),
-        "{reason}"
-    );
+    assert!(reason.contains("4294967295 bytes") && reason.contains("1048576") && !reason.contains("--"), "{reason}");
 }
 
 #[test]

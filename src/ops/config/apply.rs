@@ -2,6 +2,7 @@
 //! CiA 301 order, rolled back when a change of one stops half-way.
 
 use super::*;
+use crate::hint::Failure;
 
 /// How to apply a DCF.
 #[derive(Clone, Debug)]
@@ -118,8 +119,8 @@ pub struct Change {
 pub enum Action {
     /// Written.
     Written,
-    /// The write failed with this error.
-    Failed(String),
+    /// The write failed with this error (its remedy typed, for the front end to word).
+    Failed(Failure),
     /// Not written: an earlier write failed.
     NotWritten,
     /// Not written: the user stopped the run first.
@@ -337,7 +338,7 @@ fn roll_back(
             }
             Err(e) => {
                 to_fix.push(Fix { object: step.addr, value: Some(shown(step.addr, &step.value)) });
-                Action::Failed(e.to_string())
+                Action::Failed(Failure::from(&e))
             }
         };
         let result = Outcome { rollback: true, ..Outcome::new(action) };
@@ -490,7 +491,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
                     // Refused or unanswered: whether the device took the value is not
                     // known, so a rollback writes the old one back in any case.
                     device.remove(&step.addr);
-                    let failed = Action::Failed(e.to_string());
+                    let failed = Action::Failed(Failure::from(&e));
                     failure = Some(e);
                     failed
                 }

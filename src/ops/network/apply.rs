@@ -68,6 +68,10 @@ pub struct NodeApplied {
     pub stored: bool,
     /// What happened, in a sentence.
     pub result: String,
+    /// The failure the result tells, typed: its remedy for the front end to word after its
+    /// message in the result.
+    #[serde(skip)]
+    pub failure: Option<crate::hint::Failure>,
     /// What happened, in one word: the summary counts these, as the table shows them.
     pub outcome: Outcome,
     /// The node now matches its DCF.
@@ -141,6 +145,7 @@ fn empty_row(listed: &Listed) -> NodeApplied {
         written: 0,
         stored: false,
         result: String::new(),
+        failure: None,
         outcome: Outcome::Failed,
         ok: false,
         objects: Vec::new(),
@@ -153,6 +158,7 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     let mut row = empty_row(listed);
     let fail = |mut row: NodeApplied, e: Error| {
         row.result = format!("failed: {e}");
+        row.failure = Some((&e).into());
         (row, Some(e))
     };
     let Some(dcf) = &listed.dcf else {
@@ -266,6 +272,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         let stopped = |i: usize, e: Error| {
             let mut row = empty_row(&loaded.nodes[i]);
             row.result = format!("failed: {e}");
+            row.failure = Some((&e).into());
             (row, Some(e))
         };
         let items: Vec<(usize, u8)> = ready.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
@@ -425,6 +432,7 @@ fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutc
     let mut row = empty_row(listed);
     let fail = |mut row: NodeApplied, e: Error| {
         row.result = format!("failed: {e}");
+        row.failure = Some((&e).into());
         (row, Some(e))
     };
     match listed.lss_identity() {
