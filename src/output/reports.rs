@@ -2,7 +2,7 @@
 //! people.
 
 use super::{time_of_day, Human, Line, Report};
-use crate::ops::config::{Applied, Diff};
+use crate::ops::config::{Applied, Change, Diff};
 use crate::ops::monitor::{Event, Summary};
 use crate::ops::store::{Restored, Stored};
 use crate::ops::Stopped;
@@ -136,39 +136,30 @@ impl Report for Diff {
     }
 }
 
+impl Applied {
+    /// One row per object: the same in the table and in CSV.
+    fn rows(&self) -> Vec<Vec<String>> {
+        let row = |r: &Change| {
+            let result = super::hints::change_result_text(&r.result);
+            vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), result]
+        };
+        self.objects.iter().map(row).collect()
+    }
+}
+
 impl Report for Applied {
     fn human(&self) -> Human {
-        let rows = self.objects.iter().map(|r| {
-            vec![
-                r.object.to_string(),
-                r.name.clone(),
-                r.old.clone(),
-                r.new.clone(),
-                super::hints::change_result_text(&r.result),
-            ]
-        });
+        let rows = self.rows();
         if self.objects.is_empty() && !self.interrupted {
             // A header over no rows says nothing: say so in words.
             return Human::Line(format!("nothing to change: node {} already matches {}", self.node, self.file));
         }
-        Human::Table {
-            headers: vec!["object", "name", "old", "new", "result"],
-            rows: rows.collect(),
-            when_empty: false,
-        }
+        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: false }
     }
 
     fn csv(&self) -> Human {
-        let rows = self.objects.iter().map(|r| {
-            vec![
-                r.object.to_string(),
-                r.name.clone(),
-                r.old.clone(),
-                r.new.clone(),
-                super::hints::change_result_text(&r.result),
-            ]
-        });
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows: rows.collect(), when_empty: true }
+        let rows = self.rows();
+        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: true }
     }
 
     fn json_value(&self) -> serde_json::Value {
