@@ -94,7 +94,8 @@ pub fn listen(socket: &UdpSocket, deadline: Instant, cancel: &Cancel) -> Vec<Fou
     let mut found: Vec<FoundBus> = Vec::new();
     let mut buf = [0u8; 2048];
     loop {
-        let left = deadline.saturating_duration_since(Instant::now());
+        // A host socket, not a bus: the links' monotonic clock is the time here.
+        let left = deadline.saturating_duration_since(crate::bus::clock::monotonic_now());
         if left.is_zero() || cancel.is_cancelled() {
             return found;
         }
@@ -139,7 +140,7 @@ pub fn find(wait: Duration, beacon_port: u16, cancel: &Cancel) -> Buses {
             None => other_serial_ports.push(p.port_name),
         }
     }
-    let started = Instant::now();
+    let started = crate::bus::clock::monotonic_now();
     let (heard, not_listened) = match UdpSocket::bind((std::net::Ipv4Addr::UNSPECIFIED, beacon_port)) {
         Ok(socket) => (listen(&socket, started + wait, cancel), None),
         Err(e) => (Vec::new(), Some(e.to_string())),
