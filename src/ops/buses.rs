@@ -233,7 +233,7 @@ mod tests {
         for bytes in [&b[..], b"garbage", &b[..b.len() - 4], &b[..]] {
             tx.send_to(bytes, to).unwrap();
         }
-        let found = listen(&socket, Instant::now() + Duration::from_millis(300), &Cancel::new());
+        let found = listen(&socket, crate::bus::clock::monotonic_now() + Duration::from_millis(300), &Cancel::new());
         let buses: Vec<&str> = found.iter().map(|f| f.bus.as_str()).collect();
         assert_eq!(buses, ["socketcand:127.0.0.1:4000/sim"]);
     }
