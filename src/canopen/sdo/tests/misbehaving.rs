@@ -457,6 +457,21 @@ mod restart {
         Od::default().with(NAME, b"CAN-2000C I/O module", false).with(A, &[0, 0], true)
     }
 
+    /// The transfer run to its end from `first`, each answer delivered once: what it
+    /// finished with (the data read; empty for a download), if it finished.
+    fn finish(client: &mut SdoClient, server: &mut SdoServer, od: &mut Od, first: [u8; 8]) -> Option<Vec<u8>> {
+        let mut to_server = vec![first];
+        let mut got = None;
+        while let Some(req) = to_server.pop() {
+            for resp in server.handle(&req, od) {
+                let step = client.on_response(&resp).unwrap();
+                to_server.extend(step.send);
+                got = got.or(step.done);
+            }
+        }
+        got
+    }
+
     #[test]
     fn a_lost_request_is_sent_again_and_the_read_finishes() {
         let (mut server, mut od) = (SdoServer::new(false), od());
@@ -466,15 +481,7 @@ mod restart {
         assert!(server.handle(&abort_frame(NAME, abort::TIMED_OUT), &mut od).is_empty());
         let again = client.restart();
         assert_eq!(again, first);
-        let mut to_server = vec![again];
-        let mut got = None;
-        while let Some(req) = to_server.pop() {
-            for resp in server.handle(&req, &mut od) {
-                let step = client.on_response(&resp).unwrap();
-                to_server.extend(step.send);
-                got = got.or(step.done);
-            }
-        }
+        let got = finish(&mut client, &mut server, &mut od, again);
         assert_eq!(got.unwrap(), b"CAN-2000C I/O module");
     }
 
@@ -495,15 +502,7 @@ mod restart {
         assert!(client.ignored().unwrap().1.contains("abandoned"));
         // Then the new attempt runs to the end; its own first segment, the same bytes as the
         // late one, is not mistaken for a repeat of it.
-        let mut to_server = vec![again];
-        let mut got = None;
-        while let Some(req) = to_server.pop() {
-            for resp in server.handle(&req, &mut od) {
-                let step = client.on_response(&resp).unwrap();
-                to_server.extend(step.send);
-                got = got.or(step.done);
-            }
-        }
+        let got = finish(&mut client, &mut server, &mut od, again);
         assert_eq!(got.unwrap(), b"CAN-2000C I/O module");
     }
 
@@ -565,16 +564,7 @@ mod restart {
         assert!(server.handle(&abort_frame(od_addr, abort::TIMED_OUT), &mut od).is_empty());
         let again = client.restart();
         assert!(!client.on_response(&late[0]).unwrap().progress);
-        let mut to_server = vec![again];
-        let mut done = false;
-        while let Some(req) = to_server.pop() {
-            for resp in server.handle(&req, &mut od) {
-                let step = client.on_response(&resp).unwrap();
-                to_server.extend(step.send);
-                done |= step.done.is_some();
-            }
-        }
-        assert!(done);
+        assert!(finish(&mut client, &mut server, &mut od, again).is_some());
         assert_eq!(od.read(od_addr).unwrap(), data);
     }
 
