@@ -16,7 +16,6 @@ use canctl::od::{lint::Severity, Entry, ObjectKind};
 use serde_json::Value as J;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// The corpus's EDS and DCF files, or `None` (said) when it is absent.
 fn corpus() -> Option<Vec<PathBuf>> {
@@ -41,24 +40,9 @@ fn name(p: &Path) -> String {
 type Theirs = Result<Vec<(u16, u8, u16, String)>, String>;
 
 fn python_canopen(files: &[PathBuf]) -> Option<BTreeMap<String, Theirs>> {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop/eds_objects.py");
-    let required = std::env::var_os("CANCTL_REQUIRE_PEERS").is_some();
-    let out = match Command::new("python3").arg(&script).args(files).output() {
-        Ok(out) => out,
-        Err(e) if !required => {
-            common::skipped(&format!("no python3 ({e}); CI sets CANCTL_REQUIRE_PEERS=1"));
-            return None;
-        }
-        Err(e) => panic!("python3: {e}"),
-    };
+    let out = common::python_peer("eds_objects.py", files, "No module named 'canopen'")?;
     let stderr = String::from_utf8_lossy(&out.stderr);
-    if !out.status.success() {
-        if !required && stderr.contains("No module named 'canopen'") {
-            common::skipped("python3 has no canopen package (pip install -r tests/interop/requirements.txt)");
-            return None;
-        }
-        panic!("eds_objects.py failed: {stderr}");
-    }
+    assert!(out.status.success(), "eds_objects.py failed: {stderr}");
     let answer: J = serde_json::from_slice(&out.stdout).unwrap();
     let mut by_file = BTreeMap::new();
     for path in files {

@@ -9,7 +9,7 @@ mod common;
 use common::scenarios::{self, Under};
 use common::{Run, Sim};
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Child, ChildStdout, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -222,22 +222,9 @@ fn completion_offers_socketcand_addresses() {
 /// python3 with python-can and canopen, or why not (a skip, or a failure under
 /// `CANCTL_REQUIRE_PEERS`).
 fn python_peer(server: &Server, kind: &str) -> Option<serde_json::Value> {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop/socketcand_client.py");
     let (host, port, iface) = server.parts();
-    let required = std::env::var_os("CANCTL_REQUIRE_PEERS").is_some();
-    let out = match Command::new("python3").arg(&script).args([kind, &host, &port, &iface]).output() {
-        Ok(out) => out,
-        Err(e) if !required => {
-            common::skipped(&format!("no python3 ({e}); CI sets CANCTL_REQUIRE_PEERS=1"));
-            return None;
-        }
-        Err(e) => panic!("python3: {e}"),
-    };
+    let out = common::python_peer("socketcand_client.py", [kind, &host, &port, &iface], "ModuleNotFoundError")?;
     let stderr = String::from_utf8_lossy(&out.stderr);
-    if !out.status.success() && stderr.contains("ModuleNotFoundError") && !required {
-        common::skipped("python3 lacks python-can or canopen (pip install -r tests/interop/requirements.txt)");
-        return None;
-    }
     assert!(out.status.success(), "{kind} client failed:\n{stderr}");
     Some(
         serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout))),

@@ -162,6 +162,31 @@ pub fn skipped(why: &str) {
     let _ = writeln!(std::io::stderr().lock(), "SKIPPED {test}: {why}");
 }
 
+/// A peer script of tests/interop/ run to its end: its output (a failure included), or
+/// `None`, said as skipped, when there is no python3 or a failure's stderr shows `missing`
+/// (a package not installed) — unless CI requires the peers (`CANCTL_REQUIRE_PEERS`).
+pub fn python_peer<S: AsRef<std::ffi::OsStr>>(
+    script: &str,
+    args: impl IntoIterator<Item = S>,
+    missing: &str,
+) -> Option<Output> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop").join(script);
+    let required = std::env::var_os("CANCTL_REQUIRE_PEERS").is_some();
+    let out = match Command::new("python3").arg(&path).args(args).output() {
+        Ok(out) => out,
+        Err(e) if !required => {
+            skipped(&format!("no python3 ({e}); CI sets CANCTL_REQUIRE_PEERS=1"));
+            return None;
+        }
+        Err(e) => panic!("python3: {e}"),
+    };
+    if !out.status.success() && !required && String::from_utf8_lossy(&out.stderr).contains(missing) {
+        skipped(&format!("python3 lacks a package {script} needs (pip install -r tests/interop/requirements.txt)"));
+        return None;
+    }
+    Some(out)
+}
+
 /// `canctl sim --socketcan IFACE` on this sim's state, started and bound.
 pub fn sim_on_interface(sim: &Sim, iface: &str) -> std::process::Child {
     use std::io::BufRead;
