@@ -6,7 +6,7 @@ use canctl::cancel::Cancel;
 use canctl::canopen::program::{self, code, Control};
 use canctl::canopen::ObjAddr;
 use canctl::error::ErrorClass;
-use canctl::ops::firmware::{self, DownloadOptions, FirmwareError, State, Step, Where};
+use canctl::ops::firmware::{self, DownloadOptions, FirmwareError, State, Step, Transfer, Where};
 use canctl::ops::Silent;
 use canctl::output::Report;
 use canctl::sim::bootloader::{self, Fault, FAULT_OBJECT};
@@ -48,6 +48,7 @@ fn a_download_erases_writes_checks_starts_and_confirms() {
     assert_eq!(r.id_after, Some(program::image_id(&img)));
     assert_eq!(r.device, Where::RunsImage);
     assert!(r.confirmed && !r.skipped && !r.interrupted, "{r:?}");
+    assert_eq!(r.transfer, Some(Transfer::Block));
     use Step::*;
     let want =
         [ReadId, PreOperational, Stop, Clear, Erased, Download, Written, IdChecked, Start, BootUp, Heartbeat, Confirm];
@@ -129,6 +130,14 @@ fn a_device_that_refuses_block_transfer_gets_the_image_segmented() {
     let img = image(3000);
     let r = firmware::download(&mut bus, NODE, &img, &DownloadOptions::new(TIMEOUT), &mut Silent).unwrap();
     assert_eq!(r.id_after, Some(program::image_id(&img)));
+    // The report says so, typed and in words.
+    assert_eq!(r.transfer, Some(Transfer::Segmented));
+    assert_eq!(r.json_value()["transfer"], "segmented");
+    let canctl::output::Human::Parts(lines) = r.human() else { panic!("parts") };
+    let said = lines
+        .iter()
+        .any(|l| matches!(l, canctl::output::Human::Line(l) if l.contains("segmented (no block transfer)")));
+    assert!(said, "{r:?}");
 }
 
 #[test]

@@ -285,6 +285,13 @@ pub trait Bus {
         false
     }
 
+    /// Whether a download to `node` that asks for SDO block transfer gets it: false where
+    /// the link has none (a gateway) or the device refused it once (then segmented). A
+    /// decorator passes it on (`pass_on_unchanged!`).
+    fn block_transfer_to(&self, _node: u8) -> bool {
+        false
+    }
+
     /// After a silence: an error when the link reports the bus unusable (see
     /// [`FrameLink::check`]); links that cannot tell say nothing. A decorator passes it on
     /// (`pass_on_unchanged!`).
@@ -365,6 +372,9 @@ macro_rules! pass_on_unchanged {
         }
         fn follows_bit_rate_switch(&self) -> bool {
             self.$inner.follows_bit_rate_switch()
+        }
+        fn block_transfer_to(&self, node: u8) -> bool {
+            self.$inner.block_transfer_to(node)
         }
         fn check_link(&mut self) -> $crate::error::Result<()> {
             self.$inner.check_link()

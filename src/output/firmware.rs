@@ -1,7 +1,7 @@
 //! How `firmware status` and `firmware download` look to people.
 
 use super::{Human, Report, TestCase, TestSuite};
-use crate::ops::firmware::{Batch, DownloadReport, FirmwareError, State, StatusReport, Unfinished, Where};
+use crate::ops::firmware::{Batch, DownloadReport, FirmwareError, State, StatusReport, Transfer, Unfinished, Where};
 
 /// Where the device is, and what to do next, as canctl says it.
 fn state_text(state: State) -> &'static str {
@@ -91,7 +91,12 @@ impl Report for DownloadReport {
             .collect();
         let mut lines = vec![Human::Line(head), Human::Table { headers: vec!["at", "step"], rows, when_empty: false }];
         if let (Some(ms), Some(rate)) = (self.download_ms, self.bytes_per_second) {
-            lines.push(Human::Line(format!("download: {:.3} s, {} bytes/s", ms as f64 / 1000.0, rate)));
+            let how = match self.transfer {
+                Some(Transfer::Segmented) => ", segmented (no block transfer)",
+                Some(Transfer::Block) => ", block transfer",
+                _ => "",
+            };
+            lines.push(Human::Line(format!("download: {:.3} s, {} bytes/s{how}", ms as f64 / 1000.0, rate)));
         }
         if let Some(ms) = self.erase_ms {
             lines.push(Human::Line(format!(

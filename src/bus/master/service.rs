@@ -58,6 +58,9 @@ impl<L: FrameLink> Bus for Master<L> {
     fn sees_traffic(&self) -> bool {
         true
     }
+    fn block_transfer_to(&self, node: u8) -> bool {
+        self.block_allowed(node, true)
+    }
     fn check_link(&mut self) -> Result<()> {
         self.link.check()
     }

@@ -165,6 +165,17 @@ pub enum State {
     At(Where),
 }
 
+/// How the program data went to the device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Transfer {
+    /// SDO block transfer (CiA 301 7.2.4.3.9): the fast one.
+    Block,
+    /// Segmented SDO transfer: the device refused block transfer, or the link has none.
+    Segmented,
+}
+
 /// What `firmware download` did to one node.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 #[non_exhaustive]
@@ -196,6 +207,8 @@ pub struct DownloadReport {
     pub download_ms: Option<u64>,
     /// Program data bytes per second during the download.
     pub bytes_per_second: Option<u64>,
+    /// How the program data went; none when none was written.
+    pub transfer: Option<Transfer>,
     /// How long the whole procedure took, in ms.
     pub total_ms: u64,
     /// The new program was confirmed (0x1F51 = 0x80) when it asked for it.
@@ -225,6 +238,7 @@ impl DownloadReport {
             erase_ms: None,
             download_ms: None,
             bytes_per_second: None,
+            transfer: None,
             total_ms: 0,
             confirmed: false,
             device: Where::Unchanged,
@@ -564,6 +578,8 @@ pub fn download(
     r.report.download_ms = Some(took.as_millis() as u64);
     r.report.bytes_per_second =
         (took.as_micros() > 0).then(|| (image.len() as u128 * 1_000_000 / took.as_micros()) as u64);
+    // The bus knows whether the device took the block transfer or it fell back.
+    r.report.transfer = Some(if r.bus.block_transfer_to(node) { Transfer::Block } else { Transfer::Segmented });
     r.done(Step::Download);
     let status = step!(r.wait_not_busy("the download"), Where::BootloaderNoProgram);
     if status.is_error() {
