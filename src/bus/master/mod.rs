@@ -361,8 +361,11 @@ impl<L: FrameLink> Master<L> {
     /// that stopped at the abort sends nothing: the wait ends after `timeout` of silence.
     fn let_answers_land(&mut self, node: u8, mut expected: usize, timeout: Duration) -> Result<()> {
         let cob = 0x580 + u16::from(node);
-        while expected > 0 {
-            let Some(f) = self.recv(self.link.now() + timeout)? else { break };
+        // The silence is this node's: other nodes' frames (heartbeats, their transfers)
+        // do not make the wait longer, else a busy bus would hold it forever.
+        let mut until = self.link.now() + timeout;
+        while expected > 0 && self.link.now() < until {
+            let Some(f) = self.recv(until)? else { break };
             if f.id() != cob || f.is_remote() {
                 continue;
             }
@@ -371,6 +374,7 @@ impl<L: FrameLink> Master<L> {
                 break;
             }
             expected -= 1;
+            until = self.link.now() + timeout;
         }
         Ok(())
     }
