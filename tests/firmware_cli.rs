@@ -82,3 +82,20 @@ fn through_an_epos2_gateway_the_start_is_confirmed_by_the_device_answering_again
     let id = canctl::canopen::program::image_id(&canctl::sim::profiles::domain_pattern(700));
     assert_eq!(done["id_after"], id, "{done}");
 }
+
+/// `--jobs 2`: both nodes under way at once; the silent one fails, the other gets its image,
+/// each its own test case, and the exit code says what failed.
+#[test]
+fn several_nodes_at_once_give_one_junit_case_each_and_the_silent_one_does_not_stop_the_other() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
+    let app = image(&sim, 2000);
+    let args = ["--timeout", "200ms", "--format", "junit", "firmware", "download", "42,9", &app, "--jobs", "2"];
+    let run = sim.run(&args);
+    assert_eq!(run.code, 3, "{}{}", run.stdout, run.stderr);
+    assert_eq!(run.stdout.matches("<testcase").count(), 2, "{}", run.stdout);
+    assert_eq!(run.stdout.matches("<failure").count(), 1, "{}", run.stdout);
+    let status = sim.run(&["firmware", "status", "9", "--format", "json"]).ok().json();
+    let id = canctl::canopen::program::image_id(&canctl::sim::profiles::domain_pattern(2000));
+    assert_eq!(status["programs"][0]["software_id"], id, "{status}");
+}

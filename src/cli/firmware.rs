@@ -29,7 +29,7 @@ pub(crate) enum FirmwareCommand {
     #[command(after_help = "Examples:
   canctl --bus sim firmware download 9 app.bin
   canctl --bus can0 firmware download 5 app.bin --program 2 --force
-  canctl --bus can0 --format junit firmware download 5,6,7 app.bin > firmware.xml")]
+  canctl --bus can0 --format junit firmware download 5,6,7 app.bin --jobs 3 > firmware.xml")]
     Download(DownloadArgs),
 }
 
@@ -42,8 +42,8 @@ pub(crate) struct StatusArgs {
 
 #[derive(Args, Debug)]
 pub(crate) struct DownloadArgs {
-    /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another,
-    /// with a report (and with --format junit a test case) for each
+    /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another
+    /// (or --jobs at once), with a report (and with --format junit a test case) for each
     #[arg(value_name = "NODE", value_parser = parse_node, value_delimiter = ',', required = true, add = ArgValueCandidates::new(super::complete::nodes))]
     pub nodes: Vec<u8>,
     /// The image: the bytes written to 0x1F50 as they are in the file
@@ -66,6 +66,10 @@ pub(crate) struct DownloadArgs {
     /// bootloader returns to the old one at the next reset
     #[arg(long)]
     pub no_confirm: bool,
+    /// How many of the nodes to do at once (their erases overlap, their downloads share the
+    /// bus); 1: one after the other
+    #[arg(long, value_name = "N", default_value = "1", value_parser = clap::value_parser!(u8).range(1..=127))]
+    pub jobs: u8,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
@@ -81,7 +85,14 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow
 
 fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()> {
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
-    let bar = ctx.out.bytes_bar(image.len() as u64, &format!("0x1F50:{}", a.program));
+    // One bar of bytes is for one transfer at a time: with several at once, each node's
+    // start and end are told instead.
+    let parallel = a.jobs > 1 && a.nodes.len() > 1;
+    let bar = if parallel {
+        indicatif::ProgressBar::hidden()
+    } else {
+        ctx.out.bytes_bar(image.len() as u64, &format!("0x1F50:{}", a.program))
+    };
     let mut o = DownloadOptions::new(ctx.timeout);
     o.program = a.program;
     o.force = a.force;
@@ -89,7 +100,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     o.busy_wait = a.busy_wait;
     o.confirm = !a.no_confirm;
     o.cancel = Some(ctx.cancel.clone());
-    o.watch = ctx.out.transfer_hook(&bar);
+    o.watch = if parallel { None } else { ctx.out.transfer_hook(&bar) };
     let mut steps = ctx.out.progress();
     if let [node] = a.nodes[..] {
         if !ctx.out.junit {
@@ -107,7 +118,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
         }
     }
     let batch = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        firmware::download_each(bus, &a.nodes, &image, &o, &mut steps)
+        firmware::download_jobs(bus, &a.nodes, &image, &o, usize::from(a.jobs), &mut steps)
     });
     bar.finish_and_clear();
     ctx.out.report(&batch)?;

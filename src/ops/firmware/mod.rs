@@ -18,6 +18,9 @@ use crate::error::{Error, ErrorClass};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
+mod jobs;
+pub use jobs::download_jobs;
+
 /// How often the flash status is asked while the device is busy.
 pub(crate) const POLL: Duration = Duration::from_millis(100);
 /// The longest an erase or a write may keep the flash busy: real erases of a megabyte of
@@ -750,15 +753,14 @@ pub fn download_each(
             continue;
         }
         progress.item(&format!("node {node}"), &format!("{} of {}", i + 1, nodes.len()), false);
-        match download(bus, node, image, o, progress) {
+        let outcome = download(bus, node, image, o, progress);
+        progress.item(&format!("node {node}"), jobs::end_word(&outcome), true);
+        match outcome {
             Ok(report) => {
-                let result = if report.skipped { "skipped" } else { "done" };
-                progress.item(&format!("node {node}"), result, true);
                 batch.nodes.push(NodeDownload { node, report: Some(report), error: None });
             }
             Err(failed) => {
                 let Failed { error, report } = *failed;
-                progress.item(&format!("node {node}"), if report.interrupted { "interrupted" } else { "failed" }, true);
                 batch.interrupted = report.interrupted;
                 batch.nodes.push(NodeDownload { node, report: Some(*report), error: Some(Unfinished::Failed(error)) });
             }
