@@ -9,7 +9,7 @@
 //! overlap, and the bus's time (virtual on the simulator) moves as it does for one node.
 
 use super::*;
-use crate::bus::{LssAnswer, LssExchange, Observed, SdoJob};
+use crate::bus::{LssAnswer, LssExchange, Observed, SdoJob, SdoOptions};
 use crate::error::Result;
 use crate::frame::Frame;
 use std::sync::mpsc::{channel, Sender};
@@ -200,9 +200,16 @@ impl Coordinator<'_> {
         let (sdo, rest): (Vec<Waiting>, Vec<Waiting>) = waiting.drain(..).partition(|w| matches!(w.ask, Ask::Sdo(_)));
         *waiting = rest;
         if !sdo.is_empty() {
-            let jobs: Vec<SdoJob> = sdo
+            let jobs: Vec<&SdoJob> =
+                sdo.iter().map(|w| if let Ask::Sdo(j) = &w.ask { j } else { unreachable!("partitioned") }).collect();
+            // Block transfers at once take turns on the bus: a node's answer may wait behind
+            // each other's sub-block (up to 127 frames), so each gets the time of all.
+            let sharing =
+                jobs.iter().filter(|j| matches!(j, SdoJob::Download { opts, .. } if opts.block_download)).count();
+            let sharing = u32::try_from(sharing.max(1)).unwrap_or(u32::MAX);
+            let jobs: Vec<SdoJob> = jobs
                 .iter()
-                .map(|w| if let Ask::Sdo(j) = &w.ask { j.clone() } else { unreachable!("partitioned") })
+                .map(|j| j.with_opts(|o| SdoOptions { timeout: o.timeout * sharing, ..o.clone() }))
                 .collect();
             match self.bus.sdo_many(&jobs) {
                 Ok(results) => {
