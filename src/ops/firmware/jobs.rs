@@ -2,17 +2,32 @@
 //!
 //! Each node's procedure is [`super::download`] itself, run on its own thread against a
 //! [`NodeBus`] that hands every bus service to the caller's thread. That thread acts once
-//! every running node waits on one: NMT commands first (a frame each), else all SDO
-//! transfers together ([`Bus::sdo_many`]: the block downloads share the bus), else the
+//! every running node waits on one: NMT commands first (a frame each), else the SDO
+//! transfers together ([`Bus::sdo_many`]; the program data one node at a time), else the
 //! waits (a poll's pause, a boot-up or heartbeat wait) folded into one, until the earliest
 //! deadline, each frame heard handed to every node listening. So the erases of seconds
 //! overlap, and the bus's time (virtual on the simulator) moves as it does for one node.
 
 use super::*;
-use crate::bus::{LssAnswer, LssExchange, Observed, SdoJob, SdoOptions};
+use crate::bus::{LssAnswer, LssExchange, Observed, SdoJob};
 use crate::error::Result;
 use crate::frame::Frame;
 use std::sync::mpsc::{channel, Sender};
+
+/// When the last SDO transfer a node asked for began on the bus: with several nodes, the
+/// program data waits its turn, and its rate counts from then.
+#[derive(Default)]
+pub(super) struct Served(std::sync::Mutex<Option<Instant>>);
+
+impl Served {
+    pub(super) fn since(&self) -> Option<Instant> {
+        *self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn set(&self, t: Instant) {
+        *self.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(t);
+    }
+}
 
 /// A bus service one node's procedure waits on.
 enum Ask {
@@ -43,6 +58,8 @@ enum Got {
 /// services: the time, whether its boot-up came, whether block transfer holds for it.
 struct Answer {
     got: Result<Got>,
+    /// When the service began (an SDO transfer's turn came).
+    began: Instant,
     now: Instant,
     booted: bool,
     block: bool,
@@ -64,6 +81,7 @@ struct NodeBus {
     to_coordinator: Sender<Msg>,
     now: Instant,
     block: bool,
+    served: std::sync::Arc<Served>,
     /// Its own boot-ups, handed over by the coordinator: the procedure forgets them
     /// before the steps that cause one.
     observed: Observed,
@@ -77,6 +95,7 @@ impl NodeBus {
         let a = rx.recv().map_err(|_| gone())?;
         self.now = a.now;
         self.block = a.block;
+        self.served.set(a.began);
         if a.booted {
             self.observed.boot_ups.insert(self.node);
         }
@@ -163,13 +182,16 @@ struct Coordinator<'a> {
     bus: &'a mut dyn Bus,
     nodes: &'a [u8],
     describe: String,
+    /// When the service being answered began.
+    began: Instant,
 }
 
 impl Coordinator<'_> {
     fn answer(&mut self, w: Waiting, got: Result<Got>) {
         let node = self.nodes[w.slot];
         let booted = self.bus.observed().boot_ups.remove(&node);
-        let answer = Answer { got, now: self.bus.now(), booted, block: self.bus.block_transfer_to(node) };
+        let answer =
+            Answer { got, began: self.began, now: self.bus.now(), booted, block: self.bus.block_transfer_to(node) };
         // A node whose thread is gone has nothing left to be told.
         let _ = w.reply.send(answer);
     }
@@ -187,6 +209,7 @@ impl Coordinator<'_> {
     }
 
     fn serve(&mut self, waiting: &mut Vec<Waiting>) {
+        self.began = self.bus.now();
         let (nmt, rest): (Vec<Waiting>, Vec<Waiting>) = waiting.drain(..).partition(|w| matches!(w.ask, Ask::Nmt(..)));
         *waiting = rest;
         if !nmt.is_empty() {
@@ -197,19 +220,22 @@ impl Coordinator<'_> {
             }
             return;
         }
-        let (sdo, rest): (Vec<Waiting>, Vec<Waiting>) = waiting.drain(..).partition(|w| matches!(w.ask, Ask::Sdo(_)));
+        // The program data goes one node at a time: CAN arbitration gives the bus to the
+        // lowest id, so a block download to node 5 (0x605) would hold off node 7's (0x607)
+        // past any timeout; the bus is full with one anyway. The others wait their turn.
+        let mut data_sent = false;
+        let (sdo, rest): (Vec<Waiting>, Vec<Waiting>) = waiting.drain(..).partition(|w| match &w.ask {
+            Ask::Sdo(SdoJob::Download { addr, .. }) if addr.index == PROGRAM_DATA => {
+                !std::mem::replace(&mut data_sent, true)
+            }
+            Ask::Sdo(_) => true,
+            _ => false,
+        });
         *waiting = rest;
         if !sdo.is_empty() {
-            let jobs: Vec<&SdoJob> =
-                sdo.iter().map(|w| if let Ask::Sdo(j) = &w.ask { j } else { unreachable!("partitioned") }).collect();
-            // Block transfers at once take turns on the bus: a node's answer may wait behind
-            // each other's sub-block (up to 127 frames), so each gets the time of all.
-            let sharing =
-                jobs.iter().filter(|j| matches!(j, SdoJob::Download { opts, .. } if opts.block_download)).count();
-            let sharing = u32::try_from(sharing.max(1)).unwrap_or(u32::MAX);
-            let jobs: Vec<SdoJob> = jobs
+            let jobs: Vec<SdoJob> = sdo
                 .iter()
-                .map(|j| j.with_opts(|o| SdoOptions { timeout: o.timeout * sharing, ..o.clone() }))
+                .map(|w| if let Ask::Sdo(j) = &w.ask { j.clone() } else { unreachable!("partitioned") })
                 .collect();
             match self.bus.sdo_many(&jobs) {
                 Ok(results) => {
@@ -279,7 +305,8 @@ pub fn download_jobs(
     let sees_traffic = bus.sees_traffic();
     let (tx, rx) = channel::<Msg>();
     let mut outcomes: Vec<Option<Outcome>> = nodes.iter().map(|_| None).collect();
-    let mut coordinator = Coordinator { bus, nodes, describe: describe.clone() };
+    let began = bus.now();
+    let mut coordinator = Coordinator { bus, nodes, describe: describe.clone(), began };
     std::thread::scope(|scope| {
         let start = |slot: usize, now: Instant, block: bool| {
             let node = nodes[slot];
@@ -291,11 +318,13 @@ pub fn download_jobs(
                 to_coordinator: tx.clone(),
                 now,
                 block,
+                served: std::sync::Arc::new(Served::default()),
                 observed: Observed::default(),
             };
             scope.spawn(move || {
                 let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    download(&mut node_bus, node, image, o, &mut crate::ops::Silent)
+                    let served = std::sync::Arc::clone(&node_bus.served);
+                    download_timed(&mut node_bus, node, image, o, &mut crate::ops::Silent, &served)
                 }));
                 let outcome = run.unwrap_or_else(|_| {
                     let why = Error::Usage("canctl's download for this node stopped (a bug: please report it)".into());

@@ -427,7 +427,9 @@ impl Run<'_> {
         while !self.bus.observed().boot_ups.contains(&self.node) {
             self.check_cancel()?;
             if self.bus.recv_frame(end)?.is_none() && self.bus.now() >= end {
-                return Ok(false);
+                // The boot-up may have come with the wait's end (seen while the bus was busy
+                // with another node's transfers, when several are under way).
+                return Ok(self.bus.observed().boot_ups.contains(&self.node));
             }
         }
         Ok(true)
@@ -493,6 +495,19 @@ pub fn download(
     image: &[u8],
     o: &DownloadOptions,
     progress: &mut dyn Progress,
+) -> Result<DownloadReport, Box<Failed>> {
+    download_timed(bus, node, image, o, progress, &jobs::Served::default())
+}
+
+/// [`download`], where the program data's transfer may wait its turn (`served` says when
+/// it began on the bus; unset, it began when asked).
+fn download_timed(
+    bus: &mut dyn Bus,
+    node: u8,
+    image: &[u8],
+    o: &DownloadOptions,
+    progress: &mut dyn Progress,
+    served: &jobs::Served,
 ) -> Result<DownloadReport, Box<Failed>> {
     let image_id = o.expect_id.unwrap_or_else(|| program::image_id(image));
     let began = bus.now();
@@ -577,7 +592,7 @@ pub fn download(
     let download_began = r.bus.now();
     let written = r.bus.sdo_download(node, r.addr(PROGRAM_DATA), image, &opts);
     step!(written, Where::BootloaderNoProgram);
-    let took = r.bus.now().saturating_duration_since(download_began);
+    let took = r.bus.now().saturating_duration_since(served.since().unwrap_or(download_began));
     r.report.download_ms = Some(took.as_millis() as u64);
     r.report.bytes_per_second =
         (took.as_micros() > 0).then(|| (image.len() as u128 * 1_000_000 / took.as_micros()) as u64);
