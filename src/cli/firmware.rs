@@ -66,8 +66,8 @@ pub(crate) struct DownloadArgs {
     /// bootloader returns to the old one at the next reset
     #[arg(long)]
     pub no_confirm: bool,
-    /// How many of the nodes to do at once (their erases overlap, their downloads share the
-    /// bus); 1: one after the other
+    /// How many of the nodes to do at once: their erases and waits overlap, their program data
+    /// takes turns on the bus; 1: one after the other
     #[arg(long, value_name = "N", default_value = "1", value_parser = clap::value_parser!(u8).range(1..=127))]
     pub jobs: u8,
 }
