@@ -105,6 +105,9 @@ fn the_readme_shows_what_canctl_prints() {
     for ex in &found {
         let dir = tempfile::tempdir().unwrap();
         for (cmd, shown) in &ex.commands {
+            if MACHINE_DEPENDENT.contains(&cmd.as_str()) {
+                continue;
+            }
             let mut c = Command::new("bash");
             c.arg("-c").arg(format!("{cmd} 2>&1")).env("PATH", &path).current_dir(dir.path());
             c.env_remove("CANCTL_BUS").env("COLUMNS", "100");
@@ -126,6 +129,80 @@ fn the_readme_shows_what_canctl_prints() {
         }
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n\n"));
+}
+
+/// Commands whose output depends on the machine (its CAN interfaces, serial ports, host
+/// name): their blocks are checked for their shape by a test of their own.
+const MACHINE_DEPENDENT: [&str; 1] = ["canctl buses"];
+
+/// The lines a README block shows for `cmd`.
+fn shown_for(cmd: &str) -> Vec<String> {
+    let found = examples(include_str!("../README.md"));
+    let mut blocks = found.into_iter().flat_map(|ex| ex.commands).filter(|(c, _)| c == cmd);
+    let (_, shown) = blocks.next().unwrap_or_else(|| panic!("README shows no `$ {cmd}` block"));
+    shown
+}
+
+/// `canctl buses` output cut into its parts: the header's and each row's cells (cut at runs
+/// of two blanks or more), and the notes (lines that are no table row).
+fn buses_parts(lines: &[String]) -> (Vec<String>, Vec<Vec<String>>, Vec<String>) {
+    let cells = |l: &str| l.split("  ").map(str::trim).filter(|c| !c.is_empty()).map(String::from).collect();
+    let header = lines.first().map(|l| cells(l)).unwrap_or_default();
+    let rows = lines.iter().skip(1).filter(|l| l.starts_with(' ')).map(|l| cells(l)).collect();
+    let notes = lines.iter().skip(1).filter(|l| !l.starts_with(' ')).cloned().collect();
+    (header, rows, notes)
+}
+
+/// README's `canctl buses` block has the shape of what canctl prints, checked against a real
+/// run with `canctl sim --socketcand` beaconing to a UDP port of the test's own
+/// (CANCTL_BEACON_PORT): the same header; one socketcand row naming the sim's bus and a
+/// host; every other row of a kind canctl prints; every note one canctl prints.
+#[test]
+fn the_readme_buses_block_has_the_shape_canctl_prints() {
+    use std::io::{BufRead, BufReader};
+    let port = std::net::UdpSocket::bind("0.0.0.0:0").unwrap().local_addr().unwrap().port().to_string();
+    let sim = common::Sim::new();
+    let mut server = sim.command(&["sim", "--socketcand", "127.0.0.1:0"]);
+    server.env("CANCTL_BEACON_PORT", &port).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::null());
+    let mut server = server.spawn().unwrap();
+    let mut bus = String::new();
+    BufReader::new(server.stdout.take().unwrap()).read_line(&mut bus).unwrap();
+    let mut c = Command::new("bash");
+    c.arg("-c").arg("canctl buses 2>&1").env("COLUMNS", "100").env_remove("CANCTL_BUS");
+    c.env(
+        "PATH",
+        format!("{}:{}", canctl_bin().parent().unwrap().display(), std::env::var("PATH").unwrap_or_default()),
+    );
+    c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path("")).env("CANCTL_BEACON_PORT", &port);
+    let run = finish(c.output().unwrap());
+    let _ = (server.kill(), server.wait());
+    let actual: Vec<String> = run.stdout.lines().map(String::from).collect();
+
+    let kinds = ["CAN interface", "slcan adapter", "EPOS2 (USB)", "socketcand"];
+    let notes = ["other serial ports: ", "no socketcand beacon heard"];
+    let sim_host = |row: &[String]| {
+        row.get(2)
+            .and_then(|w| w.strip_prefix("socketcand on "))
+            .and_then(|w| w.strip_suffix(" (canctl sim)"))
+            .is_some_and(|host| !host.is_empty() && !host.contains(' '))
+    };
+    for (what, lines, sim_bus) in
+        [("README", shown_for("canctl buses"), "socketcand:127.0.0.1/sim"), ("canctl", actual, bus.trim())]
+    {
+        let (header, rows, said) = buses_parts(&lines);
+        assert_eq!(header, ["--bus", "kind", "what"], "{what}: {lines:#?}");
+        for row in &rows {
+            assert!(row.len() == 3 && kinds.contains(&row[1].as_str()), "{what}: a row canctl does not print: {row:?}");
+        }
+        let servers: Vec<&Vec<String>> = rows.iter().filter(|r| r[1] == "socketcand").collect();
+        assert!(
+            servers.len() == 1 && servers[0][0] == sim_bus && sim_host(servers[0]),
+            "{what}: not one row for the sim's server {sim_bus}: {lines:#?}"
+        );
+        for note in said {
+            assert!(notes.iter().any(|n| note.starts_with(n)), "{what}: a line canctl does not print: {note:?}");
+        }
+    }
 }
 
 #[test]

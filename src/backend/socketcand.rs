@@ -40,6 +40,11 @@ pub(crate) struct SocketcandLink {
     echoes: u64,
     /// How long a write may wait for the server to take bytes.
     write_wait: Duration,
+    /// The socket's mode and read timeout now, changed only when they must change: while a
+    /// server streams frames (one TCP segment each, as socketcand sends them) a read is one
+    /// system call, not three (mode, timeout, read).
+    nonblocking: bool,
+    read_timeout: Option<Duration>,
     /// Error classes already reported, so that a storm of them is one warning each.
     warned: Vec<u32>,
     /// Units that did not parse, and 29-bit frames, since the link was opened.
@@ -83,6 +88,8 @@ impl SocketcandLink {
             answers: VecDeque::new(),
             echoes: 0,
             write_wait,
+            nonblocking: false,
+            read_timeout: None,
             warned: Vec::new(),
             garbled: 0,
             extended: 0,
@@ -97,7 +104,28 @@ impl SocketcandLink {
         SocketcandError::Lost { server: self.name.clone(), error }.into()
     }
 
+    /// Put the socket in (non-)blocking mode, with a system call only when that changes it.
+    fn set_nonblocking(&mut self, on: bool) -> Result<()> {
+        if self.nonblocking != on {
+            self.stream.set_nonblocking(on).map_err(|e| self.lost(Some(e)))?;
+            self.nonblocking = on;
+        }
+        Ok(())
+    }
+
+    /// A read waits at most `left`: the timeout set is kept while it is no longer than
+    /// that (never past the deadline) and at least half of it (a read that ends early only
+    /// costs one more turn of the loop).
+    fn set_read_timeout(&mut self, left: Duration) -> Result<()> {
+        if !self.read_timeout.is_some_and(|t| t <= left && t * 2 >= left) {
+            self.stream.set_read_timeout(Some(left)).map_err(|e| self.lost(Some(e)))?;
+            self.read_timeout = Some(left);
+        }
+        Ok(())
+    }
+
     fn write(&mut self, unit: &Unit) -> Result<()> {
+        self.set_nonblocking(false)?;
         let bytes = unit.encode();
         tracing::trace!(target: "canctl::socketcand", "{} < {}", self.name, String::from_utf8_lossy(&bytes));
         self.stream.write_all(&bytes).map_err(|e| match e.kind() {
@@ -145,10 +173,10 @@ impl SocketcandLink {
             let left = deadline.saturating_duration_since(Instant::now());
             if left.is_zero() {
                 // A poll still takes what has already arrived.
-                self.stream.set_nonblocking(true).map_err(|e| self.lost(Some(e)))?;
+                self.set_nonblocking(true)?;
             } else {
-                self.stream.set_nonblocking(false).map_err(|e| self.lost(Some(e)))?;
-                self.stream.set_read_timeout(Some(left)).map_err(|e| self.lost(Some(e)))?;
+                self.set_nonblocking(false)?;
+                self.set_read_timeout(left)?;
             }
             let n = match self.stream.read(&mut buf) {
                 Ok(0) => return Err(self.lost(None)),

@@ -353,6 +353,40 @@ mod tests {
         assert!(units(&[b"<>"])[0].is_err());
     }
 
+    /// Bytes linux-can/socketcand 0.6.1 sent on vcan0 in the VM (scripts/vm-socketcand.sh),
+    /// each read as it came: the answer to `< rawmode >` with the bus's frames behind it in
+    /// the same read, an empty SYNC (two blanks), the echo and a refusal ahead of frames.
+    #[test]
+    fn what_linux_can_socketcand_sent() {
+        let got = units(&[
+            b"< hi >",
+            b"< ok >",
+            b"< ok >< frame 70A 1795720730.486578 7F >< frame 714 1795720730.529527 7F >",
+            b"< echo >< frame 70A 1795720734.568222 7F >",
+            b"< error unknown command >< frame 70A 1795720735.573752 7F >",
+            b"< frame 080 1795720736.550207  >< frame 000 1795720737.652987 8014 >",
+            b"< frame 594 1795720739.347977 431810010A0D0000 >",
+        ]);
+        let heartbeat = |id, micros| frame(id, &[0x7F], micros);
+        assert_eq!(
+            got,
+            [
+                Ok(Unit::Hi),
+                Ok(Unit::Ok),
+                Ok(Unit::Ok),
+                heartbeat(0x70A, 1_795_720_730_486_578),
+                heartbeat(0x714, 1_795_720_730_529_527),
+                Ok(Unit::Echo),
+                heartbeat(0x70A, 1_795_720_734_568_222),
+                Ok(Unit::Refused("unknown command".into())),
+                heartbeat(0x70A, 1_795_720_735_573_752),
+                frame(0x080, &[], 1_795_720_736_550_207),
+                frame(0x000, &[0x80, 0x14], 1_795_720_737_652_987),
+                frame(0x594, &[0x43, 0x18, 0x10, 0x01, 0x0A, 0x0D, 0, 0], 1_795_720_739_347_977),
+            ]
+        );
+    }
+
     #[test]
     fn error_frames_and_refusals() {
         assert_eq!(units(&[b"< error 040 1700000000.000001 >"]), [Ok(Unit::ErrorFrame { class: ERR_BUSOFF })]);
