@@ -50,3 +50,14 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Resu
     }
     Ok(ctx.out.report(&report)?)
 }
+
+/// `scan` on several buses at once: a table of every bus's nodes; no scan cache is saved
+/// (it is kept per bus by the one-bus scan).
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> anyhow::Result<()> {
+    let options = ScanOptions { window: args.window, timeout: ctx.timeout };
+    let outcome = |report: &scan::Scan| match report.interrupted {
+        true => Err(crate::Error::Interrupted),
+        false => Ok(()),
+    };
+    super::on_each_bus(ctx, g, "canctl scan", |bus, progress| scan::scan(bus, &options, progress), outcome)
+}

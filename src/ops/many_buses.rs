@@ -17,7 +17,7 @@ pub struct OnBus<T> {
     pub result: Result<T, Error>,
 }
 
-/// Run `f` on each of `buses` in parallel, each bus opened (with `opts`) in its own thread
+/// Run `f` on each of `buses` (it is told which) in parallel, each bus opened (with `opts`) in its own thread
 /// and closed when `f` returns; the results come back in the order of `buses`. A request to
 /// stop (`cancel`) ends each procedure at its next call to its bus, and each reports what
 /// it did. A bus whose closing fails (a simulated network whose state could not be saved)
@@ -26,7 +26,7 @@ pub fn each<T: Send>(
     buses: &[BusAddr],
     opts: &OpenOptions,
     cancel: &Cancel,
-    f: impl Fn(&mut dyn Bus) -> Result<T, Error> + Sync,
+    f: impl Fn(&BusAddr, &mut dyn Bus) -> Result<T, Error> + Sync,
 ) -> Vec<OnBus<T>> {
     let f = &f;
     std::thread::scope(|scope| {
@@ -42,7 +42,7 @@ fn on_one<T>(
     addr: &BusAddr,
     opts: &OpenOptions,
     cancel: &Cancel,
-    f: &(impl Fn(&mut dyn Bus) -> Result<T, Error> + Sync),
+    f: &(impl Fn(&BusAddr, &mut dyn Bus) -> Result<T, Error> + Sync),
 ) -> Result<T, Error> {
     let mut result = None;
     crate::ops::stop::on_bus(
@@ -50,7 +50,7 @@ fn on_one<T>(
         opts,
         cancel,
         |bus| {
-            result = Some(crate::ops::stop::stoppable(bus, cancel, f));
+            result = Some(crate::ops::stop::stoppable(bus, cancel, |bus| f(addr, bus)));
             Ok(())
         },
         |_, e: Error| e,
@@ -73,7 +73,10 @@ mod tests {
 
     #[test]
     fn the_worst_error_is_the_latest_in_the_exit_code_table() {
-        let link = Error::Link(crate::error::LinkError::Open { port: "can9".into(), error: std::io::ErrorKind::NotFound.into() });
+        let link = Error::Link(crate::error::LinkError::Open {
+            port: "can9".into(),
+            error: std::io::ErrorKind::NotFound.into(),
+        });
         let unhealthy = Error::Unhealthy { bus: "sim".into(), total: 1, nodes: vec!["node 5: error register".into()] };
         assert_eq!(worst([&link, &unhealthy]).map(Error::exit_code), Some(6));
         assert_eq!(worst([&Error::Interrupted, &unhealthy]).map(Error::exit_code), Some(130));
@@ -90,7 +93,7 @@ mod tests {
             BusAddr::Sim { state: Some(dir.path().join("c.json")) },
         ];
         let opts = OpenOptions::new(Duration::from_millis(200));
-        let runs = each(&buses, &opts, &Cancel::default(), |bus| Ok(bus.describe().to_string()));
+        let runs = each(&buses, &opts, &Cancel::default(), |_, bus| Ok(bus.describe().to_string()));
         let shown: Vec<(&str, bool)> = runs.iter().map(|r| (r.bus.as_str(), r.result.is_ok())).collect();
         let uri = |b: &BusAddr| b.to_string();
         assert_eq!(shown, vec![(&*uri(&buses[0]), true), (&*uri(&buses[1]), false), (&*uri(&buses[2]), true)]);
