@@ -304,7 +304,7 @@ impl Settings {
     /// The settings as `canctl settings` shows them.
     pub fn report(&self) -> SettingsReport {
         SettingsReport {
-            bus: self.bus.as_ref().map(|b| [&[b.value.clone()], &self.more_buses[..]].concat().join(", ")),
+            bus: self.bus.as_ref().map(|b| [std::slice::from_ref(&b.value), &self.more_buses[..]].concat().join(", ")),
             bus_from: self.bus.as_ref().map(|b| b.from.to_string()),
             timeout_ms: self.timeout.value.as_millis() as u64,
             timeout_from: self.timeout.from.to_string(),
@@ -449,6 +449,7 @@ mod tests {
             timeout: Some((Duration::from_secs(2), file.clone())),
             eds: BTreeMap::from([(5, ("/p/mh.eds".into(), file.clone())), (7, ("/p/x.eds".into(), file.clone()))]),
             files: vec![file.clone()],
+            more_buses: Vec::new(),
         };
         let given = Given {
             bus: Some("sim".into()),
