@@ -81,7 +81,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow
 
 /// `firmware status NODE` on several buses at once: the node's programs on each.
 pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> anyhow::Result<()> {
-    let run = |bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node, ctx.timeout);
+    let run = |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node, ctx.timeout);
     super::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok(()))
 }
 

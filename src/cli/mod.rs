@@ -285,20 +285,22 @@ fn buses(ctx: &Ctx, global: &GlobalArgs) -> anyhow::Result<(Vec<BusAddr>, OpenOp
 }
 
 /// Run `procedure` on every bus given, all at once (progress a line per bus and phase),
-/// then show one report of them all ([`crate::output::many_buses`]); `outcome` says how a
+/// (it is told the bus's URI), then show one report of them all
+/// ([`crate::output::many_buses`]); `outcome` says how a
 /// bus's report ends (a node unhealthy: exit 6). The run ends with the worst of the buses'
 /// failures ([`crate::ops::many_buses::worst`]), every bus's shown in the report.
 fn on_each_bus<R: crate::output::Report + Send>(
     ctx: &Ctx,
     g: &GlobalArgs,
     command: &'static str,
-    procedure: impl Fn(&mut dyn Bus, &mut dyn crate::ops::Progress) -> Result<R, Error> + Sync,
+    procedure: impl Fn(&str, &mut dyn Bus, &mut dyn crate::ops::Progress) -> Result<R, Error> + Sync,
     outcome: impl Fn(&R) -> Result<(), Error>,
 ) -> anyhow::Result<()> {
     use crate::output::many_buses::{BusNotes, BusRun, Failure, OnBuses};
     let (addrs, opts) = buses(ctx, g)?;
     let runs = crate::ops::many_buses::each(&addrs, &opts, &ctx.cancel, |addr, bus| {
-        procedure(bus, &mut BusNotes { out: &ctx.out, bus: addr.to_string() })
+        let uri = addr.to_string();
+        procedure(&uri, bus, &mut BusNotes { out: &ctx.out, bus: uri.clone() })
     });
     let total = runs.len();
     let mut shown = Vec::new();

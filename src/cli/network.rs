@@ -222,8 +222,9 @@ fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
 pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) -> anyhow::Result<()> {
     let loaded = load(ctx, &a.project)?;
     let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into(), state: a.state };
-    let run =
-        |bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| network::check(bus, &loaded, &options, progress);
+    let run = |_: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
+        network::check(bus, &loaded, &options, progress)
+    };
     super::on_each_bus(ctx, g, "canctl network check", run, |report: &network::Checked| report.outcome())
 }
 

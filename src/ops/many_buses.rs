@@ -60,10 +60,14 @@ fn on_one<T>(
 
 /// The class of the run's exit: the worst of the buses' (the later in the exit-code
 /// table, [`ErrorClass::ALL`]: an interruption over an output failure over a verification
-/// failure over a link failure, and so on); `None` when every bus ended well.
+/// failure over a link failure, and so on), the first of equals; `None` when every bus
+/// ended well.
 pub fn worst<'a>(errors: impl IntoIterator<Item = &'a Error>) -> Option<&'a Error> {
     let rank = |e: &Error| ErrorClass::ALL.iter().position(|c| *c == e.class());
-    errors.into_iter().max_by_key(|e| rank(e))
+    errors.into_iter().fold(None, |worst, e| match worst {
+        Some(w) if rank(w) >= rank(e) => Some(w),
+        _ => Some(e),
+    })
 }
 
 #[cfg(test)]
@@ -82,6 +86,8 @@ mod tests {
         assert_eq!(worst([&Error::Interrupted, &unhealthy]).map(Error::exit_code), Some(130));
         assert_eq!(worst([&link]).map(Error::exit_code), Some(5));
         assert!(worst(std::iter::empty()).is_none());
+        let other = Error::Unhealthy { bus: "sim".into(), total: 2, nodes: Vec::new() };
+        assert!(std::ptr::eq(worst([&unhealthy, &other]).unwrap(), &unhealthy), "the first of equals");
     }
 
     #[test]
