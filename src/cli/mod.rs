@@ -313,8 +313,14 @@ fn on_each_bus<R: crate::output::Report + Send>(
             }
             Err(e) => (None, Some(e)),
         };
-        let failure =
-            error.as_ref().map(|e| Failure { text: crate::output::library_error_text(e), exit_code: e.exit_code() });
+        let failure = error.as_ref().map(|e| Failure {
+            // The four commands only read: a stop leaves every device as it was.
+            text: match (e.is_interrupted(), &report) {
+                (true, None) => "interrupted before its report was complete; nothing was changed on the devices".into(),
+                _ => crate::output::library_error_text(e),
+            },
+            exit_code: e.exit_code(),
+        });
         shown.push(BusRun { bus: run.bus.clone(), report, failure });
         errors.extend(error.map(|e| (run.bus, e)));
     }
