@@ -104,3 +104,19 @@ fn other_commands_refuse_a_second_bus() {
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(run.stderr.contains("only scan, health, network check and firmware status"), "{}", run.stderr);
 }
+
+#[test]
+fn a_settings_file_may_list_the_buses() {
+    let sim = Sim::new();
+    let (first, second) = two_networks(&sim);
+    let project = sim.path("bench");
+    std::fs::create_dir_all(&project).unwrap();
+    std::fs::write(project.join("canctl.toml"), format!("bus = [\"{first}\", \"{second}\"]\n")).unwrap();
+    let mut c = Command::new(common::canctl_bin());
+    let home = sim.path("");
+    c.env("XDG_CONFIG_HOME", &home).env("XDG_CACHE_HOME", &home).env("XDG_STATE_HOME", &home);
+    c.env_remove("CANCTL_BUS").current_dir(&project).stdin(std::process::Stdio::null());
+    let json = finish(c.args(["scan", "--format", "json"]).output().unwrap()).ok().json();
+    let buses: Vec<&str> = json["buses"].as_array().unwrap().iter().map(|b| b["bus"].as_str().unwrap()).collect();
+    assert_eq!(buses, [&*first, &*second]);
+}
