@@ -526,7 +526,7 @@ pub enum Error {
     },
     /// A command run on several buses, some of which failed: the worst failure (`error`,
     /// on `bus`) decides the exit code; the report shows every bus's.
-    #[error("{failed} of {total} buses failed; the worst, on {bus}: {error}")]
+    #[error("{failed} of {total} buses failed; the worst, {}", on_bus(bus, error))]
     OnBuses {
         /// The bus of the worst failure, as its URI.
         bus: String,
@@ -700,6 +700,15 @@ impl From<crate::socketcand::SocketcandError> for Error {
 impl From<LinkError> for Error {
     fn from(e: LinkError) -> Error {
         Error::Link(e)
+    }
+}
+
+/// `error` on `bus`, the bus named once (a link's error names its bus itself).
+fn on_bus(bus: &str, error: &Error) -> String {
+    let text = error.to_string();
+    match text.starts_with(bus) {
+        true => text,
+        false => format!("on {bus}: {text}"),
     }
 }
 

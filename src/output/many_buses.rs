@@ -56,7 +56,12 @@ impl<R: Report> OnBuses<R> {
                 prefixed(&run.bus, shown(report), &mut table, &mut lines);
             }
             if let Some(f) = &run.failure {
-                lines.push(Human::Line(format!("{}: {} (exit {})", run.bus, f.text, f.exit_code)));
+                // A link's error names its bus itself.
+                let text = match f.text.starts_with(&run.bus) {
+                    true => format!("{} (exit {})", f.text, f.exit_code),
+                    false => format!("{}: {} (exit {})", run.bus, f.text, f.exit_code),
+                };
+                lines.push(Human::Line(text));
             }
         }
         let table = table.map(|(headers, rows)| Human::Table { headers, rows, when_empty: true });
