@@ -21,6 +21,7 @@ mod firmware;
 mod health;
 mod hints;
 mod lss;
+pub(crate) mod many_buses;
 pub(crate) mod network;
 mod nodes;
 pub(crate) mod records;
@@ -346,6 +347,11 @@ pub trait Report: serde::Serialize {
     fn junit(&self) -> Option<TestSuite> {
         None
     }
+    /// The report as test results in several suites (one per bus of a command run on
+    /// several); [`Report::junit`]'s one suite otherwise.
+    fn junit_suites(&self) -> Vec<TestSuite> {
+        self.junit().into_iter().collect()
+    }
     /// The report as JSON: as it serialises, but for what canctl words itself (an error's
     /// remedy naming its flags).
     fn json_value(&self) -> serde_json::Value {
@@ -396,10 +402,27 @@ fn xml_text(s: &str) -> String {
 
 /// JUnit XML as Jenkins, GitLab and GitHub test reporters read it.
 pub(crate) fn junit_xml(suite: &TestSuite) -> String {
-    let failures = suite.cases.iter().filter(|c| c.failure.is_some()).count();
-    let (name, tests) = (xml_text(&suite.name), suite.cases.len());
+    junit_xml_suites(&suite.name, std::slice::from_ref(suite))
+}
+
+/// [`junit_xml`] of several suites (a command run on several buses: one suite per bus),
+/// `name` the whole run's.
+pub(crate) fn junit_xml_suites(name: &str, suites: &[TestSuite]) -> String {
+    let failed = |s: &TestSuite| s.cases.iter().filter(|c| c.failure.is_some()).count();
+    let failures: usize = suites.iter().map(failed).sum();
+    let tests: usize = suites.iter().map(|s| s.cases.len()).sum();
     let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let name = xml_text(name);
     let _ = writeln!(x, "<testsuites name=\"{name}\" tests=\"{tests}\" failures=\"{failures}\" errors=\"0\">");
+    for suite in suites {
+        junit_suite_xml(&mut x, suite, failed(suite));
+    }
+    x.push_str("</testsuites>\n");
+    x
+}
+
+fn junit_suite_xml(x: &mut String, suite: &TestSuite, failures: usize) {
+    let (name, tests) = (xml_text(&suite.name), suite.cases.len());
     let _ = writeln!(
         x,
         "  <testsuite name=\"{name}\" tests=\"{tests}\" failures=\"{failures}\" errors=\"0\" skipped=\"0\">"
@@ -420,15 +443,20 @@ pub(crate) fn junit_xml(suite: &TestSuite) -> String {
             }
         }
     }
-    x.push_str("  </testsuite>\n</testsuites>\n");
-    x
+    x.push_str("  </testsuite>\n");
 }
 
 impl Output {
     /// Render a report in the format asked for.
     pub fn report(&self, report: &impl Report) -> std::io::Result<()> {
-        if let Some(suite) = report.junit().filter(|_| self.junit) {
-            return self.print(&junit_xml(&suite));
+        if self.junit {
+            match &report.junit_suites()[..] {
+                [] => {}
+                [suite] => return self.print(&junit_xml(suite)),
+                suites => {
+                    return self.print(&junit_xml_suites(suites[0].name.split(':').next().unwrap_or("canctl"), suites))
+                }
+            }
         }
         if self.format == Format::Json {
             return self.json(&report.json_value());

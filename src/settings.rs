@@ -148,10 +148,19 @@ impl std::str::FromStr for EdsFile {
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields)]
 struct File {
-    bus: Option<String>,
+    bus: Option<BusSetting>,
     timeout: Option<String>,
     #[serde(default)]
     nodes: BTreeMap<String, NodeSettings>,
+}
+
+/// `bus = "can0"`, or several buses for the commands that check many at once:
+/// `bus = ["socketcand:bench1/can0", "socketcand:bench2/can0"]`.
+#[derive(Deserialize, Debug)]
+#[serde(untagged)]
+enum BusSetting {
+    One(String),
+    Many(Vec<String>),
 }
 
 #[derive(Deserialize, Default, Debug)]
@@ -165,6 +174,9 @@ struct NodeSettings {
 pub struct FileSettings {
     /// The bus, and the file that names it.
     pub bus: Option<(String, PathBuf)>,
+    /// The buses after the first when the file lists several (scan, health, network check
+    /// and firmware status work on them all).
+    pub more_buses: Vec<String>,
     /// The answer timeout, and the file that sets it.
     pub timeout: Option<(Duration, PathBuf)>,
     /// Per node: the EDS (relative paths resolved against its file), and that file.
@@ -196,8 +208,17 @@ fn read(path: &Path, into: &mut FileSettings) -> Result<(), Error> {
     })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let line_with = |needle: &str| text.find(needle).map_or(1, |o| line_of(&text, o));
-    if let Some(bus) = file.bus {
-        into.bus = Some((bus, path.to_path_buf()));
+    let buses = match file.bus {
+        Some(BusSetting::One(bus)) => vec![bus],
+        Some(BusSetting::Many(buses)) if buses.is_empty() => {
+            return Err(Error::Usage(format!("{}:{}: bus: the list is empty", path.display(), line_with("bus"))))
+        }
+        Some(BusSetting::Many(buses)) => buses,
+        None => Vec::new(),
+    };
+    if let Some((first, more)) = buses.split_first() {
+        into.bus = Some((first.clone(), path.to_path_buf()));
+        into.more_buses = more.to_vec();
     }
     if let Some(t) = file.timeout {
         let d = parse_timeout(&t)
@@ -234,6 +255,8 @@ pub struct Given {
     pub bus: Option<String>,
     /// ...and whether it came from `CANCTL_BUS`.
     pub bus_from_env: bool,
+    /// The buses after the first when `--bus` is given several times.
+    pub more_buses: Vec<String>,
     /// The answer timeout from `--timeout`.
     pub timeout: Option<Duration>,
     /// The `--eds` files.
@@ -245,6 +268,8 @@ pub struct Given {
 pub struct Settings {
     /// The bus URI, if any source named one.
     pub bus: Option<Sourced<String>>,
+    /// The buses after the first, from the same source, when it names several.
+    pub more_buses: Vec<String>,
     /// The answer timeout (the default when nothing sets it).
     pub timeout: Sourced<Duration>,
     /// The command line's files first, then the settings files' for the nodes it leaves.
@@ -257,9 +282,9 @@ impl Settings {
     /// The command line over the files over the defaults.
     pub fn resolve(given: Given, files: FileSettings) -> Settings {
         let from_command_line = if given.bus_from_env { Source::Env } else { Source::Flag };
-        let bus = match given.bus.filter(|b| !b.is_empty()) {
-            Some(value) => Some(Sourced { value, from: from_command_line }),
-            None => files.bus.map(|(value, p)| Sourced { value, from: Source::File(p) }),
+        let (bus, more_buses) = match given.bus.filter(|b| !b.is_empty()) {
+            Some(value) => (Some(Sourced { value, from: from_command_line }), given.more_buses),
+            None => (files.bus.map(|(value, p)| Sourced { value, from: Source::File(p) }), files.more_buses),
         };
         let timeout = match (given.timeout, files.timeout) {
             (Some(value), _) => Sourced { value, from: Source::Flag },
@@ -273,13 +298,13 @@ impl Settings {
                 eds.push(Sourced { value: EdsFile { node: Some(node), path }, from: Source::File(from) });
             }
         }
-        Settings { bus, timeout, eds, files: files.files }
+        Settings { bus, more_buses, timeout, eds, files: files.files }
     }
 
     /// The settings as `canctl settings` shows them.
     pub fn report(&self) -> SettingsReport {
         SettingsReport {
-            bus: self.bus.as_ref().map(|b| b.value.clone()),
+            bus: self.bus.as_ref().map(|b| [std::slice::from_ref(&b.value), &self.more_buses[..]].concat().join(", ")),
             bus_from: self.bus.as_ref().map(|b| b.from.to_string()),
             timeout_ms: self.timeout.value.as_millis() as u64,
             timeout_from: self.timeout.from.to_string(),
@@ -300,7 +325,7 @@ impl Settings {
 /// The settings in force, as shown.
 #[derive(Debug, Serialize)]
 pub struct SettingsReport {
-    /// The bus URI.
+    /// The bus URI (several separated by ", ").
     pub bus: Option<String>,
     /// Where the bus came from.
     pub bus_from: Option<String>,
@@ -385,6 +410,24 @@ mod tests {
     }
 
     #[test]
+    fn a_file_may_list_several_buses() {
+        let s = parse("bus = [\"sim:/tmp/a.json\", \"socketcand:bench2/can0\"]\n").unwrap();
+        assert_eq!(s.bus.unwrap().0, "sim:/tmp/a.json");
+        assert_eq!(s.more_buses, vec!["socketcand:bench2/can0".to_string()]);
+        let e = parse("timeout = \"1s\"\nbus = []\n").unwrap_err().to_string();
+        assert!(e.contains("canctl.toml:2: bus: the list is empty"), "{e}");
+        // The command line's buses replace the file's list whole.
+        let files = FileSettings {
+            bus: Some(("sim:/a".into(), "f".into())),
+            more_buses: vec!["sim:/b".into()],
+            ..FileSettings::default()
+        };
+        let given = Given { bus: Some("can0".into()), ..Given::default() };
+        let s = Settings::resolve(given, files);
+        assert_eq!((s.bus.unwrap().value, s.more_buses), ("can0".to_string(), Vec::new()));
+    }
+
+    #[test]
     fn broken_files_cite_their_line() {
         let e = parse("bus = \"sim\"\n\ntimeout = 5\n").unwrap_err().to_string();
         assert!(e.contains("canctl.toml:3:"), "{e}");
@@ -406,10 +449,12 @@ mod tests {
             timeout: Some((Duration::from_secs(2), file.clone())),
             eds: BTreeMap::from([(5, ("/p/mh.eds".into(), file.clone())), (7, ("/p/x.eds".into(), file.clone()))]),
             files: vec![file.clone()],
+            more_buses: Vec::new(),
         };
         let given = Given {
             bus: Some("sim".into()),
             bus_from_env: true,
+            more_buses: Vec::new(),
             timeout: None,
             eds: vec![EdsFile { node: Some(7), path: "mine.eds".into() }],
         };

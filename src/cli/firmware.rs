@@ -83,6 +83,12 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow
     }
 }
 
+/// `firmware status NODE` on several buses at once: the node's programs on each.
+pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> anyhow::Result<()> {
+    let run = |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node, ctx.timeout);
+    super::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok(()))
+}
+
 fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()> {
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
     // One bar of bytes is for one transfer at a time: with several at once, each node's

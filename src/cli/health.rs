@@ -44,3 +44,11 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Resul
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }
+
+/// `health` on several buses at once: one table, one JUnit suite per bus, the worst exit.
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &HealthArgs) -> anyhow::Result<()> {
+    let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state };
+    let run =
+        |_: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| health::health(bus, &options, progress);
+    super::on_each_bus(ctx, g, "canctl health", run, |report: &health::Health| report.outcome())
+}

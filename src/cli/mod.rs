@@ -82,9 +82,11 @@ pub struct Cli {
 pub(crate) struct GlobalArgs {
     /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k,
     /// epos2-rs232:/dev/ttyS0?baud=115200, epos2-usb:/dev/ttyUSB0, socketcand:HOST/IFACE or
-    /// socketcand:HOST:PORT/IFACE (default: CANCTL_BUS, else the settings file's)
-    #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", add = ArgValueCandidates::new(complete::buses))]
-    pub bus: Option<String>,
+    /// socketcand:HOST:PORT/IFACE (default: CANCTL_BUS, else the settings file's). Repeat it
+    /// for scan, health, network check and firmware status: they work on every bus given,
+    /// all at once
+    #[arg(long, global = true, env = "CANCTL_BUS", value_name = "URI", action = clap::ArgAction::Append, add = ArgValueCandidates::new(complete::buses))]
+    pub bus: Vec<String>,
     /// How long to wait for each answer: 500ms, 2s, 1.5s (a unit is required: us, ms, s, m;
     /// at least 10ms); default 500ms, or the settings file's
     #[arg(long, global = true, value_name = "DUR", value_parser = parse_timeout)]
@@ -225,8 +227,10 @@ pub(crate) struct Ctx {
     pub out: Output,
     pub timeout: Duration,
     pub dicts: objects::Dictionaries,
-    /// The bus URI in force (flag, CANCTL_BUS or settings file).
+    /// The bus URI in force (flag, CANCTL_BUS or settings file): the first when several are.
     pub bus: Option<String>,
+    /// Every bus URI in force, in the order given (several for the commands that take them).
+    pub buses: Vec<String>,
     /// The program's request to stop, caught from the start (`main` installs it).
     pub cancel: Cancel,
     /// Whether a node that did not answer is diagnosed (not `--no-diagnose`).
@@ -243,6 +247,92 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     };
     let addr: BusAddr = text.parse()?;
     crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| with_hint(ctx, bus, e))
+}
+
+/// The commands that work on several buses at once, named in the usage error of the others.
+const ON_BUSES: &str = "scan, health, network check and firmware status";
+
+/// A command given several buses: run on all of them when it is one of [`ON_BUSES`], a
+/// usage error when it uses a bus otherwise; `None` for the commands that use none.
+fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Result<()>> {
+    let run = match command {
+        Command::Scan(a) => scan::on_buses(ctx, g, a),
+        Command::Health(a) => health::on_buses(ctx, g, a),
+        Command::Network(network::NetworkCommand::Check(a)) => network::check_on_buses(ctx, g, a),
+        Command::Firmware(firmware::FirmwareCommand::Status(a)) => firmware::status_on_buses(ctx, g, a),
+        Command::Config(config::ConfigCommand::Check(_))
+        | Command::Buses(_)
+        | Command::Settings
+        | Command::Completions(_)
+        | Command::Man(_) => return None,
+        _ => Err(Error::Usage(format!(
+            "{} buses given ({}), but only {ON_BUSES} work on several at once; give this command one --bus",
+            ctx.buses.len(),
+            ctx.buses.join(", ")
+        ))
+        .into()),
+    };
+    Some(run)
+}
+
+/// The buses given, opened as [`with_bus`] opens one: the same options for each, and a
+/// malformed URI a usage error before any is opened.
+fn buses(ctx: &Ctx, global: &GlobalArgs) -> anyhow::Result<(Vec<BusAddr>, OpenOptions)> {
+    let mut opts = OpenOptions::new(ctx.timeout);
+    opts.frame_log = global.frame_log()?;
+    let addrs = ctx.buses.iter().map(|b| b.parse()).collect::<Result<Vec<BusAddr>, Error>>()?;
+    Ok((addrs, opts))
+}
+
+/// Run `procedure` on every bus given, all at once (progress a line per bus and phase),
+/// (it is told the bus's URI), then show one report of them all
+/// ([`crate::output::many_buses`]); `outcome` says how a
+/// bus's report ends (a node unhealthy: exit 6). The run ends with the worst of the buses'
+/// failures ([`crate::ops::many_buses::worst`]), every bus's shown in the report.
+fn on_each_bus<R: crate::output::Report + Send>(
+    ctx: &Ctx,
+    g: &GlobalArgs,
+    command: &'static str,
+    procedure: impl Fn(&str, &mut dyn Bus, &mut dyn crate::ops::Progress) -> Result<R, Error> + Sync,
+    outcome: impl Fn(&R) -> Result<(), Error>,
+) -> anyhow::Result<()> {
+    use crate::output::many_buses::{BusNotes, BusRun, Failure, OnBuses};
+    let (addrs, opts) = buses(ctx, g)?;
+    let runs = crate::ops::many_buses::each(&addrs, &opts, &ctx.cancel, |addr, bus| {
+        let uri = addr.to_string();
+        procedure(&uri, bus, &mut BusNotes { out: &ctx.out, bus: uri.clone() })
+    });
+    let total = runs.len();
+    let mut shown = Vec::new();
+    let mut errors = Vec::new();
+    for run in runs {
+        let (report, error) = match run.result {
+            Ok(report) => {
+                let error = outcome(&report).err();
+                (Some(report), error)
+            }
+            Err(e) => (None, Some(e)),
+        };
+        let failure = error.as_ref().map(|e| Failure {
+            // The four commands only read: a stop leaves every device as it was.
+            text: match (e.is_interrupted(), &report) {
+                (true, None) => "interrupted before its report was complete; nothing was changed on the devices".into(),
+                _ => crate::output::library_error_text(e),
+            },
+            exit_code: e.exit_code(),
+        });
+        shown.push(BusRun { bus: run.bus.clone(), report, failure });
+        errors.extend(error.map(|e| (run.bus, e)));
+    }
+    ctx.out.report(&OnBuses { command, runs: shown })?;
+    let failed = errors.len();
+    let worst = crate::ops::many_buses::worst(errors.iter().map(|(_, e)| e));
+    let worst = worst.and_then(|w| errors.iter().position(|(_, e)| std::ptr::eq(e, w)));
+    match worst.map(|i| errors.swap_remove(i)) {
+        None => Ok(()),
+        Some((_, Error::Interrupted)) => Err(Error::Interrupted.into()),
+        Some((bus, error)) => Err(Error::OnBuses { bus, error: Box::new(error), failed, total }.into()),
+    }
 }
 
 /// A node that did not answer: the link's failure when it has one, else which nodes the last
@@ -284,7 +374,11 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
     let g = &cli.global;
     // The library reports through `tracing`; -v/-q choose what reaches stderr.
     crate::output::diagnostics::install(g.verbose, g.quiet);
-    let given = Given { bus: g.bus.clone(), bus_from_env, timeout: g.timeout, eds: g.eds.clone() };
+    let (bus, more_buses) = match g.bus.split_first() {
+        Some((first, more)) => (Some(first.clone()), more.to_vec()),
+        None => (None, Vec::new()),
+    };
+    let given = Given { bus, bus_from_env, more_buses, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
     let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
     let format = match &cli.command {
@@ -303,6 +397,7 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
         timeout: settings.timeout.value,
         dicts: objects::load(&eds)?,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
+        buses: settings.bus.iter().map(|b| b.value.clone()).chain(settings.more_buses.iter().cloned()).collect(),
         cancel,
         diagnose: !g.no_diagnose,
     };
@@ -327,6 +422,11 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
                 .into(),
         )
         .into());
+    }
+    if ctx.buses.len() > 1 {
+        if let Some(done) = on_buses(&ctx, g, &cli.command) {
+            return done;
+        }
     }
     match &cli.command {
         Command::Scan(args) => with_bus(&ctx, g, |bus| scan::run(&ctx, bus, args)),

@@ -217,6 +217,17 @@ fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
     Ok(report.outcome()?)
 }
 
+/// `network check` on several buses at once (each against the same project): one table,
+/// one JUnit suite per bus, the worst exit.
+pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) -> anyhow::Result<()> {
+    let loaded = load(ctx, &a.project)?;
+    let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into(), state: a.state };
+    let run = |_: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
+        network::check(bus, &loaded, &options, progress)
+    };
+    super::on_each_bus(ctx, g, "canctl network check", run, |report: &network::Checked| report.outcome())
+}
+
 fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     let loaded = load(ctx, &a.project)?;
     let mut c = config::ApplyOptions::new(ctx.timeout);

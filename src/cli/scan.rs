@@ -50,3 +50,21 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Resu
     }
     Ok(ctx.out.report(&report)?)
 }
+
+/// `scan` on several buses at once: a table of every bus's nodes, each bus's scan cache
+/// saved as the one-bus scan saves it.
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> anyhow::Result<()> {
+    let options = ScanOptions { window: args.window, timeout: ctx.timeout };
+    let outcome = |report: &scan::Scan| match report.interrupted {
+        true => Err(crate::Error::Interrupted),
+        false => Ok(()),
+    };
+    let run = |uri: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
+        let report = scan::scan(bus, &options, progress)?;
+        if !report.interrupted && !options.may_miss_slow_devices() {
+            scan_cache::save(uri, &SeenNode::from_scan(&report, &ctx.dicts));
+        }
+        Ok(report)
+    };
+    super::on_each_bus(ctx, g, "canctl scan", run, outcome)
+}

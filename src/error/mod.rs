@@ -524,6 +524,19 @@ pub enum Error {
         /// The link's failure.
         error: Box<Error>,
     },
+    /// A command run on several buses, some of which failed: the worst failure (`error`,
+    /// on `bus`) decides the exit code; the report shows every bus's.
+    #[error("{failed} of {total} buses failed; the worst, {}", on_bus(bus, error))]
+    OnBuses {
+        /// The bus of the worst failure, as its URI.
+        bus: String,
+        /// The worst failure.
+        error: Box<Error>,
+        /// How many buses failed.
+        failed: usize,
+        /// How many buses were worked.
+        total: usize,
+    },
 }
 
 /// What a failure means for the user, and so how the process ends. The README's
@@ -637,6 +650,7 @@ impl Error {
             | Error::NoLssOnDirectEpos2 { .. }
             | Error::Epos2RateOnStore => C::Usage,
             Error::MapSizeUnread { error, .. } | Error::NothingAnswered { error } => error.class(),
+            Error::OnBuses { error, .. } => error.class(),
         }
     }
 
@@ -686,6 +700,15 @@ impl From<crate::socketcand::SocketcandError> for Error {
 impl From<LinkError> for Error {
     fn from(e: LinkError) -> Error {
         Error::Link(e)
+    }
+}
+
+/// `error` on `bus`, the bus named once (a link's error names its bus itself).
+fn on_bus(bus: &str, error: &Error) -> String {
+    let text = error.to_string();
+    match text.starts_with(bus) {
+        true => text,
+        false => format!("on {bus}: {text}"),
     }
 }
 

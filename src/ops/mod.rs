@@ -20,6 +20,7 @@ pub(crate) mod event;
 pub mod firmware;
 pub mod health;
 pub mod lss;
+pub mod many_buses;
 pub mod monitor;
 pub(crate) mod near;
 pub mod network;

@@ -1,0 +1,113 @@
+//! One procedure on several buses at once: ten benches checked by one command. Each bus
+//! gets its own thread and its own opened [`Bus`], so a slow or dead bus delays none of
+//! the others; a bus that cannot be opened is that bus's failure, not the end of the run.
+
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::connect::{BusAddr, OpenOptions};
+use crate::error::{Error, ErrorClass};
+
+/// What a procedure did on one bus of several.
+#[derive(Debug)]
+pub struct OnBus<T> {
+    /// The bus, as its URI (`sim:/tmp/a.json`, `socketcan:can0`): what tells the buses apart
+    /// (two simulated networks both describe themselves as `sim`).
+    pub bus: String,
+    /// The procedure's result there, or why the bus could not be opened or closed.
+    pub result: Result<T, Error>,
+}
+
+/// Run `f` on each of `buses` (it is told which) in parallel, each bus opened (with `opts`) in its own thread
+/// and closed when `f` returns; the results come back in the order of `buses`. A request to
+/// stop (`cancel`) ends each procedure at its next call to its bus, and each reports what
+/// it did. A bus whose closing fails (a simulated network whose state could not be saved)
+/// reports that failure instead of its result.
+pub fn each<T: Send>(
+    buses: &[BusAddr],
+    opts: &OpenOptions,
+    cancel: &Cancel,
+    f: impl Fn(&BusAddr, &mut dyn Bus) -> Result<T, Error> + Sync,
+) -> Vec<OnBus<T>> {
+    let f = &f;
+    std::thread::scope(|scope| {
+        let running: Vec<_> = buses
+            .iter()
+            .map(|addr| scope.spawn(move || OnBus { bus: addr.to_string(), result: on_one(addr, opts, cancel, f) }))
+            .collect();
+        running.into_iter().map(|t| t.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect()
+    })
+}
+
+fn on_one<T>(
+    addr: &BusAddr,
+    opts: &OpenOptions,
+    cancel: &Cancel,
+    f: &(impl Fn(&BusAddr, &mut dyn Bus) -> Result<T, Error> + Sync),
+) -> Result<T, Error> {
+    let mut result = None;
+    crate::ops::stop::on_bus(
+        addr,
+        opts,
+        cancel,
+        |bus| {
+            result = Some(crate::ops::stop::stoppable(bus, cancel, |bus| f(addr, bus)));
+            Ok(())
+        },
+        |_, e: Error| e,
+    )?;
+    result.expect("on_bus runs the procedure once it has opened the bus")
+}
+
+/// The class of the run's exit: the worst of the buses' (the later in the exit-code
+/// table, [`ErrorClass::ALL`]: an interruption over an output failure over a verification
+/// failure over a link failure, and so on), the first of equals; `None` when every bus
+/// ended well.
+pub fn worst<'a>(errors: impl IntoIterator<Item = &'a Error>) -> Option<&'a Error> {
+    let rank = |e: &Error| ErrorClass::ALL.iter().position(|c| *c == e.class());
+    errors.into_iter().fold(None, |worst, e| match worst {
+        Some(w) if rank(w) >= rank(e) => Some(w),
+        _ => Some(e),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn the_worst_error_is_the_latest_in_the_exit_code_table() {
+        let link = Error::Link(crate::error::LinkError::Open {
+            port: "can9".into(),
+            error: std::io::ErrorKind::NotFound.into(),
+        });
+        let unhealthy = Error::Unhealthy { bus: "sim".into(), total: 1, nodes: vec!["node 5: error register".into()] };
+        assert_eq!(worst([&link, &unhealthy]).map(Error::exit_code), Some(6));
+        assert_eq!(worst([&Error::Interrupted, &unhealthy]).map(Error::exit_code), Some(130));
+        assert_eq!(worst([&link]).map(Error::exit_code), Some(5));
+        assert!(worst(std::iter::empty()).is_none());
+        let other = Error::Unhealthy { bus: "sim".into(), total: 2, nodes: Vec::new() };
+        assert!(std::ptr::eq(worst([&unhealthy, &other]).unwrap(), &unhealthy), "the first of equals");
+    }
+
+    #[test]
+    fn every_bus_answers_in_the_given_order_and_an_unopenable_one_fails_alone() {
+        let dir = tempfile::tempdir().unwrap();
+        let buses = vec![
+            BusAddr::Sim { state: Some(dir.path().join("a.json")) },
+            BusAddr::Socketcand { host: "127.0.0.1".into(), port: closed_port(), iface: "vcan0".into() },
+            BusAddr::Sim { state: Some(dir.path().join("c.json")) },
+        ];
+        let opts = OpenOptions::new(Duration::from_millis(200));
+        let runs = each(&buses, &opts, &Cancel::default(), |_, bus| Ok(bus.describe().to_string()));
+        let shown: Vec<(&str, bool)> = runs.iter().map(|r| (r.bus.as_str(), r.result.is_ok())).collect();
+        let uri = |b: &BusAddr| b.to_string();
+        assert_eq!(shown, vec![(&*uri(&buses[0]), true), (&*uri(&buses[1]), false), (&*uri(&buses[2]), true)]);
+        assert_eq!(runs[1].result.as_ref().unwrap_err().exit_code(), 5, "{:?}", runs[1].result);
+    }
+
+    /// A local TCP port nothing listens on (bound, then let go).
+    fn closed_port() -> u16 {
+        std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+    }
+}

@@ -1,0 +1,158 @@
+//! One report of a command run on several buses: every bus's table merged into one with
+//! a bus column, its sentences prefixed with the bus, JSON as one object per bus (each
+//! with its `bus`), JUnit as one suite per bus. A single bus never comes here: its report
+//! is the command's own, unchanged.
+
+use super::{Human, Report, TestCase, TestSuite};
+use serde_json::{json, Value};
+
+/// What one bus of several gave: its report (if the procedure got as far as one), and its
+/// failure worded (the bus could not be opened, a check failed, the user stopped it).
+pub(crate) struct BusRun<R> {
+    pub bus: String,
+    pub report: Option<R>,
+    pub failure: Option<Failure>,
+}
+
+/// A bus's failure as shown: its message and the exit code it would have ended with alone.
+pub(crate) struct Failure {
+    pub text: String,
+    pub exit_code: i32,
+}
+
+/// The reports of one command on several buses, in the order the buses were given.
+pub(crate) struct OnBuses<R> {
+    /// The command as its JUnit suites name it: `canctl health`.
+    pub command: &'static str,
+    pub runs: Vec<BusRun<R>>,
+}
+
+impl<R: Report> serde::Serialize for OnBuses<R> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.json_value().serialize(s)
+    }
+}
+
+/// `part` with the bus's name before its sentences; its tables' rows, a bus column first,
+/// go to `tables` (header, rows) instead.
+fn prefixed(bus: &str, part: Human, tables: &mut Option<(Vec<&'static str>, Vec<Vec<String>>)>, out: &mut Vec<Human>) {
+    match part {
+        Human::Table { headers, rows, .. } => {
+            let merged = tables.get_or_insert_with(|| ([&["bus"], &headers[..]].concat(), Vec::new()));
+            merged.1.extend(rows.into_iter().map(|row| [vec![bus.to_string()], row].concat()));
+        }
+        Human::Line(text) => out.push(Human::Line(format!("{bus}: {text}"))),
+        Human::Note(text) => out.push(Human::Note(format!("{bus}: {text}"))),
+        Human::Parts(parts) => parts.into_iter().for_each(|p| prefixed(bus, p, tables, out)),
+    }
+}
+
+impl<R: Report> OnBuses<R> {
+    /// Every bus's `shown` form, merged: the one table first, then the sentences.
+    fn merged(&self, shown: impl Fn(&R) -> Human) -> Human {
+        let (mut table, mut lines) = (None, Vec::new());
+        for run in &self.runs {
+            if let Some(report) = &run.report {
+                prefixed(&run.bus, shown(report), &mut table, &mut lines);
+            }
+            if let Some(f) = &run.failure {
+                // A link's error names its bus itself.
+                let text = match f.text.starts_with(&run.bus) {
+                    true => format!("{} (exit {})", f.text, f.exit_code),
+                    false => format!("{}: {} (exit {})", run.bus, f.text, f.exit_code),
+                };
+                lines.push(Human::Line(text));
+            }
+        }
+        let table = table.map(|(headers, rows)| Human::Table { headers, rows, when_empty: true });
+        Human::Parts(table.into_iter().chain(lines).collect())
+    }
+}
+
+impl<R: Report> Report for OnBuses<R> {
+    fn human(&self) -> Human {
+        self.merged(R::human)
+    }
+
+    fn csv(&self) -> Human {
+        // CSV is the table alone: sentences are notes on stderr there.
+        match self.merged(R::csv) {
+            Human::Parts(parts) => Human::Parts(
+                parts
+                    .into_iter()
+                    .map(|p| match p {
+                        Human::Line(text) => Human::Note(text),
+                        p => p,
+                    })
+                    .collect(),
+            ),
+            other => other,
+        }
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let runs = self.runs.iter().filter_map(|r| Some((&r.bus, r.report.as_ref()?)));
+        runs.flat_map(|(bus, report)| report.notes().into_iter().map(move |n| format!("{bus}: {n}"))).collect()
+    }
+
+    fn junit(&self) -> Option<TestSuite> {
+        None
+    }
+
+    fn junit_suites(&self) -> Vec<TestSuite> {
+        let mut suites = Vec::new();
+        for run in &self.runs {
+            let name = format!("{}: {}", self.command, run.bus);
+            let mut cases = run.report.as_ref().and_then(|r| r.junit()).map_or(Vec::new(), |s| s.cases);
+            // A bus without a report (not opened, stopped) fails its suite by one case.
+            if let (None, Some(f)) = (&run.report, &run.failure) {
+                let detail = format!("{} (exit {})", f.text, f.exit_code);
+                cases.push(TestCase {
+                    class: run.bus.clone(),
+                    name: "bus".into(),
+                    detail,
+                    failure: Some(f.text.clone()),
+                });
+            }
+            suites.push(TestSuite { name, cases });
+        }
+        suites
+    }
+
+    fn json_value(&self) -> Value {
+        let buses = self.runs.iter().map(|run| {
+            let mut value = match &run.report {
+                Some(report) => report.json_value(),
+                None => json!({}),
+            };
+            if let Value::Object(map) = &mut value {
+                map.insert("bus".into(), run.bus.clone().into());
+                if let Some(f) = &run.failure {
+                    map.insert("error".into(), f.text.clone().into());
+                    map.insert("exit_code".into(), f.exit_code.into());
+                }
+            }
+            value
+        });
+        json!({ "buses": buses.collect::<Vec<_>>() })
+    }
+}
+
+/// Progress of one bus of several, on stderr: each phase and notice a line prefixed with
+/// the bus (bars of several threads would overwrite each other), phases only where bars
+/// would be shown (a terminal, not --quiet).
+pub(crate) struct BusNotes<'a> {
+    pub out: &'a super::Output,
+    pub bus: String,
+}
+
+impl crate::ops::Progress for BusNotes<'_> {
+    fn start(&mut self, what: &str, _len: u64) {
+        if self.out.progress {
+            self.out.note(&format!("{}: {what}", self.bus));
+        }
+    }
+    fn event(&mut self, event: crate::ops::Event) {
+        self.out.note(&format!("{}: {}", self.bus, super::event_line(&event)));
+    }
+}
