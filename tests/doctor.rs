@@ -183,3 +183,24 @@ fn a_device_flooding_the_bus_is_named_by_its_id() {
     assert_eq!(evidence(&f, "traffic")["frames"][0]["cob_id"], 0x08A, "{f}");
     assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
 }
+
+/// Frames on the bus but no SDO answer on any id, and no heartbeat to say why: the node
+/// that sends (a running sensor's TPDO 0x185) answers its reads on another COB-ID, as with
+/// a changed 0x1200, and beats no more. Doctor says nobody answers, with the traffic it
+/// heard, not that the bus is silent; the traffic is not also called fine.
+#[test]
+fn frames_heard_but_nobody_answering_is_told_from_a_silent_bus() {
+    let faults = ["--fault", "sensor:no-heartbeat", "--fault", "sensor:wrong-cob=0x1F0"];
+    let off = ["--unconfigured", "0", "--fault", "drive:off", "--fault", "io:off", "--fault", "stepper:off"];
+    let sim = network(&[&off[..], &faults[..]].concat());
+    sim.run(&["nmt", "start", "5"]).ok();
+    // A short listen: the sensor's one PDO a millisecond is traffic, not a flood.
+    let r = doctor(&sim, &["--window", "50ms", "--timeout", "100ms"]);
+    let f = first_finding(&r);
+    assert_eq!(f["cause"], "no_answers", "{f}");
+    assert_eq!(evidence(&f, "traffic")["frames"][0]["cob_id"], 0x185, "{f}");
+    assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
+    assert_eq!(f["remedy"]["remedy"], "watch_bus", "{f}");
+    let fine = r.json()["fine"].clone();
+    assert!(!fine.as_array().unwrap().iter().any(|e| e["kind"] == "traffic"), "{fine}");
+}

@@ -419,7 +419,8 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
         });
     }
     let found = scan::probe(bus, o.timeout, &mut Silent)?;
-    if !heard.frames.is_empty() && heard.flood().is_none() {
+    // Traffic is fine only where some node answers: else it is the evidence of a finding.
+    if !heard.frames.is_empty() && heard.flood().is_none() && !found.is_empty() {
         d.fine.push(heard.traffic());
     }
     let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(o.timeout) };
