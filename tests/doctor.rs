@@ -204,3 +204,39 @@ fn frames_heard_but_nobody_answering_is_told_from_a_silent_bus() {
     let fine = r.json()["fine"].clone();
     assert!(!fine.as_array().unwrap().iter().any(|e| e["kind"] == "traffic"), "{fine}");
 }
+
+/// `--format json`: the error of a node that did not answer is one JSON object on stderr,
+/// its `diagnosis` the finding the human form words as the likely cause; null with
+/// --no-diagnose. A link that fails has its finding too.
+#[test]
+fn a_silent_node_in_json_carries_its_diagnosis() {
+    let sim = network(&[]);
+    sim.run(&["nmt", "stop", "5"]).ok();
+    let object =
+        |r: &Run| -> Value { serde_json::from_str(r.stderr.trim()).unwrap_or_else(|e| panic!("{e}: {}", r.stderr)) };
+    let r = sim.run(&["--timeout", "200ms", "--format", "json", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    let e = object(&r);
+    assert_eq!(e["exit_code"], 3, "{e}");
+    assert!(e["error"].as_str().unwrap().contains("likely cause: node 5 is alive but stopped"), "{e}");
+    let d = &e["diagnosis"];
+    assert_eq!((d["cause"].as_str(), d["node"].as_u64()), (Some("stopped"), Some(5)), "{e}");
+    assert_eq!(d["remedy"]["remedy"], "pre_operational", "{e}");
+    assert!(d["evidence"].as_array().unwrap().iter().any(|v| v["state"] == "stopped"), "{e}");
+    assert!(d["fix"].as_str().unwrap().contains("canctl nmt preop 5"), "{e}");
+    let r = sim.run(&["--timeout", "200ms", "--format", "json", "--no-diagnose", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert_eq!(object(&r)["diagnosis"], Value::Null, "{}", r.stderr);
+    // Human form: the line as before, no JSON.
+    let r = sim.run(&["--timeout", "200ms", "sdo", "read", "5", "1018:1"]);
+    assert!(r.stderr.starts_with("canctl: "), "{}", r.stderr);
+
+    let r = common::bare(&["--bus", "socketcan:vcan9", "--format", "json", "sdo", "read", "5", "1018:1"]);
+    let e = object(&r);
+    assert_eq!(e["exit_code"], r.code, "{e}");
+    assert_eq!(
+        (e["diagnosis"]["cause"].as_str(), e["diagnosis"]["problem"].as_str()),
+        (Some("host"), Some("no_interface")),
+        "{e}"
+    );
+}

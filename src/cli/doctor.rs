@@ -69,13 +69,8 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
 /// every node-id, a second or so in all.
 const QUICK_WAIT: Duration = Duration::from_millis(500);
 
-/// `; likely cause: ...; fix: ...` for a node that did not answer, from the quick checks
-/// ([`doctor::quick`], two waits of at most half a second); empty when they point at nothing
-/// or cannot tell.
-pub(super) fn likely_cause(bus: &mut dyn Bus, node: u8, timeout: Duration) -> String {
-    use crate::output::doctor::{cause_text, remedy_text};
-    match doctor::quick(bus, node, timeout.min(QUICK_WAIT)) {
-        Ok(Some(f)) => format!("; likely cause: {}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy)),
-        _ => String::new(),
-    }
+/// The likely cause of a node's silence from the quick checks ([`doctor::quick`], two waits of
+/// at most half a second); `None` when they point at nothing or cannot tell.
+pub(super) fn likely_cause(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Option<doctor::Finding> {
+    doctor::quick(bus, node, timeout.min(QUICK_WAIT)).ok().flatten()
 }

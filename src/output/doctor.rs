@@ -105,6 +105,44 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
     }
 }
 
+/// `; likely cause: ...; fix: ...`: the finding of the quick checks as it follows the
+/// message of a node that did not answer.
+pub(crate) fn likely_cause_text(f: &Finding) -> String {
+    format!("; likely cause: {}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy))
+}
+
+/// A finding as JSON: its typed cause, evidence and remedy, and `summary` and `fix` in words.
+pub(crate) fn finding_json(f: &Finding) -> serde_json::Value {
+    let mut json = serde_json::to_value(f).expect("findings serialise");
+    json["summary"] = cause_text(&f.cause).into();
+    json["fix"] = remedy_text(&f.remedy).into();
+    json
+}
+
+/// A node's silence with the likely cause the quick checks found: it reads and ends the
+/// process as `error` does (whose hint has the likely-cause line); `--format json` gives the
+/// finding as the error's `diagnosis` ([`super::error_json`]).
+#[derive(Debug)]
+pub(crate) struct DiagnosedError {
+    /// The error, its hint the likely cause in words.
+    pub(crate) error: crate::Error,
+    /// What the quick checks found.
+    pub(crate) finding: Finding,
+}
+
+impl std::fmt::Display for DiagnosedError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.error.fmt(f)
+    }
+}
+
+// Not the error as its source: the message would read twice in `{:#}`.
+impl std::error::Error for DiagnosedError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        std::error::Error::source(&self.error)
+    }
+}
+
 fn hex_list(values: &[u32]) -> String {
     values.iter().map(|v| format!("0x{v:08X}")).collect::<Vec<_>>().join(", ")
 }
@@ -269,8 +307,7 @@ impl Report for Diagnosis {
         let mut v = serde_json::to_value(self).expect("reports serialise");
         if let Some(findings) = v["findings"].as_array_mut() {
             for (json, f) in findings.iter_mut().zip(&self.findings) {
-                json["summary"] = cause_text(&f.cause).into();
-                json["fix"] = remedy_text(&f.remedy).into();
+                *json = finding_json(f);
             }
         }
         v
