@@ -240,3 +240,45 @@ fn a_silent_node_in_json_carries_its_diagnosis() {
         "{e}"
     );
 }
+
+/// `health` gives a node silent to SDO the doctor's finding, from its own scan and watch
+/// (no request of its own): one line for people, `diagnosis` in JSON, the likely cause in
+/// the JUnit failure; healthy nodes get none, and --no-diagnose leaves it out.
+#[test]
+fn health_diagnoses_a_node_silent_to_sdo() {
+    let sim = network(&["--unconfigured", "0"]);
+    sim.run(&["nmt", "stop", "5"]).ok();
+    let r = sim.run(&["health", "--format", "json"]);
+    assert_eq!(r.code, 6, "{}\n{}", r.stdout, r.stderr);
+    let report = r.json();
+    let node = |n: u64| report["nodes"].as_array().unwrap().iter().find(|v| v["node"] == n).unwrap().clone();
+    let d = node(5)["diagnosis"].clone();
+    assert_eq!((d["cause"].as_str(), d["node"].as_u64()), (Some("stopped"), Some(5)), "{report}");
+    assert_eq!(evidence(&d, "heartbeats")["state"], "stopped", "{d}");
+    let probe = evidence(&d, "probe_answers")["nodes"].as_array().unwrap().clone();
+    assert!(!probe.contains(&Value::from(5)) && probe.contains(&Value::from(10)), "{d}");
+    assert!(d["fix"].as_str().unwrap().contains("canctl nmt preop 5"), "{d}");
+    assert_eq!(node(10)["diagnosis"], Value::Null, "{report}");
+
+    let human = sim.run(&["health"]);
+    assert_eq!(human.code, 6);
+    let line =
+        "node 5; likely cause: node 5 is alive but stopped: a stopped node serves no SDO; fix: canctl nmt preop 5";
+    assert!(human.stdout.contains(line), "{}", human.stdout);
+    assert_eq!(human.stdout.matches("likely cause").count(), 1, "{}", human.stdout);
+    let junit = sim.run(&["health", "--format", "junit"]).stdout;
+    assert!(junit.contains("likely cause: node 5 is alive but stopped"), "{junit}");
+
+    let quiet = sim.run(&["--no-diagnose", "health", "--format", "json"]);
+    assert_eq!(quiet.code, 6);
+    assert_eq!(quiet.json()["nodes"].as_array().unwrap().iter().filter(|v| !v["diagnosis"].is_null()).count(), 0);
+    assert!(!sim.run(&["--no-diagnose", "health"]).stdout.contains("likely cause"));
+
+    // Beating, but its SDO answers go elsewhere (a changed 0x1200): alive, SDO server silent.
+    let sim = network(&["--unconfigured", "0", "--fault", "5:wrong-cob=0x1F0"]);
+    let r = sim.run(&["health", "--format", "json"]);
+    let report = r.json();
+    let d = report["nodes"].as_array().unwrap().iter().find(|v| v["node"] == 5).unwrap()["diagnosis"].clone();
+    assert_eq!(d["cause"], "sdo_silent", "{report}");
+    assert_eq!(d["remedy"]["remedy"], "reset_communication", "{d}");
+}

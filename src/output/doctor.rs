@@ -225,6 +225,7 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::LinkReported { message } => format!("the link reported: {message}"),
         Evidence::OneDevice { node } => format!("one device on node-id {node}: no second answer, one serial number"),
         Evidence::LinkQuiet => "the link reported no bus errors".into(),
+        Evidence::ScanState { node, state, from } => format!("the scan saw node {node} {state} (from {from})"),
     }
 }
 

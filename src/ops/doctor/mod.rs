@@ -181,6 +181,20 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
     })
 }
 
+/// The finding for a node that did not answer SDO, from the state it showed (`shown`: the
+/// state and what showed it) and a read of every node-id (`probe`): stopped (it serves no
+/// SDO there), alive with its SDO server elsewhere or off, or silent.
+pub(crate) fn silent_node(node: u8, shown: Option<(nmt::State, Evidence)>, probe: Evidence) -> Finding {
+    let (cause, remedy, evidence) = match shown {
+        Some((nmt::State::Stopped, seen)) => {
+            (Cause::Stopped { node }, Remedy::PreOperational { node }, vec![seen, probe])
+        }
+        Some((_, seen)) => (Cause::SdoSilent { node }, Remedy::ResetCommunication { node }, vec![seen, probe]),
+        None => (Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![probe]),
+    };
+    Finding { cause, evidence, remedy }
+}
+
 /// The diagnosis of a link that could not even be opened.
 pub fn unopened(bus: &str, node: Option<u8>, error: &LinkError) -> Diagnosis {
     Diagnosis {

@@ -254,6 +254,15 @@ pub enum Evidence {
     },
     /// The link reported no error after the requests.
     LinkQuiet,
+    /// The state the scan saw the node in, and how it learnt it (node guarding, a boot-up).
+    ScanState {
+        /// The node.
+        node: u8,
+        /// The state.
+        state: nmt::State,
+        /// How the scan learnt it, in its words.
+        from: String,
+    },
 }
 
 /// How many frames of one COB-ID were heard.
