@@ -120,7 +120,7 @@ fn a_bus_with_every_device_off_is_silent_and_a_missing_node_is_not() {
         let f = first_finding(&doctor(&sim, args));
         assert_eq!(f["cause"], "bus_silent", "{args:?}: {f}");
         assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
-        assert_eq!(f["remedy"]["remedy"], "check_bus", "{f}");
+        assert_eq!(f["remedy"]["remedy"], "check_bus_or_lss", "{f}");
     }
     // One device off among others: that node is silent, the bus is not.
     let sim = network(&["--fault", "io:off"]);
@@ -281,4 +281,35 @@ fn health_diagnoses_a_node_silent_to_sdo() {
     let d = report["nodes"].as_array().unwrap().iter().find(|v| v["node"] == 5).unwrap()["diagnosis"].clone();
     assert_eq!(d["cause"], "sdo_silent", "{report}");
     assert_eq!(d["remedy"]["remedy"], "reset_communication", "{d}");
+}
+
+/// A device waiting in LSS configuration without a node-id answers no SDO and sends no
+/// heartbeat: doctor finds it only with --lss (its one LSS broadcast); without, the remedy
+/// of a silent node or bus says that --lss would find one.
+#[test]
+fn a_device_without_a_node_id_is_found_only_when_lss_is_asked() {
+    let off = ["--fault", "drive:off", "--fault", "sensor:off", "--fault", "io:off", "--fault", "stepper:off"];
+    let sim = network(&[&["--unconfigured", "1"], &off[..]].concat());
+    for args in [&["5"][..], &[]] {
+        let f = first_finding(&doctor(&sim, args));
+        assert_eq!(f["cause"], "bus_silent", "{args:?}: {f}");
+        assert_eq!(f["remedy"]["remedy"], "check_bus_or_lss", "{f}");
+        assert!(f["fix"].as_str().unwrap().contains("canctl doctor --lss"), "{f}");
+        assert!(!f["evidence"].as_array().unwrap().iter().any(|e| e["kind"] == "lss_answers"), "not asked: {f}");
+
+        let asked: Vec<&str> = [args, &["--lss"]].concat();
+        let r = doctor(&sim, &asked);
+        let f = first_finding(&r);
+        assert_eq!((f["cause"].as_str(), f["count"].as_u64()), (Some("lss_unconfigured"), Some(1)), "{f}");
+        assert_eq!(evidence(&f, "lss_answers")["count"], 1, "{f}");
+        assert_eq!(f["remedy"]["remedy"], "lss_assign", "{f}");
+        // The bus is not silent: a device answered.
+        let causes: Vec<Value> = r.json()["findings"].as_array().unwrap().iter().map(|f| f["cause"].clone()).collect();
+        assert!(!causes.contains(&Value::from("bus_silent")), "{causes:?}");
+    }
+    // No device without a node-id: the silent bus says LSS was asked, its remedy is the bus's.
+    let sim = network(&[&["--unconfigured", "0"], &off[..]].concat());
+    let f = first_finding(&doctor(&sim, &["--lss"]));
+    assert_eq!((f["cause"].as_str(), f["remedy"]["remedy"].as_str()), (Some("bus_silent"), Some("check_bus")), "{f}");
+    assert_eq!(evidence(&f, "lss_answers")["count"], 0, "{f}");
 }

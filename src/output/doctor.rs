@@ -36,6 +36,9 @@ pub(crate) fn cause_text(cause: &Cause) -> String {
         Cause::NodeSilent { node } => {
             format!("node {node} is silent while the bus is not: not powered, not connected, or on another node-id")
         }
+        Cause::LssUnconfigured { count } => format!(
+            "{count} device(s) wait in LSS configuration without a node-id: they answer no SDO and send no heartbeat"
+        ),
     }
 }
 
@@ -98,6 +101,11 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
             "give one of the devices on node-id {node} another one: canctl lss set-id NEW --identity \
              VENDOR:PRODUCT:REVISION:SERIAL"
         ),
+        Remedy::LssAssign => "canctl lss assign --start ID numbers them (or canctl lss fastscan, then canctl lss \
+             set-id ID --identity ... for one)"
+            .into(),
+        Remedy::CheckBusOrLss => format!("{}; {LSS_ASK}", remedy_text(&Remedy::CheckBus)),
+        Remedy::CheckNodeOrLss { node } => format!("{}; {LSS_ASK}", remedy_text(&Remedy::CheckNode { node: *node })),
         Remedy::CheckNode { node } => format!(
             "check that node {node} is powered and connected, and the node-id it has: canctl scan lists the ids that \
              answer; a device without one waits for canctl lss assign"
@@ -142,6 +150,10 @@ impl std::error::Error for DiagnosedError {
         std::error::Error::source(&self.error)
     }
 }
+
+/// What the remedies of a silent node or bus add when LSS was not asked.
+const LSS_ASK: &str = "a device waiting without a node-id (LSS) answers neither: canctl doctor --lss asks for one \
+     (an LSS broadcast)";
 
 fn hex_list(values: &[u32]) -> String {
     values.iter().map(|v| format!("0x{v:08X}")).collect::<Vec<_>>().join(", ")
@@ -225,6 +237,12 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::LinkReported { message } => format!("the link reported: {message}"),
         Evidence::OneDevice { node } => format!("one device on node-id {node}: no second answer, one serial number"),
         Evidence::LinkQuiet => "the link reported no bus errors".into(),
+        Evidence::LssAnswers { count: 0, waited_ms } => {
+            format!("no device without a node-id answered LSS identify non-configured ({waited_ms} ms)")
+        }
+        Evidence::LssAnswers { count, waited_ms } => {
+            format!("{count} device(s) without a node-id answered LSS identify non-configured ({waited_ms} ms)")
+        }
         Evidence::ScanState { node, state, from } => format!("the scan saw node {node} {state} (from {from})"),
     }
 }

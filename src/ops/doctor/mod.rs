@@ -8,6 +8,7 @@
 //! guarding remote requests, and listening. Every wait is bounded by the listen window or
 //! the per-request timeout ([`DoctorOptions`]).
 
+mod lss;
 mod report;
 
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
@@ -48,6 +49,9 @@ pub struct DoctorOptions {
     /// What the last scan of this bus saw (`scan_cache::load`): a node that moved is
     /// recognised by it.
     pub last_scan: Vec<SeenNode>,
+    /// Whether to ask for devices without a node-id (LSS "identify non-configured remote
+    /// slave", CiA 305, one wait of `timeout`): a broadcast, so only when the user asks.
+    pub lss: bool,
 }
 
 /// What the listen heard.
@@ -134,7 +138,14 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
         fine: Vec::new(),
         ok: false,
     };
-    match examine(bus, o, &mut d) {
+    let examined = examine(bus, o, &mut d).and_then(|()| match o.lss {
+        true => lss::ask(bus, o.timeout, &mut d),
+        false => {
+            lss::point_at_it(&mut d);
+            Ok(())
+        }
+    });
+    match examined {
         Ok(()) => {}
         Err(e) => match e.root() {
             Error::Link(link) => d.findings.push(link_finding(link)),

@@ -93,6 +93,12 @@ pub enum Cause {
         /// The node.
         node: u8,
     },
+    /// Devices wait in LSS configuration without a node-id: they serve no SDO and send no
+    /// heartbeat until one is given (CiA 305).
+    LssUnconfigured {
+        /// How many answered "identify non-configured remote slave".
+        count: usize,
+    },
 }
 
 impl Cause {
@@ -108,6 +114,8 @@ impl Cause {
             Cause::Moved { .. } => 5,
             Cause::SdoSilent { .. } => 6,
             Cause::NodeSilent { .. } => 7,
+            // Before a silent node or bus, which it explains.
+            Cause::LssUnconfigured { .. } => 2,
         }
     }
 }
@@ -263,6 +271,13 @@ pub enum Evidence {
         /// How the scan learnt it, in its words.
         from: String,
     },
+    /// Answers to LSS "identify non-configured remote slave" (devices without a node-id).
+    LssAnswers {
+        /// How many answered.
+        count: usize,
+        /// How long it waited.
+        waited_ms: u64,
+    },
 }
 
 /// How many frames of one COB-ID were heard.
@@ -320,6 +335,17 @@ pub enum Remedy {
     },
     /// Check the node is powered, connected and has this node-id (a scan lists those in use).
     CheckNode {
+        /// The node.
+        node: u8,
+    },
+    /// Give the devices without a node-id one over LSS.
+    LssAssign,
+    /// As [`Remedy::CheckBus`]; and a device without a node-id would answer LSS, which
+    /// doctor asks only when told (a broadcast).
+    CheckBusOrLss,
+    /// As [`Remedy::CheckNode`]; and a device without a node-id would answer LSS, which
+    /// doctor asks only when told (a broadcast).
+    CheckNodeOrLss {
         /// The node.
         node: u8,
     },
