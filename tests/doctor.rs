@@ -313,3 +313,30 @@ fn a_device_without_a_node_id_is_found_only_when_lss_is_asked() {
     assert_eq!((f["cause"].as_str(), f["remedy"]["remedy"].as_str()), (Some("bus_silent"), Some("check_bus")), "{f}");
     assert_eq!(evidence(&f, "lss_answers")["count"], 0, "{f}");
 }
+
+/// Through an EPOS2 (on its RS232 pty) canctl hears none of the bus: the EPOS2's own error
+/// register 0x1001 and CAN bit rate 0x2001 are the evidence of its side of the bus. (A
+/// silent node's finding carries it too; not run here: through the EPOS2 the read of every
+/// id takes 127 waits of real time.)
+#[cfg(unix)]
+#[test]
+fn through_an_epos2_its_error_register_and_bit_rate_are_evidence() {
+    let sim = network(&["--profile", "instant"]);
+    // Its stored CAN bit rate: 500 kbit/s in the EPOS2's own code (2).
+    sim.run(&["sdo", "write", "1", "2001", "2", "--type", "u16"]).ok();
+    let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let gateway = |v: &Value| -> Value {
+        let all = v.as_array().unwrap_or_else(|| panic!("{v}"));
+        all.iter().find(|e| e["kind"] == "epos2_gateway").unwrap_or_else(|| panic!("no epos2_gateway: {v}")).clone()
+    };
+    let r = dev.run(&["--timeout", "200ms", "doctor", "5", "--format", "json"]);
+    assert_eq!(r.code, 0, "{}\n{}", r.stdout, r.stderr);
+    let seen = gateway(&r.json()["fine"]);
+    assert_eq!((seen["error_register"].as_u64(), seen["bit_rate_code"].as_u64()), (Some(0), Some(2)), "{seen}");
+    let human = dev.run(&["--timeout", "200ms", "doctor", "5"]);
+    assert!(
+        human.stdout.contains("the EPOS2 gateway: error register 0x00, CAN bit rate 500k (0x2001 = 2)"),
+        "{}",
+        human.stdout
+    );
+}

@@ -36,6 +36,11 @@ pub(crate) fn cause_text(cause: &Cause) -> String {
         Cause::NodeSilent { node } => {
             format!("node {node} is silent while the bus is not: not powered, not connected, or on another node-id")
         }
+        Cause::Epos2CanErrors { register } => format!(
+            "the EPOS2 gateway reports CAN errors (its error register 0x{register:02X}: {}): its side of the bus sees \
+             overruns, error passive or bus-off (canctl errors 0 names them)",
+            crate::canopen::emcy::register_bits(*register).join(", ")
+        ),
         Cause::LssUnconfigured { count } => format!(
             "{count} device(s) wait in LSS configuration without a node-id: they answer no SDO and send no heartbeat"
         ),
@@ -104,8 +109,15 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
         Remedy::LssAssign => "canctl lss assign --start ID numbers them (or canctl lss fastscan, then canctl lss \
              set-id ID --identity ... for one)"
             .into(),
-        Remedy::CheckBusOrLss => format!("{}; {LSS_ASK}", remedy_text(&Remedy::CheckBus)),
-        Remedy::CheckNodeOrLss { node } => format!("{}; {LSS_ASK}", remedy_text(&Remedy::CheckNode { node: *node })),
+        Remedy::CheckBusOrLss => format!(
+            "{}; a device waiting without a node-id (LSS) answers none of this: canctl doctor --lss asks for one \
+             (an LSS broadcast)",
+            remedy_text(&Remedy::CheckBus)
+        ),
+        Remedy::CheckNodeOrLss { node } => format!(
+            "{}; canctl doctor --lss finds such a device (an LSS broadcast)",
+            remedy_text(&Remedy::CheckNode { node: *node })
+        ),
         Remedy::CheckNode { node } => format!(
             "check that node {node} is powered and connected, and the node-id it has: canctl scan lists the ids that \
              answer; a device without one waits for canctl lss assign"
@@ -150,10 +162,6 @@ impl std::error::Error for DiagnosedError {
         std::error::Error::source(&self.error)
     }
 }
-
-/// What the remedies of a silent node or bus add when LSS was not asked.
-const LSS_ASK: &str = "a device waiting without a node-id (LSS) answers neither: canctl doctor --lss asks for one \
-     (an LSS broadcast)";
 
 fn hex_list(values: &[u32]) -> String {
     values.iter().map(|v| format!("0x{v:08X}")).collect::<Vec<_>>().join(", ")
@@ -237,6 +245,18 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::LinkReported { message } => format!("the link reported: {message}"),
         Evidence::OneDevice { node } => format!("one device on node-id {node}: no second answer, one serial number"),
         Evidence::LinkQuiet => "the link reported no bus errors".into(),
+        Evidence::Epos2Gateway { error_register, bit_rate_code } => format!(
+            "the EPOS2 gateway: error register {}, CAN bit rate {}",
+            super::health::register_text(*error_register),
+            match bit_rate_code {
+                None => "unread".to_string(),
+                Some(9) => "detected from the bus (0x2001 = 9)".to_string(),
+                Some(code) => match crate::ops::doctor::epos2_bit_rate_index(*code) {
+                    Some(i) => format!("{} (0x2001 = {code})", crate::canopen::lss::bit_rate_name(i)),
+                    None => format!("code {code} (0x2001), not one of its rates"),
+                },
+            }
+        ),
         Evidence::LssAnswers { count: 0, waited_ms } => {
             format!("no device without a node-id answered LSS identify non-configured ({waited_ms} ms)")
         }

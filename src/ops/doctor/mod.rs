@@ -8,9 +8,11 @@
 //! guarding remote requests, and listening. Every wait is bounded by the listen window or
 //! the per-request timeout ([`DoctorOptions`]).
 
+mod epos2;
 mod lss;
 mod report;
 
+pub(crate) use epos2::bit_rate_index as epos2_bit_rate_index;
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
 
 use crate::bus::{Bus, SdoOptions};
@@ -275,6 +277,10 @@ fn ms(d: Duration) -> u64 {
 /// show only once it has sent something).
 fn examine(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Result<()> {
     examine_all(bus, o, d)?;
+    // The one link that shows no traffic is an EPOS2 gateway: it tells of its CAN side.
+    if !bus.sees_traffic() {
+        epos2::look(bus, o.timeout, d)?;
+    }
     bus.check_link()?;
     d.fine.push(Evidence::LinkQuiet);
     Ok(())

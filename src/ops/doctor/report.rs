@@ -99,6 +99,12 @@ pub enum Cause {
         /// How many answered "identify non-configured remote slave".
         count: usize,
     },
+    /// The EPOS2 gateway's error register has its communication bit set: its CAN side sees
+    /// errors (overrun, error passive, bus-off; its error history 0x1003 names which).
+    Epos2CanErrors {
+        /// Its error register 0x1001.
+        register: u8,
+    },
 }
 
 impl Cause {
@@ -116,6 +122,7 @@ impl Cause {
             Cause::NodeSilent { .. } => 7,
             // Before a silent node or bus, which it explains.
             Cause::LssUnconfigured { .. } => 2,
+            Cause::Epos2CanErrors { .. } => 1,
         }
     }
 }
@@ -270,6 +277,15 @@ pub enum Evidence {
         state: nmt::State,
         /// How the scan learnt it, in its words.
         from: String,
+    },
+    /// What an EPOS2 gateway said of itself: its error register 0x1001 and its CAN bit
+    /// rate 0x2001 (its own code: 0 = 1 Mbit/s ... 6 = 20 kbit/s, 9 = detected); each
+    /// `None` when it did not answer.
+    Epos2Gateway {
+        /// 0x1001.
+        error_register: Option<u8>,
+        /// 0x2001.
+        bit_rate_code: Option<u16>,
     },
     /// Answers to LSS "identify non-configured remote slave" (devices without a node-id).
     LssAnswers {
