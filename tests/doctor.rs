@@ -340,3 +340,26 @@ fn through_an_epos2_its_error_register_and_bit_rate_are_evidence() {
         human.stdout
     );
 }
+
+/// The quick checks after a silent node say "nothing on the bus" only when nothing came:
+/// a running sensor's PDOs (its SDO answers on another COB-ID, no heartbeat) are frames,
+/// and a silent bus's fix points at `doctor --lss` (they never ask LSS themselves).
+#[test]
+fn the_likely_cause_of_a_silent_node_says_what_the_bus_showed() {
+    let faults = ["--fault", "sensor:no-heartbeat", "--fault", "sensor:wrong-cob=0x1F0"];
+    let off = ["--unconfigured", "0", "--fault", "drive:off", "--fault", "io:off", "--fault", "stepper:off"];
+    let sim = network(&[&off[..], &faults[..]].concat());
+    sim.run(&["nmt", "start", "5"]).ok();
+    let r = sim.run(&["--timeout", "100ms", "--format", "json", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    let e: Value = serde_json::from_str(r.stderr.trim()).unwrap_or_else(|e| panic!("{e}: {}", r.stderr));
+    assert_eq!(e["diagnosis"]["cause"], "no_answers", "{e}");
+    assert!(evidence(&e["diagnosis"], "frames_received")["count"].as_u64().unwrap() > 0, "{e}");
+
+    let off = ["--unconfigured", "1", "--fault", "drive:off", "--fault", "sensor:off", "--fault", "io:off"];
+    let sim = network(&[&off[..], &["--fault", "stepper:off"]].concat());
+    let r = sim.run(&["--timeout", "100ms", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("likely cause: nothing on the bus"), "{}", r.stderr);
+    assert!(r.stderr.contains("canctl doctor --lss"), "{}", r.stderr);
+}

@@ -257,6 +257,7 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
                 },
             }
         ),
+        Evidence::FramesReceived { count } => format!("{count} frame(s) received while the command ran"),
         Evidence::LssAnswers { count: 0, waited_ms } => {
             format!("no device without a node-id answered LSS identify non-configured ({waited_ms} ms)")
         }

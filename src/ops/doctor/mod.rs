@@ -186,9 +186,14 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
                 return Ok(None);
             }
             let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(wait) };
-            match found.is_empty() && bus.observed().nodes.is_empty() {
-                true => finding(Cause::BusSilent, Remedy::CheckBus, vec![seen, probe]),
-                false => finding(Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![seen, probe]),
+            // These checks ask no LSS: where nothing answers, the fix says how to.
+            let frames = bus.observed().frames;
+            match (found.is_empty() && bus.observed().nodes.is_empty(), frames) {
+                (true, 0) => finding(Cause::BusSilent, Remedy::CheckBusOrLss, vec![seen, probe]),
+                (true, count) => {
+                    finding(Cause::NoAnswers, Remedy::WatchBus, vec![seen, probe, Evidence::FramesReceived { count }])
+                }
+                (false, _) => finding(Cause::NodeSilent { node }, Remedy::CheckNodeOrLss { node }, vec![seen, probe]),
             }
         }
     })

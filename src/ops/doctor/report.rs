@@ -287,6 +287,11 @@ pub enum Evidence {
         /// 0x2001.
         bit_rate_code: Option<u16>,
     },
+    /// Frames of any kind the link received while the command ran (none answering it).
+    FramesReceived {
+        /// How many.
+        count: usize,
+    },
     /// Answers to LSS "identify non-configured remote slave" (devices without a node-id).
     LssAnswers {
         /// How many answered.
