@@ -26,6 +26,12 @@ pub(super) fn look(bus: &mut dyn Bus, timeout: Duration, d: &mut Diagnosis) -> R
     };
     let error_register = read(ERROR_REGISTER)?.and_then(|b| b.first().copied());
     let bit_rate_code = read(CAN_BIT_RATE)?.filter(|b| b.len() >= 2).map(|b| u16::from_le_bytes([b[0], b[1]]));
+    judge(error_register, bit_rate_code, d);
+    Ok(())
+}
+
+/// What the gateway said, into the diagnosis.
+fn judge(error_register: Option<u8>, bit_rate_code: Option<u16>, d: &mut Diagnosis) {
     let seen = Evidence::Epos2Gateway { error_register, bit_rate_code };
     let silent: Vec<&mut Finding> =
         d.findings.iter_mut().filter(|f| matches!(f.cause, Cause::BusSilent | Cause::NodeSilent { .. })).collect();
@@ -41,7 +47,6 @@ pub(super) fn look(bus: &mut dyn Bus, timeout: Duration, d: &mut Diagnosis) -> R
         _ if !explains => d.fine.push(seen),
         _ => {}
     }
-    Ok(())
 }
 
 /// The CiA 305 bit-rate index of an EPOS2 0x2001 code; `None` for 9 (it detects the bus's
@@ -53,6 +58,31 @@ pub(crate) fn bit_rate_index(code: u16) -> Option<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn diagnosis(findings: Vec<Finding>) -> Diagnosis {
+        Diagnosis { bus: "epos2-usb:x".into(), node: Some(6), listened_ms: 0, findings, fine: vec![], ok: false }
+    }
+
+    #[test]
+    fn a_communication_error_is_a_finding_and_the_rest_evidence() {
+        let silent =
+            Finding { cause: Cause::NodeSilent { node: 6 }, evidence: vec![], remedy: Remedy::CheckNode { node: 6 } };
+        // Error passive: the communication bit (and generic) set.
+        let mut d = diagnosis(vec![silent.clone()]);
+        judge(Some(0x11), Some(2), &mut d);
+        let seen = Evidence::Epos2Gateway { error_register: Some(0x11), bit_rate_code: Some(2) };
+        assert_eq!(d.findings[0].evidence, vec![seen.clone()]);
+        assert_eq!(d.findings[1].cause, Cause::Epos2CanErrors { register: 0x11 });
+        assert!(d.fine.is_empty());
+        // A voltage error is not the bus's: evidence only, fine when nothing is silent.
+        let mut d = diagnosis(vec![]);
+        judge(Some(0x05), Some(0), &mut d);
+        assert!(d.findings.is_empty());
+        assert_eq!(d.fine, vec![Evidence::Epos2Gateway { error_register: Some(0x05), bit_rate_code: Some(0) }]);
+        let mut d = diagnosis(vec![silent]);
+        judge(None, None, &mut d);
+        assert_eq!((d.findings.len(), d.fine.len()), (1, 0));
+    }
 
     #[test]
     fn the_epos2_codes_are_its_own_table() {
