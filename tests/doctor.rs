@@ -184,16 +184,23 @@ fn a_device_flooding_the_bus_is_named_by_its_id() {
     assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
 }
 
+/// The only device powered is the sensor (node 5), running: its TPDO 0x185 every
+/// millisecond, no heartbeat, its SDO answers on 0x1F0 (as with a changed 0x1200).
+fn sensor_answering_elsewhere() -> Sim {
+    let faults = ["--fault", "sensor:no-heartbeat", "--fault", "sensor:wrong-cob=0x1F0"];
+    let off = ["--unconfigured", "0", "--fault", "drive:off", "--fault", "io:off", "--fault", "stepper:off"];
+    let sim = network(&[&off[..], &faults[..]].concat());
+    sim.run(&["nmt", "start", "5"]).ok();
+    sim
+}
+
 /// Frames on the bus but no SDO answer on any id, and no heartbeat to say why: the node
 /// that sends (a running sensor's TPDO 0x185) answers its reads on another COB-ID, as with
 /// a changed 0x1200, and beats no more. Doctor says nobody answers, with the traffic it
 /// heard, not that the bus is silent; the traffic is not also called fine.
 #[test]
 fn frames_heard_but_nobody_answering_is_told_from_a_silent_bus() {
-    let faults = ["--fault", "sensor:no-heartbeat", "--fault", "sensor:wrong-cob=0x1F0"];
-    let off = ["--unconfigured", "0", "--fault", "drive:off", "--fault", "io:off", "--fault", "stepper:off"];
-    let sim = network(&[&off[..], &faults[..]].concat());
-    sim.run(&["nmt", "start", "5"]).ok();
+    let sim = sensor_answering_elsewhere();
     // A short listen: the sensor's one PDO a millisecond is traffic, not a flood.
     let r = doctor(&sim, &["--window", "50ms", "--timeout", "100ms"]);
     let f = first_finding(&r);
@@ -346,10 +353,7 @@ fn through_an_epos2_its_error_register_and_bit_rate_are_evidence() {
 /// and a silent bus's fix points at `doctor --lss` (they never ask LSS themselves).
 #[test]
 fn the_likely_cause_of_a_silent_node_says_what_the_bus_showed() {
-    let faults = ["--fault", "sensor:no-heartbeat", "--fault", "sensor:wrong-cob=0x1F0"];
-    let off = ["--unconfigured", "0", "--fault", "drive:off", "--fault", "io:off", "--fault", "stepper:off"];
-    let sim = network(&[&off[..], &faults[..]].concat());
-    sim.run(&["nmt", "start", "5"]).ok();
+    let sim = sensor_answering_elsewhere();
     let r = sim.run(&["--timeout", "100ms", "--format", "json", "sdo", "read", "5", "1018:1"]);
     assert_eq!(r.code, 3, "{}", r.stderr);
     let e: Value = serde_json::from_str(r.stderr.trim()).unwrap_or_else(|e| panic!("{e}: {}", r.stderr));
