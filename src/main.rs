@@ -8,9 +8,14 @@ fn main() {
     let matches = canctl::cli::Cli::command().try_get_matches().unwrap_or_else(|e| usage_error(e));
     let bus_from_env = matches.value_source("bus") == Some(clap::parser::ValueSource::EnvVariable);
     let cli = canctl::cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| usage_error(e));
+    let json = cli.format() == canctl::output::FormatArg::Json;
     if let Err(err) = canctl::cli::run(cli, bus_from_env, cancel) {
         let (code, print) = canctl::output::exit_code(&err);
-        if print {
+        // A silent node or a failed link, with its likely cause, as one JSON object.
+        let error_json = if json && print { canctl::output::error_json(&err) } else { None };
+        if let Some(value) = error_json {
+            eprintln!("{value}");
+        } else if print {
             // Messages may quote what a device or a file said: no control characters.
             eprintln!("canctl: {}", canctl::output::terminal_safe_lines(&canctl::output::error_text(&err)));
         }

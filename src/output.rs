@@ -36,6 +36,9 @@ pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 /// The process exit code for an error a command ended with, and whether to print it.
 pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
     for cause in err.chain() {
+        if let Some(e) = cause.downcast_ref::<doctor::DiagnosedError>() {
+            return (e.error.exit_code(), true);
+        }
         if let Some(e) = cause.downcast_ref::<crate::ops::firmware::FirmwareError>() {
             return (e.class().exit_code(), true);
         }
@@ -52,6 +55,23 @@ pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
         }
     }
     (1, true)
+}
+
+/// The error a command ended with as `--format json` gives it, for a node that did not
+/// answer (exit 3) and a link's failure (exit 5): `{"error", "exit_code", "diagnosis"}`, the
+/// diagnosis the likely cause (a finding as `canctl doctor` gives it; null when there is
+/// none, or with --no-diagnose). `None` for every other error: its message alone.
+pub fn error_json(err: &anyhow::Error) -> Option<serde_json::Value> {
+    let (code, _) = exit_code(err);
+    let diagnosed = err.chain().find_map(|c| c.downcast_ref::<doctor::DiagnosedError>());
+    let library = err.chain().find_map(|c| c.downcast_ref::<crate::Error>());
+    let diagnosis = match (diagnosed, library.map(crate::Error::root)) {
+        (Some(d), _) => Some(doctor::finding_json(&d.finding)),
+        (None, Some(crate::Error::Link(link))) => Some(doctor::finding_json(&crate::ops::doctor::link_finding(link))),
+        (None, Some(_)) if code == crate::error::ErrorClass::Timeout.exit_code() => None,
+        _ => return None,
+    };
+    Some(serde_json::json!({ "error": error_text(err), "exit_code": code, "diagnosis": diagnosis }))
 }
 
 /// The form a report is rendered in (`--format`).

@@ -120,7 +120,7 @@ fn a_bus_with_every_device_off_is_silent_and_a_missing_node_is_not() {
         let f = first_finding(&doctor(&sim, args));
         assert_eq!(f["cause"], "bus_silent", "{args:?}: {f}");
         assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
-        assert_eq!(f["remedy"]["remedy"], "check_bus", "{f}");
+        assert_eq!(f["remedy"]["remedy"], "check_bus_or_lss", "{f}");
     }
     // One device off among others: that node is silent, the bus is not.
     let sim = network(&["--fault", "io:off"]);
@@ -182,4 +182,188 @@ fn a_device_flooding_the_bus_is_named_by_its_id() {
     assert_eq!((f["cause"].as_str(), f["cob_id"].as_u64()), (Some("flood"), Some(0x08A)), "{f}");
     assert_eq!(evidence(&f, "traffic")["frames"][0]["cob_id"], 0x08A, "{f}");
     assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
+}
+
+/// The only device powered is the sensor (node 5), running: its TPDO 0x185 every
+/// millisecond, no heartbeat, its SDO answers on 0x1F0 (as with a changed 0x1200).
+fn sensor_answering_elsewhere() -> Sim {
+    let faults = ["--fault", "sensor:no-heartbeat", "--fault", "sensor:wrong-cob=0x1F0"];
+    let off = ["--unconfigured", "0", "--fault", "drive:off", "--fault", "io:off", "--fault", "stepper:off"];
+    let sim = network(&[&off[..], &faults[..]].concat());
+    sim.run(&["nmt", "start", "5"]).ok();
+    sim
+}
+
+/// Frames on the bus but no SDO answer on any id, and no heartbeat to say why: the node
+/// that sends (a running sensor's TPDO 0x185) answers its reads on another COB-ID, as with
+/// a changed 0x1200, and beats no more. Doctor says nobody answers, with the traffic it
+/// heard, not that the bus is silent; the traffic is not also called fine.
+#[test]
+fn frames_heard_but_nobody_answering_is_told_from_a_silent_bus() {
+    let sim = sensor_answering_elsewhere();
+    // A short listen: the sensor's one PDO a millisecond is traffic, not a flood.
+    let r = doctor(&sim, &["--window", "50ms", "--timeout", "100ms"]);
+    let f = first_finding(&r);
+    assert_eq!(f["cause"], "no_answers", "{f}");
+    assert_eq!(evidence(&f, "traffic")["frames"][0]["cob_id"], 0x185, "{f}");
+    assert_eq!(evidence(&f, "probe_answers")["nodes"], serde_json::json!([]), "{f}");
+    assert_eq!(f["remedy"]["remedy"], "watch_bus", "{f}");
+    let fine = r.json()["fine"].clone();
+    assert!(!fine.as_array().unwrap().iter().any(|e| e["kind"] == "traffic"), "{fine}");
+}
+
+/// `--format json`: the error of a node that did not answer is one JSON object on stderr,
+/// its `diagnosis` the finding the human form words as the likely cause; null with
+/// --no-diagnose. A link that fails has its finding too.
+#[test]
+fn a_silent_node_in_json_carries_its_diagnosis() {
+    let sim = network(&[]);
+    sim.run(&["nmt", "stop", "5"]).ok();
+    let object =
+        |r: &Run| -> Value { serde_json::from_str(r.stderr.trim()).unwrap_or_else(|e| panic!("{e}: {}", r.stderr)) };
+    let r = sim.run(&["--timeout", "200ms", "--format", "json", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    let e = object(&r);
+    assert_eq!(e["exit_code"], 3, "{e}");
+    assert!(e["error"].as_str().unwrap().contains("likely cause: node 5 is alive but stopped"), "{e}");
+    let d = &e["diagnosis"];
+    assert_eq!((d["cause"].as_str(), d["node"].as_u64()), (Some("stopped"), Some(5)), "{e}");
+    assert_eq!(d["remedy"]["remedy"], "pre_operational", "{e}");
+    assert!(d["evidence"].as_array().unwrap().iter().any(|v| v["state"] == "stopped"), "{e}");
+    assert!(d["fix"].as_str().unwrap().contains("canctl nmt preop 5"), "{e}");
+    let r = sim.run(&["--timeout", "200ms", "--format", "json", "--no-diagnose", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert_eq!(object(&r)["diagnosis"], Value::Null, "{}", r.stderr);
+    // Human form: the line as before, no JSON.
+    let r = sim.run(&["--timeout", "200ms", "sdo", "read", "5", "1018:1"]);
+    assert!(r.stderr.starts_with("canctl: "), "{}", r.stderr);
+
+    let r = common::bare(&["--bus", "socketcan:vcan9", "--format", "json", "sdo", "read", "5", "1018:1"]);
+    let e = object(&r);
+    assert_eq!(e["exit_code"], r.code, "{e}");
+    assert_eq!(
+        (e["diagnosis"]["cause"].as_str(), e["diagnosis"]["problem"].as_str()),
+        (Some("host"), Some("no_interface")),
+        "{e}"
+    );
+}
+
+/// `health` gives a node silent to SDO the doctor's finding, from its own scan and watch
+/// (no request of its own): one line for people, `diagnosis` in JSON, the likely cause in
+/// the JUnit failure; healthy nodes get none, and --no-diagnose leaves it out.
+#[test]
+fn health_diagnoses_a_node_silent_to_sdo() {
+    let sim = network(&["--unconfigured", "0"]);
+    sim.run(&["nmt", "stop", "5"]).ok();
+    let r = sim.run(&["health", "--format", "json"]);
+    assert_eq!(r.code, 6, "{}\n{}", r.stdout, r.stderr);
+    let report = r.json();
+    let node = |n: u64| report["nodes"].as_array().unwrap().iter().find(|v| v["node"] == n).unwrap().clone();
+    let d = node(5)["diagnosis"].clone();
+    assert_eq!((d["cause"].as_str(), d["node"].as_u64()), (Some("stopped"), Some(5)), "{report}");
+    assert_eq!(evidence(&d, "heartbeats")["state"], "stopped", "{d}");
+    let probe = evidence(&d, "probe_answers")["nodes"].as_array().unwrap().clone();
+    assert!(!probe.contains(&Value::from(5)) && probe.contains(&Value::from(10)), "{d}");
+    assert!(d["fix"].as_str().unwrap().contains("canctl nmt preop 5"), "{d}");
+    assert_eq!(node(10)["diagnosis"], Value::Null, "{report}");
+
+    let human = sim.run(&["health"]);
+    assert_eq!(human.code, 6);
+    let line =
+        "node 5; likely cause: node 5 is alive but stopped: a stopped node serves no SDO; fix: canctl nmt preop 5";
+    assert!(human.stdout.contains(line), "{}", human.stdout);
+    assert_eq!(human.stdout.matches("likely cause").count(), 1, "{}", human.stdout);
+    let junit = sim.run(&["health", "--format", "junit"]).stdout;
+    assert!(junit.contains("likely cause: node 5 is alive but stopped"), "{junit}");
+
+    let quiet = sim.run(&["--no-diagnose", "health", "--format", "json"]);
+    assert_eq!(quiet.code, 6);
+    assert_eq!(quiet.json()["nodes"].as_array().unwrap().iter().filter(|v| !v["diagnosis"].is_null()).count(), 0);
+    assert!(!sim.run(&["--no-diagnose", "health"]).stdout.contains("likely cause"));
+
+    // Beating, but its SDO answers go elsewhere (a changed 0x1200): alive, SDO server silent.
+    let sim = network(&["--unconfigured", "0", "--fault", "5:wrong-cob=0x1F0"]);
+    let r = sim.run(&["health", "--format", "json"]);
+    let report = r.json();
+    let d = report["nodes"].as_array().unwrap().iter().find(|v| v["node"] == 5).unwrap()["diagnosis"].clone();
+    assert_eq!(d["cause"], "sdo_silent", "{report}");
+    assert_eq!(d["remedy"]["remedy"], "reset_communication", "{d}");
+}
+
+/// A device waiting in LSS configuration without a node-id answers no SDO and sends no
+/// heartbeat: doctor finds it only with --lss (its one LSS broadcast); without, the remedy
+/// of a silent node or bus says that --lss would find one.
+#[test]
+fn a_device_without_a_node_id_is_found_only_when_lss_is_asked() {
+    let off = ["--fault", "drive:off", "--fault", "sensor:off", "--fault", "io:off", "--fault", "stepper:off"];
+    let sim = network(&[&["--unconfigured", "1"], &off[..]].concat());
+    for args in [&["5"][..], &[]] {
+        let f = first_finding(&doctor(&sim, args));
+        assert_eq!(f["cause"], "bus_silent", "{args:?}: {f}");
+        assert_eq!(f["remedy"]["remedy"], "check_bus_or_lss", "{f}");
+        assert!(f["fix"].as_str().unwrap().contains("canctl doctor --lss"), "{f}");
+        assert!(!f["evidence"].as_array().unwrap().iter().any(|e| e["kind"] == "lss_answers"), "not asked: {f}");
+
+        let asked: Vec<&str> = [args, &["--lss"]].concat();
+        let r = doctor(&sim, &asked);
+        let f = first_finding(&r);
+        assert_eq!((f["cause"].as_str(), f["count"].as_u64()), (Some("lss_unconfigured"), Some(1)), "{f}");
+        assert_eq!(evidence(&f, "lss_answers")["count"], 1, "{f}");
+        assert_eq!(f["remedy"]["remedy"], "lss_assign", "{f}");
+        // The bus is not silent: a device answered.
+        let causes: Vec<Value> = r.json()["findings"].as_array().unwrap().iter().map(|f| f["cause"].clone()).collect();
+        assert!(!causes.contains(&Value::from("bus_silent")), "{causes:?}");
+    }
+    // No device without a node-id: the silent bus says LSS was asked, its remedy is the bus's.
+    let sim = network(&[&["--unconfigured", "0"], &off[..]].concat());
+    let f = first_finding(&doctor(&sim, &["--lss"]));
+    assert_eq!((f["cause"].as_str(), f["remedy"]["remedy"].as_str()), (Some("bus_silent"), Some("check_bus")), "{f}");
+    assert_eq!(evidence(&f, "lss_answers")["count"], 0, "{f}");
+}
+
+/// Through an EPOS2 (on its RS232 pty) canctl hears none of the bus: the EPOS2's own error
+/// register 0x1001 and CAN bit rate 0x2001 are the evidence of its side of the bus. (A
+/// silent node's finding carries it too; not run here: through the EPOS2 the read of every
+/// id takes 127 waits of real time.)
+#[cfg(unix)]
+#[test]
+fn through_an_epos2_its_error_register_and_bit_rate_are_evidence() {
+    let sim = network(&["--profile", "instant"]);
+    // Its stored CAN bit rate: 500 kbit/s in the EPOS2's own code (2).
+    sim.run(&["sdo", "write", "1", "2001", "2", "--type", "u16"]).ok();
+    let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let gateway = |v: &Value| -> Value {
+        let all = v.as_array().unwrap_or_else(|| panic!("{v}"));
+        all.iter().find(|e| e["kind"] == "epos2_gateway").unwrap_or_else(|| panic!("no epos2_gateway: {v}")).clone()
+    };
+    let r = dev.run(&["--timeout", "200ms", "doctor", "5", "--format", "json"]);
+    assert_eq!(r.code, 0, "{}\n{}", r.stdout, r.stderr);
+    let seen = gateway(&r.json()["fine"]);
+    assert_eq!((seen["error_register"].as_u64(), seen["bit_rate_code"].as_u64()), (Some(0), Some(2)), "{seen}");
+    let human = dev.run(&["--timeout", "200ms", "doctor", "5"]);
+    assert!(
+        human.stdout.contains("the EPOS2 gateway: error register 0x00, CAN bit rate 500k (0x2001 = 2)"),
+        "{}",
+        human.stdout
+    );
+}
+
+/// The quick checks after a silent node say "nothing on the bus" only when nothing came:
+/// a running sensor's PDOs (its SDO answers on another COB-ID, no heartbeat) are frames,
+/// and a silent bus's fix points at `doctor --lss` (they never ask LSS themselves).
+#[test]
+fn the_likely_cause_of_a_silent_node_says_what_the_bus_showed() {
+    let sim = sensor_answering_elsewhere();
+    let r = sim.run(&["--timeout", "100ms", "--format", "json", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    let e: Value = serde_json::from_str(r.stderr.trim()).unwrap_or_else(|e| panic!("{e}: {}", r.stderr));
+    assert_eq!(e["diagnosis"]["cause"], "no_answers", "{e}");
+    assert!(evidence(&e["diagnosis"], "frames_received")["count"].as_u64().unwrap() > 0, "{e}");
+
+    let off = ["--unconfigured", "1", "--fault", "drive:off", "--fault", "sensor:off", "--fault", "io:off"];
+    let sim = network(&[&off[..], &["--fault", "stepper:off"]].concat());
+    let r = sim.run(&["--timeout", "100ms", "sdo", "read", "5", "1018:1"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("likely cause: nothing on the bus"), "{}", r.stderr);
+    assert!(r.stderr.contains("canctl doctor --lss"), "{}", r.stderr);
 }

@@ -36,6 +36,9 @@ pub struct Observed {
     pub states: BTreeMap<u8, nmt::State>,
     /// The nodes whose boot-up message was seen.
     pub boot_ups: BTreeSet<u8>,
+    /// How many data frames were received, of any kind: a bus that showed some is not
+    /// silent, whoever sent them.
+    pub frames: usize,
     /// LSS slave answers (0x7E4, 8 bytes) that came outside an exchange waiting for them,
     /// oldest first; `take_lss_answers` empties it.
     lss_answers: Vec<[u8; 8]>,
@@ -48,6 +51,7 @@ impl Observed {
         if f.is_remote() {
             return;
         }
+        self.frames += 1;
         let id = f.id();
         if (0x581..=0x5FF).contains(&id) && f.len() == 8 {
             self.seen((id - 0x580) as u8, SeenBy::Sdo);

@@ -20,13 +20,15 @@ use std::time::Duration;
 /// one after the other (up to 127 --timeout).
 /// Failures of the link (interface down, no permission, transmit queue full, bus-off, an
 /// adapter's bus errors) are findings too. Doctor only reads and listens: it writes nothing
-/// to any device and sends no NMT or LSS command. Exit 0 when nothing is wrong, 6 when it
+/// to any device and sends no NMT or LSS command, except with --lss the one LSS inquiry
+/// for devices without a node-id (a broadcast, answered only by those). Exit 0 when nothing is wrong, 6 when it
 /// found a problem (the findings say which, most likely first).
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim doctor 5
   canctl --bus can0 doctor
-  canctl --bus can0 doctor 7 --window 3s --format json")]
+  canctl --bus can0 doctor 7 --window 3s --format json
+  canctl --bus can0 doctor 7 --lss")]
 pub struct DoctorArgs {
     /// The node to examine, 1 to 127 (without it: the bus only)
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
@@ -34,6 +36,10 @@ pub struct DoctorArgs {
     /// How long to listen to the bus first (a heartbeat slower than this may be missed)
     #[arg(long, value_name = "DUR", default_value = "1s", value_parser = super::parse_duration)]
     pub window: Duration,
+    /// Also ask for devices waiting without a node-id: one LSS "identify non-configured
+    /// remote slave" broadcast (CiA 305), answers waited for --timeout
+    #[arg(long)]
+    pub lss: bool,
     #[command(flatten)]
     pub checks: super::CheckFormat,
 }
@@ -41,7 +47,7 @@ pub struct DoctorArgs {
 /// Run `canctl doctor`: the diagnosis rendered, exit 6 when it found a problem.
 pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()> {
     let last_scan = ctx.bus.as_deref().map(crate::ops::scan_cache::load).unwrap_or_default();
-    let options = DoctorOptions { node: a.node, listen: a.window, timeout: ctx.timeout, last_scan };
+    let options = DoctorOptions { node: a.node, listen: a.window, timeout: ctx.timeout, last_scan, lss: a.lss };
     let mut opened = false;
     let result = super::with_bus(ctx, global, |bus| {
         opened = true;
@@ -69,13 +75,8 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
 /// every node-id, a second or so in all.
 const QUICK_WAIT: Duration = Duration::from_millis(500);
 
-/// `; likely cause: ...; fix: ...` for a node that did not answer, from the quick checks
-/// ([`doctor::quick`], two waits of at most half a second); empty when they point at nothing
-/// or cannot tell.
-pub(super) fn likely_cause(bus: &mut dyn Bus, node: u8, timeout: Duration) -> String {
-    use crate::output::doctor::{cause_text, remedy_text};
-    match doctor::quick(bus, node, timeout.min(QUICK_WAIT)) {
-        Ok(Some(f)) => format!("; likely cause: {}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy)),
-        _ => String::new(),
-    }
+/// The likely cause of a node's silence from the quick checks ([`doctor::quick`], two waits of
+/// at most half a second); `None` when they point at nothing or cannot tell.
+pub(super) fn likely_cause(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Option<doctor::Finding> {
+    doctor::quick(bus, node, timeout.min(QUICK_WAIT)).ok().flatten()
 }

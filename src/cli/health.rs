@@ -14,8 +14,11 @@ use std::time::Duration;
 /// (shown; `canctl errors NODE` names them), and for CiA 402 drives (0x1000) the state
 /// the statusword 0x6041 codes (must not be Fault). Then it watches the bus: every node
 /// whose 0x1017 says it produces heartbeats must beat on time (no gap longer than 1.5
-/// periods + 50 ms), and no node may send an EMCY with an error. --format junit writes one
-/// JUnit test case per node and check, for CI systems.
+/// periods + 50 ms), and no node may send an EMCY with an error. A node silent to SDO gets
+/// its likely cause as `canctl doctor` names it (stopped, SDO server elsewhere, silent),
+/// from what the scan and the watch saw: no request of its own, no time added
+/// (--no-diagnose leaves it out). --format junit writes one JUnit test case per node and
+/// check, for CI systems.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim health
@@ -41,6 +44,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Resul
     let read =
         crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| health::health(bus, &options, &mut ctx.out.progress()));
     let report = crate::output::stopped::read(&ctx.out, "health", "scanning and judging the nodes".into(), read)?;
+    let report = if ctx.diagnose { report } else { report.without_diagnoses() };
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }

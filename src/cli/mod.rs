@@ -78,6 +78,20 @@ pub struct Cli {
     pub(crate) command: Command,
 }
 
+impl Cli {
+    /// The output format in force: the command's own `--format` (the checks take JUnit
+    /// too), else the global one.
+    pub fn format(&self) -> FormatArg {
+        match &self.command {
+            Command::Network(network::NetworkCommand::Check(a)) => a.checks.format,
+            Command::Health(a) => a.checks.format,
+            Command::Doctor(a) => a.checks.format,
+            _ => None,
+        }
+        .unwrap_or(self.global.format)
+    }
+}
+
 #[derive(Args, Debug)]
 pub(crate) struct GlobalArgs {
     /// The bus: sim, sim:STATEFILE, socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k,
@@ -349,8 +363,17 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
                 return link.into();
             }
             let node = *node;
-            let likely = if ctx.diagnose { doctor::likely_cause(bus, node, ctx.timeout) } else { String::new() };
-            likely + &crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr))
+            let likely = if ctx.diagnose { doctor::likely_cause(bus, node, ctx.timeout) } else { None };
+            let seen = crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr));
+            let Some(finding) = likely else { return hinted(e, seen) };
+            return match e.downcast::<Error>() {
+                // The finding rides along for `--format json`'s `diagnosis`.
+                Ok(error) => {
+                    let hint = crate::output::doctor::likely_cause_text(&finding) + &seen;
+                    crate::output::doctor::DiagnosedError { error: error.with_hint(hint), finding }.into()
+                }
+                Err(e) => e,
+            };
         }
         (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
             let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
@@ -362,6 +385,10 @@ fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
         }
         _ => return e,
     };
+    hinted(e, hint)
+}
+
+fn hinted(e: anyhow::Error, hint: String) -> anyhow::Error {
     match e.downcast::<Error>() {
         Ok(error) => error.with_hint(hint).into(),
         Err(e) => e,
@@ -381,13 +408,7 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
     let given = Given { bus, bus_from_env, more_buses, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
     let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
-    let format = match &cli.command {
-        Command::Network(network::NetworkCommand::Check(a)) => a.checks.format,
-        Command::Health(a) => a.checks.format,
-        Command::Doctor(a) => a.checks.format,
-        _ => None,
-    }
-    .unwrap_or(g.format);
+    let format = cli.format();
     let mut out = Output::for_arg(format, g.quiet);
     if g.wide {
         out.fit = None;

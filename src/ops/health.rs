@@ -3,6 +3,7 @@
 //! then a short watch of the bus: each heartbeat producer's beats must come on time, and
 //! no node may send an EMCY with an error.
 
+use super::doctor::{self, Evidence, Finding};
 use super::scan::{self, ScanOptions};
 use super::{le_u32, sized, Progress};
 use crate::bus::Bus;
@@ -97,6 +98,9 @@ pub struct NodeHealth {
     pub checks: Vec<Check>,
     /// Every check passed.
     pub ok: bool,
+    /// For a node silent to SDO, the likely cause as `canctl doctor` names it, from what
+    /// the scan and the watch already saw (no request of its own); `None` for the others.
+    pub diagnosis: Option<Finding>,
 }
 
 /// One EMCY the node sent during the watch.
@@ -120,6 +124,12 @@ fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::E
 }
 
 impl Health {
+    /// The report without the nodes' diagnoses (the user asked for none).
+    pub fn without_diagnoses(mut self) -> Health {
+        self.nodes.iter_mut().for_each(|n| n.diagnosis = None);
+        self
+    }
+
     /// A verification error (exit 6) when any node is not healthy.
     pub fn outcome(&self) -> Result<()> {
         if self.ok {
@@ -282,6 +292,10 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
         .zip(reads)
         .map(|(n, read)| judge_node(n, read, seen.remove(&n.node), watch, o.state))
         .collect();
+    let answered: Vec<u8> = found.nodes.iter().filter(|n| n.answers_sdo).map(|n| n.node).collect();
+    for (h, n) in nodes.iter_mut().zip(&found.nodes) {
+        h.diagnosis = diagnose(n, h, &answered, o.timeout);
+    }
     // Two devices on one node-id: whatever else that node's answers say, they are not one
     // device's.
     for c in &found.clashes {
@@ -299,6 +313,23 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
         answered_on_repeat: found.answered_on_repeat,
         ok,
     })
+}
+
+/// Why a node the scan saw is silent to SDO, from what the scan and the watch showed (the
+/// one listen all nodes share; nothing asked of the bus): its state (stopped: it serves no
+/// SDO; another: its SDO server is elsewhere or off), else only that it is silent.
+fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) -> Option<Finding> {
+    if n.answers_sdo {
+        return None;
+    }
+    let node = n.node;
+    let shown = match (h.heartbeats, h.nmt) {
+        (count @ 1.., Some(state)) => Some((state, Evidence::Heartbeats { node, count, state })),
+        (_, Some(state)) => Some((state, Evidence::ScanState { node, state, from: n.state_from.to_string() })),
+        (_, None) => None,
+    };
+    let probe = Evidence::ProbeAnswers { nodes: answered.to_vec(), waited_ms: timeout.as_millis() as u64 };
+    Some(doctor::silent_node(node, shown, probe))
 }
 
 fn check(check: &'static str, ok: bool, detail: String) -> Check {
@@ -459,6 +490,7 @@ fn judge_node(
         drive_state,
         checks,
         ok,
+        diagnosis: None,
     }
 }
 

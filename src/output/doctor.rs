@@ -36,6 +36,14 @@ pub(crate) fn cause_text(cause: &Cause) -> String {
         Cause::NodeSilent { node } => {
             format!("node {node} is silent while the bus is not: not powered, not connected, or on another node-id")
         }
+        Cause::Epos2CanErrors { register } => format!(
+            "the EPOS2 gateway reports CAN errors (its error register 0x{register:02X}: {}): its side of the bus sees \
+             overruns, error passive or bus-off (canctl errors 0 names them)",
+            crate::canopen::emcy::register_bits(*register).join(", ")
+        ),
+        Cause::LssUnconfigured { count } => format!(
+            "{count} device(s) wait in LSS configuration without a node-id: they answer no SDO and send no heartbeat"
+        ),
     }
 }
 
@@ -98,10 +106,60 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
             "give one of the devices on node-id {node} another one: canctl lss set-id NEW --identity \
              VENDOR:PRODUCT:REVISION:SERIAL"
         ),
+        Remedy::LssAssign => "canctl lss assign --start ID numbers them (or canctl lss fastscan, then canctl lss \
+             set-id ID --identity ... for one)"
+            .into(),
+        Remedy::CheckBusOrLss => format!(
+            "{}; a device waiting without a node-id (LSS) answers none of this: canctl doctor --lss asks for one \
+             (an LSS broadcast)",
+            remedy_text(&Remedy::CheckBus)
+        ),
+        Remedy::CheckNodeOrLss { node } => format!(
+            "{}; canctl doctor --lss finds such a device (an LSS broadcast)",
+            remedy_text(&Remedy::CheckNode { node: *node })
+        ),
         Remedy::CheckNode { node } => format!(
             "check that node {node} is powered and connected, and the node-id it has: canctl scan lists the ids that \
              answer; a device without one waits for canctl lss assign"
         ),
+    }
+}
+
+/// `; likely cause: ...; fix: ...`: the finding of the quick checks as it follows the
+/// message of a node that did not answer.
+pub(crate) fn likely_cause_text(f: &Finding) -> String {
+    format!("; likely cause: {}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy))
+}
+
+/// A finding as JSON: its typed cause, evidence and remedy, and `summary` and `fix` in words.
+pub(crate) fn finding_json(f: &Finding) -> serde_json::Value {
+    let mut json = serde_json::to_value(f).expect("findings serialise");
+    json["summary"] = cause_text(&f.cause).into();
+    json["fix"] = remedy_text(&f.remedy).into();
+    json
+}
+
+/// A node's silence with the likely cause the quick checks found: it reads and ends the
+/// process as `error` does (whose hint has the likely-cause line); `--format json` gives the
+/// finding as the error's `diagnosis` ([`super::error_json`]).
+#[derive(Debug)]
+pub(crate) struct DiagnosedError {
+    /// The error, its hint the likely cause in words.
+    pub(crate) error: crate::Error,
+    /// What the quick checks found.
+    pub(crate) finding: Finding,
+}
+
+impl std::fmt::Display for DiagnosedError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.error.fmt(f)
+    }
+}
+
+// Not the error as its source: the message would read twice in `{:#}`.
+impl std::error::Error for DiagnosedError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        std::error::Error::source(&self.error)
     }
 }
 
@@ -187,6 +245,26 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::LinkReported { message } => format!("the link reported: {message}"),
         Evidence::OneDevice { node } => format!("one device on node-id {node}: no second answer, one serial number"),
         Evidence::LinkQuiet => "the link reported no bus errors".into(),
+        Evidence::Epos2Gateway { error_register, bit_rate_code } => format!(
+            "the EPOS2 gateway: error register {}, CAN bit rate {}",
+            super::health::register_text(*error_register),
+            match bit_rate_code {
+                None => "unread".to_string(),
+                Some(9) => "detected from the bus (0x2001 = 9)".to_string(),
+                Some(code) => match crate::ops::doctor::epos2_bit_rate_index(*code) {
+                    Some(i) => format!("{} (0x2001 = {code})", crate::canopen::lss::bit_rate_name(i)),
+                    None => format!("code {code} (0x2001), not one of its rates"),
+                },
+            }
+        ),
+        Evidence::FramesReceived { count } => format!("{count} frame(s) received while the command ran"),
+        Evidence::LssAnswers { count: 0, waited_ms } => {
+            format!("no device without a node-id answered LSS identify non-configured ({waited_ms} ms)")
+        }
+        Evidence::LssAnswers { count, waited_ms } => {
+            format!("{count} device(s) without a node-id answered LSS identify non-configured ({waited_ms} ms)")
+        }
+        Evidence::ScanState { node, state, from } => format!("the scan saw node {node} {state} (from {from})"),
     }
 }
 
@@ -269,8 +347,7 @@ impl Report for Diagnosis {
         let mut v = serde_json::to_value(self).expect("reports serialise");
         if let Some(findings) = v["findings"].as_array_mut() {
             for (json, f) in findings.iter_mut().zip(&self.findings) {
-                json["summary"] = cause_text(&f.cause).into();
-                json["fix"] = remedy_text(&f.remedy).into();
+                *json = finding_json(f);
             }
         }
         v

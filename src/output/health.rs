@@ -150,8 +150,22 @@ impl Report for HealthReport {
                 let remedy = if c.check == "node-id" { super::nodes::CLASH_REMEDY } else { "" };
                 parts.push(Human::Line(format!("node {} {}: {}{remedy}", h.node, c.check, c.detail)));
             }
+            if let Some(f) = &h.diagnosis {
+                parts.push(Human::Line(format!("node {}{}", h.node, super::doctor::likely_cause_text(f))));
+            }
         }
         Human::Parts(parts)
+    }
+
+    /// As it serialises, a node's diagnosis with its cause and fix in words too.
+    fn json_value(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("reports serialise");
+        if let Some(nodes) = v["nodes"].as_array_mut() {
+            for (json, h) in nodes.iter_mut().zip(&self.nodes) {
+                json["diagnosis"] = h.diagnosis.as_ref().map(super::doctor::finding_json).into();
+            }
+        }
+        v
     }
 
     fn csv(&self) -> Human {
@@ -191,11 +205,12 @@ impl Report for HealthReport {
             .iter()
             .flat_map(|h| {
                 let class = node_label(h.node, h.name.as_deref());
+                let likely = h.diagnosis.as_ref().map(super::doctor::likely_cause_text).unwrap_or_default();
                 h.checks.iter().map(move |c| TestCase {
                     class: class.clone(),
                     name: c.check.to_string(),
                     detail: c.detail.clone(),
-                    failure: (!c.ok).then(|| format!("{class}: {}: {}", c.check, c.detail)),
+                    failure: (!c.ok).then(|| format!("{class}: {}: {}{likely}", c.check, c.detail)),
                 })
             })
             .collect();

@@ -88,12 +88,17 @@ pub fn error_text(err: &anyhow::Error) -> String {
             return format!("{contexts}{}", super::firmware::firmware_error_text(f));
         }
     }
-    let Some(e) = err.chain().find_map(|c| c.downcast_ref::<crate::Error>()) else { return full };
+    let Some(e) = err.chain().find_map(library_error) else { return full };
     // The library's error ends the chain (the contexts come before it): word it in place.
     match full.strip_suffix(&e.to_string()) {
         Some(contexts) => format!("{contexts}{}", library_error_text(e)),
         None => format!("{full}{}", Hint::of(e).map(hint_text).unwrap_or_default()),
     }
+}
+
+/// The library's error a cause in an error's chain is, or carries (a diagnosed one).
+fn library_error<'a>(c: &'a (dyn std::error::Error + 'static)) -> Option<&'a crate::Error> {
+    c.downcast_ref::<crate::Error>().or_else(|| c.downcast_ref::<super::doctor::DiagnosedError>().map(|d| &d.error))
 }
 
 /// What to add to a message about a silent node: the nodes the last scan of `bus` saw

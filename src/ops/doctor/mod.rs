@@ -8,8 +8,11 @@
 //! guarding remote requests, and listening. Every wait is bounded by the listen window or
 //! the per-request timeout ([`DoctorOptions`]).
 
+mod epos2;
+mod lss;
 mod report;
 
+pub(crate) use epos2::bit_rate_index as epos2_bit_rate_index;
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
 
 use crate::bus::{Bus, SdoOptions};
@@ -48,6 +51,9 @@ pub struct DoctorOptions {
     /// What the last scan of this bus saw (`scan_cache::load`): a node that moved is
     /// recognised by it.
     pub last_scan: Vec<SeenNode>,
+    /// Whether to ask for devices without a node-id (LSS "identify non-configured remote
+    /// slave", CiA 305, one wait of `timeout`): a broadcast, so only when the user asks.
+    pub lss: bool,
 }
 
 /// What the listen heard.
@@ -134,7 +140,14 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
         fine: Vec::new(),
         ok: false,
     };
-    match examine(bus, o, &mut d) {
+    let examined = examine(bus, o, &mut d).and_then(|()| match o.lss {
+        true => lss::ask(bus, o.timeout, &mut d),
+        false => {
+            lss::point_at_it(&mut d);
+            Ok(())
+        }
+    });
+    match examined {
         Ok(()) => {}
         Err(e) => match e.root() {
             Error::Link(link) => d.findings.push(link_finding(link)),
@@ -173,12 +186,31 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
                 return Ok(None);
             }
             let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(wait) };
-            match found.is_empty() && bus.observed().nodes.is_empty() {
-                true => finding(Cause::BusSilent, Remedy::CheckBus, vec![seen, probe]),
-                false => finding(Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![seen, probe]),
+            // These checks ask no LSS: where nothing answers, the fix says how to.
+            let frames = bus.observed().frames;
+            match (found.is_empty() && bus.observed().nodes.is_empty(), frames) {
+                (true, 0) => finding(Cause::BusSilent, Remedy::CheckBusOrLss, vec![seen, probe]),
+                (true, count) => {
+                    finding(Cause::NoAnswers, Remedy::WatchBus, vec![seen, probe, Evidence::FramesReceived { count }])
+                }
+                (false, _) => finding(Cause::NodeSilent { node }, Remedy::CheckNodeOrLss { node }, vec![seen, probe]),
             }
         }
     })
+}
+
+/// The finding for a node that did not answer SDO, from the state it showed (`shown`: the
+/// state and what showed it) and a read of every node-id (`probe`): stopped (it serves no
+/// SDO there), alive with its SDO server elsewhere or off, or silent.
+pub(crate) fn silent_node(node: u8, shown: Option<(nmt::State, Evidence)>, probe: Evidence) -> Finding {
+    let (cause, remedy, evidence) = match shown {
+        Some((nmt::State::Stopped, seen)) => {
+            (Cause::Stopped { node }, Remedy::PreOperational { node }, vec![seen, probe])
+        }
+        Some((_, seen)) => (Cause::SdoSilent { node }, Remedy::ResetCommunication { node }, vec![seen, probe]),
+        None => (Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![probe]),
+    };
+    Finding { cause, evidence, remedy }
 }
 
 /// The diagnosis of a link that could not even be opened.
@@ -250,6 +282,10 @@ fn ms(d: Duration) -> u64 {
 /// show only once it has sent something).
 fn examine(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Result<()> {
     examine_all(bus, o, d)?;
+    // The one link that shows no traffic is an EPOS2 gateway: it tells of its CAN side.
+    if !bus.sees_traffic() {
+        epos2::look(bus, o.timeout, d)?;
+    }
     bus.check_link()?;
     d.fine.push(Evidence::LinkQuiet);
     Ok(())
@@ -419,7 +455,8 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
         });
     }
     let found = scan::probe(bus, o.timeout, &mut Silent)?;
-    if !heard.frames.is_empty() && heard.flood().is_none() {
+    // Traffic is fine only where some node answers: else it is the evidence of a finding.
+    if !heard.frames.is_empty() && heard.flood().is_none() && !found.is_empty() {
         d.fine.push(heard.traffic());
     }
     let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(o.timeout) };

@@ -93,6 +93,18 @@ pub enum Cause {
         /// The node.
         node: u8,
     },
+    /// Devices wait in LSS configuration without a node-id: they serve no SDO and send no
+    /// heartbeat until one is given (CiA 305).
+    LssUnconfigured {
+        /// How many answered "identify non-configured remote slave".
+        count: usize,
+    },
+    /// The EPOS2 gateway's error register has its communication bit set: its CAN side sees
+    /// errors (overrun, error passive, bus-off; its error history 0x1003 names which).
+    Epos2CanErrors {
+        /// Its error register 0x1001.
+        register: u8,
+    },
 }
 
 impl Cause {
@@ -108,6 +120,9 @@ impl Cause {
             Cause::Moved { .. } => 5,
             Cause::SdoSilent { .. } => 6,
             Cause::NodeSilent { .. } => 7,
+            // Before a silent node or bus, which it explains.
+            Cause::LssUnconfigured { .. } => 2,
+            Cause::Epos2CanErrors { .. } => 1,
         }
     }
 }
@@ -254,6 +269,36 @@ pub enum Evidence {
     },
     /// The link reported no error after the requests.
     LinkQuiet,
+    /// The state the scan saw the node in, and how it learnt it (node guarding, a boot-up).
+    ScanState {
+        /// The node.
+        node: u8,
+        /// The state.
+        state: nmt::State,
+        /// How the scan learnt it, in its words.
+        from: String,
+    },
+    /// What an EPOS2 gateway said of itself: its error register 0x1001 and its CAN bit
+    /// rate 0x2001 (its own code: 0 = 1 Mbit/s ... 6 = 20 kbit/s, 9 = detected); each
+    /// `None` when it did not answer.
+    Epos2Gateway {
+        /// 0x1001.
+        error_register: Option<u8>,
+        /// 0x2001.
+        bit_rate_code: Option<u16>,
+    },
+    /// Frames of any kind the link received while the command ran (none answering it).
+    FramesReceived {
+        /// How many.
+        count: usize,
+    },
+    /// Answers to LSS "identify non-configured remote slave" (devices without a node-id).
+    LssAnswers {
+        /// How many answered.
+        count: usize,
+        /// How long it waited.
+        waited_ms: u64,
+    },
 }
 
 /// How many frames of one COB-ID were heard.
@@ -311,6 +356,17 @@ pub enum Remedy {
     },
     /// Check the node is powered, connected and has this node-id (a scan lists those in use).
     CheckNode {
+        /// The node.
+        node: u8,
+    },
+    /// Give the devices without a node-id one over LSS.
+    LssAssign,
+    /// As [`Remedy::CheckBus`]; and a device without a node-id would answer LSS, which
+    /// doctor asks only when told (a broadcast).
+    CheckBusOrLss,
+    /// As [`Remedy::CheckNode`]; and a device without a node-id would answer LSS, which
+    /// doctor asks only when told (a broadcast).
+    CheckNodeOrLss {
         /// The node.
         node: u8,
     },

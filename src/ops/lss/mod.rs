@@ -428,7 +428,7 @@ pub(crate) fn set_id(
 /// EPOS2 firmware specification, object 0x2001 "CAN Bitrate": 0 = 1 Mbit/s, 1 = 800 k,
 /// 2 = 500 k, 3 = 250 k, 4 = 125 k, 5 = 50 k, 6 = 20 k — not the CiA 305 table (there 5 is
 /// reserved, 6 = 50 k, 7 = 20 k).
-fn epos2_bit_rate_code(cia_index: u8) -> Option<u16> {
+pub(crate) fn epos2_bit_rate_code(cia_index: u8) -> Option<u16> {
     [(0, 0), (1, 1), (2, 2), (3, 3), (4, 4), (6, 5), (7, 6)].iter().find(|(c, _)| *c == cia_index).map(|(_, e)| *e)
 }
 /// EPOS2 firmware specification: 0x2000 "Node ID", 0x2001 "CAN Bitrate".
