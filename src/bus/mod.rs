@@ -4,6 +4,7 @@
 //! [`crate::connect`] opens one from a bus address.
 
 pub(crate) mod clock;
+pub mod controller;
 pub(crate) mod frame_log;
 pub mod lss;
 pub(crate) mod master;
@@ -69,6 +70,11 @@ pub trait FrameLink {
     /// bit timing"): the simulated bus does; a CAN interface must be switched by its owner.
     fn follows_bit_rate_switch(&self) -> bool {
         false
+    }
+    /// What the link knows about the bus beyond its frames (the controller's state, the
+    /// error frames it reported); `None` for links that know nothing of the kind.
+    fn report(&mut self) -> Option<controller::LinkReport> {
+        None
     }
 }
 
@@ -292,6 +298,12 @@ pub trait Bus {
         Ok(())
     }
 
+    /// What the link knows about the bus beyond its frames (see [`FrameLink::report`]). A
+    /// decorator passes it on (`pass_on_unchanged!`).
+    fn link_report(&mut self) -> Option<controller::LinkReport> {
+        None
+    }
+
     /// What the bus showed by itself so far in this session (node-ids in use, NMT states,
     /// boot-ups, stray LSS answers). A link that sees no traffic knows only its own
     /// answers.
@@ -368,6 +380,9 @@ macro_rules! pass_on_unchanged {
         }
         fn check_link(&mut self) -> $crate::error::Result<()> {
             self.$inner.check_link()
+        }
+        fn link_report(&mut self) -> Option<$crate::bus::controller::LinkReport> {
+            self.$inner.link_report()
         }
         fn observed(&mut self) -> &mut $crate::bus::Observed {
             self.$inner.observed()

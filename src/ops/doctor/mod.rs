@@ -8,6 +8,7 @@
 //! guarding remote requests, and listening. Every wait is bounded by the listen window or
 //! the per-request timeout ([`DoctorOptions`]).
 
+mod controller;
 mod report;
 
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
@@ -141,6 +142,7 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
             _ => return Err(e),
         },
     }
+    controller::examine(bus, &mut d);
     d.findings.sort_by_key(|f| f.cause.rank());
     d.ok = d.findings.is_empty();
     Ok(d)

@@ -1,6 +1,7 @@
 //! What doctor reports: the findings, each a [`Cause`] with its [`Evidence`] and
 //! [`Remedy`], and what was found fine. Typed, for any front end to word.
 
+use crate::bus::controller::{CanState, ErrorFrameCounts};
 use crate::canopen::nmt;
 use crate::canopen::ObjAddr;
 use crate::ops::clash;
@@ -93,6 +94,12 @@ pub enum Cause {
         /// The node.
         node: u8,
     },
+    /// The controller's error frames show only frames nobody acknowledged: no other
+    /// device is powered, or the bus is not terminated.
+    NothingAcknowledges,
+    /// The controller's error frames show bit, stuff or form errors: frames are destroyed
+    /// on the bus (a device at another bit rate, or the wiring).
+    SignalErrors,
 }
 
 impl Cause {
@@ -108,6 +115,7 @@ impl Cause {
             Cause::Moved { .. } => 5,
             Cause::SdoSilent { .. } => 6,
             Cause::NodeSilent { .. } => 7,
+            Cause::NothingAcknowledges | Cause::SignalErrors => 1,
         }
     }
 }
@@ -254,6 +262,33 @@ pub enum Evidence {
     },
     /// The link reported no error after the requests.
     LinkQuiet,
+    /// The CAN controller's own report (netlink): its state and counters.
+    ControllerReport {
+        /// The interface.
+        iface: String,
+        /// Its state, if it said.
+        state: Option<CanState>,
+        /// The transmit error counter.
+        tx_errors: Option<u16>,
+        /// The receive error counter.
+        rx_errors: Option<u16>,
+        /// The automatic restart after bus-off in ms (0: none), if it said.
+        restart_ms: Option<u32>,
+        /// Its bit rate, if it said.
+        bitrate: Option<u32>,
+    },
+    /// The interface is virtual (vcan): there is no controller to report a state.
+    NoController {
+        /// The interface.
+        iface: String,
+    },
+    /// The error frames the controller reported, counted by what they said.
+    ErrorFrames {
+        /// The interface.
+        iface: String,
+        /// The counts.
+        counts: ErrorFrameCounts,
+    },
 }
 
 /// How many frames of one COB-ID were heard.
@@ -313,5 +348,19 @@ pub enum Remedy {
     CheckNode {
         /// The node.
         node: u8,
+    },
+    /// The controller stays bus-off (restart-ms is 0): once the cause is fixed, let it
+    /// restart by itself (`ip link set IFACE type can restart-ms 100`).
+    AutoRestart {
+        /// The interface.
+        iface: String,
+    },
+    /// Nothing acknowledges: power another device, terminate the bus (120 Ω at each end).
+    CheckTermination,
+    /// Frames are destroyed: check every device's bit rate against the interface's, then
+    /// the wiring.
+    CheckBitRate {
+        /// The interface's bit rate, if its controller said.
+        bitrate: Option<u32>,
     },
 }
