@@ -168,6 +168,24 @@ pub struct LinkReport {
     pub error_frames: ErrorFrameCounts,
 }
 
+/// What a listen-only trial at one bit rate heard (a link that can change its rate).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct RateHeard {
+    /// The bit rate tried, in kbit/s.
+    pub kbit: u32,
+    /// Frames decoded.
+    pub frames: u32,
+    /// Whether the adapter reported bus errors (or lines it could not decode) meanwhile.
+    pub errors: bool,
+}
+
+impl RateHeard {
+    /// Whether the bus's traffic decoded cleanly at this rate.
+    pub fn clean(&self) -> bool {
+        self.frames > 0 && !self.errors
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -76,6 +76,11 @@ pub trait FrameLink {
     fn report(&mut self) -> Option<controller::LinkReport> {
         None
     }
+    /// Listen, listen-only (sending and acknowledging nothing), at `kbit` for `window`, then
+    /// go back to the link's own rate; `None` for links that cannot change their rate.
+    fn listen_at(&mut self, _kbit: u32, _window: Duration) -> Result<Option<controller::RateHeard>> {
+        Ok(None)
+    }
 }
 
 /// How one SDO transfer is made: its timeout, transfer kinds, limits, stop and progress.
@@ -304,6 +309,12 @@ pub trait Bus {
         None
     }
 
+    /// A listen-only trial at another bit rate (see [`FrameLink::listen_at`]). A decorator
+    /// passes it on (`pass_on_unchanged!`).
+    fn listen_at(&mut self, _kbit: u32, _window: Duration) -> Result<Option<controller::RateHeard>> {
+        Ok(None)
+    }
+
     /// What the bus showed by itself so far in this session (node-ids in use, NMT states,
     /// boot-ups, stray LSS answers). A link that sees no traffic knows only its own
     /// answers.
@@ -383,6 +394,13 @@ macro_rules! pass_on_unchanged {
         }
         fn link_report(&mut self) -> Option<$crate::bus::controller::LinkReport> {
             self.$inner.link_report()
+        }
+        fn listen_at(
+            &mut self,
+            kbit: u32,
+            window: std::time::Duration,
+        ) -> $crate::error::Result<Option<$crate::bus::controller::RateHeard>> {
+            self.$inner.listen_at(kbit, window)
         }
         fn observed(&mut self) -> &mut $crate::bus::Observed {
             self.$inner.observed()

@@ -43,6 +43,9 @@ pub(crate) fn cause_text(cause: &Cause) -> String {
         Cause::SignalErrors => "frames are destroyed on the bus (bit, stuff or form errors): a device at another bit \
              rate, or the wiring"
             .into(),
+        Cause::OtherBitRate { kbit } => {
+            format!("the bus runs at {kbit} kbit/s, not at the link's rate: its traffic decodes cleanly only there")
+        }
     }
 }
 
@@ -120,8 +123,12 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
         Remedy::CheckBitRate { bitrate } => format!(
             "check that every device runs at the interface's bit rate{} (ip -details link show IFACE says it; sudo ip \
              link set IFACE down; sudo ip link set IFACE up type can bitrate RATE changes it), then the wiring: CAN_H \
-             and CAN_L not swapped, GND connected",
+             and CAN_L not swapped, GND connected (an slcan adapter finds the bus's rate: canctl doctor --sweep)",
             bitrate.map(|b| format!(", {} kbit/s", b / 1000)).unwrap_or_default()
+        ),
+        Remedy::UseBitRate { kbit } => format!(
+            "open the link at {kbit} kbit/s (--bus slcan:PORT@{kbit}k); or, if the bus should run at the link's \
+             rate, find the device set to {kbit} kbit/s"
         ),
     }
 }
@@ -244,6 +251,22 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             let counters = c.counters.map(|(tx, rx)| format!("; last counters tx {tx}, rx {rx}")).unwrap_or_default();
             format!("{} error frame(s) from {iface}: {}{counters}", c.frames, parts.join(", "))
         }
+        Evidence::Sweep { trials } => {
+            let each: Vec<String> = trials
+                .iter()
+                .map(|t| match (t.frames, t.errors) {
+                    (n, false) if n > 0 => format!("{}k: {n} frame(s), clean", t.kbit),
+                    (n, true) => format!("{}k: {n} frame(s), bus errors", t.kbit),
+                    _ => format!("{}k: nothing", t.kbit),
+                })
+                .collect();
+            format!("listen-only at each rate: {}", each.join("; "))
+        }
+        Evidence::NoSweep { bus } => format!(
+            "{bus} cannot change its bit rate for a sweep; for a CAN interface try each rate by hand, listen-only: \
+             sudo ip link set IFACE down; sudo ip link set IFACE up type can bitrate RATE listen-only on; canctl \
+             monitor"
+        ),
     }
 }
 

@@ -10,6 +10,7 @@
 
 mod controller;
 mod report;
+pub mod sweep;
 
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
 

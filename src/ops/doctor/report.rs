@@ -1,7 +1,7 @@
 //! What doctor reports: the findings, each a [`Cause`] with its [`Evidence`] and
 //! [`Remedy`], and what was found fine. Typed, for any front end to word.
 
-use crate::bus::controller::{CanState, ErrorFrameCounts};
+use crate::bus::controller::{CanState, ErrorFrameCounts, RateHeard};
 use crate::canopen::nmt;
 use crate::canopen::ObjAddr;
 use crate::ops::clash;
@@ -100,6 +100,11 @@ pub enum Cause {
     /// The controller's error frames show bit, stuff or form errors: frames are destroyed
     /// on the bus (a device at another bit rate, or the wiring).
     SignalErrors,
+    /// The bus's traffic decodes cleanly at another bit rate than the link's (a sweep).
+    OtherBitRate {
+        /// The rate it decodes at, in kbit/s.
+        kbit: u32,
+    },
 }
 
 impl Cause {
@@ -116,6 +121,8 @@ impl Cause {
             Cause::SdoSilent { .. } => 6,
             Cause::NodeSilent { .. } => 7,
             Cause::NothingAcknowledges | Cause::SignalErrors => 1,
+            // Names the rate, where the controller's errors only say that it is wrong.
+            Cause::OtherBitRate { .. } => 1,
         }
     }
 }
@@ -289,6 +296,16 @@ pub enum Evidence {
         /// The counts.
         counts: ErrorFrameCounts,
     },
+    /// A listen-only sweep: what each bit rate heard.
+    Sweep {
+        /// Each rate tried, fastest first.
+        trials: Vec<RateHeard>,
+    },
+    /// The link cannot change its bit rate for a sweep (a CAN interface, a gateway).
+    NoSweep {
+        /// The bus.
+        bus: String,
+    },
 }
 
 /// How many frames of one COB-ID were heard.
@@ -362,5 +379,10 @@ pub enum Remedy {
     CheckBitRate {
         /// The interface's bit rate, if its controller said.
         bitrate: Option<u32>,
+    },
+    /// Open the link at the rate the bus's traffic decodes at.
+    UseBitRate {
+        /// The rate, in kbit/s.
+        kbit: u32,
     },
 }
