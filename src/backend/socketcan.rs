@@ -24,6 +24,9 @@ pub(crate) struct SocketCanLink {
     /// Every error frame heard, counted by what it said (doctor tells a bus nobody
     /// acknowledges on from one at another bit rate by them).
     errors: ErrorFrameCounts,
+    /// Frames that found the transmit queue full and waited: a queue too short for the
+    /// bursts canctl sends (doctor names the txqueuelen command).
+    queue_full: u32,
 }
 
 /// Why `iface` cannot carry CAN frames, if it cannot; read from sysfs before opening.
@@ -72,6 +75,7 @@ impl SocketCanLink {
             filters: vec![(0, 0)],
             warned: Vec::new(),
             errors: ErrorFrameCounts::default(),
+            queue_full: 0,
         })
     }
 
@@ -105,12 +109,16 @@ impl FrameLink for SocketCanLink {
     fn send(&mut self, frame: &Frame) -> Result<()> {
         let f = to_socketcan(frame);
         let give_up = Instant::now() + TX_QUEUE_PATIENCE;
+        let mut waited = false;
         loop {
             match self.sock.write_frame(&f) {
                 Ok(()) => return Ok(()),
                 // A full transmit queue (a burst of probes on a small txqueuelen): wait for
                 // room; dropping the frame would lose a probe without a word.
                 Err(e) if e.raw_os_error() == Some(nix::libc::ENOBUFS) || e.kind() == io::ErrorKind::WouldBlock => {
+                    if !std::mem::replace(&mut waited, true) {
+                        self.queue_full += 1;
+                    }
                     if Instant::now() > give_up {
                         return Err(
                             LinkError::TxQueueFull { iface: self.iface.clone(), waited: TX_QUEUE_PATIENCE }.into()
@@ -189,6 +197,11 @@ impl FrameLink for SocketCanLink {
                 None
             }
         };
-        Some(LinkReport { iface: self.iface.clone(), controller, error_frames: self.errors })
+        Some(LinkReport {
+            iface: self.iface.clone(),
+            controller,
+            error_frames: self.errors,
+            queue_full: self.queue_full,
+        })
     }
 }

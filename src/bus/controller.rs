@@ -166,6 +166,8 @@ pub struct LinkReport {
     pub controller: Option<Controller>,
     /// The error frames it reported since it was opened.
     pub error_frames: ErrorFrameCounts,
+    /// Frames that found the transmit queue full (ENOBUFS) and had to wait for room.
+    pub queue_full: u32,
 }
 
 /// What a listen-only trial at one bit rate heard (a link that can change its rate).

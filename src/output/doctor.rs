@@ -267,6 +267,10 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
              sudo ip link set IFACE down; sudo ip link set IFACE up type can bitrate RATE listen-only on; canctl \
              monitor"
         ),
+        Evidence::QueueFull { iface, frames } => format!(
+            "{frames} frame(s) found {iface}'s transmit queue full (ENOBUFS) and waited for room; ip -details link \
+             show {iface} says its qlen"
+        ),
     }
 }
 

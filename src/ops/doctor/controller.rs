@@ -2,7 +2,7 @@
 //! details) and the error frames it reported during the checks. Read only: doctor asks the
 //! link what it knows, it never changes the interface.
 
-use super::{Cause, ControllerState, Diagnosis, Evidence, Finding, Remedy};
+use super::{Cause, ControllerState, Diagnosis, Evidence, Finding, HostProblem, Remedy};
 use crate::bus::controller::{CanState, Controller, LinkReport};
 use crate::bus::Bus;
 
@@ -17,6 +17,11 @@ pub(super) fn examine(bus: &mut dyn Bus, d: &mut Diagnosis) {
 /// The findings (or the fine evidence) one report shows.
 fn judge(r: &LinkReport, d: &mut Diagnosis) {
     let iface = r.iface.clone();
+    if r.queue_full > 0 {
+        let problem = HostProblem::TransmitQueueFull;
+        let evidence = vec![Evidence::QueueFull { iface: iface.clone(), frames: r.queue_full }];
+        add(d, Finding { cause: Cause::Host { problem }, evidence, remedy: Remedy::FixHost { problem } });
+    }
     let mut evidence = Vec::new();
     let (mut state, mut restart_ms, mut bitrate) = (None, None, None);
     match r.controller {
@@ -111,7 +116,7 @@ mod tests {
 
     fn judged(controller: Option<Controller>, error_frames: ErrorFrameCounts) -> Diagnosis {
         let mut d = diagnosis();
-        judge(&LinkReport { iface: "can0".into(), controller, error_frames }, &mut d);
+        judge(&LinkReport { iface: "can0".into(), controller, error_frames, queue_full: 0 }, &mut d);
         d
     }
 
@@ -175,10 +180,27 @@ mod tests {
             iface: "can0".into(),
             controller: can(CanState::BusOff, 0),
             error_frames: errors(&[(0x040, [0; 8])]),
+            queue_full: 0,
         };
         judge(&report, &mut d);
         assert_eq!(d.findings.len(), 1);
         assert_eq!(d.findings[0].remedy, Remedy::AutoRestart { iface: "can0".into() });
         assert_eq!(d.findings[0].evidence.len(), 3);
+    }
+
+    #[test]
+    fn frames_that_waited_for_the_queue_name_the_host() {
+        let report = LinkReport {
+            iface: "vcan0".into(),
+            controller: Some(Controller::Virtual),
+            error_frames: ErrorFrameCounts::default(),
+            queue_full: 3,
+        };
+        let mut d = diagnosis();
+        judge(&report, &mut d);
+        let problem = HostProblem::TransmitQueueFull;
+        assert_eq!(d.findings[0].cause, Cause::Host { problem });
+        assert_eq!(d.findings[0].remedy, Remedy::FixHost { problem });
+        assert_eq!(d.findings[0].evidence, vec![Evidence::QueueFull { iface: "vcan0".into(), frames: 3 }]);
     }
 }

@@ -306,6 +306,13 @@ pub enum Evidence {
         /// The bus.
         bus: String,
     },
+    /// Frames found the interface's transmit queue full (ENOBUFS) and waited for room.
+    QueueFull {
+        /// The interface.
+        iface: String,
+        /// How many frames waited.
+        frames: u32,
+    },
 }
 
 /// How many frames of one COB-ID were heard.
