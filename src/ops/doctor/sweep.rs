@@ -38,11 +38,16 @@ fn judge(d: &mut Diagnosis, trials: Vec<RateHeard>, own_kbit: Option<u32>) {
     match clean[..] {
         // One rate hears the traffic cleanly and it is not the link's: that is the bus's.
         [kbit] if own_kbit != Some(kbit) => {
-            d.findings.push(Finding {
-                cause: Cause::OtherBitRate { kbit },
-                evidence: vec![evidence],
-                remedy: Remedy::UseBitRate { kbit },
-            });
+            // Ahead of the controller's bus errors, which it explains (a stable sort
+            // keeps it there among the causes of its rank).
+            d.findings.insert(
+                0,
+                Finding {
+                    cause: Cause::OtherBitRate { kbit },
+                    evidence: vec![evidence],
+                    remedy: Remedy::UseBitRate { kbit },
+                },
+            );
             d.findings.sort_by_key(|f| f.cause.rank());
             d.ok = false;
         }
