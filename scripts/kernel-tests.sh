@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 filter=${1:-}
 # Build the binaries (and find the test executables) on the host.
 cargo build --quiet --bins
-bins=$(cargo test --no-run --message-format=json --test socketcan_vcan --test interop_canopen --test interop_durand --test slcan_kernel --test network_vcan --test firmware_vcan 2>/dev/null \
+bins=$(cargo test --no-run --message-format=json --test socketcan_vcan --test interop_canopen --test interop_durand --test slcan_kernel --test network_vcan --test firmware_vcan --test doctor_vcan 2>/dev/null \
   | python3 -c 'import json,sys
 for line in sys.stdin:
     m = json.loads(line)

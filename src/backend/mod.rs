@@ -3,6 +3,8 @@
 //! of its own (the EPOS2 gateway). [`crate::connect::open`] is the one place that picks one;
 //! the simulator's link is [`crate::sim::SimLink`].
 
+#[cfg(target_os = "linux")]
+mod can_netlink;
 pub mod epos2;
 pub mod slcan;
 #[cfg(target_os = "linux")]

@@ -1,6 +1,7 @@
 //! A serial-line CAN adapter as a `FrameLink`: set the bit rate, open the channel, send and
 //! receive frames as slcan text, close the channel however the command ends.
 
+use crate::bus::controller::RateHeard;
 use crate::bus::FrameLink;
 use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
@@ -33,6 +34,8 @@ pub struct SlcanLink<P: SerialIo> {
     /// Whether the adapter answers `F`; clones that do not get asked once.
     has_status: bool,
     open: bool,
+    /// The `Sn` code of the rate it was opened at, which a sweep goes back to.
+    code: u8,
     /// Lines that were not slcan, and 29-bit frames, since the link was opened.
     pub garbled: u64,
     /// 29-bit frames received (canctl speaks 11-bit CANopen; they are counted and dropped).
@@ -53,6 +56,7 @@ impl<P: SerialIo> SlcanLink<P> {
             rx: VecDeque::new(),
             has_status: true,
             open: false,
+            code,
             garbled: 0,
             extended: 0,
         };
@@ -231,6 +235,35 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
 
     fn check(&mut self) -> Result<()> {
         self.check_bus()
+    }
+
+    fn listen_at(&mut self, kbit: u32, window: Duration) -> Result<Option<RateHeard>> {
+        let Some(code) = bit_rate_code(kbit) else { return Ok(None) };
+        // Listen-only (`L`): at a wrong rate the adapter must not transmit nor acknowledge,
+        // or it would destroy the traffic of the bus it is trying to hear.
+        self.command(Command::Close, "close the channel")?;
+        self.open = false;
+        self.command(Command::BitRate(code), "set the bit rate")?;
+        self.command(Command::ListenOnly, "open the channel listen-only")?;
+        self.open = true;
+        self.rx.clear();
+        self.status()?; // clears the flags of the rate before
+        let garbled = self.garbled;
+        self.read_until(Instant::now() + window, Until::Deadline)?;
+        let frames = self.rx.len() as u32;
+        let flags = self.status()?;
+        // Error warning, error passive, bus error: what receiving at a wrong rate raises
+        // (an overrun only says the host read too slowly).
+        const BUS_TROUBLE: u8 = 1 << 2 | 1 << 5 | 1 << 7;
+        let errors = self.garbled > garbled || flags.is_some_and(|s| s.0 & BUS_TROUBLE != 0);
+        self.rx.clear();
+        self.command(Command::Close, "close the channel")?;
+        self.open = false;
+        self.command(Command::BitRate(self.code), "set the bit rate")?;
+        self.command(Command::Open, "open the channel")?;
+        self.open = true;
+        self.status()?;
+        Ok(Some(RateHeard { kbit, frames, errors }))
     }
 
     fn close(&mut self) -> Result<()> {

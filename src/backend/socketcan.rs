@@ -1,6 +1,7 @@
 //! SocketCAN as a frame link: the kernel's CAN stack, any interface with a driver (can0,
 //! vcan0, slcan0). Receive filters keep a busy bus cheap; error frames are reported.
 
+use crate::bus::controller::{ErrorFrameCounts, LinkReport, CAN_ERR_FLAG};
 use crate::bus::FrameLink;
 use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
@@ -20,6 +21,12 @@ pub(crate) struct SocketCanLink {
     filters: Vec<(u16, u16)>,
     /// Error kinds already reported, so that a storm of them is one warning each.
     warned: Vec<String>,
+    /// Every error frame heard, counted by what it said (doctor tells a bus nobody
+    /// acknowledges on from one at another bit rate by them).
+    errors: ErrorFrameCounts,
+    /// Frames that found the transmit queue full and waited: a queue too short for the
+    /// bursts canctl sends (doctor names the txqueuelen command).
+    queue_full: u32,
 }
 
 /// Why `iface` cannot carry CAN frames, if it cannot; read from sysfs before opening.
@@ -62,7 +69,14 @@ impl SocketCanLink {
             other => other.map_err(io("error filter"))?,
         }
         sock.set_nonblocking(true).map_err(io(""))?;
-        Ok(SocketCanLink { sock, iface: iface.to_string(), filters: vec![(0, 0)], warned: Vec::new() })
+        Ok(SocketCanLink {
+            sock,
+            iface: iface.to_string(),
+            filters: vec![(0, 0)],
+            warned: Vec::new(),
+            errors: ErrorFrameCounts::default(),
+            queue_full: 0,
+        })
     }
 
     fn io_error(&self, op: &'static str, error: io::Error) -> Error {
@@ -95,12 +109,16 @@ impl FrameLink for SocketCanLink {
     fn send(&mut self, frame: &Frame) -> Result<()> {
         let f = to_socketcan(frame);
         let give_up = Instant::now() + TX_QUEUE_PATIENCE;
+        let mut waited = false;
         loop {
             match self.sock.write_frame(&f) {
                 Ok(()) => return Ok(()),
                 // A full transmit queue (a burst of probes on a small txqueuelen): wait for
                 // room; dropping the frame would lose a probe without a word.
                 Err(e) if e.raw_os_error() == Some(nix::libc::ENOBUFS) || e.kind() == io::ErrorKind::WouldBlock => {
+                    if !std::mem::replace(&mut waited, true) {
+                        self.queue_full += 1;
+                    }
                     if Instant::now() > give_up {
                         return Err(
                             LinkError::TxQueueFull { iface: self.iface.clone(), waited: TX_QUEUE_PATIENCE }.into()
@@ -135,7 +153,10 @@ impl FrameLink for SocketCanLink {
                 Err(e) => return Err(self.io_error("receive failed", e)),
             };
             match f {
-                CanFrame::Error(e) => self.error_frame(e.into_error())?,
+                CanFrame::Error(e) => {
+                    self.errors.take(e.error_bits() | CAN_ERR_FLAG, e.data());
+                    self.error_frame(e.into_error())?
+                }
                 CanFrame::Data(d) => {
                     if let Id::Standard(id) = d.id() {
                         return Ok(Some(Frame::new(id.as_raw(), d.data())));
@@ -166,5 +187,21 @@ impl FrameLink for SocketCanLink {
 
     fn name(&self) -> String {
         self.iface.clone()
+    }
+
+    fn report(&mut self) -> Option<LinkReport> {
+        let controller = match super::can_netlink::read(&self.iface) {
+            Ok(c) => Some(c),
+            Err(e) => {
+                tracing::debug!(target: "canctl::socketcan", iface = %self.iface, "controller details not read: {e}");
+                None
+            }
+        };
+        Some(LinkReport {
+            iface: self.iface.clone(),
+            controller,
+            error_frames: self.errors,
+            queue_full: self.queue_full,
+        })
     }
 }

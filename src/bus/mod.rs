@@ -4,6 +4,7 @@
 //! [`crate::connect`] opens one from a bus address.
 
 pub(crate) mod clock;
+pub mod controller;
 pub(crate) mod frame_log;
 pub mod lss;
 pub(crate) mod master;
@@ -69,6 +70,16 @@ pub trait FrameLink {
     /// bit timing"): the simulated bus does; a CAN interface must be switched by its owner.
     fn follows_bit_rate_switch(&self) -> bool {
         false
+    }
+    /// What the link knows about the bus beyond its frames (the controller's state, the
+    /// error frames it reported); `None` for links that know nothing of the kind.
+    fn report(&mut self) -> Option<controller::LinkReport> {
+        None
+    }
+    /// Listen, listen-only (sending and acknowledging nothing), at `kbit` for `window`, then
+    /// go back to the link's own rate; `None` for links that cannot change their rate.
+    fn listen_at(&mut self, _kbit: u32, _window: Duration) -> Result<Option<controller::RateHeard>> {
+        Ok(None)
     }
 }
 
@@ -299,6 +310,18 @@ pub trait Bus {
         Ok(())
     }
 
+    /// What the link knows about the bus beyond its frames (see [`FrameLink::report`]). A
+    /// decorator passes it on (`pass_on_unchanged!`).
+    fn link_report(&mut self) -> Option<controller::LinkReport> {
+        None
+    }
+
+    /// A listen-only trial at another bit rate (see [`FrameLink::listen_at`]). A decorator
+    /// passes it on (`pass_on_unchanged!`).
+    fn listen_at(&mut self, _kbit: u32, _window: Duration) -> Result<Option<controller::RateHeard>> {
+        Ok(None)
+    }
+
     /// What the bus showed by itself so far in this session (node-ids in use, NMT states,
     /// boot-ups, stray LSS answers). A link that sees no traffic knows only its own
     /// answers.
@@ -378,6 +401,16 @@ macro_rules! pass_on_unchanged {
         }
         fn check_link(&mut self) -> $crate::error::Result<()> {
             self.$inner.check_link()
+        }
+        fn link_report(&mut self) -> Option<$crate::bus::controller::LinkReport> {
+            self.$inner.link_report()
+        }
+        fn listen_at(
+            &mut self,
+            kbit: u32,
+            window: std::time::Duration,
+        ) -> $crate::error::Result<Option<$crate::bus::controller::RateHeard>> {
+            self.$inner.listen_at(kbit, window)
         }
         fn observed(&mut self) -> &mut $crate::bus::Observed {
             self.$inner.observed()

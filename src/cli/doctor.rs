@@ -23,12 +23,17 @@ use std::time::Duration;
 /// to any device and sends no NMT or LSS command, except with --lss the one LSS inquiry
 /// for devices without a node-id (a broadcast, answered only by those). Exit 0 when nothing is wrong, 6 when it
 /// found a problem (the findings say which, most likely first).
+/// With --sweep, an slcan adapter then listens, listen-only (sending and acknowledging
+/// nothing), at each CiA 301 bit rate (1M 800k 500k 250k 125k 50k 20k 10k) for
+/// --sweep-window each, and names the rate the bus's traffic decodes at; a CAN interface is
+/// not reconfigured: doctor prints the ip link commands to try the rates by hand.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   canctl --bus sim doctor 5
   canctl --bus can0 doctor
   canctl --bus can0 doctor 7 --window 3s --format json
-  canctl --bus can0 doctor 7 --lss")]
+  canctl --bus can0 doctor 7 --lss
+  canctl --bus slcan:/dev/ttyACM0@250k doctor --sweep")]
 pub struct DoctorArgs {
     /// The node to examine, 1 to 127 (without it: the bus only)
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
@@ -40,6 +45,14 @@ pub struct DoctorArgs {
     /// remote slave" broadcast (CiA 305), answers waited for --timeout
     #[arg(long)]
     pub lss: bool,
+    /// Find the bus's bit rate: listen-only at each CiA 301 rate (slcan adapters; 8 windows)
+    // Only when asked, never on its own after bit errors: it takes the adapter off the bus
+    // for seconds, which on a running machine is the user's call.
+    #[arg(long)]
+    pub sweep: bool,
+    /// How long the sweep listens at each rate (a bus quieter than this shows nothing)
+    #[arg(long, value_name = "DUR", default_value = "500ms", value_parser = super::parse_duration)]
+    pub sweep_window: Duration,
     #[command(flatten)]
     pub checks: super::CheckFormat,
 }
@@ -51,7 +64,17 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
     let mut opened = false;
     let result = super::with_bus(ctx, global, |bus| {
         opened = true;
-        let diagnosed = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| doctor::doctor(bus, &options));
+        let own_kbit = match ctx.bus.as_deref().map(str::parse::<crate::connect::BusAddr>) {
+            Some(Ok(crate::connect::BusAddr::Slcan { kbit, .. })) => Some(kbit),
+            _ => None,
+        };
+        let diagnosed = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+            let mut d = doctor::doctor(bus, &options)?;
+            if a.sweep {
+                doctor::sweep::sweep(bus, &mut d, own_kbit, a.sweep_window)?;
+            }
+            Ok(d)
+        });
         let report = crate::output::stopped::read(&ctx.out, "doctor", "listening and asking".into(), diagnosed)?;
         ctx.out.report(&report)?;
         Ok(report.outcome()?)

@@ -2,6 +2,7 @@
 //! the fix, in words that name canctl's commands; and what was found fine.
 
 use super::{Human, Report, TestCase, TestSuite};
+use crate::bus::controller::CanState;
 use crate::canopen::sdo::{request_cob, response_cob};
 use crate::ops::clash;
 use crate::ops::doctor::{Cause, ControllerState, Diagnosis, Evidence, Finding, HostProblem, Remedy};
@@ -44,6 +45,15 @@ pub(crate) fn cause_text(cause: &Cause) -> String {
         Cause::LssUnconfigured { count } => format!(
             "{count} device(s) wait in LSS configuration without a node-id: they answer no SDO and send no heartbeat"
         ),
+        Cause::NothingAcknowledges => "nothing acknowledges the frames sent (only ACK errors): no other device is \
+             powered, or the bus is not terminated"
+            .into(),
+        Cause::SignalErrors => "frames are destroyed on the bus (bit, stuff or form errors): a device at another bit \
+             rate, or the wiring"
+            .into(),
+        Cause::OtherBitRate { kbit } => {
+            format!("the bus runs at {kbit} kbit/s, not at the link's rate: its traffic decodes cleanly only there")
+        }
     }
 }
 
@@ -121,6 +131,24 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
         Remedy::CheckNode { node } => format!(
             "check that node {node} is powered and connected, and the node-id it has: canctl scan lists the ids that \
              answer; a device without one waits for canctl lss assign"
+        ),
+        Remedy::AutoRestart { iface } => format!(
+            "{iface} stays bus-off until restarted: once the cause is fixed, sudo ip link set {iface} type can \
+             restart-ms 100 (it then comes back by itself; sudo ip link set {iface} type can restart restarts it once)"
+        ),
+        Remedy::CheckTermination => "power another CANopen device on the bus (a lone controller gets no \
+             acknowledgement), and terminate the bus: 120 Ω at each end, about 60 Ω between CAN_H and CAN_L with the \
+             power off"
+            .into(),
+        Remedy::CheckBitRate { bitrate } => format!(
+            "check that every device runs at the interface's bit rate{} (ip -details link show IFACE says it; sudo ip \
+             link set IFACE down; sudo ip link set IFACE up type can bitrate RATE changes it), then the wiring: CAN_H \
+             and CAN_L not swapped, GND connected (an slcan adapter finds the bus's rate: canctl doctor --sweep)",
+            bitrate.map(|b| format!(", {} kbit/s", b / 1000)).unwrap_or_default()
+        ),
+        Remedy::UseBitRate { kbit } => format!(
+            "open the link at {kbit} kbit/s (--bus slcan:PORT@{kbit}k); or, if the bus should run at the link's \
+             rate, find the device set to {kbit} kbit/s"
         ),
     }
 }
@@ -265,7 +293,75 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             format!("{count} device(s) without a node-id answered LSS identify non-configured ({waited_ms} ms)")
         }
         Evidence::ScanState { node, state, from } => format!("the scan saw node {node} {state} (from {from})"),
+        Evidence::ControllerReport { iface, state, tx_errors, rx_errors, restart_ms, bitrate } => {
+            let or_unknown = |v: Option<String>| v.unwrap_or_else(|| "not said".into());
+            format!(
+                "{iface}'s controller: {}, tx errors {}, rx errors {}, restart-ms {}, bit rate {}",
+                or_unknown(state.map(can_state_text)),
+                or_unknown(tx_errors.map(|n| n.to_string())),
+                or_unknown(rx_errors.map(|n| n.to_string())),
+                match restart_ms {
+                    Some(0) => "0 (no automatic restart after bus-off)".into(),
+                    other => or_unknown(other.map(|ms| ms.to_string())),
+                },
+                or_unknown(bitrate.map(|b| b.to_string())),
+            )
+        }
+        Evidence::NoController { iface } => {
+            format!("{iface} is a virtual interface: no controller, so no controller state or error counters")
+        }
+        Evidence::ErrorFrames { iface, counts: c } => {
+            let mut parts = Vec::new();
+            for (n, what) in [
+                (c.ack, "ACK"),
+                (c.bit, "bit"),
+                (c.stuff, "stuff"),
+                (c.form, "form"),
+                (c.warning, "warning-level"),
+                (c.passive, "error-passive"),
+                (c.bus_off, "bus-off"),
+                (c.restarted, "restarted"),
+            ] {
+                if n > 0 {
+                    parts.push(format!("{n} {what}"));
+                }
+            }
+            let counters = c.counters.map(|(tx, rx)| format!("; last counters tx {tx}, rx {rx}")).unwrap_or_default();
+            format!("{} error frame(s) from {iface}: {}{counters}", c.frames, parts.join(", "))
+        }
+        Evidence::Sweep { trials } => {
+            let each: Vec<String> = trials
+                .iter()
+                .map(|t| match (t.frames, t.errors) {
+                    (n, false) if n > 0 => format!("{}k: {n} frame(s), clean", t.kbit),
+                    (n, true) => format!("{}k: {n} frame(s), bus errors", t.kbit),
+                    _ => format!("{}k: nothing", t.kbit),
+                })
+                .collect();
+            format!("listen-only at each rate: {}", each.join("; "))
+        }
+        Evidence::NoSweep { bus } => format!(
+            "{bus} cannot change its bit rate for a sweep; for a CAN interface try each rate by hand, listen-only: \
+             sudo ip link set IFACE down; sudo ip link set IFACE up type can bitrate RATE listen-only on; canctl \
+             monitor"
+        ),
+        Evidence::QueueFull { iface, frames } => format!(
+            "{frames} frame(s) found {iface}'s transmit queue full (ENOBUFS) and waited for room; ip -details link \
+             show {iface} says its qlen"
+        ),
     }
+}
+
+fn can_state_text(s: CanState) -> String {
+    match s {
+        CanState::ErrorActive => "error-active",
+        CanState::ErrorWarning => "error-warning",
+        CanState::ErrorPassive => "error-passive",
+        CanState::BusOff => "bus-off",
+        CanState::Stopped => "stopped",
+        CanState::Sleeping => "sleeping",
+    }
+    .into()
 }
 
 fn heading(d: &Diagnosis) -> String {

@@ -24,6 +24,8 @@ pub struct SlcanAdapter {
     bus_kbit: u32,
     kbit: Option<u32>,
     open: bool,
+    /// Opened with `L`: it hears the bus but sends nothing.
+    listen_only: bool,
     timestamps: bool,
     started: Instant,
     line: Vec<u8>,
@@ -53,6 +55,7 @@ impl SlcanAdapter {
             bus_kbit,
             kbit: None,
             open: false,
+            listen_only: false,
             timestamps: false,
             started: Instant::now(),
             line: Vec::new(),
@@ -94,8 +97,9 @@ impl SlcanAdapter {
                 self.kbit = wire::BIT_RATES.iter().find(|(c, _)| *c == code).map(|(_, k)| *k);
                 Message::Ok
             }
-            Ok(Some(Command::Open)) if !self.open && self.kbit.is_some() => {
+            Ok(Some(cmd @ (Command::Open | Command::ListenOnly))) if !self.open && self.kbit.is_some() => {
                 self.open = true;
+                self.listen_only = cmd == Command::ListenOnly;
                 Message::Ok
             }
             Ok(Some(Command::Close)) if self.open => {
@@ -109,7 +113,7 @@ impl SlcanAdapter {
                 self.timestamps = on;
                 Message::Ok
             }
-            Ok(Some(Command::Transmit(f))) if self.open => {
+            Ok(Some(Command::Transmit(f))) if self.open && !self.listen_only => {
                 if self.on_bus() && fault != Some(FaultKind::Drop) {
                     self.rx.push_back(f);
                 } else if !self.on_bus() {
@@ -171,6 +175,10 @@ impl FrameLink for SlcanAdapter {
     /// A frame from the devices, to the host.
     fn send(&mut self, frame: &Frame) -> Result<()> {
         if !self.on_bus() {
+            // Traffic at another bit rate decodes as nothing but bus errors.
+            if self.open {
+                self.flags |= WRONG_RATE_FLAGS;
+            }
             return Ok(());
         }
         let mut bytes = Message::Frame(*frame).encode();

@@ -31,6 +31,9 @@ pub enum Command {
     BitRate(u8),
     /// `O`: open the channel.
     Open,
+    /// `L`: open the channel listen-only: the adapter neither sends nor acknowledges, so
+    /// a trial at a wrong bit rate disturbs nobody.
+    ListenOnly,
     /// `C`: close the channel.
     Close,
     /// `F`: read the status flags.
@@ -51,6 +54,7 @@ impl Command {
         let mut out = match self {
             Command::BitRate(code) => format!("S{code}"),
             Command::Open => "O".into(),
+            Command::ListenOnly => "L".into(),
             Command::Close => "C".into(),
             Command::Status => "F".into(),
             Command::Version => "V".into(),
@@ -164,6 +168,7 @@ pub(crate) fn decode_command(line: &[u8]) -> Result<Option<Command>, WireError> 
     Ok(Some(match line {
         [b'S', code @ b'0'..=b'8'] => Command::BitRate(code - b'0'),
         b"O" => Command::Open,
+        b"L" => Command::ListenOnly,
         b"C" => Command::Close,
         b"F" => Command::Status,
         b"V" => Command::Version,
@@ -282,6 +287,8 @@ mod tests {
     #[test]
     fn commands_as_lawicel_defines_them() {
         assert_eq!(Command::BitRate(6).encode(), b"S6\r");
+        assert_eq!(Command::ListenOnly.encode(), b"L\r");
+        assert_eq!(decode_command(b"L"), Ok(Some(Command::ListenOnly)));
         assert_eq!(Command::Open.encode(), b"O\r");
         assert_eq!(Command::Close.encode(), b"C\r");
         assert_eq!(Command::Status.encode(), b"F\r");

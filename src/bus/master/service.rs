@@ -64,6 +64,12 @@ impl<L: FrameLink> Bus for Master<L> {
     fn check_link(&mut self) -> Result<()> {
         self.link.check()
     }
+    fn link_report(&mut self) -> Option<crate::bus::controller::LinkReport> {
+        self.link.report()
+    }
+    fn listen_at(&mut self, kbit: u32, window: Duration) -> Result<Option<crate::bus::controller::RateHeard>> {
+        self.link.listen_at(kbit, window)
+    }
 
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
         // A link hands over frames already queued even past the deadline; on a bus that

@@ -8,9 +8,11 @@
 //! guarding remote requests, and listening. Every wait is bounded by the listen window or
 //! the per-request timeout ([`DoctorOptions`]).
 
+mod controller;
 mod epos2;
 mod lss;
 mod report;
+pub mod sweep;
 
 pub(crate) use epos2::bit_rate_index as epos2_bit_rate_index;
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
@@ -154,6 +156,7 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
             _ => return Err(e),
         },
     }
+    controller::examine(bus, &mut d);
     d.findings.sort_by_key(|f| f.cause.rank());
     d.ok = d.findings.is_empty();
     Ok(d)

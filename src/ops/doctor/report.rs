@@ -1,6 +1,7 @@
 //! What doctor reports: the findings, each a [`Cause`] with its [`Evidence`] and
 //! [`Remedy`], and what was found fine. Typed, for any front end to word.
 
+use crate::bus::controller::{CanState, ErrorFrameCounts, RateHeard};
 use crate::canopen::nmt;
 use crate::canopen::ObjAddr;
 use crate::ops::clash;
@@ -105,6 +106,17 @@ pub enum Cause {
         /// Its error register 0x1001.
         register: u8,
     },
+    /// The controller's error frames show only frames nobody acknowledged: no other
+    /// device is powered, or the bus is not terminated.
+    NothingAcknowledges,
+    /// The controller's error frames show bit, stuff or form errors: frames are destroyed
+    /// on the bus (a device at another bit rate, or the wiring).
+    SignalErrors,
+    /// The bus's traffic decodes cleanly at another bit rate than the link's (a sweep).
+    OtherBitRate {
+        /// The rate it decodes at, in kbit/s.
+        kbit: u32,
+    },
 }
 
 impl Cause {
@@ -123,6 +135,9 @@ impl Cause {
             // Before a silent node or bus, which it explains.
             Cause::LssUnconfigured { .. } => 2,
             Cause::Epos2CanErrors { .. } => 1,
+            Cause::NothingAcknowledges | Cause::SignalErrors => 1,
+            // Names the rate, where the controller's errors only say that it is wrong.
+            Cause::OtherBitRate { .. } => 1,
         }
     }
 }
@@ -299,6 +314,50 @@ pub enum Evidence {
         /// How long it waited.
         waited_ms: u64,
     },
+    /// The CAN controller's own report (netlink): its state and counters.
+    ControllerReport {
+        /// The interface.
+        iface: String,
+        /// Its state, if it said.
+        state: Option<CanState>,
+        /// The transmit error counter.
+        tx_errors: Option<u16>,
+        /// The receive error counter.
+        rx_errors: Option<u16>,
+        /// The automatic restart after bus-off in ms (0: none), if it said.
+        restart_ms: Option<u32>,
+        /// Its bit rate, if it said.
+        bitrate: Option<u32>,
+    },
+    /// The interface is virtual (vcan): there is no controller to report a state.
+    NoController {
+        /// The interface.
+        iface: String,
+    },
+    /// The error frames the controller reported, counted by what they said.
+    ErrorFrames {
+        /// The interface.
+        iface: String,
+        /// The counts.
+        counts: ErrorFrameCounts,
+    },
+    /// A listen-only sweep: what each bit rate heard.
+    Sweep {
+        /// Each rate tried, fastest first.
+        trials: Vec<RateHeard>,
+    },
+    /// The link cannot change its bit rate for a sweep (a CAN interface, a gateway).
+    NoSweep {
+        /// The bus.
+        bus: String,
+    },
+    /// Frames found the interface's transmit queue full (ENOBUFS) and waited for room.
+    QueueFull {
+        /// The interface.
+        iface: String,
+        /// How many frames waited.
+        frames: u32,
+    },
 }
 
 /// How many frames of one COB-ID were heard.
@@ -369,5 +428,24 @@ pub enum Remedy {
     CheckNodeOrLss {
         /// The node.
         node: u8,
+    },
+    /// The controller stays bus-off (restart-ms is 0): once the cause is fixed, let it
+    /// restart by itself (`ip link set IFACE type can restart-ms 100`).
+    AutoRestart {
+        /// The interface.
+        iface: String,
+    },
+    /// Nothing acknowledges: power another device, terminate the bus (120 Ω at each end).
+    CheckTermination,
+    /// Frames are destroyed: check every device's bit rate against the interface's, then
+    /// the wiring.
+    CheckBitRate {
+        /// The interface's bit rate, if its controller said.
+        bitrate: Option<u32>,
+    },
+    /// Open the link at the rate the bus's traffic decodes at.
+    UseBitRate {
+        /// The rate, in kbit/s.
+        kbit: u32,
     },
 }
