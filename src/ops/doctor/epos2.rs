@@ -51,7 +51,7 @@ fn judge(error_register: Option<u8>, bit_rate_code: Option<u16>, d: &mut Diagnos
 
 /// The CiA 305 bit-rate index of an EPOS2 0x2001 code; `None` for 9 (it detects the bus's
 /// rate) and codes it does not have.
-pub(crate) fn bit_rate_index(code: u16) -> Option<u8> {
+pub fn bit_rate_index(code: u16) -> Option<u8> {
     (0..=8).find(|i| crate::ops::lss::epos2_bit_rate_code(*i) == Some(code))
 }
 

@@ -14,7 +14,7 @@ mod lss;
 mod report;
 pub mod sweep;
 
-pub(crate) use epos2::bit_rate_index as epos2_bit_rate_index;
+pub use epos2::bit_rate_index as epos2_bit_rate_index;
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
 
 use crate::bus::{Bus, SdoOptions};
