@@ -99,3 +99,14 @@ fn several_nodes_at_once_give_one_junit_case_each_and_the_silent_one_does_not_st
     let id = canctl::canopen::program::image_id(&canctl::sim::profiles::domain_pattern(2000));
     assert_eq!(status["programs"][0]["software_id"], id, "{status}");
 }
+
+#[test]
+fn a_failed_node_in_a_batch_is_named_once() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
+    let app = image(&sim, 2000);
+    let run = sim.run(&["--timeout", "200ms", "firmware", "download", "42,9", &app, "--no-diagnose"]);
+    assert_eq!(run.code, 3, "{}{}", run.stdout, run.stderr);
+    assert!(run.stdout.contains("node 42: did not answer"), "{}", run.stdout);
+    assert!(!run.stdout.contains("node 42: node 42"), "{}", run.stdout);
+}

@@ -135,8 +135,11 @@ impl Report for Batch {
             if let Some(r) = &n.report {
                 parts.push(r.human());
             }
-            if let Some(e) = &n.error {
-                parts.push(Human::Line(format!("node {}: {}", n.node, unfinished_text(e))));
+            // Under its report the node is named already (and most errors name it too).
+            match (&n.error, &n.report) {
+                (Some(e), Some(_)) => parts.push(Human::Line(unfinished_text(e))),
+                (Some(e), None) => parts.push(Human::Line(format!("node {}: {}", n.node, unfinished_text(e)))),
+                (None, _) => {}
             }
         }
         let rows = self
