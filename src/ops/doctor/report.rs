@@ -136,8 +136,9 @@ impl Cause {
             Cause::LssUnconfigured { .. } => 2,
             Cause::Epos2CanErrors { .. } => 1,
             Cause::NothingAcknowledges | Cause::SignalErrors => 1,
-            // Names the rate, where the controller's errors only say that it is wrong.
-            Cause::OtherBitRate { .. } => 1,
+            // Names the rate, where the controller's errors only say that it is wrong: before
+            // them (a host problem would have kept the sweep from running at all).
+            Cause::OtherBitRate { .. } => 0,
         }
     }
 }
