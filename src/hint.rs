@@ -99,7 +99,9 @@ impl Hint {
             Error::NoFreeNodeId { .. } => Some(Hint::LowerStart),
             Error::OtherDevice { .. } => Some(Hint::ForceOtherDevice),
             Error::NoAnswer { what: Service::AfterReset, .. } => Some(Hint::CheckOrWaitLonger),
-            Error::LssSetIdUnknown { identity, .. } => Some(Hint::InquireNodeId(*identity)),
+            Error::LssSetIdUnknown { identity, .. } | Error::LssStillConfiguring { identity, .. } => {
+                Some(Hint::InquireNodeId(*identity))
+            }
             Error::DriveStopped { why: DriveStop::FaultPresent, .. } => Some(Hint::FaultReset),
             Error::DriveStopped { why: DriveStop::FaultRemains, .. } => Some(Hint::DriveErrors),
             Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } => Some(Hint::LongerStep),

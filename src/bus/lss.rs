@@ -3,7 +3,9 @@
 //! when they go missing or come late, is `canopen::lss` (its `sequences` and `policy`).
 
 use super::{Bus, LssWait};
-use crate::canopen::lss::{self, Configured, Fastscan, FastscanError, FastscanNext, Identity, Pace, Request, Response};
+use crate::canopen::lss::{
+    self, Configured, Fastscan, FastscanError, FastscanNext, Identity, Inquiry, Pace, Request, Response,
+};
 use crate::error::{Error, Result};
 use std::collections::BTreeSet;
 use std::time::Duration;
@@ -250,6 +252,40 @@ impl LssMaster<'_> {
         }
     }
 
+    /// Send the device given `node` back to waiting state, and make sure it went. The switch
+    /// is unconfirmed and may be lost: a device left in configuration state would take the
+    /// node-id meant for the next device found (two devices on one id), or, where it takes
+    /// part in fastscan there (durand), be found and numbered again. It went when it boots
+    /// with `node`, or when nothing answers "inquire node-id", which only devices in
+    /// configuration state answer. Sent again a bounded number of times.
+    fn back_to_waiting(&mut self, identity: Identity, node: u8) -> Result<()> {
+        for _ in 0..=lss::REPEATS {
+            self.bus.observed().boot_ups.remove(&node);
+            self.leave()?;
+            if self.boots_as(node)? {
+                return Ok(());
+            }
+            if self.ask(Request::Inquire(Inquiry::NodeId), LssWait::First)?.is_empty() {
+                return Ok(());
+            }
+        }
+        Err(Error::LssStillConfiguring { identity, node, tries: lss::REPEATS + 1 })
+    }
+
+    /// Whether the boot-up of `node` is heard within the timeout (a device may beat its
+    /// heartbeat with the new node-id before it has left configuration state).
+    fn boots_as(&mut self, node: u8) -> Result<bool> {
+        let end = self.bus.now() + self.timeout;
+        loop {
+            if self.bus.observed().boot_ups.contains(&node) {
+                return Ok(true);
+            }
+            if self.bus.recv_frame(end)?.is_none() {
+                return Ok(false);
+            }
+        }
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn assign_each(
         &mut self,
@@ -264,6 +300,7 @@ impl LssMaster<'_> {
         // Searches in a row that found nobody: one lost answer must not be taken for "every
         // device has a node-id" (exit 0), so silence is believed only when it repeats.
         let mut silent = 0;
+        let mut found_again = 0;
         loop {
             let Some(scan) = self.fastscan(out.pace.clone(), given, keep_going)? else {
                 out.interrupted = true;
@@ -286,6 +323,21 @@ impl LssMaster<'_> {
                 }
             };
             silent = 0;
+            // Found again: the device numbered before did not leave configuration state
+            // (the switches back were lost, or its answers to the inquiry). It is the same
+            // device: it gets its node-id again, is sent back, and is reported once.
+            if let Some(first) = out.assigned.iter().find(|d| d.identity == identity).map(|d| d.node) {
+                found_again += 1;
+                let again = match found_again > lss::REPEATS {
+                    true => Err(Error::LssStillConfiguring { identity, node: first, tries: found_again }),
+                    false => self.set_id(identity, first).and_then(|_| self.back_to_waiting(identity, first)),
+                };
+                if let Err(e) = again {
+                    out.failure = Some(AssignFailure::Refused(e));
+                    return Ok(());
+                }
+                continue;
+            }
             // Ids seen meanwhile (a heartbeat, a boot-up) are taken too.
             used.extend(self.bus.observed().node_ids());
             let Some(node) = (start..=127).find(|n| !used.contains(n)) else {
@@ -307,9 +359,14 @@ impl LssMaster<'_> {
             } else {
                 Err(NotStored::NotAsked)
             };
-            self.leave()?;
             used.insert(node);
             let done = Assigned { identity, node, stored };
+            if let Err(e) = self.back_to_waiting(identity, node) {
+                each(&done);
+                out.assigned.push(done);
+                out.failure = Some(AssignFailure::Refused(e));
+                return Ok(());
+            }
             each(&done);
             out.assigned.push(done);
         }

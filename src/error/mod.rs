@@ -537,6 +537,21 @@ pub enum Error {
         /// How many buses were worked.
         total: usize,
     },
+    /// `lss assign` gave a device a node-id, and it still answered in LSS configuration state
+    /// however often it was sent back to waiting: it holds `node` but has not taken it up
+    /// (it boots with it when it leaves configuration state, or at its next power cycle).
+    #[error(
+        "{identity}, given node {node}, still answers in LSS configuration state after being sent back to \
+         waiting {tries} times; it takes node {node} up when it leaves (power-cycle it if it stays there)"
+    )]
+    LssStillConfiguring {
+        /// The device's LSS identity.
+        identity: Identity,
+        /// The node-id it was given.
+        node: u8,
+        /// How many times it was sent back.
+        tries: u32,
+    },
 }
 
 /// What a failure means for the user, and so how the process ends. The README's
@@ -622,7 +637,7 @@ impl Error {
             | Error::LssSetIdUnknown { .. }
             | Error::Epos2NoCanAnswer { .. }
             | Error::AdapterNoAnswer { .. } => C::Timeout,
-            Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } => C::Link,
+            Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } | Error::LssStillConfiguring { .. } => C::Link,
             Error::Fastscan { .. } => C::Timeout,
             Error::SdoAbort { .. }
             | Error::LssRefused { .. }

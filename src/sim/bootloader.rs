@@ -98,7 +98,7 @@ pub fn model(block_transfer: bool) -> Model {
         block_transfer,
         guarding: false,
         ignored_writes: vec![],
-        lss: SlaveCaps { store: false, bit_timing: false },
+        lss: SlaveCaps { store: false, bit_timing: false, fastscan_in_configuration: false },
         moving: false,
         pad_pdos: false,
         fault: None,

@@ -87,7 +87,7 @@ pub(crate) fn sensor_motion(now_ms: u64) -> (i32, i16) {
     }
 }
 
-const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true };
+const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true, fastscan_in_configuration: false };
 
 /// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
 #[cfg(test)]
@@ -96,7 +96,7 @@ pub(crate) fn demo_network() -> Vec<(Model, Option<u8>)> {
 }
 
 /// The serial of the `i`-th (from 0) demo sensor waiting for a node-id.
-pub(crate) fn unconfigured_serial(i: u8) -> u32 {
+pub fn unconfigured_serial(i: u8) -> u32 {
     UNCONFIGURED_SERIALS[0] + i as u32
 }
 
@@ -446,7 +446,7 @@ pub fn stepper() -> Model {
         guarding: true,
         ignored_writes: vec![ObjAddr::new(0x1006, 0)],
         // Seed 003: the bit rate comes from DIP switches, and nothing about storing.
-        lss: SlaveCaps { store: false, bit_timing: false },
+        lss: SlaveCaps { store: false, bit_timing: false, fastscan_in_configuration: false },
         moving: false,
         pad_pdos: false,
         fault: Some(fault),

@@ -28,6 +28,10 @@ pub(crate) enum SlaveEvent {
 pub struct SlaveCaps {
     pub store: bool,
     pub bit_timing: bool,
+    /// durand 0.5's way: a node-id given applies only on the switch back to waiting, and
+    /// until then the device takes part in fastscan in configuration state too (CiA 305
+    /// has only devices in waiting state take part; CANopenNode keeps to it).
+    pub fastscan_in_configuration: bool,
 }
 
 /// The slave side (CiA 305), for the simulated devices.
@@ -41,15 +45,34 @@ pub(crate) struct Slave {
     /// Identify remote slave: which of the six range checks have passed.
     identify: u8,
     fastscan_pos: u8,
+    /// It had no node-id when it entered configuration state (durand's fastscan asks that).
+    entered_unnumbered: bool,
 }
 
 impl Slave {
     pub fn new(identity: Identity, caps: SlaveCaps) -> Slave {
-        Slave { identity, state: SlaveState::Waiting, caps, selective: 0, identify: 0, fastscan_pos: 0 }
+        Slave {
+            identity,
+            state: SlaveState::Waiting,
+            caps,
+            selective: 0,
+            identify: 0,
+            fastscan_pos: 0,
+            entered_unnumbered: false,
+        }
     }
 
     /// One request; `node_id` is the device's current one (`UNCONFIGURED` for none).
     pub fn handle(&mut self, req: Request, node_id: u8) -> (Option<Response>, Option<SlaveEvent>) {
+        let was = self.state;
+        let done = self.respond(req, node_id);
+        if was == SlaveState::Waiting && self.state == SlaveState::Configuration {
+            self.entered_unnumbered = node_id == UNCONFIGURED;
+        }
+        done
+    }
+
+    fn respond(&mut self, req: Request, node_id: u8) -> (Option<Response>, Option<SlaveEvent>) {
         let configuring = self.state == SlaveState::Configuration;
         match req {
             Request::SwitchGlobal { configuration } => {
@@ -129,7 +152,11 @@ impl Slave {
 
     fn fastscan(&mut self, id: u32, bit: u8, sub: u8, next: u8, node_id: u8) -> (Option<Response>, Option<SlaveEvent>) {
         // Only non-configured devices in waiting state take part.
-        if node_id != UNCONFIGURED || self.state != SlaveState::Waiting {
+        let takes_part = match self.state {
+            SlaveState::Waiting => node_id == UNCONFIGURED,
+            SlaveState::Configuration => self.caps.fastscan_in_configuration && self.entered_unnumbered,
+        };
+        if !takes_part {
             return (None, None);
         }
         if bit == FASTSCAN_RESET {
@@ -175,7 +202,8 @@ mod tests {
                 [0x43, 0x34, 0x12, 0x50, 0x09, 0, 0, 0],
             ]
         );
-        let mut slave = Slave::new(sensor(), SlaveCaps { store: true, bit_timing: true });
+        let mut slave =
+            Slave::new(sensor(), SlaveCaps { store: true, bit_timing: true, fastscan_in_configuration: false });
         let mut answers = vec![];
         for f in &frames {
             answers.push(slave.handle(Request::decode(f).unwrap(), 5).0);

@@ -7,7 +7,7 @@ use crate::canopen::lss::slave::{Slave, SlaveCaps, SlaveState};
 use crate::canopen::lss::wire::UNCONFIGURED;
 
 const MS: Duration = Duration::from_millis(1);
-const CAPS: SlaveCaps = SlaveCaps { store: true, bit_timing: true };
+const CAPS: SlaveCaps = SlaveCaps { store: true, bit_timing: true, fastscan_in_configuration: false };
 
 fn three() -> [Identity; 3] {
     [
