@@ -177,3 +177,41 @@ fn a_device_that_never_leaves_configuration_state_ends_the_assignment() {
     assert!(matches!(e, canctl::Error::LssStillConfiguring { node: 20, .. }), "{e:?}");
     assert_eq!(e.exit_code(), 5, "{e}");
 }
+
+/// `network apply` gives each listed device its node-id by its identity, one after the
+/// other: a device left in configuration state by a lost switch back would take the next
+/// one's node-id too.
+#[test]
+fn network_apply_with_a_lost_switch_back_gives_each_device_its_own_node_id() {
+    let config = SimConfig::default().seed(3).unconfigured(5).virtual_time(true);
+    let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
+    let link = LosesSwitchBack { sim, lose: |n| n == 1, lose_inquiries: 0, after_set_id: false, seen: 0 };
+    let mut master = Master::new(link, "sim".into());
+    let project = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sim-machine/nodelist.cpj");
+    let o = ops::network::ApplyOptions {
+        config: ops::config::ApplyOptions::new(Duration::from_millis(200)),
+        assign: true,
+        window: Duration::from_millis(300),
+        boot_wait: Duration::from_secs(2),
+        jobs: 1,
+        reset: false,
+        interrupted: Cancel::new(),
+    };
+    let applied = ops::network::apply(&mut master, &ops::network::load(&project).unwrap(), &o, &mut Silent).unwrap();
+    Bus::close(&mut master).unwrap();
+    let held: Vec<(Option<u8>, bool)> = master
+        .link_mut()
+        .sim
+        .network()
+        .devices()
+        .iter()
+        .map(|d| (d.node_id(), d.snapshot().lss_configuration))
+        .collect();
+    let mut ids: Vec<u8> = held.iter().filter_map(|(n, _)| *n).collect();
+    let all = ids.len();
+    ids.sort();
+    ids.dedup();
+    assert_eq!(ids.len(), all, "two devices hold one node-id: {held:?}");
+    assert!(held.iter().all(|(_, configuring)| !configuring), "left in configuration state: {held:?}");
+    assert!(applied.failure.is_none(), "{:?}", applied.failure);
+}

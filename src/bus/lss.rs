@@ -258,7 +258,7 @@ impl LssMaster<'_> {
     /// part in fastscan there (durand), be found and numbered again. It went when it boots
     /// with `node`, or when nothing answers "inquire node-id", which only devices in
     /// configuration state answer. Sent again a bounded number of times.
-    fn back_to_waiting(&mut self, identity: Identity, node: u8) -> Result<()> {
+    pub(crate) fn back_to_waiting(&mut self, identity: Identity, node: u8) -> Result<()> {
         for _ in 0..=lss::REPEATS {
             self.bus.observed().boot_ups.remove(&node);
             self.leave()?;
@@ -273,8 +273,12 @@ impl LssMaster<'_> {
     }
 
     /// Whether the boot-up of `node` is heard within the timeout (a device may beat its
-    /// heartbeat with the new node-id before it has left configuration state).
+    /// heartbeat with the new node-id before it has left configuration state). A bus that
+    /// passes on only answers (an EPOS2 gateway) shows no boot-up.
     fn boots_as(&mut self, node: u8) -> Result<bool> {
+        if !self.bus.sees_traffic() {
+            return Ok(false);
+        }
         let end = self.bus.now() + self.timeout;
         loop {
             if self.bus.observed().boot_ups.contains(&node) {

@@ -115,8 +115,12 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
         .enter(Some(identity))
         .and_then(|_| m.configure(Request::ConfigureNodeId(node), "set-id", false))
         .and_then(|_| m.configure(Request::StoreConfiguration, "store", false));
-    // Back in waiting state the device takes its new node-id and boots.
-    let left = m.leave();
+    // Back in waiting state the device takes its new node-id and boots; left in
+    // configuration state (the switch lost), it would take the next device's node-id too.
+    let left = match result {
+        Ok(_) => m.back_to_waiting(*identity, node),
+        Err(_) => m.leave(),
+    };
     result?;
     left?;
     let deadline = bus.now() + o.boot_wait;
