@@ -250,6 +250,9 @@ fn slcan(
     let rate = sim.network().bit_rate();
     let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
     let mut adapter = super::slcan_serve::SlcanAdapter::create(kbit, faults.to_vec())?;
+    if super::faults::bus_off(&sim.network().config().faults) {
+        adapter = adapter.bus_off();
+    }
     ready(&Serving::Slcan { pty: adapter.path().to_string(), bit_rate: rate })?;
     Ok(super::bridge::run(sim, &mut adapter, log)?)
 }
