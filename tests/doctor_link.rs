@@ -91,3 +91,16 @@ fn a_bus_off_adapter_reports_its_bus_errors() {
     assert_eq!(read.code, 5, "{}{}", read.stdout, read.stderr);
     assert!(read.stderr.contains("bus error"), "{}", read.stderr);
 }
+
+/// Behind a CAN interface or an EPOS2 the controller is not the simulator's: serving the
+/// devices there with bus:off would hide the fault, so `canctl sim` refuses (a usage error).
+#[test]
+fn bus_off_is_served_only_where_it_is_modelled() {
+    let sim = common::Sim::new();
+    sim.run(&["sim", "reset", "--fault", "bus:off"]).ok();
+    for how in [&["--socketcan", "nosuch0"][..], &["--epos2-usb"][..]] {
+        let r = sim.run(&[&["sim"][..], how].concat());
+        assert_eq!(r.code, 2, "{how:?}: {}{}", r.stdout, r.stderr);
+        assert!(r.stderr.contains("bus:off"), "{how:?}: {}", r.stderr);
+    }
+}
