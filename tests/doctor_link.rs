@@ -48,3 +48,59 @@ fn without_sweep_no_rate_is_tried() {
     assert_eq!(r.code, 6, "{}{}", r.stdout, r.stderr);
     assert!(!r.stdout.contains("listen-only at each rate"), "{}", r.stdout);
 }
+
+/// `--fault bus:off` on `--bus sim`: the link reports bus-off as a SocketCAN interface does
+/// (its error, the controller's state, the bus-off error frame); doctor names it, and a
+/// command that needs the bus fails as a link failure whose diagnosis is the bus-off.
+#[test]
+fn a_bus_off_controller_on_the_sim_bus_is_found() {
+    let sim = common::Sim::new();
+    sim.run(&["sim", "reset", "--virtual-time", "--fault", "bus:off"]).ok();
+    let r = doctor(&sim.bus(), &["5", "--format", "json"]);
+    assert_eq!(r.code, 6, "{}{}", r.stdout, r.stderr);
+    let d = r.json();
+    let first = &d["findings"][0];
+    assert_eq!((&first["cause"], &first["state"]), (&"controller".into(), &"bus_off".into()), "{d}");
+    assert_eq!(first["remedy"]["remedy"], "check_bus", "{d}");
+    let evidence = first["evidence"].as_array().unwrap();
+    assert!(evidence.iter().any(|e| e["kind"] == "controller_report" && e["state"] == "bus_off"), "{d}");
+    assert!(evidence.iter().any(|e| e["kind"] == "error_frames" && e["counts"]["bus_off"] == 1), "{d}");
+
+    let read = sim.run(&["--format", "json", "sdo", "read", "5", "0x1000"]);
+    assert_eq!(read.code, 5, "{}{}", read.stdout, read.stderr);
+    let e: serde_json::Value = serde_json::from_str(&read.stderr).expect("the error as JSON on stderr");
+    assert!(e["error"].as_str().unwrap().contains("bus-off"), "{e}");
+    assert_eq!(e["diagnosis"]["state"], "bus_off", "{e}");
+}
+
+/// The same fault behind `sim --slcan`: the adapter's controller sends and hears nothing,
+/// and its status flags (Lawicel has no bus-off flag) say error passive and bus error.
+#[test]
+fn a_bus_off_adapter_reports_its_bus_errors() {
+    let sim = common::Sim::new();
+    sim.run(&["sim", "reset", "--fault", "bus:off"]).ok();
+    let dev = common::DeviceSide::start(&sim, "--slcan", &[]);
+    let r = doctor(&dev.uri, &["--window", "300ms", "--format", "json"]);
+    assert_eq!(r.code, 6, "{}{}", r.stdout, r.stderr);
+    let d = r.json();
+    assert_eq!(d["findings"][0]["state"], "bus_errors", "{d}");
+    let seen = d["findings"][0]["evidence"][0]["message"].as_str().unwrap();
+    assert!(seen.contains("error passive") && seen.contains("bus error"), "{d}");
+
+    let read = dev.run(&["--timeout", "200ms", "sdo", "read", "5", "0x1000"]);
+    assert_eq!(read.code, 5, "{}{}", read.stdout, read.stderr);
+    assert!(read.stderr.contains("bus error"), "{}", read.stderr);
+}
+
+/// Behind a CAN interface or an EPOS2 the controller is not the simulator's: serving the
+/// devices there with bus:off would hide the fault, so `canctl sim` refuses (a usage error).
+#[test]
+fn bus_off_is_served_only_where_it_is_modelled() {
+    let sim = common::Sim::new();
+    sim.run(&["sim", "reset", "--fault", "bus:off"]).ok();
+    for how in [&["--socketcan", "nosuch0"][..], &["--epos2-usb"][..]] {
+        let r = sim.run(&[&["sim"][..], how].concat());
+        assert_eq!(r.code, 2, "{how:?}: {}{}", r.stdout, r.stderr);
+        assert!(r.stderr.contains("bus:off"), "{how:?}: {}", r.stderr);
+    }
+}

@@ -120,7 +120,8 @@ pub(crate) struct ResetArgs {
     /// answering: values not stored are lost, a boot-up follows), off (not powered: sends
     /// nothing from the start). WHEN counts the device's answers from 1: N
     /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
-    /// the default).
+    /// the default). bus:off puts the controller canctl talks through bus-off, for good
+    /// (as with restart-ms 0): it sends nothing and reports so.
     #[arg(long, value_name = "SPEC")]
     pub fault: Vec<FaultSpec>,
     /// Run commands on virtual time: a wait with nothing due ends at once, so slow devices,

@@ -40,6 +40,10 @@ pub(crate) fn serve_refusal(e: &ServeError) -> Option<String> {
              go to `canctl sim reset --fault`"
         ),
         ServeError::Failed(_) => return None,
+        ServeError::BusOffElsewhere => "the fault bus:off is modelled on --bus sim itself and behind `sim --slcan` only \
+                                        (behind a CAN interface, socketcand or an EPOS2 the controller is not the \
+                                        simulator's): use one of those, or `canctl sim reset` without it"
+            .into(),
     })
 }
 

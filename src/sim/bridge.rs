@@ -10,7 +10,8 @@ use std::time::Duration;
 /// Serve until the link fails or the process is stopped. Each frame on the interface goes
 /// to the frame trace and to `log`: what came in is received, what the devices answer is
 /// sent, seen from this side of the interface.
-pub fn run(mut sim: SimLink, can: &mut dyn FrameLink, log: Option<FrameLog>) -> Result<()> {
+pub fn run(sim: SimLink, can: &mut dyn FrameLink, log: Option<FrameLog>) -> Result<()> {
+    let mut sim = sim.devices_only();
     let iface = can.name();
     let seen = |dir: Dir, f: &crate::frame::Frame| {
         trace::frame(&iface, dir, f);

@@ -12,6 +12,9 @@
 //!   `wrong-cob[=ID]` (answers on ID, its own id + 1 unless given), `no-heartbeat` (stops
 //!   producing heartbeats, though its 0x1017 still says it does: a hung firmware task),
 //!   `off` (not powered: sends nothing from the start, where `mute` falls silent at an answer);
+//! - `bus:off` (no KIND, no WHEN: the whole fault): the controller canctl talks through is
+//!   bus-off and stays so, as a real one with `restart-ms 0` does (the kernel's automatic
+//!   restart is not modelled): it sends nothing and says so, as its link would;
 //! - WHEN: `*` every answer (the default), `N` the N-th answer only, `N+` the N-th and
 //!   every later one, `P%` each answer with probability P (drawn from the seed).
 //!
@@ -28,6 +31,8 @@ use std::str::FromStr;
 pub enum Target {
     Node(u8),
     Model(String),
+    /// The bus itself (`bus:off`): the controller of the link, not a device.
+    Bus,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,6 +96,7 @@ impl FromStr for FaultSpec {
         let usage = "write TARGET:KIND[=ARG][@WHEN], e.g. 5:drop@3, drive:delay=40, 10:abort=0x06020000@2+, 5:mute@4+";
         let (target, rest) = text.split_once(':').ok_or_else(|| format!("'{text}' is not a fault: {usage}"))?;
         let target = match target.parse::<u8>() {
+            _ if target == "bus" => Target::Bus,
             Ok(n) if (1..=127).contains(&n) => Target::Node(n),
             Ok(_) => return Err(format!("'{target}' is not a node-id: use 1 to 127 or a model key")),
             Err(_) if !target.is_empty() => Target::Model(target.to_string()),
@@ -149,6 +155,9 @@ impl FromStr for FaultSpec {
                 }
             }
         };
+        if target == Target::Bus && (kind != Kind::Off || when != When::Always) {
+            return Err(format!("'{text}': the bus takes only bus:off (its controller bus-off, from the start)"));
+        }
         Ok(FaultSpec { target, kind, when })
     }
 }
@@ -158,6 +167,7 @@ impl fmt::Display for FaultSpec {
         match &self.target {
             Target::Node(n) => write!(f, "{n}:")?,
             Target::Model(m) => write!(f, "{m}:")?,
+            Target::Bus => write!(f, "bus:")?,
         }
         match self.kind {
             Kind::Drop => write!(f, "drop")?,
@@ -200,7 +210,10 @@ impl From<FaultSpec> for String {
 /// Why a fault concerns none of `devices` (model key, node-id), if one does not: a fault
 /// for node 99 on a network without it would be accepted and never fire.
 pub(crate) fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) -> Option<String> {
-    let fault = faults.iter().find(|f| !devices.iter().any(|(key, node)| f.applies_to(key, *node)))?;
+    let fault = faults
+        .iter()
+        .filter(|f| f.target != Target::Bus)
+        .find(|f| !devices.iter().any(|(key, node)| f.applies_to(key, *node)))?;
     let nodes: Vec<String> = devices.iter().filter_map(|(_, n)| n.map(|n| n.to_string())).collect();
     let keys: Vec<&str> = devices.iter().map(|(k, _)| k.as_str()).collect();
     Some(format!(
@@ -208,10 +221,16 @@ pub(crate) fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) 
         match &fault.target {
             Target::Node(n) => format!("node {n}"),
             Target::Model(m) => format!("'{m}'"),
+            Target::Bus => "the bus".into(),
         },
         nodes.join(", "),
         keys.join(", ")
     ))
+}
+
+/// Whether these faults put the bus's controller bus-off (`bus:off`).
+pub(crate) fn bus_off(faults: &[FaultSpec]) -> bool {
+    faults.iter().any(|f| f.target == Target::Bus)
 }
 
 impl FaultSpec {
@@ -219,6 +238,7 @@ impl FaultSpec {
         match &self.target {
             Target::Node(n) => node == Some(*n),
             Target::Model(m) => m == model,
+            Target::Bus => false,
         }
     }
 
@@ -476,6 +496,19 @@ mod tests {
     fn wrong_cob_moves_the_answer() {
         assert_eq!(answer(&mut conduct("5:wrong-cob"), sdo_answer())[0].1.id(), 0x586);
         assert_eq!(answer(&mut conduct("5:wrong-cob=0x123"), sdo_answer())[0].1.id(), 0x123);
+    }
+
+    #[test]
+    fn the_bus_takes_only_off() {
+        let f: FaultSpec = "bus:off".parse().unwrap();
+        assert_eq!((f.target.clone(), f.to_string()), (Target::Bus, "bus:off".to_string()));
+        assert!(bus_off(std::slice::from_ref(&f)));
+        assert!(!bus_off(&["5:off".parse().unwrap()]));
+        for bad in ["bus:drop", "bus:off@2", "bus:mute"] {
+            assert!(bad.parse::<FaultSpec>().is_err(), "{bad}");
+        }
+        // It concerns no device, and is not reported as one that matches none.
+        assert_eq!(unmatched(&[f], &[("sensor".into(), Some(5))]), None);
     }
 
     #[test]

@@ -394,6 +394,10 @@ pub struct SimLink {
     clock: Clock,
     /// A bridge to a real bus: frames take no time here.
     bus_timing_off: bool,
+    /// The master's controller is bus-off (`--fault bus:off`): what it is asked to send
+    /// never reaches the bus, and it reports so. It stays off, as a SocketCAN interface
+    /// with `restart-ms 0` does: the kernel's automatic restart is not modelled.
+    bus_off: bool,
     file: Option<state::StateFile>,
 }
 
@@ -413,7 +417,6 @@ impl SimLink {
         let bus = BusQueue::new(Self::bps_of(&net));
         let start_ms = wall_ms().max(net.resumes_at());
         SimLink {
-            net,
             bus,
             rx: VecDeque::new(),
             beats_upto: start_ms.saturating_sub(1),
@@ -421,6 +424,8 @@ impl SimLink {
             start_ms,
             clock: Clock::Real,
             bus_timing_off: false,
+            bus_off: faults::bus_off(&net.config.faults),
+            net,
             file: None,
         }
     }
@@ -438,6 +443,20 @@ impl SimLink {
         // An automatic or reserved rate is timed as the default one.
         let bps = timing::bits_per_second(net.bit_rate).or(timing::bits_per_second(DEFAULT_BIT_RATE));
         bps.filter(|_| net.config.profile.bus_timing())
+    }
+
+    /// The devices only, behind another link (an adapter, an interface): a `bus:off` fault
+    /// is that link's controller's to show, not this side's.
+    pub(crate) fn devices_only(mut self) -> SimLink {
+        self.bus_off = false;
+        self
+    }
+
+    /// The error a bus-off controller's link gives, as the SocketCAN backend's on the
+    /// kernel's bus-off error frame.
+    fn bus_off_error(&self) -> crate::error::Error {
+        let detail = "simulated: the fault bus:off; it stays bus-off, as with restart-ms 0, until the sim network is reset without it".into();
+        crate::error::LinkError::BusOff { iface: self.name(), detail }.into()
     }
 
     /// The simulated network this link is attached to.
@@ -591,6 +610,10 @@ impl SimLink {
 
 impl FrameLink for SimLink {
     fn send(&mut self, frame: &Frame) -> Result<()> {
+        // A bus-off controller sends nothing.
+        if self.bus_off {
+            return Err(self.bus_off_error());
+        }
         self.advance();
         let now = self.bus_time();
         self.bus.queue(now, Origin::Master, *frame);
@@ -603,6 +626,9 @@ impl FrameLink for SimLink {
 
     /// Stamped with the time the frame left the simulated bus.
     fn recv_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
+        if self.bus_off {
+            return Err(self.bus_off_error());
+        }
         loop {
             if let Some((f, end)) = self.rx.pop_front() {
                 return Ok(Some((f, self.at(end))));
@@ -646,6 +672,27 @@ impl FrameLink for SimLink {
 
     fn name(&self) -> String {
         "sim".into()
+    }
+
+    /// A bus-off controller reports itself as a SocketCAN one does (netlink state bus-off,
+    /// one bus-off error frame); otherwise the simulated bus has no controller to report
+    /// on. No restart-ms is reported: there is no `ip link` setting to change here (the
+    /// error's text says how it comes back), and no error counters are made up.
+    fn report(&mut self) -> Option<crate::bus::controller::LinkReport> {
+        use crate::bus::controller::{CanState, Controller, ErrorFrameCounts, LinkReport};
+        if !self.bus_off {
+            return None;
+        }
+        let bitrate = timing::bits_per_second(self.net.bit_rate).map(|b| b as u32);
+        let controller = Controller::Can {
+            state: Some(CanState::BusOff),
+            tx_errors: None,
+            rx_errors: None,
+            restart_ms: None,
+            bitrate,
+        };
+        let error_frames = ErrorFrameCounts { frames: 1, bus_off: 1, ..ErrorFrameCounts::default() };
+        Some(LinkReport { iface: self.name(), controller: Some(controller), error_frames, queue_full: 0 })
     }
 
     fn close(&mut self) -> Result<()> {

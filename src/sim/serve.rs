@@ -172,6 +172,11 @@ pub enum ServeError {
     /// Serving failed.
     #[error(transparent)]
     Failed(#[from] Error),
+    /// The network has the fault bus:off, which only the sim bus itself and the simulated
+    /// slcan adapter model: behind a CAN interface, socketcand or an EPOS2 the controller is
+    /// another's, and serving the devices as if all were well would hide the fault.
+    #[error("the fault bus:off is modelled on the sim bus itself and behind the simulated slcan adapter only")]
+    BusOffElsewhere,
 }
 
 /// Serve the network saved at `path` until the link fails or the process is stopped.
@@ -184,6 +189,9 @@ pub fn serve(
     log: Option<FrameLog>,
     ready: impl FnOnce(&Serving) -> Result<()>,
 ) -> std::result::Result<(), ServeError> {
+    if !matches!(how, Serve::Slcan { .. }) && bus_off_saved(path)? {
+        return Err(ServeError::BusOffElsewhere);
+    }
     match how {
         #[cfg(target_os = "linux")]
         Serve::SocketCan { iface } => Ok(socketcan(path, iface, log, ready)?),
@@ -199,6 +207,12 @@ pub fn serve(
         #[cfg(not(unix))]
         Serve::Slcan { .. } | Serve::Epos2 { .. } => Err(ServeError::NoPty),
     }
+}
+
+/// Whether the network saved at `path` has the fault bus:off.
+fn bus_off_saved(path: &Path) -> Result<bool> {
+    let saved = StateFile::lock(path)?.load()?;
+    Ok(saved.and_then(|s| s.config).is_some_and(|c| super::faults::bus_off(&c.faults)))
 }
 
 #[cfg(target_os = "linux")]
@@ -250,6 +264,9 @@ fn slcan(
     let rate = sim.network().bit_rate();
     let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
     let mut adapter = super::slcan_serve::SlcanAdapter::create(kbit, faults.to_vec())?;
+    if super::faults::bus_off(&sim.network().config().faults) {
+        adapter = adapter.bus_off();
+    }
     ready(&Serving::Slcan { pty: adapter.path().to_string(), bit_rate: rate })?;
     Ok(super::bridge::run(sim, &mut adapter, log)?)
 }

@@ -38,6 +38,13 @@ pub struct SlcanAdapter {
     /// adapter): a frame sent at another rate than the bus's is acknowledged by nobody,
     /// and the controller counts its way to error passive.
     flags: u8,
+    /// Its controller is bus-off (`--fault bus:off`): it neither sends nor receives. A frame
+    /// to send is taken (`z`, as a CANable's bxCAN fills a mailbox) and never leaves, so the
+    /// host sees silence and then the flags, as from a real one. Lawicel's
+    /// `F` has no bus-off flag: it reports what an SJA1000 adapter raises on the way there,
+    /// error warning, error passive and bus error, on every read, since the state lasts
+    /// (restart-ms 0: no automatic restart is modelled).
+    bus_off: bool,
 }
 
 /// What an SJA1000-based adapter reports after sending at the wrong bit rate: error
@@ -63,7 +70,14 @@ impl SlcanAdapter {
             faults,
             count: 0,
             flags: 0,
+            bus_off: false,
         })
+    }
+
+    /// Its controller bus-off from the start, and for good (see the field's comment).
+    pub fn bus_off(mut self) -> SlcanAdapter {
+        self.bus_off = true;
+        self
     }
 
     /// The pty the host opens (`/dev/pts/N`).
@@ -106,7 +120,10 @@ impl SlcanAdapter {
                 self.open = false;
                 Message::Ok
             }
+            Ok(Some(Command::Status)) if self.bus_off => Message::Status(Status(WRONG_RATE_FLAGS)),
             Ok(Some(Command::Status)) => Message::Status(Status(std::mem::take(&mut self.flags))),
+            // Taken, never sent: the controller is bus-off.
+            Ok(Some(Command::Transmit(_))) if self.bus_off && self.open && !self.listen_only => Message::Sent,
             Ok(Some(Command::Version)) => Message::Version("1013".into()),
             Ok(Some(Command::Serial)) => Message::Serial("SIM1".into()),
             Ok(Some(Command::Timestamps(on))) if !self.open => {
@@ -174,6 +191,9 @@ impl SlcanAdapter {
 impl FrameLink for SlcanAdapter {
     /// A frame from the devices, to the host.
     fn send(&mut self, frame: &Frame) -> Result<()> {
+        if self.bus_off {
+            return Ok(()); // a bus-off controller hears nothing
+        }
         if !self.on_bus() {
             // Traffic at another bit rate decodes as nothing but bus errors.
             if self.open {

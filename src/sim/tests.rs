@@ -193,3 +193,24 @@ fn a_rebooting_device_loses_what_it_did_not_store_and_says_so_with_its_boot_up()
     let sensor = link.network().devices().iter().find(|d| d.node_id() == Some(5)).unwrap();
     assert_eq!(sensor.heartbeat_ms(), Some(40), "the write was lost with the reboot");
 }
+
+#[test]
+fn a_bus_off_controller_sends_nothing_and_reports_itself() {
+    use crate::bus::controller::{CanState, Controller};
+    let config = SimConfig::instant().fault("bus:off".parse().unwrap());
+    let mut link = SimLink::with_config(config.clone()).on_virtual_time(1_000);
+    let far = link.now() + Duration::from_secs(1);
+    let bus_off = |r: Result<()>| matches!(r, Err(crate::Error::Link(crate::error::LinkError::BusOff { .. })));
+    assert!(bus_off(link.send(&Frame::new(0x605, &READ_DEVICE_TYPE))));
+    assert!(bus_off(link.recv(far).map(|_| ())));
+    assert_eq!(link.bus_stats().frames, 0, "nothing reached the bus");
+    let report = link.report().unwrap();
+    assert!(matches!(report.controller, Some(Controller::Can { state: Some(CanState::BusOff), .. })));
+    assert_eq!(report.error_frames.bus_off, 1);
+    // Behind an adapter the devices still answer: the bus-off is the adapter's to show.
+    let mut devices = SimLink::with_config(config).on_virtual_time(1_000).devices_only();
+    devices.send(&Frame::new(0x605, &READ_DEVICE_TYPE)).unwrap();
+    let far = devices.now() + Duration::from_secs(1);
+    assert_eq!(devices.recv(far).unwrap().map(|f| f.id()), Some(0x585));
+    assert_eq!(devices.report(), None);
+}
