@@ -1,7 +1,8 @@
 //! Deterministic simulation testing: every procedure, run through the library against a
 //! seeded random simulated network (device mix, latency profile, bit rate) with a seeded
 //! fault mix (loss, delay, duplicates, short frames, corrupt answers, babble, a device
-//! muted mid-transfer, a reboot, a stop request at a random step), on virtual time. After
+//! muted mid-transfer, a reboot, a device missing canctl's frames, a stop request at a
+//! random step), on virtual time. After
 //! each run the devices are compared with the report:
 //!
 //! - the run ended within its bound in bus time;
@@ -235,6 +236,12 @@ impl Scenario {
             let target = pick(&mut rng, &NODES);
             config = config.fault(format!("{target}:reboot@{}", rng.between(1, 30)).parse().expect("a fault spec"));
         }
+        // canctl's own frames lost on the way to one device (a lossy path, a receive queue
+        // overrun): drawn after the reboot, for the same reason.
+        if rng.chance(0.1) {
+            let spec = format!("{}:miss@{}%", pick_target(&mut rng, unconfigured), pick(&mut rng, &[1, 2, 5, 20]));
+            config = config.fault(spec.parse().expect("a fault spec"));
+        }
         Scenario { seed, procedure, config, stop_after }
     }
 
@@ -243,11 +250,16 @@ impl Scenario {
     }
 }
 
-/// A fault drawn for one device of the network.
-fn fault(rng: &mut Rng, unconfigured: u8) -> String {
+/// One device of the network: a node-id, or the model key of a device waiting for one.
+fn pick_target(rng: &mut Rng, unconfigured: u8) -> String {
     let mut targets: Vec<String> = NODES.iter().map(|n| n.to_string()).collect();
     targets.extend((1..=unconfigured).map(|i| format!("sensor-095013{i:02}")));
-    let target = targets[rng.between(0, targets.len() as u64 - 1) as usize].clone();
+    targets[rng.between(0, targets.len() as u64 - 1) as usize].clone()
+}
+
+/// A fault drawn for one device of the network.
+fn fault(rng: &mut Rng, unconfigured: u8) -> String {
+    let target = pick_target(rng, unconfigured);
     let percent = pick(rng, &[1, 2, 2, 5, 20]);
     let kind = match rng.between(0, 8) {
         0 => format!("drop@{percent}%"),

@@ -118,7 +118,8 @@ pub(crate) struct ResetArgs {
     /// babble[=ID] (floods frames), abort[=CODE] (SDO answers refused), mute (falls silent),
     /// wrong-cob[=ID] (answers on another id), reboot (resets instead of
     /// answering: values not stored are lost, a boot-up follows), off (not powered: sends
-    /// nothing from the start). WHEN counts the device's answers from 1: N
+    /// nothing from the start), miss (does not hear a frame: WHEN counts the frames it
+    /// hears instead). WHEN counts the device's answers from 1: N
     /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
     /// the default). bus:off puts the controller canctl talks through bus-off, for good
     /// (as with restart-ms 0): it sends nothing and reports so.

@@ -11,7 +11,9 @@
 //!   an abort, 0x08000000 unless given), `mute` (stops sending anything, its own frames too),
 //!   `wrong-cob[=ID]` (answers on ID, its own id + 1 unless given), `no-heartbeat` (stops
 //!   producing heartbeats, though its 0x1017 still says it does: a hung firmware task),
-//!   `off` (not powered: sends nothing from the start, where `mute` falls silent at an answer);
+//!   `off` (not powered: sends nothing from the start, where `mute` falls silent at an answer),
+//!   `miss` (does not hear a frame on the bus: a receive queue overrun, a lossy path; its
+//!   WHEN counts the frames the device hears, not its answers);
 //! - `bus:off` (no KIND, no WHEN: the whole fault): the controller canctl talks through is
 //!   bus-off and stays so, as a real one with `restart-ms 0` does (the kernel's automatic
 //!   restart is not modelled): it sends nothing and says so, as its link would;
@@ -53,6 +55,9 @@ pub enum Kind {
     /// The device is not powered: it sends nothing, from the start (no heartbeat, no
     /// answer), where `mute` falls silent at an answer.
     Off,
+    /// The device does not hear a frame on the bus (its receive queue overran, or the path
+    /// to it lost the frame): WHEN counts the frames it hears, not its answers.
+    Miss,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -122,9 +127,10 @@ impl FromStr for FaultSpec {
             "no-heartbeat" => Kind::NoHeartbeat,
             "reboot" => Kind::Reboot,
             "off" => Kind::Off,
+            "miss" => Kind::Miss,
             _ => {
                 return Err(format!(
-                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat, reboot or off"
+                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat, reboot, off or miss"
                 ))
             }
         };
@@ -138,6 +144,7 @@ impl FromStr for FaultSpec {
                     | Kind::NoHeartbeat
                     | Kind::Reboot
                     | Kind::Off
+                    | Kind::Miss
             )
         {
             return Err(format!("'{name}' takes no argument"));
@@ -184,6 +191,7 @@ impl fmt::Display for FaultSpec {
             Kind::NoHeartbeat => write!(f, "no-heartbeat")?,
             Kind::Reboot => write!(f, "reboot")?,
             Kind::Off => write!(f, "off")?,
+            Kind::Miss => write!(f, "miss")?,
         }
         match self.when {
             When::Always => Ok(()),
@@ -266,6 +274,8 @@ pub(crate) struct Conduct {
     last_mux: [u8; 3],
     /// A reboot fault fired: the device reboots instead of answering.
     reboot: bool,
+    /// Frames heard so far (what a miss fault's WHEN counts).
+    heard: u32,
 }
 
 impl Conduct {
@@ -280,8 +290,22 @@ impl Conduct {
         std::mem::take(&mut self.reboot)
     }
 
+    /// A frame on the bus reaches the device: whether it hears it (a miss fault), and what
+    /// an abort names if it does.
+    pub fn hears(&mut self, request: &Frame, model: &str, node: Option<u8>, rng: &mut Rng) -> bool {
+        self.heard += 1;
+        let n = self.heard;
+        let missed =
+            |s: &FaultSpec, rng: &mut Rng| s.kind == Kind::Miss && s.applies_to(model, node) && s.fires(n, rng);
+        if self.faults.iter().any(|s| missed(s, rng)) {
+            return false;
+        }
+        self.heard_request(request, node);
+        true
+    }
+
     /// A request reached the device (before it answers): remember what an abort names.
-    pub fn heard(&mut self, request: &Frame, node: Option<u8>) {
+    pub fn heard_request(&mut self, request: &Frame, node: Option<u8>) {
         let p = request.data();
         if node.is_some_and(|n| request.id() == sdo::request_cob(n))
             && p.len() == 8
@@ -306,7 +330,8 @@ impl Conduct {
         let mut delay = 0;
         let mut copies = 1;
         let mut sdo_reset = false;
-        for spec in self.faults.iter().filter(|s| s.applies_to(model, node)) {
+        // A miss fault is drawn when a frame is heard (`hears`), not here.
+        for spec in self.faults.iter().filter(|s| s.applies_to(model, node) && s.kind != Kind::Miss) {
             if !spec.fires(n, rng) {
                 continue;
             }
@@ -341,6 +366,7 @@ impl Conduct {
                     self.reboot = true;
                     copies = 0;
                 }
+                Kind::Miss => {}
             }
         }
         if self.muted {
@@ -415,6 +441,7 @@ mod tests {
             "5:wrong-cob",
             "10:no-heartbeat",
             "sensor:no-heartbeat@2+",
+            "sensor-09501301:miss@5%",
         ] {
             let spec: FaultSpec = text.parse().unwrap_or_else(|e| panic!("{text}: {e}"));
             assert_eq!(spec.to_string(), text);
@@ -432,6 +459,7 @@ mod tests {
             "5:babble=0x800",
             ":drop",
             "5:no-heartbeat=1",
+            "5:miss=2",
         ] {
             assert!(bad.parse::<FaultSpec>().is_err(), "{bad}");
         }
@@ -473,7 +501,7 @@ mod tests {
     #[test]
     fn abort_names_the_requested_object_and_resets_the_server() {
         let mut c = conduct("5:abort=0x06020000");
-        c.heard(&Frame::new(0x605, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]), Some(5));
+        c.heard_request(&Frame::new(0x605, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]), Some(5));
         let (out, reset) = c.answer(sdo_answer(), "sensor", Some(5), &mut Rng::new(1));
         assert_eq!(out[0].1.data(), &[0x80, 0x18, 0x10, 0x01, 0x00, 0x00, 0x02, 0x06]);
         assert!(reset);

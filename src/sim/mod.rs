@@ -223,14 +223,15 @@ impl Network {
         let rate = self.bit_rate;
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
-            let conduct = &mut self.conducts[i];
-            conduct.heard(frame, d.node_id());
+            let (conduct, pace) = (&mut self.conducts[i], &mut self.paces[i]);
+            if !conduct.hears(frame, &d.model, d.node_id(), &mut pace.rng) {
+                continue;
+            }
             let answers = d.on_frame(frame);
             if answers.is_empty() {
                 continue;
             }
             // One answer time for all of them: a device streams what it has to say.
-            let pace = &mut self.paces[i];
             let ready = pace.answer_at(heard);
             for f in answers {
                 let (go, sdo_reset) = conduct.answer(f, &d.model, d.node_id(), &mut pace.rng);

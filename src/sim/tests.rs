@@ -40,6 +40,17 @@ fn faults_apply_to_the_device_they_name() {
 }
 
 #[test]
+fn a_device_missing_a_frame_does_not_act_on_it_and_hears_the_next() {
+    let mut net = Network::demo_with(SimConfig::instant().fault("5:miss@2".parse().unwrap()));
+    let stop = nmt::Command::Stop.frame(5);
+    assert_eq!(net.deliver(&Frame::new(0x605, &READ_DEVICE_TYPE), 0).len(), 1);
+    assert!(net.deliver(&stop, 0).is_empty());
+    let sensor = net.devices().iter().find(|d| d.node_id() == Some(5)).unwrap();
+    assert_eq!(sensor.nmt_state(), nmt::State::PreOperational, "the stop was missed");
+    assert_eq!(net.deliver(&Frame::new(0x605, &READ_DEVICE_TYPE), 0).len(), 1);
+}
+
+#[test]
 fn the_unconfigured_count_builds_that_many_lss_devices() {
     let net = Network::demo_with(SimConfig::instant().unconfigured(8));
     assert_eq!(net.devices().iter().filter(|d| d.node_id().is_none()).count(), 8);
