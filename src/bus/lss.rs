@@ -83,18 +83,23 @@ pub struct FastscanOutcome {
     pub steps: u32,
     /// The pace the fastscan ended at, for the next one to start from.
     pub pace: Pace,
+    /// Another device answered as being in configuration state too ([`Fastscan::crowded`]).
+    pub crowded: bool,
 }
 
 /// LSS through a bus: each confirmed step waits for the first answer, at most the timeout.
 pub struct LssMaster<'a> {
     bus: &'a mut dyn Bus,
     timeout: Duration,
+    /// A device may be in configuration state by this master's doing (it switched one
+    /// there, or a fastscan found one): the switch back must then be confirmed.
+    configuring: bool,
 }
 
 impl<'a> LssMaster<'a> {
     /// An LSS master on `bus` that waits at most `timeout` for each confirmed step's answer.
     pub fn new(bus: &'a mut dyn Bus, timeout: Duration) -> LssMaster<'a> {
-        LssMaster { bus, timeout }
+        LssMaster { bus, timeout, configuring: false }
     }
 
     /// The bus underneath, for the frames LSS does not cover.
@@ -116,6 +121,7 @@ impl<'a> LssMaster<'a> {
 
     /// Put one device (by identity) or every device (`None`) into configuration state.
     pub(crate) fn enter(&mut self, identity: Option<&Identity>) -> Result<()> {
+        self.configuring = true;
         match identity {
             Some(id) => {
                 let [a, b, c, d] = lss::switch_selective(id);
@@ -135,9 +141,53 @@ impl<'a> LssMaster<'a> {
         }
     }
 
-    /// Switches every device back to waiting state (unconfirmed: no device answers).
+    /// Switches every device back to waiting state, and makes sure they went. The switch is
+    /// unconfirmed (no device answers it) and may be missed; a device left in
+    /// configuration state answers the next master's services, and takes the next node-id
+    /// given. Sent again until nobody answers "inquire node-id" (only devices in
+    /// configuration state do), a bounded number of times.
+    /// When this master put no device there, the switch is sent once: there is nothing
+    /// to confirm (and a device flooding the LSS answer id must not stop the command).
     pub fn leave(&mut self) -> Result<()> {
+        if !self.configuring {
+            return self.switch_to_waiting();
+        }
+        for _ in 0..=lss::REPEATS {
+            self.switch_to_waiting()?;
+            if self.nobody_configuring()? {
+                self.configuring = false;
+                return Ok(());
+            }
+        }
+        Err(Error::LssLeftInConfiguration { tries: lss::REPEATS + 1 })
+    }
+
+    /// "switch state global: waiting", once.
+    fn switch_to_waiting(&mut self) -> Result<()> {
         self.send(Request::SwitchGlobal { configuration: false })
+    }
+
+    /// Whether no device is in configuration state: nobody answers "inquire node-id", or
+    /// the answers are not a device's. A device answers a second inquiry with the node-id
+    /// it gave the first time; a device flooding the LSS answer id with a counter does not.
+    fn nobody_configuring(&mut self) -> Result<bool> {
+        let first = self.node_ids_inquired()?;
+        if first.is_empty() {
+            return Ok(true);
+        }
+        Ok(!self.node_ids_inquired()?.iter().any(|n| first.contains(n)))
+    }
+
+    /// The node-ids the devices in configuration state answer "inquire node-id" with.
+    fn node_ids_inquired(&mut self) -> Result<Vec<u32>> {
+        let answers = self.ask(Request::Inquire(Inquiry::NodeId), LssWait::All)?;
+        Ok(answers
+            .iter()
+            .filter_map(|a| match a {
+                Response::InquiredValue { inquiry: Inquiry::NodeId, value } => Some(*value),
+                _ => None,
+            })
+            .collect())
     }
 
     /// A confirmed configuration service; every answer must report success.
@@ -178,7 +228,7 @@ impl<'a> LssMaster<'a> {
                     // answer lost. Back to waiting with the others, or it would take the
                     // node-id meant for the next device found.
                     if asked && matches!(ask.request, Request::Fastscan { bit_checked: lss::FASTSCAN_RESET, .. }) {
-                        self.leave()?;
+                        self.switch_to_waiting()?;
                     }
                     asked = true;
                     let collect = ask.settle.map_or(LssWait::All, LssWait::Settle);
@@ -192,8 +242,10 @@ impl<'a> LssMaster<'a> {
                 FastscanNext::Found(id) => Ok(id),
                 FastscanNext::Failed(e) => Err(e),
             };
-            let steps = scan.steps();
-            return Ok(Some(FastscanOutcome { found, steps, pace: scan.into_pace() }));
+            // Unless nobody took part, a device may be in configuration state now.
+            self.configuring |= !matches!(found, Err(FastscanError::NoDevice));
+            let (steps, crowded) = (scan.steps(), scan.crowded());
+            return Ok(Some(FastscanOutcome { found, steps, pace: scan.into_pace(), crowded }));
         }
     }
 }
@@ -232,7 +284,9 @@ impl LssMaster<'_> {
         // configuration state, where it would answer the next master's services.
         let left = self.leave();
         result?;
-        left?;
+        if let (Err(e), None) = (left, &out.failure) {
+            out.failure = Some(AssignFailure::Refused(e));
+        }
         Ok(out)
     }
 
@@ -252,20 +306,16 @@ impl LssMaster<'_> {
         }
     }
 
-    /// Send the device given `node` back to waiting state, and make sure it went. The switch
-    /// is unconfirmed and may be lost: a device left in configuration state would take the
-    /// node-id meant for the next device found (two devices on one id), or, where it takes
-    /// part in fastscan there (durand), be found and numbered again. It went when it boots
-    /// with `node`, or when nothing answers "inquire node-id", which only devices in
-    /// configuration state answer. Sent again a bounded number of times.
+    /// [`leave`](Self::leave) after `node` was given to `identity`: a device left in
+    /// configuration state would take the node-id meant for the next device found (two
+    /// devices on one id), or, where it takes part in fastscan there (durand), be found and
+    /// numbered again. Its boot-up with `node` says it went, sooner than the silence.
     pub(crate) fn back_to_waiting(&mut self, identity: Identity, node: u8) -> Result<()> {
         for _ in 0..=lss::REPEATS {
             self.bus.observed().boot_ups.remove(&node);
-            self.leave()?;
-            if self.boots_as(node)? {
-                return Ok(());
-            }
-            if self.ask(Request::Inquire(Inquiry::NodeId), LssWait::First)?.is_empty() {
+            self.switch_to_waiting()?;
+            if self.boots_as(node)? || self.nobody_configuring()? {
+                self.configuring = false;
                 return Ok(());
             }
         }
@@ -304,7 +354,7 @@ impl LssMaster<'_> {
         // Searches in a row that found nobody: one lost answer must not be taken for "every
         // device has a node-id" (exit 0), so silence is believed only when it repeats.
         let mut silent = 0;
-        let mut found_again = 0;
+        let (mut found_again, mut crowded) = (0, 0);
         loop {
             let Some(scan) = self.fastscan(out.pace.clone(), given, keep_going)? else {
                 out.interrupted = true;
@@ -327,6 +377,20 @@ impl LssMaster<'_> {
                 }
             };
             silent = 0;
+            // Another device is in configuration state with it (it missed a switch back):
+            // a set-id now would give both one node-id. Everyone back, and search again.
+            if scan.crowded {
+                crowded += 1;
+                if crowded > lss::REPEATS {
+                    out.failure = Some(AssignFailure::Refused(Error::LssCrowded { identity, times: crowded }));
+                    return Ok(());
+                }
+                if let Err(e) = self.leave() {
+                    out.failure = Some(AssignFailure::Refused(e));
+                    return Ok(());
+                }
+                continue;
+            }
             // Found again: the device numbered before did not leave configuration state
             // (the switches back were lost, or its answers to the inquiry). It is the same
             // device: it gets its node-id again, is sent back, and is reported once.

@@ -552,6 +552,30 @@ pub enum Error {
         /// How many times it was sent back.
         tries: u32,
     },
+    /// `lss assign` found a device, and another one answered as being in LSS configuration
+    /// state too, however often every device was sent back to waiting: a node-id given now
+    /// would be taken by both, so none was.
+    #[error(
+        "{identity} was found {times} times with another device in LSS configuration state too (one that \
+         misses the switch back to waiting); no node-id given, as both would take it (`canctl scan` lists \
+         the devices left in configuration state)"
+    )]
+    LssCrowded {
+        /// The device found.
+        identity: Identity,
+        /// How many searches found it so.
+        times: u32,
+    },
+    /// A device still answered in LSS configuration state however often every device was
+    /// sent back to waiting.
+    #[error(
+        "a device still answers in LSS configuration state after every device was sent back to waiting \
+         {tries} times (it misses the switch): `canctl scan` lists it; power-cycle it if it stays there"
+    )]
+    LssLeftInConfiguration {
+        /// How many times every device was sent back.
+        tries: u32,
+    },
 }
 
 /// What a failure means for the user, and so how the process ends. The README's
@@ -637,7 +661,10 @@ impl Error {
             | Error::LssSetIdUnknown { .. }
             | Error::Epos2NoCanAnswer { .. }
             | Error::AdapterNoAnswer { .. } => C::Timeout,
-            Error::Fastscan { error: FastscanError::Unconfirmed(_), .. } | Error::LssStillConfiguring { .. } => C::Link,
+            Error::Fastscan { error: FastscanError::Unconfirmed(_), .. }
+            | Error::LssStillConfiguring { .. }
+            | Error::LssCrowded { .. }
+            | Error::LssLeftInConfiguration { .. } => C::Link,
             Error::Fastscan { .. } => C::Timeout,
             Error::SdoAbort { .. }
             | Error::LssRefused { .. }

@@ -121,6 +121,8 @@ pub struct Fastscan {
     /// How many times somebody answered "anybody there?" after the reset went unanswered
     /// (three times): more than [`REPEATS`] is no loss, the answers are not the device's.
     unanswered_resets: u32,
+    /// Another device answered the verification ([`Fastscan::crowded`]).
+    crowded: bool,
 }
 
 impl Fastscan {
@@ -142,7 +144,15 @@ impl Fastscan {
             late: false,
             unanswered_resets: 0,
             backtracks: 0,
+            crowded: false,
         }
+    }
+
+    /// Whether a device other than the one found answered the verification: it is in
+    /// configuration state too (it missed a switch back to waiting), and would take the
+    /// node-id meant for the device found.
+    pub fn crowded(&self) -> bool {
+        self.crowded
     }
 
     /// Fastscan requests sent so far.
@@ -262,6 +272,7 @@ impl Fastscan {
                 .collect();
             // Devices an earlier search left in configuration state answer too.
             let verified = held.contains(&found);
+            self.crowded |= held.iter().any(|v| *v != found);
             if !verified && self.repeats < REPEATS {
                 self.repeats += 1;
                 return;

@@ -385,3 +385,25 @@ fn heavy_loss_never_lengthens_the_step_and_the_search_is_bounded() {
     eprintln!("found on {found} of 40 seeds");
     assert!(found >= 36, "found on {found} of 40 seeds");
 }
+
+/// A device that missed the switch back to waiting (a lossy path) is still in
+/// configuration state when the next device is found: it answers the verification with its
+/// own identity. The search says so, so that the set-id that follows is not taken by both.
+#[test]
+fn a_second_device_in_configuration_state_is_told() {
+    let [a, b, c] = three();
+    let mut bus = VirtualBus::new(&[a, b], fixed_latency(0));
+    let mut scan = fresh();
+    let found = bus.run(&mut scan).unwrap();
+    assert!(!scan.crowded(), "only the device found is in configuration state");
+    // Another device, numbered earlier, never left configuration state.
+    let mut stuck = Slave::new(c, CAPS);
+    stuck.state = SlaveState::Configuration;
+    bus.slaves.push(stuck);
+    for s in bus.slaves.iter_mut().filter(|s| s.identity == found) {
+        s.state = SlaveState::Waiting;
+    }
+    let mut scan = Fastscan::new(scan.into_pace(), [None; 4]);
+    bus.run(&mut scan).unwrap();
+    assert!(scan.crowded());
+}
