@@ -441,13 +441,6 @@ mod tests {
     use super::*;
     use crate::bus::SdoOptions;
     use crate::canopen::ObjAddr;
-    use crate::connect::{BusAddr, OpenOptions};
-
-    fn demo() -> Box<dyn Bus> {
-        let mut opts = OpenOptions::new(Duration::from_millis(500));
-        opts.ephemeral = true;
-        crate::connect::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap()
-    }
 
     /// Each node's error for an NMT command, then its device type read.
     type Tried = (Option<Error>, Result<Vec<u8>>);
@@ -462,7 +455,7 @@ mod tests {
     }
 
     fn try_nmt_then_read(serve: &Serve) -> Vec<Option<Tried>> {
-        let mut bus = demo();
+        let mut bus = crate::bus::Master::new(crate::sim::SimLink::ephemeral(), "sim".to_string());
         let nodes = [1, 5, 10];
         let work = |bus: &mut NodeBus<Tried>, slot: usize| {
             let nmt = bus.nmt(nmt::Command::PreOperational, nodes[slot]).err();
@@ -472,7 +465,7 @@ mod tests {
         };
         let stopped = |_: usize, e: Error| (Some(e), Err(Error::Interrupted));
         let mut ends = Ends(Vec::new());
-        let results = run(bus.as_mut(), &nodes, 2, serve, &work, &stopped, &mut ends);
+        let results = run(&mut bus, &nodes, 2, serve, &work, &stopped, &mut ends);
         assert_eq!(ends.0.len(), 3, "every node ends");
         results
     }
