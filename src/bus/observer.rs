@@ -57,14 +57,15 @@ impl Observed {
             self.seen((id - 0x580) as u8, SeenBy::Sdo);
         }
         if let Some((node, ec)) = ErrorControl::parse(f) {
+            if let Some(state) = ec.state() {
+                self.states.insert(node, state);
+            }
             match ec {
                 ErrorControl::BootUp => {
                     self.boot_ups.insert(node);
-                    self.states.insert(node, nmt::State::PreOperational);
                     self.seen(node, SeenBy::BootUp);
                 }
-                ErrorControl::State { state, .. } => {
-                    self.states.insert(node, state);
+                ErrorControl::State { .. } => {
                     let how = if guarding == Some(id) { SeenBy::Guarding } else { SeenBy::Heartbeat };
                     self.seen(node, how);
                 }

@@ -164,6 +164,17 @@ impl ErrorControl {
         Some((node, ec))
     }
 
+    /// The NMT state this message shows: a boot-up, pre-operational (the node has just
+    /// started, CiA 301 §7.3.2); none for a code CiA 301 does not define. The one place
+    /// that mapping is made.
+    pub fn state(self) -> Option<State> {
+        match self {
+            ErrorControl::BootUp => Some(State::PreOperational),
+            ErrorControl::State { state, .. } => Some(state),
+            ErrorControl::Unknown(_) => None,
+        }
+    }
+
     pub fn frame(self, node: u8) -> Frame {
         let b = match self {
             ErrorControl::BootUp => 0,
@@ -198,6 +209,11 @@ mod tests {
         assert_eq!(ErrorControl::parse(&"705#R1".parse().unwrap()), None);
         assert_eq!(ErrorControl::parse(&"700#00".parse().unwrap()), None);
         assert_eq!(ErrorControl::parse(&"705#33".parse().unwrap()), Some((5, ErrorControl::Unknown(0x33))));
+        let state = |f: &str| ErrorControl::parse(&f.parse().unwrap()).and_then(|(_, ec)| ec.state());
+        assert_eq!(state("705#00"), Some(State::PreOperational), "a boot-up: just started");
+        assert_eq!(state("705#85"), Some(State::Operational));
+        assert_eq!(state("705#04"), Some(State::Stopped));
+        assert_eq!(state("705#33"), None);
         assert_eq!(ErrorControl::State { state: State::Stopped, toggle: true }.frame(32).to_string(), "720#84");
     }
 }

@@ -327,13 +327,15 @@ fn on_each_bus<R: crate::output::Report + Send>(
             }
             Err(e) => (None, Some(e)),
         };
-        let failure = error.as_ref().map(|e| Failure {
+        let failure = error.as_ref().map(|e| {
             // The four commands only read: a stop leaves every device as it was.
-            text: match (e.is_interrupted(), &report) {
-                (true, None) => "interrupted before its report was complete; nothing was changed on the devices".into(),
-                _ => crate::output::library_error_text(e),
-            },
-            exit_code: e.exit_code(),
+            let (text, names_bus) = match (e.is_interrupted(), &report) {
+                (true, None) => {
+                    ("interrupted before its report was complete; nothing was changed on the devices".into(), None)
+                }
+                _ => (crate::output::library_error_text(e), e.names_bus().map(str::to_string)),
+            };
+            Failure { text, exit_code: e.exit_code(), names_bus }
         });
         shown.push(BusRun { bus: run.bus.clone(), report, failure });
         errors.extend(error.map(|e| (run.bus, e)));

@@ -196,6 +196,20 @@ pub enum PtyOp {
     PrintPath,
 }
 
+impl LinkError {
+    /// The port or interface this error's message begins with, when it begins with one.
+    pub(crate) fn names_port(&self) -> Option<&str> {
+        match self {
+            LinkError::Io { port, .. }
+            | LinkError::AdapterRefused { port, .. }
+            | LinkError::AdapterBusError { port, .. }
+            | LinkError::AdapterRefusedFrame { port, .. } => Some(port),
+            LinkError::BusOff { iface, .. } | LinkError::TxQueueFull { iface, .. } => Some(iface),
+            _ => None,
+        }
+    }
+}
+
 impl fmt::Display for PtyOp {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {

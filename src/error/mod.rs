@@ -632,6 +632,22 @@ impl From<crate::od::eds::EdsError> for Error {
 }
 
 impl Error {
+    /// The bus (or port) this error's message begins with, when it names one: shown as one
+    /// of several buses' failures, it needs no prefix naming that bus again.
+    pub(crate) fn names_bus(&self) -> Option<&str> {
+        match self {
+            Error::NotOnThisBus { bus, .. }
+            | Error::NoRemoteFrames { bus, .. }
+            | Error::NetworkDiffers { bus, .. }
+            | Error::Unhealthy { bus, .. }
+            | Error::Diagnosed { bus, .. }
+            | Error::NoSocketCan { bus } => Some(bus),
+            Error::Hinted { error, .. } | Error::NothingAnswered { error } => error.names_bus(),
+            Error::Link(e) => e.names_port(),
+            _ => None,
+        }
+    }
+
     /// Which kind of failure this is: the one mapping from errors to exit codes.
     pub fn class(&self) -> ErrorClass {
         use ErrorClass as C;
@@ -747,10 +763,9 @@ impl From<LinkError> for Error {
 
 /// `error` on `bus`, the bus named once (a link's error names its bus itself).
 fn on_bus(bus: &str, error: &Error) -> String {
-    let text = error.to_string();
-    match text.starts_with(bus) {
-        true => text,
-        false => format!("on {bus}: {text}"),
+    match error.names_bus() == Some(bus) {
+        true => error.to_string(),
+        false => format!("on {bus}: {error}"),
     }
 }
 

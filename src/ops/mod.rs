@@ -19,6 +19,7 @@ pub(crate) mod errors;
 pub(crate) mod event;
 pub mod firmware;
 pub mod health;
+pub(crate) mod in_parallel;
 pub mod lss;
 pub mod many_buses;
 pub mod monitor;

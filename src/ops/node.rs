@@ -270,7 +270,7 @@ impl Guarded {
     pub fn state(&self) -> Option<nmt::State> {
         match self {
             Guarded::State(s) => Some(*s),
-            Guarded::BootUp => Some(nmt::State::PreOperational),
+            Guarded::BootUp => ErrorControl::BootUp.state(),
             Guarded::NotAState => None,
         }
     }

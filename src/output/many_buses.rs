@@ -14,10 +14,13 @@ pub(crate) struct BusRun<R> {
     pub failure: Option<Failure>,
 }
 
-/// A bus's failure as shown: its message and the exit code it would have ended with alone.
+/// A bus's failure as shown: its message, the exit code it would have ended with alone,
+/// and the bus its message begins with, when it names one
+/// ([`crate::Error::names_bus`]).
 pub(crate) struct Failure {
     pub text: String,
     pub exit_code: i32,
+    pub names_bus: Option<String>,
 }
 
 /// The reports of one command on several buses, in the order the buses were given.
@@ -57,7 +60,7 @@ impl<R: Report> OnBuses<R> {
             }
             if let Some(f) = &run.failure {
                 // A link's error names its bus itself.
-                let text = match f.text.starts_with(&run.bus) {
+                let text = match f.names_bus.as_deref() == Some(run.bus.as_str()) {
                     true => format!("{} (exit {})", f.text, f.exit_code),
                     false => format!("{}: {} (exit {})", run.bus, f.text, f.exit_code),
                 };
@@ -154,5 +157,59 @@ impl crate::ops::Progress for BusNotes<'_> {
     }
     fn event(&mut self, event: crate::ops::Event) {
         self.out.note(&format!("{}: {}", self.bus, super::event_line(&event)));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(serde::Serialize)]
+    struct Nothing;
+
+    impl Report for Nothing {
+        fn human(&self) -> Human {
+            Human::Parts(Vec::new())
+        }
+        fn junit(&self) -> Option<TestSuite> {
+            None
+        }
+    }
+
+    fn failed(bus: &str, error: &crate::Error) -> BusRun<Nothing> {
+        let (text, exit_code) = (error.to_string(), error.exit_code());
+        let names_bus = error.names_bus().map(str::to_string);
+        BusRun { bus: bus.into(), report: None, failure: Some(Failure { text, exit_code, names_bus }) }
+    }
+
+    fn lines(runs: Vec<BusRun<Nothing>>) -> Vec<String> {
+        let Human::Parts(parts) = (OnBuses { command: "canctl health", runs }).human() else { panic!("parts") };
+        parts.into_iter().map(|p| if let Human::Line(l) = p { l } else { panic!("a line only") }).collect()
+    }
+
+    /// A failure line names its bus once: not again when the error names that very bus, but
+    /// when it names another (one whose name the first's begins) or merely begins alike.
+    #[test]
+    fn a_failure_is_prefixed_with_its_bus_unless_it_names_that_bus() {
+        let unhealthy =
+            |bus: &str| crate::Error::Unhealthy { bus: bus.into(), total: 1, nodes: vec!["node 5: stopped".into()] };
+        let state = crate::error::LinkError::StateFile {
+            path: "/tmp/s.json".into(),
+            what: "cannot save",
+            detail: "full".into(),
+        };
+        let shown = lines(vec![
+            failed("socketcan:vcan1", &unhealthy("socketcan:vcan1")),
+            failed("socketcan:vcan1", &unhealthy("socketcan:vcan10")),
+            failed("sim", &state.into()),
+        ]);
+        assert_eq!(
+            shown,
+            [
+                "socketcan:vcan1: 1 of 1 node(s) not healthy: node 5: stopped (exit 6)",
+                "socketcan:vcan1: socketcan:vcan10: 1 of 1 node(s) not healthy: node 5: stopped (exit 6)",
+                "sim: sim state file /tmp/s.json: cannot save: full (exit 5)",
+            ]
+        );
     }
 }

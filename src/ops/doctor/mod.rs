@@ -73,11 +73,7 @@ impl Heard {
             return;
         }
         *self.frames.entry(f.id()).or_default() += 1;
-        let state = match ErrorControl::parse(f) {
-            Some((node, ErrorControl::State { state, .. })) => Some((node, state)),
-            Some((node, ErrorControl::BootUp)) => Some((node, nmt::State::PreOperational)),
-            _ => None,
-        };
+        let state = ErrorControl::parse(f).and_then(|(node, ec)| Some((node, ec.state()?)));
         if let Some((node, state)) = state {
             let e = self.beats.entry(node).or_insert((0, Vec::new(), state));
             e.0 += 1;

@@ -15,7 +15,7 @@ use crate::od::eds;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// The project file canctl writes and looks for in a folder.
 pub(crate) const PROJECT_FILE: &str = "nodelist.cpj";
