@@ -30,6 +30,7 @@ pub(crate) mod sim;
 pub(crate) mod stopped;
 
 pub use events::{event_line, say_deviations};
+pub(crate) use hints::explained;
 pub use hints::{error_text, hint_text, last_scan_hint, library_error_text, no_bus_text, switch_hint};
 pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 

@@ -1,7 +1,6 @@
 //! `canctl doctor`: why a node, or the bus, is silent.
 
 use super::{parse_node, Ctx, GlobalArgs};
-use crate::bus::Bus;
 use crate::error::Error;
 use crate::ops::doctor::{self, DoctorOptions};
 use clap::Args;
@@ -92,14 +91,4 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
         },
         result => result,
     }
-}
-
-/// The longest each wait of the quick checks after a silent node may be: with the read of
-/// every node-id, a second or so in all.
-const QUICK_WAIT: Duration = Duration::from_millis(500);
-
-/// The likely cause of a node's silence from the quick checks ([`doctor::quick`], two waits of
-/// at most half a second); `None` when they point at nothing or cannot tell.
-pub(super) fn likely_cause(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Option<doctor::Finding> {
-    doctor::quick(bus, node, timeout.min(QUICK_WAIT)).ok().flatten()
 }

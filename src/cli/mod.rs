@@ -349,49 +349,19 @@ fn on_each_bus<R: crate::output::Report + Send>(
     }
 }
 
-/// A node that did not answer: the link's failure when it has one, else which nodes the last
-/// scan of this bus saw. An object
-/// the node does not have: name the dictionary's objects nearest to it that the node has.
+/// The error explained ([`crate::ops::explain`]): the link's failure, a silent node's likely
+/// cause and the nodes the last scan saw, or the objects near a missing one.
 fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
-    use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
-    use crate::error::Service;
-    let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { node, what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(addr)) => {
-            // Nothing answered: the link may know why (an adapter at another bit rate), and
-            // then every command ends as `sdo read` does, not only those that ask it.
-            if let Err(link) = crate::ops::unheard::check(bus) {
-                return link.into();
-            }
-            let node = *node;
-            let likely = if ctx.diagnose { doctor::likely_cause(bus, node, ctx.timeout) } else { None };
-            let seen = crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr));
-            let Some(finding) = likely else { return hinted(e, seen) };
-            return match e.downcast::<Error>() {
-                // The finding rides along for `--format json`'s `diagnosis`.
-                Ok(error) => {
-                    let hint = crate::output::doctor::likely_cause_text(&finding) + &seen;
-                    crate::output::doctor::DiagnosedError { error: error.with_hint(hint), finding }.into()
-                }
-                Err(e) => e,
-            };
-        }
-        (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
-            let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
-            let near: Vec<String> = near.into_iter().map(|a| ctx.dicts.label(*node, a)).collect();
-            if near.is_empty() {
-                return e;
-            }
-            format!("; did you mean {}?", near.join(", "))
-        }
-        _ => return e,
+    let Some(error) = e.downcast_ref::<Error>() else { return e };
+    let o = crate::ops::explain::ExplainOptions {
+        bus: ctx.bus.as_deref(),
+        dicts: &ctx.dicts,
+        diagnose: ctx.diagnose,
+        timeout: ctx.timeout,
     };
-    hinted(e, hint)
-}
-
-fn hinted(e: anyhow::Error, hint: String) -> anyhow::Error {
-    match e.downcast::<Error>() {
-        Ok(error) => error.with_hint(hint).into(),
-        Err(e) => e,
+    match crate::ops::explain::explain(bus, error, &o) {
+        Some(x) => crate::output::explained(e.downcast::<Error>().expect("just matched"), x, &ctx.dicts),
+        None => e,
     }
 }
 
