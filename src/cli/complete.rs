@@ -2,9 +2,6 @@
 //! node-ids from the last scan of the bus, objects from the node's dictionary, and the
 //! fixed sets. It reads files only — never the bus — and must answer in milliseconds.
 
-use super::objects::{parse_eds_arg, Dictionaries, EdsArg};
-use crate::ops::scan_cache as cache;
-use crate::settings::{Given, Settings};
 use clap::CommandFactory;
 use clap_complete::engine::CompletionCandidate;
 
@@ -67,6 +64,10 @@ fn words() -> Vec<String> {
     args.iter().position(|a| a == "--").map(|i| args[i + 1..].to_vec()).unwrap_or_default()
 }
 
+pub(crate) fn buses() -> Vec<CompletionCandidate> {
+    crate::output::completion::buses(crate::ops::completion::buses())
+}
+
 /// Every value given to `--name` (as `--name V` or `--name=V`).
 fn flag_values(words: &[String], name: &str) -> Vec<String> {
     let mut out = Vec::new();
@@ -80,21 +81,15 @@ fn flag_values(words: &[String], name: &str) -> Vec<String> {
     out
 }
 
-/// The bus and the EDS files the command line would use, resolved as `run` resolves them.
-fn settings(words: &[String]) -> Settings {
-    let bus = flag_values(words, "--bus").pop().or_else(|| std::env::var("CANCTL_BUS").ok());
-    let eds = flag_values(words, "--eds").iter().filter_map(|e| parse_eds_arg(e).ok()).collect();
-    Settings::resolve(Given { bus, eds, ..Given::default() }, crate::settings::load().unwrap_or_default())
-}
-
-pub(crate) fn buses() -> Vec<CompletionCandidate> {
-    crate::output::completion::buses(crate::ops::completion::buses())
+/// The bus the command line gives (its last `--bus`), and its `--eds` files.
+fn bus_and_eds(words: &[String]) -> (Option<String>, Vec<super::objects::EdsArg>) {
+    let eds = flag_values(words, "--eds").iter().filter_map(|e| super::objects::parse_eds_arg(e).ok()).collect();
+    (flag_values(words, "--bus").pop(), eds)
 }
 
 /// Node-ids of the last scan of the bus, with what they are.
 pub(crate) fn nodes() -> Vec<CompletionCandidate> {
-    let Some(bus) = settings(&words()).bus else { return vec![] };
-    crate::output::completion::nodes(cache::load(&bus.value))
+    crate::output::completion::nodes(crate::ops::completion::line_nodes(bus_and_eds(&words()).0))
 }
 
 pub(crate) fn nodes_or_all() -> Vec<CompletionCandidate> {
@@ -113,15 +108,13 @@ pub(crate) fn objects() -> Vec<CompletionCandidate> {
         .position(|a| a == "read" || a == "write")
         .and_then(|i| positionals(&w[i + 1..]).first().and_then(|n| super::parse_sdo_node(n).ok()))
         .unwrap_or(0);
-    let settings = settings(&w);
-    let eds: Vec<EdsArg> = settings.eds.into_iter().map(|e| e.value).collect();
+    let (bus, eds) = bus_and_eds(&w);
+    let (objects, refused) = crate::ops::completion::line_objects(bus, eds, node);
     // A refused EDS is said (the shell shows stderr), not silently replaced.
-    let dicts = Dictionaries::load(&eds).unwrap_or_else(|e| {
+    if let Some(e) = refused {
         eprintln!("\ncanctl: {e}; completing from the built-in dictionary");
-        Dictionaries::default()
-    });
-    let seen = settings.bus.and_then(|b| cache::load_all(&b.value).into_iter().find(|n| n.node == node));
-    crate::output::completion::objects(crate::ops::completion::objects(node, &dicts, seen.as_ref()))
+    }
+    crate::output::completion::objects(objects)
 }
 
 /// The positional words among `words`: flags and the values they take left out.
