@@ -12,6 +12,7 @@ use std::io::{IsTerminal, Write};
 mod buses;
 mod check;
 pub(crate) mod completion;
+pub(crate) mod config;
 pub(crate) mod diagnostics;
 pub(crate) mod docs;
 pub(crate) mod doctor;

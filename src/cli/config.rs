@@ -143,25 +143,7 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit)
     });
-    let mut eds = match read {
-        Err(e) if e.is_interrupted() => {
-            return crate::output::stopped::config_eds(&ctx.out, a.node, a.out.as_deref(), e)
-        }
-        other => other?,
-    };
-    match &a.out {
-        Some(path) => {
-            eds.save(a.node, path, ctx.bus.as_deref())?;
-            ctx.out.report(&eds)?;
-        }
-        // The file is the output: what was read is said on stderr.
-        None => {
-            ctx.out.write_bytes(&eds.file)?;
-            ctx.out.note(&crate::output::stored_eds_line(&eds));
-            ctx.out.notes(crate::output::Report::notes(&eds));
-        }
-    }
-    Ok(())
+    crate::output::config::stored_eds(&ctx.out, a.node, a.out.as_deref(), ctx.bus.as_deref(), read)
 }
 
 fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
@@ -176,24 +158,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let dump = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         config::dump_as(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
     });
-    let dump = match dump {
-        // A stop the dump could not count objects for: said as one before the profile was read.
-        Err(e) if e.is_interrupted() => {
-            return crate::output::stopped::config_dump(&ctx.out, a.node, 0, 0, a.out.as_deref())
-        }
-        other => other?,
-    };
-    if dump.interrupted {
-        return crate::output::stopped::config_dump(&ctx.out, a.node, dump.objects, dump.wanted, a.out.as_deref());
-    }
-    match &a.out {
-        Some(path) => {
-            crate::atomic::write_atomic(path, &dump.dcf)?;
-            ctx.out.note(&format!("{} objects of node {} written to {}", dump.objects, a.node, path.display()));
-        }
-        None => ctx.out.write_bytes(&dump.dcf)?,
-    }
-    Ok(())
+    crate::output::config::dumped(&ctx.out, a.node, a.out.as_deref(), dump)
 }
 
 /// The DCF, its warnings said on stderr.
