@@ -29,7 +29,9 @@ pub(crate) mod records;
 mod reports;
 pub(crate) mod sim;
 pub(crate) mod stopped;
+pub(crate) mod usage;
 
+pub(crate) use drive::{last_seen_text, watching_text};
 pub use events::{event_line, say_deviations};
 pub(crate) use hints::explained;
 pub use hints::{error_text, hint_text, last_scan_hint, library_error_text, no_bus_text, switch_hint};
@@ -532,6 +534,24 @@ impl Output {
             write!(w, "{}", csv(L::CSV_HEADER, &[]))?;
         }
         Ok(())
+    }
+
+    /// A stream of lines on standard output, each flushed as it comes, until `next` has no
+    /// more; the last line, for what ends the stream.
+    pub(crate) fn stream<L: Line>(
+        &self,
+        mut next: impl FnMut() -> crate::Result<Option<L>>,
+    ) -> anyhow::Result<Option<L>> {
+        let stdout = std::io::stdout();
+        let mut out = std::io::BufWriter::new(stdout.lock());
+        self.stream_start::<L>(&mut out)?;
+        let mut last = None;
+        while let Some(line) = next()? {
+            self.line(&mut out, &line)?;
+            out.flush()?;
+            last = Some(line);
+        }
+        Ok(last)
     }
 
     /// A line of a stream, in the format asked for.

@@ -5,7 +5,7 @@ use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::cia402::Goal;
 use crate::error::Error;
-use crate::ops::drive::{self, Options, Source, Watch};
+use crate::ops::drive::{self, Options, Watch};
 use crate::output::stopped;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
@@ -93,21 +93,9 @@ fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let mut watch = Watch::new(bus, a.node, a.interval, ctx.timeout)?;
-    ctx.out.note(&match watch.source() {
-        Source::Tpdo { cob_id, .. } => format!("node {}: watching the statusword in TPDO 0x{cob_id:03X}", a.node),
-        Source::Sdo(i) => format!("node {}: reading the statusword by SDO every {} ms", a.node, i.as_millis()),
-    });
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    ctx.out.stream_start::<drive::Change>(&mut out)?;
-    let mut last = None;
-    while let Some(change) = watch.next_until(bus, &ctx.cancel)? {
-        ctx.out.line(&mut out, &change)?;
-        std::io::Write::flush(&mut out)?;
-        last = Some(change);
-    }
-    if let Some(c) = last {
-        ctx.out.note(&format!("node {}: last seen {}", a.node, drive::state_text(c.state, c.statusword)));
+    ctx.out.note(&crate::output::watching_text(a.node, watch.source()));
+    if let Some(last) = ctx.out.stream(|| watch.next_until(bus, &ctx.cancel))? {
+        ctx.out.note(&crate::output::last_seen_text(a.node, &last));
     }
     Err(Error::Interrupted.into())
 }

@@ -263,10 +263,7 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| with_hint(ctx, bus, e))
 }
 
-/// The commands that work on several buses at once, named in the usage error of the others.
-const ON_BUSES: &str = "scan, health, network check and firmware status";
-
-/// A command given several buses: run on all of them when it is one of [`ON_BUSES`], a
+/// A command given several buses: run on all of them when it is one that works on several, a
 /// usage error when it uses a bus otherwise; `None` for the commands that use none.
 fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Result<()>> {
     let run = match command {
@@ -279,12 +276,7 @@ fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Resu
         | Command::Settings
         | Command::Completions(_)
         | Command::Man(_) => return None,
-        _ => Err(Error::Usage(format!(
-            "{} buses given ({}), but only {ON_BUSES} work on several at once; give this command one --bus",
-            ctx.buses.len(),
-            ctx.buses.join(", ")
-        ))
-        .into()),
+        _ => Err(crate::output::usage::several_buses(&ctx.buses).into()),
     };
     Some(run)
 }
@@ -400,19 +392,11 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
             | Command::Firmware(firmware::FirmwareCommand::Download(_))
     );
     if format == FormatArg::Junit && !checks {
-        return Err(Error::Usage(
-            "--format junit is for commands that check things: canctl network check, canctl health, canctl doctor, canctl firmware download; use human, json or csv here"
-                .into(),
-        )
-        .into());
+        return Err(crate::output::usage::junit_elsewhere().into());
     }
     let dumps = matches!(cli.command, Command::Config(config::ConfigCommand::Dump(_)));
     if g.format == FormatArg::Xdc && !dumps {
-        return Err(Error::Usage(
-            "--format xdc is for canctl config dump (an XDC, CiA 311, instead of a DCF); use human, json or csv here"
-                .into(),
-        )
-        .into());
+        return Err(crate::output::usage::xdc_elsewhere().into());
     }
     if ctx.buses.len() > 1 {
         if let Some(done) = on_buses(&ctx, g, &cli.command) {

@@ -4,7 +4,6 @@
 use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::nmt::State;
-use crate::error::Error;
 use crate::ops::config;
 use crate::ops::network::{self, PROJECT_FILE};
 use crate::ops::project_files;
@@ -190,11 +189,7 @@ fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
 fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let project = a.dir.join(PROJECT_FILE);
     if project.exists() && !a.force {
-        return Err(Error::Usage(format!(
-            "{} exists: pick another folder, or --force to replace it",
-            project.display()
-        ))
-        .into());
+        return Err(crate::output::usage::project_exists(&project).into());
     }
     let options = network::DumpOptions {
         timeout: ctx.timeout,
@@ -257,12 +252,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
 
 fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()> {
     if !a.global {
-        return Err(Error::Usage(
-            "`network set-baud` switches every LSS device on the bus at once (a broadcast): add --global when you \
-             mean it"
-                .into(),
-        )
-        .into());
+        return Err(crate::output::usage::set_baud_not_global().into());
     }
     let loaded = a.project.as_deref().map(|p| load(ctx, p)).transpose()?;
     let options = network::SetBaudOptions {
