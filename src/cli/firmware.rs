@@ -44,8 +44,8 @@ pub(crate) struct StatusArgs {
 pub(crate) struct DownloadArgs {
     /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another
     /// (or --jobs at once), with a report (and with --format junit a test case) for each
-    #[arg(value_name = "NODE", value_parser = parse_node, value_delimiter = ',', required = true, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub nodes: Vec<u8>,
+    #[arg(value_name = "NODE", value_parser = super::node_list, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub nodes: crate::settings::parse::Nodes,
     /// The image: the bytes written to 0x1F50 as they are in the file
     #[arg(value_name = "IMAGE")]
     pub image: PathBuf,
@@ -93,7 +93,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
     // One bar of bytes is for one transfer at a time: with several at once, each node's
     // start and end are told instead.
-    let parallel = a.jobs > 1 && a.nodes.len() > 1;
+    let parallel = a.jobs > 1 && a.nodes.0.len() > 1;
     let bar = if parallel {
         indicatif::ProgressBar::hidden()
     } else {
@@ -108,7 +108,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     o.cancel = Some(ctx.cancel.clone());
     o.watch = if parallel { None } else { ctx.out.transfer_hook(&bar) };
     let mut steps = ctx.out.progress();
-    if let [node] = a.nodes[..] {
+    if let [node] = a.nodes.0[..] {
         if !ctx.out.junit {
             let result = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
                 firmware::download(bus, node, &image, &o, &mut steps)
@@ -124,7 +124,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
         }
     }
     let batch = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        firmware::download_jobs(bus, &a.nodes, &image, &o, usize::from(a.jobs), &mut steps)
+        firmware::download_jobs(bus, &a.nodes.0, &image, &o, usize::from(a.jobs), &mut steps)
     });
     bar.finish_and_clear();
     ctx.out.report(&batch)?;

@@ -219,6 +219,17 @@ pub(crate) enum Command {
     Man(docs::ManArgs),
 }
 
+/// Node-ids as one argument, 5,10,20, none named twice (`store`, `restore`, `firmware
+/// download`); [`sdo_node_list`] takes the EPOS2's own node 0 too.
+fn node_list(text: &str) -> Result<crate::settings::parse::Nodes, String> {
+    parse_nodes(text, parse_node)
+}
+
+/// [`node_list`] where node 0 is the EPOS2 on an epos2-rs232/epos2-usb bus.
+fn sdo_node_list(text: &str) -> Result<crate::settings::parse::Nodes, String> {
+    parse_nodes(text, parse_sdo_node)
+}
+
 /// `--format` of the commands that check things, which also write JUnit XML. Their own
 /// argument, so that only their help and completion offer `junit`; the global `--format`
 /// (before the command) takes it too, and the other commands refuse it.
