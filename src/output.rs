@@ -35,6 +35,7 @@ pub(crate) use drive::{last_seen_text, watching_text};
 pub use events::{event_line, say_deviations};
 pub(crate) use hints::explained;
 pub use hints::{error_text, hint_text, last_scan_hint, library_error_text, no_bus_text, switch_hint};
+pub(crate) use nodes::short_window_note;
 pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 
 /// The process exit code for an error a command ended with, and whether to print it.

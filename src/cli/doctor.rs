@@ -63,16 +63,9 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
     let mut opened = false;
     let result = super::with_bus(ctx, global, |bus| {
         opened = true;
-        let own_kbit = match ctx.bus.as_deref().map(str::parse::<crate::connect::BusAddr>) {
-            Some(Ok(crate::connect::BusAddr::Slcan { kbit, .. })) => Some(kbit),
-            _ => None,
-        };
+        let sweep = a.sweep.then_some(a.sweep_window);
         let diagnosed = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-            let mut d = doctor::doctor(bus, &options)?;
-            if a.sweep {
-                doctor::sweep::sweep(bus, &mut d, own_kbit, a.sweep_window)?;
-            }
-            Ok(d)
+            doctor::doctor_swept(bus, &options, ctx.bus.as_deref(), sweep)
         });
         let report = crate::output::stopped::read(&ctx.out, "doctor", "listening and asking".into(), diagnosed)?;
         ctx.out.report(&report)?;
