@@ -1,6 +1,6 @@
 //! `canctl firmware`: CiA 302-3 program download and the state of a device's programs.
 
-use super::{parse_node, Ctx};
+use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::firmware::{self, DownloadOptions};
 use clap::{Args, Subcommand};
@@ -35,9 +35,8 @@ pub(crate) enum FirmwareCommand {
 
 #[derive(Args, Debug)]
 pub(crate) struct StatusArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
 }
 
 #[derive(Args, Debug)]
@@ -75,8 +74,9 @@ pub(crate) struct DownloadArgs {
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
     match cmd {
         FirmwareCommand::Status(a) => {
-            let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout));
-            let what = format!("reading node {}'s program objects", a.node);
+            let read =
+                crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node.node, ctx.timeout));
+            let what = format!("reading node {}'s program objects", a.node.node);
             Ok(ctx.out.report(&crate::output::stopped::read(&ctx.out, "firmware status", what, read)?)?)
         }
         FirmwareCommand::Download(a) => download(ctx, bus, a),
@@ -85,7 +85,8 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow
 
 /// `firmware status NODE` on several buses at once: the node's programs on each.
 pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> anyhow::Result<()> {
-    let run = |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node, ctx.timeout);
+    let run =
+        |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node.node, ctx.timeout);
     super::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok(()))
 }
 

@@ -219,6 +219,24 @@ pub(crate) enum Command {
     Man(docs::ManArgs),
 }
 
+// The one node a command is for (one definition for every command that takes one node of
+// 1 to 127, completed from the last scan).
+#[derive(Args, Debug)]
+pub(crate) struct Node {
+    /// Node-id, 1 to 127
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(complete::nodes))]
+    pub node: u8,
+}
+
+// [`Node`] where node 0 is the EPOS2 itself, reached directly (the commands that work on
+// it as on any node: sdo, drive).
+#[derive(Args, Debug)]
+pub(crate) struct SdoNode {
+    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(complete::nodes))]
+    pub node: u8,
+}
+
 /// Node-ids as one argument, 5,10,20, none named twice (`store`, `restore`, `firmware
 /// download`); [`sdo_node_list`] takes the EPOS2's own node 0 too.
 fn node_list(text: &str) -> Result<crate::settings::parse::Nodes, String> {
