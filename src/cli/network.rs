@@ -186,7 +186,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow:
 
 fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
     let loaded = network::load(&project_files::project_file(path))?;
-    ctx.out.notes(loaded.warnings.iter().map(|w| format!("canctl: warning: {w}")));
+    ctx.out.notes(crate::output::network::load_warning_lines(&loaded));
     Ok(loaded)
 }
 
