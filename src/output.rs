@@ -12,6 +12,7 @@ use std::io::{IsTerminal, Write};
 mod buses;
 mod check;
 pub(crate) mod completion;
+pub(crate) mod config;
 pub(crate) mod diagnostics;
 pub(crate) mod docs;
 pub(crate) mod doctor;
@@ -28,9 +29,13 @@ pub(crate) mod records;
 mod reports;
 pub(crate) mod sim;
 pub(crate) mod stopped;
+pub(crate) mod usage;
 
+pub(crate) use drive::{last_seen_text, watching_text};
 pub use events::{event_line, say_deviations};
+pub(crate) use hints::explained;
 pub use hints::{error_text, hint_text, last_scan_hint, library_error_text, no_bus_text, switch_hint};
+pub(crate) use nodes::short_window_note;
 pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 
 /// The process exit code for an error a command ended with, and whether to print it.
@@ -530,6 +535,24 @@ impl Output {
             write!(w, "{}", csv(L::CSV_HEADER, &[]))?;
         }
         Ok(())
+    }
+
+    /// A stream of lines on standard output, each flushed as it comes, until `next` has no
+    /// more; the last line, for what ends the stream.
+    pub(crate) fn stream<L: Line>(
+        &self,
+        mut next: impl FnMut() -> crate::Result<Option<L>>,
+    ) -> anyhow::Result<Option<L>> {
+        let stdout = std::io::stdout();
+        let mut out = std::io::BufWriter::new(stdout.lock());
+        self.stream_start::<L>(&mut out)?;
+        let mut last = None;
+        while let Some(line) = next()? {
+            self.line(&mut out, &line)?;
+            out.flush()?;
+            last = Some(line);
+        }
+        Ok(last)
     }
 
     /// A line of a stream, in the format asked for.

@@ -110,3 +110,15 @@ fn a_failed_node_in_a_batch_is_named_once() {
     assert!(run.stdout.contains("node 42: did not answer"), "{}", run.stdout);
     assert!(!run.stdout.contains("node 42: node 42"), "{}", run.stdout);
 }
+
+/// A node named twice would get two downloads into the same program, at once with --jobs:
+/// refused as `store 5,5` is, before anything is sent.
+#[test]
+fn a_node_named_twice_is_refused_before_anything_is_sent() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
+    let app = image(&sim, 200);
+    let run = sim.run(&["firmware", "download", "9,9", &app, "--jobs", "2"]);
+    assert_eq!(run.code, 2, "{}{}", run.stdout, run.stderr);
+    assert!(run.stderr.contains("node 9 is named twice"), "{}", run.stderr);
+}

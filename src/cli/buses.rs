@@ -30,7 +30,7 @@ pub(crate) struct BusesArgs {
 
 pub(crate) fn run(ctx: &Ctx, a: &BusesArgs) -> anyhow::Result<()> {
     if a.wait > MAX_WAIT {
-        return Err(Error::Usage(format!("--wait is at most {}s: beacons come every 3 s", MAX_WAIT.as_secs())).into());
+        return Err(crate::output::usage::buses_wait(MAX_WAIT.as_secs()).into());
     }
     let report = buses::find(a.wait, beacon_port(), &ctx.cancel);
     ctx.out.report(&report)?;

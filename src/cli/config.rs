@@ -2,12 +2,11 @@
 //! with a file, and made to match one — writing only what differs, in a safe order;
 //! `config check`: a file against CiA 306, without a bus.
 
-use super::{parse_node, Ctx};
+use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::config::{self, ApplyOptions, Dcf};
 use crate::ops::Progress as _;
 use clap::{Args, Subcommand};
-use clap_complete::engine::ArgValueCandidates;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -52,9 +51,8 @@ pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
   canctl --bus sim config eds 1 --out drive.eds
   canctl --bus can0 config eds 5 > sensor.eds")]
 pub(crate) struct EdsArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
     /// Write the EDS here instead of standard output
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -71,9 +69,8 @@ pub(crate) struct EdsArgs {
   canctl --bus can0 --eds 5=mh.eds config dump 5 --out sensor.dcf
   canctl --bus sim config dump 10 --out io.xdc")]
 pub(crate) struct DumpArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
     /// Write the DCF here instead of standard output (an XDC when FILE ends in .xdc)
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -85,9 +82,8 @@ pub(crate) struct DumpArgs {
   canctl --bus sim config diff 10 io.dcf
   canctl --bus can0 config diff 10 io.dcf --check --format json   # exit 6 when they differ")]
 pub(crate) struct DiffArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
     /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Exit 6 when anything differs
@@ -106,9 +102,8 @@ pub(crate) struct DiffArgs {
   canctl --bus sim config apply 10 io.dcf --dry-run
   canctl --bus can0 config apply 10 io.dcf --verify --store --format json")]
 pub(crate) struct ApplyArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
     /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Show what would be written, write nothing
@@ -141,27 +136,9 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::
 fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     let limit = crate::input::MAX_EDS_BYTES as usize;
     let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        crate::ops::stored_eds::read(bus, a.node, ctx.timeout, limit)
+        crate::ops::stored_eds::read(bus, a.node.node, ctx.timeout, limit)
     });
-    let mut eds = match read {
-        Err(e) if e.is_interrupted() => {
-            return crate::output::stopped::config_eds(&ctx.out, a.node, a.out.as_deref(), e)
-        }
-        other => other?,
-    };
-    match &a.out {
-        Some(path) => {
-            eds.save(a.node, path, ctx.bus.as_deref())?;
-            ctx.out.report(&eds)?;
-        }
-        // The file is the output: what was read is said on stderr.
-        None => {
-            ctx.out.write_bytes(&eds.file)?;
-            ctx.out.note(&crate::output::stored_eds_line(&eds));
-            ctx.out.notes(crate::output::Report::notes(&eds));
-        }
-    }
-    Ok(())
+    crate::output::config::stored_eds(&ctx.out, a.node.node, a.out.as_deref(), ctx.bus.as_deref(), read)
 }
 
 fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
@@ -170,30 +147,13 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     }
     let file_name =
         a.out.as_ref().map_or(String::new(), |p| p.file_name().unwrap_or_default().to_string_lossy().into_owned());
-    let dictionary = ctx.dicts.eds_for(a.node).map(|e| (&e.dict, e.path.as_str()));
+    let dictionary = ctx.dicts.eds_for(a.node.node).map(|e| (&e.dict, e.path.as_str()));
     let xdc_named = a.out.as_ref().and_then(|p| p.extension()).is_some_and(|x| x.eq_ignore_ascii_case("xdc"));
     let form = if ctx.out.xdc || xdc_named { config::FileForm::Xdc } else { config::FileForm::Dcf };
     let dump = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        config::dump_as(bus, a.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
+        config::dump_as(bus, a.node.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
     });
-    let dump = match dump {
-        // A stop the dump could not count objects for: said as one before the profile was read.
-        Err(e) if e.is_interrupted() => {
-            return crate::output::stopped::config_dump(&ctx.out, a.node, 0, 0, a.out.as_deref())
-        }
-        other => other?,
-    };
-    if dump.interrupted {
-        return crate::output::stopped::config_dump(&ctx.out, a.node, dump.objects, dump.wanted, a.out.as_deref());
-    }
-    match &a.out {
-        Some(path) => {
-            crate::atomic::write_atomic(path, &dump.dcf)?;
-            ctx.out.note(&format!("{} objects of node {} written to {}", dump.objects, a.node, path.display()));
-        }
-        None => ctx.out.write_bytes(&dump.dcf)?,
-    }
-    Ok(())
+    crate::output::config::dumped(&ctx.out, a.node.node, a.out.as_deref(), dump)
 }
 
 /// The DCF, its warnings said on stderr.
@@ -206,7 +166,8 @@ fn read_dcf(path: &Path) -> crate::Result<Dcf> {
 fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
     let dcf = read_dcf(&a.file)?;
     // Interrupted, the report holds what was compared so far.
-    let report = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| config::diff(bus, a.node, &dcf, ctx.timeout))?;
+    let report =
+        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| config::diff(bus, a.node.node, &dcf, ctx.timeout))?;
     ctx.out.report(&report)?;
     if a.check || report.interrupted {
         report.check()?;
@@ -223,14 +184,14 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
         store: a.store,
         store_timeout: a.store_timeout,
         force: a.force,
-        dictionary: ctx.dicts.eds_for(a.node).map(|e| (e.dict.clone(), e.path.clone())),
+        dictionary: ctx.dicts.eds_for(a.node.node).map(|e| (e.dict.clone(), e.path.clone())),
     };
     let dcf = read_dcf(&a.file)?;
     // Seconds of reads and writes on a slow device: counted on the terminal meanwhile.
-    let label = format!("node {}: applying {}", a.node, a.file.display());
+    let label = format!("node {}: applying {}", a.node.node, a.file.display());
     let mut bars = ctx.out.progress();
     bars.item(&label, "", false);
-    let report = config::apply(&mut crate::ops::counted::counted(bus, &label, &mut bars), a.node, &dcf, &options);
+    let report = config::apply(&mut crate::ops::counted::counted(bus, &label, &mut bars), a.node.node, &dcf, &options);
     bars.finish();
     let report = report?;
     ctx.out.report(&report)?;

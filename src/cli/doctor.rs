@@ -1,7 +1,6 @@
 //! `canctl doctor`: why a node, or the bus, is silent.
 
 use super::{parse_node, Ctx, GlobalArgs};
-use crate::bus::Bus;
 use crate::error::Error;
 use crate::ops::doctor::{self, DoctorOptions};
 use clap::Args;
@@ -64,16 +63,9 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
     let mut opened = false;
     let result = super::with_bus(ctx, global, |bus| {
         opened = true;
-        let own_kbit = match ctx.bus.as_deref().map(str::parse::<crate::connect::BusAddr>) {
-            Some(Ok(crate::connect::BusAddr::Slcan { kbit, .. })) => Some(kbit),
-            _ => None,
-        };
+        let sweep = a.sweep.then_some(a.sweep_window);
         let diagnosed = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-            let mut d = doctor::doctor(bus, &options)?;
-            if a.sweep {
-                doctor::sweep::sweep(bus, &mut d, own_kbit, a.sweep_window)?;
-            }
-            Ok(d)
+            doctor::doctor_swept(bus, &options, ctx.bus.as_deref(), sweep)
         });
         let report = crate::output::stopped::read(&ctx.out, "doctor", "listening and asking".into(), diagnosed)?;
         ctx.out.report(&report)?;
@@ -92,14 +84,4 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
         },
         result => result,
     }
-}
-
-/// The longest each wait of the quick checks after a silent node may be: with the read of
-/// every node-id, a second or so in all.
-const QUICK_WAIT: Duration = Duration::from_millis(500);
-
-/// The likely cause of a node's silence from the quick checks ([`doctor::quick`], two waits of
-/// at most half a second); `None` when they point at nothing or cannot tell.
-pub(super) fn likely_cause(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Option<doctor::Finding> {
-    doctor::quick(bus, node, timeout.min(QUICK_WAIT)).ok().flatten()
 }

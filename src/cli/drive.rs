@@ -5,10 +5,9 @@ use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::cia402::Goal;
 use crate::error::Error;
-use crate::ops::drive::{self, Options, Source, Watch};
+use crate::ops::drive::{self, Options, Watch};
 use crate::output::stopped;
 use clap::{Args, Subcommand};
-use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 #[derive(Subcommand, Debug)]
@@ -50,9 +49,8 @@ Examples:
 
 #[derive(Args, Debug)]
 pub(crate) struct StatusArgs {
-    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
-    #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::SdoNode,
     /// Print each change of the statusword until interrupted
     #[arg(long)]
     pub watch: bool,
@@ -63,9 +61,8 @@ pub(crate) struct StatusArgs {
 
 #[derive(Args, Debug)]
 pub(crate) struct WalkArgs {
-    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
-    #[arg(value_parser = super::parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::SdoNode,
     /// How long each transition may take to show in the statusword
     #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
     pub wait: Duration,
@@ -80,34 +77,22 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::R
         DriveCommand::FaultReset(a) => (a, Goal::FaultReset),
     };
     let o = Options { timeout: ctx.timeout, wait: args.wait };
-    let walk = drive::walk(bus, args.node, goal, &o, &ctx.cancel)?;
+    let walk = drive::walk(bus, args.node.node, goal, &o, &ctx.cancel)?;
     ctx.out.report(&walk)?;
     Ok(walk.outcome()?)
 }
 
 fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
-    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node, ctx.timeout));
-    let report = stopped::read(&ctx.out, "drive status", format!("reading node {}'s state", a.node), read)?;
+    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node.node, ctx.timeout));
+    let report = stopped::read(&ctx.out, "drive status", format!("reading node {}'s state", a.node.node), read)?;
     ctx.out.report(&report)?;
     if !a.watch {
         return Ok(());
     }
-    let mut watch = Watch::new(bus, a.node, a.interval, ctx.timeout)?;
-    ctx.out.note(&match watch.source() {
-        Source::Tpdo { cob_id, .. } => format!("node {}: watching the statusword in TPDO 0x{cob_id:03X}", a.node),
-        Source::Sdo(i) => format!("node {}: reading the statusword by SDO every {} ms", a.node, i.as_millis()),
-    });
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    ctx.out.stream_start::<drive::Change>(&mut out)?;
-    let mut last = None;
-    while let Some(change) = watch.next_until(bus, &ctx.cancel)? {
-        ctx.out.line(&mut out, &change)?;
-        std::io::Write::flush(&mut out)?;
-        last = Some(change);
-    }
-    if let Some(c) = last {
-        ctx.out.note(&format!("node {}: last seen {}", a.node, drive::state_text(c.state, c.statusword)));
+    let mut watch = Watch::new(bus, a.node.node, a.interval, ctx.timeout)?;
+    ctx.out.note(&crate::output::watching_text(a.node.node, watch.source()));
+    if let Some(last) = ctx.out.stream(|| watch.next_until(bus, &ctx.cancel))? {
+        ctx.out.note(&crate::output::last_seen_text(a.node.node, &last));
     }
     Err(Error::Interrupted.into())
 }

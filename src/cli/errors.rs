@@ -1,10 +1,9 @@
 //! `canctl errors`: a node's error history (0x1003) with each code's meaning.
 
-use super::{parse_node, Ctx};
+use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::errors;
 use clap::Args;
-use clap_complete::engine::ArgValueCandidates;
 
 /// Show a node's logged errors (0x1003), newest first, with their meanings
 ///
@@ -20,17 +19,17 @@ use clap_complete::engine::ArgValueCandidates;
   canctl --bus sim errors 10 --clear
   canctl --bus can0 errors 1 --format json")]
 pub(crate) struct ErrorsArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
     /// Then delete the history (0 to 0x1003:0) and confirm it reads back empty
     #[arg(long)]
     pub clear: bool,
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
-    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node, a.clear, ctx.timeout));
-    let what = format!("reading node {}'s error history", a.node);
+    let read =
+        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node.node, a.clear, ctx.timeout));
+    let what = format!("reading node {}'s error history", a.node.node);
     let report = crate::output::stopped::read(&ctx.out, "errors", what, read)?;
     ctx.out.report(&report)?;
     match report.clear_interrupted {

@@ -1,6 +1,6 @@
 //! `canctl firmware`: CiA 302-3 program download and the state of a device's programs.
 
-use super::{parse_node, Ctx};
+use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::firmware::{self, DownloadOptions};
 use clap::{Args, Subcommand};
@@ -35,17 +35,16 @@ pub(crate) enum FirmwareCommand {
 
 #[derive(Args, Debug)]
 pub(crate) struct StatusArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct DownloadArgs {
     /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another
     /// (or --jobs at once), with a report (and with --format junit a test case) for each
-    #[arg(value_name = "NODE", value_parser = parse_node, value_delimiter = ',', required = true, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub nodes: Vec<u8>,
+    #[arg(value_name = "NODE", value_parser = super::node_list, add = ArgValueCandidates::new(super::complete::nodes))]
+    pub nodes: crate::settings::parse::Nodes,
     /// The image: the bytes written to 0x1F50 as they are in the file
     #[arg(value_name = "IMAGE")]
     pub image: PathBuf,
@@ -75,8 +74,9 @@ pub(crate) struct DownloadArgs {
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
     match cmd {
         FirmwareCommand::Status(a) => {
-            let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node, ctx.timeout));
-            let what = format!("reading node {}'s program objects", a.node);
+            let read =
+                crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node.node, ctx.timeout));
+            let what = format!("reading node {}'s program objects", a.node.node);
             Ok(ctx.out.report(&crate::output::stopped::read(&ctx.out, "firmware status", what, read)?)?)
         }
         FirmwareCommand::Download(a) => download(ctx, bus, a),
@@ -85,7 +85,8 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow
 
 /// `firmware status NODE` on several buses at once: the node's programs on each.
 pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> anyhow::Result<()> {
-    let run = |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node, ctx.timeout);
+    let run =
+        |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node.node, ctx.timeout);
     super::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok(()))
 }
 
@@ -93,7 +94,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
     // One bar of bytes is for one transfer at a time: with several at once, each node's
     // start and end are told instead.
-    let parallel = a.jobs > 1 && a.nodes.len() > 1;
+    let parallel = a.jobs > 1 && a.nodes.0.len() > 1;
     let bar = if parallel {
         indicatif::ProgressBar::hidden()
     } else {
@@ -108,7 +109,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     o.cancel = Some(ctx.cancel.clone());
     o.watch = if parallel { None } else { ctx.out.transfer_hook(&bar) };
     let mut steps = ctx.out.progress();
-    if let [node] = a.nodes[..] {
+    if let [node] = a.nodes.0[..] {
         if !ctx.out.junit {
             let result = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
                 firmware::download(bus, node, &image, &o, &mut steps)
@@ -124,7 +125,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
         }
     }
     let batch = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        firmware::download_jobs(bus, &a.nodes, &image, &o, usize::from(a.jobs), &mut steps)
+        firmware::download_jobs(bus, &a.nodes.0, &image, &o, usize::from(a.jobs), &mut steps)
     });
     bar.finish_and_clear();
     ctx.out.report(&batch)?;

@@ -170,10 +170,7 @@ impl Target {
             (Some(id), _, _) => Ok(lss::Target::One(id)),
             (None, true, _) => Ok(lss::Target::All),
             (None, false, Some(_)) => Ok(lss::Target::DirectEpos2),
-            (None, false, None) => Err(Error::Usage(format!(
-                "say which device `lss {verb}` is for: --identity VENDOR:PRODUCT:REVISION:SERIAL for one, or \
-                 --global for every LSS device on the bus (a broadcast, so only when you mean it)"
-            ))),
+            (None, false, None) => Err(crate::output::usage::lss_unnamed(verb)),
         }
     }
 }

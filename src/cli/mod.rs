@@ -219,6 +219,35 @@ pub(crate) enum Command {
     Man(docs::ManArgs),
 }
 
+// The one node a command is for (one definition for every command that takes one node of
+// 1 to 127, completed from the last scan).
+#[derive(Args, Debug)]
+pub(crate) struct Node {
+    /// Node-id, 1 to 127
+    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(complete::nodes))]
+    pub node: u8,
+}
+
+// [`Node`] where node 0 is the EPOS2 itself, reached directly (the commands that work on
+// it as on any node: sdo, drive).
+#[derive(Args, Debug)]
+pub(crate) struct SdoNode {
+    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
+    #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(complete::nodes))]
+    pub node: u8,
+}
+
+/// Node-ids as one argument, 5,10,20, none named twice (`store`, `restore`, `firmware
+/// download`); [`sdo_node_list`] takes the EPOS2's own node 0 too.
+fn node_list(text: &str) -> Result<crate::settings::parse::Nodes, String> {
+    parse_nodes(text, parse_node)
+}
+
+/// [`node_list`] where node 0 is the EPOS2 on an epos2-rs232/epos2-usb bus.
+fn sdo_node_list(text: &str) -> Result<crate::settings::parse::Nodes, String> {
+    parse_nodes(text, parse_sdo_node)
+}
+
 /// `--format` of the commands that check things, which also write JUnit XML. Their own
 /// argument, so that only their help and completion offer `junit`; the global `--format`
 /// (before the command) takes it too, and the other commands refuse it.
@@ -263,10 +292,7 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| with_hint(ctx, bus, e))
 }
 
-/// The commands that work on several buses at once, named in the usage error of the others.
-const ON_BUSES: &str = "scan, health, network check and firmware status";
-
-/// A command given several buses: run on all of them when it is one of [`ON_BUSES`], a
+/// A command given several buses: run on all of them when it is one that works on several, a
 /// usage error when it uses a bus otherwise; `None` for the commands that use none.
 fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Result<()>> {
     let run = match command {
@@ -279,12 +305,7 @@ fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Resu
         | Command::Settings
         | Command::Completions(_)
         | Command::Man(_) => return None,
-        _ => Err(Error::Usage(format!(
-            "{} buses given ({}), but only {ON_BUSES} work on several at once; give this command one --bus",
-            ctx.buses.len(),
-            ctx.buses.join(", ")
-        ))
-        .into()),
+        _ => Err(crate::output::usage::several_buses(&ctx.buses).into()),
     };
     Some(run)
 }
@@ -351,49 +372,19 @@ fn on_each_bus<R: crate::output::Report + Send>(
     }
 }
 
-/// A node that did not answer: the link's failure when it has one, else which nodes the last
-/// scan of this bus saw. An object
-/// the node does not have: name the dictionary's objects nearest to it that the node has.
+/// The error explained ([`crate::ops::explain`]): the link's failure, a silent node's likely
+/// cause and the nodes the last scan saw, or the objects near a missing one.
 fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
-    use crate::canopen::abort::{NO_OBJECT, NO_SUBINDEX};
-    use crate::error::Service;
-    let hint = match (e.downcast_ref::<Error>(), &ctx.bus) {
-        (Some(Error::NoAnswer { node, what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }), Some(addr)) => {
-            // Nothing answered: the link may know why (an adapter at another bit rate), and
-            // then every command ends as `sdo read` does, not only those that ask it.
-            if let Err(link) = crate::ops::unheard::check(bus) {
-                return link.into();
-            }
-            let node = *node;
-            let likely = if ctx.diagnose { doctor::likely_cause(bus, node, ctx.timeout) } else { None };
-            let seen = crate::output::last_scan_hint(addr, &crate::ops::scan_cache::load(addr));
-            let Some(finding) = likely else { return hinted(e, seen) };
-            return match e.downcast::<Error>() {
-                // The finding rides along for `--format json`'s `diagnosis`.
-                Ok(error) => {
-                    let hint = crate::output::doctor::likely_cause_text(&finding) + &seen;
-                    crate::output::doctor::DiagnosedError { error: error.with_hint(hint), finding }.into()
-                }
-                Err(e) => e,
-            };
-        }
-        (Some(Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }), _) => {
-            let near = crate::ops::near::present_near(bus, &ctx.dicts, *node, *obj, *code == NO_OBJECT, ctx.timeout);
-            let near: Vec<String> = near.into_iter().map(|a| ctx.dicts.label(*node, a)).collect();
-            if near.is_empty() {
-                return e;
-            }
-            format!("; did you mean {}?", near.join(", "))
-        }
-        _ => return e,
+    let Some(error) = e.downcast_ref::<Error>() else { return e };
+    let o = crate::ops::explain::ExplainOptions {
+        bus: ctx.bus.as_deref(),
+        dicts: &ctx.dicts,
+        diagnose: ctx.diagnose,
+        timeout: ctx.timeout,
     };
-    hinted(e, hint)
-}
-
-fn hinted(e: anyhow::Error, hint: String) -> anyhow::Error {
-    match e.downcast::<Error>() {
-        Ok(error) => error.with_hint(hint).into(),
-        Err(e) => e,
+    match crate::ops::explain::explain(bus, error, &o) {
+        Some(x) => crate::output::explained(e.downcast::<Error>().expect("just matched"), x, &ctx.dicts),
+        None => e,
     }
 }
 
@@ -432,19 +423,11 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
             | Command::Firmware(firmware::FirmwareCommand::Download(_))
     );
     if format == FormatArg::Junit && !checks {
-        return Err(Error::Usage(
-            "--format junit is for commands that check things: canctl network check, canctl health, canctl doctor, canctl firmware download; use human, json or csv here"
-                .into(),
-        )
-        .into());
+        return Err(crate::output::usage::junit_elsewhere().into());
     }
     let dumps = matches!(cli.command, Command::Config(config::ConfigCommand::Dump(_)));
     if g.format == FormatArg::Xdc && !dumps {
-        return Err(Error::Usage(
-            "--format xdc is for canctl config dump (an XDC, CiA 311, instead of a DCF); use human, json or csv here"
-                .into(),
-        )
-        .into());
+        return Err(crate::output::usage::xdc_elsewhere().into());
     }
     if ctx.buses.len() > 1 {
         if let Some(done) = on_buses(&ctx, g, &cli.command) {

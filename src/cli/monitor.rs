@@ -37,15 +37,9 @@ pub(crate) struct MonitorArgs {
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         let mut monitor = Monitor::new(bus, ctx.dicts.pdo_layouts(&a.node), &a.node, a.duration, a.count)?;
-        let stdout = std::io::stdout();
-        let mut out = std::io::BufWriter::new(stdout.lock());
-        ctx.out.stream_start::<crate::ops::monitor::Event>(&mut out)?;
-        while let Some(ev) = monitor.next(bus)? {
-            ctx.out.line(&mut out, &ev)?;
-            std::io::Write::flush(&mut out)?;
-        }
+        ctx.out.stream(|| monitor.next(bus))?;
         let summary = monitor.summary();
-        ctx.out.summary(&mut out, &summary)?;
+        ctx.out.summary(&mut std::io::stdout().lock(), &summary)?;
         if summary.interrupted {
             return Err(crate::Error::Interrupted.into());
         }

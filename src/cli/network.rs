@@ -4,7 +4,6 @@
 use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::nmt::State;
-use crate::error::Error;
 use crate::ops::config;
 use crate::ops::network::{self, PROJECT_FILE};
 use crate::ops::project_files;
@@ -40,9 +39,8 @@ pub(crate) struct DumpArgs {
     /// The bus's bit rate, written as each DCF's Baudrate (1M 800k 500k 250k 125k 50k 20k 10k)
     #[arg(long, value_name = "RATE", value_parser = super::parse_kbit)]
     pub bit_rate: Option<u32>,
-    /// How long the bus must stay quiet after the last answer to the probes
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub window: Duration,
+    #[command(flatten)]
+    pub probes: Probes,
     /// Replace a project already in DIR
     #[arg(long)]
     pub force: bool,
@@ -70,9 +68,8 @@ pub(crate) struct CheckArgs {
     /// the other)
     #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
     pub jobs: u8,
-    /// How long the bus must stay quiet after the last answer to the probes
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub window: Duration,
+    #[command(flatten)]
+    pub probes: Probes,
     #[command(flatten)]
     pub checks: super::CheckFormat,
 }
@@ -120,9 +117,8 @@ pub(crate) struct ApplyArgs {
     /// How long a device given a node-id over LSS, or reset, may take to be back
     #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
     pub boot_wait: Duration,
-    /// How long the bus must stay quiet after the last answer to the probes
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
-    pub window: Duration,
+    #[command(flatten)]
+    pub probes: Probes,
 }
 
 /// Switch every device on the bus to a new bit rate (LSS global), then look for each node
@@ -167,6 +163,13 @@ pub(crate) struct SetBaudArgs {
     /// devices switched
     #[arg(long, requires = "project")]
     pub update_project: bool,
+    #[command(flatten)]
+    pub probes: Probes,
+}
+
+// How long the bus must stay quiet after the probes: the same for every network command.
+#[derive(Args, Debug)]
+pub(crate) struct Probes {
     /// How long the bus must stay quiet after the last answer to the probes
     #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
     pub window: Duration,
@@ -183,22 +186,18 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow:
 
 fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
     let loaded = network::load(&project_files::project_file(path))?;
-    ctx.out.notes(loaded.warnings.iter().map(|w| format!("canctl: warning: {w}")));
+    ctx.out.notes(crate::output::network::load_warning_lines(&loaded));
     Ok(loaded)
 }
 
 fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     let project = a.dir.join(PROJECT_FILE);
     if project.exists() && !a.force {
-        return Err(Error::Usage(format!(
-            "{} exists: pick another folder, or --force to replace it",
-            project.display()
-        ))
-        .into());
+        return Err(crate::output::usage::project_exists(&project).into());
     }
     let options = network::DumpOptions {
         timeout: ctx.timeout,
-        window: a.window,
+        window: a.probes.window,
         net_name: a.net_name.clone(),
         baudrate_kbit: a.bit_rate,
     };
@@ -211,7 +210,8 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
 
 fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
     let loaded = load(ctx, &a.project)?;
-    let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into(), state: a.state };
+    let options =
+        network::CheckOptions { timeout: ctx.timeout, window: a.probes.window, jobs: a.jobs.into(), state: a.state };
     let report = network::check(bus, &loaded, &options, &mut NodeBars::new(&ctx.out))?;
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
@@ -221,7 +221,8 @@ fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
 /// one JUnit suite per bus, the worst exit.
 pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) -> anyhow::Result<()> {
     let loaded = load(ctx, &a.project)?;
-    let options = network::CheckOptions { timeout: ctx.timeout, window: a.window, jobs: a.jobs.into(), state: a.state };
+    let options =
+        network::CheckOptions { timeout: ctx.timeout, window: a.probes.window, jobs: a.jobs.into(), state: a.state };
     let run = |_: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
         network::check(bus, &loaded, &options, progress)
     };
@@ -242,7 +243,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     let options = network::ApplyOptions {
         config: c,
         assign: a.assign,
-        window: a.window,
+        window: a.probes.window,
         boot_wait: a.boot_wait,
         jobs: a.jobs.into(),
         reset: a.reset,
@@ -257,17 +258,12 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
 
 fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()> {
     if !a.global {
-        return Err(Error::Usage(
-            "`network set-baud` switches every LSS device on the bus at once (a broadcast): add --global when you \
-             mean it"
-                .into(),
-        )
-        .into());
+        return Err(crate::output::usage::set_baud_not_global().into());
     }
     let loaded = a.project.as_deref().map(|p| load(ctx, p)).transpose()?;
     let options = network::SetBaudOptions {
         timeout: ctx.timeout,
-        window: a.window,
+        window: a.probes.window,
         index: a.rate,
         delay_ms: a.delay,
         store: a.store,

@@ -54,9 +54,8 @@ pub(crate) struct ResetArgs {
 
 #[derive(Args, Debug)]
 pub(crate) struct StateArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
     /// How long to listen for a heartbeat before asking by node guarding
     #[arg(long, value_name = "DUR", default_value = "300ms", value_parser = super::parse_duration)]
     pub listen: Duration,
@@ -101,12 +100,12 @@ fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Resu
         }
         NmtCommand::State(a) => {
             let o = StateOptions { listen: a.listen, timeout: ctx.timeout };
-            let what = format!("learning the NMT state of node {}", a.node);
+            let what = format!("learning the NMT state of node {}", a.node.node);
             Ok(ctx.out.report(&crate::output::stopped::read(
                 &ctx.out,
                 "nmt state",
                 what,
-                nmt::state(bus, a.node, &o),
+                nmt::state(bus, a.node.node, &o),
             )?)?)
         }
     }

@@ -3,7 +3,7 @@
 use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::scan::{self, ScanOptions};
-use crate::ops::scan_cache::{self, SeenNode};
+use crate::ops::scan_cache;
 use clap::Args;
 use std::time::Duration;
 
@@ -39,14 +39,11 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Resu
         ctx.out.report(&report)?;
         return Err(crate::Error::Interrupted.into());
     }
-    // Only a scan that waited for every device may stand for the bus in the cache.
     if options.may_miss_slow_devices() {
-        ctx.out.note(&format!(
-            "a window under {} ms may miss slow devices: the scan cache is kept as it was",
-            scan::FULL_WINDOW.as_millis()
-        ));
-    } else if let Some(uri) = &ctx.bus {
-        scan_cache::save(uri, &SeenNode::from_scan(&report, &ctx.dicts));
+        ctx.out.note(&crate::output::short_window_note());
+    }
+    if let Some(uri) = &ctx.bus {
+        scan_cache::remember(uri, &report, &options, &ctx.dicts);
     }
     Ok(ctx.out.report(&report)?)
 }
@@ -61,9 +58,7 @@ pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> any
     };
     let run = |uri: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
         let report = scan::scan(bus, &options, progress)?;
-        if !report.interrupted && !options.may_miss_slow_devices() {
-            scan_cache::save(uri, &SeenNode::from_scan(&report, &ctx.dicts));
-        }
+        scan_cache::remember(uri, &report, &options, &ctx.dicts);
         Ok(report)
     };
     super::on_each_bus(ctx, g, "canctl scan", run, outcome)

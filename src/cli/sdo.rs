@@ -1,6 +1,6 @@
 //! `canctl sdo read|write`: one object, any size, any type.
 
-use super::{parse_sdo_node, Ctx};
+use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::DataType;
 use crate::ops::sdo::{self, ReadOptions, WriteOptions};
@@ -26,16 +26,14 @@ pub(crate) enum SdoCommand {
   canctl --bus sim sdo read 10 1008 --type vs
   canctl --bus sim sdo read 1 1F50:1 --type d --out program.bin")]
 pub(crate) struct ReadArgs {
-    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
-    #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::SdoNode,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
     pub object: String,
-    /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
-    #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
-    pub dtype: Option<DataType>,
+    #[command(flatten)]
+    pub dtype: Type,
     /// Write the raw bytes to this file instead of printing them
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -61,9 +59,8 @@ pub(crate) struct ReadArgs {
   canctl --bus sim sdo write 1 0x607A:0 -2000 --type i32
   canctl --bus sim sdo write 1 1F50:1 @program.bin --type d")]
 pub(crate) struct WriteArgs {
-    /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus)
-    #[arg(value_parser = parse_sdo_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::SdoNode,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
@@ -71,15 +68,22 @@ pub(crate) struct WriteArgs {
     /// The value, or @FILE for its raw bytes
     #[arg(allow_hyphen_values = true)]
     pub value: String,
-    /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
-    #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
-    pub dtype: Option<DataType>,
+    #[command(flatten)]
+    pub dtype: Type,
     /// Read the object back and compare (exit 6 when it differs)
     #[arg(long)]
     pub verify: bool,
     /// Never use block transfer (segmented instead)
     #[arg(long)]
     pub no_block: bool,
+}
+
+// `--type`, the same for reading and writing.
+#[derive(Args, Debug)]
+pub(crate) struct Type {
+    /// Data type: b u8..u64 i8..i64 (also 24, 40, 48, 56 bits) r32 r64 t td vs us os d (default: the dictionary's)
+    #[arg(long = "type", short = 't', value_name = "T", value_parser = parse_type, add = ArgValueCandidates::new(super::complete::types))]
+    pub dtype: Option<DataType>,
 }
 
 fn parse_type(s: &str) -> Result<DataType, String> {
@@ -94,17 +98,23 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Res
 }
 
 fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
-    let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
+    let (object, _) = ctx.dicts.resolve(a.node.node, &a.object)?;
     if let Some(path) = &a.out {
         crate::atomic::check_writable(path)?;
     }
-    let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, max_size: a.max_size };
-    let read = sdo::read_watched(bus, ctx.dicts.for_node(a.node), a.node, object, &o, &mut ctx.out.progress());
+    let o = ReadOptions { timeout: ctx.timeout, dtype: a.dtype.dtype, block: !a.no_block, max_size: a.max_size };
+    let read =
+        sdo::read_watched(bus, ctx.dicts.for_node(a.node.node), a.node.node, object, &o, &mut ctx.out.progress());
     // What the transfer showed of the node's objects, for completion.
-    crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node, object, &read);
+    crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node.node, object, &read);
     let read = match read {
         Err(e) => {
-            return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node, object, false, &e), a.out.as_deref(), e)
+            return crate::output::stopped::sdo(
+                &ctx.out,
+                sdo::stopped(a.node.node, object, false, &e),
+                a.out.as_deref(),
+                e,
+            )
         }
         Ok(read) => read,
     };
@@ -116,12 +126,12 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
 }
 
 fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
-    let (object, _) = ctx.dicts.resolve(a.node, &a.object)?;
-    let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype, block: !a.no_block, verify: a.verify };
-    let written = sdo::write(bus, ctx.dicts.for_node(a.node), a.node, object, &a.value, &o);
-    crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node, object, &written);
+    let (object, _) = ctx.dicts.resolve(a.node.node, &a.object)?;
+    let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype.dtype, block: !a.no_block, verify: a.verify };
+    let written = sdo::write(bus, ctx.dicts.for_node(a.node.node), a.node.node, object, &a.value, &o);
+    crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node.node, object, &written);
     let written = match written {
-        Err(e) => return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node, object, true, &e), None, e),
+        Err(e) => return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node.node, object, true, &e), None, e),
         Ok(written) => written,
     };
     ctx.out.report(&written)?;

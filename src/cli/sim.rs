@@ -169,11 +169,7 @@ pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Res
         (_, true, ..) => Serve::Slcan { faults },
         (_, _, true, _) => Serve::Epos2 { framing: Framing::Rs232, baud, faults, can_timeout },
         (_, _, _, true) => Serve::Epos2 { framing: Framing::Usb, baud, faults, can_timeout },
-        _ => {
-            let msg = "say what to serve: --socketcan IFACE, --slcan, --socketcand PORT, --epos2-rs232 or --epos2-usb \
-                 (or `canctl sim reset`)";
-            return Err(Error::Usage(msg.into()).into());
-        }
+        _ => return Err(crate::output::usage::nothing_to_serve().into()),
     };
     // Serving has no step to stop at: a request to stop ends it, as the signal itself did
     // before it was caught for every command, with the exit code of an interruption.

@@ -1,13 +1,12 @@
 //! `canctl stream-pdo`: a node's transmit PDOs, decoded into named, typed fields, as a live
 //! table, CSV or JSON lines.
 
-use super::{parse_node, Ctx};
+use super::Ctx;
 use crate::bus::Bus;
 use crate::error::Error;
 use crate::ops::pdo::{Session, Stream, StreamOptions};
 use crate::ops::stream_setup::{prepare, Prepared, Setup};
 use clap::Args;
-use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
 
 /// Stream a node's transmit PDOs, decoded
@@ -23,9 +22,8 @@ use std::time::Duration;
   canctl --bus can0 stream-pdo 5 --start --sync 10ms --duration 5s --format json
   canctl --bus sim stream-pdo 1 --start --map 6064:0,606C:0 --event 20")]
 pub(crate) struct StreamArgs {
-    /// Node-id, 1 to 127
-    #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
-    pub node: u8,
+    #[command(flatten)]
+    pub node: super::Node,
     /// Which TPDOs (default: every valid one of 1..4)
     #[arg(long, value_delimiter = ',', value_name = "N,...", value_parser = super::number_in::<u16>("a TPDO number", 1, 512))]
     pub tpdo: Vec<u16>,
@@ -61,8 +59,8 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Resul
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
-    let restored = session.restore(bus, a.node, ctx.timeout);
-    ctx.out.notes(restored.as_ref().map_or(Vec::new(), |r| crate::output::records::restored_lines(a.node, r)));
+    let restored = session.restore(bus, a.node.node, ctx.timeout);
+    ctx.out.notes(restored.as_ref().map_or(Vec::new(), |r| crate::output::records::restored_lines(a.node.node, r)));
     let interrupted = ctx.cancel.is_cancelled();
     result?;
     restored?;
@@ -73,9 +71,9 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Resul
 }
 
 fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> anyhow::Result<()> {
-    let map = a.map.iter().map(|text| ctx.dicts.resolve(a.node, text)).collect::<crate::Result<Vec<_>>>()?;
+    let map = a.map.iter().map(|text| ctx.dicts.resolve(a.node.node, text)).collect::<crate::Result<Vec<_>>>()?;
     let setup = Setup {
-        node: a.node,
+        node: a.node.node,
         tpdo: &a.tpdo,
         map,
         event: a.event,
@@ -84,7 +82,7 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
         sync: a.sync,
         timeout: ctx.timeout,
     };
-    let dict = ctx.dicts.for_node(a.node);
+    let dict = ctx.dicts.for_node(a.node.node);
     let Prepared { layouts, silence } = prepare(bus, dict, &setup, session, &mut ctx.out.progress())?;
     let opts = StreamOptions {
         count: a.count,
@@ -94,10 +92,10 @@ fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -
         timeout: ctx.timeout,
         silence: Some(silence),
     };
-    let mut stream = Stream::new(bus, a.node, &layouts, opts, &ctx.cancel);
+    let mut stream = Stream::new(bus, a.node.node, &layouts, opts, &ctx.cancel);
     let polled = stream.polling().then_some(a.interval);
-    ctx.out.notes(crate::output::records::tpdo_lines(a.node, &layouts, polled));
-    let mut records = ctx.out.records(a.node, &layouts)?;
+    ctx.out.notes(crate::output::records::tpdo_lines(a.node.node, &layouts, polled));
+    let mut records = ctx.out.records(a.node.node, &layouts)?;
     let mut progress = ctx.out.progress();
     while let Some(r) = stream.next(bus, &mut progress)? {
         records.write(&r, stream.records() == 1)?;

@@ -7,8 +7,9 @@ use crate::canopen::{DataType, ObjAddr};
 use crate::connect::BusAddr;
 use crate::epos2::Framing;
 use crate::od::{names, Access};
-use crate::ops::dictionaries::Dictionaries;
-use crate::ops::scan_cache::SeenNode;
+use crate::ops::dictionaries::{Dictionaries, EdsFile};
+use crate::ops::scan_cache::{self, SeenNode};
+use crate::settings::{Given, Settings};
 use std::collections::HashMap;
 
 /// A bus address that exists on this machine, and what kind it is.
@@ -49,6 +50,36 @@ pub fn buses() -> Vec<BusCandidate> {
     }
     out.push(BusCandidate::Socketcand);
     out
+}
+
+/// The bus and the descriptions a partial command line gives (`bus`, `eds`), resolved as
+/// the command resolves them (else CANCTL_BUS, else the settings file's).
+fn line_settings(bus: Option<String>, eds: Vec<EdsFile>) -> Settings {
+    let bus = bus.or_else(|| std::env::var("CANCTL_BUS").ok());
+    Settings::resolve(Given { bus, eds, ..Given::default() }, crate::settings::load().unwrap_or_default())
+}
+
+/// The nodes the last scan saw on the bus a partial command line names (`bus`).
+pub(crate) fn line_nodes(bus: Option<String>) -> Vec<SeenNode> {
+    line_settings(bus, Vec::new()).bus.map(|bus| scan_cache::load(&bus.value)).unwrap_or_default()
+}
+
+/// [`objects`] of `node` on the bus and with the descriptions a partial command line names
+/// (or canctl.toml); a description that cannot be read is returned beside the built-in
+/// dictionary's objects, to be said rather than silently replaced.
+pub(crate) fn line_objects(
+    bus: Option<String>,
+    eds: Vec<EdsFile>,
+    node: u8,
+) -> (Vec<ObjectCandidate>, Option<crate::Error>) {
+    let settings = line_settings(bus, eds);
+    let eds: Vec<_> = settings.eds.into_iter().map(|e| e.value).collect();
+    let (dicts, refused) = match Dictionaries::load(&eds) {
+        Ok(dicts) => (dicts, None),
+        Err(e) => (Dictionaries::default(), Some(e)),
+    };
+    let seen = settings.bus.and_then(|b| scan_cache::load_all(&b.value).into_iter().find(|n| n.node == node));
+    (objects(node, &dicts, seen.as_ref()), refused)
 }
 
 /// An object a node is known to have.

@@ -17,6 +17,7 @@ pub mod doctor;
 pub mod drive;
 pub(crate) mod errors;
 pub(crate) mod event;
+pub(crate) mod explain;
 pub mod firmware;
 pub mod health;
 pub(crate) mod in_parallel;

@@ -106,6 +106,21 @@ impl SeenNode {
     }
 }
 
+/// Remember `scan` as the nodes of `bus` when it may stand for the bus: it was not stopped,
+/// and it waited for slow devices (a shorter window may have missed some); whether it was.
+pub(crate) fn remember(
+    bus: &str,
+    scan: &super::scan::Scan,
+    options: &super::scan::ScanOptions,
+    dicts: &super::dictionaries::Dictionaries,
+) -> bool {
+    let whole = !scan.interrupted && !options.may_miss_slow_devices();
+    if whole {
+        save(bus, &SeenNode::from_scan(scan, dicts));
+    }
+    whole
+}
+
 /// Save what a scan found as the bus's nodes, keeping what was learned before of each
 /// node that answered with the same identity.
 pub fn save(bus: &str, nodes: &[SeenNode]) {

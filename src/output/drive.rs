@@ -2,7 +2,7 @@
 //! --watch` look to people.
 
 use super::{Human, Line, Report};
-use crate::ops::drive::{state_text, Change, Status, Walk};
+use crate::ops::drive::{state_text, Change, Source, Status, Walk};
 use serde_json::{json, Value as J};
 
 /// Bits 12–15 depend on the mode or the manufacturer: shown only when set.
@@ -150,4 +150,17 @@ impl Line for Change {
             self.source.to_uppercase()
         )
     }
+}
+
+/// Where `drive status --watch` reads the statusword from.
+pub(crate) fn watching_text(node: u8, source: &Source) -> String {
+    match source {
+        Source::Tpdo { cob_id, .. } => format!("node {node}: watching the statusword in TPDO 0x{cob_id:03X}"),
+        Source::Sdo(i) => format!("node {node}: reading the statusword by SDO every {} ms", i.as_millis()),
+    }
+}
+
+/// The state `drive status --watch` saw last, said when it ends.
+pub(crate) fn last_seen_text(node: u8, last: &Change) -> String {
+    format!("node {node}: last seen {}", state_text(last.state, last.statusword))
 }

@@ -111,6 +111,32 @@ pub fn last_scan_hint(bus: &str, seen: &[crate::ops::scan_cache::SeenNode]) -> S
     format!("; nodes seen on the last scan of {bus}: {}", list.join(", "))
 }
 
+/// `error` with what [`crate::ops::explain::explain`] learned said in its hint: the link's
+/// failure instead of it, the likely cause of a node's silence (which rides along for
+/// `--format json`'s `diagnosis`) and the nodes the last scan saw, or the objects near a
+/// missing one.
+pub(crate) fn explained(
+    error: crate::Error,
+    explanation: crate::ops::explain::Explanation,
+    dicts: &crate::ops::dictionaries::Dictionaries,
+) -> anyhow::Error {
+    use crate::ops::explain::Explanation;
+    match explanation {
+        Explanation::Link(link) => link.into(),
+        Explanation::Silent { bus, finding: None, last_scan } => {
+            error.with_hint(last_scan_hint(&bus, &last_scan)).into()
+        }
+        Explanation::Silent { bus, finding: Some(finding), last_scan } => {
+            let hint = super::doctor::likely_cause_text(&finding) + &last_scan_hint(&bus, &last_scan);
+            super::doctor::DiagnosedError { error: error.with_hint(hint), finding }.into()
+        }
+        Explanation::Near { node, near } => {
+            let near: Vec<String> = near.into_iter().map(|a| dicts.label(node, a)).collect();
+            error.with_hint(format!("; did you mean {}?", near.join(", "))).into()
+        }
+    }
+}
+
 /// Why a command that needs a bus has none, how to name one, and the interfaces and
 /// serial ports this machine has.
 pub fn no_bus_text() -> String {

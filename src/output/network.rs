@@ -17,6 +17,11 @@ impl std::fmt::Display for LoadWarning {
     }
 }
 
+/// A network project's warnings (a DCF that deviates, a node listed twice), as lines on stderr.
+pub(crate) fn load_warning_lines(loaded: &crate::ops::network::Loaded) -> Vec<String> {
+    loaded.warnings.iter().map(|w| format!("canctl: warning: {w}")).collect()
+}
+
 pub(crate) struct DumpReport<'a> {
     pub dumped: &'a Dumped,
     pub dir: &'a Path,

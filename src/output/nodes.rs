@@ -205,6 +205,14 @@ impl Report for NodeState {
     }
 }
 
+/// Why a scan with a short window left the scan cache as it was.
+pub(crate) fn short_window_note() -> String {
+    format!(
+        "a window under {} ms may miss slow devices: the scan cache is kept as it was",
+        crate::ops::scan::FULL_WINDOW.as_millis()
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -127,6 +127,26 @@ impl Diagnosis {
     }
 }
 
+/// [`doctor`], then, given a `sweep` window, the bit-rate sweep ([`sweep::sweep`]) of an
+/// adapter that listens at each rate in turn; `uri` is the bus's address, whose rate an
+/// slcan adapter's names (`slcan:PORT@RATE`).
+pub(crate) fn doctor_swept(
+    bus: &mut dyn Bus,
+    o: &DoctorOptions,
+    uri: Option<&str>,
+    sweep: Option<Duration>,
+) -> Result<Diagnosis> {
+    let mut d = doctor(bus, o)?;
+    if let Some(window) = sweep {
+        let own_kbit = match uri.map(str::parse::<crate::connect::BusAddr>) {
+            Some(Ok(crate::connect::BusAddr::Slcan { kbit, .. })) => Some(kbit),
+            _ => None,
+        };
+        sweep::sweep(bus, &mut d, own_kbit, window)?;
+    }
+    Ok(d)
+}
+
 /// Examine the bus and, given one, the node; link failures become findings (the host,
 /// the controller), other errors end it (an interruption).
 pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
