@@ -50,6 +50,8 @@ pub(crate) struct SocketcandLink {
     /// Units that did not parse, and 29-bit frames, since the link was opened.
     pub(crate) garbled: u64,
     pub(crate) extended: u64,
+    /// Writes to the server since the link was opened: a block's segments are one.
+    pub(crate) writes: u64,
 }
 
 impl SocketcandLink {
@@ -93,6 +95,7 @@ impl SocketcandLink {
             warned: Vec::new(),
             garbled: 0,
             extended: 0,
+            writes: 0,
         };
         link.expect_ok("< hi >", "greet", None, answer_wait)?;
         link.expect_ok("< ok >", &format!("open {iface}"), Some(Unit::Open(iface.to_string())), answer_wait)?;
@@ -125,10 +128,17 @@ impl SocketcandLink {
     }
 
     fn write(&mut self, unit: &Unit) -> Result<()> {
+        self.write_bytes(&unit.encode())
+    }
+
+    /// One write of whole units. socketcand takes several units from one read, but ends
+    /// the connection when a read brings no complete one: units are never split between
+    /// writes by canctl (TCP may still cut them; the rest then comes in the next read).
+    fn write_bytes(&mut self, bytes: &[u8]) -> Result<()> {
         self.set_nonblocking(false)?;
-        let bytes = unit.encode();
-        tracing::trace!(target: "canctl::socketcand", "{} < {}", self.name, String::from_utf8_lossy(&bytes));
-        self.stream.write_all(&bytes).map_err(|e| match e.kind() {
+        tracing::trace!(target: "canctl::socketcand", "{} < {}", self.name, String::from_utf8_lossy(bytes));
+        self.writes += 1;
+        self.stream.write_all(bytes).map_err(|e| match e.kind() {
             io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut => {
                 SocketcandError::Stalled { server: self.name.clone(), waited: self.write_wait }.into()
             }
@@ -237,6 +247,22 @@ impl FrameLink for SocketcandLink {
             return Err(Error::NoRemoteFrames { bus: self.name.clone(), backend: "socketcand's raw mode" });
         }
         self.write(&Unit::Send(*frame))
+    }
+
+    /// The frames in one write: a block of 127 segments is one system call and a few TCP
+    /// segments, not 127 of each (and socketcand reads them in one go as well).
+    fn send_all(&mut self, frames: &[Frame]) -> Result<()> {
+        if frames.iter().any(Frame::is_remote) {
+            return Err(Error::NoRemoteFrames { bus: self.name.clone(), backend: "socketcand's raw mode" });
+        }
+        let mut bytes = Vec::with_capacity(frames.len() * 40);
+        for f in frames {
+            bytes.extend_from_slice(&Unit::Send(*f).encode());
+        }
+        match bytes.is_empty() {
+            true => Ok(()),
+            false => self.write_bytes(&bytes),
+        }
     }
 
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {

@@ -29,6 +29,14 @@ pub use observer::{Observed, SeenBy};
 pub trait FrameLink {
     /// Sends one frame; an error when the link cannot (bus-off, adapter gone).
     fn send(&mut self, frame: &Frame) -> Result<()>;
+    /// Sends `frames` in order, all of them now: what a sender has ready at once (the
+    /// segments of an SDO block, the answers of a device's block). Links that carry
+    /// frames in a stream (socketcand over TCP) write them in one go rather than one
+    /// system call and one TCP segment a frame; the others send each as [`send`](Self::send).
+    /// Nothing is held back for later: when it returns, every frame is on its way.
+    fn send_all(&mut self, frames: &[Frame]) -> Result<()> {
+        frames.iter().try_for_each(|f| self.send(f))
+    }
     /// The next frame, or `None` once `deadline` passes without one.
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>>;
     /// The next frame with the moment it was on the bus, on the clock of `now`. Judging a

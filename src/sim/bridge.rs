@@ -25,11 +25,14 @@ pub fn run(sim: SimLink, can: &mut dyn FrameLink, log: Option<FrameLog>) -> Resu
             seen(Dir::Rx, &f);
             sim.send(&f)?;
         }
-        // The answers to that frame, and any heartbeats that fell due.
-        while let Some(out) = sim.recv(sim.now())? {
-            seen(Dir::Tx, &out);
-            can.send(&out)?;
+        // The answers to that frame, and any heartbeats that fell due: all there is now,
+        // sent together (a block upload's segments leave in one write over socketcand).
+        let mut out = Vec::new();
+        while let Some(f) = sim.recv(sim.now())? {
+            seen(Dir::Tx, &f);
+            out.push(f);
         }
+        can.send_all(&out)?;
         sim.save_if_changed()?;
     }
 }

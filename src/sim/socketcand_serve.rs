@@ -36,6 +36,8 @@ struct Client {
     stream: TcpStream,
     /// Frames held back during [`HANDSHAKE_GRACE`]; `None` once they flow.
     held: Option<Vec<u8>>,
+    /// Writes of frames to it so far: the frames the devices send at once are one.
+    writes: u64,
 }
 
 /// The clients in raw mode.
@@ -77,10 +79,17 @@ fn micros_now() -> u64 {
     SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_micros() as u64).unwrap_or(0)
 }
 
-/// Write `frame` to every client in raw mode but `except`; a client that cannot take it
-/// is dropped.
-fn broadcast(clients: &Clients, frame: &Frame, except: Option<u64>) {
-    let bytes = Unit::Frame { frame: *frame, micros: micros_now() }.encode();
+/// Write `frames` to every client in raw mode but `except`, in one write each; a client
+/// that cannot take them is dropped.
+fn broadcast(clients: &Clients, frames: &[Frame], except: Option<u64>) {
+    let micros = micros_now();
+    let mut bytes = Vec::with_capacity(frames.len() * 40);
+    for frame in frames {
+        bytes.extend_from_slice(&Unit::Frame { frame: *frame, micros }.encode());
+    }
+    if bytes.is_empty() {
+        return;
+    }
     let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
     clients.retain_mut(|c| match &mut c.held {
         _ if Some(c.number) == except => true,
@@ -94,6 +103,7 @@ fn broadcast(clients: &Clients, frame: &Frame, except: Option<u64>) {
 
 /// Write to a client; one that cannot take it is let go.
 fn write_or_drop(c: &mut Client, bytes: &[u8]) -> bool {
+    c.writes += 1;
     let ok = c.stream.write_all(bytes).is_ok();
     if !ok {
         tracing::debug!(target: "canctl::socketcand", "client {} dropped: it does not take its frames", c.number);
@@ -169,13 +179,18 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
                     (raw, held) = (true, true);
                     let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
                     let ok = reply.write_all(&Unit::Ok.encode()).is_ok();
-                    clients.extend(writer.take().map(|stream| Client { number, stream, held: Some(Vec::new()) }));
+                    clients.extend(writer.take().map(|stream| Client {
+                        number,
+                        stream,
+                        held: Some(Vec::new()),
+                        writes: 0,
+                    }));
                     let _ = stream.set_read_timeout(Some(HANDSHAKE_GRACE));
                     ok
                 }
                 Ok(Unit::Echo) if opened => answer(&Unit::Echo, &mut reply),
                 Ok(Unit::Send(frame)) if raw => {
-                    broadcast(&clients, &frame, Some(number));
+                    broadcast(&clients, &[frame], Some(number));
                     tx.send(frame).is_ok()
                 }
                 // 29-bit frames: no sim device listens to them.
@@ -203,7 +218,13 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
 impl FrameLink for SocketcandServer {
     /// A frame from the devices, to every client.
     fn send(&mut self, frame: &Frame) -> Result<()> {
-        broadcast(&self.clients, frame, None);
+        broadcast(&self.clients, std::slice::from_ref(frame), None);
+        Ok(())
+    }
+
+    /// Frames from the devices at once (a block upload's segments), in one write a client.
+    fn send_all(&mut self, frames: &[Frame]) -> Result<()> {
+        broadcast(&self.clients, frames, None);
         Ok(())
     }
 
@@ -357,6 +378,39 @@ mod tests {
         let n = listener.recv(&mut buf).unwrap();
         let b = beacon::parse(&buf[..n]).unwrap();
         assert_eq!((b.host.as_str(), b.port, b.buses.clone()), ("127.0.0.1", 4000, vec![IFACE.to_string()]));
+    }
+
+    /// A block each way through the server, with the devices behind it: canctl's client
+    /// writes a block's segments in one write, the server a device's block in one write a
+    /// client (one system call and a few TCP segments for up to 127 frames, not one each:
+    /// per frame, they were what made a transfer through socketcand slow).
+    #[test]
+    fn a_block_goes_in_one_write_each_way() {
+        use crate::bus::{Bus, Master, SdoOptions};
+        use crate::canopen::ObjAddr;
+        use crate::sim::{SimConfig, SimLink};
+        let mut server = SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+        let clients = server.clients.clone();
+        let mut m = Master::new(client(&server), "socketcand".into());
+        std::thread::spawn(move || {
+            let sim = SimLink::with_config(SimConfig::instant());
+            crate::sim::bridge::run(sim, &mut server, None)
+        });
+        let domain = ObjAddr::new(0x1F50, 1);
+        let opts = SdoOptions { block_download: true, block_upload: true, ..SdoOptions::new(Duration::from_secs(2)) };
+        // Three blocks of 127 segments of 7 bytes, the last one short.
+        let data: Vec<u8> = (0..127 * 7 * 3 - 5).map(|i| (i * 7 % 251) as u8).collect();
+        let sent_before = m.link_mut().writes;
+        m.sdo_download(1, domain, &data, &opts).unwrap();
+        // The initiation, three blocks, the end.
+        let sent = m.link_mut().writes - sent_before;
+        assert_eq!(sent, 5, "{sent} writes for a block download of three blocks");
+        let served = || clients.lock().unwrap().iter().map(|c| c.writes).sum::<u64>();
+        let served_before = served();
+        assert_eq!(m.sdo_upload(1, domain, &opts).unwrap(), data);
+        // The answer to the initiation, three blocks, the end.
+        let served = served() - served_before;
+        assert_eq!(served, 5, "{served} writes of the server for a block upload of three blocks");
     }
 
     #[test]

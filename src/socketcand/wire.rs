@@ -73,7 +73,8 @@ impl Unit {
             Unit::Send(f) => {
                 let mut s = format!("send {:03X} {}", f.id(), f.len());
                 for b in f.data() {
-                    s.push_str(&format!(" {b:02X}"));
+                    s.push(' ');
+                    push_hex(&mut s, *b);
                 }
                 s
             }
@@ -85,7 +86,7 @@ impl Unit {
             Unit::Frame { frame, micros } => {
                 let mut s = format!("frame {:03X} {} ", frame.id(), time_text(*micros));
                 for b in frame.data() {
-                    s.push_str(&format!("{b:02X}"));
+                    push_hex(&mut s, *b);
                 }
                 s
             }
@@ -96,6 +97,14 @@ impl Unit {
         };
         format!("< {body} >").into_bytes()
     }
+}
+
+/// A byte as two upper-case hex digits: per byte of every frame, so without the
+/// allocation a `format!` would make.
+fn push_hex(s: &mut String, b: u8) {
+    const DIGITS: &[u8; 16] = b"0123456789ABCDEF";
+    s.push(DIGITS[usize::from(b >> 4)] as char);
+    s.push(DIGITS[usize::from(b & 0xF)] as char);
 }
 
 fn time_text(micros: u64) -> String {
@@ -292,6 +301,10 @@ mod tests {
         let sdo = Frame::new(0x601, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]);
         assert_eq!(Unit::Send(sdo).encode(), b"< send 601 8 40 18 10 01 00 00 00 00 >");
         assert_eq!(Unit::Send(Frame::new(0x000, &[])).encode(), b"< send 000 0 >");
+        // Every hex digit, upper case, high nibble first, both ways.
+        let digits = Frame::new(0x7E5, &[0x01, 0x23, 0x45, 0x67, 0x89, 0xAB, 0xCD, 0xEF]);
+        assert_eq!(Unit::Send(digits).encode(), b"< send 7E5 8 01 23 45 67 89 AB CD EF >");
+        assert_eq!(Unit::Frame { frame: digits, micros: 1 }.encode(), b"< frame 7E5 0.000001 0123456789ABCDEF >");
         // python-can writes the bytes unpadded and lower case.
         assert_eq!(units(&[b"< send 601 2 1 f1 >"]), [Ok(Unit::Send(Frame::new(0x601, &[0x01, 0xF1])))]);
         assert_eq!(units(&[b"< send 1AAAAAAA 2 1 F1 >"]), [Ok(Unit::Extended { id: 0x1AAA_AAAA })]);

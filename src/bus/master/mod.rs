@@ -128,6 +128,12 @@ impl<L: FrameLink> Master<L> {
         self.link.send(frame)
     }
 
+    /// Frames ready at once (a block's segments): the link may write them in one go.
+    fn send_all(&mut self, frames: &[Frame]) -> Result<()> {
+        frames.iter().for_each(|f| self.seen(Dir::Tx, f));
+        self.link.send_all(frames)
+    }
+
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         let f = self.link.recv(deadline)?;
         if let Some(f) = &f {
@@ -282,9 +288,8 @@ impl<L: FrameLink> Master<L> {
                         // The size may have become known: the budget follows it.
                         a.total_deadline = a.started + a.client.time_budget(timeout);
                     }
-                    for p in &step.send {
-                        self.send(&Frame::new(sdo::request_cob(node), p))?;
-                    }
+                    let frames: Vec<Frame> = step.send.iter().map(|p| Frame::new(sdo::request_cob(node), p)).collect();
+                    self.send_all(&frames)?;
                     // The server's answer to a request counts from when it was sent, however
                     // long ago the answer that led to it was on the bus.
                     if step.progress && !step.send.is_empty() {
