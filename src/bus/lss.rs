@@ -94,12 +94,15 @@ pub struct LssMaster<'a> {
     /// A device may be in configuration state by this master's doing (it switched one
     /// there, or a fastscan found one): the switch back must then be confirmed.
     configuring: bool,
+    /// The latest any device answered so far (a fastscan's step counts as such): how long
+    /// the silence that confirms the switch back needs to last.
+    slowest: Duration,
 }
 
 impl<'a> LssMaster<'a> {
     /// An LSS master on `bus` that waits at most `timeout` for each confirmed step's answer.
     pub fn new(bus: &'a mut dyn Bus, timeout: Duration) -> LssMaster<'a> {
-        LssMaster { bus, timeout, configuring: false }
+        LssMaster { bus, timeout, configuring: false, slowest: Duration::ZERO }
     }
 
     /// The bus underneath, for the frames LSS does not cover.
@@ -114,8 +117,14 @@ impl<'a> LssMaster<'a> {
 
     /// A request and the answers with the command specifier it expects.
     pub fn ask(&mut self, req: Request, collect: LssWait) -> Result<Vec<Response>> {
+        self.ask_within(req, collect, self.timeout)
+    }
+
+    /// [`ask`](Self::ask), waiting `window` for the answers.
+    fn ask_within(&mut self, req: Request, collect: LssWait, window: Duration) -> Result<Vec<Response>> {
         let expect = req.expected_answer().expect("a confirmed LSS service");
-        let answers = self.bus.lss_exchange(&req.encode(), expect, self.timeout, collect)?;
+        let answers = self.bus.lss_exchange(&req.encode(), expect, window, collect)?;
+        self.slowest = answers.iter().map(|a| a.after).fold(self.slowest, Duration::max);
         Ok(answers.iter().filter_map(|a| Response::decode(&a.data)).collect())
     }
 
@@ -167,20 +176,38 @@ impl<'a> LssMaster<'a> {
         self.send(Request::SwitchGlobal { configuration: false })
     }
 
-    /// Whether no device is in configuration state: nobody answers "inquire node-id", or
-    /// the answers are not a device's. A device answers a second inquiry with the node-id
-    /// it gave the first time; a device flooding the LSS answer id with a counter does not.
+    /// Whether no device is in configuration state: two inquiries in a row go unanswered
+    /// ("inquire node-id"; a device that missed the switch may miss one inquiry too), or the
+    /// answers are not a device's: a device answers with the same node-id again, a device
+    /// flooding the LSS answer id with a counter does not.
     fn nobody_configuring(&mut self) -> Result<bool> {
-        let first = self.node_ids_inquired()?;
-        if first.is_empty() {
-            return Ok(true);
+        let (mut heard, mut silences) = (Vec::new(), 0);
+        for _ in 0..4 {
+            let ids = self.node_ids_inquired()?;
+            if ids.is_empty() {
+                silences += 1;
+                if silences == 2 {
+                    return Ok(true);
+                }
+                continue;
+            }
+            if ids.iter().any(|n| heard.contains(n)) {
+                return Ok(false);
+            }
+            heard.extend(ids);
+            silences = 0;
         }
-        Ok(!self.node_ids_inquired()?.iter().any(|n| first.contains(n)))
+        Ok(true)
     }
 
-    /// The node-ids the devices in configuration state answer "inquire node-id" with.
+    /// The node-ids the devices in configuration state answer "inquire node-id" with,
+    /// within three times the latest answer seen so far (the timeout before any).
     fn node_ids_inquired(&mut self) -> Result<Vec<u32>> {
-        let answers = self.ask(Request::Inquire(Inquiry::NodeId), LssWait::All)?;
+        let window = match self.slowest.is_zero() {
+            true => self.timeout,
+            false => (self.slowest * 3).clamp(lss::STEP_FLOOR, self.timeout),
+        };
+        let answers = self.ask_within(Request::Inquire(Inquiry::NodeId), LssWait::All, window)?;
         Ok(answers
             .iter()
             .filter_map(|a| match a {
@@ -244,6 +271,7 @@ impl<'a> LssMaster<'a> {
             };
             // Unless nobody took part, a device may be in configuration state now.
             self.configuring |= !matches!(found, Err(FastscanError::NoDevice));
+            self.slowest = self.slowest.max(scan.pace().step());
             let (steps, crowded) = (scan.steps(), scan.crowded());
             return Ok(Some(FastscanOutcome { found, steps, pace: scan.into_pace(), crowded }));
         }

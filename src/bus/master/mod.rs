@@ -128,10 +128,12 @@ impl<L: FrameLink> Master<L> {
         self.link.send(frame)
     }
 
-    /// Frames ready at once (a block's segments): the link may write them in one go.
+    /// Frames ready at once (a block's segments): the link may write them in one go. They
+    /// go to the log once written: a write that failed part-way does not say which left.
     fn send_all(&mut self, frames: &[Frame]) -> Result<()> {
+        self.link.send_all(frames)?;
         frames.iter().for_each(|f| self.seen(Dir::Tx, f));
-        self.link.send_all(frames)
+        Ok(())
     }
 
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
