@@ -65,6 +65,10 @@ fn a_bus_off_controller_on_the_sim_bus_is_found() {
     let evidence = first["evidence"].as_array().unwrap();
     assert!(evidence.iter().any(|e| e["kind"] == "controller_report" && e["state"] == "bus_off"), "{d}");
     assert!(evidence.iter().any(|e| e["kind"] == "error_frames" && e["counts"]["bus_off"] == 1), "{d}");
+    // The sim bus shows traffic: the listen ended at the bus-off, not for want of a link
+    // that shows it.
+    let human = doctor(&sim.bus(), &["5"]);
+    assert!(!(human.stdout.clone() + &human.stderr).contains("shows no traffic"), "{}{}", human.stdout, human.stderr);
 
     let read = sim.run(&["--format", "json", "sdo", "read", "5", "0x1000"]);
     assert_eq!(read.code, 5, "{}{}", read.stdout, read.stderr);

@@ -404,8 +404,11 @@ impl Report for Diagnosis {
     }
 
     fn notes(&self) -> Vec<String> {
-        let opened = !matches!(self.findings.first(), Some(Finding { cause: Cause::Host { .. }, .. }));
-        if self.listened_ms == 0 && opened {
+        // A link that failed (the host's side, or its controller bus-off) ended the listen:
+        // that is not a link that shows no traffic.
+        let failed =
+            self.findings.iter().any(|f| f.evidence.iter().any(|e| matches!(e, Evidence::LinkReported { .. })));
+        if self.listened_ms == 0 && !failed {
             return vec!["this link shows no traffic: nothing was listened to, only requests answered".into()];
         }
         Vec::new()
