@@ -21,6 +21,17 @@ x86_64-w64-mingw32-gcc -shared -O2 -o "$out/bcryptprimitives.dll" \
   scripts/wine/bcryptprimitives.c scripts/wine/bcryptprimitives.def
 
 export WINEDEBUG=-all WINEPREFIX="${WINEPREFIX:-$(mktemp -d)}"
+# A fresh prefix is made by the first program run in it. On a loaded machine that once came
+# out unusable ("could not load kernel32.dll"), and every run after it failed alike: make it
+# first, and again from nothing if canctl.exe cannot start in it.
+for attempt in 1 2 3; do
+  wineboot --init >/dev/null 2>&1 </dev/null || true
+  wineserver -w || true
+  if wine "$exe" --version >/dev/null 2>&1 </dev/null; then break; fi
+  echo "windows-smoke: the wine prefix is not usable (attempt $attempt): made again" >&2
+  wineserver -k 2>/dev/null || true
+  rm -rf "$WINEPREFIX" && mkdir -p "$WINEPREFIX"
+done
 work=$(mktemp -d)
 state='sim:Z:'"$work"'/sim.json'
 failed=0
