@@ -408,9 +408,11 @@ mod tests {
         let served = || clients.lock().unwrap().iter().map(|c| c.writes).sum::<u64>();
         let served_before = served();
         assert_eq!(m.sdo_upload(1, domain, &opts).unwrap(), data);
-        // The answer to the initiation, three blocks, the end.
+        // The answer to the initiation, three blocks, the end: five writes when each block
+        // is ready at once. The bridge writes what the devices have ready, so on a loaded
+        // machine a block may go in a few (one write a frame, 383, is what this keeps away).
         let served = served() - served_before;
-        assert_eq!(served, 5, "{served} writes of the server for a block upload of three blocks");
+        assert!((5..=12).contains(&served), "{served} writes of the server for a block upload of three blocks");
     }
 
     #[test]
