@@ -155,9 +155,11 @@ step_crate() {
 step_repro() {
   local w
   w=$(mktemp -d /tmp/canctl-repro.XXXXXX)
-  git clone --quiet --no-hardlinks . "$w/src" || return 1
+  # Its build is gigabytes: gone once the files are made, and gone on a failure too.
+  git clone --quiet --no-hardlinks . "$w/src" || { rm -rf "$w"; return 1; }
   (cd "$w/src" && export CARGO_TARGET_DIR="$w/target" && if [ -n "${DIST_REPRO_TARGETS:-}" ]; then
-    export DIST_TARGETS=$DIST_REPRO_TARGETS; fi && scripts/dist.sh) || return 1
+    export DIST_TARGETS=$DIST_REPRO_TARGETS; fi && scripts/dist.sh) || { rm -rf "$w"; return 1; }
+  rm -rf "$w/target"
   echo "second build in $w/src:"; (cd "$w/src/dist" && ls -l)
   local f rc=0 n=0
   for f in "$w"/src/dist/*; do
