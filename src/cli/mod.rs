@@ -310,20 +310,10 @@ fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Resu
     Some(run)
 }
 
-/// The buses given, opened as [`with_bus`] opens one: the same options for each, and a
-/// malformed URI a usage error before any is opened.
-fn buses(ctx: &Ctx, global: &GlobalArgs) -> anyhow::Result<(Vec<BusAddr>, OpenOptions)> {
-    let mut opts = OpenOptions::new(ctx.timeout);
-    opts.frame_log = global.frame_log()?;
-    let addrs = ctx.buses.iter().map(|b| b.parse()).collect::<Result<Vec<BusAddr>, Error>>()?;
-    Ok((addrs, opts))
-}
-
-/// Run `procedure` on every bus given, all at once (progress a line per bus and phase),
-/// (it is told the bus's URI), then show one report of them all
-/// ([`crate::output::many_buses`]); `outcome` says how a
-/// bus's report ends (a node unhealthy: exit 6). The run ends with the worst of the buses'
-/// failures ([`crate::ops::many_buses::worst`]), every bus's shown in the report.
+/// Run `procedure` on every bus given, all at once, each opened as [`with_bus`] opens one (a
+/// malformed URI a usage error before any is opened); then one report of them all
+/// ([`crate::output::many_buses`]). `outcome` says how a bus's report ends (a node
+/// unhealthy: exit 6); the run ends as [`crate::ops::many_buses::exit`] says.
 fn on_each_bus<R: crate::output::Report + Send>(
     ctx: &Ctx,
     g: &GlobalArgs,
@@ -331,45 +321,17 @@ fn on_each_bus<R: crate::output::Report + Send>(
     procedure: impl Fn(&str, &mut dyn Bus, &mut dyn crate::ops::Progress) -> Result<R, Error> + Sync,
     outcome: impl Fn(&R) -> Result<(), Error>,
 ) -> anyhow::Result<()> {
-    use crate::output::many_buses::{BusNotes, BusRun, Failure, OnBuses};
-    let (addrs, opts) = buses(ctx, g)?;
+    use crate::output::many_buses::{BusNotes, OnBuses};
+    let mut opts = OpenOptions::new(ctx.timeout);
+    opts.frame_log = g.frame_log()?;
+    let addrs = ctx.buses.iter().map(|b| b.parse()).collect::<Result<Vec<BusAddr>, Error>>()?;
     let runs = crate::ops::many_buses::each(&addrs, &opts, &ctx.cancel, |addr, bus| {
         let uri = addr.to_string();
         procedure(&uri, bus, &mut BusNotes { out: &ctx.out, bus: uri.clone() })
     });
-    let total = runs.len();
-    let mut shown = Vec::new();
-    let mut errors = Vec::new();
-    for run in runs {
-        let (report, error) = match run.result {
-            Ok(report) => {
-                let error = outcome(&report).err();
-                (Some(report), error)
-            }
-            Err(e) => (None, Some(e)),
-        };
-        let failure = error.as_ref().map(|e| {
-            // The four commands only read: a stop leaves every device as it was.
-            let (text, names_bus) = match (e.is_interrupted(), &report) {
-                (true, None) => {
-                    ("interrupted before its report was complete; nothing was changed on the devices".into(), None)
-                }
-                _ => (crate::output::library_error_text(e), e.names_bus().map(str::to_string)),
-            };
-            Failure { text, exit_code: e.exit_code(), names_bus }
-        });
-        shown.push(BusRun { bus: run.bus.clone(), report, failure });
-        errors.extend(error.map(|e| (run.bus, e)));
-    }
-    ctx.out.report(&OnBuses { command, runs: shown })?;
-    let failed = errors.len();
-    let worst = crate::ops::many_buses::worst(errors.iter().map(|(_, e)| e));
-    let worst = worst.and_then(|w| errors.iter().position(|(_, e)| std::ptr::eq(e, w)));
-    match worst.map(|i| errors.swap_remove(i)) {
-        None => Ok(()),
-        Some((_, Error::Interrupted)) => Err(Error::Interrupted.into()),
-        Some((bus, error)) => Err(Error::OnBuses { bus, error: Box::new(error), failed, total }.into()),
-    }
+    let ended = crate::ops::many_buses::judged(runs, outcome);
+    ctx.out.report(&OnBuses { command, runs: &ended })?;
+    Ok(crate::ops::many_buses::exit(ended)?)
 }
 
 /// The error explained ([`crate::ops::explain`]): the link's failure, a silent node's likely

@@ -70,6 +70,41 @@ pub fn worst<'a>(errors: impl IntoIterator<Item = &'a Error>) -> Option<&'a Erro
     })
 }
 
+/// How one bus's run ended: the procedure's report, when it got as far as one, and the bus's
+/// failure: the procedure's error, or what the report's outcome found (a node unhealthy).
+#[derive(Debug)]
+pub struct Ended<R> {
+    /// The bus, as its URI.
+    pub bus: String,
+    /// The procedure's report.
+    pub report: Option<R>,
+    /// Why this bus failed.
+    pub error: Option<Error>,
+}
+
+/// Each bus's run, its report judged by `outcome` (the error a single bus would end with).
+pub fn judged<R>(runs: Vec<OnBus<R>>, outcome: impl Fn(&R) -> Result<(), Error>) -> Vec<Ended<R>> {
+    let judge = |run: OnBus<R>| match run.result {
+        Ok(report) => Ended { bus: run.bus, error: outcome(&report).err(), report: Some(report) },
+        Err(e) => Ended { bus: run.bus, report: None, error: Some(e) },
+    };
+    runs.into_iter().map(judge).collect()
+}
+
+/// How the whole run ends: well when every bus did, else with the [`worst`] failure, naming
+/// its bus and how many failed ([`Error::OnBuses`]); a request to stop as itself.
+pub fn exit<R>(ended: Vec<Ended<R>>) -> Result<(), Error> {
+    let total = ended.len();
+    let mut errors: Vec<(String, Error)> = ended.into_iter().filter_map(|e| Some((e.bus, e.error?))).collect();
+    let failed = errors.len();
+    let worst = worst(errors.iter().map(|(_, e)| e)).map(|w| errors.iter().position(|(_, e)| std::ptr::eq(e, w)));
+    match worst.flatten().map(|i| errors.swap_remove(i)) {
+        None => Ok(()),
+        Some((_, Error::Interrupted)) => Err(Error::Interrupted),
+        Some((bus, error)) => Err(Error::OnBuses { bus, error: Box::new(error), failed, total }),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -77,10 +112,7 @@ mod tests {
 
     #[test]
     fn the_worst_error_is_the_latest_in_the_exit_code_table() {
-        let link = Error::Link(crate::error::LinkError::Open {
-            port: "can9".into(),
-            error: std::io::ErrorKind::NotFound.into(),
-        });
+        let link = link();
         let unhealthy = Error::Unhealthy { bus: "sim".into(), total: 1, nodes: vec!["node 5: error register".into()] };
         assert_eq!(worst([&link, &unhealthy]).map(Error::exit_code), Some(6));
         assert_eq!(worst([&Error::Interrupted, &unhealthy]).map(Error::exit_code), Some(130));
@@ -104,6 +136,32 @@ mod tests {
         let uri = |b: &BusAddr| b.to_string();
         assert_eq!(shown, vec![(&*uri(&buses[0]), true), (&*uri(&buses[1]), false), (&*uri(&buses[2]), true)]);
         assert_eq!(runs[1].result.as_ref().unwrap_err().exit_code(), 5, "{:?}", runs[1].result);
+    }
+
+    fn link() -> Error {
+        Error::Link(crate::error::LinkError::Open { port: "can9".into(), error: std::io::ErrorKind::NotFound.into() })
+    }
+
+    #[test]
+    fn the_run_ends_with_its_worst_failure_naming_its_bus_and_how_many_failed() {
+        let unhealthy = || Error::Unhealthy { bus: "b".into(), total: 1, nodes: vec!["node 5: stopped".into()] };
+        let runs = vec![
+            OnBus { bus: "a".into(), result: Ok(1) },
+            OnBus { bus: "b".into(), result: Ok(2) },
+            OnBus { bus: "c".into(), result: Err(link()) },
+        ];
+        let ended = judged(runs, |r: &i32| if *r == 2 { Err(unhealthy()) } else { Ok(()) });
+        let reports: Vec<Option<i32>> = ended.iter().map(|e| e.report).collect();
+        assert_eq!(reports, [Some(1), Some(2), None], "a report kept beside its failure");
+        match exit(ended) {
+            Err(Error::OnBuses { bus, error, failed: 2, total: 3 }) => {
+                assert_eq!((bus.as_str(), error.exit_code()), ("b", 6));
+            }
+            other => panic!("{other:?}"),
+        }
+        let stopped = vec![Ended { bus: "a".into(), report: None::<i32>, error: Some(Error::Interrupted) }];
+        assert!(matches!(exit(stopped), Err(Error::Interrupted)));
+        assert!(exit(vec![Ended { bus: "a".into(), report: Some(1), error: None }]).is_ok());
     }
 
     /// A local TCP port nothing listens on (bound, then let go).

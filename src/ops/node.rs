@@ -18,7 +18,13 @@ const ERROR_FIELD: u16 = 0x1003;
 /// Whether an error says the object (or its subindex) is not in the device's dictionary:
 /// abort 0x06020000 or 0x06090011. The one test of "object missing".
 pub(crate) fn is_missing(e: &Error) -> bool {
-    matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT | abort::NO_SUBINDEX, .. })
+    lacks_index(e) || matches!(e.root(), Error::SdoAbort { code: abort::NO_SUBINDEX, .. })
+}
+
+/// Whether an error says the device has no object at that index at all (abort 0x06020000),
+/// where a missing subindex would say the object is there.
+pub(crate) fn lacks_index(e: &Error) -> bool {
+    matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT, .. })
 }
 
 /// A read of an object the device may lack: `Ok(None)` when it lacks it ([`is_missing`]),

@@ -214,9 +214,7 @@ pub fn read_layouts(
             Ok(c) => c,
             Err(e) if skip_missing && super::node::is_missing(&e) => continue,
             // Said as what it means, not as an abort on an object the user never named.
-            Err(Error::SdoAbort { code: abort::NO_OBJECT, .. }) => {
-                return Err(Error::NoSuchTpdo { node, pdo: n, comm })
-            }
+            Err(e) if super::node::lacks_index(&e) => return Err(Error::NoSuchTpdo { node, pdo: n, comm }),
             Err(e) => return Err(e),
         };
         if cob & 0x8000_0000 != 0 {

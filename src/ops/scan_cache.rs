@@ -9,7 +9,7 @@
 //! said it does not have (SDO abort 0x06020000). A new scan keeps what was learned of a node
 //! while the node answers with the same identity.
 
-use crate::canopen::{abort, ObjAddr};
+use crate::canopen::ObjAddr;
 use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
@@ -165,7 +165,7 @@ pub fn note<T>(bus: Option<&str>, node: u8, addr: ObjAddr, outcome: &Result<T, E
     let Some(bus) = bus else { return };
     let has = match outcome {
         Ok(_) => true,
-        Err(e) if matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT, .. }) => false,
+        Err(e) if super::node::lacks_index(e) => false,
         Err(_) => return,
     };
     let mut nodes = load_all(bus);

@@ -2,7 +2,7 @@
 
 use super::{as_text, le_u32, sized};
 use crate::bus::Bus;
-use crate::canopen::{abort, ObjAddr};
+use crate::canopen::ObjAddr;
 use crate::error::{Error, Result, StoreRefusal};
 use serde::Serialize;
 use std::time::Duration;
@@ -108,7 +108,7 @@ fn signature(bus: &mut dyn Bus, node: u8, sig: Signature, class: Class, t: Timeo
     };
     let highest = match bus.sdo_upload(node, ObjAddr::new(index, 0), &sized(t.answer, Some(1))) {
         Ok(v) => v.first().copied().unwrap_or(0),
-        Err(Error::SdoAbort { code: abort::NO_OBJECT, .. }) => {
+        Err(e) if super::node::lacks_index(&e) => {
             return Err(Error::StoreRefused { node, verb, why: StoreRefusal::NoObject { index } });
         }
         Err(e) => return Err(e),

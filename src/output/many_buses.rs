@@ -4,33 +4,40 @@
 //! is the command's own, unchanged.
 
 use super::{Human, Report, TestCase, TestSuite};
+use crate::ops::many_buses::Ended;
 use serde_json::{json, Value};
-
-/// What one bus of several gave: its report (if the procedure got as far as one), and its
-/// failure worded (the bus could not be opened, a check failed, the user stopped it).
-pub(crate) struct BusRun<R> {
-    pub bus: String,
-    pub report: Option<R>,
-    pub failure: Option<Failure>,
-}
 
 /// A bus's failure as shown: its message, the exit code it would have ended with alone,
 /// and the bus its message begins with, when it names one
 /// ([`crate::Error::names_bus`]).
-pub(crate) struct Failure {
-    pub text: String,
-    pub exit_code: i32,
-    pub names_bus: Option<String>,
+struct Failure {
+    text: String,
+    exit_code: i32,
+    names_bus: Option<String>,
+}
+
+impl Failure {
+    fn of<R>(run: &Ended<R>) -> Option<Self> {
+        let e = run.error.as_ref()?;
+        // The commands run on several buses only read: a stop leaves every device as it was.
+        let (text, names_bus) = match (e.is_interrupted(), &run.report) {
+            (true, None) => {
+                ("interrupted before its report was complete; nothing was changed on the devices".into(), None)
+            }
+            _ => (super::library_error_text(e), e.names_bus().map(str::to_string)),
+        };
+        Some(Self { text, exit_code: e.exit_code(), names_bus })
+    }
 }
 
 /// The reports of one command on several buses, in the order the buses were given.
-pub(crate) struct OnBuses<R> {
+pub(crate) struct OnBuses<'a, R> {
     /// The command as its JUnit suites name it: `canctl health`.
     pub command: &'static str,
-    pub runs: Vec<BusRun<R>>,
+    pub runs: &'a [Ended<R>],
 }
 
-impl<R: Report> serde::Serialize for OnBuses<R> {
+impl<R: Report> serde::Serialize for OnBuses<'_, R> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         self.json_value().serialize(s)
     }
@@ -50,15 +57,15 @@ fn prefixed(bus: &str, part: Human, tables: &mut Option<(Vec<&'static str>, Vec<
     }
 }
 
-impl<R: Report> OnBuses<R> {
+impl<R: Report> OnBuses<'_, R> {
     /// Every bus's `shown` form, merged: the one table first, then the sentences.
     fn merged(&self, shown: impl Fn(&R) -> Human) -> Human {
         let (mut table, mut lines) = (None, Vec::new());
-        for run in &self.runs {
+        for run in self.runs {
             if let Some(report) = &run.report {
                 prefixed(&run.bus, shown(report), &mut table, &mut lines);
             }
-            if let Some(f) = &run.failure {
+            if let Some(f) = Failure::of(run) {
                 // A link's error names its bus itself.
                 let text = match f.names_bus.as_deref() == Some(run.bus.as_str()) {
                     true => format!("{} (exit {})", f.text, f.exit_code),
@@ -72,7 +79,7 @@ impl<R: Report> OnBuses<R> {
     }
 }
 
-impl<R: Report> Report for OnBuses<R> {
+impl<R: Report> Report for OnBuses<'_, R> {
     fn human(&self) -> Human {
         self.merged(R::human)
     }
@@ -104,11 +111,11 @@ impl<R: Report> Report for OnBuses<R> {
 
     fn junit_suites(&self) -> Vec<TestSuite> {
         let mut suites = Vec::new();
-        for run in &self.runs {
+        for run in self.runs {
             let name = format!("{}: {}", self.command, run.bus);
             let mut cases = run.report.as_ref().and_then(|r| r.junit()).map_or(Vec::new(), |s| s.cases);
             // A bus without a report (not opened, stopped) fails its suite by one case.
-            if let (None, Some(f)) = (&run.report, &run.failure) {
+            if let (None, Some(f)) = (&run.report, Failure::of(run)) {
                 let detail = format!("{} (exit {})", f.text, f.exit_code);
                 cases.push(TestCase {
                     class: run.bus.clone(),
@@ -130,8 +137,8 @@ impl<R: Report> Report for OnBuses<R> {
             };
             if let Value::Object(map) = &mut value {
                 map.insert("bus".into(), run.bus.clone().into());
-                if let Some(f) = &run.failure {
-                    map.insert("error".into(), f.text.clone().into());
+                if let Some(f) = Failure::of(run) {
+                    map.insert("error".into(), f.text.into());
                     map.insert("exit_code".into(), f.exit_code.into());
                 }
             }
@@ -176,14 +183,12 @@ mod tests {
         }
     }
 
-    fn failed(bus: &str, error: &crate::Error) -> BusRun<Nothing> {
-        let (text, exit_code) = (error.to_string(), error.exit_code());
-        let names_bus = error.names_bus().map(str::to_string);
-        BusRun { bus: bus.into(), report: None, failure: Some(Failure { text, exit_code, names_bus }) }
+    fn failed(bus: &str, error: crate::Error) -> Ended<Nothing> {
+        Ended { bus: bus.into(), report: None, error: Some(error) }
     }
 
-    fn lines(runs: Vec<BusRun<Nothing>>) -> Vec<String> {
-        let Human::Parts(parts) = (OnBuses { command: "canctl health", runs }).human() else { panic!("parts") };
+    fn lines(runs: Vec<Ended<Nothing>>) -> Vec<String> {
+        let Human::Parts(parts) = (OnBuses { command: "canctl health", runs: &runs }).human() else { panic!("parts") };
         parts.into_iter().map(|p| if let Human::Line(l) = p { l } else { panic!("a line only") }).collect()
     }
 
@@ -199,9 +204,9 @@ mod tests {
             detail: "full".into(),
         };
         let shown = lines(vec![
-            failed("socketcan:vcan1", &unhealthy("socketcan:vcan1")),
-            failed("socketcan:vcan1", &unhealthy("socketcan:vcan10")),
-            failed("sim", &state.into()),
+            failed("socketcan:vcan1", unhealthy("socketcan:vcan1")),
+            failed("socketcan:vcan1", unhealthy("socketcan:vcan10")),
+            failed("sim", state.into()),
         ]);
         assert_eq!(
             shown,
