@@ -161,14 +161,31 @@ impl<'a> LssMaster<'a> {
         if !self.configuring {
             return self.switch_to_waiting();
         }
+        match self.switched_back(None)? {
+            true => Ok(()),
+            false => Err(Error::LssLeftInConfiguration { tries: lss::REPEATS + 1 }),
+        }
+    }
+
+    /// Send the switch back to waiting until it is confirmed, at most [`lss::REPEATS`] + 1
+    /// times: nobody answers "inquire node-id" ([`Self::nobody_configuring`]), or, sooner,
+    /// the boot-up of `booting` is heard (a device just given that node-id). Whether it was.
+    fn switched_back(&mut self, booting: Option<u8>) -> Result<bool> {
         for _ in 0..=lss::REPEATS {
+            if let Some(node) = booting {
+                self.bus.observed().boot_ups.remove(&node);
+            }
             self.switch_to_waiting()?;
-            if self.nobody_configuring()? {
+            let booted = match booting {
+                Some(node) => self.boots_as(node)?,
+                None => false,
+            };
+            if booted || self.nobody_configuring()? {
                 self.configuring = false;
-                return Ok(());
+                return Ok(true);
             }
         }
-        Err(Error::LssLeftInConfiguration { tries: lss::REPEATS + 1 })
+        Ok(false)
     }
 
     /// "switch state global: waiting", once.
@@ -339,15 +356,10 @@ impl LssMaster<'_> {
     /// devices on one id), or, where it takes part in fastscan there (durand), be found and
     /// numbered again. Its boot-up with `node` says it went, sooner than the silence.
     pub(crate) fn back_to_waiting(&mut self, identity: Identity, node: u8) -> Result<()> {
-        for _ in 0..=lss::REPEATS {
-            self.bus.observed().boot_ups.remove(&node);
-            self.switch_to_waiting()?;
-            if self.boots_as(node)? || self.nobody_configuring()? {
-                self.configuring = false;
-                return Ok(());
-            }
+        match self.switched_back(Some(node))? {
+            true => Ok(()),
+            false => Err(Error::LssStillConfiguring { identity, node, tries: lss::REPEATS + 1 }),
         }
-        Err(Error::LssStillConfiguring { identity, node, tries: lss::REPEATS + 1 })
     }
 
     /// Whether the boot-up of `node` is heard within the timeout (a device may beat its
