@@ -77,7 +77,7 @@ pub struct NodeHealth {
     /// The NMT state the node showed (heartbeat, else node guarding).
     pub nmt: Option<nmt::State>,
     /// How the NMT state was learned (`heartbeat`, `node guarding`, ...), or why it was not.
-    pub nmt_from: String,
+    pub nmt_from: scan::StateFrom,
     /// The producer heartbeat time 0x1017 (ms); `None`: the node has none.
     pub heartbeat_ms: Option<u16>,
     /// Heartbeats seen during the watch, and the longest time without one (ms).
@@ -325,7 +325,7 @@ fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) 
     let node = n.node;
     let shown = match (h.heartbeats, h.nmt) {
         (count @ 1.., Some(state)) => Some((state, Evidence::Heartbeats { node, count, state })),
-        (_, Some(state)) => Some((state, Evidence::ScanState { node, state, from: n.state_from.to_string() })),
+        (_, Some(state)) => Some((state, Evidence::ScanState { node, state, from: n.state_from })),
         (_, None) => None,
     };
     let probe = Evidence::ProbeAnswers { nodes: answered.to_vec(), waited_ms: timeout.as_millis() as u64 };
@@ -366,8 +366,8 @@ fn judge_node(
 
     // NMT: the latest state the node showed.
     let (state, from) = match (watched.state, n.state) {
-        (Some(s), _) => (Some(s), "heartbeat".to_string()),
-        (None, s) => (s, n.state_from.to_string()),
+        (Some(s), _) => (Some(s), scan::StateFrom::Heartbeat),
+        (None, s) => (s, n.state_from),
     };
     checks.push(match (state, want) {
         (None, _) => check("nmt", false, format!("state unknown: {from}")),
@@ -549,7 +549,7 @@ mod tests {
             serial: None,
             name: Some("C01".into()),
             state: Some(nmt::State::Operational),
-            state_from: "heartbeat",
+            state_from: scan::StateFrom::Heartbeat,
             heartbeat_ms: Some(40),
             answers_sdo: true,
         }

@@ -114,7 +114,7 @@ pub struct Node {
     /// The NMT state the node shows, never a guess.
     pub state: Option<nmt::State>,
     /// How the state was learned, or why it is unknown.
-    pub state_from: &'static str,
+    pub state_from: StateFrom,
     /// The producer heartbeat time the node reports (0x1017), in ms.
     pub heartbeat_ms: Option<u16>,
     /// Whether it answered the probe. A node that did not (a Stopped node answers no SDO)
@@ -354,6 +354,58 @@ fn scan_into(
     Ok(())
 }
 
+/// How a node's NMT state was learnt, or why it is not known. JSON's `state_from` is its
+/// text, as the human form's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum StateFrom {
+    /// Not looked for: the scan was stopped first (its text is empty).
+    NotAsked,
+    /// The node's heartbeat.
+    Heartbeat,
+    /// Its answer to node guarding.
+    NodeGuarding,
+    /// Its answer to a remote request through the EPOS2 gateway.
+    Epos2Remote,
+    /// Its boot-up message.
+    BootUp,
+    /// Unknown: it answered the probe only after the window, and beat no heartbeat.
+    LateWithoutHeartbeat,
+    /// Unknown: no heartbeat heard, and this bus carries no remote frames for node guarding.
+    NoRemoteFrames,
+    /// Unknown: its error-control answer was not a state.
+    NotAState,
+    /// Unknown: neither a heartbeat (`heartbeat`: one is configured) nor an answer to node
+    /// guarding came.
+    Silent {
+        /// Whether the node reports a heartbeat period (0x1017 not 0).
+        heartbeat: bool,
+    },
+}
+
+impl std::fmt::Display for StateFrom {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::NotAsked => "",
+            Self::Heartbeat => "heartbeat",
+            Self::NodeGuarding => "node guarding",
+            Self::Epos2Remote => "remote request through the EPOS2",
+            Self::BootUp => "boot-up",
+            Self::LateWithoutHeartbeat => "it answered the probe only after the window, and beat no heartbeat",
+            Self::NoRemoteFrames => "no heartbeat heard, and node guarding cannot go through this bus (no RTR frames)",
+            Self::NotAState => "its error-control answer was not a state",
+            Self::Silent { heartbeat: true } => "no heartbeat within the wait, and no answer to node guarding",
+            Self::Silent { heartbeat: false } => "no heartbeat configured, and no answer to node guarding",
+        })
+    }
+}
+
+impl Serialize for StateFrom {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
 impl Node {
     /// A node that answered the probe, before anything else is asked.
     fn probed(node: u8, device_type: Option<u32>) -> Node {
@@ -366,7 +418,7 @@ impl Node {
             serial: None,
             name: None,
             state: None,
-            state_from: "",
+            state_from: StateFrom::NotAsked,
             heartbeat_ms: None,
             answers_sdo: true,
         }
@@ -386,9 +438,9 @@ fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
         }
         let state = seen.states.get(node).copied();
         let state_from = match (state, how.contains(&SeenBy::Heartbeat)) {
-            (None, _) => "it answered the probe only after the window, and beat no heartbeat",
-            (Some(_), true) => "heartbeat",
-            (Some(_), false) => "boot-up",
+            (None, _) => StateFrom::LateWithoutHeartbeat,
+            (Some(_), true) => StateFrom::Heartbeat,
+            (Some(_), false) => StateFrom::BootUp,
         };
         nodes.push(Node { state, state_from, answers_sdo: false, ..Node::probed(*node, None) });
     }
@@ -453,34 +505,28 @@ fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<
         let states = bus.observed().states.clone();
         for f in found.iter_mut() {
             if let Some(s) = states.get(&f.node) {
-                (f.state, f.state_from) = (Some(*s), "heartbeat");
+                (f.state, f.state_from) = (Some(*s), StateFrom::Heartbeat);
             }
         }
     }
     // Guarding answers come at once; a node that has none is not waited for long.
     let floor = Duration::from_millis(200);
     let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
-    let source = if bus.sees_traffic() { "node guarding" } else { "remote request through the EPOS2" };
+    let source = if bus.sees_traffic() { StateFrom::NodeGuarding } else { StateFrom::Epos2Remote };
     for f in found.iter_mut().filter(|f| f.state.is_none()) {
         let guarded = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
             // A link without remote frames (socketcand): the heartbeat was all there was.
             Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
-                f.state_from = "no heartbeat heard, and node guarding cannot go through this bus (no RTR frames)";
+                f.state_from = StateFrom::NoRemoteFrames;
                 continue;
             }
             other => other?,
         };
         match guarded {
             Some(g @ Guarded::State(_)) => (f.state, f.state_from) = (g.state(), source),
-            Some(g @ Guarded::BootUp) => (f.state, f.state_from) = (g.state(), "boot-up"),
-            Some(Guarded::NotAState) => f.state_from = "its error-control answer was not a state",
-            None => {
-                f.state_from = if beating(f) {
-                    "no heartbeat within the wait, and no answer to node guarding"
-                } else {
-                    "no heartbeat configured, and no answer to node guarding"
-                }
-            }
+            Some(g @ Guarded::BootUp) => (f.state, f.state_from) = (g.state(), StateFrom::BootUp),
+            Some(Guarded::NotAState) => f.state_from = StateFrom::NotAState,
+            None => f.state_from = StateFrom::Silent { heartbeat: beating(f) },
         }
     }
     Ok(())
@@ -537,6 +583,19 @@ mod tests {
 
     fn inquired(q: Inquiry, value: u32) -> [u8; 8] {
         Response::InquiredValue { inquiry: q, value }.encode()
+    }
+
+    /// JSON's `state_from` keeps the words scripts match on.
+    #[test]
+    fn where_a_state_came_from_is_said_in_words_in_json() {
+        let json = |f: StateFrom| serde_json::to_value(f).unwrap();
+        assert_eq!(json(StateFrom::NodeGuarding), "node guarding");
+        assert_eq!(json(StateFrom::Epos2Remote), "remote request through the EPOS2");
+        assert_eq!(json(StateFrom::NotAsked), "");
+        assert_eq!(
+            json(StateFrom::Silent { heartbeat: false }),
+            "no heartbeat configured, and no answer to node guarding"
+        );
     }
 
     #[test]

@@ -4,7 +4,7 @@ use super::{Human, Report};
 use crate::bus::ALL_NODES;
 use crate::canopen::types::{hex, obvious_unsigned};
 use crate::ops::nmt::{target_text, NodeState, Reset, Sent};
-use crate::ops::scan::Scan;
+use crate::ops::scan::{Scan, StateFrom};
 use crate::ops::sdo::{self, Read, Saved, Written};
 
 /// The nodes found, one row each.
@@ -23,7 +23,7 @@ impl Report for Scan {
     fn human(&self) -> Human {
         let mut parts = vec![Human::Note(format!("{} node(s) on {}", self.nodes.len(), self.bus)), scan_table(self)];
         // Interrupted before the states were learned: the note at the end says so.
-        for f in self.nodes.iter().filter(|f| f.state.is_none() && !f.state_from.is_empty()) {
+        for f in self.nodes.iter().filter(|f| f.state.is_none() && f.state_from != StateFrom::NotAsked) {
             parts.push(Human::Line(format!("node {}: NMT state unknown: {}", f.node, f.state_from)));
         }
         // The probe asks again the ids that did not answer: a node that answered only then
@@ -240,7 +240,7 @@ mod tests {
             serial: None,
             name: None,
             state,
-            state_from: "heartbeat",
+            state_from: StateFrom::Heartbeat,
             heartbeat_ms: None,
             answers_sdo,
         };

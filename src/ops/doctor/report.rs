@@ -291,8 +291,8 @@ pub enum Evidence {
         node: u8,
         /// The state.
         state: nmt::State,
-        /// How the scan learnt it, in its words.
-        from: String,
+        /// How the scan learnt it.
+        from: crate::ops::scan::StateFrom,
     },
     /// What an EPOS2 gateway said of itself: its error register 0x1001 and its CAN bit
     /// rate 0x2001 (its own code: 0 = 1 Mbit/s ... 6 = 20 kbit/s, 9 = detected); each
