@@ -1,7 +1,7 @@
 //! A node's error history: the pre-defined error field 0x1003 (CiA 301), newest first,
 //! each entry with what it means; and clearing it (writing 0 to 0x1003:0).
 
-use super::node::{self, Node};
+use super::node::{self, Node, HISTORY_COUNT};
 use super::{le_u32, sized};
 use crate::bus::{Bus, SdoOptions};
 use crate::canopen::emcy::{self, Origin};
@@ -11,7 +11,6 @@ use serde::Serialize;
 use std::time::Duration;
 
 const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
-const HISTORY_COUNT: ObjAddr = ObjAddr::new(0x1003, 0);
 const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
 const VENDOR: ObjAddr = ObjAddr::new(0x1018, 1);
 const PRODUCT: ObjAddr = ObjAddr::new(0x1018, 2);

@@ -4,6 +4,7 @@
 //! no node may send an EMCY with an error.
 
 use super::doctor::{self, Evidence, Finding};
+use super::node::HISTORY_COUNT;
 use super::scan::{self, ScanOptions};
 use super::{le_u32, sized, Progress};
 use crate::bus::Bus;
@@ -17,7 +18,6 @@ use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
-const HISTORY_COUNT: ObjAddr = ObjAddr::new(0x1003, 0);
 const EMCY_COB: ObjAddr = ObjAddr::new(0x1014, 0);
 
 /// A heartbeat is late when no beat came for 1.5 periods plus this: what a consumer

@@ -14,6 +14,8 @@ use std::time::Duration;
 
 /// The pre-defined error field (CiA 301 §7.5.2.5): sub 0 counts, sub 1 is the newest.
 const ERROR_FIELD: u16 = 0x1003;
+/// Its sub 0: how many errors are logged (writing 0 clears them).
+pub(crate) const HISTORY_COUNT: ObjAddr = ObjAddr::new(ERROR_FIELD, 0);
 
 /// Whether an error says the object (or its subindex) is not in the device's dictionary:
 /// abort 0x06020000 or 0x06090011. The one test of "object missing".
@@ -166,7 +168,7 @@ impl<'a> Node<'a> {
     /// The error history 0x1003, newest first, each code with its meaning for a device of
     /// `origin`; `None` when the node keeps none (has no 0x1003).
     pub(crate) fn error_history(&mut self, origin: &Origin) -> Result<Option<ErrorField>> {
-        let Some(count) = self.read_optional::<u8>(ObjAddr::new(ERROR_FIELD, 0))? else { return Ok(None) };
+        let Some(count) = self.read_optional::<u8>(HISTORY_COUNT)? else { return Ok(None) };
         self.error_entries(count, origin).map(Some)
     }
 
