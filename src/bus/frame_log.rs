@@ -43,8 +43,10 @@ impl std::fmt::Debug for FrameLog {
 impl FrameLog {
     /// Create (or truncate) the log file at `path`.
     pub fn create(path: &Path) -> Result<FrameLog> {
-        let file = File::create(path)
-            .map_err(|e| Error::Output { path: path.display().to_string(), why: format!("--log-frames: {e}") })?;
+        let file = File::create(path).map_err(|e| Error::Output {
+            path: path.display().to_string(),
+            why: format!("{e}; no frame log can be kept"),
+        })?;
         Ok(FrameLog::to_writer(file, path.display().to_string()))
     }
 
@@ -80,10 +82,9 @@ impl FrameLog {
         }
         match &inner.failed {
             None => Ok(()),
-            Some(e) => Err(Error::Output {
-                path: inner.name.clone(),
-                why: format!("--log-frames: {e}; the frame log is incomplete"),
-            }),
+            Some(e) => {
+                Err(Error::Output { path: inner.name.clone(), why: format!("{e}; the frame log is incomplete") })
+            }
         }
     }
 }

@@ -135,7 +135,8 @@ pub(crate) struct GlobalArgs {
 impl GlobalArgs {
     /// The frame log asked for with --log-frames, created (emptied) now.
     pub(crate) fn frame_log(&self) -> crate::error::Result<Option<crate::bus::FrameLog>> {
-        self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose()
+        let log = self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose();
+        log.map_err(|e| e.with_hint(" (--log-frames)"))
     }
 }
 

@@ -97,8 +97,8 @@ pub fn exit<R>(ended: Vec<Ended<R>>) -> Result<(), Error> {
     let total = ended.len();
     let mut errors: Vec<(String, Error)> = ended.into_iter().filter_map(|e| Some((e.bus, e.error?))).collect();
     let failed = errors.len();
-    let worst = worst(errors.iter().map(|(_, e)| e)).map(|w| errors.iter().position(|(_, e)| std::ptr::eq(e, w)));
-    match worst.flatten().map(|i| errors.swap_remove(i)) {
+    let worst = worst(errors.iter().map(|(_, e)| e)).and_then(|w| errors.iter().position(|(_, e)| std::ptr::eq(e, w)));
+    match worst.map(|i| errors.swap_remove(i)) {
         None => Ok(()),
         Some((_, Error::Interrupted)) => Err(Error::Interrupted),
         Some((bus, error)) => Err(Error::OnBuses { bus, error: Box::new(error), failed, total }),
