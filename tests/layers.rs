@@ -235,11 +235,8 @@ fn flags_named(text: &str) -> Vec<String> {
 /// Library strings that still name a flag of canctl, as `(file, flag, why it stays)`. A
 /// remedy naming a flag is the command line's to word (`hint::Hint`, `output/hints.rs`);
 /// empty this list, do not grow it.
-const FLAG_NAMING: &[(&str, &str, &str)] = &[
-    // Not a remedy: the option whose file could not be written, as the user gave it.
-    ("bus/frame_log.rs", "--log-frames", "names the option whose output failed (Error::Output's what)"),
-    ("sim/faults.rs", "--fault", "echoes the --fault value the user gave, parsed in sim"),
-];
+const FLAG_NAMING: &[(&str, &str, &str)] =
+    &[("sim/faults.rs", "--fault", "echoes the --fault value the user gave, parsed in sim")];
 
 /// "Sentences are written only in output/; hints naming flags are added by the command
 /// line" (issue 28): a library file (outside `cli/` and `output/`) has no string naming a
