@@ -87,6 +87,22 @@ pub enum Hint {
     DeadlineFromTimeout(std::time::Duration),
     /// An upload was stopped at the limit of bytes taken from a device: raise the limit.
     RaiseUploadLimit,
+    /// A device missed the switch back to LSS waiting state: a scan lists the devices left
+    /// in configuration state.
+    ScanForConfiguring,
+    /// A device stays in LSS configuration state: a scan lists it; power-cycle it if it
+    /// stays there.
+    ScanThenPowerCycle,
+    /// A configuration file breaks CiA 306 so that its values are not all read: checking
+    /// the file lists its errors.
+    CheckFile(String),
+    /// An EDS was given where a DCF (an EDS with values) is needed: a dump of the device
+    /// makes one.
+    DumpDcf,
+    /// A node's SDO server is stuck: reset the node and read again.
+    ResetNodeAndReadAgain(u8),
+    /// The simulator's state file is unusable as it is: start a fresh network.
+    FreshSimNetwork,
 }
 
 impl Hint {
@@ -139,6 +155,15 @@ impl Hint {
             // The SDO client aborts with "out of memory" only at the upload limit.
             Error::Link(LinkError::SdoProtocol { aborted: Some(crate::canopen::abort::OUT_OF_MEMORY), .. })
             | Error::Link(LinkError::UploadOverLimit { .. }) => Some(Hint::RaiseUploadLimit),
+            Error::LssCrowded { .. } => Some(Hint::ScanForConfiguring),
+            Error::LssLeftInConfiguration { .. } => Some(Hint::ScanThenPowerCycle),
+            Error::DcfNotReadWhole { file, .. } => Some(Hint::CheckFile(file.clone())),
+            Error::NotADcf { .. } => Some(Hint::DumpDcf),
+            Error::Link(LinkError::Epos2(crate::epos2::Epos2Error::Answer {
+                problem: crate::epos2::Epos2Problem::EmptySegments { node, .. },
+                ..
+            })) => Some(Hint::ResetNodeAndReadAgain(*node)),
+            Error::Link(LinkError::StateFile { afresh: true, .. }) => Some(Hint::FreshSimNetwork),
             _ => None,
         }
     }

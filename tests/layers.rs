@@ -232,18 +232,52 @@ fn flags_named(text: &str) -> Vec<String> {
     flags
 }
 
-/// Library strings that still name a flag of canctl, as `(file, flag, why it stays)`. A
-/// remedy naming a flag is the command line's to word (`hint::Hint`, `output/hints.rs`);
-/// empty this list, do not grow it.
-const FLAG_NAMING: &[(&str, &str, &str)] =
-    &[("sim/faults.rs", "--fault", "echoes the --fault value the user gave, parsed in sim")];
+/// Library strings that still name a flag or a command of canctl, as `(file, name, why it
+/// stays)`. A remedy naming a flag or a command is the command line's to word (`hint::Hint`,
+/// `output/hints.rs`); empty this list, do not grow it.
+const NAMING: &[(&str, &str, &str)] = &[
+    ("sim/faults.rs", "--fault", "echoes the --fault value the user gave, parsed in sim"),
+    (
+        "sim/socketcand_serve.rs",
+        "canctl sim",
+        "the beacon's description names the program serving the bus, as socketcand's names itself",
+    ),
+];
+
+/// canctl's commands, as its help lists them.
+fn commands() -> Vec<String> {
+    let help = std::process::Command::new(env!("CARGO_BIN_EXE_canctl")).arg("--help").output().unwrap();
+    let help = String::from_utf8(help.stdout).unwrap();
+    let listed = help.split("Commands:").nth(1).expect("the help lists the commands");
+    let names = listed
+        .lines()
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .filter(|l| l.starts_with("  ") && !l.starts_with("   "));
+    names.filter_map(|l| l.split_whitespace().next()).filter(|c| *c != "help").map(String::from).collect()
+}
+
+/// The commands of canctl `text` names (`canctl scan`, `(canctl nmt reset 2)`).
+fn commands_named(text: &str, commands: &[String]) -> Vec<String> {
+    let mut named = Vec::new();
+    for (at, _) in text.match_indices("canctl ") {
+        let word: String =
+            text[at + "canctl ".len()..].chars().take_while(|c| c.is_ascii_lowercase() || *c == '-').collect();
+        if commands.contains(&word) {
+            named.push(format!("canctl {word}"));
+        }
+    }
+    named
+}
 
 /// "Sentences are written only in output/; hints naming flags are added by the command
 /// line" (issue 28): a library file (outside `cli/` and `output/`) has no string naming a
-/// `--flag`, but for those `FLAG_NAMING` lists with the reason.
+/// `--flag` or a canctl command, but for those `NAMING` lists with the reason.
 #[test]
-fn library_strings_name_no_flag() {
+fn library_strings_name_no_flag_and_no_command() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let commands = commands();
+    assert!(["scan", "nmt", "config", "sim"].iter().all(|c| commands.iter().any(|k| k == c)), "{commands:?}");
     let mut files = Vec::new();
     rust_files(&src, &mut files);
     files.sort();
@@ -260,17 +294,28 @@ fn library_strings_name_no_flag() {
         }
         let text = std::fs::read_to_string(file).unwrap();
         for (line, literal) in string_literals(&library_code(&text)) {
-            for flag in flags_named(&literal) {
-                match FLAG_NAMING.iter().position(|(f, l, _)| *f == rel && *l == flag) {
+            for name in flags_named(&literal).into_iter().chain(commands_named(&literal, &commands)) {
+                match NAMING.iter().position(|(f, l, _)| *f == rel && *l == name) {
                     Some(k) => drop(used.insert(k)),
-                    None => naming.push(format!("src/{rel} (near line {line}): {flag} in {literal:?}")),
+                    None => naming.push(format!("src/{rel} (near line {line}): {name} in {literal:?}")),
                 }
             }
         }
     }
-    assert!(naming.is_empty(), "library strings naming a flag; make the remedy a Hint:\n{}", naming.join("\n"));
-    let stale: Vec<_> = (0..FLAG_NAMING.len()).filter(|k| !used.contains(k)).map(|k| FLAG_NAMING[k]).collect();
-    assert!(stale.is_empty(), "no longer named, remove from FLAG_NAMING: {stale:?}");
+    assert!(
+        naming.is_empty(),
+        "library strings naming a flag or a command; make the remedy a Hint:\n{}",
+        naming.join("\n")
+    );
+    let stale: Vec<_> = (0..NAMING.len()).filter(|k| !used.contains(k)).map(|k| NAMING[k]).collect();
+    assert!(stale.is_empty(), "no longer named, remove from NAMING: {stale:?}");
+}
+
+#[test]
+fn a_command_is_named_by_its_word_not_its_start() {
+    let commands = ["sim".to_string(), "scan".to_string()];
+    let found = commands_named("`canctl scan` lists; canctl simulated bootloader; (canctl sim reset)", &commands);
+    assert_eq!(found, ["canctl scan", "canctl sim"]);
 }
 
 #[test]

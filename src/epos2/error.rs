@@ -106,8 +106,7 @@ fn answer_text(bus: &str, problem: &Epos2Problem) -> String {
         }
         Epos2Problem::EmptySegments { node, obj, count } => format!(
             "node {node}: segmented read of {obj}: {count} segments in a row without data \
-             that say more follow; stopped. The device's SDO server is stuck: reset the node \
-             (`canctl nmt reset {node}`) and read again"
+             that say more follow; stopped. The device's SDO server is stuck"
         ),
         Epos2Problem::TooLong { node, obj, bytes, limit_kib } => format!(
             "node {node}: segmented read of {obj}: {bytes} bytes and the device still says more follow; \

@@ -155,6 +155,9 @@ pub enum LinkError {
         what: &'static str,
         /// Why, as the OS or the parser said.
         detail: String,
+        /// The file is there but cannot be taken as it is: starting a fresh network is the
+        /// remedy.
+        afresh: bool,
     },
     /// Another process holds the simulator's network (its state file's lock); `holder`
     /// names it (pid and command line) as far as it said.

@@ -29,6 +29,26 @@ pub enum Error {
     /// The user asked for something malformed or impossible, said in free form.
     #[error("{0}")]
     Usage(String),
+    /// A DCF breaks CiA 306 so that its values are not all read: nothing is compared or
+    /// written from it.
+    #[error(
+        "{first}; {file} has {errors} error(s) against CiA 306, so its values are not all read: nothing is \
+         compared or written"
+    )]
+    DcfNotReadWhole {
+        /// The first error in it.
+        first: crate::od::lint::Warning,
+        /// The file, as named.
+        file: String,
+        /// How many errors it has.
+        errors: usize,
+    },
+    /// A file given as a DCF holds no values (no ParameterValue): it is an EDS.
+    #[error("{file} has no ParameterValue: it is an EDS, not a DCF")]
+    NotADcf {
+        /// The file, as named.
+        file: String,
+    },
     /// A file or stream given as input could not be used: the user's to fix (exit 2).
     #[error("{0}")]
     Input(#[from] crate::input::InputError),
@@ -557,8 +577,7 @@ pub enum Error {
     /// would be taken by both, so none was.
     #[error(
         "{identity} was found {times} times with another device in LSS configuration state too (one that \
-         misses the switch back to waiting); no node-id given, as both would take it (`canctl scan` lists \
-         the devices left in configuration state)"
+         misses the switch back to waiting); no node-id given, as both would take it"
     )]
     LssCrowded {
         /// The device found.
@@ -570,7 +589,7 @@ pub enum Error {
     /// sent back to waiting.
     #[error(
         "a device still answers in LSS configuration state after every device was sent back to waiting \
-         {tries} times (it misses the switch): `canctl scan` lists it; power-cycle it if it stays there"
+         {tries} times (it misses the switch)"
     )]
     LssLeftInConfiguration {
         /// How many times every device was sent back.
@@ -653,6 +672,8 @@ impl Error {
         use ErrorClass as C;
         match self {
             Error::Usage(_)
+            | Error::DcfNotReadWhole { .. }
+            | Error::NotADcf { .. }
             | Error::NotOfType { .. }
             | Error::NoSuchTpdo { .. }
             | Error::NoValidTpdo { .. }

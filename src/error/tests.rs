@@ -227,6 +227,30 @@ fn messages_say_what_they_always_said() {
              (canctl drive status NODE shows the errors)",
         ),
         (
+            Error::LssCrowded { identity: Identity { vendor: 1, product: 2, revision: 3, serial: 4 }, times: 2 },
+            "0x00000001:0x00000002:0x00000003:0x00000004 was found 2 times with another device in LSS configuration \
+             state too (one that misses the switch back to waiting); no node-id given, as both would take it \
+             (`canctl scan` lists the devices left in configuration state)",
+        ),
+        (
+            Error::LssLeftInConfiguration { tries: 3 },
+            "a device still answers in LSS configuration state after every device was sent back to waiting 3 \
+             times (it misses the switch): `canctl scan` lists it; power-cycle it if it stays there",
+        ),
+        (
+            Error::DcfNotReadWhole {
+                first: crate::od::lint::Warning::new("m.dcf", 9, crate::od::lint::Kind::Other, "no such type".into()),
+                file: "m.dcf".into(),
+                errors: 2,
+            },
+            "m.dcf:9: no such type; m.dcf has 2 error(s) against CiA 306, so its values are not all read: nothing \
+             is compared or written (canctl config check m.dcf lists them)",
+        ),
+        (
+            Error::NotADcf { file: "m.eds".into() },
+            "m.eds has no ParameterValue: it is an EDS, not a DCF (canctl config dump makes one)",
+        ),
+        (
             Error::Fastscan { error: FastscanError::NoDevice, step: ms(10) },
             "no device without a node-id answered the fastscan",
         ),
@@ -279,16 +303,33 @@ fn messages_say_what_they_always_said() {
         ),
         (LinkError::Pty { op: PtyOp::Poll, detail: "EINTR".into() }.into(), "pty poll: EINTR"),
         (
-            LinkError::StateFile { path: "/tmp/s.json".into(), what: "cannot read", detail: "denied".into() }
-                .into(),
+            LinkError::StateFile {
+                path: "/tmp/s.json".into(),
+                what: "cannot read",
+                detail: "denied".into(),
+                afresh: false,
+            }
+            .into(),
             "sim state file /tmp/s.json: cannot read: denied",
+        ),
+        (
+            LinkError::StateFile {
+                path: "/tmp/s.json".into(),
+                what: "has another format version",
+                detail: "9".into(),
+                afresh: true,
+            }
+            .into(),
+            "sim state file /tmp/s.json: has another format version: 9 (`canctl sim reset` starts afresh)",
         ),
     ];
     for (error, text) in cases {
         // What canctl prints: the message, then the remedy it words (`output/hints.rs`).
         assert_eq!(crate::output::library_error_text(&error), text);
         if crate::hint::Hint::of(&error).is_some() {
-            assert!(!error.to_string().contains("--"), "the remedy is the front end's, not the message's: {error}");
+            let message = error.to_string();
+            assert!(!message.contains("--"), "the remedy is the front end's, not the message's: {error}");
+            assert!(!names_a_command(&message), "the remedy is the front end's, not the message's: {error}");
         }
     }
 }
@@ -413,7 +454,9 @@ fn link_messages_say_what_they_always_said() {
         let error = Error::from(error);
         assert_eq!(crate::output::library_error_text(&error), text);
         if crate::hint::Hint::of(&error).is_some() {
-            assert!(!error.to_string().contains("--"), "the remedy is the front end's, not the message's: {error}");
+            let message = error.to_string();
+            assert!(!message.contains("--"), "the remedy is the front end's, not the message's: {error}");
+            assert!(!names_a_command(&message), "the remedy is the front end's, not the message's: {error}");
         }
     }
     let usage = [
@@ -481,9 +524,25 @@ fn the_worst_of_several_buses_is_named_unless_its_error_names_that_bus() {
         on("socketcan:vcan1", unhealthy("socketcan:vcan10")),
         "1 of 2 buses failed; the worst, on socketcan:vcan1: socketcan:vcan10: 1 of 1 node(s) not healthy: node 5: stopped"
     );
-    let state = LinkError::StateFile { path: "/tmp/s.json".into(), what: "cannot save", detail: "full".into() };
+    let state =
+        LinkError::StateFile { path: "/tmp/s.json".into(), what: "cannot save", detail: "full".into(), afresh: false };
     assert_eq!(
         on("sim", state.into()),
         "1 of 2 buses failed; the worst, on sim: sim state file /tmp/s.json: cannot save: full"
     );
+}
+
+/// Whether a message names a canctl command (`` `canctl scan` ``, `(canctl nmt reset 2)`):
+/// the command line's to say, in a remedy. A process named as data (`pid 7 (canctl sim)`)
+/// is not a command to run.
+fn names_a_command(message: &str) -> bool {
+    message.match_indices("canctl ").any(|(i, _)| {
+        let rest = &message[i + "canctl ".len()..];
+        let word_then = rest.trim_start_matches(|c: char| c.is_ascii_lowercase()).chars().next();
+        match message[..i].chars().last() {
+            Some('`') => true,
+            Some('(') => word_then != Some(')'),
+            _ => false,
+        }
+    })
 }

@@ -54,6 +54,12 @@ pub fn hint_text(hint: Hint) -> String {
             format!("; the deadline follows from the size and --timeout {} ms", timeout.as_millis())
         }
         Hint::RaiseUploadLimit => " (sdo read --max-size raises the limit)".into(),
+        Hint::ScanForConfiguring => " (`canctl scan` lists the devices left in configuration state)".into(),
+        Hint::ScanThenPowerCycle => ": `canctl scan` lists it; power-cycle it if it stays there".into(),
+        Hint::CheckFile(file) => format!(" (canctl config check {file} lists them)"),
+        Hint::DumpDcf => " (canctl config dump makes one)".into(),
+        Hint::ResetNodeAndReadAgain(node) => format!(": reset the node (`canctl nmt reset {node}`) and read again"),
+        Hint::FreshSimNetwork => " (`canctl sim reset` starts afresh)".into(),
     }
 }
 

@@ -202,6 +202,7 @@ mod tests {
             path: "/tmp/s.json".into(),
             what: "cannot save",
             detail: "full".into(),
+            afresh: false,
         };
         let shown = lines(vec![
             failed("socketcan:vcan1", unhealthy("socketcan:vcan1")),

@@ -73,7 +73,12 @@ pub(crate) fn default_path() -> PathBuf {
 }
 
 fn link_err(path: &Path, what: &'static str, e: impl std::fmt::Display) -> Error {
-    LinkError::StateFile { path: path.to_path_buf(), what, detail: e.to_string() }.into()
+    LinkError::StateFile { path: path.to_path_buf(), what, detail: e.to_string(), afresh: false }.into()
+}
+
+/// A state file that is there but cannot be taken as it is: a fresh network is the remedy.
+fn unusable(path: &Path, what: &'static str, e: impl std::fmt::Display) -> Error {
+    LinkError::StateFile { path: path.to_path_buf(), what, detail: e.to_string(), afresh: true }.into()
 }
 
 /// Who is using the sim network, in words.
@@ -162,14 +167,10 @@ impl StateFile {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
             Err(e) => return Err(link_err(&self.path, "cannot read", e)),
         };
-        let state: NetworkState = serde_json::from_str(&text)
-            .map_err(|e| link_err(&self.path, "is not a sim state (`canctl sim reset` starts afresh)", e))?;
+        let state: NetworkState =
+            serde_json::from_str(&text).map_err(|e| unusable(&self.path, "is not a sim state", e))?;
         if state.version != VERSION {
-            return Err(link_err(
-                &self.path,
-                "has another format version",
-                format!("{} (`canctl sim reset` starts afresh)", state.version),
-            ));
+            return Err(unusable(&self.path, "has another format version", state.version));
         }
         Ok(Some(state))
     }

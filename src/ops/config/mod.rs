@@ -67,13 +67,11 @@ impl Dcf {
         let errors: Vec<&crate::od::lint::Warning> =
             self.eds.warnings.iter().filter(|w| w.severity == crate::od::lint::Severity::Error).collect();
         if let Some(first) = errors.first() {
-            return Err(Error::Usage(format!(
-                "{first}; {} has {} error(s) against CiA 306, so its values are not all read: nothing is compared \
-                 or written (canctl config check {} lists them)",
-                self.path(),
-                errors.len(),
-                self.path()
-            )));
+            return Err(Error::DcfNotReadWhole {
+                first: (*first).clone(),
+                file: self.path().to_string(),
+                errors: errors.len(),
+            });
         }
         let mut out = Vec::new();
         for (addr, init) in &self.eds.values {
@@ -82,10 +80,7 @@ impl Dcf {
             out.push((entry.clone(), value));
         }
         if out.is_empty() {
-            return Err(Error::Usage(format!(
-                "{} has no ParameterValue: it is an EDS, not a DCF (canctl config dump makes one)",
-                self.path()
-            )));
+            return Err(Error::NotADcf { file: self.path().to_string() });
         }
         Ok(out)
     }
