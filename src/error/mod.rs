@@ -37,7 +37,7 @@ pub enum Error {
     )]
     DcfNotReadWhole {
         /// The first error in it.
-        first: crate::od::lint::Warning,
+        first: Box<crate::od::lint::Warning>,
         /// The file, as named.
         file: String,
         /// How many errors it has.

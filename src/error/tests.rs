@@ -239,7 +239,7 @@ fn messages_say_what_they_always_said() {
         ),
         (
             Error::DcfNotReadWhole {
-                first: crate::od::lint::Warning::new("m.dcf", 9, crate::od::lint::Kind::Other, "no such type".into()),
+                first: Box::new(crate::od::lint::Warning::new("m.dcf", 9, crate::od::lint::Kind::Other, "no such type".into())),
                 file: "m.dcf".into(),
                 errors: 2,
             },

@@ -68,7 +68,7 @@ impl Dcf {
             self.eds.warnings.iter().filter(|w| w.severity == crate::od::lint::Severity::Error).collect();
         if let Some(first) = errors.first() {
             return Err(Error::DcfNotReadWhole {
-                first: (*first).clone(),
+                first: Box::new((*first).clone()),
                 file: self.path().to_string(),
                 errors: errors.len(),
             });
