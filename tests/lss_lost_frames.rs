@@ -98,6 +98,17 @@ fn assign_losing(
     lose: fn(usize) -> bool,
     lose_inquiries: usize,
 ) -> (ops::lss::Assignment, Vec<(Identity, Option<u8>, bool)>) {
+    let (a, held, _) = assign_counting(network, lose, lose_inquiries);
+    (a, held)
+}
+
+/// [`assign_losing`], and how many switches back to waiting went out from the first
+/// node-id given on.
+fn assign_counting(
+    network: Network,
+    lose: fn(usize) -> bool,
+    lose_inquiries: usize,
+) -> (ops::lss::Assignment, Vec<(Identity, Option<u8>, bool)>, usize) {
     let sim = SimLink::of(network).on_virtual_time(1_700_000_000_000);
     let link = LosesSwitchBack { sim, lose, lose_inquiries, after_set_id: false, seen: 0 };
     let mut master = Master::new(link, "sim".into());
@@ -117,7 +128,7 @@ fn assign_losing(
         .iter()
         .map(|d| (d.identity(), d.node_id(), d.snapshot().lss_configuration))
         .collect();
-    (a, held)
+    (a, held, master.link_mut().seen)
 }
 
 /// The report names each device once, with the node-id it holds; no two hold one id; none
@@ -176,6 +187,24 @@ fn a_device_that_never_leaves_configuration_state_ends_the_assignment() {
     let e = a.failure.as_ref().expect("a failure");
     assert!(matches!(e, canctl::Error::LssStillConfiguring { node: 20, .. }), "{e:?}");
     assert_eq!(e.exit_code(), 5, "{e}");
+}
+
+/// A device found in configuration state again, after answers that made its first switch
+/// back look confirmed were lost: the failure's "sent back N times" counts every switch
+/// back it was sent, not the searches that found it again (it said 3 where 4 went out).
+#[test]
+fn a_device_found_configuring_again_is_said_to_be_sent_back_as_often_as_it_was() {
+    let (a, _, sent) = assign_counting(waiting_devices(true), |_| true, 2);
+    match a.failure {
+        Some(canctl::Error::LssStillConfiguring { node: 20, tries, .. }) => {
+            // One switch back, taken as confirmed (the answers to the inquiries after it
+            // lost); found again, a round of switches that failed; then the assignment's
+            // leave at the end, a round as long: `sent` = 1 + 2 rounds.
+            let round = (sent - 1) / 2;
+            assert_eq!((tries as usize, sent), (1 + round, 1 + 2 * round), "{a:?}");
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 /// `network apply` gives each listed device its node-id by its identity, one after the

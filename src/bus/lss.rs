@@ -97,12 +97,17 @@ pub struct LssMaster<'a> {
     /// The latest any device answered so far (a fastscan's step counts as such): how long
     /// the silence that confirms the switch back needs to last.
     slowest: Duration,
+    /// Switches back to waiting sent so far.
+    switches_back: u32,
+    /// Each device given a node-id, with `switches_back` as it was then: how often it has
+    /// been sent back since, when it is found in configuration state again.
+    given: Vec<(Identity, u32)>,
 }
 
 impl<'a> LssMaster<'a> {
     /// An LSS master on `bus` that waits at most `timeout` for each confirmed step's answer.
     pub fn new(bus: &'a mut dyn Bus, timeout: Duration) -> LssMaster<'a> {
-        LssMaster { bus, timeout, configuring: false, slowest: Duration::ZERO }
+        LssMaster { bus, timeout, configuring: false, slowest: Duration::ZERO, switches_back: 0, given: Vec::new() }
     }
 
     /// The bus underneath, for the frames LSS does not cover.
@@ -190,7 +195,15 @@ impl<'a> LssMaster<'a> {
 
     /// "switch state global: waiting", once.
     fn switch_to_waiting(&mut self) -> Result<()> {
+        self.switches_back += 1;
         self.send(Request::SwitchGlobal { configuration: false })
+    }
+
+    /// How many switches back to waiting went out since `identity` was first given a
+    /// node-id (all of them when it never was).
+    fn sent_back_since_given(&self, identity: Identity) -> u32 {
+        let given = self.given.iter().find(|(id, _)| *id == identity).map_or(0, |(_, at)| *at);
+        self.switches_back - given
     }
 
     /// Whether no device is in configuration state: two inquiries in a row go unanswered
@@ -356,9 +369,12 @@ impl LssMaster<'_> {
     /// devices on one id), or, where it takes part in fastscan there (durand), be found and
     /// numbered again. Its boot-up with `node` says it went, sooner than the silence.
     pub(crate) fn back_to_waiting(&mut self, identity: Identity, node: u8) -> Result<()> {
+        if !self.given.iter().any(|(id, _)| *id == identity) {
+            self.given.push((identity, self.switches_back));
+        }
         match self.switched_back(Some(node))? {
             true => Ok(()),
-            false => Err(Error::LssStillConfiguring { identity, node, tries: lss::REPEATS + 1 }),
+            false => Err(Error::LssStillConfiguring { identity, node, tries: self.sent_back_since_given(identity) }),
         }
     }
 
@@ -437,7 +453,10 @@ impl LssMaster<'_> {
             if let Some(first) = out.assigned.iter().find(|d| d.identity == identity).map(|d| d.node) {
                 found_again += 1;
                 let again = match found_again > lss::REPEATS {
-                    true => Err(Error::LssStillConfiguring { identity, node: first, tries: found_again }),
+                    true => {
+                        let tries = self.sent_back_since_given(identity);
+                        Err(Error::LssStillConfiguring { identity, node: first, tries })
+                    }
                     false => self.set_id(identity, first).and_then(|_| self.back_to_waiting(identity, first)),
                 };
                 if let Err(e) = again {
