@@ -90,6 +90,9 @@ fn waiting_devices(durand_like: bool) -> Network {
     Network::of_with(devices, SimConfig::default().seed(3).virtual_time(true))
 }
 
+/// What a device holds: its identity, its node-id, whether it is in configuration state.
+type Held = (Identity, Option<u8>, bool);
+
 /// Assign node-ids from 20 with the switches back `lose` picks lost, and the first
 /// `lose_inquiries` answers to "inquire node-id"; what the report says and what the
 /// devices hold (identity, node-id, still in configuration state).
@@ -97,7 +100,7 @@ fn assign_losing(
     network: Network,
     lose: fn(usize) -> bool,
     lose_inquiries: usize,
-) -> (ops::lss::Assignment, Vec<(Identity, Option<u8>, bool)>) {
+) -> (ops::lss::Assignment, Vec<Held>) {
     let (a, held, _) = assign_counting(network, lose, lose_inquiries);
     (a, held)
 }
@@ -108,7 +111,7 @@ fn assign_counting(
     network: Network,
     lose: fn(usize) -> bool,
     lose_inquiries: usize,
-) -> (ops::lss::Assignment, Vec<(Identity, Option<u8>, bool)>, usize) {
+) -> (ops::lss::Assignment, Vec<Held>, usize) {
     let sim = SimLink::of(network).on_virtual_time(1_700_000_000_000);
     let link = LosesSwitchBack { sim, lose, lose_inquiries, after_set_id: false, seen: 0 };
     let mut master = Master::new(link, "sim".into());
