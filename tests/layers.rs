@@ -326,3 +326,19 @@ fn the_scan_finds_flags_in_strings_only() {
         string_literals(code).into_iter().flat_map(|(l, s)| flags_named(&s).into_iter().map(move |f| (l, f))).collect();
     assert_eq!(found, [(1, "--start".into()), (2, "--raw".into()), (4, "--esc".into())]);
 }
+
+/// "Smaller rooms" (issue 28): no source file of the library or the command line is over
+/// 800 lines; a file that grows past it holds more than one concern and is split by them.
+#[test]
+fn no_source_file_is_over_800_lines() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let large: Vec<String> = files
+        .iter()
+        .map(|f| (f, std::fs::read_to_string(f).unwrap().lines().count()))
+        .filter(|(_, lines)| *lines > 800)
+        .map(|(f, lines)| format!("{} has {lines} lines", f.strip_prefix(&src).unwrap().display()))
+        .collect();
+    assert!(large.is_empty(), "split these by concern: {large:?}");
+}
