@@ -492,6 +492,16 @@ impl Output {
     }
 }
 
+/// How an item of a phase ended, as its progress line says it.
+pub(crate) fn item_end_text(end: &crate::ops::ItemEnd<'_>) -> String {
+    use crate::ops::ItemEnd;
+    match end {
+        ItemEnd::Applied(row) => network::node_result_words(row),
+        ItemEnd::Checked(checked) => network::checked_words(checked),
+        ItemEnd::Downloaded(end) => firmware::download_end_word(*end).to_string(),
+    }
+}
+
 /// [`crate::ops::Progress`] on a terminal: a bar per phase, notes on stderr.
 pub struct Bars<'a> {
     out: &'a Output,
@@ -523,17 +533,18 @@ impl crate::ops::Progress for Bars<'_> {
             b.finish_and_clear();
         }
     }
-    fn item(&mut self, item: &str, status: &str, finished: bool) {
+    fn item(&mut self, item: &str, status: &str) {
         // An item with no status yet is shown by its name alone.
         let text = if status.is_empty() { item.to_string() } else { format!("{item}: {}", terminal_safe(status)) };
-        match (&self.line, finished) {
-            (_, true) => {
-                if let Some(b) = self.line.take() {
-                    b.finish_and_clear();
-                }
-            }
-            (Some(b), false) => b.set_message(text),
-            (None, false) => self.line = Some(self.out.status(&text)),
+        match &self.line {
+            Some(b) => b.set_message(text),
+            None => self.line = Some(self.out.status(&text)),
+        }
+    }
+    fn item_ended(&mut self, _item: &str, _end: crate::ops::ItemEnd<'_>) {
+        // One line at a time: an item that ended leaves it (its result is the report's).
+        if let Some(b) = self.line.take() {
+            b.finish_and_clear();
         }
     }
     fn event(&mut self, event: crate::ops::Event) {

@@ -6,7 +6,7 @@ use crate::bus::tap::{AfterSdo, Transfer};
 use crate::bus::Bus;
 
 /// `bus`, telling `progress` after each SDO transfer how many reads and writes `label`'s
-/// work has made so far (as [`Progress::item`], not finished).
+/// work has made so far (as [`Progress::item`]).
 pub fn counted<'a>(
     bus: &'a mut dyn Bus,
     label: &'a str,
@@ -19,7 +19,7 @@ pub fn counted<'a>(
             Transfer::Download => writes = n,
             Transfer::Nmt => {}
         }
-        progress.item(label, &transfers(reads, writes), false);
+        progress.item(label, &transfers(reads, writes));
     })
 }
 
@@ -40,7 +40,7 @@ mod tests {
     struct Items(Vec<(String, String)>);
 
     impl Progress for Items {
-        fn item(&mut self, item: &str, status: &str, _finished: bool) {
+        fn item(&mut self, item: &str, status: &str) {
             self.0.push((item.to_string(), status.to_string()));
         }
     }

@@ -63,14 +63,29 @@ pub trait Progress {
     /// A warning or notice, for the caller to word (or record, or ignore).
     fn event(&mut self, _event: Event) {}
     /// One of several items of the phase under way at once (a node configured alongside
-    /// others) moved on: `status` says where it is, or its result once `finished`.
-    fn item(&mut self, _item: &str, _status: &str, _finished: bool) {}
+    /// others) moved on: `status` says where it is.
+    fn item(&mut self, _item: &str, _status: &str) {}
+    /// One of those items ended: `end` says how, for the caller to word.
+    fn item_ended(&mut self, _item: &str, _end: ItemEnd<'_>) {}
     /// A phase that is one transfer begins, of `len` bytes when known: the hook the SDO
     /// client tells the bytes moved so far as segments and blocks come, when anyone watches
     /// (`None`: nobody does). The phase ends with [`finish`](Progress::finish).
     fn transfer(&mut self, _what: &str, _len: Option<u64>) -> Option<crate::bus::TransferHook> {
         None
     }
+}
+
+/// How an item of a phase ended ([`Progress::item_ended`]), typed for the caller to word.
+#[derive(Debug, Clone, Copy)]
+#[non_exhaustive]
+pub enum ItemEnd<'a> {
+    /// A node of a network project brought to its DCF, or not: its row as it stands then
+    /// (before any reset, and before the node-id given over LSS is set on it).
+    Applied(&'a network::NodeApplied),
+    /// A node of a network project checked: its checks, or the error that ended them.
+    Checked(&'a Result<network::NodeCheck>),
+    /// A node's firmware download.
+    Downloaded(firmware::DownloadEnd),
 }
 
 /// Progress nobody watches.

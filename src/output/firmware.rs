@@ -1,7 +1,19 @@
 //! How `firmware status` and `firmware download` look to people.
 
 use super::{Human, Report, TestCase, TestSuite};
-use crate::ops::firmware::{Batch, DownloadReport, FirmwareError, State, StatusReport, Transfer, Unfinished, Where};
+use crate::ops::firmware::{
+    Batch, DownloadEnd, DownloadReport, FirmwareError, State, StatusReport, Transfer, Unfinished, Where,
+};
+
+/// How a node's download ended, in a word, for its progress line.
+pub(super) fn download_end_word(end: DownloadEnd) -> &'static str {
+    match end {
+        DownloadEnd::Skipped => "skipped",
+        DownloadEnd::Done => "done",
+        DownloadEnd::Interrupted => "interrupted",
+        DownloadEnd::Failed => "failed",
+    }
+}
 
 /// Where the device is, and what to do next, as canctl says it.
 fn state_text(state: State) -> &'static str {

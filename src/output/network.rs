@@ -1,8 +1,10 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
 use super::{Human, Output, Report, TestCase, TestSuite};
-use crate::ops::network::{Applied, BaudSwitched, Checked, Dumped, LoadWarning, Outcome, PROJECT_FILE};
-use crate::ops::Progress;
+use crate::ops::network::{
+    Applied, BaudSwitched, Checked, Dumped, LoadWarning, NodeApplied, NodeCheck, NodeResult, Outcome, PROJECT_FILE,
+};
+use crate::ops::{ItemEnd, Progress};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -235,8 +237,75 @@ impl Report for Applied {
 }
 
 /// A node's result as canctl says it: a failure with its remedy.
-fn row_result_text(n: &crate::ops::network::NodeApplied) -> String {
-    n.failure.as_ref().map_or_else(|| n.result.clone(), |f| super::hints::with_remedy(&n.result, f))
+fn row_result_text(n: &NodeApplied) -> String {
+    let words = node_result_words(n);
+    n.failure.as_ref().map_or_else(|| words.clone(), |f| super::hints::with_remedy(&words, f))
+}
+
+/// What happened to a node, in a sentence (a failure's remedy not yet added): its node-id
+/// given over LSS first, then what its DCF did, then its reset.
+pub(super) fn node_result_words(n: &NodeApplied) -> String {
+    let node = n.node;
+    let verified = |v: bool| if v { ", verified" } else { "" };
+    let what = match &n.result {
+        NodeResult::NoDcf => "present; the project names no DCF for it".to_string(),
+        NodeResult::WouldWrite { count: 0 } => "up to date: nothing would be written".to_string(),
+        NodeResult::WouldWrite { count } => format!("{count} object(s) would be written"),
+        NodeResult::Written { count: 0, .. } => "up to date: nothing written".to_string(),
+        NodeResult::Written { count, verified: v, stored } => {
+            format!("{count} object(s) written{}{}", verified(*v), if *stored { ", stored" } else { "" })
+        }
+        NodeResult::Failed => match &n.failure {
+            Some(f) => format!("failed: {f}"),
+            None => "failed".to_string(),
+        },
+        NodeResult::Interrupted { incomplete, not_stored } => {
+            let mut text = format!("interrupted: {}", super::reports::incomplete_lines(incomplete).join("; "));
+            if *not_stored {
+                text.push_str(&format!("; not stored (canctl store {node} keeps what was written)"));
+            }
+            text
+        }
+        NodeResult::StoppedBeforeStore { written, verified: v } => {
+            format!(
+                "interrupted: {written} object(s) written{}, not stored (canctl store {node} keeps them)",
+                verified(*v)
+            )
+        }
+        NodeResult::WouldAssign => format!(
+            "would be looked for over LSS ({}) and given node-id {node}",
+            n.assigned.as_deref().unwrap_or_default()
+        ),
+        NodeResult::NotConfigured { interrupted } => format!(
+            "node-id given over LSS; not configured: {}",
+            if *interrupted {
+                "interrupted before this node was begun"
+            } else {
+                "the run ended (link lost) before this node was begun"
+            }
+        ),
+        NodeResult::NotBegun => "not done: interrupted before this node was begun".to_string(),
+    };
+    // Given its node-id over LSS, then configured: said first (the two above say it
+    // their own way).
+    let given = n.assigned.is_some() && !matches!(n.result, NodeResult::WouldAssign | NodeResult::NotConfigured { .. });
+    let reset = match n.reset {
+        Some(true) => ", reset, booted",
+        Some(false) => ", reset, but not back",
+        None => "",
+    };
+    format!("{}{what}{reset}", if given { "node-id given over LSS; " } else { "" })
+}
+
+/// How a node's check ended, for its progress line.
+pub(super) fn checked_words(checked: &crate::Result<NodeCheck>) -> String {
+    match checked {
+        Ok(n) => match n.checks.iter().filter(|c| !c.ok).count() {
+            0 => "as the project says".to_string(),
+            k => format!("{k} check(s) differ"),
+        },
+        Err(e) => format!("failed: {e}"),
+    }
 }
 
 /// Why a network-wide switch to `rate` was not activated, as canctl says it.
@@ -361,6 +430,17 @@ impl<'a> NodeBars<'a> {
         NodeBars { out, multi: MultiProgress::with_draw_target(target), phase: None, nodes: BTreeMap::new() }
     }
 
+    /// The line of `item`, added under the others the first time.
+    fn line(&mut self, item: &str) -> &ProgressBar {
+        let multi = &self.multi;
+        self.nodes.entry(item.to_string()).or_insert_with(|| {
+            let bar = multi.add(ProgressBar::new_spinner());
+            bar.set_style(ProgressStyle::with_template("  {prefix:<9} {spinner} {wide_msg}").expect("valid template"));
+            bar.set_prefix(item.to_string());
+            bar
+        })
+    }
+
     fn clear(&mut self) {
         for (_, bar) in std::mem::take(&mut self.nodes) {
             bar.finish_and_clear();
@@ -388,24 +468,21 @@ impl Progress for NodeBars<'_> {
         let line = crate::output::event_line(&event);
         self.multi.suspend(|| self.out.note(&line));
     }
-    fn item(&mut self, item: &str, status: &str, finished: bool) {
+    fn item(&mut self, item: &str, status: &str) {
         if !self.out.progress {
             return;
         }
-        let multi = &self.multi;
-        let bar = self.nodes.entry(item.to_string()).or_insert_with(|| {
-            let bar = multi.add(ProgressBar::new_spinner());
-            bar.set_style(ProgressStyle::with_template("  {prefix:<9} {spinner} {wide_msg}").expect("valid template"));
-            bar.set_prefix(item.to_string());
-            bar
-        });
         let status = crate::output::terminal_safe(status).into_owned();
-        if finished {
-            bar.finish_with_message(status);
-        } else {
-            bar.set_message(status);
-            bar.tick();
+        let bar = self.line(item);
+        bar.set_message(status);
+        bar.tick();
+    }
+    fn item_ended(&mut self, item: &str, end: ItemEnd<'_>) {
+        if !self.out.progress {
+            return;
         }
+        let text = crate::output::terminal_safe(&super::item_end_text(&end)).into_owned();
+        self.line(item).finish_with_message(text);
     }
 }
 
@@ -419,6 +496,47 @@ impl Drop for NodeBars<'_> {
 mod tests {
     use super::*;
     use crate::od::lint::{Kind, Warning};
+
+    fn row(result: NodeResult, assigned: Option<&str>, reset: Option<bool>) -> NodeApplied {
+        NodeApplied {
+            node: 20,
+            name: String::new(),
+            file: None,
+            assigned: assigned.map(str::to_string),
+            written: 3,
+            stored: true,
+            result,
+            reset,
+            failure: None,
+            outcome: Outcome::Done,
+            ok: true,
+            objects: Vec::new(),
+        }
+    }
+
+    /// The node-id given over LSS comes first and the reset last, around what the DCF did;
+    /// the results that tell the node-id their own way are not prefixed again.
+    #[test]
+    fn a_node_result_is_worded_with_its_node_id_and_reset() {
+        let written = NodeResult::Written { count: 3, verified: true, stored: true };
+        assert_eq!(
+            node_result_words(&row(written, Some("0x1/0x2/0x3/0x4"), Some(false))),
+            "node-id given over LSS; 3 object(s) written, verified, stored, reset, but not back"
+        );
+        assert_eq!(
+            node_result_words(&row(NodeResult::WouldAssign, Some("0x1/0x2/0x3/0x4"), None)),
+            "would be looked for over LSS (0x1/0x2/0x3/0x4) and given node-id 20"
+        );
+        assert_eq!(
+            node_result_words(&row(NodeResult::NotConfigured { interrupted: false }, Some("x"), None)),
+            "node-id given over LSS; not configured: the run ended (link lost) before this node was begun"
+        );
+        let stopped = NodeResult::StoppedBeforeStore { written: 3, verified: false };
+        assert_eq!(
+            node_result_words(&row(stopped, None, None)),
+            "interrupted: 3 object(s) written, not stored (canctl store 20 keeps them)"
+        );
+    }
 
     #[test]
     fn a_project_warning_shows_its_file_and_line() {

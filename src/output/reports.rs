@@ -173,9 +173,43 @@ impl Report for Applied {
         if self.stored {
             notes.push(format!("node {}: parameters stored (0x1010:1)", self.node));
         }
-        notes.extend(self.summary());
+        notes.extend(self.incomplete().map(|i| incomplete_lines(&i)).unwrap_or_default());
         notes
     }
+}
+
+/// What a run that did not finish did and left ([`crate::ops::config::Incomplete`]): what was
+/// written, what was not, what was put back, and the state the device is left in, a
+/// sentence each.
+pub(crate) fn incomplete_lines(incomplete: &crate::ops::config::Incomplete) -> Vec<String> {
+    let list = |v: Vec<String>| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
+    let mut out = Vec::new();
+    if let Some(cut) = &incomplete.cut {
+        let done: Vec<String> = cut.written.iter().map(|w| w.to_string()).collect();
+        let not: Vec<String> = cut.not_written.iter().map(|w| w.to_string()).collect();
+        out.push(format!(
+            "interrupted after {} write(s): written {}; not written {}",
+            done.len(),
+            list(done),
+            list(not)
+        ));
+    }
+    for pdo in &incomplete.rolled_back {
+        out.push(format!("{pdo}: its change was under way; rolled back to its previous mapping and COB-ID"));
+    }
+    if !incomplete.to_fix.is_empty() {
+        let fixes: Vec<String> = incomplete
+            .to_fix
+            .iter()
+            .map(|f| format!("{} = {}", f.object, f.value.as_deref().unwrap_or("(previous value unknown)")))
+            .collect();
+        out.push(format!(
+            "the rollback did not finish: to put the PDO back, write in this order {} (or run config apply again to finish the change)",
+            fixes.join(", ")
+        ));
+    }
+    out.extend(incomplete.state.clone());
+    out
 }
 
 /// What a person must read after a failed `config apply`, in every format (the JSON

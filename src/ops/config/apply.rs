@@ -85,7 +85,7 @@ pub struct Applied {
 }
 
 /// A write that would bring an object back to its value before the run.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 #[non_exhaustive]
 pub struct Fix {
     /// The object to write.
@@ -237,47 +237,52 @@ impl Applied {
         Ok(())
     }
 
-    /// For a run that did not finish: what was written, what was not, what was put back,
-    /// and the state the device is left in, as sentences for people.
-    pub fn summary(&self) -> Vec<String> {
+    /// For a run that did not finish (stopped, or a PDO change put back or left to fix):
+    /// what was written, what was not, what was put back, and the state the device is left
+    /// in; `None` for a run that finished.
+    pub fn incomplete(&self) -> Option<Incomplete> {
         if !self.interrupted && self.rolled_back.is_empty() && self.to_fix.is_empty() {
-            return Vec::new();
+            return None;
         }
-        let list = |v: Vec<String>| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
-        let mut out = Vec::new();
-        // Interrupted while reading, the state says it all.
         let not_written = |r: &Change| matches!(r.result.action, Action::NotWritten | Action::NotWrittenInterrupted);
+        // Interrupted while reading, nothing was planned: the state says it all.
         let planned = self.objects.iter().any(|r| r.result.action == Action::Written || not_written(r));
-        if self.interrupted && planned {
-            let done: Vec<String> = self.written.iter().map(|w| w.to_string()).collect();
-            let not: Vec<String> =
-                self.objects.iter().filter(|r| not_written(r)).map(|r| r.object.to_string()).collect();
-            out.push(format!(
-                "interrupted after {} write(s): written {}; not written {}",
-                done.len(),
-                list(done),
-                list(not)
-            ));
-        }
-        for pdo in &self.rolled_back {
-            out.push(format!("{pdo}: its change was under way; rolled back to its previous mapping and COB-ID"));
-        }
-        if !self.to_fix.is_empty() {
-            let fixes: Vec<String> = self
-                .to_fix
-                .iter()
-                .map(|f| format!("{} = {}", f.object, f.value.as_deref().unwrap_or("(previous value unknown)")))
-                .collect();
-            out.push(format!(
-                "the rollback did not finish: to put the PDO back, write in this order {} (or run config apply again to finish the change)",
-                fixes.join(", ")
-            ));
-        }
-        if let Some(state) = &self.state {
-            out.push(state.clone());
-        }
-        out
+        let cut = (self.interrupted && planned).then(|| CutWrites {
+            written: self.written.clone(),
+            not_written: self.objects.iter().filter(|r| not_written(r)).map(|r| r.object).collect(),
+        });
+        Some(Incomplete {
+            cut,
+            rolled_back: self.rolled_back.clone(),
+            to_fix: self.to_fix.clone(),
+            state: self.state.clone(),
+        })
     }
+}
+
+/// What a run that did not finish left ([`Applied::incomplete`]), for the front end to word.
+#[derive(Debug, Clone, Default)]
+#[non_exhaustive]
+pub struct Incomplete {
+    /// Stopped between two writes of those planned: what was written and what not.
+    pub cut: Option<CutWrites>,
+    /// PDOs whose change was under way, put back to their previous mapping and COB-ID
+    /// (as [`Applied::rolled_back`] names them).
+    pub rolled_back: Vec<String>,
+    /// When putting a PDO back failed: the writes that would, in this order.
+    pub to_fix: Vec<Fix>,
+    /// What the device holds now, as [`Applied::state`] says it.
+    pub state: Option<String>,
+}
+
+/// The writes of a run stopped between two of them.
+#[derive(Debug, Clone, Default)]
+#[non_exhaustive]
+pub struct CutWrites {
+    /// What was written, in order.
+    pub written: Vec<ObjAddr>,
+    /// What was planned and not written, in order.
+    pub not_written: Vec<ObjAddr>,
 }
 
 /// A PDO's name from its communication index: `TPDO1 (0x1800, 0x1A00)`.

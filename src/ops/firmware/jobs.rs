@@ -22,11 +22,11 @@ struct Lines<'a> {
 
 impl Watch<Outcome> for Lines<'_> {
     fn begun(&mut self, slot: usize) {
-        self.progress.item(&format!("node {}", self.nodes[slot]), "under way", false);
+        self.progress.item(&format!("node {}", self.nodes[slot]), "under way");
     }
 
     fn ended(&mut self, slot: usize, outcome: &Outcome, _lost: bool) -> bool {
-        self.progress.item(&format!("node {}", self.nodes[slot]), end_word(outcome), true);
+        self.progress.item_ended(&format!("node {}", self.nodes[slot]), ItemEnd::Downloaded(ended(outcome)));
         let interrupted = matches!(outcome, Err(f) if f.report.interrupted);
         !interrupted && !self.cancel.is_some_and(Cancel::is_cancelled)
     }
@@ -75,12 +75,12 @@ pub fn download_jobs(
     batch
 }
 
-/// How a node's download ended, in a word (as [`download_each`] tells it).
-pub(super) fn end_word(outcome: &Outcome) -> &'static str {
+/// How a node's download ended (as [`download_each`] tells it).
+pub(super) fn ended(outcome: &Outcome) -> DownloadEnd {
     match outcome {
-        Ok(r) if r.skipped => "skipped",
-        Ok(_) => "done",
-        Err(f) if f.report.interrupted => "interrupted",
-        Err(_) => "failed",
+        Ok(r) if r.skipped => DownloadEnd::Skipped,
+        Ok(_) => DownloadEnd::Done,
+        Err(f) if f.report.interrupted => DownloadEnd::Interrupted,
+        Err(_) => DownloadEnd::Failed,
     }
 }

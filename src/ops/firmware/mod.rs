@@ -8,7 +8,7 @@
 //! outcome read back by the bus, then the boot-up decides), and a new program may ask to be
 //! confirmed (0x1F51 reads 0x80).
 
-use super::Progress;
+use super::{ItemEnd, Progress};
 use crate::bus::{Bus, SdoOptions, TransferHook};
 use crate::cancel::Cancel;
 use crate::canopen::nmt;
@@ -712,6 +712,20 @@ pub struct NodeDownload {
     pub error: Option<Unfinished>,
 }
 
+/// How one node's download ended, for a progress display to word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum DownloadEnd {
+    /// Skipped: the node runs the image already.
+    Skipped,
+    /// Downloaded.
+    Done,
+    /// Stopped by the user.
+    Interrupted,
+    /// Failed.
+    Failed,
+}
+
 /// Why one node of a download to several did not finish.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -767,9 +781,9 @@ pub fn download_each(
             batch.nodes.push(NodeDownload { node, report: None, error: Some(Unfinished::NotBegun) });
             continue;
         }
-        progress.item(&format!("node {node}"), &format!("{} of {}", i + 1, nodes.len()), false);
+        progress.item(&format!("node {node}"), &format!("{} of {}", i + 1, nodes.len()));
         let outcome = download(bus, node, image, o, progress);
-        progress.item(&format!("node {node}"), jobs::end_word(&outcome), true);
+        progress.item_ended(&format!("node {node}"), ItemEnd::Downloaded(jobs::ended(&outcome)));
         match outcome {
             Ok(report) => {
                 batch.nodes.push(NodeDownload { node, report: Some(report), error: None });

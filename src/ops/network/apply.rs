@@ -60,16 +60,21 @@ pub struct NodeApplied {
     pub name: String,
     /// Its DCF, as the project names it; none when it names none.
     pub file: Option<String>,
-    /// `assigned over LSS to IDENTITY` when `--assign` gave the node its id.
+    /// The LSS identity the node was given its node-id by (or, in a dry run, would be
+    /// looked for by), when it was asked for.
     pub assigned: Option<String>,
     /// Objects written (PDO sequence steps included).
     pub written: usize,
     /// Its parameters were stored (0x1010:1).
     pub stored: bool,
-    /// What happened, in a sentence.
-    pub result: String,
-    /// The failure the result tells, typed: its remedy for the front end to word after its
-    /// message in the result.
+    /// What happened, for the front end to word (the JSON of canctl carries its sentence
+    /// here, with the node-id given over LSS and the reset).
+    pub result: NodeResult,
+    /// After it was written to, the node was reset: whether it was back (booted) within
+    /// the boot wait; `None` when it was not reset.
+    #[serde(skip)]
+    pub reset: Option<bool>,
+    /// The failure the result tells, typed: its message and remedy for the front end to word.
     #[serde(skip)]
     pub failure: Option<crate::hint::Failure>,
     /// What happened, in one word: the summary counts these, as the table shows them.
@@ -78,6 +83,58 @@ pub struct NodeApplied {
     pub ok: bool,
     /// Each object written or not, as `config apply` reports it.
     pub objects: Vec<config::Change>,
+}
+
+/// What happened to one node: its DCF applied or not, and how far. Whether its node-id was
+/// given over LSS first is [`NodeApplied::assigned`]; a reset after, [`NodeApplied::reset`].
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
+pub enum NodeResult {
+    /// It answers, but the project names no DCF for it: nothing to apply.
+    NoDcf,
+    /// A dry run: `count` objects would be written (0: it is up to date).
+    WouldWrite {
+        /// Objects that would be written.
+        count: usize,
+    },
+    /// Brought to its DCF: `count` objects written (0: it was up to date already).
+    Written {
+        /// Objects written (PDO sequence steps included).
+        count: usize,
+        /// Each was read back as written.
+        verified: bool,
+        /// Its parameters were stored (0x1010:1).
+        stored: bool,
+    },
+    /// Failed: [`NodeApplied::failure`] says how.
+    Failed,
+    /// The user stopped it at a point between two transfers.
+    Interrupted {
+        /// What was written, what not, what was put back, and the state it is left in.
+        #[serde(skip)]
+        incomplete: config::Incomplete,
+        /// Objects were written and storing was asked for, but they were not stored.
+        not_stored: bool,
+    },
+    /// The user stopped the run after its objects were written, before they were stored.
+    StoppedBeforeStore {
+        /// Objects written.
+        written: usize,
+        /// Each was read back as written.
+        verified: bool,
+    },
+    /// A dry run: it does not answer, and would be looked for over LSS by the identity in
+    /// [`NodeApplied::assigned`] and given its node-id.
+    WouldAssign,
+    /// Given its node-id over LSS, then not configured: the run ended before this node was
+    /// begun.
+    NotConfigured {
+        /// The user stopped the run; else the link was lost.
+        interrupted: bool,
+    },
+    /// Not begun: the user stopped the run first.
+    NotBegun,
 }
 
 /// Where a node's apply ended.
@@ -148,7 +205,8 @@ fn empty_row(listed: &Listed) -> NodeApplied {
         assigned: None,
         written: 0,
         stored: false,
-        result: String::new(),
+        result: NodeResult::Failed,
+        reset: None,
         failure: None,
         outcome: Outcome::Failed,
         ok: false,
@@ -160,22 +218,17 @@ fn empty_row(listed: &Listed) -> NodeApplied {
 /// when asked), then store when anything was written.
 fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
     let mut row = empty_row(listed);
-    let fail = |mut row: NodeApplied, e: Error| {
-        row.result = format!("failed: {e}");
-        row.failure = Some((&e).into());
-        (row, Some(e))
-    };
     let Some(dcf) = &listed.dcf else {
         row.ok = true;
         row.outcome = Outcome::Done;
-        row.result = "present; the project names no DCF for it".to_string();
+        row.result = NodeResult::NoDcf;
         return (row, None);
     };
     let mut co = o.config.clone();
     co.store = false;
     let mut applied = match config::apply(bus, listed.node, dcf, &co) {
         Ok(a) => a,
-        Err(e) => return fail(row, e),
+        Err(e) => return failed(row, e),
     };
     row.written = applied.written.len();
     row.objects = std::mem::take(&mut applied.objects);
@@ -183,25 +236,21 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     if applied.interrupted {
         // Stopped between two transfers, a PDO change under way put back: what was done,
         // what was not, and the state the node is left in, as `config apply` says it.
-        row.result = format!("interrupted: {}", applied.summary().join("; "));
+        // (Its objects are the row's by now, so what was planned and not written is told by
+        // them, not again here.)
+        let incomplete = applied.incomplete().unwrap_or_default();
+        let not_stored = o.config.store && !o.config.dry_run && row.written > 0;
+        row.result = NodeResult::Interrupted { incomplete, not_stored };
         let changed = row.written > 0 || !applied.rolled_back.is_empty() || !applied.to_fix.is_empty();
         row.outcome = if changed { Outcome::StoppedPartWay } else { Outcome::StoppedUnchanged };
-        if o.config.store && !o.config.dry_run && row.written > 0 {
-            row.result.push_str(&format!("; not stored (canctl store {} keeps what was written)", listed.node));
-        }
         return (row, Some(Error::Interrupted));
     }
     if let Err(e) = applied.outcome() {
-        return fail(row, e);
+        return failed(row, e);
     }
     let stop = o.config.interrupted.is_cancelled();
     if o.config.store && row.written > 0 && stop {
-        row.result = format!(
-            "interrupted: {} object(s) written{}, not stored (canctl store {} keeps them)",
-            row.written,
-            if o.config.verify { ", verified" } else { "" },
-            listed.node
-        );
+        row.result = NodeResult::StoppedBeforeStore { written: row.written, verified: o.config.verify };
         row.outcome = Outcome::StoppedPartWay;
         return (row, Some(Error::Interrupted));
     }
@@ -209,22 +258,24 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
         let t = crate::ops::store::Timeouts { answer: o.config.timeout, write: o.config.store_timeout };
         match crate::ops::store::store(bus, listed.node, crate::ops::store::Class::All, t) {
             Ok(_) => row.stored = true,
-            Err(e) => return fail(row, e),
+            Err(e) => return failed(row, e),
         }
     }
     row.ok = true;
     row.outcome = Outcome::Done;
-    row.result = match (o.config.dry_run, row.written) {
-        (true, _) if would == 0 => "up to date: nothing would be written".to_string(),
-        (true, _) => format!("{would} object(s) would be written"),
-        (false, 0) => "up to date: nothing written".to_string(),
-        (false, n) => format!(
-            "{n} object(s) written{}{}",
-            if o.config.verify { ", verified" } else { "" },
-            if row.stored { ", stored" } else { "" }
-        ),
+    row.result = if o.config.dry_run {
+        NodeResult::WouldWrite { count: would }
+    } else {
+        NodeResult::Written { count: row.written, verified: o.config.verify, stored: row.stored }
     };
     (row, None)
+}
+
+/// `row`, failed with `e`.
+fn failed(mut row: NodeApplied, e: Error) -> NodeOutcome {
+    row.result = NodeResult::Failed;
+    row.failure = Some((&e).into());
+    (row, Some(e))
 }
 
 /// Bring every listed node to its DCF: first the node-ids over LSS (one device at a time,
@@ -262,7 +313,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
                 let mut counted = crate::ops::counted::counted(&mut *bus, &label, progress);
                 configure_node(&mut counted, &loaded.nodes[*i], o)
             };
-            progress.item(&label, &result.summary(), true);
+            progress.item_ended(&label, result.end());
             let link = matches!(result.1, Some(Error::Link(_)));
             done.push((*i, result));
             // A lost link ends the run: every further node would fail the same way.
@@ -273,22 +324,14 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         done
     } else {
         let work = |bus: &mut dyn Bus, i: usize| configure_node(bus, &loaded.nodes[i], o);
-        let stopped = |i: usize, e: Error| {
-            let mut row = empty_row(&loaded.nodes[i]);
-            row.result = format!("failed: {e}");
-            row.failure = Some((&e).into());
-            (row, Some(e))
-        };
+        let stopped = |i: usize, e: Error| failed(empty_row(&loaded.nodes[i]), e);
         let items: Vec<(usize, u8)> = ready.iter().map(|i| (*i, loaded.nodes[*i].node)).collect();
         parallel::each(bus, &items, o.jobs, &o.interrupted, &work, &stopped, progress)
     };
     progress.finish();
     let configured: Vec<usize> = done.iter().map(|(i, _)| *i).collect();
     for (i, (mut row, error)) in done {
-        if let Some(id) = &assigned[i] {
-            row.assigned = Some(id.clone());
-            row.result = format!("node-id given over LSS; {}", row.result);
-        }
+        row.assigned.clone_from(&assigned[i]);
         rows[i] = Some((row, error));
     }
     if o.reset && !o.config.dry_run && !stop() {
@@ -300,14 +343,10 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             .collect();
         let back = reset_and_wait(bus, &written, o)?;
         for (row, error) in rows.iter_mut().flatten() {
-            match back.get(&row.node) {
-                Some(true) => row.result.push_str(", reset, booted"),
-                Some(false) => {
-                    row.result.push_str(", reset, but not back");
-                    row.ok = false;
-                    error.get_or_insert(Error::NoAnswer { node: row.node, what: Service::BootUp, waited: o.boot_wait });
-                }
-                None => {}
+            row.reset = back.get(&row.node).copied();
+            if row.reset == Some(false) {
+                row.ok = false;
+                error.get_or_insert(Error::NoAnswer { node: row.node, what: Service::BootUp, waited: o.boot_wait });
             }
         }
     }
@@ -319,13 +358,8 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             // Given its node-id over LSS, then not configured: stopped by the user, or the
             // link was lost, before this node was begun.
             Some((mut row, None)) if ready.contains(&i) && !configured.contains(&i) => {
-                let (why, outcome) = if interrupted {
-                    ("interrupted before this node was begun", Outcome::NotBegun)
-                } else {
-                    ("the run ended (link lost) before this node was begun", Outcome::Failed)
-                };
-                row.result = format!("node-id given over LSS; not configured: {why}");
-                row.outcome = outcome;
+                row.result = NodeResult::NotConfigured { interrupted };
+                row.outcome = if interrupted { Outcome::NotBegun } else { Outcome::Failed };
                 row.ok = false;
                 nodes.push(row);
             }
@@ -338,7 +372,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             // Not begun: interrupted first, or the link was lost.
             None if interrupted => {
                 let mut row = empty_row(&loaded.nodes[i]);
-                row.result = "not done: interrupted before this node was begun".into();
+                row.result = NodeResult::NotBegun;
                 row.outcome = Outcome::NotBegun;
                 nodes.push(row);
             }
@@ -367,26 +401,20 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     })
 }
 
-/// A node's result in a few words, for its progress bar.
-pub(super) trait Summary {
-    fn summary(&self) -> String;
+/// How a node's procedure ended, for its progress bar.
+pub(super) trait End {
+    fn end(&self) -> ItemEnd<'_>;
 }
 
-impl Summary for NodeOutcome {
-    fn summary(&self) -> String {
-        self.0.result.clone()
+impl End for NodeOutcome {
+    fn end(&self) -> ItemEnd<'_> {
+        ItemEnd::Applied(&self.0)
     }
 }
 
-impl Summary for Result<NodeCheck> {
-    fn summary(&self) -> String {
-        match self {
-            Ok(n) => match n.checks.iter().filter(|c| !c.ok).count() {
-                0 => "as the project says".to_string(),
-                k => format!("{k} check(s) differ"),
-            },
-            Err(e) => format!("failed: {e}"),
-        }
+impl End for Result<NodeCheck> {
+    fn end(&self) -> ItemEnd<'_> {
+        ItemEnd::Checked(self)
     }
 }
 
@@ -434,15 +462,10 @@ fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<B
 /// its DCF names an LSS identity), else failed.
 fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
     let mut row = empty_row(listed);
-    let fail = |mut row: NodeApplied, e: Error| {
-        row.result = format!("failed: {e}");
-        row.failure = Some((&e).into());
-        (row, Some(e))
-    };
     match listed.lss_identity() {
         Some(id) if o.assign && o.config.dry_run => {
             row.assigned = Some(id.to_string());
-            row.result = format!("would be looked for over LSS ({id}) and given node-id {}", listed.node);
+            row.result = NodeResult::WouldAssign;
             row.ok = true;
             row.outcome = Outcome::Done;
             (row, None)
@@ -454,17 +477,17 @@ fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutc
                 row.outcome = Outcome::Done;
                 (row, None)
             }
-            Err(e) => fail(row, e),
+            Err(e) => failed(row, e),
         },
         Some(id) => {
             let what = Service::ProjectNode { lss: Some(id) };
             let e = Error::NoAnswer { node: listed.node, what, waited: o.window };
-            fail(row, e)
+            failed(row, e)
         }
         None => {
             let what = Service::ProjectNode { lss: None };
             let e = Error::NoAnswer { node: listed.node, what, waited: o.window };
-            fail(row, e)
+            failed(row, e)
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use super::config::{self, Dcf};
 pub use super::lss::LssTally;
-use super::Progress;
+use super::{ItemEnd, Progress};
 use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::cancel::Cancel;
@@ -241,7 +241,7 @@ mod tests {
             let report = apply(bus.as_mut(), &loaded, &o, &mut StopAfter { flag, after: 1, applying: false }).unwrap();
             let done: Vec<u8> = report.nodes.iter().filter(|n| n.ok).map(|n| n.node).collect();
             let not_begun: Vec<u8> =
-                report.nodes.iter().filter(|n| n.result.starts_with("not done: interrupted")).map(|n| n.node).collect();
+                report.nodes.iter().filter(|n| matches!(n.result, NodeResult::NotBegun)).map(|n| n.node).collect();
             // The demo network has nodes 1, 5, 10 and 32; 20 to 24 wait for --assign.
             assert_eq!(done, [1, 5], "--jobs {jobs}: {:?}", report.nodes.iter().map(|n| &n.result).collect::<Vec<_>>());
             assert_eq!(not_begun, [10, 32], "--jobs {jobs}");

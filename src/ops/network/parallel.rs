@@ -16,7 +16,7 @@ struct Bars<'a> {
     done: u64,
 }
 
-impl<T: Summary> Watch<T> for Bars<'_> {
+impl<T: End> Watch<T> for Bars<'_> {
     fn transfer(&mut self, job: &SdoJob) {
         let (node, write) = match job {
             SdoJob::Upload { node, .. } => (*node, false),
@@ -28,11 +28,11 @@ impl<T: Summary> Watch<T> for Bars<'_> {
         } else {
             count.0 += 1;
         }
-        self.progress.item(&node_label(node), &transfers(count.0, count.1), false);
+        self.progress.item(&node_label(node), &transfers(count.0, count.1));
     }
 
     fn ended(&mut self, slot: usize, result: &T, lost: bool) -> bool {
-        self.progress.item(&node_label(self.items[slot].1), &result.summary(), true);
+        self.progress.item_ended(&node_label(self.items[slot].1), result.end());
         self.done += 1;
         self.progress.advance(self.done);
         // After a link failure every further node would fail the same way.
@@ -50,7 +50,7 @@ fn link_lost(bus: &str, e: &Error) -> Error {
 /// for a node whose procedure ended without its result (a bug), so that the run still
 /// ends. Results in the order of `items`; after a link failure or once `stop` is set,
 /// no further node is begun, and those are left out.
-pub(super) fn each<T: Send + Summary>(
+pub(super) fn each<T: Send + End>(
     bus: &mut dyn Bus,
     items: &[(usize, u8)],
     jobs: usize,
