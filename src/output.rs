@@ -492,6 +492,16 @@ impl Output {
     }
 }
 
+/// Where an item of a phase is, as its progress line says it after its name.
+pub(crate) fn item_status_text(status: crate::ops::ItemStatus) -> String {
+    use crate::ops::ItemStatus;
+    match status {
+        ItemStatus::Begun => "under way".into(),
+        ItemStatus::Transfers { reads, writes } => format!("{reads} read(s), {writes} write(s)"),
+        ItemStatus::Step { number, of } => format!("{number} of {of}"),
+    }
+}
+
 /// How an item of a phase ended, as its progress line says it.
 pub(crate) fn item_end_text(end: &crate::ops::ItemEnd<'_>) -> String {
     use crate::ops::ItemEnd;
@@ -533,9 +543,8 @@ impl crate::ops::Progress for Bars<'_> {
             b.finish_and_clear();
         }
     }
-    fn item(&mut self, item: &str, status: &str) {
-        // An item with no status yet is shown by its name alone.
-        let text = if status.is_empty() { item.to_string() } else { format!("{item}: {}", terminal_safe(status)) };
+    fn item(&mut self, item: &str, status: crate::ops::ItemStatus) {
+        let text = format!("{item}: {}", item_status_text(status));
         match &self.line {
             Some(b) => b.set_message(text),
             None => self.line = Some(self.out.status(&text)),

@@ -190,7 +190,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     // Seconds of reads and writes on a slow device: counted on the terminal meanwhile.
     let label = format!("node {}: applying {}", a.node.node, a.file.display());
     let mut bars = ctx.out.progress();
-    bars.item(&label, "");
+    bars.item(&label, crate::ops::ItemStatus::Begun);
     let report = config::apply(&mut crate::ops::counted::counted(bus, &label, &mut bars), a.node.node, &dcf, &options);
     bars.finish();
     let report = report?;

@@ -1,7 +1,7 @@
 //! A bus that counts the SDO transfers made through it and tells a [`Progress`] as they
 //! go: a long procedure on one node shows that it is moving without reporting steps.
 
-use super::Progress;
+use super::{ItemStatus, Progress};
 use crate::bus::tap::{AfterSdo, Transfer};
 use crate::bus::Bus;
 
@@ -19,13 +19,8 @@ pub fn counted<'a>(
             Transfer::Download => writes = n,
             Transfer::Nmt => {}
         }
-        progress.item(label, &transfers(reads, writes));
+        progress.item(label, ItemStatus::Transfers { reads, writes });
     })
-}
-
-/// What a node's work has made so far, as a progress item says it.
-pub(crate) fn transfers(reads: u32, writes: u32) -> String {
-    format!("{reads} read(s), {writes} write(s)")
 }
 
 #[cfg(test)]
@@ -37,11 +32,11 @@ mod tests {
     use std::time::Duration;
 
     #[derive(Default)]
-    struct Items(Vec<(String, String)>);
+    struct Items(Vec<(String, ItemStatus)>);
 
     impl Progress for Items {
-        fn item(&mut self, item: &str, status: &str) {
-            self.0.push((item.to_string(), status.to_string()));
+        fn item(&mut self, item: &str, status: ItemStatus) {
+            self.0.push((item.to_string(), status));
         }
     }
 
@@ -58,6 +53,6 @@ mod tests {
             c.sdo_download(5, ObjAddr::new(0x1017, 0), &[100, 0], &o).unwrap();
         }
         let last = items.0.last().unwrap();
-        assert_eq!((last.0.as_str(), last.1.as_str()), ("node 5", "1 read(s), 1 write(s)"));
+        assert_eq!((last.0.as_str(), last.1), ("node 5", ItemStatus::Transfers { reads: 1, writes: 1 }));
     }
 }

@@ -63,8 +63,8 @@ pub trait Progress {
     /// A warning or notice, for the caller to word (or record, or ignore).
     fn event(&mut self, _event: Event) {}
     /// One of several items of the phase under way at once (a node configured alongside
-    /// others) moved on: `status` says where it is.
-    fn item(&mut self, _item: &str, _status: &str) {}
+    /// others) moved on: `status` says where it is, for the caller to word.
+    fn item(&mut self, _item: &str, _status: ItemStatus) {}
     /// One of those items ended: `end` says how, for the caller to word.
     fn item_ended(&mut self, _item: &str, _end: ItemEnd<'_>) {}
     /// A phase that is one transfer begins, of `len` bytes when known: the hook the SDO
@@ -73,6 +73,28 @@ pub trait Progress {
     fn transfer(&mut self, _what: &str, _len: Option<u64>) -> Option<crate::bus::TransferHook> {
         None
     }
+}
+
+/// Where an item of a phase is ([`Progress::item`]), typed for the caller to word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ItemStatus {
+    /// Begun; nothing to count yet.
+    Begun,
+    /// The SDO transfers its work has made so far.
+    Transfers {
+        /// Reads (uploads).
+        reads: u32,
+        /// Writes (downloads).
+        writes: u32,
+    },
+    /// The `number`th of `of` items done one after the other.
+    Step {
+        /// Its place, from 1.
+        number: usize,
+        /// How many there are.
+        of: usize,
+    },
 }
 
 /// How an item of a phase ended ([`Progress::item_ended`]), typed for the caller to word.

@@ -468,11 +468,11 @@ impl Progress for NodeBars<'_> {
         let line = crate::output::event_line(&event);
         self.multi.suspend(|| self.out.note(&line));
     }
-    fn item(&mut self, item: &str, status: &str) {
+    fn item(&mut self, item: &str, status: crate::ops::ItemStatus) {
         if !self.out.progress {
             return;
         }
-        let status = crate::output::terminal_safe(status).into_owned();
+        let status = crate::output::item_status_text(status);
         let bar = self.line(item);
         bar.set_message(status);
         bar.tick();

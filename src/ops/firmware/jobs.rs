@@ -22,7 +22,7 @@ struct Lines<'a> {
 
 impl Watch<Outcome> for Lines<'_> {
     fn begun(&mut self, slot: usize) {
-        self.progress.item(&format!("node {}", self.nodes[slot]), "under way");
+        self.progress.item(&format!("node {}", self.nodes[slot]), crate::ops::ItemStatus::Begun);
     }
 
     fn ended(&mut self, slot: usize, outcome: &Outcome, _lost: bool) -> bool {

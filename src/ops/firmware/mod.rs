@@ -781,7 +781,7 @@ pub fn download_each(
             batch.nodes.push(NodeDownload { node, report: None, error: Some(Unfinished::NotBegun) });
             continue;
         }
-        progress.item(&format!("node {node}"), &format!("{} of {}", i + 1, nodes.len()));
+        progress.item(&format!("node {node}"), crate::ops::ItemStatus::Step { number: i + 1, of: nodes.len() });
         let outcome = download(bus, node, image, o, progress);
         progress.item_ended(&format!("node {node}"), ItemEnd::Downloaded(jobs::ended(&outcome)));
         match outcome {

@@ -3,8 +3,8 @@
 
 use super::*;
 use crate::bus::SdoJob;
-use crate::ops::counted::transfers;
 use crate::ops::in_parallel::{self, Serve, Watch};
+use crate::ops::ItemStatus;
 
 /// The progress of each node, and when to begin no more.
 struct Bars<'a> {
@@ -28,7 +28,7 @@ impl<T: End> Watch<T> for Bars<'_> {
         } else {
             count.0 += 1;
         }
-        self.progress.item(&node_label(node), &transfers(count.0, count.1));
+        self.progress.item(&node_label(node), ItemStatus::Transfers { reads: count.0, writes: count.1 });
     }
 
     fn ended(&mut self, slot: usize, result: &T, lost: bool) -> bool {
