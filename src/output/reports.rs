@@ -165,6 +165,9 @@ impl Report for Applied {
     fn json_value(&self) -> serde_json::Value {
         let mut value = serde_json::to_value(self).expect("reports serialise");
         super::hints::word_change_results(&mut value["objects"], &self.objects);
+        if let Some(left) = &self.state {
+            value["state"] = left_in_text(left).into();
+        }
         value
     }
 
@@ -208,8 +211,43 @@ pub(crate) fn incomplete_lines(incomplete: &crate::ops::config::Incomplete) -> V
             fixes.join(", ")
         ));
     }
-    out.extend(incomplete.state.clone());
+    out.extend(incomplete.state.as_ref().map(left_in_text));
     out
+}
+
+/// What a run that did not finish left the device holding, in a sentence.
+pub(crate) fn left_in_text(left: &crate::ops::config::LeftIn) -> String {
+    use crate::ops::config::LeftIn;
+    let (node, new, of, interim, rolled_back, rollback_failed, store_asked) = match left {
+        LeftIn::Unread { node } => {
+            return format!("node {node} is as it was: interrupted while reading it, nothing was written")
+        }
+        LeftIn::Written { node, new, of, interim, rolled_back, rollback_failed, store_asked } => {
+            (node, new, of, *interim, *rolled_back, *rollback_failed, *store_asked)
+        }
+    };
+    let mut s = match (new.is_empty(), interim) {
+        (true, false) => format!("node {node} is as it was before the run"),
+        (true, true) => format!("node {node} holds none of the file's values"),
+        (false, _) => {
+            let new: Vec<String> = new.iter().map(|a| a.to_string()).collect();
+            format!(
+                "node {node} holds the file's values for {} of {of} object(s) ({}), its previous values for the rest",
+                new.len(),
+                new.join(", ")
+            )
+        }
+    };
+    if rollback_failed || interim {
+        s.push_str("; a PDO is left unusable: see the writes above");
+    } else if rolled_back {
+        s.push_str(" (the PDO that was being changed rolled back)");
+    }
+    if store_asked {
+        s.push_str("; nothing stored: a reset brings back the stored parameters");
+    }
+    s.push_str(". config apply again finishes the change");
+    s
 }
 
 /// What a person must read after a failed `config apply`, in every format (the JSON

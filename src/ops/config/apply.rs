@@ -79,9 +79,40 @@ pub struct Applied {
     pub rolled_back: Vec<String>,
     /// When putting a PDO back failed: the writes that would, in this order.
     pub to_fix: Vec<Fix>,
-    /// What the device holds now, when the run did not finish: a sentence for people.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub state: Option<String>,
+    /// What the device holds now, when the run did not finish (canctl's JSON words it as
+    /// `state`).
+    #[serde(skip)]
+    pub state: Option<LeftIn>,
+}
+
+/// What a run that did not finish left the device holding.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum LeftIn {
+    /// Interrupted while reading the device: nothing was written.
+    Unread {
+        /// The node.
+        node: u8,
+    },
+    /// Stopped, or failed, among the writes.
+    Written {
+        /// The node.
+        node: u8,
+        /// The objects that hold the file's values now, in order.
+        new: Vec<ObjAddr>,
+        /// How many objects the file changes.
+        of: usize,
+        /// A value neither the old nor the file's is left behind (a COB-ID made invalid,
+        /// a mapping count of 0).
+        interim: bool,
+        /// The PDO whose change was under way was put back.
+        rolled_back: bool,
+        /// Putting that PDO back failed ([`Applied::to_fix`] says how to finish it).
+        rollback_failed: bool,
+        /// Storing was asked for, and so nothing was stored: a reset brings back the stored
+        /// parameters.
+        store_asked: bool,
+    },
 }
 
 /// A write that would bring an object back to its value before the run.
@@ -271,8 +302,8 @@ pub struct Incomplete {
     pub rolled_back: Vec<String>,
     /// When putting a PDO back failed: the writes that would, in this order.
     pub to_fix: Vec<Fix>,
-    /// What the device holds now, as [`Applied::state`] says it.
-    pub state: Option<String>,
+    /// What the device holds now ([`Applied::state`]).
+    pub state: Option<LeftIn>,
 }
 
 /// The writes of a run stopped between two of them.
@@ -376,7 +407,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         interrupted: true,
         rolled_back: Vec::new(),
         to_fix: Vec::new(),
-        state: Some(format!("node {node} is as it was: interrupted while reading it, nothing was written")),
+        state: Some(LeftIn::Unread { node }),
     };
     if stop() {
         return Ok(unchanged(Vec::new()));
@@ -579,7 +610,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     })
 }
 
-/// The state a run that did not finish leaves the device in, in a sentence.
+/// What a run that did not finish leaves the device holding.
 fn left_in(
     node: u8,
     changes: &BTreeMap<ObjAddr, Vec<u8>>,
@@ -588,31 +619,9 @@ fn left_in(
     rolled_back: bool,
     broken: bool,
     store: bool,
-) -> String {
-    let new: Vec<String> =
-        changes.iter().filter(|(a, v)| device.get(a) == Some(v)).map(|(a, _)| a.to_string()).collect();
+) -> LeftIn {
+    let new: Vec<ObjAddr> = changes.iter().filter(|(a, v)| device.get(a) == Some(v)).map(|(a, _)| *a).collect();
     // An intermediate value left behind (a COB-ID made invalid, a count of 0).
     let interim = device.iter().any(|(a, v)| before.get(a).is_some_and(|b| b != v) && changes.get(a) != Some(v));
-    let mut s = if new.is_empty() && !interim {
-        format!("node {node} is as it was before the run")
-    } else if new.is_empty() {
-        format!("node {node} holds none of the file's values")
-    } else {
-        format!(
-            "node {node} holds the file's values for {} of {} object(s) ({}), its previous values for the rest",
-            new.len(),
-            changes.len(),
-            new.join(", ")
-        )
-    };
-    if broken || interim {
-        s.push_str("; a PDO is left unusable: see the writes above");
-    } else if rolled_back {
-        s.push_str(" (the PDO that was being changed rolled back)");
-    }
-    if store {
-        s.push_str("; nothing stored: a reset brings back the stored parameters");
-    }
-    s.push_str(". config apply again finishes the change");
-    s
+    LeftIn::Written { node, new, of: changes.len(), interim, rolled_back, rollback_failed: broken, store_asked: store }
 }
