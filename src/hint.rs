@@ -87,6 +87,33 @@ pub enum Hint {
     DeadlineFromTimeout(std::time::Duration),
     /// An upload was stopped at the limit of bytes taken from a device: raise the limit.
     RaiseUploadLimit,
+    /// A node on the bus answers no SDO, as a Stopped node does: put it in
+    /// Pre-operational, where it answers.
+    PreOperational {
+        /// The node-id.
+        node: u8,
+    },
+    /// A node logged errors in its history (0x1003): read them, with their meanings.
+    ReadErrorHistory {
+        /// The node-id.
+        node: u8,
+    },
+    /// Whether a reset node booted is not known: its NMT state says.
+    ReadNmtState {
+        /// The node-id.
+        node: u8,
+    },
+    /// What a node was told to load applies from its next reset: reset it.
+    ResetNode {
+        /// The node-id.
+        node: u8,
+    },
+    /// A node's parameters were left changed: loading its stored ones (0x1011, a
+    /// restore) puts them back.
+    RestoreStored {
+        /// The node-id.
+        node: u8,
+    },
 }
 
 impl Hint {
@@ -94,6 +121,7 @@ impl Hint {
     pub fn of(error: &Error) -> Option<Hint> {
         match error {
             Error::Hinted { error, .. } => Hint::of(error),
+            Error::TpdoNotPutBack { node, .. } => Some(Hint::RestoreStored { node: *node }),
             Error::NodeIdInUse { .. } => Some(Hint::FreeNodeIdOrForce),
             Error::NoStoredEds { .. } => Some(Hint::GiveEds),
             Error::NoFreeNodeId { .. } => Some(Hint::LowerStart),
