@@ -100,9 +100,39 @@ pub enum Hint {
     /// makes one.
     DumpDcf,
     /// A node's SDO server is stuck: reset the node and read again.
-    ResetNodeAndReadAgain(u8),
+    ResetNodeAndReadAgain {
+        /// The node-id.
+        node: u8,
+    },
     /// The simulator's state file is unusable as it is: start a fresh network.
     FreshSimNetwork,
+    /// A node on the bus answers no SDO, as a Stopped node does: put it in
+    /// Pre-operational, where it answers.
+    PreOperational {
+        /// The node-id.
+        node: u8,
+    },
+    /// A node logged errors in its history (0x1003): read them, with their meanings.
+    ReadErrorHistory {
+        /// The node-id.
+        node: u8,
+    },
+    /// Whether a reset node booted is not known: its NMT state says.
+    ReadNmtState {
+        /// The node-id.
+        node: u8,
+    },
+    /// What a node was told to load applies from its next reset: reset it.
+    ResetNode {
+        /// The node-id.
+        node: u8,
+    },
+    /// A node's parameters were left changed: loading its stored ones (0x1011, a
+    /// restore) puts them back.
+    RestoreStored {
+        /// The node-id.
+        node: u8,
+    },
 }
 
 impl Hint {
@@ -110,6 +140,7 @@ impl Hint {
     pub fn of(error: &Error) -> Option<Hint> {
         match error {
             Error::Hinted { error, .. } => Hint::of(error),
+            Error::TpdoNotPutBack { node, .. } => Some(Hint::RestoreStored { node: *node }),
             Error::NodeIdInUse { .. } => Some(Hint::FreeNodeIdOrForce),
             Error::NoStoredEds { .. } => Some(Hint::GiveEds),
             Error::NoFreeNodeId { .. } => Some(Hint::LowerStart),
@@ -162,7 +193,7 @@ impl Hint {
             Error::Link(LinkError::Epos2(crate::epos2::Epos2Error::Answer {
                 problem: crate::epos2::Epos2Problem::EmptySegments { node, .. },
                 ..
-            })) => Some(Hint::ResetNodeAndReadAgain(*node)),
+            })) => Some(Hint::ResetNodeAndReadAgain { node: *node }),
             Error::Link(LinkError::StateFile { afresh: true, .. }) => Some(Hint::FreshSimNetwork),
             _ => None,
         }

@@ -508,6 +508,20 @@ pub enum Error {
         /// The bus address given.
         bus: String,
     },
+    /// A session's TPDO mapping could not be put back as it was before the session: the
+    /// write that failed (`error`, which decides the exit code).
+    #[error(
+        "{error}; node {node}'s TPDO{tpdo} was not put back as it was (0x{comm:04X}:1 may leave it switched off)",
+        comm = 0x1800 + *tpdo - 1
+    )]
+    TpdoNotPutBack {
+        /// The node-id.
+        node: u8,
+        /// The TPDO (1-based).
+        tpdo: u16,
+        /// Why it could not be put back.
+        error: Box<Error>,
+    },
     /// The size of an object to map into a PDO, which the dictionary does not give, could not
     /// be learnt by reading it (`obj`): the read's error, which decides the exit code.
     #[error("{error}")]
@@ -616,7 +630,9 @@ impl Error {
             | Error::Unhealthy { bus, .. }
             | Error::Diagnosed { bus, .. }
             | Error::NoSocketCan { bus } => Some(bus),
-            Error::Hinted { error, .. } | Error::NothingAnswered { error } => error.names_bus(),
+            Error::Hinted { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {
+                error.names_bus()
+            }
             Error::Link(e) => e.names_port(),
             _ => None,
         }
@@ -683,7 +699,9 @@ impl Error {
             | Error::TypeNeeded { .. }
             | Error::NoLssOnDirectEpos2 { .. }
             | Error::Epos2RateOnStore => C::Usage,
-            Error::MapSizeUnread { error, .. } | Error::NothingAnswered { error } => error.class(),
+            Error::MapSizeUnread { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {
+                error.class()
+            }
             Error::OnBuses { error, .. } => error.class(),
         }
     }
@@ -706,9 +724,10 @@ impl Error {
     /// The error under any hint.
     pub fn root(&self) -> &Error {
         match self {
-            Error::Hinted { error, .. } | Error::MapSizeUnread { error, .. } | Error::NothingAnswered { error } => {
-                error.root()
-            }
+            Error::Hinted { error, .. }
+            | Error::TpdoNotPutBack { error, .. }
+            | Error::MapSizeUnread { error, .. }
+            | Error::NothingAnswered { error } => error.root(),
             e => e,
         }
     }

@@ -13,6 +13,7 @@ use crate::canopen::nmt::{self, ErrorControl};
 use crate::canopen::{cia402, ObjAddr};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
+use crate::hint::Hint;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -354,14 +355,9 @@ fn judge_node(
 
     // Seen on the bus but silent to SDO: nothing below can be read from it.
     if !n.answers_sdo {
-        checks.push(check(
-            "sdo",
-            false,
-            format!(
-                "answered none of the scan's probes in time, though the bus shows it is there ({}): a Stopped node answers no SDO (canctl nmt preop {})",
-                n.state_from, n.node
-            ),
-        ));
+        let detail =
+            format!("answered none of the scan's probes in time, though the bus shows it is there ({})", n.state_from);
+        checks.push(check("sdo", false, detail).with_remedy(Some(Hint::PreOperational { node: n.node })));
     }
 
     // NMT: the latest state the node showed.
@@ -405,21 +401,23 @@ fn judge_node(
     // Error register, with the history's count alongside.
     let register = read.register.as_ref().ok().and_then(|b| b.first().copied());
     let logged = read.history.as_ref().ok().and_then(|b| b.first().copied());
-    let history = match &read.history {
+    // The history's part ends the detail: errors logged have their remedy after it.
+    let (history, read_them) = match &read.history {
         Ok(_) => match logged {
-            Some(0) => "; no errors logged".to_string(),
-            Some(k) => format!("; {k} error(s) logged in 0x1003 (canctl errors {})", n.node),
-            None => String::new(),
+            Some(0) => ("; no errors logged".to_string(), None),
+            Some(k) => (format!("; {k} error(s) logged in 0x1003"), Some(Hint::ReadErrorHistory { node: n.node })),
+            None => (String::new(), None),
         },
-        Err(e) if super::node::is_missing(e) => "; no error history (0x1003)".to_string(),
-        Err(e) => format!("; 0x1003:0 {}", unread(e)),
+        Err(e) if super::node::is_missing(e) => ("; no error history (0x1003)".to_string(), None),
+        Err(e) => (format!("; 0x1003:0 {}", unread(e)), None),
     };
     checks.push(match (&read.register, register) {
         (Err(e), _) => check("error register", false, unread(e)),
         (Ok(_), None) => check("error register", false, "0x1001 answered with no data".into()),
-        (Ok(_), Some(0)) => check("error register", true, format!("0x00: no error{history}")),
+        (Ok(_), Some(0)) => check("error register", true, format!("0x00: no error{history}")).with_remedy(read_them),
         (Ok(_), Some(r)) => {
             check("error register", false, format!("0x{r:02X}: {}{history}", emcy::register_bits(r).join(", ")))
+                .with_remedy(read_them)
         }
     });
 

@@ -131,13 +131,22 @@ pub struct Stopped {
     pub not_done: Vec<String>,
     /// The state the device is left in, in a sentence.
     pub state: String,
+    /// What the user can do about that state, for the front end to word after it (in JSON
+    /// too, in `state`); boxed, as a stop is passed around in a `Result`'s error.
+    #[serde(skip)]
+    pub remedy: Option<Box<crate::hint::Hint>>,
 }
 
 impl Stopped {
     /// The report of `command` stopped with `done` finished and `not_done` left, the device in
     /// `state`.
     pub fn new(command: &str, done: Vec<String>, not_done: Vec<String>, state: String) -> Stopped {
-        Stopped { command: command.to_string(), interrupted: true, done, not_done, state }
+        Stopped { command: command.to_string(), interrupted: true, done, not_done, state, remedy: None }
+    }
+
+    /// This report with `remedy` to follow the state.
+    pub fn with_remedy(self, remedy: crate::hint::Hint) -> Stopped {
+        Stopped { remedy: Some(Box::new(remedy)), ..self }
     }
 }
 

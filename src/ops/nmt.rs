@@ -47,9 +47,10 @@ pub struct Reset {
     /// How the boot was seen.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub seen_by: Option<String>,
-    /// Why the reset could not be confirmed.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub why: Option<String>,
+    /// Why the reset could not be confirmed, for the front end to word (in JSON too, as
+    /// `why`: a front end serialises it in its words).
+    #[serde(skip)]
+    pub why: Option<Unconfirmed>,
     /// The user stopped the wait for the boot-up (SIGINT, SIGTERM): the reset went out.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub interrupted: bool,
@@ -74,7 +75,49 @@ pub enum Confirmation {
     /// These nodes are back, and how that was seen.
     Confirmed(Vec<u8>, String),
     /// The reset went out but nothing showed that it took effect; why not.
-    Unconfirmed(String),
+    Unconfirmed(Unconfirmed),
+}
+
+/// Why a reset that went out is not confirmed: what was seen instead, for the front end to
+/// word (with what the user can do to learn more).
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Unconfirmed {
+    /// All nodes were reset over a link that passes on no boot-up messages: nothing shows
+    /// which came back.
+    NoBootUps {
+        /// The bus, as it describes itself.
+        bus: String,
+    },
+    /// The node answers, in a state that does not tell a reset from none (not the
+    /// Pre-operational of a boot after another state), over a link that passes on no
+    /// boot-up messages.
+    StateAsBefore {
+        /// The node-id.
+        node: u8,
+        /// The state it answered with before the reset; none when it did not say.
+        before: Option<nmt::State>,
+        /// The state it answers with after it.
+        after: nmt::State,
+        /// The bus, as it describes itself.
+        bus: String,
+    },
+    /// The node answers with a state code CiA 301 does not define, over a link that passes
+    /// on no boot-up messages.
+    UndefinedState {
+        /// The node-id.
+        node: u8,
+        /// The state code it answered with.
+        code: u8,
+        /// The bus, as it describes itself.
+        bus: String,
+    },
+    /// The user stopped the wait for the boot-up once the reset went out: whether the
+    /// target came back is not known.
+    Interrupted {
+        /// A node-id, or [`ALL_NODES`].
+        target: u8,
+    },
 }
 
 /// How long to wait for a reset to show.
@@ -141,12 +184,7 @@ pub fn reset(bus: &mut dyn Bus, command: Command, target: u8, o: &ResetOptions) 
     let mut sent = false;
     let confirmation = match reset_and_wait_noting(bus, command, target, o, &mut sent) {
         Err(e) if e.is_interrupted() && sent => {
-            let why = format!(
-                "interrupted while waiting for the boot-up: the reset went out, whether {} came back is not known \
-                 (canctl nmt state or scan says)",
-                target_text(target)
-            );
-            return Ok(Reset { why: Some(why), interrupted: true, ..report });
+            return Ok(Reset { why: Some(Unconfirmed::Interrupted { target }), interrupted: true, ..report });
         }
         other => other?,
     };
@@ -183,11 +221,10 @@ fn reset_and_wait_noting(
         let nodes = listen_for_boot_ups(bus, target, o)?;
         return Ok(Confirmation::Confirmed(nodes, "boot-up message".into()));
     }
-    let no_traffic = format!("{} passes on no boot-up messages", bus.describe());
     if target == ALL_NODES {
         bus.nmt(cmd, target)?;
         *sent = true;
-        return Ok(Confirmation::Unconfirmed(format!("{no_traffic}; check the nodes with `canctl scan`")));
+        return Ok(Confirmation::Unconfirmed(Unconfirmed::NoBootUps { bus: bus.describe() }));
     }
     let before = Node::new(bus, target, o.timeout).error_control(o.timeout)?.flatten();
     bus.nmt(cmd, target)?;
@@ -204,13 +241,16 @@ fn reset_and_wait_noting(
             vec![target],
             format!("its state: {was} before, pre-operational after (remote requests)"),
         ),
-        (_, ErrorControl::State { state, .. }) => Confirmation::Unconfirmed(format!(
-            "node {target} answers and is {state}, as before; {no_traffic}, so a reset cannot be told from none. \
-             To see one, put the node in another state first (`canctl nmt stop {target}`)"
-        )),
-        (_, ErrorControl::Unknown(code)) => Confirmation::Unconfirmed(format!(
-            "node {target} answers with state code 0x{code:02X}, which CiA 301 does not define; {no_traffic}"
-        )),
+        (before, ErrorControl::State { state: after, .. }) => {
+            let before = match before {
+                Some(ErrorControl::State { state, .. }) => Some(state),
+                _ => None,
+            };
+            Confirmation::Unconfirmed(Unconfirmed::StateAsBefore { node: target, before, after, bus: bus.describe() })
+        }
+        (_, ErrorControl::Unknown(code)) => {
+            Confirmation::Unconfirmed(Unconfirmed::UndefinedState { node: target, code, bus: bus.describe() })
+        }
     })
 }
 

@@ -124,11 +124,10 @@ impl Session {
             }
             back.retain(|a, v| now.get(a) != Some(v));
             if !back.is_empty() {
-                mapping = write_plan(bus, node, &back, &mut now, timeout).map_err(|e| {
-                    e.with_hint(format!(
-                        "; node {node}'s TPDO{tpdo} was not put back as it was (0x{:04X}:1 may leave it switched off): `canctl restore {node}` loads the stored parameters",
-                        0x1800 + tpdo - 1
-                    ))
+                mapping = write_plan(bus, node, &back, &mut now, timeout).map_err(|e| Error::TpdoNotPutBack {
+                    node,
+                    tpdo,
+                    error: Box::new(e),
                 });
                 restored.tpdo = mapping.is_ok().then_some(tpdo);
             }

@@ -72,9 +72,10 @@ pub struct Restored {
     pub object: ObjAddr,
     /// Whether the node was reset afterwards and booted with them (the caller does it).
     pub reset: bool,
-    /// The reset was sent but could not be confirmed (through an EPOS2): why not.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reset_unconfirmed: Option<String>,
+    /// The reset was sent but could not be confirmed (through an EPOS2): why not, for the
+    /// front end to word (in JSON too).
+    #[serde(skip)]
+    pub reset_unconfirmed: Option<super::nmt::Unconfirmed>,
 }
 
 fn class_text<S: serde::Serializer>(c: &Class, s: S) -> std::result::Result<S::Ok, S::Error> {

@@ -9,6 +9,7 @@ use super::Stopped;
 use crate::bus::Bus;
 use crate::canopen::nmt::Command;
 use crate::error::Error;
+use crate::hint::Hint;
 use std::time::Duration;
 
 /// How a node's turn ended, when not with its report.
@@ -74,14 +75,14 @@ pub(crate) fn restore_nodes(
 }
 
 fn restore_one(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts, reset: bool) -> Result<Restored, Ended> {
-    let stopped = |done: Vec<String>, not_done: Vec<String>, state: String| {
-        Err(Ended::Stopped(Stopped::new("restore", done, not_done, state)))
-    };
+    let stopped =
+        |done: Vec<String>, not_done: Vec<String>, state: String| Stopped::new("restore", done, not_done, state);
     let mut report = match store::restore(bus, node, class, t) {
         Ok(report) => report,
         Err(e) if e.is_interrupted() => {
             let not_done = vec![format!("'load' to 0x1011:{} of node {node}", class as u8 + 1)];
-            return stopped(Vec::new(), not_done, format!("nothing was changed: node {node} keeps its parameters"));
+            let state = format!("nothing was changed: node {node} keeps its parameters");
+            return Err(Ended::Stopped(stopped(Vec::new(), not_done, state)));
         }
         Err(e) => return Err(e.into()),
     };
@@ -96,9 +97,10 @@ fn restore_one(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts, reset: bo
             let not_done = vec![format!("confirming that node {node} booted")];
             let state = format!(
                 "node {node}: the defaults are loaded and the reset went out; whether it booted with them is not \
-                 known (canctl nmt state {node} says)"
+                 known"
             );
-            stopped([done, vec![format!("NMT reset of node {node}")]].concat(), not_done, state)
+            let report = stopped([done, vec![format!("NMT reset of node {node}")]].concat(), not_done, state);
+            Err(Ended::Stopped(report.with_remedy(Hint::ReadNmtState { node })))
         }
         Ok(r) if !r.confirmed => {
             report.reset_unconfirmed = r.why;
@@ -107,10 +109,8 @@ fn restore_one(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts, reset: bo
         Ok(_) => Ok(report),
         Err(e) if e.is_interrupted() => {
             let not_done = vec![format!("NMT reset of node {node}")];
-            let state = format!(
-                "node {node}: the defaults are loaded and apply from its next reset (canctl nmt reset {node} does it)"
-            );
-            stopped(done, not_done, state)
+            let state = format!("node {node}: the defaults are loaded and apply from its next reset");
+            Err(Ended::Stopped(stopped(done, not_done, state).with_remedy(Hint::ResetNode { node })))
         }
         Err(e) => Err(e.into()),
     }

@@ -1,5 +1,6 @@
 //! How the error history and the health report look: tables for people, JUnit for CI.
 
+use super::hints::verdict_text;
 use super::{Human, Report, TestCase, TestSuite};
 use crate::ops::errors::ErrorHistory;
 use crate::ops::health::{Check, Health as HealthReport, NodeHealth};
@@ -95,6 +96,15 @@ impl Report for ErrorHistory {
     }
 }
 
+/// The JSON of `checks` (an array, as they serialise), each detail with its remedy.
+fn word_verdicts(json: &mut serde_json::Value, checks: &[Check]) {
+    for (json, c) in json.as_array_mut().into_iter().flatten().zip(checks) {
+        if c.remedy.is_some() {
+            json["detail"] = verdict_text(c).into();
+        }
+    }
+}
+
 fn cell<'a>(h: &'a NodeHealth, check: &str) -> Option<&'a Check> {
     h.checks.iter().find(|c| c.check == check)
 }
@@ -148,7 +158,7 @@ impl Report for HealthReport {
             for c in h.checks.iter().filter(|c| !c.ok) {
                 // The node-id check fails on two devices on one id (its detail, the clash).
                 let remedy = if c.check == "node-id" { super::nodes::CLASH_REMEDY } else { "" };
-                parts.push(Human::Line(format!("node {} {}: {}{remedy}", h.node, c.check, c.detail)));
+                parts.push(Human::Line(format!("node {} {}: {}{remedy}", h.node, c.check, verdict_text(c))));
             }
             if let Some(f) = &h.diagnosis {
                 parts.push(Human::Line(format!("node {}{}", h.node, super::doctor::likely_cause_text(f))));
@@ -157,11 +167,13 @@ impl Report for HealthReport {
         Human::Parts(parts)
     }
 
-    /// As it serialises, a node's diagnosis with its cause and fix in words too.
+    /// As it serialises, a node's diagnosis with its cause and fix in words too, and each
+    /// check's detail with its remedy.
     fn json_value(&self) -> serde_json::Value {
         let mut v = serde_json::to_value(self).expect("reports serialise");
         if let Some(nodes) = v["nodes"].as_array_mut() {
             for (json, h) in nodes.iter_mut().zip(&self.nodes) {
+                word_verdicts(&mut json["checks"], &h.checks);
                 json["diagnosis"] = h.diagnosis.as_ref().map(super::doctor::finding_json).into();
             }
         }
@@ -209,8 +221,8 @@ impl Report for HealthReport {
                 h.checks.iter().map(move |c| TestCase {
                     class: class.clone(),
                     name: c.check.to_string(),
-                    detail: c.detail.clone(),
-                    failure: (!c.ok).then(|| format!("{class}: {}: {}{likely}", c.check, c.detail)),
+                    detail: verdict_text(c),
+                    failure: (!c.ok).then(|| format!("{class}: {}: {}{likely}", c.check, verdict_text(c))),
                 })
             })
             .collect();

@@ -58,8 +58,21 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::ScanThenPowerCycle => ": `canctl scan` lists it; power-cycle it if it stays there".into(),
         Hint::CheckFile(file) => format!(" (canctl config check {file} lists them)"),
         Hint::DumpDcf => " (canctl config dump makes one)".into(),
-        Hint::ResetNodeAndReadAgain(node) => format!(": reset the node (`canctl nmt reset {node}`) and read again"),
+        Hint::ResetNodeAndReadAgain { node } => format!(": reset the node (`canctl nmt reset {node}`) and read again"),
         Hint::FreshSimNetwork => " (`canctl sim reset` starts afresh)".into(),
+        Hint::PreOperational { node } => format!(": a Stopped node answers no SDO (canctl nmt preop {node})"),
+        Hint::ReadErrorHistory { node } => format!(" (canctl errors {node})"),
+        Hint::ReadNmtState { node } => format!(" (canctl nmt state {node} says)"),
+        Hint::ResetNode { node } => format!(" (canctl nmt reset {node} does it)"),
+        Hint::RestoreStored { node } => format!(": `canctl restore {node}` loads the stored parameters"),
+    }
+}
+
+/// A check's detail as canctl says it: what was found, then the remedy in canctl's terms.
+pub(crate) fn verdict_text(verdict: &crate::ops::verdict::Verdict) -> String {
+    match &verdict.remedy {
+        Some(hint) => format!("{}{}", verdict.detail, hint_text(hint.clone())),
+        None => verdict.detail.clone(),
     }
 }
 
@@ -80,6 +93,12 @@ pub fn library_error_text(err: &crate::Error) -> String {
     match err {
         // The remedy belongs to the error, before the advice added to it.
         crate::Error::Hinted { error, hint } => format!("{}{hint}", library_error_text(error)),
+        // The failed write's remedy in its place, before what was left; the way back ends it.
+        crate::Error::TpdoNotPutBack { node, error, .. } => {
+            let (all, write) = (err.to_string(), error.to_string());
+            let left = all.strip_prefix(&write).unwrap_or_default();
+            format!("{}{left}{}", library_error_text(error), hint_text(Hint::RestoreStored { node: *node }))
+        }
         e => format!("{e}{}", Hint::of(e).map(hint_text).unwrap_or_default()),
     }
 }
@@ -324,5 +343,66 @@ mod tests {
             let outcome = Outcome { action: Action::Failed(f), interim: None, rollback: true, read_back: None };
             assert_eq!(change_result_text(&outcome), format!("failed: {} (rollback)", library_error_text(&e)));
         }
+    }
+
+    /// Report texts whose command became a typed remedy (a check's, a stop's, a reset's, a
+    /// TPDO left changed) read as when the library named the command itself.
+    #[test]
+    fn report_remedies_made_typed_read_as_before() {
+        use crate::ops::verdict::Verdict;
+        let sdo = Verdict::new(
+            "sdo",
+            false,
+            "answered none of the scan's probes in time, though the bus shows it is there (its heartbeat)".into(),
+        )
+        .with_remedy(Some(Hint::PreOperational { node: 5 }));
+        assert_eq!(
+            verdict_text(&sdo),
+            "answered none of the scan's probes in time, though the bus shows it is there (its heartbeat): a Stopped \
+             node answers no SDO (canctl nmt preop 5)"
+        );
+        let register = Verdict::new("error register", true, "0x00: no error; 2 error(s) logged in 0x1003".into())
+            .with_remedy(Some(Hint::ReadErrorHistory { node: 7 }));
+        assert_eq!(verdict_text(&register), "0x00: no error; 2 error(s) logged in 0x1003 (canctl errors 7)");
+        assert_eq!(verdict_text(&Verdict::new("nmt", true, "operational".into())), "operational");
+
+        let stopped = crate::ops::Stopped::new(
+            "restore",
+            vec![],
+            vec!["NMT reset of node 5".into()],
+            "node 5: the defaults are loaded and apply from its next reset".into(),
+        )
+        .with_remedy(Hint::ResetNode { node: 5 });
+        let said = "node 5: the defaults are loaded and apply from its next reset (canctl nmt reset 5 does it)";
+        assert_eq!(super::super::Report::notes(&stopped)[1], said);
+        let json = super::super::Report::json_value(&stopped);
+        assert_eq!(json["state"], said);
+        assert_eq!(
+            json.as_object().unwrap().keys().collect::<Vec<_>>(),
+            ["command", "interrupted", "done", "not_done", "state"]
+        );
+        let stopped =
+            crate::ops::Stopped::new("restore", vec![], vec![], "whether it booted with them is not known".into())
+                .with_remedy(Hint::ReadNmtState { node: 3 });
+        assert_eq!(
+            super::super::Report::notes(&stopped)[1],
+            "whether it booted with them is not known (canctl nmt state 3 says)"
+        );
+
+        // The write's own remedy in its place, then what was left, then the way back.
+        let write = || crate::Error::NoAnswer {
+            node: 1,
+            what: crate::error::Service::AfterReset,
+            waited: std::time::Duration::from_millis(100),
+        };
+        let left = "; node 1's TPDO2 was not put back as it was (0x1801:1 may leave it switched off)";
+        let hinted = library_error_text(&write().with_hint(left));
+        assert!(hinted.contains("(--wait)"), "{hinted}");
+        let before = format!("{hinted}: `canctl restore 1` loads the stored parameters");
+        let e = crate::Error::TpdoNotPutBack { node: 1, tpdo: 2, error: Box::new(write()) };
+        assert_eq!(e.to_string(), format!("{}{left}", e.root()));
+        assert!(!e.to_string().contains("canctl"), "{e}");
+        assert_eq!(library_error_text(&e), before);
+        assert_eq!(error_text(&anyhow::Error::from(e)), before);
     }
 }

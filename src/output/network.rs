@@ -89,19 +89,39 @@ fn unconfigured_note(count: usize) -> String {
     )
 }
 
+/// A check's detail with its remedy as `network check` words it: a node that answers no
+/// SDO is told in parentheses, after what cannot be checked.
+fn detail_text(c: &crate::ops::network::Verdict) -> String {
+    match &c.remedy {
+        Some(crate::hint::Hint::PreOperational { node }) => {
+            format!("{} (a Stopped node answers no SDO: canctl nmt preop {node})", c.detail)
+        }
+        _ => super::hints::verdict_text(c),
+    }
+}
+
 impl Report for Checked {
+    /// As it serialises, each check's detail with its remedy.
+    fn json_value(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("reports serialise");
+        if let Some(nodes) = v["nodes"].as_array_mut() {
+            for (json, n) in nodes.iter_mut().zip(&self.nodes) {
+                for (json, c) in json["checks"].as_array_mut().into_iter().flatten().zip(&n.checks) {
+                    if c.remedy.is_some() {
+                        json["detail"] = detail_text(c).into();
+                    }
+                }
+            }
+        }
+        v
+    }
+
     fn human(&self) -> Human {
         let mut rows = Vec::new();
         for n in &self.nodes {
             for c in &n.checks {
                 let result = if c.ok { "ok" } else { "DIFFERS" };
-                rows.push(vec![
-                    n.node.to_string(),
-                    n.name.clone(),
-                    c.check.to_string(),
-                    result.into(),
-                    c.detail.clone(),
-                ]);
+                rows.push(vec![n.node.to_string(), n.name.clone(), c.check.to_string(), result.into(), detail_text(c)]);
             }
         }
         for u in &self.unlisted {
@@ -143,7 +163,7 @@ impl Report for Checked {
                 cases.push(TestCase {
                     class: node_label(n.node, &n.name),
                     name: c.check.to_string(),
-                    detail: c.detail.clone(),
+                    detail: detail_text(c),
                     failure,
                 });
             }
@@ -544,5 +564,15 @@ mod tests {
         assert_eq!(dcf.to_string(), "node5.dcf:12: DefaultValue given twice");
         let project = LoadWarning::Project("nodelist.cpj: no Nodes= key in [Topology]".into());
         assert_eq!(project.to_string(), "nodelist.cpj: no Nodes= key in [Topology]");
+    }
+
+    /// A listed node that beats but answers no SDO: the remedy in parentheses, as before.
+    #[test]
+    fn a_silent_listed_node_reads_as_before() {
+        let said = "node 5 is there (stopped, by its heartbeat) but answered none of 3 SDO probes of 100 ms: nothing \
+                    of it can be checked";
+        let v = crate::ops::network::Verdict::new("present", false, said.into())
+            .with_remedy(Some(crate::hint::Hint::PreOperational { node: 5 }));
+        assert_eq!(detail_text(&v), format!("{said} (a Stopped node answers no SDO: canctl nmt preop 5)"));
     }
 }

@@ -3,7 +3,7 @@
 use super::{Human, Report};
 use crate::bus::ALL_NODES;
 use crate::canopen::types::{hex, obvious_unsigned};
-use crate::ops::nmt::{target_text, NodeState, Reset, Sent};
+use crate::ops::nmt::{target_text, NodeState, Reset, Sent, Unconfirmed};
 use crate::ops::scan::{Scan, StateFrom};
 use crate::ops::sdo::{self, Read, Saved, Written};
 
@@ -182,8 +182,27 @@ impl Report for Reset {
                 let (state, how) = (self.state.map_or("", |s| s.name()), self.seen_by.as_deref().unwrap_or(""));
                 format!("booted after NMT {command}: node {} (now {state}; seen by {how})", list.join(", "))
             }
-            (None, why) => format!("NMT {command} sent to {target}; not confirmed: {}", why.as_deref().unwrap_or("")),
+            (None, why) => {
+                format!(
+                    "NMT {command} sent to {target}; not confirmed: {}",
+                    why.as_ref().map(unconfirmed_text).unwrap_or_default()
+                )
+            }
         })
+    }
+
+    /// As it serialises, with why the reset is not confirmed in words (before `interrupted`).
+    fn json_value(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("reports serialise");
+        if let (Some(why), Some(map)) = (&self.why, v.as_object_mut()) {
+            // The last key when there: taken off and put back after `why`.
+            let interrupted = map.remove("interrupted");
+            map.insert("why".into(), unconfirmed_text(why).into());
+            if let Some(i) = interrupted {
+                map.insert("interrupted".into(), i);
+            }
+        }
+        v
     }
 
     fn csv(&self) -> Human {
@@ -191,6 +210,29 @@ impl Report for Reset {
         let state = self.state.map_or("", |s| s.name());
         let rows = nodes.iter().map(|n| vec![n.to_string(), state.into()]).collect();
         Human::Table { headers: vec!["node", "state"], rows, when_empty: true }
+    }
+}
+
+/// Why a reset is not confirmed, as canctl says it: what was seen instead, and the command
+/// that shows more.
+pub(crate) fn unconfirmed_text(why: &Unconfirmed) -> String {
+    match why {
+        Unconfirmed::NoBootUps { bus } => {
+            format!("{bus} passes on no boot-up messages; check the nodes with `canctl scan`")
+        }
+        Unconfirmed::StateAsBefore { node, after, bus, .. } => format!(
+            "node {node} answers and is {after}, as before; {bus} passes on no boot-up messages, so a reset cannot be \
+             told from none. To see one, put the node in another state first (`canctl nmt stop {node}`)"
+        ),
+        Unconfirmed::UndefinedState { node, code, bus } => format!(
+            "node {node} answers with state code 0x{code:02X}, which CiA 301 does not define; {bus} passes on no \
+             boot-up messages"
+        ),
+        Unconfirmed::Interrupted { target } => format!(
+            "interrupted while waiting for the boot-up: the reset went out, whether {} came back is not known \
+             (canctl nmt state or scan says)",
+            target_text(*target)
+        ),
     }
 }
 
@@ -268,5 +310,63 @@ mod tests {
             "{lines:?}"
         );
         assert_eq!(lines.len(), 2, "{lines:?}");
+    }
+
+    /// Why a reset is not confirmed reads as when the library worded it, in JSON in its
+    /// place (`why` before `interrupted`).
+    #[test]
+    fn an_unconfirmed_reset_reads_as_before() {
+        let bus = "epos2-usb:/dev/ttyUSB0".to_string();
+        let cases = [
+            (
+                Unconfirmed::NoBootUps { bus: bus.clone() },
+                "epos2-usb:/dev/ttyUSB0 passes on no boot-up messages; check the nodes with `canctl scan`".to_string(),
+            ),
+            (
+                Unconfirmed::StateAsBefore {
+                    node: 5,
+                    before: Some(nmt::State::Operational),
+                    after: nmt::State::Operational,
+                    bus: bus.clone(),
+                },
+                format!(
+                    "node 5 answers and is {}, as before; epos2-usb:/dev/ttyUSB0 passes on no boot-up messages, so a \
+                     reset cannot be told from none. To see one, put the node in another state first (`canctl nmt stop 5`)",
+                    nmt::State::Operational
+                ),
+            ),
+            (
+                Unconfirmed::UndefinedState { node: 5, code: 0x42, bus },
+                "node 5 answers with state code 0x42, which CiA 301 does not define; epos2-usb:/dev/ttyUSB0 passes on \
+                 no boot-up messages"
+                    .to_string(),
+            ),
+            (
+                Unconfirmed::Interrupted { target: ALL_NODES },
+                "interrupted while waiting for the boot-up: the reset went out, whether all nodes came back is not \
+                 known (canctl nmt state or scan says)"
+                    .to_string(),
+            ),
+        ];
+        for (why, text) in cases {
+            assert_eq!(unconfirmed_text(&why), text);
+        }
+        let reset = Reset {
+            command: nmt::Command::ResetNode,
+            target: 5,
+            sent: true,
+            confirmed: false,
+            booted: None,
+            state: None,
+            seen_by: None,
+            why: Some(Unconfirmed::Interrupted { target: 5 }),
+            interrupted: true,
+        };
+        let json = reset.json_value();
+        let keys: Vec<&String> = json.as_object().unwrap().keys().collect();
+        assert_eq!(keys, ["command", "target", "sent", "confirmed", "booted", "why", "interrupted"]);
+        assert_eq!(json["why"], unconfirmed_text(&Unconfirmed::Interrupted { target: 5 }));
+        let Human::Line(line) = reset.human() else { panic!("a line") };
+        assert!(line.ends_with("whether node 5 came back is not known (canctl nmt state or scan says)"), "{line}");
     }
 }

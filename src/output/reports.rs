@@ -54,6 +54,11 @@ impl<R: Report> Report for Each<R> {
     fn human(&self) -> Human {
         Human::Parts(self.0.iter().map(Report::human).collect())
     }
+
+    /// Each report's JSON, as canctl words it.
+    fn json_value(&self) -> J {
+        J::Array(self.0.iter().map(Report::json_value).collect())
+    }
 }
 
 /// A report that is one sentence, as that sentence.
@@ -74,9 +79,23 @@ impl Report for Stopped {
         let list = |v: &[String]| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
         vec![
             format!("{} interrupted: done {}; not done {}", self.command, list(&self.done), list(&self.not_done)),
-            self.state.clone(),
+            stopped_state_text(self),
         ]
     }
+
+    /// As it serialises, the state with its remedy.
+    fn json_value(&self) -> J {
+        let mut v = serde_json::to_value(self).expect("reports serialise");
+        if self.remedy.is_some() {
+            v["state"] = stopped_state_text(self).into();
+        }
+        v
+    }
+}
+
+/// The state a stopped command leaves, with what to do about it in canctl's terms.
+fn stopped_state_text(s: &Stopped) -> String {
+    format!("{}{}", s.state, s.remedy.as_deref().cloned().map(super::hints::hint_text).unwrap_or_default())
 }
 
 impl Report for Stored {
@@ -86,12 +105,22 @@ impl Report for Stored {
 }
 
 impl Report for Restored {
+    /// As it serialises, with why a reset is not confirmed in words.
+    fn json_value(&self) -> J {
+        let mut v = serde_json::to_value(self).expect("reports serialise");
+        if let Some(why) = &self.reset_unconfirmed {
+            v["reset_unconfirmed"] = super::nodes::unconfirmed_text(why).into();
+        }
+        v
+    }
+
     fn human(&self) -> Human {
         let (node, class, addr) = (self.node, self.class.text(), self.object);
         Human::Line(match (&self.reset_unconfirmed, self.reset) {
-            (Some(why), _) => {
-                format!("node {node}: {class} back to defaults ({addr}); NMT reset sent, not confirmed: {why}")
-            }
+            (Some(why), _) => format!(
+                "node {node}: {class} back to defaults ({addr}); NMT reset sent, not confirmed: {}",
+                super::nodes::unconfirmed_text(why)
+            ),
             (None, true) => {
                 format!("node {node}: {class} back to defaults ({addr}); the node was reset and booted with them")
             }

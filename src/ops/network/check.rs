@@ -1,6 +1,7 @@
 //! `network check`: the bus against the project, node by node.
 
 use super::*;
+use crate::hint::Hint;
 
 /// How to check a network.
 #[derive(Clone, Debug)]
@@ -120,7 +121,7 @@ fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> 
         (true, true) => (true, format!("{} names no vendor-ID or product code: not compared", dcf.path())),
         (true, false) => (true, seen.join(", ")),
     };
-    Ok(Verdict { check: "identity", ok, detail, differences: Vec::new() })
+    Ok(Verdict::new("identity", ok, detail))
 }
 
 /// Every writable object of the DCF against the node (read-only values such as serial
@@ -139,7 +140,8 @@ fn check_objects(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> R
             format!("{n} object(s) differ from {}: {}", dcf.path(), list.join("; "))
         }
     };
-    Ok(Verdict { check: "objects", ok: differences.is_empty(), detail, differences })
+    let ok = differences.is_empty();
+    Ok(Verdict { differences, ..Verdict::new("objects", ok, detail) })
 }
 
 /// The node's NMT state against `want`: from its heartbeat, when one was seen in this
@@ -151,7 +153,7 @@ fn check_state(bus: &mut dyn Bus, node: u8, want: crate::canopen::nmt::State, wi
         Some((state, from)) => (state == want, format!("{state} (from its {from}), {want} expected")),
         None => (false, format!("no heartbeat seen and no answer to node guarding; {want} expected")),
     };
-    Ok(Verdict { check: "state", ok, detail, differences: Vec::new() })
+    Ok(Verdict::new("state", ok, detail))
 }
 
 /// Check the bus against the project: each listed node present, with the identity its DCF
@@ -166,25 +168,22 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
     let check_node = |bus: &mut dyn Bus, i: usize| -> Result<NodeCheck> {
         let listed = &loaded.nodes[i];
         let present = found.contains_key(&listed.node);
-        let mut checks = vec![Verdict {
-            check: "present",
-            ok: present,
-            detail: match (present, states.get(&listed.node)) {
-                (true, _) => format!("node {} answered", listed.node),
-                (false, Some(state)) => format!(
-                    "node {} is there ({state}, by its heartbeat) but answered none of {rounds} SDO probes of {} ms: nothing of it can be checked (a Stopped node answers no SDO: canctl nmt preop {})",
+        let (detail, remedy) = match (present, states.get(&listed.node)) {
+            (true, _) => (format!("node {} answered", listed.node), None),
+            (false, Some(state)) => (
+                format!(
+                    "node {} is there ({state}, by its heartbeat) but answered none of {rounds} SDO probes of {} ms: nothing of it can be checked",
                     listed.node,
                     o.window.as_millis(),
-                    listed.node
                 ),
-                (false, None) => format!(
-                    "node {} did not answer any of {rounds} probes of {} ms",
-                    listed.node,
-                    o.window.as_millis()
-                ),
-            },
-            differences: Vec::new(),
-        }];
+                Some(Hint::PreOperational { node: listed.node }),
+            ),
+            (false, None) => (
+                format!("node {} did not answer any of {rounds} probes of {} ms", listed.node, o.window.as_millis()),
+                None,
+            ),
+        };
+        let mut checks = vec![Verdict::new("present", present, detail).with_remedy(remedy)];
         if let (true, Some(dcf)) = (present, &listed.dcf) {
             checks.push(check_identity(bus, listed.node, dcf, o.timeout)?);
             if checks.last().is_some_and(|c| c.ok) {
