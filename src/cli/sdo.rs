@@ -108,14 +108,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     // What the transfer showed of the node's objects, for completion.
     crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node.node, object, &read);
     let read = match read {
-        Err(e) => {
-            return crate::output::stopped::sdo(
-                &ctx.out,
-                sdo::stopped(a.node.node, object, false, &e),
-                a.out.as_deref(),
-                e,
-            )
-        }
+        Err(e) => return crate::output::stopped::sdo(&ctx.out, (a.node.node, object, false), a.out.as_deref(), e),
         Ok(read) => read,
     };
     match &a.out {
@@ -131,7 +124,7 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
     let written = sdo::write(bus, ctx.dicts.for_node(a.node.node), a.node.node, object, &a.value, &o);
     crate::ops::scan_cache::note(ctx.bus.as_deref(), a.node.node, object, &written);
     let written = match written {
-        Err(e) => return crate::output::stopped::sdo(&ctx.out, sdo::stopped(a.node.node, object, true, &e), None, e),
+        Err(e) => return crate::output::stopped::sdo(&ctx.out, (a.node.node, object, true), None, e),
         Ok(written) => written,
     };
     ctx.out.report(&written)?;

@@ -46,7 +46,6 @@ use crate::bus::SdoOptions;
 use crate::canopen::DataType;
 use crate::error::{Error, Result};
 use crate::od::Entry;
-use serde::Serialize;
 use std::time::Duration;
 
 /// What a long procedure tells its caller while it runs, the one observer of a procedure:
@@ -114,41 +113,6 @@ pub enum ItemEnd<'a> {
 pub struct Silent;
 
 impl Progress for Silent {}
-
-/// What a procedure the user stopped (SIGINT, SIGTERM, Ctrl-C) had done, for the commands
-/// whose own report has nothing to show for a stop: what was done, what was not, and the
-/// state the device is left in. The command ends with exit 130 after it.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-#[non_exhaustive]
-pub struct Stopped {
-    /// The command, as typed: `sdo read`, `store`.
-    pub command: String,
-    /// Always true: the key every interrupted report has.
-    pub interrupted: bool,
-    /// What was finished before the stop, a line each.
-    pub done: Vec<String>,
-    /// What was not done because of it, a line each.
-    pub not_done: Vec<String>,
-    /// The state the device is left in, in a sentence.
-    pub state: String,
-    /// What the user can do about that state, for the front end to word after it (in JSON
-    /// too, in `state`); boxed, as a stop is passed around in a `Result`'s error.
-    #[serde(skip)]
-    pub remedy: Option<Box<crate::hint::Hint>>,
-}
-
-impl Stopped {
-    /// The report of `command` stopped with `done` finished and `not_done` left, the device in
-    /// `state`.
-    pub fn new(command: &str, done: Vec<String>, not_done: Vec<String>, state: String) -> Stopped {
-        Stopped { command: command.to_string(), interrupted: true, done, not_done, state, remedy: None }
-    }
-
-    /// This report with `remedy` to follow the state.
-    pub fn with_remedy(self, remedy: crate::hint::Hint) -> Stopped {
-        Stopped { remedy: Some(Box::new(remedy)), ..self }
-    }
-}
 
 /// SDO options for a value of a known size.
 pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {

@@ -226,37 +226,6 @@ pub fn write(
     })
 }
 
-/// The report of a read (`write` false) or write of `object` that the user stopped, from
-/// the error that ended it; `None` when that error is no interruption.
-pub fn stopped(node: u8, object: ObjAddr, write: bool, e: &Error) -> Option<super::Stopped> {
-    let (command, verb, dir) = if write { ("sdo write", "write", "to") } else { ("sdo read", "read", "from") };
-    let whole = format!("{verb} of {object} {dir} node {node}");
-    let unchanged = if write {
-        format!("node {node} {object} keeps its previous value")
-    } else {
-        "nothing was changed on the device".to_string()
-    };
-    Some(match e.root() {
-        Error::Interrupted => {
-            super::Stopped::new(command, Vec::new(), vec![whole], format!("{unchanged}: the {verb} had not begun"))
-        }
-        Error::SdoInterrupted { moved, aborted, .. } => {
-            let done = vec![format!("{object}: {moved} {}", if write { "sent" } else { "read (not kept)" })];
-            let how = match aborted {
-                Some(code) => format!(
-                    "the transfer was aborted (SDO abort 0x{code:08X}), so node {node} is ready for the next one{}",
-                    if write { " and takes nothing of an aborted write (CiA 301)" } else { "" }
-                ),
-                None => "stopped between two segments; the EPOS2 protocol has no command to abort a transfer, \
-                         so nothing more was sent"
-                    .to_string(),
-            };
-            super::Stopped::new(command, done, vec![format!("the rest of the {verb}")], format!("{unchanged}; {how}"))
-        }
-        _ => return None,
-    })
-}
-
 /// A value as text by its type, else as hex bytes.
 pub fn shown(dtype: DataType, bytes: &[u8]) -> String {
     dtype.decode(bytes).map_or_else(|| hex(bytes), |v: Value| v.to_string())

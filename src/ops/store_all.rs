@@ -1,25 +1,60 @@
 //! `store` and `restore` over several nodes, one after the other, and a restore chained
 //! with the reset that makes the defaults apply (and the wait for the node's boot-up).
-//! Stopped part-way, the run says what was done on the node under way and the state it is
-//! left in; the caller words the nodes not begun.
+//! Stopped part-way, the run says where the node under way was stopped ([`StoppedBefore`]); the
+//! caller words it, and the nodes not begun.
 
 use super::nmt::{self, ResetOptions};
 use super::store::{self, Class, Restored, Stored, Timeouts};
-use super::Stopped;
 use crate::bus::Bus;
 use crate::canopen::nmt::Command;
+use crate::canopen::ObjAddr;
 use crate::error::Error;
-use crate::hint::Hint;
 use std::time::Duration;
 
 /// How a node's turn ended, when not with its report.
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum Ended {
-    /// The user stopped it: what was done on this node, what was not.
-    Stopped(Stopped),
+    /// The user stopped it, at this point.
+    Stopped(StoppedBefore),
     /// It failed: the first failure ends the run.
     Failed(Error),
+}
+
+/// What the user stopped a node's store or restore before, and so what the node holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum StoppedBefore {
+    /// Before 'save' was written: nothing was stored, its non-volatile memory is as it was.
+    Save {
+        /// The node-id.
+        node: u8,
+        /// Which parameters were to be stored.
+        class: Class,
+    },
+    /// Before 'load' was written: nothing was changed, it keeps its parameters.
+    Load {
+        /// The node-id.
+        node: u8,
+        /// Which parameters were to be restored.
+        class: Class,
+    },
+    /// 'load' was written to `object`, and the reset was not sent: the defaults apply from
+    /// the node's next reset.
+    Reset {
+        /// The node-id.
+        node: u8,
+        /// Where 'load' was written (0x1011:N).
+        object: ObjAddr,
+    },
+    /// 'load' was written to `object` and the reset went out; stopped while waiting for the
+    /// boot-up: whether the node booted with the defaults is not known.
+    BootUp {
+        /// The node-id.
+        node: u8,
+        /// Where 'load' was written (0x1011:N).
+        object: ObjAddr,
+    },
 }
 
 impl From<Error> for Ended {
@@ -53,11 +88,7 @@ fn each_node<R>(nodes: &[u8], mut one: impl FnMut(u8) -> Result<R, Ended>) -> Ea
 pub(crate) fn store_nodes(bus: &mut dyn Bus, nodes: &[u8], class: Class, t: Timeouts) -> EachNode<Stored> {
     each_node(nodes, |node| match store::store(bus, node, class, t) {
         Ok(report) => Ok(report),
-        Err(e) if e.is_interrupted() => {
-            let not_done = vec![format!("'save' to 0x1010:{} of node {node}", class as u8 + 1)];
-            let state = format!("nothing was stored on node {node}: its non-volatile memory is as it was");
-            Err(Ended::Stopped(Stopped::new("store", Vec::new(), not_done, state)))
-        }
+        Err(e) if e.is_interrupted() => Err(Ended::Stopped(StoppedBefore::Save { node, class })),
         Err(e) => Err(e.into()),
     })
 }
@@ -75,15 +106,9 @@ pub(crate) fn restore_nodes(
 }
 
 fn restore_one(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts, reset: bool) -> Result<Restored, Ended> {
-    let stopped =
-        |done: Vec<String>, not_done: Vec<String>, state: String| Stopped::new("restore", done, not_done, state);
     let mut report = match store::restore(bus, node, class, t) {
         Ok(report) => report,
-        Err(e) if e.is_interrupted() => {
-            let not_done = vec![format!("'load' to 0x1011:{} of node {node}", class as u8 + 1)];
-            let state = format!("nothing was changed: node {node} keeps its parameters");
-            return Err(Ended::Stopped(stopped(Vec::new(), not_done, state)));
-        }
+        Err(e) if e.is_interrupted() => return Err(Ended::Stopped(StoppedBefore::Load { node, class })),
         Err(e) => return Err(e.into()),
     };
     if !reset {
@@ -91,27 +116,15 @@ fn restore_one(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts, reset: bo
     }
     report.reset = true;
     let o = ResetOptions { wait: t.write.max(Duration::from_secs(2)), timeout: t.answer };
-    let done = vec![format!("node {node}: 'load' written to {}", report.object)];
+    let object = report.object;
     match nmt::reset(bus, Command::ResetNode, node, &o) {
-        Ok(r) if r.interrupted => {
-            let not_done = vec![format!("confirming that node {node} booted")];
-            let state = format!(
-                "node {node}: the defaults are loaded and the reset went out; whether it booted with them is not \
-                 known"
-            );
-            let report = stopped([done, vec![format!("NMT reset of node {node}")]].concat(), not_done, state);
-            Err(Ended::Stopped(report.with_remedy(Hint::ReadNmtState { node })))
-        }
+        Ok(r) if r.interrupted => Err(Ended::Stopped(StoppedBefore::BootUp { node, object })),
         Ok(r) if !r.confirmed => {
             report.reset_unconfirmed = r.why;
             Ok(report)
         }
         Ok(_) => Ok(report),
-        Err(e) if e.is_interrupted() => {
-            let not_done = vec![format!("NMT reset of node {node}")];
-            let state = format!("node {node}: the defaults are loaded and apply from its next reset");
-            Err(Ended::Stopped(stopped(done, not_done, state).with_remedy(Hint::ResetNode { node })))
-        }
+        Err(e) if e.is_interrupted() => Err(Ended::Stopped(StoppedBefore::Reset { node, object })),
         Err(e) => Err(e.into()),
     }
 }

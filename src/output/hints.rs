@@ -366,29 +366,6 @@ mod tests {
         assert_eq!(verdict_text(&register), "0x00: no error; 2 error(s) logged in 0x1003 (canctl errors 7)");
         assert_eq!(verdict_text(&Verdict::new("nmt", true, "operational".into())), "operational");
 
-        let stopped = crate::ops::Stopped::new(
-            "restore",
-            vec![],
-            vec!["NMT reset of node 5".into()],
-            "node 5: the defaults are loaded and apply from its next reset".into(),
-        )
-        .with_remedy(Hint::ResetNode { node: 5 });
-        let said = "node 5: the defaults are loaded and apply from its next reset (canctl nmt reset 5 does it)";
-        assert_eq!(super::super::Report::notes(&stopped)[1], said);
-        let json = super::super::Report::json_value(&stopped);
-        assert_eq!(json["state"], said);
-        assert_eq!(
-            json.as_object().unwrap().keys().collect::<Vec<_>>(),
-            ["command", "interrupted", "done", "not_done", "state"]
-        );
-        let stopped =
-            crate::ops::Stopped::new("restore", vec![], vec![], "whether it booted with them is not known".into())
-                .with_remedy(Hint::ReadNmtState { node: 3 });
-        assert_eq!(
-            super::super::Report::notes(&stopped)[1],
-            "whether it booted with them is not known (canctl nmt state 3 says)"
-        );
-
         // The write's own remedy in its place, then what was left, then the way back.
         let write = || crate::Error::NoAnswer {
             node: 1,

@@ -1,11 +1,11 @@
 //! How the reports of settings, store/restore, config, monitor and the simulator look to
 //! people.
 
+use super::stopped::Stopped;
 use super::{time_of_day, Human, Line, Report};
 use crate::ops::config::{Applied, Change, Diff};
 use crate::ops::monitor::{Event, Summary};
 use crate::ops::store::{Restored, Stored};
-use crate::ops::Stopped;
 use crate::settings::SettingsReport;
 use serde_json::{json, Value as J};
 use std::collections::BTreeMap;
@@ -79,23 +79,9 @@ impl Report for Stopped {
         let list = |v: &[String]| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
         vec![
             format!("{} interrupted: done {}; not done {}", self.command, list(&self.done), list(&self.not_done)),
-            stopped_state_text(self),
+            self.state.clone(),
         ]
     }
-
-    /// As it serialises, the state with its remedy.
-    fn json_value(&self) -> J {
-        let mut v = serde_json::to_value(self).expect("reports serialise");
-        if self.remedy.is_some() {
-            v["state"] = stopped_state_text(self).into();
-        }
-        v
-    }
-}
-
-/// The state a stopped command leaves, with what to do about it in canctl's terms.
-fn stopped_state_text(s: &Stopped) -> String {
-    format!("{}{}", s.state, s.remedy.as_deref().cloned().map(super::hints::hint_text).unwrap_or_default())
 }
 
 impl Report for Stored {

@@ -2,12 +2,39 @@
 //! the command then ends as an interruption (exit 130).
 
 use super::{sentence, Each, Output, Report};
-use crate::ops::store_all::{EachNode, Ended};
-use crate::ops::Stopped;
+use crate::canopen::ObjAddr;
+use crate::hint::Hint;
+use crate::ops::store_all::{EachNode, Ended, StoppedBefore};
 use crate::Error;
+use serde::Serialize;
 use std::path::Path;
 
 const NOTHING_CHANGED: &str = "nothing was changed on the device";
+
+/// What a command the user stopped (SIGINT, SIGTERM, Ctrl-C) had done, for the commands
+/// whose own report has nothing to show for a stop: what was done, what was not, and the
+/// state the device is left in. The command ends with exit 130 after it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub(crate) struct Stopped {
+    /// The command, as typed: `sdo read`, `store`.
+    pub command: String,
+    /// Always true: the key every interrupted report has.
+    pub interrupted: bool,
+    /// What was finished before the stop, a line each.
+    pub done: Vec<String>,
+    /// What was not done because of it, a line each.
+    pub not_done: Vec<String>,
+    /// The state the device is left in, in a sentence (with what to do about it).
+    pub state: String,
+}
+
+impl Stopped {
+    /// The report of `command` stopped with `done` finished and `not_done` left, the device in
+    /// `state`.
+    pub fn new(command: &str, done: Vec<String>, not_done: Vec<String>, state: String) -> Stopped {
+        Stopped { command: command.to_string(), interrupted: true, done, not_done, state }
+    }
+}
 
 /// Say `report`, then end as an interruption.
 fn said(out: &Output, report: &Stopped) -> anyhow::Result<()> {
@@ -48,15 +75,91 @@ pub(crate) fn nmt_not_sent(out: &Output, name: &str, target: u8, e: Error) -> an
     said(out, &Stopped::new(&format!("nmt {name}"), Vec::new(), not_done, state))
 }
 
-/// An SDO transfer the user stopped (`report` is the library's account of it), with the
-/// `--out` file it did not write; any other error as it is.
-pub(crate) fn sdo(out: &Output, report: Option<Stopped>, file: Option<&Path>, e: Error) -> anyhow::Result<()> {
-    let Some(mut report) = report else { return Err(e.into()) };
+/// A read (`write` false) or write of `object` on `node` that the user stopped, as the
+/// error that ended it tells, with the `--out` file it did not write; any other error as
+/// it is.
+pub(crate) fn sdo(
+    out: &Output,
+    (node, object, write): (u8, ObjAddr, bool),
+    file: Option<&Path>,
+    e: Error,
+) -> anyhow::Result<()> {
+    let Some(mut report) = sdo_stopped(node, object, write, &e) else { return Err(e.into()) };
     if let Some(path) = file {
         let old = if path.exists() { "the old file is unchanged" } else { "nothing written" };
         report.not_done.push(format!("{} ({old})", path.display()));
     }
     said(out, &report)
+}
+
+/// The report of a read or write of `object` that the user stopped, from the error that
+/// ended it; `None` when that error is no interruption.
+fn sdo_stopped(node: u8, object: ObjAddr, write: bool, e: &Error) -> Option<Stopped> {
+    let (command, verb, dir) = if write { ("sdo write", "write", "to") } else { ("sdo read", "read", "from") };
+    let whole = format!("{verb} of {object} {dir} node {node}");
+    let unchanged = if write {
+        format!("node {node} {object} keeps its previous value")
+    } else {
+        "nothing was changed on the device".to_string()
+    };
+    Some(match e.root() {
+        Error::Interrupted => {
+            Stopped::new(command, Vec::new(), vec![whole], format!("{unchanged}: the {verb} had not begun"))
+        }
+        Error::SdoInterrupted { moved, aborted, .. } => {
+            let done = vec![format!("{object}: {moved} {}", if write { "sent" } else { "read (not kept)" })];
+            let how = match aborted {
+                Some(code) => format!(
+                    "the transfer was aborted (SDO abort 0x{code:08X}), so node {node} is ready for the next one{}",
+                    if write { " and takes nothing of an aborted write (CiA 301)" } else { "" }
+                ),
+                None => "stopped between two segments; the EPOS2 protocol has no command to abort a transfer, \
+                         so nothing more was sent"
+                    .to_string(),
+            };
+            Stopped::new(command, done, vec![format!("the rest of the {verb}")], format!("{unchanged}; {how}"))
+        }
+        _ => return None,
+    })
+}
+
+/// Where a node's store or restore was stopped, as canctl says it: what was done on it,
+/// what was not, the state it is left in and what to do about that.
+fn node_stop_report(stop: StoppedBefore) -> Stopped {
+    let remedy = |hint| super::hints::hint_text(hint);
+    match stop {
+        StoppedBefore::Save { node, class } => Stopped::new(
+            "store",
+            Vec::new(),
+            vec![format!("'save' to 0x1010:{} of node {node}", class as u8 + 1)],
+            format!("nothing was stored on node {node}: its non-volatile memory is as it was"),
+        ),
+        StoppedBefore::Load { node, class } => Stopped::new(
+            "restore",
+            Vec::new(),
+            vec![format!("'load' to 0x1011:{} of node {node}", class as u8 + 1)],
+            format!("nothing was changed: node {node} keeps its parameters"),
+        ),
+        StoppedBefore::Reset { node, object } => Stopped::new(
+            "restore",
+            vec![format!("node {node}: 'load' written to {object}")],
+            vec![format!("NMT reset of node {node}")],
+            format!(
+                "node {node}: the defaults are loaded and apply from its next reset{}",
+                remedy(Hint::ResetNode { node })
+            ),
+        ),
+        StoppedBefore::BootUp { node, object } => Stopped::new(
+            "restore",
+            vec![format!("node {node}: 'load' written to {object}"), format!("NMT reset of node {node}")],
+            vec![format!("confirming that node {node} booted")],
+            format!(
+                "node {node}: the defaults are loaded and the reset went out; whether it booted with them is not \
+                 known{}",
+                remedy(Hint::ReadNmtState { node })
+            ),
+        ),
+    }
 }
 
 /// `config eds` stopped while reading the node's stored EDS; `e` (the interruption) is
@@ -96,7 +199,8 @@ pub(crate) fn each_node<R: Report + serde::Serialize>(
     let EachNode { done, ended } = run;
     let i = done.len();
     match ended {
-        Some(Ended::Stopped(mut report)) => {
+        Some(Ended::Stopped(stop)) => {
+            let mut report = node_stop_report(stop);
             if nodes.len() > 1 {
                 let before = done.iter().filter_map(sentence);
                 report.done = before.chain(report.done).collect();
@@ -114,5 +218,36 @@ pub(crate) fn each_node<R: Report + serde::Serialize>(
         }
         None if done.len() == 1 => Ok(out.report(&done[0])?),
         None => Ok(out.report(&Each(done))?),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each point a restore can be stopped at, said as canctl always said it: the state,
+    /// then what to do about it in canctl's terms (in JSON too).
+    #[test]
+    fn a_stopped_restore_says_what_it_left_and_what_to_do() {
+        let object = ObjAddr::new(0x1011, 1);
+        let stopped = node_stop_report(StoppedBefore::Reset { node: 5, object });
+        let said = "node 5: the defaults are loaded and apply from its next reset (canctl nmt reset 5 does it)";
+        assert_eq!(Report::notes(&stopped)[1], said);
+        let json = Report::json_value(&stopped);
+        assert_eq!(json["state"], said);
+        assert_eq!(
+            json.as_object().unwrap().keys().collect::<Vec<_>>(),
+            ["command", "interrupted", "done", "not_done", "state"]
+        );
+        let stopped = node_stop_report(StoppedBefore::BootUp { node: 3, object });
+        assert_eq!(
+            Report::notes(&stopped),
+            [
+                "restore interrupted: done node 3: 'load' written to 0x1011:1, NMT reset of node 3; not done \
+                 confirming that node 3 booted",
+                "node 3: the defaults are loaded and the reset went out; whether it booted with them is not known \
+                 (canctl nmt state 3 says)"
+            ]
+        );
     }
 }
