@@ -228,13 +228,13 @@ fn a_reset_is_confirmed_by_the_boot_up_of_each_node() {
     let one = nmt_ops::reset(bus.as_mut(), nmt::Command::ResetNode, SENSOR, &o).unwrap();
     assert!(one.confirmed && one.why.is_none(), "{one:?}");
     assert_eq!(one.booted, Some(vec![SENSOR]));
-    assert_eq!(one.seen_by.as_deref(), Some("boot-up message"));
+    assert_eq!(one.seen_by, Some(nmt_ops::SeenBy::BootUpMessage));
     let state =
         nmt_ops::state(bus.as_mut(), SENSOR, &StateOptions { listen: Duration::from_millis(300), timeout: TIMEOUT });
     assert_eq!(state.unwrap().state, nmt::State::PreOperational);
 
     let all = nmt_ops::reset_and_wait(bus.as_mut(), nmt::Command::ResetCommunication, bus::ALL_NODES, &o).unwrap();
-    assert_eq!(all, Confirmation::Confirmed(vec![1, 5, 10, 32], "boot-up message".into()));
+    assert_eq!(all, Confirmation::Confirmed(vec![1, 5, 10, 32], nmt_ops::SeenBy::BootUpMessage));
     let json = serde_json::to_value(nmt_ops::reset(bus.as_mut(), nmt::Command::ResetNode, bus::ALL_NODES, &o).unwrap());
     assert_eq!(json.unwrap()["target"], "all");
 }

@@ -44,9 +44,9 @@ pub struct Reset {
     /// The state they booted into.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub state: Option<nmt::State>,
-    /// How the boot was seen.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub seen_by: Option<String>,
+    /// How the boot was seen, for the front end to word (in JSON too, as `seen_by`).
+    #[serde(skip)]
+    pub seen_by: Option<SeenBy>,
     /// Why the reset could not be confirmed, for the front end to word (in JSON too, as
     /// `why`: a front end serialises it in its words).
     #[serde(skip)]
@@ -73,9 +73,24 @@ pub struct NodeState {
 #[non_exhaustive]
 pub enum Confirmation {
     /// These nodes are back, and how that was seen.
-    Confirmed(Vec<u8>, String),
+    Confirmed(Vec<u8>, SeenBy),
     /// The reset went out but nothing showed that it took effect; why not.
     Unconfirmed(Unconfirmed),
+}
+
+/// How a node was seen coming back from a reset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SeenBy {
+    /// Its boot-up message, on a link that shows the bus's traffic.
+    BootUpMessage,
+    /// Its boot-up, as the answer to a remote request (through an EPOS2).
+    BootUpAnswer,
+    /// Its state, asked by remote requests: another before, pre-operational after.
+    StateChange {
+        /// The state it showed before the reset.
+        was: nmt::State,
+    },
 }
 
 /// Why a reset that went out is not confirmed: what was seen instead, for the front end to
@@ -219,7 +234,7 @@ fn reset_and_wait_noting(
         bus.nmt(cmd, target)?;
         *sent = true;
         let nodes = listen_for_boot_ups(bus, target, o)?;
-        return Ok(Confirmation::Confirmed(nodes, "boot-up message".into()));
+        return Ok(Confirmation::Confirmed(nodes, SeenBy::BootUpMessage));
     }
     if target == ALL_NODES {
         bus.nmt(cmd, target)?;
@@ -231,16 +246,11 @@ fn reset_and_wait_noting(
     *sent = true;
     let after = poll_until_answering(bus, target, o)?;
     Ok(match (before, after) {
-        (_, ErrorControl::BootUp) => {
-            Confirmation::Confirmed(vec![target], "its boot-up, as the answer to a remote request".into())
-        }
+        (_, ErrorControl::BootUp) => Confirmation::Confirmed(vec![target], SeenBy::BootUpAnswer),
         (
             Some(ErrorControl::State { state: was, .. }),
             ErrorControl::State { state: nmt::State::PreOperational, .. },
-        ) if was != nmt::State::PreOperational => Confirmation::Confirmed(
-            vec![target],
-            format!("its state: {was} before, pre-operational after (remote requests)"),
-        ),
+        ) if was != nmt::State::PreOperational => Confirmation::Confirmed(vec![target], SeenBy::StateChange { was }),
         (before, ErrorControl::State { state: after, .. }) => {
             let before = match before {
                 Some(ErrorControl::State { state, .. }) => Some(state),

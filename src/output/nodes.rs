@@ -3,7 +3,7 @@
 use super::{Human, Report};
 use crate::bus::ALL_NODES;
 use crate::canopen::types::{hex, obvious_unsigned};
-use crate::ops::nmt::{target_text, NodeState, Reset, Sent, Unconfirmed};
+use crate::ops::nmt::{target_text, NodeState, Reset, SeenBy, Sent, Unconfirmed};
 use crate::ops::scan::{Scan, StateFrom};
 use crate::ops::sdo::{self, Read, Saved, Written};
 
@@ -179,7 +179,8 @@ impl Report for Reset {
         Human::Line(match (&self.booted, &self.why) {
             (Some(nodes), _) => {
                 let list: Vec<String> = nodes.iter().map(|n| n.to_string()).collect();
-                let (state, how) = (self.state.map_or("", |s| s.name()), self.seen_by.as_deref().unwrap_or(""));
+                let (state, how) =
+                    (self.state.map_or("", |s| s.name()), self.seen_by.map(seen_by_text).unwrap_or_default());
                 format!("booted after NMT {command}: node {} (now {state}; seen by {how})", list.join(", "))
             }
             (None, why) => {
@@ -194,10 +195,16 @@ impl Report for Reset {
     /// As it serialises, with why the reset is not confirmed in words (before `interrupted`).
     fn json_value(&self) -> serde_json::Value {
         let mut v = serde_json::to_value(self).expect("reports serialise");
-        if let (Some(why), Some(map)) = (&self.why, v.as_object_mut()) {
-            // The last key when there: taken off and put back after `why`.
+        if let Some(map) = v.as_object_mut() {
+            // The words go where the fields stand, before `interrupted` (the last key when
+            // there): it is taken off and put back after them.
             let interrupted = map.remove("interrupted");
-            map.insert("why".into(), unconfirmed_text(why).into());
+            if let Some(how) = self.seen_by {
+                map.insert("seen_by".into(), seen_by_text(how).into());
+            }
+            if let Some(why) = &self.why {
+                map.insert("why".into(), unconfirmed_text(why).into());
+            }
             if let Some(i) = interrupted {
                 map.insert("interrupted".into(), i);
             }
@@ -210,6 +217,15 @@ impl Report for Reset {
         let state = self.state.map_or("", |s| s.name());
         let rows = nodes.iter().map(|n| vec![n.to_string(), state.into()]).collect();
         Human::Table { headers: vec!["node", "state"], rows, when_empty: true }
+    }
+}
+
+/// How a node was seen coming back from a reset, as canctl says it.
+pub(crate) fn seen_by_text(how: SeenBy) -> String {
+    match how {
+        SeenBy::BootUpMessage => "boot-up message".into(),
+        SeenBy::BootUpAnswer => "its boot-up, as the answer to a remote request".into(),
+        SeenBy::StateChange { was } => format!("its state: {was} before, pre-operational after (remote requests)"),
     }
 }
 
@@ -368,5 +384,27 @@ mod tests {
         assert_eq!(json["why"], unconfirmed_text(&Unconfirmed::Interrupted { target: 5 }));
         let Human::Line(line) = reset.human() else { panic!("a line") };
         assert!(line.ends_with("whether node 5 came back is not known (canctl nmt state or scan says)"), "{line}");
+
+        // Confirmed: how it was seen, in words, where the field stands.
+        let seen = SeenBy::StateChange { was: nmt::State::Stopped };
+        let reset = Reset {
+            confirmed: true,
+            booted: Some(vec![5]),
+            state: Some(nmt::State::PreOperational),
+            seen_by: Some(seen),
+            why: None,
+            interrupted: false,
+            ..reset
+        };
+        let json = reset.json_value();
+        let keys: Vec<&String> = json.as_object().unwrap().keys().collect();
+        assert_eq!(keys, ["command", "target", "sent", "confirmed", "booted", "state", "seen_by"]);
+        assert_eq!(json["seen_by"], "its state: stopped before, pre-operational after (remote requests)");
+        let Human::Line(line) = reset.human() else { panic!("a line") };
+        assert_eq!(
+            line,
+            "booted after NMT reset node: node 5 (now pre-operational; seen by its state: stopped before, \
+             pre-operational after (remote requests))"
+        );
     }
 }
