@@ -80,18 +80,30 @@ pub struct Scan {
     pub answered_on_repeat: Vec<Repeat>,
     /// The user stopped the scan (SIGINT, SIGTERM): the nodes are those found so far.
     pub interrupted: bool,
-    /// When interrupted: the parts of the scan not done, the one it stopped in first.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub not_done: Vec<String>,
+    /// When interrupted: the parts of the scan not done, the one it stopped in first
+    /// (canctl's JSON words them as `not_done`).
+    #[serde(skip)]
+    pub not_done: Vec<Phase>,
 }
 
-/// The parts of a scan, in order.
-const PHASES: [&str; 4] = [
-    "probing node-ids 1 to 127 (stopped part-way: nodes not listed may be there)",
-    "reading identity, name and heartbeat time",
-    "learning NMT states",
-    "counting devices without a node-id (LSS)",
-];
+/// A part of a scan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Phase {
+    /// Probing node-ids 1 to 127 (stopped in it: nodes not listed may be there).
+    Probe,
+    /// Reading each node's identity, name and heartbeat time.
+    Identities,
+    /// Learning the nodes' NMT states.
+    States,
+    /// Counting the devices without a node-id (LSS).
+    Unconfigured,
+}
+
+impl Phase {
+    /// The parts of a scan, in order.
+    pub const ALL: [Phase; 4] = [Phase::Probe, Phase::Identities, Phase::States, Phase::Unconfigured];
+}
 
 /// A node that answered the probe, with what it told about itself (`None`: not said).
 #[derive(Debug, Serialize)]
@@ -296,14 +308,14 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
         Err(e) if e.is_interrupted() => {
             progress.finish();
             report.interrupted = true;
-            report.not_done = PHASES[phase..].iter().map(|p| p.to_string()).collect();
+            report.not_done = Phase::ALL[phase..].to_vec();
             Ok(report)
         }
         other => other.map(|_| report),
     }
 }
 
-/// The scan, into `report`; `phase` says which of [`PHASES`] it is in.
+/// The scan, into `report`; `phase` says which of [`Phase::ALL`] it is in.
 fn scan_into(
     bus: &mut dyn Bus,
     o: &ScanOptions,

@@ -2,7 +2,7 @@
 
 use super::{Human, Report};
 use crate::bus::lss::NotStored;
-use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired, Took};
+use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired, LssTally, PaceUsed, Took};
 
 fn table(headers: Vec<&'static str>, row: Vec<String>) -> Human {
     Human::Table { headers, rows: vec![row], when_empty: true }
@@ -45,9 +45,9 @@ impl Report for Configured {
         let result = took_text(self.result);
         match &self.tally {
             Some(t) if !t.refused.is_empty() => {
-                Human::Line(format!("{}: {result}: {}; the devices that confirmed have it", self.target, t.text()))
+                Human::Line(format!("{}: {result}: {}; the devices that confirmed have it", self.target, tally_text(t)))
             }
-            Some(t) => Human::Line(format!("{}: {result} ({})", self.target, t.text())),
+            Some(t) => Human::Line(format!("{}: {result} ({})", self.target, tally_text(t))),
             None => Human::Line(format!("{}: {result}", self.target)),
         }
     }
@@ -94,7 +94,7 @@ impl Report for Activated {
 
 impl Report for Found {
     fn human(&self) -> Human {
-        let how = format!("found in {} steps, {} ms; {}", self.steps, self.elapsed_ms, self.pace.text());
+        let how = format!("found in {} steps, {} ms; {}", self.steps, self.elapsed_ms, pace_text(&self.pace));
         Human::Parts(vec![Human::Line(self.identity.0.to_string()), Human::Note(how)])
     }
     fn csv(&self) -> Human {
@@ -152,7 +152,7 @@ impl Report for Assignment {
             self.assigned.len(),
             self.elapsed_ms,
             self.fastscan_steps,
-            self.pace.text()
+            pace_text(&self.pace)
         )];
         if self.interrupted {
             notes.push("interrupted: every LSS device was sent back to waiting state".into());
@@ -169,6 +169,22 @@ impl Report for Assignment {
             ));
         }
         notes
+    }
+}
+
+/// The pace a search used: its step and the slowest answer.
+fn pace_text(pace: &PaceUsed) -> String {
+    match pace.slowest_answer_ms {
+        Some(s) => format!("step {} ms (slowest answer {s:.1} ms)", pace.step_ms),
+        None => format!("step {} ms", pace.step_ms),
+    }
+}
+
+/// How the devices answered a global LSS service: "3 device(s) confirmed, 1 refused (...)".
+pub(crate) fn tally_text(t: &LssTally) -> String {
+    match t.refused.len() {
+        0 => format!("{} device(s) confirmed", t.confirmed),
+        n => format!("{} device(s) confirmed, {n} refused ({})", t.confirmed, t.refused.join("; ")),
     }
 }
 

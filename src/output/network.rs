@@ -375,9 +375,10 @@ impl serde::Serialize for SetBaudReport<'_> {
 impl Report for SetBaudReport<'_> {
     fn human(&self) -> Human {
         let r = self.switched;
-        let mut parts = vec![Human::Line(format!("configure bit timing {}: {}", r.rate, r.configured.text()))];
+        let mut parts =
+            vec![Human::Line(format!("configure bit timing {}: {}", r.rate, super::lss::tally_text(&r.configured)))];
         if let Some(stored) = &r.stored {
-            parts.push(Human::Line(format!("store configuration: {}", stored.text())));
+            parts.push(Human::Line(format!("store configuration: {}", super::lss::tally_text(stored))));
         }
         parts.push(Human::Line(match (r.activated, r.bus_followed) {
             (false, _) => format!(

@@ -4,7 +4,7 @@ use super::{Human, Report};
 use crate::bus::ALL_NODES;
 use crate::canopen::types::{hex, obvious_unsigned};
 use crate::ops::nmt::{target_text, NodeState, Reset, SeenBy, Sent, Unconfirmed};
-use crate::ops::scan::{Scan, StateFrom};
+use crate::ops::scan::{Phase, Scan, StateFrom};
 use crate::ops::sdo::{self, Read, Saved, Written};
 
 /// The nodes found, one row each.
@@ -19,7 +19,26 @@ fn scan_table(scan: &Scan) -> Human {
     Human::Table { headers, rows: rows.collect(), when_empty: true }
 }
 
+/// A part of a scan, as canctl names it.
+fn phase_text(phase: Phase) -> &'static str {
+    match phase {
+        Phase::Probe => "probing node-ids 1 to 127 (stopped part-way: nodes not listed may be there)",
+        Phase::Identities => "reading identity, name and heartbeat time",
+        Phase::States => "learning NMT states",
+        Phase::Unconfigured => "counting devices without a node-id (LSS)",
+    }
+}
+
 impl Report for Scan {
+    /// As it serialises, with the parts not done in words (the last key, when any).
+    fn json_value(&self) -> serde_json::Value {
+        let mut value = serde_json::to_value(self).expect("reports serialise");
+        if !self.not_done.is_empty() {
+            value["not_done"] = self.not_done.iter().map(|p| phase_text(*p)).collect::<Vec<_>>().into();
+        }
+        value
+    }
+
     fn human(&self) -> Human {
         let mut parts = vec![Human::Note(format!("{} node(s) on {}", self.nodes.len(), self.bus)), scan_table(self)];
         // Interrupted before the states were learned: the note at the end says so.
@@ -75,7 +94,7 @@ impl Report for Scan {
             parts.push(Human::Note(format!(
                 "scan interrupted, incomplete: {} node(s) found so far; not done: {}; nothing was changed on the devices",
                 self.nodes.len(),
-                self.not_done.join(", ")
+                self.not_done.iter().map(|p| phase_text(*p)).collect::<Vec<_>>().join(", ")
             )));
         }
         Human::Parts(parts)

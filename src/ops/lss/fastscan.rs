@@ -59,16 +59,6 @@ impl From<&Pace> for PaceUsed {
     }
 }
 
-impl PaceUsed {
-    /// For people: the step and the slowest answer.
-    pub fn text(&self) -> String {
-        match self.slowest_answer_ms {
-            Some(s) => format!("step {} ms (slowest answer {s:.1} ms)", self.step_ms),
-            None => format!("step {} ms", self.step_ms),
-        }
-    }
-}
-
 /// A device without a node-id, found by fastscan.
 #[derive(Debug, Serialize)]
 #[non_exhaustive]

@@ -164,14 +164,6 @@ impl LssTally {
         }
         tally
     }
-
-    /// For people: "3 confirmed, 1 refused (...)".
-    pub fn text(&self) -> String {
-        match self.refused.len() {
-            0 => format!("{} device(s) confirmed", self.confirmed),
-            n => format!("{} device(s) confirmed, {n} refused ({})", self.confirmed, self.refused.join("; ")),
-        }
-    }
 }
 
 /// A configuration service.
