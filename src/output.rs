@@ -31,6 +31,7 @@ mod reports;
 pub(crate) mod sim;
 pub(crate) mod stopped;
 pub(crate) mod usage;
+mod verdicts;
 
 pub(crate) use drive::{last_seen_text, watching_text};
 pub use events::{event_line, say_deviations};

@@ -3,7 +3,7 @@
 //! then a short watch of the bus: each heartbeat producer's beats must come on time, and
 //! no node may send an EMCY with an error.
 
-use super::doctor::{self, Evidence, Finding};
+use super::doctor::{self, Evidence};
 use super::node::HISTORY_COUNT;
 use super::scan::{self, ScanOptions};
 use super::{le_u32, sized, Progress};
@@ -101,11 +101,11 @@ pub struct NodeHealth {
     pub ok: bool,
     /// For a node silent to SDO, the likely cause as `canctl doctor` names it, from what
     /// the scan and the watch already saw (no request of its own); `None` for the others.
-    pub diagnosis: Option<Finding>,
+    pub diagnosis: Option<doctor::Finding>,
 }
 
 /// One EMCY the node sent during the watch.
-#[derive(Debug, Serialize)]
+#[derive(Clone, Debug, Serialize)]
 #[non_exhaustive]
 pub struct SeenEmcy {
     /// Its error code (CiA 301).
@@ -119,6 +119,8 @@ pub struct SeenEmcy {
 
 /// One check of one node: the verdict `network check` gives too.
 pub use super::verdict::Verdict as Check;
+/// What a check found.
+pub use super::verdict::{Finding, Logged};
 
 fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_str(&format_args!("0x{v:04X}"))
@@ -301,7 +303,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
     // device's.
     for c in &found.clashes {
         if let Some(n) = nodes.iter_mut().find(|n| n.node == c.node) {
-            n.checks.push(check("node-id", false, c.to_string()));
+            n.checks.push(check("node-id", false, Finding::NodeIdClash { clash: c.clone() }));
             n.ok = false;
         }
     }
@@ -319,7 +321,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
 /// Why a node the scan saw is silent to SDO, from what the scan and the watch showed (the
 /// one listen all nodes share; nothing asked of the bus): its state (stopped: it serves no
 /// SDO; another: its SDO server is elsewhere or off), else only that it is silent.
-fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) -> Option<Finding> {
+fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) -> Option<doctor::Finding> {
     if n.answers_sdo {
         return None;
     }
@@ -333,12 +335,8 @@ fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) 
     Some(doctor::silent_node(node, shown, probe))
 }
 
-fn check(check: &'static str, ok: bool, detail: String) -> Check {
+fn check(check: &'static str, ok: bool, detail: Finding) -> Check {
     Check::new(check, ok, detail)
-}
-
-fn unread(e: &Error) -> String {
-    format!("could not be read: {e}")
 }
 
 fn judge_node(
@@ -355,8 +353,7 @@ fn judge_node(
 
     // Seen on the bus but silent to SDO: nothing below can be read from it.
     if !n.answers_sdo {
-        let detail =
-            format!("answered none of the scan's probes in time, though the bus shows it is there ({})", n.state_from);
+        let detail = Finding::SilentToSdo { from: n.state_from };
         checks.push(check("sdo", false, detail).with_remedy(Some(Hint::PreOperational { node: n.node })));
     }
 
@@ -366,35 +363,34 @@ fn judge_node(
         (None, s) => (s, n.state_from),
     };
     checks.push(match (state, want) {
-        (None, _) => check("nmt", false, format!("state unknown: {from}")),
-        (Some(s), Some(w)) if s != w => check("nmt", false, format!("{} (from {from}), not {}", s.name(), w.name())),
-        (Some(s), _) => check("nmt", true, format!("{} (from {from})", s.name())),
+        (None, _) => check("nmt", false, Finding::StateUnknown { from }),
+        (Some(state), Some(want)) if state != want => check("nmt", false, Finding::WrongState { state, from, want }),
+        (Some(state), _) => check("nmt", true, Finding::State { state, from }),
     });
 
     // Heartbeat: on time over the watch, when the node produces one.
     let period = n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()));
     let beats = period.filter(|_| watch > Duration::ZERO).map(|p| judge_beats(p, &watched.arrivals, watch));
+    let watched_ms = watch.as_millis() as u64;
     checks.push(match (n.heartbeat_ms, period, beats) {
-        (None, _, _) => check("heartbeat", true, "none (no 0x1017)".into()),
-        (Some(_), None, _) => check("heartbeat", true, "not produced (0x1017 = 0)".into()),
-        (Some(ms), Some(_), None) => {
-            check("heartbeat", true, format!("every {ms} ms (not watched: this link shows no traffic)"))
+        (None, _, _) => check("heartbeat", true, Finding::NoHeartbeatObject),
+        (Some(_), None, _) => check("heartbeat", true, Finding::HeartbeatOff),
+        (Some(period_ms), Some(_), None) => check("heartbeat", true, Finding::HeartbeatUnwatched { period_ms }),
+        (Some(period_ms), Some(_), Some(b)) if b.count == 0 => {
+            check("heartbeat", false, Finding::HeartbeatMissing { period_ms, watched_ms })
         }
-        (Some(ms), Some(_), Some(b)) if b.count == 0 => {
-            check("heartbeat", false, format!("0x1017 says every {ms} ms, but none came in {} ms", watch.as_millis()))
-        }
-        (Some(ms), Some(_), Some(b)) if !b.on_time => check(
+        (Some(period_ms), Some(_), Some(b)) if !b.on_time => check(
             "heartbeat",
             false,
-            format!(
-                "every {ms} ms, but late: {} ms without one ({} in {} ms)",
-                b.longest_gap.as_millis(),
-                b.count,
-                watch.as_millis()
-            ),
+            Finding::HeartbeatLate {
+                period_ms,
+                longest_gap_ms: b.longest_gap.as_millis() as u64,
+                beats: b.count,
+                watched_ms,
+            },
         ),
-        (Some(ms), Some(_), Some(b)) => {
-            check("heartbeat", true, format!("every {ms} ms, on time ({} in {} ms)", b.count, watch.as_millis()))
+        (Some(period_ms), Some(_), Some(b)) => {
+            check("heartbeat", true, Finding::HeartbeatOnTime { period_ms, beats: b.count, watched_ms })
         }
     });
 
@@ -404,39 +400,41 @@ fn judge_node(
     // The history's part ends the detail: errors logged have their remedy after it.
     let (history, read_them) = match &read.history {
         Ok(_) => match logged {
-            Some(0) => ("; no errors logged".to_string(), None),
-            Some(k) => (format!("; {k} error(s) logged in 0x1003"), Some(Hint::ReadErrorHistory { node: n.node })),
-            None => (String::new(), None),
+            Some(0) => (Logged::Nothing, None),
+            Some(k) => (Logged::Count(k), Some(Hint::ReadErrorHistory { node: n.node })),
+            None => (Logged::Unsaid, None),
         },
-        Err(e) if super::node::is_missing(e) => ("; no error history (0x1003)".to_string(), None),
-        Err(e) => (format!("; 0x1003:0 {}", unread(e)), None),
+        Err(e) if super::node::is_missing(e) => (Logged::NoHistory, None),
+        Err(e) => (Logged::Unread(e.into()), None),
     };
     checks.push(match (&read.register, register) {
-        (Err(e), _) => check("error register", false, unread(e)),
-        (Ok(_), None) => check("error register", false, "0x1001 answered with no data".into()),
-        (Ok(_), Some(0)) => check("error register", true, format!("0x00: no error{history}")).with_remedy(read_them),
+        (Err(e), _) => check("error register", false, Finding::RegisterUnread { error: e.into() }),
+        (Ok(_), None) => check("error register", false, Finding::RegisterEmpty),
         (Ok(_), Some(r)) => {
-            check("error register", false, format!("0x{r:02X}: {}{history}", emcy::register_bits(r).join(", ")))
-                .with_remedy(read_them)
+            check("error register", r == 0, Finding::Register { register: r, logged: history }).with_remedy(read_them)
         }
     });
 
     // EMCY during the watch: any error (an "error reset" says things got better).
     let errors: Vec<&Emergency> = watched.emcy.iter().filter(|e| e.code != 0).collect();
-    let described: Vec<String> = watched
+    let seen: Vec<SeenEmcy> = watched
         .emcy
         .iter()
         .map(|e| {
             let h = emcy::HistoryEntry { raw: e.history_entry() };
-            format!("0x{:04X} {}", e.code, emcy::meaning(h.code(), h.manufacturer(), &origin).text)
+            SeenEmcy {
+                code: e.code,
+                register: e.register,
+                meaning: emcy::meaning(h.code(), h.manufacturer(), &origin).text,
+            }
         })
         .collect();
     checks.push(if watch == Duration::ZERO {
-        check("emcy", true, "not watched: this link shows no traffic".into())
-    } else if watched.emcy.is_empty() {
-        check("emcy", true, format!("none in {} ms", watch.as_millis()))
+        check("emcy", true, Finding::EmcyUnwatched)
+    } else if seen.is_empty() {
+        check("emcy", true, Finding::NoEmcy { watched_ms })
     } else {
-        check("emcy", errors.is_empty(), described.join("; "))
+        check("emcy", errors.is_empty(), Finding::Emcys { seen: seen.clone() })
     });
 
     // A CiA 402 drive: not in Fault.
@@ -449,13 +447,13 @@ fn judge_node(
     let drive_state = statusword.and_then(cia402::State::from_statusword);
     if let Some(r) = &read.statusword {
         checks.push(match (r, statusword, drive_state) {
-            (Err(e), _, _) => check("drive", false, format!("statusword 0x6041 {}", unread(e))),
-            (Ok(_), None, _) => check("drive", false, "statusword 0x6041 answered with too few bytes".into()),
-            (Ok(_), Some(sw), None) => check("drive", false, format!("statusword 0x{sw:04X} codes no CiA 402 state")),
-            (Ok(_), Some(sw), Some(s)) => {
-                let faulted = matches!(s, cia402::State::Fault | cia402::State::FaultReactionActive);
-                let warning = if sw & cia402::sw::WARNING != 0 { ", warning" } else { "" };
-                check("drive", !faulted, format!("{} (statusword 0x{sw:04X}{warning})", s.name()))
+            (Err(e), _, _) => check("drive", false, Finding::StatuswordUnread { error: e.into() }),
+            (Ok(_), None, _) => check("drive", false, Finding::StatuswordShort),
+            (Ok(_), Some(statusword), None) => check("drive", false, Finding::NoDriveState { statusword }),
+            (Ok(_), Some(statusword), Some(state)) => {
+                let faulted = matches!(state, cia402::State::Fault | cia402::State::FaultReactionActive);
+                let warning = statusword & cia402::sw::WARNING != 0;
+                check("drive", !faulted, Finding::Drive { state, statusword, warning })
             }
         });
     }
@@ -472,18 +470,7 @@ fn judge_node(
         longest_gap_ms: beats.map(|b| b.longest_gap.as_millis() as u64),
         error_register: register,
         errors_logged: logged,
-        emcy: watched
-            .emcy
-            .iter()
-            .map(|e| {
-                let h = emcy::HistoryEntry { raw: e.history_entry() };
-                SeenEmcy {
-                    code: e.code,
-                    register: e.register,
-                    meaning: emcy::meaning(h.code(), h.manufacturer(), &origin).text,
-                }
-            })
-            .collect(),
+        emcy: seen,
         statusword,
         drive_state,
         checks,
@@ -578,7 +565,13 @@ mod tests {
         let h = judge_node(&sensor(), clean(), Some(w), 300 * MS, None);
         assert_eq!(failed(&h), ["emcy"]);
         // The sensor's manual names its code (seed 001).
-        assert!(h.checks.iter().any(|c| c.detail.contains("0x5000 Device hardware: no stop pulses")), "{:?}", h.checks);
+        let named = |c: &Check| match &c.detail {
+            Finding::Emcys { seen } => {
+                seen.iter().any(|e| e.code == 0x5000 && e.meaning.starts_with("Device hardware: no stop pulses"))
+            }
+            _ => false,
+        };
+        assert!(h.checks.iter().any(named), "{:?}", h.checks);
         let mut w = beating();
         w.emcy.push(Emergency { code: 0x0000, register: 0, vendor: [0; 5] });
         assert!(judge_node(&sensor(), clean(), Some(w), 300 * MS, None).ok);

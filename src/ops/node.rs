@@ -220,7 +220,7 @@ impl Identity {
 /// A part of the identity a file names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub(crate) enum IdPart {
+pub enum IdPart {
     /// 0x1018:1.
     Vendor,
     /// 0x1018:2.
@@ -237,8 +237,9 @@ impl std::fmt::Display for IdPart {
 }
 
 /// One part of the identity as the file names it and as the device has it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct IdentityPart {
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
+pub struct IdentityPart {
     /// Which part.
     pub what: IdPart,
     /// The value the file names.

@@ -96,12 +96,11 @@ impl Report for ErrorHistory {
     }
 }
 
-/// The JSON of `checks` (an array, as they serialise), each detail with its remedy.
+/// The JSON of `checks` (an array, as they serialise), each detail worded in its place,
+/// with its remedy.
 fn word_verdicts(json: &mut serde_json::Value, checks: &[Check]) {
     for (json, c) in json.as_array_mut().into_iter().flatten().zip(checks) {
-        if c.remedy.is_some() {
-            json["detail"] = verdict_text(c).into();
-        }
+        json["detail"] = verdict_text(c).into();
     }
 }
 

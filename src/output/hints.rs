@@ -70,9 +70,10 @@ pub fn hint_text(hint: Hint) -> String {
 
 /// A check's detail as canctl says it: what was found, then the remedy in canctl's terms.
 pub(crate) fn verdict_text(verdict: &crate::ops::verdict::Verdict) -> String {
+    let found = super::verdicts::finding_text(verdict);
     match &verdict.remedy {
-        Some(hint) => format!("{}{}", verdict.detail, hint_text(hint.clone())),
-        None => verdict.detail.clone(),
+        Some(hint) => format!("{found}{}", hint_text(hint.clone())),
+        None => found,
     }
 }
 
@@ -349,22 +350,21 @@ mod tests {
     /// TPDO left changed) read as when the library named the command itself.
     #[test]
     fn report_remedies_made_typed_read_as_before() {
-        use crate::ops::verdict::Verdict;
-        let sdo = Verdict::new(
-            "sdo",
-            false,
-            "answered none of the scan's probes in time, though the bus shows it is there (its heartbeat)".into(),
-        )
-        .with_remedy(Some(Hint::PreOperational { node: 5 }));
+        use crate::ops::verdict::{Finding, Logged, Verdict};
+        let from = crate::ops::scan::StateFrom::Heartbeat;
+        let sdo = Verdict::new("sdo", false, Finding::SilentToSdo { from })
+            .with_remedy(Some(Hint::PreOperational { node: 5 }));
         assert_eq!(
             verdict_text(&sdo),
-            "answered none of the scan's probes in time, though the bus shows it is there (its heartbeat): a Stopped \
+            "answered none of the scan's probes in time, though the bus shows it is there (heartbeat): a Stopped \
              node answers no SDO (canctl nmt preop 5)"
         );
-        let register = Verdict::new("error register", true, "0x00: no error; 2 error(s) logged in 0x1003".into())
-            .with_remedy(Some(Hint::ReadErrorHistory { node: 7 }));
+        let register =
+            Verdict::new("error register", true, Finding::Register { register: 0, logged: Logged::Count(2) })
+                .with_remedy(Some(Hint::ReadErrorHistory { node: 7 }));
         assert_eq!(verdict_text(&register), "0x00: no error; 2 error(s) logged in 0x1003 (canctl errors 7)");
-        assert_eq!(verdict_text(&Verdict::new("nmt", true, "operational".into())), "operational");
+        let operational = Finding::State { state: crate::canopen::nmt::State::Operational, from };
+        assert_eq!(verdict_text(&Verdict::new("nmt", true, operational)), "operational (from heartbeat)");
 
         // The write's own remedy in its place, then what was left, then the way back.
         let write = || crate::Error::NoAnswer {

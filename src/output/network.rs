@@ -94,22 +94,20 @@ fn unconfigured_note(count: usize) -> String {
 fn detail_text(c: &crate::ops::network::Verdict) -> String {
     match &c.remedy {
         Some(crate::hint::Hint::PreOperational { node }) => {
-            format!("{} (a Stopped node answers no SDO: canctl nmt preop {node})", c.detail)
+            format!("{} (a Stopped node answers no SDO: canctl nmt preop {node})", super::verdicts::finding_text(c))
         }
         _ => super::hints::verdict_text(c),
     }
 }
 
 impl Report for Checked {
-    /// As it serialises, each check's detail with its remedy.
+    /// As it serialises, each check's detail worded in its place, with its remedy.
     fn json_value(&self) -> serde_json::Value {
         let mut v = serde_json::to_value(self).expect("reports serialise");
         if let Some(nodes) = v["nodes"].as_array_mut() {
             for (json, n) in nodes.iter_mut().zip(&self.nodes) {
                 for (json, c) in json["checks"].as_array_mut().into_iter().flatten().zip(&n.checks) {
-                    if c.remedy.is_some() {
-                        json["detail"] = detail_text(c).into();
-                    }
+                    json["detail"] = detail_text(c).into();
                 }
             }
         }
@@ -572,7 +570,9 @@ mod tests {
     fn a_silent_listed_node_reads_as_before() {
         let said = "node 5 is there (stopped, by its heartbeat) but answered none of 3 SDO probes of 100 ms: nothing \
                     of it can be checked";
-        let v = crate::ops::network::Verdict::new("present", false, said.into())
+        let stopped = crate::canopen::nmt::State::Stopped;
+        let silent = crate::ops::network::Finding::SilentListed { node: 5, state: stopped, rounds: 3, window_ms: 100 };
+        let v = crate::ops::network::Verdict::new("present", false, silent)
             .with_remedy(Some(crate::hint::Hint::PreOperational { node: 5 }));
         assert_eq!(detail_text(&v), format!("{said} (a Stopped node answers no SDO: canctl nmt preop 5)"));
     }

@@ -69,7 +69,7 @@ pub struct NodeCheck {
     pub checks: Vec<Verdict>,
 }
 
-pub use crate::ops::verdict::Verdict;
+pub use crate::ops::verdict::{Finding, Verdict};
 
 /// A node that answered but the project does not list.
 #[derive(Debug, Serialize)]
@@ -99,27 +99,17 @@ impl Checked {
     }
 }
 
-fn hex(v: u32) -> String {
-    format!("0x{v:08X}")
-}
-
 /// The vendor-ID and product code of `node` against the DCF's (parts the DCF leaves at 0
 /// are not compared).
 fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<Verdict> {
     let (vendor, product) = dcf.identity();
-    let mut differ = Vec::new();
-    let mut seen = Vec::new();
-    for p in crate::ops::node::Node::new(bus, node, timeout).compare_identity(vendor, product)? {
-        if p.matches() {
-            seen.push(format!("{} {}", p.what, p.device_text()));
-        } else {
-            differ.push(format!("{} {}, {} in {}", p.what, p.device_text(), hex(p.file), dcf.path()));
-        }
-    }
+    let parts = crate::ops::node::Node::new(bus, node, timeout).compare_identity(vendor, product)?;
+    let (seen, differ): (Vec<_>, Vec<_>) = parts.into_iter().partition(|p| p.matches());
+    let file = dcf.path().to_string();
     let (ok, detail) = match (differ.is_empty(), seen.is_empty()) {
-        (false, _) => (false, format!("another device: {}", differ.join(", "))),
-        (true, true) => (true, format!("{} names no vendor-ID or product code: not compared", dcf.path())),
-        (true, false) => (true, seen.join(", ")),
+        (false, _) => (false, Finding::IdentityDiffers { differ, file }),
+        (true, true) => (true, Finding::IdentityUnnamed { file }),
+        (true, false) => (true, Finding::IdentityMatches { parts: seen }),
     };
     Ok(Verdict::new("identity", ok, detail))
 }
@@ -130,17 +120,9 @@ fn check_objects(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> R
     let diff = config::diff(bus, node, dcf, timeout)?;
     let writable = |addr: ObjAddr| dcf.eds.dict.get(addr).is_some_and(|e| e.access.writable());
     let differences: Vec<config::Difference> = diff.differences.into_iter().filter(|d| writable(d.object)).collect();
-    let detail = match differences.len() {
-        0 => format!("every writable object as in {}", dcf.path()),
-        n => {
-            let list: Vec<String> = differences
-                .iter()
-                .map(|d| format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file))
-                .collect();
-            format!("{n} object(s) differ from {}: {}", dcf.path(), list.join("; "))
-        }
-    };
+    let file = dcf.path().to_string();
     let ok = differences.is_empty();
+    let detail = if ok { Finding::ObjectsMatch { file } } else { Finding::ObjectsDiffer { file } };
     Ok(Verdict { differences, ..Verdict::new("objects", ok, detail) })
 }
 
@@ -150,8 +132,8 @@ fn check_state(bus: &mut dyn Bus, node: u8, want: crate::canopen::nmt::State, wi
     let wait = (2 * window).max(Duration::from_millis(200));
     let seen = crate::ops::node::Node::new(bus, node, wait).nmt_state(wait)?;
     let (ok, detail) = match seen {
-        Some((state, from)) => (state == want, format!("{state} (from its {from}), {want} expected")),
-        None => (false, format!("no heartbeat seen and no answer to node guarding; {want} expected")),
+        Some((state, from)) => (state == want, Finding::NetworkState { state, from, want }),
+        None => (false, Finding::NoNetworkState { want }),
     };
     Ok(Verdict::new("state", ok, detail))
 }
@@ -168,20 +150,13 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
     let check_node = |bus: &mut dyn Bus, i: usize| -> Result<NodeCheck> {
         let listed = &loaded.nodes[i];
         let present = found.contains_key(&listed.node);
-        let (detail, remedy) = match (present, states.get(&listed.node)) {
-            (true, _) => (format!("node {} answered", listed.node), None),
-            (false, Some(state)) => (
-                format!(
-                    "node {} is there ({state}, by its heartbeat) but answered none of {rounds} SDO probes of {} ms: nothing of it can be checked",
-                    listed.node,
-                    o.window.as_millis(),
-                ),
-                Some(Hint::PreOperational { node: listed.node }),
-            ),
-            (false, None) => (
-                format!("node {} did not answer any of {rounds} probes of {} ms", listed.node, o.window.as_millis()),
-                None,
-            ),
+        let (node, window_ms) = (listed.node, o.window.as_millis() as u64);
+        let (detail, remedy) = match (present, states.get(&node)) {
+            (true, _) => (Finding::Answered { node }, None),
+            (false, Some(state)) => {
+                (Finding::SilentListed { node, state: *state, rounds, window_ms }, Some(Hint::PreOperational { node }))
+            }
+            (false, None) => (Finding::Absent { node, rounds, window_ms }, None),
         };
         let mut checks = vec![Verdict::new("present", present, detail).with_remedy(remedy)];
         if let (true, Some(dcf)) = (present, &listed.dcf) {
