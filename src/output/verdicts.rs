@@ -1,7 +1,6 @@
 //! What a check of `health` or `network check` found, in words: the one place their
 //! verdicts' details are worded.
 
-use crate::ops::node::IdentityPart;
 use crate::ops::verdict::{Finding, Logged, Verdict};
 
 /// The verdict's finding in a sentence (without its remedy: see `hints::verdict_text`).
@@ -61,13 +60,13 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
             format!("node {node} did not answer any of {rounds} probes of {window_ms} ms")
         }
         Finding::IdentityMatches { parts } => {
-            let seen: Vec<String> = parts.iter().map(|p| format!("{} {}", p.what, device_text(p))).collect();
+            let seen: Vec<String> = parts.iter().map(|p| format!("{} {}", p.what, p.device_text())).collect();
             seen.join(", ")
         }
         Finding::IdentityUnnamed { file } => format!("{file} names no vendor-ID or product code: not compared"),
         Finding::IdentityDiffers { differ, file } => {
             let differ: Vec<String> =
-                differ.iter().map(|p| format!("{} {}, 0x{:08X} in {file}", p.what, device_text(p), p.file)).collect();
+                differ.iter().map(|p| format!("{} {}, 0x{:08X} in {file}", p.what, p.device_text(), p.file)).collect();
             format!("another device: {}", differ.join(", "))
         }
         Finding::ObjectsMatch { file } => format!("every writable object as in {file}"),
@@ -94,15 +93,6 @@ fn logged_text(logged: &Logged) -> String {
         Logged::Count(k) => format!("; {k} error(s) logged in 0x1003"),
         Logged::NoHistory => "; no error history (0x1003)".into(),
         Logged::Unread(e) => format!("; 0x1003:0 could not be read: {e}"),
-    }
-}
-
-/// The device's part of its identity: `0x000000C0`, or `unreadable (...)` with the abort's
-/// meaning.
-fn device_text(p: &IdentityPart) -> String {
-    match p.device {
-        Ok(v) => format!("0x{v:08X}"),
-        Err(code) => format!("unreadable ({})", crate::canopen::abort::meaning(code)),
     }
 }
 
@@ -222,8 +212,9 @@ mod tests {
         let clash = Clash { node: 5, evidence: Evidence::HeartbeatStates { states: vec![pre, op] } };
         assert_eq!(text(Finding::NodeIdClash { clash: clash.clone() }), clash.to_string());
 
-        let vendor = IdentityPart { what: IdPart::Vendor, file: 0xC0, device: Ok(0xC0) };
-        let product = IdentityPart { what: IdPart::Product, file: 0x10, device: Err(abort::NO_OBJECT) };
+        let vendor = crate::ops::node::IdentityPart { what: IdPart::Vendor, file: 0xC0, device: Ok(0xC0) };
+        let product =
+            crate::ops::node::IdentityPart { what: IdPart::Product, file: 0x10, device: Err(abort::NO_OBJECT) };
         assert_eq!(text(Finding::IdentityMatches { parts: vec![vendor] }), "vendor-ID 0x000000C0");
         assert_eq!(
             text(Finding::IdentityDiffers { differ: vec![product], file: "node5.dcf".into() }),
