@@ -338,6 +338,17 @@ fn not_activated_text(why: crate::ops::network::NotActivated, rate: &str) -> Str
     }
 }
 
+/// What became of a node expected to follow a network-wide switch, in a few words.
+fn followed_text(r: &BaudSwitched, n: &crate::ops::network::NodeFollowed) -> String {
+    match (r.activated, r.bus_followed, n.before, n.after) {
+        (false, ..) => "not switched".into(),
+        (true, false, ..) => format!("not checked: {} stays at the old rate", r.bus),
+        (true, true, _, Some(true)) => format!("answers at {}", r.rate),
+        (true, true, true, _) => format!("did not follow: answered before the switch, not at {}", r.rate),
+        (true, true, false, _) => "not found: did not answer before the switch nor after it".into(),
+    }
+}
+
 /// `network set-baud`'s report, with the project files it rewrote and what to do with a
 /// link that stayed at the old rate.
 pub(crate) struct SetBaudReport<'a> {
@@ -365,6 +376,9 @@ impl serde::Serialize for SetBaudReport<'_> {
         // Why it was not activated, in canctl's words, where the report has it.
         if let Some(why) = self.switched.not_activated {
             value["not_activated"] = not_activated_text(why, &self.switched.rate).into();
+        }
+        for (json, n) in value["nodes"].as_array_mut().into_iter().flatten().zip(&self.switched.nodes) {
+            json["result"] = followed_text(self.switched, n).into();
         }
         value.serialize(s)
     }
@@ -404,7 +418,7 @@ impl Report for SetBaudReport<'_> {
                     n.name.clone(),
                     yes_no(n.before),
                     n.after.map_or("-".to_string(), yes_no),
-                    n.result.clone(),
+                    followed_text(r, n),
                 ]
             })
             .collect();
@@ -515,6 +529,56 @@ impl Drop for NodeBars<'_> {
 mod tests {
     use super::*;
     use crate::od::lint::{Kind, Warning};
+
+    /// Each node expected to follow a network-wide switch is said as it went: not switched,
+    /// not checked (a link that stays at the old rate), found at the new rate, left behind,
+    /// or never there; in the table and in JSON alike.
+    #[test]
+    fn a_node_expected_to_follow_a_switch_is_said_as_it_went() {
+        use crate::ops::network::{BaudSwitched, NodeFollowed};
+        let node =
+            |node: u8, before: bool, after: Option<bool>| NodeFollowed { node, name: String::new(), before, after };
+        let switched = |activated: bool, bus_followed: bool, nodes: Vec<NodeFollowed>| BaudSwitched {
+            bus: "socketcan:can0".into(),
+            rate: "250k".into(),
+            expected_from: "the probe before the switch".into(),
+            configured: Default::default(),
+            stored: None,
+            activated,
+            not_activated: None,
+            delay_ms: 100,
+            bus_followed,
+            nodes,
+            unexpected: Vec::new(),
+            unconfigured_before: 0,
+            unconfigured_after: None,
+            ok: false,
+            failure: None,
+        };
+        let said = |r: &BaudSwitched| -> Vec<String> { r.nodes.iter().map(|n| followed_text(r, n)).collect() };
+        assert_eq!(said(&switched(false, false, vec![node(5, true, None)])), ["not switched"]);
+        assert_eq!(
+            said(&switched(true, false, vec![node(5, true, None)])),
+            ["not checked: socketcan:can0 stays at the old rate"]
+        );
+        let r = switched(
+            true,
+            true,
+            vec![node(5, true, Some(true)), node(10, true, Some(false)), node(32, false, Some(false))],
+        );
+        let words = [
+            "answers at 250k",
+            "did not follow: answered before the switch, not at 250k",
+            "not found: did not answer before the switch nor after it",
+        ];
+        assert_eq!(said(&r), words);
+        let report = SetBaudReport { switched: &r, updated: &[], hint: String::new() };
+        let json = serde_json::to_value(&report).unwrap();
+        let results: Vec<&str> =
+            json["nodes"].as_array().unwrap().iter().map(|n| n["result"].as_str().unwrap()).collect();
+        assert_eq!(results, words);
+        assert_eq!(json["nodes"][0].as_object().unwrap().keys().last().map(String::as_str), Some("result"));
+    }
 
     fn row(result: NodeResult, assigned: Option<&str>, reset: Option<bool>) -> NodeApplied {
         NodeApplied {

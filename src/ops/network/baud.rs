@@ -35,10 +35,8 @@ pub struct NodeFollowed {
     /// Whether it answered the probe before the switch.
     pub before: bool,
     /// Whether it answers at the new rate; `None` where the link could not look (it stays
-    /// at the old rate).
+    /// at the old rate), or the switch was not activated.
     pub after: Option<bool>,
-    /// What happened, in a sentence.
-    pub result: String,
 }
 
 /// Why a network-wide bit-rate switch stopped before "activate bit timing" (every device is
@@ -150,7 +148,6 @@ pub fn set_baud(
                 name: name.clone(),
                 before: before.contains_key(node),
                 after: None,
-                result: String::new(),
             })
             .collect(),
         unexpected: Vec::new(),
@@ -160,9 +157,6 @@ pub fn set_baud(
         failure: None,
     };
     let not_switched = |report: &mut BaudSwitched, e: Error, why: NotActivated| {
-        for n in &mut report.nodes {
-            n.result = "not switched".to_string();
-        }
         report.not_activated = Some(why);
         report.failure = Some(e);
     };
@@ -220,9 +214,6 @@ pub fn set_baud(
     if !report.bus_followed {
         // Only a link at the new rate reaches the devices again; they stay in
         // configuration state until an LSS command does.
-        for n in &mut report.nodes {
-            n.result = format!("not checked: {} stays at the old rate", report.bus);
-        }
         report.ok = false;
         return Ok(report);
     }
@@ -233,17 +224,9 @@ pub fn set_baud(
     for n in &mut report.nodes {
         let here = after.contains_key(&n.node);
         n.after = Some(here);
-        n.result = match (n.before, here) {
-            (_, true) => format!("answers at {rate}"),
-            (true, false) => {
-                behind.push(n.node);
-                format!("did not follow: answered before the switch, not at {rate}")
-            }
-            (false, false) => {
-                behind.push(n.node);
-                "not found: did not answer before the switch nor after it".to_string()
-            }
-        };
+        if !here {
+            behind.push(n.node);
+        }
     }
     report.unexpected = after.keys().filter(|n| !expected.iter().any(|(e, _)| e == *n)).copied().collect();
     report.ok = behind.is_empty();
