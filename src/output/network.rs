@@ -577,7 +577,7 @@ mod tests {
         let results: Vec<&str> =
             json["nodes"].as_array().unwrap().iter().map(|n| n["result"].as_str().unwrap()).collect();
         assert_eq!(results, words);
-        assert_eq!(json["nodes"][0].as_object().unwrap().keys().last().map(String::as_str), Some("result"));
+        assert_eq!(json["nodes"][0].as_object().unwrap().keys().next_back().map(String::as_str), Some("result"));
     }
 
     fn row(result: NodeResult, assigned: Option<&str>, reset: Option<bool>) -> NodeApplied {
