@@ -510,10 +510,7 @@ pub enum Error {
     },
     /// A session's TPDO mapping could not be put back as it was before the session: the
     /// write that failed (`error`, which decides the exit code).
-    #[error(
-        "{error}; node {node}'s TPDO{tpdo} was not put back as it was (0x{comm:04X}:1 may leave it switched off)",
-        comm = 0x1800 + *tpdo - 1
-    )]
+    #[error("{error}{}", tpdo_left(*node, *tpdo))]
     TpdoNotPutBack {
         /// The node-id.
         node: u8,
@@ -754,6 +751,12 @@ impl From<LinkError> for Error {
     fn from(e: LinkError) -> Error {
         Error::Link(e)
     }
+}
+
+/// What a TPDO not put back leaves, to follow the failed write's message.
+pub(crate) fn tpdo_left(node: u8, tpdo: u16) -> String {
+    let comm = 0x1800 + tpdo - 1;
+    format!("; node {node}'s TPDO{tpdo} was not put back as it was (0x{comm:04X}:1 may leave it switched off)")
 }
 
 /// `error` on `bus`, the bus named once (a link's error names its bus itself).

@@ -68,6 +68,12 @@ pub fn hint_text(hint: Hint) -> String {
     }
 }
 
+/// A node seen on the bus that answers no SDO, in parentheses after what could not be
+/// done with it: as a Stopped node, it is put in Pre-operational to answer.
+pub(crate) fn stopped_node_aside(node: u8) -> String {
+    format!(" (a Stopped node answers no SDO: canctl nmt preop {node})")
+}
+
 /// A check's detail as canctl says it: what was found, then the remedy in canctl's terms.
 pub(crate) fn verdict_text(verdict: &crate::ops::verdict::Verdict) -> String {
     let found = super::verdicts::finding_text(verdict);
@@ -95,11 +101,12 @@ pub fn library_error_text(err: &crate::Error) -> String {
         // The remedy belongs to the error, before the advice added to it.
         crate::Error::Hinted { error, hint } => format!("{}{hint}", library_error_text(error)),
         // The failed write's remedy in its place, before what was left; the way back ends it.
-        crate::Error::TpdoNotPutBack { node, error, .. } => {
-            let (all, write) = (err.to_string(), error.to_string());
-            let left = all.strip_prefix(&write).unwrap_or_default();
-            format!("{}{left}{}", library_error_text(error), hint_text(Hint::RestoreStored { node: *node }))
-        }
+        crate::Error::TpdoNotPutBack { node, tpdo, error } => format!(
+            "{}{}{}",
+            library_error_text(error),
+            crate::error::tpdo_left(*node, *tpdo),
+            hint_text(Hint::RestoreStored { node: *node })
+        ),
         e => format!("{e}{}", Hint::of(e).map(hint_text).unwrap_or_default()),
     }
 }

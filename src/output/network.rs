@@ -94,7 +94,7 @@ fn unconfigured_note(count: usize) -> String {
 fn detail_text(c: &crate::ops::network::Verdict) -> String {
     match &c.remedy {
         Some(crate::hint::Hint::PreOperational { node }) => {
-            format!("{} (a Stopped node answers no SDO: canctl nmt preop {node})", super::verdicts::finding_text(c))
+            format!("{}{}", super::verdicts::finding_text(c), super::hints::stopped_node_aside(*node))
         }
         _ => super::hints::verdict_text(c),
     }

@@ -63,8 +63,12 @@ impl Report for Scan {
         for f in self.nodes.iter().filter(|f| !f.answers_sdo) {
             if let Some(state) = f.state {
                 parts.push(Human::Line(format!(
-                    "node {}: seen by its {} ({}), but it answered none of the {} SDO probes (a Stopped node answers no SDO: canctl nmt preop {})",
-                    f.node, f.state_from, state.name(), self.probe_rounds, f.node
+                    "node {}: seen by its {} ({}), but it answered none of the {} SDO probes{}",
+                    f.node,
+                    f.state_from,
+                    state.name(),
+                    self.probe_rounds,
+                    super::hints::stopped_node_aside(f.node)
                 )));
             }
         }
