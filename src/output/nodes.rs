@@ -349,6 +349,9 @@ mod tests {
             "{lines:?}"
         );
         assert_eq!(lines.len(), 2, "{lines:?}");
+        let said = "node 5: seen by its heartbeat (stopped), but it answered none of the 3 SDO probes (a Stopped node \
+                    answers no SDO: canctl nmt preop 5)";
+        assert!(lines.iter().any(|l| l == said), "{lines:?}");
     }
 
     /// Why a reset is not confirmed reads as when the library worded it, in JSON in its
