@@ -1189,3 +1189,67 @@ fn scan_under_five_percent_loss_lists_every_node() {
     }
     eprintln!("scan under 5 % loss, 24 runs: {repeats} node(s) found on a repeat");
 }
+
+/// One device that answers without end must not stretch the wait for a silent one: the
+/// silent node's requests all go out, and it is given up, while the endless transfer is
+/// still under way (it used to wait until that transfer ended: a hang behind one device).
+#[test]
+fn a_node_answering_without_end_does_not_hold_up_giving_up_a_silent_one() {
+    let config = SimConfig::default()
+        .profile(Profile::Typical)
+        .seed(7)
+        .virtual_time(true)
+        .fault("10:endless-segments".parse().expect("a fault spec"))
+        .fault("5:off".parse().expect("a fault spec"));
+    let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
+    let zero = sim.now();
+    let mut master = Master::new(Tape { sim, zero, frames: Vec::new() }, "sim".into());
+    // At 64 KiB the endless read is thousands of round trips.
+    let opts = SdoOptions { max_upload: 64 * 1024, ..SdoOptions::new(TIMEOUT) };
+    let reads = [(10, ObjAddr::new(0x1008, 0)), (5, ObjAddr::new(0x1000, 0))];
+    let got = master.sdo_upload_many(&reads, &opts, &mut |_| {}).expect("the link works");
+    assert!(matches!(got[1], Err(Error::NoAnswer { .. })), "{:?}", got[1]);
+    assert!(got[0].as_ref().is_err_and(|e| e.to_string().contains("did not end")), "{:?}", got[0]);
+    let frames = &master.link_mut().frames;
+    let last = |id: u16, sent: bool| frames.iter().filter(|f| f.id == id && f.sent == sent).map(|f| f.at).max();
+    let (silent, endless) = (last(0x605, true).expect("requests to node 5"), last(0x58A, false).expect("answers"));
+    assert!(silent < endless / 2, "node 5 last asked at {silent:?}, node 10 answered until {endless:?}");
+}
+
+/// A request to stop ends a batch of reads within half a second of bus time, whatever the
+/// devices do: one sending a block upload without end, one a name without end, one silent.
+#[test]
+fn a_stop_ends_a_batch_within_half_a_second_whatever_the_devices_do() {
+    let config = SimConfig::default()
+        .profile(Profile::Typical)
+        .seed(11)
+        .virtual_time(true)
+        .fault("1:endless-block".parse().expect("a fault spec"))
+        .fault("10:endless-segments".parse().expect("a fault spec"))
+        .fault("5:off".parse().expect("a fault spec"));
+    let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
+    let zero = sim.now();
+    let mut master = Master::new(Tape { sim, zero, frames: Vec::new() }, "sim".into());
+    let stop = Cancel::new();
+    let flag = stop.clone();
+    // Stopped once the endless block upload has brought its first sub-block (889 bytes).
+    let hook: std::sync::Arc<dyn Fn(usize) + Send + Sync> = std::sync::Arc::new(move |moved| {
+        if moved >= 700 {
+            flag.cancel();
+        }
+    });
+    let opts =
+        SdoOptions { block_upload: true, on_progress: Some(hook), ..SdoOptions::new(Duration::from_millis(500)) };
+    let reads = [(1, DOMAIN), (10, ObjAddr::new(0x1008, 0)), (5, ObjAddr::new(0x1000, 0))];
+    let got = Stoppable::new(&mut master, stop.clone()).sdo_upload_many(&reads, &opts, &mut |_| {});
+    let got = got.expect("the link works");
+    // The two under way stopped; the silent one, let finish for the grace, not asked again.
+    assert!(matches!(got[..2], [Err(Error::SdoInterrupted { .. }), Err(Error::SdoInterrupted { .. })]), "{got:?}");
+    assert!(matches!(got[2], Err(Error::NoAnswer { .. })), "{:?}", got[2]);
+    let tape = master.link_mut();
+    assert_eq!(tape.frames.iter().filter(|f| f.id == 0x605 && f.sent).count(), 1, "node 5 asked again after the stop");
+    let took = tape.now().saturating_duration_since(zero);
+    // The stop came with the 127th segment of the first sub-block.
+    let stopped_at = tape.frames.iter().filter(|f| f.id == 0x581 && !f.sent).nth(127).expect("a sub-block").at;
+    assert!(took <= stopped_at + Duration::from_millis(500), "stopped at {stopped_at:?}, ended at {took:?}");
+}

@@ -111,9 +111,10 @@ pub struct SdoOptions {
     /// frames of a transfer. A transfer the device has answered and that goes on then ends
     /// with a CiA 301 abort (0x08000000) sent to the device, so that it is not left waiting
     /// for the rest until its own timeout, and with
-    /// [`Error::SdoInterrupted`](crate::Error::SdoInterrupted); one still waiting for its
-    /// first answer is let finish (its request may have done its work already); those not
-    /// begun end with [`Error::Interrupted`](crate::Error::Interrupted).
+    /// [`Error::SdoInterrupted`](crate::Error::SdoInterrupted). One still waiting for its
+    /// first answer is let finish, for at most 250 ms and without a retry (a write's request
+    /// may have done its work already); those not begun end with
+    /// [`Error::Interrupted`](crate::Error::Interrupted).
     pub stop: Option<Cancel>,
     /// Called with the bytes moved so far each time an answer moves a transfer on (a
     /// segment, a sub-block): for progress, and for tests that act at an exact point of a

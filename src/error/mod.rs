@@ -487,6 +487,14 @@ pub enum Error {
         aborted: Option<u32>,
     },
 
+    /// The user asked to stop while the cause of `error` (a node that did not answer) was
+    /// looked for: `error` stands, its cause was not found.
+    #[error("{error}; stopped while its cause was looked for")]
+    DiagnosisInterrupted {
+        /// What failed before the stop.
+        error: Box<Error>,
+    },
+
     /// An error with advice appended (e.g. which nodes the last scan saw); it ends the
     /// process as the error itself would.
     #[error("{error}{hint}")]
@@ -690,7 +698,7 @@ impl Error {
             | Error::Unhealthy { .. }
             | Error::Diagnosed { .. } => C::Verify,
             Error::Output { .. } => C::Output,
-            Error::Interrupted | Error::SdoInterrupted { .. } => C::Interrupted,
+            Error::Interrupted | Error::SdoInterrupted { .. } | Error::DiagnosisInterrupted { .. } => C::Interrupted,
             Error::Hinted { error, .. } => error.class(),
             Error::NoSocketCan { .. }
             | Error::TypeNeeded { .. }

@@ -4,7 +4,7 @@
 //! next. [`find`] looks for that on nodes a scan found; [`in_use`] checks an id is free
 //! before LSS gives it to a device.
 
-use crate::bus::{Bus, SdoOptions};
+use crate::bus::Bus;
 use crate::canopen::lss::Identity;
 use crate::canopen::nmt::{self, ErrorControl};
 use crate::canopen::sdo::SdoClient;
@@ -77,16 +77,44 @@ impl fmt::Display for Clash {
     }
 }
 
-/// Whether `data`, an SDO server's frame, answers an upload of `addr` (its expedited
-/// answer, or its abort), and with what value.
-pub(crate) fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Option<u32>> {
+/// What an SDO server's first answer to an upload says.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Reply {
+    /// An expedited answer: the value (little-endian, zero-filled past what was sent).
+    Value(u32),
+    /// An abort.
+    Aborted,
+    /// The start of a segmented upload: the value follows in segments, not read here.
+    Unread,
+}
+
+impl Reply {
+    /// The value, `None` for an abort; nothing for an answer whose value was not read.
+    pub(crate) fn value(self) -> Option<Option<u32>> {
+        match self {
+            Reply::Value(v) => Some(Some(v)),
+            Reply::Aborted => Some(None),
+            Reply::Unread => None,
+        }
+    }
+}
+
+/// Whether `data`, an SDO server's frame, answers an upload of `addr`, and how.
+pub(crate) fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Reply> {
     let [cs, lo, hi, sub, a, b, c, d] = <[u8; 8]>::try_from(data).ok()?;
     if u16::from_le_bytes([lo, hi]) != addr.index || sub != addr.sub {
         return None;
     }
     match cs {
-        0x80 => Some(None),
-        cs if cs >> 5 == 2 => Some(Some(u32::from_le_bytes([a, b, c, d]))),
+        0x80 => Some(Reply::Aborted),
+        // e = 1: the value is in this frame (as many bytes as s and n say; the rest zero).
+        cs if cs >> 5 == 2 && cs & 0x02 != 0 => {
+            let len = if cs & 0x01 != 0 { 4 - usize::from((cs >> 2) & 3) } else { 4 };
+            let mut bytes = [0u8; 4];
+            bytes[..len].copy_from_slice(&[a, b, c, d][..len]);
+            Some(Reply::Value(u32::from_le_bytes(bytes)))
+        }
+        cs if cs >> 5 == 2 => Some(Reply::Unread),
         _ => None,
     }
 }
@@ -128,7 +156,7 @@ pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, ti
     while let Some(f) = bus.recv_frame(end)? {
         let id = f.id();
         if (0x581..=0x5FF).contains(&id) && wanted.contains_key(&((id - 0x580) as u8)) {
-            if let Some(v) = upload_answer(f.data(), SERIAL) {
+            if let Some(v) = upload_answer(f.data(), SERIAL).and_then(Reply::value) {
                 answers.entry((id - 0x580) as u8).or_default().push(v);
             }
         } else if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
@@ -152,7 +180,7 @@ pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, ti
 /// come, two devices show as a serial number that changes.
 fn identity_changes(bus: &mut dyn Bus, nodes: &[u8], timeout: Duration) -> Result<Vec<Clash>> {
     let reads: Vec<(u8, ObjAddr)> = nodes.iter().flat_map(|n| [(*n, SERIAL), (*n, SERIAL)]).collect();
-    let values = bus.sdo_upload_many(&reads, &SdoOptions::new(timeout), &mut |_| {})?;
+    let values = bus.sdo_upload_many(&reads, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?;
     let mut seen: BTreeMap<u8, Vec<u32>> = BTreeMap::new();
     for ((n, _), v) in reads.iter().zip(values) {
         if let Some(s) = v.ok().and_then(|b| Some(u32::from_le_bytes(b.get(..4)?.try_into().ok()?))) {
@@ -235,8 +263,19 @@ mod tests {
     #[test]
     fn upload_answers_are_matched_by_object() {
         // CiA 301 expedited upload response, 4 bytes: 0x43; abort: 0x80 with the code.
-        assert_eq!(upload_answer(&[0x43, 0x18, 0x10, 0x04, 0x34, 0x12, 0x50, 0x09], SERIAL), Some(Some(0x0950_1234)));
-        assert_eq!(upload_answer(&[0x80, 0x18, 0x10, 0x04, 0x00, 0x00, 0x02, 0x06], SERIAL), Some(None));
+        assert_eq!(
+            upload_answer(&[0x43, 0x18, 0x10, 0x04, 0x34, 0x12, 0x50, 0x09], SERIAL),
+            Some(Reply::Value(0x0950_1234))
+        );
+        assert_eq!(upload_answer(&[0x80, 0x18, 0x10, 0x04, 0x00, 0x00, 0x02, 0x06], SERIAL), Some(Reply::Aborted));
+        // Two bytes (n = 2): the rest of the frame is not the value.
+        assert_eq!(
+            upload_answer(&[0x4B, 0x18, 0x10, 0x04, 0x34, 0x12, 0xFF, 0xFF], SERIAL),
+            Some(Reply::Value(0x1234))
+        );
+        // A segmented upload's start: its data bytes are a size, not the value.
+        assert_eq!(upload_answer(&[0x41, 0x18, 0x10, 0x04, 0x04, 0x00, 0x00, 0x00], SERIAL), Some(Reply::Unread));
+        assert_eq!(upload_answer(&[0x40, 0x18, 0x10, 0x04, 0x00, 0x00, 0x00, 0x00], SERIAL), Some(Reply::Unread));
         // Another object, a download answer, a short frame: not an answer to this read.
         assert_eq!(upload_answer(&[0x43, 0x18, 0x10, 0x03, 1, 0, 0, 0], SERIAL), None);
         assert_eq!(upload_answer(&[0x60, 0x18, 0x10, 0x04, 0, 0, 0, 0], SERIAL), None);

@@ -38,6 +38,8 @@ pub(crate) enum Explanation {
         /// The objects it has.
         near: Vec<ObjAddr>,
     },
+    /// The user asked to stop while the quick checks looked for the cause.
+    Interrupted,
 }
 
 /// How [`explain`] may look: the bus in force, the dictionaries, whether a silent node is
@@ -60,8 +62,13 @@ pub(crate) fn explain(bus: &mut dyn Bus, error: &Error, o: &ExplainOptions) -> O
             if let Err(link) = super::unheard::check(bus) {
                 return Some(Explanation::Link(link));
             }
-            let finding =
-                if o.diagnose { doctor::quick(bus, *node, o.timeout.min(QUICK_WAIT)).ok().flatten() } else { None };
+            let finding = match o.diagnose {
+                true => match doctor::quick(bus, *node, o.timeout.min(QUICK_WAIT)) {
+                    Err(e) if e.is_interrupted() => return Some(Explanation::Interrupted),
+                    found => found.ok().flatten(),
+                },
+                false => None,
+            };
             Some(Explanation::Silent { bus: uri.to_string(), finding, last_scan: scan_cache::load(uri) })
         }
         (Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }, _) => {

@@ -6,7 +6,7 @@
 use super::doctor::{self, Evidence};
 use super::node::HISTORY_COUNT;
 use super::scan::{self, ScanOptions};
-use super::{le_u32, sized, Progress};
+use super::{le_u32, Progress};
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, Emergency, Origin};
 use crate::canopen::nmt::{self, ErrorControl};
@@ -265,7 +265,8 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
             requests.push((n.node, cia402::STATUSWORD));
         }
     }
-    let mut answers = bus.sdo_upload_many(&requests, &sized(timeout, None), &mut |_| {})?.into_iter();
+    let mut answers =
+        bus.sdo_upload_many(&requests, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?.into_iter();
     let mut next = || answers.next().expect("one answer per request");
     Ok(found
         .iter()

@@ -114,12 +114,31 @@ pub struct Silent;
 
 impl Progress for Silent {}
 
-/// SDO options for a value of a known size.
+/// SDO options for a value of a known size: an upload that brings more than a number can
+/// hold is stopped at [`NUMBER_LIMIT`] (or the size, if larger), not after 1 MiB.
 pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {
     let mut o = SdoOptions::new(timeout);
     o.size_hint = size;
+    if let Some(size) = size {
+        o.max_upload = size.max(NUMBER_LIMIT);
+    }
     o
 }
+
+/// SDO options for reads of at most `limit` bytes.
+pub(crate) fn capped(timeout: Duration, limit: usize) -> SdoOptions {
+    SdoOptions { max_upload: limit, ..SdoOptions::new(timeout) }
+}
+
+/// The most a number may bring: no CiA 301 basic type is longer than 8 bytes. A device that
+/// answers a number with an upload that goes on and on is stopped at its second segment.
+pub(crate) const NUMBER_LIMIT: usize = 8;
+
+/// The most a device's name or version (0x1008..0x100A) may bring where a command reads it
+/// from every node (scan, health, doctor, errors): a few dozen bytes in practice. A device
+/// that sends one without end is stopped here, and that is its finding, not a wait that
+/// stretches the whole command.
+pub(crate) const NAME_LIMIT: usize = 255;
 
 /// The most an upload of a small value may bring by default: a string or an octet string
 /// (a device name, a version) is a few dozen bytes, so one that runs on without end (no

@@ -232,7 +232,7 @@ pub(crate) struct Probed {
 pub(crate) fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Probed> {
     // Not retried one by one: most ids have no node behind them, and a retry would be one
     // more window for each of them; the next round asks all the silent ones at once.
-    let opts = SdoOptions { retries: 0, ..SdoOptions::new(window) };
+    let opts = SdoOptions { retries: 0, ..super::capped(window, super::NUMBER_LIMIT) };
     let mut ids: Vec<u8> = (1..=127).collect();
     let mut p = Probed::default();
     // What a node answered that was not an answer (a malformed frame may be a damaged
@@ -277,8 +277,11 @@ pub(crate) fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress:
             }
         }
     }
+    // A node whose every answer was malformed or without end answered all the same: it is
+    // there, its device type unknown, and what it sent is its finding.
     for (node, error) in failed {
         progress.event(Warning::Failed { node: Some(node), error }.into());
+        p.found.push((node, None));
     }
     p.found.sort_by_key(|(n, _)| *n);
     if p.found.is_empty() && !p.stopped {
@@ -470,8 +473,8 @@ fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: 
         })
         .collect();
     progress.start("identity", reads.len() as u64);
-    // The name is a string: one that never ends stops at the small limit, not after 1 MiB.
-    let opts = SdoOptions { max_upload: super::upload_limit(Some(DataType::Vs)), ..SdoOptions::new(timeout) };
+    // The name is a string: one that never ends stops at the name's limit, not after 1 MiB.
+    let opts = super::capped(timeout, super::NAME_LIMIT);
     let values = bus.sdo_upload_many(&reads, &opts, &mut |n| progress.advance(n as u64));
     progress.finish();
     let mut stopped = false;

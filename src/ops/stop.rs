@@ -38,7 +38,8 @@ pub(crate) fn on_bus<E: From<crate::Error>>(
     let mut bus = crate::connect::open(addr, opts)?;
     opened(cancel);
     let result = f(&mut with_test_signal(bus.as_mut(), cancel));
-    let result = result.map_err(|e| explain(bus.as_mut(), e));
+    // The explanation heeds the request to stop as the command did.
+    let result = result.map_err(|e| explain(&mut Stoppable::new(bus.as_mut(), cancel.clone()), e));
     let closed = bus.close();
     result?;
     closed?;

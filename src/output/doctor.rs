@@ -229,6 +229,9 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::SdoAnswer { node, obj, value: None } => {
             format!("node {node} answered the SDO read of {obj} (with an abort)")
         }
+        Evidence::SdoAnswerUnread { node, obj } => {
+            format!("node {node} answered the SDO read of {obj} (its value follows in segments, not read here)")
+        }
         Evidence::NoSdoAnswer { node, obj, requests, waited_ms } => format!(
             "no answer on 0x{:03X} to {requests} SDO read(s) of {obj} sent on 0x{:03X} ({waited_ms} ms each)",
             response_cob(*node),

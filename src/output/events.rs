@@ -3,6 +3,7 @@
 //! stderr.
 
 use crate::canopen::abort;
+use crate::error::LinkError;
 use crate::ops::silence::Silence;
 use crate::ops::{Event, Notice, Warning};
 use crate::output::library_error_text;
@@ -17,6 +18,11 @@ pub fn event_line(event: &Event) -> String {
 
 fn warning_line(w: &Warning) -> String {
     match w {
+        // Where the user did not ask for the value, raising a limit is no remedy: the
+        // device's answer is the finding.
+        Warning::Failed { error: crate::Error::Link(LinkError::UploadOverLimit { node, obj, limit, .. }), .. } => {
+            format!("warning: node {node} sends {obj} without end: cut at {limit} bytes")
+        }
         Warning::Failed { node: Some(node), error } => format!("warning: node {node}: {}", library_error_text(error)),
         Warning::Failed { node: None, error } => format!("warning: {}", library_error_text(error)),
         Warning::PdoLength { node, pdo, cob_id, got, want } => format!(

@@ -156,6 +156,7 @@ pub(crate) fn explained(
     use crate::ops::explain::Explanation;
     match explanation {
         Explanation::Link(link) => link.into(),
+        Explanation::Interrupted => crate::Error::DiagnosisInterrupted { error: Box::new(error) }.into(),
         Explanation::Silent { bus, finding: None, last_scan } => {
             error.with_hint(last_scan_hint(&bus, &last_scan)).into()
         }

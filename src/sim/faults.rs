@@ -13,7 +13,11 @@
 //!   producing heartbeats, though its 0x1017 still says it does: a hung firmware task),
 //!   `off` (not powered: sends nothing from the start, where `mute` falls silent at an answer),
 //!   `miss` (does not hear a frame on the bus: a receive queue overrun, a lossy path; its
-//!   WHEN counts the frames the device hears, not its answers);
+//!   WHEN counts the frames the device hears, not its answers), `endless-segments` (an
+//!   upload is answered as segmented of unstated size and never ends), `endless-block` (a
+//!   block upload never ends), `ack-zero` (every sub-block of a block download is
+//!   acknowledged with sequence 0: nothing received); for these three, WHEN counts the
+//!   transfers of that kind the device is asked to start;
 //! - `bus:off` (no KIND, no WHEN: the whole fault): the controller canctl talks through is
 //!   bus-off and stays so, as a real one with `restart-ms 0` does (the kernel's automatic
 //!   restart is not modelled): it sends nothing and says so, as its link would;
@@ -23,6 +27,7 @@
 //! Answers are counted per device from 1, one per frame it sends in answer to a request
 //! (each segment of a block upload counts), afresh in each invocation.
 
+use super::endless::{Endless, EndlessServer};
 use super::timing::{Nanos, Rng, MS};
 use crate::canopen::sdo;
 use crate::frame::Frame;
@@ -58,6 +63,8 @@ pub enum Kind {
     /// The device does not hear a frame on the bus (its receive queue overran, or the path
     /// to it lost the frame): WHEN counts the frames it hears, not its answers.
     Miss,
+    /// An SDO transfer of some kind never finishes (see [`Endless`]).
+    Endless(Endless),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,9 +135,12 @@ impl FromStr for FaultSpec {
             "reboot" => Kind::Reboot,
             "off" => Kind::Off,
             "miss" => Kind::Miss,
+            "endless-segments" => Kind::Endless(Endless::Segments),
+            "endless-block" => Kind::Endless(Endless::Block),
+            "ack-zero" => Kind::Endless(Endless::AckZero),
             _ => {
                 return Err(format!(
-                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat, reboot, off or miss"
+                    "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat, reboot, off, miss, endless-segments, endless-block or ack-zero"
                 ))
             }
         };
@@ -145,6 +155,7 @@ impl FromStr for FaultSpec {
                     | Kind::Reboot
                     | Kind::Off
                     | Kind::Miss
+                    | Kind::Endless(_)
             )
         {
             return Err(format!("'{name}' takes no argument"));
@@ -192,6 +203,9 @@ impl fmt::Display for FaultSpec {
             Kind::Reboot => write!(f, "reboot")?,
             Kind::Off => write!(f, "off")?,
             Kind::Miss => write!(f, "miss")?,
+            Kind::Endless(Endless::Segments) => write!(f, "endless-segments")?,
+            Kind::Endless(Endless::Block) => write!(f, "endless-block")?,
+            Kind::Endless(Endless::AckZero) => write!(f, "ack-zero")?,
         }
         match self.when {
             When::Always => Ok(()),
@@ -251,10 +265,17 @@ impl FaultSpec {
     }
 
     fn fires(&self, answer: u32, rng: &mut Rng) -> bool {
-        match self.when {
+        self.when.fires(answer, rng)
+    }
+}
+
+impl When {
+    /// Whether a fault with this WHEN fires at the `count`-th thing it counts.
+    fn fires(self, count: u32, rng: &mut Rng) -> bool {
+        match self {
             When::Always => true,
-            When::Nth(n) => answer == n,
-            When::From(n) => answer >= n,
+            When::Nth(n) => count == n,
+            When::From(n) => count >= n,
             When::Chance(p) => rng.chance(p),
         }
     }
@@ -276,6 +297,10 @@ pub(crate) struct Conduct {
     reboot: bool,
     /// Frames heard so far (what a miss fault's WHEN counts).
     heard: u32,
+    /// Transfers an endless fault could take, started so far (what its WHEN counts).
+    endless_asked: u32,
+    /// The never-ending transfer under way, if an endless fault took one.
+    endless: EndlessServer,
 }
 
 impl Conduct {
@@ -304,6 +329,35 @@ impl Conduct {
         true
     }
 
+    /// The answers to an SDO request `payload` the device heard, when an endless fault
+    /// answers it instead of the device's own server: it starts a never-ending transfer, or
+    /// goes on with the one under way.
+    pub(crate) fn endless_answer(
+        &mut self,
+        payload: &[u8],
+        model: &str,
+        node: Option<u8>,
+        rng: &mut Rng,
+    ) -> Option<Vec<[u8; 8]>> {
+        let (kind, when) = self.faults.iter().find_map(|s| match s.kind {
+            Kind::Endless(kind) if s.applies_to(model, node) => Some((kind, s.when)),
+            _ => None,
+        })?;
+        if self.endless.busy() {
+            if let Some(answers) = self.endless.answer(kind, payload) {
+                return Some(answers);
+            }
+        }
+        if !EndlessServer::starts(kind, payload) {
+            return None;
+        }
+        self.endless_asked += 1;
+        if !when.fires(self.endless_asked, rng) {
+            return None;
+        }
+        self.endless.answer(kind, payload)
+    }
+
     /// A request reached the device (before it answers): remember what an abort names.
     pub fn heard_request(&mut self, request: &Frame, node: Option<u8>) {
         let p = request.data();
@@ -330,8 +384,10 @@ impl Conduct {
         let mut delay = 0;
         let mut copies = 1;
         let mut sdo_reset = false;
-        // A miss fault is drawn when a frame is heard (`hears`), not here.
-        for spec in self.faults.iter().filter(|s| s.applies_to(model, node) && s.kind != Kind::Miss) {
+        // A miss fault is drawn when a frame is heard (`hears`), an endless one when a
+        // transfer starts (`endless_answer`), not here.
+        let answering = |s: &&FaultSpec| s.applies_to(model, node) && !matches!(s.kind, Kind::Miss | Kind::Endless(_));
+        for spec in self.faults.iter().filter(answering) {
             if !spec.fires(n, rng) {
                 continue;
             }
@@ -366,7 +422,7 @@ impl Conduct {
                     self.reboot = true;
                     copies = 0;
                 }
-                Kind::Miss => {}
+                Kind::Miss | Kind::Endless(_) => {}
             }
         }
         if self.muted {
@@ -442,6 +498,9 @@ mod tests {
             "10:no-heartbeat",
             "sensor:no-heartbeat@2+",
             "sensor-09501301:miss@5%",
+            "10:endless-segments",
+            "1:endless-block@2+",
+            "1:ack-zero",
         ] {
             let spec: FaultSpec = text.parse().unwrap_or_else(|e| panic!("{text}: {e}"));
             assert_eq!(spec.to_string(), text);

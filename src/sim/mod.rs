@@ -5,6 +5,7 @@ pub mod bootloader;
 pub mod bridge;
 pub(crate) mod cia402_drive;
 pub(crate) mod device;
+pub(crate) mod endless;
 pub mod epos2_device;
 #[cfg(unix)]
 pub mod epos2_serve;
@@ -151,6 +152,14 @@ impl Pace {
     }
 }
 
+/// The payload of `frame` when it is an SDO request that `d` would answer (an endless
+/// fault may answer it instead).
+fn endless_request<'f>(d: &Device, frame: &'f Frame) -> Option<(u8, &'f [u8])> {
+    let node = d.node_id()?;
+    let request = frame.id() == crate::canopen::sdo::request_cob(node) && !frame.is_remote() && frame.len() == 8;
+    (request && d.nmt_state() != crate::canopen::nmt::State::Stopped).then(|| (node, frame.data()))
+}
+
 /// The devices on one simulated bus.
 pub struct Network {
     devices: Vec<Device>,
@@ -227,7 +236,15 @@ impl Network {
             if !conduct.hears(frame, &d.model, d.node_id(), &mut pace.rng) {
                 continue;
             }
-            let answers = d.on_frame(frame);
+            let endless = endless_request(d, frame).and_then(|(node, payload)| {
+                Some((node, conduct.endless_answer(payload, &d.model, Some(node), &mut pace.rng)?))
+            });
+            let answers = match endless {
+                Some((node, answers)) => {
+                    answers.iter().map(|p| Frame::new(crate::canopen::sdo::response_cob(node), p)).collect()
+                }
+                None => d.on_frame(frame),
+            };
             if answers.is_empty() {
                 continue;
             }

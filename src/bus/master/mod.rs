@@ -17,6 +17,10 @@ use std::time::{Duration, Instant};
 
 /// How often transfers that may be stopped look at the request to stop while they wait.
 const STOP_POLL: Duration = Duration::from_millis(50);
+/// The most a batch waits once the user asked to stop (for a written value's answer, for
+/// what an aborted transfer still sends): a signal ends any command within half a second,
+/// whatever a device does.
+const STOP_GRACE: Duration = Duration::from_millis(250);
 
 /// What a batch of transfers heeds besides the bus: a request to stop, and who to tell
 /// when a transfer moves on ([`SdoOptions::stop`], [`SdoOptions::on_progress`]).
@@ -59,6 +63,13 @@ pub struct Master<L: FrameLink> {
     last_sdo_answer: BTreeMap<u8, Vec<u8>>,
 }
 
+/// How long the others' answers may hold back the first answer of a node: eight answer
+/// times (`SdoOptions::timeout`), and at least 4 s, which 127 requests and their answers
+/// queued on a 10 kbit/s bus take.
+fn held_back_most(timeout: Duration) -> Duration {
+    (timeout * 8).max(Duration::from_secs(4))
+}
+
 /// One SDO transfer in flight.
 struct Active {
     slot: usize,
@@ -77,11 +88,14 @@ struct Active {
     /// How the first attempt the device answered ended: said in the end when the later
     /// attempts got no answer at all, as it tells more (how far the transfer came).
     answered_attempt: Option<Error>,
+    /// Set once the user asked to stop: the transfer ends by then, whatever else says.
+    stop_by: Option<Instant>,
 }
 
 impl Active {
     fn deadline(&self) -> Instant {
-        self.idle_deadline.min(self.total_deadline)
+        let own = self.idle_deadline.min(self.total_deadline);
+        self.stop_by.map_or(own, |by| own.min(by))
     }
 }
 
@@ -187,13 +201,16 @@ impl<L: FrameLink> Master<L> {
         // A node that has not answered at all is given up only once every node has been
         // quiet for `timeout`: while others still answer, the bus (or the requests queued on
         // it) may be what holds its answer back. This is what lets a scan's window count
-        // from the last answer, not from when 127 probes were queued.
+        // from the last answer, not from when 127 probes were queued. But never past
+        // `held_back_most` from its request: a device that answers without end must not
+        // keep a silent node's wait going with it.
         let mut quiet_from = self.link.now();
         let deadline_of = |a: &Active, quiet_from: Instant| {
-            if a.heard {
-                a.deadline()
-            } else {
-                a.deadline().max(quiet_from + timeout)
+            let held_back = (quiet_from + timeout).min(a.started + held_back_most(timeout));
+            match (a.heard, a.stop_by) {
+                (true, _) => a.deadline(),
+                (false, Some(by)) => a.deadline().max(held_back).min(by),
+                (false, None) => a.deadline().max(held_back),
             }
         };
         loop {
@@ -222,7 +239,9 @@ impl<L: FrameLink> Master<L> {
             for node in expired {
                 let mut a = active.remove(&node).expect("active");
                 let addr = a.client.addr();
-                let next = retry::on_timeout(&a.client, a.retries_left);
+                // Once the user asked to stop, nothing is started again.
+                let stopping = a.stop_by.is_some();
+                let next = retry::on_timeout(&a.client, if stopping { 0 } else { a.retries_left });
                 // Aborted so that the server forgets it, also when it never answered: its
                 // answer may be what was lost, and it may be waiting for the next segment.
                 if a.heard || next == OnTimeout::Again {
@@ -260,7 +279,7 @@ impl<L: FrameLink> Master<L> {
                     }
                     _ => expiry_error(node, &a, at, timeout),
                 }));
-                if next == OnTimeout::Unknown {
+                if next == OnTimeout::Unknown && !stopping {
                     if let Some(check) = a.client.written().and_then(|w| retry::read_back(addr, w)) {
                         read_backs.push((a.slot, node, check));
                     }
@@ -345,12 +364,19 @@ impl<L: FrameLink> Master<L> {
         for (slot, _) in std::mem::take(queues).into_values().flatten() {
             results[slot] = Some(Err(Error::Interrupted));
         }
+        let by = self.link.now() + STOP_GRACE;
+        // A transfer still waiting for its first answer is let finish until `by`, not
+        // started again: a write's request may have done its work, a read's answer may be
+        // on its way (a scan's partial report lists the node).
+        for a in active.values_mut().filter(|a| !a.heard && a.stop_by.is_none()) {
+            a.stop_by = Some(by);
+        }
         let heard: Vec<u8> = active.iter().filter(|(_, a)| a.heard).map(|(n, _)| *n).collect();
         for node in heard {
             let a = active.remove(&node).expect("active");
             let obj = a.client.addr();
             self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(obj, abort::GENERAL_ERROR)))?;
-            self.let_answers_land(node, a.client.answers_in_flight(), timeout)?;
+            self.let_answers_land(node, a.client.answers_in_flight(), timeout.min(STOP_GRACE), by)?;
             let (bytes, total) = a.client.progress();
             results[a.slot] = Some(Err(Error::SdoInterrupted {
                 node,
@@ -365,12 +391,13 @@ impl<L: FrameLink> Master<L> {
 
     /// Wait for what `node` still sends for a transfer just aborted, so that the next
     /// transfer (in this program or the next) does not take it for its answer. A server
-    /// that stopped at the abort sends nothing: the wait ends after `timeout` of silence.
-    fn let_answers_land(&mut self, node: u8, mut expected: usize, timeout: Duration) -> Result<()> {
+    /// that stopped at the abort sends nothing: the wait ends after `timeout` of silence,
+    /// and at `by` however much the server still sends.
+    fn let_answers_land(&mut self, node: u8, mut expected: usize, timeout: Duration, by: Instant) -> Result<()> {
         let cob = 0x580 + u16::from(node);
         // The silence is this node's: other nodes' frames (heartbeats, their transfers)
         // do not make the wait longer, else a busy bus would hold it forever.
-        let mut until = self.link.now() + timeout;
+        let mut until = (self.link.now() + timeout).min(by);
         while expected > 0 && self.link.now() < until {
             let Some(f) = self.recv(until)? else { break };
             if f.id() != cob || f.is_remote() {
@@ -381,7 +408,7 @@ impl<L: FrameLink> Master<L> {
                 break;
             }
             expected -= 1;
-            until = self.link.now() + timeout;
+            until = (self.link.now() + timeout).min(by);
         }
         Ok(())
     }
@@ -417,6 +444,7 @@ impl<L: FrameLink> Master<L> {
                 retries_left: retries,
                 requests: 1,
                 answered_attempt: None,
+                stop_by: None,
             },
         );
         Ok(())
@@ -455,6 +483,10 @@ impl<L: FrameLink> Master<L> {
                 LinkError::SdoProtocol { node, obj: addr, reason, aborted: Some(code) }.into()
             }
             SdoError::Inconsistent(reason) => LinkError::SdoProtocol { node, obj: addr, reason, aborted: None }.into(),
+            SdoError::OverLimit { limit, received } => {
+                self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::OUT_OF_MEMORY)))?;
+                LinkError::UploadOverLimit { node, obj: addr, limit, received }.into()
+            }
         })
     }
 

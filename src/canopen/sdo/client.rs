@@ -36,6 +36,14 @@ pub enum SdoError {
     },
     /// The transfer finished but what arrived is inconsistent; nothing more to send.
     Inconsistent(String),
+    /// An upload went on past the limit without ending (a device that never sets the
+    /// last-segment bit): we must abort with `abort::OUT_OF_MEMORY`.
+    OverLimit {
+        /// The limit, in bytes.
+        limit: usize,
+        /// The bytes that had arrived when it was stopped.
+        received: usize,
+    },
 }
 
 /// What to do after feeding a response.
@@ -506,13 +514,8 @@ impl SdoClient {
             ));
         }
         if received > self.max_upload {
-            return Err(self.fail(
-                abort::OUT_OF_MEMORY,
-                format!(
-                    "the upload did not end within the limit of {} bytes: stopped after {received}",
-                    self.max_upload
-                ),
-            ));
+            self.state = State::Finished;
+            return Err(SdoError::OverLimit { limit: self.max_upload, received });
         }
         Ok(())
     }

@@ -4,7 +4,7 @@
 //! at, 0x2001 (EPOS2 firmware specification). Two reads of its own dictionary.
 
 use super::{Cause, Diagnosis, Evidence, Finding, Remedy};
-use crate::bus::{Bus, SdoOptions};
+use crate::bus::Bus;
 use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
 use std::time::Duration;
@@ -18,7 +18,7 @@ const COMMUNICATION: u8 = 0x10;
 /// Read the gateway's error register and bit rate: a communication error is a finding (its
 /// CAN side sees errors), else what it said is fine; both go with a silent node or bus.
 pub(super) fn look(bus: &mut dyn Bus, timeout: Duration, d: &mut Diagnosis) -> Result<()> {
-    let opts = SdoOptions::new(timeout);
+    let opts = crate::ops::capped(timeout, crate::ops::NUMBER_LIMIT);
     let mut read = |addr| match bus.sdo_upload(0, addr, &opts) {
         Ok(v) => Ok(Some(v)),
         Err(e) if matches!(e.root(), Error::Link(_)) => Err(e),

@@ -324,11 +324,15 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     let Some(node) = o.node else { return examine_bus(bus, o, &heard, d) };
     let (answers, elsewhere) = sdo_probe(bus, node, o.timeout, &mut heard)?;
     if let Some(first) = answers.first() {
-        d.fine.push(Evidence::SdoAnswer { node, obj: SERIAL, value: *first });
+        d.fine.push(match first.value() {
+            Some(value) => Evidence::SdoAnswer { node, obj: SERIAL, value },
+            None => Evidence::SdoAnswerUnread { node, obj: SERIAL },
+        });
         if let Some(beats) = heard.heartbeats(node) {
             d.fine.push(beats);
         }
-        return look_for_clash(bus, o, node, answers, &heard, d);
+        let values = answers.iter().filter_map(|r| r.value()).collect();
+        return look_for_clash(bus, o, node, values, &heard, d);
     }
     let no_answer = Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) };
     let mut evidence: Vec<Evidence> = heard.heartbeats(node).into_iter().collect();
@@ -404,7 +408,7 @@ fn find_moved(bus: &mut dyn Bus, o: &DoctorOptions, node: u8, answering: &[u8]) 
     let Some(vendor) = was.vendor_id else { return Ok(None) };
     let known: BTreeSet<u8> = o.last_scan.iter().filter(|s| s.scanned).map(|s| s.node).collect();
     let candidates: Vec<u8> = answering.iter().copied().filter(|n| !known.contains(n)).take(MAX_CANDIDATES).collect();
-    let opts = SdoOptions { retries: 1, ..SdoOptions::new(o.timeout) };
+    let opts = SdoOptions { retries: 1, ..crate::ops::capped(o.timeout, crate::ops::NAME_LIMIT) };
     for now in candidates {
         let identity = match crate::ops::node::Node::new(bus, now, o.timeout).identity() {
             Ok(Some(identity)) if identity.vendor == vendor => identity,
@@ -513,12 +517,13 @@ fn sdo_probe(
     node: u8,
     timeout: Duration,
     heard: &mut Heard,
-) -> Result<(Vec<Option<u32>>, Vec<u16>)> {
+) -> Result<(Vec<clash::Reply>, Vec<u16>)> {
     if !bus.sees_traffic() {
-        let opts = SdoOptions { retries: (SDO_REQUESTS - 1) as u8, ..SdoOptions::new(timeout) };
+        let opts =
+            SdoOptions { retries: (SDO_REQUESTS - 1) as u8, ..crate::ops::capped(timeout, crate::ops::NUMBER_LIMIT) };
         return match bus.sdo_upload(node, SERIAL, &opts) {
-            Ok(v) => Ok((vec![Some(le_u32(&v))], vec![])),
-            Err(Error::SdoAbort { .. }) => Ok((vec![None], vec![])),
+            Ok(v) => Ok((vec![clash::Reply::Value(le_u32(&v))], vec![])),
+            Err(Error::SdoAbort { .. }) => Ok((vec![clash::Reply::Aborted], vec![])),
             Err(e) if e.is_timeout() => Ok((vec![], vec![])),
             Err(e) => Err(e),
         };

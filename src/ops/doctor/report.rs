@@ -223,6 +223,15 @@ pub enum Evidence {
         /// Its value (a u32, little-endian), or `None` for an abort.
         value: Option<u32>,
     },
+    /// The node answered an SDO read with the start of a segmented upload: it is there; the
+    /// value, which follows in segments, was not read.
+    SdoAnswerUnread {
+        /// The node.
+        node: u8,
+        /// The object read.
+        #[serde(serialize_with = "crate::ops::as_text")]
+        obj: ObjAddr,
+    },
     /// No answer on 0x580 + node to an SDO read sent on 0x600 + node.
     NoSdoAnswer {
         /// The node.
