@@ -171,6 +171,11 @@ enum Procedure {
     SetBaud,
     DriveEnable,
     Health,
+    /// `doctor` of the whole bus (drawn in place of a scan, see [`Scenario::of`]).
+    Doctor,
+    /// A read of the sensor's device type, and when it is not answered, the quick
+    /// diagnosis `sdo read` adds (drawn in place of a scan).
+    Diagnose,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -254,6 +259,22 @@ impl Scenario {
             let spec = format!("{}:miss@{}%", pick_target(&mut rng, unconfigured), pick(&mut rng, &[1, 2, 5, 10]));
             config = config.fault(spec.parse().expect("a fault spec"));
         }
+        // A device whose SDO server misbehaves without end (an upload that never ends, by
+        // segments or by blocks; a block download acknowledged "nothing received" for ever),
+        // or that is off: drawn after the others, for the same reason.
+        // Only for the procedures that look at the whole bus: a read the user asks for runs
+        // to the limit the user gives it (`sdo read --max-size`).
+        let looking = matches!(procedure, Procedure::Scan | Procedure::Health);
+        if looking && rng.chance(0.25) {
+            let kind = pick(&mut rng, &["endless-segments", "endless-block", "ack-zero", "off"]);
+            let spec = format!("{}:{kind}", pick(&mut rng, &NODES));
+            config = config.fault(spec.parse().expect("a fault spec"));
+        }
+        // The other procedures that look at the whole bus, in place of a scan now and then.
+        let mut procedure = procedure;
+        if procedure == Procedure::Scan && rng.chance(0.5) {
+            procedure = pick(&mut rng, &[Procedure::Doctor, Procedure::Diagnose]);
+        }
         Scenario { seed, procedure, config, stop_after }
     }
 
@@ -308,9 +329,20 @@ fn bound(s: &Scenario) -> Duration {
         Procedure::Fastscan | Procedure::Assign | Procedure::NetworkApply => {
             BOUND.max(STEP_CEILING * 133 * (u32::from(s.config.unconfigured) + 1))
         }
+        Procedure::Scan | Procedure::Health | Procedure::Doctor => LOOKING_BOUND,
+        Procedure::Diagnose => DIAGNOSE_BOUND,
         _ => BOUND,
     }
 }
+
+/// The bound of the commands that look at the whole bus (scan, health, doctor), faults
+/// included: one device must not stretch them. With 200 ms answers, each node's reads are
+/// bounded by their sizes (a number 8 bytes, a name 255) and run alongside the others'.
+const LOOKING_BOUND: Duration = Duration::from_secs(30);
+
+/// A read of a silent node (three requests of 200 ms) and its quick diagnosis (two waits
+/// of at most 500 ms, and the probe's rounds), faults included.
+const DIAGNOSE_BOUND: Duration = Duration::from_secs(5);
 
 fn run(s: &Scenario) -> Outcome {
     let mut sim = SimLink::with_config(s.config.clone()).on_virtual_time(1_700_000_000_000);
@@ -388,6 +420,8 @@ enum Report {
     /// Nodes and whether each answered at the new rate (CiA 305 table index) after the switch.
     Followed(u8, Vec<(u8, Option<bool>)>),
     DriveState(u8, Option<DriveState>, bool),
+    /// Whether doctor found nothing wrong.
+    Doctor(bool),
     Nothing,
 }
 
@@ -513,14 +547,38 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
                 timeout: TIMEOUT,
                 watch: None,
                 state: None,
+                last_seen: NODES.to_vec(),
             };
             let h = ops::health::health(bus, &o, &mut Silent)?;
             Ok(Report::Nodes(h.nodes.iter().map(|n| (n.node, n.ok)).collect()))
+        }
+        Procedure::Doctor => {
+            let o = ops::doctor::DoctorOptions {
+                node: None,
+                listen: Duration::from_millis(300),
+                timeout: TIMEOUT,
+                last_scan: last_scan(),
+                lss: false,
+            };
+            Ok(Report::Doctor(ops::doctor::doctor(bus, &o)?.ok))
+        }
+        Procedure::Diagnose => {
+            let read = bus.sdo_upload(5, ObjAddr::new(0x1000, 0), &opts);
+            if let Err(Error::NoAnswer { .. }) = read {
+                ops::doctor::quick(bus, 5, Duration::from_millis(500))?;
+            }
+            read.map(|_| Report::Nothing)
         }
     }
 }
 
 const DOMAIN: ObjAddr = ObjAddr::new(0x1F50, 1);
+
+/// What the last scan saw before each run: the demo network's nodes.
+fn last_scan() -> Vec<ops::scan_cache::SeenNode> {
+    let text = serde_json::json!(NODES.iter().map(|n| serde_json::json!({ "node": n })).collect::<Vec<_>>());
+    serde_json::from_value(text).expect("seen nodes")
+}
 
 /// The example project (read once: parsing its DCFs would be most of a short scenario).
 fn machine() -> &'static ops::network::Loaded {
@@ -742,10 +800,32 @@ fn check(
             }
         }
         Report::Nodes(nodes) => {
-            for (n, _) in nodes {
-                if after.node(*n).is_none() {
-                    return Err(format!("reported node {n}, no device has it"));
+            for (n, ok) in nodes {
+                // A node the last scan saw and that is gone now is reported, not healthy.
+                let Some(d) = after.node(*n) else {
+                    if *ok || !NODES.contains(n) {
+                        return Err(format!("reported node {n} (healthy: {ok}), no device has it"));
+                    }
+                    continue;
+                };
+                if *ok && !serves_sdo(s, d) {
+                    return Err(format!("node {n} reported healthy, its device serves no SDO ({:?})", d.nmt));
                 }
+            }
+            // Every node the last scan saw is judged: never left out of a pass.
+            if let Some(n) = NODES.iter().find(|n| !nodes.iter().any(|(r, _)| r == *n)) {
+                return Err(format!("health left out node {n}, which the last scan saw"));
+            }
+        }
+        Report::Doctor(ok) => {
+            let rate = sim.network().bit_rate();
+            let silent =
+                NODES.iter().find(|n| !after.node(**n).is_some_and(|d| d.bit_rate == rate && serves_sdo(s, d)));
+            if let (true, Some(n)) = (ok, silent) {
+                return Err(format!("doctor found nothing wrong, node {n} of the last scan serves no SDO"));
+            }
+            if !ok && s.clean() {
+                return Err("doctor found something wrong on a clean network".into());
             }
         }
         Report::DriveState(node, state, done) => {
@@ -789,6 +869,14 @@ fn muted(s: &Scenario, d: &DeviceView) -> bool {
         kind.starts_with("mute")
             && (target == format!("sensor-{:08x}", d.identity.serial) || node.is_some_and(|n| d.node == Some(n)))
     })
+}
+
+/// Whether the device answers SDO at all: not stopped, not muted or off from the start.
+fn serves_sdo(s: &Scenario, d: &DeviceView) -> bool {
+    let node = d.node.unwrap_or(0);
+    let silent =
+        s.config.faults.iter().any(|f| [format!("{node}:off"), format!("{node}:mute")].contains(&f.to_string()));
+    d.nmt != nmt::State::Stopped && !silent
 }
 
 fn replay_hint(seed: u64) -> String {
@@ -1081,8 +1169,13 @@ fn scan_lists_a_node_without_heartbeat_whose_probe_answer_was_lost() {
 #[test]
 fn health_checks_a_node_whose_probe_answer_was_lost() {
     let mut master = virtual_master(first_probe_answer_of_node_1_lost());
-    let o =
-        ops::health::HealthOptions { window: Duration::from_millis(100), timeout: TIMEOUT, watch: None, state: None };
+    let o = ops::health::HealthOptions {
+        window: Duration::from_millis(100),
+        timeout: TIMEOUT,
+        watch: None,
+        state: None,
+        last_seen: Vec::new(),
+    };
     let h = ops::health::health(&mut master, &o, &mut Silent).unwrap();
     let nodes: Vec<u8> = h.nodes.iter().map(|n| n.node).collect();
     assert_eq!(nodes, [1, 5, 10, 32], "{h:?}");
@@ -1160,8 +1253,13 @@ fn network_check_counts_a_stopped_node_the_project_does_not_list() {
 fn health_does_not_pass_a_bus_with_a_node_that_answers_no_sdo() {
     let mut master = virtual_master(SimConfig::default().seed(1).virtual_time(true));
     master.nmt(Command::Stop, 5).unwrap();
-    let o =
-        ops::health::HealthOptions { window: Duration::from_millis(100), timeout: TIMEOUT, watch: None, state: None };
+    let o = ops::health::HealthOptions {
+        window: Duration::from_millis(100),
+        timeout: TIMEOUT,
+        watch: None,
+        state: None,
+        last_seen: Vec::new(),
+    };
     let h = ops::health::health(&mut master, &o, &mut Silent).unwrap();
     let sensor = h.nodes.iter().find(|n| n.node == 5).expect("the stopped sensor checked");
     let sdo = sensor.checks.iter().find(|c| c.check == "sdo").expect("an sdo check");

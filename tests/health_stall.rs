@@ -62,6 +62,7 @@ fn sensor_heartbeat(stamp_on_receipt: bool) -> (bool, Option<u64>, usize) {
         timeout: Duration::from_millis(500),
         watch: Some(Duration::from_millis(1500)),
         state: None,
+        last_seen: Vec::new(),
     };
     let report = health(&mut bus, &opts, &mut Silent).unwrap();
     bus.close().unwrap();

@@ -40,7 +40,8 @@ pub(crate) struct HealthArgs {
 }
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
-    let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state };
+    let last_seen = crate::ops::scan_cache::last_seen(ctx.bus.as_deref());
+    let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state, last_seen };
     let read =
         crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| health::health(bus, &options, &mut ctx.out.progress()));
     let report = crate::output::stopped::read(&ctx.out, "health", "scanning and judging the nodes".into(), read)?;
@@ -51,8 +52,11 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Resul
 
 /// `health` on several buses at once: one table, one JUnit suite per bus, the worst exit.
 pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &HealthArgs) -> anyhow::Result<()> {
-    let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state };
-    let run =
-        |_: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| health::health(bus, &options, progress);
+    let run = |uri: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
+        let last_seen = crate::ops::scan_cache::last_seen(Some(uri));
+        let options =
+            HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state, last_seen };
+        health::health(bus, &options, progress)
+    };
     super::on_each_bus(ctx, g, "canctl health", run, |report: &health::Health| report.outcome())
 }

@@ -32,8 +32,10 @@ pub(crate) struct ScanArgs {
 
 pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
-    let report =
-        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| scan::scan(bus, &options, &mut ctx.out.progress()))?;
+    let last_seen = scan_cache::last_seen(ctx.bus.as_deref());
+    let report = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+        scan::scan_against(bus, &options, &last_seen, &mut ctx.out.progress())
+    })?;
     if report.interrupted {
         // The nodes found so far: reported, not remembered as the bus's.
         ctx.out.report(&report)?;
@@ -57,7 +59,7 @@ pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> any
         false => Ok(()),
     };
     let run = |uri: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
-        let report = scan::scan(bus, &options, progress)?;
+        let report = scan::scan_against(bus, &options, &scan_cache::last_seen(Some(uri)), progress)?;
         scan_cache::remember(uri, &report, &options, &ctx.dicts);
         Ok(report)
     };

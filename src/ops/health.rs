@@ -43,6 +43,9 @@ pub struct HealthOptions {
     pub watch: Option<Duration>,
     /// The NMT state every node must be in, when the caller expects one.
     pub state: Option<nmt::State>,
+    /// The nodes the last scan of this bus saw: one that shows nothing now is a finding
+    /// (asked by node guarding first: a Stopped node answers that), never a pass.
+    pub last_seen: Vec<u8>,
 }
 
 /// The health of every node found.
@@ -276,7 +279,7 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
 
 /// Check every node the scan finds.
 pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress) -> Result<Health> {
-    let found = scan::scan(bus, &ScanOptions { window: o.window, timeout: o.timeout }, progress)?;
+    let found = scan::scan_against(bus, &ScanOptions { window: o.window, timeout: o.timeout }, &o.last_seen, progress)?;
     let reads = read_objects(bus, &found.nodes, o.timeout)?;
     let period = |n: &scan::Node| n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()));
     let watch = if bus.sees_traffic() {
@@ -300,6 +303,8 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
     for (h, n) in nodes.iter_mut().zip(&found.nodes) {
         h.diagnosis = diagnose(n, h, &answered, o.timeout);
     }
+    nodes.extend(found.gone.iter().map(|g| gone(g, &answered, o.timeout)));
+    nodes.sort_by_key(|n| n.node);
     // Two devices on one node-id: whatever else that node's answers say, they are not one
     // device's.
     for c in &found.clashes {
@@ -334,6 +339,30 @@ fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) 
     };
     let probe = Evidence::ProbeAnswers { nodes: answered.to_vec(), waited_ms: timeout.as_millis() as u64 };
     Some(doctor::silent_node(node, shown, probe))
+}
+
+/// A node the last scan saw that shows nothing now: not healthy, silent as far as the bus
+/// can tell.
+fn gone(g: &scan::Gone, answered: &[u8], timeout: Duration) -> NodeHealth {
+    let probe = Evidence::ProbeAnswers { nodes: answered.to_vec(), waited_ms: timeout.as_millis() as u64 };
+    NodeHealth {
+        node: g.node,
+        name: None,
+        device_type: None,
+        nmt: None,
+        nmt_from: g.from,
+        heartbeat_ms: None,
+        heartbeats: 0,
+        longest_gap_ms: None,
+        error_register: None,
+        errors_logged: None,
+        emcy: Vec::new(),
+        statusword: None,
+        drive_state: None,
+        checks: vec![check("sdo", false, Finding::Gone { from: g.from })],
+        ok: false,
+        diagnosis: Some(doctor::silent_node(g.node, None, probe)),
+    }
 }
 
 fn check(check: &'static str, ok: bool, detail: Finding) -> Check {

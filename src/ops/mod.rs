@@ -148,11 +148,11 @@ pub(crate) const SMALL_UPLOAD: usize = 64 * 1024;
 
 /// How many bytes an upload of a `dtype` value may bring unless the user says more
 /// (`sdo read --max-size`): a domain, or a value of unknown type (it may be one), up to
-/// the SDO client's 1 MiB; anything else [`SMALL_UPLOAD`].
+/// the SDO client's 1 MiB; a number, [`NUMBER_LIMIT`]; a string, [`SMALL_UPLOAD`].
 pub(crate) fn upload_limit(dtype: Option<DataType>) -> usize {
     match dtype {
         None | Some(DataType::D) => crate::canopen::sdo::client::DEFAULT_MAX_UPLOAD,
-        Some(_) => SMALL_UPLOAD,
+        Some(t) => t.size().map_or(SMALL_UPLOAD, |size| size.max(NUMBER_LIMIT)),
     }
 }
 

@@ -84,6 +84,22 @@ pub struct Scan {
     /// (canctl's JSON words them as `not_done`).
     #[serde(skip)]
     pub not_done: Vec<Phase>,
+    /// Nodes the last scan of this bus saw that showed nothing now: no answer to the probe,
+    /// no heartbeat, no answer to node guarding (see [`scan_against`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub gone: Vec<Gone>,
+}
+
+/// A node the last scan saw that showed nothing in this one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
+pub struct Gone {
+    /// The node-id.
+    pub node: u8,
+    /// What was asked and not answered: node guarding, or nothing more where the link
+    /// carries no remote frames (then it may be a Stopped node).
+    #[serde(rename = "state_from")]
+    pub from: StateFrom,
 }
 
 /// A part of a scan.
@@ -294,6 +310,14 @@ pub(crate) fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress:
 /// Scan the bus. Stopped by the user (over a [`Stoppable`](crate::bus::stoppable::Stoppable)
 /// bus), it reports what it found so far, `interrupted`.
 pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> Result<Scan> {
+    scan_against(bus, o, &[], progress)
+}
+
+/// [`scan`], knowing the nodes the last scan of this bus saw (`last_seen`): one that shows
+/// nothing now (no answer to the probe, no heartbeat) is asked by node guarding. A Stopped
+/// node serves no SDO and may beat no heartbeat: it answers, and is listed with its state;
+/// one that does not answer that either is [`Scan::gone`], never silently left out.
+pub fn scan_against(bus: &mut dyn Bus, o: &ScanOptions, last_seen: &[u8], progress: &mut dyn Progress) -> Result<Scan> {
     o.check()?;
     let mut report = Scan {
         bus: bus.describe(),
@@ -305,9 +329,10 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
         answered_on_repeat: Vec::new(),
         interrupted: false,
         not_done: Vec::new(),
+        gone: Vec::new(),
     };
     let mut phase = 0;
-    match scan_into(bus, o, progress, &mut report, &mut phase) {
+    match scan_into(bus, o, last_seen, progress, &mut report, &mut phase) {
         Err(e) if e.is_interrupted() => {
             progress.finish();
             report.interrupted = true;
@@ -322,6 +347,7 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
 fn scan_into(
     bus: &mut dyn Bus,
     o: &ScanOptions,
+    last_seen: &[u8],
     progress: &mut dyn Progress,
     report: &mut Scan,
     phase: &mut usize,
@@ -348,6 +374,21 @@ fn scan_into(
     *phase = 2;
     nmt_states(bus, &mut report.nodes, o)?;
     add_seen_otherwise(bus, &mut report.nodes);
+    let mut unseen: Vec<Node> = last_seen
+        .iter()
+        .filter(|n| !report.nodes.iter().any(|f| f.node == **n))
+        .map(|n| Node { answers_sdo: false, ..Node::probed(*n, None) })
+        .collect();
+    guard_states(bus, &mut unseen, o)?;
+    for n in unseen {
+        match n.state_from {
+            StateFrom::Silent { .. } | StateFrom::NoRemoteFrames => {
+                report.gone.push(Gone { node: n.node, from: n.state_from })
+            }
+            _ => report.nodes.push(n),
+        }
+    }
+    report.nodes.sort_by_key(|n| n.node);
     *phase = 3;
     let answers = if lss_alongside {
         for q in &LSS_QUESTIONS[1..] {
@@ -524,11 +565,18 @@ fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<
             }
         }
     }
+    guard_states(bus, found, o)
+}
+
+/// The NMT state of each of `nodes` whose state is not known yet, by node guarding (one
+/// request each), or why it stays unknown.
+fn guard_states(bus: &mut dyn Bus, nodes: &mut [Node], o: &ScanOptions) -> Result<()> {
+    let beating = |f: &Node| f.heartbeat_ms.is_some_and(|ms| ms > 0);
     // Guarding answers come at once; a node that has none is not waited for long.
     let floor = Duration::from_millis(200);
     let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
     let source = if bus.sees_traffic() { StateFrom::NodeGuarding } else { StateFrom::Epos2Remote };
-    for f in found.iter_mut().filter(|f| f.state.is_none()) {
+    for f in nodes.iter_mut().filter(|f| f.state.is_none()) {
         let guarded = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
             // A link without remote frames (socketcand): the heartbeat was all there was.
             Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {

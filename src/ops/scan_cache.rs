@@ -157,6 +157,12 @@ pub fn load(bus: &str) -> Vec<SeenNode> {
     load_all(bus).into_iter().filter(|n| n.scanned).collect()
 }
 
+/// The node-ids the last scan of `bus` found (none for a bus never scanned, or without a
+/// URI): what a scan or health now expects to hear from ([`super::scan::scan_against`]).
+pub fn last_seen(bus: Option<&str>) -> Vec<u8> {
+    bus.map(load).unwrap_or_default().iter().map(|n| n.node).collect()
+}
+
 /// Remember what an SDO transfer of `addr` with `node` showed of its object list: that it
 /// has the object (it answered), or that it has no object at that index (abort
 /// 0x06020000). Any other outcome says nothing of it, and nothing is remembered of a bus

@@ -47,6 +47,12 @@ impl Verdict {
 #[non_exhaustive]
 pub enum Finding {
     // `health`.
+    /// `sdo`: the last scan saw the node; now it shows nothing: no answer to the probe, no
+    /// heartbeat, and no answer to node guarding (`from`: or guarding could not be asked).
+    Gone {
+        /// What was asked and not answered.
+        from: StateFrom,
+    },
     /// `sdo`: the node answered none of the scan's probes, though the bus shows it is there.
     SilentToSdo {
         /// How the bus showed it.

@@ -229,6 +229,10 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::SdoAnswer { node, obj, value: None } => {
             format!("node {node} answered the SDO read of {obj} (with an abort)")
         }
+        Evidence::GuardingNotAState { node } => format!("node {node} answered node guarding, but with no NMT state"),
+        Evidence::GuardingUnavailable { node } => {
+            format!("node guarding of node {node} cannot be asked: this link carries no remote (RTR) frames")
+        }
         Evidence::SdoAnswerUnread { node, obj } => {
             format!("node {node} answered the SDO read of {obj} (its value follows in segments, not read here)")
         }

@@ -72,6 +72,12 @@ impl Report for Scan {
                 )));
             }
         }
+        for g in &self.gone {
+            parts.push(Human::Line(format!(
+                "node {}: seen by the last scan, it answers nothing now: not the probe ({})",
+                g.node, g.from
+            )));
+        }
         if self.lss_unconfigured > 0 {
             parts.push(Human::Line(format!(
                 "{} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)",

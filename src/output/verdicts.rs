@@ -7,6 +7,7 @@ use crate::ops::verdict::{Finding, Logged, Verdict};
 pub(crate) fn finding_text(verdict: &Verdict) -> String {
     match &verdict.detail {
         // health
+        Finding::Gone { from } => format!("seen by the last scan, it answers nothing now: not the probe ({from})"),
         Finding::SilentToSdo { from } => {
             format!("answered none of the scan's probes in time, though the bus shows it is there ({from})")
         }

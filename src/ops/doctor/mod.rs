@@ -187,10 +187,7 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
     let beat = bus.observed().states.get(&node).copied();
     let (state, seen) = match beat {
         Some(state) => (Some(state), Evidence::Heartbeats { node, count: 1, state }),
-        None => match crate::ops::node::Node::new(bus, node, wait).guard(wait)?.and_then(|g| g.state()) {
-            Some(state) => (Some(state), Evidence::Guarding { node, state }),
-            None => (None, Evidence::NoGuardingAnswer { node, waited_ms: ms(wait) }),
-        },
+        None => guarded(bus, node, wait)?,
     };
     let finding = |cause, remedy, evidence| Some(Finding { cause, evidence, remedy });
     Ok(match state {
@@ -216,6 +213,23 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
             }
         }
     })
+}
+
+/// What node guarding of `node` shows, waiting up to `wait`: its state and the evidence.
+/// A link that carries no remote frames (socketcand) cannot ask: that is said, never taken
+/// for a failure of the node.
+fn guarded(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<(Option<nmt::State>, Evidence)> {
+    match crate::ops::node::Node::new(bus, node, wait).guard(wait) {
+        Ok(Some(g)) => Ok(match g.state() {
+            Some(state) => (Some(state), Evidence::Guarding { node, state }),
+            None => (None, Evidence::GuardingNotAState { node }),
+        }),
+        Ok(None) => Ok((None, Evidence::NoGuardingAnswer { node, waited_ms: ms(wait) })),
+        Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
+            Ok((None, Evidence::GuardingUnavailable { node }))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// The finding for a node that did not answer SDO, from the state it showed (`shown`: the
@@ -338,19 +352,11 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     let mut evidence: Vec<Evidence> = heard.heartbeats(node).into_iter().collect();
     let state = match heard.beats.get(&node) {
         Some((_, _, state)) => Some(*state),
-        None => match crate::ops::node::Node::new(bus, node, o.timeout).guard(o.timeout)? {
-            Some(g) => {
-                let state = g.state();
-                if let Some(state) = state {
-                    evidence.push(Evidence::Guarding { node, state });
-                }
-                state
-            }
-            None => {
-                evidence.push(Evidence::NoGuardingAnswer { node, waited_ms: ms(o.timeout) });
-                None
-            }
-        },
+        None => {
+            let (state, seen) = guarded(bus, node, o.timeout)?;
+            evidence.push(seen);
+            state
+        }
     };
     evidence.push(no_answer);
     evidence.extend(elsewhere.iter().map(|cob_id| Evidence::SdoAnswerOn { node, cob_id: *cob_id }));
@@ -494,6 +500,18 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
             }
             _ => Finding { cause: Cause::SdoSilent { node }, evidence, remedy: Remedy::ResetCommunication { node } },
         });
+    }
+    // A node the last scan saw that shows nothing now (no answer to the probe, no
+    // heartbeat) is a finding, never a pass: node guarding tells a Stopped one.
+    let unseen =
+        o.last_scan.iter().filter(|s| s.scanned && !answered.contains(&s.node) && !heard.beats.contains_key(&s.node));
+    for seen in unseen {
+        let node = seen.node;
+        let (state, guarding) = guarded(bus, node, o.timeout)?;
+        let mut finding = silent_node(node, state.map(|s| (s, guarding.clone())), probe.clone());
+        let last = Evidence::LastScan { node, vendor_id: seen.vendor_id, name: seen.name.clone() };
+        finding.evidence.splice(0..0, [last].into_iter().chain(state.is_none().then_some(guarding)));
+        d.findings.push(finding);
     }
     match heard.bus_finding(!found.is_empty(), &probe, d.listened_ms) {
         Some(finding) => d.findings.push(finding),

@@ -232,6 +232,16 @@ pub enum Evidence {
         #[serde(serialize_with = "crate::ops::as_text")]
         obj: ObjAddr,
     },
+    /// The node answered node guarding with something that is no NMT state.
+    GuardingNotAState {
+        /// The node.
+        node: u8,
+    },
+    /// Node guarding could not be asked: the link carries no remote frames (socketcand).
+    GuardingUnavailable {
+        /// The node.
+        node: u8,
+    },
     /// No answer on 0x580 + node to an SDO read sent on 0x600 + node.
     NoSdoAnswer {
         /// The node.
