@@ -898,7 +898,8 @@ fn run_all(seeds: impl Iterator<Item = u64> + Send) -> (Vec<(u64, String)>, u64)
     let seeds = std::sync::Mutex::new(seeds);
     let failed = std::sync::Mutex::new(Vec::new());
     let longest = std::sync::Mutex::new(Duration::ZERO);
-    let cost: std::sync::Mutex<BTreeMap<String, (u32, Duration)>> = Default::default();
+    // Per procedure: runs, wall time, and the longest bus time (against its bound).
+    let cost: std::sync::Mutex<BTreeMap<String, (u32, Duration, Duration)>> = Default::default();
     let slowest: std::sync::Mutex<Vec<(Duration, u64)>> = Default::default();
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     // `CANCTL_DST_ONLY=Assign`: only the scenarios of that procedure (for a closer look).
@@ -921,6 +922,9 @@ fn run_all(seeds: impl Iterator<Item = u64> + Send) -> (Vec<(u64, String)>, u64)
                 let e = c.entry(kind).or_default();
                 e.0 += 1;
                 e.1 += wall.elapsed();
+                if let Ok(o) = &out {
+                    e.2 = e.2.max(o.took);
+                }
                 drop(c);
                 slowest.lock().unwrap().push((wall.elapsed(), seed));
                 match out {
@@ -939,8 +943,11 @@ fn run_all(seeds: impl Iterator<Item = u64> + Send) -> (Vec<(u64, String)>, u64)
             });
         }
     });
-    for (kind, (n, wall)) in cost.into_inner().unwrap() {
-        eprintln!("dst: {kind}: {n} run(s), {:?} of wall time each", wall / n.max(1));
+    for (kind, (n, wall, took)) in cost.into_inner().unwrap() {
+        eprintln!(
+            "dst: {kind}: {n} run(s), {:?} of wall time each, the longest {took:.1?} of bus time",
+            wall / n.max(1)
+        );
     }
     let mut slowest = slowest.into_inner().unwrap();
     slowest.sort();

@@ -108,6 +108,29 @@ fn scan_sdo_and_nmt_through_the_server() {
     assert!(guarded.stderr.contains("socketcand's raw mode carries no remote (RTR) frames"), "{}", guarded.stderr);
 }
 
+/// Where the link cannot guard, health judges the NMT state by heartbeat or says it is not
+/// checkable here, never a failure of the node; doctor of a stopped node gives a finding,
+/// not a usage error (issue 39: health said "UNHEALTHY: nmt" on a healthy bus, exit 6, and
+/// `doctor 10` exited 2).
+#[test]
+fn health_and_doctor_through_the_server_do_not_fail_a_node_for_the_links_lack_of_rtr() {
+    let server = Server::start(&["--bit-rate", "1M"]);
+    let health = server.run(&["health", "--format", "json"]);
+    assert_eq!(health.code, 0, "{}\n{}", health.stdout, health.stderr);
+    let report = health.json();
+    let io = report["nodes"].as_array().unwrap().iter().find(|n| n["node"] == 10).expect("node 10 judged").clone();
+    let nmt = io["checks"].as_array().unwrap().iter().find(|c| c["check"] == "nmt").expect("an nmt check").clone();
+    assert_eq!(nmt["ok"], true, "{nmt}");
+    assert!(nmt["detail"].as_str().unwrap().starts_with("not checkable here"), "{nmt}");
+
+    server.run(&["nmt", "stop", "10"]).ok();
+    let doctor = server.run(&["doctor", "10"]);
+    assert_eq!(doctor.code, 6, "{}\n{}", doctor.stdout, doctor.stderr);
+    assert!(doctor.stdout.contains("node guarding of node 10 cannot be asked"), "{}", doctor.stdout);
+    assert!(doctor.stdout.contains("1. node 10 answers nothing while the bus is not: stopped"), "{}", doctor.stdout);
+    assert!(doctor.stdout.contains("canctl nmt preop 10"), "{}", doctor.stdout);
+}
+
 #[test]
 fn monitor_through_the_server_sees_another_programs_frames() {
     let server = Server::start(&[]);

@@ -393,6 +393,9 @@ fn judge_node(
         (None, s) => (s, n.state_from),
     };
     checks.push(match (state, want) {
+        // A link that carries no remote frames cannot ask by node guarding: the node is
+        // not at fault for that (where it beats, the heartbeat said its state).
+        (None, _) if from == scan::StateFrom::NoRemoteFrames => check("nmt", true, Finding::StateNotCheckable { from }),
         (None, _) => check("nmt", false, Finding::StateUnknown { from }),
         (Some(state), Some(want)) if state != want => check("nmt", false, Finding::WrongState { state, from, want }),
         (Some(state), _) => check("nmt", true, Finding::State { state, from }),

@@ -58,6 +58,12 @@ pub enum Finding {
         /// How the bus showed it.
         from: StateFrom,
     },
+    /// `nmt`: no state seen, and none can be asked on this link (no heartbeat, and no
+    /// remote frames for node guarding): not a failure of the node.
+    StateNotCheckable {
+        /// Why not.
+        from: StateFrom,
+    },
     /// `nmt`: no state seen.
     StateUnknown {
         /// Why not.

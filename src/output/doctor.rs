@@ -34,6 +34,10 @@ pub(crate) fn cause_text(cause: &Cause) -> String {
             response_cob(*node)
         ),
         Cause::Moved { node, now } => format!("the device the last scan saw as node {node} answers as node {now} now"),
+        Cause::SilentOrStopped { node } => format!(
+            "node {node} answers nothing while the bus is not: stopped (this link cannot ask node guarding to tell), \
+             or not powered, not connected, or on another node-id"
+        ),
         Cause::NodeSilent { node } => {
             format!("node {node} is silent while the bus is not: not powered, not connected, or on another node-id")
         }

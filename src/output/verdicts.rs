@@ -12,6 +12,7 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
             format!("answered none of the scan's probes in time, though the bus shows it is there ({from})")
         }
         Finding::StateUnknown { from } => format!("state unknown: {from}"),
+        Finding::StateNotCheckable { from } => format!("not checkable here: {from}"),
         Finding::State { state, from } => format!("{state} (from {from})"),
         Finding::WrongState { state, from, want } => format!("{state} (from {from}), not {want}"),
         Finding::NoHeartbeatObject => "none (no 0x1017)".into(),

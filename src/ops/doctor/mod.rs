@@ -402,8 +402,13 @@ fn node_absent(
     if !heard.frames.is_empty() {
         evidence.push(heard.traffic());
     }
+    // Where node guarding could not be asked, a Stopped node looks the same.
+    let unguarded = evidence.iter().any(|e| matches!(e, Evidence::GuardingUnavailable { .. }));
     evidence.push(probe);
-    d.findings.push(Finding { cause: Cause::NodeSilent { node }, evidence, remedy: Remedy::CheckNode { node } });
+    d.findings.push(match unguarded {
+        true => Finding { cause: Cause::SilentOrStopped { node }, evidence, remedy: Remedy::PreOperational { node } },
+        false => Finding { cause: Cause::NodeSilent { node }, evidence, remedy: Remedy::CheckNode { node } },
+    });
     Ok(())
 }
 

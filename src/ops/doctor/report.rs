@@ -94,6 +94,12 @@ pub enum Cause {
         /// The node.
         node: u8,
     },
+    /// Nothing from the node while other nodes are heard, on a link that cannot ask node
+    /// guarding: stopped (a Stopped node without heartbeat shows nothing else), or silent.
+    SilentOrStopped {
+        /// The node.
+        node: u8,
+    },
     /// Devices wait in LSS configuration without a node-id: they serve no SDO and send no
     /// heartbeat until one is given (CiA 305).
     LssUnconfigured {
@@ -131,7 +137,7 @@ impl Cause {
             Cause::Stopped { .. } => 4,
             Cause::Moved { .. } => 5,
             Cause::SdoSilent { .. } => 6,
-            Cause::NodeSilent { .. } => 7,
+            Cause::NodeSilent { .. } | Cause::SilentOrStopped { .. } => 7,
             // Before a silent node or bus, which it explains.
             Cause::LssUnconfigured { .. } => 2,
             Cause::Epos2CanErrors { .. } => 1,
