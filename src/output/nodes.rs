@@ -304,7 +304,7 @@ pub(crate) fn short_window_note() -> String {
 mod tests {
     use super::*;
     use crate::canopen::nmt;
-    use crate::ops::scan::{Configuring, Node, Repeat};
+    use crate::ops::scan::{Configuring, Gone, Node, Repeat, StateFrom};
 
     fn lines(h: Human) -> Vec<String> {
         match h {
@@ -341,6 +341,7 @@ mod tests {
             answered_on_repeat: vec![Repeat { node: 21, probe: 2 }],
             interrupted: false,
             not_done: vec![],
+            gone: vec![Gone { node: 7, from: StateFrom::Silent { heartbeat: false } }],
         };
         let lines = lines(scan.human());
         assert!(
@@ -354,7 +355,11 @@ mod tests {
                     .starts_with("node 5: seen by its heartbeat (stopped), but it answered none of the 3 SDO probes")),
             "{lines:?}"
         );
-        assert_eq!(lines.len(), 2, "{lines:?}");
+        // A node the last scan saw that shows nothing now is said, never left out.
+        let gone = "node 7: seen by the last scan, it answers nothing now: not the probe (no heartbeat configured, \
+                    and no answer to node guarding)";
+        assert!(lines.iter().any(|l| l == gone), "{lines:?}");
+        assert_eq!(lines.len(), 3, "{lines:?}");
         let said = "node 5: seen by its heartbeat (stopped), but it answered none of the 3 SDO probes (a Stopped node \
                     answers no SDO: canctl nmt preop 5)";
         assert!(lines.iter().any(|l| l == said), "{lines:?}");
