@@ -122,3 +122,40 @@ fn a_node_named_twice_is_refused_before_anything_is_sent() {
     assert_eq!(run.code, 2, "{}{}", run.stdout, run.stderr);
     assert!(run.stderr.contains("node 9 is named twice"), "{}", run.stderr);
 }
+
+/// Both kinds of bootloader the field has: "start" answered before the reset (Zephyr's,
+/// CANopenNode's; the sim's default) and a reset before any answer. Either way the download
+/// ends with the device back, its boot-up seen only once the reset's boot time is over (an
+/// image swap takes seconds), never before the start.
+#[test]
+fn a_start_answered_before_or_after_the_reset_ends_with_the_device_back() {
+    for answered_first in ["1", "0"] {
+        let sim = Sim::new();
+        sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
+        sim.run(&["sdo", "write", "9", "0x5F53", answered_first, "--type", "u8"]).ok();
+        sim.run(&["sdo", "write", "9", "0x5F52", "3000", "--type", "u16"]).ok();
+        let app = image(&sim, 700);
+        let done = sim.run(&["firmware", "download", "9", &app, "--format", "json"]).ok().json();
+        assert_eq!(done["device"], "runs_image", "{done}");
+        let at = |step: &str| {
+            let steps = done["steps"].as_array().unwrap();
+            steps.iter().find(|s| s["step"] == step).unwrap_or_else(|| panic!("no {step}: {done}"))["at_ms"].as_u64()
+        };
+        // The start is sent right after the image's id is checked; its step is said once its
+        // write ended (a reset-first device never answers it: then after its timeout).
+        let (sent, boot) = (at("id_checked").unwrap(), at("boot_up").unwrap());
+        assert!(boot >= sent + 3000, "style {answered_first}: boot-up at {boot} ms, start sent at {sent} ms: {done}");
+    }
+}
+
+/// `sim reset --bootloader N` refuses a node-id the demo network holds (two devices would
+/// answer on it), and its summary says the bootloader is there.
+#[test]
+fn sim_reset_with_a_bootloader_says_so_and_refuses_a_node_id_in_use() {
+    let sim = Sim::new();
+    let taken = sim.run(&["sim", "reset", "--bootloader", "5"]);
+    assert_eq!(taken.code, 2, "{}", taken.stderr);
+    assert!(taken.stderr.contains("node 5 is the demo network's sensor"), "{}", taken.stderr);
+    let reset = sim.run(&["sim", "reset", "--bootloader", "9"]).ok();
+    assert!(reset.stdout.contains("a CiA 302-3 bootloader on node 9"), "{}", reset.stdout);
+}

@@ -32,6 +32,9 @@ fn a_python_canopen_master_downloads_into_the_simulated_bootloader() {
     let crc = canctl::canopen::program::image_id(&canctl::sim::profiles::domain_pattern(3000));
     assert_eq!((peer["written"].as_u64(), peer["after"].as_u64()), (Some(crc.into()), Some(crc.into())), "{stdout}");
     assert_eq!(peer["control"], 1, "confirmed: {stdout}");
+    // As Zephyr's runner does: the start answered, then the boot-up waited for, and seen (the
+    // sim's bootloader resets after its answer and boots for a while, as real ones do).
+    assert_eq!(peer["start"], "answered", "{stdout}");
     // canctl's report matches what the peer holds.
     let status = dev.run(&["firmware", "status", "9", "--format", "json"]).ok().json();
     assert_eq!(status["programs"][0]["software_id"], crc, "{status}");

@@ -118,8 +118,12 @@ pub(crate) struct ResetArgs {
     /// babble[=ID] (floods frames), abort[=CODE] (SDO answers refused), mute (falls silent),
     /// wrong-cob[=ID] (answers on another id), reboot (resets instead of
     /// answering: values not stored are lost, a boot-up follows), off (not powered: sends
-    /// nothing from the start), miss (does not hear a frame: WHEN counts the frames it
-    /// hears instead). WHEN counts the device's answers from 1: N
+    /// nothing from the start), no-heartbeat (stops its heartbeat, though 0x1017 still says
+    /// it beats), miss (does not hear a frame: WHEN counts the frames it hears instead),
+    /// endless-segments (an upload answered by segments that never end), endless-block (a
+    /// block upload that never ends), ack-zero (every sub-block of a block download
+    /// acknowledged as nothing received); for these three WHEN counts the transfers of that
+    /// kind. WHEN counts the device's answers from 1: N
     /// (that one only), N+ (from that one on), P% (each with that probability), * (all,
     /// the default). bus:off puts the controller canctl talks through bus-off, for good
     /// (as with restart-ms 0): it sends nothing and reports so.
@@ -133,6 +137,11 @@ pub(crate) struct ResetArgs {
     #[arg(long)]
     pub virtual_time: bool,
     /// Add a device with a CiA 302-3 bootloader on this node-id (for canctl firmware)
+    ///
+    /// As Zephyr's and CANopenNode's, it answers "start" (0x1F51 = 1) and then resets, and
+    /// its boot-up comes after 500 ms of booting. Its simulator objects change that:
+    /// 0x5F52 the boot time in ms (u16), 0x5F53 = 0 a reset before the answer (u8),
+    /// 0x5F51 a fault (1 power lost mid-download, 2 flash write error, 3 reboot on stop).
     #[arg(long, value_name = "NODE", value_parser = super::parse_node)]
     pub bootloader: Option<u8>,
 }

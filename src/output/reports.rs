@@ -37,8 +37,9 @@ impl Report for crate::sim::serve::Reset {
     fn human(&self) -> Human {
         let faults = if self.faults.is_empty() { String::new() } else { format!(", faults {}", self.faults.join(" ")) };
         let clock = if self.virtual_time { ", on virtual time" } else { "" };
+        let boot = self.bootloader.map(|n| format!(", a CiA 302-3 bootloader on node {n}")).unwrap_or_default();
         Human::Line(format!(
-            "sim network reset ({}): profile {}, {}bit/s, {} device(s) without a node-id, seed {}{faults}{clock}",
+            "sim network reset ({}): profile {}, {}bit/s, {} device(s) without a node-id{boot}, seed {}{faults}{clock}",
             self.state_file, self.profile, self.bit_rate, self.unconfigured, self.seed
         ))
     }

@@ -1,7 +1,11 @@
 //! A CiA 302-3 bootloader on the simulated bus, behaving as real ones do: the erase takes
 //! seconds of bus time (the busy bit of 0x1F57 shows it), program data is refused outside
 //! pre-operational or before a clear (abort 0x08000022), 0x1F56 is the CRC-32 of the
-//! program that will run, and "start" resets the device before it can answer. Faults
+//! program that will run, and "start" resets the device. As Zephyr's and CANopenNode's do,
+//! it answers "start" first and then resets (a master that writes 0x1F51 = 1 and then waits
+//! for the boot-up sees it); some reset before they can answer ([`START_STYLE`]). A reset
+//! takes [`BOOT_TIME`] ms of bus time before the boot-up (an image swap takes seconds),
+//! silent all the while. Faults
 //! armed through [`FAULT_OBJECT`]: power lost mid-download, a flash write error, a device
 //! that reboots into its bootloader when told to stop.
 //!
@@ -29,6 +33,13 @@ pub const FACTORY_IMAGE: &[u8] = b"canctl simulated bootloader: factory program"
 
 /// The simulator's handle: which fault the bootloader has (see [`Fault`]).
 pub const FAULT_OBJECT: ObjAddr = ObjAddr::new(0x5F51, 0);
+/// The simulator's handle: how long a reset takes until the boot-up, in ms.
+pub const BOOT_TIME: ObjAddr = ObjAddr::new(0x5F52, 0);
+/// The boot time a bootloader starts with: a real one takes 100 ms to seconds.
+pub const DEFAULT_BOOT_MS: u64 = 500;
+/// The simulator's handle: 1, "start" is answered before the reset (the default); 0, the
+/// device resets before it can answer.
+pub const START_STYLE: ObjAddr = ObjAddr::new(0x5F53, 0);
 
 /// A bootloader fault, the value of [`FAULT_OBJECT`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -92,6 +103,9 @@ pub fn model(block_transfer: bool) -> Model {
     );
     d.var(0x5F51, "Simulated bootloader fault", U8, Rw, u(0, U8));
     d.limit(FAULT_OBJECT, 0, 3);
+    d.var(0x5F52, "Simulated boot time (ms)", U16, Rw, u(DEFAULT_BOOT_MS, U16));
+    d.var(0x5F53, "Simulated start answered before the reset", U8, Rw, u(1, U8));
+    d.limit(START_STYLE, 0, 1);
     Model {
         key: if block_transfer { KEY.into() } else { format!("{KEY}-segmented") },
         dict: d,
@@ -111,8 +125,14 @@ pub(crate) fn is_bootloader(od: &ObjectStore) -> bool {
     od.value(CONTROL).is_some() && od.value(BUSY_UNTIL).is_some()
 }
 
-/// One SDO request to a bootloader: the answers, and whether the device rebooted instead
-/// (it then sends its boot-up and nothing else).
+/// How long a reset of this bootloader takes until its boot-up, in ms.
+pub(crate) fn boot_ms(od: &ObjectStore) -> u64 {
+    od.u16_value(BOOT_TIME).map_or(DEFAULT_BOOT_MS, u64::from)
+}
+
+/// One SDO request to a bootloader: the answers, and whether the device resets after them
+/// (it then is silent until its boot-up). A device that resets before it can answer (the
+/// power lost, a reset-first "start", a reboot into the bootloader) sends no answer.
 pub(crate) fn on_request(
     sdo: &mut SdoServer,
     od: &mut ObjectStore,
@@ -131,12 +151,13 @@ pub(crate) fn on_request(
         }
         od.keep(POWER_LEFT, (left - 1).to_le_bytes().to_vec());
     }
-    let mut flash = Flash { od, nmt, now_ms, reboot: false };
+    let mut flash = Flash { od, nmt, now_ms, reboot: false, answered_first: false };
     let answers = sdo.handle(raw, &mut flash);
-    if flash.reboot {
-        return (vec![], true);
+    match (flash.reboot, flash.answered_first) {
+        (true, true) => (answers, true),
+        (true, false) => (vec![], true),
+        (false, _) => (answers, false),
     }
-    (answers, false)
 }
 
 /// An SDO download initiate (segmented/expedited or block) to the program data.
@@ -199,6 +220,8 @@ struct Flash<'a> {
     nmt: nmt::State,
     now_ms: u64,
     reboot: bool,
+    /// The request that makes it reset is answered first.
+    answered_first: bool,
 }
 
 impl Flash<'_> {
@@ -220,11 +243,12 @@ impl Flash<'_> {
                 }
                 if !running {
                     // A new program runs on trial until confirmed (Zephyr's MCUboot rule);
-                    // the bootloader jumps to it by a reset, before any answer.
+                    // the bootloader jumps to it by a reset, after its answer or before.
                     let fresh = od.value(CLEARED) == Some(&[2]);
                     od.keep(CLEARED, vec![0]);
                     od.keep(CONTROL, vec![if fresh { Control::Confirm.code() } else { 1 }]);
                     self.reboot = true;
+                    self.answered_first = od.value(START_STYLE) != Some(&[0]);
                 }
             }
             Control::Reset => set_status(od, code::OK),

@@ -45,14 +45,28 @@ pub struct Reset {
     /// Commands run on virtual time (`--virtual-time`).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub virtual_time: bool,
+    /// The node-id of the device with a CiA 302-3 bootloader (`--bootloader`), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bootloader: Option<u8>,
 }
 
 /// Forget the saved state at `path`: from now on the devices start as `config` builds them.
 pub fn reset(path: &Path, config: &SimConfig) -> Result<Reset> {
-    let devices: Vec<(String, Option<u8>)> = super::profiles::demo_network_with(config.unconfigured)
+    let mut devices: Vec<(String, Option<u8>)> = super::profiles::demo_network_with(config.unconfigured)
         .into_iter()
         .map(|(model, node)| (model.key, node))
         .collect();
+    if let Some(node) = config.bootloader {
+        // Two devices on one node-id is a fault of its own, not what --bootloader asks for.
+        if let Some((model, _)) = devices.iter().find(|(_, n)| *n == Some(node)) {
+            let taken: Vec<String> = devices.iter().filter_map(|(_, n)| n.map(|n| n.to_string())).collect();
+            return Err(Error::Usage(format!(
+                "a bootloader on node {node}: node {node} is the demo network's {model}; give it a free node-id (taken: {})",
+                taken.join(", ")
+            )));
+        }
+        devices.push((super::bootloader::KEY.to_string(), Some(node)));
+    }
     if let Some(why) = super::faults::unmatched(&config.faults, &devices) {
         return Err(Error::Usage(why));
     }
@@ -66,6 +80,7 @@ pub fn reset(path: &Path, config: &SimConfig) -> Result<Reset> {
         bit_rate: bit_rate_name(config.bit_rate),
         faults: config.faults.iter().map(|f| f.to_string()).collect(),
         virtual_time: config.virtual_time,
+        bootloader: config.bootloader,
     })
 }
 

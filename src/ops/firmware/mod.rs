@@ -617,16 +617,16 @@ fn download_timed(
     // Start: the device may reset before its answer; the bus reads the state back, and
     // the boot-up decides either way.
     r.bus.observed().boot_ups.remove(&node);
-    let answered = match r.control(Control::Start) {
-        Ok(()) => true,
-        Err(e) if e.is_timeout() => false,
+    match r.control(Control::Start) {
+        Ok(()) => {}
+        Err(e) if e.is_timeout() => {}
         Err(e) => return Err(r.fail(e, Where::BootloaderWithProgram)),
-    };
+    }
     r.done(Step::Start);
     let sees_traffic = r.bus.sees_traffic();
-    // A gateway shows no boot-up: a start it passed the answer of is done; one without an
-    // answer is done once the device answers again.
-    if (sees_traffic || !answered) && !step!(r.wait_back(), Where::Unknown) {
+    // The device resets after its answer (or before it): it is back with its boot-up, or
+    // through a gateway, which shows no boot-up, once it answers again.
+    if !step!(r.wait_back(), Where::Unknown) {
         let e = FirmwareError::NoBootUp { node, after: "start (0x1F51 = 1)", waited: o.boot_wait };
         return Err(r.fail(e, Where::Unknown));
     }

@@ -33,6 +33,9 @@ pub struct DeviceState {
     /// back): it stays there, as hardware does until reset.
     #[serde(default)]
     pub lss_configuration: bool,
+    /// Resetting: silent until this ms of bus time, when it sends its boot-up.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub booting_until: Option<u64>,
 }
 
 /// CiA 305 bit timing table indices: in use, configured and waiting for activation, and
@@ -68,6 +71,9 @@ pub struct Device {
     /// network before each frame and each run of the device's own events: the device never
     /// reads a clock itself, so a virtual clock runs it as well as the real one.
     clock_ms: u64,
+    /// Resetting (a bootloader's reset takes its boot time): silent until this ms, when it
+    /// sends its boot-up.
+    booting_until: Option<u64>,
 }
 
 /// A simulated device fault (the sensor's magnet lost), armed by writing the time to it.
@@ -120,6 +126,7 @@ impl Device {
             fault_spec: model.fault,
             sync_counts: [0; 4],
             clock_ms: 0,
+            booting_until: None,
             fault: Fault::default(),
             model: model.key,
             node_id,
@@ -187,6 +194,10 @@ impl Device {
     }
 
     pub(crate) fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
+        // Resetting: it hears nothing until its boot-up.
+        if self.booting_until.is_some_and(|t| self.clock_ms < t) {
+            return vec![];
+        }
         if f.id() == lss::MASTER_COB && !f.is_remote() {
             return self.lss_frame(f);
         }
@@ -205,9 +216,11 @@ impl Device {
                 let (answers, reboot) =
                     super::bootloader::on_request(&mut self.sdo, &mut self.od, f.data(), self.nmt, self.clock_ms);
                 if reboot {
+                    // The answer (if it gives one first) goes out; the boot-up comes when
+                    // the reset is over (`events`).
                     self.nmt = nmt::State::PreOperational;
                     self.sdo = SdoServer::new(self.block_transfer);
-                    return vec![ErrorControl::BootUp.frame(id)];
+                    self.booting_until = Some(self.clock_ms + super::bootloader::boot_ms(&self.od));
                 }
                 return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
             }
@@ -488,6 +501,7 @@ impl Device {
         }
         next.extend(self.fault.at);
         next.extend(self.fault.reaction_until);
+        next.extend(self.booting_until);
         next.into_iter().min()
     }
 
@@ -498,6 +512,16 @@ impl Device {
     pub fn events(&mut self, after: u64, upto: u64) -> Vec<(u64, Frame)> {
         let Some(id) = self.node_id else { return vec![] };
         let mut out = Vec::new();
+        // Resetting: nothing until the boot-up, which ends it.
+        let after = match self.booting_until {
+            Some(until) if until > upto => return out,
+            Some(until) => {
+                self.booting_until = None;
+                out.push((until.max(after), ErrorControl::BootUp.frame(id)));
+                after.max(until)
+            }
+            None => after,
+        };
         // A fault due while no invocation ran the network strikes now.
         if let Some(at) = self.fault.at.filter(|t| *t <= upto) {
             let due = at.clamp(after, upto);
@@ -555,6 +579,7 @@ impl Device {
             bit_rate: Some(self.bit_rate),
             fault: self.fault,
             lss_configuration: self.lss.state == lss::SlaveState::Configuration,
+            booting_until: self.booting_until,
         }
     }
 
@@ -570,6 +595,7 @@ impl Device {
             self.bit_rate = b;
         }
         self.fault = s.fault;
+        self.booting_until = s.booting_until;
         if s.lss_configuration {
             self.lss.state = lss::SlaveState::Configuration;
         }
