@@ -261,12 +261,13 @@ impl Scenario {
         }
         // A device whose SDO server misbehaves without end (an upload that never ends, by
         // segments or by blocks; a block download acknowledged "nothing received" for ever),
-        // or that is off: drawn after the others, for the same reason.
+        // answers on the next node's COB-ID, or is off: drawn after the others, for the
+        // same reason.
         // Only for the procedures that look at the whole bus: a read the user asks for runs
         // to the limit the user gives it (`sdo read --max-size`).
         let looking = matches!(procedure, Procedure::Scan | Procedure::Health);
         if looking && rng.chance(0.25) {
-            let kind = pick(&mut rng, &["endless-segments", "endless-block", "ack-zero", "off"]);
+            let kind = pick(&mut rng, &["endless-segments", "endless-block", "ack-zero", "off", "wrong-cob"]);
             let spec = format!("{}:{kind}", pick(&mut rng, &NODES));
             config = config.fault(spec.parse().expect("a fault spec"));
         }
@@ -430,7 +431,8 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
     match s.procedure {
         Procedure::Scan => {
             let o = ops::scan::ScanOptions { window: Duration::from_millis(300), timeout: TIMEOUT };
-            let scan = ops::scan::scan(bus, &o, &mut Silent)?;
+            // As canctl scans a bus it scanned before: knowing the nodes the last scan saw.
+            let scan = ops::scan::scan_against(bus, &o, &NODES, &mut Silent)?;
             Ok(Report::Scanned(scan.nodes.iter().map(|n| (n.node, n.serial)).collect(), scan.interrupted))
         }
         Procedure::Read(kind) => {

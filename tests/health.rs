@@ -146,3 +146,23 @@ fn an_emcy_during_the_watch_is_named() {
     assert_eq!(sensor["emcy"][0]["code"], "0x5000");
     assert!(sensor["emcy"][0]["meaning"].as_str().unwrap().starts_with("Device hardware: no stop pulses"), "{sensor}");
 }
+
+/// A device whose SDO server answers on the next node's COB-ID (its 0x1200 changed): no
+/// node is listed that is not there (node 6 used to be, with node 5's device type), node 5
+/// is said to answer elsewhere, and health does not give it the remedy of a Stopped node.
+#[test]
+fn a_device_answering_on_another_nodes_cob_id_makes_no_phantom_node() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--fault", "5:wrong-cob"]).ok();
+    let scan = sim.run(&["scan", "--format", "json"]).ok().json();
+    let ids: Vec<u64> = scan["nodes"].as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect();
+    assert_eq!(ids, [1, 5, 10, 32], "{scan}");
+    assert_eq!(scan["answers_elsewhere"], serde_json::json!([{ "node": 5, "cob_id": 0x586 }]), "{scan}");
+    let human = sim.run(&["scan"]).ok();
+    assert!(human.stdout.contains("node 5: seen by its heartbeat (pre-operational), but it answered none of the 3 SDO probes: its SDO server answers on 0x586, not 0x585"), "{}", human.stdout);
+    let run = health(&sim, "human");
+    assert_eq!(run.code, 6, "{}", run.stderr);
+    assert!(!run.stdout.contains("| 6 ") && !run.stdout.contains("\n 6 "), "{}", run.stdout);
+    assert!(!run.stdout.contains("nmt preop 5"), "{}", run.stdout);
+    assert!(run.stdout.contains("its SDO server does not answer on 0x605/0x585"), "{}", run.stdout);
+}

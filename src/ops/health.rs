@@ -245,6 +245,15 @@ struct Read {
     statusword: Option<Result<Vec<u8>>>,
 }
 
+/// The COB-ID the node sends its EMCYs on: [`Read::emcy_cob`], the default 0x80 + node
+/// where nothing was read.
+fn emcy_cob(read: Option<&Read>, node: u8) -> Option<u16> {
+    match read {
+        Some(r) => r.emcy_cob(node),
+        None => Some(0x80 + u16::from(node)),
+    }
+}
+
 impl Read {
     /// The COB-ID the node sends its EMCYs on (0x1014, else the default 0x80 + node);
     /// `None` when it says it sends none (bit 31).
@@ -257,10 +266,12 @@ impl Read {
     }
 }
 
-fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> Result<Vec<Read>> {
+/// What each node holds, read from every node at once; `None` for a node that answers no
+/// SDO (its sdo check says so): reading it would only wait.
+fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> Result<Vec<Option<Read>>> {
     let is_drive = |n: &scan::Node| n.device_type.is_some_and(cia402::is_drive);
     let mut requests = Vec::new();
-    for n in found {
+    for n in found.iter().filter(|n| n.answers_sdo) {
         requests.push((n.node, ERROR_REGISTER));
         requests.push((n.node, HISTORY_COUNT));
         requests.push((n.node, EMCY_COB));
@@ -273,7 +284,14 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
     let mut next = || answers.next().expect("one answer per request");
     Ok(found
         .iter()
-        .map(|n| Read { register: next(), history: next(), emcy_cob: next(), statusword: is_drive(n).then(&mut next) })
+        .map(|n| {
+            n.answers_sdo.then(|| Read {
+                register: next(),
+                history: next(),
+                emcy_cob: next(),
+                statusword: is_drive(n).then(&mut next),
+            })
+        })
         .collect())
 }
 
@@ -289,7 +307,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
     };
     let ids: Vec<u8> = found.nodes.iter().map(|n| n.node).collect();
     let emcy_cobs: BTreeMap<u16, u8> =
-        found.nodes.iter().zip(&reads).filter_map(|(n, r)| Some((r.emcy_cob(n.node)?, n.node))).collect();
+        found.nodes.iter().zip(&reads).filter_map(|(n, r)| Some((emcy_cob(r.as_ref(), n.node)?, n.node))).collect();
     progress.start("watching heartbeats and EMCYs", 1);
     let mut seen = if watch > Duration::ZERO { watch_bus(bus, &ids, &emcy_cobs, watch)? } else { BTreeMap::new() };
     progress.finish();
@@ -371,7 +389,7 @@ fn check(check: &'static str, ok: bool, detail: Finding) -> Check {
 
 fn judge_node(
     n: &scan::Node,
-    read: Read,
+    read: Option<Read>,
     watched: Option<Watched>,
     watch: Duration,
     want: Option<nmt::State>,
@@ -384,7 +402,11 @@ fn judge_node(
     // Seen on the bus but silent to SDO: nothing below can be read from it.
     if !n.answers_sdo {
         let detail = Finding::SilentToSdo { from: n.state_from };
-        checks.push(check("sdo", false, detail).with_remedy(Some(Hint::PreOperational { node: n.node })));
+        // A Stopped node serves no SDO; one that shows another state has its SDO server
+        // elsewhere or off (its diagnosis says so), and pre-operational is no remedy.
+        let stopped = matches!(n.state, None | Some(nmt::State::Stopped));
+        let remedy = stopped.then_some(Hint::PreOperational { node: n.node });
+        checks.push(check("sdo", false, detail).with_remedy(remedy));
     }
 
     // NMT: the latest state the node showed.
@@ -427,26 +449,16 @@ fn judge_node(
         }
     });
 
-    // Error register, with the history's count alongside.
-    let register = read.register.as_ref().ok().and_then(|b| b.first().copied());
-    let logged = read.history.as_ref().ok().and_then(|b| b.first().copied());
-    // The history's part ends the detail: errors logged have their remedy after it.
-    let (history, read_them) = match &read.history {
-        Ok(_) => match logged {
-            Some(0) => (Logged::Nothing, None),
-            Some(k) => (Logged::Count(k), Some(Hint::ReadErrorHistory { node: n.node })),
-            None => (Logged::Unsaid, None),
-        },
-        Err(e) if super::node::is_missing(e) => (Logged::NoHistory, None),
-        Err(e) => (Logged::Unread(e.into()), None),
-    };
-    checks.push(match (&read.register, register) {
-        (Err(e), _) => check("error register", false, Finding::RegisterUnread { error: e.into() }),
-        (Ok(_), None) => check("error register", false, Finding::RegisterEmpty),
-        (Ok(_), Some(r)) => {
-            check("error register", r == 0, Finding::Register { register: r, logged: history }).with_remedy(read_them)
+    // Error register, with the history's count alongside; not read from a node that
+    // answers no SDO (its sdo check says so).
+    let (register, logged) = match &read {
+        Some(read) => {
+            let (register, logged, judged) = judge_register(n, read);
+            checks.push(judged);
+            (register, logged)
         }
-    });
+        None => (None, None),
+    };
 
     // EMCY during the watch: any error (an "error reset" says things got better).
     let errors: Vec<&Emergency> = watched.emcy.iter().filter(|e| e.code != 0).collect();
@@ -471,25 +483,14 @@ fn judge_node(
     });
 
     // A CiA 402 drive: not in Fault.
-    let statusword = read
-        .statusword
-        .as_ref()
-        .and_then(|r| r.as_ref().ok())
-        .filter(|b| b.len() >= 2)
-        .map(|b| u16::from_le_bytes([b[0], b[1]]));
-    let drive_state = statusword.and_then(cia402::State::from_statusword);
-    if let Some(r) = &read.statusword {
-        checks.push(match (r, statusword, drive_state) {
-            (Err(e), _, _) => check("drive", false, Finding::StatuswordUnread { error: e.into() }),
-            (Ok(_), None, _) => check("drive", false, Finding::StatuswordShort),
-            (Ok(_), Some(statusword), None) => check("drive", false, Finding::NoDriveState { statusword }),
-            (Ok(_), Some(statusword), Some(state)) => {
-                let faulted = matches!(state, cia402::State::Fault | cia402::State::FaultReactionActive);
-                let warning = statusword & cia402::sw::WARNING != 0;
-                check("drive", !faulted, Finding::Drive { state, statusword, warning })
-            }
-        });
-    }
+    let (statusword, drive_state) = match read.as_ref().and_then(|r| r.statusword.as_ref()) {
+        Some(r) => {
+            let (statusword, drive_state, judged) = judge_drive(r);
+            checks.push(judged);
+            (statusword, drive_state)
+        }
+        None => (None, None),
+    };
 
     let ok = checks.iter().all(|c| c.ok);
     NodeHealth {
@@ -510,6 +511,49 @@ fn judge_node(
         ok,
         diagnosis: None,
     }
+}
+
+/// The error register's check, with the history's count alongside: the register and the
+/// count as read, and the verdict.
+fn judge_register(n: &scan::Node, read: &Read) -> (Option<u8>, Option<u8>, Check) {
+    let register = read.register.as_ref().ok().and_then(|b| b.first().copied());
+    let logged = read.history.as_ref().ok().and_then(|b| b.first().copied());
+    // The history's part ends the detail: errors logged have their remedy after it.
+    let (history, read_them) = match &read.history {
+        Ok(_) => match logged {
+            Some(0) => (Logged::Nothing, None),
+            Some(k) => (Logged::Count(k), Some(Hint::ReadErrorHistory { node: n.node })),
+            None => (Logged::Unsaid, None),
+        },
+        Err(e) if super::node::is_missing(e) => (Logged::NoHistory, None),
+        Err(e) => (Logged::Unread(e.into()), None),
+    };
+    let judged = match (&read.register, register) {
+        (Err(e), _) => check("error register", false, Finding::RegisterUnread { error: e.into() }),
+        (Ok(_), None) => check("error register", false, Finding::RegisterEmpty),
+        (Ok(_), Some(r)) => {
+            check("error register", r == 0, Finding::Register { register: r, logged: history }).with_remedy(read_them)
+        }
+    };
+    (register, logged, judged)
+}
+
+/// A CiA 402 drive's check from its statusword read: the statusword, the state it codes,
+/// and the verdict (not in Fault).
+fn judge_drive(r: &Result<Vec<u8>>) -> (Option<u16>, Option<cia402::State>, Check) {
+    let statusword = r.as_ref().ok().filter(|b| b.len() >= 2).map(|b| u16::from_le_bytes([b[0], b[1]]));
+    let drive_state = statusword.and_then(cia402::State::from_statusword);
+    let judged = match (r, statusword, drive_state) {
+        (Err(e), _, _) => check("drive", false, Finding::StatuswordUnread { error: e.into() }),
+        (Ok(_), None, _) => check("drive", false, Finding::StatuswordShort),
+        (Ok(_), Some(statusword), None) => check("drive", false, Finding::NoDriveState { statusword }),
+        (Ok(_), Some(statusword), Some(state)) => {
+            let faulted = matches!(state, cia402::State::Fault | cia402::State::FaultReactionActive);
+            let warning = statusword & cia402::sw::WARNING != 0;
+            check("drive", !faulted, Finding::Drive { state, statusword, warning })
+        }
+    };
+    (statusword, drive_state, judged)
 }
 
 #[cfg(test)]
@@ -591,11 +635,11 @@ mod tests {
 
     #[test]
     fn an_emcy_with_an_error_during_the_watch_fails_the_node_an_error_reset_does_not() {
-        let h = judge_node(&sensor(), clean(), Some(beating()), 300 * MS, None);
+        let h = judge_node(&sensor(), Some(clean()), Some(beating()), 300 * MS, None);
         assert!(h.ok, "{:?}", h.checks);
         let mut w = beating();
         w.emcy.push(Emergency { code: 0x5000, register: 0x81, vendor: [0; 5] });
-        let h = judge_node(&sensor(), clean(), Some(w), 300 * MS, None);
+        let h = judge_node(&sensor(), Some(clean()), Some(w), 300 * MS, None);
         assert_eq!(failed(&h), ["emcy"]);
         // The sensor's manual names its code (seed 001).
         let named = |c: &Check| match &c.detail {
@@ -607,27 +651,27 @@ mod tests {
         assert!(h.checks.iter().any(named), "{:?}", h.checks);
         let mut w = beating();
         w.emcy.push(Emergency { code: 0x0000, register: 0, vendor: [0; 5] });
-        assert!(judge_node(&sensor(), clean(), Some(w), 300 * MS, None).ok);
+        assert!(judge_node(&sensor(), Some(clean()), Some(w), 300 * MS, None).ok);
     }
 
     #[test]
     fn a_faulted_drive_and_a_wrong_state_fail_their_checks() {
         let drive = scan::Node { device_type: Some(0x0002_0192), heartbeat_ms: Some(0), ..sensor() };
         let read = Read { statusword: Some(Ok(vec![0x08, 0x05])), ..clean() };
-        let h = judge_node(&drive, read, Some(Watched::default()), 300 * MS, Some(nmt::State::PreOperational));
+        let h = judge_node(&drive, Some(read), Some(Watched::default()), 300 * MS, Some(nmt::State::PreOperational));
         assert_eq!(failed(&h), ["nmt", "drive"]);
         assert_eq!(h.drive_state, Some(cia402::State::Fault));
         let read = Read { statusword: Some(Ok(vec![0x40, 0x05])), ..clean() };
-        assert!(judge_node(&drive, read, None, 300 * MS, None).ok);
+        assert!(judge_node(&drive, Some(read), None, 300 * MS, None).ok);
         // A node without 0x1003 is fine; one whose 0x1001 does not answer is not.
         let read =
             Read { history: Err(Error::SdoAbort { node: 5, obj: HISTORY_COUNT, code: abort::NO_OBJECT }), ..clean() };
-        assert!(judge_node(&sensor(), read, Some(beating()), 300 * MS, None).ok);
+        assert!(judge_node(&sensor(), Some(read), Some(beating()), 300 * MS, None).ok);
         let read = Read {
             register: Err(Error::SdoAbort { node: 5, obj: ERROR_REGISTER, code: abort::GENERAL_ERROR }),
             ..clean()
         };
-        assert_eq!(failed(&judge_node(&sensor(), read, Some(beating()), 300 * MS, None)), ["error register"]);
+        assert_eq!(failed(&judge_node(&sensor(), Some(read), Some(beating()), 300 * MS, None)), ["error register"]);
     }
 
     #[test]

@@ -6,6 +6,7 @@
 pub use crate::cancel::Cancel;
 pub use event::{Event, Notice, Warning};
 
+pub mod answers_elsewhere;
 pub mod buses;
 pub(crate) mod check;
 pub(crate) mod clash;

@@ -5,6 +5,7 @@
 
 use super::node::Guarded;
 use super::Progress;
+use crate::bus::observer::SeenBy;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::canopen::lss::{Identity, Inquiry, Request, Response, UNCONFIGURED};
 use crate::canopen::nmt;
@@ -12,7 +13,7 @@ use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
 use crate::ops::Warning;
 use serde::Serialize;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
 /// How long to wait.
@@ -88,6 +89,11 @@ pub struct Scan {
     /// no heartbeat, no answer to node guarding (see [`scan_against`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub gone: Vec<Gone>,
+    /// Nodes whose SDO server answers on another node's COB-ID: asked alone, where a node
+    /// that showed itself answered no probe ([`super::answers_elsewhere`]). The node whose
+    /// COB-ID it took is not listed unless it answers on its own.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub answers_elsewhere: Vec<super::answers_elsewhere::AnswersElsewhere>,
 }
 
 /// A node the last scan saw that showed nothing in this one.
@@ -330,6 +336,7 @@ pub fn scan_against(bus: &mut dyn Bus, o: &ScanOptions, last_seen: &[u8], progre
         interrupted: false,
         not_done: Vec::new(),
         gone: Vec::new(),
+        answers_elsewhere: Vec::new(),
     };
     let mut phase = 0;
     match scan_into(bus, o, last_seen, progress, &mut report, &mut phase) {
@@ -367,6 +374,17 @@ fn scan_into(
     if probed.stopped {
         return Err(Error::Interrupted);
     }
+    // Before the identities are read: a node listed only for another node's answer.
+    let found: Vec<u8> = report.nodes.iter().map(|n| n.node).collect();
+    let seen = bus.observed().nodes.clone();
+    let shows_itself =
+        seen.iter().filter(|(_, how)| how.iter().any(|h| matches!(h, SeenBy::Heartbeat | SeenBy::BootUp)));
+    let suspects: BTreeSet<u8> =
+        shows_itself.map(|(n, _)| *n).chain(last_seen.iter().copied()).filter(|n| !found.contains(n)).collect();
+    let suspects: Vec<u8> = suspects.into_iter().collect();
+    let shown = super::answers_elsewhere::look(bus, &suspects, &found, o.window)?;
+    report.nodes.retain(|n| !shown.phantoms.contains(&n.node));
+    report.answers_elsewhere = shown.elsewhere.clone();
     *phase = 1;
     identify(bus, &mut report.nodes, o.timeout, progress)?;
     let serials: Vec<(u8, Option<u32>)> = report.nodes.iter().map(|n| (n.node, n.serial)).collect();
@@ -374,6 +392,8 @@ fn scan_into(
     *phase = 2;
     nmt_states(bus, &mut report.nodes, o)?;
     add_seen_otherwise(bus, &mut report.nodes);
+    // Its answers on that COB-ID showed it to the bus's observer too: it is still not there.
+    report.nodes.retain(|n| !shown.phantoms.contains(&n.node));
     let mut unseen: Vec<Node> = last_seen
         .iter()
         .filter(|n| !report.nodes.iter().any(|f| f.node == **n))
@@ -485,7 +505,6 @@ impl Node {
 /// after its window) that answered none of the probes, into `nodes`: they are there. A
 /// Stopped node is one (it answers no SDO and keeps beating).
 fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
-    use crate::bus::observer::SeenBy;
     let seen = bus.observed();
     for (node, how) in &seen.nodes {
         let shown = how.iter().any(|h| matches!(h, SeenBy::Heartbeat | SeenBy::BootUp | SeenBy::Sdo));

@@ -62,13 +62,23 @@ impl Report for Scan {
         // Without a state the line above says why it is listed.
         for f in self.nodes.iter().filter(|f| !f.answers_sdo) {
             if let Some(state) = f.state {
+                let elsewhere = self.answers_elsewhere.iter().find(|e| e.node == f.node);
+                let why = match (elsewhere, state) {
+                    (Some(e), _) => format!(
+                        ": its SDO server answers on 0x{:03X}, not 0x{:03X} (its 0x1200 changed; canctl doctor {} says more)",
+                        e.cob_id,
+                        0x580 + u16::from(f.node),
+                        f.node
+                    ),
+                    (None, crate::canopen::nmt::State::Stopped) => super::hints::stopped_node_aside(f.node),
+                    (None, _) => format!(" (its SDO server is off or on other COB-IDs: canctl doctor {} says more)", f.node),
+                };
                 parts.push(Human::Line(format!(
-                    "node {}: seen by its {} ({}), but it answered none of the {} SDO probes{}",
+                    "node {}: seen by its {} ({}), but it answered none of the {} SDO probes{why}",
                     f.node,
                     f.state_from,
                     state.name(),
                     self.probe_rounds,
-                    super::hints::stopped_node_aside(f.node)
                 )));
             }
         }
@@ -342,6 +352,7 @@ mod tests {
             interrupted: false,
             not_done: vec![],
             gone: vec![Gone { node: 7, from: StateFrom::Silent { heartbeat: false } }],
+            answers_elsewhere: vec![],
         };
         let lines = lines(scan.human());
         assert!(

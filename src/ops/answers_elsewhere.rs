@@ -1,0 +1,72 @@
+//! A device whose SDO server answers on another node's COB-ID (its 0x1200 changed, or a
+//! firmware that got it wrong): the probe sends all 127 requests at once, so its answer is
+//! taken for that other node's, and a node that is not there is listed. Asking one node at
+//! a time, with nothing else in flight, shows where each answer really comes from.
+//!
+//! Only where there is a reason to look (a node that shows itself, by heartbeat, boot-up or
+//! the last scan, but answered no probe): on a bus without one this costs nothing.
+
+use crate::bus::Bus;
+use crate::canopen::sdo::{request_cob, response_cob, SdoClient};
+use crate::canopen::ObjAddr;
+use crate::error::Result;
+use crate::frame::Frame;
+use std::time::Duration;
+
+const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
+
+/// A node whose SDO server answers on another COB-ID than its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[non_exhaustive]
+pub struct AnswersElsewhere {
+    /// The node asked.
+    pub node: u8,
+    /// The COB-ID its answer came on.
+    pub cob_id: u16,
+}
+
+/// What asking each suspect alone showed: the nodes whose answers come on another node's
+/// COB-ID, and the nodes of `found` that answered the probe only that way (no answer of
+/// their own when asked alone): they are not there.
+#[derive(Debug, Default, PartialEq)]
+pub(crate) struct Shown {
+    pub elsewhere: Vec<AnswersElsewhere>,
+    pub phantoms: Vec<u8>,
+}
+
+/// Ask each of `suspects` (nodes that show themselves but answered no probe) alone; where
+/// one answers on the COB-ID of a node in `found`, ask that node alone too: silent, it was
+/// never there. Each request waits `window` at most. Where the link shows no traffic (an
+/// EPOS2 gateway reads one node after the other) nothing is asked.
+pub(crate) fn look(bus: &mut dyn Bus, suspects: &[u8], found: &[u8], window: Duration) -> Result<Shown> {
+    let mut shown = Shown::default();
+    if suspects.is_empty() || !bus.sees_traffic() {
+        return Ok(shown);
+    }
+    for &node in suspects {
+        let Some(cob_id) = ask_alone(bus, node, window)? else { continue };
+        if cob_id == response_cob(node) {
+            continue;
+        }
+        shown.elsewhere.push(AnswersElsewhere { node, cob_id });
+        let claimed = (cob_id - 0x580) as u8;
+        if found.contains(&claimed) && ask_alone(bus, claimed, window)? != Some(response_cob(claimed)) {
+            shown.phantoms.push(claimed);
+        }
+    }
+    Ok(shown)
+}
+
+/// One read of the device type sent to `node` with nothing else in flight: the COB-ID of
+/// the first answer to it (on any SDO response id), if one comes within `window`.
+fn ask_alone(bus: &mut dyn Bus, node: u8, window: Duration) -> Result<Option<u16>> {
+    bus.send_frame(&Frame::new(request_cob(node), &SdoClient::upload(DEVICE_TYPE, false).start()))?;
+    let end = bus.now() + window;
+    while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
+        let response = (0x581..=0x5FF).contains(&f.id()) && !f.is_remote();
+        if response && super::clash::upload_answer(f.data(), DEVICE_TYPE).is_some() {
+            return Ok(Some(f.id()));
+        }
+    }
+    Ok(None)
+}
