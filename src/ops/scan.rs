@@ -217,7 +217,19 @@ const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
 /// the node is there all the same).
 pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Found> {
     check_window(window)?;
-    match probe_until_stopped(bus, window, progress)? {
+    let rounds = probe_rounds(bus);
+    found_unless_stopped(probe_until_stopped(bus, window, rounds, progress)?)
+}
+
+/// [`probe`] in one round: who answers at all, for a diagnosis that needs no more (the
+/// rounds after it only find nodes whose answers were lost).
+pub(crate) fn probe_once(bus: &mut dyn Bus, window: Duration) -> Result<Found> {
+    check_window(window)?;
+    found_unless_stopped(probe_until_stopped(bus, window, 1, &mut super::Silent)?)
+}
+
+fn found_unless_stopped(p: Probed) -> Result<Found> {
+    match p {
         Probed { stopped: true, .. } => Err(Error::Interrupted),
         p => Ok(p.found),
     }
@@ -249,9 +261,14 @@ pub(crate) struct Probed {
     pub stopped: bool,
 }
 
-/// [`probe`], with how many rounds ran, who answered only on a repeat, and whether it was
-/// stopped part-way (with the nodes found until then).
-pub(crate) fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Probed> {
+/// [`probe`] in up to `rounds` rounds, with how many ran, who answered only on a repeat,
+/// and whether it was stopped part-way (with the nodes found until then).
+pub(crate) fn probe_until_stopped(
+    bus: &mut dyn Bus,
+    window: Duration,
+    rounds: usize,
+    progress: &mut dyn Progress,
+) -> Result<Probed> {
     // Not retried one by one: most ids have no node behind them, and a retry would be one
     // more window for each of them; the next round asks all the silent ones at once.
     let opts = SdoOptions { retries: 0, ..super::capped(window, super::NUMBER_LIMIT) };
@@ -260,7 +277,6 @@ pub(crate) fn probe_until_stopped(bus: &mut dyn Bus, window: Duration, progress:
     // What a node answered that was not an answer (a malformed frame may be a damaged
     // one): said only when no later round brings a good one.
     let mut failed: BTreeMap<u8, Error> = BTreeMap::new();
-    let rounds = probe_rounds(bus);
     while p.rounds < rounds && !ids.is_empty() && !p.stopped {
         p.rounds += 1;
         let probes: Vec<(u8, ObjAddr)> = ids.iter().map(|n| (*n, DEVICE_TYPE)).collect();
@@ -368,7 +384,8 @@ fn scan_into(
         bus.observed().take_lss_answers();
         bus.lss_exchange(&LSS_QUESTIONS[0].encode(), 0, Duration::ZERO, LssWait::Nothing)?;
     }
-    let probed = probe_until_stopped(bus, o.window, progress)?;
+    let rounds = probe_rounds(bus);
+    let probed = probe_until_stopped(bus, o.window, rounds, progress)?;
     report.nodes = probed.found.into_iter().map(|(node, device_type)| Node::probed(node, device_type)).collect();
     (report.probe_rounds, report.answered_on_repeat) = (probed.rounds, probed.repeats);
     if probed.stopped {

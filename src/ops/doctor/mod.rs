@@ -196,7 +196,7 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
         // Through an EPOS2 the read of every id is one after the other: far from quick.
         None if !bus.sees_traffic() => None,
         None => {
-            let found = scan::probe(bus, wait, &mut Silent)?;
+            let found = scan::probe_once(bus, wait)?;
             if found.iter().any(|(n, _)| *n == node) {
                 // It answers now: a late answer, not a cause to name.
                 return Ok(None);
