@@ -57,15 +57,22 @@ pub(crate) fn look(bus: &mut dyn Bus, suspects: &[u8], found: &[u8], window: Dur
     Ok(shown)
 }
 
-/// One read of the device type sent to `node` with nothing else in flight: the COB-ID of
-/// the first answer to it (on any SDO response id), if one comes within `window`.
+/// How many times a node is asked alone before its silence counts: as often as the probe
+/// asks an id (a lost or damaged answer is not taken for none).
+const TRIES: usize = super::scan::PROBE_ROUNDS;
+
+/// A read of the device type sent to `node` with nothing else in flight, up to [`TRIES`]
+/// times: the COB-ID of the first answer to it (on any SDO response id), each try waiting
+/// `window` at most.
 fn ask_alone(bus: &mut dyn Bus, node: u8, window: Duration) -> Result<Option<u16>> {
-    bus.send_frame(&Frame::new(request_cob(node), &SdoClient::upload(DEVICE_TYPE, false).start()))?;
-    let end = bus.now() + window;
-    while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
-        let response = (0x581..=0x5FF).contains(&f.id()) && !f.is_remote();
-        if response && super::clash::upload_answer(f.data(), DEVICE_TYPE).is_some() {
-            return Ok(Some(f.id()));
+    for _ in 0..TRIES {
+        bus.send_frame(&Frame::new(request_cob(node), &SdoClient::upload(DEVICE_TYPE, false).start()))?;
+        let end = bus.now() + window;
+        while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
+            let response = (0x581..=0x5FF).contains(&f.id()) && !f.is_remote();
+            if response && super::clash::upload_answer(f.data(), DEVICE_TYPE).is_some() {
+                return Ok(Some(f.id()));
+            }
         }
     }
     Ok(None)
