@@ -105,3 +105,121 @@ fn xdd_and_xdc_are_checked_as_canctl_reads_them() {
     assert!(stdout.contains("CiA 311: an XDD or XDC is well-formed XML"), "{stdout}");
     assert!(stdout.contains("not read as an XDD"), "{stdout}");
 }
+
+/// A file's values are judged by its own LowLimit and HighLimit as `config apply` judges
+/// them: what apply would refuse, check finds, at the value's line.
+mod limits {
+    use super::*;
+
+    /// Node 5's configuration as `config dump` writes it (`dcf` or `xdc`), with the limits
+    /// and the value of its heartbeat time (0x1017) set; the file's path.
+    struct Dumped {
+        sim: common::Sim,
+        dcf: String,
+        xdc: String,
+    }
+
+    impl Dumped {
+        fn new() -> Dumped {
+            let sim = common::Sim::new();
+            let dcf = sim.run(&["config", "dump", "5"]).ok().stdout;
+            let xdc = sim.run(&["config", "dump", "5", "--format", "xdc"]).ok().stdout;
+            Dumped { sim, dcf, xdc }
+        }
+
+        fn with_heartbeat(&self, format: &str, low: &str, high: &str, value: &str) -> String {
+            let text = match format {
+                "dcf" => {
+                    let at = self.dcf.find("[1017]").unwrap();
+                    let from = at + self.dcf[at..].find("ParameterValue=").unwrap();
+                    let to = from + self.dcf[from..].find('\n').unwrap();
+                    let keys = format!("LowLimit={low}\nHighLimit={high}\nParameterValue={value}");
+                    format!("{}{keys}{}", &self.dcf[..from], &self.dcf[to..])
+                }
+                _ => {
+                    let at = self.xdc.find("index=\"1017\"").unwrap();
+                    let from = at + self.xdc[at..].find(" actualValue=").unwrap();
+                    let to = from + self.xdc[from..].find("/>").unwrap();
+                    let keys = format!(" lowLimit=\"{low}\" highLimit=\"{high}\" actualValue=\"{value}\"");
+                    format!("{}{keys}{}", &self.xdc[..from], &self.xdc[to..])
+                }
+            };
+            let path = self.sim.path(&format!("hb-{low}-{high}-{}.{format}", value.replace('$', "")));
+            std::fs::write(&path, text).unwrap();
+            path.display().to_string()
+        }
+
+        fn apply_dry_run(&self, file: &str) -> common::Run {
+            self.sim.run(&["config", "apply", "5", file, "--dry-run"])
+        }
+    }
+
+    /// The line of the first line of `file` that holds `text`.
+    fn line_of(file: &str, text: &str) -> usize {
+        std::fs::read_to_string(file).unwrap().lines().position(|l| l.contains(text)).unwrap() + 1
+    }
+
+    #[test]
+    fn a_value_outside_the_files_own_limits_is_an_error_at_its_line() {
+        let dumped = Dumped::new();
+        let file = dumped.with_heartbeat("dcf", "100", "200", "40");
+        let (code, stdout, stderr) = check(&[&file]);
+        assert_eq!(code, 6, "{stdout}{stderr}");
+        let line = line_of(&file, "ParameterValue=40");
+        let said = format!(
+            "{file}:{line}: error: ParameterValue 40 of 0x1017:0 (Producer heartbeat time) is outside the \
+             file's limits, 100 to 200: ignored"
+        );
+        assert!(stdout.contains(&said), "{stdout}");
+        assert!(stdout.contains("1 error(s)"), "{stdout}");
+        let apply = dumped.apply_dry_run(&file);
+        assert_eq!(apply.code, 2, "{}", apply.stderr);
+        assert!(apply.stderr.contains(&said[..said.find(": error").unwrap()]), "{}", apply.stderr);
+    }
+
+    #[test]
+    fn inverted_limits_are_an_error_and_not_used() {
+        let dumped = Dumped::new();
+        let file = dumped.with_heartbeat("dcf", "200", "100", "150");
+        let (code, stdout, stderr) = check(&[&file]);
+        assert_eq!(code, 6, "{stdout}{stderr}");
+        let line = line_of(&file, "LowLimit=200");
+        assert!(
+            stdout.contains(&format!(
+                "{file}:{line}: error: LowLimit 200 of 0x1017:0 (Producer heartbeat time) is above its HighLimit \
+                 100, which no value passes: no limits"
+            )),
+            "{stdout}"
+        );
+        let file = dumped.with_heartbeat("xdc", "200", "100", "150");
+        let (code, stdout, stderr) = check(&[&file]);
+        assert_eq!(code, 6, "{stdout}{stderr}");
+        assert!(stdout.contains("LowLimit 200 of 0x1017:0 (Producer heartbeat time) is above"), "{stdout}");
+    }
+
+    /// The invariant: `config check` passes a file exactly when `config apply --dry-run`
+    /// accepts it, for values inside, on and outside the limits, inverted limits and a
+    /// `$NODEID` value, in both an EDS-style DCF and an XDC.
+    #[test]
+    fn check_passes_exactly_what_apply_accepts() {
+        let dumped = Dumped::new();
+        let limits = [("100", "200"), ("200", "100"), ("50", "50"), ("0", "65535"), ("130", "140")];
+        let values = ["40", "50", "100", "150", "200", "250", "$NODEID+128"];
+        for format in ["dcf", "xdc"] {
+            for (low, high) in limits {
+                for value in values {
+                    let file = dumped.with_heartbeat(format, low, high, value);
+                    let (checked, stdout, _) = check(&[&file]);
+                    let applied = dumped.apply_dry_run(&file);
+                    assert_eq!(
+                        checked == 0,
+                        applied.code == 0,
+                        "{format} {low}..{high} value {value}: check exit {checked}, apply exit {}\n{stdout}\n{}",
+                        applied.code,
+                        applied.stderr
+                    );
+                }
+            }
+        }
+    }
+}

@@ -541,15 +541,14 @@ impl Reader<'_> {
         for sub in 1..=n {
             let addr = ObjAddr::new(index, sub);
             let member = names.get(&sub).map_or_else(|| format!("{name}{sub}"), |(v, _)| self.encoding.decode(v));
+            let entry = Entry { addr, name: member, ..template.clone() };
             if let Some((text, line)) = values.get(&sub) {
                 match parse_value(text, template.dtype) {
-                    Ok(v) => {
-                        self.eds.values.insert(addr, v);
-                    }
+                    Ok(v) => self.value(&entry, v, *line, &format!("[{index:04X}Value] {sub}:")),
                     Err(m) => self.warn(*line, Kind::ValueIgnored, format!("[{index:04X}Value] {sub}: {m}; ignored")),
                 }
             }
-            out.push(Entry { addr, name: member, ..template.clone() });
+            out.push(entry);
         }
         if !values.is_empty() {
             // The count the device is to hold is the number of values given.
@@ -677,24 +676,32 @@ impl Reader<'_> {
                 }
             }
         };
-        let range = match (limit(self, "lowlimit"), limit(self, "highlimit")) {
-            (None, None) => None,
-            (lo, hi) => {
-                let (tlo, thi) = dtype.int_range().expect("integer");
-                Some((lo.unwrap_or(tlo), hi.unwrap_or(thi)))
-            }
-        };
+        let (low, high) = (limit(self, "lowlimit"), limit(self, "highlimit"));
+        let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {
+            self.warn(s.get("lowlimit").map_or(s.line, |(_, line)| line), kind, why);
+            None
+        });
+        let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((v, line)) = value_key(self, "parametervalue") {
             match parse_value(&v, dtype) {
-                Ok(value) => {
-                    self.eds.values.insert(addr, value);
-                }
+                Ok(value) => self.value(&entry, value, line, "ParameterValue"),
                 Err(m) => {
                     self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {addr} ({name}): {m}; ignored"))
                 }
             }
         }
-        Ok(Entry { addr, name: name.to_string(), dtype, access, default, range })
+        Ok(entry)
+    }
+
+    /// A value the file gives `entry` (at `line`, under `key`), kept when the file's own
+    /// limits allow it, as `config apply` will judge it.
+    fn value(&mut self, entry: &Entry, value: Init, line: usize, key: &str) {
+        match super::within_limits(entry, value, key) {
+            Ok(value) => {
+                self.eds.values.insert(entry.addr, value);
+            }
+            Err((kind, why)) => self.warn(line, kind, why),
+        }
     }
 }
 

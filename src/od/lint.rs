@@ -46,6 +46,8 @@ pub enum Kind {
     ObjectLeftOut,
     /// A key whose value could not be understood, ignored.
     ValueIgnored,
+    /// A value outside the limits the file gives its object, ignored.
+    ValueOutsideLimits,
     /// A complex or manufacturer data type, read as DOMAIN.
     TypeAsBytes,
     /// A DOMAIN default that says "nothing" (`0`, `NULL`), read as empty.
@@ -64,9 +66,12 @@ impl Kind {
     /// How much the deviation costs: an error loses something, a warning does not.
     pub fn severity(self) -> Severity {
         match self {
-            Kind::ObjectLeftOut | Kind::ValueIgnored | Kind::BadCompactSection | Kind::NotAnEds | Kind::NotAnXdd => {
-                Severity::Error
-            }
+            Kind::ObjectLeftOut
+            | Kind::ValueIgnored
+            | Kind::ValueOutsideLimits
+            | Kind::BadCompactSection
+            | Kind::NotAnEds
+            | Kind::NotAnXdd => Severity::Error,
             _ => Severity::Warning,
         }
     }
@@ -97,6 +102,7 @@ impl Kind {
                 "CiA 306: an object gives its ObjectType, DataType, AccessType, values of that type and, if an ARRAY or RECORD, its sub-objects"
             }
             Kind::ValueIgnored => "CiA 306: a key's value has the form the standard gives it",
+            Kind::ValueOutsideLimits => "CiA 306: a value lies within its object's LowLimit and HighLimit",
             Kind::TypeAsBytes => "CiA 306: a DataType beyond the basic types (0x0020..) is defined by DEFSTRUCT/DEFTYPE sections canctl does not read",
             Kind::DomainDefault => "CiA 306: a DOMAIN's DefaultValue is hex bytes, or empty for none",
             Kind::MoreLeftOut | Kind::Other => "",

@@ -9,6 +9,7 @@
 
 use super::cpj::Commissioning;
 use super::eds::{self, Eds, Header, WriteError};
+use super::lint::{Kind, Warning};
 use super::{Access, Dictionary, Entry, Init, ObjectKind};
 use crate::canopen::{DataType, ObjAddr};
 use roxmltree::{Document, Node};
@@ -159,6 +160,12 @@ impl<'a, 'input> Reader<'a, 'input> {
         if self.eds.warnings.len() < eds::MAX_WARNINGS {
             self.eds.warnings.push(format!("{}:{line}:{column}: {msg}", self.path));
         }
+    }
+
+    /// A deviation at the line of element `n`, of its kind and severity.
+    fn find(&mut self, n: Node, kind: Kind, msg: String) {
+        let (line, _) = self.at(n);
+        self.eds.warnings.push(Warning::new(self.path, line as usize, kind, msg));
     }
 
     /// The parameter an object names by `uniqueIDRef`, if any.
@@ -324,23 +331,25 @@ impl<'a, 'input> Reader<'a, 'input> {
             },
             None => Init::Bytes(dtype.size().map_or_else(Vec::new, |size| vec![0; size])),
         };
+        let limit = |attr: &str| n.attribute(attr).filter(|_| dtype.int_range().is_some()).and_then(eds::parse_int);
+        let range = super::limits(&format!("{addr} ({name})"), dtype, limit("lowLimit"), limit("highLimit"))
+            .unwrap_or_else(|(kind, why)| {
+                self.find(n, kind, why);
+                None
+            });
+        let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((text, at)) = self.value_of(n, "actualValue", "actualValue") {
-            match value(text) {
+            let judged = value(text)
+                .map_err(|why| (Kind::ValueIgnored, format!("actualValue of {addr} ({name}): {why}; ignored")))
+                .and_then(|v| super::within_limits(&entry, v, "actualValue"));
+            match judged {
                 Ok(v) => {
                     self.eds.values.insert(addr, v);
                 }
-                Err(why) => self.warn(at, format!("actualValue of {addr} ({name}): {why}; value passed over")),
+                Err((kind, why)) => self.find(at, kind, why),
             }
         }
-        let limit = |attr: &str| n.attribute(attr).filter(|_| dtype.int_range().is_some()).and_then(eds::parse_int);
-        let range = match (limit("lowLimit"), limit("highLimit")) {
-            (None, None) => None,
-            (lo, hi) => {
-                let (tlo, thi) = dtype.int_range().expect("integer");
-                Some((lo.unwrap_or(tlo), hi.unwrap_or(thi)))
-            }
-        };
-        self.eds.dict.insert(Entry { addr, name: name.to_string(), dtype, access, default, range });
+        self.eds.dict.insert(entry);
     }
 }
 
