@@ -223,3 +223,114 @@ mod limits {
         }
     }
 }
+
+/// An XDD (CiA 311) is held to the same policy as an EDS: the same defect is the same
+/// finding, of the same severity, at the line of its element.
+mod xml_like_ini {
+    use super::*;
+
+    /// Objects as (index, name, data type, access, default), each written as an EDS
+    /// section and as an XDD element.
+    const OBJECTS: &[(&str, &str, &str, &str, &str)] = &[
+        ("1000", "Device type", "0007", "ro", "0x20192"),
+        ("1001", "Error register", "0005", "ro", "0"),
+        ("1018", "Identity", "0007", "ro", "0xFB"),
+        ("2000", "Odd type", "00FF", "rw", "1"),
+        ("2001", "Odd access", "0007", "qq", "1"),
+        ("2002", "No type", "0x10000", "rw", "1"),
+        ("2003", "Bad default", "0007", "rw", "banana"),
+    ];
+
+    fn eds(objects: &[(&str, &str, &str, &str, &str)]) -> String {
+        let mut text = String::from("[FileInfo]\nFileName=odd.eds\n");
+        for (index, name, dtype, access, default) in objects {
+            text += &format!(
+                "\n[{index}]\nParameterName={name}\nObjectType=0x7\nDataType=0x{dtype}\nAccessType={access}\nDefaultValue={default}\n"
+            );
+        }
+        text
+    }
+
+    fn xdd(objects: &[(&str, &str, &str, &str, &str)]) -> String {
+        let mut text = String::from("<?xml version=\"1.0\"?>\n<ISO15745ProfileContainer>\n<CANopenObjectList>\n");
+        for (index, name, dtype, access, default) in objects {
+            text += &format!(
+                "  <CANopenObject index=\"{index}\" name=\"{name}\" objectType=\"7\" dataType=\"{dtype}\" \
+                 accessType=\"{access}\" defaultValue=\"{default}\"/>\n"
+            );
+        }
+        text + "</CANopenObjectList>\n</ISO15745ProfileContainer>\n"
+    }
+
+    /// `config check --format json` of `text` written to `name`: exit code and findings as
+    /// (kind, severity, line, message) with the file named as given.
+    fn findings(dir: &std::path::Path, name: &str, text: &str) -> (i32, J) {
+        let file = dir.join(name);
+        std::fs::write(&file, text).unwrap();
+        let file = file.to_str().unwrap();
+        let (code, stdout, stderr) = check(&[file, "--format", "json"]);
+        let j: J = serde_json::from_str(&stdout).unwrap_or_else(|e| panic!("{e}: {stdout}{stderr}"));
+        for f in j["findings"].as_array().unwrap() {
+            assert_eq!(f["path"], file, "{f}");
+        }
+        (code, j)
+    }
+
+    fn kinds(j: &J) -> Vec<(String, String)> {
+        let list = j["findings"].as_array().unwrap();
+        list.iter().map(|f| (f["kind"].as_str().unwrap().into(), f["severity"].as_str().unwrap().into())).collect()
+    }
+
+    /// The line of `file`'s text that holds `text`.
+    fn line_of(text: &str, needle: &str) -> u64 {
+        text.lines().position(|l| l.contains(needle)).unwrap() as u64 + 1
+    }
+
+    #[test]
+    fn the_same_defects_are_the_same_findings_in_an_eds_and_an_xdd() {
+        let dir = tempfile::tempdir().unwrap();
+        let (eds_code, eds_j) = findings(dir.path(), "odd.eds", &eds(OBJECTS));
+        let text = xdd(OBJECTS);
+        let (xdd_code, xdd_j) = findings(dir.path(), "odd.xdd", &text);
+        assert_eq!((eds_code, xdd_code), (6, 6), "{eds_j}\n{xdd_j}");
+        assert_eq!(kinds(&xdd_j), kinds(&eds_j), "{eds_j}\n{xdd_j}");
+        assert_eq!((xdd_j["errors"].as_u64(), xdd_j["warnings"].as_u64()), (Some(3), Some(1)), "{xdd_j}");
+        assert_eq!(xdd_j["objects"], eds_j["objects"]);
+        // One whose every object is broken is read, its findings said, as an EDS is.
+        let (code, j) = findings(dir.path(), "broken.xdd", &xdd(&OBJECTS[4..5]));
+        assert_eq!((code, j["verdict"].as_str()), (6, Some("errors")), "{j}");
+        // Each at the line of its element, without the place repeated in the message.
+        let lines: Vec<u64> =
+            xdd_j["findings"].as_array().unwrap().iter().map(|f| f["line"].as_u64().unwrap()).collect();
+        let expected: Vec<u64> = ["2000", "2001", "2002", "2003"]
+            .iter()
+            .map(|index| line_of(&text, &format!("index=\"{index}\"")))
+            .collect();
+        assert_eq!(lines, expected, "{xdd_j}");
+        let access = &xdd_j["findings"][1];
+        assert_eq!(
+            access["message"],
+            "0x2001:0 (Odd access) left out: accessType 'qq' is not ro, wo, rw, rwr, rww or const"
+        );
+        assert!(access["rule"].as_str().unwrap().starts_with("CiA 306"), "{access}");
+    }
+
+    #[test]
+    fn mandatory_objects_missing_are_told_in_both_formats() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = xdd(&OBJECTS[3..4]);
+        let (code, j) = findings(dir.path(), "device.xdd", &text);
+        assert_eq!(code, 0, "{j}");
+        let missing: Vec<&J> =
+            j["findings"].as_array().unwrap().iter().filter(|f| f["kind"] == "missing-mandatory").collect();
+        assert_eq!(missing.len(), 3, "{j}");
+        assert_eq!(missing[0]["message"], "no object 0x1000: CiA 301 makes 0x1000 mandatory for every device");
+        assert_eq!(missing[0]["line"], line_of(&text, "<CANopenObjectList>"));
+        // An EDS with object lists says the same under the same kind.
+        let listed = "[MandatoryObjects]\nSupportedObjects=1\n1=0x1018\n".to_string() + &eds(&OBJECTS[2..3])[..];
+        let (_, j) = findings(dir.path(), "listed.eds", &listed);
+        let missing: Vec<&J> =
+            j["findings"].as_array().unwrap().iter().filter(|f| f["kind"] == "missing-mandatory").collect();
+        assert_eq!(missing.len(), 2, "{j}");
+    }
+}

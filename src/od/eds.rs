@@ -155,8 +155,9 @@ fn object_section(name: &str) -> Option<(u16, Option<u8>)> {
 mod values;
 mod write;
 pub(crate) use values::parse_value;
-use values::{data_type_from_code, parse_access, signed_from_hex, NODE_IDS};
+pub(crate) use values::{data_type_from_code, mandatory, parse_limit, type_as_bytes};
 pub use values::{format_value, parse_int, to_latin1, value_text};
+use values::{parse_access, NODE_IDS};
 pub use write::{parameter_text, write, write_bytes, Header, WriteError};
 /// How names and descriptions are encoded: Latin-1 as CiA 306 files traditionally are, or
 /// UTF-8 where the file says so with a byte order mark or is valid UTF-8 beyond ASCII.
@@ -482,12 +483,12 @@ impl Reader<'_> {
                 );
             }
         }
-        for index in [0x1000u16, 0x1001, 0x1018] {
+        for index in super::MANDATORY {
             if !by_name.contains_key(&(index, None)) {
                 self.warn(
                     first.line,
-                    Kind::ObjectList,
-                    format!("no [{index:04X}] section: CiA 301 makes 0x{index:04X} mandatory for every device"),
+                    Kind::MissingMandatory,
+                    format!("no [{index:04X}] section: {}", mandatory(index)),
                 );
             }
         }
@@ -630,11 +631,7 @@ impl Reader<'_> {
             }
         };
         if let Some((line, code)) = as_bytes {
-            self.warn(
-                line,
-                Kind::TypeAsBytes,
-                format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default"),
-            );
+            self.warn(line, Kind::TypeAsBytes, type_as_bytes(addr, name, code));
         }
         let default = match value_key(self, "defaultvalue").filter(|_| as_bytes.is_none()) {
             // What DOMAIN defaults often say for "nothing".
@@ -664,8 +661,8 @@ impl Reader<'_> {
             if v.is_empty() || dtype.int_range().is_none() {
                 return None;
             }
-            match parse_int(&v) {
-                Some(n) => Some(signed_from_hex(n, &v, dtype)),
+            match parse_limit(&v, dtype) {
+                Some(n) => Some(n),
                 None => {
                     r.warn(
                         line,

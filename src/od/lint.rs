@@ -38,8 +38,10 @@ pub enum Kind {
     BadCompactSection,
     /// `CompactSubObj` on a RECORD, which the standard allows on ARRAYs only.
     CompactRecord,
-    /// The object lists and the object sections disagree, or a mandatory object is missing.
+    /// The object lists and the object sections disagree.
     ObjectList,
+    /// An object CiA 301 makes mandatory (0x1000, 0x1001, 0x1018) that the file lacks.
+    MissingMandatory,
     /// A `[DummyUsage]` entry other than `Dummy0001`..`Dummy0007` = 0 or 1.
     BadDummyUsage,
     /// An object (or one of its sub-entries) that could not be understood, left out.
@@ -97,6 +99,7 @@ impl Kind {
             Kind::ObjectList => {
                 "CiA 306: [MandatoryObjects], [OptionalObjects] and [ManufacturerObjects] list each object section once, with SupportedObjects their number"
             }
+            Kind::MissingMandatory => "CiA 301: every device has 0x1000 (device type), 0x1001 (error register) and 0x1018 (identity)",
             Kind::BadDummyUsage => "CiA 306: [DummyUsage] holds Dummy0001..Dummy0007 = 0 or 1",
             Kind::ObjectLeftOut => {
                 "CiA 306: an object gives its ObjectType, DataType, AccessType, values of that type and, if an ARRAY or RECORD, its sub-objects"

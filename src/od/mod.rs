@@ -45,6 +45,10 @@ pub fn read_description(path: &std::path::Path) -> Result<eds::Eds, ReadError> {
     parse_description(&bytes, &path.display().to_string())
 }
 
+/// The objects CiA 301 makes mandatory for every device: device type, error register and
+/// identity.
+pub(crate) const MANDATORY: [u16; 3] = [0x1000, 0x1001, 0x1018];
+
 /// Who may read and write an entry over SDO (EDS `AccessType`).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Access {

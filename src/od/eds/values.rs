@@ -134,11 +134,27 @@ pub(super) const DATA_TYPE_CODES: std::ops::RangeInclusive<i128> = 0x0001..=0x02
 
 /// The type of a `DataType` code: `Ok(None)` for a CiA 301 type canctl does not handle,
 /// an error for a number that is no data type at all.
-pub(super) fn data_type_from_code(code: i128) -> Result<Option<DataType>, String> {
+pub(crate) fn data_type_from_code(code: i128) -> Result<Option<DataType>, String> {
     if !DATA_TYPE_CODES.contains(&code) {
         return Err(format!("DataType 0x{code:X} is not a CiA 301 data type (0x0001..0x025F; 0x0007 is UNSIGNED32)"));
     }
     Ok(crate::canopen::types::ALL_TYPES.iter().copied().find(|t| i128::from(t.code()) == code))
+}
+
+/// What a reader does with a CiA 301 data type it does not handle (`data_type_from_code`
+/// gave `Ok(None)`), in words.
+pub(crate) fn type_as_bytes(addr: ObjAddr, name: &str, code: i128) -> String {
+    format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default")
+}
+
+/// A LowLimit or HighLimit: an integer, two's complement when a signed type's is hex.
+pub(crate) fn parse_limit(text: &str, dtype: DataType) -> Option<i128> {
+    parse_int(text).map(|n| signed_from_hex(n, text, dtype))
+}
+
+/// Why a file needs object `index` (one of `od::MANDATORY`), in words.
+pub(crate) fn mandatory(index: u16) -> String {
+    format!("CiA 301 makes 0x{index:04X} mandatory for every device")
 }
 
 /// The text form of a value, for people (tables, messages). Files use `value_text`.
