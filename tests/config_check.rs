@@ -334,3 +334,57 @@ mod xml_like_ini {
         assert_eq!(missing.len(), 2, "{j}");
     }
 }
+
+/// What `config check` says about a file it cannot use names the file once, and quotes
+/// no more of it than a reader can take in.
+mod messages {
+    use super::*;
+
+    #[test]
+    fn a_file_is_named_by_what_it_is_not_by_its_extension() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("device.xpd");
+        std::fs::copy(format!("{}/tests/fixtures/xdd/small.xdd", env!("CARGO_MANIFEST_DIR")), &file).unwrap();
+        let (code, stdout, stderr) = check(&[file.to_str().unwrap()]);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        assert!(stdout.contains("device.xpd: XDD, "), "an XML device description, read as one: {stdout}");
+    }
+
+    #[test]
+    fn an_empty_file_is_refused_with_its_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("empty.eds");
+        std::fs::write(&file, "; nothing but a comment\n").unwrap();
+        let file = file.to_str().unwrap();
+        let (code, stdout, stderr) = check(&[file]);
+        assert_eq!(code, 6, "{stdout}{stderr}");
+        assert!(stdout.contains(&format!("{file}: error: not an EDS or DCF")), "{stdout}");
+        assert!(stdout.contains(&format!("{file}: not read as an EDS")), "{stdout}");
+    }
+
+    #[test]
+    fn a_file_that_cannot_be_read_is_said_once() {
+        let (code, _, stderr) = check(&["/nonexistent/x.eds"]);
+        assert_eq!(code, 2, "{stderr}");
+        assert_eq!(stderr.trim_end(), "canctl: cannot read /nonexistent/x.eds: No such file or directory (os error 2)");
+        let dir = tempfile::tempdir().unwrap();
+        let (code, _, stderr) = check(&[dir.path().to_str().unwrap()]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(!stderr.contains("cannot check"), "{stderr}");
+        assert!(stderr.contains("a directory, not a regular file"), "{stderr}");
+    }
+
+    #[test]
+    fn a_binary_files_line_is_quoted_short_with_its_bytes_escaped() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("garbage.eds");
+        let garbage: Vec<u8> = (0..1000u32).map(|i| [0x00, 0x87, b'a', 0x1B, 0xE9][i as usize % 5]).collect();
+        std::fs::write(&file, garbage).unwrap();
+        let (code, stdout, stderr) = check(&[file.to_str().unwrap()]);
+        assert_eq!(code, 6, "{stdout}{stderr}");
+        let said = stdout.lines().next().unwrap();
+        assert!(said.contains(r"found '\x00\x87a\x1Bé\x00"), "{said}");
+        assert!(said.contains("…' (1000 characters)"), "{said}");
+        assert!(said.chars().count() < 250, "{} characters: {said}", said.chars().count());
+    }
+}

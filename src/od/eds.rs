@@ -107,8 +107,9 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Ve
             continue;
         }
         if let Some(rest) = line.strip_prefix('[') {
-            let name =
-                rest.strip_suffix(']').ok_or_else(|| err(no, format!("section header '{line}' has no closing ]")))?;
+            let name = rest
+                .strip_suffix(']')
+                .ok_or_else(|| err(no, format!("section header {} has no closing ]", quoted(line))))?;
             let name = trim_blanks(name).to_ascii_lowercase();
             if let Some(first) = seen_sections.insert(name.clone(), no) {
                 let msg = format!("section {line} again (before at line {first}): this one replaces it");
@@ -117,9 +118,11 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Ve
             sections.push(Section { name, line: no, keys: Default::default(), spelled: Default::default() });
             continue;
         }
-        let (key, value) =
-            line.split_once('=').ok_or_else(|| err(no, format!("expected KEY=VALUE or [SECTION], found '{line}'")))?;
-        let section = sections.last_mut().ok_or_else(|| err(no, format!("'{line}' comes before any [SECTION]")))?;
+        let (key, value) = line
+            .split_once('=')
+            .ok_or_else(|| err(no, format!("expected KEY=VALUE or [SECTION], found {}", quoted(line))))?;
+        let section =
+            sections.last_mut().ok_or_else(|| err(no, format!("{} comes before any [SECTION]", quoted(line))))?;
         let key_lower = trim_blanks(key).to_ascii_lowercase();
         section.spelled.insert(key_lower.clone(), trim_blanks(key).to_string());
         let value = (trim_blanks(value).to_string(), no);
@@ -134,6 +137,24 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Ve
     }
     Ok(sections)
 }
+
+/// A line of the file quoted in a message, in quotes: a binary file's "line" can be
+/// thousands of bytes, so at most [`QUOTED_CHARS`] characters are shown (the length said
+/// when cut), and each byte a terminal does not show as text is written `\xNN`.
+fn quoted(line: &str) -> String {
+    let mut shown = String::new();
+    for c in line.chars() {
+        let c = if c.is_control() { format!("\\x{:02X}", c as u32) } else { c.to_string() };
+        if shown.chars().count() + c.chars().count() > QUOTED_CHARS {
+            return format!("'{shown}…' ({} characters)", line.chars().count());
+        }
+        shown.push_str(&c);
+    }
+    format!("'{shown}'")
+}
+
+/// The most characters of a line [`quoted`] shows.
+const QUOTED_CHARS: usize = 60;
 
 /// `1018` → (0x1018, None); `1018sub2` → (0x1018, Some(2)); anything else → None.
 fn object_section(name: &str) -> Option<(u16, Option<u8>)> {
