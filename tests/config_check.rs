@@ -315,6 +315,43 @@ mod xml_like_ini {
         assert!(access["rule"].as_str().unwrap().starts_with("CiA 306"), "{access}");
     }
 
+    /// MAB's EDS writes a BOOLEAN's default as `false`; C programmers' generators write
+    /// `0x1234567890ABCDEFLL`, `100U`: read as they plainly mean, with a warning, in both.
+    #[test]
+    fn a_c_suffix_or_a_boolean_word_is_read_as_meant_with_a_warning() {
+        let objects = [
+            ("1000", "Device type", "0007", "ro", "0x20192UL"),
+            ("1001", "Error register", "0005", "ro", "0u"),
+            ("1018", "Identity", "0007", "ro", "0xFB"),
+            ("2002", "Suffix", "001B", "rw", "0x1234567890ABCDEFLL"),
+            ("2003", "Flag", "0001", "rw", "false"),
+            ("2004", "Signed", "0004", "rw", "-5L"),
+            ("2005", "On", "0001", "rw", "TRUE"),
+        ];
+        let dir = tempfile::tempdir().unwrap();
+        let (eds_code, eds_j) = findings(dir.path(), "meant.eds", &eds(&objects));
+        let (xdd_code, xdd_j) = findings(dir.path(), "meant.xdd", &xdd(&objects));
+        assert_eq!((eds_code, xdd_code), (0, 0), "{eds_j}\n{xdd_j}");
+        assert_eq!(kinds(&eds_j), vec![("value-as-meant".to_string(), "warning".to_string()); 6], "{eds_j}");
+        assert_eq!(kinds(&xdd_j), kinds(&eds_j), "{xdd_j}");
+        let flag = &eds_j["findings"][3];
+        assert_eq!(flag["message"], "DefaultValue false of 0x2003:0 (Flag) read as 0", "{flag}");
+        assert!(flag["rule"].as_str().unwrap().contains("a BOOLEAN is 0 or 1"), "{flag}");
+        for name in ["meant.eds", "meant.xdd"] {
+            let read = canctl::od::read_description(&dir.path().join(name)).unwrap();
+            let default = |index| read.dict.get(canctl::canopen::ObjAddr::new(index, 0)).unwrap().default_for(1);
+            assert_eq!(default(0x2002), 0x1234567890ABCDEFu64.to_le_bytes(), "{name}");
+            assert_eq!((default(0x2003), default(0x2005)), (vec![0], vec![1]), "{name}");
+            assert_eq!(default(0x2004), (-5i32).to_le_bytes(), "{name}");
+        }
+        // A DCF's value so written is what the node is to hold.
+        let dcf = eds(&objects) + "\n[2006]\nParameterName=Limit\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=0\nParameterValue=250U\n";
+        std::fs::write(dir.path().join("meant.dcf"), dcf).unwrap();
+        let read = canctl::od::read_description(&dir.path().join("meant.dcf")).unwrap();
+        let value = read.values.get(&canctl::canopen::ObjAddr::new(0x2006, 0));
+        assert_eq!(value, Some(&canctl::od::Init::Bytes(250u32.to_le_bytes().to_vec())));
+    }
+
     #[test]
     fn mandatory_objects_missing_are_told_in_both_formats() {
         let dir = tempfile::tempdir().unwrap();

@@ -175,10 +175,10 @@ fn object_section(name: &str) -> Option<(u16, Option<u8>)> {
 
 mod values;
 mod write;
-pub(crate) use values::parse_value;
 pub(crate) use values::{data_type_from_code, mandatory, parse_limit, type_as_bytes};
 pub use values::{format_value, parse_int, to_latin1, value_text};
 use values::{parse_access, NODE_IDS};
+pub(crate) use values::{parse_value_as_meant, read_as_meant};
 pub use write::{parameter_text, write, write_bytes, Header, WriteError};
 /// How names and descriptions are encoded: Latin-1 as CiA 306 files traditionally are, or
 /// UTF-8 where the file says so with a byte order mark or is valid UTF-8 beyond ASCII.
@@ -565,8 +565,9 @@ impl Reader<'_> {
             let member = names.get(&sub).map_or_else(|| format!("{name}{sub}"), |(v, _)| self.encoding.decode(v));
             let entry = Entry { addr, name: member, ..template.clone() };
             if let Some((text, line)) = values.get(&sub) {
-                match parse_value(text, template.dtype) {
-                    Ok(v) => self.value(&entry, v, *line, &format!("[{index:04X}Value] {sub}:")),
+                let key = format!("[{index:04X}Value] {sub}:");
+                match self.value_as_meant(&key, text, *line, &entry.name, addr, template.dtype) {
+                    Ok(v) => self.value(&entry, v, *line, &key),
                     Err(m) => self.warn(*line, Kind::ValueIgnored, format!("[{index:04X}Value] {sub}: {m}; ignored")),
                 }
             }
@@ -666,7 +667,7 @@ impl Reader<'_> {
                 );
                 Init::Bytes(Vec::new())
             }
-            Some((v, line)) => match parse_value(&v, dtype) {
+            Some((v, line)) => match self.value_as_meant("DefaultValue", &v, line, name, addr, dtype) {
                 Ok(init) => init,
                 // A DOMAIN's default is often a file name or a note: not its content.
                 Err(m) if dtype == DataType::D => {
@@ -701,7 +702,7 @@ impl Reader<'_> {
         });
         let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((v, line)) = value_key(self, "parametervalue") {
-            match parse_value(&v, dtype) {
+            match self.value_as_meant("ParameterValue", &v, line, name, addr, dtype) {
                 Ok(value) => self.value(&entry, value, line, "ParameterValue"),
                 Err(m) => {
                     self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {addr} ({name}): {m}; ignored"))
@@ -709,6 +710,24 @@ impl Reader<'_> {
             }
         }
         Ok(entry)
+    }
+
+    /// The value `text` (at `line`, under `key`) of `addr`, read as it plainly means where
+    /// it is not written as CiA 306 writes it, with a warning saying so.
+    fn value_as_meant(
+        &mut self,
+        key: &str,
+        text: &str,
+        line: usize,
+        name: &str,
+        addr: ObjAddr,
+        dtype: DataType,
+    ) -> Result<Init, String> {
+        let (value, meant) = parse_value_as_meant(text, dtype)?;
+        if let Some(meant) = meant {
+            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, addr, name, &meant));
+        }
+        Ok(value)
     }
 
     /// A value the file gives `entry` (at `line`, under `key`), kept when the file's own

@@ -48,6 +48,9 @@ pub enum Kind {
     ObjectLeftOut,
     /// A key whose value could not be understood, ignored.
     ValueIgnored,
+    /// A value in a form CiA 306 does not give, with one plain meaning (a C suffix, a
+    /// BOOLEAN as `false`/`true`), read as meant.
+    ValueAsMeant,
     /// A value outside the limits the file gives its object, ignored.
     ValueOutsideLimits,
     /// A complex or manufacturer data type, read as DOMAIN.
@@ -105,6 +108,9 @@ impl Kind {
                 "CiA 306: an object gives its ObjectType, DataType, AccessType, values of that type and, if an ARRAY or RECORD, its sub-objects"
             }
             Kind::ValueIgnored => "CiA 306: a key's value has the form the standard gives it",
+            Kind::ValueAsMeant => {
+                "CiA 306: an integer is decimal, 0x hex or 0 octal, without a C suffix (U, L); a BOOLEAN is 0 or 1"
+            }
             Kind::ValueOutsideLimits => "CiA 306: a value lies within its object's LowLimit and HighLimit",
             Kind::TypeAsBytes => "CiA 306: a DataType beyond the basic types (0x0020..) is defined by DEFSTRUCT/DEFTYPE sections canctl does not read",
             Kind::DomainDefault => "CiA 306: a DOMAIN's DefaultValue is hex bytes, or empty for none",

@@ -345,16 +345,9 @@ impl<'a, 'input> Reader<'a, 'input> {
         let no_default = default.is_none_or(|(v, _)| v.trim().is_empty());
         let (dtype, as_bytes) = self.data_type(n, addr, name, no_default).map_err(|why| (n, why))?;
         let access = self.access(n).map_err(|why| (n, why))?;
-        let value = |text: &str| -> Result<Init, String> {
-            match dtype {
-                // XML carries text as Unicode: a string's bytes are its UTF-8.
-                DataType::Vs => Ok(Init::Bytes(text.as_bytes().to_vec())),
-                DataType::D => crate::canopen::types::parse_hex(text).map(Init::Bytes),
-                _ => eds::parse_value(text, dtype),
-            }
-        };
+        let value = |r: &mut Self, key: &str, text: &str, at: Node| r.value(key, text, at, addr, name, dtype);
         let default = match default.filter(|_| !as_bytes) {
-            Some((text, at)) => match value(text) {
+            Some((text, at)) => match value(self, "defaultValue", text, at) {
                 Ok(v) => v,
                 // A DOMAIN's default is often a file name or a note: not its content.
                 Err(why) if dtype == DataType::D => {
@@ -385,7 +378,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         });
         let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((text, at)) = self.value_of(n, "actualValue", "actualValue") {
-            let judged = value(text)
+            let judged = value(self, "actualValue", text, at)
                 .map_err(|why| (Kind::ValueIgnored, format!("actualValue of {addr} ({name}): {why}; ignored")))
                 .and_then(|v| super::within_limits(&entry, v, "actualValue"));
             match judged {
@@ -396,6 +389,31 @@ impl<'a, 'input> Reader<'a, 'input> {
             }
         }
         Ok(entry)
+    }
+
+    /// The value `text` (under `key`, in element `at`) of `addr`, of type `dtype`; one read
+    /// as it plainly means (a C suffix) with a warning saying so, as in an EDS.
+    fn value(
+        &mut self,
+        key: &str,
+        text: &str,
+        at: Node,
+        addr: ObjAddr,
+        name: &str,
+        dtype: DataType,
+    ) -> Result<Init, String> {
+        match dtype {
+            // XML carries text as Unicode: a string's bytes are its UTF-8.
+            DataType::Vs => Ok(Init::Bytes(text.as_bytes().to_vec())),
+            DataType::D => crate::canopen::types::parse_hex(text).map(Init::Bytes),
+            _ => {
+                let (value, meant) = eds::parse_value_as_meant(text, dtype)?;
+                if let Some(meant) = meant {
+                    self.find(at, Kind::ValueAsMeant, eds::read_as_meant(key, text, addr, name, &meant));
+                }
+                Ok(value)
+            }
+        }
     }
 
     /// CiA 301's mandatory objects the file lacks, said at its object list.

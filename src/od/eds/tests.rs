@@ -1,3 +1,4 @@
+use super::values::parse_value;
 use super::*;
 
 fn fixture(name: &str) -> (Vec<u8>, String) {

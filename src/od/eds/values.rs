@@ -118,6 +118,41 @@ pub(crate) fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
     Ok(Init::Bytes(bytes))
 }
 
+/// [`parse_value`], and where that fails, what a value written as C writes an integer
+/// (`0x1234ULL`, `100U`) or as words write a BOOLEAN (`false`) plainly means: the value,
+/// and the text it was read as when it needed that (the reader warns).
+pub(crate) fn parse_value_as_meant(text: &str, dtype: DataType) -> Result<(Init, Option<String>), String> {
+    match parse_value(text, dtype) {
+        Ok(value) => Ok((value, None)),
+        Err(why) => {
+            let Some(meant) = plain_meaning(trim_blanks(text), dtype) else { return Err(why) };
+            let value = parse_value(&meant, dtype).map_err(|_| why)?;
+            Ok((value, Some(meant)))
+        }
+    }
+}
+
+/// `false`/`true` for a BOOLEAN, an integer without its C suffix (`U`, `L`, `UL`, `LL`,
+/// `ULL`, any case): the text CiA 306 would write; `None` when there is no plain meaning.
+fn plain_meaning(text: &str, dtype: DataType) -> Option<String> {
+    let lower = text.to_ascii_lowercase();
+    match (dtype, lower.as_str()) {
+        (DataType::Bool, "false") => return Some("0".into()),
+        (DataType::Bool, "true") => return Some("1".into()),
+        _ => {}
+    }
+    dtype.int_range()?;
+    // Longest first; no hex digit is a U or an L, so a suffix is never part of the number.
+    let suffix = ["ull", "llu", "ul", "lu", "ll", "u", "l"].into_iter().find(|s| lower.ends_with(s))?;
+    let number = &text[..text.len() - suffix.len()];
+    parse_int(number).map(|_| number.to_string())
+}
+
+/// What a reader says of a value it read as meant ([`parse_value_as_meant`]).
+pub(crate) fn read_as_meant(key: &str, text: &str, addr: ObjAddr, name: &str, meant: &str) -> String {
+    format!("{key} {text} of {addr} ({name}) read as {meant}")
+}
+
 pub(super) fn parse_access(text: &str) -> Option<Access> {
     Some(match text.trim().to_ascii_lowercase().as_str() {
         "ro" => Access::Ro,
