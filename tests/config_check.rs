@@ -197,6 +197,24 @@ mod limits {
         assert!(stdout.contains("LowLimit 200 of 0x1017:0 (Producer heartbeat time) is above"), "{stdout}");
     }
 
+    /// A limit written as C writes it is read as it plainly means, as a value is: the value
+    /// below it is then refused by it.
+    #[test]
+    fn limits_with_a_c_suffix_are_read_as_meant() {
+        let dumped = Dumped::new();
+        for format in ["dcf", "xdc"] {
+            let file = dumped.with_heartbeat(format, "100U", "200UL", "40");
+            let (code, stdout, stderr) = check(&[&file, "--format", "json"]);
+            assert_eq!(code, 6, "{stdout}{stderr}");
+            let j: J = serde_json::from_str(&stdout).unwrap();
+            let kinds: Vec<&str> =
+                j["findings"].as_array().unwrap().iter().map(|f| f["kind"].as_str().unwrap()).collect();
+            assert_eq!(kinds, ["value-as-meant", "value-as-meant", "value-outside-limits"], "{format}: {stdout}");
+            let low = j["findings"][0]["message"].as_str().unwrap();
+            assert!(low.ends_with("100U of 0x1017:0 (Producer heartbeat time) read as 100"), "{format}: {low}");
+        }
+    }
+
     /// The invariant: `config check` passes a file exactly when `config apply --dry-run`
     /// accepts it, for values inside, on and outside the limits, inverted limits and a
     /// `$NODEID` value, in both an EDS-style DCF and an XDC.

@@ -683,13 +683,19 @@ impl Reader<'_> {
             if v.is_empty() || dtype.int_range().is_none() {
                 return None;
             }
+            let spelled = s.spelled.get(key).map_or(key, String::as_str);
             match parse_limit(&v, dtype) {
-                Some(n) => Some(n),
+                Some((n, meant)) => {
+                    if let Some(meant) = meant {
+                        r.warn(line, Kind::ValueAsMeant, read_as_meant(spelled, &v, addr, name, &meant));
+                    }
+                    Some(n)
+                }
                 None => {
                     r.warn(
                         line,
                         Kind::ValueIgnored,
-                        format!("{key} '{v}' of {addr} ({name}) is not an integer: no limit"),
+                        format!("{spelled} '{v}' of {addr} ({name}) is not an integer: no limit"),
                     );
                     None
                 }

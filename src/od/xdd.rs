@@ -361,15 +361,19 @@ impl<'a, 'input> Reader<'a, 'input> {
         };
         let mut limit = |attr: &str| {
             let text = n.attribute(attr).filter(|t| !t.is_empty() && dtype.int_range().is_some())?;
-            let limit = eds::parse_limit(text, dtype);
-            if limit.is_none() {
-                self.find(
-                    n,
-                    Kind::ValueIgnored,
-                    format!("{attr} '{text}' of {addr} ({name}) is not an integer: no limit"),
-                );
+            match eds::parse_limit(text, dtype) {
+                Some((limit, meant)) => {
+                    if let Some(meant) = meant {
+                        self.find(n, Kind::ValueAsMeant, eds::read_as_meant(attr, text, addr, name, &meant));
+                    }
+                    Some(limit)
+                }
+                None => {
+                    let why = format!("{attr} '{text}' of {addr} ({name}) is not an integer: no limit");
+                    self.find(n, Kind::ValueIgnored, why);
+                    None
+                }
             }
-            limit
         };
         let (low, high) = (limit("lowLimit"), limit("highLimit"));
         let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {

@@ -182,9 +182,15 @@ pub(crate) fn type_as_bytes(addr: ObjAddr, name: &str, code: i128) -> String {
     format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default")
 }
 
-/// A LowLimit or HighLimit: an integer, two's complement when a signed type's is hex.
-pub(crate) fn parse_limit(text: &str, dtype: DataType) -> Option<i128> {
-    parse_int(text).map(|n| signed_from_hex(n, text, dtype))
+/// A LowLimit or HighLimit: an integer, two's complement when a signed type's is hex; one
+/// with a C suffix read as it plainly means, with the text it was read as (the reader warns).
+pub(crate) fn parse_limit(text: &str, dtype: DataType) -> Option<(i128, Option<String>)> {
+    if let Some(n) = parse_int(text) {
+        return Some((signed_from_hex(n, text, dtype), None));
+    }
+    let meant = plain_meaning(trim_blanks(text), dtype)?;
+    let n = parse_int(&meant)?;
+    Some((signed_from_hex(n, &meant, dtype), Some(meant)))
 }
 
 /// Why a file needs object `index` (one of `od::MANDATORY`), in words.
