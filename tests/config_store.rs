@@ -136,7 +136,12 @@ fn values_outside_the_eds_range_are_refused_before_any_write() {
     std::fs::write(&file, changed).unwrap();
     let r = sim.run(&["config", "apply", "1", file.to_str().unwrap()]);
     assert_eq!(r.code, 2, "{}", r.stderr);
-    assert!(r.stderr.contains("outside the range of 0x6060:0: use -6 to 7"), "{}", r.stderr);
+    // The file's own limits refuse it, at its line, as `config check` does.
+    assert!(
+        r.stderr.contains("ParameterValue 20 of 0x6060:0 (Modes of operation) is outside the file's limits, -6 to 7"),
+        "{}",
+        r.stderr
+    );
     assert_eq!(read(&sim, "1", "607A"), "0", "nothing was written");
 }
 

@@ -107,8 +107,9 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Ve
             continue;
         }
         if let Some(rest) = line.strip_prefix('[') {
-            let name =
-                rest.strip_suffix(']').ok_or_else(|| err(no, format!("section header '{line}' has no closing ]")))?;
+            let name = rest
+                .strip_suffix(']')
+                .ok_or_else(|| err(no, format!("section header {} has no closing ]", quoted(line))))?;
             let name = trim_blanks(name).to_ascii_lowercase();
             if let Some(first) = seen_sections.insert(name.clone(), no) {
                 let msg = format!("section {line} again (before at line {first}): this one replaces it");
@@ -117,9 +118,11 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Ve
             sections.push(Section { name, line: no, keys: Default::default(), spelled: Default::default() });
             continue;
         }
-        let (key, value) =
-            line.split_once('=').ok_or_else(|| err(no, format!("expected KEY=VALUE or [SECTION], found '{line}'")))?;
-        let section = sections.last_mut().ok_or_else(|| err(no, format!("'{line}' comes before any [SECTION]")))?;
+        let (key, value) = line
+            .split_once('=')
+            .ok_or_else(|| err(no, format!("expected KEY=VALUE or [SECTION], found {}", quoted(line))))?;
+        let section =
+            sections.last_mut().ok_or_else(|| err(no, format!("{} comes before any [SECTION]", quoted(line))))?;
         let key_lower = trim_blanks(key).to_ascii_lowercase();
         section.spelled.insert(key_lower.clone(), trim_blanks(key).to_string());
         let value = (trim_blanks(value).to_string(), no);
@@ -134,6 +137,24 @@ fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Ve
     }
     Ok(sections)
 }
+
+/// A line of the file quoted in a message, in quotes: a binary file's "line" can be
+/// thousands of bytes, so at most [`QUOTED_CHARS`] characters are shown (the length said
+/// when cut), and each byte a terminal does not show as text is written `\xNN`.
+fn quoted(line: &str) -> String {
+    let mut shown = String::new();
+    for c in line.chars() {
+        let c = if c.is_control() { format!("\\x{:02X}", c as u32) } else { c.to_string() };
+        if shown.chars().count() + c.chars().count() > QUOTED_CHARS {
+            return format!("'{shown}…' ({} characters)", line.chars().count());
+        }
+        shown.push_str(&c);
+    }
+    format!("'{shown}'")
+}
+
+/// The most characters of a line [`quoted`] shows.
+const QUOTED_CHARS: usize = 60;
 
 /// `1018` → (0x1018, None); `1018sub2` → (0x1018, Some(2)); anything else → None.
 fn object_section(name: &str) -> Option<(u16, Option<u8>)> {
@@ -154,9 +175,10 @@ fn object_section(name: &str) -> Option<(u16, Option<u8>)> {
 
 mod values;
 mod write;
-pub(crate) use values::parse_value;
-use values::{data_type_from_code, parse_access, signed_from_hex, NODE_IDS};
+pub(crate) use values::{data_type_from_code, mandatory, parse_limit, type_as_bytes};
 pub use values::{format_value, parse_int, to_latin1, value_text};
+use values::{parse_access, NODE_IDS};
+pub(crate) use values::{parse_value_as_meant, read_as_meant};
 pub use write::{parameter_text, write, write_bytes, Header, WriteError};
 /// How names and descriptions are encoded: Latin-1 as CiA 306 files traditionally are, or
 /// UTF-8 where the file says so with a byte order mark or is valid UTF-8 beyond ASCII.
@@ -482,12 +504,12 @@ impl Reader<'_> {
                 );
             }
         }
-        for index in [0x1000u16, 0x1001, 0x1018] {
+        for index in super::MANDATORY {
             if !by_name.contains_key(&(index, None)) {
                 self.warn(
                     first.line,
-                    Kind::ObjectList,
-                    format!("no [{index:04X}] section: CiA 301 makes 0x{index:04X} mandatory for every device"),
+                    Kind::MissingMandatory,
+                    format!("no [{index:04X}] section: {}", mandatory(index)),
                 );
             }
         }
@@ -541,15 +563,15 @@ impl Reader<'_> {
         for sub in 1..=n {
             let addr = ObjAddr::new(index, sub);
             let member = names.get(&sub).map_or_else(|| format!("{name}{sub}"), |(v, _)| self.encoding.decode(v));
+            let entry = Entry { addr, name: member, ..template.clone() };
             if let Some((text, line)) = values.get(&sub) {
-                match parse_value(text, template.dtype) {
-                    Ok(v) => {
-                        self.eds.values.insert(addr, v);
-                    }
+                let key = format!("[{index:04X}Value] {sub}:");
+                match self.value_as_meant(&key, text, *line, &entry.name, addr, template.dtype) {
+                    Ok(v) => self.value(&entry, v, *line, &key),
                     Err(m) => self.warn(*line, Kind::ValueIgnored, format!("[{index:04X}Value] {sub}: {m}; ignored")),
                 }
             }
-            out.push(Entry { addr, name: member, ..template.clone() });
+            out.push(entry);
         }
         if !values.is_empty() {
             // The count the device is to hold is the number of values given.
@@ -631,11 +653,7 @@ impl Reader<'_> {
             }
         };
         if let Some((line, code)) = as_bytes {
-            self.warn(
-                line,
-                Kind::TypeAsBytes,
-                format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default"),
-            );
+            self.warn(line, Kind::TypeAsBytes, type_as_bytes(addr, name, code));
         }
         let default = match value_key(self, "defaultvalue").filter(|_| as_bytes.is_none()) {
             // What DOMAIN defaults often say for "nothing".
@@ -649,7 +667,7 @@ impl Reader<'_> {
                 );
                 Init::Bytes(Vec::new())
             }
-            Some((v, line)) => match parse_value(&v, dtype) {
+            Some((v, line)) => match self.value_as_meant("DefaultValue", &v, line, name, addr, dtype) {
                 Ok(init) => init,
                 // A DOMAIN's default is often a file name or a note: not its content.
                 Err(m) if dtype == DataType::D => {
@@ -665,36 +683,68 @@ impl Reader<'_> {
             if v.is_empty() || dtype.int_range().is_none() {
                 return None;
             }
-            match parse_int(&v) {
-                Some(n) => Some(signed_from_hex(n, &v, dtype)),
+            let spelled = s.spelled.get(key).map_or(key, String::as_str);
+            match parse_limit(&v, dtype) {
+                Some((n, meant)) => {
+                    if let Some(meant) = meant {
+                        r.warn(line, Kind::ValueAsMeant, read_as_meant(spelled, &v, addr, name, &meant));
+                    }
+                    Some(n)
+                }
                 None => {
                     r.warn(
                         line,
                         Kind::ValueIgnored,
-                        format!("{key} '{v}' of {addr} ({name}) is not an integer: no limit"),
+                        format!("{spelled} '{v}' of {addr} ({name}) is not an integer: no limit"),
                     );
                     None
                 }
             }
         };
-        let range = match (limit(self, "lowlimit"), limit(self, "highlimit")) {
-            (None, None) => None,
-            (lo, hi) => {
-                let (tlo, thi) = dtype.int_range().expect("integer");
-                Some((lo.unwrap_or(tlo), hi.unwrap_or(thi)))
-            }
-        };
+        let (low, high) = (limit(self, "lowlimit"), limit(self, "highlimit"));
+        let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {
+            self.warn(s.get("lowlimit").map_or(s.line, |(_, line)| line), kind, why);
+            None
+        });
+        let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((v, line)) = value_key(self, "parametervalue") {
-            match parse_value(&v, dtype) {
-                Ok(value) => {
-                    self.eds.values.insert(addr, value);
-                }
+            match self.value_as_meant("ParameterValue", &v, line, name, addr, dtype) {
+                Ok(value) => self.value(&entry, value, line, "ParameterValue"),
                 Err(m) => {
                     self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {addr} ({name}): {m}; ignored"))
                 }
             }
         }
-        Ok(Entry { addr, name: name.to_string(), dtype, access, default, range })
+        Ok(entry)
+    }
+
+    /// The value `text` (at `line`, under `key`) of `addr`, read as it plainly means where
+    /// it is not written as CiA 306 writes it, with a warning saying so.
+    fn value_as_meant(
+        &mut self,
+        key: &str,
+        text: &str,
+        line: usize,
+        name: &str,
+        addr: ObjAddr,
+        dtype: DataType,
+    ) -> Result<Init, String> {
+        let (value, meant) = parse_value_as_meant(text, dtype)?;
+        if let Some(meant) = meant {
+            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, addr, name, &meant));
+        }
+        Ok(value)
+    }
+
+    /// A value the file gives `entry` (at `line`, under `key`), kept when the file's own
+    /// limits allow it, as `config apply` will judge it.
+    fn value(&mut self, entry: &Entry, value: Init, line: usize, key: &str) {
+        match super::within_limits(entry, value, key) {
+            Ok(value) => {
+                self.eds.values.insert(entry.addr, value);
+            }
+            Err((kind, why)) => self.warn(line, kind, why),
+        }
     }
 }
 

@@ -38,14 +38,21 @@ pub enum Kind {
     BadCompactSection,
     /// `CompactSubObj` on a RECORD, which the standard allows on ARRAYs only.
     CompactRecord,
-    /// The object lists and the object sections disagree, or a mandatory object is missing.
+    /// The object lists and the object sections disagree.
     ObjectList,
+    /// An object CiA 301 makes mandatory (0x1000, 0x1001, 0x1018) that the file lacks.
+    MissingMandatory,
     /// A `[DummyUsage]` entry other than `Dummy0001`..`Dummy0007` = 0 or 1.
     BadDummyUsage,
     /// An object (or one of its sub-entries) that could not be understood, left out.
     ObjectLeftOut,
     /// A key whose value could not be understood, ignored.
     ValueIgnored,
+    /// A value in a form CiA 306 does not give, with one plain meaning (a C suffix, a
+    /// BOOLEAN as `false`/`true`), read as meant.
+    ValueAsMeant,
+    /// A value outside the limits the file gives its object, ignored.
+    ValueOutsideLimits,
     /// A complex or manufacturer data type, read as DOMAIN.
     TypeAsBytes,
     /// A DOMAIN default that says "nothing" (`0`, `NULL`), read as empty.
@@ -64,9 +71,12 @@ impl Kind {
     /// How much the deviation costs: an error loses something, a warning does not.
     pub fn severity(self) -> Severity {
         match self {
-            Kind::ObjectLeftOut | Kind::ValueIgnored | Kind::BadCompactSection | Kind::NotAnEds | Kind::NotAnXdd => {
-                Severity::Error
-            }
+            Kind::ObjectLeftOut
+            | Kind::ValueIgnored
+            | Kind::ValueOutsideLimits
+            | Kind::BadCompactSection
+            | Kind::NotAnEds
+            | Kind::NotAnXdd => Severity::Error,
             _ => Severity::Warning,
         }
     }
@@ -92,11 +102,16 @@ impl Kind {
             Kind::ObjectList => {
                 "CiA 306: [MandatoryObjects], [OptionalObjects] and [ManufacturerObjects] list each object section once, with SupportedObjects their number"
             }
+            Kind::MissingMandatory => "CiA 301: every device has 0x1000 (device type), 0x1001 (error register) and 0x1018 (identity)",
             Kind::BadDummyUsage => "CiA 306: [DummyUsage] holds Dummy0001..Dummy0007 = 0 or 1",
             Kind::ObjectLeftOut => {
                 "CiA 306: an object gives its ObjectType, DataType, AccessType, values of that type and, if an ARRAY or RECORD, its sub-objects"
             }
             Kind::ValueIgnored => "CiA 306: a key's value has the form the standard gives it",
+            Kind::ValueAsMeant => {
+                "CiA 306: an integer is decimal, 0x hex or 0 octal, without a C suffix (U, L); a BOOLEAN is 0 or 1"
+            }
+            Kind::ValueOutsideLimits => "CiA 306: a value lies within its object's LowLimit and HighLimit",
             Kind::TypeAsBytes => "CiA 306: a DataType beyond the basic types (0x0020..) is defined by DEFSTRUCT/DEFTYPE sections canctl does not read",
             Kind::DomainDefault => "CiA 306: a DOMAIN's DefaultValue is hex bytes, or empty for none",
             Kind::MoreLeftOut | Kind::Other => "",

@@ -45,6 +45,10 @@ pub fn read_description(path: &std::path::Path) -> Result<eds::Eds, ReadError> {
     parse_description(&bytes, &path.display().to_string())
 }
 
+/// The objects CiA 301 makes mandatory for every device: device type, error register and
+/// identity.
+pub(crate) const MANDATORY: [u16; 3] = [0x1000, 0x1001, 0x1018];
+
 /// Who may read and write an entry over SDO (EDS `AccessType`).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Access {
@@ -140,12 +144,93 @@ pub struct Entry {
 impl Entry {
     /// The default for a device with this node-id, in the entry's own size.
     pub fn default_for(&self, node_id: u8) -> Vec<u8> {
-        let mut v = self.default.resolve(node_id);
+        self.value_for(&self.default, node_id)
+    }
+
+    /// A value of this entry (a default, a DCF's value) for a device with this node-id, in
+    /// the entry's own size.
+    pub fn value_for(&self, init: &Init, node_id: u8) -> Vec<u8> {
+        let mut v = init.resolve(node_id);
         if let Some(size) = self.dtype.size() {
             v.resize(size, 0);
         }
         v
     }
+
+    /// Whether the entry's limits refuse `bytes`: the one judgement `sdo write`, `config
+    /// apply` and the file readers (so `config check`) share. Only integers have limits.
+    pub fn outside_limits(&self, bytes: &[u8]) -> Option<OutsideLimits> {
+        let (low, high) = self.range?;
+        let value = match self.dtype.decode(bytes)? {
+            crate::canopen::types::Value::Uint(u) => i128::from(u),
+            crate::canopen::types::Value::Int(i) => i128::from(i),
+            _ => return None,
+        };
+        (value < low || value > high).then_some(OutsideLimits { value, low, high, node_id: None })
+    }
+
+    /// [`Entry::outside_limits`] of a value a file gives, for every node it may be applied
+    /// to: a `$NODEID` value is judged at node-ids 1 and 127, the least and most it can be.
+    pub(crate) fn refuses(&self, init: &Init) -> Option<OutsideLimits> {
+        match init {
+            Init::Bytes(bytes) => self.outside_limits(bytes),
+            Init::NodeIdPlus(_) => [1, 127].into_iter().find_map(|node| {
+                let outside = self.outside_limits(&self.value_for(init, node))?;
+                Some(OutsideLimits { node_id: Some(node), ..outside })
+            }),
+        }
+    }
+}
+
+/// A value beyond an entry's inclusive limits.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct OutsideLimits {
+    /// The value, as a number.
+    pub value: i128,
+    /// The lowest value allowed.
+    pub low: i128,
+    /// The highest value allowed.
+    pub high: i128,
+    /// The node-id the value was computed for, when the file gives it as `$NODEID+n`.
+    pub node_id: Option<u8>,
+}
+
+/// An entry's limits from a file's LowLimit and HighLimit, either of which may be absent
+/// (the type's own bound stands in); inverted ones, which no value passes, as an error
+/// finding: the limits are not used.
+pub(crate) fn limits(
+    entry: &str,
+    dtype: DataType,
+    low: Option<i128>,
+    high: Option<i128>,
+) -> Result<Option<(i128, i128)>, (lint::Kind, String)> {
+    let Some((type_low, type_high)) = dtype.int_range() else { return Ok(None) };
+    let (low, high) = match (low, high) {
+        (None, None) => return Ok(None),
+        (low, high) => (low.unwrap_or(type_low), high.unwrap_or(type_high)),
+    };
+    if low > high {
+        let why = format!("LowLimit {low} of {entry} is above its HighLimit {high}, which no value passes: no limits");
+        return Err((lint::Kind::ValueIgnored, why));
+    }
+    Ok(Some((low, high)))
+}
+
+/// A file's value for `entry` (`key`: a DCF's ParameterValue, an XDC's actualValue), judged
+/// by the file's own limits as `config apply` judges it: the value, or the error finding
+/// that it is outside them (it is not used).
+pub(crate) fn within_limits(entry: &Entry, init: Init, key: &str) -> Result<Init, (lint::Kind, String)> {
+    let Some(outside) = entry.refuses(&init) else { return Ok(init) };
+    let OutsideLimits { value, low, high, node_id } = outside;
+    let shown = match node_id {
+        Some(node) => format!("{} ({value} for node-id {node})", eds::format_value(&init, entry.dtype)),
+        None => value.to_string(),
+    };
+    let who = format!("{} ({})", entry.addr, entry.name);
+    Err((
+        lint::Kind::ValueOutsideLimits,
+        format!("{key} {shown} of {who} is outside the file's limits, {low} to {high}: ignored"),
+    ))
 }
 
 /// Which `store`/`restore` class an object belongs to (CiA 301 0x1010 sub 2..4).

@@ -9,7 +9,8 @@
 
 use super::cpj::Commissioning;
 use super::eds::{self, Eds, Header, WriteError};
-use super::{Access, Dictionary, Entry, Init, ObjectKind};
+use super::lint::{Kind, Warning};
+use super::{Access, Dictionary, Entry, Init, ObjectKind, MANDATORY};
 use crate::canopen::{DataType, ObjAddr};
 use roxmltree::{Document, Node};
 use std::collections::{BTreeMap, HashMap};
@@ -117,10 +118,6 @@ fn type_code(element: &str) -> Option<u16> {
     })
 }
 
-fn data_type(code: u16) -> Option<DataType> {
-    crate::canopen::types::ALL_TYPES.iter().copied().find(|t| t.code() == code)
-}
-
 fn access_of(text: &str) -> Option<Access> {
     Some(match text {
         "ro" | "read" => Access::Ro,
@@ -154,11 +151,10 @@ impl<'a, 'input> Reader<'a, 'input> {
         XmlError { path: self.path.to_string(), line, column, msg }
     }
 
-    fn warn(&mut self, n: Node, msg: String) {
-        let (line, column) = self.at(n);
-        if self.eds.warnings.len() < eds::MAX_WARNINGS {
-            self.eds.warnings.push(format!("{}:{line}:{column}: {msg}", self.path));
-        }
+    /// A deviation at the line of element `n`, of its kind and severity.
+    fn find(&mut self, n: Node, kind: Kind, msg: String) {
+        let (line, _) = self.at(n);
+        self.eds.warnings.push(Warning::new(self.path, line as usize, kind, msg));
     }
 
     /// The parameter an object names by `uniqueIDRef`, if any.
@@ -211,7 +207,13 @@ impl<'a, 'input> Reader<'a, 'input> {
                             Some(id) => self.eds.node_id = Some(id as u8),
                             // CiA 311 tools leave 0 for "not yet commissioned": the node
                             // then comes from the command line.
-                            None => self.warn(n, format!("nodeID '{v}' is not 1 to 127: the file names no node")),
+                            None if eds::parse_int(v) == Some(0) => self.find(
+                                n,
+                                Kind::PlaceholderCommissioning,
+                                "nodeID=0 is a placeholder, not a node-id: the node given on the command line is used"
+                                    .into(),
+                            ),
+                            None => self.find(n, Kind::ValueIgnored, format!("nodeID '{v}' is not 1 to 127: ignored")),
                         }
                     }
                 }
@@ -229,17 +231,22 @@ impl<'a, 'input> Reader<'a, 'input> {
             .and_then(|i| u16::from_str_radix(i, 16).ok())
             .ok_or_else(|| self.error(n, "CANopenObject without an index of 4 hex digits".into()))?;
         let name = n.attribute("name").map_or_else(|| format!("Object {index:04X}"), str::to_string);
-        let kind = match n.attribute("objectType").and_then(eds::parse_int) {
-            Some(7) | Some(2) | None => ObjectKind::Var,
-            Some(8) => ObjectKind::Array,
-            Some(9) => ObjectKind::Record,
+        let left_out = |why: String| (Kind::ObjectLeftOut, format!("{index:04X} ({name}) left out: {why}"));
+        let kind = match n.attribute("objectType").map(|t| (t, eds::parse_int(t))) {
+            Some((_, Some(7 | 2))) | None => ObjectKind::Var,
+            Some((_, Some(8))) => ObjectKind::Array,
+            Some((_, Some(9))) => ObjectKind::Record,
             // DEFTYPE, DEFSTRUCT and NULL objects hold no values.
-            Some(0 | 5 | 6) => return Ok(()),
-            Some(other) => {
-                self.warn(
-                    n,
-                    format!("{name} ({index:04X}): objectType {other} is not VAR, ARRAY or RECORD; passed over"),
-                );
+            Some((_, Some(0 | 5 | 6))) => return Ok(()),
+            Some((_, Some(other))) => {
+                let (kind, why) =
+                    left_out(format!("objectType {other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)"));
+                self.find(n, kind, why);
+                return Ok(());
+            }
+            Some((text, None)) => {
+                let (kind, why) = left_out(format!("objectType '{text}' is not a number"));
+                self.find(n, kind, why);
                 return Ok(());
             }
         };
@@ -250,97 +257,177 @@ impl<'a, 'input> Reader<'a, 'input> {
             self.entry(n, ObjAddr::new(index, 0), &name);
             return Ok(());
         }
-        self.eds.dict.object(index, &name, kind);
         let subs: Vec<Node> =
             n.children().filter(|c| c.is_element() && c.tag_name().name() == "CANopenSubObject").collect();
         if subs.is_empty() {
-            self.warn(n, format!("{name} ({index:04X}) has no CANopenSubObject; passed over"));
+            let (kind, why) = left_out("an ARRAY or RECORD without any CANopenSubObject".into());
+            self.find(n, kind, why);
         }
         for s in subs {
             let Some(sub) = s.attribute("subIndex").and_then(|v| u8::from_str_radix(v, 16).ok()) else {
-                self.warn(
-                    s,
-                    format!("a sub-object of {name} ({index:04X}) has no subIndex of hex digits; passed over"),
-                );
+                let why = format!("a sub-object of {index:04X} ({name}) left out: it has no subIndex of hex digits");
+                self.find(s, Kind::ObjectLeftOut, why);
                 continue;
             };
             let member = s.attribute("name").map_or_else(|| format!("Sub-index {sub}"), str::to_string);
             self.entry(s, ObjAddr::new(index, sub), &member);
         }
+        // As an EDS's: an object none of whose sub-objects could be read is not there.
+        if self.eds.dict.has_index(index) {
+            self.eds.dict.object(index, &name, kind);
+        }
         Ok(())
     }
 
     /// One value: its type, access, default, limits and (XDC) actual value. What cannot be
-    /// understood is passed over with a warning naming it.
+    /// understood is left out, said at the line of its element, as an EDS's is.
     fn entry(&mut self, n: Node<'a, 'input>, addr: ObjAddr, name: &str) {
-        let default = self.value_of(n, "defaultValue", "defaultValue");
+        match self.try_entry(n, addr, name) {
+            Ok(entry) => self.eds.dict.insert(entry),
+            Err((at, why)) => self.find(at, Kind::ObjectLeftOut, format!("{addr} ({name}) left out: {why}")),
+        }
+    }
+
+    /// The data type of an object: its `dataType` attribute, else its parameter's type
+    /// element; a CiA 301 type canctl does not handle is read as DOMAIN, as in an EDS
+    /// (`Err` says why there is none).
+    fn data_type(
+        &mut self,
+        n: Node<'a, 'input>,
+        addr: ObjAddr,
+        name: &str,
+        no_default: bool,
+    ) -> Result<(DataType, bool), String> {
         let code = match n.attribute("dataType") {
-            Some(dt) => u16::from_str_radix(dt.trim_start_matches("0x"), 16).ok(),
-            None => self
-                .parameter(n)
-                .and_then(|p| p.children().filter(|c| c.is_element()).find_map(|c| type_code(c.tag_name().name()))),
-        };
-        let code = match code {
-            Some(0x0A) if n.attribute("dataType").is_none() && default.is_none_or(|(v, _)| v.trim().is_empty()) => 0x0F,
-            other => {
-                let Some(code) = other else {
-                    self.warn(n, format!("{addr} ({name}) has no data type canctl can read; passed over"));
-                    return;
-                };
-                code
+            Some(dt) => {
+                let hex = dt.strip_prefix("0x").or_else(|| dt.strip_prefix("0X")).unwrap_or(dt);
+                i128::from_str_radix(hex, 16).map_err(|_| format!("dataType '{dt}' is not a hex number"))?
             }
-        };
-        let Some(dtype) = data_type(code) else {
-            self.warn(
-                n,
-                format!("{addr} ({name}) has data type 0x{code:04X}, which canctl does not handle; passed over"),
-            );
-            return;
-        };
-        let access = match n.attribute("accessType") {
-            Some(a) => access_of(a),
-            // CiA 311: a parameter's access is "read" unless it says otherwise.
-            None => access_of(self.parameter(n).and_then(|p| p.attribute("access")).unwrap_or("read")),
-        };
-        let Some(access) = access else {
-            self.warn(n, format!("{addr} ({name}) has an access type canctl does not know; passed over"));
-            return;
-        };
-        let value = |text: &str| -> Result<Init, String> {
-            match dtype {
-                // XML carries text as Unicode: a string's bytes are its UTF-8.
-                DataType::Vs => Ok(Init::Bytes(text.as_bytes().to_vec())),
-                DataType::D => crate::canopen::types::parse_hex(text).map(Init::Bytes),
-                _ => eds::parse_value(text, dtype),
-            }
-        };
-        let default = match default {
-            Some((text, at)) => match value(text) {
-                Ok(v) => v,
-                Err(why) => {
-                    self.warn(at, format!("defaultValue of {addr} ({name}): {why}; object passed over"));
-                    return;
+            None => {
+                let element = self
+                    .parameter(n)
+                    .and_then(|p| p.children().filter(|c| c.is_element()).find_map(|c| type_code(c.tag_name().name())));
+                match element.ok_or("it has no dataType, nor a parameter with a type element")? {
+                    // BITSTRING without a default is a DOMAIN (CANopenEditor writes both so).
+                    0x0A if no_default => 0x0F,
+                    code => i128::from(code),
                 }
+            }
+        };
+        match eds::data_type_from_code(code)? {
+            Some(dtype) => Ok((dtype, false)),
+            None => {
+                self.find(n, Kind::TypeAsBytes, eds::type_as_bytes(addr, name, code));
+                Ok((DataType::D, true))
+            }
+        }
+    }
+
+    /// Who may access an object: its `accessType`, else its parameter's `access`, which
+    /// CiA 311 makes "read" when not given.
+    fn access(&self, n: Node<'a, 'input>) -> Result<Access, String> {
+        match n.attribute("accessType") {
+            Some(a) => access_of(a).ok_or_else(|| format!("accessType '{a}' is not ro, wo, rw, rwr, rww or const")),
+            None => {
+                let a = self.parameter(n).and_then(|p| p.attribute("access")).unwrap_or("read");
+                access_of(a).ok_or_else(|| format!("its parameter's access '{a}' is not read, write or readWrite"))
+            }
+        }
+    }
+
+    fn try_entry(
+        &mut self,
+        n: Node<'a, 'input>,
+        addr: ObjAddr,
+        name: &str,
+    ) -> Result<Entry, (Node<'a, 'input>, String)> {
+        let default = self.value_of(n, "defaultValue", "defaultValue");
+        let no_default = default.is_none_or(|(v, _)| v.trim().is_empty());
+        let (dtype, as_bytes) = self.data_type(n, addr, name, no_default).map_err(|why| (n, why))?;
+        let access = self.access(n).map_err(|why| (n, why))?;
+        let value = |r: &mut Self, key: &str, text: &str, at: Node| r.value(key, text, at, addr, name, dtype);
+        let default = match default.filter(|_| !as_bytes) {
+            Some((text, at)) => match value(self, "defaultValue", text, at) {
+                Ok(v) => v,
+                // A DOMAIN's default is often a file name or a note: not its content.
+                Err(why) if dtype == DataType::D => {
+                    let why = format!("defaultValue of DOMAIN {addr} ({name}): {why}; read as empty");
+                    self.find(at, Kind::ValueIgnored, why);
+                    Init::Bytes(Vec::new())
+                }
+                Err(why) => return Err((at, format!("defaultValue {why}"))),
             },
             None => Init::Bytes(dtype.size().map_or_else(Vec::new, |size| vec![0; size])),
         };
+        let mut limit = |attr: &str| {
+            let text = n.attribute(attr).filter(|t| !t.is_empty() && dtype.int_range().is_some())?;
+            match eds::parse_limit(text, dtype) {
+                Some((limit, meant)) => {
+                    if let Some(meant) = meant {
+                        self.find(n, Kind::ValueAsMeant, eds::read_as_meant(attr, text, addr, name, &meant));
+                    }
+                    Some(limit)
+                }
+                None => {
+                    let why = format!("{attr} '{text}' of {addr} ({name}) is not an integer: no limit");
+                    self.find(n, Kind::ValueIgnored, why);
+                    None
+                }
+            }
+        };
+        let (low, high) = (limit("lowLimit"), limit("highLimit"));
+        let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {
+            self.find(n, kind, why);
+            None
+        });
+        let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((text, at)) = self.value_of(n, "actualValue", "actualValue") {
-            match value(text) {
+            let judged = value(self, "actualValue", text, at)
+                .map_err(|why| (Kind::ValueIgnored, format!("actualValue of {addr} ({name}): {why}; ignored")))
+                .and_then(|v| super::within_limits(&entry, v, "actualValue"));
+            match judged {
                 Ok(v) => {
                     self.eds.values.insert(addr, v);
                 }
-                Err(why) => self.warn(at, format!("actualValue of {addr} ({name}): {why}; value passed over")),
+                Err((kind, why)) => self.find(at, kind, why),
             }
         }
-        let limit = |attr: &str| n.attribute(attr).filter(|_| dtype.int_range().is_some()).and_then(eds::parse_int);
-        let range = match (limit("lowLimit"), limit("highLimit")) {
-            (None, None) => None,
-            (lo, hi) => {
-                let (tlo, thi) = dtype.int_range().expect("integer");
-                Some((lo.unwrap_or(tlo), hi.unwrap_or(thi)))
+        Ok(entry)
+    }
+
+    /// The value `text` (under `key`, in element `at`) of `addr`, of type `dtype`; one read
+    /// as it plainly means (a C suffix) with a warning saying so, as in an EDS.
+    fn value(
+        &mut self,
+        key: &str,
+        text: &str,
+        at: Node,
+        addr: ObjAddr,
+        name: &str,
+        dtype: DataType,
+    ) -> Result<Init, String> {
+        match dtype {
+            // XML carries text as Unicode: a string's bytes are its UTF-8.
+            DataType::Vs => Ok(Init::Bytes(text.as_bytes().to_vec())),
+            DataType::D => crate::canopen::types::parse_hex(text).map(Init::Bytes),
+            _ => {
+                let (value, meant) = eds::parse_value_as_meant(text, dtype)?;
+                if let Some(meant) = meant {
+                    self.find(at, Kind::ValueAsMeant, eds::read_as_meant(key, text, addr, name, &meant));
+                }
+                Ok(value)
             }
-        };
-        self.eds.dict.insert(Entry { addr, name: name.to_string(), dtype, access, default, range });
+        }
+    }
+
+    /// CiA 301's mandatory objects the file lacks, said at its object list.
+    fn mandatory_objects(&mut self) {
+        let Some(list) = self.doc.descendants().find(|n| n.tag_name().name() == "CANopenObjectList") else { return };
+        for index in MANDATORY {
+            if !self.eds.dict.has_index(index) {
+                self.find(list, Kind::MissingMandatory, format!("no object 0x{index:04X}: {}", eds::mandatory(index)));
+            }
+        }
     }
 }
 
@@ -369,7 +456,11 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, XmlError> {
         .collect();
     let mut reader = Reader { doc: &doc, path, parameters, eds: Eds { path: path.to_string(), ..Eds::default() } };
     reader.read()?;
-    if reader.eds.dict.objects().next().is_none() {
+    reader.mandatory_objects();
+    // In the order of the file; the note that more were cut stays last.
+    reader.eds.warnings.sort_by_key(|w| if w.kind == Kind::MoreLeftOut { usize::MAX } else { w.line });
+    // An object that could not be read is a finding; a file without any is no XDD.
+    if !doc.descendants().any(|n| n.tag_name().name() == "CANopenObject") {
         let pos = doc.text_pos_at(root.range().start);
         return Err(XmlError {
             path: path.to_string(),

@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::od::lint::{Kind, Severity, Warning};
-use crate::od::{eds, ReadError};
+use crate::od::ReadError;
 use serde::Serialize;
 use std::path::Path;
 
@@ -35,71 +35,70 @@ impl Checked {
     }
 }
 
-/// Read `path` as canctl reads it everywhere, and say how it deviates.
+/// Read `path` as canctl reads it everywhere, and say how it deviates. A file that cannot
+/// be read at all (missing, a directory, too large) is a usage error; one that is read but
+/// is no device description is refused, with its findings.
 pub fn check(path: &Path) -> Result<Checked> {
     let file = path.display().to_string();
-    // The name says which it is; without .eds or .dcf, whether it has values to commission.
+    let bytes = crate::input::read_regular_file(path, crate::input::EDS)?;
+    // Told by content, as every command tells it; whether it holds values to commission
+    // by its name (.dcf, .xdc), else by whether it has any.
+    let xml = crate::od::xdd::is_xml(&bytes);
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let dcf_name = ext.as_deref() == Some("dcf");
-    let (read, refusal) = match crate::od::read_description(path) {
-        Ok(read) => (Ok(read), Kind::NotAnEds),
-        Err(ReadError::Ini(e)) => (Err(e), Kind::NotAnEds),
-        // An XML description (XDD, XDC) that does not parse: refused at its line and column.
-        Err(ReadError::Xml(e)) => (
-            Err(eds::EdsError {
-                path: e.path.clone(),
-                line: e.line as usize,
-                msg: if e.line == 0 { e.msg } else { format!("column {}: {}", e.column, e.msg) },
-            }),
-            Kind::NotAnXdd,
-        ),
+    let named_dcf = matches!(ext.as_deref(), Some("dcf" | "xdc"));
+    let named_eds = matches!(ext.as_deref(), Some("eds" | "xdd"));
+    let read = match crate::od::parse_description(&bytes, &file) {
+        Ok(read) => read,
+        Err(refusal) => return Ok(refused(file, format_name(xml, named_dcf), refusal)),
     };
-    match read {
-        Ok(read) => {
-            let count = |s| read.warnings.iter().filter(|w| w.severity == s).count();
-            let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
-            let verdict = match (errors, warnings) {
-                (0, 0) => "ok",
-                (0, _) => "warnings",
-                _ => "errors",
-            };
-            let dcf = match ext.as_deref() {
-                Some("eds" | "xdd") => false,
-                Some("dcf" | "xdc") => true,
-                _ => !read.values.is_empty() || read.node_id.is_some(),
-            };
-            let xml = matches!(ext.as_deref(), Some("xdd" | "xdc"));
-            Ok(Checked {
-                file,
-                format: match (xml, dcf) {
-                    (false, false) => "EDS",
-                    (false, true) => "DCF",
-                    (true, false) => "XDD",
-                    (true, true) => "XDC",
-                },
-                verdict,
-                objects: read.dict.objects().count(),
-                entries: read.dict.entries().count(),
-                errors,
-                warnings,
-                findings: read.warnings.into_vec(),
-            })
+    let count = |s| read.warnings.iter().filter(|w| w.severity == s).count();
+    let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
+    let verdict = match (errors, warnings) {
+        (0, 0) => "ok",
+        (0, _) => "warnings",
+        _ => "errors",
+    };
+    let dcf = named_dcf || (!named_eds && (!read.values.is_empty() || read.node_id.is_some()));
+    Ok(Checked {
+        file,
+        format: format_name(xml, dcf),
+        verdict,
+        objects: read.dict.objects().count(),
+        entries: read.dict.entries().count(),
+        errors,
+        warnings,
+        findings: read.warnings.into_vec(),
+    })
+}
+
+/// `EDS`, `DCF`, `XDD` or `XDC`.
+fn format_name(xml: bool, dcf: bool) -> &'static str {
+    match (xml, dcf) {
+        (false, false) => "EDS",
+        (false, true) => "DCF",
+        (true, false) => "XDD",
+        (true, true) => "XDC",
+    }
+}
+
+/// A file read but not a device description: one error, at its line (and column, XML).
+fn refused(file: String, format: &'static str, refusal: ReadError) -> Checked {
+    let finding = match refusal {
+        ReadError::Ini(e) => Warning::new(&e.path, e.line, Kind::NotAnEds, e.msg),
+        ReadError::Xml(e) => {
+            let msg = if e.line == 0 { e.msg } else { format!("column {}: {}", e.column, e.msg) };
+            Warning::new(&e.path, e.line as usize, Kind::NotAnXdd, msg)
         }
-        // Not read at all (missing, a directory, too large): nothing to check.
-        Err(e) if e.line == 0 => Err(Error::Usage(format!("cannot check {e}"))),
-        Err(e) => Ok(Checked {
-            file,
-            format: match (refusal, dcf_name) {
-                (Kind::NotAnXdd, _) => "XDD",
-                (_, true) => "DCF",
-                _ => "EDS",
-            },
-            verdict: "refused",
-            objects: 0,
-            entries: 0,
-            errors: 1,
-            warnings: 0,
-            findings: vec![Warning::new(&e.path, e.line, refusal, format!("{}; the file is refused", e.msg))],
-        }),
+    };
+    let message = format!("{}; the file is refused", finding.message);
+    Checked {
+        file,
+        format,
+        verdict: "refused",
+        objects: 0,
+        entries: 0,
+        errors: 1,
+        warnings: 0,
+        findings: vec![Warning { message, ..finding }],
     }
 }

@@ -164,19 +164,13 @@ pub(crate) fn le_u32(bytes: &[u8]) -> u32 {
 
 /// A value beyond the dictionary's limits is refused before it is sent.
 pub(crate) fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
-    let Some((lo, hi)) = entry.range else { return Ok(()) };
-    let v = match entry.dtype.decode(bytes) {
-        Some(crate::canopen::types::Value::Uint(u)) => u as i128,
-        Some(crate::canopen::types::Value::Int(i)) => i as i128,
-        _ => return Ok(()),
-    };
-    if v < lo || v > hi {
-        return Err(Error::Usage(format!(
-            "{v} is outside the range of {}: use {lo} to {hi} (from the dictionary)",
+    match entry.outside_limits(bytes) {
+        None => Ok(()),
+        Some(crate::od::OutsideLimits { value, low, high, .. }) => Err(Error::Usage(format!(
+            "{value} is outside the range of {}: use {low} to {high} (from the dictionary)",
             entry.addr
-        )));
+        ))),
     }
-    Ok(())
 }
 
 /// Serialise a value by its `Display` (object addresses as `0x1010:1`).

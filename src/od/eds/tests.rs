@@ -1,3 +1,4 @@
+use super::values::parse_value;
 use super::*;
 
 fn fixture(name: &str) -> (Vec<u8>, String) {
@@ -521,5 +522,7 @@ fn object_lists_that_disagree_with_the_sections_are_said() {
             "object-lists.eds:20: [2000] is in no object list ([MandatoryObjects], [OptionalObjects], [ManufacturerObjects]): read all the same",
         ]
     );
-    assert!(eds.warnings.iter().all(|w| w.kind == lint::Kind::ObjectList && w.severity == lint::Severity::Warning));
+    assert_eq!(eds.warnings[0].kind, lint::Kind::MissingMandatory);
+    assert!(eds.warnings[1..].iter().all(|w| w.kind == lint::Kind::ObjectList));
+    assert!(eds.warnings.iter().all(|w| w.severity == lint::Severity::Warning));
 }

@@ -118,6 +118,41 @@ pub(crate) fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
     Ok(Init::Bytes(bytes))
 }
 
+/// [`parse_value`], and where that fails, what a value written as C writes an integer
+/// (`0x1234ULL`, `100U`) or as words write a BOOLEAN (`false`) plainly means: the value,
+/// and the text it was read as when it needed that (the reader warns).
+pub(crate) fn parse_value_as_meant(text: &str, dtype: DataType) -> Result<(Init, Option<String>), String> {
+    match parse_value(text, dtype) {
+        Ok(value) => Ok((value, None)),
+        Err(why) => {
+            let Some(meant) = plain_meaning(trim_blanks(text), dtype) else { return Err(why) };
+            let value = parse_value(&meant, dtype).map_err(|_| why)?;
+            Ok((value, Some(meant)))
+        }
+    }
+}
+
+/// `false`/`true` for a BOOLEAN, an integer without its C suffix (`U`, `L`, `UL`, `LL`,
+/// `ULL`, any case): the text CiA 306 would write; `None` when there is no plain meaning.
+fn plain_meaning(text: &str, dtype: DataType) -> Option<String> {
+    let lower = text.to_ascii_lowercase();
+    match (dtype, lower.as_str()) {
+        (DataType::Bool, "false") => return Some("0".into()),
+        (DataType::Bool, "true") => return Some("1".into()),
+        _ => {}
+    }
+    dtype.int_range()?;
+    // Longest first; no hex digit is a U or an L, so a suffix is never part of the number.
+    let suffix = ["ull", "llu", "ul", "lu", "ll", "u", "l"].into_iter().find(|s| lower.ends_with(s))?;
+    let number = &text[..text.len() - suffix.len()];
+    parse_int(number).map(|_| number.to_string())
+}
+
+/// What a reader says of a value it read as meant ([`parse_value_as_meant`]).
+pub(crate) fn read_as_meant(key: &str, text: &str, addr: ObjAddr, name: &str, meant: &str) -> String {
+    format!("{key} {text} of {addr} ({name}) read as {meant}")
+}
+
 pub(super) fn parse_access(text: &str) -> Option<Access> {
     Some(match text.trim().to_ascii_lowercase().as_str() {
         "ro" => Access::Ro,
@@ -134,11 +169,33 @@ pub(super) const DATA_TYPE_CODES: std::ops::RangeInclusive<i128> = 0x0001..=0x02
 
 /// The type of a `DataType` code: `Ok(None)` for a CiA 301 type canctl does not handle,
 /// an error for a number that is no data type at all.
-pub(super) fn data_type_from_code(code: i128) -> Result<Option<DataType>, String> {
+pub(crate) fn data_type_from_code(code: i128) -> Result<Option<DataType>, String> {
     if !DATA_TYPE_CODES.contains(&code) {
         return Err(format!("DataType 0x{code:X} is not a CiA 301 data type (0x0001..0x025F; 0x0007 is UNSIGNED32)"));
     }
     Ok(crate::canopen::types::ALL_TYPES.iter().copied().find(|t| i128::from(t.code()) == code))
+}
+
+/// What a reader does with a CiA 301 data type it does not handle (`data_type_from_code`
+/// gave `Ok(None)`), in words.
+pub(crate) fn type_as_bytes(addr: ObjAddr, name: &str, code: i128) -> String {
+    format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default")
+}
+
+/// A LowLimit or HighLimit: an integer, two's complement when a signed type's is hex; one
+/// with a C suffix read as it plainly means, with the text it was read as (the reader warns).
+pub(crate) fn parse_limit(text: &str, dtype: DataType) -> Option<(i128, Option<String>)> {
+    if let Some(n) = parse_int(text) {
+        return Some((signed_from_hex(n, text, dtype), None));
+    }
+    let meant = plain_meaning(trim_blanks(text), dtype)?;
+    let n = parse_int(&meant)?;
+    Some((signed_from_hex(n, &meant, dtype), Some(meant)))
+}
+
+/// Why a file needs object `index` (one of `od::MANDATORY`), in words.
+pub(crate) fn mandatory(index: u16) -> String {
+    format!("CiA 301 makes 0x{index:04X} mandatory for every device")
 }
 
 /// The text form of a value, for people (tables, messages). Files use `value_text`.

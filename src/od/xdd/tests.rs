@@ -1,4 +1,5 @@
 use super::*;
+use crate::od::lint::Severity;
 use crate::od::Dictionary;
 
 #[test]
@@ -46,7 +47,7 @@ fn bytes_that_are_not_utf8_are_refused_at_their_position_unless_declared() {
 }
 
 #[test]
-fn an_object_that_cannot_be_understood_is_passed_over_with_a_warning() {
+fn an_object_that_cannot_be_understood_is_left_out_with_an_error_as_in_an_eds() {
     let xml = br#"<ISO15745ProfileContainer><CANopenObjectList>
 <CANopenObject index="2000" name="Odd" objectType="7" dataType="0007" accessType="rw" defaultValue="banana"/>
 <CANopenObject index="2001" name="Fine" objectType="7" dataType="0005" accessType="rw" defaultValue="1"/>
@@ -54,8 +55,10 @@ fn an_object_that_cannot_be_understood_is_passed_over_with_a_warning() {
     let e = parse(xml, "w.xdd").unwrap();
     assert!(e.dict.get(ObjAddr::new(0x2000, 0)).is_none());
     assert!(e.dict.get(ObjAddr::new(0x2001, 0)).is_some());
-    assert_eq!(e.warnings.len(), 1);
-    assert!(e.warnings[0].to_string().starts_with("w.xdd:2:1: defaultValue of 0x2000:0 (Odd)"), "{}", e.warnings[0]);
+    let left_out: Vec<&Warning> = e.warnings.iter().filter(|w| w.severity == Severity::Error).collect();
+    assert_eq!(left_out.len(), 1, "{:?}", e.warnings);
+    assert_eq!(left_out[0].kind, Kind::ObjectLeftOut);
+    assert_eq!(left_out[0].to_string(), "w.xdd:2: 0x2000:0 (Odd) left out: defaultValue 'banana' is not an integer");
 }
 
 #[test]

@@ -473,8 +473,9 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     }
     // The device will refuse a value outside its range: say so before writing anything.
     for (addr, value) in &changes {
-        if let Some(entry) = target.get(*addr).filter(|e| e.dtype.size() == Some(value.len())) {
-            crate::ops::check_range(entry, value).map_err(|_| out_of_range(entry, value, &target_source))?;
+        let entry = target.get(*addr).filter(|e| e.dtype.size() == Some(value.len()));
+        if let Some((entry, outside)) = entry.and_then(|e| Some((e, e.outside_limits(value)?))) {
+            return Err(out_of_range(entry, value, outside, &target_source));
         }
     }
     let steps = plan(&changes, &|addr| current.get(&addr).cloned());

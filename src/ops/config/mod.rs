@@ -76,7 +76,7 @@ impl Dcf {
         let mut out = Vec::new();
         for (addr, init) in &self.eds.values {
             let Some(entry) = self.eds.dict.get(*addr) else { continue };
-            let value = Entry { default: init.clone(), ..entry.clone() }.default_for(node);
+            let value = entry.value_for(init, node);
             out.push((entry.clone(), value));
         }
         if out.is_empty() {
@@ -142,11 +142,11 @@ fn identity_differences(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duratio
 }
 
 /// A value the target's dictionary does not allow, refused before anything is written.
-fn out_of_range(entry: &Entry, value: &[u8], source: &str) -> Error {
+fn out_of_range(entry: &Entry, value: &[u8], limits: crate::od::OutsideLimits, source: &str) -> Error {
     let shown = show(entry, value);
-    let (lo, hi) = entry.range.expect("only a ranged entry refuses");
+    let crate::od::OutsideLimits { low, high, .. } = limits;
     Error::Usage(format!(
-        "{shown} is outside the range of {}: use {lo} to {hi} ({source}); nothing was written",
+        "{shown} is outside the range of {}: use {low} to {high} ({source}); nothing was written",
         entry.addr
     ))
 }
