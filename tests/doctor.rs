@@ -322,15 +322,12 @@ fn a_device_without_a_node_id_is_found_only_when_lss_is_asked() {
 }
 
 /// Through an EPOS2 (on its RS232 pty) canctl hears none of the bus: the EPOS2's own error
-/// register 0x1001 and CAN bit rate 0x2001 are the evidence of its side of the bus. (A
-/// silent node's finding carries it too; not run here: through the EPOS2 the read of every
-/// id takes 127 waits of real time.)
+/// register 0x1001 and CAN bit rate 0x2001 are the evidence of its side of the bus. The
+/// EPOS2 on the sim's 500 kbit/s bus holds that rate, in its own code (2): not 1M.
 #[cfg(unix)]
 #[test]
 fn through_an_epos2_its_error_register_and_bit_rate_are_evidence() {
     let sim = network(&["--profile", "instant"]);
-    // Its stored CAN bit rate: 500 kbit/s in the EPOS2's own code (2).
-    sim.run(&["sdo", "write", "1", "2001", "2", "--type", "u16"]).ok();
     let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
     let gateway = |v: &Value| -> Value {
         let all = v.as_array().unwrap_or_else(|| panic!("{v}"));
@@ -366,4 +363,30 @@ fn the_likely_cause_of_a_silent_node_says_what_the_bus_showed() {
     assert_eq!(r.code, 3, "{}", r.stderr);
     assert!(r.stderr.contains("likely cause: nothing on the bus"), "{}", r.stderr);
     assert!(r.stderr.contains("canctl doctor --lss"), "{}", r.stderr);
+}
+
+/// Evidence says what was waited, measured on the bus's clock, not the timeout allowed:
+/// through an EPOS2 the gateway says "no answer" after a wait of its own (two SDO reads
+/// took 0.13 s, not "500 ms each"), and the read of every node-id goes one id after the
+/// other (12.6 s, not "500 ms"). Together the waits stated are no more than the run took,
+/// and the read of every node-id is most of it.
+#[cfg(unix)]
+#[test]
+fn through_an_epos2_the_waits_stated_are_the_waits_measured() {
+    let sim = network(&["--profile", "instant"]);
+    let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let started = std::time::Instant::now();
+    let r = dev.run(&["--timeout", "1s", "doctor", "7", "--format", "json"]);
+    let took_ms = started.elapsed().as_millis() as u64;
+    assert_eq!(r.code, 6, "{}\n{}", r.stdout, r.stderr);
+    let d = r.json();
+    let evidence: Vec<&Value> =
+        d["findings"].as_array().unwrap().iter().flat_map(|f| f["evidence"].as_array().unwrap()).collect();
+    let waited = |kind: &str| {
+        let e = evidence.iter().find(|e| e["kind"] == kind).unwrap_or_else(|| panic!("no {kind}: {d}"));
+        e["waited_ms"].as_u64().unwrap()
+    };
+    let stated: u64 = ["no_guarding_answer", "no_sdo_answer", "probe_answers"].iter().map(|k| waited(k)).sum();
+    assert!(stated <= took_ms, "{stated} ms of waits stated in a run of {took_ms} ms: {d}");
+    assert!(waited("probe_answers") * 2 >= took_ms, "the read of every id, most of {took_ms} ms: {d}");
 }

@@ -230,7 +230,7 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             format!("node {node} answered the SDO read of {obj} (with an abort)")
         }
         Evidence::NoSdoAnswer { node, obj, requests, waited_ms } => format!(
-            "no answer on 0x{:03X} to {requests} SDO read(s) of {obj} sent on 0x{:03X} ({waited_ms} ms each)",
+            "no answer on 0x{:03X} to {requests} SDO read(s) of {obj} sent on 0x{:03X} ({waited_ms} ms in all)",
             response_cob(*node),
             request_cob(*node)
         ),
@@ -278,8 +278,8 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             super::health::register_text(*error_register),
             match bit_rate_code {
                 None => "unread".to_string(),
-                Some(9) => "detected from the bus (0x2001 = 9)".to_string(),
-                Some(code) => match crate::ops::doctor::epos2_bit_rate_index(*code) {
+                Some(crate::epos2::objects::BIT_RATE_DETECTED) => "detected from the bus (0x2001 = 9)".to_string(),
+                Some(code) => match crate::epos2::objects::bit_rate_index(*code) {
                     Some(i) => format!("{} (0x2001 = {code})", crate::canopen::lss::bit_rate_name(i)),
                     None => format!("code {code} (0x2001), not one of its rates"),
                 },

@@ -210,7 +210,7 @@ pub enum Evidence {
     NoGuardingAnswer {
         /// The node.
         node: u8,
-        /// How long it waited.
+        /// How long it waited, on the bus's clock.
         waited_ms: u64,
     },
     /// The node answered an SDO read.
@@ -232,7 +232,7 @@ pub enum Evidence {
         obj: ObjAddr,
         /// How many requests were sent.
         requests: u32,
-        /// How long each waited.
+        /// How long they took together, on the bus's clock.
         waited_ms: u64,
     },
     /// An answer to the node's SDO read came on another COB-ID than 0x580 + node.
@@ -246,7 +246,7 @@ pub enum Evidence {
     ProbeAnswers {
         /// The node-ids that answered.
         nodes: Vec<u8>,
-        /// How long the probe waited.
+        /// How long the probe took, on the bus's clock.
         waited_ms: u64,
     },
     /// What the last scan saw on a node-id.
@@ -312,7 +312,7 @@ pub enum Evidence {
     LssAnswers {
         /// How many answered.
         count: usize,
-        /// How long it waited.
+        /// How long it waited, on the bus's clock.
         waited_ms: u64,
     },
     /// The CAN controller's own report (netlink): its state and counters.
