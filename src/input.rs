@@ -25,12 +25,12 @@ pub(crate) const VALUE_IDLE_LIMIT: Duration = Duration::from_secs(10);
 #[non_exhaustive]
 pub enum InputError {
     /// The file could not be opened or read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}: {error}")]
     Io {
         /// The file, as given.
         path: String,
-        /// What the system said.
-        source: std::io::Error,
+        /// What the system said: in the message, so not its source too (said twice).
+        error: std::io::Error,
     },
     /// The file is larger than its kind may be.
     #[error("{path}: larger than {}, the limit for {what}", size_text(*.limit))]
@@ -89,8 +89,8 @@ pub const VALUE: Limit = Limit { bytes: MAX_VALUE_BYTES, what: "a value file" };
 /// are refused without reading (and without blocking on opening them).
 pub(crate) fn read_regular_file(path: &Path, limit: Limit) -> Result<Vec<u8>, InputError> {
     let shown = path.display().to_string();
-    let file = open_nonblocking(path).map_err(|source| InputError::Io { path: shown.clone(), source })?;
-    let meta = file.metadata().map_err(|source| InputError::Io { path: shown.clone(), source })?;
+    let file = open_nonblocking(path).map_err(|error| InputError::Io { path: shown.clone(), error })?;
+    let meta = file.metadata().map_err(|error| InputError::Io { path: shown.clone(), error })?;
     if !meta.is_file() {
         return Err(InputError::NotRegular { path: shown, kind: kind_of(&meta), what: limit.what });
     }
@@ -106,8 +106,8 @@ pub(crate) fn read_value_file(path: &str, limit: Limit, idle: Duration) -> Resul
     if path == "-" {
         return read_stream(std::io::stdin(), "standard input", limit, idle);
     }
-    let file = open_nonblocking(Path::new(path)).map_err(|source| InputError::Io { path: path.into(), source })?;
-    let meta = file.metadata().map_err(|source| InputError::Io { path: path.into(), source })?;
+    let file = open_nonblocking(Path::new(path)).map_err(|error| InputError::Io { path: path.into(), error })?;
+    let meta = file.metadata().map_err(|error| InputError::Io { path: path.into(), error })?;
     if meta.is_dir() {
         return Err(InputError::NotRegular { path: path.into(), kind: "a directory", what: limit.what });
     }
@@ -123,10 +123,7 @@ pub(crate) fn read_value_file(path: &str, limit: Limit, idle: Duration) -> Resul
 /// Reads at most `limit` bytes; one more means the source is too large.
 fn read_limited(source: impl Read, path: &str, limit: Limit) -> Result<Vec<u8>, InputError> {
     let mut data = Vec::new();
-    source
-        .take(limit.bytes + 1)
-        .read_to_end(&mut data)
-        .map_err(|source| InputError::Io { path: path.into(), source })?;
+    source.take(limit.bytes + 1).read_to_end(&mut data).map_err(|error| InputError::Io { path: path.into(), error })?;
     if data.len() as u64 > limit.bytes {
         return Err(InputError::TooLarge { path: path.into(), limit: limit.bytes, what: limit.what });
     }
@@ -143,7 +140,7 @@ fn read_stream(
     idle: Duration,
 ) -> Result<Vec<u8>, InputError> {
     use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
-    let io_err = |source| InputError::Io { path: path.into(), source };
+    let io_err = |error| InputError::Io { path: path.into(), error };
     let mut data = Vec::new();
     let mut chunk = vec![0u8; 64 << 10];
     let timeout = PollTimeout::try_from(idle).unwrap_or(PollTimeout::MAX);

@@ -435,3 +435,23 @@ fn an_slcan_adapter_at_the_wrong_bit_rate_is_not_an_empty_bus() {
     let right = adapter.run(&["scan"]).ok();
     assert!(right.stderr.contains("4 node(s)"), "{}", right.stderr);
 }
+
+/// A file that is not there is said once, with the system's reason once: the message
+/// came three times over ("cannot read nofile.bin: ... (os error 2): cannot read
+/// nofile.bin: ... (os error 2): ... (os error 2)").
+#[test]
+fn a_missing_input_file_is_said_once() {
+    let sim = Sim::new();
+    for args in [
+        &["sdo", "write", "1", "1F50:1", "@nofile.bin", "--type", "d"][..],
+        &["firmware", "download", "1", "nofile.bin"],
+    ] {
+        let run = sim.run(args);
+        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
+        assert_eq!(
+            run.stderr.trim(),
+            "canctl: cannot read nofile.bin: No such file or directory (os error 2)",
+            "{args:?}"
+        );
+    }
+}

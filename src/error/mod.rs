@@ -52,7 +52,7 @@ pub enum Error {
         file: String,
     },
     /// A file or stream given as input could not be used: the user's to fix (exit 2).
-    #[error("{0}")]
+    #[error(transparent)]
     Input(#[from] crate::input::InputError),
     /// What a node holds does not decode as the data type asked for (or the dictionary's).
     #[error("node {node}: {obj} holds {} byte(s) ({}), which is not {}", bytes.len(), crate::canopen::types::hex(bytes),
