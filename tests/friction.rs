@@ -455,3 +455,15 @@ fn a_missing_input_file_is_said_once() {
         );
     }
 }
+
+/// `--out` into a folder that exists but takes no new files (/proc): not "there is no
+/// folder /proc".
+#[cfg(target_os = "linux")]
+#[test]
+fn out_where_no_file_can_be_made_says_why() {
+    let sim = Sim::new();
+    let run = sim.run(&["sdo", "read", "10", "1008", "--out", "/proc/version"]);
+    assert_eq!(run.code, 7, "{}", run.stderr);
+    assert!(!run.stderr.contains("there is no folder"), "{}", run.stderr);
+    assert!(run.stderr.contains("cannot write /proc/version: the folder /proc takes no new files"), "{}", run.stderr);
+}
