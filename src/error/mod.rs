@@ -487,6 +487,17 @@ pub enum Error {
         aborted: Option<u32>,
     },
 
+    /// A file a settings file names could not be used: where it is named (`canctl.toml:4`),
+    /// then why. It ends the process as the error itself would.
+    #[error("{file}:{line}: {error}")]
+    InSettingsFile {
+        /// The settings file.
+        file: String,
+        /// The line that names the file.
+        line: usize,
+        /// Why it could not be used.
+        error: Box<Error>,
+    },
     /// An error with advice appended (e.g. which nodes the last scan saw); it ends the
     /// process as the error itself would.
     #[error("{error}{hint}")]
@@ -691,7 +702,7 @@ impl Error {
             | Error::Diagnosed { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } => C::Interrupted,
-            Error::Hinted { error, .. } => error.class(),
+            Error::Hinted { error, .. } | Error::InSettingsFile { error, .. } => error.class(),
             Error::NoSocketCan { .. }
             | Error::TypeNeeded { .. }
             | Error::NoLssOnDirectEpos2 { .. }
