@@ -390,3 +390,18 @@ fn through_an_epos2_the_waits_stated_are_the_waits_measured() {
     assert!(stated <= took_ms, "{stated} ms of waits stated in a run of {took_ms} ms: {d}");
     assert!(waited("probe_answers") * 2 >= took_ms, "the read of every id, most of {took_ms} ms: {d}");
 }
+
+/// `doctor --window 0s` listened to nothing and went on as if it had; scan refuses a window
+/// under 10 ms. One rule for both (and for the sweep's window): refused, exit 2, before the
+/// bus is opened.
+#[test]
+fn a_window_too_short_to_hear_anything_is_refused_as_scan_refuses_it() {
+    let sim = network(&[]);
+    for args in [&["--window", "0s"][..], &["--window", "5ms"], &["--sweep-window", "0s"]] {
+        let r = doctor(&sim, args);
+        assert_eq!(r.code, 2, "{args:?}: {}{}", r.stdout, r.stderr);
+        assert!(r.stderr.contains("shorter than") && r.stderr.contains("use at least 10ms"), "{args:?}: {}", r.stderr);
+        let scan = sim.run(&["scan", "--window", args[1]]);
+        assert_eq!(scan.code, 2, "scan {args:?}: {}", scan.stderr);
+    }
+}
