@@ -146,6 +146,11 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
              and CAN_L not swapped, GND connected (an slcan adapter finds the bus's rate: canctl doctor --sweep)",
             bitrate.map(|b| format!(", {} kbit/s", b / 1000)).unwrap_or_default()
         ),
+        Remedy::CheckBusOrSweep { kbit } => format!(
+            "the adapter runs at {kbit}k: canctl doctor --sweep finds the bus's rate (it tries each, a few \
+             seconds off the bus); else {}",
+            remedy_text(&Remedy::CheckBus)
+        ),
         Remedy::UseBitRate { kbit } => format!(
             "open the link at {kbit} kbit/s (--bus slcan:PORT@{kbit}k); or, if the bus should run at the link's \
              rate, find the device set to {kbit} kbit/s"

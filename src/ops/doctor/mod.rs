@@ -136,12 +136,14 @@ pub(crate) fn doctor_swept(
     sweep: Option<Duration>,
 ) -> Result<Diagnosis> {
     let mut d = doctor(bus, o)?;
-    if let Some(window) = sweep {
-        let own_kbit = match uri.map(str::parse::<crate::connect::BusAddr>) {
-            Some(Ok(crate::connect::BusAddr::Slcan { kbit, .. })) => Some(kbit),
-            _ => None,
-        };
-        sweep::sweep(bus, &mut d, own_kbit, window)?;
+    let own_kbit = match uri.map(str::parse::<crate::connect::BusAddr>) {
+        Some(Ok(crate::connect::BusAddr::Slcan { kbit, .. })) => Some(kbit),
+        _ => None,
+    };
+    match (sweep, own_kbit) {
+        (Some(window), _) => sweep::sweep(bus, &mut d, own_kbit, window)?,
+        (None, Some(kbit)) => sweep::offer(&mut d, kbit),
+        (None, None) => {}
     }
     Ok(d)
 }

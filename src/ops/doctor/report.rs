@@ -449,4 +449,10 @@ pub enum Remedy {
         /// The rate, in kbit/s.
         kbit: u32,
     },
+    /// As [`Remedy::CheckBus`], on an adapter that can find the bus's rate itself: it runs
+    /// at `kbit`, and a listen-only sweep (doctor's, when asked) finds the bus's.
+    CheckBusOrSweep {
+        /// The adapter's rate, in kbit/s.
+        kbit: u32,
+    },
 }
