@@ -168,6 +168,8 @@ pub enum LinkError {
         holder: String,
         /// How long the lock was waited for.
         waited: Duration,
+        /// The `--bus` that reaches the devices where that process serves them, if it does.
+        serving: Option<String>,
     },
     /// A pseudo-terminal (the simulator's serial devices) failed.
     #[error("{op}: {detail}")]
