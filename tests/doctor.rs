@@ -405,3 +405,18 @@ fn a_window_too_short_to_hear_anything_is_refused_as_scan_refuses_it() {
         assert_eq!(scan.code, 2, "scan {args:?}: {}", scan.stderr);
     }
 }
+
+/// In JUnit each passing check is named for what it checked (the evidence's kind, as JSON
+/// names it): every one was named "fine", which a CI report cannot tell apart.
+#[test]
+fn junit_names_each_passing_check_by_what_it_checked() {
+    let sim = network(&[]);
+    let r = sim.run(&["doctor", "5", "--window", "100ms", "--format", "junit"]).ok();
+    let names: Vec<&str> =
+        r.stdout.split("<testcase ").skip(1).filter_map(|c| c.split(" name=\"").nth(1)?.split('"').next()).collect();
+    assert!(names.len() >= 3, "{}", r.stdout);
+    assert!(!names.contains(&"fine"), "{}", r.stdout);
+    for kind in ["sdo_answer", "one_device", "link_quiet"] {
+        assert!(names.contains(&kind), "no {kind}: {}", r.stdout);
+    }
+}

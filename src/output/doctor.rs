@@ -204,6 +204,13 @@ fn ids(nodes: &[u8]) -> String {
     nodes.iter().map(u8::to_string).collect::<Vec<_>>().join(", ")
 }
 
+/// What a piece of evidence checked, by the name JSON gives its kind (`one_device`,
+/// `link_quiet`): a passing check's name in JUnit.
+fn evidence_kind(e: &Evidence) -> String {
+    let json = serde_json::to_value(e).expect("reports serialise");
+    json["kind"].as_str().unwrap_or("check").to_string()
+}
+
 /// What was seen, in a sentence.
 pub(crate) fn evidence_text(e: &Evidence) -> String {
     match e {
@@ -439,7 +446,7 @@ impl Report for Diagnosis {
             .collect();
         cases.extend(self.fine.iter().map(|e| TestCase {
             class: class.clone(),
-            name: "fine".into(),
+            name: evidence_kind(e),
             detail: evidence_text(e),
             failure: None,
         }));
