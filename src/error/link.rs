@@ -228,3 +228,21 @@ impl fmt::Display for PtyOp {
         })
     }
 }
+
+impl From<crate::epos2::Epos2Error> for Error {
+    fn from(e: crate::epos2::Epos2Error) -> Error {
+        Error::Link(LinkError::Epos2(e))
+    }
+}
+
+impl From<crate::socketcand::SocketcandError> for Error {
+    fn from(e: crate::socketcand::SocketcandError) -> Error {
+        Error::Link(LinkError::Socketcand(e))
+    }
+}
+
+impl From<LinkError> for Error {
+    fn from(e: LinkError) -> Error {
+        Error::Link(e)
+    }
+}
