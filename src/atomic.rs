@@ -105,7 +105,12 @@ pub(crate) fn check_writable(path: &std::path::Path) -> crate::Result<()> {
         // Ours from an earlier process of the same pid: the folder takes files.
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            Err(output(format!("there is no folder {}", dir.unwrap_or(std::path::Path::new(".")).display())))
+            let folder = dir.unwrap_or(std::path::Path::new("."));
+            // Not found in a folder that is there (/proc): the folder makes no files.
+            match folder.is_dir() {
+                true => Err(output(format!("the folder {} takes no new files ({e})", folder.display()))),
+                false => Err(output(format!("there is no folder {}", folder.display()))),
+            }
         }
         Err(e) => Err(output(e.to_string())),
     }

@@ -42,6 +42,11 @@ pub enum Hint {
     /// The simulator's network is held by another process: stop that one, or serve the
     /// network on a CAN interface, where several commands share it.
     ShareSimNetwork,
+    /// The process holding the sim network serves its devices: the bus it serves them on.
+    UseServedBus {
+        /// The `--bus` value that reaches them.
+        bus: String,
+    },
     /// There is no network interface `iface`: the one of a `near` name (the demo network's or
     /// one of the `available` CAN interfaces), set one up (an adapter, a virtual bus), or use
     /// the demo network.
@@ -156,7 +161,10 @@ impl Hint {
             Error::NoSuchTpdo { .. } => Some(Hint::EveryTpdo),
             Error::NoValidTpdo { .. } => Some(Hint::MapOne),
             Error::InquiryAnsweredByMany { .. } => Some(Hint::AddressOne),
-            Error::Link(LinkError::SimInUse { .. }) => Some(Hint::ShareSimNetwork),
+            Error::Link(LinkError::SimInUse { serving: Some(bus), .. }) => {
+                Some(Hint::UseServedBus { bus: bus.clone() })
+            }
+            Error::Link(LinkError::SimInUse { serving: None, .. }) => Some(Hint::ShareSimNetwork),
             Error::Link(LinkError::NoInterface { iface, available }) => Some(Hint::SetUpInterface {
                 iface: iface.clone(),
                 near: near_interface(iface, available),

@@ -11,15 +11,17 @@ fn main() {
     let json = cli.format() == canctl::output::FormatArg::Json;
     if let Err(err) = canctl::cli::run(cli, bus_from_env, cancel) {
         let (code, print) = canctl::output::exit_code(&err);
-        // A silent node or a failed link, with its likely cause, as one JSON object.
-        let error_json = if json && print { canctl::output::error_json(&err) } else { None };
-        if let Some(value) = error_json {
-            eprintln!("{value}");
-        } else if print {
-            // Messages may quote what a device or a file said: no control characters.
-            eprintln!("canctl: {}", canctl::output::terminal_safe_lines(&canctl::output::error_text(&err)));
+        if !print {
+            std::process::exit(code);
         }
-        std::process::exit(code);
+        // A silent node or a failed link, with its likely cause, as one JSON object.
+        let error_json = if json { canctl::output::error_json(&err) } else { None };
+        let message = match error_json {
+            Some(value) => value.to_string(),
+            // Messages may quote what a device or a file said: no control characters.
+            None => format!("canctl: {}", canctl::output::terminal_safe_lines(&canctl::output::error_text(&err))),
+        };
+        std::process::exit(canctl::output::stderr::last_words(&message, code));
     }
 }
 
@@ -30,7 +32,8 @@ fn usage_error(e: clap::Error) -> ! {
         e.exit()
     }
     let text = e.render().to_string();
-    eprint!("canctl: {}", text.strip_prefix("error: ").unwrap_or(&text));
+    // Not run at all: exit 2 whether or not anyone reads why.
+    canctl::output::stderr::say(&format!("canctl: {}", text.strip_prefix("error: ").unwrap_or(&text)));
     std::process::exit(canctl::error::ErrorClass::Usage.exit_code())
 }
 
@@ -52,7 +55,9 @@ mod interrupt {
         // Only fails when a handler is already set: this is the one, set once.
         let _ = ctrlc::set_handler(move || {
             if handler.check().is_err() {
-                eprintln!("canctl: interrupted again: stopped at once, what was under way may be half done");
+                canctl::output::stderr::say(
+                    "canctl: interrupted again: stopped at once, what was under way may be half done",
+                );
                 std::process::exit(canctl::error::ErrorClass::Interrupted.exit_code());
             }
             handler.cancel();

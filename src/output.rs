@@ -29,6 +29,7 @@ mod nodes;
 pub(crate) mod records;
 mod reports;
 pub(crate) mod sim;
+pub mod stderr;
 pub(crate) mod stopped;
 pub(crate) mod usage;
 mod verdicts;
@@ -210,7 +211,7 @@ impl Output {
     /// A diagnostic on stderr, unless --quiet.
     pub fn note(&self, text: &str) {
         if !self.quiet {
-            eprintln!("{}", terminal_safe_lines(text));
+            stderr::say(&terminal_safe_lines(text));
         }
     }
 

@@ -97,6 +97,13 @@ pub enum Source {
     Env,
     /// The project file at this path (`canctl.toml`).
     File(PathBuf),
+    /// A line of a settings file (`canctl.toml:4`).
+    Line {
+        /// The settings file.
+        file: PathBuf,
+        /// The line.
+        line: usize,
+    },
     /// canctl's own default: nothing chose it.
     Default,
 }
@@ -107,6 +114,7 @@ impl std::fmt::Display for Source {
             Source::Flag => f.write_str("command line"),
             Source::Env => f.write_str("environment (CANCTL_BUS)"),
             Source::File(p) => write!(f, "{}", p.display()),
+            Source::Line { file, line } => write!(f, "{}:{line}", file.display()),
             Source::Default => f.write_str("default"),
         }
     }
@@ -179,8 +187,8 @@ pub struct FileSettings {
     pub more_buses: Vec<String>,
     /// The answer timeout, and the file that sets it.
     pub timeout: Option<(Duration, PathBuf)>,
-    /// Per node: the EDS (relative paths resolved against its file), and that file.
-    pub eds: BTreeMap<u8, (PathBuf, PathBuf)>,
+    /// Per node: the EDS (relative paths resolved against its file), and where it is named.
+    pub eds: BTreeMap<u8, (PathBuf, Source)>,
     /// The files read, in order.
     pub files: Vec<PathBuf>,
 }
@@ -230,7 +238,12 @@ fn read(path: &Path, into: &mut FileSettings) -> Result<(), Error> {
             Error::Usage(format!("{}:{}: [nodes.{node}]: {e}", path.display(), line_with(&format!("nodes.{node}"))))
         })?;
         if let Some(eds) = n.eds {
-            into.eds.insert(id, (dir.join(eds), path.to_path_buf()));
+            // The `eds` line after the node's heading: what a message about the file cites.
+            let heading = text.find(&format!("nodes.{node}")).unwrap_or(0);
+            let line = text[heading..]
+                .find("eds")
+                .map_or(line_with(&format!("nodes.{node}")), |o| line_of(&text, heading + o));
+            into.eds.insert(id, (dir.join(eds), Source::Line { file: path.to_path_buf(), line }));
         }
     }
     into.files.push(path.to_path_buf());
@@ -295,7 +308,7 @@ impl Settings {
             given.eds.iter().map(|e| Sourced { value: e.clone(), from: Source::Flag }).collect();
         for (node, (path, from)) in files.eds {
             if !given.eds.iter().any(|e| e.node == Some(node)) {
-                eds.push(Sourced { value: EdsFile { node: Some(node), path }, from: Source::File(from) });
+                eds.push(Sourced { value: EdsFile { node: Some(node), path }, from });
             }
         }
         Settings { bus, more_buses, timeout, eds, files: files.files }
@@ -447,7 +460,10 @@ mod tests {
         let files = FileSettings {
             bus: Some(("socketcan:can0".into(), file.clone())),
             timeout: Some((Duration::from_secs(2), file.clone())),
-            eds: BTreeMap::from([(5, ("/p/mh.eds".into(), file.clone())), (7, ("/p/x.eds".into(), file.clone()))]),
+            eds: BTreeMap::from([
+                (5, ("/p/mh.eds".into(), Source::Line { file: file.clone(), line: 4 })),
+                (7, ("/p/x.eds".into(), Source::Line { file: file.clone(), line: 7 })),
+            ]),
             files: vec![file.clone()],
             more_buses: Vec::new(),
         };
@@ -465,7 +481,10 @@ mod tests {
             s.eds.iter().map(|e| (e.value.node, e.value.path.as_path(), &e.from)).collect();
         assert_eq!(
             eds,
-            [(Some(7), Path::new("mine.eds"), &Source::Flag), (Some(5), Path::new("/p/mh.eds"), &Source::File(file))]
+            [
+                (Some(7), Path::new("mine.eds"), &Source::Flag),
+                (Some(5), Path::new("/p/mh.eds"), &Source::Line { file, line: 4 })
+            ]
         );
         let defaults =
             Settings::resolve(Given { bus: Some(String::new()), ..Given::default() }, FileSettings::default());

@@ -217,3 +217,22 @@ fn a_closed_stderr_does_not_end_the_command() {
     assert_eq!(r.code, 0);
     assert_eq!(r.stdout.trim(), "251");
 }
+
+/// A process serving the sim network as a bus several commands share (`sim --socketcand`):
+/// another command's error says the bus it serves on (it advised `sim --socketcan` instead).
+#[test]
+fn the_sim_network_served_by_another_process_is_reached_where_it_serves() {
+    let sim = Sim::new();
+    let mut server =
+        sim.command(&["sim", "--socketcand", "0"]).stdout(Stdio::piped()).stderr(Stdio::null()).spawn().unwrap();
+    let mut bus = String::new();
+    std::io::BufReader::new(server.stdout.take().unwrap()).read_line(&mut bus).unwrap();
+    let bus = bus.trim().to_string();
+    assert!(bus.starts_with("socketcand:"), "the server did not start: '{bus}'");
+    let r = sim.run(&["sdo", "read", "1", "1018:1"]);
+    server.kill().unwrap();
+    server.wait().unwrap();
+    assert_eq!(r.code, 5, "{}", r.stderr);
+    assert!(r.stderr.contains(&format!("use --bus {bus}")), "{}", r.stderr);
+    assert!(!r.stderr.contains("sim --socketcan vcan0"), "{}", r.stderr);
+}

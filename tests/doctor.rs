@@ -322,15 +322,12 @@ fn a_device_without_a_node_id_is_found_only_when_lss_is_asked() {
 }
 
 /// Through an EPOS2 (on its RS232 pty) canctl hears none of the bus: the EPOS2's own error
-/// register 0x1001 and CAN bit rate 0x2001 are the evidence of its side of the bus. (A
-/// silent node's finding carries it too; not run here: through the EPOS2 the read of every
-/// id takes 127 waits of real time.)
+/// register 0x1001 and CAN bit rate 0x2001 are the evidence of its side of the bus. The
+/// EPOS2 on the sim's 500 kbit/s bus holds that rate, in its own code (2): not 1M.
 #[cfg(unix)]
 #[test]
 fn through_an_epos2_its_error_register_and_bit_rate_are_evidence() {
     let sim = network(&["--profile", "instant"]);
-    // Its stored CAN bit rate: 500 kbit/s in the EPOS2's own code (2).
-    sim.run(&["sdo", "write", "1", "2001", "2", "--type", "u16"]).ok();
     let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
     let gateway = |v: &Value| -> Value {
         let all = v.as_array().unwrap_or_else(|| panic!("{v}"));
@@ -366,4 +363,60 @@ fn the_likely_cause_of_a_silent_node_says_what_the_bus_showed() {
     assert_eq!(r.code, 3, "{}", r.stderr);
     assert!(r.stderr.contains("likely cause: nothing on the bus"), "{}", r.stderr);
     assert!(r.stderr.contains("canctl doctor --lss"), "{}", r.stderr);
+}
+
+/// Evidence says what was waited, measured on the bus's clock, not the timeout allowed:
+/// through an EPOS2 the gateway says "no answer" after a wait of its own (two SDO reads
+/// took 0.13 s, not "500 ms each"), and the read of every node-id goes one id after the
+/// other (12.6 s, not "500 ms"). Together the waits stated are no more than the run took,
+/// and the read of every node-id is most of it.
+#[cfg(unix)]
+#[test]
+fn through_an_epos2_the_waits_stated_are_the_waits_measured() {
+    let sim = network(&["--profile", "instant"]);
+    let dev = common::DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    let started = std::time::Instant::now();
+    let r = dev.run(&["--timeout", "1s", "doctor", "7", "--format", "json"]);
+    let took_ms = started.elapsed().as_millis() as u64;
+    assert_eq!(r.code, 6, "{}\n{}", r.stdout, r.stderr);
+    let d = r.json();
+    let evidence: Vec<&Value> =
+        d["findings"].as_array().unwrap().iter().flat_map(|f| f["evidence"].as_array().unwrap()).collect();
+    let waited = |kind: &str| {
+        let e = evidence.iter().find(|e| e["kind"] == kind).unwrap_or_else(|| panic!("no {kind}: {d}"));
+        e["waited_ms"].as_u64().unwrap()
+    };
+    let stated: u64 = ["no_guarding_answer", "no_sdo_answer", "probe_answers"].iter().map(|k| waited(k)).sum();
+    assert!(stated <= took_ms, "{stated} ms of waits stated in a run of {took_ms} ms: {d}");
+    assert!(waited("probe_answers") * 2 >= took_ms, "the read of every id, most of {took_ms} ms: {d}");
+}
+
+/// `doctor --window 0s` listened to nothing and went on as if it had; scan refuses a window
+/// under 10 ms. One rule for both (and for the sweep's window): refused, exit 2, before the
+/// bus is opened.
+#[test]
+fn a_window_too_short_to_hear_anything_is_refused_as_scan_refuses_it() {
+    let sim = network(&[]);
+    for args in [&["--window", "0s"][..], &["--window", "5ms"], &["--sweep-window", "0s"]] {
+        let r = doctor(&sim, args);
+        assert_eq!(r.code, 2, "{args:?}: {}{}", r.stdout, r.stderr);
+        assert!(r.stderr.contains("shorter than") && r.stderr.contains("use at least 10ms"), "{args:?}: {}", r.stderr);
+        let scan = sim.run(&["scan", "--window", args[1]]);
+        assert_eq!(scan.code, 2, "scan {args:?}: {}", scan.stderr);
+    }
+}
+
+/// In JUnit each passing check is named for what it checked (the evidence's kind, as JSON
+/// names it): every one was named "fine", which a CI report cannot tell apart.
+#[test]
+fn junit_names_each_passing_check_by_what_it_checked() {
+    let sim = network(&[]);
+    let r = sim.run(&["doctor", "5", "--window", "100ms", "--format", "junit"]).ok();
+    let names: Vec<&str> =
+        r.stdout.split("<testcase ").skip(1).filter_map(|c| c.split(" name=\"").nth(1)?.split('"').next()).collect();
+    assert!(names.len() >= 3, "{}", r.stdout);
+    assert!(!names.contains(&"fine"), "{}", r.stdout);
+    for kind in ["sdo_answer", "one_device", "link_quiet"] {
+        assert!(names.contains(&kind), "no {kind}: {}", r.stdout);
+    }
 }

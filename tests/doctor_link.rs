@@ -39,7 +39,8 @@ fn a_sweep_names_the_rate_the_bus_runs_at() {
 }
 
 /// Without --sweep the adapter's rate is never changed: the wrong rate shows as the
-/// adapter's bus errors, with the sweep named as the way to find the rate.
+/// adapter's bus errors, and the fix names the rate the adapter runs at and the sweep as
+/// the way to find the bus's (it named neither).
 #[test]
 fn without_sweep_no_rate_is_tried() {
     let sim = common::Sim::new();
@@ -47,6 +48,14 @@ fn without_sweep_no_rate_is_tried() {
     let r = doctor(&format!("{}@125k", dev.uri), &["--window", "300ms"]);
     assert_eq!(r.code, 6, "{}{}", r.stdout, r.stderr);
     assert!(!r.stdout.contains("listen-only at each rate"), "{}", r.stdout);
+    assert!(
+        r.stdout.contains("the adapter runs at 125k") && r.stdout.contains("canctl doctor --sweep"),
+        "{}",
+        r.stdout
+    );
+    let d = doctor(&format!("{}@125k", dev.uri), &["--window", "300ms", "--format", "json"]).json();
+    let remedy = &d["findings"][0]["remedy"];
+    assert_eq!((&remedy["remedy"], &remedy["kbit"]), (&"check_bus_or_sweep".into(), &125.into()), "{d}");
 }
 
 /// `--fault bus:off` on `--bus sim`: the link reports bus-off as a SocketCAN interface does

@@ -159,3 +159,16 @@ fn sim_reset_with_a_bootloader_says_so_and_refuses_a_node_id_in_use() {
     let reset = sim.run(&["sim", "reset", "--bootloader", "9"]).ok();
     assert!(reset.stdout.contains("a CiA 302-3 bootloader on node 9"), "{}", reset.stdout);
 }
+
+/// `firmware status` on a node without CiA 302-3's objects (the sensor): said as such, not
+/// as a bare SDO abort on 0x1F51:0 (exit 4 still: the node has none to read).
+#[test]
+fn status_of_a_node_without_a_bootloader_says_so() {
+    let sim = Sim::new();
+    let r = sim.run(&["firmware", "status", "5"]);
+    assert_eq!(r.code, 4, "{}", r.stderr);
+    assert_eq!(
+        r.stderr.trim(),
+        "canctl: node 5 has no program-download objects 0x1F50/0x1F51/0x1F56/0x1F57: no CiA 302-3 bootloader there"
+    );
+}

@@ -435,3 +435,35 @@ fn an_slcan_adapter_at_the_wrong_bit_rate_is_not_an_empty_bus() {
     let right = adapter.run(&["scan"]).ok();
     assert!(right.stderr.contains("4 node(s)"), "{}", right.stderr);
 }
+
+/// A file that is not there is said once, with the system's reason once: the message
+/// came three times over ("cannot read nofile.bin: ... (os error 2): cannot read
+/// nofile.bin: ... (os error 2): ... (os error 2)").
+#[test]
+fn a_missing_input_file_is_said_once() {
+    let sim = Sim::new();
+    for args in [
+        &["sdo", "write", "1", "1F50:1", "@nofile.bin", "--type", "d"][..],
+        &["firmware", "download", "1", "nofile.bin"],
+    ] {
+        let run = sim.run(args);
+        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
+        assert_eq!(
+            run.stderr.trim(),
+            "canctl: cannot read nofile.bin: No such file or directory (os error 2)",
+            "{args:?}"
+        );
+    }
+}
+
+/// `--out` into a folder that exists but takes no new files (/proc): not "there is no
+/// folder /proc".
+#[cfg(target_os = "linux")]
+#[test]
+fn out_where_no_file_can_be_made_says_why() {
+    let sim = Sim::new();
+    let run = sim.run(&["sdo", "read", "10", "1008", "--out", "/proc/version"]);
+    assert_eq!(run.code, 7, "{}", run.stderr);
+    assert!(!run.stderr.contains("there is no folder"), "{}", run.stderr);
+    assert!(run.stderr.contains("cannot write /proc/version: the folder /proc takes no new files"), "{}", run.stderr);
+}

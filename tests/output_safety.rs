@@ -209,3 +209,60 @@ fn file_strings_reach_the_terminal_escaped() {
     let json = sim.run(&["config", "diff", "5", path.to_str().unwrap(), "--format", "json"]).ok().json();
     assert_eq!(json["differences"][0]["name"], "Heart\u{1b}]0;pwned\u{7}beat");
 }
+
+/// How canctl ended when what it writes goes into a pipe whose reader reads `lines` lines
+/// and goes away (`canctl ... 2>&1 | head -1`): stderr always into the pipe, stdout too when
+/// `stdout_too` (else to /dev/null: `2>&1 >/dev/null | head -1`).
+#[cfg(unix)]
+fn code_with_reader_gone(mut c: Command, stdout_too: bool, lines: usize) -> i32 {
+    use std::io::BufRead;
+    let (reader, writer) = std::io::pipe().unwrap();
+    match stdout_too {
+        true => c.stdout(writer.try_clone().unwrap()),
+        false => c.stdout(std::process::Stdio::null()),
+    };
+    let mut child = c.stderr(writer).spawn().unwrap();
+    // The command holds copies of the pipe's writing end: without them, the child's are the
+    // last, and its writes fail once the reader is gone.
+    drop(c);
+    let mut reader = std::io::BufReader::new(reader);
+    for _ in 0..lines {
+        reader.read_line(&mut String::new()).unwrap();
+    }
+    drop(reader);
+    let start = std::time::Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status.code().unwrap_or(-1);
+        }
+        if start.elapsed() > std::time::Duration::from_secs(60) {
+            let _ = child.kill();
+            panic!("still running a minute after its reader went away");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// Exit 101 is Rust's panic: `eprintln!` panics when stderr's reader is gone. A closed
+/// pipe ends canctl quietly with exit 0 (README: also when the reader went away), whichever
+/// stream found it closed.
+#[cfg(unix)]
+#[test]
+fn a_reader_gone_ends_the_command_quietly_not_with_a_panic() {
+    let sim = common::Sim::new();
+    // Node 7 is silent: doctor waits out each question it asks it.
+    let doctor = &["--timeout", "100ms", "doctor", "7"][..];
+    // `2>&1 | head -1`: a stream ends at its next record; a report may have gone whole
+    // into the pipe before its reader left, and then ends with its own verdict (doctor's 6).
+    let stream = sim.command(&["stream-pdo", "5", "--start", "--interval", "5ms"]);
+    assert_eq!(code_with_reader_gone(stream, true, 1), 0, "stream-pdo 5 --start 2>&1 | head -1");
+    for (args, verdict) in [(doctor, 6), (&["health"][..], 0)] {
+        let code = code_with_reader_gone(sim.command(args), true, 1);
+        assert!(code == 0 || code == verdict, "{args:?} 2>&1 | head -1: exit {code}");
+    }
+    // Only stderr into the pipe, its reader gone at once: the notes and the final message
+    // find it closed, every time.
+    for args in [doctor, &["health"][..], &["stream-pdo", "5", "--start", "--count", "3"][..]] {
+        assert_eq!(code_with_reader_gone(sim.command(args), false, 0), 0, "{args:?} 2>&1 >/dev/null | head -0");
+    }
+}

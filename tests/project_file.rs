@@ -73,3 +73,21 @@ fn a_broken_file_is_a_usage_error_with_file_and_line() {
     assert_eq!(r.code, 2);
     assert!(r.stderr.contains("canctl.toml:2:") && r.stderr.contains("baud"), "{}", r.stderr);
 }
+
+/// An EDS the project file names that is not there: a command that reads it says which
+/// settings file and line name it (it said neither), and `canctl settings` still shows the
+/// settings, the way to find what to fix (it exited 2 as well).
+#[test]
+fn a_missing_eds_in_the_file_is_cited_at_its_line_and_settings_still_shows() {
+    let root = tempfile::tempdir().unwrap();
+    let home = root.path().join("home");
+    let bus = format!("sim:{}", root.path().join("sim.json").display());
+    std::fs::write(root.path().join("canctl.toml"), format!("bus = \"{bus}\"\n\n[nodes.5]\neds = \"missing.eds\"\n"))
+        .unwrap();
+    let r = canctl(root.path(), &home, None, &["sdo", "read", "1", "1000"]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("canctl.toml:4: cannot read ") && r.stderr.contains("missing.eds"), "{}", r.stderr);
+    let s = canctl(root.path(), &home, None, &["settings", "--format", "json"]).ok().json();
+    assert!(s["eds"][0]["file"].as_str().unwrap().ends_with("missing.eds"), "{s}");
+    assert!(s["eds"][0]["from"].as_str().unwrap().ends_with("canctl.toml:4"), "{s}");
+}

@@ -69,7 +69,7 @@ pub(crate) fn objects() -> Vec<CompletionCandidate> {
     let (objects, refused) = crate::ops::completion::line_objects(bus, eds, node);
     // A refused EDS is said (the shell shows stderr), not silently replaced.
     if let Some(e) = refused {
-        eprintln!("\ncanctl: {e}; completing from the built-in dictionary");
+        crate::output::stderr::say(&format!("\ncanctl: {e}; completing from the built-in dictionary"));
     }
     crate::output::completion::objects(objects)
 }

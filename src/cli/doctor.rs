@@ -59,6 +59,9 @@ pub struct DoctorArgs {
 /// Run `canctl doctor`: the diagnosis rendered, exit 6 when it found a problem.
 pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()> {
     let last_scan = ctx.bus.as_deref().map(crate::ops::scan_cache::load).unwrap_or_default();
+    // Scan's rule: a shorter listen hears nothing, and would not say so.
+    crate::ops::scan::check_window(a.window)?;
+    crate::ops::scan::check_window(a.sweep_window)?;
     let options = DoctorOptions { node: a.node, listen: a.window, timeout: ctx.timeout, last_scan, lss: a.lss };
     let mut opened = false;
     let result = super::with_bus(ctx, global, |bus| {

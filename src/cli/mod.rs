@@ -363,16 +363,20 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
     };
     let given = Given { bus, bus_from_env, more_buses, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
-    let eds: Vec<objects::EdsArg> = settings.eds.iter().map(|e| e.value.clone()).collect();
     let format = cli.format();
     let mut out = Output::for_arg(format, g.quiet);
     if g.wide {
         out.fit = None;
     }
+    // `settings` reads no EDS: it is what a user looks at to fix one that cannot be read.
+    let dicts = match cli.command {
+        Command::Settings => objects::Dictionaries::default(),
+        _ => objects::load(&settings.eds)?,
+    };
     let ctx = Ctx {
         out,
         timeout: settings.timeout.value,
-        dicts: objects::load(&eds)?,
+        dicts,
         bus: settings.bus.as_ref().map(|b| b.value.clone()),
         buses: settings.bus.iter().map(|b| b.value.clone()).chain(settings.more_buses.iter().cloned()).collect(),
         cancel,

@@ -7,8 +7,8 @@ pub(crate) fn parse_eds_arg(s: &str) -> Result<EdsArg, String> {
 }
 
 /// Read every `--eds` file, its warnings said on stderr.
-pub(crate) fn load(args: &[EdsArg]) -> crate::Result<Dictionaries> {
-    let dicts = Dictionaries::load(args)?;
+pub(crate) fn load(args: &[crate::settings::Sourced<EdsArg>]) -> crate::Result<Dictionaries> {
+    let dicts = Dictionaries::load_in_force(args)?;
     crate::output::say_deviations(dicts.warnings());
     Ok(dicts)
 }

@@ -4,6 +4,7 @@
 pub mod command;
 pub mod error;
 pub mod frame;
+pub mod objects;
 pub mod transport;
 
 pub use error::{Epos2Error, Epos2Problem};

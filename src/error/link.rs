@@ -168,6 +168,8 @@ pub enum LinkError {
         holder: String,
         /// How long the lock was waited for.
         waited: Duration,
+        /// The `--bus` that reaches the devices where that process serves them, if it does.
+        serving: Option<String>,
     },
     /// A pseudo-terminal (the simulator's serial devices) failed.
     #[error("{op}: {detail}")]
@@ -224,5 +226,23 @@ impl fmt::Display for PtyOp {
             PtyOp::Write => "pty write",
             PtyOp::PrintPath => "cannot print the pty path",
         })
+    }
+}
+
+impl From<crate::epos2::Epos2Error> for Error {
+    fn from(e: crate::epos2::Epos2Error) -> Error {
+        Error::Link(LinkError::Epos2(e))
+    }
+}
+
+impl From<crate::socketcand::SocketcandError> for Error {
+    fn from(e: crate::socketcand::SocketcandError) -> Error {
+        Error::Link(LinkError::Socketcand(e))
+    }
+}
+
+impl From<LinkError> for Error {
+    fn from(e: LinkError) -> Error {
+        Error::Link(e)
     }
 }

@@ -320,6 +320,12 @@ pub enum Error {
         /// The node-id of the node it is about.
         node: u8,
     },
+    /// A node without CiA 302-3's program-download objects: no bootloader to ask.
+    #[error("node {node} has no program-download objects 0x1F50/0x1F51/0x1F56/0x1F57: no CiA 302-3 bootloader there")]
+    NoBootloader {
+        /// The node-id of the node it is about.
+        node: u8,
+    },
     /// A node keeps no description of itself (CiA 301 object 0x1021).
     #[error("node {node}: the device does not store its EDS (0x1021)")]
     NoStoredEds {
@@ -495,6 +501,17 @@ pub enum Error {
         error: Box<Error>,
     },
 
+    /// A file a settings file names could not be used: where it is named (`canctl.toml:4`),
+    /// then why. It ends the process as the error itself would.
+    #[error("{file}:{line}: {error}")]
+    InSettingsFile {
+        /// The settings file.
+        file: String,
+        /// The line that names the file.
+        line: usize,
+        /// Why it could not be used.
+        error: Box<Error>,
+    },
     /// An error with advice appended (e.g. which nodes the last scan saw); it ends the
     /// process as the error itself would.
     #[error("{error}{hint}")]
@@ -684,6 +701,7 @@ impl Error {
             | Error::Epos2Refused { .. }
             | Error::StoreRefused { .. }
             | Error::NoErrorHistory { .. }
+            | Error::NoBootloader { .. }
             | Error::NoStoredEds { .. } => C::Refused,
             Error::DriveStopped { why: DriveStop::NoAnswer, .. } => C::Timeout,
             Error::DriveStopped { .. } => C::Refused,
@@ -699,7 +717,7 @@ impl Error {
             | Error::Diagnosed { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } | Error::DiagnosisInterrupted { .. } => C::Interrupted,
-            Error::Hinted { error, .. } => error.class(),
+            Error::Hinted { error, .. } | Error::InSettingsFile { error, .. } => error.class(),
             Error::NoSocketCan { .. }
             | Error::TypeNeeded { .. }
             | Error::NoLssOnDirectEpos2 { .. }
@@ -740,24 +758,6 @@ impl Error {
     /// This error with advice appended to its message.
     pub(crate) fn with_hint(self, hint: impl Into<String>) -> Error {
         Error::Hinted { error: Box::new(self), hint: hint.into() }
-    }
-}
-
-impl From<crate::epos2::Epos2Error> for Error {
-    fn from(e: crate::epos2::Epos2Error) -> Error {
-        Error::Link(LinkError::Epos2(e))
-    }
-}
-
-impl From<crate::socketcand::SocketcandError> for Error {
-    fn from(e: crate::socketcand::SocketcandError) -> Error {
-        Error::Link(LinkError::Socketcand(e))
-    }
-}
-
-impl From<LinkError> for Error {
-    fn from(e: LinkError) -> Error {
-        Error::Link(e)
     }
 }
 

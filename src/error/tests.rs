@@ -354,7 +354,7 @@ fn link_messages_say_what_they_always_said() {
              No hardware: try the demo network, --bus sim",
         ),
         (
-            LinkError::SimInUse { holder: "pid 7 (canctl sim)".into(), waited: Duration::from_secs(10) },
+            LinkError::SimInUse { holder: "pid 7 (canctl sim)".into(), waited: Duration::from_secs(10), serving: None },
             "the sim network is in use by pid 7 (canctl sim) (waited 10 s): it serves one command at a \
              time; stop that one, or serve the network where several commands share it as on a real bus \
              (`canctl sim --socketcan vcan0`, then --bus vcan0); --bus sim:OTHER.state would be another network, \

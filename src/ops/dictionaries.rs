@@ -6,6 +6,7 @@ use crate::error::Error;
 use crate::od::eds::Eds;
 use crate::od::{builtin, names, Dictionary, Entry};
 pub use crate::settings::EdsFile;
+use crate::settings::{Source, Sourced};
 
 /// The EDS files given for a command, each for one node or for any: which dictionary names and
 /// types a node's objects.
@@ -24,6 +25,22 @@ impl Dictionaries {
             files.push((a.node, eds));
         }
         Ok(Dictionaries { files })
+    }
+
+    /// [`Dictionaries::load`] of the files in force: one a settings file names is cited, when
+    /// it cannot be read, at that file's line (`canctl.toml:4: cannot read mh.eds: ...`).
+    pub fn load_in_force(files: &[Sourced<EdsFile>]) -> Result<Dictionaries, Error> {
+        let mut loaded = Vec::new();
+        for f in files {
+            let eds = crate::od::read_description(&f.value.path).map_err(|e| match &f.from {
+                Source::Line { file, line } => {
+                    Error::InSettingsFile { file: file.display().to_string(), line: *line, error: Box::new(e.into()) }
+                }
+                _ => Error::from(e),
+            })?;
+            loaded.push((f.value.node, eds));
+        }
+        Ok(Dictionaries { files: loaded })
     }
 
     /// The files' warnings, with file:line.

@@ -46,15 +46,14 @@ impl ScanOptions {
     }
 }
 
-/// Refuses a probe window no device can answer within (every command that probes: scan,
-/// health, network).
-fn check_window(window: Duration) -> Result<()> {
+/// Refuses a window no device can answer or be heard within: every command that probes
+/// (scan, health, network) or listens (doctor, its sweep) waits at least [`MIN_WINDOW`].
+pub fn check_window(window: Duration) -> Result<()> {
     if window < MIN_WINDOW {
         return Err(Error::Usage(format!(
-            "a window of {} ms is shorter than devices take to answer a probe (nodes would be lost without a word); use at least {}ms, or the default {}ms that waits for slow devices",
+            "a window of {} ms is shorter than devices take to answer (what they say would be lost without a word); use at least {}ms",
             window.as_millis(),
             MIN_WINDOW.as_millis(),
-            FULL_WINDOW.as_millis()
         )));
     }
     Ok(())

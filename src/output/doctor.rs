@@ -150,6 +150,11 @@ pub(crate) fn remedy_text(remedy: &Remedy) -> String {
              and CAN_L not swapped, GND connected (an slcan adapter finds the bus's rate: canctl doctor --sweep)",
             bitrate.map(|b| format!(", {} kbit/s", b / 1000)).unwrap_or_default()
         ),
+        Remedy::CheckBusOrSweep { kbit } => format!(
+            "the adapter runs at {kbit}k: canctl doctor --sweep finds the bus's rate (it tries each, a few \
+             seconds off the bus); else {}",
+            remedy_text(&Remedy::CheckBus)
+        ),
         Remedy::UseBitRate { kbit } => format!(
             "open the link at {kbit} kbit/s (--bus slcan:PORT@{kbit}k); or, if the bus should run at the link's \
              rate, find the device set to {kbit} kbit/s"
@@ -203,6 +208,13 @@ fn ids(nodes: &[u8]) -> String {
     nodes.iter().map(u8::to_string).collect::<Vec<_>>().join(", ")
 }
 
+/// What a piece of evidence checked, by the name JSON gives its kind (`one_device`,
+/// `link_quiet`): a passing check's name in JUnit.
+fn evidence_kind(e: &Evidence) -> String {
+    let json = serde_json::to_value(e).expect("reports serialise");
+    json["kind"].as_str().unwrap_or("check").to_string()
+}
+
 /// What was seen, in a sentence.
 pub(crate) fn evidence_text(e: &Evidence) -> String {
     match e {
@@ -241,7 +253,7 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             format!("node {node} answered the SDO read of {obj} (its value follows in segments, not read here)")
         }
         Evidence::NoSdoAnswer { node, obj, requests, waited_ms } => format!(
-            "no answer on 0x{:03X} to {requests} SDO read(s) of {obj} sent on 0x{:03X} ({waited_ms} ms each)",
+            "no answer on 0x{:03X} to {requests} SDO read(s) of {obj} sent on 0x{:03X} ({waited_ms} ms in all)",
             response_cob(*node),
             request_cob(*node)
         ),
@@ -289,8 +301,8 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             super::health::register_text(*error_register),
             match bit_rate_code {
                 None => "unread".to_string(),
-                Some(9) => "detected from the bus (0x2001 = 9)".to_string(),
-                Some(code) => match crate::ops::doctor::epos2_bit_rate_index(*code) {
+                Some(crate::epos2::objects::BIT_RATE_DETECTED) => "detected from the bus (0x2001 = 9)".to_string(),
+                Some(code) => match crate::epos2::objects::bit_rate_index(*code) {
                     Some(i) => format!("{} (0x2001 = {code})", crate::canopen::lss::bit_rate_name(i)),
                     None => format!("code {code} (0x2001), not one of its rates"),
                 },
@@ -445,7 +457,7 @@ impl Report for Diagnosis {
             .collect();
         cases.extend(self.fine.iter().map(|e| TestCase {
             class: class.clone(),
-            name: "fine".into(),
+            name: evidence_kind(e),
             detail: evidence_text(e),
             failure: None,
         }));

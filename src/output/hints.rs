@@ -23,6 +23,7 @@ pub fn hint_text(hint: Hint) -> String {
         Hint::EveryTpdo => "; without --tpdo, every TPDO it has is streamed".into(),
         Hint::MapOne => " (--map makes one for the session)".into(),
         Hint::AddressOne => ": address one with --identity (lss fastscan finds them)".into(),
+        Hint::UseServedBus { bus } => format!(", or use --bus {bus}, where that process serves the devices"),
         Hint::ShareSimNetwork => ", or serve the network where several commands share it as on a real bus \
                                   (`canctl sim --socketcan vcan0`, then --bus vcan0); --bus sim:OTHER.state would \
                                   be another network, not this one"

@@ -115,6 +115,7 @@ pub fn model(block_transfer: bool) -> Model {
         lss: SlaveCaps { store: false, bit_timing: false, fastscan_in_configuration: false },
         moving: false,
         pad_pdos: false,
+        epos2_bit_rate: false,
         fault: None,
         drive: None,
     }

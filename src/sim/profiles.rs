@@ -26,6 +26,8 @@ pub struct Model {
     pub moving: bool,
     /// Sends every PDO with 8 data bytes, whatever its mapping (seed 004's frames).
     pub pad_pdos: bool,
+    /// An EPOS2: its controller's bit rate is also its own object 0x2001 (EPOS2 coding).
+    pub epos2_bit_rate: bool,
     /// What a simulated fault (object 0x5FFE) does to this device.
     pub fault: Option<FaultSpec>,
     /// A CiA 402 drive: controlword 0x6040 drives the state its statusword 0x6041 shows.
@@ -216,6 +218,7 @@ pub fn drive() -> Model {
         lss: FULL_LSS,
         moving: false,
         pad_pdos: false,
+        epos2_bit_rate: true,
         fault: Some(fault),
         drive: Some(DriveProfile {
             constant_bits: 0x0500,
@@ -321,6 +324,7 @@ pub fn position_sensor(serial: u32) -> Model {
         lss: FULL_LSS,
         moving: true,
         pad_pdos: false,
+        epos2_bit_rate: false,
         fault: Some(fault),
         drive: None,
     }
@@ -379,6 +383,7 @@ pub fn io_module() -> Model {
         lss: FULL_LSS,
         moving: false,
         pad_pdos: true,
+        epos2_bit_rate: false,
         fault: Some(fault),
         drive: None,
     };
@@ -449,6 +454,7 @@ pub fn stepper() -> Model {
         lss: SlaveCaps { store: false, bit_timing: false, fastscan_in_configuration: false },
         moving: false,
         pad_pdos: false,
+        epos2_bit_rate: false,
         fault: Some(fault),
         // Seed 003: 0x0250 after power on, voltage enabled and remote included.
         drive: Some(DriveProfile { constant_bits: 0, voltage: VoltageBit::Supply, remote: RemoteBit::Always }),

@@ -161,6 +161,16 @@ impl Serving {
         }
     }
 
+    /// The `--bus` value that reaches the devices where they are served.
+    pub fn uri(&self) -> String {
+        match self {
+            Serving::SocketCan { iface } => BusAddr::SocketCan { iface: iface.clone() }.to_string(),
+            Serving::Epos2 { framing, pty } => format!("{}:{pty}", framing.scheme()),
+            Serving::Slcan { pty, bit_rate } => format!("slcan:{pty}@{}", bit_rate_name(*bit_rate)),
+            Serving::Socketcand { bus, .. } => bus.clone(),
+        }
+    }
+
     /// The bus address that reaches the devices, if it is no pseudo-terminal (a server).
     pub fn bus(&self) -> Option<&str> {
         match self {
@@ -207,6 +217,11 @@ pub fn serve(
     if !matches!(how, Serve::Slcan { .. }) && bus_off_saved(path)? {
         return Err(ServeError::BusOffElsewhere);
     }
+    // A command that finds the network taken is told where this process serves it.
+    let ready = |serving: &Serving| {
+        super::state::announce_serving(path, &serving.uri());
+        ready(serving)
+    };
     match how {
         #[cfg(target_os = "linux")]
         Serve::SocketCan { iface } => Ok(socketcan(path, iface, log, ready)?),

@@ -51,6 +51,9 @@ pub(crate) struct Holder {
     pub pid: u32,
     /// Its command line, program name without its directory: `canctl sim --epos2-rs232`.
     pub command: String,
+    /// The `--bus` that reaches the devices where it serves them (`canctl sim --...`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub serves: Option<String>,
 }
 
 impl Holder {
@@ -59,7 +62,7 @@ impl Holder {
         let program = args.next().map(|a| Path::new(&a).file_name().unwrap_or(&a).to_string_lossy().into_owned());
         let rest = args.map(|a| a.to_string_lossy().into_owned());
         let command = program.into_iter().chain(rest).collect::<Vec<_>>().join(" ");
-        Holder { pid: std::process::id(), command }
+        Holder { pid: std::process::id(), command, serves: None }
     }
 
     fn read(owner_path: &Path) -> Option<Holder> {
@@ -79,6 +82,23 @@ fn link_err(path: &Path, what: &'static str, e: impl std::fmt::Display) -> Error
 /// A state file that is there but cannot be taken as it is: a fresh network is the remedy.
 fn unusable(path: &Path, what: &'static str, e: impl std::fmt::Display) -> Error {
     LinkError::StateFile { path: path.to_path_buf(), what, detail: e.to_string(), afresh: true }.into()
+}
+
+/// Best effort: without it the next process is only told "another process". Renamed into
+/// place, so that it is never read half written.
+fn record(owner_path: &Path, holder: &Holder) {
+    let text = serde_json::to_string(holder).expect("holder serialises");
+    let tmp = owner_path.with_extension("owner.tmp");
+    if let Err(e) = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, owner_path)) {
+        tracing::trace!(target: "canctl::sim", "cannot record this process in {}: {e}", owner_path.display());
+    }
+}
+
+/// This process, which holds the sim network saved at `path`, serves its devices on `bus`:
+/// recorded for a command that finds the network taken, to say where to reach them.
+pub(crate) fn announce_serving(path: &Path, bus: &str) {
+    let holder = Holder { serves: Some(bus.to_string()), ..Holder::this_process() };
+    record(&path.with_extension("owner"), &holder);
 }
 
 /// Who is using the sim network, in words.
@@ -129,7 +149,8 @@ impl StateFile {
             }
             let holder = Holder::read(&owner_path);
             if Instant::now() >= give_up {
-                return Err(LinkError::SimInUse { holder: holder_text(&holder), waited: wait }.into());
+                let serving = holder.as_ref().and_then(|h| h.serves.clone());
+                return Err(LinkError::SimInUse { holder: holder_text(&holder), waited: wait, serving }.into());
             }
             if !told {
                 tracing::warn!(
@@ -145,13 +166,7 @@ impl StateFile {
             std::thread::sleep(LOCK_RETRY.min(give_up.saturating_duration_since(Instant::now())));
         }
         tracing::trace!(target: "canctl::sim", "locked the sim network ({})", path.display());
-        // Best effort: without it the next process is only told "another process". Renamed
-        // into place, so that it is never read half written.
-        let holder = serde_json::to_string(&Holder::this_process()).expect("holder serialises");
-        let tmp = path.with_extension("owner.tmp");
-        if let Err(e) = std::fs::write(&tmp, holder).and_then(|()| std::fs::rename(&tmp, &owner_path)) {
-            tracing::trace!(target: "canctl::sim", "cannot record this process in {}: {e}", owner_path.display());
-        }
+        record(&owner_path, &Holder::this_process());
         Ok(StateFile { path: path.to_path_buf(), owner_path, _lock: lock })
     }
 

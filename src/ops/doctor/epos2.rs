@@ -10,8 +10,7 @@ use crate::error::{Error, Result};
 use std::time::Duration;
 
 const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
-/// EPOS2 firmware specification: "CAN Bitrate", its own code table.
-const CAN_BIT_RATE: ObjAddr = ObjAddr::new(0x2001, 0);
+use crate::epos2::objects::CAN_BIT_RATE;
 /// The error register's communication bit (CiA 301).
 const COMMUNICATION: u8 = 0x10;
 
@@ -49,12 +48,6 @@ fn judge(error_register: Option<u8>, bit_rate_code: Option<u16>, d: &mut Diagnos
     }
 }
 
-/// The CiA 305 bit-rate index of an EPOS2 0x2001 code; `None` for 9 (it detects the bus's
-/// rate) and codes it does not have.
-pub fn bit_rate_index(code: u16) -> Option<u8> {
-    (0..=8).find(|i| crate::ops::lss::epos2_bit_rate_code(*i) == Some(code))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -82,14 +75,5 @@ mod tests {
         let mut d = diagnosis(vec![silent]);
         judge(None, None, &mut d);
         assert_eq!((d.findings.len(), d.fine.len()), (1, 0));
-    }
-
-    #[test]
-    fn the_epos2_codes_are_its_own_table() {
-        assert_eq!(bit_rate_index(0), Some(0)); // 1 Mbit/s
-        assert_eq!(bit_rate_index(2), Some(2)); // 500 kbit/s
-        assert_eq!(bit_rate_index(5), Some(6)); // 50 kbit/s, CiA 305's index 6
-        assert_eq!(bit_rate_index(6), Some(7)); // 20 kbit/s
-        assert_eq!(bit_rate_index(9), None); // automatic detection
     }
 }

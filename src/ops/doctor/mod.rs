@@ -14,7 +14,6 @@ mod lss;
 mod report;
 pub mod sweep;
 
-pub use epos2::bit_rate_index as epos2_bit_rate_index;
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
 
 use crate::bus::{Bus, SdoOptions};
@@ -137,12 +136,14 @@ pub(crate) fn doctor_swept(
     sweep: Option<Duration>,
 ) -> Result<Diagnosis> {
     let mut d = doctor(bus, o)?;
-    if let Some(window) = sweep {
-        let own_kbit = match uri.map(str::parse::<crate::connect::BusAddr>) {
-            Some(Ok(crate::connect::BusAddr::Slcan { kbit, .. })) => Some(kbit),
-            _ => None,
-        };
-        sweep::sweep(bus, &mut d, own_kbit, window)?;
+    let own_kbit = match uri.map(str::parse::<crate::connect::BusAddr>) {
+        Some(Ok(crate::connect::BusAddr::Slcan { kbit, .. })) => Some(kbit),
+        _ => None,
+    };
+    match (sweep, own_kbit) {
+        (Some(window), _) => sweep::sweep(bus, &mut d, own_kbit, window)?,
+        (None, Some(kbit)) => sweep::offer(&mut d, kbit),
+        (None, None) => {}
     }
     Ok(d)
 }
@@ -196,12 +197,12 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
         // Through an EPOS2 the read of every id is one after the other: far from quick.
         None if !bus.sees_traffic() => None,
         None => {
-            let found = scan::probe_once(bus, wait)?;
+            let (found, waited_ms) = timed(bus, |bus| scan::probe_once(bus, wait))?;
             if found.iter().any(|(n, _)| *n == node) {
                 // It answers now: a late answer, not a cause to name.
                 return Ok(None);
             }
-            let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(wait) };
+            let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms };
             // These checks ask no LSS: where nothing answers, the fix says how to.
             let frames = bus.observed().frames;
             match (found.is_empty() && bus.observed().nodes.is_empty(), frames) {
@@ -219,12 +220,12 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
 /// A link that carries no remote frames (socketcand) cannot ask: that is said, never taken
 /// for a failure of the node.
 fn guarded(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<(Option<nmt::State>, Evidence)> {
-    match crate::ops::node::Node::new(bus, node, wait).guard(wait) {
-        Ok(Some(g)) => Ok(match g.state() {
+    match timed(bus, |bus| crate::ops::node::Node::new(bus, node, wait).guard(wait)) {
+        Ok((Some(g), _)) => Ok(match g.state() {
             Some(state) => (Some(state), Evidence::Guarding { node, state }),
             None => (None, Evidence::GuardingNotAState { node }),
         }),
-        Ok(None) => Ok((None, Evidence::NoGuardingAnswer { node, waited_ms: ms(wait) })),
+        Ok((None, waited_ms)) => Ok((None, Evidence::NoGuardingAnswer { node, waited_ms })),
         Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
             Ok((None, Evidence::GuardingUnavailable { node }))
         }
@@ -311,6 +312,15 @@ fn ms(d: Duration) -> u64 {
     d.as_millis() as u64
 }
 
+/// What `f` returned, and how long it took on the bus's clock (ms). Evidence states the
+/// time a wait took, not the timeout it was allowed: an EPOS2 gateway says "no answer"
+/// after a wait of its own, and reads the node-ids one after the other.
+fn timed<T>(bus: &mut dyn Bus, f: impl FnOnce(&mut dyn Bus) -> Result<T>) -> Result<(T, u64)> {
+    let start = bus.now();
+    let value = f(bus)?;
+    Ok((value, ms(bus.now().saturating_duration_since(start))))
+}
+
 /// Every check, then the link's own report of the bus after them (an adapter's bus errors
 /// show only once it has sent something).
 fn examine(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Result<()> {
@@ -336,7 +346,7 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     }
     bus.check_link()?;
     let Some(node) = o.node else { return examine_bus(bus, o, &heard, d) };
-    let (answers, elsewhere) = sdo_probe(bus, node, o.timeout, &mut heard)?;
+    let ((answers, elsewhere), sdo_waited_ms) = timed(bus, |bus| sdo_probe(bus, node, o.timeout, &mut heard))?;
     if let Some(first) = answers.first() {
         d.fine.push(match first.value() {
             Some(value) => Evidence::SdoAnswer { node, obj: SERIAL, value },
@@ -348,7 +358,7 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
         let values = answers.iter().filter_map(|r| r.value()).collect();
         return look_for_clash(bus, o, node, values, &heard, d);
     }
-    let no_answer = Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) };
+    let no_answer = Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: sdo_waited_ms };
     let mut evidence: Vec<Evidence> = heard.heartbeats(node).into_iter().collect();
     let state = match heard.beats.get(&node) {
         Some((_, _, state)) => Some(*state),
@@ -358,7 +368,7 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
             state
         }
     };
-    evidence.push(no_answer);
+    evidence.push(no_answer.clone());
     evidence.extend(elsewhere.iter().map(|cob_id| Evidence::SdoAnswerOn { node, cob_id: *cob_id }));
     match state {
         Some(nmt::State::Stopped) => d.findings.push(Finding {
@@ -371,31 +381,33 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
             evidence,
             remedy: Remedy::ResetCommunication { node },
         }),
-        None => return node_absent(bus, o, node, evidence, &heard, d),
+        None => return node_absent(bus, o, Absent { node, no_answer, evidence }, &heard, d),
     }
     Ok(())
 }
 
+/// A node silent to SDO and guarding: `no_answer` its SDO reads unanswered, `evidence` all
+/// that was seen of it.
+struct Absent {
+    node: u8,
+    no_answer: Evidence,
+    evidence: Vec<Evidence>,
+}
+
 /// Nothing at all from the node: has its device moved to another id, is the whole bus
 /// silent, or is only this node missing?
-fn node_absent(
-    bus: &mut dyn Bus,
-    o: &DoctorOptions,
-    node: u8,
-    mut evidence: Vec<Evidence>,
-    heard: &Heard,
-    d: &mut Diagnosis,
-) -> Result<()> {
-    let found = scan::probe(bus, o.timeout, &mut Silent)?;
+fn node_absent(bus: &mut dyn Bus, o: &DoctorOptions, absent: Absent, heard: &Heard, d: &mut Diagnosis) -> Result<()> {
+    let Absent { node, no_answer, mut evidence } = absent;
+    let (found, waited_ms) = timed(bus, |bus| scan::probe(bus, o.timeout, &mut Silent))?;
     let ids: Vec<u8> = found.iter().map(|(n, _)| *n).collect();
-    let probe = Evidence::ProbeAnswers { nodes: ids.clone(), waited_ms: ms(o.timeout) };
+    let probe = Evidence::ProbeAnswers { nodes: ids.clone(), waited_ms };
     if let Some(mut bus_wide) = heard.bus_finding(!ids.is_empty(), &probe, d.listened_ms) {
         evidence.append(&mut bus_wide.evidence);
         bus_wide.evidence = evidence;
         d.findings.push(bus_wide);
         return Ok(());
     }
-    if let Some(moved) = find_moved(bus, o, node, &ids)? {
+    if let Some(moved) = find_moved(bus, o, node, &ids, no_answer)? {
         d.findings.push(moved);
         return Ok(());
     }
@@ -414,7 +426,13 @@ fn node_absent(
 
 /// The device the last scan saw on `node`, found on another of the ids that answered
 /// (`answering`) that the last scan did not see: the same vendor-ID and name.
-fn find_moved(bus: &mut dyn Bus, o: &DoctorOptions, node: u8, answering: &[u8]) -> Result<Option<Finding>> {
+fn find_moved(
+    bus: &mut dyn Bus,
+    o: &DoctorOptions,
+    node: u8,
+    answering: &[u8],
+    no_answer: Evidence,
+) -> Result<Option<Finding>> {
     let Some(was) = o.last_scan.iter().find(|s| s.node == node && s.scanned) else { return Ok(None) };
     let Some(vendor) = was.vendor_id else { return Ok(None) };
     let known: BTreeSet<u8> = o.last_scan.iter().filter(|s| s.scanned).map(|s| s.node).collect();
@@ -432,7 +450,7 @@ fn find_moved(bus: &mut dyn Bus, o: &DoctorOptions, node: u8, answering: &[u8]) 
             let evidence = vec![
                 Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() },
                 Evidence::Identity { node: now, identity, name },
-                Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: ms(o.timeout) },
+                no_answer,
             ];
             return Ok(Some(Finding {
                 cause: Cause::Moved { node, now },
@@ -488,12 +506,12 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
             remedy: Remedy::SeparateIds { node: *node },
         });
     }
-    let found = scan::probe(bus, o.timeout, &mut Silent)?;
+    let (found, waited_ms) = timed(bus, |bus| scan::probe(bus, o.timeout, &mut Silent))?;
     // Traffic is fine only where some node answers: else it is the evidence of a finding.
     if !heard.frames.is_empty() && heard.flood().is_none() && !found.is_empty() {
         d.fine.push(heard.traffic());
     }
-    let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms: ms(o.timeout) };
+    let probe = Evidence::ProbeAnswers { nodes: found.iter().map(|(n, _)| *n).collect(), waited_ms };
     // A node that beats but did not answer its read: stopped, or its SDO server elsewhere.
     let answered: BTreeSet<u8> = found.iter().map(|(n, _)| *n).collect();
     for (node, (_, _, state)) in heard.beats.iter().filter(|(n, _)| !answered.contains(n)) {

@@ -216,7 +216,7 @@ pub enum Evidence {
     NoGuardingAnswer {
         /// The node.
         node: u8,
-        /// How long it waited.
+        /// How long it waited, on the bus's clock.
         waited_ms: u64,
     },
     /// The node answered an SDO read.
@@ -257,7 +257,7 @@ pub enum Evidence {
         obj: ObjAddr,
         /// How many requests were sent.
         requests: u32,
-        /// How long each waited.
+        /// How long they took together, on the bus's clock.
         waited_ms: u64,
     },
     /// An answer to the node's SDO read came on another COB-ID than 0x580 + node.
@@ -271,7 +271,7 @@ pub enum Evidence {
     ProbeAnswers {
         /// The node-ids that answered.
         nodes: Vec<u8>,
-        /// How long the probe waited.
+        /// How long the probe took, on the bus's clock.
         waited_ms: u64,
     },
     /// What the last scan saw on a node-id.
@@ -337,7 +337,7 @@ pub enum Evidence {
     LssAnswers {
         /// How many answered.
         count: usize,
-        /// How long it waited.
+        /// How long it waited, on the bus's clock.
         waited_ms: u64,
     },
     /// The CAN controller's own report (netlink): its state and counters.
@@ -472,6 +472,12 @@ pub enum Remedy {
     /// Open the link at the rate the bus's traffic decodes at.
     UseBitRate {
         /// The rate, in kbit/s.
+        kbit: u32,
+    },
+    /// As [`Remedy::CheckBus`], on an adapter that can find the bus's rate itself: it runs
+    /// at `kbit`, and a listen-only sweep (doctor's, when asked) finds the bus's.
+    CheckBusOrSweep {
+        /// The adapter's rate, in kbit/s.
         kbit: u32,
     },
 }

@@ -31,6 +31,15 @@ pub fn sweep(bus: &mut dyn Bus, d: &mut Diagnosis, own_kbit: Option<u32>, window
     Ok(())
 }
 
+/// Without a sweep, on an adapter at `kbit` that reports bus errors: the fix names its rate
+/// and the sweep, which finds the bus's (a wrong rate is the likeliest cause of them).
+pub fn offer(d: &mut Diagnosis, kbit: u32) {
+    let bus_errors = Cause::Controller { state: crate::ops::doctor::ControllerState::BusErrors };
+    for f in d.findings.iter_mut().filter(|f| f.cause == bus_errors && f.remedy == Remedy::CheckBus) {
+        f.remedy = Remedy::CheckBusOrSweep { kbit };
+    }
+}
+
 /// The finding the trials show, if any.
 fn judge(d: &mut Diagnosis, trials: Vec<RateHeard>, own_kbit: Option<u32>) {
     let clean: Vec<u32> = trials.iter().filter(|t| t.clean()).map(|t| t.kbit).collect();

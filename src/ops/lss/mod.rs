@@ -417,15 +417,9 @@ pub(crate) fn set_id(
     configure(bus, timeout, target, Setting::NodeId(node), interrupted)
 }
 
-/// EPOS2 firmware specification, object 0x2001 "CAN Bitrate": 0 = 1 Mbit/s, 1 = 800 k,
-/// 2 = 500 k, 3 = 250 k, 4 = 125 k, 5 = 50 k, 6 = 20 k — not the CiA 305 table (there 5 is
-/// reserved, 6 = 50 k, 7 = 20 k).
-pub(crate) fn epos2_bit_rate_code(cia_index: u8) -> Option<u16> {
-    [(0, 0), (1, 1), (2, 2), (3, 3), (4, 4), (6, 5), (7, 6)].iter().find(|(c, _)| *c == cia_index).map(|(_, e)| *e)
-}
-/// EPOS2 firmware specification: 0x2000 "Node ID", 0x2001 "CAN Bitrate".
-const EPOS2_NODE_ID: ObjAddr = ObjAddr::new(0x2000, 0);
-const EPOS2_CAN_BIT_RATE: ObjAddr = ObjAddr::new(0x2001, 0);
+use crate::epos2::objects::{
+    bit_rate_code as epos2_bit_rate_code, CAN_BIT_RATE as EPOS2_CAN_BIT_RATE, NODE_ID as EPOS2_NODE_ID,
+};
 const STORE_ALL: ObjAddr = ObjAddr::new(0x1010, 1);
 
 /// set-id, set-baud and store on an EPOS2 reached directly: its own objects.

@@ -112,6 +112,9 @@ impl Device {
             dirty: false,
             drive: model.drive.map(Drive::new),
         };
+        if model.epos2_bit_rate {
+            commissioned_bit_rate(&mut od, bit_rate);
+        }
         od.reload(None);
         od.refresh_statusword();
         od.dirty = false;
@@ -611,6 +614,16 @@ impl Device {
         self.od.values.extend(values);
         self.sync_drive();
         self.od.dirty = false;
+    }
+}
+
+/// An EPOS2 on a bus was set up for it: 0x2001, which it reads at power-on, saved with the
+/// code of the bit rate its controller runs at (`cia_index`). Left at its default (1 Mbit/s)
+/// on a 500 kbit/s bus, it told a reader a rate the device could not be talking at.
+fn commissioned_bit_rate(od: &mut ObjectStore, cia_index: u8) {
+    use crate::epos2::objects::{bit_rate_code, CAN_BIT_RATE};
+    if let Some(code) = bit_rate_code(cia_index) {
+        od.stored.insert(CAN_BIT_RATE, code.to_le_bytes().to_vec());
     }
 }
 
