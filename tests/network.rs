@@ -563,9 +563,13 @@ fn set_baud_with_a_project_expects_its_nodes_and_updates_its_dcfs() {
     let report = run.json();
     assert!(report["expected_from"].as_str().unwrap().ends_with("nodelist.cpj"), "{report}");
     assert_eq!(set_baud_rows(&run), [(1, Some(true)), (5, Some(true)), (10, Some(true)), (32, Some(false))]);
-    assert_eq!(report["updated"].as_array().unwrap().len(), 4, "{report}");
+    // Only the nodes heard at the new rate get it in their DCFs: the stepper's says 500k.
+    assert_eq!(report["updated"].as_array().unwrap().len(), 3, "{report}");
+    assert_eq!(report["dcfs_left"], serde_json::json!([32]), "{report}");
     let after = std::fs::read_to_string(dir.join("node5.dcf")).unwrap();
     assert_eq!(after, before.replace("\nBaudrate=500\n", "\nBaudrate=125\n"));
+    let stepper = std::fs::read_to_string(dir.join("node32.dcf")).unwrap();
+    assert!(stepper.contains("\nBaudrate=500\n"), "{stepper}");
     // --update-project needs a project.
     assert_eq!(sim.run(&["network", "set-baud", "125k", "--global", "--update-project"]).code, 2);
 }

@@ -273,11 +273,11 @@ fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()>
     // Ctrl-C before the activation: every device back to waiting, nothing switched; after
     // it, the switch is finished and reported.
     let report = network::set_baud(bus, loaded.as_ref(), &options, &mut ctx.out.progress())?;
-    let updated = match (a.update_project, &loaded) {
-        (true, Some(loaded)) => project_files::follow_switch(loaded, report.activated, a.rate)?,
-        _ => Vec::new(),
+    let followed = match (a.update_project, &loaded) {
+        (true, Some(loaded)) => project_files::follow_switch(loaded, &report, a.rate)?,
+        _ => Default::default(),
     };
     let hint = crate::output::switch_hint(ctx.bus.as_deref(), a.rate);
-    ctx.out.report(&SetBaudReport { switched: &report, updated: &updated, hint })?;
+    ctx.out.report(&SetBaudReport { switched: &report, updated: &followed.updated, left: &followed.left, hint })?;
     Ok(report.outcome()?)
 }

@@ -354,6 +354,8 @@ fn followed_text(r: &BaudSwitched, n: &crate::ops::network::NodeFollowed) -> Str
 pub(crate) struct SetBaudReport<'a> {
     pub switched: &'a BaudSwitched,
     pub updated: &'a [PathBuf],
+    /// Nodes of the project whose DCFs were left at their rate: not heard at the new one.
+    pub left: &'a [u8],
     pub hint: String,
 }
 
@@ -364,12 +366,15 @@ impl serde::Serialize for SetBaudReport<'_> {
             #[serde(flatten)]
             switched: &'a BaudSwitched,
             updated: Vec<String>,
+            #[serde(skip_serializing_if = "<[u8]>::is_empty")]
+            dcfs_left: &'a [u8],
             #[serde(skip_serializing_if = "Option::is_none")]
             link_to_switch: Option<&'a str>,
         }
         let json = Json {
             switched: self.switched,
             updated: self.updated.iter().map(|p| p.display().to_string()).collect(),
+            dcfs_left: self.left,
             link_to_switch: (self.switched.activated && !self.switched.bus_followed).then_some(self.hint.as_str()),
         };
         let mut value = serde_json::to_value(json).map_err(serde::ser::Error::custom)?;
@@ -442,6 +447,14 @@ impl Report for SetBaudReport<'_> {
         }
         for p in self.updated {
             notes.push(format!("{}: Baudrate set to {}", p.display(), r.rate));
+        }
+        if !self.left.is_empty() {
+            let list: Vec<String> = self.left.iter().map(|n| n.to_string()).collect();
+            notes.push(format!(
+                "the DCF(s) of node(s) {} left at their rate: not heard at {}",
+                list.join(", "),
+                r.rate
+            ));
         }
         notes
     }
@@ -572,7 +585,7 @@ mod tests {
             "not found: did not answer before the switch nor after it",
         ];
         assert_eq!(said(&r), words);
-        let report = SetBaudReport { switched: &r, updated: &[], hint: String::new() };
+        let report = SetBaudReport { switched: &r, updated: &[], left: &[], hint: String::new() };
         let json = serde_json::to_value(&report).unwrap();
         let results: Vec<&str> =
             json["nodes"].as_array().unwrap().iter().map(|n| n["result"].as_str().unwrap()).collect();

@@ -240,9 +240,9 @@ pub fn set_baud(
 
 /// The project's DCFs with `[DeviceComissioning] Baudrate` set to `kbit`: each file's new
 /// bytes, all made before any is written (the caller writes each atomically).
-pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32) -> Result<Vec<(PathBuf, Vec<u8>)>> {
+pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<Vec<(PathBuf, Vec<u8>)>> {
     let mut out = Vec::new();
-    for listed in &loaded.nodes {
+    for listed in loaded.nodes.iter().filter(|l| nodes.contains(&l.node)) {
         let Some(path) = loaded.project.dcf_path(&loaded.file, listed.node) else { continue };
         let name = path.display().to_string();
         let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
