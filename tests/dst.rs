@@ -1322,20 +1322,24 @@ fn scan_under_five_percent_loss_lists_every_node() {
     eprintln!("scan under 5 % loss, 24 runs: {repeats} node(s) found on a repeat");
 }
 
+/// The demo network with these faults (typical profile, seed `seed`) on virtual time,
+/// behind a tape of every frame.
+fn taped(seed: u64, faults: &[&str]) -> Master<Tape> {
+    let mut config = SimConfig::default().profile(Profile::Typical).seed(seed).virtual_time(true);
+    for f in faults {
+        config = config.fault(f.parse().expect("a fault spec"));
+    }
+    let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
+    let zero = sim.now();
+    Master::new(Tape { sim, zero, frames: Vec::new() }, "sim".into())
+}
+
 /// One device that answers without end must not stretch the wait for a silent one: the
 /// silent node's requests all go out, and it is given up, while the endless transfer is
 /// still under way (it used to wait until that transfer ended: a hang behind one device).
 #[test]
 fn a_node_answering_without_end_does_not_hold_up_giving_up_a_silent_one() {
-    let config = SimConfig::default()
-        .profile(Profile::Typical)
-        .seed(7)
-        .virtual_time(true)
-        .fault("10:endless-segments".parse().expect("a fault spec"))
-        .fault("5:off".parse().expect("a fault spec"));
-    let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
-    let zero = sim.now();
-    let mut master = Master::new(Tape { sim, zero, frames: Vec::new() }, "sim".into());
+    let mut master = taped(7, &["10:endless-segments", "5:off"]);
     // At 64 KiB the endless read is thousands of round trips.
     let opts = SdoOptions { max_upload: 64 * 1024, ..SdoOptions::new(TIMEOUT) };
     let reads = [(10, ObjAddr::new(0x1008, 0)), (5, ObjAddr::new(0x1000, 0))];
@@ -1352,16 +1356,8 @@ fn a_node_answering_without_end_does_not_hold_up_giving_up_a_silent_one() {
 /// devices do: one sending a block upload without end, one a name without end, one silent.
 #[test]
 fn a_stop_ends_a_batch_within_half_a_second_whatever_the_devices_do() {
-    let config = SimConfig::default()
-        .profile(Profile::Typical)
-        .seed(11)
-        .virtual_time(true)
-        .fault("1:endless-block".parse().expect("a fault spec"))
-        .fault("10:endless-segments".parse().expect("a fault spec"))
-        .fault("5:off".parse().expect("a fault spec"));
-    let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
-    let zero = sim.now();
-    let mut master = Master::new(Tape { sim, zero, frames: Vec::new() }, "sim".into());
+    let mut master = taped(11, &["1:endless-block", "10:endless-segments", "5:off"]);
+    let zero = master.link_mut().zero;
     let stop = Cancel::new();
     let flag = stop.clone();
     // Stopped once the endless block upload has brought its first sub-block (889 bytes).
