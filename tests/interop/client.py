@@ -67,8 +67,12 @@ with drive.sdo.open(0x5FF0, 14, "rb", block_transfer=True) as f:
 
 
 def heartbeat_shows(node, want):
-    """A beat sent just before the command may still be on its way: wait for a few."""
-    for _ in range(5):
+    """Beats sent before the command may still be on their way. Through slcand and a pty on
+    an emulated CPU the path lags by more than five of the sensor's 40 ms beats (a run saw
+    'OPERATIONAL' after a pre-operational command): wait for the state itself, bounded by
+    PATIENCE as every other wait here, not for a count of beats."""
+    deadline = time.monotonic() + PATIENCE
+    while time.monotonic() < deadline:
         node.nmt.wait_for_heartbeat(timeout=PATIENCE)
         if node.nmt.state == want:
             break
