@@ -542,6 +542,42 @@ fn a_project_cannot_name_a_dcf_outside_its_folder() {
     }
 }
 
+/// Nor through a symbolic link: with node5.dcf a link to ../outside5.dcf, check,
+/// set-baud --update-project and dump --force refuse (exit 2, naming the link and where it
+/// points) before anything is sent or written, and the file outside is left as it was. A
+/// link inside the folder to a file inside it is fine.
+#[cfg(unix)]
+#[test]
+fn a_project_file_linked_outside_its_folder_is_refused() {
+    let sim = Sim::new();
+    let dir = dumped(&sim);
+    let link = dir.join("node5.dcf");
+    let outside = dir.parent().unwrap().join("outside5.dcf");
+    std::fs::rename(&link, &outside).unwrap();
+    std::os::unix::fs::symlink("../outside5.dcf", &link).unwrap();
+    let before = std::fs::read(&outside).unwrap();
+    let said = format!("{} is a link to {}, outside", link.display(), outside.canonicalize().unwrap().display());
+    let refused = |args: &[&str]| {
+        let run = sim.run(args);
+        assert_eq!(run.code, 2, "{args:?}\n{}\n{}", run.stdout, run.stderr);
+        assert!(run.stderr.contains(&said), "{args:?}: {}", run.stderr);
+    };
+    let project = dir.to_str().unwrap();
+    refused(&["network", "check", project]);
+    refused(&["network", "set-baud", "250k", project, "--global", "--force", "--update-project"]);
+    assert_eq!(nodes_of(&sim.run(&["scan", "--format", "json"]).ok()), [1, 5, 10, 32], "nothing was switched");
+    refused(&["network", "dump", project, "--force"]);
+    assert_eq!(std::fs::read(&outside).unwrap(), before, "the file outside is left as it was");
+    assert_eq!(std::fs::read_link(&link).unwrap(), Path::new("../outside5.dcf"));
+
+    // Inside the folder, a link is an ordinary file of the project.
+    std::fs::rename(&outside, dir.join("real5.dcf")).unwrap();
+    std::fs::remove_file(&link).unwrap();
+    std::os::unix::fs::symlink("real5.dcf", &link).unwrap();
+    let run = check(&sim, &dir, "human");
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+}
+
 #[test]
 fn set_baud_with_a_project_expects_its_nodes_and_updates_its_dcfs() {
     let sim = Sim::new();

@@ -308,3 +308,21 @@ pub(super) fn fastscan_text(error: &FastscanError, step: Duration) -> String {
         }
     }
 }
+
+/// A file of a project that, symbolic links followed, is outside the project's folder: a
+/// project from someone else must not make canctl read or rewrite a file elsewhere.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{} is a link to {}, outside the project's folder {}: a project reads and writes only files in its own \
+     folder",
+    .link.display(), .points_to.display(), .folder.display()
+)]
+#[non_exhaustive]
+pub struct OutsideProject {
+    /// The file, as the project names it.
+    pub link: std::path::PathBuf,
+    /// Where it leads, links followed.
+    pub points_to: std::path::PathBuf,
+    /// The project's folder, links followed.
+    pub folder: std::path::PathBuf,
+}

@@ -20,7 +20,7 @@ mod detail;
 mod link;
 pub use class::ErrorClass;
 use detail::*;
-pub use detail::{DriveStop, Moved, NodeIdRange, Service, StoreRefusal, Unfinished};
+pub use detail::{DriveStop, Moved, NodeIdRange, OutsideProject, Service, StoreRefusal, Unfinished};
 pub use link::{LinkError, PtyOp};
 
 /// Everything that can go wrong in the library, each with its exit code ([`Error::class`]).
@@ -51,6 +51,9 @@ pub enum Error {
         /// The file, as named.
         file: String,
     },
+    /// A project's file leads outside the project's folder through a symbolic link.
+    #[error(transparent)]
+    OutsideProject(#[from] OutsideProject),
     /// A file or stream given as input could not be used: the user's to fix (exit 2).
     #[error(transparent)]
     Input(#[from] crate::input::InputError),
@@ -672,6 +675,7 @@ impl Error {
             | Error::NoValidTpdo { .. }
             | Error::InquiryAnsweredByMany { .. }
             | Error::Input(_)
+            | Error::OutsideProject(_)
             | Error::Eds(_)
             | Error::BadBusAddr { .. }
             | Error::NodeIdOutOfRange { .. }

@@ -3,7 +3,7 @@
 //! names is. The procedures that read and make projects are in [`super::network`].
 
 use super::network::{self, Dumped, Loaded, PROJECT_FILE};
-use crate::error::{Error, Result};
+use crate::error::{Error, OutsideProject, Result};
 use std::path::{Path, PathBuf};
 
 /// The project file: `path` itself, or `path/nodelist.cpj` for a folder.
@@ -13,6 +13,40 @@ pub(crate) fn project_file(path: &Path) -> PathBuf {
     } else {
         path.to_path_buf()
     }
+}
+
+/// Refuse a file of the project in `folder` that, symbolic links followed, is outside it (a
+/// link inside the folder to a file inside it is fine). A project's file names are bare or
+/// below its folder (`od::cpj` refuses `..` and absolute names); a link is the other way out,
+/// so every read and write of a project's file asks this first. A file not there yet (one a
+/// dump makes) is judged by the folder it would be made in.
+pub(crate) fn check_inside(folder: &Path, path: &Path) -> Result<()> {
+    let (Some(folder), Some(points_to)) = (resolved(folder), resolved(path)) else {
+        // Nothing there to read or write through: the read or write says so itself.
+        return Ok(());
+    };
+    if points_to.starts_with(&folder) {
+        return Ok(());
+    }
+    Err(OutsideProject { link: path.to_path_buf(), points_to, folder }.into())
+}
+
+/// `path` with every symbolic link followed; for a file not there yet (or a link to one),
+/// where it would be made. None when its folder is not there either.
+fn resolved(path: &Path) -> Option<PathBuf> {
+    if let Ok(real) = std::fs::canonicalize(path) {
+        return Some(real);
+    }
+    let at = match std::fs::read_link(path) {
+        Ok(target) => folder_of(path).join(target),
+        Err(_) => path.to_path_buf(),
+    };
+    Some(std::fs::canonicalize(folder_of(&at)).ok()?.join(at.file_name()?))
+}
+
+/// The folder `path` is in (`.` for a bare name).
+pub(crate) fn folder_of(path: &Path) -> &Path {
+    path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."))
 }
 
 /// Whether a project can be written into `dir`, asked before the bus is read: in `dir`
@@ -37,6 +71,10 @@ pub(crate) fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
         path: dir.display().to_string(),
         why: format!("cannot make the directory: {e}"),
     })?;
+    // Every file checked before any is written: one refused changes none.
+    for (name, _) in &dumped.files {
+        check_inside(dir, &dir.join(name))?;
+    }
     for (name, bytes) in dumped.files.iter().rev() {
         crate::atomic::write_atomic(&dir.join(name), bytes)?;
     }
@@ -78,4 +116,32 @@ pub fn follow_switch(loaded: &Loaded, switched: &network::BaudSwitched, index: u
     let heard: Vec<u8> = switched.nodes.iter().filter(|n| n.after == Some(true)).map(|n| n.node).collect();
     let left = loaded.nodes.iter().map(|l| l.node).filter(|n| !heard.contains(n)).collect();
     Ok(DcfsFollowed { updated: update_bit_rate(loaded, kbit, &heard)?, left })
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::symlink;
+
+    /// Links are judged by where they lead, also to a file not there yet (a dump would make
+    /// it) and through a folder.
+    #[test]
+    fn a_file_is_inside_when_its_links_lead_inside() {
+        let root = tempfile::tempdir().unwrap();
+        let project = root.path().join("p");
+        std::fs::create_dir_all(project.join("dcf")).unwrap();
+        std::fs::create_dir_all(root.path().join("elsewhere")).unwrap();
+        std::fs::write(project.join("real.dcf"), "").unwrap();
+        symlink("real.dcf", project.join("inside.dcf")).unwrap();
+        symlink("../new.dcf", project.join("dangling.dcf")).unwrap();
+        symlink("../elsewhere", project.join("out")).unwrap();
+        let at = |name: &str| check_inside(&project, &project.join(name));
+        assert!(at("real.dcf").is_ok() && at("inside.dcf").is_ok() && at("not-yet.dcf").is_ok());
+        assert!(at("dcf/node5.dcf").is_ok());
+        for name in ["dangling.dcf", "out/node5.dcf"] {
+            let Err(Error::OutsideProject(e)) = at(name) else { panic!("{name} taken as inside") };
+            assert_eq!(e.link, project.join(name));
+            assert!(!e.points_to.starts_with(&e.folder), "{e}");
+        }
+    }
 }

@@ -244,6 +244,8 @@ pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<
     let mut out = Vec::new();
     for listed in loaded.nodes.iter().filter(|l| nodes.contains(&l.node)) {
         let Some(path) = loaded.project.dcf_path(&loaded.file, listed.node) else { continue };
+        // Read here and rewritten in place by the caller.
+        check_inside(loaded.folder(), &path)?;
         let name = path.display().to_string();
         let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
             .map_err(|e| Error::Usage(format!("cannot use {name}: {e}")))?;

@@ -3,6 +3,7 @@
 
 use super::config::{self, Dcf};
 pub use super::lss::LssTally;
+use super::project_files::{check_inside, folder_of};
 use super::{ItemEnd, Progress};
 use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
@@ -61,6 +62,13 @@ pub struct Listed {
     pub(crate) commissioning: Commissioning,
 }
 
+impl Loaded {
+    /// The project's folder: its files are in it.
+    pub(crate) fn folder(&self) -> &Path {
+        folder_of(&self.file)
+    }
+}
+
 impl Listed {
     /// The identity an LSS device with this configuration answers to: the DCF's vendor-ID,
     /// product code and revision, and the commissioning's LSS serial number.
@@ -80,6 +88,8 @@ fn info_number(dcf: &Dcf, key: &str) -> Option<u32> {
 /// Read a project and the DCF of every node it lists; any file that cannot be used is a
 /// usage error naming it (file:line where a line is to blame).
 pub fn load(file: &Path) -> Result<Loaded> {
+    let folder = folder_of(file);
+    check_inside(folder, file)?;
     let read = cpj::read_file(file).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
     let mut warnings: Vec<LoadWarning> = read.warnings.into_iter().map(LoadWarning::Project).collect();
     let project = read.project;
@@ -88,6 +98,7 @@ pub fn load(file: &Path) -> Result<Loaded> {
         let (dcf, commissioning) = match project.dcf_path(file, node) {
             None => (None, Commissioning::default()),
             Some(path) => {
+                check_inside(folder, &path)?;
                 let name = path.display().to_string();
                 let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
                     .map_err(|e| Error::Usage(format!("cannot use {name} (node {node} in {}): {e}", file.display())))?;
