@@ -376,3 +376,97 @@ fn a_scan_window_too_short_to_trust_is_refused_and_never_cached() {
     assert!(short.stderr.contains("the scan cache is kept"), "{}", short.stderr);
     assert_eq!(cached(), before);
 }
+
+// ---------------------------------------------------------------------------------------
+// `sim:PATH`: the state file is canctl's or nothing is touched; what was learned of a sim
+// network goes with it.
+
+mod state_file {
+    use super::common::{self, Run};
+    use std::path::Path;
+
+    /// canctl in `cwd` on `bus`, with its config, cache and state homes in `home`.
+    fn canctl_on(home: &Path, cwd: &Path, bus: &str, args: &[&str]) -> Run {
+        let mut c = std::process::Command::new(common::canctl_bin());
+        c.current_dir(cwd)
+            .env("XDG_CONFIG_HOME", home)
+            .env("XDG_CACHE_HOME", home)
+            .env("XDG_STATE_HOME", home)
+            .env_remove("CANCTL_BUS")
+            .arg("--bus")
+            .arg(bus)
+            .args(args)
+            .stdin(std::process::Stdio::null());
+        common::finish(c.output().unwrap())
+    }
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> =
+            std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        names
+    }
+
+    /// A file that is not a sim state (`sim:/etc/passwd`), a folder (`sim:/etc`) or a path
+    /// whose folder is missing is refused with exit 2, and nothing is written: no lock file
+    /// beside it (`passwd.lock` is the lock the system's own tools take), no folder made.
+    #[test]
+    fn a_state_path_that_is_not_canctls_is_refused_and_nothing_written() {
+        let root = tempfile::tempdir().unwrap();
+        let home = root.path().join("home");
+        let etc = root.path().join("etc");
+        std::fs::create_dir_all(&etc).unwrap();
+        common::generous_timeout(&home);
+        let passwd = etc.join("passwd");
+        std::fs::write(&passwd, "root:x:0:0:root:/root:/bin/bash\n").unwrap();
+        let missing = etc.join("nonexistent/dir/x.json");
+        let cases = [
+            (format!("sim:{}", passwd.display()), "is not a sim network's state"),
+            (format!("sim:{}", etc.display()), "is a folder"),
+            (format!("sim:{}", missing.display()), "there is no folder"),
+        ];
+        for (bus, said) in &cases {
+            for args in [&["scan"][..], &["sim", "reset"]] {
+                let run = canctl_on(&home, root.path(), bus, args);
+                assert_eq!(run.code, 2, "{bus} {args:?}\n{}\n{}", run.stdout, run.stderr);
+                assert!(run.stderr.contains(said), "{bus} {args:?}: {}", run.stderr);
+                assert_eq!(listing(root.path()), ["etc", "home"], "{bus} {args:?}");
+                assert_eq!(listing(&etc), ["passwd"], "{bus} {args:?}");
+            }
+        }
+        assert_eq!(std::fs::read_to_string(&passwd).unwrap(), "root:x:0:0:root:/root:/bin/bash\n");
+        // A new file in a folder that is there is the sim's from then on.
+        let fresh = format!("sim:{}", etc.join("sim.json").display());
+        canctl_on(&home, root.path(), &fresh, &["scan"]).ok();
+        canctl_on(&home, root.path(), &fresh, &["sim", "reset"]).ok();
+        canctl_on(&home, root.path(), &fresh, &["scan"]).ok();
+    }
+
+    /// The nodes a scan saw belong to the network scanned: `sim reset` forgets them, and
+    /// `sim:s.json` in another folder is another network.
+    #[test]
+    fn a_sim_reset_forgets_the_last_scan_and_relative_paths_are_separate_networks() {
+        let root = tempfile::tempdir().unwrap();
+        let home = root.path().join("home");
+        common::generous_timeout(&home);
+        let (a, b) = (root.path().join("a"), root.path().join("b"));
+        std::fs::create_dir_all(&a).unwrap();
+        std::fs::create_dir_all(&b).unwrap();
+        let run = |cwd: &Path, args: &[&str]| canctl_on(&home, cwd, "sim:s.json", args);
+        run(&a, &["sim", "reset", "--profile", "instant", "--unconfigured", "3"]).ok();
+        run(&a, &["lss", "assign", "--start", "20"]).ok();
+        run(&a, &["scan"]).ok();
+        let silent = |cwd: &Path, node: &str| {
+            let r = run(cwd, &["--timeout", "100ms", "sdo", "read", node, "0x1000"]);
+            assert_eq!(r.code, 3, "{}\n{}", r.stdout, r.stderr);
+            r.stderr
+        };
+        assert!(silent(&a, "40").contains("nodes seen on the last scan of sim:s.json: 1, 5, 10, 20, 21, 22, 32"));
+        // Another folder's s.json has not been scanned.
+        let other = silent(&b, "21");
+        assert!(!other.contains("nodes seen on the last scan"), "{other}");
+        run(&a, &["sim", "reset", "--profile", "instant", "--unconfigured", "0"]).ok();
+        let after = silent(&a, "20");
+        assert!(!after.contains("nodes seen on the last scan"), "{after}");
+    }
+}

@@ -169,7 +169,10 @@ pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Res
         config.faults = r.fault.clone();
         config.virtual_time = r.virtual_time;
         config.bootloader = r.bootloader;
-        return Ok(ctx.out.report(&serve::reset(&path, &config)?)?);
+        let reset = serve::reset(&path, &config)?;
+        // The nodes seen on the old network are not this one's.
+        crate::ops::scan_cache::forget(ctx.bus.as_deref().unwrap_or("sim"));
+        return Ok(ctx.out.report(&reset)?);
     }
     let (faults, baud, can_timeout) = (args.fault.clone(), args.baud, args.can_timeout);
     let how = match (&args.socketcan, args.slcan, args.epos2_rs232, args.epos2_usb) {

@@ -54,6 +54,9 @@ pub enum Error {
     /// A project's file leads outside the project's folder through a symbolic link.
     #[error(transparent)]
     OutsideProject(#[from] OutsideProject),
+    /// A path given for the sim network's state is not canctl's to write.
+    #[error(transparent)]
+    SimState(#[from] crate::sim::state::StateRefused),
     /// A file or stream given as input could not be used: the user's to fix (exit 2).
     #[error(transparent)]
     Input(#[from] crate::input::InputError),
@@ -676,6 +679,7 @@ impl Error {
             | Error::InquiryAnsweredByMany { .. }
             | Error::Input(_)
             | Error::OutsideProject(_)
+            | Error::SimState(_)
             | Error::Eds(_)
             | Error::BadBusAddr { .. }
             | Error::NodeIdOutOfRange { .. }

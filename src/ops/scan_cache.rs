@@ -55,11 +55,15 @@ fn dir() -> Option<PathBuf> {
 }
 
 /// The network a bus URI reaches, so `can0` and `socketcan:can0` share what was seen, and
-/// a different baud rate to the same EPOS2 does not lose it.
+/// a different baud rate to the same EPOS2 does not lose it. A sim network is its state
+/// file: `sim:s.json` in two folders is two networks.
 fn network(bus: &str) -> String {
     use crate::connect::BusAddr;
     match bus.parse::<BusAddr>() {
         Ok(BusAddr::Epos2 { framing, port, .. }) => format!("{framing:?}:{port}"),
+        Ok(BusAddr::Sim { state: Some(path) }) => {
+            format!("sim:{}", std::path::absolute(&path).unwrap_or(path).display())
+        }
         Ok(addr) => addr.to_string(),
         Err(_) => bus.to_string(),
     }
@@ -67,7 +71,21 @@ fn network(bus: &str) -> String {
 
 /// One file per network, named after it.
 fn file(bus: &str) -> Option<PathBuf> {
-    network_file("scan", bus)
+    network_file(SCAN, bus)
+}
+
+const SCAN: &str = "scan";
+/// What the last global `lss set-baud` left (`ops::lss::RefusedRate`).
+pub(crate) const LSS_SET_BAUD: &str = "lss-set-baud";
+
+/// Forget all that is remembered of the network `bus` reaches: it was started afresh (a
+/// sim network reset), so what was seen on it is of another network.
+pub fn forget(bus: &str) {
+    for kind in [SCAN, LSS_SET_BAUD] {
+        if let Some(path) = network_file(kind, bus) {
+            let _ = std::fs::remove_file(path);
+        }
+    }
 }
 
 /// The cache file `KIND-NETWORK.json` for what is remembered of a network.
@@ -273,6 +291,8 @@ mod tests {
         assert_eq!(network("epos2-rs232:/dev/ttyS0"), network("epos2-rs232:/dev/ttyS0?baud=38400"));
         assert_ne!(network("epos2-rs232:/dev/ttyS0"), network("epos2-usb:/dev/ttyS0"));
         assert_ne!(network("sim"), network("sim:/tmp/a.json"));
+        let here = std::env::current_dir().unwrap();
+        assert_eq!(network("sim:a.json"), network(&format!("sim:{}", here.join("a.json").display())));
         assert_eq!(network("not a bus:"), "not a bus:");
     }
 }

@@ -75,6 +75,69 @@ pub(crate) fn default_path() -> PathBuf {
     crate::xdg::state_dir().unwrap_or_else(|| std::env::temp_dir().join("canctl")).join("sim.json")
 }
 
+/// Why a path given for the sim network's state is not used: it is not canctl's to write,
+/// nor to write beside.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum StateRefused {
+    /// The path is a folder.
+    #[error("sim state file {}: is a folder; the sim network's state is a file (nothing was written)", .0.display())]
+    Folder(PathBuf),
+    /// The file there holds something else than a sim network's state.
+    #[error("{} is not a sim network's state: it is left as it is, and nothing is written beside it", .0.display())]
+    NotAState(PathBuf),
+    /// The folder it would be in is missing: only the default state file's is made.
+    #[error("there is no folder {} for the sim state file {}: a folder is made only for the default one", .folder.display(), .path.display())]
+    NoFolder {
+        /// The missing folder.
+        folder: PathBuf,
+        /// The state file.
+        path: PathBuf,
+    },
+}
+
+/// Refuse a state path that is not canctl's: a folder, a file holding anything but a sim
+/// state (of any format version: an old one is started afresh, not refused), or a file in
+/// a folder that is not there. Asked before anything is written, the lock beside it
+/// included, so that `sim:/etc/passwd` leaves `/etc` as it was.
+fn check_ours(path: &Path) -> std::result::Result<(), StateRefused> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err(StateRefused::Folder(path.to_path_buf())),
+        Ok(_) if !holds_a_sim_state(path) => Err(StateRefused::NotAState(path.to_path_buf())),
+        Ok(_) => Ok(()),
+        Err(_) => {
+            let folder = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            match folder.is_dir() {
+                true => Ok(()),
+                false => Err(StateRefused::NoFolder { folder: folder.to_path_buf(), path: path.to_path_buf() }),
+            }
+        }
+    }
+}
+
+/// Whether the file is what [`StateFile::save`] writes: a JSON object with a `version` and
+/// `devices`. A file that cannot be read is left to the read that follows to report.
+fn holds_a_sim_state(path: &Path) -> bool {
+    #[derive(serde::Deserialize)]
+    #[allow(dead_code)]
+    struct Shape {
+        version: serde::de::IgnoredAny,
+        devices: serde::de::IgnoredAny,
+    }
+    match File::open(path) {
+        Ok(f) => serde_json::from_reader::<_, Shape>(std::io::BufReader::new(f)).is_ok(),
+        Err(_) => true,
+    }
+}
+
+/// A file canctl keeps beside the state file (`sim.json.canctl-lock`): named so that it is
+/// nobody else's (`passwd.lock` is the lock the system's own tools take).
+fn beside(path: &Path, what: &str) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(format!(".canctl-{what}"));
+    path.with_file_name(name)
+}
+
 fn link_err(path: &Path, what: &'static str, e: impl std::fmt::Display) -> Error {
     LinkError::StateFile { path: path.to_path_buf(), what, detail: e.to_string(), afresh: false }.into()
 }
@@ -88,7 +151,8 @@ fn unusable(path: &Path, what: &'static str, e: impl std::fmt::Display) -> Error
 /// place, so that it is never read half written.
 fn record(owner_path: &Path, holder: &Holder) {
     let text = serde_json::to_string(holder).expect("holder serialises");
-    let tmp = owner_path.with_extension("owner.tmp");
+    let tmp =
+        owner_path.with_file_name(format!("{}-tmp", owner_path.file_name().unwrap_or_default().to_string_lossy()));
     if let Err(e) = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, owner_path)) {
         tracing::trace!(target: "canctl::sim", "cannot record this process in {}: {e}", owner_path.display());
     }
@@ -98,7 +162,7 @@ fn record(owner_path: &Path, holder: &Holder) {
 /// recorded for a command that finds the network taken, to say where to reach them.
 pub(crate) fn announce_serving(path: &Path, bus: &str) {
     let holder = Holder { serves: Some(bus.to_string()), ..Holder::this_process() };
-    record(&path.with_extension("owner"), &holder);
+    record(&beside(path, "owner"), &holder);
 }
 
 /// Who is using the sim network, in words.
@@ -128,11 +192,16 @@ impl StateFile {
     /// Lock the state at `path`, waiting up to `wait` for another process using it; then a
     /// link error (exit 5) that names that process and how to proceed.
     pub(crate) fn lock_within(path: &Path, wait: Duration) -> Result<StateFile> {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| link_err(path, "cannot create its directory", e))?;
+        // The default state's folder is canctl's own to make; a path the user named is
+        // written only where it stands.
+        if path == default_path() {
+            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir).map_err(|e| link_err(path, "cannot create its directory", e))?;
+            }
         }
-        let lock_path = path.with_extension("lock");
-        let owner_path = path.with_extension("owner");
+        check_ours(path)?;
+        let lock_path = beside(path, "lock");
+        let owner_path = beside(path, "owner");
         let lock = OpenOptions::new()
             .create(true)
             .truncate(false)
@@ -192,7 +261,7 @@ impl StateFile {
 
     /// Saves `state`, replacing the file whole (never half-written).
     pub fn save(&self, state: &NetworkState) -> Result<()> {
-        let tmp = self.path.with_extension("tmp");
+        let tmp = beside(&self.path, "tmp");
         let text = serde_json::to_string_pretty(state).expect("state serialises");
         std::fs::write(&tmp, text).map_err(|e| link_err(&tmp, "cannot write", e))?;
         std::fs::rename(&tmp, &self.path).map_err(|e| link_err(&self.path, "cannot replace", e))
@@ -244,7 +313,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("sim.json");
         let held = StateFile::lock(&path).unwrap();
-        let recorded = Holder::read(&path.with_extension("owner")).expect("the holder is recorded");
+        let recorded = Holder::read(&beside(&path, "owner")).expect("the holder is recorded");
         assert_eq!(recorded.pid, std::process::id());
         // flock locks belong to each open file: a second open in this process is refused
         // as another process's would be.
@@ -257,7 +326,7 @@ mod tests {
         // front end: output/hints.rs).
         assert_eq!(crate::hint::Hint::of(&err), Some(crate::hint::Hint::ShareSimNetwork));
         drop(held);
-        assert!(!path.with_extension("owner").exists(), "the record goes with the lock");
+        assert!(!beside(&path, "owner").exists(), "the record goes with the lock");
         StateFile::lock_within(&path, Duration::ZERO).expect("free again");
     }
 
@@ -266,7 +335,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("sim.json");
         let _held = StateFile::lock(&path).unwrap();
-        std::fs::remove_file(path.with_extension("owner")).unwrap();
+        std::fs::remove_file(beside(&path, "owner")).unwrap();
         let msg = StateFile::lock_within(&path, Duration::ZERO).err().unwrap().to_string();
         assert!(msg.contains("in use by another process"), "{msg}");
     }

@@ -376,7 +376,7 @@ impl RefusedRate {
 
     /// Keep `what` as the last global configure of `bus` (None: every device took it).
     pub(crate) fn remember(bus: &str, what: Option<&RefusedRate>) {
-        let Some(path) = super::scan_cache::network_file("lss-set-baud", bus) else { return };
+        let Some(path) = super::scan_cache::network_file(super::scan_cache::LSS_SET_BAUD, bus) else { return };
         match what {
             Some(r) => {
                 let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
@@ -389,7 +389,7 @@ impl RefusedRate {
     }
 
     pub fn last(bus: &str) -> Option<RefusedRate> {
-        let path = super::scan_cache::network_file("lss-set-baud", bus)?;
+        let path = super::scan_cache::network_file(super::scan_cache::LSS_SET_BAUD, bus)?;
         serde_json::from_slice(&std::fs::read(path).ok()?).ok()
     }
 }
