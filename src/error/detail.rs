@@ -326,3 +326,35 @@ pub struct OutsideProject {
     /// The project's folder, links followed.
     pub folder: std::path::PathBuf,
 }
+
+/// Why a path given for the sim network's state is not used: it is not canctl's to write,
+/// nor to write beside.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum StateRefused {
+    /// The path is a folder.
+    #[error("sim state file {}: is a folder; the sim network's state is a file (nothing was written)", .0.display())]
+    Folder(PathBuf),
+    /// The file there holds something else than a sim network's state.
+    #[error("{} is not a sim network's state: it is left as it is, and nothing is written beside it", .0.display())]
+    NotAState(PathBuf),
+    /// The folder it would be in is missing: only the default state file's is made.
+    #[error("there is no folder {} for the sim state file {}: a folder is made only for the default one", .folder.display(), .path.display())]
+    NoFolder {
+        /// The missing folder.
+        folder: PathBuf,
+        /// The state file.
+        path: PathBuf,
+    },
+}
+
+/// Text the user gave, echoed in a message: a value of 100 KB (a variable expanded by
+/// mistake) shown whole would bury the message, so a long one is cut, its length said.
+pub(crate) fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
+    const SHOWN: usize = 60;
+    let count = text.chars().count();
+    if count <= SHOWN + 20 {
+        return text.into();
+    }
+    format!("{}… ({count} characters)", text.chars().take(SHOWN).collect::<String>()).into()
+}

@@ -19,8 +19,9 @@ mod class;
 mod detail;
 mod link;
 pub use class::ErrorClass;
+pub(crate) use detail::clipped;
 use detail::*;
-pub use detail::{DriveStop, Moved, NodeIdRange, OutsideProject, Service, StoreRefusal, Unfinished};
+pub use detail::{DriveStop, Moved, NodeIdRange, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished};
 pub use link::{LinkError, PtyOp};
 
 /// Everything that can go wrong in the library, each with its exit code ([`Error::class`]).
@@ -56,7 +57,7 @@ pub enum Error {
     OutsideProject(#[from] OutsideProject),
     /// A path given for the sim network's state is not canctl's to write.
     #[error(transparent)]
-    SimState(#[from] crate::sim::state::StateRefused),
+    SimState(#[from] StateRefused),
     /// A file or stream given as input could not be used: the user's to fix (exit 2).
     #[error(transparent)]
     Input(#[from] crate::input::InputError),
@@ -781,17 +782,6 @@ fn on_bus(bus: &str, error: &Error) -> String {
         true => error.to_string(),
         false => format!("on {bus}: {error}"),
     }
-}
-
-/// Text the user gave, echoed in a message: a value of 100 KB (a variable expanded by
-/// mistake) shown whole would bury the message, so a long one is cut, its length said.
-pub(crate) fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
-    const SHOWN: usize = 60;
-    let count = text.chars().count();
-    if count <= SHOWN + 20 {
-        return text.into();
-    }
-    format!("{}… ({count} characters)", text.chars().take(SHOWN).collect::<String>()).into()
 }
 
 /// The library's result.

@@ -2,7 +2,7 @@
 //! process uses it, replaced atomically when saved.
 
 use super::device::DeviceState;
-use crate::error::{Error, LinkError, Result};
+use crate::error::{Error, LinkError, Result, StateRefused};
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions, TryLockError};
 use std::path::{Path, PathBuf};
@@ -73,27 +73,6 @@ impl Holder {
 /// `$XDG_STATE_HOME/canctl/sim.json`, else `~/.local/state/canctl/sim.json`.
 pub(crate) fn default_path() -> PathBuf {
     crate::xdg::state_dir().unwrap_or_else(|| std::env::temp_dir().join("canctl")).join("sim.json")
-}
-
-/// Why a path given for the sim network's state is not used: it is not canctl's to write,
-/// nor to write beside.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum StateRefused {
-    /// The path is a folder.
-    #[error("sim state file {}: is a folder; the sim network's state is a file (nothing was written)", .0.display())]
-    Folder(PathBuf),
-    /// The file there holds something else than a sim network's state.
-    #[error("{} is not a sim network's state: it is left as it is, and nothing is written beside it", .0.display())]
-    NotAState(PathBuf),
-    /// The folder it would be in is missing: only the default state file's is made.
-    #[error("there is no folder {} for the sim state file {}: a folder is made only for the default one", .folder.display(), .path.display())]
-    NoFolder {
-        /// The missing folder.
-        folder: PathBuf,
-        /// The state file.
-        path: PathBuf,
-    },
 }
 
 /// Refuse a state path that is not canctl's: a folder, a file holding anything but a sim
