@@ -19,7 +19,10 @@ fn main() {
         let message = match error_json {
             Some(value) => value.to_string(),
             // Messages may quote what a device or a file said: no control characters.
-            None => format!("canctl: {}", canctl::output::terminal_safe_lines(&canctl::output::error_text(&err))),
+            None => canctl::output::fitted_to_stderr(&format!(
+                "canctl: {}",
+                canctl::output::terminal_safe_lines(&canctl::output::error_text(&err))
+            )),
         };
         std::process::exit(canctl::output::stderr::last_words(&message, code));
     }

@@ -4,12 +4,12 @@
 
 use crate::canopen::pdo::Layout;
 use crate::canopen::types::Value;
-use comfy_table::{presets, Table};
-use indicatif::{ProgressBar, ProgressStyle};
+
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 
-mod buses;
+pub(crate) mod buses;
 mod check;
 pub(crate) mod completion;
 pub(crate) mod config;
@@ -31,8 +31,11 @@ mod reports;
 pub(crate) mod sim;
 pub mod stderr;
 pub(crate) mod stopped;
+mod table;
 pub(crate) mod usage;
 mod verdicts;
+mod wrap;
+use table::{fitted, render, terminal_width};
 
 pub(crate) use drive::{last_seen_text, watching_text};
 pub use events::{event_line, say_deviations};
@@ -186,7 +189,8 @@ impl Output {
         self.print(&serde_json::to_string_pretty(value).expect("JSON serialises"))
     }
 
-    /// A table for people (framed on a terminal, plain aligned columns in a pipe), or CSV.
+    /// A table for people (plain aligned columns, as `ps` and `ip` print them, on a terminal
+    /// and in a pipe alike: one style, the one README shows), or CSV.
     /// On a terminal too narrow for it, the plain form without the columns least needed
     /// (as `ps` and `kubectl` do), a note saying which and that `--wide` shows them.
     pub fn table(&self, headers: &[&str], rows: &[Vec<String>]) -> std::io::Result<()> {
@@ -195,7 +199,7 @@ impl Output {
         }
         let (text, hidden) = match self.fit {
             Some(width) => fitted(headers, rows, width),
-            None => (render(headers, rows, std::io::stdout().is_terminal(), None), Vec::new()),
+            None => (render(headers, rows, None), Vec::new()),
         };
         self.print(&text)?;
         if !hidden.is_empty() {
@@ -211,7 +215,7 @@ impl Output {
     /// A diagnostic on stderr, unless --quiet.
     pub fn note(&self, text: &str) {
         if !self.quiet {
-            stderr::say(&terminal_safe_lines(text));
+            stderr::say(&fitted_to_stderr(&terminal_safe_lines(text)));
         }
     }
 
@@ -220,81 +224,34 @@ impl Output {
         lines.into_iter().for_each(|line| self.note(&line));
     }
 
-    /// A progress bar over `len` steps, or a hidden one when progress is not shown.
+    /// A progress bar over `len` steps, or a hidden one when progress is not shown. With
+    /// nothing to count (`len` 0: an erase, a wait), a spinner and the time so far, so that
+    /// the screen never stands still for seconds.
     pub fn bar(&self, len: u64, message: &str) -> ProgressBar {
-        let style =
-            ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").expect("valid template").progress_chars("=> ");
-        self.drawn(Some(len), style, message)
-    }
-}
-
-/// The terminal's width in columns: `COLUMNS` when set (as `ls` and `ps` take it), else
-/// what the terminal says.
-fn terminal_width() -> Option<usize> {
-    let from_env = std::env::var("COLUMNS").ok().and_then(|c| c.trim().parse::<usize>().ok()).filter(|c| *c > 0);
-    from_env.or_else(|| Table::new().width().map(usize::from)).filter(|w| *w > 0)
-}
-
-/// Columns given up first when a table is wider than the terminal, least needed first:
-/// identity details that `--wide`, JSON or `sdo read` give, counts that the verdict
-/// column sums up. Columns not named here go only after these, from the right.
-const DROP_FIRST: &[&str] = &[
-    "revision",
-    "serial",
-    "product_code",
-    "vendor_id",
-    "device_type",
-    "error register",
-    "logged",
-    "emcy",
-    "mfr",
-    "from",
-    "source",
-    "raw",
-];
-
-/// A table as text: framed (a terminal) or plain aligned columns; with `wrap_to`, plain
-/// with its cells wrapped so that its lines fit that width where they can.
-fn render(headers: &[&str], rows: &[Vec<String>], framed: bool, wrap_to: Option<usize>) -> String {
-    let mut t = Table::new();
-    t.load_preset(if framed { presets::UTF8_FULL_CONDENSED } else { presets::NOTHING });
-    if let Some(width) = wrap_to {
-        t.set_content_arrangement(comfy_table::ContentArrangement::Dynamic);
-        t.set_width(u16::try_from(width).unwrap_or(u16::MAX));
-    }
-    t.set_header(headers.to_vec());
-    for r in rows {
-        // Cells hold what devices and files say: nothing in them may drive the terminal.
-        t.add_row(r.iter().map(|c| terminal_safe(c).into_owned()).collect::<Vec<_>>());
-    }
-    t.to_string().lines().map(|l| l.trim_end().to_string() + "\n").collect()
-}
-
-/// The table framed if that fits `width`, else plain, with the columns of [`DROP_FIRST`]
-/// dropped until it fits, and if it still does not, its cells wrapped to the width (a
-/// result in words is not dropped); and the headers of the columns dropped.
-fn fitted(headers: &[&str], rows: &[Vec<String>], width: usize) -> (String, Vec<String>) {
-    let fits = |text: &str| text.lines().all(|l| l.chars().count() <= width);
-    let framed = render(headers, rows, true, None);
-    if fits(&framed) {
-        return (framed, Vec::new());
-    }
-    let mut kept: Vec<usize> = (0..headers.len()).collect();
-    loop {
-        let shown: Vec<&str> = kept.iter().map(|&i| headers[i]).collect();
-        let cells: Vec<Vec<String>> =
-            rows.iter().map(|r| kept.iter().map(|&i| r.get(i).cloned().unwrap_or_default()).collect()).collect();
-        let hidden = || (0..headers.len()).filter(|i| !kept.contains(i)).map(|i| headers[i].to_string()).collect();
-        let plain = render(&shown, &cells, false, None);
-        if fits(&plain) {
-            return (plain, hidden());
+        if len == 0 {
+            return self.working(message);
         }
-        match DROP_FIRST.iter().find_map(|d| kept.iter().position(|&i| i > 0 && headers[i] == *d)) {
-            Some(at) => {
-                kept.remove(at);
-            }
-            None => return (render(&shown, &cells, false, Some(width)), hidden()),
-        }
+        let style = ProgressStyle::with_template("{msg} [{wide_bar}] {pos}/{len}").expect("valid template");
+        self.drawn(Some(len), style.progress_chars("=> "), message)
+    }
+
+    /// A line that moves while work of unknown length goes on (listening, waiting for a
+    /// device): a spinner, `message` and the seconds so far; hidden when progress is not
+    /// shown.
+    pub fn working(&self, message: &str) -> ProgressBar {
+        let style = ProgressStyle::with_template("{spinner} {msg} ({elapsed})").expect("valid template");
+        let line = self.drawn(None, style, message);
+        line.enable_steady_tick(std::time::Duration::from_millis(100));
+        line
+    }
+}
+
+/// Prose for stderr, wrapped at the terminal's width when stderr is a terminal; whole
+/// lines otherwise, for logs and grep.
+pub fn fitted_to_stderr(text: &str) -> String {
+    match std::io::stderr().is_terminal().then(table::terminal_width).flatten() {
+        Some(width) => wrap::wrap(text, width),
+        None => text.to_string(),
     }
 }
 
@@ -314,7 +271,8 @@ impl Output {
 
     /// A bar over the `len` bytes of a download, with its rate and the time left.
     pub fn bytes_bar(&self, len: u64, message: &str) -> ProgressBar {
-        let template = "{msg} [{bar:30}] {bytes}/{total_bytes} {bytes_per_sec}, {eta} left";
+        // The bar takes the width the rest leaves: the line fits the terminal.
+        let template = "{msg} [{wide_bar}] {bytes}/{total_bytes} {bytes_per_sec}, {eta} left";
         let style = ProgressStyle::with_template(template).expect("valid template").progress_chars("=> ");
         self.drawn(Some(len), style, message)
     }
@@ -323,8 +281,18 @@ impl Output {
     /// transfer takes the place of the one the bus was given.
     pub fn transfer_hook(&self, bar: &ProgressBar) -> Option<crate::bus::TransferHook> {
         let shown = bar.clone();
-        self.progress
-            .then(|| -> crate::bus::TransferHook { std::sync::Arc::new(move |b| shown.set_position(b as u64)) })
+        // Rate and time left count from the first bytes, not from when the bar was made:
+        // an erase or a wait before the transfer would make both wrong for the whole run.
+        let started = std::sync::Once::new();
+        self.progress.then(|| -> crate::bus::TransferHook {
+            std::sync::Arc::new(move |b| {
+                started.call_once(|| {
+                    shown.reset_elapsed();
+                    shown.reset_eta();
+                });
+                shown.set_position(b as u64)
+            })
+        })
     }
 
     /// A progress display on stderr, or a hidden one when progress is not shown. Made
@@ -413,7 +381,14 @@ impl Output {
 
     fn human(&self, shown: Human) -> std::io::Result<()> {
         match shown {
-            Human::Line(text) => self.print(&terminal_safe_lines(&text))?,
+            Human::Line(text) => {
+                let text = terminal_safe_lines(&text);
+                // Prose fitted to the terminal as tables are; a pipe gets whole lines.
+                match self.fit {
+                    Some(width) => self.print(&wrap::wrap(&text, width))?,
+                    None => self.print(&text)?,
+                }
+            }
             Human::Table { headers, rows, when_empty } => {
                 if when_empty || self.format == Format::Csv || !rows.is_empty() {
                     self.table(&headers, &rows)?;
@@ -427,7 +402,8 @@ impl Output {
 
     /// Progress of an operation as bars and notes on stderr.
     pub fn progress(&self) -> Bars<'_> {
-        Bars { out: self, bar: None, line: None }
+        let target = if self.progress { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+        Bars { out: self, screen: MultiProgress::with_draw_target(target), bar: None, line: None }
     }
 }
 
@@ -501,6 +477,7 @@ pub(crate) fn item_status_text(status: crate::ops::ItemStatus) -> String {
         ItemStatus::Begun => "under way".into(),
         ItemStatus::Transfers { reads, writes } => format!("{reads} read(s), {writes} write(s)"),
         ItemStatus::Step { number, of } => format!("{number} of {of}"),
+        ItemStatus::Firmware(step) => step.describe().into(),
     }
 }
 
@@ -517,20 +494,32 @@ pub(crate) fn item_end_text(end: &crate::ops::ItemEnd<'_>) -> String {
 /// [`crate::ops::Progress`] on a terminal: a bar per phase, notes on stderr.
 pub struct Bars<'a> {
     out: &'a Output,
+    /// Every line below is drawn through it: lines drawn on their own would overwrite
+    /// each other's.
+    screen: MultiProgress,
     bar: Option<ProgressBar>,
     /// The line of the item under way, `item: status` (one at a time on this display).
     line: Option<ProgressBar>,
 }
 
+impl Bars<'_> {
+    /// `bar` drawn on this display, with its other lines (a bar made elsewhere, such as
+    /// a download's bytes, joins them here).
+    pub fn adopt(&self, bar: ProgressBar) -> ProgressBar {
+        self.screen.add(bar)
+    }
+}
+
 impl crate::ops::Progress for Bars<'_> {
     fn start(&mut self, what: &str, len: u64) {
-        self.bar = Some(self.out.bar(len, what));
+        self.bar = Some(self.adopt(self.out.bar(len, what)));
     }
     fn transfer(&mut self, what: &str, len: Option<u64>) -> Option<crate::bus::TransferHook> {
         let bar = match len {
             Some(len) => self.out.bytes_bar(len, what),
             None => self.out.counter(what),
         };
+        let bar = self.adopt(bar);
         let hook = self.out.transfer_hook(&bar);
         self.bar = Some(bar);
         hook
@@ -549,7 +538,7 @@ impl crate::ops::Progress for Bars<'_> {
         let text = format!("{item}: {}", item_status_text(status));
         match &self.line {
             Some(b) => b.set_message(text),
-            None => self.line = Some(self.out.status(&text)),
+            None => self.line = Some(self.adopt(self.out.status(&text))),
         }
     }
     fn item_ended(&mut self, _item: &str, _end: crate::ops::ItemEnd<'_>) {

@@ -76,3 +76,13 @@ fn nothing_heard_is_said_and_a_wait_beyond_a_minute_is_refused() {
     assert_eq!(refused.code, 2, "{}", refused.stderr);
     assert!(refused.stderr.contains("at most 60s"), "{}", refused.stderr);
 }
+
+/// `buses --format csv` is CSV whatever was found: its header row first, never the
+/// sentence people get ("no bus found" read as a row by a script).
+#[test]
+fn buses_in_csv_is_a_table_even_when_nothing_is_found() {
+    let sim = Sim::new();
+    let run = canctl(&sim, free_udp_port(), &["buses", "--wait", "0s", "--format", "csv"]).ok();
+    assert_eq!(run.stdout.lines().next(), Some("--bus,kind,what"), "{}", run.stdout);
+    assert!(!run.stdout.contains("no bus found"), "{}", run.stdout);
+}

@@ -171,6 +171,12 @@ fn a_node_that_did_not_answer_gets_its_likely_cause() {
     // A node-id nobody has, on a bus where others answer: that node alone is silent.
     let r = sim.run(&["--timeout", "200ms", "sdo", "read", "6", "1018:1"]);
     assert!(r.stderr.contains("likely cause: node 6 is silent while the bus is not"), "{}", r.stderr);
+    // Not only SDO: its state asked by node guarding, its boot-up after a reset.
+    for command in [&["nmt", "state", "6"][..], &["nmt", "reset", "6"]] {
+        let r = sim.run(&[&["--timeout", "200ms"][..], command].concat());
+        assert_eq!(r.code, 3, "{command:?}: {}", r.stderr);
+        assert!(r.stderr.contains("likely cause: node 6 is silent while the bus is not"), "{command:?}: {}", r.stderr);
+    }
 }
 
 /// A device that floods the bus with its EMCY id (0x08A, node 10): it wins every

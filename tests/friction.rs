@@ -230,7 +230,8 @@ fn tables_fit_an_80_column_terminal() {
             assert!(l.chars().count() <= 80, "{command}: {} columns: {l:?}", l.chars().count());
         }
         assert!(lines.iter().any(|l| l.contains("node") && l.contains("name")), "{command}: {lines:#?}");
-        assert!(lines.iter().any(|l| l.contains("--wide shows every column")), "{command}: {lines:#?}");
+        // The note is prose: broken between words to fit, "column)" on a line of its own.
+        assert!(lines.iter().any(|l| l.contains("(--wide shows every")), "{command}: {lines:#?}");
     }
     let (_, lines) = on_a_terminal(&sim, 80, &["scan"]);
     let header = lines.iter().find(|l| l.contains("node") && l.contains("state")).expect("a header with the state");
@@ -243,6 +244,75 @@ fn tables_fit_an_80_column_terminal() {
     let piped = sim.run(&["scan"]).ok();
     assert!(piped.stdout.lines().next().unwrap().contains("serial"), "{}", piped.stdout);
     assert!(!piped.stderr.contains("--wide"), "{}", piped.stderr);
+}
+
+/// The lines a terminal was sent, each as it was finally drawn: escape sequences left
+/// out, only what follows the last carriage return (a progress line redrawn in place).
+fn drawn_lines(shown: &str) -> Vec<String> {
+    let mut plain = String::new();
+    let mut chars = shown.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c == '\x1b' && chars.peek() == Some(&'[') {
+            chars.next();
+            while chars.next().is_some_and(|p| p.is_ascii_digit() || p == ';' || p == '?') {}
+            continue;
+        }
+        plain.push(c);
+    }
+    plain.lines().map(|l| l.rsplit('\r').next().unwrap_or("").to_string()).collect()
+}
+
+/// Prose fits an 80-column terminal too: the sim reset summary, doctor's findings and
+/// fixes, the final message are broken between words, never folded by the terminal in the
+/// middle of one (lines of 112 and 224 columns before). While doctor works, a line moves
+/// (2 to 4 s blank before), and it is gone when the report comes.
+#[test]
+fn prose_fits_an_80_column_terminal_and_doctor_is_never_blank() {
+    let sim = Sim::new();
+    // Node 13 is absent: each of its waits is a short timeout, not the tests' generous one.
+    let doctor_13 = ["--timeout", "200ms", "doctor", "13"];
+    let read_13 = ["--timeout", "200ms", "sdo", "read", "13", "1000"];
+    for args in [&["sim", "reset", "--profile", "instant", "--fault", "5:drop"][..], &doctor_13, &read_13] {
+        let (_, shown) = on_a_terminal_raw(&sim, 80, args);
+        for line in drawn_lines(&shown) {
+            assert!(line.chars().count() <= 80, "{args:?}: {} columns: {line:?}\n{shown}", line.chars().count());
+        }
+        assert!(screen(&shown, 80).iter().any(|l| !l.trim().is_empty()), "{args:?}: nothing shown");
+    }
+    let (code, shown) = on_a_terminal_raw(&sim, 80, &doctor_13);
+    assert_eq!(code, 6, "{shown}");
+    assert!(shown.contains("doctor: looking at node 13"), "{shown:?}");
+    let left = screen(&shown, 80);
+    assert!(!left.iter().any(|l| l.contains("looking at node 13")), "{left:#?}");
+    // A pipe keeps every line whole, for grep.
+    let piped = sim.run(&doctor_13);
+    assert!(piped.stdout.lines().any(|l| l.chars().count() > 80), "{}", piped.stdout);
+}
+
+/// `firmware download` on a terminal tells each step as it is done (the erase and the boot
+/// showed nothing before, the steps came only at the end), its byte bar fits 80 columns
+/// (83 before), and nothing of the progress is left when the report comes.
+#[test]
+fn a_firmware_download_shows_its_steps_as_they_happen() {
+    let sim = Sim::new();
+    // In real time: the erase takes its 2.5 s, as on a device.
+    sim.run(&["sim", "reset", "--bootloader", "9"]).ok();
+    let image = sim.path("app.bin");
+    std::fs::write(&image, (0..20_000u32).map(|i| i as u8).collect::<Vec<u8>>()).unwrap();
+    let (code, shown) = on_a_terminal_raw(&sim, 80, &["firmware", "download", "9", image.to_str().unwrap()]);
+    assert_eq!(code, 0, "{shown}");
+    // Steps a few ms apart come faster than a terminal is redrawn (20 times a second):
+    // the long waits, the erase and the transfer, are what must show.
+    let before_report = &shown[..shown.find("node 9, program 1:").expect("the report")];
+    for step in ["node 9: erasing (", "0x1F50:1 ["] {
+        assert!(before_report.contains(step), "{step:?} not shown while it happened: {shown:?}");
+    }
+    for line in drawn_lines(&shown) {
+        assert!(line.chars().count() <= 80, "{} columns: {line:?}", line.chars().count());
+    }
+    let left = screen(&shown, 80);
+    assert!(!left.iter().any(|l| l.starts_with("node 9: ") || l.contains("0x1F50:1 [")), "{left:#?}");
+    assert!(left.iter().any(|l| l.contains("it runs the image")), "{left:#?}");
 }
 
 /// Candidates fish would be given for `words`.

@@ -32,7 +32,9 @@ pub(crate) fn run(ctx: &Ctx, a: &BusesArgs) -> anyhow::Result<()> {
     if a.wait > MAX_WAIT {
         return Err(crate::output::usage::buses_wait(MAX_WAIT.as_secs()).into());
     }
+    let working = ctx.out.working(&crate::output::buses::listening(a.wait));
     let report = buses::find(a.wait, beacon_port(), &ctx.cancel);
+    working.finish_and_clear();
     ctx.out.report(&report)?;
     match report.interrupted {
         true => Err(Error::Interrupted.into()),

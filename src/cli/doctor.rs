@@ -67,9 +67,11 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
     let result = super::with_bus(ctx, global, |bus| {
         opened = true;
         let sweep = a.sweep.then_some(a.sweep_window);
+        let working = ctx.out.working(&crate::output::doctor::working(a.node));
         let diagnosed = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
             doctor::doctor_swept(bus, &options, ctx.bus.as_deref(), sweep)
         });
+        working.finish_and_clear();
         let report = crate::output::stopped::read(&ctx.out, "doctor", "listening and asking".into(), diagnosed)?;
         ctx.out.report(&report)?;
         Ok(report.outcome()?)

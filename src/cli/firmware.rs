@@ -95,10 +95,11 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     // One bar of bytes is for one transfer at a time: with several at once, each node's
     // start and end are told instead.
     let parallel = a.jobs > 1 && a.nodes.0.len() > 1;
+    let mut steps = ctx.out.progress();
     let bar = if parallel {
         indicatif::ProgressBar::hidden()
     } else {
-        ctx.out.bytes_bar(image.len() as u64, &format!("0x1F50:{}", a.program))
+        steps.adopt(ctx.out.bytes_bar(image.len() as u64, &format!("0x1F50:{}", a.program)))
     };
     let mut o = DownloadOptions::new(ctx.timeout);
     o.program = a.program;
@@ -108,12 +109,12 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     o.confirm = !a.no_confirm;
     o.cancel = Some(ctx.cancel.clone());
     o.watch = if parallel { None } else { ctx.out.transfer_hook(&bar) };
-    let mut steps = ctx.out.progress();
     if let [node] = a.nodes.0[..] {
         if !ctx.out.junit {
             let result = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
                 firmware::download(bus, node, &image, &o, &mut steps)
             });
+            crate::ops::Progress::finish(&mut steps);
             bar.finish_and_clear();
             return match result {
                 Ok(report) => Ok(ctx.out.report(&report)?),
@@ -127,6 +128,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()
     let batch = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         firmware::download_jobs(bus, &a.nodes.0, &image, &o, usize::from(a.jobs), &mut steps)
     });
+    crate::ops::Progress::finish(&mut steps);
     bar.finish_and_clear();
     ctx.out.report(&batch)?;
     match batch.into_failure() {

@@ -58,7 +58,21 @@ pub(crate) struct ExplainOptions<'a> {
 /// What to add to `error`, learned on `bus`; `None` when nothing is to be said.
 pub(crate) fn explain(bus: &mut dyn Bus, error: &Error, o: &ExplainOptions) -> Option<Explanation> {
     match (error, o.bus) {
-        (Error::NoAnswer { node, what: Service::Sdo(_) | Service::SdoRetried { .. }, .. }, Some(uri)) => {
+        // Every request of a node's own that went unanswered: an SDO transfer, its state
+        // (node guarding), its boot-up after a reset.
+        (
+            Error::NoAnswer {
+                node,
+                what:
+                    Service::Sdo(_)
+                    | Service::SdoRetried { .. }
+                    | Service::NmtState { .. }
+                    | Service::AfterReset
+                    | Service::BootUp,
+                ..
+            },
+            Some(uri),
+        ) => {
             if let Err(link) = super::unheard::check(bus) {
                 return Some(Explanation::Link(link));
             }

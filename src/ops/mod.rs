@@ -95,6 +95,8 @@ pub enum ItemStatus {
         /// How many there are.
         of: usize,
     },
+    /// A firmware download's step just done (shown as it happens, not only at the end).
+    Firmware(firmware::Step),
 }
 
 /// How an item of a phase ended ([`Progress::item_ended`]), typed for the caller to word.

@@ -3,6 +3,11 @@
 use super::{Human, Report};
 use crate::ops::buses::{BusKind, Buses};
 
+/// What `buses` is doing while it listens, for the line that moves meanwhile.
+pub(crate) fn listening(wait: std::time::Duration) -> String {
+    format!("buses: listening for socketcand beacons for {wait:?}")
+}
+
 fn kind(k: BusKind) -> &'static str {
     match k {
         BusKind::CanInterface => "CAN interface",
@@ -12,17 +17,28 @@ fn kind(k: BusKind) -> &'static str {
     }
 }
 
+impl Buses {
+    fn table(&self, when_empty: bool) -> Human {
+        let rows = self.buses.iter().map(|b| vec![b.bus.clone(), kind(b.kind).into(), b.what.clone()]).collect();
+        Human::Table { headers: vec!["--bus", "kind", "what"], rows, when_empty }
+    }
+}
+
 impl Report for Buses {
     fn human(&self) -> Human {
-        let rows = self.buses.iter().map(|b| vec![b.bus.clone(), kind(b.kind).into(), b.what.clone()]).collect();
-        let table = Human::Table { headers: vec!["--bus", "kind", "what"], rows, when_empty: false };
         match self.buses.is_empty() {
             true => Human::Parts(vec![
                 Human::Line("no bus found".into()),
                 Human::Note("try canctl --bus sim scan, the built-in simulated network".into()),
             ]),
-            false => table,
+            false => self.table(false),
         }
+    }
+
+    /// CSV is the table, its header row alone when nothing was found: a sentence would be
+    /// read as a row.
+    fn csv(&self) -> Human {
+        self.table(true)
     }
 
     fn notes(&self) -> Vec<String> {

@@ -7,6 +7,14 @@ use crate::canopen::sdo::{request_cob, response_cob};
 use crate::ops::clash;
 use crate::ops::doctor::{Cause, ControllerState, Diagnosis, Evidence, Finding, HostProblem, Remedy};
 
+/// What doctor is doing while it works, for the line that moves meanwhile.
+pub(crate) fn working(node: Option<u8>) -> String {
+    match node {
+        Some(node) => format!("doctor: looking at node {node}"),
+        None => "doctor: looking at the bus".to_string(),
+    }
+}
+
 /// What is wrong, in a sentence.
 pub(crate) fn cause_text(cause: &Cause) -> String {
     match cause {

@@ -515,6 +515,14 @@ fn download_timed(
     let began = bus.now();
     let report = DownloadReport::begun(node, o.program, image.len(), image_id);
     let mut r = Run { bus, o, node, began, report };
+    // Each step done is told as it happens: an erase or a boot can take seconds.
+    macro_rules! did {
+        ($step:expr) => {{
+            let step = $step;
+            r.done(step);
+            progress.item(&format!("node {node}"), crate::ops::ItemStatus::Firmware(step));
+        }};
+    }
     macro_rules! step {
         ($e:expr, $at:expr) => {
             match $e {
@@ -526,7 +534,7 @@ fn download_timed(
 
     let before = step!(r.read_u32(SOFTWARE_ID), Where::Unchanged);
     r.report.id_before = Some(before);
-    r.done(Step::ReadId);
+    did!(Step::ReadId);
     if before == image_id && !o.force {
         r.report.skipped = true;
         r.report.id_after = Some(before);
@@ -537,7 +545,7 @@ fn download_timed(
     }
     step!(r.check_cancel(), Where::Unchanged);
     step!(r.bus.nmt(nmt::Command::PreOperational, node), Where::Unchanged);
-    r.done(Step::PreOperational);
+    did!(Step::PreOperational);
 
     // Stop. A device whose bootloader is another image reboots into it instead of
     // answering: its boot-up says the stop was done.
@@ -559,9 +567,9 @@ fn download_timed(
         }
         Err(e) => return Err(r.fail(e, Where::Unchanged)),
     };
-    r.done(Step::Stop);
+    did!(Step::Stop);
     if rebooted {
-        r.done(Step::BootedBootloader);
+        did!(Step::BootedBootloader);
     }
     // Stopped: in its bootloader, with the program it had, if any.
     let stopped_at = if before == 0 { Where::BootloaderNoProgram } else { Where::BootloaderWithProgram };
@@ -574,7 +582,7 @@ fn download_timed(
     // Clear, then wait out the erase.
     step!(r.control(Control::Clear), stopped_at);
     let erase_began = r.bus.now();
-    r.done(Step::Clear);
+    did!(Step::Clear);
     progress.start(&format!("node {node}: erasing"), 0);
     let erased = r.wait_not_busy("clear (0x1F51 = 3)");
     progress.finish();
@@ -584,7 +592,7 @@ fn download_timed(
         let e = FirmwareError::Flash { node, program: o.program, after: "clear", status };
         return Err(r.fail(e, Where::BootloaderNoProgram));
     }
-    r.done(Step::Erased);
+    did!(Step::Erased);
 
     // The program data: block transfer (the bus falls back to segmented when the device
     // refuses it), watched, stopped between frames when asked.
@@ -600,20 +608,20 @@ fn download_timed(
         (took.as_micros() > 0).then(|| (image.len() as u128 * 1_000_000 / took.as_micros()) as u64);
     // The bus knows whether the device took the block transfer or it fell back.
     r.report.transfer = Some(if r.bus.block_transfer_to(node) { Transfer::Block } else { Transfer::Segmented });
-    r.done(Step::Download);
+    did!(Step::Download);
     let status = step!(r.wait_not_busy("the download"), Where::BootloaderNoProgram);
     if status.is_error() {
         let e = FirmwareError::Flash { node, program: o.program, after: "the download", status };
         return Err(r.fail(e, Where::BootloaderNoProgram));
     }
-    r.done(Step::Written);
+    did!(Step::Written);
     let after = step!(r.read_u32(SOFTWARE_ID), Where::BootloaderNoProgram);
     r.report.id_after = Some(after);
     if after != image_id {
         let e = FirmwareError::IdMismatch { node, program: o.program, got: after, want: image_id };
         return Err(r.fail(e, Where::BootloaderNoProgram));
     }
-    r.done(Step::IdChecked);
+    did!(Step::IdChecked);
     step!(r.check_cancel(), Where::BootloaderWithProgram);
 
     // Start: the device may reset before its answer; the bus reads the state back, and
@@ -624,7 +632,7 @@ fn download_timed(
         Err(e) if e.is_timeout() => {}
         Err(e) => return Err(r.fail(e, Where::BootloaderWithProgram)),
     }
-    r.done(Step::Start);
+    did!(Step::Start);
     let sees_traffic = r.bus.sees_traffic();
     // The device resets after its answer (or before it): it is back with its boot-up, or
     // through a gateway, which shows no boot-up, once it answers again.
@@ -632,15 +640,15 @@ fn download_timed(
         let e = FirmwareError::NoBootUp { node, after: "start (0x1F51 = 1)", waited: o.boot_wait };
         return Err(r.fail(e, Where::Unknown));
     }
-    r.done(if sees_traffic { Step::BootUp } else { Step::Answers });
+    did!(if sees_traffic { Step::BootUp } else { Step::Answers });
     if sees_traffic && step!(r.wait_heartbeat(), Where::Unknown) {
-        r.done(Step::Heartbeat);
+        did!(Step::Heartbeat);
     }
     let state = Control::from_code(step!(r.read_u32(PROGRAM_CONTROL), Where::Unknown) as u8);
     if state == Control::Confirm && o.confirm {
         step!(r.control(Control::Confirm), Where::Unknown);
         r.report.confirmed = true;
-        r.done(Step::Confirm);
+        did!(Step::Confirm);
     }
     r.report.id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
     r.report.device = Where::RunsImage;
