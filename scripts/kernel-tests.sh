@@ -1,27 +1,32 @@
 #!/usr/bin/env bash
 # Run the tests that need the Linux CAN stack (vcan0) inside a small VM, see
-# scripts/run-in-vm.sh. Builds on the host first; the VM runs the built test binaries.
+# scripts/run-in-vm.sh. Builds on the host first; the VM runs the kernel tests of the built suite.
 #   scripts/kernel-tests.sh            all kernel tests
 #   scripts/kernel-tests.sh FILTER     only tests whose name contains FILTER
 set -euo pipefail
 cd "$(dirname "$0")/.."
 filter=${1:-}
-# Build the binaries (and find the test executables) on the host.
+# The modules of the test suite (tests/suite/) that need vcan0.
+modules="socketcan_vcan interop_canopen interop_durand slcan_kernel network_vcan firmware_vcan doctor_vcan"
+# Build canctl and the suite on the host, then pick the kernel tests (those whose name
+# also contains FILTER) from the suite's own list, by exact name.
 cargo build --quiet --bins
-bins=$(cargo test --no-run --message-format=json --test socketcan_vcan --test interop_canopen --test interop_durand --test slcan_kernel --test network_vcan --test firmware_vcan --test doctor_vcan 2>/dev/null \
+suite=$(cargo test --no-run --message-format=json --test suite 2>/dev/null \
   | python3 -c 'import json,sys
 for line in sys.stdin:
     m = json.loads(line)
-    if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["kind"] == ["test"]:
+    if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["name"] == "suite":
         print(m["executable"])')
-[ -n "$bins" ] || { echo "kernel-tests: no test binaries built" >&2; exit 1; }
-# One test process at a time, one test at a time: all of them share vcan0. The VM reads
-# the host's files over 9p without a page cache; canctl runs from a copy in VM memory.
-# In the VM a missing vcan0 is a failure, not a skip.
+[ -n "$suite" ] || { echo "kernel-tests: the test suite did not build" >&2; exit 1; }
+tests=$("$suite" --list --format terse | sed -n 's/: test$//p' \
+  | grep -E "^($(echo $modules | tr ' ' '|'))::" | grep -F -- "$filter" || true)
+[ -n "$tests" ] || { echo "kernel-tests: no kernel test's name contains '$filter'" >&2; exit 1; }
+echo "kernel-tests: $(echo "$tests" | wc -l) tests from $(echo $modules | wc -w) modules" >&2
+# One test at a time: all of them share vcan0. The VM reads the host's files over 9p
+# without a page cache; canctl runs from a copy in VM memory. In the VM a missing vcan0 is
+# a failure, not a skip.
 cmd="cp target/debug/canctl /tmp/canctl && export CANCTL_BIN=/tmp/canctl CANCTL_REQUIRE_KERNEL=1; "
-for b in $bins; do
-  cmd+="echo \"== $(basename "$b")\"; $b --test-threads=1 $filter || exit \$?; "
-done
+cmd+="$suite --test-threads=1 --exact $(echo $tests)"
 # The LSS tests against durand run at canctl's own pace on an emulated CPU: minutes, not seconds.
 export VMCAN_TIMEOUT=${VMCAN_TIMEOUT:-1800}
 exec scripts/run-in-vm.sh "$cmd"

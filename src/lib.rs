@@ -4,7 +4,7 @@
 //! # Layers
 //!
 //! Each layer may use the ones below it, never one above nor a sibling; the order is
-//! [`LAYERS`], checked by `tests/layers.rs`. Top first (a row may group layers that
+//! [`LAYERS`], checked by `tests/suite/layers.rs`. Top first (a row may group layers that
 //! [`LAYERS`] keeps apart: `cli` over `output`, `ops` over `settings`):
 //!
 //! | layer | what |
@@ -47,7 +47,7 @@
 
 /// The layers of the library, top first. A module may use the modules of the layers below its
 /// own, never one above, nor a sibling of its own layer: so there is no cycle. An entry names a
-/// module; a longer entry places a submodule apart from its parent. `tests/layers.rs` reads the
+/// module; a longer entry places a submodule apart from its parent. `tests/suite/layers.rs` reads the
 /// `crate::` paths of every source file and holds the code to this order (test modules are
 /// exempt: they may drive the code under test with a simulator).
 pub const LAYERS: &[&[&str]] = &[

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # durand_netem.sh delay MS [loss PCT] | plain
 #
-# Real latency on vcan0 for tests/interop_durand.rs: vcan reloaded with echo=1 (without it
+# Real latency on vcan0 for tests/suite/interop_durand.rs: vcan reloaded with echo=1 (without it
 # the CAN core loops frames back before the qdisc and netem has no effect) and a netem
 # qdisc holding every frame MS ms, and with `loss PCT` dropping that share of the frames
 # (both ways, as an overloaded adapter or gateway does); `plain` gives back an ordinary

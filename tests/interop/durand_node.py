@@ -1,5 +1,5 @@
 """CANopen devices built with `durand` (a device stack written independently of canctl and
-of python-canopen), for tests/interop_durand.rs.
+of python-canopen), for tests/suite/interop_durand.rs.
 
     python3 durand_node.py IFACE [--node ID]... [--unconfigured N] [--seconds S]
 
@@ -39,7 +39,7 @@ HEARTBEAT_MS = 200
 UNCONFIGURED_SERIALS = [0x00000001, 0x80000000, 0x7FFFFFFE, 0x12345678, 0xFFFFFFFF, 0x00010000, 0xC0FFEE00, 0x5A5A5A5A]
 
 # 0x2000:1..14, one of each type, with a start value read by the test (kept in step with
-# TYPED in tests/interop_durand.rs).
+# TYPED in tests/suite/interop_durand.rs).
 TYPED = [
     (DT.BOOLEAN, True),
     (DT.UNSIGNED8, 0xA5),

@@ -1,4 +1,4 @@
-"""The objects python-canopen finds in an EDS/DCF, for tests/eds_corpus.rs.
+"""The objects python-canopen finds in an EDS/DCF, for tests/suite/eds_corpus.rs.
 
 Usage: eds_objects.py FILE...  Prints one JSON document: for each file either
 {"objects": [[index, subindex, data_type, name], ...]} or {"refused": "why"}.
