@@ -3,6 +3,9 @@
 # scripts/run-in-vm.sh. Builds on the host first; the VM runs the kernel tests of the built suite.
 #   scripts/kernel-tests.sh            all kernel tests
 #   scripts/kernel-tests.sh FILTER     only tests whose name contains FILTER
+#   KERNEL_TESTS_REPEAT=N scripts/kernel-tests.sh FILTER
+#                                      the same N times in one VM (a flake's count):
+#                                      says how many runs failed, exit 1 if any did
 set -euo pipefail
 cd "$(dirname "$0")/.."
 filter=${1:-}
@@ -26,7 +29,14 @@ echo "kernel-tests: $(echo "$tests" | wc -l) tests from $(echo $modules | wc -w)
 # without a page cache; canctl runs from a copy in VM memory. In the VM a missing vcan0 is
 # a failure, not a skip.
 cmd="cp target/debug/canctl /tmp/canctl && export CANCTL_BIN=/tmp/canctl CANCTL_REQUIRE_KERNEL=1; "
-cmd+="$suite --test-threads=1 --exact $(echo $tests)"
+run="$suite --test-threads=1 --exact $(echo $tests)"
+repeat=${KERNEL_TESTS_REPEAT:-1}
+if [ "$repeat" = 1 ]; then
+  cmd+="$run"
+else
+  cmd+="fails=0; for i in \$(seq $repeat); do echo \"== run \$i of $repeat\"; $run || fails=\$((fails + 1)); done; "
+  cmd+="echo \"kernel-tests: \$fails of $repeat run(s) failed\"; [ \$fails = 0 ]"
+fi
 # The LSS tests against durand run at canctl's own pace on an emulated CPU: minutes, not seconds.
-export VMCAN_TIMEOUT=${VMCAN_TIMEOUT:-1800}
+export VMCAN_TIMEOUT=${VMCAN_TIMEOUT:-$((1800 * repeat))}
 exec scripts/run-in-vm.sh "$cmd"

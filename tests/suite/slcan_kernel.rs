@@ -94,12 +94,27 @@ fn slcand_on_the_simulated_adapter_carries_canctl_and_python_canopen() {
     canctl(&["sdo", "write", "1", "1F50:1", &format!("@{file}"), "--type", "d"]).ok();
     canctl(&["sdo", "write", "5", "1017", "250", "--verify"]).ok();
 
+    // The frames on slcan0 while the client runs (candump, can-utils), for its failure
+    // message: a red run says what crossed the link, not only what the client concluded.
+    let dump_path = sim.path("candump.log");
+    let dump = std::fs::File::create(&dump_path).unwrap();
+    let candump = Command::new("candump").args(["-L", IFACE]).stdout(dump).stderr(Stdio::null()).spawn();
+    let candump = candump.expect("candump (can-utils)");
     let client = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop/client.py");
     let out = Command::new("python3").arg(client).arg(IFACE).output().expect("python3 with canopen");
-    assert!(
-        out.status.success(),
-        "python-canopen over slcan0:\n{}\n{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    drop(Killed(candump));
+    if !out.status.success() {
+        let frames = std::fs::read_to_string(&dump_path).unwrap_or_default();
+        let frames: Vec<&str> = frames.lines().collect();
+        let link =
+            Command::new("ip").args(["-s", "link", "show", IFACE]).output().map(|o| o.stdout).unwrap_or_default();
+        panic!(
+            "python-canopen over slcan0:\n{}\n{}\nthe last of {} frames on {IFACE} (candump -L):\n{}\n{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr),
+            frames.len(),
+            frames[frames.len().saturating_sub(40)..].join("\n"),
+            String::from_utf8_lossy(&link)
+        );
+    }
 }
