@@ -74,10 +74,7 @@ where
 {
     move |text: &str| {
         let t = text.trim();
-        let n = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-            Some(h) => u64::from_str_radix(h, 16).ok(),
-            None => t.parse::<u64>().ok(),
-        };
+        let n = crate::canopen::number::parse_number::<u64>(t);
         n.filter(|n| (lo..=hi).contains(n)).and_then(|n| T::try_from(n).ok()).ok_or_else(|| {
             if lo == hi {
                 format!("'{text}' is not {what}: use {lo}")

@@ -5,6 +5,7 @@ pub mod cia402;
 pub(crate) mod emcy;
 pub mod lss;
 pub mod nmt;
+pub mod number;
 pub(crate) mod objaddr;
 pub mod pdo;
 pub mod program;

@@ -11,6 +11,30 @@ pub struct ObjAddr {
     pub sub: u8,
 }
 
+/// The CiA 301 objects canctl reads by name, each named once for every command.
+impl ObjAddr {
+    /// 0x1000: the device type (profile and its additional information).
+    pub const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
+    /// 0x1001: the error register.
+    pub const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
+    /// 0x1008: the manufacturer's device name.
+    pub const DEVICE_NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+    /// 0x1010:1: store all parameters.
+    pub const STORE_ALL: ObjAddr = ObjAddr::new(0x1010, 1);
+    /// 0x1014: the COB-ID of the node's EMCY.
+    pub const EMCY_COB_ID: ObjAddr = ObjAddr::new(0x1014, 0);
+    /// 0x1017: the producer heartbeat time (ms).
+    pub const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
+    /// 0x1018:0: how many entries the identity object has.
+    pub const IDENTITY: ObjAddr = ObjAddr::new(0x1018, 0);
+    /// 0x1018:1: the vendor-ID.
+    pub const VENDOR_ID: ObjAddr = ObjAddr::new(0x1018, 1);
+    /// 0x1018:2: the product code.
+    pub const PRODUCT_CODE: ObjAddr = ObjAddr::new(0x1018, 2);
+    /// 0x1018:4: the serial number.
+    pub const SERIAL_NUMBER: ObjAddr = ObjAddr::new(0x1018, 4);
+}
+
 impl ObjAddr {
     /// The address of sub-index `sub` of object `index`; `const` so tables can name objects.
     pub const fn new(index: u16, sub: u8) -> ObjAddr {
@@ -59,18 +83,11 @@ impl std::str::FromStr for ObjAddr {
         let index = u16::from_str_radix(digits, 16).expect("checked hex digits");
         let sub = match sub {
             None => 0,
-            Some(sub) => parse_sub(sub).ok_or_else(|| {
+            Some(sub) => super::number::parse_number::<u8>(sub).ok_or_else(|| {
                 format!("'{text}': subindex '{sub}' must be 0..255 (decimal, or hex with 0x, as in 1018:0x01)")
             })?,
         };
         Ok(ObjAddr::new(index, sub))
-    }
-}
-
-fn parse_sub(s: &str) -> Option<u8> {
-    match s.strip_prefix("0x") {
-        Some(hex) => u8::from_str_radix(hex, 16).ok(),
-        None => s.parse().ok(),
     }
 }
 

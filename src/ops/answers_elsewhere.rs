@@ -13,8 +13,6 @@ use crate::error::Result;
 use crate::frame::Frame;
 use std::time::Duration;
 
-const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
-
 /// A node whose SDO server answers on another COB-ID than its own.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[non_exhaustive]
@@ -66,11 +64,11 @@ const TRIES: usize = super::scan::PROBE_ROUNDS;
 /// `window` at most.
 fn ask_alone(bus: &mut dyn Bus, node: u8, window: Duration) -> Result<Option<u16>> {
     for _ in 0..TRIES {
-        bus.send_frame(&Frame::new(request_cob(node), &SdoClient::upload(DEVICE_TYPE, false).start()))?;
+        bus.send_frame(&Frame::new(request_cob(node), &SdoClient::upload(ObjAddr::DEVICE_TYPE, false).start()))?;
         let end = bus.now() + window;
         while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
             let response = (0x581..=0x5FF).contains(&f.id()) && !f.is_remote();
-            if response && super::clash::upload_answer(f.data(), DEVICE_TYPE).is_some() {
+            if response && super::clash::upload_answer(f.data(), ObjAddr::DEVICE_TYPE).is_some() {
                 return Ok(Some(f.id()));
             }
         }

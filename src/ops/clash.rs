@@ -16,9 +16,6 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::time::Duration;
 
-/// The serial number: the part of an identity two devices of one kind differ in.
-const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
-
 /// What showed that two devices answer to one node-id.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "evidence", rename_all = "snake_case")]
@@ -148,7 +145,7 @@ pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, ti
     }
     let wanted: BTreeMap<u8, Option<u32>> = nodes.iter().copied().collect();
     for n in wanted.keys() {
-        bus.send_frame(&Frame::new(0x600 + u16::from(*n), &SdoClient::upload(SERIAL, false).start()))?;
+        bus.send_frame(&Frame::new(0x600 + u16::from(*n), &SdoClient::upload(ObjAddr::SERIAL_NUMBER, false).start()))?;
     }
     let mut answers: BTreeMap<u8, Vec<Option<u32>>> = BTreeMap::new();
     let mut states: BTreeMap<u8, Vec<nmt::State>> = BTreeMap::new();
@@ -156,7 +153,7 @@ pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, ti
     while let Some(f) = bus.recv_frame(end)? {
         let id = f.id();
         if (0x581..=0x5FF).contains(&id) && wanted.contains_key(&((id - 0x580) as u8)) {
-            if let Some(v) = upload_answer(f.data(), SERIAL).and_then(Reply::value) {
+            if let Some(v) = upload_answer(f.data(), ObjAddr::SERIAL_NUMBER).and_then(Reply::value) {
                 answers.entry((id - 0x580) as u8).or_default().push(v);
             }
         } else if let Some((node, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
@@ -179,7 +176,8 @@ pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, ti
 /// Two reads of 0x1018:4 of each node, compared: where each answer is the first one to
 /// come, two devices show as a serial number that changes.
 fn identity_changes(bus: &mut dyn Bus, nodes: &[u8], timeout: Duration) -> Result<Vec<Clash>> {
-    let reads: Vec<(u8, ObjAddr)> = nodes.iter().flat_map(|n| [(*n, SERIAL), (*n, SERIAL)]).collect();
+    let reads: Vec<(u8, ObjAddr)> =
+        nodes.iter().flat_map(|n| [(*n, ObjAddr::SERIAL_NUMBER), (*n, ObjAddr::SERIAL_NUMBER)]).collect();
     let values = bus.sdo_upload_many(&reads, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?;
     let mut seen: BTreeMap<u8, Vec<u32>> = BTreeMap::new();
     for ((n, _), v) in reads.iter().zip(values) {
@@ -222,7 +220,7 @@ pub(crate) fn in_use(
     // every command reads it (`Node::identity`), but its vendor-ID first on its own: any
     // answer to it, an abort too, says the id is in use, and a free id costs one timeout.
     let mut n = super::node::Node::new(bus, node, timeout);
-    let (answered, identity) = match n.read::<u32>(ObjAddr::new(0x1018, 1)) {
+    let (answered, identity) = match n.read::<u32>(ObjAddr::VENDOR_ID) {
         Ok(vendor) => match n.identity_of(vendor) {
             Ok(identity) => (true, identity.lss()),
             // It answered: whatever else it refuses or leaves unanswered, the id is in use.
@@ -264,22 +262,31 @@ mod tests {
     fn upload_answers_are_matched_by_object() {
         // CiA 301 expedited upload response, 4 bytes: 0x43; abort: 0x80 with the code.
         assert_eq!(
-            upload_answer(&[0x43, 0x18, 0x10, 0x04, 0x34, 0x12, 0x50, 0x09], SERIAL),
+            upload_answer(&[0x43, 0x18, 0x10, 0x04, 0x34, 0x12, 0x50, 0x09], ObjAddr::SERIAL_NUMBER),
             Some(Reply::Value(0x0950_1234))
         );
-        assert_eq!(upload_answer(&[0x80, 0x18, 0x10, 0x04, 0x00, 0x00, 0x02, 0x06], SERIAL), Some(Reply::Aborted));
+        assert_eq!(
+            upload_answer(&[0x80, 0x18, 0x10, 0x04, 0x00, 0x00, 0x02, 0x06], ObjAddr::SERIAL_NUMBER),
+            Some(Reply::Aborted)
+        );
         // Two bytes (n = 2): the rest of the frame is not the value.
         assert_eq!(
-            upload_answer(&[0x4B, 0x18, 0x10, 0x04, 0x34, 0x12, 0xFF, 0xFF], SERIAL),
+            upload_answer(&[0x4B, 0x18, 0x10, 0x04, 0x34, 0x12, 0xFF, 0xFF], ObjAddr::SERIAL_NUMBER),
             Some(Reply::Value(0x1234))
         );
         // A segmented upload's start: its data bytes are a size, not the value.
-        assert_eq!(upload_answer(&[0x41, 0x18, 0x10, 0x04, 0x04, 0x00, 0x00, 0x00], SERIAL), Some(Reply::Unread));
-        assert_eq!(upload_answer(&[0x40, 0x18, 0x10, 0x04, 0x00, 0x00, 0x00, 0x00], SERIAL), Some(Reply::Unread));
+        assert_eq!(
+            upload_answer(&[0x41, 0x18, 0x10, 0x04, 0x04, 0x00, 0x00, 0x00], ObjAddr::SERIAL_NUMBER),
+            Some(Reply::Unread)
+        );
+        assert_eq!(
+            upload_answer(&[0x40, 0x18, 0x10, 0x04, 0x00, 0x00, 0x00, 0x00], ObjAddr::SERIAL_NUMBER),
+            Some(Reply::Unread)
+        );
         // Another object, a download answer, a short frame: not an answer to this read.
-        assert_eq!(upload_answer(&[0x43, 0x18, 0x10, 0x03, 1, 0, 0, 0], SERIAL), None);
-        assert_eq!(upload_answer(&[0x60, 0x18, 0x10, 0x04, 0, 0, 0, 0], SERIAL), None);
-        assert_eq!(upload_answer(&[0x43, 0x18, 0x10], SERIAL), None);
+        assert_eq!(upload_answer(&[0x43, 0x18, 0x10, 0x03, 1, 0, 0, 0], ObjAddr::SERIAL_NUMBER), None);
+        assert_eq!(upload_answer(&[0x60, 0x18, 0x10, 0x04, 0, 0, 0, 0], ObjAddr::SERIAL_NUMBER), None);
+        assert_eq!(upload_answer(&[0x43, 0x18, 0x10], ObjAddr::SERIAL_NUMBER), None);
     }
 
     #[test]

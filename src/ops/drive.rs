@@ -13,8 +13,6 @@ use crate::error::{DriveStop, Error, Result};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
-const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
-const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
 /// How often the statusword is read while a transition is awaited (by SDO).
 const POLL: Duration = Duration::from_millis(10);
 /// More steps than any path has: a drive that keeps changing state ends the walk.
@@ -107,7 +105,7 @@ fn read_u8(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Res
 
 /// The node's device type, if it is a CiA 402 drive; [`Error::NotADrive`] otherwise.
 pub(crate) fn check_drive(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<u32> {
-    let device_type = le_u32(&read(bus, node, DEVICE_TYPE, 4, timeout)?);
+    let device_type = le_u32(&read(bus, node, ObjAddr::DEVICE_TYPE, 4, timeout)?);
     if !cia402::is_drive(device_type) {
         return Err(Error::NotADrive { node, device_type });
     }
@@ -156,7 +154,7 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Status> 
     let device_type = check_drive(bus, node, timeout)?;
     let (word, state) = statusword(bus, node, timeout)?;
     let mode = mode(bus, node, timeout)?;
-    let register = read_u8(bus, node, ERROR_REGISTER, timeout)?;
+    let register = read_u8(bus, node, ObjAddr::ERROR_REGISTER, timeout)?;
     let errors = errors(bus, node, device_type, timeout)?;
     Ok(Status {
         node,

@@ -10,12 +10,6 @@ use crate::error::{Error, Result};
 use serde::Serialize;
 use std::time::Duration;
 
-const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
-const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
-const VENDOR: ObjAddr = ObjAddr::new(0x1018, 1);
-const PRODUCT: ObjAddr = ObjAddr::new(0x1018, 2);
-const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
-
 /// A device name longer than this is not read for the meanings (it only picks a table).
 const MAX_NAME: usize = 64;
 
@@ -56,7 +50,14 @@ fn u32_of(bytes: &[u8]) -> Option<u32> {
 
 /// Read the node's error history (and, with `clear`, then clear it and confirm).
 pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Result<ErrorHistory> {
-    let first = [HISTORY_COUNT, ERROR_REGISTER, DEVICE_TYPE, VENDOR, PRODUCT, NAME];
+    let first = [
+        HISTORY_COUNT,
+        ObjAddr::ERROR_REGISTER,
+        ObjAddr::DEVICE_TYPE,
+        ObjAddr::VENDOR_ID,
+        ObjAddr::PRODUCT_CODE,
+        ObjAddr::DEVICE_NAME,
+    ];
     let requests: Vec<(u8, ObjAddr)> = first.iter().map(|a| (node, *a)).collect();
     let mut opts = SdoOptions::new(timeout);
     opts.max_upload = MAX_NAME;

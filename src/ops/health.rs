@@ -18,9 +18,6 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
-const EMCY_COB: ObjAddr = ObjAddr::new(0x1014, 0);
-
 /// A heartbeat is late when no beat came for 1.5 periods plus this: what a consumer
 /// usually allows, and room for the master's own scheduling.
 const HEARTBEAT_SLACK: Duration = Duration::from_millis(50);
@@ -272,9 +269,9 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
     let is_drive = |n: &scan::Node| n.device_type.is_some_and(cia402::is_drive);
     let mut requests = Vec::new();
     for n in found.iter().filter(|n| n.answers_sdo) {
-        requests.push((n.node, ERROR_REGISTER));
+        requests.push((n.node, ObjAddr::ERROR_REGISTER));
         requests.push((n.node, HISTORY_COUNT));
-        requests.push((n.node, EMCY_COB));
+        requests.push((n.node, ObjAddr::EMCY_COB_ID));
         if is_drive(n) {
             requests.push((n.node, cia402::STATUSWORD));
         }
@@ -668,7 +665,7 @@ mod tests {
             Read { history: Err(Error::SdoAbort { node: 5, obj: HISTORY_COUNT, code: abort::NO_OBJECT }), ..clean() };
         assert!(judge_node(&sensor(), Some(read), Some(beating()), 300 * MS, None).ok);
         let read = Read {
-            register: Err(Error::SdoAbort { node: 5, obj: ERROR_REGISTER, code: abort::GENERAL_ERROR }),
+            register: Err(Error::SdoAbort { node: 5, obj: ObjAddr::ERROR_REGISTER, code: abort::GENERAL_ERROR }),
             ..clean()
         };
         assert_eq!(failed(&judge_node(&sensor(), Some(read), Some(beating()), 300 * MS, None)), ["error register"]);
@@ -680,7 +677,7 @@ mod tests {
         assert_eq!(with(Ok(0x0000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x85));
         assert_eq!(with(Ok(0x0000_0123u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x123));
         assert_eq!(with(Ok(0x8000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), None);
-        let no_object = Error::SdoAbort { node: 5, obj: EMCY_COB, code: abort::NO_OBJECT };
+        let no_object = Error::SdoAbort { node: 5, obj: ObjAddr::EMCY_COB_ID, code: abort::NO_OBJECT };
         assert_eq!(with(Err(no_object)).emcy_cob(5), Some(0x85));
     }
 }

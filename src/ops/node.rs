@@ -104,7 +104,7 @@ impl<'a> Node<'a> {
     /// The identity object 0x1018; `None` when the device lacks its vendor-ID (0x1018:1,
     /// which CiA 301 makes mandatory).
     pub fn identity(&mut self) -> Result<Option<Identity>> {
-        let Some(vendor) = self.read_optional::<u32>(ObjAddr::new(0x1018, 1))? else { return Ok(None) };
+        let Some(vendor) = self.read_optional::<u32>(ObjAddr::VENDOR_ID)? else { return Ok(None) };
         self.identity_of(vendor).map(Some)
     }
 

@@ -167,9 +167,6 @@ pub struct Configuring {
     pub one: Option<(Identity, Option<u8>)>,
 }
 
-const IDENTITY: ObjAddr = ObjAddr::new(0x1018, 0);
-const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
-const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
 /// The longest scan waits for heartbeats: a node that beats more slowly is asked by node
 /// guarding instead.
 const MAX_HEARTBEAT_WAIT: Duration = Duration::from_secs(3);
@@ -208,8 +205,6 @@ pub(crate) fn probe_rounds(bus: &dyn Bus) -> usize {
         1
     }
 }
-
-const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
 
 /// Every node that answers an SDO read of 0x1000 within `window`, in up to
 /// [`PROBE_ROUNDS`] rounds, with its device type (`None` when it answered with an abort:
@@ -278,7 +273,7 @@ pub(crate) fn probe_until_stopped(
     let mut failed: BTreeMap<u8, Error> = BTreeMap::new();
     while p.rounds < rounds && !ids.is_empty() && !p.stopped {
         p.rounds += 1;
-        let probes: Vec<(u8, ObjAddr)> = ids.iter().map(|n| (*n, DEVICE_TYPE)).collect();
+        let probes: Vec<(u8, ObjAddr)> = ids.iter().map(|n| (*n, ObjAddr::DEVICE_TYPE)).collect();
         progress.start(if p.rounds == 1 { "probing" } else { "probing again" }, probes.len() as u64);
         let answers = bus.sdo_upload_many(&probes, &opts, &mut |n| progress.advance(n as u64));
         progress.finish();
@@ -544,8 +539,8 @@ fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: 
         .iter()
         .flat_map(|f| {
             (1..=4)
-                .map(|sub| (f.node, ObjAddr::new(IDENTITY.index, sub)))
-                .chain([(f.node, NAME), (f.node, HEARTBEAT_TIME)])
+                .map(|sub| (f.node, ObjAddr::new(ObjAddr::IDENTITY.index, sub)))
+                .chain([(f.node, ObjAddr::DEVICE_NAME), (f.node, ObjAddr::HEARTBEAT_TIME)])
         })
         .collect();
     progress.start("identity", reads.len() as u64);
@@ -557,8 +552,8 @@ fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: 
     for ((node, addr), value) in reads.iter().zip(values?) {
         let f = nodes.iter_mut().find(|f| f.node == *node).expect("read for a found node");
         match value {
-            Ok(bytes) if *addr == NAME => f.name = DataType::Vs.decode(&bytes).map(|v| v.to_string()),
-            Ok(bytes) if *addr == HEARTBEAT_TIME => {
+            Ok(bytes) if *addr == ObjAddr::DEVICE_NAME => f.name = DataType::Vs.decode(&bytes).map(|v| v.to_string()),
+            Ok(bytes) if *addr == ObjAddr::HEARTBEAT_TIME => {
                 f.heartbeat_ms = bytes.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]))
             }
             Ok(bytes) => {

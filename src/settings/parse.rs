@@ -83,11 +83,8 @@ pub(crate) fn parse_kbit(text: &str) -> Result<u32, String> {
 
 /// A 32-bit number, decimal or 0x hex (an identity's part).
 pub(crate) fn parse_u32(s: &str) -> Result<u32, String> {
-    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
-        Some(h) => u32::from_str_radix(h, 16),
-        None => s.parse(),
-    }
-    .map_err(|_| format!("'{s}' is not a 32-bit number (decimal, or hex with 0x)"))
+    crate::canopen::number::parse_number(s)
+        .ok_or_else(|| format!("'{s}' is not a 32-bit number (decimal, or hex with 0x)"))
 }
 
 /// A node-id to give over LSS: 1 to 127, or 255 to take it away.

@@ -29,6 +29,7 @@
 
 use super::endless::{Endless, EndlessServer};
 use super::timing::{Nanos, Rng, MS};
+use crate::canopen::number::parse_number;
 use crate::canopen::sdo;
 use crate::frame::Frame;
 use std::fmt;
@@ -91,15 +92,11 @@ pub struct FaultSpec {
 pub(crate) const DEFAULT_ABORT: u32 = 0x0800_0000;
 const DEFAULT_SHORT_DLC: u8 = 4;
 
-fn parse_u32(s: &str) -> Option<u32> {
-    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
-        Some(hex) => u32::from_str_radix(hex, 16).ok(),
-        None => s.parse().ok(),
-    }
-}
-
 fn parse_cob(s: &str) -> Result<u16, String> {
-    parse_u32(s).filter(|v| *v <= 0x7FF).map(|v| v as u16).ok_or_else(|| format!("'{s}' is not an 11-bit CAN id"))
+    parse_number::<u32>(s)
+        .filter(|v| *v <= 0x7FF)
+        .map(|v| v as u16)
+        .ok_or_else(|| format!("'{s}' is not an 11-bit CAN id"))
 }
 
 impl FromStr for FaultSpec {
@@ -128,7 +125,7 @@ impl FromStr for FaultSpec {
             }),
             "corrupt" => Kind::Corrupt,
             "babble" => Kind::Babble(arg.map(parse_cob).transpose()?),
-            "abort" => Kind::Abort(arg.map_or(Some(DEFAULT_ABORT), parse_u32).ok_or_else(|| bad(arg.unwrap_or("")))?),
+            "abort" => Kind::Abort(arg.map_or(Some(DEFAULT_ABORT), parse_number).ok_or_else(|| bad(arg.unwrap_or("")))?),
             "mute" => Kind::Mute,
             "wrong-cob" => Kind::WrongCob(arg.map(parse_cob).transpose()?),
             "no-heartbeat" => Kind::NoHeartbeat,

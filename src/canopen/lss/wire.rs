@@ -62,11 +62,8 @@ impl std::str::FromStr for Identity {
         }
         let mut id = Identity::default();
         for (i, p) in parts.iter().enumerate() {
-            let v = match p.strip_prefix("0x").or_else(|| p.strip_prefix("0X")) {
-                Some(h) => u32::from_str_radix(h, 16),
-                None => p.parse(),
-            }
-            .map_err(|_| format!("'{p}' in '{s}' is not a 32-bit number (decimal, or hex with 0x)"))?;
+            let v = crate::canopen::number::parse_number(p)
+                .ok_or_else(|| format!("'{p}' in '{s}' is not a 32-bit number (decimal, or hex with 0x)"))?;
             id.set_part(i as u8, v);
         }
         Ok(id)

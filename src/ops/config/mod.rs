@@ -163,7 +163,7 @@ fn node_dictionary(
     if let Some((d, source)) = given {
         return Ok((d.clone(), source.to_string()));
     }
-    let device_type = builtin::dictionary(None).get(ObjAddr::new(0x1000, 0)).expect("0x1000");
+    let device_type = builtin::dictionary(None).get(ObjAddr::DEVICE_TYPE).expect("0x1000");
     let profile = le_u32(&read_one(bus, node, device_type, timeout)?) as u16;
     Ok((builtin::dictionary(Some(profile)).clone(), format!("the built-in dictionary (profile {profile})")))
 }
@@ -249,7 +249,7 @@ pub(crate) fn dump_as(
     progress.finish();
     let identity = |sub| values.get(&ObjAddr::new(0x1018, sub)).map_or(0, |v: &Vec<u8>| le_u32(v));
     let name = values
-        .get(&ObjAddr::new(0x1008, 0))
+        .get(&ObjAddr::DEVICE_NAME)
         .map(|v| String::from_utf8_lossy(v).trim_end_matches('\0').to_string())
         .unwrap_or_default();
     let header = Header {

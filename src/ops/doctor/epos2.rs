@@ -9,7 +9,6 @@ use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
 use std::time::Duration;
 
-const ERROR_REGISTER: ObjAddr = ObjAddr::new(0x1001, 0);
 use crate::epos2::objects::CAN_BIT_RATE;
 /// The error register's communication bit (CiA 301).
 const COMMUNICATION: u8 = 0x10;
@@ -23,7 +22,7 @@ pub(super) fn look(bus: &mut dyn Bus, timeout: Duration, d: &mut Diagnosis) -> R
         Err(e) if matches!(e.root(), Error::Link(_)) => Err(e),
         Err(_) => Ok(None),
     };
-    let error_register = read(ERROR_REGISTER)?.and_then(|b| b.first().copied());
+    let error_register = read(ObjAddr::ERROR_REGISTER)?.and_then(|b| b.first().copied());
     let bit_rate_code = read(CAN_BIT_RATE)?.filter(|b| b.len() >= 2).map(|b| u16::from_le_bytes([b[0], b[1]]));
     judge(error_register, bit_rate_code, d);
     Ok(())

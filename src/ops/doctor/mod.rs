@@ -28,10 +28,6 @@ use crate::ops::{le_u32, scan, Silent};
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
-/// The serial number: what tells two devices of one kind apart.
-const SERIAL: ObjAddr = ObjAddr::new(0x1018, 4);
-/// The device name: with the vendor-ID, what tells a moved device from another one.
-const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
 /// How many requests the node's SDO read gets: a lost frame is not taken for a silent node.
 const SDO_REQUESTS: u32 = 2;
 /// A COB-ID heard this many times in the listen, nine frames in ten, fills the bus.
@@ -349,8 +345,8 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     let ((answers, elsewhere), sdo_waited_ms) = timed(bus, |bus| sdo_probe(bus, node, o.timeout, &mut heard))?;
     if let Some(first) = answers.first() {
         d.fine.push(match first.value() {
-            Some(value) => Evidence::SdoAnswer { node, obj: SERIAL, value },
-            None => Evidence::SdoAnswerUnread { node, obj: SERIAL },
+            Some(value) => Evidence::SdoAnswer { node, obj: ObjAddr::SERIAL_NUMBER, value },
+            None => Evidence::SdoAnswerUnread { node, obj: ObjAddr::SERIAL_NUMBER },
         });
         if let Some(beats) = heard.heartbeats(node) {
             d.fine.push(beats);
@@ -358,7 +354,8 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
         let values = answers.iter().filter_map(|r| r.value()).collect();
         return look_for_clash(bus, o, node, values, &heard, d);
     }
-    let no_answer = Evidence::NoSdoAnswer { node, obj: SERIAL, requests: SDO_REQUESTS, waited_ms: sdo_waited_ms };
+    let no_answer =
+        Evidence::NoSdoAnswer { node, obj: ObjAddr::SERIAL_NUMBER, requests: SDO_REQUESTS, waited_ms: sdo_waited_ms };
     let mut evidence: Vec<Evidence> = heard.heartbeats(node).into_iter().collect();
     let state = match heard.beats.get(&node) {
         Some((_, _, state)) => Some(*state),
@@ -445,7 +442,8 @@ fn find_moved(
             Err(e) if matches!(e.root(), Error::Link(_)) => return Err(e),
             Err(_) => continue,
         };
-        let name = bus.sdo_upload(now, NAME, &opts).ok().map(|b| String::from_utf8_lossy(&b).into_owned());
+        let name =
+            bus.sdo_upload(now, ObjAddr::DEVICE_NAME, &opts).ok().map(|b| String::from_utf8_lossy(&b).into_owned());
         if was.name.is_none() || was.name == name {
             let evidence = vec![
                 Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() },
@@ -562,7 +560,7 @@ fn sdo_probe(
     if !bus.sees_traffic() {
         let opts =
             SdoOptions { retries: (SDO_REQUESTS - 1) as u8, ..crate::ops::capped(timeout, crate::ops::NUMBER_LIMIT) };
-        return match bus.sdo_upload(node, SERIAL, &opts) {
+        return match bus.sdo_upload(node, ObjAddr::SERIAL_NUMBER, &opts) {
             Ok(v) => Ok((vec![clash::Reply::Value(le_u32(&v))], vec![])),
             Err(Error::SdoAbort { .. }) => Ok((vec![clash::Reply::Aborted], vec![])),
             Err(e) if e.is_timeout() => Ok((vec![], vec![])),
@@ -573,11 +571,11 @@ fn sdo_probe(
     let mut answers = Vec::new();
     let mut elsewhere = BTreeSet::new();
     for _ in 0..SDO_REQUESTS {
-        let request = SdoClient::upload(SERIAL, false).start();
+        let request = SdoClient::upload(ObjAddr::SERIAL_NUMBER, false).start();
         bus.send_frame(&Frame::new(crate::canopen::sdo::request_cob(node), &request))?;
         let end = bus.now() + timeout;
         while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
-            match clash::upload_answer(f.data(), SERIAL) {
+            match clash::upload_answer(f.data(), ObjAddr::SERIAL_NUMBER) {
                 Some(value) if f.id() == own => answers.push(value),
                 // Another node's answer to the same read would need a request of its own:
                 // one on another id now is this node's, moved by its 0x1200.

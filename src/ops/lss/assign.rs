@@ -82,7 +82,6 @@ impl Assignment {
 }
 
 const LISTEN_CEILING: Duration = Duration::from_secs(10);
-const HEARTBEAT_TIME: ObjAddr = ObjAddr::new(0x1017, 0);
 
 /// Node-ids in use: the SDO probe, then heartbeats, boot-ups and everything else the bus
 /// shows while listening. A node in Stopped answers no SDO but still beats.
@@ -104,7 +103,7 @@ pub(super) fn ids_in_use(
         let listen = match listen {
             Some(l) => l,
             None => {
-                let reads: Vec<(u8, ObjAddr)> = found.iter().map(|n| (*n, HEARTBEAT_TIME)).collect();
+                let reads: Vec<(u8, ObjAddr)> = found.iter().map(|n| (*n, ObjAddr::HEARTBEAT_TIME)).collect();
                 let periods = bus.sdo_upload_many(&reads, &sized(timeout, Some(2)), &mut |_| {})?;
                 let longest = periods
                     .iter()

@@ -420,7 +420,6 @@ pub(crate) fn set_id(
 use crate::epos2::objects::{
     bit_rate_code as epos2_bit_rate_code, CAN_BIT_RATE as EPOS2_CAN_BIT_RATE, NODE_ID as EPOS2_NODE_ID,
 };
-const STORE_ALL: ObjAddr = ObjAddr::new(0x1010, 1);
 
 /// set-id, set-baud and store on an EPOS2 reached directly: its own objects.
 fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting) -> Result<Took> {
@@ -444,7 +443,7 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
             bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts)
                 .map(|_| Took::Epos2BitRate { index, code })
         }
-        Setting::Store => bus.sdo_download(0, STORE_ALL, b"save", &opts).map(|_| Took::Epos2Stored),
+        Setting::Store => bus.sdo_download(0, ObjAddr::STORE_ALL, b"save", &opts).map(|_| Took::Epos2Stored),
     }
 }
 

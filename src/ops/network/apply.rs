@@ -182,7 +182,7 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
     left?;
     let deadline = bus.now() + o.boot_wait;
     loop {
-        match bus.sdo_upload(node, DEVICE_TYPE, &SdoOptions::new(o.window)) {
+        match bus.sdo_upload(node, ObjAddr::DEVICE_TYPE, &SdoOptions::new(o.window)) {
             Ok(_) | Err(Error::SdoAbort { .. }) => return Ok(()),
             Err(e) if no_answer(&e) && bus.now() < deadline => continue,
             Err(e) if no_answer(&e) => {
@@ -444,7 +444,7 @@ fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<B
     } else {
         for n in nodes {
             while bus.now() < deadline {
-                match bus.sdo_upload(*n, DEVICE_TYPE, &SdoOptions::new(o.window)) {
+                match bus.sdo_upload(*n, ObjAddr::DEVICE_TYPE, &SdoOptions::new(o.window)) {
                     Ok(_) | Err(Error::SdoAbort { .. }) => {
                         back.insert(*n, true);
                         break;

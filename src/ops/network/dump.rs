@@ -58,11 +58,11 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
         let file = format!("node{node}.dcf");
         let dumped = config::dump(bus, node, None, &file, o.timeout, progress)?;
         let parsed = Dcf::parse(&dumped.dcf, &file)?;
-        let serial = parsed.eds.values.get(&ObjAddr::new(0x1018, 4)).and_then(|v| match v {
+        let serial = parsed.eds.values.get(&ObjAddr::SERIAL_NUMBER).and_then(|v| match v {
             crate::od::Init::Bytes(b) => Some(crate::ops::le_u32(b)),
             _ => None,
         });
-        let name = match parsed.eds.values.get(&NAME) {
+        let name = match parsed.eds.values.get(&ObjAddr::DEVICE_NAME) {
             Some(crate::od::Init::Bytes(b)) => String::from_utf8_lossy(b).trim_end_matches('\0').to_string(),
             _ => String::new(),
         };

@@ -21,9 +21,6 @@ use std::time::Duration;
 /// The project file canctl writes and looks for in a folder.
 pub(crate) const PROJECT_FILE: &str = "nodelist.cpj";
 
-const DEVICE_TYPE: ObjAddr = ObjAddr::new(0x1000, 0);
-const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
-
 /// A project with each listed node's DCF read.
 #[derive(Debug)]
 #[non_exhaustive]
