@@ -13,7 +13,10 @@ filter=${1:-}
 modules="socketcan_vcan interop_canopen interop_durand slcan_kernel network_vcan firmware_vcan doctor_vcan"
 # Build canctl and the suite on the host, then pick the kernel tests (those whose name
 # also contains FILTER) from the suite's own list, by exact name.
-cargo build --quiet --bins
+# canctl itself is the release build: on the VM's emulated CPU a debug build moved a 64 KiB
+# domain in minutes (the suite runs the debug build on the host, overflow checks and all).
+# CI has it from the main job already.
+cargo build --quiet --release --bins
 suite=$(cargo test --no-run --message-format=json --test suite 2>/dev/null \
   | python3 -c 'import json,sys
 for line in sys.stdin:
@@ -25,18 +28,21 @@ tests=$("$suite" --list --format terse | sed -n 's/: test$//p' \
   | grep -E "^($(echo $modules | tr ' ' '|'))::" | grep -F -- "$filter" || true)
 [ -n "$tests" ] || { echo "kernel-tests: no kernel test's name contains '$filter'" >&2; exit 1; }
 echo "kernel-tests: $(echo "$tests" | wc -l) tests from $(echo $modules | wc -w) modules" >&2
-# One test at a time: all of them share vcan0. The VM reads the host's files over 9p
-# without a page cache; canctl runs from a copy in VM memory. In the VM a missing vcan0 is
-# a failure, not a skip.
-cmd="cp target/debug/canctl /tmp/canctl && export CANCTL_BIN=/tmp/canctl CANCTL_REQUIRE_KERNEL=1; "
-run="$suite --test-threads=1 --exact $(echo $tests)"
+# One test at a time, each in its own process: all of them share vcan0, and the time each
+# took is said at the end (the slowest first: where the VM's minutes go). The VM reads the
+# host's files over 9p without a page cache; canctl and the suite run from copies in VM
+# memory. In the VM a missing vcan0 is a failure, not a skip.
 repeat=${KERNEL_TESTS_REPEAT:-1}
-if [ "$repeat" = 1 ]; then
-  cmd+="$run"
-else
-  cmd+="fails=0; for i in \$(seq $repeat); do echo \"== run \$i of $repeat\"; $run || fails=\$((fails + 1)); done; "
-  cmd+="echo \"kernel-tests: \$fails of $repeat run(s) failed\"; [ \$fails = 0 ]"
-fi
+cmd="cp target/release/canctl /tmp/canctl && cp $suite /tmp/suite && export CANCTL_BIN=/tmp/canctl CANCTL_REQUIRE_KERNEL=1; "
+cmd+="fails=0; runs=0; : > /tmp/times; "
+cmd+="for i in \$(seq $repeat); do for t in $(echo $tests); do "
+cmd+="  began=\$EPOCHREALTIME; /tmp/suite --test-threads=1 --exact \$t || { fails=\$((fails + 1)); echo \"FAILED: \$t (run \$i)\"; }; "
+cmd+="  runs=\$((runs + 1)); awk -v a=\$began -v b=\$EPOCHREALTIME -v t=\$t 'BEGIN { printf \"%7.1f s  %s\\n\", b - a, t }' >> /tmp/times; "
+cmd+="done; done; "
+cmd+="echo '== kernel tests, slowest first'; sort -rn /tmp/times | head -20; "
+cmd+="echo \"kernel-tests: \$fails of \$runs test run(s) failed\"; [ \$fails = 0 ]"
 # The LSS tests against durand run at canctl's own pace on an emulated CPU: minutes, not seconds.
 export VMCAN_TIMEOUT=${VMCAN_TIMEOUT:-$((1800 * repeat))}
+# canctl and the suite are copied into the VM's memory (the suite is a 140 MB debug build).
+export VMCAN_MEM=${VMCAN_MEM:-2048}
 exec scripts/run-in-vm.sh "$cmd"
