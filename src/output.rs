@@ -241,7 +241,10 @@ impl Output {
     pub fn working(&self, message: &str) -> ProgressBar {
         let style = ProgressStyle::with_template("{spinner} {msg} ({elapsed})").expect("valid template");
         let line = self.drawn(None, style, message);
-        line.enable_steady_tick(std::time::Duration::from_millis(100));
+        // A hidden line needs no ticker thread.
+        if self.progress {
+            line.enable_steady_tick(std::time::Duration::from_millis(100));
+        }
         line
     }
 }
