@@ -344,6 +344,16 @@ pub trait Report: serde::Serialize {
     fn notes(&self) -> Vec<String> {
         Vec::new()
     }
+    /// [`Report::human`] as one bus's part of a report on several buses, where every sentence
+    /// is prefixed with the bus's address: without the bus the report's sentences name.
+    fn human_among_buses(&self) -> Human {
+        self.human()
+    }
+    /// [`Report::notes`] as one bus's part of a report on several buses (see
+    /// [`Report::human_among_buses`]).
+    fn notes_among_buses(&self) -> Vec<String> {
+        self.notes()
+    }
     /// The report as test results, for reports of checks.
     fn junit(&self) -> Option<TestSuite> {
         None

@@ -590,8 +590,9 @@ pub enum Error {
         error: Box<Error>,
     },
     /// A command run on several buses, some of which failed: the worst failure (`error`,
-    /// on `bus`) decides the exit code; the report shows every bus's.
-    #[error("{failed} of {total} buses failed; the worst, {}", on_bus(bus, error))]
+    /// on `bus`) decides the exit code; the report shows every bus's, so its words are not
+    /// said again here.
+    #[error("{failed} of {total} buses failed, each as said for its bus; the worst was on {bus}")]
     OnBuses {
         /// The bus of the worst failure, as its URI.
         bus: String,
@@ -774,14 +775,6 @@ impl Error {
 pub(crate) fn tpdo_left(node: u8, tpdo: u16) -> String {
     let comm = 0x1800 + tpdo - 1;
     format!("; node {node}'s TPDO{tpdo} was not put back as it was (0x{comm:04X}:1 may leave it switched off)")
-}
-
-/// `error` on `bus`, the bus named once (a link's error names its bus itself).
-fn on_bus(bus: &str, error: &Error) -> String {
-    match error.names_bus() == Some(bus) {
-        true => error.to_string(),
-        false => format!("on {bus}: {error}"),
-    }
 }
 
 /// The library's result.

@@ -184,30 +184,11 @@ impl Report for HealthReport {
     }
 
     fn notes(&self) -> Vec<String> {
-        let bad = self.nodes.iter().filter(|n| !n.ok).count();
-        let watched = if self.watched_ms > 0 {
-            format!("heartbeats and EMCYs watched for {} ms", self.watched_ms)
-        } else {
-            "no traffic watched: this link shows none".to_string()
-        };
-        let mut notes = vec![if bad == 0 {
-            format!("{}: all {} node(s) healthy ({watched})", self.bus, self.nodes.len())
-        } else {
-            format!("{}: {bad} of {} node(s) not healthy ({watched})", self.bus, self.nodes.len())
-        }];
-        if self.lss_unconfigured > 0 {
-            notes.push(format!(
-                "{} device(s) without a node-id answered LSS (not judged; canctl lss assign numbers them)",
-                self.lss_unconfigured
-            ));
-        }
-        for r in &self.answered_on_repeat {
-            notes.push(format!(
-                "node {} answered only when asked again (probe {}): frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
-                r.node, r.probe
-            ));
-        }
-        notes
+        health_notes(self, Some(&self.bus))
+    }
+
+    fn notes_among_buses(&self) -> Vec<String> {
+        health_notes(self, None)
     }
 
     fn junit(&self) -> Option<TestSuite> {
@@ -227,4 +208,37 @@ impl Report for HealthReport {
             .collect();
         Some(TestSuite { name: format!("canctl health: {}", self.bus), cases })
     }
+}
+
+/// The verdict and the remarks after a health table, the verdict prefixed with `bus` when
+/// given (alone: "sim: all 4 node(s) healthy").
+fn health_notes(h: &HealthReport, bus: Option<&str>) -> Vec<String> {
+    let bad = h.nodes.iter().filter(|n| !n.ok).count();
+    let watched = if h.watched_ms > 0 {
+        format!("heartbeats and EMCYs watched for {} ms", h.watched_ms)
+    } else {
+        "no traffic watched: this link shows none".to_string()
+    };
+    let verdict = if bad == 0 {
+        format!("all {} node(s) healthy ({watched})", h.nodes.len())
+    } else {
+        format!("{bad} of {} node(s) not healthy ({watched})", h.nodes.len())
+    };
+    let mut notes = vec![match bus {
+        Some(bus) => format!("{bus}: {verdict}"),
+        None => verdict,
+    }];
+    if h.lss_unconfigured > 0 {
+        notes.push(format!(
+            "{} device(s) without a node-id answered LSS (not judged; canctl lss assign numbers them)",
+            h.lss_unconfigured
+        ));
+    }
+    for r in &h.answered_on_repeat {
+        notes.push(format!(
+            "node {} answered only when asked again (probe {}): frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
+            r.node, r.probe
+        ));
+    }
+    notes
 }

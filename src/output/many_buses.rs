@@ -65,7 +65,8 @@ impl<R: Report> OnBuses<'_, R> {
             if let Some(report) = &run.report {
                 prefixed(&run.bus, shown(report), &mut table, &mut lines);
             }
-            if let Some(f) = Failure::of(run) {
+            // A bus with a report has its verdict in the report's own sentences.
+            if let (None, Some(f)) = (&run.report, Failure::of(run)) {
                 // A link's error names its bus itself.
                 let text = match f.names_bus.as_deref() == Some(run.bus.as_str()) {
                     true => format!("{} (exit {})", f.text, f.exit_code),
@@ -81,7 +82,7 @@ impl<R: Report> OnBuses<'_, R> {
 
 impl<R: Report> Report for OnBuses<'_, R> {
     fn human(&self) -> Human {
-        self.merged(R::human)
+        self.merged(R::human_among_buses)
     }
 
     fn csv(&self) -> Human {
@@ -102,7 +103,8 @@ impl<R: Report> Report for OnBuses<'_, R> {
 
     fn notes(&self) -> Vec<String> {
         let runs = self.runs.iter().filter_map(|r| Some((&r.bus, r.report.as_ref()?)));
-        runs.flat_map(|(bus, report)| report.notes().into_iter().map(move |n| format!("{bus}: {n}"))).collect()
+        runs.flat_map(|(bus, report)| report.notes_among_buses().into_iter().map(move |n| format!("{bus}: {n}")))
+            .collect()
     }
 
     fn junit(&self) -> Option<TestSuite> {

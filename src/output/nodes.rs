@@ -40,84 +40,11 @@ impl Report for Scan {
     }
 
     fn human(&self) -> Human {
-        let mut parts = vec![Human::Note(format!("{} node(s) on {}", self.nodes.len(), self.bus)), scan_table(self)];
-        // Interrupted before the states were learned: the note at the end says so.
-        for f in self.nodes.iter().filter(|f| f.state.is_none() && f.state_from != StateFrom::NotAsked) {
-            parts.push(Human::Line(format!("node {}: NMT state unknown: {}", f.node, f.state_from)));
-        }
-        // The probe asks again the ids that did not answer: a node that answered only then
-        // is the technician's sign that frames are being lost.
-        for r in &self.answered_on_repeat {
-            // There are three rounds at most.
-            let nth = match r.probe {
-                2 => "2nd".to_string(),
-                3 => "3rd".to_string(),
-                n => format!("{n}th"),
-            };
-            parts.push(Human::Line(format!(
-                "node {} answered only on the {nth} probe: frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
-                r.node
-            )));
-        }
-        // Without a state the line above says why it is listed.
-        for f in self.nodes.iter().filter(|f| !f.answers_sdo) {
-            if let Some(state) = f.state {
-                let elsewhere = self.answers_elsewhere.iter().find(|e| e.node == f.node);
-                let why = match (elsewhere, state) {
-                    (Some(e), _) => format!(
-                        ": its SDO server answers on 0x{:03X}, not 0x{:03X} (its 0x1200 changed; canctl doctor {} says more)",
-                        e.cob_id,
-                        0x580 + u16::from(f.node),
-                        f.node
-                    ),
-                    (None, crate::canopen::nmt::State::Stopped) => super::hints::stopped_node_aside(f.node),
-                    (None, _) => format!(" (its SDO server is off or on other COB-IDs: canctl doctor {} says more)", f.node),
-                };
-                parts.push(Human::Line(format!(
-                    "node {}: seen by its {} ({}), but it answered none of the {} SDO probes{why}",
-                    f.node,
-                    f.state_from,
-                    state.name(),
-                    self.probe_rounds,
-                )));
-            }
-        }
-        for g in &self.gone {
-            parts.push(Human::Line(format!(
-                "node {}: seen by the last scan, it answers nothing now: not the probe ({})",
-                g.node, g.from
-            )));
-        }
-        if self.lss_unconfigured > 0 {
-            parts.push(Human::Line(format!(
-                "{} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)",
-                self.lss_unconfigured
-            )));
-        }
-        let configuring = &self.lss_configuration;
-        if configuring.count > 0 {
-            let which = match configuring.one {
-                Some((id, None)) => format!(": {id}, no node-id"),
-                Some((id, Some(n))) => format!(": {id}, node-id {n}"),
-                None if configuring.count > 1 => {
-                    " (several answered at once, so their identities cannot be told apart)".to_string()
-                }
-                None => " (not every identity inquiry was answered, so its identity is incomplete)".to_string(),
-            };
-            parts.push(Human::Line(format!(
-                "{} device(s) waiting in LSS configuration state{which} (canctl lss set-id gives a node-id; \
-                 `canctl lss set-id 255 --global` or any LSS command sends them back to waiting)",
-                configuring.count
-            )));
-        }
-        if self.interrupted {
-            parts.push(Human::Note(format!(
-                "scan interrupted, incomplete: {} node(s) found so far; not done: {}; nothing was changed on the devices",
-                self.nodes.len(),
-                self.not_done.iter().map(|p| phase_text(*p)).collect::<Vec<_>>().join(", ")
-            )));
-        }
-        Human::Parts(parts)
+        scan_human(self, Some(&self.bus))
+    }
+
+    fn human_among_buses(&self) -> Human {
+        scan_human(self, None)
     }
 
     fn csv(&self) -> Human {
@@ -127,6 +54,93 @@ impl Report for Scan {
     fn notes(&self) -> Vec<String> {
         self.clashes.iter().map(|c| format!("warning: {c}{CLASH_REMEDY}")).collect()
     }
+}
+
+/// A scan's count, table and remarks; the count names `bus` when given (alone: "4 node(s)
+/// on sim").
+fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
+    let count = match bus {
+        Some(bus) => format!("{} node(s) on {bus}", scan.nodes.len()),
+        None => format!("{} node(s)", scan.nodes.len()),
+    };
+    let mut parts = vec![Human::Note(count), scan_table(scan)];
+    // Interrupted before the states were learned: the note at the end says so.
+    for f in scan.nodes.iter().filter(|f| f.state.is_none() && f.state_from != StateFrom::NotAsked) {
+        parts.push(Human::Line(format!("node {}: NMT state unknown: {}", f.node, f.state_from)));
+    }
+    // The probe asks again the ids that did not answer: a node that answered only then
+    // is the technician's sign that frames are being lost.
+    for r in &scan.answered_on_repeat {
+        // There are three rounds at most.
+        let nth = match r.probe {
+            2 => "2nd".to_string(),
+            3 => "3rd".to_string(),
+            n => format!("{n}th"),
+        };
+        parts.push(Human::Line(format!(
+            "node {} answered only on the {nth} probe: frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
+            r.node
+        )));
+    }
+    // Without a state the line above says why it is listed.
+    for f in scan.nodes.iter().filter(|f| !f.answers_sdo) {
+        if let Some(state) = f.state {
+            let elsewhere = scan.answers_elsewhere.iter().find(|e| e.node == f.node);
+            let why = match (elsewhere, state) {
+                (Some(e), _) => format!(
+                    ": its SDO server answers on 0x{:03X}, not 0x{:03X} (its 0x1200 changed; canctl doctor {} says more)",
+                    e.cob_id,
+                    0x580 + u16::from(f.node),
+                    f.node
+                ),
+                (None, crate::canopen::nmt::State::Stopped) => super::hints::stopped_node_aside(f.node),
+                (None, _) => format!(" (its SDO server is off or on other COB-IDs: canctl doctor {} says more)", f.node),
+            };
+            parts.push(Human::Line(format!(
+                "node {}: seen by its {} ({}), but it answered none of the {} SDO probes{why}",
+                f.node,
+                f.state_from,
+                state.name(),
+                scan.probe_rounds,
+            )));
+        }
+    }
+    for g in &scan.gone {
+        parts.push(Human::Line(format!(
+            "node {}: seen by the last scan, it answers nothing now: not the probe ({})",
+            g.node, g.from
+        )));
+    }
+    if scan.lss_unconfigured > 0 {
+        parts.push(Human::Line(format!(
+            "{} device(s) without a node-id answered LSS (canctl lss fastscan finds them, lss assign numbers them)",
+            scan.lss_unconfigured
+        )));
+    }
+    let configuring = &scan.lss_configuration;
+    if configuring.count > 0 {
+        let which = match configuring.one {
+            Some((id, None)) => format!(": {id}, no node-id"),
+            Some((id, Some(n))) => format!(": {id}, node-id {n}"),
+            None if configuring.count > 1 => {
+                " (several answered at once, so their identities cannot be told apart)".to_string()
+            }
+            None => " (not every identity inquiry was answered, so its identity is incomplete)".to_string(),
+        };
+        parts.push(Human::Line(format!(
+            "{} device(s) waiting in LSS configuration state{which} (canctl lss set-id gives a node-id; \
+             `canctl lss set-id 255 --global` or any LSS command sends them back to waiting)",
+            configuring.count
+        )));
+    }
+    if scan.interrupted {
+        parts.push(Human::Note(format!(
+            "scan interrupted, incomplete: {} node(s) found so far; not done: {}; nothing was changed on the devices",
+            scan.nodes.len(),
+            scan.not_done.iter().map(|p| phase_text(*p)).collect::<Vec<_>>().join(", ")
+        )));
+    }
+    Human::Parts(parts)
 }
 
 /// What to do about two devices on one node-id (`ops::clash::Clash`), as canctl says it.
