@@ -86,18 +86,20 @@ impl<T: Transport> Epos2Gateway<T> {
 
     /// Segment size: 63 bytes to the EPOS2 itself, one CAN SDO segment through it.
     fn segment_size(&mut self, node: u8) -> usize {
-        if node == 0 {
-            return MAX_SEGMENT;
-        }
-        if self.own_id.is_none() {
-            self.own_id =
-                Some(self.read_object(0, OWN_NODE_ID, Some(1)).ok().and_then(|d| d.first().copied()).unwrap_or(0));
-        }
-        if Some(node) == self.own_id {
+        if node == 0 || node == self.own_id() {
             MAX_SEGMENT
         } else {
             GATEWAY_SEGMENT
         }
+    }
+
+    /// The EPOS2's own node-id, read once (0 when it cannot be read: node 0 is always its own).
+    fn own_id(&mut self) -> u8 {
+        if self.own_id.is_none() {
+            self.own_id =
+                Some(self.read_object(0, OWN_NODE_ID, Some(1)).ok().and_then(|d| d.first().copied()).unwrap_or(0));
+        }
+        self.own_id.unwrap_or(0)
     }
 
     fn read_object(&mut self, node: u8, addr: ObjAddr, size: Option<usize>) -> Result<Vec<u8>> {
@@ -280,6 +282,10 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
 
     fn sees_traffic(&self) -> bool {
         false
+    }
+
+    fn own_node(&mut self) -> Option<u8> {
+        Some(self.own_id())
     }
 
     fn recv_frame_stamped(&mut self, _deadline: Instant) -> Result<Option<(Frame, Instant)>> {

@@ -325,6 +325,13 @@ pub trait Bus {
         None
     }
 
+    /// The node-id a gateway answers for itself, from its own dictionary rather than over
+    /// the bus (an EPOS2's own node): an answer from it shows nothing of the bus. `None` for
+    /// links that are not a node. A decorator passes it on (`pass_on_unchanged!`).
+    fn own_node(&mut self) -> Option<u8> {
+        None
+    }
+
     /// A listen-only trial at another bit rate (see [`FrameLink::listen_at`]). A decorator
     /// passes it on (`pass_on_unchanged!`).
     fn listen_at(&mut self, _kbit: u32, _window: Duration) -> Result<Option<controller::RateHeard>> {
@@ -413,6 +420,9 @@ macro_rules! pass_on_unchanged {
         }
         fn link_report(&mut self) -> Option<$crate::bus::controller::LinkReport> {
             self.$inner.link_report()
+        }
+        fn own_node(&mut self) -> Option<u8> {
+            self.$inner.own_node()
         }
         fn listen_at(
             &mut self,

@@ -72,18 +72,21 @@ pub(crate) fn explain(bus: &mut dyn Bus, error: &Error, o: &ExplainOptions) -> O
                 ..
             },
             Some(uri),
-        ) => {
+        )
+        | (Error::Epos2NoCanAnswer { node, .. }, Some(uri)) => {
             if let Err(link) = super::unheard::check(bus) {
                 return Some(Explanation::Link(link));
             }
+            let last_scan = scan_cache::load(uri);
+            let seen: Vec<u8> = last_scan.iter().map(|n| n.node).collect();
             let finding = match o.diagnose {
-                true => match doctor::quick(bus, *node, o.timeout.min(QUICK_WAIT)) {
+                true => match doctor::quick(bus, *node, &seen, o.timeout.min(QUICK_WAIT)) {
                     Err(e) if e.is_interrupted() => return Some(Explanation::Interrupted),
                     found => found.ok().flatten(),
                 },
                 false => None,
             };
-            Some(Explanation::Silent { bus: uri.to_string(), finding, last_scan: scan_cache::load(uri) })
+            Some(Explanation::Silent { bus: uri.to_string(), finding, last_scan })
         }
         (Error::SdoAbort { node, obj, code: code @ (NO_OBJECT | NO_SUBINDEX) }, _) => {
             let near = super::near::present_near(bus, o.dicts, *node, *obj, *code == NO_OBJECT, o.timeout);

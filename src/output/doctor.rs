@@ -274,6 +274,9 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::ProbeAnswers { nodes, waited_ms } => {
             format!("a read of 0x1000 sent to every node-id was answered by node(s) {} ({waited_ms} ms)", ids(nodes))
         }
+        Evidence::LastScanNodeAnswers { node, waited_ms } => {
+            format!("node {node}, seen by the last scan, answered a read of 0x1000 ({waited_ms} ms)")
+        }
         Evidence::LastScan { node, vendor_id, name } => format!(
             "the last scan saw node {node}: vendor-ID {}{}",
             vendor_id.map_or("-".into(), |v| format!("0x{v:08X}")),

@@ -166,6 +166,31 @@ fn refusals_and_absent_nodes() {
     }
 }
 
+/// A node that does not answer through the gateway gets a likely cause, as on any bus: a node
+/// the last scan saw answers a read, the gateway's own node (which answers from its own
+/// dictionary) not counted; where none of the others answers either, no cause is named.
+#[test]
+fn an_absent_node_behind_the_gateway_gets_its_likely_cause() {
+    let sim = Sim::new();
+    let dev = DeviceSide::start(&sim, "--epos2-rs232", &[]);
+    dev.run(&["scan"]).ok();
+    let r = dev.run(&["sdo", "read", "44", "1000"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("likely cause: node 44 is silent while the bus is not"), "{}", r.stderr);
+    let r = dev.run(&["nmt", "state", "44"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(r.stderr.contains("likely cause: node 44 is silent"), "{}", r.stderr);
+    // Every node behind the gateway stopped: only the EPOS2 itself (node 1) answers SDO now,
+    // which shows nothing of the bus.
+    for node in ["5", "10", "32"] {
+        dev.run(&["nmt", "stop", node]).ok();
+    }
+    let r = dev.run(&["sdo", "read", "44", "1000"]);
+    assert_eq!(r.code, 3, "{}", r.stderr);
+    assert!(!r.stderr.contains("likely cause"), "{}", r.stderr);
+    assert!(r.stderr.contains("nodes seen on the last scan"), "{}", r.stderr);
+}
+
 #[test]
 fn a_single_fault_is_retried() {
     for framing in FRAMINGS {

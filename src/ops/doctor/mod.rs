@@ -178,9 +178,10 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
 /// The quick part of the checks, for a node that just did not answer a request: its state
 /// from a heartbeat the bus already showed, else one node-guarding request (waiting up to
 /// `wait`); when neither says it, a read of 0x1000 of every node-id at once (one `wait`):
-/// the node alone is silent, or the whole bus (not where the link shows no traffic: an
-/// EPOS2 reads the ids one by one). At most two waits of `wait`. Reads only.
-pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Finding>> {
+/// the node alone is silent, or the whole bus. Where the link shows no traffic (an EPOS2
+/// reads the ids one by one), a read of one node of `last_scan` instead: does the bus
+/// answer but this node not? At most two waits of `wait`. Reads only.
+pub fn quick(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration) -> Result<Option<Finding>> {
     let beat = bus.observed().states.get(&node).copied();
     let (state, seen) = match beat {
         Some(state) => (Some(state), Evidence::Heartbeats { node, count: 1, state }),
@@ -191,7 +192,11 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
         Some(nmt::State::Stopped) => finding(Cause::Stopped { node }, Remedy::PreOperational { node }, vec![seen]),
         Some(_) => finding(Cause::SdoSilent { node }, Remedy::ResetCommunication { node }, vec![seen]),
         // Through an EPOS2 the read of every id is one after the other: far from quick.
-        None if !bus.sees_traffic() => None,
+        None if !bus.sees_traffic() => another_answers(bus, node, last_scan, wait)?.map(|other| Finding {
+            cause: Cause::NodeSilent { node },
+            evidence: vec![seen, other],
+            remedy: Remedy::CheckNode { node },
+        }),
         None => {
             let (found, waited_ms) = timed(bus, |bus| scan::probe_once(bus, wait))?;
             if found.iter().any(|(n, _)| *n == node) {
@@ -210,6 +215,22 @@ pub fn quick(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<Option<Findi
             }
         }
     })
+}
+
+/// A read of 0x1000 of the first node of `last_scan` other than `node`, waiting up to
+/// `wait`: the evidence that it answered (any answer, an abort included), or `None` when
+/// it did not either (a link that shows no traffic cannot tell a silent bus from more).
+fn another_answers(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration) -> Result<Option<Evidence>> {
+    // The gateway's own node answers from its own dictionary, not over the bus.
+    let own = bus.own_node();
+    let Some(&other) = last_scan.iter().find(|&&n| n != node && Some(n) != own) else { return Ok(None) };
+    let opts = SdoOptions { retries: 0, ..crate::ops::capped(wait, crate::ops::NUMBER_LIMIT) };
+    let (read, waited_ms) = timed(bus, |bus| Ok(bus.sdo_upload(other, ObjAddr::DEVICE_TYPE, &opts)))?;
+    match read {
+        Ok(_) | Err(Error::SdoAbort { .. }) => Ok(Some(Evidence::LastScanNodeAnswers { node: other, waited_ms })),
+        Err(e) if e.is_interrupted() => Err(e),
+        Err(_) => Ok(None),
+    }
 }
 
 /// What node guarding of `node` shows, waiting up to `wait`: its state and the evidence.

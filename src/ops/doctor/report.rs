@@ -274,6 +274,14 @@ pub enum Evidence {
         /// How long the probe took, on the bus's clock.
         waited_ms: u64,
     },
+    /// A node the last scan saw answered a read of 0x1000 (through a link that shows no
+    /// traffic, the quick sign that the bus itself answers).
+    LastScanNodeAnswers {
+        /// The node-id.
+        node: u8,
+        /// How long the read took, on the bus's clock.
+        waited_ms: u64,
+    },
     /// What the last scan saw on a node-id.
     LastScan {
         /// The node-id.
