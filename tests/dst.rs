@@ -214,6 +214,9 @@ struct Scenario {
     config: SimConfig,
     /// Stop requested after this many confirmed SDO transfers or NMT commands.
     stop_after: Option<u32>,
+    /// A scan or health check of a bus canctl has not scanned before (no scan cache): what
+    /// the bus shows by itself is all it knows.
+    first_look: bool,
 }
 
 const NODES: [u8; 4] = [1, 5, 10, 32];
@@ -280,7 +283,9 @@ impl Scenario {
         if procedure == Procedure::Scan && rng.chance(0.5) {
             procedure = pick(&mut rng, &[Procedure::Doctor, Procedure::Diagnose]);
         }
-        Scenario { seed, procedure, config, stop_after }
+        // Drawn last, for the same reason: now and then the bus is looked at for the first time.
+        let first_look = rng.chance(0.3);
+        Scenario { seed, procedure, config, stop_after, first_look }
     }
 
     fn clean(&self) -> bool {
@@ -435,8 +440,9 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
     match s.procedure {
         Procedure::Scan => {
             let o = ops::scan::ScanOptions { window: Duration::from_millis(300), timeout: TIMEOUT };
-            // As canctl scans a bus it scanned before: knowing the nodes the last scan saw.
-            let scan = ops::scan::scan_against(bus, &o, &NODES, &mut Silent)?;
+            // As canctl scans a bus it scanned before (knowing the nodes the last scan saw),
+            // or one it never scanned.
+            let scan = ops::scan::scan_against(bus, &o, last_seen(s), &mut Silent)?;
             Ok(Report::Scanned(scan.nodes.iter().map(|n| (n.node, n.serial)).collect(), scan.interrupted))
         }
         Procedure::Read(kind) => {
@@ -553,7 +559,7 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
                 timeout: TIMEOUT,
                 watch: None,
                 state: None,
-                last_seen: NODES.to_vec(),
+                last_seen: last_seen(s).to_vec(),
             };
             let h = ops::health::health(bus, &o, &mut Silent)?;
             Ok(Report::Nodes(h.nodes.iter().map(|n| (n.node, n.ok)).collect()))
@@ -573,7 +579,7 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
             let opts = SdoOptions { size_hint: Some(4), max_upload: 8, ..opts };
             let read = bus.sdo_upload(5, ObjAddr::new(0x1000, 0), &opts);
             if let Err(Error::NoAnswer { .. }) = read {
-                ops::doctor::quick(bus, 5, Duration::from_millis(500))?;
+                ops::doctor::quick(bus, 5, last_seen(s), Duration::from_millis(500))?;
             }
             read.map(|_| Report::Nothing)
         }
@@ -816,7 +822,7 @@ fn check(
             for (n, ok) in nodes {
                 // A node the last scan saw and that is gone now is reported, not healthy.
                 let Some(d) = after.node(*n) else {
-                    if *ok || !NODES.contains(n) {
+                    if *ok || !last_seen(s).contains(n) {
                         return Err(format!("reported node {n} (healthy: {ok}), no device has it"));
                     }
                     continue;
@@ -826,7 +832,7 @@ fn check(
                 }
             }
             // Every node the last scan saw is judged: never left out of a pass.
-            if let Some(n) = NODES.iter().find(|n| !nodes.iter().any(|(r, _)| r == *n)) {
+            if let Some(n) = last_seen(s).iter().find(|n| !nodes.iter().any(|(r, _)| r == *n)) {
                 return Err(format!("health left out node {n}, which the last scan saw"));
             }
         }
@@ -882,6 +888,14 @@ fn muted(s: &Scenario, d: &DeviceView) -> bool {
         kind.starts_with("mute")
             && (target == format!("sensor-{:08x}", d.identity.serial) || node.is_some_and(|n| d.node == Some(n)))
     })
+}
+
+/// The nodes the last scan of the bus saw: none on a first look.
+fn last_seen(s: &Scenario) -> &'static [u8] {
+    match s.first_look {
+        true => &[],
+        false => &NODES,
+    }
 }
 
 /// The node-ids a device with a wrong-cob fault answers on in place of its own.
@@ -1046,7 +1060,7 @@ fn lss_assign_under_two_percent_loss_never_calls_a_waiting_device_done() {
         for i in 1..=3 {
             config = config.fault(format!("sensor-0950130{i}:drop@2%").parse().unwrap());
         }
-        let s = Scenario { seed, procedure: Procedure::Assign, config, stop_after: None };
+        let s = Scenario { seed, procedure: Procedure::Assign, config, stop_after: None, first_look: false };
         let out = run(&s);
         if out.broken.is_some() {
             trace(&out.frames);
@@ -1076,7 +1090,7 @@ fn sdo_under_two_percent_loss_reads_and_plain_writes_finish_actions_are_sent_onc
         for node in NODES {
             config = config.fault(format!("{node}:drop@2%").parse().unwrap());
         }
-        let s = Scenario { seed, procedure, config, stop_after: None };
+        let s = Scenario { seed, procedure, config, stop_after: None, first_look: false };
         let out = run(&s);
         *outcomes.entry(format!("{:?}: {}", s.procedure, out.ended)).or_insert(0) += 1;
         if let Some(broken) = out.broken.or_else(|| (out.ended != "ok").then(|| out.ended.clone())) {
@@ -1117,14 +1131,15 @@ fn store_under_loss(seed: u64) -> (String, usize) {
 #[test]
 fn lss_assign_with_set_id_unanswered_says_the_device_may_hold_the_id() {
     let config = SimConfig::default().seed(7).unconfigured(1).virtual_time(true);
-    let clean = Scenario { seed: 7, procedure: Procedure::Assign, config: config.clone(), stop_after: None };
+    let clean =
+        Scenario { seed: 7, procedure: Procedure::Assign, config: config.clone(), stop_after: None, first_look: false };
     let out = run(&clean);
     assert!(out.broken.is_none() && out.ended == "ok", "{:?} {}", out.broken, out.ended);
     // The device's answers are counted from 1; the one to set-id is the first 0x11.
     let answers: Vec<&Taped> = out.frames.iter().filter(|f| !f.sent && f.id == 0x7E4).collect();
     let n = 1 + answers.iter().position(|f| f.data[0] == 0x11).expect("an answer to set-id");
     let config = config.fault(format!("sensor-09501301:short-dlc@{n}+").parse().unwrap());
-    let s = Scenario { seed: 7, procedure: Procedure::Assign, config, stop_after: None };
+    let s = Scenario { seed: 7, procedure: Procedure::Assign, config, stop_after: None, first_look: false };
     let out = run(&s);
     if out.broken.is_some() {
         trace(&out.frames);

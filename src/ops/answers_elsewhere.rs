@@ -62,7 +62,7 @@ const TRIES: usize = super::scan::PROBE_ROUNDS;
 /// A read of the device type sent to `node` with nothing else in flight, up to [`TRIES`]
 /// times: the COB-ID of the first answer to it (on any SDO response id), each try waiting
 /// `window` at most.
-fn ask_alone(bus: &mut dyn Bus, node: u8, window: Duration) -> Result<Option<u16>> {
+pub(crate) fn ask_alone(bus: &mut dyn Bus, node: u8, window: Duration) -> Result<Option<u16>> {
     for _ in 0..TRIES {
         bus.send_frame(&Frame::new(request_cob(node), &SdoClient::upload(ObjAddr::DEVICE_TYPE, false).start()))?;
         let end = bus.now() + window;
@@ -74,4 +74,25 @@ fn ask_alone(bus: &mut dyn Bus, node: u8, window: Duration) -> Result<Option<u16
         }
     }
     Ok(None)
+}
+
+/// Whether an answer comes on `node`'s SDO response COB-ID while every other node-id is
+/// asked and `node` is not (a read of the device type each, up to [`TRIES`] rounds, each
+/// waiting `window` at most): then that COB-ID is another device's, and `node` is not there.
+/// A node that fell silent after answering for itself gets no answer there.
+pub(crate) fn answered_by_another(bus: &mut dyn Bus, node: u8, window: Duration) -> Result<bool> {
+    let request = SdoClient::upload(ObjAddr::DEVICE_TYPE, false).start();
+    for _ in 0..TRIES {
+        for other in (1..=127).filter(|&n| n != node) {
+            bus.send_frame(&Frame::new(request_cob(other), &request))?;
+        }
+        let end = bus.now() + window;
+        while let Some(f) = bus.recv_frame(end)?.filter(|_| bus.now() <= end) {
+            let answer = super::clash::upload_answer(f.data(), ObjAddr::DEVICE_TYPE).is_some();
+            if f.id() == response_cob(node) && !f.is_remote() && answer {
+                return Ok(true);
+            }
+        }
+    }
+    Ok(false)
 }

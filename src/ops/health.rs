@@ -61,6 +61,10 @@ pub struct Health {
     /// The nodes that answered the scan's probe only when asked again: the bus is losing
     /// frames (not judged: each node's checks say how it is).
     pub answered_on_repeat: Vec<scan::Repeat>,
+    /// Node-ids the scan found answered for by another device ([`scan::Scan::not_there`]):
+    /// not nodes, not judged; said.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_there: Vec<u8>,
     /// Whether every node is healthy.
     pub ok: bool,
 }
@@ -335,6 +339,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
         nodes,
         lss_unconfigured: found.lss_unconfigured,
         answered_on_repeat: found.answered_on_repeat,
+        not_there: found.not_there,
         ok,
     })
 }

@@ -3,12 +3,14 @@
 //! without a node-id (LSS "identify non-configured remote slave") and those left in LSS
 //! configuration state (they answer the LSS inquiries, and without a node-id no SDO).
 
+use super::answers_elsewhere::AnswersElsewhere;
 use super::node::Guarded;
 use super::Progress;
 use crate::bus::observer::SeenBy;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::canopen::lss::{Identity, Inquiry, Request, Response, UNCONFIGURED};
 use crate::canopen::nmt;
+use crate::canopen::sdo::response_cob;
 use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
 use crate::ops::Warning;
@@ -93,6 +95,11 @@ pub struct Scan {
     /// COB-ID it took is not listed unless it answers on its own.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub answers_elsewhere: Vec<super::answers_elsewhere::AnswersElsewhere>,
+    /// Node-ids an answer to the probe came for, that then answered nothing, not even asked
+    /// alone: the answer was another device's, on their COB-ID (an SDO server on another
+    /// node's COB-ID that showed itself no other way). Not listed in `nodes`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_there: Vec<u8>,
 }
 
 /// A node the last scan saw that showed nothing in this one.
@@ -347,6 +354,7 @@ pub fn scan_against(bus: &mut dyn Bus, o: &ScanOptions, last_seen: &[u8], progre
         not_done: Vec::new(),
         gone: Vec::new(),
         answers_elsewhere: Vec::new(),
+        not_there: Vec::new(),
     };
     let mut phase = 0;
     match scan_into(bus, o, last_seen, progress, &mut report, &mut phase) {
@@ -397,14 +405,15 @@ fn scan_into(
     report.nodes.retain(|n| !shown.phantoms.contains(&n.node));
     report.answers_elsewhere = shown.elsewhere.clone();
     *phase = 1;
-    identify(bus, &mut report.nodes, o.timeout, progress)?;
+    let silent = identify(bus, &mut report.nodes, o.timeout, progress)?;
+    confirm_silent(bus, report, silent, o.window, progress)?;
     let serials: Vec<(u8, Option<u32>)> = report.nodes.iter().map(|n| (n.node, n.serial)).collect();
     report.clashes = super::clash::find(bus, &serials, o.window, o.timeout)?;
     *phase = 2;
     nmt_states(bus, &mut report.nodes, o)?;
     add_seen_otherwise(bus, &mut report.nodes);
     // Its answers on that COB-ID showed it to the bus's observer too: it is still not there.
-    report.nodes.retain(|n| !shown.phantoms.contains(&n.node));
+    report.nodes.retain(|n| !shown.phantoms.contains(&n.node) && !report.not_there.contains(&n.node));
     let mut unseen: Vec<Node> = last_seen
         .iter()
         .filter(|n| !report.nodes.iter().any(|f| f.node == **n))
@@ -534,43 +543,111 @@ fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
 }
 
 /// Identity, name and heartbeat time of every node, all nodes in parallel.
-fn identify(bus: &mut dyn Bus, nodes: &mut [Node], timeout: Duration, progress: &mut dyn Progress) -> Result<()> {
-    let reads: Vec<(u8, ObjAddr)> = nodes
-        .iter()
-        .flat_map(|f| {
-            (1..=4)
-                .map(|sub| (f.node, ObjAddr::new(ObjAddr::IDENTITY.index, sub)))
-                .chain([(f.node, ObjAddr::DEVICE_NAME), (f.node, ObjAddr::HEARTBEAT_TIME)])
-        })
-        .collect();
-    progress.start("identity", reads.len() as u64);
+/// Read each node's identity, name and heartbeat period. The vendor-ID first, of every node
+/// at once: a node that answers not even that (it timed out) is asked nothing more, and is
+/// returned with its error for [`confirm_silent`], unsaid.
+fn identify(
+    bus: &mut dyn Bus,
+    nodes: &mut [Node],
+    timeout: Duration,
+    progress: &mut dyn Progress,
+) -> Result<Vec<(u8, Error)>> {
+    progress.start("identity", (nodes.len() * 6) as u64);
     // The name is a string: one that never ends stops at the name's limit, not after 1 MiB.
     let opts = super::capped(timeout, super::NAME_LIMIT);
-    let values = bus.sdo_upload_many(&reads, &opts, &mut |n| progress.advance(n as u64));
-    progress.finish();
+    let first: Vec<(u8, ObjAddr)> = nodes.iter().map(|f| (f.node, ObjAddr::VENDOR_ID)).collect();
+    let answers = bus.sdo_upload_many(&first, &opts, &mut |n| progress.advance(n as u64))?;
+    let mut silent = Vec::new();
     let mut stopped = false;
-    for ((node, addr), value) in reads.iter().zip(values?) {
-        let f = nodes.iter_mut().find(|f| f.node == *node).expect("read for a found node");
-        match value {
-            Ok(bytes) if *addr == ObjAddr::DEVICE_NAME => f.name = DataType::Vs.decode(&bytes).map(|v| v.to_string()),
-            Ok(bytes) if *addr == ObjAddr::HEARTBEAT_TIME => {
-                f.heartbeat_ms = bytes.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]))
+    let mut answered = Vec::new();
+    for (read, answer) in first.iter().zip(answers) {
+        match answer {
+            Err(e) if e.is_timeout() => silent.push((read.0, e)),
+            answer => {
+                answered.push(read.0);
+                stopped |= record(nodes, read, answer, progress);
             }
-            Ok(bytes) => {
-                *match addr.sub {
-                    1 => &mut f.vendor_id,
-                    2 => &mut f.product_code,
-                    3 => &mut f.revision,
-                    _ => &mut f.serial,
-                } = as_u32(&bytes)
-            }
-            Err(Error::SdoAbort { .. }) => {}
-            Err(e) if e.is_interrupted() => stopped = true,
-            Err(error) => progress.event(Warning::Failed { node: None, error }.into()),
         }
     }
-    if stopped {
-        return Err(Error::Interrupted);
+    if !stopped {
+        let rest: Vec<(u8, ObjAddr)> = answered
+            .iter()
+            .flat_map(|&node| {
+                (2..=4)
+                    .map(move |sub| (node, ObjAddr::new(ObjAddr::IDENTITY.index, sub)))
+                    .chain([(node, ObjAddr::DEVICE_NAME), (node, ObjAddr::HEARTBEAT_TIME)])
+            })
+            .collect();
+        let done = first.len() as u64;
+        let answers = bus.sdo_upload_many(&rest, &opts, &mut |n| progress.advance(done + n as u64))?;
+        for (read, answer) in rest.iter().zip(answers) {
+            stopped |= record(nodes, read, answer, progress);
+        }
+    }
+    progress.finish();
+    match stopped {
+        true => Err(Error::Interrupted),
+        false => Ok(silent),
+    }
+}
+
+/// One identity read's answer, into its node; whether it says the user asked to stop.
+fn record(
+    nodes: &mut [Node],
+    (node, addr): &(u8, ObjAddr),
+    value: Result<Vec<u8>>,
+    progress: &mut dyn Progress,
+) -> bool {
+    let f = nodes.iter_mut().find(|f| f.node == *node).expect("read for a found node");
+    match value {
+        Ok(bytes) if *addr == ObjAddr::DEVICE_NAME => f.name = DataType::Vs.decode(&bytes).map(|v| v.to_string()),
+        Ok(bytes) if *addr == ObjAddr::HEARTBEAT_TIME => {
+            f.heartbeat_ms = bytes.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]))
+        }
+        Ok(bytes) => {
+            *match addr.sub {
+                1 => &mut f.vendor_id,
+                2 => &mut f.product_code,
+                3 => &mut f.revision,
+                _ => &mut f.serial,
+            } = as_u32(&bytes)
+        }
+        Err(Error::SdoAbort { .. }) => {}
+        Err(e) if e.is_interrupted() => return true,
+        Err(error) => progress.event(Warning::Failed { node: None, error }.into()),
+    }
+    false
+}
+
+/// The nodes that answered the probe but not their identity (`silent`, with the read's
+/// error), each asked alone: an answer on its own COB-ID keeps it (the error is said), on
+/// another keeps it as answering elsewhere. Silent alone, the other node-ids are asked
+/// without it: an answer on its COB-ID then is another device's, and it is not there; none
+/// means it answered for itself and fell silent since (kept, the error said). Where the
+/// link shows no traffic the probe asked one node at a time: its answers were the nodes' own.
+fn confirm_silent(
+    bus: &mut dyn Bus,
+    report: &mut Scan,
+    silent: Vec<(u8, Error)>,
+    window: Duration,
+    progress: &mut dyn Progress,
+) -> Result<()> {
+    for (node, error) in silent {
+        let alone = match bus.sees_traffic() {
+            true => super::answers_elsewhere::ask_alone(bus, node, window)?,
+            false => Some(response_cob(node)),
+        };
+        match alone {
+            Some(cob_id) if cob_id == response_cob(node) => {
+                progress.event(Warning::Failed { node: None, error }.into())
+            }
+            Some(cob_id) => report.answers_elsewhere.push(AnswersElsewhere { node, cob_id }),
+            None if super::answers_elsewhere::answered_by_another(bus, node, window)? => {
+                report.nodes.retain(|n| n.node != node);
+                report.not_there.push(node);
+            }
+            None => progress.event(Warning::Failed { node: None, error }.into()),
+        }
     }
     Ok(())
 }

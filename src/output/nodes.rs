@@ -105,6 +105,7 @@ fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
             )));
         }
     }
+    parts.extend(scan.not_there.iter().map(|node| Human::Line(not_there_text(*node))));
     for g in &scan.gone {
         parts.push(Human::Line(format!(
             "node {}: seen by the last scan, it answers nothing now: not the probe ({})",
@@ -141,6 +142,15 @@ fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
         )));
     }
     Human::Parts(parts)
+}
+
+/// A node-id the probe's answer came for, though no device has it ([`Scan::not_there`]).
+pub(super) fn not_there_text(node: u8) -> String {
+    format!(
+        "node {node}: not listed: an answer to the probe came on its COB-ID 0x{:03X}, but asked alone it answers \
+         nothing: another device's SDO server answers there (its 0x1200 changed)",
+        0x580 + u16::from(node)
+    )
 }
 
 /// What to do about two devices on one node-id (`ops::clash::Clash`), as canctl says it.
@@ -367,6 +377,7 @@ mod tests {
             not_done: vec![],
             gone: vec![Gone { node: 7, from: StateFrom::Silent { heartbeat: false } }],
             answers_elsewhere: vec![],
+            not_there: vec![],
         };
         let lines = lines(scan.human());
         assert!(

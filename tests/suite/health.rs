@@ -166,3 +166,24 @@ fn a_device_answering_on_another_nodes_cob_id_makes_no_phantom_node() {
     assert!(!run.stdout.contains("nmt preop 5"), "{}", run.stdout);
     assert!(run.stdout.contains("its SDO server does not answer on 0x605/0x585"), "{}", run.stdout);
 }
+
+/// The same device beating no heartbeat, on a bus canctl never scanned: nothing shows node 5,
+/// so the probe's answer on 0x586 is all there is of it. Node 6 answers none of its identity
+/// and nothing asked alone: it is not listed, and the scan and health say why (node 6 used to
+/// be listed, and its six identity reads took 9 s).
+#[test]
+fn a_first_scan_lists_no_node_for_another_devices_answer() {
+    let sim = Sim::new();
+    sim.run(&["sim", "reset", "--fault", "5:wrong-cob", "--fault", "5:no-heartbeat"]).ok();
+    let scan = sim.run(&["scan", "--format", "json"]).ok().json();
+    let ids: Vec<u64> = scan["nodes"].as_array().unwrap().iter().map(|n| n["node"].as_u64().unwrap()).collect();
+    assert_eq!(ids, [1, 10, 32], "{scan}");
+    assert_eq!(scan["not_there"], serde_json::json!([6]), "{scan}");
+    let run = sim.run(&["health"]);
+    assert!(!run.stdout.lines().any(|l| l.split_whitespace().next() == Some("6")), "{}", run.stdout);
+    assert!(
+        run.stderr.contains("node 6: not listed: an answer to the probe came on its COB-ID 0x586"),
+        "{}",
+        run.stderr
+    );
+}

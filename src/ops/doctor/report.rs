@@ -282,6 +282,12 @@ pub enum Evidence {
         /// How long the read took, on the bus's clock.
         waited_ms: u64,
     },
+    /// Other nodes the bus showed in use while the node was asked (heartbeats, answers,
+    /// boot-ups).
+    NodesHeard {
+        /// Their node-ids.
+        nodes: Vec<u8>,
+    },
     /// What the last scan saw on a node-id.
     LastScan {
         /// The node-id.
