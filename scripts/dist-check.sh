@@ -9,7 +9,8 @@
 #   windows  the .exe from the zip under wine (scripts/windows-smoke.sh)
 #   deb      each .deb on a clean Debian root (debootstrap): man canctl, bash completion,
 #            dpkg -r leaves no file behind
-#   crate    cargo publish --dry-run; the library's docs without the cli feature (docs.rs)
+#   crate    cargo publish --dry-run of every crate of the workspace (each verified against the
+#            packages of the ones below it); the library's docs without the cli feature (docs.rs)
 #   repro    a second build of every target (DIST_REPRO_TARGETS, default all of dist.sh's)
 #            from a clone in another directory and another target dir, each file compared
 #            byte for byte with dist/: tarballs, .debs, the Windows zip, debug files, sums
@@ -144,7 +145,7 @@ step_deb() {
 step_crate() {
   local log; log=$(mktemp)
   # The package leaves tests and benchmarks out on purpose: cargo's notes about that are noise.
-  cargo publish --locked --dry-run >"$log" 2>&1 || { cat "$log"; echo "FAIL: cargo publish --dry-run"; return 1; }
+  cargo publish --locked --dry-run --workspace >"$log" 2>&1 || { cat "$log"; echo "FAIL: cargo publish --dry-run --workspace"; return 1; }
   grep -vE "^warning: (ignoring (test|benchmark|example)|manifest has no)|^  (\||= note)" "$log"
   rm -f "$log"
   cargo doc --locked --quiet --lib --no-deps --no-default-features

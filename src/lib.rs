@@ -1,6 +1,11 @@
 //! canctl: commission CANopen devices over SocketCAN, maxon EPOS2 serial links, or a
 //! simulated bus. The binary is a thin shell over this library.
 //!
+//! The layers at the bottom are crates of their own (`crates/`), re-exported here under their
+//! old names: `canctl-canopen` ([`canopen`], [`frame`]: the protocol, no I/O) and `canctl-od`
+//! ([`od`], [`input`]: dictionaries and their files). The compiler holds their order; a
+//! library user who needs only them depends on them alone.
+//!
 //! # Layers
 //!
 //! Each layer may use the ones below it, never one above nor a sibling; the order is
@@ -19,9 +24,9 @@
 //! | [`cancel`], `atomic` | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
 //! | [`error`] | the library's [`Error`], wrapping the lower layers' errors; exit codes |
 //! | [`epos2`], [`slcan`], [`socketcand`] | the serial and network protocols: pure framing, CRC, commands; EPOS2's two transports |
-//! | [`od`] | object dictionaries, EDS/DCF read and write, object names |
-//! | [`canopen`], [`input`], `trace` | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
-//! | [`frame`], [`serial`], `xdg` | the CAN frame; the serial port the serial backends use; where state and cache files live |
+//! | [`od`] (crate `canctl-od`) | object dictionaries, EDS/DCF read and write, object names |
+//! | [`canopen`] (crate `canctl-canopen`), [`input`] (in `canctl-od`), `trace` | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
+//! | [`frame`] (in `canctl-canopen`), [`serial`], `xdg` | the CAN frame; the serial port the serial backends use; where state and cache files live |
 //!
 //! # Where things go
 //!
@@ -33,7 +38,7 @@
 //!   own (as the EPOS2 gateway) in `backend/`, a variant of `BusAddr` with its
 //!   `FromStr`/`Display` forms (round-trip tested), and its arm in `connect::open`. Nothing
 //!   above `connect` changes.
-//! - **A new protocol detail**: pure code in `canopen/`, unit-tested with byte vectors.
+//! - **A new protocol detail**: pure code in `crates/canopen/`, unit-tested with byte vectors.
 //!
 //! `cargo build --lib --no-default-features` builds the library without the command line;
 //! `examples/provision.rs` applies a DCF through it.
@@ -72,15 +77,15 @@ pub(crate) mod atomic;
 pub mod backend;
 pub mod bus;
 pub mod cancel;
-pub mod canopen;
+pub use canctl_canopen as canopen;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod connect;
 pub mod error;
-pub mod frame;
+pub use canctl_canopen::frame;
 pub(crate) mod hint;
-pub mod input;
-pub mod od;
+pub use canctl_od as od;
+pub use canctl_od::input;
 pub mod ops;
 #[cfg(feature = "cli")]
 pub mod output;

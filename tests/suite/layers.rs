@@ -116,6 +116,44 @@ fn crate_paths(code: &str) -> BTreeSet<String> {
         .collect()
 }
 
+/// Where the library's sources are: `src/` and each crate of `crates/`, with the prefix a
+/// file's path is said with (`src/`, `crates/od/src/`).
+fn source_dirs() -> Vec<(PathBuf, String)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut dirs = vec![(root.join("src"), "src/".to_string())];
+    let mut crates: Vec<_> = std::fs::read_dir(root.join("crates")).unwrap().map(|e| e.unwrap().path()).collect();
+    crates.sort();
+    for dir in crates {
+        let name = dir.file_name().unwrap().to_str().unwrap().to_string();
+        dirs.push((dir.join("src"), format!("crates/{name}/src/")));
+    }
+    dirs
+}
+
+/// The crates below the library use only the ones below them: the protocol none, the
+/// dictionaries the protocol. Cargo forbids a cycle; this holds the order.
+#[test]
+fn the_crates_are_the_layers_below_the_library() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let uses = |krate: &str| -> Vec<String> {
+        let manifest = std::fs::read_to_string(root.join("crates").join(krate).join("Cargo.toml")).unwrap();
+        let mut names: Vec<String> = manifest
+            .lines()
+            .filter_map(|l| l.split(['.', ' ', '=']).next())
+            .filter(|name| name.starts_with("canctl"))
+            .map(str::to_string)
+            .collect();
+        names.retain(|n| n != &format!("canctl-{krate}"));
+        names.sort();
+        names.dedup();
+        names
+    };
+    assert_eq!(uses("canopen"), Vec::<String>::new());
+    assert_eq!(uses("od"), ["canctl-canopen"]);
+    let crates: Vec<_> = source_dirs().into_iter().skip(1).map(|(_, prefix)| prefix).collect();
+    assert_eq!(crates, ["crates/canopen/src/", "crates/od/src/"], "a new crate: place it here");
+}
+
 #[test]
 fn imports_only_go_down_the_layers() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -275,15 +313,23 @@ fn commands_named(text: &str, commands: &[String]) -> Vec<String> {
 /// `--flag` or a canctl command, but for those `NAMING` lists with the reason.
 #[test]
 fn library_strings_name_no_flag_and_no_command() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let commands = commands();
     assert!(["scan", "nmt", "config", "sim"].iter().all(|c| commands.iter().any(|k| k == c)), "{commands:?}");
     let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    for (dir, prefix) in source_dirs() {
+        let mut found = Vec::new();
+        rust_files(&dir, &mut found);
+        files.extend(found.into_iter().map(|f| (dir.clone(), prefix.clone(), f)));
+    }
     files.sort();
     let (mut naming, mut used) = (Vec::new(), BTreeSet::new());
-    for file in &files {
-        let rel = file.strip_prefix(&src).unwrap().to_str().unwrap().replace('\\', "/");
+    for (src, prefix, file) in &files {
+        // A crate's files are named from the workspace root, src's from src/ (as NAMING does).
+        let rel = file.strip_prefix(src).unwrap().to_str().unwrap().replace('\\', "/");
+        let rel = match prefix.as_str() {
+            "src/" => rel,
+            crate_src => format!("{crate_src}{rel}"),
+        };
         let front_end = ["cli/", "output/"].iter().any(|d| rel.starts_with(d));
         if front_end
             || ["output.rs", "main.rs"].contains(&rel.as_str())
@@ -297,7 +343,10 @@ fn library_strings_name_no_flag_and_no_command() {
             for name in flags_named(&literal).into_iter().chain(commands_named(&literal, &commands)) {
                 match NAMING.iter().position(|(f, l, _)| *f == rel && *l == name) {
                     Some(k) => drop(used.insert(k)),
-                    None => naming.push(format!("src/{rel} (near line {line}): {name} in {literal:?}")),
+                    None => naming.push(format!(
+                        "{}{rel} (near line {line}): {name} in {literal:?}",
+                        if rel.starts_with("crates/") { "" } else { "src/" }
+                    )),
                 }
             }
         }
@@ -331,14 +380,16 @@ fn the_scan_finds_flags_in_strings_only() {
 /// 800 lines; a file that grows past it holds more than one concern and is split by them.
 #[test]
 fn no_source_file_is_over_800_lines() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    for (dir, _) in source_dirs() {
+        rust_files(&dir, &mut files);
+    }
     let large: Vec<String> = files
         .iter()
         .map(|f| (f, std::fs::read_to_string(f).unwrap().lines().count()))
         .filter(|(_, lines)| *lines > 800)
-        .map(|(f, lines)| format!("{} has {lines} lines", f.strip_prefix(&src).unwrap().display()))
+        .map(|(f, lines)| format!("{} has {lines} lines", f.strip_prefix(root).unwrap().display()))
         .collect();
     assert!(large.is_empty(), "split these by concern: {large:?}");
 }

@@ -1,0 +1,762 @@
+//! EDS and DCF files (CiA 306): INI sections per object and sub-object, read into a
+//! `Dictionary` (plus a DCF's `ParameterValue`s) and written from one.
+//!
+//! Real files are Latin-1, use CRLF, vary the case of keys and section names and leave out
+//! optional keys; the reader takes all that. What it cannot read it names with file:line.
+
+/// Re-exported for readers beside this one.
+pub use super::lint::MAX_WARNINGS;
+use super::lint::{self, Kind, Warning, Warnings};
+use super::{Access, Dictionary, Entry, Init, ObjectKind};
+use canctl_canopen::{DataType, ObjAddr};
+use std::collections::{BTreeMap, BTreeSet};
+
+/// An EDS or DCF that cannot be read or parsed, at file:line when a line is to blame.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub struct EdsError {
+    /// The file, as given.
+    pub path: String,
+    /// 0 when the file could not be read at all.
+    pub line: usize,
+    /// What is wrong, in words.
+    pub msg: String,
+}
+
+impl std::fmt::Display for EdsError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.line {
+            0 => f.write_str(&self.msg),
+            line => write!(f, "{}:{line}: {}", self.path, self.msg),
+        }
+    }
+}
+
+/// A parsed EDS or DCF.
+#[derive(Debug, Clone, Default)]
+pub struct Eds {
+    /// The file it was read from, as given (`-` for standard input).
+    pub path: String,
+    /// The objects it describes, with their defaults (or a DCF's values).
+    pub dict: Dictionary,
+    /// `ParameterValue`s of a DCF: what the device is to hold.
+    pub values: BTreeMap<ObjAddr, Init>,
+    /// `[DeviceComissioning] NodeID` of a DCF.
+    pub node_id: Option<u8>,
+    /// `[DeviceInfo]` keys, lower-cased, as written.
+    pub info: BTreeMap<String, String>,
+    /// Data types `[DummyUsage]` allows as gaps in a PDO mapping (`Dummy0005=1`: 0x0005).
+    pub dummy_usage: BTreeSet<u16>,
+    /// Where the file deviates from CiA 306 (objects left out, repeated keys, over-long
+    /// lines, ...), each with file:line and what the reader did. The library never prints:
+    /// the caller shows them.
+    pub warnings: Warnings,
+}
+
+/// CiA 306 keeps a line to 255 characters; longer ones are read, with a warning.
+pub(crate) const MAX_LINE_CHARS: usize = 255;
+
+struct Section {
+    name: String,
+    line: usize,
+    /// Lower-cased key → value and line; a repeated key keeps its last value.
+    keys: std::collections::HashMap<String, (String, usize)>,
+    /// Lower-cased key → the key as the file spells it, for messages.
+    spelled: std::collections::HashMap<String, String>,
+}
+
+impl Section {
+    fn get(&self, key: &str) -> Option<(&str, usize)> {
+        self.keys.get(key).map(|(v, l)| (v.as_str(), *l))
+    }
+
+    /// The section's name as CiA 306 spells it, for messages.
+    fn spelled_name(&self) -> &'static str {
+        match self.name.as_str() {
+            "mandatoryobjects" => "MandatoryObjects",
+            "optionalobjects" => "OptionalObjects",
+            _ => "ManufacturerObjects",
+        }
+    }
+}
+
+/// The blanks an INI line may have around keys and values: ASCII space and tab only, so
+/// that Latin-1 bytes such as 0xA0 stay part of the value.
+fn trim_blanks(s: &str) -> &str {
+    s.trim_matches([' ', '\t'])
+}
+
+/// Sections with their lines; keys lower-cased. Each byte becomes the Latin-1 character
+/// of the same number, so a value's text gives back its exact bytes (`to_latin1`).
+fn parse_ini(bytes: &[u8], path: &str, warnings: &mut Vec<Warning>) -> Result<Vec<Section>, EdsError> {
+    let text: String = bytes.iter().map(|b| *b as char).collect();
+    let err = |line: usize, msg: String| EdsError { path: path.to_string(), line, msg };
+    let mut sections: Vec<Section> = Vec::new();
+    let mut seen_sections: BTreeMap<String, usize> = BTreeMap::new();
+    for (i, raw) in text.split('\n').enumerate() {
+        let no = i + 1;
+        let raw = raw.strip_suffix('\r').unwrap_or(raw);
+        if raw.chars().count() > MAX_LINE_CHARS {
+            let msg = format!(
+                "line of {} characters, more than the {MAX_LINE_CHARS} CiA 306 allows (read in full)",
+                raw.chars().count()
+            );
+            lint::push(warnings, Warning::new(path, no, Kind::LongLine, msg));
+        }
+        let line = trim_blanks(raw);
+        if line.is_empty() || line.starts_with(';') || line.starts_with('#') {
+            continue;
+        }
+        if let Some(rest) = line.strip_prefix('[') {
+            let name = rest
+                .strip_suffix(']')
+                .ok_or_else(|| err(no, format!("section header {} has no closing ]", quoted(line))))?;
+            let name = trim_blanks(name).to_ascii_lowercase();
+            if let Some(first) = seen_sections.insert(name.clone(), no) {
+                let msg = format!("section {line} again (before at line {first}): this one replaces it");
+                lint::push(warnings, Warning::new(path, no, Kind::RepeatedSection, msg));
+            }
+            sections.push(Section { name, line: no, keys: Default::default(), spelled: Default::default() });
+            continue;
+        }
+        let (key, value) = line
+            .split_once('=')
+            .ok_or_else(|| err(no, format!("expected KEY=VALUE or [SECTION], found {}", quoted(line))))?;
+        let section =
+            sections.last_mut().ok_or_else(|| err(no, format!("{} comes before any [SECTION]", quoted(line))))?;
+        let key_lower = trim_blanks(key).to_ascii_lowercase();
+        section.spelled.insert(key_lower.clone(), trim_blanks(key).to_string());
+        let value = (trim_blanks(value).to_string(), no);
+        if let Some((_, first)) = section.keys.insert(key_lower, value) {
+            let msg = format!(
+                "{} repeated in [{}] (before at line {first}): the value of line {no} is used",
+                trim_blanks(key),
+                section.name
+            );
+            lint::push(warnings, Warning::new(path, no, Kind::RepeatedKey, msg));
+        }
+    }
+    Ok(sections)
+}
+
+/// A line of the file quoted in a message, in quotes: a binary file's "line" can be
+/// thousands of bytes, so at most [`QUOTED_CHARS`] characters are shown (the length said
+/// when cut), and each byte a terminal does not show as text is written `\xNN`.
+fn quoted(line: &str) -> String {
+    let mut shown = String::new();
+    for c in line.chars() {
+        let c = if c.is_control() { format!("\\x{:02X}", c as u32) } else { c.to_string() };
+        if shown.chars().count() + c.chars().count() > QUOTED_CHARS {
+            return format!("'{shown}…' ({} characters)", line.chars().count());
+        }
+        shown.push_str(&c);
+    }
+    format!("'{shown}'")
+}
+
+/// The most characters of a line [`quoted`] shows.
+const QUOTED_CHARS: usize = 60;
+
+/// `1018` → (0x1018, None); `1018sub2` → (0x1018, Some(2)); anything else → None.
+fn object_section(name: &str) -> Option<(u16, Option<u8>)> {
+    let (index, sub) = match name.split_once("sub") {
+        Some((i, s)) => (i, Some(s)),
+        None => (name, None),
+    };
+    if index.len() != 4 || !index.chars().all(|c| c.is_ascii_hexdigit()) {
+        return None;
+    }
+    let index = u16::from_str_radix(index, 16).ok()?;
+    match sub {
+        None => Some((index, None)),
+        Some(s) if !s.is_empty() && s.len() <= 2 => Some((index, Some(u8::from_str_radix(s, 16).ok()?))),
+        Some(_) => None,
+    }
+}
+
+mod values;
+mod write;
+pub use values::{data_type_from_code, mandatory, parse_limit, type_as_bytes};
+pub use values::{format_value, parse_int, to_latin1, value_text};
+use values::{parse_access, NODE_IDS};
+pub use values::{parse_value_as_meant, read_as_meant};
+pub use write::{parameter_text, write, write_bytes, Header, WriteError};
+/// How names and descriptions are encoded: Latin-1 as CiA 306 files traditionally are, or
+/// UTF-8 where the file says so with a byte order mark or is valid UTF-8 beyond ASCII.
+#[derive(Clone, Copy)]
+struct TextEncoding {
+    utf8: bool,
+}
+
+impl TextEncoding {
+    fn of(bytes: &[u8]) -> TextEncoding {
+        TextEncoding { utf8: !bytes.is_ascii() && std::str::from_utf8(bytes).is_ok() }
+    }
+
+    /// Text read as Latin-1 (one character per byte), as the file meant it: UTF-8, or
+    /// Windows-1252, whose quotes and dashes take Latin-1's unused control codes 0x80..0x9F.
+    fn decode(self, latin1: &str) -> String {
+        if self.utf8 {
+            if let Ok(s) = String::from_utf8(to_latin1(latin1)) {
+                return s;
+            }
+        }
+        latin1.chars().map(cp1252).collect()
+    }
+}
+
+/// Windows-1252's characters for 0x80..0x9F (C1 controls in Latin-1, never text in an EDS).
+fn cp1252(c: char) -> char {
+    const HIGH: [char; 32] = [
+        '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8D}', 'Ž', '\u{8F}', '\u{90}', '‘',
+        '’', '“', '”', '•', '–', '—', '˜', '™', 'š', '›', 'œ', '\u{9D}', 'ž', 'Ÿ',
+    ];
+    match c as u32 {
+        n @ 0x80..=0x9F => HIGH[(n - 0x80) as usize],
+        _ => c,
+    }
+}
+
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Parse an EDS or DCF. `path` is only for messages.
+///
+/// Only a file that is not an EDS at all (not INI, or no section an EDS has) is refused;
+/// what a reader can safely interpret is read, and an object that cannot be understood is
+/// left out; both are in [`Eds::warnings`] with file:line and the CiA 306 rule.
+pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
+    let (bytes, encoding) = match bytes.strip_prefix(BOM) {
+        Some(rest) => (rest, TextEncoding { utf8: true }),
+        None => (bytes, TextEncoding::of(bytes)),
+    };
+    let mut eds = Eds { path: path.to_string(), ..Eds::default() };
+    let sections = parse_ini(bytes, path, &mut eds.warnings)?;
+    let by_name: BTreeMap<(u16, Option<u8>), &Section> =
+        sections.iter().filter_map(|s| object_section(&s.name).map(|k| (k, s))).collect();
+    let known = |n: &str| matches!(n, "fileinfo" | "deviceinfo" | "devicecomissioning" | "devicecommissioning");
+    if by_name.is_empty() && !sections.iter().any(|s| known(&s.name)) {
+        return Err(EdsError {
+            path: path.to_string(),
+            line: sections.first().map_or(0, |s| s.line),
+            msg: "not an EDS or DCF: it has no [FileInfo], [DeviceInfo] or object section such as [1000]".into(),
+        });
+    }
+    let mut r = Reader { path, encoding, eds };
+    for s in &sections {
+        match s.name.as_str() {
+            "deviceinfo" => r.eds.info = s.keys.iter().map(|(k, (v, _))| (k.clone(), encoding.decode(v))).collect(),
+            "devicecomissioning" | "devicecommissioning" => r.commissioning(s),
+            "dummyusage" => r.dummy_usage(s),
+            _ => {}
+        }
+    }
+    let compact: BTreeMap<String, &Section> = sections.iter().map(|s| (s.name.clone(), s)).collect();
+    for ((index, sub), s) in &by_name {
+        // Data type definitions (0x0001..0x025F) describe types, not objects.
+        if sub.is_some() || *index < 0x1000 {
+            continue;
+        }
+        let name = r.name_of(s, format!("Object {index:04X}"));
+        let kind_code = match r.plain(s, "objecttype") {
+            Some((v, line)) => match parse_int(v) {
+                Some(code) => code,
+                None => {
+                    r.left_out(line, format!("{index:04X} ({name}) left out: ObjectType '{v}' is not a number"));
+                    continue;
+                }
+            },
+            None => 7,
+        };
+        let kind = match kind_code {
+            // A DOMAIN object (0x2) is a single value, as a VAR is.
+            7 | 2 => ObjectKind::Var,
+            8 => ObjectKind::Array,
+            9 => ObjectKind::Record,
+            // DEFTYPE, DEFSTRUCT and NULL objects hold no values.
+            0 | 5 | 6 => continue,
+            other => {
+                let line = s.get("objecttype").map_or(s.line, |(_, l)| l);
+                r.left_out(
+                    line,
+                    format!(
+                        "{index:04X} ({name}) left out: ObjectType {other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)"
+                    ),
+                );
+                continue;
+            }
+        };
+        if kind == ObjectKind::Var {
+            let domain = kind_code == 2;
+            if let Some(entry) = r.entry(s, ObjAddr::new(*index, 0), &name, domain) {
+                r.eds.dict.insert(entry);
+            }
+            continue;
+        }
+        let compact_count = match r.plain(s, "compactsubobj") {
+            Some((v, line)) => match parse_int(v) {
+                Some(0) => None,
+                Some(n @ 1..=254) if kind == ObjectKind::Array => Some(n as u8),
+                // CiA 306 gives CompactSubObj to ARRAYs; Lely's dcfgen writes it for PDO
+                // mapping RECORDs too, whose members share one type all the same.
+                Some(n @ 1..=254) => {
+                    r.warn(
+                        line,
+                        Kind::CompactRecord,
+                        format!("{index:04X} ({name}) is a RECORD with CompactSubObj={v}: read as an ARRAY of {n} sub-objects of its DataType"),
+                    );
+                    Some(n as u8)
+                }
+                _ => {
+                    r.left_out(
+                        line,
+                        format!("{index:04X} ({name}) left out: CompactSubObj={v} is not 1..254 for an ARRAY (0x8)"),
+                    );
+                    continue;
+                }
+            },
+            None => None,
+        };
+        let entries = match compact_count {
+            Some(n) => r.compact(s, *index, &name, n, &compact),
+            None => {
+                let subs: Vec<(u8, &Section)> = by_name
+                    .range((*index, Some(0))..=(*index, Some(255)))
+                    .map(|((_, sub), ss)| (sub.unwrap(), *ss))
+                    .collect();
+                if subs.is_empty() {
+                    r.left_out(
+                        s.line,
+                        format!(
+                            "{index:04X} ({name}) left out: an ARRAY or RECORD without any [{index:04X}subN] section or CompactSubObj"
+                        ),
+                    );
+                    continue;
+                }
+                r.sub_number(s, *index, &name, subs.len());
+                subs.into_iter()
+                    .filter_map(|(sub, ss)| {
+                        let member = r.name_of(ss, format!("Sub-index {sub}"));
+                        r.entry(ss, ObjAddr::new(*index, sub), &member, false)
+                    })
+                    .collect()
+            }
+        };
+        if entries.is_empty() {
+            continue;
+        }
+        r.eds.dict.object(*index, &name, kind);
+        for e in entries {
+            r.eds.dict.insert(e);
+        }
+    }
+    r.object_lists(&sections, &by_name);
+    // In the order of the file; the note that more were cut stays last.
+    r.eds.warnings.sort_by_key(|w| if w.kind == Kind::MoreLeftOut { usize::MAX } else { w.line });
+    Ok(r.eds)
+}
+
+/// The file being read: where its deviations go.
+struct Reader<'p> {
+    path: &'p str,
+    encoding: TextEncoding,
+    eds: Eds,
+}
+
+/// `0x3ED ; prevent homing` → `0x3ED`: the text before a `;` that follows a blank.
+fn strip_comment(v: &str) -> Option<&str> {
+    let at = v.char_indices().find(|(i, c)| *c == ';' && *i > 0 && v[..*i].ends_with([' ', '\t']))?.0;
+    Some(trim_blanks(&v[..at]))
+}
+
+impl Reader<'_> {
+    fn warn(&mut self, line: usize, kind: Kind, message: String) {
+        self.eds.warnings.push(Warning::new(self.path, line, kind, message));
+    }
+
+    fn left_out(&mut self, line: usize, message: String) {
+        self.warn(line, Kind::ObjectLeftOut, message);
+    }
+
+    fn name_of(&self, s: &Section, fallback: String) -> String {
+        s.get("parametername").map_or(fallback, |(v, _)| self.encoding.decode(v))
+    }
+
+    /// A key whose value is a number, a code or a value of a non-string type: an inline
+    /// comment after it is read as python-canopen and Lely's dcfchk read it, and said so.
+    fn plain<'s>(&mut self, s: &'s Section, key: &str) -> Option<(&'s str, usize)> {
+        let (v, line) = s.get(key)?;
+        match strip_comment(v) {
+            Some(value) => {
+                let key = s.spelled.get(key).map_or(key, String::as_str);
+                self.warn(
+                    line,
+                    Kind::InlineComment,
+                    format!("{key}={v}: the text from ';' on is read as a comment; the value is '{value}'"),
+                );
+                Some((value, line))
+            }
+            None => Some((v, line)),
+        }
+    }
+
+    fn commissioning(&mut self, s: &Section) {
+        if let Some((v, line)) = self.plain(s, "nodeid") {
+            match parse_int(v) {
+                Some(id) if NODE_IDS.contains(&id) => self.eds.node_id = Some(id as u8),
+                Some(0) => self.warn(
+                    line,
+                    Kind::PlaceholderCommissioning,
+                    "NodeID=0 is a placeholder, not a node-id: the node given on the command line is used".into(),
+                ),
+                _ => self.warn(line, Kind::ValueIgnored, format!("NodeID {v} is not 1 to 127: ignored")),
+            }
+        }
+        if let Some((v, line)) = self.plain(s, "baudrate") {
+            match parse_int(v) {
+                Some(10 | 20 | 50 | 125 | 250 | 500 | 800 | 1000) => {}
+                Some(0) => self.warn(
+                    line,
+                    Kind::PlaceholderCommissioning,
+                    "BaudRate=0 is a placeholder, not a bit rate: the bus's own bit rate is used".into(),
+                ),
+                _ => self.warn(
+                    line,
+                    Kind::ValueIgnored,
+                    format!("BaudRate {v} is not a CiA 301 bit rate in kbit/s (10 ... 1000): ignored"),
+                ),
+            }
+        }
+    }
+
+    /// `Dummy0002=1`: the data type 0x0002 may be mapped into a PDO as a gap.
+    fn dummy_usage(&mut self, s: &Section) {
+        let mut keys: Vec<(&String, &(String, usize))> = s.keys.iter().collect();
+        keys.sort_by_key(|(_, (_, line))| *line);
+        for (key, (v, line)) in keys {
+            let code = key.strip_prefix("dummy").filter(|c| c.len() == 4).and_then(|c| u16::from_str_radix(c, 16).ok());
+            match (code, parse_int(v)) {
+                (Some(code), Some(1)) => {
+                    self.eds.dummy_usage.insert(code);
+                }
+                (Some(_), Some(0)) => {}
+                _ => {
+                    let key = s.spelled.get(key.as_str()).unwrap_or(key);
+                    self.warn(
+                        *line,
+                        Kind::BadDummyUsage,
+                        format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored"),
+                    )
+                }
+            }
+        }
+    }
+
+    /// `[MandatoryObjects]`, `[OptionalObjects]`, `[ManufacturerObjects]` against the
+    /// object sections there are. The reader goes by the sections; a list that says
+    /// otherwise is said, as is a mandatory object (CiA 301: 0x1000, 0x1001, 0x1018) the
+    /// file lacks. A file without any list (a snippet, a test file) is not held to them.
+    fn object_lists(&mut self, sections: &[Section], by_name: &BTreeMap<(u16, Option<u8>), &Section>) {
+        const LISTS: [&str; 3] = ["mandatoryobjects", "optionalobjects", "manufacturerobjects"];
+        let lists: Vec<&Section> = sections.iter().filter(|s| LISTS.contains(&s.name.as_str())).collect();
+        let Some(first) = lists.first() else { return };
+        let mut listed = BTreeSet::new();
+        for list in &lists {
+            let title = list.spelled_name();
+            let mut entries: Vec<(usize, &str, usize)> = Vec::new();
+            for (key, (v, line)) in &list.keys {
+                if key == "supportedobjects" {
+                    continue;
+                }
+                match (parse_int(key), parse_int(v).and_then(|i| u16::try_from(i).ok())) {
+                    (Some(n), Some(index)) if n >= 1 => {
+                        entries.push((n as usize, v, *line));
+                        if !by_name.contains_key(&(index, None)) {
+                            self.warn(
+                                *line,
+                                Kind::ObjectList,
+                                format!("[{title}] lists 0x{index:04X}, which has no [{index:04X}] section: nothing to read"),
+                            );
+                        }
+                        listed.insert(index);
+                    }
+                    _ => self.warn(*line, Kind::ObjectList, format!("[{title}] {key}={v} is not N=index: ignored")),
+                }
+            }
+            match list.get("supportedobjects") {
+                Some((v, line)) if parse_int(v) != Some(entries.len() as i128) => self.warn(
+                    line,
+                    Kind::ObjectList,
+                    format!("[{title}] SupportedObjects={v} but it lists {}: the sections are read", entries.len()),
+                ),
+                None => self.warn(
+                    list.line,
+                    Kind::ObjectList,
+                    format!("[{title}] has no SupportedObjects: the {} it lists are read", entries.len()),
+                ),
+                _ => {}
+            }
+        }
+        for ((index, _), s) in by_name.range((0x1000, None)..).filter(|((_, sub), _)| sub.is_none()) {
+            if !listed.contains(index) {
+                self.warn(
+                    s.line,
+                    Kind::ObjectList,
+                    format!("[{index:04X}] is in no object list ([MandatoryObjects], [OptionalObjects], [ManufacturerObjects]): read all the same"),
+                );
+            }
+        }
+        for index in super::MANDATORY {
+            if !by_name.contains_key(&(index, None)) {
+                self.warn(
+                    first.line,
+                    Kind::MissingMandatory,
+                    format!("no [{index:04X}] section: {}", mandatory(index)),
+                );
+            }
+        }
+    }
+
+    /// SubNumber, which the reader does not need (it reads the sections there are).
+    fn sub_number(&mut self, s: &Section, index: u16, name: &str, found: usize) {
+        match self.plain(s, "subnumber") {
+            None => self.warn(
+                s.line,
+                Kind::MissingSubNumber,
+                format!("{index:04X} ({name}) has no SubNumber: its {found} [{index:04X}subN] sections are read"),
+            ),
+            Some((v, line)) => match parse_int(v) {
+                Some(n) if n == found as i128 => {}
+                _ => self.warn(
+                    line,
+                    Kind::SubNumberMismatch,
+                    format!(
+                        "{index:04X} ({name}) has SubNumber={v} but {found} [{index:04X}subN] sections: those are read"
+                    ),
+                ),
+            },
+        }
+    }
+
+    /// A CompactSubObj array: sub 0 holds the count, subs 1..=n share the object's type,
+    /// access and default; `[xxxxName]` names them and a DCF's `[xxxxValue]` gives values.
+    fn compact(
+        &mut self,
+        s: &Section,
+        index: u16,
+        name: &str,
+        n: u8,
+        sections: &BTreeMap<String, &Section>,
+    ) -> Vec<Entry> {
+        let sub0 = Entry {
+            addr: ObjAddr::new(index, 0),
+            name: "NrOfObjects".into(),
+            dtype: DataType::U8,
+            access: Access::Ro,
+            default: Init::Bytes(vec![n]),
+            range: None,
+        };
+        let Some(template) = self.entry(s, ObjAddr::new(index, 1), name, false) else { return Vec::new() };
+        // The object section's own ParameterValue is no member's.
+        self.eds.values.remove(&ObjAddr::new(index, 1));
+        let names = self.compact_list(sections.get(&format!("{index:04x}name")).copied(), index, n);
+        let values = self.compact_list(sections.get(&format!("{index:04x}value")).copied(), index, n);
+        let mut out = Vec::new();
+        for sub in 1..=n {
+            let addr = ObjAddr::new(index, sub);
+            let member = names.get(&sub).map_or_else(|| format!("{name}{sub}"), |(v, _)| self.encoding.decode(v));
+            let entry = Entry { addr, name: member, ..template.clone() };
+            if let Some((text, line)) = values.get(&sub) {
+                let key = format!("[{index:04X}Value] {sub}:");
+                match self.value_as_meant(&key, text, *line, &entry.name, addr, template.dtype) {
+                    Ok(v) => self.value(&entry, v, *line, &key),
+                    Err(m) => self.warn(*line, Kind::ValueIgnored, format!("[{index:04X}Value] {sub}: {m}; ignored")),
+                }
+            }
+            out.push(entry);
+        }
+        if !values.is_empty() {
+            // The count the device is to hold is the number of values given.
+            self.eds.values.insert(sub0.addr, Init::Bytes(vec![values.keys().max().copied().unwrap_or(0)]));
+        }
+        out.insert(0, sub0);
+        out
+    }
+
+    /// The `N=text` lines of a `[xxxxName]` or `[xxxxValue]` section, by subindex.
+    fn compact_list(&mut self, s: Option<&Section>, index: u16, n: u8) -> BTreeMap<u8, (String, usize)> {
+        let Some(s) = s else { return BTreeMap::new() };
+        let mut out = BTreeMap::new();
+        for (key, (v, line)) in &s.keys {
+            if key == "nrofentries" {
+                continue;
+            }
+            match parse_int(key).filter(|k| (1..=i128::from(n)).contains(k)) {
+                Some(sub) => {
+                    out.insert(sub as u8, (v.clone(), *line));
+                }
+                None => self.warn(
+                    *line,
+                    Kind::BadCompactSection,
+                    format!(
+                        "[{}] {key}={v}: {key} is not a sub-index 1..{n} of {index:04X}'s CompactSubObj; ignored",
+                        s.name
+                    ),
+                ),
+            }
+        }
+        out
+    }
+
+    /// One entry; `None` when it cannot be understood (said, with its line).
+    fn entry(&mut self, s: &Section, addr: ObjAddr, name: &str, domain: bool) -> Option<Entry> {
+        match self.try_entry(s, addr, name, domain) {
+            Ok(e) => Some(e),
+            Err((line, why)) => {
+                self.left_out(line, format!("{addr} ({name}) left out: {why}"));
+                None
+            }
+        }
+    }
+
+    fn try_entry(&mut self, s: &Section, addr: ObjAddr, name: &str, domain: bool) -> Result<Entry, (usize, String)> {
+        // A complex, manufacturer or profile type: its bytes, as python-canopen reads it.
+        let mut as_bytes = None;
+        let dtype = match self.plain(s, "datatype") {
+            Some((dt, line)) => {
+                let code = parse_int(dt).ok_or((line, format!("DataType '{dt}' is not a number")))?;
+                match data_type_from_code(code).map_err(|m| (line, m))? {
+                    Some(t) => t,
+                    None => {
+                        as_bytes = Some((line, code));
+                        DataType::D
+                    }
+                }
+            }
+            // A DOMAIN object needs no DataType: it is one.
+            None if domain => DataType::D,
+            None => return Err((s.line, "it has no DataType".into())),
+        };
+        let access = match self.plain(s, "accesstype") {
+            Some((v, line)) => {
+                parse_access(v).ok_or((line, format!("AccessType '{v}' is not ro, wo, rw, rwr, rww or const")))?
+            }
+            // DOMAINs are often described by type alone.
+            None if dtype == DataType::D => Access::Rw,
+            None => return Err((s.line, "it has no AccessType".into())),
+        };
+        let value_key = |r: &mut Self, key: &str| -> Option<(String, usize)> {
+            if dtype == DataType::Unicode {
+                s.get(key).map(|(v, l)| (r.encoding.decode(v), l))
+            } else if dtype == DataType::Vs {
+                s.get(key).map(|(v, l)| (v.to_string(), l))
+            } else {
+                r.plain(s, key).map(|(v, l)| (v.to_string(), l))
+            }
+        };
+        if let Some((line, code)) = as_bytes {
+            self.warn(line, Kind::TypeAsBytes, type_as_bytes(addr, name, code));
+        }
+        let default = match value_key(self, "defaultvalue").filter(|_| as_bytes.is_none()) {
+            // What DOMAIN defaults often say for "nothing".
+            Some((v, line))
+                if dtype == DataType::D && ["0", "0x0", "null"].contains(&v.to_ascii_lowercase().as_str()) =>
+            {
+                self.warn(
+                    line,
+                    Kind::DomainDefault,
+                    format!("DefaultValue={v} of DOMAIN {addr} ({name}) read as empty"),
+                );
+                Init::Bytes(Vec::new())
+            }
+            Some((v, line)) => match self.value_as_meant("DefaultValue", &v, line, name, addr, dtype) {
+                Ok(init) => init,
+                // A DOMAIN's default is often a file name or a note: not its content.
+                Err(m) if dtype == DataType::D => {
+                    self.warn(line, Kind::ValueIgnored, format!("DefaultValue of {addr} ({name}): {m}; read as empty"));
+                    Init::Bytes(Vec::new())
+                }
+                Err(m) => return Err((line, format!("DefaultValue {m}"))),
+            },
+            None => Init::Bytes(if let Some(size) = dtype.size() { vec![0; size] } else { Vec::new() }),
+        };
+        let limit = |r: &mut Self, key: &str| -> Option<i128> {
+            let (v, line) = value_key(r, key)?;
+            if v.is_empty() || dtype.int_range().is_none() {
+                return None;
+            }
+            let spelled = s.spelled.get(key).map_or(key, String::as_str);
+            match parse_limit(&v, dtype) {
+                Some((n, meant)) => {
+                    if let Some(meant) = meant {
+                        r.warn(line, Kind::ValueAsMeant, read_as_meant(spelled, &v, addr, name, &meant));
+                    }
+                    Some(n)
+                }
+                None => {
+                    r.warn(
+                        line,
+                        Kind::ValueIgnored,
+                        format!("{spelled} '{v}' of {addr} ({name}) is not an integer: no limit"),
+                    );
+                    None
+                }
+            }
+        };
+        let (low, high) = (limit(self, "lowlimit"), limit(self, "highlimit"));
+        let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {
+            self.warn(s.get("lowlimit").map_or(s.line, |(_, line)| line), kind, why);
+            None
+        });
+        let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
+        if let Some((v, line)) = value_key(self, "parametervalue") {
+            match self.value_as_meant("ParameterValue", &v, line, name, addr, dtype) {
+                Ok(value) => self.value(&entry, value, line, "ParameterValue"),
+                Err(m) => {
+                    self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {addr} ({name}): {m}; ignored"))
+                }
+            }
+        }
+        Ok(entry)
+    }
+
+    /// The value `text` (at `line`, under `key`) of `addr`, read as it plainly means where
+    /// it is not written as CiA 306 writes it, with a warning saying so.
+    fn value_as_meant(
+        &mut self,
+        key: &str,
+        text: &str,
+        line: usize,
+        name: &str,
+        addr: ObjAddr,
+        dtype: DataType,
+    ) -> Result<Init, String> {
+        let (value, meant) = parse_value_as_meant(text, dtype)?;
+        if let Some(meant) = meant {
+            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, addr, name, &meant));
+        }
+        Ok(value)
+    }
+
+    /// A value the file gives `entry` (at `line`, under `key`), kept when the file's own
+    /// limits allow it, as `config apply` will judge it.
+    fn value(&mut self, entry: &Entry, value: Init, line: usize, key: &str) {
+        match super::within_limits(entry, value, key) {
+            Ok(value) => {
+                self.eds.values.insert(entry.addr, value);
+            }
+            Err((kind, why)) => self.warn(line, kind, why),
+        }
+    }
+}
+
+/// Read a file from disk: a regular file within `input::MAX_EDS_BYTES`.
+pub fn read_file(path: &std::path::Path) -> Result<Eds, EdsError> {
+    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|e| EdsError {
+        path: path.display().to_string(),
+        line: 0,
+        msg: e.to_string(),
+    })?;
+    parse(&bytes, &path.display().to_string())
+}
+
+#[cfg(test)]
+mod tests;
