@@ -180,6 +180,9 @@ enum Procedure {
     /// A read of the sensor's device type, and when it is not answered, the quick
     /// diagnosis `sdo read` adds (drawn in place of a scan).
     Diagnose,
+    /// NMT stop sent to the sensor, then its state asked at once, as `nmt stop 5; nmt state
+    /// 5` in one program (drawn in place of a reset).
+    StopThenState,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -285,6 +288,10 @@ impl Scenario {
         }
         // Drawn last, for the same reason: now and then the bus is looked at for the first time.
         let first_look = rng.chance(0.3);
+        // And after it: a stop, then the state asked at once, in place of a reset now and then.
+        if procedure == Procedure::Reset && rng.chance(0.5) {
+            procedure = Procedure::StopThenState;
+        }
         Scenario { seed, procedure, config, stop_after, first_look }
     }
 
@@ -410,6 +417,8 @@ fn run(s: &Scenario) -> Outcome {
 
 /// What the procedure reported, reduced to what the devices can be checked against.
 enum Report {
+    /// The NMT state a node was reported in.
+    State(u8, nmt::State),
     /// Values read from a node's object.
     Read(u8, ObjAddr, Vec<u8>),
     Wrote(u8, ObjAddr, Vec<u8>),
@@ -495,6 +504,16 @@ fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Report> {
                 true => Report::Booted(r.booted.unwrap_or_default()),
                 false => Report::Nothing,
             })
+        }
+        Procedure::StopThenState => {
+            // The program did something else for a while: the sensor's beats (every 40 ms)
+            // wait unread, from before the stop.
+            let idle = bus.now() + Duration::from_millis(100);
+            bus.sleep_until(idle)?;
+            ops::nmt::send(bus, Command::Stop, 5)?;
+            let o = ops::nmt::StateOptions { listen: Duration::from_millis(300), timeout: TIMEOUT };
+            let state = ops::nmt::state(bus, 5, &o)?;
+            Ok(Report::State(5, state.state))
         }
         Procedure::ConfigApply => {
             let mut o = ops::config::ApplyOptions::new(TIMEOUT);
@@ -862,6 +881,15 @@ fn check(
                 if *followed == Some(true) && held != Some(*rate) {
                     return Err(format!("node {node} reported at the new rate, the device is at {held:?}"));
                 }
+            }
+        }
+        Report::State(node, state) => {
+            // What the node says from the command on, never a beat from before it.
+            // (A device that rebooted since may be pre-operational again: only a device left
+            // stopped is held to it.)
+            let stopped = after.node(*node).is_some_and(|d| d.nmt == nmt::State::Stopped);
+            if stopped && *state != nmt::State::Stopped {
+                return Err(format!("node {node} reported {state:?} after the stop, the device is stopped"));
             }
         }
         Report::Nothing => {}

@@ -306,8 +306,14 @@ fn poll_until_answering(bus: &mut dyn Bus, node: u8, o: &ResetOptions) -> Result
 /// A node's NMT state: from its heartbeat (listened for `listen`), else by node guarding.
 pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState> {
     if bus.sees_traffic() {
-        let listen_end = bus.now() + o.listen;
-        while let Some(f) = bus.recv_frame(listen_end)? {
+        let start = bus.now();
+        let listen_end = start + o.listen;
+        while let Some((f, at)) = bus.recv_frame_stamped(listen_end)? {
+            // A beat that was on the bus before the listen began may predate a command just
+            // sent (a stop): the state is what the node says from now on.
+            if at < start {
+                continue;
+            }
             if let Some((n, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
                 if n == node {
                     return Ok(NodeState { node, state, source: "heartbeat" });
