@@ -277,7 +277,7 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::LastScanNodeAnswers { node, waited_ms } => {
             format!("node {node}, seen by the last scan, answered a read of 0x1000 ({waited_ms} ms)")
         }
-        Evidence::NodesHeard { nodes } => format!("meanwhile the bus showed node(s) {} in use", ids(nodes)),
+        Evidence::NodesHeard { nodes } => format!("the bus showed node(s) {} in use during this command", ids(nodes)),
         Evidence::LastScan { node, vendor_id, name } => format!(
             "the last scan saw node {node}: vendor-ID {}{}",
             vendor_id.map_or("-".into(), |v| format!("0x{v:08X}")),

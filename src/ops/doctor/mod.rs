@@ -177,10 +177,11 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
 
 /// The quick part of the checks, for a node that just did not answer a request: its state
 /// from a heartbeat the bus already showed, else one node-guarding request (waiting up to
-/// `wait`); when neither says it, the other nodes the bus showed meanwhile, else a read of
-/// 0x1000 of every node-id at once (one `wait`): the node alone is silent, or the whole bus. Where the link shows no traffic (an EPOS2
-/// reads the ids one by one), a read of one node of `last_scan` instead: does the bus
-/// answer but this node not? At most two waits of `wait`. Reads only.
+/// `wait`); when neither says it, the other nodes the bus showed during the command, else a
+/// read of 0x1000 of every node-id at once (one `wait`): the node alone is silent, or the
+/// whole bus. Where the link shows no traffic (an EPOS2 reads the ids one by one), a read of
+/// one node of `last_scan` instead: does the bus answer but this node not? At most two
+/// waits of `wait`. Reads only.
 pub fn quick(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration) -> Result<Option<Finding>> {
     let beat = bus.observed().states.get(&node).copied();
     let (state, seen) = match beat {
@@ -197,8 +198,8 @@ pub fn quick(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration) -> R
             evidence: vec![seen, other],
             remedy: Remedy::CheckNode { node },
         }),
-        // Other nodes showed themselves while this one was asked: the bus is not silent,
-        // and no probe of every node-id need say so.
+        // Other nodes showed themselves during the command: the bus is not silent, and no
+        // probe of every node-id need say so.
         None if bus.observed().nodes.keys().any(|&n| n != node) => {
             let nodes = bus.observed().nodes.keys().copied().filter(|&n| n != node).collect();
             finding(

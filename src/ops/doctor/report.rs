@@ -282,8 +282,7 @@ pub enum Evidence {
         /// How long the read took, on the bus's clock.
         waited_ms: u64,
     },
-    /// Other nodes the bus showed in use while the node was asked (heartbeats, answers,
-    /// boot-ups).
+    /// Other nodes the bus showed in use during the command (heartbeats, answers, boot-ups).
     NodesHeard {
         /// Their node-ids.
         nodes: Vec<u8>,
