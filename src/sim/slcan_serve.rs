@@ -114,6 +114,9 @@ impl SlcanAdapter {
             Ok(Some(cmd @ (Command::Open | Command::ListenOnly))) if !self.open && self.kbit.is_some() => {
                 self.open = true;
                 self.listen_only = cmd == Command::ListenOnly;
+                // Opening starts the controller afresh: errors of an earlier channel (at
+                // another rate, another program's) are not this one's.
+                self.flags = 0;
                 Message::Ok
             }
             Ok(Some(Command::Close)) if self.open => {

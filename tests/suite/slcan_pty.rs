@@ -82,6 +82,24 @@ fn a_host_that_left_the_channel_open_is_set_up_again() {
     assert_eq!(bus.sdo_upload(5, ObjAddr::new(0x1018, 1), &opts).unwrap(), 0x40u32.to_le_bytes());
 }
 
+/// A program that ran at the wrong rate leaves the adapter's error flags set as it closes
+/// the channel; the next program opens it at the right rate and must not hear of them:
+/// opening a channel starts its controller afresh, as a Lawicel adapter's does. (doctor at
+/// the right rate after a sweep at the wrong one said "bus errors" one run in a few.)
+#[test]
+fn errors_at_the_wrong_rate_are_not_said_to_the_next_program() {
+    let path = adapter(500);
+    let mut wrong = master(port(&path), &path, 125);
+    // The sensor's heartbeats (every 40 ms) reach an adapter at the wrong rate: bus errors.
+    std::thread::sleep(Duration::from_millis(200));
+    wrong.close().unwrap();
+    let mut right = master(port(&path), &path, 500);
+    right.check_link().unwrap();
+    let opts = SdoOptions::new(Duration::from_secs(2));
+    assert_eq!(right.sdo_upload(5, ObjAddr::new(0x1018, 1), &opts).unwrap(), 0x40u32.to_le_bytes());
+    right.check_link().unwrap();
+}
+
 /// An adapter busy with something else answers the empty lines that reset its line parser
 /// (refusals, on a closed channel) long after the host stopped waiting for them: they must
 /// not be taken for the answers to the set-up commands that follow.
