@@ -542,7 +542,6 @@ fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
     nodes.sort_by_key(|n| n.node);
 }
 
-/// Identity, name and heartbeat time of every node, all nodes in parallel.
 /// Each node's NMT state as the node really shows it, never a guess that changes from run to
 /// run: a node that produces heartbeats is listened to for as long as its period (read from
 /// 0x1017) needs; the others are asked by node guarding; what neither answers is unknown.

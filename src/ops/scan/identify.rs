@@ -101,11 +101,11 @@ pub(super) fn confirm_silent(
     progress: &mut dyn Progress,
 ) -> Result<()> {
     for (node, error) in silent {
-        let alone = match bus.sees_traffic() {
-            true => crate::ops::answers_elsewhere::ask_alone(bus, node, window)?,
-            false => Some(response_cob(node)),
-        };
-        match alone {
+        if !bus.sees_traffic() {
+            progress.event(Warning::Failed { node: None, error }.into());
+            continue;
+        }
+        match crate::ops::answers_elsewhere::ask_alone(bus, node, window)? {
             Some(cob_id) if cob_id == response_cob(node) => {
                 progress.event(Warning::Failed { node: None, error }.into())
             }
