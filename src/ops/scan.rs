@@ -309,9 +309,11 @@ pub(crate) fn probe_until_stopped(
                     continue;
                 }
             };
-            failed.remove(node);
+            // Frames were lost only where the rounds before heard nothing of it: an answer
+            // that was malformed or without end was an answer.
+            let answered_before = failed.remove(node).is_some();
             p.found.push((*node, device_type));
-            if p.rounds > 1 {
+            if p.rounds > 1 && !answered_before {
                 p.repeats.push(Repeat { node: *node, probe: p.rounds });
             }
         }
@@ -379,8 +381,9 @@ fn scan_into(
 ) -> Result<()> {
     // Where the bus's traffic is seen, "any device without a node-id?" goes out with the
     // probes and its answers come in during the same window. The inquiries wait until the
-    // probes are answered: a device in configuration state with a node-id would otherwise
-    // queue its SDO answer behind its LSS answers, which lose arbitration to the probes.
+    // probes are answered (a device in configuration state with a node-id would otherwise
+    // queue its SDO answer behind its LSS answers, which lose arbitration to the probes),
+    // and their answers come in while the identities are read.
     let lss_alongside = bus.sees_traffic();
     if lss_alongside {
         bus.observed().take_lss_answers();
@@ -392,6 +395,12 @@ fn scan_into(
     (report.probe_rounds, report.answered_on_repeat) = (probed.rounds, probed.repeats);
     if probed.stopped {
         return Err(Error::Interrupted);
+    }
+    let inquired_by = bus.now() + o.window;
+    if lss_alongside {
+        for q in &LSS_QUESTIONS[1..] {
+            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+        }
     }
     // Before the identities are read: a node listed only for another node's answer.
     let found: Vec<u8> = report.nodes.iter().map(|n| n.node).collect();
@@ -431,11 +440,8 @@ fn scan_into(
     report.nodes.sort_by_key(|n| n.node);
     *phase = 3;
     let answers = if lss_alongside {
-        for q in &LSS_QUESTIONS[1..] {
-            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
-        }
-        let end = bus.now() + o.window;
-        while bus.recv_frame(end)?.is_some() {}
+        // What is left of the inquiries' window (the reads above mostly took it).
+        while bus.recv_frame(inquired_by)?.is_some() {}
         bus.observed().take_lss_answers()
     } else {
         let mut answers = Vec::new();

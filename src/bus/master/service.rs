@@ -82,7 +82,8 @@ impl<L: FrameLink> Bus for Master<L> {
     }
 
     fn request_frame(&mut self, id: u16, len: u8, timeout: Duration) -> Result<Frame> {
-        self.link.set_filters(&[(id, 0x7FF)])?;
+        // LSS answers pass too: a scan's inquiries are answered while it guards its nodes.
+        self.link.set_filters(&[(id, 0x7FF), (lss::SLAVE_COB, 0x7FF)])?;
         self.send(&Frame::remote(id, len))?;
         let deadline = self.link.now() + timeout;
         self.guarding = Some(id);
