@@ -86,8 +86,9 @@ pub(crate) enum SimCommand {
     /// invocation sees the same network).
     ///
     /// Profiles: instant (answers at once, frames take no time: for unit tests), typical
-    /// (devices answer 0.5-3 ms late, frames take their time at the bit rate: the default),
-    /// slow (answers 5-80 ms late, as slow real slaves do).
+    /// (devices answer 0.5-3 ms late and restart in 100 ms after an NMT reset, frames take
+    /// their time at the bit rate: the default), slow (answers 5-80 ms late, restarts in
+    /// 300 ms, as slow real slaves do).
     #[command(after_help = "Examples:
   canctl sim reset
   canctl sim reset --profile slow --unconfigured 8

@@ -1,4 +1,7 @@
-//! How a failure ends the process: the exit-code table.
+//! How a failure ends the process: the exit-code table, and each error's place in it.
+
+use super::{DriveStop, Error};
+use crate::canopen::lss::FastscanError;
 
 /// What a failure means for the user, and so how the process ends. The README's
 /// "Exit codes" table lists these (a test checks that it does).
@@ -44,5 +47,94 @@ impl ErrorClass {
             ErrorClass::Output => 7,
             ErrorClass::Interrupted => 130,
         }
+    }
+}
+
+/// Each error's class: the one mapping from errors to exit codes.
+impl Error {
+    /// Which kind of failure this is: the one mapping from errors to exit codes.
+    pub fn class(&self) -> ErrorClass {
+        use ErrorClass as C;
+        match self {
+            Error::Usage(_)
+            | Error::DcfNotReadWhole { .. }
+            | Error::NotADcf { .. }
+            | Error::NotOfType { .. }
+            | Error::NoSuchTpdo { .. }
+            | Error::NoValidTpdo { .. }
+            | Error::InquiryAnsweredByMany { .. }
+            | Error::Input(_)
+            | Error::OutsideProject(_)
+            | Error::SimState(_)
+            | Error::Eds(_)
+            | Error::BadBusAddr { .. }
+            | Error::NodeIdOutOfRange { .. }
+            | Error::TooLargeForSdo { .. }
+            | Error::SlcanBitRate { .. }
+            | Error::NotOnThisBus { .. }
+            | Error::NoRemoteFrames { .. }
+            | Error::NotADrive { .. }
+            | Error::NodeIdInUse { .. }
+            // The range the user gave is full: no device refused anything.
+            | Error::NoFreeNodeId { .. } => C::Usage,
+            Error::NoAnswer { .. }
+            | Error::SdoOutcomeUnknown { .. }
+            | Error::SdoUnfinished { .. }
+            | Error::NoRemoteAnswer { .. }
+            | Error::NoLssAnswer { .. }
+            | Error::LssSetIdUnknown { .. }
+            | Error::Epos2NoCanAnswer { .. }
+            | Error::AdapterNoAnswer { .. } => C::Timeout,
+            Error::Fastscan { error: FastscanError::Unconfirmed(_), .. }
+            | Error::LssStillConfiguring { .. }
+            | Error::LssCrowded { .. }
+            | Error::LssLeftInConfiguration { .. } => C::Link,
+            Error::Fastscan { .. } => C::Timeout,
+            Error::SdoAbort { .. }
+            | Error::LssRefused { .. }
+            | Error::Epos2Refused { .. }
+            | Error::StoreRefused { .. }
+            | Error::NoErrorHistory { .. }
+            | Error::NoBootloader { .. }
+            | Error::NoStoredEds { .. } => C::Refused,
+            Error::DriveStopped { why: DriveStop::NoAnswer, .. } => C::Timeout,
+            Error::DriveStopped { .. } => C::Refused,
+            Error::Link(_) | Error::StoredEds { .. } => C::Link,
+            Error::ReadBack { .. }
+            | Error::ReadBackMany { .. }
+            | Error::Differs { .. }
+            | Error::FileDeviates { .. }
+            | Error::OtherDevice { .. }
+            | Error::NetworkDiffers { .. }
+            | Error::NotFollowed { .. }
+            | Error::Unhealthy { .. }
+            | Error::Diagnosed { .. } => C::Verify,
+            Error::Output { .. } => C::Output,
+            Error::Interrupted | Error::SdoInterrupted { .. } | Error::DiagnosisInterrupted { .. } => C::Interrupted,
+            Error::Hinted { error, .. } | Error::InSettingsFile { error, .. } => error.class(),
+            Error::NoSocketCan { .. }
+            | Error::TypeNeeded { .. }
+            | Error::NoLssOnDirectEpos2 { .. }
+            | Error::Epos2RateOnStore => C::Usage,
+            Error::MapSizeUnread { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {
+                error.class()
+            }
+            Error::OnBuses { error, .. } => error.class(),
+        }
+    }
+
+    /// The process exit code for this error.
+    pub fn exit_code(&self) -> i32 {
+        self.class().exit_code()
+    }
+
+    /// Nobody answered in time (exit 3): what a scan or a poll treats as "not there".
+    pub(crate) fn is_timeout(&self) -> bool {
+        self.class() == ErrorClass::Timeout
+    }
+
+    /// The user asked to stop (exit 130): a procedure ends with a report of what it did.
+    pub(crate) fn is_interrupted(&self) -> bool {
+        self.class() == ErrorClass::Interrupted
     }
 }

@@ -225,3 +225,30 @@ fn a_bus_off_controller_sends_nothing_and_reports_itself() {
     assert_eq!(devices.recv(far).unwrap().map(|f| f.id()), Some(0x585));
     assert_eq!(devices.report(), None);
 }
+
+/// A real device restarts its firmware after an NMT reset: silent for a while, then its
+/// boot-up. The simulated one rebooted at once, so a master that read the first answer after
+/// the reset as its effect (through an EPOS2, whose remote request catches the boot-up only
+/// when it is waiting for it) passed or failed by how fast the host ran.
+#[test]
+fn a_reset_device_is_silent_while_it_restarts_then_sends_its_boot_up() {
+    let config = SimConfig::default().profile(Profile::Typical);
+    let mut link = SimLink::with_config(config).on_virtual_time(0);
+    let began = link.now();
+    link.send(&nmt::Command::ResetNode.frame(10)).unwrap();
+    // Asked while it restarts: no answer to guarding or SDO.
+    link.send(&Frame::remote(0x70A, 1)).unwrap();
+    link.send(&Frame::new(0x60A, &READ_DEVICE_TYPE)).unwrap();
+    let end = began + Duration::from_millis(300);
+    let frames: Vec<(Frame, Instant)> = std::iter::from_fn(|| link.recv_stamped(end).unwrap()).collect();
+    let from_10: Vec<&(Frame, Instant)> = frames.iter().filter(|(f, _)| f.id() & 0x7F == 10).collect();
+    assert_eq!(from_10.len(), 1, "only the boot-up: {frames:?}");
+    let (boot_up, at) = from_10[0];
+    assert_eq!(*boot_up, Frame::new(0x70A, &[0]));
+    let restart = *at - began;
+    assert!(restart >= Duration::from_millis(100) && restart < Duration::from_millis(110), "{restart:?}");
+    // The instant profile (unit tests of protocol logic) reboots at once.
+    let mut link = SimLink::with_config(SimConfig::instant()).on_virtual_time(0);
+    link.send(&nmt::Command::ResetNode.frame(10)).unwrap();
+    assert_eq!(link.recv(link.now()).unwrap(), Some(Frame::new(0x70A, &[0])));
+}

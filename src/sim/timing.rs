@@ -85,6 +85,17 @@ impl Profile {
         }
     }
 
+    /// How long a device is silent after an NMT reset before its boot-up: a real device
+    /// restarts its firmware (CANopenNode on a small controller: tens of ms; drives longer),
+    /// and a master that reads the first answer after the reset as its effect is wrong.
+    pub(crate) fn reset_ms(self) -> u64 {
+        match self {
+            Profile::Instant => 0,
+            Profile::Typical => 100,
+            Profile::Slow => 300,
+        }
+    }
+
     /// Whether each frame occupies the bus for its frame time at the bit rate.
     pub(crate) fn bus_timing(self) -> bool {
         self != Profile::Instant

@@ -75,8 +75,8 @@ fn log_frames_through_an_epos2_gateway_and_on_its_device_side() {
     let dev = DeviceSide::start(&sim, "--epos2-rs232", &["--log-frames", device_log.to_str().unwrap()]);
     let log = sim.path("gateway.log");
     let r = dev.run(&["--log-frames", log.to_str().unwrap(), "nmt", "reset", "5", "--format", "json"]).ok();
-    assert_eq!(r.json()["booted"], serde_json::json!([5]));
     let frames = logged(&log);
+    assert_eq!(r.json()["booted"], serde_json::json!([5]), "{}\n{frames:?}", r.stdout);
     assert!(has(&frames, &dev.uri, "000#8105"), "{frames:?}");
     assert!(has(&frames, &dev.uri, "705#R1"), "the guarding request: {frames:?}");
     assert!(has(&frames, &dev.uri, "705#00"), "the boot-up, as the answer: {frames:?}");

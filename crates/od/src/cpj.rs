@@ -149,12 +149,9 @@ fn ini_lines(bytes: &[u8], path: &str) -> Result<(Vec<IniLine>, bool), CpjError>
     Ok((out, utf8))
 }
 
-/// CiA 306 integers: `0x` hex, otherwise decimal.
+/// CiA 306 integers: `0x` hex, otherwise decimal (the one reading canctl has for them).
 fn number(text: &str) -> Option<u32> {
-    match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
-        Some(h) => u32::from_str_radix(h, 16).ok(),
-        None => text.parse().ok(),
-    }
+    canctl_canopen::number::parse_number(text)
 }
 
 /// `Node12Present` → (12, "present"); keys of other shapes → None.

@@ -1,3 +1,4 @@
+use super::super::lint;
 use super::values::parse_value;
 use super::*;
 

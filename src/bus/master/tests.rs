@@ -1,0 +1,200 @@
+//! Transfers under loss, on virtual time, against one SDO server whose frames (either
+//! way) are lost where the test says.
+
+use super::*;
+use crate::canopen::sdo::{ObjectAccess, SdoServer};
+
+const NODE: u8 = 4;
+const CONTROL: ObjAddr = ObjAddr::new(0x1F51, 1);
+const SAVE: ObjAddr = ObjAddr::new(0x1010, 1);
+const HEARTBEAT: ObjAddr = ObjAddr::new(0x1017, 0);
+
+#[derive(Default)]
+struct Objects(BTreeMap<ObjAddr, Vec<u8>>, usize);
+
+impl ObjectAccess for Objects {
+    fn read(&mut self, addr: ObjAddr) -> std::result::Result<Vec<u8>, u32> {
+        self.0.get(&addr).cloned().ok_or(abort::NO_OBJECT)
+    }
+    fn write(&mut self, addr: ObjAddr, data: &[u8]) -> std::result::Result<(), u32> {
+        self.1 += 1;
+        // Program control's state: what was commanded. A save leaves nothing to read.
+        if addr != SAVE {
+            self.0.insert(addr, data.to_vec());
+        }
+        Ok(())
+    }
+    fn check_write(&self, _addr: ObjAddr, _size: Option<usize>) -> std::result::Result<(), u32> {
+        Ok(())
+    }
+}
+
+/// One device; `lose_requests` and `lose_answers` number the frames (from 1) lost on
+/// the way to it and from it. Answers take 2 ms.
+struct Device {
+    server: SdoServer,
+    objects: Objects,
+    now: Instant,
+    queue: VecDeque<(Instant, Frame)>,
+    requests: usize,
+    answers: usize,
+    lose_requests: Vec<usize>,
+    lose_answers: Vec<usize>,
+    /// Answers that come 150 ms late, and answers that come twice.
+    late: Vec<usize>,
+    twice: Vec<usize>,
+}
+
+impl Device {
+    fn new(lose_requests: &[usize], lose_answers: &[usize]) -> Device {
+        let mut objects = Objects::default();
+        objects.0.insert(CONTROL, vec![0]);
+        objects.0.insert(HEARTBEAT, vec![0xE8, 0x03]);
+        Device {
+            server: SdoServer::new(false),
+            objects,
+            now: crate::bus::clock::monotonic_now(),
+            queue: VecDeque::new(),
+            requests: 0,
+            answers: 0,
+            lose_requests: lose_requests.to_vec(),
+            lose_answers: lose_answers.to_vec(),
+            late: Vec::new(),
+            twice: Vec::new(),
+        }
+    }
+}
+
+impl FrameLink for Device {
+    fn send(&mut self, frame: &Frame) -> Result<()> {
+        self.requests += 1;
+        if frame.id() != sdo::request_cob(NODE) || self.lose_requests.contains(&self.requests) {
+            return Ok(());
+        }
+        for answer in self.server.handle(frame.data(), &mut self.objects) {
+            self.answers += 1;
+            if self.lose_answers.contains(&self.answers) {
+                continue;
+            }
+            let late = if self.late.contains(&self.answers) { 150 } else { 0 };
+            let at = self.now + Duration::from_millis(2 + late);
+            let copies = if self.twice.contains(&self.answers) { 2 } else { 1 };
+            for _ in 0..copies {
+                self.queue.push_back((at, Frame::new(sdo::response_cob(NODE), &answer)));
+            }
+            self.queue.make_contiguous().sort_by_key(|(at, _)| *at);
+        }
+        Ok(())
+    }
+    fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+        match self.queue.front() {
+            Some((at, _)) if *at <= deadline => {
+                self.now = self.now.max(*at);
+                Ok(self.queue.pop_front().map(|(_, f)| f))
+            }
+            _ => {
+                self.now = self.now.max(deadline);
+                Ok(None)
+            }
+        }
+    }
+    fn name(&self) -> String {
+        "test".into()
+    }
+    fn now(&self) -> Instant {
+        self.now
+    }
+    fn sleep_until(&mut self, t: Instant) -> Result<()> {
+        self.now = self.now.max(t);
+        Ok(())
+    }
+}
+
+fn master(lose_requests: &[usize], lose_answers: &[usize]) -> Master<Device> {
+    Master::new(Device::new(lose_requests, lose_answers), "test".into())
+}
+
+fn opts() -> SdoOptions {
+    SdoOptions::new(Duration::from_millis(100))
+}
+
+#[test]
+fn a_lost_request_and_a_lost_answer_are_retried() {
+    let mut m = master(&[1], &[]);
+    assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &opts()).unwrap(), vec![0xE8, 0x03]);
+    let mut m = master(&[], &[1]);
+    m.sdo_download(NODE, HEARTBEAT, &[0xD0, 0x07], &opts()).unwrap();
+    assert_eq!(m.link.objects.0[&HEARTBEAT], vec![0xD0, 0x07]);
+    assert_eq!(m.link.objects.1, 2, "written twice, the same value");
+}
+
+#[test]
+fn retries_are_bounded() {
+    let mut m = master(&[1, 3, 5, 6], &[]);
+    let e = m.sdo_upload(NODE, HEARTBEAT, &opts()).unwrap_err();
+    assert!(matches!(e, Error::NoAnswer { .. }), "{e}");
+    // The first request and two retries, each after an abort: no fourth attempt. Then
+    // without retries, the one request (the sixth frame) lost ends it.
+    assert_eq!(m.link.requests, 5);
+    let e = m.sdo_upload(NODE, HEARTBEAT, &SdoOptions { retries: 0, ..opts() }).unwrap_err();
+    assert!(matches!(e, Error::NoAnswer { .. }), "{e}");
+}
+
+/// A node that never answers costs every retry: the message says what was tried, not
+/// the one timeout of the last request.
+#[test]
+fn an_unreachable_node_is_reported_with_every_request_tried() {
+    let mut m = master(&(1..=20).collect::<Vec<_>>(), &[]);
+    let e = m.sdo_upload(NODE, HEARTBEAT, &opts()).unwrap_err();
+    assert_eq!(e.exit_code(), 3);
+    assert_eq!(
+        e.to_string(),
+        "node 4: did not answer the SDO transfer of 0x1017:0: no answer to 3 requests, 300 ms in all \
+         (100 ms each)"
+    );
+    let e = m.sdo_upload(NODE, HEARTBEAT, &SdoOptions { retries: 0, ..opts() }).unwrap_err();
+    assert_eq!(e.to_string(), "node 4: did not answer the SDO transfer of 0x1017:0 (waited 100 ms)");
+}
+
+#[test]
+fn a_store_whose_answer_is_lost_is_sent_once_and_its_outcome_unknown() {
+    let mut m = master(&[], &[1]);
+    let e = m.sdo_download(NODE, SAVE, b"save", &opts()).unwrap_err();
+    assert!(matches!(e, Error::SdoOutcomeUnknown { obj: SAVE, .. }), "{e}");
+    assert_eq!(e.exit_code(), 3);
+    assert_eq!(m.link.objects.1, 1, "the save was sent once");
+    // Its request lost instead: the device did nothing, which canctl cannot tell either.
+    let mut m = master(&[1], &[]);
+    let e = m.sdo_download(NODE, SAVE, b"save", &opts()).unwrap_err();
+    assert!(matches!(e, Error::SdoOutcomeUnknown { .. }), "{e}");
+    assert_eq!(m.link.requests, 1, "nothing sent after it");
+}
+
+#[test]
+fn program_control_whose_answer_is_lost_is_read_back_not_repeated() {
+    // Started, its answer lost: the read-back shows it started.
+    let mut m = master(&[], &[1]);
+    m.sdo_download(NODE, CONTROL, &[1], &opts()).unwrap();
+    assert_eq!(m.link.objects.1, 1, "sent once");
+    // The request lost: the read-back shows it did not start, and the outcome stays
+    // unknown (the device may still be on its way); nothing is sent again.
+    let mut m = master(&[1], &[]);
+    let e = m.sdo_download(NODE, CONTROL, &[1], &opts()).unwrap_err();
+    assert!(matches!(e, Error::SdoOutcomeUnknown { obj: CONTROL, .. }), "{e}");
+    assert_eq!(m.link.objects.1, 0);
+}
+
+#[test]
+fn a_segment_late_past_the_timeout_is_not_taken_for_the_retrys_answers() {
+    let name = ObjAddr::new(0x1008, 0);
+    let mut m = master(&[], &[]);
+    m.link.objects.0.insert(name, b"a device name of 24 bytes".to_vec());
+    // The answer with the second segment comes after the timeout, when the read has
+    // started again; the retry's first answer comes twice.
+    m.link.late = vec![3];
+    m.link.twice = vec![4];
+    assert_eq!(m.sdo_upload(NODE, name, &opts()).unwrap(), b"a device name of 24 bytes");
+    // Initiation, two segment requests, the abort, then the whole read again (four
+    // segments of seven bytes): the late segment moved nothing, the repeat neither.
+    assert_eq!(m.link.requests, 3 + 1 + 5);
+}

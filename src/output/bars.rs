@@ -1,0 +1,92 @@
+//! Progress on a terminal: a bar per phase and a line for the item under way, drawn on
+//! stderr while a command works.
+
+use super::{event_line, firmware, network, Output};
+use indicatif::{MultiProgress, ProgressBar};
+
+/// Where an item of a phase is, as its progress line says it after its name.
+pub(crate) fn item_status_text(status: crate::ops::ItemStatus) -> String {
+    use crate::ops::ItemStatus;
+    match status {
+        ItemStatus::Begun => "under way".into(),
+        ItemStatus::Transfers { reads, writes } => format!("{reads} read(s), {writes} write(s)"),
+        ItemStatus::Step { number, of } => format!("{number} of {of}"),
+        ItemStatus::Firmware(step) => step.describe().into(),
+    }
+}
+
+/// How an item of a phase ended, as its progress line says it.
+pub(crate) fn item_end_text(end: &crate::ops::ItemEnd<'_>) -> String {
+    use crate::ops::ItemEnd;
+    match end {
+        ItemEnd::Applied(row) => network::node_result_words(row),
+        ItemEnd::Checked(checked) => network::checked_words(checked),
+        ItemEnd::Downloaded(end) => firmware::download_end_word(*end).to_string(),
+    }
+}
+
+/// [`crate::ops::Progress`] on a terminal: a bar per phase, notes on stderr.
+pub struct Bars<'a> {
+    out: &'a Output,
+    /// Every line below is drawn through it: lines drawn on their own would overwrite
+    /// each other's.
+    screen: MultiProgress,
+    bar: Option<ProgressBar>,
+    /// The line of the item under way, `item: status` (one at a time on this display).
+    line: Option<ProgressBar>,
+}
+
+impl<'a> Bars<'a> {
+    /// Bars for `out`, drawn on `screen`.
+    pub(super) fn new(out: &'a Output, screen: MultiProgress) -> Bars<'a> {
+        Bars { out, screen, bar: None, line: None }
+    }
+
+    /// `bar` drawn on this display, with its other lines (a bar made elsewhere, such as
+    /// a download's bytes, joins them here).
+    pub fn adopt(&self, bar: ProgressBar) -> ProgressBar {
+        self.screen.add(bar)
+    }
+}
+
+impl crate::ops::Progress for Bars<'_> {
+    fn start(&mut self, what: &str, len: u64) {
+        self.bar = Some(self.adopt(self.out.bar(len, what)));
+    }
+    fn transfer(&mut self, what: &str, len: Option<u64>) -> Option<crate::bus::TransferHook> {
+        let bar = match len {
+            Some(len) => self.out.bytes_bar(len, what),
+            None => self.out.counter(what),
+        };
+        let bar = self.adopt(bar);
+        let hook = self.out.transfer_hook(&bar);
+        self.bar = Some(bar);
+        hook
+    }
+    fn advance(&mut self, done: u64) {
+        if let Some(b) = &self.bar {
+            b.set_position(done);
+        }
+    }
+    fn finish(&mut self) {
+        for b in [self.bar.take(), self.line.take()].into_iter().flatten() {
+            b.finish_and_clear();
+        }
+    }
+    fn item(&mut self, item: &str, status: crate::ops::ItemStatus) {
+        let text = format!("{item}: {}", item_status_text(status));
+        match &self.line {
+            Some(b) => b.set_message(text),
+            None => self.line = Some(self.adopt(self.out.status(&text))),
+        }
+    }
+    fn item_ended(&mut self, _item: &str, _end: crate::ops::ItemEnd<'_>) {
+        // One line at a time: an item that ended leaves it (its result is the report's).
+        if let Some(b) = self.line.take() {
+            b.finish_and_clear();
+        }
+    }
+    fn event(&mut self, event: crate::ops::Event) {
+        self.out.note(&event_line(&event));
+    }
+}
