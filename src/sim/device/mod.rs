@@ -193,8 +193,6 @@ impl Device {
         self.sdo = SdoServer::new(self.block_transfer);
     }
 
-    /// React to one frame on the bus; returns the frames this device sends in answer.
-    /// The bus's time now, in ms.
     /// An NMT reset keeps it silent this long before its boot-up, as a real device's
     /// restart takes (0: at once).
     pub(crate) fn with_reset_time(mut self, ms: u64) -> Device {
@@ -202,10 +200,12 @@ impl Device {
         self
     }
 
+    /// The bus's time now, in ms.
     pub(crate) fn set_clock(&mut self, ms: u64) {
         self.clock_ms = ms;
     }
 
+    /// React to one frame on the bus; returns the frames this device sends in answer.
     pub(crate) fn on_frame(&mut self, f: &Frame) -> Vec<Frame> {
         // Resetting: it hears nothing until its boot-up.
         if self.booting_until.is_some_and(|t| self.clock_ms < t) {
