@@ -486,17 +486,18 @@ impl SimLink {
     fn advance(&mut self) {
         let now = self.bus_time();
         let ms = self.ms_at(now);
-        self.net.set_clock(ms);
-        // The devices keep their own clock: what they sent by themselves while nobody
-        // polled was ready when it was due, and competes for the bus from then on.
-        if ms > self.beats_upto {
-            for (due, i, f) in self.net.events(self.beats_upto, ms) {
-                let ready = now.saturating_sub((ms - due) * timing::MS);
-                self.bus.queue(ready, Origin::Device(i), f);
-            }
-            self.beats_upto = ms;
+        // In the order things happened, however late the master polls: a device hears a
+        // frame that left the bus before its next own frame fell due (a stop before the
+        // next beat, which then says stopped), and what it sent by itself competes for
+        // the bus from the time it was ready.
+        loop {
+            let next_end = self.bus.next_done().filter(|end| *end <= now);
+            let due_by = next_end.map_or(ms, |end| ms.saturating_sub((now - end).div_ceil(timing::MS)));
+            self.queue_own_frames(due_by, now, ms);
+            let Some((end, origin, frame)) = self.bus.pop_done(now) else { break };
+            self.hand_over(end, origin, frame);
         }
-        self.pop_done(now);
+        self.net.set_clock(ms);
         let babblers = self.net.babblers();
         self.bus.keep_babblers(&babblers.iter().map(|(i, _)| *i).collect::<Vec<_>>());
         for (i, id) in babblers {
@@ -517,20 +518,40 @@ impl SimLink {
         }
     }
 
+    /// What the devices sent by themselves, due up to `due_by` (ms), onto the bus: each
+    /// ready when it was due (`now` is bus time at ms `ms`).
+    fn queue_own_frames(&mut self, due_by: u64, now: Nanos, ms: u64) {
+        if due_by <= self.beats_upto {
+            return;
+        }
+        self.net.set_clock(due_by);
+        for (due, i, f) in self.net.events(self.beats_upto, due_by) {
+            let ready = now.saturating_sub((ms - due) * timing::MS);
+            self.bus.queue(ready, Origin::Device(i), f);
+        }
+        self.beats_upto = due_by;
+    }
+
     fn pop_done(&mut self, now: Nanos) {
         while let Some((end, origin, frame)) = self.bus.pop_done(now) {
-            match origin {
-                Origin::Master => {
-                    self.net.set_clock(self.ms_at(end));
-                    for (ready, i, f) in self.net.deliver(&frame, end) {
-                        self.bus.queue(ready, Origin::Device(i), f);
-                    }
-                    if !self.bus_timing_off {
-                        self.bus.set_bps(Self::bps_of(&self.net));
-                    }
+            self.hand_over(end, origin, frame);
+        }
+    }
+
+    /// A frame that left the bus at `end`: the devices hear the master's (and may answer),
+    /// the master receives the devices'.
+    fn hand_over(&mut self, end: Nanos, origin: Origin, frame: Frame) {
+        match origin {
+            Origin::Master => {
+                self.net.set_clock(self.ms_at(end));
+                for (ready, i, f) in self.net.deliver(&frame, end) {
+                    self.bus.queue(ready, Origin::Device(i), f);
                 }
-                Origin::Device(_) => self.rx.push_back((frame, end)),
+                if !self.bus_timing_off {
+                    self.bus.set_bps(Self::bps_of(&self.net));
+                }
             }
+            Origin::Device(_) => self.rx.push_back((frame, end)),
         }
     }
 }

@@ -252,3 +252,21 @@ fn a_reset_device_is_silent_while_it_restarts_then_sends_its_boot_up() {
     link.send(&nmt::Command::ResetNode.frame(10)).unwrap();
     assert_eq!(link.recv(link.now()).unwrap(), Some(Frame::new(0x70A, &[0])));
 }
+
+/// A stop, then a master held up (a loaded host): the sensor's beats that fell due after
+/// it heard the stop say stopped, though the master polled only once they were all due.
+#[test]
+fn a_device_hears_a_command_before_the_beats_that_fall_due_after_it_even_when_polled_late() {
+    let mut link = SimLink::with_config(SimConfig::instant()).on_virtual_time(1_000_000);
+    let zero = link.now();
+    link.send(&nmt::Command::Stop.frame(5)).unwrap();
+    // At 1 Mbit/s the stop has left the bus 0.1 ms after it was sent.
+    let heard = zero + Duration::from_micros(100);
+    link.sleep_until(zero + Duration::from_millis(200)).unwrap();
+    let beats: Vec<(Frame, Instant)> =
+        std::iter::from_fn(|| link.recv_stamped(link.now()).unwrap()).filter(|(f, _)| f.id() == 0x705).collect();
+    assert!(beats.len() >= 4, "{beats:?}");
+    for (f, at) in beats.iter().filter(|(_, at)| *at > heard + Duration::from_millis(1)) {
+        assert_eq!(f.data()[0], 0x04, "a beat at {:?} after the stop: {f:?}", *at - zero);
+    }
+}
