@@ -26,11 +26,12 @@ fn ip(args: &[&str]) -> bool {
 /// no controller state made up for it.
 #[test]
 fn doctor_ack_error_frames_say_nothing_acknowledges_and_vcan_has_no_controller() {
-    if !common::has_interface("vcan0") {
+    let iface = common::vcan();
+    if !common::has_interface(iface) {
         return;
     }
-    let sock = CanSocket::open("vcan0").unwrap();
-    let mut child = doctor("vcan0", &["--window", "1s"]).spawn().unwrap();
+    let sock = CanSocket::open(iface).unwrap();
+    let mut child = doctor(iface, &["--window", "1s"]).spawn().unwrap();
     // What a real controller sends while nobody acknowledges, until doctor is done.
     let ack = CanErrorFrame::new_error(nix::libc::CAN_ERR_ACK, &[0; 8]).unwrap();
     while child.try_wait().unwrap().is_none() {
@@ -46,7 +47,7 @@ fn doctor_ack_error_frames_say_nothing_acknowledges_and_vcan_has_no_controller()
     assert!(counts["ack"].as_u64().unwrap() > 0 && counts["ack"] == counts["frames"], "{d}");
     assert_eq!(first["remedy"]["remedy"], "check_termination", "{d}");
     let fine = d["fine"].as_array().unwrap();
-    assert!(fine.iter().any(|e| e["kind"] == "no_controller" && e["iface"] == "vcan0"), "{d}");
+    assert!(fine.iter().any(|e| e["kind"] == "no_controller" && e["iface"] == iface), "{d}");
     assert!(!fine.iter().any(|e| e["kind"] == "controller_report"), "{d}");
 }
 
@@ -56,9 +57,10 @@ fn doctor_ack_error_frames_say_nothing_acknowledges_and_vcan_has_no_controller()
 /// (ENOBUFS); the frames wait for room, and doctor names the host and the txqueuelen fix.
 #[test]
 fn doctor_a_full_transmit_queue_is_the_hosts_finding() {
-    if !common::has_interface("vcan0") {
+    if !common::has_interface(common::vcan()) {
         return;
     }
+    // Its own interface, whichever the other kernel tests use.
     const IFACE: &str = "vcan9";
     assert!(ip(&["link", "add", "dev", IFACE, "type", "vcan"]));
     // 32 bytes: two CAN frames; at 20 kbit/s about 150 frames a second leave it.

@@ -9,17 +9,15 @@ use std::io::BufRead;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-const IFACE: &str = "vcan0";
-
 #[test]
 fn canctl_downloads_into_a_python_canopen_bootloader() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop/program_device.py");
     let mut child = Command::new("python3")
         .arg(script)
-        .args([IFACE, "21"])
+        .args([common::vcan(), "21"])
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()
@@ -32,7 +30,7 @@ fn canctl_downloads_into_a_python_canopen_bootloader() {
     std::fs::write(&image, &data).unwrap();
     let mut c = Command::new(common::canctl_bin());
     common::isolate(&mut c);
-    c.env_remove("CANCTL_BUS").args(["--bus", IFACE, "--timeout", "2s", "firmware", "download", "21"]);
+    c.env_remove("CANCTL_BUS").args(["--bus", common::vcan(), "--timeout", "2s", "firmware", "download", "21"]);
     c.arg(&image).args(["--format", "json"]).stdin(Stdio::null());
     let run = common::finish(c.output().unwrap());
     let _ = child.kill();

@@ -11,8 +11,6 @@ use std::io::BufRead;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 
-const IFACE: &str = "vcan0";
-
 fn script(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop").join(name).display().to_string()
 }
@@ -29,17 +27,17 @@ impl Drop for Killed {
 fn canctl(args: &[&str]) -> Run {
     let mut c = Command::new(common::canctl_bin());
     common::isolate(&mut c);
-    c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
+    c.env_remove("CANCTL_BUS").args(["--bus", common::vcan()]).args(args).stdin(Stdio::null());
     common::finish(c.output().unwrap())
 }
 
 #[test]
 fn canctl_commissions_a_canopen_local_node() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let mut child = Command::new("python3")
-        .args([&script("local_node.py"), IFACE, "20"])
+        .args([&script("local_node.py"), common::vcan(), "20"])
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()
@@ -132,12 +130,12 @@ fn canctl_commissions_a_canopen_local_node() {
 
 #[test]
 fn the_canopen_client_talks_to_canctl_sim() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let sim = Sim::new();
-    let _devices = Killed(common::sim_on_interface(&sim, IFACE));
-    let out = Command::new("python3").args([&script("client.py"), IFACE]).output().expect("python3");
+    let _devices = Killed(common::sim_on_interface(&sim, common::vcan()));
+    let out = Command::new("python3").args([&script("client.py"), common::vcan()]).output().expect("python3");
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "canopen client failed:\n{stdout}\n{stderr}");
@@ -148,14 +146,16 @@ fn the_canopen_client_talks_to_canctl_sim() {
 /// TPDO (statusword) and SDO (controlword), and through a simulated fault and its reset.
 #[test]
 fn cia402_python_canopen_base_node_402_drives_the_simulated_epos2() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let sim = Sim::new();
-    let _devices = Killed(common::sim_on_interface(&sim, IFACE));
+    let _devices = Killed(common::sim_on_interface(&sim, common::vcan()));
     let eds = Path::new(env!("CARGO_MANIFEST_DIR")).join("eds/canctl-sim-drive.eds");
-    let out =
-        Command::new("python3").args([&script("p402.py"), IFACE, eds.to_str().unwrap()]).output().expect("python3");
+    let out = Command::new("python3")
+        .args([&script("p402.py"), common::vcan(), eds.to_str().unwrap()])
+        .output()
+        .expect("python3");
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     // The run's record, for the test log.
@@ -174,11 +174,11 @@ fn cia402_python_canopen_base_node_402_drives_the_simulated_epos2() {
 /// `canctl drive` over SocketCAN against the simulated drive on the same vcan0.
 #[test]
 fn cia402_canctl_drive_over_vcan_against_the_sim() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let sim = Sim::new();
-    let _devices = Killed(common::sim_on_interface(&sim, IFACE));
+    let _devices = Killed(common::sim_on_interface(&sim, common::vcan()));
     let enable = canctl(&["drive", "enable", "1"]).ok();
     println!("{}", enable.stdout);
     assert!(enable.stdout.contains("node 1: Operation enabled"), "{}", enable.stdout);

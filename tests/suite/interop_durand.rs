@@ -19,7 +19,6 @@ use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{self, Receiver};
 use std::time::Duration;
 
-const IFACE: &str = "vcan0";
 /// A bound for every wait on durand: python under software emulation is slow, and this
 /// only fails when the event never comes.
 const PATIENCE: Duration = Duration::from_secs(120);
@@ -50,7 +49,7 @@ impl Durand {
     fn start(args: &[&str]) -> Durand {
         let mut child = Command::new("python3")
             .arg(script("durand_node.py"))
-            .arg(IFACE)
+            .arg(common::vcan())
             .args(args)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
@@ -106,7 +105,7 @@ impl Drop for Durand {
 fn canctl(args: &[&str]) -> Run {
     let mut c = Command::new(common::canctl_bin());
     common::isolate(&mut c);
-    c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
+    c.env_remove("CANCTL_BUS").args(["--bus", common::vcan()]).args(args).stdin(Stdio::null());
     common::finish(c.output().unwrap())
 }
 
@@ -170,7 +169,7 @@ fn written(size: usize) -> Vec<u8> {
 
 #[test]
 fn durand_devices_scanned_and_every_type_both_ways() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let mut durand = Durand::start(&["--node", "21", "--node", "22", "--unconfigured", "2"]);
@@ -220,7 +219,7 @@ fn durand_devices_scanned_and_every_type_both_ways() {
 
 #[test]
 fn block_transfer_at_the_segment_and_block_boundaries() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let mut durand = Durand::start(&["--node", "23"]);
@@ -424,11 +423,11 @@ fn lss_at_defaults(procedure: Procedure, path: &str) {
 
 /// On plain vcan0, or behind a netem delay of `delay_ms`.
 fn lss_test(procedure: Procedure, delay_ms: Option<u32>) {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let Some(delay_ms) = delay_ms else {
-        return lss_at_defaults(procedure, "plain vcan0");
+        return lss_at_defaults(procedure, &format!("plain {}", common::vcan()));
     };
     let Some(_netem) = Netem::delay(delay_ms, None) else { return };
     lss_at_defaults(procedure, &format!("netem delay {delay_ms}ms"));
@@ -439,7 +438,7 @@ fn lss_test(procedure: Procedure, delay_ms: Option<u32>) {
 /// with a 1013 ms step"): a lost answer is asked for again, not waited out.
 #[test]
 fn lss_assign_at_defaults_behind_15ms_with_2_percent_loss() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let Some(_netem) = Netem::delay(15, Some(2)) else { return };

@@ -11,12 +11,10 @@ use common::{Run, Sim};
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-const IFACE: &str = "vcan0";
-
 fn canctl(sim: &Sim, args: &[&str]) -> Run {
     let mut c = Command::new(common::canctl_bin());
     c.env("XDG_CONFIG_HOME", sim.path("")).env("XDG_CACHE_HOME", sim.path(""));
-    c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
+    c.env_remove("CANCTL_BUS").args(["--bus", common::vcan()]).args(args).stdin(Stdio::null());
     common::run_within(c, std::time::Duration::from_secs(600))
 }
 
@@ -28,12 +26,12 @@ fn junit_failures(xml: &str) -> Option<&str> {
 
 #[test]
 fn network_apply_assign_then_dump_and_check_round_trip_on_vcan() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let sim = Sim::new();
     sim.run(&["sim", "reset", "--profile", "instant", "--unconfigured", "5"]).ok();
-    let mut devices = common::sim_on_interface(&sim, IFACE);
+    let mut devices = common::sim_on_interface(&sim, common::vcan());
     let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sim-machine");
     let example = example.to_str().unwrap();
 
@@ -60,12 +58,12 @@ fn network_apply_assign_then_dump_and_check_round_trip_on_vcan() {
 /// the switch, says it could not check it, and gives the `ip link` command for vcan0.
 #[test]
 fn network_set_baud_on_socketcan_says_how_to_switch_the_interface() {
-    if !common::has_interface(IFACE) {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let sim = Sim::new();
     sim.run(&["sim", "reset", "--profile", "instant", "--unconfigured", "0", "--fault", "stepper:mute"]).ok();
-    let mut devices = common::sim_on_interface(&sim, IFACE);
+    let mut devices = common::sim_on_interface(&sim, common::vcan());
     let run = canctl(&sim, &["network", "set-baud", "250k", "--global", "--format", "json"]);
     assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
     let report = run.json();
@@ -73,10 +71,9 @@ fn network_set_baud_on_socketcan_says_how_to_switch_the_interface() {
     assert_eq!(report["activated"], true, "{report}");
     assert_eq!(report["bus_followed"], false, "{report}");
     let hint = report["link_to_switch"].as_str().unwrap();
-    assert!(
-        hint.contains("sudo ip link set vcan0 down && sudo ip link set vcan0 up type can bitrate 250000"),
-        "{hint}"
-    );
+    let iface = common::vcan();
+    let fix = format!("sudo ip link set {iface} down && sudo ip link set {iface} up type can bitrate 250000");
+    assert!(hint.contains(&fix), "{hint}");
     let _ = devices.kill();
     let _ = devices.wait();
 }

@@ -39,7 +39,7 @@ fn wait_for(what: &str, mut ok: impl FnMut() -> bool) {
 #[test]
 fn slcand_on_the_simulated_adapter_carries_canctl_and_python_canopen() {
     // The VM says where its kernel modules are; vcan0 marks a kernel with CAN.
-    if !common::has_interface("vcan0") {
+    if !common::has_interface(common::vcan()) {
         return;
     }
     let kroot = std::env::var("VMCAN_KROOT").expect("the kernel-test VM sets VMCAN_KROOT");

@@ -11,8 +11,6 @@ use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::{Mutex, MutexGuard};
 
-const IFACE: &str = "vcan0";
-
 /// One set of devices on vcan0 at a time: two would answer for the same node-ids.
 static BUS: Mutex<()> = Mutex::new(());
 
@@ -26,12 +24,12 @@ struct OnVcan {
 impl OnVcan {
     /// `None` (after saying so) when this kernel has no vcan0.
     fn start() -> Option<OnVcan> {
-        if !common::has_interface(IFACE) {
+        if !common::has_interface(common::vcan()) {
             return None;
         }
         let lock = BUS.lock().unwrap_or_else(|e| e.into_inner());
         let sim = Sim::new();
-        let devices = common::sim_on_interface(&sim, IFACE);
+        let devices = common::sim_on_interface(&sim, common::vcan());
         Some(OnVcan { sim, devices, _lock: lock })
     }
 }
@@ -48,7 +46,7 @@ impl Under for OnVcan {
         common::finish(self.command(args).output().unwrap())
     }
     fn iface(&self) -> &str {
-        IFACE
+        common::vcan()
     }
     fn path(&self, name: &str) -> PathBuf {
         self.sim.path(name)
@@ -56,7 +54,7 @@ impl Under for OnVcan {
     fn command(&self, args: &[&str]) -> Command {
         let mut c = Command::new(common::canctl_bin());
         common::isolate(&mut c);
-        c.env_remove("CANCTL_BUS").args(["--bus", IFACE]).args(args).stdin(Stdio::null());
+        c.env_remove("CANCTL_BUS").args(["--bus", common::vcan()]).args(args).stdin(Stdio::null());
         c
     }
     /// The kernel tests run in an emulated CPU (TCG), many times slower than hardware.
@@ -121,7 +119,7 @@ fn bus_off_during_a_command_is_exit_5() {
     let Some(bus) = OnVcan::start() else { return };
     // The test's own socket sees canctl's requests. It is open before canctl starts, so
     // none is missed.
-    let sock = CanSocket::open(IFACE).unwrap();
+    let sock = CanSocket::open(common::vcan()).unwrap();
     sock.set_read_timeout(std::time::Duration::from_millis(200)).unwrap();
     // A long segmented read keeps canctl busy; the controller then reports bus-off.
     let out = bus.path("d.bin");
@@ -155,16 +153,18 @@ fn log_frames_on_socketcan_names_the_interface() {
     assert_eq!(r.code, 0, "{}", r.stderr);
     assert_eq!(r.stdout.trim(), "251");
     let text = std::fs::read_to_string(&log).unwrap();
-    let frames: Vec<&str> = text
+    let iface = common::vcan();
+    let frames: Vec<String> = text
         .lines()
         .map(|l| {
             let (time, rest) = l.split_once(") ").unwrap_or_else(|| panic!("not a candump log line: {l}"));
             assert!(time.starts_with('(') && time.len() == 1 + 10 + 1 + 6, "{l}");
-            rest
+            rest.to_string()
         })
-        .filter(|f| !f.starts_with("vcan0 7"))
+        .filter(|f| !f.starts_with(&format!("{iface} 7")))
         .collect();
-    assert_eq!(frames, ["vcan0 601#4018100100000000", "vcan0 581#43181001FB000000"], "{text}");
+    let expected = [format!("{iface} 601#4018100100000000"), format!("{iface} 581#43181001FB000000")];
+    assert_eq!(frames, expected, "{text}");
 }
 
 /// An error frame that is not bus-off is a warning on stderr, once, through the diagnostics
@@ -173,7 +173,7 @@ fn log_frames_on_socketcan_names_the_interface() {
 fn an_error_frame_is_one_warning_that_quiet_silences() {
     use socketcan::{CanErrorFrame, CanFrame, CanSocket, Socket};
     let Some(bus) = OnVcan::start() else { return };
-    let sock = CanSocket::open(IFACE).unwrap();
+    let sock = CanSocket::open(common::vcan()).unwrap();
     sock.set_read_timeout(std::time::Duration::from_millis(200)).unwrap();
     for quiet in [false, true] {
         let out = bus.path("d.bin");
@@ -193,7 +193,8 @@ fn an_error_frame_is_one_warning_that_quiet_silences() {
         let r = common::finish(child.wait_with_output().unwrap());
         assert_eq!(r.code, 0, "{}", r.stderr);
         assert_eq!(std::fs::read(&out).unwrap().len(), 65536);
-        let warnings = r.stderr.lines().filter(|l| l.starts_with("canctl: warning: vcan0: ")).count();
+        let warnings =
+            r.stderr.lines().filter(|l| l.starts_with(&format!("canctl: warning: {}: ", common::vcan()))).count();
         assert_eq!(warnings, if quiet { 0 } else { 1 }, "quiet {quiet}: {}", r.stderr);
     }
 }

@@ -139,6 +139,13 @@ impl Drop for DeviceSide {
 }
 pub mod scenarios;
 
+/// The vcan interface of the kernel tests: vcan0, or `CANCTL_TEST_VCAN` (scripts/kernel-tests.sh
+/// runs several tests at once, each worker on an interface of its own).
+pub fn vcan() -> &'static str {
+    static IFACE: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    IFACE.get_or_init(|| std::env::var("CANCTL_TEST_VCAN").unwrap_or_else(|_| "vcan0".into()))
+}
+
 /// Whether this kernel has the interface. Without it the test is skipped, and says so,
 /// unless `CANCTL_REQUIRE_KERNEL` is set (CI and the kernel-test VM set it): then a missing
 /// interface is a failure, not a pass.
