@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Deterministic simulation testing on demand: N seeded scenarios (default 1,000,000) of
-# tests/dst.rs, from seed START (default a fresh one from the clock, printed), on the
+# tests/dst/, from seed START (default a fresh one from the clock, printed), on the
 # release build. CI runs `scripts/dst.sh 10000 0x5EED0000`: the same 10,000 every time. Every failing seed is printed with the command that
 # replays it (CANCTL_DST_SEED=... cargo test --test dst).
 #   scripts/dst.sh [N] [START]

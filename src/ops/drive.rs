@@ -562,7 +562,7 @@ mod tests {
 
     /// The drive takes a controlword but its answer is lost (a gateway under load drops
     /// it): the walk ends with no answer, and the state it reports is the drive's, read
-    /// back, not the one from before the write. (Found by tests/dst.rs, seed 0x5eed053d.)
+    /// back, not the one from before the write. (Found by tests/dst/, seed 0x5eed053d.)
     #[test]
     fn a_lost_answer_to_a_controlword_leaves_no_stale_state_in_the_report() {
         use crate::sim::{SimConfig, SimLink};

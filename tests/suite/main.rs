@@ -5,7 +5,7 @@
 //!
 //! The kernel tests (SocketCAN, slcand, python peers on vcan0) are the modules that
 //! `scripts/kernel-tests.sh` names: they say "skipped" without vcan0 and run in its VM.
-//! Two tests stand beside this binary: `tests/dst.rs`, the seeded simulation, which CI runs
+//! Two tests stand beside this binary: `tests/dst/`, the seeded simulation, which CI runs
 //! in a release build that this whole suite need not pay for; and `tests/library.rs`, the
 //! crate as a library user builds it, without the command line (`--no-default-features`).
 

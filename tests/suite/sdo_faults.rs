@@ -195,7 +195,7 @@ fn master(link: ScriptedLink) -> Master<ScriptedLink> {
 }
 
 /// One attempt: these tests are about how a single transfer ends (its deadlines, what is
-/// progress); repeating it after a timeout is `bus::master`'s tests and tests/dst.rs.
+/// progress); repeating it after a timeout is `bus::master`'s tests and tests/dst/.
 fn opts() -> SdoOptions {
     SdoOptions { retries: 0, ..SdoOptions::new(TIMEOUT) }
 }

@@ -190,7 +190,7 @@ fn a_late_answer_once_searches_that_part_again_at_the_same_step() {
     assert!(scan.steps() < 2 * (133 + 2 + 1 + 1 + 33), "{}", scan.steps());
 }
 
-/// Seed 0x109bc6 of tests/dst.rs: an answer to a bit check of the serial held up
+/// Seed 0x109bc6 of tests/dst/: an answer to a bit check of the serial held up
 /// 45 ms (four short steps) made that bit look like 1, and arrived in the window of
 /// the serial's confirmation, so a value no device has was "confirmed". Fastscan
 /// answers carry nothing to tell which request they answer: the identity found is
@@ -347,7 +347,7 @@ fn fastscan_finds_every_device_under_two_percent_loss() {
     assert!(failed.is_empty(), "{} of 200 seeds failed: {failed:?}", failed.len());
 }
 
-/// Seeds 0xfb02c and 0xf7686 of tests/dst.rs: one slave losing 20 % of its answers.
+/// Seeds 0xfb02c and 0xf7686 of tests/dst/: one slave losing 20 % of its answers.
 /// Parts went unconfirmed again and again, were taken for lateness, and the step
 /// doubled four times (786–2,272 s of bus time): a longer step brings no lost answer
 /// back. The step stays, and the search ends, found or failed, within its bound.
