@@ -13,19 +13,8 @@ pub fn lss_assign_under_two_percent_loss_never_calls_a_waiting_device_done() {
         for i in 1..=3 {
             config = config.fault(format!("sensor-0950130{i}:drop@2%").parse().unwrap());
         }
-        let s = Scenario {
-            seed,
-            procedure: Procedure::Assign,
-            config,
-            stop_after: None,
-            first_look: false,
-            host_stall_ms: 0,
-        };
-        let out = run(&s);
-        if out.broken.is_some() {
-            trace(&out.frames);
-        }
-        assert!(out.broken.is_none(), "seed {seed}: {}", out.broken.unwrap());
+        let s = Scenario::plain(seed, Procedure::Assign, config);
+        let out = run_unbroken(&s);
         *outcomes.entry(out.ended).or_insert(0) += 1;
     }
     eprintln!("lss assign under 2 % loss, 24 runs: {outcomes:?}");
@@ -50,7 +39,7 @@ pub fn sdo_under_two_percent_loss_reads_and_plain_writes_finish_actions_are_sent
         for node in NODES {
             config = config.fault(format!("{node}:drop@2%").parse().unwrap());
         }
-        let s = Scenario { seed, procedure, config, stop_after: None, first_look: false, host_stall_ms: 0 };
+        let s = Scenario::plain(seed, procedure, config);
         let out = run(&s);
         *outcomes.entry(format!("{:?}: {}", s.procedure, out.ended)).or_insert(0) += 1;
         if let Some(broken) = out.broken.or_else(|| (out.ended != "ok").then(|| out.ended.clone())) {
@@ -91,33 +80,15 @@ pub fn store_under_loss(seed: u64) -> (String, usize) {
 #[test]
 pub fn lss_assign_with_set_id_unanswered_says_the_device_may_hold_the_id() {
     let config = SimConfig::default().seed(7).unconfigured(1).virtual_time(true);
-    let clean = Scenario {
-        seed: 7,
-        procedure: Procedure::Assign,
-        config: config.clone(),
-        stop_after: None,
-        first_look: false,
-        host_stall_ms: 0,
-    };
+    let clean = Scenario::plain(7, Procedure::Assign, config.clone());
     let out = run(&clean);
     assert!(out.broken.is_none() && out.ended == "ok", "{:?} {}", out.broken, out.ended);
     // The device's answers are counted from 1; the one to set-id is the first 0x11.
     let answers: Vec<&Taped> = out.frames.iter().filter(|f| !f.sent && f.id == 0x7E4).collect();
     let n = 1 + answers.iter().position(|f| f.data[0] == 0x11).expect("an answer to set-id");
     let config = config.fault(format!("sensor-09501301:short-dlc@{n}+").parse().unwrap());
-    let s = Scenario {
-        seed: 7,
-        procedure: Procedure::Assign,
-        config,
-        stop_after: None,
-        first_look: false,
-        host_stall_ms: 0,
-    };
-    let out = run(&s);
-    if out.broken.is_some() {
-        trace(&out.frames);
-    }
-    assert!(out.broken.is_none(), "{}", out.broken.unwrap());
+    let s = Scenario::plain(7, Procedure::Assign, config);
+    let out = run_unbroken(&s);
     assert_eq!(out.ended, "ended part-way");
 }
 
@@ -191,14 +162,7 @@ pub fn scan_lists_a_node_without_heartbeat_whose_probe_answer_was_lost() {
 #[test]
 pub fn health_checks_a_node_whose_probe_answer_was_lost() {
     let mut master = virtual_master(first_probe_answer_of_node_1_lost());
-    let o = ops::health::HealthOptions {
-        window: Duration::from_millis(100),
-        timeout: TIMEOUT,
-        watch: None,
-        state: None,
-        last_seen: Vec::new(),
-    };
-    let h = ops::health::health(&mut master, &o, &mut Silent).unwrap();
+    let h = ops::health::health(&mut master, &health_options(), &mut Silent).unwrap();
     let nodes: Vec<u8> = h.nodes.iter().map(|n| n.node).collect();
     assert_eq!(nodes, [1, 5, 10, 32], "{h:?}");
     assert_eq!(h.answered_on_repeat, [ops::scan::Repeat { node: 1, probe: 2 }]);
@@ -275,14 +239,7 @@ pub fn network_check_counts_a_stopped_node_the_project_does_not_list() {
 pub fn health_does_not_pass_a_bus_with_a_node_that_answers_no_sdo() {
     let mut master = virtual_master(SimConfig::default().seed(1).virtual_time(true));
     master.nmt(Command::Stop, 5).unwrap();
-    let o = ops::health::HealthOptions {
-        window: Duration::from_millis(100),
-        timeout: TIMEOUT,
-        watch: None,
-        state: None,
-        last_seen: Vec::new(),
-    };
-    let h = ops::health::health(&mut master, &o, &mut Silent).unwrap();
+    let h = ops::health::health(&mut master, &health_options(), &mut Silent).unwrap();
     let sensor = h.nodes.iter().find(|n| n.node == 5).expect("the stopped sensor checked");
     let sdo = sensor.checks.iter().find(|c| c.check == "sdo").expect("an sdo check");
     // What to do is typed: the command line names the command (`canctl nmt preop 5`).
@@ -368,4 +325,26 @@ pub fn a_stop_ends_a_batch_within_half_a_second_whatever_the_devices_do() {
     // The stop came with the 127th segment of the first sub-block.
     let stopped_at = tape.frames.iter().filter(|f| f.id == 0x581 && !f.sent).nth(127).expect("a sub-block").at;
     assert!(took <= stopped_at + Duration::from_millis(500), "stopped at {stopped_at:?}, ended at {took:?}");
+}
+
+/// Run `s`, which must keep every invariant (its frames traced when it does not, with
+/// `CANCTL_DST_TRACE`).
+fn run_unbroken(s: &Scenario) -> Outcome {
+    let out = run(s);
+    if let Some(broken) = &out.broken {
+        trace(&out.frames);
+        panic!("seed {}: {broken}", s.seed);
+    }
+    out
+}
+
+/// `health` with a 100 ms window, for the first time on this bus.
+fn health_options() -> ops::health::HealthOptions {
+    ops::health::HealthOptions {
+        window: Duration::from_millis(100),
+        timeout: TIMEOUT,
+        watch: None,
+        state: None,
+        last_seen: Vec::new(),
+    }
 }

@@ -146,6 +146,11 @@ impl Scenario {
         Scenario { seed, procedure, config, stop_after, first_look, host_stall_ms }
     }
 
+    /// A scenario of its own test: no stop, a bus scanned before, a host that keeps up.
+    pub fn plain(seed: u64, procedure: Procedure, config: SimConfig) -> Scenario {
+        Scenario { seed, procedure, config, stop_after: None, first_look: false, host_stall_ms: 0 }
+    }
+
     pub fn clean(&self) -> bool {
         self.config.faults.is_empty() && self.stop_after.is_none()
     }
