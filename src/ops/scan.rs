@@ -239,8 +239,9 @@ fn found_unless_stopped(p: Probed) -> Result<Found> {
 /// Nodes that answered a probe, with their device types.
 type Found = Vec<(u8, Option<u32>)>;
 
-/// A node that answered the probe only when asked again: frames are being lost (a loaded
-/// adapter or gateway, a bus with errors), and a single probe would have missed it.
+/// A node that answered the probe only when asked again, and did not restart meanwhile (no
+/// boot-up heard): frames are being lost (a loaded adapter or gateway, a bus with errors),
+/// and a single probe would have missed it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Repeat {
     /// The node-id.
@@ -310,10 +311,12 @@ pub(crate) fn probe_until_stopped(
                 }
             };
             // Frames were lost only where the rounds before heard nothing of it: an answer
-            // that was malformed or without end was an answer.
+            // that was malformed or without end was an answer. A node whose boot-up was
+            // heard restarted meanwhile: it was silent while it booted, nothing was lost.
             let answered_before = failed.remove(node).is_some();
+            let restarted = bus.observed().nodes.get(node).is_some_and(|how| how.contains(&SeenBy::BootUp));
             p.found.push((*node, device_type));
-            if p.rounds > 1 && !answered_before {
+            if p.rounds > 1 && !answered_before && !restarted {
                 p.repeats.push(Repeat { node: *node, probe: p.rounds });
             }
         }

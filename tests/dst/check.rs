@@ -289,12 +289,14 @@ pub fn muted(s: &Scenario, d: &DeviceView) -> bool {
 }
 
 /// Whether a fault of the scenario loses, damages or holds back frames to or from this
-/// node-id (a device with that node-id, or one that had none yet).
+/// node-id (a device with that node-id, or one that had none yet, or a device that answers
+/// on this node-id's COB-ID in place of its own).
 pub fn loses_frames(s: &Scenario, node: u8) -> bool {
+    let speaks_for = |target: u8| target == node || wrong_cobs(s).contains(&(target, node));
     s.config.faults.iter().any(|f| {
         let spec = f.to_string();
         let (target, kind) = spec.split_once(':').unwrap_or_default();
-        let ours = target.parse::<u8>().map_or(target.starts_with("sensor-"), |n| n == node);
+        let ours = target.parse::<u8>().map_or(target.starts_with("sensor-"), speaks_for);
         ours && ["drop", "miss", "mute", "delay", "corrupt", "short-dlc"].iter().any(|k| kind.starts_with(k))
     })
 }
@@ -309,13 +311,18 @@ pub fn last_seen(s: &Scenario) -> &'static [u8] {
 
 /// The node-ids a device with a wrong-cob fault answers on in place of its own.
 pub fn answered_for(s: &Scenario) -> Vec<u8> {
+    wrong_cobs(s).into_iter().map(|(_, claimed)| claimed).collect()
+}
+
+/// Each device with a wrong-cob fault: its node-id, and the node-id it answers on.
+fn wrong_cobs(s: &Scenario) -> Vec<(u8, u8)> {
     let claimed = |f: &canctl::sim::FaultSpec| {
         let spec = f.to_string();
         let (target, kind) = spec.split_once(':')?;
-        match kind.strip_prefix("wrong-cob") {
-            Some("") => target.parse::<u8>().ok().map(|n| n + 1),
-            Some(id) => u16::from_str_radix(id.strip_prefix("=0x")?, 16).ok().map(|c| (c & 0x7F) as u8),
-            None => None,
+        let target = target.parse::<u8>().ok()?;
+        match kind.strip_prefix("wrong-cob")? {
+            "" => Some((target, target + 1)),
+            id => u16::from_str_radix(id.strip_prefix("=0x")?, 16).ok().map(|c| (target, (c & 0x7F) as u8)),
         }
     };
     s.config.faults.iter().filter_map(claimed).collect()

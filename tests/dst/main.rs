@@ -112,6 +112,11 @@ const FIXED: &[u64] = &[
     // made the beats of the held-up time before it let the stop reach the devices; fixed:
     // in the order they happened).
     0x5eed_087f,
+    // scan, the sensor rebooting on the probe (silent 300 ms while it booted, then its
+    // boot-up): "answered only on the 2nd probe: frames are being lost", where none was
+    // (fixed: a node whose boot-up was heard restarted, it lost nothing). Found by a run of
+    // 100,000 from 0x7A110000.
+    0x7a11_2ce4,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.
