@@ -1,7 +1,7 @@
 //! SocketCAN as a frame link: the kernel's CAN stack, any interface with a driver (can0,
 //! vcan0, slcan0). Receive filters keep a busy bus cheap; error frames are reported.
 
-use crate::bus::controller::{ErrorFrameCounts, LinkReport, CAN_ERR_FLAG};
+use crate::bus::controller::{Controller, ErrorFrameCounts, LinkReport, CAN_ERR_FLAG};
 use crate::bus::FrameLink;
 use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
@@ -17,6 +17,8 @@ const TX_QUEUE_PATIENCE: Duration = Duration::from_secs(2);
 /// A Linux CAN interface (`can0`, `vcan0`) as a [`FrameLink`].
 pub(crate) struct SocketCanLink {
     sock: CanSocket,
+    /// The longest frame at the interface's bit rate, as netlink gave it when opened.
+    frame_time: Option<Duration>,
     iface: String,
     filters: Vec<(u16, u16)>,
     /// Error kinds already reported, so that a storm of them is one warning each.
@@ -69,7 +71,13 @@ impl SocketCanLink {
             other => other.map_err(io("error filter"))?,
         }
         sock.set_nonblocking(true).map_err(io(""))?;
+        // A vcan interface, or one whose rate netlink does not give: not known.
+        let frame_time = match super::can_netlink::read(iface) {
+            Ok(Controller::Can { bitrate: Some(bps), .. }) => Some(crate::frame::longest_frame_time(bps.into())),
+            _ => None,
+        };
         Ok(SocketCanLink {
+            frame_time,
             sock,
             iface: iface.to_string(),
             filters: vec![(0, 0)],
@@ -106,6 +114,10 @@ fn to_socketcan(f: &Frame) -> CanFrame {
 }
 
 impl FrameLink for SocketCanLink {
+    fn frame_time(&self) -> Option<Duration> {
+        self.frame_time
+    }
+
     fn send(&mut self, frame: &Frame) -> Result<()> {
         let f = to_socketcan(frame);
         let give_up = Instant::now() + TX_QUEUE_PATIENCE;

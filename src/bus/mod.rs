@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 
 pub use frame_log::FrameLog;
 pub use master::Master;
-pub use observer::{Observed, SeenBy};
+pub use observer::{Asked, Observed, SeenBy};
 
 /// A raw frame link: what SocketCAN and the simulator provide.
 pub trait FrameLink {
@@ -79,6 +79,11 @@ pub trait FrameLink {
     fn follows_bit_rate_switch(&self) -> bool {
         false
     }
+    /// The longest an 8-byte data frame occupies the bus at the link's bit rate (see
+    /// [`Bus::frame_time`]); `None` where the link does not know its rate.
+    fn frame_time(&self) -> Option<Duration> {
+        None
+    }
     /// What the link knows about the bus beyond its frames (the controller's state, the
     /// error frames it reported); `None` for links that know nothing of the kind.
     fn report(&mut self) -> Option<controller::LinkReport> {
@@ -124,6 +129,14 @@ pub struct SdoOptions {
     /// (a lost frame is retried, not waited out). Writes that are actions are never
     /// repeated once sent whole (`canopen::sdo::retry`).
     pub retries: u8,
+    /// A read that has heard nothing this long after its request left the bus is asked
+    /// again (`retries` times at most) while the earlier request still stands: an answer
+    /// to any of them counts, and the wait is `timeout` from the last one. A lost frame
+    /// then costs a typical answer time, not a whole timeout. Only where the link knows how
+    /// long a frame takes ([`Bus::frame_time`]); elsewhere a retry comes after the
+    /// timeout, as for other transfers. How many of the requests each node answered is
+    /// kept in [`Observed::asked_again`].
+    pub ask_again_after: Option<Duration>,
 }
 
 /// Whether the user asked to stop the transfers of `opts`.
@@ -145,6 +158,7 @@ impl std::fmt::Debug for SdoOptions {
             .field("stop", &self.stop)
             .field("on_progress", &self.on_progress.as_ref().map(|_| "(hook)"))
             .field("retries", &self.retries)
+            .field("ask_again_after", &self.ask_again_after)
             .finish()
     }
 }
@@ -162,6 +176,7 @@ impl SdoOptions {
             stop: None,
             on_progress: None,
             retries: crate::canopen::sdo::retry::DEFAULT_RETRIES,
+            ask_again_after: None,
         }
     }
 }
@@ -299,6 +314,13 @@ pub trait Bus {
     /// answers commands only, so frames must be asked for with `request_frame`.
     fn sees_traffic(&self) -> bool;
 
+    /// The longest an 8-byte data frame occupies the bus (worst-case stuffing), when the
+    /// link knows its bit rate: when requests sent now will have left the bus. A
+    /// decorator passes it on (`pass_on_unchanged!`).
+    fn frame_time(&self) -> Option<Duration> {
+        None
+    }
+
     /// Whether the link itself follows an LSS bit-rate switch (see `FrameLink`). A
     /// decorator passes it on (`pass_on_unchanged!`).
     fn follows_bit_rate_switch(&self) -> bool {
@@ -408,6 +430,9 @@ macro_rules! pass_on_unchanged {
         }
         fn sees_traffic(&self) -> bool {
             self.$inner.sees_traffic()
+        }
+        fn frame_time(&self) -> Option<std::time::Duration> {
+            self.$inner.frame_time()
         }
         fn follows_bit_rate_switch(&self) -> bool {
             self.$inner.follows_bit_rate_switch()

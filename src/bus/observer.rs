@@ -27,6 +27,24 @@ pub enum SeenBy {
 /// Stray LSS answers kept at most: a babbling device must not fill the memory.
 const MAX_LSS_ANSWERS: usize = 1024;
 
+/// How often one read was sent to a node that was slow to answer or lost a frame, and how
+/// often the node answered it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Asked {
+    /// The requests sent (the first one included).
+    pub requests: u8,
+    /// The answers heard, each to one of them.
+    pub answers: u8,
+}
+
+impl Asked {
+    /// Fewer answers than requests: a request or its answer was lost on the way (a node
+    /// that is only slow answers each one).
+    pub fn lost_frames(&self) -> bool {
+        self.answers < self.requests
+    }
+}
+
 /// What a bus showed by itself during a session, kept by the bus as frames pass.
 #[derive(Clone, Debug, Default)]
 pub struct Observed {
@@ -39,6 +57,9 @@ pub struct Observed {
     /// How many data frames were received, of any kind: a bus that showed some is not
     /// silent, whoever sent them.
     pub frames: usize,
+    /// The nodes a read was asked of again before its timeout ([`SdoOptions::ask_again_after`](super::SdoOptions::ask_again_after))
+    /// in the last batch that did so, with how many requests went and answers came.
+    pub asked_again: BTreeMap<u8, Asked>,
     /// LSS slave answers (0x7E4, 8 bytes) that came outside an exchange waiting for them,
     /// oldest first; `take_lss_answers` empties it.
     lss_answers: Vec<[u8; 8]>,

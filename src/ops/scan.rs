@@ -213,6 +213,12 @@ pub(crate) fn probe_rounds(bus: &dyn Bus) -> usize {
     }
 }
 
+/// How long after its request has left the bus a silent id is asked again, where the link
+/// says when that is ([`Bus::frame_time`]): devices answer within a few ms, so a lost
+/// request or answer costs this, not a whole window. A slow device (up to 80 ms) answers
+/// every request it gets, and is told from a lost frame by its count of answers.
+const ASK_AGAIN_AFTER: Duration = Duration::from_millis(20);
+
 /// Every node that answers an SDO read of 0x1000 within `window`, in up to
 /// [`PROBE_ROUNDS`] rounds, with its device type (`None` when it answered with an abort:
 /// the node is there all the same).
@@ -239,15 +245,17 @@ fn found_unless_stopped(p: Probed) -> Result<Found> {
 /// Nodes that answered a probe, with their device types.
 type Found = Vec<(u8, Option<u32>)>;
 
-/// A node that answered the probe only when asked again, and did not restart meanwhile (no
-/// boot-up heard): frames are being lost (a loaded adapter or gateway, a bus with errors),
-/// and a single probe would have missed it.
+/// A node that answered fewer of the probes sent to it than were sent, and did not restart
+/// meanwhile (no boot-up heard): frames are being lost (a loaded adapter or gateway, a bus
+/// with errors), and a single probe may miss it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Repeat {
     /// The node-id.
     pub node: u8,
-    /// The probe it answered (2: the first repeat).
-    pub probe: usize,
+    /// The probes sent to it.
+    pub probes: usize,
+    /// The answers it gave (fewer).
+    pub answered: usize,
 }
 
 /// What the rounds of the probe found.
@@ -271,20 +279,35 @@ pub(crate) fn probe_until_stopped(
     rounds: usize,
     progress: &mut dyn Progress,
 ) -> Result<Probed> {
-    // Not retried one by one: most ids have no node behind them, and a retry would be one
-    // more window for each of them; the next round asks all the silent ones at once.
-    let opts = SdoOptions { retries: 0, ..super::capped(window, super::NUMBER_LIMIT) };
+    // Where the link says when a request has left the bus, every round goes in one batch:
+    // an id silent a typical answer time after its request is asked again at once, while
+    // the window of the first request still runs. Elsewhere round after round, each asking
+    // the silent ids at once, each one more window: not retried one by one, as most ids
+    // have no node behind them and a retry would be one more window for each.
+    let at_once = bus.frame_time().is_some();
+    let base = super::capped(window, super::NUMBER_LIMIT);
     let mut ids: Vec<u8> = (1..=127).collect();
     let mut p = Probed::default();
     // What a node answered that was not an answer (a malformed frame may be a damaged
     // one): said only when no later round brings a good one.
     let mut failed: BTreeMap<u8, Error> = BTreeMap::new();
     while p.rounds < rounds && !ids.is_empty() && !p.stopped {
-        p.rounds += 1;
+        let first = p.rounds == 0;
+        // A malformed answer ends its id's batch: the next round asks it once more.
+        let batch = if at_once && first { rounds } else { 1 };
+        let opts = SdoOptions {
+            retries: (batch - 1) as u8,
+            // Within a short window too: at most half of it.
+            ask_again_after: (batch > 1).then_some(ASK_AGAIN_AFTER.min(window / 2)),
+            ..base.clone()
+        };
+        p.rounds += batch;
         let probes: Vec<(u8, ObjAddr)> = ids.iter().map(|n| (*n, ObjAddr::DEVICE_TYPE)).collect();
-        progress.start(if p.rounds == 1 { "probing" } else { "probing again" }, probes.len() as u64);
+        progress.start(if first { "probing" } else { "probing again" }, probes.len() as u64);
+        bus.observed().asked_again.clear();
         let answers = bus.sdo_upload_many(&probes, &opts, &mut |n| progress.advance(n as u64));
         progress.finish();
+        let asked = std::mem::take(&mut bus.observed().asked_again);
         // Stopped before a repeat went out: what the rounds before found stands.
         let answers = match answers {
             Err(e) if e.is_interrupted() => {
@@ -303,10 +326,13 @@ pub(crate) fn probe_until_stopped(
                     continue;
                 }
                 Err(e) => {
+                    // An id asked every time already in this batch is done with.
                     if !e.is_timeout() {
                         failed.insert(*node, e);
+                        ids.push(*node);
+                    } else if batch == 1 {
+                        ids.push(*node);
                     }
-                    ids.push(*node);
                     continue;
                 }
             };
@@ -316,8 +342,15 @@ pub(crate) fn probe_until_stopped(
             let answered_before = failed.remove(node).is_some();
             let restarted = bus.observed().nodes.get(node).is_some_and(|how| how.contains(&SeenBy::BootUp));
             p.found.push((*node, device_type));
-            if p.rounds > 1 && !answered_before && !restarted {
-                p.repeats.push(Repeat { node: *node, probe: p.rounds });
+            // Asked in one batch, a node that is only slow answers every request; round by
+            // round, an answer in a later round is the sign.
+            let repeat = match asked.get(node) {
+                Some(a) => Some(Repeat { node: *node, probes: a.requests.into(), answered: a.answers.into() })
+                    .filter(|_| a.lost_frames()),
+                None => (!first).then_some(Repeat { node: *node, probes: p.rounds, answered: 1 }),
+            };
+            if let Some(repeat) = repeat.filter(|_| !answered_before && !restarted) {
+                p.repeats.push(repeat);
             }
         }
     }

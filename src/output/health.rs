@@ -235,11 +235,6 @@ fn health_notes(h: &HealthReport, bus: Option<&str>) -> Vec<String> {
         ));
     }
     notes.extend(h.not_there.iter().map(|node| super::nodes::not_there_text(*node)));
-    for r in &h.answered_on_repeat {
-        notes.push(format!(
-            "node {} answered only when asked again (probe {}): frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
-            r.node, r.probe
-        ));
-    }
+    notes.extend(h.answered_on_repeat.iter().map(super::nodes::repeat_text));
     notes
 }

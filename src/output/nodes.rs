@@ -71,16 +71,7 @@ fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
     // The probe asks again the ids that did not answer: a node that answered only then
     // is the technician's sign that frames are being lost.
     for r in &scan.answered_on_repeat {
-        // There are three rounds at most.
-        let nth = match r.probe {
-            2 => "2nd".to_string(),
-            3 => "3rd".to_string(),
-            n => format!("{n}th"),
-        };
-        parts.push(Human::Line(format!(
-            "node {} answered only on the {nth} probe: frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
-            r.node
-        )));
+        parts.push(Human::Line(repeat_text(r)));
     }
     // Without a state the line above says why it is listed.
     for f in scan.nodes.iter().filter(|f| !f.answers_sdo) {
@@ -334,6 +325,14 @@ pub(crate) fn short_window_note() -> String {
     )
 }
 
+/// A node that answered fewer probes than it was sent: the technician's sign that frames are
+/// being lost (scan's and health's note).
+pub(super) fn repeat_text(r: &crate::ops::scan::Repeat) -> String {
+    format!(
+        "node {} answered {} of {} probes: frames are being lost (an overloaded adapter or gateway, or errors on the bus)",
+        r.node, r.answered, r.probes
+    )
+}
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -372,7 +371,7 @@ mod tests {
             lss_configuration: Configuring::default(),
             clashes: vec![],
             probe_rounds: 3,
-            answered_on_repeat: vec![Repeat { node: 21, probe: 2 }],
+            answered_on_repeat: vec![Repeat { node: 21, probes: 2, answered: 1 }],
             interrupted: false,
             not_done: vec![],
             gone: vec![Gone { node: 7, from: StateFrom::Silent { heartbeat: false } }],
@@ -381,7 +380,7 @@ mod tests {
         };
         let lines = lines(scan.human());
         assert!(
-            lines.iter().any(|l| l.starts_with("node 21 answered only on the 2nd probe: frames are being lost")),
+            lines.iter().any(|l| l.starts_with("node 21 answered 1 of 2 probes: frames are being lost")),
             "{lines:?}"
         );
         assert!(

@@ -618,6 +618,10 @@ impl FrameLink for SimLink {
         true
     }
 
+    fn frame_time(&self) -> Option<Duration> {
+        Some(self.bus.bps().map_or(Duration::ZERO, crate::frame::longest_frame_time))
+    }
+
     fn name(&self) -> String {
         "sim".into()
     }

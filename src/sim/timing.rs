@@ -197,13 +197,8 @@ pub(crate) fn frame_bits(f: &Frame) -> u32 {
     bits.len() as u32 + stuff_bits(&bits) + 1 + 2 + 7 + 3
 }
 
-/// The standard worst case for a CAN 2.0A frame with `n` data bytes:
-/// 47 + 8n + ⌊(34 + 8n − 1) / 4⌋ bits.
 #[cfg(test)]
-pub(crate) fn worst_case_bits(n: usize) -> u32 {
-    let n = n as u32;
-    47 + 8 * n + (34 + 8 * n - 1) / 4
-}
+pub(crate) use crate::frame::worst_case_bits;
 
 /// How long `f` occupies the bus at `bps` bits per second.
 pub fn frame_time(f: &Frame, bps: u64) -> Nanos {
@@ -278,6 +273,11 @@ impl BusQueue {
 
     pub(crate) fn set_bps(&mut self, bps: Option<u64>) {
         self.bps = bps;
+    }
+
+    /// The bus's bit rate; `None`: frames take no time.
+    pub(crate) fn bps(&self) -> Option<u64> {
+        self.bps
     }
 
     pub(crate) fn stats(&self) -> BusStats {

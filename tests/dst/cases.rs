@@ -151,7 +151,7 @@ pub fn scan_lists_a_node_without_heartbeat_whose_probe_answer_was_lost() {
     assert_eq!(nodes, [1, 5, 10, 32], "{scan:?}");
     assert!(scan.nodes.iter().all(|n| n.answers_sdo), "{scan:?}");
     // The technician learns the bus loses frames: the drive answered the second probe.
-    assert_eq!(scan.answered_on_repeat, [ops::scan::Repeat { node: 1, probe: 2 }]);
+    assert_eq!(scan.answered_on_repeat, [ops::scan::Repeat { node: 1, probes: 2, answered: 1 }]);
     assert_eq!(scan.probe_rounds, 3);
     let json = serde_json::to_value(&scan).unwrap();
     assert_eq!(json["answered_on_repeat"][0]["node"], 1, "{json}");
@@ -165,7 +165,7 @@ pub fn health_checks_a_node_whose_probe_answer_was_lost() {
     let h = ops::health::health(&mut master, &health_options(), &mut Silent).unwrap();
     let nodes: Vec<u8> = h.nodes.iter().map(|n| n.node).collect();
     assert_eq!(nodes, [1, 5, 10, 32], "{h:?}");
-    assert_eq!(h.answered_on_repeat, [ops::scan::Repeat { node: 1, probe: 2 }]);
+    assert_eq!(h.answered_on_repeat, [ops::scan::Repeat { node: 1, probes: 2, answered: 1 }]);
 }
 
 /// `network check` probes once too: a listed node whose one answer was lost failed its

@@ -136,6 +136,19 @@ pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
     Ok(digits.chunks(2).map(|p| u8::from_str_radix(std::str::from_utf8(p).unwrap(), 16).unwrap()).collect())
 }
 
+/// The most bits a CAN 2.0A data frame with `len` data bytes occupies on the bus, stuff bits
+/// at their worst: 47 + 8n + ⌊(34 + 8n − 1) / 4⌋ (135 for 8 bytes).
+pub fn worst_case_bits(len: usize) -> u32 {
+    let n = len.min(8) as u32;
+    47 + 8 * n + (34 + 8 * n - 1) / 4
+}
+
+/// The longest an 8-byte data frame occupies a bus of `bits_per_second` (zero for zero).
+pub fn longest_frame_time(bits_per_second: u64) -> std::time::Duration {
+    let nanos = (u64::from(worst_case_bits(8)) * 1_000_000_000).checked_div(bits_per_second).unwrap_or(0);
+    std::time::Duration::from_nanos(nanos)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -159,5 +172,14 @@ mod tests {
         let f = Frame::new(0x605, &[0x40, 0x00, 0x10, 0, 0, 0, 0, 0]);
         assert_eq!(f.candump_line("vcan0"), "  vcan0  605   [8]  40 00 10 00 00 00 00 00");
         assert_eq!(Frame::remote(0x705, 1).candump_line("can0"), "  can0  705   [1]  remote request");
+    }
+
+    #[test]
+    fn the_longest_frame_counts_every_stuff_bit_it_can_have() {
+        assert_eq!(worst_case_bits(0), 55);
+        assert_eq!(worst_case_bits(8), 135);
+        assert_eq!(longest_frame_time(500_000), std::time::Duration::from_micros(270));
+        assert_eq!(longest_frame_time(1_000_000), std::time::Duration::from_micros(135));
+        assert_eq!(longest_frame_time(0), std::time::Duration::ZERO);
     }
 }

@@ -2,7 +2,9 @@
 //! and notes the heartbeats that pass by.
 
 use super::trace::{self, Dir};
-use super::{Bus, FrameLink, FrameLog, LssAnswer, LssExchange, LssWait, Observed, SdoJob, SdoOptions, TransferHook};
+use super::{
+    Asked, Bus, FrameLink, FrameLog, LssAnswer, LssExchange, LssWait, Observed, SdoJob, SdoOptions, TransferHook,
+};
 use crate::cancel::Cancel;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
@@ -61,6 +63,10 @@ pub struct Master<L: FrameLink> {
     in_lss_exchange: bool,
     /// Each node's last SDO answer, which may come a second time into its next transfer.
     last_sdo_answer: BTreeMap<u8, Vec<u8>>,
+    /// When the frames sent so far will have left the bus, where the link knows how long a
+    /// frame takes: a request asked again early is timed from there, not from when it was
+    /// queued behind a hundred others.
+    bus_free_at: Instant,
 }
 
 /// How long the others' answers may hold back the first answer of a node: eight answer
@@ -90,6 +96,47 @@ struct Active {
     answered_attempt: Option<Error>,
     /// Set once the user asked to stop: the transfer ends by then, whatever else says.
     stop_by: Option<Instant>,
+    /// When to ask again, not having heard anything ([`SdoOptions::ask_again_after`]).
+    ask_again_at: Option<Instant>,
+    /// When the last request sent will have left the bus.
+    last_left: Instant,
+}
+
+/// A read asked more than once and answered: the answers to its other requests are counted
+/// until `until` (the last request's answer time), to tell a slow node from a lost frame.
+struct Echo {
+    addr: ObjAddr,
+    asked: Asked,
+    until: Instant,
+}
+
+impl Echo {
+    /// Whether answers are still to come at `now`.
+    fn awaited(&self, now: Instant) -> bool {
+        self.until > now && self.asked.answers < self.asked.requests
+    }
+}
+
+/// A transfer `a` of `node` ended on an answer: if it was asked more than once, the
+/// answers to the other requests are counted from now on.
+fn echo(echoes: &mut BTreeMap<u8, Echo>, node: u8, a: &Active, timeout: Duration) {
+    if a.requests > 1 && a.client.is_upload() {
+        let asked = Asked { requests: a.requests, answers: 1 };
+        echoes.insert(node, Echo { addr: a.client.addr(), asked, until: a.last_left + timeout });
+    }
+}
+
+/// Whether `request` starts a plain upload (command specifier 2, CiA 301).
+fn is_initiate_upload(request: &[u8; 8]) -> bool {
+    request[0] == 0x40
+}
+
+/// Whether `data`, a server's frame, answers an upload of `addr` at its start: an initiate
+/// answer or an abort naming it.
+fn answers_upload(data: &[u8], addr: ObjAddr) -> bool {
+    let [cs, lo, hi, sub, ..] = *data else { return false };
+    let named = ObjAddr::new(u16::from_le_bytes([lo, hi]), sub);
+    data.len() == 8 && named == addr && (cs == 0x80 || cs >> 5 == 2)
 }
 
 impl Active {
@@ -102,6 +149,7 @@ impl Active {
 impl<L: FrameLink> Master<L> {
     /// A client over `link`; `describe` is the bus as messages name it (`socketcan:can0`).
     pub fn new(link: L, describe: String) -> Master<L> {
+        let bus_free_at = link.now();
         Master {
             link,
             describe,
@@ -111,6 +159,7 @@ impl<L: FrameLink> Master<L> {
             no_block: BTreeSet::new(),
             in_lss_exchange: false,
             last_sdo_answer: BTreeMap::new(),
+            bus_free_at,
         }
     }
 
@@ -139,7 +188,16 @@ impl<L: FrameLink> Master<L> {
 
     fn send(&mut self, frame: &Frame) -> Result<()> {
         self.seen(Dir::Tx, frame);
-        self.link.send(frame)
+        self.link.send(frame)?;
+        self.on_the_bus(1);
+        Ok(())
+    }
+
+    /// `frames` more were sent: when they will have left the bus.
+    fn on_the_bus(&mut self, frames: u32) {
+        if let Some(each) = self.link.frame_time() {
+            self.bus_free_at = self.bus_free_at.max(self.link.now()) + each * frames;
+        }
     }
 
     /// Frames ready at once (a block's segments): the link may write them in one go. They
@@ -147,6 +205,7 @@ impl<L: FrameLink> Master<L> {
     fn send_all(&mut self, frames: &[Frame]) -> Result<()> {
         self.link.send_all(frames)?;
         frames.iter().for_each(|f| self.seen(Dir::Tx, f));
+        self.on_the_bus(frames.len() as u32);
         Ok(())
     }
 
@@ -179,6 +238,7 @@ impl<L: FrameLink> Master<L> {
         jobs: Vec<(u8, SdoClient)>,
         timeout: Duration,
         retries: u8,
+        ask_again: Option<Duration>,
         progress: &mut dyn FnMut(usize),
         watch: &Watch,
     ) -> Result<Vec<Result<Vec<u8>>>> {
@@ -196,7 +256,7 @@ impl<L: FrameLink> Master<L> {
         let mut finished = 0;
         let nodes: Vec<u8> = queues.keys().copied().collect();
         for node in nodes.into_iter().filter(|_| !watch.stopped()) {
-            self.start_next(node, &mut queues, &mut active, timeout, retries)?;
+            self.start_next(node, &mut queues, &mut active, timeout, retries, ask_again)?;
         }
         // A node that has not answered at all is given up only once every node has been
         // quiet for `timeout`: while others still answer, the bus (or the requests queued on
@@ -205,6 +265,7 @@ impl<L: FrameLink> Master<L> {
         // `held_back_most` from its request: a device that answers without end must not
         // keep a silent node's wait going with it.
         let mut quiet_from = self.link.now();
+        let mut echoes: BTreeMap<u8, Echo> = BTreeMap::new();
         let deadline_of = |a: &Active, quiet_from: Instant| {
             let held_back = (quiet_from + timeout).min(a.started + held_back_most(timeout));
             match (a.heard, a.stop_by) {
@@ -217,16 +278,24 @@ impl<L: FrameLink> Master<L> {
             if watch.stopped() {
                 self.stop(&mut active, &mut queues, &mut results, timeout)?;
             }
-            if active.is_empty() {
+            let now = self.link.now();
+            // The answers still to come to a read asked more than once.
+            let awaited: Option<Instant> = echoes.values().filter(|e| e.awaited(now)).map(|e| e.until).min();
+            if active.is_empty() && (awaited.is_none() || watch.stopped()) {
                 break;
             }
+            self.ask_again_the_silent(&mut active, timeout, ask_again)?;
             // A transfer is given up at its deadline in bus time: the frame at hand is
             // judged by when it was on the bus, so answers that came in time but waited to
             // be read (this program was not running) still count. Checked on every frame,
             // not only when the link is quiet: on a busy bus frames keep coming and a
             // transfer must still end on time.
-            let now = self.link.now();
-            let Some(deadline) = active.values().map(|a| deadline_of(a, quiet_from)).min() else { continue };
+            let asking_again = active.values().filter_map(|a| a.ask_again_at);
+            let Some(deadline) =
+                active.values().map(|a| deadline_of(a, quiet_from)).chain(asking_again).chain(awaited).min()
+            else {
+                continue;
+            };
             let wake = match deadline {
                 d if d <= now => now,
                 d if watch.stop.is_some() => d.min(now + STOP_POLL),
@@ -286,7 +355,7 @@ impl<L: FrameLink> Master<L> {
                 }
                 finished += 1;
                 progress(finished);
-                self.start_next(node, &mut queues, &mut active, timeout, retries)?;
+                self.start_next(node, &mut queues, &mut active, timeout, retries, ask_again)?;
             }
             let Some((f, _)) = received else { continue };
             let node = f.id().wrapping_sub(0x580);
@@ -294,6 +363,10 @@ impl<L: FrameLink> Master<L> {
                 continue;
             }
             let node = node as u8;
+            if let Some(e) = echoes.get_mut(&node).filter(|e| answers_upload(f.data(), e.addr)) {
+                e.asked.answers += 1;
+                continue;
+            }
             let Some(a) = active.get_mut(&node) else {
                 continue;
             };
@@ -321,6 +394,7 @@ impl<L: FrameLink> Master<L> {
                     }
                     let Some(data) = step.done else { continue };
                     let a = active.remove(&node).expect("active");
+                    echo(&mut echoes, node, &a, timeout);
                     if a.client.fell_back() {
                         self.no_block.insert(node);
                     }
@@ -328,12 +402,16 @@ impl<L: FrameLink> Master<L> {
                 }
                 Err(e) => {
                     let a = active.remove(&node).expect("active");
+                    echo(&mut echoes, node, &a, timeout);
                     results[a.slot] = Some(Err(self.sdo_error(node, addr, e)?));
                 }
             }
             finished += 1;
             progress(finished);
-            self.start_next(node, &mut queues, &mut active, timeout, retries)?;
+            self.start_next(node, &mut queues, &mut active, timeout, retries, ask_again)?;
+        }
+        if ask_again.is_some() {
+            self.observed.asked_again = echoes.into_iter().map(|(node, e)| (node, e.asked)).collect();
         }
         self.read_back(read_backs, &mut results, timeout, retries, watch)?;
         let results: Vec<Result<Vec<u8>>> = results.into_iter().map(|r| r.expect("every job ends")).collect();
@@ -413,6 +491,32 @@ impl<L: FrameLink> Master<L> {
         Ok(())
     }
 
+    /// Each read that has heard nothing and whose time to ask again has come
+    /// ([`SdoOptions::ask_again_after`]) is sent again; its wait counts from the new request.
+    fn ask_again_the_silent(
+        &mut self,
+        active: &mut BTreeMap<u8, Active>,
+        timeout: Duration,
+        ask_again: Option<Duration>,
+    ) -> Result<()> {
+        let (Some(after), now) = (ask_again, self.link.now()) else { return Ok(()) };
+        for (node, a) in active.iter_mut() {
+            // A transfer started again after its timeout (`retries`) is asked again no more.
+            if a.heard || a.stop_by.is_some() || a.retries_left == 0 || a.ask_again_at.is_none_or(|at| at > now) {
+                continue;
+            }
+            let request = a.client.start();
+            self.send(&Frame::new(sdo::request_cob(*node), &request))?;
+            a.requests += 1;
+            a.retries_left -= 1;
+            a.last_left = self.bus_free_at.max(now);
+            a.idle_deadline = a.idle_deadline.max(a.last_left + timeout);
+            a.total_deadline = a.total_deadline.max(a.last_left + a.client.time_budget(timeout));
+            a.ask_again_at = (a.retries_left > 0).then_some(a.last_left + after);
+        }
+        Ok(())
+    }
+
     fn start_next(
         &mut self,
         node: u8,
@@ -420,6 +524,7 @@ impl<L: FrameLink> Master<L> {
         active: &mut BTreeMap<u8, Active>,
         timeout: Duration,
         retries: u8,
+        ask_again: Option<Duration>,
     ) -> Result<()> {
         let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else {
             return Ok(());
@@ -432,6 +537,10 @@ impl<L: FrameLink> Master<L> {
         self.send(&Frame::new(sdo::request_cob(node), &first))?;
         let now = self.link.now();
         let total_deadline = now + client.time_budget(timeout);
+        // Only a plain read's request can go again while it stands: it asks nothing twice.
+        let ask_again_at = ask_again
+            .filter(|_| retries > 0 && is_initiate_upload(&first))
+            .map(|after| self.bus_free_at.max(now) + after);
         active.insert(
             node,
             Active {
@@ -445,6 +554,8 @@ impl<L: FrameLink> Master<L> {
                 requests: 1,
                 answered_attempt: None,
                 stop_by: None,
+                ask_again_at,
+                last_left: self.bus_free_at.max(now),
             },
         );
         Ok(())
@@ -464,7 +575,7 @@ impl<L: FrameLink> Master<L> {
             return Ok(());
         }
         let reads = checks.iter().map(|(_, node, (addr, _))| (*node, SdoClient::upload(*addr, false))).collect();
-        let got = self.run(reads, timeout, retries, &mut |_| {}, watch)?;
+        let got = self.run(reads, timeout, retries, None, &mut |_| {}, watch)?;
         for ((slot, node, (addr, done)), read) in checks.into_iter().zip(got) {
             let confirmed = read.as_ref().is_ok_and(|v| *v == done);
             tracing::debug!(target: "canctl::sdo", "node {node}: read back {addr} after a lost answer: {read:?}");

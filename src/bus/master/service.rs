@@ -11,6 +11,9 @@ impl<L: FrameLink> Bus for Master<L> {
         let mut clients = Vec::with_capacity(jobs.len());
         let mut timeout = Duration::ZERO;
         let mut retries = 0;
+        // Asked again early only where the link says when a request has left the bus.
+        let ask_again =
+            jobs.iter().filter_map(|j| j.opts().ask_again_after).max().filter(|_| self.link.frame_time().is_some());
         let watch = Watch::of(jobs.iter().map(SdoJob::opts));
         for job in jobs {
             let (node, client, opts) = match job {
@@ -29,7 +32,7 @@ impl<L: FrameLink> Bus for Master<L> {
             retries = retries.max(opts.retries);
             clients.push((node, client));
         }
-        self.run(clients, timeout, retries, progress, &watch)
+        self.run(clients, timeout, retries, ask_again, progress, &watch)
     }
 
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
@@ -57,6 +60,9 @@ impl<L: FrameLink> Bus for Master<L> {
 
     fn sees_traffic(&self) -> bool {
         true
+    }
+    fn frame_time(&self) -> Option<Duration> {
+        self.link.frame_time()
     }
     fn block_transfer_to(&self, node: u8) -> bool {
         self.block_allowed(node, true)

@@ -43,6 +43,10 @@ struct Device {
     /// Answers that come 150 ms late, and answers that come twice.
     late: Vec<usize>,
     twice: Vec<usize>,
+    /// How long the device takes to answer (2 ms unless a test says).
+    answer_time: Duration,
+    /// What the link says of its frame time (`None`: it does not know).
+    frame_time: Option<Duration>,
 }
 
 impl Device {
@@ -61,6 +65,8 @@ impl Device {
             lose_answers: lose_answers.to_vec(),
             late: Vec::new(),
             twice: Vec::new(),
+            answer_time: Duration::from_millis(2),
+            frame_time: None,
         }
     }
 }
@@ -77,7 +83,7 @@ impl FrameLink for Device {
                 continue;
             }
             let late = if self.late.contains(&self.answers) { 150 } else { 0 };
-            let at = self.now + Duration::from_millis(2 + late);
+            let at = self.now + self.answer_time + Duration::from_millis(late);
             let copies = if self.twice.contains(&self.answers) { 2 } else { 1 };
             for _ in 0..copies {
                 self.queue.push_back((at, Frame::new(sdo::response_cob(NODE), &answer)));
@@ -100,6 +106,9 @@ impl FrameLink for Device {
     }
     fn name(&self) -> String {
         "test".into()
+    }
+    fn frame_time(&self) -> Option<Duration> {
+        self.frame_time
     }
     fn now(&self) -> Instant {
         self.now
@@ -197,4 +206,46 @@ fn a_segment_late_past_the_timeout_is_not_taken_for_the_retrys_answers() {
     // Initiation, two segment requests, the abort, then the whole read again (four
     // segments of seven bytes): the late segment moved nothing, the repeat neither.
     assert_eq!(m.link.requests, 3 + 1 + 5);
+}
+
+/// A probe's options: two more requests at most, each 20 ms after the one before.
+fn asking_again() -> SdoOptions {
+    SdoOptions { retries: 2, ask_again_after: Some(Duration::from_millis(20)), ..opts() }
+}
+
+/// A read whose request was lost is asked again a typical answer time later, not a timeout
+/// later, without an abort (nothing was under way); the count of answers tells of the loss.
+#[test]
+fn a_read_asked_again_early_recovers_a_lost_request_within_the_first_window() {
+    let mut m = master(&[1], &[]);
+    m.link.frame_time = Some(Duration::ZERO);
+    let start = m.link.now;
+    assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &asking_again()).unwrap(), vec![0xE8, 0x03]);
+    assert_eq!(m.link.requests, 2, "the request again, and no abort before it");
+    // The answer came 22 ms in; the batch then listened for an answer to the other request
+    // until its window closed, to count it (in a probe, the silent ids wait that long anyway).
+    assert_eq!(m.link.now - start, Duration::from_millis(120));
+    let asked = m.observed.asked_again[&NODE];
+    assert_eq!(asked, Asked { requests: 2, answers: 1 });
+    assert!(asked.lost_frames());
+}
+
+/// A node slower than the time to ask again answers every request: it lost nothing, and
+/// its count says so. Where the link does not know its frame time, the old retry after a
+/// timeout stands.
+#[test]
+fn a_slow_node_asked_again_answers_every_request_and_is_not_taken_for_a_loss() {
+    let mut m = master(&[], &[]);
+    m.link.frame_time = Some(Duration::from_micros(270));
+    m.link.answer_time = Duration::from_millis(50);
+    assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &asking_again()).unwrap(), vec![0xE8, 0x03]);
+    assert_eq!(m.link.requests, 3);
+    let asked = m.observed.asked_again[&NODE];
+    assert_eq!(asked, Asked { requests: 3, answers: 3 });
+    assert!(!asked.lost_frames());
+
+    let mut m = master(&[1], &[]);
+    assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &asking_again()).unwrap(), vec![0xE8, 0x03]);
+    assert_eq!(m.link.requests, 3, "the request, an abort after the timeout, the request again");
+    assert!(m.observed.asked_again.is_empty());
 }
