@@ -7,6 +7,7 @@ pub use crate::cancel::Cancel;
 pub use event::{Event, Notice, Warning};
 
 pub mod answers_elsewhere;
+pub(crate) mod back;
 pub mod buses;
 pub(crate) mod check;
 pub(crate) mod clash;

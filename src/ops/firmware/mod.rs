@@ -425,45 +425,12 @@ impl Run<'_> {
         }
     }
 
-    /// Wait (bounded) for the node's boot-up, forgotten before the step that causes it.
-    fn wait_boot_up(&mut self) -> Result<bool, Error> {
-        let end = self.bus.now() + self.o.boot_wait;
-        while !self.bus.observed().boot_ups.contains(&self.node) {
-            self.check_cancel()?;
-            if self.bus.recv_frame(end)?.is_none() && self.bus.now() >= end {
-                // The boot-up may have come with the wait's end (seen while the bus was busy
-                // with another node's transfers, when several are under way).
-                return Ok(self.bus.observed().boot_ups.contains(&self.node));
-            }
-        }
-        Ok(true)
-    }
-
-    /// Where no boot-up can be seen (a gateway passes on only answers), the device's
-    /// answering again says it is back: 0x1F51 asked until it answers (bounded).
-    fn wait_answering(&mut self) -> Result<Option<u32>, Error> {
-        let end = self.bus.now() + self.o.boot_wait;
-        loop {
-            match self.read_u32(PROGRAM_CONTROL) {
-                Ok(v) => return Ok(Some(v)),
-                Err(e) if e.is_timeout() && self.bus.now() < end => {
-                    let now = self.bus.now();
-                    self.bus.sleep_until(end.min(now + POLL))?;
-                }
-                Err(e) if e.is_timeout() => return Ok(None),
-                Err(e) => return Err(e),
-            }
-        }
-    }
-
-    /// The device is back after a reset it may have done instead of answering: its
-    /// boot-up where the bus shows frames, else its answering again.
+    /// The device is back after a reset it may have done instead of answering (`ops::back`;
+    /// its boot-up forgotten before the step that causes it).
     fn wait_back(&mut self) -> Result<bool, Error> {
-        if self.bus.sees_traffic() {
-            self.wait_boot_up()
-        } else {
-            Ok(self.wait_answering()?.is_some())
-        }
+        let (node, wait) = (self.node, self.o.boot_wait);
+        let back = crate::ops::back::wait_back(self.bus, &[node], wait, self.o.timeout, self.o.cancel.as_ref())?;
+        Ok(back.get(&node).copied().unwrap_or(false))
     }
 
     /// Wait (bounded) for a heartbeat (or a guarding answer) after the boot-up.

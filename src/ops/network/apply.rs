@@ -180,18 +180,14 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
     };
     result?;
     left?;
+    // Back in the sense that matters here: it answers at the node-id it was given (a
+    // boot-up would prove a reset, not that).
     let deadline = bus.now() + o.boot_wait;
-    loop {
-        match bus.sdo_upload(node, ObjAddr::DEVICE_TYPE, &SdoOptions::new(o.window)) {
-            Ok(_) | Err(Error::SdoAbort { .. }) => return Ok(()),
-            Err(e) if no_answer(&e) && bus.now() < deadline => continue,
-            Err(e) if no_answer(&e) => {
-                let what = Service::AfterLssAssign { identity: *identity };
-                return Err(Error::NoAnswer { node, what, waited: o.boot_wait });
-            }
-            Err(e) => return Err(e),
-        }
+    if back::until_answering(bus, node, deadline, o.window, None)? {
+        return Ok(());
     }
+    let what = Service::AfterLssAssign { identity: *identity };
+    Err(Error::NoAnswer { node, what, waited: o.boot_wait })
 }
 
 /// A node's row, and the error that failed it.
@@ -422,40 +418,14 @@ pub(super) fn node_label(node: u8) -> String {
     format!("node {node}")
 }
 
-/// NMT reset `nodes`, then wait until each is back: its boot-up message where the link shows
-/// the bus's traffic, else an SDO answer. Whether each came back within `boot_wait`.
+/// NMT reset `nodes`, then wait until each is back (`ops::back`): whether each came back
+/// within `boot_wait`.
 fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<BTreeMap<u8, bool>> {
-    let mut back: BTreeMap<u8, bool> = nodes.iter().map(|n| (*n, false)).collect();
+    back::forget_boot_ups(bus, nodes);
     for n in nodes {
-        bus.observed().boot_ups.remove(n);
         bus.nmt(crate::canopen::nmt::Command::ResetNode, *n)?;
     }
-    let deadline = bus.now() + o.boot_wait;
-    if bus.sees_traffic() {
-        while back.values().any(|b| !b) {
-            let frame = bus.recv_frame(deadline)?;
-            for (n, b) in back.iter_mut() {
-                *b |= bus.observed().boot_ups.contains(n);
-            }
-            if frame.is_none() {
-                break;
-            }
-        }
-    } else {
-        for n in nodes {
-            while bus.now() < deadline {
-                match bus.sdo_upload(*n, ObjAddr::DEVICE_TYPE, &SdoOptions::new(o.window)) {
-                    Ok(_) | Err(Error::SdoAbort { .. }) => {
-                        back.insert(*n, true);
-                        break;
-                    }
-                    Err(e) if no_answer(&e) => continue,
-                    Err(e) => return Err(e),
-                }
-            }
-        }
-    }
-    Ok(back)
+    back::wait_back(bus, nodes, o.boot_wait, o.window, None)
 }
 
 /// A listed node that did not answer the probe: given its node-id over LSS when asked (and

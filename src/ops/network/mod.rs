@@ -4,9 +4,9 @@
 use super::config::{self, Dcf};
 pub use super::lss::LssTally;
 use super::project_files::{check_inside, folder_of};
-use super::{ItemEnd, Progress};
+use super::{back, ItemEnd, Progress};
 use crate::bus::lss::LssMaster;
-use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::bus::{Bus, LssWait};
 use crate::cancel::Cancel;
 use crate::canopen::lss::{Identity, Request};
 use crate::canopen::ObjAddr;
@@ -121,11 +121,6 @@ pub fn load(file: &Path) -> Result<Loaded> {
         nodes.push(Listed { node, name: name.unwrap_or_default(), dcf, commissioning });
     }
     Ok(Loaded { file: file.to_path_buf(), project, nodes, warnings })
-}
-
-/// Whether an error means nobody answered (exit 3), whichever variant says it.
-fn no_answer(e: &Error) -> bool {
-    e.exit_code() == 3
 }
 
 /// Every node that answers (`ops::scan::probe`), with its device type where it gave one.
