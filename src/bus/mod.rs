@@ -118,8 +118,9 @@ pub struct SdoOptions {
     /// for the rest until its own timeout, and with
     /// [`Error::SdoInterrupted`](crate::Error::SdoInterrupted). One still waiting for its
     /// first answer is let finish, for at most 250 ms and without a retry (a write's request
-    /// may have done its work already); those not begun end with
-    /// [`Error::Interrupted`](crate::Error::Interrupted).
+    /// may have done its work already): a read that gets no answer then ends with
+    /// [`Error::Interrupted`](crate::Error::Interrupted), as its wait was cut short, and so
+    /// do those not begun.
     pub stop: Option<Cancel>,
     /// Called with the bytes moved so far each time an answer moves a transfer on (a
     /// segment, a sub-block): for progress, and for tests that act at an exact point of a
@@ -135,7 +136,9 @@ pub struct SdoOptions {
     /// then costs a typical answer time, not a whole timeout. Only where the link knows how
     /// long a frame takes ([`Bus::frame_time`]); elsewhere a retry comes after the
     /// timeout, as for other transfers. How many of the requests each node answered is
-    /// kept in [`Observed::asked_again`].
+    /// kept in [`Observed::answers_counted`], with every answer to every
+    /// read of the batch; a node that answered none of a read's requests is not asked
+    /// the rest of its reads in the batch.
     pub ask_again_after: Option<Duration>,
 }
 

@@ -5,8 +5,10 @@
 
 use crate::canopen::lss;
 use crate::canopen::nmt::{self, ErrorControl};
+use crate::canopen::ObjAddr;
 use crate::frame::Frame;
 use std::collections::{BTreeMap, BTreeSet};
+use std::time::Instant;
 
 /// How a node-id was seen in use.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Debug, serde::Serialize)]
@@ -27,21 +29,25 @@ pub enum SeenBy {
 /// Stray LSS answers kept at most: a babbling device must not fill the memory.
 const MAX_LSS_ANSWERS: usize = 1024;
 
-/// How often one read was sent to a node that was slow to answer or lost a frame, and how
-/// often the node answered it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// How often one read of a batch that counts its answers ([`SdoOptions::ask_again_after`](super::SdoOptions::ask_again_after))
+/// was sent to a node, and every answer that came to it: fewer answers than requests say a
+/// frame was lost, more say that two devices answer to the node-id.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Asked {
     /// The requests sent (the first one included).
     pub requests: u8,
-    /// The answers heard, each to one of them.
-    pub answers: u8,
+    /// Each answer, in turn: the value of an expedited answer (up to four bytes, little
+    /// endian), `None` for an abort or an answer that does not carry the value.
+    pub answers: Vec<Option<u32>>,
+    /// Until when answers were counted: the last request's window.
+    pub counted_until: Instant,
 }
 
 impl Asked {
     /// Fewer answers than requests: a request or its answer was lost on the way (a node
     /// that is only slow answers each one).
     pub fn lost_frames(&self) -> bool {
-        self.answers < self.requests
+        self.answers.len() < usize::from(self.requests)
     }
 }
 
@@ -57,9 +63,14 @@ pub struct Observed {
     /// How many data frames were received, of any kind: a bus that showed some is not
     /// silent, whoever sent them.
     pub frames: usize,
-    /// The nodes a read was asked of again before its timeout ([`SdoOptions::ask_again_after`](super::SdoOptions::ask_again_after))
-    /// in the last batch that did so, with how many requests went and answers came.
-    pub asked_again: BTreeMap<u8, Asked>,
+    /// The reads that were answered in the last batch that counts its answers
+    /// ([`SdoOptions::ask_again_after`](super::SdoOptions::ask_again_after)), by node and
+    /// object: how many requests went, and every answer that came.
+    pub answers_counted: BTreeMap<(u8, ObjAddr), Asked>,
+    /// Every NMT state each node's heartbeats and guarding answers showed since it was last
+    /// emptied, each once: two at a time are two devices on one node-id (at most four
+    /// states a node).
+    pub states_heard: BTreeMap<u8, Vec<nmt::State>>,
     /// LSS slave answers (0x7E4, 8 bytes) that came outside an exchange waiting for them,
     /// oldest first; `take_lss_answers` empties it.
     lss_answers: Vec<[u8; 8]>,
@@ -86,9 +97,13 @@ impl Observed {
                     self.boot_ups.insert(node);
                     self.seen(node, SeenBy::BootUp);
                 }
-                ErrorControl::State { .. } => {
+                ErrorControl::State { state, .. } => {
                     let how = if guarding == Some(id) { SeenBy::Guarding } else { SeenBy::Heartbeat };
                     self.seen(node, how);
+                    let heard = self.states_heard.entry(node).or_default();
+                    if !heard.contains(&state) {
+                        heard.push(state);
+                    }
                 }
                 ErrorControl::Unknown(_) => {}
             }

@@ -136,6 +136,20 @@ fn judge(answers: Vec<Option<u32>>, states: Vec<nmt::State>, earlier: Option<u32
 /// `window`; else (through an EPOS2, which passes on one answer) two reads of 0x1018:4
 /// each, compared.
 pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, timeout: Duration) -> Result<Vec<Clash>> {
+    find_after(bus, nodes, window, timeout, BTreeMap::new())
+}
+
+/// [`find`], where a probe already read 0x1018:4 of some of `nodes` and counted every
+/// answer (`heard`, [`Probed::also`](super::scan::Probed)), and the bus's observer kept the
+/// states heard since it began: those nodes are not asked again, and the listen lasts only
+/// as long as their reads' windows still run. A scan so needs no window of its own.
+pub(crate) fn find_after(
+    bus: &mut dyn Bus,
+    nodes: &[(u8, Option<u32>)],
+    window: Duration,
+    timeout: Duration,
+    heard: BTreeMap<u8, crate::bus::Asked>,
+) -> Result<Vec<Clash>> {
     if nodes.is_empty() {
         return Ok(Vec::new());
     }
@@ -144,12 +158,32 @@ pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, ti
         return identity_changes(bus, &ids, timeout);
     }
     let wanted: BTreeMap<u8, Option<u32>> = nodes.iter().copied().collect();
-    for n in wanted.keys() {
-        bus.send_frame(&Frame::new(0x600 + u16::from(*n), &SdoClient::upload(ObjAddr::SERIAL_NUMBER, false).start()))?;
-    }
+    let mut end = bus.now();
     let mut answers: BTreeMap<u8, Vec<Option<u32>>> = BTreeMap::new();
     let mut states: BTreeMap<u8, Vec<nmt::State>> = BTreeMap::new();
-    let end = bus.now() + window;
+    if !heard.is_empty() {
+        // A node that restarted meanwhile changed its state by booting, not by being two.
+        let observed = bus.observed();
+        for (node, shown) in &observed.states_heard {
+            if wanted.contains_key(node) && !observed.boot_ups.contains(node) {
+                states.insert(*node, shown.clone());
+            }
+        }
+    }
+    for n in wanted.keys() {
+        // A read that was sent again (its first request timed out) is not one read.
+        match heard.get(n).filter(|asked| asked.requests == 1) {
+            Some(asked) => {
+                end = end.max(asked.counted_until);
+                answers.insert(*n, asked.answers.clone());
+            }
+            None => {
+                let read = SdoClient::upload(ObjAddr::SERIAL_NUMBER, false).start();
+                bus.send_frame(&Frame::new(0x600 + u16::from(*n), &read))?;
+                end = end.max(bus.now() + window);
+            }
+        }
+    }
     while let Some(f) = bus.recv_frame(end)? {
         let id = f.id();
         if (0x581..=0x5FF).contains(&id) && wanted.contains_key(&((id - 0x580) as u8)) {

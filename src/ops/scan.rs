@@ -8,7 +8,7 @@ mod identify;
 use super::node::Guarded;
 use super::Progress;
 use crate::bus::observer::SeenBy;
-use crate::bus::{Bus, LssWait, SdoOptions};
+use crate::bus::{Bus, LssWait, SdoJob, SdoOptions};
 use crate::canopen::lss::{Identity, Inquiry, Request, Response, UNCONFIGURED};
 use crate::canopen::nmt;
 use crate::canopen::ObjAddr;
@@ -225,14 +225,14 @@ const ASK_AGAIN_AFTER: Duration = Duration::from_millis(20);
 pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Found> {
     check_window(window)?;
     let rounds = probe_rounds(bus);
-    found_unless_stopped(probe_until_stopped(bus, window, rounds, progress)?)
+    found_unless_stopped(probe_until_stopped(bus, window, rounds, None, progress)?)
 }
 
 /// [`probe`] in one round: who answers at all, for a diagnosis that needs no more (the
 /// rounds after it only find nodes whose answers were lost).
 pub(crate) fn probe_once(bus: &mut dyn Bus, window: Duration) -> Result<Found> {
     check_window(window)?;
-    found_unless_stopped(probe_until_stopped(bus, window, 1, &mut super::Silent)?)
+    found_unless_stopped(probe_until_stopped(bus, window, 1, None, &mut super::Silent)?)
 }
 
 fn found_unless_stopped(p: Probed) -> Result<Found> {
@@ -269,14 +269,21 @@ pub(crate) struct Probed {
     pub repeats: Vec<Repeat>,
     /// Stopped part-way (with the nodes found until then).
     pub stopped: bool,
+    /// The read asked of every node that answered, in the same batch, where the probe asks
+    /// again within its window (`probe_until_stopped`'s `also`): by node, its every answer.
+    pub also: BTreeMap<u8, crate::bus::Asked>,
 }
 
 /// [`probe`] in up to `rounds` rounds, with how many ran, who answered only on a repeat,
-/// and whether it was stopped part-way (with the nodes found until then).
+/// and whether it was stopped part-way (with the nodes found until then). Where the rounds
+/// go in one batch, each node that answers is read `also` right after, in the same batch,
+/// and every answer to that read is counted while the probe waits for the silent ids
+/// ([`Probed::also`]): a scan's serial number, whose second answers show two devices.
 pub(crate) fn probe_until_stopped(
     bus: &mut dyn Bus,
     window: Duration,
     rounds: usize,
+    also: Option<ObjAddr>,
     progress: &mut dyn Progress,
 ) -> Result<Probed> {
     // Where the link says when a request has left the bus, every round goes in one batch:
@@ -302,12 +309,27 @@ pub(crate) fn probe_until_stopped(
             ..base.clone()
         };
         p.rounds += batch;
-        let probes: Vec<(u8, ObjAddr)> = ids.iter().map(|n| (*n, ObjAddr::DEVICE_TYPE)).collect();
-        progress.start(if first { "probing" } else { "probing again" }, probes.len() as u64);
-        bus.observed().asked_again.clear();
-        let answers = bus.sdo_upload_many(&probes, &opts, &mut |n| progress.advance(n as u64));
+        let then = also.filter(|_| batch > 1);
+        let reads: Vec<(u8, ObjAddr)> =
+            ids.iter().flat_map(|n| std::iter::once((*n, ObjAddr::DEVICE_TYPE)).chain(then.map(|a| (*n, a)))).collect();
+        // Only the probe is asked again early: a second answer to the other read is news.
+        let once = SdoOptions { ask_again_after: None, ..opts.clone() };
+        let jobs: Vec<SdoJob> = reads
+            .iter()
+            .map(|(node, addr)| {
+                let opts = if *addr == ObjAddr::DEVICE_TYPE { opts.clone() } else { once.clone() };
+                SdoJob::Upload { node: *node, addr: *addr, opts }
+            })
+            .collect();
+        let count = ids.len() as u64;
+        progress.start(if first { "probing" } else { "probing again" }, count);
+        bus.observed().answers_counted.clear();
+        let answers = bus.sdo_batch(&jobs, &mut |n| progress.advance((n as u64).min(count)));
         progress.finish();
-        let asked = std::mem::take(&mut bus.observed().asked_again);
+        let mut asked = std::mem::take(&mut bus.observed().answers_counted);
+        if let Some(then) = then {
+            p.also = ids.iter().filter_map(|n| Some((*n, asked.remove(&(*n, then))?))).collect();
+        }
         // Stopped before a repeat went out: what the rounds before found stands.
         let answers = match answers {
             Err(e) if e.is_interrupted() => {
@@ -317,7 +339,8 @@ pub(crate) fn probe_until_stopped(
             answers => answers?,
         };
         ids.clear();
-        for ((node, _), answer) in probes.iter().zip(answers) {
+        let probes = reads.iter().zip(answers).filter(|((_, addr), _)| *addr == ObjAddr::DEVICE_TYPE);
+        for ((node, _), answer) in probes {
             let device_type = match answer {
                 Ok(bytes) => as_u32(&bytes),
                 Err(Error::SdoAbort { .. }) => None,
@@ -344,8 +367,8 @@ pub(crate) fn probe_until_stopped(
             p.found.push((*node, device_type));
             // Asked in one batch, a node that is only slow answers every request; round by
             // round, an answer in a later round is the sign.
-            let repeat = match asked.get(node) {
-                Some(a) => Some(Repeat { node: *node, probes: a.requests.into(), answered: a.answers.into() })
+            let repeat = match asked.get(&(*node, ObjAddr::DEVICE_TYPE)) {
+                Some(a) => Some(Repeat { node: *node, probes: a.requests.into(), answered: a.answers.len() })
                     .filter(|_| a.lost_frames()),
                 None => (!first).then_some(Repeat { node: *node, probes: p.rounds, answered: 1 }),
             };
@@ -416,24 +439,35 @@ fn scan_into(
     phase: &mut usize,
 ) -> Result<()> {
     // Where the bus's traffic is seen, "any device without a node-id?" goes out with the
-    // probes and its answers come in during the same window. The inquiries wait until the
-    // probes are answered (a device in configuration state with a node-id would otherwise
-    // queue its SDO answer behind its LSS answers, which lose arbitration to the probes),
-    // and their answers come in while the identities are read.
+    // probes and its answers come in during the same window. Round after round, the
+    // inquiries wait until the probes are answered (a device in configuration state with a
+    // node-id would otherwise queue its SDO answer behind its LSS answers, which lose
+    // arbitration to the probes, past the first round's window), and their answers come in
+    // while the identities are read. Where the probe asks again within its window, it
+    // lasts a whole window past its last request, long enough for such a device's answers
+    // however late they come: the inquiries go out with the probes.
     let lss_alongside = bus.sees_traffic();
+    let lss_first = lss_alongside && bus.frame_time().is_some();
+    // Two states at once in this scan's time are two devices on one node-id (`clash`).
+    bus.observed().states_heard.clear();
+    let mut inquired_by = bus.now() + o.window;
     if lss_alongside {
         bus.observed().take_lss_answers();
-        bus.lss_exchange(&LSS_QUESTIONS[0].encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+        let asked_first = if lss_first { &LSS_QUESTIONS[..] } else { &LSS_QUESTIONS[..1] };
+        for q in asked_first {
+            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+        }
     }
     let rounds = probe_rounds(bus);
-    let probed = probe_until_stopped(bus, o.window, rounds, progress)?;
+    let probed = probe_until_stopped(bus, o.window, rounds, Some(ObjAddr::SERIAL_NUMBER), progress)?;
     report.nodes = probed.found.into_iter().map(|(node, device_type)| Node::probed(node, device_type)).collect();
+    let serials_heard = probed.also;
     (report.probe_rounds, report.answered_on_repeat) = (probed.rounds, probed.repeats);
     if probed.stopped {
         return Err(Error::Interrupted);
     }
-    let inquired_by = bus.now() + o.window;
-    if lss_alongside {
+    if lss_alongside && !lss_first {
+        inquired_by = bus.now() + o.window;
         for q in &LSS_QUESTIONS[1..] {
             bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
         }
@@ -453,7 +487,7 @@ fn scan_into(
     let silent = identify::identify(bus, &mut report.nodes, o.timeout, progress)?;
     identify::confirm_silent(bus, report, silent, o.window, progress)?;
     let serials: Vec<(u8, Option<u32>)> = report.nodes.iter().map(|n| (n.node, n.serial)).collect();
-    report.clashes = super::clash::find(bus, &serials, o.window, o.timeout)?;
+    report.clashes = super::clash::find_after(bus, &serials, o.window, o.timeout, serials_heard)?;
     *phase = 2;
     nmt_states(bus, &mut report.nodes, o)?;
     add_seen_otherwise(bus, &mut report.nodes);

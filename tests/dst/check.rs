@@ -109,7 +109,13 @@ pub fn check(
                 return Err(format!("wrote node {node} {addr}, the device does not hold it"));
             }
         }
-        Report::Scanned(nodes, interrupted, lost) => {
+        Report::Scanned(nodes, interrupted, lost, clashes) => {
+            // The simulated network never has two devices on one node-id: a clash is said
+            // only where a fault makes one device's answers look like two (one answering on
+            // another's COB-ID, a duplicated or damaged answer).
+            if let Some(n) = clashes.iter().find(|n| !looks_doubled(s, **n)) {
+                return Err(format!("scan said node-id {n} is used by two devices, one device holds it"));
+            }
             // Frames said lost were lost, damaged or held back past the window: never said
             // of a node that merely answers slowly.
             if let Some(n) = lost.iter().find(|n| !loses_frames(s, **n)) {
@@ -299,6 +305,18 @@ pub fn loses_frames(s: &Scenario, node: u8) -> bool {
         let ours = target.parse::<u8>().map_or(target.starts_with("sensor-"), speaks_for);
         ours && ["drop", "miss", "mute", "delay", "corrupt", "short-dlc"].iter().any(|k| kind.starts_with(k))
     })
+}
+
+/// Whether a fault of the scenario makes the answers on this node-id look like two devices':
+/// another device answering on its COB-ID, or its own answers duplicated or damaged.
+pub fn looks_doubled(s: &Scenario, node: u8) -> bool {
+    answered_for(s).contains(&node)
+        || s.config.faults.iter().any(|f| {
+            let spec = f.to_string();
+            let (target, kind) = spec.split_once(':').unwrap_or_default();
+            let ours = target.parse::<u8>().map_or(target.starts_with("sensor-"), |t| t == node);
+            ours && ["duplicate", "corrupt"].iter().any(|k| kind.starts_with(k))
+        })
 }
 
 /// The nodes the last scan of the bus saw: none on a first look.

@@ -106,7 +106,9 @@ pub enum Report {
     Wrote(u8, ObjAddr, Vec<u8>),
     /// Nodes and identities a scan reported, whether it was stopped part-way, and the
     /// nodes it said lost frames (answered only a repeat of the probe).
-    Scanned(Vec<(u8, Option<u32>)>, bool, Vec<u8>),
+    /// The nodes found with their serials, whether interrupted, the nodes said to lose
+    /// frames, the node-ids said to be used by two devices.
+    Scanned(Vec<(u8, Option<u32>)>, bool, Vec<u8>, Vec<u8>),
     Found(Identity),
     /// Identities given node-ids (all of them, also when interrupted or failed part-way).
     /// And whether it said every device has one now (exit 0), and the device it said may
@@ -136,7 +138,9 @@ pub fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Repor
             // or one it never scanned.
             let scan = ops::scan::scan_against(bus, &o, last_seen(s), &mut Silent)?;
             let lost = scan.answered_on_repeat.iter().map(|r| r.node).collect();
-            Ok(Report::Scanned(scan.nodes.iter().map(|n| (n.node, n.serial)).collect(), scan.interrupted, lost))
+            let clashes = scan.clashes.iter().map(|c| c.node).collect();
+            let nodes = scan.nodes.iter().map(|n| (n.node, n.serial)).collect();
+            Ok(Report::Scanned(nodes, scan.interrupted, lost, clashes))
         }
         Procedure::Read(kind) => {
             let (node, addr, opts) = match kind {

@@ -195,9 +195,10 @@ fn scan_interrupted_while_probing_reports_the_nodes_found_and_what_it_did_not_do
             human.code,
         );
     }
-    // Stopped while reading identities (127 probes, each silent id asked twice more in the
-    // same batch, then 2 reads): those read are shown.
-    let run = signalled(sim.command(&["scan", "--format", "json"]), "r129", "INT");
+    // Stopped while reading identities: the probe's batch is 254 reads (0x1000 and then
+    // 0x1018:4 of each id, the second skipped for a silent id), then the vendor-IDs: those
+    // read are shown.
+    let run = signalled(sim.command(&["scan", "--format", "json"]), "r255", "INT");
     assert_eq!(run.code, 130, "{}", run.stderr);
     let report = run.json();
     assert_eq!(nodes(&report), all, "{report}");

@@ -76,6 +76,17 @@ fn held_back_most(timeout: Duration) -> Duration {
     (timeout * 8).max(Duration::from_secs(4))
 }
 
+/// Whether a job may be asked again early ([`SdoOptions::ask_again_after`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum AskAgain {
+    Yes,
+    No,
+}
+
+/// The transfers of a batch not begun yet, by node, in order: each with its slot in the
+/// results.
+type Queues = BTreeMap<u8, VecDeque<(usize, SdoClient, AskAgain)>>;
+
 /// One SDO transfer in flight.
 struct Active {
     slot: usize,
@@ -102,27 +113,22 @@ struct Active {
     last_left: Instant,
 }
 
-/// A read asked more than once and answered: the answers to its other requests are counted
-/// until `until` (the last request's answer time), to tell a slow node from a lost frame.
-struct Echo {
-    addr: ObjAddr,
-    asked: Asked,
-    until: Instant,
+/// The reads of a batch that counts its answers, by node and object, once answered: the
+/// answers to their other requests (a slow node's), and a second device's, are counted until
+/// the last request's window closes.
+type Echoes = BTreeMap<(u8, ObjAddr), Asked>;
+
+/// Whether answers to `asked` are still to come at `now`: fewer than requests, in the window.
+fn awaited(asked: &Asked, now: Instant) -> bool {
+    asked.counted_until > now && asked.lost_frames()
 }
 
-impl Echo {
-    /// Whether answers are still to come at `now`.
-    fn awaited(&self, now: Instant) -> bool {
-        self.until > now && self.asked.answers < self.asked.requests
-    }
-}
-
-/// A transfer `a` of `node` ended on an answer: if it was asked more than once, the
-/// answers to the other requests are counted from now on.
-fn echo(echoes: &mut BTreeMap<u8, Echo>, node: u8, a: &Active, timeout: Duration) {
-    if a.requests > 1 && a.client.is_upload() {
-        let asked = Asked { requests: a.requests, answers: 1 };
-        echoes.insert(node, Echo { addr: a.client.addr(), asked, until: a.last_left + timeout });
+/// A read `a` of `node` ended on `answer` (its last frame): its answers are counted from now.
+fn echo(echoes: &mut Echoes, node: u8, a: &Active, answer: &[u8], timeout: Duration) {
+    if a.client.is_upload() {
+        let first = upload_answer(answer, a.client.addr()).flatten();
+        let asked = Asked { requests: a.requests, answers: vec![first], counted_until: a.last_left + timeout };
+        echoes.insert((node, a.client.addr()), asked);
     }
 }
 
@@ -131,12 +137,25 @@ fn is_initiate_upload(request: &[u8; 8]) -> bool {
     request[0] == 0x40
 }
 
-/// Whether `data`, a server's frame, answers an upload of `addr` at its start: an initiate
-/// answer or an abort naming it.
-fn answers_upload(data: &[u8], addr: ObjAddr) -> bool {
-    let [cs, lo, hi, sub, ..] = *data else { return false };
-    let named = ObjAddr::new(u16::from_le_bytes([lo, hi]), sub);
-    data.len() == 8 && named == addr && (cs == 0x80 || cs >> 5 == 2)
+/// Whether `data`, a server's frame, answers an upload of `addr` at its start (an initiate
+/// answer or an abort naming it), and the value it carries: an expedited answer's, `None`
+/// for an abort or a segmented upload's start.
+pub(crate) fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Option<u32>> {
+    use crate::canopen::sdo::wire::{Initiate, Response};
+    let value = |data: [u8; 4], len: usize| {
+        let mut bytes = [0u8; 4];
+        bytes[..len].copy_from_slice(&data[..len]);
+        u32::from_le_bytes(bytes)
+    };
+    match Response::parse(data.try_into().ok()?)? {
+        Response::Abort { addr: named, .. } if named == addr => Some(None),
+        Response::InitiateUpload { addr: named, init } if named == addr => Some(match init {
+            Initiate::Expedited { data, len } => Some(value(data, usize::from(len).min(4))),
+            Initiate::ExpeditedUnsized { data } => Some(value(data, 4)),
+            Initiate::Size(_) | Initiate::Unsized => None,
+        }),
+        _ => None,
+    }
 }
 
 impl Active {
@@ -235,7 +254,7 @@ impl<L: FrameLink> Master<L> {
     /// protocol error, or at the device's abort.
     fn run(
         &mut self,
-        jobs: Vec<(u8, SdoClient)>,
+        jobs: Vec<(u8, SdoClient, AskAgain)>,
         timeout: Duration,
         retries: u8,
         ask_again: Option<Duration>,
@@ -244,10 +263,10 @@ impl<L: FrameLink> Master<L> {
     ) -> Result<Vec<Result<Vec<u8>>>> {
         let mut results: Vec<Option<Result<Vec<u8>>>> = (0..jobs.len()).map(|_| None).collect();
         // Which transfer each result is, for the trace.
-        let jobs_of: Vec<(u8, ObjAddr)> = jobs.iter().map(|(node, client)| (*node, client.addr())).collect();
-        let mut queues: BTreeMap<u8, VecDeque<(usize, SdoClient)>> = BTreeMap::new();
-        for (slot, (node, client)) in jobs.into_iter().enumerate() {
-            queues.entry(node).or_default().push_back((slot, client));
+        let jobs_of: Vec<(u8, ObjAddr)> = jobs.iter().map(|(node, client, _)| (*node, client.addr())).collect();
+        let mut queues: Queues = BTreeMap::new();
+        for (slot, (node, client, again)) in jobs.into_iter().enumerate() {
+            queues.entry(node).or_default().push_back((slot, client, again));
         }
         self.link.set_filters(&sdo_filters(queues.keys().copied()))?;
         let mut active: BTreeMap<u8, Active> = BTreeMap::new();
@@ -265,7 +284,7 @@ impl<L: FrameLink> Master<L> {
         // `held_back_most` from its request: a device that answers without end must not
         // keep a silent node's wait going with it.
         let mut quiet_from = self.link.now();
-        let mut echoes: BTreeMap<u8, Echo> = BTreeMap::new();
+        let mut echoes = Echoes::new();
         let deadline_of = |a: &Active, quiet_from: Instant| {
             let held_back = (quiet_from + timeout).min(a.started + held_back_most(timeout));
             match (a.heard, a.stop_by) {
@@ -280,7 +299,7 @@ impl<L: FrameLink> Master<L> {
             }
             let now = self.link.now();
             // The answers still to come to a read asked more than once.
-            let awaited: Option<Instant> = echoes.values().filter(|e| e.awaited(now)).map(|e| e.until).min();
+            let awaited: Option<Instant> = echoes.values().filter(|a| awaited(a, now)).map(|a| a.counted_until).min();
             if active.is_empty() && (awaited.is_none() || watch.stopped()) {
                 break;
             }
@@ -346,6 +365,15 @@ impl<L: FrameLink> Master<L> {
                     _ if !a.heard && a.answered_attempt.is_some() => {
                         a.answered_attempt.take().expect("an answered attempt")
                     }
+                    // A read cut short by the stop, before its window ran out or before it
+                    // was asked again: its silence says nothing of the node.
+                    _ if stopping
+                        && !a.heard
+                        && a.client.is_upload()
+                        && (a.ask_again_at.is_some() || at < a.idle_deadline.min(a.total_deadline)) =>
+                    {
+                        Error::Interrupted
+                    }
                     _ => expiry_error(node, &a, at, timeout),
                 }));
                 if next == OnTimeout::Unknown && !stopping {
@@ -354,6 +382,16 @@ impl<L: FrameLink> Master<L> {
                     }
                 }
                 finished += 1;
+                // A node that answered none of its requests is not asked the rest of its
+                // reads where the batch counts answers (a probe): each would be one more
+                // window of silence.
+                if ask_again.is_some() && !a.heard && !stopping {
+                    for (slot, client, _) in queues.remove(&node).unwrap_or_default() {
+                        let what = Service::Sdo(client.addr());
+                        results[slot] = Some(Err(Error::NoAnswer { node, what, waited: timeout }));
+                        finished += 1;
+                    }
+                }
                 progress(finished);
                 self.start_next(node, &mut queues, &mut active, timeout, retries, ask_again)?;
             }
@@ -363,8 +401,14 @@ impl<L: FrameLink> Master<L> {
                 continue;
             }
             let node = node as u8;
-            if let Some(e) = echoes.get_mut(&node).filter(|e| answers_upload(f.data(), e.addr)) {
-                e.asked.answers += 1;
+            // An answer to a read already answered (not one under way of the same object).
+            let reading = active.get(&node).map(|a| a.client.addr());
+            let counted = echoes
+                .range_mut((node, ObjAddr::new(0, 0))..=(node, ObjAddr::new(u16::MAX, u8::MAX)))
+                .filter(|((_, addr), _)| reading != Some(*addr))
+                .find_map(|((_, addr), asked)| Some((asked, upload_answer(f.data(), *addr)?)));
+            if let Some((asked, value)) = counted {
+                asked.answers.push(value);
                 continue;
             }
             let Some(a) = active.get_mut(&node) else {
@@ -394,7 +438,9 @@ impl<L: FrameLink> Master<L> {
                     }
                     let Some(data) = step.done else { continue };
                     let a = active.remove(&node).expect("active");
-                    echo(&mut echoes, node, &a, timeout);
+                    if ask_again.is_some() {
+                        echo(&mut echoes, node, &a, f.data(), timeout);
+                    }
                     if a.client.fell_back() {
                         self.no_block.insert(node);
                     }
@@ -402,7 +448,9 @@ impl<L: FrameLink> Master<L> {
                 }
                 Err(e) => {
                     let a = active.remove(&node).expect("active");
-                    echo(&mut echoes, node, &a, timeout);
+                    if ask_again.is_some() {
+                        echo(&mut echoes, node, &a, f.data(), timeout);
+                    }
                     results[a.slot] = Some(Err(self.sdo_error(node, addr, e)?));
                 }
             }
@@ -411,7 +459,7 @@ impl<L: FrameLink> Master<L> {
             self.start_next(node, &mut queues, &mut active, timeout, retries, ask_again)?;
         }
         if ask_again.is_some() {
-            self.observed.asked_again = echoes.into_iter().map(|(node, e)| (node, e.asked)).collect();
+            self.observed.answers_counted = echoes;
         }
         self.read_back(read_backs, &mut results, timeout, retries, watch)?;
         let results: Vec<Result<Vec<u8>>> = results.into_iter().map(|r| r.expect("every job ends")).collect();
@@ -435,11 +483,11 @@ impl<L: FrameLink> Master<L> {
     fn stop(
         &mut self,
         active: &mut BTreeMap<u8, Active>,
-        queues: &mut BTreeMap<u8, VecDeque<(usize, SdoClient)>>,
+        queues: &mut Queues,
         results: &mut [Option<Result<Vec<u8>>>],
         timeout: Duration,
     ) -> Result<()> {
-        for (slot, _) in std::mem::take(queues).into_values().flatten() {
+        for (slot, _, _) in std::mem::take(queues).into_values().flatten() {
             results[slot] = Some(Err(Error::Interrupted));
         }
         let by = self.link.now() + STOP_GRACE;
@@ -520,13 +568,13 @@ impl<L: FrameLink> Master<L> {
     fn start_next(
         &mut self,
         node: u8,
-        queues: &mut BTreeMap<u8, VecDeque<(usize, SdoClient)>>,
+        queues: &mut Queues,
         active: &mut BTreeMap<u8, Active>,
         timeout: Duration,
         retries: u8,
         ask_again: Option<Duration>,
     ) -> Result<()> {
-        let Some((slot, mut client)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else {
+        let Some((slot, mut client, again)) = queues.get_mut(&node).and_then(|q| q.pop_front()) else {
             return Ok(());
         };
         if let Some(previous) = self.last_sdo_answer.get(&node) {
@@ -539,7 +587,7 @@ impl<L: FrameLink> Master<L> {
         let total_deadline = now + client.time_budget(timeout);
         // Only a plain read's request can go again while it stands: it asks nothing twice.
         let ask_again_at = ask_again
-            .filter(|_| retries > 0 && is_initiate_upload(&first))
+            .filter(|_| again == AskAgain::Yes && retries > 0 && is_initiate_upload(&first))
             .map(|after| self.bus_free_at.max(now) + after);
         active.insert(
             node,
@@ -574,7 +622,8 @@ impl<L: FrameLink> Master<L> {
         if checks.is_empty() || watch.stopped() {
             return Ok(());
         }
-        let reads = checks.iter().map(|(_, node, (addr, _))| (*node, SdoClient::upload(*addr, false))).collect();
+        let reads =
+            checks.iter().map(|(_, node, (addr, _))| (*node, SdoClient::upload(*addr, false), AskAgain::No)).collect();
         let got = self.run(reads, timeout, retries, None, &mut |_| {}, watch)?;
         for ((slot, node, (addr, done)), read) in checks.into_iter().zip(got) {
             let confirmed = read.as_ref().is_ok_and(|v| *v == done);

@@ -30,7 +30,8 @@ impl<L: FrameLink> Bus for Master<L> {
             // One wait for the batch: the longest any job asks for.
             timeout = timeout.max(opts.timeout);
             retries = retries.max(opts.retries);
-            clients.push((node, client));
+            let again = if opts.ask_again_after.is_some() { AskAgain::Yes } else { AskAgain::No };
+            clients.push((node, client, again));
         }
         self.run(clients, timeout, retries, ask_again, progress, &watch)
     }

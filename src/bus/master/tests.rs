@@ -225,8 +225,8 @@ fn a_read_asked_again_early_recovers_a_lost_request_within_the_first_window() {
     // The answer came 22 ms in; the batch then listened for an answer to the other request
     // until its window closed, to count it (in a probe, the silent ids wait that long anyway).
     assert_eq!(m.link.now - start, Duration::from_millis(120));
-    let asked = m.observed.asked_again[&NODE];
-    assert_eq!(asked, Asked { requests: 2, answers: 1 });
+    let asked = &m.observed.answers_counted[&(NODE, HEARTBEAT)];
+    assert_eq!((asked.requests, &asked.answers[..]), (2, &[Some(1000)][..]));
     assert!(asked.lost_frames());
 }
 
@@ -240,12 +240,46 @@ fn a_slow_node_asked_again_answers_every_request_and_is_not_taken_for_a_loss() {
     m.link.answer_time = Duration::from_millis(50);
     assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &asking_again()).unwrap(), vec![0xE8, 0x03]);
     assert_eq!(m.link.requests, 3);
-    let asked = m.observed.asked_again[&NODE];
-    assert_eq!(asked, Asked { requests: 3, answers: 3 });
+    let asked = &m.observed.answers_counted[&(NODE, HEARTBEAT)];
+    assert_eq!((asked.requests, &asked.answers[..]), (3, &[Some(1000); 3][..]));
     assert!(!asked.lost_frames());
 
     let mut m = master(&[1], &[]);
     assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &asking_again()).unwrap(), vec![0xE8, 0x03]);
     assert_eq!(m.link.requests, 3, "the request, an abort after the timeout, the request again");
-    assert!(m.observed.asked_again.is_empty());
+    assert!(m.observed.answers_counted.is_empty());
+}
+
+/// A second device on the node-id answers the same read: in a batch that counts answers, an
+/// answer after the first that comes while the batch runs (it waits for a silent node
+/// here) is kept with its value, for the clash check.
+#[test]
+fn a_second_answer_to_one_read_is_counted_with_its_value() {
+    let mut m = master(&[], &[]);
+    m.link.frame_time = Some(Duration::ZERO);
+    m.link.twice = vec![1];
+    let once = SdoOptions { ask_again_after: None, ..asking_again() };
+    let jobs = [
+        SdoJob::Upload { node: NODE, addr: HEARTBEAT, opts: once },
+        SdoJob::Upload { node: NODE + 1, addr: HEARTBEAT, opts: asking_again() },
+    ];
+    let results = m.sdo_batch(&jobs, &mut |_| {}).unwrap();
+    assert_eq!(results[0].as_ref().unwrap(), &vec![0xE8, 0x03]);
+    let asked = &m.observed.answers_counted[&(NODE, HEARTBEAT)];
+    assert_eq!((asked.requests, &asked.answers[..]), (1, &[Some(1000), Some(1000)][..]));
+}
+
+/// A node that answers none of its first read's requests is not asked its other reads in a
+/// batch that counts answers: each would be one more window of silence.
+#[test]
+fn a_silent_node_is_not_asked_the_rest_of_its_reads_where_the_batch_counts_answers() {
+    let mut m = master(&(1..=20).collect::<Vec<_>>(), &[]);
+    m.link.frame_time = Some(Duration::ZERO);
+    let o = asking_again();
+    let jobs = [HEARTBEAT, CONTROL].map(|addr| SdoJob::Upload { node: NODE, addr, opts: o.clone() });
+    let start = m.link.now;
+    let results = m.sdo_batch(&jobs, &mut |_| {}).unwrap();
+    assert!(results.iter().all(|r| matches!(r, Err(Error::NoAnswer { .. }))), "{results:?}");
+    assert_eq!(m.link.requests, 3, "the first read asked three times, the second not at all");
+    assert_eq!(m.link.now - start, Duration::from_millis(140), "20 + 20 + one window");
 }
