@@ -140,7 +140,7 @@ pub fn find(bus: &mut dyn Bus, nodes: &[(u8, Option<u32>)], window: Duration, ti
 }
 
 /// [`find`], where a probe already read 0x1018:4 of some of `nodes` and counted every
-/// answer (`heard`, [`Probed::also`](super::scan::Probed)), and the bus's observer kept the
+/// answer (`heard`, `scan::Probed::also`), and the bus's observer kept the
 /// states heard since it began: those nodes are not asked again, and the listen lasts only
 /// as long as their reads' windows still run. A scan so needs no window of its own.
 pub(crate) fn find_after(

@@ -76,13 +76,6 @@ fn held_back_most(timeout: Duration) -> Duration {
     (timeout * 8).max(Duration::from_secs(4))
 }
 
-/// Whether a job may be asked again early ([`SdoOptions::ask_again_after`]).
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub(super) enum AskAgain {
-    Yes,
-    No,
-}
-
 /// The transfers of a batch not begun yet, by node, in order: each with its slot in the
 /// results.
 type Queues = BTreeMap<u8, VecDeque<(usize, SdoClient, AskAgain)>>;
@@ -111,51 +104,6 @@ struct Active {
     ask_again_at: Option<Instant>,
     /// When the last request sent will have left the bus.
     last_left: Instant,
-}
-
-/// The reads of a batch that counts its answers, by node and object, once answered: the
-/// answers to their other requests (a slow node's), and a second device's, are counted until
-/// the last request's window closes.
-type Echoes = BTreeMap<(u8, ObjAddr), Asked>;
-
-/// Whether answers to `asked` are still to come at `now`: fewer than requests, in the window.
-fn awaited(asked: &Asked, now: Instant) -> bool {
-    asked.counted_until > now && asked.lost_frames()
-}
-
-/// A read `a` of `node` ended on `answer` (its last frame): its answers are counted from now.
-fn echo(echoes: &mut Echoes, node: u8, a: &Active, answer: &[u8], timeout: Duration) {
-    if a.client.is_upload() {
-        let first = upload_answer(answer, a.client.addr()).flatten();
-        let asked = Asked { requests: a.requests, answers: vec![first], counted_until: a.last_left + timeout };
-        echoes.insert((node, a.client.addr()), asked);
-    }
-}
-
-/// Whether `request` starts a plain upload (command specifier 2, CiA 301).
-fn is_initiate_upload(request: &[u8; 8]) -> bool {
-    request[0] == 0x40
-}
-
-/// Whether `data`, a server's frame, answers an upload of `addr` at its start (an initiate
-/// answer or an abort naming it), and the value it carries: an expedited answer's, `None`
-/// for an abort or a segmented upload's start.
-pub(crate) fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Option<u32>> {
-    use crate::canopen::sdo::wire::{Initiate, Response};
-    let value = |data: [u8; 4], len: usize| {
-        let mut bytes = [0u8; 4];
-        bytes[..len].copy_from_slice(&data[..len]);
-        u32::from_le_bytes(bytes)
-    };
-    match Response::parse(data.try_into().ok()?)? {
-        Response::Abort { addr: named, .. } if named == addr => Some(None),
-        Response::InitiateUpload { addr: named, init } if named == addr => Some(match init {
-            Initiate::Expedited { data, len } => Some(value(data, usize::from(len).min(4))),
-            Initiate::ExpeditedUnsized { data } => Some(value(data, 4)),
-            Initiate::Size(_) | Initiate::Unsized => None,
-        }),
-        _ => None,
-    }
 }
 
 impl Active {
@@ -539,32 +487,6 @@ impl<L: FrameLink> Master<L> {
         Ok(())
     }
 
-    /// Each read that has heard nothing and whose time to ask again has come
-    /// ([`SdoOptions::ask_again_after`]) is sent again; its wait counts from the new request.
-    fn ask_again_the_silent(
-        &mut self,
-        active: &mut BTreeMap<u8, Active>,
-        timeout: Duration,
-        ask_again: Option<Duration>,
-    ) -> Result<()> {
-        let (Some(after), now) = (ask_again, self.link.now()) else { return Ok(()) };
-        for (node, a) in active.iter_mut() {
-            // A transfer started again after its timeout (`retries`) is asked again no more.
-            if a.heard || a.stop_by.is_some() || a.retries_left == 0 || a.ask_again_at.is_none_or(|at| at > now) {
-                continue;
-            }
-            let request = a.client.start();
-            self.send(&Frame::new(sdo::request_cob(*node), &request))?;
-            a.requests += 1;
-            a.retries_left -= 1;
-            a.last_left = self.bus_free_at.max(now);
-            a.idle_deadline = a.idle_deadline.max(a.last_left + timeout);
-            a.total_deadline = a.total_deadline.max(a.last_left + a.client.time_budget(timeout));
-            a.ask_again_at = (a.retries_left > 0).then_some(a.last_left + after);
-        }
-        Ok(())
-    }
-
     fn start_next(
         &mut self,
         node: u8,
@@ -708,7 +630,10 @@ fn check_node(node: u8) -> Result<()> {
     }
 }
 
+mod ask_again;
 mod service;
+
+use ask_again::{awaited, echo, is_initiate_upload, upload_answer, AskAgain, Echoes};
 
 #[cfg(test)]
 mod tests;
