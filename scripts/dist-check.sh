@@ -143,11 +143,21 @@ step_deb() {
 }
 
 step_crate() {
-  local log; log=$(mktemp)
+  local log target; log=$(mktemp); target=$(mktemp -d)
+  # Each crate is verified against the packages of the ones below it, which cargo treats as
+  # registry crates: never unpacked again while $CARGO_HOME/registry/src/-HASH/ (HASH of the
+  # package folder's path) holds them, never rebuilt while the target folder holds a build of
+  # them. A second run in the same tree (a developer's, a reused CI machine) would verify
+  # against the first run's sources. So: a target folder of its own, and our crates'
+  # unpackings gone before and after.
+  local unpacked="${CARGO_HOME:-$HOME/.cargo}/registry/src"
+  rm -rf "$unpacked"/-*/canctl-*
   # The package leaves tests and benchmarks out on purpose: cargo's notes about that are noise.
-  cargo publish --locked --dry-run --workspace >"$log" 2>&1 || { cat "$log"; echo "FAIL: cargo publish --dry-run --workspace"; return 1; }
+  CARGO_TARGET_DIR=$target cargo publish --locked --dry-run --workspace >"$log" 2>&1 || {
+    cat "$log"; rm -rf "$target" "$unpacked"/-*/canctl-*; echo "FAIL: cargo publish --dry-run --workspace"; return 1
+  }
   grep -vE "^warning: (ignoring (test|benchmark|example)|manifest has no)|^  (\||= note)" "$log"
-  rm -f "$log"
+  rm -rf "$log" "$target" "$unpacked"/-*/canctl-*
   cargo doc --locked --quiet --lib --no-deps --no-default-features
   echo "the library's docs build without the cli feature (docs.rs)"
 }
