@@ -9,6 +9,7 @@ pub(crate) mod frame_log;
 pub mod lss;
 pub(crate) mod master;
 pub(crate) mod observer;
+pub(crate) mod reply;
 pub mod stoppable;
 pub mod tap;
 

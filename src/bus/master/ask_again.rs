@@ -3,6 +3,7 @@
 //! answers than requests a second device.
 
 use super::*;
+use crate::bus::reply::{upload_answer, Reply};
 
 /// Whether a job may be asked again early ([`SdoOptions::ask_again_after`]).
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -24,7 +25,7 @@ pub(super) fn awaited(asked: &Asked, now: Instant) -> bool {
 /// A read `a` of `node` ended on `answer` (its last frame): its answers are counted from now.
 pub(super) fn echo(echoes: &mut Echoes, node: u8, a: &Active, answer: &[u8], timeout: Duration) {
     if a.client.is_upload() {
-        let first = upload_answer(answer, a.client.addr()).flatten();
+        let first = upload_answer(answer, a.client.addr()).and_then(Reply::carried);
         let asked = Asked { requests: a.requests, answers: vec![first], counted_until: a.last_left + timeout };
         echoes.insert((node, a.client.addr()), asked);
     }
@@ -33,27 +34,6 @@ pub(super) fn echo(echoes: &mut Echoes, node: u8, a: &Active, answer: &[u8], tim
 /// Whether `request` starts a plain upload (command specifier 2, CiA 301).
 pub(super) fn is_initiate_upload(request: &[u8; 8]) -> bool {
     request[0] == 0x40
-}
-
-/// Whether `data`, a server's frame, answers an upload of `addr` at its start (an initiate
-/// answer or an abort naming it), and the value it carries: an expedited answer's, `None`
-/// for an abort or a segmented upload's start.
-pub(super) fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Option<u32>> {
-    use crate::canopen::sdo::wire::{Initiate, Response};
-    let value = |data: [u8; 4], len: usize| {
-        let mut bytes = [0u8; 4];
-        bytes[..len].copy_from_slice(&data[..len]);
-        u32::from_le_bytes(bytes)
-    };
-    match Response::parse(data.try_into().ok()?)? {
-        Response::Abort { addr: named, .. } if named == addr => Some(None),
-        Response::InitiateUpload { addr: named, init } if named == addr => Some(match init {
-            Initiate::Expedited { data, len } => Some(value(data, usize::from(len).min(4))),
-            Initiate::ExpeditedUnsized { data } => Some(value(data, 4)),
-            Initiate::Size(_) | Initiate::Unsized => None,
-        }),
-        _ => None,
-    }
 }
 
 impl<L: FrameLink> Master<L> {

@@ -354,7 +354,7 @@ impl<L: FrameLink> Master<L> {
             let counted = echoes
                 .range_mut((node, ObjAddr::new(0, 0))..=(node, ObjAddr::new(u16::MAX, u8::MAX)))
                 .filter(|((_, addr), _)| reading != Some(*addr))
-                .find_map(|((_, addr), asked)| Some((asked, upload_answer(f.data(), *addr)?)));
+                .find_map(|((_, addr), asked)| Some((asked, upload_answer(f.data(), *addr)?.carried())));
             if let Some((asked, value)) = counted {
                 asked.answers.push(value);
                 continue;
@@ -633,7 +633,8 @@ fn check_node(node: u8) -> Result<()> {
 mod ask_again;
 mod service;
 
-use ask_again::{awaited, echo, is_initiate_upload, upload_answer, AskAgain, Echoes};
+use crate::bus::reply::upload_answer;
+use ask_again::{awaited, echo, is_initiate_upload, AskAgain, Echoes};
 
 #[cfg(test)]
 mod tests;
