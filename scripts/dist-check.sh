@@ -143,21 +143,27 @@ step_deb() {
 }
 
 step_crate() {
-  local log target; log=$(mktemp); target=$(mktemp -d)
+  local log; log=$(mktemp)
   # Each crate is verified against the packages of the ones below it, which cargo treats as
   # registry crates: never unpacked again while $CARGO_HOME/registry/src/-HASH/ (HASH of the
   # package folder's path) holds them, never rebuilt while the target folder holds a build of
   # them. A second run in the same tree (a developer's, a reused CI machine) would verify
-  # against the first run's sources. So: a target folder of its own, and our crates'
-  # unpackings gone before and after.
+  # against the first run's sources. So our crates' unpackings and builds are removed before
+  # and after; the target folder stays the tree's own, whose builds of the crates.io
+  # dependencies (the test suite's, in CI) the verification reuses.
   local unpacked="${CARGO_HOME:-$HOME/.cargo}/registry/src"
-  rm -rf "$unpacked"/-*/canctl-*
+  local built=${CARGO_TARGET_DIR:-target}/debug
+  forget_our_crates() {
+    rm -rf "$unpacked"/-*/canctl-* "$built"/.fingerprint/canctl-* "$built"/build/canctl-* \
+      "$built"/deps/libcanctl* "$built"/deps/canctl*
+  }
+  forget_our_crates
   # The package leaves tests and benchmarks out on purpose: cargo's notes about that are noise.
-  CARGO_TARGET_DIR=$target cargo publish --locked --dry-run --workspace >"$log" 2>&1 || {
-    cat "$log"; rm -rf "$target" "$unpacked"/-*/canctl-*; echo "FAIL: cargo publish --dry-run --workspace"; return 1
+  cargo publish --locked --dry-run --workspace >"$log" 2>&1 || {
+    cat "$log"; rm -f "$log"; forget_our_crates; echo "FAIL: cargo publish --dry-run --workspace"; return 1
   }
   grep -vE "^warning: (ignoring (test|benchmark|example)|manifest has no)|^  (\||= note)" "$log"
-  rm -rf "$log" "$target" "$unpacked"/-*/canctl-*
+  rm -f "$log"; forget_our_crates
   cargo doc --locked --quiet --lib --no-deps --no-default-features
   echo "the library's docs build without the cli feature (docs.rs)"
 }
