@@ -2,6 +2,7 @@
 //! lack, its identity (0x1018), its NMT state and its error history (0x1003). Each of these
 //! is learnt here and nowhere else, so that every command reads them the same way.
 
+use super::nmt::StateFrom;
 use super::sized;
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, HistoryEntry, Origin, Source};
@@ -159,10 +160,8 @@ impl<'a> Node<'a> {
         if let Some(s) = self.bus.observed().states.get(&self.id) {
             return Ok(Some((*s, StateFrom::Heartbeat)));
         }
-        Ok(match self.guard(wait)? {
-            Some(g) => g.state().map(|s| (s, g.from())),
-            None => None,
-        })
+        let answer = self.guard(wait)?;
+        Ok(answer.and_then(|g| Some((g.state()?, StateFrom::guarding(g, &*self.bus)))))
     }
 
     /// The error history 0x1003, newest first, each code with its meaning for a device of
@@ -282,35 +281,6 @@ impl Guarded {
             Guarded::BootUp => ErrorControl::BootUp.state(),
             Guarded::NotAState => None,
         }
-    }
-
-    fn from(&self) -> StateFrom {
-        match self {
-            Guarded::BootUp => StateFrom::BootUp,
-            _ => StateFrom::Guarding,
-        }
-    }
-}
-
-/// Where a node's NMT state was learnt.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum StateFrom {
-    /// Its heartbeat.
-    Heartbeat,
-    /// Its answer to node guarding.
-    Guarding,
-    /// A boot-up message that answered node guarding.
-    BootUp,
-}
-
-impl std::fmt::Display for StateFrom {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            StateFrom::Heartbeat => "heartbeat",
-            StateFrom::Guarding => "node guarding",
-            StateFrom::BootUp => "boot-up",
-        })
     }
 }
 

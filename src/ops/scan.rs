@@ -10,7 +10,7 @@ use probe::probe_until_stopped;
 pub use probe::{probe, Repeat};
 pub(crate) use probe::{probe_once, probe_rounds, PROBE_ROUNDS};
 
-use super::node::Guarded;
+pub use super::nmt::StateFrom;
 use super::Progress;
 use crate::bus::observer::SeenBy;
 use crate::bus::{Bus, LssWait};
@@ -332,58 +332,6 @@ fn scan_into(
     Ok(())
 }
 
-/// How a node's NMT state was learnt, or why it is not known. JSON's `state_from` is its
-/// text, as the human form's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum StateFrom {
-    /// Not looked for: the scan was stopped first (its text is empty).
-    NotAsked,
-    /// The node's heartbeat.
-    Heartbeat,
-    /// Its answer to node guarding.
-    NodeGuarding,
-    /// Its answer to a remote request through the EPOS2 gateway.
-    Epos2Remote,
-    /// Its boot-up message.
-    BootUp,
-    /// Unknown: it answered the probe only after the window, and beat no heartbeat.
-    LateWithoutHeartbeat,
-    /// Unknown: no heartbeat heard, and this bus carries no remote frames for node guarding.
-    NoRemoteFrames,
-    /// Unknown: its error-control answer was not a state.
-    NotAState,
-    /// Unknown: neither a heartbeat (`heartbeat`: one is configured) nor an answer to node
-    /// guarding came.
-    Silent {
-        /// Whether the node reports a heartbeat period (0x1017 not 0).
-        heartbeat: bool,
-    },
-}
-
-impl std::fmt::Display for StateFrom {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::NotAsked => "",
-            Self::Heartbeat => "heartbeat",
-            Self::NodeGuarding => "node guarding",
-            Self::Epos2Remote => "remote request through the EPOS2",
-            Self::BootUp => "boot-up",
-            Self::LateWithoutHeartbeat => "it answered the probe only after the window, and beat no heartbeat",
-            Self::NoRemoteFrames => "no heartbeat heard, and node guarding cannot go through this bus (no RTR frames)",
-            Self::NotAState => "its error-control answer was not a state",
-            Self::Silent { heartbeat: true } => "no heartbeat within the wait, and no answer to node guarding",
-            Self::Silent { heartbeat: false } => "no heartbeat configured, and no answer to node guarding",
-        })
-    }
-}
-
-impl Serialize for StateFrom {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.collect_str(self)
-    }
-}
-
 impl Node {
     /// A node that answered the probe, before anything else is asked.
     fn probed(node: u8, device_type: Option<u32>) -> Node {
@@ -454,7 +402,6 @@ fn guard_states(bus: &mut dyn Bus, nodes: &mut [Node], o: &ScanOptions) -> Resul
     // Guarding answers come at once; a node that has none is not waited for long.
     let floor = Duration::from_millis(200);
     let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
-    let source = if bus.sees_traffic() { StateFrom::NodeGuarding } else { StateFrom::Epos2Remote };
     for f in nodes.iter_mut().filter(|f| f.state.is_none()) {
         let guarded = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
             // A link without remote frames (socketcand): the heartbeat was all there was.
@@ -464,12 +411,10 @@ fn guard_states(bus: &mut dyn Bus, nodes: &mut [Node], o: &ScanOptions) -> Resul
             }
             other => other?,
         };
-        match guarded {
-            Some(g @ Guarded::State(_)) => (f.state, f.state_from) = (g.state(), source),
-            Some(g @ Guarded::BootUp) => (f.state, f.state_from) = (g.state(), StateFrom::BootUp),
-            Some(Guarded::NotAState) => f.state_from = StateFrom::NotAState,
-            None => f.state_from = StateFrom::Silent { heartbeat: beating(f) },
-        }
+        (f.state, f.state_from) = match guarded {
+            Some(g) => (g.state(), StateFrom::guarding(g, bus)),
+            None => (None, StateFrom::Silent { heartbeat: beating(f) }),
+        };
     }
     Ok(())
 }

@@ -6,7 +6,7 @@ use crate::canopen::nmt::State;
 use crate::canopen::pdo::Layout;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
-use crate::ops::nmt::NodeState;
+use crate::ops::nmt::{NodeState, StateFrom};
 use crate::ops::Warning;
 use std::time::Duration;
 
@@ -16,7 +16,7 @@ use std::time::Duration;
 pub enum Silence {
     /// The node is not operational (`state`, learned by `source`): it sends no PDO; the
     /// stream can start it.
-    NotOperational { node: u8, state: State, source: &'static str },
+    NotOperational { node: u8, state: State, source: StateFrom },
     /// The node's state could not be learned: it may not be operational.
     StateUnknown { node: u8 },
     /// A synchronous TPDO (transmission type `kind`) and no SYNC sent: it waits for SYNC.

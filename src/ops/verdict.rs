@@ -235,7 +235,7 @@ pub enum Finding {
         state: nmt::State,
         /// How it was learned.
         #[serde(serialize_with = "as_text")]
-        from: super::node::StateFrom,
+        from: super::nmt::StateFrom,
         /// The state expected.
         want: nmt::State,
     },

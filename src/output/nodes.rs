@@ -312,7 +312,7 @@ impl Report for NodeState {
     }
 
     fn csv(&self) -> Human {
-        let rows = vec![vec![self.node.to_string(), self.state.name().into(), self.source.into()]];
+        let rows = vec![vec![self.node.to_string(), self.state.name().into(), self.source.to_string()]];
         Human::Table { headers: vec!["node", "state", "source"], rows, when_empty: true }
     }
 }

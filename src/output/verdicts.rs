@@ -105,7 +105,7 @@ mod tests {
     use crate::ops::clash::{Clash, Evidence};
     use crate::ops::config::Difference;
     use crate::ops::health::SeenEmcy;
-    use crate::ops::node::{IdPart, StateFrom as Asked};
+    use crate::ops::node::IdPart;
     use crate::ops::scan::StateFrom;
 
     fn text(f: Finding) -> String {
@@ -199,7 +199,7 @@ mod tests {
             ),
             (Finding::ObjectsMatch { file: "node5.dcf".into() }, "every writable object as in node5.dcf".into()),
             (
-                Finding::NetworkState { state: pre, from: Asked::Guarding, want: op },
+                Finding::NetworkState { state: pre, from: StateFrom::NodeGuarding, want: op },
                 "pre-operational (from its node guarding), operational expected".into(),
             ),
             (
