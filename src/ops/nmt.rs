@@ -398,3 +398,34 @@ pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState>
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::Master;
+    use crate::sim::{SimConfig, SimLink};
+
+    fn bus() -> Master<SimLink> {
+        let config = SimConfig::default().seed(1).virtual_time(true);
+        Master::new(SimLink::with_config(config).on_virtual_time(0), "sim".into())
+    }
+
+    /// The state says where it came from: a heartbeat heard while listening, else node
+    /// guarding; and what an answer to guarding tells, in the one reading every command uses.
+    #[test]
+    fn a_state_says_whether_a_heartbeat_or_node_guarding_told_it() {
+        let mut bus = bus();
+        let timeout = Duration::from_millis(200);
+        let guarded = state(&mut bus, 5, &StateOptions { listen: Duration::ZERO, timeout }).unwrap();
+        assert_eq!((guarded.state, guarded.source), (nmt::State::PreOperational, StateFrom::NodeGuarding));
+        let listened = state(&mut bus, 5, &StateOptions { listen: Duration::from_secs(3), timeout }).unwrap();
+        assert_eq!(listened.source, StateFrom::Heartbeat, "the sim's node 5 produces a heartbeat");
+        assert!(matches!(
+            state(&mut bus, 44, &StateOptions { listen: Duration::ZERO, timeout }),
+            Err(Error::NoAnswer { node: 44, .. })
+        ));
+        assert_eq!(StateFrom::guarding(Guarded::BootUp, &bus), StateFrom::BootUp);
+        assert_eq!(StateFrom::guarding(Guarded::NotAState, &bus), StateFrom::NotAState);
+        assert_eq!(StateFrom::guarding(Guarded::State(nmt::State::Stopped), &bus), StateFrom::NodeGuarding);
+    }
+}
