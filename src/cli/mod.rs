@@ -338,6 +338,13 @@ fn on_each_bus<R: crate::output::Report + Send>(
 /// The error explained ([`crate::ops::explain`]): the link's failure, a silent node's likely
 /// cause and the nodes the last scan saw, or the objects near a missing one.
 fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
+    // A download's step the bus or the device failed is that failure, explained as any
+    // command's (its text and exit code are the wrapped error's already).
+    let e = match e.downcast::<crate::ops::firmware::FirmwareError>() {
+        Ok(crate::ops::firmware::FirmwareError::Bus(error)) => error.into(),
+        Ok(other) => other.into(),
+        Err(e) => e,
+    };
     let Some(error) = e.downcast_ref::<Error>() else { return e };
     let o = crate::ops::explain::ExplainOptions {
         bus: ctx.bus.as_deref(),

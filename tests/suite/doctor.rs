@@ -179,6 +179,29 @@ fn a_node_that_did_not_answer_gets_its_likely_cause() {
     }
 }
 
+/// A firmware download whose device does not answer is explained as any command's silent
+/// node (its failure is the download's own error type, which wraps the bus's): a stopped
+/// node is named as stopped, a node-id nobody has as silent, and JSON carries the diagnosis.
+#[test]
+fn a_firmware_download_to_a_silent_node_gets_its_likely_cause() {
+    let sim = network(&[]);
+    let image = sim.path("app.bin");
+    std::fs::write(&image, [0x5Au8; 300]).unwrap();
+    let image = image.display().to_string();
+    sim.run(&["nmt", "stop", "5"]).ok();
+    let r = sim.run(&["--timeout", "200ms", "firmware", "download", "5", &image]);
+    assert_eq!(r.code, 3, "{}{}", r.stdout, r.stderr);
+    assert!(r.stderr.contains("likely cause: node 5 is alive but stopped"), "{}", r.stderr);
+    assert!(r.stdout.contains("nothing was changed on the device"), "{}", r.stdout);
+    let r = sim.run(&["--timeout", "200ms", "firmware", "download", "6", &image]);
+    assert_eq!(r.code, 3, "{}{}", r.stdout, r.stderr);
+    assert!(r.stderr.contains("likely cause: node 6 is silent while the bus is not"), "{}", r.stderr);
+    let r = sim.run(&["--timeout", "200ms", "--format", "json", "firmware", "download", "6", &image]);
+    assert_eq!(r.code, 3, "{}{}", r.stdout, r.stderr);
+    let error: serde_json::Value = serde_json::from_str(r.stderr.trim()).expect("one JSON object on stderr");
+    assert!(error["diagnosis"].is_object(), "{error}");
+}
+
 /// A device that floods the bus with its EMCY id (0x08A, node 10): it wins every
 /// arbitration, nothing else gets through; the flood is named, not "nothing answers".
 #[test]
