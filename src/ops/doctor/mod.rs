@@ -190,8 +190,7 @@ pub fn quick(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration) -> R
     };
     let finding = |cause, remedy, evidence| Some(Finding { cause, evidence, remedy });
     Ok(match state {
-        Some(nmt::State::Stopped) => finding(Cause::Stopped { node }, Remedy::PreOperational { node }, vec![seen]),
-        Some(_) => finding(Cause::SdoSilent { node }, Remedy::ResetCommunication { node }, vec![seen]),
+        Some(state) => Some(shown_but_silent(node, state, vec![seen])),
         // Through an EPOS2 the read of every id is one after the other: far from quick.
         None if !bus.sees_traffic() => another_answers(bus, node, last_scan, wait)?.map(|other| Finding {
             cause: Cause::NodeSilent { node },
@@ -265,12 +264,22 @@ fn guarded(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<(Option<nmt::S
 /// state and what showed it) and a read of every node-id (`probe`): stopped (it serves no
 /// SDO there), alive with its SDO server elsewhere or off, or silent.
 pub(crate) fn silent_node(node: u8, shown: Option<(nmt::State, Evidence)>, probe: Evidence) -> Finding {
-    let (cause, remedy, evidence) = match shown {
-        Some((nmt::State::Stopped, seen)) => {
-            (Cause::Stopped { node }, Remedy::PreOperational { node }, vec![seen, probe])
+    match shown {
+        Some((state, seen)) => shown_but_silent(node, state, vec![seen, probe]),
+        None => {
+            Finding { cause: Cause::NodeSilent { node }, evidence: vec![probe], remedy: Remedy::CheckNode { node } }
         }
-        Some((_, seen)) => (Cause::SdoSilent { node }, Remedy::ResetCommunication { node }, vec![seen, probe]),
-        None => (Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![probe]),
+    }
+}
+
+/// The finding for a node that serves no SDO though it shows its NMT state (`state`, as
+/// `evidence` shows it): stopped (a stopped node serves no SDO: CiA 301 §7.3.2.2), else its
+/// SDO server is elsewhere or off. The one reading of it for doctor, the quick checks after a
+/// command's silent node, and health.
+fn shown_but_silent(node: u8, state: nmt::State, evidence: Vec<Evidence>) -> Finding {
+    let (cause, remedy) = match state {
+        nmt::State::Stopped => (Cause::Stopped { node }, Remedy::PreOperational { node }),
+        _ => (Cause::SdoSilent { node }, Remedy::ResetCommunication { node }),
     };
     Finding { cause, evidence, remedy }
 }
@@ -400,16 +409,7 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     evidence.push(no_answer.clone());
     evidence.extend(elsewhere.iter().map(|cob_id| Evidence::SdoAnswerOn { node, cob_id: *cob_id }));
     match state {
-        Some(nmt::State::Stopped) => d.findings.push(Finding {
-            cause: Cause::Stopped { node },
-            evidence,
-            remedy: Remedy::PreOperational { node },
-        }),
-        Some(_) => d.findings.push(Finding {
-            cause: Cause::SdoSilent { node },
-            evidence,
-            remedy: Remedy::ResetCommunication { node },
-        }),
+        Some(state) => d.findings.push(shown_but_silent(node, state, evidence)),
         None => return node_absent(bus, o, Absent { node, no_answer, evidence }, &heard, d),
     }
     Ok(())
@@ -547,12 +547,7 @@ fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diag
     for (node, (_, _, state)) in heard.beats.iter().filter(|(n, _)| !answered.contains(n)) {
         let node = *node;
         let evidence = heard.heartbeats(node).into_iter().chain([probe.clone()]).collect();
-        d.findings.push(match state {
-            nmt::State::Stopped => {
-                Finding { cause: Cause::Stopped { node }, evidence, remedy: Remedy::PreOperational { node } }
-            }
-            _ => Finding { cause: Cause::SdoSilent { node }, evidence, remedy: Remedy::ResetCommunication { node } },
-        });
+        d.findings.push(shown_but_silent(node, *state, evidence));
     }
     // A node the last scan saw that shows nothing now (no answer to the probe, no
     // heartbeat) is a finding, never a pass: node guarding tells a Stopped one.
