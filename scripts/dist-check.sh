@@ -152,11 +152,12 @@ step_crate() {
   # unpackings gone before and after.
   local unpacked="${CARGO_HOME:-$HOME/.cargo}/registry/src"
   rm -rf "$unpacked"/-*/canctl-*
-  # The package leaves tests and benchmarks out on purpose: cargo's notes about that are noise.
+  # The package leaves tests, benchmarks and the tests' canctl-seams out on purpose: cargo's
+  # notes about that are noise.
   CARGO_TARGET_DIR=$target cargo publish --locked --dry-run --workspace >"$log" 2>&1 || {
     cat "$log"; rm -rf "$target" "$unpacked"/-*/canctl-*; echo "FAIL: cargo publish --dry-run --workspace"; return 1
   }
-  grep -vE "^warning: (ignoring (test|benchmark|example)|manifest has no)|^  (\||= note)" "$log"
+  grep -vE "^warning: (ignoring (test|benchmark|example|binary .canctl-seams.)|manifest has no)|^  (\||= note)" "$log"
   rm -rf "$log" "$target" "$unpacked"/-*/canctl-*
   cargo doc --locked --quiet --lib --no-deps --no-default-features
   echo "the library's docs build without the cli feature (docs.rs)"
