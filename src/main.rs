@@ -1,6 +1,7 @@
 use clap::{CommandFactory, FromArgMatches};
 
-fn main() {
+// pub(crate): the test build of canctl (tests/seams/canctl.rs) runs this same `main`.
+pub(crate) fn main() {
     // Before anything else, so that a SIGTERM at any moment is a request to stop, reported.
     let cancel = interrupt::install();
     // COMPLETE=bash|zsh|fish|... : answer the shell's completion request and exit.

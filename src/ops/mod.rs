@@ -5,6 +5,7 @@
 
 pub use crate::cancel::Cancel;
 pub use event::{Event, Notice, Warning};
+pub use stop::{install_interrupt_plan, InterruptPoint};
 
 pub mod answers_elsewhere;
 pub(crate) mod back;

@@ -17,8 +17,7 @@ fn interrupted_mid_download_then_the_same_command_finishes() {
     sim.run(&["sim", "reset", "--bootloader", "9", "--virtual-time"]).ok();
     let app = image(&sim, 60_000);
     // SIGINT once the 20th sub-block of the image has been acknowledged.
-    let mut c = sim.command(&["firmware", "download", "9", &app]);
-    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "s20:INT");
+    let mut c = common::interrupted(sim.command(&["firmware", "download", "9", &app]), "s20:INT");
     let run = common::finish(c.output().unwrap());
     assert_eq!(run.code, 130, "{}{}", run.stdout, run.stderr);
     assert!(run.stdout.contains("interrupted in"), "{}", run.stdout);

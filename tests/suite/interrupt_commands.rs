@@ -2,8 +2,8 @@
 //! Ctrl-C in a terminal, a CI job cancelled. Each command stops at a safe point, prints
 //! what it did, what it did not and the state the device is left in, and exits 130; the
 //! device is checked afterwards. The point of interruption is exact, without timing:
-//! `CANCTL_TEST_SIGNAL_AFTER_WRITES` (see `src/ops/stop.rs`) makes canctl signal
-//! itself after its K-th SDO read (`rK`), write (`K`), NMT command (`nK`), or answer that
+//! [`common::interrupted`] runs the test build of canctl (tests/seams/canctl.rs), which
+//! signals itself after its K-th SDO read (`rK`), write (`K`), NMT command (`nK`), or answer that
 //! moved a transfer on (`sK`: a segment, a sub-block); `monitor` is signalled once it has
 //! printed its first lines.
 //!
@@ -27,8 +27,8 @@ fn row(test: &str, command: &str, signal: &str, said: &str, device: &str, code: 
     let _ = writeln!(std::io::stdout().lock(), "| {} |", TABLE.lock().unwrap().last().unwrap().join(" | "));
 }
 
-fn signalled(mut c: std::process::Command, point: &str, signal: &str) -> common::Run {
-    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", format!("{point}:{signal}"));
+fn signalled(c: std::process::Command, point: &str, signal: &str) -> common::Run {
+    let mut c = common::interrupted(c, &format!("{point}:{signal}"));
     common::finish(c.output().unwrap())
 }
 

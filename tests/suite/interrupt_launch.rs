@@ -7,8 +7,8 @@
 //! The parent here is the one of the field report: a non-interactive bash script runs the
 //! command as a background job (so SIGINT arrives ignored), through a Python wrapper that
 //! puts SIGINT back to its default and execs canctl. The point of the signal is exact,
-//! without timing: `CANCTL_TEST_SIGNAL_AFTER_WRITES=o1:TERM` makes canctl send it to itself
-//! right after the bus was opened.
+//! without timing: [`common::interrupted`] with `o1:TERM` runs the test build of canctl
+//! (tests/seams/canctl.rs), which sends it to itself right after the bus was opened.
 
 #![cfg(unix)]
 
@@ -49,8 +49,7 @@ fn sigterm_while_the_bus_opens_is_reported_however_canctl_was_launched() {
     std::fs::write(&dcf, changed).unwrap();
     let before = sim.run(&["sdo", "read", "10", "0x1017:0", "--type", "u16"]).ok().stdout;
 
-    let mut direct = sim.command(&["config", "apply", "10", dcf.to_str().unwrap()]);
-    direct.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "o1:TERM");
+    let direct = common::interrupted(sim.command(&["config", "apply", "10", dcf.to_str().unwrap()]), "o1:TERM");
     for (how, mut c) in [("supervised", through_a_supervisor(&direct)), ("direct", direct)] {
         let run = common::finish(c.output().unwrap());
         assert_eq!(run.code, 130, "{how}: {}", run.stderr);

@@ -5,8 +5,9 @@
 //!
 //! The device is the sim behind a simulated slcan adapter (`canctl sim --slcan`), a process
 //! of its own that keeps what was written when canctl dies, as a real device does. The
-//! point of interruption is exact without any timing: `CANCTL_TEST_SIGNAL_AFTER_WRITES=K:SIG`
-//! makes canctl send itself SIG right after the answer to its K-th SDO write.
+//! point of interruption is exact without any timing: [`common::interrupted`] with `K:SIG`
+//! runs the test build of canctl (tests/seams/canctl.rs), which sends itself SIG right
+//! after the answer to its K-th SDO write.
 //!
 //! `cargo test --test suite interruption:: -- --nocapture` prints the table.
 
@@ -142,8 +143,10 @@ fn a_pdo_remap_interrupted_at_every_step_is_rolled_back_or_complete() {
     for k in 1..=steps.len() as u32 {
         for signal in ["INT", "TERM"] {
             back_to_old();
-            let mut c = dev.command(&["config", "apply", "10", new_dcf.to_str().unwrap(), "--format", "json"]);
-            c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", format!("{k}:{signal}"));
+            let mut c = common::interrupted(
+                dev.command(&["config", "apply", "10", new_dcf.to_str().unwrap(), "--format", "json"]),
+                &format!("{k}:{signal}"),
+            );
             let run = common::finish(c.output().unwrap());
             let report = run.json();
             let now = state(&dev);
@@ -198,8 +201,10 @@ fn a_pdo_remap_interrupted_at_every_step_is_rolled_back_or_complete() {
         }
         // SIGKILL: no report, no rollback. The next diff sees it; the next apply finishes it.
         back_to_old();
-        let mut c = dev.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]);
-        c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", format!("{k}:KILL"));
+        let mut c = common::interrupted(
+            dev.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]),
+            &format!("{k}:KILL"),
+        );
         let status = c.output().unwrap().status;
         use std::os::unix::process::ExitStatusExt;
         assert_eq!(status.signal(), Some(9), "k={k}: {status:?}");
@@ -229,8 +234,7 @@ fn a_pdo_remap_interrupted_at_every_step_is_rolled_back_or_complete() {
     // The same in the human format: the report says what was written, what was put back
     // and what the device holds.
     back_to_old();
-    let mut c = dev.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]);
-    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "3:TERM");
+    let mut c = common::interrupted(dev.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]), "3:TERM");
     let run = common::finish(c.output().unwrap());
     assert_eq!(run.code, 130);
     for said in [
@@ -273,8 +277,10 @@ fn refusing(code: &str, write: usize, then: &str) -> (common::Sim, std::path::Pa
 #[test]
 fn a_rollback_that_fails_names_the_writes_that_would_finish_it() {
     let (sim, old_dcf, new_dcf) = refusing_after_three_writes();
-    let mut c = sim.command(&["config", "apply", "10", new_dcf.to_str().unwrap(), "--format", "json"]);
-    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "3:TERM");
+    let mut c = common::interrupted(
+        sim.command(&["config", "apply", "10", new_dcf.to_str().unwrap(), "--format", "json"]),
+        "3:TERM",
+    );
     let run = common::finish(c.output().unwrap());
     assert_eq!(run.code, 130, "{}", run.stderr);
     let report = run.json();
@@ -303,8 +309,7 @@ fn a_rollback_that_fails_names_the_writes_that_would_finish_it() {
 
     // The human report says the same, with the values.
     let (sim, _, new_dcf) = refusing_after_three_writes();
-    let mut c = sim.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]);
-    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "3:INT");
+    let mut c = common::interrupted(sim.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]), "3:INT");
     let human = common::finish(c.output().unwrap());
     assert_eq!(human.code, 130, "{}", human.stderr);
     let fixes: Vec<String> = fixes.iter().map(|(o, v)| format!("{o} = {v}")).collect();
@@ -347,8 +352,10 @@ fn stream_pdo_map_interrupted_while_remapping_puts_the_mapping_back() {
     let before = drive_mapping(&sim);
     for k in 1..=4 {
         for signal in ["INT", "TERM"] {
-            let mut c = sim.command(&["stream-pdo", "1", "--start", "--map", "6064:0,606C:0", "--event", "10"]);
-            c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", format!("{k}:{signal}"));
+            let mut c = common::interrupted(
+                sim.command(&["stream-pdo", "1", "--start", "--map", "6064:0,606C:0", "--event", "10"]),
+                &format!("{k}:{signal}"),
+            );
             let r = common::finish(c.output().unwrap());
             assert_eq!(r.code, 130, "k={k} {signal}: {}", r.stderr);
             assert_eq!(drive_mapping(&sim), before, "k={k} {signal}");
@@ -407,8 +414,10 @@ fn interrupted_while_reading_writes_nothing() {
     let new_dcf = sim.path("io-remapped.dcf");
     std::fs::write(&new_dcf, edit_dcf(&text, &[("1A00sub0", "2"), ("1A00sub1", "0x62000108")])).unwrap();
     for signal in ["INT", "TERM"] {
-        let mut c = sim.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]);
-        c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", format!("r5:{signal}"));
+        let mut c = common::interrupted(
+            sim.command(&["config", "apply", "10", new_dcf.to_str().unwrap()]),
+            &format!("r5:{signal}"),
+        );
         let run = common::finish(c.output().unwrap());
         assert_eq!(run.code, 130, "{}", run.stderr);
         assert!(

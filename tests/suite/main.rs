@@ -8,6 +8,8 @@
 //! Two tests stand beside this binary: `tests/dst/`, the seeded simulation, which CI runs
 //! in a release build that this whole suite need not pay for; and `tests/library.rs`, the
 //! crate as a library user builds it, without the command line (`--no-default-features`).
+//! The interruption tests run a second binary, `tests/seams/canctl.rs`: canctl's own `main`
+//! with a test seam that the shipped canctl lacks (`common::interrupted`).
 
 mod common;
 

@@ -613,8 +613,9 @@ fn set_baud_with_a_project_expects_its_nodes_and_updates_its_dcfs() {
 // ---------------------------------------------------------------------------------------
 // network apply interrupted: each node stops at its next safe point (between two SDO
 // transfers; a PDO change under way rolled back), and the report says per node what was
-// done and the state it is left in. CANCTL_TEST_SIGNAL_AFTER_WRITES=K:SIG signals canctl
-// right after its K-th confirmed SDO write: an exact point, no timing.
+// done and the state it is left in. `common::interrupted` with K:SIG runs the test build of
+// canctl (tests/seams/canctl.rs), which signals itself right after its K-th confirmed SDO
+// write: an exact point, no timing.
 
 fn tpdo1_of_the_drive(sim: &Sim) -> Vec<String> {
     ["0x1800:1", "0x1A00:0", "0x1A00:1", "0x1A00:2"]
@@ -625,8 +626,10 @@ fn tpdo1_of_the_drive(sim: &Sim) -> Vec<String> {
 
 fn interrupted_apply(sim: &Sim, jobs: &str, signal: &str) -> Run {
     let project = example().join("nodelist.cpj");
-    let mut c = sim.command(&["network", "apply", project.to_str().unwrap(), "--jobs", jobs, "--format", "json"]);
-    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", signal);
+    let mut c = common::interrupted(
+        sim.command(&["network", "apply", project.to_str().unwrap(), "--jobs", jobs, "--format", "json"]),
+        signal,
+    );
     common::finish(c.output().unwrap())
 }
 
@@ -756,8 +759,10 @@ fn an_interrupted_apply_summary_agrees_with_its_table() {
     let sim = Sim::new();
     reset(&sim, "instant", "5");
     let project = example().join("nodelist.cpj");
-    let mut c = sim.command(&["network", "apply", project.to_str().unwrap(), "--assign", "--jobs", "4"]);
-    c.env("CANCTL_TEST_SIGNAL_AFTER_WRITES", "5:INT");
+    let mut c = common::interrupted(
+        sim.command(&["network", "apply", project.to_str().unwrap(), "--assign", "--jobs", "4"]),
+        "5:INT",
+    );
     let run = common::finish(c.output().unwrap());
     assert_eq!(run.code, 130, "{}\n{}", run.stdout, run.stderr);
     // node  name  written  result: the columns start where their headings do.

@@ -212,6 +212,25 @@ pub fn canctl_bin() -> PathBuf {
     std::env::var_os("CANCTL_BIN").map(PathBuf::from).unwrap_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_canctl")))
 }
 
+/// `c` (a canctl command: [`Sim::command`], [`DeviceSide::command`]) run by the test build
+/// of canctl instead, which interrupts itself at `plan` (`3:TERM`, `r5:INT`, `s20:INT`,
+/// `o1:TERM`; tests/seams/canctl.rs says them): the real `main` and its signal handler, the
+/// point of interruption exact without timing. The canctl under test has no such seam.
+pub fn interrupted(c: Command, plan: &str) -> Command {
+    let mut seams = Command::new(env!("CARGO_BIN_EXE_canctl-seams"));
+    seams.args(c.get_args()).env("CANCTL_TEST_SIGNAL_AFTER_WRITES", plan).stdin(Stdio::null());
+    for (k, v) in c.get_envs() {
+        match v {
+            Some(v) => seams.env(k, v),
+            None => seams.env_remove(k),
+        };
+    }
+    if let Some(dir) = c.get_current_dir() {
+        seams.current_dir(dir);
+    }
+    seams
+}
+
 /// No settings file or scan cache of the developer's may change what a test sees, and no
 /// test writes into theirs.
 pub fn isolate(c: &mut Command) {
