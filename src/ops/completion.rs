@@ -169,7 +169,14 @@ pub fn objects(node: u8, dicts: &Dictionaries, seen: Option<&SeenNode>) -> Vec<O
 /// The objects CiA 301 requires of every device (0x1017 of every one without node
 /// guarding, which is optional and rare).
 fn mandatory(a: ObjAddr) -> bool {
-    matches!((a.index, a.sub), (0x1000 | 0x1001 | 0x1017, 0) | (0x1018, 0 | 1))
+    matches!(
+        a,
+        ObjAddr::DEVICE_TYPE
+            | ObjAddr::ERROR_REGISTER
+            | ObjAddr::HEARTBEAT_TIME
+            | ObjAddr::IDENTITY
+            | ObjAddr::VENDOR_ID
+    )
 }
 
 #[cfg(test)]

@@ -111,19 +111,26 @@ impl<'a> Node<'a> {
 
     /// The rest of the identity object, its vendor-ID (0x1018:1) read already.
     pub(crate) fn identity_of(&mut self, vendor: u32) -> Result<Identity> {
-        let mut part = |sub| self.read_optional::<u32>(ObjAddr::new(0x1018, sub));
-        Ok(Identity { vendor, product: part(2)?, revision: part(3)?, serial: part(4)? })
+        let mut part = |addr| self.read_optional::<u32>(addr);
+        Ok(Identity {
+            vendor,
+            product: part(ObjAddr::PRODUCT_CODE)?,
+            revision: part(ObjAddr::REVISION_NUMBER)?,
+            serial: part(ObjAddr::SERIAL_NUMBER)?,
+        })
     }
 
     /// The vendor-ID and product code a file names, against the device's: each one the file
     /// names (not 0), read and compared as numbers.
     pub(crate) fn compare_identity(&mut self, vendor: u32, product: u32) -> Result<Vec<IdentityPart>> {
         let mut parts = Vec::new();
-        for (what, want, sub) in [(IdPart::Vendor, vendor, 1), (IdPart::Product, product, 2)] {
+        for (what, want, addr) in
+            [(IdPart::Vendor, vendor, ObjAddr::VENDOR_ID), (IdPart::Product, product, ObjAddr::PRODUCT_CODE)]
+        {
             if want == 0 {
                 continue;
             }
-            let device = match self.read::<u32>(ObjAddr::new(0x1018, sub)) {
+            let device = match self.read::<u32>(addr) {
                 Ok(v) => Ok(v),
                 Err(Error::SdoAbort { code, .. }) => Err(code),
                 Err(e) => return Err(e),

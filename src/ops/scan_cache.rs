@@ -103,7 +103,7 @@ impl SeenNode {
             let identity = [n.vendor_id, n.product_code, n.revision, n.serial];
             let read = [(0x1000, 0, n.device_type.is_some()), (0x1008, 0, n.name.is_some())]
                 .into_iter()
-                .chain((1..=4).map(|sub| (0x1018, sub, identity[usize::from(sub) - 1].is_some())))
+                .chain(ObjAddr::IDENTITY_PARTS.iter().zip(identity).map(|(a, v)| (a.index, a.sub, v.is_some())))
                 .chain([(0x1017, 0, n.heartbeat_ms.is_some())]);
             SeenNode {
                 node: n.node,

@@ -87,17 +87,29 @@ pub(crate) fn parse_u32(s: &str) -> Result<u32, String> {
         .ok_or_else(|| format!("'{s}' is not a 32-bit number (decimal, or hex with 0x)"))
 }
 
-/// A node-id to give over LSS: 1 to 127, or 255 to take it away.
+/// A node-id to give over LSS: 1 to 127, or 255 to take it away; decimal or 0x hex, as
+/// every other node-id (`parse_node`) is.
 pub(crate) fn parse_lss_node_id(s: &str) -> Result<u8, String> {
-    match s.parse::<u16>() {
-        Ok(n) if (1..=127).contains(&n) || n == UNCONFIGURED as u16 => Ok(n as u8),
+    match crate::canopen::number::parse_number::<u8>(s) {
+        Some(n) if (1..=127).contains(&n) || n == UNCONFIGURED => Ok(n),
         _ => Err(format!("'{s}' is not a node-id for LSS: use 1 to 127, or 255 to leave the device without one")),
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::parse_size;
+    use super::{parse_lss_node_id, parse_size};
+
+    #[test]
+    fn lss_node_ids_are_read_as_every_node_id_is() {
+        assert_eq!(parse_lss_node_id("5"), Ok(5));
+        assert_eq!(parse_lss_node_id("0x7F"), Ok(127));
+        assert_eq!(parse_lss_node_id("255"), Ok(255));
+        assert_eq!(parse_lss_node_id("0xFF"), Ok(255));
+        for refused in ["0", "128", "254", "256", "0x100", "-1", "five", ""] {
+            assert!(parse_lss_node_id(refused).unwrap_err().contains("use 1 to 127, or 255"), "{refused}");
+        }
+    }
 
     #[test]
     fn sizes_parse_in_binary_multiples_up_to_32_bits() {

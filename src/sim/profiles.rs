@@ -492,22 +492,17 @@ pub fn eds_files() -> Vec<(String, String)> {
 
 /// A model's EDS: (file name, text, each character standing for one byte).
 fn eds_file(m: &Model, (vendor, product): (&str, &str)) -> (String, String) {
-    let part = |sub| {
-        m.dict
-            .get(ObjAddr::new(0x1018, sub))
-            .map(|e| e.default_for(0))
-            .and_then(|v| v.try_into().ok())
-            .map_or(0, u32::from_le_bytes)
-    };
+    let part =
+        |addr| m.dict.get(addr).map(|e| e.default_for(0)).and_then(|v| v.try_into().ok()).map_or(0, u32::from_le_bytes);
     let file_name = format!("canctl-sim-{}.eds", m.key);
     let header = crate::od::eds::Header {
         file_name: file_name.clone(),
         description: format!("{product}: a device model of canctl's simulated network"),
         vendor_name: vendor.into(),
-        vendor_number: part(1),
+        vendor_number: part(ObjAddr::VENDOR_ID),
         product_name: product.into(),
-        product_number: part(2),
-        revision: part(3),
+        product_number: part(ObjAddr::PRODUCT_CODE),
+        revision: part(ObjAddr::REVISION_NUMBER),
         node_id: None,
     };
     (file_name, crate::od::eds::write(&m.dict, None, &header))

@@ -129,12 +129,7 @@ fn replay_hint(seed: u64) -> String {
 }
 
 fn env_u64(name: &str) -> Option<u64> {
-    let v = std::env::var(name).ok()?;
-    let v = v.trim();
-    match v.strip_prefix("0x") {
-        Some(hex) => u64::from_str_radix(hex, 16).ok(),
-        None => v.parse().ok(),
-    }
+    canctl::canopen::number::parse_number(std::env::var(name).ok()?.trim())
 }
 
 /// Run `seeds` on every core; the seeds that broke an invariant, with what broke.

@@ -55,7 +55,8 @@ fn writes_reported(report: &Value) -> Vec<(String, u64)> {
         .filter(|r| r["result"].as_str().unwrap().starts_with("written"))
         .map(|r| {
             let new = r["new"].as_str().unwrap();
-            let v = u64::from_str_radix(new.trim_start_matches("0x"), 16).unwrap_or_else(|_| new.parse().unwrap());
+            // Hex first then decimal read a decimal 10 as 16: the one reading tells them apart.
+            let v = canctl::canopen::number::parse_number(new).unwrap_or_else(|| panic!("'{new}' is not a number"));
             (r["object"].as_str().unwrap().to_string(), v)
         })
         .collect()

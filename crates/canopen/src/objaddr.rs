@@ -31,8 +31,14 @@ impl ObjAddr {
     pub const VENDOR_ID: ObjAddr = ObjAddr::new(0x1018, 1);
     /// 0x1018:2: the product code.
     pub const PRODUCT_CODE: ObjAddr = ObjAddr::new(0x1018, 2);
+    /// 0x1018:3: the revision number.
+    pub const REVISION_NUMBER: ObjAddr = ObjAddr::new(0x1018, 3);
     /// 0x1018:4: the serial number.
     pub const SERIAL_NUMBER: ObjAddr = ObjAddr::new(0x1018, 4);
+    /// 0x1018:1 to 4 in the order of an LSS address (`lss::Identity::part`): the objects
+    /// code that reads or builds a whole identity walks, instead of `ObjAddr::new(0x1018, sub)`.
+    pub const IDENTITY_PARTS: [ObjAddr; 4] =
+        [ObjAddr::VENDOR_ID, ObjAddr::PRODUCT_CODE, ObjAddr::REVISION_NUMBER, ObjAddr::SERIAL_NUMBER];
 }
 
 impl ObjAddr {

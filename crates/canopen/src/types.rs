@@ -469,21 +469,12 @@ fn visible_string(bytes: &[u8]) -> String {
     String::from_utf8_lossy(&bytes[..end]).into_owned()
 }
 
+/// An integer typed for a value: the one number reading with a sign
+/// ([`crate::number::parse_signed`]), its digits grouped by `_` if the user likes
+/// (`0x0950_1234`, as long values are written in Rust and in this crate's docs): only here,
+/// where text is typed for one value; files and identities keep their formats' digits.
 fn parse_int(t: &str) -> Option<i128> {
-    let (neg, body) = match t.strip_prefix('-') {
-        Some(rest) => (true, rest),
-        None => (false, t.strip_prefix('+').unwrap_or(t)),
-    };
-    let body = body.replace('_', "");
-    let magnitude = match body.strip_prefix("0x").or_else(|| body.strip_prefix("0X")) {
-        Some(hex) if !hex.is_empty() && hex.len() <= 30 => i128::from_str_radix(hex, 16).ok()?,
-        Some(_) => return None,
-        None if !body.is_empty() && body.len() <= 38 && body.chars().all(|c| c.is_ascii_digit()) => {
-            body.parse().ok()?
-        }
-        None => return None,
-    };
-    Some(if neg { -magnitude } else { magnitude })
+    crate::number::parse_signed(&t.replace('_', ""))
 }
 
 // Hex text is frame text too (`candump` lines); it lives with `Frame`, below this layer.
@@ -555,6 +546,18 @@ mod tests {
             assert_eq!(&parsed, bytes, "{t} {text}");
             let shown = t.decode(&parsed).unwrap().to_string();
             assert_eq!(t.parse(&shown).unwrap(), parsed, "{t}: {shown}");
+        }
+    }
+
+    #[test]
+    fn typed_integers_take_a_sign_and_digits_grouped_by_underscores() {
+        assert_eq!(U32.parse("0x0950_1234").unwrap(), 0x0950_1234u32.to_le_bytes());
+        assert_eq!(U32.parse("1_000").unwrap(), 1000u32.to_le_bytes());
+        assert_eq!(I8.parse("-0x80").unwrap(), [0x80]);
+        assert_eq!(I8.parse("+7").unwrap(), [7]);
+        // A sign belongs before the number, not among its hex digits.
+        for refused in ["0x+5", "-0x-5", "0x", "--5", "1.0", "0b1"] {
+            assert!(I32.parse(refused).unwrap_err().0.contains("not a valid i32"), "{refused}");
         }
     }
 

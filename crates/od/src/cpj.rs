@@ -149,7 +149,9 @@ fn ini_lines(bytes: &[u8], path: &str) -> Result<(Vec<IniLine>, bool), CpjError>
     Ok((out, utf8))
 }
 
-/// CiA 306 integers: `0x` hex, otherwise decimal (the one reading canctl has for them).
+/// A project's or commissioning section's number: `0x` hex, otherwise decimal, the one
+/// number reading. Not [`crate::eds::parse_int`]'s CiA 306 octal: these values (node-ids,
+/// bit rates, counts) were always read as decimal, and `010` turning into 8 would move a node.
 fn number(text: &str) -> Option<u32> {
     canctl_canopen::number::parse_number(text)
 }

@@ -27,15 +27,15 @@ impl Dcf {
     /// The vendor-ID and product code the file is for: `[DeviceInfo]`, else its 0x1018
     /// values; 0 where it does not say.
     pub fn identity(&self) -> (u32, u32) {
-        let part = |key: &str, sub: u8| {
+        let part = |key: &str, addr: ObjAddr| {
             let from_info = self.eds.info.get(key).and_then(|v| eds::parse_int(v)).and_then(|v| u32::try_from(v).ok());
-            let from_value = || match self.eds.values.get(&ObjAddr::new(0x1018, sub)) {
+            let from_value = || match self.eds.values.get(&addr) {
                 Some(crate::od::Init::Bytes(b)) => Some(super::le_u32(b)),
                 _ => None,
             };
             from_info.filter(|v| *v != 0).or_else(from_value).unwrap_or(0)
         };
-        (part("vendornumber", 1), part("productnumber", 2))
+        (part("vendornumber", ObjAddr::VENDOR_ID), part("productnumber", ObjAddr::PRODUCT_CODE))
     }
 
     /// Read a DCF file; an unreadable one is a usage error citing file:line.
@@ -247,7 +247,7 @@ pub(crate) fn dump_as(
         present.insert((*e).clone());
     }
     progress.finish();
-    let identity = |sub| values.get(&ObjAddr::new(0x1018, sub)).map_or(0, |v: &Vec<u8>| le_u32(v));
+    let identity = |addr| values.get(&addr).map_or(0, |v: &Vec<u8>| le_u32(v));
     let name = values
         .get(&ObjAddr::DEVICE_NAME)
         .map(|v| String::from_utf8_lossy(v).trim_end_matches('\0').to_string())
@@ -256,10 +256,10 @@ pub(crate) fn dump_as(
         file_name: file_name.to_string(),
         description: format!("node {node} on {}, read by canctl; objects from {source}", bus.describe()),
         vendor_name: String::new(),
-        vendor_number: identity(1),
+        vendor_number: identity(ObjAddr::VENDOR_ID),
         product_name: name,
-        product_number: identity(2),
-        revision: identity(3),
+        product_number: identity(ObjAddr::PRODUCT_CODE),
+        revision: identity(ObjAddr::REVISION_NUMBER),
         node_id: Some(node),
     };
     // A value no DCF can hold (a newline in a string, say) is left out, and said so.

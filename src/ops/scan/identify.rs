@@ -41,8 +41,9 @@ pub(super) fn identify(
         let rest: Vec<(u8, ObjAddr)> = answered
             .iter()
             .flat_map(|&node| {
-                (2..=4)
-                    .map(move |sub| (node, ObjAddr::new(ObjAddr::IDENTITY.index, sub)))
+                ObjAddr::IDENTITY_PARTS[1..]
+                    .iter()
+                    .map(move |addr| (node, *addr))
                     .chain([(node, ObjAddr::DEVICE_NAME), (node, ObjAddr::HEARTBEAT_TIME)])
             })
             .collect();
@@ -73,10 +74,10 @@ fn record(
             f.heartbeat_ms = bytes.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]))
         }
         Ok(bytes) => {
-            *match addr.sub {
-                1 => &mut f.vendor_id,
-                2 => &mut f.product_code,
-                3 => &mut f.revision,
+            *match *addr {
+                ObjAddr::VENDOR_ID => &mut f.vendor_id,
+                ObjAddr::PRODUCT_CODE => &mut f.product_code,
+                ObjAddr::REVISION_NUMBER => &mut f.revision,
                 _ => &mut f.serial,
             } = as_u32(&bytes)
         }

@@ -120,8 +120,8 @@ impl Device {
         od.reload(None);
         od.refresh_statusword();
         od.dirty = false;
-        let part = |sub| od.u32_value(ObjAddr::new(0x1018, sub)).unwrap_or(0);
-        let identity = lss::Identity { vendor: part(1), product: part(2), revision: part(3), serial: part(4) };
+        let [vendor, product, revision, serial] = ObjAddr::IDENTITY_PARTS.map(|a| od.u32_value(a).unwrap_or(0));
+        let identity = lss::Identity { vendor, product, revision, serial };
         Device {
             lss: lss::Slave::new(identity, model.lss),
             boot_pending: false,

@@ -2,25 +2,10 @@
 //! data type codes read; values written back so that they read as the same bytes.
 
 use super::*;
-/// CiA 306 integers: `0x` hex, a leading `0` octal, otherwise decimal; a sign allowed.
+/// CiA 306 integers: `0x` hex, a leading `0` octal, otherwise decimal; a sign allowed
+/// ([`canctl_canopen::number::parse_cia306`], the one number reading with CiA 306's octal).
 pub fn parse_int(text: &str) -> Option<i128> {
-    let t = trim_blanks(text);
-    let (neg, body) = match t.strip_prefix('-') {
-        Some(b) => (true, b),
-        None => (false, t.strip_prefix('+').unwrap_or(t)),
-    };
-    // Beyond 32 digits no CiA 301 integer is meant, and i128 would overflow.
-    if body.is_empty() || body.len() > 32 || body.starts_with(['+', '-']) {
-        return None;
-    }
-    let v = if let Some(h) = body.strip_prefix("0x").or_else(|| body.strip_prefix("0X")) {
-        i128::from_str_radix(h, 16).ok()?
-    } else if body.len() > 1 && body.starts_with('0') {
-        i128::from_str_radix(&body[1..], 8).ok()?
-    } else {
-        body.parse().ok()?
-    };
-    Some(if neg { -v } else { v })
+    canctl_canopen::number::parse_cia306(trim_blanks(text))
 }
 
 /// The node-ids a `$NODEID` value may be used for (CiA 301).
