@@ -5,6 +5,7 @@
 //! the wall clock), so every rule here is a unit test without sleeping.
 
 use crate::frame::Frame;
+use std::collections::BTreeMap;
 use std::fmt;
 use std::str::FromStr;
 
@@ -206,7 +207,7 @@ pub fn frame_time(f: &Frame, bps: u64) -> Nanos {
 }
 
 /// Who put a frame on the bus.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) enum Origin {
     Master,
     Device(usize),
@@ -214,15 +215,16 @@ pub(crate) enum Origin {
 
 #[derive(Clone, Copy, Debug)]
 enum Next {
-    Queued(usize),
+    Queued(Origin, Order),
     Babble(usize),
 }
 
+/// A queued frame's place in its sender's queue: when it was ready, then the order it was
+/// queued in.
+type Order = (Nanos, u64);
+
 #[derive(Debug)]
 struct Queued {
-    ready: Nanos,
-    seq: u64,
-    origin: Origin,
     frame: Frame,
     /// `frame_bits(frame)`, counted once: the queue is looked at far more often than it
     /// changes (on virtual time, at every wait).
@@ -260,7 +262,11 @@ pub(crate) struct BusQueue {
     /// `None`: frames take no time.
     bps: Option<u64>,
     free_at: Nanos,
-    queued: Vec<Queued>,
+    /// Each sender's frames in the order they leave. Per sender, so that choosing the next
+    /// frame looks at each sender's first frame only: a device that floods the bus keeps
+    /// hundreds of frames waiting (the master's probe of every node-id), and the simulated
+    /// bus is asked for its next frame twice for every frame.
+    queued: BTreeMap<Origin, BTreeMap<Order, Queued>>,
     babblers: Vec<Babbler>,
     seq: u64,
     stats: BusStats,
@@ -286,13 +292,14 @@ impl BusQueue {
 
     /// How many frames from this origin are waiting.
     pub(crate) fn waiting_from(&self, origin: Origin) -> usize {
-        self.queued.iter().filter(|q| q.origin == origin).count()
+        self.queued.get(&origin).map_or(0, BTreeMap::len)
     }
 
     /// A frame ready to go at `ready`.
     pub fn queue(&mut self, ready: Nanos, origin: Origin, frame: Frame) {
         self.seq += 1;
-        self.queued.push(Queued { ready, seq: self.seq, origin, frame, bits: frame_bits(&frame) });
+        let queued = Queued { frame, bits: frame_bits(&frame) };
+        self.queued.entry(origin).or_default().insert((ready, self.seq), queued);
     }
 
     /// This device floods the bus with frames on `id` from `since` on (once told).
@@ -315,24 +322,20 @@ impl BusQueue {
 
     /// The next frame to go, as things stand: (queued index or babbler, start, end).
     fn next(&self) -> Option<(Next, Nanos, Nanos)> {
-        let first_ready = self.queued.iter().map(|q| q.ready).chain(self.babblers.iter().map(|b| b.next)).min()?;
-        let start = self.free_at.max(first_ready);
         // Each sender's frames leave in the order it queued them (a FIFO per controller,
-        // as SocketCAN's queue discipline gives the master); the senders' first frames
-        // compete in arbitration.
-        // A frame enters its controller's queue when it is ready.
-        let mut heads: Vec<(Origin, usize)> = Vec::new();
-        for (i, q) in self.queued.iter().enumerate().filter(|(_, q)| q.ready <= start) {
-            match heads.iter_mut().find(|(o, _)| *o == q.origin) {
-                Some((_, h)) if (q.ready, q.seq) < (self.queued[*h].ready, self.queued[*h].seq) => *h = i,
-                Some(_) => {}
-                None => heads.push((q.origin, i)),
-            }
-        }
-        let queued = heads.into_iter().map(|(_, i)| {
-            let q = &self.queued[i];
-            ((q.frame.id(), 0, q.seq), Next::Queued(i), q.bits)
+        // as SocketCAN's queue discipline gives the master), a frame entering its
+        // controller's queue when it is ready; the senders' first frames compete in
+        // arbitration.
+        let heads = self.queued.iter().filter_map(|(origin, frames)| {
+            let (order, q) = frames.first_key_value()?;
+            Some((*origin, *order, q))
         });
+        let first_ready =
+            heads.clone().map(|(_, (ready, _), _)| ready).chain(self.babblers.iter().map(|b| b.next)).min()?;
+        let start = self.free_at.max(first_ready);
+        let queued = heads
+            .filter(|(_, (ready, _), _)| *ready <= start)
+            .map(|(origin, order, q)| ((q.frame.id(), 0, order.1), Next::Queued(origin, order), q.bits));
         let babbling = self
             .babblers
             .iter()
@@ -360,9 +363,13 @@ impl BusQueue {
         self.stats.frames += 1;
         self.stats.busy += end - start;
         match next {
-            Next::Queued(i) => {
-                let q = self.queued.swap_remove(i);
-                Some((end, q.origin, q.frame))
+            Next::Queued(origin, order) => {
+                let frames = self.queued.get_mut(&origin).expect("a sender with frames");
+                let q = frames.remove(&order).expect("its first frame");
+                if frames.is_empty() {
+                    self.queued.remove(&origin);
+                }
+                Some((end, origin, q.frame))
             }
             Next::Babble(i) => {
                 let b = &mut self.babblers[i];
@@ -464,6 +471,33 @@ mod tests {
         bus.queue(0, Origin::Device(2), Frame::new(0x182, &[1]));
         let order: Vec<u16> = std::iter::from_fn(|| bus.pop_done(u64::MAX)).map(|(_, _, f)| f.id()).collect();
         assert_eq!(order, [0x182, 0x67F, 0x000, 0x7E4]);
+    }
+
+    /// A frame that became ready earlier than one queued before it leaves first (its
+    /// controller had it first); a sender's hundreds of waiting frames (a probe of every
+    /// node-id) keep their order beside a device flooding the bus with a higher id, and
+    /// behind one with a lower id none gets out.
+    #[test]
+    fn a_senders_queue_is_in_ready_order_and_keeps_it_beside_a_flood() {
+        let mut bus = BusQueue::new(Some(500_000));
+        bus.queue(50 * US, Origin::Device(1), Frame::new(0x701, &[0x7F]));
+        bus.queue(10 * US, Origin::Device(1), Frame::new(0x581, &[0x43; 8]));
+        let order: Vec<u16> = std::iter::from_fn(|| bus.pop_done(u64::MAX)).map(|(_, _, f)| f.id()).collect();
+        assert_eq!(order, [0x581, 0x701]);
+        for (flood, out) in [(0x7FF, 127), (0x001, 0)] {
+            let mut bus = BusQueue::new(Some(500_000));
+            bus.babble(0, flood, 0);
+            for node in 1..=127u16 {
+                bus.queue(0, Origin::Master, Frame::new(0x600 + node, &[0x40, 0, 0x10, 0, 0, 0, 0, 0]));
+            }
+            let sent: Vec<u16> = std::iter::from_fn(|| bus.pop_done(u64::MAX))
+                .take(2_000)
+                .filter(|(_, origin, _)| *origin == Origin::Master)
+                .map(|(_, _, f)| f.id() - 0x600)
+                .collect();
+            assert_eq!(sent, (1..).take(out).collect::<Vec<u16>>(), "flood on {flood:03X}");
+            assert_eq!(bus.waiting_from(Origin::Master), 127 - out);
+        }
     }
 
     #[test]
