@@ -106,14 +106,8 @@ fn check(cancel: Option<&Cancel>) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bus::Master;
     use crate::canopen::nmt::Command;
-    use crate::sim::{SimConfig, SimLink};
-
-    fn bus() -> Master<SimLink> {
-        let config = SimConfig::default().seed(1).virtual_time(true);
-        Master::new(SimLink::with_config(config).on_virtual_time(0), "sim".into())
-    }
+    use crate::sim::test_bus as bus;
 
     /// A reset node is back at its boot-up; an id nobody holds is not, and the wait for it
     /// ends at its bound.

@@ -402,13 +402,7 @@ pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bus::Master;
-    use crate::sim::{SimConfig, SimLink};
-
-    fn bus() -> Master<SimLink> {
-        let config = SimConfig::default().seed(1).virtual_time(true);
-        Master::new(SimLink::with_config(config).on_virtual_time(0), "sim".into())
-    }
+    use crate::sim::test_bus as bus;
 
     /// The state says where it came from: a heartbeat heard while listening, else node
     /// guarding; and what an answer to guarding tells, in the one reading every command uses.

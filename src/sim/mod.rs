@@ -328,6 +328,14 @@ pub struct SimLink {
     file: Option<state::StateFile>,
 }
 
+/// The default network on virtual time behind the client every command uses (seed 1): what
+/// the library's unit tests of a procedure run on.
+#[cfg(test)]
+pub(crate) fn test_bus() -> crate::bus::Master<SimLink> {
+    let config = SimConfig::default().seed(1).virtual_time(true);
+    crate::bus::Master::new(SimLink::with_config(config).on_virtual_time(0), "sim".into())
+}
+
 impl SimLink {
     /// A network with no state file: fresh demo devices, default configuration, nothing kept.
     pub fn ephemeral() -> SimLink {
