@@ -53,6 +53,7 @@ mod lss_lost_frames;
 mod lss_pace;
 mod many_buses;
 mod network;
+mod network_set_baud;
 mod network_vcan;
 mod node_id_clash;
 mod output_safety;
