@@ -49,7 +49,7 @@ pub fn parse_duration(text: &str) -> Result<Duration, String> {
     Ok(Duration::from_secs_f64(secs))
 }
 
-/// An answer timeout: a duration no shorter than [`MIN_TIMEOUT`].
+/// An answer timeout: a duration no shorter than `MIN_TIMEOUT`.
 pub fn parse_timeout(text: &str) -> Result<Duration, String> {
     let d = parse_duration(text)?;
     if d < MIN_TIMEOUT {

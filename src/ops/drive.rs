@@ -1,5 +1,5 @@
 //! CiA 402 drives: their state, flags, mode and errors ([`status`]), watching the state
-//! change ([`Watch`]), and walking the state machine to a goal with the controlword,
+//! change (`Watch`), and walking the state machine to a goal with the controlword,
 //! confirming each transition in the statusword ([`walk`]). Power state only: nothing here
 //! writes a target or starts a motion.
 
@@ -378,7 +378,7 @@ fn write_controlword(bus: &mut dyn Bus, node: u8, word: u16, timeout: Duration) 
     bus.sdo_download(node, cia402::CONTROLWORD, &word.to_le_bytes(), &sized(timeout, Some(2)))
 }
 
-/// One change seen by [`Watch`].
+/// One change seen by `Watch`.
 #[derive(Debug, Serialize, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct Change {

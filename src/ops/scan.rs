@@ -53,7 +53,7 @@ impl ScanOptions {
 }
 
 /// Refuses a window no device can answer or be heard within: every command that probes
-/// (scan, health, network) or listens (doctor, its sweep) waits at least [`MIN_WINDOW`].
+/// (scan, health, network) or listens (doctor, its sweep) waits at least `MIN_WINDOW`.
 pub fn check_window(window: Duration) -> Result<()> {
     if window < MIN_WINDOW {
         return Err(Error::Usage(format!(
@@ -80,7 +80,7 @@ pub struct Scan {
     /// Node-ids more than one device answers to.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub clashes: Vec<super::clash::Clash>,
-    /// How many rounds of the probe of node-ids ran (see [`PROBE_ROUNDS`]).
+    /// How many rounds of the probe of node-ids ran (see `PROBE_ROUNDS`).
     pub probe_rounds: usize,
     /// The nodes that answered the probe only when asked again: the bus is losing frames.
     pub answered_on_repeat: Vec<Repeat>,

@@ -23,7 +23,7 @@ pub struct ReadOptions {
     /// Whether block transfer may be used (for strings and domains, where the device offers it).
     pub block: bool,
     /// The largest value to accept: an upload that grows past it is aborted. `None`: as
-    /// the type wants ([`upload_limit`](super::upload_limit)): 64 KiB, a domain 1 MiB.
+    /// the type wants (`upload_limit`): 64 KiB, a domain 1 MiB.
     pub max_size: Option<usize>,
 }
 

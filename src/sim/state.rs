@@ -162,7 +162,7 @@ fn duration_text(d: Duration) -> String {
 }
 
 impl StateFile {
-    /// Lock the state at `path`, waiting up to [`DEFAULT_LOCK_WAIT`] for another process
+    /// Lock the state at `path`, waiting up to `DEFAULT_LOCK_WAIT` for another process
     /// using it.
     pub fn lock(path: &Path) -> Result<StateFile> {
         StateFile::lock_within(path, DEFAULT_LOCK_WAIT)

@@ -184,7 +184,7 @@ pub struct Dump {
     pub wanted: usize,
     /// Where the list of objects came from: an EDS, or the built-in dictionary.
     pub source: String,
-    /// The DCF, Latin-1 as CiA 306 has it (or the XDC, UTF-8 XML, from [`dump_as`]).
+    /// The DCF, Latin-1 as CiA 306 has it (or the XDC, UTF-8 XML, from `dump_as`).
     #[serde(skip)]
     pub dcf: Vec<u8>,
 }

@@ -37,7 +37,7 @@ pub struct Finding {
     pub remedy: Remedy,
 }
 
-/// A cause of silence, most specific first in [`Cause::rank`].
+/// A cause of silence, most specific first in `Cause::rank`.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 #[serde(tag = "cause", rename_all = "snake_case")]
 #[non_exhaustive]
@@ -305,7 +305,7 @@ pub enum Evidence {
         /// Its name.
         name: Option<String>,
     },
-    /// Two devices showed on one node-id (see [`clash::Evidence`]).
+    /// Two devices showed on one node-id (see `clash::Evidence`).
     Clash {
         /// What showed it.
         shown_by: clash::Evidence,

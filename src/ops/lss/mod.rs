@@ -315,7 +315,7 @@ pub fn configure(
 }
 
 /// `lss set-baud`: [`configure`] the bit rate `index`. On the network at `network`, a global
-/// one that some devices refused is remembered ([`RefusedRate`]) for [`activate_on`] to warn
+/// one that some devices refused is remembered (`RefusedRate`) for [`activate_on`] to warn
 /// of, and one that every device took forgets it.
 pub fn set_baud(
     bus: &mut dyn Bus,

@@ -40,7 +40,7 @@ pub(crate) fn probe_rounds(bus: &dyn Bus) -> usize {
 const ASK_AGAIN_AFTER: Duration = Duration::from_millis(20);
 
 /// Every node that answers an SDO read of 0x1000 within `window`, in up to
-/// [`PROBE_ROUNDS`] rounds, with its device type (`None` when it answered with an abort:
+/// `PROBE_ROUNDS` rounds, with its device type (`None` when it answered with an abort:
 /// the node is there all the same).
 pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -> Result<Found> {
     check_window(window)?;

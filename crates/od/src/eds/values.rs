@@ -103,7 +103,7 @@ pub(crate) fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
     Ok(Init::Bytes(bytes))
 }
 
-/// [`parse_value`], and where that fails, what a value written as C writes an integer
+/// `parse_value`, and where that fails, what a value written as C writes an integer
 /// (`0x1234ULL`, `100U`) or as words write a BOOLEAN (`false`) plainly means: the value,
 /// and the text it was read as when it needed that (the reader warns).
 pub fn parse_value_as_meant(text: &str, dtype: DataType) -> Result<(Init, Option<String>), String> {
