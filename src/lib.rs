@@ -2,9 +2,11 @@
 //! simulated bus. The binary is a thin shell over this library.
 //!
 //! The layers at the bottom are crates of their own (`crates/`), re-exported here under their
-//! old names: `canctl-canopen` ([`canopen`], [`frame`]: the protocol, no I/O) and `canctl-od`
-//! ([`od`], [`input`]: dictionaries and their files). The compiler holds their order; a
-//! library user who needs only them depends on them alone.
+//! old names: `canctl-canopen` ([`canopen`], [`frame`]: the protocol, no I/O), `canctl-od`
+//! ([`od`], [`input`]: dictionaries and their files) and `canctl-bus` ([`bus`], [`backend`],
+//! [`epos2`], [`slcan`], [`socketcand`], [`cancel`], [`error`], [`serial`], [`trace`]: the bus
+//! API, its backends and the error type). The compiler holds their order; a library user who
+//! needs only them depends on them alone.
 //!
 //! # Layers
 //!
@@ -19,14 +21,11 @@
 //! | `sim::serve` | the simulated network as a service, behind a CAN interface, a pty or a socketcand server |
 //! | [`connect`] | [`connect::BusAddr`] (`FromStr` + `Display`) and [`connect::open`], the only place that names every backend |
 //! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 and slcan serial devices |
-//! | [`backend`] | the links: SocketCAN, slcan, socketcand (`FrameLink`s served by [`bus::Master`]), the EPOS2 gateway (a `Bus` of its own) |
-//! | [`bus`] | the [`bus::Bus`] service API, the [`bus::FrameLink`] trait, [`bus::Master`] (CANopen client over a `FrameLink`), clock, and the decorators (observer, tap, stop, frame log) |
-//! | [`cancel`], `atomic` | the one request to stop ([`cancel::Cancel`]); files written whole or not at all |
-//! | [`error`] | the library's [`Error`], wrapping the lower layers' errors; exit codes |
-//! | [`epos2`], [`slcan`], [`socketcand`] | the serial and network protocols: pure framing, CRC, commands; EPOS2's two transports |
+//! | `atomic`, `hint` | files written whole or not at all; the remedies the front end words |
+//! | crate `canctl-bus`: [`backend`], [`bus`], [`cancel`], [`error`], [`epos2`], [`slcan`], [`socketcand`], [`serial`], [`trace`] | the links (SocketCAN, slcan, socketcand, the EPOS2 gateway); the [`bus::Bus`] service API, [`bus::Master`] over a [`bus::FrameLink`], clock and decorators; the one request to stop; the library's [`Error`] and exit codes; the serial and network protocols; diagnostics as `tracing` events. Its own `LAYERS` order them |
 //! | [`od`] (crate `canctl-od`) | object dictionaries, EDS/DCF read and write, object names |
-//! | [`canopen`] (crate `canctl-canopen`), [`input`] (in `canctl-od`), `trace` | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files; diagnostics as `tracing` events |
-//! | [`frame`] (in `canctl-canopen`), [`serial`], `xdg` | the CAN frame; the serial port the serial backends use; where state and cache files live |
+//! | [`canopen`] (crate `canctl-canopen`), [`input`] (in `canctl-od`) | pure protocol: SDO state machines, LSS, NMT, PDO mapping, EMCY, data types — no I/O; bounded reads of input files |
+//! | [`frame`] (in `canctl-canopen`), `xdg` | the CAN frame; where state and cache files live |
 //!
 //! # Where things go
 //!
@@ -35,7 +34,7 @@
 //!   impl (the human and CSV forms) in `src/output/`, then `src/cli/<name>.rs` with the clap
 //!   arguments, and one line in `cli::Command` and `cli::run`.
 //! - **A new backend**: a `FrameLink` (raw frames, served by `Master`) or a `Bus` of its
-//!   own (as the EPOS2 gateway) in `backend/`, a variant of `BusAddr` with its
+//!   own (as the EPOS2 gateway) in `crates/bus/src/backend/`, a variant of `BusAddr` with its
 //!   `FromStr`/`Display` forms (round-trip tested), and its arm in `connect::open`. Nothing
 //!   above `connect` changes.
 //! - **A new protocol detail**: pure code in `crates/canopen/`, unit-tested with byte vectors.
@@ -63,25 +62,19 @@ pub const LAYERS: &[&[&str]] = &[
     &["sim::serve"],
     &["connect"],
     &["sim"],
-    &["backend"],
-    &["bus"],
-    &["cancel", "atomic", "hint"],
-    &["error"],
-    &["epos2", "slcan", "socketcand"],
+    &["atomic", "hint"],
+    // The crate canctl-bus, whose own `LAYERS` order these among themselves.
+    &["backend", "bus", "cancel", "error", "epos2", "slcan", "socketcand", "serial", "trace"],
     &["od"],
-    &["canopen", "input", "trace"],
-    &["frame", "serial", "xdg"],
+    &["canopen", "input"],
+    &["frame", "xdg"],
 ];
 
 pub(crate) mod atomic;
-pub mod backend;
-pub mod bus;
-pub mod cancel;
 pub use canctl_canopen as canopen;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod connect;
-pub mod error;
 pub use canctl_canopen::frame;
 pub(crate) mod hint;
 pub use canctl_od as od;
@@ -89,13 +82,9 @@ pub use canctl_od::input;
 pub mod ops;
 #[cfg(feature = "cli")]
 pub mod output;
-pub mod serial;
 pub mod settings;
 pub mod sim;
-pub mod slcan;
-pub mod socketcand;
-pub(crate) mod trace;
 pub(crate) mod xdg;
 
+pub use canctl_bus::{backend, bus, cancel, epos2, error, serial, slcan, socketcand, trace};
 pub use error::{Error, Result};
-pub mod epos2;

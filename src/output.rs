@@ -678,3 +678,6 @@ fn json_string(s: &str) -> String {
 
 #[cfg(test)]
 mod tests;
+// The error messages as canctl prints them, remedy included (issue 28).
+#[cfg(test)]
+mod error_texts;

@@ -27,7 +27,9 @@ use crate::canopen::lss;
 use crate::error::Result;
 use crate::frame::Frame;
 pub use config::SimConfig;
-pub(crate) use config::{DEFAULT_BIT_RATE, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
+pub(crate) use config::DEFAULT_BIT_RATE;
+#[cfg(feature = "cli")]
+pub(crate) use config::{DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
 use device::Device;
 use faults::Conduct;
 pub use faults::FaultSpec;

@@ -400,10 +400,10 @@ mod tests {
         let opts = SdoOptions { block_download: true, block_upload: true, ..SdoOptions::new(Duration::from_secs(2)) };
         // Three blocks of 127 segments of 7 bytes, the last one short.
         let data: Vec<u8> = (0..127 * 7 * 3 - 5).map(|i| (i * 7 % 251) as u8).collect();
-        let sent_before = m.link_mut().writes;
+        let sent_before = m.link_mut().writes();
         m.sdo_download(1, domain, &data, &opts).unwrap();
         // The initiation, three blocks, the end.
-        let sent = m.link_mut().writes - sent_before;
+        let sent = m.link_mut().writes() - sent_before;
         assert_eq!(sent, 5, "{sent} writes for a block download of three blocks");
         let served = || clients.lock().unwrap().iter().map(|c| c.writes).sum::<u64>();
         let served_before = served();

@@ -27,11 +27,11 @@ fn module_path(src: &Path, file: &Path) -> String {
     parts.join("::")
 }
 
-/// The layer unit a module path belongs to (the longest entry of `LAYERS` it starts with)
+/// The layer unit a module path belongs to (the longest entry of `layers` it starts with)
 /// and that unit's layer, 0 being the top.
-fn unit_of(path: &str) -> Option<(&'static str, usize)> {
+fn unit_of(layers: &'static [&'static [&'static str]], path: &str) -> Option<(&'static str, usize)> {
     let mut best: Option<(&'static str, usize)> = None;
-    for (depth, layer) in canctl::LAYERS.iter().enumerate() {
+    for (depth, layer) in layers.iter().enumerate() {
         for unit in *layer {
             let matches = path == *unit || path.starts_with(&format!("{unit}::"));
             if matches && best.is_none_or(|(b, _)| unit.len() > b.len()) {
@@ -150,25 +150,31 @@ fn the_crates_are_the_layers_below_the_library() {
     };
     assert_eq!(uses("canopen"), Vec::<String>::new());
     assert_eq!(uses("od"), ["canctl-canopen"]);
+    assert_eq!(uses("bus"), ["canctl-canopen", "canctl-od"]);
     let crates: Vec<_> = source_dirs().into_iter().skip(1).map(|(_, prefix)| prefix).collect();
-    assert_eq!(crates, ["crates/canopen/src/", "crates/od/src/"], "a new crate: place it here");
+    assert_eq!(crates, ["crates/bus/src/", "crates/canopen/src/", "crates/od/src/"], "a new crate: place it here");
 }
 
+/// The library's modules (`canctl::LAYERS`) and those of the bus crate (`canctl_bus::LAYERS`).
 #[test]
 fn imports_only_go_down_the_layers() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let src = root.join("src");
+    check_layers(&root.join("src"), canctl::LAYERS);
+    check_layers(&root.join("crates/bus/src"), canctl_bus::LAYERS);
+}
+
+fn check_layers(src: &Path, layers: &'static [&'static [&'static str]]) {
     let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    rust_files(src, &mut files);
     files.sort();
     let mut wrong = BTreeSet::new();
     let mut unplaced = BTreeSet::new();
     for file in &files {
-        let module = module_path(&src, file);
+        let module = module_path(src, file);
         if module == "lib" || module == "main" || module.ends_with("tests") || module.contains("::tests::") {
             continue;
         }
-        let Some((from, from_depth)) = unit_of(&module) else {
+        let Some((from, from_depth)) = unit_of(layers, &module) else {
             unplaced.insert(module);
             continue;
         };
@@ -179,7 +185,7 @@ fn imports_only_go_down_the_layers() {
                 "Error" | "Result" => "error".to_string(),
                 _ => path,
             };
-            let Some((to, to_depth)) = unit_of(&path) else {
+            let Some((to, to_depth)) = unit_of(layers, &path) else {
                 unplaced.insert(path);
                 continue;
             };
@@ -188,7 +194,7 @@ fn imports_only_go_down_the_layers() {
             }
         }
     }
-    assert!(unplaced.is_empty(), "modules that lib.rs's LAYERS does not place: {unplaced:?}");
+    assert!(unplaced.is_empty(), "modules that {} LAYERS does not place: {unplaced:?}", src.display());
     let unexpected: Vec<_> = wrong.iter().filter(|w| !ALLOWED.contains(&w.as_str())).collect();
     assert!(unexpected.is_empty(), "imports that go up or sideways in lib.rs's LAYERS: {unexpected:?}");
     let fixed: Vec<_> = ALLOWED.iter().filter(|a| !wrong.contains(**a)).collect();

@@ -13,6 +13,7 @@
 
 mod common;
 
+mod bus_decorators;
 mod buses;
 mod completion;
 mod completion_forms;

@@ -28,7 +28,7 @@ enum Until {
 }
 
 /// A socketcand server's interface in raw mode as a [`FrameLink`].
-pub(crate) struct SocketcandLink {
+pub struct SocketcandLink {
     stream: TcpStream,
     /// `socketcand:host:port/iface`, for messages and traces.
     name: String,
@@ -51,13 +51,18 @@ pub(crate) struct SocketcandLink {
     pub(crate) garbled: u64,
     pub(crate) extended: u64,
     /// Writes to the server since the link was opened: a block's segments are one.
-    pub(crate) writes: u64,
+    writes: u64,
 }
 
 impl SocketcandLink {
+    /// Writes to the server since the link was opened: a block's segments are one.
+    pub fn writes(&self) -> u64 {
+        self.writes
+    }
+
     /// Connect to `host:port`, open `iface` and switch to raw mode, waiting at most
     /// `answer_wait` for each answer. `name` is the bus address, for messages.
-    pub(crate) fn open(host: &str, port: u16, iface: &str, name: String, answer_wait: Duration) -> Result<Self> {
+    pub fn open(host: &str, port: u16, iface: &str, name: String, answer_wait: Duration) -> Result<Self> {
         let connect_error = |error| SocketcandError::Connect { server: name.clone(), error };
         let addrs: Vec<_> = (host, port).to_socket_addrs().map_err(connect_error)?.collect();
         let mut last = io::Error::new(io::ErrorKind::NotFound, format!("{host} has no address"));

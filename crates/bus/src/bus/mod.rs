@@ -1,15 +1,15 @@
 //! The service-level API every command is written against ([`Bus`]), the raw frame link the
 //! CAN backends provide ([`FrameLink`]), the CANopen client over such a link ([`Master`]), and
 //! the decorators that observe, trace or stop a bus. The backends are in [`crate::backend`];
-//! [`crate::connect`] opens one from a bus address.
+//! canctl's `connect` opens one from a bus address.
 
-pub(crate) mod clock;
+pub mod clock;
 pub mod controller;
 pub(crate) mod frame_log;
 pub mod lss;
 pub(crate) mod master;
-pub(crate) mod observer;
-pub(crate) mod reply;
+pub mod observer;
+pub mod reply;
 pub mod stoppable;
 pub mod tap;
 
@@ -18,7 +18,7 @@ use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
 use crate::frame::Frame;
-pub(crate) use crate::trace;
+pub use crate::trace;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -149,7 +149,7 @@ fn stopped(opts: &SdoOptions) -> bool {
 }
 
 /// What [`SdoOptions::on_progress`] calls.
-pub(crate) type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
+pub type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
 
 impl std::fmt::Debug for SdoOptions {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -477,7 +477,7 @@ fn only(answers: Result<Vec<Result<Vec<u8>>>>) -> Result<Vec<u8>> {
 
 /// [`Bus::sdo_batch`] for links that make one transfer at a time: `run` makes each, in
 /// order. A stop is heeded between them, and a link failure ends the batch.
-pub(crate) fn one_by_one(
+pub fn one_by_one(
     jobs: &[SdoJob],
     progress: &mut dyn FnMut(usize),
     mut run: impl FnMut(&SdoJob) -> Result<Vec<u8>>,

@@ -1,5 +1,8 @@
-use super::*;
+use crate::canopen::lss::{FastscanError, Identity};
+use crate::canopen::ObjAddr;
 use crate::epos2::{Epos2Error, Epos2Problem};
+use crate::error::*;
+use std::time::Duration;
 
 const OBJ: ObjAddr = ObjAddr { index: 0x1018, sub: 1 };
 

@@ -13,12 +13,14 @@ use crate::frame::Frame;
 /// The target of the frame trace events.
 pub const FRAMES: &str = "canctl::frames";
 /// The target of the EPOS2 serial byte trace events.
-pub(crate) const BYTES: &str = "canctl::bytes";
+pub const BYTES: &str = "canctl::bytes";
 
 /// Which way a frame went, seen from canctl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Dir {
+pub enum Dir {
+    /// Sent by canctl.
     Tx,
+    /// Received by canctl.
     Rx,
 }
 

@@ -134,7 +134,7 @@ impl<'a> LssMaster<'a> {
     }
 
     /// Put one device (by identity) or every device (`None`) into configuration state.
-    pub(crate) fn enter(&mut self, identity: Option<&Identity>) -> Result<()> {
+    pub fn enter(&mut self, identity: Option<&Identity>) -> Result<()> {
         self.configuring = true;
         match identity {
             Some(id) => {
@@ -315,7 +315,7 @@ pub fn count_unconfigured(bus: &mut dyn Bus, wait: Duration) -> Result<usize> {
 }
 
 /// Answers "I have no node-id" among these.
-pub(crate) fn count_non_configured(answers: &[[u8; 8]]) -> usize {
+pub fn count_non_configured(answers: &[[u8; 8]]) -> usize {
     answers.iter().filter(|a| Response::decode(*a) == Some(Response::IdentifyNonConfiguredSlave)).count()
 }
 
@@ -368,7 +368,7 @@ impl LssMaster<'_> {
     /// configuration state would take the node-id meant for the next device found (two
     /// devices on one id), or, where it takes part in fastscan there (durand), be found and
     /// numbered again. Its boot-up with `node` says it went, sooner than the silence.
-    pub(crate) fn back_to_waiting(&mut self, identity: Identity, node: u8) -> Result<()> {
+    pub fn back_to_waiting(&mut self, identity: Identity, node: u8) -> Result<()> {
         if !self.given.iter().any(|(id, _)| *id == identity) {
             self.given.push((identity, self.switches_back));
         }

@@ -79,7 +79,7 @@ impl Failure {
 
     /// Whether a slow device, given more time, could have answered: not when the port
     /// failed or the line never fell quiet.
-    pub(crate) fn may_be_slow(&self) -> bool {
+    pub fn may_be_slow(&self) -> bool {
         self.retryable()
     }
 }

@@ -6,7 +6,7 @@ use crate::canopen::ObjAddr;
 
 /// What an SDO server's first answer to an upload says.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Reply {
+pub enum Reply {
     /// An expedited answer: the value (little-endian, zero-filled past what was sent).
     Value(u32),
     /// An abort.
@@ -25,7 +25,7 @@ impl Reply {
     }
 
     /// The value, `None` for an abort; nothing for an answer whose value was not read.
-    pub(crate) fn value(self) -> Option<Option<u32>> {
+    pub fn value(self) -> Option<Option<u32>> {
         match self {
             Reply::Value(v) => Some(Some(v)),
             Reply::Aborted => Some(None),
@@ -35,7 +35,7 @@ impl Reply {
 }
 
 /// Whether `data`, an SDO server's frame, answers an upload of `addr`, and how.
-pub(crate) fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Reply> {
+pub fn upload_answer(data: &[u8], addr: ObjAddr) -> Option<Reply> {
     let [cs, lo, hi, sub, a, b, c, d] = <[u8; 8]>::try_from(data).ok()?;
     if u16::from_le_bytes([lo, hi]) != addr.index || sub != addr.sub {
         return None;

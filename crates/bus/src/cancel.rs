@@ -23,14 +23,15 @@ impl Cancel {
         self.0.store(true, Ordering::SeqCst);
     }
 
-    pub(crate) fn is_cancelled(&self) -> bool {
+    /// Whether a stop has been asked for.
+    pub fn is_cancelled(&self) -> bool {
         self.0.load(Ordering::SeqCst)
     }
 
     /// Wait, on the wall clock, up to `within` for the request: an OS signal's handler runs
     /// on a thread of its own, so a signal just raised counts only once it has set the flag.
     /// Wall time, not the bus's: the handler's thread does not run on simulated time.
-    pub(crate) fn wait_for_handler(&self, within: std::time::Duration) {
+    pub fn wait_for_handler(&self, within: std::time::Duration) {
         let end = std::time::Instant::now() + within;
         while !self.is_cancelled() && std::time::Instant::now() < end {
             std::thread::yield_now();

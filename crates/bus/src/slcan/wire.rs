@@ -11,16 +11,16 @@ use crate::frame::Frame;
 /// Ends every line, and is the adapter's "OK".
 pub const CR: u8 = b'\r';
 /// The adapter's "refused".
-pub(crate) const BELL: u8 = 0x07;
+pub const BELL: u8 = 0x07;
 /// The longest line an adapter sends: `T` + 8 + 1 + 16 data + 4 time stamp digits.
-pub(crate) const MAX_LINE: usize = 30;
+pub const MAX_LINE: usize = 30;
 
 /// The `S0`..`S8` bit rates, in kbit/s.
-pub(crate) const BIT_RATES: [(u8, u32); 9] =
+pub const BIT_RATES: [(u8, u32); 9] =
     [(0, 10), (1, 20), (2, 50), (3, 100), (4, 125), (5, 250), (6, 500), (7, 800), (8, 1000)];
 
 /// The `Sn` code for a bit rate in kbit/s, if slcan has one.
-pub(crate) fn bit_rate_code(kbit: u32) -> Option<u8> {
+pub fn bit_rate_code(kbit: u32) -> Option<u8> {
     BIT_RATES.iter().find(|(_, k)| *k == kbit).map(|(c, _)| *c)
 }
 
@@ -163,7 +163,7 @@ impl Message {
 /// Decode a command line from the host (without its CR), as an adapter does; `None` for a
 /// 29-bit frame, which an adapter accepts but a CANopen network has no use for.
 #[cfg_attr(not(unix), allow(dead_code))] // its one caller, the simulated adapter, is served on a pty
-pub(crate) fn decode_command(line: &[u8]) -> Result<Option<Command>, WireError> {
+pub fn decode_command(line: &[u8]) -> Result<Option<Command>, WireError> {
     let bad = || WireError::Malformed(String::from_utf8_lossy(line).into_owned());
     Ok(Some(match line {
         [b'S', code @ b'0'..=b'8'] => Command::BitRate(code - b'0'),

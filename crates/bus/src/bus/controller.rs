@@ -12,7 +12,7 @@
 use serde::Serialize;
 
 /// The flag that marks an error frame in a SocketCAN CAN id.
-pub(crate) const CAN_ERR_FLAG: u32 = 0x2000_0000;
+pub const CAN_ERR_FLAG: u32 = 0x2000_0000;
 /// Class: a controller problem, details in data[1].
 const ERR_CRTL: u32 = 0x0004;
 /// Class: a protocol violation, its type in data[2], its location in data[3].
@@ -68,7 +68,7 @@ pub struct ErrorFrameCounts {
 impl ErrorFrameCounts {
     /// Count one error frame: `can_id` with its class bits, `data` its detail bytes (a
     /// short frame counts by its class only).
-    pub(crate) fn take(&mut self, can_id: u32, data: &[u8]) {
+    pub fn take(&mut self, can_id: u32, data: &[u8]) {
         let byte = |i: usize| data.get(i).copied().unwrap_or(0);
         self.frames += 1;
         let (crtl, prot, loc) = (byte(1), byte(2), byte(3));
@@ -108,7 +108,7 @@ impl ErrorFrameCounts {
 /// A CAN controller's state (SocketCAN's `can_state`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
-#[non_exhaustive]
+// Exhaustive on purpose: canctl words every case, and the compiler says when one is new.
 pub enum CanState {
     /// Taking part normally (fewer than 96 errors).
     ErrorActive,
@@ -142,7 +142,7 @@ impl CanState {
 /// What the interface's controller says about itself.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(tag = "controller", rename_all = "snake_case")]
-#[non_exhaustive]
+// Exhaustive on purpose: canctl words every case, and the compiler says when one is new.
 pub enum Controller {
     /// A virtual interface (vcan): no controller, no state, no counters.
     Virtual,

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 const TX_QUEUE_PATIENCE: Duration = Duration::from_secs(2);
 
 /// A Linux CAN interface (`can0`, `vcan0`) as a [`FrameLink`].
-pub(crate) struct SocketCanLink {
+pub struct SocketCanLink {
     sock: CanSocket,
     /// The longest frame at the interface's bit rate, as netlink gave it when opened.
     frame_time: Option<Duration>,

@@ -33,14 +33,14 @@ pub(crate) const READ_LSS_FRAME: u8 = 0x31;
 pub(crate) const SYNC_PROBE: u8 = 0xFE;
 
 /// Most data bytes in one SegmentRead/SegmentWrite (the control byte's six length bits).
-pub(crate) const MAX_SEGMENT: usize = 63;
+pub const MAX_SEGMENT: usize = 63;
 /// Through the gateway, a segment is one CANopen SDO segment.
-pub(crate) const GATEWAY_SEGMENT: usize = 7;
+pub const GATEWAY_SEGMENT: usize = 7;
 
 /// A segment control byte's toggle bit.
-pub(crate) const TOGGLE: u8 = 0x40;
+pub const TOGGLE: u8 = 0x40;
 /// A segment control byte's "more segments follow" bit.
-pub(crate) const MORE: u8 = 0x80;
+pub const MORE: u8 = 0x80;
 /// A segment control byte's length bits.
 pub(crate) const LENGTH: u8 = 0x3F;
 
@@ -168,7 +168,7 @@ impl Command {
 
     /// The shortest and longest answer to this command in bytes, error code included,
     /// when it succeeds (seed 000 chapter 3).
-    pub(crate) fn answer_len(&self) -> (usize, usize) {
+    pub fn answer_len(&self) -> (usize, usize) {
         match self {
             Command::ReadObject { .. } => (8, 8),
             Command::SegmentRead { .. } => (6, 4 + (1 + MAX_SEGMENT).next_multiple_of(2)),
@@ -285,15 +285,15 @@ pub fn parse_answer(f: &Frame) -> Option<(u32, &[u8])> {
 }
 
 /// maxon error: the device is in the wrong NMT state.
-pub(crate) const WRONG_NMT_STATE: u32 = 0x0F00_FFC0;
+pub const WRONG_NMT_STATE: u32 = 0x0F00_FFC0;
 /// maxon error: no command has this opcode.
-pub(crate) const ILLEGAL_COMMAND: u32 = 0x0F00_FFBF;
+pub const ILLEGAL_COMMAND: u32 = 0x0F00_FFBF;
 /// maxon error: wrong password.
 pub(crate) const PASSWORD: u32 = 0x0F00_FFBE;
 /// maxon error: the device is not in service mode.
 pub(crate) const SERVICE_MODE: u32 = 0x0F00_FFBC;
 /// maxon error: wrong CAN id.
-pub(crate) const CAN_ID: u32 = 0x0F00_FFB9;
+pub const CAN_ID: u32 = 0x0F00_FFB9;
 
 /// The maxon-specific error codes (seed 000 §8.2).
 const MAXON: &[(u32, &str)] = &[

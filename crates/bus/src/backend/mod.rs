@@ -1,15 +1,15 @@
 //! The backends: each offers the [`crate::bus::Bus`] services over one kind of link, either as
 //! a [`crate::bus::FrameLink`] of raw frames (served by [`crate::bus::Master`]) or as a `Bus`
-//! of its own (the EPOS2 gateway). [`crate::connect::open`] is the one place that picks one;
-//! the simulator's link is [`crate::sim::SimLink`].
+//! of its own (the EPOS2 gateway). canctl's `connect::open` is the one place that picks one;
+//! the simulator's link is canctl's `sim::SimLink`.
 
 #[cfg(target_os = "linux")]
 mod can_netlink;
 pub mod epos2;
 pub mod slcan;
 #[cfg(target_os = "linux")]
-pub(crate) mod socketcan;
-pub(crate) mod socketcand;
+pub mod socketcan;
+pub mod socketcand;
 
 /// CAN interfaces present (ARPHRD_CAN = 280 in /sys/class/net/*/type).
 pub fn can_interfaces() -> Vec<String> {

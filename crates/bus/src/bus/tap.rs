@@ -40,7 +40,7 @@ impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
 
     /// Also call `hook` after each answer that moves a transfer on (as
     /// [`SdoOptions::on_progress`], where the caller set none).
-    pub(crate) fn with_progress_hook(mut self, hook: Option<TransferHook>) -> Self {
+    pub fn with_progress_hook(mut self, hook: Option<TransferHook>) -> Self {
         self.on_progress = hook;
         self
     }
@@ -103,43 +103,5 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     }
     fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
         self.bus.lss(exchange)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::canopen::ObjAddr;
-    use crate::sim::SimLink;
-
-    #[test]
-    fn each_kind_is_counted_on_its_own_after_the_transfer() {
-        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
-        let mut seen = Vec::new();
-        let mut tapped = AfterSdo::new(&mut bus, |t, n| seen.push((t, n)));
-        let opts = SdoOptions::new(Duration::from_secs(1));
-        tapped.sdo_upload(5, ObjAddr::new(0x1017, 0), &opts).unwrap();
-        tapped.sdo_download(5, ObjAddr::new(0x1017, 0), &[100, 0], &opts).unwrap();
-        tapped.sdo_upload(5, ObjAddr::new(0x1017, 0), &opts).unwrap();
-        // A refused write is not a confirmed one.
-        assert!(tapped.sdo_download(5, ObjAddr::new(0x1018, 1), &[1, 0, 0, 0], &opts).is_err());
-        assert_eq!(seen, [(Transfer::Upload, 1), (Transfer::Download, 1), (Transfer::Upload, 2)]);
-    }
-
-    #[test]
-    fn transfers_run_together_are_counted_in_the_order_of_the_jobs() {
-        let mut bus = crate::bus::Master::new(SimLink::ephemeral(), "sim".into());
-        let mut seen = Vec::new();
-        let mut tapped = AfterSdo::new(&mut bus, |t, n| seen.push((t, n)));
-        let opts = SdoOptions::new(Duration::from_secs(1));
-        let jobs = [
-            SdoJob::Download { node: 5, addr: ObjAddr::new(0x1017, 0), data: vec![100, 0], opts: opts.clone() },
-            SdoJob::Upload { node: 10, addr: ObjAddr::new(0x1017, 0), opts: opts.clone() },
-            // Refused: not a confirmed write.
-            SdoJob::Download { node: 1, addr: ObjAddr::new(0x1018, 1), data: vec![1, 0, 0, 0], opts: opts.clone() },
-        ];
-        let results = tapped.sdo_many(&jobs).unwrap();
-        assert!(results[0].is_ok() && results[1].is_ok() && results[2].is_err());
-        assert_eq!(seen, [(Transfer::Download, 1), (Transfer::Upload, 1)]);
     }
 }

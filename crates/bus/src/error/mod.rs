@@ -19,7 +19,7 @@ mod class;
 mod detail;
 mod link;
 pub use class::ErrorClass;
-pub(crate) use detail::clipped;
+pub use detail::clipped;
 use detail::*;
 pub use detail::{DriveStop, Moved, NodeIdRange, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished};
 pub use link::{LinkError, PtyOp};
@@ -652,7 +652,7 @@ impl From<crate::od::eds::EdsError> for Error {
 impl Error {
     /// The bus (or port) this error's message begins with, when it names one: shown as one
     /// of several buses' failures, it needs no prefix naming that bus again.
-    pub(crate) fn names_bus(&self) -> Option<&str> {
+    pub fn names_bus(&self) -> Option<&str> {
         match self {
             Error::NotOnThisBus { bus, .. }
             | Error::NoRemoteFrames { bus, .. }
@@ -680,19 +680,16 @@ impl Error {
     }
 
     /// This error with advice appended to its message.
-    pub(crate) fn with_hint(self, hint: impl Into<String>) -> Error {
+    pub fn with_hint(self, hint: impl Into<String>) -> Error {
         Error::Hinted { error: Box::new(self), hint: hint.into() }
     }
 }
 
 /// What a TPDO not put back leaves, to follow the failed write's message.
-pub(crate) fn tpdo_left(node: u8, tpdo: u16) -> String {
+pub fn tpdo_left(node: u8, tpdo: u16) -> String {
     let comm = 0x1800 + tpdo - 1;
     format!("; node {node}'s TPDO{tpdo} was not put back as it was (0x{comm:04X}:1 may leave it switched off)")
 }
 
 /// The library's result.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
-
-#[cfg(test)]
-mod tests;

@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 /// Now, on the monotonic clock.
-pub(crate) fn monotonic_now() -> Instant {
+pub fn monotonic_now() -> Instant {
     Instant::now()
 }
 

@@ -108,7 +108,7 @@ pub fn rs232_encode(f: &Frame) -> Vec<u8> {
 }
 
 /// Bytes that follow OpCode and Len-1 on RS232: the data words and the CRC.
-pub(crate) fn rs232_body_len(len_minus_1: u8) -> usize {
+pub fn rs232_body_len(len_minus_1: u8) -> usize {
     (len_minus_1 as usize + 1) * 2 + 2
 }
 

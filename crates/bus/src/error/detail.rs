@@ -198,7 +198,6 @@ pub(super) fn node_id_text(node: u8, range: NodeIdRange) -> String {
 
 /// How much of an SDO transfer had moved: bytes, of the total when the size is known.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[non_exhaustive]
 pub struct Moved {
     /// Bytes moved.
     pub bytes: usize,
@@ -317,7 +316,7 @@ pub(super) fn fastscan_text(error: &FastscanError, step: Duration) -> String {
      folder",
     .link.display(), .points_to.display(), .folder.display()
 )]
-#[non_exhaustive]
+// Exhaustive on purpose: canctl words every case, and the compiler says when one is new.
 pub struct OutsideProject {
     /// The file, as the project names it.
     pub link: std::path::PathBuf,
@@ -350,7 +349,7 @@ pub enum StateRefused {
 
 /// Text the user gave, echoed in a message: a value of 100 KB (a variable expanded by
 /// mistake) shown whole would bury the message, so a long one is cut, its length said.
-pub(crate) fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
+pub fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
     const SHOWN: usize = 60;
     let count = text.chars().count();
     if count <= SHOWN + 20 {

@@ -6,7 +6,7 @@ use crate::canopen::lss::FastscanError;
 /// What a failure means for the user, and so how the process ends. The README's
 /// "Exit codes" table lists these (a test checks that it does).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[non_exhaustive]
+// Exhaustive on purpose: the exit-code table lists every class, and a new one must be placed.
 pub enum ErrorClass {
     /// The user asked for something malformed or impossible (exit 2).
     Usage,
@@ -129,12 +129,12 @@ impl Error {
     }
 
     /// Nobody answered in time (exit 3): what a scan or a poll treats as "not there".
-    pub(crate) fn is_timeout(&self) -> bool {
+    pub fn is_timeout(&self) -> bool {
         self.class() == ErrorClass::Timeout
     }
 
     /// The user asked to stop (exit 130): a procedure ends with a report of what it did.
-    pub(crate) fn is_interrupted(&self) -> bool {
+    pub fn is_interrupted(&self) -> bool {
         self.class() == ErrorClass::Interrupted
     }
 }

@@ -128,12 +128,12 @@ impl Observed {
     }
 
     /// Every node-id seen in use, however.
-    pub(crate) fn node_ids(&self) -> BTreeSet<u8> {
+    pub fn node_ids(&self) -> BTreeSet<u8> {
         self.nodes.keys().copied().collect()
     }
 
     /// The stray LSS answers since the last call.
-    pub(crate) fn take_lss_answers(&mut self) -> Vec<[u8; 8]> {
+    pub fn take_lss_answers(&mut self) -> Vec<[u8; 8]> {
         std::mem::take(&mut self.lss_answers)
     }
 }
