@@ -257,6 +257,16 @@ fn near_interface(iface: &str, available: &[String]) -> Option<String> {
 mod tests {
     use super::*;
 
+    /// A sim network held by another command: the remedy is to serve it where several share it.
+    #[test]
+    fn a_sim_network_in_use_is_answered_with_the_way_to_share_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sim.json");
+        let _held = crate::sim::state::StateFile::lock_within(&path, std::time::Duration::ZERO).unwrap();
+        let err = crate::sim::state::StateFile::lock_within(&path, std::time::Duration::from_millis(50)).err().unwrap();
+        assert_eq!(Hint::of(&err), Some(Hint::ShareSimNetwork), "{err}");
+    }
+
     #[test]
     fn the_remedy_is_found_under_a_hint_string() {
         let e = Error::NoStoredEds { node: 5 };

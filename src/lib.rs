@@ -3,10 +3,11 @@
 //!
 //! The layers at the bottom are crates of their own (`crates/`), re-exported here under their
 //! old names: `canctl-canopen` ([`canopen`], [`frame`]: the protocol, no I/O), `canctl-od`
-//! ([`od`], [`input`]: dictionaries and their files) and `canctl-bus` ([`bus`], [`backend`],
+//! ([`od`], [`input`]: dictionaries and their files), `canctl-bus` ([`bus`], [`backend`],
 //! [`epos2`], [`slcan`], [`socketcand`], [`cancel`], [`error`], [`serial`], [`trace`]: the bus
-//! API, its backends and the error type). The compiler holds their order; a library user who
-//! needs only them depends on them alone.
+//! API, its backends and the error type) and `canctl-sim` ([`sim`], but for `sim::serve`:
+//! the simulated devices and bus). The compiler holds their order; a library user who needs
+//! only them depends on them alone.
 //!
 //! # Layers
 //!
@@ -20,7 +21,7 @@
 //! | [`ops`], [`settings`] | the procedures (scan, SDO read/write, NMT with confirmation, LSS, config dump/diff/apply, store/restore, PDO remap and stream, monitor): functions over `&mut dyn Bus` returning serialisable reports; no printing, no clap. `settings` resolves flags, `CANCTL_BUS` and `canctl.toml` once, each value with its source |
 //! | `sim::serve` | the simulated network as a service, behind a CAN interface, a pty or a socketcand server |
 //! | [`connect`] | [`connect::BusAddr`] (`FromStr` + `Display`) and [`connect::open`], the only place that names every backend |
-//! | [`sim`] | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 and slcan serial devices |
+//! | [`sim`] (crate `canctl-sim`) | the device side: virtual CANopen nodes, the demo network as a `FrameLink`, the EPOS2 and slcan serial devices |
 //! | `atomic`, `hint` | files written whole or not at all; the remedies the front end words |
 //! | crate `canctl-bus`: [`backend`], [`bus`], [`cancel`], [`error`], [`epos2`], [`slcan`], [`socketcand`], [`serial`], [`trace`] | the links (SocketCAN, slcan, socketcand, the EPOS2 gateway); the [`bus::Bus`] service API, [`bus::Master`] over a [`bus::FrameLink`], clock and decorators; the one request to stop; the library's [`Error`] and exit codes; the serial and network protocols; diagnostics as `tracing` events. Its own `LAYERS` order them |
 //! | [`od`] (crate `canctl-od`) | object dictionaries, EDS/DCF read and write, object names |

@@ -67,7 +67,7 @@ pub fn reset(path: &Path, config: &SimConfig) -> Result<Reset> {
         }
         devices.push((super::bootloader::KEY.to_string(), Some(node)));
     }
-    if let Some(why) = super::faults::unmatched(&config.faults, &devices) {
+    if let Some(why) = super::unmatched(&config.faults, &devices) {
         return Err(Error::Usage(why));
     }
     StateFile::lock(path)?.start_fresh(config)?;
@@ -242,7 +242,7 @@ pub fn serve(
 /// Whether the network saved at `path` has the fault bus:off.
 fn bus_off_saved(path: &Path) -> Result<bool> {
     let saved = StateFile::lock(path)?.load()?;
-    Ok(saved.and_then(|s| s.config).is_some_and(|c| super::faults::bus_off(&c.faults)))
+    Ok(saved.and_then(|s| s.config).is_some_and(|c| super::bus_off(&c.faults)))
 }
 
 #[cfg(target_os = "linux")]
@@ -294,7 +294,7 @@ fn slcan(
     let rate = sim.network().bit_rate();
     let kbit = crate::canopen::lss::BIT_TIMINGS.get(rate as usize).and_then(|(_, k)| *k).unwrap_or(500);
     let mut adapter = super::slcan_serve::SlcanAdapter::create(kbit, faults.to_vec())?;
-    if super::faults::bus_off(&sim.network().config().faults) {
+    if super::bus_off(&sim.network().config().faults) {
         adapter = adapter.bus_off();
     }
     ready(&Serving::Slcan { pty: adapter.path().to_string(), bit_rate: rate })?;

@@ -4,9 +4,9 @@
 use crate::canopen::lss::SlaveCaps;
 use crate::canopen::DataType::{self, *};
 use crate::canopen::ObjAddr;
+use crate::cia402_drive::{DriveProfile, RemoteBit, VoltageBit};
 use crate::od::Access::*;
 use crate::od::{builtin, le, text, Dictionary, Init};
-use crate::sim::cia402_drive::{DriveProfile, RemoteBit, VoltageBit};
 
 /// A simulated device type: its dictionary and the protocol features and quirks it has.
 pub struct Model {
@@ -103,7 +103,7 @@ pub fn unconfigured_serial(i: u8) -> u32 {
 }
 
 /// The demo network with `unconfigured` sensors waiting for a node-id.
-pub(crate) fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
+pub fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
     let mut devices = vec![
         (drive(), Some(1)),
         (position_sensor(SENSOR_SERIAL), Some(5)),

@@ -211,7 +211,7 @@ fn a_bus_off_controller_sends_nothing_and_reports_itself() {
     let config = SimConfig::instant().fault("bus:off".parse().unwrap());
     let mut link = SimLink::with_config(config.clone()).on_virtual_time(1_000);
     let far = link.now() + Duration::from_secs(1);
-    let bus_off = |r: Result<()>| matches!(r, Err(crate::Error::Link(crate::error::LinkError::BusOff { .. })));
+    let bus_off = |r: Result<()>| matches!(r, Err(crate::error::Error::Link(crate::error::LinkError::BusOff { .. })));
     assert!(bus_off(link.send(&Frame::new(0x605, &READ_DEVICE_TYPE))));
     assert!(bus_off(link.recv(far).map(|_| ())));
     assert_eq!(link.bus_stats().frames, 0, "nothing reached the bus");

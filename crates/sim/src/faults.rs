@@ -228,7 +228,7 @@ impl From<FaultSpec> for String {
 
 /// Why a fault concerns none of `devices` (model key, node-id), if one does not: a fault
 /// for node 99 on a network without it would be accepted and never fire.
-pub(crate) fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) -> Option<String> {
+pub fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) -> Option<String> {
     let fault = faults
         .iter()
         .filter(|f| f.target != Target::Bus)
@@ -248,7 +248,7 @@ pub(crate) fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) 
 }
 
 /// Whether these faults put the bus's controller bus-off (`bus:off`).
-pub(crate) fn bus_off(faults: &[FaultSpec]) -> bool {
+pub fn bus_off(faults: &[FaultSpec]) -> bool {
     faults.iter().any(|f| f.target == Target::Bus)
 }
 

@@ -3,12 +3,13 @@
 use super::{FaultSpec, Profile};
 
 /// The bit rate of the demo bus: 500 kbit/s (CiA 305 table index 2).
-pub(crate) const DEFAULT_BIT_RATE: u8 = 2;
+pub const DEFAULT_BIT_RATE: u8 = 2;
 /// Devices without a node-id on the demo network unless told otherwise.
-pub(crate) const DEFAULT_UNCONFIGURED: u8 = 3;
+pub const DEFAULT_UNCONFIGURED: u8 = 3;
 /// The most devices without a node-id `sim reset --unconfigured` builds.
-pub(crate) const MAX_UNCONFIGURED: u8 = 64;
-pub(crate) const DEFAULT_SEED: u64 = 1;
+pub const MAX_UNCONFIGURED: u8 = 64;
+/// The seed of the demo network's draws unless told otherwise.
+pub const DEFAULT_SEED: u64 = 1;
 
 /// How the simulated network behaves: chosen by `sim reset` (kept in the state file) or
 /// by a test.

@@ -74,7 +74,8 @@ pub enum Profile {
 }
 
 impl Profile {
-    pub(crate) const NAMES: [&'static str; 3] = ["instant", "typical", "slow"];
+    /// The profiles by name, as `--profile` takes them.
+    pub const NAMES: [&'static str; 3] = ["instant", "typical", "slow"];
 
     /// The range a device's own base latency is drawn from, and the jitter added to each
     /// answer (both in ns).

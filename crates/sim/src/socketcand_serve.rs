@@ -305,7 +305,7 @@ pub fn start_beacon(bound: SocketAddr, target: SocketAddr) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::socketcand::SocketcandLink;
+    use canctl_bus::backend::socketcand::SocketcandLink;
 
     fn client(server: &SocketcandServer) -> SocketcandLink {
         let addr = server.local_addr();
@@ -388,13 +388,13 @@ mod tests {
     fn a_block_goes_in_one_write_each_way() {
         use crate::bus::{Bus, Master, SdoOptions};
         use crate::canopen::ObjAddr;
-        use crate::sim::{SimConfig, SimLink};
+        use crate::{SimConfig, SimLink};
         let mut server = SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap();
         let clients = server.clients.clone();
         let mut m = Master::new(client(&server), "socketcand".into());
         std::thread::spawn(move || {
             let sim = SimLink::with_config(SimConfig::instant());
-            crate::sim::bridge::run(sim, &mut server, None)
+            crate::bridge::run(sim, &mut server, None)
         });
         let domain = ObjAddr::new(0x1F50, 1);
         let opts = SdoOptions { block_download: true, block_upload: true, ..SdoOptions::new(Duration::from_secs(2)) };

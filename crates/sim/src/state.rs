@@ -40,7 +40,7 @@ pub struct StateFile {
 /// How long opening the sim network waits for another process using it: long enough for
 /// a command that is finishing, short of hanging behind a server (`canctl sim --...`) that
 /// runs until stopped.
-pub(crate) const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(10);
+pub const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(10);
 
 /// How often a taken lock is tried again.
 const LOCK_RETRY: Duration = Duration::from_millis(50);
@@ -70,9 +70,13 @@ impl Holder {
     }
 }
 
-/// `$XDG_STATE_HOME/canctl/sim.json`, else `~/.local/state/canctl/sim.json`.
-pub(crate) fn default_path() -> PathBuf {
-    crate::xdg::state_dir().unwrap_or_else(|| std::env::temp_dir().join("canctl")).join("sim.json")
+/// `$XDG_STATE_HOME/canctl/sim.json`, else `~/.local/state/canctl/sim.json`: the state
+/// directory of canctl by the platform's convention (XDG's on Linux, the local data directory
+/// where there is none; canctl's `xdg` places its settings and cache beside it).
+pub fn default_path() -> PathBuf {
+    let state_dir = directories::ProjectDirs::from("", "", "canctl")
+        .map(|p| p.state_dir().unwrap_or_else(|| p.data_local_dir()).to_path_buf());
+    state_dir.unwrap_or_else(|| std::env::temp_dir().join("canctl")).join("sim.json")
 }
 
 /// Refuse a state path that is not canctl's: a folder, a file holding anything but a sim
@@ -139,7 +143,7 @@ fn record(owner_path: &Path, holder: &Holder) {
 
 /// This process, which holds the sim network saved at `path`, serves its devices on `bus`:
 /// recorded for a command that finds the network taken, to say where to reach them.
-pub(crate) fn announce_serving(path: &Path, bus: &str) {
+pub fn announce_serving(path: &Path, bus: &str) {
     let holder = Holder { serves: Some(bus.to_string()), ..Holder::this_process() };
     record(&beside(path, "owner"), &holder);
 }
@@ -170,7 +174,7 @@ impl StateFile {
 
     /// Lock the state at `path`, waiting up to `wait` for another process using it; then a
     /// link error (exit 5) that names that process and how to proceed.
-    pub(crate) fn lock_within(path: &Path, wait: Duration) -> Result<StateFile> {
+    pub fn lock_within(path: &Path, wait: Duration) -> Result<StateFile> {
         // The default state's folder is canctl's own to make; a path the user named is
         // written only where it stands.
         if path == default_path() {
@@ -247,7 +251,7 @@ impl StateFile {
     }
 
     /// Start afresh with this configuration: devices as built, nothing else kept.
-    pub(crate) fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
+    pub fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
         let state = NetworkState {
             version: VERSION,
             bit_rate: None,
@@ -301,9 +305,7 @@ mod tests {
         let msg = err.to_string();
         assert!(msg.contains(&format!("in use by pid {} ({})", recorded.pid, recorded.command)), "{msg}");
         assert!(msg.contains("(waited 100 ms): it serves one command at a time"), "{msg}");
-        // The way to share it, not a way to another network taken for this one (worded by the
-        // front end: output/hints.rs).
-        assert_eq!(crate::hint::Hint::of(&err), Some(crate::hint::Hint::ShareSimNetwork));
+        // The way to share it is the front end's to word (canctl's hint tests).
         drop(held);
         assert!(!beside(&path, "owner").exists(), "the record goes with the lock");
         StateFile::lock_within(&path, Duration::ZERO).expect("free again");
