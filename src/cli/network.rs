@@ -203,7 +203,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     };
     project_files::check_folder(&a.dir)?;
     let dumped = network::dump(bus, &options, &mut ctx.out.progress())?;
-    project_files::write_project(&a.dir, &dumped)?;
+    network::write_project(&a.dir, &dumped)?;
     ctx.out.report(&DumpReport { dumped: &dumped, dir: &a.dir })?;
     Ok(())
 }
@@ -274,7 +274,7 @@ fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()>
     // it, the switch is finished and reported.
     let report = network::set_baud(bus, loaded.as_ref(), &options, &mut ctx.out.progress())?;
     let followed = match (a.update_project, &loaded) {
-        (true, Some(loaded)) => project_files::follow_switch(loaded, &report, a.rate)?,
+        (true, Some(loaded)) => network::follow_switch(loaded, &report, a.rate)?,
         _ => Default::default(),
     };
     let hint = crate::output::switch_hint(ctx.bus.as_deref(), a.rate);

@@ -57,7 +57,7 @@ pub(crate) fn look(bus: &mut dyn Bus, suspects: &[u8], found: &[u8], window: Dur
 
 /// How many times a node is asked alone before its silence counts: as often as the probe
 /// asks an id (a lost or damaged answer is not taken for none).
-const TRIES: usize = super::scan::PROBE_ROUNDS;
+const TRIES: usize = super::scan::probe::PROBE_ROUNDS;
 
 /// A read of the device type sent to `node` with nothing else in flight, up to [`TRIES`]
 /// times: the COB-ID of the first answer to it (on any SDO response id), each try waiting

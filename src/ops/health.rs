@@ -109,26 +109,12 @@ pub struct NodeHealth {
 }
 
 /// One EMCY the node sent during the watch.
-#[derive(Clone, Debug, Serialize)]
-#[non_exhaustive]
-pub struct SeenEmcy {
-    /// Its error code (CiA 301).
-    #[serde(serialize_with = "hex16")]
-    pub code: u16,
-    /// Its error register byte.
-    pub register: u8,
-    /// What the error code means, in words.
-    pub meaning: &'static str,
-}
+pub use super::verdict::SeenEmcy;
 
 /// One check of one node: the verdict `network check` gives too.
 pub use super::verdict::Verdict as Check;
 /// What a check found.
 pub use super::verdict::{Finding, Logged};
-
-fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_str(&format_args!("0x{v:04X}"))
-}
 
 impl Health {
     /// The report without the nodes' diagnoses (the user asked for none).

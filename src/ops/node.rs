@@ -2,7 +2,6 @@
 //! lack, its identity (0x1018), its NMT state and its error history (0x1003). Each of these
 //! is learnt here and nowhere else, so that every command reads them the same way.
 
-use super::nmt::StateFrom;
 use super::sized;
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, HistoryEntry, Origin, Source};
@@ -340,8 +339,76 @@ pub struct Unreadable {
     pub error: String,
 }
 
-fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
+/// A 16-bit code as JSON gives it: `0x1000`.
+pub(crate) fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_str(&format_args!("0x{v:04X}"))
+}
+
+/// How a node's NMT state was learnt, or why it is not known: the one answer to "from
+/// what?" for every command that shows a state (`nmt state`, scan, health, network check,
+/// a stream's silence). JSON gives it as its text, as the human form does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum StateFrom {
+    /// Not looked for: the scan was stopped first (its text is empty).
+    NotAsked,
+    /// The node's heartbeat.
+    Heartbeat,
+    /// Its answer to node guarding.
+    NodeGuarding,
+    /// Its answer to a remote request through the EPOS2 gateway.
+    Epos2Remote,
+    /// Its boot-up message.
+    BootUp,
+    /// Unknown: it answered the probe only after the window, and beat no heartbeat.
+    LateWithoutHeartbeat,
+    /// Unknown: no heartbeat heard, and this bus carries no remote frames for node guarding.
+    NoRemoteFrames,
+    /// Unknown: its error-control answer was not a state.
+    NotAState,
+    /// Unknown: neither a heartbeat (`heartbeat`: one is configured) nor an answer to node
+    /// guarding came.
+    Silent {
+        /// Whether the node reports a heartbeat period (0x1017 not 0).
+        heartbeat: bool,
+    },
+}
+
+impl std::fmt::Display for StateFrom {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::NotAsked => "",
+            Self::Heartbeat => "heartbeat",
+            Self::NodeGuarding => "node guarding",
+            Self::Epos2Remote => "remote request through the EPOS2",
+            Self::BootUp => "boot-up",
+            Self::LateWithoutHeartbeat => "it answered the probe only after the window, and beat no heartbeat",
+            Self::NoRemoteFrames => "no heartbeat heard, and node guarding cannot go through this bus (no RTR frames)",
+            Self::NotAState => "its error-control answer was not a state",
+            Self::Silent { heartbeat: true } => "no heartbeat within the wait, and no answer to node guarding",
+            Self::Silent { heartbeat: false } => "no heartbeat configured, and no answer to node guarding",
+        })
+    }
+}
+
+impl Serialize for StateFrom {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+impl StateFrom {
+    /// How an answer to node guarding on `bus` tells the state: through an EPOS2 the guarding
+    /// request is a remote request of the gateway's (which may bring the node's next
+    /// heartbeat, on the same COB-ID).
+    pub(crate) fn guarding(answer: Guarded, bus: &dyn Bus) -> StateFrom {
+        match answer {
+            Guarded::State(_) if bus.sees_traffic() => StateFrom::NodeGuarding,
+            Guarded::State(_) => StateFrom::Epos2Remote,
+            Guarded::BootUp => StateFrom::BootUp,
+            Guarded::NotAState => StateFrom::NotAState,
+        }
+    }
 }
 
 #[cfg(test)]

@@ -1,10 +1,12 @@
 //! A network project on disk (`nodelist.cpj` and one DCF per node): where it is, whether it
 //! can be written, and writing it so that a project file is only there once every file it
-//! names is. The procedures that read and make projects are in [`super::network`].
+//! names is. The procedures that read, make and write projects are in [`super::network`].
 
-use super::network::{self, Dumped, Loaded, PROJECT_FILE};
-use crate::error::{Error, OutsideProject, Result};
+use crate::error::{OutsideProject, Result};
 use std::path::{Path, PathBuf};
+
+/// The project file canctl writes and looks for in a folder.
+pub(crate) const PROJECT_FILE: &str = "nodelist.cpj";
 
 /// The project file: `path` itself, or `path/nodelist.cpj` for a folder.
 pub(crate) fn project_file(path: &Path) -> PathBuf {
@@ -64,63 +66,10 @@ pub(crate) fn check_folder(dir: &Path) -> Result<()> {
     crate::atomic::check_writable(&probe)
 }
 
-/// Write a dumped project into `dir` (made if missing), each file atomically: the DCFs
-/// first, the project file last.
-pub(crate) fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::Output {
-        path: dir.display().to_string(),
-        why: format!("cannot make the directory: {e}"),
-    })?;
-    // Every file checked before any is written: one refused changes none.
-    for (name, _) in &dumped.files {
-        check_inside(dir, &dir.join(name))?;
-    }
-    for (name, bytes) in dumped.files.iter().rev() {
-        crate::atomic::write_atomic(&dir.join(name), bytes)?;
-    }
-    Ok(())
-}
-
-/// Set `[DeviceComissioning] Baudrate` to `kbit` in the DCFs of `nodes`: every file made
-/// before any is written, so that a DCF that cannot be read changes none. The files
-/// written, in order.
-pub(crate) fn update_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<Vec<PathBuf>> {
-    let mut updated = Vec::new();
-    for (path, bytes) in network::with_bit_rate(loaded, kbit, nodes)? {
-        crate::atomic::write_atomic(&path, &bytes)?;
-        updated.push(path);
-    }
-    Ok(updated)
-}
-
-/// What `network set-baud --update-project` did to the project's DCFs.
-#[derive(Debug, Default)]
-pub struct DcfsFollowed {
-    /// The DCFs now at the new rate, in order: those of the nodes heard at it.
-    pub updated: Vec<PathBuf>,
-    /// The nodes listed in the project that were not heard at the new rate: their DCFs say
-    /// the rate they have.
-    pub left: Vec<u8>,
-}
-
-/// After `network set-baud` to the bit rate `index` (`switched`): when the devices were
-/// switched, the DCFs of the nodes heard at the new rate follow ([`update_bit_rate`]), and
-/// only those: a DCF never says a rate its device does not have. Otherwise none is touched.
-pub fn follow_switch(loaded: &Loaded, switched: &network::BaudSwitched, index: u8) -> Result<DcfsFollowed> {
-    let Some(kbit) = crate::canopen::lss::BIT_TIMINGS.get(index as usize).and_then(|(_, kbit)| *kbit) else {
-        return Ok(DcfsFollowed::default());
-    };
-    if !switched.activated {
-        return Ok(DcfsFollowed::default());
-    }
-    let heard: Vec<u8> = switched.nodes.iter().filter(|n| n.after == Some(true)).map(|n| n.node).collect();
-    let left = loaded.nodes.iter().map(|l| l.node).filter(|n| !heard.contains(n)).collect();
-    Ok(DcfsFollowed { updated: update_bit_rate(loaded, kbit, &heard)?, left })
-}
-
 #[cfg(all(test, unix))]
 mod tests {
     use super::*;
+    use crate::error::Error;
     use std::os::unix::fs::symlink;
 
     /// Links are judged by where they lead, also to a file not there yet (a dump would make

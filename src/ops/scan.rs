@@ -4,11 +4,11 @@
 //! configuration state (they answer the LSS inquiries, and without a node-id no SDO).
 
 mod identify;
-mod probe;
+pub(crate) mod probe;
 
 use probe::probe_until_stopped;
 pub use probe::{probe, Repeat};
-pub(crate) use probe::{probe_once, probe_rounds, PROBE_ROUNDS};
+pub(crate) use probe::{probe_once, probe_rounds};
 
 pub use super::nmt::StateFrom;
 use super::Progress;

@@ -3,8 +3,7 @@
 
 use super::clash::Clash;
 use super::config;
-use super::health::SeenEmcy;
-use super::node::IdentityPart;
+use super::node::{hex16, IdentityPart};
 use super::scan::StateFrom;
 use crate::canopen::{cia402, nmt};
 use crate::hint::{Failure, Hint};
@@ -265,4 +264,17 @@ pub enum Logged {
 
 fn as_text<S: serde::Serializer>(v: &impl std::fmt::Display, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_str(v)
+}
+
+/// One EMCY the node sent during the watch.
+#[derive(Clone, Debug, Serialize)]
+#[non_exhaustive]
+pub struct SeenEmcy {
+    /// Its error code (CiA 301).
+    #[serde(serialize_with = "hex16")]
+    pub code: u16,
+    /// Its error register byte.
+    pub register: u8,
+    /// What the error code means, in words.
+    pub meaning: &'static str,
 }

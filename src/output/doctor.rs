@@ -310,7 +310,7 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
         Evidence::LinkQuiet => "the link reported no bus errors".into(),
         Evidence::Epos2Gateway { error_register, bit_rate_code } => format!(
             "the EPOS2 gateway: error register {}, CAN bit rate {}",
-            super::health::register_text(*error_register),
+            super::verdicts::register_text(*error_register),
             match bit_rate_code {
                 None => "unread".to_string(),
                 Some(crate::epos2::objects::BIT_RATE_DETECTED) => "detected from the bus (0x2001 = 9)".to_string(),

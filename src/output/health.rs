@@ -12,15 +12,6 @@ fn node_label(node: u8, name: Option<&str>) -> String {
     }
 }
 
-/// `0x81 (generic, manufacturer)`, `0x00`, or `-` when unread.
-pub(crate) fn register_text(register: Option<u8>) -> String {
-    match register {
-        None => "-".into(),
-        Some(0) => "0x00".into(),
-        Some(r) => format!("0x{r:02X} ({})", crate::canopen::emcy::register_bits(r).join(", ")),
-    }
-}
-
 fn source_text(s: crate::canopen::emcy::Source) -> &'static str {
     use crate::canopen::emcy::Source;
     match s {
@@ -33,7 +24,7 @@ fn source_text(s: crate::canopen::emcy::Source) -> &'static str {
 impl Report for ErrorHistory {
     fn human(&self) -> Human {
         let who = node_label(self.node, self.name.as_deref());
-        let register = format!("error register {}", register_text(self.error_register));
+        let register = format!("error register {}", super::verdicts::register_text(self.error_register));
         if !self.kept {
             return Human::Line(format!("{who} keeps no error history (it has no object 0x1003); {register}"));
         }
@@ -129,7 +120,7 @@ fn health_rows(r: &HealthReport) -> Vec<Vec<String>> {
                 h.name.clone().unwrap_or_default(),
                 h.nmt.map_or("unknown".to_string(), |s| s.name().to_string()),
                 heartbeat_cell(h, r.watched_ms > 0),
-                register_text(h.error_register),
+                super::verdicts::register_text(h.error_register),
                 h.errors_logged.map_or("-".into(), |n| n.to_string()),
                 match h.emcy.len() {
                     0 if r.watched_ms == 0 => "-".into(),

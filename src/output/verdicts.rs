@@ -98,6 +98,15 @@ fn logged_text(logged: &Logged) -> String {
     }
 }
 
+/// `0x81 (generic, manufacturer)`, `0x00`, or `-` when unread.
+pub(crate) fn register_text(register: Option<u8>) -> String {
+    match register {
+        None => "-".into(),
+        Some(0) => "0x00".into(),
+        Some(r) => format!("0x{r:02X} ({})", crate::canopen::emcy::register_bits(r).join(", ")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -74,13 +74,18 @@ fn library_code(text: &str) -> String {
 
 /// Every module path named after `crate::`, including each branch of `use crate::{a, b::c}`.
 fn crate_paths(code: &str) -> BTreeSet<String> {
+    paths_after(code, "crate::")
+}
+
+/// Every path named after `start` (`crate::`, `super::`, `self::`), as [`crate_paths`].
+fn paths_after(code: &str, start: &str) -> BTreeSet<String> {
     let mut found = BTreeSet::new();
     let mut rest = code;
-    while let Some(at) = rest.find("crate::") {
+    while let Some(at) = rest.find(start) {
         let before = rest[..at].chars().last();
-        rest = &rest[at + "crate::".len()..];
+        rest = &rest[at + start.len()..];
         if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == '$') {
-            continue; // `$crate::` or part of another name
+            continue; // `$crate::`, `super::super::` or part of another name
         }
         if rest.starts_with('{') {
             // Top-level names of the group: split at depth-1 commas.
@@ -202,6 +207,114 @@ fn check_layers(src: &Path, layers: &'static [&'static [&'static str]]) {
     assert!(unexpected.is_empty(), "imports that go up or sideways in lib.rs's LAYERS: {unexpected:?}");
     let fixed: Vec<_> = ALLOWED.iter().filter(|a| !wrong.contains(**a)).collect();
     assert!(fixed.is_empty(), "fixed, remove from ALLOWED: {fixed:?}");
+}
+
+/// The files of each crate import one another without a cycle (issue 40): two files that
+/// need each other are one concept cut in two, or a type in the wrong room. A module and its
+/// own submodules are one room (a parent declares its children and re-exports them), so
+/// their imports of each other are not counted; `super::super::` is not followed.
+#[test]
+fn no_two_files_of_a_crate_import_each_other() {
+    let mut cycles = Vec::new();
+    for (src, prefix) in source_dirs() {
+        let mut files = Vec::new();
+        rust_files(&src, &mut files);
+        let modules: BTreeSet<String> = files.iter().map(|f| module_path(&src, f)).collect();
+        let mut edges: std::collections::BTreeMap<String, BTreeSet<String>> = Default::default();
+        for file in &files {
+            let module = module_path(&src, file);
+            if module.ends_with("tests") || module.contains("::tests::") {
+                continue;
+            }
+            // The module's own path (`lib`, `main` and `mod` are the folder's), and where a
+            // `super::` or `self::` starts from.
+            let own: Vec<&str> = module.split("::").filter(|p| !["lib", "main"].contains(p)).collect();
+            let code = library_code(&std::fs::read_to_string(file).unwrap());
+            let mut named: Vec<Vec<String>> = Vec::new();
+            let (root, parent) = (&own[..0], &own[..own.len().saturating_sub(1)]);
+            for (start, base) in [("crate::", root), ("super::", parent), ("self::", &own[..])] {
+                for path in paths_after(&code, start) {
+                    named.push(base.iter().map(|p| p.to_string()).chain(path.split("::").map(String::from)).collect());
+                }
+            }
+            for mut path in named {
+                // The file the path is in: its longest prefix that is a module of its own.
+                while !path.is_empty() && !modules.contains(&path.join("::")) {
+                    path.pop();
+                }
+                let to = path.join("::");
+                let own = own.join("::");
+                let related = to.is_empty()
+                    || to == own
+                    || to.starts_with(&format!("{own}::"))
+                    || own.starts_with(&format!("{to}::"));
+                if !related {
+                    edges.entry(own).or_default().insert(to);
+                }
+            }
+        }
+        for cycle in cycles_of(&edges) {
+            cycles.push(format!("{prefix}: {}", cycle.join(" -> ")));
+        }
+    }
+    assert!(cycles.is_empty(), "files that import each other, directly or around a circle:\n{}", cycles.join("\n"));
+}
+
+/// The circles of a graph: one path around each strongly connected part of more than one
+/// node (Tarjan's algorithm, iterating in name order so the message is stable).
+fn cycles_of(edges: &std::collections::BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
+    struct Walk<'a> {
+        edges: &'a std::collections::BTreeMap<String, BTreeSet<String>>,
+        index: std::collections::BTreeMap<&'a str, (usize, usize)>,
+        stack: Vec<&'a str>,
+        found: Vec<Vec<String>>,
+    }
+    fn visit<'a>(w: &mut Walk<'a>, v: &'a str) {
+        let n = w.index.len();
+        w.index.insert(v, (n, n));
+        w.stack.push(v);
+        for to in w.edges.get(v).into_iter().flatten() {
+            match w.index.get(to.as_str()) {
+                None => {
+                    visit(w, to);
+                    let low = w.index[to.as_str()].1.min(w.index[v].1);
+                    w.index.get_mut(v).unwrap().1 = low;
+                }
+                Some(&(at, _)) if w.stack.contains(&to.as_str()) => {
+                    let low = at.min(w.index[v].1);
+                    w.index.get_mut(v).unwrap().1 = low;
+                }
+                Some(_) => {}
+            }
+        }
+        if w.index[v].0 == w.index[v].1 {
+            let at = w.stack.iter().position(|s| *s == v).unwrap();
+            let part: Vec<String> = w.stack.drain(at..).map(String::from).collect();
+            if part.len() > 1 {
+                w.found.push(part);
+            }
+        }
+    }
+    let mut w = Walk { edges, index: Default::default(), stack: Vec::new(), found: Vec::new() };
+    for v in edges.keys() {
+        if !w.index.contains_key(v.as_str()) {
+            visit(&mut w, v);
+        }
+    }
+    w.found
+}
+
+#[test]
+fn a_circle_of_files_is_found() {
+    let edge = |a: &str, b: &[&str]| (a.to_string(), b.iter().map(|s| s.to_string()).collect::<BTreeSet<_>>());
+    let graph = [edge("a", &["b"]), edge("b", &["c"]), edge("c", &["a"]), edge("d", &["a"])].into_iter().collect();
+    let cycles = cycles_of(&graph);
+    assert_eq!(cycles.len(), 1, "{cycles:?}");
+    assert_eq!(
+        cycles[0].iter().collect::<BTreeSet<_>>(),
+        ["a", "b", "c"].iter().map(|s| s.to_string()).collect::<BTreeSet<_>>().iter().collect()
+    );
+    assert!(cycles_of(&[edge("a", &["b"]), edge("b", &[])].into_iter().collect()).is_empty());
 }
 
 #[test]

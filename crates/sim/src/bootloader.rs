@@ -12,7 +12,7 @@
 //! Its state lives in the dictionary and in "flash" (the device's stored values), so a
 //! reset, and the state file between invocations, keep it as hardware would.
 
-use super::device::ObjectStore;
+use super::device::objects::ObjectStore;
 use super::profiles::Model;
 use crate::canopen::lss::SlaveCaps;
 use crate::canopen::program::{self, code, FlashStatus, FLASH_STATUS, PROGRAM_CONTROL, PROGRAM_DATA, SOFTWARE_ID};

@@ -256,3 +256,40 @@ pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<
     }
     Ok(out)
 }
+
+/// Set `[DeviceComissioning] Baudrate` to `kbit` in the DCFs of `nodes`: every file made
+/// before any is written, so that a DCF that cannot be read changes none. The files
+/// written, in order.
+pub(crate) fn update_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<Vec<PathBuf>> {
+    let mut updated = Vec::new();
+    for (path, bytes) in with_bit_rate(loaded, kbit, nodes)? {
+        crate::atomic::write_atomic(&path, &bytes)?;
+        updated.push(path);
+    }
+    Ok(updated)
+}
+
+/// What `network set-baud --update-project` did to the project's DCFs.
+#[derive(Debug, Default)]
+pub struct DcfsFollowed {
+    /// The DCFs now at the new rate, in order: those of the nodes heard at it.
+    pub updated: Vec<PathBuf>,
+    /// The nodes listed in the project that were not heard at the new rate: their DCFs say
+    /// the rate they have.
+    pub left: Vec<u8>,
+}
+
+/// After `network set-baud` to the bit rate `index` (`switched`): when the devices were
+/// switched, the DCFs of the nodes heard at the new rate follow ([`update_bit_rate`]), and
+/// only those: a DCF never says a rate its device does not have. Otherwise none is touched.
+pub fn follow_switch(loaded: &Loaded, switched: &BaudSwitched, index: u8) -> Result<DcfsFollowed> {
+    let Some(kbit) = crate::canopen::lss::BIT_TIMINGS.get(index as usize).and_then(|(_, kbit)| *kbit) else {
+        return Ok(DcfsFollowed::default());
+    };
+    if !switched.activated {
+        return Ok(DcfsFollowed::default());
+    }
+    let heard: Vec<u8> = switched.nodes.iter().filter(|n| n.after == Some(true)).map(|n| n.node).collect();
+    let left = loaded.nodes.iter().map(|l| l.node).filter(|n| !heard.contains(n)).collect();
+    Ok(DcfsFollowed { updated: update_bit_rate(loaded, kbit, &heard)?, left })
+}

@@ -90,3 +90,20 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
     files.insert(0, (PROJECT_FILE.to_string(), cpj));
     Ok(Dumped { bus: bus.describe(), nodes, unconfigured, files })
 }
+
+/// Write a dumped project into `dir` (made if missing), each file atomically: the DCFs
+/// first, the project file last.
+pub(crate) fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::Output {
+        path: dir.display().to_string(),
+        why: format!("cannot make the directory: {e}"),
+    })?;
+    // Every file checked before any is written: one refused changes none.
+    for (name, _) in &dumped.files {
+        check_inside(dir, &dir.join(name))?;
+    }
+    for (name, bytes) in dumped.files.iter().rev() {
+        crate::atomic::write_atomic(&dir.join(name), bytes)?;
+    }
+    Ok(())
+}

@@ -18,8 +18,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-/// The project file canctl writes and looks for in a folder.
-pub(crate) const PROJECT_FILE: &str = "nodelist.cpj";
+pub(crate) use super::project_files::PROJECT_FILE;
 
 /// A project with each listed node's DCF read.
 #[derive(Debug)]

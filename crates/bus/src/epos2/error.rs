@@ -1,8 +1,9 @@
 //! The EPOS2 backend's errors: the serial line failed, or an answer made no sense. The
 //! library's [`crate::Error`] wraps them (as a link failure, exit 5).
 
-use super::transport::Failure;
+use super::frame::FrameError;
 use crate::canopen::ObjAddr;
+use std::io;
 
 /// An EPOS2 serial command or its answer failed.
 #[derive(Debug, thiserror::Error)]
@@ -115,6 +116,66 @@ fn answer_text(bus: &str, problem: &Epos2Problem) -> String {
         ),
         Epos2Problem::ExtraSegment { node, obj } => {
             format!("node {node}: segmented write of {obj}: the EPOS2 confirmed another segment")
+        }
+    }
+}
+
+/// Why one attempt failed.
+#[derive(Debug)]
+pub enum Failure {
+    /// The EPOS2 refused the frame (RS232 'F'), during this step.
+    Nack(&'static str),
+    /// Nothing came in time, during this step.
+    Timeout(&'static str),
+    /// What came was not a valid frame.
+    Frame(FrameError),
+    /// An unexpected byte instead of an acknowledgement, during this step.
+    Unexpected(u8, &'static str),
+    /// Only answers that belong to no command of ours came.
+    Misfit(usize),
+    /// The line never fell quiet: bytes, milliseconds.
+    Babble(usize, u128),
+    /// The serial port failed.
+    Io(io::Error),
+}
+
+impl Failure {
+    pub(crate) fn retryable(&self) -> bool {
+        !matches!(self, Failure::Io(_) | Failure::Babble(..))
+    }
+
+    /// What the user can do about it.
+    pub(crate) fn advice(&self) -> &'static str {
+        match self {
+            Failure::Io(_) => "check that the device is connected and powered, then run the command again",
+            Failure::Babble(..) => {
+                "check the bit rate (?baud=), that no other program uses the port, and the cable; \
+                 then run the command again"
+            }
+            // A slow device is the other cause: `hint::Hint::SlowDevice`, worded by the front end.
+            _ => "check the cable, the bit rate (?baud=) and that no other program uses the port",
+        }
+    }
+
+    /// Whether a slow device, given more time, could have answered: not when the port
+    /// failed or the line never fell quiet.
+    pub fn may_be_slow(&self) -> bool {
+        self.retryable()
+    }
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Nack(stage) => write!(f, "the EPOS2 refused the frame: answered {stage}"),
+            Failure::Timeout(stage) => write!(f, "no answer {stage}"),
+            Failure::Frame(e) => write!(f, "bad answer frame: {e}"),
+            Failure::Unexpected(b, stage) => write!(f, "unexpected byte 0x{b:02X} {stage}"),
+            Failure::Misfit(n) => write!(f, "{n} answers in a row that do not answer this command (discarded)"),
+            Failure::Babble(bytes, ms) => {
+                write!(f, "the line does not fall quiet: {bytes} bytes in {ms} ms without a pause")
+            }
+            Failure::Io(e) => write!(f, "the port failed: {e}"),
         }
     }
 }

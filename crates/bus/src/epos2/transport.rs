@@ -12,10 +12,10 @@
 
 use super::command::{self, Command};
 use super::error::Epos2Error;
+pub use super::error::Failure;
 use super::frame::{self, Frame, FrameError, UsbDecoder};
 use super::Framing;
 use crate::trace;
-use std::io;
 use std::time::{Duration, Instant};
 
 const OKAY: u8 = b'O';
@@ -39,66 +39,6 @@ const MAX_DISCARDED: usize = 4;
 /// The synchronisation probe waits at least this long for each answer: it may be queued
 /// behind a command of an earlier client that the EPOS2 is still forwarding to a slow node.
 const PROBE_WAIT: Duration = Duration::from_secs(1);
-
-/// Why one attempt failed.
-#[derive(Debug)]
-pub enum Failure {
-    /// The EPOS2 refused the frame (RS232 'F'), during this step.
-    Nack(&'static str),
-    /// Nothing came in time, during this step.
-    Timeout(&'static str),
-    /// What came was not a valid frame.
-    Frame(FrameError),
-    /// An unexpected byte instead of an acknowledgement, during this step.
-    Unexpected(u8, &'static str),
-    /// Only answers that belong to no command of ours came.
-    Misfit(usize),
-    /// The line never fell quiet: bytes, milliseconds.
-    Babble(usize, u128),
-    /// The serial port failed.
-    Io(io::Error),
-}
-
-impl Failure {
-    fn retryable(&self) -> bool {
-        !matches!(self, Failure::Io(_) | Failure::Babble(..))
-    }
-
-    /// What the user can do about it.
-    pub(crate) fn advice(&self) -> &'static str {
-        match self {
-            Failure::Io(_) => "check that the device is connected and powered, then run the command again",
-            Failure::Babble(..) => {
-                "check the bit rate (?baud=), that no other program uses the port, and the cable; \
-                 then run the command again"
-            }
-            // A slow device is the other cause: `hint::Hint::SlowDevice`, worded by the front end.
-            _ => "check the cable, the bit rate (?baud=) and that no other program uses the port",
-        }
-    }
-
-    /// Whether a slow device, given more time, could have answered: not when the port
-    /// failed or the line never fell quiet.
-    pub fn may_be_slow(&self) -> bool {
-        self.retryable()
-    }
-}
-
-impl std::fmt::Display for Failure {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Failure::Nack(stage) => write!(f, "the EPOS2 refused the frame: answered {stage}"),
-            Failure::Timeout(stage) => write!(f, "no answer {stage}"),
-            Failure::Frame(e) => write!(f, "bad answer frame: {e}"),
-            Failure::Unexpected(b, stage) => write!(f, "unexpected byte 0x{b:02X} {stage}"),
-            Failure::Misfit(n) => write!(f, "{n} answers in a row that do not answer this command (discarded)"),
-            Failure::Babble(bytes, ms) => {
-                write!(f, "the line does not fall quiet: {bytes} bytes in {ms} ms without a pause")
-            }
-            Failure::Io(e) => write!(f, "the port failed: {e}"),
-        }
-    }
-}
 
 /// A serial port with a little read buffer and a per-frame timeout.
 struct Port<S> {
@@ -377,6 +317,7 @@ mod tests {
     use super::*;
     use crate::canopen::ObjAddr;
     use std::collections::VecDeque;
+    use std::io;
 
     /// A serial port whose device answers each write with the next scripted bytes.
     struct Scripted {

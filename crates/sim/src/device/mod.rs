@@ -12,7 +12,7 @@ use crate::frame::Frame;
 use crate::od::{Dictionary, ParamClass};
 use std::collections::BTreeMap;
 
-mod objects;
+pub(crate) mod objects;
 pub use objects::ObjectStore;
 
 /// The persistent part of a device, as the state file holds it: only what differs from
