@@ -144,7 +144,7 @@ impl Hint {
     /// The remedy for `error` (looked for under any hint string it carries), if one fits.
     pub fn of(error: &Error) -> Option<Hint> {
         match error {
-            Error::Hinted { error, .. } => Hint::of(error),
+            Error::Advised { error, .. } => Hint::of(error),
             Error::TpdoNotPutBack { node, .. } => Some(Hint::RestoreStored { node: *node }),
             Error::NodeIdInUse { .. } => Some(Hint::FreeNodeIdOrForce),
             Error::NoStoredEds { .. } => Some(Hint::GiveEds),
@@ -225,9 +225,9 @@ impl From<&Error> for Failure {
     fn from(error: &Error) -> Failure {
         match error {
             // As `output::library_error_text` words it: the remedy before the advice.
-            Error::Hinted { error, hint } => {
+            Error::Advised { error, advice } => {
                 let mut f = Failure::from(&**error);
-                f.then.push_str(hint);
+                f.then.push_str(&advice.to_string());
                 f
             }
             e => Failure { message: e.to_string(), hint: Hint::of(e), then: String::new() },
@@ -271,7 +271,7 @@ mod tests {
     fn the_remedy_is_found_under_a_hint_string() {
         let e = Error::NoStoredEds { node: 5 };
         assert_eq!(Hint::of(&e), Some(Hint::GiveEds));
-        assert_eq!(Hint::of(&e.with_hint("; more")), Some(Hint::GiveEds));
+        assert_eq!(Hint::of(&e.advised(crate::error::Advice::PortTaken)), Some(Hint::GiveEds));
         assert_eq!(Hint::of(&Error::Interrupted), None);
         // The message itself names no flag: the front end adds that.
         assert!(!Error::NoStoredEds { node: 5 }.to_string().contains("--"));

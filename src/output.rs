@@ -52,13 +52,10 @@ pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
 /// The process exit code for an error a command ended with, and whether to print it.
 pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
     for cause in err.chain() {
-        if let Some(e) = cause.downcast_ref::<doctor::DiagnosedError>() {
-            return (e.error.exit_code(), true);
-        }
         if let Some(e) = cause.downcast_ref::<crate::ops::firmware::FirmwareError>() {
             return (e.class().exit_code(), true);
         }
-        if let Some(e) = cause.downcast_ref::<crate::Error>() {
+        if let Some(e) = hints::library_error(cause) {
             return (e.exit_code(), true);
         }
         if let Some(io) = cause.downcast_ref::<std::io::Error>() {
@@ -79,10 +76,10 @@ pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
 /// none, or with --no-diagnose). `None` for every other error: its message alone.
 pub fn error_json(err: &anyhow::Error) -> Option<serde_json::Value> {
     let (code, _) = exit_code(err);
-    let diagnosed = err.chain().find_map(|c| c.downcast_ref::<doctor::DiagnosedError>());
-    let library = err.chain().find_map(|c| c.downcast_ref::<crate::Error>());
-    let diagnosis = match (diagnosed, library.map(crate::Error::root)) {
-        (Some(d), _) => Some(doctor::finding_json(&d.finding)),
+    let finding = err.chain().find_map(|c| c.downcast_ref::<hints::Explained>()?.finding.as_ref());
+    let library = err.chain().find_map(hints::library_error);
+    let diagnosis = match (finding, library.map(crate::Error::root)) {
+        (Some(finding), _) => Some(doctor::finding_json(finding)),
         (None, Some(crate::Error::Link(link))) => Some(doctor::finding_json(&crate::ops::doctor::link_finding(link))),
         (None, Some(_)) if code == crate::error::ErrorClass::Timeout.exit_code() => None,
         _ => return None,

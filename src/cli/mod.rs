@@ -133,10 +133,12 @@ pub(crate) struct GlobalArgs {
 }
 
 impl GlobalArgs {
-    /// The frame log asked for with --log-frames, created (emptied) now.
-    pub(crate) fn frame_log(&self) -> crate::error::Result<Option<crate::bus::FrameLog>> {
+    /// The frame log asked for with --log-frames, created (emptied) now; a failure says the
+    /// flag it came from.
+    pub(crate) fn frame_log(&self) -> anyhow::Result<Option<crate::bus::FrameLog>> {
+        use anyhow::Context;
         let log = self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose();
-        log.map_err(|e| e.with_hint(" (--log-frames)"))
+        log.context("--log-frames")
     }
 }
 
@@ -282,7 +284,7 @@ pub(crate) struct Ctx {
 }
 
 /// Run a command that talks to the bus the user named (or say how to name one); the bus
-/// is closed whatever the command's outcome, and its error explained ([`with_hint`]).
+/// is closed whatever the command's outcome, and its error explained ([`explain_failure`]).
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
     let mut opts = OpenOptions::new(ctx.timeout);
     opts.frame_log = global.frame_log()?;
@@ -290,7 +292,7 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
         return Err(Error::Usage(crate::output::no_bus_text()).into());
     };
     let addr: BusAddr = text.parse()?;
-    crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| with_hint(ctx, bus, e))
+    crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| explain_failure(ctx, bus, e))
 }
 
 /// A command given several buses: run on all of them when it is one that works on several, a
@@ -337,7 +339,7 @@ fn on_each_bus<R: crate::output::Report + Send>(
 
 /// The error explained ([`crate::ops::explain`]): the link's failure, a silent node's likely
 /// cause and the nodes the last scan saw, or the objects near a missing one.
-fn with_hint(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
+fn explain_failure(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
     // A download's step the bus or the device failed is that failure, explained as any
     // command's (its text and exit code are the wrapped error's already).
     let e = match e.downcast::<crate::ops::firmware::FirmwareError>() {

@@ -428,7 +428,7 @@ mod tests {
         let abort = |code| Error::SdoAbort { node: 1, obj: ObjAddr::new(0x2000, 1), code };
         assert!(is_missing(&abort(abort::NO_OBJECT)));
         assert!(is_missing(&abort(abort::NO_SUBINDEX)));
-        assert!(is_missing(&abort(abort::NO_OBJECT).with_hint("a hint")));
+        assert!(is_missing(&abort(abort::NO_OBJECT).advised(crate::error::Advice::PortTaken)));
         assert!(!is_missing(&abort(abort::WRITE_ONLY)));
         assert!(matches!(optional::<u8>(Err(abort(abort::NO_SUBINDEX))), Ok(None)));
         assert!(optional::<u8>(Err(abort(abort::READ_ONLY))).is_err());

@@ -3,7 +3,7 @@
 use super::{as_text, le_u32, sized};
 use crate::bus::Bus;
 use crate::canopen::ObjAddr;
-use crate::error::{Error, Result, StoreRefusal};
+use crate::error::{Advice, Error, Result, StoreRefusal};
 use serde::Serialize;
 use std::time::Duration;
 
@@ -133,10 +133,9 @@ fn signature(bus: &mut dyn Bus, node: u8, sig: Signature, class: Class, t: Timeo
     }
     // An action, sent once: with its answer lost, whether it was done is unknown.
     bus.sdo_download(node, addr, bytes, &sized(t.write, Some(4))).map_err(|e| match e {
-        Error::NoAnswer { .. } | Error::SdoUnfinished { .. } | Error::SdoOutcomeUnknown { .. } => e.with_hint(format!(
-            "; the {verb} was sent once and may have been done: unknown whether node {node} {}",
-            if sig == Signature::Save { "stored its parameters" } else { "restored its defaults" }
-        )),
+        Error::NoAnswer { .. } | Error::SdoUnfinished { .. } | Error::SdoOutcomeUnknown { .. } => {
+            e.advised(Advice::SentOnce { node, verb })
+        }
         e => e,
     })?;
     Ok(addr)

@@ -184,30 +184,6 @@ pub(crate) fn finding_json(f: &Finding) -> serde_json::Value {
     json
 }
 
-/// A node's silence with the likely cause the quick checks found: it reads and ends the
-/// process as `error` does (whose hint has the likely-cause line); `--format json` gives the
-/// finding as the error's `diagnosis` ([`super::error_json`]).
-#[derive(Debug)]
-pub(crate) struct DiagnosedError {
-    /// The error, its hint the likely cause in words.
-    pub(crate) error: crate::Error,
-    /// What the quick checks found.
-    pub(crate) finding: Finding,
-}
-
-impl std::fmt::Display for DiagnosedError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        self.error.fmt(f)
-    }
-}
-
-// Not the error as its source: the message would read twice in `{:#}`.
-impl std::error::Error for DiagnosedError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        std::error::Error::source(&self.error)
-    }
-}
-
 fn hex_list(values: &[u32]) -> String {
     values.iter().map(|v| format!("0x{v:08X}")).collect::<Vec<_>>().join(", ")
 }

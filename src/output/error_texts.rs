@@ -486,11 +486,29 @@ fn link_messages_say_what_they_always_said() {
 }
 
 #[test]
-fn a_hint_is_appended_and_keeps_the_exit_code() {
-    let e = Error::NoAnswer { node: 7, what: Service::Sdo(OBJ), waited: ms(500) }.with_hint("; try scan");
-    assert_eq!(e.to_string(), "node 7: did not answer the SDO transfer of 0x1018:1 (waited 500 ms); try scan");
+fn advice_is_appended_and_keeps_the_exit_code() {
+    let silent = || Error::NoAnswer { node: 7, what: Service::Sdo(OBJ), waited: ms(500) };
+    let e = silent().advised(Advice::Near(vec!["0x1017:0".into(), "heartbeat".into()]));
+    assert_eq!(
+        e.to_string(),
+        "node 7: did not answer the SDO transfer of 0x1018:1 (waited 500 ms); did you mean 0x1017:0, heartbeat?"
+    );
     assert_eq!(e.exit_code(), 3);
     assert!(matches!(e.root(), Error::NoAnswer { node: 7, .. }));
+    let stored = silent().advised(Advice::SentOnce { node: 7, verb: "store" });
+    assert!(
+        stored.to_string().ends_with(
+            "; the store was sent once and may have been done: unknown whether node 7 stored its parameters"
+        ),
+        "{stored}"
+    );
+    let restored = silent().advised(Advice::SentOnce { node: 7, verb: "restore" });
+    assert!(restored.to_string().ends_with("unknown whether node 7 restored its defaults"), "{restored}");
+    let taken =
+        Error::Link(LinkError::Open { port: "TCP 0.0.0.0:29536".into(), error: std::io::ErrorKind::AddrInUse.into() });
+    let taken = taken.advised(Advice::PortTaken);
+    assert!(taken.to_string().ends_with("; serve on another port, or on port 0 for any free one"), "{taken}");
+    assert_eq!(taken.exit_code(), 5);
 }
 
 #[test]

@@ -100,7 +100,7 @@ fn adapter_bit_rate_hint(port: &str) -> String {
 pub fn library_error_text(err: &crate::Error) -> String {
     match err {
         // The remedy belongs to the error, before the advice added to it.
-        crate::Error::Hinted { error, hint } => format!("{}{hint}", library_error_text(error)),
+        crate::Error::Advised { error, advice } => format!("{}{advice}", library_error_text(error)),
         // The failed write's remedy in its place, before what was left; the way back ends it.
         crate::Error::TpdoNotPutBack { node, tpdo, error } => format!(
             "{}{}{}",
@@ -113,13 +113,18 @@ pub fn library_error_text(err: &crate::Error) -> String {
 }
 
 /// An error from a command as canctl prints it: its message (with its causes), then the
-/// remedy of the library's error in it, in canctl's terms.
+/// remedy of the library's error in it, in canctl's terms, then what was learnt about it.
 pub fn error_text(err: &anyhow::Error) -> String {
     let full = format!("{err:#}");
     // A download's failure carries its own remedy (and wraps the library's error).
     if let Some(f) = err.chain().find_map(|c| c.downcast_ref::<crate::ops::firmware::FirmwareError>()) {
         if let Some(contexts) = full.strip_suffix(&f.to_string()) {
             return format!("{contexts}{}", super::firmware::firmware_error_text(f));
+        }
+    }
+    if let Some(x) = err.chain().find_map(|c| c.downcast_ref::<Explained>()) {
+        if let Some(contexts) = full.strip_suffix(&x.to_string()) {
+            return format!("{contexts}{}{}", library_error_text(&x.error), x.advice);
         }
     }
     let Some(e) = err.chain().find_map(library_error) else { return full };
@@ -130,9 +135,36 @@ pub fn error_text(err: &anyhow::Error) -> String {
     }
 }
 
-/// The library's error a cause in an error's chain is, or carries (a diagnosed one).
-fn library_error<'a>(c: &'a (dyn std::error::Error + 'static)) -> Option<&'a crate::Error> {
-    c.downcast_ref::<crate::Error>().or_else(|| c.downcast_ref::<super::doctor::DiagnosedError>().map(|d| &d.error))
+/// The library's error a cause in an error's chain is, or carries (an explained one).
+pub(crate) fn library_error<'a>(c: &'a (dyn std::error::Error + 'static)) -> Option<&'a crate::Error> {
+    c.downcast_ref::<crate::Error>().or_else(|| c.downcast_ref::<Explained>().map(|x| &x.error))
+}
+
+/// A library error with what the front end learnt about it ([`explained`]): the nodes the last
+/// scan saw and, when the quick checks found one, the likely cause of a node's silence
+/// (`--format json` gives that finding as the error's `diagnosis`). It ends the process as
+/// `error` does; canctl prints `error` with its remedy, then `advice`.
+#[derive(Debug)]
+pub(crate) struct Explained {
+    /// The library's error.
+    pub(crate) error: crate::Error,
+    /// What was learnt, in words, to follow the error's remedy.
+    pub(crate) advice: String,
+    /// The likely cause the quick checks found, if they found one.
+    pub(crate) finding: Option<crate::ops::doctor::Finding>,
+}
+
+impl std::fmt::Display for Explained {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}{}", self.error, self.advice)
+    }
+}
+
+// Not the error as its source: the message would read twice in `{:#}`.
+impl std::error::Error for Explained {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        std::error::Error::source(&self.error)
+    }
 }
 
 /// What to add to a message about a silent node: the nodes the last scan of `bus` saw
@@ -158,16 +190,13 @@ pub(crate) fn explained(
     match explanation {
         Explanation::Link(link) => link.into(),
         Explanation::Interrupted => crate::Error::DiagnosisInterrupted { error: Box::new(error) }.into(),
-        Explanation::Silent { bus, finding: None, last_scan } => {
-            error.with_hint(last_scan_hint(&bus, &last_scan)).into()
-        }
-        Explanation::Silent { bus, finding: Some(finding), last_scan } => {
-            let hint = super::doctor::likely_cause_text(&finding) + &last_scan_hint(&bus, &last_scan);
-            super::doctor::DiagnosedError { error: error.with_hint(hint), finding }.into()
+        Explanation::Silent { bus, finding, last_scan } => {
+            let cause = finding.as_ref().map(super::doctor::likely_cause_text).unwrap_or_default();
+            Explained { error, advice: cause + &last_scan_hint(&bus, &last_scan), finding }.into()
         }
         Explanation::Near { node, near } => {
-            let near: Vec<String> = near.into_iter().map(|a| dicts.label(node, a)).collect();
-            error.with_hint(format!("; did you mean {}?", near.join(", "))).into()
+            let near = near.into_iter().map(|a| dicts.label(node, a)).collect();
+            error.advised(crate::error::Advice::Near(near)).into()
         }
     }
 }
@@ -345,7 +374,11 @@ mod tests {
             library_error_text(&absent(None)),
             "node 5 did not answer (its DCF names no LSS serial number, so --assign cannot find it)"
         );
-        for e in [absent(Some(id)), absent(None).with_hint("; more"), crate::Error::Interrupted] {
+        for e in [
+            absent(Some(id)),
+            absent(None).advised(crate::error::Advice::Near(vec!["0x1017:0".into()])),
+            crate::Error::Interrupted,
+        ] {
             let f = Failure::from(&e);
             assert_eq!(f.to_string(), e.to_string());
             let row = format!("node-id given over LSS; failed: {e}");
@@ -382,7 +415,7 @@ mod tests {
             waited: std::time::Duration::from_millis(100),
         };
         let left = "; node 1's TPDO2 was not put back as it was (0x1801:1 may leave it switched off)";
-        let hinted = library_error_text(&write().with_hint(left));
+        let hinted = format!("{}{left}", library_error_text(&write()));
         assert!(hinted.contains("(--wait)"), "{hinted}");
         let before = format!("{hinted}: `canctl restore 1` loads the stored parameters");
         let e = crate::Error::TpdoNotPutBack { node: 1, tpdo: 2, error: Box::new(write()) };

@@ -311,8 +311,7 @@ fn socketcand(
 ) -> Result<()> {
     use super::socketcand_serve::{SocketcandServer, IFACE};
     let sim = super::SimLink::open(StateFile::lock(path)?)?;
-    let mut server = SocketcandServer::bind(addr)
-        .map_err(|e| e.with_hint("; serve on another port, or on port 0 for any free one"))?;
+    let mut server = SocketcandServer::bind(addr).map_err(|e| e.advised(crate::error::Advice::PortTaken))?;
     let bound = server.local_addr();
     // Listening on every address: this machine's loopback reaches it too.
     let host = match bound.ip() {

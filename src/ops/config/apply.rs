@@ -2,6 +2,7 @@
 //! CiA 301 order, rolled back when a change of one stops half-way.
 
 use super::*;
+use crate::error::Advice;
 use crate::hint::Failure;
 
 /// How to apply a DCF.
@@ -260,7 +261,7 @@ impl Applied {
             if self.did_you_mean.is_empty() {
                 return Err(e);
             }
-            return Err(e.with_hint(format!("; did you mean {}?", self.did_you_mean.join(", "))));
+            return Err(e.advised(Advice::Near(self.did_you_mean)));
         }
         if !self.mismatch.is_empty() {
             return Err(Error::ReadBackMany { node: self.node, objects: self.mismatch });

@@ -111,7 +111,7 @@ impl Error {
             | Error::Diagnosed { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } | Error::DiagnosisInterrupted { .. } => C::Interrupted,
-            Error::Hinted { error, .. } | Error::InSettingsFile { error, .. } => error.class(),
+            Error::Advised { error, .. } | Error::InSettingsFile { error, .. } => error.class(),
             Error::NoSocketCan { .. }
             | Error::TypeNeeded { .. }
             | Error::NoLssOnDirectEpos2 { .. }

@@ -357,3 +357,36 @@ pub fn clipped(text: &str) -> std::borrow::Cow<'_, str> {
     }
     format!("{}… ({count} characters)", text.chars().take(SHOWN).collect::<String>()).into()
 }
+
+/// What the library knows to add to an error where it happened (an [`Error::Advised`](super::Error::Advised)),
+/// said after the error's message.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Advice {
+    /// Objects whose names or addresses are near the one asked for, as the user would write
+    /// them.
+    Near(Vec<String>),
+    /// A store or restore (`verb`) was sent once and its answer did not come: the node may
+    /// have done it.
+    SentOnce {
+        /// The node asked.
+        node: u8,
+        /// `store` or `restore`.
+        verb: &'static str,
+    },
+    /// The TCP port asked for to serve on is taken.
+    PortTaken,
+}
+
+impl fmt::Display for Advice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Advice::Near(near) => write!(f, "; did you mean {}?", near.join(", ")),
+            Advice::SentOnce { node, verb } => write!(
+                f,
+                "; the {verb} was sent once and may have been done: unknown whether node {node} {}",
+                if *verb == "store" { "stored its parameters" } else { "restored its defaults" }
+            ),
+            Advice::PortTaken => f.write_str("; serve on another port, or on port 0 for any free one"),
+        }
+    }
+}

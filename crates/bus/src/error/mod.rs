@@ -6,7 +6,7 @@
 //!
 //! The display texts are the messages canctl prints; tests and the README quote them.
 //! To ask what kind of failure an error is, use [`Error::class`] (which sees through
-//! [`Error::Hinted`]; in the crate, `is_timeout` and `is_interrupted` ask it), not a match on
+//! [`Error::Advised`]; in the crate, `is_timeout` and `is_interrupted` ask it), not a match on
 //! one variant of the class.
 
 use crate::canopen::lss::{FastscanError, Identity};
@@ -21,7 +21,9 @@ mod link;
 pub use class::ErrorClass;
 pub use detail::clipped;
 use detail::*;
-pub use detail::{DriveStop, Moved, NodeIdRange, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished};
+pub use detail::{
+    Advice, DriveStop, Moved, NodeIdRange, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished,
+};
 pub use link::{LinkError, PtyOp};
 
 /// Everything that can go wrong in the library, each with its exit code ([`Error::class`]).
@@ -519,14 +521,14 @@ pub enum Error {
         /// Why it could not be used.
         error: Box<Error>,
     },
-    /// An error with advice appended (e.g. which nodes the last scan saw); it ends the
+    /// An error with what the library knows to add about it ([`Advice`]); it ends the
     /// process as the error itself would.
-    #[error("{error}{hint}")]
-    Hinted {
+    #[error("{error}{advice}")]
+    Advised {
         /// The error itself.
         error: Box<Error>,
-        /// The advice, as it follows the error's message.
-        hint: String,
+        /// What is known to add, which follows the error's message.
+        advice: Advice,
     },
 
     // Errors whose remedy names a flag: the message says what happened, the remedy is a
@@ -660,7 +662,7 @@ impl Error {
             | Error::Unhealthy { bus, .. }
             | Error::Diagnosed { bus, .. }
             | Error::NoSocketCan { bus } => Some(bus),
-            Error::Hinted { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {
+            Error::Advised { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {
                 error.names_bus()
             }
             Error::Link(e) => e.names_port(),
@@ -671,7 +673,7 @@ impl Error {
     /// The error under any hint.
     pub fn root(&self) -> &Error {
         match self {
-            Error::Hinted { error, .. }
+            Error::Advised { error, .. }
             | Error::TpdoNotPutBack { error, .. }
             | Error::MapSizeUnread { error, .. }
             | Error::NothingAnswered { error } => error.root(),
@@ -679,9 +681,9 @@ impl Error {
         }
     }
 
-    /// This error with advice appended to its message.
-    pub fn with_hint(self, hint: impl Into<String>) -> Error {
-        Error::Hinted { error: Box::new(self), hint: hint.into() }
+    /// This error with `advice` after its message.
+    pub fn advised(self, advice: Advice) -> Error {
+        Error::Advised { error: Box::new(self), advice }
     }
 }
 
