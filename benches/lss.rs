@@ -6,6 +6,7 @@
 use canctl::bus::lss::LssMaster;
 use canctl::bus::Master;
 use canctl::canopen::lss::Pace;
+use canctl::ops::lss::number_all;
 use canctl::sim::profiles::position_sensor;
 use canctl::sim::{Network, Profile, SimConfig, SimLink};
 use std::collections::BTreeSet;
@@ -48,8 +49,9 @@ fn main() {
             let mut bus = unconfigured(8, profile);
             let mut lss = LssMaster::new(&mut bus, PROBE);
             let t = Instant::now();
+            let pace = Pace::measured(PROBE);
             let outcome =
-                lss.assign(20, BTreeSet::new(), Pace::measured(PROBE), given, true, &mut || true, &mut |_| {}).unwrap();
+                number_all(&mut lss, 20, BTreeSet::new(), pace, given, true, &mut || true, &mut |_| {}).unwrap();
             let elapsed = t.elapsed();
             assert_eq!(outcome.assigned.len(), 8, "all 8 numbered");
             println!(

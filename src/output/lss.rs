@@ -1,7 +1,7 @@
 //! How the LSS reports look to people and in CSV.
 
 use super::{Human, Report};
-use crate::bus::lss::NotStored;
+use crate::ops::lss::NotStored;
 use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired, LssTally, PaceUsed, Took};
 
 fn table(headers: Vec<&'static str>, row: Vec<String>) -> Human {

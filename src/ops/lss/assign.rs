@@ -140,7 +140,8 @@ pub fn assign(
     // Each device sought is a bar of fastscan requests (14 s each on slow devices).
     let len = fastscan_steps(o.fastscan.given());
     let (shown, sent, found) = (std::cell::RefCell::new(progress), std::cell::Cell::new(0), std::cell::Cell::new(0));
-    let outcome = LssMaster::new(bus, timeout).assign(
+    let outcome = number_all(
+        &mut LssMaster::new(bus, timeout),
         o.start,
         used,
         o.fastscan.pace(),
@@ -193,4 +194,199 @@ pub fn assign(
         interrupted: outcome.interrupted,
         failure,
     })
+}
+
+/// A device `assign` gave a node-id.
+pub struct Assigned {
+    /// Its LSS address (vendor, product, revision, serial).
+    pub identity: Identity,
+    /// The node-id it was given.
+    pub node: u8,
+    /// Whether "store configuration" succeeded; why not when it did not.
+    pub stored: std::result::Result<(), NotStored>,
+}
+
+/// Why a device `assign` numbered does not keep its node-id across a power cycle, or may not.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum NotStored {
+    /// The store was not asked for.
+    NotAsked,
+    /// "store configuration" went unanswered: sent once (an action), and LSS has no way to
+    /// read it back, so whether `node` keeps its id is unknown; storing again by its
+    /// `identity` settles it.
+    NoAnswer {
+        /// The node-id it was given.
+        node: u8,
+        /// The device, to address it again.
+        identity: Identity,
+    },
+    /// The device refused the store, or the bus failed.
+    Failed(Error),
+}
+
+impl std::fmt::Display for NotStored {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NotStored::NotAsked => f.write_str("not asked"),
+            NotStored::NoAnswer { node, .. } => {
+                write!(f, "no answer to the store: unknown whether node {node} keeps its id across a power cycle")
+            }
+            NotStored::Failed(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// Why `assign` stopped before every device had a node-id.
+pub enum AssignFailure {
+    /// No device could be found, or a fastscan went wrong.
+    Fastscan(FastscanError),
+    /// A device refused the node-id, or the bus failed.
+    Refused(Error),
+}
+
+/// What `assign` did: the devices it gave node-ids, the fastscan steps it took, and why it stopped
+/// early, if it did.
+pub struct AssignOutcome {
+    /// The devices given node-ids, in order.
+    pub assigned: Vec<Assigned>,
+    /// Fastscan requests sent, in all.
+    pub steps: u32,
+    /// Why it stopped before every device had a node-id; `None` when none was left.
+    pub failure: Option<AssignFailure>,
+    /// The pace learned: the step the fastscans used.
+    pub pace: Pace,
+    /// Stopped early because `keep_going` said so (an interruption).
+    pub interrupted: bool,
+}
+
+/// Give every device without a node-id the next node-id from `start` on that is not in
+/// `used`: fastscan finds one (leaving it in configuration state), it gets its node-id
+/// and, with `store`, keeps it; back in waiting state it boots and leaves the search.
+/// Whatever ends it, every device is sent back to waiting state.
+#[allow(clippy::too_many_arguments)]
+pub fn number_all(
+    m: &mut LssMaster,
+    start: u8,
+    used: BTreeSet<u8>,
+    pace: Pace,
+    given: [Option<u32>; 4],
+    store: bool,
+    keep_going: &mut dyn FnMut() -> bool,
+    each: &mut dyn FnMut(&Assigned),
+) -> Result<AssignOutcome> {
+    let mut out =
+        AssignOutcome { assigned: Vec::new(), steps: 0, failure: None, pace: pace.clone(), interrupted: false };
+    let result = assign_each(m, start, used, given, store, keep_going, each, &mut out);
+    // A failure, a lost link or an interruption must not leave a device in
+    // configuration state, where it would answer the next master's services.
+    let left = m.leave();
+    result?;
+    if let (Err(e), None) = (left, &out.failure) {
+        out.failure = Some(AssignFailure::Refused(e));
+    }
+    Ok(out)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn assign_each(
+    m: &mut LssMaster,
+    start: u8,
+    mut used: BTreeSet<u8>,
+    given: [Option<u32>; 4],
+    store: bool,
+    keep_going: &mut dyn FnMut() -> bool,
+    each: &mut dyn FnMut(&Assigned),
+    out: &mut AssignOutcome,
+) -> Result<()> {
+    // Searches in a row that found nobody: one lost answer must not be taken for "every
+    // device has a node-id" (exit 0), so silence is believed only when it repeats.
+    let mut silent = 0;
+    let (mut found_again, mut crowded) = (0, 0);
+    loop {
+        let Some(scan) = m.fastscan(out.pace.clone(), given, keep_going)? else {
+            out.interrupted = true;
+            return Ok(());
+        };
+        out.steps += scan.steps;
+        out.pace = scan.pace;
+        let identity = match scan.found {
+            Ok(found) => found,
+            Err(FastscanError::NoDevice) => {
+                silent += 1;
+                if silent < lss::NO_DEVICE_PROBES {
+                    continue;
+                }
+                return Ok(());
+            }
+            Err(e) => {
+                out.failure = Some(AssignFailure::Fastscan(e));
+                return Ok(());
+            }
+        };
+        silent = 0;
+        // Another device is in configuration state with it (it missed a switch back):
+        // a set-id now would give both one node-id. Everyone back, and search again.
+        if scan.crowded {
+            crowded += 1;
+            if crowded > lss::REPEATS {
+                out.failure = Some(AssignFailure::Refused(Error::LssCrowded { identity, times: crowded }));
+                return Ok(());
+            }
+            if let Err(e) = m.leave() {
+                out.failure = Some(AssignFailure::Refused(e));
+                return Ok(());
+            }
+            continue;
+        }
+        // Found again: the device numbered before did not leave configuration state
+        // (the switches back were lost, or its answers to the inquiry). It is the same
+        // device: it gets its node-id again, is sent back, and is reported once.
+        if let Some(first) = out.assigned.iter().find(|d| d.identity == identity).map(|d| d.node) {
+            found_again += 1;
+            let again = match found_again > lss::REPEATS {
+                true => {
+                    let tries = m.sent_back_since_given(identity);
+                    Err(Error::LssStillConfiguring { identity, node: first, tries })
+                }
+                false => m.set_id(identity, first).and_then(|_| m.back_to_waiting(identity, first)),
+            };
+            if let Err(e) = again {
+                out.failure = Some(AssignFailure::Refused(e));
+                return Ok(());
+            }
+            continue;
+        }
+        // Ids seen meanwhile (a heartbeat, a boot-up) are taken too.
+        used.extend(m.bus().observed().node_ids());
+        let Some(node) = (start..=127).find(|n| !used.contains(n)) else {
+            let e = Error::NoFreeNodeId { start, identity };
+            out.failure = Some(AssignFailure::Refused(e));
+            return Ok(());
+        };
+        if let Err(e) = m.set_id(identity, node) {
+            out.failure = Some(AssignFailure::Refused(e));
+            return Ok(());
+        }
+        // An action: never sent twice blindly, and LSS has no way to read it back, so a
+        // lost answer leaves it unknown, and the report says so.
+        let stored = if store {
+            m.configure(Request::StoreConfiguration, "store", false).map(|_| ()).map_err(|e| match e {
+                Error::NoLssAnswer { .. } => NotStored::NoAnswer { node, identity },
+                e => NotStored::Failed(e),
+            })
+        } else {
+            Err(NotStored::NotAsked)
+        };
+        used.insert(node);
+        let done = Assigned { identity, node, stored };
+        if let Err(e) = m.back_to_waiting(identity, node) {
+            each(&done);
+            out.assigned.push(done);
+            out.failure = Some(AssignFailure::Refused(e));
+            return Ok(());
+        }
+        each(&done);
+        out.assigned.push(done);
+    }
 }

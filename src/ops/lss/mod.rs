@@ -5,7 +5,7 @@
 //! [`LssMaster`]'s; an interruption is a flag, checked between steps.
 
 use super::{sized, Progress};
-use crate::bus::lss::{AssignFailure, LssMaster, NotStored};
+use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};

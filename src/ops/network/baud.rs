@@ -280,7 +280,7 @@ pub struct DcfsFollowed {
 }
 
 /// After `network set-baud` to the bit rate `index` (`switched`): when the devices were
-/// switched, the DCFs of the nodes heard at the new rate follow ([`update_bit_rate`]), and
+/// switched, the DCFs of the nodes heard at the new rate follow (`update_bit_rate`), and
 /// only those: a DCF never says a rate its device does not have. Otherwise none is touched.
 pub fn follow_switch(loaded: &Loaded, switched: &BaudSwitched, index: u8) -> Result<DcfsFollowed> {
     let Some(kbit) = crate::canopen::lss::BIT_TIMINGS.get(index as usize).and_then(|(_, kbit)| *kbit) else {
