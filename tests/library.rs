@@ -2,13 +2,14 @@
 //! only, so it builds and runs with `cargo test --no-default-features --test library`.
 
 use canctl::bus::{self, Bus};
+use canctl::cancel::Cancel;
 use canctl::canopen::nmt;
 use canctl::canopen::types::Value;
 use canctl::canopen::DataType;
 use canctl::canopen::ObjAddr;
 use canctl::connect::{self, BusAddr, OpenOptions};
 use canctl::ops::config::{self, ApplyOptions, Dcf};
-use canctl::ops::dictionaries::{Dictionaries, EdsFile};
+use canctl::ops::dictionaries::Dictionaries;
 use canctl::ops::monitor::Monitor;
 use canctl::ops::nmt::{self as nmt_ops, Confirmation, ResetOptions, StateOptions};
 use canctl::ops::pdo::{self, Session, Stream, StreamOptions};
@@ -16,8 +17,8 @@ use canctl::ops::scan::{self, ScanOptions};
 use canctl::ops::scan_cache::SeenNode;
 use canctl::ops::sdo::{self, ReadOptions, WriteOptions};
 use canctl::ops::store::{self, Class, Timeouts};
-use canctl::ops::Cancel;
 use canctl::ops::Progress;
+use canctl::settings::EdsFile;
 use canctl::Error;
 use std::time::Duration;
 

@@ -35,7 +35,7 @@ fn flag_values(words: &[String], name: &str) -> Vec<String> {
 }
 
 /// The bus the command line gives (its last `--bus`), and its `--eds` files.
-fn bus_and_eds(words: &[String]) -> (Option<String>, Vec<super::objects::EdsArg>) {
+fn bus_and_eds(words: &[String]) -> (Option<String>, Vec<crate::settings::EdsFile>) {
     let eds = flag_values(words, "--eds").iter().filter_map(|e| super::objects::parse_eds_arg(e).ok()).collect();
     (flag_values(words, "--bus").pop(), eds)
 }

@@ -111,7 +111,7 @@ pub(crate) struct GlobalArgs {
     /// An EDS or DCF (or XDD or XDC) describing node NODE, or every node without NODE=
     /// (repeatable): object names, types and ranges come from it
     #[arg(long, global = true, value_name = "[NODE=]FILE", value_parser = objects::parse_eds_arg)]
-    pub eds: Vec<objects::EdsArg>,
+    pub eds: Vec<crate::settings::EdsFile>,
     /// Trace every frame on stderr in candump notation; -vv also what each procedure does
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     pub verbose: u8,

@@ -7,8 +7,9 @@ use crate::canopen::{DataType, ObjAddr};
 use crate::connect::BusAddr;
 use crate::epos2::Framing;
 use crate::od::{names, Access};
-use crate::ops::dictionaries::{Dictionaries, EdsFile};
+use crate::ops::dictionaries::Dictionaries;
 use crate::ops::scan_cache::{self, SeenNode};
+use crate::settings::EdsFile;
 use crate::settings::{Given, Settings};
 use std::collections::HashMap;
 

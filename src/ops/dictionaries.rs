@@ -5,8 +5,7 @@ use crate::canopen::ObjAddr;
 use crate::error::Error;
 use crate::od::eds::Eds;
 use crate::od::{builtin, names, Dictionary, Entry};
-pub use crate::settings::EdsFile;
-use crate::settings::{Source, Sourced};
+use crate::settings::{EdsFile, Source, Sourced};
 
 /// The EDS files given for a command, each for one node or for any: which dictionary names and
 /// types a node's objects.

@@ -3,7 +3,6 @@
 //! so that any front end can render it). Progress and remarks go through [`Progress`]; a
 //! procedure never prints and knows nothing of the command line.
 
-pub use crate::cancel::Cancel;
 pub use event::{Event, Notice, Warning};
 pub use stop::{install_interrupt_plan, InterruptPoint};
 

@@ -26,12 +26,12 @@
 use canctl::bus::stoppable::Stoppable;
 use canctl::bus::tap::AfterSdo;
 use canctl::bus::{Bus, FrameLink, Master, SdoOptions};
+use canctl::cancel::Cancel;
 use canctl::canopen::cia402::{Goal, State as DriveState};
 use canctl::canopen::lss::{Identity, STEP_CEILING};
 use canctl::canopen::nmt::{self, Command};
 use canctl::canopen::ObjAddr;
 use canctl::frame::Frame;
-use canctl::ops::Cancel;
 use canctl::ops::{self, Silent};
 use canctl::sim::timing::Rng;
 use canctl::sim::{Profile, SimConfig, SimLink};

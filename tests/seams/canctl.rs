@@ -13,7 +13,8 @@
 mod canctl_main;
 
 use canctl::bus::tap::Transfer;
-use canctl::ops::{Cancel, InterruptPoint};
+use canctl::cancel::Cancel;
+use canctl::ops::InterruptPoint;
 
 const PLAN: &str = "CANCTL_TEST_SIGNAL_AFTER_WRITES";
 

@@ -3,7 +3,8 @@
 
 use canctl::bus::stoppable::Stoppable;
 use canctl::bus::tap::{AfterSdo, Transfer};
-use canctl::bus::{Bus, Cancel, SdoJob, SdoOptions};
+use canctl::bus::{Bus, SdoJob, SdoOptions};
+use canctl::cancel::Cancel;
 use canctl::canopen::nmt::Command;
 use canctl::canopen::ObjAddr;
 use canctl::sim::SimLink;

@@ -369,9 +369,9 @@ fn stream_pdo_map_interrupted_while_remapping_puts_the_mapping_back() {
 /// from the start, nothing is read past it and nothing written.
 #[test]
 fn the_library_stops_at_its_flag() {
+    use canctl::cancel::Cancel;
     use canctl::connect::{self, BusAddr, OpenOptions};
     use canctl::ops::config::{self, ApplyOptions, Dcf};
-    use canctl::ops::Cancel;
     let mut opts = OpenOptions::new(std::time::Duration::from_millis(500));
     opts.ephemeral = true;
     let mut bus = connect::open(&"sim".parse::<BusAddr>().unwrap(), &opts).unwrap();

@@ -8,9 +8,10 @@
 //! state, so the next search found it again and it was numbered a second time.
 
 use canctl::bus::{Bus, FrameLink, Master};
+use canctl::cancel::Cancel;
 use canctl::canopen::lss::{self, Identity};
 use canctl::frame::Frame;
-use canctl::ops::{self, Cancel, Silent};
+use canctl::ops::{self, Silent};
 use canctl::sim::profiles::{self, Model};
 use canctl::sim::{Network, SimConfig, SimLink};
 use canctl::Result;

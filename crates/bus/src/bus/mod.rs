@@ -13,7 +13,7 @@ pub mod reply;
 pub mod stoppable;
 pub mod tap;
 
-pub use crate::cancel::Cancel;
+use crate::cancel::Cancel;
 use crate::canopen::nmt::Command;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
