@@ -289,7 +289,8 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
     let mut opts = OpenOptions::new(ctx.timeout);
     opts.frame_log = global.frame_log()?;
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
-        return Err(Error::Usage(crate::output::no_bus_text()).into());
+        let (interfaces, ports) = (crate::connect::can_interfaces(), crate::connect::serial_ports());
+        return Err(Error::Usage(crate::output::no_bus_text(&interfaces, &ports)).into());
     };
     let addr: BusAddr = text.parse()?;
     crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| explain_failure(ctx, bus, e))

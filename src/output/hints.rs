@@ -201,10 +201,10 @@ pub(crate) fn explained(
     }
 }
 
-/// Why a command that needs a bus has none, how to name one, and the interfaces and
-/// serial ports this machine has.
-pub fn no_bus_text() -> String {
-    let list = |v: Vec<String>| {
+/// Why a command that needs a bus has none, how to name one, and the CAN `interfaces` and
+/// serial `ports` this machine has (the caller lists them: output does no I/O of the bus's).
+pub fn no_bus_text(interfaces: &[String], ports: &[String]) -> String {
+    let list = |v: &[String]| {
         if v.is_empty() {
             "none found".to_string()
         } else {
@@ -218,8 +218,8 @@ pub fn no_bus_text() -> String {
          forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
          epos2-usb:/dev/ttyUSB0, socketcand:HOST[:PORT]/IFACE\n  \
          no hardware? try the demo network: canctl --bus sim scan",
-        list(crate::connect::can_interfaces()),
-        list(crate::connect::serial_ports())
+        list(interfaces),
+        list(ports)
     )
 }
 
