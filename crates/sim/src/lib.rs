@@ -10,7 +10,10 @@
 #![deny(missing_docs)]
 
 // The layers below, under the names the modules use (`crate::bus::...`).
-use canctl_bus::{bus, epos2, error, slcan, socketcand, trace};
+use canctl_bus::{bus, epos2, error, socketcand, trace};
+// The slcan adapter's device side is a pseudo-terminal's (Unix).
+#[cfg(unix)]
+use canctl_bus::slcan;
 use canctl_canopen as canopen;
 use canctl_canopen::frame;
 use canctl_od as od;
