@@ -11,7 +11,7 @@ use crate::bus::Bus;
 use crate::canopen::emcy::{self, Emergency, Origin};
 use crate::canopen::nmt::{self, ErrorControl};
 use crate::canopen::{cia402, ObjAddr};
-use crate::error::{Error, Result};
+use crate::error::{Error, NotHealthy, Result};
 use crate::frame::Frame;
 use crate::hint::Hint;
 use serde::Serialize;
@@ -132,10 +132,7 @@ impl Health {
             .nodes
             .iter()
             .filter(|n| !n.ok)
-            .map(|n| {
-                let failed: Vec<&str> = n.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
-                format!("node {}: {}", n.node, failed.join(", "))
-            })
+            .map(|n| NotHealthy { node: n.node, failed: n.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect() })
             .collect();
         Err(Error::Unhealthy { bus: self.bus.clone(), total: self.nodes.len(), nodes })
     }

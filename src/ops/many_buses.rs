@@ -108,12 +108,17 @@ pub fn exit<R>(ended: Vec<Ended<R>>) -> Result<(), Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::NotHealthy;
     use std::time::Duration;
 
     #[test]
     fn the_worst_error_is_the_latest_in_the_exit_code_table() {
         let link = link();
-        let unhealthy = Error::Unhealthy { bus: "sim".into(), total: 1, nodes: vec!["node 5: error register".into()] };
+        let unhealthy = Error::Unhealthy {
+            bus: "sim".into(),
+            total: 1,
+            nodes: vec![NotHealthy { node: 5, failed: vec!["error register"] }],
+        };
         assert_eq!(worst([&link, &unhealthy]).map(Error::exit_code), Some(6));
         assert_eq!(worst([&Error::Interrupted, &unhealthy]).map(Error::exit_code), Some(130));
         assert_eq!(worst([&link]).map(Error::exit_code), Some(5));
@@ -144,7 +149,8 @@ mod tests {
 
     #[test]
     fn the_run_ends_with_its_worst_failure_naming_its_bus_and_how_many_failed() {
-        let unhealthy = || Error::Unhealthy { bus: "b".into(), total: 1, nodes: vec!["node 5: stopped".into()] };
+        let unhealthy =
+            || Error::Unhealthy { bus: "b".into(), total: 1, nodes: vec![NotHealthy { node: 5, failed: vec!["nmt"] }] };
         let runs = vec![
             OnBus { bus: "a".into(), result: Ok(1) },
             OnBus { bus: "b".into(), result: Ok(2) },

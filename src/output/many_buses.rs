@@ -198,8 +198,11 @@ mod tests {
     /// when it names another (one whose name the first's begins) or merely begins alike.
     #[test]
     fn a_failure_is_prefixed_with_its_bus_unless_it_names_that_bus() {
-        let unhealthy =
-            |bus: &str| crate::Error::Unhealthy { bus: bus.into(), total: 1, nodes: vec!["node 5: stopped".into()] };
+        let unhealthy = |bus: &str| crate::Error::Unhealthy {
+            bus: bus.into(),
+            total: 1,
+            nodes: vec![crate::error::NotHealthy { node: 5, failed: vec!["nmt"] }],
+        };
         let state = crate::error::LinkError::StateFile {
             path: "/tmp/s.json".into(),
             what: "cannot save",
@@ -214,8 +217,8 @@ mod tests {
         assert_eq!(
             shown,
             [
-                "socketcan:vcan1: 1 of 1 node(s) not healthy: node 5: stopped (exit 6)",
-                "socketcan:vcan1: socketcan:vcan10: 1 of 1 node(s) not healthy: node 5: stopped (exit 6)",
+                "socketcan:vcan1: 1 of 1 node(s) not healthy: node 5: nmt (exit 6)",
+                "socketcan:vcan1: socketcan:vcan10: 1 of 1 node(s) not healthy: node 5: nmt (exit 6)",
                 "sim: sim state file /tmp/s.json: cannot save: full (exit 5)",
             ]
         );

@@ -390,3 +390,19 @@ impl fmt::Display for Advice {
         }
     }
 }
+
+/// A node a health check found not healthy: which, and the checks it failed (by their
+/// names, as the report's columns read: `nmt`, `error register`, ...).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NotHealthy {
+    /// The node-id.
+    pub node: u8,
+    /// The checks it failed.
+    pub failed: Vec<&'static str>,
+}
+
+impl fmt::Display for NotHealthy {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "node {}: {}", self.node, self.failed.join(", "))
+    }
+}

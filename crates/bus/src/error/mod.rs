@@ -22,7 +22,7 @@ pub use class::ErrorClass;
 pub use detail::clipped;
 use detail::*;
 pub use detail::{
-    Advice, DriveStop, Moved, NodeIdRange, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished,
+    Advice, DriveStop, Moved, NodeIdRange, NotHealthy, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished,
 };
 pub use link::{LinkError, PtyOp};
 
@@ -450,15 +450,16 @@ pub enum Error {
         nodes: Vec<u8>,
     },
 
-    /// Nodes on a bus are not healthy; `nodes` in words ("node 1: error register 0x81").
-    #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(), nodes.join("; "))]
+    /// Nodes on a bus are not healthy: each with the checks it failed.
+    #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(),
+        nodes.iter().map(ToString::to_string).collect::<Vec<_>>().join("; "))]
     Unhealthy {
         /// The bus, as its address reads.
         bus: String,
         /// How many nodes were checked.
         total: usize,
-        /// One entry per node not healthy, in words.
-        nodes: Vec<String>,
+        /// Each node not healthy.
+        nodes: Vec<NotHealthy>,
     },
     /// `doctor` found problems on a bus (its report lists them, most likely cause first).
     #[error("{bus}: {count} problem(s) found, most likely cause first in the report")]
