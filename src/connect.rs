@@ -304,7 +304,11 @@ fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<NativePort> {
     // the exclusive flag would outlive this process and lock the next one out.
     #[cfg(unix)]
     if port.starts_with("/dev/pts/") {
-        io.set_exclusive(false).map_err(|e| LinkError::Io { port: port.to_string(), op: "", error: e.into() })?;
+        io.set_exclusive(false).map_err(|e| LinkError::Io {
+            port: port.to_string(),
+            op: "",
+            error: std::sync::Arc::new(e.into()),
+        })?;
     }
     Ok(io)
 }
@@ -316,7 +320,7 @@ fn open_error(port: &str, e: serialport::Error) -> Error {
     if e.description == nix::errno::Errno::ENOTTY.desc() {
         return LinkError::NotSerialPort { port: port.to_string(), available: serial_ports() }.into();
     }
-    LinkError::Open { port: port.to_string(), error: e.into() }.into()
+    LinkError::Open { port: port.to_string(), error: std::sync::Arc::new(e.into()) }.into()
 }
 
 /// Linux interface names: 1 to 15 bytes, no '/', no whitespace.

@@ -63,7 +63,7 @@ pub const LAYERS: &[&[&str]] = &[
     &["sim::serve"],
     &["connect"],
     &["sim"],
-    &["atomic", "hint"],
+    &["atomic"],
     // The crate canctl-bus, whose own `LAYERS` order these among themselves.
     &["backend", "bus", "cancel", "error", "epos2", "slcan", "socketcand", "serial", "trace"],
     &["od"],
@@ -77,7 +77,6 @@ pub use canctl_canopen as canopen;
 pub mod cli;
 pub mod connect;
 pub use canctl_canopen::frame;
-pub(crate) mod hint;
 pub use canctl_od as od;
 pub use canctl_od::input;
 pub mod ops;

@@ -11,18 +11,18 @@ pub(crate) fn main() {
     let cli = canctl::cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| usage_error(e));
     let json = cli.format() == canctl::output::FormatArg::Json;
     if let Err(err) = canctl::cli::run(cli, bus_from_env, cancel) {
-        let (code, print) = canctl::output::exit_code(&err);
+        let (code, print) = err.exit_code();
         if !print {
             std::process::exit(code);
         }
         // A silent node or a failed link, with its likely cause, as one JSON object.
-        let error_json = if json { canctl::output::error_json(&err) } else { None };
+        let error_json = if json { err.json() } else { None };
         let message = match error_json {
             Some(value) => value.to_string(),
             // Messages may quote what a device or a file said: no control characters.
             None => canctl::output::fitted_to_stderr(&format!(
                 "canctl: {}",
-                canctl::output::terminal_safe_lines(&canctl::output::error_text(&err))
+                canctl::output::terminal_safe_lines(&err.text())
             )),
         };
         std::process::exit(canctl::output::stderr::last_words(&message, code));

@@ -12,6 +12,7 @@ use std::io::{IsTerminal, Write};
 mod bars;
 pub(crate) mod buses;
 mod check;
+mod command_error;
 pub(crate) mod completion;
 pub(crate) mod config;
 pub(crate) mod diagnostics;
@@ -28,64 +29,29 @@ pub(crate) mod many_buses;
 pub(crate) mod network;
 mod nodes;
 pub(crate) mod records;
+mod remedies;
 mod reports;
 pub(crate) mod sim;
 pub mod stderr;
 pub(crate) mod stopped;
 mod table;
-pub(crate) mod usage;
+mod usage;
 mod verdicts;
 mod wrap;
 use table::{fitted, render, terminal_width};
 
 pub use bars::Bars;
 pub(crate) use bars::{item_end_text, item_status_text};
+pub use command_error::{CommandError, CommandResult};
 pub(crate) use drive::{last_seen_text, watching_text};
 pub use events::{event_line, say_deviations};
 pub(crate) use hints::explained;
-pub use hints::{error_text, hint_text, last_scan_hint, library_error_text, no_bus_text, switch_hint};
+pub use hints::{last_scan_hint, library_error_text, switch_hint, Explained};
 pub(crate) use junit::{junit_xml, junit_xml_suites};
 pub use junit::{TestCase, TestSuite};
 pub(crate) use nodes::short_window_note;
 pub use reports::{applied_failure_note, sentence, stored_eds_line, Each};
-
-/// The process exit code for an error a command ended with, and whether to print it.
-pub fn exit_code(err: &anyhow::Error) -> (i32, bool) {
-    for cause in err.chain() {
-        if let Some(e) = cause.downcast_ref::<crate::ops::firmware::FirmwareError>() {
-            return (e.class().exit_code(), true);
-        }
-        if let Some(e) = hints::library_error(cause) {
-            return (e.exit_code(), true);
-        }
-        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
-            if io.kind() == std::io::ErrorKind::BrokenPipe {
-                // The reader went away (`canctl scan | head -1`): nothing left to say.
-                return (0, false);
-            }
-            // Input files are read into typed errors: an I/O error left is one of output.
-            return (crate::error::ErrorClass::Output.exit_code(), true);
-        }
-    }
-    (1, true)
-}
-
-/// The error a command ended with as `--format json` gives it, for a node that did not
-/// answer (exit 3) and a link's failure (exit 5): `{"error", "exit_code", "diagnosis"}`, the
-/// diagnosis the likely cause (a finding as `canctl doctor` gives it; null when there is
-/// none, or with --no-diagnose). `None` for every other error: its message alone.
-pub fn error_json(err: &anyhow::Error) -> Option<serde_json::Value> {
-    let (code, _) = exit_code(err);
-    let finding = err.chain().find_map(|c| c.downcast_ref::<hints::Explained>()?.finding.as_ref());
-    let library = err.chain().find_map(hints::library_error);
-    let diagnosis = match (finding, library.map(crate::Error::root)) {
-        (Some(finding), _) => Some(doctor::finding_json(finding)),
-        (None, Some(crate::Error::Link(link))) => Some(doctor::finding_json(&crate::ops::doctor::link_finding(link))),
-        (None, Some(_)) if code == crate::error::ErrorClass::Timeout.exit_code() => None,
-        _ => return None,
-    };
-    Some(serde_json::json!({ "error": error_text(err), "exit_code": code, "diagnosis": diagnosis }))
-}
+pub use usage::UsageError;
 
 /// The form a report is rendered in (`--format`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -449,7 +415,7 @@ impl Output {
     pub(crate) fn stream<L: Line>(
         &self,
         mut next: impl FnMut() -> crate::Result<Option<L>>,
-    ) -> anyhow::Result<Option<L>> {
+    ) -> CommandResult<Option<L>> {
         let stdout = std::io::stdout();
         let mut out = std::io::BufWriter::new(stdout.lock());
         self.stream_start::<L>(&mut out)?;

@@ -28,9 +28,9 @@ pub(crate) struct BusesArgs {
     pub wait: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, a: &BusesArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, a: &BusesArgs) -> crate::output::CommandResult {
     if a.wait > MAX_WAIT {
-        return Err(crate::output::usage::buses_wait(MAX_WAIT.as_secs()).into());
+        return Err(crate::output::UsageError::BusesWait(MAX_WAIT.as_secs()).into());
     }
     let working = ctx.out.working(&crate::output::buses::listening(a.wait));
     let report = buses::find(a.wait, beacon_port(), &ctx.cancel);

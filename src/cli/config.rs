@@ -36,7 +36,7 @@ pub(crate) struct CheckArgs {
 }
 
 /// `config check` needs no bus.
-pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> anyhow::Result<()> {
+pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> crate::output::CommandResult {
     let report = crate::ops::check::check(&a.file)?;
     ctx.out.report(&report)?;
     Ok(report.check()?)
@@ -123,7 +123,7 @@ pub(crate) struct ApplyArgs {
     pub force: bool,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> crate::output::CommandResult {
     match cmd {
         ConfigCommand::Dump(a) => dump(ctx, bus, a),
         ConfigCommand::Diff(a) => diff(ctx, bus, a),
@@ -133,7 +133,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> anyhow::
     }
 }
 
-fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
+fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> crate::output::CommandResult {
     let limit = crate::input::MAX_EDS_BYTES as usize;
     let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         crate::ops::stored_eds::read(bus, a.node.node, ctx.timeout, limit)
@@ -141,7 +141,7 @@ fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> anyhow::Result<()> {
     crate::output::config::stored_eds(&ctx.out, a.node.node, a.out.as_deref(), ctx.bus.as_deref(), read)
 }
 
-fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
+fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> crate::output::CommandResult {
     if let Some(path) = &a.out {
         crate::atomic::check_writable(path)?;
     }
@@ -163,7 +163,7 @@ fn read_dcf(path: &Path) -> crate::Result<Dcf> {
     Ok(dcf)
 }
 
-fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
+fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> crate::output::CommandResult {
     let dcf = read_dcf(&a.file)?;
     // Interrupted, the report holds what was compared so far.
     let report =
@@ -175,7 +175,7 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
+fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> crate::output::CommandResult {
     let options = ApplyOptions {
         interrupted: ctx.cancel.clone(),
         timeout: ctx.timeout,

@@ -40,13 +40,13 @@ pub fn man_pages() -> Vec<(String, Vec<u8>)> {
     crate::output::docs::man_pages(super::Cli::command())
 }
 
-pub(crate) fn completions(args: &CompletionsArgs) -> anyhow::Result<()> {
+pub(crate) fn completions(args: &CompletionsArgs) -> crate::output::CommandResult {
     let script = registration(args.shell);
-    super::Output::new(crate::output::Format::Human, true).print(&String::from_utf8(script)?)?;
+    super::Output::new(crate::output::Format::Human, true).write_bytes(&script)?;
     Ok(())
 }
 
-pub(crate) fn man(ctx: &Ctx, args: &ManArgs) -> anyhow::Result<()> {
+pub(crate) fn man(ctx: &Ctx, args: &ManArgs) -> crate::output::CommandResult {
     let pages = man_pages();
     match &args.out {
         Some(dir) => {

@@ -57,7 +57,7 @@ pub struct DoctorArgs {
 }
 
 /// Run `canctl doctor`: the diagnosis rendered, exit 6 when it found a problem.
-pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()> {
+pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> crate::output::CommandResult {
     let last_scan = ctx.bus.as_deref().map(crate::ops::scan_cache::load).unwrap_or_default();
     // Scan's rule: a shorter listen hears nothing, and would not say so.
     crate::ops::scan::check_window(a.window)?;
@@ -79,7 +79,7 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> anyhow::Result<()>
     // A link that cannot be opened is a diagnosis of its own (an interface down, no
     // permission), not only an error.
     match result {
-        Err(e) if !opened => match e.downcast_ref::<Error>().map(Error::root) {
+        Err(e) if !opened => match e.library().map(Error::root) {
             Some(Error::Link(link)) => {
                 let report = doctor::unopened(ctx.bus.as_deref().unwrap_or_default(), a.node, link);
                 ctx.out.report(&report)?;

@@ -68,7 +68,7 @@ pub(crate) struct WalkArgs {
     pub wait: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> crate::output::CommandResult {
     let (args, goal) = match cmd {
         DriveCommand::Status(a) => return status(ctx, bus, a),
         DriveCommand::Enable(a) => (a, Goal::Enable),
@@ -82,7 +82,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> anyhow::R
     Ok(walk.outcome()?)
 }
 
-fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> anyhow::Result<()> {
+fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> crate::output::CommandResult {
     let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node.node, ctx.timeout));
     let report = stopped::read(&ctx.out, "drive status", format!("reading node {}'s state", a.node.node), read)?;
     ctx.out.report(&report)?;

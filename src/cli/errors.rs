@@ -26,7 +26,7 @@ pub(crate) struct ErrorsArgs {
     pub clear: bool,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> crate::output::CommandResult {
     let read =
         crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node.node, a.clear, ctx.timeout));
     let what = format!("reading node {}'s error history", a.node.node);

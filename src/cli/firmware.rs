@@ -71,7 +71,7 @@ pub(crate) struct DownloadArgs {
     pub jobs: u8,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> crate::output::CommandResult {
     match cmd {
         FirmwareCommand::Status(a) => {
             let read =
@@ -84,13 +84,13 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> anyhow
 }
 
 /// `firmware status NODE` on several buses at once: the node's programs on each.
-pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> anyhow::Result<()> {
+pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> crate::output::CommandResult {
     let run =
         |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node.node, ctx.timeout);
-    super::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok(()))
+    super::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok::<(), crate::Error>(()))
 }
 
-fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> anyhow::Result<()> {
+fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::CommandResult {
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
     // One bar of bytes is for one transfer at a time: with several at once, each node's
     // start and end are told instead.

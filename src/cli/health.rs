@@ -39,7 +39,7 @@ pub(crate) struct HealthArgs {
     pub checks: super::CheckFormat,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> crate::output::CommandResult {
     let last_seen = crate::ops::scan_cache::last_seen(ctx.bus.as_deref());
     let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state, last_seen };
     let read =
@@ -51,7 +51,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> anyhow::Resul
 }
 
 /// `health` on several buses at once: one table, one JUnit suite per bus, the worst exit.
-pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &HealthArgs) -> anyhow::Result<()> {
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &HealthArgs) -> crate::output::CommandResult {
     let run = |uri: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
         let last_seen = crate::ops::scan_cache::last_seen(Some(uri));
         let options =

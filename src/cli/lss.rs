@@ -165,12 +165,12 @@ pub(crate) struct AssignArgs {
 
 impl Target {
     /// The device asked for; one must be named, a broadcast only when asked.
-    fn get(&self, verb: &str) -> crate::Result<lss::Target> {
+    fn get(&self, verb: &str) -> crate::output::CommandResult<lss::Target> {
         match (self.identity, self.global, self.node) {
             (Some(id), _, _) => Ok(lss::Target::One(id)),
             (None, true, _) => Ok(lss::Target::All),
             (None, false, Some(_)) => Ok(lss::Target::DirectEpos2),
-            (None, false, None) => Err(crate::output::usage::lss_unnamed(verb)),
+            (None, false, None) => Err(crate::output::UsageError::LssUnnamed(verb.to_string()).into()),
         }
     }
 }
@@ -180,11 +180,11 @@ fn no_node(node: Option<u8>, verb: &str) -> crate::Result<()> {
     node.map_or(Ok(()), |_| Err(lss::no_lss_on_direct_epos2(verb)))
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> crate::output::CommandResult {
     // An interruption is noted and acted on between steps, so that no device is left in
     // configuration state.
     let (t, stop) = (ctx.timeout, &ctx.cancel);
-    let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> anyhow::Result<()> {
+    let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> crate::output::CommandResult {
         let target = target.get(setting.verb())?;
         let done = match setting {
             Setting::BitRate(index) => lss::set_baud(bus, t, target, index, ctx.bus.as_deref(), stop)?,

@@ -25,7 +25,7 @@ use crate::bus::Bus;
 use crate::cancel::Cancel;
 use crate::connect::{BusAddr, OpenOptions};
 use crate::error::Error;
-use crate::output::{FormatArg, Output};
+use crate::output::{CommandError, CommandResult, FormatArg, Output, UsageError};
 // The value parsers the commands' arguments name (`super::parse_node`).
 use crate::settings::parse::{
     parse_fixed_bit_rate, parse_kbit, parse_lss_node_id, parse_nodes, parse_sdo_node, parse_size, parse_state,
@@ -135,10 +135,9 @@ pub(crate) struct GlobalArgs {
 impl GlobalArgs {
     /// The frame log asked for with --log-frames, created (emptied) now; a failure says the
     /// flag it came from.
-    pub(crate) fn frame_log(&self) -> anyhow::Result<Option<crate::bus::FrameLog>> {
-        use anyhow::Context;
+    pub(crate) fn frame_log(&self) -> CommandResult<Option<crate::bus::FrameLog>> {
         let log = self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose();
-        log.context("--log-frames")
+        log.map_err(CommandError::FrameLog)
     }
 }
 
@@ -285,12 +284,12 @@ pub(crate) struct Ctx {
 
 /// Run a command that talks to the bus the user named (or say how to name one); the bus
 /// is closed whatever the command's outcome, and its error explained ([`explain_failure`]).
-fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyhow::Result<()>) -> anyhow::Result<()> {
+fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> CommandResult) -> CommandResult {
     let mut opts = OpenOptions::new(ctx.timeout);
     opts.frame_log = global.frame_log()?;
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
         let (interfaces, ports) = (crate::connect::can_interfaces(), crate::connect::serial_ports());
-        return Err(Error::Usage(crate::output::no_bus_text(&interfaces, &ports)).into());
+        return Err(UsageError::NoBus { interfaces, ports }.into());
     };
     let addr: BusAddr = text.parse()?;
     crate::ops::stop::on_bus(&addr, &opts, &ctx.cancel, f, |bus, e| explain_failure(ctx, bus, e))
@@ -298,7 +297,7 @@ fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> anyh
 
 /// A command given several buses: run on all of them when it is one that works on several, a
 /// usage error when it uses a bus otherwise; `None` for the commands that use none.
-fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Result<()>> {
+fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<CommandResult> {
     let run = match command {
         Command::Scan(a) => scan::on_buses(ctx, g, a),
         Command::Health(a) => health::on_buses(ctx, g, a),
@@ -309,7 +308,7 @@ fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Resu
         | Command::Settings
         | Command::Completions(_)
         | Command::Man(_) => return None,
-        _ => Err(crate::output::usage::several_buses(&ctx.buses).into()),
+        _ => Err(UsageError::SeveralBuses(ctx.buses.clone()).into()),
     };
     Some(run)
 }
@@ -318,13 +317,13 @@ fn on_buses(ctx: &Ctx, g: &GlobalArgs, command: &Command) -> Option<anyhow::Resu
 /// malformed URI a usage error before any is opened); then one report of them all
 /// ([`crate::output::many_buses`]). `outcome` says how a bus's report ends (a node
 /// unhealthy: exit 6); the run ends as [`crate::ops::many_buses::exit`] says.
-fn on_each_bus<R: crate::output::Report + Send>(
+fn on_each_bus<R: crate::output::Report + Send, V: Into<crate::ops::unmet::Shortfall>>(
     ctx: &Ctx,
     g: &GlobalArgs,
     command: &'static str,
     procedure: impl Fn(&str, &mut dyn Bus, &mut dyn crate::ops::Progress) -> Result<R, Error> + Sync,
-    outcome: impl Fn(&R) -> Result<(), Error>,
-) -> anyhow::Result<()> {
+    outcome: impl Fn(&R) -> Result<(), V>,
+) -> CommandResult {
     use crate::output::many_buses::{BusNotes, OnBuses};
     let mut opts = OpenOptions::new(ctx.timeout);
     opts.frame_log = g.frame_log()?;
@@ -340,30 +339,23 @@ fn on_each_bus<R: crate::output::Report + Send>(
 
 /// The error explained ([`crate::ops::explain`]): the link's failure, a silent node's likely
 /// cause and the nodes the last scan saw, or the objects near a missing one.
-fn explain_failure(ctx: &Ctx, bus: &mut dyn Bus, e: anyhow::Error) -> anyhow::Error {
-    // A download's step the bus or the device failed is that failure, explained as any
-    // command's (its text and exit code are the wrapped error's already).
-    let e = match e.downcast::<crate::ops::firmware::FirmwareError>() {
-        Ok(crate::ops::firmware::FirmwareError::Bus(error)) => error.into(),
-        Ok(other) => other.into(),
-        Err(e) => e,
-    };
-    let Some(error) = e.downcast_ref::<Error>() else { return e };
+fn explain_failure(ctx: &Ctx, bus: &mut dyn Bus, e: CommandError) -> CommandError {
+    let CommandError::Library(error) = e else { return e };
     let o = crate::ops::explain::ExplainOptions {
         bus: ctx.bus.as_deref(),
         dicts: &ctx.dicts,
         diagnose: ctx.diagnose,
         timeout: ctx.timeout,
     };
-    match crate::ops::explain::explain(bus, error, &o) {
-        Some(x) => crate::output::explained(e.downcast::<Error>().expect("just matched"), x, &ctx.dicts),
-        None => e,
+    match crate::ops::explain::explain(bus, &error, &o) {
+        Some(x) => crate::output::explained(error, x, &ctx.dicts),
+        None => error.into(),
     }
 }
 
 /// Run a parsed command line; `bus_from_env` says whether `--bus` came from CANCTL_BUS,
 /// `cancel` is the program's request to stop (caught from its start).
-pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
+pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> CommandResult {
     let g = &cli.global;
     // The library reports through `tracing`; -v/-q choose what reaches stderr.
     crate::output::diagnostics::install(g.verbose, g.quiet);
@@ -400,11 +392,11 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> anyhow::Result<()> {
             | Command::Firmware(firmware::FirmwareCommand::Download(_))
     );
     if format == FormatArg::Junit && !checks {
-        return Err(crate::output::usage::junit_elsewhere().into());
+        return Err(UsageError::JunitElsewhere.into());
     }
     let dumps = matches!(cli.command, Command::Config(config::ConfigCommand::Dump(_)));
     if g.format == FormatArg::Xdc && !dumps {
-        return Err(crate::output::usage::xdc_elsewhere().into());
+        return Err(UsageError::XdcElsewhere.into());
     }
     if ctx.buses.len() > 1 {
         if let Some(done) = on_buses(&ctx, g, &cli.command) {

@@ -34,7 +34,7 @@ pub(crate) struct MonitorArgs {
 /// Ctrl-C or SIGTERM ends the monitor as its duration would, with the summary; the exit
 /// code is 130 all the same (as for every command the user stops), 0 only when --duration
 /// or --count ended it.
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> crate::output::CommandResult {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
         let mut monitor = Monitor::new(bus, ctx.dicts.pdo_layouts(&a.node), &a.node, a.duration, a.count)?;
         ctx.out.stream(|| monitor.next(bus))?;

@@ -8,6 +8,7 @@ use crate::ops::config;
 use crate::ops::network::{self, PROJECT_FILE};
 use crate::ops::project_files;
 use crate::output::network::{DumpReport, NodeBars, SetBaudReport};
+use crate::output::UsageError;
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -175,7 +176,7 @@ pub(crate) struct Probes {
     pub window: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> crate::output::CommandResult {
     match cmd {
         NetworkCommand::Dump(a) => dump(ctx, bus, a),
         NetworkCommand::Check(a) => check(ctx, bus, a),
@@ -190,10 +191,10 @@ fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
     Ok(loaded)
 }
 
-fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
+fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> crate::output::CommandResult {
     let project = a.dir.join(PROJECT_FILE);
     if project.exists() && !a.force {
-        return Err(crate::output::usage::project_exists(&project).into());
+        return Err(UsageError::ProjectExists(project).into());
     }
     let options = network::DumpOptions {
         timeout: ctx.timeout,
@@ -208,7 +209,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
+fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> crate::output::CommandResult {
     let loaded = load(ctx, &a.project)?;
     let options =
         network::CheckOptions { timeout: ctx.timeout, window: a.probes.window, jobs: a.jobs.into(), state: a.state };
@@ -219,7 +220,7 @@ fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> anyhow::Result<()> {
 
 /// `network check` on several buses at once (each against the same project): one table,
 /// one JUnit suite per bus, the worst exit.
-pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) -> anyhow::Result<()> {
+pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) -> crate::output::CommandResult {
     let loaded = load(ctx, &a.project)?;
     let options =
         network::CheckOptions { timeout: ctx.timeout, window: a.probes.window, jobs: a.jobs.into(), state: a.state };
@@ -229,7 +230,7 @@ pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) ->
     super::on_each_bus(ctx, g, "canctl network check", run, |report: &network::Checked| report.outcome())
 }
 
-fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
+fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> crate::output::CommandResult {
     let loaded = load(ctx, &a.project)?;
     let mut c = config::ApplyOptions::new(ctx.timeout);
     c.dry_run = a.dry_run;
@@ -256,9 +257,9 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> anyhow::Result<()> {
     Ok(report.outcome()?)
 }
 
-fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> anyhow::Result<()> {
+fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> crate::output::CommandResult {
     if !a.global {
-        return Err(crate::output::usage::set_baud_not_global().into());
+        return Err(UsageError::SetBaudNotGlobal.into());
     }
     let loaded = a.project.as_deref().map(|p| load(ctx, p)).transpose()?;
     let options = network::SetBaudOptions {

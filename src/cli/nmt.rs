@@ -68,13 +68,13 @@ fn parse_target(s: &str) -> Result<u8, String> {
     parse_node(s).map_err(|e| format!("{e}, or all"))
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> crate::output::CommandResult {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| run_stoppable(ctx, bus, cmd))
 }
 
-fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> anyhow::Result<()> {
+fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> crate::output::CommandResult {
     let reset = |a: &ResetArgs| (a.target.target, ResetOptions { wait: a.wait, timeout: ctx.timeout });
-    let send = |bus: &mut dyn Bus, command: Command, target: u8| -> anyhow::Result<()> {
+    let send = |bus: &mut dyn Bus, command: Command, target: u8| -> crate::output::CommandResult {
         match nmt::send(bus, command, target) {
             Ok(sent) => Ok(ctx.out.report(&sent)?),
             Err(e) => crate::output::stopped::nmt_not_sent(&ctx.out, command.name(), target, e),

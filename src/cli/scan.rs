@@ -30,7 +30,7 @@ pub(crate) struct ScanArgs {
     pub window: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> crate::output::CommandResult {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
     let last_seen = scan_cache::last_seen(ctx.bus.as_deref());
     let report = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
@@ -52,7 +52,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> anyhow::Resu
 
 /// `scan` on several buses at once: a table of every bus's nodes, each bus's scan cache
 /// saved as the one-bus scan saves it.
-pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> anyhow::Result<()> {
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> crate::output::CommandResult {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
     let outcome = |report: &scan::Scan| match report.interrupted {
         true => Err(crate::Error::Interrupted),

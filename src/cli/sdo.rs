@@ -90,14 +90,14 @@ fn parse_type(s: &str) -> Result<DataType, String> {
     s.parse()
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> crate::output::CommandResult {
     crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| match cmd {
         SdoCommand::Read(a) => read(ctx, bus, a),
         SdoCommand::Write(a) => write(ctx, bus, a),
     })
 }
 
-fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
+fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> crate::output::CommandResult {
     let (object, _) = ctx.dicts.resolve(a.node.node, &a.object)?;
     if let Some(path) = &a.out {
         crate::atomic::check_writable(path)?;
@@ -118,7 +118,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> anyhow::Result<()> {
+fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> crate::output::CommandResult {
     let (object, _) = ctx.dicts.resolve(a.node.node, &a.object)?;
     let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype.dtype, block: !a.no_block, verify: a.verify };
     let written = sdo::write(bus, ctx.dicts.for_node(a.node.node), a.node.node, object, &a.value, &o);

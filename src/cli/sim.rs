@@ -6,7 +6,7 @@ use crate::epos2::Framing;
 use crate::error::{Error, LinkError, PtyOp};
 use crate::output::sim;
 use crate::sim::serial_fault::Fault;
-use crate::sim::serve::{self, Serve, ServeError, Serving};
+use crate::sim::serve::{self, Serve, Serving};
 use crate::sim::socketcand_serve;
 use crate::sim::{FaultSpec, Profile, SimConfig, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
 use clap::builder::TypedValueParser;
@@ -162,8 +162,8 @@ fn parse_rate(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("the sim bus needs a fixed bit rate, not {text}"))
 }
 
-pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Result<()> {
-    let path = serve::state_path(ctx.bus.as_deref())?.ok_or_else(|| Error::Usage(sim::NOT_A_SIM_BUS.into()))?;
+pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> crate::output::CommandResult {
+    let path = serve::state_path(ctx.bus.as_deref())?.ok_or(crate::output::UsageError::NotASimBus)?;
     if let Some(SimCommand::Reset(r)) = &args.command {
         let mut config =
             SimConfig::default().profile(r.profile).seed(r.seed).unconfigured(r.unconfigured).bit_rate(r.bit_rate);
@@ -182,7 +182,7 @@ pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Res
         (_, true, ..) => Serve::Slcan { faults },
         (_, _, true, _) => Serve::Epos2 { framing: Framing::Rs232, baud, faults, can_timeout },
         (_, _, _, true) => Serve::Epos2 { framing: Framing::Usb, baud, faults, can_timeout },
-        _ => return Err(crate::output::usage::nothing_to_serve().into()),
+        _ => return Err(crate::output::UsageError::NothingToServe.into()),
     };
     // Serving has no step to stop at: a request to stop ends it, as the signal itself did
     // before it was caught for every command, with the exit code of an interruption.
@@ -206,9 +206,5 @@ pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> anyhow::Res
         }
         Ok(())
     });
-    match served {
-        Err(ServeError::Failed(e)) => Err(e.into()),
-        Err(refused) => Err(Error::Usage(sim::serve_refusal(&refused).unwrap_or_else(|| refused.to_string())).into()),
-        Ok(()) => Ok(()),
-    }
+    Ok(served?)
 }

@@ -55,13 +55,13 @@ pub(crate) struct RestoreArgs {
     pub store_timeout: Duration,
 }
 
-pub(crate) fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> anyhow::Result<()> {
+pub(crate) fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> crate::output::CommandResult {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
     let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| store_nodes(bus, &a.node.0, a.class, t));
     crate::output::stopped::each_node(&ctx.out, "store", &a.node.0, run)
 }
 
-pub(crate) fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> anyhow::Result<()> {
+pub(crate) fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> crate::output::CommandResult {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
     let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| restore_nodes(bus, &a.node.0, a.class, t, a.reset));
     crate::output::stopped::each_node(&ctx.out, "restore", &a.node.0, run)

@@ -55,7 +55,7 @@ pub(crate) struct StreamArgs {
 
 /// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
 /// read once from the node.
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Result<()> {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> crate::output::CommandResult {
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
@@ -70,7 +70,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> anyhow::Resul
     Ok(())
 }
 
-fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> anyhow::Result<()> {
+fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> crate::output::CommandResult {
     let map = a.map.iter().map(|text| ctx.dicts.resolve(a.node.node, text)).collect::<crate::Result<Vec<_>>>()?;
     let setup = Setup {
         node: a.node.node,

@@ -6,14 +6,15 @@
 use super::doctor::{self, Evidence};
 use super::node::HISTORY_COUNT;
 use super::scan::{self, ScanOptions};
+use super::verdict::Remedy;
 use super::{le_u32, Progress};
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, Emergency, Origin};
 use crate::canopen::nmt::{self, ErrorControl};
 use crate::canopen::{cia402, ObjAddr};
-use crate::error::{Error, NotHealthy, Result};
+use crate::error::Result;
 use crate::frame::Frame;
-use crate::hint::Hint;
+use crate::ops::unmet::{NotHealthy, Unmet};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -123,8 +124,8 @@ impl Health {
         self
     }
 
-    /// A verification error (exit 6) when any node is not healthy.
-    pub fn outcome(&self) -> Result<()> {
+    /// The verdict (exit 6) when any node is not healthy.
+    pub fn outcome(&self) -> Result<(), Unmet> {
         if self.ok {
             return Ok(());
         }
@@ -134,7 +135,7 @@ impl Health {
             .filter(|n| !n.ok)
             .map(|n| NotHealthy { node: n.node, failed: n.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect() })
             .collect();
-        Err(Error::Unhealthy { bus: self.bus.clone(), total: self.nodes.len(), nodes })
+        Err(Unmet::Unhealthy { bus: self.bus.clone(), total: self.nodes.len(), nodes })
     }
 }
 
@@ -390,7 +391,7 @@ fn judge_node(
         // A Stopped node serves no SDO; one that shows another state has its SDO server
         // elsewhere or off (its diagnosis says so), and pre-operational is no remedy.
         let stopped = matches!(n.state, None | Some(nmt::State::Stopped));
-        let remedy = stopped.then_some(Hint::PreOperational { node: n.node });
+        let remedy = stopped.then_some(Remedy::PreOperational { node: n.node });
         checks.push(check("sdo", false, detail).with_remedy(remedy));
     }
 
@@ -507,7 +508,7 @@ fn judge_register(n: &scan::Node, read: &Read) -> (Option<u8>, Option<u8>, Check
     let (history, read_them) = match &read.history {
         Ok(_) => match logged {
             Some(0) => (Logged::Nothing, None),
-            Some(k) => (Logged::Count(k), Some(Hint::ReadErrorHistory { node: n.node })),
+            Some(k) => (Logged::Count(k), Some(Remedy::ReadErrorHistory { node: n.node })),
             None => (Logged::Unsaid, None),
         },
         Err(e) if super::node::is_missing(e) => (Logged::NoHistory, None),
@@ -545,6 +546,7 @@ fn judge_drive(r: &Result<Vec<u8>>) -> (Option<u16>, Option<cia402::State>, Chec
 mod tests {
     use super::*;
     use crate::canopen::abort;
+    use crate::error::Error;
 
     const MS: Duration = Duration::from_millis(1);
 

@@ -247,7 +247,7 @@ impl Coordinator<'_> {
             return Error::Interrupted;
         }
         let error = std::io::Error::other(e.to_string());
-        Error::Link(crate::error::LinkError::Io { port: self.describe.clone(), op: "", error })
+        Error::Link(crate::error::LinkError::Io { port: self.describe.clone(), op: "", error: error.into() })
     }
 
     fn answer(&mut self, w: Waiting, got: Result<Got>) {

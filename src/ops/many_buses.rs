@@ -6,6 +6,7 @@ use crate::bus::Bus;
 use crate::cancel::Cancel;
 use crate::connect::{BusAddr, OpenOptions};
 use crate::error::{Error, ErrorClass};
+use crate::ops::unmet::Shortfall;
 
 /// What a procedure did on one bus of several.
 #[derive(Debug)]
@@ -62,68 +63,69 @@ fn on_one<T>(
 /// table, [`ErrorClass::ALL`]: an interruption over an output failure over a verification
 /// failure over a link failure, and so on), the first of equals; `None` when every bus
 /// ended well.
-pub fn worst<'a>(errors: impl IntoIterator<Item = &'a Error>) -> Option<&'a Error> {
-    let rank = |e: &Error| ErrorClass::ALL.iter().position(|c| *c == e.class());
-    errors.into_iter().fold(None, |worst, e| match worst {
+pub fn worst<'a>(shortfalls: impl IntoIterator<Item = &'a Shortfall>) -> Option<&'a Shortfall> {
+    let rank = |e: &Shortfall| ErrorClass::ALL.iter().position(|c| *c == e.class());
+    shortfalls.into_iter().fold(None, |worst, e| match worst {
         Some(w) if rank(w) >= rank(e) => Some(w),
         _ => Some(e),
     })
 }
 
-/// How one bus's run ended: the procedure's report, when it got as far as one, and the bus's
-/// failure: the procedure's error, or what the report's outcome found (a node unhealthy).
+/// How one bus's run ended: the procedure's report, when it got as far as one, and how the
+/// bus fell short: the procedure's error, or the report's verdict (a node unhealthy).
 #[derive(Debug)]
 pub struct Ended<R> {
     /// The bus, as its URI.
     pub bus: String,
     /// The procedure's report.
     pub report: Option<R>,
-    /// Why this bus failed.
-    pub error: Option<Error>,
+    /// How this bus fell short.
+    pub error: Option<Shortfall>,
 }
 
-/// Each bus's run, its report judged by `outcome` (the error a single bus would end with).
-pub fn judged<R>(runs: Vec<OnBus<R>>, outcome: impl Fn(&R) -> Result<(), Error>) -> Vec<Ended<R>> {
+/// Each bus's run, its report judged by `outcome` (the verdict a single bus would end with).
+pub fn judged<R, V: Into<Shortfall>>(runs: Vec<OnBus<R>>, outcome: impl Fn(&R) -> Result<(), V>) -> Vec<Ended<R>> {
     let judge = |run: OnBus<R>| match run.result {
-        Ok(report) => Ended { bus: run.bus, error: outcome(&report).err(), report: Some(report) },
-        Err(e) => Ended { bus: run.bus, report: None, error: Some(e) },
+        Ok(report) => Ended { bus: run.bus, error: outcome(&report).err().map(Into::into), report: Some(report) },
+        Err(e) => Ended { bus: run.bus, report: None, error: Some(e.into()) },
     };
     runs.into_iter().map(judge).collect()
 }
 
 /// How the whole run ends: well when every bus did, else with the [`worst`] failure, naming
-/// its bus and how many failed ([`Error::OnBuses`]); a request to stop as itself.
-pub fn exit<R>(ended: Vec<Ended<R>>) -> Result<(), Error> {
+/// its bus and how many failed ([`Shortfall::OnBuses`]); a request to stop as itself.
+pub fn exit<R>(ended: Vec<Ended<R>>) -> Result<(), Shortfall> {
     let total = ended.len();
-    let mut errors: Vec<(String, Error)> = ended.into_iter().filter_map(|e| Some((e.bus, e.error?))).collect();
+    let mut errors: Vec<(String, Shortfall)> = ended.into_iter().filter_map(|e| Some((e.bus, e.error?))).collect();
     let failed = errors.len();
     let worst = worst(errors.iter().map(|(_, e)| e)).and_then(|w| errors.iter().position(|(_, e)| std::ptr::eq(e, w)));
     match worst.map(|i| errors.swap_remove(i)) {
         None => Ok(()),
-        Some((_, Error::Interrupted)) => Err(Error::Interrupted),
-        Some((bus, error)) => Err(Error::OnBuses { bus, error: Box::new(error), failed, total }),
+        Some((_, Shortfall::Failed(Error::Interrupted))) => Err(Error::Interrupted.into()),
+        Some((bus, worst)) => Err(Shortfall::OnBuses { bus, worst: Box::new(worst), failed, total }),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::error::NotHealthy;
+    use crate::ops::unmet::{NotHealthy, Unmet};
     use std::time::Duration;
 
     #[test]
     fn the_worst_error_is_the_latest_in_the_exit_code_table() {
-        let link = link();
-        let unhealthy = Error::Unhealthy {
+        let link = Shortfall::Failed(link());
+        let unhealthy = Shortfall::Unmet(Unmet::Unhealthy {
             bus: "sim".into(),
             total: 1,
             nodes: vec![NotHealthy { node: 5, failed: vec!["error register"] }],
-        };
-        assert_eq!(worst([&link, &unhealthy]).map(Error::exit_code), Some(6));
-        assert_eq!(worst([&Error::Interrupted, &unhealthy]).map(Error::exit_code), Some(130));
-        assert_eq!(worst([&link]).map(Error::exit_code), Some(5));
+        });
+        let interrupted = Shortfall::Failed(Error::Interrupted);
+        assert_eq!(worst([&link, &unhealthy]).map(Shortfall::exit_code), Some(6));
+        assert_eq!(worst([&interrupted, &unhealthy]).map(Shortfall::exit_code), Some(130));
+        assert_eq!(worst([&link]).map(Shortfall::exit_code), Some(5));
         assert!(worst(std::iter::empty()).is_none());
-        let other = Error::Unhealthy { bus: "sim".into(), total: 2, nodes: Vec::new() };
+        let other = Shortfall::Unmet(Unmet::Unhealthy { bus: "sim".into(), total: 2, nodes: Vec::new() });
         assert!(std::ptr::eq(worst([&unhealthy, &other]).unwrap(), &unhealthy), "the first of equals");
     }
 
@@ -144,13 +146,16 @@ mod tests {
     }
 
     fn link() -> Error {
-        Error::Link(crate::error::LinkError::Open { port: "can9".into(), error: std::io::ErrorKind::NotFound.into() })
+        Error::Link(crate::error::LinkError::Open {
+            port: "can9".into(),
+            error: std::io::Error::from(std::io::ErrorKind::NotFound).into(),
+        })
     }
 
     #[test]
     fn the_run_ends_with_its_worst_failure_naming_its_bus_and_how_many_failed() {
         let unhealthy =
-            || Error::Unhealthy { bus: "b".into(), total: 1, nodes: vec![NotHealthy { node: 5, failed: vec!["nmt"] }] };
+            || Unmet::Unhealthy { bus: "b".into(), total: 1, nodes: vec![NotHealthy { node: 5, failed: vec!["nmt"] }] };
         let runs = vec![
             OnBus { bus: "a".into(), result: Ok(1) },
             OnBus { bus: "b".into(), result: Ok(2) },
@@ -160,13 +165,13 @@ mod tests {
         let reports: Vec<Option<i32>> = ended.iter().map(|e| e.report).collect();
         assert_eq!(reports, [Some(1), Some(2), None], "a report kept beside its failure");
         match exit(ended) {
-            Err(Error::OnBuses { bus, error, failed: 2, total: 3 }) => {
-                assert_eq!((bus.as_str(), error.exit_code()), ("b", 6));
+            Err(Shortfall::OnBuses { bus, worst, failed: 2, total: 3 }) => {
+                assert_eq!((bus.as_str(), worst.exit_code()), ("b", 6));
             }
             other => panic!("{other:?}"),
         }
-        let stopped = vec![Ended { bus: "a".into(), report: None::<i32>, error: Some(Error::Interrupted) }];
-        assert!(matches!(exit(stopped), Err(Error::Interrupted)));
+        let stopped = vec![Ended { bus: "a".into(), report: None::<i32>, error: Some(Error::Interrupted.into()) }];
+        assert!(matches!(exit(stopped), Err(Shortfall::Failed(Error::Interrupted))));
         assert!(exit(vec![Ended { bus: "a".into(), report: Some(1), error: None }]).is_ok());
     }
 

@@ -20,6 +20,7 @@ pub mod drive;
 pub(crate) mod errors;
 pub(crate) mod event;
 pub(crate) mod explain;
+pub mod failure;
 pub mod firmware;
 pub mod health;
 pub(crate) mod in_parallel;
@@ -42,6 +43,7 @@ pub(crate) mod store_all;
 pub mod stored_eds;
 pub(crate) mod stream_setup;
 pub(crate) mod unheard;
+pub mod unmet;
 pub(crate) mod verdict;
 
 use crate::bus::SdoOptions;

@@ -180,7 +180,7 @@ pub(crate) fn mapped_bits(
         Err(Error::Link(crate::error::LinkError::SdoProtocol { aborted: Some(abort::OUT_OF_MEMORY), .. })) => {
             Err(refused("it is longer than 8 bytes, and a PDO entry is 1 to 8 bytes (8 to 64 bits)".into()))
         }
-        // Its remedy (a dictionary gives the type) is `Hint::MapReadsSize`.
+        // Its remedy (a dictionary gives the type) is the front end's to word (`output::remedies`).
         Err(e) => Err(Error::MapSizeUnread { obj: addr, error: Box::new(e) }),
     }
 }
@@ -464,7 +464,6 @@ mod tests {
         // Write-only, and not there: the device's abort, said as such.
         let e = mapped_bits(&mut bus, 1, ObjAddr::new(0x5FF0, 15), None, T).unwrap_err();
         assert!(matches!(e.root(), Error::SdoAbort { code: abort::WRITE_ONLY, .. }), "{e}");
-        assert_eq!(crate::hint::Hint::of(&e), Some(crate::hint::Hint::MapReadsSize), "{e}");
         assert!(crate::output::library_error_text(&e).contains("--map learns the size"), "{e}");
         let e = mapped_bits(&mut bus, 1, ObjAddr::new(0x5123, 0), None, T).unwrap_err();
         assert!(matches!(e.root(), Error::SdoAbort { code: abort::NO_OBJECT, .. }), "{e}");

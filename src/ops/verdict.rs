@@ -6,7 +6,7 @@ use super::config;
 use super::node::{hex16, IdentityPart};
 use super::scan::StateFrom;
 use crate::canopen::{cia402, nmt};
-use crate::hint::{Failure, Hint};
+use crate::ops::failure::Failure;
 use serde::Serialize;
 
 /// One check of one node: `present`, `identity`, `objects`, `state`, `error register`...
@@ -22,7 +22,7 @@ pub struct Verdict {
     /// What the user can do about it, for the front end to word after the detail (in JSON
     /// too: a front end serialises the detail with it).
     #[serde(skip)]
-    pub remedy: Option<Hint>,
+    pub remedy: Option<Remedy>,
     /// For `objects`: each writable object that differs.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub differences: Vec<config::Difference>,
@@ -35,9 +35,25 @@ impl Verdict {
     }
 
     /// This verdict with `remedy` to follow its detail.
-    pub fn with_remedy(self, remedy: Option<Hint>) -> Verdict {
+    pub fn with_remedy(self, remedy: Option<Remedy>) -> Verdict {
         Verdict { remedy, ..self }
     }
+}
+
+/// What the user can do about a check's finding, for the front end to word after it: what
+/// the check knew and its finding does not say (the node's state, the history's count).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Remedy {
+    /// The node answers no SDO, as a Stopped node does: put it in Pre-operational.
+    PreOperational {
+        /// The node-id.
+        node: u8,
+    },
+    /// The node logged errors in its history (0x1003): read them, with their meanings.
+    ReadErrorHistory {
+        /// The node-id.
+        node: u8,
+    },
 }
 
 /// What a check found: the numbers, states and names its sentence needs.

@@ -19,7 +19,8 @@ pub(crate) fn item_status_text(status: crate::ops::ItemStatus) -> String {
 pub(crate) fn item_end_text(end: &crate::ops::ItemEnd<'_>) -> String {
     use crate::ops::ItemEnd;
     match end {
-        ItemEnd::Applied(row) => network::node_result_words(row),
+        // The failure's message alone: its remedy is the report's to give.
+        ItemEnd::Applied(row) => network::node_result_words(row, |f| f.to_string()),
         ItemEnd::Checked(checked) => network::checked_words(checked),
         ItemEnd::Downloaded(end) => firmware::download_end_word(*end).to_string(),
     }

@@ -8,7 +8,12 @@ use std::path::Path;
 
 /// `config dump`'s DCF (or XDC) written where it was asked for; a dump the user stopped is
 /// said as such (counting the objects read when it got that far), nothing written.
-pub(crate) fn dumped(out: &Output, node: u8, file: Option<&Path>, dump: crate::Result<Dump>) -> anyhow::Result<()> {
+pub(crate) fn dumped(
+    out: &Output,
+    node: u8,
+    file: Option<&Path>,
+    dump: crate::Result<Dump>,
+) -> crate::output::CommandResult {
     let dump = match dump {
         // A stop the dump could not count objects for: said as one before the profile was read.
         Err(e) if e.is_interrupted() => return stopped::config_dump(out, node, 0, 0, file),
@@ -36,7 +41,7 @@ pub(crate) fn stored_eds(
     file: Option<&Path>,
     network: Option<&str>,
     read: crate::Result<StoredEds>,
-) -> anyhow::Result<()> {
+) -> crate::output::CommandResult {
     let mut eds = match read {
         Err(e) if e.is_interrupted() => return stopped::config_eds(out, node, file, e),
         other => other?,

@@ -282,9 +282,9 @@ fn messages_say_what_they_always_said() {
             .into(),
             "node 5: SDO transfer of 0x1018:1 failed: toggle bit not alternated (aborted with 0x05030000)",
         ),
-        (LinkError::Io { port: "can0".into(), op: "", error: std::io::Error::other("gone") }.into(), "can0: gone"),
+        (LinkError::Io { port: "can0".into(), op: "", error: std::io::Error::other("gone").into() }.into(), "can0: gone"),
         (
-            LinkError::Io { port: "can0".into(), op: "send failed", error: std::io::Error::other("gone") }.into(),
+            LinkError::Io { port: "can0".into(), op: "send failed", error: std::io::Error::other("gone").into() }.into(),
             "can0: send failed: gone",
         ),
         (
@@ -329,7 +329,7 @@ fn messages_say_what_they_always_said() {
     for (error, text) in cases {
         // What canctl prints: the message, then the remedy it words (`output/hints.rs`).
         assert_eq!(crate::output::library_error_text(&error), text);
-        if crate::hint::Hint::of(&error).is_some() {
+        if super::remedies::error_remedy(&error).is_some() {
             let message = error.to_string();
             assert!(!message.contains("--"), "the remedy is the front end's, not the message's: {error}");
             assert!(!names_a_command(&message), "the remedy is the front end's, not the message's: {error}");
@@ -407,7 +407,7 @@ fn link_messages_say_what_they_always_said() {
                 bus: "epos2-rs232:/dev/x".into(),
                 command: "ReadObject",
                 failure: Failure::Misfit(3),
-                retry: Some(Failure::Io(std::io::Error::other("gone"))),
+                retry: Some(Failure::Io(std::io::Error::other("gone").into())),
             }
             .into(),
             "epos2-rs232:/dev/x: ReadObject failed: 3 answers in a row that do not answer this command \
@@ -456,7 +456,7 @@ fn link_messages_say_what_they_always_said() {
         // What canctl prints: the message, then the remedy it words (`output/hints.rs`).
         let error = Error::from(error);
         assert_eq!(crate::output::library_error_text(&error), text);
-        if crate::hint::Hint::of(&error).is_some() {
+        if super::remedies::error_remedy(&error).is_some() {
             let message = error.to_string();
             assert!(!message.contains("--"), "the remedy is the front end's, not the message's: {error}");
             assert!(!names_a_command(&message), "the remedy is the front end's, not the message's: {error}");
@@ -504,8 +504,10 @@ fn advice_is_appended_and_keeps_the_exit_code() {
     );
     let restored = silent().advised(Advice::SentOnce { node: 7, verb: "restore" });
     assert!(restored.to_string().ends_with("unknown whether node 7 restored its defaults"), "{restored}");
-    let taken =
-        Error::Link(LinkError::Open { port: "TCP 0.0.0.0:29536".into(), error: std::io::ErrorKind::AddrInUse.into() });
+    let taken = Error::Link(LinkError::Open {
+        port: "TCP 0.0.0.0:29536".into(),
+        error: std::io::Error::from(std::io::ErrorKind::AddrInUse).into(),
+    });
     let taken = taken.advised(Advice::PortTaken);
     assert!(taken.to_string().ends_with("; serve on another port, or on port 0 for any free one"), "{taken}");
     assert_eq!(taken.exit_code(), 5);
@@ -523,7 +525,7 @@ fn a_fastscan_that_could_not_confirm_is_a_link_failure_the_others_are_timeouts()
 #[test]
 fn a_link_error_has_no_source_to_print_twice() {
     use std::error::Error as _;
-    let e: Error = LinkError::Open { port: "/dev/x".into(), error: std::io::Error::other("gone") }.into();
+    let e: Error = LinkError::Open { port: "/dev/x".into(), error: std::io::Error::other("gone").into() }.into();
     assert!(e.source().is_none());
     assert_eq!(e.to_string(), "cannot open /dev/x: gone");
 }
@@ -534,9 +536,12 @@ fn a_link_error_has_no_source_to_print_twice() {
 fn the_worst_of_several_buses_is_named_and_its_failure_not_said_twice() {
     let state =
         LinkError::StateFile { path: "/tmp/s.json".into(), what: "cannot save", detail: "full".into(), afresh: false };
-    let on = Error::OnBuses { bus: "sim:/tmp/s.json".into(), error: Box::new(state.into()), failed: 1, total: 2 };
-    assert_eq!(on.to_string(), "1 of 2 buses failed, each as said for its bus; the worst was on sim:/tmp/s.json");
+    let worst = Box::new(crate::ops::unmet::Shortfall::Failed(state.into()));
+    let on = crate::ops::unmet::Shortfall::OnBuses { bus: "sim:/tmp/s.json".into(), worst, failed: 1, total: 2 };
     assert_eq!(on.exit_code(), 5, "the worst failure's exit code");
+    let said = crate::output::CommandError::from(on);
+    assert_eq!(said.text(), "1 of 2 buses failed, each as said for its bus; the worst was on sim:/tmp/s.json");
+    assert_eq!(said.exit_code(), (5, true));
 }
 
 /// Whether a message names a canctl command (`` `canctl scan` ``, `(canctl nmt reset 2)`):

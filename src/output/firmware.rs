@@ -40,7 +40,8 @@ fn state_text(state: State) -> &'static str {
 pub(crate) fn firmware_error_text(e: &FirmwareError) -> String {
     match e {
         FirmwareError::Bus(e) => super::library_error_text(e),
-        e => format!("{e}{}", e.hint().map(super::hint_text).unwrap_or_default()),
+        e @ FirmwareError::StillBusy { .. } => format!("{e}{}", super::remedies::longer_busy_wait()),
+        e => e.to_string(),
     }
 }
 

@@ -1,99 +1,18 @@
-//! The command line's words for the library's [`Hint`]s: the one place remedies name
-//! canctl's flags and commands.
+//! The command line's words around the library's errors: an error with its remedy
+//! ([`super::remedies`]), what the front end learnt about a silent node, and the texts that
+//! say how to name a bus or follow a switch of bit rate.
 
-use crate::hint::Hint;
-
-/// The remedy as canctl says it, to follow the error's message.
-pub fn hint_text(hint: Hint) -> String {
-    match hint {
-        Hint::FreeNodeIdOrForce => {
-            "; choose a free id (canctl scan lists those in use), or --force gives it anyway".into()
-        }
-        Hint::GiveEds => "; get the EDS from its vendor and give it with --eds".into(),
-        Hint::LowerStart => ": give a lower --start".into(),
-        Hint::ForceOtherDevice => "; --force applies it anyway".into(),
-        Hint::CheckOrWaitLonger => ". Check the node with `canctl scan`, or wait longer (--wait)".into(),
-        Hint::InquireNodeId(identity) => {
-            format!(" (canctl lss inquire --identity {identity} shows its node-id)")
-        }
-        Hint::FaultReset => " (canctl drive fault-reset NODE clears it once its cause is gone)".into(),
-        Hint::DriveErrors => " (canctl drive status NODE shows the errors)".into(),
-        Hint::LongerStep => "; try again, or a longer --step".into(),
-        Hint::OtherType => "; try another --type".into(),
-        Hint::EveryTpdo => "; without --tpdo, every TPDO it has is streamed".into(),
-        Hint::MapOne => " (--map makes one for the session)".into(),
-        Hint::AddressOne => ": address one with --identity (lss fastscan finds them)".into(),
-        Hint::UseServedBus { bus } => format!(", or use --bus {bus}, where that process serves the devices"),
-        Hint::ShareSimNetwork => ", or serve the network where several commands share it as on a real bus \
-                                  (`canctl sim --socketcan vcan0`, then --bus vcan0); --bus sim:OTHER.state would \
-                                  be another network, not this one"
-            .into(),
-        Hint::SetUpInterface { iface, near, available } => format!(
-            "{} (CAN interfaces here: {}).\n  \
-             A CAN adapter: plug it in, then sudo ip link set {iface} up type can bitrate 500000\n  \
-             A virtual bus: sudo ip link add dev {iface} type vcan && sudo ip link set up {iface}\n  \
-             No hardware: try the demo network, --bus sim",
-            near.map(|c| format!("; did you mean --bus {c}?")).unwrap_or_default(),
-            if available.is_empty() { "none".to_string() } else { available.join(", ") }
-        ),
-        Hint::TrySim => ", or try --bus sim".into(),
-        Hint::AdapterBitRate { port } => adapter_bit_rate_hint(&port),
-        Hint::MapReadsSize => {
-            "; --map learns the size of an object the dictionary does not give by reading it once (--eds gives its type)"
-                .into()
-        }
-        Hint::NameType => "; --type is needed (or --eds, a dictionary with an entry for it)".into(),
-        Hint::Epos2OwnObjects => "; set-id, set-baud and store work on it through its own objects, and without --node \
-                                  LSS goes to the devices on the CAN bus behind it"
-            .into(),
-        Hint::StoreEpos2 => ": use `lss store --node 0`".into(),
-        Hint::LongerBusyWait => ": give --busy-wait".into(),
-        Hint::AssignOverLss(id) => format!("; --assign gives it its node-id over LSS ({id})"),
-        Hint::NoIdentityToAssign => " (its DCF names no LSS serial number, so --assign cannot find it)".into(),
-        Hint::SlowDevice => "; a slow device may need a longer --timeout".into(),
-        Hint::DeadlineFromTimeout(timeout) => {
-            format!("; the deadline follows from the size and --timeout {} ms", timeout.as_millis())
-        }
-        Hint::RaiseUploadLimit => " (sdo read --max-size raises the limit)".into(),
-        Hint::ScanForConfiguring => " (`canctl scan` lists the devices left in configuration state)".into(),
-        Hint::ScanThenPowerCycle => ": `canctl scan` lists it; power-cycle it if it stays there".into(),
-        Hint::CheckFile(file) => format!(" (canctl config check {file} lists them)"),
-        Hint::DumpDcf => " (canctl config dump makes one)".into(),
-        Hint::ResetNodeAndReadAgain { node } => format!(": reset the node (`canctl nmt reset {node}`) and read again"),
-        Hint::FreshSimNetwork => " (`canctl sim reset` starts afresh)".into(),
-        Hint::PreOperational { node } => format!(": a Stopped node answers no SDO (canctl nmt preop {node})"),
-        Hint::ReadErrorHistory { node } => format!(" (canctl errors {node})"),
-        Hint::ReadNmtState { node } => format!(" (canctl nmt state {node} says)"),
-        Hint::ResetNode { node } => format!(" (canctl nmt reset {node} does it)"),
-        Hint::RestoreStored { node } => format!(": `canctl restore {node}` loads the stored parameters"),
-    }
-}
-
-/// A node seen on the bus that answers no SDO, in parentheses after what could not be
-/// done with it: as a Stopped node, it is put in Pre-operational to answer.
-pub(crate) fn stopped_node_aside(node: u8) -> String {
-    format!(" (a Stopped node answers no SDO: canctl nmt preop {node})")
-}
+use super::remedies;
 
 /// A check's detail as canctl says it: what was found, then the remedy in canctl's terms.
 pub(crate) fn verdict_text(verdict: &crate::ops::verdict::Verdict) -> String {
+    use crate::ops::verdict::Remedy;
     let found = super::verdicts::finding_text(verdict);
-    match &verdict.remedy {
-        Some(hint) => format!("{found}{}", hint_text(hint.clone())),
+    match verdict.remedy {
+        Some(Remedy::PreOperational { node }) => found + &remedies::pre_operational(node),
+        Some(Remedy::ReadErrorHistory { node }) => found + &remedies::read_error_history(node),
         None => found,
     }
-}
-
-/// `; an adapter at another bit rate than the bus's ...`, with the address to give.
-fn adapter_bit_rate_hint(port: &str) -> String {
-    // The address without its rate: `slcan:/dev/ttyACM0@250k` -> `slcan:/dev/ttyACM0`.
-    let base = port.split_once('@').map_or(port, |(base, _)| base);
-    let rates: Vec<String> = crate::slcan::wire::BIT_RATES.iter().map(|(_, k)| crate::connect::kbit_text(*k)).collect();
-    format!(
-        "; frames nobody acknowledges are what an adapter at another bit rate than the bus's sees: give the \
-         bus's rate in the address, --bus {base}@RATE (RATE one of {}), or bus = \"{base}@RATE\" in canctl.toml",
-        rates.join(" ")
-    )
 }
 
 /// A library error as canctl says it: its message, then its remedy in canctl's terms.
@@ -106,38 +25,10 @@ pub fn library_error_text(err: &crate::Error) -> String {
             "{}{}{}",
             library_error_text(error),
             crate::error::tpdo_left(*node, *tpdo),
-            hint_text(Hint::RestoreStored { node: *node })
+            remedies::restore_stored(*node)
         ),
-        e => format!("{e}{}", Hint::of(e).map(hint_text).unwrap_or_default()),
+        e => format!("{e}{}", remedies::error_remedy(e).unwrap_or_default()),
     }
-}
-
-/// An error from a command as canctl prints it: its message (with its causes), then the
-/// remedy of the library's error in it, in canctl's terms, then what was learnt about it.
-pub fn error_text(err: &anyhow::Error) -> String {
-    let full = format!("{err:#}");
-    // A download's failure carries its own remedy (and wraps the library's error).
-    if let Some(f) = err.chain().find_map(|c| c.downcast_ref::<crate::ops::firmware::FirmwareError>()) {
-        if let Some(contexts) = full.strip_suffix(&f.to_string()) {
-            return format!("{contexts}{}", super::firmware::firmware_error_text(f));
-        }
-    }
-    if let Some(x) = err.chain().find_map(|c| c.downcast_ref::<Explained>()) {
-        if let Some(contexts) = full.strip_suffix(&x.to_string()) {
-            return format!("{contexts}{}{}", library_error_text(&x.error), x.advice);
-        }
-    }
-    let Some(e) = err.chain().find_map(library_error) else { return full };
-    // The library's error ends the chain (the contexts come before it): word it in place.
-    match full.strip_suffix(&e.to_string()) {
-        Some(contexts) => format!("{contexts}{}", library_error_text(e)),
-        None => format!("{full}{}", Hint::of(e).map(hint_text).unwrap_or_default()),
-    }
-}
-
-/// The library's error a cause in an error's chain is, or carries (an explained one).
-pub(crate) fn library_error<'a>(c: &'a (dyn std::error::Error + 'static)) -> Option<&'a crate::Error> {
-    c.downcast_ref::<crate::Error>().or_else(|| c.downcast_ref::<Explained>().map(|x| &x.error))
 }
 
 /// A library error with what the front end learnt about it ([`explained`]): the nodes the last
@@ -145,7 +36,7 @@ pub(crate) fn library_error<'a>(c: &'a (dyn std::error::Error + 'static)) -> Opt
 /// (`--format json` gives that finding as the error's `diagnosis`). It ends the process as
 /// `error` does; canctl prints `error` with its remedy, then `advice`.
 #[derive(Debug)]
-pub(crate) struct Explained {
+pub struct Explained {
     /// The library's error.
     pub(crate) error: crate::Error,
     /// What was learnt, in words, to follow the error's remedy.
@@ -185,7 +76,7 @@ pub(crate) fn explained(
     error: crate::Error,
     explanation: crate::ops::explain::Explanation,
     dicts: &crate::ops::dictionaries::Dictionaries,
-) -> anyhow::Error {
+) -> super::CommandError {
     use crate::ops::explain::Explanation;
     match explanation {
         Explanation::Link(link) => link.into(),
@@ -199,28 +90,6 @@ pub(crate) fn explained(
             error.advised(crate::error::Advice::Near(near)).into()
         }
     }
-}
-
-/// Why a command that needs a bus has none, how to name one, and the CAN `interfaces` and
-/// serial `ports` this machine has (the caller lists them: output does no I/O of the bus's).
-pub fn no_bus_text(interfaces: &[String], ports: &[String]) -> String {
-    let list = |v: &[String]| {
-        if v.is_empty() {
-            "none found".to_string()
-        } else {
-            v.join(", ")
-        }
-    };
-    format!(
-        "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
-         CAN interfaces here: {}\n  \
-         serial ports here:   {}\n  \
-         forms: socketcan:can0 (or can0), slcan:/dev/ttyACM0@500k, epos2-rs232:/dev/ttyS0?baud=115200, \
-         epos2-usb:/dev/ttyUSB0, socketcand:HOST[:PORT]/IFACE\n  \
-         no hardware? try the demo network: canctl --bus sim scan",
-        list(interfaces),
-        list(ports)
-    )
 }
 
 /// What the user must do to bring a link that does not follow an LSS switch to `index`.
@@ -243,22 +112,15 @@ pub fn switch_hint(uri: Option<&str>, index: u8) -> String {
     }
 }
 
-/// `text`, which tells `failure` (a report row's), with the failure's remedy in canctl's
-/// terms after its message, where the error's message would have carried it.
-pub(crate) fn with_remedy(text: &str, failure: &crate::hint::Failure) -> String {
-    match &failure.hint {
-        Some(hint) => text.replacen(&failure.message, &format!("{}{}", failure.message, hint_text(hint.clone())), 1),
-        None => text.to_string(),
-    }
+/// A failure a report row tells of, as canctl says it: the error with its remedy.
+pub(crate) fn failure_text(failure: &crate::ops::failure::Failure) -> String {
+    library_error_text(&failure.error)
 }
 
 /// What happened to one object of a `config apply`, as canctl says it: a failed write
 /// with its remedy.
 pub(crate) fn change_result_text(outcome: &crate::ops::config::Outcome) -> String {
-    match &outcome.action {
-        crate::ops::config::Action::Failed(f) => with_remedy(&outcome.to_string(), f),
-        _ => outcome.to_string(),
-    }
+    outcome.text(failure_text)
 }
 
 /// A report's JSON `changes`, each `result` as canctl says it ([`change_result_text`]).
@@ -273,24 +135,25 @@ pub(crate) fn word_change_results(value: &mut serde_json::Value, changes: &[crat
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::output::CommandError;
 
     /// What the user reads is what canctl printed before the remedy was typed.
     #[test]
     fn the_remedy_follows_the_message_naming_the_flag() {
-        let e = anyhow::Error::from(crate::Error::NoStoredEds { node: 5 });
+        let e = CommandError::from(crate::Error::NoStoredEds { node: 5 });
         assert_eq!(
-            error_text(&e),
+            e.text(),
             "node 5: the device does not store its EDS (0x1021); get the EDS from its vendor and give it with --eds"
         );
-        let e = anyhow::Error::from(crate::Error::NodeIdInUse { node: 7, identity: None, by: "its heartbeat" });
-        assert!(error_text(&e).ends_with(
+        let e = CommandError::from(crate::Error::NodeIdInUse { node: 7, identity: None, by: "its heartbeat" });
+        assert!(e.text().ends_with(
             "Nothing was sent; choose a free id (canctl scan lists those in use), or --force gives it anyway"
         ));
-        let e = anyhow::Error::from(crate::Error::Interrupted);
-        assert_eq!(error_text(&e), format!("{e:#}"));
+        let e = CommandError::from(crate::Error::Interrupted);
+        assert_eq!(e.text(), e.to_string());
     }
 
-    /// The errors whose remedy became a `Hint` read as they did when the library named the
+    /// The errors whose remedy became typed read as they did when the library named the
     /// flag itself (the type's and the EPOS2's reworded only to keep the flag out of the
     /// message: the same facts, the same remedy).
     #[test]
@@ -358,8 +221,8 @@ mod tests {
     fn a_failure_kept_in_a_row_reads_as_the_error() {
         use crate::canopen::lss::Identity;
         use crate::error::Service;
-        use crate::hint::Failure;
         use crate::ops::config::{Action, Outcome};
+        use crate::ops::failure::Failure;
         let id = Identity { vendor: 1, product: 2, revision: 3, serial: 4 };
         let absent = |lss| crate::Error::NoAnswer {
             node: 5,
@@ -381,8 +244,7 @@ mod tests {
         ] {
             let f = Failure::from(&e);
             assert_eq!(f.to_string(), e.to_string());
-            let row = format!("node-id given over LSS; failed: {e}");
-            assert_eq!(with_remedy(&row, &f), format!("node-id given over LSS; failed: {}", library_error_text(&e)));
+            assert_eq!(failure_text(&f), library_error_text(&e));
             let outcome = Outcome { action: Action::Failed(f), interim: None, rollback: true, read_back: None };
             assert_eq!(change_result_text(&outcome), format!("failed: {} (rollback)", library_error_text(&e)));
         }
@@ -392,10 +254,10 @@ mod tests {
     /// TPDO left changed) read as when the library named the command itself.
     #[test]
     fn report_remedies_made_typed_read_as_before() {
-        use crate::ops::verdict::{Finding, Logged, Verdict};
+        use crate::ops::verdict::{Finding, Logged, Remedy, Verdict};
         let from = crate::ops::scan::StateFrom::Heartbeat;
         let sdo = Verdict::new("sdo", false, Finding::SilentToSdo { from })
-            .with_remedy(Some(Hint::PreOperational { node: 5 }));
+            .with_remedy(Some(Remedy::PreOperational { node: 5 }));
         assert_eq!(
             verdict_text(&sdo),
             "answered none of the scan's probes in time, though the bus shows it is there (heartbeat): a Stopped \
@@ -403,7 +265,7 @@ mod tests {
         );
         let register =
             Verdict::new("error register", true, Finding::Register { register: 0, logged: Logged::Count(2) })
-                .with_remedy(Some(Hint::ReadErrorHistory { node: 7 }));
+                .with_remedy(Some(Remedy::ReadErrorHistory { node: 7 }));
         assert_eq!(verdict_text(&register), "0x00: no error; 2 error(s) logged in 0x1003 (canctl errors 7)");
         let operational = Finding::State { state: crate::canopen::nmt::State::Operational, from };
         assert_eq!(verdict_text(&Verdict::new("nmt", true, operational)), "operational (from heartbeat)");
@@ -422,6 +284,6 @@ mod tests {
         assert_eq!(e.to_string(), format!("{}{left}", e.root()));
         assert!(!e.to_string().contains("canctl"), "{e}");
         assert_eq!(library_error_text(&e), before);
-        assert_eq!(error_text(&anyhow::Error::from(e)), before);
+        assert_eq!(CommandError::from(e).text(), before);
     }
 }

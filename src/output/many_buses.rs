@@ -5,6 +5,7 @@
 
 use super::{Human, Report, TestCase, TestSuite};
 use crate::ops::many_buses::Ended;
+use crate::ops::unmet::Shortfall;
 use serde_json::{json, Value};
 
 /// A bus's failure as shown: its message, the exit code it would have ended with alone,
@@ -24,9 +25,19 @@ impl Failure {
             (true, None) => {
                 ("interrupted before its report was complete; nothing was changed on the devices".into(), None)
             }
-            _ => (super::library_error_text(e), e.names_bus().map(str::to_string)),
+            _ => shortfall_text(e),
         };
         Some(Self { text, exit_code: e.exit_code(), names_bus })
+    }
+}
+
+/// A bus's shortfall as canctl says it, and the bus its words begin with, if they name one.
+fn shortfall_text(e: &Shortfall) -> (String, Option<String>) {
+    match e {
+        Shortfall::Failed(e) => (super::library_error_text(e), e.names_bus().map(str::to_string)),
+        Shortfall::Unmet(u) => (u.to_string(), u.names_bus().map(str::to_string)),
+        // One bus's run is never several buses'.
+        Shortfall::OnBuses { worst, .. } => shortfall_text(worst),
     }
 }
 
@@ -185,8 +196,8 @@ mod tests {
         }
     }
 
-    fn failed(bus: &str, error: crate::Error) -> Ended<Nothing> {
-        Ended { bus: bus.into(), report: None, error: Some(error) }
+    fn failed(bus: &str, error: impl Into<Shortfall>) -> Ended<Nothing> {
+        Ended { bus: bus.into(), report: None, error: Some(error.into()) }
     }
 
     fn lines(runs: Vec<Ended<Nothing>>) -> Vec<String> {
@@ -198,10 +209,10 @@ mod tests {
     /// when it names another (one whose name the first's begins) or merely begins alike.
     #[test]
     fn a_failure_is_prefixed_with_its_bus_unless_it_names_that_bus() {
-        let unhealthy = |bus: &str| crate::Error::Unhealthy {
+        let unhealthy = |bus: &str| crate::ops::unmet::Unmet::Unhealthy {
             bus: bus.into(),
             total: 1,
-            nodes: vec![crate::error::NotHealthy { node: 5, failed: vec!["nmt"] }],
+            nodes: vec![crate::ops::unmet::NotHealthy { node: 5, failed: vec!["nmt"] }],
         };
         let state = crate::error::LinkError::StateFile {
             path: "/tmp/s.json".into(),
@@ -212,7 +223,7 @@ mod tests {
         let shown = lines(vec![
             failed("socketcan:vcan1", unhealthy("socketcan:vcan1")),
             failed("socketcan:vcan1", unhealthy("socketcan:vcan10")),
-            failed("sim", state.into()),
+            failed("sim", crate::Error::from(state)),
         ]);
         assert_eq!(
             shown,

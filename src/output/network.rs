@@ -1,6 +1,7 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
 use super::{Human, Output, Report, TestCase, TestSuite};
+use crate::ops::failure::Failure;
 use crate::ops::network::{
     Applied, BaudSwitched, Checked, Dumped, LoadWarning, NodeApplied, NodeCheck, NodeResult, Outcome, PROJECT_FILE,
 };
@@ -92,9 +93,9 @@ fn unconfigured_note(count: usize) -> String {
 /// A check's detail with its remedy as `network check` words it: a node that answers no
 /// SDO is told in parentheses, after what cannot be checked.
 fn detail_text(c: &crate::ops::network::Verdict) -> String {
-    match &c.remedy {
-        Some(crate::hint::Hint::PreOperational { node }) => {
-            format!("{}{}", super::verdicts::finding_text(c), super::hints::stopped_node_aside(*node))
+    match c.remedy {
+        Some(crate::ops::verdict::Remedy::PreOperational { node }) => {
+            format!("{}{}", super::verdicts::finding_text(c), super::remedies::stopped_node_aside(node))
         }
         _ => super::hints::verdict_text(c),
     }
@@ -190,17 +191,21 @@ impl Report for Checked {
 
 impl Report for Applied {
     fn human(&self) -> Human {
-        let rows = self
-            .nodes
-            .iter()
-            .map(|n| vec![n.node.to_string(), n.name.clone(), n.written.to_string(), row_result_text(n)]);
+        let rows = self.nodes.iter().map(|n| {
+            vec![
+                n.node.to_string(),
+                n.name.clone(),
+                n.written.to_string(),
+                node_result_words(n, super::hints::failure_text),
+            ]
+        });
         Human::Table { headers: vec!["node", "name", "written", "result"], rows: rows.collect(), when_empty: true }
     }
 
     fn json_value(&self) -> serde_json::Value {
         let mut value = serde_json::to_value(self).expect("reports serialise");
         for (k, n) in self.nodes.iter().enumerate() {
-            value["nodes"][k]["result"] = row_result_text(n).into();
+            value["nodes"][k]["result"] = node_result_words(n, super::hints::failure_text).into();
             super::hints::word_change_results(&mut value["nodes"][k]["objects"], &n.objects);
         }
         value
@@ -254,15 +259,9 @@ impl Report for Applied {
     }
 }
 
-/// A node's result as canctl says it: a failure with its remedy.
-fn row_result_text(n: &NodeApplied) -> String {
-    let words = node_result_words(n);
-    n.failure.as_ref().map_or_else(|| words.clone(), |f| super::hints::with_remedy(&words, f))
-}
-
-/// What happened to a node, in a sentence (a failure's remedy not yet added): its node-id
+/// What happened to a node, in a sentence, its failure worded by `failure`: its node-id
 /// given over LSS first, then what its DCF did, then its reset.
-pub(super) fn node_result_words(n: &NodeApplied) -> String {
+pub(super) fn node_result_words(n: &NodeApplied, failure: fn(&Failure) -> String) -> String {
     let node = n.node;
     let verified = |v: bool| if v { ", verified" } else { "" };
     let what = match &n.result {
@@ -274,7 +273,7 @@ pub(super) fn node_result_words(n: &NodeApplied) -> String {
             format!("{count} object(s) written{}{}", verified(*v), if *stored { ", stored" } else { "" })
         }
         NodeResult::Failed => match &n.failure {
-            Some(f) => format!("failed: {f}"),
+            Some(f) => format!("failed: {}", failure(f)),
             None => "failed".to_string(),
         },
         NodeResult::Interrupted { incomplete, not_stored } => {
@@ -616,20 +615,26 @@ mod tests {
     fn a_node_result_is_worded_with_its_node_id_and_reset() {
         let written = NodeResult::Written { count: 3, verified: true, stored: true };
         assert_eq!(
-            node_result_words(&row(written, Some("0x1/0x2/0x3/0x4"), Some(false))),
+            node_result_words(&row(written, Some("0x1/0x2/0x3/0x4"), Some(false)), crate::output::hints::failure_text),
             "node-id given over LSS; 3 object(s) written, verified, stored, reset, but not back"
         );
         assert_eq!(
-            node_result_words(&row(NodeResult::WouldAssign, Some("0x1/0x2/0x3/0x4"), None)),
+            node_result_words(
+                &row(NodeResult::WouldAssign, Some("0x1/0x2/0x3/0x4"), None),
+                crate::output::hints::failure_text
+            ),
             "would be looked for over LSS (0x1/0x2/0x3/0x4) and given node-id 20"
         );
         assert_eq!(
-            node_result_words(&row(NodeResult::NotConfigured { interrupted: false }, Some("x"), None)),
+            node_result_words(
+                &row(NodeResult::NotConfigured { interrupted: false }, Some("x"), None),
+                crate::output::hints::failure_text
+            ),
             "node-id given over LSS; not configured: the run ended (link lost) before this node was begun"
         );
         let stopped = NodeResult::StoppedBeforeStore { written: 3, verified: false };
         assert_eq!(
-            node_result_words(&row(stopped, None, None)),
+            node_result_words(&row(stopped, None, None), crate::output::hints::failure_text),
             "interrupted: 3 object(s) written, not stored (canctl store 20 keeps them)"
         );
     }
@@ -650,7 +655,7 @@ mod tests {
         let stopped = crate::canopen::nmt::State::Stopped;
         let silent = crate::ops::network::Finding::SilentListed { node: 5, state: stopped, rounds: 3, window_ms: 100 };
         let v = crate::ops::network::Verdict::new("present", false, silent)
-            .with_remedy(Some(crate::hint::Hint::PreOperational { node: 5 }));
+            .with_remedy(Some(crate::ops::verdict::Remedy::PreOperational { node: 5 }));
         assert_eq!(detail_text(&v), format!("{said} (a Stopped node answers no SDO: canctl nmt preop 5)"));
     }
 }

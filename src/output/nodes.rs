@@ -84,7 +84,7 @@ fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
                     0x580 + u16::from(f.node),
                     f.node
                 ),
-                (None, crate::canopen::nmt::State::Stopped) => super::hints::stopped_node_aside(f.node),
+                (None, crate::canopen::nmt::State::Stopped) => super::remedies::stopped_node_aside(f.node),
                 (None, _) => format!(" (its SDO server is off or on other COB-IDs: canctl doctor {} says more)", f.node),
             };
             parts.push(Human::Line(format!(

@@ -46,7 +46,3 @@ pub(crate) fn serve_refusal(e: &ServeError) -> Option<String> {
             .into(),
     })
 }
-
-/// `canctl sim` given a bus that is not the sim network.
-pub(crate) const NOT_A_SIM_BUS: &str =
-    "`canctl sim` runs the simulated network: use --bus sim or sim:PATH (or no --bus)";

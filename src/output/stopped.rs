@@ -3,7 +3,6 @@
 
 use super::{sentence, Each, Output, Report};
 use crate::canopen::ObjAddr;
-use crate::hint::Hint;
 use crate::ops::store_all::{EachNode, Ended, StoppedBefore};
 use crate::Error;
 use serde::Serialize;
@@ -37,14 +36,19 @@ impl Stopped {
 }
 
 /// Say `report`, then end as an interruption.
-fn said(out: &Output, report: &Stopped) -> anyhow::Result<()> {
+fn said(out: &Output, report: &Stopped) -> crate::output::CommandResult {
     out.report(report)?;
     Err(Error::Interrupted.into())
 }
 
 /// What a read-only command read, or, stopped part-way (`not_done`: what it was reading),
 /// its report saying so and an interruption; any other error as it is.
-pub(crate) fn read<R>(out: &Output, command: &str, not_done: String, read: crate::Result<R>) -> anyhow::Result<R> {
+pub(crate) fn read<R>(
+    out: &Output,
+    command: &str,
+    not_done: String,
+    read: crate::Result<R>,
+) -> crate::output::CommandResult<R> {
     match read {
         Err(e) if e.is_interrupted() => {
             out.report(&Stopped::new(command, Vec::new(), vec![not_done], NOTHING_CHANGED.into()))?;
@@ -65,7 +69,7 @@ fn not_written(file: Option<&Path>, what: &str) -> String {
 }
 
 /// An NMT command stopped by the user before it went out; any other error as it is.
-pub(crate) fn nmt_not_sent(out: &Output, name: &str, target: u8, e: Error) -> anyhow::Result<()> {
+pub(crate) fn nmt_not_sent(out: &Output, name: &str, target: u8, e: Error) -> crate::output::CommandResult {
     if !e.is_interrupted() {
         return Err(e.into());
     }
@@ -83,7 +87,7 @@ pub(crate) fn sdo(
     (node, object, write): (u8, ObjAddr, bool),
     file: Option<&Path>,
     e: Error,
-) -> anyhow::Result<()> {
+) -> crate::output::CommandResult {
     let Some(mut report) = sdo_stopped(node, object, write, &e) else { return Err(e.into()) };
     if let Some(path) = file {
         let old = if path.exists() { "the old file is unchanged" } else { "nothing written" };
@@ -126,7 +130,6 @@ fn sdo_stopped(node: u8, object: ObjAddr, write: bool, e: &Error) -> Option<Stop
 /// Where a node's store or restore was stopped, as canctl says it: what was done on it,
 /// what was not, the state it is left in and what to do about that.
 fn node_stop_report(stop: StoppedBefore) -> Stopped {
-    let remedy = |hint| super::hints::hint_text(hint);
     match stop {
         StoppedBefore::Save { node, class } => Stopped::new(
             "store",
@@ -146,7 +149,7 @@ fn node_stop_report(stop: StoppedBefore) -> Stopped {
             vec![format!("NMT reset of node {node}")],
             format!(
                 "node {node}: the defaults are loaded and apply from its next reset{}",
-                remedy(Hint::ResetNode { node })
+                super::remedies::reset_node(node)
             ),
         ),
         StoppedBefore::BootUp { node, object } => Stopped::new(
@@ -156,7 +159,7 @@ fn node_stop_report(stop: StoppedBefore) -> Stopped {
             format!(
                 "node {node}: the defaults are loaded and the reset went out; whether it booted with them is not \
                  known{}",
-                remedy(Hint::ReadNmtState { node })
+                super::remedies::read_nmt_state(node)
             ),
         ),
     }
@@ -164,7 +167,7 @@ fn node_stop_report(stop: StoppedBefore) -> Stopped {
 
 /// `config eds` stopped while reading the node's stored EDS; `e` (the interruption) is
 /// returned as it is.
-pub(crate) fn config_eds(out: &Output, node: u8, file: Option<&Path>, e: Error) -> anyhow::Result<()> {
+pub(crate) fn config_eds(out: &Output, node: u8, file: Option<&Path>, e: Error) -> crate::output::CommandResult {
     let not_done = vec![format!("reading node {node}'s EDS (0x1021)"), not_written(file, "EDS")];
     out.report(&Stopped::new("config eds", vec![], not_done, NOTHING_CHANGED.into()))?;
     Err(e.into())
@@ -178,7 +181,7 @@ pub(crate) fn config_dump(
     objects: usize,
     wanted: usize,
     file: Option<&Path>,
-) -> anyhow::Result<()> {
+) -> crate::output::CommandResult {
     let read = match wanted {
         0 => format!("node {node}'s profile not read yet"),
         wanted => format!("read {objects} of {wanted} objects of node {node}"),
@@ -195,7 +198,7 @@ pub(crate) fn each_node<R: Report + serde::Serialize>(
     command: &str,
     nodes: &[u8],
     run: EachNode<R>,
-) -> anyhow::Result<()> {
+) -> crate::output::CommandResult {
     let EachNode { done, ended } = run;
     let i = done.len();
     match ended {

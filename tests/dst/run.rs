@@ -234,7 +234,8 @@ pub fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Repor
                 interrupted: stop.clone(),
             };
             let applied = ops::network::apply(bus, loaded, &o, &mut Silent)?;
-            if let Some(e) = applied.failure {
+            // A failure ends the run; a verdict (a node not in the project) is the report's.
+            if let Some(ops::unmet::Shortfall::Failed(e)) = applied.failure {
                 return Err(e);
             }
             Ok(Report::Project(applied.nodes.iter().map(|n| (n.node, n.ok)).collect()))

@@ -238,7 +238,7 @@ fn an_erase_that_outlasts_the_bound_ends_with_the_polls_stated() {
     assert!(e.to_string().contains("polls") && !e.to_string().contains("--"), "{e}");
     assert_eq!(e.error.class(), ErrorClass::Timeout);
     assert_eq!(e.report.device, Where::BootloaderNoProgram);
-    let said = canctl::output::error_text(&anyhow::Error::from(e.error));
+    let said = canctl::output::CommandError::from(e.error).text();
     assert!(said.ends_with("the device may need longer: give --busy-wait"), "{said}");
     // The erase goes on in the device: given the time, the same command finishes.
     let r = firmware::download(&mut bus, NODE, &image(1000), &DownloadOptions::new(TIMEOUT), &mut Silent).unwrap();

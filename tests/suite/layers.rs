@@ -393,8 +393,8 @@ fn flags_named(text: &str) -> Vec<String> {
 }
 
 /// Library strings that still name a flag or a command of canctl, as `(file, name, why it
-/// stays)`. A remedy naming a flag or a command is the command line's to word (`hint::Hint`,
-/// `output/hints.rs`); empty this list, do not grow it.
+/// stays)`. A remedy naming a flag or a command is the command line's to word
+/// (`output/remedies.rs`); empty this list, do not grow it.
 const NAMING: &[(&str, &str, &str)] = &[
     ("crates/sim/src/faults.rs", "--fault", "echoes the --fault value the user gave, parsed in sim"),
     (

@@ -21,7 +21,7 @@ pub const VALUE_IDLE_LIMIT: Duration = Duration::from_secs(10);
 
 /// Why an input file (EDS, DCF, value file) was not read: the limits keep a wrong path or an
 /// endless pipe from eating memory or hanging.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 #[non_exhaustive]
 pub enum InputError {
     /// The file could not be opened or read.
@@ -31,7 +31,7 @@ pub enum InputError {
         path: String,
         /// What the system said: in the text, not a cause of its own (which would say it
         /// again where causes are listed).
-        error: std::io::Error,
+        error: std::sync::Arc<std::io::Error>,
     },
     /// The file is larger than its kind may be.
     #[error("{path}: larger than {}, the limit for {what}", size_text(*.limit))]
@@ -90,8 +90,8 @@ pub const VALUE: Limit = Limit { bytes: MAX_VALUE_BYTES, what: "a value file" };
 /// are refused without reading (and without blocking on opening them).
 pub fn read_regular_file(path: &Path, limit: Limit) -> Result<Vec<u8>, InputError> {
     let shown = path.display().to_string();
-    let file = open_nonblocking(path).map_err(|error| InputError::Io { path: shown.clone(), error })?;
-    let meta = file.metadata().map_err(|error| InputError::Io { path: shown.clone(), error })?;
+    let file = open_nonblocking(path).map_err(|error| InputError::Io { path: shown.clone(), error: error.into() })?;
+    let meta = file.metadata().map_err(|error| InputError::Io { path: shown.clone(), error: error.into() })?;
     if !meta.is_file() {
         return Err(InputError::NotRegular { path: shown, kind: kind_of(&meta), what: limit.what });
     }
@@ -107,8 +107,9 @@ pub fn read_value_file(path: &str, limit: Limit, idle: Duration) -> Result<Vec<u
     if path == "-" {
         return read_stream(std::io::stdin(), "standard input", limit, idle);
     }
-    let file = open_nonblocking(Path::new(path)).map_err(|error| InputError::Io { path: path.into(), error })?;
-    let meta = file.metadata().map_err(|error| InputError::Io { path: path.into(), error })?;
+    let file =
+        open_nonblocking(Path::new(path)).map_err(|error| InputError::Io { path: path.into(), error: error.into() })?;
+    let meta = file.metadata().map_err(|error| InputError::Io { path: path.into(), error: error.into() })?;
     if meta.is_dir() {
         return Err(InputError::NotRegular { path: path.into(), kind: "a directory", what: limit.what });
     }
@@ -124,7 +125,10 @@ pub fn read_value_file(path: &str, limit: Limit, idle: Duration) -> Result<Vec<u
 /// Reads at most `limit` bytes; one more means the source is too large.
 fn read_limited(source: impl Read, path: &str, limit: Limit) -> Result<Vec<u8>, InputError> {
     let mut data = Vec::new();
-    source.take(limit.bytes + 1).read_to_end(&mut data).map_err(|error| InputError::Io { path: path.into(), error })?;
+    source
+        .take(limit.bytes + 1)
+        .read_to_end(&mut data)
+        .map_err(|error| InputError::Io { path: path.into(), error: error.into() })?;
     if data.len() as u64 > limit.bytes {
         return Err(InputError::TooLarge { path: path.into(), limit: limit.bytes, what: limit.what });
     }
@@ -141,7 +145,7 @@ fn read_stream(
     idle: Duration,
 ) -> Result<Vec<u8>, InputError> {
     use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
-    let io_err = |error| InputError::Io { path: path.into(), error };
+    let io_err = |error: std::io::Error| InputError::Io { path: path.into(), error: error.into() };
     let mut data = Vec::new();
     let mut chunk = vec![0u8; 64 << 10];
     let timeout = PollTimeout::try_from(idle).unwrap_or(PollTimeout::MAX);

@@ -54,9 +54,11 @@ pub struct SocketcandServer {
 impl SocketcandServer {
     /// Listen on `addr` (port 0: any free one) and take clients from now on.
     pub fn bind(addr: SocketAddr) -> Result<SocketcandServer> {
-        let listener =
-            TcpListener::bind(addr).map_err(|error| LinkError::Open { port: format!("TCP {addr}"), error })?;
-        let addr = listener.local_addr().map_err(|error| LinkError::Open { port: format!("TCP {addr}"), error })?;
+        let listener = TcpListener::bind(addr)
+            .map_err(|error: std::io::Error| LinkError::Open { port: format!("TCP {addr}"), error: error.into() })?;
+        let addr = listener
+            .local_addr()
+            .map_err(|error: std::io::Error| LinkError::Open { port: format!("TCP {addr}"), error: error.into() })?;
         let clients: Clients = Arc::default();
         let (tx, from_clients) = mpsc::channel();
         let shared = clients.clone();
@@ -273,7 +275,7 @@ pub fn beacon_target(bound: SocketAddr, port: u16) -> SocketAddr {
 /// from a thread of its own, for as long as the process runs. A beacon that cannot be sent
 /// (no network, broadcasts refused) is skipped: serving goes on without it.
 pub fn start_beacon(bound: SocketAddr, target: SocketAddr) -> Result<()> {
-    let open = |error| LinkError::Open { port: format!("UDP beacon to {target}"), error };
+    let open = |error: std::io::Error| LinkError::Open { port: format!("UDP beacon to {target}"), error: error.into() };
     let local: SocketAddr = match target {
         SocketAddr::V4(_) => (std::net::Ipv4Addr::UNSPECIFIED, 0).into(),
         SocketAddr::V6(_) => (std::net::Ipv6Addr::UNSPECIFIED, 0).into(),

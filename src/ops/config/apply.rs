@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::error::Advice;
-use crate::hint::Failure;
+use crate::ops::failure::Failure;
 
 /// How to apply a DCF.
 #[derive(Clone, Debug)]
@@ -211,31 +211,41 @@ impl Outcome {
     }
 }
 
-impl std::fmt::Display for Outcome {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.action {
-            Action::Written => write!(f, "written")?,
-            Action::Failed(e) => write!(f, "failed: {e}")?,
-            Action::NotWritten => write!(f, "not written")?,
-            Action::NotWrittenInterrupted => write!(f, "not written (interrupted)")?,
-            Action::WouldWrite => write!(f, "would write")?,
-            Action::WouldNotBeWritten => write!(f, "would not be written")?,
-            Action::WouldBeRefused(code) => write!(f, "would be refused: {}", abort::meaning(*code))?,
-            Action::WouldBeRefusedReadOnly(source) => write!(f, "would be refused: read only in {source}")?,
-            Action::NotOnDevice(code) => write!(f, "not on the device ({})", abort::meaning(*code))?,
-            Action::ReadOnlyOnDevice(access) => write!(f, "{access} on the device: not written")?,
-        }
+impl Outcome {
+    /// The outcome in words, a failed write's error worded by `failure` (a front end adds
+    /// its remedy).
+    pub fn text(&self, failure: impl Fn(&Failure) -> String) -> String {
+        let mut text = match &self.action {
+            Action::Written => "written".to_string(),
+            Action::Failed(e) => format!("failed: {}", failure(e)),
+            Action::NotWritten => "not written".to_string(),
+            Action::NotWrittenInterrupted => "not written (interrupted)".to_string(),
+            Action::WouldWrite => "would write".to_string(),
+            Action::WouldNotBeWritten => "would not be written".to_string(),
+            Action::WouldBeRefused(code) => format!("would be refused: {}", abort::meaning(*code)),
+            Action::WouldBeRefusedReadOnly(source) => format!("would be refused: read only in {source}"),
+            Action::NotOnDevice(code) => format!("not on the device ({})", abort::meaning(*code)),
+            Action::ReadOnlyOnDevice(access) => format!("{access} on the device: not written"),
+        };
         if self.rollback {
-            write!(f, " (rollback)")?;
+            text.push_str(" (rollback)");
         }
         if let Some(interim) = &self.interim {
-            write!(f, " ({interim})")?;
+            text.push_str(&format!(" ({interim})"));
         }
         match &self.read_back {
-            Some(ReadBack::Verified) => write!(f, ", verified"),
-            Some(ReadBack::Differs(got)) => write!(f, ", reads back {got}"),
-            None => Ok(()),
+            Some(ReadBack::Verified) => text.push_str(", verified"),
+            Some(ReadBack::Differs(got)) => text.push_str(&format!(", reads back {got}")),
+            None => {}
         }
+        text
+    }
+}
+
+/// The outcome in words, a failed write's error by its message.
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.text(|e| e.to_string()))
     }
 }
 

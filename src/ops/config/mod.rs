@@ -327,15 +327,20 @@ pub struct Difference {
 }
 
 impl Diff {
-    /// A verification error when anything differs; interrupted, the interruption.
-    pub fn check(&self) -> Result<()> {
+    /// The verdict (exit 6) when anything differs; interrupted, the interruption.
+    pub fn check(&self) -> Result<(), crate::ops::unmet::Shortfall> {
         if self.interrupted {
-            return Err(Error::Interrupted);
+            return Err(Error::Interrupted.into());
         }
         if self.differences.is_empty() {
             return Ok(());
         }
-        Err(Error::Differs { node: self.node, file: self.file.clone(), count: self.differences.len() })
+        Err(crate::ops::unmet::Unmet::Differs {
+            node: self.node,
+            file: self.file.clone(),
+            count: self.differences.len(),
+        }
+        .into())
     }
 }
 

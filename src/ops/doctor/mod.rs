@@ -113,11 +113,11 @@ impl Heard {
 }
 
 impl Diagnosis {
-    /// A verification error (exit 6) when a problem was found.
-    pub fn outcome(&self) -> Result<()> {
+    /// The verdict (exit 6) when a problem was found.
+    pub fn outcome(&self) -> Result<(), crate::ops::unmet::Unmet> {
         match self.findings.len() {
             0 => Ok(()),
-            count => Err(Error::Diagnosed { bus: self.bus.clone(), count }),
+            count => Err(crate::ops::unmet::Unmet::Diagnosed { bus: self.bus.clone(), count }),
         }
     }
 }

@@ -12,11 +12,15 @@ fn each_link_failure_names_the_host_or_the_controller() {
     let cause = |e: LinkError| link_finding(&e).cause;
     assert_eq!(cause(LinkError::Down { iface: "can0".into() }), Cause::Host { problem: HostProblem::InterfaceDown });
     assert_eq!(
-        cause(LinkError::Open { port: "can0".into(), error: io(std::io::ErrorKind::PermissionDenied, None) }),
+        cause(LinkError::Open { port: "can0".into(), error: io(std::io::ErrorKind::PermissionDenied, None).into() }),
         Cause::Host { problem: HostProblem::NoPermission }
     );
     assert_eq!(
-        cause(LinkError::Io { port: "can0".into(), op: "send", error: io(std::io::ErrorKind::Other, Some(enobufs())) }),
+        cause(LinkError::Io {
+            port: "can0".into(),
+            op: "send",
+            error: io(std::io::ErrorKind::Other, Some(enobufs())).into()
+        }),
         Cause::Host { problem: HostProblem::TransmitQueueFull }
     );
     assert_eq!(

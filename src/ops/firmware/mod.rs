@@ -323,15 +323,6 @@ impl FirmwareError {
             FirmwareError::IdMismatch { .. } => ErrorClass::Verify,
         }
     }
-
-    /// What the user can do about it, for the front end to word.
-    pub(crate) fn hint(&self) -> Option<crate::hint::Hint> {
-        match self {
-            FirmwareError::Bus(e) => crate::hint::Hint::of(e),
-            FirmwareError::StillBusy { .. } => Some(crate::hint::Hint::LongerBusyWait),
-            _ => None,
-        }
-    }
 }
 
 /// A download that did not finish: the error, and the report of what was done and where

@@ -1,6 +1,7 @@
 //! `network apply`: every listed node brought to its DCF, node-ids over LSS first.
 
 use super::*;
+use crate::ops::unmet::{NetworkDifference, Shortfall, Unmet};
 
 /// How to apply a project.
 #[derive(Clone, Debug)]
@@ -45,9 +46,9 @@ pub struct Applied {
     /// Whether the network now matches the project ([`matches`]): every node brought to
     /// its DCF, none unlisted.
     pub ok: bool,
-    /// The first failure (its exit code is the command's).
+    /// The first failure, or the verdict (its exit code is the command's).
     #[serde(skip)]
-    pub failure: Option<Error>,
+    pub failure: Option<Shortfall>,
 }
 
 /// What applying its DCF did to one node.
@@ -76,7 +77,7 @@ pub struct NodeApplied {
     pub reset: Option<bool>,
     /// The failure the result tells, typed: its message and remedy for the front end to word.
     #[serde(skip)]
-    pub failure: Option<crate::hint::Failure>,
+    pub failure: Option<crate::ops::failure::Failure>,
     /// What happened, in one word: the summary counts these, as the table shows them.
     pub outcome: Outcome,
     /// The node now matches its DCF.
@@ -156,7 +157,7 @@ pub enum Outcome {
 
 impl Applied {
     /// The command's outcome: Ok when the network matches the project, else the first failure, or a verification error (exit 6).
-    pub fn outcome(self) -> Result<()> {
+    pub fn outcome(self) -> Result<(), Shortfall> {
         match self.failure {
             Some(e) => Err(e),
             None => Ok(()),
@@ -348,7 +349,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     }
     let interrupted = stop();
     let mut nodes = Vec::new();
-    let mut failure = interrupted.then_some(Error::Interrupted);
+    let mut failure = interrupted.then_some(Shortfall::Failed(Error::Interrupted));
     for (i, outcome) in rows.into_iter().enumerate() {
         match outcome {
             // Given its node-id over LSS, then not configured: stopped by the user, or the
@@ -361,7 +362,7 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
             }
             Some((row, error)) => {
                 if let Some(e) = error {
-                    failure.get_or_insert(e);
+                    failure.get_or_insert(e.into());
                 }
                 nodes.push(row);
             }
@@ -378,12 +379,12 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     let written = nodes.iter().map(|n| n.written).sum();
     let unlisted = unlisted(&found, loaded);
     if !unlisted.is_empty() {
-        let list: Vec<String> = unlisted.iter().map(|u| u.node.to_string()).collect();
-        failure.get_or_insert(Error::NetworkDiffers {
+        let answering = unlisted.iter().map(|u| u.node).collect();
+        failure.get_or_insert(Shortfall::Unmet(Unmet::NetworkDiffers {
             bus: bus.describe(),
             project: loaded.file.display().to_string(),
-            differences: vec![format!("node(s) {} answer but are not in the project", list.join(", "))],
-        });
+            differences: vec![NetworkDifference::AnswerNotInProject(answering)],
+        }));
     }
     Ok(Applied {
         project: loaded.file.display().to_string(),

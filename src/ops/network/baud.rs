@@ -1,6 +1,7 @@
 //! `network set-baud`: the whole bus switched to a new bit rate over LSS.
 
 use super::*;
+use crate::ops::unmet::{Shortfall, Unmet};
 
 /// How to switch a network's bit rate.
 #[derive(Clone, Debug)]
@@ -93,12 +94,12 @@ pub struct BaudSwitched {
     pub ok: bool,
     /// Why it is not (its exit code is the command's).
     #[serde(skip)]
-    pub failure: Option<Error>,
+    pub failure: Option<Shortfall>,
 }
 
 impl BaudSwitched {
     /// The command's outcome: Ok when every expected node is confirmed at the new rate, else why not.
-    pub fn outcome(self) -> Result<()> {
+    pub fn outcome(self) -> Result<(), Shortfall> {
         match self.failure {
             Some(e) => Err(e),
             None => Ok(()),
@@ -158,7 +159,7 @@ pub fn set_baud(
     };
     let not_switched = |report: &mut BaudSwitched, e: Error, why: NotActivated| {
         report.not_activated = Some(why);
-        report.failure = Some(e);
+        report.failure = Some(e.into());
     };
 
     let mut m = LssMaster::new(bus, o.timeout);
@@ -231,9 +232,9 @@ pub fn set_baud(
     report.unexpected = after.keys().filter(|n| !expected.iter().any(|(e, _)| e == *n)).copied().collect();
     report.ok = behind.is_empty();
     if !behind.is_empty() {
-        report.failure = Some(Error::NotFollowed { rate, nodes: behind });
+        report.failure = Some(Unmet::NotFollowed { rate, nodes: behind }.into());
     } else if stop() {
-        report.failure = Some(Error::Interrupted);
+        report.failure = Some(Error::Interrupted.into());
     }
     Ok(report)
 }

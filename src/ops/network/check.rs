@@ -1,7 +1,8 @@
 //! `network check`: the bus against the project, node by node.
 
 use super::*;
-use crate::hint::Hint;
+use crate::ops::unmet::{NetworkDifference, Unmet};
+use crate::ops::verdict::Remedy;
 
 /// How to check a network.
 #[derive(Clone, Debug)]
@@ -82,20 +83,20 @@ pub struct Unlisted {
 }
 
 impl Checked {
-    /// A verification error (exit 6) when anything differs.
-    pub fn outcome(&self) -> Result<()> {
+    /// The verdict (exit 6) when anything differs.
+    pub fn outcome(&self) -> Result<(), Unmet> {
         if self.ok {
             return Ok(());
         }
         let failed: usize = self.nodes.iter().map(|n| n.checks.iter().filter(|c| !c.ok).count()).sum();
         let mut parts = Vec::new();
         if failed > 0 {
-            parts.push(format!("{failed} node check(s) failed"));
+            parts.push(NetworkDifference::ChecksFailed(failed));
         }
         if !self.unlisted.is_empty() {
-            parts.push(format!("{} node(s) not in the project", self.unlisted.len()));
+            parts.push(NetworkDifference::NotInProject(self.unlisted.len()));
         }
-        Err(Error::NetworkDiffers { bus: self.bus.clone(), project: self.project.clone(), differences: parts })
+        Err(Unmet::NetworkDiffers { bus: self.bus.clone(), project: self.project.clone(), differences: parts })
     }
 }
 
@@ -153,9 +154,10 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
         let (node, window_ms) = (listed.node, o.window.as_millis() as u64);
         let (detail, remedy) = match (present, states.get(&node)) {
             (true, _) => (Finding::Answered { node }, None),
-            (false, Some(state)) => {
-                (Finding::SilentListed { node, state: *state, rounds, window_ms }, Some(Hint::PreOperational { node }))
-            }
+            (false, Some(state)) => (
+                Finding::SilentListed { node, state: *state, rounds, window_ms },
+                Some(Remedy::PreOperational { node }),
+            ),
             (false, None) => (Finding::Absent { node, rounds, window_ms }, None),
         };
         let mut checks = vec![Verdict::new("present", present, detail).with_remedy(remedy)];

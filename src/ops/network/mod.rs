@@ -142,6 +142,7 @@ pub use dump::*;
 mod tests {
     use super::*;
     use crate::connect::{BusAddr, OpenOptions};
+    use crate::ops::unmet::{Shortfall, Unmet};
 
     fn demo() -> Box<dyn Bus> {
         let mut opts = OpenOptions::new(Duration::from_millis(500));
@@ -201,7 +202,7 @@ mod tests {
         let mut bus = demo();
         let report = set_baud(bus.as_mut(), None, &set_baud_options(&flag), &mut StopAfterProbe(flag.clone())).unwrap();
         assert!(!report.activated);
-        assert!(matches!(report.failure, Some(Error::Interrupted)));
+        assert!(matches!(report.failure, Some(Shortfall::Failed(Error::Interrupted))));
         assert_eq!(report.configured.confirmed, 6, "the stepper refuses, the others confirm");
         let still: Vec<u8> =
             probe(bus.as_mut(), Duration::from_millis(100), &mut super::super::Silent).unwrap().into_keys().collect();
@@ -216,7 +217,7 @@ mod tests {
         let mut bus = demo();
         let report = set_baud(bus.as_mut(), None, &set_baud_options(&flag), &mut super::super::Silent).unwrap();
         assert!(report.activated && report.bus_followed);
-        assert!(matches!(&report.failure, Some(Error::NotFollowed { nodes, .. }) if nodes == &[32]));
+        assert!(matches!(&report.failure, Some(Shortfall::Unmet(Unmet::NotFollowed { nodes, .. })) if nodes == &[32]));
         let after: Vec<(u8, Option<bool>)> = report.nodes.iter().map(|n| (n.node, n.after)).collect();
         assert_eq!(after, [(1, Some(true)), (5, Some(true)), (10, Some(true)), (32, Some(false))]);
     }
@@ -247,7 +248,7 @@ mod tests {
             // The demo network has nodes 1, 5, 10 and 32; 20 to 24 wait for --assign.
             assert_eq!(done, [1, 5], "--jobs {jobs}: {:?}", report.nodes.iter().map(|n| &n.result).collect::<Vec<_>>());
             assert_eq!(not_begun, [10, 32], "--jobs {jobs}");
-            assert!(matches!(report.failure, Some(Error::Interrupted)));
+            assert!(matches!(report.failure, Some(Shortfall::Failed(Error::Interrupted))));
             assert!(!report.ok);
         }
     }

@@ -43,7 +43,7 @@ impl<T: End> Watch<T> for Bars<'_> {
 /// A failure, said to the node whose procedure it ended.
 fn link_lost(bus: &str, e: &Error) -> Error {
     let error = std::io::Error::other(e.to_string());
-    Error::Link(crate::error::LinkError::Io { port: bus.to_string(), op: "", error })
+    Error::Link(crate::error::LinkError::Io { port: bus.to_string(), op: "", error: error.into() })
 }
 
 /// `work` for each of `items` (node indexes), up to `jobs` at once; `stopped` stands

@@ -73,7 +73,7 @@ impl<P: SerialIo> SlcanLink<P> {
     }
 
     fn io_error(&self, op: &'static str, error: std::io::Error) -> Error {
-        LinkError::Io { port: self.name.clone(), op, error }.into()
+        LinkError::Io { port: self.name.clone(), op, error: error.into() }.into()
     }
 
     fn write(&mut self, bytes: &[u8]) -> Result<()> {

@@ -59,8 +59,11 @@ impl SocketCanLink {
     /// with its own error and what to do).
     pub fn open(iface: &str) -> Result<SocketCanLink> {
         check_interface(iface)?;
-        let io = |op: &'static str| move |error| LinkError::Io { port: iface.to_string(), op, error };
-        let sock = CanSocket::open(iface).map_err(|error| LinkError::Open { port: iface.to_string(), error })?;
+        let io = |op: &'static str| {
+            move |error: std::io::Error| LinkError::Io { port: iface.to_string(), op, error: error.into() }
+        };
+        let sock =
+            CanSocket::open(iface).map_err(|error| LinkError::Open { port: iface.to_string(), error: error.into() })?;
         // Every error class: bus-off must end a command, the others are worth a warning. A
         // socket layer that knows no CAN socket options (qemu-user running an ARM build on an
         // x86 kernel) still carries frames: go on without error frames, and say so.
@@ -88,7 +91,7 @@ impl SocketCanLink {
     }
 
     fn io_error(&self, op: &'static str, error: io::Error) -> Error {
-        LinkError::Io { port: self.iface.clone(), op, error }.into()
+        LinkError::Io { port: self.iface.clone(), op, error: error.into() }.into()
     }
 
     fn error_frame(&mut self, err: CanError) -> Result<()> {

@@ -63,7 +63,7 @@ impl SocketcandLink {
     /// Connect to `host:port`, open `iface` and switch to raw mode, waiting at most
     /// `answer_wait` for each answer. `name` is the bus address, for messages.
     pub fn open(host: &str, port: u16, iface: &str, name: String, answer_wait: Duration) -> Result<Self> {
-        let connect_error = |error| SocketcandError::Connect { server: name.clone(), error };
+        let connect_error = |error: io::Error| SocketcandError::Connect { server: name.clone(), error: error.into() };
         let addrs: Vec<_> = (host, port).to_socket_addrs().map_err(connect_error)?.collect();
         let mut last = io::Error::new(io::ErrorKind::NotFound, format!("{host} has no address"));
         let mut stream = None;
@@ -78,14 +78,18 @@ impl SocketcandLink {
         }
         let stream = stream.ok_or_else(|| connect_error(last))?;
         // Every SDO request waits for its answer: Nagle would hold each one back.
-        stream.set_nodelay(true).map_err(|e| LinkError::Io { port: name.clone(), op: "TCP no-delay", error: e })?;
+        stream.set_nodelay(true).map_err(|e| LinkError::Io {
+            port: name.clone(),
+            op: "TCP no-delay",
+            error: e.into(),
+        })?;
         // A server that stops reading must not hold a command for ever once the socket's
         // buffers are full.
         let write_wait = answer_wait;
         stream.set_write_timeout(Some(write_wait)).map_err(|e| LinkError::Io {
             port: name.clone(),
             op: "TCP",
-            error: e,
+            error: e.into(),
         })?;
         let mut link = SocketcandLink {
             stream,
@@ -109,7 +113,7 @@ impl SocketcandLink {
     }
 
     fn lost(&self, error: Option<io::Error>) -> Error {
-        SocketcandError::Lost { server: self.name.clone(), error }.into()
+        SocketcandError::Lost { server: self.name.clone(), error: error.map(Into::into) }.into()
     }
 
     /// Put the socket in (non-)blocking mode, with a system call only when that changes it.

@@ -6,7 +6,7 @@ use crate::canopen::ObjAddr;
 use std::io;
 
 /// An EPOS2 serial command or its answer failed.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 #[non_exhaustive]
 pub enum Epos2Error {
     /// An EPOS2 serial command failed on the line (after a resync and a retry, when the
@@ -121,7 +121,7 @@ fn answer_text(bus: &str, problem: &Epos2Problem) -> String {
 }
 
 /// Why one attempt failed.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub enum Failure {
     /// The EPOS2 refused the frame (RS232 'F'), during this step.
     Nack(&'static str),
@@ -136,7 +136,7 @@ pub enum Failure {
     /// The line never fell quiet: bytes, milliseconds.
     Babble(usize, u128),
     /// The serial port failed.
-    Io(io::Error),
+    Io(std::sync::Arc<io::Error>),
 }
 
 impl Failure {
@@ -152,7 +152,7 @@ impl Failure {
                 "check the bit rate (?baud=), that no other program uses the port, and the cable; \
                  then run the command again"
             }
-            // A slow device is the other cause: `hint::Hint::SlowDevice`, worded by the front end.
+            // A slow device is the other cause: a remedy the front end words.
             _ => "check the cable, the bit rate (?baud=) and that no other program uses the port",
         }
     }

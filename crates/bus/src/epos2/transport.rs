@@ -66,7 +66,7 @@ impl<S: SerialIo> Port<S> {
         }
         if self.pos == self.buf.len() {
             self.buf.resize(256, 0);
-            let n = self.io.read_some(&mut self.buf, deadline).map_err(Failure::Io)?;
+            let n = self.io.read_some(&mut self.buf, deadline).map_err(|e| Failure::Io(e.into()))?;
             self.buf.truncate(n);
             self.pos = 0;
             if n == 0 {
@@ -82,14 +82,14 @@ impl<S: SerialIo> Port<S> {
     }
 
     fn send(&mut self, bytes: &[u8]) -> Result<(), Failure> {
-        self.io.write_all(bytes).map_err(Failure::Io)
+        self.io.write_all(bytes).map_err(|e| Failure::Io(e.into()))
     }
 
     /// Drop what has arrived and not been read.
     fn clear(&mut self) -> Result<(), Failure> {
         self.buf.clear();
         self.pos = 0;
-        self.io.discard_input().map_err(Failure::Io)
+        self.io.discard_input().map_err(|e| Failure::Io(e.into()))
     }
 
     /// Drop whatever is in flight: wait for the line to fall quiet, then clear it. A line
@@ -107,7 +107,7 @@ impl<S: SerialIo> Port<S> {
             }
             // Quiet means a read that waited until `until` got nothing: a reader that was
             // merely slow finds the bytes waiting.
-            let n = self.io.read_some(&mut scratch, until.min(limit)).map_err(Failure::Io)?;
+            let n = self.io.read_some(&mut scratch, until.min(limit)).map_err(|e| Failure::Io(e.into()))?;
             if n > 0 {
                 bytes += n;
                 until = Instant::now() + quiet;

@@ -102,13 +102,8 @@ impl Error {
             Error::Link(_) | Error::StoredEds { .. } => C::Link,
             Error::ReadBack { .. }
             | Error::ReadBackMany { .. }
-            | Error::Differs { .. }
             | Error::FileDeviates { .. }
-            | Error::OtherDevice { .. }
-            | Error::NetworkDiffers { .. }
-            | Error::NotFollowed { .. }
-            | Error::Unhealthy { .. }
-            | Error::Diagnosed { .. } => C::Verify,
+            | Error::OtherDevice { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } | Error::DiagnosisInterrupted { .. } => C::Interrupted,
             Error::Advised { error, .. } | Error::InSettingsFile { error, .. } => error.class(),
@@ -119,7 +114,6 @@ impl Error {
             Error::MapSizeUnread { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {
                 error.class()
             }
-            Error::OnBuses { error, .. } => error.class(),
         }
     }
 

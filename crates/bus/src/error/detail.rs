@@ -172,10 +172,6 @@ pub(super) fn join(objects: &[ObjAddr]) -> String {
     objects.iter().map(|o| o.to_string()).collect::<Vec<_>>().join(", ")
 }
 
-pub(super) fn join_ids(nodes: &[u8]) -> String {
-    nodes.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")
-}
-
 /// Which node-ids a bus can address.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -253,7 +249,7 @@ impl fmt::Display for SdoUnfinishedText<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let SdoUnfinishedText { node, obj, moved, why } = self;
         match why {
-            // The timeout it follows from is `hint::Hint::DeadlineFromTimeout`, the front end's to word.
+            // The timeout it follows from is the front end's remedy to word.
             Unfinished::Deadline { budget, .. } => write!(
                 f,
                 "node {node}: the SDO transfer of {obj} did not finish within its deadline of {:.1} s ({moved} moved)",
@@ -310,7 +306,7 @@ pub(super) fn fastscan_text(error: &FastscanError, step: Duration) -> String {
 
 /// A file of a project that, symbolic links followed, is outside the project's folder: a
 /// project from someone else must not make canctl read or rewrite a file elsewhere.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 #[error(
     "{} is a link to {}, outside the project's folder {}: a project reads and writes only files in its own \
      folder",
@@ -328,7 +324,7 @@ pub struct OutsideProject {
 
 /// Why a path given for the sim network's state is not used: it is not canctl's to write,
 /// nor to write beside.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 #[non_exhaustive]
 pub enum StateRefused {
     /// The path is a folder.
@@ -388,21 +384,5 @@ impl fmt::Display for Advice {
             ),
             Advice::PortTaken => f.write_str("; serve on another port, or on port 0 for any free one"),
         }
-    }
-}
-
-/// A node a health check found not healthy: which, and the checks it failed (by their
-/// names, as the report's columns read: `nmt`, `error register`, ...).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct NotHealthy {
-    /// The node-id.
-    pub node: u8,
-    /// The checks it failed.
-    pub failed: Vec<&'static str>,
-}
-
-impl fmt::Display for NotHealthy {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "node {}: {}", self.node, self.failed.join(", "))
     }
 }

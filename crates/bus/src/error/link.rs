@@ -3,7 +3,7 @@
 use super::*;
 
 /// A link failure: the port, interface or pseudo-terminal, and what went wrong with it.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 #[non_exhaustive]
 pub enum LinkError {
     /// A port or interface that cannot be opened.
@@ -12,7 +12,7 @@ pub enum LinkError {
         /// The port or interface, as named.
         port: String,
         /// The OS's error.
-        error: std::io::Error,
+        error: std::sync::Arc<std::io::Error>,
     },
     /// A path given as a serial port that is none (`/dev/null`, a file): the OS's word for
     /// it, "Not a typewriter", says nothing to most.
@@ -36,10 +36,10 @@ pub enum LinkError {
         /// The operation that failed (may be empty).
         op: &'static str,
         /// The OS's error.
-        error: std::io::Error,
+        error: std::sync::Arc<std::io::Error>,
     },
     /// No network interface of this name; `available` lists the CAN interfaces there are
-    /// (the remedy, `hint::Hint::SetUpInterface`, names them and the nearest one).
+    /// (the remedy, the front end's, names them and the nearest one).
     #[error("there is no network interface '{iface}'")]
     NoInterface {
         /// The interface asked for.

@@ -22,12 +22,12 @@ pub use class::ErrorClass;
 pub use detail::clipped;
 use detail::*;
 pub use detail::{
-    Advice, DriveStop, Moved, NodeIdRange, NotHealthy, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished,
+    Advice, DriveStop, Moved, NodeIdRange, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished,
 };
 pub use link::{LinkError, PtyOp};
 
 /// Everything that can go wrong in the library, each with its exit code ([`Error::class`]).
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
     // ---- usage (exit 2) ----
@@ -399,16 +399,6 @@ pub enum Error {
         /// The objects that read back other values.
         objects: Vec<ObjAddr>,
     },
-    /// A node's objects differ from a configuration file.
-    #[error("node {node} differs from {file} in {count} object(s)")]
-    Differs {
-        /// The node-id of the node it is about.
-        node: u8,
-        /// The configuration file, as named.
-        file: String,
-        /// How many objects differ.
-        count: usize,
-    },
     /// A device description file deviates from CiA 306 so that something it describes is
     /// not used (`config check`).
     #[error("{file}: {errors} error(s) and {warnings} warning(s) against CiA 306 (listed above); correct the file, or ask its vendor for one that follows CiA 306")]
@@ -429,47 +419,6 @@ pub enum Error {
         /// Each identity entry that differs, in words.
         differences: Vec<String>,
     },
-    /// A bus is not as its network project says; `differences` in words ("2 node check(s)
-    /// failed", ...).
-    #[error("{bus} is not as {project} says: {}", differences.join(", "))]
-    NetworkDiffers {
-        /// The bus, as its address reads.
-        bus: String,
-        /// The network project file, as named.
-        project: String,
-        /// What differs, in words.
-        differences: Vec<String>,
-    },
-    /// Nodes that answered before a network-wide bit-rate switch do not answer at the new
-    /// rate.
-    #[error("node(s) {} did not follow the switch to {rate}: they do not answer at the new rate", join_ids(nodes))]
-    NotFollowed {
-        /// The new bit rate, by name (`250k`, ...).
-        rate: String,
-        /// The node-ids that do not answer at it.
-        nodes: Vec<u8>,
-    },
-
-    /// Nodes on a bus are not healthy: each with the checks it failed.
-    #[error("{bus}: {} of {total} node(s) not healthy: {}", nodes.len(),
-        nodes.iter().map(ToString::to_string).collect::<Vec<_>>().join("; "))]
-    Unhealthy {
-        /// The bus, as its address reads.
-        bus: String,
-        /// How many nodes were checked.
-        total: usize,
-        /// Each node not healthy.
-        nodes: Vec<NotHealthy>,
-    },
-    /// `doctor` found problems on a bus (its report lists them, most likely cause first).
-    #[error("{bus}: {count} problem(s) found, most likely cause first in the report")]
-    Diagnosed {
-        /// The bus examined.
-        bus: String,
-        /// How many problems it found.
-        count: usize,
-    },
-
     // ---- output (exit 7) ----
     /// A result could not be written (disk full, no permission, a closed terminal); the
     /// device side is unaffected.
@@ -533,7 +482,7 @@ pub enum Error {
     },
 
     // Errors whose remedy names a flag: the message says what happened, the remedy is a
-    // `hint::Hint` the front end words (issue 28).
+    // the front end chooses and words (`output/remedies.rs`, issue 28).
     /// This OS has no SocketCAN (`bus`: the address given) (exit 2).
     #[error(
         "{bus}: SocketCAN is Linux's; on this OS reach the bus through a serial-line adapter (slcan:PORT, e.g. \
@@ -592,20 +541,6 @@ pub enum Error {
         /// The link's failure.
         error: Box<Error>,
     },
-    /// A command run on several buses, some of which failed: the worst failure (`error`,
-    /// on `bus`) decides the exit code; the report shows every bus's, so its words are not
-    /// said again here.
-    #[error("{failed} of {total} buses failed, each as said for its bus; the worst was on {bus}")]
-    OnBuses {
-        /// The bus of the worst failure, as its URI.
-        bus: String,
-        /// The worst failure.
-        error: Box<Error>,
-        /// How many buses failed.
-        failed: usize,
-        /// How many buses were worked.
-        total: usize,
-    },
     /// `lss assign` gave a device a node-id, and it still answered in LSS configuration state
     /// however often it was sent back to waiting: it holds `node` but has not taken it up
     /// (it boots with it when it leaves configuration state, or at its next power cycle).
@@ -657,12 +592,9 @@ impl Error {
     /// of several buses' failures, it needs no prefix naming that bus again.
     pub fn names_bus(&self) -> Option<&str> {
         match self {
-            Error::NotOnThisBus { bus, .. }
-            | Error::NoRemoteFrames { bus, .. }
-            | Error::NetworkDiffers { bus, .. }
-            | Error::Unhealthy { bus, .. }
-            | Error::Diagnosed { bus, .. }
-            | Error::NoSocketCan { bus } => Some(bus),
+            Error::NotOnThisBus { bus, .. } | Error::NoRemoteFrames { bus, .. } | Error::NoSocketCan { bus } => {
+                Some(bus)
+            }
             Error::Advised { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {
                 error.names_bus()
             }

@@ -12,7 +12,7 @@ use std::time::Duration;
 pub const DEFAULT_PORT: u16 = 29536;
 
 /// What went wrong with a socketcand server; `server` is the bus as the user named it.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 #[non_exhaustive]
 pub enum SocketcandError {
     /// The TCP connection could not be made.
@@ -24,7 +24,7 @@ pub enum SocketcandError {
         /// The bus address.
         server: String,
         /// Why the connection failed.
-        error: std::io::Error,
+        error: std::sync::Arc<std::io::Error>,
     },
     /// The server said nothing in time while canctl waited for `waiting_for`.
     #[error("{server}: no {waiting_for} within {} ms: is that port a socketcand server, is it overloaded, is the network to it up?", waited.as_millis())]
@@ -73,6 +73,6 @@ pub enum SocketcandError {
         /// The bus address.
         server: String,
         /// The socket's error; none when the server closed the connection.
-        error: Option<std::io::Error>,
+        error: Option<std::sync::Arc<std::io::Error>>,
     },
 }
