@@ -17,11 +17,9 @@ fn kind(k: BusKind) -> &'static str {
     }
 }
 
-impl Buses {
-    fn table(&self, when_empty: bool) -> Human {
-        let rows = self.buses.iter().map(|b| vec![b.bus.clone(), kind(b.kind).into(), b.what.clone()]).collect();
-        Human::Table { headers: vec!["--bus", "kind", "what"], rows, when_empty }
-    }
+fn table(found: &Buses, when_empty: bool) -> Human {
+    let rows = found.buses.iter().map(|b| vec![b.bus.clone(), kind(b.kind).into(), b.what.clone()]).collect();
+    Human::Table { headers: vec!["--bus", "kind", "what"], rows, when_empty }
 }
 
 impl Report for Buses {
@@ -31,14 +29,14 @@ impl Report for Buses {
                 Human::Line("no bus found".into()),
                 Human::Note("try canctl --bus sim scan, the built-in simulated network".into()),
             ]),
-            false => self.table(false),
+            false => table(self, false),
         }
     }
 
     /// CSV is the table, its header row alone when nothing was found: a sentence would be
     /// read as a row.
     fn csv(&self) -> Human {
-        self.table(true)
+        table(self, true)
     }
 
     fn notes(&self) -> Vec<String> {

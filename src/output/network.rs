@@ -3,22 +3,12 @@
 use super::{Human, Output, Report, TestCase, TestSuite};
 use crate::ops::failure::Failure;
 use crate::ops::network::{
-    Applied, BaudSwitched, Checked, Dumped, LoadWarning, NodeApplied, NodeCheck, NodeResult, Outcome, PROJECT_FILE,
+    Applied, BaudSwitched, Checked, Dumped, NodeApplied, NodeCheck, NodeResult, Outcome, PROJECT_FILE,
 };
 use crate::ops::{ItemEnd, Progress};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-/// A project's warning as `canctl: warning: ...` shows it: file:line and what it says.
-impl std::fmt::Display for LoadWarning {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            LoadWarning::Project(text) => f.write_str(text),
-            LoadWarning::Dcf(w) => write!(f, "{w}"),
-        }
-    }
-}
 
 /// A network project's warnings (a DCF that deviates, a node listed twice), as lines on stderr.
 pub(crate) fn load_warning_lines(loaded: &crate::ops::network::Loaded) -> Vec<String> {
@@ -540,7 +530,6 @@ impl Drop for NodeBars<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::od::lint::{Kind, Warning};
 
     /// Each node expected to follow a network-wide switch is said as it went: not switched,
     /// not checked (a link that stays at the old rate), found at the new rate, left behind,
@@ -637,14 +626,6 @@ mod tests {
             node_result_words(&row(stopped, None, None), crate::output::hints::failure_text),
             "interrupted: 3 object(s) written, not stored (canctl store 20 keeps them)"
         );
-    }
-
-    #[test]
-    fn a_project_warning_shows_its_file_and_line() {
-        let dcf = LoadWarning::Dcf(Warning::new("node5.dcf", 12, Kind::RepeatedKey, "DefaultValue given twice".into()));
-        assert_eq!(dcf.to_string(), "node5.dcf:12: DefaultValue given twice");
-        let project = LoadWarning::Project("nodelist.cpj: no Nodes= key in [Topology]".into());
-        assert_eq!(project.to_string(), "nodelist.cpj: no Nodes= key in [Topology]");
     }
 
     /// A listed node that beats but answers no SDO: the remedy in parentheses, as before.

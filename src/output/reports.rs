@@ -152,20 +152,18 @@ impl Report for Diff {
     }
 }
 
-impl Applied {
-    /// One row per object: the same in the table and in CSV.
-    fn rows(&self) -> Vec<Vec<String>> {
-        let row = |r: &Change| {
-            let result = super::hints::change_result_text(&r.result);
-            vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), result]
-        };
-        self.objects.iter().map(row).collect()
-    }
+/// One row per object: the same in the table and in CSV.
+fn applied_rows(applied: &Applied) -> Vec<Vec<String>> {
+    let row = |r: &Change| {
+        let result = super::hints::change_result_text(&r.result);
+        vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), result]
+    };
+    applied.objects.iter().map(row).collect()
 }
 
 impl Report for Applied {
     fn human(&self) -> Human {
-        let rows = self.rows();
+        let rows = applied_rows(self);
         if self.objects.is_empty() && !self.interrupted {
             // A header over no rows says nothing: say so in words.
             return Human::Line(format!("nothing to change: node {} already matches {}", self.node, self.file));
@@ -174,7 +172,7 @@ impl Report for Applied {
     }
 
     fn csv(&self) -> Human {
-        let rows = self.rows();
+        let rows = applied_rows(self);
         Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: true }
     }
 

@@ -1,4 +1,5 @@
-//! The layer rule of `src/lib.rs` (`canctl::LAYERS`), checked on the source: every
+//! The layer rule of each crate's `lib.rs` (`canctl::LAYERS` over
+//! `canctl_commission::LAYERS`, `canctl_bus::LAYERS`), checked on the source: every
 //! `crate::` path in library code must name a module in a lower layer (or the module itself).
 //! Test modules are exempt: they may build a simulator to drive the code under test.
 
@@ -29,7 +30,7 @@ fn module_path(src: &Path, file: &Path) -> String {
 
 /// The layer unit a module path belongs to (the longest entry of `layers` it starts with)
 /// and that unit's layer, 0 being the top.
-fn unit_of(layers: &'static [&'static [&'static str]], path: &str) -> Option<(&'static str, usize)> {
+fn unit_of(layers: &[&'static [&'static str]], path: &str) -> Option<(&'static str, usize)> {
     let mut best: Option<(&'static str, usize)> = None;
     for (depth, layer) in layers.iter().enumerate() {
         for unit in *layer {
@@ -135,9 +136,9 @@ fn source_dirs() -> Vec<(PathBuf, String)> {
     dirs
 }
 
-/// The crates below the library use only the ones below them: the protocol none, the
-/// dictionaries the protocol, the bus both, the simulator all three. Cargo forbids a cycle;
-/// this holds the order.
+/// The crates under the command line use only the ones below them: the protocol none, the
+/// dictionaries the protocol, the bus both, the simulator all three, the commissioning
+/// library all four. Cargo forbids a cycle; this holds the order.
 #[test]
 fn the_crates_are_the_layers_below_the_library() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -158,20 +159,25 @@ fn the_crates_are_the_layers_below_the_library() {
     assert_eq!(uses("od"), ["canctl-canopen"]);
     assert_eq!(uses("bus"), ["canctl-canopen", "canctl-od"]);
     assert_eq!(uses("sim"), ["canctl-bus", "canctl-canopen", "canctl-od"]);
+    assert_eq!(uses("commission"), ["canctl-bus", "canctl-canopen", "canctl-od", "canctl-sim"]);
     let crates: Vec<_> = source_dirs().into_iter().skip(1).map(|(_, prefix)| prefix).collect();
-    let expected = ["crates/bus/src/", "crates/canopen/src/", "crates/od/src/", "crates/sim/src/"];
+    let expected =
+        ["crates/bus/src/", "crates/canopen/src/", "crates/commission/src/", "crates/od/src/", "crates/sim/src/"];
     assert_eq!(crates, expected, "a new crate: place it here");
 }
 
-/// The library's modules (`canctl::LAYERS`) and those of the bus crate (`canctl_bus::LAYERS`).
+/// The command line's modules (`canctl::LAYERS`, over the library's it re-exports), the
+/// library's (`canctl_commission::LAYERS`) and those of the bus crate (`canctl_bus::LAYERS`).
 #[test]
 fn imports_only_go_down_the_layers() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    check_layers(&root.join("src"), canctl::LAYERS);
+    let front_end: Vec<_> = canctl::LAYERS.iter().chain(canctl_commission::LAYERS).copied().collect();
+    check_layers(&root.join("src"), &front_end);
+    check_layers(&root.join("crates/commission/src"), canctl_commission::LAYERS);
     check_layers(&root.join("crates/bus/src"), canctl_bus::LAYERS);
 }
 
-fn check_layers(src: &Path, layers: &'static [&'static [&'static str]]) {
+fn check_layers(src: &Path, layers: &[&'static [&'static str]]) {
     let mut files = Vec::new();
     rust_files(src, &mut files);
     files.sort();

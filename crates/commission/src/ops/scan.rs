@@ -1,0 +1,502 @@
+//! Find every node on a bus: an SDO read of 0x1000 to all 127 node-ids at once, then each
+//! answering node's identity (0x1018:1..4), name (0x1008) and NMT state; last, the devices
+//! without a node-id (LSS "identify non-configured remote slave") and those left in LSS
+//! configuration state (they answer the LSS inquiries, and without a node-id no SDO).
+
+mod identify;
+pub(crate) mod probe;
+
+use probe::probe_until_stopped;
+pub use probe::{probe, Repeat};
+pub(crate) use probe::{probe_once, probe_rounds};
+
+pub use super::nmt::StateFrom;
+use super::Progress;
+use crate::bus::observer::SeenBy;
+use crate::bus::{Bus, LssWait};
+use crate::canopen::lss::{Identity, Inquiry, Request, Response, UNCONFIGURED};
+use crate::canopen::nmt;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use serde::Serialize;
+use std::collections::BTreeSet;
+use std::time::Duration;
+
+/// How long to wait.
+#[derive(Clone, Copy, Debug)]
+pub struct ScanOptions {
+    /// How long the bus must stay quiet after the last answer to the probes (slow devices
+    /// answer up to 80 ms late).
+    pub window: Duration,
+    /// How long to wait for each answer to the identity reads.
+    pub timeout: Duration,
+}
+
+/// The shortest quiet window a scan accepts: no device answers a probe sooner (see
+/// [`crate::settings::MIN_TIMEOUT`]); a shorter one loses nodes and says nothing.
+pub(crate) const MIN_WINDOW: Duration = crate::settings::MIN_TIMEOUT;
+
+/// The window that waits for slow devices too (they answer up to 80 ms late): a scan
+/// with a shorter one may have missed some, so it does not stand for the bus.
+pub const FULL_WINDOW: Duration = Duration::from_millis(100);
+
+impl ScanOptions {
+    /// Refuses a window no device can answer within, before anything is sent.
+    pub fn check(&self) -> Result<()> {
+        check_window(self.window)
+    }
+
+    /// Whether slow devices may have been missed: the window is shorter than they answer in.
+    pub fn may_miss_slow_devices(&self) -> bool {
+        self.window < FULL_WINDOW
+    }
+}
+
+/// Refuses a window no device can answer or be heard within: every command that probes
+/// (scan, health, network) or listens (doctor, its sweep) waits at least `MIN_WINDOW`.
+pub fn check_window(window: Duration) -> Result<()> {
+    if window < MIN_WINDOW {
+        return Err(Error::Usage(format!(
+            "a window of {} ms is shorter than devices take to answer (what they say would be lost without a word); use at least {}ms",
+            window.as_millis(),
+            MIN_WINDOW.as_millis(),
+        )));
+    }
+    Ok(())
+}
+
+/// What a scan found.
+#[derive(Debug, Serialize)]
+pub struct Scan {
+    /// The bus, as it describes itself.
+    pub bus: String,
+    /// Each node that answered, by node-id.
+    pub nodes: Vec<Node>,
+    /// How many devices without a node-id answered LSS.
+    pub lss_unconfigured: usize,
+    /// Devices in LSS configuration state, from their answers to the inquiries.
+    pub lss_configuration: Configuring,
+    /// Node-ids more than one device answers to.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub clashes: Vec<super::clash::Clash>,
+    /// How many rounds of the probe of node-ids ran (see `PROBE_ROUNDS`).
+    pub probe_rounds: usize,
+    /// The nodes that answered the probe only when asked again: the bus is losing frames.
+    pub answered_on_repeat: Vec<Repeat>,
+    /// The user stopped the scan (SIGINT, SIGTERM): the nodes are those found so far.
+    pub interrupted: bool,
+    /// When interrupted: the parts of the scan not done, the one it stopped in first
+    /// (canctl's JSON words them as `not_done`).
+    #[serde(skip)]
+    pub not_done: Vec<Phase>,
+    /// Nodes the last scan of this bus saw that showed nothing now: no answer to the probe,
+    /// no heartbeat, no answer to node guarding (see [`scan_against`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub gone: Vec<Gone>,
+    /// Nodes whose SDO server answers on another node's COB-ID: asked alone, where a node
+    /// that showed itself answered no probe ([`super::answers_elsewhere`]). The node whose
+    /// COB-ID it took is not listed unless it answers on its own.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub answers_elsewhere: Vec<super::answers_elsewhere::AnswersElsewhere>,
+    /// Node-ids an answer to the probe came for, that then answered nothing, not even asked
+    /// alone: the answer was another device's, on their COB-ID (an SDO server on another
+    /// node's COB-ID that showed itself no other way). Not listed in `nodes`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_there: Vec<u8>,
+}
+
+/// A node the last scan saw that showed nothing in this one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Gone {
+    /// The node-id.
+    pub node: u8,
+    /// What was asked and not answered: node guarding, or nothing more where the link
+    /// carries no remote frames (then it may be a Stopped node).
+    #[serde(rename = "state_from")]
+    pub from: StateFrom,
+}
+
+/// A part of a scan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Probing node-ids 1 to 127 (stopped in it: nodes not listed may be there).
+    Probe,
+    /// Reading each node's identity, name and heartbeat time.
+    Identities,
+    /// Learning the nodes' NMT states.
+    States,
+    /// Counting the devices without a node-id (LSS).
+    Unconfigured,
+}
+
+impl Phase {
+    /// The parts of a scan, in order.
+    pub const ALL: [Phase; 4] = [Phase::Probe, Phase::Identities, Phase::States, Phase::Unconfigured];
+}
+
+/// A node that answered the probe, with what it told about itself (`None`: not said).
+#[derive(Debug, Serialize)]
+pub struct Node {
+    /// The node-id.
+    pub node: u8,
+    /// 0x1000; `None` when the probe was answered with an abort (the node is there all the same).
+    pub device_type: Option<u32>,
+    /// The vendor-ID (0x1018:1).
+    pub vendor_id: Option<u32>,
+    /// The product code (0x1018:2).
+    pub product_code: Option<u32>,
+    /// The revision number (0x1018:3).
+    pub revision: Option<u32>,
+    /// The serial number (0x1018:4).
+    pub serial: Option<u32>,
+    /// The device name (0x1008).
+    pub name: Option<String>,
+    /// The NMT state the node shows, never a guess.
+    pub state: Option<nmt::State>,
+    /// How the state was learned, or why it is unknown.
+    pub state_from: StateFrom,
+    /// The producer heartbeat time the node reports (0x1017), in ms.
+    pub heartbeat_ms: Option<u16>,
+    /// Whether it answered the probe. A node that did not (a Stopped node answers no SDO)
+    /// but showed itself otherwise (heartbeat, boot-up, an answer after the window) is
+    /// listed all the same, without what only SDO tells.
+    pub answers_sdo: bool,
+}
+
+/// Devices in LSS configuration state, from their answers to the inquiries.
+#[derive(Debug, Default, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct Configuring {
+    /// How many answered (the most answers to any one inquiry).
+    pub count: usize,
+    /// The identity and node-id, when exactly one device answered each inquiry.
+    #[serde(rename = "devices", serialize_with = "devices")]
+    pub one: Option<(Identity, Option<u8>)>,
+}
+
+/// The longest scan waits for heartbeats: a node that beats more slowly is asked by node
+/// guarding instead.
+const MAX_HEARTBEAT_WAIT: Duration = Duration::from_secs(3);
+
+/// The LSS questions scan asks: "any device without a node-id?", then the inquiries only
+/// devices in configuration state answer.
+const LSS_QUESTIONS: [Request; 6] = [
+    Request::IdentifyNonConfigured,
+    Request::Inquire(Inquiry::Vendor),
+    Request::Inquire(Inquiry::Product),
+    Request::Inquire(Inquiry::Revision),
+    Request::Inquire(Inquiry::Serial),
+    Request::Inquire(Inquiry::NodeId),
+];
+
+fn as_u32(bytes: &[u8]) -> Option<u32> {
+    bytes.try_into().ok().map(u32::from_le_bytes)
+}
+
+/// Scan the bus. Stopped by the user (over a [`Stoppable`](crate::bus::stoppable::Stoppable)
+/// bus), it reports what it found so far, `interrupted`.
+pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> Result<Scan> {
+    scan_against(bus, o, &[], progress)
+}
+
+/// [`scan`], knowing the nodes the last scan of this bus saw (`last_seen`): one that shows
+/// nothing now (no answer to the probe, no heartbeat) is asked by node guarding. A Stopped
+/// node serves no SDO and may beat no heartbeat: it answers, and is listed with its state;
+/// one that does not answer that either is [`Scan::gone`], never silently left out.
+pub fn scan_against(bus: &mut dyn Bus, o: &ScanOptions, last_seen: &[u8], progress: &mut dyn Progress) -> Result<Scan> {
+    o.check()?;
+    let mut report = Scan {
+        bus: bus.describe(),
+        nodes: Vec::new(),
+        lss_unconfigured: 0,
+        lss_configuration: Configuring::default(),
+        clashes: Vec::new(),
+        probe_rounds: 0,
+        answered_on_repeat: Vec::new(),
+        interrupted: false,
+        not_done: Vec::new(),
+        gone: Vec::new(),
+        answers_elsewhere: Vec::new(),
+        not_there: Vec::new(),
+    };
+    let mut phase = 0;
+    match scan_into(bus, o, last_seen, progress, &mut report, &mut phase) {
+        Err(e) if e.is_interrupted() => {
+            progress.finish();
+            report.interrupted = true;
+            report.not_done = Phase::ALL[phase..].to_vec();
+            Ok(report)
+        }
+        other => other.map(|_| report),
+    }
+}
+
+/// The scan, into `report`; `phase` says which of [`Phase::ALL`] it is in.
+fn scan_into(
+    bus: &mut dyn Bus,
+    o: &ScanOptions,
+    last_seen: &[u8],
+    progress: &mut dyn Progress,
+    report: &mut Scan,
+    phase: &mut usize,
+) -> Result<()> {
+    // Where the bus's traffic is seen, "any device without a node-id?" goes out with the
+    // probes and its answers come in during the same window. Round after round, the
+    // inquiries wait until the probes are answered (a device in configuration state with a
+    // node-id would otherwise queue its SDO answer behind its LSS answers, which lose
+    // arbitration to the probes, past the first round's window), and their answers come in
+    // while the identities are read. Where the probe asks again within its window, it
+    // lasts a whole window past its last request, long enough for such a device's answers
+    // however late they come: the inquiries go out with the probes.
+    let lss_alongside = bus.sees_traffic();
+    let lss_first = lss_alongside && bus.frame_time().is_some();
+    // Two states at once in this scan's time are two devices on one node-id (`clash`).
+    bus.observed().states_heard.clear();
+    let mut inquired_by = bus.now() + o.window;
+    if lss_alongside {
+        bus.observed().take_lss_answers();
+        let asked_first = if lss_first { &LSS_QUESTIONS[..] } else { &LSS_QUESTIONS[..1] };
+        for q in asked_first {
+            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+        }
+    }
+    let rounds = probe_rounds(bus);
+    let probed = probe_until_stopped(bus, o.window, rounds, Some(ObjAddr::SERIAL_NUMBER), progress)?;
+    report.nodes = probed.found.into_iter().map(|(node, device_type)| Node::probed(node, device_type)).collect();
+    let serials_heard = probed.also;
+    (report.probe_rounds, report.answered_on_repeat) = (probed.rounds, probed.repeats);
+    if probed.stopped {
+        return Err(Error::Interrupted);
+    }
+    if lss_alongside && !lss_first {
+        inquired_by = bus.now() + o.window;
+        for q in &LSS_QUESTIONS[1..] {
+            bus.lss_exchange(&q.encode(), 0, Duration::ZERO, LssWait::Nothing)?;
+        }
+    }
+    // Before the identities are read: a node listed only for another node's answer.
+    let found: Vec<u8> = report.nodes.iter().map(|n| n.node).collect();
+    let seen = bus.observed().nodes.clone();
+    let shows_itself =
+        seen.iter().filter(|(_, how)| how.iter().any(|h| matches!(h, SeenBy::Heartbeat | SeenBy::BootUp)));
+    let suspects: BTreeSet<u8> =
+        shows_itself.map(|(n, _)| *n).chain(last_seen.iter().copied()).filter(|n| !found.contains(n)).collect();
+    let suspects: Vec<u8> = suspects.into_iter().collect();
+    let shown = super::answers_elsewhere::look(bus, &suspects, &found, o.window)?;
+    report.nodes.retain(|n| !shown.phantoms.contains(&n.node));
+    report.answers_elsewhere = shown.elsewhere.clone();
+    *phase = 1;
+    let silent = identify::identify(bus, &mut report.nodes, o.timeout, progress)?;
+    identify::confirm_silent(bus, report, silent, o.window, progress)?;
+    let serials: Vec<(u8, Option<u32>)> = report.nodes.iter().map(|n| (n.node, n.serial)).collect();
+    report.clashes = super::clash::find_after(bus, &serials, o.window, o.timeout, serials_heard)?;
+    *phase = 2;
+    nmt_states(bus, &mut report.nodes, o)?;
+    add_seen_otherwise(bus, &mut report.nodes);
+    // Its answers on that COB-ID showed it to the bus's observer too: it is still not there.
+    report.nodes.retain(|n| !shown.phantoms.contains(&n.node) && !report.not_there.contains(&n.node));
+    let mut unseen: Vec<Node> = last_seen
+        .iter()
+        .filter(|n| !report.nodes.iter().any(|f| f.node == **n))
+        .map(|n| Node { answers_sdo: false, ..Node::probed(*n, None) })
+        .collect();
+    guard_states(bus, &mut unseen, o)?;
+    for n in unseen {
+        match n.state_from {
+            StateFrom::Silent { .. } | StateFrom::NoRemoteFrames => {
+                report.gone.push(Gone { node: n.node, from: n.state_from })
+            }
+            _ => report.nodes.push(n),
+        }
+    }
+    report.nodes.sort_by_key(|n| n.node);
+    *phase = 3;
+    let answers = if lss_alongside {
+        // What is left of the inquiries' window (the reads above mostly took it).
+        while bus.recv_frame(inquired_by)?.is_some() {}
+        bus.observed().take_lss_answers()
+    } else {
+        let mut answers = Vec::new();
+        for q in LSS_QUESTIONS {
+            let expect = q.expected_answer().expect("answered");
+            answers.extend(bus.lss_exchange(&q.encode(), expect, o.window, LssWait::All)?.iter().map(|a| a.data));
+        }
+        answers
+    };
+    report.lss_unconfigured = crate::bus::lss::count_non_configured(&answers);
+    report.lss_configuration = configuring(&answers);
+    Ok(())
+}
+
+impl Node {
+    /// A node that answered the probe, before anything else is asked.
+    fn probed(node: u8, device_type: Option<u32>) -> Node {
+        Node {
+            node,
+            device_type,
+            vendor_id: None,
+            product_code: None,
+            revision: None,
+            serial: None,
+            name: None,
+            state: None,
+            state_from: StateFrom::NotAsked,
+            heartbeat_ms: None,
+            answers_sdo: true,
+        }
+    }
+}
+
+/// The nodes the bus showed during the scan (heartbeat, boot-up, an SDO answer that came
+/// after its window) that answered none of the probes, into `nodes`: they are there. A
+/// Stopped node is one (it answers no SDO and keeps beating).
+fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
+    let seen = bus.observed();
+    for (node, how) in &seen.nodes {
+        let shown = how.iter().any(|h| matches!(h, SeenBy::Heartbeat | SeenBy::BootUp | SeenBy::Sdo));
+        if !shown || nodes.iter().any(|n| n.node == *node) {
+            continue;
+        }
+        let state = seen.states.get(node).copied();
+        let state_from = match (state, how.contains(&SeenBy::Heartbeat)) {
+            (None, _) => StateFrom::LateWithoutHeartbeat,
+            (Some(_), true) => StateFrom::Heartbeat,
+            (Some(_), false) => StateFrom::BootUp,
+        };
+        nodes.push(Node { state, state_from, answers_sdo: false, ..Node::probed(*node, None) });
+    }
+    nodes.sort_by_key(|n| n.node);
+}
+
+/// Each node's NMT state as the node really shows it, never a guess that changes from run to
+/// run: a node that produces heartbeats is listened to for as long as its period (read from
+/// 0x1017) needs; the others are asked by node guarding; what neither answers is unknown.
+fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<()> {
+    let beating = |f: &Node| f.heartbeat_ms.is_some_and(|ms| ms > 0);
+    if bus.sees_traffic() {
+        let longest = found.iter().filter(|f| beating(f)).filter_map(|f| f.heartbeat_ms).max().unwrap_or(0);
+        // Twice the period: one beat may have gone just before the listening began.
+        let end = bus.now() + (Duration::from_millis(2 * longest as u64) + o.window).min(MAX_HEARTBEAT_WAIT);
+        let missing = |bus: &mut dyn Bus, found: &[Node]| {
+            found.iter().any(|f| beating(f) && !bus.observed().states.contains_key(&f.node))
+        };
+        while missing(bus, found) && bus.recv_frame(end)?.is_some() {}
+        let states = bus.observed().states.clone();
+        for f in found.iter_mut() {
+            if let Some(s) = states.get(&f.node) {
+                (f.state, f.state_from) = (Some(*s), StateFrom::Heartbeat);
+            }
+        }
+    }
+    guard_states(bus, found, o)
+}
+
+/// The NMT state of each of `nodes` whose state is not known yet, by node guarding (one
+/// request each), or why it stays unknown.
+fn guard_states(bus: &mut dyn Bus, nodes: &mut [Node], o: &ScanOptions) -> Result<()> {
+    let beating = |f: &Node| f.heartbeat_ms.is_some_and(|ms| ms > 0);
+    // Guarding answers come at once; a node that has none is not waited for long.
+    let floor = Duration::from_millis(200);
+    let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
+    for f in nodes.iter_mut().filter(|f| f.state.is_none()) {
+        let guarded = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
+            // A link without remote frames (socketcand): the heartbeat was all there was.
+            Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
+                f.state_from = StateFrom::NoRemoteFrames;
+                continue;
+            }
+            other => other?,
+        };
+        (f.state, f.state_from) = match guarded {
+            Some(g) => (g.state(), StateFrom::guarding(g, bus)),
+            None => (None, StateFrom::Silent { heartbeat: beating(f) }),
+        };
+    }
+    Ok(())
+}
+
+fn configuring(answers: &[[u8; 8]]) -> Configuring {
+    let values = |q: Inquiry| -> Vec<u32> {
+        answers
+            .iter()
+            .filter_map(|a| match Response::decode(a) {
+                Some(Response::InquiredValue { inquiry, value }) if inquiry == q => Some(value),
+                _ => None,
+            })
+            .collect()
+    };
+    let all = [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId].map(values);
+    let count = all.iter().map(Vec::len).max().unwrap_or(0);
+    let one = match all.each_ref().map(|v| v.as_slice()) {
+        [[vendor], [product], [revision], [serial], [node]] => Some((
+            Identity { vendor: *vendor, product: *product, revision: *revision, serial: *serial },
+            (*node as u8 != UNCONFIGURED).then_some(*node as u8),
+        )),
+        _ => None,
+    };
+    Configuring { count, one }
+}
+
+/// The device in configuration state as a list of none or one:
+/// `{"identity": "0x...:...", "lss": {"vendor_id": ..}, "node": ..}`.
+fn devices<S: serde::Serializer>(one: &Option<(Identity, Option<u8>)>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    #[derive(Serialize)]
+    struct Parts {
+        vendor_id: u32,
+        product_code: u32,
+        revision: u32,
+        serial: u32,
+    }
+    #[derive(Serialize)]
+    struct Device {
+        identity: String,
+        lss: Parts,
+        node: Option<u8>,
+    }
+    s.collect_seq(one.iter().map(|(id, node)| Device {
+        identity: id.to_string(),
+        lss: Parts { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial },
+        node: *node,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inquired(q: Inquiry, value: u32) -> [u8; 8] {
+        Response::InquiredValue { inquiry: q, value }.encode()
+    }
+
+    /// JSON's `state_from` keeps the words scripts match on.
+    #[test]
+    fn where_a_state_came_from_is_said_in_words_in_json() {
+        let json = |f: StateFrom| serde_json::to_value(f).unwrap();
+        assert_eq!(json(StateFrom::NodeGuarding), "node guarding");
+        assert_eq!(json(StateFrom::Epos2Remote), "remote request through the EPOS2");
+        assert_eq!(json(StateFrom::NotAsked), "");
+        assert_eq!(
+            json(StateFrom::Silent { heartbeat: false }),
+            "no heartbeat configured, and no answer to node guarding"
+        );
+    }
+
+    #[test]
+    fn one_device_in_configuration_state_is_named() {
+        let mut answers = vec![Response::IdentifyNonConfiguredSlave.encode(), [0x7F, 0, 0, 0, 0, 0, 0, 0]];
+        for (q, v) in [(Inquiry::Vendor, 0x40), (Inquiry::Product, 2), (Inquiry::Revision, 3), (Inquiry::Serial, 4)] {
+            answers.push(inquired(q, v));
+        }
+        answers.push(inquired(Inquiry::NodeId, 0xFF));
+        let c = configuring(&answers);
+        assert_eq!(c.count, 1);
+        assert_eq!(c.one, Some((Identity { vendor: 0x40, product: 2, revision: 3, serial: 4 }, None)));
+        let json = serde_json::to_value(&c).unwrap();
+        assert_eq!(json["devices"][0]["lss"]["vendor_id"], 0x40);
+        assert_eq!(json["devices"][0]["node"], serde_json::Value::Null);
+        // Two at once: counted, not paired up.
+        answers.push(inquired(Inquiry::Serial, 5));
+        assert_eq!(configuring(&answers), Configuring { count: 2, one: None });
+        assert_eq!(configuring(&[Response::IdentifyNonConfiguredSlave.encode()]), Configuring::default());
+    }
+}
