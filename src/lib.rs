@@ -1,14 +1,14 @@
 //! canctl: commission CANopen devices over SocketCAN, slcan adapters, maxon EPOS2 serial
-//! links, socketcand, or a simulated bus. This crate is the command line: [`cli`] (the clap
+//! links, socketcand, or a simulated bus. This crate is the command line: `cli` (the clap
 //! definitions, one file per command: parse the arguments, call one procedure, render its
-//! report) and [`output`] (the one renderer: tables, JSON, CSV, JSON lines, JUnit; every
+//! report) and `output` (the one renderer: tables, JSON, CSV, JSON lines, JUnit; every
 //! report's human form, every error's words and remedy, progress bars). The procedures are
 //! the library `canctl-commission`, re-exported here under the names its modules have
 //! there ([`ops`], [`settings`], [`connect`], [`sim`], ...), as are the layers below it.
 //!
 //! # Layers
 //!
-//! [`cli`] over [`output`] over the library; the library's own order is
+//! `cli` over `output` over the library; the library's own order is
 //! `canctl_commission::LAYERS`, each crate's under it its own. `tests/suite/layers.rs`
 //! holds both, the compiler the order of the crates.
 //!

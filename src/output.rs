@@ -76,7 +76,7 @@ pub enum FormatArg {
     /// A header row and one row per record.
     Csv,
     /// JUnit XML, one test case per node and check (network check, health): listed in
-    /// their help only ([`crate::cli::CheckFormat`]), refused by the others.
+    /// their help only (`cli::CheckFormat`), refused by the others.
     #[value(hide = true)]
     Junit,
     /// An XDC (CiA 311 XML) instead of a DCF: config dump, whose help says so; hidden from
@@ -466,7 +466,7 @@ pub(crate) fn terminal_safe(text: &str) -> std::borrow::Cow<'_, str> {
     escape(text, false)
 }
 
-/// [`terminal_safe`], line breaks kept: for messages of several lines.
+/// `terminal_safe`, line breaks kept: for messages of several lines.
 pub fn terminal_safe_lines(text: &str) -> std::borrow::Cow<'_, str> {
     escape(text, true)
 }

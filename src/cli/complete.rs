@@ -6,7 +6,7 @@ use clap::CommandFactory;
 use clap_complete::engine::CompletionCandidate;
 
 /// Answer the shell's completion request (`COMPLETE=bash|zsh|fish|...`) and exit; without
-/// one, return ([`crate::output::completion::complete_from_env`]).
+/// one, return (`output::completion::complete_from_env`).
 pub fn complete_from_env() {
     crate::output::completion::complete_from_env(super::Cli::command)
 }

@@ -31,7 +31,7 @@ pub fn library_error_text(err: &crate::Error) -> String {
     }
 }
 
-/// A library error with what the front end learnt about it ([`explained`]): the nodes the last
+/// A library error with what the front end learnt about it (`explained`): the nodes the last
 /// scan saw and, when the quick checks found one, the likely cause of a node's silence
 /// (`--format json` gives that finding as the error's `diagnosis`). It ends the process as
 /// `error` does; canctl prints `error` with its remedy, then `advice`.

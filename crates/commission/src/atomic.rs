@@ -6,7 +6,7 @@ use std::io::Write;
 /// Write `bytes` to `path` so that the file is either its old self or wholly the new
 /// content, never a mix or a stump: into a temporary file beside it, flushed to the disk,
 /// then renamed over it. The temporary file is named after this process
-/// ([`temp_name`]): one left by a process killed outright is in nobody's way, and is
+/// (`temp_name`): one left by a process killed outright is in nobody's way, and is
 /// removed by the next write once its writer is gone. On any failure (disk full, no permission) the old file is left as
 /// it was and the temporary file removed: exit 7. A target that is not a regular file (a
 /// terminal, `/dev/stdout`, a FIFO) is written directly, as renaming over it would replace

@@ -1,7 +1,7 @@
 //! Two devices on one node-id. CANopen gives no device a way to say so; canctl sees it in
 //! answers that contradict each other: two SDO answers to one request, heartbeats of one
 //! node-id in two states at once, an identity that reads differently from one read to the
-//! next. [`find`] looks for that on nodes a scan found; [`in_use`] checks an id is free
+//! next. [`find`] looks for that on nodes a scan found; `in_use` checks an id is free
 //! before LSS gives it to a device.
 
 pub(crate) use crate::bus::reply::{upload_answer, Reply};

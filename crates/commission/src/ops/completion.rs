@@ -22,7 +22,7 @@ pub enum BusCandidate {
     Found(BusAddr),
     /// `slcan:PORT`, an slcan adapter on a serial port found here.
     Slcan(String),
-    /// `socketcand:`, the start of a socketcand server's address (HOST[:PORT]/IFACE follows).
+    /// `socketcand:`, the start of a socketcand server's address (`HOST[:PORT]/IFACE` follows).
     Socketcand,
     /// A socketcand server's bus whose beacon the last `canctl buses` heard, and what the
     /// server called itself.

@@ -31,7 +31,7 @@ pub enum Explanation {
         last_scan: Vec<SeenNode>,
     },
     /// An object the node does not have: the dictionary's objects nearest to it that the node
-    /// has ([`super::near::present_near`]); never empty.
+    /// has (`near::present_near`); never empty.
     Near {
         /// The node asked.
         node: u8,
