@@ -5,8 +5,10 @@
 
 use canctl::bus::lss::LssMaster;
 use canctl::bus::Master;
+use canctl::cancel::Cancel;
 use canctl::canopen::lss::Pace;
 use canctl::ops::lss::number_all;
+use canctl::ops::Silent;
 use canctl::sim::profiles::position_sensor;
 use canctl::sim::{Network, Profile, SimConfig, SimLink};
 use std::collections::BTreeSet;
@@ -32,7 +34,8 @@ fn main() {
                 let mut bus = unconfigured(1, profile);
                 let mut lss = LssMaster::new(&mut bus, PROBE);
                 let t = Instant::now();
-                let scan = lss.fastscan(Pace::measured(PROBE), given, &mut || true).unwrap().unwrap();
+                let scan =
+                    lss.fastscan(Pace::measured(PROBE), given, &Cancel::default(), &mut |_| {}).unwrap().unwrap();
                 times.push(t.elapsed());
                 scan.found.unwrap();
                 steps = scan.steps;
@@ -51,7 +54,7 @@ fn main() {
             let t = Instant::now();
             let pace = Pace::measured(PROBE);
             let outcome =
-                number_all(&mut lss, 20, BTreeSet::new(), pace, given, true, &mut || true, &mut |_| {}).unwrap();
+                number_all(&mut lss, 20, BTreeSet::new(), pace, given, true, &mut Silent, &Cancel::default()).unwrap();
             let elapsed = t.elapsed();
             assert_eq!(outcome.assigned.len(), 8, "all 8 numbered");
             println!(

@@ -198,32 +198,34 @@ impl<'a> LssMaster<'a> {
     }
 
     /// Find one device without a node-id, at `pace` (learned as it goes), skipping the
-    /// identity parts in `given`. `keep_going` is asked before each request: when it says
-    /// no, the search ends with `None`.
+    /// identity parts in `given`. Before each request `cancel` is looked at (cancelled, the
+    /// search ends with `None`) and `sent` told how many requests this one makes.
     pub fn fastscan(
         &mut self,
         pace: Pace,
         given: [Option<u32>; 4],
-        keep_going: &mut dyn FnMut() -> bool,
+        cancel: &crate::cancel::Cancel,
+        sent: &mut dyn FnMut(u64),
     ) -> Result<Option<FastscanOutcome>> {
         let mut scan = Fastscan::new(pace, given);
         // Strays from before this search say nothing of its requests.
         self.bus.observed().take_lss_answers();
-        let mut asked = false;
+        let mut asked = 0;
         loop {
             let found = match scan.next() {
                 FastscanNext::Send(ask) => {
-                    if !keep_going() {
+                    if cancel.is_cancelled() {
                         return Ok(None);
                     }
+                    asked += 1;
+                    sent(asked);
                     // The search starts again (a confirmation went unanswered): the device
                     // it was about may have gone into configuration state all the same, its
                     // answer lost. Back to waiting with the others, or it would take the
                     // node-id meant for the next device found.
-                    if asked && matches!(ask.request, Request::Fastscan { bit_checked: lss::FASTSCAN_RESET, .. }) {
+                    if asked > 1 && matches!(ask.request, Request::Fastscan { bit_checked: lss::FASTSCAN_RESET, .. }) {
                         self.switch_to_waiting()?;
                     }
-                    asked = true;
                     let collect = ask.settle.map_or(LssWait::All, LssWait::Settle);
                     let answers = self.bus.lss_exchange(&ask.request.encode(), ask.expect, ask.window, collect)?;
                     let answers: Vec<(Duration, [u8; 8])> = answers.iter().map(|a| (a.after, a.data)).collect();

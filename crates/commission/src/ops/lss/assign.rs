@@ -136,8 +136,6 @@ pub fn assign(
     let used = ids_in_use(bus, timeout, o.listen, progress, interrupted)?;
     let in_use_before: Vec<u8> = used.iter().copied().collect();
     // Each device sought is a bar of fastscan requests (14 s each on slow devices).
-    let len = fastscan_steps(o.fastscan.given());
-    let (shown, sent, found) = (std::cell::RefCell::new(progress), std::cell::Cell::new(0), std::cell::Cell::new(0));
     let outcome = number_all(
         &mut LssMaster::new(bus, timeout),
         o.start,
@@ -145,25 +143,9 @@ pub fn assign(
         o.fastscan.pace(),
         o.fastscan.given(),
         o.store,
-        &mut || {
-            let mut progress = shown.borrow_mut();
-            if sent.get() == 0 {
-                progress.start(&format!("fastscan for device {}", found.get() + 1), len);
-            }
-            sent.set(sent.get() + 1);
-            progress.advance(sent.get().min(len));
-            !interrupted.is_cancelled()
-        },
-        &mut |d| {
-            let mut progress = shown.borrow_mut();
-            progress.finish();
-            sent.set(0);
-            found.set(found.get() + 1);
-            progress.event(Notice::Assigned { identity: d.identity, node: d.node }.into());
-        },
-    );
-    shown.borrow_mut().finish();
-    let outcome = outcome?;
+        progress,
+        interrupted,
+    )?;
     let failure = if outcome.interrupted || interrupted.is_cancelled() {
         Some(Error::Interrupted)
     } else {
@@ -261,7 +243,9 @@ pub struct AssignOutcome {
 /// Give every device without a node-id the next node-id from `start` on that is not in
 /// `used`: fastscan finds one (leaving it in configuration state), it gets its node-id
 /// and, with `store`, keeps it; back in waiting state it boots and leaves the search.
-/// Whatever ends it, every device is sent back to waiting state.
+/// Each search is a bar of its requests on `progress`, each device numbered a notice;
+/// `cancel` stops it before its next request. Whatever ends it, every device is sent back
+/// to waiting state.
 #[allow(clippy::too_many_arguments)]
 pub fn number_all(
     m: &mut LssMaster,
@@ -270,12 +254,13 @@ pub fn number_all(
     pace: Pace,
     given: [Option<u32>; 4],
     store: bool,
-    keep_going: &mut dyn FnMut() -> bool,
-    each: &mut dyn FnMut(&Assigned),
+    progress: &mut dyn Progress,
+    cancel: &Cancel,
 ) -> Result<AssignOutcome> {
     let mut out =
         AssignOutcome { assigned: Vec::new(), steps: 0, failure: None, pace: pace.clone(), interrupted: false };
-    let result = assign_each(m, start, used, given, store, keep_going, each, &mut out);
+    let result = assign_each(m, start, used, given, store, progress, cancel, &mut out);
+    progress.finish();
     // A failure, a lost link or an interruption must not leave a device in
     // configuration state, where it would answer the next master's services.
     let left = m.leave();
@@ -293,16 +278,29 @@ fn assign_each(
     mut used: BTreeSet<u8>,
     given: [Option<u32>; 4],
     store: bool,
-    keep_going: &mut dyn FnMut() -> bool,
-    each: &mut dyn FnMut(&Assigned),
+    progress: &mut dyn Progress,
+    cancel: &Cancel,
     out: &mut AssignOutcome,
 ) -> Result<()> {
+    let len = fastscan_steps(given);
     // Searches in a row that found nobody: one lost answer must not be taken for "every
     // device has a node-id" (exit 0), so silence is believed only when it repeats.
     let mut silent = 0;
     let (mut found_again, mut crowded) = (0, 0);
+    // Requests sent in the search for the device being sought.
+    let mut sent = 0;
     loop {
-        let Some(scan) = m.fastscan(out.pace.clone(), given, keep_going)? else {
+        // One bar per device sought, over its searches (a lost answer searches again).
+        if sent == 0 {
+            progress.start(&format!("fastscan for device {}", out.assigned.len() + 1), len);
+        }
+        let mut this_search = 0;
+        let scan = m.fastscan(out.pace.clone(), given, cancel, &mut |n| {
+            this_search = n;
+            progress.advance((sent + n).min(len));
+        })?;
+        sent += this_search;
+        let Some(scan) = scan else {
             out.interrupted = true;
             return Ok(());
         };
@@ -377,14 +375,14 @@ fn assign_each(
             Err(NotStored::NotAsked)
         };
         used.insert(node);
-        let done = Assigned { identity, node, stored };
+        // The device's bar ends, and its node-id is said as it is given.
+        progress.finish();
+        progress.event(Notice::Assigned { identity, node }.into());
+        sent = 0;
+        out.assigned.push(Assigned { identity, node, stored });
         if let Err(e) = m.back_to_waiting(identity, node) {
-            each(&done);
-            out.assigned.push(done);
             out.failure = Some(AssignFailure::Refused(e));
             return Ok(());
         }
-        each(&done);
-        out.assigned.push(done);
     }
 }

@@ -103,12 +103,7 @@ pub fn fastscan_shown(
     let mut m = LssMaster::new(bus, o.timeout);
     let len = fastscan_steps(o.given());
     progress.start("fastscan", len);
-    let mut sent = 0;
-    let result = m.fastscan(o.pace(), o.given(), &mut || {
-        sent += 1;
-        progress.advance(sent.min(len));
-        !interrupted.is_cancelled()
-    });
+    let result = m.fastscan(o.pace(), o.given(), interrupted, &mut |sent| progress.advance(sent.min(len)));
     progress.finish();
     // The device found is in configuration state: whatever happened, every device goes
     // back to waiting, unchanged.
