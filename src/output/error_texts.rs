@@ -478,6 +478,16 @@ fn link_messages_say_what_they_always_said() {
             },
             "epos2-usb:/dev/x: remote frames go through RequestCANFrame; use a request",
         ),
+        (
+            Error::OutOfRange {
+                object: ObjAddr::new(0x6060, 0),
+                value: "99".into(),
+                low: -128,
+                high: 10,
+                dictionary: "from the dictionary".into(),
+            },
+            "99 is outside the range of 0x6060:0: use -128 to 10 (from the dictionary); nothing was written",
+        ),
     ];
     for (error, text) in usage {
         assert_eq!(error.exit_code(), 2);

@@ -109,6 +109,7 @@ impl Error {
             Error::Advised { error, .. } | Error::InSettingsFile { error, .. } => error.class(),
             Error::NoSocketCan { .. }
             | Error::TypeNeeded { .. }
+            | Error::OutOfRange { .. }
             | Error::NoLssOnDirectEpos2 { .. }
             | Error::Epos2RateOnStore => C::Usage,
             Error::MapSizeUnread { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {

@@ -512,6 +512,21 @@ pub enum Error {
         /// Why it could not be read.
         error: Box<Error>,
     },
+    /// A value outside the limits a dictionary gives its object (`dictionary`: which
+    /// one), refused before anything is written (exit 2).
+    #[error("{value} is outside the range of {object}: use {low} to {high} ({dictionary}); nothing was written")]
+    OutOfRange {
+        /// The object.
+        object: ObjAddr,
+        /// The value, as given or as the file writes it.
+        value: String,
+        /// The lowest value allowed.
+        low: i128,
+        /// The highest value allowed.
+        high: i128,
+        /// The dictionary the limits come from, in words.
+        dictionary: String,
+    },
     /// No data type to encode a value with: none was asked for and the dictionary has no
     /// entry for the object (exit 2).
     #[error(

@@ -169,10 +169,13 @@ pub(crate) fn le_u32(bytes: &[u8]) -> u32 {
 pub(crate) fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
     match entry.outside_limits(bytes) {
         None => Ok(()),
-        Some(crate::od::OutsideLimits { value, low, high, .. }) => Err(Error::Usage(format!(
-            "{value} is outside the range of {}: use {low} to {high} (from the dictionary)",
-            entry.addr
-        ))),
+        Some(crate::od::OutsideLimits { value, low, high, .. }) => Err(Error::OutOfRange {
+            object: entry.addr,
+            value: value.to_string(),
+            low,
+            high,
+            dictionary: "from the dictionary".into(),
+        }),
     }
 }
 

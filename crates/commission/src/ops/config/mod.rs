@@ -143,12 +143,8 @@ fn identity_differences(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duratio
 
 /// A value the target's dictionary does not allow, refused before anything is written.
 fn out_of_range(entry: &Entry, value: &[u8], limits: crate::od::OutsideLimits, source: &str) -> Error {
-    let shown = show(entry, value);
     let crate::od::OutsideLimits { low, high, .. } = limits;
-    Error::Usage(format!(
-        "{shown} is outside the range of {}: use {low} to {high} ({source}); nothing was written",
-        entry.addr
-    ))
+    Error::OutOfRange { object: entry.addr, value: show(entry, value), low, high, dictionary: source.to_string() }
 }
 
 /// The dictionary a node is judged by, with the name of its source: the one given (an EDS
