@@ -298,7 +298,8 @@ fn an_sdo_write_outside_the_eds_limits_is_refused_before_it_is_sent() {
     assert_eq!(entry.unwrap().range, Some((0, 60000)));
     let w = WriteOptions { timeout: TIMEOUT, dtype: None, block: true, verify: false };
     let err = sdo::write(bus.as_mut(), dicts.for_node(SENSOR), SENSOR, object, "60001", &w).unwrap_err();
-    assert!(matches!(err, Error::Usage(_)) && err.to_string().contains("use 0 to 60000"), "{err}");
+    assert!(matches!(err, Error::OutOfRange { low: 0, high: 60000, .. }), "{err}");
+    assert!(err.to_string().contains("use 0 to 60000"), "{err}");
     let r = ReadOptions { timeout: TIMEOUT, dtype: None, block: true, max_size: None };
     let unchanged = sdo::read(bus.as_mut(), dicts.for_node(SENSOR), SENSOR, object, &r).unwrap();
     assert_ne!(unchanged.value, Some(Value::Uint(60001)));

@@ -110,6 +110,8 @@ impl Error {
             Error::NoSocketCan { .. }
             | Error::TypeNeeded { .. }
             | Error::OutOfRange { .. }
+            | Error::ProjectUnusable(_)
+            | Error::NotWritable(_)
             | Error::NoLssOnDirectEpos2 { .. }
             | Error::Epos2RateOnStore => C::Usage,
             Error::MapSizeUnread { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {

@@ -386,3 +386,55 @@ impl fmt::Display for Advice {
         }
     }
 }
+
+/// What makes a network project, or a file it names, unusable.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum ProjectProblem {
+    /// The project file (CiA 306-3 `nodelist.cpj`) itself.
+    #[error("cannot use {0}")]
+    Project(crate::od::cpj::CpjError),
+    /// The commissioning (`[DeviceComissioning]`) of a DCF it names.
+    #[error("cannot use {0}")]
+    Commissioning(crate::od::cpj::CpjError),
+    /// The commissioning (`DeviceCommissioning`) of an XDC it names.
+    #[error("cannot use {0}")]
+    XdcCommissioning(crate::od::xdd::XmlError),
+    /// A DCF it names that cannot be read (`node` and `project`: whose, where listed).
+    #[error("cannot use {dcf}{}: {error}", node.map(|n| format!(" (node {n} in {project})")).unwrap_or_default())]
+    Dcf {
+        /// The DCF, as the project names it.
+        dcf: String,
+        /// The node the project lists it for, when said.
+        node: Option<u8>,
+        /// The project file.
+        project: String,
+        /// Why it cannot be read.
+        error: crate::input::InputError,
+    },
+    /// A DCF that gives another node-id than the one the project lists it for.
+    #[error("{dcf} is for node-id {id} ({}), but {project} lists it for node {node}",
+        if *xml { "DeviceCommissioning nodeID" } else { "[DeviceComissioning] NodeID" })]
+    OtherNodeId {
+        /// The DCF (or XDC).
+        dcf: String,
+        /// The node-id it gives.
+        id: u8,
+        /// The node the project lists it for.
+        node: u8,
+        /// The project file.
+        project: String,
+        /// Whether it is an XDC (its key named as CiA 311 names it).
+        xml: bool,
+    },
+}
+
+/// A value a file canctl makes cannot hold as it is.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum NotWritable {
+    /// An EDS, DCF or XDC.
+    #[error(transparent)]
+    Description(#[from] crate::od::eds::WriteError),
+    /// A project file, or the commissioning section of a DCF.
+    #[error(transparent)]
+    Project(#[from] crate::od::cpj::WriteError),
+}

@@ -22,7 +22,8 @@ pub use class::ErrorClass;
 pub use detail::clipped;
 use detail::*;
 pub use detail::{
-    Advice, DriveStop, Moved, NodeIdRange, OutsideProject, Service, StateRefused, StoreRefusal, Unfinished,
+    Advice, DriveStop, Moved, NodeIdRange, NotWritable, OutsideProject, ProjectProblem, Service, StateRefused,
+    StoreRefusal, Unfinished,
 };
 pub use link::{LinkError, PtyOp};
 
@@ -512,6 +513,12 @@ pub enum Error {
         /// Why it could not be read.
         error: Box<Error>,
     },
+    /// A network project, or a file it names, that cannot be used as it is (exit 2).
+    #[error("{0}")]
+    ProjectUnusable(Box<ProjectProblem>),
+    /// A file canctl makes (a DCF, an XDC, a project) cannot hold a value as it is (exit 2).
+    #[error("{0}")]
+    NotWritable(NotWritable),
     /// A value outside the limits a dictionary gives its object (`dictionary`: which
     /// one), refused before anything is written (exit 2).
     #[error("{value} is outside the range of {object}: use {low} to {high} ({dictionary}); nothing was written")]

@@ -276,7 +276,7 @@ pub fn dump_as(
         FileForm::Dcf => eds::write_bytes(&present, Some(&values), &header),
         FileForm::Xdc => xdd::write_bytes(&present, Some(&values), &header),
     }
-    .map_err(|e| Error::Usage(e.to_string()))?;
+    .map_err(|e| Error::NotWritable(e.into()))?;
     Ok(Dump { node, objects: values.len(), interrupted: false, wanted: wanted.len(), source, dcf })
 }
 

@@ -245,11 +245,14 @@ pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<
         // Read here and rewritten in place by the caller.
         check_inside(loaded.folder(), &path)?;
         let name = path.display().to_string();
-        let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
-            .map_err(|e| Error::Usage(format!("cannot use {name}: {e}")))?;
-        let mut c = cpj::read_commissioning(&bytes, &name).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+        let bytes = crate::input::read_regular_file(&path, crate::input::EDS).map_err(|error| {
+            let project = loaded.file.display().to_string();
+            Error::ProjectUnusable(Box::new(ProjectProblem::Dcf { dcf: name.clone(), node: None, project, error }))
+        })?;
+        let mut c = cpj::read_commissioning(&bytes, &name)
+            .map_err(|e| Error::ProjectUnusable(Box::new(ProjectProblem::Commissioning(e))))?;
         c.baudrate_kbit = Some(kbit);
-        let new = cpj::with_commissioning(&bytes, &c).map_err(|e| Error::Usage(e.to_string()))?;
+        let new = cpj::with_commissioning(&bytes, &c).map_err(|e| Error::NotWritable(e.into()))?;
         out.push((path, new));
     }
     Ok(out)

@@ -73,7 +73,7 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
             lss_serial: serial,
             ..Commissioning::default()
         };
-        let bytes = cpj::with_commissioning(&dumped.dcf, &commissioning).map_err(|e| Error::Usage(e.to_string()))?;
+        let bytes = cpj::with_commissioning(&dumped.dcf, &commissioning).map_err(|e| Error::NotWritable(e.into()))?;
         project.nodes.insert(
             node,
             cpj::Node {
@@ -86,7 +86,7 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
         nodes.push(DumpedNode { node, name, file: file.clone(), objects: dumped.objects });
         files.push((file, bytes));
     }
-    let cpj = cpj::write(&project).map_err(|e| Error::Usage(e.to_string()))?;
+    let cpj = cpj::write(&project).map_err(|e| Error::NotWritable(e.into()))?;
     files.insert(0, (PROJECT_FILE.to_string(), cpj));
     Ok(Dumped { bus: bus.describe(), nodes, unconfigured, files })
 }

@@ -10,7 +10,7 @@ use crate::bus::{Bus, LssWait};
 use crate::cancel::Cancel;
 use crate::canopen::lss::{Identity, Request};
 use crate::canopen::ObjAddr;
-use crate::error::{Error, Result, Service};
+use crate::error::{Error, ProjectProblem, Result, Service};
 use crate::od::cpj::{self, Commissioning, Project};
 use crate::od::eds;
 use serde::Serialize;
@@ -96,7 +96,7 @@ fn info_number(dcf: &Dcf, key: &str) -> Option<u32> {
 pub fn load(file: &Path) -> Result<Loaded> {
     let folder = folder_of(file);
     check_inside(folder, file)?;
-    let read = cpj::read_file(file).map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+    let read = cpj::read_file(file).map_err(|e| Error::ProjectUnusable(Box::new(ProjectProblem::Project(e))))?;
     let mut warnings: Vec<LoadWarning> = read.warnings.into_iter().map(LoadWarning::Project).collect();
     let project = read.project;
     let mut nodes = Vec::new();
@@ -106,21 +106,26 @@ pub fn load(file: &Path) -> Result<Loaded> {
             Some(path) => {
                 check_inside(folder, &path)?;
                 let name = path.display().to_string();
-                let bytes = crate::input::read_regular_file(&path, crate::input::EDS)
-                    .map_err(|e| Error::Usage(format!("cannot use {name} (node {node} in {}): {e}", file.display())))?;
+                let bytes = crate::input::read_regular_file(&path, crate::input::EDS).map_err(|error| {
+                    let project = file.display().to_string();
+                    Error::ProjectUnusable(Box::new(ProjectProblem::Dcf {
+                        dcf: name.clone(),
+                        node: Some(node),
+                        project,
+                        error,
+                    }))
+                })?;
                 let dcf = Dcf::parse(&bytes, &name)?;
                 let xml = crate::od::xdd::is_xml(&bytes);
                 let c = match xml {
-                    true => crate::od::xdd::read_commissioning(&bytes, &name).map_err(|e| e.to_string()),
-                    false => cpj::read_commissioning(&bytes, &name).map_err(|e| e.to_string()),
+                    true => crate::od::xdd::read_commissioning(&bytes, &name).map_err(ProjectProblem::XdcCommissioning),
+                    false => cpj::read_commissioning(&bytes, &name).map_err(ProjectProblem::Commissioning),
                 }
-                .map_err(|e| Error::Usage(format!("cannot use {e}")))?;
+                .map_err(|p| Error::ProjectUnusable(Box::new(p)))?;
                 if let Some(id) = c.node_id.filter(|id| *id != node) {
-                    return Err(Error::Usage(format!(
-                        "{name} is for node-id {id} ({}), but {} lists it for node {node}",
-                        if xml { "DeviceCommissioning nodeID" } else { "[DeviceComissioning] NodeID" },
-                        file.display()
-                    )));
+                    let project = file.display().to_string();
+                    let other = ProjectProblem::OtherNodeId { dcf: name, id, node, project, xml };
+                    return Err(Error::ProjectUnusable(Box::new(other)));
                 }
                 warnings.extend(dcf.warnings().iter().cloned().map(LoadWarning::Dcf));
                 (Some(dcf), c)
