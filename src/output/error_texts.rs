@@ -83,13 +83,13 @@ fn messages_say_what_they_always_said() {
             "all nodes: no boot-up within 3000 ms",
         ),
         (
-            Error::StoreRefused { node: 5, verb: "restore", why: StoreRefusal::NoObject { index: 0x1011 } },
+            Error::StoreRefused { node: 5, command: ParameterCommand::Restore, why: StoreRefusal::NoObject { index: 0x1011 } },
             "node 5 has no object 0x1011: it cannot restore parameters",
         ),
         (
             Error::StoreRefused {
                 node: 5,
-                verb: "store",
+                command: ParameterCommand::Store,
                 why: StoreRefusal::NotOffered {
                     class: "manufacturer parameters",
                     index: 0x1010,
@@ -102,7 +102,7 @@ fn messages_say_what_they_always_said() {
         (
             Error::StoreRefused {
                 node: 5,
-                verb: "store",
+                command: ParameterCommand::Store,
                 why: StoreRefusal::NotOnCommand {
                     class: "all parameters",
                     obj: ObjAddr { index: 0x1010, sub: 1 },
@@ -505,14 +505,14 @@ fn advice_is_appended_and_keeps_the_exit_code() {
     );
     assert_eq!(e.exit_code(), 3);
     assert!(matches!(e.root(), Error::NoAnswer { node: 7, .. }));
-    let stored = silent().advised(Advice::SentOnce { node: 7, verb: "store" });
+    let stored = silent().advised(Advice::SentOnce { node: 7, command: ParameterCommand::Store });
     assert!(
         stored.to_string().ends_with(
             "; the store was sent once and may have been done: unknown whether node 7 stored its parameters"
         ),
         "{stored}"
     );
-    let restored = silent().advised(Advice::SentOnce { node: 7, verb: "restore" });
+    let restored = silent().advised(Advice::SentOnce { node: 7, command: ParameterCommand::Restore });
     assert!(restored.to_string().ends_with("unknown whether node 7 restored its defaults"), "{restored}");
     let taken = Error::Link(LinkError::Open {
         port: "TCP 0.0.0.0:29536".into(),

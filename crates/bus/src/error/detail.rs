@@ -152,7 +152,7 @@ pub enum StoreRefusal {
     },
 }
 
-pub(super) fn store_refused_text(node: u8, verb: &str, why: &StoreRefusal) -> String {
+pub(super) fn store_refused_text(node: u8, verb: ParameterCommand, why: &StoreRefusal) -> String {
     match why {
         StoreRefusal::NoObject { index } => {
             format!("node {node} has no object 0x{index:04X}: it cannot {verb} parameters")
@@ -361,13 +361,13 @@ pub enum Advice {
     /// Objects whose names or addresses are near the one asked for, as the user would write
     /// them.
     Near(Vec<String>),
-    /// A store or restore (`verb`) was sent once and its answer did not come: the node may
-    /// have done it.
+    /// A store or restore was sent once and its answer did not come: the node may have
+    /// done it.
     SentOnce {
         /// The node asked.
         node: u8,
-        /// `store` or `restore`.
-        verb: &'static str,
+        /// Which was sent.
+        command: ParameterCommand,
     },
     /// The TCP port asked for to serve on is taken.
     PortTaken,
@@ -377,13 +377,35 @@ impl fmt::Display for Advice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Advice::Near(near) => write!(f, "; did you mean {}?", near.join(", ")),
-            Advice::SentOnce { node, verb } => write!(
+            Advice::SentOnce { node, command } => write!(
                 f,
-                "; the {verb} was sent once and may have been done: unknown whether node {node} {}",
-                if *verb == "store" { "stored its parameters" } else { "restored its defaults" }
+                "; the {command} was sent once and may have been done: unknown whether node {node} {}",
+                match command {
+                    ParameterCommand::Store => "stored its parameters",
+                    ParameterCommand::Restore => "restored its defaults",
+                }
             ),
             Advice::PortTaken => f.write_str("; serve on another port, or on port 0 for any free one"),
         }
+    }
+}
+
+/// Storing a node's parameters (0x1010, 'save') or restoring its defaults (0x1011, 'load').
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParameterCommand {
+    /// Store the parameters in non-volatile memory.
+    Store,
+    /// Restore the defaults (from the next reset on).
+    Restore,
+}
+
+/// The command as a verb: `store` or `restore`.
+impl fmt::Display for ParameterCommand {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ParameterCommand::Store => "store",
+            ParameterCommand::Restore => "restore",
+        })
     }
 }
 

@@ -22,8 +22,8 @@ pub use class::ErrorClass;
 pub use detail::clipped;
 use detail::*;
 pub use detail::{
-    Advice, DriveStop, Moved, NodeIdRange, NotWritable, OutsideProject, ProjectProblem, Service, StateRefused,
-    StoreRefusal, Unfinished,
+    Advice, DriveStop, Moved, NodeIdRange, NotWritable, OutsideProject, ParameterCommand, ProjectProblem, Service,
+    StateRefused, StoreRefusal, Unfinished,
 };
 pub use link::{LinkError, PtyOp};
 
@@ -342,13 +342,13 @@ pub enum Error {
         /// The node-id of the node it is about.
         node: u8,
     },
-    /// A node cannot store or restore (`verb`) parameters on command.
-    #[error("{}", store_refused_text(*node, verb, why))]
+    /// A node cannot store or restore parameters on command.
+    #[error("{}", store_refused_text(*node, *command, why))]
     StoreRefused {
         /// The node-id of the node it is about.
         node: u8,
-        /// `store` or `restore`.
-        verb: &'static str,
+        /// Which it was asked to do.
+        command: ParameterCommand,
         /// Why the node cannot.
         why: StoreRefusal,
     },

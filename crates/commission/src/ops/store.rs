@@ -3,7 +3,7 @@
 use super::{as_text, le_u32, sized};
 use crate::bus::Bus;
 use crate::canopen::ObjAddr;
-use crate::error::{Advice, Error, Result, StoreRefusal};
+use crate::error::{Advice, Error, ParameterCommand, Result, StoreRefusal};
 use serde::Serialize;
 use std::time::Duration;
 
@@ -84,33 +84,27 @@ fn class_text<S: serde::Serializer>(c: &Class, s: S) -> std::result::Result<S::O
 
 /// Write 'save' to 0x1010, once the device says it can store `class` on command.
 pub fn store(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts) -> Result<Stored> {
-    let object = signature(bus, node, Signature::Save, class, t)?;
+    let object = signature(bus, node, ParameterCommand::Store, class, t)?;
     Ok(Stored { node, class, object })
 }
 
 /// Write 'load' to 0x1011, once the device says it can restore `class` on command.
 pub fn restore(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts) -> Result<Restored> {
-    let object = signature(bus, node, Signature::Load, class, t)?;
+    let object = signature(bus, node, ParameterCommand::Restore, class, t)?;
     Ok(Restored { node, class, object, reset: false, reset_unconfirmed: None })
-}
-
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Signature {
-    Save,
-    Load,
 }
 
 /// Check that the device can do this on command, then write the signature
 /// ('save' and 'load' as they travel, CiA 301 7.5.2.13/14).
-fn signature(bus: &mut dyn Bus, node: u8, sig: Signature, class: Class, t: Timeouts) -> Result<ObjAddr> {
-    let (index, verb, bytes) = match sig {
-        Signature::Save => (0x1010, "store", b"save"),
-        Signature::Load => (0x1011, "restore", b"load"),
+fn signature(bus: &mut dyn Bus, node: u8, command: ParameterCommand, class: Class, t: Timeouts) -> Result<ObjAddr> {
+    let (index, bytes) = match command {
+        ParameterCommand::Store => (0x1010, b"save"),
+        ParameterCommand::Restore => (0x1011, b"load"),
     };
     let highest = match bus.sdo_upload(node, ObjAddr::new(index, 0), &sized(t.answer, Some(1))) {
         Ok(v) => v.first().copied().unwrap_or(0),
         Err(e) if super::node::lacks_index(&e) => {
-            return Err(Error::StoreRefused { node, verb, why: StoreRefusal::NoObject { index } });
+            return Err(Error::StoreRefused { node, command, why: StoreRefusal::NoObject { index } });
         }
         Err(e) => return Err(e),
     };
@@ -122,19 +116,19 @@ fn signature(bus: &mut dyn Bus, node: u8, sig: Signature, class: Class, t: Timeo
             .map(|c| c.text())
             .collect();
         let why = StoreRefusal::NotOffered { class: class.text(), index, highest, offered };
-        return Err(Error::StoreRefused { node, verb, why });
+        return Err(Error::StoreRefused { node, command, why });
     }
     let caps = le_u32(&bus.sdo_upload(node, addr, &sized(t.answer, Some(4)))?);
     // Bit 0: the device does this on command. (For 0x1010 bit 1 means it saves on its own.)
     if caps & 1 == 0 {
-        let saves_itself = sig == Signature::Save && caps & 2 != 0;
+        let saves_itself = command == ParameterCommand::Store && caps & 2 != 0;
         let why = StoreRefusal::NotOnCommand { class: class.text(), obj: addr, caps, saves_itself };
-        return Err(Error::StoreRefused { node, verb, why });
+        return Err(Error::StoreRefused { node, command, why });
     }
     // An action, sent once: with its answer lost, whether it was done is unknown.
     bus.sdo_download(node, addr, bytes, &sized(t.write, Some(4))).map_err(|e| match e {
         Error::NoAnswer { .. } | Error::SdoUnfinished { .. } | Error::SdoOutcomeUnknown { .. } => {
-            e.advised(Advice::SentOnce { node, verb })
+            e.advised(Advice::SentOnce { node, command })
         }
         e => e,
     })?;
