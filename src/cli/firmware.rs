@@ -92,15 +92,9 @@ pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) 
 
 fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::CommandResult {
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
-    // One bar of bytes is for one transfer at a time: with several at once, each node's
-    // start and end are told instead.
-    let parallel = a.jobs > 1 && a.nodes.0.len() > 1;
+    // Each transfer's bytes are a bar of `steps`, one transfer at a time (several at once,
+    // each node's start and end are told instead).
     let mut steps = ctx.out.progress();
-    let bar = if parallel {
-        indicatif::ProgressBar::hidden()
-    } else {
-        steps.adopt(ctx.out.bytes_bar(image.len() as u64, &format!("0x1F50:{}", a.program)))
-    };
     let mut o = DownloadOptions::new(ctx.timeout);
     o.program = a.program;
     o.force = a.force;
@@ -108,14 +102,12 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::Co
     o.busy_wait = a.busy_wait;
     o.confirm = !a.no_confirm;
     o.cancel = Some(ctx.cancel.clone());
-    o.watch = if parallel { None } else { ctx.out.transfer_hook(&bar) };
     if let [node] = a.nodes.0[..] {
         if !ctx.out.junit {
             let result = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
                 firmware::download(bus, node, &image, &o, &mut steps)
             });
             crate::ops::Progress::finish(&mut steps);
-            bar.finish_and_clear();
             return match result {
                 Ok(report) => Ok(ctx.out.report(&report)?),
                 Err(failed) => {
@@ -129,7 +121,6 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::Co
         firmware::download_jobs(bus, &a.nodes.0, &image, &o, usize::from(a.jobs), &mut steps)
     });
     crate::ops::Progress::finish(&mut steps);
-    bar.finish_and_clear();
     ctx.out.report(&batch)?;
     match batch.into_failure() {
         Some(e) => Err(e.into()),

@@ -1,7 +1,8 @@
 //! `firmware download` and `firmware status` (CiA 302-3) against the simulated bootloader,
 //! on virtual time: the erase takes seconds of bus time, in a moment of the test's.
 
-use canctl::bus::{Bus, Master, SdoOptions};
+use canctl::bus::tap::AfterSdo;
+use canctl::bus::{Bus, Master, SdoOptions, TransferHook};
 use canctl::cancel::Cancel;
 use canctl::canopen::program::{self, code, Control};
 use canctl::canopen::ObjAddr;
@@ -157,13 +158,15 @@ fn interrupted_mid_download_it_says_where_the_device_is_and_the_same_command_fin
     let (c, o) = (cancel.clone(), once.clone());
     let mut opts = DownloadOptions::new(TIMEOUT);
     opts.cancel = Some(cancel.clone());
-    opts.watch = Some(Arc::new(move |bytes| {
+    // The user stops it once 8000 bytes of the image are through.
+    let stop: TransferHook = Arc::new(move |bytes| {
         if bytes > 8000 && !o.swap(true, Ordering::SeqCst) {
             c.cancel();
         }
-    }));
+    });
     let img = image(40_000);
-    let e = firmware::download(&mut bus, NODE, &img, &opts, &mut Silent).unwrap_err();
+    let mut watched = AfterSdo::new(&mut bus, |_, _| {}).with_progress_hook(Some(stop));
+    let e = firmware::download(&mut watched, NODE, &img, &opts, &mut Silent).unwrap_err();
     assert!(e.report.interrupted, "{e}");
     assert_eq!(e.error.class(), ErrorClass::Interrupted);
     assert_eq!(e.report.device, Where::BootloaderNoProgram);

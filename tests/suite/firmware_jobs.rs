@@ -3,7 +3,8 @@
 //! not stop the others, and an interruption leaves each node's report saying where its
 //! device is.
 
-use canctl::bus::{Bus, Master, SdoOptions};
+use canctl::bus::tap::AfterSdo;
+use canctl::bus::{Bus, Master, SdoOptions, TransferHook};
 use canctl::cancel::Cancel;
 use canctl::canopen::program;
 use canctl::error::ErrorClass;
@@ -106,13 +107,15 @@ fn interrupted_each_node_says_where_its_device_is_and_none_more_is_begun() {
     let c = cancel.clone();
     let mut o = DownloadOptions::new(TIMEOUT);
     o.cancel = Some(cancel);
-    o.watch = Some(Arc::new(move |bytes| {
+    // The user stops it once 3000 bytes of any node's image are through.
+    let stop: TransferHook = Arc::new(move |bytes| {
         if bytes > 3000 {
             c.cancel();
         }
-    }));
+    });
     let img = image(20_000);
-    let (batch, _) = run(&mut bus, &nodes, &img, &o, 3);
+    let mut watched = AfterSdo::new(&mut bus, |_, _| {}).with_progress_hook(Some(stop));
+    let (batch, _) = run(&mut watched, &nodes, &img, &o, 3);
     assert!(batch.interrupted);
     for n in &batch.nodes[..3] {
         let r = n.report.as_ref().unwrap();

@@ -35,8 +35,9 @@ impl Watch<Outcome> for Lines<'_> {
 /// Download `image` into `nodes`, up to `jobs` of them at once (1: [`download_each`],
 /// one after the other). Each node gets the report it would get alone; one that fails
 /// does not stop the others; an interruption ends those under way (each says where its
-/// device is) and begins no more (listed as not begun). `o.watch` is told the bytes of
-/// whichever node's transfer moved (one bar per node is the caller's to make of it).
+/// device is) and begins no more (listed as not begun). Alone or one after the other, a
+/// node's transfer is a phase of `progress` counting its bytes; several at once, each
+/// node's start and end are told instead.
 pub fn download_jobs(
     bus: &mut dyn Bus,
     nodes: &[u8],

@@ -9,7 +9,7 @@
 //! confirmed (0x1F51 reads 0x80).
 
 use super::{ItemEnd, Progress};
-use crate::bus::{Bus, SdoOptions, TransferHook};
+use crate::bus::{Bus, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::nmt;
 use crate::canopen::program::{self, Control, FlashStatus, FLASH_STATUS, PROGRAM_CONTROL, PROGRAM_DATA, SOFTWARE_ID};
@@ -52,8 +52,6 @@ pub struct DownloadOptions {
     pub confirm: bool,
     /// Looked at between steps and transfers: set, the download stops where it is safe to.
     pub cancel: Option<Cancel>,
-    /// Told the bytes moved so far during the download (progress bar, rate, ETA).
-    pub watch: Option<TransferHook>,
 }
 
 impl DownloadOptions {
@@ -68,7 +66,6 @@ impl DownloadOptions {
             boot_wait: BOOT_WAIT,
             confirm: true,
             cancel: None,
-            watch: None,
         }
     }
 }
@@ -553,12 +550,13 @@ fn download_timed(
     did!(Step::Erased);
 
     // The program data: block transfer (the bus falls back to segmented when the device
-    // refuses it), watched, stopped between frames when asked.
+    // refuses it), its bytes a phase of `progress`, stopped between frames when asked.
     let mut opts = r.opts();
     opts.block_download = true;
-    opts.on_progress = o.watch.clone();
+    opts.on_progress = progress.transfer(&format!("0x1F50:{}", o.program), Some(image.len() as u64));
     let download_began = r.bus.now();
     let written = r.bus.sdo_download(node, r.addr(PROGRAM_DATA), image, &opts);
+    progress.finish();
     step!(written, Where::BootloaderNoProgram);
     let took = r.bus.now().saturating_duration_since(served.since().unwrap_or(download_began));
     r.report.download_ms = Some(took.as_millis() as u64);
