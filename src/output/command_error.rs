@@ -116,7 +116,8 @@ impl CommandError {
             CommandError::OnBuses { class, .. } => *class,
             CommandError::Usage(_) => ErrorClass::Usage,
             CommandError::Output(_) => ErrorClass::Output,
-            e => e.library().expect("every other failure is the library's").class(),
+            CommandError::Library(e) | CommandError::FrameLog(e) => e.class(),
+            CommandError::Explained(x) => x.error.class(),
         }
     }
 

@@ -25,7 +25,7 @@ pub fn library_error_text(err: &crate::Error) -> String {
             "{}{}{}",
             library_error_text(error),
             crate::error::tpdo_left(*node, *tpdo),
-            remedies::restore_stored(*node)
+            remedies::error_remedy(err).unwrap_or_default()
         ),
         e => format!("{e}{}", remedies::error_remedy(e).unwrap_or_default()),
     }

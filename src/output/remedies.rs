@@ -123,7 +123,7 @@ pub(crate) fn reset_node(node: u8) -> String {
 }
 
 /// A node's parameters were left changed: loading its stored ones (0x1011) puts them back.
-pub(crate) fn restore_stored(node: u8) -> String {
+fn restore_stored(node: u8) -> String {
     format!(": `canctl restore {node}` loads the stored parameters")
 }
 
