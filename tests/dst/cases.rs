@@ -60,8 +60,7 @@ pub fn sdo_under_two_percent_loss_reads_and_plain_writes_finish_actions_are_sent
 pub fn store_under_loss(seed: u64) -> (String, usize) {
     let config = SimConfig::default().seed(seed).virtual_time(true).fault("5:drop@33%".parse().unwrap());
     let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
-    let zero = sim.now();
-    let mut master = Master::new(Tape { sim, zero, frames: Vec::new(), stalls: None }, "sim".into());
+    let mut master = Master::new(Tape::new(sim, None), "sim".into());
     let save = ObjAddr::new(0x1010, 1);
     let result = master.sdo_download(5, save, b"save", &SdoOptions::new(TIMEOUT));
     let request = [0x23, 0x10, 0x10, 0x01, b's', b'a', b'v', b'e'];
@@ -275,8 +274,7 @@ pub fn taped(seed: u64, faults: &[&str]) -> Master<Tape> {
         config = config.fault(f.parse().expect("a fault spec"));
     }
     let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
-    let zero = sim.now();
-    Master::new(Tape { sim, zero, frames: Vec::new(), stalls: None }, "sim".into())
+    Master::new(Tape::new(sim, None), "sim".into())
 }
 
 /// One device that answers without end must not stretch the wait for a silent one: the

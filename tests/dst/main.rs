@@ -117,6 +117,20 @@ const FIXED: &[u64] = &[
     // (fixed: a node whose boot-up was heard restarted, it lost nothing). Found by a run of
     // 100,000 from 0x7A110000.
     0x7a11_2ce4,
+    // nmt stop, then the state asked at once, the stop sent while one of the sensor's beats
+    // was on the wire or about to be: that beat, from before the stop, was believed (fixed:
+    // beats count from when the frames ahead of a command, and one that lost arbitration to
+    // it, have left). Found by a run of 3,000 once the stop was aimed at a beat.
+    0x5eed_03b6,
+    0x5eed_060e,
+    0x5eed_072e,
+    0x5eed_0830,
+    // doctor and scan, a device answering a read by segments without end, once the harness
+    // passed the link's frame time on as hardware links do: the read, heard, kept its time to
+    // ask again, always past, and the batch's wait spun on it (on hardware a core burnt, on
+    // virtual time no end). Fixed: a time to ask again applies while nothing was heard.
+    0x5eed_0087,
+    0x5eed_00a6,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.
@@ -157,7 +171,8 @@ fn run_all(seeds: impl Iterator<Item = u64> + Send) -> (Vec<(u64, String)>, u64)
                 let out = std::panic::catch_unwind(|| run(&s)).map_err(|p| {
                     p.downcast_ref::<String>().cloned().or(p.downcast_ref::<&str>().map(|s| s.to_string()))
                 });
-                let kind = format!("{:?}", s.procedure);
+                // By the procedure, whatever it was drawn with.
+                let kind = format!("{:?}", s.procedure).split(" {").next().unwrap_or_default().to_string();
                 let mut c = cost.lock().unwrap();
                 let e = c.entry(kind).or_default();
                 e.0 += 1;

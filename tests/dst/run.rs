@@ -52,7 +52,7 @@ pub fn run(s: &Scenario) -> Outcome {
         longest: s.host_stall_ms,
         after_send: false,
     });
-    let mut master = Master::new(Tape { sim, zero, frames: Vec::new(), stalls }, "sim".into());
+    let mut master = Master::new(Tape::new(sim, stalls), "sim".into());
     let before = Devices::of(&master.link_mut().sim);
     let stop = Cancel::new();
     let result = {
@@ -193,11 +193,21 @@ pub fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Repor
                 false => Report::Nothing,
             })
         }
-        Procedure::StopThenState => {
-            // The program did something else for a while: the sensor's beats (every 40 ms)
-            // wait unread, from before the stop.
+        Procedure::StopThenState { before_beat_ends } => {
+            // The program did something else for a while: the sensor's beats wait unread,
+            // from before the stop, which is sent as one is about to end.
             let idle = bus.now() + Duration::from_millis(100);
-            bus.sleep_until(idle)?;
+            let stop_at = match sensor_beat_ends(bus)? {
+                Some((last, period)) => {
+                    let mut next = last + period;
+                    while next < idle {
+                        next += period;
+                    }
+                    next - before_beat_ends
+                }
+                None => idle,
+            };
+            bus.sleep_until(stop_at)?;
             ops::nmt::send(bus, Command::Stop, 5)?;
             let o = ops::nmt::StateOptions { listen: Duration::from_millis(300), timeout: TIMEOUT };
             let state = ops::nmt::state(bus, 5, &o)?;
@@ -297,6 +307,22 @@ pub fn procedure(bus: &mut dyn Bus, s: &Scenario, stop: &Cancel) -> Result<Repor
 pub const DOMAIN: ObjAddr = ObjAddr::new(0x1F50, 1);
 
 /// What the last scan saw before each run: the demo network's nodes.
+/// When the sensor's last beat of two heard ended, and its period; `None` when it did not
+/// beat twice within a second (a fault took it off, or it rebooted).
+fn sensor_beat_ends(bus: &mut dyn Bus) -> Result<Option<(Instant, Duration)>> {
+    let deadline = bus.now() + Duration::from_secs(1);
+    let mut ends = Vec::new();
+    while let Some((f, at)) = bus.recv_frame_stamped(deadline)? {
+        if matches!(nmt::ErrorControl::parse(&f), Some((5, nmt::ErrorControl::State { .. }))) {
+            ends.push(at);
+        }
+        if let [.., before, last] = ends[..] {
+            return Ok(Some((last, last - before)));
+        }
+    }
+    Ok(None)
+}
+
 pub fn last_scan() -> Vec<ops::scan_cache::SeenNode> {
     let text = serde_json::json!(NODES.iter().map(|n| serde_json::json!({ "node": n })).collect::<Vec<_>>());
     serde_json::from_value(text).expect("seen nodes")

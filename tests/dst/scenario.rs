@@ -28,8 +28,11 @@ pub enum Procedure {
     /// diagnosis `sdo read` adds (drawn in place of a scan).
     Diagnose,
     /// NMT stop sent to the sensor, then its state asked at once, as `nmt stop 5; nmt state
-    /// 5` in one program (drawn in place of a reset).
-    StopThenState,
+    /// 5` in one program (drawn in place of a reset). The stop is sent this long before one
+    /// of the sensor's beats ends: while it is on the wire, or queued behind the stop.
+    StopThenState {
+        before_beat_ends: Duration,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -138,11 +141,14 @@ impl Scenario {
         // Drawn last, for the same reason: now and then the bus is looked at for the first time.
         let first_look = rng.chance(0.3);
         // And after it: a stop, then the state asked at once, in place of a reset now and then.
-        if procedure == Procedure::Reset && rng.chance(0.5) {
-            procedure = Procedure::StopThenState;
-        }
+        let stop_then_state = procedure == Procedure::Reset && rng.chance(0.5);
         // And after it: a loaded host.
         let host_stall_ms = if rng.chance(0.25) { rng.between(2, 60) } else { 0 };
+        // And after it: when the stop goes, from 4 ms before a beat ends (well before it
+        // was due) to just before (it is on the wire), by the µs.
+        if stop_then_state {
+            procedure = Procedure::StopThenState { before_beat_ends: Duration::from_micros(rng.between(1, 4_000)) };
+        }
         Scenario { seed, procedure, config, stop_after, first_look, host_stall_ms }
     }
 

@@ -19,7 +19,14 @@ pub struct Tape {
     /// A loaded host: now and then canctl polls the link late; the bus and the devices
     /// go on meanwhile.
     pub stalls: Option<Stalls>,
+    /// Polls of the link in a row with no bus time passing, and when: a procedure that
+    /// waits on a deadline already past spins (on hardware it burns a core; here it would
+    /// never end), which is caught here and reported with its seed.
+    pub polls_standing: (u32, Instant),
 }
+
+/// More polls than any frames one instant of bus time can hold.
+const SPINNING: u32 = 100_000;
 
 /// When a loaded host holds canctl up: now and then right after it sent a frame (the
 /// moment a system call hands the CPU to another task), for 1 ms to `longest`, drawn from
@@ -42,6 +49,12 @@ impl Stalls {
 }
 
 impl Tape {
+    /// `sim` recorded from now on, on a host that may hold canctl up.
+    pub fn new(sim: SimLink, stalls: Option<Stalls>) -> Tape {
+        let zero = sim.now();
+        Tape { sim, zero, frames: Vec::new(), stalls, polls_standing: (0, zero) }
+    }
+
     pub fn record(&mut self, sent: bool, at: Instant, f: &Frame) {
         let at = at.saturating_duration_since(self.zero);
         self.frames.push(Taped { sent, at, id: f.id(), data: f.data().to_vec() });
@@ -64,6 +77,13 @@ impl FrameLink for Tape {
         if let Some(late) = self.stalls.as_mut().and_then(Stalls::polling) {
             self.sim.sleep_until(self.sim.now() + late)?;
         }
+        let now = self.sim.now();
+        self.polls_standing = match self.polls_standing {
+            (n, at) if at == now => (n + 1, at),
+            _ => (1, now),
+        };
+        let (polls, at) = self.polls_standing;
+        assert!(polls < SPINNING, "the procedure spins: {polls} polls of the link at {:?} of bus time", at - self.zero);
         let got = self.sim.recv_stamped(deadline)?;
         if let Some((f, at)) = &got {
             self.record(false, *at, f);
@@ -81,6 +101,13 @@ impl FrameLink for Tape {
     }
     fn follows_bit_rate_switch(&self) -> bool {
         self.sim.follows_bit_rate_switch()
+    }
+    // What the link knows of the bus: passed on, as the procedures see it on hardware.
+    fn frame_time(&self) -> Option<Duration> {
+        self.sim.frame_time()
+    }
+    fn report(&mut self) -> Option<canctl::bus::controller::LinkReport> {
+        self.sim.report()
     }
     fn close(&mut self) -> Result<()> {
         self.sim.close()

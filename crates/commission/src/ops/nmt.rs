@@ -302,14 +302,22 @@ fn poll_until_answering(bus: &mut dyn Bus, node: u8, o: &ResetOptions) -> Result
     }
 }
 
+/// How long after now a beat may still say what a node was before a command sent just now:
+/// until the frames ahead of the command have left (one on the wire when it was sent), the
+/// command itself, and a beat the node had queued before it heard the command, which lost
+/// arbitration to it. Three frame times, where the link knows them.
+fn before_a_command_took_effect(bus: &dyn Bus) -> Duration {
+    bus.frame_time().unwrap_or_default() * 3
+}
+
 /// A node's NMT state: from its heartbeat (listened for `listen`), else by node guarding.
 pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState> {
     if bus.sees_traffic() {
-        let start = bus.now();
+        let start = bus.now() + before_a_command_took_effect(bus);
         let listen_end = start + o.listen;
         while let Some((f, at)) = bus.recv_frame_stamped(listen_end)? {
-            // A beat that was on the bus before the listen began may predate a command just
-            // sent (a stop): the state is what the node says from now on.
+            // A beat that ended before then may predate a command just sent (a stop): the
+            // state is what the node says once the command reached it.
             if at < start {
                 continue;
             }
@@ -333,6 +341,7 @@ pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState>
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::Frame;
     use crate::ops::node::Guarded;
     use crate::sim::test_bus as bus;
 
@@ -353,5 +362,32 @@ mod tests {
         assert_eq!(StateFrom::guarding(Guarded::BootUp, &bus), StateFrom::BootUp);
         assert_eq!(StateFrom::guarding(Guarded::NotAState, &bus), StateFrom::NotAState);
         assert_eq!(StateFrom::guarding(Guarded::State(nmt::State::Stopped), &bus), StateFrom::NodeGuarding);
+    }
+
+    /// A beat already on the wire when a stop is sent, or queued in the node and losing
+    /// arbitration to the stop, ends after the stop was sent and says what the node was
+    /// before it: the state read next is the stopped one all the same.
+    #[test]
+    fn a_beat_sent_before_a_stop_took_effect_is_not_the_state_after_it() {
+        for quarter_frames in 0..12 {
+            let mut bus = bus();
+            let beat_of_5 = |f: &Frame| matches!(ErrorControl::parse(f), Some((5, ErrorControl::State { .. })));
+            let mut ends = Vec::new();
+            let deadline = bus.now() + Duration::from_secs(5);
+            while ends.len() < 2 {
+                let (f, at) = bus.recv_frame_stamped(deadline).unwrap().expect("node 5 beats");
+                if beat_of_5(&f) {
+                    ends.push(at);
+                }
+            }
+            // From a quarter of a frame before the next beat ends to three frames before.
+            let frame_time = bus.frame_time().expect("a timed bus");
+            let next_end = ends[1] + (ends[1] - ends[0]);
+            bus.sleep_until(next_end - frame_time * (quarter_frames + 1) / 4).unwrap();
+            send(&mut bus, Command::Stop, 5).unwrap();
+            let o = StateOptions { listen: Duration::from_millis(300), timeout: Duration::from_millis(200) };
+            let read = state(&mut bus, 5, &o).unwrap();
+            assert_eq!(read.state, nmt::State::Stopped, "sent {quarter_frames}/4 frames before the beat ended");
+        }
     }
 }

@@ -47,8 +47,7 @@ impl<L: FrameLink> Master<L> {
     ) -> Result<()> {
         let (Some(after), now) = (ask_again, self.link.now()) else { return Ok(()) };
         for (node, a) in active.iter_mut() {
-            // A transfer started again after its timeout (`retries`) is asked again no more.
-            if a.heard || a.stop_by.is_some() || a.retries_left == 0 || a.ask_again_at.is_none_or(|at| at > now) {
+            if a.asks_again_at().is_none_or(|at| at > now) {
                 continue;
             }
             let request = a.client.start();

@@ -111,6 +111,13 @@ impl Active {
         let own = self.idle_deadline.min(self.total_deadline);
         self.stop_by.map_or(own, |by| own.min(by))
     }
+
+    /// When this read is asked again, while it may be: it has heard nothing, the user has not
+    /// asked to stop, and it has attempts left. A time that no longer applies must not stay
+    /// a deadline of the batch's wait: it would be always past, and the wait would spin.
+    fn asks_again_at(&self) -> Option<Instant> {
+        self.ask_again_at.filter(|_| !self.heard && self.stop_by.is_none() && self.retries_left > 0)
+    }
 }
 
 impl<L: FrameLink> Master<L> {
@@ -257,7 +264,7 @@ impl<L: FrameLink> Master<L> {
             // be read (this program was not running) still count. Checked on every frame,
             // not only when the link is quiet: on a busy bus frames keep coming and a
             // transfer must still end on time.
-            let asking_again = active.values().filter_map(|a| a.ask_again_at);
+            let asking_again = active.values().filter_map(Active::asks_again_at);
             let Some(deadline) =
                 active.values().map(|a| deadline_of(a, quiet_from)).chain(asking_again).chain(awaited).min()
             else {
@@ -303,6 +310,8 @@ impl<L: FrameLink> Master<L> {
                     a.idle_deadline = now + timeout;
                     a.total_deadline = now + a.client.time_budget(timeout);
                     a.heard = false;
+                    // A transfer started again after its timeout is asked again no more.
+                    a.ask_again_at = None;
                     active.insert(node, a);
                     continue;
                 }

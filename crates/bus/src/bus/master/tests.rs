@@ -213,6 +213,24 @@ fn asking_again() -> SdoOptions {
     SdoOptions { retries: 2, ask_again_after: Some(Duration::from_millis(20)), ..opts() }
 }
 
+/// A read that may be asked again, answered at once but by segments for longer than the
+/// time to ask again (a device that sends a long value, or without end): once heard, its
+/// time to ask again is past and no longer applies, and the batch waits for the segments
+/// instead of spinning on that time (on virtual time it never ended).
+#[test]
+fn a_read_heard_and_going_on_past_its_time_to_ask_again_ends() {
+    const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+    let long: Vec<u8> = (0..200).map(|i| b'a' + i % 26).collect();
+    let mut m = master(&[], &[]);
+    m.link.frame_time = Some(Duration::ZERO);
+    m.link.objects.0.insert(NAME, long.clone());
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || tx.send(m.sdo_upload(NODE, NAME, &asking_again()).map(|v| (v, m.link.requests))));
+    let (value, requests) = rx.recv_timeout(Duration::from_secs(20)).expect("the read ended").unwrap();
+    assert_eq!(value, long);
+    assert_eq!(requests, 1 + 200usize.div_ceil(7), "one request, then one per segment: none asked again");
+}
+
 /// A read whose request was lost is asked again a typical answer time later, not a timeout
 /// later, without an abort (nothing was under way); the count of answers tells of the loss.
 #[test]
