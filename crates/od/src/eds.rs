@@ -11,26 +11,6 @@ use super::{Access, Dictionary, Entry, Init, ObjectKind};
 use canctl_canopen::{DataType, ObjAddr};
 use std::collections::{BTreeMap, BTreeSet};
 
-/// An EDS or DCF that cannot be read or parsed, at file:line when a line is to blame.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub struct EdsError {
-    /// The file, as given.
-    pub path: String,
-    /// 0 when the file could not be read at all.
-    pub line: usize,
-    /// What is wrong, in words.
-    pub msg: String,
-}
-
-impl std::fmt::Display for EdsError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self.line {
-            0 => f.write_str(&self.msg),
-            line => write!(f, "{}:{line}: {}", self.path, self.msg),
-        }
-    }
-}
-
 /// A parsed EDS or DCF.
 #[derive(Debug, Clone, Default)]
 pub struct Eds {
@@ -52,8 +32,10 @@ pub struct Eds {
     pub warnings: Warnings,
 }
 
+mod error;
 mod ini;
 mod values;
+pub use error::EdsError;
 mod write;
 use ini::{object_section, parse_ini, trim_blanks, Section, TextEncoding, BOM};
 pub use values::{data_type_from_code, mandatory, parse_limit, type_as_bytes};

@@ -1,8 +1,9 @@
 //! The INI layer of EDS and DCF files: sections and their keys as CiA 306 writes them,
 //! the text encodings real files use, and which sections are objects.
 
-use super::super::lint::{self, Kind, Warning};
-use super::{to_latin1, EdsError};
+use super::error::EdsError;
+use super::values::to_latin1;
+use crate::lint::{self, Kind, Warning};
 use std::collections::BTreeMap;
 
 /// CiA 306 keeps a line to 255 characters; longer ones are read, with a warning.

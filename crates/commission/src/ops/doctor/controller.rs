@@ -2,7 +2,7 @@
 //! details) and the error frames it reported during the checks. Read only: doctor asks the
 //! link what it knows, it never changes the interface.
 
-use super::{Cause, ControllerState, Diagnosis, Evidence, Finding, HostProblem, Remedy};
+use super::report::{Cause, ControllerState, Diagnosis, Evidence, Finding, HostProblem, Remedy};
 use crate::bus::controller::{CanState, Controller, LinkReport};
 use crate::bus::Bus;
 

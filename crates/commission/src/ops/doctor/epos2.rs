@@ -3,7 +3,7 @@
 //! communication error: CAN overrun, error passive, bus-off) and the CAN bit rate it runs
 //! at, 0x2001 (EPOS2 firmware specification). Two reads of its own dictionary.
 
-use super::{Cause, Diagnosis, Evidence, Finding, Remedy};
+use super::report::{Cause, Diagnosis, Evidence, Finding, Remedy};
 use crate::bus::Bus;
 use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};

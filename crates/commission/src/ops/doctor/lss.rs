@@ -2,7 +2,7 @@
 //! heartbeat, found only by LSS's "identify non-configured remote slave", a broadcast that
 //! doctor sends only when asked.
 
-use super::{Cause, Diagnosis, Evidence, Finding, Remedy};
+use super::report::{Cause, Diagnosis, Evidence, Finding, Remedy};
 use crate::bus::Bus;
 use crate::error::Result;
 use std::time::Duration;
@@ -10,7 +10,7 @@ use std::time::Duration;
 /// Ask once for devices without a node-id, waiting `wait`: any is a finding (it explains a
 /// silent node or bus better than they do); none is evidence for the silent ones.
 pub(super) fn ask(bus: &mut dyn Bus, wait: Duration, d: &mut Diagnosis) -> Result<()> {
-    let (count, waited_ms) = super::timed(bus, |bus| crate::bus::lss::count_unconfigured(bus, wait))?;
+    let (count, waited_ms) = super::report::timed(bus, |bus| crate::bus::lss::count_unconfigured(bus, wait))?;
     let answers = Evidence::LssAnswers { count, waited_ms };
     if count == 0 {
         let silent: Vec<&mut Finding> = d.findings.iter_mut().filter(|f| silent(&f.cause)).collect();

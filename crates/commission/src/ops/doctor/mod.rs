@@ -14,6 +14,7 @@ mod lss;
 mod report;
 pub mod sweep;
 
+use report::{ms, timed};
 pub use report::{Cause, ControllerState, Diagnosis, Evidence, Finding, FrameCount, HostProblem, Remedy};
 
 use crate::bus::{Bus, SdoOptions};
@@ -343,19 +344,6 @@ fn enobufs() -> i32 {
     } else {
         105
     }
-}
-
-fn ms(d: Duration) -> u64 {
-    d.as_millis() as u64
-}
-
-/// What `f` returned, and how long it took on the bus's clock (ms). Evidence states the
-/// time a wait took, not the timeout it was allowed: an EPOS2 gateway says "no answer"
-/// after a wait of its own, and reads the node-ids one after the other.
-fn timed<T>(bus: &mut dyn Bus, f: impl FnOnce(&mut dyn Bus) -> Result<T>) -> Result<(T, u64)> {
-    let start = bus.now();
-    let value = f(bus)?;
-    Ok((value, ms(bus.now().saturating_duration_since(start))))
 }
 
 /// Every check, then the link's own report of the bus after them (an adapter's bus errors

@@ -2,11 +2,14 @@
 //! [`Remedy`], and what was found fine. Typed, for any front end to word.
 
 use crate::bus::controller::{CanState, ErrorFrameCounts, RateHeard};
+use crate::bus::Bus;
 use crate::canopen::nmt;
 use crate::canopen::ObjAddr;
+use crate::error::Result;
 use crate::ops::clash;
 use crate::ops::node::Identity;
 use serde::Serialize;
+use std::time::Duration;
 
 /// The diagnosis: findings ranked most likely cause first, and what was found fine.
 #[derive(Debug, Serialize)]
@@ -488,4 +491,17 @@ pub enum Remedy {
         /// The adapter's rate, in kbit/s.
         kbit: u32,
     },
+}
+
+pub(super) fn ms(d: Duration) -> u64 {
+    d.as_millis() as u64
+}
+
+/// What `f` returned, and how long it took on the bus's clock (ms). Evidence states the
+/// time a wait took, not the timeout it was allowed: an EPOS2 gateway says "no answer"
+/// after a wait of its own, and reads the node-ids one after the other.
+pub(super) fn timed<T>(bus: &mut dyn Bus, f: impl FnOnce(&mut dyn Bus) -> Result<T>) -> Result<(T, u64)> {
+    let start = bus.now();
+    let value = f(bus)?;
+    Ok((value, ms(bus.now().saturating_duration_since(start))))
 }

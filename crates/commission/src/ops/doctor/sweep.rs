@@ -3,7 +3,7 @@
 //! its own rate (an slcan adapter); a CAN interface belongs to its owner, who gets the `ip
 //! link` commands instead. Each trial listens only: nothing is sent, nothing acknowledged.
 
-use super::{Cause, Diagnosis, Evidence, Finding, Remedy};
+use super::report::{Cause, ControllerState, Diagnosis, Evidence, Finding, Remedy};
 use crate::bus::controller::RateHeard;
 use crate::bus::Bus;
 use crate::error::Result;
@@ -34,7 +34,7 @@ pub fn sweep(bus: &mut dyn Bus, d: &mut Diagnosis, own_kbit: Option<u32>, window
 /// Without a sweep, on an adapter at `kbit` that reports bus errors: the fix names its rate
 /// and the sweep, which finds the bus's (a wrong rate is the likeliest cause of them).
 pub fn offer(d: &mut Diagnosis, kbit: u32) {
-    let bus_errors = Cause::Controller { state: crate::ops::doctor::ControllerState::BusErrors };
+    let bus_errors = Cause::Controller { state: ControllerState::BusErrors };
     for f in d.findings.iter_mut().filter(|f| f.cause == bus_errors && f.remedy == Remedy::CheckBus) {
         f.remedy = Remedy::CheckBusOrSweep { kbit };
     }
