@@ -231,8 +231,9 @@ fn messages_say_what_they_always_said() {
         ),
         (
             Error::LssCrowded { identity: Identity { vendor: 1, product: 2, revision: 3, serial: 4 }, times: 2 },
-            "0x00000001:0x00000002:0x00000003:0x00000004 was found 2 times with another device in LSS configuration \
-             state too (one that misses the switch back to waiting); no node-id given, as both would take it \
+            "0x00000001:0x00000002:0x00000003:0x00000004 was selected 2 time(s) with another device in LSS \
+             configuration state too (one that misses the switch back to waiting); no node-id given, as both would \
+             take it \
              (`canctl scan` lists the devices left in configuration state)",
         ),
         (

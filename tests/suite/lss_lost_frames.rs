@@ -211,14 +211,13 @@ fn a_device_found_configuring_again_is_said_to_be_sent_back_as_often_as_it_was()
     }
 }
 
-/// `network apply` gives each listed device its node-id by its identity, one after the
-/// other: a device left in configuration state by a lost switch back would take the next
-/// one's node-id too.
-#[test]
-fn network_apply_with_a_lost_switch_back_gives_each_device_its_own_node_id() {
+/// `network apply` of the sim's machine, with the switches back to waiting state that `lose`
+/// picks lost (counted from the first node-id given on): the result, and each device's
+/// node-id and whether it is still in configuration state.
+fn apply_losing(lose: fn(usize) -> bool) -> (ops::network::Applied, Vec<(Option<u8>, bool)>) {
     let config = SimConfig::default().seed(3).unconfigured(5).virtual_time(true);
     let sim = SimLink::with_config(config).on_virtual_time(1_700_000_000_000);
-    let link = LosesSwitchBack { sim, lose: |n| n == 1, lose_inquiries: 0, after_set_id: false, seen: 0 };
+    let link = LosesSwitchBack { sim, lose, lose_inquiries: 0, after_set_id: false, seen: 0 };
     let mut master = Master::new(link, "sim".into());
     let project = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sim-machine/nodelist.cpj");
     let o = ops::network::ApplyOptions {
@@ -240,11 +239,44 @@ fn network_apply_with_a_lost_switch_back_gives_each_device_its_own_node_id() {
         .iter()
         .map(|d| (d.node_id(), d.snapshot().lss_configuration))
         .collect();
+    (applied, held)
+}
+
+/// Whether two devices hold one node-id.
+fn one_id_twice(held: &[(Option<u8>, bool)]) -> bool {
     let mut ids: Vec<u8> = held.iter().filter_map(|(n, _)| *n).collect();
     let all = ids.len();
     ids.sort();
     ids.dedup();
-    assert_eq!(ids.len(), all, "two devices hold one node-id: {held:?}");
+    ids.len() != all
+}
+
+/// `network apply` gives each listed device its node-id by its identity, one after the
+/// other: a device left in configuration state by a lost switch back would take the next
+/// one's node-id too.
+#[test]
+fn network_apply_with_a_lost_switch_back_gives_each_device_its_own_node_id() {
+    let (applied, held) = apply_losing(|n| n == 1);
+    assert!(!one_id_twice(&held), "two devices hold one node-id: {held:?}");
     assert!(held.iter().all(|(_, configuring)| !configuring), "left in configuration state: {held:?}");
     assert!(applied.failure.is_none(), "{:?}", applied.failure);
+}
+
+/// A device that never leaves configuration state (every switch back lost, as a device
+/// that misses them does): `network apply` fails it, and while it is there gives the next
+/// device no node-id, which both would take (it gave one to both).
+#[test]
+fn network_apply_gives_no_node_id_while_another_device_stays_in_configuration_state() {
+    let (applied, held) = apply_losing(|_| true);
+    assert!(!one_id_twice(&held), "two devices hold one node-id: {held:?}");
+    let failed: Vec<_> = applied.nodes.iter().filter_map(|n| n.failure.as_ref().map(|f| (n.node, &f.error))).collect();
+    assert!(
+        failed.iter().any(|(_, e)| matches!(e, canctl::Error::LssStillConfiguring { .. })),
+        "the device that stayed is named: {failed:?}"
+    );
+    assert!(
+        failed.iter().any(|(_, e)| matches!(e, canctl::Error::LssCrowded { .. })),
+        "the next one is refused its node-id: {failed:?}"
+    );
+    assert!(applied.failure.is_some());
 }

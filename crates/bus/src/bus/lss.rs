@@ -166,6 +166,19 @@ impl<'a> LssMaster<'a> {
         Ok(true)
     }
 
+    /// Whether another device is in configuration state beside the one just selected (it
+    /// missed its switch back to waiting): more than one answer to "inquire node-id", asked
+    /// twice, as a device that missed a switch may miss one inquiry too. A node-id given now
+    /// would be taken by both.
+    pub fn others_configuring(&mut self) -> Result<bool> {
+        for _ in 0..2 {
+            if self.node_ids_inquired()?.len() > 1 {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
     /// The node-ids the devices in configuration state answer "inquire node-id" with,
     /// within three times the latest answer seen so far (the timeout before any).
     fn node_ids_inquired(&mut self) -> Result<Vec<u32>> {

@@ -578,12 +578,12 @@ pub enum Error {
         /// How many times it was sent back.
         tries: u32,
     },
-    /// `lss assign` found a device, and another one answered as being in LSS configuration
-    /// state too, however often every device was sent back to waiting: a node-id given now
-    /// would be taken by both, so none was.
+    /// `lss assign` found a device (or `network apply` selected one), and another one
+    /// answered as being in LSS configuration state too, however often every device was sent
+    /// back to waiting: a node-id given now would be taken by both, so none was.
     #[error(
-        "{identity} was found {times} times with another device in LSS configuration state too (one that \
-         misses the switch back to waiting); no node-id given, as both would take it"
+        "{identity} was selected {times} time(s) with another device in LSS configuration state too (one \
+         that misses the switch back to waiting); no node-id given, as both would take it"
     )]
     LssCrowded {
         /// The device found.

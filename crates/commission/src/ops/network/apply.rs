@@ -169,6 +169,10 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
     let mut m = LssMaster::new(bus, o.config.timeout);
     let result = m
         .enter(Some(identity))
+        .and_then(|_| match m.others_configuring()? {
+            true => Err(Error::LssCrowded { identity: *identity, times: 1 }),
+            false => Ok(()),
+        })
         .and_then(|_| m.configure(Request::ConfigureNodeId(node), "set-id", false))
         .and_then(|_| m.configure(Request::StoreConfiguration, "store", false));
     // Back in waiting state the device takes its new node-id and boots; left in
