@@ -227,6 +227,12 @@ pub fn check(
             for (n, ok) in nodes {
                 // A node the last scan saw and that is gone now is reported, not healthy.
                 let Some(d) = after.node(*n) else {
+                    // A device answering on this id's COB-ID that fell silent before it could
+                    // be asked alone (ops::answers_elsewhere): the bus showed an answer on the
+                    // id and nothing could show whose; said not healthy, never healthy.
+                    if !*ok && answered_for_then_silent(s).contains(n) {
+                        continue;
+                    }
                     if *ok || !last_seen(s).contains(n) {
                         return Err(format!("reported node {n} (healthy: {ok}), no device has it"));
                     }
@@ -330,6 +336,19 @@ pub fn last_seen(s: &Scenario) -> &'static [u8] {
 /// The node-ids a device with a wrong-cob fault answers on in place of its own.
 pub fn answered_for(s: &Scenario) -> Vec<u8> {
     wrong_cobs(s).into_iter().map(|(_, claimed)| claimed).collect()
+}
+
+/// The ids a device answers on in place of its own, where that device also falls silent
+/// (muted or off from some frame on, or rebooting): silent, it cannot be asked alone to show
+/// the answers were its.
+pub fn answered_for_then_silent(s: &Scenario) -> Vec<u8> {
+    let silent = |device: u8| {
+        s.config.faults.iter().map(|f| f.to_string()).any(|f| {
+            f.strip_prefix(&format!("{device}:"))
+                .is_some_and(|kind| ["mute", "off", "reboot"].iter().any(|k| kind.starts_with(k)))
+        })
+    };
+    wrong_cobs(s).into_iter().filter(|(device, _)| silent(*device)).map(|(_, claimed)| claimed).collect()
 }
 
 /// Each device with a wrong-cob fault: its node-id, and the node-id it answers on.

@@ -3,7 +3,7 @@
 //! answers than requests a second device.
 
 use super::*;
-use crate::bus::reply::{upload_answer, Reply};
+use crate::bus::reply::upload_answer;
 
 /// Whether a job may be asked again early ([`SdoOptions::ask_again_after`]).
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -22,13 +22,16 @@ pub(super) fn awaited(asked: &Asked, now: Instant) -> bool {
     asked.counted_until > now && asked.lost_frames()
 }
 
-/// A read `a` of `node` ended on `answer` (its last frame): its answers are counted from now.
+/// A read `a` of `node` ended on `answer`, its first frame heard: where that answers the
+/// read (a value, or a refusal), its answers are counted from now. Not counted: a read that
+/// went on by segments or blocks (it took the answers to its other requests for repeats on
+/// the way), nor one ended by a frame that answers something else (a segment of the
+/// transfer before, late): either count would show a loss or a second device where there
+/// was none.
 pub(super) fn echo(echoes: &mut Echoes, node: u8, a: &Active, answer: &[u8], timeout: Duration) {
-    if a.client.is_upload() {
-        let first = upload_answer(answer, a.client.addr()).and_then(Reply::carried);
-        let asked = Asked { requests: a.requests, answers: vec![first], counted_until: a.last_left + timeout };
-        echoes.insert((node, a.client.addr()), asked);
-    }
+    let Some(first) = upload_answer(answer, a.client.addr()).filter(|_| a.client.is_upload()) else { return };
+    let asked = Asked { requests: a.requests, answers: vec![first.carried()], counted_until: a.last_left + timeout };
+    echoes.insert((node, a.client.addr()), asked);
 }
 
 /// Whether `request` starts a plain upload (command specifier 2, CiA 301).

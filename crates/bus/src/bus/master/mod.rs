@@ -371,6 +371,9 @@ impl<L: FrameLink> Master<L> {
             let Some(a) = active.get_mut(&node) else {
                 continue;
             };
+            // Whether the transfer ends on its first answer: only then do the answers to
+            // its other requests (a read asked again) show whether a frame was lost.
+            let counts_answers = ask_again.is_some() && !a.heard;
             a.heard = true;
             let outcome = a.client.on_response(f.data());
             let addr = a.client.addr();
@@ -385,17 +388,18 @@ impl<L: FrameLink> Master<L> {
                     }
                     let frames: Vec<Frame> = step.send.iter().map(|p| Frame::new(sdo::request_cob(node), p)).collect();
                     self.send_all(&frames)?;
-                    // The server's answer to a request counts from when it was sent, however
-                    // long ago the answer that led to it was on the bus.
+                    // The server's answer to a request counts from when it left the bus (the
+                    // link knows when: behind the other requests queued), however long ago
+                    // the answer that led to it was on the bus.
                     if step.progress && !step.send.is_empty() {
-                        a.idle_deadline = a.idle_deadline.max(self.link.now() + timeout);
+                        a.idle_deadline = a.idle_deadline.max(self.bus_free_at.max(self.link.now()) + timeout);
                     }
                     if let (true, None, Some(hook)) = (step.progress, &step.done, &watch.on_progress) {
                         hook(a.client.progress().0);
                     }
                     let Some(data) = step.done else { continue };
                     let a = active.remove(&node).expect("active");
-                    if ask_again.is_some() {
+                    if counts_answers {
                         echo(&mut echoes, node, &a, f.data(), timeout);
                     }
                     if a.client.fell_back() {
@@ -405,7 +409,7 @@ impl<L: FrameLink> Master<L> {
                 }
                 Err(e) => {
                     let a = active.remove(&node).expect("active");
-                    if ask_again.is_some() {
+                    if counts_answers {
                         echo(&mut echoes, node, &a, f.data(), timeout);
                     }
                     results[a.slot] = Some(Err(self.sdo_error(node, addr, e)?));
@@ -416,6 +420,12 @@ impl<L: FrameLink> Master<L> {
             self.start_next(node, &mut queues, &mut active, timeout, retries, ask_again)?;
         }
         if ask_again.is_some() {
+            // A count the user's stop cut short (its window still open) shows no loss: the
+            // answers still to come were not waited for.
+            if watch.stopped() {
+                let now = self.link.now();
+                echoes.retain(|_, asked| !awaited(asked, now));
+            }
             self.observed.answers_counted = echoes;
         }
         self.read_back(read_backs, &mut results, timeout, retries, watch)?;

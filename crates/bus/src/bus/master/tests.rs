@@ -47,17 +47,23 @@ struct Device {
     answer_time: Duration,
     /// What the link says of its frame time (`None`: it does not know).
     frame_time: Option<Duration>,
+    /// Whether frames sent wait for the ones before them, a frame time each (a kernel's
+    /// transmit queue on a slow bus); else each leaves at once.
+    queued: bool,
+    /// When the frames sent so far have left, where they are queued.
+    busy_until: Instant,
 }
 
 impl Device {
     fn new(lose_requests: &[usize], lose_answers: &[usize]) -> Device {
+        let now = crate::bus::clock::monotonic_now();
         let mut objects = Objects::default();
         objects.0.insert(CONTROL, vec![0]);
         objects.0.insert(HEARTBEAT, vec![0xE8, 0x03]);
         Device {
             server: SdoServer::new(false),
             objects,
-            now: crate::bus::clock::monotonic_now(),
+            now,
             queue: VecDeque::new(),
             requests: 0,
             answers: 0,
@@ -67,6 +73,8 @@ impl Device {
             twice: Vec::new(),
             answer_time: Duration::from_millis(2),
             frame_time: None,
+            queued: false,
+            busy_until: now,
         }
     }
 }
@@ -74,6 +82,11 @@ impl Device {
 impl FrameLink for Device {
     fn send(&mut self, frame: &Frame) -> Result<()> {
         self.requests += 1;
+        let left = match self.queued {
+            true => self.now.max(self.busy_until) + self.frame_time.unwrap_or_default(),
+            false => self.now,
+        };
+        self.busy_until = left;
         if frame.id() != sdo::request_cob(NODE) || self.lose_requests.contains(&self.requests) {
             return Ok(());
         }
@@ -83,7 +96,7 @@ impl FrameLink for Device {
                 continue;
             }
             let late = if self.late.contains(&self.answers) { 150 } else { 0 };
-            let at = self.now + self.answer_time + Duration::from_millis(late);
+            let at = left + self.answer_time + Duration::from_millis(late);
             let copies = if self.twice.contains(&self.answers) { 2 } else { 1 };
             for _ in 0..copies {
                 self.queue.push_back((at, Frame::new(sdo::response_cob(NODE), &answer)));
@@ -266,6 +279,73 @@ fn a_slow_node_asked_again_answers_every_request_and_is_not_taken_for_a_loss() {
     assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &asking_again()).unwrap(), vec![0xE8, 0x03]);
     assert_eq!(m.link.requests, 3, "the request, an abort after the timeout, the request again");
     assert!(m.observed.answers_counted.is_empty());
+}
+
+/// A read by segments in a batch with many other requests (a scan's): the request for the
+/// next segment waits behind them on a slow bus, and its answer is waited for from when the
+/// request left, not from when it was queued (it was given up, and said lost, before).
+#[test]
+fn a_segment_request_queued_behind_others_is_waited_for_from_when_it_left() {
+    const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+    let mut m = master(&[], &[]);
+    (m.link.frame_time, m.link.queued) = (Some(Duration::from_millis(5)), true);
+    m.link.objects.0.insert(NAME, b"a long name".to_vec());
+    // Asked once: a retry would hide the transfer given up.
+    let once = SdoOptions { retries: 0, ..opts() };
+    let mut jobs = vec![SdoJob::Upload { node: NODE, addr: NAME, opts: once.clone() }];
+    // Sixty nodes that are not there: their requests fill the bus for 300 ms.
+    jobs.extend((10..70).map(|node| SdoJob::Upload { node, addr: HEARTBEAT, opts: once.clone() }));
+    let read = m.sdo_many(&jobs).unwrap();
+    assert_eq!(read[0].as_ref().unwrap(), b"a long name");
+    assert_eq!(m.link.requests, 61 + 2, "the requests, and one per segment");
+}
+
+/// A slow node asked again answers every request, and the read goes on by segments: the
+/// answers to the other requests come while it does, taken for repeats; its count shows
+/// nothing, and no lost frame is said.
+#[test]
+fn a_slow_node_asked_again_whose_read_goes_on_by_segments_is_not_taken_for_a_loss() {
+    const NAME: ObjAddr = ObjAddr::new(0x1008, 0);
+    let mut m = master(&[], &[]);
+    m.link.frame_time = Some(Duration::from_micros(270));
+    m.link.answer_time = Duration::from_millis(50);
+    m.link.objects.0.insert(NAME, b"a long name".to_vec());
+    assert_eq!(m.sdo_upload(NODE, NAME, &asking_again()).unwrap(), b"a long name");
+    let lost = m.observed.answers_counted.values().any(|a| a.lost_frames());
+    assert!(!lost, "{:?}", m.observed.answers_counted);
+}
+
+/// A segment of a transfer before, late, comes first into a read that counts its answers,
+/// then the read's own answer, while the batch waits for a silent node: the read is not
+/// counted (the segment answers something else), so the answer after it is not taken for a
+/// second device's.
+#[test]
+fn a_late_segment_of_the_transfer_before_is_not_counted_as_an_answer() {
+    let mut m = master(&[], &[]);
+    m.link.frame_time = Some(Duration::ZERO);
+    let late_segment = Frame::new(sdo::response_cob(NODE), &[0x00, b'E', b'N', b'D', b'L', b'E', b'S', b'S']);
+    m.link.queue.push_back((m.link.now + Duration::from_millis(1), late_segment));
+    let read = |node| SdoJob::Upload { node, addr: HEARTBEAT, opts: asking_again() };
+    m.sdo_many(&[read(NODE), read(NODE + 1)]).unwrap();
+    let doubled = m.observed.answers_counted.values().any(|a| a.answers.len() > usize::from(a.requests));
+    assert!(!doubled, "{:?}", m.observed.answers_counted);
+}
+
+/// A slow node asked again answers the first request; the user stops the batch then, before
+/// the answer to the second request could come: the count, cut short, shows no lost frame.
+#[test]
+fn a_count_of_answers_cut_short_by_a_stop_shows_no_loss() {
+    let mut m = master(&[], &[]);
+    m.link.frame_time = Some(Duration::from_micros(270));
+    m.link.answer_time = Duration::from_millis(30);
+    let stop = Cancel::new();
+    let opts = SdoOptions { stop: Some(stop.clone()), ..asking_again() };
+    let job = SdoJob::Upload { node: NODE, addr: HEARTBEAT, opts };
+    let read = m.sdo_batch(&[job], &mut |_| stop.cancel()).unwrap();
+    assert_eq!(read[0].as_ref().unwrap(), &vec![0xE8, 0x03]);
+    assert_eq!(m.link.requests, 2, "asked again once before the first answer");
+    let lost = m.observed.answers_counted.values().any(|a| a.lost_frames());
+    assert!(!lost, "{:?}", m.observed.answers_counted);
 }
 
 /// A second device on the node-id answers the same read: in a batch that counts answers, an
