@@ -64,6 +64,14 @@ impl<T: Transport> Epos2Gateway<T> {
         Ok(Some((code, data.to_vec())))
     }
 
+    /// A command whose answer, where RS232 has one, must carry error code 0.
+    fn call_checked(&mut self, cmd: &Command, node: u8) -> Result<()> {
+        match self.call(cmd)? {
+            Some((code, _)) => self.check(code, node, None, cmd.name()),
+            None => Ok(()),
+        }
+    }
+
     /// A command that must be answered; its data when the error code is 0.
     fn call_ok(&mut self, cmd: &Command, node: u8, addr: Option<ObjAddr>) -> Result<Vec<u8>> {
         let (code, data) = self.call(cmd)?.expect("answered command");
@@ -95,11 +103,11 @@ impl<T: Transport> Epos2Gateway<T> {
 
     /// The EPOS2's own node-id, read once (0 when it cannot be read: node 0 is always its own).
     fn own_id(&mut self) -> u8 {
-        if self.own_id.is_none() {
-            self.own_id =
-                Some(self.read_object(0, OWN_NODE_ID, Some(1)).ok().and_then(|d| d.first().copied()).unwrap_or(0));
+        if let Some(id) = self.own_id {
+            return id;
         }
-        self.own_id.unwrap_or(0)
+        let id = self.read_object(0, OWN_NODE_ID, Some(1)).ok().and_then(|d| d.first().copied()).unwrap_or(0);
+        *self.own_id.insert(id)
     }
 
     fn read_object(&mut self, node: u8, addr: ObjAddr, size: Option<usize>) -> Result<Vec<u8>> {
@@ -203,11 +211,7 @@ fn stop_point(
 }
 
 fn check_node(node: u8) -> Result<()> {
-    if node <= 127 {
-        Ok(())
-    } else {
-        Err(Error::NodeIdOutOfRange { node, range: NodeIdRange::Epos2 })
-    }
+    (node <= 127).then_some(()).ok_or(Error::NodeIdOutOfRange { node, range: NodeIdRange::Epos2 })
 }
 
 impl<T: Transport> Epos2Gateway<T> {
@@ -255,12 +259,8 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
 
     fn nmt(&mut self, cmd: NmtCommand, node: u8) -> Result<()> {
         check_node(node)?;
-        let c = Command::SendNmtService { node, specifier: cmd.specifier() };
         self.log(&cmd.frame(node));
-        if let Some((code, _)) = self.call(&c)? {
-            self.check(code, node, None, c.name())?;
-        }
-        Ok(())
+        self.call_checked(&Command::SendNmtService { node, specifier: cmd.specifier() }, node)
     }
 
     fn send_frame(&mut self, frame: &Frame) -> Result<()> {
@@ -272,12 +272,8 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
         }
         let mut data = [0u8; 8];
         data[..frame.len()].copy_from_slice(frame.data());
-        let c = Command::SendCanFrame { id: frame.id(), len: frame.len() as u8, data };
         self.log(frame);
-        if let Some((code, _)) = self.call(&c)? {
-            self.check(code, 0, None, c.name())?;
-        }
-        Ok(())
+        self.call_checked(&Command::SendCanFrame { id: frame.id(), len: frame.len() as u8, data }, 0)
     }
 
     fn sees_traffic(&self) -> bool {
@@ -315,11 +311,8 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
 
     fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
         let LssExchange { request, expect, wait, collect } = *exchange;
-        let send = Command::SendLssFrame { data: request };
         self.log(&Frame::new(crate::canopen::lss::MASTER_COB, &request));
-        if let Some((code, _)) = self.call(&send)? {
-            self.check(code, 0, None, send.name())?;
-        }
+        self.call_checked(&Command::SendLssFrame { data: request }, 0)?;
         let mut answers = Vec::new();
         if collect == LssWait::Nothing {
             return Ok(answers);
@@ -344,19 +337,17 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
                     if let Some(d) = &data {
                         self.log(&Frame::new(crate::canopen::lss::SLAVE_COB, d));
                     }
-                    let Some(data) = data.filter(|d| crate::canopen::lss::is_answer(d, expect)) else {
-                        if left.is_zero() {
-                            break;
+                    if let Some(data) = data.filter(|d| crate::canopen::lss::is_answer(d, expect)) {
+                        answers.push(LssAnswer { data, after: sent.elapsed() });
+                        // Other slaves' answers to the same request may still be coming: read
+                        // them here, or they would pass for answers to the next request.
+                        match collect {
+                            LssWait::First => break,
+                            LssWait::Settle(more) if answers.len() == 1 => {
+                                deadline = deadline.min(Instant::now() + more)
+                            }
+                            _ => {}
                         }
-                        continue;
-                    };
-                    answers.push(LssAnswer { data, after: sent.elapsed() });
-                    // Other slaves' answers to the same request may still be coming: read
-                    // them here, or they would pass for answers to the next request.
-                    match collect {
-                        LssWait::First => break,
-                        LssWait::Settle(more) if answers.len() == 1 => deadline = deadline.min(Instant::now() + more),
-                        _ => {}
                     }
                     if left.is_zero() {
                         break;

@@ -64,33 +64,19 @@ impl SocketcandLink {
     /// `answer_wait` for each answer. `name` is the bus address, for messages.
     pub fn open(host: &str, port: u16, iface: &str, name: String, answer_wait: Duration) -> Result<Self> {
         let connect_error = |error: io::Error| SocketcandError::Connect { server: name.clone(), error: error.into() };
-        let addrs: Vec<_> = (host, port).to_socket_addrs().map_err(connect_error)?.collect();
         let mut last = io::Error::new(io::ErrorKind::NotFound, format!("{host} has no address"));
-        let mut stream = None;
-        for addr in addrs {
-            match TcpStream::connect_timeout(&addr, CONNECT_WAIT) {
-                Ok(s) => {
-                    stream = Some(s);
-                    break;
-                }
-                Err(e) => last = e,
-            }
-        }
-        let stream = stream.ok_or_else(|| connect_error(last))?;
+        let stream = (host, port)
+            .to_socket_addrs()
+            .map_err(connect_error)?
+            .find_map(|addr| TcpStream::connect_timeout(&addr, CONNECT_WAIT).map_err(|e| last = e).ok())
+            .ok_or_else(|| connect_error(last))?;
+        let io_error = |op, e: io::Error| LinkError::Io { port: name.clone(), op, error: e.into() };
         // Every SDO request waits for its answer: Nagle would hold each one back.
-        stream.set_nodelay(true).map_err(|e| LinkError::Io {
-            port: name.clone(),
-            op: "TCP no-delay",
-            error: e.into(),
-        })?;
+        stream.set_nodelay(true).map_err(|e| io_error("TCP no-delay", e))?;
         // A server that stops reading must not hold a command for ever once the socket's
         // buffers are full.
         let write_wait = answer_wait;
-        stream.set_write_timeout(Some(write_wait)).map_err(|e| LinkError::Io {
-            port: name.clone(),
-            op: "TCP",
-            error: e.into(),
-        })?;
+        stream.set_write_timeout(Some(write_wait)).map_err(|e| io_error("TCP", e))?;
         let mut link = SocketcandLink {
             stream,
             name,
@@ -252,10 +238,7 @@ impl SocketcandLink {
 
 impl FrameLink for SocketcandLink {
     fn send(&mut self, frame: &Frame) -> Result<()> {
-        if frame.is_remote() {
-            return Err(Error::NoRemoteFrames { bus: self.name.clone(), backend: "socketcand's raw mode" });
-        }
-        self.write(&Unit::Send(*frame))
+        self.send_all(std::slice::from_ref(frame))
     }
 
     /// The frames in one write: a block of 127 segments is one system call and a few TCP
@@ -264,14 +247,10 @@ impl FrameLink for SocketcandLink {
         if frames.iter().any(Frame::is_remote) {
             return Err(Error::NoRemoteFrames { bus: self.name.clone(), backend: "socketcand's raw mode" });
         }
-        let mut bytes = Vec::with_capacity(frames.len() * 40);
-        for f in frames {
-            bytes.extend_from_slice(&Unit::Send(*f).encode());
+        if frames.is_empty() {
+            return Ok(());
         }
-        match bytes.is_empty() {
-            true => Ok(()),
-            false => self.write_bytes(&bytes),
-        }
+        self.write_bytes(&frames.iter().flat_map(|f| Unit::Send(*f).encode()).collect::<Vec<u8>>())
     }
 
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {

@@ -23,7 +23,7 @@ pub enum Epos2Error {
         retry: Option<Failure>,
     },
     /// An EPOS2 answer that does not make sense.
-    #[error("{}", answer_text(bus, problem))]
+    #[error("{}{problem}", if problem.names_bus() { format!("{bus}: ") } else { String::new() })]
     Answer {
         /// The bus, as its address reads.
         bus: String,
@@ -42,17 +42,20 @@ fn serial_text(bus: &str, command: &str, failure: &Failure, retry: Option<&Failu
 }
 
 /// What was wrong with an EPOS2's answer.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Epos2Problem {
     /// The answer to this command is shorter than its error code.
+    #[error("the answer to {command} is too short")]
     TooShort {
         /// The command's name.
         command: &'static str,
     },
     /// A SegmentRead answer without its control byte.
+    #[error("empty SegmentRead answer")]
     EmptySegment,
     /// A segmented read whose toggle bit did not alternate.
+    #[error("node {node}: segmented read of {obj}: toggle bit not alternated")]
     ToggleNotAlternated {
         /// The node read from.
         node: u8,
@@ -60,6 +63,7 @@ pub enum Epos2Problem {
         obj: ObjAddr,
     },
     /// A segment that claims more bytes than it carries.
+    #[error("node {node}: segment claims {claimed} bytes but carries fewer")]
     ShortSegment {
         /// The node read from.
         node: u8,
@@ -67,6 +71,10 @@ pub enum Epos2Problem {
         claimed: usize,
     },
     /// Segments in a row that carried no data and said more follow.
+    #[error(
+        "node {node}: segmented read of {obj}: {count} segments in a row without data that say more follow; \
+         stopped. The device's SDO server is stuck"
+    )]
     EmptySegments {
         /// The node read from.
         node: u8,
@@ -76,6 +84,11 @@ pub enum Epos2Problem {
         count: usize,
     },
     /// A read that went on past the limit for reads through an EPOS2.
+    #[error(
+        "node {node}: segmented read of {obj}: {bytes} bytes and the device still says more follow; stopped at \
+         the limit of {limit_kib} KiB for reads through an EPOS2. A value this large is read over SocketCAN (block \
+         transfer); otherwise the device is faulty: reset it"
+    )]
     TooLong {
         /// The node read from.
         node: u8,
@@ -87,6 +100,7 @@ pub enum Epos2Problem {
         limit_kib: usize,
     },
     /// A segmented write the EPOS2 confirmed one segment too many of.
+    #[error("node {node}: segmented write of {obj}: the EPOS2 confirmed another segment")]
     ExtraSegment {
         /// The node written to.
         node: u8,
@@ -95,47 +109,36 @@ pub enum Epos2Problem {
     },
 }
 
-fn answer_text(bus: &str, problem: &Epos2Problem) -> String {
-    match problem {
-        Epos2Problem::TooShort { command } => format!("{bus}: the answer to {command} is too short"),
-        Epos2Problem::EmptySegment => format!("{bus}: empty SegmentRead answer"),
-        Epos2Problem::ToggleNotAlternated { node, obj } => {
-            format!("node {node}: segmented read of {obj}: toggle bit not alternated")
-        }
-        Epos2Problem::ShortSegment { node, claimed } => {
-            format!("node {node}: segment claims {claimed} bytes but carries fewer")
-        }
-        Epos2Problem::EmptySegments { node, obj, count } => format!(
-            "node {node}: segmented read of {obj}: {count} segments in a row without data \
-             that say more follow; stopped. The device's SDO server is stuck"
-        ),
-        Epos2Problem::TooLong { node, obj, bytes, limit_kib } => format!(
-            "node {node}: segmented read of {obj}: {bytes} bytes and the device still says more follow; \
-             stopped at the limit of {limit_kib} KiB for reads through an EPOS2. A value this large is \
-             read over SocketCAN (block transfer); otherwise the device is faulty: reset it"
-        ),
-        Epos2Problem::ExtraSegment { node, obj } => {
-            format!("node {node}: segmented write of {obj}: the EPOS2 confirmed another segment")
-        }
+impl Epos2Problem {
+    /// Whether its message is about the bus, not a node: it then follows the bus's name.
+    fn names_bus(&self) -> bool {
+        matches!(self, Epos2Problem::TooShort { .. } | Epos2Problem::EmptySegment)
     }
 }
 
 /// Why one attempt failed.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, thiserror::Error)]
 pub enum Failure {
     /// The EPOS2 refused the frame (RS232 'F'), during this step.
+    #[error("the EPOS2 refused the frame: answered {0}")]
     Nack(&'static str),
     /// Nothing came in time, during this step.
+    #[error("no answer {0}")]
     Timeout(&'static str),
     /// What came was not a valid frame.
+    #[error("bad answer frame: {0}")]
     Frame(FrameError),
     /// An unexpected byte instead of an acknowledgement, during this step.
+    #[error("unexpected byte 0x{0:02X} {1}")]
     Unexpected(u8, &'static str),
     /// Only answers that belong to no command of ours came.
+    #[error("{0} answers in a row that do not answer this command (discarded)")]
     Misfit(usize),
     /// The line never fell quiet: bytes, milliseconds.
+    #[error("the line does not fall quiet: {0} bytes in {1} ms without a pause")]
     Babble(usize, u128),
     /// The serial port failed.
+    #[error("the port failed: {0}")]
     Io(std::sync::Arc<io::Error>),
 }
 
@@ -161,21 +164,5 @@ impl Failure {
     /// failed or the line never fell quiet.
     pub fn may_be_slow(&self) -> bool {
         self.retryable()
-    }
-}
-
-impl std::fmt::Display for Failure {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Failure::Nack(stage) => write!(f, "the EPOS2 refused the frame: answered {stage}"),
-            Failure::Timeout(stage) => write!(f, "no answer {stage}"),
-            Failure::Frame(e) => write!(f, "bad answer frame: {e}"),
-            Failure::Unexpected(b, stage) => write!(f, "unexpected byte 0x{b:02X} {stage}"),
-            Failure::Misfit(n) => write!(f, "{n} answers in a row that do not answer this command (discarded)"),
-            Failure::Babble(bytes, ms) => {
-                write!(f, "the line does not fall quiet: {bytes} bytes in {ms} ms without a pause")
-            }
-            Failure::Io(e) => write!(f, "the port failed: {e}"),
-        }
     }
 }

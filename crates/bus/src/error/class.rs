@@ -75,6 +75,13 @@ impl Error {
             | Error::NoRemoteFrames { .. }
             | Error::NotADrive { .. }
             | Error::NodeIdInUse { .. }
+            | Error::NoSocketCan { .. }
+            | Error::TypeNeeded { .. }
+            | Error::OutOfRange { .. }
+            | Error::ProjectUnusable(_)
+            | Error::NotWritable(_)
+            | Error::NoLssOnDirectEpos2 { .. }
+            | Error::Epos2RateOnStore
             // The range the user gave is full: no device refused anything.
             | Error::NoFreeNodeId { .. } => C::Usage,
             Error::NoAnswer { .. }
@@ -106,17 +113,11 @@ impl Error {
             | Error::OtherDevice { .. } => C::Verify,
             Error::Output { .. } => C::Output,
             Error::Interrupted | Error::SdoInterrupted { .. } | Error::DiagnosisInterrupted { .. } => C::Interrupted,
-            Error::Advised { error, .. } | Error::InSettingsFile { error, .. } => error.class(),
-            Error::NoSocketCan { .. }
-            | Error::TypeNeeded { .. }
-            | Error::OutOfRange { .. }
-            | Error::ProjectUnusable(_)
-            | Error::NotWritable(_)
-            | Error::NoLssOnDirectEpos2 { .. }
-            | Error::Epos2RateOnStore => C::Usage,
-            Error::MapSizeUnread { error, .. } | Error::TpdoNotPutBack { error, .. } | Error::NothingAnswered { error } => {
-                error.class()
-            }
+            Error::Advised { error, .. }
+            | Error::InSettingsFile { error, .. }
+            | Error::MapSizeUnread { error, .. }
+            | Error::TpdoNotPutBack { error, .. }
+            | Error::NothingAnswered { error } => error.class(),
         }
     }
 

@@ -238,51 +238,30 @@ pub enum Unfinished {
     },
 }
 
-pub(super) struct SdoUnfinishedText<'a> {
-    pub(super) node: u8,
-    pub(super) obj: ObjAddr,
-    pub(super) moved: Moved,
-    pub(super) why: &'a Unfinished,
-}
-
-impl fmt::Display for SdoUnfinishedText<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let SdoUnfinishedText { node, obj, moved, why } = self;
-        match why {
-            // The timeout it follows from is the front end's remedy to word.
-            Unfinished::Deadline { budget, .. } => write!(
-                f,
-                "node {node}: the SDO transfer of {obj} did not finish within its deadline of {:.1} s ({moved} moved)",
-                budget.as_secs_f64(),
-            ),
-            Unfinished::NoProgress { waited, ignored, last } => write!(
-                f,
-                "node {node}: the SDO transfer of {obj} made no progress for {} ms ({moved} moved): \
-                 the device sent {ignored} frame(s) that did not advance it (the last: {last})",
-                waited.as_millis()
-            ),
-            Unfinished::Silent { waited } => write!(
-                f,
-                "node {node}: stopped answering during the SDO transfer of {obj} (waited {} ms, {moved} moved)",
-                waited.as_millis()
-            ),
-        }
+pub(super) fn sdo_unfinished_text(node: u8, obj: ObjAddr, moved: Moved, why: &Unfinished) -> String {
+    match why {
+        // The timeout it follows from is the front end's remedy to word.
+        Unfinished::Deadline { budget, .. } => format!(
+            "node {node}: the SDO transfer of {obj} did not finish within its deadline of {:.1} s ({moved} moved)",
+            budget.as_secs_f64(),
+        ),
+        Unfinished::NoProgress { waited, ignored, last } => format!(
+            "node {node}: the SDO transfer of {obj} made no progress for {} ms ({moved} moved): \
+             the device sent {ignored} frame(s) that did not advance it (the last: {last})",
+            waited.as_millis()
+        ),
+        Unfinished::Silent { waited } => format!(
+            "node {node}: stopped answering during the SDO transfer of {obj} (waited {} ms, {moved} moved)",
+            waited.as_millis()
+        ),
     }
 }
 
 /// `node N: COMMAND[ of OBJECT]`: where an EPOS2 command failed.
-pub(super) struct Epos2Place<'a> {
-    pub(super) node: u8,
-    pub(super) command: &'a str,
-    pub(super) obj: Option<ObjAddr>,
-}
-
-impl fmt::Display for Epos2Place<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.obj {
-            Some(obj) => write!(f, "node {}: {} of {obj}", self.node, self.command),
-            None => write!(f, "node {}: {}", self.node, self.command),
-        }
+pub(super) fn epos2_place(node: u8, command: &str, obj: Option<ObjAddr>) -> String {
+    match obj {
+        Some(obj) => format!("node {node}: {command} of {obj}"),
+        None => format!("node {node}: {command}"),
     }
 }
 

@@ -198,7 +198,7 @@ pub enum Error {
         waited: Duration,
     },
     /// A node answered an SDO transfer, then it did not finish.
-    #[error("{}", SdoUnfinishedText { node: *node, obj: *obj, moved: *moved, why })]
+    #[error("{}", sdo_unfinished_text(*node, *obj, *moved, why))]
     SdoUnfinished {
         /// The node-id of the node it is about.
         node: u8,
@@ -249,7 +249,7 @@ pub enum Error {
         waited: Duration,
     },
     /// An EPOS2 gateway reports that the node behind it did not answer on the CAN bus.
-    #[error("{}: no answer on the CAN bus (the EPOS2 reports SDO timeout 0x05040000)", Epos2Place { node: *node, command, obj: *obj })]
+    #[error("{}: no answer on the CAN bus (the EPOS2 reports SDO timeout 0x05040000)", epos2_place(*node, command, *obj))]
     Epos2NoCanAnswer {
         /// The node-id behind the gateway.
         node: u8,
@@ -303,7 +303,7 @@ pub enum Error {
     },
     /// An EPOS2 answered a command with an error code (a maxon code or, where no object is
     /// involved, any code).
-    #[error("{}: {}error 0x{code:08X}: {}", Epos2Place { node: *node, command, obj: *obj },
+    #[error("{}: {}error 0x{code:08X}: {}", epos2_place(*node, command, *obj),
         if crate::epos2::command::is_maxon_code(*code) { "EPOS2 " } else { "" },
         crate::epos2::command::error_meaning(*code))]
     Epos2Refused {

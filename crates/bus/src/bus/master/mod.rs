@@ -378,7 +378,7 @@ impl<L: FrameLink> Master<L> {
             let outcome = a.client.on_response(f.data());
             let addr = a.client.addr();
             self.last_sdo_answer.insert(node, f.data().to_vec());
-            match outcome {
+            let done = match outcome {
                 Ok(step) => {
                     if step.progress {
                         quiet_from = at;
@@ -398,23 +398,21 @@ impl<L: FrameLink> Master<L> {
                         hook(a.client.progress().0);
                     }
                     let Some(data) = step.done else { continue };
-                    let a = active.remove(&node).expect("active");
-                    if counts_answers {
-                        echo(&mut echoes, node, &a, f.data(), timeout);
-                    }
-                    if a.client.fell_back() {
-                        self.no_block.insert(node);
-                    }
-                    results[a.slot] = Some(Ok(data));
+                    Ok(data)
                 }
-                Err(e) => {
-                    let a = active.remove(&node).expect("active");
-                    if counts_answers {
-                        echo(&mut echoes, node, &a, f.data(), timeout);
-                    }
-                    results[a.slot] = Some(Err(self.sdo_error(node, addr, e)?));
-                }
+                Err(e) => Err(e),
+            };
+            let a = active.remove(&node).expect("active");
+            if counts_answers {
+                echo(&mut echoes, node, &a, f.data(), timeout);
             }
+            if done.is_ok() && a.client.fell_back() {
+                self.no_block.insert(node);
+            }
+            results[a.slot] = Some(match done {
+                Ok(data) => Ok(data),
+                Err(e) => Err(self.sdo_error(node, addr, e)?),
+            });
             finished += 1;
             progress(finished);
             self.start_next(node, &mut queues, &mut active, timeout, retries, ask_again)?;
@@ -431,12 +429,8 @@ impl<L: FrameLink> Master<L> {
         self.read_back(read_backs, &mut results, timeout, retries, watch)?;
         let results: Vec<Result<Vec<u8>>> = results.into_iter().map(|r| r.expect("every job ends")).collect();
         for ((node, addr), r) in jobs_of.iter().zip(&results) {
-            match r {
-                Ok(data) => {
-                    tracing::trace!(target: "canctl::sdo", "node {node}: SDO transfer of {addr}: {} bytes", data.len())
-                }
-                Err(e) => tracing::trace!(target: "canctl::sdo", "node {node}: SDO transfer of {addr}: {e}"),
-            }
+            let outcome = || r.as_ref().map_or_else(ToString::to_string, |data| format!("{} bytes", data.len()));
+            tracing::trace!(target: "canctl::sdo", "node {node}: SDO transfer of {addr}: {}", outcome());
         }
         Ok(results)
     }
@@ -643,10 +637,7 @@ const EVERYTHING: [(u16, u16); 1] = [(0, 0)];
 const DRAIN_LIMIT: Duration = Duration::from_millis(20);
 
 fn check_node(node: u8) -> Result<()> {
-    match node {
-        1..=127 => Ok(()),
-        _ => Err(Error::NodeIdOutOfRange { node, range: NodeIdRange::CanOpen }),
-    }
+    (1..=127).contains(&node).then_some(()).ok_or(Error::NodeIdOutOfRange { node, range: NodeIdRange::CanOpen })
 }
 
 mod ask_again;
