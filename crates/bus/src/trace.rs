@@ -58,6 +58,5 @@ pub fn bytes(name: &str, dir: &str, bytes: &[u8]) {
 }
 
 fn spaced_hex(bytes: &[u8]) -> String {
-    let spaced: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
-    spaced.join(" ")
+    bytes.iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" ")
 }

@@ -164,6 +164,16 @@ impl<P: SerialIo> SlcanLink<P> {
         }
     }
 
+    /// Close the channel, set the bit rate of `code` and open the channel with `open`.
+    fn reopen(&mut self, code: u8, open: Command, what: &'static str) -> Result<()> {
+        self.command(Command::Close, "close the channel")?;
+        self.open = false;
+        self.command(Command::BitRate(code), "set the bit rate")?;
+        self.command(open, what)?;
+        self.open = true;
+        Ok(())
+    }
+
     /// The adapter's status flags, if it reports them.
     pub fn status(&mut self) -> Result<Option<Status>> {
         if !self.has_status {
@@ -241,11 +251,7 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
         let Some(code) = bit_rate_code(kbit) else { return Ok(None) };
         // Listen-only (`L`): at a wrong rate the adapter must not transmit nor acknowledge,
         // or it would destroy the traffic of the bus it is trying to hear.
-        self.command(Command::Close, "close the channel")?;
-        self.open = false;
-        self.command(Command::BitRate(code), "set the bit rate")?;
-        self.command(Command::ListenOnly, "open the channel listen-only")?;
-        self.open = true;
+        self.reopen(code, Command::ListenOnly, "open the channel listen-only")?;
         self.rx.clear();
         self.status()?; // clears the flags of the rate before
         let garbled = self.garbled;
@@ -257,11 +263,7 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
         const BUS_TROUBLE: u8 = 1 << 2 | 1 << 5 | 1 << 7;
         let errors = self.garbled > garbled || flags.is_some_and(|s| s.0 & BUS_TROUBLE != 0);
         self.rx.clear();
-        self.command(Command::Close, "close the channel")?;
-        self.open = false;
-        self.command(Command::BitRate(self.code), "set the bit rate")?;
-        self.command(Command::Open, "open the channel")?;
-        self.open = true;
+        self.reopen(self.code, Command::Open, "open the channel")?;
         self.status()?;
         Ok(Some(RateHeard { kbit, frames, errors }))
     }

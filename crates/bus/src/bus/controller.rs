@@ -127,15 +127,8 @@ pub enum CanState {
 impl CanState {
     /// The state from its number in `linux/can/netlink.h`.
     pub(crate) fn from_raw(n: u32) -> Option<CanState> {
-        Some(match n {
-            0 => CanState::ErrorActive,
-            1 => CanState::ErrorWarning,
-            2 => CanState::ErrorPassive,
-            3 => CanState::BusOff,
-            4 => CanState::Stopped,
-            5 => CanState::Sleeping,
-            _ => return None,
-        })
+        use CanState::*;
+        [ErrorActive, ErrorWarning, ErrorPassive, BusOff, Stopped, Sleeping].get(n as usize).copied()
     }
 }
 

@@ -76,16 +76,10 @@ impl FrameLog {
     pub fn finish(&self) -> Result<()> {
         let mut inner = self.inner.lock().unwrap_or_else(|p| p.into_inner());
         if inner.failed.is_none() {
-            if let Err(e) = inner.out.flush() {
-                inner.failed = Some(e);
-            }
+            inner.failed = inner.out.flush().err();
         }
-        match &inner.failed {
-            None => Ok(()),
-            Some(e) => {
-                Err(Error::Output { path: inner.name.clone(), why: format!("{e}; the frame log is incomplete") })
-            }
-        }
+        let why = |e| format!("{e}; the frame log is incomplete");
+        inner.failed.as_ref().map_or(Ok(()), |e| Err(Error::Output { path: inner.name.clone(), why: why(e) }))
     }
 }
 

@@ -102,10 +102,7 @@ impl<'a> LssMaster<'a> {
         if !self.configuring {
             return self.switch_to_waiting();
         }
-        match self.switched_back(None)? {
-            true => Ok(()),
-            false => Err(Error::LssLeftInConfiguration { tries: lss::REPEATS + 1 }),
-        }
+        self.switched_back(None)?.then_some(()).ok_or(Error::LssLeftInConfiguration { tries: lss::REPEATS + 1 })
     }
 
     /// Send the switch back to waiting until it is confirmed, at most [`lss::REPEATS`] + 1
@@ -117,10 +114,7 @@ impl<'a> LssMaster<'a> {
                 self.bus.observed().boot_ups.remove(&node);
             }
             self.switch_to_waiting()?;
-            let booted = match booting {
-                Some(node) => self.boots_as(node)?,
-                None => false,
-            };
+            let booted = booting.map(|node| self.boots_as(node)).transpose()?.unwrap_or(false);
             if booted || self.nobody_configuring()? {
                 self.configuring = false;
                 return Ok(true);
@@ -182,10 +176,8 @@ impl<'a> LssMaster<'a> {
     /// The node-ids the devices in configuration state answer "inquire node-id" with,
     /// within three times the latest answer seen so far (the timeout before any).
     fn node_ids_inquired(&mut self) -> Result<Vec<u32>> {
-        let window = match self.slowest.is_zero() {
-            true => self.timeout,
-            false => (self.slowest * 3).clamp(lss::STEP_FLOOR, self.timeout),
-        };
+        let window =
+            if self.slowest.is_zero() { self.timeout } else { (self.slowest * 3).clamp(lss::STEP_FLOOR, self.timeout) };
         let answers = self.ask_within(Request::Inquire(Inquiry::NodeId), LssWait::All, window)?;
         Ok(answers
             .iter()
@@ -295,10 +287,10 @@ impl LssMaster<'_> {
         if !self.given.iter().any(|(id, _)| *id == identity) {
             self.given.push((identity, self.switches_back));
         }
-        match self.switched_back(Some(node))? {
-            true => Ok(()),
-            false => Err(Error::LssStillConfiguring { identity, node, tries: self.sent_back_since_given(identity) }),
+        if self.switched_back(Some(node))? {
+            return Ok(());
         }
+        Err(Error::LssStillConfiguring { identity, node, tries: self.sent_back_since_given(identity) })
     }
 
     /// Whether the boot-up of `node` is heard within the timeout (a device may beat its

@@ -183,33 +183,22 @@ impl Command {
         match self {
             Command::ReadObject { node, addr } => Frame::new(READ_OBJECT, object(*addr, *node)),
             Command::WriteObject { node, addr, data } => {
-                let mut d = object(*addr, *node);
-                d.extend_from_slice(data);
-                Frame::new(WRITE_OBJECT, d)
+                Frame::new(WRITE_OBJECT, [object(*addr, *node), data.to_vec()].concat())
             }
             Command::InitiateSegmentedRead { node, addr } => Frame::new(INITIATE_SEGMENTED_READ, object(*addr, *node)),
             Command::InitiateSegmentedWrite { node, addr, length } => {
-                let mut d = object(*addr, *node);
-                d.extend_from_slice(&length.to_le_bytes());
-                Frame::new(INITIATE_SEGMENTED_WRITE, d)
+                Frame::new(INITIATE_SEGMENTED_WRITE, [object(*addr, *node), length.to_le_bytes().to_vec()].concat())
             }
             Command::SegmentRead { toggle } => Frame::new(SEGMENT_READ, vec![if *toggle { TOGGLE } else { 0 }, 0]),
             Command::SegmentWrite { toggle, data } => {
-                let mut d = vec![data.len() as u8 | if *toggle { TOGGLE } else { 0 }];
-                d.extend_from_slice(data);
-                Frame::new(SEGMENT_WRITE, d)
+                Frame::new(SEGMENT_WRITE, [&[data.len() as u8 | if *toggle { TOGGLE } else { 0 }][..], data].concat())
             }
             Command::SendNmtService { node, specifier } => Frame::new(SEND_NMT, vec![*node, 0, *specifier, 0]),
             Command::SendCanFrame { id, len, data } => {
-                let mut d = id.to_le_bytes().to_vec();
-                d.extend_from_slice(&(*len as u16).to_le_bytes());
-                d.extend_from_slice(data);
-                Frame::new(SEND_CAN_FRAME, d)
+                Frame::new(SEND_CAN_FRAME, [&id.to_le_bytes()[..], &(*len as u16).to_le_bytes(), data].concat())
             }
             Command::RequestCanFrame { id, len } => {
-                let mut d = id.to_le_bytes().to_vec();
-                d.extend_from_slice(&(*len as u16).to_le_bytes());
-                Frame::new(REQUEST_CAN_FRAME, d)
+                Frame::new(REQUEST_CAN_FRAME, [id.to_le_bytes(), (*len as u16).to_le_bytes()].concat())
             }
             Command::SendLssFrame { data } => Frame::new(SEND_LSS_FRAME, data.to_vec()),
             Command::ReadLssFrame { timeout_ms } => Frame::new(READ_LSS_FRAME, timeout_ms.to_le_bytes().to_vec()),
@@ -223,18 +212,12 @@ impl Command {
         let obj = || (d.len() >= 4).then(|| (d[3], ObjAddr::new(u16::from_le_bytes([d[0], d[1]]), d[2])));
         let word = |i: usize| u16::from_le_bytes([d[i], d[i + 1]]);
         Some(match (f.opcode, d.len()) {
-            (READ_OBJECT, 4) => {
-                let (node, addr) = obj()?;
-                Command::ReadObject { node, addr }
-            }
+            (READ_OBJECT, 4) => obj().map(|(node, addr)| Command::ReadObject { node, addr })?,
             (WRITE_OBJECT, 8) => {
                 let (node, addr) = obj()?;
                 Command::WriteObject { node, addr, data: d[4..8].try_into().ok()? }
             }
-            (INITIATE_SEGMENTED_READ, 4) => {
-                let (node, addr) = obj()?;
-                Command::InitiateSegmentedRead { node, addr }
-            }
+            (INITIATE_SEGMENTED_READ, 4) => obj().map(|(node, addr)| Command::InitiateSegmentedRead { node, addr })?,
             (INITIATE_SEGMENTED_WRITE, 8) => {
                 let (node, addr) = obj()?;
                 Command::InitiateSegmentedWrite { node, addr, length: u32::from_le_bytes(d[4..8].try_into().ok()?) }

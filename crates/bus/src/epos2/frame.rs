@@ -99,12 +99,13 @@ fn usb_header(opcode: u8, words: usize) -> u16 {
 pub fn rs232_encode(f: &Frame) -> Vec<u8> {
     let words = f.words();
     assert!((1..=RS232_MAX_WORDS).contains(&words), "RS232 frame of {words} words");
-    let mut out = Vec::with_capacity(4 + f.data.len());
-    out.push(f.opcode);
-    out.push((words - 1) as u8);
-    out.extend_from_slice(&f.data);
-    out.extend_from_slice(&crc(rs232_header(f.opcode, words), &f.data).to_le_bytes());
-    out
+    with_crc(f, (words - 1) as u8, rs232_header(f.opcode, words))
+}
+
+/// OpCode, the length byte `len`, data, and the CRC over `header` and the data.
+fn with_crc(f: &Frame, len: u8, header: u16) -> Vec<u8> {
+    let crc = crc(header, &f.data).to_le_bytes();
+    [&[f.opcode, len][..], &f.data, &crc].concat()
 }
 
 /// Bytes that follow OpCode and Len-1 on RS232: the data words and the CRC.
@@ -132,14 +133,7 @@ pub fn rs232_decode(bytes: &[u8]) -> Result<Frame, FrameError> {
 pub fn usb_encode(f: &Frame) -> Vec<u8> {
     let words = f.words();
     assert!(words <= USB_MAX_WORDS, "USB frame of {words} words");
-    let mut body = Vec::with_capacity(4 + f.data.len());
-    body.push(f.opcode);
-    body.push(words as u8);
-    body.extend_from_slice(&f.data);
-    body.extend_from_slice(&crc(usb_header(f.opcode, words), &f.data).to_le_bytes());
-    let mut out = vec![DLE, STX];
-    out.extend(stuff(&body));
-    out
+    [vec![DLE, STX], stuff(&with_crc(f, words as u8, usb_header(f.opcode, words)))].concat()
 }
 
 /// Double every DLE (seed 000 §4.1.4).

@@ -126,17 +126,13 @@ fn hex_byte(t: &str) -> Option<u8> {
     (1..=2).contains(&t.len()).then(|| u8::from_str_radix(t, 16).ok()).flatten()
 }
 
-/// An id token: 11-bit as up to 3 hex digits, 29-bit as exactly 8 (socketcand's rule).
-enum Id {
-    Base(u16),
-    Extended(u32),
-}
-
-fn parse_id(t: &str) -> Option<Id> {
+/// The unit for an id token: `base` of it when 11-bit (up to 3 hex digits), an extended
+/// frame's when 29-bit (exactly 8: socketcand's rule).
+fn with_id(t: &str, base: impl FnOnce(u16) -> Unit) -> Option<Unit> {
     let v = u32::from_str_radix(t, 16).ok()?;
     match t.len() {
-        8 if v <= 0x1FFF_FFFF => Some(Id::Extended(v)),
-        1..=3 if v <= 0x7FF => Some(Id::Base(v as u16)),
+        8 if v <= 0x1FFF_FFFF => Some(Unit::Extended { id: v }),
+        1..=3 if v <= 0x7FF => Some(base(v as u16)),
         _ => None,
     }
 }
@@ -172,26 +168,17 @@ pub fn decode_unit(body: &str) -> Result<Unit, Malformed> {
             if len > 8 || bytes.len() != len {
                 return Err(bad());
             }
-            match parse_id(id).ok_or_else(bad)? {
-                Id::Base(id) => Ok(Unit::Send(Frame::new(id, &bytes))),
-                Id::Extended(id) => Ok(Unit::Extended { id }),
-            }
+            with_id(id, |id| Unit::Send(Frame::new(id, &bytes))).ok_or_else(bad)
         }
         ["frame", id, time, data @ ..] => {
             let micros = parse_time(time).ok_or_else(bad)?;
             let bytes = parse_data(data).ok_or_else(bad)?;
-            match parse_id(id).ok_or_else(bad)? {
-                Id::Base(id) => Ok(Unit::Frame { frame: Frame::new(id, &bytes), micros }),
-                Id::Extended(id) => Ok(Unit::Extended { id }),
-            }
+            with_id(id, |id| Unit::Frame { frame: Frame::new(id, &bytes), micros }).ok_or_else(bad)
         }
         ["rtr", id, time, dlc] => {
             let micros = parse_time(time).ok_or_else(bad)?;
             let dlc: u8 = dlc.parse().ok().filter(|d| *d <= 8).ok_or_else(bad)?;
-            match parse_id(id).ok_or_else(bad)? {
-                Id::Base(id) => Ok(Unit::Frame { frame: Frame::remote(id, dlc), micros }),
-                Id::Extended(id) => Ok(Unit::Extended { id }),
-            }
+            with_id(id, |id| Unit::Frame { frame: Frame::remote(id, dlc), micros }).ok_or_else(bad)
         }
         ["error", class, time] if parse_time(time).is_some() && u32::from_str_radix(class, 16).is_ok() => {
             Ok(Unit::ErrorFrame { class: u32::from_str_radix(class, 16).map_err(|_| bad())? })
