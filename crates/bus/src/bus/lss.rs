@@ -3,7 +3,7 @@
 //! the waiting each step needs; numbering every device (`assign`) is canctl's procedure on it. What the answers mean, and what is done
 //! when they go missing or come late, is `canopen::lss` (its `sequences` and `policy`).
 
-use super::{Bus, LssWait};
+use super::api::{Bus, LssWait};
 use crate::canopen::lss::{
     self, Configured, Fastscan, FastscanError, FastscanNext, Identity, Inquiry, Pace, Request, Response,
 };

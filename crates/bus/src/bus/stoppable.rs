@@ -5,7 +5,7 @@
 //! error into its partial report; one that must still talk to the bus after a stop (to
 //! put a PDO mapping back, say) polls the flag itself over the plain bus instead.
 
-use super::{Bus, LssAnswer, LssExchange, SdoJob, SdoOptions};
+use super::api::{Bus, LssAnswer, LssExchange, SdoJob, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::nmt::Command;
 use crate::error::Result;
@@ -37,7 +37,7 @@ impl<'a> Stoppable<'a> {
 }
 
 impl Bus for Stoppable<'_> {
-    super::pass_on_unchanged!(bus);
+    super::api::pass_on_unchanged!(bus);
 
     fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
         self.check()?;

@@ -4,7 +4,7 @@
 //! procedure (the kill-at-every-step tests send a signal there); it changes nothing on the
 //! bus.
 
-use super::{Bus, LssAnswer, LssExchange, SdoJob, SdoOptions, TransferHook};
+use super::api::{Bus, LssAnswer, LssExchange, SdoJob, SdoOptions, TransferHook};
 use crate::canopen::nmt::Command;
 use crate::frame::Frame;
 use crate::Result;
@@ -51,7 +51,7 @@ impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
 }
 
 impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
-    super::pass_on_unchanged!(bus);
+    super::api::pass_on_unchanged!(bus);
 
     /// A batch of uploads only is counted as each ends; one with downloads, in the jobs'
     /// order once they have all ended (a download counts once confirmed).

@@ -1,6 +1,7 @@
 //! How a failure ends the process: the exit-code table, and each error's place in it.
 
-use super::{DriveStop, Error};
+use super::detail::DriveStop;
+use super::kind::Error;
 use crate::canopen::lss::FastscanError;
 
 /// What a failure means for the user, and so how the process ends. The README's

@@ -1,7 +1,11 @@
 //! The details errors carry: what was asked of a node, why a store or a transfer stopped,
 //! why a drive stopped; with the words their messages are made of.
 
-use super::*;
+use crate::canopen::lss::{FastscanError, Identity};
+use crate::canopen::ObjAddr;
+use std::fmt;
+use std::path::PathBuf;
+use std::time::Duration;
 
 /// Why a drive command stopped before its goal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

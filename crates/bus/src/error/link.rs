@@ -1,6 +1,10 @@
 //! Link failures: the port, interface, pseudo-terminal or server, and what went wrong with it.
 
-use super::*;
+use super::detail::clipped;
+use crate::canopen::ObjAddr;
+use std::fmt;
+use std::path::PathBuf;
+use std::time::Duration;
 
 /// A link failure: the port, interface or pseudo-terminal, and what went wrong with it.
 #[derive(Debug, Clone, thiserror::Error)]
@@ -226,23 +230,5 @@ impl fmt::Display for PtyOp {
             PtyOp::Write => "pty write",
             PtyOp::PrintPath => "cannot print the pty path",
         })
-    }
-}
-
-impl From<crate::epos2::Epos2Error> for Error {
-    fn from(e: crate::epos2::Epos2Error) -> Error {
-        Error::Link(LinkError::Epos2(e))
-    }
-}
-
-impl From<crate::socketcand::SocketcandError> for Error {
-    fn from(e: crate::socketcand::SocketcandError) -> Error {
-        Error::Link(LinkError::Socketcand(e))
-    }
-}
-
-impl From<LinkError> for Error {
-    fn from(e: LinkError) -> Error {
-        Error::Link(e)
     }
 }

@@ -1,10 +1,9 @@
 //! CANopen client logic over a raw frame link: drives the SDO state machines, sends NMT,
 //! and notes the heartbeats that pass by.
 
-use super::trace::{self, Dir};
-use super::{
-    Asked, Bus, FrameLink, FrameLog, LssAnswer, LssExchange, LssWait, Observed, SdoJob, SdoOptions, TransferHook,
-};
+use super::api::{Bus, FrameLink, LssAnswer, LssExchange, LssWait, SdoJob, SdoOptions, TransferHook, ALL_NODES};
+use super::frame_log::FrameLog;
+use super::observer::{Asked, Observed};
 use crate::cancel::Cancel;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
@@ -13,6 +12,7 @@ use crate::canopen::sdo::{self, SdoClient, SdoError};
 use crate::canopen::{abort, ObjAddr};
 use crate::error::{Error, LinkError, Moved, NodeIdRange, Result, Service, Unfinished};
 use crate::frame::Frame;
+use crate::trace::{self, Dir};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use std::time::{Duration, Instant};

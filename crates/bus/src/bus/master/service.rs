@@ -37,7 +37,7 @@ impl<L: FrameLink> Bus for Master<L> {
     }
 
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {
-        if node != crate::bus::ALL_NODES {
+        if node != ALL_NODES {
             check_node(node)?;
         }
         self.send(&cmd.frame(node))
