@@ -40,10 +40,7 @@ impl Cancel {
 
     /// [`Error::Interrupted`] once cancelled: for a step that must not begin after a stop.
     pub fn check(&self) -> Result<()> {
-        if self.is_cancelled() {
-            return Err(Error::Interrupted);
-        }
-        Ok(())
+        (!self.is_cancelled()).then_some(()).ok_or(Error::Interrupted)
     }
 }
 

@@ -145,9 +145,7 @@ impl<P: SerialIo> SlcanLink<P> {
         let deadline = Instant::now() + COMMAND_WAIT;
         loop {
             // Acknowledges of frames sent earlier are not this command's answer.
-            let answers = self.read_until(deadline, Until::Answer)?;
-            let mut answers = answers.into_iter().filter(|m| *m != Message::Sent).peekable();
-            match answers.next() {
+            match self.read_until(deadline, Until::Answer)?.into_iter().find(|m| *m != Message::Sent) {
                 Some(Message::Refused) => {
                     return Err(LinkError::AdapterRefused { port: self.name.clone(), what }.into())
                 }

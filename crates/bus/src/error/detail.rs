@@ -8,36 +8,29 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 /// Why a drive command stopped before its goal.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, thiserror::Error)]
 #[serde(rename_all = "snake_case")]
 #[non_exhaustive]
 pub enum DriveStop {
     /// The drive is in fault (or went into fault on the way); fault-reset leaves it once
     /// the cause is gone.
+    #[error("fault present")]
     FaultPresent,
     /// A fault reset left the drive in fault: the cause is still there.
+    #[error("the fault remains after the reset: its cause is still there")]
     FaultRemains,
     /// The drive did not switch on and its statusword shows no voltage (bit 4).
+    #[error("voltage missing (statusword bit 4 clear: check the power supply)")]
     VoltageMissing,
     /// The drive answered but did not take the transition within the wait.
+    #[error("transition refused (the statusword did not follow the controlword)")]
     TransitionRefused,
     /// The drive stopped answering SDO.
+    #[error("no answer")]
     NoAnswer,
     /// The statusword shows no CiA 402 state.
+    #[error("the statusword shows no CiA 402 state")]
     NoState,
-}
-
-impl fmt::Display for DriveStop {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            DriveStop::FaultPresent => "fault present",
-            DriveStop::FaultRemains => "the fault remains after the reset: its cause is still there",
-            DriveStop::VoltageMissing => "voltage missing (statusword bit 4 clear: check the power supply)",
-            DriveStop::TransitionRefused => "transition refused (the statusword did not follow the controlword)",
-            DriveStop::NoAnswer => "no answer",
-            DriveStop::NoState => "the statusword shows no CiA 402 state",
-        })
-    }
 }
 
 /// The device profile a device type (0x1000) names, in words.

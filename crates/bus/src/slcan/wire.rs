@@ -251,17 +251,12 @@ impl Decoder {
         let mut out = Vec::new();
         for &b in bytes {
             match b {
-                BELL => {
-                    self.line.clear();
-                    self.overlong = false;
-                    out.push(Ok(Message::Refused));
-                }
-                CR => {
-                    if self.overlong {
-                        out.push(Err(WireError::TooLong(self.line.len())));
-                    } else {
-                        out.push(decode_line(&self.line));
-                    }
+                BELL | CR => {
+                    out.push(match b {
+                        BELL => Ok(Message::Refused),
+                        _ if self.overlong => Err(WireError::TooLong(self.line.len())),
+                        _ => decode_line(&self.line),
+                    });
                     self.line.clear();
                     self.overlong = false;
                 }

@@ -96,10 +96,7 @@ impl<L: FrameLink> Bus for Master<L> {
         self.guarding = Some(id);
         let answer = self.wait_for(id, deadline);
         self.guarding = None;
-        if let Some(f) = answer? {
-            return Ok(f);
-        }
-        Err(Error::NoRemoteAnswer { cob: id, waited: timeout })
+        answer?.ok_or(Error::NoRemoteAnswer { cob: id, waited: timeout })
     }
 
     fn lss(&mut self, exchange: &LssExchange) -> Result<Vec<LssAnswer>> {
