@@ -205,18 +205,12 @@ impl FrameLink for SocketCanLink {
     }
 
     fn report(&mut self) -> Option<LinkReport> {
-        let controller = match super::can_netlink::read(&self.iface) {
-            Ok(c) => Some(c),
-            Err(e) => {
-                tracing::debug!(target: "canctl::socketcan", iface = %self.iface, "controller details not read: {e}");
-                None
-            }
-        };
-        Some(LinkReport {
-            iface: self.iface.clone(),
-            controller,
-            error_frames: self.errors,
-            queue_full: self.queue_full,
-        })
+        let (iface, error_frames, queue_full) = (self.iface.clone(), self.errors, self.queue_full);
+        let controller = super::can_netlink::read(&iface)
+            .inspect_err(
+                |e| tracing::debug!(target: "canctl::socketcan", iface = %iface, "controller details not read: {e}"),
+            )
+            .ok();
+        Some(LinkReport { iface, controller, error_frames, queue_full })
     }
 }

@@ -11,7 +11,9 @@ use std::io;
 pub enum Epos2Error {
     /// An EPOS2 serial command failed on the line (after a resync and a retry, when the
     /// first failure allowed one).
-    #[error("{}", serial_text(bus, command, failure, retry.as_ref()))]
+    #[error("{bus}: {command} failed: {failure}; {}{}",
+        retry.as_ref().map(|second| format!("after a resync and retry: {second}; ")).unwrap_or_default(),
+        retry.as_ref().unwrap_or(failure).advice())]
     Serial {
         /// The bus, as its address reads (`epos2-rs232:/dev/ttyS0`).
         bus: String,
@@ -30,15 +32,6 @@ pub enum Epos2Error {
         /// What was wrong with the answer.
         problem: Epos2Problem,
     },
-}
-
-fn serial_text(bus: &str, command: &str, failure: &Failure, retry: Option<&Failure>) -> String {
-    match retry {
-        Some(second) => {
-            format!("{bus}: {command} failed: {failure}; after a resync and retry: {second}; {}", second.advice())
-        }
-        None => format!("{bus}: {command} failed: {failure}; {}", failure.advice()),
-    }
 }
 
 /// What was wrong with an EPOS2's answer.

@@ -158,9 +158,7 @@ impl<S: SerialIo> SerialTransport<S> {
     /// Send a frame and receive the first answer frame, or a frame error.
     fn send_and_receive(&mut self, f: &Frame, wait: Duration) -> Result<Result<Frame, FrameError>, Failure> {
         match self.framing {
-            Framing::Rs232 => {
-                rs232_send(&mut self.port, &self.describe, f, wait)?;
-            }
+            Framing::Rs232 => rs232_send(&mut self.port, &self.describe, f, wait)?,
             Framing::Usb => {
                 let bytes = frame::usb_encode(f);
                 trace::bytes(&self.describe, "<", &bytes);

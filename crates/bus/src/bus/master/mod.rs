@@ -184,19 +184,11 @@ impl<L: FrameLink> Master<L> {
     }
 
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
-        let f = self.link.recv(deadline)?;
-        if let Some(f) = &f {
-            self.received(f);
-        }
-        Ok(f)
+        Ok(self.link.recv(deadline)?.inspect(|f| self.received(f)))
     }
 
     fn recv_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
-        let f = self.link.recv_stamped(deadline)?;
-        if let Some((f, _)) = &f {
-            self.received(f);
-        }
-        Ok(f)
+        Ok(self.link.recv_stamped(deadline)?.inspect(|(f, _)| self.received(f)))
     }
 
     fn received(&mut self, f: &Frame) {
