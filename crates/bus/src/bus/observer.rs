@@ -110,11 +110,12 @@ impl Observed {
         }
         if id == lss::SLAVE_COB && f.len() == 8 {
             let d: [u8; 8] = f.data().try_into().expect("8 bytes");
-            match lss::Response::decode(&d) {
-                Some(lss::Response::InquiredValue { inquiry: lss::Inquiry::NodeId, value: value @ 1..=127 }) => {
-                    self.seen(value as u8, SeenBy::LssInquiry)
+            if let Some(lss::Response::InquiredValue { inquiry: lss::Inquiry::NodeId, value }) =
+                lss::Response::decode(&d)
+            {
+                if (1..=127).contains(&value) {
+                    self.seen(value as u8, SeenBy::LssInquiry);
                 }
-                _ => {}
             }
             if !in_exchange && self.lss_answers.len() < MAX_LSS_ANSWERS {
                 self.lss_answers.push(d);
