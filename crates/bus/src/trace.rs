@@ -54,9 +54,6 @@ pub fn frame(iface: &str, dir: Dir, frame: &Frame) {
 /// One EPOS2 serial frame as bytes; `dir` is `>` for what came from the device, `<` for
 /// what went to it.
 pub fn bytes(name: &str, dir: &str, bytes: &[u8]) {
-    tracing::debug!(target: BYTES, port = name, dir, "  {name} {dir} {}", spaced_hex(bytes));
-}
-
-fn spaced_hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" ")
+    let hex = || bytes.iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" ");
+    tracing::debug!(target: BYTES, port = name, dir, "  {name} {dir} {}", hex());
 }

@@ -112,10 +112,6 @@ impl<P: SerialIo> SlcanLink<P> {
         }
     }
 
-    fn drain_for(&mut self, wait: Duration) -> Result<()> {
-        self.read_until(Instant::now() + wait, Until::Deadline).map(|_| ())
-    }
-
     /// Forget what the adapter said before now: the answers to the empty lines just sent,
     /// and anything an earlier program left unread. A busy adapter may answer those long
     /// after any fixed pause, so the end of them is marked by asking its version: what
@@ -130,7 +126,7 @@ impl<P: SerialIo> SlcanLink<P> {
         }
         if !synced {
             tracing::debug!(target: "canctl::slcan", "{}: no answer to V in {SYNC_WAIT:?}", self.name);
-            self.drain_for(Duration::from_millis(20))?;
+            self.read_until(Instant::now() + Duration::from_millis(20), Until::Deadline)?;
             self.port.discard_input().map_err(|e| self.io_error("cannot clear the input", e))?;
             self.decoder = Decoder::new();
         }

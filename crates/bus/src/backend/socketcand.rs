@@ -75,8 +75,7 @@ impl SocketcandLink {
         stream.set_nodelay(true).map_err(|e| io_error("TCP no-delay", e))?;
         // A server that stops reading must not hold a command for ever once the socket's
         // buffers are full.
-        let write_wait = answer_wait;
-        stream.set_write_timeout(Some(write_wait)).map_err(|e| io_error("TCP", e))?;
+        stream.set_write_timeout(Some(answer_wait)).map_err(|e| io_error("TCP", e))?;
         let mut link = SocketcandLink {
             stream,
             name,
@@ -84,7 +83,7 @@ impl SocketcandLink {
             rx: VecDeque::new(),
             answers: VecDeque::new(),
             echoes: 0,
-            write_wait,
+            write_wait: answer_wait,
             nonblocking: false,
             read_timeout: None,
             warned: Vec::new(),

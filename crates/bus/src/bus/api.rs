@@ -128,11 +128,6 @@ pub struct SdoOptions {
     pub ask_again_after: Option<Duration>,
 }
 
-/// Whether the user asked to stop the transfers of `opts`.
-fn stopped(opts: &SdoOptions) -> bool {
-    opts.stop.as_ref().is_some_and(Cancel::is_cancelled)
-}
-
 /// What [`SdoOptions::on_progress`] calls.
 pub type TransferHook = Arc<dyn Fn(usize) + Send + Sync>;
 
@@ -469,7 +464,8 @@ pub fn one_by_one(
 ) -> Result<Vec<Result<Vec<u8>>>> {
     let mut out = Vec::with_capacity(jobs.len());
     for job in jobs {
-        let r = if stopped(job.opts()) { Err(crate::Error::Interrupted) } else { run(job) };
+        let stopped = job.opts().stop.as_ref().is_some_and(Cancel::is_cancelled);
+        let r = if stopped { Err(crate::Error::Interrupted) } else { run(job) };
         if let Err(e @ crate::Error::Link(_)) = r {
             return Err(e);
         }

@@ -30,10 +30,6 @@ impl<'a> Stoppable<'a> {
     fn check(&self) -> Result<()> {
         self.stop.check()
     }
-
-    fn heeding(&self, opts: &SdoOptions) -> SdoOptions {
-        SdoOptions { stop: Some(self.stop.clone()), ..opts.clone() }
-    }
 }
 
 impl Bus for Stoppable<'_> {
@@ -41,7 +37,8 @@ impl Bus for Stoppable<'_> {
 
     fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
         self.check()?;
-        let jobs: Vec<SdoJob> = jobs.iter().map(|j| j.with_opts(|o| self.heeding(o))).collect();
+        let jobs: Vec<SdoJob> =
+            jobs.iter().map(|j| j.with_opts(|o| SdoOptions { stop: Some(self.stop.clone()), ..o.clone() })).collect();
         self.bus.sdo_batch(&jobs, progress)
     }
     fn nmt(&mut self, cmd: Command, node: u8) -> Result<()> {

@@ -44,10 +44,6 @@ impl<'a, F: FnMut(Transfer, u32)> AfterSdo<'a, F> {
         self.on_progress = hook;
         self
     }
-
-    fn hooked(&self, opts: &SdoOptions) -> SdoOptions {
-        SdoOptions { on_progress: opts.on_progress.clone().or_else(|| self.on_progress.clone()), ..opts.clone() }
-    }
 }
 
 impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
@@ -56,7 +52,11 @@ impl<F: FnMut(Transfer, u32)> Bus for AfterSdo<'_, F> {
     /// A batch of uploads only is counted as each ends; one with downloads, in the jobs'
     /// order once they have all ended (a download counts once confirmed).
     fn sdo_batch(&mut self, jobs: &[SdoJob], progress: &mut dyn FnMut(usize)) -> Result<Vec<Result<Vec<u8>>>> {
-        let jobs: Vec<SdoJob> = jobs.iter().map(|j| j.with_opts(|o| self.hooked(o))).collect();
+        let hooked = |o: &SdoOptions| SdoOptions {
+            on_progress: o.on_progress.clone().or_else(|| self.on_progress.clone()),
+            ..o.clone()
+        };
+        let jobs: Vec<SdoJob> = jobs.iter().map(|j| j.with_opts(hooked)).collect();
         let uploads_only = jobs.iter().all(|j| matches!(j, SdoJob::Upload { .. }));
         let AfterSdo { bus, after, uploads, .. } = self;
         let mut counted = 0;
