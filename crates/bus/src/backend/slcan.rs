@@ -141,20 +141,16 @@ impl<P: SerialIo> SlcanLink<P> {
         let deadline = Instant::now() + COMMAND_WAIT;
         loop {
             // Acknowledges of frames sent earlier are not this command's answer.
-            match self.read_until(deadline, Until::Answer)?.into_iter().find(|m| *m != Message::Sent) {
-                Some(Message::Refused) => {
-                    return Err(LinkError::AdapterRefused { port: self.name.clone(), what }.into())
-                }
-                Some(answer) => return Ok(answer),
+            break match self.read_until(deadline, Until::Answer)?.into_iter().find(|m| *m != Message::Sent) {
+                Some(Message::Refused) => Err(LinkError::AdapterRefused { port: self.name.clone(), what }.into()),
+                Some(answer) => Ok(answer),
                 None if Instant::now() < deadline => continue,
-                None => {
-                    return Err(Error::AdapterNoAnswer {
-                        port: self.name.clone(),
-                        command: String::from_utf8_lossy(&cmd.encode()).trim_end().to_string(),
-                        waited: COMMAND_WAIT,
-                    })
-                }
-            }
+                None => Err(Error::AdapterNoAnswer {
+                    port: self.name.clone(),
+                    command: String::from_utf8_lossy(&cmd.encode()).trim_end().to_string(),
+                    waited: COMMAND_WAIT,
+                }),
+            };
         }
     }
 
