@@ -7,7 +7,7 @@ use crate::canopen::{abort, ObjAddr};
 use crate::epos2::command::{self, Command, GATEWAY_SEGMENT, LENGTH, MAX_SEGMENT, MORE, TOGGLE};
 use crate::epos2::transport::Transport;
 use crate::epos2::{Epos2Error, Epos2Problem};
-use crate::error::{Error, LinkError, NodeIdRange, Result};
+use crate::error::{Error, LinkError, Moved, NodeIdRange, Result};
 use crate::frame::Frame;
 use std::time::{Duration, Instant};
 
@@ -126,7 +126,7 @@ impl<T: Transport> Epos2Gateway<T> {
         let mut toggle = false;
         let mut empty_in_a_row = 0;
         loop {
-            stop_point(opts, node, addr, true, out.len(), None)?;
+            stop_point(opts, node, addr, true, Moved { bytes: out.len(), total: None })?;
             let data = self.call_ok(&Command::SegmentRead { toggle }, node, Some(addr))?;
             let ctrl = *data.first().ok_or_else(|| self.bad_answer(Epos2Problem::EmptySegment))?;
             if (ctrl & TOGGLE != 0) != toggle {
@@ -141,20 +141,16 @@ impl<T: Transport> Epos2Gateway<T> {
                 hook(out.len());
             }
             if out.len() > max_upload && max_upload < MAX_SEGMENTED_UPLOAD {
-                return Err(
-                    LinkError::UploadOverLimit { node, obj: addr, limit: max_upload, received: out.len() }.into()
-                );
+                let (limit, received) = (max_upload, out.len());
+                return Err(LinkError::UploadOverLimit { node, obj: addr, limit, received }.into());
             }
             if ctrl & MORE == 0 {
                 return Ok(out);
             }
             empty_in_a_row = if chunk.is_empty() { empty_in_a_row + 1 } else { 0 };
             if empty_in_a_row == MAX_EMPTY_SEGMENTS {
-                return Err(self.bad_answer(Epos2Problem::EmptySegments {
-                    node,
-                    obj: addr,
-                    count: MAX_EMPTY_SEGMENTS,
-                }));
+                let problem = Epos2Problem::EmptySegments { node, obj: addr, count: MAX_EMPTY_SEGMENTS };
+                return Err(self.bad_answer(problem));
             }
             if out.len() >= MAX_SEGMENTED_UPLOAD {
                 let problem =
@@ -177,7 +173,7 @@ impl<T: Transport> Epos2Gateway<T> {
         let chunks: Vec<&[u8]> = if data.is_empty() { vec![&[]] } else { data.chunks(size).collect() };
         let mut sent = 0;
         for chunk in chunks {
-            stop_point(opts, node, addr, false, sent, Some(data.len()))?;
+            stop_point(opts, node, addr, false, Moved { bytes: sent, total: Some(data.len()) })?;
             let answer = self.call_ok(&Command::SegmentWrite { toggle, data: chunk.to_vec() }, node, Some(addr))?;
             let ctrl = answer.first().copied().unwrap_or(0);
             if (ctrl & TOGGLE != 0) != toggle || (ctrl & LENGTH) as usize != chunk.len() {
@@ -195,16 +191,8 @@ impl<T: Transport> Epos2Gateway<T> {
 
 /// Between two segments: the user asked to stop. The EPOS2 protocol has no command to
 /// abort a segmented transfer, so the EPOS2 ends it at its own timeout.
-fn stop_point(
-    opts: &SdoOptions,
-    node: u8,
-    obj: ObjAddr,
-    upload: bool,
-    bytes: usize,
-    total: Option<usize>,
-) -> Result<()> {
+fn stop_point(opts: &SdoOptions, node: u8, obj: ObjAddr, upload: bool, moved: Moved) -> Result<()> {
     if opts.stop.as_ref().is_some_and(crate::cancel::Cancel::is_cancelled) {
-        let moved = crate::error::Moved { bytes, total };
         return Err(Error::SdoInterrupted { node, obj, upload, moved, aborted: None });
     }
     Ok(())
@@ -265,10 +253,8 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
 
     fn send_frame(&mut self, frame: &Frame) -> Result<()> {
         if frame.is_remote() {
-            return Err(Error::NotOnThisBus {
-                bus: self.link.describe(),
-                why: "remote frames go through RequestCANFrame; use a request",
-            });
+            let why = "remote frames go through RequestCANFrame; use a request";
+            return Err(Error::NotOnThisBus { bus: self.link.describe(), why });
         }
         let mut data = [0u8; 8];
         data[..frame.len()].copy_from_slice(frame.data());
@@ -285,10 +271,8 @@ impl<T: Transport> Bus for Epos2Gateway<T> {
     }
 
     fn recv_frame_stamped(&mut self, _deadline: Instant) -> Result<Option<(Frame, Instant)>> {
-        Err(Error::NotOnThisBus {
-            bus: self.link.describe(),
-            why: "an EPOS2 passes on no CAN traffic of its own accord (only answers to commands)",
-        })
+        let why = "an EPOS2 passes on no CAN traffic of its own accord (only answers to commands)";
+        Err(Error::NotOnThisBus { bus: self.link.describe(), why })
     }
 
     /// A serial link to real hardware: the monotonic clock.

@@ -79,11 +79,8 @@ impl<'a> LssMaster<'a> {
                     self.send(r)?;
                 }
                 if !self.ask(d, LssWait::First)?.contains(&Response::SwitchSelectiveAck) {
-                    return Err(Error::NoLssAnswer {
-                        request: "the selective switch".into(),
-                        identity: Some(*id),
-                        waited: self.timeout,
-                    });
+                    let (request, identity) = ("the selective switch".into(), Some(*id));
+                    return Err(Error::NoLssAnswer { request, identity, waited: self.timeout });
                 }
                 Ok(())
             }

@@ -457,13 +457,9 @@ impl<L: FrameLink> Master<L> {
             self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(obj, abort::GENERAL_ERROR)))?;
             self.let_answers_land(node, a.client.answers_in_flight(), timeout.min(STOP_GRACE), by)?;
             let (bytes, total) = a.client.progress();
-            results[a.slot] = Some(Err(Error::SdoInterrupted {
-                node,
-                obj,
-                upload: a.client.is_upload(),
-                moved: Moved { bytes, total },
-                aborted: Some(abort::GENERAL_ERROR),
-            }));
+            let (upload, moved) = (a.client.is_upload(), Moved { bytes, total });
+            results[a.slot] =
+                Some(Err(Error::SdoInterrupted { node, obj, upload, moved, aborted: Some(abort::GENERAL_ERROR) }));
         }
         Ok(())
     }
