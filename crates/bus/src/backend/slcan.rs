@@ -121,8 +121,7 @@ impl<P: SerialIo> SlcanLink<P> {
         let deadline = Instant::now() + SYNC_WAIT;
         let mut synced = false;
         while !synced && Instant::now() < deadline {
-            let answers = self.read_until(deadline, Until::Answer)?;
-            synced = answers.iter().any(|m| matches!(m, Message::Version(_)));
+            synced = self.read_until(deadline, Until::Answer)?.iter().any(|m| matches!(m, Message::Version(_)));
         }
         if !synced {
             tracing::debug!(target: "canctl::slcan", "{}: no answer to V in {SYNC_WAIT:?}", self.name);
@@ -196,8 +195,7 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
     fn send(&mut self, frame: &Frame) -> Result<()> {
         self.write(&Command::Transmit(*frame).encode())?;
         // A refusal comes at once; frames and acknowledges already here are kept.
-        let answers = self.read_until(Instant::now(), Until::Deadline)?;
-        if answers.contains(&Message::Refused) {
+        if self.read_until(Instant::now(), Until::Deadline)?.contains(&Message::Refused) {
             let flags = self.status().ok().flatten().map(|s| s.names()).unwrap_or_default();
             return Err(LinkError::AdapterRefusedFrame { port: self.name.clone(), cob: Some(frame.id()), flags }.into());
         }
@@ -215,9 +213,8 @@ impl<P: SerialIo> FrameLink for SlcanLink<P> {
                 return Ok(Some(f));
             }
             if answers? {
-                return Err(
-                    LinkError::AdapterRefusedFrame { port: self.name.clone(), cob: None, flags: Vec::new() }.into()
-                );
+                let (port, flags) = (self.name.clone(), Vec::new());
+                return Err(LinkError::AdapterRefusedFrame { port, cob: None, flags }.into());
             }
             if Instant::now() >= deadline {
                 // Only after a real wait: a poll (deadline now) asks the adapter nothing.
