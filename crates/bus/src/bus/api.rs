@@ -252,7 +252,7 @@ pub const ALL_NODES: u8 = 0;
 /// The services commands use; one implementation per kind of link.
 ///
 /// The methods up to [`Bus::close`] are the core: what a kind of link does its own way (a
-/// backend) or passes on (a decorator such as [`stoppable::Stoppable`], which passes on
+/// backend) or passes on (a decorator such as [`stoppable::Stoppable`](super::stoppable::Stoppable), which passes on
 /// the ones it leaves alone with the crate's `pass_on_unchanged!`). The ones after it are
 /// built on the core only and are never overridden, so that a decorator that forwards the
 /// core passes on everything the bus under it does (a [`Master`](super::Master) runs a batch of transfers
