@@ -213,18 +213,7 @@ impl Output {
         }
         line
     }
-}
 
-/// Prose for stderr, wrapped at the terminal's width when stderr is a terminal; whole
-/// lines otherwise, for logs and grep.
-pub fn fitted_to_stderr(text: &str) -> String {
-    match std::io::stderr().is_terminal().then(table::terminal_width).flatten() {
-        Some(width) => wrap::wrap(text, width),
-        None => text.to_string(),
-    }
-}
-
-impl Output {
     /// A line saying where slow work stands, its message changed as it moves on, or a
     /// hidden one when progress is not shown.
     pub fn status(&self, message: &str) -> ProgressBar {
@@ -279,6 +268,15 @@ impl Output {
     }
 }
 
+/// Prose for stderr, wrapped at the terminal's width when stderr is a terminal; whole
+/// lines otherwise, for logs and grep.
+pub fn fitted_to_stderr(text: &str) -> String {
+    match std::io::stderr().is_terminal().then(table::terminal_width).flatten() {
+        Some(width) => wrap::wrap(text, width),
+        None => text.to_string(),
+    }
+}
+
 /// How a report looks to people (and in CSV, where it is a table).
 pub enum Human {
     /// A sentence on stdout.
@@ -296,6 +294,18 @@ pub enum Human {
     Note(String),
     /// Several of the above, in order (a table, then sentences about it).
     Parts(Vec<Human>),
+}
+
+impl Human {
+    /// A table shown even without rows (its header alone).
+    pub(crate) fn table(headers: &[&'static str], rows: Vec<Vec<String>>) -> Human {
+        Human::Table { headers: headers.to_vec(), rows, when_empty: true }
+    }
+}
+
+/// Each of `items` as text, `sep` between them.
+pub(crate) fn joined<T: std::fmt::Display>(items: impl IntoIterator<Item = T>, sep: &str) -> String {
+    items.into_iter().map(|i| i.to_string()).collect::<Vec<_>>().join(sep)
 }
 
 /// A typed report: serialised as it is for JSON, shown as [`Human`] otherwise.
@@ -336,6 +346,20 @@ pub trait Report: serde::Serialize {
     }
 }
 
+/// One line of a stream: a JSON line, a CSV row, or text for people. Every stream's `time`
+/// is Unix time in seconds to the millisecond (JSON, CSV) and the time of day (UTC) for
+/// people, as [`RecordWriter`]'s.
+pub trait Line {
+    /// The CSV header row's column names, in the order of [`Line::csv`]'s fields.
+    const CSV_HEADER: &'static [&'static str];
+    /// The line as a JSON object (one per line in JSON lines).
+    fn json(&self) -> serde_json::Value;
+    /// The line as a CSV row, without its newline.
+    fn csv(&self) -> String;
+    /// The line for people.
+    fn text(&self) -> String;
+}
+
 impl Output {
     /// Render a report in the format asked for.
     pub fn report(&self, report: &impl Report) -> std::io::Result<()> {
@@ -363,10 +387,7 @@ impl Output {
             Human::Line(text) => {
                 let text = terminal_safe_lines(&text);
                 // Prose fitted to the terminal as tables are; a pipe gets whole lines.
-                match self.fit {
-                    Some(width) => self.print(&wrap::wrap(&text, width))?,
-                    None => self.print(&text)?,
-                }
+                self.print(&self.fit.map_or_else(|| text.to_string(), |width| wrap::wrap(&text, width)))?
             }
             Human::Table { headers, rows, when_empty } => {
                 if when_empty || self.format == Format::Csv || !rows.is_empty() {
@@ -384,23 +405,7 @@ impl Output {
         let target = if self.progress { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
         Bars::new(self, MultiProgress::with_draw_target(target))
     }
-}
 
-/// One line of a stream: a JSON line, a CSV row, or text for people. Every stream's `time`
-/// is Unix time in seconds to the millisecond (JSON, CSV) and the time of day (UTC) for
-/// people, as [`RecordWriter`]'s.
-pub trait Line {
-    /// The CSV header row's column names, in the order of [`Line::csv`]'s fields.
-    const CSV_HEADER: &'static [&'static str];
-    /// The line as a JSON object (one per line in JSON lines).
-    fn json(&self) -> serde_json::Value;
-    /// The line as a CSV row, without its newline.
-    fn csv(&self) -> String;
-    /// The line for people.
-    fn text(&self) -> String;
-}
-
-impl Output {
     /// What comes before a stream's first line: in CSV its header row, whether or not any
     /// line follows.
     pub(crate) fn stream_start<L: Line>(&self, w: &mut impl Write) -> std::io::Result<()> {

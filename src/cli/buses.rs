@@ -1,8 +1,8 @@
 //! `canctl buses`: list what this machine can reach.
 
 use super::Ctx;
-use crate::error::Error;
 use crate::ops::buses;
+use crate::output::CommandResult;
 use crate::sim::socketcand_serve::beacon_port;
 use clap::Args;
 use std::time::Duration;
@@ -28,16 +28,12 @@ pub(crate) struct BusesArgs {
     pub wait: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, a: &BusesArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, a: &BusesArgs) -> CommandResult {
     if a.wait > MAX_WAIT {
         return Err(crate::output::UsageError::BusesWait(MAX_WAIT.as_secs()).into());
     }
     let working = ctx.out.working(&crate::output::buses::listening(a.wait));
     let report = buses::find(a.wait, beacon_port(), &ctx.cancel);
     working.finish_and_clear();
-    ctx.out.report(&report)?;
-    match report.interrupted {
-        true => Err(Error::Interrupted.into()),
-        false => Ok(()),
-    }
+    ctx.report_then(&report, report.interrupted)
 }

@@ -3,6 +3,7 @@
 
 use super::Ctx;
 use crate::output::docs::registration;
+use crate::output::CommandResult;
 use clap::Args;
 use clap::CommandFactory;
 use clap_complete::Shell;
@@ -40,13 +41,13 @@ pub fn man_pages() -> Vec<(String, Vec<u8>)> {
     crate::output::docs::man_pages(super::Cli::command())
 }
 
-pub(crate) fn completions(args: &CompletionsArgs) -> crate::output::CommandResult {
+pub(crate) fn completions(args: &CompletionsArgs) -> CommandResult {
     let script = registration(args.shell);
     super::Output::new(crate::output::Format::Human, true).write_bytes(&script)?;
     Ok(())
 }
 
-pub(crate) fn man(ctx: &Ctx, args: &ManArgs) -> crate::output::CommandResult {
+pub(crate) fn man(ctx: &Ctx, args: &ManArgs) -> CommandResult {
     let pages = man_pages();
     match &args.out {
         Some(dir) => {

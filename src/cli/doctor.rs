@@ -3,6 +3,7 @@
 use super::{parse_node, Ctx, GlobalArgs};
 use crate::error::Error;
 use crate::ops::doctor::{self, DoctorOptions};
+use crate::output::CommandResult;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -57,7 +58,7 @@ pub struct DoctorArgs {
 }
 
 /// Run `canctl doctor`: the diagnosis rendered, exit 6 when it found a problem.
-pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> crate::output::CommandResult {
+pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> CommandResult {
     let last_scan = ctx.bus.as_deref().map(crate::ops::scan_cache::load).unwrap_or_default();
     // Scan's rule: a shorter listen hears nothing, and would not say so.
     crate::ops::scan::check_window(a.window)?;
@@ -68,9 +69,7 @@ pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> crate::output::Com
         opened = true;
         let sweep = a.sweep.then_some(a.sweep_window);
         let working = ctx.out.working(&crate::output::doctor::working(a.node));
-        let diagnosed = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-            doctor::doctor_swept(bus, &options, ctx.bus.as_deref(), sweep)
-        });
+        let diagnosed = ctx.stoppable(bus, |bus| doctor::doctor_swept(bus, &options, ctx.bus.as_deref(), sweep));
         working.finish_and_clear();
         let report = crate::output::stopped::read(&ctx.out, "doctor", "listening and asking".into(), diagnosed)?;
         ctx.out.report(&report)?;

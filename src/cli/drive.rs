@@ -6,7 +6,7 @@ use crate::bus::Bus;
 use crate::canopen::cia402::Goal;
 use crate::error::Error;
 use crate::ops::drive::{self, Options, Watch};
-use crate::output::stopped;
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use std::time::Duration;
 
@@ -68,7 +68,7 @@ pub(crate) struct WalkArgs {
     pub wait: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> CommandResult {
     let (args, goal) = match cmd {
         DriveCommand::Status(a) => return status(ctx, bus, a),
         DriveCommand::Enable(a) => (a, Goal::Enable),
@@ -82,9 +82,9 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> crate::ou
     Ok(walk.outcome()?)
 }
 
-fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> crate::output::CommandResult {
-    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node.node, ctx.timeout));
-    let report = stopped::read(&ctx.out, "drive status", format!("reading node {}'s state", a.node.node), read)?;
+fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> CommandResult {
+    let what = format!("reading node {}'s state", a.node.node);
+    let report = ctx.read(bus, "drive status", what, |bus| drive::status(bus, a.node.node, ctx.timeout))?;
     ctx.out.report(&report)?;
     if !a.watch {
         return Ok(());

@@ -3,6 +3,7 @@
 use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::errors;
+use crate::output::CommandResult;
 use clap::Args;
 
 /// Show a node's logged errors (0x1003), newest first, with their meanings
@@ -26,14 +27,8 @@ pub(crate) struct ErrorsArgs {
     pub clear: bool,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> crate::output::CommandResult {
-    let read =
-        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node.node, a.clear, ctx.timeout));
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> CommandResult {
     let what = format!("reading node {}'s error history", a.node.node);
-    let report = crate::output::stopped::read(&ctx.out, "errors", what, read)?;
-    ctx.out.report(&report)?;
-    match report.clear_interrupted {
-        Some(_) => Err(crate::Error::Interrupted.into()),
-        None => Ok(()),
-    }
+    let report = ctx.read(bus, "errors", what, |bus| errors::errors(bus, a.node.node, a.clear, ctx.timeout))?;
+    ctx.report_then(&report, report.clear_interrupted.is_some())
 }

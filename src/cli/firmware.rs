@@ -3,6 +3,7 @@
 use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::firmware::{self, DownloadOptions};
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::path::PathBuf;
@@ -71,26 +72,26 @@ pub(crate) struct DownloadArgs {
     pub jobs: u8,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> CommandResult {
     match cmd {
         FirmwareCommand::Status(a) => {
-            let read =
-                crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node.node, ctx.timeout));
             let what = format!("reading node {}'s program objects", a.node.node);
-            Ok(ctx.out.report(&crate::output::stopped::read(&ctx.out, "firmware status", what, read)?)?)
+            let status =
+                ctx.read(bus, "firmware status", what, |bus| firmware::status(bus, a.node.node, ctx.timeout))?;
+            Ok(ctx.out.report(&status)?)
         }
         FirmwareCommand::Download(a) => download(ctx, bus, a),
     }
 }
 
 /// `firmware status NODE` on several buses at once: the node's programs on each.
-pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> crate::output::CommandResult {
+pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> CommandResult {
     let run =
         |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node.node, ctx.timeout);
     super::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok::<(), crate::Error>(()))
 }
 
-fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::CommandResult {
+fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> CommandResult {
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
     // Each transfer's bytes are a bar of `steps`, one transfer at a time (several at once,
     // each node's start and end are told instead).
@@ -104,9 +105,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::Co
     o.cancel = Some(ctx.cancel.clone());
     if let [node] = a.nodes.0[..] {
         if !ctx.out.junit {
-            let result = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-                firmware::download(bus, node, &image, &o, &mut steps)
-            });
+            let result = ctx.stoppable(bus, |bus| firmware::download(bus, node, &image, &o, &mut steps));
             crate::ops::Progress::finish(&mut steps);
             return match result {
                 Ok(report) => Ok(ctx.out.report(&report)?),
@@ -117,9 +116,8 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::Co
             };
         }
     }
-    let batch = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        firmware::download_jobs(bus, &a.nodes.0, &image, &o, usize::from(a.jobs), &mut steps)
-    });
+    let batch =
+        ctx.stoppable(bus, |bus| firmware::download_jobs(bus, &a.nodes.0, &image, &o, usize::from(a.jobs), &mut steps));
     crate::ops::Progress::finish(&mut steps);
     ctx.out.report(&batch)?;
     match batch.into_failure() {

@@ -4,6 +4,7 @@ use super::Ctx;
 use crate::bus::Bus;
 use crate::canopen::nmt::State;
 use crate::ops::health::{self, HealthOptions};
+use crate::output::CommandResult;
 use clap::Args;
 use std::time::Duration;
 
@@ -39,19 +40,18 @@ pub(crate) struct HealthArgs {
     pub checks: super::CheckFormat,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> CommandResult {
     let last_seen = crate::ops::scan_cache::last_seen(ctx.bus.as_deref());
     let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state, last_seen };
-    let read =
-        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| health::health(bus, &options, &mut ctx.out.progress()));
-    let report = crate::output::stopped::read(&ctx.out, "health", "scanning and judging the nodes".into(), read)?;
+    let what = "scanning and judging the nodes".to_string();
+    let report = ctx.read(bus, "health", what, |bus| health::health(bus, &options, &mut ctx.out.progress()))?;
     let report = if ctx.diagnose { report } else { report.without_diagnoses() };
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }
 
 /// `health` on several buses at once: one table, one JUnit suite per bus, the worst exit.
-pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &HealthArgs) -> crate::output::CommandResult {
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &HealthArgs) -> CommandResult {
     let run = |uri: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
         let last_seen = crate::ops::scan_cache::last_seen(Some(uri));
         let options =

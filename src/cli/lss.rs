@@ -5,6 +5,7 @@ use crate::bus::Bus;
 use crate::canopen::lss::{parse_bit_rate, Identity};
 use crate::error::Error;
 use crate::ops::lss::{self, AssignOptions, FastscanOptions, Setting};
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -165,7 +166,7 @@ pub(crate) struct AssignArgs {
 
 impl Target {
     /// The device asked for; one must be named, a broadcast only when asked.
-    fn get(&self, verb: &str) -> crate::output::CommandResult<lss::Target> {
+    fn get(&self, verb: &str) -> CommandResult<lss::Target> {
         match (self.identity, self.global, self.node) {
             (Some(id), _, _) => Ok(lss::Target::One(id)),
             (None, true, _) => Ok(lss::Target::All),
@@ -180,30 +181,24 @@ fn no_node(node: Option<u8>, verb: &str) -> crate::Result<()> {
     node.map_or(Ok(()), |_| Err(lss::no_lss_on_direct_epos2(verb)))
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> CommandResult {
     // An interruption is noted and acted on between steps, so that no device is left in
     // configuration state.
     let (t, stop) = (ctx.timeout, &ctx.cancel);
-    let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> crate::output::CommandResult {
+    let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> CommandResult {
         let target = target.get(setting.verb())?;
         let done = match setting {
             Setting::BitRate(index) => lss::set_baud(bus, t, target, index, ctx.bus.as_deref(), stop)?,
             _ => lss::configure(bus, t, target, setting, stop)?,
         };
-        ctx.out.report(&done)?;
-        if done.interrupted {
-            return Err(crate::Error::Interrupted.into());
-        }
+        ctx.report_then(&done, done.interrupted)?;
         Ok(done.outcome()?)
     };
     match cmd {
         LssCommand::Inquire(a) => ctx.out.report(&lss::inquire(bus, t, a.get("inquire")?)?)?,
         LssCommand::SetId(a) => {
             let done = lss::set_id(bus, t, a.target.get("set-id")?, a.new, a.force, stop)?;
-            ctx.out.report(&done)?;
-            if done.interrupted {
-                return Err(Error::Interrupted.into());
-            }
+            ctx.report_then(&done, done.interrupted)?
         }
         LssCommand::SetBaud(a) => set(bus, &a.target, Setting::BitRate(a.rate))?,
         LssCommand::Store(a) => set(bus, a, Setting::Store)?,

@@ -282,6 +282,34 @@ pub(crate) struct Ctx {
     pub diagnose: bool,
 }
 
+impl Ctx {
+    /// `f` on `bus`, stopped at the program's request to stop ([`crate::ops::stop::stoppable`]).
+    fn stoppable<T>(&self, bus: &mut dyn Bus, f: impl FnOnce(&mut dyn Bus) -> T) -> T {
+        crate::ops::stop::stoppable(bus, &self.cancel, f)
+    }
+
+    /// What a read-only `command` read with `f`, stoppable; stopped part-way (`not_done`:
+    /// what it was reading), its report saying so and an interruption.
+    fn read<R>(
+        &self,
+        bus: &mut dyn Bus,
+        command: &str,
+        not_done: String,
+        f: impl FnOnce(&mut dyn Bus) -> crate::Result<R>,
+    ) -> CommandResult<R> {
+        crate::output::stopped::read(&self.out, command, not_done, self.stoppable(bus, f))
+    }
+
+    /// `report` rendered; then, `interrupted`, the command ends as an interruption.
+    fn report_then(&self, report: &impl crate::output::Report, interrupted: bool) -> CommandResult {
+        self.out.report(report)?;
+        match interrupted {
+            true => Err(Error::Interrupted.into()),
+            false => Ok(()),
+        }
+    }
+}
+
 /// Run a command that talks to the bus the user named (or say how to name one); the bus
 /// is closed whatever the command's outcome, and its error explained ([`explain_failure`]).
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> CommandResult) -> CommandResult {

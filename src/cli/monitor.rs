@@ -3,6 +3,7 @@
 use super::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::ops::monitor::Monitor;
+use crate::output::CommandResult;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -34,8 +35,8 @@ pub(crate) struct MonitorArgs {
 /// Ctrl-C or SIGTERM ends the monitor as its duration would, with the summary; the exit
 /// code is 130 all the same (as for every command the user stops), 0 only when --duration
 /// or --count ended it.
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> crate::output::CommandResult {
-    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> CommandResult {
+    ctx.stoppable(bus, |bus| {
         let mut monitor = Monitor::new(bus, ctx.dicts.pdo_layouts(&a.node), &a.node, a.duration, a.count)?;
         ctx.out.stream(|| monitor.next(bus))?;
         let summary = monitor.summary();

@@ -8,6 +8,7 @@ use crate::ops::config;
 use crate::ops::network::{self, PROJECT_FILE};
 use crate::ops::project_files;
 use crate::output::network::{DumpReport, NodeBars, SetBaudReport};
+use crate::output::CommandResult;
 use crate::output::UsageError;
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
@@ -176,7 +177,7 @@ pub(crate) struct Probes {
     pub window: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> CommandResult {
     match cmd {
         NetworkCommand::Dump(a) => dump(ctx, bus, a),
         NetworkCommand::Check(a) => check(ctx, bus, a),
@@ -191,7 +192,7 @@ fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
     Ok(loaded)
 }
 
-fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> crate::output::CommandResult {
+fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> CommandResult {
     let project = a.dir.join(PROJECT_FILE);
     if project.exists() && !a.force {
         return Err(UsageError::ProjectExists(project).into());
@@ -209,7 +210,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> crate::output::CommandRes
     Ok(())
 }
 
-fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> crate::output::CommandResult {
+fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> CommandResult {
     let loaded = load(ctx, &a.project)?;
     let options =
         network::CheckOptions { timeout: ctx.timeout, window: a.probes.window, jobs: a.jobs.into(), state: a.state };
@@ -220,7 +221,7 @@ fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> crate::output::CommandR
 
 /// `network check` on several buses at once (each against the same project): one table,
 /// one JUnit suite per bus, the worst exit.
-pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) -> crate::output::CommandResult {
+pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) -> CommandResult {
     let loaded = load(ctx, &a.project)?;
     let options =
         network::CheckOptions { timeout: ctx.timeout, window: a.probes.window, jobs: a.jobs.into(), state: a.state };
@@ -230,7 +231,7 @@ pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) ->
     super::on_each_bus(ctx, g, "canctl network check", run, |report: &network::Checked| report.outcome())
 }
 
-fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> crate::output::CommandResult {
+fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> CommandResult {
     let loaded = load(ctx, &a.project)?;
     let mut c = config::ApplyOptions::new(ctx.timeout);
     c.dry_run = a.dry_run;
@@ -257,7 +258,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> crate::output::CommandR
     Ok(report.outcome()?)
 }
 
-fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> crate::output::CommandResult {
+fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> CommandResult {
     if !a.global {
         return Err(UsageError::SetBaudNotGlobal.into());
     }

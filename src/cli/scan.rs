@@ -4,6 +4,7 @@ use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::scan::{self, ScanOptions};
 use crate::ops::scan_cache;
+use crate::output::CommandResult;
 use clap::Args;
 use std::time::Duration;
 
@@ -30,16 +31,13 @@ pub(crate) struct ScanArgs {
     pub window: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> CommandResult {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
     let last_seen = scan_cache::last_seen(ctx.bus.as_deref());
-    let report = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        scan::scan_against(bus, &options, &last_seen, &mut ctx.out.progress())
-    })?;
+    let report = ctx.stoppable(bus, |bus| scan::scan_against(bus, &options, &last_seen, &mut ctx.out.progress()))?;
     if report.interrupted {
         // The nodes found so far: reported, not remembered as the bus's.
-        ctx.out.report(&report)?;
-        return Err(crate::Error::Interrupted.into());
+        return ctx.report_then(&report, true);
     }
     if options.may_miss_slow_devices() {
         ctx.out.note(&crate::output::short_window_note());
@@ -52,7 +50,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> crate::outpu
 
 /// `scan` on several buses at once: a table of every bus's nodes, each bus's scan cache
 /// saved as the one-bus scan saves it.
-pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> crate::output::CommandResult {
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> CommandResult {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
     let outcome = |report: &scan::Scan| match report.interrupted {
         true => Err(crate::Error::Interrupted),

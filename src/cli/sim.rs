@@ -5,6 +5,7 @@ use super::{Ctx, GlobalArgs};
 use crate::epos2::Framing;
 use crate::error::{Error, LinkError, PtyOp};
 use crate::output::sim;
+use crate::output::CommandResult;
 use crate::sim::serial_fault::Fault;
 use crate::sim::serve::{self, Serve, Serving};
 use crate::sim::socketcand_serve;
@@ -162,7 +163,7 @@ fn parse_rate(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("the sim bus needs a fixed bit rate, not {text}"))
 }
 
-pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> CommandResult {
     let path = serve::state_path(ctx.bus.as_deref())?.ok_or(crate::output::UsageError::NotASimBus)?;
     if let Some(SimCommand::Reset(r)) = &args.command {
         let mut config =

@@ -4,6 +4,7 @@ use super::Ctx;
 use crate::bus::Bus;
 use crate::ops::store::Timeouts;
 use crate::ops::store_all::{restore_nodes, store_nodes};
+use crate::output::CommandResult;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -55,14 +56,14 @@ pub(crate) struct RestoreArgs {
     pub store_timeout: Duration,
 }
 
-pub(crate) fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> crate::output::CommandResult {
+pub(crate) fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> CommandResult {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
-    let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| store_nodes(bus, &a.node.0, a.class, t));
+    let run = ctx.stoppable(bus, |bus| store_nodes(bus, &a.node.0, a.class, t));
     crate::output::stopped::each_node(&ctx.out, "store", &a.node.0, run)
 }
 
-pub(crate) fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> crate::output::CommandResult {
+pub(crate) fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> CommandResult {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
-    let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| restore_nodes(bus, &a.node.0, a.class, t, a.reset));
+    let run = ctx.stoppable(bus, |bus| restore_nodes(bus, &a.node.0, a.class, t, a.reset));
     crate::output::stopped::each_node(&ctx.out, "restore", &a.node.0, run)
 }

@@ -6,6 +6,7 @@ use crate::bus::Bus;
 use crate::error::Error;
 use crate::ops::pdo::{Session, Stream, StreamOptions};
 use crate::ops::stream_setup::{prepare, Prepared, Setup};
+use crate::output::CommandResult;
 use clap::Args;
 use std::time::Duration;
 
@@ -55,7 +56,7 @@ pub(crate) struct StreamArgs {
 
 /// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
 /// read once from the node.
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> CommandResult {
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
@@ -70,7 +71,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> crate::output
     Ok(())
 }
 
-fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> crate::output::CommandResult {
+fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> CommandResult {
     let map = a.map.iter().map(|text| ctx.dicts.resolve(a.node.node, text)).collect::<crate::Result<Vec<_>>>()?;
     let setup = Setup {
         node: a.node.node,

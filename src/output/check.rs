@@ -48,6 +48,6 @@ impl Report for Checked {
                 ]
             })
             .collect();
-        Human::Table { headers: vec!["file", "line", "severity", "kind", "message", "rule"], rows, when_empty: true }
+        Human::table(&["file", "line", "severity", "kind", "message", "rule"], rows)
     }
 }

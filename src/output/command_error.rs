@@ -15,7 +15,7 @@ use crate::ops::unmet::{Shortfall, Unmet};
 pub enum CommandError {
     /// The library's error (a device's, the link's, a file's, a usage's).
     #[error(transparent)]
-    Library(crate::Error),
+    Library(#[from] crate::Error),
     /// A firmware download's own failure (flash status, identification, no boot-up); the
     /// bus's or device's failure during a download is a [`CommandError::Library`] error.
     #[error(transparent)]
@@ -27,7 +27,7 @@ pub enum CommandError {
     /// The work was done, and what it found is not as asked (a node unhealthy): the
     /// report said what; this says it in a line.
     #[error(transparent)]
-    Unmet(Unmet),
+    Unmet(#[from] Unmet),
     /// A command run on several buses, some of which fell short: the worst (of `class`, on
     /// `bus`) decides the exit code; the report shows every bus's, so its words are not
     /// said again here.
@@ -56,12 +56,6 @@ pub enum CommandError {
 /// What a command returns.
 pub type CommandResult<T = ()> = Result<T, CommandError>;
 
-impl From<crate::Error> for CommandError {
-    fn from(e: crate::Error) -> CommandError {
-        CommandError::Library(e)
-    }
-}
-
 impl From<FirmwareError> for CommandError {
     /// A download's step the bus or the device failed is that failure, as any command's: so
     /// it is explained (a silent node's likely cause) as any command's.
@@ -80,12 +74,6 @@ impl From<crate::sim::serve::ServeError> for CommandError {
             crate::sim::serve::ServeError::Failed(e) => CommandError::Library(e),
             refused => CommandError::Usage(UsageError::CannotServe(refused)),
         }
-    }
-}
-
-impl From<Unmet> for CommandError {
-    fn from(u: Unmet) -> CommandError {
-        CommandError::Unmet(u)
     }
 }
 

@@ -411,7 +411,7 @@ impl Report for Diagnosis {
             }
         }
         rows.extend(self.fine.iter().map(|e| vec![String::new(), "fine".into(), evidence_text(e), String::new()]));
-        Human::Table { headers: vec!["rank", "cause", "evidence", "fix"], rows, when_empty: true }
+        Human::table(&["rank", "cause", "evidence", "fix"], rows)
     }
 
     fn notes(&self) -> Vec<String> {

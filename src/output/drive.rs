@@ -23,7 +23,7 @@ impl Report for Status {
             .filter(|f| f.bit < ALWAYS_SHOWN_BITS || f.set)
             .map(|f| vec![f.bit.to_string(), f.name.to_string(), if f.set { "yes" } else { "no" }.to_string()])
             .collect();
-        parts.push(Human::Table { headers: vec!["bit", "flag", "set"], rows, when_empty: true });
+        parts.push(Human::table(&["bit", "flag", "set"], rows));
         parts.push(Human::Line(match &self.mode {
             Some(m) => {
                 format!("mode of operation: {} {} ({})", m.value, m.name.unwrap_or("(not a CiA 402 mode)"), m.from)
@@ -61,7 +61,7 @@ impl Report for Status {
 
     fn csv(&self) -> Human {
         let rows = self.flags.iter().map(|f| vec![f.bit.to_string(), f.name.to_string(), f.set.to_string()]).collect();
-        Human::Table { headers: vec!["bit", "flag", "set"], rows, when_empty: true }
+        Human::table(&["bit", "flag", "set"], rows)
     }
 }
 
@@ -109,11 +109,7 @@ impl Report for Walk {
                 ]
             })
             .collect();
-        Human::Table {
-            headers: vec!["command", "controlword", "from", "reached", "statusword", "confirmed"],
-            rows,
-            when_empty: true,
-        }
+        Human::table(&["command", "controlword", "from", "reached", "statusword", "confirmed"], rows)
     }
 }
 

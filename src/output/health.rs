@@ -1,16 +1,10 @@
 //! How the error history and the health report look: tables for people, JUnit for CI.
 
 use super::hints::verdict_text;
+use super::network::node_label;
 use super::{Human, Report, TestCase, TestSuite};
-use crate::ops::errors::ErrorHistory;
+use crate::ops::errors::{ErrorHistory, LoggedError};
 use crate::ops::health::{Check, Health as HealthReport, NodeHealth};
-
-fn node_label(node: u8, name: Option<&str>) -> String {
-    match name {
-        Some(n) if !n.is_empty() => format!("node {node} ({n})"),
-        _ => format!("node {node}"),
-    }
-}
 
 fn source_text(s: crate::canopen::emcy::Source) -> &'static str {
     use crate::canopen::emcy::Source;
@@ -23,7 +17,7 @@ fn source_text(s: crate::canopen::emcy::Source) -> &'static str {
 
 impl Report for ErrorHistory {
     fn human(&self) -> Human {
-        let who = node_label(self.node, self.name.as_deref());
+        let who = node_label(self.node, self.name.as_deref().unwrap_or_default());
         let register = format!("error register {}", super::verdicts::register_text(self.error_register));
         if !self.kept {
             return Human::Line(format!("{who} keeps no error history (it has no object 0x1003); {register}"));
@@ -32,19 +26,7 @@ impl Report for ErrorHistory {
             Some(0) | None => format!("{who}: no errors logged in 0x1003; {register}"),
             Some(n) => format!("{who}: {n} error(s) logged in 0x1003, newest first; {register}"),
         })];
-        let rows = self
-            .entries
-            .iter()
-            .map(|e| {
-                vec![
-                    e.sub.to_string(),
-                    format!("0x{:04X}", e.code),
-                    format!("0x{:04X}", e.manufacturer),
-                    e.meaning.to_string(),
-                    source_text(e.source).to_string(),
-                ]
-            })
-            .collect();
+        let rows = self.entries.iter().map(|e| [vec![e.sub.to_string()], entry_cells(e)].concat()).collect();
         parts.push(Human::Table { headers: vec!["#", "code", "mfr", "meaning", "from"], rows, when_empty: false });
         parts.extend(
             self.unreadable.iter().map(|u| Human::Note(format!("0x1003:{} could not be read: {}", u.sub, u.error))),
@@ -64,27 +46,16 @@ impl Report for ErrorHistory {
     }
 
     fn csv(&self) -> Human {
-        let rows = self
-            .entries
-            .iter()
-            .map(|e| {
-                vec![
-                    self.node.to_string(),
-                    e.sub.to_string(),
-                    e.raw.to_string(),
-                    format!("0x{:04X}", e.code),
-                    format!("0x{:04X}", e.manufacturer),
-                    e.meaning.to_string(),
-                    source_text(e.source).to_string(),
-                ]
-            })
-            .collect();
-        Human::Table {
-            headers: vec!["node", "sub", "raw", "code", "manufacturer", "meaning", "source"],
-            rows,
-            when_empty: true,
-        }
+        let row = |e: &LoggedError| [vec![self.node.to_string(), e.sub.to_string(), e.raw.to_string()], entry_cells(e)];
+        let rows = self.entries.iter().map(|e| row(e).concat()).collect();
+        Human::table(&["node", "sub", "raw", "code", "manufacturer", "meaning", "source"], rows)
     }
+}
+
+/// A logged error's code, manufacturer's part, meaning and where the meaning is from.
+fn entry_cells(e: &LoggedError) -> Vec<String> {
+    let (code, mfr) = (format!("0x{:04X}", e.code), format!("0x{:04X}", e.manufacturer));
+    vec![code, mfr, e.meaning.to_string(), source_text(e.source).to_string()]
 }
 
 /// The JSON of `checks` (an array, as they serialise), each detail worded in its place,
@@ -142,8 +113,7 @@ const HEALTH_HEADERS: [&str; 9] =
 
 impl Report for HealthReport {
     fn human(&self) -> Human {
-        let mut parts =
-            vec![Human::Table { headers: HEALTH_HEADERS.to_vec(), rows: health_rows(self), when_empty: true }];
+        let mut parts = vec![Human::table(&HEALTH_HEADERS, health_rows(self))];
         for h in &self.nodes {
             for c in h.checks.iter().filter(|c| !c.ok) {
                 // The node-id check fails on two devices on one id (its detail, the clash).
@@ -171,7 +141,7 @@ impl Report for HealthReport {
     }
 
     fn csv(&self) -> Human {
-        Human::Table { headers: HEALTH_HEADERS.to_vec(), rows: health_rows(self), when_empty: true }
+        Human::table(&HEALTH_HEADERS, health_rows(self))
     }
 
     fn notes(&self) -> Vec<String> {
@@ -187,7 +157,7 @@ impl Report for HealthReport {
             .nodes
             .iter()
             .flat_map(|h| {
-                let class = node_label(h.node, h.name.as_deref());
+                let class = node_label(h.node, h.name.as_deref().unwrap_or_default());
                 let likely = h.diagnosis.as_ref().map(super::doctor::likely_cause_text).unwrap_or_default();
                 h.checks.iter().map(move |c| TestCase {
                     class: class.clone(),

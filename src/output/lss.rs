@@ -4,19 +4,13 @@ use super::{Human, Report};
 use crate::ops::lss::NotStored;
 use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired, LssTally, PaceUsed, Took};
 
-fn table(headers: Vec<&'static str>, row: Vec<String>) -> Human {
-    Human::Table { headers, rows: vec![row], when_empty: true }
-}
-
 impl Report for Inquired {
     fn human(&self) -> Human {
         Human::Line(format!("{}  node-id {}", self.identity.0, self.node.map_or("none".to_string(), |n| n.to_string())))
     }
     fn csv(&self) -> Human {
-        table(
-            vec!["identity", "node"],
-            vec![self.identity.0.to_string(), self.node.map_or(String::new(), |n| n.to_string())],
-        )
+        let node = self.node.map_or(String::new(), |n| n.to_string());
+        Human::table(&["identity", "node"], vec![vec![self.identity.0.to_string(), node]])
     }
 }
 
@@ -67,10 +61,8 @@ impl Report for Configured {
         vec![format!("interrupted after the {} was confirmed: {kept}; nothing else was done", self.command)]
     }
     fn csv(&self) -> Human {
-        table(
-            vec!["command", "target", "result"],
-            vec![self.command.into(), self.target.clone(), took_text(self.result)],
-        )
+        let row = vec![self.command.into(), self.target.clone(), took_text(self.result)];
+        Human::table(&["command", "target", "result"], vec![row])
     }
 }
 
@@ -98,13 +90,12 @@ impl Report for Found {
         Human::Parts(vec![Human::Line(self.identity.0.to_string()), Human::Note(how)])
     }
     fn csv(&self) -> Human {
-        let row = [
-            self.identity.0.to_string(),
-            self.steps.to_string(),
-            self.step_ms.to_string(),
-            self.elapsed_ms.to_string(),
-        ];
-        table(vec!["identity", "steps", "step_ms", "elapsed_ms"], row.into())
+        let (steps, step_ms, elapsed_ms) =
+            (self.steps.to_string(), self.step_ms.to_string(), self.elapsed_ms.to_string());
+        Human::table(
+            &["identity", "steps", "step_ms", "elapsed_ms"],
+            vec![vec![self.identity.0.to_string(), steps, step_ms, elapsed_ms]],
+        )
     }
 }
 
@@ -144,7 +135,7 @@ impl Report for Assignment {
             (e, false) => e.as_ref().map(not_stored_text).unwrap_or_default(),
         };
         let rows = self.assigned.iter().map(|d| vec![d.identity.0.to_string(), d.node.to_string(), stored(d)]);
-        Human::Table { headers: vec!["identity", "node", "stored"], rows: rows.collect(), when_empty: true }
+        Human::table(&["identity", "node", "stored"], rows.collect())
     }
     fn notes(&self) -> Vec<String> {
         let mut notes = vec![format!(

@@ -118,10 +118,6 @@ impl<R: Report> Report for OnBuses<'_, R> {
             .collect()
     }
 
-    fn junit(&self) -> Option<TestSuite> {
-        None
-    }
-
     fn junit_suites(&self) -> Vec<TestSuite> {
         let mut suites = Vec::new();
         for run in self.runs {

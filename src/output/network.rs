@@ -45,7 +45,7 @@ impl Report for DumpReport<'_> {
             .nodes
             .iter()
             .map(|n| vec![n.node.to_string(), n.name.clone(), n.file.clone(), n.objects.to_string()]);
-        Human::Table { headers: vec!["node", "name", "file", "objects"], rows: rows.collect(), when_empty: true }
+        Human::table(&["node", "name", "file", "objects"], rows.collect())
     }
 
     fn notes(&self) -> Vec<String> {
@@ -65,7 +65,8 @@ impl Report for DumpReport<'_> {
     }
 }
 
-fn node_label(node: u8, name: &str) -> String {
+/// `node 5 (name)`, or `node 5` without a name.
+pub(super) fn node_label(node: u8, name: &str) -> String {
     if name.is_empty() {
         format!("node {node}")
     } else {
@@ -123,7 +124,7 @@ impl Report for Checked {
                 format!("answers, but the project does not list it ({t})"),
             ]);
         }
-        Human::Table { headers: vec!["node", "name", "check", "result", "detail"], rows, when_empty: true }
+        Human::table(&["node", "name", "check", "result", "detail"], rows)
     }
 
     fn notes(&self) -> Vec<String> {
@@ -189,7 +190,7 @@ impl Report for Applied {
                 node_result_words(n, super::hints::failure_text),
             ]
         });
-        Human::Table { headers: vec!["node", "name", "written", "result"], rows: rows.collect(), when_empty: true }
+        Human::table(&["node", "name", "written", "result"], rows.collect())
     }
 
     fn json_value(&self) -> serde_json::Value {
@@ -416,7 +417,7 @@ impl Report for SetBaudReport<'_> {
                 ]
             })
             .collect();
-        parts.push(Human::Table { headers: vec!["node", "name", "before", "after", "result"], rows, when_empty: true });
+        parts.push(Human::table(&["node", "name", "before", "after", "result"], rows));
         Human::Parts(parts)
     }
 

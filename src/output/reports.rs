@@ -21,7 +21,7 @@ impl Report for SettingsReport {
             vec!["timeout".into(), format!("{} ms", self.timeout_ms), self.timeout_from.clone()],
         ];
         rows.extend(self.eds.iter().map(|e| vec![format!("eds ({})", e.node), e.file.clone(), e.from.clone()]));
-        Human::Table { headers: vec!["setting", "value", "from"], rows, when_empty: true }
+        Human::table(&["setting", "value", "from"], rows)
     }
 
     fn notes(&self) -> Vec<String> {
@@ -173,7 +173,7 @@ impl Report for Applied {
 
     fn csv(&self) -> Human {
         let rows = applied_rows(self);
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: true }
+        Human::table(&["object", "name", "old", "new", "result"], rows)
     }
 
     fn json_value(&self) -> serde_json::Value {
