@@ -308,6 +308,16 @@ pub(crate) fn joined<T: std::fmt::Display>(items: impl IntoIterator<Item = T>, s
     items.into_iter().map(|i| i.to_string()).collect::<Vec<_>>().join(sep)
 }
 
+/// [`joined`] by commas, or `none` when there are no items.
+pub(crate) fn listed<T: std::fmt::Display>(items: impl IntoIterator<Item = T>, none: &str) -> String {
+    let list = joined(items, ", ");
+    if list.is_empty() {
+        none.to_string()
+    } else {
+        list
+    }
+}
+
 /// A typed report: serialised as it is for JSON, shown as [`Human`] otherwise.
 pub trait Report: serde::Serialize {
     /// How the report looks to people.
@@ -406,15 +416,6 @@ impl Output {
         Bars::new(self, MultiProgress::with_draw_target(target))
     }
 
-    /// What comes before a stream's first line: in CSV its header row, whether or not any
-    /// line follows.
-    pub(crate) fn stream_start<L: Line>(&self, w: &mut impl Write) -> std::io::Result<()> {
-        if self.format == Format::Csv {
-            write!(w, "{}", csv(L::CSV_HEADER, &[]))?;
-        }
-        Ok(())
-    }
-
     /// A stream of lines on standard output, each flushed as it comes, until `next` has no
     /// more; the last line, for what ends the stream.
     pub(crate) fn stream<L: Line>(
@@ -423,7 +424,10 @@ impl Output {
     ) -> CommandResult<Option<L>> {
         let stdout = std::io::stdout();
         let mut out = std::io::BufWriter::new(stdout.lock());
-        self.stream_start::<L>(&mut out)?;
+        // In CSV its header row first, whether or not any line follows.
+        if self.format == Format::Csv {
+            write!(out, "{}", csv(L::CSV_HEADER, &[]))?;
+        }
         let mut last = None;
         while let Some(line) = next()? {
             self.line(&mut out, &line)?;

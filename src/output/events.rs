@@ -49,11 +49,10 @@ fn notice_line(n: &Notice) -> String {
         Notice::Refused { addr, code } => format!("note: {addr}: {}", abort::meaning(*code)),
         Notice::LeftOut { addr, file, why } => format!("note: {addr} left out of the {file}: {why}"),
         Notice::Silent { node, after, why } => {
-            let why: Vec<String> = why.iter().map(silence_text).collect();
             format!(
                 "nothing from node {node} after {} ms; still listening. Why it may be silent: {}.",
                 after.as_millis(),
-                why.join("; ")
+                super::joined(why.iter().map(silence_text), "; ")
             )
         }
         Notice::Assigned { identity, node } => format!("{identity} -> node {node}"),

@@ -64,8 +64,7 @@ pub fn last_scan_hint(bus: &str, seen: &[crate::ops::scan_cache::SeenNode]) -> S
     if seen.is_empty() {
         return format!("; `canctl scan` lists the nodes on {bus}");
     }
-    let list: Vec<String> = seen.iter().map(|n| n.node.to_string()).collect();
-    format!("; nodes seen on the last scan of {bus}: {}", list.join(", "))
+    format!("; nodes seen on the last scan of {bus}: {}", super::joined(seen.iter().map(|n| n.node), ", "))
 }
 
 /// `error` with what [`crate::ops::explain::explain`] learned said in its hint: the link's

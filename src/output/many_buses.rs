@@ -70,7 +70,7 @@ fn prefixed(bus: &str, part: Human, tables: &mut Option<(Vec<&'static str>, Vec<
 
 impl<R: Report> OnBuses<'_, R> {
     /// Every bus's `shown` form, merged: the one table first, then the sentences.
-    fn merged(&self, shown: impl Fn(&R) -> Human) -> Human {
+    fn merged(&self, shown: impl Fn(&R) -> Human) -> Vec<Human> {
         let (mut table, mut lines) = (None, Vec::new());
         for run in self.runs {
             if let Some(report) = &run.report {
@@ -87,29 +87,22 @@ impl<R: Report> OnBuses<'_, R> {
             }
         }
         let table = table.map(|(headers, rows)| Human::Table { headers, rows, when_empty: true });
-        Human::Parts(table.into_iter().chain(lines).collect())
+        table.into_iter().chain(lines).collect()
     }
 }
 
 impl<R: Report> Report for OnBuses<'_, R> {
     fn human(&self) -> Human {
-        self.merged(R::human_among_buses)
+        Human::Parts(self.merged(R::human_among_buses))
     }
 
     fn csv(&self) -> Human {
         // CSV is the table alone: sentences are notes on stderr there.
-        match self.merged(R::csv) {
-            Human::Parts(parts) => Human::Parts(
-                parts
-                    .into_iter()
-                    .map(|p| match p {
-                        Human::Line(text) => Human::Note(text),
-                        p => p,
-                    })
-                    .collect(),
-            ),
-            other => other,
-        }
+        let note = |part| match part {
+            Human::Line(text) => Human::Note(text),
+            part => part,
+        };
+        Human::Parts(self.merged(R::csv).into_iter().map(note).collect())
     }
 
     fn notes(&self) -> Vec<String> {

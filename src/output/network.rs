@@ -158,16 +158,16 @@ impl Report for Checked {
                 });
             }
         }
-        let unlisted: Vec<String> = self.unlisted.iter().map(|u| u.node.to_string()).collect();
+        let unlisted = super::joined(self.unlisted.iter().map(|u| u.node), ", ");
         cases.push(TestCase {
             class: "network".into(),
             name: "no unlisted nodes".into(),
             detail: if unlisted.is_empty() {
                 "every node that answers is in the project".into()
             } else {
-                format!("node(s) {} answer but are not in the project", unlisted.join(", "))
+                format!("node(s) {unlisted} answer but are not in the project")
             },
-            failure: (!unlisted.is_empty()).then(|| format!("{} unlisted node(s)", unlisted.len())),
+            failure: (!self.unlisted.is_empty()).then(|| format!("{} unlisted node(s)", self.unlisted.len())),
         });
         cases.push(TestCase {
             class: "network".into(),
@@ -222,29 +222,25 @@ impl Report for Applied {
             notes.push(format!("{} object(s) {verb} on {written_to} of {} node(s)", self.written, self.nodes.len()));
         }
         if !self.unlisted.is_empty() {
-            let list: Vec<String> = self.unlisted.iter().map(|u| u.node.to_string()).collect();
             notes.push(format!(
                 "node(s) {} answer but are not in the project: the network does not match it (add them, or take them off the bus)",
-                list.join(", ")
+                super::joined(self.unlisted.iter().map(|u| u.node), ", ")
             ));
         }
-        let count = |o: Outcome| self.nodes.iter().filter(|n| n.outcome == o).count();
-        let stopped = count(Outcome::StoppedPartWay);
-        if stopped > 0 {
-            notes.push(format!(
-                "interrupted: {stopped} node(s) stopped part-way, each at a point between two transfers (see its \
-                 result for what was written and the state it is left in)"
-            ));
-        }
-        let unchanged = count(Outcome::StoppedUnchanged);
-        if unchanged > 0 {
-            notes.push(format!("interrupted: {unchanged} node(s) stopped before anything was written, as they were"));
-        }
-        let not_begun = count(Outcome::NotBegun);
-        if not_begun > 0 {
-            notes.push(format!(
-                "interrupted: {not_begun} node(s) not begun; the same command finishes the job (only what differs is written)"
-            ));
+        let interrupted = [
+            (
+                Outcome::StoppedPartWay,
+                "stopped part-way, each at a point between two transfers (see its result for what was written and \
+                 the state it is left in)",
+            ),
+            (Outcome::StoppedUnchanged, "stopped before anything was written, as they were"),
+            (Outcome::NotBegun, "not begun; the same command finishes the job (only what differs is written)"),
+        ];
+        for (outcome, what) in interrupted {
+            match self.nodes.iter().filter(|n| n.outcome == outcome).count() {
+                0 => {}
+                count => notes.push(format!("interrupted: {count} node(s) {what}")),
+            }
         }
         notes
     }
@@ -425,8 +421,11 @@ impl Report for SetBaudReport<'_> {
         let r = self.switched;
         let mut notes = vec![format!("expected nodes from {}", r.expected_from)];
         if !r.unexpected.is_empty() {
-            let list: Vec<String> = r.unexpected.iter().map(|n| n.to_string()).collect();
-            notes.push(format!("node(s) {} answer at {} but were not expected", list.join(", "), r.rate));
+            notes.push(format!(
+                "node(s) {} answer at {} but were not expected",
+                super::joined(&r.unexpected, ", "),
+                r.rate
+            ));
         }
         match r.unconfigured_after {
             Some(after) if after != r.unconfigured_before => notes.push(format!(
@@ -439,10 +438,9 @@ impl Report for SetBaudReport<'_> {
             notes.push(format!("{}: Baudrate set to {}", p.display(), r.rate));
         }
         if !self.left.is_empty() {
-            let list: Vec<String> = self.left.iter().map(|n| n.to_string()).collect();
             notes.push(format!(
                 "the DCF(s) of node(s) {} left at their rate: not heard at {}",
-                list.join(", "),
+                super::joined(self.left, ", "),
                 r.rate
             ));
         }

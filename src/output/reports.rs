@@ -77,7 +77,7 @@ impl Report for Stopped {
     }
 
     fn notes(&self) -> Vec<String> {
-        let list = |v: &[String]| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
+        let list = |v: &[String]| super::listed(v, "nothing");
         vec![
             format!("{} interrupted: done {}; not done {}", self.command, list(&self.done), list(&self.not_done)),
             self.state.clone(),
@@ -199,16 +199,13 @@ impl Report for Applied {
 /// written, what was not, what was put back, and the state the device is left in, a
 /// sentence each.
 pub(crate) fn incomplete_lines(incomplete: &crate::ops::config::Incomplete) -> Vec<String> {
-    let list = |v: Vec<String>| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
     let mut out = Vec::new();
     if let Some(cut) = &incomplete.cut {
-        let done: Vec<String> = cut.written.iter().map(|w| w.to_string()).collect();
-        let not: Vec<String> = cut.not_written.iter().map(|w| w.to_string()).collect();
         out.push(format!(
             "interrupted after {} write(s): written {}; not written {}",
-            done.len(),
-            list(done),
-            list(not)
+            cut.written.len(),
+            super::listed(&cut.written, "nothing"),
+            super::listed(&cut.not_written, "nothing")
         ));
     }
     for pdo in &incomplete.rolled_back {
@@ -243,14 +240,11 @@ pub(crate) fn left_in_text(left: &crate::ops::config::LeftIn) -> String {
     let mut s = match (new.is_empty(), interim) {
         (true, false) => format!("node {node} is as it was before the run"),
         (true, true) => format!("node {node} holds none of the file's values"),
-        (false, _) => {
-            let new: Vec<String> = new.iter().map(|a| a.to_string()).collect();
-            format!(
-                "node {node} holds the file's values for {} of {of} object(s) ({}), its previous values for the rest",
-                new.len(),
-                new.join(", ")
-            )
-        }
+        (false, _) => format!(
+            "node {node} holds the file's values for {} of {of} object(s) ({}), its previous values for the rest",
+            new.len(),
+            super::joined(new, ", ")
+        ),
     };
     if rollback_failed || interim {
         s.push_str("; a PDO is left unusable: see the writes above");
@@ -275,8 +269,7 @@ pub fn applied_failure_note(report: &Applied) -> Option<String> {
     if report.interrupted {
         return None;
     }
-    let done: Vec<String> = report.written.iter().map(|w| w.to_string()).collect();
-    Some(format!("written before the failure: {}", if done.is_empty() { "nothing".into() } else { done.join(", ") }))
+    Some(format!("written before the failure: {}", super::listed(&report.written, "nothing")))
 }
 
 impl Line for Event {
@@ -320,13 +313,12 @@ impl Line for Summary {
 
     fn text(&self) -> String {
         let cobs: Vec<String> = self.per_cob_id.iter().map(|(c, n)| format!("{c:03X}×{n}")).collect();
-        let list: Vec<String> = self.nodes.iter().map(|n| n.to_string()).collect();
         format!(
             "{} frame(s) in {:.1} s; per COB-ID: {}; nodes seen: {}; EMCYs: {}",
             self.frames(),
             self.elapsed.as_secs_f64(),
             if cobs.is_empty() { "-".into() } else { cobs.join(" ") },
-            if list.is_empty() { "-".into() } else { list.join(", ") },
+            super::listed(&self.nodes, "-"),
             self.emcy
         ) + if self.interrupted { " (interrupted; nothing was sent to the bus)" } else { "" }
     }

@@ -39,10 +39,7 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
         ),
         Finding::EmcyUnwatched => "not watched: this link shows no traffic".into(),
         Finding::NoEmcy { watched_ms } => format!("none in {watched_ms} ms"),
-        Finding::Emcys { seen } => {
-            let described: Vec<String> = seen.iter().map(|e| format!("0x{:04X} {}", e.code, e.meaning)).collect();
-            described.join("; ")
-        }
+        Finding::Emcys { seen } => super::joined(seen.iter().map(|e| format!("0x{:04X} {}", e.code, e.meaning)), "; "),
         Finding::StatuswordUnread { error } => format!("statusword 0x6041 could not be read: {error}"),
         Finding::StatuswordShort => "statusword 0x6041 answered with too few bytes".into(),
         Finding::NoDriveState { statusword } => format!("statusword 0x{statusword:04X} codes no CiA 402 state"),
@@ -62,8 +59,7 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
             format!("node {node} did not answer any of {rounds} probes of {window_ms} ms")
         }
         Finding::IdentityMatches { parts } => {
-            let seen: Vec<String> = parts.iter().map(|p| format!("{} {}", p.what, p.device_text())).collect();
-            seen.join(", ")
+            super::joined(parts.iter().map(|p| format!("{} {}", p.what, p.device_text())), ", ")
         }
         Finding::IdentityUnnamed { file } => format!("{file} names no vendor-ID or product code: not compared"),
         Finding::IdentityDiffers { differ, file } => {
