@@ -136,8 +136,12 @@ impl GlobalArgs {
     /// The frame log asked for with --log-frames, created (emptied) now; a failure says the
     /// flag it came from.
     pub(crate) fn frame_log(&self) -> CommandResult<Option<crate::bus::FrameLog>> {
-        let log = self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose();
-        log.map_err(CommandError::FrameLog)
+        self.log_frames.as_deref().map(crate::bus::FrameLog::create).transpose().map_err(CommandError::FrameLog)
+    }
+
+    /// How a bus is opened: the answers' timeout, and the frame log asked for.
+    fn open_options(&self, timeout: Duration) -> CommandResult<OpenOptions> {
+        Ok(OpenOptions { frame_log: self.frame_log()?, ..OpenOptions::new(timeout) })
     }
 }
 
@@ -313,8 +317,7 @@ impl Ctx {
 /// Run a command that talks to the bus the user named (or say how to name one); the bus
 /// is closed whatever the command's outcome, and its error explained ([`explain_failure`]).
 fn with_bus(ctx: &Ctx, global: &GlobalArgs, f: impl FnOnce(&mut dyn Bus) -> CommandResult) -> CommandResult {
-    let mut opts = OpenOptions::new(ctx.timeout);
-    opts.frame_log = global.frame_log()?;
+    let opts = global.open_options(ctx.timeout)?;
     let Some(text) = ctx.bus.as_deref().filter(|b| !b.is_empty()) else {
         let (interfaces, ports) = (crate::connect::can_interfaces(), crate::connect::serial_ports());
         return Err(UsageError::NoBus { interfaces, ports }.into());
@@ -353,8 +356,7 @@ fn on_each_bus<R: crate::output::Report + Send, V: Into<crate::ops::unmet::Short
     outcome: impl Fn(&R) -> Result<(), V>,
 ) -> CommandResult {
     use crate::output::many_buses::{BusNotes, OnBuses};
-    let mut opts = OpenOptions::new(ctx.timeout);
-    opts.frame_log = g.frame_log()?;
+    let opts = g.open_options(ctx.timeout)?;
     let addrs = ctx.buses.iter().map(|b| b.parse()).collect::<Result<Vec<BusAddr>, Error>>()?;
     let runs = crate::ops::many_buses::each(&addrs, &opts, &ctx.cancel, |addr, bus| {
         let uri = addr.to_string();
@@ -387,10 +389,7 @@ pub fn run(cli: Cli, bus_from_env: bool, cancel: Cancel) -> CommandResult {
     let g = &cli.global;
     // The library reports through `tracing`; -v/-q choose what reaches stderr.
     crate::output::diagnostics::install(g.verbose, g.quiet);
-    let (bus, more_buses) = match g.bus.split_first() {
-        Some((first, more)) => (Some(first.clone()), more.to_vec()),
-        None => (None, Vec::new()),
-    };
+    let (bus, more_buses) = (g.bus.first().cloned(), g.bus.iter().skip(1).cloned().collect());
     let given = Given { bus, bus_from_env, more_buses, timeout: g.timeout, eds: g.eds.clone() };
     let settings = Settings::resolve(given, crate::settings::load()?);
     let format = cli.format();

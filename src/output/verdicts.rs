@@ -63,18 +63,16 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
         }
         Finding::IdentityUnnamed { file } => format!("{file} names no vendor-ID or product code: not compared"),
         Finding::IdentityDiffers { differ, file } => {
-            let differ: Vec<String> =
-                differ.iter().map(|p| format!("{} {}, 0x{:08X} in {file}", p.what, p.device_text(), p.file)).collect();
-            format!("another device: {}", differ.join(", "))
+            let differ = differ.iter().map(|p| format!("{} {}, 0x{:08X} in {file}", p.what, p.device_text(), p.file));
+            format!("another device: {}", super::joined(differ, ", "))
         }
         Finding::ObjectsMatch { file } => format!("every writable object as in {file}"),
         Finding::ObjectsDiffer { file } => {
-            let list: Vec<String> = verdict
-                .differences
-                .iter()
-                .map(|d| format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file))
-                .collect();
-            format!("{} object(s) differ from {file}: {}", verdict.differences.len(), list.join("; "))
+            let each = |d: &crate::ops::config::Difference| {
+                format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file)
+            };
+            let list = super::joined(verdict.differences.iter().map(each), "; ");
+            format!("{} object(s) differ from {file}: {list}", verdict.differences.len())
         }
         Finding::NetworkState { state, from, want } => format!("{state} (from its {from}), {want} expected"),
         Finding::NoNetworkState { want } => {
