@@ -81,39 +81,9 @@ fn heartbeat_cell(h: &NodeHealth, watched: bool) -> String {
     }
 }
 
-fn health_rows(r: &HealthReport) -> Vec<Vec<String>> {
-    r.nodes
-        .iter()
-        .map(|h| {
-            let failed: Vec<&str> = h.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
-            vec![
-                h.node.to_string(),
-                h.name.clone().unwrap_or_default(),
-                h.nmt.map_or("unknown".to_string(), |s| s.name().to_string()),
-                heartbeat_cell(h, r.watched_ms > 0),
-                super::verdicts::register_text(h.error_register),
-                h.errors_logged.map_or("-".into(), |n| n.to_string()),
-                match h.emcy.len() {
-                    0 if r.watched_ms == 0 => "-".into(),
-                    0 => "0".into(),
-                    _ => h.emcy.iter().map(|e| format!("0x{:04X}", e.code)).collect::<Vec<_>>().join(" "),
-                },
-                h.drive_state.map_or(
-                    if h.statusword.is_some() || cell(h, "drive").is_some() { "?".into() } else { String::new() },
-                    |s| s.name().to_string(),
-                ),
-                if failed.is_empty() { "ok".into() } else { format!("UNHEALTHY: {}", failed.join(", ")) },
-            ]
-        })
-        .collect()
-}
-
-const HEALTH_HEADERS: [&str; 9] =
-    ["node", "name", "nmt", "heartbeat", "error register", "logged", "emcy", "drive", "health"];
-
 impl Report for HealthReport {
     fn human(&self) -> Human {
-        let mut parts = vec![Human::table(&HEALTH_HEADERS, health_rows(self))];
+        let mut parts = vec![self.csv()];
         for h in &self.nodes {
             for c in h.checks.iter().filter(|c| !c.ok) {
                 // The node-id check fails on two devices on one id (its detail, the clash).
@@ -140,8 +110,35 @@ impl Report for HealthReport {
         v
     }
 
+    /// One row per node: the same in the table and in CSV.
     fn csv(&self) -> Human {
-        Human::table(&HEALTH_HEADERS, health_rows(self))
+        let watched = self.watched_ms > 0;
+        let rows = self
+            .nodes
+            .iter()
+            .map(|h| {
+                let failed: Vec<&str> = h.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
+                vec![
+                    h.node.to_string(),
+                    h.name.clone().unwrap_or_default(),
+                    h.nmt.map_or("unknown".to_string(), |s| s.name().to_string()),
+                    heartbeat_cell(h, watched),
+                    super::verdicts::register_text(h.error_register),
+                    h.errors_logged.map_or("-".into(), |n| n.to_string()),
+                    match h.emcy.len() {
+                        0 if !watched => "-".into(),
+                        0 => "0".into(),
+                        _ => super::joined(h.emcy.iter().map(|e| format!("0x{:04X}", e.code)), " "),
+                    },
+                    h.drive_state.map_or(
+                        if h.statusword.is_some() || cell(h, "drive").is_some() { "?".into() } else { String::new() },
+                        |s| s.name().to_string(),
+                    ),
+                    if failed.is_empty() { "ok".into() } else { format!("UNHEALTHY: {}", failed.join(", ")) },
+                ]
+            })
+            .collect();
+        Human::table(&["node", "name", "nmt", "heartbeat", "error register", "logged", "emcy", "drive", "health"], rows)
     }
 
     fn notes(&self) -> Vec<String> {

@@ -152,28 +152,24 @@ impl Report for Diff {
     }
 }
 
-/// One row per object: the same in the table and in CSV.
-fn applied_rows(applied: &Applied) -> Vec<Vec<String>> {
-    let row = |r: &Change| {
-        let result = super::hints::change_result_text(&r.result);
-        vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), result]
-    };
-    applied.objects.iter().map(row).collect()
-}
-
 impl Report for Applied {
     fn human(&self) -> Human {
-        let rows = applied_rows(self);
         if self.objects.is_empty() && !self.interrupted {
             // A header over no rows says nothing: say so in words.
             return Human::Line(format!("nothing to change: node {} already matches {}", self.node, self.file));
         }
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: false }
+        self.csv()
     }
 
+    /// One row per object: the same in the table and in CSV (which shows its header alone
+    /// when there are none).
     fn csv(&self) -> Human {
-        let rows = applied_rows(self);
-        Human::table(&["object", "name", "old", "new", "result"], rows)
+        let row = |r: &Change| {
+            let result = super::hints::change_result_text(&r.result);
+            vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), result]
+        };
+        let rows = self.objects.iter().map(row).collect();
+        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: false }
     }
 
     fn json_value(&self) -> serde_json::Value {
