@@ -1,6 +1,6 @@
 //! `canctl buses`: a table of the buses found, each with the `--bus` value that reaches it.
 
-use super::{Human, Report};
+use super::report::{Human, Report};
 use crate::ops::buses::{BusKind, Buses};
 
 /// What `buses` is doing while it listens, for the line that moves meanwhile.

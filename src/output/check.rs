@@ -1,7 +1,7 @@
 //! `config check`: each deviation as compilers show theirs, `file:line: severity: what`,
 //! then the rule it breaks; a summary line last.
 
-use super::{Human, Report};
+use super::report::{Human, Report};
 use crate::ops::check::Checked;
 
 impl Report for Checked {

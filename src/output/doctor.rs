@@ -1,7 +1,9 @@
 //! How `doctor`'s diagnosis looks: each finding, most likely first, with its evidence and
 //! the fix, in words that name canctl's commands; and what was found fine.
 
-use super::{joined, Human, Report, TestCase, TestSuite};
+use super::junit::{TestCase, TestSuite};
+use super::report::{Human, Report};
+use super::text::joined;
 use crate::bus::controller::CanState;
 use crate::canopen::sdo::{request_cob, response_cob};
 use crate::ops::clash;

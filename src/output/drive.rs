@@ -1,7 +1,7 @@
 //! How `drive status`, `drive enable|disable|quick-stop|fault-reset` and `drive status
 //! --watch` look to people.
 
-use super::{Human, Line, Report};
+use super::report::{Human, Line, Report};
 use crate::ops::drive::{state_text, Change, Source, Status, Walk};
 use serde_json::{json, Value as J};
 
@@ -139,7 +139,7 @@ impl Line for Change {
     fn text(&self) -> String {
         format!(
             "{}  node {}: {} (statusword 0x{:04X}, by {})",
-            crate::output::time_of_day(self.time_ms),
+            super::text::time_of_day(self.time_ms),
             self.node,
             state_text(self.state, self.statusword),
             self.statusword,

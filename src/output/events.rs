@@ -2,11 +2,11 @@
 //! library become sentences (those naming flags among them), as `canctl` prints them on
 //! stderr.
 
+use super::hints::library_error_text;
 use crate::canopen::abort;
 use crate::error::LinkError;
 use crate::ops::silence::Silence;
 use crate::ops::{Event, Notice, Warning};
-use crate::output::library_error_text;
 
 /// The line `canctl` prints for `event`.
 pub fn event_line(event: &Event) -> String {
@@ -52,7 +52,7 @@ fn notice_line(n: &Notice) -> String {
             format!(
                 "nothing from node {node} after {} ms; still listening. Why it may be silent: {}.",
                 after.as_millis(),
-                super::joined(why.iter().map(silence_text), "; ")
+                super::text::joined(why.iter().map(silence_text), "; ")
             )
         }
         Notice::Assigned { identity, node } => format!("{identity} -> node {node}"),

@@ -1,6 +1,7 @@
 //! How `firmware status` and `firmware download` look to people.
 
-use super::{Human, Report, TestCase, TestSuite};
+use super::junit::{TestCase, TestSuite};
+use super::report::{Human, Report};
 use crate::ops::firmware::{
     Batch, DownloadEnd, DownloadReport, FirmwareError, State, StatusReport, Transfer, Unfinished, Where,
 };
@@ -39,7 +40,7 @@ fn state_text(state: State) -> &'static str {
 /// A download's failure as canctl says it: its message, then its remedy in canctl's terms.
 pub(crate) fn firmware_error_text(e: &FirmwareError) -> String {
     match e {
-        FirmwareError::Bus(e) => super::library_error_text(e),
+        FirmwareError::Bus(e) => super::hints::library_error_text(e),
         e @ FirmwareError::StillBusy { .. } => format!("{e}{}", super::remedies::longer_busy_wait()),
         e => e.to_string(),
     }

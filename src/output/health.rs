@@ -1,8 +1,9 @@
 //! How the error history and the health report look: tables for people, JUnit for CI.
 
 use super::hints::verdict_text;
+use super::junit::{TestCase, TestSuite};
 use super::network::node_label;
-use super::{Human, Report, TestCase, TestSuite};
+use super::report::{Human, Report};
 use crate::ops::errors::{ErrorHistory, LoggedError};
 use crate::ops::health::{Check, Health as HealthReport, NodeHealth};
 
@@ -128,7 +129,7 @@ impl Report for HealthReport {
                     match h.emcy.len() {
                         0 if !watched => "-".into(),
                         0 => "0".into(),
-                        _ => super::joined(h.emcy.iter().map(|e| format!("0x{:04X}", e.code)), " "),
+                        _ => super::text::joined(h.emcy.iter().map(|e| format!("0x{:04X}", e.code)), " "),
                     },
                     h.drive_state.map_or(
                         if h.statusword.is_some() || cell(h, "drive").is_some() { "?".into() } else { String::new() },

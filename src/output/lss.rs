@@ -1,6 +1,6 @@
 //! How the LSS reports look to people and in CSV.
 
-use super::{Human, Report};
+use super::report::{Human, Report};
 use crate::ops::lss::NotStored;
 use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired, LssTally, PaceUsed, Took};
 
@@ -105,7 +105,7 @@ fn not_stored_text(why: &NotStored) -> String {
         NotStored::NoAnswer { identity, .. } => {
             format!("{why} (canctl lss store --identity {identity} stores it again)")
         }
-        NotStored::Failed(e) => crate::output::library_error_text(e),
+        NotStored::Failed(e) => super::hints::library_error_text(e),
         _ => why.to_string(),
     }
 }
@@ -114,7 +114,7 @@ impl Report for Assignment {
     fn json_value(&self) -> serde_json::Value {
         let mut value = serde_json::to_value(self).expect("reports serialise");
         if let Some(e) = &self.failure {
-            value["error"] = crate::output::library_error_text(e).into();
+            value["error"] = super::hints::library_error_text(e).into();
         }
         for (k, d) in self.assigned.iter().enumerate() {
             if let Some(e) = &d.store_error {

@@ -3,7 +3,8 @@
 //! with its `bus`), JUnit as one suite per bus. A single bus never comes here: its report
 //! is the command's own, unchanged.
 
-use super::{Human, Report, TestCase, TestSuite};
+use super::junit::{TestCase, TestSuite};
+use super::report::{Human, Report};
 use crate::ops::many_buses::Ended;
 use crate::ops::unmet::Shortfall;
 use serde_json::{json, Value};
@@ -34,7 +35,7 @@ impl Failure {
 /// A bus's shortfall as canctl says it, and the bus its words begin with, if they name one.
 fn shortfall_text(e: &Shortfall) -> (String, Option<String>) {
     match e {
-        Shortfall::Failed(e) => (super::library_error_text(e), e.names_bus().map(str::to_string)),
+        Shortfall::Failed(e) => (super::hints::library_error_text(e), e.names_bus().map(str::to_string)),
         Shortfall::Unmet(u) => (u.to_string(), u.names_bus().map(str::to_string)),
         // One bus's run is never several buses'.
         Shortfall::OnBuses { worst, .. } => shortfall_text(worst),
@@ -154,7 +155,7 @@ impl<R: Report> Report for OnBuses<'_, R> {
 /// the bus (bars of several threads would overwrite each other), phases only where bars
 /// would be shown (a terminal, not --quiet).
 pub(crate) struct BusNotes<'a> {
-    pub out: &'a super::Output,
+    pub out: &'a super::report::Output,
     pub bus: String,
 }
 
@@ -165,7 +166,7 @@ impl crate::ops::Progress for BusNotes<'_> {
         }
     }
     fn event(&mut self, event: crate::ops::Event) {
-        self.out.note(&format!("{}: {}", self.bus, super::event_line(&event)));
+        self.out.note(&format!("{}: {}", self.bus, super::events::event_line(&event)));
     }
 }
 

@@ -1,13 +1,11 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
-use super::{Human, Output, Report, TestCase, TestSuite};
+use super::junit::{TestCase, TestSuite};
+use super::report::{Human, Report};
 use crate::ops::failure::Failure;
 use crate::ops::network::{
     Applied, BaudSwitched, Checked, Dumped, NodeApplied, NodeCheck, NodeResult, Outcome, PROJECT_FILE,
 };
-use crate::ops::{ItemEnd, Progress};
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// A network project's warnings (a DCF that deviates, a node listed twice), as lines on stderr.
@@ -158,7 +156,7 @@ impl Report for Checked {
                 });
             }
         }
-        let unlisted = super::joined(self.unlisted.iter().map(|u| u.node), ", ");
+        let unlisted = super::text::joined(self.unlisted.iter().map(|u| u.node), ", ");
         cases.push(TestCase {
             class: "network".into(),
             name: "no unlisted nodes".into(),
@@ -224,7 +222,7 @@ impl Report for Applied {
         if !self.unlisted.is_empty() {
             notes.push(format!(
                 "node(s) {} answer but are not in the project: the network does not match it (add them, or take them off the bus)",
-                super::joined(self.unlisted.iter().map(|u| u.node), ", ")
+                super::text::joined(self.unlisted.iter().map(|u| u.node), ", ")
             ));
         }
         let interrupted = [
@@ -423,7 +421,7 @@ impl Report for SetBaudReport<'_> {
         if !r.unexpected.is_empty() {
             notes.push(format!(
                 "node(s) {} answer at {} but were not expected",
-                super::joined(&r.unexpected, ", "),
+                super::text::joined(&r.unexpected, ", "),
                 r.rate
             ));
         }
@@ -440,89 +438,11 @@ impl Report for SetBaudReport<'_> {
         if !self.left.is_empty() {
             notes.push(format!(
                 "the DCF(s) of node(s) {} left at their rate: not heard at {}",
-                super::joined(self.left, ", "),
+                super::text::joined(self.left, ", "),
                 r.rate
             ));
         }
         notes
-    }
-}
-
-/// Progress of a network procedure on a terminal: the phase's bar, and under it one line
-/// per node under way (its transfers so far, then its result), cleared at the end. Nothing
-/// is drawn when stderr is not a terminal or with --quiet.
-pub(crate) struct NodeBars<'a> {
-    out: &'a Output,
-    multi: MultiProgress,
-    phase: Option<ProgressBar>,
-    nodes: BTreeMap<String, ProgressBar>,
-}
-
-impl<'a> NodeBars<'a> {
-    pub fn new(out: &'a Output) -> NodeBars<'a> {
-        let target = if out.progress { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
-        NodeBars { out, multi: MultiProgress::with_draw_target(target), phase: None, nodes: BTreeMap::new() }
-    }
-
-    /// The line of `item`, added under the others the first time.
-    fn line(&mut self, item: &str) -> &ProgressBar {
-        let multi = &self.multi;
-        self.nodes.entry(item.to_string()).or_insert_with(|| {
-            let bar = multi.add(ProgressBar::new_spinner());
-            bar.set_style(ProgressStyle::with_template("  {prefix:<9} {spinner} {wide_msg}").expect("valid template"));
-            bar.set_prefix(item.to_string());
-            bar
-        })
-    }
-
-    fn clear(&mut self) {
-        for (_, bar) in std::mem::take(&mut self.nodes) {
-            bar.finish_and_clear();
-        }
-        if let Some(bar) = self.phase.take() {
-            bar.finish_and_clear();
-        }
-    }
-}
-
-impl Progress for NodeBars<'_> {
-    fn start(&mut self, what: &str, len: u64) {
-        self.clear();
-        self.phase = Some(self.multi.add(self.out.bar(len, what)));
-    }
-    fn advance(&mut self, done: u64) {
-        if let Some(bar) = &self.phase {
-            bar.set_position(done);
-        }
-    }
-    fn finish(&mut self) {
-        self.clear();
-    }
-    fn event(&mut self, event: crate::ops::Event) {
-        let line = crate::output::event_line(&event);
-        self.multi.suspend(|| self.out.note(&line));
-    }
-    fn item(&mut self, item: &str, status: crate::ops::ItemStatus) {
-        if !self.out.progress {
-            return;
-        }
-        let status = crate::output::item_status_text(status);
-        let bar = self.line(item);
-        bar.set_message(status);
-        bar.tick();
-    }
-    fn item_ended(&mut self, item: &str, end: ItemEnd<'_>) {
-        if !self.out.progress {
-            return;
-        }
-        let text = crate::output::terminal_safe(&super::item_end_text(&end)).into_owned();
-        self.line(item).finish_with_message(text);
-    }
-}
-
-impl Drop for NodeBars<'_> {
-    fn drop(&mut self) {
-        self.clear();
     }
 }
 

@@ -1,6 +1,6 @@
 //! How the reports of scan, sdo and nmt look to people and in CSV.
 
-use super::{Human, Report};
+use super::report::{Human, Report};
 use crate::bus::ALL_NODES;
 use crate::canopen::types::{hex, obvious_unsigned};
 use crate::ops::nmt::{target_text, NodeState, Reset, SeenBy, Sent, Unconfirmed};
@@ -129,7 +129,7 @@ fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
         parts.push(Human::Note(format!(
             "scan interrupted, incomplete: {} node(s) found so far; not done: {}; nothing was changed on the devices",
             scan.nodes.len(),
-            super::joined(scan.not_done.iter().map(|p| phase_text(*p)), ", ")
+            super::text::joined(scan.not_done.iter().map(|p| phase_text(*p)), ", ")
         )));
     }
     Human::Parts(parts)
@@ -151,7 +151,7 @@ impl Report for Read {
     fn human(&self) -> Human {
         // What the device sent is one value: a line break in it is shown, not obeyed.
         Human::Line(match (&self.value, self.dtype) {
-            (Some(v), Some(_)) => super::terminal_safe(&v.to_string()).into_owned(),
+            (Some(v), Some(_)) => super::text::terminal_safe(&v.to_string()).into_owned(),
             _ => untyped(&self.bytes),
         })
     }
@@ -166,7 +166,7 @@ impl Report for Read {
 
 /// Raw bytes, then what they obviously are: `92 01 02 00  (u32 131474 = 0x00020192)`.
 fn untyped(bytes: &[u8]) -> String {
-    let mut s = super::joined(bytes.iter().map(|b| format!("{b:02X}")), " ");
+    let mut s = super::text::joined(bytes.iter().map(|b| format!("{b:02X}")), " ");
     if let Some(v) = obvious_unsigned(bytes) {
         let width = bytes.len() * 2;
         s += &format!("  (u{} {v} = 0x{v:0width$X})", bytes.len() * 8);
@@ -227,7 +227,10 @@ impl Report for Reset {
             (Some(nodes), _) => {
                 let (state, how) =
                     (self.state.map_or("", |s| s.name()), self.seen_by.map(seen_by_text).unwrap_or_default());
-                format!("booted after NMT {command}: node {} (now {state}; seen by {how})", super::joined(nodes, ", "))
+                format!(
+                    "booted after NMT {command}: node {} (now {state}; seen by {how})",
+                    super::text::joined(nodes, ", ")
+                )
             }
             (None, why) => format!(
                 "NMT {command} sent to {target}; not confirmed: {}",

@@ -1,8 +1,8 @@
 //! How the reports of settings, store/restore, config, monitor and the simulator look to
 //! people.
 
-use super::stopped::Stopped;
-use super::{time_of_day, Human, Line, Report};
+use super::report::{Human, Line, Report};
+use super::text::time_of_day;
 use crate::ops::config::{Applied, Change, Diff};
 use crate::ops::monitor::{Event, Summary};
 use crate::ops::store::{Restored, Stored};
@@ -67,21 +67,6 @@ pub fn sentence(report: &impl Report) -> Option<String> {
     match report.human() {
         Human::Line(text) => Some(text),
         _ => None,
-    }
-}
-
-impl Report for Stopped {
-    /// Nothing on stdout, where the result would have been: the report is said on stderr.
-    fn human(&self) -> Human {
-        Human::Parts(Vec::new())
-    }
-
-    fn notes(&self) -> Vec<String> {
-        let list = |v: &[String]| super::listed(v, "nothing");
-        vec![
-            format!("{} interrupted: done {}; not done {}", self.command, list(&self.done), list(&self.not_done)),
-            self.state.clone(),
-        ]
     }
 }
 
@@ -200,8 +185,8 @@ pub(crate) fn incomplete_lines(incomplete: &crate::ops::config::Incomplete) -> V
         out.push(format!(
             "interrupted after {} write(s): written {}; not written {}",
             cut.written.len(),
-            super::listed(&cut.written, "nothing"),
-            super::listed(&cut.not_written, "nothing")
+            super::text::listed(&cut.written, "nothing"),
+            super::text::listed(&cut.not_written, "nothing")
         ));
     }
     for pdo in &incomplete.rolled_back {
@@ -239,7 +224,7 @@ pub(crate) fn left_in_text(left: &crate::ops::config::LeftIn) -> String {
         (false, _) => format!(
             "node {node} holds the file's values for {} of {of} object(s) ({}), its previous values for the rest",
             new.len(),
-            super::joined(new, ", ")
+            super::text::joined(new, ", ")
         ),
     };
     if rollback_failed || interim {
@@ -265,7 +250,7 @@ pub fn applied_failure_note(report: &Applied) -> Option<String> {
     if report.interrupted {
         return None;
     }
-    Some(format!("written before the failure: {}", super::listed(&report.written, "nothing")))
+    Some(format!("written before the failure: {}", super::text::listed(&report.written, "nothing")))
 }
 
 impl Line for Event {
@@ -314,7 +299,7 @@ impl Line for Summary {
             self.frames(),
             self.elapsed.as_secs_f64(),
             if cobs.is_empty() { "-".into() } else { cobs.join(" ") },
-            super::listed(&self.nodes, "-"),
+            super::text::listed(&self.nodes, "-"),
             self.emcy
         ) + if self.interrupted { " (interrupted; nothing was sent to the bus)" } else { "" }
     }

@@ -1,7 +1,9 @@
 //! What a command the user stopped says it did and did not do, and the state it leaves;
 //! the command then ends as an interruption (exit 130).
 
-use super::{sentence, CommandResult, Each, Output, Report};
+use super::command_error::CommandResult;
+use super::report::{Human, Output, Report};
+use super::reports::{sentence, Each};
 use crate::canopen::ObjAddr;
 use crate::ops::store_all::{EachNode, Ended, StoppedBefore};
 use crate::Error;
@@ -32,6 +34,21 @@ impl Stopped {
     /// `state`.
     pub fn new(command: &str, done: Vec<String>, not_done: Vec<String>, state: String) -> Stopped {
         Stopped { command: command.to_string(), interrupted: true, done, not_done, state }
+    }
+}
+
+impl Report for Stopped {
+    /// Nothing on stdout, where the result would have been: the report is said on stderr.
+    fn human(&self) -> Human {
+        Human::Parts(Vec::new())
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let list = |v: &[String]| super::text::listed(v, "nothing");
+        vec![
+            format!("{} interrupted: done {}; not done {}", self.command, list(&self.done), list(&self.not_done)),
+            self.state.clone(),
+        ]
     }
 }
 
@@ -202,7 +219,7 @@ pub(crate) fn each_node<R: Report + serde::Serialize>(
         Some(Ended::Failed(e)) => {
             if !done.is_empty() {
                 out.report(&Each(done))?;
-                out.note(&format!("{command} not done on node {}", super::joined(&nodes[i..], ", ")));
+                out.note(&format!("{command} not done on node {}", super::text::joined(&nodes[i..], ", ")));
             }
             Err(e.into())
         }

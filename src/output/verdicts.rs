@@ -39,7 +39,9 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
         ),
         Finding::EmcyUnwatched => "not watched: this link shows no traffic".into(),
         Finding::NoEmcy { watched_ms } => format!("none in {watched_ms} ms"),
-        Finding::Emcys { seen } => super::joined(seen.iter().map(|e| format!("0x{:04X} {}", e.code, e.meaning)), "; "),
+        Finding::Emcys { seen } => {
+            super::text::joined(seen.iter().map(|e| format!("0x{:04X} {}", e.code, e.meaning)), "; ")
+        }
         Finding::StatuswordUnread { error } => format!("statusword 0x6041 could not be read: {error}"),
         Finding::StatuswordShort => "statusword 0x6041 answered with too few bytes".into(),
         Finding::NoDriveState { statusword } => format!("statusword 0x{statusword:04X} codes no CiA 402 state"),
@@ -59,19 +61,19 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
             format!("node {node} did not answer any of {rounds} probes of {window_ms} ms")
         }
         Finding::IdentityMatches { parts } => {
-            super::joined(parts.iter().map(|p| format!("{} {}", p.what, p.device_text())), ", ")
+            super::text::joined(parts.iter().map(|p| format!("{} {}", p.what, p.device_text())), ", ")
         }
         Finding::IdentityUnnamed { file } => format!("{file} names no vendor-ID or product code: not compared"),
         Finding::IdentityDiffers { differ, file } => {
             let differ = differ.iter().map(|p| format!("{} {}, 0x{:08X} in {file}", p.what, p.device_text(), p.file));
-            format!("another device: {}", super::joined(differ, ", "))
+            format!("another device: {}", super::text::joined(differ, ", "))
         }
         Finding::ObjectsMatch { file } => format!("every writable object as in {file}"),
         Finding::ObjectsDiffer { file } => {
             let each = |d: &crate::ops::config::Difference| {
                 format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file)
             };
-            let list = super::joined(verdict.differences.iter().map(each), "; ");
+            let list = super::text::joined(verdict.differences.iter().map(each), "; ");
             format!("{} object(s) differ from {file}: {list}", verdict.differences.len())
         }
         Finding::NetworkState { state, from, want } => format!("{state} (from its {from}), {want} expected"),
