@@ -1,6 +1,6 @@
 //! `canctl buses`: list what this machine can reach.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::ops::buses;
 use crate::output::CommandResult;
 use crate::sim::socketcand_serve::beacon_port;
@@ -24,7 +24,7 @@ const MAX_WAIT: Duration = Duration::from_secs(60);
   canctl buses --wait 10s --format json")]
 pub(crate) struct BusesArgs {
     /// How long to listen for socketcand beacons (at most 60s; 0s: not at all)
-    #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::ctx::parse_duration)]
     pub wait: Duration,
 }
 

@@ -2,7 +2,7 @@
 //! with a file, and made to match one — writing only what differs, in a safe order;
 //! `config check`: a file against CiA 306, without a bus.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::ops::config::{self, ApplyOptions, Dcf};
 use crate::ops::Progress as _;
@@ -53,7 +53,7 @@ pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> CommandResult {
   canctl --bus can0 config eds 5 > sensor.eds")]
 pub(crate) struct EdsArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// Write the EDS here instead of standard output
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -71,7 +71,7 @@ pub(crate) struct EdsArgs {
   canctl --bus sim config dump 10 --out io.xdc")]
 pub(crate) struct DumpArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// Write the DCF here instead of standard output (an XDC when FILE ends in .xdc)
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -84,7 +84,7 @@ pub(crate) struct DumpArgs {
   canctl --bus can0 config diff 10 io.dcf --check --format json   # exit 6 when they differ")]
 pub(crate) struct DiffArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Exit 6 when anything differs
@@ -104,7 +104,7 @@ pub(crate) struct DiffArgs {
   canctl --bus can0 config apply 10 io.dcf --verify --store --format json")]
 pub(crate) struct ApplyArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Show what would be written, write nothing
@@ -117,7 +117,7 @@ pub(crate) struct ApplyArgs {
     #[arg(long)]
     pub verify: bool,
     /// How long the device may take to store
-    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::ctx::parse_duration)]
     pub store_timeout: Duration,
     /// Apply even when the device's vendor-ID or product code differs from the file's
     #[arg(long)]

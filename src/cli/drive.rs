@@ -1,7 +1,7 @@
 //! `canctl drive`: CiA 402 drives' state, and their power state changed with the
 //! controlword.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::canopen::cia402::Goal;
 use crate::error::Error;
@@ -50,21 +50,21 @@ Examples:
 #[derive(Args, Debug)]
 pub(crate) struct StatusArgs {
     #[command(flatten)]
-    pub node: super::SdoNode,
+    pub node: super::ctx::SdoNode,
     /// Print each change of the statusword until interrupted
     #[arg(long)]
     pub watch: bool,
     /// With --watch by SDO: how often to read the statusword
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::ctx::parse_duration)]
     pub interval: Duration,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct WalkArgs {
     #[command(flatten)]
-    pub node: super::SdoNode,
+    pub node: super::ctx::SdoNode,
     /// How long each transition may take to show in the statusword
-    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::ctx::parse_duration)]
     pub wait: Duration,
 }
 

@@ -1,6 +1,6 @@
 //! `canctl errors`: a node's error history (0x1003) with each code's meaning.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::ops::errors;
 use crate::output::CommandResult;
@@ -21,7 +21,7 @@ use clap::Args;
   canctl --bus can0 errors 1 --format json")]
 pub(crate) struct ErrorsArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// Then delete the history (0 to 0x1003:0) and confirm it reads back empty
     #[arg(long)]
     pub clear: bool,

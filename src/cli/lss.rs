@@ -1,6 +1,6 @@
 //! `canctl lss`: node-ids and bit rates for devices that have none or share one (CiA 305).
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::canopen::lss::{parse_bit_rate, Identity};
 use crate::error::Error;
@@ -76,14 +76,14 @@ pub(crate) struct Target {
     #[arg(long, conflicts_with = "node")]
     pub global: bool,
     /// 0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)
-    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
+    #[arg(long, value_name = "0", value_parser = super::ctx::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct SetIdArgs {
     /// The new node-id: 1 to 127, or 255 for none
-    #[arg(value_name = "NEW", value_parser = super::parse_lss_node_id)]
+    #[arg(value_name = "NEW", value_parser = super::ctx::parse_lss_node_id)]
     pub new: u8,
     #[command(flatten)]
     pub target: Target,
@@ -116,16 +116,16 @@ pub(crate) struct ActivateArgs {
 pub(crate) struct FastscanFlags {
     /// Wait this long for each fastscan answer instead of learning it from the devices
     /// (lengthened only if answers come later still)
-    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", value_parser = super::ctx::parse_duration)]
     pub step: Option<Duration>,
     /// The vendor-id of the device(s) sought, if known: not searched (0x1018:1)
-    #[arg(long, value_name = "ID", value_parser = super::parse_u32)]
+    #[arg(long, value_name = "ID", value_parser = super::ctx::parse_u32)]
     pub vendor: Option<u32>,
     /// The product code, if known: not searched (0x1018:2)
-    #[arg(long, value_name = "CODE", value_parser = super::parse_u32)]
+    #[arg(long, value_name = "CODE", value_parser = super::ctx::parse_u32)]
     pub product: Option<u32>,
     /// The revision number, if known: not searched (0x1018:3)
-    #[arg(long, value_name = "REV", value_parser = super::parse_u32)]
+    #[arg(long, value_name = "REV", value_parser = super::ctx::parse_u32)]
     pub revision: Option<u32>,
 }
 
@@ -141,26 +141,26 @@ pub(crate) struct FastscanArgs {
     #[command(flatten)]
     pub pace: FastscanFlags,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
-    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
+    #[arg(long, value_name = "0", value_parser = super::ctx::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct AssignArgs {
     /// The first node-id to give
-    #[arg(long, value_name = "N", value_parser = super::parse_node)]
+    #[arg(long, value_name = "N", value_parser = super::ctx::parse_node)]
     pub start: u8,
     #[command(flatten)]
     pub pace: FastscanFlags,
     /// How long to listen for heartbeats before assigning [default: 1s, or longer for the
     /// longest heartbeat period the nodes report]
-    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", value_parser = super::ctx::parse_duration)]
     pub listen: Option<Duration>,
     /// Do not store the node-ids (they are lost at power-off)
     #[arg(long)]
     pub no_store: bool,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
-    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
+    #[arg(long, value_name = "0", value_parser = super::ctx::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 

@@ -1,6 +1,6 @@
 //! `canctl monitor`: the bus's traffic as it happens, decoded.
 
-use super::{parse_node, Ctx};
+use super::ctx::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::ops::monitor::Monitor;
 use crate::output::CommandResult;
@@ -25,7 +25,7 @@ pub(crate) struct MonitorArgs {
     #[arg(long, value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: Vec<u8>,
     /// Stop after this long
-    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", value_parser = super::ctx::parse_duration)]
     pub duration: Option<Duration>,
     /// Stop after this many frames
     #[arg(long, value_name = "N")]

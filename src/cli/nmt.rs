@@ -1,6 +1,6 @@
 //! `canctl nmt`: network management commands and state queries.
 
-use super::{parse_node, Ctx};
+use super::ctx::{parse_node, Ctx};
 use crate::bus::{Bus, ALL_NODES};
 use crate::canopen::nmt::Command;
 use crate::ops::nmt::{self, ResetOptions, StateOptions};
@@ -48,16 +48,16 @@ pub(crate) struct ResetArgs {
     #[command(flatten)]
     pub target: Target,
     /// How long to wait for boot-up messages
-    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::ctx::parse_duration)]
     pub wait: Duration,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct StateArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// How long to listen for a heartbeat before asking by node guarding
-    #[arg(long, value_name = "DUR", default_value = "300ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "300ms", value_parser = super::ctx::parse_duration)]
     pub listen: Duration,
 }
 

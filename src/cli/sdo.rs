@@ -1,6 +1,6 @@
 //! `canctl sdo read|write`: one object, any size, any type.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::canopen::DataType;
 use crate::ops::sdo::{self, ReadOptions, WriteOptions};
@@ -28,7 +28,7 @@ pub(crate) enum SdoCommand {
   canctl --bus sim sdo read 1 1F50:1 --type d --out program.bin")]
 pub(crate) struct ReadArgs {
     #[command(flatten)]
-    pub node: super::SdoNode,
+    pub node: super::ctx::SdoNode,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
@@ -44,7 +44,7 @@ pub(crate) struct ReadArgs {
     /// Largest value to accept: an upload that grows past it is aborted, and one announced
     /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³); by default 64k, for
     /// a domain (--type d) or a value of unknown type 1M
-    #[arg(long, value_name = "SIZE", value_parser = super::parse_size)]
+    #[arg(long, value_name = "SIZE", value_parser = super::ctx::parse_size)]
     pub max_size: Option<usize>,
 }
 
@@ -61,7 +61,7 @@ pub(crate) struct ReadArgs {
   canctl --bus sim sdo write 1 1F50:1 @program.bin --type d")]
 pub(crate) struct WriteArgs {
     #[command(flatten)]
-    pub node: super::SdoNode,
+    pub node: super::ctx::SdoNode,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
