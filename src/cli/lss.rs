@@ -131,8 +131,13 @@ pub(crate) struct FastscanFlags {
 
 impl FastscanFlags {
     fn options(&self, timeout: Duration) -> FastscanOptions {
-        let (step, vendor, product, revision) = (self.step, self.vendor, self.product, self.revision);
-        FastscanOptions { timeout, step, vendor, product, revision }
+        FastscanOptions {
+            timeout,
+            step: self.step,
+            vendor: self.vendor,
+            product: self.product,
+            revision: self.revision,
+        }
     }
 }
 

@@ -4,6 +4,11 @@
 use super::report::{Human, Report};
 use crate::ops::check::Checked;
 
+/// What `value` is called in JSON (a unit variant's name there).
+fn json_name(value: impl serde::Serialize) -> String {
+    serde_json::to_value(value).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
+}
+
 impl Report for Checked {
     fn human(&self) -> Human {
         let mut parts: Vec<Human> = self
@@ -38,11 +43,8 @@ impl Report for Checked {
                 vec![
                     w.path.clone(),
                     w.line.to_string(),
-                    serde_json::to_value(w.severity)
-                        .ok()
-                        .and_then(|v| v.as_str().map(String::from))
-                        .unwrap_or_default(),
-                    serde_json::to_value(w.kind).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default(),
+                    json_name(w.severity),
+                    json_name(w.kind),
                     w.message.clone(),
                     w.rule.to_string(),
                 ]

@@ -30,11 +30,7 @@ impl Report for Status {
             }
             None => "mode of operation: not available (no 0x6061 or 0x6060)".into(),
         }));
-        let bits = if self.error_register_bits.is_empty() {
-            "no error".to_string()
-        } else {
-            self.error_register_bits.join(", ")
-        };
+        let bits = super::text::listed(&self.error_register_bits, "no error");
         parts.push(Human::Line(format!("error register (0x1001): 0x{:02X} {bits}", self.error_register)));
         match &self.errors {
             None => parts.push(Human::Line("error history: none kept (no 0x1003)".into())),

@@ -59,14 +59,6 @@ fn entry_cells(e: &LoggedError) -> Vec<String> {
     vec![code, mfr, e.meaning.to_string(), source_text(e.source).to_string()]
 }
 
-/// The JSON of `checks` (an array, as they serialise), each detail worded in its place,
-/// with its remedy.
-fn word_verdicts(json: &mut serde_json::Value, checks: &[Check]) {
-    for (json, c) in json.as_array_mut().into_iter().flatten().zip(checks) {
-        json["detail"] = verdict_text(c).into();
-    }
-}
-
 fn cell<'a>(h: &'a NodeHealth, check: &str) -> Option<&'a Check> {
     h.checks.iter().find(|c| c.check == check)
 }
@@ -104,7 +96,7 @@ impl Report for HealthReport {
         let mut v = serde_json::to_value(self).expect("reports serialise");
         if let Some(nodes) = v["nodes"].as_array_mut() {
             for (json, h) in nodes.iter_mut().zip(&self.nodes) {
-                word_verdicts(&mut json["checks"], &h.checks);
+                super::verdicts::word_details(&mut json["checks"], &h.checks, verdict_text);
                 json["diagnosis"] = h.diagnosis.as_ref().map(super::doctor::finding_json).into();
             }
         }

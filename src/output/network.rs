@@ -96,9 +96,7 @@ impl Report for Checked {
         let mut v = serde_json::to_value(self).expect("reports serialise");
         if let Some(nodes) = v["nodes"].as_array_mut() {
             for (json, n) in nodes.iter_mut().zip(&self.nodes) {
-                for (json, c) in json["checks"].as_array_mut().into_iter().flatten().zip(&n.checks) {
-                    json["detail"] = detail_text(c).into();
-                }
+                super::verdicts::word_details(&mut json["checks"], &n.checks, detail_text);
             }
         }
         v

@@ -2,7 +2,7 @@
 
 use super::command_error::CommandResult;
 use super::report::{Format, Line, Output};
-use super::text::{csv, terminal_safe, time_of_day};
+use super::text::{csv, joined, terminal_safe, time_of_day};
 use crate::canopen::pdo::Layout;
 use crate::canopen::types::Value;
 use crate::ops::pdo::Record;
@@ -93,8 +93,8 @@ pub(crate) fn tpdo_lines(node: u8, layouts: &[(u16, Layout)], polled: Option<Dur
     layouts
         .iter()
         .map(|(n, l)| {
-            let names: Vec<&str> = l.fields.iter().map(|f| f.name.as_str()).collect();
-            format!("node {node} TPDO{n} (0x{:03X}, {} bytes{how}): {}", l.cob_id, l.len(), names.join(", "))
+            let names = joined(l.fields.iter().map(|f| &f.name), ", ");
+            format!("node {node} TPDO{n} (0x{:03X}, {} bytes{how}): {names}", l.cob_id, l.len())
         })
         .collect()
 }

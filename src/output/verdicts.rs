@@ -83,6 +83,14 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
     }
 }
 
+/// The JSON of `checks` (an array, as they serialise), each `detail` worded by `text` in its
+/// place (with its remedy).
+pub(crate) fn word_details(json: &mut serde_json::Value, checks: &[Verdict], text: fn(&Verdict) -> String) {
+    for (json, c) in json.as_array_mut().into_iter().flatten().zip(checks) {
+        json["detail"] = text(c).into();
+    }
+}
+
 /// What the error history says, to end the error register's sentence.
 fn logged_text(logged: &Logged) -> String {
     match logged {
