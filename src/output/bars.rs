@@ -2,10 +2,10 @@
 //! stderr while a command works.
 
 use super::events::event_line;
-use super::report::Output;
+use super::report::{style, Output};
 use super::{firmware, network};
 use crate::ops::{ItemEnd, Progress};
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 use std::collections::BTreeMap;
 
 /// Where an item of a phase is, as its progress line says it after its name.
@@ -125,7 +125,7 @@ impl<'a> NodeBars<'a> {
         let multi = &self.multi;
         self.nodes.entry(item.to_string()).or_insert_with(|| {
             let bar = multi.add(ProgressBar::new_spinner());
-            bar.set_style(ProgressStyle::with_template("  {prefix:<9} {spinner} {wide_msg}").expect("valid template"));
+            bar.set_style(style("  {prefix:<9} {spinner} {wide_msg}"));
             bar.set_prefix(item.to_string());
             bar
         })

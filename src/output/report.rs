@@ -89,15 +89,7 @@ impl Output {
     /// surfaces as `BrokenPipe` for main to end quietly; any other failure (a full disk) is
     /// an output error, exit 7.
     pub fn print(&self, text: &str) -> std::io::Result<()> {
-        let mut out = std::io::stdout().lock();
-        let mut write = || {
-            out.write_all(text.as_bytes())?;
-            if !text.ends_with('\n') {
-                out.write_all(b"\n")?;
-            }
-            out.flush()
-        };
-        write().map_err(stdout_error)
+        stderr::write_line(&mut std::io::stdout().lock(), text).map_err(stdout_error)
     }
 
     /// Bytes as they are (a Latin-1 file's content, say).
@@ -153,7 +145,7 @@ impl Output {
         if len == 0 {
             return self.working(message);
         }
-        let style = ProgressStyle::with_template("{msg} [{wide_bar}] {pos}/{len}").expect("valid template");
+        let style = style("{msg} [{wide_bar}] {pos}/{len}");
         self.drawn(Some(len), style.progress_chars("=> "), message)
     }
 
@@ -161,7 +153,7 @@ impl Output {
     /// device): a spinner, `message` and the seconds so far; hidden when progress is not
     /// shown.
     pub fn working(&self, message: &str) -> ProgressBar {
-        let style = ProgressStyle::with_template("{spinner} {msg} ({elapsed})").expect("valid template");
+        let style = style("{spinner} {msg} ({elapsed})");
         let line = self.drawn(None, style, message);
         // A hidden line needs no ticker thread.
         if self.progress {
@@ -173,13 +165,13 @@ impl Output {
     /// A line saying where slow work stands, its message changed as it moves on, or a
     /// hidden one when progress is not shown.
     pub fn status(&self, message: &str) -> ProgressBar {
-        self.drawn(None, ProgressStyle::with_template("{msg}").expect("valid template"), message)
+        self.drawn(None, style("{msg}"), message)
     }
 
     /// A count of bytes moved whose total is not known beforehand (an SDO upload), or a
     /// hidden one when progress is not shown. It appears once the first bytes move.
     pub fn counter(&self, message: &str) -> ProgressBar {
-        let style = ProgressStyle::with_template("{msg}: {bytes} ({bytes_per_sec})").expect("valid template");
+        let style = style("{msg}: {bytes} ({bytes_per_sec})");
         self.drawn(None, style, message)
     }
 
@@ -187,7 +179,7 @@ impl Output {
     pub fn bytes_bar(&self, len: u64, message: &str) -> ProgressBar {
         // The bar takes the width the rest leaves: the line fits the terminal.
         let template = "{msg} [{wide_bar}] {bytes}/{total_bytes} {bytes_per_sec}, {eta} left";
-        let style = ProgressStyle::with_template(template).expect("valid template").progress_chars("=> ");
+        let style = style(template).progress_chars("=> ");
         self.drawn(Some(len), style, message)
     }
 
@@ -227,10 +219,13 @@ impl Output {
 /// Prose for stderr, wrapped at the terminal's width when stderr is a terminal; whole
 /// lines otherwise, for logs and grep.
 pub fn fitted_to_stderr(text: &str) -> String {
-    match std::io::stderr().is_terminal().then(terminal_width).flatten() {
-        Some(width) => wrap::wrap(text, width),
-        None => text.to_string(),
-    }
+    let width = std::io::stderr().is_terminal().then(terminal_width).flatten();
+    width.map_or_else(|| text.to_string(), |width| wrap::wrap(text, width))
+}
+
+/// A progress display's style from its template (one of canctl's own, all valid).
+pub(crate) fn style(template: &str) -> ProgressStyle {
+    ProgressStyle::with_template(template).expect("valid template")
 }
 
 /// How a report looks to people (and in CSV, where it is a table).
