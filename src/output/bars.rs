@@ -67,10 +67,7 @@ impl crate::ops::Progress for Bars<'_> {
         self.bar = Some(self.adopt(self.out.bar(len, what)));
     }
     fn transfer(&mut self, what: &str, len: Option<u64>) -> Option<crate::bus::TransferHook> {
-        let bar = match len {
-            Some(len) => self.out.bytes_bar(len, what),
-            None => self.out.counter(what),
-        };
+        let bar = len.map_or_else(|| self.out.counter(what), |len| self.out.bytes_bar(len, what));
         let bar = self.adopt(bar);
         let hook = self.out.transfer_hook(&bar);
         self.bar = Some(bar);

@@ -11,10 +11,7 @@ use crate::ops::doctor::{Cause, ControllerState, Diagnosis, Evidence, Finding, H
 
 /// What doctor is doing while it works, for the line that moves meanwhile.
 pub(crate) fn working(node: Option<u8>) -> String {
-    match node {
-        Some(node) => format!("doctor: looking at node {node}"),
-        None => "doctor: looking at the bus".to_string(),
-    }
+    node.map_or("doctor: looking at the bus".to_string(), |node| format!("doctor: looking at node {node}"))
 }
 
 /// What is wrong, in a sentence.

@@ -175,10 +175,7 @@ fn health_notes(h: &HealthReport, bus: Option<&str>) -> Vec<String> {
     } else {
         format!("{bad} of {} node(s) not healthy ({watched})", h.nodes.len())
     };
-    let mut notes = vec![match bus {
-        Some(bus) => format!("{bus}: {verdict}"),
-        None => verdict,
-    }];
+    let mut notes = vec![bus.map_or_else(|| verdict.clone(), |bus| format!("{bus}: {verdict}"))];
     if h.lss_unconfigured > 0 {
         notes.push(format!(
             "{} device(s) without a node-id answered LSS (not judged; canctl lss assign numbers them)",

@@ -59,10 +59,8 @@ impl Report for Scan {
 /// A scan's count, table and remarks; the count names `bus` when given (alone: "4 node(s)
 /// on sim").
 fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
-    let count = match bus {
-        Some(bus) => format!("{} node(s) on {bus}", scan.nodes.len()),
-        None => format!("{} node(s)", scan.nodes.len()),
-    };
+    let count = format!("{} node(s)", scan.nodes.len());
+    let count = bus.map_or_else(|| count.clone(), |bus| format!("{count} on {bus}"));
     let mut parts = vec![Human::Note(count), scan_table(scan)];
     // Interrupted before the states were learned: the note at the end says so.
     for f in scan.nodes.iter().filter(|f| f.state.is_none() && f.state_from != StateFrom::NotAsked) {
