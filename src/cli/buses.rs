@@ -1,8 +1,8 @@
 //! `canctl buses`: list what this machine can reach.
 
-use super::Ctx;
-use crate::error::Error;
+use super::ctx::Ctx;
 use crate::ops::buses;
+use crate::output::CommandResult;
 use crate::sim::socketcand_serve::beacon_port;
 use clap::Args;
 use std::time::Duration;
@@ -24,20 +24,16 @@ const MAX_WAIT: Duration = Duration::from_secs(60);
   canctl buses --wait 10s --format json")]
 pub(crate) struct BusesArgs {
     /// How long to listen for socketcand beacons (at most 60s; 0s: not at all)
-    #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::ctx::parse_duration)]
     pub wait: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, a: &BusesArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, a: &BusesArgs) -> CommandResult {
     if a.wait > MAX_WAIT {
         return Err(crate::output::UsageError::BusesWait(MAX_WAIT.as_secs()).into());
     }
     let working = ctx.out.working(&crate::output::buses::listening(a.wait));
     let report = buses::find(a.wait, beacon_port(), &ctx.cancel);
     working.finish_and_clear();
-    ctx.out.report(&report)?;
-    match report.interrupted {
-        true => Err(Error::Interrupted.into()),
-        false => Ok(()),
-    }
+    ctx.report_then(&report, report.interrupted)
 }

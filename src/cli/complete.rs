@@ -2,14 +2,7 @@
 //! node-ids from the last scan of the bus, objects from the node's dictionary, and the
 //! fixed sets. It reads files only — never the bus — and must answer in milliseconds.
 
-use clap::CommandFactory;
 use clap_complete::engine::CompletionCandidate;
-
-/// Answer the shell's completion request (`COMPLETE=bash|zsh|fish|...`) and exit; without
-/// one, return (`output::completion::complete_from_env`).
-pub fn complete_from_env() {
-    crate::output::completion::complete_from_env(super::Cli::command)
-}
 
 /// The words of the partial command line, as the shell passed them after `--`.
 fn words() -> Vec<String> {
@@ -60,9 +53,9 @@ pub(crate) fn objects() -> Vec<CompletionCandidate> {
         .iter()
         .position(|a| a == "read" || a == "write")
         .and_then(|i| {
-            crate::output::completion::positionals(&super::Cli::command(), &w[i + 1..])
+            crate::output::completion::positionals(&w[i + 1..])
                 .first()
-                .and_then(|n| super::parse_sdo_node(n).ok())
+                .and_then(|n| crate::settings::parse::parse_sdo_node(n).ok())
         })
         .unwrap_or(0);
     let (bus, eds) = bus_and_eds(&w);

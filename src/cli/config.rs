@@ -2,10 +2,11 @@
 //! with a file, and made to match one — writing only what differs, in a safe order;
 //! `config check`: a file against CiA 306, without a bus.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::ops::config::{self, ApplyOptions, Dcf};
 use crate::ops::Progress as _;
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -36,7 +37,7 @@ pub(crate) struct CheckArgs {
 }
 
 /// `config check` needs no bus.
-pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> crate::output::CommandResult {
+pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> CommandResult {
     let report = crate::ops::check::check(&a.file)?;
     ctx.out.report(&report)?;
     Ok(report.check()?)
@@ -52,7 +53,7 @@ pub(crate) fn check(ctx: &Ctx, a: &CheckArgs) -> crate::output::CommandResult {
   canctl --bus can0 config eds 5 > sensor.eds")]
 pub(crate) struct EdsArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// Write the EDS here instead of standard output
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -70,7 +71,7 @@ pub(crate) struct EdsArgs {
   canctl --bus sim config dump 10 --out io.xdc")]
 pub(crate) struct DumpArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// Write the DCF here instead of standard output (an XDC when FILE ends in .xdc)
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -83,7 +84,7 @@ pub(crate) struct DumpArgs {
   canctl --bus can0 config diff 10 io.dcf --check --format json   # exit 6 when they differ")]
 pub(crate) struct DiffArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Exit 6 when anything differs
@@ -103,7 +104,7 @@ pub(crate) struct DiffArgs {
   canctl --bus can0 config apply 10 io.dcf --verify --store --format json")]
 pub(crate) struct ApplyArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// The DCF (or XDC, CiA 311)
     pub file: PathBuf,
     /// Show what would be written, write nothing
@@ -116,14 +117,14 @@ pub(crate) struct ApplyArgs {
     #[arg(long)]
     pub verify: bool,
     /// How long the device may take to store
-    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::ctx::parse_duration)]
     pub store_timeout: Duration,
     /// Apply even when the device's vendor-ID or product code differs from the file's
     #[arg(long)]
     pub force: bool,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> CommandResult {
     match cmd {
         ConfigCommand::Dump(a) => dump(ctx, bus, a),
         ConfigCommand::Diff(a) => diff(ctx, bus, a),
@@ -133,15 +134,13 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &ConfigCommand) -> crate::o
     }
 }
 
-fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> crate::output::CommandResult {
+fn stored_eds(ctx: &Ctx, bus: &mut dyn Bus, a: &EdsArgs) -> CommandResult {
     let limit = crate::input::MAX_EDS_BYTES as usize;
-    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        crate::ops::stored_eds::read(bus, a.node.node, ctx.timeout, limit)
-    });
+    let read = ctx.stoppable(bus, |bus| crate::ops::stored_eds::read(bus, a.node.node, ctx.timeout, limit));
     crate::output::config::stored_eds(&ctx.out, a.node.node, a.out.as_deref(), ctx.bus.as_deref(), read)
 }
 
-fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> crate::output::CommandResult {
+fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> CommandResult {
     if let Some(path) = &a.out {
         crate::atomic::check_writable(path)?;
     }
@@ -150,7 +149,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> crate::output::CommandRes
     let dictionary = ctx.dicts.eds_for(a.node.node).map(|e| (&e.dict, e.path.as_str()));
     let xdc_named = a.out.as_ref().and_then(|p| p.extension()).is_some_and(|x| x.eq_ignore_ascii_case("xdc"));
     let form = if ctx.out.xdc || xdc_named { config::FileForm::Xdc } else { config::FileForm::Dcf };
-    let dump = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+    let dump = ctx.stoppable(bus, |bus| {
         config::dump_as(bus, a.node.node, dictionary, &file_name, ctx.timeout, &mut ctx.out.progress(), form)
     });
     crate::output::config::dumped(&ctx.out, a.node.node, a.out.as_deref(), dump)
@@ -163,11 +162,10 @@ fn read_dcf(path: &Path) -> crate::Result<Dcf> {
     Ok(dcf)
 }
 
-fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> crate::output::CommandResult {
+fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> CommandResult {
     let dcf = read_dcf(&a.file)?;
     // Interrupted, the report holds what was compared so far.
-    let report =
-        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| config::diff(bus, a.node.node, &dcf, ctx.timeout))?;
+    let report = ctx.stoppable(bus, |bus| config::diff(bus, a.node.node, &dcf, ctx.timeout))?;
     ctx.out.report(&report)?;
     if a.check || report.interrupted {
         report.check()?;
@@ -175,7 +173,7 @@ fn diff(ctx: &Ctx, bus: &mut dyn Bus, a: &DiffArgs) -> crate::output::CommandRes
     Ok(())
 }
 
-fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> crate::output::CommandResult {
+fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> CommandResult {
     let options = ApplyOptions {
         interrupted: ctx.cancel.clone(),
         timeout: ctx.timeout,

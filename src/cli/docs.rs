@@ -1,10 +1,10 @@
 //! `canctl completions` and `canctl man`: their arguments; the scripts and pages are
 //! rendered by `output::docs` from the clap definition.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::output::docs::registration;
+use crate::output::CommandResult;
 use clap::Args;
-use clap::CommandFactory;
 use clap_complete::Shell;
 use std::path::PathBuf;
 
@@ -35,19 +35,14 @@ pub(crate) struct ManArgs {
     pub out: Option<PathBuf>,
 }
 
-/// Every man page: `canctl.1`, then `canctl-sdo-read.1` and so on for each subcommand.
-pub fn man_pages() -> Vec<(String, Vec<u8>)> {
-    crate::output::docs::man_pages(super::Cli::command())
-}
-
-pub(crate) fn completions(args: &CompletionsArgs) -> crate::output::CommandResult {
+pub(crate) fn completions(args: &CompletionsArgs) -> CommandResult {
     let script = registration(args.shell);
-    super::Output::new(crate::output::Format::Human, true).write_bytes(&script)?;
+    crate::output::Output::new(crate::output::Format::Human, true).write_bytes(&script)?;
     Ok(())
 }
 
-pub(crate) fn man(ctx: &Ctx, args: &ManArgs) -> crate::output::CommandResult {
-    let pages = man_pages();
+/// `canctl man`: the first of `pages` printed, or every one written to `--out`.
+pub(crate) fn man(ctx: &Ctx, args: &ManArgs, pages: Vec<(String, Vec<u8>)>) -> CommandResult {
     match &args.out {
         Some(dir) => {
             crate::output::docs::write_all(dir, &pages)?;

@@ -1,8 +1,9 @@
 //! `canctl doctor`: why a node, or the bus, is silent.
 
-use super::{parse_node, Ctx, GlobalArgs};
+use super::ctx::{parse_node, Ctx, GlobalArgs};
 use crate::error::Error;
 use crate::ops::doctor::{self, DoctorOptions};
+use crate::output::CommandResult;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -38,7 +39,7 @@ pub struct DoctorArgs {
     #[arg(value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: Option<u8>,
     /// How long to listen to the bus first (a heartbeat slower than this may be missed)
-    #[arg(long, value_name = "DUR", default_value = "1s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "1s", value_parser = super::ctx::parse_duration)]
     pub window: Duration,
     /// Also ask for devices waiting without a node-id: one LSS "identify non-configured
     /// remote slave" broadcast (CiA 305), answers waited for --timeout
@@ -50,27 +51,25 @@ pub struct DoctorArgs {
     #[arg(long)]
     pub sweep: bool,
     /// How long the sweep listens at each rate (a bus quieter than this shows nothing)
-    #[arg(long, value_name = "DUR", default_value = "500ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "500ms", value_parser = super::ctx::parse_duration)]
     pub sweep_window: Duration,
     #[command(flatten)]
-    pub checks: super::CheckFormat,
+    pub checks: super::ctx::CheckFormat,
 }
 
 /// Run `canctl doctor`: the diagnosis rendered, exit 6 when it found a problem.
-pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> crate::output::CommandResult {
+pub fn run(ctx: &Ctx, global: &GlobalArgs, a: &DoctorArgs) -> CommandResult {
     let last_scan = ctx.bus.as_deref().map(crate::ops::scan_cache::load).unwrap_or_default();
     // Scan's rule: a shorter listen hears nothing, and would not say so.
     crate::ops::scan::check_window(a.window)?;
     crate::ops::scan::check_window(a.sweep_window)?;
     let options = DoctorOptions { node: a.node, listen: a.window, timeout: ctx.timeout, last_scan, lss: a.lss };
     let mut opened = false;
-    let result = super::with_bus(ctx, global, |bus| {
+    let result = super::ctx::with_bus(ctx, global, |bus| {
         opened = true;
         let sweep = a.sweep.then_some(a.sweep_window);
         let working = ctx.out.working(&crate::output::doctor::working(a.node));
-        let diagnosed = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-            doctor::doctor_swept(bus, &options, ctx.bus.as_deref(), sweep)
-        });
+        let diagnosed = ctx.stoppable(bus, |bus| doctor::doctor_swept(bus, &options, ctx.bus.as_deref(), sweep));
         working.finish_and_clear();
         let report = crate::output::stopped::read(&ctx.out, "doctor", "listening and asking".into(), diagnosed)?;
         ctx.out.report(&report)?;

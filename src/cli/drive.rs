@@ -1,12 +1,12 @@
 //! `canctl drive`: CiA 402 drives' state, and their power state changed with the
 //! controlword.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::canopen::cia402::Goal;
 use crate::error::Error;
 use crate::ops::drive::{self, Options, Watch};
-use crate::output::stopped;
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use std::time::Duration;
 
@@ -50,25 +50,25 @@ Examples:
 #[derive(Args, Debug)]
 pub(crate) struct StatusArgs {
     #[command(flatten)]
-    pub node: super::SdoNode,
+    pub node: super::ctx::SdoNode,
     /// Print each change of the statusword until interrupted
     #[arg(long)]
     pub watch: bool,
     /// With --watch by SDO: how often to read the statusword
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::ctx::parse_duration)]
     pub interval: Duration,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct WalkArgs {
     #[command(flatten)]
-    pub node: super::SdoNode,
+    pub node: super::ctx::SdoNode,
     /// How long each transition may take to show in the statusword
-    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::ctx::parse_duration)]
     pub wait: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> CommandResult {
     let (args, goal) = match cmd {
         DriveCommand::Status(a) => return status(ctx, bus, a),
         DriveCommand::Enable(a) => (a, Goal::Enable),
@@ -82,9 +82,9 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &DriveCommand) -> crate::ou
     Ok(walk.outcome()?)
 }
 
-fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> crate::output::CommandResult {
-    let read = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| drive::status(bus, a.node.node, ctx.timeout));
-    let report = stopped::read(&ctx.out, "drive status", format!("reading node {}'s state", a.node.node), read)?;
+fn status(ctx: &Ctx, bus: &mut dyn Bus, a: &StatusArgs) -> CommandResult {
+    let what = format!("reading node {}'s state", a.node.node);
+    let report = ctx.read(bus, "drive status", what, |bus| drive::status(bus, a.node.node, ctx.timeout))?;
     ctx.out.report(&report)?;
     if !a.watch {
         return Ok(());

@@ -1,8 +1,9 @@
 //! `canctl errors`: a node's error history (0x1003) with each code's meaning.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::ops::errors;
+use crate::output::CommandResult;
 use clap::Args;
 
 /// Show a node's logged errors (0x1003), newest first, with their meanings
@@ -20,20 +21,14 @@ use clap::Args;
   canctl --bus can0 errors 1 --format json")]
 pub(crate) struct ErrorsArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// Then delete the history (0 to 0x1003:0) and confirm it reads back empty
     #[arg(long)]
     pub clear: bool,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> crate::output::CommandResult {
-    let read =
-        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| errors::errors(bus, a.node.node, a.clear, ctx.timeout));
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &ErrorsArgs) -> CommandResult {
     let what = format!("reading node {}'s error history", a.node.node);
-    let report = crate::output::stopped::read(&ctx.out, "errors", what, read)?;
-    ctx.out.report(&report)?;
-    match report.clear_interrupted {
-        Some(_) => Err(crate::Error::Interrupted.into()),
-        None => Ok(()),
-    }
+    let report = ctx.read(bus, "errors", what, |bus| errors::errors(bus, a.node.node, a.clear, ctx.timeout))?;
+    ctx.report_then(&report, report.clear_interrupted.is_some())
 }

@@ -1,8 +1,9 @@
 //! `canctl firmware`: CiA 302-3 program download and the state of a device's programs.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::ops::firmware::{self, DownloadOptions};
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::path::PathBuf;
@@ -36,30 +37,30 @@ pub(crate) enum FirmwareCommand {
 #[derive(Args, Debug)]
 pub(crate) struct StatusArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct DownloadArgs {
     /// Node-id, 1 to 127; several separated by commas (5,6,7) are done one after another
     /// (or --jobs at once), with a report (and with --format junit a test case) for each
-    #[arg(value_name = "NODE", value_parser = super::node_list, add = ArgValueCandidates::new(super::complete::nodes))]
+    #[arg(value_name = "NODE", value_parser = super::ctx::node_list, add = ArgValueCandidates::new(super::complete::nodes))]
     pub nodes: crate::settings::parse::Nodes,
     /// The image: the bytes written to 0x1F50 as they are in the file
     #[arg(value_name = "IMAGE")]
     pub image: PathBuf,
     /// The program number (sub-index of 0x1F50, 0x1F51, 0x1F56, 0x1F57)
-    #[arg(long, value_name = "N", default_value_t = 1, value_parser = super::number_in::<u8>("a program number", 1, 254))]
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = super::ctx::number_in::<u8>("a program number", 1, 254))]
     pub program: u8,
     /// Download even when the device already runs this image
     #[arg(long)]
     pub force: bool,
     /// The identification the device shows in 0x1F56 for this image, when it is not the
     /// image's CRC-32 (e.g. 0x01020300)
-    #[arg(long, value_name = "ID", value_parser = super::number_in::<u32>("an identification", 0, u32::MAX as u64))]
+    #[arg(long, value_name = "ID", value_parser = super::ctx::number_in::<u32>("an identification", 0, u32::MAX as u64))]
     pub expect_id: Option<u32>,
     /// How long the device may stay busy erasing or writing its flash (0x1F57 bit 0)
-    #[arg(long, value_name = "DUR", default_value = "60s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "60s", value_parser = super::ctx::parse_duration)]
     pub busy_wait: std::time::Duration,
     /// Leave a new program that asks for confirmation (0x1F51 reads 0x80) unconfirmed: its
     /// bootloader returns to the old one at the next reset
@@ -71,26 +72,26 @@ pub(crate) struct DownloadArgs {
     pub jobs: u8,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &FirmwareCommand) -> CommandResult {
     match cmd {
         FirmwareCommand::Status(a) => {
-            let read =
-                crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| firmware::status(bus, a.node.node, ctx.timeout));
             let what = format!("reading node {}'s program objects", a.node.node);
-            Ok(ctx.out.report(&crate::output::stopped::read(&ctx.out, "firmware status", what, read)?)?)
+            let status =
+                ctx.read(bus, "firmware status", what, |bus| firmware::status(bus, a.node.node, ctx.timeout))?;
+            Ok(ctx.out.report(&status)?)
         }
         FirmwareCommand::Download(a) => download(ctx, bus, a),
     }
 }
 
 /// `firmware status NODE` on several buses at once: the node's programs on each.
-pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &StatusArgs) -> crate::output::CommandResult {
+pub(crate) fn status_on_buses(ctx: &Ctx, g: &super::ctx::GlobalArgs, a: &StatusArgs) -> CommandResult {
     let run =
         |_: &str, bus: &mut dyn Bus, _: &mut dyn crate::ops::Progress| firmware::status(bus, a.node.node, ctx.timeout);
-    super::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok::<(), crate::Error>(()))
+    super::ctx::on_each_bus(ctx, g, "canctl firmware status", run, |_| Ok::<(), crate::Error>(()))
 }
 
-fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::CommandResult {
+fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> CommandResult {
     let image = crate::input::read_regular_file(&a.image, IMAGE).map_err(crate::Error::from)?;
     // Each transfer's bytes are a bar of `steps`, one transfer at a time (several at once,
     // each node's start and end are told instead).
@@ -104,9 +105,7 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::Co
     o.cancel = Some(ctx.cancel.clone());
     if let [node] = a.nodes.0[..] {
         if !ctx.out.junit {
-            let result = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-                firmware::download(bus, node, &image, &o, &mut steps)
-            });
+            let result = ctx.stoppable(bus, |bus| firmware::download(bus, node, &image, &o, &mut steps));
             crate::ops::Progress::finish(&mut steps);
             return match result {
                 Ok(report) => Ok(ctx.out.report(&report)?),
@@ -117,9 +116,8 @@ fn download(ctx: &Ctx, bus: &mut dyn Bus, a: &DownloadArgs) -> crate::output::Co
             };
         }
     }
-    let batch = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        firmware::download_jobs(bus, &a.nodes.0, &image, &o, usize::from(a.jobs), &mut steps)
-    });
+    let batch =
+        ctx.stoppable(bus, |bus| firmware::download_jobs(bus, &a.nodes.0, &image, &o, usize::from(a.jobs), &mut steps));
     crate::ops::Progress::finish(&mut steps);
     ctx.out.report(&batch)?;
     match batch.into_failure() {

@@ -1,9 +1,10 @@
 //! `canctl health`: every node of the bus, healthy or not, for people and for CI.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::canopen::nmt::State;
 use crate::ops::health::{self, HealthOptions};
+use crate::output::CommandResult;
 use clap::Args;
 use std::time::Duration;
 
@@ -26,37 +27,36 @@ use std::time::Duration;
   canctl --bus can0 health --watch 5s --format json")]
 pub(crate) struct HealthArgs {
     /// Every node must also be in this NMT state: operational, pre-operational or stopped
-    #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
+    #[arg(long, value_name = "STATE", value_parser = super::ctx::parse_state)]
     pub state: Option<State>,
     /// How long to watch heartbeats and EMCYs (default: two periods of the slowest
     /// heartbeat, 300ms to 10s)
-    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", value_parser = super::ctx::parse_duration)]
     pub watch: Option<Duration>,
     /// How long the bus must stay quiet after the last answer to the scan's probes
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::ctx::parse_duration)]
     pub window: Duration,
     #[command(flatten)]
-    pub checks: super::CheckFormat,
+    pub checks: super::ctx::CheckFormat,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &HealthArgs) -> CommandResult {
     let last_seen = crate::ops::scan_cache::last_seen(ctx.bus.as_deref());
     let options = HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state, last_seen };
-    let read =
-        crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| health::health(bus, &options, &mut ctx.out.progress()));
-    let report = crate::output::stopped::read(&ctx.out, "health", "scanning and judging the nodes".into(), read)?;
+    let what = "scanning and judging the nodes".to_string();
+    let report = ctx.read(bus, "health", what, |bus| health::health(bus, &options, &mut ctx.out.progress()))?;
     let report = if ctx.diagnose { report } else { report.without_diagnoses() };
     ctx.out.report(&report)?;
     Ok(report.outcome()?)
 }
 
 /// `health` on several buses at once: one table, one JUnit suite per bus, the worst exit.
-pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &HealthArgs) -> crate::output::CommandResult {
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::ctx::GlobalArgs, a: &HealthArgs) -> CommandResult {
     let run = |uri: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
         let last_seen = crate::ops::scan_cache::last_seen(Some(uri));
         let options =
             HealthOptions { window: a.window, timeout: ctx.timeout, watch: a.watch, state: a.state, last_seen };
         health::health(bus, &options, progress)
     };
-    super::on_each_bus(ctx, g, "canctl health", run, |report: &health::Health| report.outcome())
+    super::ctx::on_each_bus(ctx, g, "canctl health", run, |report: &health::Health| report.outcome())
 }

@@ -1,10 +1,11 @@
 //! `canctl lss`: node-ids and bit rates for devices that have none or share one (CiA 305).
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::canopen::lss::{parse_bit_rate, Identity};
 use crate::error::Error;
 use crate::ops::lss::{self, AssignOptions, FastscanOptions, Setting};
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -75,14 +76,14 @@ pub(crate) struct Target {
     #[arg(long, conflicts_with = "node")]
     pub global: bool,
     /// 0: the EPOS2 on an epos2-rs232/epos2-usb bus, through its own objects (it has no LSS)
-    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
+    #[arg(long, value_name = "0", value_parser = super::ctx::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct SetIdArgs {
     /// The new node-id: 1 to 127, or 255 for none
-    #[arg(value_name = "NEW", value_parser = super::parse_lss_node_id)]
+    #[arg(value_name = "NEW", value_parser = super::ctx::parse_lss_node_id)]
     pub new: u8,
     #[command(flatten)]
     pub target: Target,
@@ -115,23 +116,28 @@ pub(crate) struct ActivateArgs {
 pub(crate) struct FastscanFlags {
     /// Wait this long for each fastscan answer instead of learning it from the devices
     /// (lengthened only if answers come later still)
-    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", value_parser = super::ctx::parse_duration)]
     pub step: Option<Duration>,
     /// The vendor-id of the device(s) sought, if known: not searched (0x1018:1)
-    #[arg(long, value_name = "ID", value_parser = super::parse_u32)]
+    #[arg(long, value_name = "ID", value_parser = super::ctx::parse_u32)]
     pub vendor: Option<u32>,
     /// The product code, if known: not searched (0x1018:2)
-    #[arg(long, value_name = "CODE", value_parser = super::parse_u32)]
+    #[arg(long, value_name = "CODE", value_parser = super::ctx::parse_u32)]
     pub product: Option<u32>,
     /// The revision number, if known: not searched (0x1018:3)
-    #[arg(long, value_name = "REV", value_parser = super::parse_u32)]
+    #[arg(long, value_name = "REV", value_parser = super::ctx::parse_u32)]
     pub revision: Option<u32>,
 }
 
 impl FastscanFlags {
     fn options(&self, timeout: Duration) -> FastscanOptions {
-        let (step, vendor, product, revision) = (self.step, self.vendor, self.product, self.revision);
-        FastscanOptions { timeout, step, vendor, product, revision }
+        FastscanOptions {
+            timeout,
+            step: self.step,
+            vendor: self.vendor,
+            product: self.product,
+            revision: self.revision,
+        }
     }
 }
 
@@ -140,32 +146,32 @@ pub(crate) struct FastscanArgs {
     #[command(flatten)]
     pub pace: FastscanFlags,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
-    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
+    #[arg(long, value_name = "0", value_parser = super::ctx::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct AssignArgs {
     /// The first node-id to give
-    #[arg(long, value_name = "N", value_parser = super::parse_node)]
+    #[arg(long, value_name = "N", value_parser = super::ctx::parse_node)]
     pub start: u8,
     #[command(flatten)]
     pub pace: FastscanFlags,
     /// How long to listen for heartbeats before assigning [default: 1s, or longer for the
     /// longest heartbeat period the nodes report]
-    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", value_parser = super::ctx::parse_duration)]
     pub listen: Option<Duration>,
     /// Do not store the node-ids (they are lost at power-off)
     #[arg(long)]
     pub no_store: bool,
     /// Refused: an EPOS2 reached directly (node 0) has no LSS
-    #[arg(long, value_name = "0", value_parser = super::number_in::<u8>("the EPOS2's own node", 0, 0))]
+    #[arg(long, value_name = "0", value_parser = super::ctx::number_in::<u8>("the EPOS2's own node", 0, 0))]
     pub node: Option<u8>,
 }
 
 impl Target {
     /// The device asked for; one must be named, a broadcast only when asked.
-    fn get(&self, verb: &str) -> crate::output::CommandResult<lss::Target> {
+    fn get(&self, verb: &str) -> CommandResult<lss::Target> {
         match (self.identity, self.global, self.node) {
             (Some(id), _, _) => Ok(lss::Target::One(id)),
             (None, true, _) => Ok(lss::Target::All),
@@ -180,30 +186,24 @@ fn no_node(node: Option<u8>, verb: &str) -> crate::Result<()> {
     node.map_or(Ok(()), |_| Err(lss::no_lss_on_direct_epos2(verb)))
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &LssCommand) -> CommandResult {
     // An interruption is noted and acted on between steps, so that no device is left in
     // configuration state.
     let (t, stop) = (ctx.timeout, &ctx.cancel);
-    let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> crate::output::CommandResult {
+    let set = |bus: &mut dyn Bus, target: &Target, setting: Setting| -> CommandResult {
         let target = target.get(setting.verb())?;
         let done = match setting {
             Setting::BitRate(index) => lss::set_baud(bus, t, target, index, ctx.bus.as_deref(), stop)?,
             _ => lss::configure(bus, t, target, setting, stop)?,
         };
-        ctx.out.report(&done)?;
-        if done.interrupted {
-            return Err(crate::Error::Interrupted.into());
-        }
+        ctx.report_then(&done, done.interrupted)?;
         Ok(done.outcome()?)
     };
     match cmd {
         LssCommand::Inquire(a) => ctx.out.report(&lss::inquire(bus, t, a.get("inquire")?)?)?,
         LssCommand::SetId(a) => {
             let done = lss::set_id(bus, t, a.target.get("set-id")?, a.new, a.force, stop)?;
-            ctx.out.report(&done)?;
-            if done.interrupted {
-                return Err(Error::Interrupted.into());
-            }
+            ctx.report_then(&done, done.interrupted)?
         }
         LssCommand::SetBaud(a) => set(bus, &a.target, Setting::BitRate(a.rate))?,
         LssCommand::Store(a) => set(bus, a, Setting::Store)?,

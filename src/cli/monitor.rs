@@ -1,8 +1,9 @@
 //! `canctl monitor`: the bus's traffic as it happens, decoded.
 
-use super::{parse_node, Ctx};
+use super::ctx::{parse_node, Ctx};
 use crate::bus::Bus;
 use crate::ops::monitor::Monitor;
+use crate::output::CommandResult;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -24,7 +25,7 @@ pub(crate) struct MonitorArgs {
     #[arg(long, value_parser = parse_node, add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: Vec<u8>,
     /// Stop after this long
-    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", value_parser = super::ctx::parse_duration)]
     pub duration: Option<Duration>,
     /// Stop after this many frames
     #[arg(long, value_name = "N")]
@@ -34,8 +35,8 @@ pub(crate) struct MonitorArgs {
 /// Ctrl-C or SIGTERM ends the monitor as its duration would, with the summary; the exit
 /// code is 130 all the same (as for every command the user stops), 0 only when --duration
 /// or --count ended it.
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> crate::output::CommandResult {
-    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &MonitorArgs) -> CommandResult {
+    ctx.stoppable(bus, |bus| {
         let mut monitor = Monitor::new(bus, ctx.dicts.pdo_layouts(&a.node), &a.node, a.duration, a.count)?;
         ctx.out.stream(|| monitor.next(bus))?;
         let summary = monitor.summary();

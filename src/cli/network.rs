@@ -1,13 +1,15 @@
 //! `canctl network dump|check|apply`: a whole machine from one CiA 306-3 network project
 //! (`nodelist.cpj` plus one DCF per node).
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::canopen::nmt::State;
 use crate::ops::config;
 use crate::ops::network::{self, PROJECT_FILE};
 use crate::ops::project_files;
-use crate::output::network::{DumpReport, NodeBars, SetBaudReport};
+use crate::output::network::{DumpReport, SetBaudReport};
+use crate::output::CommandResult;
+use crate::output::NodeBars;
 use crate::output::UsageError;
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
@@ -38,7 +40,7 @@ pub(crate) struct DumpArgs {
     #[arg(long, value_name = "NAME", default_value = "canctl network")]
     pub net_name: String,
     /// The bus's bit rate, written as each DCF's Baudrate (1M 800k 500k 250k 125k 50k 20k 10k)
-    #[arg(long, value_name = "RATE", value_parser = super::parse_kbit)]
+    #[arg(long, value_name = "RATE", value_parser = super::ctx::parse_kbit)]
     pub bit_rate: Option<u32>,
     #[command(flatten)]
     pub probes: Probes,
@@ -63,7 +65,7 @@ pub(crate) struct CheckArgs {
     pub project: PathBuf,
     /// Every listed node must also be in this NMT state (from its heartbeat, else node
     /// guarding): operational, pre-operational or stopped
-    #[arg(long, value_name = "STATE", value_parser = super::parse_state)]
+    #[arg(long, value_name = "STATE", value_parser = super::ctx::parse_state)]
     pub state: Option<State>,
     /// How many nodes to check at once, their SDO transfers in flight together (1: one after
     /// the other)
@@ -72,7 +74,7 @@ pub(crate) struct CheckArgs {
     #[command(flatten)]
     pub probes: Probes,
     #[command(flatten)]
-    pub checks: super::CheckFormat,
+    pub checks: super::ctx::CheckFormat,
 }
 
 /// Make the bus as a network project says: only what differs is written, verified, stored
@@ -106,7 +108,7 @@ pub(crate) struct ApplyArgs {
     #[arg(long)]
     pub force: bool,
     /// How long a device may take to store
-    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::ctx::parse_duration)]
     pub store_timeout: Duration,
     /// Reset the nodes written to (NMT reset node) and wait until each has booted
     #[arg(long)]
@@ -116,7 +118,7 @@ pub(crate) struct ApplyArgs {
     #[arg(long, value_name = "N", default_value = "8", value_parser = clap::value_parser!(u8).range(1..=127))]
     pub jobs: u8,
     /// How long a device given a node-id over LSS, or reset, may take to be back
-    #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "3s", value_parser = super::ctx::parse_duration)]
     pub boot_wait: Duration,
     #[command(flatten)]
     pub probes: Probes,
@@ -143,7 +145,7 @@ pub(crate) struct ApplyArgs {
     (then: sudo ip link set can0 down && sudo ip link set can0 up type can bitrate 1000000)")]
 pub(crate) struct SetBaudArgs {
     /// The new bit rate: 1M 800k 500k 250k 125k 50k 20k 10k
-    #[arg(value_name = "RATE", value_parser = super::parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
+    #[arg(value_name = "RATE", value_parser = super::ctx::parse_fixed_bit_rate, add = clap_complete::engine::ArgValueCandidates::new(super::complete::bit_rates))]
     pub rate: u8,
     /// The project whose nodes must follow: a nodelist.cpj, or the folder holding one
     /// (without it: the nodes that answer before the switch)
@@ -172,11 +174,11 @@ pub(crate) struct SetBaudArgs {
 #[derive(Args, Debug)]
 pub(crate) struct Probes {
     /// How long the bus must stay quiet after the last answer to the probes
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::ctx::parse_duration)]
     pub window: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NetworkCommand) -> CommandResult {
     match cmd {
         NetworkCommand::Dump(a) => dump(ctx, bus, a),
         NetworkCommand::Check(a) => check(ctx, bus, a),
@@ -191,7 +193,7 @@ fn load(ctx: &Ctx, path: &Path) -> crate::Result<network::Loaded> {
     Ok(loaded)
 }
 
-fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> crate::output::CommandResult {
+fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> CommandResult {
     let project = a.dir.join(PROJECT_FILE);
     if project.exists() && !a.force {
         return Err(UsageError::ProjectExists(project).into());
@@ -209,7 +211,7 @@ fn dump(ctx: &Ctx, bus: &mut dyn Bus, a: &DumpArgs) -> crate::output::CommandRes
     Ok(())
 }
 
-fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> crate::output::CommandResult {
+fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> CommandResult {
     let loaded = load(ctx, &a.project)?;
     let options =
         network::CheckOptions { timeout: ctx.timeout, window: a.probes.window, jobs: a.jobs.into(), state: a.state };
@@ -220,17 +222,17 @@ fn check(ctx: &Ctx, bus: &mut dyn Bus, a: &CheckArgs) -> crate::output::CommandR
 
 /// `network check` on several buses at once (each against the same project): one table,
 /// one JUnit suite per bus, the worst exit.
-pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::GlobalArgs, a: &CheckArgs) -> crate::output::CommandResult {
+pub(crate) fn check_on_buses(ctx: &Ctx, g: &super::ctx::GlobalArgs, a: &CheckArgs) -> CommandResult {
     let loaded = load(ctx, &a.project)?;
     let options =
         network::CheckOptions { timeout: ctx.timeout, window: a.probes.window, jobs: a.jobs.into(), state: a.state };
     let run = |_: &str, bus: &mut dyn Bus, progress: &mut dyn crate::ops::Progress| {
         network::check(bus, &loaded, &options, progress)
     };
-    super::on_each_bus(ctx, g, "canctl network check", run, |report: &network::Checked| report.outcome())
+    super::ctx::on_each_bus(ctx, g, "canctl network check", run, |report: &network::Checked| report.outcome())
 }
 
-fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> crate::output::CommandResult {
+fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> CommandResult {
     let loaded = load(ctx, &a.project)?;
     let mut c = config::ApplyOptions::new(ctx.timeout);
     c.dry_run = a.dry_run;
@@ -257,7 +259,7 @@ fn apply(ctx: &Ctx, bus: &mut dyn Bus, a: &ApplyArgs) -> crate::output::CommandR
     Ok(report.outcome()?)
 }
 
-fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> crate::output::CommandResult {
+fn set_baud(ctx: &Ctx, bus: &mut dyn Bus, a: &SetBaudArgs) -> CommandResult {
     if !a.global {
         return Err(UsageError::SetBaudNotGlobal.into());
     }

@@ -1,10 +1,10 @@
 //! `canctl nmt`: network management commands and state queries.
 
-use super::{parse_node, Ctx};
+use super::ctx::{parse_node, Ctx};
 use crate::bus::{Bus, ALL_NODES};
 use crate::canopen::nmt::Command;
-use crate::error::Error;
 use crate::ops::nmt::{self, ResetOptions, StateOptions};
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -48,16 +48,16 @@ pub(crate) struct ResetArgs {
     #[command(flatten)]
     pub target: Target,
     /// How long to wait for boot-up messages
-    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "2s", value_parser = super::ctx::parse_duration)]
     pub wait: Duration,
 }
 
 #[derive(Args, Debug)]
 pub(crate) struct StateArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// How long to listen for a heartbeat before asking by node guarding
-    #[arg(long, value_name = "DUR", default_value = "300ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "300ms", value_parser = super::ctx::parse_duration)]
     pub listen: Duration,
 }
 
@@ -68,13 +68,13 @@ fn parse_target(s: &str) -> Result<u8, String> {
     parse_node(s).map_err(|e| format!("{e}, or all"))
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> crate::output::CommandResult {
-    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| run_stoppable(ctx, bus, cmd))
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> CommandResult {
+    ctx.stoppable(bus, |bus| run_stoppable(ctx, bus, cmd))
 }
 
-fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> crate::output::CommandResult {
+fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> CommandResult {
     let reset = |a: &ResetArgs| (a.target.target, ResetOptions { wait: a.wait, timeout: ctx.timeout });
-    let send = |bus: &mut dyn Bus, command: Command, target: u8| -> crate::output::CommandResult {
+    let send = |bus: &mut dyn Bus, command: Command, target: u8| -> CommandResult {
         match nmt::send(bus, command, target) {
             Ok(sent) => Ok(ctx.out.report(&sent)?),
             Err(e) => crate::output::stopped::nmt_not_sent(&ctx.out, command.name(), target, e),
@@ -92,21 +92,13 @@ fn run_stoppable(ctx: &Ctx, bus: &mut dyn Bus, cmd: &NmtCommand) -> crate::outpu
                 Ok(report) => report,
                 Err(e) => return crate::output::stopped::nmt_not_sent(&ctx.out, command.name(), target, e),
             };
-            ctx.out.report(&report)?;
-            if report.interrupted {
-                return Err(Error::Interrupted.into());
-            }
-            Ok(())
+            ctx.report_then(&report, report.interrupted)
         }
         NmtCommand::State(a) => {
             let o = StateOptions { listen: a.listen, timeout: ctx.timeout };
             let what = format!("learning the NMT state of node {}", a.node.node);
-            Ok(ctx.out.report(&crate::output::stopped::read(
-                &ctx.out,
-                "nmt state",
-                what,
-                nmt::state(bus, a.node.node, &o),
-            )?)?)
+            let state = crate::output::stopped::read(&ctx.out, "nmt state", what, nmt::state(bus, a.node.node, &o))?;
+            Ok(ctx.out.report(&state)?)
         }
     }
 }

@@ -1,9 +1,10 @@
 //! `canctl scan`: every node 1 to 127, with identity, name and NMT state.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::ops::scan::{self, ScanOptions};
 use crate::ops::scan_cache;
+use crate::output::CommandResult;
 use clap::Args;
 use std::time::Duration;
 
@@ -26,20 +27,17 @@ use std::time::Duration;
 pub(crate) struct ScanArgs {
     /// How long the bus must stay quiet after the last answer to the probes: at least
     /// 10ms; under 100ms slow devices may be missed, and the scan cache is not replaced
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::ctx::parse_duration)]
     pub window: Duration,
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> CommandResult {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
     let last_seen = scan_cache::last_seen(ctx.bus.as_deref());
-    let report = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| {
-        scan::scan_against(bus, &options, &last_seen, &mut ctx.out.progress())
-    })?;
+    let report = ctx.stoppable(bus, |bus| scan::scan_against(bus, &options, &last_seen, &mut ctx.out.progress()))?;
     if report.interrupted {
         // The nodes found so far: reported, not remembered as the bus's.
-        ctx.out.report(&report)?;
-        return Err(crate::Error::Interrupted.into());
+        return ctx.report_then(&report, true);
     }
     if options.may_miss_slow_devices() {
         ctx.out.note(&crate::output::short_window_note());
@@ -52,7 +50,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, args: &ScanArgs) -> crate::outpu
 
 /// `scan` on several buses at once: a table of every bus's nodes, each bus's scan cache
 /// saved as the one-bus scan saves it.
-pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> crate::output::CommandResult {
+pub(crate) fn on_buses(ctx: &Ctx, g: &super::ctx::GlobalArgs, args: &ScanArgs) -> CommandResult {
     let options = ScanOptions { window: args.window, timeout: ctx.timeout };
     let outcome = |report: &scan::Scan| match report.interrupted {
         true => Err(crate::Error::Interrupted),
@@ -63,5 +61,5 @@ pub(crate) fn on_buses(ctx: &Ctx, g: &super::GlobalArgs, args: &ScanArgs) -> cra
         scan_cache::remember(uri, &report, &options, &ctx.dicts);
         Ok(report)
     };
-    super::on_each_bus(ctx, g, "canctl scan", run, outcome)
+    super::ctx::on_each_bus(ctx, g, "canctl scan", run, outcome)
 }

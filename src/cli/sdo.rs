@@ -1,9 +1,10 @@
 //! `canctl sdo read|write`: one object, any size, any type.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::canopen::DataType;
 use crate::ops::sdo::{self, ReadOptions, WriteOptions};
+use crate::output::CommandResult;
 use clap::{Args, Subcommand};
 use clap_complete::engine::ArgValueCandidates;
 use std::path::PathBuf;
@@ -27,7 +28,7 @@ pub(crate) enum SdoCommand {
   canctl --bus sim sdo read 1 1F50:1 --type d --out program.bin")]
 pub(crate) struct ReadArgs {
     #[command(flatten)]
-    pub node: super::SdoNode,
+    pub node: super::ctx::SdoNode,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
@@ -43,7 +44,7 @@ pub(crate) struct ReadArgs {
     /// Largest value to accept: an upload that grows past it is aborted, and one announced
     /// larger is refused (bytes, or with k, M, G: 1024, 1024², 1024³); by default 64k, for
     /// a domain (--type d) or a value of unknown type 1M
-    #[arg(long, value_name = "SIZE", value_parser = super::parse_size)]
+    #[arg(long, value_name = "SIZE", value_parser = super::ctx::parse_size)]
     pub max_size: Option<usize>,
 }
 
@@ -60,7 +61,7 @@ pub(crate) struct ReadArgs {
   canctl --bus sim sdo write 1 1F50:1 @program.bin --type d")]
 pub(crate) struct WriteArgs {
     #[command(flatten)]
-    pub node: super::SdoNode,
+    pub node: super::ctx::SdoNode,
     /// Object: 0x1018:1, 1018:1 or 1018sub1 (index hex; subindex decimal unless 0x), or a
     /// name from the node's EDS or the built-in dictionary (ProducerHeartbeatTime)
     #[arg(add = ArgValueCandidates::new(super::complete::objects))]
@@ -90,14 +91,14 @@ fn parse_type(s: &str) -> Result<DataType, String> {
     s.parse()
 }
 
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> crate::output::CommandResult {
-    crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| match cmd {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, cmd: &SdoCommand) -> CommandResult {
+    ctx.stoppable(bus, |bus| match cmd {
         SdoCommand::Read(a) => read(ctx, bus, a),
         SdoCommand::Write(a) => write(ctx, bus, a),
     })
 }
 
-fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> crate::output::CommandResult {
+fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> CommandResult {
     let (object, _) = ctx.dicts.resolve(a.node.node, &a.object)?;
     if let Some(path) = &a.out {
         crate::atomic::check_writable(path)?;
@@ -118,7 +119,7 @@ fn read(ctx: &Ctx, bus: &mut dyn Bus, a: &ReadArgs) -> crate::output::CommandRes
     Ok(())
 }
 
-fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> crate::output::CommandResult {
+fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> CommandResult {
     let (object, _) = ctx.dicts.resolve(a.node.node, &a.object)?;
     let o = WriteOptions { timeout: ctx.timeout, dtype: a.dtype.dtype, block: !a.no_block, verify: a.verify };
     let written = sdo::write(bus, ctx.dicts.for_node(a.node.node), a.node.node, object, &a.value, &o);
@@ -127,9 +128,5 @@ fn write(ctx: &Ctx, bus: &mut dyn Bus, a: &WriteArgs) -> crate::output::CommandR
         Err(e) => return crate::output::stopped::sdo(&ctx.out, (a.node.node, object, true), None, e),
         Ok(written) => written,
     };
-    ctx.out.report(&written)?;
-    if written.interrupted {
-        return Err(crate::Error::Interrupted.into());
-    }
-    Ok(())
+    ctx.report_then(&written, written.interrupted)
 }

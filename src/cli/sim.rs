@@ -1,10 +1,11 @@
 //! `canctl sim`: run the simulated network's devices behind a real interface, or manage
 //! its saved state.
 
-use super::{Ctx, GlobalArgs};
+use super::ctx::{Ctx, GlobalArgs};
 use crate::epos2::Framing;
 use crate::error::{Error, LinkError, PtyOp};
 use crate::output::sim;
+use crate::output::CommandResult;
 use crate::sim::serial_fault::Fault;
 use crate::sim::serve::{self, Serve, Serving};
 use crate::sim::socketcand_serve;
@@ -63,7 +64,7 @@ pub(crate) struct SimArgs {
     #[arg(long)]
     pub epos2_usb: bool,
     /// Pace bytes as a serial line at this bit rate would (10 bits a byte)
-    #[arg(long, value_name = "BITS/S", value_parser = super::number_in::<u32>("a serial bit rate", 300, 10_000_000))]
+    #[arg(long, value_name = "BITS/S", value_parser = super::ctx::number_in::<u32>("a serial bit rate", 300, 10_000_000))]
     pub baud: Option<u32>,
     /// Inject a fault: nack, crc, garbage, drop, mute, stale, late, babble, empty-segments,
     /// endless-segments or wrong-object, on frame N (KIND@N) or every frame (KIND@*)
@@ -71,7 +72,7 @@ pub(crate) struct SimArgs {
     pub fault: Vec<Fault>,
     /// How long the EPOS2 waits for an SDO answer on the CAN bus (the slow profile's
     /// devices answer up to 80 ms late)
-    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "100ms", value_parser = super::ctx::parse_duration)]
     pub can_timeout: Duration,
 }
 
@@ -104,7 +105,7 @@ pub(crate) struct ResetArgs {
     #[arg(long, value_name = "PROFILE", default_value = "typical", value_parser = clap::builder::PossibleValuesParser::new(Profile::NAMES).map(|s| s.parse::<Profile>().expect("listed")))]
     pub profile: Profile,
     /// Devices waiting for a node-id over LSS
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_UNCONFIGURED, value_parser = super::number_in::<u8>("a number of devices", 0, MAX_UNCONFIGURED as u64))]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_UNCONFIGURED, value_parser = super::ctx::number_in::<u8>("a number of devices", 0, MAX_UNCONFIGURED as u64))]
     pub unconfigured: u8,
     /// The bit rate the bus and every device start at (1M 800k 500k 250k 125k 50k 20k 10k)
     #[arg(long, value_name = "RATE", default_value = "500k", value_parser = parse_rate)]
@@ -143,7 +144,7 @@ pub(crate) struct ResetArgs {
     /// its boot-up comes after 500 ms of booting. Its simulator objects change that:
     /// 0x5F52 the boot time in ms (u16), 0x5F53 = 0 a reset before the answer (u8),
     /// 0x5F51 a fault (1 power lost mid-download, 2 flash write error, 3 reboot on stop).
-    #[arg(long, value_name = "NODE", value_parser = super::parse_node)]
+    #[arg(long, value_name = "NODE", value_parser = super::ctx::parse_node)]
     pub bootloader: Option<u8>,
 }
 
@@ -162,7 +163,7 @@ fn parse_rate(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("the sim bus needs a fixed bit rate, not {text}"))
 }
 
-pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, global: &GlobalArgs, args: &SimArgs) -> CommandResult {
     let path = serve::state_path(ctx.bus.as_deref())?.ok_or(crate::output::UsageError::NotASimBus)?;
     if let Some(SimCommand::Reset(r)) = &args.command {
         let mut config =

@@ -1,9 +1,10 @@
 //! `canctl store` and `canctl restore`: CiA 301 objects 0x1010 and 0x1011.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::ops::store::Timeouts;
 use crate::ops::store_all::{restore_nodes, store_nodes};
+use crate::output::CommandResult;
 use clap::Args;
 use clap_complete::engine::ArgValueCandidates;
 use std::time::Duration;
@@ -22,12 +23,12 @@ pub(crate) use crate::ops::store::Class;
   canctl --bus can0 store 10 comm --store-timeout 10s")]
 pub(crate) struct StoreArgs {
     /// Node-id, 1 to 127 (0: the EPOS2 on an epos2-rs232/epos2-usb bus), or several: 5,10,20
-    #[arg(value_parser = super::sdo_node_list, value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
+    #[arg(value_parser = super::ctx::sdo_node_list, value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: crate::settings::parse::Nodes,
     #[arg(value_enum, default_value = "all")]
     pub class: Class,
     /// How long the device may take to store (flash writes take a while)
-    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::ctx::parse_duration)]
     pub store_timeout: Duration,
 }
 
@@ -43,7 +44,7 @@ pub(crate) struct StoreArgs {
   canctl --bus can0 restore 10 app")]
 pub(crate) struct RestoreArgs {
     /// Node-id, 1 to 127, or several: 5,10,20
-    #[arg(value_parser = super::node_list, value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
+    #[arg(value_parser = super::ctx::node_list, value_name = "NODE", add = ArgValueCandidates::new(super::complete::nodes))]
     pub node: crate::settings::parse::Nodes,
     #[arg(value_enum, default_value = "all")]
     pub class: Class,
@@ -51,18 +52,18 @@ pub(crate) struct RestoreArgs {
     #[arg(long)]
     pub reset: bool,
     /// How long the device may take to restore
-    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "5s", value_parser = super::ctx::parse_duration)]
     pub store_timeout: Duration,
 }
 
-pub(crate) fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> crate::output::CommandResult {
+pub(crate) fn store(ctx: &Ctx, bus: &mut dyn Bus, a: &StoreArgs) -> CommandResult {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
-    let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| store_nodes(bus, &a.node.0, a.class, t));
+    let run = ctx.stoppable(bus, |bus| store_nodes(bus, &a.node.0, a.class, t));
     crate::output::stopped::each_node(&ctx.out, "store", &a.node.0, run)
 }
 
-pub(crate) fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> crate::output::CommandResult {
+pub(crate) fn restore(ctx: &Ctx, bus: &mut dyn Bus, a: &RestoreArgs) -> CommandResult {
     let t = Timeouts { answer: ctx.timeout, write: a.store_timeout };
-    let run = crate::ops::stop::stoppable(bus, &ctx.cancel, |bus| restore_nodes(bus, &a.node.0, a.class, t, a.reset));
+    let run = ctx.stoppable(bus, |bus| restore_nodes(bus, &a.node.0, a.class, t, a.reset));
     crate::output::stopped::each_node(&ctx.out, "restore", &a.node.0, run)
 }

@@ -1,11 +1,12 @@
 //! `canctl stream-pdo`: a node's transmit PDOs, decoded into named, typed fields, as a live
 //! table, CSV or JSON lines.
 
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::bus::Bus;
 use crate::error::Error;
 use crate::ops::pdo::{Session, Stream, StreamOptions};
 use crate::ops::stream_setup::{prepare, Prepared, Setup};
+use crate::output::CommandResult;
 use clap::Args;
 use std::time::Duration;
 
@@ -23,18 +24,18 @@ use std::time::Duration;
   canctl --bus sim stream-pdo 1 --start --map 6064:0,606C:0 --event 20")]
 pub(crate) struct StreamArgs {
     #[command(flatten)]
-    pub node: super::Node,
+    pub node: super::ctx::Node,
     /// Which TPDOs (default: every valid one of 1..4)
-    #[arg(long, value_delimiter = ',', value_name = "N,...", value_parser = super::number_in::<u16>("a TPDO number", 1, 512))]
+    #[arg(long, value_delimiter = ',', value_name = "N,...", value_parser = super::ctx::number_in::<u16>("a TPDO number", 1, 512))]
     pub tpdo: Vec<u16>,
     /// Stop after this many records
     #[arg(long, value_name = "N", conflicts_with = "duration")]
     pub count: Option<u64>,
     /// Stop after this long
-    #[arg(long, value_name = "DUR", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", value_parser = super::ctx::parse_duration)]
     pub duration: Option<Duration>,
     /// Send SYNC at this period (for synchronous PDOs, transmission types 0..240)
-    #[arg(long, value_name = "PERIOD", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "PERIOD", value_parser = super::ctx::parse_duration)]
     pub sync: Option<Duration>,
     /// Put the node in Operational, and back in its former state at the end
     #[arg(long)]
@@ -49,13 +50,13 @@ pub(crate) struct StreamArgs {
     #[arg(long = "type", value_name = "T", requires = "map")]
     pub transmission: Option<u8>,
     /// Through an EPOS2: how often to poll each PDO
-    #[arg(long, value_name = "DUR", default_value = "10ms", value_parser = super::parse_duration)]
+    #[arg(long, value_name = "DUR", default_value = "10ms", value_parser = super::ctx::parse_duration)]
     pub interval: Duration,
 }
 
 /// `--map`'s objects, by address or name, with their sizes: from the dictionary, else
 /// read once from the node.
-pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> crate::output::CommandResult {
+pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> CommandResult {
     let mut session = Session::default();
     let result = stream(ctx, bus, a, &mut session);
     // Put back what was changed, whatever ended the stream.
@@ -70,7 +71,7 @@ pub(crate) fn run(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs) -> crate::output
     Ok(())
 }
 
-fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> crate::output::CommandResult {
+fn stream(ctx: &Ctx, bus: &mut dyn Bus, a: &StreamArgs, session: &mut Session) -> CommandResult {
     let map = a.map.iter().map(|text| ctx.dicts.resolve(a.node.node, text)).collect::<crate::Result<Vec<_>>>()?;
     let setup = Setup {
         node: a.node.node,

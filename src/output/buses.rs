@@ -1,6 +1,6 @@
 //! `canctl buses`: a table of the buses found, each with the `--bus` value that reaches it.
 
-use super::{Human, Report};
+use super::report::{Human, Report};
 use crate::ops::buses::{BusKind, Buses};
 
 /// What `buses` is doing while it listens, for the line that moves meanwhile.
@@ -17,11 +17,6 @@ fn kind(k: BusKind) -> &'static str {
     }
 }
 
-fn table(found: &Buses, when_empty: bool) -> Human {
-    let rows = found.buses.iter().map(|b| vec![b.bus.clone(), kind(b.kind).into(), b.what.clone()]).collect();
-    Human::Table { headers: vec!["--bus", "kind", "what"], rows, when_empty }
-}
-
 impl Report for Buses {
     fn human(&self) -> Human {
         match self.buses.is_empty() {
@@ -29,14 +24,15 @@ impl Report for Buses {
                 Human::Line("no bus found".into()),
                 Human::Note("try canctl --bus sim scan, the built-in simulated network".into()),
             ]),
-            false => table(self, false),
+            false => self.csv(),
         }
     }
 
     /// CSV is the table, its header row alone when nothing was found: a sentence would be
     /// read as a row.
     fn csv(&self) -> Human {
-        table(self, true)
+        let rows = self.buses.iter().map(|b| vec![b.bus.clone(), kind(b.kind).into(), b.what.clone()]).collect();
+        Human::table(&["--bus", "kind", "what"], rows)
     }
 
     fn notes(&self) -> Vec<String> {

@@ -1,8 +1,13 @@
 //! `config check`: each deviation as compilers show theirs, `file:line: severity: what`,
 //! then the rule it breaks; a summary line last.
 
-use super::{Human, Report};
+use super::report::{Human, Report};
 use crate::ops::check::Checked;
+
+/// What `value` is called in JSON (a unit variant's name there).
+fn json_name(value: impl serde::Serialize) -> String {
+    serde_json::to_value(value).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
+}
 
 impl Report for Checked {
     fn human(&self) -> Human {
@@ -38,16 +43,13 @@ impl Report for Checked {
                 vec![
                     w.path.clone(),
                     w.line.to_string(),
-                    serde_json::to_value(w.severity)
-                        .ok()
-                        .and_then(|v| v.as_str().map(String::from))
-                        .unwrap_or_default(),
-                    serde_json::to_value(w.kind).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default(),
+                    json_name(w.severity),
+                    json_name(w.kind),
                     w.message.clone(),
                     w.rule.to_string(),
                 ]
             })
             .collect();
-        Human::Table { headers: vec!["file", "line", "severity", "kind", "message", "rule"], rows, when_empty: true }
+        Human::table(&["file", "line", "severity", "kind", "message", "rule"], rows)
     }
 }

@@ -15,7 +15,7 @@ use crate::ops::unmet::{Shortfall, Unmet};
 pub enum CommandError {
     /// The library's error (a device's, the link's, a file's, a usage's).
     #[error(transparent)]
-    Library(crate::Error),
+    Library(#[from] crate::Error),
     /// A firmware download's own failure (flash status, identification, no boot-up); the
     /// bus's or device's failure during a download is a [`CommandError::Library`] error.
     #[error(transparent)]
@@ -27,7 +27,7 @@ pub enum CommandError {
     /// The work was done, and what it found is not as asked (a node unhealthy): the
     /// report said what; this says it in a line.
     #[error(transparent)]
-    Unmet(Unmet),
+    Unmet(#[from] Unmet),
     /// A command run on several buses, some of which fell short: the worst (of `class`, on
     /// `bus`) decides the exit code; the report shows every bus's, so its words are not
     /// said again here.
@@ -56,12 +56,6 @@ pub enum CommandError {
 /// What a command returns.
 pub type CommandResult<T = ()> = Result<T, CommandError>;
 
-impl From<crate::Error> for CommandError {
-    fn from(e: crate::Error) -> CommandError {
-        CommandError::Library(e)
-    }
-}
-
 impl From<FirmwareError> for CommandError {
     /// A download's step the bus or the device failed is that failure, as any command's: so
     /// it is explained (a silent node's likely cause) as any command's.
@@ -80,12 +74,6 @@ impl From<crate::sim::serve::ServeError> for CommandError {
             crate::sim::serve::ServeError::Failed(e) => CommandError::Library(e),
             refused => CommandError::Usage(UsageError::CannotServe(refused)),
         }
-    }
-}
-
-impl From<Unmet> for CommandError {
-    fn from(u: Unmet) -> CommandError {
-        CommandError::Unmet(u)
     }
 }
 
@@ -179,5 +167,29 @@ impl CommandError {
             _ => return None,
         };
         Some(serde_json::json!({ "error": self.text(), "exit_code": code, "diagnosis": diagnosis }))
+    }
+}
+
+/// `error` with what [`crate::ops::explain::explain`] learned said in its hint: the link's
+/// failure instead of it, the likely cause of a node's silence (which rides along for
+/// `--format json`'s `diagnosis`) and the nodes the last scan saw, or the objects near a
+/// missing one.
+pub(crate) fn explained(
+    error: crate::Error,
+    explanation: crate::ops::explain::Explanation,
+    dicts: &crate::ops::dictionaries::Dictionaries,
+) -> CommandError {
+    use crate::ops::explain::Explanation;
+    match explanation {
+        Explanation::Link(link) => link.into(),
+        Explanation::Interrupted => crate::Error::DiagnosisInterrupted { error: Box::new(error) }.into(),
+        Explanation::Silent { bus, finding, last_scan } => {
+            let cause = finding.as_ref().map(super::doctor::likely_cause_text).unwrap_or_default();
+            Explained { error, advice: cause + &super::hints::last_scan_hint(&bus, &last_scan), finding }.into()
+        }
+        Explanation::Near { node, near } => {
+            let near = near.into_iter().map(|a| dicts.label(node, a)).collect();
+            error.advised(crate::error::Advice::Near(near)).into()
+        }
     }
 }

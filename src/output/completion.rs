@@ -98,6 +98,7 @@ pub(crate) fn complete_from_env(command: fn() -> clap::Command) {
     if std::env::var_os("COMPLETE").is_none_or(|v| v.is_empty()) {
         return;
     }
+    let _ = COMMAND.set(command);
     let mut args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     if let Some(dash) = args.iter().position(|a| a == "--") {
         // bash and zsh say which word is being completed; the other shells complete the last.
@@ -137,14 +138,19 @@ fn join_option_values(cli: &clap::Command, words: &mut Vec<std::ffi::OsString>, 
     }
 }
 
-/// The positional words among `words` of `cli`'s command line: flags and the values they
-/// take left out.
-pub(crate) fn positionals<'a>(cli: &clap::Command, words: &'a [String]) -> Vec<&'a String> {
+/// The command line's clap definition, as [`complete_from_env`] was given it: the completers
+/// that read the words typed (`cli` hands them no definition) look its flags up there.
+static COMMAND: std::sync::OnceLock<fn() -> clap::Command> = std::sync::OnceLock::new();
+
+/// The positional words among `words` of the command line being completed: flags and the
+/// values they take left out.
+pub(crate) fn positionals(words: &[String]) -> Vec<&String> {
+    let cli = COMMAND.get().map_or_else(clap::Command::default, |command| command());
     let mut out = Vec::new();
     let mut iter = words.iter();
     while let Some(w) = iter.next() {
         if w.starts_with('-') && w.len() > 1 {
-            if !w.contains('=') && takes_value(cli, w) {
+            if !w.contains('=') && takes_value(&cli, w) {
                 iter.next();
             }
         } else {

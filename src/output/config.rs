@@ -1,7 +1,8 @@
 //! Where `config dump` and `config eds` put the file they read: the `--out` file, written
 //! whole and said on stderr, or standard output (what was read then said on stderr).
 
-use super::{stopped, Output};
+use super::report::Output;
+use super::stopped;
 use crate::ops::config::Dump;
 use crate::ops::stored_eds::StoredEds;
 use std::path::Path;
@@ -13,7 +14,7 @@ pub(crate) fn dumped(
     node: u8,
     file: Option<&Path>,
     dump: crate::Result<Dump>,
-) -> crate::output::CommandResult {
+) -> super::command_error::CommandResult {
     let dump = match dump {
         // A stop the dump could not count objects for: said as one before the profile was read.
         Err(e) if e.is_interrupted() => return stopped::config_dump(out, node, 0, 0, file),
@@ -41,7 +42,7 @@ pub(crate) fn stored_eds(
     file: Option<&Path>,
     network: Option<&str>,
     read: crate::Result<StoredEds>,
-) -> crate::output::CommandResult {
+) -> super::command_error::CommandResult {
     let mut eds = match read {
         Err(e) if e.is_interrupted() => return stopped::config_eds(out, node, file, e),
         other => other?,
@@ -53,8 +54,8 @@ pub(crate) fn stored_eds(
         }
         None => {
             out.write_bytes(&eds.file)?;
-            out.note(&super::stored_eds_line(&eds));
-            out.notes(super::Report::notes(&eds));
+            out.note(&super::reports::stored_eds_line(&eds));
+            out.notes(super::report::Report::notes(&eds));
         }
     }
     Ok(())

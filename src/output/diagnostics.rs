@@ -63,7 +63,7 @@ where
             return writeln!(w, "{}", fields.message);
         }
         // Messages carry what devices and files say: nothing in them may drive the terminal.
-        let message = crate::output::terminal_safe_lines(&fields.message);
+        let message = super::text::terminal_safe_lines(&fields.message);
         match *meta.level() {
             Level::ERROR => write!(w, "canctl: error: {message}")?,
             Level::WARN => write!(w, "canctl: warning: {message}")?,

@@ -1,7 +1,9 @@
 //! How `doctor`'s diagnosis looks: each finding, most likely first, with its evidence and
 //! the fix, in words that name canctl's commands; and what was found fine.
 
-use super::{Human, Report, TestCase, TestSuite};
+use super::junit::{TestCase, TestSuite};
+use super::report::{Human, Report};
+use super::text::joined;
 use crate::bus::controller::CanState;
 use crate::canopen::sdo::{request_cob, response_cob};
 use crate::ops::clash;
@@ -9,10 +11,7 @@ use crate::ops::doctor::{Cause, ControllerState, Diagnosis, Evidence, Finding, H
 
 /// What doctor is doing while it works, for the line that moves meanwhile.
 pub(crate) fn working(node: Option<u8>) -> String {
-    match node {
-        Some(node) => format!("doctor: looking at node {node}"),
-        None => "doctor: looking at the bus".to_string(),
-    }
+    node.map_or("doctor: looking at the bus".to_string(), |node| format!("doctor: looking at node {node}"))
 }
 
 /// What is wrong, in a sentence.
@@ -184,14 +183,6 @@ pub(crate) fn finding_json(f: &Finding) -> serde_json::Value {
     json
 }
 
-fn hex_list(values: &[u32]) -> String {
-    values.iter().map(|v| format!("0x{v:08X}")).collect::<Vec<_>>().join(", ")
-}
-
-fn ids(nodes: &[u8]) -> String {
-    nodes.iter().map(u8::to_string).collect::<Vec<_>>().join(", ")
-}
-
 /// What a piece of evidence checked, by the name JSON gives its kind (`one_device`,
 /// `link_quiet`): a passing check's name in JUnit.
 fn evidence_kind(e: &Evidence) -> String {
@@ -248,12 +239,17 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             format!("no node answered a read of 0x1000 sent to every node-id ({waited_ms} ms)")
         }
         Evidence::ProbeAnswers { nodes, waited_ms } => {
-            format!("a read of 0x1000 sent to every node-id was answered by node(s) {} ({waited_ms} ms)", ids(nodes))
+            format!(
+                "a read of 0x1000 sent to every node-id was answered by node(s) {} ({waited_ms} ms)",
+                joined(nodes, ", ")
+            )
         }
         Evidence::LastScanNodeAnswers { node, waited_ms } => {
             format!("node {node}, seen by the last scan, answered a read of 0x1000 ({waited_ms} ms)")
         }
-        Evidence::NodesHeard { nodes } => format!("the bus showed node(s) {} in use during this command", ids(nodes)),
+        Evidence::NodesHeard { nodes } => {
+            format!("the bus showed node(s) {} in use during this command", joined(nodes, ", "))
+        }
         Evidence::LastScan { node, vendor_id, name } => format!(
             "the last scan saw node {node}: vendor-ID {}{}",
             vendor_id.map_or("-".into(), |v| format!("0x{v:08X}")),
@@ -266,20 +262,16 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             name.as_ref().map(|n| format!(", \"{n}\"")).unwrap_or_default()
         ),
         Evidence::Clash { shown_by } => match shown_by {
-            clash::Evidence::SdoAnswers { values } => format!(
-                "one read of 0x1018:4 got {} answers ({})",
-                values.len(),
-                values
-                    .iter()
-                    .map(|v| v.map_or("an abort".into(), |s| format!("0x{s:08X}")))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            clash::Evidence::HeartbeatStates { states } => format!(
-                "its heartbeats said {} in one listen",
-                states.iter().map(|s| s.name()).collect::<Vec<_>>().join(" and ")
-            ),
-            clash::Evidence::IdentityChanged { values } => format!("0x1018:4 read {} in turn", hex_list(values)),
+            clash::Evidence::SdoAnswers { values } => {
+                let each = values.iter().map(|v| v.map_or("an abort".into(), |s| format!("0x{s:08X}")));
+                format!("one read of 0x1018:4 got {} answers ({})", values.len(), joined(each, ", "))
+            }
+            clash::Evidence::HeartbeatStates { states } => {
+                format!("its heartbeats said {} in one listen", joined(states.iter().map(|s| s.name()), " and "))
+            }
+            clash::Evidence::IdentityChanged { values } => {
+                format!("0x1018:4 read {} in turn", joined(values.iter().map(|v| format!("0x{v:08X}")), ", "))
+            }
         },
         Evidence::LinkReported { message } => format!("the link reported: {message}"),
         Evidence::OneDevice { node } => format!("one device on node-id {node}: no second answer, one serial number"),
@@ -322,8 +314,7 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
             format!("{iface} is a virtual interface: no controller, so no controller state or error counters")
         }
         Evidence::ErrorFrames { iface, counts: c } => {
-            let mut parts = Vec::new();
-            for (n, what) in [
+            let counts = [
                 (c.ack, "ACK"),
                 (c.bit, "bit"),
                 (c.stuff, "stuff"),
@@ -332,24 +323,18 @@ pub(crate) fn evidence_text(e: &Evidence) -> String {
                 (c.passive, "error-passive"),
                 (c.bus_off, "bus-off"),
                 (c.restarted, "restarted"),
-            ] {
-                if n > 0 {
-                    parts.push(format!("{n} {what}"));
-                }
-            }
+            ];
+            let parts = joined(counts.iter().filter(|(n, _)| *n > 0).map(|(n, what)| format!("{n} {what}")), ", ");
             let counters = c.counters.map(|(tx, rx)| format!("; last counters tx {tx}, rx {rx}")).unwrap_or_default();
-            format!("{} error frame(s) from {iface}: {}{counters}", c.frames, parts.join(", "))
+            format!("{} error frame(s) from {iface}: {parts}{counters}", c.frames)
         }
         Evidence::Sweep { trials } => {
-            let each: Vec<String> = trials
-                .iter()
-                .map(|t| match (t.frames, t.errors) {
-                    (n, false) if n > 0 => format!("{}k: {n} frame(s), clean", t.kbit),
-                    (n, true) => format!("{}k: {n} frame(s), bus errors", t.kbit),
-                    _ => format!("{}k: nothing", t.kbit),
-                })
-                .collect();
-            format!("listen-only at each rate: {}", each.join("; "))
+            let each = trials.iter().map(|t| match (t.frames, t.errors) {
+                (n, false) if n > 0 => format!("{}k: {n} frame(s), clean", t.kbit),
+                (n, true) => format!("{}k: {n} frame(s), bus errors", t.kbit),
+                _ => format!("{}k: nothing", t.kbit),
+            });
+            format!("listen-only at each rate: {}", joined(each, "; "))
         }
         Evidence::NoSweep { bus } => format!(
             "{bus} cannot change its bit rate for a sweep; for a CAN interface try each rate by hand, listen-only: \
@@ -376,10 +361,7 @@ fn can_state_text(s: CanState) -> String {
 }
 
 fn heading(d: &Diagnosis) -> String {
-    let what = match d.node {
-        Some(n) => format!("{}, node {n}", d.bus),
-        None => d.bus.clone(),
-    };
+    let what = d.node.map_or_else(|| d.bus.clone(), |n| format!("{}, node {n}", d.bus));
     match d.findings.len() {
         0 => format!("{what}: nothing wrong found"),
         n => format!("{what}: {n} problem(s) found, most likely cause first"),
@@ -411,7 +393,7 @@ impl Report for Diagnosis {
             }
         }
         rows.extend(self.fine.iter().map(|e| vec![String::new(), "fine".into(), evidence_text(e), String::new()]));
-        Human::Table { headers: vec!["rank", "cause", "evidence", "fix"], rows, when_empty: true }
+        Human::table(&["rank", "cause", "evidence", "fix"], rows)
     }
 
     fn notes(&self) -> Vec<String> {
@@ -426,21 +408,15 @@ impl Report for Diagnosis {
     }
 
     fn junit(&self) -> Option<TestSuite> {
-        let class = match self.node {
-            Some(n) => format!("node {n}"),
-            None => "bus".to_string(),
-        };
+        let class = self.node.map_or("bus".to_string(), |n| format!("node {n}"));
         let mut cases: Vec<TestCase> = self
             .findings
             .iter()
-            .map(|f| {
-                let seen: Vec<String> = f.evidence.iter().map(evidence_text).collect();
-                TestCase {
-                    class: class.clone(),
-                    name: cause_text(&f.cause),
-                    detail: seen.join("; "),
-                    failure: Some(format!("{}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy))),
-                }
+            .map(|f| TestCase {
+                class: class.clone(),
+                name: cause_text(&f.cause),
+                detail: joined(f.evidence.iter().map(evidence_text), "; "),
+                failure: Some(format!("{}; fix: {}", cause_text(&f.cause), remedy_text(&f.remedy))),
             })
             .collect();
         cases.extend(self.fine.iter().map(|e| TestCase {

@@ -1,7 +1,7 @@
 //! How `drive status`, `drive enable|disable|quick-stop|fault-reset` and `drive status
 //! --watch` look to people.
 
-use super::{Human, Line, Report};
+use super::report::{Human, Line, Report};
 use crate::ops::drive::{state_text, Change, Source, Status, Walk};
 use serde_json::{json, Value as J};
 
@@ -23,18 +23,14 @@ impl Report for Status {
             .filter(|f| f.bit < ALWAYS_SHOWN_BITS || f.set)
             .map(|f| vec![f.bit.to_string(), f.name.to_string(), if f.set { "yes" } else { "no" }.to_string()])
             .collect();
-        parts.push(Human::Table { headers: vec!["bit", "flag", "set"], rows, when_empty: true });
+        parts.push(Human::table(&["bit", "flag", "set"], rows));
         parts.push(Human::Line(match &self.mode {
             Some(m) => {
                 format!("mode of operation: {} {} ({})", m.value, m.name.unwrap_or("(not a CiA 402 mode)"), m.from)
             }
             None => "mode of operation: not available (no 0x6061 or 0x6060)".into(),
         }));
-        let bits = if self.error_register_bits.is_empty() {
-            "no error".to_string()
-        } else {
-            self.error_register_bits.join(", ")
-        };
+        let bits = super::text::listed(&self.error_register_bits, "no error");
         parts.push(Human::Line(format!("error register (0x1001): 0x{:02X} {bits}", self.error_register)));
         match &self.errors {
             None => parts.push(Human::Line("error history: none kept (no 0x1003)".into())),
@@ -61,7 +57,7 @@ impl Report for Status {
 
     fn csv(&self) -> Human {
         let rows = self.flags.iter().map(|f| vec![f.bit.to_string(), f.name.to_string(), f.set.to_string()]).collect();
-        Human::Table { headers: vec!["bit", "flag", "set"], rows, when_empty: true }
+        Human::table(&["bit", "flag", "set"], rows)
     }
 }
 
@@ -109,11 +105,7 @@ impl Report for Walk {
                 ]
             })
             .collect();
-        Human::Table {
-            headers: vec!["command", "controlword", "from", "reached", "statusword", "confirmed"],
-            rows,
-            when_empty: true,
-        }
+        Human::table(&["command", "controlword", "from", "reached", "statusword", "confirmed"], rows)
     }
 }
 
@@ -143,7 +135,7 @@ impl Line for Change {
     fn text(&self) -> String {
         format!(
             "{}  node {}: {} (statusword 0x{:04X}, by {})",
-            crate::output::time_of_day(self.time_ms),
+            super::text::time_of_day(self.time_ms),
             self.node,
             state_text(self.state, self.statusword),
             self.statusword,

@@ -2,11 +2,11 @@
 //! library become sentences (those naming flags among them), as `canctl` prints them on
 //! stderr.
 
+use super::hints::library_error_text;
 use crate::canopen::abort;
 use crate::error::LinkError;
 use crate::ops::silence::Silence;
 use crate::ops::{Event, Notice, Warning};
-use crate::output::library_error_text;
 
 /// The line `canctl` prints for `event`.
 pub fn event_line(event: &Event) -> String {
@@ -49,11 +49,10 @@ fn notice_line(n: &Notice) -> String {
         Notice::Refused { addr, code } => format!("note: {addr}: {}", abort::meaning(*code)),
         Notice::LeftOut { addr, file, why } => format!("note: {addr} left out of the {file}: {why}"),
         Notice::Silent { node, after, why } => {
-            let why: Vec<String> = why.iter().map(silence_text).collect();
             format!(
                 "nothing from node {node} after {} ms; still listening. Why it may be silent: {}.",
                 after.as_millis(),
-                why.join("; ")
+                super::text::joined(why.iter().map(silence_text), "; ")
             )
         }
         Notice::Assigned { identity, node } => format!("{identity} -> node {node}"),

@@ -1,6 +1,7 @@
 //! How `firmware status` and `firmware download` look to people.
 
-use super::{Human, Report, TestCase, TestSuite};
+use super::junit::{TestCase, TestSuite};
+use super::report::{Human, Report};
 use crate::ops::firmware::{
     Batch, DownloadEnd, DownloadReport, FirmwareError, State, StatusReport, Transfer, Unfinished, Where,
 };
@@ -39,7 +40,7 @@ fn state_text(state: State) -> &'static str {
 /// A download's failure as canctl says it: its message, then its remedy in canctl's terms.
 pub(crate) fn firmware_error_text(e: &FirmwareError) -> String {
     match e {
-        FirmwareError::Bus(e) => super::library_error_text(e),
+        FirmwareError::Bus(e) => super::hints::library_error_text(e),
         e @ FirmwareError::StillBusy { .. } => format!("{e}{}", super::remedies::longer_busy_wait()),
         e => e.to_string(),
     }
@@ -57,6 +58,11 @@ fn report_json(r: &DownloadReport) -> serde_json::Value {
     let mut value = serde_json::to_value(r).expect("reports serialise");
     value["state"] = state_text(r.state).into();
     value
+}
+
+/// Milliseconds as seconds to the millisecond: `1.250 s`.
+fn seconds(ms: u64) -> String {
+    format!("{:.3} s", ms as f64 / 1000.0)
 }
 
 fn id_text(id: Option<u32>) -> String {
@@ -97,11 +103,7 @@ impl Report for DownloadReport {
             "node {}, program {}: {} bytes, identification 0x{:08X}",
             self.node, self.program, self.image_bytes, self.image_id
         );
-        let rows = self
-            .steps
-            .iter()
-            .map(|s| vec![format!("{:.3} s", s.at_ms as f64 / 1000.0), s.step.describe().to_string()])
-            .collect();
+        let rows = self.steps.iter().map(|s| vec![seconds(s.at_ms), s.step.describe().to_string()]).collect();
         let mut lines = vec![Human::Line(head), Human::Table { headers: vec!["at", "step"], rows, when_empty: false }];
         if let (Some(ms), Some(rate)) = (self.download_ms, self.bytes_per_second) {
             let how = match self.transfer {
@@ -109,30 +111,23 @@ impl Report for DownloadReport {
                 Some(Transfer::Block) => ", block transfer",
                 _ => "",
             };
-            lines.push(Human::Line(format!("download: {:.3} s, {} bytes/s{how}", ms as f64 / 1000.0, rate)));
+            lines.push(Human::Line(format!("download: {}, {rate} bytes/s{how}", seconds(ms))));
         }
         if let Some(ms) = self.erase_ms {
-            lines.push(Human::Line(format!(
-                "erase: {:.3} s ({} polls of 0x1F57 while busy)",
-                ms as f64 / 1000.0,
-                self.busy_polls
-            )));
+            lines.push(Human::Line(format!("erase: {} ({} polls of 0x1F57 while busy)", seconds(ms), self.busy_polls)));
         }
         if let Some(s) = self.flash_status {
             lines.push(Human::Line(format!("flash status: 0x{:08X} {s}", s.raw)));
         }
-        lines.push(Human::Line(format!(
-            "identification: {} before, {} after",
-            id_text(self.id_before),
-            id_text(self.id_after)
-        )));
+        let (before, after) = (id_text(self.id_before), id_text(self.id_after));
+        lines.push(Human::Line(format!("identification: {before} before, {after} after")));
         let end = match (self.interrupted, self.skipped, self.device) {
             (true, ..) => "interrupted",
             (_, true, _) => "skipped",
             (.., Where::RunsImage) => "done",
             _ => "failed",
         };
-        lines.push(Human::Line(format!("{end} in {:.3} s: {}", self.total_ms as f64 / 1000.0, state_text(self.state))));
+        lines.push(Human::Line(format!("{end} in {}: {}", seconds(self.total_ms), state_text(self.state))));
         Human::Parts(lines)
     }
 

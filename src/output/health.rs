@@ -1,16 +1,11 @@
 //! How the error history and the health report look: tables for people, JUnit for CI.
 
 use super::hints::verdict_text;
-use super::{Human, Report, TestCase, TestSuite};
-use crate::ops::errors::ErrorHistory;
+use super::junit::{TestCase, TestSuite};
+use super::network::node_label;
+use super::report::{Human, Report};
+use crate::ops::errors::{ErrorHistory, LoggedError};
 use crate::ops::health::{Check, Health as HealthReport, NodeHealth};
-
-fn node_label(node: u8, name: Option<&str>) -> String {
-    match name {
-        Some(n) if !n.is_empty() => format!("node {node} ({n})"),
-        _ => format!("node {node}"),
-    }
-}
 
 fn source_text(s: crate::canopen::emcy::Source) -> &'static str {
     use crate::canopen::emcy::Source;
@@ -23,7 +18,7 @@ fn source_text(s: crate::canopen::emcy::Source) -> &'static str {
 
 impl Report for ErrorHistory {
     fn human(&self) -> Human {
-        let who = node_label(self.node, self.name.as_deref());
+        let who = node_label(self.node, self.name.as_deref().unwrap_or_default());
         let register = format!("error register {}", super::verdicts::register_text(self.error_register));
         if !self.kept {
             return Human::Line(format!("{who} keeps no error history (it has no object 0x1003); {register}"));
@@ -32,19 +27,7 @@ impl Report for ErrorHistory {
             Some(0) | None => format!("{who}: no errors logged in 0x1003; {register}"),
             Some(n) => format!("{who}: {n} error(s) logged in 0x1003, newest first; {register}"),
         })];
-        let rows = self
-            .entries
-            .iter()
-            .map(|e| {
-                vec![
-                    e.sub.to_string(),
-                    format!("0x{:04X}", e.code),
-                    format!("0x{:04X}", e.manufacturer),
-                    e.meaning.to_string(),
-                    source_text(e.source).to_string(),
-                ]
-            })
-            .collect();
+        let rows = self.entries.iter().map(|e| [vec![e.sub.to_string()], entry_cells(e)].concat()).collect();
         parts.push(Human::Table { headers: vec!["#", "code", "mfr", "meaning", "from"], rows, when_empty: false });
         parts.extend(
             self.unreadable.iter().map(|u| Human::Note(format!("0x1003:{} could not be read: {}", u.sub, u.error))),
@@ -64,35 +47,16 @@ impl Report for ErrorHistory {
     }
 
     fn csv(&self) -> Human {
-        let rows = self
-            .entries
-            .iter()
-            .map(|e| {
-                vec![
-                    self.node.to_string(),
-                    e.sub.to_string(),
-                    e.raw.to_string(),
-                    format!("0x{:04X}", e.code),
-                    format!("0x{:04X}", e.manufacturer),
-                    e.meaning.to_string(),
-                    source_text(e.source).to_string(),
-                ]
-            })
-            .collect();
-        Human::Table {
-            headers: vec!["node", "sub", "raw", "code", "manufacturer", "meaning", "source"],
-            rows,
-            when_empty: true,
-        }
+        let row = |e: &LoggedError| [vec![self.node.to_string(), e.sub.to_string(), e.raw.to_string()], entry_cells(e)];
+        let rows = self.entries.iter().map(|e| row(e).concat()).collect();
+        Human::table(&["node", "sub", "raw", "code", "manufacturer", "meaning", "source"], rows)
     }
 }
 
-/// The JSON of `checks` (an array, as they serialise), each detail worded in its place,
-/// with its remedy.
-fn word_verdicts(json: &mut serde_json::Value, checks: &[Check]) {
-    for (json, c) in json.as_array_mut().into_iter().flatten().zip(checks) {
-        json["detail"] = verdict_text(c).into();
-    }
+/// A logged error's code, manufacturer's part, meaning and where the meaning is from.
+fn entry_cells(e: &LoggedError) -> Vec<String> {
+    let (code, mfr) = (format!("0x{:04X}", e.code), format!("0x{:04X}", e.manufacturer));
+    vec![code, mfr, e.meaning.to_string(), source_text(e.source).to_string()]
 }
 
 fn cell<'a>(h: &'a NodeHealth, check: &str) -> Option<&'a Check> {
@@ -110,40 +74,9 @@ fn heartbeat_cell(h: &NodeHealth, watched: bool) -> String {
     }
 }
 
-fn health_rows(r: &HealthReport) -> Vec<Vec<String>> {
-    r.nodes
-        .iter()
-        .map(|h| {
-            let failed: Vec<&str> = h.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
-            vec![
-                h.node.to_string(),
-                h.name.clone().unwrap_or_default(),
-                h.nmt.map_or("unknown".to_string(), |s| s.name().to_string()),
-                heartbeat_cell(h, r.watched_ms > 0),
-                super::verdicts::register_text(h.error_register),
-                h.errors_logged.map_or("-".into(), |n| n.to_string()),
-                match h.emcy.len() {
-                    0 if r.watched_ms == 0 => "-".into(),
-                    0 => "0".into(),
-                    _ => h.emcy.iter().map(|e| format!("0x{:04X}", e.code)).collect::<Vec<_>>().join(" "),
-                },
-                h.drive_state.map_or(
-                    if h.statusword.is_some() || cell(h, "drive").is_some() { "?".into() } else { String::new() },
-                    |s| s.name().to_string(),
-                ),
-                if failed.is_empty() { "ok".into() } else { format!("UNHEALTHY: {}", failed.join(", ")) },
-            ]
-        })
-        .collect()
-}
-
-const HEALTH_HEADERS: [&str; 9] =
-    ["node", "name", "nmt", "heartbeat", "error register", "logged", "emcy", "drive", "health"];
-
 impl Report for HealthReport {
     fn human(&self) -> Human {
-        let mut parts =
-            vec![Human::Table { headers: HEALTH_HEADERS.to_vec(), rows: health_rows(self), when_empty: true }];
+        let mut parts = vec![self.csv()];
         for h in &self.nodes {
             for c in h.checks.iter().filter(|c| !c.ok) {
                 // The node-id check fails on two devices on one id (its detail, the clash).
@@ -163,15 +96,42 @@ impl Report for HealthReport {
         let mut v = serde_json::to_value(self).expect("reports serialise");
         if let Some(nodes) = v["nodes"].as_array_mut() {
             for (json, h) in nodes.iter_mut().zip(&self.nodes) {
-                word_verdicts(&mut json["checks"], &h.checks);
+                super::verdicts::word_details(&mut json["checks"], &h.checks, verdict_text);
                 json["diagnosis"] = h.diagnosis.as_ref().map(super::doctor::finding_json).into();
             }
         }
         v
     }
 
+    /// One row per node: the same in the table and in CSV.
     fn csv(&self) -> Human {
-        Human::Table { headers: HEALTH_HEADERS.to_vec(), rows: health_rows(self), when_empty: true }
+        let watched = self.watched_ms > 0;
+        let rows = self
+            .nodes
+            .iter()
+            .map(|h| {
+                let failed: Vec<&str> = h.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
+                vec![
+                    h.node.to_string(),
+                    h.name.clone().unwrap_or_default(),
+                    h.nmt.map_or("unknown".to_string(), |s| s.name().to_string()),
+                    heartbeat_cell(h, watched),
+                    super::verdicts::register_text(h.error_register),
+                    h.errors_logged.map_or("-".into(), |n| n.to_string()),
+                    match h.emcy.len() {
+                        0 if !watched => "-".into(),
+                        0 => "0".into(),
+                        _ => super::text::joined(h.emcy.iter().map(|e| format!("0x{:04X}", e.code)), " "),
+                    },
+                    h.drive_state.map_or(
+                        if h.statusword.is_some() || cell(h, "drive").is_some() { "?".into() } else { String::new() },
+                        |s| s.name().to_string(),
+                    ),
+                    if failed.is_empty() { "ok".into() } else { format!("UNHEALTHY: {}", failed.join(", ")) },
+                ]
+            })
+            .collect();
+        Human::table(&["node", "name", "nmt", "heartbeat", "error register", "logged", "emcy", "drive", "health"], rows)
     }
 
     fn notes(&self) -> Vec<String> {
@@ -187,7 +147,7 @@ impl Report for HealthReport {
             .nodes
             .iter()
             .flat_map(|h| {
-                let class = node_label(h.node, h.name.as_deref());
+                let class = node_label(h.node, h.name.as_deref().unwrap_or_default());
                 let likely = h.diagnosis.as_ref().map(super::doctor::likely_cause_text).unwrap_or_default();
                 h.checks.iter().map(move |c| TestCase {
                     class: class.clone(),
@@ -215,10 +175,7 @@ fn health_notes(h: &HealthReport, bus: Option<&str>) -> Vec<String> {
     } else {
         format!("{bad} of {} node(s) not healthy ({watched})", h.nodes.len())
     };
-    let mut notes = vec![match bus {
-        Some(bus) => format!("{bus}: {verdict}"),
-        None => verdict,
-    }];
+    let mut notes = vec![bus.map_or_else(|| verdict.clone(), |bus| format!("{bus}: {verdict}"))];
     if h.lss_unconfigured > 0 {
         notes.push(format!(
             "{} device(s) without a node-id answered LSS (not judged; canctl lss assign numbers them)",

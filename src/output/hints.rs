@@ -64,32 +64,7 @@ pub fn last_scan_hint(bus: &str, seen: &[crate::ops::scan_cache::SeenNode]) -> S
     if seen.is_empty() {
         return format!("; `canctl scan` lists the nodes on {bus}");
     }
-    let list: Vec<String> = seen.iter().map(|n| n.node.to_string()).collect();
-    format!("; nodes seen on the last scan of {bus}: {}", list.join(", "))
-}
-
-/// `error` with what [`crate::ops::explain::explain`] learned said in its hint: the link's
-/// failure instead of it, the likely cause of a node's silence (which rides along for
-/// `--format json`'s `diagnosis`) and the nodes the last scan saw, or the objects near a
-/// missing one.
-pub(crate) fn explained(
-    error: crate::Error,
-    explanation: crate::ops::explain::Explanation,
-    dicts: &crate::ops::dictionaries::Dictionaries,
-) -> super::CommandError {
-    use crate::ops::explain::Explanation;
-    match explanation {
-        Explanation::Link(link) => link.into(),
-        Explanation::Interrupted => crate::Error::DiagnosisInterrupted { error: Box::new(error) }.into(),
-        Explanation::Silent { bus, finding, last_scan } => {
-            let cause = finding.as_ref().map(super::doctor::likely_cause_text).unwrap_or_default();
-            Explained { error, advice: cause + &last_scan_hint(&bus, &last_scan), finding }.into()
-        }
-        Explanation::Near { node, near } => {
-            let near = near.into_iter().map(|a| dicts.label(node, a)).collect();
-            error.advised(crate::error::Advice::Near(near)).into()
-        }
-    }
+    format!("; nodes seen on the last scan of {bus}: {}", super::text::joined(seen.iter().map(|n| n.node), ", "))
 }
 
 /// What the user must do to bring a link that does not follow an LSS switch to `index`.

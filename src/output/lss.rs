@@ -1,22 +1,16 @@
 //! How the LSS reports look to people and in CSV.
 
-use super::{Human, Report};
+use super::report::{Human, Report};
 use crate::ops::lss::NotStored;
 use crate::ops::lss::{Activated, Assignment, Configured, Found, Inquired, LssTally, PaceUsed, Took};
-
-fn table(headers: Vec<&'static str>, row: Vec<String>) -> Human {
-    Human::Table { headers, rows: vec![row], when_empty: true }
-}
 
 impl Report for Inquired {
     fn human(&self) -> Human {
         Human::Line(format!("{}  node-id {}", self.identity.0, self.node.map_or("none".to_string(), |n| n.to_string())))
     }
     fn csv(&self) -> Human {
-        table(
-            vec!["identity", "node"],
-            vec![self.identity.0.to_string(), self.node.map_or(String::new(), |n| n.to_string())],
-        )
+        let node = self.node.map_or(String::new(), |n| n.to_string());
+        Human::table(&["identity", "node"], vec![vec![self.identity.0.to_string(), node]])
     }
 }
 
@@ -67,10 +61,8 @@ impl Report for Configured {
         vec![format!("interrupted after the {} was confirmed: {kept}; nothing else was done", self.command)]
     }
     fn csv(&self) -> Human {
-        table(
-            vec!["command", "target", "result"],
-            vec![self.command.into(), self.target.clone(), took_text(self.result)],
-        )
+        let row = vec![self.command.into(), self.target.clone(), took_text(self.result)];
+        Human::table(&["command", "target", "result"], vec![row])
     }
 }
 
@@ -98,13 +90,12 @@ impl Report for Found {
         Human::Parts(vec![Human::Line(self.identity.0.to_string()), Human::Note(how)])
     }
     fn csv(&self) -> Human {
-        let row = [
-            self.identity.0.to_string(),
-            self.steps.to_string(),
-            self.step_ms.to_string(),
-            self.elapsed_ms.to_string(),
-        ];
-        table(vec!["identity", "steps", "step_ms", "elapsed_ms"], row.into())
+        let (steps, step_ms, elapsed_ms) =
+            (self.steps.to_string(), self.step_ms.to_string(), self.elapsed_ms.to_string());
+        Human::table(
+            &["identity", "steps", "step_ms", "elapsed_ms"],
+            vec![vec![self.identity.0.to_string(), steps, step_ms, elapsed_ms]],
+        )
     }
 }
 
@@ -114,7 +105,7 @@ fn not_stored_text(why: &NotStored) -> String {
         NotStored::NoAnswer { identity, .. } => {
             format!("{why} (canctl lss store --identity {identity} stores it again)")
         }
-        NotStored::Failed(e) => crate::output::library_error_text(e),
+        NotStored::Failed(e) => super::hints::library_error_text(e),
         _ => why.to_string(),
     }
 }
@@ -123,7 +114,7 @@ impl Report for Assignment {
     fn json_value(&self) -> serde_json::Value {
         let mut value = serde_json::to_value(self).expect("reports serialise");
         if let Some(e) = &self.failure {
-            value["error"] = crate::output::library_error_text(e).into();
+            value["error"] = super::hints::library_error_text(e).into();
         }
         for (k, d) in self.assigned.iter().enumerate() {
             if let Some(e) = &d.store_error {
@@ -144,7 +135,7 @@ impl Report for Assignment {
             (e, false) => e.as_ref().map(not_stored_text).unwrap_or_default(),
         };
         let rows = self.assigned.iter().map(|d| vec![d.identity.0.to_string(), d.node.to_string(), stored(d)]);
-        Human::Table { headers: vec!["identity", "node", "stored"], rows: rows.collect(), when_empty: true }
+        Human::table(&["identity", "node", "stored"], rows.collect())
     }
     fn notes(&self) -> Vec<String> {
         let mut notes = vec![format!(

@@ -3,7 +3,8 @@
 //! with its `bus`), JUnit as one suite per bus. A single bus never comes here: its report
 //! is the command's own, unchanged.
 
-use super::{Human, Report, TestCase, TestSuite};
+use super::junit::{TestCase, TestSuite};
+use super::report::{Human, Report};
 use crate::ops::many_buses::Ended;
 use crate::ops::unmet::Shortfall;
 use serde_json::{json, Value};
@@ -34,7 +35,7 @@ impl Failure {
 /// A bus's shortfall as canctl says it, and the bus its words begin with, if they name one.
 fn shortfall_text(e: &Shortfall) -> (String, Option<String>) {
     match e {
-        Shortfall::Failed(e) => (super::library_error_text(e), e.names_bus().map(str::to_string)),
+        Shortfall::Failed(e) => (super::hints::library_error_text(e), e.names_bus().map(str::to_string)),
         Shortfall::Unmet(u) => (u.to_string(), u.names_bus().map(str::to_string)),
         // One bus's run is never several buses'.
         Shortfall::OnBuses { worst, .. } => shortfall_text(worst),
@@ -70,7 +71,7 @@ fn prefixed(bus: &str, part: Human, tables: &mut Option<(Vec<&'static str>, Vec<
 
 impl<R: Report> OnBuses<'_, R> {
     /// Every bus's `shown` form, merged: the one table first, then the sentences.
-    fn merged(&self, shown: impl Fn(&R) -> Human) -> Human {
+    fn merged(&self, shown: impl Fn(&R) -> Human) -> Vec<Human> {
         let (mut table, mut lines) = (None, Vec::new());
         for run in self.runs {
             if let Some(report) = &run.report {
@@ -87,39 +88,28 @@ impl<R: Report> OnBuses<'_, R> {
             }
         }
         let table = table.map(|(headers, rows)| Human::Table { headers, rows, when_empty: true });
-        Human::Parts(table.into_iter().chain(lines).collect())
+        table.into_iter().chain(lines).collect()
     }
 }
 
 impl<R: Report> Report for OnBuses<'_, R> {
     fn human(&self) -> Human {
-        self.merged(R::human_among_buses)
+        Human::Parts(self.merged(R::human_among_buses))
     }
 
     fn csv(&self) -> Human {
         // CSV is the table alone: sentences are notes on stderr there.
-        match self.merged(R::csv) {
-            Human::Parts(parts) => Human::Parts(
-                parts
-                    .into_iter()
-                    .map(|p| match p {
-                        Human::Line(text) => Human::Note(text),
-                        p => p,
-                    })
-                    .collect(),
-            ),
-            other => other,
-        }
+        let note = |part| match part {
+            Human::Line(text) => Human::Note(text),
+            part => part,
+        };
+        Human::Parts(self.merged(R::csv).into_iter().map(note).collect())
     }
 
     fn notes(&self) -> Vec<String> {
         let runs = self.runs.iter().filter_map(|r| Some((&r.bus, r.report.as_ref()?)));
         runs.flat_map(|(bus, report)| report.notes_among_buses().into_iter().map(move |n| format!("{bus}: {n}")))
             .collect()
-    }
-
-    fn junit(&self) -> Option<TestSuite> {
-        None
     }
 
     fn junit_suites(&self) -> Vec<TestSuite> {
@@ -165,7 +155,7 @@ impl<R: Report> Report for OnBuses<'_, R> {
 /// the bus (bars of several threads would overwrite each other), phases only where bars
 /// would be shown (a terminal, not --quiet).
 pub(crate) struct BusNotes<'a> {
-    pub out: &'a super::Output,
+    pub out: &'a super::report::Output,
     pub bus: String,
 }
 
@@ -176,7 +166,7 @@ impl crate::ops::Progress for BusNotes<'_> {
         }
     }
     fn event(&mut self, event: crate::ops::Event) {
-        self.out.note(&format!("{}: {}", self.bus, super::event_line(&event)));
+        self.out.note(&format!("{}: {}", self.bus, super::events::event_line(&event)));
     }
 }
 

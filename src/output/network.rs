@@ -1,13 +1,11 @@
 //! How the network project reports look: tables for people, JUnit for CI.
 
-use super::{Human, Output, Report, TestCase, TestSuite};
+use super::junit::{TestCase, TestSuite};
+use super::report::{Human, Report};
 use crate::ops::failure::Failure;
 use crate::ops::network::{
     Applied, BaudSwitched, Checked, Dumped, NodeApplied, NodeCheck, NodeResult, Outcome, PROJECT_FILE,
 };
-use crate::ops::{ItemEnd, Progress};
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// A network project's warnings (a DCF that deviates, a node listed twice), as lines on stderr.
@@ -45,7 +43,7 @@ impl Report for DumpReport<'_> {
             .nodes
             .iter()
             .map(|n| vec![n.node.to_string(), n.name.clone(), n.file.clone(), n.objects.to_string()]);
-        Human::Table { headers: vec!["node", "name", "file", "objects"], rows: rows.collect(), when_empty: true }
+        Human::table(&["node", "name", "file", "objects"], rows.collect())
     }
 
     fn notes(&self) -> Vec<String> {
@@ -65,7 +63,8 @@ impl Report for DumpReport<'_> {
     }
 }
 
-fn node_label(node: u8, name: &str) -> String {
+/// `node 5 (name)`, or `node 5` without a name.
+pub(super) fn node_label(node: u8, name: &str) -> String {
     if name.is_empty() {
         format!("node {node}")
     } else {
@@ -97,9 +96,7 @@ impl Report for Checked {
         let mut v = serde_json::to_value(self).expect("reports serialise");
         if let Some(nodes) = v["nodes"].as_array_mut() {
             for (json, n) in nodes.iter_mut().zip(&self.nodes) {
-                for (json, c) in json["checks"].as_array_mut().into_iter().flatten().zip(&n.checks) {
-                    json["detail"] = detail_text(c).into();
-                }
+                super::verdicts::word_details(&mut json["checks"], &n.checks, detail_text);
             }
         }
         v
@@ -123,7 +120,7 @@ impl Report for Checked {
                 format!("answers, but the project does not list it ({t})"),
             ]);
         }
-        Human::Table { headers: vec!["node", "name", "check", "result", "detail"], rows, when_empty: true }
+        Human::table(&["node", "name", "check", "result", "detail"], rows)
     }
 
     fn notes(&self) -> Vec<String> {
@@ -157,16 +154,16 @@ impl Report for Checked {
                 });
             }
         }
-        let unlisted: Vec<String> = self.unlisted.iter().map(|u| u.node.to_string()).collect();
+        let unlisted = super::text::joined(self.unlisted.iter().map(|u| u.node), ", ");
         cases.push(TestCase {
             class: "network".into(),
             name: "no unlisted nodes".into(),
             detail: if unlisted.is_empty() {
                 "every node that answers is in the project".into()
             } else {
-                format!("node(s) {} answer but are not in the project", unlisted.join(", "))
+                format!("node(s) {unlisted} answer but are not in the project")
             },
-            failure: (!unlisted.is_empty()).then(|| format!("{} unlisted node(s)", unlisted.len())),
+            failure: (!self.unlisted.is_empty()).then(|| format!("{} unlisted node(s)", self.unlisted.len())),
         });
         cases.push(TestCase {
             class: "network".into(),
@@ -189,7 +186,7 @@ impl Report for Applied {
                 node_result_words(n, super::hints::failure_text),
             ]
         });
-        Human::Table { headers: vec!["node", "name", "written", "result"], rows: rows.collect(), when_empty: true }
+        Human::table(&["node", "name", "written", "result"], rows.collect())
     }
 
     fn json_value(&self) -> serde_json::Value {
@@ -221,29 +218,25 @@ impl Report for Applied {
             notes.push(format!("{} object(s) {verb} on {written_to} of {} node(s)", self.written, self.nodes.len()));
         }
         if !self.unlisted.is_empty() {
-            let list: Vec<String> = self.unlisted.iter().map(|u| u.node.to_string()).collect();
             notes.push(format!(
                 "node(s) {} answer but are not in the project: the network does not match it (add them, or take them off the bus)",
-                list.join(", ")
+                super::text::joined(self.unlisted.iter().map(|u| u.node), ", ")
             ));
         }
-        let count = |o: Outcome| self.nodes.iter().filter(|n| n.outcome == o).count();
-        let stopped = count(Outcome::StoppedPartWay);
-        if stopped > 0 {
-            notes.push(format!(
-                "interrupted: {stopped} node(s) stopped part-way, each at a point between two transfers (see its \
-                 result for what was written and the state it is left in)"
-            ));
-        }
-        let unchanged = count(Outcome::StoppedUnchanged);
-        if unchanged > 0 {
-            notes.push(format!("interrupted: {unchanged} node(s) stopped before anything was written, as they were"));
-        }
-        let not_begun = count(Outcome::NotBegun);
-        if not_begun > 0 {
-            notes.push(format!(
-                "interrupted: {not_begun} node(s) not begun; the same command finishes the job (only what differs is written)"
-            ));
+        let interrupted = [
+            (
+                Outcome::StoppedPartWay,
+                "stopped part-way, each at a point between two transfers (see its result for what was written and \
+                 the state it is left in)",
+            ),
+            (Outcome::StoppedUnchanged, "stopped before anything was written, as they were"),
+            (Outcome::NotBegun, "not begun; the same command finishes the job (only what differs is written)"),
+        ];
+        for (outcome, what) in interrupted {
+            match self.nodes.iter().filter(|n| n.outcome == outcome).count() {
+                0 => {}
+                count => notes.push(format!("interrupted: {count} node(s) {what}")),
+            }
         }
         notes
     }
@@ -416,7 +409,7 @@ impl Report for SetBaudReport<'_> {
                 ]
             })
             .collect();
-        parts.push(Human::Table { headers: vec!["node", "name", "before", "after", "result"], rows, when_empty: true });
+        parts.push(Human::table(&["node", "name", "before", "after", "result"], rows));
         Human::Parts(parts)
     }
 
@@ -424,8 +417,11 @@ impl Report for SetBaudReport<'_> {
         let r = self.switched;
         let mut notes = vec![format!("expected nodes from {}", r.expected_from)];
         if !r.unexpected.is_empty() {
-            let list: Vec<String> = r.unexpected.iter().map(|n| n.to_string()).collect();
-            notes.push(format!("node(s) {} answer at {} but were not expected", list.join(", "), r.rate));
+            notes.push(format!(
+                "node(s) {} answer at {} but were not expected",
+                super::text::joined(&r.unexpected, ", "),
+                r.rate
+            ));
         }
         match r.unconfigured_after {
             Some(after) if after != r.unconfigured_before => notes.push(format!(
@@ -438,92 +434,13 @@ impl Report for SetBaudReport<'_> {
             notes.push(format!("{}: Baudrate set to {}", p.display(), r.rate));
         }
         if !self.left.is_empty() {
-            let list: Vec<String> = self.left.iter().map(|n| n.to_string()).collect();
             notes.push(format!(
                 "the DCF(s) of node(s) {} left at their rate: not heard at {}",
-                list.join(", "),
+                super::text::joined(self.left, ", "),
                 r.rate
             ));
         }
         notes
-    }
-}
-
-/// Progress of a network procedure on a terminal: the phase's bar, and under it one line
-/// per node under way (its transfers so far, then its result), cleared at the end. Nothing
-/// is drawn when stderr is not a terminal or with --quiet.
-pub(crate) struct NodeBars<'a> {
-    out: &'a Output,
-    multi: MultiProgress,
-    phase: Option<ProgressBar>,
-    nodes: BTreeMap<String, ProgressBar>,
-}
-
-impl<'a> NodeBars<'a> {
-    pub fn new(out: &'a Output) -> NodeBars<'a> {
-        let target = if out.progress { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
-        NodeBars { out, multi: MultiProgress::with_draw_target(target), phase: None, nodes: BTreeMap::new() }
-    }
-
-    /// The line of `item`, added under the others the first time.
-    fn line(&mut self, item: &str) -> &ProgressBar {
-        let multi = &self.multi;
-        self.nodes.entry(item.to_string()).or_insert_with(|| {
-            let bar = multi.add(ProgressBar::new_spinner());
-            bar.set_style(ProgressStyle::with_template("  {prefix:<9} {spinner} {wide_msg}").expect("valid template"));
-            bar.set_prefix(item.to_string());
-            bar
-        })
-    }
-
-    fn clear(&mut self) {
-        for (_, bar) in std::mem::take(&mut self.nodes) {
-            bar.finish_and_clear();
-        }
-        if let Some(bar) = self.phase.take() {
-            bar.finish_and_clear();
-        }
-    }
-}
-
-impl Progress for NodeBars<'_> {
-    fn start(&mut self, what: &str, len: u64) {
-        self.clear();
-        self.phase = Some(self.multi.add(self.out.bar(len, what)));
-    }
-    fn advance(&mut self, done: u64) {
-        if let Some(bar) = &self.phase {
-            bar.set_position(done);
-        }
-    }
-    fn finish(&mut self) {
-        self.clear();
-    }
-    fn event(&mut self, event: crate::ops::Event) {
-        let line = crate::output::event_line(&event);
-        self.multi.suspend(|| self.out.note(&line));
-    }
-    fn item(&mut self, item: &str, status: crate::ops::ItemStatus) {
-        if !self.out.progress {
-            return;
-        }
-        let status = crate::output::item_status_text(status);
-        let bar = self.line(item);
-        bar.set_message(status);
-        bar.tick();
-    }
-    fn item_ended(&mut self, item: &str, end: ItemEnd<'_>) {
-        if !self.out.progress {
-            return;
-        }
-        let text = crate::output::terminal_safe(&super::item_end_text(&end)).into_owned();
-        self.line(item).finish_with_message(text);
-    }
-}
-
-impl Drop for NodeBars<'_> {
-    fn drop(&mut self) {
-        self.clear();
     }
 }
 

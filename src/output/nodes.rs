@@ -1,6 +1,6 @@
 //! How the reports of scan, sdo and nmt look to people and in CSV.
 
-use super::{Human, Report};
+use super::report::{Human, Report};
 use crate::bus::ALL_NODES;
 use crate::canopen::types::{hex, obvious_unsigned};
 use crate::ops::nmt::{target_text, NodeState, Reset, SeenBy, Sent, Unconfirmed};
@@ -10,13 +10,13 @@ use crate::ops::sdo::{self, Read, Saved, Written};
 /// The nodes found, one row each.
 fn scan_table(scan: &Scan) -> Human {
     let hex = |v: Option<u32>| v.map_or("-".to_string(), |v| format!("0x{v:08X}"));
-    let headers = vec!["node", "device_type", "vendor_id", "product_code", "revision", "serial", "name", "state"];
+    let headers = ["node", "device_type", "vendor_id", "product_code", "revision", "serial", "name", "state"];
     let rows = scan.nodes.iter().map(|f| {
         let identity = [f.device_type, f.vendor_id, f.product_code, f.revision, f.serial].map(hex);
         let (name, state) = (f.name.clone().unwrap_or_else(|| "-".into()), f.state.map_or("unknown", |s| s.name()));
         [vec![f.node.to_string()], identity.to_vec(), vec![name, state.into()]].concat()
     });
-    Human::Table { headers, rows: rows.collect(), when_empty: true }
+    Human::table(&headers, rows.collect())
 }
 
 /// A part of a scan, as canctl names it.
@@ -59,10 +59,8 @@ impl Report for Scan {
 /// A scan's count, table and remarks; the count names `bus` when given (alone: "4 node(s)
 /// on sim").
 fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
-    let count = match bus {
-        Some(bus) => format!("{} node(s) on {bus}", scan.nodes.len()),
-        None => format!("{} node(s)", scan.nodes.len()),
-    };
+    let count = format!("{} node(s)", scan.nodes.len());
+    let count = bus.map_or_else(|| count.clone(), |bus| format!("{count} on {bus}"));
     let mut parts = vec![Human::Note(count), scan_table(scan)];
     // Interrupted before the states were learned: the note at the end says so.
     for f in scan.nodes.iter().filter(|f| f.state.is_none() && f.state_from != StateFrom::NotAsked) {
@@ -129,7 +127,7 @@ fn scan_human(scan: &Scan, bus: Option<&str>) -> Human {
         parts.push(Human::Note(format!(
             "scan interrupted, incomplete: {} node(s) found so far; not done: {}; nothing was changed on the devices",
             scan.nodes.len(),
-            scan.not_done.iter().map(|p| phase_text(*p)).collect::<Vec<_>>().join(", ")
+            super::text::joined(scan.not_done.iter().map(|p| phase_text(*p)), ", ")
         )));
     }
     Human::Parts(parts)
@@ -147,16 +145,11 @@ pub(super) fn not_there_text(node: u8) -> String {
 /// What to do about two devices on one node-id (`ops::clash::Clash`), as canctl says it.
 pub(crate) const CLASH_REMEDY: &str = "; give one of them another id (lss set-id NEW --identity ...)";
 
-/// One row under its headers, for CSV.
-fn row(headers: Vec<&'static str>, row: Vec<String>) -> Human {
-    Human::Table { headers, rows: vec![row], when_empty: true }
-}
-
 impl Report for Read {
     fn human(&self) -> Human {
         // What the device sent is one value: a line break in it is shown, not obeyed.
         Human::Line(match (&self.value, self.dtype) {
-            (Some(v), Some(_)) => super::terminal_safe(&v.to_string()).into_owned(),
+            (Some(v), Some(_)) => super::text::terminal_safe(&v.to_string()).into_owned(),
             _ => untyped(&self.bytes),
         })
     }
@@ -165,14 +158,13 @@ impl Report for Read {
         let (dtype, value) = (self.dtype.map_or("", |t| t.name()), self.value.as_ref().map(|v| v.to_string()));
         let values = [self.node.to_string(), self.object.to_string(), dtype.into(), self.size.to_string()];
         let values = [values.to_vec(), vec![hex(&self.bytes), value.unwrap_or_default()]].concat();
-        row(vec!["node", "object", "type", "size", "raw", "value"], values)
+        Human::table(&["node", "object", "type", "size", "raw", "value"], vec![values])
     }
 }
 
 /// Raw bytes, then what they obviously are: `92 01 02 00  (u32 131474 = 0x00020192)`.
 fn untyped(bytes: &[u8]) -> String {
-    let spaced: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
-    let mut s = spaced.join(" ");
+    let mut s = super::text::joined(bytes.iter().map(|b| format!("{b:02X}")), " ");
     if let Some(v) = obvious_unsigned(bytes) {
         let width = bytes.len() * 2;
         s += &format!("  (u{} {v} = 0x{v:0width$X})", bytes.len() * 8);
@@ -191,7 +183,7 @@ impl Report for Saved {
 
     fn csv(&self) -> Human {
         let values = vec![self.node.to_string(), self.object.to_string(), self.size.to_string(), self.file.clone()];
-        row(vec!["node", "object", "size", "file"], values)
+        Human::table(&["node", "object", "size", "file"], vec![values])
     }
 }
 
@@ -210,7 +202,7 @@ impl Report for Written {
         let (node, object, dtype) = (self.node.to_string(), self.object.to_string(), self.dtype.name().to_string());
         let value = sdo::shown(self.dtype, &self.bytes);
         let values = vec![node, object, dtype, self.size.to_string(), value, self.verified.to_string()];
-        row(vec!["node", "object", "type", "size", "value", "verified"], values)
+        Human::table(&["node", "object", "type", "size", "value", "verified"], vec![values])
     }
 }
 
@@ -222,8 +214,7 @@ impl Report for Sent {
     fn csv(&self) -> Human {
         // The target as in JSON: 5, or "all" with its quotes.
         let target = if self.target == ALL_NODES { "\"all\"".into() } else { self.target.to_string() };
-        let rows = vec![vec![self.command.name().into(), target, "true".into()]];
-        Human::Table { headers: vec!["command", "target", "sent"], rows, when_empty: true }
+        Human::table(&["command", "target", "sent"], vec![vec![self.command.name().into(), target, "true".into()]])
     }
 }
 
@@ -232,17 +223,17 @@ impl Report for Reset {
         let (command, target) = (self.command.name(), target_text(self.target));
         Human::Line(match (&self.booted, &self.why) {
             (Some(nodes), _) => {
-                let list: Vec<String> = nodes.iter().map(|n| n.to_string()).collect();
                 let (state, how) =
                     (self.state.map_or("", |s| s.name()), self.seen_by.map(seen_by_text).unwrap_or_default());
-                format!("booted after NMT {command}: node {} (now {state}; seen by {how})", list.join(", "))
-            }
-            (None, why) => {
                 format!(
-                    "NMT {command} sent to {target}; not confirmed: {}",
-                    why.as_ref().map(unconfirmed_text).unwrap_or_default()
+                    "booted after NMT {command}: node {} (now {state}; seen by {how})",
+                    super::text::joined(nodes, ", ")
                 )
             }
+            (None, why) => format!(
+                "NMT {command} sent to {target}; not confirmed: {}",
+                why.as_ref().map(unconfirmed_text).unwrap_or_default()
+            ),
         })
     }
 
@@ -269,8 +260,7 @@ impl Report for Reset {
     fn csv(&self) -> Human {
         let Some(nodes) = &self.booted else { return self.human() };
         let state = self.state.map_or("", |s| s.name());
-        let rows = nodes.iter().map(|n| vec![n.to_string(), state.into()]).collect();
-        Human::Table { headers: vec!["node", "state"], rows, when_empty: true }
+        Human::table(&["node", "state"], nodes.iter().map(|n| vec![n.to_string(), state.into()]).collect())
     }
 }
 
@@ -312,8 +302,10 @@ impl Report for NodeState {
     }
 
     fn csv(&self) -> Human {
-        let rows = vec![vec![self.node.to_string(), self.state.name().into(), self.source.to_string()]];
-        Human::Table { headers: vec!["node", "state", "source"], rows, when_empty: true }
+        Human::table(
+            &["node", "state", "source"],
+            vec![vec![self.node.to_string(), self.state.name().into(), self.source.to_string()]],
+        )
     }
 }
 

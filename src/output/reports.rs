@@ -1,8 +1,8 @@
 //! How the reports of settings, store/restore, config, monitor and the simulator look to
 //! people.
 
-use super::stopped::Stopped;
-use super::{time_of_day, Human, Line, Report};
+use super::report::{Human, Line, Report};
+use super::text::time_of_day;
 use crate::ops::config::{Applied, Change, Diff};
 use crate::ops::monitor::{Event, Summary};
 use crate::ops::store::{Restored, Stored};
@@ -21,7 +21,7 @@ impl Report for SettingsReport {
             vec!["timeout".into(), format!("{} ms", self.timeout_ms), self.timeout_from.clone()],
         ];
         rows.extend(self.eds.iter().map(|e| vec![format!("eds ({})", e.node), e.file.clone(), e.from.clone()]));
-        Human::Table { headers: vec!["setting", "value", "from"], rows, when_empty: true }
+        Human::table(&["setting", "value", "from"], rows)
     }
 
     fn notes(&self) -> Vec<String> {
@@ -67,21 +67,6 @@ pub fn sentence(report: &impl Report) -> Option<String> {
     match report.human() {
         Human::Line(text) => Some(text),
         _ => None,
-    }
-}
-
-impl Report for Stopped {
-    /// Nothing on stdout, where the result would have been: the report is said on stderr.
-    fn human(&self) -> Human {
-        Human::Parts(Vec::new())
-    }
-
-    fn notes(&self) -> Vec<String> {
-        let list = |v: &[String]| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
-        vec![
-            format!("{} interrupted: done {}; not done {}", self.command, list(&self.done), list(&self.not_done)),
-            self.state.clone(),
-        ]
     }
 }
 
@@ -152,28 +137,24 @@ impl Report for Diff {
     }
 }
 
-/// One row per object: the same in the table and in CSV.
-fn applied_rows(applied: &Applied) -> Vec<Vec<String>> {
-    let row = |r: &Change| {
-        let result = super::hints::change_result_text(&r.result);
-        vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), result]
-    };
-    applied.objects.iter().map(row).collect()
-}
-
 impl Report for Applied {
     fn human(&self) -> Human {
-        let rows = applied_rows(self);
         if self.objects.is_empty() && !self.interrupted {
             // A header over no rows says nothing: say so in words.
             return Human::Line(format!("nothing to change: node {} already matches {}", self.node, self.file));
         }
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: false }
+        self.csv()
     }
 
+    /// One row per object: the same in the table and in CSV (which shows its header alone
+    /// when there are none).
     fn csv(&self) -> Human {
-        let rows = applied_rows(self);
-        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: true }
+        let row = |r: &Change| {
+            let result = super::hints::change_result_text(&r.result);
+            vec![r.object.to_string(), r.name.clone(), r.old.clone(), r.new.clone(), result]
+        };
+        let rows = self.objects.iter().map(row).collect();
+        Human::Table { headers: vec!["object", "name", "old", "new", "result"], rows, when_empty: false }
     }
 
     fn json_value(&self) -> serde_json::Value {
@@ -199,16 +180,13 @@ impl Report for Applied {
 /// written, what was not, what was put back, and the state the device is left in, a
 /// sentence each.
 pub(crate) fn incomplete_lines(incomplete: &crate::ops::config::Incomplete) -> Vec<String> {
-    let list = |v: Vec<String>| if v.is_empty() { "nothing".to_string() } else { v.join(", ") };
     let mut out = Vec::new();
     if let Some(cut) = &incomplete.cut {
-        let done: Vec<String> = cut.written.iter().map(|w| w.to_string()).collect();
-        let not: Vec<String> = cut.not_written.iter().map(|w| w.to_string()).collect();
         out.push(format!(
             "interrupted after {} write(s): written {}; not written {}",
-            done.len(),
-            list(done),
-            list(not)
+            cut.written.len(),
+            super::text::listed(&cut.written, "nothing"),
+            super::text::listed(&cut.not_written, "nothing")
         ));
     }
     for pdo in &incomplete.rolled_back {
@@ -243,14 +221,11 @@ pub(crate) fn left_in_text(left: &crate::ops::config::LeftIn) -> String {
     let mut s = match (new.is_empty(), interim) {
         (true, false) => format!("node {node} is as it was before the run"),
         (true, true) => format!("node {node} holds none of the file's values"),
-        (false, _) => {
-            let new: Vec<String> = new.iter().map(|a| a.to_string()).collect();
-            format!(
-                "node {node} holds the file's values for {} of {of} object(s) ({}), its previous values for the rest",
-                new.len(),
-                new.join(", ")
-            )
-        }
+        (false, _) => format!(
+            "node {node} holds the file's values for {} of {of} object(s) ({}), its previous values for the rest",
+            new.len(),
+            super::text::joined(new, ", ")
+        ),
     };
     if rollback_failed || interim {
         s.push_str("; a PDO is left unusable: see the writes above");
@@ -275,8 +250,7 @@ pub fn applied_failure_note(report: &Applied) -> Option<String> {
     if report.interrupted {
         return None;
     }
-    let done: Vec<String> = report.written.iter().map(|w| w.to_string()).collect();
-    Some(format!("written before the failure: {}", if done.is_empty() { "nothing".into() } else { done.join(", ") }))
+    Some(format!("written before the failure: {}", super::text::listed(&report.written, "nothing")))
 }
 
 impl Line for Event {
@@ -320,13 +294,12 @@ impl Line for Summary {
 
     fn text(&self) -> String {
         let cobs: Vec<String> = self.per_cob_id.iter().map(|(c, n)| format!("{c:03X}×{n}")).collect();
-        let list: Vec<String> = self.nodes.iter().map(|n| n.to_string()).collect();
         format!(
             "{} frame(s) in {:.1} s; per COB-ID: {}; nodes seen: {}; EMCYs: {}",
             self.frames(),
             self.elapsed.as_secs_f64(),
             if cobs.is_empty() { "-".into() } else { cobs.join(" ") },
-            if list.is_empty() { "-".into() } else { list.join(", ") },
+            super::text::listed(&self.nodes, "-"),
             self.emcy
         ) + if self.interrupted { " (interrupted; nothing was sent to the bus)" } else { "" }
     }

@@ -5,14 +5,18 @@
 
 use std::io::Write;
 
+/// `text` on `out`, a line break added when it has none, flushed (stdout's results too).
+pub(crate) fn write_line(out: &mut impl Write, text: &str) -> std::io::Result<()> {
+    out.write_all(text.as_bytes())?;
+    if !text.ends_with('\n') {
+        out.write_all(b"\n")?;
+    }
+    out.flush()
+}
+
 /// `text` on stderr, a line break added when it has none.
 pub fn write(text: &str) -> std::io::Result<()> {
-    let mut err = std::io::stderr().lock();
-    err.write_all(text.as_bytes())?;
-    if !text.ends_with('\n') {
-        err.write_all(b"\n")?;
-    }
-    err.flush()
+    write_line(&mut std::io::stderr().lock(), text)
 }
 
 /// A diagnostic on stderr, dropped when it cannot be written: a note nobody can read is no

@@ -1,7 +1,9 @@
 //! What a command the user stopped says it did and did not do, and the state it leaves;
 //! the command then ends as an interruption (exit 130).
 
-use super::{sentence, Each, Output, Report};
+use super::command_error::CommandResult;
+use super::report::{Human, Output, Report};
+use super::reports::{sentence, Each};
 use crate::canopen::ObjAddr;
 use crate::ops::store_all::{EachNode, Ended, StoppedBefore};
 use crate::Error;
@@ -35,24 +37,33 @@ impl Stopped {
     }
 }
 
+impl Report for Stopped {
+    /// Nothing on stdout, where the result would have been: the report is said on stderr.
+    fn human(&self) -> Human {
+        Human::Parts(Vec::new())
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let list = |v: &[String]| super::text::listed(v, "nothing");
+        vec![
+            format!("{} interrupted: done {}; not done {}", self.command, list(&self.done), list(&self.not_done)),
+            self.state.clone(),
+        ]
+    }
+}
+
 /// Say `report`, then end as an interruption.
-fn said(out: &Output, report: &Stopped) -> crate::output::CommandResult {
+fn said<T>(out: &Output, report: &Stopped) -> CommandResult<T> {
     out.report(report)?;
     Err(Error::Interrupted.into())
 }
 
 /// What a read-only command read, or, stopped part-way (`not_done`: what it was reading),
 /// its report saying so and an interruption; any other error as it is.
-pub(crate) fn read<R>(
-    out: &Output,
-    command: &str,
-    not_done: String,
-    read: crate::Result<R>,
-) -> crate::output::CommandResult<R> {
+pub(crate) fn read<R>(out: &Output, command: &str, not_done: String, read: crate::Result<R>) -> CommandResult<R> {
     match read {
         Err(e) if e.is_interrupted() => {
-            out.report(&Stopped::new(command, Vec::new(), vec![not_done], NOTHING_CHANGED.into()))?;
-            Err(Error::Interrupted.into())
+            said(out, &Stopped::new(command, Vec::new(), vec![not_done], NOTHING_CHANGED.into()))
         }
         read => Ok(read?),
     }
@@ -69,7 +80,7 @@ fn not_written(file: Option<&Path>, what: &str) -> String {
 }
 
 /// An NMT command stopped by the user before it went out; any other error as it is.
-pub(crate) fn nmt_not_sent(out: &Output, name: &str, target: u8, e: Error) -> crate::output::CommandResult {
+pub(crate) fn nmt_not_sent(out: &Output, name: &str, target: u8, e: Error) -> CommandResult {
     if !e.is_interrupted() {
         return Err(e.into());
     }
@@ -87,7 +98,7 @@ pub(crate) fn sdo(
     (node, object, write): (u8, ObjAddr, bool),
     file: Option<&Path>,
     e: Error,
-) -> crate::output::CommandResult {
+) -> CommandResult {
     let Some(mut report) = sdo_stopped(node, object, write, &e) else { return Err(e.into()) };
     if let Some(path) = file {
         let old = if path.exists() { "the old file is unchanged" } else { "nothing written" };
@@ -167,7 +178,7 @@ fn node_stop_report(stop: StoppedBefore) -> Stopped {
 
 /// `config eds` stopped while reading the node's stored EDS; `e` (the interruption) is
 /// returned as it is.
-pub(crate) fn config_eds(out: &Output, node: u8, file: Option<&Path>, e: Error) -> crate::output::CommandResult {
+pub(crate) fn config_eds(out: &Output, node: u8, file: Option<&Path>, e: Error) -> CommandResult {
     let not_done = vec![format!("reading node {node}'s EDS (0x1021)"), not_written(file, "EDS")];
     out.report(&Stopped::new("config eds", vec![], not_done, NOTHING_CHANGED.into()))?;
     Err(e.into())
@@ -175,13 +186,7 @@ pub(crate) fn config_eds(out: &Output, node: u8, file: Option<&Path>, e: Error) 
 
 /// `config dump` stopped after `objects` of the `wanted` objects (0: before the profile was
 /// read).
-pub(crate) fn config_dump(
-    out: &Output,
-    node: u8,
-    objects: usize,
-    wanted: usize,
-    file: Option<&Path>,
-) -> crate::output::CommandResult {
+pub(crate) fn config_dump(out: &Output, node: u8, objects: usize, wanted: usize, file: Option<&Path>) -> CommandResult {
     let read = match wanted {
         0 => format!("node {node}'s profile not read yet"),
         wanted => format!("read {objects} of {wanted} objects of node {node}"),
@@ -198,7 +203,7 @@ pub(crate) fn each_node<R: Report + serde::Serialize>(
     command: &str,
     nodes: &[u8],
     run: EachNode<R>,
-) -> crate::output::CommandResult {
+) -> CommandResult {
     let EachNode { done, ended } = run;
     let i = done.len();
     match ended {
@@ -214,8 +219,7 @@ pub(crate) fn each_node<R: Report + serde::Serialize>(
         Some(Ended::Failed(e)) => {
             if !done.is_empty() {
                 out.report(&Each(done))?;
-                let list: Vec<String> = nodes[i..].iter().map(|n| n.to_string()).collect();
-                out.note(&format!("{command} not done on node {}", list.join(", ")));
+                out.note(&format!("{command} not done on node {}", super::text::joined(&nodes[i..], ", ")));
             }
             Err(e.into())
         }

@@ -1,7 +1,7 @@
 //! Tables for people: plain aligned columns, fitted to the terminal's width by dropping
 //! the columns least needed first, then by wrapping cells.
 
-use super::terminal_safe;
+use super::text::terminal_safe;
 use comfy_table::{presets, Table};
 
 /// The terminal's width in columns: `COLUMNS` when set (as `ls` and `ps` take it), else

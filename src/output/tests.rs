@@ -1,5 +1,10 @@
+use super::junit::junit_xml;
+use super::table::fitted;
+use super::text::terminal_safe;
 use super::*;
 use crate::canopen::pdo::Field;
+use crate::canopen::pdo::Layout;
+use crate::canopen::types::Value;
 use crate::canopen::DataType;
 
 /// Seed 001's TPDO1: position (0x6020:1, 32 bits) and speed (0x6030:1, 16 bits).

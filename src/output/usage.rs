@@ -67,13 +67,7 @@ pub enum UsageError {
 /// Why a command that needs a bus has none, how to name one, and the CAN `interfaces` and
 /// serial `ports` this machine has (the caller lists them: output does no I/O of the bus's).
 fn no_bus_text(interfaces: &[String], ports: &[String]) -> String {
-    let list = |v: &[String]| {
-        if v.is_empty() {
-            "none found".to_string()
-        } else {
-            v.join(", ")
-        }
-    };
+    let list = |v: &[String]| super::text::listed(v, "none found");
     format!(
         "no bus given: pass --bus URI, set CANCTL_BUS, or put bus = \"...\" in canctl.toml\n  \
          CAN interfaces here: {}\n  \

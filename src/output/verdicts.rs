@@ -40,8 +40,7 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
         Finding::EmcyUnwatched => "not watched: this link shows no traffic".into(),
         Finding::NoEmcy { watched_ms } => format!("none in {watched_ms} ms"),
         Finding::Emcys { seen } => {
-            let described: Vec<String> = seen.iter().map(|e| format!("0x{:04X} {}", e.code, e.meaning)).collect();
-            described.join("; ")
+            super::text::joined(seen.iter().map(|e| format!("0x{:04X} {}", e.code, e.meaning)), "; ")
         }
         Finding::StatuswordUnread { error } => format!("statusword 0x6041 could not be read: {error}"),
         Finding::StatuswordShort => "statusword 0x6041 answered with too few bytes".into(),
@@ -62,28 +61,33 @@ pub(crate) fn finding_text(verdict: &Verdict) -> String {
             format!("node {node} did not answer any of {rounds} probes of {window_ms} ms")
         }
         Finding::IdentityMatches { parts } => {
-            let seen: Vec<String> = parts.iter().map(|p| format!("{} {}", p.what, p.device_text())).collect();
-            seen.join(", ")
+            super::text::joined(parts.iter().map(|p| format!("{} {}", p.what, p.device_text())), ", ")
         }
         Finding::IdentityUnnamed { file } => format!("{file} names no vendor-ID or product code: not compared"),
         Finding::IdentityDiffers { differ, file } => {
-            let differ: Vec<String> =
-                differ.iter().map(|p| format!("{} {}, 0x{:08X} in {file}", p.what, p.device_text(), p.file)).collect();
-            format!("another device: {}", differ.join(", "))
+            let differ = differ.iter().map(|p| format!("{} {}, 0x{:08X} in {file}", p.what, p.device_text(), p.file));
+            format!("another device: {}", super::text::joined(differ, ", "))
         }
         Finding::ObjectsMatch { file } => format!("every writable object as in {file}"),
         Finding::ObjectsDiffer { file } => {
-            let list: Vec<String> = verdict
-                .differences
-                .iter()
-                .map(|d| format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file))
-                .collect();
-            format!("{} object(s) differ from {file}: {}", verdict.differences.len(), list.join("; "))
+            let each = |d: &crate::ops::config::Difference| {
+                format!("{} {}: {} on the node, {} in the file", d.object, d.name, d.device, d.file)
+            };
+            let list = super::text::joined(verdict.differences.iter().map(each), "; ");
+            format!("{} object(s) differ from {file}: {list}", verdict.differences.len())
         }
         Finding::NetworkState { state, from, want } => format!("{state} (from its {from}), {want} expected"),
         Finding::NoNetworkState { want } => {
             format!("no heartbeat seen and no answer to node guarding; {want} expected")
         }
+    }
+}
+
+/// The JSON of `checks` (an array, as they serialise), each `detail` worded by `text` in its
+/// place (with its remedy).
+pub(crate) fn word_details(json: &mut serde_json::Value, checks: &[Verdict], text: fn(&Verdict) -> String) {
+    for (json, c) in json.as_array_mut().into_iter().flatten().zip(checks) {
+        json["detail"] = text(c).into();
     }
 }
 
