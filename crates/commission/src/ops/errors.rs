@@ -14,7 +14,7 @@ use std::time::Duration;
 const MAX_NAME: usize = 64;
 
 /// What `canctl errors` found on a node.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct ErrorHistory {
     /// The node-id.
     pub node: u8,
@@ -76,13 +76,9 @@ pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Re
         node,
         name: origin.name.clone(),
         kept: true,
-        count: None,
-        entries: Vec::new(),
-        unreadable: Vec::new(),
         error_register: register,
         error_register_bits: register.map(emcy::register_bits).unwrap_or_default(),
-        cleared: false,
-        clear_interrupted: None,
+        ..ErrorHistory::default()
     };
     match count {
         Ok(bytes) => report.count = u8_of(&bytes),

@@ -71,7 +71,7 @@ pub struct Health {
 }
 
 /// One node's health: what it showed, and each check's verdict.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 #[non_exhaustive]
 pub struct NodeHealth {
     /// The node-id.
@@ -171,6 +171,11 @@ pub(crate) fn watch_for(periods: impl Iterator<Item = Duration>) -> Duration {
     (slowest * 2 + HEARTBEAT_SLACK).clamp(MIN_WATCH, MAX_WATCH)
 }
 
+/// The node's heartbeat period (0x1017), when it produces one.
+fn period(n: &scan::Node) -> Option<Duration> {
+    n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()))
+}
+
 /// What the watch saw of one node.
 #[derive(Default)]
 struct Watched {
@@ -230,24 +235,13 @@ struct Read {
     statusword: Option<Result<Vec<u8>>>,
 }
 
-/// The COB-ID the node sends its EMCYs on: [`Read::emcy_cob`], the default 0x80 + node
-/// where nothing was read.
+/// The COB-ID the node sends its EMCYs on (0x1014 as read, else the default 0x80 + node);
+/// `None` when it says it sends none (bit 31).
 fn emcy_cob(read: Option<&Read>, node: u8) -> Option<u16> {
-    match read {
-        Some(r) => r.emcy_cob(node),
-        None => Some(0x80 + u16::from(node)),
-    }
-}
-
-impl Read {
-    /// The COB-ID the node sends its EMCYs on (0x1014, else the default 0x80 + node);
-    /// `None` when it says it sends none (bit 31).
-    fn emcy_cob(&self, node: u8) -> Option<u16> {
-        match self.emcy_cob.as_ref().ok().filter(|b| b.len() >= 4).map(|b| le_u32(b)) {
-            Some(cob) if cob & 0x8000_0000 != 0 => None,
-            Some(cob) => Some((cob & 0x7FF) as u16),
-            None => Some(emcy::cob(node)),
-        }
+    match read.and_then(|r| r.emcy_cob.as_ref().ok()).filter(|b| b.len() >= 4).map(|b| le_u32(b)) {
+        Some(cob) if cob & 0x8000_0000 != 0 => None,
+        Some(cob) => Some((cob & 0x7FF) as u16),
+        None => Some(emcy::cob(node)),
     }
 }
 
@@ -284,7 +278,6 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
 pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress) -> Result<Health> {
     let found = scan::scan_against(bus, &ScanOptions { window: o.window, timeout: o.timeout }, &o.last_seen, progress)?;
     let reads = read_objects(bus, &found.nodes, o.timeout)?;
-    let period = |n: &scan::Node| n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()));
     let watch = if bus.sees_traffic() {
         o.watch.unwrap_or_else(|| watch_for(found.nodes.iter().filter_map(period)))
     } else {
@@ -302,11 +295,12 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
         .zip(reads)
         .map(|(n, read)| judge_node(n, read, seen.remove(&n.node), watch, o.state))
         .collect();
-    let answered: Vec<u8> = found.nodes.iter().filter(|n| n.answers_sdo).map(|n| n.node).collect();
+    let answered = found.nodes.iter().filter(|n| n.answers_sdo).map(|n| n.node).collect();
+    let probe = Evidence::ProbeAnswers { nodes: answered, waited_ms: o.timeout.as_millis() as u64 };
     for (h, n) in nodes.iter_mut().zip(&found.nodes) {
-        h.diagnosis = diagnose(n, h, &answered, o.timeout);
+        h.diagnosis = diagnose(n, h, &probe);
     }
-    nodes.extend(found.gone.iter().map(|g| gone(g, &answered, o.timeout)));
+    nodes.extend(found.gone.iter().map(|g| gone(g, &probe)));
     nodes.sort_by_key(|n| n.node);
     // Two devices on one node-id: whatever else that node's answers say, they are not one
     // device's.
@@ -331,7 +325,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
 /// Why a node the scan saw is silent to SDO, from what the scan and the watch showed (the
 /// one listen all nodes share; nothing asked of the bus): its state (stopped: it serves no
 /// SDO; another: its SDO server is elsewhere or off), else only that it is silent.
-fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) -> Option<doctor::Finding> {
+fn diagnose(n: &scan::Node, h: &NodeHealth, probe: &Evidence) -> Option<doctor::Finding> {
     if n.answers_sdo {
         return None;
     }
@@ -341,31 +335,18 @@ fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) 
         (_, Some(state)) => Some((state, Evidence::ScanState { node, state, from: n.state_from })),
         (_, None) => None,
     };
-    let probe = Evidence::ProbeAnswers { nodes: answered.to_vec(), waited_ms: timeout.as_millis() as u64 };
-    Some(doctor::silent_node(node, shown, probe))
+    Some(doctor::silent_node(node, shown, probe.clone()))
 }
 
 /// A node the last scan saw that shows nothing now: not healthy, silent as far as the bus
 /// can tell.
-fn gone(g: &scan::Gone, answered: &[u8], timeout: Duration) -> NodeHealth {
-    let probe = Evidence::ProbeAnswers { nodes: answered.to_vec(), waited_ms: timeout.as_millis() as u64 };
+fn gone(g: &scan::Gone, probe: &Evidence) -> NodeHealth {
     NodeHealth {
         node: g.node,
-        name: None,
-        device_type: None,
-        nmt: None,
         nmt_from: g.from,
-        heartbeat_ms: None,
-        heartbeats: 0,
-        longest_gap_ms: None,
-        error_register: None,
-        errors_logged: None,
-        emcy: Vec::new(),
-        statusword: None,
-        drive_state: None,
         checks: vec![check("sdo", false, Finding::Gone { from: g.from })],
-        ok: false,
-        diagnosis: Some(doctor::silent_node(g.node, None, probe)),
+        diagnosis: Some(doctor::silent_node(g.node, None, probe.clone())),
+        ..NodeHealth::default()
     }
 }
 
@@ -410,41 +391,29 @@ fn judge_node(
     });
 
     // Heartbeat: on time over the watch, when the node produces one.
-    let period = n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()));
+    let period = period(n);
     let beats = period.filter(|_| watch > Duration::ZERO).map(|p| judge_beats(p, &watched.arrivals, watch));
     let watched_ms = watch.as_millis() as u64;
-    checks.push(match (n.heartbeat_ms, period, beats) {
-        (None, _, _) => check("heartbeat", true, Finding::NoHeartbeatObject),
-        (Some(_), None, _) => check("heartbeat", true, Finding::HeartbeatOff),
-        (Some(period_ms), Some(_), None) => check("heartbeat", true, Finding::HeartbeatUnwatched { period_ms }),
+    let (ok, detail) = match (n.heartbeat_ms, period, beats) {
+        (None, _, _) => (true, Finding::NoHeartbeatObject),
+        (Some(_), None, _) => (true, Finding::HeartbeatOff),
+        (Some(period_ms), Some(_), None) => (true, Finding::HeartbeatUnwatched { period_ms }),
         (Some(period_ms), Some(_), Some(b)) if b.count == 0 => {
-            check("heartbeat", false, Finding::HeartbeatMissing { period_ms, watched_ms })
+            (false, Finding::HeartbeatMissing { period_ms, watched_ms })
         }
-        (Some(period_ms), Some(_), Some(b)) if !b.on_time => check(
-            "heartbeat",
-            false,
-            Finding::HeartbeatLate {
-                period_ms,
-                longest_gap_ms: b.longest_gap.as_millis() as u64,
-                beats: b.count,
-                watched_ms,
-            },
-        ),
+        (Some(period_ms), Some(_), Some(b)) if !b.on_time => {
+            let longest_gap_ms = b.longest_gap.as_millis() as u64;
+            (false, Finding::HeartbeatLate { period_ms, longest_gap_ms, beats: b.count, watched_ms })
+        }
         (Some(period_ms), Some(_), Some(b)) => {
-            check("heartbeat", true, Finding::HeartbeatOnTime { period_ms, beats: b.count, watched_ms })
+            (true, Finding::HeartbeatOnTime { period_ms, beats: b.count, watched_ms })
         }
-    });
+    };
+    checks.push(check("heartbeat", ok, detail));
 
     // Error register, with the history's count alongside; not read from a node that
     // answers no SDO (its sdo check says so).
-    let (register, logged) = match &read {
-        Some(read) => {
-            let (register, logged, judged) = judge_register(n, read);
-            checks.push(judged);
-            (register, logged)
-        }
-        None => (None, None),
-    };
+    let (register, logged) = read.as_ref().map_or((None, None), |r| judge_register(n, r, &mut checks));
 
     // EMCY during the watch: any error (an "error reset" says things got better).
     let errors: Vec<&Emergency> = watched.emcy.iter().filter(|e| e.code != 0).collect();
@@ -469,14 +438,8 @@ fn judge_node(
     });
 
     // A CiA 402 drive: not in Fault.
-    let (statusword, drive_state) = match read.as_ref().and_then(|r| r.statusword.as_ref()) {
-        Some(r) => {
-            let (statusword, drive_state, judged) = judge_drive(r);
-            checks.push(judged);
-            (statusword, drive_state)
-        }
-        None => (None, None),
-    };
+    let drive = read.as_ref().and_then(|r| r.statusword.as_ref());
+    let (statusword, drive_state) = drive.map_or((None, None), |r| judge_drive(r, &mut checks));
 
     let ok = checks.iter().all(|c| c.ok);
     NodeHealth {
@@ -499,9 +462,9 @@ fn judge_node(
     }
 }
 
-/// The error register's check, with the history's count alongside: the register and the
-/// count as read, and the verdict.
-fn judge_register(n: &scan::Node, read: &Read) -> (Option<u8>, Option<u8>, Check) {
+/// The error register's check, with the history's count alongside, into `checks`: the
+/// register and the count as read.
+fn judge_register(n: &scan::Node, read: &Read, checks: &mut Vec<Check>) -> (Option<u8>, Option<u8>) {
     let register = read.register.as_ref().ok().and_then(|b| b.first().copied());
     let logged = read.history.as_ref().ok().and_then(|b| b.first().copied());
     // The history's part ends the detail: errors logged have their remedy after it.
@@ -514,22 +477,22 @@ fn judge_register(n: &scan::Node, read: &Read) -> (Option<u8>, Option<u8>, Check
         Err(e) if super::node::is_missing(e) => (Logged::NoHistory, None),
         Err(e) => (Logged::Unread(e.into()), None),
     };
-    let judged = match (&read.register, register) {
+    checks.push(match (&read.register, register) {
         (Err(e), _) => check("error register", false, Finding::RegisterUnread { error: e.into() }),
         (Ok(_), None) => check("error register", false, Finding::RegisterEmpty),
         (Ok(_), Some(r)) => {
             check("error register", r == 0, Finding::Register { register: r, logged: history }).with_remedy(read_them)
         }
-    };
-    (register, logged, judged)
+    });
+    (register, logged)
 }
 
-/// A CiA 402 drive's check from its statusword read: the statusword, the state it codes,
-/// and the verdict (not in Fault).
-fn judge_drive(r: &Result<Vec<u8>>) -> (Option<u16>, Option<cia402::State>, Check) {
+/// A CiA 402 drive's check from its statusword read (not in Fault), into `checks`: the
+/// statusword and the state it codes.
+fn judge_drive(r: &Result<Vec<u8>>, checks: &mut Vec<Check>) -> (Option<u16>, Option<cia402::State>) {
     let statusword = r.as_ref().ok().filter(|b| b.len() >= 2).map(|b| u16::from_le_bytes([b[0], b[1]]));
     let drive_state = statusword.and_then(cia402::State::from_statusword);
-    let judged = match (r, statusword, drive_state) {
+    checks.push(match (r, statusword, drive_state) {
         (Err(e), _, _) => check("drive", false, Finding::StatuswordUnread { error: e.into() }),
         (Ok(_), None, _) => check("drive", false, Finding::StatuswordShort),
         (Ok(_), Some(statusword), None) => check("drive", false, Finding::NoDriveState { statusword }),
@@ -538,8 +501,8 @@ fn judge_drive(r: &Result<Vec<u8>>) -> (Option<u16>, Option<cia402::State>, Chec
             let warning = statusword & cia402::sw::WARNING != 0;
             check("drive", !faulted, Finding::Drive { state, statusword, warning })
         }
-    };
-    (statusword, drive_state, judged)
+    });
+    (statusword, drive_state)
 }
 
 #[cfg(test)]
@@ -663,11 +626,12 @@ mod tests {
 
     #[test]
     fn emcys_are_listened_for_where_0x1014_puts_them() {
-        let with = |cob: Result<Vec<u8>>| Read { emcy_cob: cob, ..clean() };
-        assert_eq!(with(Ok(0x0000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x85));
-        assert_eq!(with(Ok(0x0000_0123u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x123));
-        assert_eq!(with(Ok(0x8000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), None);
+        let with = |cob: Result<Vec<u8>>| emcy_cob(Some(&Read { emcy_cob: cob, ..clean() }), 5);
+        assert_eq!(with(Ok(0x0000_0085u32.to_le_bytes().to_vec())), Some(0x85));
+        assert_eq!(with(Ok(0x0000_0123u32.to_le_bytes().to_vec())), Some(0x123));
+        assert_eq!(with(Ok(0x8000_0085u32.to_le_bytes().to_vec())), None);
         let no_object = Error::SdoAbort { node: 5, obj: ObjAddr::EMCY_COB_ID, code: abort::NO_OBJECT };
-        assert_eq!(with(Err(no_object)).emcy_cob(5), Some(0x85));
+        assert_eq!(with(Err(no_object)), Some(0x85));
+        assert_eq!(emcy_cob(None, 5), Some(0x85), "nothing read: the default");
     }
 }

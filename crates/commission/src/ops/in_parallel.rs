@@ -156,6 +156,14 @@ impl<T> NodeBus<T> {
     fn not_here(&self) -> Error {
         Error::NotOnThisBus { bus: self.describe.clone(), why: self.refused }
     }
+
+    /// `ask` of the coordinator, where it serves NMT and waits; else refused here.
+    fn ask_served(&mut self, ask: Ask) -> Result<Got> {
+        if !self.all {
+            return Err(self.not_here());
+        }
+        self.ask(ask)
+    }
 }
 
 fn unexpected() -> Error {
@@ -174,10 +182,7 @@ impl<T> Bus for NodeBus<T> {
         })
     }
     fn nmt(&mut self, cmd: nmt::Command, node: u8) -> Result<()> {
-        if !self.all {
-            return Err(self.not_here());
-        }
-        self.ask(Ask::Nmt(cmd, node)).map(|_| ())
+        self.ask_served(Ask::Nmt(cmd, node)).map(|_| ())
     }
     fn send_frame(&mut self, _: &Frame) -> Result<()> {
         Err(self.not_here())
@@ -189,10 +194,7 @@ impl<T> Bus for NodeBus<T> {
         self.block
     }
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
-        if !self.all {
-            return Err(self.not_here());
-        }
-        match self.ask(Ask::Listen(deadline))? {
+        match self.ask_served(Ask::Listen(deadline))? {
             Got::Frame(f) => Ok(f),
             _ => Err(unexpected()),
         }
@@ -202,10 +204,7 @@ impl<T> Bus for NodeBus<T> {
         self.now
     }
     fn sleep_until(&mut self, t: Instant) -> Result<()> {
-        if !self.all {
-            return Err(self.not_here());
-        }
-        self.ask(Ask::Sleep(t)).map(|_| ())
+        self.ask_served(Ask::Sleep(t)).map(|_| ())
     }
     fn request_frame(&mut self, _: u16, _: u8, _: Duration) -> Result<Frame> {
         Err(self.not_here())
@@ -265,9 +264,7 @@ impl Coordinator<'_> {
     /// The waits whose time has come end: a pause, or a listen that heard nothing.
     fn wake(&mut self, waiting: &mut Vec<Waiting>) {
         let now = self.bus.now();
-        let (due, rest): (Vec<Waiting>, Vec<Waiting>) =
-            waiting.drain(..).partition(|w| w.ask.deadline().is_some_and(|t| t <= now));
-        *waiting = rest;
+        let due: Vec<Waiting> = waiting.extract_if(.., |w| w.ask.deadline().is_some_and(|t| t <= now)).collect();
         for w in due {
             let got = if matches!(w.ask, Ask::Listen(_)) { Got::Frame(None) } else { Got::Done };
             self.answer(w, Ok(got));
@@ -276,8 +273,7 @@ impl Coordinator<'_> {
 
     fn serve(&mut self, waiting: &mut Vec<Waiting>) {
         self.began = self.bus.now();
-        let (nmt, rest): (Vec<Waiting>, Vec<Waiting>) = waiting.drain(..).partition(|w| matches!(w.ask, Ask::Nmt(..)));
-        *waiting = rest;
+        let nmt: Vec<Waiting> = waiting.extract_if(.., |w| matches!(w.ask, Ask::Nmt(..))).collect();
         if !nmt.is_empty() {
             for w in nmt {
                 let Ask::Nmt(cmd, node) = w.ask else { unreachable!("partitioned") };
@@ -288,14 +284,15 @@ impl Coordinator<'_> {
         }
         let mut turn_taken = false;
         let one_at_a_time = self.serve.one_at_a_time;
-        let (sdo, rest): (Vec<Waiting>, Vec<Waiting>) = waiting.drain(..).partition(|w| match &w.ask {
-            Ask::Sdo(SdoJob::Download { addr, .. }) if Some(addr.index) == one_at_a_time => {
-                !std::mem::replace(&mut turn_taken, true)
-            }
-            Ask::Sdo(_) => true,
-            _ => false,
-        });
-        *waiting = rest;
+        let sdo: Vec<Waiting> = waiting
+            .extract_if(.., |w| match &w.ask {
+                Ask::Sdo(SdoJob::Download { addr, .. }) if Some(addr.index) == one_at_a_time => {
+                    !std::mem::replace(&mut turn_taken, true)
+                }
+                Ask::Sdo(_) => true,
+                _ => false,
+            })
+            .collect();
         if !sdo.is_empty() {
             let jobs: Vec<SdoJob> = sdo
                 .iter()
@@ -331,9 +328,7 @@ impl Coordinator<'_> {
         };
         match heard {
             Ok(Some(frame)) => {
-                let (listeners, rest): (Vec<Waiting>, Vec<Waiting>) =
-                    waiting.drain(..).partition(|w| matches!(w.ask, Ask::Listen(_)));
-                *waiting = rest;
+                let listeners: Vec<Waiting> = waiting.extract_if(.., |w| matches!(w.ask, Ask::Listen(_))).collect();
                 for w in listeners {
                     self.answer(w, Ok(Got::Frame(Some(frame))));
                 }
@@ -369,7 +364,8 @@ pub(crate) fn run<T: Send>(
     let began = bus.now();
     let mut coordinator = Coordinator { bus, nodes, serve, describe: describe.clone(), began, lost: false };
     std::thread::scope(|scope| {
-        let start = |slot: usize, now: Instant, block: bool| {
+        let begin = |slot: usize, c: &mut Coordinator, watch: &mut dyn Watch<T>| {
+            watch.begun(slot);
             let mut node_bus = NodeBus {
                 slot,
                 node: nodes[slot],
@@ -378,8 +374,8 @@ pub(crate) fn run<T: Send>(
                 all: serve.all,
                 refused: serve.refused,
                 to_coordinator: tx.clone(),
-                now,
-                block,
+                now: c.bus.now(),
+                block: serve.all && c.bus.block_transfer_to(nodes[slot]),
                 served: Arc::new(Served::default()),
                 observed: Observed::default(),
             };
@@ -393,11 +389,6 @@ pub(crate) fn run<T: Send>(
                 // The coordinator waits for every running node: it must hear of this one.
                 let _ = node_bus.to_coordinator.send(Msg::Done(slot, result));
             });
-        };
-        let begin = |slot: usize, c: &mut Coordinator, watch: &mut dyn Watch<T>| {
-            watch.begun(slot);
-            let block = serve.all && c.bus.block_transfer_to(nodes[slot]);
-            start(slot, c.bus.now(), block);
         };
         let mut queue = 0..nodes.len();
         let mut running = 0;

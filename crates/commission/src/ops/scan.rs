@@ -66,7 +66,7 @@ pub fn check_window(window: Duration) -> Result<()> {
 }
 
 /// What a scan found.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct Scan {
     /// The bus, as it describes itself.
     pub bus: String,
@@ -135,7 +135,7 @@ impl Phase {
 }
 
 /// A node that answered the probe, with what it told about itself (`None`: not said).
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct Node {
     /// The node-id.
     pub node: u8,
@@ -205,20 +205,7 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
 /// one that does not answer that either is [`Scan::gone`], never silently left out.
 pub fn scan_against(bus: &mut dyn Bus, o: &ScanOptions, last_seen: &[u8], progress: &mut dyn Progress) -> Result<Scan> {
     o.check()?;
-    let mut report = Scan {
-        bus: bus.describe(),
-        nodes: Vec::new(),
-        lss_unconfigured: 0,
-        lss_configuration: Configuring::default(),
-        clashes: Vec::new(),
-        probe_rounds: 0,
-        answered_on_repeat: Vec::new(),
-        interrupted: false,
-        not_done: Vec::new(),
-        gone: Vec::new(),
-        answers_elsewhere: Vec::new(),
-        not_there: Vec::new(),
-    };
+    let mut report = Scan { bus: bus.describe(), ..Scan::default() };
     let mut phase = 0;
     match scan_into(bus, o, last_seen, progress, &mut report, &mut phase) {
         Err(e) if e.is_interrupted() => {
@@ -298,7 +285,7 @@ fn scan_into(
     let mut unseen: Vec<Node> = last_seen
         .iter()
         .filter(|n| !report.nodes.iter().any(|f| f.node == **n))
-        .map(|n| Node { answers_sdo: false, ..Node::probed(*n, None) })
+        .map(|n| Node { node: *n, ..Node::default() })
         .collect();
     guard_states(bus, &mut unseen, o)?;
     for n in unseen {
@@ -331,19 +318,7 @@ fn scan_into(
 impl Node {
     /// A node that answered the probe, before anything else is asked.
     fn probed(node: u8, device_type: Option<u32>) -> Node {
-        Node {
-            node,
-            device_type,
-            vendor_id: None,
-            product_code: None,
-            revision: None,
-            serial: None,
-            name: None,
-            state: None,
-            state_from: StateFrom::NotAsked,
-            heartbeat_ms: None,
-            answers_sdo: true,
-        }
+        Node { node, device_type, answers_sdo: true, ..Node::default() }
     }
 }
 
@@ -363,7 +338,7 @@ fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
             (Some(_), true) => StateFrom::Heartbeat,
             (Some(_), false) => StateFrom::BootUp,
         };
-        nodes.push(Node { state, state_from, answers_sdo: false, ..Node::probed(*node, None) });
+        nodes.push(Node { node: *node, state, state_from, ..Node::default() });
     }
     nodes.sort_by_key(|n| n.node);
 }

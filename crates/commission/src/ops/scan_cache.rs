@@ -16,7 +16,7 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 
 /// A node the last scan found: what completion offers for `--node` and picks dictionaries by.
-#[derive(Serialize, Deserialize, Debug, Clone, PartialEq)]
+#[derive(Serialize, Deserialize, Debug, Clone, PartialEq, Default)]
 #[non_exhaustive]
 pub struct SeenNode {
     /// Its node-id.
@@ -113,7 +113,7 @@ impl SeenNode {
                 scanned: true,
                 dictionary: dicts.eds_for(n.node).and_then(|e| std::path::absolute(&e.path).ok()),
                 answered: read.filter(|(_, _, ok)| *ok).map(|(index, sub, _)| (index, sub)).collect(),
-                refused: BTreeSet::new(),
+                ..SeenNode::default()
             }
         };
         scan.nodes.iter().map(seen).collect()
@@ -211,16 +211,7 @@ pub fn describe(bus: &str, node: u8, path: &std::path::Path) {
 /// The index of `node`'s entry in `nodes`, added (as no node the scan saw) when missing.
 fn entry(nodes: &mut Vec<SeenNode>, node: u8) -> usize {
     nodes.iter().position(|n| n.node == node).unwrap_or_else(|| {
-        nodes.push(SeenNode {
-            node,
-            name: None,
-            vendor_id: None,
-            device_type: None,
-            scanned: false,
-            dictionary: None,
-            answered: BTreeSet::new(),
-            refused: BTreeSet::new(),
-        });
+        nodes.push(SeenNode { node, ..SeenNode::default() });
         nodes.len() - 1
     })
 }

@@ -148,14 +148,7 @@ pub fn doctor_swept(
 /// Examine the bus and, given one, the node; link failures become findings (the host,
 /// the controller), other errors end it (an interruption).
 pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
-    let mut d = Diagnosis {
-        bus: bus.describe(),
-        node: o.node,
-        listened_ms: 0,
-        findings: Vec::new(),
-        fine: Vec::new(),
-        ok: false,
-    };
+    let mut d = Diagnosis { bus: bus.describe(), node: o.node, ..Diagnosis::default() };
     let examined = examine(bus, o, &mut d).and_then(|()| match o.lss {
         true => lss::ask(bus, o.timeout, &mut d),
         false => {
@@ -287,14 +280,7 @@ fn shown_but_silent(node: u8, state: nmt::State, evidence: Vec<Evidence>) -> Fin
 
 /// The diagnosis of a link that could not even be opened.
 pub fn unopened(bus: &str, node: Option<u8>, error: &LinkError) -> Diagnosis {
-    Diagnosis {
-        bus: bus.to_string(),
-        node,
-        listened_ms: 0,
-        findings: vec![link_finding(error)],
-        fine: vec![],
-        ok: false,
-    }
+    Diagnosis { bus: bus.to_string(), node, findings: vec![link_finding(error)], ..Diagnosis::default() }
 }
 
 /// The finding a link failure shows: the host's side, or the controller's report of the bus.

@@ -12,7 +12,7 @@ use serde::Serialize;
 use std::time::Duration;
 
 /// The diagnosis: findings ranked most likely cause first, and what was found fine.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct Diagnosis {
     /// The bus examined.
     pub bus: String,
