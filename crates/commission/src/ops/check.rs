@@ -8,7 +8,7 @@ use serde::Serialize;
 use std::path::Path;
 
 /// What `config check` found in one file.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Default, Serialize)]
 #[non_exhaustive]
 pub struct Checked {
     /// The file, as named.
@@ -100,10 +100,8 @@ fn refused(file: String, format: &'static str, refusal: ReadError) -> Checked {
         file,
         format,
         verdict: "refused",
-        objects: 0,
-        entries: 0,
         errors: 1,
-        warnings: 0,
         findings: vec![Warning { message, ..finding }],
+        ..Checked::default()
     }
 }

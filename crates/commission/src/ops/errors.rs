@@ -96,16 +96,15 @@ pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Re
     if clear {
         // CiA 301: writing 0 to sub 0 deletes the history; any other value is refused.
         // Interrupted, the report still says what was read and how far the clear got.
-        match bus.sdo_download(node, HISTORY_COUNT, &[0], &sized(timeout, Some(1))) {
+        let mut written = false;
+        let one = sized(timeout, Some(1));
+        let back = bus.sdo_download(node, HISTORY_COUNT, &[0], &one).and_then(|()| {
+            written = true;
+            bus.sdo_upload(node, HISTORY_COUNT, &one)
+        });
+        let back = match back {
             Err(e) if e.is_interrupted() => {
-                report.clear_interrupted = Some(false);
-                return Ok(report);
-            }
-            written => written?,
-        }
-        let back = match bus.sdo_upload(node, HISTORY_COUNT, &sized(timeout, Some(1))) {
-            Err(e) if e.is_interrupted() => {
-                report.clear_interrupted = Some(true);
+                report.clear_interrupted = Some(written);
                 return Ok(report);
             }
             back => back?,

@@ -156,12 +156,9 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
             Ok(())
         }
     });
-    match examined {
-        Ok(()) => {}
-        Err(e) => match e.root() {
-            Error::Link(link) => d.findings.push(link_finding(link)),
-            _ => return Err(e),
-        },
+    if let Err(e) = examined {
+        let Error::Link(link) = e.root() else { return Err(e) };
+        d.findings.push(link_finding(link));
     }
     controller::examine(bus, &mut d);
     d.findings.sort_by_key(|f| f.cause.rank());
@@ -384,23 +381,21 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     evidence.extend(elsewhere.iter().map(|cob_id| Evidence::SdoAnswerOn { node, cob_id: *cob_id }));
     match state {
         Some(state) => d.findings.push(shown_but_silent(node, state, evidence)),
-        None => return node_absent(bus, o, Absent { node, no_answer, evidence }, &heard, d),
+        None => return node_absent(bus, o, (node, no_answer, evidence), &heard, d),
     }
     Ok(())
 }
 
-/// A node silent to SDO and guarding: `no_answer` its SDO reads unanswered, `evidence` all
-/// that was seen of it.
-struct Absent {
-    node: u8,
-    no_answer: Evidence,
-    evidence: Vec<Evidence>,
-}
-
-/// Nothing at all from the node: has its device moved to another id, is the whole bus
-/// silent, or is only this node missing?
-fn node_absent(bus: &mut dyn Bus, o: &DoctorOptions, absent: Absent, heard: &Heard, d: &mut Diagnosis) -> Result<()> {
-    let Absent { node, no_answer, mut evidence } = absent;
+/// Nothing at all from the node, silent to SDO and guarding (`absent`: the node, its SDO
+/// reads unanswered and all that was seen of it): has its device moved to another id, is
+/// the whole bus silent, or is only this node missing?
+fn node_absent(
+    bus: &mut dyn Bus,
+    o: &DoctorOptions,
+    (node, no_answer, mut evidence): (u8, Evidence, Vec<Evidence>),
+    heard: &Heard,
+    d: &mut Diagnosis,
+) -> Result<()> {
     let (found, waited_ms) = timed(bus, |bus| scan::probe(bus, o.timeout, &mut Silent))?;
     let ids: Vec<u8> = found.iter().map(|(n, _)| *n).collect();
     let probe = Evidence::ProbeAnswers { nodes: ids.clone(), waited_ms };
