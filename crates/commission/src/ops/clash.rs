@@ -50,21 +50,16 @@ pub struct Clash {
     pub evidence: Evidence,
 }
 
-fn serial_text(v: &Option<u32>) -> String {
-    v.map_or("an abort".to_string(), |s| format!("0x{s:08X}"))
-}
-
 impl fmt::Display for Clash {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let n = self.node;
+        let (n, serial) = (self.node, |v: &u32| format!("0x{v:08X}"));
         match &self.evidence {
             Evidence::SdoAnswers { values } => {
-                let list: Vec<String> = values.iter().map(serial_text).collect();
+                let list: Vec<String> = values.iter().map(|v| v.as_ref().map_or("an abort".into(), serial)).collect();
+                let count = values.len();
                 write!(
                     f,
-                    "node-id {n} is used by {} devices: one read of 0x1018:4 got {} answers ({})",
-                    values.len(),
-                    values.len(),
+                    "node-id {n} is used by {count} devices: one read of 0x1018:4 got {count} answers ({})",
                     list.join(", ")
                 )
             }
@@ -77,7 +72,7 @@ impl fmt::Display for Clash {
                 )
             }
             Evidence::IdentityChanged { values } => {
-                let list: Vec<String> = values.iter().map(|v| format!("0x{v:08X}")).collect();
+                let list: Vec<String> = values.iter().map(serial).collect();
                 write!(f, "node-id {n} is used by more than one device: 0x1018:4 reads {} in turn", list.join(", "))
             }
         }

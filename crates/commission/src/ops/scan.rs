@@ -263,12 +263,12 @@ fn scan_into(
     }
     // Before the identities are read: a node listed only for another node's answer.
     let found: Vec<u8> = report.nodes.iter().map(|n| n.node).collect();
-    let seen = bus.observed().nodes.clone();
+    let seen = &bus.observed().nodes;
     let shows_itself =
         seen.iter().filter(|(_, how)| how.iter().any(|h| matches!(h, SeenBy::Heartbeat | SeenBy::BootUp)));
     let suspects: BTreeSet<u8> =
         shows_itself.map(|(n, _)| *n).chain(last_seen.iter().copied()).filter(|n| !found.contains(n)).collect();
-    let suspects: Vec<u8> = suspects.into_iter().collect();
+    let suspects = Vec::from_iter(suspects);
     let shown = super::answers_elsewhere::look(bus, &suspects, &found, o.window)?;
     report.nodes.retain(|n| !shown.phantoms.contains(&n.node));
     report.answers_elsewhere = shown.elsewhere.clone();

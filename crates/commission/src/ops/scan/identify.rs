@@ -7,7 +7,7 @@ use crate::bus::Bus;
 use crate::canopen::sdo::response_cob;
 use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
-use crate::ops::answers_elsewhere::AnswersElsewhere;
+use crate::ops::answers_elsewhere::{self, AnswersElsewhere};
 use crate::ops::{Progress, Warning};
 use std::time::Duration;
 
@@ -102,20 +102,18 @@ pub(super) fn confirm_silent(
     progress: &mut dyn Progress,
 ) -> Result<()> {
     for (node, error) in silent {
-        if !bus.sees_traffic() {
-            progress.event(Warning::Failed { node: None, error }.into());
-            continue;
-        }
-        match crate::ops::answers_elsewhere::ask_alone(bus, node, window)? {
-            Some(cob_id) if cob_id == response_cob(node) => {
-                progress.event(Warning::Failed { node: None, error }.into())
-            }
-            Some(cob_id) => report.answers_elsewhere.push(AnswersElsewhere { node, cob_id }),
-            None if crate::ops::answers_elsewhere::answered_by_another(bus, node, window)? => {
+        let own = response_cob(node);
+        let alone = match bus.sees_traffic() {
+            true => answers_elsewhere::ask_alone(bus, node, window)?,
+            false => Some(own),
+        };
+        match alone {
+            Some(cob_id) if cob_id != own => report.answers_elsewhere.push(AnswersElsewhere { node, cob_id }),
+            None if answers_elsewhere::answered_by_another(bus, node, window)? => {
                 report.nodes.retain(|n| n.node != node);
                 report.not_there.push(node);
             }
-            None => progress.event(Warning::Failed { node: None, error }.into()),
+            _ => progress.event(Warning::Failed { node: None, error }.into()),
         }
     }
     Ok(())
