@@ -106,13 +106,12 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
         0x080 => event(None, "sync", "SYNC".into(), json!({})),
         0x7E5 | 0x7E4 => {
             // The decoded message itself, never the text of an Option around it.
-            let decoded = if id == 0x7E5 {
-                lss::Request::decode(f.data()).map(|r| format!("{r:?}"))
-            } else {
-                lss::Response::decode(f.data()).map(|r| format!("{r:?}"))
+            let (kind, decoded) = match id {
+                0x7E5 => ("lss request", lss::Request::decode(f.data()).map(|r| format!("{r:?}"))),
+                _ => ("lss answer", lss::Response::decode(f.data()).map(|r| format!("{r:?}"))),
             };
             let text = decoded.unwrap_or_else(|| format!("not a CiA 305 message ({})", hex_spaced(f.data())));
-            event(None, if id == 0x7E5 { "lss request" } else { "lss answer" }, text.clone(), json!({ "lss": text }))
+            event(None, kind, text.clone(), json!({ "lss": text }))
         }
         0x081..=0x0FF => match Emergency::parse(f) {
             Some((n, e)) => {
@@ -151,13 +150,10 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
                 json!({ "data": crate::canopen::types::hex(f.data()) }),
             ),
         },
-        0x581..=0x5FF => {
-            let (t, j) = sdo_text(f.data(), false);
-            event(Some(node), "sdo answer", t, j)
-        }
-        0x601..=0x67F => {
-            let (t, j) = sdo_text(f.data(), true);
-            event(Some(node), "sdo request", t, j)
+        0x581..=0x5FF | 0x601..=0x67F => {
+            let request = id >= 0x601;
+            let (t, j) = sdo_text(f.data(), request);
+            event(Some(node), if request { "sdo request" } else { "sdo answer" }, t, j)
         }
         0x181..=0x57F => {
             let kind = ["tpdo", "rpdo"][((id - 0x180) / 0x80 % 2) as usize];

@@ -415,23 +415,11 @@ fn configuring(answers: &[[u8; 8]]) -> Configuring {
 /// The device in configuration state as a list of none or one:
 /// `{"identity": "0x...:...", "lss": {"vendor_id": ..}, "node": ..}`.
 fn devices<S: serde::Serializer>(one: &Option<(Identity, Option<u8>)>, s: S) -> std::result::Result<S::Ok, S::Error> {
-    #[derive(Serialize)]
-    struct Parts {
-        vendor_id: u32,
-        product_code: u32,
-        revision: u32,
-        serial: u32,
-    }
-    #[derive(Serialize)]
-    struct Device {
-        identity: String,
-        lss: Parts,
-        node: Option<u8>,
-    }
-    s.collect_seq(one.iter().map(|(id, node)| Device {
-        identity: id.to_string(),
-        lss: Parts { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial },
-        node: *node,
+    s.collect_seq(one.iter().map(|(id, node)| {
+        let lss = serde_json::json!({
+            "vendor_id": id.vendor, "product_code": id.product, "revision": id.revision, "serial": id.serial,
+        });
+        serde_json::json!({ "identity": id.to_string(), "lss": lss, "node": node })
     }))
 }
 
