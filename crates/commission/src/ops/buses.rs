@@ -147,7 +147,8 @@ pub fn find(wait: Duration, beacon_port: u16, cancel: &Cancel) -> Buses {
     let interrupted = cancel.is_cancelled();
     // A run that did not listen (or not to its end) has not heard the servers go away.
     if not_listened.is_none() && !interrupted && !wait.is_zero() {
-        save_heard(&heard);
+        // Kept in place of the last run's.
+        super::scan_cache::write_cache(heard_file(), &heard);
     }
     buses.extend(heard);
     Buses {
@@ -176,18 +177,9 @@ fn heard_file() -> Option<std::path::PathBuf> {
     Some(crate::xdg::cache_dir()?.join("socketcand-heard.json"))
 }
 
-/// Keep the socketcand buses of this `canctl buses`, in place of the last one's. A cache:
-/// failing to write it is no error.
-fn save_heard(heard: &[FoundBus]) {
-    if let Some(path) = heard_file() {
-        let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
-        let _ = crate::atomic::write_atomic(&path, serde_json::to_string(heard).expect("serialises").as_bytes());
-    }
-}
-
 /// The socketcand buses the last `canctl buses` heard (for completion: files only).
 pub fn last_heard() -> Vec<FoundBus> {
-    heard_file().and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
+    super::scan_cache::read_cache(heard_file())
 }
 
 #[cfg(test)]

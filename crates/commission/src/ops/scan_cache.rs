@@ -50,10 +50,6 @@ fn scanned() -> bool {
     true
 }
 
-fn dir() -> Option<PathBuf> {
-    crate::xdg::cache_dir()
-}
-
 /// The network a bus URI reaches, so `can0` and `socketcan:can0` share what was seen, and
 /// a different baud rate to the same EPOS2 does not lose it. A sim network is its state
 /// file: `sim:s.json` in two folders is two networks.
@@ -67,11 +63,6 @@ fn network(bus: &str) -> String {
         Ok(addr) => addr.to_string(),
         Err(_) => bus.to_string(),
     }
-}
-
-/// One file per network, named after it.
-fn file(bus: &str) -> Option<PathBuf> {
-    network_file(SCAN, bus)
 }
 
 const SCAN: &str = "scan";
@@ -92,7 +83,7 @@ pub fn forget(bus: &str) {
 pub(crate) fn network_file(kind: &str, bus: &str) -> Option<PathBuf> {
     let name: String =
         network(bus).chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect();
-    Some(dir()?.join(format!("{kind}-{name}.json")))
+    Some(crate::xdg::cache_dir()?.join(format!("{kind}-{name}.json")))
 }
 
 impl SeenNode {
@@ -159,15 +150,25 @@ fn merged(old: Vec<SeenNode>, nodes: &[SeenNode]) -> Vec<SeenNode> {
 }
 
 fn write(bus: &str, nodes: &[SeenNode]) {
-    if let Some(path) = file(bus) {
-        let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
-        let _ = crate::atomic::write_atomic(&path, serde_json::to_string(nodes).expect("serialises").as_bytes());
-    }
+    write_cache(network_file(SCAN, bus), nodes);
 }
 
 /// Every node of the bus the cache knows of, also those known only from what they answered.
 pub(crate) fn load_all(bus: &str) -> Vec<SeenNode> {
-    file(bus).and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
+    read_cache(network_file(SCAN, bus))
+}
+
+/// Write `value` as JSON to the cache file `path`. A cache: failing to is no error.
+pub(crate) fn write_cache(path: Option<PathBuf>, value: &(impl Serialize + ?Sized)) {
+    if let Some(path) = path {
+        let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
+        let _ = crate::atomic::write_atomic(&path, serde_json::to_string(value).expect("serialises").as_bytes());
+    }
+}
+
+/// What the cache file `path` holds; nothing (the default) when it cannot be read.
+pub(crate) fn read_cache<T: serde::de::DeserializeOwned + Default>(path: Option<PathBuf>) -> T {
+    path.and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
 }
 
 /// The nodes the last scan of the bus found.
