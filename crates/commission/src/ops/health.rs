@@ -364,7 +364,14 @@ fn judge_node(
     let watched = watched.unwrap_or_default();
     let origin =
         Origin { device_type: n.device_type, vendor: n.vendor_id, product: n.product_code, name: n.name.clone() };
-    let mut checks = Vec::new();
+    let mut h = NodeHealth {
+        node: n.node,
+        name: n.name.clone(),
+        device_type: n.device_type,
+        heartbeat_ms: n.heartbeat_ms,
+        heartbeats: watched.arrivals.len(),
+        ..NodeHealth::default()
+    };
 
     // Seen on the bus but silent to SDO: nothing below can be read from it.
     if !n.answers_sdo {
@@ -373,7 +380,7 @@ fn judge_node(
         // elsewhere or off (its diagnosis says so), and pre-operational is no remedy.
         let stopped = matches!(n.state, None | Some(nmt::State::Stopped));
         let remedy = stopped.then_some(Remedy::PreOperational { node: n.node });
-        checks.push(check("sdo", false, detail).with_remedy(remedy));
+        h.checks.push(check("sdo", false, detail).with_remedy(remedy));
     }
 
     // NMT: the latest state the node showed.
@@ -381,7 +388,8 @@ fn judge_node(
         (Some(s), _) => (Some(s), scan::StateFrom::Heartbeat),
         (None, s) => (s, n.state_from),
     };
-    checks.push(match (state, want) {
+    (h.nmt, h.nmt_from) = (state, from);
+    h.checks.push(match (state, want) {
         // A link that carries no remote frames cannot ask by node guarding: the node is
         // not at fault for that (where it beats, the heartbeat said its state).
         (None, _) if from == scan::StateFrom::NoRemoteFrames => check("nmt", true, Finding::StateNotCheckable { from }),
@@ -393,6 +401,7 @@ fn judge_node(
     // Heartbeat: on time over the watch, when the node produces one.
     let period = period(n);
     let beats = period.filter(|_| watch > Duration::ZERO).map(|p| judge_beats(p, &watched.arrivals, watch));
+    h.longest_gap_ms = beats.map(|b| b.longest_gap.as_millis() as u64);
     let watched_ms = watch.as_millis() as u64;
     let (ok, detail) = match (n.heartbeat_ms, period, beats) {
         (None, _, _) => (true, Finding::NoHeartbeatObject),
@@ -409,90 +418,68 @@ fn judge_node(
             (true, Finding::HeartbeatOnTime { period_ms, beats: b.count, watched_ms })
         }
     };
-    checks.push(check("heartbeat", ok, detail));
+    h.checks.push(check("heartbeat", ok, detail));
 
     // Error register, with the history's count alongside; not read from a node that
     // answers no SDO (its sdo check says so).
-    let (register, logged) = read.as_ref().map_or((None, None), |r| judge_register(n, r, &mut checks));
+    if let Some(read) = &read {
+        judge_register(read, &mut h);
+    }
 
     // EMCY during the watch: any error (an "error reset" says things got better).
-    let errors: Vec<&Emergency> = watched.emcy.iter().filter(|e| e.code != 0).collect();
-    let seen: Vec<SeenEmcy> = watched
-        .emcy
-        .iter()
-        .map(|e| {
-            let h = emcy::HistoryEntry { raw: e.history_entry() };
-            SeenEmcy {
-                code: e.code,
-                register: e.register,
-                meaning: emcy::meaning(h.code(), h.manufacturer(), &origin).text,
-            }
-        })
-        .collect();
-    checks.push(if watch == Duration::ZERO {
+    let seen = |e: &Emergency| {
+        let entry = emcy::HistoryEntry { raw: e.history_entry() };
+        let meaning = emcy::meaning(entry.code(), entry.manufacturer(), &origin).text;
+        SeenEmcy { code: e.code, register: e.register, meaning }
+    };
+    h.emcy = watched.emcy.iter().map(seen).collect();
+    let errors = watched.emcy.iter().any(|e| e.code != 0);
+    h.checks.push(if watch == Duration::ZERO {
         check("emcy", true, Finding::EmcyUnwatched)
-    } else if seen.is_empty() {
+    } else if h.emcy.is_empty() {
         check("emcy", true, Finding::NoEmcy { watched_ms })
     } else {
-        check("emcy", errors.is_empty(), Finding::Emcys { seen: seen.clone() })
+        check("emcy", !errors, Finding::Emcys { seen: h.emcy.clone() })
     });
 
     // A CiA 402 drive: not in Fault.
-    let drive = read.as_ref().and_then(|r| r.statusword.as_ref());
-    let (statusword, drive_state) = drive.map_or((None, None), |r| judge_drive(r, &mut checks));
-
-    let ok = checks.iter().all(|c| c.ok);
-    NodeHealth {
-        node: n.node,
-        name: n.name.clone(),
-        device_type: n.device_type,
-        nmt: state,
-        nmt_from: from,
-        heartbeat_ms: n.heartbeat_ms,
-        heartbeats: watched.arrivals.len(),
-        longest_gap_ms: beats.map(|b| b.longest_gap.as_millis() as u64),
-        error_register: register,
-        errors_logged: logged,
-        emcy: seen,
-        statusword,
-        drive_state,
-        checks,
-        ok,
-        diagnosis: None,
+    if let Some(r) = read.as_ref().and_then(|r| r.statusword.as_ref()) {
+        judge_drive(r, &mut h);
     }
+    h.ok = h.checks.iter().all(|c| c.ok);
+    h
 }
 
-/// The error register's check, with the history's count alongside, into `checks`: the
-/// register and the count as read.
-fn judge_register(n: &scan::Node, read: &Read, checks: &mut Vec<Check>) -> (Option<u8>, Option<u8>) {
+/// The error register's check, with the history's count alongside, into `h`.
+fn judge_register(read: &Read, h: &mut NodeHealth) {
     let register = read.register.as_ref().ok().and_then(|b| b.first().copied());
     let logged = read.history.as_ref().ok().and_then(|b| b.first().copied());
+    (h.error_register, h.errors_logged) = (register, logged);
     // The history's part ends the detail: errors logged have their remedy after it.
     let (history, read_them) = match &read.history {
         Ok(_) => match logged {
             Some(0) => (Logged::Nothing, None),
-            Some(k) => (Logged::Count(k), Some(Remedy::ReadErrorHistory { node: n.node })),
+            Some(k) => (Logged::Count(k), Some(Remedy::ReadErrorHistory { node: h.node })),
             None => (Logged::Unsaid, None),
         },
         Err(e) if super::node::is_missing(e) => (Logged::NoHistory, None),
         Err(e) => (Logged::Unread(e.into()), None),
     };
-    checks.push(match (&read.register, register) {
+    h.checks.push(match (&read.register, register) {
         (Err(e), _) => check("error register", false, Finding::RegisterUnread { error: e.into() }),
         (Ok(_), None) => check("error register", false, Finding::RegisterEmpty),
         (Ok(_), Some(r)) => {
             check("error register", r == 0, Finding::Register { register: r, logged: history }).with_remedy(read_them)
         }
     });
-    (register, logged)
 }
 
-/// A CiA 402 drive's check from its statusword read (not in Fault), into `checks`: the
-/// statusword and the state it codes.
-fn judge_drive(r: &Result<Vec<u8>>, checks: &mut Vec<Check>) -> (Option<u16>, Option<cia402::State>) {
+/// A CiA 402 drive's check from its statusword read (not in Fault), into `h`.
+fn judge_drive(r: &Result<Vec<u8>>, h: &mut NodeHealth) {
     let statusword = r.as_ref().ok().filter(|b| b.len() >= 2).map(|b| u16::from_le_bytes([b[0], b[1]]));
     let drive_state = statusword.and_then(cia402::State::from_statusword);
-    checks.push(match (r, statusword, drive_state) {
+    (h.statusword, h.drive_state) = (statusword, drive_state);
+    h.checks.push(match (r, statusword, drive_state) {
         (Err(e), _, _) => check("drive", false, Finding::StatuswordUnread { error: e.into() }),
         (Ok(_), None, _) => check("drive", false, Finding::StatuswordShort),
         (Ok(_), Some(statusword), None) => check("drive", false, Finding::NoDriveState { statusword }),
@@ -502,7 +489,6 @@ fn judge_drive(r: &Result<Vec<u8>>, checks: &mut Vec<Check>) -> (Option<u16>, Op
             check("drive", !faulted, Finding::Drive { state, statusword, warning })
         }
     });
-    (statusword, drive_state)
 }
 
 #[cfg(test)]
