@@ -240,21 +240,20 @@ fn reset_and_wait_noting(
         *sent = true;
         return Ok(Confirmation::Unconfirmed(Unconfirmed::NoBootUps { bus: bus.describe() }));
     }
-    let before = Node::new(bus, target, o.timeout).error_control(o.timeout)?.flatten();
+    let before = match Node::new(bus, target, o.timeout).error_control(o.timeout)? {
+        Some(Some(ErrorControl::State { state, .. })) => Some(state),
+        _ => None,
+    };
     bus.nmt(cmd, target)?;
     *sent = true;
     let after = poll_until_answering(bus, target, o)?;
+    let pre_operational = nmt::State::PreOperational;
     Ok(match (before, after) {
         (_, ErrorControl::BootUp) => Confirmation::Confirmed(vec![target], SeenBy::BootUpAnswer),
-        (
-            Some(ErrorControl::State { state: was, .. }),
-            ErrorControl::State { state: nmt::State::PreOperational, .. },
-        ) if was != nmt::State::PreOperational => Confirmation::Confirmed(vec![target], SeenBy::StateChange { was }),
+        (Some(was), ErrorControl::State { state, .. }) if state == pre_operational && was != pre_operational => {
+            Confirmation::Confirmed(vec![target], SeenBy::StateChange { was })
+        }
         (before, ErrorControl::State { state: after, .. }) => {
-            let before = match before {
-                Some(ErrorControl::State { state, .. }) => Some(state),
-                _ => None,
-            };
             Confirmation::Unconfirmed(Unconfirmed::StateAsBefore { node: target, before, after, bus: bus.describe() })
         }
         (_, ErrorControl::Unknown(code)) => {
@@ -329,13 +328,11 @@ pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState>
         }
     }
     let answer = Node::new(bus, node, o.timeout).guard(o.timeout)?;
-    match answer.and_then(|g| Some((g.state()?, StateFrom::guarding(g, bus)))) {
-        Some((state, source)) => Ok(NodeState { node, state, source }),
-        None => {
-            let heartbeat = bus.sees_traffic().then_some(o.listen);
-            Err(Error::NoAnswer { node, what: Service::NmtState { heartbeat }, waited: o.timeout })
-        }
-    }
+    let Some((state, source)) = answer.and_then(|g| Some((g.state()?, StateFrom::guarding(g, bus)))) else {
+        let heartbeat = bus.sees_traffic().then_some(o.listen);
+        return Err(Error::NoAnswer { node, what: Service::NmtState { heartbeat }, waited: o.timeout });
+    };
+    Ok(NodeState { node, state, source })
 }
 
 #[cfg(test)]
