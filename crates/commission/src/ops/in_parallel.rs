@@ -249,6 +249,14 @@ impl Coordinator<'_> {
         Error::Link(crate::error::LinkError::Io { port: self.describe.clone(), op: "", error: error.into() })
     }
 
+    /// The failure `e` of a shared transfer or wait, to each node of `ended`.
+    fn fail(&mut self, ended: Vec<Waiting>, e: &Error) {
+        for w in ended {
+            let e = self.for_each_node(e);
+            self.answer(w, Err(e));
+        }
+    }
+
     fn answer(&mut self, w: Waiting, got: Result<Got>) {
         let node = self.nodes[w.slot];
         let (booted, block) = if self.serve.all {
@@ -305,10 +313,7 @@ impl Coordinator<'_> {
                     }
                 }
                 Err(e) => {
-                    for w in sdo {
-                        let e = self.for_each_node(&e);
-                        self.answer(w, Err(e));
-                    }
+                    self.fail(sdo, &e);
                     self.lost = true;
                 }
             }
@@ -319,28 +324,22 @@ impl Coordinator<'_> {
         // Only waits: one, until the earliest deadline; a frame goes to every listener.
         let until = waiting.iter().filter_map(|w| w.ask.deadline()).min().expect("only waits are left");
         let listening = waiting.iter().any(|w| matches!(w.ask, Ask::Listen(_)));
-        let heard = if self.bus.now() >= until {
-            Ok(None)
-        } else if listening {
-            self.bus.recv_frame_stamped(until)
-        } else {
-            self.bus.sleep_until(until).map(|()| None)
+        let heard = match listening {
+            _ if self.bus.now() >= until => Ok(None),
+            true => self.bus.recv_frame_stamped(until),
+            false => self.bus.sleep_until(until).map(|()| None),
         };
         match heard {
-            Ok(Some(frame)) => {
-                let listeners: Vec<Waiting> = waiting.extract_if(.., |w| matches!(w.ask, Ask::Listen(_))).collect();
-                for w in listeners {
-                    self.answer(w, Ok(Got::Frame(Some(frame))));
+            Ok(heard) => {
+                if let Some(frame) = heard {
+                    let listeners: Vec<Waiting> = waiting.extract_if(.., |w| matches!(w.ask, Ask::Listen(_))).collect();
+                    for w in listeners {
+                        self.answer(w, Ok(Got::Frame(Some(frame))));
+                    }
                 }
                 self.wake(waiting);
             }
-            Ok(None) => self.wake(waiting),
-            Err(e) => {
-                for w in std::mem::take(waiting) {
-                    let e = self.for_each_node(&e);
-                    self.answer(w, Err(e));
-                }
-            }
+            Err(e) => self.fail(std::mem::take(waiting), &e),
         }
     }
 }
