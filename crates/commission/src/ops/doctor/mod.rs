@@ -282,16 +282,12 @@ pub fn unopened(bus: &str, node: Option<u8>, error: &LinkError) -> Diagnosis {
 
 /// The finding a link failure shows: the host's side, or the controller's report of the bus.
 pub fn link_finding(error: &LinkError) -> Finding {
-    let cause = match error {
-        LinkError::BusOff { .. } => Cause::Controller { state: ControllerState::BusOff },
+    let (cause, remedy) = match error {
+        LinkError::BusOff { .. } => (Cause::Controller { state: ControllerState::BusOff }, Remedy::CheckBus),
         LinkError::AdapterBusError { .. } | LinkError::AdapterRefusedFrame { cob: Some(_), .. } => {
-            Cause::Controller { state: ControllerState::BusErrors }
+            (Cause::Controller { state: ControllerState::BusErrors }, Remedy::CheckBus)
         }
-        _ => Cause::Host { problem: host_problem(error) },
-    };
-    let remedy = match &cause {
-        Cause::Host { problem } => Remedy::FixHost { problem: *problem },
-        _ => Remedy::CheckBus,
+        _ => (Cause::Host { problem: host_problem(error) }, Remedy::FixHost { problem: host_problem(error) }),
     };
     Finding { cause, evidence: vec![Evidence::LinkReported { message: error.to_string() }], remedy }
 }
@@ -299,7 +295,7 @@ pub fn link_finding(error: &LinkError) -> Finding {
 fn host_problem(error: &LinkError) -> HostProblem {
     let io_problem = |e: &std::io::Error| match (e.kind(), e.raw_os_error()) {
         (std::io::ErrorKind::PermissionDenied, _) => HostProblem::NoPermission,
-        (_, Some(code)) if code == enobufs() => HostProblem::TransmitQueueFull,
+        (_, Some(ENOBUFS)) => HostProblem::TransmitQueueFull,
         _ => HostProblem::LinkFailed,
     };
     match error {
@@ -321,13 +317,12 @@ fn host_problem(error: &LinkError) -> HostProblem {
 }
 
 /// ENOBUFS, the errno of a full transmit queue (Linux 105; the BSDs and macOS 55).
-fn enobufs() -> i32 {
+const ENOBUFS: i32 =
     if cfg!(any(target_os = "macos", target_os = "freebsd", target_os = "netbsd", target_os = "openbsd")) {
         55
     } else {
         105
-    }
-}
+    };
 
 /// Every check, then the link's own report of the bus after them (an adapter's bus errors
 /// show only once it has sent something).
