@@ -183,11 +183,8 @@ pub fn quick(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration) -> R
     Ok(match state {
         Some(state) => Some(shown_but_silent(node, state, vec![seen])),
         // Through an EPOS2 the read of every id is one after the other: far from quick.
-        None if !bus.sees_traffic() => another_answers(bus, node, last_scan, wait)?.map(|other| Finding {
-            cause: Cause::NodeSilent { node },
-            evidence: vec![seen, other],
-            remedy: Remedy::CheckNode { node },
-        }),
+        None if !bus.sees_traffic() => another_answers(bus, node, last_scan, wait)?
+            .and_then(|other| finding(Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![seen, other])),
         // Other nodes showed themselves during the command: the bus is not silent, and no
         // probe of every node-id need say so.
         None if bus.observed().nodes.keys().any(|&n| n != node) => {
@@ -441,16 +438,10 @@ fn find_moved(
         let name =
             bus.sdo_upload(now, ObjAddr::DEVICE_NAME, &opts).ok().map(|b| String::from_utf8_lossy(&b).into_owned());
         if was.name.is_none() || was.name == name {
-            let evidence = vec![
-                Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() },
-                Evidence::Identity { node: now, identity, name },
-                no_answer,
-            ];
-            return Ok(Some(Finding {
-                cause: Cause::Moved { node, now },
-                evidence,
-                remedy: Remedy::UseNewId { node, now, identity },
-            }));
+            let last = Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() };
+            let evidence = vec![last, Evidence::Identity { node: now, identity, name }, no_answer];
+            let (cause, remedy) = (Cause::Moved { node, now }, Remedy::UseNewId { node, now, identity });
+            return Ok(Some(Finding { cause, evidence, remedy }));
         }
     }
     Ok(None)
