@@ -38,15 +38,9 @@ pub(super) fn identify(
         }
     }
     if !stopped {
-        let rest: Vec<(u8, ObjAddr)> = answered
-            .iter()
-            .flat_map(|&node| {
-                ObjAddr::IDENTITY_PARTS[1..]
-                    .iter()
-                    .map(move |addr| (node, *addr))
-                    .chain([(node, ObjAddr::DEVICE_NAME), (node, ObjAddr::HEARTBEAT_TIME)])
-            })
-            .collect();
+        let parts = ObjAddr::IDENTITY_PARTS[1..].iter().copied().chain([ObjAddr::DEVICE_NAME, ObjAddr::HEARTBEAT_TIME]);
+        let rest: Vec<(u8, ObjAddr)> =
+            answered.iter().flat_map(|&node| parts.clone().map(move |a| (node, a))).collect();
         let done = first.len() as u64;
         let answers = bus.sdo_upload_many(&rest, &opts, &mut |n| progress.advance(done + n as u64))?;
         for (read, answer) in rest.iter().zip(answers) {
