@@ -349,7 +349,7 @@ fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
 fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<()> {
     let beating = |f: &Node| f.heartbeat_ms.is_some_and(|ms| ms > 0);
     if bus.sees_traffic() {
-        let longest = found.iter().filter(|f| beating(f)).filter_map(|f| f.heartbeat_ms).max().unwrap_or(0);
+        let longest = found.iter().filter_map(|f| f.heartbeat_ms).max().unwrap_or(0);
         // Twice the period: one beat may have gone just before the listening began.
         let end = bus.now() + (Duration::from_millis(2 * longest as u64) + o.window).min(MAX_HEARTBEAT_WAIT);
         let missing = |bus: &mut dyn Bus, found: &[Node]| {
@@ -369,22 +369,16 @@ fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<
 /// The NMT state of each of `nodes` whose state is not known yet, by node guarding (one
 /// request each), or why it stays unknown.
 fn guard_states(bus: &mut dyn Bus, nodes: &mut [Node], o: &ScanOptions) -> Result<()> {
-    let beating = |f: &Node| f.heartbeat_ms.is_some_and(|ms| ms > 0);
     // Guarding answers come at once; a node that has none is not waited for long.
     let floor = Duration::from_millis(200);
     let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
     for f in nodes.iter_mut().filter(|f| f.state.is_none()) {
-        let guarded = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
+        (f.state, f.state_from) = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
             // A link without remote frames (socketcand): the heartbeat was all there was.
-            Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
-                f.state_from = StateFrom::NoRemoteFrames;
-                continue;
-            }
-            other => other?,
-        };
-        (f.state, f.state_from) = match guarded {
-            Some(g) => (g.state(), StateFrom::guarding(g, bus)),
-            None => (None, StateFrom::Silent { heartbeat: beating(f) }),
+            Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => (None, StateFrom::NoRemoteFrames),
+            Err(e) => return Err(e),
+            Ok(Some(g)) => (g.state(), StateFrom::guarding(g, bus)),
+            Ok(None) => (None, StateFrom::Silent { heartbeat: f.heartbeat_ms.is_some_and(|ms| ms > 0) }),
         };
     }
     Ok(())
