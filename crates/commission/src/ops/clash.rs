@@ -123,16 +123,12 @@ pub(crate) fn find_after(
     let wanted: BTreeMap<u8, Option<u32>> = nodes.iter().copied().collect();
     let mut end = bus.now();
     let mut answers: BTreeMap<u8, Vec<Option<u32>>> = BTreeMap::new();
-    let mut states: BTreeMap<u8, Vec<nmt::State>> = BTreeMap::new();
-    if !heard.is_empty() {
-        // A node that restarted meanwhile changed its state by booting, not by being two.
-        let observed = bus.observed();
-        for (node, shown) in &observed.states_heard {
-            if wanted.contains_key(node) && !observed.boot_ups.contains(node) {
-                states.insert(*node, shown.clone());
-            }
-        }
-    }
+    // The states heard since a probe began; of a node that restarted meanwhile, not: it
+    // changed its state by booting, not by being two.
+    let observed = bus.observed();
+    let kept = |n: &u8| !heard.is_empty() && wanted.contains_key(n) && !observed.boot_ups.contains(n);
+    let mut states: BTreeMap<u8, Vec<nmt::State>> =
+        observed.states_heard.iter().filter(|(n, _)| kept(n)).map(|(n, shown)| (*n, shown.clone())).collect();
     for n in wanted.keys() {
         // A read that was sent again (its first request timed out) is not one read.
         match heard.get(n).filter(|asked| asked.requests == 1) {
