@@ -218,10 +218,7 @@ fn watch_bus(
     }
     // Frames that were on the bus before the end may still wait to be read (canctl itself
     // was held up): taken until one from after the end, or the link falls quiet.
-    while let Some((f, at)) = bus.recv_frame_stamped(bus.now() + LATE_FRAMES)? {
-        if at > end {
-            break;
-        }
+    while let Some((f, at)) = bus.recv_frame_stamped(bus.now() + LATE_FRAMES)?.filter(|(_, at)| *at <= end) {
         take(f, at);
     }
     Ok(seen)

@@ -379,12 +379,9 @@ pub(crate) fn run<T: Send>(
                 observed: Observed::default(),
             };
             scope.spawn(move || {
-                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&mut node_bus, slot)))
-                    .unwrap_or_else(|_| {
-                        let why =
-                            Error::Usage("canctl's procedure for this node stopped (a bug: please report it)".into());
-                        stopped(slot, why)
-                    });
+                let bug = "canctl's procedure for this node stopped (a bug: please report it)";
+                let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&mut node_bus, slot)));
+                let result = ran.unwrap_or_else(|_| stopped(slot, Error::Usage(bug.into())));
                 // The coordinator waits for every running node: it must hear of this one.
                 let _ = node_bus.to_coordinator.send(Msg::Done(slot, result));
             });
