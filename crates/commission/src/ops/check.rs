@@ -78,12 +78,7 @@ pub fn check(path: &Path) -> Result<Checked> {
 
 /// `EDS`, `DCF`, `XDD` or `XDC`.
 fn format_name(xml: bool, dcf: bool) -> &'static str {
-    match (xml, dcf) {
-        (false, false) => "EDS",
-        (false, true) => "DCF",
-        (true, false) => "XDD",
-        (true, true) => "XDC",
-    }
+    [["EDS", "DCF"], ["XDD", "XDC"]][usize::from(xml)][usize::from(dcf)]
 }
 
 /// A file read but not a device description: one error, at its line (and column, XML).
