@@ -246,15 +246,12 @@ fn emcy_cob(read: Option<&Read>, node: u8) -> Option<u16> {
 /// SDO (its sdo check says so): reading it would only wait.
 fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> Result<Vec<Option<Read>>> {
     let is_drive = |n: &scan::Node| n.device_type.is_some_and(cia402::is_drive);
-    let mut requests = Vec::new();
-    for n in found.iter().filter(|n| n.answers_sdo) {
-        requests.push((n.node, ObjAddr::ERROR_REGISTER));
-        requests.push((n.node, HISTORY_COUNT));
-        requests.push((n.node, ObjAddr::EMCY_COB_ID));
-        if is_drive(n) {
-            requests.push((n.node, cia402::STATUSWORD));
-        }
-    }
+    let objects = |n: &scan::Node| {
+        let read = [ObjAddr::ERROR_REGISTER, HISTORY_COUNT, ObjAddr::EMCY_COB_ID].into_iter();
+        let node = n.node;
+        read.chain(is_drive(n).then_some(cia402::STATUSWORD)).map(move |addr| (node, addr))
+    };
+    let requests: Vec<(u8, ObjAddr)> = found.iter().filter(|n| n.answers_sdo).flat_map(objects).collect();
     let mut answers =
         bus.sdo_upload_many(&requests, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?.into_iter();
     let mut next = || answers.next().expect("one answer per request");
