@@ -184,34 +184,15 @@ pub fn send(bus: &mut dyn Bus, command: Command, target: u8) -> Result<Sent> {
 /// Stopped by the user once the reset went out (over a
 /// [`Stoppable`](crate::bus::stoppable::Stoppable) bus), the report says so, unconfirmed.
 pub fn reset(bus: &mut dyn Bus, command: Command, target: u8, o: &ResetOptions) -> Result<Reset> {
-    let report = Reset {
-        command,
-        target,
-        sent: true,
-        confirmed: false,
-        booted: None,
-        state: None,
-        seen_by: None,
-        why: None,
-        interrupted: false,
-    };
     let mut sent = false;
-    let confirmation = match reset_and_wait_noting(bus, command, target, o, &mut sent) {
-        Err(e) if e.is_interrupted() && sent => {
-            return Ok(Reset { why: Some(Unconfirmed::Interrupted { target }), interrupted: true, ..report });
-        }
-        other => other?,
+    let (booted, seen_by, why, interrupted) = match reset_and_wait_noting(bus, command, target, o, &mut sent) {
+        Err(e) if e.is_interrupted() && sent => (None, None, Some(Unconfirmed::Interrupted { target }), true),
+        Err(e) => return Err(e),
+        Ok(Confirmation::Confirmed(nodes, how)) => (Some(nodes), Some(how), None, false),
+        Ok(Confirmation::Unconfirmed(why)) => (None, None, Some(why), false),
     };
-    Ok(match confirmation {
-        Confirmation::Confirmed(nodes, how) => Reset {
-            confirmed: true,
-            booted: Some(nodes),
-            state: Some(nmt::State::PreOperational),
-            seen_by: Some(how),
-            ..report
-        },
-        Confirmation::Unconfirmed(why) => Reset { why: Some(why), ..report },
-    })
+    let (confirmed, state) = (booted.is_some(), booted.as_ref().map(|_| nmt::State::PreOperational));
+    Ok(Reset { command, target, sent: true, confirmed, booted, state, seen_by, why, interrupted })
 }
 
 /// Send a reset and wait until the target is back. A link that shows the bus's traffic
