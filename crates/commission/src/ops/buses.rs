@@ -151,14 +151,8 @@ pub fn find(wait: Duration, beacon_port: u16, cancel: &Cancel) -> Buses {
         super::scan_cache::write_cache(heard_file(), &heard);
     }
     buses.extend(heard);
-    Buses {
-        buses,
-        other_serial_ports,
-        listened_ms: started.elapsed().as_millis() as u64,
-        beacon_port,
-        not_listened,
-        interrupted,
-    }
+    let listened_ms = started.elapsed().as_millis() as u64;
+    Buses { buses, other_serial_ports, listened_ms, beacon_port, not_listened, interrupted }
 }
 
 fn serial_row(kind: BusKind, port: String, what: &str, product: Option<String>) -> FoundBus {
