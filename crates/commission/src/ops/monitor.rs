@@ -220,15 +220,8 @@ impl Monitor {
             )));
         }
         let start = bus.now();
-        Ok(Monitor {
-            layouts,
-            nodes: nodes.to_vec(),
-            start,
-            last: start,
-            end: duration.map(|d| start + d),
-            count,
-            seen: Summary::default(),
-        })
+        let (nodes, end) = (nodes.to_vec(), duration.map(|d| start + d));
+        Ok(Monitor { layouts, nodes, start, last: start, end, count, seen: Summary::default() })
     }
 
     /// The next frame, decoded, or `None` when the monitor is over: its duration or count

@@ -81,12 +81,8 @@ impl<'a> Node<'a> {
     /// The rest of the identity object, its vendor-ID (0x1018:1) read already.
     pub(crate) fn identity_of(&mut self, vendor: u32) -> Result<Identity> {
         let mut part = |addr| self.read_optional::<u32>(addr);
-        Ok(Identity {
-            vendor,
-            product: part(ObjAddr::PRODUCT_CODE)?,
-            revision: part(ObjAddr::REVISION_NUMBER)?,
-            serial: part(ObjAddr::SERIAL_NUMBER)?,
-        })
+        let (product, revision) = (part(ObjAddr::PRODUCT_CODE)?, part(ObjAddr::REVISION_NUMBER)?);
+        Ok(Identity { vendor, product, revision, serial: part(ObjAddr::SERIAL_NUMBER)? })
     }
 
     /// The vendor-ID and product code a file names, against the device's: each one the file

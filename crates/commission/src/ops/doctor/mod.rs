@@ -483,13 +483,9 @@ fn look_for_clash(
 /// The bus without a node: heartbeats of one id in two states, and, when the listen heard
 /// nothing, a probe of every node-id.
 fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diagnosis) -> Result<()> {
-    for (node, (_, states, _)) in heard.beats.iter().filter(|(_, (_, s, _))| s.len() > 1) {
-        let shown_by = clash::Evidence::HeartbeatStates { states: states.clone() };
-        d.findings.push(Finding {
-            cause: Cause::NodeIdClash { node: *node },
-            evidence: vec![Evidence::Clash { shown_by }],
-            remedy: Remedy::SeparateIds { node: *node },
-        });
+    for (&node, (_, states, _)) in heard.beats.iter().filter(|(_, (_, s, _))| s.len() > 1) {
+        let evidence = vec![Evidence::Clash { shown_by: clash::Evidence::HeartbeatStates { states: states.clone() } }];
+        d.findings.push(Finding { cause: Cause::NodeIdClash { node }, evidence, remedy: Remedy::SeparateIds { node } });
     }
     let (found, waited_ms) = timed(bus, |bus| scan::probe(bus, o.timeout, &mut Silent))?;
     // Traffic is fine only where some node answers: else it is the evidence of a finding.
