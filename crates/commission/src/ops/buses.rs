@@ -77,14 +77,11 @@ pub fn beacon_rows(b: &Beacon) -> Vec<FoundBus> {
         true => format!("socketcand on {}", b.name),
         false => format!("socketcand on {} ({})", b.name, b.description),
     };
-    b.buses
-        .iter()
-        .map(|iface| FoundBus {
-            kind: BusKind::Socketcand,
-            bus: BusAddr::Socketcand { host: b.host.clone(), port: b.port, iface: iface.clone() }.to_string(),
-            what: what.clone(),
-        })
-        .collect()
+    let row = |iface: &String| {
+        let bus = BusAddr::Socketcand { host: b.host.clone(), port: b.port, iface: iface.clone() }.to_string();
+        FoundBus { kind: BusKind::Socketcand, bus, what: what.clone() }
+    };
+    b.buses.iter().map(row).collect()
 }
 
 /// Beacons heard on `socket` until `deadline` (or a request to stop), each server's bus
@@ -118,14 +115,11 @@ pub fn listen(socket: &UdpSocket, deadline: Instant, cancel: &Cancel) -> Vec<Fou
 /// `beacon_port`; the socketcand buses heard are kept for completion (unless none could be
 /// listened for).
 pub fn find(wait: Duration, beacon_port: u16, cancel: &Cancel) -> Buses {
-    let mut buses: Vec<FoundBus> = crate::connect::can_interfaces()
-        .into_iter()
-        .map(|iface| FoundBus {
-            kind: BusKind::CanInterface,
-            bus: BusAddr::SocketCan { iface }.to_string(),
-            what: "CAN interface".into(),
-        })
-        .collect();
+    let interface = |iface| {
+        let bus = BusAddr::SocketCan { iface }.to_string();
+        FoundBus { kind: BusKind::CanInterface, bus, what: "CAN interface".into() }
+    };
+    let mut buses: Vec<FoundBus> = crate::connect::can_interfaces().into_iter().map(interface).collect();
     let mut other_serial_ports = Vec::new();
     let mut ports = serialport::available_ports().unwrap_or_default();
     ports.sort_by(|a, b| a.port_name.cmp(&b.port_name));

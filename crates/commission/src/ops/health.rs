@@ -129,12 +129,9 @@ impl Health {
         if self.ok {
             return Ok(());
         }
-        let nodes = self
-            .nodes
-            .iter()
-            .filter(|n| !n.ok)
-            .map(|n| NotHealthy { node: n.node, failed: n.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect() })
-            .collect();
+        let failed = |n: &NodeHealth| n.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
+        let nodes =
+            self.nodes.iter().filter(|n| !n.ok).map(|n| NotHealthy { node: n.node, failed: failed(n) }).collect();
         Err(Unmet::Unhealthy { bus: self.bus.clone(), total: self.nodes.len(), nodes })
     }
 }
@@ -255,17 +252,11 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
     let mut answers =
         bus.sdo_upload_many(&requests, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?.into_iter();
     let mut next = || answers.next().expect("one answer per request");
-    Ok(found
-        .iter()
-        .map(|n| {
-            n.answers_sdo.then(|| Read {
-                register: next(),
-                history: next(),
-                emcy_cob: next(),
-                statusword: is_drive(n).then(&mut next),
-            })
-        })
-        .collect())
+    let mut read = |n: &scan::Node| {
+        let (register, history, emcy_cob) = (next(), next(), next());
+        Read { register, history, emcy_cob, statusword: is_drive(n).then(&mut next) }
+    };
+    Ok(found.iter().map(|n| n.answers_sdo.then(|| read(n))).collect())
 }
 
 /// Check every node the scan finds.
@@ -283,12 +274,8 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
     progress.start("watching heartbeats and EMCYs", 1);
     let mut seen = if watch > Duration::ZERO { watch_bus(bus, &ids, &emcy_cobs, watch)? } else { BTreeMap::new() };
     progress.finish();
-    let mut nodes: Vec<NodeHealth> = found
-        .nodes
-        .iter()
-        .zip(reads)
-        .map(|(n, read)| judge_node(n, read, seen.remove(&n.node), watch, o.state))
-        .collect();
+    let judge = |(n, read): (&scan::Node, _)| judge_node(n, read, seen.remove(&n.node), watch, o.state);
+    let mut nodes: Vec<NodeHealth> = found.nodes.iter().zip(reads).map(judge).collect();
     let answered = found.nodes.iter().filter(|n| n.answers_sdo).map(|n| n.node).collect();
     let probe = Evidence::ProbeAnswers { nodes: answered, waited_ms: o.timeout.as_millis() as u64 };
     for (h, n) in nodes.iter_mut().zip(&found.nodes) {

@@ -292,20 +292,17 @@ impl Coordinator<'_> {
         }
         let mut turn_taken = false;
         let one_at_a_time = self.serve.one_at_a_time;
-        let sdo: Vec<Waiting> = waiting
-            .extract_if(.., |w| match &w.ask {
-                Ask::Sdo(SdoJob::Download { addr, .. }) if Some(addr.index) == one_at_a_time => {
-                    !std::mem::replace(&mut turn_taken, true)
-                }
-                Ask::Sdo(_) => true,
-                _ => false,
-            })
-            .collect();
+        let served = |w: &mut Waiting| match &w.ask {
+            Ask::Sdo(SdoJob::Download { addr, .. }) if Some(addr.index) == one_at_a_time => {
+                !std::mem::replace(&mut turn_taken, true)
+            }
+            Ask::Sdo(_) => true,
+            _ => false,
+        };
+        let sdo: Vec<Waiting> = waiting.extract_if(.., served).collect();
         if !sdo.is_empty() {
-            let jobs: Vec<SdoJob> = sdo
-                .iter()
-                .map(|w| if let Ask::Sdo(j) = &w.ask { j.clone() } else { unreachable!("partitioned") })
-                .collect();
+            let job = |w: &Waiting| if let Ask::Sdo(j) = &w.ask { j.clone() } else { unreachable!("partitioned") };
+            let jobs: Vec<SdoJob> = sdo.iter().map(job).collect();
             match self.bus.sdo_many(&jobs) {
                 Ok(results) => {
                     for (w, r) in sdo.into_iter().zip(results) {

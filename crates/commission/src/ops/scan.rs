@@ -282,11 +282,8 @@ fn scan_into(
     add_seen_otherwise(bus, &mut report.nodes);
     // Its answers on that COB-ID showed it to the bus's observer too: it is still not there.
     report.nodes.retain(|n| !shown.phantoms.contains(&n.node) && !report.not_there.contains(&n.node));
-    let mut unseen: Vec<Node> = last_seen
-        .iter()
-        .filter(|n| !report.nodes.iter().any(|f| f.node == **n))
-        .map(|n| Node { node: *n, ..Node::default() })
-        .collect();
+    let is_new = |n: &&u8| !report.nodes.iter().any(|f| f.node == **n);
+    let mut unseen: Vec<Node> = last_seen.iter().filter(is_new).map(|&node| Node { node, ..Node::default() }).collect();
     guard_states(bus, &mut unseen, o)?;
     for n in unseen {
         match n.state_from {

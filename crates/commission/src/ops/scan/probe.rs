@@ -134,13 +134,11 @@ pub(crate) fn probe_until_stopped(
             ids.iter().flat_map(|n| std::iter::once((*n, ObjAddr::DEVICE_TYPE)).chain(then.map(|a| (*n, a)))).collect();
         // Only the probe is asked again early: a second answer to the other read is news.
         let once = SdoOptions { ask_again_after: None, ..opts.clone() };
-        let jobs: Vec<SdoJob> = reads
-            .iter()
-            .map(|(node, addr)| {
-                let opts = if *addr == ObjAddr::DEVICE_TYPE { opts.clone() } else { once.clone() };
-                SdoJob::Upload { node: *node, addr: *addr, opts }
-            })
-            .collect();
+        let job = |&(node, addr): &(u8, ObjAddr)| {
+            let opts = if addr == ObjAddr::DEVICE_TYPE { opts.clone() } else { once.clone() };
+            SdoJob::Upload { node, addr, opts }
+        };
+        let jobs: Vec<SdoJob> = reads.iter().map(job).collect();
         let count = ids.len() as u64;
         progress.start(if first { "probing" } else { "probing again" }, count);
         bus.observed().answers_counted.clear();
