@@ -156,14 +156,11 @@ pub(crate) fn find_after(
             }
         }
     }
-    Ok(wanted
-        .into_iter()
-        .filter_map(|(node, earlier)| {
-            let evidence =
-                judge(answers.remove(&node).unwrap_or_default(), states.remove(&node).unwrap_or_default(), earlier)?;
-            Some(Clash { node, evidence })
-        })
-        .collect())
+    let mut clash = |(node, earlier): (u8, Option<u32>)| {
+        let (answers, states) = (answers.remove(&node).unwrap_or_default(), states.remove(&node).unwrap_or_default());
+        Some(Clash { node, evidence: judge(answers, states, earlier)? })
+    };
+    Ok(wanted.into_iter().filter_map(&mut clash).collect())
 }
 
 /// Two reads of 0x1018:4 of each node, compared: where each answer is the first one to
@@ -174,18 +171,15 @@ fn identity_changes(bus: &mut dyn Bus, nodes: &[u8], timeout: Duration) -> Resul
     let values = bus.sdo_upload_many(&reads, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?;
     let mut seen: BTreeMap<u8, Vec<u32>> = BTreeMap::new();
     for ((n, _), v) in reads.iter().zip(values) {
-        if let Some(s) = v.ok().and_then(|b| Some(u32::from_le_bytes(b.get(..4)?.try_into().ok()?))) {
+        if let Some(s) = v.ok().filter(|b| b.len() >= 4).map(|b| super::le_u32(&b)) {
             let values = seen.entry(*n).or_default();
             if !values.contains(&s) {
                 values.push(s);
             }
         }
     }
-    Ok(seen
-        .into_iter()
-        .filter(|(_, v)| v.len() > 1)
-        .map(|(node, values)| Clash { node, evidence: Evidence::IdentityChanged { values } })
-        .collect())
+    let clash = |(node, values)| Clash { node, evidence: Evidence::IdentityChanged { values } };
+    Ok(seen.into_iter().filter(|(_, v)| v.len() > 1).map(clash).collect())
 }
 
 /// How a node-id showed it is in use.
