@@ -189,11 +189,8 @@ pub fn quick(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration) -> R
         // probe of every node-id need say so.
         None if bus.observed().nodes.keys().any(|&n| n != node) => {
             let nodes = bus.observed().nodes.keys().copied().filter(|&n| n != node).collect();
-            finding(
-                Cause::NodeSilent { node },
-                Remedy::CheckNodeOrLss { node },
-                vec![seen, Evidence::NodesHeard { nodes }],
-            )
+            let heard = Evidence::NodesHeard { nodes };
+            finding(Cause::NodeSilent { node }, Remedy::CheckNodeOrLss { node }, vec![seen, heard])
         }
         None => {
             let (found, waited_ms) = timed(bus, |bus| scan::probe_once(bus, wait))?;
