@@ -382,16 +382,13 @@ fn guard_states(bus: &mut dyn Bus, nodes: &mut [Node], o: &ScanOptions) -> Resul
 }
 
 fn configuring(answers: &[[u8; 8]]) -> Configuring {
-    let values = |q: Inquiry| -> Vec<u32> {
-        answers
-            .iter()
-            .filter_map(|a| match Response::decode(a) {
-                Some(Response::InquiredValue { inquiry, value }) if inquiry == q => Some(value),
-                _ => None,
-            })
-            .collect()
+    let said = |a: &[u8; 8]| match Response::decode(a) {
+        Some(Response::InquiredValue { inquiry, value }) => Some((inquiry, value)),
+        _ => None,
     };
-    let all = [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId].map(values);
+    let values = |q: Inquiry| answers.iter().filter_map(said).filter_map(|(i, v)| (i == q).then_some(v)).collect();
+    let all: [Vec<u32>; 5] =
+        [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId].map(values);
     let count = all.iter().map(Vec::len).max().unwrap_or(0);
     let one = match all.each_ref().map(|v| v.as_slice()) {
         [[vendor], [product], [revision], [serial], [node]] => Some((
