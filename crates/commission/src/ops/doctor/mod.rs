@@ -232,17 +232,15 @@ fn another_answers(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration
 /// A link that carries no remote frames (socketcand) cannot ask: that is said, never taken
 /// for a failure of the node.
 fn guarded(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<(Option<nmt::State>, Evidence)> {
-    match timed(bus, |bus| crate::ops::node::Node::new(bus, node, wait).guard(wait)) {
-        Ok((Some(g), _)) => Ok(match g.state() {
+    Ok(match timed(bus, |bus| crate::ops::node::Node::new(bus, node, wait).guard(wait)) {
+        Ok((Some(g), _)) => match g.state() {
             Some(state) => (Some(state), Evidence::Guarding { node, state }),
             None => (None, Evidence::GuardingNotAState { node }),
-        }),
-        Ok((None, waited_ms)) => Ok((None, Evidence::NoGuardingAnswer { node, waited_ms })),
-        Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
-            Ok((None, Evidence::GuardingUnavailable { node }))
-        }
-        Err(e) => Err(e),
-    }
+        },
+        Ok((None, waited_ms)) => (None, Evidence::NoGuardingAnswer { node, waited_ms }),
+        Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => (None, Evidence::GuardingUnavailable { node }),
+        Err(e) => return Err(e),
+    })
 }
 
 /// The finding for a node that did not answer SDO, from the state it showed (`shown`: the
