@@ -144,8 +144,7 @@ impl<T> NodeBus<T> {
         let (tx, rx) = channel();
         self.to_coordinator.send(Msg::Ask(self.slot, ask, tx)).map_err(|_| gone())?;
         let a = rx.recv().map_err(|_| gone())?;
-        self.now = a.now;
-        self.block = a.block;
+        (self.now, self.block) = (a.now, a.block);
         self.served.set(a.began);
         if a.booted {
             self.observed.boot_ups.insert(self.node);

@@ -133,7 +133,7 @@ pub fn remember(
 /// Save what a scan found as the bus's nodes, keeping what was learned before of each
 /// node that answered with the same identity.
 pub fn save(bus: &str, nodes: &[SeenNode]) {
-    write(bus, &merged(load_all(bus), nodes));
+    write_cache(network_file(SCAN, bus), &merged(load_all(bus), nodes));
 }
 
 /// `nodes`, each with what `old` knew of the same device at its id.
@@ -147,10 +147,6 @@ fn merged(old: Vec<SeenNode>, nodes: &[SeenNode]) -> Vec<SeenNode> {
         }
     }
     nodes
-}
-
-fn write(bus: &str, nodes: &[SeenNode]) {
-    write_cache(network_file(SCAN, bus), nodes);
 }
 
 /// Every node of the bus the cache knows of, also those known only from what they answered.
@@ -195,7 +191,7 @@ pub fn note<T>(bus: Option<&str>, node: u8, addr: ObjAddr, outcome: &Result<T, E
     };
     let mut nodes = load_all(bus);
     if noted(&mut nodes, node, addr, has) {
-        write(bus, &nodes);
+        write_cache(network_file(SCAN, bus), &nodes);
     }
 }
 
@@ -206,7 +202,7 @@ pub fn describe(bus: &str, node: u8, path: &std::path::Path) {
     let mut nodes = load_all(bus);
     let i = entry(&mut nodes, node);
     nodes[i].dictionary = Some(path);
-    write(bus, &nodes);
+    write_cache(network_file(SCAN, bus), &nodes);
 }
 
 /// The index of `node`'s entry in `nodes`, added (as no node the scan saw) when missing.
