@@ -187,11 +187,11 @@ struct Watched {
 /// producer must not look late for it.
 fn watch_bus(
     bus: &mut dyn Bus,
-    nodes: &[u8],
+    nodes: &[scan::Node],
     emcy_cobs: &BTreeMap<u16, u8>,
     watch: Duration,
 ) -> Result<BTreeMap<u8, Watched>> {
-    let mut seen: BTreeMap<u8, Watched> = nodes.iter().map(|n| (*n, Watched::default())).collect();
+    let mut seen: BTreeMap<u8, Watched> = nodes.iter().map(|n| (n.node, Watched::default())).collect();
     let start = bus.now();
     let end = start + watch;
     let mut take = |f: Frame, at: Instant| {
@@ -268,11 +268,11 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
     } else {
         Duration::ZERO
     };
-    let ids: Vec<u8> = found.nodes.iter().map(|n| n.node).collect();
     let emcy_cobs: BTreeMap<u16, u8> =
         found.nodes.iter().zip(&reads).filter_map(|(n, r)| Some((emcy_cob(r.as_ref(), n.node)?, n.node))).collect();
     progress.start("watching heartbeats and EMCYs", 1);
-    let mut seen = if watch > Duration::ZERO { watch_bus(bus, &ids, &emcy_cobs, watch)? } else { BTreeMap::new() };
+    let mut seen =
+        if watch > Duration::ZERO { watch_bus(bus, &found.nodes, &emcy_cobs, watch)? } else { BTreeMap::new() };
     progress.finish();
     let judge = |(n, read): (&scan::Node, _)| judge_node(n, read, seen.remove(&n.node), watch, o.state);
     let mut nodes: Vec<NodeHealth> = found.nodes.iter().zip(reads).map(judge).collect();
