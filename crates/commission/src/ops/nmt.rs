@@ -298,13 +298,9 @@ pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState>
         while let Some((f, at)) = bus.recv_frame_stamped(listen_end)? {
             // A beat that ended before then may predate a command just sent (a stop): the
             // state is what the node says once the command reached it.
-            if at < start {
-                continue;
-            }
-            if let Some((n, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
-                if n == node {
-                    return Ok(NodeState { node, state, source: StateFrom::Heartbeat });
-                }
+            let beat = ErrorControl::parse(&f).filter(|(n, _)| *n == node && at >= start);
+            if let Some((_, ErrorControl::State { state, .. })) = beat {
+                return Ok(NodeState { node, state, source: StateFrom::Heartbeat });
             }
         }
     }

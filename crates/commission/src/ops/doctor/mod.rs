@@ -69,8 +69,7 @@ impl Heard {
             return;
         }
         *self.frames.entry(f.id()).or_default() += 1;
-        let state = ErrorControl::parse(f).and_then(|(node, ec)| Some((node, ec.state()?)));
-        if let Some((node, state)) = state {
+        if let Some((node, state)) = ErrorControl::parse(f).and_then(|(node, ec)| Some((node, ec.state()?))) {
             let e = self.beats.entry(node).or_insert((0, Vec::new(), state));
             e.0 += 1;
             if !e.1.contains(&state) {
