@@ -55,11 +55,10 @@ impl ScanOptions {
 /// Refuses a window no device can answer or be heard within: every command that probes
 /// (scan, health, network) or listens (doctor, its sweep) waits at least `MIN_WINDOW`.
 pub fn check_window(window: Duration) -> Result<()> {
+    let (ms, min) = (window.as_millis(), MIN_WINDOW.as_millis());
     if window < MIN_WINDOW {
         return Err(Error::Usage(format!(
-            "a window of {} ms is shorter than devices take to answer (what they say would be lost without a word); use at least {}ms",
-            window.as_millis(),
-            MIN_WINDOW.as_millis(),
+            "a window of {ms} ms is shorter than devices take to answer (what they say would be lost without a word); use at least {min}ms"
         )));
     }
     Ok(())
