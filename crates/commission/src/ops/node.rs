@@ -89,12 +89,8 @@ impl<'a> Node<'a> {
     /// names (not 0), read and compared as numbers.
     pub(crate) fn compare_identity(&mut self, vendor: u32, product: u32) -> Result<Vec<IdentityPart>> {
         let mut parts = Vec::new();
-        for (what, want, addr) in
-            [(IdPart::Vendor, vendor, ObjAddr::VENDOR_ID), (IdPart::Product, product, ObjAddr::PRODUCT_CODE)]
-        {
-            if want == 0 {
-                continue;
-            }
+        let named = [(IdPart::Vendor, vendor, ObjAddr::VENDOR_ID), (IdPart::Product, product, ObjAddr::PRODUCT_CODE)];
+        for (what, want, addr) in named.into_iter().filter(|(_, want, _)| *want != 0) {
             let device = match self.read::<u32>(addr) {
                 Ok(v) => Ok(v),
                 Err(Error::SdoAbort { code, .. }) => Err(code),

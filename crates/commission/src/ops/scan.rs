@@ -209,8 +209,7 @@ pub fn scan_against(bus: &mut dyn Bus, o: &ScanOptions, last_seen: &[u8], progre
     match scan_into(bus, o, last_seen, progress, &mut report, &mut phase) {
         Err(e) if e.is_interrupted() => {
             progress.finish();
-            report.interrupted = true;
-            report.not_done = Phase::ALL[phase..].to_vec();
+            (report.interrupted, report.not_done) = (true, Phase::ALL[phase..].to_vec());
             Ok(report)
         }
         other => other.map(|_| report),
