@@ -346,9 +346,7 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
             Some(value) => Evidence::SdoAnswer { node, obj: ObjAddr::SERIAL_NUMBER, value },
             None => Evidence::SdoAnswerUnread { node, obj: ObjAddr::SERIAL_NUMBER },
         });
-        if let Some(beats) = heard.heartbeats(node) {
-            d.fine.push(beats);
-        }
+        d.fine.extend(heard.heartbeats(node));
         let values = answers.iter().filter_map(|r| r.value()).collect();
         return look_for_clash(bus, o, node, values, &heard, d);
     }
@@ -455,9 +453,8 @@ fn look_for_clash(
     if answers.len() > 1 {
         shown.push(clash::Evidence::SdoAnswers { values: answers.clone() });
     }
-    if let Some((_, states, _)) = heard.beats.get(&node).filter(|(_, s, _)| s.len() > 1) {
-        shown.push(clash::Evidence::HeartbeatStates { states: states.clone() });
-    }
+    let states = heard.beats.get(&node).filter(|(_, s, _)| s.len() > 1);
+    shown.extend(states.map(|(_, states, _)| clash::Evidence::HeartbeatStates { states: states.clone() }));
     if shown.is_empty() {
         // The serial just read, against a second read: two devices whose answers merge on
         // the bus show as a serial that changes.

@@ -190,9 +190,7 @@ pub(crate) fn probe_until_stopped(
                     .filter(|_| a.lost_frames()),
                 None => (!first).then_some(Repeat { node: *node, probes: p.rounds, answered: 1 }),
             };
-            if let Some(repeat) = repeat.filter(|_| !answered_before && !restarted) {
-                p.repeats.push(repeat);
-            }
+            p.repeats.extend(repeat.filter(|_| !answered_before && !restarted));
         }
     }
     // A node whose every answer was malformed or without end answered all the same: it is
