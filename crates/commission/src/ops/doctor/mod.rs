@@ -449,10 +449,8 @@ fn look_for_clash(
     heard: &Heard,
     d: &mut Diagnosis,
 ) -> Result<()> {
-    let mut shown: Vec<clash::Evidence> = Vec::new();
-    if answers.len() > 1 {
-        shown.push(clash::Evidence::SdoAnswers { values: answers.clone() });
-    }
+    let two_answers = (answers.len() > 1).then(|| clash::Evidence::SdoAnswers { values: answers.clone() });
+    let mut shown: Vec<clash::Evidence> = two_answers.into_iter().collect();
     let states = heard.beats.get(&node).filter(|(_, s, _)| s.len() > 1);
     shown.extend(states.map(|(_, states, _)| clash::Evidence::HeartbeatStates { states: states.clone() }));
     if shown.is_empty() {
