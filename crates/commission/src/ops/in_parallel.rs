@@ -258,11 +258,8 @@ impl Coordinator<'_> {
 
     fn answer(&mut self, w: Waiting, got: Result<Got>) {
         let node = self.nodes[w.slot];
-        let (booted, block) = if self.serve.all {
-            (self.bus.observed().boot_ups.remove(&node), self.bus.block_transfer_to(node))
-        } else {
-            (false, false)
-        };
+        let booted = self.serve.all && self.bus.observed().boot_ups.remove(&node);
+        let block = self.serve.all && self.bus.block_transfer_to(node);
         let answer = Answer { got, began: self.began, now: self.bus.now(), booted, block };
         // A node whose thread is gone has nothing left to be told.
         let _ = w.reply.send(answer);
