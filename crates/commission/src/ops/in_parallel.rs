@@ -231,7 +231,6 @@ struct Coordinator<'a> {
     bus: &'a mut dyn Bus,
     nodes: &'a [u8],
     serve: &'a Serve,
-    describe: String,
     /// When the service being answered began.
     began: Instant,
     /// The link failure a shared transfer found.
@@ -245,7 +244,7 @@ impl Coordinator<'_> {
             return Error::Interrupted;
         }
         let error = std::io::Error::other(e.to_string());
-        Error::Link(crate::error::LinkError::Io { port: self.describe.clone(), op: "", error: error.into() })
+        Error::Link(crate::error::LinkError::Io { port: self.bus.describe(), op: "", error: error.into() })
     }
 
     /// The failure `e` of a shared transfer or wait, to each node of `ended`.
@@ -354,7 +353,7 @@ pub(crate) fn run<T: Send>(
     let (tx, rx) = channel::<Msg<T>>();
     let mut results: Vec<Option<T>> = nodes.iter().map(|_| None).collect();
     let began = bus.now();
-    let mut coordinator = Coordinator { bus, nodes, serve, describe: describe.clone(), began, lost: false };
+    let mut coordinator = Coordinator { bus, nodes, serve, began, lost: false };
     std::thread::scope(|scope| {
         let begin = |slot: usize, c: &mut Coordinator, watch: &mut dyn Watch<T>| {
             watch.begun(slot);
