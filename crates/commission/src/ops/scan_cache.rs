@@ -200,23 +200,22 @@ pub fn note<T>(bus: Option<&str>, node: u8, addr: ObjAddr, outcome: &Result<T, E
 pub fn describe(bus: &str, node: u8, path: &std::path::Path) {
     let Ok(path) = std::path::absolute(path) else { return };
     let mut nodes = load_all(bus);
-    let i = entry(&mut nodes, node);
-    nodes[i].dictionary = Some(path);
+    entry(&mut nodes, node).dictionary = Some(path);
     write_cache(network_file(SCAN, bus), &nodes);
 }
 
-/// The index of `node`'s entry in `nodes`, added (as no node the scan saw) when missing.
-fn entry(nodes: &mut Vec<SeenNode>, node: u8) -> usize {
-    nodes.iter().position(|n| n.node == node).unwrap_or_else(|| {
+/// `node`'s entry in `nodes`, added (as no node the scan saw) when missing.
+fn entry(nodes: &mut Vec<SeenNode>, node: u8) -> &mut SeenNode {
+    let i = nodes.iter().position(|n| n.node == node).unwrap_or_else(|| {
         nodes.push(SeenNode { node, ..SeenNode::default() });
         nodes.len() - 1
-    })
+    });
+    &mut nodes[i]
 }
 
 /// Add to `nodes` that `node` has `addr` (or has nothing at its index); whether that is news.
 fn noted(nodes: &mut Vec<SeenNode>, node: u8, addr: ObjAddr, has: bool) -> bool {
-    let i = entry(nodes, node);
-    let n = &mut nodes[i];
+    let n = entry(nodes, node);
     if has {
         n.refused.remove(&addr.index) | n.answered.insert((addr.index, addr.sub))
     } else {
