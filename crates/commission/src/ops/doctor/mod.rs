@@ -363,10 +363,8 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     };
     evidence.push(no_answer.clone());
     evidence.extend(elsewhere.iter().map(|cob_id| Evidence::SdoAnswerOn { node, cob_id: *cob_id }));
-    match state {
-        Some(state) => d.findings.push(shown_but_silent(node, state, evidence)),
-        None => return node_absent(bus, o, (node, no_answer, evidence), &heard, d),
-    }
+    let Some(state) = state else { return node_absent(bus, o, (node, no_answer, evidence), &heard, d) };
+    d.findings.push(shown_but_silent(node, state, evidence));
     Ok(())
 }
 
