@@ -48,10 +48,7 @@ pub(super) fn identify(
         }
     }
     progress.finish();
-    match stopped {
-        true => Err(Error::Interrupted),
-        false => Ok(silent),
-    }
+    (!stopped).then_some(silent).ok_or(Error::Interrupted)
 }
 
 /// One identity read's answer, into its node; whether it says the user asked to stop.
