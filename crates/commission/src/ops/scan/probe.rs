@@ -56,10 +56,7 @@ pub(crate) fn probe_once(bus: &mut dyn Bus, window: Duration) -> Result<Found> {
 }
 
 fn found_unless_stopped(p: Probed) -> Result<Found> {
-    match p {
-        Probed { stopped: true, .. } => Err(Error::Interrupted),
-        p => Ok(p.found),
-    }
+    (!p.stopped).then_some(p.found).ok_or(Error::Interrupted)
 }
 
 /// Nodes that answered a probe, with their device types.
