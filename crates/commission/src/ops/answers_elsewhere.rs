@@ -42,10 +42,7 @@ pub(crate) fn look(bus: &mut dyn Bus, suspects: &[u8], found: &[u8], window: Dur
         return Ok(shown);
     }
     for &node in suspects {
-        let Some(cob_id) = ask_alone(bus, node, window)? else { continue };
-        if cob_id == response_cob(node) {
-            continue;
-        }
+        let Some(cob_id) = ask_alone(bus, node, window)?.filter(|&c| c != response_cob(node)) else { continue };
         shown.elsewhere.push(AnswersElsewhere { node, cob_id });
         let claimed = (cob_id - 0x580) as u8;
         if found.contains(&claimed) && ask_alone(bus, claimed, window)? != Some(response_cob(claimed)) {

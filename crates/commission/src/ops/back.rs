@@ -42,11 +42,7 @@ pub(crate) fn wait_back(
         until_booted(bus, nodes, wait, cancel)
     } else {
         let deadline = bus.now() + wait;
-        let mut back = BTreeMap::new();
-        for n in nodes {
-            back.insert(*n, until_answering(bus, *n, deadline, answer_wait, cancel)?);
-        }
-        Ok(back)
+        nodes.iter().map(|&n| Ok((n, until_answering(bus, n, deadline, answer_wait, cancel)?))).collect()
     }
 }
 

@@ -77,14 +77,11 @@ pub fn beacon_rows(b: &Beacon) -> Vec<FoundBus> {
         true => format!("socketcand on {}", b.name),
         false => format!("socketcand on {} ({})", b.name, b.description),
     };
-    b.buses
-        .iter()
-        .map(|iface| FoundBus {
-            kind: BusKind::Socketcand,
-            bus: BusAddr::Socketcand { host: b.host.clone(), port: b.port, iface: iface.clone() }.to_string(),
-            what: what.clone(),
-        })
-        .collect()
+    let row = |iface: &String| {
+        let bus = BusAddr::Socketcand { host: b.host.clone(), port: b.port, iface: iface.clone() }.to_string();
+        FoundBus { kind: BusKind::Socketcand, bus, what: what.clone() }
+    };
+    b.buses.iter().map(row).collect()
 }
 
 /// Beacons heard on `socket` until `deadline` (or a request to stop), each server's bus
@@ -118,14 +115,11 @@ pub fn listen(socket: &UdpSocket, deadline: Instant, cancel: &Cancel) -> Vec<Fou
 /// `beacon_port`; the socketcand buses heard are kept for completion (unless none could be
 /// listened for).
 pub fn find(wait: Duration, beacon_port: u16, cancel: &Cancel) -> Buses {
-    let mut buses: Vec<FoundBus> = crate::connect::can_interfaces()
-        .into_iter()
-        .map(|iface| FoundBus {
-            kind: BusKind::CanInterface,
-            bus: BusAddr::SocketCan { iface }.to_string(),
-            what: "CAN interface".into(),
-        })
-        .collect();
+    let interface = |iface| {
+        let bus = BusAddr::SocketCan { iface }.to_string();
+        FoundBus { kind: BusKind::CanInterface, bus, what: "CAN interface".into() }
+    };
+    let mut buses: Vec<FoundBus> = crate::connect::can_interfaces().into_iter().map(interface).collect();
     let mut other_serial_ports = Vec::new();
     let mut ports = serialport::available_ports().unwrap_or_default();
     ports.sort_by(|a, b| a.port_name.cmp(&b.port_name));
@@ -147,17 +141,12 @@ pub fn find(wait: Duration, beacon_port: u16, cancel: &Cancel) -> Buses {
     let interrupted = cancel.is_cancelled();
     // A run that did not listen (or not to its end) has not heard the servers go away.
     if not_listened.is_none() && !interrupted && !wait.is_zero() {
-        save_heard(&heard);
+        // Kept in place of the last run's.
+        super::scan_cache::write_cache(heard_file(), &heard);
     }
     buses.extend(heard);
-    Buses {
-        buses,
-        other_serial_ports,
-        listened_ms: started.elapsed().as_millis() as u64,
-        beacon_port,
-        not_listened,
-        interrupted,
-    }
+    let listened_ms = started.elapsed().as_millis() as u64;
+    Buses { buses, other_serial_ports, listened_ms, beacon_port, not_listened, interrupted }
 }
 
 fn serial_row(kind: BusKind, port: String, what: &str, product: Option<String>) -> FoundBus {
@@ -176,18 +165,9 @@ fn heard_file() -> Option<std::path::PathBuf> {
     Some(crate::xdg::cache_dir()?.join("socketcand-heard.json"))
 }
 
-/// Keep the socketcand buses of this `canctl buses`, in place of the last one's. A cache:
-/// failing to write it is no error.
-fn save_heard(heard: &[FoundBus]) {
-    if let Some(path) = heard_file() {
-        let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
-        let _ = crate::atomic::write_atomic(&path, serde_json::to_string(heard).expect("serialises").as_bytes());
-    }
-}
-
 /// The socketcand buses the last `canctl buses` heard (for completion: files only).
 pub fn last_heard() -> Vec<FoundBus> {
-    heard_file().and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
+    super::scan_cache::read_cache(heard_file())
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@ use serde::Serialize;
 use std::path::Path;
 
 /// What `config check` found in one file.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Default, Serialize)]
 #[non_exhaustive]
 pub struct Checked {
     /// The file, as named.
@@ -78,12 +78,7 @@ pub fn check(path: &Path) -> Result<Checked> {
 
 /// `EDS`, `DCF`, `XDD` or `XDC`.
 fn format_name(xml: bool, dcf: bool) -> &'static str {
-    match (xml, dcf) {
-        (false, false) => "EDS",
-        (false, true) => "DCF",
-        (true, false) => "XDD",
-        (true, true) => "XDC",
-    }
+    [["EDS", "DCF"], ["XDD", "XDC"]][usize::from(xml)][usize::from(dcf)]
 }
 
 /// A file read but not a device description: one error, at its line (and column, XML).
@@ -100,10 +95,8 @@ fn refused(file: String, format: &'static str, refusal: ReadError) -> Checked {
         file,
         format,
         verdict: "refused",
-        objects: 0,
-        entries: 0,
         errors: 1,
-        warnings: 0,
         findings: vec![Warning { message, ..finding }],
+        ..Checked::default()
     }
 }

@@ -50,21 +50,16 @@ pub struct Clash {
     pub evidence: Evidence,
 }
 
-fn serial_text(v: &Option<u32>) -> String {
-    v.map_or("an abort".to_string(), |s| format!("0x{s:08X}"))
-}
-
 impl fmt::Display for Clash {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let n = self.node;
+        let (n, serial) = (self.node, |v: &u32| format!("0x{v:08X}"));
         match &self.evidence {
             Evidence::SdoAnswers { values } => {
-                let list: Vec<String> = values.iter().map(serial_text).collect();
+                let list: Vec<String> = values.iter().map(|v| v.as_ref().map_or("an abort".into(), serial)).collect();
+                let count = values.len();
                 write!(
                     f,
-                    "node-id {n} is used by {} devices: one read of 0x1018:4 got {} answers ({})",
-                    values.len(),
-                    values.len(),
+                    "node-id {n} is used by {count} devices: one read of 0x1018:4 got {count} answers ({})",
                     list.join(", ")
                 )
             }
@@ -77,7 +72,7 @@ impl fmt::Display for Clash {
                 )
             }
             Evidence::IdentityChanged { values } => {
-                let list: Vec<String> = values.iter().map(|v| format!("0x{v:08X}")).collect();
+                let list: Vec<String> = values.iter().map(serial).collect();
                 write!(f, "node-id {n} is used by more than one device: 0x1018:4 reads {} in turn", list.join(", "))
             }
         }
@@ -128,16 +123,12 @@ pub(crate) fn find_after(
     let wanted: BTreeMap<u8, Option<u32>> = nodes.iter().copied().collect();
     let mut end = bus.now();
     let mut answers: BTreeMap<u8, Vec<Option<u32>>> = BTreeMap::new();
-    let mut states: BTreeMap<u8, Vec<nmt::State>> = BTreeMap::new();
-    if !heard.is_empty() {
-        // A node that restarted meanwhile changed its state by booting, not by being two.
-        let observed = bus.observed();
-        for (node, shown) in &observed.states_heard {
-            if wanted.contains_key(node) && !observed.boot_ups.contains(node) {
-                states.insert(*node, shown.clone());
-            }
-        }
-    }
+    // The states heard since a probe began; of a node that restarted meanwhile, not: it
+    // changed its state by booting, not by being two.
+    let observed = bus.observed();
+    let kept = |n: &u8| !heard.is_empty() && wanted.contains_key(n) && !observed.boot_ups.contains(n);
+    let mut states: BTreeMap<u8, Vec<nmt::State>> =
+        observed.states_heard.iter().filter(|(n, _)| kept(n)).map(|(n, shown)| (*n, shown.clone())).collect();
     for n in wanted.keys() {
         // A read that was sent again (its first request timed out) is not one read.
         match heard.get(n).filter(|asked| asked.requests == 1) {
@@ -165,14 +156,11 @@ pub(crate) fn find_after(
             }
         }
     }
-    Ok(wanted
-        .into_iter()
-        .filter_map(|(node, earlier)| {
-            let evidence =
-                judge(answers.remove(&node).unwrap_or_default(), states.remove(&node).unwrap_or_default(), earlier)?;
-            Some(Clash { node, evidence })
-        })
-        .collect())
+    let mut clash = |(node, earlier): (u8, Option<u32>)| {
+        let (answers, states) = (answers.remove(&node).unwrap_or_default(), states.remove(&node).unwrap_or_default());
+        Some(Clash { node, evidence: judge(answers, states, earlier)? })
+    };
+    Ok(wanted.into_iter().filter_map(&mut clash).collect())
 }
 
 /// Two reads of 0x1018:4 of each node, compared: where each answer is the first one to
@@ -183,18 +171,15 @@ fn identity_changes(bus: &mut dyn Bus, nodes: &[u8], timeout: Duration) -> Resul
     let values = bus.sdo_upload_many(&reads, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?;
     let mut seen: BTreeMap<u8, Vec<u32>> = BTreeMap::new();
     for ((n, _), v) in reads.iter().zip(values) {
-        if let Some(s) = v.ok().and_then(|b| Some(u32::from_le_bytes(b.get(..4)?.try_into().ok()?))) {
+        if let Some(s) = v.ok().filter(|b| b.len() >= 4).map(|b| super::le_u32(&b)) {
             let values = seen.entry(*n).or_default();
             if !values.contains(&s) {
                 values.push(s);
             }
         }
     }
-    Ok(seen
-        .into_iter()
-        .filter(|(_, v)| v.len() > 1)
-        .map(|(node, values)| Clash { node, evidence: Evidence::IdentityChanged { values } })
-        .collect())
+    let clash = |(node, values)| Clash { node, evidence: Evidence::IdentityChanged { values } };
+    Ok(seen.into_iter().filter(|(_, v)| v.len() > 1).map(clash).collect())
 }
 
 /// How a node-id showed it is in use.

@@ -14,7 +14,7 @@ use std::time::Duration;
 const MAX_NAME: usize = 64;
 
 /// What `canctl errors` found on a node.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct ErrorHistory {
     /// The node-id.
     pub node: u8,
@@ -41,14 +41,6 @@ pub struct ErrorHistory {
 
 pub use super::node::{LoggedError, Unreadable};
 
-fn u8_of(bytes: &[u8]) -> Option<u8> {
-    bytes.first().copied()
-}
-
-fn u32_of(bytes: &[u8]) -> Option<u32> {
-    (bytes.len() >= 4).then(|| le_u32(bytes))
-}
-
 /// Read the node's error history (and, with `clear`, then clear it and confirm).
 pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Result<ErrorHistory> {
     let first = [
@@ -60,67 +52,54 @@ pub fn errors(bus: &mut dyn Bus, node: u8, clear: bool, timeout: Duration) -> Re
         ObjAddr::DEVICE_NAME,
     ];
     let requests: Vec<(u8, ObjAddr)> = first.iter().map(|a| (node, *a)).collect();
-    let mut opts = SdoOptions::new(timeout);
-    opts.max_upload = MAX_NAME;
+    let opts = SdoOptions { max_upload: MAX_NAME, ..SdoOptions::new(timeout) };
     let mut answers = bus.sdo_upload_many(&requests, &opts, &mut |_| {})?.into_iter();
-    let mut next = || answers.next().expect("one answer per request");
-    let count = next();
-    let register = next().ok().and_then(|b| u8_of(&b));
+    let count = answers.next().expect("one answer per request");
+    let mut next = || answers.next().expect("one answer per request").ok();
+    let u32_of = |b: Vec<u8>| (b.len() >= 4).then(|| le_u32(&b));
+    let register = next().and_then(|b| b.first().copied());
     let origin = Origin {
-        device_type: next().ok().and_then(|b| u32_of(&b)),
-        vendor: next().ok().and_then(|b| u32_of(&b)),
-        product: next().ok().and_then(|b| u32_of(&b)),
-        name: next().ok().and_then(|b| DataType::Vs.decode(&b)).map(|v| v.to_string()),
+        device_type: next().and_then(u32_of),
+        vendor: next().and_then(u32_of),
+        product: next().and_then(u32_of),
+        name: next().and_then(|b| DataType::Vs.decode(&b)).map(|v| v.to_string()),
     };
     let mut report = ErrorHistory {
         node,
         name: origin.name.clone(),
         kept: true,
-        count: None,
-        entries: Vec::new(),
-        unreadable: Vec::new(),
         error_register: register,
         error_register_bits: register.map(emcy::register_bits).unwrap_or_default(),
-        cleared: false,
-        clear_interrupted: None,
+        ..ErrorHistory::default()
     };
     match count {
-        Ok(bytes) => report.count = u8_of(&bytes),
-        Err(e) if node::is_missing(&e) => report.kept = false,
+        Ok(bytes) => report.count = bytes.first().copied(),
+        Err(e) if node::is_missing(&e) && clear => return Err(Error::NoErrorHistory { node }),
+        Err(e) if node::is_missing(&e) => return Ok(ErrorHistory { kept: false, ..report }),
         Err(e) => return Err(e),
-    }
-    if !report.kept {
-        if clear {
-            return Err(Error::NoErrorHistory { node });
-        }
-        return Ok(report);
     }
     let field = Node::new(bus, node, timeout).error_entries(report.count.unwrap_or(0), &origin)?;
     (report.entries, report.unreadable) = (field.entries, field.unreadable);
     if clear {
         // CiA 301: writing 0 to sub 0 deletes the history; any other value is refused.
         // Interrupted, the report still says what was read and how far the clear got.
-        match bus.sdo_download(node, HISTORY_COUNT, &[0], &sized(timeout, Some(1))) {
+        let mut written = false;
+        let one = sized(timeout, Some(1));
+        let back = bus.sdo_download(node, HISTORY_COUNT, &[0], &one).and_then(|()| {
+            written = true;
+            bus.sdo_upload(node, HISTORY_COUNT, &one)
+        });
+        let back = match back {
             Err(e) if e.is_interrupted() => {
-                report.clear_interrupted = Some(false);
-                return Ok(report);
-            }
-            written => written?,
-        }
-        let back = match bus.sdo_upload(node, HISTORY_COUNT, &sized(timeout, Some(1))) {
-            Err(e) if e.is_interrupted() => {
-                report.clear_interrupted = Some(true);
+                report.clear_interrupted = Some(written);
                 return Ok(report);
             }
             back => back?,
         };
-        if u8_of(&back) != Some(0) {
-            return Err(Error::ReadBack {
-                node,
-                obj: HISTORY_COUNT,
-                wrote: "0".into(),
-                read: u8_of(&back).map_or("nothing".into(), |v| v.to_string()),
-            });
+        let read = back.first().copied();
+        if read != Some(0) {
+            let read = read.map_or("nothing".into(), |v| v.to_string());
+            return Err(Error::ReadBack { node, obj: HISTORY_COUNT, wrote: "0".into(), read });
         }
         report.cleared = true;
     }

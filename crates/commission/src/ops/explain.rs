@@ -79,12 +79,10 @@ pub fn explain(bus: &mut dyn Bus, error: &Error, o: &ExplainOptions) -> Option<E
             }
             let last_scan = scan_cache::load(uri);
             let seen: Vec<u8> = last_scan.iter().map(|n| n.node).collect();
-            let finding = match o.diagnose {
-                true => match doctor::quick(bus, *node, &seen, o.timeout.min(QUICK_WAIT)) {
-                    Err(e) if e.is_interrupted() => return Some(Explanation::Interrupted),
-                    found => found.ok().flatten(),
-                },
-                false => None,
+            let quick = o.diagnose.then(|| doctor::quick(bus, *node, &seen, o.timeout.min(QUICK_WAIT)));
+            let finding = match quick {
+                Some(Err(e)) if e.is_interrupted() => return Some(Explanation::Interrupted),
+                found => found.and_then(|found| found.ok().flatten()),
             };
             Some(Explanation::Silent { bus: uri.to_string(), finding, last_scan })
         }

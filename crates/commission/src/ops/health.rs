@@ -71,7 +71,7 @@ pub struct Health {
 }
 
 /// One node's health: what it showed, and each check's verdict.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 #[non_exhaustive]
 pub struct NodeHealth {
     /// The node-id.
@@ -129,12 +129,9 @@ impl Health {
         if self.ok {
             return Ok(());
         }
-        let nodes = self
-            .nodes
-            .iter()
-            .filter(|n| !n.ok)
-            .map(|n| NotHealthy { node: n.node, failed: n.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect() })
-            .collect();
+        let failed = |n: &NodeHealth| n.checks.iter().filter(|c| !c.ok).map(|c| c.check).collect();
+        let nodes =
+            self.nodes.iter().filter(|n| !n.ok).map(|n| NotHealthy { node: n.node, failed: failed(n) }).collect();
         Err(Unmet::Unhealthy { bus: self.bus.clone(), total: self.nodes.len(), nodes })
     }
 }
@@ -171,6 +168,11 @@ pub(crate) fn watch_for(periods: impl Iterator<Item = Duration>) -> Duration {
     (slowest * 2 + HEARTBEAT_SLACK).clamp(MIN_WATCH, MAX_WATCH)
 }
 
+/// The node's heartbeat period (0x1017), when it produces one.
+fn period(n: &scan::Node) -> Option<Duration> {
+    n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()))
+}
+
 /// What the watch saw of one node.
 #[derive(Default)]
 struct Watched {
@@ -185,11 +187,11 @@ struct Watched {
 /// producer must not look late for it.
 fn watch_bus(
     bus: &mut dyn Bus,
-    nodes: &[u8],
+    nodes: &[scan::Node],
     emcy_cobs: &BTreeMap<u16, u8>,
     watch: Duration,
 ) -> Result<BTreeMap<u8, Watched>> {
-    let mut seen: BTreeMap<u8, Watched> = nodes.iter().map(|n| (*n, Watched::default())).collect();
+    let mut seen: BTreeMap<u8, Watched> = nodes.iter().map(|n| (n.node, Watched::default())).collect();
     let start = bus.now();
     let end = start + watch;
     let mut take = |f: Frame, at: Instant| {
@@ -213,10 +215,7 @@ fn watch_bus(
     }
     // Frames that were on the bus before the end may still wait to be read (canctl itself
     // was held up): taken until one from after the end, or the link falls quiet.
-    while let Some((f, at)) = bus.recv_frame_stamped(bus.now() + LATE_FRAMES)? {
-        if at > end {
-            break;
-        }
+    while let Some((f, at)) = bus.recv_frame_stamped(bus.now() + LATE_FRAMES)?.filter(|(_, at)| *at <= end) {
         take(f, at);
     }
     Ok(seen)
@@ -230,24 +229,13 @@ struct Read {
     statusword: Option<Result<Vec<u8>>>,
 }
 
-/// The COB-ID the node sends its EMCYs on: [`Read::emcy_cob`], the default 0x80 + node
-/// where nothing was read.
+/// The COB-ID the node sends its EMCYs on (0x1014 as read, else the default 0x80 + node);
+/// `None` when it says it sends none (bit 31).
 fn emcy_cob(read: Option<&Read>, node: u8) -> Option<u16> {
-    match read {
-        Some(r) => r.emcy_cob(node),
-        None => Some(0x80 + u16::from(node)),
-    }
-}
-
-impl Read {
-    /// The COB-ID the node sends its EMCYs on (0x1014, else the default 0x80 + node);
-    /// `None` when it says it sends none (bit 31).
-    fn emcy_cob(&self, node: u8) -> Option<u16> {
-        match self.emcy_cob.as_ref().ok().filter(|b| b.len() >= 4).map(|b| le_u32(b)) {
-            Some(cob) if cob & 0x8000_0000 != 0 => None,
-            Some(cob) => Some((cob & 0x7FF) as u16),
-            None => Some(emcy::cob(node)),
-        }
+    match read.and_then(|r| r.emcy_cob.as_ref().ok()).filter(|b| b.len() >= 4).map(|b| le_u32(b)) {
+        Some(cob) if cob & 0x8000_0000 != 0 => None,
+        Some(cob) => Some((cob & 0x7FF) as u16),
+        None => Some(emcy::cob(node)),
     }
 }
 
@@ -255,58 +243,45 @@ impl Read {
 /// SDO (its sdo check says so): reading it would only wait.
 fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> Result<Vec<Option<Read>>> {
     let is_drive = |n: &scan::Node| n.device_type.is_some_and(cia402::is_drive);
-    let mut requests = Vec::new();
-    for n in found.iter().filter(|n| n.answers_sdo) {
-        requests.push((n.node, ObjAddr::ERROR_REGISTER));
-        requests.push((n.node, HISTORY_COUNT));
-        requests.push((n.node, ObjAddr::EMCY_COB_ID));
-        if is_drive(n) {
-            requests.push((n.node, cia402::STATUSWORD));
-        }
-    }
+    let objects = |n: &scan::Node| {
+        let read = [ObjAddr::ERROR_REGISTER, HISTORY_COUNT, ObjAddr::EMCY_COB_ID].into_iter();
+        let node = n.node;
+        read.chain(is_drive(n).then_some(cia402::STATUSWORD)).map(move |addr| (node, addr))
+    };
+    let requests: Vec<(u8, ObjAddr)> = found.iter().filter(|n| n.answers_sdo).flat_map(objects).collect();
     let mut answers =
         bus.sdo_upload_many(&requests, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?.into_iter();
     let mut next = || answers.next().expect("one answer per request");
-    Ok(found
-        .iter()
-        .map(|n| {
-            n.answers_sdo.then(|| Read {
-                register: next(),
-                history: next(),
-                emcy_cob: next(),
-                statusword: is_drive(n).then(&mut next),
-            })
-        })
-        .collect())
+    let mut read = |n: &scan::Node| {
+        let (register, history, emcy_cob) = (next(), next(), next());
+        Read { register, history, emcy_cob, statusword: is_drive(n).then(&mut next) }
+    };
+    Ok(found.iter().map(|n| n.answers_sdo.then(|| read(n))).collect())
 }
 
 /// Check every node the scan finds.
 pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress) -> Result<Health> {
     let found = scan::scan_against(bus, &ScanOptions { window: o.window, timeout: o.timeout }, &o.last_seen, progress)?;
     let reads = read_objects(bus, &found.nodes, o.timeout)?;
-    let period = |n: &scan::Node| n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()));
     let watch = if bus.sees_traffic() {
         o.watch.unwrap_or_else(|| watch_for(found.nodes.iter().filter_map(period)))
     } else {
         Duration::ZERO
     };
-    let ids: Vec<u8> = found.nodes.iter().map(|n| n.node).collect();
     let emcy_cobs: BTreeMap<u16, u8> =
         found.nodes.iter().zip(&reads).filter_map(|(n, r)| Some((emcy_cob(r.as_ref(), n.node)?, n.node))).collect();
     progress.start("watching heartbeats and EMCYs", 1);
-    let mut seen = if watch > Duration::ZERO { watch_bus(bus, &ids, &emcy_cobs, watch)? } else { BTreeMap::new() };
+    let mut seen =
+        if watch > Duration::ZERO { watch_bus(bus, &found.nodes, &emcy_cobs, watch)? } else { BTreeMap::new() };
     progress.finish();
-    let mut nodes: Vec<NodeHealth> = found
-        .nodes
-        .iter()
-        .zip(reads)
-        .map(|(n, read)| judge_node(n, read, seen.remove(&n.node), watch, o.state))
-        .collect();
-    let answered: Vec<u8> = found.nodes.iter().filter(|n| n.answers_sdo).map(|n| n.node).collect();
+    let judge = |(n, read): (&scan::Node, _)| judge_node(n, read, seen.remove(&n.node), watch, o.state);
+    let mut nodes: Vec<NodeHealth> = found.nodes.iter().zip(reads).map(judge).collect();
+    let answered = found.nodes.iter().filter(|n| n.answers_sdo).map(|n| n.node).collect();
+    let probe = Evidence::ProbeAnswers { nodes: answered, waited_ms: o.timeout.as_millis() as u64 };
     for (h, n) in nodes.iter_mut().zip(&found.nodes) {
-        h.diagnosis = diagnose(n, h, &answered, o.timeout);
+        h.diagnosis = diagnose(n, h, &probe);
     }
-    nodes.extend(found.gone.iter().map(|g| gone(g, &answered, o.timeout)));
+    nodes.extend(found.gone.iter().map(|g| gone(g, &probe)));
     nodes.sort_by_key(|n| n.node);
     // Two devices on one node-id: whatever else that node's answers say, they are not one
     // device's.
@@ -331,7 +306,7 @@ pub fn health(bus: &mut dyn Bus, o: &HealthOptions, progress: &mut dyn Progress)
 /// Why a node the scan saw is silent to SDO, from what the scan and the watch showed (the
 /// one listen all nodes share; nothing asked of the bus): its state (stopped: it serves no
 /// SDO; another: its SDO server is elsewhere or off), else only that it is silent.
-fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) -> Option<doctor::Finding> {
+fn diagnose(n: &scan::Node, h: &NodeHealth, probe: &Evidence) -> Option<doctor::Finding> {
     if n.answers_sdo {
         return None;
     }
@@ -341,31 +316,18 @@ fn diagnose(n: &scan::Node, h: &NodeHealth, answered: &[u8], timeout: Duration) 
         (_, Some(state)) => Some((state, Evidence::ScanState { node, state, from: n.state_from })),
         (_, None) => None,
     };
-    let probe = Evidence::ProbeAnswers { nodes: answered.to_vec(), waited_ms: timeout.as_millis() as u64 };
-    Some(doctor::silent_node(node, shown, probe))
+    Some(doctor::silent_node(node, shown, probe.clone()))
 }
 
 /// A node the last scan saw that shows nothing now: not healthy, silent as far as the bus
 /// can tell.
-fn gone(g: &scan::Gone, answered: &[u8], timeout: Duration) -> NodeHealth {
-    let probe = Evidence::ProbeAnswers { nodes: answered.to_vec(), waited_ms: timeout.as_millis() as u64 };
+fn gone(g: &scan::Gone, probe: &Evidence) -> NodeHealth {
     NodeHealth {
         node: g.node,
-        name: None,
-        device_type: None,
-        nmt: None,
         nmt_from: g.from,
-        heartbeat_ms: None,
-        heartbeats: 0,
-        longest_gap_ms: None,
-        error_register: None,
-        errors_logged: None,
-        emcy: Vec::new(),
-        statusword: None,
-        drive_state: None,
         checks: vec![check("sdo", false, Finding::Gone { from: g.from })],
-        ok: false,
-        diagnosis: Some(doctor::silent_node(g.node, None, probe)),
+        diagnosis: Some(doctor::silent_node(g.node, None, probe.clone())),
+        ..NodeHealth::default()
     }
 }
 
@@ -383,7 +345,14 @@ fn judge_node(
     let watched = watched.unwrap_or_default();
     let origin =
         Origin { device_type: n.device_type, vendor: n.vendor_id, product: n.product_code, name: n.name.clone() };
-    let mut checks = Vec::new();
+    let mut h = NodeHealth {
+        node: n.node,
+        name: n.name.clone(),
+        device_type: n.device_type,
+        heartbeat_ms: n.heartbeat_ms,
+        heartbeats: watched.arrivals.len(),
+        ..NodeHealth::default()
+    };
 
     // Seen on the bus but silent to SDO: nothing below can be read from it.
     if !n.answers_sdo {
@@ -392,7 +361,7 @@ fn judge_node(
         // elsewhere or off (its diagnosis says so), and pre-operational is no remedy.
         let stopped = matches!(n.state, None | Some(nmt::State::Stopped));
         let remedy = stopped.then_some(Remedy::PreOperational { node: n.node });
-        checks.push(check("sdo", false, detail).with_remedy(remedy));
+        h.checks.push(check("sdo", false, detail).with_remedy(remedy));
     }
 
     // NMT: the latest state the node showed.
@@ -400,7 +369,8 @@ fn judge_node(
         (Some(s), _) => (Some(s), scan::StateFrom::Heartbeat),
         (None, s) => (s, n.state_from),
     };
-    checks.push(match (state, want) {
+    (h.nmt, h.nmt_from) = (state, from);
+    h.checks.push(match (state, want) {
         // A link that carries no remote frames cannot ask by node guarding: the node is
         // not at fault for that (where it beats, the heartbeat said its state).
         (None, _) if from == scan::StateFrom::NoRemoteFrames => check("nmt", true, Finding::StateNotCheckable { from }),
@@ -410,126 +380,87 @@ fn judge_node(
     });
 
     // Heartbeat: on time over the watch, when the node produces one.
-    let period = n.heartbeat_ms.filter(|ms| *ms > 0).map(|ms| Duration::from_millis(ms.into()));
+    let period = period(n);
     let beats = period.filter(|_| watch > Duration::ZERO).map(|p| judge_beats(p, &watched.arrivals, watch));
+    h.longest_gap_ms = beats.map(|b| b.longest_gap.as_millis() as u64);
     let watched_ms = watch.as_millis() as u64;
-    checks.push(match (n.heartbeat_ms, period, beats) {
-        (None, _, _) => check("heartbeat", true, Finding::NoHeartbeatObject),
-        (Some(_), None, _) => check("heartbeat", true, Finding::HeartbeatOff),
-        (Some(period_ms), Some(_), None) => check("heartbeat", true, Finding::HeartbeatUnwatched { period_ms }),
+    let (ok, detail) = match (n.heartbeat_ms, period, beats) {
+        (None, _, _) => (true, Finding::NoHeartbeatObject),
+        (Some(_), None, _) => (true, Finding::HeartbeatOff),
+        (Some(period_ms), Some(_), None) => (true, Finding::HeartbeatUnwatched { period_ms }),
         (Some(period_ms), Some(_), Some(b)) if b.count == 0 => {
-            check("heartbeat", false, Finding::HeartbeatMissing { period_ms, watched_ms })
+            (false, Finding::HeartbeatMissing { period_ms, watched_ms })
         }
-        (Some(period_ms), Some(_), Some(b)) if !b.on_time => check(
-            "heartbeat",
-            false,
-            Finding::HeartbeatLate {
-                period_ms,
-                longest_gap_ms: b.longest_gap.as_millis() as u64,
-                beats: b.count,
-                watched_ms,
-            },
-        ),
+        (Some(period_ms), Some(_), Some(b)) if !b.on_time => {
+            let longest_gap_ms = b.longest_gap.as_millis() as u64;
+            (false, Finding::HeartbeatLate { period_ms, longest_gap_ms, beats: b.count, watched_ms })
+        }
         (Some(period_ms), Some(_), Some(b)) => {
-            check("heartbeat", true, Finding::HeartbeatOnTime { period_ms, beats: b.count, watched_ms })
+            (true, Finding::HeartbeatOnTime { period_ms, beats: b.count, watched_ms })
         }
-    });
+    };
+    h.checks.push(check("heartbeat", ok, detail));
 
     // Error register, with the history's count alongside; not read from a node that
     // answers no SDO (its sdo check says so).
-    let (register, logged) = match &read {
-        Some(read) => {
-            let (register, logged, judged) = judge_register(n, read);
-            checks.push(judged);
-            (register, logged)
-        }
-        None => (None, None),
-    };
+    if let Some(read) = &read {
+        judge_register(read, &mut h);
+    }
 
     // EMCY during the watch: any error (an "error reset" says things got better).
-    let errors: Vec<&Emergency> = watched.emcy.iter().filter(|e| e.code != 0).collect();
-    let seen: Vec<SeenEmcy> = watched
-        .emcy
-        .iter()
-        .map(|e| {
-            let h = emcy::HistoryEntry { raw: e.history_entry() };
-            SeenEmcy {
-                code: e.code,
-                register: e.register,
-                meaning: emcy::meaning(h.code(), h.manufacturer(), &origin).text,
-            }
-        })
-        .collect();
-    checks.push(if watch == Duration::ZERO {
+    let seen = |e: &Emergency| {
+        let entry = emcy::HistoryEntry { raw: e.history_entry() };
+        let meaning = emcy::meaning(entry.code(), entry.manufacturer(), &origin).text;
+        SeenEmcy { code: e.code, register: e.register, meaning }
+    };
+    h.emcy = watched.emcy.iter().map(seen).collect();
+    let errors = watched.emcy.iter().any(|e| e.code != 0);
+    h.checks.push(if watch == Duration::ZERO {
         check("emcy", true, Finding::EmcyUnwatched)
-    } else if seen.is_empty() {
+    } else if h.emcy.is_empty() {
         check("emcy", true, Finding::NoEmcy { watched_ms })
     } else {
-        check("emcy", errors.is_empty(), Finding::Emcys { seen: seen.clone() })
+        check("emcy", !errors, Finding::Emcys { seen: h.emcy.clone() })
     });
 
     // A CiA 402 drive: not in Fault.
-    let (statusword, drive_state) = match read.as_ref().and_then(|r| r.statusword.as_ref()) {
-        Some(r) => {
-            let (statusword, drive_state, judged) = judge_drive(r);
-            checks.push(judged);
-            (statusword, drive_state)
-        }
-        None => (None, None),
-    };
-
-    let ok = checks.iter().all(|c| c.ok);
-    NodeHealth {
-        node: n.node,
-        name: n.name.clone(),
-        device_type: n.device_type,
-        nmt: state,
-        nmt_from: from,
-        heartbeat_ms: n.heartbeat_ms,
-        heartbeats: watched.arrivals.len(),
-        longest_gap_ms: beats.map(|b| b.longest_gap.as_millis() as u64),
-        error_register: register,
-        errors_logged: logged,
-        emcy: seen,
-        statusword,
-        drive_state,
-        checks,
-        ok,
-        diagnosis: None,
+    if let Some(r) = read.as_ref().and_then(|r| r.statusword.as_ref()) {
+        judge_drive(r, &mut h);
     }
+    h.ok = h.checks.iter().all(|c| c.ok);
+    h
 }
 
-/// The error register's check, with the history's count alongside: the register and the
-/// count as read, and the verdict.
-fn judge_register(n: &scan::Node, read: &Read) -> (Option<u8>, Option<u8>, Check) {
+/// The error register's check, with the history's count alongside, into `h`.
+fn judge_register(read: &Read, h: &mut NodeHealth) {
     let register = read.register.as_ref().ok().and_then(|b| b.first().copied());
     let logged = read.history.as_ref().ok().and_then(|b| b.first().copied());
+    (h.error_register, h.errors_logged) = (register, logged);
     // The history's part ends the detail: errors logged have their remedy after it.
     let (history, read_them) = match &read.history {
         Ok(_) => match logged {
             Some(0) => (Logged::Nothing, None),
-            Some(k) => (Logged::Count(k), Some(Remedy::ReadErrorHistory { node: n.node })),
+            Some(k) => (Logged::Count(k), Some(Remedy::ReadErrorHistory { node: h.node })),
             None => (Logged::Unsaid, None),
         },
         Err(e) if super::node::is_missing(e) => (Logged::NoHistory, None),
         Err(e) => (Logged::Unread(e.into()), None),
     };
-    let judged = match (&read.register, register) {
+    h.checks.push(match (&read.register, register) {
         (Err(e), _) => check("error register", false, Finding::RegisterUnread { error: e.into() }),
         (Ok(_), None) => check("error register", false, Finding::RegisterEmpty),
         (Ok(_), Some(r)) => {
             check("error register", r == 0, Finding::Register { register: r, logged: history }).with_remedy(read_them)
         }
-    };
-    (register, logged, judged)
+    });
 }
 
-/// A CiA 402 drive's check from its statusword read: the statusword, the state it codes,
-/// and the verdict (not in Fault).
-fn judge_drive(r: &Result<Vec<u8>>) -> (Option<u16>, Option<cia402::State>, Check) {
+/// A CiA 402 drive's check from its statusword read (not in Fault), into `h`.
+fn judge_drive(r: &Result<Vec<u8>>, h: &mut NodeHealth) {
     let statusword = r.as_ref().ok().filter(|b| b.len() >= 2).map(|b| u16::from_le_bytes([b[0], b[1]]));
     let drive_state = statusword.and_then(cia402::State::from_statusword);
-    let judged = match (r, statusword, drive_state) {
+    (h.statusword, h.drive_state) = (statusword, drive_state);
+    h.checks.push(match (r, statusword, drive_state) {
         (Err(e), _, _) => check("drive", false, Finding::StatuswordUnread { error: e.into() }),
         (Ok(_), None, _) => check("drive", false, Finding::StatuswordShort),
         (Ok(_), Some(statusword), None) => check("drive", false, Finding::NoDriveState { statusword }),
@@ -538,8 +469,7 @@ fn judge_drive(r: &Result<Vec<u8>>) -> (Option<u16>, Option<cia402::State>, Chec
             let warning = statusword & cia402::sw::WARNING != 0;
             check("drive", !faulted, Finding::Drive { state, statusword, warning })
         }
-    };
-    (statusword, drive_state, judged)
+    });
 }
 
 #[cfg(test)]
@@ -663,11 +593,12 @@ mod tests {
 
     #[test]
     fn emcys_are_listened_for_where_0x1014_puts_them() {
-        let with = |cob: Result<Vec<u8>>| Read { emcy_cob: cob, ..clean() };
-        assert_eq!(with(Ok(0x0000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x85));
-        assert_eq!(with(Ok(0x0000_0123u32.to_le_bytes().to_vec())).emcy_cob(5), Some(0x123));
-        assert_eq!(with(Ok(0x8000_0085u32.to_le_bytes().to_vec())).emcy_cob(5), None);
+        let with = |cob: Result<Vec<u8>>| emcy_cob(Some(&Read { emcy_cob: cob, ..clean() }), 5);
+        assert_eq!(with(Ok(0x0000_0085u32.to_le_bytes().to_vec())), Some(0x85));
+        assert_eq!(with(Ok(0x0000_0123u32.to_le_bytes().to_vec())), Some(0x123));
+        assert_eq!(with(Ok(0x8000_0085u32.to_le_bytes().to_vec())), None);
         let no_object = Error::SdoAbort { node: 5, obj: ObjAddr::EMCY_COB_ID, code: abort::NO_OBJECT };
-        assert_eq!(with(Err(no_object)).emcy_cob(5), Some(0x85));
+        assert_eq!(with(Err(no_object)), Some(0x85));
+        assert_eq!(emcy_cob(None, 5), Some(0x85), "nothing read: the default");
     }
 }

@@ -144,8 +144,7 @@ impl<T> NodeBus<T> {
         let (tx, rx) = channel();
         self.to_coordinator.send(Msg::Ask(self.slot, ask, tx)).map_err(|_| gone())?;
         let a = rx.recv().map_err(|_| gone())?;
-        self.now = a.now;
-        self.block = a.block;
+        (self.now, self.block) = (a.now, a.block);
         self.served.set(a.began);
         if a.booted {
             self.observed.boot_ups.insert(self.node);
@@ -155,6 +154,14 @@ impl<T> NodeBus<T> {
 
     fn not_here(&self) -> Error {
         Error::NotOnThisBus { bus: self.describe.clone(), why: self.refused }
+    }
+
+    /// `ask` of the coordinator, where it serves NMT and waits; else refused here.
+    fn ask_served(&mut self, ask: Ask) -> Result<Got> {
+        if !self.all {
+            return Err(self.not_here());
+        }
+        self.ask(ask)
     }
 }
 
@@ -174,10 +181,7 @@ impl<T> Bus for NodeBus<T> {
         })
     }
     fn nmt(&mut self, cmd: nmt::Command, node: u8) -> Result<()> {
-        if !self.all {
-            return Err(self.not_here());
-        }
-        self.ask(Ask::Nmt(cmd, node)).map(|_| ())
+        self.ask_served(Ask::Nmt(cmd, node)).map(|_| ())
     }
     fn send_frame(&mut self, _: &Frame) -> Result<()> {
         Err(self.not_here())
@@ -189,10 +193,7 @@ impl<T> Bus for NodeBus<T> {
         self.block
     }
     fn recv_frame_stamped(&mut self, deadline: Instant) -> Result<Option<(Frame, Instant)>> {
-        if !self.all {
-            return Err(self.not_here());
-        }
-        match self.ask(Ask::Listen(deadline))? {
+        match self.ask_served(Ask::Listen(deadline))? {
             Got::Frame(f) => Ok(f),
             _ => Err(unexpected()),
         }
@@ -202,10 +203,7 @@ impl<T> Bus for NodeBus<T> {
         self.now
     }
     fn sleep_until(&mut self, t: Instant) -> Result<()> {
-        if !self.all {
-            return Err(self.not_here());
-        }
-        self.ask(Ask::Sleep(t)).map(|_| ())
+        self.ask_served(Ask::Sleep(t)).map(|_| ())
     }
     fn request_frame(&mut self, _: u16, _: u8, _: Duration) -> Result<Frame> {
         Err(self.not_here())
@@ -233,7 +231,6 @@ struct Coordinator<'a> {
     bus: &'a mut dyn Bus,
     nodes: &'a [u8],
     serve: &'a Serve,
-    describe: String,
     /// When the service being answered began.
     began: Instant,
     /// The link failure a shared transfer found.
@@ -247,16 +244,21 @@ impl Coordinator<'_> {
             return Error::Interrupted;
         }
         let error = std::io::Error::other(e.to_string());
-        Error::Link(crate::error::LinkError::Io { port: self.describe.clone(), op: "", error: error.into() })
+        Error::Link(crate::error::LinkError::Io { port: self.bus.describe(), op: "", error: error.into() })
+    }
+
+    /// The failure `e` of a shared transfer or wait, to each node of `ended`.
+    fn fail(&mut self, ended: Vec<Waiting>, e: &Error) {
+        for w in ended {
+            let e = self.for_each_node(e);
+            self.answer(w, Err(e));
+        }
     }
 
     fn answer(&mut self, w: Waiting, got: Result<Got>) {
         let node = self.nodes[w.slot];
-        let (booted, block) = if self.serve.all {
-            (self.bus.observed().boot_ups.remove(&node), self.bus.block_transfer_to(node))
-        } else {
-            (false, false)
-        };
+        let booted = self.serve.all && self.bus.observed().boot_ups.remove(&node);
+        let block = self.serve.all && self.bus.block_transfer_to(node);
         let answer = Answer { got, began: self.began, now: self.bus.now(), booted, block };
         // A node whose thread is gone has nothing left to be told.
         let _ = w.reply.send(answer);
@@ -265,9 +267,7 @@ impl Coordinator<'_> {
     /// The waits whose time has come end: a pause, or a listen that heard nothing.
     fn wake(&mut self, waiting: &mut Vec<Waiting>) {
         let now = self.bus.now();
-        let (due, rest): (Vec<Waiting>, Vec<Waiting>) =
-            waiting.drain(..).partition(|w| w.ask.deadline().is_some_and(|t| t <= now));
-        *waiting = rest;
+        let due: Vec<Waiting> = waiting.extract_if(.., |w| w.ask.deadline().is_some_and(|t| t <= now)).collect();
         for w in due {
             let got = if matches!(w.ask, Ask::Listen(_)) { Got::Frame(None) } else { Got::Done };
             self.answer(w, Ok(got));
@@ -276,8 +276,7 @@ impl Coordinator<'_> {
 
     fn serve(&mut self, waiting: &mut Vec<Waiting>) {
         self.began = self.bus.now();
-        let (nmt, rest): (Vec<Waiting>, Vec<Waiting>) = waiting.drain(..).partition(|w| matches!(w.ask, Ask::Nmt(..)));
-        *waiting = rest;
+        let nmt: Vec<Waiting> = waiting.extract_if(.., |w| matches!(w.ask, Ask::Nmt(..))).collect();
         if !nmt.is_empty() {
             for w in nmt {
                 let Ask::Nmt(cmd, node) = w.ask else { unreachable!("partitioned") };
@@ -288,19 +287,17 @@ impl Coordinator<'_> {
         }
         let mut turn_taken = false;
         let one_at_a_time = self.serve.one_at_a_time;
-        let (sdo, rest): (Vec<Waiting>, Vec<Waiting>) = waiting.drain(..).partition(|w| match &w.ask {
+        let served = |w: &mut Waiting| match &w.ask {
             Ask::Sdo(SdoJob::Download { addr, .. }) if Some(addr.index) == one_at_a_time => {
                 !std::mem::replace(&mut turn_taken, true)
             }
             Ask::Sdo(_) => true,
             _ => false,
-        });
-        *waiting = rest;
+        };
+        let sdo: Vec<Waiting> = waiting.extract_if(.., served).collect();
         if !sdo.is_empty() {
-            let jobs: Vec<SdoJob> = sdo
-                .iter()
-                .map(|w| if let Ask::Sdo(j) = &w.ask { j.clone() } else { unreachable!("partitioned") })
-                .collect();
+            let job = |w: &Waiting| if let Ask::Sdo(j) = &w.ask { j.clone() } else { unreachable!("partitioned") };
+            let jobs: Vec<SdoJob> = sdo.iter().map(job).collect();
             match self.bus.sdo_many(&jobs) {
                 Ok(results) => {
                     for (w, r) in sdo.into_iter().zip(results) {
@@ -308,10 +305,7 @@ impl Coordinator<'_> {
                     }
                 }
                 Err(e) => {
-                    for w in sdo {
-                        let e = self.for_each_node(&e);
-                        self.answer(w, Err(e));
-                    }
+                    self.fail(sdo, &e);
                     self.lost = true;
                 }
             }
@@ -322,30 +316,22 @@ impl Coordinator<'_> {
         // Only waits: one, until the earliest deadline; a frame goes to every listener.
         let until = waiting.iter().filter_map(|w| w.ask.deadline()).min().expect("only waits are left");
         let listening = waiting.iter().any(|w| matches!(w.ask, Ask::Listen(_)));
-        let heard = if self.bus.now() >= until {
-            Ok(None)
-        } else if listening {
-            self.bus.recv_frame_stamped(until)
-        } else {
-            self.bus.sleep_until(until).map(|()| None)
+        let heard = match listening {
+            _ if self.bus.now() >= until => Ok(None),
+            true => self.bus.recv_frame_stamped(until),
+            false => self.bus.sleep_until(until).map(|()| None),
         };
         match heard {
-            Ok(Some(frame)) => {
-                let (listeners, rest): (Vec<Waiting>, Vec<Waiting>) =
-                    waiting.drain(..).partition(|w| matches!(w.ask, Ask::Listen(_)));
-                *waiting = rest;
-                for w in listeners {
-                    self.answer(w, Ok(Got::Frame(Some(frame))));
+            Ok(heard) => {
+                if let Some(frame) = heard {
+                    let listeners: Vec<Waiting> = waiting.extract_if(.., |w| matches!(w.ask, Ask::Listen(_))).collect();
+                    for w in listeners {
+                        self.answer(w, Ok(Got::Frame(Some(frame))));
+                    }
                 }
                 self.wake(waiting);
             }
-            Ok(None) => self.wake(waiting),
-            Err(e) => {
-                for w in std::mem::take(waiting) {
-                    let e = self.for_each_node(&e);
-                    self.answer(w, Err(e));
-                }
-            }
+            Err(e) => self.fail(std::mem::take(waiting), &e),
         }
     }
 }
@@ -367,9 +353,10 @@ pub(crate) fn run<T: Send>(
     let (tx, rx) = channel::<Msg<T>>();
     let mut results: Vec<Option<T>> = nodes.iter().map(|_| None).collect();
     let began = bus.now();
-    let mut coordinator = Coordinator { bus, nodes, serve, describe: describe.clone(), began, lost: false };
+    let mut coordinator = Coordinator { bus, nodes, serve, began, lost: false };
     std::thread::scope(|scope| {
-        let start = |slot: usize, now: Instant, block: bool| {
+        let begin = |slot: usize, c: &mut Coordinator, watch: &mut dyn Watch<T>| {
+            watch.begun(slot);
             let mut node_bus = NodeBus {
                 slot,
                 node: nodes[slot],
@@ -378,26 +365,18 @@ pub(crate) fn run<T: Send>(
                 all: serve.all,
                 refused: serve.refused,
                 to_coordinator: tx.clone(),
-                now,
-                block,
+                now: c.bus.now(),
+                block: serve.all && c.bus.block_transfer_to(nodes[slot]),
                 served: Arc::new(Served::default()),
                 observed: Observed::default(),
             };
             scope.spawn(move || {
-                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&mut node_bus, slot)))
-                    .unwrap_or_else(|_| {
-                        let why =
-                            Error::Usage("canctl's procedure for this node stopped (a bug: please report it)".into());
-                        stopped(slot, why)
-                    });
+                let bug = "canctl's procedure for this node stopped (a bug: please report it)";
+                let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&mut node_bus, slot)));
+                let result = ran.unwrap_or_else(|_| stopped(slot, Error::Usage(bug.into())));
                 // The coordinator waits for every running node: it must hear of this one.
                 let _ = node_bus.to_coordinator.send(Msg::Done(slot, result));
             });
-        };
-        let begin = |slot: usize, c: &mut Coordinator, watch: &mut dyn Watch<T>| {
-            watch.begun(slot);
-            let block = serve.all && c.bus.block_transfer_to(nodes[slot]);
-            start(slot, c.bus.now(), block);
         };
         let mut queue = 0..nodes.len();
         let mut running = 0;

@@ -46,16 +46,11 @@ fn on_one<T>(
     f: &(impl Fn(&BusAddr, &mut dyn Bus) -> Result<T, Error> + Sync),
 ) -> Result<T, Error> {
     let mut result = None;
-    crate::ops::stop::on_bus(
-        addr,
-        opts,
-        cancel,
-        |bus| {
-            result = Some(crate::ops::stop::stoppable(bus, cancel, |bus| f(addr, bus)));
-            Ok(())
-        },
-        |_, e: Error| e,
-    )?;
+    let run = |bus: &mut dyn Bus| {
+        result = Some(crate::ops::stop::stoppable(bus, cancel, |bus| f(addr, bus)));
+        Ok(())
+    };
+    crate::ops::stop::on_bus(addr, opts, cancel, run, |_, e: Error| e)?;
     result.expect("on_bus runs the procedure once it has opened the bus")
 }
 

@@ -121,12 +121,8 @@ impl Progress for Silent {}
 /// SDO options for a value of a known size: an upload that brings more than a number can
 /// hold is stopped at [`NUMBER_LIMIT`] (or the size, if larger), not after 1 MiB.
 pub(crate) fn sized(timeout: Duration, size: Option<usize>) -> SdoOptions {
-    let mut o = SdoOptions::new(timeout);
-    o.size_hint = size;
-    if let Some(size) = size {
-        o.max_upload = size.max(NUMBER_LIMIT);
-    }
-    o
+    let o = SdoOptions { size_hint: size, ..SdoOptions::new(timeout) };
+    SdoOptions { max_upload: size.map_or(o.max_upload, |size| size.max(NUMBER_LIMIT)), ..o }
 }
 
 /// SDO options for reads of at most `limit` bytes.
@@ -167,16 +163,9 @@ pub(crate) fn le_u32(bytes: &[u8]) -> u32 {
 
 /// A value beyond the dictionary's limits is refused before it is sent.
 pub(crate) fn check_range(entry: &Entry, bytes: &[u8]) -> Result<()> {
-    match entry.outside_limits(bytes) {
-        None => Ok(()),
-        Some(crate::od::OutsideLimits { value, low, high, .. }) => Err(Error::OutOfRange {
-            object: entry.addr,
-            value: value.to_string(),
-            low,
-            high,
-            dictionary: "from the dictionary".into(),
-        }),
-    }
+    let Some(crate::od::OutsideLimits { value, low, high, .. }) = entry.outside_limits(bytes) else { return Ok(()) };
+    let (object, value, dictionary) = (entry.addr, value.to_string(), "from the dictionary".into());
+    Err(Error::OutOfRange { object, value, low, high, dictionary })
 }
 
 /// Serialise a value by its `Display` (object addresses as `0x1010:1`).

@@ -93,43 +93,33 @@ fn hex_spaced(b: &[u8]) -> String {
 pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
     let id = f.id();
     let node = (id & 0x7F) as u8;
+    // The data as the text shows it, and as JSON gives it.
+    let (spaced, hex) = (hex_spaced(f.data()), crate::canopen::types::hex(f.data()));
     if let Some((cmd, target)) = Command::parse(f) {
         let to = if target == 0 { "all nodes".to_string() } else { format!("node {target}") };
-        return event(
-            (target != 0).then_some(target),
-            "nmt",
-            format!("{} → {to}", cmd.name()),
-            json!({ "command": cmd.name(), "target": target }),
-        );
+        let fields = json!({ "command": cmd.name(), "target": target });
+        return event((target != 0).then_some(target), "nmt", format!("{} → {to}", cmd.name()), fields);
     }
     match id {
         0x080 => event(None, "sync", "SYNC".into(), json!({})),
         0x7E5 | 0x7E4 => {
             // The decoded message itself, never the text of an Option around it.
-            let decoded = if id == 0x7E5 {
-                lss::Request::decode(f.data()).map(|r| format!("{r:?}"))
-            } else {
-                lss::Response::decode(f.data()).map(|r| format!("{r:?}"))
+            let (kind, decoded) = match id {
+                0x7E5 => ("lss request", lss::Request::decode(f.data()).map(|r| format!("{r:?}"))),
+                _ => ("lss answer", lss::Response::decode(f.data()).map(|r| format!("{r:?}"))),
             };
-            let text = decoded.unwrap_or_else(|| format!("not a CiA 305 message ({})", hex_spaced(f.data())));
-            event(None, if id == 0x7E5 { "lss request" } else { "lss answer" }, text.clone(), json!({ "lss": text }))
+            let text = decoded.unwrap_or_else(|| format!("not a CiA 305 message ({spaced})"));
+            event(None, kind, text.clone(), json!({ "lss": text }))
         }
         0x081..=0x0FF => match Emergency::parse(f) {
             Some((n, e)) => {
-                let bits = emcy::register_bits(e.register);
-                let meaning = emcy::code_meaning(e.code);
-                event(
-                    Some(n),
-                    "emcy",
-                    format!(
-                        "0x{:04X} {meaning}; error register 0x{:02X} [{}]; vendor {}",
-                        e.code,
-                        e.register,
-                        bits.join(", "),
-                        hex_spaced(&e.vendor)
-                    ),
-                    json!({ "code": format!("0x{:04X}", e.code), "meaning": meaning, "register": e.register, "register_bits": bits, "vendor": crate::canopen::types::hex(&e.vendor) }),
-                )
+                let (code, register, vendor) = (e.code, e.register, hex_spaced(&e.vendor));
+                let (bits, meaning) = (emcy::register_bits(register), emcy::code_meaning(code));
+                let listed = bits.join(", ");
+                let text =
+                    format!("0x{code:04X} {meaning}; error register 0x{register:02X} [{listed}]; vendor {vendor}");
+                let fields = json!({ "code": format!("0x{code:04X}"), "meaning": meaning, "register": register, "register_bits": bits, "vendor": crate::canopen::types::hex(&e.vendor) });
+                event(Some(n), "emcy", text, fields)
             }
             None => event(Some(node), "emcy", format!("no data ({} bytes)", f.len()), json!({})),
         },
@@ -138,26 +128,16 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
             Some((n, ErrorControl::BootUp)) => {
                 event(Some(n), "boot-up", "boot-up".into(), json!({ "state": "initialising" }))
             }
-            Some((n, ErrorControl::State { state, toggle })) => event(
-                Some(n),
-                "heartbeat",
-                format!("{state}{}", if toggle { " (toggle 1)" } else { "" }),
-                json!({ "state": state.name(), "toggle": toggle }),
-            ),
-            _ => event(
-                Some(node),
-                "error control",
-                hex_spaced(f.data()),
-                json!({ "data": crate::canopen::types::hex(f.data()) }),
-            ),
+            Some((n, ErrorControl::State { state, toggle })) => {
+                let text = format!("{state}{}", if toggle { " (toggle 1)" } else { "" });
+                event(Some(n), "heartbeat", text, json!({ "state": state.name(), "toggle": toggle }))
+            }
+            _ => event(Some(node), "error control", spaced, json!({ "data": hex })),
         },
-        0x581..=0x5FF => {
-            let (t, j) = sdo_text(f.data(), false);
-            event(Some(node), "sdo answer", t, j)
-        }
-        0x601..=0x67F => {
-            let (t, j) = sdo_text(f.data(), true);
-            event(Some(node), "sdo request", t, j)
+        0x581..=0x5FF | 0x601..=0x67F => {
+            let request = id >= 0x601;
+            let (t, j) = sdo_text(f.data(), request);
+            event(Some(node), if request { "sdo request" } else { "sdo answer" }, t, j)
         }
         0x181..=0x57F => {
             let kind = ["tpdo", "rpdo"][((id - 0x180) / 0x80 % 2) as usize];
@@ -166,40 +146,25 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
             if f.is_remote() {
                 return event(Some(node), "pdo request", format!("{label} remote request"), json!({ "pdo": label }));
             }
-            match layouts.get(&id).map(|l| (l, l.decode(f.data()))) {
+            let (text, fields) = match layouts.get(&id).map(|l| (l, l.decode(f.data()))) {
                 Some((l, Ok(values))) => {
                     let mut fields = serde_json::Map::new();
-                    let text: Vec<String> = l
-                        .fields
-                        .iter()
-                        .zip(&values)
-                        .map(|(fd, v)| {
-                            fields.insert(fd.name.clone(), v.to_json());
-                            format!("{}={v}", fd.name)
-                        })
-                        .collect();
-                    event(
-                        Some(node),
-                        "pdo",
-                        format!("{label} {}", text.join(" ")),
-                        json!({ "pdo": label, "values": fields }),
-                    )
+                    let mut text = Vec::new();
+                    for (fd, v) in l.fields.iter().zip(&values) {
+                        fields.insert(fd.name.clone(), v.to_json());
+                        text.push(format!("{}={v}", fd.name));
+                    }
+                    (format!("{label} {}", text.join(" ")), json!({ "pdo": label, "values": fields }))
                 }
-                Some((l, Err(m))) => event(
-                    Some(node),
-                    "pdo",
-                    format!("{label} {} (length {} where the mapping makes {})", hex_spaced(f.data()), m.got, m.want),
-                    json!({ "pdo": label, "data": crate::canopen::types::hex(f.data()), "length_mismatch": l.len() }),
-                ),
-                None => event(
-                    Some(node),
-                    "pdo",
-                    format!("{label} {}", hex_spaced(f.data())),
-                    json!({ "pdo": label, "data": crate::canopen::types::hex(f.data()) }),
-                ),
-            }
+                Some((l, Err(m))) => {
+                    let text = format!("{label} {spaced} (length {} where the mapping makes {})", m.got, m.want);
+                    (text, json!({ "pdo": label, "data": hex, "length_mismatch": l.len() }))
+                }
+                None => (format!("{label} {spaced}"), json!({ "pdo": label, "data": hex })),
+            };
+            event(Some(node), "pdo", text, fields)
         }
-        _ => event(None, "frame", hex_spaced(f.data()), json!({ "data": crate::canopen::types::hex(f.data()) })),
+        _ => event(None, "frame", spaced, json!({ "data": hex })),
     }
 }
 
@@ -255,15 +220,8 @@ impl Monitor {
             )));
         }
         let start = bus.now();
-        Ok(Monitor {
-            layouts,
-            nodes: nodes.to_vec(),
-            start,
-            last: start,
-            end: duration.map(|d| start + d),
-            count,
-            seen: Summary::default(),
-        })
+        let (nodes, end) = (nodes.to_vec(), duration.map(|d| start + d));
+        Ok(Monitor { layouts, nodes, start, last: start, end, count, seen: Summary::default() })
     }
 
     /// The next frame, decoded, or `None` when the monitor is over: its duration or count

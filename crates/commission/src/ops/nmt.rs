@@ -184,34 +184,15 @@ pub fn send(bus: &mut dyn Bus, command: Command, target: u8) -> Result<Sent> {
 /// Stopped by the user once the reset went out (over a
 /// [`Stoppable`](crate::bus::stoppable::Stoppable) bus), the report says so, unconfirmed.
 pub fn reset(bus: &mut dyn Bus, command: Command, target: u8, o: &ResetOptions) -> Result<Reset> {
-    let report = Reset {
-        command,
-        target,
-        sent: true,
-        confirmed: false,
-        booted: None,
-        state: None,
-        seen_by: None,
-        why: None,
-        interrupted: false,
-    };
     let mut sent = false;
-    let confirmation = match reset_and_wait_noting(bus, command, target, o, &mut sent) {
-        Err(e) if e.is_interrupted() && sent => {
-            return Ok(Reset { why: Some(Unconfirmed::Interrupted { target }), interrupted: true, ..report });
-        }
-        other => other?,
+    let (booted, seen_by, why, interrupted) = match reset_and_wait_noting(bus, command, target, o, &mut sent) {
+        Err(e) if e.is_interrupted() && sent => (None, None, Some(Unconfirmed::Interrupted { target }), true),
+        Err(e) => return Err(e),
+        Ok(Confirmation::Confirmed(nodes, how)) => (Some(nodes), Some(how), None, false),
+        Ok(Confirmation::Unconfirmed(why)) => (None, None, Some(why), false),
     };
-    Ok(match confirmation {
-        Confirmation::Confirmed(nodes, how) => Reset {
-            confirmed: true,
-            booted: Some(nodes),
-            state: Some(nmt::State::PreOperational),
-            seen_by: Some(how),
-            ..report
-        },
-        Confirmation::Unconfirmed(why) => Reset { why: Some(why), ..report },
-    })
+    let (confirmed, state) = (booted.is_some(), booted.as_ref().map(|_| nmt::State::PreOperational));
+    Ok(Reset { command, target, sent: true, confirmed, booted, state, seen_by, why, interrupted })
 }
 
 /// Send a reset and wait until the target is back. A link that shows the bus's traffic
@@ -240,21 +221,20 @@ fn reset_and_wait_noting(
         *sent = true;
         return Ok(Confirmation::Unconfirmed(Unconfirmed::NoBootUps { bus: bus.describe() }));
     }
-    let before = Node::new(bus, target, o.timeout).error_control(o.timeout)?.flatten();
+    let before = match Node::new(bus, target, o.timeout).error_control(o.timeout)? {
+        Some(Some(ErrorControl::State { state, .. })) => Some(state),
+        _ => None,
+    };
     bus.nmt(cmd, target)?;
     *sent = true;
     let after = poll_until_answering(bus, target, o)?;
+    let pre_operational = nmt::State::PreOperational;
     Ok(match (before, after) {
         (_, ErrorControl::BootUp) => Confirmation::Confirmed(vec![target], SeenBy::BootUpAnswer),
-        (
-            Some(ErrorControl::State { state: was, .. }),
-            ErrorControl::State { state: nmt::State::PreOperational, .. },
-        ) if was != nmt::State::PreOperational => Confirmation::Confirmed(vec![target], SeenBy::StateChange { was }),
+        (Some(was), ErrorControl::State { state, .. }) if state == pre_operational && was != pre_operational => {
+            Confirmation::Confirmed(vec![target], SeenBy::StateChange { was })
+        }
         (before, ErrorControl::State { state: after, .. }) => {
-            let before = match before {
-                Some(ErrorControl::State { state, .. }) => Some(state),
-                _ => None,
-            };
             Confirmation::Unconfirmed(Unconfirmed::StateAsBefore { node: target, before, after, bus: bus.describe() })
         }
         (_, ErrorControl::Unknown(code)) => {
@@ -318,24 +298,18 @@ pub fn state(bus: &mut dyn Bus, node: u8, o: &StateOptions) -> Result<NodeState>
         while let Some((f, at)) = bus.recv_frame_stamped(listen_end)? {
             // A beat that ended before then may predate a command just sent (a stop): the
             // state is what the node says once the command reached it.
-            if at < start {
-                continue;
-            }
-            if let Some((n, ErrorControl::State { state, .. })) = ErrorControl::parse(&f) {
-                if n == node {
-                    return Ok(NodeState { node, state, source: StateFrom::Heartbeat });
-                }
+            let beat = ErrorControl::parse(&f).filter(|(n, _)| *n == node && at >= start);
+            if let Some((_, ErrorControl::State { state, .. })) = beat {
+                return Ok(NodeState { node, state, source: StateFrom::Heartbeat });
             }
         }
     }
     let answer = Node::new(bus, node, o.timeout).guard(o.timeout)?;
-    match answer.and_then(|g| Some((g.state()?, StateFrom::guarding(g, bus)))) {
-        Some((state, source)) => Ok(NodeState { node, state, source }),
-        None => {
-            let heartbeat = bus.sees_traffic().then_some(o.listen);
-            Err(Error::NoAnswer { node, what: Service::NmtState { heartbeat }, waited: o.timeout })
-        }
-    }
+    let Some((state, source)) = answer.and_then(|g| Some((g.state()?, StateFrom::guarding(g, bus)))) else {
+        let heartbeat = bus.sees_traffic().then_some(o.listen);
+        return Err(Error::NoAnswer { node, what: Service::NmtState { heartbeat }, waited: o.timeout });
+    };
+    Ok(NodeState { node, state, source })
 }
 
 #[cfg(test)]

@@ -39,29 +39,10 @@ pub(crate) fn optional<T>(r: Result<T>) -> Result<Option<T>> {
     }
 }
 
-/// An unsigned value read from a device, little-endian as CANopen sends it.
-pub trait Unsigned: Sized {
-    /// Its size in bytes, the size hint of the read.
-    const SIZE: usize;
-    /// The value from the bytes the device sent (missing bytes read as 0: a device that
-    /// sends fewer than the type has is taken as zero-extended, as the SDO client does).
-    fn from_le_slice(bytes: &[u8]) -> Self;
+/// The first `size` bytes (at most 4) as a little-endian unsigned value, missing ones as 0.
+fn le_unsigned(bytes: &[u8], size: usize) -> u32 {
+    bytes.iter().take(size).rev().fold(0, |v, b| v << 8 | u32::from(*b))
 }
-
-macro_rules! unsigned {
-    ($($t:ty),*) => {$(
-        impl Unsigned for $t {
-            const SIZE: usize = std::mem::size_of::<$t>();
-            fn from_le_slice(bytes: &[u8]) -> Self {
-                let mut b = [0u8; std::mem::size_of::<$t>()];
-                let n = bytes.len().min(b.len());
-                b[..n].copy_from_slice(&bytes[..n]);
-                <$t>::from_le_bytes(b)
-            }
-        }
-    )*};
-}
-unsigned!(u8, u16, u32);
 
 /// One node of a bus, reached by SDO with one timeout.
 pub struct Node<'a> {
@@ -76,28 +57,17 @@ impl<'a> Node<'a> {
         Node { bus, id, timeout }
     }
 
-    /// The node-id.
-    pub fn id(&self) -> u8 {
-        self.id
-    }
-
-    /// The bus the node is on, for what is not a node's (broadcasts, listening).
-    pub fn bus(&mut self) -> &mut dyn Bus {
-        self.bus
-    }
-
-    /// An object's value as the device sends it.
-    pub fn upload(&mut self, addr: ObjAddr, size: Option<usize>) -> Result<Vec<u8>> {
-        self.bus.sdo_upload(self.id, addr, &sized(self.timeout, size))
-    }
-
-    /// An unsigned object: `node.read::<u32>(ObjAddr::new(0x1000, 0))`.
-    pub fn read<T: Unsigned>(&mut self, addr: ObjAddr) -> Result<T> {
-        self.upload(addr, Some(T::SIZE)).map(|b| T::from_le_slice(&b))
+    /// An unsigned object (`u8`, `u16`, `u32`), little-endian as CANopen sends it; its size
+    /// the size hint of the read. Missing bytes read as 0: a device that sends fewer than
+    /// the type has is taken as zero-extended, as the SDO client does.
+    pub fn read<T: TryFrom<u32>>(&mut self, addr: ObjAddr) -> Result<T> {
+        let size = std::mem::size_of::<T>();
+        let bytes = self.bus.sdo_upload(self.id, addr, &sized(self.timeout, Some(size)))?;
+        Ok(T::try_from(le_unsigned(&bytes, size)).unwrap_or_else(|_| unreachable!("{size} bytes fit the type")))
     }
 
     /// An unsigned object the device may lack ([`optional`]).
-    pub(crate) fn read_optional<T: Unsigned>(&mut self, addr: ObjAddr) -> Result<Option<T>> {
+    pub(crate) fn read_optional<T: TryFrom<u32>>(&mut self, addr: ObjAddr) -> Result<Option<T>> {
         optional(self.read(addr))
     }
 
@@ -111,24 +81,16 @@ impl<'a> Node<'a> {
     /// The rest of the identity object, its vendor-ID (0x1018:1) read already.
     pub(crate) fn identity_of(&mut self, vendor: u32) -> Result<Identity> {
         let mut part = |addr| self.read_optional::<u32>(addr);
-        Ok(Identity {
-            vendor,
-            product: part(ObjAddr::PRODUCT_CODE)?,
-            revision: part(ObjAddr::REVISION_NUMBER)?,
-            serial: part(ObjAddr::SERIAL_NUMBER)?,
-        })
+        let (product, revision) = (part(ObjAddr::PRODUCT_CODE)?, part(ObjAddr::REVISION_NUMBER)?);
+        Ok(Identity { vendor, product, revision, serial: part(ObjAddr::SERIAL_NUMBER)? })
     }
 
     /// The vendor-ID and product code a file names, against the device's: each one the file
     /// names (not 0), read and compared as numbers.
     pub(crate) fn compare_identity(&mut self, vendor: u32, product: u32) -> Result<Vec<IdentityPart>> {
         let mut parts = Vec::new();
-        for (what, want, addr) in
-            [(IdPart::Vendor, vendor, ObjAddr::VENDOR_ID), (IdPart::Product, product, ObjAddr::PRODUCT_CODE)]
-        {
-            if want == 0 {
-                continue;
-            }
+        let named = [(IdPart::Vendor, vendor, ObjAddr::VENDOR_ID), (IdPart::Product, product, ObjAddr::PRODUCT_CODE)];
+        for (what, want, addr) in named.into_iter().filter(|(_, want, _)| *want != 0) {
             let device = match self.read::<u32>(addr) {
                 Ok(v) => Ok(v),
                 Err(Error::SdoAbort { code, .. }) => Err(code),
@@ -185,7 +147,7 @@ impl<'a> Node<'a> {
         let mut field = ErrorField { count, entries: Vec::new(), unreadable: Vec::new() };
         for ((_, addr), value) in subs.iter().zip(values) {
             match value {
-                Ok(b) if b.len() >= 4 => field.entries.push(LoggedError::new(addr.sub, u32::from_le_slice(&b), origin)),
+                Ok(b) if b.len() >= 4 => field.entries.push(LoggedError::new(addr.sub, super::le_u32(&b), origin)),
                 Ok(_) => field.unreadable.push(Unreadable { sub: addr.sub, error: "shorter than 4 bytes".into() }),
                 Err(e) if e.is_timeout() => return Err(e),
                 Err(e) => field.unreadable.push(Unreadable { sub: addr.sub, error: e.to_string() }),
@@ -346,10 +308,11 @@ pub(crate) fn hex16<S: serde::Serializer>(v: &u16, s: S) -> std::result::Result<
 /// How a node's NMT state was learnt, or why it is not known: the one answer to "from
 /// what?" for every command that shows a state (`nmt state`, scan, health, network check,
 /// a stream's silence). JSON gives it as its text, as the human form does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[non_exhaustive]
 pub enum StateFrom {
     /// Not looked for: the scan was stopped first (its text is empty).
+    #[default]
     NotAsked,
     /// The node's heartbeat.
     Heartbeat,
@@ -435,8 +398,8 @@ mod tests {
 
     #[test]
     fn typed_reads_take_the_little_endian_value() {
-        assert_eq!(u32::from_le_slice(&[0x92, 0x01, 0x02, 0x00]), 0x0002_0192);
-        assert_eq!(u16::from_le_slice(&[0x34]), 0x34, "a short answer is zero-extended");
+        assert_eq!(le_unsigned(&[0x92, 0x01, 0x02, 0x00], 4), 0x0002_0192);
+        assert_eq!(le_unsigned(&[0x34], 2), 0x34, "a short answer is zero-extended");
         let mut bus = sim();
         let mut node = Node::new(&mut bus, 10, T);
         assert_eq!(node.read_optional::<u32>(ObjAddr::new(0x1018, 9)).unwrap(), None);

@@ -55,18 +55,17 @@ impl ScanOptions {
 /// Refuses a window no device can answer or be heard within: every command that probes
 /// (scan, health, network) or listens (doctor, its sweep) waits at least `MIN_WINDOW`.
 pub fn check_window(window: Duration) -> Result<()> {
+    let (ms, min) = (window.as_millis(), MIN_WINDOW.as_millis());
     if window < MIN_WINDOW {
         return Err(Error::Usage(format!(
-            "a window of {} ms is shorter than devices take to answer (what they say would be lost without a word); use at least {}ms",
-            window.as_millis(),
-            MIN_WINDOW.as_millis(),
+            "a window of {ms} ms is shorter than devices take to answer (what they say would be lost without a word); use at least {min}ms"
         )));
     }
     Ok(())
 }
 
 /// What a scan found.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct Scan {
     /// The bus, as it describes itself.
     pub bus: String,
@@ -135,7 +134,7 @@ impl Phase {
 }
 
 /// A node that answered the probe, with what it told about itself (`None`: not said).
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct Node {
     /// The node-id.
     pub node: u8,
@@ -205,26 +204,12 @@ pub fn scan(bus: &mut dyn Bus, o: &ScanOptions, progress: &mut dyn Progress) -> 
 /// one that does not answer that either is [`Scan::gone`], never silently left out.
 pub fn scan_against(bus: &mut dyn Bus, o: &ScanOptions, last_seen: &[u8], progress: &mut dyn Progress) -> Result<Scan> {
     o.check()?;
-    let mut report = Scan {
-        bus: bus.describe(),
-        nodes: Vec::new(),
-        lss_unconfigured: 0,
-        lss_configuration: Configuring::default(),
-        clashes: Vec::new(),
-        probe_rounds: 0,
-        answered_on_repeat: Vec::new(),
-        interrupted: false,
-        not_done: Vec::new(),
-        gone: Vec::new(),
-        answers_elsewhere: Vec::new(),
-        not_there: Vec::new(),
-    };
+    let mut report = Scan { bus: bus.describe(), ..Scan::default() };
     let mut phase = 0;
     match scan_into(bus, o, last_seen, progress, &mut report, &mut phase) {
         Err(e) if e.is_interrupted() => {
             progress.finish();
-            report.interrupted = true;
-            report.not_done = Phase::ALL[phase..].to_vec();
+            (report.interrupted, report.not_done) = (true, Phase::ALL[phase..].to_vec());
             Ok(report)
         }
         other => other.map(|_| report),
@@ -276,12 +261,12 @@ fn scan_into(
     }
     // Before the identities are read: a node listed only for another node's answer.
     let found: Vec<u8> = report.nodes.iter().map(|n| n.node).collect();
-    let seen = bus.observed().nodes.clone();
+    let seen = &bus.observed().nodes;
     let shows_itself =
         seen.iter().filter(|(_, how)| how.iter().any(|h| matches!(h, SeenBy::Heartbeat | SeenBy::BootUp)));
     let suspects: BTreeSet<u8> =
         shows_itself.map(|(n, _)| *n).chain(last_seen.iter().copied()).filter(|n| !found.contains(n)).collect();
-    let suspects: Vec<u8> = suspects.into_iter().collect();
+    let suspects = Vec::from_iter(suspects);
     let shown = super::answers_elsewhere::look(bus, &suspects, &found, o.window)?;
     report.nodes.retain(|n| !shown.phantoms.contains(&n.node));
     report.answers_elsewhere = shown.elsewhere.clone();
@@ -295,11 +280,8 @@ fn scan_into(
     add_seen_otherwise(bus, &mut report.nodes);
     // Its answers on that COB-ID showed it to the bus's observer too: it is still not there.
     report.nodes.retain(|n| !shown.phantoms.contains(&n.node) && !report.not_there.contains(&n.node));
-    let mut unseen: Vec<Node> = last_seen
-        .iter()
-        .filter(|n| !report.nodes.iter().any(|f| f.node == **n))
-        .map(|n| Node { answers_sdo: false, ..Node::probed(*n, None) })
-        .collect();
+    let is_new = |n: &&u8| !report.nodes.iter().any(|f| f.node == **n);
+    let mut unseen: Vec<Node> = last_seen.iter().filter(is_new).map(|&node| Node { node, ..Node::default() }).collect();
     guard_states(bus, &mut unseen, o)?;
     for n in unseen {
         match n.state_from {
@@ -331,19 +313,7 @@ fn scan_into(
 impl Node {
     /// A node that answered the probe, before anything else is asked.
     fn probed(node: u8, device_type: Option<u32>) -> Node {
-        Node {
-            node,
-            device_type,
-            vendor_id: None,
-            product_code: None,
-            revision: None,
-            serial: None,
-            name: None,
-            state: None,
-            state_from: StateFrom::NotAsked,
-            heartbeat_ms: None,
-            answers_sdo: true,
-        }
+        Node { node, device_type, answers_sdo: true, ..Node::default() }
     }
 }
 
@@ -363,7 +333,7 @@ fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
             (Some(_), true) => StateFrom::Heartbeat,
             (Some(_), false) => StateFrom::BootUp,
         };
-        nodes.push(Node { state, state_from, answers_sdo: false, ..Node::probed(*node, None) });
+        nodes.push(Node { node: *node, state, state_from, ..Node::default() });
     }
     nodes.sort_by_key(|n| n.node);
 }
@@ -374,7 +344,7 @@ fn add_seen_otherwise(bus: &mut dyn Bus, nodes: &mut Vec<Node>) {
 fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<()> {
     let beating = |f: &Node| f.heartbeat_ms.is_some_and(|ms| ms > 0);
     if bus.sees_traffic() {
-        let longest = found.iter().filter(|f| beating(f)).filter_map(|f| f.heartbeat_ms).max().unwrap_or(0);
+        let longest = found.iter().filter_map(|f| f.heartbeat_ms).max().unwrap_or(0);
         // Twice the period: one beat may have gone just before the listening began.
         let end = bus.now() + (Duration::from_millis(2 * longest as u64) + o.window).min(MAX_HEARTBEAT_WAIT);
         let missing = |bus: &mut dyn Bus, found: &[Node]| {
@@ -394,38 +364,29 @@ fn nmt_states(bus: &mut dyn Bus, found: &mut [Node], o: &ScanOptions) -> Result<
 /// The NMT state of each of `nodes` whose state is not known yet, by node guarding (one
 /// request each), or why it stays unknown.
 fn guard_states(bus: &mut dyn Bus, nodes: &mut [Node], o: &ScanOptions) -> Result<()> {
-    let beating = |f: &Node| f.heartbeat_ms.is_some_and(|ms| ms > 0);
     // Guarding answers come at once; a node that has none is not waited for long.
     let floor = Duration::from_millis(200);
     let guard_wait = (2 * o.window).max(floor).min(o.timeout.max(floor));
     for f in nodes.iter_mut().filter(|f| f.state.is_none()) {
-        let guarded = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
+        (f.state, f.state_from) = match super::node::Node::new(bus, f.node, guard_wait).guard(guard_wait) {
             // A link without remote frames (socketcand): the heartbeat was all there was.
-            Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
-                f.state_from = StateFrom::NoRemoteFrames;
-                continue;
-            }
-            other => other?,
-        };
-        (f.state, f.state_from) = match guarded {
-            Some(g) => (g.state(), StateFrom::guarding(g, bus)),
-            None => (None, StateFrom::Silent { heartbeat: beating(f) }),
+            Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => (None, StateFrom::NoRemoteFrames),
+            Err(e) => return Err(e),
+            Ok(Some(g)) => (g.state(), StateFrom::guarding(g, bus)),
+            Ok(None) => (None, StateFrom::Silent { heartbeat: f.heartbeat_ms.is_some_and(|ms| ms > 0) }),
         };
     }
     Ok(())
 }
 
 fn configuring(answers: &[[u8; 8]]) -> Configuring {
-    let values = |q: Inquiry| -> Vec<u32> {
-        answers
-            .iter()
-            .filter_map(|a| match Response::decode(a) {
-                Some(Response::InquiredValue { inquiry, value }) if inquiry == q => Some(value),
-                _ => None,
-            })
-            .collect()
+    let said = |a: &[u8; 8]| match Response::decode(a) {
+        Some(Response::InquiredValue { inquiry, value }) => Some((inquiry, value)),
+        _ => None,
     };
-    let all = [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId].map(values);
+    let values = |q: Inquiry| answers.iter().filter_map(said).filter_map(|(i, v)| (i == q).then_some(v)).collect();
+    let all: [Vec<u32>; 5] =
+        [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId].map(values);
     let count = all.iter().map(Vec::len).max().unwrap_or(0);
     let one = match all.each_ref().map(|v| v.as_slice()) {
         [[vendor], [product], [revision], [serial], [node]] => Some((
@@ -440,23 +401,11 @@ fn configuring(answers: &[[u8; 8]]) -> Configuring {
 /// The device in configuration state as a list of none or one:
 /// `{"identity": "0x...:...", "lss": {"vendor_id": ..}, "node": ..}`.
 fn devices<S: serde::Serializer>(one: &Option<(Identity, Option<u8>)>, s: S) -> std::result::Result<S::Ok, S::Error> {
-    #[derive(Serialize)]
-    struct Parts {
-        vendor_id: u32,
-        product_code: u32,
-        revision: u32,
-        serial: u32,
-    }
-    #[derive(Serialize)]
-    struct Device {
-        identity: String,
-        lss: Parts,
-        node: Option<u8>,
-    }
-    s.collect_seq(one.iter().map(|(id, node)| Device {
-        identity: id.to_string(),
-        lss: Parts { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial },
-        node: *node,
+    s.collect_seq(one.iter().map(|(id, node)| {
+        let lss = serde_json::json!({
+            "vendor_id": id.vendor, "product_code": id.product, "revision": id.revision, "serial": id.serial,
+        });
+        serde_json::json!({ "identity": id.to_string(), "lss": lss, "node": node })
     }))
 }
 

@@ -16,7 +16,7 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 
 /// A node the last scan found: what completion offers for `--node` and picks dictionaries by.
-#[derive(Serialize, Deserialize, Debug, Clone, PartialEq)]
+#[derive(Serialize, Deserialize, Debug, Clone, PartialEq, Default)]
 #[non_exhaustive]
 pub struct SeenNode {
     /// Its node-id.
@@ -50,10 +50,6 @@ fn scanned() -> bool {
     true
 }
 
-fn dir() -> Option<PathBuf> {
-    crate::xdg::cache_dir()
-}
-
 /// The network a bus URI reaches, so `can0` and `socketcan:can0` share what was seen, and
 /// a different baud rate to the same EPOS2 does not lose it. A sim network is its state
 /// file: `sim:s.json` in two folders is two networks.
@@ -67,11 +63,6 @@ fn network(bus: &str) -> String {
         Ok(addr) => addr.to_string(),
         Err(_) => bus.to_string(),
     }
-}
-
-/// One file per network, named after it.
-fn file(bus: &str) -> Option<PathBuf> {
-    network_file(SCAN, bus)
 }
 
 const SCAN: &str = "scan";
@@ -92,7 +83,7 @@ pub fn forget(bus: &str) {
 pub(crate) fn network_file(kind: &str, bus: &str) -> Option<PathBuf> {
     let name: String =
         network(bus).chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect();
-    Some(dir()?.join(format!("{kind}-{name}.json")))
+    Some(crate::xdg::cache_dir()?.join(format!("{kind}-{name}.json")))
 }
 
 impl SeenNode {
@@ -113,7 +104,7 @@ impl SeenNode {
                 scanned: true,
                 dictionary: dicts.eds_for(n.node).and_then(|e| std::path::absolute(&e.path).ok()),
                 answered: read.filter(|(_, _, ok)| *ok).map(|(index, sub, _)| (index, sub)).collect(),
-                refused: BTreeSet::new(),
+                ..SeenNode::default()
             }
         };
         scan.nodes.iter().map(seen).collect()
@@ -142,7 +133,7 @@ pub fn remember(
 /// Save what a scan found as the bus's nodes, keeping what was learned before of each
 /// node that answered with the same identity.
 pub fn save(bus: &str, nodes: &[SeenNode]) {
-    write(bus, &merged(load_all(bus), nodes));
+    write_cache(network_file(SCAN, bus), &merged(load_all(bus), nodes));
 }
 
 /// `nodes`, each with what `old` knew of the same device at its id.
@@ -158,16 +149,22 @@ fn merged(old: Vec<SeenNode>, nodes: &[SeenNode]) -> Vec<SeenNode> {
     nodes
 }
 
-fn write(bus: &str, nodes: &[SeenNode]) {
-    if let Some(path) = file(bus) {
+/// Every node of the bus the cache knows of, also those known only from what they answered.
+pub(crate) fn load_all(bus: &str) -> Vec<SeenNode> {
+    read_cache(network_file(SCAN, bus))
+}
+
+/// Write `value` as JSON to the cache file `path`. A cache: failing to is no error.
+pub(crate) fn write_cache(path: Option<PathBuf>, value: &(impl Serialize + ?Sized)) {
+    if let Some(path) = path {
         let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
-        let _ = crate::atomic::write_atomic(&path, serde_json::to_string(nodes).expect("serialises").as_bytes());
+        let _ = crate::atomic::write_atomic(&path, serde_json::to_string(value).expect("serialises").as_bytes());
     }
 }
 
-/// Every node of the bus the cache knows of, also those known only from what they answered.
-pub(crate) fn load_all(bus: &str) -> Vec<SeenNode> {
-    file(bus).and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
+/// What the cache file `path` holds; nothing (the default) when it cannot be read.
+pub(crate) fn read_cache<T: serde::de::DeserializeOwned + Default>(path: Option<PathBuf>) -> T {
+    path.and_then(|p| std::fs::read(p).ok()).and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
 }
 
 /// The nodes the last scan of the bus found.
@@ -194,7 +191,7 @@ pub fn note<T>(bus: Option<&str>, node: u8, addr: ObjAddr, outcome: &Result<T, E
     };
     let mut nodes = load_all(bus);
     if noted(&mut nodes, node, addr, has) {
-        write(bus, &nodes);
+        write_cache(network_file(SCAN, bus), &nodes);
     }
 }
 
@@ -203,32 +200,22 @@ pub fn note<T>(bus: Option<&str>, node: u8, addr: ObjAddr, outcome: &Result<T, E
 pub fn describe(bus: &str, node: u8, path: &std::path::Path) {
     let Ok(path) = std::path::absolute(path) else { return };
     let mut nodes = load_all(bus);
-    let i = entry(&mut nodes, node);
-    nodes[i].dictionary = Some(path);
-    write(bus, &nodes);
+    entry(&mut nodes, node).dictionary = Some(path);
+    write_cache(network_file(SCAN, bus), &nodes);
 }
 
-/// The index of `node`'s entry in `nodes`, added (as no node the scan saw) when missing.
-fn entry(nodes: &mut Vec<SeenNode>, node: u8) -> usize {
-    nodes.iter().position(|n| n.node == node).unwrap_or_else(|| {
-        nodes.push(SeenNode {
-            node,
-            name: None,
-            vendor_id: None,
-            device_type: None,
-            scanned: false,
-            dictionary: None,
-            answered: BTreeSet::new(),
-            refused: BTreeSet::new(),
-        });
+/// `node`'s entry in `nodes`, added (as no node the scan saw) when missing.
+fn entry(nodes: &mut Vec<SeenNode>, node: u8) -> &mut SeenNode {
+    let i = nodes.iter().position(|n| n.node == node).unwrap_or_else(|| {
+        nodes.push(SeenNode { node, ..SeenNode::default() });
         nodes.len() - 1
-    })
+    });
+    &mut nodes[i]
 }
 
 /// Add to `nodes` that `node` has `addr` (or has nothing at its index); whether that is news.
 fn noted(nodes: &mut Vec<SeenNode>, node: u8, addr: ObjAddr, has: bool) -> bool {
-    let i = entry(nodes, node);
-    let n = &mut nodes[i];
+    let n = entry(nodes, node);
     if has {
         n.refused.remove(&addr.index) | n.answered.insert((addr.index, addr.sub))
     } else {

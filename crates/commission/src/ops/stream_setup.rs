@@ -56,10 +56,8 @@ pub fn prepare(
     let state_options = StateOptions { listen: Duration::from_millis(300), timeout: setup.timeout };
     let list: Vec<u16> = if setup.tpdo.is_empty() { (1..=4).collect() } else { setup.tpdo.to_vec() };
     if !setup.map.is_empty() {
-        let mut objects = Vec::new();
-        for (addr, entry) in &setup.map {
-            objects.push((*addr, pdo::mapped_bits(bus, node, *addr, *entry, setup.timeout)?));
-        }
+        let bits = |&(addr, entry)| Ok((addr, pdo::mapped_bits(bus, node, addr, entry, setup.timeout)?));
+        let objects = setup.map.iter().map(bits).collect::<Result<Vec<_>>>()?;
         let remap = Remap { tpdo: list[0], objects, event: setup.event, transmission: setup.transmission };
         session.remap(bus, node, &remap, setup.timeout)?;
     }

@@ -6,6 +6,7 @@ use super::config;
 use super::node::{hex16, IdentityPart};
 use super::scan::StateFrom;
 use crate::canopen::{cia402, nmt};
+use crate::ops::as_text;
 use crate::ops::failure::Failure;
 use serde::Serialize;
 
@@ -273,10 +274,6 @@ pub enum Logged {
     NoHistory,
     /// 0x1003:0 could not be read.
     Unread(#[serde(serialize_with = "as_text")] Failure),
-}
-
-fn as_text<S: serde::Serializer>(v: &impl std::fmt::Display, s: S) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_str(v)
 }
 
 /// One EMCY the node sent during the watch.

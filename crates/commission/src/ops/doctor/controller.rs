@@ -23,27 +23,23 @@ fn judge(r: &LinkReport, d: &mut Diagnosis) {
         add(d, Finding { cause: Cause::Host { problem }, evidence, remedy: Remedy::FixHost { problem } });
     }
     let mut evidence = Vec::new();
-    let (mut state, mut restart_ms, mut bitrate) = (None, None, None);
-    match r.controller {
-        // No controller: no state to report, and none is made up.
-        Some(Controller::Virtual) => d.fine.push(Evidence::NoController { iface: iface.clone() }),
-        Some(Controller::Can { state: s, tx_errors, rx_errors, restart_ms: restart, bitrate: rate }) => {
-            let shown = Evidence::ControllerReport {
-                iface: iface.clone(),
-                state: s,
-                tx_errors,
-                rx_errors,
-                restart_ms: restart,
-                bitrate: rate,
-            };
-            match s {
+    let (state, restart_ms, bitrate) = match r.controller {
+        Some(Controller::Can { state, tx_errors, rx_errors, restart_ms, bitrate }) => {
+            let shown =
+                Evidence::ControllerReport { iface: iface.clone(), state, tx_errors, rx_errors, restart_ms, bitrate };
+            match state {
                 Some(CanState::ErrorWarning | CanState::ErrorPassive | CanState::BusOff) => evidence.push(shown),
                 _ => d.fine.push(shown),
             }
-            (state, restart_ms, bitrate) = (s, restart, rate);
+            (state, restart_ms, bitrate)
         }
-        None => {}
-    }
+        // No controller: no state to report, and none is made up.
+        Some(Controller::Virtual) => {
+            d.fine.push(Evidence::NoController { iface: iface.clone() });
+            (None, None, None)
+        }
+        None => (None, None, None),
+    };
     let counts = r.error_frames;
     if counts.frames > 0 {
         evidence.push(Evidence::ErrorFrames { iface: iface.clone(), counts });

@@ -36,11 +36,10 @@ fn judge(error_register: Option<u8>, bit_rate_code: Option<u16>, d: &mut Diagnos
     let explains = !silent.is_empty();
     silent.into_iter().for_each(|f| f.evidence.push(seen.clone()));
     match error_register {
-        Some(register) if register & COMMUNICATION != 0 => d.findings.push(Finding {
-            cause: Cause::Epos2CanErrors { register },
-            evidence: vec![seen],
-            remedy: Remedy::CheckBus,
-        }),
+        Some(register) if register & COMMUNICATION != 0 => {
+            let cause = Cause::Epos2CanErrors { register };
+            d.findings.push(Finding { cause, evidence: vec![seen], remedy: Remedy::CheckBus })
+        }
         // Fine, unless it is already the evidence of a silence.
         _ if !explains => d.fine.push(seen),
         _ => {}

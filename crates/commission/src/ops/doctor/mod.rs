@@ -69,8 +69,7 @@ impl Heard {
             return;
         }
         *self.frames.entry(f.id()).or_default() += 1;
-        let state = ErrorControl::parse(f).and_then(|(node, ec)| Some((node, ec.state()?)));
-        if let Some((node, state)) = state {
+        if let Some((node, state)) = ErrorControl::parse(f).and_then(|(node, ec)| Some((node, ec.state()?))) {
             let e = self.beats.entry(node).or_insert((0, Vec::new(), state));
             e.0 += 1;
             if !e.1.contains(&state) {
@@ -148,14 +147,7 @@ pub fn doctor_swept(
 /// Examine the bus and, given one, the node; link failures become findings (the host,
 /// the controller), other errors end it (an interruption).
 pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
-    let mut d = Diagnosis {
-        bus: bus.describe(),
-        node: o.node,
-        listened_ms: 0,
-        findings: Vec::new(),
-        fine: Vec::new(),
-        ok: false,
-    };
+    let mut d = Diagnosis { bus: bus.describe(), node: o.node, ..Diagnosis::default() };
     let examined = examine(bus, o, &mut d).and_then(|()| match o.lss {
         true => lss::ask(bus, o.timeout, &mut d),
         false => {
@@ -163,12 +155,9 @@ pub fn doctor(bus: &mut dyn Bus, o: &DoctorOptions) -> Result<Diagnosis> {
             Ok(())
         }
     });
-    match examined {
-        Ok(()) => {}
-        Err(e) => match e.root() {
-            Error::Link(link) => d.findings.push(link_finding(link)),
-            _ => return Err(e),
-        },
+    if let Err(e) = examined {
+        let Error::Link(link) = e.root() else { return Err(e) };
+        d.findings.push(link_finding(link));
     }
     controller::examine(bus, &mut d);
     d.findings.sort_by_key(|f| f.cause.rank());
@@ -193,20 +182,14 @@ pub fn quick(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration) -> R
     Ok(match state {
         Some(state) => Some(shown_but_silent(node, state, vec![seen])),
         // Through an EPOS2 the read of every id is one after the other: far from quick.
-        None if !bus.sees_traffic() => another_answers(bus, node, last_scan, wait)?.map(|other| Finding {
-            cause: Cause::NodeSilent { node },
-            evidence: vec![seen, other],
-            remedy: Remedy::CheckNode { node },
-        }),
+        None if !bus.sees_traffic() => another_answers(bus, node, last_scan, wait)?
+            .and_then(|other| finding(Cause::NodeSilent { node }, Remedy::CheckNode { node }, vec![seen, other])),
         // Other nodes showed themselves during the command: the bus is not silent, and no
         // probe of every node-id need say so.
         None if bus.observed().nodes.keys().any(|&n| n != node) => {
             let nodes = bus.observed().nodes.keys().copied().filter(|&n| n != node).collect();
-            finding(
-                Cause::NodeSilent { node },
-                Remedy::CheckNodeOrLss { node },
-                vec![seen, Evidence::NodesHeard { nodes }],
-            )
+            let heard = Evidence::NodesHeard { nodes };
+            finding(Cause::NodeSilent { node }, Remedy::CheckNodeOrLss { node }, vec![seen, heard])
         }
         None => {
             let (found, waited_ms) = timed(bus, |bus| scan::probe_once(bus, wait))?;
@@ -248,17 +231,15 @@ fn another_answers(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration
 /// A link that carries no remote frames (socketcand) cannot ask: that is said, never taken
 /// for a failure of the node.
 fn guarded(bus: &mut dyn Bus, node: u8, wait: Duration) -> Result<(Option<nmt::State>, Evidence)> {
-    match timed(bus, |bus| crate::ops::node::Node::new(bus, node, wait).guard(wait)) {
-        Ok((Some(g), _)) => Ok(match g.state() {
+    Ok(match timed(bus, |bus| crate::ops::node::Node::new(bus, node, wait).guard(wait)) {
+        Ok((Some(g), _)) => match g.state() {
             Some(state) => (Some(state), Evidence::Guarding { node, state }),
             None => (None, Evidence::GuardingNotAState { node }),
-        }),
-        Ok((None, waited_ms)) => Ok((None, Evidence::NoGuardingAnswer { node, waited_ms })),
-        Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => {
-            Ok((None, Evidence::GuardingUnavailable { node }))
-        }
-        Err(e) => Err(e),
-    }
+        },
+        Ok((None, waited_ms)) => (None, Evidence::NoGuardingAnswer { node, waited_ms }),
+        Err(e) if matches!(e.root(), Error::NoRemoteFrames { .. }) => (None, Evidence::GuardingUnavailable { node }),
+        Err(e) => return Err(e),
+    })
 }
 
 /// The finding for a node that did not answer SDO, from the state it showed (`shown`: the
@@ -287,28 +268,17 @@ fn shown_but_silent(node: u8, state: nmt::State, evidence: Vec<Evidence>) -> Fin
 
 /// The diagnosis of a link that could not even be opened.
 pub fn unopened(bus: &str, node: Option<u8>, error: &LinkError) -> Diagnosis {
-    Diagnosis {
-        bus: bus.to_string(),
-        node,
-        listened_ms: 0,
-        findings: vec![link_finding(error)],
-        fine: vec![],
-        ok: false,
-    }
+    Diagnosis { bus: bus.to_string(), node, findings: vec![link_finding(error)], ..Diagnosis::default() }
 }
 
 /// The finding a link failure shows: the host's side, or the controller's report of the bus.
 pub fn link_finding(error: &LinkError) -> Finding {
-    let cause = match error {
-        LinkError::BusOff { .. } => Cause::Controller { state: ControllerState::BusOff },
+    let (cause, remedy) = match error {
+        LinkError::BusOff { .. } => (Cause::Controller { state: ControllerState::BusOff }, Remedy::CheckBus),
         LinkError::AdapterBusError { .. } | LinkError::AdapterRefusedFrame { cob: Some(_), .. } => {
-            Cause::Controller { state: ControllerState::BusErrors }
+            (Cause::Controller { state: ControllerState::BusErrors }, Remedy::CheckBus)
         }
-        _ => Cause::Host { problem: host_problem(error) },
-    };
-    let remedy = match &cause {
-        Cause::Host { problem } => Remedy::FixHost { problem: *problem },
-        _ => Remedy::CheckBus,
+        _ => (Cause::Host { problem: host_problem(error) }, Remedy::FixHost { problem: host_problem(error) }),
     };
     Finding { cause, evidence: vec![Evidence::LinkReported { message: error.to_string() }], remedy }
 }
@@ -316,7 +286,7 @@ pub fn link_finding(error: &LinkError) -> Finding {
 fn host_problem(error: &LinkError) -> HostProblem {
     let io_problem = |e: &std::io::Error| match (e.kind(), e.raw_os_error()) {
         (std::io::ErrorKind::PermissionDenied, _) => HostProblem::NoPermission,
-        (_, Some(code)) if code == enobufs() => HostProblem::TransmitQueueFull,
+        (_, Some(ENOBUFS)) => HostProblem::TransmitQueueFull,
         _ => HostProblem::LinkFailed,
     };
     match error {
@@ -338,13 +308,12 @@ fn host_problem(error: &LinkError) -> HostProblem {
 }
 
 /// ENOBUFS, the errno of a full transmit queue (Linux 105; the BSDs and macOS 55).
-fn enobufs() -> i32 {
+const ENOBUFS: i32 =
     if cfg!(any(target_os = "macos", target_os = "freebsd", target_os = "netbsd", target_os = "openbsd")) {
         55
     } else {
         105
-    }
-}
+    };
 
 /// Every check, then the link's own report of the bus after them (an adapter's bus errors
 /// show only once it has sent something).
@@ -377,9 +346,7 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
             Some(value) => Evidence::SdoAnswer { node, obj: ObjAddr::SERIAL_NUMBER, value },
             None => Evidence::SdoAnswerUnread { node, obj: ObjAddr::SERIAL_NUMBER },
         });
-        if let Some(beats) = heard.heartbeats(node) {
-            d.fine.push(beats);
-        }
+        d.fine.extend(heard.heartbeats(node));
         let values = answers.iter().filter_map(|r| r.value()).collect();
         return look_for_clash(bus, o, node, values, &heard, d);
     }
@@ -396,25 +363,21 @@ fn examine_all(bus: &mut dyn Bus, o: &DoctorOptions, d: &mut Diagnosis) -> Resul
     };
     evidence.push(no_answer.clone());
     evidence.extend(elsewhere.iter().map(|cob_id| Evidence::SdoAnswerOn { node, cob_id: *cob_id }));
-    match state {
-        Some(state) => d.findings.push(shown_but_silent(node, state, evidence)),
-        None => return node_absent(bus, o, Absent { node, no_answer, evidence }, &heard, d),
-    }
+    let Some(state) = state else { return node_absent(bus, o, (node, no_answer, evidence), &heard, d) };
+    d.findings.push(shown_but_silent(node, state, evidence));
     Ok(())
 }
 
-/// A node silent to SDO and guarding: `no_answer` its SDO reads unanswered, `evidence` all
-/// that was seen of it.
-struct Absent {
-    node: u8,
-    no_answer: Evidence,
-    evidence: Vec<Evidence>,
-}
-
-/// Nothing at all from the node: has its device moved to another id, is the whole bus
-/// silent, or is only this node missing?
-fn node_absent(bus: &mut dyn Bus, o: &DoctorOptions, absent: Absent, heard: &Heard, d: &mut Diagnosis) -> Result<()> {
-    let Absent { node, no_answer, mut evidence } = absent;
+/// Nothing at all from the node, silent to SDO and guarding (`absent`: the node, its SDO
+/// reads unanswered and all that was seen of it): has its device moved to another id, is
+/// the whole bus silent, or is only this node missing?
+fn node_absent(
+    bus: &mut dyn Bus,
+    o: &DoctorOptions,
+    (node, no_answer, mut evidence): (u8, Evidence, Vec<Evidence>),
+    heard: &Heard,
+    d: &mut Diagnosis,
+) -> Result<()> {
     let (found, waited_ms) = timed(bus, |bus| scan::probe(bus, o.timeout, &mut Silent))?;
     let ids: Vec<u8> = found.iter().map(|(n, _)| *n).collect();
     let probe = Evidence::ProbeAnswers { nodes: ids.clone(), waited_ms };
@@ -465,16 +428,10 @@ fn find_moved(
         let name =
             bus.sdo_upload(now, ObjAddr::DEVICE_NAME, &opts).ok().map(|b| String::from_utf8_lossy(&b).into_owned());
         if was.name.is_none() || was.name == name {
-            let evidence = vec![
-                Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() },
-                Evidence::Identity { node: now, identity, name },
-                no_answer,
-            ];
-            return Ok(Some(Finding {
-                cause: Cause::Moved { node, now },
-                evidence,
-                remedy: Remedy::UseNewId { node, now, identity },
-            }));
+            let last = Evidence::LastScan { node, vendor_id: was.vendor_id, name: was.name.clone() };
+            let evidence = vec![last, Evidence::Identity { node: now, identity, name }, no_answer];
+            let (cause, remedy) = (Cause::Moved { node, now }, Remedy::UseNewId { node, now, identity });
+            return Ok(Some(Finding { cause, evidence, remedy }));
         }
     }
     Ok(None)
@@ -490,13 +447,10 @@ fn look_for_clash(
     heard: &Heard,
     d: &mut Diagnosis,
 ) -> Result<()> {
-    let mut shown: Vec<clash::Evidence> = Vec::new();
-    if answers.len() > 1 {
-        shown.push(clash::Evidence::SdoAnswers { values: answers.clone() });
-    }
-    if let Some((_, states, _)) = heard.beats.get(&node).filter(|(_, s, _)| s.len() > 1) {
-        shown.push(clash::Evidence::HeartbeatStates { states: states.clone() });
-    }
+    let two_answers = (answers.len() > 1).then(|| clash::Evidence::SdoAnswers { values: answers.clone() });
+    let mut shown: Vec<clash::Evidence> = two_answers.into_iter().collect();
+    let states = heard.beats.get(&node).filter(|(_, s, _)| s.len() > 1);
+    shown.extend(states.map(|(_, states, _)| clash::Evidence::HeartbeatStates { states: states.clone() }));
     if shown.is_empty() {
         // The serial just read, against a second read: two devices whose answers merge on
         // the bus show as a serial that changes.
@@ -516,13 +470,9 @@ fn look_for_clash(
 /// The bus without a node: heartbeats of one id in two states, and, when the listen heard
 /// nothing, a probe of every node-id.
 fn examine_bus(bus: &mut dyn Bus, o: &DoctorOptions, heard: &Heard, d: &mut Diagnosis) -> Result<()> {
-    for (node, (_, states, _)) in heard.beats.iter().filter(|(_, (_, s, _))| s.len() > 1) {
-        let shown_by = clash::Evidence::HeartbeatStates { states: states.clone() };
-        d.findings.push(Finding {
-            cause: Cause::NodeIdClash { node: *node },
-            evidence: vec![Evidence::Clash { shown_by }],
-            remedy: Remedy::SeparateIds { node: *node },
-        });
+    for (&node, (_, states, _)) in heard.beats.iter().filter(|(_, (_, s, _))| s.len() > 1) {
+        let evidence = vec![Evidence::Clash { shown_by: clash::Evidence::HeartbeatStates { states: states.clone() } }];
+        d.findings.push(Finding { cause: Cause::NodeIdClash { node }, evidence, remedy: Remedy::SeparateIds { node } });
     }
     let (found, waited_ms) = timed(bus, |bus| scan::probe(bus, o.timeout, &mut Silent))?;
     // Traffic is fine only where some node answers: else it is the evidence of a finding.

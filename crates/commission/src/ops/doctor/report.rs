@@ -12,7 +12,7 @@ use serde::Serialize;
 use std::time::Duration;
 
 /// The diagnosis: findings ranked most likely cause first, and what was found fine.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct Diagnosis {
     /// The bus examined.
     pub bus: String,
@@ -132,21 +132,18 @@ impl Cause {
     /// send explains a silent bus, a silent bus explains a silent node.
     pub(crate) fn rank(&self) -> u8 {
         match self {
-            Cause::Host { .. } => 0,
-            Cause::Controller { .. } => 1,
-            Cause::BusSilent | Cause::Flood { .. } | Cause::NoAnswers => 2,
+            // A bit rate named names more than the controller's errors, which only say that it
+            // is wrong (a host problem would have kept the sweep from running at all).
+            Cause::Host { .. } | Cause::OtherBitRate { .. } => 0,
+            Cause::Controller { .. } | Cause::Epos2CanErrors { .. } => 1,
+            Cause::NothingAcknowledges | Cause::SignalErrors => 1,
+            // A device without a node-id comes before a silent node or bus, which it explains.
+            Cause::BusSilent | Cause::Flood { .. } | Cause::NoAnswers | Cause::LssUnconfigured { .. } => 2,
             Cause::NodeIdClash { .. } => 3,
             Cause::Stopped { .. } => 4,
             Cause::Moved { .. } => 5,
             Cause::SdoSilent { .. } => 6,
             Cause::NodeSilent { .. } | Cause::SilentOrStopped { .. } => 7,
-            // Before a silent node or bus, which it explains.
-            Cause::LssUnconfigured { .. } => 2,
-            Cause::Epos2CanErrors { .. } => 1,
-            Cause::NothingAcknowledges | Cause::SignalErrors => 1,
-            // Names the rate, where the controller's errors only say that it is wrong: before
-            // them (a host problem would have kept the sweep from running at all).
-            Cause::OtherBitRate { .. } => 0,
         }
     }
 }

@@ -49,14 +49,8 @@ fn judge(d: &mut Diagnosis, trials: Vec<RateHeard>, own_kbit: Option<u32>) {
         [kbit] if own_kbit != Some(kbit) => {
             // Ahead of the controller's bus errors, which it explains (a stable sort
             // keeps it there among the causes of its rank).
-            d.findings.insert(
-                0,
-                Finding {
-                    cause: Cause::OtherBitRate { kbit },
-                    evidence: vec![evidence],
-                    remedy: Remedy::UseBitRate { kbit },
-                },
-            );
+            let (cause, remedy) = (Cause::OtherBitRate { kbit }, Remedy::UseBitRate { kbit });
+            d.findings.insert(0, Finding { cause, evidence: vec![evidence], remedy });
             d.findings.sort_by_key(|f| f.cause.rank());
             d.ok = false;
         }

@@ -19,7 +19,7 @@ fn each_link_failure_names_the_host_or_the_controller() {
         cause(LinkError::Io {
             port: "can0".into(),
             op: "send",
-            error: io(std::io::ErrorKind::Other, Some(enobufs())).into()
+            error: io(std::io::ErrorKind::Other, Some(ENOBUFS)).into()
         }),
         Cause::Host { problem: HostProblem::TransmitQueueFull }
     );

@@ -7,7 +7,7 @@ use crate::bus::Bus;
 use crate::canopen::sdo::response_cob;
 use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
-use crate::ops::answers_elsewhere::AnswersElsewhere;
+use crate::ops::answers_elsewhere::{self, AnswersElsewhere};
 use crate::ops::{Progress, Warning};
 use std::time::Duration;
 
@@ -38,15 +38,9 @@ pub(super) fn identify(
         }
     }
     if !stopped {
-        let rest: Vec<(u8, ObjAddr)> = answered
-            .iter()
-            .flat_map(|&node| {
-                ObjAddr::IDENTITY_PARTS[1..]
-                    .iter()
-                    .map(move |addr| (node, *addr))
-                    .chain([(node, ObjAddr::DEVICE_NAME), (node, ObjAddr::HEARTBEAT_TIME)])
-            })
-            .collect();
+        let parts = ObjAddr::IDENTITY_PARTS[1..].iter().copied().chain([ObjAddr::DEVICE_NAME, ObjAddr::HEARTBEAT_TIME]);
+        let rest: Vec<(u8, ObjAddr)> =
+            answered.iter().flat_map(|&node| parts.clone().map(move |a| (node, a))).collect();
         let done = first.len() as u64;
         let answers = bus.sdo_upload_many(&rest, &opts, &mut |n| progress.advance(done + n as u64))?;
         for (read, answer) in rest.iter().zip(answers) {
@@ -54,10 +48,7 @@ pub(super) fn identify(
         }
     }
     progress.finish();
-    match stopped {
-        true => Err(Error::Interrupted),
-        false => Ok(silent),
-    }
+    (!stopped).then_some(silent).ok_or(Error::Interrupted)
 }
 
 /// One identity read's answer, into its node; whether it says the user asked to stop.
@@ -102,20 +93,18 @@ pub(super) fn confirm_silent(
     progress: &mut dyn Progress,
 ) -> Result<()> {
     for (node, error) in silent {
-        if !bus.sees_traffic() {
-            progress.event(Warning::Failed { node: None, error }.into());
-            continue;
-        }
-        match crate::ops::answers_elsewhere::ask_alone(bus, node, window)? {
-            Some(cob_id) if cob_id == response_cob(node) => {
-                progress.event(Warning::Failed { node: None, error }.into())
-            }
-            Some(cob_id) => report.answers_elsewhere.push(AnswersElsewhere { node, cob_id }),
-            None if crate::ops::answers_elsewhere::answered_by_another(bus, node, window)? => {
+        let own = response_cob(node);
+        let alone = match bus.sees_traffic() {
+            true => answers_elsewhere::ask_alone(bus, node, window)?,
+            false => Some(own),
+        };
+        match alone {
+            Some(cob_id) if cob_id != own => report.answers_elsewhere.push(AnswersElsewhere { node, cob_id }),
+            None if answers_elsewhere::answered_by_another(bus, node, window)? => {
                 report.nodes.retain(|n| n.node != node);
                 report.not_there.push(node);
             }
-            None => progress.event(Warning::Failed { node: None, error }.into()),
+            _ => progress.event(Warning::Failed { node: None, error }.into()),
         }
     }
     Ok(())

@@ -56,10 +56,7 @@ pub(crate) fn probe_once(bus: &mut dyn Bus, window: Duration) -> Result<Found> {
 }
 
 fn found_unless_stopped(p: Probed) -> Result<Found> {
-    match p {
-        Probed { stopped: true, .. } => Err(Error::Interrupted),
-        p => Ok(p.found),
-    }
+    (!p.stopped).then_some(p.found).ok_or(Error::Interrupted)
 }
 
 /// Nodes that answered a probe, with their device types.
@@ -134,13 +131,11 @@ pub(crate) fn probe_until_stopped(
             ids.iter().flat_map(|n| std::iter::once((*n, ObjAddr::DEVICE_TYPE)).chain(then.map(|a| (*n, a)))).collect();
         // Only the probe is asked again early: a second answer to the other read is news.
         let once = SdoOptions { ask_again_after: None, ..opts.clone() };
-        let jobs: Vec<SdoJob> = reads
-            .iter()
-            .map(|(node, addr)| {
-                let opts = if *addr == ObjAddr::DEVICE_TYPE { opts.clone() } else { once.clone() };
-                SdoJob::Upload { node: *node, addr: *addr, opts }
-            })
-            .collect();
+        let job = |&(node, addr): &(u8, ObjAddr)| {
+            let opts = if addr == ObjAddr::DEVICE_TYPE { opts.clone() } else { once.clone() };
+            SdoJob::Upload { node, addr, opts }
+        };
+        let jobs: Vec<SdoJob> = reads.iter().map(job).collect();
         let count = ids.len() as u64;
         progress.start(if first { "probing" } else { "probing again" }, count);
         bus.observed().answers_counted.clear();
@@ -192,9 +187,7 @@ pub(crate) fn probe_until_stopped(
                     .filter(|_| a.lost_frames()),
                 None => (!first).then_some(Repeat { node: *node, probes: p.rounds, answered: 1 }),
             };
-            if let Some(repeat) = repeat.filter(|_| !answered_before && !restarted) {
-                p.repeats.push(repeat);
-            }
+            p.repeats.extend(repeat.filter(|_| !answered_before && !restarted));
         }
     }
     // A node whose every answer was malformed or without end answered all the same: it is
