@@ -234,32 +234,17 @@ impl Walk {
     }
 }
 
-/// Read the statusword until it shows `want` (or a fault: the walk ends there) or the wait
-/// is over. Out of a fault (`recovering`), fault is where the drive starts: it waits.
-fn await_state(
+/// Read the statusword until the state it codes is `settled` or the wait is over.
+fn await_settled(
     bus: &mut dyn Bus,
     node: u8,
-    want: State,
-    recovering: bool,
     o: &Options,
+    settled: impl Fn(Option<State>) -> bool,
 ) -> Result<(u16, Option<State>)> {
     let end = bus.now() + o.wait;
     loop {
         let (word, state) = statusword(bus, node, o.timeout)?;
-        let settled = state.is_some_and(|s| s == want || (s == State::Fault && !recovering));
-        if settled || bus.now() >= end {
-            return Ok((word, state));
-        }
-        bus.sleep_until(end.min(bus.now() + POLL))?;
-    }
-}
-
-/// Read the statusword until the drive leaves a state it leaves by itself.
-fn await_change(bus: &mut dyn Bus, node: u8, from: State, o: &Options) -> Result<(u16, Option<State>)> {
-    let end = bus.now() + o.wait;
-    loop {
-        let (word, state) = statusword(bus, node, o.timeout)?;
-        if state != Some(from) || bus.now() >= end {
+        if settled(state) || bus.now() >= end {
             return Ok((word, state));
         }
         bus.sleep_until(end.min(bus.now() + POLL))?;
@@ -334,7 +319,8 @@ fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) 
                 return Ok(());
             }
             Step::Wait => {
-                let (word, next) = await_change(bus, node, state, o)?;
+                // A state the drive leaves by itself: wait until it does.
+                let (word, next) = await_settled(bus, node, o, |s| s != Some(state))?;
                 (w.statusword, w.state) = (word, next);
                 if next == Some(state) {
                     w.stopped = Some(refusal(state, word, next));
@@ -351,7 +337,11 @@ fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) 
                 }
                 let controlword = command.controlword();
                 write_controlword(bus, node, controlword, o.timeout)?;
-                let (word, reached) = await_state(bus, node, expected, state == State::Fault, o)?;
+                // Until it shows `expected` (or a fault: the walk ends there); out of a fault,
+                // fault is where the drive starts: it waits.
+                let recovering = state == State::Fault;
+                let settled = |s: Option<State>| s.is_some_and(|s| s == expected || (s == State::Fault && !recovering));
+                let (word, reached) = await_settled(bus, node, o, settled)?;
                 let confirmed = reached == Some(expected);
                 w.transitions.push(Transition {
                     command,
@@ -500,15 +490,8 @@ impl Watch {
 
 /// The first valid TPDO (1..4) whose mapping carries the statusword, read from the node.
 fn statusword_tpdo(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<(u16, pdo::Layout)>> {
-    let layouts = match super::pdo::read_layouts(
-        bus,
-        node,
-        &crate::od::Dictionary::default(),
-        &[1, 2, 3, 4],
-        true,
-        timeout,
-        &mut super::Silent,
-    ) {
+    let dict = crate::od::Dictionary::default();
+    let layouts = match super::pdo::read_layouts(bus, node, &dict, &[1, 2, 3, 4], true, timeout, &mut super::Silent) {
         Ok(l) => l,
         Err(Error::NoValidTpdo { .. }) => return Ok(None),
         Err(e) => return Err(e),

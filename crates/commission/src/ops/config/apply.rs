@@ -47,7 +47,7 @@ impl ApplyOptions {
 
 /// What applying a DCF did, object by object. A failure part-way still gives the report:
 /// [`Applied::outcome`] turns it into the error.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 #[non_exhaustive]
 pub struct Applied {
     /// The node-id written to.
@@ -247,17 +247,22 @@ impl std::fmt::Display for Outcome {
     }
 }
 
+/// The entry of an object in the DCF's dictionary, else in the built-in one.
+fn entry_of(dcf: &Dcf, addr: ObjAddr) -> Option<&Entry> {
+    dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr))
+}
+
+/// A value of an object as its entry shows it, in hex without one.
+fn shown(dcf: &Dcf, addr: ObjAddr, bytes: &[u8]) -> String {
+    entry_of(dcf, addr).map_or_else(|| crate::canopen::types::hex(bytes), |e| show(e, bytes))
+}
+
 impl Change {
     fn new(dcf: &Dcf, addr: ObjAddr, old: Option<&[u8]>, new: &[u8], result: Outcome) -> Change {
-        let entry = dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
-        let fmt = |b: &[u8]| entry.map_or_else(|| crate::canopen::types::hex(b), |e| show(e, b));
-        let name = dcf
-            .eds
-            .dict
-            .display_name(addr)
-            .or_else(|| builtin::dictionary(None).display_name(addr))
-            .unwrap_or_default();
-        Change { object: addr, name, old: old.map_or("-".to_string(), fmt), new: fmt(new), result }
+        let builtin_name = || builtin::dictionary(None).display_name(addr);
+        let name = dcf.eds.dict.display_name(addr).or_else(builtin_name).unwrap_or_default();
+        let old = old.map_or("-".to_string(), |b| shown(dcf, addr, b));
+        Change { object: addr, name, old, new: shown(dcf, addr, new), result }
     }
 }
 
@@ -365,16 +370,15 @@ fn roll_back(
         .into_iter()
         .filter(|s| s.interim.is_empty() || snapshot.get(&s.addr) != Some(&s.value))
         .collect();
-    let entry_of = |addr: ObjAddr| dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
-    let shown = |addr: ObjAddr, v: &[u8]| entry_of(addr).map_or_else(|| crate::canopen::types::hex(v), |e| show(e, v));
     let mut rows = Vec::new();
     let mut to_fix: Vec<Fix> = Vec::new();
     for step in &steps {
+        let fix = Fix { object: step.addr, value: Some(shown(dcf, step.addr, &step.value)) };
         if !to_fix.is_empty() {
-            to_fix.push(Fix { object: step.addr, value: Some(shown(step.addr, &step.value)) });
+            to_fix.push(fix);
             continue;
         }
-        let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
+        let dtype = entry_of(dcf, step.addr).map_or(DataType::U32, |e| e.dtype);
         let old = device.get(&step.addr).cloned();
         let action = match bus.sdo_download(node, step.addr, &step.value, &opts(timeout, dtype)) {
             Ok(()) => {
@@ -382,7 +386,7 @@ fn roll_back(
                 Action::Written
             }
             Err(e) => {
-                to_fix.push(Fix { object: step.addr, value: Some(shown(step.addr, &step.value)) });
+                to_fix.push(fix);
                 Action::Failed(Failure::from(&e))
             }
         };
@@ -403,26 +407,25 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         crate::ops::check_range(entry, value)?;
     }
     let stop = || o.interrupted.is_cancelled();
-    let unchanged = |rows: Vec<Change>| Applied {
+    let unchanged = |objects: Vec<Change>| Applied {
         node,
         file: dcf.path().to_string(),
         dry_run: o.dry_run,
-        objects: rows,
-        stored: false,
+        objects,
         failure: Some(Error::Interrupted),
-        did_you_mean: Vec::new(),
-        written: Vec::new(),
-        mismatch: Vec::new(),
         interrupted: true,
-        rolled_back: Vec::new(),
-        to_fix: Vec::new(),
         state: Some(LeftIn::Unread { node }),
+        ..Applied::default()
     };
     if stop() {
         return Ok(unchanged(Vec::new()));
     }
-    if !o.force {
-        check_identity(bus, node, dcf, o.timeout)?;
+    // A DCF made for one kind of device is not written into another: the vendor-ID and
+    // product code the file names must be the device's (exit 6 otherwise, before anything
+    // is written). A file that names neither is applied anywhere.
+    let differences = if o.force { Vec::new() } else { identity_differences(bus, node, dcf, o.timeout)? };
+    if !differences.is_empty() {
+        return Err(Error::OtherDevice { file: dcf.path().to_string(), differences });
     }
     let given = o.dictionary.as_ref().map(|(d, source)| (d, source.as_str()));
     let (target, target_source) = node_dictionary(bus, node, given, o.timeout)?;
@@ -488,7 +491,6 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         }
     }
     let steps = plan(&changes, &|addr| current.get(&addr).cloned());
-    let entry_of = |addr: ObjAddr| dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
     let mut failure: Option<Error> = None;
     let mut interrupted = false;
     let mut written: Vec<ObjAddr> = Vec::new();
@@ -503,7 +505,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             interrupted = true;
             failure = Some(Error::Interrupted);
         }
-        let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
+        let dtype = entry_of(dcf, step.addr).map_or(DataType::U32, |e| e.dtype);
         let action = if o.dry_run && failure.is_some() {
             Action::WouldNotBeWritten
         } else if let (true, Some(&code)) = (o.dry_run, absent.get(&step.addr)) {
@@ -570,7 +572,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     let mut mismatch = Vec::new();
     if o.verify && failure.is_none() && !o.dry_run {
         for (addr, want) in &changes {
-            let Some(entry) = entry_of(*addr) else { continue };
+            let Some(entry) = entry_of(dcf, *addr) else { continue };
             if !entry.access.readable() {
                 continue;
             }
@@ -590,17 +592,15 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             }
         }
     }
-    if o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run && stop() {
-        interrupted = true;
+    let mut stored = o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run;
+    if stored && stop() {
+        (interrupted, stored) = (true, false);
         failure = Some(Error::Interrupted);
     }
-    let stored = if o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run {
+    if stored {
         let t = crate::ops::store::Timeouts { answer: o.timeout, write: o.store_timeout };
         crate::ops::store::store(bus, node, crate::ops::store::Class::All, t)?;
-        true
-    } else {
-        false
-    };
+    }
     let state = (!o.dry_run && failure.is_some())
         .then(|| left_in(node, &changes, &device, &current, !rolled_back.is_empty(), !to_fix.is_empty(), o.store));
     Ok(Applied {

@@ -53,7 +53,7 @@ pub struct Assignment {
     pub failure: Option<Error>,
 }
 
-pub(super) fn error_text<S: serde::Serializer, E: std::fmt::Display>(
+pub(crate) fn error_text<S: serde::Serializer, E: std::fmt::Display>(
     e: &Option<E>,
     s: S,
 ) -> std::result::Result<S::Ok, S::Error> {
@@ -67,10 +67,7 @@ impl Assignment {
     /// Done when the last "any device without a node-id?" probe went unanswered: every
     /// device numbered, or none there to number (a provisioning script run again).
     pub fn outcome(self) -> Result<()> {
-        match self.failure {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
+        self.failure.map_or(Ok(()), Err)
     }
 
     /// Nothing to do: no device without a node-id answered, and nothing stopped the search.
@@ -264,11 +261,28 @@ pub fn number_all(
     // A failure, a lost link or an interruption must not leave a device in
     // configuration state, where it would answer the next master's services.
     let left = m.leave();
-    result?;
+    match result {
+        Err(Stop::Error(e)) => return Err(e),
+        Err(Stop::Failure(f)) => out.failure = Some(f),
+        Ok(()) => {}
+    }
     if let (Err(e), None) = (left, &out.failure) {
         out.failure = Some(AssignFailure::Refused(e));
     }
     Ok(out)
+}
+
+/// What ends a numbering early: a failure its report tells, or an error that ends the
+/// command. A device's refusal, or a failure of the bus, is the first.
+enum Stop {
+    Failure(AssignFailure),
+    Error(Error),
+}
+
+impl From<Error> for Stop {
+    fn from(e: Error) -> Stop {
+        Stop::Failure(AssignFailure::Refused(e))
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -281,7 +295,7 @@ fn assign_each(
     progress: &mut dyn Progress,
     cancel: &Cancel,
     out: &mut AssignOutcome,
-) -> Result<()> {
+) -> std::result::Result<(), Stop> {
     let len = fastscan_steps(given);
     // Searches in a row that found nobody: one lost answer must not be taken for "every
     // device has a node-id" (exit 0), so silence is believed only when it repeats.
@@ -295,10 +309,12 @@ fn assign_each(
             progress.start(&format!("fastscan for device {}", out.assigned.len() + 1), len);
         }
         let mut this_search = 0;
-        let scan = m.fastscan(out.pace.clone(), given, cancel, &mut |n| {
-            this_search = n;
-            progress.advance((sent + n).min(len));
-        })?;
+        let scan = m
+            .fastscan(out.pace.clone(), given, cancel, &mut |n| {
+                this_search = n;
+                progress.advance((sent + n).min(len));
+            })
+            .map_err(Stop::Error)?;
         sent += this_search;
         let Some(scan) = scan else {
             out.interrupted = true;
@@ -315,10 +331,7 @@ fn assign_each(
                 }
                 return Ok(());
             }
-            Err(e) => {
-                out.failure = Some(AssignFailure::Fastscan(e));
-                return Ok(());
-            }
+            Err(e) => return Err(Stop::Failure(AssignFailure::Fastscan(e))),
         };
         silent = 0;
         // Another device is in configuration state with it (it missed a switch back):
@@ -326,13 +339,9 @@ fn assign_each(
         if scan.crowded {
             crowded += 1;
             if crowded > lss::REPEATS {
-                out.failure = Some(AssignFailure::Refused(Error::LssCrowded { identity, times: crowded }));
-                return Ok(());
+                return Err(Error::LssCrowded { identity, times: crowded }.into());
             }
-            if let Err(e) = m.leave() {
-                out.failure = Some(AssignFailure::Refused(e));
-                return Ok(());
-            }
+            m.leave()?;
             continue;
         }
         // Found again: the device numbered before did not leave configuration state
@@ -340,30 +349,20 @@ fn assign_each(
         // device: it gets its node-id again, is sent back, and is reported once.
         if let Some(first) = out.assigned.iter().find(|d| d.identity == identity).map(|d| d.node) {
             found_again += 1;
-            let again = match found_again > lss::REPEATS {
-                true => {
-                    let tries = m.sent_back_since_given(identity);
-                    Err(Error::LssStillConfiguring { identity, node: first, tries })
-                }
-                false => m.set_id(identity, first).and_then(|_| m.back_to_waiting(identity, first)),
-            };
-            if let Err(e) = again {
-                out.failure = Some(AssignFailure::Refused(e));
-                return Ok(());
+            if found_again > lss::REPEATS {
+                let tries = m.sent_back_since_given(identity);
+                return Err(Error::LssStillConfiguring { identity, node: first, tries }.into());
             }
+            m.set_id(identity, first)?;
+            m.back_to_waiting(identity, first)?;
             continue;
         }
         // Ids seen meanwhile (a heartbeat, a boot-up) are taken too.
         used.extend(m.bus().observed().node_ids());
         let Some(node) = (start..=127).find(|n| !used.contains(n)) else {
-            let e = Error::NoFreeNodeId { start, identity };
-            out.failure = Some(AssignFailure::Refused(e));
-            return Ok(());
+            return Err(Error::NoFreeNodeId { start, identity }.into());
         };
-        if let Err(e) = m.set_id(identity, node) {
-            out.failure = Some(AssignFailure::Refused(e));
-            return Ok(());
-        }
+        m.set_id(identity, node)?;
         // An action: never sent twice blindly, and LSS has no way to read it back, so a
         // lost answer leaves it unknown, and the report says so.
         let stored = if store {
@@ -380,9 +379,6 @@ fn assign_each(
         progress.event(Notice::Assigned { identity, node }.into());
         sent = 0;
         out.assigned.push(Assigned { identity, node, stored });
-        if let Err(e) = m.back_to_waiting(identity, node) {
-            out.failure = Some(AssignFailure::Refused(e));
-            return Ok(());
-        }
+        m.back_to_waiting(identity, node)?;
     }
 }

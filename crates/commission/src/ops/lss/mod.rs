@@ -47,6 +47,20 @@ impl Target {
             Target::DirectEpos2 => "the EPOS2 (node 0)".into(),
         }
     }
+
+    /// The identity of the one device it is, if it is one.
+    fn identity(self) -> Option<Identity> {
+        match self {
+            Target::One(id) => Some(id),
+            _ => None,
+        }
+    }
+}
+
+/// Put the devices addressed in configuration state; failing that, all back to waiting (a
+/// late acknowledgement may still have put one in configuration state).
+fn enter(m: &mut LssMaster, identity: Option<&Identity>) -> Result<()> {
+    m.enter(identity).or_else(|e| m.leave().and(Err(e)))
 }
 
 /// An identity in a report: its `V:P:R:S` text (`identity`) and its four numbers (`lss`).
@@ -102,11 +116,7 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
         Target::DirectEpos2 => return Err(no_lss_on_direct_epos2("inquire")),
     };
     let mut m = LssMaster::new(bus, timeout);
-    if let Err(e) = m.enter(identity.as_ref()) {
-        // A late acknowledgement may still have put the device in configuration state.
-        m.leave()?;
-        return Err(e);
-    }
+    enter(&mut m, identity.as_ref())?;
     let mut values = Vec::new();
     for q in [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId] {
         let answers = m.ask(Request::Inquire(q), if global { LssWait::All } else { LssWait::First })?;
@@ -117,17 +127,12 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
                 _ => None,
             })
             .collect();
-        match found.as_slice() {
-            [v] => values.push(*v),
-            [] => {
-                m.leave()?;
-                return Err(Error::NoLssAnswer { request: "the inquiry".into(), identity: None, waited: timeout });
-            }
-            more => {
-                m.leave()?;
-                return Err(Error::InquiryAnsweredByMany { count: more.len() });
-            }
-        }
+        let value = match found.as_slice() {
+            [v] => Ok(*v),
+            [] => Err(Error::NoLssAnswer { request: "the inquiry".into(), identity: None, waited: timeout }),
+            more => Err(Error::InquiryAnsweredByMany { count: more.len() }),
+        };
+        values.push(value.or_else(|e| m.leave().and(Err(e)))?);
     }
     m.leave()?;
     let id = Identity { vendor: values[0], product: values[1], revision: values[2], serial: values[3] };
@@ -254,10 +259,7 @@ pub struct Configured {
 impl Configured {
     /// The command's outcome: Ok when no device refused, else the refusal (exit 4).
     pub fn outcome(self) -> Result<()> {
-        match self.failure {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
+        self.failure.map_or(Ok(()), Err)
     }
 }
 
@@ -277,10 +279,7 @@ pub fn configure(
     let (result, answers) = match target {
         Target::DirectEpos2 => (configure_direct_epos2(bus, timeout, setting)?, 1),
         Target::One(_) | Target::All => {
-            let identity = match target {
-                Target::One(id) => Some(id),
-                _ => None,
-            };
+            let identity = target.identity();
             let mut m = LssMaster::new(bus, timeout);
             let result = m.enter(identity.as_ref()).and_then(|_| match identity {
                 Some(_) => m.configure(setting.request(), setting.verb(), false),
@@ -405,11 +404,7 @@ pub fn set_id(
     interrupted: &Cancel,
 ) -> Result<Configured> {
     if !force && node != UNCONFIGURED && !interrupted.is_cancelled() {
-        let identity = match target {
-            Target::One(id) => Some(id),
-            _ => None,
-        };
-        if let Some(u) = super::clash::in_use(bus, node, identity, timeout, LISTEN)? {
+        if let Some(u) = super::clash::in_use(bus, node, target.identity(), timeout, LISTEN)? {
             return Err(Error::NodeIdInUse { node, identity: u.identity, by: u.by });
         }
     }
@@ -473,10 +468,7 @@ pub fn activate(bus: &mut dyn Bus, timeout: Duration, target: Target, delay_ms: 
         Target::DirectEpos2 => return Err(Error::Epos2RateOnStore),
     };
     let mut m = LssMaster::new(bus, timeout);
-    if let Err(e) = m.enter(identity.as_ref()) {
-        m.leave()?;
-        return Err(e);
-    }
+    enter(&mut m, identity.as_ref())?;
     m.send(Request::ActivateBitTiming { delay_ms })?;
     // CiA 305: the devices wait the delay, switch, and wait as long again before talking.
     let link = m.bus();
