@@ -59,6 +59,14 @@ pub(crate) const USB_DEFAULT_BAUD: u32 = 1_000_000;
 /// The CAN bit rate of an slcan adapter named without `@RATE`.
 pub(crate) const SLCAN_DEFAULT_KBIT: u32 = 500;
 
+/// The serial bit rate of an EPOS2 bus without `?baud=`.
+fn default_baud(framing: Framing) -> u32 {
+    match framing {
+        Framing::Rs232 => RS232_DEFAULT_BAUD,
+        Framing::Usb => USB_DEFAULT_BAUD,
+    }
+}
+
 /// `500k`, `1M`, `125000` (bit/s) → kbit/s.
 fn parse_kbit(text: &str) -> Option<u32> {
     let t = text.trim();
@@ -87,25 +95,19 @@ impl std::str::FromStr for BusAddr {
 
     fn from_str(uri: &str) -> Result<BusAddr> {
         let usage = |reason: String| Error::BadBusAddr { uri: uri.to_string(), reason };
-        let (scheme, rest) = match uri.split_once(':') {
-            Some((s, r)) => (s, Some(r)),
-            None => (uri, None),
-        };
+        let (scheme, rest) = uri.split_once(':').map_or((uri, None), |(s, r)| (s, Some(r)));
         match (scheme, rest) {
             ("sim", None) => Ok(BusAddr::Sim { state: None }),
             ("sim", Some("")) => Err(usage("sim: needs a state file path after the colon, or use plain sim".into())),
             ("sim", Some(path)) => Ok(BusAddr::Sim { state: Some(PathBuf::from(path)) }),
             ("socketcan", Some(iface)) => Ok(BusAddr::SocketCan { iface: check_iface(iface).map_err(usage)? }),
             ("epos2-rs232" | "epos2-usb", Some(rest)) => {
-                let (port, query) = match rest.split_once('?') {
-                    Some((p, q)) => (p, Some(q)),
-                    None => (rest, None),
-                };
+                let (port, query) = rest.split_once('?').map_or((rest, None), |(p, q)| (p, Some(q)));
                 if port.is_empty() {
                     return Err(usage("the serial port is missing, as in epos2-rs232:/dev/ttyS0".into()));
                 }
-                let rs232 = scheme == "epos2-rs232";
-                let mut baud = if rs232 { RS232_DEFAULT_BAUD } else { USB_DEFAULT_BAUD };
+                let framing = if scheme == "epos2-rs232" { Framing::Rs232 } else { Framing::Usb };
+                let mut baud = default_baud(framing);
                 for pair in query.into_iter().flat_map(|q| q.split('&')) {
                     match pair.split_once('=') {
                         Some(("baud", v)) => {
@@ -118,14 +120,10 @@ impl std::str::FromStr for BusAddr {
                         _ => return Err(usage(format!("unknown option '{pair}' (the only one is baud=N)"))),
                     }
                 }
-                let framing = if rs232 { Framing::Rs232 } else { Framing::Usb };
                 Ok(BusAddr::Epos2 { framing, port: port.to_string(), baud })
             }
             ("slcan", Some(rest)) => {
-                let (port, rate) = match rest.rsplit_once('@') {
-                    Some((p, r)) => (p, Some(r)),
-                    None => (rest, None),
-                };
+                let (port, rate) = rest.rsplit_once('@').map_or((rest, None), |(p, r)| (p, Some(r)));
                 if port.is_empty() {
                     return Err(usage("the serial port is missing, as in slcan:/dev/ttyACM0@500k".into()));
                 }
@@ -164,11 +162,7 @@ impl std::fmt::Display for BusAddr {
             BusAddr::SocketCan { iface } => write!(f, "socketcan:{iface}"),
             BusAddr::Epos2 { framing, port, baud } => {
                 write!(f, "{}:{port}", framing.scheme())?;
-                let default = match framing {
-                    Framing::Rs232 => RS232_DEFAULT_BAUD,
-                    Framing::Usb => USB_DEFAULT_BAUD,
-                };
-                if *baud != default {
+                if *baud != default_baud(*framing) {
                     write!(f, "?baud={baud}")?;
                 }
                 Ok(())
@@ -228,13 +222,11 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
                 false => link,
             };
             // Messages name the demo network, not its state file.
-            let describe = BusAddr::Sim { state: None }.to_string();
-            Ok(Box::new(Master::new(link, describe).with_frame_log(opts.frame_log.clone())))
+            Ok(master(link, BusAddr::Sim { state: None }.to_string(), opts))
         }
         #[cfg(target_os = "linux")]
         BusAddr::SocketCan { iface } => {
-            let link = crate::backend::socketcan::SocketCanLink::open(iface)?;
-            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
+            Ok(master(crate::backend::socketcan::SocketCanLink::open(iface)?, addr.to_string(), opts))
         }
         #[cfg(not(target_os = "linux"))]
         BusAddr::SocketCan { .. } => Err(Error::NoSocketCan { bus: addr.to_string() }),
@@ -247,15 +239,19 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             // The adapter's own serial speed does not matter on USB; 115200 suits the
             // adapters that sit behind a real UART.
             let io = open_serial(port, 115_200, opts.timeout)?;
-            let link = crate::backend::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?;
-            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
+            Ok(master(crate::backend::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?, addr.to_string(), opts))
         }
         BusAddr::Socketcand { host, port, iface } => {
             let link =
                 crate::backend::socketcand::SocketcandLink::open(host, *port, iface, addr.to_string(), opts.timeout)?;
-            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
+            Ok(master(link, addr.to_string(), opts))
         }
     }
+}
+
+/// The bus over a link of frames, named `describe`, its frames logged as `opts` ask.
+fn master<L: crate::bus::FrameLink + 'static>(link: L, describe: String, opts: &OpenOptions) -> Box<dyn Bus> {
+    Box::new(Master::new(link, describe).with_frame_log(opts.frame_log.clone()))
 }
 
 /// `HOST[:PORT]/IFACE`, the host an IPv6 address in brackets if it is one.

@@ -315,9 +315,7 @@ const SYNC_COB: u16 = 0x080;
 
 /// Now as Unix time in ms: the time column of streamed records (a label for people and
 /// files, never used to measure a wait).
-pub(crate) fn wall_ms() -> u64 {
-    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_millis() as u64)
-}
+pub(crate) use crate::sim::wall_ms;
 
 impl<'a> Stream<'a> {
     /// A stream that ends at `opts`' count or duration, or once `interrupted` is set.

@@ -343,6 +343,12 @@ struct Underway {
     before: BTreeMap<ObjAddr, Option<Vec<u8>>>,
 }
 
+/// One write of the plan, sized by the object's entry.
+fn write(bus: &mut dyn Bus, node: u8, dcf: &Dcf, step: &Step, timeout: Duration) -> Result<()> {
+    let dtype = entry_of(dcf, step.addr).map_or(DataType::U32, |e| e.dtype);
+    bus.sdo_download(node, step.addr, &step.value, &opts(timeout, dtype))
+}
+
 /// Put a PDO whose change stopped part-way back as it was, in the safe order (it is
 /// invalid already: entries, count, COB-ID last). Returns the rows of the writes, and the
 /// writes still needed when one failed.
@@ -354,17 +360,12 @@ fn roll_back(
     device: &mut BTreeMap<ObjAddr, Vec<u8>>,
     timeout: Duration,
 ) -> (Vec<Change>, Vec<Fix>) {
-    let mut back = BTreeMap::new();
-    let mut unknown = Vec::new();
-    for (addr, before) in &underway.before {
-        match before {
-            Some(v) if device.get(addr) != Some(v) => {
-                back.insert(*addr, v.clone());
-            }
-            Some(_) => {}
-            None => unknown.push(*addr),
-        }
-    }
+    let back: BTreeMap<ObjAddr, Vec<u8>> = underway
+        .before
+        .iter()
+        .filter_map(|(addr, before)| Some((*addr, before.clone().filter(|v| device.get(addr) != Some(v))?)))
+        .collect();
+    let unknown = underway.before.iter().filter(|(_, before)| before.is_none());
     let snapshot = device.clone();
     let steps: Vec<Step> = plan(&back, &|a| snapshot.get(&a).cloned())
         .into_iter()
@@ -378,9 +379,8 @@ fn roll_back(
             to_fix.push(fix);
             continue;
         }
-        let dtype = entry_of(dcf, step.addr).map_or(DataType::U32, |e| e.dtype);
         let old = device.get(&step.addr).cloned();
-        let action = match bus.sdo_download(node, step.addr, &step.value, &opts(timeout, dtype)) {
+        let action = match write(bus, node, dcf, step, timeout) {
             Ok(()) => {
                 device.insert(step.addr, step.value.clone());
                 Action::Written
@@ -393,7 +393,7 @@ fn roll_back(
         let result = Outcome { rollback: true, ..Outcome::new(action) };
         rows.push(Change::new(dcf, step.addr, old.as_deref(), &step.value, result));
     }
-    to_fix.extend(unknown.into_iter().map(|object| Fix { object, value: None }));
+    to_fix.extend(unknown.map(|(object, _)| Fix { object: *object, value: None }));
     (rows, to_fix)
 }
 
@@ -439,23 +439,20 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         if stop() {
             return Ok(unchanged(rows));
         }
-        let now = if entry.access.readable() {
-            match read_one(bus, node, entry, o.timeout) {
-                Ok(v) => Some(v),
-                Err(Error::SdoAbort { code, .. }) if !entry.access.writable() => {
-                    rows.push(Change::new(dcf, entry.addr, None, want, Outcome::new(Action::NotOnDevice(code))));
-                    continue;
-                }
-                Err(e @ Error::SdoAbort { code, .. }) => {
-                    if crate::ops::node::is_missing(&e) {
-                        absent.insert(entry.addr, code);
-                    }
-                    None
-                }
-                Err(e) => return Err(e),
+        let now = match entry.access.readable().then(|| read_one(bus, node, entry, o.timeout)) {
+            None => None,
+            Some(Ok(v)) => Some(v),
+            Some(Err(Error::SdoAbort { code, .. })) if !entry.access.writable() => {
+                rows.push(Change::new(dcf, entry.addr, None, want, Outcome::new(Action::NotOnDevice(code))));
+                continue;
             }
-        } else {
-            None
+            Some(Err(e @ Error::SdoAbort { code, .. })) => {
+                if crate::ops::node::is_missing(&e) {
+                    absent.insert(entry.addr, code);
+                }
+                None
+            }
+            Some(Err(e)) => return Err(e),
         };
         if let Some(v) = &now {
             current.insert(entry.addr, v.clone());
@@ -505,7 +502,6 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             interrupted = true;
             failure = Some(Error::Interrupted);
         }
-        let dtype = entry_of(dcf, step.addr).map_or(DataType::U32, |e| e.dtype);
         let action = if o.dry_run && failure.is_some() {
             Action::WouldNotBeWritten
         } else if let (true, Some(&code)) = (o.dry_run, absent.get(&step.addr)) {
@@ -526,7 +522,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
                 let u = underway.get_or_insert_with(|| Underway { pdo, before: BTreeMap::new() });
                 u.before.entry(step.addr).or_insert_with(|| current.get(&step.addr).cloned());
             }
-            match bus.sdo_download(node, step.addr, &step.value, &opts(o.timeout, dtype)) {
+            match write(bus, node, dcf, step, o.timeout) {
                 Ok(()) => {
                     written.push(step.addr);
                     device.insert(step.addr, step.value.clone());
@@ -549,15 +545,13 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         let result = Outcome { interim, ..Outcome::new(action) };
         rows.push(Change::new(dcf, step.addr, current.get(&step.addr).map(|v| v.as_slice()), &step.value, result));
         // Stopped inside a PDO change: put the PDO back before anything else.
-        if failure.is_some() && !o.dry_run {
-            if let Some(u) = underway.take() {
-                let (r, fix) = roll_back(bus, node, dcf, &u, &mut device, o.timeout);
-                rollback_rows = r;
-                if fix.is_empty() {
-                    rolled_back.push(pdo_name(u.pdo));
-                }
-                to_fix = fix;
+        if let Some(u) = underway.take_if(|_| failure.is_some() && !o.dry_run) {
+            let (r, fix) = roll_back(bus, node, dcf, &u, &mut device, o.timeout);
+            rollback_rows = r;
+            if fix.is_empty() {
+                rolled_back.push(pdo_name(u.pdo));
             }
+            to_fix = fix;
         }
     }
     // An object the device lacks: the nearest ones it may have meant, from its own
