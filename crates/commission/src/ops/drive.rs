@@ -91,22 +91,14 @@ pub fn state_text(state: Option<State>, statusword: u16) -> String {
     state.map_or_else(|| format!("no CiA 402 state (statusword 0x{statusword:04X})"), |s| s.name().to_string())
 }
 
-fn read(bus: &mut dyn Bus, node: u8, addr: ObjAddr, size: usize, timeout: Duration) -> Result<Vec<u8>> {
-    bus.sdo_upload(node, addr, &sized(timeout, Some(size)))
-}
-
-fn read_u16(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<u16> {
-    let b = read(bus, node, addr, 2, timeout)?;
-    Ok(u16::from_le_bytes([b.first().copied().unwrap_or(0), b.get(1).copied().unwrap_or(0)]))
-}
-
-fn read_u8(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<u8> {
-    Ok(read(bus, node, addr, 1, timeout)?.first().copied().unwrap_or(0))
+/// An unsigned object of the drive.
+fn read<T: super::node::Unsigned>(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<T> {
+    Node::new(bus, node, timeout).read(addr)
 }
 
 /// The node's device type, if it is a CiA 402 drive; [`Error::NotADrive`] otherwise.
 pub(crate) fn check_drive(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<u32> {
-    let device_type = le_u32(&read(bus, node, ObjAddr::DEVICE_TYPE, 4, timeout)?);
+    let device_type = le_u32(&Node::new(bus, node, timeout).upload(ObjAddr::DEVICE_TYPE, Some(4))?);
     if !cia402::is_drive(device_type) {
         return Err(Error::NotADrive { node, device_type });
     }
@@ -115,13 +107,13 @@ pub(crate) fn check_drive(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Res
 
 /// The statusword and the state it codes.
 pub fn statusword(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<(u16, Option<State>)> {
-    let word = read_u16(bus, node, cia402::STATUSWORD, timeout)?;
+    let word = read::<u16>(bus, node, cia402::STATUSWORD, timeout)?;
     Ok((word, State::from_statusword(word)))
 }
 
 fn mode(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<Mode>> {
     for from in [cia402::MODES_OF_OPERATION_DISPLAY, cia402::MODES_OF_OPERATION] {
-        if let Some(v) = optional(read_u8(bus, node, from, timeout))? {
+        if let Some(v) = optional(read::<u8>(bus, node, from, timeout))? {
             let value = v as i8;
             return Ok(Some(Mode { value, name: cia402::mode_name(value), from }));
         }
@@ -155,7 +147,7 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Status> 
     let device_type = check_drive(bus, node, timeout)?;
     let (word, state) = statusword(bus, node, timeout)?;
     let mode = mode(bus, node, timeout)?;
-    let register = read_u8(bus, node, ObjAddr::ERROR_REGISTER, timeout)?;
+    let register = read::<u8>(bus, node, ObjAddr::ERROR_REGISTER, timeout)?;
     let errors = errors(bus, node, device_type, timeout)?;
     Ok(Status {
         node,
@@ -283,6 +275,7 @@ pub fn walk(bus: &mut dyn Bus, node: u8, goal: Goal, o: &Options, interrupt: &Ca
         interrupted: false,
     };
     match walk_steps(bus, &mut w, o, interrupt) {
+        Ok(stopped) => w.stopped = stopped,
         Err(e) if e.is_timeout() => {
             w.stopped = Some(DriveStop::NoAnswer);
             // The answer lost may be a controlword's that the drive acted on: the state
@@ -293,44 +286,38 @@ pub fn walk(bus: &mut dyn Bus, node: u8, goal: Goal, o: &Options, interrupt: &Ca
                 Err(e) => return Err(e),
             }
         }
-        other => other?,
+        Err(e) => return Err(e),
     }
     Ok(w)
 }
 
-fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) -> Result<()> {
+/// The steps of a walk, each recorded in `w`; why it stopped before the goal, if it did.
+fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) -> Result<Option<DriveStop>> {
     let node = w.node;
     for _ in 0..MAX_STEPS {
         if interrupt.is_cancelled() {
             w.interrupted = true;
-            return Ok(());
+            return Ok(None);
         }
-        let Some(state) = w.state else {
-            w.stopped = Some(DriveStop::NoState);
-            return Ok(());
-        };
+        let Some(state) = w.state else { return Ok(Some(DriveStop::NoState)) };
         match cia402::next_step(state, w.goal) {
             Step::Done => {
                 w.done = true;
-                return Ok(());
+                return Ok(None);
             }
-            Step::Blocked(cia402::Blocker::FaultPresent) => {
-                w.stopped = Some(DriveStop::FaultPresent);
-                return Ok(());
-            }
+            Step::Blocked(cia402::Blocker::FaultPresent) => return Ok(Some(DriveStop::FaultPresent)),
             Step::Wait => {
                 // A state the drive leaves by itself: wait until it does.
                 let (word, next) = await_settled(bus, node, o, |s| s != Some(state))?;
                 (w.statusword, w.state) = (word, next);
                 if next == Some(state) {
-                    w.stopped = Some(refusal(state, word, next));
-                    return Ok(());
+                    return Ok(Some(refusal(state, word, next)));
                 }
             }
             Step::Send(command, expected) => {
                 if command == Command::FaultReset {
                     // The reset acts on bit 7's rising edge: clear it first if it is set.
-                    let current = optional(read_u16(bus, node, cia402::CONTROLWORD, o.timeout))?.unwrap_or(0);
+                    let current = optional(read::<u16>(bus, node, cia402::CONTROLWORD, o.timeout))?.unwrap_or(0);
                     if current & cia402::cw::FAULT_RESET != 0 {
                         write_controlword(bus, node, current & !cia402::cw::FAULT_RESET, o.timeout)?;
                     }
@@ -355,14 +342,12 @@ fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) 
                 (w.statusword, w.state) = (word, reached);
                 if !confirmed {
                     let remains = command == Command::FaultReset && reached == Some(State::Fault);
-                    w.stopped = Some(if remains { DriveStop::FaultRemains } else { refusal(expected, word, reached) });
-                    return Ok(());
+                    return Ok(Some(if remains { DriveStop::FaultRemains } else { refusal(expected, word, reached) }));
                 }
             }
         }
     }
-    w.stopped = Some(DriveStop::TransitionRefused);
-    Ok(())
+    Ok(Some(DriveStop::TransitionRefused))
 }
 
 fn write_controlword(bus: &mut dyn Bus, node: u8, word: u16, timeout: Duration) -> Result<()> {
@@ -453,7 +438,7 @@ impl Watch {
         loop {
             let word = match &self.source {
                 Source::Sdo(interval) => {
-                    let word = read_u16(bus, self.node, cia402::STATUSWORD, self.timeout)?;
+                    let word = read::<u16>(bus, self.node, cia402::STATUSWORD, self.timeout)?;
                     if Some(word) == self.last {
                         bus.sleep_until(until.min(bus.now() + *interval))?;
                         if bus.now() >= until {

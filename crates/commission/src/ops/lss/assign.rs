@@ -153,16 +153,7 @@ pub fn assign(
     };
     let pace = PaceUsed::from(&outcome.pace);
     Ok(Assignment {
-        assigned: outcome
-            .assigned
-            .into_iter()
-            .map(|d| AssignedNode {
-                identity: Identified(d.identity),
-                node: d.node,
-                stored: d.stored.is_ok(),
-                store_error: d.stored.err(),
-            })
-            .collect(),
+        assigned: outcome.assigned,
         in_use_before,
         fastscan_steps: outcome.steps,
         step_ms: pace.step_ms,
@@ -171,16 +162,6 @@ pub fn assign(
         interrupted: outcome.interrupted,
         failure,
     })
-}
-
-/// A device `assign` gave a node-id.
-pub struct Assigned {
-    /// Its LSS address (vendor, product, revision, serial).
-    pub identity: Identity,
-    /// The node-id it was given.
-    pub node: u8,
-    /// Whether "store configuration" succeeded; why not when it did not.
-    pub stored: std::result::Result<(), NotStored>,
 }
 
 /// Why a device `assign` numbered does not keep its node-id across a power cycle, or may not.
@@ -226,7 +207,7 @@ pub enum AssignFailure {
 /// early, if it did.
 pub struct AssignOutcome {
     /// The devices given node-ids, in order.
-    pub assigned: Vec<Assigned>,
+    pub assigned: Vec<AssignedNode>,
     /// Fastscan requests sent, in all.
     pub steps: u32,
     /// Why it stopped before every device had a node-id; `None` when none was left.
@@ -347,7 +328,7 @@ fn assign_each(
         // Found again: the device numbered before did not leave configuration state
         // (the switches back were lost, or its answers to the inquiry). It is the same
         // device: it gets its node-id again, is sent back, and is reported once.
-        if let Some(first) = out.assigned.iter().find(|d| d.identity == identity).map(|d| d.node) {
+        if let Some(first) = out.assigned.iter().find(|d| d.identity.0 == identity).map(|d| d.node) {
             found_again += 1;
             if found_again > lss::REPEATS {
                 let tries = m.sent_back_since_given(identity);
@@ -365,20 +346,24 @@ fn assign_each(
         m.set_id(identity, node)?;
         // An action: never sent twice blindly, and LSS has no way to read it back, so a
         // lost answer leaves it unknown, and the report says so.
-        let stored = if store {
-            m.configure(Request::StoreConfiguration, "store", false).map(|_| ()).map_err(|e| match e {
+        let store_error = match store {
+            true => m.configure(Request::StoreConfiguration, "store", false).err().map(|e| match e {
                 Error::NoLssAnswer { .. } => NotStored::NoAnswer { node, identity },
                 e => NotStored::Failed(e),
-            })
-        } else {
-            Err(NotStored::NotAsked)
+            }),
+            false => Some(NotStored::NotAsked),
         };
         used.insert(node);
         // The device's bar ends, and its node-id is said as it is given.
         progress.finish();
         progress.event(Notice::Assigned { identity, node }.into());
         sent = 0;
-        out.assigned.push(Assigned { identity, node, stored });
+        out.assigned.push(AssignedNode {
+            identity: Identified(identity),
+            node,
+            stored: store_error.is_none(),
+            store_error,
+        });
         m.back_to_waiting(identity, node)?;
     }
 }

@@ -72,24 +72,20 @@ impl Serialize for Identified {
         let id = &self.0;
         let mut m = s.serialize_map(Some(2))?;
         m.serialize_entry("identity", &id.to_string())?;
-        m.serialize_entry("lss", &LssNumbers::from(id))?;
+        let lss =
+            LssNumbers { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial };
+        m.serialize_entry("lss", &lss)?;
         m.end()
     }
 }
 
 /// The four entries of the identity object (0x1018:1..4), named.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub(crate) struct LssNumbers {
-    pub vendor_id: u32,
-    pub product_code: u32,
-    pub revision: u32,
-    pub serial: u32,
-}
-
-impl From<&Identity> for LssNumbers {
-    fn from(id: &Identity) -> LssNumbers {
-        LssNumbers { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial }
-    }
+#[derive(Serialize)]
+struct LssNumbers {
+    vendor_id: u32,
+    product_code: u32,
+    revision: u32,
+    serial: u32,
 }
 
 /// What the LSS services are refused with on an EPOS2 reached directly.
