@@ -170,8 +170,7 @@ pub(crate) fn mapped_bits(
     if let Some(size) = entry.and_then(|e| e.dtype.size()) {
         return Ok((size * 8) as u8);
     }
-    let mut opts = sized(timeout, None);
-    opts.max_upload = MAX_ENTRY_BYTES;
+    let opts = super::capped(timeout, MAX_ENTRY_BYTES);
     let refused = |why: String| Error::Usage(format!("cannot map {addr} into a PDO: {why}"));
     match bus.sdo_upload(node, addr, &opts) {
         Ok(v) if (1..=MAX_ENTRY_BYTES).contains(&v.len()) => Ok((v.len() * 8) as u8),
@@ -383,17 +382,15 @@ impl<'a> Stream<'a> {
                 self.next_sync = Some(due + period);
             }
         }
-        if self.records == 0 && self.pending.is_empty() {
-            if let Some((after, why)) =
-                self.opts.silence.take_if(|(after, _)| bus.now().saturating_duration_since(self.started) >= *after)
-            {
-                progress.event(Notice::Silent { node: self.node, after, why }.into());
-            }
+        let quiet = self.records == 0 && self.pending.is_empty();
+        let since = bus.now().saturating_duration_since(self.started);
+        if let Some((after, why)) = self.opts.silence.take_if(|(after, _)| quiet && since >= *after) {
+            progress.event(Notice::Silent { node: self.node, after, why }.into());
         }
-        let mut wake = bus.now() + Duration::from_millis(100);
-        for t in [self.end, self.next_sync, self.polling.then_some(self.next_poll)].into_iter().flatten() {
-            wake = wake.min(t);
-        }
+        let wake = [self.end, self.next_sync, self.polling.then_some(self.next_poll)]
+            .into_iter()
+            .flatten()
+            .fold(bus.now() + Duration::from_millis(100), Instant::min);
         let frames: Vec<Frame> = if self.polling {
             bus.sleep_until(self.next_poll)?;
             self.next_poll += self.opts.interval;

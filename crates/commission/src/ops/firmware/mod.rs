@@ -477,12 +477,8 @@ fn download_timed(
     r.report.id_before = Some(before);
     did!(Step::ReadId);
     if before == image_id && !o.force {
-        r.report.skipped = true;
-        r.report.id_after = Some(before);
-        r.report.device = Where::RunsImage;
-        r.report.state = State::AlreadyRuns;
-        r.report.total_ms = r.ms();
-        return Ok(r.report);
+        let (id_after, device, state, total_ms) = (Some(before), Where::RunsImage, State::AlreadyRuns, r.ms());
+        return Ok(DownloadReport { skipped: true, id_after, device, state, total_ms, ..r.report });
     }
     step!(r.check_cancel(), Where::Unchanged);
     step!(r.bus.nmt(nmt::Command::PreOperational, node), Where::Unchanged);
@@ -491,20 +487,13 @@ fn download_timed(
     // Stop. A device whose bootloader is another image reboots into it instead of
     // answering: its boot-up says the stop was done.
     r.bus.observed().boot_ups.remove(&node);
-    let stopped = r.control(Control::Stop);
-    let rebooted = match stopped {
+    let rebooted = match r.control(Control::Stop) {
         Ok(()) => r.bus.observed().boot_ups.contains(&node),
         // No answer in time, however the bus puts it (a gateway reports its own timeout).
         Err(e) if e.is_timeout() => {
-            step!(r.wait_back(), Where::Unknown)
-                || return Err(r.fail(
-                    FirmwareError::NoBootUp {
-                        node,
-                        after: "stop (0x1F51 = 0), which it did not answer",
-                        waited: o.boot_wait,
-                    },
-                    Where::Unknown,
-                ))
+            let after = "stop (0x1F51 = 0), which it did not answer";
+            let e = FirmwareError::NoBootUp { node, after, waited: o.boot_wait };
+            step!(r.wait_back(), Where::Unknown) || return Err(r.fail(e, Where::Unknown))
         }
         Err(e) => return Err(r.fail(e, Where::Unchanged)),
     };
@@ -534,9 +523,8 @@ fn download_timed(
 
     // The program data: block transfer (the bus falls back to segmented when the device
     // refuses it), its bytes a phase of `progress`, stopped between frames when asked.
-    let mut opts = r.opts();
-    opts.block_download = true;
-    opts.on_progress = progress.transfer(&format!("0x1F50:{}", o.program), Some(image.len() as u64));
+    let on_progress = progress.transfer(&format!("0x1F50:{}", o.program), Some(image.len() as u64));
+    let opts = SdoOptions { block_download: true, on_progress, ..r.opts() };
     let download_began = r.bus.now();
     let written = r.bus.sdo_download(node, r.addr(PROGRAM_DATA), image, &opts);
     progress.finish();
@@ -564,9 +552,8 @@ fn download_timed(
     // the boot-up decides either way.
     r.bus.observed().boot_ups.remove(&node);
     match r.control(Control::Start) {
-        Ok(()) => {}
-        Err(e) if e.is_timeout() => {}
-        Err(e) => return Err(r.fail(e, Where::BootloaderWithProgram)),
+        Err(e) if !e.is_timeout() => return Err(r.fail(e, Where::BootloaderWithProgram)),
+        _ => {}
     }
     did!(Step::Start);
     let sees_traffic = r.bus.sees_traffic();
@@ -586,9 +573,7 @@ fn download_timed(
         r.report.confirmed = true;
         did!(Step::Confirm);
     }
-    r.report.id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
-    r.report.device = Where::RunsImage;
-    r.report.state = if state == Control::Confirm && !o.confirm { State::OnTrial } else { State::At(Where::RunsImage) };
-    r.report.total_ms = r.ms();
-    Ok(r.report)
+    let id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
+    let state = if state == Control::Confirm && !o.confirm { State::OnTrial } else { State::At(Where::RunsImage) };
+    Ok(DownloadReport { id_after, device: Where::RunsImage, state, total_ms: r.ms(), ..r.report })
 }

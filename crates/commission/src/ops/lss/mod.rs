@@ -106,16 +106,15 @@ pub struct Inquired {
 
 /// Ask one device (or the only one, with [`Target::All`]) its identity and node-id.
 pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<Inquired> {
-    let (identity, global) = match target {
-        Target::One(id) => (Some(id), false),
-        Target::All => (None, true),
-        Target::DirectEpos2 => return Err(no_lss_on_direct_epos2("inquire")),
-    };
+    if target == Target::DirectEpos2 {
+        return Err(no_lss_on_direct_epos2("inquire"));
+    }
+    let identity = target.identity();
     let mut m = LssMaster::new(bus, timeout);
     enter(&mut m, identity.as_ref())?;
     let mut values = Vec::new();
     for q in [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId] {
-        let answers = m.ask(Request::Inquire(q), if global { LssWait::All } else { LssWait::First })?;
+        let answers = m.ask(Request::Inquire(q), if identity.is_none() { LssWait::All } else { LssWait::First })?;
         let found: Vec<u32> = answers
             .iter()
             .filter_map(|a| match a {
@@ -371,15 +370,13 @@ impl RefusedRate {
     /// Keep `what` as the last global configure of `bus` (None: every device took it).
     pub(crate) fn remember(bus: &str, what: Option<&RefusedRate>) {
         let Some(path) = super::scan_cache::network_file(super::scan_cache::LSS_SET_BAUD, bus) else { return };
-        match what {
+        let _ = match what {
             Some(r) => {
                 let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
-                let _ = std::fs::write(&path, serde_json::to_string(r).expect("serialises"));
+                std::fs::write(&path, serde_json::to_string(r).expect("serialises"))
             }
-            None => {
-                let _ = std::fs::remove_file(&path);
-            }
-        }
+            None => std::fs::remove_file(&path),
+        };
     }
 
     pub fn last(bus: &str) -> Option<RefusedRate> {
@@ -458,11 +455,10 @@ pub struct Activated {
 /// Switch the configured bit rates on: the devices wait `delay_ms`, switch, and wait as
 /// long again before talking.
 pub fn activate(bus: &mut dyn Bus, timeout: Duration, target: Target, delay_ms: u16) -> Result<Activated> {
-    let identity = match target {
-        Target::One(id) => Some(id),
-        Target::All => None,
-        Target::DirectEpos2 => return Err(Error::Epos2RateOnStore),
-    };
+    if target == Target::DirectEpos2 {
+        return Err(Error::Epos2RateOnStore);
+    }
+    let identity = target.identity();
     let mut m = LssMaster::new(bus, timeout);
     enter(&mut m, identity.as_ref())?;
     m.send(Request::ActivateBitTiming { delay_ms })?;
