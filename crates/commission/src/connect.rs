@@ -60,7 +60,7 @@ pub(crate) const USB_DEFAULT_BAUD: u32 = 1_000_000;
 pub(crate) const SLCAN_DEFAULT_KBIT: u32 = 500;
 
 /// The serial bit rate of an EPOS2 bus without `?baud=`.
-fn default_baud(framing: Framing) -> u32 {
+pub(crate) fn default_baud(framing: Framing) -> u32 {
     match framing {
         Framing::Rs232 => RS232_DEFAULT_BAUD,
         Framing::Usb => USB_DEFAULT_BAUD,

@@ -165,14 +165,16 @@ pub fn assign(
 }
 
 /// Why a device `assign` numbered does not keep its node-id across a power cycle, or may not.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum NotStored {
     /// The store was not asked for.
+    #[error("not asked")]
     NotAsked,
     /// "store configuration" went unanswered: sent once (an action), and LSS has no way to
     /// read it back, so whether `node` keeps its id is unknown; storing again by its
     /// `identity` settles it.
+    #[error("no answer to the store: unknown whether node {node} keeps its id across a power cycle")]
     NoAnswer {
         /// The node-id it was given.
         node: u8,
@@ -180,19 +182,8 @@ pub enum NotStored {
         identity: Identity,
     },
     /// The device refused the store, or the bus failed.
+    #[error("{0}")]
     Failed(Error),
-}
-
-impl std::fmt::Display for NotStored {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            NotStored::NotAsked => f.write_str("not asked"),
-            NotStored::NoAnswer { node, .. } => {
-                write!(f, "no answer to the store: unknown whether node {node} keeps its id across a power cycle")
-            }
-            NotStored::Failed(e) => write!(f, "{e}"),
-        }
-    }
 }
 
 /// Why `assign` stopped before every device had a node-id.

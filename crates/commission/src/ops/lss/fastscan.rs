@@ -109,11 +109,9 @@ pub fn fastscan_shown(
     // back to waiting, unchanged.
     let left = m.leave();
     let elapsed = m.bus().now().saturating_duration_since(start);
-    let Some(outcome) = result? else {
-        left?;
-        return Err(Error::Interrupted);
-    };
+    let outcome = result?;
     left?;
+    let Some(outcome) = outcome else { return Err(Error::Interrupted) };
     let id = outcome.found.map_err(|e| fastscan_error(e, &outcome.pace))?;
     let pace = PaceUsed::from(&outcome.pace);
     Ok(Found {
