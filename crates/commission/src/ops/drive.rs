@@ -437,29 +437,25 @@ impl Watch {
     pub fn next(&mut self, bus: &mut dyn Bus, until: Instant) -> Result<Option<Change>> {
         loop {
             let word = match &self.source {
-                Source::Sdo(interval) => {
-                    let word = read::<u16>(bus, self.node, cia402::STATUSWORD, self.timeout)?;
-                    if Some(word) == self.last {
-                        bus.sleep_until(until.min(bus.now() + *interval))?;
-                        if bus.now() >= until {
-                            return Ok(None);
-                        }
-                        continue;
-                    }
-                    word
-                }
+                Source::Sdo(_) => read::<u16>(bus, self.node, cia402::STATUSWORD, self.timeout)?,
                 Source::Tpdo { cob_id, offset, layout } => {
                     let Some(f) = bus.recv_frame(until)? else { return Ok(None) };
                     if f.id() != *cob_id || f.is_remote() || f.len() * 8 < offset + 16 || layout.bits() > f.len() * 8 {
                         continue;
                     }
-                    let word = bits16(f.data(), *offset);
-                    if Some(word) == self.last {
-                        continue;
-                    }
-                    word
+                    bits16(f.data(), *offset)
                 }
             };
+            if Some(word) == self.last {
+                // Polled: again after the interval, unless `until` comes first.
+                if let Source::Sdo(interval) = self.source {
+                    bus.sleep_until(until.min(bus.now() + interval))?;
+                    if bus.now() >= until {
+                        return Ok(None);
+                    }
+                }
+                continue;
+            }
             self.last = Some(word);
             let source = if matches!(self.source, Source::Tpdo { .. }) { "tpdo" } else { "sdo" };
             return Ok(Some(Change {

@@ -266,13 +266,11 @@ fn failed(mut row: NodeApplied, e: Error) -> NodeOutcome {
 /// failure decides the exit code.
 pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mut dyn Progress) -> Result<Applied> {
     let found = probe(bus, o.window, progress)?;
-    let mut rows: Vec<Option<NodeOutcome>> = Vec::new();
     // Nodes that must answer before they can be configured: given their id, or failed.
     let stop = || o.interrupted.is_cancelled();
-    for listed in &loaded.nodes {
-        let present = found.contains_key(&listed.node);
-        rows.push((!present && !stop()).then(|| absent_node(bus, listed, o)));
-    }
+    let absent = |listed: &Listed| !found.contains_key(&listed.node) && !stop();
+    let mut rows: Vec<Option<NodeOutcome>> =
+        loaded.nodes.iter().map(|listed| absent(listed).then(|| absent_node(bus, listed, o))).collect();
     let ready: Vec<usize> = (0..loaded.nodes.len())
         .filter(|i| match &rows[*i] {
             None => found.contains_key(&loaded.nodes[*i].node),
@@ -339,24 +337,19 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         match outcome {
             // Given its node-id over LSS, then not configured: stopped by the user, or the
             // link was lost, before this node was begun.
-            Some((mut row, None)) if ready.contains(&i) && !configured.contains(&i) => {
-                row.result = NodeResult::NotConfigured { interrupted };
-                row.outcome = if interrupted { Outcome::NotBegun } else { Outcome::Failed };
-                row.ok = false;
-                nodes.push(row);
+            Some((row, None)) if ready.contains(&i) && !configured.contains(&i) => {
+                let result = NodeResult::NotConfigured { interrupted };
+                let outcome = if interrupted { Outcome::NotBegun } else { Outcome::Failed };
+                nodes.push(NodeApplied { result, outcome, ok: false, ..row });
             }
             Some((row, error)) => {
-                if let Some(e) = error {
-                    failure.get_or_insert(e.into());
-                }
+                failure = failure.or_else(|| error.map(Shortfall::from));
                 nodes.push(row);
             }
             // Not begun: interrupted first, or the link was lost.
             None if interrupted => {
-                let mut row = empty_row(&loaded.nodes[i]);
-                row.result = NodeResult::NotBegun;
-                row.outcome = Outcome::NotBegun;
-                nodes.push(row);
+                let (result, outcome) = (NodeResult::NotBegun, Outcome::NotBegun);
+                nodes.push(NodeApplied { result, outcome, ..empty_row(&loaded.nodes[i]) });
             }
             None => {}
         }

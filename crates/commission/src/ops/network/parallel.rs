@@ -23,11 +23,7 @@ impl<T: End> Watch<T> for Bars<'_> {
             SdoJob::Download { node, .. } => (*node, true),
         };
         let count = self.counts.entry(node).or_default();
-        if write {
-            count.1 += 1;
-        } else {
-            count.0 += 1;
-        }
+        *if write { &mut count.1 } else { &mut count.0 } += 1;
         self.progress.item(&node_label(node), ItemStatus::Transfers { reads: count.0, writes: count.1 });
     }
 
