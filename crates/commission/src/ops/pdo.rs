@@ -184,13 +184,13 @@ pub(crate) fn mapped_bits(
     }
 }
 
-/// The type a mapped object has: the dictionary's when its size matches the mapping,
-/// else unsigned of the mapped width.
-fn field_type(entry: Option<&Entry>, bits: u8) -> DataType {
-    entry
-        .map(|e| e.dtype)
-        .filter(|t| t.size().is_some_and(|s| s * 8 == bits as usize) || *t == DataType::Bool && bits == 1)
-        .unwrap_or_else(|| pdo::default_type(bits))
+/// The field a raw mapping entry maps, named by `dict`; its type the dictionary's when its
+/// size matches the mapping, else unsigned of the mapped width.
+fn field(dict: &Dictionary, raw: u32) -> Field {
+    let (addr, bits) = pdo::mapping_entry(raw);
+    let fits = |t: &DataType| t.size().is_some_and(|s| s * 8 == bits as usize) || *t == DataType::Bool && bits == 1;
+    let dtype = dict.get(addr).map(|e| e.dtype).filter(fits).unwrap_or_else(|| pdo::default_type(bits));
+    Field { addr, bits, dtype, name: dict.display_name(addr).unwrap_or_else(|| addr.to_string()) }
 }
 
 /// The layouts of a node's TPDOs `tpdos` (1-based), read from the node; names and types
@@ -223,12 +223,11 @@ pub fn read_layouts(
         let mut names = BTreeSet::new();
         let mut fields = Vec::new();
         for sub in 1..=count {
-            let (addr, bits) = pdo::mapping_entry(read_u32(bus, node, ObjAddr::new(map, sub), timeout)?);
-            let mut name = dict.display_name(addr).unwrap_or_else(|| addr.to_string());
-            if !names.insert(name.clone()) {
-                name = format!("{name} ({addr})");
+            let mut field = field(dict, read_u32(bus, node, ObjAddr::new(map, sub), timeout)?);
+            if !names.insert(field.name.clone()) {
+                field.name = format!("{} ({})", field.name, field.addr);
             }
-            fields.push(Field { addr, bits, dtype: field_type(dict.get(addr), bits), name });
+            fields.push(field);
         }
         out.push((n, Layout { cob_id: (cob & 0x7FF) as u16, fields }));
     }
@@ -250,14 +249,8 @@ pub(crate) fn dcf_layouts(eds: &Eds, node: u8) -> BTreeMap<u16, Layout> {
     for (comm, map) in (0..4u16).flat_map(|n| [(0x1400 + n, 0x1600 + n), (0x1800 + n, 0x1A00 + n)]) {
         let Some(cob) = u32_at(ObjAddr::new(comm, 1)).filter(|c| c & 0x8000_0000 == 0) else { continue };
         let count = value(ObjAddr::new(map, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
-        let fields = (1..=count)
-            .filter_map(|s| u32_at(ObjAddr::new(map, s)))
-            .map(|raw| {
-                let (addr, bits) = pdo::mapping_entry(raw);
-                let dtype = field_type(eds.dict.get(addr), bits);
-                Field { addr, bits, dtype, name: eds.dict.display_name(addr).unwrap_or_else(|| addr.to_string()) }
-            })
-            .collect();
+        let fields =
+            (1..=count).filter_map(|s| u32_at(ObjAddr::new(map, s))).map(|raw| field(&eds.dict, raw)).collect();
         out.insert((cob & 0x7FF) as u16, Layout { cob_id: (cob & 0x7FF) as u16, fields });
     }
     out

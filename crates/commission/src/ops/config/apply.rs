@@ -207,9 +207,7 @@ impl Outcome {
             && self.interim.is_none()
             && !matches!(self.action, Action::NotOnDevice(_) | Action::NotWrittenInterrupted)
     }
-}
 
-impl Outcome {
     /// The outcome in words, a failed write's error worded by `failure` (a front end adds
     /// its remedy).
     pub fn text(&self, failure: impl Fn(&Failure) -> String) -> String {

@@ -71,26 +71,19 @@ impl Dcf {
         let errors: Vec<&crate::od::lint::Warning> =
             self.eds.warnings.iter().filter(|w| w.severity == crate::od::lint::Severity::Error).collect();
         if let Some(first) = errors.first() {
-            return Err(Error::DcfNotReadWhole {
-                first: Box::new((*first).clone()),
-                file: self.path().to_string(),
-                errors: errors.len(),
-            });
+            let (first, file) = (Box::new((*first).clone()), self.path().to_string());
+            return Err(Error::DcfNotReadWhole { first, file, errors: errors.len() });
         }
-        let mut out = Vec::new();
-        for (addr, init) in &self.eds.values {
-            let Some(entry) = self.eds.dict.get(*addr) else { continue };
-            let value = entry.value_for(init, node);
-            out.push((entry.clone(), value));
-        }
+        let values = self.eds.values.iter();
+        let out: Vec<Wanted> = values
+            .filter_map(|(addr, init)| {
+                self.eds.dict.get(*addr).map(|entry| (entry.clone(), entry.value_for(init, node)))
+            })
+            .collect();
         if out.is_empty() {
             return Err(Error::NotADcf { file: self.path().to_string() });
         }
         Ok(out)
-    }
-
-    fn name_of(&self, addr: ObjAddr) -> String {
-        self.eds.dict.display_name(addr).unwrap_or_default()
     }
 }
 
@@ -353,12 +346,8 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             }
             Err(e) => return Err(e),
         };
-        differences.push(Difference {
-            object: entry.addr,
-            name: dcf.name_of(entry.addr),
-            device,
-            file: show(entry, want),
-        });
+        let (name, file) = (dcf.eds.dict.display_name(entry.addr).unwrap_or_default(), show(entry, want));
+        differences.push(Difference { object: entry.addr, name, device, file });
     }
     // Last, so that a comparison stopped part-way has compared all it could: whether the
     // file is for this kind of device at all (config apply refuses one that is not).
