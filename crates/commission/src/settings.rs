@@ -75,13 +75,10 @@ where
     move |text: &str| {
         let t = text.trim();
         let n = crate::canopen::number::parse_number::<u64>(t);
-        n.filter(|n| (lo..=hi).contains(n)).and_then(|n| T::try_from(n).ok()).ok_or_else(|| {
-            if lo == hi {
-                format!("'{text}' is not {what}: use {lo}")
-            } else {
-                format!("'{text}' is not {what}: use {lo} to {hi}")
-            }
-        })
+        let range = if lo == hi { lo.to_string() } else { format!("{lo} to {hi}") };
+        n.filter(|n| (lo..=hi).contains(n))
+            .and_then(|n| T::try_from(n).ok())
+            .ok_or_else(|| format!("'{text}' is not {what}: use {range}"))
     }
 }
 

@@ -593,8 +593,17 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         let t = crate::ops::store::Timeouts { answer: o.timeout, write: o.store_timeout };
         crate::ops::store::store(bus, node, crate::ops::store::Class::All, t)?;
     }
-    let state = (!o.dry_run && failure.is_some())
-        .then(|| left_in(node, &changes, &device, &current, !rolled_back.is_empty(), !to_fix.is_empty(), o.store));
+    // What a run that did not finish leaves the device holding.
+    let state = (!o.dry_run && failure.is_some()).then(|| LeftIn::Written {
+        node,
+        new: changes.iter().filter(|(a, v)| device.get(a) == Some(v)).map(|(a, _)| *a).collect(),
+        of: changes.len(),
+        // An intermediate value left behind (a COB-ID made invalid, a count of 0).
+        interim: device.iter().any(|(a, v)| current.get(a).is_some_and(|b| b != v) && changes.get(a) != Some(v)),
+        rolled_back: !rolled_back.is_empty(),
+        rollback_failed: !to_fix.is_empty(),
+        store_asked: o.store,
+    });
     Ok(Applied {
         node,
         file: dcf.path().to_string(),
@@ -610,20 +619,4 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         to_fix,
         state,
     })
-}
-
-/// What a run that did not finish leaves the device holding.
-fn left_in(
-    node: u8,
-    changes: &BTreeMap<ObjAddr, Vec<u8>>,
-    device: &BTreeMap<ObjAddr, Vec<u8>>,
-    before: &BTreeMap<ObjAddr, Vec<u8>>,
-    rolled_back: bool,
-    broken: bool,
-    store: bool,
-) -> LeftIn {
-    let new: Vec<ObjAddr> = changes.iter().filter(|(a, v)| device.get(a) == Some(v)).map(|(a, _)| *a).collect();
-    // An intermediate value left behind (a COB-ID made invalid, a count of 0).
-    let interim = device.iter().any(|(a, v)| before.get(a).is_some_and(|b| b != v) && changes.get(a) != Some(v));
-    LeftIn::Written { node, new, of: changes.len(), interim, rolled_back, rollback_failed: broken, store_asked: store }
 }
