@@ -143,14 +143,8 @@ pub fn assign(
         progress,
         interrupted,
     )?;
-    let failure = if outcome.interrupted || interrupted.is_cancelled() {
-        Some(Error::Interrupted)
-    } else {
-        outcome.failure.map(|e| match e {
-            AssignFailure::Fastscan(f) => fastscan_error(f, &outcome.pace),
-            AssignFailure::Refused(e) => e,
-        })
-    };
+    let stopped = outcome.interrupted || interrupted.is_cancelled();
+    let failure = if stopped { Some(Error::Interrupted) } else { outcome.failure };
     let pace = PaceUsed::from(&outcome.pace);
     Ok(Assignment {
         assigned: outcome.assigned,
@@ -186,14 +180,6 @@ pub enum NotStored {
     Failed(Error),
 }
 
-/// Why `assign` stopped before every device had a node-id.
-pub enum AssignFailure {
-    /// No device could be found, or a fastscan went wrong.
-    Fastscan(FastscanError),
-    /// A device refused the node-id, or the bus failed.
-    Refused(Error),
-}
-
 /// What `assign` did: the devices it gave node-ids, the fastscan steps it took, and why it stopped
 /// early, if it did.
 pub struct AssignOutcome {
@@ -201,8 +187,9 @@ pub struct AssignOutcome {
     pub assigned: Vec<AssignedNode>,
     /// Fastscan requests sent, in all.
     pub steps: u32,
-    /// Why it stopped before every device had a node-id; `None` when none was left.
-    pub failure: Option<AssignFailure>,
+    /// Why it stopped before every device had a node-id (a fastscan that went wrong, a
+    /// device that refused its node-id, the bus); `None` when none was left.
+    pub failure: Option<Error>,
     /// The pace learned: the step the fastscans used.
     pub pace: Pace,
     /// Stopped early because `keep_going` said so (an interruption).
@@ -239,7 +226,7 @@ pub fn number_all(
         Ok(()) => {}
     }
     if let (Err(e), None) = (left, &out.failure) {
-        out.failure = Some(AssignFailure::Refused(e));
+        out.failure = Some(e);
     }
     Ok(out)
 }
@@ -247,13 +234,13 @@ pub fn number_all(
 /// What ends a numbering early: a failure its report tells, or an error that ends the
 /// command. A device's refusal, or a failure of the bus, is the first.
 enum Stop {
-    Failure(AssignFailure),
+    Failure(Error),
     Error(Error),
 }
 
 impl From<Error> for Stop {
     fn from(e: Error) -> Stop {
-        Stop::Failure(AssignFailure::Refused(e))
+        Stop::Failure(e)
     }
 }
 
@@ -303,7 +290,7 @@ fn assign_each(
                 }
                 return Ok(());
             }
-            Err(e) => return Err(Stop::Failure(AssignFailure::Fastscan(e))),
+            Err(e) => return Err(Stop::Failure(fastscan_error(e, &out.pace))),
         };
         silent = 0;
         // Another device is in configuration state with it (it missed a switch back):

@@ -196,8 +196,7 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
 type NodeOutcome = (NodeApplied, Option<Error>);
 
 fn empty_row(listed: &Listed) -> NodeApplied {
-    let file = listed.dcf.as_ref().map(|d| d.path().to_string());
-    NodeApplied { node: listed.node, name: listed.name.clone(), file, ..NodeApplied::default() }
+    NodeApplied { node: listed.node, name: listed.name.clone(), file: listed.file(), ..NodeApplied::default() }
 }
 
 /// One node that answers: `config apply` (only what differs, in its safe order, verified

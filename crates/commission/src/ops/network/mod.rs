@@ -68,6 +68,11 @@ pub struct Listed {
 }
 
 impl Listed {
+    /// Its DCF's name as the project gives it; none when it names none.
+    pub(crate) fn file(&self) -> Option<String> {
+        self.dcf.as_ref().map(|d| d.path().to_string())
+    }
+
     /// The identity an LSS device with this configuration answers to: the DCF's vendor-ID,
     /// product code and revision, and the commissioning's LSS serial number.
     pub(crate) fn lss_identity(&self) -> Option<Identity> {
