@@ -74,12 +74,9 @@ impl Dcf {
             let (first, file) = (Box::new((*first).clone()), self.path().to_string());
             return Err(Error::DcfNotReadWhole { first, file, errors: errors.len() });
         }
-        let values = self.eds.values.iter();
-        let out: Vec<Wanted> = values
-            .filter_map(|(addr, init)| {
-                self.eds.dict.get(*addr).map(|entry| (entry.clone(), entry.value_for(init, node)))
-            })
-            .collect();
+        let (dict, values) = (&self.eds.dict, self.eds.values.iter());
+        let out: Vec<Wanted> =
+            values.filter_map(|(addr, init)| dict.get(*addr).map(|e| (e.clone(), e.value_for(init, node)))).collect();
         if out.is_empty() {
             return Err(Error::NotADcf { file: self.path().to_string() });
         }

@@ -126,15 +126,13 @@ pub fn set_baud(
         Some(p) => (p.nodes.iter().map(|l| (l.node, l.name.clone())).collect(), p.file.display().to_string()),
         None => (before.keys().map(|n| (*n, String::new())).collect(), "the probe before the switch".into()),
     };
-    let nodes = expected
-        .iter()
-        .map(|(node, name)| NodeFollowed {
-            node: *node,
-            name: name.clone(),
-            before: before.contains_key(node),
-            after: None,
-        })
-        .collect();
+    let followed = |(node, name): &(u8, String)| NodeFollowed {
+        node: *node,
+        name: name.clone(),
+        before: before.contains_key(node),
+        after: None,
+    };
+    let nodes = expected.iter().map(followed).collect();
     let mut report = BaudSwitched {
         bus: bus.describe(),
         rate: rate.clone(),
