@@ -108,15 +108,10 @@ impl std::str::FromStr for BusAddr {
                 }
                 let framing = if scheme == "epos2-rs232" { Framing::Rs232 } else { Framing::Usb };
                 let mut baud = default_baud(framing);
+                let not_positive = |v: &str| usage(format!("baud '{v}' is not a positive number"));
                 for pair in query.into_iter().flat_map(|q| q.split('&')) {
                     match pair.split_once('=') {
-                        Some(("baud", v)) => {
-                            baud = v
-                                .parse()
-                                .ok()
-                                .filter(|b| *b > 0)
-                                .ok_or_else(|| usage(format!("baud '{v}' is not a positive number")))?;
-                        }
+                        Some(("baud", v)) => baud = v.parse().ok().filter(|b| *b > 0).ok_or_else(|| not_positive(v))?,
                         _ => return Err(usage(format!("unknown option '{pair}' (the only one is baud=N)"))),
                     }
                 }
@@ -127,15 +122,13 @@ impl std::str::FromStr for BusAddr {
                 if port.is_empty() {
                     return Err(usage("the serial port is missing, as in slcan:/dev/ttyACM0@500k".into()));
                 }
+                let refused = |r: &str| {
+                    usage(format!("'{r}' is not an slcan bit rate: use 10k 20k 50k 100k 125k 250k 500k 800k or 1M"))
+                };
+                let slcan_rate = |k: &u32| crate::slcan::wire::bit_rate_code(*k).is_some();
                 let kbit = match rate {
                     None => SLCAN_DEFAULT_KBIT,
-                    Some(r) => {
-                        parse_kbit(r).filter(|k| crate::slcan::wire::bit_rate_code(*k).is_some()).ok_or_else(|| {
-                            usage(format!(
-                                "'{r}' is not an slcan bit rate: use 10k 20k 50k 100k 125k 250k 500k 800k or 1M"
-                            ))
-                        })?
-                    }
+                    Some(r) => parse_kbit(r).filter(slcan_rate).ok_or_else(|| refused(r))?,
                 };
                 Ok(BusAddr::Slcan { port: port.to_string(), kbit })
             }

@@ -564,10 +564,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     let mut mismatch = Vec::new();
     if o.verify && failure.is_none() && !o.dry_run {
         for (addr, want) in &changes {
-            let Some(entry) = entry_of(dcf, *addr) else { continue };
-            if !entry.access.readable() {
-                continue;
-            }
+            let Some(entry) = entry_of(dcf, *addr).filter(|e| e.access.readable()) else { continue };
             if stop() {
                 interrupted = true;
                 failure = Some(Error::Interrupted);
