@@ -52,10 +52,8 @@ pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
     })();
     if let Err(e) = written {
         let _ = fs::remove_file(&temp);
-        return Err(output(format!(
-            "{e}; {}",
-            if existing.is_some() { "the file is unchanged" } else { "nothing was written" }
-        )));
+        let left = if existing.is_some() { "the file is unchanged" } else { "nothing was written" };
+        return Err(output(format!("{e}; {left}")));
     }
     // The rename itself reaches the disk with the directory.
     #[cfg(unix)]

@@ -421,12 +421,10 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
             bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts).map(|_| Took::Epos2NodeId(id))
         }
         Setting::BitRate(index) => {
-            let code = epos2_bit_rate_code(index).ok_or_else(|| {
-                Error::Usage(format!(
-                    "the EPOS2 has no {} setting: use 1M 800k 500k 250k 125k 50k or 20k",
-                    lss::bit_rate_name(index)
-                ))
-            })?;
+            let name = lss::bit_rate_name(index);
+            let none =
+                || Error::Usage(format!("the EPOS2 has no {name} setting: use 1M 800k 500k 250k 125k 50k or 20k"));
+            let code = epos2_bit_rate_code(index).ok_or_else(none)?;
             bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts)
                 .map(|_| Took::Epos2BitRate { index, code })
         }
