@@ -133,16 +133,8 @@ pub fn assign(
     let used = ids_in_use(bus, timeout, o.listen, progress, interrupted)?;
     let in_use_before: Vec<u8> = used.iter().copied().collect();
     // Each device sought is a bar of fastscan requests (14 s each on slow devices).
-    let outcome = number_all(
-        &mut LssMaster::new(bus, timeout),
-        o.start,
-        used,
-        o.fastscan.pace(),
-        o.fastscan.given(),
-        o.store,
-        progress,
-        interrupted,
-    )?;
+    let (mut m, pace, given) = (LssMaster::new(bus, timeout), o.fastscan.pace(), o.fastscan.given());
+    let outcome = number_all(&mut m, o.start, used, pace, given, o.store, progress, interrupted)?;
     let stopped = outcome.interrupted || interrupted.is_cancelled();
     let failure = if stopped { Some(Error::Interrupted) } else { outcome.failure };
     let pace = PaceUsed::from(&outcome.pace);
