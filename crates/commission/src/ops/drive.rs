@@ -121,14 +121,6 @@ fn mode(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<Mode>> 
     Ok(None)
 }
 
-/// The error history, newest first (sub 1 is the newest, CiA 301 §7.5.2.5), each code named
-/// as `errors` names it ([`emcy::meaning`]: for a drive, CiA 402 before CiA 301's classes).
-/// The device type is what picks the table for a drive (no device manual lists a drive).
-fn errors(bus: &mut dyn Bus, node: u8, device_type: u32, timeout: Duration) -> Result<Option<Vec<LoggedError>>> {
-    let origin = emcy::Origin { device_type: Some(device_type), vendor: None, product: None, name: None };
-    Ok(Node::new(bus, node, timeout).error_history(&origin)?.map(|field| field.entries))
-}
-
 /// `drive status` shows each entry as its raw value, its code (a number) and meaning.
 fn drive_errors<S: serde::Serializer>(v: &Option<Vec<LoggedError>>, s: S) -> std::result::Result<S::Ok, S::Error> {
     #[derive(Serialize)]
@@ -148,7 +140,11 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Status> 
     let (word, state) = statusword(bus, node, timeout)?;
     let mode = mode(bus, node, timeout)?;
     let register = read::<u8>(bus, node, ObjAddr::ERROR_REGISTER, timeout)?;
-    let errors = errors(bus, node, device_type, timeout)?;
+    // The error history, newest first (sub 1 is the newest, CiA 301 §7.5.2.5), each code
+    // named as `errors` names it: the device type picks the table (CiA 402 before CiA 301's
+    // classes), since no device manual lists a drive.
+    let origin = emcy::Origin { device_type: Some(device_type), vendor: None, product: None, name: None };
+    let errors = Node::new(bus, node, timeout).error_history(&origin)?.map(|field| field.entries);
     Ok(Status {
         node,
         device_type,
