@@ -227,12 +227,8 @@ pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<
 /// before any is written, so that a DCF that cannot be read changes none. The files
 /// written, in order.
 pub(crate) fn update_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<Vec<PathBuf>> {
-    let mut updated = Vec::new();
-    for (path, bytes) in with_bit_rate(loaded, kbit, nodes)? {
-        crate::atomic::write_atomic(&path, &bytes)?;
-        updated.push(path);
-    }
-    Ok(updated)
+    let files = with_bit_rate(loaded, kbit, nodes)?.into_iter();
+    files.map(|(path, bytes)| crate::atomic::write_atomic(&path, &bytes).map(|_| path)).collect()
 }
 
 /// What `network set-baud --update-project` did to the project's DCFs.
