@@ -162,10 +162,8 @@ impl std::fmt::Display for BusAddr {
             }
             BusAddr::Slcan { port, kbit } => write!(f, "slcan:{port}@{}", kbit_text(*kbit)),
             BusAddr::Socketcand { host, port, iface } => {
-                match host.contains(':') {
-                    true => write!(f, "socketcand:[{host}]")?,
-                    false => write!(f, "socketcand:{host}")?,
-                }
+                let host = if host.contains(':') { format!("[{host}]") } else { host.clone() };
+                write!(f, "socketcand:{host}")?;
                 if *port != crate::socketcand::DEFAULT_PORT {
                     write!(f, ":{port}")?;
                 }
@@ -210,10 +208,7 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             };
             // Nothing else shares this bus: it may run on virtual time, its devices' clock
             // going on from the wall clock's (their timed state is kept in wall-clock ms).
-            let link = match link.wants_virtual_time() {
-                true => link.on_virtual_time(crate::sim::wall_ms()),
-                false => link,
-            };
+            let link = if link.wants_virtual_time() { link.on_virtual_time(crate::sim::wall_ms()) } else { link };
             // Messages name the demo network, not its state file.
             Ok(master(link, BusAddr::Sim { state: None }.to_string(), opts))
         }
