@@ -118,7 +118,7 @@ impl Session {
         let mut mapping = Ok(());
         if let Some((tpdo, original, mut now)) = self.mapping {
             // Entries the session added beyond the original count go back to 0 too.
-            let mut back = original.clone();
+            let mut back = original;
             for (a, _) in now.iter().filter(|(a, _)| a.sub > 0 && (0x1A00..=0x1BFF).contains(&a.index)) {
                 back.entry(*a).or_insert(vec![0; 4]);
             }

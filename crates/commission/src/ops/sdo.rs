@@ -157,13 +157,9 @@ pub fn read_watched(
     let read = bus.sdo_upload(node, object, &opts);
     progress.finish();
     let bytes = super::unheard::sdo(bus, read)?;
+    let not_of_type = |dtype| Error::NotOfType { node, obj: object, bytes: bytes.clone(), dtype };
     let value = match dtype {
-        Some(t) => Some(t.decode(&bytes).ok_or_else(|| Error::NotOfType {
-            node,
-            obj: object,
-            bytes: bytes.clone(),
-            dtype: t,
-        })?),
+        Some(t) => Some(t.decode(&bytes).ok_or_else(|| not_of_type(t))?),
         None => obvious_unsigned(&bytes).map(Value::Uint),
     };
     Ok(Read { node, object, name, dtype, size: bytes.len(), bytes, value })

@@ -30,10 +30,7 @@ impl FastscanOptions {
     }
 
     pub(super) fn pace(&self) -> Pace {
-        match self.step {
-            Some(step) => Pace::fixed(step, self.timeout),
-            None => Pace::measured(self.timeout),
-        }
+        self.step.map_or_else(|| Pace::measured(self.timeout), |step| Pace::fixed(step, self.timeout))
     }
 }
 
