@@ -10,6 +10,7 @@ use crate::epos2::transport::SerialTransport;
 use crate::epos2::Framing;
 use crate::error::{Error, LinkError, Result};
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Duration;
 
 /// Where the bus is: parsed from a URI, printed back as the same URI.
@@ -289,11 +290,9 @@ fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<NativePort> {
     // the exclusive flag would outlive this process and lock the next one out.
     #[cfg(unix)]
     if port.starts_with("/dev/pts/") {
-        io.set_exclusive(false).map_err(|e| LinkError::Io {
-            port: port.to_string(),
-            op: "",
-            error: std::sync::Arc::new(e.into()),
-        })?;
+        let io_error =
+            |e: serialport::Error| LinkError::Io { port: port.to_string(), op: "", error: Arc::new(e.into()) };
+        io.set_exclusive(false).map_err(io_error)?;
     }
     Ok(io)
 }
@@ -305,7 +304,7 @@ fn open_error(port: &str, e: serialport::Error) -> Error {
     if e.description == nix::errno::Errno::ENOTTY.desc() {
         return LinkError::NotSerialPort { port: port.to_string(), available: serial_ports() }.into();
     }
-    LinkError::Open { port: port.to_string(), error: std::sync::Arc::new(e.into()) }.into()
+    LinkError::Open { port: port.to_string(), error: Arc::new(e.into()) }.into()
 }
 
 /// Linux interface names: 1 to 15 bytes, no '/', no whitespace.

@@ -212,12 +212,10 @@ impl Walk {
         match self.stopped {
             _ if self.interrupted => Err(Error::Interrupted),
             None => Ok(()),
-            Some(why) => Err(Error::DriveStopped {
-                node: self.node,
-                goal: self.goal.name(),
-                state: state_text(self.state, self.statusword),
-                why,
-            }),
+            Some(why) => {
+                let state = state_text(self.state, self.statusword);
+                Err(Error::DriveStopped { node: self.node, goal: self.goal.name(), state, why })
+            }
         }
     }
 }

@@ -124,11 +124,8 @@ impl Session {
             }
             back.retain(|a, v| now.get(a) != Some(v));
             if !back.is_empty() {
-                mapping = write_plan(bus, node, &back, &mut now, timeout).map_err(|e| Error::TpdoNotPutBack {
-                    node,
-                    tpdo,
-                    error: Box::new(e),
-                });
+                let not_put_back = |e| Error::TpdoNotPutBack { node, tpdo, error: Box::new(e) };
+                mapping = write_plan(bus, node, &back, &mut now, timeout).map_err(not_put_back);
                 restored.tpdo = mapping.is_ok().then_some(tpdo);
             }
         }

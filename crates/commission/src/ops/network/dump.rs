@@ -86,10 +86,8 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
 /// Write a dumped project into `dir` (made if missing), each file atomically: the DCFs
 /// first, the project file last.
 pub fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::Output {
-        path: dir.display().to_string(),
-        why: format!("cannot make the directory: {e}"),
-    })?;
+    let unmade = |e| Error::Output { path: dir.display().to_string(), why: format!("cannot make the directory: {e}") };
+    std::fs::create_dir_all(dir).map_err(unmade)?;
     // Every file checked before any is written: one refused changes none.
     for (name, _) in &dumped.files {
         check_inside(dir, &dir.join(name))?;
