@@ -313,12 +313,8 @@ impl Diff {
         if self.differences.is_empty() {
             return Ok(());
         }
-        Err(crate::ops::unmet::Unmet::Differs {
-            node: self.node,
-            file: self.file.clone(),
-            count: self.differences.len(),
-        }
-        .into())
+        let (node, file, count) = (self.node, self.file.clone(), self.differences.len());
+        Err(crate::ops::unmet::Unmet::Differs { node, file, count }.into())
     }
 }
 

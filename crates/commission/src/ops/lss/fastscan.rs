@@ -111,11 +111,6 @@ pub fn fastscan_shown(
     let Some(outcome) = outcome else { return Err(Error::Interrupted) };
     let id = outcome.found.map_err(|e| fastscan_error(e, &outcome.pace))?;
     let pace = PaceUsed::from(&outcome.pace);
-    Ok(Found {
-        identity: Identified(id),
-        steps: outcome.steps,
-        step_ms: pace.step_ms,
-        pace,
-        elapsed_ms: elapsed.as_millis() as u64,
-    })
+    let (identity, steps, elapsed_ms) = (Identified(id), outcome.steps, elapsed.as_millis() as u64);
+    Ok(Found { identity, steps, step_ms: pace.step_ms, pace, elapsed_ms })
 }
