@@ -401,9 +401,8 @@ impl Watch {
     pub fn new(bus: &mut dyn Bus, node: u8, interval: Duration, timeout: Duration) -> Result<Watch> {
         let mut source = Source::Sdo(interval);
         if bus.sees_traffic() && operational(bus, node, timeout) {
-            if let Some((cob_id, layout)) = statusword_tpdo(bus, node, timeout)? {
-                let offset = statusword_offset(&layout).unwrap_or(0);
-                source = Source::Tpdo { cob_id, offset, layout };
+            if let Some((offset, layout)) = statusword_tpdo(bus, node, timeout)? {
+                source = Source::Tpdo { cob_id: layout.cob_id, offset, layout };
             }
         }
         Ok(Watch { node, source, last: None, timeout })
@@ -463,15 +462,16 @@ impl Watch {
     }
 }
 
-/// The first valid TPDO (1..4) whose mapping carries the statusword, read from the node.
-fn statusword_tpdo(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<(u16, pdo::Layout)>> {
+/// The first valid TPDO (1..4) whose mapping carries the statusword, read from the node, with
+/// the statusword's bit offset in it.
+fn statusword_tpdo(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<(usize, pdo::Layout)>> {
     let dict = crate::od::Dictionary::default();
     let layouts = match super::pdo::read_layouts(bus, node, &dict, &[1, 2, 3, 4], true, timeout, &mut super::Silent) {
         Ok(l) => l,
         Err(Error::NoValidTpdo { .. }) => return Ok(None),
         Err(e) => return Err(e),
     };
-    Ok(layouts.into_iter().map(|(_, l)| l).find(|l| statusword_offset(l).is_some()).map(|l| (l.cob_id, l)))
+    Ok(layouts.into_iter().find_map(|(_, l)| Some((statusword_offset(&l)?, l))))
 }
 
 /// The bit offset of a 16-bit statusword in a PDO layout.
