@@ -328,12 +328,8 @@ fn assign_each(
         progress.finish();
         progress.event(Notice::Assigned { identity, node }.into());
         sent = 0;
-        out.assigned.push(AssignedNode {
-            identity: Identified(identity),
-            node,
-            stored: store_error.is_none(),
-            store_error,
-        });
+        let stored = store_error.is_none();
+        out.assigned.push(AssignedNode { identity: Identified(identity), node, stored, store_error });
         m.back_to_waiting(identity, node)?;
     }
 }
