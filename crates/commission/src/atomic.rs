@@ -25,13 +25,8 @@ pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
     if existing.as_ref().is_some_and(|m| m.is_dir()) {
         return Err(output("it is a directory".into()));
     }
-    let Some(name) = target.file_name() else {
-        return Err(output("not a file name".into()));
-    };
-    let dir = target.parent().filter(|d| !d.as_os_str().is_empty());
+    let Some((dir, name, temp)) = temporary(&target) else { return Err(output("not a file name".into())) };
     remove_stale_temporaries(dir, name);
-    let temp_file = temp_name(name, std::process::id());
-    let temp = dir.map_or_else(|| temp_file.clone().into(), |d| d.join(&temp_file));
     let create = || fs::OpenOptions::new().write(true).create_new(true).open(&temp);
     let mut file = match create() {
         Ok(f) => f,
@@ -57,10 +52,8 @@ pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> crate::Result<()> {
     })();
     if let Err(e) = written {
         let _ = fs::remove_file(&temp);
-        return Err(output(format!(
-            "{e}; {}",
-            if existing.is_some() { "the file is unchanged" } else { "nothing was written" }
-        )));
+        let left = if existing.is_some() { "the file is unchanged" } else { "nothing was written" };
+        return Err(output(format!("{e}; {left}")));
     }
     // The rename itself reaches the disk with the directory.
     #[cfg(unix)]
@@ -94,12 +87,7 @@ pub fn check_writable(path: &std::path::Path) -> crate::Result<()> {
         }
         _ => {}
     }
-    let Some(name) = target.file_name() else {
-        return Err(output("not a file name".into()));
-    };
-    let temp_file = temp_name(name, std::process::id());
-    let dir = target.parent().filter(|d| !d.as_os_str().is_empty());
-    let temp = dir.map_or_else(|| temp_file.clone().into(), |d| d.join(&temp_file));
+    let Some((dir, _, temp)) = temporary(&target) else { return Err(output("not a file name".into())) };
     match fs::OpenOptions::new().write(true).create_new(true).open(&temp) {
         Ok(_) => fs::remove_file(&temp).map_err(|e| output(e.to_string())),
         // Ours from an earlier process of the same pid: the folder takes files.
@@ -114,6 +102,14 @@ pub fn check_writable(path: &std::path::Path) -> crate::Result<()> {
         }
         Err(e) => Err(output(e.to_string())),
     }
+}
+
+/// The folder of `target` (none: the current one), its file name, and the temporary file
+/// this process writes it through; none when `target` names no file.
+fn temporary(target: &std::path::Path) -> Option<(Option<&std::path::Path>, &std::ffi::OsStr, std::path::PathBuf)> {
+    let name = target.file_name()?;
+    let dir = target.parent().filter(|d| !d.as_os_str().is_empty());
+    Some((dir, name, dir.unwrap_or(std::path::Path::new("")).join(temp_name(name, std::process::id()))))
 }
 
 /// The temporary file process `pid` writes beside `name`: hidden, named after it and after

@@ -10,6 +10,7 @@ use crate::epos2::transport::SerialTransport;
 use crate::epos2::Framing;
 use crate::error::{Error, LinkError, Result};
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Duration;
 
 /// Where the bus is: parsed from a URI, printed back as the same URI.
@@ -59,6 +60,14 @@ pub(crate) const USB_DEFAULT_BAUD: u32 = 1_000_000;
 /// The CAN bit rate of an slcan adapter named without `@RATE`.
 pub(crate) const SLCAN_DEFAULT_KBIT: u32 = 500;
 
+/// The serial bit rate of an EPOS2 bus without `?baud=`.
+pub(crate) fn default_baud(framing: Framing) -> u32 {
+    match framing {
+        Framing::Rs232 => RS232_DEFAULT_BAUD,
+        Framing::Usb => USB_DEFAULT_BAUD,
+    }
+}
+
 /// `500k`, `1M`, `125000` (bit/s) → kbit/s.
 fn parse_kbit(text: &str) -> Option<u32> {
     let t = text.trim();
@@ -87,57 +96,40 @@ impl std::str::FromStr for BusAddr {
 
     fn from_str(uri: &str) -> Result<BusAddr> {
         let usage = |reason: String| Error::BadBusAddr { uri: uri.to_string(), reason };
-        let (scheme, rest) = match uri.split_once(':') {
-            Some((s, r)) => (s, Some(r)),
-            None => (uri, None),
-        };
+        let (scheme, rest) = uri.split_once(':').map_or((uri, None), |(s, r)| (s, Some(r)));
         match (scheme, rest) {
             ("sim", None) => Ok(BusAddr::Sim { state: None }),
             ("sim", Some("")) => Err(usage("sim: needs a state file path after the colon, or use plain sim".into())),
             ("sim", Some(path)) => Ok(BusAddr::Sim { state: Some(PathBuf::from(path)) }),
             ("socketcan", Some(iface)) => Ok(BusAddr::SocketCan { iface: check_iface(iface).map_err(usage)? }),
             ("epos2-rs232" | "epos2-usb", Some(rest)) => {
-                let (port, query) = match rest.split_once('?') {
-                    Some((p, q)) => (p, Some(q)),
-                    None => (rest, None),
-                };
+                let (port, query) = rest.split_once('?').map_or((rest, None), |(p, q)| (p, Some(q)));
                 if port.is_empty() {
                     return Err(usage("the serial port is missing, as in epos2-rs232:/dev/ttyS0".into()));
                 }
-                let rs232 = scheme == "epos2-rs232";
-                let mut baud = if rs232 { RS232_DEFAULT_BAUD } else { USB_DEFAULT_BAUD };
+                let framing = if scheme == "epos2-rs232" { Framing::Rs232 } else { Framing::Usb };
+                let mut baud = default_baud(framing);
+                let not_positive = |v: &str| usage(format!("baud '{v}' is not a positive number"));
                 for pair in query.into_iter().flat_map(|q| q.split('&')) {
                     match pair.split_once('=') {
-                        Some(("baud", v)) => {
-                            baud = v
-                                .parse()
-                                .ok()
-                                .filter(|b| *b > 0)
-                                .ok_or_else(|| usage(format!("baud '{v}' is not a positive number")))?;
-                        }
+                        Some(("baud", v)) => baud = v.parse().ok().filter(|b| *b > 0).ok_or_else(|| not_positive(v))?,
                         _ => return Err(usage(format!("unknown option '{pair}' (the only one is baud=N)"))),
                     }
                 }
-                let framing = if rs232 { Framing::Rs232 } else { Framing::Usb };
                 Ok(BusAddr::Epos2 { framing, port: port.to_string(), baud })
             }
             ("slcan", Some(rest)) => {
-                let (port, rate) = match rest.rsplit_once('@') {
-                    Some((p, r)) => (p, Some(r)),
-                    None => (rest, None),
-                };
+                let (port, rate) = rest.rsplit_once('@').map_or((rest, None), |(p, r)| (p, Some(r)));
                 if port.is_empty() {
                     return Err(usage("the serial port is missing, as in slcan:/dev/ttyACM0@500k".into()));
                 }
+                let refused = |r: &str| {
+                    usage(format!("'{r}' is not an slcan bit rate: use 10k 20k 50k 100k 125k 250k 500k 800k or 1M"))
+                };
+                let slcan_rate = |k: &u32| crate::slcan::wire::bit_rate_code(*k).is_some();
                 let kbit = match rate {
                     None => SLCAN_DEFAULT_KBIT,
-                    Some(r) => {
-                        parse_kbit(r).filter(|k| crate::slcan::wire::bit_rate_code(*k).is_some()).ok_or_else(|| {
-                            usage(format!(
-                                "'{r}' is not an slcan bit rate: use 10k 20k 50k 100k 125k 250k 500k 800k or 1M"
-                            ))
-                        })?
-                    }
+                    Some(r) => parse_kbit(r).filter(slcan_rate).ok_or_else(|| refused(r))?,
                 };
                 Ok(BusAddr::Slcan { port: port.to_string(), kbit })
             }
@@ -164,21 +156,15 @@ impl std::fmt::Display for BusAddr {
             BusAddr::SocketCan { iface } => write!(f, "socketcan:{iface}"),
             BusAddr::Epos2 { framing, port, baud } => {
                 write!(f, "{}:{port}", framing.scheme())?;
-                let default = match framing {
-                    Framing::Rs232 => RS232_DEFAULT_BAUD,
-                    Framing::Usb => USB_DEFAULT_BAUD,
-                };
-                if *baud != default {
+                if *baud != default_baud(*framing) {
                     write!(f, "?baud={baud}")?;
                 }
                 Ok(())
             }
             BusAddr::Slcan { port, kbit } => write!(f, "slcan:{port}@{}", kbit_text(*kbit)),
             BusAddr::Socketcand { host, port, iface } => {
-                match host.contains(':') {
-                    true => write!(f, "socketcand:[{host}]")?,
-                    false => write!(f, "socketcand:{host}")?,
-                }
+                let host = if host.contains(':') { format!("[{host}]") } else { host.clone() };
+                write!(f, "socketcand:{host}")?;
                 if *port != crate::socketcand::DEFAULT_PORT {
                     write!(f, ":{port}")?;
                 }
@@ -223,18 +209,13 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             };
             // Nothing else shares this bus: it may run on virtual time, its devices' clock
             // going on from the wall clock's (their timed state is kept in wall-clock ms).
-            let link = match link.wants_virtual_time() {
-                true => link.on_virtual_time(crate::sim::wall_ms()),
-                false => link,
-            };
+            let link = if link.wants_virtual_time() { link.on_virtual_time(crate::sim::wall_ms()) } else { link };
             // Messages name the demo network, not its state file.
-            let describe = BusAddr::Sim { state: None }.to_string();
-            Ok(Box::new(Master::new(link, describe).with_frame_log(opts.frame_log.clone())))
+            Ok(master(link, BusAddr::Sim { state: None }.to_string(), opts))
         }
         #[cfg(target_os = "linux")]
         BusAddr::SocketCan { iface } => {
-            let link = crate::backend::socketcan::SocketCanLink::open(iface)?;
-            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
+            Ok(master(crate::backend::socketcan::SocketCanLink::open(iface)?, addr.to_string(), opts))
         }
         #[cfg(not(target_os = "linux"))]
         BusAddr::SocketCan { .. } => Err(Error::NoSocketCan { bus: addr.to_string() }),
@@ -247,15 +228,19 @@ pub fn open(addr: &BusAddr, opts: &OpenOptions) -> Result<Box<dyn Bus>> {
             // The adapter's own serial speed does not matter on USB; 115200 suits the
             // adapters that sit behind a real UART.
             let io = open_serial(port, 115_200, opts.timeout)?;
-            let link = crate::backend::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?;
-            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
+            Ok(master(crate::backend::slcan::SlcanLink::open(io, addr.to_string(), *kbit)?, addr.to_string(), opts))
         }
         BusAddr::Socketcand { host, port, iface } => {
             let link =
                 crate::backend::socketcand::SocketcandLink::open(host, *port, iface, addr.to_string(), opts.timeout)?;
-            Ok(Box::new(Master::new(link, addr.to_string()).with_frame_log(opts.frame_log.clone())))
+            Ok(master(link, addr.to_string(), opts))
         }
     }
+}
+
+/// The bus over a link of frames, named `describe`, its frames logged as `opts` ask.
+fn master<L: crate::bus::FrameLink + 'static>(link: L, describe: String, opts: &OpenOptions) -> Box<dyn Bus> {
+    Box::new(Master::new(link, describe).with_frame_log(opts.frame_log.clone()))
 }
 
 /// `HOST[:PORT]/IFACE`, the host an IPv6 address in brackets if it is one.
@@ -305,11 +290,9 @@ fn open_serial(port: &str, baud: u32, timeout: Duration) -> Result<NativePort> {
     // the exclusive flag would outlive this process and lock the next one out.
     #[cfg(unix)]
     if port.starts_with("/dev/pts/") {
-        io.set_exclusive(false).map_err(|e| LinkError::Io {
-            port: port.to_string(),
-            op: "",
-            error: std::sync::Arc::new(e.into()),
-        })?;
+        let io_error =
+            |e: serialport::Error| LinkError::Io { port: port.to_string(), op: "", error: Arc::new(e.into()) };
+        io.set_exclusive(false).map_err(io_error)?;
     }
     Ok(io)
 }
@@ -321,7 +304,7 @@ fn open_error(port: &str, e: serialport::Error) -> Error {
     if e.description == nix::errno::Errno::ENOTTY.desc() {
         return LinkError::NotSerialPort { port: port.to_string(), available: serial_ports() }.into();
     }
-    LinkError::Open { port: port.to_string(), error: std::sync::Arc::new(e.into()) }.into()
+    LinkError::Open { port: port.to_string(), error: Arc::new(e.into()) }.into()
 }
 
 /// Linux interface names: 1 to 15 bytes, no '/', no whitespace.

@@ -75,13 +75,10 @@ where
     move |text: &str| {
         let t = text.trim();
         let n = crate::canopen::number::parse_number::<u64>(t);
-        n.filter(|n| (lo..=hi).contains(n)).and_then(|n| T::try_from(n).ok()).ok_or_else(|| {
-            if lo == hi {
-                format!("'{text}' is not {what}: use {lo}")
-            } else {
-                format!("'{text}' is not {what}: use {lo} to {hi}")
-            }
-        })
+        let range = if lo == hi { lo.to_string() } else { format!("{lo} to {hi}") };
+        n.filter(|n| (lo..=hi).contains(n))
+            .and_then(|n| T::try_from(n).ok())
+            .ok_or_else(|| format!("'{text}' is not {what}: use {range}"))
     }
 }
 
@@ -213,11 +210,11 @@ fn read(path: &Path, into: &mut FileSettings) -> Result<(), Error> {
     })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let line_with = |needle: &str| text.find(needle).map_or(1, |o| line_of(&text, o));
+    // A refusal at the line that has `needle`.
+    let at = |needle: &str, what: String| Error::Usage(format!("{}:{}: {what}", path.display(), line_with(needle)));
     let buses = match file.bus {
         Some(BusSetting::One(bus)) => vec![bus],
-        Some(BusSetting::Many(buses)) if buses.is_empty() => {
-            return Err(Error::Usage(format!("{}:{}: bus: the list is empty", path.display(), line_with("bus"))))
-        }
+        Some(BusSetting::Many(buses)) if buses.is_empty() => return Err(at("bus", "bus: the list is empty".into())),
         Some(BusSetting::Many(buses)) => buses,
         None => Vec::new(),
     };
@@ -226,14 +223,11 @@ fn read(path: &Path, into: &mut FileSettings) -> Result<(), Error> {
         into.more_buses = more.to_vec();
     }
     if let Some(t) = file.timeout {
-        let d = parse_timeout(&t)
-            .map_err(|e| Error::Usage(format!("{}:{}: timeout: {e}", path.display(), line_with("timeout"))))?;
+        let d = parse_timeout(&t).map_err(|e| at("timeout", format!("timeout: {e}")))?;
         into.timeout = Some((d, path.to_path_buf()));
     }
     for (node, n) in file.nodes {
-        let id = parse_node(&node).map_err(|e| {
-            Error::Usage(format!("{}:{}: [nodes.{node}]: {e}", path.display(), line_with(&format!("nodes.{node}"))))
-        })?;
+        let id = parse_node(&node).map_err(|e| at(&format!("nodes.{node}"), format!("[nodes.{node}]: {e}")))?;
         if let Some(eds) = n.eds {
             // The `eds` line after the node's heading: what a message about the file cites.
             let heading = text.find(&format!("nodes.{node}")).unwrap_or(0);

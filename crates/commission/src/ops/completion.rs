@@ -40,10 +40,10 @@ pub fn buses() -> Vec<BusCandidate> {
     }
     for port in crate::connect::serial_ports() {
         out.push(BusCandidate::Slcan(port.clone()));
-        let baud = crate::connect::RS232_DEFAULT_BAUD;
-        out.push(BusCandidate::Found(BusAddr::Epos2 { framing: Framing::Rs232, port: port.clone(), baud }));
-        let baud = crate::connect::USB_DEFAULT_BAUD;
-        out.push(BusCandidate::Found(BusAddr::Epos2 { framing: Framing::Usb, port, baud }));
+        for framing in [Framing::Rs232, Framing::Usb] {
+            let (port, baud) = (port.clone(), crate::connect::default_baud(framing));
+            out.push(BusCandidate::Found(BusAddr::Epos2 { framing, port, baud }));
+        }
     }
     for heard in crate::ops::buses::last_heard() {
         out.extend(heard.bus.parse().ok().map(|addr| BusCandidate::Heard(addr, heard.what)));

@@ -18,28 +18,23 @@ impl Dictionaries {
     /// Read every file; an unreadable one is a usage error citing file:line. What the files
     /// describe in a way canctl passes over is in [`Dictionaries::warnings`].
     pub fn load(args: &[EdsFile]) -> Result<Dictionaries, Error> {
-        let mut files = Vec::new();
-        for a in args {
-            let eds = crate::od::read_description(&a.path)?;
-            files.push((a.node, eds));
-        }
-        Ok(Dictionaries { files })
+        let files = args.iter().map(|a| Ok((a.node, crate::od::read_description(&a.path)?)));
+        Ok(Dictionaries { files: files.collect::<Result<_, Error>>()? })
     }
 
     /// [`Dictionaries::load`] of the files in force: one a settings file names is cited, when
     /// it cannot be read, at that file's line (`canctl.toml:4: cannot read mh.eds: ...`).
     pub fn load_in_force(files: &[Sourced<EdsFile>]) -> Result<Dictionaries, Error> {
-        let mut loaded = Vec::new();
-        for f in files {
+        let read = |f: &Sourced<EdsFile>| {
             let eds = crate::od::read_description(&f.value.path).map_err(|e| match &f.from {
                 Source::Line { file, line } => {
                     Error::InSettingsFile { file: file.display().to_string(), line: *line, error: Box::new(e.into()) }
                 }
                 _ => Error::from(e),
             })?;
-            loaded.push((f.value.node, eds));
-        }
-        Ok(Dictionaries { files: loaded })
+            Ok((f.value.node, eds))
+        };
+        Ok(Dictionaries { files: files.iter().map(read).collect::<Result<_, Error>>()? })
     }
 
     /// The files' warnings, with file:line.

@@ -91,22 +91,14 @@ pub fn state_text(state: Option<State>, statusword: u16) -> String {
     state.map_or_else(|| format!("no CiA 402 state (statusword 0x{statusword:04X})"), |s| s.name().to_string())
 }
 
-fn read(bus: &mut dyn Bus, node: u8, addr: ObjAddr, size: usize, timeout: Duration) -> Result<Vec<u8>> {
-    bus.sdo_upload(node, addr, &sized(timeout, Some(size)))
-}
-
-fn read_u16(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<u16> {
-    let b = read(bus, node, addr, 2, timeout)?;
-    Ok(u16::from_le_bytes([b.first().copied().unwrap_or(0), b.get(1).copied().unwrap_or(0)]))
-}
-
-fn read_u8(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<u8> {
-    Ok(read(bus, node, addr, 1, timeout)?.first().copied().unwrap_or(0))
+/// An unsigned object of the drive.
+fn read<T: super::node::Unsigned>(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<T> {
+    Node::new(bus, node, timeout).read(addr)
 }
 
 /// The node's device type, if it is a CiA 402 drive; [`Error::NotADrive`] otherwise.
 pub(crate) fn check_drive(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<u32> {
-    let device_type = le_u32(&read(bus, node, ObjAddr::DEVICE_TYPE, 4, timeout)?);
+    let device_type = le_u32(&Node::new(bus, node, timeout).upload(ObjAddr::DEVICE_TYPE, Some(4))?);
     if !cia402::is_drive(device_type) {
         return Err(Error::NotADrive { node, device_type });
     }
@@ -115,26 +107,18 @@ pub(crate) fn check_drive(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Res
 
 /// The statusword and the state it codes.
 pub fn statusword(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<(u16, Option<State>)> {
-    let word = read_u16(bus, node, cia402::STATUSWORD, timeout)?;
+    let word = read::<u16>(bus, node, cia402::STATUSWORD, timeout)?;
     Ok((word, State::from_statusword(word)))
 }
 
 fn mode(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<Mode>> {
     for from in [cia402::MODES_OF_OPERATION_DISPLAY, cia402::MODES_OF_OPERATION] {
-        if let Some(v) = optional(read_u8(bus, node, from, timeout))? {
+        if let Some(v) = optional(read::<u8>(bus, node, from, timeout))? {
             let value = v as i8;
             return Ok(Some(Mode { value, name: cia402::mode_name(value), from }));
         }
     }
     Ok(None)
-}
-
-/// The error history, newest first (sub 1 is the newest, CiA 301 §7.5.2.5), each code named
-/// as `errors` names it ([`emcy::meaning`]: for a drive, CiA 402 before CiA 301's classes).
-/// The device type is what picks the table for a drive (no device manual lists a drive).
-fn errors(bus: &mut dyn Bus, node: u8, device_type: u32, timeout: Duration) -> Result<Option<Vec<LoggedError>>> {
-    let origin = emcy::Origin { device_type: Some(device_type), vendor: None, product: None, name: None };
-    Ok(Node::new(bus, node, timeout).error_history(&origin)?.map(|field| field.entries))
 }
 
 /// `drive status` shows each entry as its raw value, its code (a number) and meaning.
@@ -155,8 +139,12 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Status> 
     let device_type = check_drive(bus, node, timeout)?;
     let (word, state) = statusword(bus, node, timeout)?;
     let mode = mode(bus, node, timeout)?;
-    let register = read_u8(bus, node, ObjAddr::ERROR_REGISTER, timeout)?;
-    let errors = errors(bus, node, device_type, timeout)?;
+    let register = read::<u8>(bus, node, ObjAddr::ERROR_REGISTER, timeout)?;
+    // The error history, newest first (sub 1 is the newest, CiA 301 §7.5.2.5), each code
+    // named as `errors` names it: the device type picks the table (CiA 402 before CiA 301's
+    // classes), since no device manual lists a drive.
+    let origin = emcy::Origin { device_type: Some(device_type), vendor: None, product: None, name: None };
+    let errors = Node::new(bus, node, timeout).error_history(&origin)?.map(|field| field.entries);
     Ok(Status {
         node,
         device_type,
@@ -224,42 +212,25 @@ impl Walk {
         match self.stopped {
             _ if self.interrupted => Err(Error::Interrupted),
             None => Ok(()),
-            Some(why) => Err(Error::DriveStopped {
-                node: self.node,
-                goal: self.goal.name(),
-                state: state_text(self.state, self.statusword),
-                why,
-            }),
+            Some(why) => {
+                let state = state_text(self.state, self.statusword);
+                Err(Error::DriveStopped { node: self.node, goal: self.goal.name(), state, why })
+            }
         }
     }
 }
 
-/// Read the statusword until it shows `want` (or a fault: the walk ends there) or the wait
-/// is over. Out of a fault (`recovering`), fault is where the drive starts: it waits.
-fn await_state(
+/// Read the statusword until the state it codes is `settled` or the wait is over.
+fn await_settled(
     bus: &mut dyn Bus,
     node: u8,
-    want: State,
-    recovering: bool,
     o: &Options,
+    settled: impl Fn(Option<State>) -> bool,
 ) -> Result<(u16, Option<State>)> {
     let end = bus.now() + o.wait;
     loop {
         let (word, state) = statusword(bus, node, o.timeout)?;
-        let settled = state.is_some_and(|s| s == want || (s == State::Fault && !recovering));
-        if settled || bus.now() >= end {
-            return Ok((word, state));
-        }
-        bus.sleep_until(end.min(bus.now() + POLL))?;
-    }
-}
-
-/// Read the statusword until the drive leaves a state it leaves by itself.
-fn await_change(bus: &mut dyn Bus, node: u8, from: State, o: &Options) -> Result<(u16, Option<State>)> {
-    let end = bus.now() + o.wait;
-    loop {
-        let (word, state) = statusword(bus, node, o.timeout)?;
-        if state != Some(from) || bus.now() >= end {
+        if settled(state) || bus.now() >= end {
             return Ok((word, state));
         }
         bus.sleep_until(end.min(bus.now() + POLL))?;
@@ -298,6 +269,7 @@ pub fn walk(bus: &mut dyn Bus, node: u8, goal: Goal, o: &Options, interrupt: &Ca
         interrupted: false,
     };
     match walk_steps(bus, &mut w, o, interrupt) {
+        Ok(stopped) => w.stopped = stopped,
         Err(e) if e.is_timeout() => {
             w.stopped = Some(DriveStop::NoAnswer);
             // The answer lost may be a controlword's that the drive acted on: the state
@@ -308,50 +280,49 @@ pub fn walk(bus: &mut dyn Bus, node: u8, goal: Goal, o: &Options, interrupt: &Ca
                 Err(e) => return Err(e),
             }
         }
-        other => other?,
+        Err(e) => return Err(e),
     }
     Ok(w)
 }
 
-fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) -> Result<()> {
+/// The steps of a walk, each recorded in `w`; why it stopped before the goal, if it did.
+fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) -> Result<Option<DriveStop>> {
     let node = w.node;
     for _ in 0..MAX_STEPS {
         if interrupt.is_cancelled() {
             w.interrupted = true;
-            return Ok(());
+            return Ok(None);
         }
-        let Some(state) = w.state else {
-            w.stopped = Some(DriveStop::NoState);
-            return Ok(());
-        };
+        let Some(state) = w.state else { return Ok(Some(DriveStop::NoState)) };
         match cia402::next_step(state, w.goal) {
             Step::Done => {
                 w.done = true;
-                return Ok(());
+                return Ok(None);
             }
-            Step::Blocked(cia402::Blocker::FaultPresent) => {
-                w.stopped = Some(DriveStop::FaultPresent);
-                return Ok(());
-            }
+            Step::Blocked(cia402::Blocker::FaultPresent) => return Ok(Some(DriveStop::FaultPresent)),
             Step::Wait => {
-                let (word, next) = await_change(bus, node, state, o)?;
+                // A state the drive leaves by itself: wait until it does.
+                let (word, next) = await_settled(bus, node, o, |s| s != Some(state))?;
                 (w.statusword, w.state) = (word, next);
                 if next == Some(state) {
-                    w.stopped = Some(refusal(state, word, next));
-                    return Ok(());
+                    return Ok(Some(refusal(state, word, next)));
                 }
             }
             Step::Send(command, expected) => {
                 if command == Command::FaultReset {
                     // The reset acts on bit 7's rising edge: clear it first if it is set.
-                    let current = optional(read_u16(bus, node, cia402::CONTROLWORD, o.timeout))?.unwrap_or(0);
+                    let current = optional(read::<u16>(bus, node, cia402::CONTROLWORD, o.timeout))?.unwrap_or(0);
                     if current & cia402::cw::FAULT_RESET != 0 {
                         write_controlword(bus, node, current & !cia402::cw::FAULT_RESET, o.timeout)?;
                     }
                 }
                 let controlword = command.controlword();
                 write_controlword(bus, node, controlword, o.timeout)?;
-                let (word, reached) = await_state(bus, node, expected, state == State::Fault, o)?;
+                // Until it shows `expected` (or a fault: the walk ends there); out of a fault,
+                // fault is where the drive starts: it waits.
+                let recovering = state == State::Fault;
+                let settled = |s: Option<State>| s.is_some_and(|s| s == expected || (s == State::Fault && !recovering));
+                let (word, reached) = await_settled(bus, node, o, settled)?;
                 let confirmed = reached == Some(expected);
                 w.transitions.push(Transition {
                     command,
@@ -365,14 +336,12 @@ fn walk_steps(bus: &mut dyn Bus, w: &mut Walk, o: &Options, interrupt: &Cancel) 
                 (w.statusword, w.state) = (word, reached);
                 if !confirmed {
                     let remains = command == Command::FaultReset && reached == Some(State::Fault);
-                    w.stopped = Some(if remains { DriveStop::FaultRemains } else { refusal(expected, word, reached) });
-                    return Ok(());
+                    return Ok(Some(if remains { DriveStop::FaultRemains } else { refusal(expected, word, reached) }));
                 }
             }
         }
     }
-    w.stopped = Some(DriveStop::TransitionRefused);
-    Ok(())
+    Ok(Some(DriveStop::TransitionRefused))
 }
 
 fn write_controlword(bus: &mut dyn Bus, node: u8, word: u16, timeout: Duration) -> Result<()> {
@@ -432,9 +401,8 @@ impl Watch {
     pub fn new(bus: &mut dyn Bus, node: u8, interval: Duration, timeout: Duration) -> Result<Watch> {
         let mut source = Source::Sdo(interval);
         if bus.sees_traffic() && operational(bus, node, timeout) {
-            if let Some((cob_id, layout)) = statusword_tpdo(bus, node, timeout)? {
-                let offset = statusword_offset(&layout).unwrap_or(0);
-                source = Source::Tpdo { cob_id, offset, layout };
+            if let Some((offset, layout)) = statusword_tpdo(bus, node, timeout)? {
+                source = Source::Tpdo { cob_id: layout.cob_id, offset, layout };
             }
         }
         Ok(Watch { node, source, last: None, timeout })
@@ -462,29 +430,25 @@ impl Watch {
     pub fn next(&mut self, bus: &mut dyn Bus, until: Instant) -> Result<Option<Change>> {
         loop {
             let word = match &self.source {
-                Source::Sdo(interval) => {
-                    let word = read_u16(bus, self.node, cia402::STATUSWORD, self.timeout)?;
-                    if Some(word) == self.last {
-                        bus.sleep_until(until.min(bus.now() + *interval))?;
-                        if bus.now() >= until {
-                            return Ok(None);
-                        }
-                        continue;
-                    }
-                    word
-                }
+                Source::Sdo(_) => read::<u16>(bus, self.node, cia402::STATUSWORD, self.timeout)?,
                 Source::Tpdo { cob_id, offset, layout } => {
                     let Some(f) = bus.recv_frame(until)? else { return Ok(None) };
                     if f.id() != *cob_id || f.is_remote() || f.len() * 8 < offset + 16 || layout.bits() > f.len() * 8 {
                         continue;
                     }
-                    let word = bits16(f.data(), *offset);
-                    if Some(word) == self.last {
-                        continue;
-                    }
-                    word
+                    bits16(f.data(), *offset)
                 }
             };
+            if Some(word) == self.last {
+                // Polled: again after the interval, unless `until` comes first.
+                if let Source::Sdo(interval) = self.source {
+                    bus.sleep_until(until.min(bus.now() + interval))?;
+                    if bus.now() >= until {
+                        return Ok(None);
+                    }
+                }
+                continue;
+            }
             self.last = Some(word);
             let source = if matches!(self.source, Source::Tpdo { .. }) { "tpdo" } else { "sdo" };
             return Ok(Some(Change {
@@ -498,22 +462,16 @@ impl Watch {
     }
 }
 
-/// The first valid TPDO (1..4) whose mapping carries the statusword, read from the node.
-fn statusword_tpdo(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<(u16, pdo::Layout)>> {
-    let layouts = match super::pdo::read_layouts(
-        bus,
-        node,
-        &crate::od::Dictionary::default(),
-        &[1, 2, 3, 4],
-        true,
-        timeout,
-        &mut super::Silent,
-    ) {
+/// The first valid TPDO (1..4) whose mapping carries the statusword, read from the node, with
+/// the statusword's bit offset in it.
+fn statusword_tpdo(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<(usize, pdo::Layout)>> {
+    let dict = crate::od::Dictionary::default();
+    let layouts = match super::pdo::read_layouts(bus, node, &dict, &[1, 2, 3, 4], true, timeout, &mut super::Silent) {
         Ok(l) => l,
         Err(Error::NoValidTpdo { .. }) => return Ok(None),
         Err(e) => return Err(e),
     };
-    Ok(layouts.into_iter().map(|(_, l)| l).find(|l| statusword_offset(l).is_some()).map(|l| (l.cob_id, l)))
+    Ok(layouts.into_iter().find_map(|(_, l)| Some((statusword_offset(&l)?, l))))
 }
 
 /// The bit offset of a 16-bit statusword in a PDO layout.

@@ -118,17 +118,14 @@ impl Session {
         let mut mapping = Ok(());
         if let Some((tpdo, original, mut now)) = self.mapping {
             // Entries the session added beyond the original count go back to 0 too.
-            let mut back = original.clone();
+            let mut back = original;
             for (a, _) in now.iter().filter(|(a, _)| a.sub > 0 && (0x1A00..=0x1BFF).contains(&a.index)) {
                 back.entry(*a).or_insert(vec![0; 4]);
             }
             back.retain(|a, v| now.get(a) != Some(v));
             if !back.is_empty() {
-                mapping = write_plan(bus, node, &back, &mut now, timeout).map_err(|e| Error::TpdoNotPutBack {
-                    node,
-                    tpdo,
-                    error: Box::new(e),
-                });
+                let not_put_back = |e| Error::TpdoNotPutBack { node, tpdo, error: Box::new(e) };
+                mapping = write_plan(bus, node, &back, &mut now, timeout).map_err(not_put_back);
                 restored.tpdo = mapping.is_ok().then_some(tpdo);
             }
         }
@@ -170,8 +167,7 @@ pub(crate) fn mapped_bits(
     if let Some(size) = entry.and_then(|e| e.dtype.size()) {
         return Ok((size * 8) as u8);
     }
-    let mut opts = sized(timeout, None);
-    opts.max_upload = MAX_ENTRY_BYTES;
+    let opts = super::capped(timeout, MAX_ENTRY_BYTES);
     let refused = |why: String| Error::Usage(format!("cannot map {addr} into a PDO: {why}"));
     match bus.sdo_upload(node, addr, &opts) {
         Ok(v) if (1..=MAX_ENTRY_BYTES).contains(&v.len()) => Ok((v.len() * 8) as u8),
@@ -185,13 +181,13 @@ pub(crate) fn mapped_bits(
     }
 }
 
-/// The type a mapped object has: the dictionary's when its size matches the mapping,
-/// else unsigned of the mapped width.
-fn field_type(entry: Option<&Entry>, bits: u8) -> DataType {
-    entry
-        .map(|e| e.dtype)
-        .filter(|t| t.size().is_some_and(|s| s * 8 == bits as usize) || *t == DataType::Bool && bits == 1)
-        .unwrap_or_else(|| pdo::default_type(bits))
+/// The field a raw mapping entry maps, named by `dict`; its type the dictionary's when its
+/// size matches the mapping, else unsigned of the mapped width.
+fn field(dict: &Dictionary, raw: u32) -> Field {
+    let (addr, bits) = pdo::mapping_entry(raw);
+    let fits = |t: &DataType| t.size().is_some_and(|s| s * 8 == bits as usize) || *t == DataType::Bool && bits == 1;
+    let dtype = dict.get(addr).map(|e| e.dtype).filter(fits).unwrap_or_else(|| pdo::default_type(bits));
+    Field { addr, bits, dtype, name: dict.display_name(addr).unwrap_or_else(|| addr.to_string()) }
 }
 
 /// The layouts of a node's TPDOs `tpdos` (1-based), read from the node; names and types
@@ -224,12 +220,11 @@ pub fn read_layouts(
         let mut names = BTreeSet::new();
         let mut fields = Vec::new();
         for sub in 1..=count {
-            let (addr, bits) = pdo::mapping_entry(read_u32(bus, node, ObjAddr::new(map, sub), timeout)?);
-            let mut name = dict.display_name(addr).unwrap_or_else(|| addr.to_string());
-            if !names.insert(name.clone()) {
-                name = format!("{name} ({addr})");
+            let mut field = field(dict, read_u32(bus, node, ObjAddr::new(map, sub), timeout)?);
+            if !names.insert(field.name.clone()) {
+                field.name = format!("{} ({})", field.name, field.addr);
             }
-            fields.push(Field { addr, bits, dtype: field_type(dict.get(addr), bits), name });
+            fields.push(field);
         }
         out.push((n, Layout { cob_id: (cob & 0x7FF) as u16, fields }));
     }
@@ -251,14 +246,8 @@ pub(crate) fn dcf_layouts(eds: &Eds, node: u8) -> BTreeMap<u16, Layout> {
     for (comm, map) in (0..4u16).flat_map(|n| [(0x1400 + n, 0x1600 + n), (0x1800 + n, 0x1A00 + n)]) {
         let Some(cob) = u32_at(ObjAddr::new(comm, 1)).filter(|c| c & 0x8000_0000 == 0) else { continue };
         let count = value(ObjAddr::new(map, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
-        let fields = (1..=count)
-            .filter_map(|s| u32_at(ObjAddr::new(map, s)))
-            .map(|raw| {
-                let (addr, bits) = pdo::mapping_entry(raw);
-                let dtype = field_type(eds.dict.get(addr), bits);
-                Field { addr, bits, dtype, name: eds.dict.display_name(addr).unwrap_or_else(|| addr.to_string()) }
-            })
-            .collect();
+        let fields =
+            (1..=count).filter_map(|s| u32_at(ObjAddr::new(map, s))).map(|raw| field(&eds.dict, raw)).collect();
         out.insert((cob & 0x7FF) as u16, Layout { cob_id: (cob & 0x7FF) as u16, fields });
     }
     out
@@ -315,9 +304,7 @@ const SYNC_COB: u16 = 0x080;
 
 /// Now as Unix time in ms: the time column of streamed records (a label for people and
 /// files, never used to measure a wait).
-pub(crate) fn wall_ms() -> u64 {
-    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_millis() as u64)
-}
+pub(crate) use crate::sim::wall_ms;
 
 impl<'a> Stream<'a> {
     /// A stream that ends at `opts`' count or duration, or once `interrupted` is set.
@@ -385,17 +372,15 @@ impl<'a> Stream<'a> {
                 self.next_sync = Some(due + period);
             }
         }
-        if self.records == 0 && self.pending.is_empty() {
-            if let Some((after, why)) =
-                self.opts.silence.take_if(|(after, _)| bus.now().saturating_duration_since(self.started) >= *after)
-            {
-                progress.event(Notice::Silent { node: self.node, after, why }.into());
-            }
+        let quiet = self.records == 0 && self.pending.is_empty();
+        let since = bus.now().saturating_duration_since(self.started);
+        if let Some((after, why)) = self.opts.silence.take_if(|(after, _)| quiet && since >= *after) {
+            progress.event(Notice::Silent { node: self.node, after, why }.into());
         }
-        let mut wake = bus.now() + Duration::from_millis(100);
-        for t in [self.end, self.next_sync, self.polling.then_some(self.next_poll)].into_iter().flatten() {
-            wake = wake.min(t);
-        }
+        let wake = [self.end, self.next_sync, self.polling.then_some(self.next_poll)]
+            .into_iter()
+            .flatten()
+            .fold(bus.now() + Duration::from_millis(100), Instant::min);
         let frames: Vec<Frame> = if self.polling {
             bus.sleep_until(self.next_poll)?;
             self.next_poll += self.opts.interval;

@@ -121,17 +121,16 @@ fn value_json<S: serde::Serializer>(v: &Option<Value>, s: S) -> std::result::Res
     v.as_ref().map(Value::to_json).serialize(s)
 }
 
-fn is_large(t: Option<DataType>) -> bool {
-    matches!(t, Some(DataType::Vs | DataType::Os | DataType::D | DataType::Unicode))
-}
-
 fn sdo_options(timeout: Duration, dtype: Option<DataType>, block: bool) -> SdoOptions {
-    let mut o = SdoOptions::new(timeout);
-    o.block_upload = block && is_large(dtype);
-    o.block_download = block;
-    o.size_hint = dtype.and_then(DataType::size);
-    o.max_upload = super::upload_limit(dtype);
-    o
+    // Block upload only for a value that may be large.
+    let large = matches!(dtype, Some(DataType::Vs | DataType::Os | DataType::D | DataType::Unicode));
+    SdoOptions {
+        block_upload: block && large,
+        block_download: block,
+        size_hint: dtype.and_then(DataType::size),
+        max_upload: super::upload_limit(dtype),
+        ..SdoOptions::new(timeout)
+    }
 }
 
 /// Read `object` from `node`, decoded by the type asked for, else the dictionary's.
@@ -158,13 +157,9 @@ pub fn read_watched(
     let read = bus.sdo_upload(node, object, &opts);
     progress.finish();
     let bytes = super::unheard::sdo(bus, read)?;
+    let not_of_type = |dtype| Error::NotOfType { node, obj: object, bytes: bytes.clone(), dtype };
     let value = match dtype {
-        Some(t) => Some(t.decode(&bytes).ok_or_else(|| Error::NotOfType {
-            node,
-            obj: object,
-            bytes: bytes.clone(),
-            dtype: t,
-        })?),
+        Some(t) => Some(t.decode(&bytes).ok_or_else(|| not_of_type(t))?),
         None => obvious_unsigned(&bytes).map(Value::Uint),
     };
     Ok(Read { node, object, name, dtype, size: bytes.len(), bytes, value })
@@ -213,17 +208,8 @@ pub fn write(
             Err(e) => return Err(e),
         }
     }
-    let value = dtype.decode(&bytes);
-    Ok(Written {
-        node,
-        object,
-        dtype,
-        size: bytes.len(),
-        value,
-        verified: o.verify && !interrupted,
-        interrupted,
-        bytes,
-    })
+    let (value, size, verified) = (dtype.decode(&bytes), bytes.len(), o.verify && !interrupted);
+    Ok(Written { node, object, dtype, size, value, verified, interrupted, bytes })
 }
 
 /// A value as text by its type, else as hex bytes.
@@ -235,10 +221,8 @@ pub fn shown(dtype: DataType, bytes: &[u8]) -> String {
 fn value_bytes(dtype: DataType, value: &str) -> Result<Vec<u8>> {
     if let Some(path) = value.strip_prefix('@') {
         let data = crate::input::read_value_file(path, crate::input::VALUE, crate::input::VALUE_IDLE_LIMIT)?;
-        if let Some(size) = dtype.size() {
-            if data.len() != size {
-                return Err(Error::Usage(format!("{path} holds {} bytes; a {dtype} is {size}", data.len())));
-            }
+        if let Some(size) = dtype.size().filter(|size| *size != data.len()) {
+            return Err(Error::Usage(format!("{path} holds {} bytes; a {dtype} is {size}", data.len())));
         }
         return Ok(data);
     }

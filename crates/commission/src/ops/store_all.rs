@@ -55,12 +55,6 @@ pub enum StoppedBefore {
     },
 }
 
-impl From<Error> for Ended {
-    fn from(e: Error) -> Ended {
-        Ended::Failed(e)
-    }
-}
-
 /// What became of a run over several nodes: the reports of the nodes done, in the order
 /// asked; when the run ended early, how, on the node after them (`nodes[done.len()]`).
 #[derive(Debug)]
@@ -84,10 +78,8 @@ fn each_node<R>(nodes: &[u8], mut one: impl FnMut(u8) -> Result<R, Ended>) -> Ea
 
 /// Store `class` on each of `nodes` in turn (0x1010).
 pub fn store_nodes(bus: &mut dyn Bus, nodes: &[u8], class: Class, t: Timeouts) -> EachNode<Stored> {
-    each_node(nodes, |node| match store::store(bus, node, class, t) {
-        Ok(report) => Ok(report),
-        Err(e) if e.is_interrupted() => Err(Ended::Stopped(StoppedBefore::Save { node, class })),
-        Err(e) => Err(e.into()),
+    each_node(nodes, |node| {
+        store::store(bus, node, class, t).map_err(|e| ended(e, StoppedBefore::Save { node, class }))
     })
 }
 
@@ -98,11 +90,7 @@ pub fn restore_nodes(bus: &mut dyn Bus, nodes: &[u8], class: Class, t: Timeouts,
 }
 
 fn restore_one(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts, reset: bool) -> Result<Restored, Ended> {
-    let mut report = match store::restore(bus, node, class, t) {
-        Ok(report) => report,
-        Err(e) if e.is_interrupted() => return Err(Ended::Stopped(StoppedBefore::Load { node, class })),
-        Err(e) => return Err(e.into()),
-    };
+    let mut report = store::restore(bus, node, class, t).map_err(|e| ended(e, StoppedBefore::Load { node, class }))?;
     if !reset {
         return Ok(report);
     }
@@ -116,8 +104,15 @@ fn restore_one(bus: &mut dyn Bus, node: u8, class: Class, t: Timeouts, reset: bo
             Ok(report)
         }
         Ok(_) => Ok(report),
-        Err(e) if e.is_interrupted() => Err(Ended::Stopped(StoppedBefore::Reset { node, object })),
-        Err(e) => Err(e.into()),
+        Err(e) => Err(ended(e, StoppedBefore::Reset { node, object })),
+    }
+}
+
+/// How an error ends the run: stopped where `at` says when it is the user's interruption.
+fn ended(e: Error, at: StoppedBefore) -> Ended {
+    match e.is_interrupted() {
+        true => Ended::Stopped(at),
+        false => Ended::Failed(e),
     }
 }
 

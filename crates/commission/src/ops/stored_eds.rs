@@ -55,16 +55,13 @@ pub struct StoredEds {
 /// Read node `node`'s stored description: at most `limit` bytes from 0x1021 (the SDO
 /// client stops an upload, announced or not, beyond it) and as many unpacked.
 pub fn read(bus: &mut dyn Bus, node: u8, timeout: Duration, limit: usize) -> Result<StoredEds> {
-    let mut opts = SdoOptions::new(timeout);
     // Stored EDSs run to tens of kilobytes: block transfer moves them fastest.
-    opts.block_upload = true;
-    opts.max_upload = limit;
+    let opts = SdoOptions { block_upload: true, ..super::capped(timeout, limit) };
     let raw = match bus.sdo_upload(node, STORE_EDS, &opts) {
         Err(e) if super::node::is_missing(&e) => return Err(Error::NoStoredEds { node }),
         other => other?,
     };
-    let mut opts = SdoOptions::new(timeout);
-    opts.size_hint = Some(1);
+    let opts = SdoOptions { size_hint: Some(1), ..SdoOptions::new(timeout) };
     let (format, format_given) = match bus.sdo_upload(node, STORAGE_FORMAT, &opts) {
         Ok(v) if v.len() == 1 => (v[0], true),
         Ok(v) => return Err(Error::StoredEds { node, why: stored::StoredError::FormatSize(v.len()) }),

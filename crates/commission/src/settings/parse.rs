@@ -20,10 +20,8 @@ pub struct Nodes(pub Vec<u8>);
 /// Node-ids as one argument, each read by `one`; none named twice.
 pub fn parse_nodes(text: &str, one: fn(&str) -> Result<u8, String>) -> Result<Nodes, String> {
     let nodes = text.split(',').map(one).collect::<Result<Vec<u8>, String>>()?;
-    for (i, n) in nodes.iter().enumerate() {
-        if nodes[..i].contains(n) {
-            return Err(format!("node {n} is named twice"));
-        }
+    if let Some((_, n)) = nodes.iter().enumerate().find(|(i, n)| nodes[..*i].contains(n)) {
+        return Err(format!("node {n} is named twice"));
     }
     Ok(Nodes(nodes))
 }

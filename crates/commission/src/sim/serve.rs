@@ -59,10 +59,9 @@ pub fn reset(path: &Path, config: &SimConfig) -> Result<Reset> {
     if let Some(node) = config.bootloader {
         // Two devices on one node-id is a fault of its own, not what --bootloader asks for.
         if let Some((model, _)) = devices.iter().find(|(_, n)| *n == Some(node)) {
-            let taken: Vec<String> = devices.iter().filter_map(|(_, n)| n.map(|n| n.to_string())).collect();
+            let taken = devices.iter().filter_map(|(_, n)| n.map(|n| n.to_string())).collect::<Vec<_>>().join(", ");
             return Err(Error::Usage(format!(
-                "a bootloader on node {node}: node {node} is the demo network's {model}; give it a free node-id (taken: {})",
-                taken.join(", ")
+                "a bootloader on node {node}: node {node} is the demo network's {model}; give it a free node-id (taken: {taken})"
             )));
         }
         devices.push((super::bootloader::KEY.to_string(), Some(node)));

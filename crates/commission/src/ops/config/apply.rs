@@ -47,7 +47,7 @@ impl ApplyOptions {
 
 /// What applying a DCF did, object by object. A failure part-way still gives the report:
 /// [`Applied::outcome`] turns it into the error.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 #[non_exhaustive]
 pub struct Applied {
     /// The node-id written to.
@@ -207,9 +207,7 @@ impl Outcome {
             && self.interim.is_none()
             && !matches!(self.action, Action::NotOnDevice(_) | Action::NotWrittenInterrupted)
     }
-}
 
-impl Outcome {
     /// The outcome in words, a failed write's error worded by `failure` (a front end adds
     /// its remedy).
     pub fn text(&self, failure: impl Fn(&Failure) -> String) -> String {
@@ -247,17 +245,22 @@ impl std::fmt::Display for Outcome {
     }
 }
 
+/// The entry of an object in the DCF's dictionary, else in the built-in one.
+fn entry_of(dcf: &Dcf, addr: ObjAddr) -> Option<&Entry> {
+    dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr))
+}
+
+/// A value of an object as its entry shows it, in hex without one.
+fn shown(dcf: &Dcf, addr: ObjAddr, bytes: &[u8]) -> String {
+    entry_of(dcf, addr).map_or_else(|| crate::canopen::types::hex(bytes), |e| show(e, bytes))
+}
+
 impl Change {
     fn new(dcf: &Dcf, addr: ObjAddr, old: Option<&[u8]>, new: &[u8], result: Outcome) -> Change {
-        let entry = dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
-        let fmt = |b: &[u8]| entry.map_or_else(|| crate::canopen::types::hex(b), |e| show(e, b));
-        let name = dcf
-            .eds
-            .dict
-            .display_name(addr)
-            .or_else(|| builtin::dictionary(None).display_name(addr))
-            .unwrap_or_default();
-        Change { object: addr, name, old: old.map_or("-".to_string(), fmt), new: fmt(new), result }
+        let builtin_name = || builtin::dictionary(None).display_name(addr);
+        let name = dcf.eds.dict.display_name(addr).or_else(builtin_name).unwrap_or_default();
+        let old = old.map_or("-".to_string(), |b| shown(dcf, addr, b));
+        Change { object: addr, name, old, new: shown(dcf, addr, new), result }
     }
 }
 
@@ -338,6 +341,12 @@ struct Underway {
     before: BTreeMap<ObjAddr, Option<Vec<u8>>>,
 }
 
+/// One write of the plan, sized by the object's entry.
+fn write(bus: &mut dyn Bus, node: u8, dcf: &Dcf, step: &Step, timeout: Duration) -> Result<()> {
+    let dtype = entry_of(dcf, step.addr).map_or(DataType::U32, |e| e.dtype);
+    bus.sdo_download(node, step.addr, &step.value, &opts(timeout, dtype))
+}
+
 /// Put a PDO whose change stopped part-way back as it was, in the safe order (it is
 /// invalid already: entries, count, COB-ID last). Returns the rows of the writes, and the
 /// writes still needed when one failed.
@@ -349,47 +358,40 @@ fn roll_back(
     device: &mut BTreeMap<ObjAddr, Vec<u8>>,
     timeout: Duration,
 ) -> (Vec<Change>, Vec<Fix>) {
-    let mut back = BTreeMap::new();
-    let mut unknown = Vec::new();
-    for (addr, before) in &underway.before {
-        match before {
-            Some(v) if device.get(addr) != Some(v) => {
-                back.insert(*addr, v.clone());
-            }
-            Some(_) => {}
-            None => unknown.push(*addr),
-        }
-    }
+    let back: BTreeMap<ObjAddr, Vec<u8>> = underway
+        .before
+        .iter()
+        .filter_map(|(addr, before)| Some((*addr, before.clone().filter(|v| device.get(addr) != Some(v))?)))
+        .collect();
+    let unknown = underway.before.iter().filter(|(_, before)| before.is_none());
     let snapshot = device.clone();
     let steps: Vec<Step> = plan(&back, &|a| snapshot.get(&a).cloned())
         .into_iter()
         .filter(|s| s.interim.is_empty() || snapshot.get(&s.addr) != Some(&s.value))
         .collect();
-    let entry_of = |addr: ObjAddr| dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
-    let shown = |addr: ObjAddr, v: &[u8]| entry_of(addr).map_or_else(|| crate::canopen::types::hex(v), |e| show(e, v));
     let mut rows = Vec::new();
     let mut to_fix: Vec<Fix> = Vec::new();
     for step in &steps {
+        let fix = Fix { object: step.addr, value: Some(shown(dcf, step.addr, &step.value)) };
         if !to_fix.is_empty() {
-            to_fix.push(Fix { object: step.addr, value: Some(shown(step.addr, &step.value)) });
+            to_fix.push(fix);
             continue;
         }
-        let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
         let old = device.get(&step.addr).cloned();
-        let action = match bus.sdo_download(node, step.addr, &step.value, &opts(timeout, dtype)) {
+        let action = match write(bus, node, dcf, step, timeout) {
             Ok(()) => {
                 device.insert(step.addr, step.value.clone());
                 Action::Written
             }
             Err(e) => {
-                to_fix.push(Fix { object: step.addr, value: Some(shown(step.addr, &step.value)) });
+                to_fix.push(fix);
                 Action::Failed(Failure::from(&e))
             }
         };
         let result = Outcome { rollback: true, ..Outcome::new(action) };
         rows.push(Change::new(dcf, step.addr, old.as_deref(), &step.value, result));
     }
-    to_fix.extend(unknown.into_iter().map(|object| Fix { object, value: None }));
+    to_fix.extend(unknown.map(|(object, _)| Fix { object: *object, value: None }));
     (rows, to_fix)
 }
 
@@ -403,26 +405,25 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         crate::ops::check_range(entry, value)?;
     }
     let stop = || o.interrupted.is_cancelled();
-    let unchanged = |rows: Vec<Change>| Applied {
+    let unchanged = |objects: Vec<Change>| Applied {
         node,
         file: dcf.path().to_string(),
         dry_run: o.dry_run,
-        objects: rows,
-        stored: false,
+        objects,
         failure: Some(Error::Interrupted),
-        did_you_mean: Vec::new(),
-        written: Vec::new(),
-        mismatch: Vec::new(),
         interrupted: true,
-        rolled_back: Vec::new(),
-        to_fix: Vec::new(),
         state: Some(LeftIn::Unread { node }),
+        ..Applied::default()
     };
     if stop() {
         return Ok(unchanged(Vec::new()));
     }
-    if !o.force {
-        check_identity(bus, node, dcf, o.timeout)?;
+    // A DCF made for one kind of device is not written into another: the vendor-ID and
+    // product code the file names must be the device's (exit 6 otherwise, before anything
+    // is written). A file that names neither is applied anywhere.
+    let differences = if o.force { Vec::new() } else { identity_differences(bus, node, dcf, o.timeout)? };
+    if !differences.is_empty() {
+        return Err(Error::OtherDevice { file: dcf.path().to_string(), differences });
     }
     let given = o.dictionary.as_ref().map(|(d, source)| (d, source.as_str()));
     let (target, target_source) = node_dictionary(bus, node, given, o.timeout)?;
@@ -436,23 +437,20 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         if stop() {
             return Ok(unchanged(rows));
         }
-        let now = if entry.access.readable() {
-            match read_one(bus, node, entry, o.timeout) {
-                Ok(v) => Some(v),
-                Err(Error::SdoAbort { code, .. }) if !entry.access.writable() => {
-                    rows.push(Change::new(dcf, entry.addr, None, want, Outcome::new(Action::NotOnDevice(code))));
-                    continue;
-                }
-                Err(e @ Error::SdoAbort { code, .. }) => {
-                    if crate::ops::node::is_missing(&e) {
-                        absent.insert(entry.addr, code);
-                    }
-                    None
-                }
-                Err(e) => return Err(e),
+        let now = match entry.access.readable().then(|| read_one(bus, node, entry, o.timeout)) {
+            None => None,
+            Some(Ok(v)) => Some(v),
+            Some(Err(Error::SdoAbort { code, .. })) if !entry.access.writable() => {
+                rows.push(Change::new(dcf, entry.addr, None, want, Outcome::new(Action::NotOnDevice(code))));
+                continue;
             }
-        } else {
-            None
+            Some(Err(e @ Error::SdoAbort { code, .. })) => {
+                if crate::ops::node::is_missing(&e) {
+                    absent.insert(entry.addr, code);
+                }
+                None
+            }
+            Some(Err(e)) => return Err(e),
         };
         if let Some(v) = &now {
             current.insert(entry.addr, v.clone());
@@ -488,7 +486,6 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         }
     }
     let steps = plan(&changes, &|addr| current.get(&addr).cloned());
-    let entry_of = |addr: ObjAddr| dcf.eds.dict.get(addr).or_else(|| builtin::dictionary(None).get(addr));
     let mut failure: Option<Error> = None;
     let mut interrupted = false;
     let mut written: Vec<ObjAddr> = Vec::new();
@@ -503,7 +500,6 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             interrupted = true;
             failure = Some(Error::Interrupted);
         }
-        let dtype = entry_of(step.addr).map_or(DataType::U32, |e| e.dtype);
         let action = if o.dry_run && failure.is_some() {
             Action::WouldNotBeWritten
         } else if let (true, Some(&code)) = (o.dry_run, absent.get(&step.addr)) {
@@ -524,7 +520,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
                 let u = underway.get_or_insert_with(|| Underway { pdo, before: BTreeMap::new() });
                 u.before.entry(step.addr).or_insert_with(|| current.get(&step.addr).cloned());
             }
-            match bus.sdo_download(node, step.addr, &step.value, &opts(o.timeout, dtype)) {
+            match write(bus, node, dcf, step, o.timeout) {
                 Ok(()) => {
                     written.push(step.addr);
                     device.insert(step.addr, step.value.clone());
@@ -547,15 +543,13 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         let result = Outcome { interim, ..Outcome::new(action) };
         rows.push(Change::new(dcf, step.addr, current.get(&step.addr).map(|v| v.as_slice()), &step.value, result));
         // Stopped inside a PDO change: put the PDO back before anything else.
-        if failure.is_some() && !o.dry_run {
-            if let Some(u) = underway.take() {
-                let (r, fix) = roll_back(bus, node, dcf, &u, &mut device, o.timeout);
-                rollback_rows = r;
-                if fix.is_empty() {
-                    rolled_back.push(pdo_name(u.pdo));
-                }
-                to_fix = fix;
+        if let Some(u) = underway.take_if(|_| failure.is_some() && !o.dry_run) {
+            let (r, fix) = roll_back(bus, node, dcf, &u, &mut device, o.timeout);
+            rollback_rows = r;
+            if fix.is_empty() {
+                rolled_back.push(pdo_name(u.pdo));
             }
+            to_fix = fix;
         }
     }
     // An object the device lacks: the nearest ones it may have meant, from its own
@@ -570,10 +564,7 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
     let mut mismatch = Vec::new();
     if o.verify && failure.is_none() && !o.dry_run {
         for (addr, want) in &changes {
-            let Some(entry) = entry_of(*addr) else { continue };
-            if !entry.access.readable() {
-                continue;
-            }
+            let Some(entry) = entry_of(dcf, *addr).filter(|e| e.access.readable()) else { continue };
             if stop() {
                 interrupted = true;
                 failure = Some(Error::Interrupted);
@@ -590,19 +581,26 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
             }
         }
     }
-    if o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run && stop() {
-        interrupted = true;
+    let mut stored = o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run;
+    if stored && stop() {
+        (interrupted, stored) = (true, false);
         failure = Some(Error::Interrupted);
     }
-    let stored = if o.store && failure.is_none() && mismatch.is_empty() && !o.dry_run {
+    if stored {
         let t = crate::ops::store::Timeouts { answer: o.timeout, write: o.store_timeout };
         crate::ops::store::store(bus, node, crate::ops::store::Class::All, t)?;
-        true
-    } else {
-        false
-    };
-    let state = (!o.dry_run && failure.is_some())
-        .then(|| left_in(node, &changes, &device, &current, !rolled_back.is_empty(), !to_fix.is_empty(), o.store));
+    }
+    // What a run that did not finish leaves the device holding.
+    let state = (!o.dry_run && failure.is_some()).then(|| LeftIn::Written {
+        node,
+        new: changes.iter().filter(|(a, v)| device.get(a) == Some(v)).map(|(a, _)| *a).collect(),
+        of: changes.len(),
+        // An intermediate value left behind (a COB-ID made invalid, a count of 0).
+        interim: device.iter().any(|(a, v)| current.get(a).is_some_and(|b| b != v) && changes.get(a) != Some(v)),
+        rolled_back: !rolled_back.is_empty(),
+        rollback_failed: !to_fix.is_empty(),
+        store_asked: o.store,
+    });
     Ok(Applied {
         node,
         file: dcf.path().to_string(),
@@ -618,20 +616,4 @@ pub fn apply(bus: &mut dyn Bus, node: u8, dcf: &Dcf, o: &ApplyOptions) -> Result
         to_fix,
         state,
     })
-}
-
-/// What a run that did not finish leaves the device holding.
-fn left_in(
-    node: u8,
-    changes: &BTreeMap<ObjAddr, Vec<u8>>,
-    device: &BTreeMap<ObjAddr, Vec<u8>>,
-    before: &BTreeMap<ObjAddr, Vec<u8>>,
-    rolled_back: bool,
-    broken: bool,
-    store: bool,
-) -> LeftIn {
-    let new: Vec<ObjAddr> = changes.iter().filter(|(a, v)| device.get(a) == Some(v)).map(|(a, _)| *a).collect();
-    // An intermediate value left behind (a COB-ID made invalid, a count of 0).
-    let interim = device.iter().any(|(a, v)| before.get(a).is_some_and(|b| b != v) && changes.get(a) != Some(v));
-    LeftIn::Written { node, new, of: changes.len(), interim, rolled_back, rollback_failed: broken, store_asked: store }
 }

@@ -28,14 +28,18 @@ impl Dcf {
     /// values; 0 where it does not say.
     pub fn identity(&self) -> (u32, u32) {
         let part = |key: &str, addr: ObjAddr| {
-            let from_info = self.eds.info.get(key).and_then(|v| eds::parse_int(v)).and_then(|v| u32::try_from(v).ok());
             let from_value = || match self.eds.values.get(&addr) {
                 Some(crate::od::Init::Bytes(b)) => Some(super::le_u32(b)),
                 _ => None,
             };
-            from_info.filter(|v| *v != 0).or_else(from_value).unwrap_or(0)
+            self.info_number(key).filter(|v| *v != 0).or_else(from_value).unwrap_or(0)
         };
         (part("vendornumber", ObjAddr::VENDOR_ID), part("productnumber", ObjAddr::PRODUCT_CODE))
+    }
+
+    /// A number of its `[DeviceInfo]` (`key` in lower case).
+    pub(crate) fn info_number(&self, key: &str) -> Option<u32> {
+        self.eds.info.get(key).and_then(|v| eds::parse_int(v)).and_then(|v| u32::try_from(v).ok())
     }
 
     /// Read a DCF file; an unreadable one is a usage error citing file:line.
@@ -67,26 +71,16 @@ impl Dcf {
         let errors: Vec<&crate::od::lint::Warning> =
             self.eds.warnings.iter().filter(|w| w.severity == crate::od::lint::Severity::Error).collect();
         if let Some(first) = errors.first() {
-            return Err(Error::DcfNotReadWhole {
-                first: Box::new((*first).clone()),
-                file: self.path().to_string(),
-                errors: errors.len(),
-            });
+            let (first, file) = (Box::new((*first).clone()), self.path().to_string());
+            return Err(Error::DcfNotReadWhole { first, file, errors: errors.len() });
         }
-        let mut out = Vec::new();
-        for (addr, init) in &self.eds.values {
-            let Some(entry) = self.eds.dict.get(*addr) else { continue };
-            let value = entry.value_for(init, node);
-            out.push((entry.clone(), value));
-        }
+        let (dict, values) = (&self.eds.dict, self.eds.values.iter());
+        let out: Vec<Wanted> =
+            values.filter_map(|(addr, init)| dict.get(*addr).map(|e| (e.clone(), e.value_for(init, node)))).collect();
         if out.is_empty() {
             return Err(Error::NotADcf { file: self.path().to_string() });
         }
         Ok(out)
-    }
-
-    fn name_of(&self, addr: ObjAddr) -> String {
-        self.eds.dict.display_name(addr).unwrap_or_default()
     }
 }
 
@@ -117,17 +111,6 @@ fn opts(timeout: Duration, dtype: DataType) -> SdoOptions {
 
 fn read_one(bus: &mut dyn Bus, node: u8, e: &Entry, timeout: Duration) -> Result<Vec<u8>> {
     bus.sdo_upload(node, e.addr, &opts(timeout, e.dtype)).map(|b| fit(e, b))
-}
-
-/// A DCF made for one kind of device is not written into another: the vendor-ID and
-/// product code the file names must be the device's (exit 6 otherwise, before anything is
-/// written). A file that names neither is applied anywhere.
-fn check_identity(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result<()> {
-    let differ = identity_differences(bus, node, dcf, timeout)?;
-    if differ.is_empty() {
-        return Ok(());
-    }
-    Err(Error::OtherDevice { file: dcf.path().to_string(), differences: differ })
 }
 
 /// Where the device's vendor-ID and product code are not the ones the file names, in words.
@@ -261,9 +244,11 @@ pub fn dump_as(
         node_id: Some(node),
     };
     // A value no DCF can hold (a newline in a string, say) is left out, and said so.
-    let (text, file) = match form {
-        FileForm::Dcf => (eds::parameter_text as fn(&Entry, &[u8], Option<u8>) -> Result<String, String>, "DCF"),
-        FileForm::Xdc => (xdd::actual_value_text as fn(&Entry, &[u8], Option<u8>) -> _, "XDC"),
+    type Text = fn(&Entry, &[u8], Option<u8>) -> Result<String, String>;
+    type Write = fn(&Dictionary, Option<&BTreeMap<ObjAddr, Vec<u8>>>, &Header) -> Result<Vec<u8>, eds::WriteError>;
+    let (text, write, file): (Text, Write, _) = match form {
+        FileForm::Dcf => (eds::parameter_text, eds::write_bytes, "DCF"),
+        FileForm::Xdc => (xdd::actual_value_text, xdd::write_bytes, "XDC"),
     };
     values.retain(|addr, v| match present.get(*addr).map(|e| text(e, v, Some(node))) {
         Some(Err(why)) => {
@@ -272,11 +257,7 @@ pub fn dump_as(
         }
         _ => true,
     });
-    let dcf = match form {
-        FileForm::Dcf => eds::write_bytes(&present, Some(&values), &header),
-        FileForm::Xdc => xdd::write_bytes(&present, Some(&values), &header),
-    }
-    .map_err(|e| Error::NotWritable(e.into()))?;
+    let dcf = write(&present, Some(&values), &header).map_err(|e| Error::NotWritable(e.into()))?;
     Ok(Dump { node, objects: values.len(), interrupted: false, wanted: wanted.len(), source, dcf })
 }
 
@@ -332,12 +313,8 @@ impl Diff {
         if self.differences.is_empty() {
             return Ok(());
         }
-        Err(crate::ops::unmet::Unmet::Differs {
-            node: self.node,
-            file: self.file.clone(),
-            count: self.differences.len(),
-        }
-        .into())
+        let (node, file, count) = (self.node, self.file.clone(), self.differences.len());
+        Err(crate::ops::unmet::Unmet::Differs { node, file, count }.into())
     }
 }
 
@@ -362,12 +339,8 @@ pub fn diff(bus: &mut dyn Bus, node: u8, dcf: &Dcf, timeout: Duration) -> Result
             }
             Err(e) => return Err(e),
         };
-        differences.push(Difference {
-            object: entry.addr,
-            name: dcf.name_of(entry.addr),
-            device,
-            file: show(entry, want),
-        });
+        let (name, file) = (dcf.eds.dict.display_name(entry.addr).unwrap_or_default(), show(entry, want));
+        differences.push(Difference { object: entry.addr, name, device, file });
     }
     // Last, so that a comparison stopped part-way has compared all it could: whether the
     // file is for this kind of device at all (config apply refuses one that is not).
@@ -390,6 +363,12 @@ pub(crate) struct Step {
     pub pdo: Option<(u16, u16)>,
 }
 
+impl Step {
+    fn new(addr: ObjAddr, value: Vec<u8>, interim: &'static str) -> Step {
+        Step { addr, value, interim, pdo: None }
+    }
+}
+
 /// The communication and mapping parameter indexes of the PDO an index belongs to.
 fn pdo_indices(index: u16) -> Option<(u16, u16)> {
     match index {
@@ -409,7 +388,7 @@ pub(crate) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAdd
             Some((comm, map)) if addr.index == map || addr.sub == 1 => {
                 pdos.insert((comm, map));
             }
-            _ => steps.push(Step { addr: *addr, value: value.clone(), interim: "", pdo: None }),
+            _ => steps.push(Step::new(*addr, value.clone(), "")),
         }
     }
     // Plain objects of a PDO comm record (transmission type, timers) already went above.
@@ -418,36 +397,22 @@ pub(crate) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAdd
         let cob = ObjAddr::new(comm, 1);
         let cob_now = current(cob).map(|v| le_u32(&v));
         if let Some(c) = cob_now.filter(|c| c & 0x8000_0000 == 0) {
-            steps.push(Step {
-                addr: cob,
-                value: (c | 0x8000_0000).to_le_bytes().to_vec(),
-                interim: "PDO made invalid",
-                pdo: None,
-            });
+            steps.push(Step::new(cob, (c | 0x8000_0000).to_le_bytes().to_vec(), "PDO made invalid"));
         }
         let map_changes: Vec<(&ObjAddr, &Vec<u8>)> = changes.iter().filter(|(a, _)| a.index == map).collect();
         if !map_changes.is_empty() {
             let count = ObjAddr::new(map, 0);
-            steps.push(Step { addr: count, value: vec![0], interim: "mapping count 0", pdo: None });
+            steps.push(Step::new(count, vec![0], "mapping count 0"));
             for (a, v) in map_changes.iter().filter(|(a, _)| a.sub > 0) {
-                steps.push(Step { addr: **a, value: (*v).clone(), interim: "", pdo: None });
+                steps.push(Step::new(**a, (*v).clone(), ""));
             }
             let final_count = changes.get(&count).cloned().or_else(|| current(count)).unwrap_or(vec![0]);
-            steps.push(Step {
-                addr: count,
-                value: final_count,
-                interim: if changes.contains_key(&count) { "" } else { "mapping count back" },
-                pdo: None,
-            });
+            let interim = if changes.contains_key(&count) { "" } else { "mapping count back" };
+            steps.push(Step::new(count, final_count, interim));
         }
         let final_cob = changes.get(&cob).cloned().or_else(|| cob_now.map(|c| c.to_le_bytes().to_vec()));
         if let Some(v) = final_cob {
-            steps.push(Step {
-                addr: cob,
-                value: v,
-                interim: if changes.contains_key(&cob) { "" } else { "PDO valid again" },
-                pdo: None,
-            });
+            steps.push(Step::new(cob, v, if changes.contains_key(&cob) { "" } else { "PDO valid again" }));
         }
         for step in &mut steps[first..] {
             step.pdo = Some((comm, map));

@@ -14,7 +14,7 @@ pub struct NodeDownload {
     /// What was done to it (none when it was not begun: an earlier node was interrupted).
     pub report: Option<DownloadReport>,
     /// Why it did not finish.
-    #[serde(serialize_with = "unfinished_text")]
+    #[serde(serialize_with = "crate::ops::lss::error_text")]
     pub error: Option<Unfinished>,
 }
 
@@ -43,13 +43,6 @@ pub enum Unfinished {
     Failed(FirmwareError),
 }
 
-fn unfinished_text<S: serde::Serializer>(e: &Option<Unfinished>, s: S) -> Result<S::Ok, S::Error> {
-    match e {
-        Some(e) => s.collect_str(e),
-        None => s.serialize_none(),
-    }
-}
-
 /// `firmware download 5,6,7 IMAGE`: each node in turn, the same report for each.
 #[derive(Debug, Serialize)]
 pub struct Batch {
@@ -67,6 +60,19 @@ impl Batch {
             _ => None,
         })
     }
+
+    /// The row of `node`: how its download ended, or `None` when it was not begun.
+    pub(super) fn push(&mut self, node: u8, outcome: Option<jobs::Outcome>) {
+        self.nodes.push(match outcome {
+            None => NodeDownload { node, report: None, error: Some(Unfinished::NotBegun) },
+            Some(Ok(report)) => NodeDownload { node, report: Some(report), error: None },
+            Some(Err(failed)) => {
+                let Failed { error, report } = *failed;
+                self.interrupted |= report.interrupted;
+                NodeDownload { node, report: Some(*report), error: Some(Unfinished::Failed(error)) }
+            }
+        });
+    }
 }
 
 /// Download `image` into each of `nodes` in turn. A node that fails does not stop the
@@ -82,22 +88,13 @@ pub fn download_each(
     let mut batch = Batch { nodes: Vec::new(), interrupted: false };
     for (i, &node) in nodes.iter().enumerate() {
         if batch.interrupted {
-            batch.nodes.push(NodeDownload { node, report: None, error: Some(Unfinished::NotBegun) });
+            batch.push(node, None);
             continue;
         }
         progress.item(&format!("node {node}"), crate::ops::ItemStatus::Step { number: i + 1, of: nodes.len() });
         let outcome = download(bus, node, image, o, progress);
         progress.item_ended(&format!("node {node}"), ItemEnd::Downloaded(jobs::ended(&outcome)));
-        match outcome {
-            Ok(report) => {
-                batch.nodes.push(NodeDownload { node, report: Some(report), error: None });
-            }
-            Err(failed) => {
-                let Failed { error, report } = *failed;
-                batch.interrupted = report.interrupted;
-                batch.nodes.push(NodeDownload { node, report: Some(*report), error: Some(Unfinished::Failed(error)) });
-            }
-        }
+        batch.push(node, Some(outcome));
     }
     batch
 }

@@ -11,7 +11,7 @@ use crate::ops::in_parallel::{self, Serve, Watch};
 
 pub(super) use crate::ops::in_parallel::Served;
 
-type Outcome = std::result::Result<DownloadReport, Box<Failed>>;
+pub(super) type Outcome = std::result::Result<DownloadReport, Box<Failed>>;
 
 /// Each node's line, and when to begin no more.
 struct Lines<'a> {
@@ -63,15 +63,7 @@ pub fn download_jobs(
     let outcomes = in_parallel::run(bus, nodes, jobs, &serve, &work, &stopped, &mut lines);
     let mut batch = Batch { nodes: Vec::new(), interrupted: false };
     for (&node, outcome) in nodes.iter().zip(outcomes) {
-        batch.nodes.push(match outcome {
-            None => NodeDownload { node, report: None, error: Some(Unfinished::NotBegun) },
-            Some(Ok(report)) => NodeDownload { node, report: Some(report), error: None },
-            Some(Err(failed)) => {
-                let Failed { error, report } = *failed;
-                batch.interrupted |= report.interrupted;
-                NodeDownload { node, report: Some(*report), error: Some(Unfinished::Failed(error)) }
-            }
-        });
+        batch.push(node, outcome);
     }
     batch
 }

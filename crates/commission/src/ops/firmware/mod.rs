@@ -138,12 +138,13 @@ pub struct StepDone {
 }
 
 /// Where the device is when the procedure ends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Where {
     /// Running the image (downloaded now, or already: skipped).
     RunsImage,
     /// Nothing was changed: it runs what it ran.
+    #[default]
     Unchanged,
     /// Stopped in its bootloader; its program is intact.
     BootloaderWithProgram,
@@ -168,6 +169,12 @@ pub enum State {
     At(Where),
 }
 
+impl Default for State {
+    fn default() -> State {
+        State::At(Where::default())
+    }
+}
+
 /// How the program data went to the device.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -180,7 +187,7 @@ pub enum Transfer {
 }
 
 /// What `firmware download` did to one node.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct DownloadReport {
     /// The node-id.
     pub node: u8,
@@ -226,27 +233,7 @@ pub struct DownloadReport {
 impl DownloadReport {
     /// The report before the first step: nothing done, the device as it was.
     pub fn begun(node: u8, program: u8, image_bytes: usize, image_id: u32) -> DownloadReport {
-        DownloadReport {
-            node,
-            program,
-            image_bytes,
-            image_id,
-            id_before: None,
-            id_after: None,
-            skipped: false,
-            steps: vec![],
-            flash_status: None,
-            busy_polls: 0,
-            erase_ms: None,
-            download_ms: None,
-            bytes_per_second: None,
-            transfer: None,
-            total_ms: 0,
-            confirmed: false,
-            device: Where::Unchanged,
-            state: State::At(Where::Unchanged),
-            interrupted: false,
-        }
+        DownloadReport { node, program, image_bytes, image_id, ..DownloadReport::default() }
     }
 }
 
@@ -337,6 +324,14 @@ fn le(bytes: &[u8]) -> u32 {
     bytes.iter().take(4).rev().fold(0, |acc, b| acc << 8 | u32::from(*b))
 }
 
+/// A flash status that shows an error after a step (`after`) is the step's failure.
+fn flash_ok(node: u8, program: u8, after: &'static str, status: FlashStatus) -> Result<(), FirmwareError> {
+    match status.is_error() {
+        true => Err(FirmwareError::Flash { node, program, after, status }),
+        false => Ok(()),
+    }
+}
+
 /// The procedure's state: the report as it grows, and the bus's clock at the start.
 struct Run<'a> {
     bus: &'a mut dyn Bus,
@@ -358,9 +353,7 @@ impl Run<'_> {
     }
 
     fn opts(&self) -> SdoOptions {
-        let mut o = SdoOptions::new(self.o.timeout);
-        o.stop = self.o.cancel.clone();
-        o
+        SdoOptions { stop: self.o.cancel.clone(), ..SdoOptions::new(self.o.timeout) }
     }
 
     fn addr(&self, index: u16) -> ObjAddr {
@@ -368,10 +361,8 @@ impl Run<'_> {
     }
 
     fn read_u32(&mut self, index: u16) -> Result<u32, Error> {
-        let mut opts = self.opts();
-        opts.size_hint = Some(4);
-        let v = self.bus.sdo_upload(self.node, self.addr(index), &opts)?;
-        Ok(le(&v))
+        let opts = SdoOptions { size_hint: Some(4), ..self.opts() };
+        Ok(le(&self.bus.sdo_upload(self.node, self.addr(index), &opts)?))
     }
 
     fn control(&mut self, c: Control) -> Result<(), Error> {
@@ -380,10 +371,7 @@ impl Run<'_> {
     }
 
     fn check_cancel(&self) -> Result<(), Error> {
-        match &self.o.cancel {
-            Some(c) => c.check(),
-            None => Ok(()),
-        }
+        self.o.cancel.as_ref().map_or(Ok(()), Cancel::check)
     }
 
     /// Poll 0x1F57 until it is not busy, bounded; the status it ends with.
@@ -424,10 +412,8 @@ impl Run<'_> {
         let end = self.bus.now() + self.o.boot_wait;
         while let Some(f) = self.bus.recv_frame(end)? {
             self.check_cancel()?;
-            if let Some((n, nmt::ErrorControl::State { .. })) = nmt::ErrorControl::parse(&f) {
-                if n == self.node {
-                    return Ok(true);
-                }
+            if matches!(nmt::ErrorControl::parse(&f), Some((n, nmt::ErrorControl::State { .. })) if n == self.node) {
+                return Ok(true);
             }
         }
         Ok(false)
@@ -491,12 +477,8 @@ fn download_timed(
     r.report.id_before = Some(before);
     did!(Step::ReadId);
     if before == image_id && !o.force {
-        r.report.skipped = true;
-        r.report.id_after = Some(before);
-        r.report.device = Where::RunsImage;
-        r.report.state = State::AlreadyRuns;
-        r.report.total_ms = r.ms();
-        return Ok(r.report);
+        let (id_after, device, state, total_ms) = (Some(before), Where::RunsImage, State::AlreadyRuns, r.ms());
+        return Ok(DownloadReport { skipped: true, id_after, device, state, total_ms, ..r.report });
     }
     step!(r.check_cancel(), Where::Unchanged);
     step!(r.bus.nmt(nmt::Command::PreOperational, node), Where::Unchanged);
@@ -505,20 +487,13 @@ fn download_timed(
     // Stop. A device whose bootloader is another image reboots into it instead of
     // answering: its boot-up says the stop was done.
     r.bus.observed().boot_ups.remove(&node);
-    let stopped = r.control(Control::Stop);
-    let rebooted = match stopped {
+    let rebooted = match r.control(Control::Stop) {
         Ok(()) => r.bus.observed().boot_ups.contains(&node),
         // No answer in time, however the bus puts it (a gateway reports its own timeout).
         Err(e) if e.is_timeout() => {
-            step!(r.wait_back(), Where::Unknown)
-                || return Err(r.fail(
-                    FirmwareError::NoBootUp {
-                        node,
-                        after: "stop (0x1F51 = 0), which it did not answer",
-                        waited: o.boot_wait,
-                    },
-                    Where::Unknown,
-                ))
+            let after = "stop (0x1F51 = 0), which it did not answer";
+            let e = FirmwareError::NoBootUp { node, after, waited: o.boot_wait };
+            step!(r.wait_back(), Where::Unknown) || return Err(r.fail(e, Where::Unknown))
         }
         Err(e) => return Err(r.fail(e, Where::Unchanged)),
     };
@@ -543,17 +518,13 @@ fn download_timed(
     progress.finish();
     let status = step!(erased, Where::BootloaderNoProgram);
     r.report.erase_ms = Some(r.bus.now().saturating_duration_since(erase_began).as_millis() as u64);
-    if status.is_error() {
-        let e = FirmwareError::Flash { node, program: o.program, after: "clear", status };
-        return Err(r.fail(e, Where::BootloaderNoProgram));
-    }
+    step!(flash_ok(node, o.program, "clear", status), Where::BootloaderNoProgram);
     did!(Step::Erased);
 
     // The program data: block transfer (the bus falls back to segmented when the device
     // refuses it), its bytes a phase of `progress`, stopped between frames when asked.
-    let mut opts = r.opts();
-    opts.block_download = true;
-    opts.on_progress = progress.transfer(&format!("0x1F50:{}", o.program), Some(image.len() as u64));
+    let on_progress = progress.transfer(&format!("0x1F50:{}", o.program), Some(image.len() as u64));
+    let opts = SdoOptions { block_download: true, on_progress, ..r.opts() };
     let download_began = r.bus.now();
     let written = r.bus.sdo_download(node, r.addr(PROGRAM_DATA), image, &opts);
     progress.finish();
@@ -566,10 +537,7 @@ fn download_timed(
     r.report.transfer = Some(if r.bus.block_transfer_to(node) { Transfer::Block } else { Transfer::Segmented });
     did!(Step::Download);
     let status = step!(r.wait_not_busy("the download"), Where::BootloaderNoProgram);
-    if status.is_error() {
-        let e = FirmwareError::Flash { node, program: o.program, after: "the download", status };
-        return Err(r.fail(e, Where::BootloaderNoProgram));
-    }
+    step!(flash_ok(node, o.program, "the download", status), Where::BootloaderNoProgram);
     did!(Step::Written);
     let after = step!(r.read_u32(SOFTWARE_ID), Where::BootloaderNoProgram);
     r.report.id_after = Some(after);
@@ -584,9 +552,8 @@ fn download_timed(
     // the boot-up decides either way.
     r.bus.observed().boot_ups.remove(&node);
     match r.control(Control::Start) {
-        Ok(()) => {}
-        Err(e) if e.is_timeout() => {}
-        Err(e) => return Err(r.fail(e, Where::BootloaderWithProgram)),
+        Err(e) if !e.is_timeout() => return Err(r.fail(e, Where::BootloaderWithProgram)),
+        _ => {}
     }
     did!(Step::Start);
     let sees_traffic = r.bus.sees_traffic();
@@ -606,9 +573,7 @@ fn download_timed(
         r.report.confirmed = true;
         did!(Step::Confirm);
     }
-    r.report.id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
-    r.report.device = Where::RunsImage;
-    r.report.state = if state == Control::Confirm && !o.confirm { State::OnTrial } else { State::At(Where::RunsImage) };
-    r.report.total_ms = r.ms();
-    Ok(r.report)
+    let id_after = Some(step!(r.read_u32(SOFTWARE_ID), Where::Unknown));
+    let state = if state == Control::Confirm && !o.confirm { State::OnTrial } else { State::At(Where::RunsImage) };
+    Ok(DownloadReport { id_after, device: Where::RunsImage, state, total_ms: r.ms(), ..r.report })
 }

@@ -53,7 +53,7 @@ pub struct Assignment {
     pub failure: Option<Error>,
 }
 
-pub(super) fn error_text<S: serde::Serializer, E: std::fmt::Display>(
+pub(crate) fn error_text<S: serde::Serializer, E: std::fmt::Display>(
     e: &Option<E>,
     s: S,
 ) -> std::result::Result<S::Ok, S::Error> {
@@ -67,10 +67,7 @@ impl Assignment {
     /// Done when the last "any device without a node-id?" probe went unanswered: every
     /// device numbered, or none there to number (a provisioning script run again).
     pub fn outcome(self) -> Result<()> {
-        match self.failure {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
+        self.failure.map_or(Ok(()), Err)
     }
 
     /// Nothing to do: no device without a node-id answered, and nothing stopped the search.
@@ -136,36 +133,13 @@ pub fn assign(
     let used = ids_in_use(bus, timeout, o.listen, progress, interrupted)?;
     let in_use_before: Vec<u8> = used.iter().copied().collect();
     // Each device sought is a bar of fastscan requests (14 s each on slow devices).
-    let outcome = number_all(
-        &mut LssMaster::new(bus, timeout),
-        o.start,
-        used,
-        o.fastscan.pace(),
-        o.fastscan.given(),
-        o.store,
-        progress,
-        interrupted,
-    )?;
-    let failure = if outcome.interrupted || interrupted.is_cancelled() {
-        Some(Error::Interrupted)
-    } else {
-        outcome.failure.map(|e| match e {
-            AssignFailure::Fastscan(f) => fastscan_error(f, &outcome.pace),
-            AssignFailure::Refused(e) => e,
-        })
-    };
+    let (mut m, pace, given) = (LssMaster::new(bus, timeout), o.fastscan.pace(), o.fastscan.given());
+    let outcome = number_all(&mut m, o.start, used, pace, given, o.store, progress, interrupted)?;
+    let stopped = outcome.interrupted || interrupted.is_cancelled();
+    let failure = if stopped { Some(Error::Interrupted) } else { outcome.failure };
     let pace = PaceUsed::from(&outcome.pace);
     Ok(Assignment {
-        assigned: outcome
-            .assigned
-            .into_iter()
-            .map(|d| AssignedNode {
-                identity: Identified(d.identity),
-                node: d.node,
-                stored: d.stored.is_ok(),
-                store_error: d.stored.err(),
-            })
-            .collect(),
+        assigned: outcome.assigned,
         in_use_before,
         fastscan_steps: outcome.steps,
         step_ms: pace.step_ms,
@@ -176,25 +150,17 @@ pub fn assign(
     })
 }
 
-/// A device `assign` gave a node-id.
-pub struct Assigned {
-    /// Its LSS address (vendor, product, revision, serial).
-    pub identity: Identity,
-    /// The node-id it was given.
-    pub node: u8,
-    /// Whether "store configuration" succeeded; why not when it did not.
-    pub stored: std::result::Result<(), NotStored>,
-}
-
 /// Why a device `assign` numbered does not keep its node-id across a power cycle, or may not.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum NotStored {
     /// The store was not asked for.
+    #[error("not asked")]
     NotAsked,
     /// "store configuration" went unanswered: sent once (an action), and LSS has no way to
     /// read it back, so whether `node` keeps its id is unknown; storing again by its
     /// `identity` settles it.
+    #[error("no answer to the store: unknown whether node {node} keeps its id across a power cycle")]
     NoAnswer {
         /// The node-id it was given.
         node: u8,
@@ -202,38 +168,20 @@ pub enum NotStored {
         identity: Identity,
     },
     /// The device refused the store, or the bus failed.
+    #[error("{0}")]
     Failed(Error),
-}
-
-impl std::fmt::Display for NotStored {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            NotStored::NotAsked => f.write_str("not asked"),
-            NotStored::NoAnswer { node, .. } => {
-                write!(f, "no answer to the store: unknown whether node {node} keeps its id across a power cycle")
-            }
-            NotStored::Failed(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-/// Why `assign` stopped before every device had a node-id.
-pub enum AssignFailure {
-    /// No device could be found, or a fastscan went wrong.
-    Fastscan(FastscanError),
-    /// A device refused the node-id, or the bus failed.
-    Refused(Error),
 }
 
 /// What `assign` did: the devices it gave node-ids, the fastscan steps it took, and why it stopped
 /// early, if it did.
 pub struct AssignOutcome {
     /// The devices given node-ids, in order.
-    pub assigned: Vec<Assigned>,
+    pub assigned: Vec<AssignedNode>,
     /// Fastscan requests sent, in all.
     pub steps: u32,
-    /// Why it stopped before every device had a node-id; `None` when none was left.
-    pub failure: Option<AssignFailure>,
+    /// Why it stopped before every device had a node-id (a fastscan that went wrong, a
+    /// device that refused its node-id, the bus); `None` when none was left.
+    pub failure: Option<Error>,
     /// The pace learned: the step the fastscans used.
     pub pace: Pace,
     /// Stopped early because `keep_going` said so (an interruption).
@@ -264,11 +212,28 @@ pub fn number_all(
     // A failure, a lost link or an interruption must not leave a device in
     // configuration state, where it would answer the next master's services.
     let left = m.leave();
-    result?;
+    match result {
+        Err(Stop::Error(e)) => return Err(e),
+        Err(Stop::Failure(f)) => out.failure = Some(f),
+        Ok(()) => {}
+    }
     if let (Err(e), None) = (left, &out.failure) {
-        out.failure = Some(AssignFailure::Refused(e));
+        out.failure = Some(e);
     }
     Ok(out)
+}
+
+/// What ends a numbering early: a failure its report tells, or an error that ends the
+/// command. A device's refusal, or a failure of the bus, is the first.
+enum Stop {
+    Failure(Error),
+    Error(Error),
+}
+
+impl From<Error> for Stop {
+    fn from(e: Error) -> Stop {
+        Stop::Failure(e)
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -281,7 +246,7 @@ fn assign_each(
     progress: &mut dyn Progress,
     cancel: &Cancel,
     out: &mut AssignOutcome,
-) -> Result<()> {
+) -> std::result::Result<(), Stop> {
     let len = fastscan_steps(given);
     // Searches in a row that found nobody: one lost answer must not be taken for "every
     // device has a node-id" (exit 0), so silence is believed only when it repeats.
@@ -295,10 +260,12 @@ fn assign_each(
             progress.start(&format!("fastscan for device {}", out.assigned.len() + 1), len);
         }
         let mut this_search = 0;
-        let scan = m.fastscan(out.pace.clone(), given, cancel, &mut |n| {
-            this_search = n;
-            progress.advance((sent + n).min(len));
-        })?;
+        let scan = m
+            .fastscan(out.pace.clone(), given, cancel, &mut |n| {
+                this_search = n;
+                progress.advance((sent + n).min(len));
+            })
+            .map_err(Stop::Error)?;
         sent += this_search;
         let Some(scan) = scan else {
             out.interrupted = true;
@@ -315,10 +282,7 @@ fn assign_each(
                 }
                 return Ok(());
             }
-            Err(e) => {
-                out.failure = Some(AssignFailure::Fastscan(e));
-                return Ok(());
-            }
+            Err(e) => return Err(Stop::Failure(fastscan_error(e, &out.pace))),
         };
         silent = 0;
         // Another device is in configuration state with it (it missed a switch back):
@@ -326,63 +290,46 @@ fn assign_each(
         if scan.crowded {
             crowded += 1;
             if crowded > lss::REPEATS {
-                out.failure = Some(AssignFailure::Refused(Error::LssCrowded { identity, times: crowded }));
-                return Ok(());
+                return Err(Error::LssCrowded { identity, times: crowded }.into());
             }
-            if let Err(e) = m.leave() {
-                out.failure = Some(AssignFailure::Refused(e));
-                return Ok(());
-            }
+            m.leave()?;
             continue;
         }
         // Found again: the device numbered before did not leave configuration state
         // (the switches back were lost, or its answers to the inquiry). It is the same
         // device: it gets its node-id again, is sent back, and is reported once.
-        if let Some(first) = out.assigned.iter().find(|d| d.identity == identity).map(|d| d.node) {
+        if let Some(first) = out.assigned.iter().find(|d| d.identity.0 == identity).map(|d| d.node) {
             found_again += 1;
-            let again = match found_again > lss::REPEATS {
-                true => {
-                    let tries = m.sent_back_since_given(identity);
-                    Err(Error::LssStillConfiguring { identity, node: first, tries })
-                }
-                false => m.set_id(identity, first).and_then(|_| m.back_to_waiting(identity, first)),
-            };
-            if let Err(e) = again {
-                out.failure = Some(AssignFailure::Refused(e));
-                return Ok(());
+            if found_again > lss::REPEATS {
+                let tries = m.sent_back_since_given(identity);
+                return Err(Error::LssStillConfiguring { identity, node: first, tries }.into());
             }
+            m.set_id(identity, first)?;
+            m.back_to_waiting(identity, first)?;
             continue;
         }
         // Ids seen meanwhile (a heartbeat, a boot-up) are taken too.
         used.extend(m.bus().observed().node_ids());
         let Some(node) = (start..=127).find(|n| !used.contains(n)) else {
-            let e = Error::NoFreeNodeId { start, identity };
-            out.failure = Some(AssignFailure::Refused(e));
-            return Ok(());
+            return Err(Error::NoFreeNodeId { start, identity }.into());
         };
-        if let Err(e) = m.set_id(identity, node) {
-            out.failure = Some(AssignFailure::Refused(e));
-            return Ok(());
-        }
+        m.set_id(identity, node)?;
         // An action: never sent twice blindly, and LSS has no way to read it back, so a
         // lost answer leaves it unknown, and the report says so.
-        let stored = if store {
-            m.configure(Request::StoreConfiguration, "store", false).map(|_| ()).map_err(|e| match e {
+        let store_error = match store {
+            true => m.configure(Request::StoreConfiguration, "store", false).err().map(|e| match e {
                 Error::NoLssAnswer { .. } => NotStored::NoAnswer { node, identity },
                 e => NotStored::Failed(e),
-            })
-        } else {
-            Err(NotStored::NotAsked)
+            }),
+            false => Some(NotStored::NotAsked),
         };
         used.insert(node);
         // The device's bar ends, and its node-id is said as it is given.
         progress.finish();
         progress.event(Notice::Assigned { identity, node }.into());
         sent = 0;
-        out.assigned.push(Assigned { identity, node, stored });
-        if let Err(e) = m.back_to_waiting(identity, node) {
-            out.failure = Some(AssignFailure::Refused(e));
-            return Ok(());
-        }
+        let stored = store_error.is_none();
+        out.assigned.push(AssignedNode { identity: Identified(identity), node, stored, store_error });
+        m.back_to_waiting(identity, node)?;
     }
 }

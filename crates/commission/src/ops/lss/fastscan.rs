@@ -30,10 +30,7 @@ impl FastscanOptions {
     }
 
     pub(super) fn pace(&self) -> Pace {
-        match self.step {
-            Some(step) => Pace::fixed(step, self.timeout),
-            None => Pace::measured(self.timeout),
-        }
+        self.step.map_or_else(|| Pace::measured(self.timeout), |step| Pace::fixed(step, self.timeout))
     }
 }
 
@@ -109,18 +106,11 @@ pub fn fastscan_shown(
     // back to waiting, unchanged.
     let left = m.leave();
     let elapsed = m.bus().now().saturating_duration_since(start);
-    let Some(outcome) = result? else {
-        left?;
-        return Err(Error::Interrupted);
-    };
+    let outcome = result?;
     left?;
+    let Some(outcome) = outcome else { return Err(Error::Interrupted) };
     let id = outcome.found.map_err(|e| fastscan_error(e, &outcome.pace))?;
     let pace = PaceUsed::from(&outcome.pace);
-    Ok(Found {
-        identity: Identified(id),
-        steps: outcome.steps,
-        step_ms: pace.step_ms,
-        pace,
-        elapsed_ms: elapsed.as_millis() as u64,
-    })
+    let (identity, steps, elapsed_ms) = (Identified(id), outcome.steps, elapsed.as_millis() as u64);
+    Ok(Found { identity, steps, step_ms: pace.step_ms, pace, elapsed_ms })
 }

@@ -47,6 +47,20 @@ impl Target {
             Target::DirectEpos2 => "the EPOS2 (node 0)".into(),
         }
     }
+
+    /// The identity of the one device it is, if it is one.
+    fn identity(self) -> Option<Identity> {
+        match self {
+            Target::One(id) => Some(id),
+            _ => None,
+        }
+    }
+}
+
+/// Put the devices addressed in configuration state; failing that, all back to waiting (a
+/// late acknowledgement may still have put one in configuration state).
+fn enter(m: &mut LssMaster, identity: Option<&Identity>) -> Result<()> {
+    m.enter(identity).or_else(|e| m.leave().and(Err(e)))
 }
 
 /// An identity in a report: its `V:P:R:S` text (`identity`) and its four numbers (`lss`).
@@ -58,24 +72,20 @@ impl Serialize for Identified {
         let id = &self.0;
         let mut m = s.serialize_map(Some(2))?;
         m.serialize_entry("identity", &id.to_string())?;
-        m.serialize_entry("lss", &LssNumbers::from(id))?;
+        let lss =
+            LssNumbers { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial };
+        m.serialize_entry("lss", &lss)?;
         m.end()
     }
 }
 
 /// The four entries of the identity object (0x1018:1..4), named.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub(crate) struct LssNumbers {
-    pub vendor_id: u32,
-    pub product_code: u32,
-    pub revision: u32,
-    pub serial: u32,
-}
-
-impl From<&Identity> for LssNumbers {
-    fn from(id: &Identity) -> LssNumbers {
-        LssNumbers { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial }
-    }
+#[derive(Serialize)]
+struct LssNumbers {
+    vendor_id: u32,
+    product_code: u32,
+    revision: u32,
+    serial: u32,
 }
 
 /// What the LSS services are refused with on an EPOS2 reached directly.
@@ -96,20 +106,15 @@ pub struct Inquired {
 
 /// Ask one device (or the only one, with [`Target::All`]) its identity and node-id.
 pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<Inquired> {
-    let (identity, global) = match target {
-        Target::One(id) => (Some(id), false),
-        Target::All => (None, true),
-        Target::DirectEpos2 => return Err(no_lss_on_direct_epos2("inquire")),
-    };
-    let mut m = LssMaster::new(bus, timeout);
-    if let Err(e) = m.enter(identity.as_ref()) {
-        // A late acknowledgement may still have put the device in configuration state.
-        m.leave()?;
-        return Err(e);
+    if target == Target::DirectEpos2 {
+        return Err(no_lss_on_direct_epos2("inquire"));
     }
+    let identity = target.identity();
+    let mut m = LssMaster::new(bus, timeout);
+    enter(&mut m, identity.as_ref())?;
     let mut values = Vec::new();
     for q in [Inquiry::Vendor, Inquiry::Product, Inquiry::Revision, Inquiry::Serial, Inquiry::NodeId] {
-        let answers = m.ask(Request::Inquire(q), if global { LssWait::All } else { LssWait::First })?;
+        let answers = m.ask(Request::Inquire(q), if identity.is_none() { LssWait::All } else { LssWait::First })?;
         let found: Vec<u32> = answers
             .iter()
             .filter_map(|a| match a {
@@ -117,17 +122,12 @@ pub fn inquire(bus: &mut dyn Bus, timeout: Duration, target: Target) -> Result<I
                 _ => None,
             })
             .collect();
-        match found.as_slice() {
-            [v] => values.push(*v),
-            [] => {
-                m.leave()?;
-                return Err(Error::NoLssAnswer { request: "the inquiry".into(), identity: None, waited: timeout });
-            }
-            more => {
-                m.leave()?;
-                return Err(Error::InquiryAnsweredByMany { count: more.len() });
-            }
-        }
+        let value = match found.as_slice() {
+            [v] => Ok(*v),
+            [] => Err(Error::NoLssAnswer { request: "the inquiry".into(), identity: None, waited: timeout }),
+            more => Err(Error::InquiryAnsweredByMany { count: more.len() }),
+        };
+        values.push(value.or_else(|e| m.leave().and(Err(e)))?);
     }
     m.leave()?;
     let id = Identity { vendor: values[0], product: values[1], revision: values[2], serial: values[3] };
@@ -254,10 +254,7 @@ pub struct Configured {
 impl Configured {
     /// The command's outcome: Ok when no device refused, else the refusal (exit 4).
     pub fn outcome(self) -> Result<()> {
-        match self.failure {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
+        self.failure.map_or(Ok(()), Err)
     }
 }
 
@@ -277,10 +274,7 @@ pub fn configure(
     let (result, answers) = match target {
         Target::DirectEpos2 => (configure_direct_epos2(bus, timeout, setting)?, 1),
         Target::One(_) | Target::All => {
-            let identity = match target {
-                Target::One(id) => Some(id),
-                _ => None,
-            };
+            let identity = target.identity();
             let mut m = LssMaster::new(bus, timeout);
             let result = m.enter(identity.as_ref()).and_then(|_| match identity {
                 Some(_) => m.configure(setting.request(), setting.verb(), false),
@@ -376,15 +370,13 @@ impl RefusedRate {
     /// Keep `what` as the last global configure of `bus` (None: every device took it).
     pub(crate) fn remember(bus: &str, what: Option<&RefusedRate>) {
         let Some(path) = super::scan_cache::network_file(super::scan_cache::LSS_SET_BAUD, bus) else { return };
-        match what {
+        let _ = match what {
             Some(r) => {
                 let _ = std::fs::create_dir_all(path.parent().expect("a directory"));
-                let _ = std::fs::write(&path, serde_json::to_string(r).expect("serialises"));
+                std::fs::write(&path, serde_json::to_string(r).expect("serialises"))
             }
-            None => {
-                let _ = std::fs::remove_file(&path);
-            }
-        }
+            None => std::fs::remove_file(&path),
+        };
     }
 
     pub fn last(bus: &str) -> Option<RefusedRate> {
@@ -405,11 +397,7 @@ pub fn set_id(
     interrupted: &Cancel,
 ) -> Result<Configured> {
     if !force && node != UNCONFIGURED && !interrupted.is_cancelled() {
-        let identity = match target {
-            Target::One(id) => Some(id),
-            _ => None,
-        };
-        if let Some(u) = super::clash::in_use(bus, node, identity, timeout, LISTEN)? {
+        if let Some(u) = super::clash::in_use(bus, node, target.identity(), timeout, LISTEN)? {
             return Err(Error::NodeIdInUse { node, identity: u.identity, by: u.by });
         }
     }
@@ -433,12 +421,10 @@ fn configure_direct_epos2(bus: &mut dyn Bus, timeout: Duration, setting: Setting
             bus.sdo_download(0, EPOS2_NODE_ID, &[id], &opts).map(|_| Took::Epos2NodeId(id))
         }
         Setting::BitRate(index) => {
-            let code = epos2_bit_rate_code(index).ok_or_else(|| {
-                Error::Usage(format!(
-                    "the EPOS2 has no {} setting: use 1M 800k 500k 250k 125k 50k or 20k",
-                    lss::bit_rate_name(index)
-                ))
-            })?;
+            let name = lss::bit_rate_name(index);
+            let none =
+                || Error::Usage(format!("the EPOS2 has no {name} setting: use 1M 800k 500k 250k 125k 50k or 20k"));
+            let code = epos2_bit_rate_code(index).ok_or_else(none)?;
             bus.sdo_download(0, EPOS2_CAN_BIT_RATE, &code.to_le_bytes(), &opts)
                 .map(|_| Took::Epos2BitRate { index, code })
         }
@@ -467,16 +453,12 @@ pub struct Activated {
 /// Switch the configured bit rates on: the devices wait `delay_ms`, switch, and wait as
 /// long again before talking.
 pub fn activate(bus: &mut dyn Bus, timeout: Duration, target: Target, delay_ms: u16) -> Result<Activated> {
-    let identity = match target {
-        Target::One(id) => Some(id),
-        Target::All => None,
-        Target::DirectEpos2 => return Err(Error::Epos2RateOnStore),
-    };
-    let mut m = LssMaster::new(bus, timeout);
-    if let Err(e) = m.enter(identity.as_ref()) {
-        m.leave()?;
-        return Err(e);
+    if target == Target::DirectEpos2 {
+        return Err(Error::Epos2RateOnStore);
     }
+    let identity = target.identity();
+    let mut m = LssMaster::new(bus, timeout);
+    enter(&mut m, identity.as_ref())?;
     m.send(Request::ActivateBitTiming { delay_ms })?;
     // CiA 305: the devices wait the delay, switch, and wait as long again before talking.
     let link = m.bus();

@@ -52,7 +52,7 @@ pub struct Applied {
 }
 
 /// What applying its DCF did to one node.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct NodeApplied {
     /// The node-id.
     pub node: u8,
@@ -87,7 +87,7 @@ pub struct NodeApplied {
 
 /// What happened to one node: its DCF applied or not, and how far. Whether its node-id was
 /// given over LSS first is [`NodeApplied::assigned`]; a reset after, [`NodeApplied::reset`].
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum NodeResult {
     /// It answers, but the project names no DCF for it: nothing to apply.
@@ -107,6 +107,7 @@ pub enum NodeResult {
         stored: bool,
     },
     /// Failed: [`NodeApplied::failure`] says how.
+    #[default]
     Failed,
     /// The user stopped it at a point between two transfers.
     Interrupted {
@@ -137,13 +138,14 @@ pub enum NodeResult {
 }
 
 /// Where a node's apply ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 #[non_exhaustive]
 pub enum Outcome {
     /// Brought to its DCF (or, in a dry run, found what would be written).
     Done,
     /// Failed; the result says why.
+    #[default]
     Failed,
     /// Stopped by the user after something was written (or a PDO change rolled back).
     StoppedPartWay,
@@ -156,10 +158,7 @@ pub enum Outcome {
 impl Applied {
     /// The command's outcome: Ok when the network matches the project, else the first failure, or a verification error (exit 6).
     pub fn outcome(self) -> Result<(), Shortfall> {
-        match self.failure {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
+        self.failure.map_or(Ok(()), Err)
     }
 }
 
@@ -197,20 +196,7 @@ fn assign(bus: &mut dyn Bus, identity: &Identity, node: u8, o: &ApplyOptions) ->
 type NodeOutcome = (NodeApplied, Option<Error>);
 
 fn empty_row(listed: &Listed) -> NodeApplied {
-    NodeApplied {
-        node: listed.node,
-        name: listed.name.clone(),
-        file: listed.dcf.as_ref().map(|d| d.path().to_string()),
-        assigned: None,
-        written: 0,
-        stored: false,
-        result: NodeResult::Failed,
-        reset: None,
-        failure: None,
-        outcome: Outcome::Failed,
-        ok: false,
-        objects: Vec::new(),
-    }
+    NodeApplied { node: listed.node, name: listed.name.clone(), file: listed.file(), ..NodeApplied::default() }
 }
 
 /// One node that answers: `config apply` (only what differs, in its safe order, verified
@@ -218,10 +204,7 @@ fn empty_row(listed: &Listed) -> NodeApplied {
 fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
     let mut row = empty_row(listed);
     let Some(dcf) = &listed.dcf else {
-        row.ok = true;
-        row.outcome = Outcome::Done;
-        row.result = NodeResult::NoDcf;
-        return (row, None);
+        return (NodeApplied { ok: true, outcome: Outcome::Done, result: NodeResult::NoDcf, ..row }, None);
     };
     let mut co = o.config.clone();
     co.store = false;
@@ -247,13 +230,12 @@ fn configure_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeO
     if let Err(e) = applied.outcome() {
         return failed(row, e);
     }
-    let stop = o.config.interrupted.is_cancelled();
-    if o.config.store && row.written > 0 && stop {
-        row.result = NodeResult::StoppedBeforeStore { written: row.written, verified: o.config.verify };
-        row.outcome = Outcome::StoppedPartWay;
-        return (row, Some(Error::Interrupted));
-    }
     if o.config.store && row.written > 0 {
+        if o.config.interrupted.is_cancelled() {
+            row.result = NodeResult::StoppedBeforeStore { written: row.written, verified: o.config.verify };
+            row.outcome = Outcome::StoppedPartWay;
+            return (row, Some(Error::Interrupted));
+        }
         let t = crate::ops::store::Timeouts { answer: o.config.timeout, write: o.config.store_timeout };
         match crate::ops::store::store(bus, listed.node, crate::ops::store::Class::All, t) {
             Ok(_) => row.stored = true,
@@ -283,13 +265,11 @@ fn failed(mut row: NodeApplied, e: Error) -> NodeOutcome {
 /// failure decides the exit code.
 pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mut dyn Progress) -> Result<Applied> {
     let found = probe(bus, o.window, progress)?;
-    let mut rows: Vec<Option<NodeOutcome>> = Vec::new();
     // Nodes that must answer before they can be configured: given their id, or failed.
     let stop = || o.interrupted.is_cancelled();
-    for listed in &loaded.nodes {
-        let present = found.contains_key(&listed.node);
-        rows.push((!present && !stop()).then(|| absent_node(bus, listed, o)));
-    }
+    let absent = |listed: &Listed| !found.contains_key(&listed.node) && !stop();
+    let mut rows: Vec<Option<NodeOutcome>> =
+        loaded.nodes.iter().map(|listed| absent(listed).then(|| absent_node(bus, listed, o))).collect();
     let ready: Vec<usize> = (0..loaded.nodes.len())
         .filter(|i| match &rows[*i] {
             None => found.contains_key(&loaded.nodes[*i].node),
@@ -356,24 +336,19 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
         match outcome {
             // Given its node-id over LSS, then not configured: stopped by the user, or the
             // link was lost, before this node was begun.
-            Some((mut row, None)) if ready.contains(&i) && !configured.contains(&i) => {
-                row.result = NodeResult::NotConfigured { interrupted };
-                row.outcome = if interrupted { Outcome::NotBegun } else { Outcome::Failed };
-                row.ok = false;
-                nodes.push(row);
+            Some((row, None)) if ready.contains(&i) && !configured.contains(&i) => {
+                let result = NodeResult::NotConfigured { interrupted };
+                let outcome = if interrupted { Outcome::NotBegun } else { Outcome::Failed };
+                nodes.push(NodeApplied { result, outcome, ok: false, ..row });
             }
             Some((row, error)) => {
-                if let Some(e) = error {
-                    failure.get_or_insert(e.into());
-                }
+                failure = failure.or_else(|| error.map(Shortfall::from));
                 nodes.push(row);
             }
             // Not begun: interrupted first, or the link was lost.
             None if interrupted => {
-                let mut row = empty_row(&loaded.nodes[i]);
-                row.result = NodeResult::NotBegun;
-                row.outcome = Outcome::NotBegun;
-                nodes.push(row);
+                let (result, outcome) = (NodeResult::NotBegun, Outcome::NotBegun);
+                nodes.push(NodeApplied { result, outcome, ..empty_row(&loaded.nodes[i]) });
             }
             None => {}
         }
@@ -436,31 +411,20 @@ fn reset_and_wait(bus: &mut dyn Bus, nodes: &[u8], o: &ApplyOptions) -> Result<B
 fn absent_node(bus: &mut dyn Bus, listed: &Listed, o: &ApplyOptions) -> NodeOutcome {
     let mut row = empty_row(listed);
     match listed.lss_identity() {
-        Some(id) if o.assign && o.config.dry_run => {
+        Some(id) if o.assign => {
+            if o.config.dry_run {
+                row.result = NodeResult::WouldAssign;
+            } else if let Err(e) = assign(bus, &id, listed.node, o) {
+                return failed(row, e);
+            }
             row.assigned = Some(id.to_string());
-            row.result = NodeResult::WouldAssign;
             row.ok = true;
             row.outcome = Outcome::Done;
             (row, None)
         }
-        Some(id) if o.assign => match assign(bus, &id, listed.node, o) {
-            Ok(()) => {
-                row.assigned = Some(id.to_string());
-                row.ok = true;
-                row.outcome = Outcome::Done;
-                (row, None)
-            }
-            Err(e) => failed(row, e),
-        },
-        Some(id) => {
-            let what = Service::ProjectNode { lss: Some(id) };
-            let e = Error::NoAnswer { node: listed.node, what, waited: o.window };
-            failed(row, e)
-        }
-        None => {
-            let what = Service::ProjectNode { lss: None };
-            let e = Error::NoAnswer { node: listed.node, what, waited: o.window };
-            failed(row, e)
+        lss => {
+            let what = Service::ProjectNode { lss };
+            failed(row, Error::NoAnswer { node: listed.node, what, waited: o.window })
         }
     }
 }

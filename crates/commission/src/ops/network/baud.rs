@@ -57,7 +57,7 @@ pub enum NotActivated {
 }
 
 /// What a network-wide bit-rate switch did.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct BaudSwitched {
     /// The bus, as it describes itself.
     pub bus: String,
@@ -97,10 +97,7 @@ pub struct BaudSwitched {
 impl BaudSwitched {
     /// The command's outcome: Ok when every expected node is confirmed at the new rate, else why not.
     pub fn outcome(self) -> Result<(), Shortfall> {
-        match self.failure {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
+        self.failure.map_or(Ok(()), Err)
     }
 }
 
@@ -129,30 +126,21 @@ pub fn set_baud(
         Some(p) => (p.nodes.iter().map(|l| (l.node, l.name.clone())).collect(), p.file.display().to_string()),
         None => (before.keys().map(|n| (*n, String::new())).collect(), "the probe before the switch".into()),
     };
+    let followed = |(node, name): &(u8, String)| NodeFollowed {
+        node: *node,
+        name: name.clone(),
+        before: before.contains_key(node),
+        after: None,
+    };
+    let nodes = expected.iter().map(followed).collect();
     let mut report = BaudSwitched {
         bus: bus.describe(),
         rate: rate.clone(),
         expected_from,
-        configured: LssTally::default(),
-        stored: None,
-        activated: false,
-        not_activated: None,
         delay_ms: o.delay_ms,
-        bus_followed: false,
-        nodes: expected
-            .iter()
-            .map(|(node, name)| NodeFollowed {
-                node: *node,
-                name: name.clone(),
-                before: before.contains_key(node),
-                after: None,
-            })
-            .collect(),
-        unexpected: Vec::new(),
+        nodes,
         unconfigured_before,
-        unconfigured_after: None,
-        ok: false,
-        failure: None,
+        ..BaudSwitched::default()
     };
     let not_switched = |report: &mut BaudSwitched, e: Error, why: NotActivated| {
         report.not_activated = Some(why);
@@ -161,22 +149,15 @@ pub fn set_baud(
 
     let mut m = LssMaster::new(bus, o.timeout);
     m.enter(None)?;
-    let answers = match m.ask(Request::ConfigureBitTiming { table: 0, index: o.index }, LssWait::All) {
-        Ok(a) => a,
-        Err(e) => {
-            m.leave()?;
-            return Err(e);
-        }
-    };
+    let configure = Request::ConfigureBitTiming { table: 0, index: o.index };
+    let answers = m.ask(configure, LssWait::All).or_else(|e| m.leave().and(Err(e)))?;
     report.configured = LssTally::of(&answers, "configure bit timing");
     let refused = report.configured.first_refusal.take();
     if report.configured.confirmed == 0 {
         m.leave()?;
-        let e = match refused {
-            Some(e) => e,
-            None => Error::NoLssAnswer { request: "configure bit timing".into(), identity: None, waited: o.timeout },
-        };
-        not_switched(&mut report, e, NotActivated::NoneTook);
+        let silence =
+            || Error::NoLssAnswer { request: "configure bit timing".into(), identity: None, waited: o.timeout };
+        not_switched(&mut report, refused.unwrap_or_else(silence), NotActivated::NoneTook);
         return Ok(report);
     }
     if let Some(e) = refused.filter(|_| !o.force) {
@@ -191,13 +172,7 @@ pub fn set_baud(
         return Ok(report);
     }
     if o.store {
-        let answers = match m.ask(Request::StoreConfiguration, LssWait::All) {
-            Ok(a) => a,
-            Err(e) => {
-                m.leave()?;
-                return Err(e);
-            }
-        };
+        let answers = m.ask(Request::StoreConfiguration, LssWait::All).or_else(|e| m.leave().and(Err(e)))?;
         report.stored = Some(LssTally::of(&answers, "store configuration"));
         // Those that stored it boot at the new rate from now on: the running bus must
         // follow them, so an interruption here no longer stops the switch.
@@ -212,20 +187,15 @@ pub fn set_baud(
     if !report.bus_followed {
         // Only a link at the new rate reaches the devices again; they stay in
         // configuration state until an LSS command does.
-        report.ok = false;
         return Ok(report);
     }
     m.leave()?;
     let after = probe(bus, o.window, progress)?;
     report.unconfigured_after = Some(crate::bus::lss::count_unconfigured(bus, o.window)?);
-    let mut behind = Vec::new();
     for n in &mut report.nodes {
-        let here = after.contains_key(&n.node);
-        n.after = Some(here);
-        if !here {
-            behind.push(n.node);
-        }
+        n.after = Some(after.contains_key(&n.node));
     }
+    let behind: Vec<u8> = report.nodes.iter().filter(|n| n.after == Some(false)).map(|n| n.node).collect();
     report.unexpected = after.keys().filter(|n| !expected.iter().any(|(e, _)| e == *n)).copied().collect();
     report.ok = behind.is_empty();
     if !behind.is_empty() {
@@ -243,12 +213,7 @@ pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<
     for listed in loaded.nodes.iter().filter(|l| nodes.contains(&l.node)) {
         let Some(path) = loaded.project.dcf_path(&loaded.file, listed.node) else { continue };
         // Read here and rewritten in place by the caller.
-        check_inside(loaded.folder(), &path)?;
-        let name = path.display().to_string();
-        let bytes = crate::input::read_regular_file(&path, crate::input::EDS).map_err(|error| {
-            let project = loaded.file.display().to_string();
-            Error::ProjectUnusable(Box::new(ProjectProblem::Dcf { dcf: name.clone(), node: None, project, error }))
-        })?;
+        let (name, bytes) = read_dcf(&loaded.file, &path, None)?;
         let mut c = cpj::read_commissioning(&bytes, &name)
             .map_err(|e| Error::ProjectUnusable(Box::new(ProjectProblem::Commissioning(e))))?;
         c.baudrate_kbit = Some(kbit);
@@ -262,12 +227,8 @@ pub(crate) fn with_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<
 /// before any is written, so that a DCF that cannot be read changes none. The files
 /// written, in order.
 pub(crate) fn update_bit_rate(loaded: &Loaded, kbit: u32, nodes: &[u8]) -> Result<Vec<PathBuf>> {
-    let mut updated = Vec::new();
-    for (path, bytes) in with_bit_rate(loaded, kbit, nodes)? {
-        crate::atomic::write_atomic(&path, &bytes)?;
-        updated.push(path);
-    }
-    Ok(updated)
+    let files = with_bit_rate(loaded, kbit, nodes)?.into_iter();
+    files.map(|(path, bytes)| crate::atomic::write_atomic(&path, &bytes).map(|_| path)).collect()
 }
 
 /// What `network set-baud --update-project` did to the project's DCFs.
@@ -284,12 +245,8 @@ pub struct DcfsFollowed {
 /// switched, the DCFs of the nodes heard at the new rate follow (`update_bit_rate`), and
 /// only those: a DCF never says a rate its device does not have. Otherwise none is touched.
 pub fn follow_switch(loaded: &Loaded, switched: &BaudSwitched, index: u8) -> Result<DcfsFollowed> {
-    let Some(kbit) = crate::canopen::lss::BIT_TIMINGS.get(index as usize).and_then(|(_, kbit)| *kbit) else {
-        return Ok(DcfsFollowed::default());
-    };
-    if !switched.activated {
-        return Ok(DcfsFollowed::default());
-    }
+    let kbit = crate::canopen::lss::BIT_TIMINGS.get(index as usize).and_then(|(_, kbit)| *kbit);
+    let Some(kbit) = kbit.filter(|_| switched.activated) else { return Ok(DcfsFollowed::default()) };
     let heard: Vec<u8> = switched.nodes.iter().filter(|n| n.after == Some(true)).map(|n| n.node).collect();
     let left = loaded.nodes.iter().map(|l| l.node).filter(|n| !heard.contains(n)).collect();
     Ok(DcfsFollowed { updated: update_bit_rate(loaded, kbit, &heard)?, left })

@@ -162,17 +162,12 @@ pub fn check(bus: &mut dyn Bus, loaded: &Loaded, o: &CheckOptions, progress: &mu
         };
         let mut checks = vec![Verdict::new("present", present, detail).with_remedy(remedy)];
         if let (true, Some(dcf)) = (present, &listed.dcf) {
-            checks.push(check_identity(bus, listed.node, dcf, o.timeout)?);
+            checks.push(check_identity(bus, node, dcf, o.timeout)?);
             if checks.last().is_some_and(|c| c.ok) {
-                checks.push(check_objects(bus, listed.node, dcf, o.timeout)?);
+                checks.push(check_objects(bus, node, dcf, o.timeout)?);
             }
         }
-        Ok(NodeCheck {
-            node: listed.node,
-            name: listed.name.clone(),
-            file: listed.dcf.as_ref().map(|d| d.path().to_string()),
-            checks,
-        })
+        Ok(NodeCheck { node, name: listed.name.clone(), file: listed.file(), checks })
     };
     let all: Vec<usize> = (0..loaded.nodes.len()).collect();
     progress.start("checking", all.len() as u64);

@@ -58,31 +58,23 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
         let file = format!("node{node}.dcf");
         let dumped = config::dump(bus, node, None, &file, o.timeout, progress)?;
         let parsed = Dcf::parse(&dumped.dcf, &file)?;
-        let serial = parsed.eds.values.get(&ObjAddr::SERIAL_NUMBER).and_then(|v| match v {
-            crate::od::Init::Bytes(b) => Some(crate::ops::le_u32(b)),
+        let bytes_of = |addr| match parsed.eds.values.get(&addr) {
+            Some(crate::od::Init::Bytes(b)) => Some(b),
             _ => None,
-        });
-        let name = match parsed.eds.values.get(&ObjAddr::DEVICE_NAME) {
-            Some(crate::od::Init::Bytes(b)) => String::from_utf8_lossy(b).trim_end_matches('\0').to_string(),
-            _ => String::new(),
         };
+        let serial = bytes_of(ObjAddr::SERIAL_NUMBER).map(|b| crate::ops::le_u32(b));
+        let name = bytes_of(ObjAddr::DEVICE_NAME)
+            .map_or(String::new(), |b| String::from_utf8_lossy(b).trim_end_matches('\0').to_string());
+        let node_name = (!name.is_empty()).then(|| name.clone());
         let commissioning = Commissioning {
             node_id: Some(node),
-            node_name: (!name.is_empty()).then(|| name.clone()),
+            node_name: node_name.clone(),
             baudrate_kbit: o.baudrate_kbit,
             lss_serial: serial,
             ..Commissioning::default()
         };
         let bytes = cpj::with_commissioning(&dumped.dcf, &commissioning).map_err(|e| Error::NotWritable(e.into()))?;
-        project.nodes.insert(
-            node,
-            cpj::Node {
-                present: true,
-                name: (!name.is_empty()).then(|| name.clone()),
-                refd: None,
-                dcf: Some(file.clone()),
-            },
-        );
+        project.nodes.insert(node, cpj::Node { present: true, name: node_name, refd: None, dcf: Some(file.clone()) });
         nodes.push(DumpedNode { node, name, file: file.clone(), objects: dumped.objects });
         files.push((file, bytes));
     }
@@ -94,10 +86,8 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
 /// Write a dumped project into `dir` (made if missing), each file atomically: the DCFs
 /// first, the project file last.
 pub fn write_project(dir: &Path, dumped: &Dumped) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::Output {
-        path: dir.display().to_string(),
-        why: format!("cannot make the directory: {e}"),
-    })?;
+    let unmade = |e| Error::Output { path: dir.display().to_string(), why: format!("cannot make the directory: {e}") };
+    std::fs::create_dir_all(dir).map_err(unmade)?;
     // Every file checked before any is written: one refused changes none.
     for (name, _) in &dumped.files {
         check_inside(dir, &dir.join(name))?;

@@ -12,7 +12,6 @@ use crate::canopen::lss::{Identity, Request};
 use crate::canopen::ObjAddr;
 use crate::error::{Error, ProjectProblem, Result, Service};
 use crate::od::cpj::{self, Commissioning, Project};
-use crate::od::eds;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -68,27 +67,21 @@ pub struct Listed {
     pub(crate) commissioning: Commissioning,
 }
 
-impl Loaded {
-    /// The project's folder: its files are in it.
-    pub(crate) fn folder(&self) -> &Path {
-        folder_of(&self.file)
-    }
-}
-
 impl Listed {
+    /// Its DCF's name as the project gives it; none when it names none.
+    pub(crate) fn file(&self) -> Option<String> {
+        self.dcf.as_ref().map(|d| d.path().to_string())
+    }
+
     /// The identity an LSS device with this configuration answers to: the DCF's vendor-ID,
     /// product code and revision, and the commissioning's LSS serial number.
     pub(crate) fn lss_identity(&self) -> Option<Identity> {
         let dcf = self.dcf.as_ref()?;
         let (vendor, product) = dcf.identity();
         let serial = self.commissioning.lss_serial.filter(|s| *s != 0)?;
-        let revision = info_number(dcf, "revisionnumber").unwrap_or(0);
+        let revision = dcf.info_number("revisionnumber").unwrap_or(0);
         (vendor != 0 && product != 0).then_some(Identity { vendor, product, revision, serial })
     }
-}
-
-fn info_number(dcf: &Dcf, key: &str) -> Option<u32> {
-    dcf.eds.info.get(key).and_then(|v| eds::parse_int(v)).and_then(|v| u32::try_from(v).ok())
 }
 
 /// Read a project and the DCF of every node it lists; any file that cannot be used is a
@@ -104,17 +97,7 @@ pub fn load(file: &Path) -> Result<Loaded> {
         let (dcf, commissioning) = match project.dcf_path(file, node) {
             None => (None, Commissioning::default()),
             Some(path) => {
-                check_inside(folder, &path)?;
-                let name = path.display().to_string();
-                let bytes = crate::input::read_regular_file(&path, crate::input::EDS).map_err(|error| {
-                    let project = file.display().to_string();
-                    Error::ProjectUnusable(Box::new(ProjectProblem::Dcf {
-                        dcf: name.clone(),
-                        node: Some(node),
-                        project,
-                        error,
-                    }))
-                })?;
+                let (name, bytes) = read_dcf(file, &path, Some(node))?;
                 let dcf = Dcf::parse(&bytes, &name)?;
                 let xml = crate::od::xdd::is_xml(&bytes);
                 let c = match xml {
@@ -135,6 +118,18 @@ pub fn load(file: &Path) -> Result<Loaded> {
         nodes.push(Listed { node, name: name.unwrap_or_default(), dcf, commissioning });
     }
     Ok(Loaded { file: file.to_path_buf(), project, nodes, warnings })
+}
+
+/// The bytes of a DCF of the project `file` names (with the name messages give it), once it
+/// is known to be inside the project's folder; one that cannot be read is a usage error.
+fn read_dcf(file: &Path, path: &Path, node: Option<u8>) -> Result<(String, Vec<u8>)> {
+    check_inside(folder_of(file), path)?;
+    let name = path.display().to_string();
+    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|error| {
+        let project = file.display().to_string();
+        Error::ProjectUnusable(Box::new(ProjectProblem::Dcf { dcf: name.clone(), node, project, error }))
+    })?;
+    Ok((name, bytes))
 }
 
 /// Every node that answers (`ops::scan::probe`), with its device type where it gave one.

@@ -23,11 +23,7 @@ impl<T: End> Watch<T> for Bars<'_> {
             SdoJob::Download { node, .. } => (*node, true),
         };
         let count = self.counts.entry(node).or_default();
-        if write {
-            count.1 += 1;
-        } else {
-            count.0 += 1;
-        }
+        *if write { &mut count.1 } else { &mut count.0 } += 1;
         self.progress.item(&node_label(node), ItemStatus::Transfers { reads: count.0, writes: count.1 });
     }
 
@@ -64,14 +60,8 @@ pub(super) fn each<T: Send + End>(
     let serve =
         Serve::sdo_only("a node configured in parallel has SDO only (NMT, LSS and raw frames are the caller's)");
     let mut bars = Bars { items, stop, progress, counts: BTreeMap::new(), done: 0 };
-    let results = in_parallel::run(
-        bus,
-        &nodes,
-        jobs,
-        &serve,
-        &|node_bus, slot| work(node_bus, items[slot].0),
-        &|slot, why| stopped(items[slot].0, link_lost(&describe, &why)),
-        &mut bars,
-    );
+    let work = |node_bus: &mut in_parallel::NodeBus<T>, slot: usize| work(node_bus, items[slot].0);
+    let stopped = |slot: usize, why: Error| stopped(items[slot].0, link_lost(&describe, &why));
+    let results = in_parallel::run(bus, &nodes, jobs, &serve, &work, &stopped, &mut bars);
     items.iter().zip(results).filter_map(|((i, _), r)| r.map(|r| (*i, r))).collect()
 }
