@@ -122,6 +122,15 @@ impl std::str::FromStr for Frame {
     }
 }
 
+/// The 8 data bytes of a protocol's command frame (SDO, LSS): the command byte, `data`
+/// after it, zeros to the end.
+pub(crate) fn command(cs: u8, data: &[u8]) -> [u8; 8] {
+    let mut f = [0u8; 8];
+    f[0] = cs;
+    f[1..1 + data.len()].copy_from_slice(data);
+    f
+}
+
 /// Hex text to bytes: `DEADBEEF`, `de ad be ef`, `0xdeadbeef`.
 pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
     let t = text.trim();

@@ -126,11 +126,8 @@ impl Slave {
             }
             Request::Inquire(q) if configuring => {
                 let value = match q {
-                    Inquiry::Vendor => self.identity.vendor,
-                    Inquiry::Product => self.identity.product,
-                    Inquiry::Revision => self.identity.revision,
-                    Inquiry::Serial => self.identity.serial,
                     Inquiry::NodeId => node_id as u32,
+                    part => self.identity.part(part.cs() - Inquiry::Vendor.cs()),
                 };
                 (Some(Response::InquiredValue { inquiry: q, value }), None)
             }
