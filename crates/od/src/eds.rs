@@ -32,6 +32,55 @@ pub struct Eds {
     pub warnings: Warnings,
 }
 
+/// What both readers (INI and XML) say of a file as they read it.
+impl Eds {
+    pub(crate) fn warn(&mut self, line: usize, kind: Kind, message: String) {
+        self.warnings.push(Warning::new(&self.path, line, kind, message));
+    }
+
+    /// The value `text` (at `line`, under `key`) of `addr`, read as it plainly means where
+    /// it is not written as CiA 306 writes it, with a warning saying so.
+    pub(crate) fn value_as_meant(
+        &mut self,
+        line: usize,
+        key: &str,
+        text: &str,
+        who: &str,
+        dtype: DataType,
+    ) -> Result<Init, String> {
+        let (value, meant) = parse_value_as_meant(text, dtype)?;
+        if let Some(meant) = meant {
+            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, who, &meant));
+        }
+        Ok(value)
+    }
+
+    /// A value the file gives `entry` (at `line`, under `key`), kept when the file's own
+    /// limits allow it, as `config apply` will judge it.
+    pub(crate) fn keep_value(&mut self, entry: &Entry, value: Init, line: usize, key: &str) {
+        match super::within_limits(entry, value, key) {
+            Ok(value) => {
+                self.values.insert(entry.addr, value);
+            }
+            Err((kind, why)) => self.warn(line, kind, why),
+        }
+    }
+
+    /// The limit `text` (at `line`, under `key`) of `addr`; none, with a warning, where it
+    /// is not an integer.
+    pub(crate) fn limit(&mut self, line: usize, key: &str, text: &str, who: &str, dtype: DataType) -> Option<i128> {
+        let Some((limit, meant)) = parse_limit(text, dtype) else {
+            let why = format!("{key} '{text}' of {who} is not an integer: no limit");
+            self.warn(line, Kind::ValueIgnored, why);
+            return None;
+        };
+        if let Some(meant) = meant {
+            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, who, &meant));
+        }
+        Some(limit)
+    }
+}
+
 mod error;
 mod ini;
 mod values;
@@ -65,7 +114,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             msg: "not an EDS or DCF: it has no [FileInfo], [DeviceInfo] or object section such as [1000]".into(),
         });
     }
-    let mut r = Reader { path, encoding, eds };
+    let mut r = Reader { encoding, eds };
     for s in &sections {
         match s.name.as_str() {
             "deviceinfo" => r.eds.info = s.keys.iter().map(|(k, (v, _))| (k.clone(), encoding.decode(v))).collect(),
@@ -123,7 +172,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
                 // CiA 306 gives CompactSubObj to ARRAYs; Lely's dcfgen writes it for PDO
                 // mapping RECORDs too, whose members share one type all the same.
                 Some(n @ 1..=254) => {
-                    r.warn(
+                    r.eds.warn(
                         line,
                         Kind::CompactRecord,
                         format!("{index:04X} ({name}) is a RECORD with CompactSubObj={v}: read as an ARRAY of {n} sub-objects of its DataType"),
@@ -180,8 +229,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
 }
 
 /// The file being read: where its deviations go.
-struct Reader<'p> {
-    path: &'p str,
+struct Reader {
     encoding: TextEncoding,
     eds: Eds,
 }
@@ -192,9 +240,9 @@ fn strip_comment(v: &str) -> Option<&str> {
     Some(trim_blanks(&v[..at]))
 }
 
-impl Reader<'_> {
+impl Reader {
     fn warn(&mut self, line: usize, kind: Kind, message: String) {
-        self.eds.warnings.push(Warning::new(self.path, line, kind, message));
+        self.eds.warn(line, kind, message);
     }
 
     fn left_out(&mut self, line: usize, message: String) {
@@ -391,8 +439,8 @@ impl Reader<'_> {
             let entry = Entry { addr, name: member, ..template.clone() };
             if let Some((text, line)) = values.get(&sub) {
                 let key = format!("[{index:04X}Value] {sub}:");
-                match self.value_as_meant(&key, text, *line, &entry.name, addr, template.dtype) {
-                    Ok(v) => self.value(&entry, v, *line, &key),
+                match self.eds.value_as_meant(*line, &key, text, &format!("{addr} ({})", entry.name), template.dtype) {
+                    Ok(v) => self.eds.keep_value(&entry, v, *line, &key),
                     Err(m) => self.warn(*line, Kind::ValueIgnored, format!("[{index:04X}Value] {sub}: {m}; ignored")),
                 }
             }
@@ -443,6 +491,7 @@ impl Reader<'_> {
     }
 
     fn try_entry(&mut self, s: &Section, addr: ObjAddr, name: &str, domain: bool) -> Result<Entry, (usize, String)> {
+        let who = format!("{addr} ({name})");
         // A complex, manufacturer or profile type: its bytes, as python-canopen reads it.
         let mut as_bytes = None;
         let dtype = match self.plain(s, "datatype") {
@@ -485,18 +534,14 @@ impl Reader<'_> {
             Some((v, line))
                 if dtype == DataType::D && ["0", "0x0", "null"].contains(&v.to_ascii_lowercase().as_str()) =>
             {
-                self.warn(
-                    line,
-                    Kind::DomainDefault,
-                    format!("DefaultValue={v} of DOMAIN {addr} ({name}) read as empty"),
-                );
+                self.warn(line, Kind::DomainDefault, format!("DefaultValue={v} of DOMAIN {who} read as empty"));
                 Init::Bytes(Vec::new())
             }
-            Some((v, line)) => match self.value_as_meant("DefaultValue", &v, line, name, addr, dtype) {
+            Some((v, line)) => match self.eds.value_as_meant(line, "DefaultValue", &v, &who, dtype) {
                 Ok(init) => init,
                 // A DOMAIN's default is often a file name or a note: not its content.
                 Err(m) if dtype == DataType::D => {
-                    self.warn(line, Kind::ValueIgnored, format!("DefaultValue of {addr} ({name}): {m}; read as empty"));
+                    self.warn(line, Kind::ValueIgnored, format!("DefaultValue of {who}: {m}; read as empty"));
                     Init::Bytes(Vec::new())
                 }
                 Err(m) => return Err((line, format!("DefaultValue {m}"))),
@@ -508,68 +553,21 @@ impl Reader<'_> {
             if v.is_empty() || dtype.int_range().is_none() {
                 return None;
             }
-            let spelled = s.spelled.get(key).map_or(key, String::as_str);
-            match parse_limit(&v, dtype) {
-                Some((n, meant)) => {
-                    if let Some(meant) = meant {
-                        r.warn(line, Kind::ValueAsMeant, read_as_meant(spelled, &v, addr, name, &meant));
-                    }
-                    Some(n)
-                }
-                None => {
-                    r.warn(
-                        line,
-                        Kind::ValueIgnored,
-                        format!("{spelled} '{v}' of {addr} ({name}) is not an integer: no limit"),
-                    );
-                    None
-                }
-            }
+            r.eds.limit(line, s.spelled.get(key).map_or(key, String::as_str), &v, &who, dtype)
         };
         let (low, high) = (limit(self, "lowlimit"), limit(self, "highlimit"));
-        let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {
+        let range = super::limits(&who, dtype, low, high).unwrap_or_else(|(kind, why)| {
             self.warn(s.get("lowlimit").map_or(s.line, |(_, line)| line), kind, why);
             None
         });
         let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((v, line)) = value_key(self, "parametervalue") {
-            match self.value_as_meant("ParameterValue", &v, line, name, addr, dtype) {
-                Ok(value) => self.value(&entry, value, line, "ParameterValue"),
-                Err(m) => {
-                    self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {addr} ({name}): {m}; ignored"))
-                }
+            match self.eds.value_as_meant(line, "ParameterValue", &v, &who, dtype) {
+                Ok(value) => self.eds.keep_value(&entry, value, line, "ParameterValue"),
+                Err(m) => self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {who}: {m}; ignored")),
             }
         }
         Ok(entry)
-    }
-
-    /// The value `text` (at `line`, under `key`) of `addr`, read as it plainly means where
-    /// it is not written as CiA 306 writes it, with a warning saying so.
-    fn value_as_meant(
-        &mut self,
-        key: &str,
-        text: &str,
-        line: usize,
-        name: &str,
-        addr: ObjAddr,
-        dtype: DataType,
-    ) -> Result<Init, String> {
-        let (value, meant) = parse_value_as_meant(text, dtype)?;
-        if let Some(meant) = meant {
-            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, addr, name, &meant));
-        }
-        Ok(value)
-    }
-
-    /// A value the file gives `entry` (at `line`, under `key`), kept when the file's own
-    /// limits allow it, as `config apply` will judge it.
-    fn value(&mut self, entry: &Entry, value: Init, line: usize, key: &str) {
-        match super::within_limits(entry, value, key) {
-            Ok(value) => {
-                self.eds.values.insert(entry.addr, value);
-            }
-            Err((kind, why)) => self.warn(line, kind, why),
-        }
     }
 }
 

@@ -9,7 +9,7 @@
 
 use super::cpj::Commissioning;
 use super::eds::{self, Eds, Header, WriteError};
-use super::lint::{Kind, Warning};
+use super::lint::Kind;
 use super::{Access, Dictionary, Entry, Init, ObjectKind, MANDATORY};
 use canctl_canopen::{DataType, ObjAddr};
 use roxmltree::{Document, Node};
@@ -151,10 +151,13 @@ impl<'a, 'input> Reader<'a, 'input> {
         XmlError { path: self.path.to_string(), line, column, msg }
     }
 
+    fn line(&self, n: Node) -> usize {
+        self.at(n).0 as usize
+    }
+
     /// A deviation at the line of element `n`, of its kind and severity.
     fn find(&mut self, n: Node, kind: Kind, msg: String) {
-        let (line, _) = self.at(n);
-        self.eds.warnings.push(Warning::new(self.path, line as usize, kind, msg));
+        self.eds.warn(self.line(n), kind, msg);
     }
 
     /// The parameter an object names by `uniqueIDRef`, if any.
@@ -345,13 +348,20 @@ impl<'a, 'input> Reader<'a, 'input> {
         let no_default = default.is_none_or(|(v, _)| v.trim().is_empty());
         let (dtype, as_bytes) = self.data_type(n, addr, name, no_default).map_err(|why| (n, why))?;
         let access = self.access(n).map_err(|why| (n, why))?;
-        let value = |r: &mut Self, key: &str, text: &str, at: Node| r.value(key, text, at, addr, name, dtype);
+        let who = format!("{addr} ({name})");
+        // As in an EDS, a value may be read as it plainly means (a C suffix), said so.
+        let value = |r: &mut Self, key: &str, text: &str, at: Node| match dtype {
+            // XML carries text as Unicode: a string's bytes are its UTF-8.
+            DataType::Vs => Ok(Init::Bytes(text.as_bytes().to_vec())),
+            DataType::D => canctl_canopen::types::parse_hex(text).map(Init::Bytes),
+            _ => r.eds.value_as_meant(r.line(at), key, text, &who, dtype),
+        };
         let default = match default.filter(|_| !as_bytes) {
             Some((text, at)) => match value(self, "defaultValue", text, at) {
                 Ok(v) => v,
                 // A DOMAIN's default is often a file name or a note: not its content.
                 Err(why) if dtype == DataType::D => {
-                    let why = format!("defaultValue of DOMAIN {addr} ({name}): {why}; read as empty");
+                    let why = format!("defaultValue of DOMAIN {who}: {why}; read as empty");
                     self.find(at, Kind::ValueIgnored, why);
                     Init::Bytes(Vec::new())
                 }
@@ -359,65 +369,25 @@ impl<'a, 'input> Reader<'a, 'input> {
             },
             None => Init::Bytes(dtype.size().map_or_else(Vec::new, |size| vec![0; size])),
         };
+        let line = self.line(n);
         let mut limit = |attr: &str| {
             let text = n.attribute(attr).filter(|t| !t.is_empty() && dtype.int_range().is_some())?;
-            match eds::parse_limit(text, dtype) {
-                Some((limit, meant)) => {
-                    if let Some(meant) = meant {
-                        self.find(n, Kind::ValueAsMeant, eds::read_as_meant(attr, text, addr, name, &meant));
-                    }
-                    Some(limit)
-                }
-                None => {
-                    let why = format!("{attr} '{text}' of {addr} ({name}) is not an integer: no limit");
-                    self.find(n, Kind::ValueIgnored, why);
-                    None
-                }
-            }
+            self.eds.limit(line, attr, text, &who, dtype)
         };
         let (low, high) = (limit("lowLimit"), limit("highLimit"));
-        let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {
+        let range = super::limits(&who, dtype, low, high).unwrap_or_else(|(kind, why)| {
             self.find(n, kind, why);
             None
         });
         let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((text, at)) = self.value_of(n, "actualValue", "actualValue") {
-            let judged = value(self, "actualValue", text, at)
-                .map_err(|why| (Kind::ValueIgnored, format!("actualValue of {addr} ({name}): {why}; ignored")))
-                .and_then(|v| super::within_limits(&entry, v, "actualValue"));
-            match judged {
-                Ok(v) => {
-                    self.eds.values.insert(addr, v);
-                }
-                Err((kind, why)) => self.find(at, kind, why),
+            let line = self.line(at);
+            match value(self, "actualValue", text, at) {
+                Ok(v) => self.eds.keep_value(&entry, v, line, "actualValue"),
+                Err(why) => self.find(at, Kind::ValueIgnored, format!("actualValue of {who}: {why}; ignored")),
             }
         }
         Ok(entry)
-    }
-
-    /// The value `text` (under `key`, in element `at`) of `addr`, of type `dtype`; one read
-    /// as it plainly means (a C suffix) with a warning saying so, as in an EDS.
-    fn value(
-        &mut self,
-        key: &str,
-        text: &str,
-        at: Node,
-        addr: ObjAddr,
-        name: &str,
-        dtype: DataType,
-    ) -> Result<Init, String> {
-        match dtype {
-            // XML carries text as Unicode: a string's bytes are its UTF-8.
-            DataType::Vs => Ok(Init::Bytes(text.as_bytes().to_vec())),
-            DataType::D => canctl_canopen::types::parse_hex(text).map(Init::Bytes),
-            _ => {
-                let (value, meant) = eds::parse_value_as_meant(text, dtype)?;
-                if let Some(meant) = meant {
-                    self.find(at, Kind::ValueAsMeant, eds::read_as_meant(key, text, addr, name, &meant));
-                }
-                Ok(value)
-            }
-        }
     }
 
     /// CiA 301's mandatory objects the file lacks, said at its object list.

@@ -134,8 +134,8 @@ fn plain_meaning(text: &str, dtype: DataType) -> Option<String> {
 }
 
 /// What a reader says of a value it read as meant ([`parse_value_as_meant`]).
-pub fn read_as_meant(key: &str, text: &str, addr: ObjAddr, name: &str, meant: &str) -> String {
-    format!("{key} {text} of {addr} ({name}) read as {meant}")
+pub fn read_as_meant(key: &str, text: &str, who: &str, meant: &str) -> String {
+    format!("{key} {text} of {who} read as {meant}")
 }
 
 pub(super) fn parse_access(text: &str) -> Option<Access> {

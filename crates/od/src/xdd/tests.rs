@@ -1,5 +1,5 @@
 use super::*;
-use crate::lint::Severity;
+use crate::lint::{Severity, Warning};
 use crate::Dictionary;
 
 #[test]
