@@ -444,26 +444,20 @@ pub fn with_commissioning(dcf: &[u8], c: &Commissioning) -> Result<Vec<u8>, Writ
     let headers: Vec<(usize, String)> =
         starts.iter().filter(|s| **s < dcf.len()).filter_map(|s| header(*s).map(|h| (*s, h))).collect();
     let found = headers.iter().position(|(_, h)| h == "devicecomissioning" || h == "devicecommissioning");
-    let mut out = Vec::with_capacity(dcf.len() + section.len());
-    match found {
-        Some(i) => {
-            let (from, to) = (headers[i].0, headers.get(i + 1).map_or(dcf.len(), |(s, _)| *s));
-            out.extend_from_slice(&dcf[..from]);
-            out.extend_from_slice(&section);
-            out.extend_from_slice(eol.as_bytes());
-            out.extend_from_slice(&dcf[to..]);
-        }
+    // The section replaces the one there, else goes before the object lists.
+    let (from, to) = match found {
+        Some(i) => (headers[i].0, headers.get(i + 1).map_or(dcf.len(), |(s, _)| *s)),
         None => {
-            let at = headers
-                .iter()
-                .find(|(_, h)| matches!(h.as_str(), "mandatoryobjects" | "optionalobjects" | "manufacturerobjects"))
-                .map_or(dcf.len(), |(s, _)| *s);
-            out.extend_from_slice(&dcf[..at]);
-            out.extend_from_slice(&section);
-            out.extend_from_slice(eol.as_bytes());
-            out.extend_from_slice(&dcf[at..]);
+            let lists = ["mandatoryobjects", "optionalobjects", "manufacturerobjects"];
+            let at = headers.iter().find(|(_, h)| lists.contains(&h.as_str())).map_or(dcf.len(), |(s, _)| *s);
+            (at, at)
         }
-    }
+    };
+    let mut out = Vec::with_capacity(dcf.len() + section.len());
+    out.extend_from_slice(&dcf[..from]);
+    out.extend_from_slice(&section);
+    out.extend_from_slice(eol.as_bytes());
+    out.extend_from_slice(&dcf[to..]);
     Ok(out)
 }
 

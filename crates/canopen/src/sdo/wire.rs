@@ -266,18 +266,10 @@ fn block_initiate(addr: ObjAddr, crc: bool, size: Option<u32>) -> [u8; 8] {
     with_mux(0xC0 | (crc as u8) << 2 | s, addr, size.unwrap_or(0).to_le_bytes())
 }
 
-fn parse_block_initiate(p: &[u8; 8]) -> (ObjAddr, bool, Option<u32>) {
-    (mux(p), p[0] & 0x04 != 0, (p[0] & 0x02 != 0).then(|| le_u32(p)))
-}
-
 /// The last frame of a block's data, in either direction: `unused` bytes of the last
 /// segment carry no data, and the CRC.
 fn block_end(unused: u8, crc: u16) -> [u8; 8] {
     command(0xC1 | (unused & 7) << 2, &crc.to_le_bytes())
-}
-
-fn parse_block_end(p: &[u8; 8]) -> (u8, u16) {
-    ((p[0] >> 2) & 7, u16::from_le_bytes([p[1], p[2]]))
 }
 
 impl Request {
@@ -299,13 +291,9 @@ impl Request {
                 _ => Request::BlockUploadStart,
             },
             6 if cmd & 0x01 == 0 => {
-                let (addr, crc, size) = parse_block_initiate(p);
-                Request::BlockDownload { addr, crc, size }
+                Request::BlockDownload { addr: mux(p), crc, size: (cmd & 0x02 != 0).then(|| le_u32(p)) }
             }
-            6 => {
-                let (unused, crc) = parse_block_end(p);
-                Request::BlockDownloadEnd { unused, crc }
-            }
+            6 => Request::BlockDownloadEnd { unused: (cmd >> 2) & 7, crc: u16::from_le_bytes([p[1], p[2]]) },
             _ => return None,
         })
     }
@@ -349,13 +337,9 @@ impl Response {
                 _ => return None,
             },
             6 if cmd & 0x01 == 0 => {
-                let (addr, crc, size) = parse_block_initiate(p);
-                Response::BlockUpload { addr, crc, size }
+                Response::BlockUpload { addr: mux(p), crc, size: (cmd & 0x02 != 0).then(|| le_u32(p)) }
             }
-            6 => {
-                let (unused, crc) = parse_block_end(p);
-                Response::BlockUploadEnd { unused, crc }
-            }
+            6 => Response::BlockUploadEnd { unused: (cmd >> 2) & 7, crc: u16::from_le_bytes([p[1], p[2]]) },
             _ => return None,
         })
     }

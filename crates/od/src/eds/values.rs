@@ -218,32 +218,21 @@ pub(super) fn unwritable_bytes(bytes: &[u8]) -> Option<String> {
 /// A real in the shortest text that reads back to the same bits; a NaN other than the one
 /// `nan` reads as keeps its bits as hex.
 pub(super) fn real_text(bytes: &[u8], dtype: DataType) -> String {
-    fn shortest(plain: String, exp: String) -> String {
-        if exp.len() < plain.len() {
-            exp
-        } else {
-            plain
-        }
-    }
-    match dtype {
+    let mut wide = [0u8; 8];
+    wide[..bytes.len()].copy_from_slice(bytes);
+    let bits = u64::from_le_bytes(wide);
+    let (plain, exp, nan) = match dtype {
         DataType::R32 => {
-            let v = f32::from_le_bytes(bytes.try_into().expect("4 bytes"));
-            if v.is_nan() {
-                return if v.to_bits() == f32::NAN.to_bits() { "nan".into() } else { format!("0x{:08X}", v.to_bits()) };
-            }
-            shortest(format!("{v}"), format!("{v:e}"))
+            let v = f32::from_bits(bits as u32);
+            (v.to_string(), format!("{v:e}"), u64::from(f32::NAN.to_bits()))
         }
-        _ => {
-            let v = f64::from_le_bytes(bytes.try_into().expect("8 bytes"));
-            if v.is_nan() {
-                return if v.to_bits() == f64::NAN.to_bits() {
-                    "nan".into()
-                } else {
-                    format!("0x{:016X}", v.to_bits())
-                };
-            }
-            shortest(format!("{v}"), format!("{v:e}"))
-        }
+        _ => (f64::from_bits(bits).to_string(), format!("{:e}", f64::from_bits(bits)), f64::NAN.to_bits()),
+    };
+    match plain.as_str() {
+        "NaN" if bits == nan => "nan".into(),
+        "NaN" => format!("0x{bits:0width$X}", width = bytes.len() * 2),
+        _ if exp.len() < plain.len() => exp,
+        _ => plain,
     }
 }
 
