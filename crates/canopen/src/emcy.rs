@@ -351,20 +351,16 @@ fn find(table: &[(u16, &'static str)], code: u16) -> Option<&'static str> {
 /// part the device sent with it (the upper 16 bits of a 0x1003 entry, EMCY bytes 3 and 4).
 /// The device's own manual first, then CiA 402 for drives, then CiA 301.
 pub fn meaning(code: u16, manufacturer: u16, origin: &Origin) -> Meaning {
-    let device = |text| Meaning { text, source: Source::Device };
-    match origin.manual() {
-        Some(Manual::TemposonicsMh) => {
-            if let Some(m) = find(TEMPOSONICS_MH, code) {
-                return device(m);
-            }
-        }
+    let manual = match origin.manual() {
+        Some(Manual::TemposonicsMh) => find(TEMPOSONICS_MH, code),
         Some(Manual::IcpDasCan2000c) => {
             let first = manufacturer.to_le_bytes()[0];
-            if let Some((_, _, m)) = ICP_DAS_CAN2000C.iter().find(|(c, b, _)| *c == code && *b == first) {
-                return device(m);
-            }
+            ICP_DAS_CAN2000C.iter().find(|(c, b, _)| *c == code && *b == first).map(|(_, _, m)| *m)
         }
-        None => {}
+        None => None,
+    };
+    if let Some(text) = manual {
+        return Meaning { text, source: Source::Device };
     }
     if origin.is_drive() {
         // An exact code, else its group (0x2311 is one of the 0x2310 over-currents).

@@ -55,33 +55,20 @@ impl Frame {
 
     /// One line as `candump` prints it: `  vcan0  605   [8]  40 00 10 00 00 00 00 00`.
     pub fn candump_line(&self, iface: &str) -> String {
-        let mut s = format!("  {iface}  {:03X}   [{}] ", self.id, self.len);
-        if self.rtr {
-            s.push_str(" remote request");
-        } else {
-            for b in self.data() {
-                s.push_str(&format!(" {b:02X}"));
-            }
-        }
-        s
+        let tail: String =
+            if self.rtr { " remote request".into() } else { self.data().iter().map(|b| format!(" {b:02X}")).collect() };
+        format!("  {iface}  {:03X}   [{}] {tail}", self.id, self.len)
     }
 }
 
 /// can-utils compact notation (`cansend`): `123#DEADBEEF`, `123#R`, `123#R4`.
 impl fmt::Display for Frame {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{:03X}#", self.id)?;
-        if self.rtr {
-            write!(f, "R")?;
-            if self.len > 0 {
-                write!(f, "{}", self.len)?;
-            }
-            return Ok(());
+        match (self.rtr, self.len) {
+            (true, 0) => write!(f, "{:03X}#R", self.id),
+            (true, len) => write!(f, "{:03X}#R{len}", self.id),
+            (false, _) => write!(f, "{:03X}#{}", self.id, crate::types::hex(self.data())),
         }
-        for b in self.data() {
-            write!(f, "{b:02X}")?;
-        }
-        Ok(())
     }
 }
 
