@@ -244,16 +244,8 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Read, CpjError> {
                     let node = project.nodes.entry(id).or_default();
                     match field.as_str() {
                         "present" => {
-                            node.present = match number(&l.value) {
-                                Some(1) => true,
-                                Some(0) => false,
-                                _ => {
-                                    return Err(err(
-                                        l.line,
-                                        format!("{}={} must be 0x01 (listed) or 0x00 (not)", l.key, l.value),
-                                    ))
-                                }
-                            }
+                            let why = || format!("{}={} must be 0x01 (listed) or 0x00 (not)", l.key, l.value);
+                            node.present = number(&l.value).filter(|v| *v <= 1).ok_or_else(|| err(l.line, why()))? == 1;
                         }
                         "name" => node.name = value(),
                         "refd" => node.refd = value(),
@@ -334,11 +326,7 @@ fn encode(lines: &[(String, String)], header: &str, utf8: bool, eol: &str) -> Re
 /// nodes in node-id order, then the keys canctl does not know.
 pub fn write(project: &Project) -> Result<Vec<u8>, WriteError> {
     let mut lines: Vec<(String, String)> = Vec::new();
-    let mut put = |key: String, value: &Option<String>| {
-        if let Some(v) = value {
-            lines.push((key, v.clone()));
-        }
-    };
+    let mut put = |key: String, value: &Option<String>| lines.extend(value.clone().map(|v| (key, v)));
     put("NetName".into(), &project.net_name);
     put("NetRefd".into(), &project.net_refd);
     put("Nodes".into(), &Some(format!("0x{:02X}", project.present().count())));
@@ -409,20 +397,18 @@ pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, Cpj
 
 /// The section's lines, as canctl writes them.
 pub fn commissioning_lines(c: &Commissioning) -> Vec<(String, String)> {
-    let mut lines = Vec::new();
-    let mut put = |key: &str, value: Option<String>| {
-        if let Some(v) = value {
-            lines.push((key.to_string(), v));
-        }
-    };
-    put("NodeID", c.node_id.map(|n| n.to_string()));
-    put("NodeName", c.node_name.clone());
-    put("Baudrate", c.baudrate_kbit.map(|b| b.to_string()));
-    put("NetNumber", c.net_number.map(|n| n.to_string()));
-    put("NetworkName", c.network_name.clone());
-    put("CANopenManager", c.canopen_manager.map(|m| u8::from(m).to_string()));
-    put("LSS_SerialNumber", c.lss_serial.map(|s| format!("0x{s:08X}")));
-    lines
+    [
+        ("NodeID", c.node_id.map(|n| n.to_string())),
+        ("NodeName", c.node_name.clone()),
+        ("Baudrate", c.baudrate_kbit.map(|b| b.to_string())),
+        ("NetNumber", c.net_number.map(|n| n.to_string())),
+        ("NetworkName", c.network_name.clone()),
+        ("CANopenManager", c.canopen_manager.map(|m| u8::from(m).to_string())),
+        ("LSS_SerialNumber", c.lss_serial.map(|s| format!("0x{s:08X}"))),
+    ]
+    .into_iter()
+    .filter_map(|(key, value)| Some((key.to_string(), value?)))
+    .collect()
 }
 
 /// A DCF's bytes with its `[DeviceComissioning]` section replaced by `c` (or added before

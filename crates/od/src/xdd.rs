@@ -404,20 +404,15 @@ impl<'a, 'input> Reader<'a, 'input> {
 /// Parse an XDD or XDC. `path` is only for messages.
 pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, XmlError> {
     let text = decode(bytes, path)?;
-    let opts = roxmltree::ParsingOptions { allow_dtd: false, ..Default::default() };
-    let doc = Document::parse_with_options(&text, opts).map_err(|e| xml_error(path, &e))?;
+    let doc = document(&text, path)?;
     let root = doc.root_element();
-    if root.tag_name().name() != "ISO15745ProfileContainer" {
+    let not_xdd = |msg: String| {
         let pos = doc.text_pos_at(root.range().start);
-        return Err(XmlError {
-            path: path.to_string(),
-            line: pos.row,
-            column: pos.col,
-            msg: format!(
-                "<{}> is not an XDD or XDC: CiA 311 files begin with <ISO15745ProfileContainer>",
-                root.tag_name().name()
-            ),
-        });
+        XmlError { path: path.to_string(), line: pos.row, column: pos.col, msg }
+    };
+    if root.tag_name().name() != "ISO15745ProfileContainer" {
+        let msg = "is not an XDD or XDC: CiA 311 files begin with <ISO15745ProfileContainer>";
+        return Err(not_xdd(format!("<{}> {msg}", root.tag_name().name())));
     }
     let parameters = doc
         .descendants()
@@ -431,13 +426,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, XmlError> {
     reader.eds.warnings.sort_by_key(|w| if w.kind == Kind::MoreLeftOut { usize::MAX } else { w.line });
     // An object that could not be read is a finding; a file without any is no XDD.
     if !doc.descendants().any(|n| n.tag_name().name() == "CANopenObject") {
-        let pos = doc.text_pos_at(root.range().start);
-        return Err(XmlError {
-            path: path.to_string(),
-            line: pos.row,
-            column: pos.col,
-            msg: "no CANopenObjectList with objects: not a CANopen XDD or XDC".into(),
-        });
+        return Err(not_xdd("no CANopenObjectList with objects: not a CANopen XDD or XDC".into()));
     }
     Ok(reader.eds)
 }
@@ -446,8 +435,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, XmlError> {
 /// file has none. A nodeID of 0 is "not commissioned yet", as CiA 311 tools leave it.
 pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, XmlError> {
     let text = decode(bytes, path)?;
-    let opts = roxmltree::ParsingOptions { allow_dtd: false, ..Default::default() };
-    let doc = Document::parse_with_options(&text, opts).map_err(|e| xml_error(path, &e))?;
+    let doc = document(&text, path)?;
     let mut c = Commissioning::default();
     let Some(n) = doc.descendants().find(|n| n.tag_name().name() == "DeviceCommissioning") else {
         return Ok(c);
@@ -464,12 +452,16 @@ pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, Xml
     Ok(c)
 }
 
-fn xml_error(path: &str, e: &roxmltree::Error) -> XmlError {
-    let pos = e.pos();
-    // roxmltree ends its text with the position, which the error gives first.
-    let text = e.to_string();
-    let text = text.strip_suffix(&format!(" at {pos}")).unwrap_or(&text).to_string();
-    XmlError { path: path.to_string(), line: pos.row, column: pos.col, msg: format!("malformed XML: {text}") }
+/// The XML document of `text`, without a DTD (entities that expand are refused).
+fn document<'t>(text: &'t str, path: &str) -> Result<Document<'t>, XmlError> {
+    let opts = roxmltree::ParsingOptions { allow_dtd: false, ..Default::default() };
+    Document::parse_with_options(text, opts).map_err(|e| {
+        let pos = e.pos();
+        // roxmltree ends its text with the position, which the error gives first.
+        let text = e.to_string();
+        let text = text.strip_suffix(&format!(" at {pos}")).unwrap_or(&text).to_string();
+        XmlError { path: path.to_string(), line: pos.row, column: pos.col, msg: format!("malformed XML: {text}") }
+    })
 }
 
 /// Text for an XML attribute: markup characters and the white space that attribute
