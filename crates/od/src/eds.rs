@@ -87,7 +87,7 @@ mod values;
 pub use error::EdsError;
 mod write;
 use ini::{object_section, parse_ini, trim_blanks, Section, TextEncoding, BOM};
-pub use values::{data_type_from_code, mandatory, parse_limit, type_as_bytes};
+pub use values::{data_type_from_code, mandatory, object_kind, parse_limit, type_as_bytes};
 pub use values::{format_value, parse_int, to_latin1, value_text};
 use values::{parse_access, NODE_IDS};
 pub use values::{parse_value_as_meant, read_as_meant};
@@ -130,36 +130,20 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             continue;
         }
         let name = r.name_of(s, format!("Object {index:04X}"));
-        let kind_code = match r.plain(s, "objecttype") {
-            Some((v, line)) => match parse_int(v) {
-                Some(code) => code,
-                None => {
-                    r.left_out(line, format!("{index:04X} ({name}) left out: ObjectType '{v}' is not a number"));
-                    continue;
-                }
-            },
-            None => 7,
+        let (code, line) = match r.plain(s, "objecttype") {
+            Some((v, line)) => (parse_int(v).ok_or_else(|| format!("ObjectType '{v}' is not a number")), line),
+            None => (Ok(7), s.line),
         };
-        let kind = match kind_code {
-            // A DOMAIN object (0x2) is a single value, as a VAR is.
-            7 | 2 => ObjectKind::Var,
-            8 => ObjectKind::Array,
-            9 => ObjectKind::Record,
-            // DEFTYPE, DEFSTRUCT and NULL objects hold no values.
-            0 | 5 | 6 => continue,
-            other => {
-                let line = s.get("objecttype").map_or(s.line, |(_, l)| l);
-                r.left_out(
-                    line,
-                    format!(
-                        "{index:04X} ({name}) left out: ObjectType {other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)"
-                    ),
-                );
+        let domain = code == Ok(2);
+        let kind = match code.and_then(|code| object_kind(code).map_err(|why| format!("ObjectType {why}"))) {
+            Ok(Some(kind)) => kind,
+            Ok(None) => continue,
+            Err(why) => {
+                r.left_out(line, format!("{index:04X} ({name}) left out: {why}"));
                 continue;
             }
         };
         if kind == ObjectKind::Var {
-            let domain = kind_code == 2;
             if let Some(entry) = r.entry(s, ObjAddr::new(*index, 0), &name, domain) {
                 r.eds.dict.insert(entry);
             }

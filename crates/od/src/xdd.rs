@@ -234,22 +234,16 @@ impl<'a, 'input> Reader<'a, 'input> {
             .and_then(|i| u16::from_str_radix(i, 16).ok())
             .ok_or_else(|| self.error(n, "CANopenObject without an index of 4 hex digits".into()))?;
         let name = n.attribute("name").map_or_else(|| format!("Object {index:04X}"), str::to_string);
-        let left_out = |why: String| (Kind::ObjectLeftOut, format!("{index:04X} ({name}) left out: {why}"));
-        let kind = match n.attribute("objectType").map(|t| (t, eds::parse_int(t))) {
-            Some((_, Some(7 | 2))) | None => ObjectKind::Var,
-            Some((_, Some(8))) => ObjectKind::Array,
-            Some((_, Some(9))) => ObjectKind::Record,
-            // DEFTYPE, DEFSTRUCT and NULL objects hold no values.
-            Some((_, Some(0 | 5 | 6))) => return Ok(()),
-            Some((_, Some(other))) => {
-                let (kind, why) =
-                    left_out(format!("objectType {other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)"));
-                self.find(n, kind, why);
-                return Ok(());
-            }
-            Some((text, None)) => {
-                let (kind, why) = left_out(format!("objectType '{text}' is not a number"));
-                self.find(n, kind, why);
+        let code = match n.attribute("objectType") {
+            Some(t) => eds::parse_int(t).ok_or_else(|| format!("objectType '{t}' is not a number")),
+            None => Ok(7),
+        };
+        let left_out = format!("{index:04X} ({name}) left out");
+        let kind = match code.and_then(|code| eds::object_kind(code).map_err(|why| format!("objectType {why}"))) {
+            Ok(Some(kind)) => kind,
+            Ok(None) => return Ok(()),
+            Err(why) => {
+                self.find(n, Kind::ObjectLeftOut, format!("{left_out}: {why}"));
                 return Ok(());
             }
         };
@@ -263,8 +257,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         let subs: Vec<Node> =
             n.children().filter(|c| c.is_element() && c.tag_name().name() == "CANopenSubObject").collect();
         if subs.is_empty() {
-            let (kind, why) = left_out("an ARRAY or RECORD without any CANopenSubObject".into());
-            self.find(n, kind, why);
+            self.find(n, Kind::ObjectLeftOut, format!("{left_out}: an ARRAY or RECORD without any CANopenSubObject"));
         }
         for s in subs {
             let Some(sub) = s.attribute("subIndex").and_then(|v| u8::from_str_radix(v, 16).ok()) else {

@@ -152,6 +152,19 @@ pub(super) fn parse_access(text: &str) -> Option<Access> {
 /// manufacturer-specific, 0x0060..0x025F device-profile-specific.
 pub(super) const DATA_TYPE_CODES: std::ops::RangeInclusive<i128> = 0x0001..=0x025F;
 
+/// The kind of object an ObjectType codes; `None` for one that holds no values (DEFTYPE,
+/// DEFSTRUCT, NULL); `Err` for another, naming the codes canctl reads.
+pub fn object_kind(code: i128) -> Result<Option<ObjectKind>, String> {
+    Ok(Some(match code {
+        // A DOMAIN object (0x2) is a single value, as a VAR is.
+        7 | 2 => ObjectKind::Var,
+        8 => ObjectKind::Array,
+        9 => ObjectKind::Record,
+        0 | 5 | 6 => return Ok(None),
+        other => return Err(format!("{other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)")),
+    }))
+}
+
 /// The type of a `DataType` code: `Ok(None)` for a CiA 301 type canctl does not handle,
 /// an error for a number that is no data type at all.
 pub fn data_type_from_code(code: i128) -> Result<Option<DataType>, String> {
