@@ -130,6 +130,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             continue;
         }
         let name = r.name_of(s, format!("Object {index:04X}"));
+        let who = format!("{index:04X} ({name})");
         let (code, line) = match r.plain(s, "objecttype") {
             Some((v, line)) => (parse_int(v).ok_or_else(|| format!("ObjectType '{v}' is not a number")), line),
             None => (Ok(7), s.line),
@@ -139,7 +140,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             Ok(Some(kind)) => kind,
             Ok(None) => continue,
             Err(why) => {
-                r.left_out(line, format!("{index:04X} ({name}) left out: {why}"));
+                r.left_out(line, &who, &why);
                 continue;
             }
         };
@@ -150,27 +151,23 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             continue;
         }
         let compact_count = match r.plain(s, "compactsubobj") {
-            Some((v, line)) => match parse_int(v) {
-                Some(0) => None,
-                Some(n @ 1..=254) if kind == ObjectKind::Array => Some(n as u8),
-                // CiA 306 gives CompactSubObj to ARRAYs; Lely's dcfgen writes it for PDO
-                // mapping RECORDs too, whose members share one type all the same.
-                Some(n @ 1..=254) => {
-                    r.eds.warn(
-                        line,
-                        Kind::CompactRecord,
-                        format!("{index:04X} ({name}) is a RECORD with CompactSubObj={v}: read as an ARRAY of {n} sub-objects of its DataType"),
-                    );
-                    Some(n as u8)
+            Some((v, line)) => {
+                match parse_int(v) {
+                    Some(0) => None,
+                    Some(n @ 1..=254) if kind == ObjectKind::Array => Some(n as u8),
+                    // CiA 306 gives CompactSubObj to ARRAYs; Lely's dcfgen writes it for PDO
+                    // mapping RECORDs too, whose members share one type all the same.
+                    Some(n @ 1..=254) => {
+                        let why = format!("{who} is a RECORD with CompactSubObj={v}: read as an ARRAY of {n} sub-objects of its DataType");
+                        r.warn(line, Kind::CompactRecord, why);
+                        Some(n as u8)
+                    }
+                    _ => {
+                        r.left_out(line, &who, &format!("CompactSubObj={v} is not 1..254 for an ARRAY (0x8)"));
+                        continue;
+                    }
                 }
-                _ => {
-                    r.left_out(
-                        line,
-                        format!("{index:04X} ({name}) left out: CompactSubObj={v} is not 1..254 for an ARRAY (0x8)"),
-                    );
-                    continue;
-                }
-            },
+            }
             None => None,
         };
         let entries = match compact_count {
@@ -181,12 +178,8 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
                     .map(|((_, sub), ss)| (sub.unwrap(), *ss))
                     .collect();
                 if subs.is_empty() {
-                    r.left_out(
-                        s.line,
-                        format!(
-                            "{index:04X} ({name}) left out: an ARRAY or RECORD without any [{index:04X}subN] section or CompactSubObj"
-                        ),
-                    );
+                    let why = format!("an ARRAY or RECORD without any [{index:04X}subN] section or CompactSubObj");
+                    r.left_out(s.line, &who, &why);
                     continue;
                 }
                 r.sub_number(s, *index, &name, subs.len());
@@ -229,8 +222,8 @@ impl Reader {
         self.eds.warn(line, kind, message);
     }
 
-    fn left_out(&mut self, line: usize, message: String) {
-        self.warn(line, Kind::ObjectLeftOut, message);
+    fn left_out(&mut self, line: usize, who: &str, why: &str) {
+        self.warn(line, Kind::ObjectLeftOut, format!("{who} left out: {why}"));
     }
 
     fn name_of(&self, s: &Section, fallback: String) -> String {
@@ -468,7 +461,7 @@ impl Reader {
         match self.try_entry(s, addr, name, domain) {
             Ok(e) => Some(e),
             Err((line, why)) => {
-                self.left_out(line, format!("{addr} ({name}) left out: {why}"));
+                self.left_out(line, &format!("{addr} ({name})"), &why);
                 None
             }
         }
