@@ -35,17 +35,13 @@ impl Emergency {
         if d.len() != 8 {
             return None;
         }
-        let mut vendor = [0u8; 5];
-        vendor.copy_from_slice(&d[3..8]);
-        Some(Emergency { code: u16::from_le_bytes([d[0], d[1]]), register: d[2], vendor })
+        Some(Emergency { code: u16::from_le_bytes([d[0], d[1]]), register: d[2], vendor: d[3..8].try_into().ok()? })
     }
 
     /// The message as `node` sends it, on its default EMCY COB-ID.
     pub fn frame(&self, node: u8) -> Frame {
-        let [lo, hi] = self.code.to_le_bytes();
-        let mut d = [lo, hi, self.register, 0, 0, 0, 0, 0];
-        d[3..].copy_from_slice(&self.vendor);
-        Frame::new(cob(node), &d)
+        let ([lo, hi], [a, b, c, d, e]) = (self.code.to_le_bytes(), self.vendor);
+        Frame::new(cob(node), &[lo, hi, self.register, a, b, c, d, e])
     }
 
     /// The 0x1003 history entry: error code in the low word, vendor bytes 0..2 high.
