@@ -396,14 +396,7 @@ impl Reader {
         n: u8,
         sections: &BTreeMap<String, &Section>,
     ) -> Vec<Entry> {
-        let sub0 = Entry {
-            addr: ObjAddr::new(index, 0),
-            name: "NrOfObjects".into(),
-            dtype: DataType::U8,
-            access: Access::Ro,
-            default: Init::Bytes(vec![n]),
-            range: None,
-        };
+        let sub0 = Entry::count(index, "NrOfObjects", n);
         let Some(template) = self.entry(s, ObjAddr::new(index, 1), name, false) else { return Vec::new() };
         // The object section's own ParameterValue is no member's.
         self.eds.values.remove(&ObjAddr::new(index, 1));

@@ -151,6 +151,12 @@ pub struct Entry {
 }
 
 impl Entry {
+    /// Sub-index 0 of an ARRAY or RECORD, read-only: the highest sub-index, `highest`.
+    pub(crate) fn count(index: u16, name: &str, highest: u8) -> Entry {
+        let (dtype, access, default) = (DataType::U8, Access::Ro, Init::Bytes(vec![highest]));
+        Entry { addr: ObjAddr::new(index, 0), name: name.to_string(), dtype, access, default, range: None }
+    }
+
     /// The default for a device with this node-id, in the entry's own size.
     pub fn default_for(&self, node_id: u8) -> Vec<u8> {
         self.value_for(&self.default, node_id)
@@ -344,15 +350,7 @@ impl Dictionary {
     pub fn record(&mut self, index: u16, name: &str, members: Vec<(u8, &str, DataType, Access, Init)>) {
         let highest = members.iter().map(|m| m.0).max().unwrap_or(0);
         self.object(index, name, ObjectKind::Record);
-        let sub0 = Entry {
-            addr: ObjAddr::new(index, 0),
-            name: "Highest sub-index supported".into(),
-            dtype: DataType::U8,
-            access: Access::Ro,
-            default: Init::Bytes(vec![highest]),
-            range: None,
-        };
-        self.insert(sub0);
+        self.insert(Entry::count(index, "Highest sub-index supported", highest));
         for (sub, member, dtype, access, default) in members {
             let addr = ObjAddr::new(index, sub);
             self.insert(Entry { addr, name: member.to_string(), dtype, access, default, range: None });
