@@ -497,7 +497,7 @@ impl Reader {
             }
         };
         if let Some((line, code)) = as_bytes {
-            self.warn(line, Kind::TypeAsBytes, type_as_bytes(addr, name, code));
+            self.warn(line, Kind::TypeAsBytes, type_as_bytes(&who, code));
         }
         let default = match value_key(self, "defaultvalue").filter(|_| as_bytes.is_none()) {
             // What DOMAIN defaults often say for "nothing".

@@ -128,11 +128,11 @@ fn access_of(text: &str) -> Option<Access> {
     })
 }
 
-struct Reader<'a, 'input> {
-    doc: &'a Document<'input>,
+struct Reader<'a, 'i> {
+    doc: &'a Document<'i>,
     path: &'a str,
     /// `parameter` elements by `uniqueID`.
-    parameters: HashMap<&'a str, Node<'a, 'input>>,
+    parameters: HashMap<&'a str, Node<'a, 'i>>,
     eds: Eds,
 }
 
@@ -140,7 +140,7 @@ fn child<'a, 'i>(n: Node<'a, 'i>, name: &str) -> Option<Node<'a, 'i>> {
     n.children().find(|c| c.is_element() && c.tag_name().name() == name)
 }
 
-impl<'a, 'input> Reader<'a, 'input> {
+impl<'a, 'i> Reader<'a, 'i> {
     fn at(&self, n: Node) -> (u32, u32) {
         let pos = self.doc.text_pos_at(n.range().start);
         (pos.row, pos.col)
@@ -161,13 +161,13 @@ impl<'a, 'input> Reader<'a, 'input> {
     }
 
     /// The parameter an object names by `uniqueIDRef`, if any.
-    fn parameter(&self, n: Node<'a, 'input>) -> Option<Node<'a, 'input>> {
+    fn parameter(&self, n: Node<'a, 'i>) -> Option<Node<'a, 'i>> {
         n.attribute("uniqueIDRef").and_then(|id| self.parameters.get(id).copied())
     }
 
     /// CANopenEditor keeps objects a CANopenNode device leaves out in the file, marked
     /// `CO_disabled`; its EDS export leaves them out, and so does canctl.
-    fn disabled(&self, n: Node<'a, 'input>) -> bool {
+    fn disabled(&self, n: Node<'a, 'i>) -> bool {
         self.parameter(n).is_some_and(|p| {
             p.children().any(|c| {
                 c.tag_name().name() == "property"
@@ -178,7 +178,7 @@ impl<'a, 'input> Reader<'a, 'input> {
     }
 
     /// An attribute of the object, else the `value` of that element of its parameter.
-    fn value_of(&self, n: Node<'a, 'input>, attr: &str, element: &str) -> Option<(&'a str, Node<'a, 'input>)> {
+    fn value_of(&self, n: Node<'a, 'i>, attr: &str, element: &str) -> Option<(&'a str, Node<'a, 'i>)> {
         if let Some(v) = n.attribute(attr) {
             return Some((v, n));
         }
@@ -227,7 +227,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         Ok(())
     }
 
-    fn object(&mut self, n: Node<'a, 'input>) -> Result<(), XmlError> {
+    fn object(&mut self, n: Node<'a, 'i>) -> Result<(), XmlError> {
         let index = n
             .attribute("index")
             .filter(|i| i.len() == 4)
@@ -277,7 +277,7 @@ impl<'a, 'input> Reader<'a, 'input> {
 
     /// One value: its type, access, default, limits and (XDC) actual value. What cannot be
     /// understood is left out, said at the line of its element, as an EDS's is.
-    fn entry(&mut self, n: Node<'a, 'input>, addr: ObjAddr, name: &str) {
+    fn entry(&mut self, n: Node<'a, 'i>, addr: ObjAddr, name: &str) {
         match self.try_entry(n, addr, name) {
             Ok(entry) => self.eds.dict.insert(entry),
             Err((at, why)) => self.find(at, Kind::ObjectLeftOut, format!("{addr} ({name}) left out: {why}")),
@@ -287,13 +287,7 @@ impl<'a, 'input> Reader<'a, 'input> {
     /// The data type of an object: its `dataType` attribute, else its parameter's type
     /// element; a CiA 301 type canctl does not handle is read as DOMAIN, as in an EDS
     /// (`Err` says why there is none).
-    fn data_type(
-        &mut self,
-        n: Node<'a, 'input>,
-        addr: ObjAddr,
-        name: &str,
-        no_default: bool,
-    ) -> Result<(DataType, bool), String> {
+    fn data_type(&mut self, n: Node<'a, 'i>, who: &str, no_default: bool) -> Result<(DataType, bool), String> {
         let code = match n.attribute("dataType") {
             Some(dt) => {
                 let hex = dt.strip_prefix("0x").or_else(|| dt.strip_prefix("0X")).unwrap_or(dt);
@@ -313,7 +307,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         match eds::data_type_from_code(code)? {
             Some(dtype) => Ok((dtype, false)),
             None => {
-                self.find(n, Kind::TypeAsBytes, eds::type_as_bytes(addr, name, code));
+                self.find(n, Kind::TypeAsBytes, eds::type_as_bytes(who, code));
                 Ok((DataType::D, true))
             }
         }
@@ -321,7 +315,7 @@ impl<'a, 'input> Reader<'a, 'input> {
 
     /// Who may access an object: its `accessType`, else its parameter's `access`, which
     /// CiA 311 makes "read" when not given.
-    fn access(&self, n: Node<'a, 'input>) -> Result<Access, String> {
+    fn access(&self, n: Node<'a, 'i>) -> Result<Access, String> {
         match n.attribute("accessType") {
             Some(a) => access_of(a).ok_or_else(|| format!("accessType '{a}' is not ro, wo, rw, rwr, rww or const")),
             None => {
@@ -331,17 +325,12 @@ impl<'a, 'input> Reader<'a, 'input> {
         }
     }
 
-    fn try_entry(
-        &mut self,
-        n: Node<'a, 'input>,
-        addr: ObjAddr,
-        name: &str,
-    ) -> Result<Entry, (Node<'a, 'input>, String)> {
+    fn try_entry(&mut self, n: Node<'a, 'i>, addr: ObjAddr, name: &str) -> Result<Entry, (Node<'a, 'i>, String)> {
         let default = self.value_of(n, "defaultValue", "defaultValue");
         let no_default = default.is_none_or(|(v, _)| v.trim().is_empty());
-        let (dtype, as_bytes) = self.data_type(n, addr, name, no_default).map_err(|why| (n, why))?;
-        let access = self.access(n).map_err(|why| (n, why))?;
         let who = format!("{addr} ({name})");
+        let (dtype, as_bytes) = self.data_type(n, &who, no_default).map_err(|why| (n, why))?;
+        let access = self.access(n).map_err(|why| (n, why))?;
         // As in an EDS, a value may be read as it plainly means (a C suffix), said so.
         let value = |r: &mut Self, key: &str, text: &str, at: Node| match dtype {
             // XML carries text as Unicode: a string's bytes are its UTF-8.

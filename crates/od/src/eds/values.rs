@@ -176,8 +176,8 @@ pub fn data_type_from_code(code: i128) -> Result<Option<DataType>, String> {
 
 /// What a reader does with a CiA 301 data type it does not handle (`data_type_from_code`
 /// gave `Ok(None)`), in words.
-pub fn type_as_bytes(addr: ObjAddr, name: &str, code: i128) -> String {
-    format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default")
+pub fn type_as_bytes(who: &str, code: i128) -> String {
+    format!("{who} has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default")
 }
 
 /// A LowLimit or HighLimit: an integer, two's complement when a signed type's is hex; one
