@@ -7,7 +7,7 @@
 /// Re-exported for readers beside this one.
 pub use super::lint::MAX_WARNINGS;
 use super::lint::{Kind, Warning, Warnings};
-use super::{Access, Dictionary, Entry, Init, ObjectKind};
+use super::{Access, Dictionary, Entry, Init, ObjectKind, Values};
 use canctl_canopen::{DataType, ObjAddr};
 use std::collections::{BTreeMap, BTreeSet};
 

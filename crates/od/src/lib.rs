@@ -54,6 +54,9 @@ pub fn read_description(path: &std::path::Path) -> Result<eds::Eds, ReadError> {
     parse_description(&bytes, &path.display().to_string())
 }
 
+/// What a device holds (or is to hold), by object address: a DCF's or an XDC's values.
+pub type Values = BTreeMap<ObjAddr, Vec<u8>>;
+
 /// The objects CiA 301 makes mandatory for every device: device type, error register and
 /// identity.
 pub(crate) const MANDATORY: [u16; 3] = [0x1000, 0x1001, 0x1018];

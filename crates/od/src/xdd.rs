@@ -10,10 +10,10 @@
 use super::cpj::Commissioning;
 use super::eds::{self, Eds, Header, WriteError};
 use super::lint::Kind;
-use super::{Access, Dictionary, Entry, Init, ObjectKind, MANDATORY};
+use super::{Access, Dictionary, Entry, Init, ObjectKind, Values, MANDATORY};
 use canctl_canopen::{DataType, ObjAddr};
 use roxmltree::{Document, Node};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 
 /// An XML file that cannot be read, or an XDD that is not one, at file:line:column.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -482,11 +482,7 @@ fn value_text(e: &Entry, init: &Init) -> Result<String, String> {
 /// An XDC (with `actualValue`s) or an XDD (without) for `dict`, as the bytes of the file.
 /// Every value reads back to the same bytes (`parse`), or nothing is written and the error
 /// names the object and why.
-pub fn write_bytes(
-    dict: &Dictionary,
-    values: Option<&BTreeMap<ObjAddr, Vec<u8>>>,
-    h: &Header,
-) -> Result<Vec<u8>, WriteError> {
+pub fn write_bytes(dict: &Dictionary, values: Option<&Values>, h: &Header) -> Result<Vec<u8>, WriteError> {
     let text = |what: &str, s: &str| attr(s).map_err(|why| WriteError { what: what.to_string(), why });
     let mut o = String::new();
     o.push_str("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
@@ -559,12 +555,7 @@ pub fn actual_value_text(e: &Entry, bytes: &[u8], node: Option<u8>) -> Result<St
 }
 
 /// The attributes of one value: type, access, default, limits, and its actual value.
-fn keys(
-    dict: &Dictionary,
-    e: &Entry,
-    values: Option<&BTreeMap<ObjAddr, Vec<u8>>>,
-    node: Option<u8>,
-) -> Result<String, WriteError> {
+fn keys(dict: &Dictionary, e: &Entry, values: Option<&Values>, node: Option<u8>) -> Result<String, WriteError> {
     let refuse = |key: &str, why: String| WriteError {
         what: format!("{} ({}) {key}", e.addr, dict.display_name(e.addr).unwrap_or_else(|| e.name.clone())),
         why,
