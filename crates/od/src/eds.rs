@@ -396,13 +396,12 @@ impl Reader {
         n: u8,
         sections: &BTreeMap<String, &Section>,
     ) -> Vec<Entry> {
-        let sub0 = Entry::count(index, "NrOfObjects", n);
         let Some(template) = self.entry(s, ObjAddr::new(index, 1), name, false) else { return Vec::new() };
         // The object section's own ParameterValue is no member's.
         self.eds.values.remove(&ObjAddr::new(index, 1));
         let names = self.compact_list(sections.get(&format!("{index:04x}name")).copied(), index, n);
         let values = self.compact_list(sections.get(&format!("{index:04x}value")).copied(), index, n);
-        let mut out = Vec::new();
+        let mut out = vec![Entry::count(index, "NrOfObjects", n)];
         for sub in 1..=n {
             let addr = ObjAddr::new(index, sub);
             let member = names.get(&sub).map_or_else(|| format!("{name}{sub}"), |(v, _)| self.encoding.decode(v));
@@ -418,9 +417,10 @@ impl Reader {
         }
         if !values.is_empty() {
             // The count the device is to hold is the number of values given.
-            self.eds.values.insert(sub0.addr, Init::Bytes(vec![values.keys().max().copied().unwrap_or(0)]));
+            self.eds
+                .values
+                .insert(ObjAddr::new(index, 0), Init::Bytes(vec![values.keys().max().copied().unwrap_or(0)]));
         }
-        out.insert(0, sub0);
         out
     }
 
