@@ -86,24 +86,18 @@ pub struct Origin {
     pub name: Option<String>,
 }
 
-/// Devices whose manual (a seed document) lists their own codes.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-enum Manual {
-    /// Temposonics MH CANopen sensor (seed 001, table 2).
-    TemposonicsMh,
-    /// ICP DAS CAN-2000C modules (seed 004, "EMCY" table).
-    IcpDasCan2000c,
-}
-
 impl Origin {
     /// Whether the device type names the CiA 402 drive profile.
     pub fn is_drive(&self) -> bool {
         self.device_type.is_some_and(crate::cia402::is_drive)
     }
 
-    fn manual(&self) -> Option<Manual> {
+    /// What the device's own manual (a seed document) says `code` means, where it lists it:
+    /// the Temposonics MH sensor's (seed 001, table 2), the ICP DAS CAN-2000C modules' (seed
+    /// 004, "EMCY" table, told apart by the first manufacturer-specific byte).
+    fn manual_meaning(&self, code: u16, manufacturer: u16) -> Option<&'static str> {
         if self.vendor == Some(0x40) && self.product == Some(0x4378_7800) {
-            return Some(Manual::TemposonicsMh);
+            return find(TEMPOSONICS_MH, code);
         }
         // Seed 004 gives no vendor-ID for ICP DAS, only the modules' names ("CAN-2057C",
         // "CAN-208...": CAN-2, three digits, C).
@@ -112,7 +106,9 @@ impl Origin {
             && name.starts_with(b"CAN-2")
             && name[5..8].iter().all(u8::is_ascii_digit)
             && name[8] == b'C';
-        can2000c.then_some(Manual::IcpDasCan2000c)
+        let first = manufacturer.to_le_bytes()[0];
+        let row = ICP_DAS_CAN2000C.iter().find(|(c, b, _)| can2000c && *c == code && *b == first);
+        row.map(|(_, _, m)| *m)
     }
 }
 
@@ -347,15 +343,7 @@ fn find(table: &[(u16, &'static str)], code: u16) -> Option<&'static str> {
 /// part the device sent with it (the upper 16 bits of a 0x1003 entry, EMCY bytes 3 and 4).
 /// The device's own manual first, then CiA 402 for drives, then CiA 301.
 pub fn meaning(code: u16, manufacturer: u16, origin: &Origin) -> Meaning {
-    let manual = match origin.manual() {
-        Some(Manual::TemposonicsMh) => find(TEMPOSONICS_MH, code),
-        Some(Manual::IcpDasCan2000c) => {
-            let first = manufacturer.to_le_bytes()[0];
-            ICP_DAS_CAN2000C.iter().find(|(c, b, _)| *c == code && *b == first).map(|(_, _, m)| *m)
-        }
-        None => None,
-    };
-    if let Some(text) = manual {
+    if let Some(text) = origin.manual_meaning(code, manufacturer) {
         return Meaning { text, source: Source::Device };
     }
     if origin.is_drive() {
