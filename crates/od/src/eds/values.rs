@@ -26,11 +26,7 @@ pub(super) fn node_id_offset(text: &str) -> Option<Result<i128, String>> {
 }
 
 pub(super) fn parse_unsigned(text: &str) -> Option<i128> {
-    let t = trim_blanks(text);
-    if t.starts_with(['+', '-']) {
-        return None;
-    }
-    parse_int(t)
+    Some(trim_blanks(text)).filter(|t| !t.starts_with(['+', '-'])).and_then(parse_int)
 }
 
 /// A real as CiA 306 files write it (`1.5`, `-2e3`, `inf`, `nan`), or the exact bits as

@@ -118,10 +118,7 @@ pub fn write_bytes(dict: &Dictionary, values: Option<&Values>, h: &Header) -> Re
 /// When the dictionary holds a value no EDS can carry: files from devices go through
 /// `write_bytes`, which says so.
 pub fn write(dict: &Dictionary, values: Option<&Values>, h: &Header) -> String {
-    match write_bytes(dict, values, h) {
-        Ok(bytes) => bytes.iter().map(|b| *b as char).collect(),
-        Err(e) => panic!("{e}"),
-    }
+    write_bytes(dict, values, h).unwrap_or_else(|e| panic!("{e}")).iter().map(|b| *b as char).collect()
 }
 
 pub(super) enum Line {
