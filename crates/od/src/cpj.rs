@@ -84,10 +84,7 @@ impl Project {
     /// which it cannot leave), else the project's folder.
     pub fn dcf_dir(&self, project_file: &Path) -> PathBuf {
         let here = project_file.parent().map(Path::to_path_buf).unwrap_or_default();
-        match self.eds_base_name.as_deref().filter(|b| !b.is_empty()) {
-            Some(base) => here.join(base),
-            None => here,
-        }
+        self.eds_base_name.as_deref().filter(|b| !b.is_empty()).map_or_else(|| here.clone(), |base| here.join(base))
     }
 
     /// Where node `id`'s DCF is, when the project names one.

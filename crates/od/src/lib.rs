@@ -38,10 +38,7 @@ pub enum ReadError {
 /// An EDS, DCF, XDD or XDC, told apart by content (XML or INI), not by the file's name:
 /// vendors ship XDDs named `.eds` and tools write XDCs without an extension.
 pub fn parse_description(bytes: &[u8], path: &str) -> Result<eds::Eds, ReadError> {
-    match xdd::is_xml(bytes) {
-        true => Ok(xdd::parse(bytes, path)?),
-        false => Ok(eds::parse(bytes, path)?),
-    }
+    Ok(if xdd::is_xml(bytes) { xdd::parse(bytes, path)? } else { eds::parse(bytes, path)? })
 }
 
 /// [`parse_description`] of a file: a regular file within `input::MAX_EDS_BYTES`.

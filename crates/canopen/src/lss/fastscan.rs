@@ -187,10 +187,7 @@ impl Fastscan {
     /// What to do next, given the answers fed so far.
     pub fn next(&self) -> FastscanNext {
         if let Some(outcome) = self.outcome {
-            return match outcome {
-                Ok(id) => FastscanNext::Found(id),
-                Err(e) => FastscanNext::Failed(e),
-            };
+            return outcome.map_or_else(FastscanNext::Failed, FastscanNext::Found);
         }
         let fastscan = |request: Request| Ask {
             request,
