@@ -23,18 +23,14 @@ impl Emergency {
     /// Node and message, if `frame` is an EMCY on the default COB-IDs. A zero-length frame
     /// on 0x80+node is the old "EMCY at power on" some drives send (seed 003): no EMCY.
     pub fn parse(frame: &Frame) -> Option<(u8, Emergency)> {
+        // A remote frame has no data: no EMCY.
         let node = frame.id().checked_sub(0x080).filter(|n| (1..=127).contains(n))? as u8;
-        if frame.is_remote() {
-            return None;
-        }
         Some((node, Emergency::decode(frame.data())?))
     }
 
     /// The message in an EMCY frame's data, whatever COB-ID carried it (0x1014 may move it).
     pub fn decode(d: &[u8]) -> Option<Emergency> {
-        if d.len() != 8 {
-            return None;
-        }
+        let d: &[u8; 8] = d.try_into().ok()?;
         Some(Emergency { code: u16::from_le_bytes([d[0], d[1]]), register: d[2], vendor: d[3..8].try_into().ok()? })
     }
 
@@ -358,14 +354,12 @@ pub fn meaning(code: u16, manufacturer: u16, origin: &Origin) -> Meaning {
 /// The CiA 301 meaning of a code: the exact code where CiA 301 names it, else its class
 /// (`0x2310` is "Current, device output side", `0x42AB` "Device temperature").
 pub fn code_meaning(code: u16) -> &'static str {
-    if let Some(m) = find(CIA301, code) {
-        return m;
-    }
     let class = |mask: u16| find(CIA301, code & mask).filter(|_| code & mask != 0);
-    if let Some(m) = class(0xFFF0).or_else(|| class(0xFF00)).or_else(|| class(0xF000)) {
-        return m;
-    }
-    "Unknown error code class"
+    find(CIA301, code)
+        .or_else(|| class(0xFFF0))
+        .or_else(|| class(0xFF00))
+        .or_else(|| class(0xF000))
+        .unwrap_or("Unknown error code class")
 }
 
 /// One entry of the pre-defined error field 0x1003 (CiA 301): the error code in the low

@@ -137,10 +137,8 @@ impl ErrorControl {
     /// The node and what it said, if `frame` is an error-control data frame.
     pub fn parse(frame: &Frame) -> Option<(u8, ErrorControl)> {
         let node = frame.id().checked_sub(0x700).filter(|n| (1..=127).contains(n))? as u8;
-        if frame.is_remote() || frame.len() != 1 {
-            return None;
-        }
-        let b = frame.data()[0];
+        // A remote frame has no data.
+        let &[b] = frame.data() else { return None };
         let toggle = b & 0x80 != 0;
         let ec = match State::from_code(b & 0x7F) {
             Some(State::Initialising) if !toggle => ErrorControl::BootUp,

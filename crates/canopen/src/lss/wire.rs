@@ -223,9 +223,7 @@ impl Request {
 
     /// The request in these data bytes; `None` for one not known.
     pub fn decode(d: &[u8]) -> Option<Request> {
-        if d.len() != 8 {
-            return None;
-        }
+        let d: &[u8; 8] = d.try_into().ok()?;
         let v = u32::from_le_bytes([d[1], d[2], d[3], d[4]]);
         Some(match d[0] {
             0x04 if d[1] <= 1 => Request::SwitchGlobal { configuration: d[1] == 1 },
@@ -286,9 +284,7 @@ impl Response {
 
     /// The answer in these data bytes; `None` for one not known.
     pub fn decode(d: &[u8]) -> Option<Response> {
-        if d.len() != 8 {
-            return None;
-        }
+        let d: &[u8; 8] = d.try_into().ok()?;
         let v = u32::from_le_bytes([d[1], d[2], d[3], d[4]]);
         Some(match d[0] {
             0x44 => Response::SwitchSelectiveAck,
