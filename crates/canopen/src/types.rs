@@ -186,9 +186,7 @@ impl DataType {
             DataType::Unicode => Ok(text.encode_utf16().flat_map(u16::to_le_bytes).collect()),
             DataType::TimeOfDay | DataType::TimeDifference => {
                 let (days, ms) = time::parse(t, self == DataType::TimeOfDay).map_err(ValueError)?;
-                let mut b = ms.to_le_bytes().to_vec();
-                b.extend_from_slice(&days.to_le_bytes());
-                Ok(b)
+                Ok([ms.to_le_bytes().as_slice(), &days.to_le_bytes()].concat())
             }
             DataType::Os | DataType::D => {
                 parse_hex(t).map_err(|e| ValueError(format!("{e} (or @FILE to read the bytes from a file)")))

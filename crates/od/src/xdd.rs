@@ -179,12 +179,10 @@ impl<'a, 'i> Reader<'a, 'i> {
 
     /// An attribute of the object, else the `value` of that element of its parameter.
     fn value_of(&self, n: Node<'a, 'i>, attr: &str, element: &str) -> Option<(&'a str, Node<'a, 'i>)> {
-        if let Some(v) = n.attribute(attr) {
-            return Some((v, n));
-        }
-        let p = self.parameter(n)?;
-        let e = child(p, element)?;
-        e.attribute("value").map(|v| (v, e))
+        n.attribute(attr).map(|v| (v, n)).or_else(|| {
+            let e = child(self.parameter(n)?, element)?;
+            e.attribute("value").map(|v| (v, e))
+        })
     }
 
     fn read(&mut self) -> Result<(), XmlError> {
