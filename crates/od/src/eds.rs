@@ -543,12 +543,13 @@ impl Reader {
 
 /// Read a file from disk: a regular file within `input::MAX_EDS_BYTES`.
 pub fn read_file(path: &std::path::Path) -> Result<Eds, EdsError> {
-    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|e| EdsError {
-        path: path.display().to_string(),
-        line: 0,
-        msg: e.to_string(),
-    })?;
-    parse(&bytes, &path.display().to_string())
+    parse(&read_bytes(path)?, &path.display().to_string())
+}
+
+/// The bytes of a description file on disk, within `input::MAX_EDS_BYTES`.
+pub(crate) fn read_bytes(path: &std::path::Path) -> Result<Vec<u8>, EdsError> {
+    let read = crate::input::read_regular_file(path, crate::input::EDS);
+    read.map_err(|e| EdsError { path: path.display().to_string(), line: 0, msg: e.to_string() })
 }
 
 #[cfg(test)]

@@ -43,12 +43,7 @@ pub fn parse_description(bytes: &[u8], path: &str) -> Result<eds::Eds, ReadError
 
 /// [`parse_description`] of a file: a regular file within `input::MAX_EDS_BYTES`.
 pub fn read_description(path: &std::path::Path) -> Result<eds::Eds, ReadError> {
-    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|e| eds::EdsError {
-        path: path.display().to_string(),
-        line: 0,
-        msg: e.to_string(),
-    })?;
-    parse_description(&bytes, &path.display().to_string())
+    parse_description(&eds::read_bytes(path)?, &path.display().to_string())
 }
 
 /// What a device holds (or is to hold), by object address: a DCF's or an XDC's values.
