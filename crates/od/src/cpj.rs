@@ -281,13 +281,8 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Read, CpjError> {
 
 /// Read a project file from disk.
 pub fn read_file(path: &Path) -> Result<Read, CpjError> {
-    let name = path.display().to_string();
-    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|e| CpjError {
-        path: name.clone(),
-        line: 0,
-        msg: e.to_string(),
-    })?;
-    parse(&bytes, &name)
+    let bytes = crate::eds::read_bytes(path).map_err(|e| CpjError { path: e.path, line: 0, msg: e.msg })?;
+    parse(&bytes, &path.display().to_string())
 }
 
 /// A value no INI line can carry.
