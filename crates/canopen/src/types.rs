@@ -141,16 +141,14 @@ impl DataType {
         matches!(self, I8 | I16 | I24 | I32 | I40 | I48 | I56 | I64)
     }
 
-    fn is_unsigned(self) -> bool {
-        use DataType::*;
-        matches!(self, U8 | U16 | U24 | U32 | U40 | U48 | U56 | U64)
-    }
-
     /// Inclusive range of an integer type.
     pub fn int_range(self) -> Option<(i128, i128)> {
+        use DataType::*;
         let bits = match self {
-            DataType::Bool => return Some((0, 1)),
-            t if t.is_signed() || t.is_unsigned() => 8 * t.size().unwrap() as u32,
+            Bool => return Some((0, 1)),
+            t if t.is_signed() || matches!(t, U8 | U16 | U24 | U32 | U40 | U48 | U56 | U64) => {
+                8 * t.size().unwrap() as u32
+            }
             _ => return None,
         };
         Some(if self.is_signed() {
