@@ -234,18 +234,11 @@ impl Reader {
     /// comment after it is read as python-canopen and Lely's dcfchk read it, and said so.
     fn plain<'s>(&mut self, s: &'s Section, key: &str) -> Option<(&'s str, usize)> {
         let (v, line) = s.get(key)?;
-        match strip_comment(v) {
-            Some(value) => {
-                let key = s.spelled.get(key).map_or(key, String::as_str);
-                self.warn(
-                    line,
-                    Kind::InlineComment,
-                    format!("{key}={v}: the text from ';' on is read as a comment; the value is '{value}'"),
-                );
-                Some((value, line))
-            }
-            None => Some((v, line)),
-        }
+        let Some(value) = strip_comment(v) else { return Some((v, line)) };
+        let key = s.spelled.get(key).map_or(key, String::as_str);
+        let why = format!("{key}={v}: the text from ';' on is read as a comment; the value is '{value}'");
+        self.warn(line, Kind::InlineComment, why);
+        Some((value, line))
     }
 
     fn commissioning(&mut self, s: &Section) {
@@ -290,11 +283,8 @@ impl Reader {
                 (Some(_), Some(0)) => {}
                 _ => {
                     let key = s.spelled.get(key.as_str()).unwrap_or(key);
-                    self.warn(
-                        *line,
-                        Kind::BadDummyUsage,
-                        format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored"),
-                    )
+                    let why = format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored");
+                    self.warn(*line, Kind::BadDummyUsage, why)
                 }
             }
         }
@@ -356,11 +346,8 @@ impl Reader {
         }
         for index in super::MANDATORY {
             if !by_name.contains_key(&(index, None)) {
-                self.warn(
-                    first.line,
-                    Kind::MissingMandatory,
-                    format!("no [{index:04X}] section: {}", mandatory(index)),
-                );
+                let why = format!("no [{index:04X}] section: {}", mandatory(index));
+                self.warn(first.line, Kind::MissingMandatory, why);
             }
         }
     }
