@@ -67,7 +67,9 @@ impl fmt::Display for Frame {
         match (self.rtr, self.len) {
             (true, 0) => write!(f, "{:03X}#R", self.id),
             (true, len) => write!(f, "{:03X}#R{len}", self.id),
-            (false, _) => write!(f, "{:03X}#{}", self.id, crate::types::hex(self.data())),
+            (false, _) => {
+                write!(f, "{:03X}#{}", self.id, self.data().iter().map(|b| format!("{b:02X}")).collect::<String>())
+            }
         }
     }
 }
