@@ -541,6 +541,18 @@ mod tests {
     }
 
     #[test]
+    fn the_name_and_code_tables_follow_the_order_of_the_enum() {
+        for (i, t) in ALL_TYPES.iter().enumerate() {
+            assert_eq!(*t as usize, i, "{t:?}");
+        }
+        assert_eq!((Bool.name(), Bool.code()), ("b", 0x01));
+        assert_eq!((U64.name(), U64.code()), ("u64", 0x1B));
+        assert_eq!((D.name(), D.code()), ("d", 0x0F));
+        assert_eq!((TimeDifference.name(), TimeDifference.code()), ("td", 0x0D));
+        assert_eq!((Unicode.name(), Unicode.code()), ("us", 0x0B));
+    }
+
+    #[test]
     fn every_cia_301_basic_type_has_its_code() {
         let codes: Vec<u16> = ALL_TYPES.iter().map(|t| t.code()).collect();
         for code in (0x01..=0x1B).filter(|c| ![0x0E, 0x17].contains(c)) {
