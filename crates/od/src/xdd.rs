@@ -66,13 +66,10 @@ fn utf16(bytes: &[u8]) -> Option<Vec<u16>> {
 /// The text of the file: UTF-8 (XML's default), UTF-16 with its byte order mark, or
 /// Latin-1 where the declaration says so.
 fn decode(bytes: &[u8], path: &str) -> Result<String, XmlError> {
+    let error = |line, column, msg: &str| XmlError { path: path.to_string(), line, column, msg: msg.into() };
     if let Some(units) = utf16(bytes) {
-        return String::from_utf16(&units).map_err(|_| XmlError {
-            path: path.to_string(),
-            line: 1,
-            column: 1,
-            msg: "begins with a UTF-16 byte order mark but is not UTF-16".into(),
-        });
+        return String::from_utf16(&units)
+            .map_err(|_| error(1, 1, "begins with a UTF-16 byte order mark but is not UTF-16"));
     }
     let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
     match std::str::from_utf8(bytes) {
@@ -85,12 +82,7 @@ fn decode(bytes: &[u8], path: &str) -> Result<String, XmlError> {
             let at = e.valid_up_to();
             let line = bytes[..at].iter().filter(|b| **b == b'\n').count() as u32 + 1;
             let column = (at - bytes[..at].iter().rposition(|b| *b == b'\n').map_or(0, |p| p + 1)) as u32 + 1;
-            Err(XmlError {
-                path: path.to_string(),
-                line,
-                column,
-                msg: "not UTF-8, and the XML declaration names no other encoding".into(),
-            })
+            Err(error(line, column, "not UTF-8, and the XML declaration names no other encoding"))
         }
     }
 }
