@@ -28,12 +28,7 @@ pub struct Identity {
 impl Identity {
     /// Part `i` of the identity: 0 vendor, 1 product, 2 revision, 3 serial.
     pub fn part(&self, i: u8) -> u32 {
-        match i {
-            0 => self.vendor,
-            1 => self.product,
-            2 => self.revision,
-            _ => self.serial,
-        }
+        [self.vendor, self.product, self.revision, self.serial][usize::from(i.min(3))]
     }
 }
 
