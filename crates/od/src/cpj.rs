@@ -158,10 +158,7 @@ fn node_key(key: &str) -> Option<(&str, String)> {
     key.get(..4).filter(|p| p.eq_ignore_ascii_case("node"))?;
     let tail = &key[4..];
     let digits = tail.len() - tail.trim_start_matches(|c: char| c.is_ascii_digit()).len();
-    if digits == 0 {
-        return None;
-    }
-    Some((&tail[..digits], tail[digits..].to_ascii_lowercase()))
+    (digits > 0).then(|| (&tail[..digits], tail[digits..].to_ascii_lowercase()))
 }
 
 /// Whether a file name from a project stays in the project's folder, so that a project
