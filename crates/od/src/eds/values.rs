@@ -60,9 +60,8 @@ pub(crate) fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
     }
     if let Some(offset) = node_id_offset(t) {
         let offset = offset?;
-        let (_, hi) = match dtype.int_range() {
-            Some(range) if dtype != DataType::Bool => range,
-            _ => return Err(format!("'{t}' is node-id arithmetic, which needs an integer type, not {dtype}")),
+        let Some((_, hi)) = dtype.int_range().filter(|_| dtype != DataType::Bool) else {
+            return Err(format!("'{t}' is node-id arithmetic, which needs an integer type, not {dtype}"));
         };
         let highest = offset + NODE_IDS.end();
         if highest > hi {
