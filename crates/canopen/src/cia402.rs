@@ -27,44 +27,22 @@ pub fn is_drive(device_type: u32) -> bool {
 
 /// Statusword bits (CiA 402 §6.4.3, object 0x6041).
 pub mod sw {
-    /// Bit 0: ready to switch on.
-    pub const READY_TO_SWITCH_ON: u16 = 1 << 0;
-    /// Bit 1: switched on.
-    pub const SWITCHED_ON: u16 = 1 << 1;
-    /// Bit 2: operation enabled.
-    pub const OPERATION_ENABLED: u16 = 1 << 2;
-    /// Bit 3: fault.
-    pub const FAULT: u16 = 1 << 3;
     /// Bit 4: the power stage has voltage.
     pub const VOLTAGE_ENABLED: u16 = 1 << 4;
-    /// Active low: 0 while a quick stop is under way.
-    pub const QUICK_STOP: u16 = 1 << 5;
-    /// Bit 6: switch on disabled.
-    pub const SWITCH_ON_DISABLED: u16 = 1 << 6;
     /// Bit 7: a warning stands (the drive keeps running).
     pub const WARNING: u16 = 1 << 7;
     /// Bit 9: the drive follows controlword commands (remote).
     pub const REMOTE: u16 = 1 << 9;
-    /// Bit 10: the target (position, velocity) is reached.
-    pub const TARGET_REACHED: u16 = 1 << 10;
-    /// Bit 11: an internal limit is active.
-    pub const INTERNAL_LIMIT_ACTIVE: u16 = 1 << 11;
 }
 
 /// Controlword bits (CiA 402 §6.4.2, object 0x6040).
 pub mod cw {
-    /// Bit 0: switch on.
-    pub const SWITCH_ON: u16 = 1 << 0;
     /// Bit 1: enable voltage.
     pub const ENABLE_VOLTAGE: u16 = 1 << 1;
     /// Active low: 0 commands a quick stop.
     pub const QUICK_STOP: u16 = 1 << 2;
-    /// Bit 3: enable operation.
-    pub const ENABLE_OPERATION: u16 = 1 << 3;
     /// Acts on its rising edge only.
     pub const FAULT_RESET: u16 = 1 << 7;
-    /// Bit 8: halt (stop moving, stay enabled).
-    pub const HALT: u16 = 1 << 8;
 }
 
 /// Every statusword bit by name; bits 8 and 14–15 are the manufacturer's, 12–13 depend on
@@ -115,35 +93,24 @@ pub enum State {
     Fault,
 }
 
-/// (mask, value) of each state in the statusword (CiA 402 table "state coding").
-const STATE_CODING: [(u16, u16, State); 8] = [
-    (0x004F, 0x0000, State::NotReadyToSwitchOn),
-    (0x004F, 0x0040, State::SwitchOnDisabled),
-    (0x006F, 0x0021, State::ReadyToSwitchOn),
-    (0x006F, 0x0023, State::SwitchedOn),
-    (0x006F, 0x0027, State::OperationEnabled),
-    (0x006F, 0x0007, State::QuickStopActive),
-    (0x004F, 0x000F, State::FaultReactionActive),
-    (0x004F, 0x0008, State::Fault),
+/// (mask, value) of each state in the statusword (CiA 402 table "state coding"), in the
+/// order of the state machine, and its name as the standard writes it.
+const STATE_CODING: [(u16, u16, State, &str); 8] = [
+    (0x004F, 0x0000, State::NotReadyToSwitchOn, "Not ready to switch on"),
+    (0x004F, 0x0040, State::SwitchOnDisabled, "Switch on disabled"),
+    (0x006F, 0x0021, State::ReadyToSwitchOn, "Ready to switch on"),
+    (0x006F, 0x0023, State::SwitchedOn, "Switched on"),
+    (0x006F, 0x0027, State::OperationEnabled, "Operation enabled"),
+    (0x006F, 0x0007, State::QuickStopActive, "Quick stop active"),
+    (0x004F, 0x000F, State::FaultReactionActive, "Fault reaction active"),
+    (0x004F, 0x0008, State::Fault, "Fault"),
 ];
 
 impl State {
-    /// Every state, in the order of the state machine.
-    pub const ALL: [State; 8] = [
-        State::NotReadyToSwitchOn,
-        State::SwitchOnDisabled,
-        State::ReadyToSwitchOn,
-        State::SwitchedOn,
-        State::OperationEnabled,
-        State::QuickStopActive,
-        State::FaultReactionActive,
-        State::Fault,
-    ];
-
     /// The state a statusword codes, or None for a bit pattern CiA 402 gives no state
     /// (e.g. ready to switch on with quick stop low).
     pub fn from_statusword(statusword: u16) -> Option<State> {
-        STATE_CODING.iter().find(|(mask, value, _)| statusword & mask == *value).map(|c| c.2)
+        STATE_CODING.iter().find(|(mask, value, ..)| statusword & mask == *value).map(|c| c.2)
     }
 
     /// The state bits (0–3, 5, 6) a drive in this state shows; the other bits are the
@@ -154,16 +121,7 @@ impl State {
 
     /// Its name as the standard writes it ("operation enabled").
     pub fn name(self) -> &'static str {
-        match self {
-            State::NotReadyToSwitchOn => "Not ready to switch on",
-            State::SwitchOnDisabled => "Switch on disabled",
-            State::ReadyToSwitchOn => "Ready to switch on",
-            State::SwitchedOn => "Switched on",
-            State::OperationEnabled => "Operation enabled",
-            State::QuickStopActive => "Quick stop active",
-            State::FaultReactionActive => "Fault reaction active",
-            State::Fault => "Fault",
-        }
+        STATE_CODING.iter().find(|c| c.2 == self).map_or("", |c| c.3)
     }
 
     /// A state the drive leaves on its own (transitions 1 and 14), not by a command.
@@ -198,30 +156,26 @@ pub enum Command {
     FaultReset,
 }
 
+/// Each command's controlword (every "x" bit 0, halt clear) and its name as the standard writes it.
+const COMMANDS: [(Command, u16, &str); 7] = [
+    (Command::Shutdown, 0x0006, "shutdown"),
+    (Command::SwitchOn, 0x0007, "switch on"),
+    (Command::EnableOperation, 0x000F, "enable operation"),
+    (Command::DisableVoltage, 0x0000, "disable voltage"),
+    (Command::QuickStop, 0x0002, "quick stop"),
+    (Command::DisableOperation, 0x0007, "disable operation"),
+    (Command::FaultReset, 0x0080, "fault reset"),
+];
+
 impl Command {
     /// The controlword that issues the command, every "x" bit 0 (halt clear).
     pub fn controlword(self) -> u16 {
-        match self {
-            Command::Shutdown => 0x0006,
-            Command::SwitchOn | Command::DisableOperation => 0x0007,
-            Command::EnableOperation => 0x000F,
-            Command::DisableVoltage => 0x0000,
-            Command::QuickStop => 0x0002,
-            Command::FaultReset => 0x0080,
-        }
+        COMMANDS.iter().find(|c| c.0 == self).map_or(0, |c| c.1)
     }
 
     /// Its name as the standard writes it ("enable operation").
     pub fn name(self) -> &'static str {
-        match self {
-            Command::Shutdown => "shutdown",
-            Command::SwitchOn => "switch on",
-            Command::EnableOperation => "enable operation",
-            Command::DisableVoltage => "disable voltage",
-            Command::QuickStop => "quick stop",
-            Command::DisableOperation => "disable operation",
-            Command::FaultReset => "fault reset",
-        }
+        COMMANDS.iter().find(|c| c.0 == self).map_or("", |c| c.2)
     }
 }
 
@@ -405,7 +359,7 @@ mod tests {
 
     #[test]
     fn each_state_codes_back_to_itself() {
-        for state in State::ALL {
+        for state in STATE_CODING.map(|c| c.2) {
             assert_eq!(State::from_statusword(state.statusword_bits()), Some(state));
             // The drive's own bits (voltage enabled, remote, warning, target reached) do
             // not change it.

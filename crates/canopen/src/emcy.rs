@@ -23,29 +23,21 @@ impl Emergency {
     /// Node and message, if `frame` is an EMCY on the default COB-IDs. A zero-length frame
     /// on 0x80+node is the old "EMCY at power on" some drives send (seed 003): no EMCY.
     pub fn parse(frame: &Frame) -> Option<(u8, Emergency)> {
+        // A remote frame has no data: no EMCY.
         let node = frame.id().checked_sub(0x080).filter(|n| (1..=127).contains(n))? as u8;
-        if frame.is_remote() {
-            return None;
-        }
         Some((node, Emergency::decode(frame.data())?))
     }
 
     /// The message in an EMCY frame's data, whatever COB-ID carried it (0x1014 may move it).
     pub fn decode(d: &[u8]) -> Option<Emergency> {
-        if d.len() != 8 {
-            return None;
-        }
-        let mut vendor = [0u8; 5];
-        vendor.copy_from_slice(&d[3..8]);
-        Some(Emergency { code: u16::from_le_bytes([d[0], d[1]]), register: d[2], vendor })
+        let d: &[u8; 8] = d.try_into().ok()?;
+        Some(Emergency { code: u16::from_le_bytes([d[0], d[1]]), register: d[2], vendor: d[3..8].try_into().ok()? })
     }
 
     /// The message as `node` sends it, on its default EMCY COB-ID.
     pub fn frame(&self, node: u8) -> Frame {
-        let [lo, hi] = self.code.to_le_bytes();
-        let mut d = [lo, hi, self.register, 0, 0, 0, 0, 0];
-        d[3..].copy_from_slice(&self.vendor);
-        Frame::new(cob(node), &d)
+        let ([lo, hi], [a, b, c, d, e]) = (self.code.to_le_bytes(), self.vendor);
+        Frame::new(cob(node), &[lo, hi, self.register, a, b, c, d, e])
     }
 
     /// The 0x1003 history entry: error code in the low word, vendor bytes 0..2 high.
@@ -90,24 +82,18 @@ pub struct Origin {
     pub name: Option<String>,
 }
 
-/// Devices whose manual (a seed document) lists their own codes.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-enum Manual {
-    /// Temposonics MH CANopen sensor (seed 001, table 2).
-    TemposonicsMh,
-    /// ICP DAS CAN-2000C modules (seed 004, "EMCY" table).
-    IcpDasCan2000c,
-}
-
 impl Origin {
     /// Whether the device type names the CiA 402 drive profile.
     pub fn is_drive(&self) -> bool {
         self.device_type.is_some_and(crate::cia402::is_drive)
     }
 
-    fn manual(&self) -> Option<Manual> {
+    /// What the device's own manual (a seed document) says `code` means, where it lists it:
+    /// the Temposonics MH sensor's (seed 001, table 2), the ICP DAS CAN-2000C modules' (seed
+    /// 004, "EMCY" table, told apart by the first manufacturer-specific byte).
+    fn manual_meaning(&self, code: u16, manufacturer: u16) -> Option<&'static str> {
         if self.vendor == Some(0x40) && self.product == Some(0x4378_7800) {
-            return Some(Manual::TemposonicsMh);
+            return find(TEMPOSONICS_MH, code);
         }
         // Seed 004 gives no vendor-ID for ICP DAS, only the modules' names ("CAN-2057C",
         // "CAN-208...": CAN-2, three digits, C).
@@ -116,7 +102,9 @@ impl Origin {
             && name.starts_with(b"CAN-2")
             && name[5..8].iter().all(u8::is_ascii_digit)
             && name[8] == b'C';
-        can2000c.then_some(Manual::IcpDasCan2000c)
+        let first = manufacturer.to_le_bytes()[0];
+        let row = ICP_DAS_CAN2000C.iter().find(|(c, b, _)| can2000c && *c == code && *b == first);
+        row.map(|(_, _, m)| *m)
     }
 }
 
@@ -351,20 +339,8 @@ fn find(table: &[(u16, &'static str)], code: u16) -> Option<&'static str> {
 /// part the device sent with it (the upper 16 bits of a 0x1003 entry, EMCY bytes 3 and 4).
 /// The device's own manual first, then CiA 402 for drives, then CiA 301.
 pub fn meaning(code: u16, manufacturer: u16, origin: &Origin) -> Meaning {
-    let device = |text| Meaning { text, source: Source::Device };
-    match origin.manual() {
-        Some(Manual::TemposonicsMh) => {
-            if let Some(m) = find(TEMPOSONICS_MH, code) {
-                return device(m);
-            }
-        }
-        Some(Manual::IcpDasCan2000c) => {
-            let first = manufacturer.to_le_bytes()[0];
-            if let Some((_, _, m)) = ICP_DAS_CAN2000C.iter().find(|(c, b, _)| *c == code && *b == first) {
-                return device(m);
-            }
-        }
-        None => {}
+    if let Some(text) = origin.manual_meaning(code, manufacturer) {
+        return Meaning { text, source: Source::Device };
     }
     if origin.is_drive() {
         // An exact code, else its group (0x2311 is one of the 0x2310 over-currents).
@@ -378,14 +354,12 @@ pub fn meaning(code: u16, manufacturer: u16, origin: &Origin) -> Meaning {
 /// The CiA 301 meaning of a code: the exact code where CiA 301 names it, else its class
 /// (`0x2310` is "Current, device output side", `0x42AB` "Device temperature").
 pub fn code_meaning(code: u16) -> &'static str {
-    if let Some(m) = find(CIA301, code) {
-        return m;
-    }
     let class = |mask: u16| find(CIA301, code & mask).filter(|_| code & mask != 0);
-    if let Some(m) = class(0xFFF0).or_else(|| class(0xFF00)).or_else(|| class(0xF000)) {
-        return m;
-    }
-    "Unknown error code class"
+    find(CIA301, code)
+        .or_else(|| class(0xFFF0))
+        .or_else(|| class(0xFF00))
+        .or_else(|| class(0xF000))
+        .unwrap_or("Unknown error code class")
 }
 
 /// One entry of the pre-defined error field 0x1003 (CiA 301): the error code in the low

@@ -55,33 +55,22 @@ impl Frame {
 
     /// One line as `candump` prints it: `  vcan0  605   [8]  40 00 10 00 00 00 00 00`.
     pub fn candump_line(&self, iface: &str) -> String {
-        let mut s = format!("  {iface}  {:03X}   [{}] ", self.id, self.len);
-        if self.rtr {
-            s.push_str(" remote request");
-        } else {
-            for b in self.data() {
-                s.push_str(&format!(" {b:02X}"));
-            }
-        }
-        s
+        let tail: String =
+            if self.rtr { " remote request".into() } else { self.data().iter().map(|b| format!(" {b:02X}")).collect() };
+        format!("  {iface}  {:03X}   [{}] {tail}", self.id, self.len)
     }
 }
 
 /// can-utils compact notation (`cansend`): `123#DEADBEEF`, `123#R`, `123#R4`.
 impl fmt::Display for Frame {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{:03X}#", self.id)?;
-        if self.rtr {
-            write!(f, "R")?;
-            if self.len > 0 {
-                write!(f, "{}", self.len)?;
+        match (self.rtr, self.len) {
+            (true, 0) => write!(f, "{:03X}#R", self.id),
+            (true, len) => write!(f, "{:03X}#R{len}", self.id),
+            (false, _) => {
+                write!(f, "{:03X}#{}", self.id, self.data().iter().map(|b| format!("{b:02X}")).collect::<String>())
             }
-            return Ok(());
         }
-        for b in self.data() {
-            write!(f, "{b:02X}")?;
-        }
-        Ok(())
     }
 }
 
@@ -120,6 +109,15 @@ impl std::str::FromStr for Frame {
         }
         Ok(Frame::new(id, &data))
     }
+}
+
+/// The 8 data bytes of a protocol's command frame (SDO, LSS): the command byte, `data`
+/// after it, zeros to the end.
+pub(crate) fn command(cs: u8, data: &[u8]) -> [u8; 8] {
+    let mut f = [0u8; 8];
+    f[0] = cs;
+    f[1..1 + data.len()].copy_from_slice(data);
+    f
 }
 
 /// Hex text to bytes: `DEADBEEF`, `de ad be ef`, `0xdeadbeef`.

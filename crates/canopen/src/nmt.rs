@@ -11,43 +11,32 @@ pub fn error_control_cob(node: u8) -> u16 {
     0x700 + node as u16
 }
 
-/// An NMT command (CiA 301 §7.2.8.3.1).
+/// An NMT command (CiA 301 §7.2.8.3.1); its value is its command specifier.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(u8)]
 pub enum Command {
     /// To Operational.
-    Start,
+    Start = 0x01,
     /// To Stopped.
-    Stop,
+    Stop = 0x02,
     /// To Pre-operational.
-    PreOperational,
+    PreOperational = 0x80,
     /// Reset the application (and communication).
-    ResetNode,
+    ResetNode = 0x81,
     /// Reset communication only.
-    ResetCommunication,
+    ResetCommunication = 0x82,
 }
 
 impl Command {
     /// Its command specifier, byte 0 of the NMT frame.
     pub fn specifier(self) -> u8 {
-        match self {
-            Command::Start => 0x01,
-            Command::Stop => 0x02,
-            Command::PreOperational => 0x80,
-            Command::ResetNode => 0x81,
-            Command::ResetCommunication => 0x82,
-        }
+        self as u8
     }
 
     /// The command a command specifier (byte 0 of an NMT frame) codes.
     pub fn from_specifier(cs: u8) -> Option<Command> {
-        Some(match cs {
-            0x01 => Command::Start,
-            0x02 => Command::Stop,
-            0x80 => Command::PreOperational,
-            0x81 => Command::ResetNode,
-            0x82 => Command::ResetCommunication,
-            _ => return None,
-        })
+        use Command::*;
+        [Start, Stop, PreOperational, ResetNode, ResetCommunication].into_iter().find(|c| c.specifier() == cs)
     }
 
     /// Its name on the command line and in reports.
@@ -75,40 +64,31 @@ impl Command {
     }
 }
 
-/// An NMT state, as a heartbeat or a guarding answer reports it.
+/// An NMT state, as a heartbeat or a guarding answer reports it; its value is its code.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[repr(u8)]
 pub enum State {
     /// Booting (a boot-up message is this state).
-    Initialising,
+    Initialising = 0x00,
     /// Stopped: only NMT and error control.
-    Stopped,
+    Stopped = 0x04,
     /// Operational: PDOs run.
-    Operational,
+    Operational = 0x05,
     /// Pre-operational: SDO but no PDO.
-    PreOperational,
+    PreOperational = 0x7F,
 }
 
 impl State {
     /// The state code in heartbeat and guarding frames (boot-up is 0).
     pub fn code(self) -> u8 {
-        match self {
-            State::Initialising => 0x00,
-            State::Stopped => 0x04,
-            State::Operational => 0x05,
-            State::PreOperational => 0x7F,
-        }
+        self as u8
     }
 
     /// The state a heartbeat or guarding answer codes (its low 7 bits); `None` for others.
     pub fn from_code(code: u8) -> Option<State> {
-        Some(match code {
-            0x00 => State::Initialising,
-            0x04 => State::Stopped,
-            0x05 => State::Operational,
-            0x7F => State::PreOperational,
-            _ => return None,
-        })
+        use State::*;
+        [Initialising, Stopped, Operational, PreOperational].into_iter().find(|s| s.code() == code)
     }
 
     /// Its name in reports.
@@ -157,10 +137,8 @@ impl ErrorControl {
     /// The node and what it said, if `frame` is an error-control data frame.
     pub fn parse(frame: &Frame) -> Option<(u8, ErrorControl)> {
         let node = frame.id().checked_sub(0x700).filter(|n| (1..=127).contains(n))? as u8;
-        if frame.is_remote() || frame.len() != 1 {
-            return None;
-        }
-        let b = frame.data()[0];
+        // A remote frame has no data.
+        let &[b] = frame.data() else { return None };
         let toggle = b & 0x80 != 0;
         let ec = match State::from_code(b & 0x7F) {
             Some(State::Initialising) if !toggle => ErrorControl::BootUp,

@@ -46,10 +46,7 @@ fn signed(text: &str, unsigned: impl Fn(&str) -> Option<u128>) -> Option<i128> {
 
 /// Decimal digits, or hex digits after `0x`/`0X`; nothing else (no sign).
 fn magnitude(text: &str) -> Option<u128> {
-    match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
-        Some(hex) => digits(hex, 16),
-        None => digits(text, 10),
-    }
+    text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")).map_or_else(|| digits(text, 10), |hex| digits(hex, 16))
 }
 
 /// One or more digits of `radix` and nothing else; `None` past `u128`.

@@ -73,12 +73,9 @@ impl std::str::FromStr for ObjAddr {
     fn from_str(text: &str) -> Result<ObjAddr, String> {
         let s = text.trim();
         let lower = s.to_ascii_lowercase();
-        let (index, sub) = match lower.split_once(':') {
+        let (index, sub) = match lower.split_once(':').or_else(|| lower.split_once("sub")) {
             Some((i, s)) => (i, Some(s)),
-            None => match lower.split_once("sub") {
-                Some((i, s)) => (i, Some(s)),
-                None => (lower.as_str(), None),
-            },
+            None => (lower.as_str(), None),
         };
         let digits = index.strip_prefix("0x").unwrap_or(index);
         if digits.is_empty() || digits.len() > 4 || !digits.chars().all(|c| c.is_ascii_hexdigit()) {

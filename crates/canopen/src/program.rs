@@ -37,41 +37,33 @@ pub enum Control {
     Other(u8),
 }
 
+/// The commands and states CiA 302-3 defines: their value in 0x1F51, and what reading it
+/// says about the program.
+const CONTROLS: [(Control, u8, &str); 5] = [
+    (Control::Stop, 0, "stopped (in the bootloader)"),
+    (Control::Start, 1, "started (the program runs)"),
+    (Control::Reset, 2, "reset"),
+    (Control::Clear, 3, "cleared (no program)"),
+    (Control::Confirm, 0x80, "started on trial, waiting for confirmation (0x80)"),
+];
+
 impl Control {
     /// The value written to or read from 0x1F51.
     pub fn code(self) -> u8 {
         match self {
-            Control::Stop => 0,
-            Control::Start => 1,
-            Control::Reset => 2,
-            Control::Clear => 3,
-            Control::Confirm => 0x80,
             Control::Other(v) => v,
+            known => CONTROLS.iter().find(|c| c.0 == known).map_or(0, |c| c.1),
         }
     }
 
     /// The command or state a value of 0x1F51 codes.
     pub fn from_code(v: u8) -> Control {
-        match v {
-            0 => Control::Stop,
-            1 => Control::Start,
-            2 => Control::Reset,
-            3 => Control::Clear,
-            0x80 => Control::Confirm,
-            v => Control::Other(v),
-        }
+        CONTROLS.iter().find(|c| c.1 == v).map_or(Control::Other(v), |c| c.0)
     }
 
     /// What reading this state from 0x1F51 says about the program.
     pub fn state_meaning(self) -> &'static str {
-        match self {
-            Control::Stop => "stopped (in the bootloader)",
-            Control::Start => "started (the program runs)",
-            Control::Reset => "reset",
-            Control::Clear => "cleared (no program)",
-            Control::Confirm => "started on trial, waiting for confirmation (0x80)",
-            Control::Other(_) => "a state CiA 302-3 does not define",
-        }
+        CONTROLS.iter().find(|c| c.0 == self).map_or("a state CiA 302-3 does not define", |c| c.2)
     }
 }
 

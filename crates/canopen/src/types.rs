@@ -87,6 +87,18 @@ pub const ALL_TYPES: [DataType; 25] = [
     DataType::Unicode,
 ];
 
+/// The CiA 309-3 short names, in the order of [`ALL_TYPES`] (the enum's order).
+const NAMES: [&str; 25] = [
+    "b", "u8", "u16", "u32", "u64", "i8", "i16", "i32", "i64", "r32", "r64", "vs", "os", "d", "u24", "u40", "u48",
+    "u56", "i24", "i40", "i48", "i56", "t", "td", "us",
+];
+
+/// The CiA 301 data type indexes, in the order of [`ALL_TYPES`].
+const CODES: [u16; 25] = [
+    0x01, 0x05, 0x06, 0x07, 0x1B, 0x02, 0x03, 0x04, 0x15, 0x08, 0x11, 0x09, 0x0A, 0x0F, 0x16, 0x18, 0x19, 0x1A, 0x10,
+    0x12, 0x13, 0x14, 0x0C, 0x0D, 0x0B,
+];
+
 /// A failure to turn text into a value; always the user's input, so always a usage error.
 #[derive(Debug, PartialEq, Eq)]
 pub struct ValueError(pub String);
@@ -100,64 +112,12 @@ impl fmt::Display for ValueError {
 impl DataType {
     /// The CiA 309-3 short name.
     pub fn name(self) -> &'static str {
-        match self {
-            DataType::Bool => "b",
-            DataType::U8 => "u8",
-            DataType::U16 => "u16",
-            DataType::U32 => "u32",
-            DataType::U64 => "u64",
-            DataType::I8 => "i8",
-            DataType::I16 => "i16",
-            DataType::I32 => "i32",
-            DataType::I64 => "i64",
-            DataType::R32 => "r32",
-            DataType::R64 => "r64",
-            DataType::Vs => "vs",
-            DataType::Os => "os",
-            DataType::D => "d",
-            DataType::U24 => "u24",
-            DataType::U40 => "u40",
-            DataType::U48 => "u48",
-            DataType::U56 => "u56",
-            DataType::I24 => "i24",
-            DataType::I40 => "i40",
-            DataType::I48 => "i48",
-            DataType::I56 => "i56",
-            DataType::TimeOfDay => "t",
-            DataType::TimeDifference => "td",
-            DataType::Unicode => "us",
-        }
+        NAMES[self as usize]
     }
 
     /// The CiA 301 data type index (0x0001 BOOLEAN ... 0x001B UNSIGNED64), as EDS files use.
     pub fn code(self) -> u16 {
-        match self {
-            DataType::Bool => 0x01,
-            DataType::I8 => 0x02,
-            DataType::I16 => 0x03,
-            DataType::I32 => 0x04,
-            DataType::U8 => 0x05,
-            DataType::U16 => 0x06,
-            DataType::U32 => 0x07,
-            DataType::R32 => 0x08,
-            DataType::Vs => 0x09,
-            DataType::Os => 0x0A,
-            DataType::D => 0x0F,
-            DataType::R64 => 0x11,
-            DataType::I64 => 0x15,
-            DataType::U64 => 0x1B,
-            DataType::Unicode => 0x0B,
-            DataType::TimeOfDay => 0x0C,
-            DataType::TimeDifference => 0x0D,
-            DataType::I24 => 0x10,
-            DataType::I40 => 0x12,
-            DataType::I48 => 0x13,
-            DataType::I56 => 0x14,
-            DataType::U24 => 0x16,
-            DataType::U40 => 0x18,
-            DataType::U48 => 0x19,
-            DataType::U56 => 0x1A,
-        }
+        CODES[self as usize]
     }
 
     /// Size in bytes of a fixed-size type; `None` for strings and domains.
@@ -181,16 +141,14 @@ impl DataType {
         matches!(self, I8 | I16 | I24 | I32 | I40 | I48 | I56 | I64)
     }
 
-    fn is_unsigned(self) -> bool {
-        use DataType::*;
-        matches!(self, U8 | U16 | U24 | U32 | U40 | U48 | U56 | U64)
-    }
-
     /// Inclusive range of an integer type.
     pub fn int_range(self) -> Option<(i128, i128)> {
+        use DataType::*;
         let bits = match self {
-            DataType::Bool => return Some((0, 1)),
-            t if t.is_signed() || t.is_unsigned() => 8 * t.size().unwrap() as u32,
+            Bool => return Some((0, 1)),
+            t if t.is_signed() || matches!(t, U8 | U16 | U24 | U32 | U40 | U48 | U56 | U64) => {
+                8 * t.size().unwrap() as u32
+            }
             _ => return None,
         };
         Some(if self.is_signed() {
@@ -226,9 +184,7 @@ impl DataType {
             DataType::Unicode => Ok(text.encode_utf16().flat_map(u16::to_le_bytes).collect()),
             DataType::TimeOfDay | DataType::TimeDifference => {
                 let (days, ms) = time::parse(t, self == DataType::TimeOfDay).map_err(ValueError)?;
-                let mut b = ms.to_le_bytes().to_vec();
-                b.extend_from_slice(&days.to_le_bytes());
-                Ok(b)
+                Ok([ms.to_le_bytes().as_slice(), &days.to_le_bytes()].concat())
             }
             DataType::Os | DataType::D => {
                 parse_hex(t).map_err(|e| ValueError(format!("{e} (or @FILE to read the bytes from a file)")))
@@ -251,13 +207,11 @@ impl DataType {
 
     /// Bytes to a typed value. `None` when the length does not fit the type.
     pub fn decode(self, bytes: &[u8]) -> Option<Value> {
+        let mut wide = [0u8; 16];
         if let Some(size) = self.size() {
             if bytes.len() != size {
                 return None;
             }
-        }
-        let mut wide = [0u8; 16];
-        if let Some(size) = self.size() {
             wide[..size].copy_from_slice(bytes);
             if self.is_signed() && bytes[size - 1] & 0x80 != 0 {
                 wide[size..].fill(0xFF);
@@ -482,13 +436,7 @@ pub use crate::frame::parse_hex;
 
 /// Bytes to contiguous upper-case hex, as can-utils writes payloads.
 pub fn hex(bytes: &[u8]) -> String {
-    const DIGITS: &[u8; 16] = b"0123456789ABCDEF";
-    let mut s = String::with_capacity(bytes.len() * 2);
-    for b in bytes {
-        s.push(DIGITS[(b >> 4) as usize] as char);
-        s.push(DIGITS[(b & 15) as usize] as char);
-    }
-    s
+    bytes.iter().map(|b| format!("{b:02X}")).collect()
 }
 
 /// The reading of bytes of unknown type that nobody would argue with: the unsigned
@@ -590,6 +538,18 @@ mod tests {
             assert_eq!(t.name().parse::<DataType>().unwrap(), t);
         }
         assert!("u12".parse::<DataType>().unwrap_err().contains("u8 u16"));
+    }
+
+    #[test]
+    fn the_name_and_code_tables_follow_the_order_of_the_enum() {
+        for (i, t) in ALL_TYPES.iter().enumerate() {
+            assert_eq!(*t as usize, i, "{t:?}");
+        }
+        assert_eq!((Bool.name(), Bool.code()), ("b", 0x01));
+        assert_eq!((U64.name(), U64.code()), ("u64", 0x1B));
+        assert_eq!((D.name(), D.code()), ("d", 0x0F));
+        assert_eq!((TimeDifference.name(), TimeDifference.code()), ("td", 0x0D));
+        assert_eq!((Unicode.name(), Unicode.code()), ("us", 0x0B));
     }
 
     #[test]

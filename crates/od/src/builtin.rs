@@ -40,15 +40,11 @@ fn communication(d: &mut Dictionary) {
     var(d, 0x100C, "Guard time", U16, Rw);
     var(d, 0x100D, "Life time factor", U8, Rw);
     let classes = ["all parameters", "communication parameters", "application parameters", "manufacturer parameters"];
-    let save: Vec<String> = classes.iter().map(|c| format!("Save {c}")).collect();
-    let load: Vec<String> = classes.iter().map(|c| format!("Restore {c}")).collect();
-    let subs = |names: &[String]| -> Vec<(u8, String)> {
-        names.iter().enumerate().map(|(i, n)| (i as u8 + 1, n.clone())).collect()
-    };
-    for (index, name, names) in
-        [(0x1010, "Store parameters", subs(&save)), (0x1011, "Restore default parameters", subs(&load))]
+    for (index, name, verb) in [(0x1010, "Store parameters", "Save"), (0x1011, "Restore default parameters", "Restore")]
     {
-        let m: Vec<(u8, &str, DataType, Access)> = names.iter().map(|(s, n)| (*s, n.as_str(), U32, Rw)).collect();
+        let names: Vec<String> = classes.iter().map(|c| format!("{verb} {c}")).collect();
+        let m: Vec<(u8, &str, DataType, Access)> =
+            names.iter().zip(1..).map(|(n, s)| (s, n.as_str(), U32, Rw)).collect();
         members(d, index, name, ObjectKind::Array, &m);
     }
     var(d, 0x1012, "COB-ID time stamp", U32, Rw);
@@ -138,16 +134,14 @@ fn ds406(d: &mut Dictionary) {
 }
 
 fn ds401(d: &mut Dictionary) {
-    let eight = |n: &str, t, a| -> Vec<(u8, String, DataType, Access)> {
-        (1..=8).map(|s| (s, format!("{n} {s}"), t, a)).collect()
-    };
-    for (index, name, subs) in [
-        (0x6000, "Read input 8-bit", eight("Input block", U8, Ro)),
-        (0x6200, "Write output 8-bit", eight("Output block", U8, Rw)),
-        (0x6401, "Read analogue input 16-bit", eight("Analogue input", I16, Ro)),
-        (0x6411, "Write analogue output 16-bit", eight("Analogue output", I16, Rw)),
+    for (index, name, member, t, a) in [
+        (0x6000, "Read input 8-bit", "Input block", U8, Ro),
+        (0x6200, "Write output 8-bit", "Output block", U8, Rw),
+        (0x6401, "Read analogue input 16-bit", "Analogue input", I16, Ro),
+        (0x6411, "Write analogue output 16-bit", "Analogue output", I16, Rw),
     ] {
-        let m: Vec<(u8, &str, DataType, Access)> = subs.iter().map(|(s, n, t, a)| (*s, n.as_str(), *t, *a)).collect();
+        let names: Vec<String> = (1..=8).map(|s| format!("{member} {s}")).collect();
+        let m: Vec<(u8, &str, DataType, Access)> = names.iter().zip(1..).map(|(n, s)| (s, n.as_str(), t, a)).collect();
         members(d, index, name, ObjectKind::Array, &m);
     }
     var(d, 0x6423, "Analogue input global interrupt enable", Bool, Rw);

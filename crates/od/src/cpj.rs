@@ -84,10 +84,7 @@ impl Project {
     /// which it cannot leave), else the project's folder.
     pub fn dcf_dir(&self, project_file: &Path) -> PathBuf {
         let here = project_file.parent().map(Path::to_path_buf).unwrap_or_default();
-        match self.eds_base_name.as_deref().filter(|b| !b.is_empty()) {
-            Some(base) => here.join(base),
-            None => here,
-        }
+        self.eds_base_name.as_deref().filter(|b| !b.is_empty()).map_or_else(|| here.clone(), |base| here.join(base))
     }
 
     /// Where node `id`'s DCF is, when the project names one.
@@ -161,10 +158,7 @@ fn node_key(key: &str) -> Option<(&str, String)> {
     key.get(..4).filter(|p| p.eq_ignore_ascii_case("node"))?;
     let tail = &key[4..];
     let digits = tail.len() - tail.trim_start_matches(|c: char| c.is_ascii_digit()).len();
-    if digits == 0 {
-        return None;
-    }
-    Some((&tail[..digits], tail[digits..].to_ascii_lowercase()))
+    (digits > 0).then(|| (&tail[..digits], tail[digits..].to_ascii_lowercase()))
 }
 
 /// Whether a file name from a project stays in the project's folder, so that a project
@@ -244,16 +238,8 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Read, CpjError> {
                     let node = project.nodes.entry(id).or_default();
                     match field.as_str() {
                         "present" => {
-                            node.present = match number(&l.value) {
-                                Some(1) => true,
-                                Some(0) => false,
-                                _ => {
-                                    return Err(err(
-                                        l.line,
-                                        format!("{}={} must be 0x01 (listed) or 0x00 (not)", l.key, l.value),
-                                    ))
-                                }
-                            }
+                            let why = || format!("{}={} must be 0x01 (listed) or 0x00 (not)", l.key, l.value);
+                            node.present = number(&l.value).filter(|v| *v <= 1).ok_or_else(|| err(l.line, why()))? == 1;
                         }
                         "name" => node.name = value(),
                         "refd" => node.refd = value(),
@@ -292,13 +278,8 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Read, CpjError> {
 
 /// Read a project file from disk.
 pub fn read_file(path: &Path) -> Result<Read, CpjError> {
-    let name = path.display().to_string();
-    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|e| CpjError {
-        path: name.clone(),
-        line: 0,
-        msg: e.to_string(),
-    })?;
-    parse(&bytes, &name)
+    let bytes = crate::eds::read_bytes(path).map_err(|e| CpjError { path: e.path, line: 0, msg: e.msg })?;
+    parse(&bytes, &path.display().to_string())
 }
 
 /// A value no INI line can carry.
@@ -334,11 +315,7 @@ fn encode(lines: &[(String, String)], header: &str, utf8: bool, eol: &str) -> Re
 /// nodes in node-id order, then the keys canctl does not know.
 pub fn write(project: &Project) -> Result<Vec<u8>, WriteError> {
     let mut lines: Vec<(String, String)> = Vec::new();
-    let mut put = |key: String, value: &Option<String>| {
-        if let Some(v) = value {
-            lines.push((key, v.clone()));
-        }
-    };
+    let mut put = |key: String, value: &Option<String>| lines.extend(value.clone().map(|v| (key, v)));
     put("NetName".into(), &project.net_name);
     put("NetRefd".into(), &project.net_refd);
     put("Nodes".into(), &Some(format!("0x{:02X}", project.present().count())));
@@ -409,20 +386,18 @@ pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, Cpj
 
 /// The section's lines, as canctl writes them.
 pub fn commissioning_lines(c: &Commissioning) -> Vec<(String, String)> {
-    let mut lines = Vec::new();
-    let mut put = |key: &str, value: Option<String>| {
-        if let Some(v) = value {
-            lines.push((key.to_string(), v));
-        }
-    };
-    put("NodeID", c.node_id.map(|n| n.to_string()));
-    put("NodeName", c.node_name.clone());
-    put("Baudrate", c.baudrate_kbit.map(|b| b.to_string()));
-    put("NetNumber", c.net_number.map(|n| n.to_string()));
-    put("NetworkName", c.network_name.clone());
-    put("CANopenManager", c.canopen_manager.map(|m| u8::from(m).to_string()));
-    put("LSS_SerialNumber", c.lss_serial.map(|s| format!("0x{s:08X}")));
-    lines
+    [
+        ("NodeID", c.node_id.map(|n| n.to_string())),
+        ("NodeName", c.node_name.clone()),
+        ("Baudrate", c.baudrate_kbit.map(|b| b.to_string())),
+        ("NetNumber", c.net_number.map(|n| n.to_string())),
+        ("NetworkName", c.network_name.clone()),
+        ("CANopenManager", c.canopen_manager.map(|m| u8::from(m).to_string())),
+        ("LSS_SerialNumber", c.lss_serial.map(|s| format!("0x{s:08X}"))),
+    ]
+    .into_iter()
+    .filter_map(|(key, value)| Some((key.to_string(), value?)))
+    .collect()
 }
 
 /// A DCF's bytes with its `[DeviceComissioning]` section replaced by `c` (or added before
@@ -444,26 +419,20 @@ pub fn with_commissioning(dcf: &[u8], c: &Commissioning) -> Result<Vec<u8>, Writ
     let headers: Vec<(usize, String)> =
         starts.iter().filter(|s| **s < dcf.len()).filter_map(|s| header(*s).map(|h| (*s, h))).collect();
     let found = headers.iter().position(|(_, h)| h == "devicecomissioning" || h == "devicecommissioning");
-    let mut out = Vec::with_capacity(dcf.len() + section.len());
-    match found {
-        Some(i) => {
-            let (from, to) = (headers[i].0, headers.get(i + 1).map_or(dcf.len(), |(s, _)| *s));
-            out.extend_from_slice(&dcf[..from]);
-            out.extend_from_slice(&section);
-            out.extend_from_slice(eol.as_bytes());
-            out.extend_from_slice(&dcf[to..]);
-        }
+    // The section replaces the one there, else goes before the object lists.
+    let (from, to) = match found {
+        Some(i) => (headers[i].0, headers.get(i + 1).map_or(dcf.len(), |(s, _)| *s)),
         None => {
-            let at = headers
-                .iter()
-                .find(|(_, h)| matches!(h.as_str(), "mandatoryobjects" | "optionalobjects" | "manufacturerobjects"))
-                .map_or(dcf.len(), |(s, _)| *s);
-            out.extend_from_slice(&dcf[..at]);
-            out.extend_from_slice(&section);
-            out.extend_from_slice(eol.as_bytes());
-            out.extend_from_slice(&dcf[at..]);
+            let lists = ["mandatoryobjects", "optionalobjects", "manufacturerobjects"];
+            let at = headers.iter().find(|(_, h)| lists.contains(&h.as_str())).map_or(dcf.len(), |(s, _)| *s);
+            (at, at)
         }
-    }
+    };
+    let mut out = Vec::with_capacity(dcf.len() + section.len());
+    out.extend_from_slice(&dcf[..from]);
+    out.extend_from_slice(&section);
+    out.extend_from_slice(eol.as_bytes());
+    out.extend_from_slice(&dcf[to..]);
     Ok(out)
 }
 

@@ -7,7 +7,7 @@
 /// Re-exported for readers beside this one.
 pub use super::lint::MAX_WARNINGS;
 use super::lint::{Kind, Warning, Warnings};
-use super::{Access, Dictionary, Entry, Init, ObjectKind};
+use super::{Access, Dictionary, Entry, Init, ObjectKind, Values};
 use canctl_canopen::{DataType, ObjAddr};
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -32,13 +32,62 @@ pub struct Eds {
     pub warnings: Warnings,
 }
 
+/// What both readers (INI and XML) say of a file as they read it.
+impl Eds {
+    pub(crate) fn warn(&mut self, line: usize, kind: Kind, message: String) {
+        self.warnings.push(Warning::new(&self.path, line, kind, message));
+    }
+
+    /// The value `text` (at `line`, under `key`) of `addr`, read as it plainly means where
+    /// it is not written as CiA 306 writes it, with a warning saying so.
+    pub(crate) fn value_as_meant(
+        &mut self,
+        line: usize,
+        key: &str,
+        text: &str,
+        who: &str,
+        dtype: DataType,
+    ) -> Result<Init, String> {
+        let (value, meant) = parse_value_as_meant(text, dtype)?;
+        if let Some(meant) = meant {
+            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, who, &meant));
+        }
+        Ok(value)
+    }
+
+    /// A value the file gives `entry` (at `line`, under `key`), kept when the file's own
+    /// limits allow it, as `config apply` will judge it.
+    pub(crate) fn keep_value(&mut self, entry: &Entry, value: Init, line: usize, key: &str) {
+        match super::within_limits(entry, value, key) {
+            Ok(value) => {
+                self.values.insert(entry.addr, value);
+            }
+            Err((kind, why)) => self.warn(line, kind, why),
+        }
+    }
+
+    /// The limit `text` (at `line`, under `key`) of `addr`; none, with a warning, where it
+    /// is not an integer.
+    pub(crate) fn limit(&mut self, line: usize, key: &str, text: &str, who: &str, dtype: DataType) -> Option<i128> {
+        let Some((limit, meant)) = parse_limit(text, dtype) else {
+            let why = format!("{key} '{text}' of {who} is not an integer: no limit");
+            self.warn(line, Kind::ValueIgnored, why);
+            return None;
+        };
+        if let Some(meant) = meant {
+            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, who, &meant));
+        }
+        Some(limit)
+    }
+}
+
 mod error;
 mod ini;
 mod values;
 pub use error::EdsError;
 mod write;
 use ini::{object_section, parse_ini, trim_blanks, Section, TextEncoding, BOM};
-pub use values::{data_type_from_code, mandatory, parse_limit, type_as_bytes};
+pub use values::{data_type_from_code, mandatory, object_kind, parse_limit, type_as_bytes};
 pub use values::{format_value, parse_int, to_latin1, value_text};
 use values::{parse_access, NODE_IDS};
 pub use values::{parse_value_as_meant, read_as_meant};
@@ -65,7 +114,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             msg: "not an EDS or DCF: it has no [FileInfo], [DeviceInfo] or object section such as [1000]".into(),
         });
     }
-    let mut r = Reader { path, encoding, eds };
+    let mut r = Reader { encoding, eds };
     for s in &sections {
         match s.name.as_str() {
             "deviceinfo" => r.eds.info = s.keys.iter().map(|(k, (v, _))| (k.clone(), encoding.decode(v))).collect(),
@@ -81,63 +130,44 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
             continue;
         }
         let name = r.name_of(s, format!("Object {index:04X}"));
-        let kind_code = match r.plain(s, "objecttype") {
-            Some((v, line)) => match parse_int(v) {
-                Some(code) => code,
-                None => {
-                    r.left_out(line, format!("{index:04X} ({name}) left out: ObjectType '{v}' is not a number"));
-                    continue;
-                }
-            },
-            None => 7,
+        let who = format!("{index:04X} ({name})");
+        let (code, line) = match r.plain(s, "objecttype") {
+            Some((v, line)) => (parse_int(v).ok_or_else(|| format!("ObjectType '{v}' is not a number")), line),
+            None => (Ok(7), s.line),
         };
-        let kind = match kind_code {
-            // A DOMAIN object (0x2) is a single value, as a VAR is.
-            7 | 2 => ObjectKind::Var,
-            8 => ObjectKind::Array,
-            9 => ObjectKind::Record,
-            // DEFTYPE, DEFSTRUCT and NULL objects hold no values.
-            0 | 5 | 6 => continue,
-            other => {
-                let line = s.get("objecttype").map_or(s.line, |(_, l)| l);
-                r.left_out(
-                    line,
-                    format!(
-                        "{index:04X} ({name}) left out: ObjectType {other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)"
-                    ),
-                );
+        let domain = code == Ok(2);
+        let kind = match code.and_then(|code| object_kind(code).map_err(|why| format!("ObjectType {why}"))) {
+            Ok(Some(kind)) => kind,
+            Ok(None) => continue,
+            Err(why) => {
+                r.left_out(line, &who, &why);
                 continue;
             }
         };
         if kind == ObjectKind::Var {
-            let domain = kind_code == 2;
             if let Some(entry) = r.entry(s, ObjAddr::new(*index, 0), &name, domain) {
                 r.eds.dict.insert(entry);
             }
             continue;
         }
         let compact_count = match r.plain(s, "compactsubobj") {
-            Some((v, line)) => match parse_int(v) {
-                Some(0) => None,
-                Some(n @ 1..=254) if kind == ObjectKind::Array => Some(n as u8),
-                // CiA 306 gives CompactSubObj to ARRAYs; Lely's dcfgen writes it for PDO
-                // mapping RECORDs too, whose members share one type all the same.
-                Some(n @ 1..=254) => {
-                    r.warn(
-                        line,
-                        Kind::CompactRecord,
-                        format!("{index:04X} ({name}) is a RECORD with CompactSubObj={v}: read as an ARRAY of {n} sub-objects of its DataType"),
-                    );
-                    Some(n as u8)
+            Some((v, line)) => {
+                match parse_int(v) {
+                    Some(0) => None,
+                    Some(n @ 1..=254) if kind == ObjectKind::Array => Some(n as u8),
+                    // CiA 306 gives CompactSubObj to ARRAYs; Lely's dcfgen writes it for PDO
+                    // mapping RECORDs too, whose members share one type all the same.
+                    Some(n @ 1..=254) => {
+                        let why = format!("{who} is a RECORD with CompactSubObj={v}: read as an ARRAY of {n} sub-objects of its DataType");
+                        r.warn(line, Kind::CompactRecord, why);
+                        Some(n as u8)
+                    }
+                    _ => {
+                        r.left_out(line, &who, &format!("CompactSubObj={v} is not 1..254 for an ARRAY (0x8)"));
+                        continue;
+                    }
                 }
-                _ => {
-                    r.left_out(
-                        line,
-                        format!("{index:04X} ({name}) left out: CompactSubObj={v} is not 1..254 for an ARRAY (0x8)"),
-                    );
-                    continue;
-                }
-            },
+            }
             None => None,
         };
         let entries = match compact_count {
@@ -148,12 +178,8 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
                     .map(|((_, sub), ss)| (sub.unwrap(), *ss))
                     .collect();
                 if subs.is_empty() {
-                    r.left_out(
-                        s.line,
-                        format!(
-                            "{index:04X} ({name}) left out: an ARRAY or RECORD without any [{index:04X}subN] section or CompactSubObj"
-                        ),
-                    );
+                    let why = format!("an ARRAY or RECORD without any [{index:04X}subN] section or CompactSubObj");
+                    r.left_out(s.line, &who, &why);
                     continue;
                 }
                 r.sub_number(s, *index, &name, subs.len());
@@ -180,8 +206,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, EdsError> {
 }
 
 /// The file being read: where its deviations go.
-struct Reader<'p> {
-    path: &'p str,
+struct Reader {
     encoding: TextEncoding,
     eds: Eds,
 }
@@ -192,13 +217,13 @@ fn strip_comment(v: &str) -> Option<&str> {
     Some(trim_blanks(&v[..at]))
 }
 
-impl Reader<'_> {
+impl Reader {
     fn warn(&mut self, line: usize, kind: Kind, message: String) {
-        self.eds.warnings.push(Warning::new(self.path, line, kind, message));
+        self.eds.warn(line, kind, message);
     }
 
-    fn left_out(&mut self, line: usize, message: String) {
-        self.warn(line, Kind::ObjectLeftOut, message);
+    fn left_out(&mut self, line: usize, who: &str, why: &str) {
+        self.warn(line, Kind::ObjectLeftOut, format!("{who} left out: {why}"));
     }
 
     fn name_of(&self, s: &Section, fallback: String) -> String {
@@ -209,18 +234,11 @@ impl Reader<'_> {
     /// comment after it is read as python-canopen and Lely's dcfchk read it, and said so.
     fn plain<'s>(&mut self, s: &'s Section, key: &str) -> Option<(&'s str, usize)> {
         let (v, line) = s.get(key)?;
-        match strip_comment(v) {
-            Some(value) => {
-                let key = s.spelled.get(key).map_or(key, String::as_str);
-                self.warn(
-                    line,
-                    Kind::InlineComment,
-                    format!("{key}={v}: the text from ';' on is read as a comment; the value is '{value}'"),
-                );
-                Some((value, line))
-            }
-            None => Some((v, line)),
-        }
+        let Some(value) = strip_comment(v) else { return Some((v, line)) };
+        let key = s.spelled.get(key).map_or(key, String::as_str);
+        let why = format!("{key}={v}: the text from ';' on is read as a comment; the value is '{value}'");
+        self.warn(line, Kind::InlineComment, why);
+        Some((value, line))
     }
 
     fn commissioning(&mut self, s: &Section) {
@@ -265,11 +283,8 @@ impl Reader<'_> {
                 (Some(_), Some(0)) => {}
                 _ => {
                     let key = s.spelled.get(key.as_str()).unwrap_or(key);
-                    self.warn(
-                        *line,
-                        Kind::BadDummyUsage,
-                        format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored"),
-                    )
+                    let why = format!("[DummyUsage] {key}={v} is not DummyNNNN=0 or 1: ignored");
+                    self.warn(*line, Kind::BadDummyUsage, why)
                 }
             }
         }
@@ -331,11 +346,8 @@ impl Reader<'_> {
         }
         for index in super::MANDATORY {
             if !by_name.contains_key(&(index, None)) {
-                self.warn(
-                    first.line,
-                    Kind::MissingMandatory,
-                    format!("no [{index:04X}] section: {}", mandatory(index)),
-                );
+                let why = format!("no [{index:04X}] section: {}", mandatory(index));
+                self.warn(first.line, Kind::MissingMandatory, why);
             }
         }
     }
@@ -371,28 +383,20 @@ impl Reader<'_> {
         n: u8,
         sections: &BTreeMap<String, &Section>,
     ) -> Vec<Entry> {
-        let sub0 = Entry {
-            addr: ObjAddr::new(index, 0),
-            name: "NrOfObjects".into(),
-            dtype: DataType::U8,
-            access: Access::Ro,
-            default: Init::Bytes(vec![n]),
-            range: None,
-        };
         let Some(template) = self.entry(s, ObjAddr::new(index, 1), name, false) else { return Vec::new() };
         // The object section's own ParameterValue is no member's.
         self.eds.values.remove(&ObjAddr::new(index, 1));
         let names = self.compact_list(sections.get(&format!("{index:04x}name")).copied(), index, n);
         let values = self.compact_list(sections.get(&format!("{index:04x}value")).copied(), index, n);
-        let mut out = Vec::new();
+        let mut out = vec![Entry::count(index, "NrOfObjects", n)];
         for sub in 1..=n {
             let addr = ObjAddr::new(index, sub);
             let member = names.get(&sub).map_or_else(|| format!("{name}{sub}"), |(v, _)| self.encoding.decode(v));
             let entry = Entry { addr, name: member, ..template.clone() };
             if let Some((text, line)) = values.get(&sub) {
                 let key = format!("[{index:04X}Value] {sub}:");
-                match self.value_as_meant(&key, text, *line, &entry.name, addr, template.dtype) {
-                    Ok(v) => self.value(&entry, v, *line, &key),
+                match self.eds.value_as_meant(*line, &key, text, &format!("{addr} ({})", entry.name), template.dtype) {
+                    Ok(v) => self.eds.keep_value(&entry, v, *line, &key),
                     Err(m) => self.warn(*line, Kind::ValueIgnored, format!("[{index:04X}Value] {sub}: {m}; ignored")),
                 }
             }
@@ -400,9 +404,10 @@ impl Reader<'_> {
         }
         if !values.is_empty() {
             // The count the device is to hold is the number of values given.
-            self.eds.values.insert(sub0.addr, Init::Bytes(vec![values.keys().max().copied().unwrap_or(0)]));
+            self.eds
+                .values
+                .insert(ObjAddr::new(index, 0), Init::Bytes(vec![values.keys().max().copied().unwrap_or(0)]));
         }
-        out.insert(0, sub0);
         out
     }
 
@@ -436,13 +441,14 @@ impl Reader<'_> {
         match self.try_entry(s, addr, name, domain) {
             Ok(e) => Some(e),
             Err((line, why)) => {
-                self.left_out(line, format!("{addr} ({name}) left out: {why}"));
+                self.left_out(line, &format!("{addr} ({name})"), &why);
                 None
             }
         }
     }
 
     fn try_entry(&mut self, s: &Section, addr: ObjAddr, name: &str, domain: bool) -> Result<Entry, (usize, String)> {
+        let who = format!("{addr} ({name})");
         // A complex, manufacturer or profile type: its bytes, as python-canopen reads it.
         let mut as_bytes = None;
         let dtype = match self.plain(s, "datatype") {
@@ -478,25 +484,21 @@ impl Reader<'_> {
             }
         };
         if let Some((line, code)) = as_bytes {
-            self.warn(line, Kind::TypeAsBytes, type_as_bytes(addr, name, code));
+            self.warn(line, Kind::TypeAsBytes, type_as_bytes(&who, code));
         }
         let default = match value_key(self, "defaultvalue").filter(|_| as_bytes.is_none()) {
             // What DOMAIN defaults often say for "nothing".
             Some((v, line))
                 if dtype == DataType::D && ["0", "0x0", "null"].contains(&v.to_ascii_lowercase().as_str()) =>
             {
-                self.warn(
-                    line,
-                    Kind::DomainDefault,
-                    format!("DefaultValue={v} of DOMAIN {addr} ({name}) read as empty"),
-                );
+                self.warn(line, Kind::DomainDefault, format!("DefaultValue={v} of DOMAIN {who} read as empty"));
                 Init::Bytes(Vec::new())
             }
-            Some((v, line)) => match self.value_as_meant("DefaultValue", &v, line, name, addr, dtype) {
+            Some((v, line)) => match self.eds.value_as_meant(line, "DefaultValue", &v, &who, dtype) {
                 Ok(init) => init,
                 // A DOMAIN's default is often a file name or a note: not its content.
                 Err(m) if dtype == DataType::D => {
-                    self.warn(line, Kind::ValueIgnored, format!("DefaultValue of {addr} ({name}): {m}; read as empty"));
+                    self.warn(line, Kind::ValueIgnored, format!("DefaultValue of {who}: {m}; read as empty"));
                     Init::Bytes(Vec::new())
                 }
                 Err(m) => return Err((line, format!("DefaultValue {m}"))),
@@ -508,79 +510,33 @@ impl Reader<'_> {
             if v.is_empty() || dtype.int_range().is_none() {
                 return None;
             }
-            let spelled = s.spelled.get(key).map_or(key, String::as_str);
-            match parse_limit(&v, dtype) {
-                Some((n, meant)) => {
-                    if let Some(meant) = meant {
-                        r.warn(line, Kind::ValueAsMeant, read_as_meant(spelled, &v, addr, name, &meant));
-                    }
-                    Some(n)
-                }
-                None => {
-                    r.warn(
-                        line,
-                        Kind::ValueIgnored,
-                        format!("{spelled} '{v}' of {addr} ({name}) is not an integer: no limit"),
-                    );
-                    None
-                }
-            }
+            r.eds.limit(line, s.spelled.get(key).map_or(key, String::as_str), &v, &who, dtype)
         };
         let (low, high) = (limit(self, "lowlimit"), limit(self, "highlimit"));
-        let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {
+        let range = super::limits(&who, dtype, low, high).unwrap_or_else(|(kind, why)| {
             self.warn(s.get("lowlimit").map_or(s.line, |(_, line)| line), kind, why);
             None
         });
         let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((v, line)) = value_key(self, "parametervalue") {
-            match self.value_as_meant("ParameterValue", &v, line, name, addr, dtype) {
-                Ok(value) => self.value(&entry, value, line, "ParameterValue"),
-                Err(m) => {
-                    self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {addr} ({name}): {m}; ignored"))
-                }
+            match self.eds.value_as_meant(line, "ParameterValue", &v, &who, dtype) {
+                Ok(value) => self.eds.keep_value(&entry, value, line, "ParameterValue"),
+                Err(m) => self.warn(line, Kind::ValueIgnored, format!("ParameterValue of {who}: {m}; ignored")),
             }
         }
         Ok(entry)
-    }
-
-    /// The value `text` (at `line`, under `key`) of `addr`, read as it plainly means where
-    /// it is not written as CiA 306 writes it, with a warning saying so.
-    fn value_as_meant(
-        &mut self,
-        key: &str,
-        text: &str,
-        line: usize,
-        name: &str,
-        addr: ObjAddr,
-        dtype: DataType,
-    ) -> Result<Init, String> {
-        let (value, meant) = parse_value_as_meant(text, dtype)?;
-        if let Some(meant) = meant {
-            self.warn(line, Kind::ValueAsMeant, read_as_meant(key, text, addr, name, &meant));
-        }
-        Ok(value)
-    }
-
-    /// A value the file gives `entry` (at `line`, under `key`), kept when the file's own
-    /// limits allow it, as `config apply` will judge it.
-    fn value(&mut self, entry: &Entry, value: Init, line: usize, key: &str) {
-        match super::within_limits(entry, value, key) {
-            Ok(value) => {
-                self.eds.values.insert(entry.addr, value);
-            }
-            Err((kind, why)) => self.warn(line, kind, why),
-        }
     }
 }
 
 /// Read a file from disk: a regular file within `input::MAX_EDS_BYTES`.
 pub fn read_file(path: &std::path::Path) -> Result<Eds, EdsError> {
-    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|e| EdsError {
-        path: path.display().to_string(),
-        line: 0,
-        msg: e.to_string(),
-    })?;
-    parse(&bytes, &path.display().to_string())
+    parse(&read_bytes(path)?, &path.display().to_string())
+}
+
+/// The bytes of a description file on disk, within `input::MAX_EDS_BYTES`.
+pub(crate) fn read_bytes(path: &std::path::Path) -> Result<Vec<u8>, EdsError> {
+    let read = crate::input::read_regular_file(path, crate::input::EDS);
+    read.map_err(|e| EdsError { path: path.display().to_string(), line: 0, msg: e.to_string() })
 }
 
 #[cfg(test)]

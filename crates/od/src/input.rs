@@ -201,17 +201,9 @@ fn kind_of(meta: &std::fs::Metadata) -> &'static str {
     {
         use std::os::unix::fs::FileTypeExt;
         let t = meta.file_type();
-        if t.is_fifo() {
-            return "a FIFO";
-        }
-        if t.is_char_device() {
-            return "a character device";
-        }
-        if t.is_block_device() {
-            return "a block device";
-        }
-        if t.is_socket() {
-            return "a socket";
+        let kinds = [t.is_fifo(), t.is_char_device(), t.is_block_device(), t.is_socket()];
+        if let Some(i) = kinds.iter().position(|is| *is) {
+            return ["a FIFO", "a character device", "a block device", "a socket"][i];
         }
     }
     if meta.is_dir() {

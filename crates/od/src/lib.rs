@@ -38,21 +38,16 @@ pub enum ReadError {
 /// An EDS, DCF, XDD or XDC, told apart by content (XML or INI), not by the file's name:
 /// vendors ship XDDs named `.eds` and tools write XDCs without an extension.
 pub fn parse_description(bytes: &[u8], path: &str) -> Result<eds::Eds, ReadError> {
-    match xdd::is_xml(bytes) {
-        true => Ok(xdd::parse(bytes, path)?),
-        false => Ok(eds::parse(bytes, path)?),
-    }
+    Ok(if xdd::is_xml(bytes) { xdd::parse(bytes, path)? } else { eds::parse(bytes, path)? })
 }
 
 /// [`parse_description`] of a file: a regular file within `input::MAX_EDS_BYTES`.
 pub fn read_description(path: &std::path::Path) -> Result<eds::Eds, ReadError> {
-    let bytes = crate::input::read_regular_file(path, crate::input::EDS).map_err(|e| eds::EdsError {
-        path: path.display().to_string(),
-        line: 0,
-        msg: e.to_string(),
-    })?;
-    parse_description(&bytes, &path.display().to_string())
+    parse_description(&eds::read_bytes(path)?, &path.display().to_string())
 }
+
+/// What a device holds (or is to hold), by object address: a DCF's or an XDC's values.
+pub type Values = BTreeMap<ObjAddr, Vec<u8>>;
 
 /// The objects CiA 301 makes mandatory for every device: device type, error register and
 /// identity.
@@ -151,6 +146,12 @@ pub struct Entry {
 }
 
 impl Entry {
+    /// Sub-index 0 of an ARRAY or RECORD, read-only: the highest sub-index, `highest`.
+    pub(crate) fn count(index: u16, name: &str, highest: u8) -> Entry {
+        let (dtype, access, default) = (DataType::U8, Access::Ro, Init::Bytes(vec![highest]));
+        Entry { addr: ObjAddr::new(index, 0), name: name.to_string(), dtype, access, default, range: None }
+    }
+
     /// The default for a device with this node-id, in the entry's own size.
     pub fn default_for(&self, node_id: u8) -> Vec<u8> {
         self.value_for(&self.default, node_id)
@@ -344,15 +345,7 @@ impl Dictionary {
     pub fn record(&mut self, index: u16, name: &str, members: Vec<(u8, &str, DataType, Access, Init)>) {
         let highest = members.iter().map(|m| m.0).max().unwrap_or(0);
         self.object(index, name, ObjectKind::Record);
-        let sub0 = Entry {
-            addr: ObjAddr::new(index, 0),
-            name: "Highest sub-index supported".into(),
-            dtype: DataType::U8,
-            access: Access::Ro,
-            default: Init::Bytes(vec![highest]),
-            range: None,
-        };
-        self.insert(sub0);
+        self.insert(Entry::count(index, "Highest sub-index supported", highest));
         for (sub, member, dtype, access, default) in members {
             let addr = ObjAddr::new(index, sub);
             self.insert(Entry { addr, name: member.to_string(), dtype, access, default, range: None });

@@ -76,10 +76,8 @@ fn closest(dict: &Dictionary, want: &str) -> Vec<String> {
             let n = dict.display_name(e.addr)?;
             let norm = normalize(&n);
             // A part of a name: scored by how much of the name is left unsaid.
-            let (part, score) = match norm.contains(want) && want.len() >= 4 {
-                true => (true, norm.len() - want.len()),
-                false => (false, distance(&norm, want)),
-            };
+            let part = norm.contains(want) && want.len() >= 4;
+            let score = if part { norm.len() - want.len() } else { distance(&norm, want) };
             (part || score <= want.len() / 3 + 1).then_some((!part, score, e.addr, n))
         })
         .collect();

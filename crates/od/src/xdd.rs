@@ -9,11 +9,11 @@
 
 use super::cpj::Commissioning;
 use super::eds::{self, Eds, Header, WriteError};
-use super::lint::{Kind, Warning};
-use super::{Access, Dictionary, Entry, Init, ObjectKind, MANDATORY};
+use super::lint::Kind;
+use super::{Access, Dictionary, Entry, Init, ObjectKind, Values, MANDATORY};
 use canctl_canopen::{DataType, ObjAddr};
 use roxmltree::{Document, Node};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 
 /// An XML file that cannot be read, or an XDD that is not one, at file:line:column.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -66,13 +66,10 @@ fn utf16(bytes: &[u8]) -> Option<Vec<u16>> {
 /// The text of the file: UTF-8 (XML's default), UTF-16 with its byte order mark, or
 /// Latin-1 where the declaration says so.
 fn decode(bytes: &[u8], path: &str) -> Result<String, XmlError> {
+    let error = |line, column, msg: &str| XmlError { path: path.to_string(), line, column, msg: msg.into() };
     if let Some(units) = utf16(bytes) {
-        return String::from_utf16(&units).map_err(|_| XmlError {
-            path: path.to_string(),
-            line: 1,
-            column: 1,
-            msg: "begins with a UTF-16 byte order mark but is not UTF-16".into(),
-        });
+        return String::from_utf16(&units)
+            .map_err(|_| error(1, 1, "begins with a UTF-16 byte order mark but is not UTF-16"));
     }
     let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
     match std::str::from_utf8(bytes) {
@@ -85,12 +82,7 @@ fn decode(bytes: &[u8], path: &str) -> Result<String, XmlError> {
             let at = e.valid_up_to();
             let line = bytes[..at].iter().filter(|b| **b == b'\n').count() as u32 + 1;
             let column = (at - bytes[..at].iter().rposition(|b| *b == b'\n').map_or(0, |p| p + 1)) as u32 + 1;
-            Err(XmlError {
-                path: path.to_string(),
-                line,
-                column,
-                msg: "not UTF-8, and the XML declaration names no other encoding".into(),
-            })
+            Err(error(line, column, "not UTF-8, and the XML declaration names no other encoding"))
         }
     }
 }
@@ -128,11 +120,11 @@ fn access_of(text: &str) -> Option<Access> {
     })
 }
 
-struct Reader<'a, 'input> {
-    doc: &'a Document<'input>,
+struct Reader<'a, 'i> {
+    doc: &'a Document<'i>,
     path: &'a str,
     /// `parameter` elements by `uniqueID`.
-    parameters: HashMap<&'a str, Node<'a, 'input>>,
+    parameters: HashMap<&'a str, Node<'a, 'i>>,
     eds: Eds,
 }
 
@@ -140,7 +132,7 @@ fn child<'a, 'i>(n: Node<'a, 'i>, name: &str) -> Option<Node<'a, 'i>> {
     n.children().find(|c| c.is_element() && c.tag_name().name() == name)
 }
 
-impl<'a, 'input> Reader<'a, 'input> {
+impl<'a, 'i> Reader<'a, 'i> {
     fn at(&self, n: Node) -> (u32, u32) {
         let pos = self.doc.text_pos_at(n.range().start);
         (pos.row, pos.col)
@@ -151,20 +143,23 @@ impl<'a, 'input> Reader<'a, 'input> {
         XmlError { path: self.path.to_string(), line, column, msg }
     }
 
+    fn line(&self, n: Node) -> usize {
+        self.at(n).0 as usize
+    }
+
     /// A deviation at the line of element `n`, of its kind and severity.
     fn find(&mut self, n: Node, kind: Kind, msg: String) {
-        let (line, _) = self.at(n);
-        self.eds.warnings.push(Warning::new(self.path, line as usize, kind, msg));
+        self.eds.warn(self.line(n), kind, msg);
     }
 
     /// The parameter an object names by `uniqueIDRef`, if any.
-    fn parameter(&self, n: Node<'a, 'input>) -> Option<Node<'a, 'input>> {
+    fn parameter(&self, n: Node<'a, 'i>) -> Option<Node<'a, 'i>> {
         n.attribute("uniqueIDRef").and_then(|id| self.parameters.get(id).copied())
     }
 
     /// CANopenEditor keeps objects a CANopenNode device leaves out in the file, marked
     /// `CO_disabled`; its EDS export leaves them out, and so does canctl.
-    fn disabled(&self, n: Node<'a, 'input>) -> bool {
+    fn disabled(&self, n: Node<'a, 'i>) -> bool {
         self.parameter(n).is_some_and(|p| {
             p.children().any(|c| {
                 c.tag_name().name() == "property"
@@ -175,13 +170,11 @@ impl<'a, 'input> Reader<'a, 'input> {
     }
 
     /// An attribute of the object, else the `value` of that element of its parameter.
-    fn value_of(&self, n: Node<'a, 'input>, attr: &str, element: &str) -> Option<(&'a str, Node<'a, 'input>)> {
-        if let Some(v) = n.attribute(attr) {
-            return Some((v, n));
-        }
-        let p = self.parameter(n)?;
-        let e = child(p, element)?;
-        e.attribute("value").map(|v| (v, e))
+    fn value_of(&self, n: Node<'a, 'i>, attr: &str, element: &str) -> Option<(&'a str, Node<'a, 'i>)> {
+        n.attribute(attr).map(|v| (v, n)).or_else(|| {
+            let e = child(self.parameter(n)?, element)?;
+            e.attribute("value").map(|v| (v, e))
+        })
     }
 
     fn read(&mut self) -> Result<(), XmlError> {
@@ -224,29 +217,23 @@ impl<'a, 'input> Reader<'a, 'input> {
         Ok(())
     }
 
-    fn object(&mut self, n: Node<'a, 'input>) -> Result<(), XmlError> {
+    fn object(&mut self, n: Node<'a, 'i>) -> Result<(), XmlError> {
         let index = n
             .attribute("index")
             .filter(|i| i.len() == 4)
             .and_then(|i| u16::from_str_radix(i, 16).ok())
             .ok_or_else(|| self.error(n, "CANopenObject without an index of 4 hex digits".into()))?;
         let name = n.attribute("name").map_or_else(|| format!("Object {index:04X}"), str::to_string);
-        let left_out = |why: String| (Kind::ObjectLeftOut, format!("{index:04X} ({name}) left out: {why}"));
-        let kind = match n.attribute("objectType").map(|t| (t, eds::parse_int(t))) {
-            Some((_, Some(7 | 2))) | None => ObjectKind::Var,
-            Some((_, Some(8))) => ObjectKind::Array,
-            Some((_, Some(9))) => ObjectKind::Record,
-            // DEFTYPE, DEFSTRUCT and NULL objects hold no values.
-            Some((_, Some(0 | 5 | 6))) => return Ok(()),
-            Some((_, Some(other))) => {
-                let (kind, why) =
-                    left_out(format!("objectType {other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)"));
-                self.find(n, kind, why);
-                return Ok(());
-            }
-            Some((text, None)) => {
-                let (kind, why) = left_out(format!("objectType '{text}' is not a number"));
-                self.find(n, kind, why);
+        let code = match n.attribute("objectType") {
+            Some(t) => eds::parse_int(t).ok_or_else(|| format!("objectType '{t}' is not a number")),
+            None => Ok(7),
+        };
+        let left_out = format!("{index:04X} ({name}) left out");
+        let kind = match code.and_then(|code| eds::object_kind(code).map_err(|why| format!("objectType {why}"))) {
+            Ok(Some(kind)) => kind,
+            Ok(None) => return Ok(()),
+            Err(why) => {
+                self.find(n, Kind::ObjectLeftOut, format!("{left_out}: {why}"));
                 return Ok(());
             }
         };
@@ -260,8 +247,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         let subs: Vec<Node> =
             n.children().filter(|c| c.is_element() && c.tag_name().name() == "CANopenSubObject").collect();
         if subs.is_empty() {
-            let (kind, why) = left_out("an ARRAY or RECORD without any CANopenSubObject".into());
-            self.find(n, kind, why);
+            self.find(n, Kind::ObjectLeftOut, format!("{left_out}: an ARRAY or RECORD without any CANopenSubObject"));
         }
         for s in subs {
             let Some(sub) = s.attribute("subIndex").and_then(|v| u8::from_str_radix(v, 16).ok()) else {
@@ -281,7 +267,7 @@ impl<'a, 'input> Reader<'a, 'input> {
 
     /// One value: its type, access, default, limits and (XDC) actual value. What cannot be
     /// understood is left out, said at the line of its element, as an EDS's is.
-    fn entry(&mut self, n: Node<'a, 'input>, addr: ObjAddr, name: &str) {
+    fn entry(&mut self, n: Node<'a, 'i>, addr: ObjAddr, name: &str) {
         match self.try_entry(n, addr, name) {
             Ok(entry) => self.eds.dict.insert(entry),
             Err((at, why)) => self.find(at, Kind::ObjectLeftOut, format!("{addr} ({name}) left out: {why}")),
@@ -291,13 +277,7 @@ impl<'a, 'input> Reader<'a, 'input> {
     /// The data type of an object: its `dataType` attribute, else its parameter's type
     /// element; a CiA 301 type canctl does not handle is read as DOMAIN, as in an EDS
     /// (`Err` says why there is none).
-    fn data_type(
-        &mut self,
-        n: Node<'a, 'input>,
-        addr: ObjAddr,
-        name: &str,
-        no_default: bool,
-    ) -> Result<(DataType, bool), String> {
+    fn data_type(&mut self, n: Node<'a, 'i>, who: &str, no_default: bool) -> Result<(DataType, bool), String> {
         let code = match n.attribute("dataType") {
             Some(dt) => {
                 let hex = dt.strip_prefix("0x").or_else(|| dt.strip_prefix("0X")).unwrap_or(dt);
@@ -317,7 +297,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         match eds::data_type_from_code(code)? {
             Some(dtype) => Ok((dtype, false)),
             None => {
-                self.find(n, Kind::TypeAsBytes, eds::type_as_bytes(addr, name, code));
+                self.find(n, Kind::TypeAsBytes, eds::type_as_bytes(who, code));
                 Ok((DataType::D, true))
             }
         }
@@ -325,7 +305,7 @@ impl<'a, 'input> Reader<'a, 'input> {
 
     /// Who may access an object: its `accessType`, else its parameter's `access`, which
     /// CiA 311 makes "read" when not given.
-    fn access(&self, n: Node<'a, 'input>) -> Result<Access, String> {
+    fn access(&self, n: Node<'a, 'i>) -> Result<Access, String> {
         match n.attribute("accessType") {
             Some(a) => access_of(a).ok_or_else(|| format!("accessType '{a}' is not ro, wo, rw, rwr, rww or const")),
             None => {
@@ -335,23 +315,25 @@ impl<'a, 'input> Reader<'a, 'input> {
         }
     }
 
-    fn try_entry(
-        &mut self,
-        n: Node<'a, 'input>,
-        addr: ObjAddr,
-        name: &str,
-    ) -> Result<Entry, (Node<'a, 'input>, String)> {
+    fn try_entry(&mut self, n: Node<'a, 'i>, addr: ObjAddr, name: &str) -> Result<Entry, (Node<'a, 'i>, String)> {
         let default = self.value_of(n, "defaultValue", "defaultValue");
         let no_default = default.is_none_or(|(v, _)| v.trim().is_empty());
-        let (dtype, as_bytes) = self.data_type(n, addr, name, no_default).map_err(|why| (n, why))?;
+        let who = format!("{addr} ({name})");
+        let (dtype, as_bytes) = self.data_type(n, &who, no_default).map_err(|why| (n, why))?;
         let access = self.access(n).map_err(|why| (n, why))?;
-        let value = |r: &mut Self, key: &str, text: &str, at: Node| r.value(key, text, at, addr, name, dtype);
+        // As in an EDS, a value may be read as it plainly means (a C suffix), said so.
+        let value = |r: &mut Self, key: &str, text: &str, at: Node| match dtype {
+            // XML carries text as Unicode: a string's bytes are its UTF-8.
+            DataType::Vs => Ok(Init::Bytes(text.as_bytes().to_vec())),
+            DataType::D => canctl_canopen::types::parse_hex(text).map(Init::Bytes),
+            _ => r.eds.value_as_meant(r.line(at), key, text, &who, dtype),
+        };
         let default = match default.filter(|_| !as_bytes) {
             Some((text, at)) => match value(self, "defaultValue", text, at) {
                 Ok(v) => v,
                 // A DOMAIN's default is often a file name or a note: not its content.
                 Err(why) if dtype == DataType::D => {
-                    let why = format!("defaultValue of DOMAIN {addr} ({name}): {why}; read as empty");
+                    let why = format!("defaultValue of DOMAIN {who}: {why}; read as empty");
                     self.find(at, Kind::ValueIgnored, why);
                     Init::Bytes(Vec::new())
                 }
@@ -359,65 +341,25 @@ impl<'a, 'input> Reader<'a, 'input> {
             },
             None => Init::Bytes(dtype.size().map_or_else(Vec::new, |size| vec![0; size])),
         };
+        let line = self.line(n);
         let mut limit = |attr: &str| {
             let text = n.attribute(attr).filter(|t| !t.is_empty() && dtype.int_range().is_some())?;
-            match eds::parse_limit(text, dtype) {
-                Some((limit, meant)) => {
-                    if let Some(meant) = meant {
-                        self.find(n, Kind::ValueAsMeant, eds::read_as_meant(attr, text, addr, name, &meant));
-                    }
-                    Some(limit)
-                }
-                None => {
-                    let why = format!("{attr} '{text}' of {addr} ({name}) is not an integer: no limit");
-                    self.find(n, Kind::ValueIgnored, why);
-                    None
-                }
-            }
+            self.eds.limit(line, attr, text, &who, dtype)
         };
         let (low, high) = (limit("lowLimit"), limit("highLimit"));
-        let range = super::limits(&format!("{addr} ({name})"), dtype, low, high).unwrap_or_else(|(kind, why)| {
+        let range = super::limits(&who, dtype, low, high).unwrap_or_else(|(kind, why)| {
             self.find(n, kind, why);
             None
         });
         let entry = Entry { addr, name: name.to_string(), dtype, access, default, range };
         if let Some((text, at)) = self.value_of(n, "actualValue", "actualValue") {
-            let judged = value(self, "actualValue", text, at)
-                .map_err(|why| (Kind::ValueIgnored, format!("actualValue of {addr} ({name}): {why}; ignored")))
-                .and_then(|v| super::within_limits(&entry, v, "actualValue"));
-            match judged {
-                Ok(v) => {
-                    self.eds.values.insert(addr, v);
-                }
-                Err((kind, why)) => self.find(at, kind, why),
+            let line = self.line(at);
+            match value(self, "actualValue", text, at) {
+                Ok(v) => self.eds.keep_value(&entry, v, line, "actualValue"),
+                Err(why) => self.find(at, Kind::ValueIgnored, format!("actualValue of {who}: {why}; ignored")),
             }
         }
         Ok(entry)
-    }
-
-    /// The value `text` (under `key`, in element `at`) of `addr`, of type `dtype`; one read
-    /// as it plainly means (a C suffix) with a warning saying so, as in an EDS.
-    fn value(
-        &mut self,
-        key: &str,
-        text: &str,
-        at: Node,
-        addr: ObjAddr,
-        name: &str,
-        dtype: DataType,
-    ) -> Result<Init, String> {
-        match dtype {
-            // XML carries text as Unicode: a string's bytes are its UTF-8.
-            DataType::Vs => Ok(Init::Bytes(text.as_bytes().to_vec())),
-            DataType::D => canctl_canopen::types::parse_hex(text).map(Init::Bytes),
-            _ => {
-                let (value, meant) = eds::parse_value_as_meant(text, dtype)?;
-                if let Some(meant) = meant {
-                    self.find(at, Kind::ValueAsMeant, eds::read_as_meant(key, text, addr, name, &meant));
-                }
-                Ok(value)
-            }
-        }
     }
 
     /// CiA 301's mandatory objects the file lacks, said at its object list.
@@ -434,20 +376,15 @@ impl<'a, 'input> Reader<'a, 'input> {
 /// Parse an XDD or XDC. `path` is only for messages.
 pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, XmlError> {
     let text = decode(bytes, path)?;
-    let opts = roxmltree::ParsingOptions { allow_dtd: false, ..Default::default() };
-    let doc = Document::parse_with_options(&text, opts).map_err(|e| xml_error(path, &e))?;
+    let doc = document(&text, path)?;
     let root = doc.root_element();
-    if root.tag_name().name() != "ISO15745ProfileContainer" {
+    let not_xdd = |msg: String| {
         let pos = doc.text_pos_at(root.range().start);
-        return Err(XmlError {
-            path: path.to_string(),
-            line: pos.row,
-            column: pos.col,
-            msg: format!(
-                "<{}> is not an XDD or XDC: CiA 311 files begin with <ISO15745ProfileContainer>",
-                root.tag_name().name()
-            ),
-        });
+        XmlError { path: path.to_string(), line: pos.row, column: pos.col, msg }
+    };
+    if root.tag_name().name() != "ISO15745ProfileContainer" {
+        let msg = "is not an XDD or XDC: CiA 311 files begin with <ISO15745ProfileContainer>";
+        return Err(not_xdd(format!("<{}> {msg}", root.tag_name().name())));
     }
     let parameters = doc
         .descendants()
@@ -461,13 +398,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, XmlError> {
     reader.eds.warnings.sort_by_key(|w| if w.kind == Kind::MoreLeftOut { usize::MAX } else { w.line });
     // An object that could not be read is a finding; a file without any is no XDD.
     if !doc.descendants().any(|n| n.tag_name().name() == "CANopenObject") {
-        let pos = doc.text_pos_at(root.range().start);
-        return Err(XmlError {
-            path: path.to_string(),
-            line: pos.row,
-            column: pos.col,
-            msg: "no CANopenObjectList with objects: not a CANopen XDD or XDC".into(),
-        });
+        return Err(not_xdd("no CANopenObjectList with objects: not a CANopen XDD or XDC".into()));
     }
     Ok(reader.eds)
 }
@@ -476,8 +407,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<Eds, XmlError> {
 /// file has none. A nodeID of 0 is "not commissioned yet", as CiA 311 tools leave it.
 pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, XmlError> {
     let text = decode(bytes, path)?;
-    let opts = roxmltree::ParsingOptions { allow_dtd: false, ..Default::default() };
-    let doc = Document::parse_with_options(&text, opts).map_err(|e| xml_error(path, &e))?;
+    let doc = document(&text, path)?;
     let mut c = Commissioning::default();
     let Some(n) = doc.descendants().find(|n| n.tag_name().name() == "DeviceCommissioning") else {
         return Ok(c);
@@ -494,12 +424,16 @@ pub fn read_commissioning(bytes: &[u8], path: &str) -> Result<Commissioning, Xml
     Ok(c)
 }
 
-fn xml_error(path: &str, e: &roxmltree::Error) -> XmlError {
-    let pos = e.pos();
-    // roxmltree ends its text with the position, which the error gives first.
-    let text = e.to_string();
-    let text = text.strip_suffix(&format!(" at {pos}")).unwrap_or(&text).to_string();
-    XmlError { path: path.to_string(), line: pos.row, column: pos.col, msg: format!("malformed XML: {text}") }
+/// The XML document of `text`, without a DTD (entities that expand are refused).
+fn document<'t>(text: &'t str, path: &str) -> Result<Document<'t>, XmlError> {
+    let opts = roxmltree::ParsingOptions { allow_dtd: false, ..Default::default() };
+    Document::parse_with_options(text, opts).map_err(|e| {
+        let pos = e.pos();
+        // roxmltree ends its text with the position, which the error gives first.
+        let text = e.to_string();
+        let text = text.strip_suffix(&format!(" at {pos}")).unwrap_or(&text).to_string();
+        XmlError { path: path.to_string(), line: pos.row, column: pos.col, msg: format!("malformed XML: {text}") }
+    })
 }
 
 /// Text for an XML attribute: markup characters and the white space that attribute
@@ -538,11 +472,7 @@ fn value_text(e: &Entry, init: &Init) -> Result<String, String> {
 /// An XDC (with `actualValue`s) or an XDD (without) for `dict`, as the bytes of the file.
 /// Every value reads back to the same bytes (`parse`), or nothing is written and the error
 /// names the object and why.
-pub fn write_bytes(
-    dict: &Dictionary,
-    values: Option<&BTreeMap<ObjAddr, Vec<u8>>>,
-    h: &Header,
-) -> Result<Vec<u8>, WriteError> {
+pub fn write_bytes(dict: &Dictionary, values: Option<&Values>, h: &Header) -> Result<Vec<u8>, WriteError> {
     let text = |what: &str, s: &str| attr(s).map_err(|why| WriteError { what: what.to_string(), why });
     let mut o = String::new();
     o.push_str("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
@@ -615,12 +545,7 @@ pub fn actual_value_text(e: &Entry, bytes: &[u8], node: Option<u8>) -> Result<St
 }
 
 /// The attributes of one value: type, access, default, limits, and its actual value.
-fn keys(
-    dict: &Dictionary,
-    e: &Entry,
-    values: Option<&BTreeMap<ObjAddr, Vec<u8>>>,
-    node: Option<u8>,
-) -> Result<String, WriteError> {
+fn keys(dict: &Dictionary, e: &Entry, values: Option<&Values>, node: Option<u8>) -> Result<String, WriteError> {
     let refuse = |key: &str, why: String| WriteError {
         what: format!("{} ({}) {key}", e.addr, dict.display_name(e.addr).unwrap_or_else(|| e.name.clone())),
         why,

@@ -187,10 +187,7 @@ impl Fastscan {
     /// What to do next, given the answers fed so far.
     pub fn next(&self) -> FastscanNext {
         if let Some(outcome) = self.outcome {
-            return match outcome {
-                Ok(id) => FastscanNext::Found(id),
-                Err(e) => FastscanNext::Failed(e),
-            };
+            return outcome.map_or_else(FastscanNext::Failed, FastscanNext::Found);
         }
         let fastscan = |request: Request| Ask {
             request,
@@ -198,25 +195,14 @@ impl Fastscan {
             window: self.pace.step(),
             settle: Some(self.pace.settle()),
         };
+        let probe = |window| Ask { request: Request::IdentifyNonConfigured, expect: 0x50, window, settle: None };
+        let reset = fastscan(Request::Fastscan { id: 0, bit_checked: FASTSCAN_RESET, sub: 0, next: 0 });
         let sub = self.sub;
         FastscanNext::Send(match self.phase {
-            Phase::Probe => Ask {
-                request: Request::IdentifyNonConfigured,
-                expect: 0x50,
-                window: self.pace.probe_window(),
-                settle: None,
-            },
-            Phase::FinalProbe => Ask {
-                request: Request::IdentifyNonConfigured,
-                expect: 0x50,
-                window: self.pace.final_window(),
-                settle: None,
-            },
-            Phase::Reset if !self.pace.known() => Ask {
-                window: self.pace.probe_window(),
-                ..fastscan(Request::Fastscan { id: 0, bit_checked: FASTSCAN_RESET, sub: 0, next: 0 })
-            },
-            Phase::Reset => fastscan(Request::Fastscan { id: 0, bit_checked: FASTSCAN_RESET, sub: 0, next: 0 }),
+            Phase::Probe => probe(self.pace.probe_window()),
+            Phase::FinalProbe => probe(self.pace.final_window()),
+            Phase::Reset if !self.pace.known() => Ask { window: self.pace.probe_window(), ..reset },
+            Phase::Reset => reset,
             Phase::Bit(bit) => fastscan(Request::Fastscan { id: self.value, bit_checked: bit, sub, next: sub }),
             Phase::Waiting => Ask {
                 request: Request::SwitchGlobal { configuration: false },

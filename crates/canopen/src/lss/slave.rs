@@ -108,29 +108,20 @@ impl Slave {
                 (None, None)
             }
             Request::ConfigureNodeId(id) if configuring => {
-                let ok = (1..=127).contains(&id) || id == UNCONFIGURED;
-                let error = if ok { 0 } else { 1 };
-                (Some(Response::Result { cs: 0x11, error, specific: 0 }), ok.then_some(SlaveEvent::NodeId(id)))
+                result(0x11, (1..=127).contains(&id) || id == UNCONFIGURED, SlaveEvent::NodeId(id))
             }
             Request::ConfigureBitTiming { table, index } if configuring => {
                 let ok = self.caps.bit_timing
                     && table == 0
                     && BIT_TIMINGS.get(index as usize).is_some_and(|(_, k)| k.is_some());
-                let error = if ok { 0 } else { 1 };
-                (Some(Response::Result { cs: 0x13, error, specific: 0 }), ok.then_some(SlaveEvent::BitTiming(index)))
+                result(0x13, ok, SlaveEvent::BitTiming(index))
             }
             Request::ActivateBitTiming { delay_ms } if configuring => (None, Some(SlaveEvent::Activate { delay_ms })),
-            Request::StoreConfiguration if configuring => {
-                let error = if self.caps.store { 0 } else { 1 };
-                (Some(Response::Result { cs: 0x17, error, specific: 0 }), self.caps.store.then_some(SlaveEvent::Store))
-            }
+            Request::StoreConfiguration if configuring => result(0x17, self.caps.store, SlaveEvent::Store),
             Request::Inquire(q) if configuring => {
                 let value = match q {
-                    Inquiry::Vendor => self.identity.vendor,
-                    Inquiry::Product => self.identity.product,
-                    Inquiry::Revision => self.identity.revision,
-                    Inquiry::Serial => self.identity.serial,
                     Inquiry::NodeId => node_id as u32,
+                    part => self.identity.part(part.cs() - Inquiry::Vendor.cs()),
                 };
                 (Some(Response::InquiredValue { inquiry: q, value }), None)
             }
@@ -190,6 +181,12 @@ impl Slave {
         }
         (Some(Response::IdentifySlave), None)
     }
+}
+
+/// The answer to configuration command `cs`: done, with what the device is to do, or refused
+/// (error 1, "not supported").
+fn result(cs: u8, ok: bool, event: SlaveEvent) -> (Option<Response>, Option<SlaveEvent>) {
+    (Some(Response::Result { cs, error: u8::from(!ok), specific: 0 }), ok.then_some(event))
 }
 
 #[cfg(test)]

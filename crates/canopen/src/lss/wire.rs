@@ -2,6 +2,7 @@
 //! master's requests and the slaves' answers, encoded and decoded with byte vectors. Master
 //! requests go on 0x7E5, slave answers on 0x7E4; all frames are 8 bytes.
 
+use crate::frame::command;
 use std::fmt;
 
 /// The COB-ID of LSS master requests; slaves answer on 0x7E4.
@@ -27,21 +28,7 @@ pub struct Identity {
 impl Identity {
     /// Part `i` of the identity: 0 vendor, 1 product, 2 revision, 3 serial.
     pub fn part(&self, i: u8) -> u32 {
-        match i {
-            0 => self.vendor,
-            1 => self.product,
-            2 => self.revision,
-            _ => self.serial,
-        }
-    }
-
-    fn set_part(&mut self, i: u8, v: u32) {
-        match i {
-            0 => self.vendor = v,
-            1 => self.product = v,
-            2 => self.revision = v,
-            _ => self.serial = v,
-        }
+        [self.vendor, self.product, self.revision, self.serial][usize::from(i.min(3))]
     }
 }
 
@@ -58,16 +45,19 @@ impl std::str::FromStr for Identity {
 
     fn from_str(s: &str) -> Result<Identity, String> {
         let parts: Vec<&str> = s.split(':').collect();
-        if parts.len() != 4 {
+        let [vendor, product, revision, serial] = parts[..] else {
             return Err(format!("'{s}' is not an LSS identity: use VENDOR:PRODUCT:REVISION:SERIAL, e.g. 0x40:0x43787800:0x312E3031:0x09501234"));
-        }
-        let mut id = Identity::default();
-        for (i, p) in parts.iter().enumerate() {
-            let v = crate::number::parse_number(p)
-                .ok_or_else(|| format!("'{p}' in '{s}' is not a 32-bit number (decimal, or hex with 0x)"))?;
-            id.set_part(i as u8, v);
-        }
-        Ok(id)
+        };
+        let number = |p: &str| {
+            crate::number::parse_number(p)
+                .ok_or_else(|| format!("'{p}' in '{s}' is not a 32-bit number (decimal, or hex with 0x)"))
+        };
+        Ok(Identity {
+            vendor: number(vendor)?,
+            product: number(product)?,
+            revision: number(revision)?,
+            serial: number(serial)?,
+        })
     }
 }
 
@@ -119,11 +109,13 @@ pub fn bit_rate_name(index: u8) -> String {
     }
 }
 
-/// Which identity part an inquiry asks for, or the node-id.
+/// Which identity part an inquiry asks for, or the node-id; its value is its command
+/// specifier.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(u8)]
 pub enum Inquiry {
     /// The vendor-id.
-    Vendor,
+    Vendor = 0x5A,
     /// The product code.
     Product,
     /// The revision number.
@@ -136,13 +128,13 @@ pub enum Inquiry {
 
 impl Inquiry {
     pub(super) fn cs(self) -> u8 {
-        match self {
-            Inquiry::Vendor => 0x5A,
-            Inquiry::Product => 0x5B,
-            Inquiry::Revision => 0x5C,
-            Inquiry::Serial => 0x5D,
-            Inquiry::NodeId => 0x5E,
-        }
+        self as u8
+    }
+
+    /// The inquiry of command specifier `cs` (0x5A..0x5E).
+    fn of(cs: u8) -> Option<Inquiry> {
+        use Inquiry::*;
+        [Vendor, Product, Revision, Serial, NodeId].get(usize::from(cs.wrapping_sub(0x5A))).copied()
     }
 }
 
@@ -207,53 +199,26 @@ pub const FASTSCAN_RESET: u8 = 0x80;
 impl Request {
     /// The request's 8 data bytes.
     pub fn encode(&self) -> [u8; 8] {
-        let mut f = [0u8; 8];
-        let put32 = |f: &mut [u8; 8], v: u32| f[1..5].copy_from_slice(&v.to_le_bytes());
         match *self {
-            Request::SwitchGlobal { configuration } => {
-                f[0] = 0x04;
-                f[1] = configuration as u8;
-            }
-            Request::SwitchSelective { part, value } => {
-                f[0] = 0x40 + part;
-                put32(&mut f, value);
-            }
-            Request::ConfigureNodeId(id) => {
-                f[0] = 0x11;
-                f[1] = id;
-            }
-            Request::ConfigureBitTiming { table, index } => {
-                f[0] = 0x13;
-                f[1] = table;
-                f[2] = index;
-            }
-            Request::ActivateBitTiming { delay_ms } => {
-                f[0] = 0x15;
-                f[1..3].copy_from_slice(&delay_ms.to_le_bytes());
-            }
-            Request::StoreConfiguration => f[0] = 0x17,
-            Request::Inquire(q) => f[0] = q.cs(),
-            Request::IdentifyRemote { field, value } => {
-                f[0] = field;
-                put32(&mut f, value);
-            }
-            Request::IdentifyNonConfigured => f[0] = 0x4C,
+            Request::SwitchGlobal { configuration } => command(0x04, &[configuration as u8]),
+            Request::SwitchSelective { part, value } => command(0x40 + part, &value.to_le_bytes()),
+            Request::ConfigureNodeId(id) => command(0x11, &[id]),
+            Request::ConfigureBitTiming { table, index } => command(0x13, &[table, index]),
+            Request::ActivateBitTiming { delay_ms } => command(0x15, &delay_ms.to_le_bytes()),
+            Request::StoreConfiguration => command(0x17, &[]),
+            Request::Inquire(q) => command(q.cs(), &[]),
+            Request::IdentifyRemote { field, value } => command(field, &value.to_le_bytes()),
+            Request::IdentifyNonConfigured => command(0x4C, &[]),
             Request::Fastscan { id, bit_checked, sub, next } => {
-                f[0] = 0x51;
-                put32(&mut f, id);
-                f[5] = bit_checked;
-                f[6] = sub;
-                f[7] = next;
+                let [a, b, c, d] = id.to_le_bytes();
+                command(0x51, &[a, b, c, d, bit_checked, sub, next])
             }
         }
-        f
     }
 
     /// The request in these data bytes; `None` for one not known.
     pub fn decode(d: &[u8]) -> Option<Request> {
-        if d.len() != 8 {
-            return None;
-        }
+        let d: &[u8; 8] = d.try_into().ok()?;
         let v = u32::from_le_bytes([d[1], d[2], d[3], d[4]]);
         Some(match d[0] {
             0x04 if d[1] <= 1 => Request::SwitchGlobal { configuration: d[1] == 1 },
@@ -262,11 +227,7 @@ impl Request {
             0x13 => Request::ConfigureBitTiming { table: d[1], index: d[2] },
             0x15 => Request::ActivateBitTiming { delay_ms: u16::from_le_bytes([d[1], d[2]]) },
             0x17 => Request::StoreConfiguration,
-            0x5A => Request::Inquire(Inquiry::Vendor),
-            0x5B => Request::Inquire(Inquiry::Product),
-            0x5C => Request::Inquire(Inquiry::Revision),
-            0x5D => Request::Inquire(Inquiry::Serial),
-            0x5E => Request::Inquire(Inquiry::NodeId),
+            cs @ 0x5A..=0x5E => Request::Inquire(Inquiry::of(cs)?),
             0x46..=0x4B => Request::IdentifyRemote { field: d[0], value: v },
             0x4C => Request::IdentifyNonConfigured,
             0x51 => Request::Fastscan { id: v, bit_checked: d[5], sub: d[6], next: d[7] },
@@ -306,42 +267,25 @@ pub enum Response {
 impl Response {
     /// The answer's 8 data bytes.
     pub fn encode(&self) -> [u8; 8] {
-        let mut f = [0u8; 8];
         match *self {
-            Response::SwitchSelectiveAck => f[0] = 0x44,
-            Response::Result { cs, error, specific } => {
-                f[0] = cs;
-                f[1] = error;
-                f[2] = specific;
-            }
-            Response::InquiredValue { inquiry: Inquiry::NodeId, value } => {
-                f[0] = 0x5E;
-                f[1] = value as u8;
-            }
-            Response::InquiredValue { inquiry, value } => {
-                f[0] = inquiry.cs();
-                f[1..5].copy_from_slice(&value.to_le_bytes());
-            }
-            Response::IdentifySlave => f[0] = 0x4F,
-            Response::IdentifyNonConfiguredSlave => f[0] = 0x50,
+            Response::SwitchSelectiveAck => command(0x44, &[]),
+            Response::Result { cs, error, specific } => command(cs, &[error, specific]),
+            Response::InquiredValue { inquiry: Inquiry::NodeId, value } => command(0x5E, &[value as u8]),
+            Response::InquiredValue { inquiry, value } => command(inquiry.cs(), &value.to_le_bytes()),
+            Response::IdentifySlave => command(0x4F, &[]),
+            Response::IdentifyNonConfiguredSlave => command(0x50, &[]),
         }
-        f
     }
 
     /// The answer in these data bytes; `None` for one not known.
     pub fn decode(d: &[u8]) -> Option<Response> {
-        if d.len() != 8 {
-            return None;
-        }
+        let d: &[u8; 8] = d.try_into().ok()?;
         let v = u32::from_le_bytes([d[1], d[2], d[3], d[4]]);
         Some(match d[0] {
             0x44 => Response::SwitchSelectiveAck,
             cs @ (0x11 | 0x13 | 0x17) => Response::Result { cs, error: d[1], specific: d[2] },
-            0x5A => Response::InquiredValue { inquiry: Inquiry::Vendor, value: v },
-            0x5B => Response::InquiredValue { inquiry: Inquiry::Product, value: v },
-            0x5C => Response::InquiredValue { inquiry: Inquiry::Revision, value: v },
-            0x5D => Response::InquiredValue { inquiry: Inquiry::Serial, value: v },
             0x5E => Response::InquiredValue { inquiry: Inquiry::NodeId, value: d[1] as u32 },
+            cs @ 0x5A..=0x5D => Response::InquiredValue { inquiry: Inquiry::of(cs)?, value: v },
             0x4F => Response::IdentifySlave,
             0x50 => Response::IdentifyNonConfiguredSlave,
             _ => return None,

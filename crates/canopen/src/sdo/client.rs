@@ -359,16 +359,21 @@ impl SdoClient {
         }
         self.last = Some((p, len));
         let response = Response::parse(&p);
-        if let State::BlockUploadData { expected } = self.state {
-            // Inside a sub-block every frame is a segment, except the abort (sequence 0).
-            if let Some(Response::Abort { addr, code }) = response {
-                self.require(8, "an abort (0x80) with its code")?;
-                if let Some(aside) = self.abort_of_another(addr) {
-                    return Ok(aside);
-                }
-                self.state = State::Finished;
-                return Err(SdoError::ServerAbort(code));
+        if let Some(Response::Abort { addr, code }) = response {
+            self.require(8, "an abort (0x80) with its code")?;
+            if let Some(aside) = self.abort_of_another(addr) {
+                return Ok(aside);
             }
+            // A server that gave up on the abandoned attempt says so (timed out): that is
+            // not this attempt's answer. Any other refusal may well be. (Inside a sub-block,
+            // reached only once this attempt was answered, it ends the transfer.)
+            if self.restarted && code == abort::TIMED_OUT {
+                return self.not_for_this_transfer(&p);
+            }
+            return self.on_abort(code);
+        }
+        // Inside a sub-block every frame is a segment, except the abort (sequence 0).
+        if let State::BlockUploadData { expected } = self.state {
             return self.block_upload_segment(BlockSegment::parse(&p), expected);
         }
         let Some(response) = response else {
@@ -381,18 +386,6 @@ impl SdoClient {
                 _ => Err(self.unexpected(&p)),
             };
         };
-        if let Response::Abort { addr, code } = response {
-            self.require(8, "an abort (0x80) with its code")?;
-            if let Some(aside) = self.abort_of_another(addr) {
-                return Ok(aside);
-            }
-            // A server that gave up on the abandoned attempt says so (timed out): that is
-            // not this attempt's answer. Any other refusal may well be.
-            if self.restarted && code == abort::TIMED_OUT {
-                return self.not_for_this_transfer(&p);
-            }
-            return self.on_abort(code);
-        }
         match self.state {
             State::UploadInit => self.upload_initiated(&p, response),
             State::UploadSegment => self.upload_segment(&p, response),

@@ -125,10 +125,7 @@ impl SdoServer {
     }
 
     fn initiate_upload(&mut self, addr: ObjAddr, od: &mut dyn ObjectAccess) -> Vec<[u8; 8]> {
-        match od.read(addr) {
-            Err(code) => vec![abort_frame(addr, code)],
-            Ok(data) => self.plain_upload(addr, data),
-        }
+        od.read(addr).map_or_else(|code| vec![abort_frame(addr, code)], |data| self.plain_upload(addr, data))
     }
 
     fn plain_upload(&mut self, addr: ObjAddr, data: Vec<u8>) -> Vec<[u8; 8]> {
@@ -211,10 +208,7 @@ impl SdoServer {
             self.state = State::Download { addr, data, size, toggle: !toggle };
             return vec![ack];
         }
-        match finish_download(addr, &data, size, od) {
-            Ok(()) => vec![ack],
-            Err(code) => vec![abort_frame(addr, code)],
-        }
+        finish_download(addr, &data, size, od).map_or_else(|code| vec![abort_frame(addr, code)], |()| vec![ack])
     }
 
     /// Block download and block upload requests outside a sub-block.
@@ -243,10 +237,8 @@ impl SdoServer {
                 if crc && sum != block_crc(&data) {
                     return vec![abort_frame(addr, abort::CRC_ERROR)];
                 }
-                match finish_download(addr, &data, size, od) {
-                    Ok(()) => vec![Response::BlockDownloadEnd.emit()],
-                    Err(code) => vec![abort_frame(addr, code)],
-                }
+                let end = Response::BlockDownloadEnd.emit();
+                finish_download(addr, &data, size, od).map_or_else(|code| vec![abort_frame(addr, code)], |()| vec![end])
             }
             (Request::BlockUpload { addr, crc, blksize, pst }, _) => {
                 if !(1..=MAX_BLOCK_SIZE).contains(&blksize) {

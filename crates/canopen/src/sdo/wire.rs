@@ -13,6 +13,7 @@
 //! arrived is for the caller to check against what the frame kind needs. Bits CiA 301
 //! marks "x" (not used) are ignored on parsing and written as zero.
 
+use crate::frame::command;
 use crate::ObjAddr;
 
 /// Data bytes in one segment.
@@ -254,14 +255,6 @@ fn with_mux(cmd: u8, addr: ObjAddr, data: [u8; 4]) -> [u8; 8] {
     f
 }
 
-/// A frame with command byte and up to seven bytes after it.
-fn short(cmd: u8, data: &[u8]) -> [u8; 8] {
-    let mut f = [0u8; 8];
-    f[0] = cmd;
-    f[1..1 + data.len()].copy_from_slice(data);
-    f
-}
-
 fn abort(addr: ObjAddr, code: u32) -> [u8; 8] {
     with_mux(ABORT, addr, code.to_le_bytes())
 }
@@ -273,18 +266,10 @@ fn block_initiate(addr: ObjAddr, crc: bool, size: Option<u32>) -> [u8; 8] {
     with_mux(0xC0 | (crc as u8) << 2 | s, addr, size.unwrap_or(0).to_le_bytes())
 }
 
-fn parse_block_initiate(p: &[u8; 8]) -> (ObjAddr, bool, Option<u32>) {
-    (mux(p), p[0] & 0x04 != 0, (p[0] & 0x02 != 0).then(|| le_u32(p)))
-}
-
 /// The last frame of a block's data, in either direction: `unused` bytes of the last
 /// segment carry no data, and the CRC.
 fn block_end(unused: u8, crc: u16) -> [u8; 8] {
-    short(0xC1 | (unused & 7) << 2, &crc.to_le_bytes())
-}
-
-fn parse_block_end(p: &[u8; 8]) -> (u8, u16) {
-    ((p[0] >> 2) & 7, u16::from_le_bytes([p[1], p[2]]))
+    command(0xC1 | (unused & 7) << 2, &crc.to_le_bytes())
 }
 
 impl Request {
@@ -306,13 +291,9 @@ impl Request {
                 _ => Request::BlockUploadStart,
             },
             6 if cmd & 0x01 == 0 => {
-                let (addr, crc, size) = parse_block_initiate(p);
-                Request::BlockDownload { addr, crc, size }
+                Request::BlockDownload { addr: mux(p), crc, size: (cmd & 0x02 != 0).then(|| le_u32(p)) }
             }
-            6 => {
-                let (unused, crc) = parse_block_end(p);
-                Request::BlockDownloadEnd { unused, crc }
-            }
+            6 => Request::BlockDownloadEnd { unused: (cmd >> 2) & 7, crc: u16::from_le_bytes([p[1], p[2]]) },
             _ => return None,
         })
     }
@@ -323,14 +304,14 @@ impl Request {
             Request::DownloadSegment(seg) => seg.emit(0),
             Request::InitiateDownload { addr, init } => with_mux(0x20 | init.bits(), addr, init.bytes()),
             Request::InitiateUpload { addr } => with_mux(0x40, addr, [0; 4]),
-            Request::UploadSegment { toggle } => short(0x60 | (toggle as u8) << 4, &[]),
+            Request::UploadSegment { toggle } => command(0x60 | (toggle as u8) << 4, &[]),
             Request::Abort { addr, code } => abort(addr, code),
             Request::BlockUpload { addr, crc, blksize, pst } => {
                 with_mux(0xA0 | (crc as u8) << 2, addr, [blksize, pst, 0, 0])
             }
-            Request::BlockUploadEnd => short(0xA1, &[]),
-            Request::BlockUploadAck { ackseq, blksize } => short(0xA2, &[ackseq, blksize]),
-            Request::BlockUploadStart => short(0xA3, &[]),
+            Request::BlockUploadEnd => command(0xA1, &[]),
+            Request::BlockUploadAck { ackseq, blksize } => command(0xA2, &[ackseq, blksize]),
+            Request::BlockUploadStart => command(0xA3, &[]),
             Request::BlockDownload { addr, crc, size } => block_initiate(addr, crc, size),
             Request::BlockDownloadEnd { unused, crc } => block_end(unused, crc),
         }
@@ -356,13 +337,9 @@ impl Response {
                 _ => return None,
             },
             6 if cmd & 0x01 == 0 => {
-                let (addr, crc, size) = parse_block_initiate(p);
-                Response::BlockUpload { addr, crc, size }
+                Response::BlockUpload { addr: mux(p), crc, size: (cmd & 0x02 != 0).then(|| le_u32(p)) }
             }
-            6 => {
-                let (unused, crc) = parse_block_end(p);
-                Response::BlockUploadEnd { unused, crc }
-            }
+            6 => Response::BlockUploadEnd { unused: (cmd >> 2) & 7, crc: u16::from_le_bytes([p[1], p[2]]) },
             _ => return None,
         })
     }
@@ -371,15 +348,15 @@ impl Response {
     pub fn emit(&self) -> [u8; 8] {
         match *self {
             Response::UploadSegment(seg) => seg.emit(0),
-            Response::DownloadSegment { toggle } => short(0x20 | (toggle as u8) << 4, &[]),
+            Response::DownloadSegment { toggle } => command(0x20 | (toggle as u8) << 4, &[]),
             Response::InitiateUpload { addr, init } => with_mux(0x40 | init.bits(), addr, init.bytes()),
             Response::InitiateDownload { addr } => with_mux(0x60, addr, [0; 4]),
             Response::Abort { addr, code } => abort(addr, code),
             Response::BlockDownload { addr, crc, blksize } => {
                 with_mux(0xA0 | (crc as u8) << 2, addr, [blksize, 0, 0, 0])
             }
-            Response::BlockDownloadEnd => short(0xA1, &[]),
-            Response::BlockDownloadAck { ackseq, blksize } => short(0xA2, &[ackseq, blksize]),
+            Response::BlockDownloadEnd => command(0xA1, &[]),
+            Response::BlockDownloadAck { ackseq, blksize } => command(0xA2, &[ackseq, blksize]),
             Response::BlockUpload { addr, crc, size } => block_initiate(addr, crc, size),
             Response::BlockUploadEnd { unused, crc } => block_end(unused, crc),
         }

@@ -112,10 +112,7 @@ const QUOTED_CHARS: usize = 60;
 
 /// `1018` → (0x1018, None); `1018sub2` → (0x1018, Some(2)); anything else → None.
 pub(super) fn object_section(name: &str) -> Option<(u16, Option<u8>)> {
-    let (index, sub) = match name.split_once("sub") {
-        Some((i, s)) => (i, Some(s)),
-        None => (name, None),
-    };
+    let (index, sub) = name.split_once("sub").map_or((name, None), |(i, s)| (i, Some(s)));
     if index.len() != 4 || !index.chars().all(|c| c.is_ascii_hexdigit()) {
         return None;
     }

@@ -26,11 +26,7 @@ pub(super) fn node_id_offset(text: &str) -> Option<Result<i128, String>> {
 }
 
 pub(super) fn parse_unsigned(text: &str) -> Option<i128> {
-    let t = trim_blanks(text);
-    if t.starts_with(['+', '-']) {
-        return None;
-    }
-    parse_int(t)
+    Some(trim_blanks(text)).filter(|t| !t.starts_with(['+', '-'])).and_then(parse_int)
 }
 
 /// A real as CiA 306 files write it (`1.5`, `-2e3`, `inf`, `nan`), or the exact bits as
@@ -64,9 +60,8 @@ pub(crate) fn parse_value(text: &str, dtype: DataType) -> Result<Init, String> {
     }
     if let Some(offset) = node_id_offset(t) {
         let offset = offset?;
-        let (_, hi) = match dtype.int_range() {
-            Some(range) if dtype != DataType::Bool => range,
-            _ => return Err(format!("'{t}' is node-id arithmetic, which needs an integer type, not {dtype}")),
+        let Some((_, hi)) = dtype.int_range().filter(|_| dtype != DataType::Bool) else {
+            return Err(format!("'{t}' is node-id arithmetic, which needs an integer type, not {dtype}"));
         };
         let highest = offset + NODE_IDS.end();
         if highest > hi {
@@ -134,8 +129,8 @@ fn plain_meaning(text: &str, dtype: DataType) -> Option<String> {
 }
 
 /// What a reader says of a value it read as meant ([`parse_value_as_meant`]).
-pub fn read_as_meant(key: &str, text: &str, addr: ObjAddr, name: &str, meant: &str) -> String {
-    format!("{key} {text} of {addr} ({name}) read as {meant}")
+pub fn read_as_meant(key: &str, text: &str, who: &str, meant: &str) -> String {
+    format!("{key} {text} of {who} read as {meant}")
 }
 
 pub(super) fn parse_access(text: &str) -> Option<Access> {
@@ -152,6 +147,19 @@ pub(super) fn parse_access(text: &str) -> Option<Access> {
 /// manufacturer-specific, 0x0060..0x025F device-profile-specific.
 pub(super) const DATA_TYPE_CODES: std::ops::RangeInclusive<i128> = 0x0001..=0x025F;
 
+/// The kind of object an ObjectType codes; `None` for one that holds no values (DEFTYPE,
+/// DEFSTRUCT, NULL); `Err` for another, naming the codes canctl reads.
+pub fn object_kind(code: i128) -> Result<Option<ObjectKind>, String> {
+    Ok(Some(match code {
+        // A DOMAIN object (0x2) is a single value, as a VAR is.
+        7 | 2 => ObjectKind::Var,
+        8 => ObjectKind::Array,
+        9 => ObjectKind::Record,
+        0 | 5 | 6 => return Ok(None),
+        other => return Err(format!("{other} is not DOMAIN (2), VAR (7), ARRAY (8) or RECORD (9)")),
+    }))
+}
+
 /// The type of a `DataType` code: `Ok(None)` for a CiA 301 type canctl does not handle,
 /// an error for a number that is no data type at all.
 pub fn data_type_from_code(code: i128) -> Result<Option<DataType>, String> {
@@ -163,8 +171,8 @@ pub fn data_type_from_code(code: i128) -> Result<Option<DataType>, String> {
 
 /// What a reader does with a CiA 301 data type it does not handle (`data_type_from_code`
 /// gave `Ok(None)`), in words.
-pub fn type_as_bytes(addr: ObjAddr, name: &str, code: i128) -> String {
-    format!("{addr} ({name}) has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default")
+pub fn type_as_bytes(who: &str, code: i128) -> String {
+    format!("{who} has data type 0x{code:04X}, not a CiA 301 basic type: read as DOMAIN (d), its bytes as they are, no default")
 }
 
 /// A LowLimit or HighLimit: an integer, two's complement when a signed type's is hex; one
@@ -218,32 +226,21 @@ pub(super) fn unwritable_bytes(bytes: &[u8]) -> Option<String> {
 /// A real in the shortest text that reads back to the same bits; a NaN other than the one
 /// `nan` reads as keeps its bits as hex.
 pub(super) fn real_text(bytes: &[u8], dtype: DataType) -> String {
-    fn shortest(plain: String, exp: String) -> String {
-        if exp.len() < plain.len() {
-            exp
-        } else {
-            plain
-        }
-    }
-    match dtype {
+    let mut wide = [0u8; 8];
+    wide[..bytes.len()].copy_from_slice(bytes);
+    let bits = u64::from_le_bytes(wide);
+    let (plain, exp, nan) = match dtype {
         DataType::R32 => {
-            let v = f32::from_le_bytes(bytes.try_into().expect("4 bytes"));
-            if v.is_nan() {
-                return if v.to_bits() == f32::NAN.to_bits() { "nan".into() } else { format!("0x{:08X}", v.to_bits()) };
-            }
-            shortest(format!("{v}"), format!("{v:e}"))
+            let v = f32::from_bits(bits as u32);
+            (v.to_string(), format!("{v:e}"), u64::from(f32::NAN.to_bits()))
         }
-        _ => {
-            let v = f64::from_le_bytes(bytes.try_into().expect("8 bytes"));
-            if v.is_nan() {
-                return if v.to_bits() == f64::NAN.to_bits() {
-                    "nan".into()
-                } else {
-                    format!("0x{:016X}", v.to_bits())
-                };
-            }
-            shortest(format!("{v}"), format!("{v:e}"))
-        }
+        _ => (f64::from_bits(bits).to_string(), format!("{:e}", f64::from_bits(bits)), f64::NAN.to_bits()),
+    };
+    match plain.as_str() {
+        "NaN" if bits == nan => "nan".into(),
+        "NaN" => format!("0x{bits:0width$X}", width = bytes.len() * 2),
+        _ if exp.len() < plain.len() => exp,
+        _ => plain,
     }
 }
 

@@ -38,11 +38,7 @@ pub struct WriteError {
 /// file. Every value reads back to the same bytes (`parse`), or nothing is written and the
 /// error names the object and why. Names are Latin-1 as CiA 306 files traditionally are,
 /// UTF-8 when one is beyond Latin-1.
-pub fn write_bytes(
-    dict: &Dictionary,
-    values: Option<&BTreeMap<ObjAddr, Vec<u8>>>,
-    h: &Header,
-) -> Result<Vec<u8>, WriteError> {
+pub fn write_bytes(dict: &Dictionary, values: Option<&Values>, h: &Header) -> Result<Vec<u8>, WriteError> {
     let mut w = Writer { lines: Vec::new() };
     w.raw("[FileInfo]");
     // A DCF written to standard output has no name of its own to give.
@@ -121,11 +117,8 @@ pub fn write_bytes(
 /// # Panics
 /// When the dictionary holds a value no EDS can carry: files from devices go through
 /// `write_bytes`, which says so.
-pub fn write(dict: &Dictionary, values: Option<&BTreeMap<ObjAddr, Vec<u8>>>, h: &Header) -> String {
-    match write_bytes(dict, values, h) {
-        Ok(bytes) => bytes.iter().map(|b| *b as char).collect(),
-        Err(e) => panic!("{e}"),
-    }
+pub fn write(dict: &Dictionary, values: Option<&Values>, h: &Header) -> String {
+    write_bytes(dict, values, h).unwrap_or_else(|e| panic!("{e}")).iter().map(|b| *b as char).collect()
 }
 
 pub(super) enum Line {
@@ -211,7 +204,7 @@ pub(super) fn entry_keys(
     w: &mut Writer,
     dict: &Dictionary,
     e: &Entry,
-    values: Option<&BTreeMap<ObjAddr, Vec<u8>>>,
+    values: Option<&Values>,
     node: Option<u8>,
 ) -> Result<(), WriteError> {
     let refuse = |key: &str, why: String| WriteError {

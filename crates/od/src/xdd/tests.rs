@@ -1,6 +1,7 @@
 use super::*;
-use crate::lint::Severity;
+use crate::lint::{Severity, Warning};
 use crate::Dictionary;
+use std::collections::BTreeMap;
 
 #[test]
 fn xml_is_told_from_ini_by_its_first_character() {
