@@ -4,7 +4,7 @@
 //! writes a target or starts a motion.
 
 use super::node::{optional, Node};
-use super::{le_u32, sized};
+use super::sized;
 use crate::bus::Bus;
 use crate::cancel::Cancel;
 use crate::canopen::cia402::{self, Command, Goal, State, Step};
@@ -92,13 +92,13 @@ pub fn state_text(state: Option<State>, statusword: u16) -> String {
 }
 
 /// An unsigned object of the drive.
-fn read<T: super::node::Unsigned>(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<T> {
+fn read<T: TryFrom<u32>>(bus: &mut dyn Bus, node: u8, addr: ObjAddr, timeout: Duration) -> Result<T> {
     Node::new(bus, node, timeout).read(addr)
 }
 
 /// The node's device type, if it is a CiA 402 drive; [`Error::NotADrive`] otherwise.
 pub(crate) fn check_drive(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<u32> {
-    let device_type = le_u32(&Node::new(bus, node, timeout).upload(ObjAddr::DEVICE_TYPE, Some(4))?);
+    let device_type: u32 = read(bus, node, ObjAddr::DEVICE_TYPE, timeout)?;
     if !cia402::is_drive(device_type) {
         return Err(Error::NotADrive { node, device_type });
     }
