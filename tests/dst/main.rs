@@ -161,6 +161,13 @@ const FIXED: &[u64] = &[
     // from 0x7B000000.
     0x7b01_708f,
     0x7b00_cfe7,
+    // network set-baud, the I/O module missing one frame in ten: it missed the switch back to
+    // waiting, answered the inquiry after it, then missed the next two inquiries; that
+    // silence was taken for the switch confirmed, and it was left in configuration state,
+    // exit 0. Nothing sent after its answer could have sent it back (fixed: silence confirms
+    // the switch only when nobody answered since it was sent; else it is sent again). Found
+    // by a run from 0x1C000000.
+    0x1c01_4bab,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.
