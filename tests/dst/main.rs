@@ -161,6 +161,22 @@ const FIXED: &[u64] = &[
     // from 0x7B000000.
     0x7b01_708f,
     0x7b00_cfe7,
+    // network set-baud, the I/O module missing one frame in ten: it missed the switch back to
+    // waiting, answered the inquiry after it, then missed the next two inquiries; that
+    // silence was taken for the switch confirmed, and it was left in configuration state,
+    // exit 0. Nothing sent after its answer could have sent it back (fixed: silence confirms
+    // the switch only when nobody answered since it was sent; else it is sent again). Found
+    // by a run from 0x1C000000.
+    0x1c01_4bab,
+    // scan, node 10 answering on node 11's COB-ID and rebooting on the probe (no answer on
+    // 0x58B to it): its boot-up had it asked alone, it answered on 0x58B, and the bus's
+    // observer took that answer for node 11 showing itself: node 11 was listed, no device
+    // has it. Not the class health allows (a device silent when asked alone): the scan had
+    // asked it alone and seen whose answer it was, so the invariant stays as it is; a user
+    // wants no node listed that nothing shows (fixed: the node-id a suspect answers on is
+    // asked alone too where the probe did not find it and it shows itself no other way;
+    // silent, it is not listed, and the scan says node 10 answers on 0x58B). Same run.
+    0x1c00_0b94,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.

@@ -136,12 +136,17 @@ impl<'a> LssMaster<'a> {
     /// Whether no device is in configuration state: two inquiries in a row go unanswered
     /// ("inquire node-id"; a device that missed the switch may miss one inquiry too), or the
     /// answers are not a device's: a device answers with the same node-id again, a device
-    /// flooding the LSS answer id with a counter does not.
+    /// flooding the LSS answer id with a counter does not. Silence after an answer confirms
+    /// nothing: nothing sent since the answer sends a device back, so the one that answered
+    /// is still in configuration state, missing the inquiries now (the switch is sent again).
     fn nobody_configuring(&mut self) -> Result<bool> {
         let (mut heard, mut silences) = (Vec::new(), 0);
         for _ in 0..4 {
             let ids = self.node_ids_inquired()?;
             if ids.is_empty() {
+                if !heard.is_empty() {
+                    return Ok(false);
+                }
                 silences += 1;
                 if silences == 2 {
                     return Ok(true);
@@ -152,7 +157,6 @@ impl<'a> LssMaster<'a> {
                 return Ok(false);
             }
             heard.extend(ids);
-            silences = 0;
         }
         Ok(true)
     }
@@ -306,5 +310,113 @@ impl LssMaster<'_> {
                 return Ok(false);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The confirmed switch back to waiting, on virtual time, against one device that misses
+    //! the LSS requests the test numbers (a receive queue overrun): a device really can.
+
+    use super::*;
+    use crate::bus::{FrameLink, Master};
+    use crate::canopen::lss::{Slave, SlaveCaps, SlaveState, MASTER_COB, SLAVE_COB};
+    use crate::frame::Frame;
+    use std::collections::VecDeque;
+    use std::time::Instant;
+
+    /// One LSS slave with node-id 10 that does not hear the requests numbered (from 1) in
+    /// `missed`; it answers 1 ms after a request.
+    struct Device {
+        slave: Slave,
+        missed: Vec<usize>,
+        heard: usize,
+        now: Instant,
+        queue: VecDeque<(Instant, Frame)>,
+    }
+
+    impl FrameLink for Device {
+        fn send(&mut self, frame: &Frame) -> Result<()> {
+            let Some(req) = Request::decode(frame.data()).filter(|_| frame.id() == MASTER_COB) else { return Ok(()) };
+            self.heard += 1;
+            if self.missed.contains(&self.heard) {
+                return Ok(());
+            }
+            if let (Some(answer), _) = self.slave.handle(req, 10) {
+                self.queue.push_back((self.now + Duration::from_millis(1), Frame::new(SLAVE_COB, &answer.encode())));
+            }
+            Ok(())
+        }
+        fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
+            match self.queue.front() {
+                Some((at, _)) if *at <= deadline => {
+                    self.now = self.now.max(*at);
+                    Ok(self.queue.pop_front().map(|(_, f)| f))
+                }
+                _ => {
+                    self.now = self.now.max(deadline);
+                    Ok(None)
+                }
+            }
+        }
+        fn name(&self) -> String {
+            "test".into()
+        }
+        fn now(&self) -> Instant {
+            self.now
+        }
+        fn sleep_until(&mut self, t: Instant) -> Result<()> {
+            self.now = self.now.max(t);
+            Ok(())
+        }
+    }
+
+    fn device(missed: &[usize]) -> Master<Device> {
+        let identity = Identity { vendor: 0x444, product: 0x2057, revision: 0x10000, serial: 0x1F4A };
+        let caps = SlaveCaps { store: true, bit_timing: true, fastscan_in_configuration: false };
+        let now = crate::bus::clock::monotonic_now();
+        let slave = Slave::new(identity, caps);
+        let link = Device { slave, missed: missed.to_vec(), heard: 0, now, queue: VecDeque::new() };
+        Master::new(link, "test".into())
+    }
+
+    /// Every device into configuration state (request 1), then back: whether `leave` said
+    /// so, and the device's state after it.
+    fn enter_and_leave(missed: &[usize]) -> (Result<()>, SlaveState) {
+        let mut bus = device(missed);
+        let mut m = LssMaster::new(&mut bus, Duration::from_millis(100));
+        m.enter(None).unwrap();
+        let left = m.leave();
+        (left, bus.link_mut().slave.state)
+    }
+
+    /// Found by the DST (network set-baud, a device missing one frame in ten): the device
+    /// missed the switch back (request 2), answered the first inquiry (3), missed the next
+    /// two (4, 5). That silence came after its answer, when nothing sent could have sent it
+    /// back: it was taken for the switch confirmed, and the device stayed in configuration
+    /// state under a success. The switch goes again until silence follows it.
+    #[test]
+    fn silence_after_an_answer_does_not_confirm_the_switch_back() {
+        let (left, state) = enter_and_leave(&[2, 4, 5]);
+        left.unwrap();
+        assert_eq!(state, SlaveState::Waiting);
+    }
+
+    /// Silence before any answer is the switch heard: one missed inquiry is allowed.
+    #[test]
+    fn two_unanswered_inquiries_confirm_the_switch_back() {
+        let (left, state) = enter_and_leave(&[3]);
+        left.unwrap();
+        assert_eq!(state, SlaveState::Waiting);
+    }
+
+    /// A device that misses every switch back, answering some inquiries and missing others,
+    /// is never reported gone: the error says it stayed.
+    #[test]
+    fn a_device_missing_every_switch_back_is_said_to_stay() {
+        // Each try: the switch, an answer, then silence (the old rule's confirmation).
+        let (left, state) = enter_and_leave(&[2, 4, 5, 6, 8, 9, 10, 12, 13]);
+        assert!(matches!(left, Err(Error::LssLeftInConfiguration { tries: 3 })), "{left:?}");
+        assert_eq!(state, SlaveState::Configuration);
     }
 }
