@@ -13,14 +13,13 @@
 //! reset, and the state file between invocations, keep it as hardware would.
 
 use super::device::objects::ObjectStore;
-use super::profiles::Model;
-use crate::canopen::lss::SlaveCaps;
+use super::profiles::{Model, BASIC_LSS};
 use crate::canopen::program::{self, code, FlashStatus, FLASH_STATUS, PROGRAM_CONTROL, PROGRAM_DATA, SOFTWARE_ID};
 use crate::canopen::sdo::{ObjectAccess, SdoServer};
 use crate::canopen::DataType::*;
 use crate::canopen::{abort, nmt, ObjAddr};
 use crate::od::Access::*;
-use crate::od::{le, text, Dictionary, Init};
+use crate::od::{le as u, text, Dictionary, Init};
 
 /// The model key (state file, `Network::device_mut`).
 pub const KEY: &str = "bootloader";
@@ -67,10 +66,6 @@ const ID: ObjAddr = ObjAddr::new(SOFTWARE_ID, 1);
 const STATUS: ObjAddr = ObjAddr::new(FLASH_STATUS, 1);
 const DATA: ObjAddr = ObjAddr::new(PROGRAM_DATA, 1);
 
-fn u(v: u64, t: crate::canopen::DataType) -> Init {
-    le(v, t)
-}
-
 /// A device with one program and a CiA 302-3 bootloader (heartbeat 100 ms);
 /// `block_transfer: false` makes one that refuses SDO block transfer.
 pub fn model(block_transfer: bool) -> Model {
@@ -101,24 +96,11 @@ pub fn model(block_transfer: bool) -> Model {
             (3, "Program data frames until power loss", U32, Ro, u(0, U32)),
         ],
     );
-    d.var(0x5F51, "Simulated bootloader fault", U8, Rw, u(0, U8));
-    d.limit(FAULT_OBJECT, 0, 3);
+    d.var(0x5F51, "Simulated bootloader fault", U8, Rw, u(0, U8)).range = Some((0, 3));
     d.var(0x5F52, "Simulated boot time (ms)", U16, Rw, u(DEFAULT_BOOT_MS, U16));
-    d.var(0x5F53, "Simulated start answered before the reset", U8, Rw, u(1, U8));
-    d.limit(START_STYLE, 0, 1);
-    Model {
-        key: if block_transfer { KEY.into() } else { format!("{KEY}-segmented") },
-        dict: d,
-        block_transfer,
-        guarding: false,
-        ignored_writes: vec![],
-        lss: SlaveCaps { store: false, bit_timing: false, fastscan_in_configuration: false },
-        moving: false,
-        pad_pdos: false,
-        epos2_bit_rate: false,
-        fault: None,
-        drive: None,
-    }
+    d.var(0x5F53, "Simulated start answered before the reset", U8, Rw, u(1, U8)).range = Some((0, 1));
+    let key = if block_transfer { KEY.into() } else { format!("{KEY}-segmented") };
+    Model { block_transfer, lss: BASIC_LSS, ..Model::plain(key, d) }
 }
 
 /// Whether a device's dictionary makes it a bootloader.

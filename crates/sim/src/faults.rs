@@ -88,6 +88,21 @@ pub struct FaultSpec {
     pub when: When,
 }
 
+/// The kinds that take no argument, by name.
+const PLAIN_KINDS: [(&str, Kind); 11] = [
+    ("drop", Kind::Drop),
+    ("duplicate", Kind::Duplicate),
+    ("corrupt", Kind::Corrupt),
+    ("mute", Kind::Mute),
+    ("no-heartbeat", Kind::NoHeartbeat),
+    ("reboot", Kind::Reboot),
+    ("off", Kind::Off),
+    ("miss", Kind::Miss),
+    ("endless-segments", Kind::Endless(Endless::Segments)),
+    ("endless-block", Kind::Endless(Endless::Block)),
+    ("ack-zero", Kind::Endless(Endless::AckZero)),
+];
+
 /// SDO abort "general error", when `abort` names no code.
 pub(crate) const DEFAULT_ABORT: u32 = 0x0800_0000;
 const DEFAULT_SHORT_DLC: u8 = 4;
@@ -116,47 +131,22 @@ impl FromStr for FaultSpec {
         let need = |what: &str| arg.ok_or_else(|| format!("'{name}' needs {what}: {name}=..."));
         let bad = |a: &str| format!("'{a}' is not a valid argument for {name}");
         let kind = match name {
-            "drop" => Kind::Drop,
             "delay" => Kind::Delay(need("a delay in ms").and_then(|a| a.parse().map_err(|_| bad(a)))?),
-            "duplicate" => Kind::Duplicate,
             "short-dlc" => Kind::ShortDlc(match arg {
                 None => DEFAULT_SHORT_DLC,
                 Some(a) => a.parse().ok().filter(|n| *n < 8).ok_or_else(|| bad(a))?,
             }),
-            "corrupt" => Kind::Corrupt,
             "babble" => Kind::Babble(arg.map(parse_cob).transpose()?),
             "abort" => Kind::Abort(arg.map_or(Some(DEFAULT_ABORT), parse_number).ok_or_else(|| bad(arg.unwrap_or("")))?),
-            "mute" => Kind::Mute,
             "wrong-cob" => Kind::WrongCob(arg.map(parse_cob).transpose()?),
-            "no-heartbeat" => Kind::NoHeartbeat,
-            "reboot" => Kind::Reboot,
-            "off" => Kind::Off,
-            "miss" => Kind::Miss,
-            "endless-segments" => Kind::Endless(Endless::Segments),
-            "endless-block" => Kind::Endless(Endless::Block),
-            "ack-zero" => Kind::Endless(Endless::AckZero),
-            _ => {
-                return Err(format!(
+            _ => match PLAIN_KINDS.iter().find(|(n, _)| *n == name) {
+                Some(_) if arg.is_some() => return Err(format!("'{name}' takes no argument")),
+                Some((_, kind)) => *kind,
+                None => return Err(format!(
                     "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat, reboot, off, miss, endless-segments, endless-block or ack-zero"
-                ))
-            }
+                )),
+            },
         };
-        if arg.is_some()
-            && matches!(
-                kind,
-                Kind::Drop
-                    | Kind::Duplicate
-                    | Kind::Corrupt
-                    | Kind::Mute
-                    | Kind::NoHeartbeat
-                    | Kind::Reboot
-                    | Kind::Off
-                    | Kind::Miss
-                    | Kind::Endless(_)
-            )
-        {
-            return Err(format!("'{name}' takes no argument"));
-        }
         let when = match when {
             None | Some("*") => When::Always,
             Some(w) => {
@@ -185,24 +175,14 @@ impl fmt::Display for FaultSpec {
             Target::Bus => write!(f, "bus:")?,
         }
         match self.kind {
-            Kind::Drop => write!(f, "drop")?,
             Kind::Delay(ms) => write!(f, "delay={ms}")?,
-            Kind::Duplicate => write!(f, "duplicate")?,
             Kind::ShortDlc(n) => write!(f, "short-dlc={n}")?,
-            Kind::Corrupt => write!(f, "corrupt")?,
             Kind::Babble(None) => write!(f, "babble")?,
             Kind::Babble(Some(id)) => write!(f, "babble=0x{id:03X}")?,
             Kind::Abort(code) => write!(f, "abort=0x{code:08X}")?,
-            Kind::Mute => write!(f, "mute")?,
             Kind::WrongCob(None) => write!(f, "wrong-cob")?,
             Kind::WrongCob(Some(id)) => write!(f, "wrong-cob=0x{id:03X}")?,
-            Kind::NoHeartbeat => write!(f, "no-heartbeat")?,
-            Kind::Reboot => write!(f, "reboot")?,
-            Kind::Off => write!(f, "off")?,
-            Kind::Miss => write!(f, "miss")?,
-            Kind::Endless(Endless::Segments) => write!(f, "endless-segments")?,
-            Kind::Endless(Endless::Block) => write!(f, "endless-block")?,
-            Kind::Endless(Endless::AckZero) => write!(f, "ack-zero")?,
+            plain => f.write_str(PLAIN_KINDS.iter().find(|(_, k)| *k == plain).map_or("", |(n, _)| n))?,
         }
         match self.when {
             When::Always => Ok(()),
@@ -260,10 +240,6 @@ impl FaultSpec {
             Target::Bus => false,
         }
     }
-
-    fn fires(&self, answer: u32, rng: &mut Rng) -> bool {
-        self.when.fires(answer, rng)
-    }
 }
 
 impl When {
@@ -318,7 +294,7 @@ impl Conduct {
         self.heard += 1;
         let n = self.heard;
         let missed =
-            |s: &FaultSpec, rng: &mut Rng| s.kind == Kind::Miss && s.applies_to(model, node) && s.fires(n, rng);
+            |s: &FaultSpec, rng: &mut Rng| s.kind == Kind::Miss && s.applies_to(model, node) && s.when.fires(n, rng);
         if self.faults.iter().any(|s| missed(s, rng)) {
             return false;
         }
@@ -385,7 +361,7 @@ impl Conduct {
         // transfer starts (`endless_answer`), not here.
         let answering = |s: &&FaultSpec| s.applies_to(model, node) && !matches!(s.kind, Kind::Miss | Kind::Endless(_));
         for spec in self.faults.iter().filter(answering) {
-            if !spec.fires(n, rng) {
+            if !spec.when.fires(n, rng) {
                 continue;
             }
             match spec.kind {
@@ -432,28 +408,26 @@ impl Conduct {
     /// no heartbeat once stopped (a no-heartbeat fault without WHEN: from the start).
     pub fn own(&self, f: Frame, model: &str, node: Option<u8>) -> Option<Frame> {
         let heartbeat = node.is_some_and(|n| f.id() == crate::canopen::nmt::error_control_cob(n));
-        let stopped = self.heartbeat_stopped
-            || self
-                .faults
-                .iter()
-                .any(|s| s.kind == Kind::NoHeartbeat && s.when == When::Always && s.applies_to(model, node));
-        let off =
-            self.faults.iter().any(|s| s.kind == Kind::Off && s.when == When::Always && s.applies_to(model, node));
-        let silenced = self.muted || off || (heartbeat && stopped);
+        let from_start = |kind| self.from_start(model, node).any(|s| s.kind == kind);
+        let stopped = self.heartbeat_stopped || from_start(Kind::NoHeartbeat);
+        let silenced = self.muted || from_start(Kind::Off) || (heartbeat && stopped);
         (!silenced).then_some(f)
+    }
+
+    /// The faults without WHEN that concern the device: in force from the start.
+    fn from_start<'a>(&'a self, model: &'a str, node: Option<u8>) -> impl Iterator<Item = &'a FaultSpec> {
+        self.faults.iter().filter(move |s| s.when == When::Always && s.applies_to(model, node))
     }
 
     /// The id a babbling device floods the bus with, if it does: a babble fault without
     /// WHEN floods from the start, one with WHEN from that answer on.
     pub fn babbling(&mut self, model: &str, node: Option<u8>) -> Option<u16> {
         if self.babbling.is_none() {
-            let from_start = self.faults.iter().filter(|s| s.when == When::Always && s.applies_to(model, node));
-            self.babbling = from_start
-                .filter_map(|s| match s.kind {
-                    Kind::Babble(id) => Some(id.unwrap_or(0x80 + node.unwrap_or(0) as u16)),
-                    _ => None,
-                })
-                .next();
+            let from_start = self.from_start(model, node).find_map(|s| match s.kind {
+                Kind::Babble(id) => Some(id.unwrap_or(0x80 + node.unwrap_or(0) as u16)),
+                _ => None,
+            });
+            self.babbling = from_start;
         }
         self.babbling.filter(|_| !self.muted)
     }
