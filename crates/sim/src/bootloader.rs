@@ -127,7 +127,7 @@ pub(crate) fn on_request(
         // Half the announced size, in frames of 7 bytes (block segments) at the least.
         let size = raw.get(4..8).map_or(0, |b| u32::from_le_bytes(b.try_into().expect("4 bytes")));
         od.keep(POWER_LEFT, (size / 14).max(1).to_le_bytes().to_vec());
-    } else if let Some(left) = u32_of(od, POWER_LEFT).filter(|n| *n > 0) {
+    } else if let Some(left) = od.u32_value(POWER_LEFT).filter(|n| *n > 0) {
         if left == 1 {
             power_lost(od);
             return (vec![], true);
@@ -151,25 +151,17 @@ fn starts_program_download(raw: &[u8]) -> bool {
     initiate && index == PROGRAM_DATA && *sub == 1
 }
 
-fn u32_of(od: &ObjectStore, addr: ObjAddr) -> Option<u32> {
-    od.value(addr).and_then(|v| v.try_into().ok()).map(u32::from_le_bytes)
-}
-
 fn busy_until(od: &ObjectStore) -> u64 {
     od.value(BUSY_UNTIL).and_then(|v| v.try_into().ok()).map_or(0, u64::from_le_bytes)
 }
 
 fn fault(od: &ObjectStore) -> Fault {
-    match od.value(FAULT_OBJECT).and_then(|v| v.first().copied()) {
+    match od.u8_value(FAULT_OBJECT) {
         Some(1) => Fault::PowerLoss,
         Some(2) => Fault::FlashWrite,
         Some(3) => Fault::RebootOnStop,
         _ => Fault::None,
     }
-}
-
-fn control(od: &ObjectStore) -> u8 {
-    od.value(CONTROL).and_then(|v| v.first().copied()).unwrap_or(0)
 }
 
 fn set_status(od: &mut ObjectStore, code: u8) {
@@ -211,7 +203,8 @@ impl Flash<'_> {
     fn on_control(&mut self, command: u8) -> Result<(), u32> {
         use program::Control;
         let od = &mut *self.od;
-        let running = matches!(Control::from_code(control(od)), Control::Start | Control::Confirm);
+        let running =
+            matches!(Control::from_code(od.u8_value(CONTROL).unwrap_or(0)), Control::Start | Control::Confirm);
         match Control::from_code(command) {
             Control::Stop => {
                 od.keep(CONTROL, vec![0]);
@@ -219,8 +212,8 @@ impl Flash<'_> {
                 self.reboot = running && fault(od) == Fault::RebootOnStop;
             }
             Control::Start => {
-                let valid =
-                    u32_of(od, ID).unwrap_or(0) != 0 && FlashStatus::decode(u32_of(od, STATUS).unwrap_or(0)).code == 0;
+                let valid = od.u32_value(ID).unwrap_or(0) != 0
+                    && FlashStatus::decode(od.u32_value(STATUS).unwrap_or(0)).code == 0;
                 if !valid || self.now_ms < busy_until(od) {
                     return Err(abort::WRONG_STATE);
                 }
@@ -279,7 +272,7 @@ impl ObjectAccess for Flash<'_> {
     fn read(&mut self, addr: ObjAddr) -> Result<Vec<u8>, u32> {
         let value = self.od.read(addr)?;
         if addr == STATUS && self.now_ms < busy_until(self.od) {
-            let raw = u32_of(self.od, STATUS).unwrap_or(0) | program::BUSY;
+            let raw = self.od.u32_value(STATUS).unwrap_or(0) | program::BUSY;
             return Ok(raw.to_le_bytes().to_vec());
         }
         Ok(value)

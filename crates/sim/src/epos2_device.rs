@@ -123,7 +123,7 @@ impl Epos2Device {
     /// The answer to one command frame from the master.
     pub fn execute(&mut self, request: &SerialFrame) -> Result<SerialFrame> {
         // The EPOS2's own objects change with time too (a simulated fault, its reaction).
-        self.link.run_until_now();
+        self.link.advance();
         let Some(cmd) = Command::from_frame(request) else { return Ok(answer(command::ILLEGAL_COMMAND, &[])) };
         if let Some((last, ans)) = &self.last_segment {
             if *last == cmd {
@@ -141,7 +141,7 @@ impl Epos2Device {
     fn run(&mut self, cmd: &Command) -> Result<SerialFrame> {
         Ok(match cmd.clone() {
             Command::ReadObject { node, addr } if self.is_local(node) => match self.objects().read(addr) {
-                Ok(d) if d.len() <= 4 => answer(0, &pad4(&d)),
+                Ok(d) if d.len() <= 4 => answer(0, &padded::<4>(&d)),
                 Ok(_) => answer(abort::LENGTH_TOO_HIGH, &[0; 4]),
                 Err(code) => answer(code, &[0; 4]),
             },
@@ -215,7 +215,7 @@ impl Epos2Device {
             Command::RequestCanFrame { id, len } if id <= 0x7FF => {
                 self.send(&Frame::remote(id, len))?;
                 match self.wait_for(|f| f.id() == id && !f.is_remote(), self.can_timeout.max(REMOTE_REQUEST_WAIT))? {
-                    Some(f) => answer(0, &pad8(f.data())),
+                    Some(f) => answer(0, &padded::<8>(f.data())),
                     None => answer(abort::TIMED_OUT, &[0; 8]),
                 }
             }
@@ -231,7 +231,7 @@ impl Epos2Device {
                     |f| f.id() == lss::SLAVE_COB && !f.is_remote(),
                     Duration::from_millis(timeout_ms as u64),
                 )? {
-                    Some(f) => answer(0, &pad8(f.data())),
+                    Some(f) => answer(0, &padded::<8>(f.data())),
                     None => answer(abort::TIMED_OUT, &[0; 8]),
                 }
             }
@@ -242,7 +242,7 @@ impl Epos2Device {
         Ok(match self.sdo(node, Request::InitiateUpload { addr })? {
             Err(code) => answer(code, &[0; 4]),
             Ok(Some(Response::InitiateUpload { init, .. })) => match init.expedited_data() {
-                Some(data) => answer(0, &pad4(data)),
+                Some(data) => answer(0, &padded::<4>(data)),
                 // A segmented answer: too long for ReadObject. End the SDO transfer properly.
                 None => {
                     self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::LENGTH_TOO_HIGH)))?;
@@ -254,7 +254,7 @@ impl Epos2Device {
     }
 
     fn segment_read(&mut self, toggle: bool) -> Result<SerialFrame> {
-        let t = if toggle { TOGGLE } else { 0 };
+        let t = toggle_bit(toggle);
         Ok(match std::mem::replace(&mut self.segmented, Segmented::None) {
             Segmented::LocalRead { data, pos } => {
                 let end = (pos + MAX_SEGMENT).min(data.len());
@@ -288,7 +288,7 @@ impl Epos2Device {
     }
 
     fn segment_write(&mut self, toggle: bool, chunk: Vec<u8>) -> Result<SerialFrame> {
-        let t = if toggle { TOGGLE } else { 0 };
+        let t = toggle_bit(toggle);
         let confirm = [chunk.len() as u8 | t, 0];
         Ok(match std::mem::replace(&mut self.segmented, Segmented::None) {
             Segmented::LocalWrite { addr, mut data, length } => {
@@ -396,14 +396,18 @@ impl Epos2Device {
     }
 }
 
-fn pad4(d: &[u8]) -> [u8; 4] {
-    let mut out = [0u8; 4];
-    out[..d.len().min(4)].copy_from_slice(&d[..d.len().min(4)]);
+/// `d` in `N` bytes: cut, or filled up with zeros.
+fn padded<const N: usize>(d: &[u8]) -> [u8; N] {
+    let mut out = [0u8; N];
+    out[..d.len().min(N)].copy_from_slice(&d[..d.len().min(N)]);
     out
 }
 
-fn pad8(d: &[u8]) -> [u8; 8] {
-    let mut out = [0u8; 8];
-    out[..d.len().min(8)].copy_from_slice(&d[..d.len().min(8)]);
-    out
+/// A segment's control byte with its toggle bit.
+pub(crate) fn toggle_bit(toggle: bool) -> u8 {
+    if toggle {
+        TOGGLE
+    } else {
+        0
+    }
 }

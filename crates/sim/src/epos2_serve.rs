@@ -2,7 +2,7 @@
 //! handshake) or USB framing, optionally at the pace of a real baud rate and with faults
 //! injected for tests.
 
-use super::epos2_device::Epos2Device;
+use super::epos2_device::{toggle_bit, Epos2Device};
 use super::pty::failed;
 use crate::epos2::command::{self, Command};
 use crate::epos2::frame::{self, Frame as SerialFrame, UsbDecoder};
@@ -125,10 +125,10 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
         let cmd = Command::from_frame(&request);
         let answer = match (fault, &cmd) {
             (Some(FaultKind::EmptySegments), Some(Command::SegmentRead { toggle })) => {
-                command::answer(0, &[segment_control(*toggle) | command::MORE])
+                command::answer(0, &[toggle_bit(*toggle) | command::MORE])
             }
             (Some(FaultKind::EndlessSegments), Some(Command::SegmentRead { toggle })) => {
-                let mut d = vec![command::MAX_SEGMENT as u8 | segment_control(*toggle) | command::MORE];
+                let mut d = vec![command::MAX_SEGMENT as u8 | toggle_bit(*toggle) | command::MORE];
                 d.extend([0xEE; command::MAX_SEGMENT]);
                 command::answer(0, &d)
             }
@@ -176,14 +176,6 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
     }
 }
 
-fn segment_control(toggle: bool) -> u8 {
-    if toggle {
-        command::TOGGLE
-    } else {
-        0
-    }
-}
-
 fn send_answer(wire: &mut Wire, framing: Framing, answer: &SerialFrame) -> Result<()> {
     match framing {
         Framing::Rs232 => rs232_answer(wire, &frame::rs232_encode(answer)),
@@ -195,18 +187,10 @@ fn send_answer(wire: &mut Wire, framing: Framing, answer: &SerialFrame) -> Resul
 /// device; the pty blocks them once the client stops reading.
 fn babble(wire: &mut Wire) -> Result<()> {
     let start = Instant::now();
-    let mut x: u32 = 0x2545_F491;
+    // No DLE: nothing that could start a USB frame.
+    let mut bytes = super::profiles::pattern_bytes().map(|b| b.clamp(0x03, 0x8F));
     while start.elapsed() < BABBLE_TIME {
-        let chunk: Vec<u8> = (0..64)
-            .map(|_| {
-                x ^= x << 13;
-                x ^= x >> 17;
-                x ^= x << 5;
-                // No DLE: nothing that could start a USB frame.
-                (x as u8).clamp(0x03, 0x8F)
-            })
-            .collect();
-        wire.send(&chunk)?;
+        wire.send(&bytes.by_ref().take(64).collect::<Vec<u8>>())?;
     }
     Ok(())
 }

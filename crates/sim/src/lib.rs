@@ -165,9 +165,7 @@ impl Network {
                 Some((node, conduct.endless_answer(payload, &d.model, Some(node), &mut pace.rng)?))
             });
             let answers = match endless {
-                Some((node, answers)) => {
-                    answers.iter().map(|p| Frame::new(crate::canopen::sdo::response_cob(node), p)).collect()
-                }
+                Some((node, answers)) => device::sdo_frames(node, &answers),
                 None => d.on_frame(frame),
             };
             if answers.is_empty() {
@@ -225,12 +223,8 @@ impl Network {
 
     /// The devices flooding the bus, and the id each floods it with.
     pub(crate) fn babblers(&mut self) -> Vec<(usize, u16)> {
-        let mut out = Vec::new();
-        for (i, c) in self.conducts.iter_mut().enumerate() {
-            let d = &self.devices[i];
-            out.extend(c.babbling(&d.model, d.node_id()).map(|id| (i, id)));
-        }
-        out
+        let conducts = self.conducts.iter_mut().zip(&self.devices).enumerate();
+        conducts.filter_map(|(i, (c, d))| Some((i, c.babbling(&d.model, d.node_id())?))).collect()
     }
 
     /// When the next of those is due after `now` (ms).
@@ -272,10 +266,9 @@ impl Network {
     /// clock runs ahead of it). Two commands in a row are so at least a ms apart, and a
     /// fault armed 1 ms ahead has struck when the next one opens the network.
     pub(crate) fn resumes_at(&self) -> u64 {
-        if self.clock_ms == 0 {
-            0
-        } else {
-            self.clock_ms + 1
+        match self.clock_ms {
+            0 => 0,
+            ms => ms + 1,
         }
     }
 
@@ -491,15 +484,10 @@ impl SimLink {
         Ok(())
     }
 
-    /// Let the devices do what they do by themselves up to now (a fault strikes, a drive's
-    /// fault reaction ends), for a master that reads a device's objects directly.
-    pub(crate) fn run_until_now(&mut self) {
-        self.advance();
-    }
-
     /// Run the bus up to now: the devices' own frames queue, frames that have left are
-    /// heard by the devices (master's) or received (devices').
-    fn advance(&mut self) {
+    /// heard by the devices (master's) or received (devices'). Also for a master that reads
+    /// a device's objects directly: a fault strikes, a drive's fault reaction ends.
+    pub(crate) fn advance(&mut self) {
         let now = self.bus_time();
         let ms = self.ms_at(now);
         // In the order things happened, however late the master polls: a device hears a

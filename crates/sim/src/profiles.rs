@@ -387,15 +387,18 @@ pub fn stepper() -> Model {
 
 /// Reproducible, incompressible-looking content (xorshift32).
 pub fn domain_pattern(len: usize) -> Vec<u8> {
+    pattern_bytes().take(len).collect()
+}
+
+/// The bytes of [`domain_pattern`], without end.
+pub(crate) fn pattern_bytes() -> impl Iterator<Item = u8> {
     let mut x: u32 = 0x2545_F491;
-    (0..len)
-        .map(|_| {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x as u8
-        })
-        .collect()
+    std::iter::repeat_with(move || {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x as u8
+    })
 }
 
 /// Vendor and product names of the models' EDS files.

@@ -103,6 +103,13 @@ struct Tpdo {
     map: Vec<(ObjAddr, u8)>,
 }
 
+impl Tpdo {
+    /// Valid and event-driven (transmission type 254/255).
+    fn on_event(&self) -> bool {
+        self.valid && self.transmission >= 254
+    }
+}
+
 impl Device {
     pub fn new(model: Model, node_id: Option<u8>, bit_rate: u8) -> Device {
         let mut od = ObjectStore {
@@ -235,12 +242,11 @@ impl Device {
                     self.sdo = SdoServer::new(self.block_transfer);
                     self.booting_until = Some(self.clock_ms + super::bootloader::boot_ms(&self.od));
                 }
-                return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+                return sdo_frames(id, &answers);
             }
             let fault_before = self.od.value(FAULT_OBJECT).map(|v| v.to_vec());
             let (state_before, status_before) = (self.od.drive_state(), self.od.u16_value(cia402::STATUSWORD));
-            let answers = self.sdo.handle(f.data(), &mut self.od);
-            let mut out: Vec<Frame> = answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+            let mut out = sdo_frames(id, &self.sdo.handle(f.data(), &mut self.od));
             if self.od.value(FAULT_OBJECT).map(|v| v.to_vec()) != fault_before {
                 out.extend(self.arm_fault());
             }
@@ -331,9 +337,7 @@ impl Device {
                 vec![ErrorControl::BootUp.frame(id)]
             }
             _ => {
-                if before != self.nmt {
-                    self.od.dirty = true;
-                }
+                self.od.dirty |= before != self.nmt;
                 vec![]
             }
         }
@@ -361,19 +365,16 @@ impl Device {
         if self.nmt != nmt::State::Operational {
             return vec![];
         }
-        let carrying: Vec<Tpdo> = self
-            .tpdos()
-            .into_iter()
-            .filter(|t| t.valid && t.transmission >= 254 && t.map.iter().any(|(a, _)| *a == cia402::STATUSWORD))
-            .collect();
-        carrying.iter().map(|t| self.tpdo_frame(t)).collect()
+        let carrying =
+            self.tpdos().into_iter().filter(|t| t.on_event() && t.map.iter().any(|(a, _)| *a == cia402::STATUSWORD));
+        carrying.map(|t| self.tpdo_frame(&t)).collect()
     }
 
     fn tpdos(&self) -> Vec<Tpdo> {
         (0..4u16)
             .filter_map(|n| {
                 let cob = self.od.u32_value(ObjAddr::new(0x1800 + n, 1))?;
-                let count = self.od.value(ObjAddr::new(0x1A00 + n, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+                let count = self.od.u8_value(ObjAddr::new(0x1A00 + n, 0)).unwrap_or(0);
                 let map = (1..=count)
                     .filter_map(|s| self.od.u32_value(ObjAddr::new(0x1A00 + n, s)))
                     .map(crate::canopen::pdo::mapping_entry)
@@ -383,11 +384,7 @@ impl Device {
                     cob: (cob & 0x7FF) as u16,
                     valid: cob & 0x8000_0000 == 0,
                     rtr: cob & 0x4000_0000 == 0,
-                    transmission: self
-                        .od
-                        .value(ObjAddr::new(0x1800 + n, 2))
-                        .and_then(|v| v.first().copied())
-                        .unwrap_or(255),
+                    transmission: self.od.u8_value(ObjAddr::new(0x1800 + n, 2)).unwrap_or(255),
                     event_ms: self.od.u16_value(ObjAddr::new(0x1800 + n, 5)).unwrap_or(0),
                     map,
                 })
@@ -493,7 +490,7 @@ impl Device {
                 self.od.values.insert(ObjAddr::new(0x1003, sub), older);
             }
             self.od.values.insert(ObjAddr::new(0x1003, 1), e.history_entry().to_le_bytes().to_vec());
-            let count = self.od.value(ObjAddr::new(0x1003, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+            let count = self.od.u8_value(ObjAddr::new(0x1003, 0)).unwrap_or(0);
             self.od.values.insert(ObjAddr::new(0x1003, 0), vec![(count + 1).min(slots)]);
         }
         self.od.dirty = true;
@@ -507,20 +504,15 @@ impl Device {
     /// The next time this device sends something by itself, after `now` (wall-clock ms).
     pub(crate) fn next_event(&self, now: u64) -> Option<u64> {
         let id = self.node_id? as u64;
-        let mut next: Vec<u64> = Vec::new();
-        if let Some(p) = self.heartbeat_ms() {
-            next.push(super::last_beat(p, id, now) + p);
-        }
-        if self.nmt == nmt::State::Operational {
-            for t in self.tpdos().iter().filter(|t| t.valid && t.transmission >= 254 && t.event_ms > 0) {
-                let p = t.event_ms as u64;
-                next.push(super::last_beat(p, id, now) + p);
-            }
-        }
-        next.extend(self.fault.at);
-        next.extend(self.fault.reaction_until);
-        next.extend(self.booting_until);
-        next.into_iter().min()
+        let timed = self.timed_tpdos().into_iter().map(|t| t.event_ms as u64);
+        let beats = self.heartbeat_ms().into_iter().chain(timed).map(|p| super::last_beat(p, id, now) + p);
+        beats.chain(self.fault.at).chain(self.fault.reaction_until).chain(self.booting_until).min()
+    }
+
+    /// The TPDOs sent by their event timer: event-driven ones with a timer, while operational.
+    fn timed_tpdos(&self) -> Vec<Tpdo> {
+        let operational = self.nmt == nmt::State::Operational;
+        self.tpdos().into_iter().filter(|t| operational && t.on_event() && t.event_ms > 0).collect()
     }
 
     /// What this device sends by itself in `(after, upto]`, each frame with the ms it was
@@ -552,14 +544,12 @@ impl Device {
             out.extend(self.statusword_tpdos().into_iter().map(|f| (due, f)));
         }
         if let Some(p) = self.heartbeat_ms() {
-            let beat = self.heartbeat_frame();
-            out.extend(due_times(p, id as u64, after, upto).flat_map(|t| beat.map(|f| (t, f))));
+            let beat = ErrorControl::State { state: self.nmt, toggle: false }.frame(id);
+            out.extend(due_times(p, id as u64, after, upto).map(|t| (t, beat)));
         }
-        if self.nmt == nmt::State::Operational {
-            for t in self.tpdos().into_iter().filter(|t| t.valid && t.transmission >= 254 && t.event_ms > 0) {
-                for due in due_times(t.event_ms as u64, id as u64, after, upto).collect::<Vec<_>>() {
-                    out.push((due, self.tpdo_frame(&t)));
-                }
+        for t in self.timed_tpdos() {
+            for due in due_times(t.event_ms as u64, id as u64, after, upto) {
+                out.push((due, self.tpdo_frame(&t)));
             }
         }
         out
@@ -573,11 +563,6 @@ impl Device {
     pub fn heartbeat_ms(&self) -> Option<u64> {
         self.node_id?;
         self.od.u16_value(ObjAddr::new(0x1017, 0)).filter(|t| *t > 0).map(u64::from)
-    }
-
-    pub(crate) fn heartbeat_frame(&self) -> Option<Frame> {
-        let id = self.node_id?;
-        Some(ErrorControl::State { state: self.nmt, toggle: false }.frame(id))
     }
 
     pub fn snapshot(&self) -> DeviceState {
@@ -640,6 +625,11 @@ fn commissioned_bit_rate(od: &mut ObjectStore, cia_index: u8) {
     if let Some(code) = bit_rate_code(cia_index) {
         od.stored.insert(CAN_BIT_RATE, code.to_le_bytes().to_vec());
     }
+}
+
+/// An SDO server's answers as frames from node `id`.
+pub(crate) fn sdo_frames(id: u8, answers: &[[u8; 8]]) -> Vec<Frame> {
+    answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect()
 }
 
 /// The most frames of one kind a device has waiting after a master stopped polling.

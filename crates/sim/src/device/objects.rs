@@ -44,14 +44,12 @@ impl ObjectStore {
         self.dict.get(addr).ok_or(if self.dict.has_index(addr.index) { abort::NO_SUBINDEX } else { abort::NO_OBJECT })
     }
 
+    /// The parameter classes a 0x1010/0x1011 sub stands for: 1 all of them.
     pub(super) fn classes_for(sub: u8) -> Vec<ParamClass> {
-        match sub {
-            1 => vec![ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer],
-            s => [ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer]
-                .into_iter()
-                .filter(|c| c.subindex() == s)
-                .collect(),
-        }
+        [ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer]
+            .into_iter()
+            .filter(|c| sub == 1 || c.subindex() == sub)
+            .collect()
     }
 
     pub(super) fn store(&mut self, sub: u8) {
@@ -120,7 +118,12 @@ impl ObjectStore {
         Ok(())
     }
 
-    pub(super) fn u32_value(&self, addr: ObjAddr) -> Option<u32> {
+    /// The first byte of a value (a count, a switch).
+    pub(crate) fn u8_value(&self, addr: ObjAddr) -> Option<u8> {
+        self.value(addr).and_then(|v| v.first().copied())
+    }
+
+    pub(crate) fn u32_value(&self, addr: ObjAddr) -> Option<u32> {
         self.value(addr).and_then(|v| v.try_into().ok()).map(u32::from_le_bytes)
     }
 
@@ -219,7 +222,7 @@ impl ObjectAccess for ObjectStore {
             // its entries change only while the count in sub 0 is 0.
             0x1600..=0x17FF | 0x1A00..=0x1BFF => {
                 let valid = self.u32_value(ObjAddr::new(addr.index - 0x200, 1)).is_some_and(|c| c & 0x8000_0000 == 0);
-                let count = self.value(ObjAddr::new(addr.index, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+                let count = self.u8_value(ObjAddr::new(addr.index, 0)).unwrap_or(0);
                 if valid || (addr.sub > 0 && count != 0) {
                     return Err(abort::WRONG_STATE);
                 }
