@@ -98,11 +98,6 @@ pub struct Network {
 }
 
 impl Network {
-    /// The demo network with the default configuration (the `typical` profile).
-    pub fn demo() -> Network {
-        Network::demo_with(SimConfig::default())
-    }
-
     /// The demo network as `config` describes it.
     pub(crate) fn demo_with(config: SimConfig) -> Network {
         let mut devices = profiles::demo_network_with(config.unconfigured);
@@ -340,7 +335,7 @@ pub struct SimLink {
 impl SimLink {
     /// A network with no state file: fresh demo devices, default configuration, nothing kept.
     pub fn ephemeral() -> SimLink {
-        SimLink::of(Network::demo())
+        SimLink::with_config(SimConfig::default())
     }
 
     /// The demo network as `config` describes it, with no state file.
@@ -368,10 +363,7 @@ impl SimLink {
 
     /// The network as the state file left it (the default configuration without one).
     pub fn open(file: state::StateFile) -> Result<SimLink> {
-        let net = match file.load()? {
-            Some(s) => Network::from_state(&s),
-            None => Network::demo(),
-        };
+        let net = Network::from_state(&file.load()?.unwrap_or_default());
         Ok(SimLink { file: Some(file), ..SimLink::of(net) })
     }
 

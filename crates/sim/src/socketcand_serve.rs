@@ -12,7 +12,7 @@ use crate::socketcand::beacon;
 use crate::socketcand::wire::{Decoder, Unit};
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream, UdpSocket};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
+use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
@@ -54,11 +54,9 @@ pub struct SocketcandServer {
 impl SocketcandServer {
     /// Listen on `addr` (port 0: any free one) and take clients from now on.
     pub fn bind(addr: SocketAddr) -> Result<SocketcandServer> {
-        let listener = TcpListener::bind(addr)
-            .map_err(|error: std::io::Error| LinkError::Open { port: format!("TCP {addr}"), error: error.into() })?;
-        let addr = listener
-            .local_addr()
-            .map_err(|error: std::io::Error| LinkError::Open { port: format!("TCP {addr}"), error: error.into() })?;
+        let open = |error: std::io::Error| LinkError::Open { port: format!("TCP {addr}"), error: error.into() };
+        let listener = TcpListener::bind(addr).map_err(open)?;
+        let addr = listener.local_addr().map_err(open)?;
         let clients: Clients = Arc::default();
         let (tx, from_clients) = mpsc::channel();
         let shared = clients.clone();
@@ -132,17 +130,14 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
     tracing::debug!(target: "canctl::socketcand", "client {number} from {peer}");
     let _ = stream.set_nodelay(true);
     let _ = stream.set_write_timeout(Some(WRITE_PATIENCE));
-    let Ok(writer) = stream.try_clone() else { return };
+    // One half for frames (once in raw mode), one for answers.
+    let (Ok(writer), Ok(mut reply)) = (stream.try_clone(), stream.try_clone()) else { return };
     let mut writer = Some(writer);
     // Answers go through the clients' lock once the client is in raw mode, so that they
     // never land inside a frame another thread is writing.
     let answer = |unit: &Unit, stream: &mut TcpStream| {
         let _guard = clients.lock().unwrap_or_else(PoisonError::into_inner);
         stream.write_all(&unit.encode()).is_ok()
-    };
-    let mut reply = match stream.try_clone() {
-        Ok(s) => s,
-        Err(_) => return,
     };
     if !answer(&Unit::Hi, &mut reply) {
         return;
@@ -233,12 +228,8 @@ impl FrameLink for SocketcandServer {
     /// A frame from a client, for the devices.
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         let left = deadline.saturating_duration_since(Instant::now());
-        match self.from_clients.recv_timeout(left) {
-            Ok(f) => Ok(Some(f)),
-            Err(RecvTimeoutError::Timeout) => Ok(None),
-            // The accepting thread holds a sender for as long as the process runs.
-            Err(RecvTimeoutError::Disconnected) => Ok(None),
-        }
+        // A timeout, or none: the accepting thread holds a sender for as long as the process runs.
+        Ok(self.from_clients.recv_timeout(left).ok())
     }
 
     fn name(&self) -> String {

@@ -16,15 +16,12 @@ pub struct NetworkState {
     /// The file format's version; an unknown one is not read.
     pub version: u32,
     /// The bus's bit rate (CiA 305 table index).
-    #[serde(default)]
     pub bit_rate: Option<u8>,
     /// Profile, seed, devices and faults chosen by `sim reset`; absent: the defaults.
-    #[serde(default)]
     pub config: Option<super::SimConfig>,
     /// Each device's state, by model key.
     pub devices: BTreeMap<String, DeviceState>,
     /// The devices' clock (ms) when saved: the next invocation's starts after it.
-    #[serde(default)]
     pub clock_ms: Option<u64>,
 }
 
@@ -252,14 +249,7 @@ impl StateFile {
 
     /// Start afresh with this configuration: devices as built, nothing else kept.
     pub fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
-        let state = NetworkState {
-            version: VERSION,
-            bit_rate: None,
-            config: Some(config.clone()),
-            devices: BTreeMap::new(),
-            clock_ms: None,
-        };
-        self.save(&state)
+        self.save(&NetworkState { version: VERSION, config: Some(config.clone()), ..NetworkState::default() })
     }
 
     /// The configuration the saved state was made with (the default one without a state).
@@ -270,9 +260,8 @@ impl StateFile {
     /// Forget the saved state: the next use starts with the demo network as built.
     pub fn reset(&self) -> Result<()> {
         match std::fs::remove_file(&self.path) {
-            Ok(()) => Ok(()),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-            Err(e) => Err(link_err(&self.path, "cannot remove", e)),
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(link_err(&self.path, "cannot remove", e)),
+            _ => Ok(()),
         }
     }
 }

@@ -119,12 +119,10 @@ impl fmt::Display for Profile {
 impl FromStr for Profile {
     type Err = String;
     fn from_str(s: &str) -> Result<Profile, String> {
-        match s {
-            "instant" => Ok(Profile::Instant),
-            "typical" => Ok(Profile::Typical),
-            "slow" => Ok(Profile::Slow),
-            _ => Err(format!("'{s}' is not a sim profile: use instant, typical or slow")),
-        }
+        let all = [Profile::Instant, Profile::Typical, Profile::Slow];
+        all.into_iter()
+            .find(|p| p.to_string() == s)
+            .ok_or_else(|| format!("'{s}' is not a sim profile: use instant, typical or slow"))
     }
 }
 
@@ -150,11 +148,8 @@ pub fn bits_per_second(index: u8) -> Option<u64> {
 fn crc15(bits: &[bool]) -> u16 {
     let mut crc: u16 = 0;
     for &b in bits {
-        let next = b ^ (crc >> 14 & 1 == 1);
-        crc = (crc << 1) & 0x7FFF;
-        if next {
-            crc ^= 0x4599;
-        }
+        let divide = b ^ (crc >> 14 & 1 == 1);
+        crc = ((crc << 1) & 0x7FFF) ^ if divide { 0x4599 } else { 0 };
     }
     crc
 }
@@ -162,15 +157,10 @@ fn crc15(bits: &[bool]) -> u16 {
 /// Stuff bits the transmitter inserts: after five equal bits, one of the other value,
 /// which itself starts the next run.
 fn stuff_bits(bits: &[bool]) -> u32 {
-    let mut count = 0;
-    let (mut last, mut run) = (None, 0);
+    let (mut count, mut last, mut run) = (0, None, 0);
     for &b in bits {
-        if Some(b) == last {
-            run += 1;
-        } else {
-            last = Some(b);
-            run = 1;
-        }
+        run = if Some(b) == last { run + 1 } else { 1 };
+        last = Some(b);
         if run == 5 {
             count += 1;
             last = Some(!b);

@@ -18,23 +18,19 @@ pub use objects::ObjectStore;
 /// The persistent part of a device, as the state file holds it: only what differs from
 /// the model's defaults, so a fresh model version still applies its own defaults.
 #[derive(serde::Serialize, serde::Deserialize, Default, Clone, Debug, PartialEq)]
+#[serde(default)]
 pub struct DeviceState {
     pub node_id: Option<u8>,
     pub nmt: Option<nmt::State>,
-    #[serde(default)]
     pub values: BTreeMap<String, String>,
-    #[serde(default)]
     pub stored: BTreeMap<String, String>,
-    #[serde(default)]
     pub bit_rate: Option<BitRates>,
-    #[serde(default)]
     pub fault: Fault,
     /// Left in LSS configuration state (by a master that went away without switching it
     /// back): it stays there, as hardware does until reset.
-    #[serde(default)]
     pub lss_configuration: bool,
     /// Resetting: silent until this ms of bus time, when it sends its boot-up.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub booting_until: Option<u64>,
 }
 
@@ -85,7 +81,6 @@ pub struct Fault {
     pub at: Option<u64>,
     pub active: bool,
     /// A drive's fault reaction ends (fault reaction active → fault) at this wall-clock ms.
-    #[serde(default)]
     pub reaction_until: Option<u64>,
 }
 
@@ -115,11 +110,9 @@ impl Device {
         let mut od = ObjectStore {
             dict: model.dict,
             node_id: node_id.unwrap_or(0),
-            values: BTreeMap::new(),
-            stored: BTreeMap::new(),
             ignored_writes: model.ignored_writes,
-            dirty: false,
             drive: model.drive.map(Drive::new),
+            ..ObjectStore::default()
         };
         if model.epos2_bit_rate {
             commissioned_bit_rate(&mut od, bit_rate);
@@ -430,10 +423,7 @@ impl Device {
     }
 
     fn emcy(&self, code: u16, register: u8, vendor: [u8; 5]) -> Option<Frame> {
-        let cob = self.od.u32_value(ObjAddr::new(0x1014, 0))?;
-        if cob & 0x8000_0000 != 0 {
-            return None;
-        }
+        let cob = self.od.u32_value(ObjAddr::new(0x1014, 0)).filter(|c| c & 0x8000_0000 == 0)?;
         let e = crate::canopen::emcy::Emergency { code, register, vendor };
         Some(Frame::new((cob & 0x7FF) as u16, e.frame(0).data()))
     }
@@ -447,17 +437,15 @@ impl Device {
             return vec![];
         }
         self.fault.at = None;
-        if !self.fault.active {
+        if !std::mem::take(&mut self.fault.active) {
             return vec![];
         }
         if self.od.drive.is_some() {
             // A drive's fault stays latched until a fault reset, which reports it.
-            self.fault.active = false;
             self.sync_drive();
             return vec![];
         }
         // Seed 001 §8: repaired errors are reported with "error reset".
-        self.fault.active = false;
         self.od.values.insert(ObjAddr::new(0x1001, 0), vec![0]);
         self.emcy(0x0000, 0, [0; 5]).into_iter().collect()
     }

@@ -11,6 +11,7 @@ pub(super) const SAVE: &[u8] = b"save";
 pub(super) const LOAD: &[u8] = b"load";
 
 /// The values of a device's dictionary, with the CiA 301 store/restore behaviour.
+#[derive(Default)]
 pub struct ObjectStore {
     pub(super) dict: Dictionary,
     pub(super) node_id: u8,
@@ -52,7 +53,11 @@ impl ObjectStore {
             .collect()
     }
 
-    pub(super) fn store(&mut self, sub: u8) {
+    /// CiA 301 0x1010: saves the parameters of sub's classes, on the signature "save".
+    pub(super) fn store(&mut self, sub: u8, signature: &[u8]) -> Result<(), u32> {
+        if signature != SAVE {
+            return Err(abort::CANNOT_STORE);
+        }
         let classes = Self::classes_for(sub);
         for e in self.dict.entries().filter(|e| e.access.writable()) {
             if ParamClass::of(e.addr.index).is_some_and(|c| classes.contains(&c)) {
@@ -60,13 +65,18 @@ impl ObjectStore {
             }
         }
         self.dirty = true;
+        Ok(())
     }
 
-    /// CiA 301: after 'load' the defaults apply from the next reset on.
-    pub(super) fn restore(&mut self, sub: u8) {
+    /// CiA 301 0x1011, on the signature "load": the defaults apply from the next reset on.
+    pub(super) fn restore(&mut self, sub: u8, signature: &[u8]) -> Result<(), u32> {
+        if signature != LOAD {
+            return Err(abort::CANNOT_STORE);
+        }
         let classes = Self::classes_for(sub);
         self.stored.retain(|a, _| !ParamClass::of(a.index).is_some_and(|c| classes.contains(&c)));
         self.dirty = true;
+        Ok(())
     }
 
     pub fn value(&self, addr: ObjAddr) -> Option<&[u8]> {
@@ -204,20 +214,8 @@ impl ObjectAccess for ObjectStore {
         }
         match addr.index {
             // The signatures trigger the action; the entry itself keeps reading its capability.
-            0x1010 if addr.sub >= 1 => {
-                if data != SAVE {
-                    return Err(abort::CANNOT_STORE);
-                }
-                self.store(addr.sub);
-                return Ok(());
-            }
-            0x1011 if addr.sub >= 1 => {
-                if data != LOAD {
-                    return Err(abort::CANNOT_STORE);
-                }
-                self.restore(addr.sub);
-                return Ok(());
-            }
+            0x1010 if addr.sub >= 1 => return self.store(addr.sub, data),
+            0x1011 if addr.sub >= 1 => return self.restore(addr.sub, data),
             // CiA 301 dynamic PDO mapping: the mapping of a valid PDO stays as it is, and
             // its entries change only while the count in sub 0 is 0.
             0x1600..=0x17FF | 0x1A00..=0x1BFF => {
