@@ -108,16 +108,17 @@ impl Epos2Device {
         &mut self.link
     }
 
-    fn own_id(&mut self) -> Option<u8> {
-        self.link.network_mut().device_mut(SELF_MODEL).and_then(|d| d.node_id())
+    fn is_local(&mut self, node: u8) -> bool {
+        node == 0 || self.link.network_mut().device_mut(SELF_MODEL).is_some_and(|d| d.node_id() == Some(node))
     }
 
-    fn is_local(&mut self, node: u8) -> bool {
-        node == 0 || Some(node) == self.own_id()
+    /// The EPOS2 itself, on the sim network.
+    fn device(&mut self) -> &mut super::device::Device {
+        self.link.network_mut().device_mut(SELF_MODEL).expect("the EPOS2 is on the sim network")
     }
 
     fn objects(&mut self) -> &mut super::device::ObjectStore {
-        self.link.network_mut().device_mut(SELF_MODEL).expect("the EPOS2 is on the sim network").objects_mut()
+        self.device().objects_mut()
     }
 
     /// The answer to one command frame from the master.
@@ -125,10 +126,8 @@ impl Epos2Device {
         // The EPOS2's own objects change with time too (a simulated fault, its reaction).
         self.link.advance();
         let Some(cmd) = Command::from_frame(request) else { return Ok(answer(command::ILLEGAL_COMMAND, &[])) };
-        if let Some((last, ans)) = &self.last_segment {
-            if *last == cmd {
-                return Ok(ans.clone());
-            }
+        if let Some((_, ans)) = self.last_segment.as_ref().filter(|(last, _)| *last == cmd) {
+            return Ok(ans.clone());
         }
         let mut ans = self.run(&cmd)?;
         // An error answer is never longer than the command's answer (seed 000 chapter 3).
@@ -147,8 +146,7 @@ impl Epos2Device {
             },
             Command::WriteObject { node, addr, data } if self.is_local(node) => {
                 let n = self.objects().fixed_size(addr).unwrap_or(4).min(4);
-                let device = self.link.network_mut().device_mut(SELF_MODEL).expect("the EPOS2 is on the sim network");
-                answer(device.write_local(addr, &data[..n]).err().unwrap_or(0), &[])
+                answer(self.device().write_local(addr, &data[..n]).err().unwrap_or(0), &[])
             }
             Command::InitiateSegmentedRead { node, addr } if self.is_local(node) => match self.objects().read(addr) {
                 Ok(data) => {

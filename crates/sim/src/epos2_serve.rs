@@ -203,10 +203,8 @@ fn rs232_receive(wire: &mut Wire, opts: &ServeOptions, count: &mut u64) -> Resul
     let Some(lm1) = wire.byte(FRAME_TIMEOUT)? else { return Ok(None) };
     let mut raw = vec![op, lm1];
     for _ in 0..frame::rs232_body_len(lm1) {
-        match wire.byte(FRAME_TIMEOUT)? {
-            Some(b) => raw.push(b),
-            None => return Ok(None),
-        }
+        let Some(b) = wire.byte(FRAME_TIMEOUT)? else { return Ok(None) };
+        raw.push(b);
     }
     *count += 1;
     let nack = opts.faults.iter().any(|f| f.kind == FaultKind::Nack && f.nth.is_none_or(|n| n == *count));
@@ -248,16 +246,12 @@ fn rs232_answer(wire: &mut Wire, bytes: &[u8]) -> Result<()> {
 }
 
 fn usb_receive(wire: &mut Wire, decoder: &mut UsbDecoder, count: &mut u64) -> Result<Option<SerialFrame>> {
-    let Some(b) = wire.byte(None)? else { return Ok(None) };
-    match decoder.push(b) {
-        None => Ok(None),
-        Some(Ok(f)) => {
-            *count += 1;
-            Ok(Some(f))
-        }
+    let Some(decoded) = wire.byte(None)?.and_then(|b| decoder.push(b)) else { return Ok(None) };
+    *count += 1;
+    match decoded {
+        Ok(f) => Ok(Some(f)),
         // Seed 000 §4.1.3.1: a bad frame is answered with the error code.
-        Some(Err(_)) => {
-            *count += 1;
+        Err(_) => {
             wire.send(&frame::usb_encode(&command::answer(crate::canopen::abort::CRC_ERROR, &[])))?;
             Ok(None)
         }

@@ -276,11 +276,7 @@ impl Network {
 /// The latest beat time at or before `now` for a producer with this period; beats are
 /// offset by the node-id so that devices do not all beat in the same millisecond.
 pub(crate) fn last_beat(period: u64, node: u64, now: u64) -> u64 {
-    let offset = node % period;
-    if now < offset {
-        return 0;
-    }
-    now - (now - offset) % period
+    now.checked_sub(node % period).map_or(0, |since_offset| now - since_offset % period)
 }
 
 /// Wall-clock time, ms since the Unix epoch (0 if the clock is before it).

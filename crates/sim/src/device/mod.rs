@@ -214,9 +214,7 @@ impl Device {
         if f.id() == lss::MASTER_COB && !f.is_remote() {
             return self.lss_frame(f);
         }
-        let Some(id) = self.node_id else {
-            return vec![];
-        };
+        let Some(id) = self.node_id else { return vec![] };
         if let Some((cmd, target)) = Command::parse(f) {
             return if target == 0 || target == id { self.nmt_command(cmd, id) } else { vec![] };
         }
@@ -355,11 +353,9 @@ impl Device {
     /// The event-driven TPDOs (transmission type 254/255) that carry the statusword,
     /// sent when it changes while operational.
     fn statusword_tpdos(&mut self) -> Vec<Frame> {
-        if self.nmt != nmt::State::Operational {
-            return vec![];
-        }
-        let carrying =
-            self.tpdos().into_iter().filter(|t| t.on_event() && t.map.iter().any(|(a, _)| *a == cia402::STATUSWORD));
+        let operational = self.nmt == nmt::State::Operational;
+        let carries = |t: &Tpdo| t.on_event() && t.map.iter().any(|(a, _)| *a == cia402::STATUSWORD);
+        let carrying = self.tpdos().into_iter().filter(|t| operational && carries(t));
         carrying.map(|t| self.tpdo_frame(&t)).collect()
     }
 
@@ -397,11 +393,8 @@ impl Device {
 
     fn tpdo_frame(&mut self, t: &Tpdo) -> Frame {
         self.update_process();
-        let fields: Vec<(u8, Vec<u8>)> = t
-            .map
-            .iter()
-            .map(|(addr, bits)| (*bits, self.od.value(*addr).map(|v| v.to_vec()).unwrap_or_default()))
-            .collect();
+        let value = |addr| self.od.value(addr).map(|v| v.to_vec()).unwrap_or_default();
+        let fields: Vec<(u8, Vec<u8>)> = t.map.iter().map(|(addr, bits)| (*bits, value(*addr))).collect();
         let mut payload = crate::canopen::pdo::encode(&fields);
         if self.pad_pdos {
             payload.resize(8, 0);
