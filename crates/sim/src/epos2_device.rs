@@ -22,31 +22,15 @@ const SELF_MODEL: &str = "drive";
 /// same COB-ID as a guarding answer) arrives as the answer, as on a real bus.
 const REMOTE_REQUEST_WAIT: Duration = Duration::from_millis(150);
 
-/// A segmented transfer in progress.
+/// A segmented transfer in progress. `ForwardedShortRead`: the SDO server answered
+/// expedited, and its bytes go out with the first SegmentRead.
 enum Segmented {
     None,
-    LocalRead {
-        data: Vec<u8>,
-        pos: usize,
-    },
-    LocalWrite {
-        addr: ObjAddr,
-        data: Vec<u8>,
-        length: usize,
-    },
-    /// The SDO server answered expedited: its bytes go out with the first SegmentRead.
-    ForwardedShortRead {
-        data: Vec<u8>,
-    },
-    ForwardedRead {
-        node: u8,
-        addr: ObjAddr,
-    },
-    ForwardedWrite {
-        node: u8,
-        addr: ObjAddr,
-        left: usize,
-    },
+    LocalRead { data: Vec<u8>, pos: usize },
+    LocalWrite { addr: ObjAddr, data: Vec<u8>, length: usize },
+    ForwardedShortRead { data: Vec<u8> },
+    ForwardedRead { node: u8, addr: ObjAddr },
+    ForwardedWrite { node: u8, addr: ObjAddr, left: usize },
 }
 
 /// A simulated EPOS2 on its serial link: answers the serial protocol's commands and passes its CAN
@@ -148,22 +132,17 @@ impl Epos2Device {
                 let n = self.objects().fixed_size(addr).unwrap_or(4).min(4);
                 answer(self.device().write_local(addr, &data[..n]).err().unwrap_or(0), &[])
             }
-            Command::InitiateSegmentedRead { node, addr } if self.is_local(node) => match self.objects().read(addr) {
-                Ok(data) => {
-                    self.segmented = Segmented::LocalRead { data, pos: 0 };
-                    answer(0, &[])
-                }
-                Err(code) => answer(code, &[]),
-            },
+            Command::InitiateSegmentedRead { node, addr } if self.is_local(node) => {
+                let read = self.objects().read(addr);
+                let started = read.map(|data| self.segmented = Segmented::LocalRead { data, pos: 0 });
+                answer(started.err().unwrap_or(0), &[])
+            }
             Command::InitiateSegmentedWrite { node, addr, length } if self.is_local(node) => {
                 let length = length as usize;
-                match self.objects().check_write(addr, Some(length)) {
-                    Ok(()) => {
-                        self.segmented = Segmented::LocalWrite { addr, data: Vec::new(), length };
-                        answer(0, &[])
-                    }
-                    Err(code) => answer(code, &[]),
-                }
+                let checked = self.objects().check_write(addr, Some(length));
+                let started =
+                    checked.map(|()| self.segmented = Segmented::LocalWrite { addr, data: Vec::new(), length });
+                answer(started.err().unwrap_or(0), &[])
             }
             Command::ReadObject { node, addr } => self.forward_read_object(node, addr)?,
             Command::WriteObject { node, addr, data } => {

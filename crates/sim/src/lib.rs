@@ -395,14 +395,14 @@ impl SimLink {
 
     /// Frames that have left the bus so far and how long it was busy with them.
     pub fn bus_stats(&self) -> BusStats {
-        self.bus.stats()
+        self.bus.stats
     }
 
     /// Frames take no time on this bus (the devices still answer late): for a bridge to
     /// a real bus, which has its own timing.
     pub fn without_bus_timing(mut self) -> SimLink {
         self.bus_timing_off = true;
-        self.bus.set_bps(None);
+        self.bus.bps = None;
         self
     }
 
@@ -540,7 +540,7 @@ impl SimLink {
                     self.bus.queue(ready, Origin::Device(i), f);
                 }
                 if !self.bus_timing_off {
-                    self.bus.set_bps(Self::bps_of(&self.net));
+                    self.bus.bps = Self::bps_of(&self.net);
                 }
             }
             Origin::Device(_) => self.rx.push_back((frame, end)),
@@ -611,7 +611,7 @@ impl FrameLink for SimLink {
     }
 
     fn frame_time(&self) -> Option<Duration> {
-        Some(self.bus.bps().map_or(Duration::ZERO, crate::frame::longest_frame_time))
+        Some(self.bus.bps.map_or(Duration::ZERO, crate::frame::longest_frame_time))
     }
 
     fn name(&self) -> String {

@@ -176,12 +176,9 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
                     (raw, held) = (true, true);
                     let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
                     let ok = reply.write_all(&Unit::Ok.encode()).is_ok();
-                    clients.extend(writer.take().map(|stream| Client {
-                        number,
-                        stream,
-                        held: Some(Vec::new()),
-                        writes: 0,
-                    }));
+                    let client =
+                        writer.take().map(|stream| Client { number, stream, held: Some(Vec::new()), writes: 0 });
+                    clients.extend(client);
                     let _ = stream.set_read_timeout(Some(HANDSHAKE_GRACE));
                     ok
                 }

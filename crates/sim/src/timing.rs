@@ -250,8 +250,8 @@ pub struct BusStats {
 /// first frames waiting when the bus frees, the lowest id wins arbitration.
 #[derive(Debug, Default)]
 pub(crate) struct BusQueue {
-    /// `None`: frames take no time.
-    bps: Option<u64>,
+    /// The bus's bit rate; `None`: frames take no time.
+    pub(crate) bps: Option<u64>,
     free_at: Nanos,
     /// Each sender's frames in the order they leave. Per sender, so that choosing the next
     /// frame looks at each sender's first frame only: a device that floods the bus keeps
@@ -260,25 +260,12 @@ pub(crate) struct BusQueue {
     queued: BTreeMap<Origin, BTreeMap<Order, Queued>>,
     babblers: Vec<Babbler>,
     seq: u64,
-    stats: BusStats,
+    pub(crate) stats: BusStats,
 }
 
 impl BusQueue {
     pub fn new(bps: Option<u64>) -> BusQueue {
         BusQueue { bps, ..BusQueue::default() }
-    }
-
-    pub(crate) fn set_bps(&mut self, bps: Option<u64>) {
-        self.bps = bps;
-    }
-
-    /// The bus's bit rate; `None`: frames take no time.
-    pub(crate) fn bps(&self) -> Option<u64> {
-        self.bps
-    }
-
-    pub(crate) fn stats(&self) -> BusStats {
-        self.stats
     }
 
     /// How many frames from this origin are waiting.
@@ -501,7 +488,7 @@ mod tests {
         assert!(bus.pop_done(end - 1).is_none());
         let firsts: Vec<u8> = std::iter::from_fn(|| bus.pop_done(u64::MAX)).map(|(_, _, f)| f.data()[0]).collect();
         assert_eq!(firsts, [0, 1, 2]);
-        assert!(bus.stats().busy >= 3 * 111 * 8 * US);
+        assert!(bus.stats.busy >= 3 * 111 * 8 * US);
     }
 
     #[test]
@@ -518,7 +505,7 @@ mod tests {
         let ids: Vec<u16> = (0..200).map(|_| bus.pop_done(u64::MAX).unwrap().2.id()).collect();
         assert_eq!(ids.iter().filter(|id| **id == 0x605).count(), 1);
         // The bus never idles: frames back to back.
-        assert!(bus.stats().busy > 200 * 100 * US);
+        assert!(bus.stats.busy > 200 * 100 * US);
         // Untimed, a babbler still sends one frame per gap, not infinitely many.
         let mut untimed = BusQueue::new(None);
         untimed.babble(0, 0x080, 0);
