@@ -136,11 +136,9 @@ pub(crate) fn on_request(
     }
     let mut flash = Flash { od, nmt, now_ms, reboot: false, answered_first: false };
     let answers = sdo.handle(raw, &mut flash);
-    match (flash.reboot, flash.answered_first) {
-        (true, true) => (answers, true),
-        (true, false) => (vec![], true),
-        (false, _) => (answers, false),
-    }
+    // Reset before it could answer: no answer.
+    let answered = !flash.reboot || flash.answered_first;
+    (if answered { answers } else { vec![] }, flash.reboot)
 }
 
 /// An SDO download initiate (segmented/expedited or block) to the program data.

@@ -325,10 +325,7 @@ impl Conduct {
             return None;
         }
         self.endless_asked += 1;
-        if !when.fires(self.endless_asked, rng) {
-            return None;
-        }
-        self.endless.answer(kind, payload)
+        when.fires(self.endless_asked, rng).then(|| self.endless.answer(kind, payload)).flatten()
     }
 
     /// A request reached the device (before it answers): remember what an abort names.
@@ -354,9 +351,7 @@ impl Conduct {
     ) -> (Vec<(Nanos, Frame)>, bool) {
         self.answers += 1;
         let n = self.answers;
-        let mut delay = 0;
-        let mut copies = 1;
-        let mut sdo_reset = false;
+        let (mut delay, mut copies, mut sdo_reset) = (0, 1, false);
         // A miss fault is drawn when a frame is heard (`hears`), an endless one when a
         // transfer starts (`endless_answer`), not here.
         let answering = |s: &&FaultSpec| s.applies_to(model, node) && !matches!(s.kind, Kind::Miss | Kind::Endless(_));
@@ -371,16 +366,11 @@ impl Conduct {
                 Kind::Duplicate => copies *= 2,
                 Kind::ShortDlc(len) => f = Frame::new(f.id(), &f.data()[..f.len().min(len as usize)]),
                 Kind::Corrupt => {
-                    let mut data = f.data().to_vec();
-                    if let Some(first) = data.first_mut() {
-                        *first = !*first;
-                    }
+                    let data: Vec<u8> =
+                        f.data().iter().enumerate().map(|(i, b)| if i == 0 { !b } else { *b }).collect();
                     f = Frame::new(f.id(), &data);
                 }
-                Kind::Babble(id) => {
-                    let own_emcy = 0x80 + node.unwrap_or(0) as u16;
-                    self.babbling.get_or_insert(id.unwrap_or(own_emcy));
-                }
+                Kind::Babble(id) => _ = self.babbling.get_or_insert(id.unwrap_or(own_emcy(node))),
                 Kind::Abort(code) => {
                     if node.is_some_and(|n| f.id() == sdo::response_cob(n)) {
                         let [a, b, c] = self.last_mux;
@@ -424,13 +414,18 @@ impl Conduct {
     pub fn babbling(&mut self, model: &str, node: Option<u8>) -> Option<u16> {
         if self.babbling.is_none() {
             let from_start = self.from_start(model, node).find_map(|s| match s.kind {
-                Kind::Babble(id) => Some(id.unwrap_or(0x80 + node.unwrap_or(0) as u16)),
+                Kind::Babble(id) => Some(id.unwrap_or(own_emcy(node))),
                 _ => None,
             });
             self.babbling = from_start;
         }
         self.babbling.filter(|_| !self.muted)
     }
+}
+
+/// The EMCY id of this node, which a babble fault floods unless it names one.
+fn own_emcy(node: Option<u8>) -> u16 {
+    0x80 + node.unwrap_or(0) as u16
 }
 
 #[cfg(test)]

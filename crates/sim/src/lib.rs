@@ -177,11 +177,9 @@ impl Network {
             }
             // A reboot fault: the device resets instead (what was not stored is gone) and
             // says so with its boot-up.
-            if conduct.take_reboot() {
-                if let Some(id) = d.node_id() {
-                    let boot = d.on_frame(&crate::canopen::nmt::Command::ResetNode.frame(id));
-                    out.extend(boot.into_iter().map(|f| (ready, i, f)));
-                }
+            if let (true, Some(id)) = (conduct.take_reboot(), d.node_id()) {
+                let boot = d.on_frame(&crate::canopen::nmt::Command::ResetNode.frame(id));
+                out.extend(boot.into_iter().map(|f| (ready, i, f)));
             }
         }
         // CiA 305 "activate bit timing": the devices that switched, and the master with
@@ -201,9 +199,10 @@ impl Network {
         let rate = self.bit_rate;
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
-            let conduct = &self.conducts[i];
             let own = d.events(after, upto);
-            out.extend(own.into_iter().filter_map(|(t, f)| Some((t, i, conduct.own(f, &d.model, d.node_id())?))));
+            out.extend(
+                own.into_iter().filter_map(|(t, f)| Some((t, i, self.conducts[i].own(f, &d.model, d.node_id())?))),
+            );
         }
         out
     }

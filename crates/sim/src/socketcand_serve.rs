@@ -272,14 +272,9 @@ pub fn start_beacon(bound: SocketAddr, target: SocketAddr) -> Result<()> {
     socket.set_broadcast(!target.ip().is_loopback()).map_err(open)?;
     // Bound to every address, the URL names the one the beacon leaves from, which is the
     // one its listeners can reach.
-    let url = match bound.ip().is_unspecified() {
-        true => {
-            let _ = socket.connect(target);
-            socket.local_addr().ok().filter(|a| !a.ip().is_unspecified()).map(|a| SocketAddr::new(a.ip(), bound.port()))
-        }
-        false => None,
-    }
-    .unwrap_or(bound);
+    let connected = bound.ip().is_unspecified() && socket.connect(target).is_ok();
+    let leaves_from = socket.local_addr().ok().filter(|a| connected && !a.ip().is_unspecified());
+    let url = leaves_from.map_or(bound, |a| SocketAddr::new(a.ip(), bound.port()));
     let host = std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string());
     let name = host.ok().filter(|h| !h.is_empty()).unwrap_or_else(|| "canctl".into());
     let bytes = beacon::encode(&name, "canctl sim", url, &[IFACE]);
