@@ -105,6 +105,10 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
     ready(&path)?;
     let mut count = 0u64;
     let mut usb = UsbDecoder::new();
+    let encode = |answer: &SerialFrame| match opts.framing {
+        Framing::Rs232 => frame::rs232_encode(answer),
+        Framing::Usb => frame::usb_encode(answer),
+    };
     loop {
         let request = match opts.framing {
             Framing::Rs232 => rs232_receive(&mut wire, opts, &mut count)?,
@@ -119,7 +123,7 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
         if fault == Some(FaultKind::Stale) {
             let leftover = Command::ReadObject { node: 0, addr: crate::canopen::ObjAddr::new(0x1000, 0) };
             let leftover = device.execute(&leftover.to_frame())?;
-            send_answer(&mut wire, opts.framing, &leftover)?;
+            send_encoded(&mut wire, opts.framing, &encode(&leftover))?;
         }
         device.inject_wrong_answers(fault == Some(FaultKind::WrongObject));
         let cmd = Command::from_frame(&request);
@@ -128,9 +132,8 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
                 command::answer(0, &[toggle_bit(*toggle) | command::MORE])
             }
             (Some(FaultKind::EndlessSegments), Some(Command::SegmentRead { toggle })) => {
-                let mut d = vec![command::MAX_SEGMENT as u8 | toggle_bit(*toggle) | command::MORE];
-                d.extend([0xEE; command::MAX_SEGMENT]);
-                command::answer(0, &d)
+                let control = command::MAX_SEGMENT as u8 | toggle_bit(*toggle) | command::MORE;
+                command::answer(0, &[&[control][..], &[0xEE; command::MAX_SEGMENT]].concat())
             }
             _ => device.execute(&request)?,
         };
@@ -147,10 +150,7 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
             }
             _ => {}
         }
-        let mut bytes = match opts.framing {
-            Framing::Rs232 => frame::rs232_encode(&answer),
-            Framing::Usb => frame::usb_encode(&answer),
-        };
+        let mut bytes = encode(&answer);
         match fault {
             Some(FaultKind::Crc) => {
                 let n = bytes.len();
@@ -159,27 +159,19 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
                     bytes[n - 2] ^= 0x01;
                 }
             }
-            Some(FaultKind::Drop) => {
-                bytes.pop();
-            }
-            Some(FaultKind::Garbage) => {
-                let mut junk = vec![0x55, frame::DLE, 0x13, 0xAA];
-                junk.extend(bytes);
-                bytes = junk;
-            }
+            Some(FaultKind::Drop) => _ = bytes.pop(),
+            Some(FaultKind::Garbage) => bytes = [&[0x55, frame::DLE, 0x13, 0xAA][..], &bytes].concat(),
             _ => {}
         }
-        match opts.framing {
-            Framing::Rs232 => rs232_answer(&mut wire, &bytes)?,
-            Framing::Usb => wire.send(&bytes)?,
-        }
+        send_encoded(&mut wire, opts.framing, &bytes)?;
     }
 }
 
-fn send_answer(wire: &mut Wire, framing: Framing, answer: &SerialFrame) -> Result<()> {
+/// An answer's bytes to the master: on RS232 with the handshake.
+fn send_encoded(wire: &mut Wire, framing: Framing, bytes: &[u8]) -> Result<()> {
     match framing {
-        Framing::Rs232 => rs232_answer(wire, &frame::rs232_encode(answer)),
-        Framing::Usb => wire.send(&frame::usb_encode(answer)),
+        Framing::Rs232 => rs232_answer(wire, bytes),
+        Framing::Usb => wire.send(bytes),
     }
 }
 

@@ -157,12 +157,9 @@ impl Network {
                 continue;
             }
             let endless = endless_request(d, frame).and_then(|(node, payload)| {
-                Some((node, conduct.endless_answer(payload, &d.model, Some(node), &mut pace.rng)?))
+                Some(device::sdo_frames(node, &conduct.endless_answer(payload, &d.model, Some(node), &mut pace.rng)?))
             });
-            let answers = match endless {
-                Some((node, answers)) => device::sdo_frames(node, &answers),
-                None => d.on_frame(frame),
-            };
+            let answers = endless.unwrap_or_else(|| d.on_frame(frame));
             if answers.is_empty() {
                 continue;
             }

@@ -75,18 +75,11 @@ impl SocketcandServer {
     }
 }
 
-fn micros_now() -> u64 {
-    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_micros() as u64).unwrap_or(0)
-}
-
 /// Write `frames` to every client in raw mode but `except`, in one write each; a client
 /// that cannot take them is dropped.
 fn broadcast(clients: &Clients, frames: &[Frame], except: Option<u64>) {
-    let micros = micros_now();
-    let mut bytes = Vec::with_capacity(frames.len() * 40);
-    for frame in frames {
-        bytes.extend_from_slice(&Unit::Frame { frame: *frame, micros }.encode());
-    }
+    let micros = SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_micros() as u64).unwrap_or(0);
+    let bytes: Vec<u8> = frames.iter().flat_map(|frame| Unit::Frame { frame: *frame, micros }.encode()).collect();
     if bytes.is_empty() {
         return;
     }

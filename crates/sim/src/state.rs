@@ -87,10 +87,8 @@ fn check_ours(path: &Path) -> std::result::Result<(), StateRefused> {
         Ok(_) => Ok(()),
         Err(_) => {
             let folder = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-            match folder.is_dir() {
-                true => Ok(()),
-                false => Err(StateRefused::NoFolder { folder: folder.to_path_buf(), path: path.to_path_buf() }),
-            }
+            let missing = StateRefused::NoFolder { folder: folder.to_path_buf(), path: path.to_path_buf() };
+            folder.is_dir().then_some(()).ok_or(missing)
         }
     }
 }
@@ -104,10 +102,7 @@ fn holds_a_sim_state(path: &Path) -> bool {
         version: serde::de::IgnoredAny,
         devices: serde::de::IgnoredAny,
     }
-    match File::open(path) {
-        Ok(f) => serde_json::from_reader::<_, Shape>(std::io::BufReader::new(f)).is_ok(),
-        Err(_) => true,
-    }
+    File::open(path).map_or(true, |f| serde_json::from_reader::<_, Shape>(std::io::BufReader::new(f)).is_ok())
 }
 
 /// A file canctl keeps beside the state file (`sim.json.canctl-lock`): named so that it is
@@ -182,12 +177,8 @@ impl StateFile {
         check_ours(path)?;
         let lock_path = beside(path, "lock");
         let owner_path = beside(path, "owner");
-        let lock = OpenOptions::new()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(&lock_path)
-            .map_err(|e| link_err(&lock_path, "cannot open", e))?;
+        let lock = OpenOptions::new().create(true).truncate(false).write(true).open(&lock_path);
+        let lock = lock.map_err(|e| link_err(&lock_path, "cannot open", e))?;
         let give_up = Instant::now() + wait;
         let mut told = false;
         loop {

@@ -276,6 +276,7 @@ impl Device {
         let (answer, event) = self.lss.handle(req, self.node_id.unwrap_or(UNCONFIGURED));
         self.od.dirty |= self.lss.state != before;
         let mut out: Vec<Frame> = answer.iter().map(|a| Frame::new(lss::SLAVE_COB, &a.encode())).collect();
+        self.od.dirty |= matches!(event, Some(SlaveEvent::BitTiming(_) | SlaveEvent::Store));
         match event {
             Some(SlaveEvent::NodeId(id)) => {
                 let new = (id != UNCONFIGURED).then_some(id);
@@ -283,10 +284,7 @@ impl Device {
                 self.node_id = new;
                 self.od.renumber(new.unwrap_or(0));
             }
-            Some(SlaveEvent::BitTiming(index)) => {
-                self.bit_rate.pending = Some(index);
-                self.od.dirty = true;
-            }
+            Some(SlaveEvent::BitTiming(index)) => self.bit_rate.pending = Some(index),
             // The switch delay is not simulated: the new rate holds from the next frame on.
             Some(SlaveEvent::Activate { .. }) => {
                 if let Some(p) = self.bit_rate.pending.take() {
@@ -294,10 +292,7 @@ impl Device {
                     self.od.dirty = true;
                 }
             }
-            Some(SlaveEvent::Store) => {
-                self.bit_rate.stored = self.bit_rate.pending.unwrap_or(self.bit_rate.active);
-                self.od.dirty = true;
-            }
+            Some(SlaveEvent::Store) => self.bit_rate.stored = self.bit_rate.pending.unwrap_or(self.bit_rate.active),
             Some(SlaveEvent::BackToWaiting) => {
                 if let (true, Some(id)) = (self.boot_pending, self.node_id) {
                     self.boot_pending = false;
@@ -569,15 +564,11 @@ impl Device {
 
     /// Apply a saved state; entries that no longer fit the model are dropped.
     pub fn restore(&mut self, s: &DeviceState) {
-        if s.node_id != self.node_id {
-            self.node_id = s.node_id;
-            self.od.node_id = s.node_id.unwrap_or(0);
-            self.od.reload(None);
-        }
+        // The values follow the node-id (the reload below).
+        self.node_id = s.node_id;
+        self.od.node_id = s.node_id.unwrap_or(0);
         self.nmt = s.nmt.unwrap_or(nmt::State::PreOperational);
-        if let Some(b) = s.bit_rate {
-            self.bit_rate = b;
-        }
+        self.bit_rate = s.bit_rate.unwrap_or(self.bit_rate);
         self.fault = s.fault;
         self.booting_until = s.booting_until;
         if s.lss_configuration {

@@ -241,11 +241,8 @@ impl ObjectAccess for ObjectStore {
                 if data != [0] {
                     return Err(abort::INVALID_VALUE);
                 }
-                let subs: Vec<ObjAddr> =
-                    self.values.keys().filter(|a| a.index == 0x1003 && a.sub > 0).copied().collect();
-                for a in subs {
-                    self.values.insert(a, vec![0; 4]);
-                }
+                let fields = self.values.range_mut(ObjAddr::new(0x1003, 1)..=ObjAddr::new(0x1003, 255));
+                fields.for_each(|(_, v)| *v = vec![0; 4]);
             }
             _ => {}
         }
