@@ -250,18 +250,13 @@ impl Flash<'_> {
     fn on_program(&mut self, data: &[u8]) -> Result<(), u32> {
         may_program(self.od, self.nmt, self.now_ms)?;
         let od = &mut *self.od;
+        let failed = fault(od) == Fault::FlashWrite;
         od.keep(POWER_LEFT, 0u32.to_le_bytes().to_vec());
-        od.keep(CLEARED, vec![2]);
+        od.keep(CLEARED, vec![if failed { 0 } else { 2 }]);
         od.keep(CONTROL, vec![program::Control::Stop.code()]);
         od.keep(BUSY_UNTIL, (self.now_ms + WRITE_MS).to_le_bytes().to_vec());
-        if fault(od) == Fault::FlashWrite {
-            od.keep(CLEARED, vec![0]);
-            od.keep(ID, 0u32.to_le_bytes().to_vec());
-            set_status(od, code::FLASH_WRITE_ERROR);
-        } else {
-            od.keep(ID, program::image_id(data).to_le_bytes().to_vec());
-            set_status(od, code::OK);
-        }
+        od.keep(ID, if failed { 0 } else { program::image_id(data) }.to_le_bytes().to_vec());
+        set_status(od, if failed { code::FLASH_WRITE_ERROR } else { code::OK });
         Ok(())
     }
 }

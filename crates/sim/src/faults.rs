@@ -108,10 +108,8 @@ pub(crate) const DEFAULT_ABORT: u32 = 0x0800_0000;
 const DEFAULT_SHORT_DLC: u8 = 4;
 
 fn parse_cob(s: &str) -> Result<u16, String> {
-    parse_number::<u32>(s)
-        .filter(|v| *v <= 0x7FF)
-        .map(|v| v as u16)
-        .ok_or_else(|| format!("'{s}' is not an 11-bit CAN id"))
+    let id = parse_number::<u32>(s).filter(|v| *v <= 0x7FF);
+    id.map(|v| v as u16).ok_or_else(|| format!("'{s}' is not an 11-bit CAN id"))
 }
 
 impl FromStr for FaultSpec {
@@ -209,10 +207,8 @@ impl From<FaultSpec> for String {
 /// Why a fault concerns none of `devices` (model key, node-id), if one does not: a fault
 /// for node 99 on a network without it would be accepted and never fire.
 pub fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) -> Option<String> {
-    let fault = faults
-        .iter()
-        .filter(|f| f.target != Target::Bus)
-        .find(|f| !devices.iter().any(|(key, node)| f.applies_to(key, *node)))?;
+    let mut device_faults = faults.iter().filter(|f| f.target != Target::Bus);
+    let fault = device_faults.find(|f| !devices.iter().any(|(key, node)| f.applies_to(key, *node)))?;
     let nodes: Vec<String> = devices.iter().filter_map(|(_, n)| n.map(|n| n.to_string())).collect();
     let keys: Vec<&str> = devices.iter().map(|(k, _)| k.as_str()).collect();
     Some(format!(

@@ -451,10 +451,8 @@ impl SimLink {
     fn next_event_at(&self) -> Option<Nanos> {
         let now = self.bus_time();
         let ms = self.ms_at(now);
-        let own = self
-            .net
-            .next_event(self.beats_upto.max(ms))
-            .map(|next| (next.saturating_sub(self.start_ms) * timing::MS).max(now));
+        let next_own = self.net.next_event(self.beats_upto.max(ms));
+        let own = next_own.map(|next| (next.saturating_sub(self.start_ms) * timing::MS).max(now));
         own.into_iter().chain(self.bus.next_done()).min()
     }
 

@@ -283,9 +283,8 @@ impl BusQueue {
     /// This device floods the bus with frames on `id` from `since` on (once told).
     pub fn babble(&mut self, device: usize, id: u16, since: Nanos) {
         if !self.babblers.iter().any(|b| b.device == device) {
-            let mut b = Babbler { device, id, next: since, count: 0, bits: 0 };
-            b.bits = frame_bits(&Self::babble_frame(&b));
-            self.babblers.push(b);
+            let bits = frame_bits(&Frame::new(id, &0u64.to_le_bytes()));
+            self.babblers.push(Babbler { device, id, next: since, count: 0, bits });
         }
     }
 
@@ -314,15 +313,10 @@ impl BusQueue {
         let queued = heads
             .filter(|(_, (ready, _), _)| *ready <= start)
             .map(|(origin, order, q)| ((q.frame.id(), 0, order.1), Next::Queued(origin, order), q.bits));
-        let babbling = self
-            .babblers
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| b.next <= start)
-            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), b.bits));
+        let ready_babblers = self.babblers.iter().enumerate().filter(|(_, b)| b.next <= start);
+        let babbling = ready_babblers.map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), b.bits));
         let (_, next, bits) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
-        let time = self.bps.map_or(0, |bps| bits as u64 * 1_000_000_000 / bps);
-        let end = start + time;
+        let end = start + self.bps.map_or(0, |bps| bits as u64 * 1_000_000_000 / bps);
         Some((next, start, end))
     }
 

@@ -359,10 +359,8 @@ impl Device {
             .filter_map(|n| {
                 let cob = self.od.u32_value(ObjAddr::new(0x1800 + n, 1))?;
                 let count = self.od.u8_value(ObjAddr::new(0x1A00 + n, 0)).unwrap_or(0);
-                let map = (1..=count)
-                    .filter_map(|s| self.od.u32_value(ObjAddr::new(0x1A00 + n, s)))
-                    .map(crate::canopen::pdo::mapping_entry)
-                    .collect();
+                let entries = (1..=count).filter_map(|s| self.od.u32_value(ObjAddr::new(0x1A00 + n, s)));
+                let map = entries.map(crate::canopen::pdo::mapping_entry).collect();
                 Some(Tpdo {
                     n: n as usize,
                     cob: (cob & 0x7FF) as u16,

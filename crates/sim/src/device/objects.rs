@@ -144,11 +144,8 @@ impl ObjectStore {
     /// The CiA 402 state a drive's statusword shows (None on a device that is no drive).
     pub fn drive_state(&self) -> Option<DriveState> {
         self.drive?;
-        Some(
-            self.u16_value(cia402::STATUSWORD)
-                .and_then(DriveState::from_statusword)
-                .unwrap_or(DriveState::SwitchOnDisabled),
-        )
+        let shown = self.u16_value(cia402::STATUSWORD).and_then(DriveState::from_statusword);
+        Some(shown.unwrap_or(DriveState::SwitchOnDisabled))
     }
 
     pub(super) fn set_drive_state(&mut self, state: DriveState) {
