@@ -342,12 +342,8 @@ impl Epos2Device {
             self.arrived.push_back(Frame::new(sdo::response_cob(node), &stray(other).emit()));
             self.arrived.push_back(Frame::new(sdo::response_cob(node % 127 + 1), &stray(own).emit()));
         }
-        let initiate = initiate.is_some();
-        let answers_request = |f: &Frame| {
-            f.id() == sdo::response_cob(node)
-                && !f.is_remote()
-                && (!initiate || f.data().get(1..4) == Some(&request[1..4]))
-        };
+        let same_object = |f: &Frame| initiate.is_none() || f.data().get(1..4) == Some(&request[1..4]);
+        let answers_request = |f: &Frame| f.id() == sdo::response_cob(node) && !f.is_remote() && same_object(f);
         let answer = self.wait_for(answers_request, self.can_timeout)?;
         Ok(match answer {
             None => Err(abort::TIMED_OUT),

@@ -181,10 +181,9 @@ impl Network {
         }
         // CiA 305 "activate bit timing": the devices that switched, and the master with
         // them, run at the new rate; a device left at the old rate drops off the bus.
-        if let Some(new) = self.devices.iter().map(|d| d.bit_rate()).find(|r| *r != rate) {
-            if lss::Request::decode(frame.data()).is_some_and(|r| matches!(r, lss::Request::ActivateBitTiming { .. })) {
-                self.bit_rate = new;
-            }
+        let activate = matches!(lss::Request::decode(frame.data()), Some(lss::Request::ActivateBitTiming { .. }));
+        if let Some(new) = self.devices.iter().map(|d| d.bit_rate()).find(|r| *r != rate).filter(|_| activate) {
+            self.bit_rate = new;
         }
         out
     }
@@ -496,11 +495,9 @@ impl SimLink {
     /// sends what a closed socket queued): the devices hear them before their state is
     /// saved. Bounded, for a bus a babbling device keeps busy.
     fn flush(&mut self) {
-        let mut left = 100_000;
-        while self.bus.waiting_from(Origin::Master) > 0 && left > 0 {
-            let Some(next) = self.bus.next_done() else { break };
+        for _ in 0..100_000 {
+            let Some(next) = self.bus.next_done().filter(|_| self.bus.waiting_from(Origin::Master) > 0) else { break };
             self.pop_done(next);
-            left -= 1;
         }
     }
 

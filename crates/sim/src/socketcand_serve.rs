@@ -146,8 +146,7 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
             Err(_) => break,
         };
         // The grace ends when the client says anything, or when it is over.
-        if held {
-            held = false;
+        if std::mem::take(&mut held) {
             release(&clients, number);
             let _ = stream.set_read_timeout(None);
         }

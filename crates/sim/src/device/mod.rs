@@ -542,17 +542,13 @@ impl Device {
     pub fn snapshot(&self) -> DeviceState {
         // A reset would bring back the stored value, else the default: save what differs.
         let baseline = |a: &ObjAddr| self.od.stored.get(a).cloned().unwrap_or_else(|| self.od.default_of(*a));
-        let hex_map = |m: &BTreeMap<ObjAddr, Vec<u8>>, only_changed: bool| {
-            m.iter()
-                .filter(|(a, v)| !only_changed || **v != baseline(a))
-                .map(|(a, v)| (format!("{:04X}:{}", a.index, a.sub), crate::canopen::types::hex(v)))
-                .collect()
-        };
+        let entry =
+            |(a, v): (&ObjAddr, &Vec<u8>)| (format!("{:04X}:{}", a.index, a.sub), crate::canopen::types::hex(v));
         DeviceState {
             node_id: self.node_id,
             nmt: Some(self.nmt),
-            values: hex_map(&self.od.values, true),
-            stored: hex_map(&self.od.stored, false),
+            values: self.od.values.iter().filter(|(a, v)| **v != baseline(a)).map(entry).collect(),
+            stored: self.od.stored.iter().map(entry).collect(),
             bit_rate: Some(self.bit_rate),
             fault: self.fault,
             lss_configuration: self.lss.state == lss::SlaveState::Configuration,

@@ -45,12 +45,9 @@ impl ObjectStore {
         self.dict.get(addr).ok_or(if self.dict.has_index(addr.index) { abort::NO_SUBINDEX } else { abort::NO_OBJECT })
     }
 
-    /// The parameter classes a 0x1010/0x1011 sub stands for: 1 all of them.
-    pub(super) fn classes_for(sub: u8) -> Vec<ParamClass> {
-        [ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer]
-            .into_iter()
-            .filter(|c| sub == 1 || c.subindex() == sub)
-            .collect()
+    /// Whether 0x1010/0x1011 sub `sub` stands for the object at `index` (sub 1: every class).
+    fn covers(sub: u8, index: u16) -> bool {
+        ParamClass::of(index).is_some_and(|c| sub == 1 || c.subindex() == sub)
     }
 
     /// CiA 301 0x1010: saves the parameters of sub's classes, on the signature "save".
@@ -58,11 +55,8 @@ impl ObjectStore {
         if signature != SAVE {
             return Err(abort::CANNOT_STORE);
         }
-        let classes = Self::classes_for(sub);
-        for e in self.dict.entries().filter(|e| e.access.writable()) {
-            if ParamClass::of(e.addr.index).is_some_and(|c| classes.contains(&c)) {
-                self.stored.insert(e.addr, self.values[&e.addr].clone());
-            }
+        for e in self.dict.entries().filter(|e| e.access.writable() && Self::covers(sub, e.addr.index)) {
+            self.stored.insert(e.addr, self.values[&e.addr].clone());
         }
         self.dirty = true;
         Ok(())
@@ -73,8 +67,7 @@ impl ObjectStore {
         if signature != LOAD {
             return Err(abort::CANNOT_STORE);
         }
-        let classes = Self::classes_for(sub);
-        self.stored.retain(|a, _| !ParamClass::of(a.index).is_some_and(|c| classes.contains(&c)));
+        self.stored.retain(|a, _| !Self::covers(sub, a.index));
         self.dirty = true;
         Ok(())
     }
@@ -95,13 +88,11 @@ impl ObjectStore {
     /// connection set; values still at their node-id-based default follow it.
     pub(super) fn renumber(&mut self, new_id: u8) {
         let old_id = self.node_id;
-        for e in self.dict.entries() {
-            if let crate::od::Init::NodeIdPlus(_) = e.default {
-                let (old, new) = (e.default_for(old_id), e.default_for(new_id));
-                for map in [&mut self.values, &mut self.stored] {
-                    if map.get(&e.addr) == Some(&old) {
-                        map.insert(e.addr, new.clone());
-                    }
+        for e in self.dict.entries().filter(|e| matches!(e.default, crate::od::Init::NodeIdPlus(_))) {
+            let (old, new) = (e.default_for(old_id), e.default_for(new_id));
+            for map in [&mut self.values, &mut self.stored] {
+                if map.get(&e.addr) == Some(&old) {
+                    map.insert(e.addr, new.clone());
                 }
             }
         }
