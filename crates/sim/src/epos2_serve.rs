@@ -217,22 +217,17 @@ fn rs232_receive(wire: &mut Wire, opts: &ServeOptions, count: &mut u64) -> Resul
 fn rs232_answer(wire: &mut Wire, bytes: &[u8]) -> Result<()> {
     let timeout = Some(Duration::from_millis(500));
     wire.send(&bytes[..1])?;
-    match wire.byte(timeout)? {
-        Some(b'O') => {}
+    let Some(b) = wire.byte(timeout)? else { return Ok(()) };
+    if b != b'O' {
         // The master gave up on this answer and starts anew: that byte opens its next frame.
-        Some(_) => {
-            wire.unread();
-            return Ok(());
-        }
-        None => return Ok(()),
+        wire.unread();
+        return Ok(());
     }
     wire.send(&bytes[1..])?;
     // The end acknowledge: 'F' means the master saw a bad CRC and will ask again; anything
     // else is the master starting over after losing part of the answer.
-    if let Some(b) = wire.byte(timeout)? {
-        if b != b'O' && b != b'F' {
-            wire.unread();
-        }
+    if wire.byte(timeout)?.is_some_and(|b| b != b'O' && b != b'F') {
+        wire.unread();
     }
     Ok(())
 }
