@@ -394,14 +394,14 @@ impl Conduct {
     /// no heartbeat once stopped (a no-heartbeat fault without WHEN: from the start).
     pub fn own(&self, f: Frame, model: &str, node: Option<u8>) -> Option<Frame> {
         let heartbeat = node.is_some_and(|n| f.id() == crate::canopen::nmt::error_control_cob(n));
-        let from_start = |kind| self.from_start(model, node).any(|s| s.kind == kind);
+        let from_start = |kind| self.standing(model, node).any(|s| s.kind == kind);
         let stopped = self.heartbeat_stopped || from_start(Kind::NoHeartbeat);
         let silenced = self.muted || from_start(Kind::Off) || (heartbeat && stopped);
         (!silenced).then_some(f)
     }
 
     /// The faults without WHEN that concern the device: in force from the start.
-    fn from_start<'a>(&'a self, model: &'a str, node: Option<u8>) -> impl Iterator<Item = &'a FaultSpec> {
+    fn standing<'a>(&'a self, model: &'a str, node: Option<u8>) -> impl Iterator<Item = &'a FaultSpec> {
         self.faults.iter().filter(move |s| s.when == When::Always && s.applies_to(model, node))
     }
 
@@ -409,7 +409,7 @@ impl Conduct {
     /// WHEN floods from the start, one with WHEN from that answer on.
     pub fn babbling(&mut self, model: &str, node: Option<u8>) -> Option<u16> {
         if self.babbling.is_none() {
-            let from_start = self.from_start(model, node).find_map(|s| match s.kind {
+            let from_start = self.standing(model, node).find_map(|s| match s.kind {
                 Kind::Babble(id) => Some(id.unwrap_or(own_emcy(node))),
                 _ => None,
             });
