@@ -359,9 +359,10 @@ impl SimLink {
     }
 
     fn bps_of(net: &Network) -> Option<u64> {
-        // An automatic or reserved rate is timed as the default one.
+        // An automatic or reserved rate is timed as the default one; on the instant profile
+        // frames take no time.
         let bps = timing::bits_per_second(net.bit_rate).or(timing::bits_per_second(DEFAULT_BIT_RATE));
-        bps.filter(|_| net.config.profile.bus_timing())
+        bps.filter(|_| net.config.profile != Profile::Instant)
     }
 
     /// The devices only, behind another link (an adapter, an interface): a `bus:off` fault

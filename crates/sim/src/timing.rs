@@ -98,11 +98,6 @@ impl Profile {
         }
     }
 
-    /// Whether each frame occupies the bus for its frame time at the bit rate.
-    pub(crate) fn bus_timing(self) -> bool {
-        self != Profile::Instant
-    }
-
     /// The answer time of one device: drawn once per device, from its own generator.
     pub(crate) fn device_latency(self, rng: &mut Rng) -> Latency {
         let ((lo, hi), jitter) = self.latency();

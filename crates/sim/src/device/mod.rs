@@ -114,8 +114,11 @@ impl Device {
             drive: model.drive.map(Drive::new),
             ..ObjectStore::default()
         };
-        if model.epos2_bit_rate {
-            commissioned_bit_rate(&mut od, bit_rate);
+        // An EPOS2 on a bus was set up for it: 0x2001, which it reads at power-on, saved with
+        // the code of the bit rate its controller runs at. Left at its default (1 Mbit/s) on a
+        // 500 kbit/s bus, it told a reader a rate the device could not be talking at.
+        if let Some(code) = crate::epos2::objects::bit_rate_code(bit_rate).filter(|_| model.epos2_bit_rate) {
+            od.stored.insert(crate::epos2::objects::CAN_BIT_RATE, code.to_le_bytes().to_vec());
         }
         od.reload(None);
         od.refresh_statusword();
@@ -262,7 +265,9 @@ impl Device {
                 return vec![self.tpdo_frame(&t)];
             }
         }
-        if f.is_remote() && f.id() == nmt::error_control_cob(id) && self.answers_guarding() {
+        // CiA 301: a node that produces heartbeats does not take part in node guarding.
+        let guarded = self.guarding && self.heartbeat_ms().is_none();
+        if f.is_remote() && f.id() == nmt::error_control_cob(id) && guarded {
             let answer = ErrorControl::State { state: self.nmt, toggle: self.guard_toggle };
             self.guard_toggle = !self.guard_toggle;
             return vec![answer.frame(id)];
@@ -374,18 +379,14 @@ impl Device {
             .collect()
     }
 
-    /// The sensor's measurements at this moment (zero while its magnet is lost).
-    fn update_process(&mut self) {
-        if !self.moving {
-            return;
-        }
-        let (position, speed) = if self.fault.active { (0, 0) } else { super::profiles::sensor_motion(self.clock_ms) };
-        self.od.values.insert(ObjAddr::new(0x6020, 1), position.to_le_bytes().to_vec());
-        self.od.values.insert(ObjAddr::new(0x6030, 1), speed.to_le_bytes().to_vec());
-    }
-
     fn tpdo_frame(&mut self, t: &Tpdo) -> Frame {
-        self.update_process();
+        if self.moving {
+            // The sensor's measurements at this moment (zero while its magnet is lost).
+            let (position, speed) =
+                if self.fault.active { (0, 0) } else { super::profiles::sensor_motion(self.clock_ms) };
+            self.od.values.insert(ObjAddr::new(0x6020, 1), position.to_le_bytes().to_vec());
+            self.od.values.insert(ObjAddr::new(0x6030, 1), speed.to_le_bytes().to_vec());
+        }
         let value = |addr| self.od.value(addr).map(|v| v.to_vec()).unwrap_or_default();
         let fields: Vec<(u8, Vec<u8>)> = t.map.iter().map(|(addr, bits)| (*bits, value(*addr))).collect();
         let mut payload = crate::canopen::pdo::encode(&fields);
@@ -529,11 +530,6 @@ impl Device {
         out
     }
 
-    /// CiA 301: a node that produces heartbeats does not take part in node guarding.
-    fn answers_guarding(&self) -> bool {
-        self.guarding && self.heartbeat_ms().is_none()
-    }
-
     pub fn heartbeat_ms(&self) -> Option<u64> {
         self.node_id?;
         self.od.u16_value(ObjAddr::new(0x1017, 0)).filter(|t| *t > 0).map(u64::from)
@@ -580,16 +576,6 @@ impl Device {
         self.od.values.extend(values);
         self.sync_drive();
         self.od.dirty = false;
-    }
-}
-
-/// An EPOS2 on a bus was set up for it: 0x2001, which it reads at power-on, saved with the
-/// code of the bit rate its controller runs at (`cia_index`). Left at its default (1 Mbit/s)
-/// on a 500 kbit/s bus, it told a reader a rate the device could not be talking at.
-fn commissioned_bit_rate(od: &mut ObjectStore, cia_index: u8) {
-    use crate::epos2::objects::{bit_rate_code, CAN_BIT_RATE};
-    if let Some(code) = bit_rate_code(cia_index) {
-        od.stored.insert(CAN_BIT_RATE, code.to_le_bytes().to_vec());
     }
 }
 
