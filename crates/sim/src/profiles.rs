@@ -109,12 +109,6 @@ const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true, fastscan_
 /// An LSS slave without the optional services (CiA 305 store and bit timing).
 pub(crate) const BASIC_LSS: SlaveCaps = SlaveCaps { store: false, bit_timing: false, ..FULL_LSS };
 
-/// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
-#[cfg(test)]
-pub(crate) fn demo_network() -> Vec<(Model, Option<u8>)> {
-    demo_network_with(UNCONFIGURED_SERIALS.len() as u8)
-}
-
 /// The serial of the `i`-th (from 0) demo sensor waiting for a node-id.
 pub fn unconfigured_serial(i: u8) -> u32 {
     UNCONFIGURED_SERIALS[0] + i as u32
@@ -477,6 +471,11 @@ fn event_driven_tpdo1(d: &mut Dictionary, mapped: &[u32]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
+    fn demo_network() -> Vec<(Model, Option<u8>)> {
+        demo_network_with(UNCONFIGURED_SERIALS.len() as u8)
+    }
 
     /// CiA 301's objects are one table: a simulated device has each as the table has it
     /// (0x1010 and 0x1011 are ARRAYs, CiA 301 §7.5.2.13/14; 0x1018 a RECORD).

@@ -11,7 +11,7 @@ use crate::frame::Frame;
 use crate::socketcand::beacon;
 use crate::socketcand::wire::{Decoder, Unit};
 use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpListener, TcpStream, UdpSocket};
+use std::net::{Ipv4Addr, SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -244,11 +244,8 @@ pub fn beacon_port() -> u16 {
 /// test, a tunnel: nothing goes onto a network), otherwise to the broadcast address, as
 /// socketcand sends it.
 pub fn beacon_target(bound: SocketAddr, port: u16) -> SocketAddr {
-    match bound.ip() {
-        // The listener of `canctl buses` is IPv4: a server on ::1 is announced there too.
-        ip if ip.is_loopback() => SocketAddr::from((std::net::Ipv4Addr::LOCALHOST, port)),
-        _ => SocketAddr::from((std::net::Ipv4Addr::BROADCAST, port)),
-    }
+    // The listener of `canctl buses` is IPv4: a server on ::1 is announced there too.
+    SocketAddr::from((if bound.ip().is_loopback() { Ipv4Addr::LOCALHOST } else { Ipv4Addr::BROADCAST }, port))
 }
 
 /// Announce the server at `bound` offering [`IFACE`] to `target` every [`BEACON_EVERY`],
@@ -256,11 +253,8 @@ pub fn beacon_target(bound: SocketAddr, port: u16) -> SocketAddr {
 /// (no network, broadcasts refused) is skipped: serving goes on without it.
 pub fn start_beacon(bound: SocketAddr, target: SocketAddr) -> Result<()> {
     let open = |error: std::io::Error| LinkError::Open { port: format!("UDP beacon to {target}"), error: error.into() };
-    let local: SocketAddr = match target {
-        SocketAddr::V4(_) => (std::net::Ipv4Addr::UNSPECIFIED, 0).into(),
-        SocketAddr::V6(_) => (std::net::Ipv6Addr::UNSPECIFIED, 0).into(),
-    };
-    let socket = UdpSocket::bind(local).map_err(open)?;
+    let any = if target.is_ipv4() { Ipv4Addr::UNSPECIFIED.into() } else { std::net::Ipv6Addr::UNSPECIFIED.into() };
+    let socket = UdpSocket::bind(SocketAddr::new(any, 0)).map_err(open)?;
     socket.set_broadcast(!target.ip().is_loopback()).map_err(open)?;
     // Bound to every address, the URL names the one the beacon leaves from, which is the
     // one its listeners can reach.

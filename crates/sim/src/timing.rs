@@ -184,9 +184,6 @@ pub(crate) fn frame_bits(f: &Frame) -> u32 {
     bits.len() as u32 + stuff_bits(&bits) + 1 + 2 + 7 + 3
 }
 
-#[cfg(test)]
-pub(crate) use crate::frame::worst_case_bits;
-
 /// How long `f` occupies the bus at `bps` bits per second.
 pub fn frame_time(f: &Frame, bps: u64) -> Nanos {
     frame_bits(f) as u64 * 1_000_000_000 / bps
@@ -353,6 +350,7 @@ impl BusQueue {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::worst_case_bits;
 
     #[test]
     fn crc15_of_a_single_one_bit_is_the_polynomial() {
