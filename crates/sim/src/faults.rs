@@ -77,8 +77,7 @@ pub enum When {
 }
 
 /// One fault on one device, as `--fault` gives it.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(try_from = "String", into = "String")]
+#[derive(Clone, Debug, PartialEq)]
 pub struct FaultSpec {
     /// The device(s) it concerns: by model key, by node-id, or any.
     pub target: Target,
@@ -191,16 +190,16 @@ impl fmt::Display for FaultSpec {
     }
 }
 
-impl TryFrom<String> for FaultSpec {
-    type Error = String;
-    fn try_from(s: String) -> Result<FaultSpec, String> {
-        s.parse()
+/// In the state file as `--fault` writes it.
+impl serde::Serialize for FaultSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
     }
 }
 
-impl From<FaultSpec> for String {
-    fn from(f: FaultSpec) -> String {
-        f.to_string()
+impl<'de> serde::Deserialize<'de> for FaultSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<FaultSpec, D::Error> {
+        <String as serde::Deserialize>::deserialize(d)?.parse().map_err(serde::de::Error::custom)
     }
 }
 

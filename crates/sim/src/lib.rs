@@ -116,8 +116,7 @@ impl Network {
             devices.into_iter().map(|(m, id)| Device::new(m, id, config.bit_rate).with_reset_time(reset_ms)).collect();
         let paces = devices.iter().map(|d| Pace::new(&config, &d.model)).collect();
         let conducts = devices.iter().map(|d| Conduct::new(&config.faults, &d.model)).collect();
-        let bit_rate = config.bit_rate;
-        Network { devices, paces, conducts, config, bit_rate, clock_ms: 0 }
+        Network { devices, paces, conducts, bit_rate: config.bit_rate, config, clock_ms: 0 }
     }
 
     /// How the network was set up.
