@@ -193,10 +193,8 @@ impl Network {
         let rate = self.bit_rate;
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
-            let own = d.events(after, upto);
-            out.extend(
-                own.into_iter().filter_map(|(t, f)| Some((t, i, self.conducts[i].own(f, &d.model, d.node_id())?))),
-            );
+            let (own, conduct) = (d.events(after, upto), &self.conducts[i]);
+            out.extend(own.into_iter().filter_map(|(t, f)| Some((t, i, conduct.own(f, &d.model, d.node_id())?))));
         }
         out
     }

@@ -419,12 +419,9 @@ impl Device {
     fn arm_fault(&mut self) -> Vec<Frame> {
         let ms = self.od.u16_value(FAULT_OBJECT).unwrap_or(0);
         self.od.dirty = true;
-        if ms > 0 {
-            self.fault.at = Some(self.clock_ms + ms as u64);
-            return vec![];
-        }
-        self.fault.at = None;
-        if !std::mem::take(&mut self.fault.active) {
+        self.fault.at = (ms > 0).then(|| self.clock_ms + ms as u64);
+        // Armed, or cleared with none active: nothing to report.
+        if ms > 0 || !std::mem::take(&mut self.fault.active) {
             return vec![];
         }
         if self.od.drive.is_some() {
