@@ -7,9 +7,6 @@ use super::*;
 pub(super) const MAPPING_OBJECT_UNMAPPABLE: u32 = 0x0604_0041;
 pub(super) const MAPPING_TOO_LONG: u32 = 0x0604_0042;
 
-pub(super) const SAVE: &[u8] = b"save";
-pub(super) const LOAD: &[u8] = b"load";
-
 /// The values of a device's dictionary, with the CiA 301 store/restore behaviour.
 #[derive(Default)]
 pub struct ObjectStore {
@@ -52,7 +49,7 @@ impl ObjectStore {
 
     /// CiA 301 0x1010: saves the parameters of sub's classes, on the signature "save".
     pub(super) fn store(&mut self, sub: u8, signature: &[u8]) -> Result<(), u32> {
-        if signature != SAVE {
+        if signature != b"save" {
             return Err(abort::CANNOT_STORE);
         }
         for e in self.dict.entries().filter(|e| e.access.writable() && Self::covers(sub, e.addr.index)) {
@@ -64,7 +61,7 @@ impl ObjectStore {
 
     /// CiA 301 0x1011, on the signature "load": the defaults apply from the next reset on.
     pub(super) fn restore(&mut self, sub: u8, signature: &[u8]) -> Result<(), u32> {
-        if signature != LOAD {
+        if signature != b"load" {
             return Err(abort::CANNOT_STORE);
         }
         self.stored.retain(|a, _| !Self::covers(sub, a.index));
