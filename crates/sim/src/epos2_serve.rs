@@ -54,9 +54,9 @@ impl Wire {
     /// The next byte from the master, or `None` after `timeout` (forever when `None`).
     fn byte(&mut self, timeout: Option<Duration>) -> Result<Option<u8>> {
         if self.pos == self.inbox.len() {
-            let ms = timeout.map_or(PollTimeout::NONE, |t| {
-                PollTimeout::try_from(t.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX)
-            });
+            let capped =
+                |t: Duration| PollTimeout::try_from(t.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX);
+            let ms = timeout.map_or(PollTimeout::NONE, capped);
             let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
             // A signal (the request to stop, caught) cuts the wait short: wait again.
             let ready = loop {
