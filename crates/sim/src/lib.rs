@@ -612,9 +612,6 @@ impl FrameLink for SimLink {
     /// error's text says how it comes back), and no error counters are made up.
     fn report(&mut self) -> Option<crate::bus::controller::LinkReport> {
         use crate::bus::controller::{CanState, Controller, ErrorFrameCounts, LinkReport};
-        if !self.bus_off {
-            return None;
-        }
         let bitrate = timing::bits_per_second(self.net.bit_rate).map(|b| b as u32);
         let controller = Controller::Can {
             state: Some(CanState::BusOff),
@@ -624,7 +621,8 @@ impl FrameLink for SimLink {
             bitrate,
         };
         let error_frames = ErrorFrameCounts { frames: 1, bus_off: 1, ..ErrorFrameCounts::default() };
-        Some(LinkReport { iface: self.name(), controller: Some(controller), error_frames, queue_full: 0 })
+        let report = LinkReport { iface: self.name(), controller: Some(controller), error_frames, queue_full: 0 };
+        self.bus_off.then_some(report)
     }
 
     fn close(&mut self) -> Result<()> {
