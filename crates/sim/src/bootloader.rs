@@ -13,14 +13,13 @@
 //! reset, and the state file between invocations, keep it as hardware would.
 
 use super::device::objects::ObjectStore;
-use super::profiles::Model;
-use crate::canopen::lss::SlaveCaps;
+use super::profiles::{Model, BASIC_LSS};
 use crate::canopen::program::{self, code, FlashStatus, FLASH_STATUS, PROGRAM_CONTROL, PROGRAM_DATA, SOFTWARE_ID};
 use crate::canopen::sdo::{ObjectAccess, SdoServer};
 use crate::canopen::DataType::*;
 use crate::canopen::{abort, nmt, ObjAddr};
 use crate::od::Access::*;
-use crate::od::{le, text, Dictionary, Init};
+use crate::od::{le as u, text, Dictionary, Init};
 
 /// The model key (state file, `Network::device_mut`).
 pub const KEY: &str = "bootloader";
@@ -67,10 +66,6 @@ const ID: ObjAddr = ObjAddr::new(SOFTWARE_ID, 1);
 const STATUS: ObjAddr = ObjAddr::new(FLASH_STATUS, 1);
 const DATA: ObjAddr = ObjAddr::new(PROGRAM_DATA, 1);
 
-fn u(v: u64, t: crate::canopen::DataType) -> Init {
-    le(v, t)
-}
-
 /// A device with one program and a CiA 302-3 bootloader (heartbeat 100 ms);
 /// `block_transfer: false` makes one that refuses SDO block transfer.
 pub fn model(block_transfer: bool) -> Model {
@@ -101,24 +96,11 @@ pub fn model(block_transfer: bool) -> Model {
             (3, "Program data frames until power loss", U32, Ro, u(0, U32)),
         ],
     );
-    d.var(0x5F51, "Simulated bootloader fault", U8, Rw, u(0, U8));
-    d.limit(FAULT_OBJECT, 0, 3);
+    d.var(0x5F51, "Simulated bootloader fault", U8, Rw, u(0, U8)).range = Some((0, 3));
     d.var(0x5F52, "Simulated boot time (ms)", U16, Rw, u(DEFAULT_BOOT_MS, U16));
-    d.var(0x5F53, "Simulated start answered before the reset", U8, Rw, u(1, U8));
-    d.limit(START_STYLE, 0, 1);
-    Model {
-        key: if block_transfer { KEY.into() } else { format!("{KEY}-segmented") },
-        dict: d,
-        block_transfer,
-        guarding: false,
-        ignored_writes: vec![],
-        lss: SlaveCaps { store: false, bit_timing: false, fastscan_in_configuration: false },
-        moving: false,
-        pad_pdos: false,
-        epos2_bit_rate: false,
-        fault: None,
-        drive: None,
-    }
+    d.var(0x5F53, "Simulated start answered before the reset", U8, Rw, u(1, U8)).range = Some((0, 1));
+    let key = if block_transfer { KEY.into() } else { format!("{KEY}-segmented") };
+    Model { block_transfer, lss: BASIC_LSS, ..Model::plain(key, d) }
 }
 
 /// Whether a device's dictionary makes it a bootloader.
@@ -145,7 +127,7 @@ pub(crate) fn on_request(
         // Half the announced size, in frames of 7 bytes (block segments) at the least.
         let size = raw.get(4..8).map_or(0, |b| u32::from_le_bytes(b.try_into().expect("4 bytes")));
         od.keep(POWER_LEFT, (size / 14).max(1).to_le_bytes().to_vec());
-    } else if let Some(left) = u32_of(od, POWER_LEFT).filter(|n| *n > 0) {
+    } else if let Some(left) = od.u32_value(POWER_LEFT).filter(|n| *n > 0) {
         if left == 1 {
             power_lost(od);
             return (vec![], true);
@@ -154,11 +136,9 @@ pub(crate) fn on_request(
     }
     let mut flash = Flash { od, nmt, now_ms, reboot: false, answered_first: false };
     let answers = sdo.handle(raw, &mut flash);
-    match (flash.reboot, flash.answered_first) {
-        (true, true) => (answers, true),
-        (true, false) => (vec![], true),
-        (false, _) => (answers, false),
-    }
+    // Reset before it could answer: no answer.
+    let answered = !flash.reboot || flash.answered_first;
+    (if answered { answers } else { vec![] }, flash.reboot)
 }
 
 /// An SDO download initiate (segmented/expedited or block) to the program data.
@@ -169,25 +149,17 @@ fn starts_program_download(raw: &[u8]) -> bool {
     initiate && index == PROGRAM_DATA && *sub == 1
 }
 
-fn u32_of(od: &ObjectStore, addr: ObjAddr) -> Option<u32> {
-    od.value(addr).and_then(|v| v.try_into().ok()).map(u32::from_le_bytes)
-}
-
 fn busy_until(od: &ObjectStore) -> u64 {
     od.value(BUSY_UNTIL).and_then(|v| v.try_into().ok()).map_or(0, u64::from_le_bytes)
 }
 
 fn fault(od: &ObjectStore) -> Fault {
-    match od.value(FAULT_OBJECT).and_then(|v| v.first().copied()) {
+    match od.u8_value(FAULT_OBJECT) {
         Some(1) => Fault::PowerLoss,
         Some(2) => Fault::FlashWrite,
         Some(3) => Fault::RebootOnStop,
         _ => Fault::None,
     }
-}
-
-fn control(od: &ObjectStore) -> u8 {
-    od.value(CONTROL).and_then(|v| v.first().copied()).unwrap_or(0)
 }
 
 fn set_status(od: &mut ObjectStore, code: u8) {
@@ -229,7 +201,8 @@ impl Flash<'_> {
     fn on_control(&mut self, command: u8) -> Result<(), u32> {
         use program::Control;
         let od = &mut *self.od;
-        let running = matches!(Control::from_code(control(od)), Control::Start | Control::Confirm);
+        let running =
+            matches!(Control::from_code(od.u8_value(CONTROL).unwrap_or(0)), Control::Start | Control::Confirm);
         match Control::from_code(command) {
             Control::Stop => {
                 od.keep(CONTROL, vec![0]);
@@ -237,8 +210,8 @@ impl Flash<'_> {
                 self.reboot = running && fault(od) == Fault::RebootOnStop;
             }
             Control::Start => {
-                let valid =
-                    u32_of(od, ID).unwrap_or(0) != 0 && FlashStatus::decode(u32_of(od, STATUS).unwrap_or(0)).code == 0;
+                let valid = od.u32_value(ID).unwrap_or(0) != 0
+                    && FlashStatus::decode(od.u32_value(STATUS).unwrap_or(0)).code == 0;
                 if !valid || self.now_ms < busy_until(od) {
                     return Err(abort::WRONG_STATE);
                 }
@@ -277,18 +250,13 @@ impl Flash<'_> {
     fn on_program(&mut self, data: &[u8]) -> Result<(), u32> {
         may_program(self.od, self.nmt, self.now_ms)?;
         let od = &mut *self.od;
+        let failed = fault(od) == Fault::FlashWrite;
         od.keep(POWER_LEFT, 0u32.to_le_bytes().to_vec());
-        od.keep(CLEARED, vec![2]);
+        od.keep(CLEARED, vec![if failed { 0 } else { 2 }]);
         od.keep(CONTROL, vec![program::Control::Stop.code()]);
         od.keep(BUSY_UNTIL, (self.now_ms + WRITE_MS).to_le_bytes().to_vec());
-        if fault(od) == Fault::FlashWrite {
-            od.keep(CLEARED, vec![0]);
-            od.keep(ID, 0u32.to_le_bytes().to_vec());
-            set_status(od, code::FLASH_WRITE_ERROR);
-        } else {
-            od.keep(ID, program::image_id(data).to_le_bytes().to_vec());
-            set_status(od, code::OK);
-        }
+        od.keep(ID, if failed { 0 } else { program::image_id(data) }.to_le_bytes().to_vec());
+        set_status(od, if failed { code::FLASH_WRITE_ERROR } else { code::OK });
         Ok(())
     }
 }
@@ -297,7 +265,7 @@ impl ObjectAccess for Flash<'_> {
     fn read(&mut self, addr: ObjAddr) -> Result<Vec<u8>, u32> {
         let value = self.od.read(addr)?;
         if addr == STATUS && self.now_ms < busy_until(self.od) {
-            let raw = u32_of(self.od, STATUS).unwrap_or(0) | program::BUSY;
+            let raw = self.od.u32_value(STATUS).unwrap_or(0) | program::BUSY;
             return Ok(raw.to_le_bytes().to_vec());
         }
         Ok(value)

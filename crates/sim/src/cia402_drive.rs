@@ -52,18 +52,14 @@ impl Drive {
 
     /// The statusword of a drive in `state`.
     pub fn statusword(&self, state: State) -> u16 {
-        let mut word = state.statusword_bits() | self.profile.constant_bits;
         let voltage = match self.profile.voltage {
             VoltageBit::PowerStage => matches!(state, State::OperationEnabled | State::QuickStopActive),
             VoltageBit::Supply => !self.supply_off,
         };
-        if voltage {
-            word |= sw::VOLTAGE_ENABLED;
-        }
-        if self.profile.remote == RemoteBit::Always || self.operational {
-            word |= sw::REMOTE;
-        }
-        word
+        let remote = self.profile.remote == RemoteBit::Always || self.operational;
+        let flag = |on: bool, bit: u16| if on { bit } else { 0 };
+        let always = state.statusword_bits() | self.profile.constant_bits;
+        always | flag(voltage, sw::VOLTAGE_ENABLED) | flag(remote, sw::REMOTE)
     }
 
     /// The state after controlword `controlword` (the one before was `previous`) in `state`.

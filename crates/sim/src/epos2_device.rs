@@ -22,31 +22,15 @@ const SELF_MODEL: &str = "drive";
 /// same COB-ID as a guarding answer) arrives as the answer, as on a real bus.
 const REMOTE_REQUEST_WAIT: Duration = Duration::from_millis(150);
 
-/// A segmented transfer in progress.
+/// A segmented transfer in progress. `ForwardedShortRead`: the SDO server answered
+/// expedited, and its bytes go out with the first SegmentRead.
 enum Segmented {
     None,
-    LocalRead {
-        data: Vec<u8>,
-        pos: usize,
-    },
-    LocalWrite {
-        addr: ObjAddr,
-        data: Vec<u8>,
-        length: usize,
-    },
-    /// The SDO server answered expedited: its bytes go out with the first SegmentRead.
-    ForwardedShortRead {
-        data: Vec<u8>,
-    },
-    ForwardedRead {
-        node: u8,
-        addr: ObjAddr,
-    },
-    ForwardedWrite {
-        node: u8,
-        addr: ObjAddr,
-        left: usize,
-    },
+    LocalRead { data: Vec<u8>, pos: usize },
+    LocalWrite { addr: ObjAddr, data: Vec<u8>, length: usize },
+    ForwardedShortRead { data: Vec<u8> },
+    ForwardedRead { node: u8, addr: ObjAddr },
+    ForwardedWrite { node: u8, addr: ObjAddr, left: usize },
 }
 
 /// A simulated EPOS2 on its serial link: answers the serial protocol's commands and passes its CAN
@@ -108,27 +92,26 @@ impl Epos2Device {
         &mut self.link
     }
 
-    fn own_id(&mut self) -> Option<u8> {
-        self.link.network_mut().device_mut(SELF_MODEL).and_then(|d| d.node_id())
+    fn is_local(&mut self, node: u8) -> bool {
+        node == 0 || self.link.network_mut().device_mut(SELF_MODEL).is_some_and(|d| d.node_id() == Some(node))
     }
 
-    fn is_local(&mut self, node: u8) -> bool {
-        node == 0 || Some(node) == self.own_id()
+    /// The EPOS2 itself, on the sim network.
+    fn device(&mut self) -> &mut super::device::Device {
+        self.link.network_mut().device_mut(SELF_MODEL).expect("the EPOS2 is on the sim network")
     }
 
     fn objects(&mut self) -> &mut super::device::ObjectStore {
-        self.link.network_mut().device_mut(SELF_MODEL).expect("the EPOS2 is on the sim network").objects_mut()
+        self.device().objects_mut()
     }
 
     /// The answer to one command frame from the master.
     pub fn execute(&mut self, request: &SerialFrame) -> Result<SerialFrame> {
         // The EPOS2's own objects change with time too (a simulated fault, its reaction).
-        self.link.run_until_now();
+        self.link.advance();
         let Some(cmd) = Command::from_frame(request) else { return Ok(answer(command::ILLEGAL_COMMAND, &[])) };
-        if let Some((last, ans)) = &self.last_segment {
-            if *last == cmd {
-                return Ok(ans.clone());
-            }
+        if let Some((_, ans)) = self.last_segment.as_ref().filter(|(last, _)| *last == cmd) {
+            return Ok(ans.clone());
         }
         let mut ans = self.run(&cmd)?;
         // An error answer is never longer than the command's answer (seed 000 chapter 3).
@@ -141,31 +124,25 @@ impl Epos2Device {
     fn run(&mut self, cmd: &Command) -> Result<SerialFrame> {
         Ok(match cmd.clone() {
             Command::ReadObject { node, addr } if self.is_local(node) => match self.objects().read(addr) {
-                Ok(d) if d.len() <= 4 => answer(0, &pad4(&d)),
+                Ok(d) if d.len() <= 4 => answer(0, &padded::<4>(&d)),
                 Ok(_) => answer(abort::LENGTH_TOO_HIGH, &[0; 4]),
                 Err(code) => answer(code, &[0; 4]),
             },
             Command::WriteObject { node, addr, data } if self.is_local(node) => {
                 let n = self.objects().fixed_size(addr).unwrap_or(4).min(4);
-                let device = self.link.network_mut().device_mut(SELF_MODEL).expect("the EPOS2 is on the sim network");
-                answer(device.write_local(addr, &data[..n]).err().unwrap_or(0), &[])
+                answer(self.device().write_local(addr, &data[..n]).err().unwrap_or(0), &[])
             }
-            Command::InitiateSegmentedRead { node, addr } if self.is_local(node) => match self.objects().read(addr) {
-                Ok(data) => {
-                    self.segmented = Segmented::LocalRead { data, pos: 0 };
-                    answer(0, &[])
-                }
-                Err(code) => answer(code, &[]),
-            },
+            Command::InitiateSegmentedRead { node, addr } if self.is_local(node) => {
+                let read = self.objects().read(addr);
+                let started = read.map(|data| self.segmented = Segmented::LocalRead { data, pos: 0 });
+                answer(started.err().unwrap_or(0), &[])
+            }
             Command::InitiateSegmentedWrite { node, addr, length } if self.is_local(node) => {
                 let length = length as usize;
-                match self.objects().check_write(addr, Some(length)) {
-                    Ok(()) => {
-                        self.segmented = Segmented::LocalWrite { addr, data: Vec::new(), length };
-                        answer(0, &[])
-                    }
-                    Err(code) => answer(code, &[]),
-                }
+                let checked = self.objects().check_write(addr, Some(length));
+                let started =
+                    checked.map(|()| self.segmented = Segmented::LocalWrite { addr, data: Vec::new(), length });
+                answer(started.err().unwrap_or(0), &[])
             }
             Command::ReadObject { node, addr } => self.forward_read_object(node, addr)?,
             Command::WriteObject { node, addr, data } => {
@@ -215,7 +192,7 @@ impl Epos2Device {
             Command::RequestCanFrame { id, len } if id <= 0x7FF => {
                 self.send(&Frame::remote(id, len))?;
                 match self.wait_for(|f| f.id() == id && !f.is_remote(), self.can_timeout.max(REMOTE_REQUEST_WAIT))? {
-                    Some(f) => answer(0, &pad8(f.data())),
+                    Some(f) => answer(0, &padded::<8>(f.data())),
                     None => answer(abort::TIMED_OUT, &[0; 8]),
                 }
             }
@@ -231,7 +208,7 @@ impl Epos2Device {
                     |f| f.id() == lss::SLAVE_COB && !f.is_remote(),
                     Duration::from_millis(timeout_ms as u64),
                 )? {
-                    Some(f) => answer(0, &pad8(f.data())),
+                    Some(f) => answer(0, &padded::<8>(f.data())),
                     None => answer(abort::TIMED_OUT, &[0; 8]),
                 }
             }
@@ -242,7 +219,7 @@ impl Epos2Device {
         Ok(match self.sdo(node, Request::InitiateUpload { addr })? {
             Err(code) => answer(code, &[0; 4]),
             Ok(Some(Response::InitiateUpload { init, .. })) => match init.expedited_data() {
-                Some(data) => answer(0, &pad4(data)),
+                Some(data) => answer(0, &padded::<4>(data)),
                 // A segmented answer: too long for ReadObject. End the SDO transfer properly.
                 None => {
                     self.send(&Frame::new(sdo::request_cob(node), &sdo::abort_frame(addr, abort::LENGTH_TOO_HIGH)))?;
@@ -254,7 +231,7 @@ impl Epos2Device {
     }
 
     fn segment_read(&mut self, toggle: bool) -> Result<SerialFrame> {
-        let t = if toggle { TOGGLE } else { 0 };
+        let t = toggle_bit(toggle);
         Ok(match std::mem::replace(&mut self.segmented, Segmented::None) {
             Segmented::LocalRead { data, pos } => {
                 let end = (pos + MAX_SEGMENT).min(data.len());
@@ -288,7 +265,7 @@ impl Epos2Device {
     }
 
     fn segment_write(&mut self, toggle: bool, chunk: Vec<u8>) -> Result<SerialFrame> {
-        let t = if toggle { TOGGLE } else { 0 };
+        let t = toggle_bit(toggle);
         let confirm = [chunk.len() as u8 | t, 0];
         Ok(match std::mem::replace(&mut self.segmented, Segmented::None) {
             Segmented::LocalWrite { addr, mut data, length } => {
@@ -365,12 +342,8 @@ impl Epos2Device {
             self.arrived.push_back(Frame::new(sdo::response_cob(node), &stray(other).emit()));
             self.arrived.push_back(Frame::new(sdo::response_cob(node % 127 + 1), &stray(own).emit()));
         }
-        let initiate = initiate.is_some();
-        let answers_request = |f: &Frame| {
-            f.id() == sdo::response_cob(node)
-                && !f.is_remote()
-                && (!initiate || f.data().get(1..4) == Some(&request[1..4]))
-        };
+        let same_object = |f: &Frame| initiate.is_none() || f.data().get(1..4) == Some(&request[1..4]);
+        let answers_request = |f: &Frame| f.id() == sdo::response_cob(node) && !f.is_remote() && same_object(f);
         let answer = self.wait_for(answers_request, self.can_timeout)?;
         Ok(match answer {
             None => Err(abort::TIMED_OUT),
@@ -396,14 +369,18 @@ impl Epos2Device {
     }
 }
 
-fn pad4(d: &[u8]) -> [u8; 4] {
-    let mut out = [0u8; 4];
-    out[..d.len().min(4)].copy_from_slice(&d[..d.len().min(4)]);
+/// `d` in `N` bytes: cut, or filled up with zeros.
+fn padded<const N: usize>(d: &[u8]) -> [u8; N] {
+    let mut out = [0u8; N];
+    out[..d.len().min(N)].copy_from_slice(&d[..d.len().min(N)]);
     out
 }
 
-fn pad8(d: &[u8]) -> [u8; 8] {
-    let mut out = [0u8; 8];
-    out[..d.len().min(8)].copy_from_slice(&d[..d.len().min(8)]);
-    out
+/// A segment's control byte with its toggle bit.
+pub(crate) fn toggle_bit(toggle: bool) -> u8 {
+    if toggle {
+        TOGGLE
+    } else {
+        0
+    }
 }

@@ -2,7 +2,7 @@
 //! handshake) or USB framing, optionally at the pace of a real baud rate and with faults
 //! injected for tests.
 
-use super::epos2_device::Epos2Device;
+use super::epos2_device::{toggle_bit, Epos2Device};
 use super::pty::failed;
 use crate::epos2::command::{self, Command};
 use crate::epos2::frame::{self, Frame as SerialFrame, UsbDecoder};
@@ -54,9 +54,9 @@ impl Wire {
     /// The next byte from the master, or `None` after `timeout` (forever when `None`).
     fn byte(&mut self, timeout: Option<Duration>) -> Result<Option<u8>> {
         if self.pos == self.inbox.len() {
-            let ms = timeout.map_or(PollTimeout::NONE, |t| {
-                PollTimeout::try_from(t.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX)
-            });
+            let capped =
+                |t: Duration| PollTimeout::try_from(t.as_millis().min(60_000) as u32).unwrap_or(PollTimeout::MAX);
+            let ms = timeout.map_or(PollTimeout::NONE, capped);
             let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
             // A signal (the request to stop, caught) cuts the wait short: wait again.
             let ready = loop {
@@ -105,6 +105,10 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
     ready(&path)?;
     let mut count = 0u64;
     let mut usb = UsbDecoder::new();
+    let encode = |answer: &SerialFrame| match opts.framing {
+        Framing::Rs232 => frame::rs232_encode(answer),
+        Framing::Usb => frame::usb_encode(answer),
+    };
     loop {
         let request = match opts.framing {
             Framing::Rs232 => rs232_receive(&mut wire, opts, &mut count)?,
@@ -119,18 +123,17 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
         if fault == Some(FaultKind::Stale) {
             let leftover = Command::ReadObject { node: 0, addr: crate::canopen::ObjAddr::new(0x1000, 0) };
             let leftover = device.execute(&leftover.to_frame())?;
-            send_answer(&mut wire, opts.framing, &leftover)?;
+            send_encoded(&mut wire, opts.framing, &encode(&leftover))?;
         }
         device.inject_wrong_answers(fault == Some(FaultKind::WrongObject));
         let cmd = Command::from_frame(&request);
         let answer = match (fault, &cmd) {
             (Some(FaultKind::EmptySegments), Some(Command::SegmentRead { toggle })) => {
-                command::answer(0, &[segment_control(*toggle) | command::MORE])
+                command::answer(0, &[toggle_bit(*toggle) | command::MORE])
             }
             (Some(FaultKind::EndlessSegments), Some(Command::SegmentRead { toggle })) => {
-                let mut d = vec![command::MAX_SEGMENT as u8 | segment_control(*toggle) | command::MORE];
-                d.extend([0xEE; command::MAX_SEGMENT]);
-                command::answer(0, &d)
+                let control = command::MAX_SEGMENT as u8 | toggle_bit(*toggle) | command::MORE;
+                command::answer(0, &[&[control][..], &[0xEE; command::MAX_SEGMENT]].concat())
             }
             _ => device.execute(&request)?,
         };
@@ -147,10 +150,7 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
             }
             _ => {}
         }
-        let mut bytes = match opts.framing {
-            Framing::Rs232 => frame::rs232_encode(&answer),
-            Framing::Usb => frame::usb_encode(&answer),
-        };
+        let mut bytes = encode(&answer);
         match fault {
             Some(FaultKind::Crc) => {
                 let n = bytes.len();
@@ -159,35 +159,19 @@ pub fn serve(mut device: Epos2Device, opts: &ServeOptions, ready: impl FnOnce(&s
                     bytes[n - 2] ^= 0x01;
                 }
             }
-            Some(FaultKind::Drop) => {
-                bytes.pop();
-            }
-            Some(FaultKind::Garbage) => {
-                let mut junk = vec![0x55, frame::DLE, 0x13, 0xAA];
-                junk.extend(bytes);
-                bytes = junk;
-            }
+            Some(FaultKind::Drop) => _ = bytes.pop(),
+            Some(FaultKind::Garbage) => bytes = [&[0x55, frame::DLE, 0x13, 0xAA][..], &bytes].concat(),
             _ => {}
         }
-        match opts.framing {
-            Framing::Rs232 => rs232_answer(&mut wire, &bytes)?,
-            Framing::Usb => wire.send(&bytes)?,
-        }
+        send_encoded(&mut wire, opts.framing, &bytes)?;
     }
 }
 
-fn segment_control(toggle: bool) -> u8 {
-    if toggle {
-        command::TOGGLE
-    } else {
-        0
-    }
-}
-
-fn send_answer(wire: &mut Wire, framing: Framing, answer: &SerialFrame) -> Result<()> {
+/// An answer's bytes to the master: on RS232 with the handshake.
+fn send_encoded(wire: &mut Wire, framing: Framing, bytes: &[u8]) -> Result<()> {
     match framing {
-        Framing::Rs232 => rs232_answer(wire, &frame::rs232_encode(answer)),
-        Framing::Usb => wire.send(&frame::usb_encode(answer)),
+        Framing::Rs232 => rs232_answer(wire, bytes),
+        Framing::Usb => wire.send(bytes),
     }
 }
 
@@ -195,18 +179,10 @@ fn send_answer(wire: &mut Wire, framing: Framing, answer: &SerialFrame) -> Resul
 /// device; the pty blocks them once the client stops reading.
 fn babble(wire: &mut Wire) -> Result<()> {
     let start = Instant::now();
-    let mut x: u32 = 0x2545_F491;
+    // No DLE: nothing that could start a USB frame.
+    let mut bytes = super::profiles::pattern_bytes().map(|b| b.clamp(0x03, 0x8F));
     while start.elapsed() < BABBLE_TIME {
-        let chunk: Vec<u8> = (0..64)
-            .map(|_| {
-                x ^= x << 13;
-                x ^= x >> 17;
-                x ^= x << 5;
-                // No DLE: nothing that could start a USB frame.
-                (x as u8).clamp(0x03, 0x8F)
-            })
-            .collect();
-        wire.send(&chunk)?;
+        wire.send(&bytes.by_ref().take(64).collect::<Vec<u8>>())?;
     }
     Ok(())
 }
@@ -219,10 +195,8 @@ fn rs232_receive(wire: &mut Wire, opts: &ServeOptions, count: &mut u64) -> Resul
     let Some(lm1) = wire.byte(FRAME_TIMEOUT)? else { return Ok(None) };
     let mut raw = vec![op, lm1];
     for _ in 0..frame::rs232_body_len(lm1) {
-        match wire.byte(FRAME_TIMEOUT)? {
-            Some(b) => raw.push(b),
-            None => return Ok(None),
-        }
+        let Some(b) = wire.byte(FRAME_TIMEOUT)? else { return Ok(None) };
+        raw.push(b);
     }
     *count += 1;
     let nack = opts.faults.iter().any(|f| f.kind == FaultKind::Nack && f.nth.is_none_or(|n| n == *count));
@@ -243,37 +217,28 @@ fn rs232_receive(wire: &mut Wire, opts: &ServeOptions, count: &mut u64) -> Resul
 fn rs232_answer(wire: &mut Wire, bytes: &[u8]) -> Result<()> {
     let timeout = Some(Duration::from_millis(500));
     wire.send(&bytes[..1])?;
-    match wire.byte(timeout)? {
-        Some(b'O') => {}
+    let Some(b) = wire.byte(timeout)? else { return Ok(()) };
+    if b != b'O' {
         // The master gave up on this answer and starts anew: that byte opens its next frame.
-        Some(_) => {
-            wire.unread();
-            return Ok(());
-        }
-        None => return Ok(()),
+        wire.unread();
+        return Ok(());
     }
     wire.send(&bytes[1..])?;
     // The end acknowledge: 'F' means the master saw a bad CRC and will ask again; anything
     // else is the master starting over after losing part of the answer.
-    if let Some(b) = wire.byte(timeout)? {
-        if b != b'O' && b != b'F' {
-            wire.unread();
-        }
+    if wire.byte(timeout)?.is_some_and(|b| b != b'O' && b != b'F') {
+        wire.unread();
     }
     Ok(())
 }
 
 fn usb_receive(wire: &mut Wire, decoder: &mut UsbDecoder, count: &mut u64) -> Result<Option<SerialFrame>> {
-    let Some(b) = wire.byte(None)? else { return Ok(None) };
-    match decoder.push(b) {
-        None => Ok(None),
-        Some(Ok(f)) => {
-            *count += 1;
-            Ok(Some(f))
-        }
+    let Some(decoded) = wire.byte(None)?.and_then(|b| decoder.push(b)) else { return Ok(None) };
+    *count += 1;
+    match decoded {
+        Ok(f) => Ok(Some(f)),
         // Seed 000 §4.1.3.1: a bad frame is answered with the error code.
-        Some(Err(_)) => {
-            *count += 1;
+        Err(_) => {
             wire.send(&frame::usb_encode(&command::answer(crate::canopen::abort::CRC_ERROR, &[])))?;
             Ok(None)
         }

@@ -77,8 +77,7 @@ pub enum When {
 }
 
 /// One fault on one device, as `--fault` gives it.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(try_from = "String", into = "String")]
+#[derive(Clone, Debug, PartialEq)]
 pub struct FaultSpec {
     /// The device(s) it concerns: by model key, by node-id, or any.
     pub target: Target,
@@ -88,15 +87,28 @@ pub struct FaultSpec {
     pub when: When,
 }
 
+/// The kinds that take no argument, by name.
+const PLAIN_KINDS: [(&str, Kind); 11] = [
+    ("drop", Kind::Drop),
+    ("duplicate", Kind::Duplicate),
+    ("corrupt", Kind::Corrupt),
+    ("mute", Kind::Mute),
+    ("no-heartbeat", Kind::NoHeartbeat),
+    ("reboot", Kind::Reboot),
+    ("off", Kind::Off),
+    ("miss", Kind::Miss),
+    ("endless-segments", Kind::Endless(Endless::Segments)),
+    ("endless-block", Kind::Endless(Endless::Block)),
+    ("ack-zero", Kind::Endless(Endless::AckZero)),
+];
+
 /// SDO abort "general error", when `abort` names no code.
 pub(crate) const DEFAULT_ABORT: u32 = 0x0800_0000;
 const DEFAULT_SHORT_DLC: u8 = 4;
 
 fn parse_cob(s: &str) -> Result<u16, String> {
-    parse_number::<u32>(s)
-        .filter(|v| *v <= 0x7FF)
-        .map(|v| v as u16)
-        .ok_or_else(|| format!("'{s}' is not an 11-bit CAN id"))
+    let id = parse_number::<u32>(s).filter(|v| *v <= 0x7FF);
+    id.map(|v| v as u16).ok_or_else(|| format!("'{s}' is not an 11-bit CAN id"))
 }
 
 impl FromStr for FaultSpec {
@@ -116,47 +128,22 @@ impl FromStr for FaultSpec {
         let need = |what: &str| arg.ok_or_else(|| format!("'{name}' needs {what}: {name}=..."));
         let bad = |a: &str| format!("'{a}' is not a valid argument for {name}");
         let kind = match name {
-            "drop" => Kind::Drop,
             "delay" => Kind::Delay(need("a delay in ms").and_then(|a| a.parse().map_err(|_| bad(a)))?),
-            "duplicate" => Kind::Duplicate,
             "short-dlc" => Kind::ShortDlc(match arg {
                 None => DEFAULT_SHORT_DLC,
                 Some(a) => a.parse().ok().filter(|n| *n < 8).ok_or_else(|| bad(a))?,
             }),
-            "corrupt" => Kind::Corrupt,
             "babble" => Kind::Babble(arg.map(parse_cob).transpose()?),
             "abort" => Kind::Abort(arg.map_or(Some(DEFAULT_ABORT), parse_number).ok_or_else(|| bad(arg.unwrap_or("")))?),
-            "mute" => Kind::Mute,
             "wrong-cob" => Kind::WrongCob(arg.map(parse_cob).transpose()?),
-            "no-heartbeat" => Kind::NoHeartbeat,
-            "reboot" => Kind::Reboot,
-            "off" => Kind::Off,
-            "miss" => Kind::Miss,
-            "endless-segments" => Kind::Endless(Endless::Segments),
-            "endless-block" => Kind::Endless(Endless::Block),
-            "ack-zero" => Kind::Endless(Endless::AckZero),
-            _ => {
-                return Err(format!(
+            _ => match PLAIN_KINDS.iter().find(|(n, _)| *n == name) {
+                Some(_) if arg.is_some() => return Err(format!("'{name}' takes no argument")),
+                Some((_, kind)) => *kind,
+                None => return Err(format!(
                     "'{name}' is not a fault kind: use drop, delay=MS, duplicate, short-dlc[=N], corrupt, babble[=ID], abort[=CODE], mute, wrong-cob[=ID], no-heartbeat, reboot, off, miss, endless-segments, endless-block or ack-zero"
-                ))
-            }
+                )),
+            },
         };
-        if arg.is_some()
-            && matches!(
-                kind,
-                Kind::Drop
-                    | Kind::Duplicate
-                    | Kind::Corrupt
-                    | Kind::Mute
-                    | Kind::NoHeartbeat
-                    | Kind::Reboot
-                    | Kind::Off
-                    | Kind::Miss
-                    | Kind::Endless(_)
-            )
-        {
-            return Err(format!("'{name}' takes no argument"));
-        }
         let when = match when {
             None | Some("*") => When::Always,
             Some(w) => {
@@ -185,24 +172,14 @@ impl fmt::Display for FaultSpec {
             Target::Bus => write!(f, "bus:")?,
         }
         match self.kind {
-            Kind::Drop => write!(f, "drop")?,
             Kind::Delay(ms) => write!(f, "delay={ms}")?,
-            Kind::Duplicate => write!(f, "duplicate")?,
             Kind::ShortDlc(n) => write!(f, "short-dlc={n}")?,
-            Kind::Corrupt => write!(f, "corrupt")?,
             Kind::Babble(None) => write!(f, "babble")?,
             Kind::Babble(Some(id)) => write!(f, "babble=0x{id:03X}")?,
             Kind::Abort(code) => write!(f, "abort=0x{code:08X}")?,
-            Kind::Mute => write!(f, "mute")?,
             Kind::WrongCob(None) => write!(f, "wrong-cob")?,
             Kind::WrongCob(Some(id)) => write!(f, "wrong-cob=0x{id:03X}")?,
-            Kind::NoHeartbeat => write!(f, "no-heartbeat")?,
-            Kind::Reboot => write!(f, "reboot")?,
-            Kind::Off => write!(f, "off")?,
-            Kind::Miss => write!(f, "miss")?,
-            Kind::Endless(Endless::Segments) => write!(f, "endless-segments")?,
-            Kind::Endless(Endless::Block) => write!(f, "endless-block")?,
-            Kind::Endless(Endless::AckZero) => write!(f, "ack-zero")?,
+            plain => f.write_str(PLAIN_KINDS.iter().find(|(_, k)| *k == plain).map_or("", |(n, _)| n))?,
         }
         match self.when {
             When::Always => Ok(()),
@@ -213,26 +190,24 @@ impl fmt::Display for FaultSpec {
     }
 }
 
-impl TryFrom<String> for FaultSpec {
-    type Error = String;
-    fn try_from(s: String) -> Result<FaultSpec, String> {
-        s.parse()
+/// In the state file as `--fault` writes it.
+impl serde::Serialize for FaultSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
     }
 }
 
-impl From<FaultSpec> for String {
-    fn from(f: FaultSpec) -> String {
-        f.to_string()
+impl<'de> serde::Deserialize<'de> for FaultSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<FaultSpec, D::Error> {
+        <String as serde::Deserialize>::deserialize(d)?.parse().map_err(serde::de::Error::custom)
     }
 }
 
 /// Why a fault concerns none of `devices` (model key, node-id), if one does not: a fault
 /// for node 99 on a network without it would be accepted and never fire.
 pub fn unmatched(faults: &[FaultSpec], devices: &[(String, Option<u8>)]) -> Option<String> {
-    let fault = faults
-        .iter()
-        .filter(|f| f.target != Target::Bus)
-        .find(|f| !devices.iter().any(|(key, node)| f.applies_to(key, *node)))?;
+    let mut device_faults = faults.iter().filter(|f| f.target != Target::Bus);
+    let fault = device_faults.find(|f| !devices.iter().any(|(key, node)| f.applies_to(key, *node)))?;
     let nodes: Vec<String> = devices.iter().filter_map(|(_, n)| n.map(|n| n.to_string())).collect();
     let keys: Vec<&str> = devices.iter().map(|(k, _)| k.as_str()).collect();
     Some(format!(
@@ -259,10 +234,6 @@ impl FaultSpec {
             Target::Model(m) => m == model,
             Target::Bus => false,
         }
-    }
-
-    fn fires(&self, answer: u32, rng: &mut Rng) -> bool {
-        self.when.fires(answer, rng)
     }
 }
 
@@ -318,7 +289,7 @@ impl Conduct {
         self.heard += 1;
         let n = self.heard;
         let missed =
-            |s: &FaultSpec, rng: &mut Rng| s.kind == Kind::Miss && s.applies_to(model, node) && s.fires(n, rng);
+            |s: &FaultSpec, rng: &mut Rng| s.kind == Kind::Miss && s.applies_to(model, node) && s.when.fires(n, rng);
         if self.faults.iter().any(|s| missed(s, rng)) {
             return false;
         }
@@ -349,10 +320,7 @@ impl Conduct {
             return None;
         }
         self.endless_asked += 1;
-        if !when.fires(self.endless_asked, rng) {
-            return None;
-        }
-        self.endless.answer(kind, payload)
+        when.fires(self.endless_asked, rng).then(|| self.endless.answer(kind, payload)).flatten()
     }
 
     /// A request reached the device (before it answers): remember what an abort names.
@@ -378,14 +346,12 @@ impl Conduct {
     ) -> (Vec<(Nanos, Frame)>, bool) {
         self.answers += 1;
         let n = self.answers;
-        let mut delay = 0;
-        let mut copies = 1;
-        let mut sdo_reset = false;
+        let (mut delay, mut copies, mut sdo_reset) = (0, 1, false);
         // A miss fault is drawn when a frame is heard (`hears`), an endless one when a
         // transfer starts (`endless_answer`), not here.
         let answering = |s: &&FaultSpec| s.applies_to(model, node) && !matches!(s.kind, Kind::Miss | Kind::Endless(_));
         for spec in self.faults.iter().filter(answering) {
-            if !spec.fires(n, rng) {
+            if !spec.when.fires(n, rng) {
                 continue;
             }
             match spec.kind {
@@ -395,16 +361,11 @@ impl Conduct {
                 Kind::Duplicate => copies *= 2,
                 Kind::ShortDlc(len) => f = Frame::new(f.id(), &f.data()[..f.len().min(len as usize)]),
                 Kind::Corrupt => {
-                    let mut data = f.data().to_vec();
-                    if let Some(first) = data.first_mut() {
-                        *first = !*first;
-                    }
+                    let data: Vec<u8> =
+                        f.data().iter().enumerate().map(|(i, b)| if i == 0 { !b } else { *b }).collect();
                     f = Frame::new(f.id(), &data);
                 }
-                Kind::Babble(id) => {
-                    let own_emcy = 0x80 + node.unwrap_or(0) as u16;
-                    self.babbling.get_or_insert(id.unwrap_or(own_emcy));
-                }
+                Kind::Babble(id) => _ = self.babbling.get_or_insert(id.unwrap_or(own_emcy(node))),
                 Kind::Abort(code) => {
                     if node.is_some_and(|n| f.id() == sdo::response_cob(n)) {
                         let [a, b, c] = self.last_mux;
@@ -432,31 +393,34 @@ impl Conduct {
     /// no heartbeat once stopped (a no-heartbeat fault without WHEN: from the start).
     pub fn own(&self, f: Frame, model: &str, node: Option<u8>) -> Option<Frame> {
         let heartbeat = node.is_some_and(|n| f.id() == crate::canopen::nmt::error_control_cob(n));
-        let stopped = self.heartbeat_stopped
-            || self
-                .faults
-                .iter()
-                .any(|s| s.kind == Kind::NoHeartbeat && s.when == When::Always && s.applies_to(model, node));
-        let off =
-            self.faults.iter().any(|s| s.kind == Kind::Off && s.when == When::Always && s.applies_to(model, node));
-        let silenced = self.muted || off || (heartbeat && stopped);
+        let from_start = |kind| self.standing(model, node).any(|s| s.kind == kind);
+        let stopped = self.heartbeat_stopped || from_start(Kind::NoHeartbeat);
+        let silenced = self.muted || from_start(Kind::Off) || (heartbeat && stopped);
         (!silenced).then_some(f)
+    }
+
+    /// The faults without WHEN that concern the device: in force from the start.
+    fn standing<'a>(&'a self, model: &'a str, node: Option<u8>) -> impl Iterator<Item = &'a FaultSpec> {
+        self.faults.iter().filter(move |s| s.when == When::Always && s.applies_to(model, node))
     }
 
     /// The id a babbling device floods the bus with, if it does: a babble fault without
     /// WHEN floods from the start, one with WHEN from that answer on.
     pub fn babbling(&mut self, model: &str, node: Option<u8>) -> Option<u16> {
         if self.babbling.is_none() {
-            let from_start = self.faults.iter().filter(|s| s.when == When::Always && s.applies_to(model, node));
-            self.babbling = from_start
-                .filter_map(|s| match s.kind {
-                    Kind::Babble(id) => Some(id.unwrap_or(0x80 + node.unwrap_or(0) as u16)),
-                    _ => None,
-                })
-                .next();
+            let from_start = self.standing(model, node).find_map(|s| match s.kind {
+                Kind::Babble(id) => Some(id.unwrap_or(own_emcy(node))),
+                _ => None,
+            });
+            self.babbling = from_start;
         }
         self.babbling.filter(|_| !self.muted)
     }
+}
+
+/// The EMCY id of this node, which a babble fault floods unless it names one.
+fn own_emcy(node: Option<u8>) -> u16 {
+    0x80 + node.unwrap_or(0) as u16
 }
 
 #[cfg(test)]

@@ -42,8 +42,7 @@ use crate::bus::FrameLink;
 use crate::canopen::lss;
 use crate::error::Result;
 use crate::frame::Frame;
-pub use config::SimConfig;
-pub use config::{DEFAULT_BIT_RATE, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
+pub use config::{SimConfig, DEFAULT_BIT_RATE, DEFAULT_SEED, DEFAULT_UNCONFIGURED, MAX_UNCONFIGURED};
 use device::Device;
 use faults::Conduct;
 pub use faults::{bus_off, unmatched, FaultSpec};
@@ -98,11 +97,6 @@ pub struct Network {
 }
 
 impl Network {
-    /// The demo network with the default configuration (the `typical` profile).
-    pub fn demo() -> Network {
-        Network::demo_with(SimConfig::default())
-    }
-
     /// The demo network as `config` describes it.
     pub(crate) fn demo_with(config: SimConfig) -> Network {
         let mut devices = profiles::demo_network_with(config.unconfigured);
@@ -122,8 +116,7 @@ impl Network {
             devices.into_iter().map(|(m, id)| Device::new(m, id, config.bit_rate).with_reset_time(reset_ms)).collect();
         let paces = devices.iter().map(|d| Pace::new(&config, &d.model)).collect();
         let conducts = devices.iter().map(|d| Conduct::new(&config.faults, &d.model)).collect();
-        let bit_rate = config.bit_rate;
-        Network { devices, paces, conducts, config, bit_rate, clock_ms: 0 }
+        Network { devices, paces, conducts, bit_rate: config.bit_rate, config, clock_ms: 0 }
     }
 
     /// How the network was set up.
@@ -162,14 +155,9 @@ impl Network {
                 continue;
             }
             let endless = endless_request(d, frame).and_then(|(node, payload)| {
-                Some((node, conduct.endless_answer(payload, &d.model, Some(node), &mut pace.rng)?))
+                Some(device::sdo_frames(node, &conduct.endless_answer(payload, &d.model, Some(node), &mut pace.rng)?))
             });
-            let answers = match endless {
-                Some((node, answers)) => {
-                    answers.iter().map(|p| Frame::new(crate::canopen::sdo::response_cob(node), p)).collect()
-                }
-                None => d.on_frame(frame),
-            };
+            let answers = endless.unwrap_or_else(|| d.on_frame(frame));
             if answers.is_empty() {
                 continue;
             }
@@ -184,19 +172,16 @@ impl Network {
             }
             // A reboot fault: the device resets instead (what was not stored is gone) and
             // says so with its boot-up.
-            if conduct.take_reboot() {
-                if let Some(id) = d.node_id() {
-                    let boot = d.on_frame(&crate::canopen::nmt::Command::ResetNode.frame(id));
-                    out.extend(boot.into_iter().map(|f| (ready, i, f)));
-                }
+            if let (true, Some(id)) = (conduct.take_reboot(), d.node_id()) {
+                let boot = d.on_frame(&crate::canopen::nmt::Command::ResetNode.frame(id));
+                out.extend(boot.into_iter().map(|f| (ready, i, f)));
             }
         }
         // CiA 305 "activate bit timing": the devices that switched, and the master with
         // them, run at the new rate; a device left at the old rate drops off the bus.
-        if let Some(new) = self.devices.iter().map(|d| d.bit_rate()).find(|r| *r != rate) {
-            if lss::Request::decode(frame.data()).is_some_and(|r| matches!(r, lss::Request::ActivateBitTiming { .. })) {
-                self.bit_rate = new;
-            }
+        let activate = matches!(lss::Request::decode(frame.data()), Some(lss::Request::ActivateBitTiming { .. }));
+        if let Some(new) = self.devices.iter().map(|d| d.bit_rate()).find(|r| *r != rate).filter(|_| activate) {
+            self.bit_rate = new;
         }
         out
     }
@@ -208,8 +193,7 @@ impl Network {
         let rate = self.bit_rate;
         let mut out = Vec::new();
         for (i, d) in self.devices.iter_mut().enumerate().filter(|(_, d)| d.bit_rate() == rate) {
-            let conduct = &self.conducts[i];
-            let own = d.events(after, upto);
+            let (own, conduct) = (d.events(after, upto), &self.conducts[i]);
             out.extend(own.into_iter().filter_map(|(t, f)| Some((t, i, conduct.own(f, &d.model, d.node_id())?))));
         }
         out
@@ -225,12 +209,8 @@ impl Network {
 
     /// The devices flooding the bus, and the id each floods it with.
     pub(crate) fn babblers(&mut self) -> Vec<(usize, u16)> {
-        let mut out = Vec::new();
-        for (i, c) in self.conducts.iter_mut().enumerate() {
-            let d = &self.devices[i];
-            out.extend(c.babbling(&d.model, d.node_id()).map(|id| (i, id)));
-        }
-        out
+        let conducts = self.conducts.iter_mut().zip(&self.devices).enumerate();
+        conducts.filter_map(|(i, (c, d))| Some((i, c.babbling(&d.model, d.node_id())?))).collect()
     }
 
     /// When the next of those is due after `now` (ms).
@@ -272,10 +252,9 @@ impl Network {
     /// clock runs ahead of it). Two commands in a row are so at least a ms apart, and a
     /// fault armed 1 ms ahead has struck when the next one opens the network.
     pub(crate) fn resumes_at(&self) -> u64 {
-        if self.clock_ms == 0 {
-            0
-        } else {
-            self.clock_ms + 1
+        match self.clock_ms {
+            0 => 0,
+            ms => ms + 1,
         }
     }
 
@@ -288,11 +267,7 @@ impl Network {
 /// The latest beat time at or before `now` for a producer with this period; beats are
 /// offset by the node-id so that devices do not all beat in the same millisecond.
 pub(crate) fn last_beat(period: u64, node: u64, now: u64) -> u64 {
-    let offset = node % period;
-    if now < offset {
-        return 0;
-    }
-    now - (now - offset) % period
+    now.checked_sub(node % period).map_or(0, |since_offset| now - since_offset % period)
 }
 
 /// Wall-clock time, ms since the Unix epoch (0 if the clock is before it).
@@ -347,7 +322,7 @@ pub struct SimLink {
 impl SimLink {
     /// A network with no state file: fresh demo devices, default configuration, nothing kept.
     pub fn ephemeral() -> SimLink {
-        SimLink::of(Network::demo())
+        SimLink::with_config(SimConfig::default())
     }
 
     /// The demo network as `config` describes it, with no state file.
@@ -375,17 +350,15 @@ impl SimLink {
 
     /// The network as the state file left it (the default configuration without one).
     pub fn open(file: state::StateFile) -> Result<SimLink> {
-        let net = match file.load()? {
-            Some(s) => Network::from_state(&s),
-            None => Network::demo(),
-        };
+        let net = Network::from_state(&file.load()?.unwrap_or_default());
         Ok(SimLink { file: Some(file), ..SimLink::of(net) })
     }
 
     fn bps_of(net: &Network) -> Option<u64> {
-        // An automatic or reserved rate is timed as the default one.
+        // An automatic or reserved rate is timed as the default one; on the instant profile
+        // frames take no time.
         let bps = timing::bits_per_second(net.bit_rate).or(timing::bits_per_second(DEFAULT_BIT_RATE));
-        bps.filter(|_| net.config.profile.bus_timing())
+        bps.filter(|_| net.config.profile != Profile::Instant)
     }
 
     /// The devices only, behind another link (an adapter, an interface): a `bus:off` fault
@@ -414,14 +387,14 @@ impl SimLink {
 
     /// Frames that have left the bus so far and how long it was busy with them.
     pub fn bus_stats(&self) -> BusStats {
-        self.bus.stats()
+        self.bus.stats
     }
 
     /// Frames take no time on this bus (the devices still answer late): for a bridge to
     /// a real bus, which has its own timing.
     pub fn without_bus_timing(mut self) -> SimLink {
         self.bus_timing_off = true;
-        self.bus.set_bps(None);
+        self.bus.bps = None;
         self
     }
 
@@ -474,10 +447,8 @@ impl SimLink {
     fn next_event_at(&self) -> Option<Nanos> {
         let now = self.bus_time();
         let ms = self.ms_at(now);
-        let own = self
-            .net
-            .next_event(self.beats_upto.max(ms))
-            .map(|next| (next.saturating_sub(self.start_ms) * timing::MS).max(now));
+        let next_own = self.net.next_event(self.beats_upto.max(ms));
+        let own = next_own.map(|next| (next.saturating_sub(self.start_ms) * timing::MS).max(now));
         own.into_iter().chain(self.bus.next_done()).min()
     }
 
@@ -491,15 +462,10 @@ impl SimLink {
         Ok(())
     }
 
-    /// Let the devices do what they do by themselves up to now (a fault strikes, a drive's
-    /// fault reaction ends), for a master that reads a device's objects directly.
-    pub(crate) fn run_until_now(&mut self) {
-        self.advance();
-    }
-
     /// Run the bus up to now: the devices' own frames queue, frames that have left are
-    /// heard by the devices (master's) or received (devices').
-    fn advance(&mut self) {
+    /// heard by the devices (master's) or received (devices'). Also for a master that reads
+    /// a device's objects directly: a fault strikes, a drive's fault reaction ends.
+    pub(crate) fn advance(&mut self) {
         let now = self.bus_time();
         let ms = self.ms_at(now);
         // In the order things happened, however late the master polls: a device hears a
@@ -526,11 +492,9 @@ impl SimLink {
     /// sends what a closed socket queued): the devices hear them before their state is
     /// saved. Bounded, for a bus a babbling device keeps busy.
     fn flush(&mut self) {
-        let mut left = 100_000;
-        while self.bus.waiting_from(Origin::Master) > 0 && left > 0 {
-            let Some(next) = self.bus.next_done() else { break };
+        for _ in 0..100_000 {
+            let Some(next) = self.bus.next_done().filter(|_| self.bus.waiting_from(Origin::Master) > 0) else { break };
             self.pop_done(next);
-            left -= 1;
         }
     }
 
@@ -564,7 +528,7 @@ impl SimLink {
                     self.bus.queue(ready, Origin::Device(i), f);
                 }
                 if !self.bus_timing_off {
-                    self.bus.set_bps(Self::bps_of(&self.net));
+                    self.bus.bps = Self::bps_of(&self.net);
                 }
             }
             Origin::Device(_) => self.rx.push_back((frame, end)),
@@ -635,7 +599,7 @@ impl FrameLink for SimLink {
     }
 
     fn frame_time(&self) -> Option<Duration> {
-        Some(self.bus.bps().map_or(Duration::ZERO, crate::frame::longest_frame_time))
+        Some(self.bus.bps.map_or(Duration::ZERO, crate::frame::longest_frame_time))
     }
 
     fn name(&self) -> String {
@@ -648,9 +612,6 @@ impl FrameLink for SimLink {
     /// error's text says how it comes back), and no error counters are made up.
     fn report(&mut self) -> Option<crate::bus::controller::LinkReport> {
         use crate::bus::controller::{CanState, Controller, ErrorFrameCounts, LinkReport};
-        if !self.bus_off {
-            return None;
-        }
         let bitrate = timing::bits_per_second(self.net.bit_rate).map(|b| b as u32);
         let controller = Controller::Can {
             state: Some(CanState::BusOff),
@@ -660,7 +621,8 @@ impl FrameLink for SimLink {
             bitrate,
         };
         let error_frames = ErrorFrameCounts { frames: 1, bus_off: 1, ..ErrorFrameCounts::default() };
-        Some(LinkReport { iface: self.name(), controller: Some(controller), error_frames, queue_full: 0 })
+        let report = LinkReport { iface: self.name(), controller: Some(controller), error_frames, queue_full: 0 };
+        self.bus_off.then_some(report)
     }
 
     fn close(&mut self) -> Result<()> {

@@ -2,11 +2,11 @@
 //! something the model follows it; elsewhere it follows CiA 301 and the device profile.
 
 use crate::canopen::lss::SlaveCaps;
-use crate::canopen::DataType::{self, *};
+use crate::canopen::DataType::*;
 use crate::canopen::ObjAddr;
 use crate::cia402_drive::{DriveProfile, RemoteBit, VoltageBit};
 use crate::od::Access::*;
-use crate::od::{builtin, le, text, Dictionary, Init};
+use crate::od::{builtin, le as u, text, Dictionary, Init};
 
 /// A simulated device type: its dictionary and the protocol features and quirks it has.
 pub struct Model {
@@ -34,6 +34,26 @@ pub struct Model {
     pub drive: Option<DriveProfile>,
 }
 
+impl Model {
+    /// A device type with this dictionary and nothing else: no block transfer, no node
+    /// guarding, full LSS, no fault, no quirk. The models set what they have.
+    pub(crate) fn plain(key: impl Into<String>, dict: Dictionary) -> Model {
+        Model {
+            key: key.into(),
+            dict,
+            block_transfer: false,
+            guarding: false,
+            ignored_writes: vec![],
+            lss: FULL_LSS,
+            moving: false,
+            pad_pdos: false,
+            epos2_bit_rate: false,
+            fault: None,
+            drive: None,
+        }
+    }
+}
+
 /// A simulated fault: the EMCY it raises, and whether the device leaves Operational.
 #[derive(Clone, Copy, Debug)]
 pub struct FaultSpec {
@@ -57,25 +77,21 @@ fn fault_object(d: &mut Dictionary) {
 pub(crate) const SUPPLY_OFF_OBJECT: ObjAddr = ObjAddr::new(0x5FFD, 0);
 
 fn supply_object(d: &mut Dictionary) {
-    d.var(0x5FFD, "Simulated power supply off (1) or on (0)", U8, Rw, u(0, U8));
-    d.limit(SUPPLY_OFF_OBJECT, 0, 1);
+    d.var(0x5FFD, "Simulated power supply off (1) or on (0)", U8, Rw, u(0, U8)).range = Some((0, 1));
 }
 
-/// The pre-defined error field 0x1003 with `slots` entries, empty.
-fn error_history(d: &mut Dictionary, slots: u8) {
-    d.array(
-        0x1003,
-        "Pre-defined error field",
-        (1..=slots).map(|s| (s, "Standard error field", U32, Ro, u(0, U32))).collect(),
-    );
-    d.insert(crate::od::Entry {
-        addr: ObjAddr::new(0x1003, 0),
-        name: "Number of errors".into(),
-        dtype: U8,
-        access: Rw,
-        default: u(0, U8),
-        range: None,
-    });
+/// The pre-defined error field 0x1003, a slot for each of `fields` (newest first; 0 empty).
+fn error_history(d: &mut Dictionary, fields: &[u32]) {
+    let field = |s: u8| (s, "Standard error field", U32, Ro, u(fields[s as usize - 1] as u64, U32));
+    d.array(0x1003, "Pre-defined error field", (1..=fields.len() as u8).map(field).collect());
+    let errors = fields.iter().filter(|f| **f != 0).count() as u8;
+    writable_count(d, 0x1003, "Number of errors", errors, None);
+}
+
+/// Sub 0 of a record as a count the master writes (the error history's, a dynamic mapping's).
+fn writable_count(d: &mut Dictionary, index: u16, name: &str, count: u8, range: Option<(i128, i128)>) {
+    let (addr, default) = (ObjAddr::new(index, 0), u(count as u64, U8));
+    d.insert(crate::od::Entry { addr, name: name.into(), dtype: U8, access: Rw, default, range });
 }
 
 /// The demo sensor's motion: a triangle between 100000 and 300000 steps, 20 steps a ms,
@@ -90,12 +106,8 @@ pub(crate) fn sensor_motion(now_ms: u64) -> (i32, i16) {
 }
 
 const FULL_LSS: SlaveCaps = SlaveCaps { store: true, bit_timing: true, fastscan_in_configuration: false };
-
-/// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
-#[cfg(test)]
-pub(crate) fn demo_network() -> Vec<(Model, Option<u8>)> {
-    demo_network_with(UNCONFIGURED_SERIALS.len() as u8)
-}
+/// An LSS slave without the optional services (CiA 305 store and bit timing).
+pub(crate) const BASIC_LSS: SlaveCaps = SlaveCaps { store: false, bit_timing: false, ..FULL_LSS };
 
 /// The serial of the `i`-th (from 0) demo sensor waiting for a node-id.
 pub fn unconfigured_serial(i: u8) -> u32 {
@@ -116,10 +128,6 @@ pub fn demo_network_with(unconfigured: u8) -> Vec<(Model, Option<u8>)> {
 
 /// The size of the demo network's large DOMAIN object, big enough to need several block transfers.
 pub const DOMAIN_SIZE: usize = 64 * 1024;
-
-fn u(v: u64, t: DataType) -> Init {
-    le(v, t)
-}
 
 /// What every device here has: CiA 301 mandatory and common communication objects.
 struct Common {
@@ -176,10 +184,8 @@ pub fn drive() -> Model {
         store_subs: 4,
     });
     // EPOS2 firmware specification: 0x2000 Node ID, 0x2001 CAN bit rate (0 = 1 Mbit/s ...).
-    d.var(0x2000, "Node ID", U8, Rw, u(1, U8));
-    d.limit(ObjAddr::new(0x2000, 0), 1, 127);
-    d.var(0x2001, "CAN bit rate", U16, Rw, u(0, U16));
-    d.limit(ObjAddr::new(0x2001, 0), 0, 9);
+    d.var(0x2000, "Node ID", U8, Rw, u(1, U8)).range = Some((1, 127));
+    d.var(0x2001, "CAN bit rate", U16, Rw, u(0, U16)).range = Some((0, 9));
     // Seed 000's examples: "Software Version" 0x2003:1 reads 0x2010; "Home Offset" 0x2081.
     d.record(
         0x2003,
@@ -189,8 +195,7 @@ pub fn drive() -> Model {
     d.var(0x2081, "Home offset", I32, Rw, u(0, I32));
     d.var(0x6040, "Controlword", U16, Rw, u(0, U16));
     d.var(0x6041, "Statusword", U16, Ro, u(0x0540, U16));
-    d.var(0x6060, "Modes of operation", I8, Rw, u(1, I8));
-    d.limit(ObjAddr::new(0x6060, 0), -6, 7);
+    d.var(0x6060, "Modes of operation", I8, Rw, u(1, I8)).range = Some((-6, 7));
     d.var(0x6061, "Modes of operation display", I8, Ro, u(1, I8));
     d.var(0x6064, "Position actual value", I32, Ro, u(0, I32));
     d.var(0x606C, "Velocity actual value", I32, Ro, u(0, I32));
@@ -200,34 +205,24 @@ pub fn drive() -> Model {
     d.record(0x1F50, "Program data", vec![(1, "Program 1", D, Rw, Init::Bytes(domain_pattern(DOMAIN_SIZE)))]);
     data_type_record(&mut d);
     // TPDO1 with dynamic mapping (the EPOS2 has four): statusword by default.
-    event_driven_tpdo1(&mut d, 4, 0x6041_0010);
+    event_driven_tpdo1(&mut d, &[0x6041_0010, 0, 0, 0]);
     // The EPOS2's error history keeps five entries.
-    error_history(&mut d, 5);
+    error_history(&mut d, &[0; 5]);
     fault_object(&mut d);
     supply_object(&mut d);
-    // A CiA 402 undervoltage (0x3220), register bits generic and voltage; the drive stays
-    // in its NMT state and goes to Fault.
-    let fault = FaultSpec { code: 0x3220, register: 0x05, vendor: [0; 5], to_pre_operational: false };
-    stores_its_eds(&mut d, crate::od::stored::PLAIN);
-    let mut m = Model {
-        key: "drive".into(),
-        dict: d,
+    let drive =
+        DriveProfile { constant_bits: 0x0500, voltage: VoltageBit::PowerStage, remote: RemoteBit::WhenOperational };
+    let model = Model {
         block_transfer: true,
         guarding: true,
-        ignored_writes: vec![],
-        lss: FULL_LSS,
-        moving: false,
-        pad_pdos: false,
         epos2_bit_rate: true,
-        fault: Some(fault),
-        drive: Some(DriveProfile {
-            constant_bits: 0x0500,
-            voltage: VoltageBit::PowerStage,
-            remote: RemoteBit::WhenOperational,
-        }),
+        // A CiA 402 undervoltage (0x3220), register bits generic and voltage; the drive
+        // stays in its NMT state and goes to Fault.
+        fault: Some(FaultSpec { code: 0x3220, register: 0x05, vendor: [0; 5], to_pre_operational: false }),
+        drive: Some(drive),
+        ..Model::plain("drive", d)
     };
-    fill_stored_eds(&mut m, DRIVE_NAMES);
-    m
+    storing_its_eds(model, crate::od::stored::PLAIN, DRIVE_NAMES)
 }
 
 /// Not in any seed device: the simulated drive (node 1, reached directly through an EPOS2)
@@ -283,23 +278,8 @@ pub fn position_sensor(serial: u32) -> Model {
     d.var(0x1002, "Manufacturer status register", U8, Ro, u(1, U8));
     d.var(0x100B, "Node-ID", U32, Ro, Init::NodeIdPlus(0));
     d.var(0x100E, "COB-ID error control", U32, Rw, Init::NodeIdPlus(0x700));
-    d.record(
-        0x1800,
-        "TPDO1 communication parameter",
-        vec![
-            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
-            (2, "Transmission type", U8, Rw, u(254, U8)),
-            (5, "Event timer", U16, Rw, u(1, U16)),
-        ],
-    );
-    d.record(
-        0x1A00,
-        "TPDO1 mapping parameter",
-        vec![
-            (1, "Mapped object 1", U32, Const, u(0x6020_0120, U32)),
-            (2, "Mapped object 2", U32, Const, u(0x6030_0110, U32)),
-        ],
-    );
+    tpdo1_communication(&mut d, 254, false, Some(1));
+    tpdo1_mapping(&mut d, Const, &[0x6020_0120, 0x6030_0110]);
     d.var(0x6000, "Operating parameters", U16, Rw, u(0, U16));
     d.record(
         0x6005,
@@ -315,19 +295,7 @@ pub fn position_sensor(serial: u32) -> Model {
     fault_object(&mut d);
     // Seed 001 §8: the magnet lost is a "Device Hardware" error, 0x5000 with register 0x81.
     let fault = FaultSpec { code: 0x5000, register: 0x81, vendor: [0; 5], to_pre_operational: true };
-    Model {
-        key,
-        dict: d,
-        block_transfer: false,
-        guarding: false,
-        ignored_writes: vec![],
-        lss: FULL_LSS,
-        moving: true,
-        pad_pdos: false,
-        epos2_bit_rate: false,
-        fault: Some(fault),
-        drive: None,
-    }
+    Model { moving: true, fault: Some(fault), ..Model::plain(key, d) }
 }
 
 /// Node 10: after an ICP DAS CAN-2000C module, the CAN-2057C 16-channel DO (seed 004).
@@ -346,23 +314,9 @@ pub fn io_module() -> Model {
     });
     // EMCY history, newest first (seed 004 §5.3: five records). Two from the seed's table:
     // CAN controller overrun (8110, vendor 06) and EEPROM access error (5000, vendor 02).
-    d.array(
-        0x1003,
-        "Pre-defined error field",
-        (1..=5)
-            .map(|s| (s, "Standard error field", U32, Ro, u([0x0006_8110, 0x0002_5000, 0, 0, 0][s as usize - 1], U32)))
-            .collect(),
-    );
-    d.insert(crate::od::Entry {
-        addr: ObjAddr::new(0x1003, 0),
-        name: "Number of errors".into(),
-        dtype: U8,
-        access: Rw,
-        default: u(2, U8),
-        range: None,
-    });
+    error_history(&mut d, &[0x0006_8110, 0x0002_5000, 0, 0, 0]);
     // Dynamic mapping (seed 004).
-    event_driven_tpdo1(&mut d, 8, 0x6000_0108);
+    event_driven_tpdo1(&mut d, &[0x6000_0108, 0, 0, 0, 0, 0, 0, 0]);
     d.record(0x6000, "Read input 8-bit", vec![(1, "Inputs 1-8", U8, Ro, u(0, U8))]);
     d.record(
         0x6200,
@@ -373,22 +327,8 @@ pub fn io_module() -> Model {
     fault_object(&mut d);
     // Seed 004's EMCY table: "81 10 | 11 | 06 .." CAN controller overrun.
     let fault = FaultSpec { code: 0x8110, register: 0x11, vendor: [0x06, 0, 0, 0, 0], to_pre_operational: false };
-    stores_its_eds(&mut d, crate::od::stored::ZIP);
-    let mut m = Model {
-        key: "io".into(),
-        dict: d,
-        block_transfer: false,
-        guarding: true,
-        ignored_writes: vec![],
-        lss: FULL_LSS,
-        moving: false,
-        pad_pdos: true,
-        epos2_bit_rate: false,
-        fault: Some(fault),
-        drive: None,
-    };
-    fill_stored_eds(&mut m, IO_NAMES);
-    m
+    let model = Model { guarding: true, pad_pdos: true, fault: Some(fault), ..Model::plain("io", d) };
+    storing_its_eds(model, crate::od::stored::ZIP, IO_NAMES)
 }
 
 /// Node 32: after the Stögra SERS stepper (seed 003): DS402 subset, node guarding only, an
@@ -410,8 +350,7 @@ pub fn stepper() -> Model {
     d.var(0x6040, "Controlword", U16, Rw, u(0, U16));
     d.var(0x6041, "Statusword", U16, Ro, u(0x0250, U16));
     // "the drive supports 1 Profile Position Mode and 6 Homing Mode"
-    d.var(0x6060, "Modes of operation", I8, Rw, u(1, I8));
-    d.limit(ObjAddr::new(0x6060, 0), 1, 6);
+    d.var(0x6060, "Modes of operation", I8, Rw, u(1, I8)).range = Some((1, 6));
     // "position_actual_value (6064) can not be written"
     d.var(0x6064, "Position actual value", I32, Ro, u(0, I32));
     d.var(0x607A, "Target position", I32, Rw, u(0, I32));
@@ -421,57 +360,39 @@ pub fn stepper() -> Model {
     // PDO: Status word (6041), 16 Bit position_actual_value (6064), 32 Bit
     // ENDSCHALTER_DIGIN (2420), 16 Bit"; sent on SYNC, by RTR (253), or on change (255).
     d.var(0x2420, "ENDSCHALTER_DIGIN", U16, Ro, u(0, U16));
-    d.record(
-        0x1800,
-        "TPDO1 communication parameter",
-        vec![
-            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
-            (2, "Transmission type", U8, Rw, u(255, U8)),
-            (3, "Inhibit time", U16, Rw, u(0, U16)),
-        ],
-    );
-    d.record(
-        0x1A00,
-        "TPDO1 mapping parameter",
-        vec![
-            (1, "Mapped object 1", U32, Const, u(0x6041_0010, U32)),
-            (2, "Mapped object 2", U32, Const, u(0x6064_0020, U32)),
-            (3, "Mapped object 3", U32, Const, u(0x2420_0010, U32)),
-        ],
-    );
+    tpdo1_communication(&mut d, 255, true, None);
+    tpdo1_mapping(&mut d, Const, &[0x6041_0010, 0x6064_0020, 0x2420_0010]);
     fault_object(&mut d);
     supply_object(&mut d);
     // Seed 003 §2.8: "0x3200 Voltage inside the device", register "VOLTAGE 0x04 error under
     // voltage" with generic; vendor bytes errno, state class 1 (P11), state class 2 (P12).
     let fault = FaultSpec { code: 0x3200, register: 0x05, vendor: [0, 0x01, 0x00, 0, 0], to_pre_operational: false };
     Model {
-        key: "stepper".into(),
-        dict: d,
-        block_transfer: false,
         guarding: true,
         ignored_writes: vec![ObjAddr::new(0x1006, 0)],
         // Seed 003: the bit rate comes from DIP switches, and nothing about storing.
-        lss: SlaveCaps { store: false, bit_timing: false, fastscan_in_configuration: false },
-        moving: false,
-        pad_pdos: false,
-        epos2_bit_rate: false,
+        lss: BASIC_LSS,
         fault: Some(fault),
         // Seed 003: 0x0250 after power on, voltage enabled and remote included.
         drive: Some(DriveProfile { constant_bits: 0, voltage: VoltageBit::Supply, remote: RemoteBit::Always }),
+        ..Model::plain("stepper", d)
     }
 }
 
 /// Reproducible, incompressible-looking content (xorshift32).
 pub fn domain_pattern(len: usize) -> Vec<u8> {
+    pattern_bytes().take(len).collect()
+}
+
+/// The bytes of [`domain_pattern`], without end.
+pub(crate) fn pattern_bytes() -> impl Iterator<Item = u8> {
     let mut x: u32 = 0x2545_F491;
-    (0..len)
-        .map(|_| {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x as u8
-        })
-        .collect()
+    std::iter::repeat_with(move || {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x as u8
+    })
 }
 
 /// Vendor and product names of the models' EDS files.
@@ -508,59 +429,53 @@ fn eds_file(m: &Model, (vendor, product): (&str, &str)) -> (String, String) {
     (file_name, crate::od::eds::write(&m.dict, None, &header))
 }
 
-/// The objects of a device that keeps its own EDS (CiA 301 0x1021, 0x1022 its format);
-/// the content comes with `fill_stored_eds`, once the model is complete.
-fn stores_its_eds(d: &mut Dictionary, format: u8) {
-    d.var(0x1021, "Store EDS", D, Ro, Init::Bytes(Vec::new()));
-    d.var(0x1022, "Storage format", U8, Ro, u(format as u64, U8));
-}
-
-/// 0x1021 holds the model's own EDS (plain or zipped, by 0x1022): the file in eds/, since
-/// a DOMAIN's content is not part of an EDS.
-fn fill_stored_eds(m: &mut Model, names: (&str, &str)) {
-    let (file_name, text) = eds_file(m, names);
+/// The model with its own EDS in 0x1021, as the format 0x1022 says (plain or zipped): the
+/// file in eds/, made with 0x1021 empty, since a DOMAIN's content is not part of an EDS.
+fn storing_its_eds(mut m: Model, format: u8, names: (&str, &str)) -> Model {
+    m.dict.var(0x1022, "Storage format", U8, Ro, u(format as u64, U8));
+    m.dict.var(0x1021, "Store EDS", D, Ro, Init::Bytes(Vec::new()));
+    let (file_name, text) = eds_file(&m, names);
     let bytes = crate::od::eds::to_latin1(&text);
-    let format = m.dict.get(crate::od::stored::STORAGE_FORMAT).map(|e| e.default_for(0)[0]);
-    let stored = match format {
-        Some(crate::od::stored::ZIP) => crate::od::stored::zip(&file_name, &bytes),
-        _ => bytes,
-    };
-    let addr = crate::od::stored::STORE_EDS;
-    let entry = m.dict.get(addr).expect("stores_its_eds declared 0x1021").clone();
-    m.dict.insert(crate::od::Entry { default: Init::Bytes(stored), ..entry });
+    let stored = if format == crate::od::stored::ZIP { crate::od::stored::zip(&file_name, &bytes) } else { bytes };
+    m.dict.var(0x1021, "Store EDS", D, Ro, Init::Bytes(stored));
+    m
 }
 
-/// TPDO1, event-driven and off until an event timer is set, with a mapping of `entries`
-/// writable entries, `first` mapped, the count in sub 0 writable (CiA 301 dynamic mapping).
-fn event_driven_tpdo1(d: &mut Dictionary, entries: u8, first: u32) {
-    d.record(
-        0x1800,
-        "TPDO1 communication parameter",
-        vec![
-            (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
-            (2, "Transmission type", U8, Rw, u(255, U8)),
-            (3, "Inhibit time", U16, Rw, u(0, U16)),
-            (5, "Event timer", U16, Rw, u(0, U16)),
-        ],
-    );
-    let names: Vec<String> = (1..=entries).map(|s| format!("Mapped object {s}")).collect();
-    let members = (1..=entries)
-        .map(|s| (s, names[s as usize - 1].as_str(), U32, Rw, u(if s == 1 { first as u64 } else { 0 }, U32)))
-        .collect();
-    d.record(0x1A00, "TPDO1 mapping parameter", members);
-    d.insert(crate::od::Entry {
-        addr: ObjAddr::new(0x1A00, 0),
-        name: "Number of mapped objects".into(),
-        dtype: U8,
-        access: Rw,
-        default: u(1, U8),
-        range: Some((0, entries as i128)),
-    });
+/// TPDO1's communication parameter: COB-ID, transmission type, and where the device has
+/// them an inhibit time (0) and an event timer.
+fn tpdo1_communication(d: &mut Dictionary, transmission: u8, inhibit: bool, event_timer: Option<u16>) {
+    let mut members = vec![
+        (1, "COB-ID", U32, Rw, Init::NodeIdPlus(0x180)),
+        (2, "Transmission type", U8, Rw, u(transmission as u64, U8)),
+    ];
+    members.extend(inhibit.then(|| (3, "Inhibit time", U16, Rw, u(0, U16))));
+    members.extend(event_timer.map(|ms| (5, "Event timer", U16, Rw, u(ms as u64, U16))));
+    d.record(0x1800, "TPDO1 communication parameter", members);
+}
+
+/// TPDO1's mapping parameter, one entry of `access` per value of `mapped`.
+fn tpdo1_mapping(d: &mut Dictionary, access: crate::od::Access, mapped: &[u32]) {
+    let names: Vec<String> = (1..=mapped.len()).map(|s| format!("Mapped object {s}")).collect();
+    let members = (1..).zip(&names).zip(mapped).map(|((s, n), m)| (s, n.as_str(), U32, access, u(*m as u64, U32)));
+    d.record(0x1A00, "TPDO1 mapping parameter", members.collect());
+}
+
+/// TPDO1, event-driven and off until an event timer is set, with a writable mapping of
+/// these entries, the count in sub 0 writable (CiA 301 dynamic mapping) and 1.
+fn event_driven_tpdo1(d: &mut Dictionary, mapped: &[u32]) {
+    tpdo1_communication(d, 255, true, Some(0));
+    tpdo1_mapping(d, Rw, mapped);
+    writable_count(d, 0x1A00, "Number of mapped objects", 1, Some((0, mapped.len() as i128)));
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The demo network: (model, node-id). `None` is a device waiting for an LSS node-id.
+    fn demo_network() -> Vec<(Model, Option<u8>)> {
+        demo_network_with(UNCONFIGURED_SERIALS.len() as u8)
+    }
 
     /// CiA 301's objects are one table: a simulated device has each as the table has it
     /// (0x1010 and 0x1011 are ARRAYs, CiA 301 §7.5.2.13/14; 0x1018 a RECORD).

@@ -72,15 +72,8 @@ impl FromStr for Fault {
                 ))
             }
         };
-        let nth = match at {
-            "*" => None,
-            n => Some(
-                n.parse::<u64>()
-                    .ok()
-                    .filter(|n| *n > 0)
-                    .ok_or_else(|| format!("'{n}' is not a frame number (1, 2, ... or *)"))?,
-            ),
-        };
+        let bad = || format!("'{at}' is not a frame number (1, 2, ... or *)");
+        let nth = if at == "*" { None } else { Some(at.parse::<u64>().ok().filter(|n| *n > 0).ok_or_else(bad)?) };
         Ok(Fault { kind, nth })
     }
 }

@@ -194,12 +194,10 @@ impl SlcanAdapter {
 impl FrameLink for SlcanAdapter {
     /// A frame from the devices, to the host.
     fn send(&mut self, frame: &Frame) -> Result<()> {
-        if self.bus_off {
-            return Ok(()); // a bus-off controller hears nothing
-        }
-        if !self.on_bus() {
-            // Traffic at another bit rate decodes as nothing but bus errors.
-            if self.open {
+        // A bus-off controller hears nothing; traffic at another bit rate decodes as nothing
+        // but bus errors.
+        if self.bus_off || !self.on_bus() {
+            if self.open && !self.bus_off {
                 self.flags |= WRONG_RATE_FLAGS;
             }
             return Ok(());

@@ -11,8 +11,8 @@ use crate::frame::Frame;
 use crate::socketcand::beacon;
 use crate::socketcand::wire::{Decoder, Unit};
 use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpListener, TcpStream, UdpSocket};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
+use std::net::{Ipv4Addr, SocketAddr, TcpListener, TcpStream, UdpSocket};
+use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
@@ -54,11 +54,9 @@ pub struct SocketcandServer {
 impl SocketcandServer {
     /// Listen on `addr` (port 0: any free one) and take clients from now on.
     pub fn bind(addr: SocketAddr) -> Result<SocketcandServer> {
-        let listener = TcpListener::bind(addr)
-            .map_err(|error: std::io::Error| LinkError::Open { port: format!("TCP {addr}"), error: error.into() })?;
-        let addr = listener
-            .local_addr()
-            .map_err(|error: std::io::Error| LinkError::Open { port: format!("TCP {addr}"), error: error.into() })?;
+        let open = |error: std::io::Error| LinkError::Open { port: format!("TCP {addr}"), error: error.into() };
+        let listener = TcpListener::bind(addr).map_err(open)?;
+        let addr = listener.local_addr().map_err(open)?;
         let clients: Clients = Arc::default();
         let (tx, from_clients) = mpsc::channel();
         let shared = clients.clone();
@@ -77,18 +75,11 @@ impl SocketcandServer {
     }
 }
 
-fn micros_now() -> u64 {
-    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_micros() as u64).unwrap_or(0)
-}
-
 /// Write `frames` to every client in raw mode but `except`, in one write each; a client
 /// that cannot take them is dropped.
 fn broadcast(clients: &Clients, frames: &[Frame], except: Option<u64>) {
-    let micros = micros_now();
-    let mut bytes = Vec::with_capacity(frames.len() * 40);
-    for frame in frames {
-        bytes.extend_from_slice(&Unit::Frame { frame: *frame, micros }.encode());
-    }
+    let micros = SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_micros() as u64).unwrap_or(0);
+    let bytes: Vec<u8> = frames.iter().flat_map(|frame| Unit::Frame { frame: *frame, micros }.encode()).collect();
     if bytes.is_empty() {
         return;
     }
@@ -132,17 +123,14 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
     tracing::debug!(target: "canctl::socketcand", "client {number} from {peer}");
     let _ = stream.set_nodelay(true);
     let _ = stream.set_write_timeout(Some(WRITE_PATIENCE));
-    let Ok(writer) = stream.try_clone() else { return };
+    // One half for frames (once in raw mode), one for answers.
+    let (Ok(writer), Ok(mut reply)) = (stream.try_clone(), stream.try_clone()) else { return };
     let mut writer = Some(writer);
     // Answers go through the clients' lock once the client is in raw mode, so that they
     // never land inside a frame another thread is writing.
     let answer = |unit: &Unit, stream: &mut TcpStream| {
         let _guard = clients.lock().unwrap_or_else(PoisonError::into_inner);
         stream.write_all(&unit.encode()).is_ok()
-    };
-    let mut reply = match stream.try_clone() {
-        Ok(s) => s,
-        Err(_) => return,
     };
     if !answer(&Unit::Hi, &mut reply) {
         return;
@@ -158,8 +146,7 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
             Err(_) => break,
         };
         // The grace ends when the client says anything, or when it is over.
-        if held {
-            held = false;
+        if std::mem::take(&mut held) {
             release(&clients, number);
             let _ = stream.set_read_timeout(None);
         }
@@ -181,12 +168,9 @@ fn serve_client(number: u64, mut stream: TcpStream, clients: Clients, tx: Sender
                     (raw, held) = (true, true);
                     let mut clients = clients.lock().unwrap_or_else(PoisonError::into_inner);
                     let ok = reply.write_all(&Unit::Ok.encode()).is_ok();
-                    clients.extend(writer.take().map(|stream| Client {
-                        number,
-                        stream,
-                        held: Some(Vec::new()),
-                        writes: 0,
-                    }));
+                    let client =
+                        writer.take().map(|stream| Client { number, stream, held: Some(Vec::new()), writes: 0 });
+                    clients.extend(client);
                     let _ = stream.set_read_timeout(Some(HANDSHAKE_GRACE));
                     ok
                 }
@@ -233,12 +217,8 @@ impl FrameLink for SocketcandServer {
     /// A frame from a client, for the devices.
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
         let left = deadline.saturating_duration_since(Instant::now());
-        match self.from_clients.recv_timeout(left) {
-            Ok(f) => Ok(Some(f)),
-            Err(RecvTimeoutError::Timeout) => Ok(None),
-            // The accepting thread holds a sender for as long as the process runs.
-            Err(RecvTimeoutError::Disconnected) => Ok(None),
-        }
+        // A timeout, or none: the accepting thread holds a sender for as long as the process runs.
+        Ok(self.from_clients.recv_timeout(left).ok())
     }
 
     fn name(&self) -> String {
@@ -264,11 +244,8 @@ pub fn beacon_port() -> u16 {
 /// test, a tunnel: nothing goes onto a network), otherwise to the broadcast address, as
 /// socketcand sends it.
 pub fn beacon_target(bound: SocketAddr, port: u16) -> SocketAddr {
-    match bound.ip() {
-        // The listener of `canctl buses` is IPv4: a server on ::1 is announced there too.
-        ip if ip.is_loopback() => SocketAddr::from((std::net::Ipv4Addr::LOCALHOST, port)),
-        _ => SocketAddr::from((std::net::Ipv4Addr::BROADCAST, port)),
-    }
+    // The listener of `canctl buses` is IPv4: a server on ::1 is announced there too.
+    SocketAddr::from((if bound.ip().is_loopback() { Ipv4Addr::LOCALHOST } else { Ipv4Addr::BROADCAST }, port))
 }
 
 /// Announce the server at `bound` offering [`IFACE`] to `target` every [`BEACON_EVERY`],
@@ -276,22 +253,14 @@ pub fn beacon_target(bound: SocketAddr, port: u16) -> SocketAddr {
 /// (no network, broadcasts refused) is skipped: serving goes on without it.
 pub fn start_beacon(bound: SocketAddr, target: SocketAddr) -> Result<()> {
     let open = |error: std::io::Error| LinkError::Open { port: format!("UDP beacon to {target}"), error: error.into() };
-    let local: SocketAddr = match target {
-        SocketAddr::V4(_) => (std::net::Ipv4Addr::UNSPECIFIED, 0).into(),
-        SocketAddr::V6(_) => (std::net::Ipv6Addr::UNSPECIFIED, 0).into(),
-    };
-    let socket = UdpSocket::bind(local).map_err(open)?;
+    let any = if target.is_ipv4() { Ipv4Addr::UNSPECIFIED.into() } else { std::net::Ipv6Addr::UNSPECIFIED.into() };
+    let socket = UdpSocket::bind(SocketAddr::new(any, 0)).map_err(open)?;
     socket.set_broadcast(!target.ip().is_loopback()).map_err(open)?;
     // Bound to every address, the URL names the one the beacon leaves from, which is the
     // one its listeners can reach.
-    let url = match bound.ip().is_unspecified() {
-        true => {
-            let _ = socket.connect(target);
-            socket.local_addr().ok().filter(|a| !a.ip().is_unspecified()).map(|a| SocketAddr::new(a.ip(), bound.port()))
-        }
-        false => None,
-    }
-    .unwrap_or(bound);
+    let connected = bound.ip().is_unspecified() && socket.connect(target).is_ok();
+    let leaves_from = socket.local_addr().ok().filter(|a| connected && !a.ip().is_unspecified());
+    let url = leaves_from.map_or(bound, |a| SocketAddr::new(a.ip(), bound.port()));
     let host = std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string());
     let name = host.ok().filter(|h| !h.is_empty()).unwrap_or_else(|| "canctl".into());
     let bytes = beacon::encode(&name, "canctl sim", url, &[IFACE]);

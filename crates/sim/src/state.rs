@@ -16,15 +16,12 @@ pub struct NetworkState {
     /// The file format's version; an unknown one is not read.
     pub version: u32,
     /// The bus's bit rate (CiA 305 table index).
-    #[serde(default)]
     pub bit_rate: Option<u8>,
     /// Profile, seed, devices and faults chosen by `sim reset`; absent: the defaults.
-    #[serde(default)]
     pub config: Option<super::SimConfig>,
     /// Each device's state, by model key.
     pub devices: BTreeMap<String, DeviceState>,
     /// The devices' clock (ms) when saved: the next invocation's starts after it.
-    #[serde(default)]
     pub clock_ms: Option<u64>,
 }
 
@@ -90,10 +87,8 @@ fn check_ours(path: &Path) -> std::result::Result<(), StateRefused> {
         Ok(_) => Ok(()),
         Err(_) => {
             let folder = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-            match folder.is_dir() {
-                true => Ok(()),
-                false => Err(StateRefused::NoFolder { folder: folder.to_path_buf(), path: path.to_path_buf() }),
-            }
+            let missing = StateRefused::NoFolder { folder: folder.to_path_buf(), path: path.to_path_buf() };
+            folder.is_dir().then_some(()).ok_or(missing)
         }
     }
 }
@@ -107,10 +102,7 @@ fn holds_a_sim_state(path: &Path) -> bool {
         version: serde::de::IgnoredAny,
         devices: serde::de::IgnoredAny,
     }
-    match File::open(path) {
-        Ok(f) => serde_json::from_reader::<_, Shape>(std::io::BufReader::new(f)).is_ok(),
-        Err(_) => true,
-    }
+    File::open(path).map_or(true, |f| serde_json::from_reader::<_, Shape>(std::io::BufReader::new(f)).is_ok())
 }
 
 /// A file canctl keeps beside the state file (`sim.json.canctl-lock`): named so that it is
@@ -185,12 +177,8 @@ impl StateFile {
         check_ours(path)?;
         let lock_path = beside(path, "lock");
         let owner_path = beside(path, "owner");
-        let lock = OpenOptions::new()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(&lock_path)
-            .map_err(|e| link_err(&lock_path, "cannot open", e))?;
+        let lock = OpenOptions::new().create(true).truncate(false).write(true).open(&lock_path);
+        let lock = lock.map_err(|e| link_err(&lock_path, "cannot open", e))?;
         let give_up = Instant::now() + wait;
         let mut told = false;
         loop {
@@ -252,14 +240,7 @@ impl StateFile {
 
     /// Start afresh with this configuration: devices as built, nothing else kept.
     pub fn start_fresh(&self, config: &super::SimConfig) -> Result<()> {
-        let state = NetworkState {
-            version: VERSION,
-            bit_rate: None,
-            config: Some(config.clone()),
-            devices: BTreeMap::new(),
-            clock_ms: None,
-        };
-        self.save(&state)
+        self.save(&NetworkState { version: VERSION, config: Some(config.clone()), ..NetworkState::default() })
     }
 
     /// The configuration the saved state was made with (the default one without a state).
@@ -270,9 +251,8 @@ impl StateFile {
     /// Forget the saved state: the next use starts with the demo network as built.
     pub fn reset(&self) -> Result<()> {
         match std::fs::remove_file(&self.path) {
-            Ok(()) => Ok(()),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-            Err(e) => Err(link_err(&self.path, "cannot remove", e)),
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(link_err(&self.path, "cannot remove", e)),
+            _ => Ok(()),
         }
     }
 }

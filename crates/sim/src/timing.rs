@@ -98,11 +98,6 @@ impl Profile {
         }
     }
 
-    /// Whether each frame occupies the bus for its frame time at the bit rate.
-    pub(crate) fn bus_timing(self) -> bool {
-        self != Profile::Instant
-    }
-
     /// The answer time of one device: drawn once per device, from its own generator.
     pub(crate) fn device_latency(self, rng: &mut Rng) -> Latency {
         let ((lo, hi), jitter) = self.latency();
@@ -119,12 +114,10 @@ impl fmt::Display for Profile {
 impl FromStr for Profile {
     type Err = String;
     fn from_str(s: &str) -> Result<Profile, String> {
-        match s {
-            "instant" => Ok(Profile::Instant),
-            "typical" => Ok(Profile::Typical),
-            "slow" => Ok(Profile::Slow),
-            _ => Err(format!("'{s}' is not a sim profile: use instant, typical or slow")),
-        }
+        let all = [Profile::Instant, Profile::Typical, Profile::Slow];
+        all.into_iter()
+            .find(|p| p.to_string() == s)
+            .ok_or_else(|| format!("'{s}' is not a sim profile: use instant, typical or slow"))
     }
 }
 
@@ -150,11 +143,8 @@ pub fn bits_per_second(index: u8) -> Option<u64> {
 fn crc15(bits: &[bool]) -> u16 {
     let mut crc: u16 = 0;
     for &b in bits {
-        let next = b ^ (crc >> 14 & 1 == 1);
-        crc = (crc << 1) & 0x7FFF;
-        if next {
-            crc ^= 0x4599;
-        }
+        let divide = b ^ (crc >> 14 & 1 == 1);
+        crc = ((crc << 1) & 0x7FFF) ^ if divide { 0x4599 } else { 0 };
     }
     crc
 }
@@ -162,15 +152,10 @@ fn crc15(bits: &[bool]) -> u16 {
 /// Stuff bits the transmitter inserts: after five equal bits, one of the other value,
 /// which itself starts the next run.
 fn stuff_bits(bits: &[bool]) -> u32 {
-    let mut count = 0;
-    let (mut last, mut run) = (None, 0);
+    let (mut count, mut last, mut run) = (0, None, 0);
     for &b in bits {
-        if Some(b) == last {
-            run += 1;
-        } else {
-            last = Some(b);
-            run = 1;
-        }
+        run = if Some(b) == last { run + 1 } else { 1 };
+        last = Some(b);
         if run == 5 {
             count += 1;
             last = Some(!b);
@@ -198,9 +183,6 @@ pub(crate) fn frame_bits(f: &Frame) -> u32 {
     bits.extend((0..15).rev().map(|i| crc >> i & 1 == 1));
     bits.len() as u32 + stuff_bits(&bits) + 1 + 2 + 7 + 3
 }
-
-#[cfg(test)]
-pub(crate) use crate::frame::worst_case_bits;
 
 /// How long `f` occupies the bus at `bps` bits per second.
 pub fn frame_time(f: &Frame, bps: u64) -> Nanos {
@@ -260,8 +242,8 @@ pub struct BusStats {
 /// first frames waiting when the bus frees, the lowest id wins arbitration.
 #[derive(Debug, Default)]
 pub(crate) struct BusQueue {
-    /// `None`: frames take no time.
-    bps: Option<u64>,
+    /// The bus's bit rate; `None`: frames take no time.
+    pub(crate) bps: Option<u64>,
     free_at: Nanos,
     /// Each sender's frames in the order they leave. Per sender, so that choosing the next
     /// frame looks at each sender's first frame only: a device that floods the bus keeps
@@ -270,25 +252,12 @@ pub(crate) struct BusQueue {
     queued: BTreeMap<Origin, BTreeMap<Order, Queued>>,
     babblers: Vec<Babbler>,
     seq: u64,
-    stats: BusStats,
+    pub(crate) stats: BusStats,
 }
 
 impl BusQueue {
     pub fn new(bps: Option<u64>) -> BusQueue {
         BusQueue { bps, ..BusQueue::default() }
-    }
-
-    pub(crate) fn set_bps(&mut self, bps: Option<u64>) {
-        self.bps = bps;
-    }
-
-    /// The bus's bit rate; `None`: frames take no time.
-    pub(crate) fn bps(&self) -> Option<u64> {
-        self.bps
-    }
-
-    pub(crate) fn stats(&self) -> BusStats {
-        self.stats
     }
 
     /// How many frames from this origin are waiting.
@@ -306,9 +275,8 @@ impl BusQueue {
     /// This device floods the bus with frames on `id` from `since` on (once told).
     pub fn babble(&mut self, device: usize, id: u16, since: Nanos) {
         if !self.babblers.iter().any(|b| b.device == device) {
-            let mut b = Babbler { device, id, next: since, count: 0, bits: 0 };
-            b.bits = frame_bits(&Self::babble_frame(&b));
-            self.babblers.push(b);
+            let bits = frame_bits(&Frame::new(id, &0u64.to_le_bytes()));
+            self.babblers.push(Babbler { device, id, next: since, count: 0, bits });
         }
     }
 
@@ -337,15 +305,10 @@ impl BusQueue {
         let queued = heads
             .filter(|(_, (ready, _), _)| *ready <= start)
             .map(|(origin, order, q)| ((q.frame.id(), 0, order.1), Next::Queued(origin, order), q.bits));
-        let babbling = self
-            .babblers
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| b.next <= start)
-            .map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), b.bits));
+        let ready_babblers = self.babblers.iter().enumerate().filter(|(_, b)| b.next <= start);
+        let babbling = ready_babblers.map(|(i, b)| ((b.id, 1, 0), Next::Babble(i), b.bits));
         let (_, next, bits) = queued.chain(babbling).min_by_key(|(key, _, _)| *key).expect("a ready frame");
-        let time = self.bps.map_or(0, |bps| bits as u64 * 1_000_000_000 / bps);
-        let end = start + time;
+        let end = start + self.bps.map_or(0, |bps| bits as u64 * 1_000_000_000 / bps);
         Some((next, start, end))
     }
 
@@ -387,6 +350,7 @@ impl BusQueue {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::worst_case_bits;
 
     #[test]
     fn crc15_of_a_single_one_bit_is_the_polynomial() {
@@ -511,7 +475,7 @@ mod tests {
         assert!(bus.pop_done(end - 1).is_none());
         let firsts: Vec<u8> = std::iter::from_fn(|| bus.pop_done(u64::MAX)).map(|(_, _, f)| f.data()[0]).collect();
         assert_eq!(firsts, [0, 1, 2]);
-        assert!(bus.stats().busy >= 3 * 111 * 8 * US);
+        assert!(bus.stats.busy >= 3 * 111 * 8 * US);
     }
 
     #[test]
@@ -528,7 +492,7 @@ mod tests {
         let ids: Vec<u16> = (0..200).map(|_| bus.pop_done(u64::MAX).unwrap().2.id()).collect();
         assert_eq!(ids.iter().filter(|id| **id == 0x605).count(), 1);
         // The bus never idles: frames back to back.
-        assert!(bus.stats().busy > 200 * 100 * US);
+        assert!(bus.stats.busy > 200 * 100 * US);
         // Untimed, a babbler still sends one frame per gap, not infinitely many.
         let mut untimed = BusQueue::new(None);
         untimed.babble(0, 0x080, 0);

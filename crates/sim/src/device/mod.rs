@@ -18,23 +18,19 @@ pub use objects::ObjectStore;
 /// The persistent part of a device, as the state file holds it: only what differs from
 /// the model's defaults, so a fresh model version still applies its own defaults.
 #[derive(serde::Serialize, serde::Deserialize, Default, Clone, Debug, PartialEq)]
+#[serde(default)]
 pub struct DeviceState {
     pub node_id: Option<u8>,
     pub nmt: Option<nmt::State>,
-    #[serde(default)]
     pub values: BTreeMap<String, String>,
-    #[serde(default)]
     pub stored: BTreeMap<String, String>,
-    #[serde(default)]
     pub bit_rate: Option<BitRates>,
-    #[serde(default)]
     pub fault: Fault,
     /// Left in LSS configuration state (by a master that went away without switching it
     /// back): it stays there, as hardware does until reset.
-    #[serde(default)]
     pub lss_configuration: bool,
     /// Resetting: silent until this ms of bus time, when it sends its boot-up.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub booting_until: Option<u64>,
 }
 
@@ -85,7 +81,6 @@ pub struct Fault {
     pub at: Option<u64>,
     pub active: bool,
     /// A drive's fault reaction ends (fault reaction active → fault) at this wall-clock ms.
-    #[serde(default)]
     pub reaction_until: Option<u64>,
 }
 
@@ -103,19 +98,27 @@ struct Tpdo {
     map: Vec<(ObjAddr, u8)>,
 }
 
+impl Tpdo {
+    /// Valid and event-driven (transmission type 254/255).
+    fn on_event(&self) -> bool {
+        self.valid && self.transmission >= 254
+    }
+}
+
 impl Device {
     pub fn new(model: Model, node_id: Option<u8>, bit_rate: u8) -> Device {
         let mut od = ObjectStore {
             dict: model.dict,
             node_id: node_id.unwrap_or(0),
-            values: BTreeMap::new(),
-            stored: BTreeMap::new(),
             ignored_writes: model.ignored_writes,
-            dirty: false,
             drive: model.drive.map(Drive::new),
+            ..ObjectStore::default()
         };
-        if model.epos2_bit_rate {
-            commissioned_bit_rate(&mut od, bit_rate);
+        // An EPOS2 on a bus was set up for it: 0x2001, which it reads at power-on, saved with
+        // the code of the bit rate its controller runs at. Left at its default (1 Mbit/s) on a
+        // 500 kbit/s bus, it told a reader a rate the device could not be talking at.
+        if let Some(code) = crate::epos2::objects::bit_rate_code(bit_rate).filter(|_| model.epos2_bit_rate) {
+            od.stored.insert(crate::epos2::objects::CAN_BIT_RATE, code.to_le_bytes().to_vec());
         }
         od.reload(None);
         od.refresh_statusword();
@@ -214,9 +217,7 @@ impl Device {
         if f.id() == lss::MASTER_COB && !f.is_remote() {
             return self.lss_frame(f);
         }
-        let Some(id) = self.node_id else {
-            return vec![];
-        };
+        let Some(id) = self.node_id else { return vec![] };
         if let Some((cmd, target)) = Command::parse(f) {
             return if target == 0 || target == id { self.nmt_command(cmd, id) } else { vec![] };
         }
@@ -235,12 +236,11 @@ impl Device {
                     self.sdo = SdoServer::new(self.block_transfer);
                     self.booting_until = Some(self.clock_ms + super::bootloader::boot_ms(&self.od));
                 }
-                return answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+                return sdo_frames(id, &answers);
             }
             let fault_before = self.od.value(FAULT_OBJECT).map(|v| v.to_vec());
             let (state_before, status_before) = (self.od.drive_state(), self.od.u16_value(cia402::STATUSWORD));
-            let answers = self.sdo.handle(f.data(), &mut self.od);
-            let mut out: Vec<Frame> = answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect();
+            let mut out = sdo_frames(id, &self.sdo.handle(f.data(), &mut self.od));
             if self.od.value(FAULT_OBJECT).map(|v| v.to_vec()) != fault_before {
                 out.extend(self.arm_fault());
             }
@@ -265,7 +265,9 @@ impl Device {
                 return vec![self.tpdo_frame(&t)];
             }
         }
-        if f.is_remote() && f.id() == nmt::error_control_cob(id) && self.answers_guarding() {
+        // CiA 301: a node that produces heartbeats does not take part in node guarding.
+        let guarded = self.guarding && self.heartbeat_ms().is_none();
+        if f.is_remote() && f.id() == nmt::error_control_cob(id) && guarded {
             let answer = ErrorControl::State { state: self.nmt, toggle: self.guard_toggle };
             self.guard_toggle = !self.guard_toggle;
             return vec![answer.frame(id)];
@@ -279,6 +281,7 @@ impl Device {
         let (answer, event) = self.lss.handle(req, self.node_id.unwrap_or(UNCONFIGURED));
         self.od.dirty |= self.lss.state != before;
         let mut out: Vec<Frame> = answer.iter().map(|a| Frame::new(lss::SLAVE_COB, &a.encode())).collect();
+        self.od.dirty |= matches!(event, Some(SlaveEvent::BitTiming(_) | SlaveEvent::Store));
         match event {
             Some(SlaveEvent::NodeId(id)) => {
                 let new = (id != UNCONFIGURED).then_some(id);
@@ -286,10 +289,7 @@ impl Device {
                 self.node_id = new;
                 self.od.renumber(new.unwrap_or(0));
             }
-            Some(SlaveEvent::BitTiming(index)) => {
-                self.bit_rate.pending = Some(index);
-                self.od.dirty = true;
-            }
+            Some(SlaveEvent::BitTiming(index)) => self.bit_rate.pending = Some(index),
             // The switch delay is not simulated: the new rate holds from the next frame on.
             Some(SlaveEvent::Activate { .. }) => {
                 if let Some(p) = self.bit_rate.pending.take() {
@@ -297,10 +297,7 @@ impl Device {
                     self.od.dirty = true;
                 }
             }
-            Some(SlaveEvent::Store) => {
-                self.bit_rate.stored = self.bit_rate.pending.unwrap_or(self.bit_rate.active);
-                self.od.dirty = true;
-            }
+            Some(SlaveEvent::Store) => self.bit_rate.stored = self.bit_rate.pending.unwrap_or(self.bit_rate.active),
             Some(SlaveEvent::BackToWaiting) => {
                 if let (true, Some(id)) = (self.boot_pending, self.node_id) {
                     self.boot_pending = false;
@@ -331,9 +328,7 @@ impl Device {
                 vec![ErrorControl::BootUp.frame(id)]
             }
             _ => {
-                if before != self.nmt {
-                    self.od.dirty = true;
-                }
+                self.od.dirty |= before != self.nmt;
                 vec![]
             }
         }
@@ -358,36 +353,25 @@ impl Device {
     /// The event-driven TPDOs (transmission type 254/255) that carry the statusword,
     /// sent when it changes while operational.
     fn statusword_tpdos(&mut self) -> Vec<Frame> {
-        if self.nmt != nmt::State::Operational {
-            return vec![];
-        }
-        let carrying: Vec<Tpdo> = self
-            .tpdos()
-            .into_iter()
-            .filter(|t| t.valid && t.transmission >= 254 && t.map.iter().any(|(a, _)| *a == cia402::STATUSWORD))
-            .collect();
-        carrying.iter().map(|t| self.tpdo_frame(t)).collect()
+        let operational = self.nmt == nmt::State::Operational;
+        let carries = |t: &Tpdo| t.on_event() && t.map.iter().any(|(a, _)| *a == cia402::STATUSWORD);
+        let carrying = self.tpdos().into_iter().filter(|t| operational && carries(t));
+        carrying.map(|t| self.tpdo_frame(&t)).collect()
     }
 
     fn tpdos(&self) -> Vec<Tpdo> {
         (0..4u16)
             .filter_map(|n| {
                 let cob = self.od.u32_value(ObjAddr::new(0x1800 + n, 1))?;
-                let count = self.od.value(ObjAddr::new(0x1A00 + n, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
-                let map = (1..=count)
-                    .filter_map(|s| self.od.u32_value(ObjAddr::new(0x1A00 + n, s)))
-                    .map(crate::canopen::pdo::mapping_entry)
-                    .collect();
+                let count = self.od.u8_value(ObjAddr::new(0x1A00 + n, 0)).unwrap_or(0);
+                let entries = (1..=count).filter_map(|s| self.od.u32_value(ObjAddr::new(0x1A00 + n, s)));
+                let map = entries.map(crate::canopen::pdo::mapping_entry).collect();
                 Some(Tpdo {
                     n: n as usize,
                     cob: (cob & 0x7FF) as u16,
                     valid: cob & 0x8000_0000 == 0,
                     rtr: cob & 0x4000_0000 == 0,
-                    transmission: self
-                        .od
-                        .value(ObjAddr::new(0x1800 + n, 2))
-                        .and_then(|v| v.first().copied())
-                        .unwrap_or(255),
+                    transmission: self.od.u8_value(ObjAddr::new(0x1800 + n, 2)).unwrap_or(255),
                     event_ms: self.od.u16_value(ObjAddr::new(0x1800 + n, 5)).unwrap_or(0),
                     map,
                 })
@@ -395,23 +379,16 @@ impl Device {
             .collect()
     }
 
-    /// The sensor's measurements at this moment (zero while its magnet is lost).
-    fn update_process(&mut self) {
-        if !self.moving {
-            return;
-        }
-        let (position, speed) = if self.fault.active { (0, 0) } else { super::profiles::sensor_motion(self.clock_ms) };
-        self.od.values.insert(ObjAddr::new(0x6020, 1), position.to_le_bytes().to_vec());
-        self.od.values.insert(ObjAddr::new(0x6030, 1), speed.to_le_bytes().to_vec());
-    }
-
     fn tpdo_frame(&mut self, t: &Tpdo) -> Frame {
-        self.update_process();
-        let fields: Vec<(u8, Vec<u8>)> = t
-            .map
-            .iter()
-            .map(|(addr, bits)| (*bits, self.od.value(*addr).map(|v| v.to_vec()).unwrap_or_default()))
-            .collect();
+        if self.moving {
+            // The sensor's measurements at this moment (zero while its magnet is lost).
+            let (position, speed) =
+                if self.fault.active { (0, 0) } else { super::profiles::sensor_motion(self.clock_ms) };
+            self.od.values.insert(ObjAddr::new(0x6020, 1), position.to_le_bytes().to_vec());
+            self.od.values.insert(ObjAddr::new(0x6030, 1), speed.to_le_bytes().to_vec());
+        }
+        let value = |addr| self.od.value(addr).map(|v| v.to_vec()).unwrap_or_default();
+        let fields: Vec<(u8, Vec<u8>)> = t.map.iter().map(|(addr, bits)| (*bits, value(*addr))).collect();
         let mut payload = crate::canopen::pdo::encode(&fields);
         if self.pad_pdos {
             payload.resize(8, 0);
@@ -433,10 +410,7 @@ impl Device {
     }
 
     fn emcy(&self, code: u16, register: u8, vendor: [u8; 5]) -> Option<Frame> {
-        let cob = self.od.u32_value(ObjAddr::new(0x1014, 0))?;
-        if cob & 0x8000_0000 != 0 {
-            return None;
-        }
+        let cob = self.od.u32_value(ObjAddr::new(0x1014, 0)).filter(|c| c & 0x8000_0000 == 0)?;
         let e = crate::canopen::emcy::Emergency { code, register, vendor };
         Some(Frame::new((cob & 0x7FF) as u16, e.frame(0).data()))
     }
@@ -445,22 +419,17 @@ impl Device {
     fn arm_fault(&mut self) -> Vec<Frame> {
         let ms = self.od.u16_value(FAULT_OBJECT).unwrap_or(0);
         self.od.dirty = true;
-        if ms > 0 {
-            self.fault.at = Some(self.clock_ms + ms as u64);
-            return vec![];
-        }
-        self.fault.at = None;
-        if !self.fault.active {
+        self.fault.at = (ms > 0).then(|| self.clock_ms + ms as u64);
+        // Armed, or cleared with none active: nothing to report.
+        if ms > 0 || !std::mem::take(&mut self.fault.active) {
             return vec![];
         }
         if self.od.drive.is_some() {
             // A drive's fault stays latched until a fault reset, which reports it.
-            self.fault.active = false;
             self.sync_drive();
             return vec![];
         }
         // Seed 001 §8: repaired errors are reported with "error reset".
-        self.fault.active = false;
         self.od.values.insert(ObjAddr::new(0x1001, 0), vec![0]);
         self.emcy(0x0000, 0, [0; 5]).into_iter().collect()
     }
@@ -493,7 +462,7 @@ impl Device {
                 self.od.values.insert(ObjAddr::new(0x1003, sub), older);
             }
             self.od.values.insert(ObjAddr::new(0x1003, 1), e.history_entry().to_le_bytes().to_vec());
-            let count = self.od.value(ObjAddr::new(0x1003, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+            let count = self.od.u8_value(ObjAddr::new(0x1003, 0)).unwrap_or(0);
             self.od.values.insert(ObjAddr::new(0x1003, 0), vec![(count + 1).min(slots)]);
         }
         self.od.dirty = true;
@@ -507,20 +476,15 @@ impl Device {
     /// The next time this device sends something by itself, after `now` (wall-clock ms).
     pub(crate) fn next_event(&self, now: u64) -> Option<u64> {
         let id = self.node_id? as u64;
-        let mut next: Vec<u64> = Vec::new();
-        if let Some(p) = self.heartbeat_ms() {
-            next.push(super::last_beat(p, id, now) + p);
-        }
-        if self.nmt == nmt::State::Operational {
-            for t in self.tpdos().iter().filter(|t| t.valid && t.transmission >= 254 && t.event_ms > 0) {
-                let p = t.event_ms as u64;
-                next.push(super::last_beat(p, id, now) + p);
-            }
-        }
-        next.extend(self.fault.at);
-        next.extend(self.fault.reaction_until);
-        next.extend(self.booting_until);
-        next.into_iter().min()
+        let timed = self.timed_tpdos().into_iter().map(|t| t.event_ms as u64);
+        let beats = self.heartbeat_ms().into_iter().chain(timed).map(|p| super::last_beat(p, id, now) + p);
+        beats.chain(self.fault.at).chain(self.fault.reaction_until).chain(self.booting_until).min()
+    }
+
+    /// The TPDOs sent by their event timer: event-driven ones with a timer, while operational.
+    fn timed_tpdos(&self) -> Vec<Tpdo> {
+        let operational = self.nmt == nmt::State::Operational;
+        self.tpdos().into_iter().filter(|t| operational && t.on_event() && t.event_ms > 0).collect()
     }
 
     /// What this device sends by itself in `(after, upto]`, each frame with the ms it was
@@ -552,22 +516,15 @@ impl Device {
             out.extend(self.statusword_tpdos().into_iter().map(|f| (due, f)));
         }
         if let Some(p) = self.heartbeat_ms() {
-            let beat = self.heartbeat_frame();
-            out.extend(due_times(p, id as u64, after, upto).flat_map(|t| beat.map(|f| (t, f))));
+            let beat = ErrorControl::State { state: self.nmt, toggle: false }.frame(id);
+            out.extend(due_times(p, id as u64, after, upto).map(|t| (t, beat)));
         }
-        if self.nmt == nmt::State::Operational {
-            for t in self.tpdos().into_iter().filter(|t| t.valid && t.transmission >= 254 && t.event_ms > 0) {
-                for due in due_times(t.event_ms as u64, id as u64, after, upto).collect::<Vec<_>>() {
-                    out.push((due, self.tpdo_frame(&t)));
-                }
+        for t in self.timed_tpdos() {
+            for due in due_times(t.event_ms as u64, id as u64, after, upto) {
+                out.push((due, self.tpdo_frame(&t)));
             }
         }
         out
-    }
-
-    /// CiA 301: a node that produces heartbeats does not take part in node guarding.
-    fn answers_guarding(&self) -> bool {
-        self.guarding && self.heartbeat_ms().is_none()
     }
 
     pub fn heartbeat_ms(&self) -> Option<u64> {
@@ -575,25 +532,16 @@ impl Device {
         self.od.u16_value(ObjAddr::new(0x1017, 0)).filter(|t| *t > 0).map(u64::from)
     }
 
-    pub(crate) fn heartbeat_frame(&self) -> Option<Frame> {
-        let id = self.node_id?;
-        Some(ErrorControl::State { state: self.nmt, toggle: false }.frame(id))
-    }
-
     pub fn snapshot(&self) -> DeviceState {
         // A reset would bring back the stored value, else the default: save what differs.
         let baseline = |a: &ObjAddr| self.od.stored.get(a).cloned().unwrap_or_else(|| self.od.default_of(*a));
-        let hex_map = |m: &BTreeMap<ObjAddr, Vec<u8>>, only_changed: bool| {
-            m.iter()
-                .filter(|(a, v)| !only_changed || **v != baseline(a))
-                .map(|(a, v)| (format!("{:04X}:{}", a.index, a.sub), crate::canopen::types::hex(v)))
-                .collect()
-        };
+        let entry =
+            |(a, v): (&ObjAddr, &Vec<u8>)| (format!("{:04X}:{}", a.index, a.sub), crate::canopen::types::hex(v));
         DeviceState {
             node_id: self.node_id,
             nmt: Some(self.nmt),
-            values: hex_map(&self.od.values, true),
-            stored: hex_map(&self.od.stored, false),
+            values: self.od.values.iter().filter(|(a, v)| **v != baseline(a)).map(entry).collect(),
+            stored: self.od.stored.iter().map(entry).collect(),
             bit_rate: Some(self.bit_rate),
             fault: self.fault,
             lss_configuration: self.lss.state == lss::SlaveState::Configuration,
@@ -603,15 +551,11 @@ impl Device {
 
     /// Apply a saved state; entries that no longer fit the model are dropped.
     pub fn restore(&mut self, s: &DeviceState) {
-        if s.node_id != self.node_id {
-            self.node_id = s.node_id;
-            self.od.node_id = s.node_id.unwrap_or(0);
-            self.od.reload(None);
-        }
+        // The values follow the node-id (the reload below).
+        self.node_id = s.node_id;
+        self.od.node_id = s.node_id.unwrap_or(0);
         self.nmt = s.nmt.unwrap_or(nmt::State::PreOperational);
-        if let Some(b) = s.bit_rate {
-            self.bit_rate = b;
-        }
+        self.bit_rate = s.bit_rate.unwrap_or(self.bit_rate);
         self.fault = s.fault;
         self.booting_until = s.booting_until;
         if s.lss_configuration {
@@ -632,14 +576,9 @@ impl Device {
     }
 }
 
-/// An EPOS2 on a bus was set up for it: 0x2001, which it reads at power-on, saved with the
-/// code of the bit rate its controller runs at (`cia_index`). Left at its default (1 Mbit/s)
-/// on a 500 kbit/s bus, it told a reader a rate the device could not be talking at.
-fn commissioned_bit_rate(od: &mut ObjectStore, cia_index: u8) {
-    use crate::epos2::objects::{bit_rate_code, CAN_BIT_RATE};
-    if let Some(code) = bit_rate_code(cia_index) {
-        od.stored.insert(CAN_BIT_RATE, code.to_le_bytes().to_vec());
-    }
+/// An SDO server's answers as frames from node `id`.
+pub(crate) fn sdo_frames(id: u8, answers: &[[u8; 8]]) -> Vec<Frame> {
+    answers.iter().map(|p| Frame::new(sdo::response_cob(id), p)).collect()
 }
 
 /// The most frames of one kind a device has waiting after a master stopped polling.

@@ -7,10 +7,8 @@ use super::*;
 pub(super) const MAPPING_OBJECT_UNMAPPABLE: u32 = 0x0604_0041;
 pub(super) const MAPPING_TOO_LONG: u32 = 0x0604_0042;
 
-pub(super) const SAVE: &[u8] = b"save";
-pub(super) const LOAD: &[u8] = b"load";
-
 /// The values of a device's dictionary, with the CiA 301 store/restore behaviour.
+#[derive(Default)]
 pub struct ObjectStore {
     pub(super) dict: Dictionary,
     pub(super) node_id: u8,
@@ -44,31 +42,31 @@ impl ObjectStore {
         self.dict.get(addr).ok_or(if self.dict.has_index(addr.index) { abort::NO_SUBINDEX } else { abort::NO_OBJECT })
     }
 
-    pub(super) fn classes_for(sub: u8) -> Vec<ParamClass> {
-        match sub {
-            1 => vec![ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer],
-            s => [ParamClass::Communication, ParamClass::Application, ParamClass::Manufacturer]
-                .into_iter()
-                .filter(|c| c.subindex() == s)
-                .collect(),
-        }
+    /// Whether 0x1010/0x1011 sub `sub` stands for the object at `index` (sub 1: every class).
+    fn covers(sub: u8, index: u16) -> bool {
+        ParamClass::of(index).is_some_and(|c| sub == 1 || c.subindex() == sub)
     }
 
-    pub(super) fn store(&mut self, sub: u8) {
-        let classes = Self::classes_for(sub);
-        for e in self.dict.entries().filter(|e| e.access.writable()) {
-            if ParamClass::of(e.addr.index).is_some_and(|c| classes.contains(&c)) {
-                self.stored.insert(e.addr, self.values[&e.addr].clone());
-            }
+    /// CiA 301 0x1010: saves the parameters of sub's classes, on the signature "save".
+    pub(super) fn store(&mut self, sub: u8, signature: &[u8]) -> Result<(), u32> {
+        if signature != b"save" {
+            return Err(abort::CANNOT_STORE);
+        }
+        for e in self.dict.entries().filter(|e| e.access.writable() && Self::covers(sub, e.addr.index)) {
+            self.stored.insert(e.addr, self.values[&e.addr].clone());
         }
         self.dirty = true;
+        Ok(())
     }
 
-    /// CiA 301: after 'load' the defaults apply from the next reset on.
-    pub(super) fn restore(&mut self, sub: u8) {
-        let classes = Self::classes_for(sub);
-        self.stored.retain(|a, _| !ParamClass::of(a.index).is_some_and(|c| classes.contains(&c)));
+    /// CiA 301 0x1011, on the signature "load": the defaults apply from the next reset on.
+    pub(super) fn restore(&mut self, sub: u8, signature: &[u8]) -> Result<(), u32> {
+        if signature != b"load" {
+            return Err(abort::CANNOT_STORE);
+        }
+        self.stored.retain(|a, _| !Self::covers(sub, a.index));
         self.dirty = true;
+        Ok(())
     }
 
     pub fn value(&self, addr: ObjAddr) -> Option<&[u8]> {
@@ -87,13 +85,11 @@ impl ObjectStore {
     /// connection set; values still at their node-id-based default follow it.
     pub(super) fn renumber(&mut self, new_id: u8) {
         let old_id = self.node_id;
-        for e in self.dict.entries() {
-            if let crate::od::Init::NodeIdPlus(_) = e.default {
-                let (old, new) = (e.default_for(old_id), e.default_for(new_id));
-                for map in [&mut self.values, &mut self.stored] {
-                    if map.get(&e.addr) == Some(&old) {
-                        map.insert(e.addr, new.clone());
-                    }
+        for e in self.dict.entries().filter(|e| matches!(e.default, crate::od::Init::NodeIdPlus(_))) {
+            let (old, new) = (e.default_for(old_id), e.default_for(new_id));
+            for map in [&mut self.values, &mut self.stored] {
+                if map.get(&e.addr) == Some(&old) {
+                    map.insert(e.addr, new.clone());
                 }
             }
         }
@@ -120,7 +116,12 @@ impl ObjectStore {
         Ok(())
     }
 
-    pub(super) fn u32_value(&self, addr: ObjAddr) -> Option<u32> {
+    /// The first byte of a value (a count, a switch).
+    pub(crate) fn u8_value(&self, addr: ObjAddr) -> Option<u8> {
+        self.value(addr).and_then(|v| v.first().copied())
+    }
+
+    pub(crate) fn u32_value(&self, addr: ObjAddr) -> Option<u32> {
         self.value(addr).and_then(|v| v.try_into().ok()).map(u32::from_le_bytes)
     }
 
@@ -131,11 +132,8 @@ impl ObjectStore {
     /// The CiA 402 state a drive's statusword shows (None on a device that is no drive).
     pub fn drive_state(&self) -> Option<DriveState> {
         self.drive?;
-        Some(
-            self.u16_value(cia402::STATUSWORD)
-                .and_then(DriveState::from_statusword)
-                .unwrap_or(DriveState::SwitchOnDisabled),
-        )
+        let shown = self.u16_value(cia402::STATUSWORD).and_then(DriveState::from_statusword);
+        Some(shown.unwrap_or(DriveState::SwitchOnDisabled))
     }
 
     pub(super) fn set_drive_state(&mut self, state: DriveState) {
@@ -201,25 +199,13 @@ impl ObjectAccess for ObjectStore {
         }
         match addr.index {
             // The signatures trigger the action; the entry itself keeps reading its capability.
-            0x1010 if addr.sub >= 1 => {
-                if data != SAVE {
-                    return Err(abort::CANNOT_STORE);
-                }
-                self.store(addr.sub);
-                return Ok(());
-            }
-            0x1011 if addr.sub >= 1 => {
-                if data != LOAD {
-                    return Err(abort::CANNOT_STORE);
-                }
-                self.restore(addr.sub);
-                return Ok(());
-            }
+            0x1010 if addr.sub >= 1 => return self.store(addr.sub, data),
+            0x1011 if addr.sub >= 1 => return self.restore(addr.sub, data),
             // CiA 301 dynamic PDO mapping: the mapping of a valid PDO stays as it is, and
             // its entries change only while the count in sub 0 is 0.
             0x1600..=0x17FF | 0x1A00..=0x1BFF => {
                 let valid = self.u32_value(ObjAddr::new(addr.index - 0x200, 1)).is_some_and(|c| c & 0x8000_0000 == 0);
-                let count = self.value(ObjAddr::new(addr.index, 0)).and_then(|v| v.first().copied()).unwrap_or(0);
+                let count = self.u8_value(ObjAddr::new(addr.index, 0)).unwrap_or(0);
                 if valid || (addr.sub > 0 && count != 0) {
                     return Err(abort::WRONG_STATE);
                 }
@@ -240,11 +226,8 @@ impl ObjectAccess for ObjectStore {
                 if data != [0] {
                     return Err(abort::INVALID_VALUE);
                 }
-                let subs: Vec<ObjAddr> =
-                    self.values.keys().filter(|a| a.index == 0x1003 && a.sub > 0).copied().collect();
-                for a in subs {
-                    self.values.insert(a, vec![0; 4]);
-                }
+                let fields = self.values.range_mut(ObjAddr::new(0x1003, 1)..=ObjAddr::new(0x1003, 255));
+                fields.for_each(|(_, v)| *v = vec![0; 4]);
             }
             _ => {}
         }
