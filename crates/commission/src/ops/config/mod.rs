@@ -2,7 +2,9 @@
 //! ([`diff`]), and made to match one ([`apply`]) — writing only what differs, in a safe
 //! order, with what happened to each object in the report.
 
-use super::{as_text, le_u32, sized, Progress};
+use super::progress::Progress;
+use super::sdo_options::sized;
+use super::values::le_u32;
 use crate::bus::{Bus, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::{abort, DataType, ObjAddr};
@@ -10,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::od::eds::{self, Eds, Header};
 use crate::od::xdd;
 use crate::od::{builtin, names, Dictionary, Entry, Init};
-use crate::ops::Notice;
+use crate::ops::event::Notice;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -29,7 +31,7 @@ impl Dcf {
     pub fn identity(&self) -> (u32, u32) {
         let part = |key: &str, addr: ObjAddr| {
             let from_value = || match self.eds.values.get(&addr) {
-                Some(crate::od::Init::Bytes(b)) => Some(super::le_u32(b)),
+                Some(crate::od::Init::Bytes(b)) => Some(super::values::le_u32(b)),
                 _ => None,
             };
             self.info_number(key).filter(|v| *v != 0).or_else(from_value).unwrap_or(0)
@@ -106,7 +108,7 @@ fn show(entry: &Entry, bytes: &[u8]) -> String {
 }
 
 fn opts(timeout: Duration, dtype: DataType) -> SdoOptions {
-    SdoOptions { max_upload: super::upload_limit(Some(dtype)), ..sized(timeout, dtype.size()) }
+    SdoOptions { max_upload: super::sdo_options::upload_limit(Some(dtype)), ..sized(timeout, dtype.size()) }
 }
 
 fn read_one(bus: &mut dyn Bus, node: u8, e: &Entry, timeout: Duration) -> Result<Vec<u8>> {
@@ -290,20 +292,6 @@ fn is_zero(n: &usize) -> bool {
     *n == 0
 }
 
-/// One object whose value on the device is not the file's.
-#[derive(Debug, Serialize)]
-pub struct Difference {
-    /// The object.
-    #[serde(serialize_with = "as_text")]
-    pub object: ObjAddr,
-    /// Its name in the file.
-    pub name: String,
-    /// The device's value, or why it has none.
-    pub device: String,
-    /// The file's value, as the file writes it.
-    pub file: String,
-}
-
 impl Diff {
     /// The verdict (exit 6) when anything differs; interrupted, the interruption.
     pub fn check(&self) -> Result<(), crate::ops::unmet::Shortfall> {
@@ -422,7 +410,9 @@ pub(crate) fn plan(changes: &BTreeMap<ObjAddr, Vec<u8>>, current: &dyn Fn(ObjAdd
 }
 
 mod apply;
+pub(crate) mod report;
 pub use apply::*;
+pub use report::{Action, Change, CutWrites, Difference, Fix, Incomplete, LeftIn, Outcome, ReadBack};
 
 #[cfg(test)]
 mod tests {

@@ -86,7 +86,7 @@ pub(super) fn fastscan_steps(given: [Option<u32>; 4]) -> u64 {
 /// Find the identity of one device without a node-id, bit by bit. The device found is
 /// sent back to waiting state, unchanged.
 pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &Cancel) -> Result<Found> {
-    fastscan_shown(bus, o, interrupted, &mut crate::ops::Silent)
+    fastscan_shown(bus, o, interrupted, &mut crate::ops::progress::Silent)
 }
 
 /// [`fastscan`], each request a step on `progress` (the search takes 13 s on slow devices).

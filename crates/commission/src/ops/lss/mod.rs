@@ -4,14 +4,15 @@
 //! answers no other master's services by mistake. The request sequences themselves are
 //! [`LssMaster`]'s; an interruption is a flag, checked between steps.
 
-use super::{sized, Progress};
+use super::progress::Progress;
+use super::sdo_options::sized;
 use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::cancel::Cancel;
 use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};
 use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
-use crate::ops::Notice;
+use crate::ops::event::Notice;
 use serde::ser::SerializeMap;
 use serde::Serialize;
 use std::collections::BTreeSet;

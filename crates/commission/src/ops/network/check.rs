@@ -56,20 +56,6 @@ pub(super) fn unlisted(found: &BTreeMap<u8, Option<u32>>, loaded: &Loaded) -> Ve
         .collect()
 }
 
-/// One listed node and its checks.
-#[derive(Debug, Serialize)]
-#[non_exhaustive]
-pub struct NodeCheck {
-    /// The node-id.
-    pub node: u8,
-    /// Its name (`NodeXName`, else the DCF's product name, else empty).
-    pub name: String,
-    /// Its DCF, as the project names it; none when it names none.
-    pub file: Option<String>,
-    /// Each check and its verdict.
-    pub checks: Vec<Verdict>,
-}
-
 pub use crate::ops::verdict::{Finding, Verdict};
 
 /// A node that answered but the project does not list.

@@ -62,7 +62,7 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
             Some(crate::od::Init::Bytes(b)) => Some(b),
             _ => None,
         };
-        let serial = bytes_of(ObjAddr::SERIAL_NUMBER).map(|b| crate::ops::le_u32(b));
+        let serial = bytes_of(ObjAddr::SERIAL_NUMBER).map(|b| crate::ops::values::le_u32(b));
         let name = bytes_of(ObjAddr::DEVICE_NAME)
             .map_or(String::new(), |b| String::from_utf8_lossy(b).trim_end_matches('\0').to_string());
         let node_name = (!name.is_empty()).then(|| name.clone());

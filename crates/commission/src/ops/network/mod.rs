@@ -1,10 +1,11 @@
 //! A whole network from one CiA 306-3 project (`nodelist.cpj` plus one DCF per node):
 //! [`dump`] a live bus into one, [`check`] a bus against one, [`apply`] one to a bus.
 
+use super::back;
 use super::config::{self, Dcf};
 pub use super::lss::LssTally;
+use super::progress::{ItemEnd, Progress};
 use super::project_files::{check_inside, folder_of};
-use super::{back, ItemEnd, Progress};
 use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait};
 use crate::cancel::Cancel;
@@ -142,11 +143,13 @@ mod baud;
 mod check;
 mod dump;
 mod parallel;
+pub(crate) mod report;
 
 pub use apply::*;
 pub use baud::*;
 pub use check::*;
 pub use dump::*;
+pub use report::{NodeApplied, NodeCheck, NodeResult, Outcome};
 
 #[cfg(test)]
 mod tests {

@@ -4,7 +4,7 @@
 use super::*;
 use crate::bus::SdoJob;
 use crate::ops::in_parallel::{self, Serve, Watch};
-use crate::ops::ItemStatus;
+use crate::ops::progress::ItemStatus;
 
 /// The progress of each node, and when to begin no more.
 struct Bars<'a> {
