@@ -1,7 +1,18 @@
 //! `config apply`: a node made to match a DCF, writing only what differs, PDOs in the
 //! CiA 301 order, rolled back when a change of one stops half-way.
 
-use super::*;
+use crate::bus::{Bus, SdoOptions};
+use crate::cancel::Cancel;
+use crate::canopen::{abort, DataType, ObjAddr};
+use crate::error::{Error, Result};
+use crate::od::{builtin, names, Dictionary, Entry};
+use serde::Serialize;
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Duration;
+
+use super::dcf::{identity_differences, node_dictionary, opts, out_of_range, read_one, show, Dcf};
+use super::order::{pdo_indices, plan, Step};
+use super::report::{Action, Change, CutWrites, Fix, Incomplete, LeftIn, Outcome, ReadBack};
 use crate::error::Advice;
 use crate::ops::failure::Failure;
 

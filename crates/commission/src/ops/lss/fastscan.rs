@@ -1,7 +1,16 @@
 //! Fastscan (CiA 305): find one device without a node-id by its identity, bit by bit, at a
 //! pace measured from the bus.
 
-use super::*;
+use crate::bus::lss::LssMaster;
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::canopen::lss::{FastscanError, Pace};
+use crate::error::{Error, Result};
+use crate::ops::progress::Progress;
+use serde::Serialize;
+use std::time::Duration;
+
+use super::identified::Identified;
 
 /// How fastscan paces itself, and what it already knows.
 #[derive(Clone, Debug)]

@@ -1,6 +1,21 @@
 //! `network apply`: every listed node brought to its DCF, node-ids over LSS first.
 
-use super::*;
+use crate::bus::lss::LssMaster;
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::canopen::lss::{Identity, Request};
+use crate::error::{Error, Result, Service};
+use crate::ops::back;
+use crate::ops::config;
+use crate::ops::progress::{ItemEnd, Progress};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+use super::check::{matches, unlisted, Unlisted};
+use super::parallel::{self, node_label, End};
+use super::project::{probe, Listed, Loaded};
+use super::report::{NodeApplied, NodeCheck, NodeResult, Outcome};
 use crate::ops::unmet::{NetworkDifference, Shortfall, Unmet};
 
 /// How to apply a project.
@@ -271,11 +286,6 @@ pub fn apply(bus: &mut dyn Bus, loaded: &Loaded, o: &ApplyOptions, progress: &mu
     })
 }
 
-/// How a node's procedure ended, for its progress bar.
-pub(super) trait End {
-    fn end(&self) -> ItemEnd<'_>;
-}
-
 impl End for NodeOutcome {
     fn end(&self) -> ItemEnd<'_> {
         ItemEnd::Applied(&self.0)
@@ -286,10 +296,6 @@ impl End for Result<NodeCheck> {
     fn end(&self) -> ItemEnd<'_> {
         ItemEnd::Checked(self)
     }
-}
-
-pub(super) fn node_label(node: u8) -> String {
-    format!("node {node}")
 }
 
 /// NMT reset `nodes`, then wait until each is back (`ops::back`): whether each came back

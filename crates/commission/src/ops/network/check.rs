@@ -1,6 +1,18 @@
 //! `network check`: the bus against the project, node by node.
 
-use super::*;
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use crate::ops::config::{self, Dcf};
+use crate::ops::progress::Progress;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+use super::parallel;
+use super::project::{probe, Loaded};
+use super::report::NodeCheck;
 use crate::ops::unmet::{NetworkDifference, Unmet};
 use crate::ops::verdict::Remedy;
 

@@ -1,6 +1,18 @@
 //! `network dump`: every node of the bus into a DCF, and the project that lists them.
 
-use super::*;
+use crate::bus::Bus;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use crate::od::cpj::{self, Commissioning, Project};
+use crate::ops::config::{self, Dcf};
+use crate::ops::progress::Progress;
+use crate::ops::project_files::check_inside;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Duration;
+
+use super::project::probe;
+use crate::ops::project_files::PROJECT_FILE;
 
 /// What `dump` read: the files of a project, to be written into one folder.
 #[derive(Debug, Serialize)]
