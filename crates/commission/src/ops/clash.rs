@@ -168,10 +168,14 @@ pub(crate) fn find_after(
 fn identity_changes(bus: &mut dyn Bus, nodes: &[u8], timeout: Duration) -> Result<Vec<Clash>> {
     let reads: Vec<(u8, ObjAddr)> =
         nodes.iter().flat_map(|n| [(*n, ObjAddr::SERIAL_NUMBER), (*n, ObjAddr::SERIAL_NUMBER)]).collect();
-    let values = bus.sdo_upload_many(&reads, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?;
+    let values = bus.sdo_upload_many(
+        &reads,
+        &super::sdo_options::capped(timeout, super::sdo_options::NUMBER_LIMIT),
+        &mut |_| {},
+    )?;
     let mut seen: BTreeMap<u8, Vec<u32>> = BTreeMap::new();
     for ((n, _), v) in reads.iter().zip(values) {
-        if let Some(s) = v.ok().filter(|b| b.len() >= 4).map(|b| super::le_u32(&b)) {
+        if let Some(s) = v.ok().filter(|b| b.len() >= 4).map(|b| super::values::le_u32(&b)) {
             let values = seen.entry(*n).or_default();
             if !values.contains(&s) {
                 values.push(s);

@@ -1,7 +1,7 @@
 //! A bus that counts the SDO transfers made through it and tells a [`Progress`] as they
 //! go: a long procedure on one node shows that it is moving without reporting steps.
 
-use super::{ItemStatus, Progress};
+use super::progress::{ItemStatus, Progress};
 use crate::bus::tap::{AfterSdo, Transfer};
 use crate::bus::Bus;
 

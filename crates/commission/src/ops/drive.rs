@@ -4,7 +4,7 @@
 //! writes a target or starts a motion.
 
 use super::node::{optional, Node};
-use super::sized;
+use super::sdo_options::sized;
 use crate::bus::Bus;
 use crate::cancel::Cancel;
 use crate::canopen::cia402::{self, Command, Goal, State, Step};
@@ -48,7 +48,7 @@ pub struct Mode {
     /// Its name; none for a code CiA 402 does not define (manufacturer modes are negative).
     pub name: Option<&'static str>,
     /// The object it was read from: 0x6061 (display), or 0x6060 on a drive without it.
-    #[serde(serialize_with = "super::as_text")]
+    #[serde(serialize_with = "super::values::as_text")]
     pub from: ObjAddr,
 }
 
@@ -466,11 +466,12 @@ impl Watch {
 /// the statusword's bit offset in it.
 fn statusword_tpdo(bus: &mut dyn Bus, node: u8, timeout: Duration) -> Result<Option<(usize, pdo::Layout)>> {
     let dict = crate::od::Dictionary::default();
-    let layouts = match super::pdo::read_layouts(bus, node, &dict, &[1, 2, 3, 4], true, timeout, &mut super::Silent) {
-        Ok(l) => l,
-        Err(Error::NoValidTpdo { .. }) => return Ok(None),
-        Err(e) => return Err(e),
-    };
+    let layouts =
+        match super::pdo::read_layouts(bus, node, &dict, &[1, 2, 3, 4], true, timeout, &mut super::progress::Silent) {
+            Ok(l) => l,
+            Err(Error::NoValidTpdo { .. }) => return Ok(None),
+            Err(e) => return Err(e),
+        };
     Ok(layouts.into_iter().find_map(|(_, l)| Some((statusword_offset(&l)?, l))))
 }
 

@@ -2,7 +2,8 @@
 //! each entry with what it means; and clearing it (writing 0 to 0x1003:0).
 
 use super::node::{self, Node, HISTORY_COUNT};
-use super::{le_u32, sized};
+use super::sdo_options::sized;
+use super::values::le_u32;
 use crate::bus::{Bus, SdoOptions};
 use crate::canopen::emcy::{self, Origin};
 use crate::canopen::{DataType, ObjAddr};

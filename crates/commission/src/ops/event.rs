@@ -1,9 +1,11 @@
 //! What a procedure tells a person while it runs, beside its progress: typed events, so
 //! that the procedure decides *what* happened and the front end (`output/events.rs` for the
 //! command line) decides how to say it. They reach the caller through
-//! [`Progress::event`](super::Progress::event), the one observer of a procedure.
+//! [`Progress::event`](super::progress::Progress::event), the one observer of a procedure.
 
+use super::nmt::StateFrom;
 use crate::canopen::lss::Identity;
+use crate::canopen::nmt::State;
 use crate::canopen::ObjAddr;
 use std::time::Duration;
 
@@ -101,7 +103,7 @@ pub enum Notice {
         /// How long it has been silent.
         after: Duration,
         /// Why it may be, as the procedure found it.
-        why: Vec<super::silence::Silence>,
+        why: Vec<Silence>,
     },
     /// A device found over LSS was given a node-id.
     Assigned {
@@ -122,4 +124,52 @@ impl From<Notice> for Event {
     fn from(n: Notice) -> Event {
         Event::Notice(n)
     }
+}
+
+/// Why a stream may hear nothing from its node, for the front end to say.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Silence {
+    /// The node is not operational (`state`, learned by `source`): it sends no PDO; the
+    /// stream can start it.
+    NotOperational {
+        /// The node-id.
+        node: u8,
+        /// Its state.
+        state: State,
+        /// How the state was learned.
+        source: StateFrom,
+    },
+    /// The node's state could not be learned: it may not be operational.
+    StateUnknown {
+        /// The node-id.
+        node: u8,
+    },
+    /// A synchronous TPDO (transmission type `kind`) and no SYNC sent: it waits for SYNC.
+    WaitsForSync {
+        /// The TPDO's number (1 for TPDO1).
+        pdo: u16,
+        /// Its transmission type.
+        kind: u8,
+    },
+    /// A TPDO sent only on request (RTR, transmission type 252 or 253).
+    OnRequest {
+        /// The TPDO's number (1 for TPDO1).
+        pdo: u16,
+        /// Its transmission type.
+        kind: u8,
+    },
+    /// An event-driven TPDO (254 or 255) with SYNC sent: SYNC does not make it send.
+    SyncDoesNotDrive {
+        /// The TPDO's number (1 for TPDO1).
+        pdo: u16,
+        /// Its transmission type.
+        kind: u8,
+    },
+    /// An event-driven TPDO without an event timer: it sends when its values change.
+    NoEventTimer {
+        /// The TPDO's number (1 for TPDO1).
+        pdo: u16,
+    },
+    /// Nothing found against it: the node may have nothing to say.
+    NothingFound,
 }

@@ -5,9 +5,10 @@
 
 use super::doctor::{self, Evidence};
 use super::node::HISTORY_COUNT;
+use super::progress::Progress;
 use super::scan::{self, ScanOptions};
+use super::values::le_u32;
 use super::verdict::Remedy;
-use super::{le_u32, Progress};
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, Emergency, Origin};
 use crate::canopen::nmt::{self, ErrorControl};
@@ -249,8 +250,13 @@ fn read_objects(bus: &mut dyn Bus, found: &[scan::Node], timeout: Duration) -> R
         read.chain(is_drive(n).then_some(cia402::STATUSWORD)).map(move |addr| (node, addr))
     };
     let requests: Vec<(u8, ObjAddr)> = found.iter().filter(|n| n.answers_sdo).flat_map(objects).collect();
-    let mut answers =
-        bus.sdo_upload_many(&requests, &super::capped(timeout, super::NUMBER_LIMIT), &mut |_| {})?.into_iter();
+    let mut answers = bus
+        .sdo_upload_many(
+            &requests,
+            &super::sdo_options::capped(timeout, super::sdo_options::NUMBER_LIMIT),
+            &mut |_| {},
+        )?
+        .into_iter();
     let mut next = || answers.next().expect("one answer per request");
     let mut read = |n: &scan::Node| {
         let (register, history, emcy_cob) = (next(), next(), next());

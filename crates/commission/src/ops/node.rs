@@ -2,7 +2,7 @@
 //! lack, its identity (0x1018), its NMT state and its error history (0x1003). Each of these
 //! is learnt here and nowhere else, so that every command reads them the same way.
 
-use super::sized;
+use super::sdo_options::sized;
 use crate::bus::Bus;
 use crate::canopen::emcy::{self, HistoryEntry, Origin, Source};
 use crate::canopen::lss;
@@ -147,7 +147,9 @@ impl<'a> Node<'a> {
         let mut field = ErrorField { count, entries: Vec::new(), unreadable: Vec::new() };
         for ((_, addr), value) in subs.iter().zip(values) {
             match value {
-                Ok(b) if b.len() >= 4 => field.entries.push(LoggedError::new(addr.sub, super::le_u32(&b), origin)),
+                Ok(b) if b.len() >= 4 => {
+                    field.entries.push(LoggedError::new(addr.sub, super::values::le_u32(&b), origin))
+                }
                 Ok(_) => field.unreadable.push(Unreadable { sub: addr.sub, error: "shorter than 4 bytes".into() }),
                 Err(e) if e.is_timeout() => return Err(e),
                 Err(e) => field.unreadable.push(Unreadable { sub: addr.sub, error: e.to_string() }),

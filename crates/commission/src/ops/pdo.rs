@@ -1,7 +1,9 @@
 //! Transmit PDOs: their layouts read from a node (or a DCF), a mapping changed for a
 //! session and put back at its end, and the stream of decoded records.
 
-use super::{le_u32, sized, Progress};
+use super::progress::Progress;
+use super::sdo_options::sized;
+use super::values::le_u32;
 use crate::bus::Bus;
 use crate::cancel::Cancel;
 use crate::canopen::nmt::{self, Command};
@@ -12,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::od::eds::Eds;
 use crate::od::{Dictionary, Entry};
-use crate::ops::{Notice, Warning};
+use crate::ops::event::{Notice, Warning};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::time::{Duration, Instant};
 
@@ -167,7 +169,7 @@ pub(crate) fn mapped_bits(
     if let Some(size) = entry.and_then(|e| e.dtype.size()) {
         return Ok((size * 8) as u8);
     }
-    let opts = super::capped(timeout, MAX_ENTRY_BYTES);
+    let opts = super::sdo_options::capped(timeout, MAX_ENTRY_BYTES);
     let refused = |why: String| Error::Usage(format!("cannot map {addr} into a PDO: {why}"));
     match bus.sdo_upload(node, addr, &opts) {
         Ok(v) if (1..=MAX_ENTRY_BYTES).contains(&v.len()) => Ok((v.len() * 8) as u8),

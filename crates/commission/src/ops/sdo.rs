@@ -3,7 +3,8 @@
 //! gives the type when none is asked for, the object's name, and the limits a value must
 //! keep to.
 
-use super::{as_text, check_range, Progress};
+use super::progress::Progress;
+use super::values::{as_text, check_range};
 use crate::bus::{Bus, SdoOptions};
 use crate::canopen::types::{hex, obvious_unsigned, Value};
 use crate::canopen::{DataType, ObjAddr};
@@ -128,14 +129,14 @@ fn sdo_options(timeout: Duration, dtype: Option<DataType>, block: bool) -> SdoOp
         block_upload: block && large,
         block_download: block,
         size_hint: dtype.and_then(DataType::size),
-        max_upload: super::upload_limit(dtype),
+        max_upload: super::sdo_options::upload_limit(dtype),
         ..SdoOptions::new(timeout)
     }
 }
 
 /// Read `object` from `node`, decoded by the type asked for, else the dictionary's.
 pub fn read(bus: &mut dyn Bus, dict: &Dictionary, node: u8, object: ObjAddr, o: &ReadOptions) -> Result<Read> {
-    read_watched(bus, dict, node, object, o, &mut super::Silent)
+    read_watched(bus, dict, node, object, o, &mut super::progress::Silent)
 }
 
 /// [`read`], `progress` told the bytes received so far as a segmented or block upload

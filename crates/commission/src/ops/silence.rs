@@ -6,57 +6,10 @@ use crate::canopen::nmt::State;
 use crate::canopen::pdo::Layout;
 use crate::canopen::ObjAddr;
 use crate::error::Result;
-use crate::ops::nmt::{NodeState, StateFrom};
-use crate::ops::Warning;
+pub use crate::ops::event::Silence;
+use crate::ops::event::Warning;
+use crate::ops::nmt::NodeState;
 use std::time::Duration;
-
-/// Why a stream may hear nothing from its node, for the front end to say.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Silence {
-    /// The node is not operational (`state`, learned by `source`): it sends no PDO; the
-    /// stream can start it.
-    NotOperational {
-        /// The node-id.
-        node: u8,
-        /// Its state.
-        state: State,
-        /// How the state was learned.
-        source: StateFrom,
-    },
-    /// The node's state could not be learned: it may not be operational.
-    StateUnknown {
-        /// The node-id.
-        node: u8,
-    },
-    /// A synchronous TPDO (transmission type `kind`) and no SYNC sent: it waits for SYNC.
-    WaitsForSync {
-        /// The TPDO's number (1 for TPDO1).
-        pdo: u16,
-        /// Its transmission type.
-        kind: u8,
-    },
-    /// A TPDO sent only on request (RTR, transmission type 252 or 253).
-    OnRequest {
-        /// The TPDO's number (1 for TPDO1).
-        pdo: u16,
-        /// Its transmission type.
-        kind: u8,
-    },
-    /// An event-driven TPDO (254 or 255) with SYNC sent: SYNC does not make it send.
-    SyncDoesNotDrive {
-        /// The TPDO's number (1 for TPDO1).
-        pdo: u16,
-        /// Its transmission type.
-        kind: u8,
-    },
-    /// An event-driven TPDO without an event timer: it sends when its values change.
-    NoEventTimer {
-        /// The TPDO's number (1 for TPDO1).
-        pdo: u16,
-    },
-    /// Nothing found against it: the node may have nothing to say.
-    NothingFound,
-}
 
 /// How long the stream of these TPDOs of `node` may be silent before it is worth saying,
 /// and why it may be. `state` is the node's NMT state (and how it was learned) when it was

@@ -1,6 +1,7 @@
 //! Store and restore parameters: CiA 301 objects 0x1010 ('save') and 0x1011 ('load').
 
-use super::{as_text, le_u32, sized};
+use super::sdo_options::sized;
+use super::values::{as_text, le_u32};
 use crate::bus::Bus;
 use crate::canopen::ObjAddr;
 use crate::error::{Advice, Error, ParameterCommand, Result, StoreRefusal};

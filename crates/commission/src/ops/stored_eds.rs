@@ -56,7 +56,7 @@ pub struct StoredEds {
 /// client stops an upload, announced or not, beyond it) and as many unpacked.
 pub fn read(bus: &mut dyn Bus, node: u8, timeout: Duration, limit: usize) -> Result<StoredEds> {
     // Stored EDSs run to tens of kilobytes: block transfer moves them fastest.
-    let opts = SdoOptions { block_upload: true, ..super::capped(timeout, limit) };
+    let opts = SdoOptions { block_upload: true, ..super::sdo_options::capped(timeout, limit) };
     let raw = match bus.sdo_upload(node, STORE_EDS, &opts) {
         Err(e) if super::node::is_missing(&e) => return Err(Error::NoStoredEds { node }),
         other => other?,

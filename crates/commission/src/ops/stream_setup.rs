@@ -4,8 +4,8 @@
 
 use super::nmt::{self, StateOptions};
 use super::pdo::{self, Remap, Session};
+use super::progress::Progress;
 use super::silence::{self, Silence};
-use super::Progress;
 use crate::bus::Bus;
 use crate::canopen::pdo::Layout;
 use crate::canopen::ObjAddr;

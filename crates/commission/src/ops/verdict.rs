@@ -2,12 +2,12 @@
 //! whether it passed, and what was found, typed (the front end words it).
 
 use super::clash::Clash;
-use super::config;
+use super::config::report::Difference;
+use super::nmt::StateFrom;
 use super::node::{hex16, IdentityPart};
-use super::scan::StateFrom;
 use crate::canopen::{cia402, nmt};
-use crate::ops::as_text;
 use crate::ops::failure::Failure;
+use crate::ops::values::as_text;
 use serde::Serialize;
 
 /// One check of one node: `present`, `identity`, `objects`, `state`, `error register`...
@@ -25,7 +25,7 @@ pub struct Verdict {
     pub remedy: Option<Remedy>,
     /// For `objects`: each writable object that differs.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub differences: Vec<config::Difference>,
+    pub differences: Vec<Difference>,
 }
 
 impl Verdict {

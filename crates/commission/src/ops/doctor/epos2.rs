@@ -16,7 +16,7 @@ const COMMUNICATION: u8 = 0x10;
 /// Read the gateway's error register and bit rate: a communication error is a finding (its
 /// CAN side sees errors), else what it said is fine; both go with a silent node or bus.
 pub(super) fn look(bus: &mut dyn Bus, timeout: Duration, d: &mut Diagnosis) -> Result<()> {
-    let opts = crate::ops::capped(timeout, crate::ops::NUMBER_LIMIT);
+    let opts = crate::ops::sdo_options::capped(timeout, crate::ops::sdo_options::NUMBER_LIMIT);
     let mut read = |addr| match bus.sdo_upload(0, addr, &opts) {
         Ok(v) => Ok(Some(v)),
         Err(e) if matches!(e.root(), Error::Link(_)) => Err(e),

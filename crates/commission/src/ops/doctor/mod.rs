@@ -24,8 +24,10 @@ use crate::canopen::ObjAddr;
 use crate::error::{Error, LinkError, Result};
 use crate::frame::Frame;
 use crate::ops::clash::{self, Clash};
+use crate::ops::progress::Silent;
+use crate::ops::scan;
 use crate::ops::scan_cache::SeenNode;
-use crate::ops::{le_u32, scan, Silent};
+use crate::ops::values::le_u32;
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
@@ -218,7 +220,8 @@ fn another_answers(bus: &mut dyn Bus, node: u8, last_scan: &[u8], wait: Duration
     // The gateway's own node answers from its own dictionary, not over the bus.
     let own = bus.own_node();
     let Some(&other) = last_scan.iter().find(|&&n| n != node && Some(n) != own) else { return Ok(None) };
-    let opts = SdoOptions { retries: 0, ..crate::ops::capped(wait, crate::ops::NUMBER_LIMIT) };
+    let opts =
+        SdoOptions { retries: 0, ..crate::ops::sdo_options::capped(wait, crate::ops::sdo_options::NUMBER_LIMIT) };
     let (read, waited_ms) = timed(bus, |bus| Ok(bus.sdo_upload(other, ObjAddr::DEVICE_TYPE, &opts)))?;
     match read {
         Ok(_) | Err(Error::SdoAbort { .. }) => Ok(Some(Evidence::LastScanNodeAnswers { node: other, waited_ms })),
@@ -417,7 +420,8 @@ fn find_moved(
     let Some(vendor) = was.vendor_id else { return Ok(None) };
     let known: BTreeSet<u8> = o.last_scan.iter().filter(|s| s.scanned).map(|s| s.node).collect();
     let candidates: Vec<u8> = answering.iter().copied().filter(|n| !known.contains(n)).take(MAX_CANDIDATES).collect();
-    let opts = SdoOptions { retries: 1, ..crate::ops::capped(o.timeout, crate::ops::NAME_LIMIT) };
+    let opts =
+        SdoOptions { retries: 1, ..crate::ops::sdo_options::capped(o.timeout, crate::ops::sdo_options::NAME_LIMIT) };
     for now in candidates {
         let identity = match crate::ops::node::Node::new(bus, now, o.timeout).identity() {
             Ok(Some(identity)) if identity.vendor == vendor => identity,
@@ -523,8 +527,10 @@ fn sdo_probe(
     heard: &mut Heard,
 ) -> Result<(Vec<clash::Reply>, Vec<u16>)> {
     if !bus.sees_traffic() {
-        let opts =
-            SdoOptions { retries: (SDO_REQUESTS - 1) as u8, ..crate::ops::capped(timeout, crate::ops::NUMBER_LIMIT) };
+        let opts = SdoOptions {
+            retries: (SDO_REQUESTS - 1) as u8,
+            ..crate::ops::sdo_options::capped(timeout, crate::ops::sdo_options::NUMBER_LIMIT)
+        };
         return match bus.sdo_upload(node, ObjAddr::SERIAL_NUMBER, &opts) {
             Ok(v) => Ok((vec![clash::Reply::Value(le_u32(&v))], vec![])),
             Err(Error::SdoAbort { .. }) => Ok((vec![clash::Reply::Aborted], vec![])),

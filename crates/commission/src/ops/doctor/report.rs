@@ -220,7 +220,7 @@ pub enum Evidence {
         /// The node.
         node: u8,
         /// The object read.
-        #[serde(serialize_with = "crate::ops::as_text")]
+        #[serde(serialize_with = "crate::ops::values::as_text")]
         obj: ObjAddr,
         /// Its value (a u32, little-endian), or `None` for an abort.
         value: Option<u32>,
@@ -231,7 +231,7 @@ pub enum Evidence {
         /// The node.
         node: u8,
         /// The object read.
-        #[serde(serialize_with = "crate::ops::as_text")]
+        #[serde(serialize_with = "crate::ops::values::as_text")]
         obj: ObjAddr,
     },
     /// The node answered node guarding with something that is no NMT state.
@@ -249,7 +249,7 @@ pub enum Evidence {
         /// The node.
         node: u8,
         /// The object read.
-        #[serde(serialize_with = "crate::ops::as_text")]
+        #[serde(serialize_with = "crate::ops::values::as_text")]
         obj: ObjAddr,
         /// How many requests were sent.
         requests: u32,

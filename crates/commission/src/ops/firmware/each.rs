@@ -1,9 +1,9 @@
 //! `firmware download 5,6,7 IMAGE`: the same download into each node in turn, one report
 //! for each.
 
-use super::{download, jobs, DownloadOptions, DownloadReport, Failed, FirmwareError};
+use super::download::{download, ended, DownloadOptions, DownloadReport, Failed, FirmwareError, Outcome};
 use crate::bus::Bus;
-use crate::ops::{ItemEnd, Progress};
+use crate::ops::progress::{ItemEnd, Progress};
 use serde::Serialize;
 
 /// One node of a download to several.
@@ -16,19 +16,6 @@ pub struct NodeDownload {
     /// Why it did not finish.
     #[serde(serialize_with = "crate::ops::lss::error_text")]
     pub error: Option<Unfinished>,
-}
-
-/// How one node's download ended, for a progress display to word.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DownloadEnd {
-    /// Skipped: the node runs the image already.
-    Skipped,
-    /// Downloaded.
-    Done,
-    /// Stopped by the user.
-    Interrupted,
-    /// Failed.
-    Failed,
 }
 
 /// Why one node of a download to several did not finish.
@@ -62,7 +49,7 @@ impl Batch {
     }
 
     /// The row of `node`: how its download ended, or `None` when it was not begun.
-    pub(super) fn push(&mut self, node: u8, outcome: Option<jobs::Outcome>) {
+    pub(super) fn push(&mut self, node: u8, outcome: Option<Outcome>) {
         self.nodes.push(match outcome {
             None => NodeDownload { node, report: None, error: Some(Unfinished::NotBegun) },
             Some(Ok(report)) => NodeDownload { node, report: Some(report), error: None },
@@ -91,9 +78,10 @@ pub fn download_each(
             batch.push(node, None);
             continue;
         }
-        progress.item(&format!("node {node}"), crate::ops::ItemStatus::Step { number: i + 1, of: nodes.len() });
+        progress
+            .item(&format!("node {node}"), crate::ops::progress::ItemStatus::Step { number: i + 1, of: nodes.len() });
         let outcome = download(bus, node, image, o, progress);
-        progress.item_ended(&format!("node {node}"), ItemEnd::Downloaded(jobs::ended(&outcome)));
+        progress.item_ended(&format!("node {node}"), ItemEnd::Downloaded(ended(&outcome)));
         batch.push(node, Some(outcome));
     }
     batch

@@ -6,12 +6,14 @@
 //! the program data one node at a time. So the erases of seconds overlap, and the bus's
 //! time (virtual on the simulator) moves as it does for one node.
 
-use super::*;
+use super::download::{download_timed, ended, DownloadOptions, DownloadReport, Failed, FirmwareError, Outcome};
+use super::each::{download_each, Batch};
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::canopen::program::{self, PROGRAM_DATA};
+use crate::error::Error;
 use crate::ops::in_parallel::{self, Serve, Watch};
-
-pub(super) use crate::ops::in_parallel::Served;
-
-pub(super) type Outcome = std::result::Result<DownloadReport, Box<Failed>>;
+use crate::ops::progress::{ItemEnd, Progress};
 
 /// Each node's line, and when to begin no more.
 struct Lines<'a> {
@@ -22,7 +24,7 @@ struct Lines<'a> {
 
 impl Watch<Outcome> for Lines<'_> {
     fn begun(&mut self, slot: usize) {
-        self.progress.item(&format!("node {}", self.nodes[slot]), crate::ops::ItemStatus::Begun);
+        self.progress.item(&format!("node {}", self.nodes[slot]), crate::ops::progress::ItemStatus::Begun);
     }
 
     fn ended(&mut self, slot: usize, outcome: &Outcome, _lost: bool) -> bool {
@@ -57,7 +59,7 @@ pub fn download_jobs(
     };
     let work = |node_bus: &mut in_parallel::NodeBus<Outcome>, slot: usize| {
         let served = node_bus.served();
-        download_timed(node_bus, nodes[slot], image, o, &mut crate::ops::Silent, &served)
+        download_timed(node_bus, nodes[slot], image, o, &mut crate::ops::progress::Silent, &served)
     };
     let mut lines = Lines { nodes, cancel: o.cancel.as_ref(), progress };
     let outcomes = in_parallel::run(bus, nodes, jobs, &serve, &work, &stopped, &mut lines);
@@ -66,14 +68,4 @@ pub fn download_jobs(
         batch.push(node, outcome);
     }
     batch
-}
-
-/// How a node's download ended (as [`download_each`] tells it).
-pub(super) fn ended(outcome: &Outcome) -> DownloadEnd {
-    match outcome {
-        Ok(r) if r.skipped => DownloadEnd::Skipped,
-        Ok(_) => DownloadEnd::Done,
-        Err(f) if f.report.interrupted => DownloadEnd::Interrupted,
-        Err(_) => DownloadEnd::Failed,
-    }
 }

@@ -1,6 +1,6 @@
 //! `firmware status`: what a node's CiA 302-3 program-download objects say of each program.
 
-use super::le;
+use super::download::le;
 use crate::bus::Bus;
 use crate::canopen::abort;
 use crate::canopen::program::{self, Control, FlashStatus, FLASH_STATUS, PROGRAM_CONTROL, SOFTWARE_ID};
@@ -38,7 +38,7 @@ pub struct StatusReport {
 /// Read 0x1F51, 0x1F56 and 0x1F57 for each program the device has (0x1F51:0 says how
 /// many; a device without it has no program download).
 pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> crate::Result<StatusReport> {
-    let opts = super::super::sized(timeout, Some(1));
+    let opts = crate::ops::sdo_options::sized(timeout, Some(1));
     let count = match bus.sdo_upload(node, ObjAddr::new(PROGRAM_CONTROL, 0), &opts) {
         Ok(v) => v.first().copied().unwrap_or(0),
         Err(Error::SdoAbort { code: abort::NO_OBJECT, .. }) => return Err(Error::NoBootloader { node }),
@@ -47,7 +47,8 @@ pub fn status(bus: &mut dyn Bus, node: u8, timeout: Duration) -> crate::Result<S
     let mut programs = Vec::new();
     for p in 1..=count {
         let read = |bus: &mut dyn Bus, index: u16, size: usize| -> crate::Result<Option<u32>> {
-            match bus.sdo_upload(node, program::object(index, p), &super::super::sized(timeout, Some(size))) {
+            match bus.sdo_upload(node, program::object(index, p), &crate::ops::sdo_options::sized(timeout, Some(size)))
+            {
                 Ok(v) => Ok(Some(le(&v))),
                 Err(Error::SdoAbort { .. }) => Ok(None),
                 Err(e) => Err(e),

@@ -1,6 +1,20 @@
 //! Number every device without a node-id: fastscan each, give it the next free id, store it.
 
-use super::*;
+use crate::bus::lss::LssMaster;
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::canopen::lss::{self, FastscanError, Identity, Pace, Request};
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use crate::ops::event::Notice;
+use crate::ops::progress::Progress;
+use crate::ops::sdo_options::sized;
+use serde::Serialize;
+use std::collections::BTreeSet;
+use std::time::Duration;
+
+use super::fastscan::{fastscan_error, fastscan_steps, FastscanOptions, PaceUsed};
+use super::identified::Identified;
 
 /// What `assign` needs to know.
 #[derive(Clone, Debug)]
@@ -75,6 +89,10 @@ impl Assignment {
         self.assigned.is_empty() && self.failure.is_none() && !self.interrupted
     }
 }
+
+/// Default time to listen for heartbeats before assigning: long enough for the common
+/// periods (100 ms .. 1 s); longer when a node reports a longer one.
+pub(super) const LISTEN: Duration = Duration::from_secs(1);
 
 const LISTEN_CEILING: Duration = Duration::from_secs(10);
 

@@ -1,7 +1,16 @@
 //! Fastscan (CiA 305): find one device without a node-id by its identity, bit by bit, at a
 //! pace measured from the bus.
 
-use super::*;
+use crate::bus::lss::LssMaster;
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::canopen::lss::{FastscanError, Pace};
+use crate::error::{Error, Result};
+use crate::ops::progress::Progress;
+use serde::Serialize;
+use std::time::Duration;
+
+use super::identified::Identified;
 
 /// How fastscan paces itself, and what it already knows.
 #[derive(Clone, Debug)]
@@ -86,7 +95,7 @@ pub(super) fn fastscan_steps(given: [Option<u32>; 4]) -> u64 {
 /// Find the identity of one device without a node-id, bit by bit. The device found is
 /// sent back to waiting state, unchanged.
 pub fn fastscan(bus: &mut dyn Bus, o: &FastscanOptions, interrupted: &Cancel) -> Result<Found> {
-    fastscan_shown(bus, o, interrupted, &mut crate::ops::Silent)
+    fastscan_shown(bus, o, interrupted, &mut crate::ops::progress::Silent)
 }
 
 /// [`fastscan`], each request a step on `progress` (the search takes 13 s on slow devices).

@@ -4,27 +4,23 @@
 //! answers no other master's services by mistake. The request sequences themselves are
 //! [`LssMaster`]'s; an interruption is a flag, checked between steps.
 
-use super::{sized, Progress};
+use super::progress::Progress;
 use crate::bus::lss::LssMaster;
 use crate::bus::{Bus, LssWait, SdoOptions};
 use crate::cancel::Cancel;
-use crate::canopen::lss::{self, FastscanError, Identity, Inquiry, Pace, Request, Response, UNCONFIGURED};
+use crate::canopen::lss::{self, Identity, Inquiry, Request, Response, UNCONFIGURED};
 use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
-use crate::ops::Notice;
-use serde::ser::SerializeMap;
 use serde::Serialize;
-use std::collections::BTreeSet;
 use std::time::Duration;
 
 mod assign;
 mod fastscan;
+mod identified;
+use assign::LISTEN;
 pub use assign::*;
 pub use fastscan::*;
-
-/// Default time to listen for heartbeats before assigning: long enough for the common
-/// periods (100 ms .. 1 s); longer when a node reports a longer one.
-const LISTEN: Duration = Duration::from_secs(1);
+pub use identified::Identified;
 
 /// Which device a service is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,31 +57,6 @@ impl Target {
 /// late acknowledgement may still have put one in configuration state).
 fn enter(m: &mut LssMaster, identity: Option<&Identity>) -> Result<()> {
     m.enter(identity).or_else(|e| m.leave().and(Err(e)))
-}
-
-/// An identity in a report: its `V:P:R:S` text (`identity`) and its four numbers (`lss`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Identified(pub Identity);
-
-impl Serialize for Identified {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        let id = &self.0;
-        let mut m = s.serialize_map(Some(2))?;
-        m.serialize_entry("identity", &id.to_string())?;
-        let lss =
-            LssNumbers { vendor_id: id.vendor, product_code: id.product, revision: id.revision, serial: id.serial };
-        m.serialize_entry("lss", &lss)?;
-        m.end()
-    }
-}
-
-/// The four entries of the identity object (0x1018:1..4), named.
-#[derive(Serialize)]
-struct LssNumbers {
-    vendor_id: u32,
-    product_code: u32,
-    revision: u32,
-    serial: u32,
 }
 
 /// What the LSS services are refused with on an EPOS2 reached directly.

@@ -1,6 +1,18 @@
 //! `network set-baud`: the whole bus switched to a new bit rate over LSS.
 
-use super::*;
+use crate::bus::lss::LssMaster;
+use crate::bus::{Bus, LssWait};
+use crate::cancel::Cancel;
+use crate::canopen::lss::Request;
+use crate::error::{Error, ProjectProblem, Result};
+use crate::od::cpj;
+use crate::ops::lss::LssTally;
+use crate::ops::progress::Progress;
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use super::project::{probe, read_dcf, Loaded};
 use crate::ops::unmet::{Shortfall, Unmet};
 
 /// How to switch a network's bit rate.

@@ -1,6 +1,18 @@
 //! `network check`: the bus against the project, node by node.
 
-use super::*;
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use crate::ops::config::{self, Dcf};
+use crate::ops::progress::Progress;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+use super::parallel;
+use super::project::{probe, Loaded};
+use super::report::NodeCheck;
 use crate::ops::unmet::{NetworkDifference, Unmet};
 use crate::ops::verdict::Remedy;
 
@@ -54,20 +66,6 @@ pub(super) fn unlisted(found: &BTreeMap<u8, Option<u32>>, loaded: &Loaded) -> Ve
         .filter(|(n, _)| !loaded.nodes.iter().any(|l| l.node == **n))
         .map(|(n, t)| Unlisted { node: *n, device_type: *t })
         .collect()
-}
-
-/// One listed node and its checks.
-#[derive(Debug, Serialize)]
-#[non_exhaustive]
-pub struct NodeCheck {
-    /// The node-id.
-    pub node: u8,
-    /// Its name (`NodeXName`, else the DCF's product name, else empty).
-    pub name: String,
-    /// Its DCF, as the project names it; none when it names none.
-    pub file: Option<String>,
-    /// Each check and its verdict.
-    pub checks: Vec<Verdict>,
 }
 
 pub use crate::ops::verdict::{Finding, Verdict};

@@ -1,6 +1,18 @@
 //! `network dump`: every node of the bus into a DCF, and the project that lists them.
 
-use super::*;
+use crate::bus::Bus;
+use crate::canopen::ObjAddr;
+use crate::error::{Error, Result};
+use crate::od::cpj::{self, Commissioning, Project};
+use crate::ops::config::{self, Dcf};
+use crate::ops::progress::Progress;
+use crate::ops::project_files::check_inside;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Duration;
+
+use super::project::probe;
+use crate::ops::project_files::PROJECT_FILE;
 
 /// What `dump` read: the files of a project, to be written into one folder.
 #[derive(Debug, Serialize)]
@@ -62,7 +74,7 @@ pub fn dump(bus: &mut dyn Bus, o: &DumpOptions, progress: &mut dyn Progress) -> 
             Some(crate::od::Init::Bytes(b)) => Some(b),
             _ => None,
         };
-        let serial = bytes_of(ObjAddr::SERIAL_NUMBER).map(|b| crate::ops::le_u32(b));
+        let serial = bytes_of(ObjAddr::SERIAL_NUMBER).map(|b| crate::ops::values::le_u32(b));
         let name = bytes_of(ObjAddr::DEVICE_NAME)
             .map_or(String::new(), |b| String::from_utf8_lossy(b).trim_end_matches('\0').to_string());
         let node_name = (!name.is_empty()).then(|| name.clone());

@@ -1,10 +1,15 @@
 //! Network apply and check of many nodes at once over one link: the shared coordinator
 //! ([`crate::ops::in_parallel`]) serving SDO only, each node's transfers on its progress bar.
 
-use super::*;
+use crate::bus::Bus;
+use crate::cancel::Cancel;
+use crate::error::Error;
+use crate::ops::progress::{ItemEnd, Progress};
+use std::collections::BTreeMap;
+
 use crate::bus::SdoJob;
 use crate::ops::in_parallel::{self, Serve, Watch};
-use crate::ops::ItemStatus;
+use crate::ops::progress::ItemStatus;
 
 /// The progress of each node, and when to begin no more.
 struct Bars<'a> {
@@ -64,4 +69,13 @@ pub(super) fn each<T: Send + End>(
     let stopped = |slot: usize, why: Error| stopped(items[slot].0, link_lost(&describe, &why));
     let results = in_parallel::run(bus, &nodes, jobs, &serve, &work, &stopped, &mut bars);
     items.iter().zip(results).filter_map(|((i, _), r)| r.map(|r| (*i, r))).collect()
+}
+
+/// How a node's procedure ended, for its progress bar.
+pub(super) trait End {
+    fn end(&self) -> ItemEnd<'_>;
+}
+
+pub(super) fn node_label(node: u8) -> String {
+    format!("node {node}")
 }

@@ -2,13 +2,15 @@
 //! period), and a node that answered the probe but not that is asked alone, to tell a node
 //! that fell silent from another device's answer on its COB-ID.
 
-use super::{as_u32, Node, Scan};
+use super::report::{Node, Scan};
 use crate::bus::Bus;
 use crate::canopen::sdo::response_cob;
 use crate::canopen::{DataType, ObjAddr};
 use crate::error::{Error, Result};
 use crate::ops::answers_elsewhere::{self, AnswersElsewhere};
-use crate::ops::{Progress, Warning};
+use crate::ops::event::Warning;
+use crate::ops::progress::Progress;
+use crate::ops::values::as_u32;
 use std::time::Duration;
 
 /// Read each node's identity, name and heartbeat period. The vendor-ID first, of every node
@@ -22,7 +24,7 @@ pub(super) fn identify(
 ) -> Result<Vec<(u8, Error)>> {
     progress.start("identity", (nodes.len() * 6) as u64);
     // The name is a string: one that never ends stops at the name's limit, not after 1 MiB.
-    let opts = crate::ops::capped(timeout, crate::ops::NAME_LIMIT);
+    let opts = crate::ops::sdo_options::capped(timeout, crate::ops::sdo_options::NAME_LIMIT);
     let first: Vec<(u8, ObjAddr)> = nodes.iter().map(|f| (f.node, ObjAddr::VENDOR_ID)).collect();
     let answers = bus.sdo_upload_many(&first, &opts, &mut |n| progress.advance(n as u64))?;
     let mut silent = Vec::new();

@@ -3,12 +3,14 @@
 //! lost) and, where the probe asks again within its window, a read of each node that
 //! answered whose every answer is counted (a second device's too).
 
-use super::{as_u32, check_window};
+use super::window::check_window;
 use crate::bus::observer::SeenBy;
 use crate::bus::{Bus, SdoJob, SdoOptions};
 use crate::canopen::ObjAddr;
 use crate::error::{Error, Result};
-use crate::ops::{Progress, Warning};
+use crate::ops::event::Warning;
+use crate::ops::progress::Progress;
+use crate::ops::values::as_u32;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Duration;
@@ -52,7 +54,7 @@ pub fn probe(bus: &mut dyn Bus, window: Duration, progress: &mut dyn Progress) -
 /// rounds after it only find nodes whose answers were lost).
 pub(crate) fn probe_once(bus: &mut dyn Bus, window: Duration) -> Result<Found> {
     check_window(window)?;
-    found_unless_stopped(probe_until_stopped(bus, window, 1, None, &mut crate::ops::Silent)?)
+    found_unless_stopped(probe_until_stopped(bus, window, 1, None, &mut crate::ops::progress::Silent)?)
 }
 
 fn found_unless_stopped(p: Probed) -> Result<Found> {
@@ -109,7 +111,7 @@ pub(crate) fn probe_until_stopped(
     // the silent ids at once, each one more window: not retried one by one, as most ids
     // have no node behind them and a retry would be one more window for each.
     let at_once = bus.frame_time().is_some();
-    let base = crate::ops::capped(window, crate::ops::NUMBER_LIMIT);
+    let base = crate::ops::sdo_options::capped(window, crate::ops::sdo_options::NUMBER_LIMIT);
     let mut ids: Vec<u8> = (1..=127).collect();
     let mut p = Probed::default();
     // What a node answered that was not an answer (a malformed frame may be a damaged
