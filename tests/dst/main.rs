@@ -177,6 +177,12 @@ const FIXED: &[u64] = &[
     // asked alone too where the probe did not find it and it shows itself no other way;
     // silent, it is not listed, and the scan says node 10 answers on 0x58B). Same run.
     0x1c00_0b94,
+    // network set-baud, the I/O module muted from its third frame and missing one frame in
+    // fifty: it refused the rate, missed the switch back to waiting, and could answer no
+    // inquiry; nothing on the bus could show it stayed in configuration state. The
+    // invariant now leaves a muted device out of that check (it holds for every device
+    // that can answer). Found by a run of 60,000 from 0x6A000000.
+    0x6a00_d3be,
 ];
 
 /// The first seed of the CI run; any other start runs other scenarios.

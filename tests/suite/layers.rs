@@ -111,7 +111,9 @@ fn paths_after(code: &str, start: &str) -> BTreeSet<String> {
             }
             found.insert(name);
         } else {
-            let path: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':').collect();
+            // A glob (`use super::*`) names the module it takes everything from.
+            let path: String =
+                rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':' || *c == '*').collect();
             found.insert(path);
         }
     }
@@ -376,6 +378,9 @@ fn the_parser_sees_grouped_and_inline_paths() {
     assert_eq!(paths.into_iter().collect::<Vec<_>>(), ["bus", "error::Error", "sim::wall_ms"]);
     let test_mod = "fn f() {}\n#[cfg(test)]\nmod tests {\n    use crate::sim::SimLink;\n}\nuse crate::od;\n";
     assert_eq!(crate_paths(&library_code(test_mod)).into_iter().collect::<Vec<_>>(), ["od"]);
+    // A glob names the module it takes everything from: `use super::*` is an import of the
+    // parent, as much as `use super::Master`.
+    assert_eq!(paths_after("use super::*;\n", "super::").into_iter().collect::<Vec<_>>(), ["*"]);
 }
 
 /// The string literals of `code` (comments skipped), each with its line number; raw strings

@@ -7,7 +7,7 @@
 /// Re-exported for readers beside this one.
 pub use super::lint::MAX_WARNINGS;
 use super::lint::{Kind, Warning, Warnings};
-use super::{Access, Dictionary, Entry, Init, ObjectKind, Values};
+use super::{Access, Dictionary, Entry, Init, ObjectKind};
 use canctl_canopen::{DataType, ObjAddr};
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -86,9 +86,10 @@ mod ini;
 mod values;
 pub use error::EdsError;
 mod write;
+pub use ini::to_latin1;
 use ini::{object_section, parse_ini, trim_blanks, Section, TextEncoding, BOM};
 pub use values::{data_type_from_code, mandatory, object_kind, parse_limit, type_as_bytes};
-pub use values::{format_value, parse_int, to_latin1, value_text};
+pub use values::{format_value, parse_int, value_text};
 use values::{parse_access, NODE_IDS};
 pub use values::{parse_value_as_meant, read_as_meant};
 pub use write::{parameter_text, write, write_bytes, Header, WriteError};

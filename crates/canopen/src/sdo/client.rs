@@ -1,8 +1,9 @@
 //! The SDO client: one transfer per `SdoClient`.
 
-use super::wire::{BlockSegment, Initiate, Request, Response, Segment};
-use super::*;
+use super::shared::{pad, MAX_BLOCK_SIZE};
+use super::wire::{BlockSegment, Initiate, Request, Response, Segment, SEGMENT_DATA};
 use crate::abort;
+use crate::ObjAddr;
 use std::time::Duration;
 
 mod block;

@@ -1,8 +1,11 @@
 //! The SDO server: the device side, used by the simulator.
 
-use super::wire::{BlockSegment, Initiate, Request, Response, Segment};
-use super::*;
+use super::shared::{
+    abort_frame, block_crc, block_segment_count, block_segments, block_unused_in_last, pad, MAX_BLOCK_SIZE,
+};
+use super::wire::{BlockSegment, Initiate, Request, Response, Segment, SEGMENT_DATA};
 use crate::abort;
+use crate::ObjAddr;
 
 /// What an SDO server needs from the object dictionary behind it. Errors are abort codes.
 pub trait ObjectAccess {

@@ -1,6 +1,8 @@
+use super::shared::block_crc;
 use super::*;
 use crate::abort;
 use crate::sdo::client::MAX_BLOCK_RETRANSMISSIONS;
+use crate::ObjAddr;
 use std::collections::BTreeMap;
 
 /// A dictionary for the server side of the tests.

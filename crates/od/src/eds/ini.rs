@@ -2,7 +2,6 @@
 //! the text encodings real files use, and which sections are objects.
 
 use super::error::EdsError;
-use super::values::to_latin1;
 use crate::lint::{self, Kind, Warning};
 use std::collections::BTreeMap;
 
@@ -161,3 +160,9 @@ fn cp1252(c: char) -> char {
 }
 
 pub(super) const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// EDS files are Latin-1: text as its bytes (a character beyond Latin-1 becomes '?').
+/// For text from `write`, whose characters stand for bytes, this gives those bytes.
+pub fn to_latin1(text: &str) -> Vec<u8> {
+    text.chars().map(|c| u8::try_from(c as u32).unwrap_or(b'?')).collect()
+}

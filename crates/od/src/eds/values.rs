@@ -1,7 +1,9 @@
 //! Values in EDS and DCF text (CiA 306): integers, reals, `$NODEID` offsets, access and
 //! data type codes read; values written back so that they read as the same bytes.
 
-use super::*;
+use super::ini::{to_latin1, trim_blanks};
+use crate::{Access, Init, ObjectKind};
+use canctl_canopen::DataType;
 /// CiA 306 integers: `0x` hex, a leading `0` octal, otherwise decimal; a sign allowed
 /// ([`canctl_canopen::number::parse_cia306`], the one number reading with CiA 306's octal).
 pub fn parse_int(text: &str) -> Option<i128> {
@@ -308,10 +310,4 @@ pub fn value_text(init: &Init, dtype: DataType) -> Result<String, String> {
             other => other.to_string(),
         },
     })
-}
-
-/// EDS files are Latin-1: text as its bytes (a character beyond Latin-1 becomes '?').
-/// For text from `write`, whose characters stand for bytes, this gives those bytes.
-pub fn to_latin1(text: &str) -> Vec<u8> {
-    text.chars().map(|c| u8::try_from(c as u32).unwrap_or(b'?')).collect()
 }

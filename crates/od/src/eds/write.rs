@@ -1,8 +1,10 @@
 //! Writing an EDS or DCF from a dictionary (and a DCF's values): the sections, keys and
 //! `ParameterValue`s, each value checked to read back as the same bytes.
 
-use super::values::unwritable_bytes;
-use super::*;
+use super::ini::{to_latin1, BOM};
+use super::values::{unwritable_bytes, value_text};
+use crate::{Dictionary, Entry, Init, ObjectKind, Values};
+use canctl_canopen::{DataType, ObjAddr};
 /// What an EDS says about the file and the device.
 #[derive(Clone, Debug, Default)]
 pub struct Header {

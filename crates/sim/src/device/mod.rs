@@ -7,9 +7,9 @@ use crate::canopen::cia402::{self, State as DriveState};
 use crate::canopen::lss::{self, SlaveEvent, UNCONFIGURED};
 use crate::canopen::nmt::{self, Command, ErrorControl};
 use crate::canopen::sdo::{self, ObjectAccess, SdoServer};
-use crate::canopen::{abort, ObjAddr};
+use crate::canopen::ObjAddr;
 use crate::frame::Frame;
-use crate::od::{Dictionary, ParamClass};
+use crate::od::ParamClass;
 use std::collections::BTreeMap;
 
 pub(crate) mod objects;

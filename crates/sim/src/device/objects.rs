@@ -1,7 +1,13 @@
 //! A simulated device's object values, with CiA 301 store/restore, dynamic PDO mapping
 //! and a CiA 402 drive's statusword.
 
-use super::*;
+use crate::canopen::cia402::{self, State as DriveState};
+use crate::canopen::sdo::ObjectAccess;
+use crate::canopen::{abort, ObjAddr};
+use crate::cia402_drive::Drive;
+use crate::od::{Dictionary, ParamClass};
+use crate::profiles::SUPPLY_OFF_OBJECT;
+use std::collections::BTreeMap;
 
 /// SDO aborts of CiA 301 dynamic mapping.
 pub(super) const MAPPING_OBJECT_UNMAPPABLE: u32 = 0x0604_0041;

@@ -2,8 +2,12 @@
 //! answers a batch that does so counts: more requests than answers is a lost frame, more
 //! answers than requests a second device.
 
-use super::*;
+use super::active::Active;
+use crate::bus::observer::Asked;
 use crate::bus::reply::upload_answer;
+use crate::canopen::ObjAddr;
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
 
 /// Whether a job may be asked again early ([`SdoOptions::ask_again_after`]).
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -37,31 +41,4 @@ pub(super) fn echo(echoes: &mut Echoes, node: u8, a: &Active, answer: &[u8], tim
 /// Whether `request` starts a plain upload (command specifier 2, CiA 301).
 pub(super) fn is_initiate_upload(request: &[u8; 8]) -> bool {
     request[0] == 0x40
-}
-
-impl<L: FrameLink> Master<L> {
-    /// Each read that has heard nothing and whose time to ask again has come
-    /// ([`SdoOptions::ask_again_after`]) is sent again; its wait counts from the new request.
-    pub(super) fn ask_again_the_silent(
-        &mut self,
-        active: &mut BTreeMap<u8, Active>,
-        timeout: Duration,
-        ask_again: Option<Duration>,
-    ) -> Result<()> {
-        let (Some(after), now) = (ask_again, self.link.now()) else { return Ok(()) };
-        for (node, a) in active.iter_mut() {
-            if a.asks_again_at().is_none_or(|at| at > now) {
-                continue;
-            }
-            let request = a.client.start();
-            self.send(&Frame::new(sdo::request_cob(*node), &request))?;
-            a.requests += 1;
-            a.retries_left -= 1;
-            a.last_left = self.bus_free_at.max(now);
-            a.idle_deadline = a.idle_deadline.max(a.last_left + timeout);
-            a.total_deadline = a.total_deadline.max(a.last_left + a.client.time_budget(timeout));
-            a.ask_again_at = (a.retries_left > 0).then_some(a.last_left + after);
-        }
-        Ok(())
-    }
 }

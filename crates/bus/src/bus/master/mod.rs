@@ -3,7 +3,7 @@
 
 use super::api::{Bus, FrameLink, LssAnswer, LssExchange, LssWait, SdoJob, SdoOptions, TransferHook, ALL_NODES};
 use super::frame_log::FrameLog;
-use super::observer::{Asked, Observed};
+use super::observer::Observed;
 use crate::cancel::Cancel;
 use crate::canopen::lss;
 use crate::canopen::nmt::Command;
@@ -79,46 +79,6 @@ fn held_back_most(timeout: Duration) -> Duration {
 /// The transfers of a batch not begun yet, by node, in order: each with its slot in the
 /// results.
 type Queues = BTreeMap<u8, VecDeque<(usize, SdoClient, AskAgain)>>;
-
-/// One SDO transfer in flight.
-struct Active {
-    slot: usize,
-    client: SdoClient,
-    started: Instant,
-    /// No progress by then ends the transfer; only answers that advance it move this on.
-    idle_deadline: Instant,
-    /// The transfer ends by then however busy the device keeps it (`SdoClient::time_budget`).
-    total_deadline: Instant,
-    /// Whether the server has answered at all: a node that never did gets no abort frame.
-    heard: bool,
-    /// Attempts left after this one (`SdoOptions::retries`).
-    retries_left: u8,
-    /// Times the transfer was started, this one included: said when none was answered.
-    requests: u8,
-    /// How the first attempt the device answered ended: said in the end when the later
-    /// attempts got no answer at all, as it tells more (how far the transfer came).
-    answered_attempt: Option<Error>,
-    /// Set once the user asked to stop: the transfer ends by then, whatever else says.
-    stop_by: Option<Instant>,
-    /// When to ask again, not having heard anything ([`SdoOptions::ask_again_after`]).
-    ask_again_at: Option<Instant>,
-    /// When the last request sent will have left the bus.
-    last_left: Instant,
-}
-
-impl Active {
-    fn deadline(&self) -> Instant {
-        let own = self.idle_deadline.min(self.total_deadline);
-        self.stop_by.map_or(own, |by| own.min(by))
-    }
-
-    /// When this read is asked again, while it may be: it has heard nothing, the user has not
-    /// asked to stop, and it has attempts left. A time that no longer applies must not stay
-    /// a deadline of the batch's wait: it would be always past, and the wait would spin.
-    fn asks_again_at(&self) -> Option<Instant> {
-        self.ask_again_at.filter(|_| !self.heard && self.stop_by.is_none() && self.retries_left > 0)
-    }
-}
 
 impl<L: FrameLink> Master<L> {
     /// A client over `link`; `describe` is the bus as messages name it (`socketcan:can0`).
@@ -624,14 +584,43 @@ const EVERYTHING: [(u16, u16); 1] = [(0, 0)];
 /// The longest time spent dropping frames left over before an LSS request.
 const DRAIN_LIMIT: Duration = Duration::from_millis(20);
 
+impl<L: FrameLink> Master<L> {
+    /// Each read that has heard nothing and whose time to ask again has come
+    /// ([`SdoOptions::ask_again_after`]) is sent again; its wait counts from the new request.
+    fn ask_again_the_silent(
+        &mut self,
+        active: &mut BTreeMap<u8, Active>,
+        timeout: Duration,
+        ask_again: Option<Duration>,
+    ) -> Result<()> {
+        let (Some(after), now) = (ask_again, self.link.now()) else { return Ok(()) };
+        for (node, a) in active.iter_mut() {
+            if a.asks_again_at().is_none_or(|at| at > now) {
+                continue;
+            }
+            let request = a.client.start();
+            self.send(&Frame::new(sdo::request_cob(*node), &request))?;
+            a.requests += 1;
+            a.retries_left -= 1;
+            a.last_left = self.bus_free_at.max(now);
+            a.idle_deadline = a.idle_deadline.max(a.last_left + timeout);
+            a.total_deadline = a.total_deadline.max(a.last_left + a.client.time_budget(timeout));
+            a.ask_again_at = (a.retries_left > 0).then_some(a.last_left + after);
+        }
+        Ok(())
+    }
+}
+
 fn check_node(node: u8) -> Result<()> {
     (1..=127).contains(&node).then_some(()).ok_or(Error::NodeIdOutOfRange { node, range: NodeIdRange::CanOpen })
 }
 
+mod active;
 mod ask_again;
 mod service;
 
 use crate::bus::reply::upload_answer;
+use active::Active;
 use ask_again::{awaited, echo, is_initiate_upload, AskAgain, Echoes};
 
 #[cfg(test)]

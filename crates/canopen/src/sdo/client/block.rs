@@ -1,6 +1,7 @@
 //! Block transfer (CiA 301 7.2.4.3.9 ff.) of the SDO client: sub-blocks, their
 //! acknowledgements and the CRC, both ways.
 
+use super::super::shared::{block_crc, block_segment_count, block_segments, block_unused_in_last};
 use super::super::wire::{BlockSegment, Request, Response};
 use super::*;
 
