@@ -319,10 +319,10 @@ mod tests {
     //! the LSS requests the test numbers (a receive queue overrun): a device really can.
 
     use super::*;
+    use crate::bus::timeline::Timeline;
     use crate::bus::{FrameLink, Master};
     use crate::canopen::lss::{Slave, SlaveCaps, SlaveState, MASTER_COB, SLAVE_COB};
     use crate::frame::Frame;
-    use std::collections::VecDeque;
     use std::time::Instant;
 
     /// One LSS slave with node-id 10 that does not hear the requests numbered (from 1) in
@@ -331,8 +331,7 @@ mod tests {
         slave: Slave,
         missed: Vec<usize>,
         heard: usize,
-        now: Instant,
-        queue: VecDeque<(Instant, Frame)>,
+        time: Timeline,
     }
 
     impl FrameLink for Device {
@@ -343,30 +342,21 @@ mod tests {
                 return Ok(());
             }
             if let (Some(answer), _) = self.slave.handle(req, 10) {
-                self.queue.push_back((self.now + Duration::from_millis(1), Frame::new(SLAVE_COB, &answer.encode())));
+                self.time.arrive(self.time.now + Duration::from_millis(1), Frame::new(SLAVE_COB, &answer.encode()));
             }
             Ok(())
         }
         fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
-            match self.queue.front() {
-                Some((at, _)) if *at <= deadline => {
-                    self.now = self.now.max(*at);
-                    Ok(self.queue.pop_front().map(|(_, f)| f))
-                }
-                _ => {
-                    self.now = self.now.max(deadline);
-                    Ok(None)
-                }
-            }
+            Ok(self.time.recv(deadline))
         }
         fn name(&self) -> String {
             "test".into()
         }
         fn now(&self) -> Instant {
-            self.now
+            self.time.now
         }
         fn sleep_until(&mut self, t: Instant) -> Result<()> {
-            self.now = self.now.max(t);
+            self.time.sleep_until(t);
             Ok(())
         }
     }
@@ -374,9 +364,8 @@ mod tests {
     fn device(missed: &[usize]) -> Master<Device> {
         let identity = Identity { vendor: 0x444, product: 0x2057, revision: 0x10000, serial: 0x1F4A };
         let caps = SlaveCaps { store: true, bit_timing: true, fastscan_in_configuration: false };
-        let now = crate::bus::clock::monotonic_now();
         let slave = Slave::new(identity, caps);
-        let link = Device { slave, missed: missed.to_vec(), heard: 0, now, queue: VecDeque::new() };
+        let link = Device { slave, missed: missed.to_vec(), heard: 0, time: Timeline::starting_now() };
         Master::new(link, "test".into())
     }
 

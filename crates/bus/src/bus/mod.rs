@@ -13,6 +13,8 @@ pub mod observer;
 pub mod reply;
 pub mod stoppable;
 pub mod tap;
+#[cfg(test)]
+pub(crate) mod timeline;
 
 pub use crate::trace;
 pub use api::{

@@ -2,6 +2,7 @@
 //! way) are lost where the test says.
 
 use super::*;
+use crate::bus::timeline::Timeline;
 use crate::canopen::sdo::{ObjectAccess, SdoServer};
 
 const NODE: u8 = 4;
@@ -34,8 +35,7 @@ impl ObjectAccess for Objects {
 struct Device {
     server: SdoServer,
     objects: Objects,
-    now: Instant,
-    queue: VecDeque<(Instant, Frame)>,
+    time: Timeline,
     requests: usize,
     answers: usize,
     lose_requests: Vec<usize>,
@@ -56,15 +56,13 @@ struct Device {
 
 impl Device {
     fn new(lose_requests: &[usize], lose_answers: &[usize]) -> Device {
-        let now = crate::bus::clock::monotonic_now();
+        let time = Timeline::starting_now();
         let mut objects = Objects::default();
         objects.0.insert(CONTROL, vec![0]);
         objects.0.insert(HEARTBEAT, vec![0xE8, 0x03]);
         Device {
             server: SdoServer::new(false),
             objects,
-            now,
-            queue: VecDeque::new(),
             requests: 0,
             answers: 0,
             lose_requests: lose_requests.to_vec(),
@@ -74,7 +72,8 @@ impl Device {
             answer_time: Duration::from_millis(2),
             frame_time: None,
             queued: false,
-            busy_until: now,
+            busy_until: time.now,
+            time,
         }
     }
 }
@@ -83,8 +82,8 @@ impl FrameLink for Device {
     fn send(&mut self, frame: &Frame) -> Result<()> {
         self.requests += 1;
         let left = match self.queued {
-            true => self.now.max(self.busy_until) + self.frame_time.unwrap_or_default(),
-            false => self.now,
+            true => self.time.now.max(self.busy_until) + self.frame_time.unwrap_or_default(),
+            false => self.time.now,
         };
         self.busy_until = left;
         if frame.id() != sdo::request_cob(NODE) || self.lose_requests.contains(&self.requests) {
@@ -99,23 +98,13 @@ impl FrameLink for Device {
             let at = left + self.answer_time + Duration::from_millis(late);
             let copies = if self.twice.contains(&self.answers) { 2 } else { 1 };
             for _ in 0..copies {
-                self.queue.push_back((at, Frame::new(sdo::response_cob(NODE), &answer)));
+                self.time.arrive(at, Frame::new(sdo::response_cob(NODE), &answer));
             }
-            self.queue.make_contiguous().sort_by_key(|(at, _)| *at);
         }
         Ok(())
     }
     fn recv(&mut self, deadline: Instant) -> Result<Option<Frame>> {
-        match self.queue.front() {
-            Some((at, _)) if *at <= deadline => {
-                self.now = self.now.max(*at);
-                Ok(self.queue.pop_front().map(|(_, f)| f))
-            }
-            _ => {
-                self.now = self.now.max(deadline);
-                Ok(None)
-            }
-        }
+        Ok(self.time.recv(deadline))
     }
     fn name(&self) -> String {
         "test".into()
@@ -124,10 +113,10 @@ impl FrameLink for Device {
         self.frame_time
     }
     fn now(&self) -> Instant {
-        self.now
+        self.time.now
     }
     fn sleep_until(&mut self, t: Instant) -> Result<()> {
-        self.now = self.now.max(t);
+        self.time.sleep_until(t);
         Ok(())
     }
 }
@@ -250,12 +239,12 @@ fn a_read_heard_and_going_on_past_its_time_to_ask_again_ends() {
 fn a_read_asked_again_early_recovers_a_lost_request_within_the_first_window() {
     let mut m = master(&[1], &[]);
     m.link.frame_time = Some(Duration::ZERO);
-    let start = m.link.now;
+    let start = m.link.time.now;
     assert_eq!(m.sdo_upload(NODE, HEARTBEAT, &asking_again()).unwrap(), vec![0xE8, 0x03]);
     assert_eq!(m.link.requests, 2, "the request again, and no abort before it");
     // The answer came 22 ms in; the batch then listened for an answer to the other request
     // until its window closed, to count it (in a probe, the silent ids wait that long anyway).
-    assert_eq!(m.link.now - start, Duration::from_millis(120));
+    assert_eq!(m.link.time.now - start, Duration::from_millis(120));
     let asked = &m.observed.answers_counted[&(NODE, HEARTBEAT)];
     assert_eq!((asked.requests, &asked.answers[..]), (2, &[Some(1000)][..]));
     assert!(asked.lost_frames());
@@ -324,7 +313,7 @@ fn a_late_segment_of_the_transfer_before_is_not_counted_as_an_answer() {
     let mut m = master(&[], &[]);
     m.link.frame_time = Some(Duration::ZERO);
     let late_segment = Frame::new(sdo::response_cob(NODE), &[0x00, b'E', b'N', b'D', b'L', b'E', b'S', b'S']);
-    m.link.queue.push_back((m.link.now + Duration::from_millis(1), late_segment));
+    m.link.time.arrive(m.link.time.now + Duration::from_millis(1), late_segment);
     let read = |node| SdoJob::Upload { node, addr: HEARTBEAT, opts: asking_again() };
     m.sdo_many(&[read(NODE), read(NODE + 1)]).unwrap();
     let doubled = m.observed.answers_counted.values().any(|a| a.answers.len() > usize::from(a.requests));
@@ -375,9 +364,9 @@ fn a_silent_node_is_not_asked_the_rest_of_its_reads_where_the_batch_counts_answe
     m.link.frame_time = Some(Duration::ZERO);
     let o = asking_again();
     let jobs = [HEARTBEAT, CONTROL].map(|addr| SdoJob::Upload { node: NODE, addr, opts: o.clone() });
-    let start = m.link.now;
+    let start = m.link.time.now;
     let results = m.sdo_batch(&jobs, &mut |_| {}).unwrap();
     assert!(results.iter().all(|r| matches!(r, Err(Error::NoAnswer { .. }))), "{results:?}");
     assert_eq!(m.link.requests, 3, "the first read asked three times, the second not at all");
-    assert_eq!(m.link.now - start, Duration::from_millis(140), "20 + 20 + one window");
+    assert_eq!(m.link.time.now - start, Duration::from_millis(140), "20 + 20 + one window");
 }
