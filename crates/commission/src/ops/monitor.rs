@@ -93,8 +93,10 @@ fn hex_spaced(b: &[u8]) -> String {
 pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
     let id = f.id();
     let node = (id & 0x7F) as u8;
-    // The data as the text shows it, and as JSON gives it.
-    let (spaced, hex) = (hex_spaced(f.data()), crate::canopen::types::hex(f.data()));
+    // The data as the text shows it, and as JSON gives it: made only by the arms that show it
+    // (this runs for every frame of a busy bus).
+    let spaced = || hex_spaced(f.data());
+    let hex = || crate::canopen::types::hex(f.data());
     if let Some((cmd, target)) = Command::parse(f) {
         let to = if target == 0 { "all nodes".to_string() } else { format!("node {target}") };
         let fields = json!({ "command": cmd.name(), "target": target });
@@ -108,7 +110,7 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
                 0x7E5 => ("lss request", lss::Request::decode(f.data()).map(|r| format!("{r:?}"))),
                 _ => ("lss answer", lss::Response::decode(f.data()).map(|r| format!("{r:?}"))),
             };
-            let text = decoded.unwrap_or_else(|| format!("not a CiA 305 message ({spaced})"));
+            let text = decoded.unwrap_or_else(|| format!("not a CiA 305 message ({})", spaced()));
             event(None, kind, text.clone(), json!({ "lss": text }))
         }
         0x081..=0x0FF => match Emergency::parse(f) {
@@ -132,7 +134,7 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
                 let text = format!("{state}{}", if toggle { " (toggle 1)" } else { "" });
                 event(Some(n), "heartbeat", text, json!({ "state": state.name(), "toggle": toggle }))
             }
-            _ => event(Some(node), "error control", spaced, json!({ "data": hex })),
+            _ => event(Some(node), "error control", spaced(), json!({ "data": hex() })),
         },
         0x581..=0x5FF | 0x601..=0x67F => {
             let request = id >= 0x601;
@@ -157,14 +159,14 @@ pub fn decode(f: &Frame, layouts: &BTreeMap<u16, Layout>) -> Event {
                     (format!("{label} {}", text.join(" ")), json!({ "pdo": label, "values": fields }))
                 }
                 Some((l, Err(m))) => {
-                    let text = format!("{label} {spaced} (length {} where the mapping makes {})", m.got, m.want);
-                    (text, json!({ "pdo": label, "data": hex, "length_mismatch": l.len() }))
+                    let text = format!("{label} {} (length {} where the mapping makes {})", spaced(), m.got, m.want);
+                    (text, json!({ "pdo": label, "data": hex(), "length_mismatch": l.len() }))
                 }
-                None => (format!("{label} {spaced}"), json!({ "pdo": label, "data": hex })),
+                None => (format!("{label} {}", spaced()), json!({ "pdo": label, "data": hex() })),
             };
             event(Some(node), "pdo", text, fields)
         }
-        _ => event(None, "frame", spaced, json!({ "data": hex })),
+        _ => event(None, "frame", spaced(), json!({ "data": hex() })),
     }
 }
 
